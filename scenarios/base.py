@@ -1,0 +1,172 @@
+"""Contracts shared by every scenario, the report writer and the bench.
+
+A scenario is a module (registered in :mod:`scenarios.registry`) that defines
+
+``NAME`` : str
+    registry key, e.g. ``"mems_scale_factor"``.
+``TITLE`` : str
+    one line for ``gyrobench list`` and the report.
+``Config`` : frozen dataclass
+    every parameter with the paper's setup as default (field units allowed here,
+    at the edge, with the unit in the field name or docstring).
+``simulate(config, seed) -> list[Recording]``
+    every recording the experiment produces, with truth (``gyrobench simulate``).
+``run(config, seed, *, progress=False) -> Outcome``
+    simulate, analyse, and return tables, figures and headline numbers beside
+    the paper's targets (``gyrobench reproduce``).
+
+and, when it has a compensation stage (for ``gyrobench bench``),
+
+``compensation_task(config, seed) -> CompensationTask``
+    features and targets of the training run and the held-out runs.
+
+Figures are matplotlib figures drawn with the Agg backend; the report writer
+saves them as PNG and embeds them in a self-contained HTML page.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Table", "FigureSpec", "Headline", "Outcome", "HeldOutRun", "CompensationTask", "mse_scores"]
+
+
+@dataclass(frozen=True)
+class Table:
+    """A report table. Cells are numbers or strings; numbers are formatted by the writer.
+
+    Parameters
+    ----------
+    title : str
+        E.g. ``"Table 1. Allan coefficients of the three phases"``.
+    columns : sequence of str
+        Header cells, units in brackets: ``"N [deg/sqrt(h)]"``.
+    rows : sequence of sequence
+        Body cells.
+    note : str
+        Text printed under the table (targets, caveats).
+    """
+
+    title: str
+    columns: Sequence[str]
+    rows: Sequence[Sequence[Any]]
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        bad = [i for i, r in enumerate(self.rows) if len(r) != len(self.columns)]
+        if bad:
+            raise ValueError(f"Table {self.title!r}: rows {bad} do not have {len(self.columns)} cells")
+
+
+@dataclass(frozen=True)
+class FigureSpec:
+    """A figure of the report: ``name`` (file stem), caption, and the matplotlib Figure."""
+
+    name: str
+    caption: str
+    figure: Any  # matplotlib.figure.Figure
+
+
+@dataclass(frozen=True)
+class Headline:
+    """One headline number for the summary table: the reproduced value beside the paper's.
+
+    ``holds`` says whether the paper's conclusion holds in the simulation (None when
+    the number has no pass/fail meaning).
+    """
+
+    quantity: str
+    reproduced: str
+    target: str
+    holds: bool | None = None
+    note: str = ""
+
+
+@dataclass
+class Outcome:
+    """What ``run`` returns: machine-readable results, tables, figures, headline numbers."""
+
+    scenario: str
+    title: str
+    seed: int
+    config: Any
+    results: dict[str, Any]
+    tables: list[Table] = field(default_factory=list)
+    figures: list[FigureSpec] = field(default_factory=list)
+    headlines: list[Headline] = field(default_factory=list)
+    conclusion: str = ""
+    runtime_s: float = math.nan
+
+
+@dataclass(frozen=True)
+class HeldOutRun:
+    """One run the compensator never saw during fitting.
+
+    Parameters
+    ----------
+    label : str
+        Short name used in score keys (``"val1_run3"``).
+    X : ndarray, shape (n, n_features)
+        Features computed from what the test logs.
+    output : ndarray, shape (n,)
+        What the gyro reported, in the scenario's report unit.
+    truth : ndarray, shape (n,)
+        The true quantity the compensated output should equal (same unit).
+    """
+
+    label: str
+    X: NDArray[np.float64]
+    output: NDArray[np.float64]
+    truth: NDArray[np.float64]
+
+
+def mse_scores(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
+    """Default scorer: mean squared and RMS error of the compensated output against truth."""
+    err = np.asarray(compensated, float) - run.truth
+    mse = float(np.mean(err**2))
+    return {"mse": mse, "rms": math.sqrt(mse)}
+
+
+@dataclass(frozen=True)
+class CompensationTask:
+    """What a scenario hands the bench: a training set and held-out runs with truth.
+
+    ``target`` says how a fitted regressor's prediction is used:
+
+    ``"error"``
+        the regressor predicts the output's error; compensated = output - prediction.
+    ``"rate"``
+        the regressor predicts the true quantity directly; compensated = prediction.
+
+    ``scorer(compensated, run) -> dict`` must be a module-level function (so it
+    pickles to worker processes); scores are named ``"<run.label>/<key>"`` by the
+    bench, and averaged over runs as ``"mean/<key>"``.
+    """
+
+    scenario: str
+    feature_names: tuple[str, ...]
+    X_train: NDArray[np.float64]
+    y_train: NDArray[np.float64]
+    heldout: tuple[HeldOutRun, ...]
+    target: str = "error"
+    unit: str = ""
+    scorer: Callable[[NDArray[np.float64], HeldOutRun], Mapping[str, float]] = mse_scores
+
+    def __post_init__(self) -> None:
+        if self.target not in ("error", "rate"):
+            raise ValueError(f"CompensationTask.target must be 'error' or 'rate'; got {self.target!r}")
+        if self.X_train.ndim != 2 or self.X_train.shape[1] != len(self.feature_names):
+            raise ValueError(
+                f"CompensationTask.X_train must have shape (n, {len(self.feature_names)}); got {self.X_train.shape}"
+            )
+
+    def compensate(self, prediction: NDArray[np.float64], run: HeldOutRun) -> NDArray[np.float64]:
+        """Turn a regressor's prediction on ``run.X`` into the compensated output."""
+        prediction = np.asarray(prediction, float).reshape(-1)
+        return run.output - prediction if self.target == "error" else prediction

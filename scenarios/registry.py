@@ -1,0 +1,139 @@
+"""The scenario registry: name -> module, and config overrides from TOML.
+
+Scenario modules are imported lazily, so ``gyrobench list`` stays fast.
+See :mod:`scenarios.base` for what a scenario module defines.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import sys
+import types
+import typing
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+#: registry key -> module; order = order in ``reproduce --all`` and the report
+SCENARIOS: dict[str, str] = {
+    "static_noise": "scenarios.static_noise",
+    "mems_scale_factor": "scenarios.mems_scale_factor",
+    "ifog_thermal": "scenarios.ifog_thermal",
+    "rlg_thermal": "scenarios.rlg_thermal",
+    "fog_vibration": "scenarios.fog_vibration",
+}
+
+
+def available() -> list[str]:
+    """Registered scenario names whose module is present in this installation."""
+    return [n for n, mod in SCENARIOS.items() if importlib.util.find_spec(mod) is not None]
+
+
+def get(name: str) -> ModuleType:
+    """Import and return the scenario module registered as ``name``.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a registered scenario.
+    """
+    names = available()
+    if name not in names:
+        raise ValueError(f"scenario must be one of {names}; got {name!r}")
+    return importlib.import_module(SCENARIOS[name])
+
+
+def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
+    """Check a TOML value against a dataclass field's type hint and convert lists to tuples."""
+    origin = typing.get_origin(hint)
+    args = typing.get_args(hint)
+    if origin in (typing.Union, types.UnionType):
+        errors = []
+        for a in args:
+            if a is type(None):
+                if value is None:
+                    return None
+                continue
+            try:
+                return _coerce(owner, key, value, a)
+            except (TypeError, ValueError) as exc:
+                errors.append(str(exc))
+        raise TypeError(f"{owner}.{key} must be one of {args}; got {value!r}")
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"{owner}.{key} must be a number; got {value!r}")
+        return float(value)
+    if hint is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError(f"{owner}.{key} must be an integer; got {value!r}")
+        return value
+    if hint is bool or hint is str:
+        if not isinstance(value, hint):
+            raise TypeError(f"{owner}.{key} must be a {hint.__name__}; got {value!r}")
+        return value
+    if origin is tuple:
+        if not isinstance(value, (list, tuple)):
+            raise TypeError(f"{owner}.{key} must be a list; got {value!r}")
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(_coerce(owner, f"{key}[{i}]", v, args[0]) for i, v in enumerate(value))
+        if len(args) != len(value):
+            raise ValueError(f"{owner}.{key} must have {len(args)} elements; got {value!r}")
+        return tuple(_coerce(owner, f"{key}[{i}]", v, a) for i, (v, a) in enumerate(zip(value, args)))
+    if dataclasses.is_dataclass(hint):
+        if not isinstance(value, dict):
+            raise TypeError(f"{owner}.{key} must be a table; got {value!r}")
+        return override(hint(), value, owner=f"{owner}.{key}")
+    if typing.get_origin(hint) is typing.Literal:
+        if value not in args:
+            raise ValueError(f"{owner}.{key} must be one of {list(args)}; got {value!r}")
+        return value
+    return value
+
+
+def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -> Any:
+    """Return ``config`` with ``values`` replaced, validated field by field.
+
+    Unknown keys raise ``ValueError`` naming the valid ones; wrong types raise
+    ``TypeError``; the config's own ``__post_init__`` checks the values.
+    """
+    owner = owner or type(config).__name__
+    hints = typing.get_type_hints(type(config))
+    names = [f.name for f in dataclasses.fields(config)]
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise ValueError(f"{owner} has no parameter(s) {unknown}; valid: {names}")
+    current = {k: getattr(config, k) for k in values}
+    changes = {}
+    for k, v in values.items():
+        hint = hints[k]
+        if dataclasses.is_dataclass(current[k]) and isinstance(v, dict):
+            changes[k] = override(current[k], v, owner=f"{owner}.{k}")
+        else:
+            changes[k] = _coerce(owner, k, v, hint)
+    return dataclasses.replace(config, **changes)
+
+
+def load_config(module: ModuleType, path: str | Path | None) -> Any:
+    """The scenario's default ``Config``, overridden by the TOML file at ``path`` if given.
+
+    The file may hold the fields at top level or under a table named after the scenario.
+    """
+    config = module.Config()
+    if path is None:
+        return config
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"config file not found: {str(p)!r}")
+    try:
+        data = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"config file {str(p)!r} is not valid TOML: {exc}") from None
+    if set(data) == {module.NAME} and isinstance(data[module.NAME], dict):
+        data = data[module.NAME]
+    return override(config, data)

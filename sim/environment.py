@@ -112,9 +112,9 @@ class PiecewiseLinear:
                 raise ValueError(f"segment {k} must end after it starts; got t_start={t0!r} s, t_end={t1!r} s")
             if k:
                 if abs(t0 - times[-1]) > tol * max(1.0, abs(t0)):
-                    kind = "gap" if t0 > times[-1] else "overlap"
+                    kind = "a gap" if t0 > times[-1] else "an overlap"
                     raise ValueError(
-                        f"segment {k} starts at {t0!r} s but segment {k - 1} ends at {times[-1]!r} s: a {kind} in the profile"
+                        f"segment {k} starts at {t0!r} s but segment {k - 1} ends at {times[-1]!r} s: {kind} in the profile"
                     )
                 if abs(v0 - values[-1]) > tol * max(1.0, abs(v0)):
                     raise ValueError(

@@ -13,7 +13,7 @@ IEEE Std 952-1997, Annex C (units of the noise coefficients); PHYSICS.md section
 Examples
 --------
 >>> from sim import units
->>> round(units.deg_per_h(1.0), 13)   # 1 deg/h in rad/s
+>>> round(units.deg_per_h(1.0), 10)   # 1 deg/h in rad/s
 4.8481e-06
 >>> units.to_deg_per_h(units.deg_per_h(15.0))
 15.0
@@ -210,3 +210,24 @@ def parse_duration(text: str) -> float:
     if not value > 0:
         raise ValueError(f"duration must be > 0 s; got {text!r}")
     return value
+
+
+#: IEEE-952 coefficient name -> (field unit, SI -> field function, field -> SI function)
+COEFFICIENT_FIELD_UNITS: dict[str, tuple[str, object, object]] = {
+    "Q": ("arcsec", to_arcsec, arcsec),
+    "N": ("deg/sqrt(h)", to_deg_per_sqrt_h, deg_per_sqrt_h),
+    "B": ("deg/h", to_deg_per_h, deg_per_h),
+    "K": ("deg/h/sqrt(h)", to_deg_per_h_per_sqrt_h, deg_per_h_per_sqrt_h),
+    "R": ("deg/h^2", to_deg_per_h2, deg_per_h2),
+}
+
+
+def coefficient_to_field(name: str, value):
+    """An IEEE-952 coefficient (Q, N, B, K, R) from SI to its field unit; ``None`` passes through.
+
+    >>> round(coefficient_to_field("N", deg_per_sqrt_h(0.01)), 12)
+    0.01
+    """
+    if name not in COEFFICIENT_FIELD_UNITS:
+        raise ValueError(f"coefficient name must be one of {list(COEFFICIENT_FIELD_UNITS)}; got {name!r}")
+    return None if value is None else COEFFICIENT_FIELD_UNITS[name][1](value)

@@ -144,6 +144,15 @@ pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 """
 
 
+#: marks on <body> how many figures the browser decoded (read by the report's browser test)
+_LOAD_CHECK = (
+    "<script>window.addEventListener('load',function(){var im=document.images,ok=0;"
+    "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0)ok++;}"
+    "document.body.setAttribute('data-figures-loaded',ok);"
+    "document.body.setAttribute('data-figures-total',im.length);});</script>"
+)
+
+
 def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: str = "") -> Path:
     """Write every outcome's files and the summary page; return the path of ``index.html``."""
     out = Path(out_dir)
@@ -202,6 +211,7 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         h.append(f"<details><summary>configuration</summary><pre>{html.escape(cfg)}</pre></details>")
         _write_text(sdir / "report.md", "\n".join(smd).replace(f"]({o.scenario}/", "]("))
         md += smd
+    h.append(_LOAD_CHECK)
     h.append("</body></html>")
     _write_text(out / "report.md", "\n".join(md))
     index = out / "index.html"

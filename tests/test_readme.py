@@ -1,0 +1,32 @@
+"""The README's two first commands are what CI runs, verbatim, and every CLI verb is documented."""
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _readme_commands():
+    text = (ROOT / "README.md").read_text()
+    return re.findall(r"```bash\n(.+?)\n```", text, flags=re.S)
+
+
+def test_readme_starts_with_install_and_test_commands():
+    cmds = _readme_commands()
+    assert len(cmds) >= 2
+    install, tests = cmds[0].strip(), cmds[1].strip()
+    assert "pip install" in install and "gyrobench reproduce --all" in install
+    assert "pytest" in tests
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert install in ci, "CI must run README command 1 verbatim"
+    assert tests in ci, "CI must run README command 2 verbatim"
+
+
+def test_every_cli_verb_is_in_the_readme():
+    from scenarios.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    text = (ROOT / "README.md").read_text()
+    for verb in sub.choices:
+        assert f"gyrobench {verb}" in text, f"README does not mention 'gyrobench {verb}'"

@@ -1,0 +1,1033 @@
+"""The bench: score a compensator on a scenario over many seeds, keep every seed's scores, compare.
+
+A scenario with a compensation stage defines ``compensation_task(config, seed)``
+(see :mod:`scenarios.base`): a training set and held-out runs whose truth is known.
+The bench fits the user's compensator on the training set, compensates every
+held-out run, and scores the result against the truth with the task's scorer.
+
+Compensators
+------------
+:func:`resolve_compensator` accepts exactly these forms:
+
+1. a scikit-learn estimator instance (anything with ``fit``, ``predict`` and
+   ``get_params``: a regressor, a :class:`~sklearn.pipeline.Pipeline`, a grid
+   search). It is copied with :func:`sklearn.base.clone` for every seed, and every
+   parameter named ``random_state`` or ``*__random_state`` that is ``None`` is set
+   to an integer derived from the seed, so stochastic regressors are reproducible.
+   Objects with ``fit``/``predict`` but no ``get_params`` are deep-copied instead.
+2. an estimator class (a type with ``fit`` and ``predict``): instantiated with
+   no arguments for every seed, then treated as in 1.
+3. a fit function ``f(X_train, y_train) -> predictor``, where the predictor is
+   either a callable ``predictor(X) -> ndarray (n,)`` or an object with
+   ``predictor.predict(X)``. If ``f`` accepts a keyword ``random_state``, it
+   receives the seed-derived integer.
+4. a string ``"package.module:attr"`` (``attr`` may be dotted), imported and then
+   handled as 1-3. This is the form the command line takes.
+
+The prediction on a held-out run's ``X`` is turned into the compensated output by
+the task (``target="error"``: output - prediction; ``"rate"``: prediction).
+
+Determinism: the same (scenario, config, compensator, seed) always gives the same
+scores, bit for bit, whatever executor runs it: every seed runs with the BLAS and
+OpenMP thread pools limited to one thread (threadpoolctl, a scikit-learn
+dependency), so the floating-point summation order does not depend on how many
+threads a worker has (and N workers use N cores without oversubscription).
+
+Campaigns
+---------
+:func:`run_campaign` scores many seeds on any :class:`concurrent.futures.Executor`
+(local processes by default; ``distributed.Client(address).get_executor()`` for a
+dask cluster). Only the calling process writes the SQLite database: one
+transaction per finished seed, WAL journal, ``synchronous=FULL``. A campaign is
+identified by a hash of the scenario (its module, its configuration, a
+fingerprint of the gyrobench source code and of numpy/scipy/scikit-learn
+versions) and the compensator (its class or function, its parameters, a hash of
+the source file defining it). Running the same campaign again reads the seeds
+already in the database and computes only the others, so a campaign killed at any
+moment (even SIGKILL) resumes where it stopped; changing the code or the
+configuration starts a new campaign rather than mixing results.
+
+Baselines
+---------
+:func:`save_baseline` writes a campaign's per-seed scores to JSON;
+:func:`compare` tests a new campaign against it, seed by seed (see its Notes for
+the test and the multiple-comparison correction). Which way is "better" for each
+score is decided in one place, :func:`score_direction`.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import copy
+import dataclasses
+import functools
+import hashlib
+import importlib
+import inspect
+import json
+import math
+import os
+import pickle
+import sqlite3
+import time
+import types
+import warnings
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "DEFAULT_DB",
+    "Campaign",
+    "ScoreSummary",
+    "ScoreComparison",
+    "Comparison",
+    "parse_seeds",
+    "resolve_scenario",
+    "resolve_compensator",
+    "compensator_identity",
+    "score_seed",
+    "campaign_id",
+    "run_campaign",
+    "score_direction",
+    "save_baseline",
+    "load_baseline",
+    "compare",
+    "format_summary",
+]
+
+#: default campaign database (in the current directory)
+DEFAULT_DB = "gyrobench-bench.sqlite"
+
+BASELINE_FORMAT = "gyrobench-baseline"
+BASELINE_VERSION = 1
+
+# ----------------------------------------------------------------------------- score directions
+#: Tokens of a score name (last path component split at "_") meaning "lower is better".
+LOWER_IS_BETTER_TOKENS = frozenset(
+    {
+        "mse", "rms", "rmse", "mae", "error", "err", "residual", "stability", "instability",
+        "nonlinearity", "asymmetry", "drift", "std", "adev", "avar", "bias", "max", "peak",
+    }
+)
+#: Tokens meaning "higher is better"; they win over the lower-is-better tokens
+#: ("mse_reduction_pct" is higher-is-better).
+HIGHER_IS_BETTER_TOKENS = frozenset({"improvement", "reduction", "r2", "gain", "snr", "accuracy"})
+
+
+def score_direction(name: str, overrides: Mapping[str, int] | None = None) -> int:
+    """Which way is better for the score ``name``: -1 lower, +1 higher, 0 unknown.
+
+    This is the one place the bench decides it. The score's last path component
+    (``"val1/bias_stability_100s"`` -> ``"bias_stability_100s"``) is lower-cased and
+    split at ``"_"``; if any token is in :data:`HIGHER_IS_BETTER_TOKENS` the score is
+    higher-is-better, else if any token is in :data:`LOWER_IS_BETTER_TOKENS` it is
+    lower-is-better (errors: mse, rms, stability, nonlinearity, ...), else unknown.
+    A score of unknown direction is still tested, and reported as "changed", but
+    never counts as a regression. ``overrides`` maps a full score name or a last
+    component to -1/+1/0 and takes precedence.
+    """
+    key = name.rsplit("/", 1)[-1]
+    if overrides:
+        for k in (name, key):
+            if k in overrides:
+                v = overrides[k]
+                if v not in (-1, 0, 1):
+                    raise ValueError(f"direction of {k!r} must be -1, 0 or +1; got {v!r}")
+                return int(v)
+    tokens = set(key.lower().split("_"))
+    if tokens & HIGHER_IS_BETTER_TOKENS:
+        return 1
+    if tokens & LOWER_IS_BETTER_TOKENS:
+        return -1
+    return 0
+
+
+# ----------------------------------------------------------------------------- seeds
+def parse_seeds(text: str) -> tuple[int, ...]:
+    """Parse a seed list: ``"0:100"`` (half-open range, like Python), ``"0:100:5"``,
+    ``"1,5,9"`` (a comma list) or ``"7"``.
+
+    Raises
+    ------
+    ValueError
+        If the text is not of these forms, a seed is negative, the list is empty or
+        holds a seed twice.
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"seeds must be a string like '0:100' or '1,5,9'; got {text!r}")
+    s = text.strip()
+    usage = f"seeds must be 'START:STOP' (half-open range), 'START:STOP:STEP' or a comma list like '1,5,9' of integers >= 0; got {text!r}"
+    try:
+        if ":" in s:
+            parts = [int(p) for p in s.split(":")]
+            if len(parts) not in (2, 3):
+                raise ValueError
+            if len(parts) == 3 and parts[2] <= 0:
+                raise ValueError
+            seeds = tuple(range(*parts))
+        else:
+            seeds = tuple(int(p) for p in s.split(","))
+    except ValueError:
+        raise ValueError(usage) from None
+    return _check_seeds(seeds, what=text)
+
+
+def _check_seeds(seeds: Iterable[int], *, what: Any = None) -> tuple[int, ...]:
+    seeds = tuple(seeds)
+    what = seeds if what is None else what
+    for s in seeds:
+        if isinstance(s, (bool, np.bool_)) or not isinstance(s, (int, np.integer)):
+            raise TypeError(f"seeds must be integers >= 0; got {s!r} in {what!r}")
+        if s < 0:
+            raise ValueError(f"seeds must be integers >= 0; got {int(s)} in {what!r}")
+    if not seeds:
+        raise ValueError(f"seeds must hold at least one seed; got {what!r}")
+    seeds = tuple(int(s) for s in seeds)
+    if len(set(seeds)) != len(seeds):
+        dup = sorted({s for s in seeds if seeds.count(s) > 1})
+        raise ValueError(f"seeds must be distinct; got {dup} more than once in {what!r}")
+    return seeds
+
+
+# ----------------------------------------------------------------------------- resolution
+def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
+    """The scenario module for a registered name, an importable module path or a module.
+
+    Raises
+    ------
+    ValueError
+        If the name is unknown or the scenario has no compensation stage.
+    """
+    from scenarios import registry
+
+    if isinstance(scenario, types.ModuleType):
+        module = scenario
+    elif isinstance(scenario, str):
+        if scenario in registry.SCENARIOS or "." not in scenario:
+            module = registry.get(scenario)  # ValueError naming the valid ones
+        else:
+            try:
+                module = importlib.import_module(scenario)
+            except ModuleNotFoundError as exc:
+                raise ValueError(
+                    f"scenario must be a registered name {registry.available()} or an importable module; "
+                    f"got {scenario!r} ({exc})"
+                ) from None
+    else:
+        raise TypeError(f"scenario must be a name or a module; got {type(scenario).__name__} {scenario!r}")
+    if not callable(getattr(module, "compensation_task", None)):
+        raise ValueError(
+            f"scenario {getattr(module, 'NAME', module.__name__)!r} has no compensation stage "
+            f"(no compensation_task); scenarios with one: {_bench_scenarios()}"
+        )
+    return module
+
+
+def _bench_scenarios() -> list[str]:
+    from scenarios import registry
+
+    out = []
+    for name in registry.available():
+        try:
+            if hasattr(registry.get(name), "compensation_task"):
+                out.append(name)
+        except Exception:  # noqa: BLE001 - a broken scenario must not hide the message
+            continue
+    return out
+
+
+def _import_attr(spec: str) -> Any:
+    if spec.count(":") != 1 or not all(spec.split(":")):
+        raise ValueError(f"compensator must be 'package.module:attr'; got {spec!r}")
+    mod_name, attr = spec.split(":")
+    try:
+        obj: Any = importlib.import_module(mod_name)
+    except ModuleNotFoundError as exc:
+        raise ValueError(f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})") from None
+    for part in attr.split("."):
+        try:
+            obj = getattr(obj, part)
+        except AttributeError:
+            raise ValueError(f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}") from None
+    return obj
+
+
+def _is_estimator(obj: Any) -> bool:
+    return callable(getattr(obj, "fit", None)) and callable(getattr(obj, "predict", None))
+
+
+def resolve_compensator(compensator: Any) -> Any:
+    """Check ``compensator`` is one of the accepted forms (module docstring) and import strings.
+
+    Returns the estimator instance, estimator class or fit function.
+
+    Raises
+    ------
+    ValueError
+        If a ``"module:attr"`` string does not resolve.
+    TypeError
+        If the object is not an estimator, an estimator class or a callable.
+    """
+    obj = _import_attr(compensator) if isinstance(compensator, str) else compensator
+    if isinstance(obj, type):
+        if not _is_estimator(obj):
+            raise TypeError(f"compensator class {obj.__qualname__} must define fit and predict")
+        return obj
+    if _is_estimator(obj) or callable(obj):
+        return obj
+    raise TypeError(
+        "compensator must be a scikit-learn estimator, an estimator class, a fit function "
+        f"f(X, y) -> predictor, or 'module:attr'; got {type(obj).__name__} {obj!r}"
+    )
+
+
+def _seed_int(seed: int) -> int:
+    """An integer in [0, 2**32) derived from the campaign seed, for ``random_state``."""
+    return int(np.random.SeedSequence([int(seed), 0x62656E63]).generate_state(1)[0])
+
+
+def _fit(compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed: int) -> Callable:
+    """Fit a fresh copy of ``compensator`` and return ``predict(X) -> ndarray``."""
+    rs = _seed_int(seed)
+    if isinstance(compensator, type):
+        compensator = compensator()
+    if _is_estimator(compensator):
+        if hasattr(compensator, "get_params"):
+            from sklearn.base import clone
+
+            est = clone(compensator)
+            params = est.get_params(deep=True)
+            seeded = {k: rs for k, v in params.items() if (k == "random_state" or k.endswith("__random_state")) and v is None}
+            if seeded:
+                est.set_params(**seeded)
+        else:
+            est = copy.deepcopy(compensator)
+        fitted = est.fit(X, y)
+        est = est if fitted is None else fitted
+        return est.predict
+    kwargs = {}
+    try:
+        if "random_state" in inspect.signature(compensator).parameters:
+            kwargs["random_state"] = rs
+    except (TypeError, ValueError):  # builtins without a signature
+        pass
+    predictor = compensator(X, y, **kwargs)
+    if _is_estimator(predictor) or callable(getattr(predictor, "predict", None)):
+        return predictor.predict
+    if callable(predictor):
+        return predictor
+    raise TypeError(
+        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return a callable "
+        f"predict(X) or an object with .predict(X); got {type(predictor).__name__}"
+    )
+
+
+# ----------------------------------------------------------------------------- one seed
+def score_seed(scenario: str | types.ModuleType, compensator: Any, seed: int, config: Any = None) -> dict[str, float]:
+    """Fit ``compensator`` on the scenario's training run for ``seed`` and score every held-out run.
+
+    Parameters
+    ----------
+    scenario : str or module
+        Registered scenario name, importable module path, or module object.
+    compensator : estimator, estimator class, fit function or "module:attr"
+        See the module docstring.
+    seed : int
+        Seed of the scenario's simulation (>= 0); also seeds the compensator.
+    config : scenario Config, optional
+        Defaults to the scenario's ``Config()`` (the paper's setup).
+
+    Returns
+    -------
+    dict
+        ``"<run label>/<score>"`` for every held-out run and ``"mean/<score>"``, the
+        mean over the runs that report that score; keys sorted.
+    """
+    from threadpoolctl import threadpool_limits
+
+    module = resolve_scenario(scenario)
+    comp = resolve_compensator(compensator)
+    (seed,) = _check_seeds([seed])
+    if config is None:
+        config = module.Config()
+    with threadpool_limits(limits=1):
+        task = module.compensation_task(config, seed)
+        predict = _fit(comp, task.X_train, task.y_train, seed)
+        scores: dict[str, float] = {}
+        per_key: dict[str, list[float]] = {}
+        for run in task.heldout:
+            pred = np.asarray(predict(run.X), dtype=float)
+            if pred.size != len(run.output):
+                raise ValueError(
+                    f"compensator prediction on run {run.label!r} must have {len(run.output)} values; got shape {pred.shape}"
+                )
+            compensated = task.compensate(pred, run)
+            for k, v in task.scorer(compensated, run).items():
+                v = float(v)
+                scores[f"{run.label}/{k}"] = v
+                per_key.setdefault(k, []).append(v)
+    for k, vals in per_key.items():
+        scores[f"mean/{k}"] = math.fsum(vals) / len(vals)
+    return dict(sorted(scores.items()))
+
+
+def _score_job(module_name: str, compensator: Any, seed: int, config: Any) -> tuple[int, dict[str, float], float]:
+    """Worker entry point (module level so it pickles by reference)."""
+    t0 = time.perf_counter()
+    scores = score_seed(importlib.import_module(module_name), compensator, seed, config)
+    return seed, scores, time.perf_counter() - t0
+
+
+# ----------------------------------------------------------------------------- identity
+@functools.lru_cache(maxsize=None)
+def _file_hash(path: str) -> str:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
+    except OSError:
+        return "unreadable"
+
+
+def _module_hash(module_name: str | None) -> str:
+    if not module_name:
+        return "none"
+    import sys
+
+    mod = sys.modules.get(module_name)
+    path = getattr(mod, "__file__", None) if mod is not None else None
+    return _file_hash(path) if path else "builtin"
+
+
+@functools.lru_cache(maxsize=1)
+def _code_fingerprint() -> str:
+    """Hash of the gyrobench sources (sim, analysis, scenarios) and the numerical libraries' versions."""
+    import scipy
+    import sklearn
+
+    from sim.recording import package_version
+
+    h = hashlib.sha256()
+    root = Path(__file__).resolve().parent.parent
+    for pkg in ("sim", "analysis", "scenarios"):
+        for p in sorted((root / pkg).rglob("*.py")):
+            h.update(str(p.relative_to(root)).encode())
+            h.update(p.read_bytes())
+    h.update(f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} sklearn {sklearn.__version__}".encode())
+    return h.hexdigest()[:16]
+
+
+def _canonical(obj: Any, depth: int = 0) -> Any:
+    """A JSON-able description of ``obj`` that is stable across processes and runs."""
+    if depth > 20:
+        return "..."
+    if obj is None or isinstance(obj, (bool, int, str)):
+        return obj
+    if isinstance(obj, float):
+        return repr(obj)
+    if isinstance(obj, np.generic):
+        return _canonical(obj.item(), depth + 1)
+    if isinstance(obj, np.ndarray):
+        return {"ndarray": list(obj.shape), "dtype": str(obj.dtype), "sha": hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()[:16]}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(o, depth + 1) for o in obj]
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v, depth + 1) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
+    if isinstance(obj, type) or inspect.isroutine(obj):
+        mod = getattr(obj, "__module__", None)
+        return {"object": f"{mod}:{getattr(obj, '__qualname__', repr(obj))}", "source": _module_hash(mod)}
+    if isinstance(obj, functools.partial):
+        return {"partial": _canonical(obj.func, depth + 1), "args": _canonical(obj.args, depth + 1),
+                "kwargs": _canonical(obj.keywords, depth + 1)}
+    if hasattr(obj, "get_params"):
+        cls = type(obj)
+        return {"class": _canonical(cls, depth + 1), "params": _canonical(obj.get_params(deep=False), depth + 1)}
+    if dataclasses.is_dataclass(obj):
+        return {"dataclass": _canonical(type(obj), depth + 1),
+                "fields": {f.name: _canonical(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)}}
+    text = repr(obj)
+    if " at 0x" in text:  # default object repr: the address changes every run
+        return {"object": _canonical(type(obj), depth + 1)}
+    return text
+
+
+def compensator_identity(compensator: Any) -> str:
+    """A stable JSON description of a compensator (class or function, parameters, source hash)."""
+    return json.dumps(_canonical(resolve_compensator(compensator)), sort_keys=True, separators=(",", ":"))
+
+
+def _compensator_label(comp: Any, given: Any) -> str:
+    if isinstance(given, str):
+        return given
+    if isinstance(comp, type) or inspect.isroutine(comp):
+        return f"{comp.__module__}:{comp.__qualname__}"
+    text = " ".join(repr(comp).split())
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any = None) -> str:
+    """Hash of scenario (module, config, code fingerprint) and compensator identity (16 hex digits)."""
+    module = resolve_scenario(scenario)
+    if config is None:
+        config = module.Config()
+    ident = {
+        "scenario": module.__name__,
+        "scenario_source": _module_hash(module.__name__),
+        "code": _code_fingerprint(),
+        "config": _canonical(config),
+        "compensator": json.loads(compensator_identity(compensator)),
+    }
+    return hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16]
+
+
+# ----------------------------------------------------------------------------- results
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ScoreSummary:
+    """Mean of one score over seeds with its 95 % confidence interval (Student t, n - 1 dof)."""
+
+    name: str
+    mean: float
+    low: float
+    high: float
+    std: float
+    n: int
+
+
+def _summary(name: str, values: NDArray[np.float64], level: float = 0.95) -> ScoreSummary:
+    from scipy import stats
+
+    v = values[np.isfinite(values)]
+    n = int(v.size)
+    if n == 0:
+        return ScoreSummary(name=name, mean=math.nan, low=math.nan, high=math.nan, std=math.nan, n=0)
+    mean = float(np.mean(v))
+    if n < 2:
+        return ScoreSummary(name=name, mean=mean, low=math.nan, high=math.nan, std=math.nan, n=1)
+    std = float(np.std(v, ddof=1))
+    half = float(stats.t.ppf(0.5 + level / 2, n - 1)) * std / math.sqrt(n)
+    return ScoreSummary(name=name, mean=mean, low=mean - half, high=mean + half, std=std, n=n)
+
+
+def _order(names: Iterable[str]) -> list[str]:
+    """``mean/*`` scores first, then the per-run ones, each alphabetically."""
+    return sorted(names, key=lambda s: (not s.startswith("mean/"), s))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Campaign:
+    """Scores of one compensator on one scenario over a set of seeds.
+
+    Attributes
+    ----------
+    campaign_id : str
+        Hash identifying scenario + configuration + code + compensator.
+    scenario, compensator, config : str
+        Human-readable descriptions.
+    scores : mapping
+        seed -> {score name: value}, in seed order.
+    computed, reused : int
+        Seeds computed by this call / read back from the database.
+    """
+
+    campaign_id: str
+    scenario: str
+    compensator: str
+    config: str
+    scores: Mapping[int, Mapping[str, float]]
+    computed: int = 0
+    reused: int = 0
+    db: str = ""
+
+    @property
+    def seeds(self) -> tuple[int, ...]:
+        return tuple(self.scores)
+
+    @property
+    def score_names(self) -> list[str]:
+        names: set[str] = set()
+        for s in self.scores.values():
+            names.update(s)
+        return _order(names)
+
+    def values(self, name: str, seeds: Sequence[int] | None = None) -> NDArray[np.float64]:
+        """The score ``name`` for each seed (NaN where a seed lacks it)."""
+        seeds = self.seeds if seeds is None else seeds
+        return np.array([self.scores[s].get(name, math.nan) for s in seeds], dtype=float)
+
+    def summary(self, level: float = 0.95) -> dict[str, ScoreSummary]:
+        """Per score: mean over seeds with a ``level`` confidence interval (t-distribution)."""
+        return {n: _summary(n, self.values(n), level) for n in self.score_names}
+
+
+def format_summary(campaign: Campaign) -> str:
+    """A plain-text table of every score's mean, 95 % CI and n."""
+    rows = [("score", "mean", "95% CI", "n")]
+    for s in campaign.summary().values():
+        ci = "n/a" if math.isnan(s.low) else f"[{s.low:.6g}, {s.high:.6g}]"
+        rows.append((s.name, f"{s.mean:.6g}", ci, str(s.n)))
+    w = [max(len(r[i]) for r in rows) for i in range(4)]
+    head = (f"campaign {campaign.campaign_id}: scenario {campaign.scenario}, compensator {campaign.compensator}; "
+            f"{len(campaign.scores)} seeds ({campaign.computed} computed, {campaign.reused} from the database)")
+    lines = [head] + ["  ".join(c.ljust(w[i]) if i == 0 else c.rjust(w[i]) for i, c in enumerate(r)) for r in rows]
+    return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------- database
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS campaigns (
+    campaign_id TEXT PRIMARY KEY,
+    scenario TEXT NOT NULL,
+    compensator TEXT NOT NULL,
+    config TEXT NOT NULL,
+    identity TEXT NOT NULL,
+    created REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS seed_scores (
+    campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
+    seed INTEGER NOT NULL,
+    scores TEXT NOT NULL,
+    elapsed_s REAL NOT NULL,
+    finished REAL NOT NULL,
+    session_id INTEGER NOT NULL REFERENCES sessions(session_id),
+    PRIMARY KEY (campaign_id, seed)
+);
+CREATE TABLE IF NOT EXISTS sessions (
+    session_id INTEGER PRIMARY KEY AUTOINCREMENT,
+    campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
+    started REAL NOT NULL,
+    n_requested INTEGER NOT NULL,
+    n_reused INTEGER NOT NULL,
+    pid INTEGER NOT NULL
+);
+"""
+
+
+def _connect(path: str | os.PathLike) -> sqlite3.Connection:
+    p = Path(path)
+    if p.is_dir():
+        raise IsADirectoryError(f"db must be a file; got the directory {str(p)!r}")
+    p.parent.mkdir(parents=True, exist_ok=True)
+    conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+    try:
+        conn.execute("PRAGMA busy_timeout = 60000")
+        mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
+        if str(mode).lower() != "wal":
+            raise ValueError(f"db {str(p)!r}: cannot switch to WAL journal mode (got {mode!r})")
+        conn.execute("PRAGMA synchronous = FULL")
+        conn.executescript(_SCHEMA)
+    except sqlite3.DatabaseError as exc:
+        conn.close()
+        raise ValueError(f"db {str(p)!r} is not a usable SQLite database: {exc}") from None
+    return conn
+
+
+def _dumps_scores(scores: Mapping[str, float]) -> str:
+    # JSON floats round-trip exactly (repr); NaN/inf as strings so the text stays valid JSON
+    return json.dumps({k: (v if math.isfinite(v) else repr(v)) for k, v in scores.items()}, sort_keys=True)
+
+
+def _loads_scores(text: str) -> dict[str, float]:
+    return {k: float(v) for k, v in json.loads(text).items()}
+
+
+# ----------------------------------------------------------------------------- campaign
+def _default_workers() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def run_campaign(
+    scenario: str | types.ModuleType,
+    compensator: Any,
+    seeds: Iterable[int] | str,
+    *,
+    config: Any = None,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = True,
+) -> Campaign:
+    """Score ``compensator`` on ``scenario`` for every seed, resuming from ``db``.
+
+    Parameters
+    ----------
+    scenario : str or module
+        Registered name, importable module path or module with ``compensation_task``.
+    compensator : estimator, estimator class, fit function or "module:attr"
+        See the module docstring. It must pickle (module-level functions and
+        classes do; lambdas do not) unless ``workers=0``.
+    seeds : iterable of int or str
+        Distinct seeds >= 0, or the text forms of :func:`parse_seeds`.
+    config : scenario Config, optional
+        Defaults to ``Config()``.
+    executor : concurrent.futures.Executor, optional
+        Where seeds run, e.g. ``distributed.Client(addr).get_executor()``; it must
+        be able to import the scenario module and the compensator's module. Not
+        shut down by this function.
+    workers : int, optional
+        Size of the local process pool when ``executor`` is None (default: the
+        usable CPUs). ``0`` runs the seeds one after another in this process.
+    db : path
+        SQLite file holding every finished seed (created if absent).
+    progress : bool
+        Show a tqdm progress bar on stderr.
+
+    Returns
+    -------
+    Campaign
+        Scores for ``seeds`` in the order given.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad scenario, compensator, seeds or db. An exception inside a seed is
+        re-raised (as is) after the seeds already finished are committed.
+    """
+    module = resolve_scenario(scenario)
+    comp = resolve_compensator(compensator)
+    seeds = parse_seeds(seeds) if isinstance(seeds, str) else _check_seeds(seeds)
+    if config is None:
+        config = module.Config()
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
+        raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise TypeError(f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}")
+    if executor is not None and workers is not None:
+        raise ValueError("give either executor or workers, not both")
+    cid = campaign_id(module, comp, config)
+    label = _compensator_label(comp, compensator)
+    scen_name = getattr(module, "NAME", module.__name__)
+
+    conn = _connect(db)
+    try:
+        conn.execute("BEGIN IMMEDIATE")
+        conn.execute(
+            "INSERT OR IGNORE INTO campaigns VALUES (?, ?, ?, ?, ?, ?)",
+            (cid, scen_name, label, repr(config), compensator_identity(comp), time.time()),
+        )
+        done: dict[int, dict[str, float]] = {}
+        wanted = set(seeds)
+        for seed, text in conn.execute("SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (cid,)):
+            if seed in wanted:
+                done[seed] = _loads_scores(text)
+        cur = conn.execute(
+            "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) VALUES (?, ?, ?, ?, ?)",
+            (cid, time.time(), len(seeds), len(done), os.getpid()),
+        )
+        session = cur.lastrowid
+        conn.execute("COMMIT")
+        todo = [s for s in seeds if s not in done]
+        reused = len(done)
+
+        def record(seed: int, scores: dict[str, float], elapsed: float) -> None:
+            conn.execute("BEGIN IMMEDIATE")
+            try:
+                conn.execute(
+                    "INSERT INTO seed_scores VALUES (?, ?, ?, ?, ?, ?)",
+                    (cid, seed, _dumps_scores(scores), elapsed, time.time(), session),
+                )
+            except BaseException:
+                conn.execute("ROLLBACK")
+                raise
+            conn.execute("COMMIT")
+            done[seed] = _loads_scores(_dumps_scores(scores))  # exactly what a resume reads back
+
+        if todo:
+            from tqdm import tqdm
+
+            bar = tqdm(total=len(seeds), initial=reused, disable=not progress, desc=f"{scen_name} seeds",
+                       unit="seed", dynamic_ncols=True)
+            try:
+                if executor is None and workers == 0:
+                    for seed in todo:
+                        record(*_score_job(module.__name__, comp, seed, config))
+                        bar.update(1)
+                else:
+                    _check_picklable(comp, config)
+                    own = executor is None
+                    ex = cf.ProcessPoolExecutor(max_workers=workers or _default_workers()) if own else executor
+                    futures: list[cf.Future] = []
+                    try:
+                        futures = [ex.submit(_score_job, module.__name__, comp, s, config) for s in todo]
+                        for fut in cf.as_completed(futures):
+                            record(*fut.result())
+                            bar.update(1)
+                    finally:
+                        for f in futures:
+                            f.cancel()
+                        if own:
+                            ex.shutdown(wait=True, cancel_futures=True)
+            finally:
+                bar.close()
+        return Campaign(
+            campaign_id=cid, scenario=scen_name, compensator=label, config=repr(config),
+            scores={s: done[s] for s in seeds}, computed=len(todo), reused=reused, db=str(db),
+        )
+    finally:
+        conn.close()
+
+
+def _check_picklable(comp: Any, config: Any) -> None:
+    for what, obj in (("compensator", comp), ("config", config)):
+        try:
+            pickle.dumps(obj)
+        except Exception as exc:  # noqa: BLE001 - pickling raises many kinds
+            raise TypeError(
+                f"{what} must pickle to run in worker processes (use a module-level function or class, "
+                f"not a lambda or closure, or workers=0); got {obj!r}: {exc}"
+            ) from None
+
+
+# ----------------------------------------------------------------------------- baselines
+def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
+    """Write ``campaign``'s per-seed scores to a JSON baseline (atomically)."""
+    from sim.recording import atomic_path, package_version
+
+    if not isinstance(campaign, Campaign):
+        raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
+    path = Path(path)
+    doc = {
+        "format": BASELINE_FORMAT,
+        "format_version": BASELINE_VERSION,
+        "gyrobench_version": package_version(),
+        "campaign_id": campaign.campaign_id,
+        "scenario": campaign.scenario,
+        "compensator": campaign.compensator,
+        "config": campaign.config,
+        "seeds": list(campaign.seeds),
+        "scores": {str(s): {k: (v if math.isfinite(v) else None) for k, v in sc.items()} for s, sc in campaign.scores.items()},
+        "summary": {n: {"mean": s.mean, "low": s.low, "high": s.high, "n": s.n}
+                    for n, s in campaign.summary().items()},
+    }
+    text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return path
+
+
+def load_baseline(path: str | os.PathLike) -> Campaign:
+    """Read a baseline written by :func:`save_baseline`.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        If it is not a gyrobench baseline.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"baseline file not found: {str(p)!r}")
+    try:
+        doc = json.loads(p.read_text())
+        if doc.get("format") != BASELINE_FORMAT:
+            raise ValueError(f"format is {doc.get('format')!r}, not {BASELINE_FORMAT!r}")
+        scores = {int(s): {k: (math.nan if v is None else float(v)) for k, v in sc.items()}
+                  for s, sc in doc["scores"].items()}
+        return Campaign(campaign_id=str(doc["campaign_id"]), scenario=str(doc["scenario"]),
+                        compensator=str(doc["compensator"]), config=str(doc["config"]),
+                        scores=dict(sorted(scores.items())), db=str(p))
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ScoreComparison:
+    """One score of a candidate campaign against the baseline, over the matching seeds.
+
+    ``effect`` is the Hodges-Lehmann estimate of the paired shift (candidate - baseline,
+    in the score's unit); ``relative`` = (mean candidate - mean baseline) / |mean baseline|.
+    ``status`` is "improved", "regressed", "changed" (significant, direction unknown)
+    or "unchanged".
+    """
+
+    name: str
+    direction: int
+    n: int
+    baseline_mean: float
+    candidate_mean: float
+    effect: float
+    relative: float
+    p_value: float
+    p_adjusted: float
+    status: str
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Comparison:
+    """All scores compared; ``regressions`` non-empty means a significant regression."""
+
+    scores: tuple[ScoreComparison, ...]
+    seeds: tuple[int, ...]
+    alpha: float
+    test: str
+    missing: tuple[str, ...] = ()
+    note: str = ""
+
+    @property
+    def regressions(self) -> tuple[ScoreComparison, ...]:
+        return tuple(s for s in self.scores if s.status == "regressed")
+
+    @property
+    def improvements(self) -> tuple[ScoreComparison, ...]:
+        return tuple(s for s in self.scores if s.status == "improved")
+
+    def format(self) -> str:
+        """Plain text: one line per score, then the verdict."""
+        lines = [f"comparison with the baseline over {len(self.seeds)} matching seeds: {self.test}, "
+                 f"Holm-adjusted over {len(self.scores)} scores, alpha {self.alpha:g}"]
+        if self.note:
+            lines.append(f"note: {self.note}")
+        rows = [("score", "status", "baseline", "candidate", "shift", "change", "p (Holm)")]
+        for s in self.scores:
+            rel = "n/a" if not math.isfinite(s.relative) else f"{100 * s.relative:+.3g}%"
+            rows.append((s.name, s.status, f"{s.baseline_mean:.6g}", f"{s.candidate_mean:.6g}", f"{s.effect:+.3g}",
+                         rel, f"{s.p_adjusted:.3g}"))
+        w = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        lines += ["  ".join(c.ljust(w[i]) if i < 2 else c.rjust(w[i]) for i, c in enumerate(r)) for r in rows]
+        if self.missing:
+            lines.append(f"not compared (in only one campaign): {', '.join(self.missing)}")
+        reg, imp = self.regressions, self.improvements
+        if reg:
+            lines.append(f"REGRESSION: {len(reg)} score(s) significantly worse: {', '.join(s.name for s in reg)}")
+        else:
+            lines.append(f"no significant regression ({len(imp)} score(s) significantly better)")
+        return "\n".join(lines)
+
+
+def _holm(p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Holm-Bonferroni step-down adjusted p-values (controls the family-wise error rate)."""
+    m = p.size
+    order = np.argsort(p, kind="stable")
+    adj = np.empty(m)
+    running = 0.0
+    for rank, i in enumerate(order):
+        running = max(running, min(1.0, (m - rank) * p[i]))
+        adj[i] = running
+    return adj
+
+
+def _hodges_lehmann(d: NDArray[np.float64]) -> float:
+    """Median of the Walsh averages (d_i + d_j)/2, i <= j (median of d for very long campaigns)."""
+    if d.size > 3000:
+        return float(np.median(d))
+    i, j = np.triu_indices(d.size)
+    return float(np.median((d[i] + d[j]) / 2))
+
+
+def compare(
+    baseline: Campaign | str | os.PathLike,
+    campaign: Campaign | str | os.PathLike,
+    *,
+    alpha: float = 0.05,
+    directions: Mapping[str, int] | None = None,
+) -> Comparison:
+    """Compare a candidate campaign with a baseline, seed by seed.
+
+    Parameters
+    ----------
+    baseline, campaign : Campaign or path to a baseline JSON
+    alpha : float
+        Family-wise error rate over all compared scores.
+    directions : mapping, optional
+        Overrides for :func:`score_direction`.
+
+    Returns
+    -------
+    Comparison
+
+    Notes
+    -----
+    Both campaigns ran the same seeds, so seed ``s`` gives both compensators the
+    same simulated data: the comparison is paired, on the per-seed differences
+    ``d_s = candidate_s - baseline_s`` over the seeds both hold (seeds where either
+    score is NaN are dropped).
+
+    The test is the two-sided Wilcoxon signed-rank test (``scipy.stats.wilcoxon``,
+    zeros dropped, exact null distribution for small n). It is chosen over the
+    paired t-test because per-seed error scores (MSE, RMS, stability) are skewed
+    and heavy-tailed, while the null hypothesis "the two compensators are
+    interchangeable" makes ``d`` symmetric about zero, which is all the
+    signed-rank test needs for its level to hold without a normality assumption.
+    A score whose differences are all exactly zero (the same compensator: scores
+    are deterministic) is "unchanged" with p = 1.
+
+    Many scores are tested at once (each held-out run and the mean), so the
+    p-values are adjusted by Holm's step-down method, which keeps the probability
+    of any false "regressed" or "improved" at most ``alpha``. A significant score
+    is "improved" or "regressed" by the sign of the signed-rank statistic
+    (``W+ - W-``) and the score's direction; the reported effect is the
+    Hodges-Lehmann shift. With n nonzero differences the smallest attainable
+    two-sided p is 2 / 2**n: use at least ~10 seeds (a note says when n is too
+    small to ever reach significance).
+    """
+    from scipy import stats
+
+    if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
+        raise ValueError(f"alpha must be in (0, 1); got {alpha!r}")
+    base = baseline if isinstance(baseline, Campaign) else load_baseline(baseline)
+    cand = campaign if isinstance(campaign, Campaign) else load_baseline(campaign)
+    seeds = tuple(s for s in cand.seeds if s in base.scores)
+    if not seeds:
+        raise ValueError(
+            f"baseline and campaign share no seed (baseline seeds {_seed_text(base.seeds)}, "
+            f"campaign seeds {_seed_text(cand.seeds)}); run the campaign on the baseline's seeds"
+        )
+    bnames, cnames = set(base.score_names), set(cand.score_names)
+    names = _order(bnames & cnames)
+    missing = tuple(_order(bnames ^ cnames))
+    if not names:
+        raise ValueError("baseline and campaign have no score in common; were they run on the same scenario?")
+    rows = []
+    pvals = []
+    for name in names:
+        b, c = base.values(name, seeds), cand.values(name, seeds)
+        ok = np.isfinite(b) & np.isfinite(c)
+        b, c = b[ok], c[ok]
+        d = c - b
+        nz = d[d != 0]
+        if nz.size == 0:
+            p, sign = 1.0, 0.0
+        else:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # small-sample / ties notices
+                res = stats.wilcoxon(nz, zero_method="wilcox", alternative="two-sided")
+            p = float(res.pvalue) if np.isfinite(res.pvalue) else 1.0
+            ranks = stats.rankdata(np.abs(nz))
+            sign = float(np.sign(ranks[nz > 0].sum() - ranks[nz < 0].sum()))
+        pvals.append(p)
+        bm = float(np.mean(b)) if b.size else math.nan
+        cm = float(np.mean(c)) if c.size else math.nan
+        rows.append(dict(name=name, direction=score_direction(name, directions), n=int(d.size),
+                         baseline_mean=bm, candidate_mean=cm,
+                         effect=_hodges_lehmann(d) if d.size else math.nan,
+                         relative=(cm - bm) / abs(bm) if bm != 0 and math.isfinite(bm) else math.nan,
+                         p_value=p, sign=sign))
+    adj = _holm(np.array(pvals))
+    out = []
+    for r, pa in zip(rows, adj):
+        sign = r.pop("sign")
+        if pa < alpha and sign != 0:
+            status = "changed" if r["direction"] == 0 else ("improved" if sign * r["direction"] > 0 else "regressed")
+        else:
+            status = "unchanged"
+        out.append(ScoreComparison(**r, p_adjusted=float(pa), status=status))
+    n_min = min(r.n for r in out)
+    note = ""
+    if 2.0 / 2.0**n_min * len(out) >= alpha:
+        note = (f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
+                f"{min(1.0, len(out) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, so no change can be significant; use more seeds")
+    return Comparison(scores=tuple(out), seeds=seeds, alpha=float(alpha),
+                      test="two-sided Wilcoxon signed-rank on paired per-seed scores", missing=missing, note=note)
+
+
+def _seed_text(seeds: Sequence[int]) -> str:
+    s = list(seeds)
+    if len(s) > 1 and s == list(range(s[0], s[-1] + 1)):
+        return f"{s[0]}:{s[-1] + 1}"
+    return ",".join(map(str, s[:10])) + (",..." if len(s) > 10 else "")

@@ -209,7 +209,12 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
         module = scenario
     elif isinstance(scenario, str):
         if scenario in registry.SCENARIOS or "." not in scenario:
-            module = registry.get(scenario)  # ValueError naming the valid ones
+            if scenario not in registry.available():
+                raise ValueError(
+                    f"scenario must be one of the scenarios with a compensation stage {_bench_scenarios()} "
+                    f"or an importable module path; got {scenario!r}"
+                )
+            module = registry.get(scenario)
         else:
             try:
                 module = importlib.import_module(scenario)

@@ -1,0 +1,103 @@
+"""The ``bench`` verb of the ``gyrobench`` command line.
+
+::
+
+    gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
+        [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
+        [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
+
+Exit status of :func:`run`: 0 on success, 1 when the campaign is significantly
+worse than ``--baseline`` on some score. Bad input raises ``ValueError``,
+``TypeError`` or ``FileNotFoundError`` with a one-line message (the command line
+wrapper prints it and exits 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scenarios import bench
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the ``bench`` sub-command to ``subparsers``; its ``func`` default is :func:`run`."""
+    p = subparsers.add_parser(
+        "bench",
+        help="score a compensator on a scenario over many seeds (resumable), compare with a baseline",
+        description=(
+            "Fit and score a compensator on every seed of a scenario's compensation task; print each "
+            "score's mean with a 95%% confidence interval. Finished seeds are kept in --db, so an "
+            "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a score is "
+            "significantly worse (paired Wilcoxon signed-rank test, Holm-adjusted)."
+        ),
+    )
+    p.add_argument("scenario", help="scenario name with a compensation stage (see 'gyrobench list', marked [bench])")
+    p.add_argument("--compensator", required=True, metavar="MODULE:ATTR",
+                   help="a scikit-learn estimator (instance or class) or a fit function f(X, y) -> predict, "
+                        "as 'package.module:attr'")
+    p.add_argument("--seeds", default="0:20", help="'START:STOP' (half-open) or '1,5,9' (default 0:20)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local worker processes (default: usable CPUs; 0 = run in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster")
+    p.add_argument("--db", default=bench.DEFAULT_DB, help=f"SQLite file keeping every finished seed (default {bench.DEFAULT_DB})")
+    p.add_argument("--config", metavar="FILE.toml", help="override the scenario's configuration")
+    p.add_argument("--save-baseline", metavar="FILE.json", help="write this campaign's per-seed scores as a baseline")
+    p.add_argument("--baseline", metavar="FILE.json", help="compare with a stored baseline; exit 1 on a significant regression")
+    p.add_argument("--alpha", type=float, default=0.05, help="family-wise significance level of the comparison (default 0.05)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+    return p
+
+
+def _executor(args):
+    """(executor, closer) for --scheduler; (None, None) for the local process pool."""
+    if not args.scheduler:
+        return None, None
+    if args.workers is not None:
+        raise ValueError("give either --workers or --scheduler, not both")
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--scheduler needs dask.distributed: pip install 'gyrobench[distributed]'") from None
+    try:
+        client = Client(args.scheduler, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"--scheduler: cannot connect to {args.scheduler!r}: {exc}") from None
+    return client.get_executor(), client.close
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
+    from scenarios import registry
+
+    seeds = bench.parse_seeds(args.seeds)
+    if args.workers is not None and args.workers < 0:
+        raise ValueError(f"--workers must be >= 0; got {args.workers}")
+    if not 0 < args.alpha < 1:
+        raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
+    module = bench.resolve_scenario(args.scenario)
+    config = registry.load_config(module, args.config) if args.config else module.Config()
+    bench.resolve_compensator(args.compensator)  # fail before connecting or computing
+    baseline = bench.load_baseline(args.baseline) if args.baseline else None  # fail before computing
+    if args.save_baseline and Path(args.save_baseline).is_dir():
+        raise ValueError(f"--save-baseline must be a file name; got the directory {args.save_baseline!r}")
+    executor, close = _executor(args)
+    try:
+        campaign = bench.run_campaign(module, args.compensator, seeds, config=config, executor=executor,
+                                      workers=args.workers, db=args.db, progress=not args.quiet)
+    finally:
+        if close is not None:
+            close()
+    print(bench.format_summary(campaign))
+    if args.save_baseline:
+        path = bench.save_baseline(args.save_baseline, campaign)
+        print(f"baseline written to {path}")
+    if baseline is not None:
+        result = bench.compare(baseline, campaign, alpha=args.alpha)
+        print(result.format())
+        return 1 if result.regressions else 0
+    return 0

@@ -1,0 +1,261 @@
+"""Rate-table scale-factor analysis: LS fit, nonlinearity (IEEE), asymmetry, breakpoint search.
+
+Works on plain arrays: the commanded table rates and the gyro's mean output at
+each rate, in any one consistent rate unit (the nonlinearity is a ratio; the
+scale factor is output unit per input unit; breakpoints come back in the unit
+of ``rates``).
+
+Definitions (PHYSICS.md section 5; IEEE Std 1431 / GJB 2426A; seed paper 001, eq. 1-6)::
+
+    F_j   = K W_j + F0 + v_j                        (model; K, F0 by least squares)
+    K     = (m S(WF) - S(W) S(F)) / (m S(W^2) - S(W)^2),  F0 = (S(F) - K S(W)) / m
+    a_j   = (F_j - (K W_j + F0)) / F_m              (pointwise nonlinearity)
+    K_n   = max_j |a_j|                             (scale-factor nonlinearity)
+
+F_m is the one-sided full-scale output amplitude, max_j |F_j| unless given.
+Asymmetry: K+ fitted on W >= 0, K- on W <= 0, K_a = |K+ - K-| / ((K+ + K-)/2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "ScaleFactorFit",
+    "fit_scale_factor",
+    "asymmetry",
+    "SearchStep",
+    "BreakpointSearch",
+    "breakpoint_search",
+    "check_rate_table",
+]
+
+
+def check_rate_table(rates: ArrayLike, outputs: ArrayLike, *, min_points: int = 3) -> tuple[NDArray, NDArray]:
+    """Validate a rate table: 1-D, equal length, >= ``min_points``, finite, strictly monotonic rates.
+
+    Raises
+    ------
+    ValueError
+        Naming the first offending element.
+    """
+    w = np.asarray(rates, dtype=float)
+    f = np.asarray(outputs, dtype=float)
+    if w.ndim != 1 or f.ndim != 1:
+        raise ValueError(f"rates and outputs must be 1-D; got shapes {w.shape} and {f.shape}")
+    if w.shape != f.shape:
+        raise ValueError(f"rates and outputs must have the same length; got {w.size} and {f.size}")
+    if w.size < min_points:
+        raise ValueError(f"a rate table needs at least {min_points} rates; got {w.size}")
+    if not np.all(np.isfinite(w)):
+        raise ValueError(f"rates must be finite; got {w[~np.isfinite(w)][0]!r} at index {int(np.flatnonzero(~np.isfinite(w))[0])}")
+    if not np.all(np.isfinite(f)):
+        i = int(np.flatnonzero(~np.isfinite(f))[0])
+        raise ValueError(f"outputs must be finite; got {f[i]!r} at index {i} (rate {w[i]!r})")
+    d = np.diff(w)
+    if not (np.all(d > 0) or np.all(d < 0)):
+        if np.any(d == 0):
+            i = int(np.flatnonzero(d == 0)[0])
+            raise ValueError(f"rates must be distinct; got the duplicate rate {w[i]!r} at indices {i} and {i + 1}")
+        i = int(np.flatnonzero(np.sign(d) != np.sign(d[0]))[0])
+        raise ValueError(
+            f"rates must be strictly monotonic (a rate-table sequence); got {w[i]!r} -> {w[i + 1]!r} at index {i + 1}"
+        )
+    return w, f
+
+
+@dataclass(frozen=True, slots=True)
+class ScaleFactorFit:
+    """Least-squares scale-factor fit of a rate table.
+
+    Attributes
+    ----------
+    scale_factor : float
+        K [output unit / rate unit].
+    bias : float
+        F0 [output unit].
+    full_scale : float
+        F_m [output unit].
+    residuals : ndarray
+        F_j - (K W_j + F0) [output unit].
+    pointwise : ndarray
+        a_j = residuals / F_m [-].
+    nonlinearity : float
+        K_n = max |a_j| [-].
+    """
+
+    scale_factor: float
+    bias: float
+    full_scale: float
+    residuals: NDArray[np.float64]
+    pointwise: NDArray[np.float64]
+    nonlinearity: float
+
+    @property
+    def nonlinearity_pct(self) -> float:
+        """K_n [%]."""
+        return 100.0 * self.nonlinearity
+
+    @property
+    def nonlinearity_ppm(self) -> float:
+        """K_n [ppm]."""
+        return 1e6 * self.nonlinearity
+
+
+def _ls_line(w: NDArray, f: NDArray) -> tuple[float, float]:
+    """K and F0 by the closed-form normal equations (eq. 2-3), on centred data for accuracy."""
+    wm, fm = w.mean(), f.mean()
+    dw = w - wm
+    k = float(np.dot(dw, f - fm) / np.dot(dw, dw))
+    return k, float(fm - k * wm)
+
+
+def fit_scale_factor(rates: ArrayLike, outputs: ArrayLike, *, full_scale: float | None = None) -> ScaleFactorFit:
+    """Least-squares scale factor, bias and IEEE nonlinearity of a rate table.
+
+    Parameters
+    ----------
+    rates : array_like
+        Commanded rates W_j (strictly monotonic, >= 3) [any rate unit].
+    outputs : array_like
+        Mean gyro output F_j at each rate [output unit].
+    full_scale : float, optional
+        F_m [output unit], > 0; default max |F_j|.
+
+    Returns
+    -------
+    ScaleFactorFit
+
+    Examples
+    --------
+    >>> fit = fit_scale_factor([-2.0, -1.0, 0.0, 1.0, 2.0], [-1.9, -1.0, 0.0, 1.0, 1.9])
+    >>> round(fit.scale_factor, 6), round(fit.nonlinearity_pct, 4)
+    (0.96, 2.1053)
+    """
+    w, f = check_rate_table(rates, outputs)
+    k, f0 = _ls_line(w, f)
+    fm = float(np.max(np.abs(f))) if full_scale is None else full_scale
+    if isinstance(fm, bool) or not (isinstance(fm, (int, float)) and math.isfinite(fm) and fm > 0):
+        raise ValueError(f"full_scale must be a finite number > 0 [output unit]; got {fm!r}")
+    res = f - (k * w + f0)
+    a = res / fm
+    return ScaleFactorFit(k, f0, float(fm), res, a, float(np.max(np.abs(a))))
+
+
+def asymmetry(rates: ArrayLike, outputs: ArrayLike) -> float:
+    """Scale-factor asymmetry K_a = |K+ - K-| / ((K+ + K-)/2) [-].
+
+    K+ is the LS scale factor over W >= 0 and K- over W <= 0 (each needs >= 2 rates).
+    """
+    w, f = check_rate_table(rates, outputs)
+    pos, neg = w >= 0, w <= 0
+    if pos.sum() < 2 or neg.sum() < 2:
+        raise ValueError(
+            f"asymmetry needs at least 2 rates >= 0 and 2 rates <= 0; got {int(pos.sum())} and {int(neg.sum())}"
+        )
+    kp, _ = _ls_line(w[pos], f[pos])
+    kn, _ = _ls_line(w[neg], f[neg])
+    return abs(kp - kn) / (0.5 * (kp + kn))
+
+
+@dataclass(frozen=True, slots=True)
+class SearchStep:
+    """One row of the breakpoint-search trace (the paper's Table 2).
+
+    ``end_rate`` closes the interval [0, end_rate]; ``nonlinearity`` is that
+    interval's K_n [-]; ``abs_diff`` = |K_n(k) - K_n(k-1)|; ``diff2`` =
+    abs_diff(k) - abs_diff(k-1); ``counter`` the run of positive ``diff2`` (NaN
+    where not yet defined).
+    """
+
+    side: int
+    end_rate: float
+    n_points: int
+    nonlinearity: float
+    abs_diff: float
+    diff2: float
+    counter: int
+
+
+@dataclass(frozen=True, slots=True)
+class BreakpointSearch:
+    """Result of :func:`breakpoint_search`: breakpoints (None where none was found) and the trace."""
+
+    negative: float | None
+    positive: float | None
+    trace: tuple[SearchStep, ...]
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """The breakpoints found, ascending."""
+        return tuple(b for b in (self.negative, self.positive) if b is not None)
+
+
+def _interval_kn(w: NDArray, f: NDArray) -> float:
+    if w.size < 3:
+        return 0.0  # a line through two points: no nonlinearity
+    k, f0 = _ls_line(w, f)
+    return float(np.max(np.abs(f - (k * w + f0))) / np.max(np.abs(f)))
+
+
+def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int = 3) -> BreakpointSearch:
+    """The heuristic breakpoint search of seed paper 001 (section 2.2.1), with its trace.
+
+    For each direction (positive, then negative rates):
+
+    1. grow the interval from zero, [0, r_1], [0, r_2], ... (r_k the k-th rate
+       away from zero, the zero rate or the smallest |rate| as start) and compute
+       each interval's scale-factor nonlinearity K_n(k) (LS line over its points);
+    2. d(k) = |K_n(k) - K_n(k-1)|, then dd(k) = d(k) - d(k-1); a positive dd(k)
+       increments a counter, any other value resets it to 0;
+    3. when the counter reaches ``run_length`` (3 in the paper), the run began at
+       dd(k0) and the interval is split "at the first point": the breakpoint is
+       r_(k0-1), the last rate before the step whose nonlinearity change started
+       the run (the end of the last interval that still belonged to the linear
+       range). The search stops at the first split in each direction (the paper's
+       three regions: negative high rates, low rates, positive high rates).
+
+    The convention of step 3 (which rate is "the first point") is our reading
+    of the paper; with it a knee at 1800 deg/s yields 1800 deg/s.
+
+    Parameters
+    ----------
+    rates, outputs : array_like
+        The rate table (strictly monotonic rates, >= 3 points, finite outputs).
+    run_length : int
+        Consecutive positive second differences needed to split, >= 1.
+
+    Returns
+    -------
+    BreakpointSearch
+    """
+    if isinstance(run_length, bool) or not isinstance(run_length, (int, np.integer)) or run_length < 1:
+        raise ValueError(f"run_length must be an integer >= 1; got {run_length!r}")
+    w, f = check_rate_table(rates, outputs)
+    found: dict[int, float | None] = {1: None, -1: None}
+    trace: list[SearchStep] = []
+    for side in (1, -1):
+        sel = np.flatnonzero(side * w >= 0)
+        order = sel[np.argsort(side * w[sel])]
+        kns, ds = [], []
+        counter = 0
+        for k in range(1, order.size):
+            idx = order[: k + 1]
+            kn = _interval_kn(w[idx], f[idx])
+            kns.append(kn)
+            d = abs(kns[-1] - kns[-2]) if len(kns) >= 2 else math.nan
+            ds.append(d)
+            dd = ds[-1] - ds[-2] if len(ds) >= 2 and not math.isnan(ds[-2]) else math.nan
+            if found[side] is None:
+                counter = counter + 1 if dd > 0 else 0
+                if counter >= run_length:
+                    # dd at interval k; the run began at interval k0 = k - run_length + 1;
+                    # the breakpoint is the end rate of interval k0 - 1
+                    k0 = k - run_length + 1
+                    found[side] = float(w[order[k0 - 1]])
+            trace.append(SearchStep(side, float(w[order[k]]), k + 1, kn, d, dd, counter))
+    return BreakpointSearch(found[-1], found[1], tuple(trace))

@@ -1,0 +1,441 @@
+"""Tests of scenarios/bench.py and scenarios/bench_cli.py on the toy scenario (ms per seed)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import textwrap
+import time
+import types
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+from sklearn.ensemble import RandomForestRegressor
+from sklearn.linear_model import LinearRegression
+
+from scenarios import bench, bench_cli, registry
+from tests.scenarios import toy_scenario as toy
+
+ROOT = Path(__file__).resolve().parents[2]
+TOY = "tests.scenarios.toy_scenario"
+
+
+# ----------------------------------------------------------------------------- one seed
+def test_score_seed_keys_and_mean_over_runs():
+    s = bench.score_seed(toy, toy.good, 3)
+    runs = [f"run{k}" for k in (1, 2)]
+    assert set(s) == {f"{r}/{k}" for r in runs + ["mean"] for k in ("mse", "rms", "bias_stability")}
+    for k in ("mse", "rms", "bias_stability"):
+        assert s[f"mean/{k}"] == math.fsum(s[f"{r}/{k}"] for r in runs) / 2
+
+
+def test_score_seed_is_deterministic_and_depends_on_seed():
+    a = bench.score_seed(TOY, f"{TOY}:good", 5)
+    assert a == bench.score_seed(toy, toy.good, 5)
+    assert a != bench.score_seed(toy, toy.good, 6)
+
+
+def test_stochastic_regressor_is_seeded_from_the_seed():
+    rf = RandomForestRegressor(n_estimators=4, max_depth=3)  # random_state=None
+    assert bench.score_seed(toy, rf, 2) == bench.score_seed(toy, rf, 2)
+    assert rf.random_state is None  # the user's object is not modified
+
+
+def test_fit_function_and_estimator_give_the_same_least_squares():
+    # both are exact least squares; they differ only by rounding (cond(X) ~ 1e3 -> ~1e-13 relative)
+    a = bench.score_seed(toy, toy.fit_least_squares, 1)
+    b = bench.score_seed(toy, LinearRegression(), 1)
+    assert a.keys() == b.keys()
+    np.testing.assert_allclose([a[k] for k in a], [b[k] for k in a], rtol=1e-9)
+
+
+def test_fit_function_receives_random_state_and_may_return_an_estimator():
+    seen = []
+
+    def fit(X, y, random_state=None):
+        seen.append(random_state)
+        return LinearRegression().fit(X, y)
+
+    s = bench.score_seed(toy, fit, 4)
+    assert s == bench.score_seed(toy, LinearRegression(), 4)
+    assert seen == [bench._seed_int(4)]
+
+
+def test_estimator_class_is_instantiated():
+    assert bench.score_seed(toy, LinearRegression, 4) == bench.score_seed(toy, LinearRegression(), 4)
+
+
+# ----------------------------------------------------------------------------- campaigns
+def test_campaign_same_numbers_on_1_and_2_workers_and_in_process(tmp_path):
+    seeds = range(20)
+    c2 = bench.run_campaign(toy, toy.good, seeds, workers=2, db=tmp_path / "w2.db", progress=False)
+    c1 = bench.run_campaign(toy, toy.good, seeds, workers=1, db=tmp_path / "w1.db", progress=False)
+    c0 = bench.run_campaign(toy, toy.good, seeds, workers=0, db=tmp_path / "w0.db", progress=False)
+    assert c2.seeds == tuple(seeds) and c2.computed == 20 and c2.reused == 0
+    assert c2.scores == c1.scores == c0.scores  # exactly equal
+    assert c2.scores[7] == bench.score_seed(toy, toy.good, 7)
+
+
+@pytest.mark.slow
+def test_campaign_on_dask_localcluster_equals_local(tmp_path):
+    pytest.importorskip("distributed")
+    from distributed import Client, LocalCluster
+
+    seeds = range(20)
+    ref = bench.run_campaign(toy, toy.good, seeds, workers=0, db=tmp_path / "ref.db", progress=False)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        camp = bench.run_campaign(toy, toy.good, seeds, executor=client.get_executor(), db=tmp_path / "dask.db",
+                                  progress=False)
+    assert camp.computed == 20
+    assert camp.scores == ref.scores
+
+
+def test_campaign_resumes_from_the_database_without_recomputing(tmp_path, monkeypatch):
+    log = tmp_path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    db = tmp_path / "c.db"
+    a = bench.run_campaign(toy, toy.good, range(10), workers=0, db=db, progress=False)
+    b = bench.run_campaign(toy, toy.good, range(15), workers=0, db=db, progress=False)
+    assert (b.computed, b.reused) == (5, 10)
+    assert Counter(map(int, log.read_text().split())) == Counter(range(15))
+    assert {s: b.scores[s] for s in range(10)} == dict(a.scores)
+    with sqlite3.connect(db) as conn:
+        assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+        assert conn.execute("SELECT COUNT(*) FROM seed_scores").fetchone()[0] == 15
+        assert conn.execute("SELECT COUNT(*) FROM sessions").fetchone()[0] == 2
+
+
+def test_campaign_id_depends_on_compensator_and_config_only():
+    cfg = toy.Config()
+    a = bench.campaign_id(toy, toy.good, cfg)
+    assert a == bench.campaign_id(TOY, f"{TOY}:good", toy.Config())
+    assert a != bench.campaign_id(toy, toy.degraded, cfg)
+    assert a != bench.campaign_id(toy, toy.good, toy.Config(noise_deg_h=0.03))
+    assert a != bench.campaign_id(toy, LinearRegression(fit_intercept=False), cfg)
+
+
+_KILL_SCRIPT = textwrap.dedent(
+    """
+    import sys
+    sys.path.insert(0, {root!r})
+    from scenarios import bench
+    from tests.scenarios import toy_scenario as toy
+    bench.run_campaign(toy, toy.good, range({n}), config=toy.Config(work={work}), workers=2, db={db!r},
+                       progress=False)
+    """
+)
+
+
+def _rows(db: Path) -> int:
+    try:
+        with sqlite3.connect(db, timeout=5) as conn:
+            return conn.execute("SELECT COUNT(*) FROM seed_scores").fetchone()[0]
+    except sqlite3.OperationalError:  # not created yet
+        return 0
+
+
+def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, monkeypatch):
+    n, work = 60, 6  # ~10-20 ms per seed
+    db = tmp_path / "kill.db"
+    log1, log2 = tmp_path / "calls1.log", tmp_path / "calls2.log"
+    env = dict(os.environ, GYROBENCH_TOY_CALL_LOG=str(log1))
+    script = _KILL_SCRIPT.format(root=str(ROOT), n=n, work=work, db=str(db))
+    proc = subprocess.Popen([sys.executable, "-c", script], env=env, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 60
+        while _rows(db) < 8:
+            if proc.poll() is not None:
+                pytest.fail(f"campaign exited early ({proc.returncode}): {proc.stderr.read().decode()[-2000:]}")
+            if time.monotonic() > deadline:
+                pytest.fail("campaign did not write 8 seeds within 60 s")
+            time.sleep(0.02)
+        os.killpg(proc.pid, signal.SIGKILL)  # the campaign and its worker processes
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    assert proc.returncode == -signal.SIGKILL
+    with sqlite3.connect(db) as conn:
+        assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+        committed = {s for (s,) in conn.execute("SELECT seed FROM seed_scores")}
+    assert 8 <= len(committed) < n, "the kill must land mid-campaign"
+    calls1 = Counter(map(int, log1.read_text().split()))
+    assert committed <= set(calls1)
+
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log2))
+    camp = bench.run_campaign(toy, toy.good, range(n), config=toy.Config(work=work), workers=2, db=db,
+                              progress=False)
+    calls2 = Counter(map(int, log2.read_text().split()))
+    # nothing committed is computed again; everything else exactly once
+    assert calls2 == Counter(set(range(n)) - committed)
+    assert (camp.computed, camp.reused) == (n - len(committed), len(committed))
+    assert camp.seeds == tuple(range(n))
+    with sqlite3.connect(db) as conn:
+        assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+        rows = conn.execute("SELECT seed, COUNT(*) FROM seed_scores GROUP BY seed").fetchall()
+    assert sorted(rows) == [(s, 1) for s in range(n)]
+    # nothing lost or altered: the stitched campaign equals direct scoring, spot-checked
+    for s in (min(committed), max(set(range(n)) - committed)):
+        assert camp.scores[s] == bench.score_seed(toy, toy.good, s, toy.Config(work=work))
+
+
+def test_failing_seed_keeps_finished_seeds(tmp_path):
+    def fit(X, y):
+        if len(fit.calls) == 3:
+            raise RuntimeError("boom")
+        fit.calls.append(1)
+        return LinearRegression().fit(X, y)
+
+    fit.calls = []
+    db = tmp_path / "f.db"
+    with pytest.raises(RuntimeError, match="boom"):
+        bench.run_campaign(toy, fit, range(6), workers=0, db=db, progress=False)
+    assert _rows(db) == 3
+
+
+# ----------------------------------------------------------------------------- summaries
+def _campaign(scores: dict[int, dict[str, float]], name: str = "c") -> bench.Campaign:
+    return bench.Campaign(campaign_id=name, scenario="toy", compensator=name, config="", scores=scores)
+
+
+def test_summary_mean_and_t_interval_closed_form():
+    c = _campaign({s: {"mean/mse": float(v)} for s, v in enumerate([1, 2, 3, 4])})
+    s = c.summary()["mean/mse"]
+    t975_3 = 3.182446305284263  # Student t quantile, 3 dof
+    half = t975_3 * math.sqrt(5 / 3) / 2
+    assert (s.n, s.mean) == (4, 2.5)
+    assert s.low == pytest.approx(2.5 - half, rel=1e-12) and s.high == pytest.approx(2.5 + half, rel=1e-12)
+
+
+def test_summary_of_one_seed_has_no_interval():
+    s = _campaign({0: {"mean/mse": 1.0}}).summary()["mean/mse"]
+    assert s.n == 1 and s.mean == 1.0 and math.isnan(s.low) and math.isnan(s.high)
+
+
+# ----------------------------------------------------------------------------- baselines
+def test_holm_adjustment_closed_form():
+    adj = bench._holm(np.array([0.01, 0.04, 0.03, 0.005]))
+    np.testing.assert_allclose(adj, [0.03, 0.06, 0.06, 0.02], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("name", "direction"),
+    [("mean/mse", -1), ("run1/rms", -1), ("val/bias_stability_100s", -1), ("nonlinearity_ppm", -1),
+     ("mean/improvement_pct", 1), ("mse_reduction_pct", 1), ("mean/scale_factor", 0)],
+)
+def test_score_direction_table(name, direction):
+    assert bench.score_direction(name) == direction
+
+
+def test_score_direction_override():
+    assert bench.score_direction("mean/scale_factor", {"scale_factor": -1}) == -1
+
+
+def test_baseline_round_trip_is_exact_and_atomic(tmp_path):
+    c = bench.run_campaign(toy, toy.good, range(5), workers=0, db=tmp_path / "c.db", progress=False)
+    path = bench.save_baseline(tmp_path / "b.json", c)
+    back = bench.load_baseline(path)
+    assert back.scores == c.scores and back.campaign_id == c.campaign_id
+    assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
+
+
+@pytest.fixture(scope="module")
+def good_and_bad(tmp_path_factory):
+    db = tmp_path_factory.mktemp("cmp") / "c.db"
+    good = bench.run_campaign(toy, toy.good, range(20), workers=0, db=db, progress=False)
+    bad = bench.run_campaign(toy, toy.degraded, range(20), workers=0, db=db, progress=False)
+    return good, bad
+
+
+def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
+    good, bad = good_and_bad
+    base = bench.save_baseline(tmp_path / "good.json", good)
+    res = bench.compare(base, bad)
+    status = {s.name: s.status for s in res.scores}
+    assert status["mean/mse"] == "regressed" and status["mean/rms"] == "regressed"
+    # 20 seeds all worse: exact two-sided signed-rank p = 2 / 2**20, times 9 scores (Holm)
+    m = next(s for s in res.scores if s.name == "mean/mse")
+    assert m.p_value == pytest.approx(2 / 2**20, rel=1e-9) and m.effect > 0
+    assert "REGRESSION" in res.format()
+
+
+def test_identical_compensator_is_not_flagged(good_and_bad, tmp_path):
+    good, _ = good_and_bad
+    again = bench.run_campaign(toy, f"{TOY}:good", range(20), workers=0, db=tmp_path / "other.db", progress=False)
+    res = bench.compare(good, again)
+    assert res.regressions == () and res.improvements == ()
+    assert all(s.status == "unchanged" and s.p_value == 1.0 and s.effect == 0.0 for s in res.scores)
+
+
+def test_better_compensator_is_an_improvement_not_a_regression(good_and_bad):
+    good, bad = good_and_bad
+    res = bench.compare(bad, good)
+    assert res.regressions == ()
+    assert {s.name for s in res.improvements} >= {"mean/mse", "mean/rms", "mean/bias_stability"}
+
+
+def test_too_few_seeds_says_so():
+    base = _campaign({s: {"mean/mse": 1.0} for s in range(3)})
+    worse = _campaign({s: {"mean/mse": 2.0 + s} for s in range(3)})
+    res = bench.compare(base, worse)
+    assert res.regressions == () and "no change can be significant" in res.note
+
+
+# ----------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize("text", ["abc", "5:5", "1:2:3:4", "0:10:0", "-1:4", "1,,2", "1,1", ""])
+def test_bad_seeds_syntax(text):
+    with pytest.raises(ValueError, match="seeds must"):
+        bench.parse_seeds(text)
+
+
+def test_seeds_forms():
+    assert bench.parse_seeds("0:4") == (0, 1, 2, 3)
+    assert bench.parse_seeds("0:10:4") == (0, 4, 8)
+    assert bench.parse_seeds(" 1, 5,9") == (1, 5, 9)
+    assert bench.parse_seeds("7") == (7,)
+
+
+def test_unknown_scenario(tmp_path):
+    with pytest.raises(ValueError, match="scenario must be one of .*got 'nosuch'"):
+        bench.run_campaign("nosuch", toy.good, range(2), db=tmp_path / "x.db")
+
+
+def test_unimportable_scenario_module():
+    with pytest.raises(ValueError, match="importable module; got 'no.such.module'"):
+        bench.resolve_scenario("no.such.module")
+
+
+def test_scenario_without_compensation_task(tmp_path):
+    mod = types.ModuleType("plain_scenario")
+    mod.NAME = "plain"
+    with pytest.raises(ValueError, match="scenario 'plain' has no compensation stage"):
+        bench.run_campaign(mod, toy.good, range(2), db=tmp_path / "x.db")
+
+
+def test_registered_scenario_can_be_named(monkeypatch):
+    monkeypatch.setitem(registry.SCENARIOS, "toy", TOY)
+    assert bench.resolve_scenario("toy") is toy
+
+
+def test_compensator_module_missing():
+    with pytest.raises(ValueError, match="cannot import module 'no_such_mod'"):
+        bench.resolve_compensator("no_such_mod:model")
+
+
+def test_compensator_attribute_missing():
+    with pytest.raises(ValueError, match="has no attribute 'nothing'"):
+        bench.resolve_compensator(f"{TOY}:nothing")
+
+
+def test_compensator_string_without_colon():
+    with pytest.raises(ValueError, match="must be 'package.module:attr'; got 'good'"):
+        bench.resolve_compensator("good")
+
+
+def test_compensator_not_callable():
+    with pytest.raises(TypeError, match="compensator must be a scikit-learn estimator.*got int 42"):
+        bench.resolve_compensator(f"{TOY}:NOT_A_COMPENSATOR")
+
+
+def test_lambda_compensator_cannot_go_to_worker_processes(tmp_path):
+    with pytest.raises(TypeError, match="compensator must pickle"):
+        bench.run_campaign(toy, lambda X, y: (lambda Z: Z[:, 0]), range(2), workers=1, db=tmp_path / "x.db",
+                           progress=False)
+
+
+def test_duplicate_seeds(tmp_path):
+    with pytest.raises(ValueError, match=r"seeds must be distinct; got \[3\]"):
+        bench.run_campaign(toy, toy.good, [1, 3, 3], db=tmp_path / "x.db")
+
+
+def test_negative_workers(tmp_path):
+    with pytest.raises(ValueError, match="workers must be an integer >= 0; got -1"):
+        bench.run_campaign(toy, toy.good, [1], workers=-1, db=tmp_path / "x.db")
+
+
+def test_fit_function_returning_nonsense(tmp_path):
+    with pytest.raises(TypeError, match="must return a callable predict"):
+        bench.score_seed(toy, lambda X, y: 3.0, 0)
+
+
+def test_missing_baseline_file(tmp_path):
+    with pytest.raises(FileNotFoundError, match="baseline file not found"):
+        bench.load_baseline(tmp_path / "none.json")
+
+
+def test_not_a_baseline_file(tmp_path):
+    p = tmp_path / "x.json"
+    p.write_text(json.dumps({"hello": 1}))
+    with pytest.raises(ValueError, match="is not a gyrobench baseline file"):
+        bench.load_baseline(p)
+
+
+def test_compare_without_common_seeds():
+    with pytest.raises(ValueError, match="share no seed"):
+        bench.compare(_campaign({0: {"mse": 1.0}}), _campaign({1: {"mse": 1.0}}))
+
+
+def test_db_that_is_not_sqlite(tmp_path):
+    p = tmp_path / "x.db"
+    p.write_text("not a database " * 100)
+    with pytest.raises(ValueError, match="is not a usable SQLite database"):
+        bench.run_campaign(toy, toy.good, [1], workers=0, db=p, progress=False)
+
+
+# ----------------------------------------------------------------------------- CLI verb
+def _cli(argv):
+    p = argparse.ArgumentParser()
+    bench_cli.add_parser(p.add_subparsers(dest="verb"))
+    args = p.parse_args(["bench", *argv])
+    return args.func(args)
+
+
+def test_cli_baseline_then_regression_exit_codes(tmp_path, capsys):
+    db, base = str(tmp_path / "c.db"), str(tmp_path / "good.json")
+    common = ["--seeds", "0:12", "--workers", "0", "--db", db, "--quiet"]
+    assert _cli([TOY, "--compensator", f"{TOY}:good", *common, "--save-baseline", base]) == 0
+    out = capsys.readouterr().out
+    assert "mean/mse" in out and "95% CI" in out and f"compensator {TOY}:good" in out
+    assert _cli([TOY, "--compensator", f"{TOY}:good", *common, "--baseline", base]) == 0
+    assert "no significant regression" in capsys.readouterr().out
+    assert _cli([TOY, "--compensator", f"{TOY}:degraded", *common, "--baseline", base]) == 1
+    assert "REGRESSION" in capsys.readouterr().out
+
+
+def test_cli_config_file_overrides(tmp_path, capsys):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("n_samples = 200\n")
+    argv = [TOY, "--compensator", f"{TOY}:good", "--seeds", "0,1", "--workers", "0", "--quiet",
+            "--db", str(tmp_path / "c.db")]
+    assert _cli([*argv, "--config", str(cfg)]) == 0
+    with sqlite3.connect(tmp_path / "c.db") as conn:
+        (config,) = conn.execute("SELECT config FROM campaigns").fetchone()
+    assert "n_samples=200" in config
+
+
+def test_cli_bad_seeds_raise_value_error(tmp_path):
+    with pytest.raises(ValueError, match="seeds must be"):
+        _cli([TOY, "--compensator", f"{TOY}:good", "--seeds", "x", "--db", str(tmp_path / "c.db")])
+
+
+def test_cli_missing_baseline_fails_before_computing(tmp_path):
+    with pytest.raises(FileNotFoundError, match="baseline file not found"):
+        _cli([TOY, "--compensator", f"{TOY}:good", "--baseline", str(tmp_path / "no.json"),
+              "--db", str(tmp_path / "c.db")])
+    assert not (tmp_path / "c.db").exists()
+
+
+def test_cli_workers_and_scheduler_exclusive(tmp_path):
+    with pytest.raises(ValueError, match="either --workers or --scheduler"):
+        _cli([TOY, "--compensator", f"{TOY}:good", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1",
+              "--db", str(tmp_path / "c.db")])

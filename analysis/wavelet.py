@@ -57,7 +57,7 @@ def _check_signal(x: ArrayLike) -> NDArray[np.float64]:
         raise ValueError(f"x must hold at least 2 samples; got {len(a)}")
     if not np.all(np.isfinite(a)):
         bad = int(np.flatnonzero(~np.isfinite(a))[0])
-        raise ValueError(f"x must be finite; got {a[bad]!r} at index {bad}")
+        raise ValueError(f"x must be finite; got {float(a[bad])!r} at index {bad}")
     return a
 
 

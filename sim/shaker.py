@@ -391,8 +391,8 @@ def psd_from_breakpoints(
 
     Examples
     --------
-    >>> nav = [(20, 0.0067), (80, 0.04), (350, 0.04), (2000, 0.007)]
-    >>> float(psd_from_breakpoints(nav, [80.0, 200.0])[1])
+    >>> nav = [(20, 0.01), (80, 0.04), (350, 0.04), (2000, 0.007)]
+    >>> round(float(psd_from_breakpoints(nav, [80.0, 200.0])[1]), 12)
     0.04
     """
     bp = np.asarray(breakpoints, dtype=float)
@@ -416,7 +416,7 @@ def grms(breakpoints: Sequence[tuple[float, float]]) -> float:
 
     Examples
     --------
-    >>> round(grms([(20, 0.0067), (80, 0.04), (350, 0.04), (2000, 0.007)]), 2)
+    >>> round(grms([(20, 0.01), (80, 0.04), (350, 0.04), (2000, 0.007)]), 2)
     6.06
     """
     bp = np.asarray(breakpoints, dtype=float)
@@ -493,7 +493,7 @@ class RandomVibration:
         g = psd_from_breakpoints(self.breakpoints, f) * units.g(1.0) ** 2
 
         def sigma_d(fc: float) -> float:
-            gg = np.where(f < fc, g * (f / fc) ** 4, g)
+            gg = g if fc <= 0 else np.where(f < fc, g * (f / fc) ** 4, g)
             return math.sqrt(np.trapezoid(gg / (2 * np.pi * f) ** 4, f))
 
         if 3.0 * sigma_d(0.0) <= self.max_displacement:

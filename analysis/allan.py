@@ -1,0 +1,914 @@
+"""Allan-family deviations of rate data, their confidence bounds, and the IEEE 952 noise fit.
+
+Everything here works on plain arrays of rate samples in any unit ``u`` (deg/s, rad/s,
+fractional frequency, ...) taken at ``fs`` [Hz]; results come out in the units implied by
+the input. With tau in seconds the fitted IEEE Std 952 coefficients are
+
+====  ==========================  ========  =====================
+name  term                        unit      AVAR term
+====  ==========================  ========  =====================
+Q     quantization                u*s       3 Q^2 / tau^2
+N     angle random walk           u*s^0.5   N^2 / tau
+B     bias instability            u         (2 ln2/pi) B^2
+K     rate random walk            u/s^0.5   K^2 tau / 3
+R     rate ramp                   u/s       R^2 tau^2 / 2
+====  ==========================  ========  =====================
+
+(so rate in rad/s gives Q in rad, N in rad/sqrt(s), B in rad/s, K in rad/s/sqrt(s),
+R in rad/s^2; conversion to field units happens at the edges, see :mod:`sim.units`).
+
+Three layers:
+
+* :func:`allan_deviation` -> :class:`AllanCurve`: overlapping (default), standard
+  (non-overlapping), modified, Hadamard, overlapping Hadamard and total deviation with
+  confidence bounds from the equivalent degrees of freedom (edf).
+* :func:`fit_noise` -> :class:`NoiseFit`: joint weighted non-negative least squares of the
+  five IEEE terms on the Allan variance, each coefficient with 68 % and 95 % intervals or
+  "not identifiable from this record" with a 95 % upper bound.
+* :func:`slope_readoff`: the IEEE 952 graphical method (and the fixed-slope line fits used
+  in the literature), for comparison with published numbers.
+
+References
+----------
+IEEE Std 952-1997, Annex C. W. J. Riley, "Handbook of Frequency Stability Analysis",
+NIST SP 1065 (2008). C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances
+based on finite differences", PTTI 2003. W. J. Riley and C. A. Greenhall, "Power law noise
+identification using the lag 1 autocorrelation", EFTF 2004. A. Wallin et al., allantools.
+PHYSICS.md section 1.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import allantools
+import numpy as np
+from allantools import ci as _atci
+from numpy.typing import ArrayLike, NDArray
+from scipy import optimize, stats
+
+__all__ = [
+    "KINDS",
+    "TAU_CHOICES",
+    "TERMS",
+    "AllanCurve",
+    "Coefficient",
+    "NoiseFit",
+    "allan_deviation",
+    "fit_noise",
+    "identify_noise",
+    "slope_readoff",
+    "avar_to_coefficient",
+    "coefficient_to_avar",
+]
+
+#: statistics :func:`allan_deviation` computes
+KINDS = ("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total")
+#: automatic tau lists
+TAU_CHOICES = ("octave", "decade", "all")
+#: IEEE 952 terms, in order of their AVAR power of tau
+TERMS = ("Q", "N", "B", "K", "R")
+
+#: AVAR = C * tau**power for each term
+_POWER = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
+#: C = _SCALE * coefficient**2  (PHYSICS.md 1.5)
+_FLICKER = 2.0 * math.log(2.0) / math.pi  # 0.4413: flicker AVAR plateau / B^2
+_SCALE = {"Q": 3.0, "N": 1.0, "B": _FLICKER, "K": 1.0 / 3.0, "R": 0.5}
+#: power-law exponent alpha of S_y(f) (frequency-domain, as in NIST SP 1065) of each term,
+#: used to pick the edf formula; the ramp is deterministic and treated as random-walk FM
+_ALPHA = {"Q": 2, "N": 0, "B": -1, "K": -2, "R": -2}
+#: sqrt(2 ln 2 / pi) = 0.6643: ADEV plateau of unit bias instability
+FLICKER_FLOOR = math.sqrt(_FLICKER)
+
+#: Stable32 "stop ratio" per statistic: automatic tau lists stop at m <= N / ratio
+#: (W. J. Riley, "The evolution of frequency stability analysis software", Table III)
+_STOP_RATIO = {
+    "overlapping": 4,
+    "standard": 5,
+    "modified": 4,
+    "hadamard": 5,
+    "overlapping_hadamard": 4,
+    "total": 2,
+}
+#: number of differences of phase in each statistic (d = 2 Allan, 3 Hadamard)
+_D = {"overlapping": 2, "standard": 2, "modified": 2, "hadamard": 3, "overlapping_hadamard": 3, "total": 2}
+
+#: block size of the overlapping estimator: below OpenBLAS' 10000-element threading threshold
+#: for ddot (threads are a loss at this size) and small enough to stay in L2 cache
+_BLOCK = 8192
+#: noise identification uses at most this many block averages (see :func:`identify_noise`)
+_NOISE_ID_MAX = 1 << 16
+_NOISE_ID_MIN = 30
+
+_ONE_SIGMA = math.erf(1.0 / math.sqrt(2.0))  # 0.682689...
+
+
+# ---------------------------------------------------------------------------------- results
+@dataclass(frozen=True, slots=True, kw_only=True)
+class AllanCurve:
+    """An Allan-family deviation curve with its confidence band.
+
+    Attributes
+    ----------
+    tau : ndarray
+        Cluster times [s], tau = m / fs.
+    deviation : ndarray
+        Deviation [rate unit].
+    low, high : ndarray
+        Confidence bounds of the deviation at ``confidence`` [rate unit]
+        (chi-square with ``edf`` degrees of freedom, NIST SP 1065 eq. 45).
+    n_terms : ndarray
+        Number of terms (differences) averaged in each estimate, as allantools/Stable32 count them.
+    edf : ndarray
+        Equivalent degrees of freedom used for the bounds.
+    kind : str
+        One of :data:`KINDS`.
+    confidence : float
+        Two-sided confidence level of ``low``/``high`` (e.g. 0.683).
+    fs : float
+        Sample rate [Hz].
+    n_samples : int
+        Number of rate samples the curve was computed from.
+    alpha : ndarray or None
+        Power-law noise exponent alpha (S_y ~ f^alpha) assumed at each tau for the edf.
+    """
+
+    tau: NDArray[np.float64]
+    deviation: NDArray[np.float64]
+    low: NDArray[np.float64]
+    high: NDArray[np.float64]
+    n_terms: NDArray[np.int64]
+    edf: NDArray[np.float64]
+    kind: str
+    confidence: float
+    fs: float
+    n_samples: int
+    alpha: NDArray[np.int64] | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"AllanCurve.kind must be one of {KINDS}; got {self.kind!r}")
+        if not (0.0 < self.confidence < 1.0):
+            raise ValueError(f"AllanCurve.confidence must be in (0, 1); got {self.confidence!r}")
+        if not (math.isfinite(self.fs) and self.fs > 0):
+            raise ValueError(f"AllanCurve.fs must be finite and > 0 Hz; got {self.fs!r}")
+        n = np.shape(self.tau)
+        for name in ("deviation", "low", "high", "n_terms", "edf"):
+            if np.shape(getattr(self, name)) != n:
+                raise ValueError(
+                    f"AllanCurve.{name} must have the shape of tau {n}; got {np.shape(getattr(self, name))}"
+                )
+
+    @property
+    def variance(self) -> NDArray[np.float64]:
+        """The variance, ``deviation**2`` [rate unit^2]."""
+        return self.deviation**2
+
+    @property
+    def m(self) -> NDArray[np.int64]:
+        """Averaging factors m = tau * fs [samples]."""
+        return np.rint(self.tau * self.fs).astype(np.int64)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Coefficient:
+    """One fitted IEEE 952 coefficient.
+
+    Attributes
+    ----------
+    name : str
+        "Q", "N", "B", "K" or "R".
+    value : float or None
+        Point estimate [unit implied by the rate unit, see module docstring]; None when the
+        record cannot show this term (``identifiable`` False).
+    ci68, ci95 : tuple of float
+        Two-sided 68.27 % and 95 % confidence intervals (always computed, also for
+        non-identifiable terms, where the lower end is usually 0).
+    identifiable : bool
+        True when the term dominates the fitted curve at one tau at least and its 95 %
+        interval excludes 0.
+    upper_bound : float
+        One-sided 95 % upper bound.
+    power : int
+        The AVAR term is C tau**power: Q -2, N -1, B 0, K 1, R 2.
+    """
+
+    name: str
+    value: float | None
+    ci68: tuple[float, float]
+    ci95: tuple[float, float]
+    identifiable: bool
+    upper_bound: float
+    power: int
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class NoiseFit:
+    """Result of :func:`fit_noise`.
+
+    Attributes
+    ----------
+    coefficients : dict of str to Coefficient
+        The fitted terms, keyed by name.
+    curve : AllanCurve
+        The curve that was fitted.
+    avar_coefficients : dict of str to float
+        Fitted C_n of AVAR = sum_n C_n tau^n (non-negative; 0 for terms the NNLS dropped).
+    covariance : ndarray
+        Covariance matrix of the C_n, in the order of ``avar_coefficients``.
+    iterations : int
+        Reweighting iterations performed.
+    """
+
+    coefficients: dict[str, Coefficient]
+    curve: AllanCurve
+    avar_coefficients: dict[str, float] = field(default_factory=dict)
+    covariance: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)))
+    iterations: int = 0
+
+    def avar(self, tau: ArrayLike) -> NDArray[np.float64]:
+        """Fitted model Allan variance sum_n C_n tau^n at ``tau`` [s] [rate unit^2]."""
+        tau = _positive_tau(tau)
+        out = np.zeros_like(tau)
+        for name in self.avar_coefficients:
+            out = out + self.term_avar(name, tau)
+        return out
+
+    def term_avar(self, name: str, tau: ArrayLike) -> NDArray[np.float64]:
+        """One term's AVAR asymptote C_n tau^n at ``tau`` [s] (uses the point estimate C_n)."""
+        if name not in self.avar_coefficients:
+            raise ValueError(f"name must be one of the fitted terms {tuple(self.avar_coefficients)}; got {name!r}")
+        tau = _positive_tau(tau)
+        return self.avar_coefficients[name] * tau ** float(_POWER[name])
+
+
+def _positive_tau(tau: ArrayLike) -> NDArray[np.float64]:
+    tau = np.asarray(tau, dtype=float)
+    if not np.all(np.isfinite(tau) & (tau > 0)):
+        raise ValueError(f"tau must be finite and > 0 s; got {tau!r}")
+    return tau
+
+
+def coefficient_to_avar(name: str, value: float) -> float:
+    """C_n = scale * value**2 for term ``name`` (3 Q^2, N^2, 0.4413 B^2, K^2/3, R^2/2)."""
+    return _SCALE[name] * value * value
+
+
+def avar_to_coefficient(name: str, c: float) -> float:
+    """Inverse of :func:`coefficient_to_avar`; negative ``c`` maps to 0."""
+    return math.sqrt(max(c, 0.0) / _SCALE[name])
+
+
+# ---------------------------------------------------------------------------------- input checks
+def _check_rate(rate: ArrayLike) -> NDArray[np.float64]:
+    y = np.asarray(rate)
+    if y.ndim != 1:
+        raise ValueError(f"rate must be a 1-D array of samples; got shape {y.shape}")
+    if not (np.issubdtype(y.dtype, np.floating) or np.issubdtype(y.dtype, np.integer)):
+        raise TypeError(f"rate must hold real numbers; got dtype {y.dtype}")
+    y = np.asarray(y, dtype=np.float64)
+    finite = np.isfinite(y)
+    if not finite.all():
+        bad = int(np.flatnonzero(~finite)[0])
+        raise ValueError(
+            f"rate must be finite everywhere; got {y[bad]!r} at index {bad} "
+            f"({int((~finite).sum())} non-finite sample(s) in total)"
+        )
+    return y
+
+
+def _check_fs(fs: Any) -> float:
+    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.integer, np.floating)):
+        raise TypeError(f"fs must be a real number [Hz]; got {fs!r}")
+    fs = float(fs)
+    if not (math.isfinite(fs) and fs > 0.0):
+        raise ValueError(f"fs must be finite and > 0 Hz; got {fs!r}")
+    return fs
+
+
+def _n_terms(kind: str, n: int, m: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Number of terms each estimate averages, for n rate samples (n + 1 phase points)."""
+    p = n + 1
+    if kind == "overlapping":
+        return p - 2 * m
+    if kind == "standard":
+        return np.maximum((p - 2 * m + m - 1) // m, 0)
+    if kind == "modified":
+        return p - 3 * m + 1
+    if kind == "hadamard":
+        return np.maximum((p - 3 * m + m - 1) // m, 0)
+    if kind == "overlapping_hadamard":
+        return p - 3 * m
+    return np.full_like(m, n - 1)  # total
+
+
+def _max_m(kind: str, n: int) -> int:
+    """Largest m a tau may have: at least 2 terms (total deviation: tau <= T/2)."""
+    if kind == "total":
+        return n // 2
+    m = np.arange(1, n + 1)
+    ok = np.flatnonzero(_n_terms(kind, n, m) >= 2)
+    return int(ok[-1] + 1) if ok.size else 0
+
+
+def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
+    if isinstance(taus, str):
+        if taus not in TAU_CHOICES:
+            raise ValueError(f"taus must be one of {TAU_CHOICES} or an array of tau [s]; got {taus!r}")
+        m_max = min(n // _STOP_RATIO[kind], _max_m(kind, n))
+        if m_max < 1:
+            raise ValueError(
+                f"rate has too few samples for a {kind} deviation: need at least "
+                f"{_STOP_RATIO[kind]} samples for taus={taus!r}; got {n}"
+            )
+        if taus == "octave":
+            m = 2 ** np.arange(int(math.floor(math.log2(m_max))) + 1)
+        elif taus == "decade":
+            k = int(math.floor(math.log10(m_max)))
+            m = np.array([f * 10**j for j in range(k + 1) for f in (1, 2, 4)])
+        else:
+            m = np.arange(1, m_max + 1)
+        m = m[m <= m_max]
+        return m.astype(np.int64)
+    t = np.asarray(taus, dtype=float)
+    if t.ndim == 0:
+        t = t[None]
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"taus must be one of {TAU_CHOICES} or a non-empty 1-D array of tau [s]; got {taus!r}")
+    if not np.all(np.isfinite(t) & (t > 0)):
+        raise ValueError(f"taus must be finite and > 0 s; got {t!r}")
+    mf = t * fs
+    m = np.rint(mf)
+    bad = np.abs(mf - m) > 1e-6 * np.maximum(m, 1.0)
+    if np.any(bad) or np.any(m < 1):
+        i = int(np.flatnonzero(bad | (m < 1))[0])
+        raise ValueError(f"taus must be multiples of 1/fs = {1 / fs!r} s; got tau = {t[i]!r} s")
+    m = np.unique(m.astype(np.int64))
+    m_max = _max_m(kind, n)
+    if m[-1] > m_max:
+        need = int(m[-1]) * _STOP_RATIO[kind] if kind == "total" else int(m[-1]) * (_D[kind]) + 1
+        raise ValueError(
+            f"rate has too few samples for tau = {m[-1] / fs!r} s (m = {int(m[-1])}) in a {kind} deviation: "
+            f"the largest tau with at least 2 terms is {m_max / fs!r} s for {n} samples "
+            f"(need about {need} samples)"
+        )
+    return m
+
+
+# ---------------------------------------------------------------------------------- estimators
+def _phase(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Integrated rate x_k = sum_{i<k} (y_i - mean y), x_0 = 0, in units of rate*sample (N + 1 points).
+
+    Same sequence of roundings as allantools.frequency2phase (mean removed before the
+    cumulative sum, which keeps precision on a large offset), without its 1/fs factor.
+    """
+    x = np.empty(y.size + 1)
+    x[0] = 0.0
+    np.subtract(y, y.mean(), out=x[1:])
+    np.cumsum(x, out=x)
+    return x
+
+
+def _overlapping_ssq(x: NDArray[np.float64], m: int) -> tuple[float, int]:
+    """Sum of squared second differences (x[k+2m] - 2 x[k+m] + x[k]) over all k, blockwise.
+
+    One pass over ``x`` with two block-sized buffers: no O(N) temporaries.
+    """
+    n = x.size - 2 * m
+    u = np.empty(min(_BLOCK, n))
+    v = np.empty_like(u)
+    s = 0.0
+    for a in range(0, n, _BLOCK):
+        b = min(n, a + _BLOCK)
+        w, z = u[: b - a], v[: b - a]
+        np.subtract(x[a + 2 * m : b + 2 * m], x[a + m : b + m], out=w)
+        np.subtract(x[a + m : b + m], x[a:b], out=z)
+        np.subtract(w, z, out=w)
+        s += float(np.dot(w, w))
+    return s, n
+
+
+def _deviation_overlapping(x: NDArray[np.float64], ms: NDArray[np.int64]) -> NDArray[np.float64]:
+    dev = np.empty(ms.size)
+    for i, m in enumerate(ms):
+        s, n = _overlapping_ssq(x, int(m))
+        dev[i] = math.sqrt(s / (2.0 * n)) / m
+    return dev
+
+
+_ALLANTOOLS = {
+    "standard": allantools.adev,
+    "modified": allantools.mdev,
+    "hadamard": allantools.hdev,
+    "overlapping_hadamard": allantools.ohdev,
+    "total": allantools.totdev,
+}
+
+
+def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDArray[np.int64]) -> NDArray[np.float64]:
+    taus, dev, _, ns = _ALLANTOOLS[kind](y, rate=fs, data_type="freq", taus=ms / fs)
+    got = np.rint(np.asarray(taus) * fs).astype(np.int64)
+    if not np.array_equal(got, ms):  # allantools drops taus with < 2 terms; _resolve_m prevents that
+        raise RuntimeError(f"allantools returned m = {got} for requested m = {ms}")
+    return np.asarray(dev, dtype=float)
+
+
+# ---------------------------------------------------------------------------------- noise id and edf
+def _lag1_acf(z: NDArray[np.float64]) -> float:
+    """Lag-1 autocorrelation (Riley & Greenhall 2004 eq. 2), as allantools.ci.lag1_acf, vectorised."""
+    d = z - z.mean()
+    return float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+
+
+def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Remove the least-squares line (allantools.ci.detrend(deg=1), in closed form)."""
+    t = np.arange(z.size, dtype=float)
+    t -= t.mean()
+    zc = z - z.mean()
+    return zc - t * (np.dot(t, zc) / np.dot(t, t))
+
+
+def _noise_id_one(x: NDArray[np.float64], m: int, dmax: int) -> int | None:
+    """Lag-1 ACF noise identification at averaging factor m from the phase x (None if < 30 points)."""
+    nb = min((x.size - 1) // m, _NOISE_ID_MAX)
+    if nb < _NOISE_ID_MIN:
+        return None
+    z = np.diff(x[: nb * m + 1 : m]) / m  # non-overlapping block means of the rate
+    z = _detrend1(z)
+    d = 0
+    while True:
+        r1 = _lag1_acf(z)
+        rho = r1 / (1.0 + r1)
+        if rho < 0.25 or d >= dmax:
+            return int(-1.0 * np.round(2 * rho) - 2.0 * d)
+        z = np.diff(z)
+        d += 1
+
+
+def identify_noise(
+    rate: ArrayLike, fs: float, taus: Any = "octave", *, kind: str = "overlapping"
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Dominant power-law noise type at each tau by the lag-1 autocorrelation method.
+
+    Parameters
+    ----------
+    rate : array_like
+        Rate samples [any unit].
+    fs : float
+        Sample rate [Hz].
+    taus : str or array_like
+        As in :func:`allan_deviation`.
+    kind : str
+        Statistic the identification serves (sets the maximum number of differences and the
+        valid range of alpha).
+
+    Returns
+    -------
+    tau : ndarray
+        Cluster times [s].
+    alpha : ndarray of int
+        Exponent of S_y(f) ~ f^alpha: +2 white phase (quantization), 0 white rate (ARW),
+        -1 flicker rate (bias instability), -2 random-walk rate (RRW).
+
+    Notes
+    -----
+    The algorithm is allantools.ci.autocorr_noise_id for frequency data (Riley & Greenhall
+    2004): average the rate over non-overlapping blocks of m samples, remove a line, and
+    difference until the lag-1 autocorrelation r1 gives rho = r1/(1+r1) < 0.25 (at most
+    dmax = 2 times, 3 for Hadamard); alpha = -round(2 rho) - 2 d. Differences from
+    allantools: vectorised (allantools loops in Python), block means taken from the
+    integrated rate, and at most the first 65536 block means are used (the standard error
+    of r1 is then ~1/256 = 0.004, far inside the 0.25 decision margin). Where fewer than
+    30 block means exist the alpha of the nearest shorter tau is carried over (Stable32
+    switches to the B1 ratio there; carrying keeps the edf monotone). alpha is clipped to
+    [-2, 2] (Allan, total) or [-4, 2] (Hadamard), the range the edf formulas accept.
+    """
+    y = _check_rate(rate)
+    fs = _check_fs(fs)
+    _check_kind(kind)
+    ms = _resolve_m(taus, fs, y.size, kind)
+    return ms / fs, _identify(_phase(y), ms, kind)
+
+
+def _identify(x: NDArray[np.float64], ms: NDArray[np.int64], kind: str) -> NDArray[np.int64]:
+    dmax = 3 if _D[kind] == 3 else 2
+    lo = -4 if _D[kind] == 3 else -2
+    out = np.zeros(ms.size, dtype=np.int64)
+    last = 0
+    for i, m in enumerate(ms):
+        a = _noise_id_one(x, int(m), dmax)
+        if a is not None:
+            last = int(np.clip(a, lo, 2))
+        out[i] = last
+    return out
+
+
+def _edf_one(kind: str, alpha: int, m: int, n: int) -> float:
+    """Equivalent degrees of freedom of one estimate (n rate samples, n + 1 phase points)."""
+    p = n + 1
+    if kind == "total":
+        return float(_atci.edf_totdev(n, m, alpha))
+    d = _D[kind]
+    overlapping = kind in ("overlapping", "modified", "overlapping_hadamard")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            e = float(
+                _atci.edf_greenhall(
+                    alpha=int(alpha), d=d, m=int(m), N=p, overlapping=overlapping, modified=(kind == "modified")
+                )
+            )
+    except (NotImplementedError, AssertionError, ZeroDivisionError):  # pragma: no cover - tiny records
+        e = float("nan")
+    if not (math.isfinite(e) and e > 0):
+        # Greenhall has no formula for white PM with fewer than d + 1 terms: fall back to Stein's
+        # approximation (NIST SP 1065 Table 5) and, failing that, the term count
+        e = float(_atci.edf_simple(p, m, alpha)) if d == 2 else float("nan")
+        if not (math.isfinite(e) and e > 0):
+            e = float(max(_n_terms(kind, n, np.array([m]))[0], 1))
+    return e
+
+
+def _edf(kind: str, alpha: NDArray[np.int64], ms: NDArray[np.int64], n: int) -> NDArray[np.float64]:
+    cache: dict[tuple[int, int], float] = {}
+    out = np.empty(ms.size)
+    for i, (a, m) in enumerate(zip(alpha, ms)):
+        key = (int(a), int(m))
+        if key not in cache:
+            cache[key] = _edf_one(kind, int(a), int(m), n)
+        out[i] = cache[key]
+    return out
+
+
+def _bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
+    """Chi-square bounds (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised)."""
+    p = (1.0 - confidence) / 2.0
+    lo = dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf))
+    hi = dev * np.sqrt(edf / stats.chi2.ppf(p, edf))
+    return lo, hi
+
+
+def _check_kind(kind: Any) -> None:
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
+
+
+# ---------------------------------------------------------------------------------- public: curve
+def allan_deviation(
+    rate: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    kind: str = "overlapping",
+    confidence: float = 0.683,
+    alpha: int | ArrayLike | None = None,
+) -> AllanCurve:
+    """Allan-family deviation of rate samples with confidence bounds.
+
+    Parameters
+    ----------
+    rate : array_like, shape (n,)
+        Rate samples y_k [any unit u], one every 1/fs. A constant offset is irrelevant.
+    fs : float
+        Sample rate [Hz], > 0.
+    taus : {"octave", "decade", "all"} or array_like
+        Cluster times. "octave": m = 1, 2, 4, ...; "decade": m = 1, 2, 4, 10, 20, 40, ...;
+        "all": every m. Automatic lists stop at m <= n / r with Stable32's stop ratio r
+        (4 overlapping, modified and overlapping Hadamard; 5 standard and Hadamard; 2 total),
+        i.e. tau <= T/4 for the default. An array gives tau [s], each a multiple of 1/fs,
+        with at least 2 terms each (total: tau <= T/2).
+    kind : str
+        "overlapping" (default, NIST SP 1065 eq. 11), "standard" (eq. 7), "modified"
+        (eq. 14), "hadamard" (eq. 18), "overlapping_hadamard" (eq. 20), "total" (eq. 25,
+        without bias correction, as allantools).
+    confidence : float
+        Two-sided confidence level of the bounds, in (0, 1); 0.683 = one sigma.
+    alpha : int, array_like of int, or None
+        Power-law noise exponent (S_y ~ f^alpha) at each tau for the edf: +2 quantization,
+        0 ARW, -1 bias instability, -2 RRW. None (default) identifies it from the data
+        by the lag-1 autocorrelation (:func:`identify_noise`).
+
+    Returns
+    -------
+    AllanCurve
+
+    Raises
+    ------
+    ValueError
+        Non-finite samples (the first bad index is named), fs <= 0, unknown ``kind`` or
+        ``taus`` string, a tau that is not a multiple of 1/fs or needs more samples.
+
+    Notes
+    -----
+    With phase x_k = sum_{i<k} (y_i - ybar) (the integrated rate), the overlapping AVAR is
+
+        sigma^2(m tau0) = 1 / (2 m^2 (n + 1 - 2m)) sum_k (x_{k+2m} - 2 x_{k+m} + x_k)^2
+
+    (here x in rate*samples, so no tau0). It is computed in one blockwise pass per tau
+    over the float64 cumulative sum, with two 64 kB buffers: memory is the phase array
+    plus O(1). It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
+    1e-9 relative). The other statistics call allantools (adev, mdev, hdev, ohdev, totdev).
+
+    Bounds: edf from Greenhall & Riley (allantools.ci.edf_greenhall) for the Allan,
+    modified and Hadamard kinds, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
+    then sigma^2 edf / chi2_{1-p/2}(edf) <= sigma_true^2 <= sigma^2 edf / chi2_{p/2}(edf)
+    (NIST SP 1065 eq. 45).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.random.default_rng(0).standard_normal(4096)
+    >>> c = allan_deviation(y, fs=1.0)
+    >>> [int(m) for m in c.m]
+    [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]
+    >>> bool(abs(c.deviation[0] - 1.0) < 0.05)
+    True
+    """
+    y = _check_rate(rate)
+    fs = _check_fs(fs)
+    _check_kind(kind)
+    if isinstance(confidence, bool) or not isinstance(confidence, (int, float, np.floating)):
+        raise TypeError(f"confidence must be a real number in (0, 1); got {confidence!r}")
+    if not (0.0 < float(confidence) < 1.0):
+        raise ValueError(f"confidence must be in (0, 1); got {confidence!r}")
+    n = y.size
+    if n < 2:
+        raise ValueError(f"rate has too few samples: need at least 2; got {n}")
+    ms = _resolve_m(taus, fs, n, kind)
+
+    need_phase = kind == "overlapping" or alpha is None
+    x = _phase(y) if need_phase else None
+    if kind == "overlapping":
+        dev = _deviation_overlapping(x, ms)
+    else:
+        dev = _deviation_allantools(kind, y, fs, ms)
+
+    if alpha is None:
+        al = _identify(x, ms, kind)
+    else:
+        al = np.broadcast_to(np.asarray(alpha), ms.shape).astype(np.int64)
+        lo = -4 if _D[kind] == 3 else -2
+        if np.any((al < lo) | (al > 2)):
+            raise ValueError(f"alpha must be integers in [{lo}, 2] for a {kind} deviation; got {alpha!r}")
+    del x
+    edf = _edf(kind, al, ms, n)
+    low, high = _bounds(dev, edf, float(confidence))
+    return AllanCurve(
+        tau=ms / fs,
+        deviation=dev,
+        low=low,
+        high=high,
+        n_terms=_n_terms(kind, n, ms),
+        edf=edf,
+        kind=kind,
+        confidence=float(confidence),
+        fs=fs,
+        n_samples=n,
+        alpha=np.array(al, dtype=np.int64),
+    )
+
+
+# ---------------------------------------------------------------------------------- public: fit
+_Z68 = float(stats.norm.ppf(0.5 + _ONE_SIGMA / 2.0))  # 1.0
+_Z95 = float(stats.norm.ppf(0.975))  # 1.96
+_Z95_ONE_SIDED = float(stats.norm.ppf(0.95))  # 1.645
+_FIT_KINDS = ("overlapping", "standard")
+
+
+def _wnnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float64]) -> NDArray[np.float64]:
+    """argmin_{C >= 0} sum_i (x_i . C - a_i)^2 / var_i, on column-scaled X for conditioning."""
+    sw = 1.0 / np.sqrt(var)
+    xw = x * sw[:, None]
+    scale = np.linalg.norm(xw, axis=0)
+    scale[scale == 0] = 1.0
+    cs, _ = optimize.nnls(xw / scale, a * sw, maxiter=50 * x.shape[1])
+    return cs / scale
+
+
+def _point_variance(x: NDArray[np.float64], c: NDArray[np.float64], nu: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Var(A_i) = sum_t 2 (C_t tau_i^p_t)^2 / nu_t(m_i): each term's chi-square variance, cross terms neglected."""
+    contrib = x * c[None, :]
+    return np.sum(2.0 * contrib**2 / nu, axis=1)
+
+
+def fit_noise(
+    curve_or_rate: AllanCurve | ArrayLike,
+    fs: float | None = None,
+    *,
+    terms: Sequence[str] = TERMS,
+    max_iter: int = 20,
+) -> NoiseFit:
+    """Joint weighted non-negative least-squares fit of the IEEE 952 terms to an Allan variance.
+
+    Parameters
+    ----------
+    curve_or_rate : AllanCurve or array_like
+        An overlapping or standard :class:`AllanCurve`, or rate samples [any unit u] (then the
+        overlapping deviation at octave taus is computed first).
+    fs : float, optional
+        Sample rate [Hz]; required with rate samples, ignored with a curve.
+    terms : sequence of str
+        Subset of ("Q", "N", "B", "K", "R") to fit.
+    max_iter : int
+        Maximum number of reweighting iterations (stops earlier when the C_n change by less
+        than 1e-9 relative).
+
+    Returns
+    -------
+    NoiseFit
+        Coefficients in the units implied by u (module docstring), with intervals.
+
+    Notes
+    -----
+    Model (PHYSICS.md 1.5): AVAR(tau) = sum_n C_n tau^n with C_-2 = 3 Q^2, C_-1 = N^2,
+    C_0 = (2 ln2/pi) B^2 (the flicker plateau, reached for tau > ~1.6/f_high), C_1 = K^2/3,
+    C_2 = R^2/2. Each AVAR point A_i is treated as (sigma_i^2/nu_i) chi2(nu_i) with
+    variance 2 sigma_i^2 / nu_i, where sigma_i^2 is the *fitted* curve (not the noisy A_i:
+    weighting by the data itself biases the fit low) and nu_i the edf of the estimate for
+    the noise type that dominates the fitted curve at tau_i (alpha +2 Q, 0 N, -1 B, -2 K
+    and R; Greenhall edf as in :func:`allan_deviation`). The weighted problem
+    min || W^1/2 (X C - A) ||, C >= 0, is solved by scipy.optimize.nnls on column-scaled X,
+    starting from the weights of the curve's own estimate, and reweighted until stable.
+
+    Uncertainty: Cov(C) = (X^T W X)^-1 over all fitted terms (including any the NNLS set
+    to 0, so a bound stays honest), i.e. the AVAR points are taken as independent. The
+    intervals on C_n are C_n +- z sqrt(Cov_nn) (z = 1 and 1.96), clipped at 0 and mapped to
+    the coefficient by the monotone C -> sqrt(C / scale), which keeps their coverage.
+    A term is *identifiable* when it is the largest term of the fitted curve at one fitted
+    tau at least and its 95 % interval excludes 0; otherwise ``value`` is None and
+    ``upper_bound`` = coefficient(C_n + 1.645 sqrt(Cov_nn)) is a one-sided 95 % bound.
+    Assumptions: Gaussian noise, independent terms, the record's octave AVAR points nearly
+    uncorrelated (true to ~10-30 % between neighbouring octaves; the coverage benchmark,
+    benchmarks/coverage_fit.py, measures the net effect), and no other processes (a
+    Gauss-Markov bump or sinusoid will be absorbed into the nearest terms). The ramp is
+    deterministic; its points are weighted as if random-walk noise, which is conservative.
+    """
+    if isinstance(curve_or_rate, AllanCurve):
+        curve = curve_or_rate
+    else:
+        if fs is None:
+            raise ValueError("fs [Hz] is required when fit_noise is given rate samples; got None")
+        curve = allan_deviation(curve_or_rate, fs)
+    if curve.kind not in _FIT_KINDS:
+        raise ValueError(f"fit_noise needs an Allan variance curve, kind in {_FIT_KINDS}; got {curve.kind!r}")
+    if isinstance(terms, str):
+        terms = (terms,)
+    terms = tuple(terms)
+    bad = [t for t in terms if t not in TERMS]
+    if bad or not terms or len(set(terms)) != len(terms):
+        raise ValueError(f"terms must be distinct names from {TERMS}; got {terms!r}")
+    terms = tuple(t for t in TERMS if t in terms)  # canonical order
+    tau = np.asarray(curve.tau, dtype=float)
+    a = np.asarray(curve.variance, dtype=float)
+    if tau.size < len(terms):
+        raise ValueError(f"curve has {tau.size} tau points, fewer than the {len(terms)} terms to fit")
+    if not np.all(a > 0):
+        raise ValueError("curve.deviation must be > 0 at every tau to weight the fit; got a zero deviation")
+
+    powers = np.array([_POWER[t] for t in terms], dtype=float)
+    x = tau[:, None] ** powers[None, :]
+    ms = curve.m
+    # edf of each point for each term's noise type, nu[i, j]
+    nu = np.stack(
+        [_edf(curve.kind, np.full(ms.size, _ALPHA[t], dtype=np.int64), ms, curve.n_samples) for t in terms], axis=1
+    )
+    var = 2.0 * a**2 / np.asarray(curve.edf, dtype=float)  # first pass: the curve's own edf
+    c = np.zeros(len(terms))
+    it = 0
+    for it in range(1, max_iter + 1):
+        c_new = _wnnls(x, a, var)
+        done = np.allclose(c_new, c, rtol=1e-9, atol=0.0)
+        c = c_new
+        var_new = _point_variance(x, c, nu)
+        var = np.where(var_new > 0, var_new, var)  # no fitted term at a tau: keep the last weight
+        if done:
+            break
+
+    xw = x / np.sqrt(var)[:, None]
+    scale = np.linalg.norm(xw, axis=0)
+    scale[scale == 0] = 1.0
+    info = (xw / scale).T @ (xw / scale)
+    cov = np.linalg.pinv(info, rcond=1e-13) / np.outer(scale, scale)
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+
+    contrib = x * c[None, :]
+    dominant = set(int(j) for j in np.argmax(contrib, axis=1)) if np.any(c > 0) else set()
+    coeffs: dict[str, Coefficient] = {}
+    for j, name in enumerate(terms):
+
+        def coef(v: float, name: str = name) -> float:
+            return avar_to_coefficient(name, v)
+
+        lo95, hi95 = c[j] - _Z95 * se[j], c[j] + _Z95 * se[j]
+        ident = bool(c[j] > 0 and lo95 > 0 and j in dominant)
+        coeffs[name] = Coefficient(
+            name=name,
+            value=coef(c[j]) if ident else None,
+            ci68=(coef(c[j] - _Z68 * se[j]), coef(c[j] + _Z68 * se[j])),
+            ci95=(coef(lo95), coef(hi95)),
+            identifiable=ident,
+            upper_bound=coef(c[j] + _Z95_ONE_SIDED * se[j]),
+            power=_POWER[name],
+        )
+    return NoiseFit(
+        coefficients=coeffs,
+        curve=curve,
+        avar_coefficients={t: float(v) for t, v in zip(terms, c)},
+        covariance=cov,
+        iterations=it,
+    )
+
+
+# ---------------------------------------------------------------------------------- public: read-off
+#: tau [s] at which each single-term asymptote equals its coefficient (IEEE 952 C.1)
+_READ_TAU = {"Q": math.sqrt(3.0), "N": 1.0, "K": 3.0, "R": math.sqrt(2.0)}
+_SLOPE = {"Q": -1.0, "N": -0.5, "B": 0.0, "K": 0.5, "R": 1.0}
+
+
+def _normalised(name: str, tau: NDArray[np.float64], dev: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Coefficient implied by each point if the single term ``name`` made the whole deviation."""
+    return {
+        "Q": dev * tau / math.sqrt(3.0),  # sigma = sqrt(3) Q / tau
+        "N": dev * np.sqrt(tau),  # sigma = N / sqrt(tau)
+        "B": dev / FLICKER_FLOOR,  # sigma = 0.6643 B
+        "K": dev * math.sqrt(3.0) / np.sqrt(tau),  # sigma = K sqrt(tau / 3)
+        "R": dev * math.sqrt(2.0) / tau,  # sigma = R tau / sqrt(2)
+    }[name]
+
+
+def slope_readoff(
+    curve: AllanCurve | Sequence[AllanCurve],
+    *,
+    fit_ranges: Mapping[str, tuple[float, float]] | None = None,
+    slope_tolerance: float = 0.25,
+) -> dict[str, float | None]:
+    """IEEE Std 952 graphical read-off of Q, N, B, K, R from an Allan deviation curve.
+
+    Parameters
+    ----------
+    curve : AllanCurve or sequence of AllanCurve
+        The deviation curve(s). Several curves (e.g. the three axes of a triad) are pooled
+        in ``fit_ranges`` mode; the graphical mode needs exactly one.
+    fit_ranges : mapping of str to (tau_min, tau_max), optional
+        Fixed-slope mode: for each named term, the line of that term's slope is fitted by
+        least squares in log-log coordinates through all points with tau_min <= tau <=
+        tau_max [s] (relative tolerance 1e-9), i.e. the coefficient is the geometric mean of
+        the slope-normalised deviations: N = gm(sigma sqrt(tau)), Q = gm(sigma tau)/sqrt(3),
+        K = sqrt(3) gm(sigma/sqrt(tau)), R = sqrt(2) gm(sigma/tau), B = gm(sigma)/0.6643.
+        This is the "AVLR" computation of the R package avar (Guerrier et al.). Terms not
+        named come back None.
+    slope_tolerance : float
+        Graphical mode: a term is read only if some segment of the curve has a log-log slope
+        within this distance of the term's slope (default 0.25, half way to the next term).
+
+    Returns
+    -------
+    dict of str to float or None
+        "Q" [u*s], "N" [u*s^0.5], "B" [u], "K" [u/s^0.5], "R" [u/s]; None when not readable.
+
+    Notes
+    -----
+    Graphical mode (IEEE 952-1997 C.1; PHYSICS.md 1.4; the MathWorks procedure): for the
+    slopes -1, -1/2, +1/2, +1 find the segment between adjacent taus whose log-log slope is
+    closest to the target, draw the line of exactly that slope through the segment's
+    log-midpoint and read it at tau = sqrt(3) s (Q), 1 s (N), 3 s (K), sqrt(2) s (R).
+    B = min(sigma) / sqrt(2 ln2 / pi) = min / 0.6643: the IEEE *coefficient*, not the ADEV
+    minimum that many datasheets quote as "bias instability" (0.6643 B).
+    """
+    curves = [curve] if isinstance(curve, AllanCurve) else list(curve)
+    if not curves or not all(isinstance(c, AllanCurve) for c in curves):
+        raise TypeError(f"curve must be an AllanCurve or a sequence of them; got {curve!r}")
+    out: dict[str, float | None] = {t: None for t in TERMS}
+    if fit_ranges is not None:
+        tau = np.concatenate([np.asarray(c.tau, float) for c in curves])
+        dev = np.concatenate([np.asarray(c.deviation, float) for c in curves])
+        for name, rng_ in fit_ranges.items():
+            if name not in TERMS:
+                raise ValueError(f"fit_ranges keys must be in {TERMS}; got {name!r}")
+            lo, hi = (float(v) for v in rng_)
+            if not (0 < lo <= hi):
+                raise ValueError(f"fit_ranges[{name!r}] must satisfy 0 < tau_min <= tau_max [s]; got {rng_!r}")
+            sel = (tau >= lo * (1 - 1e-9)) & (tau <= hi * (1 + 1e-9))
+            if not np.any(sel):
+                raise ValueError(f"fit_ranges[{name!r}] = {rng_!r} s contains no tau of the curve")
+            out[name] = float(np.exp(np.mean(np.log(_normalised(name, tau[sel], dev[sel])))))
+        return out
+
+    if len(curves) != 1:
+        raise ValueError(f"the graphical read-off takes one curve; got {len(curves)} (use fit_ranges to pool)")
+    c = curves[0]
+    lt, ld = np.log10(np.asarray(c.tau, float)), np.log10(np.asarray(c.deviation, float))
+    if lt.size >= 2:
+        slope = np.diff(ld) / np.diff(lt)
+        mid_t, mid_d = (lt[1:] + lt[:-1]) / 2, (ld[1:] + ld[:-1]) / 2
+        for name, tr in _READ_TAU.items():
+            p = _SLOPE[name]
+            i = int(np.argmin(np.abs(slope - p)))
+            if abs(slope[i] - p) <= slope_tolerance:
+                out[name] = float(10 ** (mid_d[i] + p * (math.log10(tr) - mid_t[i])))
+    out["B"] = float(np.min(c.deviation)) / FLICKER_FLOOR
+    return out

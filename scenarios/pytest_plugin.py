@@ -1,4 +1,153 @@
-"""pytest plugin (entry point ``pytest11``) giving the ``gyrobench_bench`` fixture.
+"""pytest plugin (entry point ``pytest11``): assert "no regression" of a compensator in your own tests.
 
-Placeholder: the fixture lands with the bench (issue 7).
+Installing gyrobench registers this plugin; its fixture ``gyrobench_bench`` scores
+a compensator on a scenario over many seeds and compares the per-seed scores with
+a stored baseline (paired Wilcoxon signed-rank test, Holm-adjusted; see
+:func:`scenarios.bench.compare`)::
+
+    from mylab.models import my_regressor
+
+    def test_my_compensator_does_not_regress(gyrobench_bench):
+        gyrobench_bench.assert_no_regression(
+            "ifog_thermal", my_regressor, baseline="baselines/ifog_ridge.json", seeds=range(20)
+        )
+
+``baseline`` is relative to the test file's folder. Create or refresh the
+baselines with ``pytest --gyrobench-save-baselines`` (the asserting tests then
+write the file instead of comparing). Seeds run in the test process by default;
+``--gyrobench-workers N`` (or ``workers=N``) uses N local processes. Campaign
+results are kept in a database in pytest's temporary folder for the session, so
+two tests asking for the same campaign compute it once.
+
+Options
+-------
+``--gyrobench-save-baselines``
+    write the baselines named by ``assert_no_regression`` instead of comparing.
+``--gyrobench-workers N``
+    local worker processes for the campaigns (default 0: in the test process).
 """
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+#: seeds used when neither the test nor an existing baseline names them
+DEFAULT_SEEDS = tuple(range(20))
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("gyrobench", "gyrobench compensator regression tests")
+    group.addoption(
+        "--gyrobench-save-baselines", action="store_true", default=False,
+        help="write the baselines named by gyrobench_bench.assert_no_regression instead of comparing",
+    )
+    group.addoption(
+        "--gyrobench-workers", type=int, default=0, metavar="N",
+        help="local worker processes for gyrobench campaigns (default 0: in the test process)",
+    )
+
+
+class GyrobenchBench:
+    """What the ``gyrobench_bench`` fixture gives a test."""
+
+    def __init__(self, *, root: Path, db: Path, save: bool, workers: int) -> None:
+        self.root = root
+        self.db = db
+        self.save = save
+        self.workers = workers
+
+    def campaign(
+        self,
+        scenario: Any,
+        compensator: Any,
+        seeds: Iterable[int] | str = DEFAULT_SEEDS,
+        *,
+        config: Any = None,
+        workers: int | None = None,
+    ):
+        """Run (or read back) a campaign: see :func:`scenarios.bench.run_campaign`."""
+        from scenarios import bench
+
+        return bench.run_campaign(scenario, compensator, seeds, config=config,
+                                  workers=self.workers if workers is None else workers, db=self.db, progress=False)
+
+    def assert_no_regression(
+        self,
+        scenario: Any,
+        compensator: Any,
+        *,
+        baseline: str | os.PathLike,
+        seeds: Iterable[int] | str | None = None,
+        config: Any = None,
+        alpha: float = 0.05,
+        workers: int | None = None,
+        directions: Mapping[str, int] | None = None,
+    ):
+        """Fail the test if ``compensator`` is significantly worse than ``baseline`` on any score.
+
+        Parameters
+        ----------
+        scenario, compensator, config
+            As for :func:`scenarios.bench.run_campaign`.
+        baseline : path
+            Baseline JSON (:func:`scenarios.bench.save_baseline`), relative to the
+            test file's folder unless absolute.
+        seeds : optional
+            Default: the baseline's seeds (or :data:`DEFAULT_SEEDS` when writing a new one).
+        alpha : float
+            Family-wise significance level over all scores.
+        directions : mapping, optional
+            Overrides for :func:`scenarios.bench.score_direction`.
+
+        Returns
+        -------
+        scenarios.bench.Comparison or None
+            None when the baseline was (re)written (``--gyrobench-save-baselines``).
+        """
+        __tracebackhide__ = True
+        from scenarios import bench
+
+        path = Path(baseline)
+        if not path.is_absolute():
+            path = self.root / path
+        stored = bench.load_baseline(path) if path.is_file() else None
+        if stored is None and not self.save:
+            pytest.fail(
+                f"gyrobench baseline {str(path)!r} does not exist; create it with "
+                "'pytest --gyrobench-save-baselines' from the compensator you trust", pytrace=False,
+            )
+        if seeds is None:
+            seeds = stored.seeds if stored is not None else DEFAULT_SEEDS
+        campaign = self.campaign(scenario, compensator, seeds, config=config, workers=workers)
+        if self.save:
+            bench.save_baseline(path, campaign)
+            return None
+        result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
+        if result.regressions:
+            pytest.fail(f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
+                        + result.format(), pytrace=False)
+        return result
+
+
+@pytest.fixture(scope="session")
+def _gyrobench_db(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return tmp_path_factory.mktemp("gyrobench") / "bench.sqlite"
+
+
+@pytest.fixture
+def gyrobench_bench(request: pytest.FixtureRequest, _gyrobench_db: Path) -> GyrobenchBench:
+    """Score compensators over seeds and assert no regression against a stored baseline.
+
+    See :class:`GyrobenchBench` (``campaign``, ``assert_no_regression``).
+    """
+    cfg = request.config
+    workers = cfg.getoption("--gyrobench-workers")
+    if workers < 0:
+        raise pytest.UsageError(f"--gyrobench-workers must be >= 0; got {workers}")
+    return GyrobenchBench(root=Path(request.path).parent, db=_gyrobench_db,
+                          save=bool(cfg.getoption("--gyrobench-save-baselines")), workers=workers)

@@ -1,0 +1,76 @@
+"""The gyrobench pytest plugin, exercised in inner pytest runs (pytester) on the toy scenario."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+# Inner runs are in-process: pytester drops modules first imported inside them, and numpy's
+# extension modules cannot load twice in a process, so import what the inner tests use here.
+import scenarios.bench  # noqa: F401
+import scipy.stats  # noqa: F401
+import threadpoolctl  # noqa: F401
+import tqdm  # noqa: F401
+from tests.scenarios import toy_scenario  # noqa: F401
+
+pytest_plugins = ["pytester"]
+
+ROOT = Path(__file__).resolve().parents[2]
+
+USER_TESTS = """
+from tests.scenarios import toy_scenario as toy
+
+CFG = toy.Config(n_samples=120)
+
+def test_good(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(toy, toy.good, baseline="baselines/toy.json", seeds=range(12), config=CFG)
+
+def test_same_by_name(gyrobench_bench):
+    res = gyrobench_bench.assert_no_regression(
+        "tests.scenarios.toy_scenario", "tests.scenarios.toy_scenario:good", baseline="baselines/toy.json", config=CFG)
+    assert res is None or (len(res.seeds) == 12 and res.regressions == ())
+
+def test_degraded(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(toy, toy.degraded, baseline="baselines/toy.json", seeds=range(12), config=CFG)
+"""
+
+
+#: inner runs skip plugins they do not need (hypothesis's summary hook alone costs ~2 s per run)
+FAST = ("-p", "no:hypothesispytest", "-p", "no:cacheprovider")
+
+
+@pytest.fixture
+def user_suite(pytester: pytest.Pytester) -> pytest.Pytester:
+    pytester.syspathinsert(ROOT)
+    pytester.makepyfile(test_user=USER_TESTS)
+    return pytester
+
+
+def test_plugin_is_registered_by_the_entry_point(pytester: pytest.Pytester):
+    result = pytester.runpytest("--help")
+    result.stdout.fnmatch_lines(["*--gyrobench-save-baselines*", "*--gyrobench-workers*"])
+
+
+def test_missing_baseline_fails_with_instructions(user_suite: pytest.Pytester):
+    result = user_suite.runpytest(*FAST, "-k", "test_good")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*baselines/toy.json* does not exist*--gyrobench-save-baselines*"])
+
+
+def test_save_then_assert_no_regression(user_suite: pytest.Pytester):
+    saved = user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines")
+    saved.assert_outcomes(passed=1)
+    base = user_suite.path / "baselines" / "toy.json"
+    assert json.loads(base.read_text())["seeds"] == list(range(12))
+
+    result = user_suite.runpytest(*FAST)
+    result.assert_outcomes(passed=2, failed=1)
+    result.stdout.fnmatch_lines(["*test_degraded*", "*regressed against toy.json*", "*REGRESSION*mean/mse*"])
+    assert "test_good FAILED" not in result.stdout.str()
+
+
+def test_workers_option_runs_in_processes(user_suite: pytest.Pytester):
+    user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines").assert_outcomes(passed=1)
+    user_suite.runpytest(*FAST, "-k", "test_good or test_same_by_name", "--gyrobench-workers", "2").assert_outcomes(passed=2)

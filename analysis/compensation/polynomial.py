@@ -166,7 +166,10 @@ class PolynomialRegressor(RegressorMixin, BaseEstimator):
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """Predicted target for X, shape (n_samples,)."""
         check_is_fitted(self, "coef_")
-        X = np.asarray(validate_data(self, X, reset=False), dtype=float)
+        return self._eval(np.asarray(validate_data(self, X, reset=False), dtype=float))
+
+    def _eval(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Prediction for an already validated float array (no checks; used by the composite models)."""
         return self.y_center_ + self.y_half_ * (self._design(X) @ self.coef_)
 
     def derivative(self, X: ArrayLike) -> NDArray[np.float64]:
@@ -217,8 +220,8 @@ class TwoStagePolynomial(RegressorMixin, BaseEstimator):
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """P2(P1(X)), shape (n_samples,)."""
         check_is_fitted(self, "stage2_")
-        X = validate_data(self, X, reset=False)
-        return self.stage2_.predict(self.stage1_.predict(X)[:, None])
+        X = np.asarray(validate_data(self, X, reset=False), dtype=float)
+        return self.stage2_._eval(self.stage1_._eval(X)[:, None])
 
 
 class PiecewisePolynomial(RegressorMixin, BaseEstimator):
@@ -388,7 +391,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         for i, model in enumerate(self.segments_):
             m = seg == i
             if m.any():
-                out[m] = model.predict(X[m])
+                out[m] = model._eval(X[m])
         h = self.half_join_
         for b, H in zip(self.breakpoints_, self.joins_):
             m = (x >= b - h) & (x <= b + h)

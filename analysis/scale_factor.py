@@ -31,6 +31,7 @@ __all__ = [
     "SearchStep",
     "BreakpointSearch",
     "breakpoint_search",
+    "heuristic_split",
     "check_rate_table",
 ]
 
@@ -52,18 +53,19 @@ def check_rate_table(rates: ArrayLike, outputs: ArrayLike, *, min_points: int = 
     if w.size < min_points:
         raise ValueError(f"a rate table needs at least {min_points} rates; got {w.size}")
     if not np.all(np.isfinite(w)):
-        raise ValueError(f"rates must be finite; got {w[~np.isfinite(w)][0]!r} at index {int(np.flatnonzero(~np.isfinite(w))[0])}")
+        i = int(np.flatnonzero(~np.isfinite(w))[0])
+        raise ValueError(f"rates must be finite; got {float(w[i])!r} at index {i}")
     if not np.all(np.isfinite(f)):
         i = int(np.flatnonzero(~np.isfinite(f))[0])
-        raise ValueError(f"outputs must be finite; got {f[i]!r} at index {i} (rate {w[i]!r})")
+        raise ValueError(f"outputs must be finite; got {float(f[i])!r} at index {i} (rate {float(w[i])!r})")
     d = np.diff(w)
     if not (np.all(d > 0) or np.all(d < 0)):
         if np.any(d == 0):
             i = int(np.flatnonzero(d == 0)[0])
-            raise ValueError(f"rates must be distinct; got the duplicate rate {w[i]!r} at indices {i} and {i + 1}")
+            raise ValueError(f"rates must be distinct; got the duplicate rate {float(w[i])!r} at indices {i} and {i + 1}")
         i = int(np.flatnonzero(np.sign(d) != np.sign(d[0]))[0])
         raise ValueError(
-            f"rates must be strictly monotonic (a rate-table sequence); got {w[i]!r} -> {w[i + 1]!r} at index {i + 1}"
+            f"rates must be strictly monotonic (a rate-table sequence); got {float(w[i])!r} -> {float(w[i + 1])!r} at index {i + 1}"
         )
     return w, f
 
@@ -202,6 +204,59 @@ def _interval_kn(w: NDArray, f: NDArray) -> float:
     return float(np.max(np.abs(f - (k * w + f0))) / np.max(np.abs(f)))
 
 
+def heuristic_split(
+    interval_nonlinearity: ArrayLike, *, run_length: int = 3
+) -> tuple[int | None, NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """The paper's split rule applied to the nonlinearities K_n(0), K_n(1), ... of growing intervals.
+
+    d(k) = |K_n(k) - K_n(k-1)| (k >= 1), dd(k) = d(k) - d(k-1) (k >= 2); the
+    counter grows by one on each dd(k) > 0 and resets to 0 otherwise. When it
+    reaches ``run_length`` at k, the run began at k0 = k - run_length + 1 and the
+    split index is k0 - 1: the last interval before the step that started the run.
+
+    Parameters
+    ----------
+    interval_nonlinearity : array_like
+        K_n of the intervals in growing order [-] (any consistent unit).
+    run_length : int
+        Consecutive positive dd needed, >= 1.
+
+    Returns
+    -------
+    split : int or None
+        Index into ``interval_nonlinearity`` of the last interval of the linear
+        range, or None.
+    abs_diff, diff2 : ndarray
+        d and dd per interval (NaN where undefined).
+    counter : ndarray of int
+        The counter after each interval (frozen after the split).
+
+    Examples
+    --------
+    >>> split, d, dd, c = heuristic_split([0.0, 1.0, 3.0, 6.0, 10.0])
+    >>> split, c.tolist()
+    (1, [0, 0, 1, 2, 3])
+    """
+    if isinstance(run_length, bool) or not isinstance(run_length, (int, np.integer)) or run_length < 1:
+        raise ValueError(f"run_length must be an integer >= 1; got {run_length!r}")
+    kn = np.asarray(interval_nonlinearity, dtype=float)
+    if kn.ndim != 1 or not np.all(np.isfinite(kn)):
+        raise ValueError(f"interval_nonlinearity must be a 1-D array of finite values; got {interval_nonlinearity!r}")
+    d = np.full(kn.size, math.nan)
+    d[1:] = np.abs(np.diff(kn))
+    dd = np.full(kn.size, math.nan)
+    dd[2:] = np.diff(d[1:])
+    counter = np.zeros(kn.size, dtype=np.int64)
+    split, c = None, 0
+    for k in range(kn.size):
+        if split is None:
+            c = c + 1 if dd[k] > 0 else 0
+            if c >= run_length:
+                split = k - run_length
+        counter[k] = c
+    return split, d, dd, counter
+
+
 def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int = 3) -> BreakpointSearch:
     """The heuristic breakpoint search of seed paper 001 (section 2.2.1), with its trace.
 
@@ -220,7 +275,8 @@ def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int =
        three regions: negative high rates, low rates, positive high rates).
 
     The convention of step 3 (which rate is "the first point") is our reading
-    of the paper; with it a knee at 1800 deg/s yields 1800 deg/s.
+    of the paper; with it a knee at 1800 deg/s yields 1800 deg/s. Steps 2-3 are
+    :func:`heuristic_split`.
 
     Parameters
     ----------
@@ -241,21 +297,12 @@ def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int =
     for side in (1, -1):
         sel = np.flatnonzero(side * w >= 0)
         order = sel[np.argsort(side * w[sel])]
-        kns, ds = [], []
-        counter = 0
-        for k in range(1, order.size):
-            idx = order[: k + 1]
-            kn = _interval_kn(w[idx], f[idx])
-            kns.append(kn)
-            d = abs(kns[-1] - kns[-2]) if len(kns) >= 2 else math.nan
-            ds.append(d)
-            dd = ds[-1] - ds[-2] if len(ds) >= 2 and not math.isnan(ds[-2]) else math.nan
-            if found[side] is None:
-                counter = counter + 1 if dd > 0 else 0
-                if counter >= run_length:
-                    # dd at interval k; the run began at interval k0 = k - run_length + 1;
-                    # the breakpoint is the end rate of interval k0 - 1
-                    k0 = k - run_length + 1
-                    found[side] = float(w[order[k0 - 1]])
-            trace.append(SearchStep(side, float(w[order[k]]), k + 1, kn, d, dd, counter))
+        if order.size < 2:
+            continue
+        kns = [_interval_kn(w[order[: k + 1]], f[order[: k + 1]]) for k in range(1, order.size)]
+        split, d, dd, counter = heuristic_split(kns, run_length=run_length)
+        if split is not None:
+            found[side] = float(w[order[split + 1]])
+        for j, kn in enumerate(kns):
+            trace.append(SearchStep(side, float(w[order[j + 1]]), j + 2, kn, float(d[j]), float(dd[j]), int(counter[j])))
     return BreakpointSearch(found[-1], found[1], tuple(trace))

@@ -306,7 +306,10 @@ def _fig_continuity(model: PiecewisePolynomial, X: NDArray, y: NDArray) -> Figur
         left, right = model.segments_[k], model.segments_[k + 1]
         ax.plot(xs, left.predict(xs[:, None]), "--", lw=1.0, label="left segment")
         ax.plot(xs, right.predict(xs[:, None]), "--", lw=1.0, label="right segment")
-        ax.plot(xs, model.predict(xs[:, None]), "k", lw=1.6, label="with Hermite join")
+        joined = model.predict(xs[:, None])
+        ax.plot(xs, joined, "k", lw=1.6, label="with Hermite join")
+        pad = 0.1 * (joined.max() - joined.min())
+        ax.set_ylim(joined.min() - pad, joined.max() + pad)  # the bare segments diverge outside their data
         ax.axvspan(b - h, b + h, color="0.9")
         m = np.abs(X[:, 0] - b) < 4 * h
         ax.plot(X[m, 0], y[m], "o", color="C3", ms=4, label="data")

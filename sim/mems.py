@@ -173,7 +173,7 @@ class MemsSpec:
                 lo, inclusive, unit = _BOUNDS[f.name]
                 if v < lo or (v == lo and not inclusive):
                     op = ">=" if inclusive else ">"
-                    raise ValueError(f"MemsSpec.{f.name} must be {op} {lo} {unit}; got {v!r}")
+                    raise ValueError(f"MemsSpec.{f.name} must be {op} {lo:g} {unit}; got {v!r}")
         if not abs(self.asymmetry) < 1.0:
             raise ValueError(f"MemsSpec.asymmetry must satisfy |a| < 1 [-]; got {self.asymmetry!r}")
         if self.resolution >= self.measurement_range:

@@ -1,0 +1,158 @@
+"""Tests of analysis/scale_factor.py: LS fit, K_n, asymmetry, the heuristic breakpoint search."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
+
+GRID = np.arange(3600.0, -3601.0, -360.0)
+
+
+def _knee(w, ok=1800.0, ws=987.61):
+    a = np.abs(w)
+    return np.where(a <= ok, w, np.sign(w) * (ok + ws * np.tanh((a - ok) / ws)))
+
+
+# ------------------------------------------------------------------ closed form
+def test_noise_free_linear_gyro():
+    f = 0.8 * GRID + 3.0
+    fit = fit_scale_factor(GRID, f)
+    assert fit.scale_factor == pytest.approx(0.8, rel=1e-12)
+    assert fit.bias == pytest.approx(3.0, rel=1e-12)
+    assert fit.nonlinearity < 1e-14
+    assert fit.full_scale == pytest.approx(0.8 * 3600 + 3.0, rel=1e-12)
+
+
+def test_known_cubic_by_hand():
+    """F = W + c W^3 on W = -2..2: K = 1 + 3.4c, F0 = 0, max residual 2.4c at |W| = 1, F_m = 2 + 8c."""
+    c = 0.01
+    w = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    fit = fit_scale_factor(w, w + c * w**3)
+    assert fit.scale_factor == pytest.approx(1 + 3.4 * c, rel=1e-12)
+    assert abs(fit.bias) < 1e-15
+    assert fit.nonlinearity == pytest.approx(2.4 * c / (2 + 8 * c), rel=1e-12)
+    assert fit.nonlinearity_pct == pytest.approx(100 * 2.4 * c / (2 + 8 * c), rel=1e-12)
+    assert fit.nonlinearity_ppm == pytest.approx(1e6 * 2.4 * c / (2 + 8 * c), rel=1e-12)
+    np.testing.assert_allclose(fit.pointwise * fit.full_scale, fit.residuals, rtol=1e-12)
+
+
+def test_full_scale_override():
+    w = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    fit = fit_scale_factor(w, w + 0.01 * w**3, full_scale=4.0)
+    assert fit.nonlinearity == pytest.approx(0.024 / 4.0, rel=1e-12)
+
+
+def test_decreasing_and_increasing_rates_agree():
+    f = GRID + 1e-8 * GRID**3
+    a, b = fit_scale_factor(GRID, f), fit_scale_factor(GRID[::-1], f[::-1])
+    assert a.nonlinearity == pytest.approx(b.nonlinearity, rel=1e-12)
+
+
+def test_asymmetry_closed_form():
+    w = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    f = np.where(w >= 0, 1.1 * w, 0.9 * w)
+    assert asymmetry(w, f) == pytest.approx(0.2, rel=1e-12)
+
+
+# ------------------------------------------------------------------ breakpoint search
+def test_split_rule_by_hand():
+    split, d, dd, counter = heuristic_split([0.0, 1.0, 3.0, 6.0, 10.0])
+    assert split == 1
+    np.testing.assert_array_equal(counter, [0, 0, 1, 2, 3])
+    np.testing.assert_allclose(d[1:], [1.0, 2.0, 3.0, 4.0], rtol=1e-12)
+    np.testing.assert_allclose(dd[2:], [1.0, 1.0, 1.0], rtol=1e-12)
+
+
+def test_split_rule_resets_on_a_negative_sign():
+    # d = 1, 2, 1, 2, 3, 4: dd = +, -, +, +, + -> run starts at index 4, split at 3
+    kn = np.cumsum([0.0, 1.0, 2.0, 1.0, 2.0, 3.0, 4.0])
+    split, _, _, counter = heuristic_split(kn)
+    assert split == 3
+    np.testing.assert_array_equal(counter, [0, 0, 1, 0, 1, 2, 3])
+
+
+def test_table2_style_sequence():
+    """A Table-2-like sequence (interval K_n [%] for [0, 360] ... [0, 3600]): small and falling, then rising fast."""
+    kn_pct = [0.0, 0.094, 0.075, 0.059, 0.059, 0.41, 2.36, 5.64, 9.36, 12.84]
+    ends = np.arange(360.0, 3601.0, 360.0)
+    split, _, _, counter = heuristic_split(kn_pct)
+    assert ends[split] == 1800.0
+    assert counter.tolist() == [0, 0, 0, 0, 0, 1, 2, 3, 3, 3]
+
+
+def test_no_split_on_a_linear_table():
+    res = breakpoint_search(GRID, 2.0 * GRID + 1.0)
+    assert res.breakpoints == ()
+    assert len(res.trace) == 20
+
+
+def test_search_finds_the_knee():
+    """Knee at 1800 deg/s (PHYSICS.md 5) plus a 2 deg/s sign-dependent offset: breakpoints +-1800."""
+    f = _knee(GRID) + 2.0 * np.sign(GRID)
+    res = breakpoint_search(GRID, f)
+    assert (res.negative, res.positive) == (-1800.0, 1800.0)
+    pos = [s for s in res.trace if s.side > 0]
+    assert [s.end_rate for s in pos] == list(np.arange(360.0, 3601.0, 360.0))
+    assert [s.n_points for s in pos] == list(range(2, 12))
+
+
+def test_search_trace_matches_direct_interval_fits():
+    f = _knee(GRID) + 2.0 * np.sign(GRID)
+    res = breakpoint_search(GRID, f)
+    for s in res.trace:
+        m = (np.sign(GRID) * s.side >= 0) & (np.abs(GRID) <= abs(s.end_rate))
+        expect = 0.0 if m.sum() < 3 else fit_scale_factor(GRID[m], f[m]).nonlinearity
+        assert s.nonlinearity == pytest.approx(expect, rel=1e-12, abs=1e-15)
+
+
+# ------------------------------------------------------------------ bad input
+def test_rejects_fewer_than_three_rates():
+    with pytest.raises(ValueError, match="at least 3 rates; got 2"):
+        fit_scale_factor([0.0, 1.0], [0.0, 1.0])
+
+
+def test_rejects_non_monotonic_rates():
+    with pytest.raises(ValueError, match="strictly monotonic"):
+        fit_scale_factor([0.0, 2.0, 1.0], [0.0, 2.0, 1.0])
+
+
+def test_rejects_duplicate_rates():
+    with pytest.raises(ValueError, match="duplicate rate 1.0"):
+        fit_scale_factor([0.0, 1.0, 1.0, 2.0], [0.0, 1.0, 1.0, 2.0])
+
+
+def test_rejects_nan_output():
+    with pytest.raises(ValueError, match=r"outputs must be finite; got nan at index 1"):
+        fit_scale_factor([0.0, 1.0, 2.0], [0.0, np.nan, 2.0])
+
+
+def test_rejects_length_mismatch():
+    with pytest.raises(ValueError, match="same length"):
+        fit_scale_factor([0.0, 1.0, 2.0], [0.0, 1.0])
+
+
+def test_rejects_nonpositive_full_scale():
+    with pytest.raises(ValueError, match="full_scale must be a finite number > 0"):
+        fit_scale_factor([0.0, 1.0, 2.0], [0.0, 1.0, 2.0], full_scale=0.0)
+
+
+def test_search_rejects_non_monotonic_rates():
+    with pytest.raises(ValueError, match="strictly monotonic"):
+        breakpoint_search([0.0, 2.0, 1.0, 3.0], [0.0, 2.0, 1.0, 3.0])
+
+
+def test_search_rejects_nan_output():
+    with pytest.raises(ValueError, match="outputs must be finite"):
+        breakpoint_search(GRID, np.where(GRID == 0, np.nan, GRID))
+
+
+def test_search_rejects_bad_run_length():
+    with pytest.raises(ValueError, match="run_length must be an integer >= 1; got 0"):
+        breakpoint_search(GRID, GRID, run_length=0)
+
+
+def test_asymmetry_needs_two_rates_per_side():
+    with pytest.raises(ValueError, match="at least 2 rates >= 0 and 2 rates <= 0"):
+        asymmetry([0.0, 1.0, 2.0], [0.0, 1.0, 2.0])

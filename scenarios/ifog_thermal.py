@@ -1,0 +1,512 @@
+"""Paper 003: IFOG temperature drift from coil physics; RBF compensation with the T x dT term.
+
+Cheng, Qi, Zhao (Harbin Engineering University), "Design of a temperature-drift error
+compensation system for interferometric FOGs" (seed 003, summary in shared/seeds/README.md).
+
+What is simulated
+-----------------
+One FOG unit (quadrupolar 40-layer coil, 1000 m, D = 0.1 m, with drawn winding defects)
+sits in a thermal chamber. Its drift is NOT a formula in T and dT: the chamber drives a
+lagging housing, heat diffuses radially through the potted fibre pack (implicit steps of
+5 s), and the rate error is the Shupe integral over the fibre with the elasto-optic strain
+term and a temperature-dependent dn/dT (``sim.coil``, ``sim.fog``). The test logs what the
+paper logs: the gyro output and one coil temperature sensor (noise 3 mK, 1 mK steps).
+
+Protocols (paper defaults)
+--------------------------
+- identification (x2; run 1 trains, run 2 validates): from 20 degC cool to -10 degC and
+  settle 2 h; heat to 40 degC and hold 2 h; cool to -10 degC and hold 2 h; ramps at
+  1 degC/min (the paper does not print its rate); true rate 0.
+- validation 1: 5 runs, 1 h at -10 degC, -10 -> 40 degC at 10 degC/h, 1 h at 40 degC; true rate 0.
+- validation 2: 5 runs, same at 0.5 degC/min; constant true rate 180 deg/h (the turntable).
+
+Rates: the output and the sensor are logged at 1 Hz; the analysis works on 60-s block
+means (the paper's data are slow), features (T [degC], dT/dt [degC/s] by a 15-min
+Savitzky-Golay derivative, T x dT) from the logged temperature only.
+
+Compensation
+------------
+RBF networks grown as MATLAB newrb (``analysis.compensation.rbf``; inputs min-max
+scaled to [-1, 1], spread in those units) fitted to the drift output - truth of
+identification run 1: "improved" on (T, dT, T x dT), "traditional" on (T, dT). The paper
+fits Q = output - mean(output); with the turntable's known rate we fit output - truth, which
+also removes the constant bias (stated, not hidden). MSE against the true rate in (deg/h)^2.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from analysis.compensation.rbf import RBFNetwork, StreamingCompensator, batch_compensate
+from analysis.features import block_means, thermal_features
+from scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from sim import units
+from sim.coil import WINDING_PATTERNS, CoilSpec, CoilThermalModel, Winding, segment_weight, shupe_terms
+from sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
+from sim.fog import FOGSpec, FOGUnit, TemperatureSensorSpec
+from sim.noise import NoiseModel
+from sim.recording import Recording
+
+NAME = "ifog_thermal"
+TITLE = "IFOG thermal drift from Shupe coil physics; RBF compensation with the T x dT term (paper 003)"
+
+FEATURES_IMPROVED = ("T [degC]", "dT/dt [degC/s]", "T x dT/dt [degC^2/s]")
+FEATURES_TRADITIONAL = FEATURES_IMPROVED[:2]
+
+_H = units.HOUR
+_MIN = units.MINUTE
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Config:
+    """Every parameter of the reproduction, paper setup as default (field units, named in the field).
+
+    Chamber protocols, FOG build, logging and analysis rates, RBF settings, and the
+    conditions of the paper's Table 1 / figure 2 point-heating simulation.
+    """
+
+    # chamber protocols
+    start_degC: float = 20.0
+    low_degC: float = -10.0
+    high_degC: float = 40.0
+    identification_rate_degC_per_min: float = 1.0
+    identification_settle_h: float = 2.0
+    identification_hold_h: float = 2.0
+    validation_soak_h: float = 1.0
+    validation1_runs: int = 5
+    validation1_rate_degC_per_h: float = 10.0
+    validation2_runs: int = 5
+    validation2_rate_degC_per_min: float = 0.5
+    validation2_true_rate_deg_h: float = 180.0
+    # FOG build
+    winding: str = "quadrupolar"
+    layers: int = 40
+    fibre_length_m: float = 1000.0
+    winding_defect_rms: float = 0.02
+    constraint_cte_inner_per_K: float = 2.3e-5
+    constraint_cte_outer_per_K: float = 3.0e-6
+    constraint_decay_length_mm: float = 1.0
+    constraint_cte_tempco_per_K: float = 0.01
+    dn_dT_slope_per_K2: float = 3.0e-8
+    housing_time_constant_min: float = 20.0
+    arw_deg_sqrt_h: float = 0.0005
+    bias_instability_deg_h: float = 0.002
+    bias_deg_h: float = 0.02
+    sensor_location: str = "outer"
+    sensor_noise_K: float = 0.003
+    sensor_resolution_K: float = 0.001
+    thermal_step_s: float = 5.0
+    # logging and analysis
+    fs_hz: float = 1.0
+    analysis_block_s: float = 100.0
+    derivative_window_s: float = 900.0
+    # RBF (newrb) settings; spread in min-max normalized input units
+    rbf_spread: float = 16.0
+    rbf_goal_deg_h2: float = 0.0
+    rbf_max_neurons: int = 5
+    # Table 1 / figure 2: a heated stretch of fibre at 0.25 L0
+    point_z_fraction: float = 0.25
+    point_length_m: float = 10.0
+    point_rate_degC_per_min: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not self.low_degC < self.high_degC:
+            raise ValueError(f"Config.low_degC must be < high_degC; got {self.low_degC!r} and {self.high_degC!r}")
+        for name in ("validation1_runs", "validation2_runs"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise ValueError(f"Config.{name} must be an integer >= 1; got {v!r}")
+        for name in ("identification_rate_degC_per_min", "validation1_rate_degC_per_h", "validation2_rate_degC_per_min",
+                     "identification_settle_h", "identification_hold_h", "validation_soak_h", "fs_hz",
+                     "analysis_block_s", "derivative_window_s", "point_length_m", "point_rate_degC_per_min"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"Config.{name} must be > 0; got {v!r}")
+        if not 0 <= self.point_z_fraction <= 1:
+            raise ValueError(f"Config.point_z_fraction must be in [0, 1] (of L0); got {self.point_z_fraction!r}")
+        if self.analysis_block_s * self.fs_hz < 1:
+            raise ValueError(
+                f"Config.analysis_block_s must span at least one sample at fs_hz = {self.fs_hz}; got {self.analysis_block_s!r} s"
+            )
+        self.fog_spec()  # the sim layer validates the build (layers, winding, ...)
+
+    # ----------------------------------------------------------------- builders
+    def coil_spec(self, *, winding: str | None = None, defects: bool = True) -> CoilSpec:
+        return CoilSpec(
+            length=self.fibre_length_m,
+            layers=self.layers,
+            winding=self.winding if winding is None else winding,
+            winding_defect_rms=self.winding_defect_rms if defects else 0.0,
+            constraint_cte_inner=self.constraint_cte_inner_per_K,
+            constraint_cte_outer=self.constraint_cte_outer_per_K,
+            constraint_decay_length=self.constraint_decay_length_mm * 1e-3,
+            constraint_cte_tempco=self.constraint_cte_tempco_per_K,
+            dn_dT_slope=self.dn_dT_slope_per_K2,
+        )
+
+    def fog_spec(self, *, winding: str | None = None, defects: bool = True) -> FOGSpec:
+        return FOGSpec(
+            thermal=CoilThermalModel(
+                coil=self.coil_spec(winding=winding, defects=defects),
+                housing_time_constant=self.housing_time_constant_min * _MIN,
+            ),
+            noise=NoiseModel.from_datasheet(
+                angle_random_walk=self.arw_deg_sqrt_h,
+                bias_instability=self.bias_instability_deg_h,
+                bias=self.bias_deg_h,
+            ),
+            sensor=TemperatureSensorSpec(
+                location=self.sensor_location, noise=self.sensor_noise_K, resolution=self.sensor_resolution_K
+            ),
+            thermal_step=self.thermal_step_s,
+        )
+
+    def identification_profile(self) -> PiecewiseLinear:
+        r = self.identification_rate_degC_per_min / _MIN
+        C = units.celsius
+        return thermal_profile(C(self.start_degC), [
+            Ramp(target=C(self.low_degC), rate=r), Soak(duration=self.identification_settle_h * _H),
+            Ramp(target=C(self.high_degC), rate=r), Soak(duration=self.identification_hold_h * _H),
+            Ramp(target=C(self.low_degC), rate=r), Soak(duration=self.identification_hold_h * _H),
+        ])
+
+    def validation_profile(self, rate_K_per_s: float) -> PiecewiseLinear:
+        C = units.celsius
+        soak = Soak(duration=self.validation_soak_h * _H)
+        return thermal_profile(C(self.low_degC), [soak, Ramp(target=C(self.high_degC), rate=rate_K_per_s), soak])
+
+
+def _runs(config: Config):
+    """(name, chamber profile, true rate [rad/s]) of every run, in order."""
+    ident = config.identification_profile()
+    v1 = config.validation_profile(config.validation1_rate_degC_per_h / _H)
+    v2 = config.validation_profile(config.validation2_rate_degC_per_min / _MIN)
+    a = units.deg_per_h(config.validation2_true_rate_deg_h)
+    out = [("ident_1", ident, 0.0), ("ident_2", ident, 0.0)]
+    out += [(f"val1_run{i + 1}", v1, 0.0) for i in range(config.validation1_runs)]
+    out += [(f"val2_run{i + 1}", v2, a) for i in range(config.validation2_runs)]
+    return out
+
+
+def _unit(config: Config, rng: np.random.Generator) -> FOGUnit:
+    return config.fog_spec().realize(rng=rng)
+
+
+def simulate(config: Config, seed: int) -> list[Recording]:
+    """All runs of the experiment with one FOG unit: 2 identification, validation 1 and 2 runs."""
+    root = np.random.default_rng(seed)
+    rng_unit, rng_runs = root.spawn(2)
+    unit = _unit(config, rng_unit)
+    runs = _runs(config)
+    recs = []
+    for (name, prof, rate), rng in zip(runs, rng_runs.spawn(len(runs))):
+        recs.append(unit.simulate(prof, fs=config.fs_hz, rng=rng, true_rate=rate, name=name,
+                                  metadata={"scenario": NAME, "seed": seed, "run": name}))
+    return recs
+
+
+# ======================================================================================
+# analysis
+# ======================================================================================
+
+
+@dataclass(frozen=True, slots=True)
+class _Run:
+    name: str
+    t_h: np.ndarray  # block-centre times [h]
+    T: np.ndarray  # logged coil temperature [degC]
+    output: np.ndarray  # [deg/h]
+    truth: np.ndarray  # true rate [deg/h]
+    drift: np.ndarray  # true thermal drift (coil) [deg/h]
+    fs: float  # analysis rate [Hz]
+
+
+def _prepare(rec: Recording, config: Config) -> _Run:
+    """Block means of what the test logs (and of the truth) at the analysis rate."""
+    b = config.analysis_block_s
+
+    def bm(x):
+        return block_means(x, rec.fs, block_s=b)
+
+    n = len(bm(rec["rate"]))
+    t = rec.t0 + (np.arange(n) + 0.5) * b
+    return _Run(
+        name=rec.name,
+        t_h=(t - rec.t0) / _H,
+        T=units.to_celsius(bm(rec["coil_temperature"])),
+        output=units.to_deg_per_h(bm(rec["rate"])),
+        truth=units.to_deg_per_h(bm(rec["truth/rate"])),
+        drift=units.to_deg_per_h(bm(rec["truth/thermal_drift"])),
+        fs=1.0 / b,
+    )
+
+
+def _features(run: _Run, config: Config, *, product: bool = True) -> np.ndarray:
+    return thermal_features(run.T, run.fs, window_s=config.derivative_window_s, product=product)
+
+
+def score_mse(compensated: np.ndarray, run: HeldOutRun) -> dict[str, float]:
+    """MSE [(deg/h)^2] and RMS [deg/h] of compensated output against the true rate (paper: ERR = MSE(d - a))."""
+    err = np.asarray(compensated, dtype=float) - run.truth
+    m = float(np.mean(err**2))
+    return {"mse": m, "rms": math.sqrt(m)}
+
+
+def compensation_task(config: Config, seed: int) -> CompensationTask:
+    """Training = identification run 1; held out = identification run 2 and every validation run."""
+    runs = [_prepare(r, config) for r in simulate(config, seed)]
+    train = runs[0]
+    held = tuple(
+        HeldOutRun(label=r.name, X=_features(r, config), output=r.output, truth=r.truth) for r in runs[1:]
+    )
+    return CompensationTask(
+        scenario=NAME,
+        feature_names=FEATURES_IMPROVED,
+        X_train=_features(train, config),
+        y_train=train.output - train.truth,
+        heldout=held,
+        target="error",
+        unit="deg/h",
+        scorer=score_mse,
+    )
+
+
+def _rbf(config: Config) -> RBFNetwork:
+    return RBFNetwork(spread=config.rbf_spread, goal=config.rbf_goal_deg_h2, max_neurons=config.rbf_max_neurons,
+                      normalize="minmax")
+
+
+def _mse(x, truth) -> float:
+    return float(np.mean((np.asarray(x) - np.asarray(truth)) ** 2))
+
+
+def point_heating(config: Config):
+    """Paper Table 1 / figure 2: a stretch of free fibre at z = 0.25 L0 heated -10 -> 40 degC.
+
+    The stretch (``point_length_m``) ramps at ``point_rate_degC_per_min``; the rest of the
+    coil is static. Returns T [degC] and the Shupe components [deg/h]: constant-dn/dT
+    term, the T x dT term from dn/dT(T), and their sum (no strain: a free fibre).
+    """
+    coil = config.coil_spec(defects=False)
+    L = coil.length
+    w = np.array([segment_weight(L, config.point_z_fraction * L, config.point_length_m)])
+    T_c = np.linspace(config.low_degC, config.high_degC, 201)
+    Tdot = np.full((len(T_c), 1), config.point_rate_degC_per_min / _MIN)
+    terms = shupe_terms(coil, w, units.celsius(T_c)[:, None], Tdot, constraint_cte=np.zeros(1))
+    d = units.to_deg_per_h
+    return T_c, d(terms.shupe), d(terms.dndT_product), d(terms.shupe + terms.dndT_product)
+
+
+def winding_comparison(config: Config) -> dict[str, dict[str, float]]:
+    """Peak coil drift [deg/h] of the identification chamber run for each ideal winding (no defects, no noise)."""
+    out = {}
+    prof = config.identification_profile()
+    for pattern in WINDING_PATTERNS:
+        try:
+            spec = config.fog_spec(winding=pattern, defects=False)
+        except ValueError as exc:  # layer count not a multiple of the pattern's period
+            out[pattern] = {"error": str(exc)}
+            continue
+        unit = FOGUnit(spec=spec, winding=Winding.ideal(pattern, spec.coil.layers, spec.coil.length))
+        _, _, _, terms = unit.thermal_response(prof)
+        d = units.to_deg_per_h
+        out[pattern] = {
+            "peak_total": float(np.max(np.abs(d(terms.total)))),
+            "peak_shupe": float(np.max(np.abs(d(terms.shupe + terms.dndT_product)))),
+            "peak_strain": float(np.max(np.abs(d(terms.strain)))),
+        }
+    return out
+
+
+def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
+    """Simulate every run, fit both RBF models on identification run 1, score, and draw the paper's figures."""
+    t_start = time.perf_counter()
+    recs = simulate(config, seed)
+    runs = {r.name: _prepare(r, config) for r in recs}
+    train = runs["ident_1"]
+    y = train.output - train.truth
+    improved = _rbf(config).fit(_features(train, config), y)
+    traditional = _rbf(config).fit(_features(train, config, product=False), y)
+
+    def comp(model, r: _Run, product: bool):
+        return batch_compensate(model, r.output, r.T, r.fs, window_s=config.derivative_window_s, product=product)
+
+    v1 = [runs[f"val1_run{i + 1}"] for i in range(config.validation1_runs)]
+    v2 = [runs[f"val2_run{i + 1}"] for i in range(config.validation2_runs)]
+    val1 = [{"mse_raw": _mse(r.output, r.truth), "mse_compensated": _mse(comp(improved, r, True), r.truth)} for r in v1]
+    val2 = [
+        {
+            "mse_raw": _mse(r.output, r.truth),
+            "mse_traditional": _mse(comp(traditional, r, False), r.truth),
+            "mse_improved": _mse(comp(improved, r, True), r.truth),
+        }
+        for r in v2
+    ]
+    id2 = runs["ident_2"]
+    ident2 = {
+        "mse_raw": _mse(id2.output, id2.truth),
+        "mse_traditional": _mse(comp(traditional, id2, False), id2.truth),
+        "mse_improved": _mse(comp(improved, id2, True), id2.truth),
+    }
+
+    # deployment check: streaming compensation of validation-1 run 1 in 7-sample blocks equals batch
+    r0 = v1[0]
+    sc = StreamingCompensator(improved, r0.fs, window_s=config.derivative_window_s, product=True)
+    pieces = [sc.push(r0.output[i : i + 7], r0.T[i : i + 7]) for i in range(0, len(r0.output), 7)]
+    streamed = np.concatenate(pieces + [sc.flush()])
+    batch = comp(improved, r0, True)
+    stream_dev = float(np.max(np.abs(streamed - batch)))
+
+    T_pt, sh_pt, prod_pt, tot_pt = point_heating(config)
+    txdt_max = float(np.max(np.abs(prod_pt)))
+    windings = winding_comparison(config)
+
+    mean_raw1 = float(np.mean([d["mse_raw"] for d in val1]))
+    mean_comp1 = float(np.mean([d["mse_compensated"] for d in val1]))
+    ratio1 = mean_raw1 / mean_comp1
+    imp_lt_trad = [d["mse_improved"] < d["mse_traditional"] for d in val2]
+    ranking = sorted((k for k in windings if "peak_total" in windings[k]), key=lambda k: windings[k]["peak_total"])
+
+    results = {
+        "txdt_max_deg_h": txdt_max,
+        "validation_zero_rate": val1,
+        "validation_rotated": val2,
+        "windings": {k: v.get("peak_total") for k, v in windings.items()},
+        "windings_detail": windings,
+        "identification_2": ident2,
+        "validation_zero_rate_mean_ratio": ratio1,
+        "rbf_improved": {"n_neurons": improved.n_neurons_, "training_mse": float(improved.mse_history_[-1])},
+        "rbf_traditional": {"n_neurons": traditional.n_neurons_, "training_mse": float(traditional.mse_history_[-1])},
+        "rbf_improved_deployment": improved.to_json(),
+        "streaming_max_abs_deviation_deg_h": stream_dev,
+        "rates": {"logged_hz": config.fs_hz, "analysis_block_s": config.analysis_block_s,
+                  "thermal_step_s": config.thermal_step_s, "derivative_window_s": config.derivative_window_s},
+        "winding_z0_m": recs[0].metadata["winding_z0_m"],
+    }
+
+    tables = [
+        Table(
+            "Table 1. Point-heating simulation conditions (paper) and the reproduced T x dT term",
+            ["quantity", "paper", "reproduced"],
+            [
+                ["fibre CTE alpha_T [1/degC]", "5.5e-7", f"{config.coil_spec().fibre_cte:.3g}"],
+                ["coil length L0 [m]", "1000", f"{config.fibre_length_m:g}"],
+                ["wavelength [nm]", "1550", f"{config.coil_spec().wavelength * 1e9:g}"],
+                ["reference point", "0.25 L0", f"{config.point_z_fraction:g} L0, {config.point_length_m:g} m heated"],
+                ["temperature sweep [degC]", "-10 -> 40", f"{config.low_degC:g} -> {config.high_degC:g} "
+                                                          f"at {config.point_rate_degC_per_min:g} degC/min"],
+                ["d(dn/dT)/dT [1/K^2]", "(not printed)", f"{config.dn_dT_slope_per_K2:.3g}"],
+                ["max T x dT term [deg/h]", "> 0.2", f"{txdt_max:.3f}"],
+            ],
+            note="The paper's Table 1 did not survive extraction beyond alpha_T, L0, lambda, 0.25 L0 and the sweep; "
+                 "the heated length, rate and C2 are ours (C2 calibrated, PHYSICS.md 3.5).",
+        ),
+        Table(
+            "Table 2. Validation 1 (-10 -> 40 degC at 10 degC/h, true rate 0): MSE before/after [(deg/h)^2]",
+            ["run", "MSE raw", "MSE compensated (T, dT, T x dT)", "ratio"],
+            [[i + 1, d["mse_raw"], d["mse_compensated"], d["mse_raw"] / d["mse_compensated"]] for i, d in enumerate(val1)]
+            + [["mean", mean_raw1, mean_comp1, ratio1]],
+            note="Paper: about one order of magnitude lower after compensation.",
+        ),
+        Table(
+            "Table 3. Validation 2 (0.5 degC/min, true rate 180 deg/h): MSE [(deg/h)^2]",
+            ["run", "raw", "traditional (T, dT)", "improved (T, dT, T x dT)", "improved < traditional"],
+            [[i + 1, d["mse_raw"], d["mse_traditional"], d["mse_improved"], "yes" if ok else "no"]
+             for i, (d, ok) in enumerate(zip(val2, imp_lt_trad))],
+            note="Paper: improved is lowest in every run, about an order of magnitude better than raw.",
+        ),
+        Table(
+            "Winding patterns: peak coil drift of the identification chamber run (ideal windings, no noise) [deg/h]",
+            ["winding", "peak total", "peak Shupe (dn/dT)", "peak strain"],
+            [[k, v.get("peak_total", "n/a"), v.get("peak_shupe", "n/a"), v.get("peak_strain", v.get("error", ""))]
+             for k, v in windings.items()],
+            note="Not in the paper. Same chamber program and coil; only the layer order changes.",
+        ),
+    ]
+
+    figures = _figures(config, T_pt, sh_pt, prod_pt, tot_pt, runs, improved, traditional, comp, v1, v2)
+    headlines = [
+        Headline("max T x dT term, point at 0.25 L0 [deg/h]", f"{txdt_max:.3f}", "> 0.2", txdt_max > 0.2),
+        Headline("validation 1: mean MSE raw / compensated", f"{ratio1:.1f}x", "~10x (>= 10x)", ratio1 >= 10.0),
+        Headline("validation 2: improved < traditional", f"{sum(imp_lt_trad)}/{len(imp_lt_trad)} runs",
+                 "every run", all(imp_lt_trad)),
+        Headline("winding ranking (lowest peak drift first)", " < ".join(ranking),
+                 "octupolar/quadrupolar best, helical worst", None),
+    ]
+    conclusion = (
+        f"The coil physics gives a T x dT term of {txdt_max:.3f} deg/h for the paper's point-heating case. "
+        f"The improved RBF lowers the validation-1 mean MSE {ratio1:.1f}x; it beats the traditional (T, dT) "
+        f"network in {sum(imp_lt_trad)} of {len(imp_lt_trad)} validation-2 runs."
+    )
+    return Outcome(scenario=NAME, title=TITLE, seed=seed, config=config, results=results, tables=tables,
+                   figures=figures, headlines=headlines, conclusion=conclusion,
+                   runtime_s=time.perf_counter() - t_start)
+
+
+def _figures(config, T_pt, sh_pt, prod_pt, tot_pt, runs, improved, traditional, comp, v1, v2):
+    figs = []
+    f = Figure(figsize=(7, 4))
+    ax = f.add_subplot()
+    ax.plot(T_pt, prod_pt, label="T x dT term (dn/dT(T))")
+    ax.plot(T_pt, sh_pt, label="constant dn/dT term")
+    ax.plot(T_pt, tot_pt, "--", label="total")
+    ax.axhline(0.2, color="grey", lw=0.8, ls=":")
+    ax.set_xlabel("temperature of the heated stretch [degC]")
+    ax.set_ylabel("rate error [deg/h]")
+    ax.set_title(f"Shupe error of {config.point_length_m:g} m at {config.point_z_fraction:g} L0, "
+                 f"{config.point_rate_degC_per_min:g} degC/min")
+    ax.legend()
+    f.tight_layout()
+    figs.append(FigureSpec("fig2_point_heating", "Figure 2: thermally induced non-reciprocity of a heated fibre "
+                                                 "stretch at 0.25 L0 (-10 -> 40 degC); the T x dT term alone.", f))
+
+    r = runs["ident_2"]
+    f = Figure(figsize=(8, 5))
+    ax = f.add_subplot(211)
+    ax.plot(r.t_h, r.output - r.truth, lw=0.6, color="0.6", label="measured drift (output - truth)")
+    ax.plot(r.t_h, r.drift + config.bias_deg_h, lw=1.0, label="true coil drift + bias")
+    ax.plot(r.t_h, improved.predict(_features(r, config)), lw=1.0, label="RBF estimate (T, dT, T x dT)")
+    ax.plot(r.t_h, traditional.predict(_features(r, config, product=False)), lw=1.0, ls="--",
+            label="RBF estimate (T, dT)")
+    ax.set_ylabel("drift [deg/h]")
+    ax.legend(fontsize=7)
+    ax.set_title("Identification run 2 (not used for training)")
+    ax2 = ax.twinx() if False else f.add_subplot(212, sharex=ax)
+    ax2.plot(r.t_h, r.T)
+    ax2.set_xlabel("time [h]")
+    ax2.set_ylabel("logged coil T [degC]")
+    f.tight_layout()
+    figs.append(FigureSpec("fig6_estimated_drift", "Figure 6: drift estimated by the RBF networks on the second "
+                                                   "identification run, beside the true drift.", f))
+
+    f = Figure(figsize=(8, 4))
+    ax = f.add_subplot()
+    for i, rr in enumerate(v1):
+        ax.plot(rr.t_h, rr.output, lw=0.5, color="C0", alpha=0.6, label="raw" if i == 0 else None)
+        ax.plot(rr.t_h, comp(improved, rr, True), lw=0.5, color="C1", alpha=0.8, label="compensated" if i == 0 else None)
+    ax.set_xlabel("time [h]")
+    ax.set_ylabel("output [deg/h] (true rate 0)")
+    ax.set_title("Validation 1: five runs at 10 degC/h")
+    ax.legend()
+    f.tight_layout()
+    figs.append(FigureSpec("fig7_validation1", "Figure 7: validation 1, raw and compensated output of the five runs.", f))
+
+    f = Figure(figsize=(8, 4))
+    ax = f.add_subplot()
+    rr = v2[0]
+    ax.plot(rr.t_h, rr.output, lw=0.6, label="raw")
+    ax.plot(rr.t_h, comp(traditional, rr, False), lw=0.6, label="traditional (T, dT)")
+    ax.plot(rr.t_h, comp(improved, rr, True), lw=0.6, label="improved (T, dT, T x dT)")
+    ax.axhline(config.validation2_true_rate_deg_h, color="k", lw=0.8, ls=":", label="true rate")
+    ax.set_xlabel("time [h]")
+    ax.set_ylabel("output [deg/h]")
+    ax.set_title("Validation 2, run 1: 0.5 degC/min, 180 deg/h")
+    ax.legend(fontsize=8)
+    f.tight_layout()
+    figs.append(FigureSpec("fig8_validation2", "Figure 8: validation 2, raw, traditional and improved compensation.", f))
+    return figs

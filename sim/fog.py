@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from numbers import Real
 
 import numpy as np
@@ -185,11 +185,6 @@ class FOGSpec:
         if not isinstance(rng, np.random.Generator):
             raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
         return FOGUnit(spec=self, winding=self.coil.realize_winding(rng=rng))
-
-    def to_metadata(self) -> dict:
-        """JSON-serialisable description."""
-        d = asdict(self)
-        return d
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

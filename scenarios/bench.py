@@ -39,10 +39,11 @@ Campaigns
 (local processes by default; ``distributed.Client(address).get_executor()`` for a
 dask cluster). Only the calling process writes the SQLite database: one
 transaction per finished seed, WAL journal, ``synchronous=FULL``. A campaign is
-identified by a hash of the scenario (its module, its configuration, a
-fingerprint of the gyrobench source code and of numpy/scipy/scikit-learn
-versions) and the compensator (its class or function, its parameters, a hash of
-the source file defining it). Running the same campaign again reads the seeds
+identified by a hash of the scenario (its configuration; the source of its
+module and of every module it imports, transitively, from its own package and
+from sim, analysis and scenarios; the gyrobench, numpy, scipy and scikit-learn
+versions) and of the compensator (its class or function and parameters; the
+source of the module defining it, with the same import closure for user code). Running the same campaign again reads the seeds
 already in the database and computes only the others, so a campaign killed at any
 moment (even SIGKILL) resumes where it stopped; changing the code or the
 configuration starts a new campaign rather than mixing results.
@@ -63,6 +64,7 @@ import dataclasses
 import functools
 import hashlib
 import importlib
+import importlib.util
 import inspect
 import json
 import math
@@ -234,15 +236,20 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
 
 
 def _bench_scenarios() -> list[str]:
+    """Registered scenarios that define ``compensation_task`` (read from the source, not imported)."""
+    import re
+
     from scenarios import registry
 
     out = []
     for name in registry.available():
+        path = _module_file(registry.SCENARIOS[name])
         try:
-            if hasattr(registry.get(name), "compensation_task"):
-                out.append(name)
-        except Exception:  # noqa: BLE001 - a broken scenario must not hide the message
+            text = Path(path).read_text() if path else ""
+        except OSError:
             continue
+        if re.search(r"^def compensation_task\b", text, re.MULTILINE):
+            out.append(name)
     return out
 
 
@@ -389,7 +396,10 @@ def _score_job(module_name: str, compensator: Any, seed: int, config: Any) -> tu
 
 
 # ----------------------------------------------------------------------------- identity
-@functools.lru_cache(maxsize=None)
+#: gyrobench's own packages: a scenario's or compensator's imports are followed into these
+_OWN_PACKAGES = frozenset({"sim", "analysis", "scenarios"})
+
+
 def _file_hash(path: str) -> str:
     try:
         return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
@@ -397,32 +407,118 @@ def _file_hash(path: str) -> str:
         return "unreadable"
 
 
-def _module_hash(module_name: str | None) -> str:
-    if not module_name:
-        return "none"
+def _module_file(name: str) -> str | None:
+    """The source file of module ``name``, found on the file system without importing it."""
+    import importlib.util
     import sys
 
-    mod = sys.modules.get(module_name)
+    mod = sys.modules.get(name)
     path = getattr(mod, "__file__", None) if mod is not None else None
-    return _file_hash(path) if path else "builtin"
+    if path:
+        return path
+    top, *rest = name.split(".")
+    try:
+        spec = importlib.util.find_spec(top)  # a top-level find_spec imports nothing
+    except (ImportError, ValueError, AttributeError):
+        return None
+    if spec is None or not spec.has_location:
+        return None
+    if not rest:
+        return spec.origin
+    dirs = [Path(d) for d in (spec.submodule_search_locations or [])]
+    for i, part in enumerate(rest):
+        last = i == len(rest) - 1
+        for d in dirs:
+            if (d / part / "__init__.py").is_file():
+                dirs = [d / part]
+                if last:
+                    return str(d / part / "__init__.py")
+                break
+            if last and (d / f"{part}.py").is_file():
+                return str(d / f"{part}.py")
+        else:
+            return None
+    return None
 
 
-@functools.lru_cache(maxsize=1)
-def _code_fingerprint() -> str:
-    """Hash of the gyrobench sources (sim, analysis, scenarios) and the numerical libraries' versions."""
+def _is_third_party(path: str) -> bool:
+    import sysconfig
+
+    parts = Path(path).parts
+    if "site-packages" in parts or "dist-packages" in parts:
+        return True
+    stdlib = sysconfig.get_paths().get("stdlib")
+    return bool(stdlib) and Path(path).resolve().is_relative_to(Path(stdlib).resolve())
+
+
+def _imports(path: str, name: str, is_pkg: bool) -> set[str]:
+    """Module names imported anywhere in the file (relative imports resolved)."""
+    import ast
+
+    try:
+        tree = ast.parse(Path(path).read_bytes())
+    except (OSError, SyntaxError, ValueError):
+        return set()
+    package = name if is_pkg else name.rpartition(".")[0]
+    out: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            try:
+                base = importlib.util.resolve_name("." * node.level + (node.module or ""), package) if node.level else node.module
+            except (ImportError, ValueError):
+                continue
+            if not base:
+                continue
+            out.add(base)
+            out.update(f"{base}.{a.name}" for a in node.names if a.name != "*")  # may be submodules
+    return out
+
+
+def _source_closure(name: str) -> list[tuple[str, str]]:
+    """(module, file hash) for ``name`` and every module it imports, transitively, within its own
+    top-level package and gyrobench's packages (sim, analysis, scenarios); package ``__init__``
+    files included. Third-party and standard-library modules are represented by their versions
+    in the campaign identity instead."""
+    roots = _OWN_PACKAGES | {name.partition(".")[0]}
+    seen: dict[str, str] = {}
+    todo = [name]
+    while todo:
+        mod = todo.pop()
+        if mod in seen or mod.partition(".")[0] not in roots:
+            continue
+        path = _module_file(mod)
+        if path is None or not path.endswith(".py"):
+            continue
+        seen[mod] = _file_hash(path)
+        parent = mod.rpartition(".")[0]
+        if parent:
+            todo.append(parent)
+        todo.extend(_imports(path, mod, Path(path).name == "__init__.py"))
+    return sorted(seen.items())
+
+
+def _module_hash(module_name: str | None) -> str:
+    """Hash of a module's source: with its closure (:func:`_source_closure`) for user and
+    gyrobench code, the file alone for third-party modules (their version is in the identity)."""
+    if not module_name:
+        return "none"
+    path = _module_file(module_name)
+    if not path:
+        return "builtin"
+    if _is_third_party(path):
+        return _file_hash(path)
+    return hashlib.sha256(json.dumps(_source_closure(module_name)).encode()).hexdigest()[:16]
+
+
+def _versions() -> str:
     import scipy
     import sklearn
 
     from sim.recording import package_version
 
-    h = hashlib.sha256()
-    root = Path(__file__).resolve().parent.parent
-    for pkg in ("sim", "analysis", "scenarios"):
-        for p in sorted((root / pkg).rglob("*.py")):
-            h.update(str(p.relative_to(root)).encode())
-            h.update(p.read_bytes())
-    h.update(f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} sklearn {sklearn.__version__}".encode())
-    return h.hexdigest()[:16]
+    return f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} sklearn {sklearn.__version__}"
 
 
 def _canonical(obj: Any, depth: int = 0) -> Any:
@@ -481,7 +577,8 @@ def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any 
     ident = {
         "scenario": module.__name__,
         "scenario_source": _module_hash(module.__name__),
-        "code": _code_fingerprint(),
+        "bench_source": _file_hash(__file__),
+        "versions": _versions(),
         "config": _canonical(config),
         "compensator": json.loads(compensator_identity(compensator)),
     }
@@ -750,17 +847,28 @@ def run_campaign(
             try:
                 if executor is None and workers == 0:
                     for seed in todo:
-                        record(*_score_job(module.__name__, comp, seed, config))
+                        try:
+                            result = _score_job(module.__name__, comp, seed, config)
+                        except Exception as exc:
+                            _note(exc, f"while scoring seed {seed} of {scen_name} (finished seeds are kept in {str(db)!r})")
+                            raise
+                        record(*result)
                         bar.update(1)
                 else:
                     _check_picklable(comp, config)
                     own = executor is None
                     ex = cf.ProcessPoolExecutor(max_workers=workers or _default_workers()) if own else executor
-                    futures: list[cf.Future] = []
+                    futures: dict[cf.Future, int] = {}
                     try:
-                        futures = [ex.submit(_score_job, module.__name__, comp, s, config) for s in todo]
+                        futures = {ex.submit(_score_job, module.__name__, comp, s, config): s for s in todo}
                         for fut in cf.as_completed(futures):
-                            record(*fut.result())
+                            try:
+                                result = fut.result()
+                            except Exception as exc:
+                                _note(exc, f"while scoring seed {futures[fut]} of {scen_name} "
+                                             f"(finished seeds are kept in {str(db)!r})")
+                                raise
+                            record(*result)
                             bar.update(1)
                     finally:
                         for f in futures:
@@ -775,6 +883,11 @@ def run_campaign(
         )
     finally:
         conn.close()
+
+
+def _note(exc: BaseException, text: str) -> None:
+    if hasattr(exc, "add_note"):  # Python >= 3.11
+        exc.add_note(text)
 
 
 def _check_picklable(comp: Any, config: Any) -> None:

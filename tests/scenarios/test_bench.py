@@ -123,6 +123,21 @@ def test_campaign_id_depends_on_compensator_and_config_only():
     assert a != bench.campaign_id(toy, LinearRegression(fit_intercept=False), cfg)
 
 
+def test_source_hash_follows_imports_but_ignores_unrelated_files(tmp_path, monkeypatch):
+    pkg = tmp_path / "mylab_bench_probe"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "scen.py").write_text("from .helper import K\nimport numpy\n")
+    (pkg / "helper.py").write_text("K = 1\n")
+    (pkg / "other.py").write_text("Z = 1\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    h0 = bench._module_hash("mylab_bench_probe.scen")
+    (pkg / "other.py").write_text("Z = 2\n")
+    assert bench._module_hash("mylab_bench_probe.scen") == h0
+    (pkg / "helper.py").write_text("K = 2\n")
+    assert bench._module_hash("mylab_bench_probe.scen") != h0
+
+
 _KILL_SCRIPT = textwrap.dedent(
     """
     import sys
@@ -198,9 +213,18 @@ def test_failing_seed_keeps_finished_seeds(tmp_path):
 
     fit.calls = []
     db = tmp_path / "f.db"
-    with pytest.raises(RuntimeError, match="boom"):
+    with pytest.raises(RuntimeError, match="boom") as info:
         bench.run_campaign(toy, fit, range(6), workers=0, db=db, progress=False)
     assert _rows(db) == 3
+    if sys.version_info >= (3, 11):
+        assert "while scoring seed 3 of toy" in info.value.__notes__[0]
+
+
+def test_failing_seed_in_a_worker_names_the_seed(tmp_path):
+    with pytest.raises(TypeError, match="must return a callable predict") as info:
+        bench.run_campaign(toy, toy.fit_returning_nonsense, [4], workers=1, db=tmp_path / "f.db", progress=False)
+    if sys.version_info >= (3, 11):
+        assert "while scoring seed 4 of toy" in info.value.__notes__[0]
 
 
 # ----------------------------------------------------------------------------- summaries

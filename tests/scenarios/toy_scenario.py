@@ -103,4 +103,9 @@ def fit_least_squares(X, y):
     return lambda Xn: np.column_stack([Xn, np.ones(len(Xn))]) @ coef
 
 
+def fit_returning_nonsense(X, y):
+    """A broken fit function (returns a number, not a predictor)."""
+    return 3.0
+
+
 NOT_A_COMPENSATOR = 42

@@ -23,7 +23,6 @@ from numbers import Integral, Real
 import numpy as np
 from numpy.polynomial import legendre as L
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicHermiteSpline
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
@@ -103,22 +102,11 @@ class PolynomialRegressor(RegressorMixin, BaseEstimator):
         self.degree = degree
         self.alpha = alpha
 
-    def _design(self, X: NDArray[np.float64], deriv: bool = False) -> NDArray[np.float64]:
-        """Design matrix in the Legendre basis; ``deriv``: d/dx of feature 0 [per input unit]."""
+    def _design(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Design matrix in the Legendre basis: [1, P_1(u_1) .. P_d(u_1), P_1(u_2) ..]."""
         U = (X - self.x_center_) / self.x_half_
         d = self.degree_
-        cols = [np.zeros((X.shape[0], 1)) if deriv else np.ones((X.shape[0], 1))]
-        for f in range(X.shape[1]):
-            V = L.legvander(U[:, f], d)[:, 1:]
-            if deriv:
-                if f == 0:
-                    V = np.column_stack(
-                        [L.legval(U[:, 0], L.legder(np.eye(d + 1)[k])) for k in range(1, d + 1)]
-                    ).reshape(X.shape[0], d) / self.x_half_[0]
-                else:
-                    V = np.zeros_like(V)
-            cols.append(V)
-        return np.hstack(cols)
+        return np.hstack([np.ones((X.shape[0], 1))] + [L.legvander(U[:, f], d)[:, 1:] for f in range(X.shape[1])])
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> PolynomialRegressor:
         """Fit the polynomial to (X, y).
@@ -175,8 +163,16 @@ class PolynomialRegressor(RegressorMixin, BaseEstimator):
     def derivative(self, X: ArrayLike) -> NDArray[np.float64]:
         """d prediction / d feature 0 at X [target unit per input unit]."""
         check_is_fitted(self, "coef_")
-        X = np.asarray(validate_data(self, X, reset=False), dtype=float)
-        return self.y_half_ * (self._design(X, deriv=True) @ self.coef_)
+        return self._eval_derivative(np.asarray(validate_data(self, X, reset=False), dtype=float))
+
+    def _eval_derivative(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        """d/dx_0 for an already validated float array."""
+        d = self.degree_
+        if d == 0:
+            return np.zeros(X.shape[0])
+        u0 = (X[:, 0] - self.x_center_[0]) / self.x_half_[0]
+        c = np.concatenate([[0.0], self.coef_[1 : 1 + d]])
+        return (self.y_half_ / self.x_half_[0]) * L.legval(u0, L.legder(c))
 
 
 class TwoStagePolynomial(RegressorMixin, BaseEstimator):
@@ -227,17 +223,23 @@ class TwoStagePolynomial(RegressorMixin, BaseEstimator):
 class PiecewisePolynomial(RegressorMixin, BaseEstimator):
     """Heuristic piecewise polynomial with C1 cubic Hermite joins (seed paper 001).
 
-    One input feature x (the gyro output), target y (the table rate). The x axis
-    is split at breakpoints b_1 < ... < b_m into segments, each fitted with its own
-    polynomial order on the samples with x in [b_left - h, b_right + h]
-    (h = half the join width, so neighbouring fits overlap over each join). Over a
-    join [b - h, b + h] the prediction is the cubic Hermite curve
+    Input x (the gyro output), target y (the table rate). The x axis is split at
+    breakpoints b_1 < ... < b_m into segments, each fitted with its own polynomial
+    order on the samples with x in [b_left - h, b_right + h] (h = half the join
+    width, so neighbouring fits overlap over each join). Over a join [b - h, b + h]
+    the prediction is the cubic Hermite curve
 
         H(x) = h00(t) y0 + h10(t) w m0 + h01(t) y1 + h11(t) w m1,  t = (x - x0)/w, w = 2h,
         y0 = P_L(x0), m0 = P_L'(x0), y1 = P_R(x1), m1 = P_R'(x1),  x0 = b - h, x1 = b + h,
 
     (h00 = 2t^3 - 3t^2 + 1, h10 = t^3 - 2t^2 + t, h01 = -2t^3 + 3t^2, h11 = t^3 - t^2;
-    ``scipy.interpolate.CubicHermiteSpline``), so the whole curve is C1.
+    what ``scipy.interpolate.CubicHermiteSpline([x0, x1], [y0, y1], [m0, m1])``
+    evaluates), so the whole curve is C1.
+
+    With more than one input feature, feature 0 is the switching variable: the
+    segments and joins are defined on it, each segment is an additive polynomial
+    in all features (:class:`PolynomialRegressor`), and y0, m0, y1, m1 are taken
+    at x_0 = x0 or x1 with the other features at their sample values (C1 in x_0).
 
     Parameters
     ----------
@@ -272,7 +274,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
     orders_ : tuple of int
         Orders of the segments actually fitted.
     segments_ : list of PolynomialRegressor
-    joins_ : list of scipy.interpolate.CubicHermiteSpline
+    joins_ : list of tuple of float
+        (x0, x1) of each Hermite join.
     """
 
     def __init__(self, orders=(9, 1, 9), breakpoints="heuristic", join_width=0.05, run_length=3, alpha=1e-6):
@@ -321,10 +324,6 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         X, y = validate_data(self, X, y, y_numeric=True)
         X = np.asarray(X, dtype=float)
         y = np.asarray(y, dtype=float)
-        if X.shape[1] != 1:
-            raise ValueError(
-                f"{type(self).__name__} takes exactly one input feature (the gyro output); got {X.shape[1]} features"
-            )
         x = X[:, 0]
         self.search_: BreakpointSearch | None = None
         if isinstance(self.breakpoints, str):
@@ -364,37 +363,56 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             distinct = np.unique(x[sel]).size
             if distinct < order + 1:
                 raise ValueError(
-                    f"segment {i} (x from {edges[i]!r} to {edges[i + 1]!r}) has {distinct} distinct inputs; "
-                    f"order {order} needs at least {order + 1}"
+                    f"segment {i} (x from {edges[i]!r} to {edges[i + 1]!r}): order {order} needs at least "
+                    f"{order + 1} distinct inputs; got {distinct} sample(s) with distinct inputs"
                 )
             self.segments_.append(PolynomialRegressor(degree=order, alpha=alpha).fit(X[sel], y[sel]))
-        self.joins_ = []
-        for i, b in enumerate(self.breakpoints_):
-            x0, x1 = np.array([[b - h]]), np.array([[b + h]])
-            left, right = self.segments_[i], self.segments_[i + 1]
-            self.joins_.append(
-                CubicHermiteSpline(
-                    [b - h, b + h],
-                    [left.predict(x0)[0], right.predict(x1)[0]],
-                    [left.derivative(x0)[0], right.derivative(x1)[0]],
-                )
-            )
+        self.joins_ = [(b - h, b + h) for b in self.breakpoints_]
+        self._join_ends = None
+        if X.shape[1] == 1:  # the end values and slopes are constants: evaluate them once
+            self._join_ends = [self._join_end_values(i, np.zeros((1, 1))) for i in range(len(self.joins_))]
         return self
 
-    def predict(self, X: ArrayLike) -> NDArray[np.float64]:
-        """Piecewise prediction with Hermite joins, shape (n_samples,)."""
-        check_is_fitted(self, "segments_")
-        X = np.asarray(validate_data(self, X, reset=False), dtype=float)
+    def _join_end_values(self, i: int, X: NDArray[np.float64]):
+        """y0, m0 (left segment at x0) and y1, m1 (right segment at x1), other features from X."""
+        x0, x1 = self.joins_[i]
+        left, right = self.segments_[i], self.segments_[i + 1]
+        X0, X1 = X.copy(), X.copy()
+        X0[:, 0], X1[:, 0] = x0, x1
+        return left._eval(X0), left._eval_derivative(X0), right._eval(X1), right._eval_derivative(X1)
+
+    def _hermite(self, i: int, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
+        """Join i at the samples X (feature 0 inside [x0, x1]): value, or d/dx_0 when ``deriv``."""
+        x0, x1 = self.joins_[i]
+        w = x1 - x0
+        ends = self._join_ends[i] if getattr(self, "_join_ends", None) else self._join_end_values(i, X)
+        y0, m0, y1, m1 = ends
+        t = (X[:, 0] - x0) / w
+        if deriv:
+            return (6 * t**2 - 6 * t) * (y0 - y1) / w + (3 * t**2 - 4 * t + 1) * m0 + (3 * t**2 - 2 * t) * m1
+        t2, t3 = t * t, t * t * t
+        return (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * w * m0 + (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * w * m1
+
+    def _piecewise(self, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
         x = X[:, 0]
         seg = np.searchsorted(np.asarray(self.breakpoints_, dtype=float), x, side="right")
         out = np.empty(x.size)
         for i, model in enumerate(self.segments_):
             m = seg == i
             if m.any():
-                out[m] = model._eval(X[m])
-        h = self.half_join_
-        for b, H in zip(self.breakpoints_, self.joins_):
-            m = (x >= b - h) & (x <= b + h)
+                out[m] = model._eval_derivative(X[m]) if deriv else model._eval(X[m])
+        for i, (x0, x1) in enumerate(self.joins_):
+            m = (x >= x0) & (x <= x1)
             if m.any():
-                out[m] = H(x[m])
+                out[m] = self._hermite(i, X[m], deriv)
         return out
+
+    def predict(self, X: ArrayLike) -> NDArray[np.float64]:
+        """Piecewise prediction with Hermite joins, shape (n_samples,)."""
+        check_is_fitted(self, "segments_")
+        return self._piecewise(np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=False)
+
+    def derivative(self, X: ArrayLike) -> NDArray[np.float64]:
+        """d prediction / d feature 0 at X (analytic, including the Hermite joins)."""
+        check_is_fitted(self, "segments_")
+        return self._piecewise(np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=True)

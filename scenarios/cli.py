@@ -202,7 +202,7 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
     time_idx = next((i for i, nm in enumerate(names) if nm.lower() in ("time", "t", "time_s")), None)
     cols = [idx] + ([time_idx] if time_idx is not None and fs is None else [])
     try:
-        data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skip + (1 if header else 0), usecols=cols, ndmin=2)
+        data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skip, usecols=cols, ndmin=2)
     except (ValueError, IndexError) as exc:
         raise _BadInput(f"cannot read column {column or idx!r} of {str(path)!r}: {exc}") from None
     rate = data[:, 0]

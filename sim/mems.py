@@ -36,9 +36,10 @@ low-rate part (|W| <= 1800 deg/s) nonlinear at the 1e-3 level the paper reports
 (K_n about 9e-4) with a deviation concentrated at zero rate, so that the
 interval nonlinearity of the paper's breakpoint heuristic falls with the
 interval in the linear range. A smooth low-rate term alone (cubic) or an
-irregular one (ADC integral nonlinearity of 0.3-0.7 deg/s rms) makes that
-heuristic stop early (at 720-1440 deg/s) in 30-60 % of simulated units; this is
-recorded in the scenario's results. Noise and thermal numbers are typical
+irregular one (ADC integral nonlinearity of 0.3-0.7 deg/s rms) made that
+heuristic stop early (at 720-1440 deg/s) in 30-60 % of simulated units in the
+calibration study (400 random units per setting): the paper's rule needs the
+interval nonlinearity to fall, not merely stay small, below the knee. Noise and thermal numbers are typical
 industrial MEMS values (PHYSICS.md 5; unverified datasheet defaults).
 
 References

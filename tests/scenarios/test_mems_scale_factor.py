@@ -1,0 +1,157 @@
+"""Tests of scenarios/mems_scale_factor.py: the paper-001 reproduction on the default seed, contract, bad config."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from analysis.compensation.polynomial import PiecewisePolynomial
+from scenarios import mems_scale_factor as ms
+from scenarios.base import Outcome
+
+SMALL = ms.Config(rates_dps=(360.0, 0.0, -360.0), dwell_s=5.0, settle_s=1.0, warmup_s=0.0, lead_in_s=1.0, fs_hz=50.0,
+                  n_fit_runs=1, n_heldout_runs=1)
+
+
+@pytest.fixture(scope="module")
+def outcome() -> Outcome:
+    """The default experiment on the CLI's default seed (0)."""
+    return ms.run(ms.Config(), 0)
+
+
+# ------------------------------------------------------------------ paper targets (issue 3)
+def test_raw_nonlinearity_matches_paper(outcome):
+    assert abs(outcome.results["raw_nonlinearity_pct"] - 15.71) <= 1.0
+
+
+def test_low_rates_nearly_linear(outcome):
+    assert 1e-4 <= outcome.results["low_rate_nonlinearity"] < 1e-2  # paper: order 1e-3
+
+
+def test_breakpoints_at_1800(outcome):
+    assert outcome.results["breakpoints_dps"] == [-1800.0, 1800.0]
+    assert outcome.results["piecewise_breakpoint_rates_dps"] == [-1800.0, 1800.0]
+    assert outcome.results["methods"]["piecewise"]["orders"] == [9, 1, 9]
+
+
+def test_piecewise_heldout_at_most_0p2_pct(outcome):
+    assert outcome.results["methods"]["piecewise"]["heldout_nonlinearity_pct"] <= 0.2
+
+
+def test_two_stage_within_factor_two_of_paper(outcome):
+    kn = outcome.results["methods"]["two_stage_poly"]["heldout_nonlinearity_pct"]
+    assert 0.59 / 2 <= kn <= 0.59 * 2
+
+
+def test_bayes_bp_no_worse_than_twice_the_paper(outcome):
+    assert outcome.results["methods"]["bayes_bp"]["heldout_nonlinearity_pct"] <= 0.45 * 2
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "honest simulation: the trainbr-style network fits the simulated gyro far better (about 0.02 %) than the "
+    "paper's 0.45 %; the outcome reports it and the method order; the data are not tuned to match"))
+def test_bayes_bp_within_factor_two_of_paper(outcome):
+    assert 0.45 / 2 <= outcome.results["methods"]["bayes_bp"]["heldout_nonlinearity_pct"] <= 0.45 * 2
+
+
+def test_every_method_improves_by_two_orders_of_magnitude(outcome):
+    raw = outcome.results["raw_nonlinearity_pct"]
+    for key, m in outcome.results["methods"].items():
+        assert m["heldout_nonlinearity_pct"] < raw / 20, key
+
+
+# ------------------------------------------------------------------ outcome contract
+def test_results_json_has_the_issue_keys(outcome):
+    r = json.loads(json.dumps(outcome.results))
+    assert isinstance(r["raw_nonlinearity_pct"], float)
+    assert isinstance(r["breakpoints_dps"], list)
+    for key in ("piecewise", "two_stage_poly", "bayes_bp"):
+        for field in ("nonlinearity_pct", "heldout_nonlinearity_pct", "eval_time_ms"):
+            assert np.isfinite(r["methods"][key][field]), (key, field)
+
+
+def test_tables_figures_headlines(outcome):
+    t1, t2, t3 = outcome.tables
+    assert len(t1.rows) == 21 and len(t2.rows) == 20 and len(t3.rows) == 4
+    assert [f.name for f in outcome.figures] == [
+        "fig2_raw_output", "fig3_input_output", "fig4_continuity", "fig5_compensated", "fig6_nonlinearity"]
+    order = [h for h in outcome.headlines if h.quantity.startswith("method order")][0]
+    assert order.holds == outcome.results["method_order_matches_paper"]
+    raw = outcome.headlines[0]
+    assert raw.holds is True and raw.target == "15.71"
+
+
+def test_method_order_is_reported_not_forced(outcome):
+    r = outcome.results
+    order = sorted(r["methods"], key=lambda k: r["methods"][k]["heldout_nonlinearity_pct"])
+    assert r["method_order_heldout"] == order
+    assert r["method_order_paper"] == ["piecewise", "bayes_bp", "two_stage_poly"]
+    if order != r["method_order_paper"]:
+        assert "differs from the paper" in outcome.conclusion
+
+
+# ------------------------------------------------------------------ simulation and task
+def test_simulate_records_truth_that_sums_to_the_output():
+    recs = ms.simulate(SMALL, 5)
+    assert [r.metadata["role"] for r in recs] == ["fit", "heldout"]
+    for rec in recs:
+        total = rec["truth/true_rate"] + sum(c.data for k, c in rec.truth.items() if k != "true_rate")
+        np.testing.assert_allclose(total, rec["rate"], rtol=1e-12, atol=1e-15)
+        np.testing.assert_array_equal(rec["table_rate"], rec["truth/true_rate"])
+    m = ms.rate_means(recs[0])
+    # linear range: output = rate + bias + sign offset + g-sensitivity + noise, a few deg/s at most
+    assert m.shape == (3,) and np.all(np.abs(m - np.array([360.0, 0.0, -360.0])) < 5.0)
+    windows = np.array(recs[0].metadata["windows_s"])
+    assert np.all(windows[:, 1] <= recs[0].time[-1])
+
+
+def test_simulate_is_reproducible_and_runs_differ():
+    a, b = ms.simulate(SMALL, 11), ms.simulate(SMALL, 11)
+    np.testing.assert_array_equal(a[0]["rate"], b[0]["rate"])
+    assert a[0].metadata["turn_on_bias_dps"] != a[1].metadata["turn_on_bias_dps"]
+
+
+def test_compensation_task():
+    cfg = dataclasses.replace(ms.Config(), dwell_s=20.0, settle_s=5.0, warmup_s=600.0)
+    task = ms.compensation_task(cfg, 3)
+    assert task.X_train.shape == (63, 1) and task.y_train.shape == (63,)
+    assert task.target == "rate" and task.unit == "deg/s" and len(task.heldout) == 1
+    run = task.heldout[0]
+    assert task.scorer(run.truth, run)["nonlinearity_pct"] == 0.0
+    assert abs(task.scorer(run.output, run)["nonlinearity_pct"] - 15.71) < 1.0
+    model = PiecewisePolynomial().fit(task.X_train, task.y_train)
+    assert task.scorer(task.compensate(model.predict(run.X), run), run)["nonlinearity_pct"] < 0.2
+
+
+def test_one_fit_run_is_too_few_for_order_9():
+    cfg = dataclasses.replace(ms.Config(), dwell_s=12.0, settle_s=2.0, warmup_s=0.0, n_fit_runs=1)
+    with pytest.raises(ValueError, match="order 9 needs at least 10 distinct inputs; got 6"):
+        ms.run(cfg, 0)
+
+
+# ------------------------------------------------------------------ bad config
+@pytest.mark.parametrize(
+    ("kw", "msg"),
+    [
+        ({"rates_dps": (1.0, 0.0)}, "at least 3 finite rates"),
+        ({"rates_dps": (0.0, 2.0, 1.0)}, "strictly monotonic"),
+        ({"rates_dps": (2.0, 1.0, 1.0, 0.0)}, "strictly monotonic without duplicates"),
+        ({"rates_dps": (2.0, float("nan"), 0.0)}, "finite rates"),
+        ({"settle_s": 100.0}, "settle_s must be < dwell_s"),
+        ({"fs_hz": 0.0}, "fs_hz must be > 0 Hz"),
+        ({"n_fit_runs": 0}, "n_fit_runs must be an integer >= 1"),
+        ({"orders": (9, 1)}, "orders must be three integers"),
+        ({"join_width": 0.7}, r"join_width must be in \(0, 0.5\)"),
+    ],
+)
+def test_config_rejects(kw, msg):
+    with pytest.raises(ValueError, match=msg):
+        ms.Config(**kw)
+
+
+def test_config_rejects_wrong_gyro_type():
+    with pytest.raises(TypeError, match="Config.gyro must be a MemsSpec"):
+        ms.Config(gyro={"knee_rate": 1.0})

@@ -16,13 +16,17 @@ so x_k = H_k * a [m/s^2] is the modal acceleration. The gyro's rate error is
     rectified   w_r(t) = sum_k 2 c_k x_k(t)^2 + c_lin (pi/2) |a(t)|
                 mean over a cycle of a sine of amplitude a at f:
                 bias_vib(f, a) = sum_k c_k a^2 |H_k(f)|^2 + c_lin a
-    noise       extra white rate noise during vibration, so that the total ARW is
+    noise       extra white (and flicker) rate noise during vibration, so that the total ARW is
                 N(f, a) = N_0 sqrt(1 + sum_k d_k E_k / a_ref^2),  E_k = <2 x_k^2> = a^2 |H_k|^2
+                and, when B_0 > 0, the bias instability grows by the same factor: the extra
+                noise is u(t) (white N_0 + flicker B_0), u = sqrt(sum_k d_k E_k)/a_ref
     heating     w_h = h * LP(sum_k E_k; T_h): first-order lag (time constant T_h) of the
                 dissipated modal energy: a slow drift while shaking that relaxes after
-    transient   w_tr = kappa * (S - LP(S; T_tr)), S = sum_k E_k: a first-order high-pass of
-                the modal energy: a spike at switch-on and an opposite one at switch-off,
-                decaying with T_tr (the settling of coil stress when the load changes)
+    transient   w_tr = kappa * (P - LP(P; T_tr)), P = <2 a^2> (the table's acceleration power,
+                a^2 for a sine): a first-order high-pass of the vibration level: a spike at
+                switch-on and an opposite one at switch-off, decaying with T_tr (the settling
+                of coil stress when the load changes). Driven by the table level, not the
+                modal energy, so sweeping through a resonance at a constant level adds none.
 
 plus the static noise of :class:`sim.noise.NoiseModel` (Q, N, B, K, R) at the output rate.
 
@@ -193,12 +197,15 @@ class FogVibrationModel:
         a_ref [m/s^2] of the ARW inflation, > 0.
     noise_arw : float or None
         N_0 [rad/sqrt(s)] that the inflation multiplies; None = ``noise.angle_random_walk``.
+    noise_bias_instability : float or None
+        B_0 [rad/s] of the flicker part of the inflation (same band as ``noise``);
+        None = ``noise.bias_instability``; 0 = white inflation only.
     heating_gain : float
         h [(rad/s)/(m/s^2)^2]: slow drift per unit modal energy.
     heating_time : float
         T_h [s], > 0.
     transient_gain : float
-        kappa [(rad/s)/(m/s^2)^2]: on/off transient per unit change of modal energy.
+        kappa [(rad/s)/(m/s^2)^2]: on/off transient per unit change of the table's acceleration power.
     transient_time : float
         T_tr [s], > 0.
     physics_rate : float
@@ -214,6 +221,7 @@ class FogVibrationModel:
     linear_g: float = 0.0
     noise_ref: float = 9.80665
     noise_arw: float | None = None
+    noise_bias_instability: float | None = None
     heating_gain: float = 0.0
     heating_time: float = 300.0
     transient_gain: float = 0.0
@@ -232,6 +240,8 @@ class FogVibrationModel:
         _real(o, "noise_ref", self.noise_ref, "m/s^2", positive=True)
         if self.noise_arw is not None:
             _real(o, "noise_arw", self.noise_arw, "rad/sqrt(s)", nonneg=True)
+        if self.noise_bias_instability is not None:
+            _real(o, "noise_bias_instability", self.noise_bias_instability, "rad/s", nonneg=True)
         _real(o, "heating_gain", self.heating_gain, "(rad/s)/(m/s^2)^2")
         _real(o, "heating_time", self.heating_time, "s", positive=True)
         _real(o, "transient_gain", self.transient_gain, "(rad/s)/(m/s^2)^2")
@@ -263,6 +273,9 @@ class FogVibrationModel:
     def _arw0(self) -> float:
         return self.noise.angle_random_walk if self.noise_arw is None else self.noise_arw
 
+    def _bi0(self) -> float:
+        return self.noise.bias_instability if self.noise_bias_instability is None else self.noise_bias_instability
+
     def _check_amp(self, a: ArrayLike) -> NDArray[np.float64]:
         a = np.asarray(a, dtype=float)
         if np.any(~np.isfinite(a)) or np.any(a < 0):
@@ -292,7 +305,7 @@ class FogVibrationModel:
         return out
 
     def noise_gain(self, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
-        """N(f, a)/N_0 = sqrt(1 + sum_k d_k a^2 |H_k(f)|^2 / a_ref^2) [-]."""
+        """N(f, a)/N_0 = B(f, a)/B_0 = sqrt(1 + sum_k d_k a^2 |H_k(f)|^2 / a_ref^2) [-]."""
         a = self._check_amp(a)
         f, a = np.broadcast_arrays(np.asarray(f, dtype=float), a)
         s = np.zeros(f.shape)
@@ -328,7 +341,7 @@ class FogVibrationModel:
         profile : Phased or a shaker profile
             A bare profile is treated as ``Phased(vibration=profile)`` (vibration only).
         rng : numpy.random.Generator
-            Spawns independent streams: shaker, static noise, vibration noise.
+            Spawns independent streams: shaker, static noise, vibration white noise, vibration flicker.
         name : str
             Recording name.
 
@@ -359,7 +372,7 @@ class FogVibrationModel:
                 f"vibration up to {fmax!r} Hz needs physics_rate >= {4 * fmax!r} Hz (the rectified 2f "
                 f"component must stay below the physics Nyquist); got physics_rate={self.physics_rate!r} Hz"
             )
-        r_shaker, r_static, r_vib = rng.spawn(3)
+        r_shaker, r_static, r_vib, r_flicker = rng.spawn(4)
         fo, fp, m = self.output_rate, self.physics_rate, self.factor
         n1 = int(round(profile.static_before * fo))
         nv = int(round(profile.vibration.duration * fo))
@@ -374,6 +387,7 @@ class FogVibrationModel:
         tone = np.zeros(npv)
         rect = self.linear_g * (np.pi / 2.0) * np.abs(acc)
         energies = []
+        place_power = decimate(2.0 * acc * acc, m, "integrate")
         for mode in self.modes:
             b, a = mode.filter(fp)
             x = signal.lfilter(b, a, acc)
@@ -396,11 +410,14 @@ class FogVibrationModel:
         d_sum = np.zeros(n)
         for mode, e in zip(self.modes, e_out):
             d_sum += mode.noise_weight * e
-        comps["vibration_noise"] = (
-            self._arw0() * math.sqrt(fo) * np.sqrt(d_sum) / self.noise_ref * r_vib.standard_normal(n)
-        )
+        u = np.sqrt(d_sum) / self.noise_ref
+        comps["vibration_noise"] = self._arw0() * math.sqrt(fo) * u * r_vib.standard_normal(n)
+        if self._bi0() > 0 and np.any(u > 0):
+            flk = NoiseModel(bias_instability=self._bi0(), flicker_band=self.noise.flicker_band)
+            comps["vibration_noise"] += u * flk.generate(n, fo, rng=r_flicker)
         comps["vibration_heating"] = self.heating_gain * _lowpass(s_tot, fo, self.heating_time)
-        comps["vibration_transient"] = self.transient_gain * (s_tot - _lowpass(s_tot, fo, self.transient_time))
+        p_tot = place(place_power)
+        comps["vibration_transient"] = self.transient_gain * (p_tot - _lowpass(p_tot, fo, self.transient_time))
         static = self.noise.components(n, fo, rng=r_static)
         rate = np.zeros(n)
         for v in static.values():

@@ -36,7 +36,9 @@ __all__ = [
 ]
 
 
-def check_rate_table(rates: ArrayLike, outputs: ArrayLike, *, min_points: int = 3) -> tuple[NDArray, NDArray]:
+def check_rate_table(
+    rates: ArrayLike, outputs: ArrayLike, *, min_points: int = 3
+) -> tuple[NDArray, NDArray]:
     """Validate a rate table: 1-D, equal length, >= ``min_points``, finite, strictly monotonic rates.
 
     Raises
@@ -57,12 +59,16 @@ def check_rate_table(rates: ArrayLike, outputs: ArrayLike, *, min_points: int = 
         raise ValueError(f"rates must be finite; got {float(w[i])!r} at index {i}")
     if not np.all(np.isfinite(f)):
         i = int(np.flatnonzero(~np.isfinite(f))[0])
-        raise ValueError(f"outputs must be finite; got {float(f[i])!r} at index {i} (rate {float(w[i])!r})")
+        raise ValueError(
+            f"outputs must be finite; got {float(f[i])!r} at index {i} (rate {float(w[i])!r})"
+        )
     d = np.diff(w)
     if not (np.all(d > 0) or np.all(d < 0)):
         if np.any(d == 0):
             i = int(np.flatnonzero(d == 0)[0])
-            raise ValueError(f"rates must be distinct; got the duplicate rate {float(w[i])!r} at indices {i} and {i + 1}")
+            raise ValueError(
+                f"rates must be distinct; got the duplicate rate {float(w[i])!r} at indices {i} and {i + 1}"
+            )
         i = int(np.flatnonzero(np.sign(d) != np.sign(d[0]))[0])
         raise ValueError(
             f"rates must be strictly monotonic (a rate-table sequence); got {float(w[i])!r} -> {float(w[i + 1])!r} at index {i + 1}"
@@ -116,7 +122,9 @@ def _ls_line(w: NDArray, f: NDArray) -> tuple[float, float]:
     return k, float(fm - k * wm)
 
 
-def fit_scale_factor(rates: ArrayLike, outputs: ArrayLike, *, full_scale: float | None = None) -> ScaleFactorFit:
+def fit_scale_factor(
+    rates: ArrayLike, outputs: ArrayLike, *, full_scale: float | None = None
+) -> ScaleFactorFit:
     """Least-squares scale factor, bias and IEEE nonlinearity of a rate table.
 
     Parameters
@@ -237,11 +245,17 @@ def heuristic_split(
     >>> split, c.tolist()
     (1, [0, 0, 1, 2, 3])
     """
-    if isinstance(run_length, bool) or not isinstance(run_length, (int, np.integer)) or run_length < 1:
+    if (
+        isinstance(run_length, bool)
+        or not isinstance(run_length, (int, np.integer))
+        or run_length < 1
+    ):
         raise ValueError(f"run_length must be an integer >= 1; got {run_length!r}")
     kn = np.asarray(interval_nonlinearity, dtype=float)
     if kn.ndim != 1 or not np.all(np.isfinite(kn)):
-        raise ValueError(f"interval_nonlinearity must be a 1-D array of finite values; got {interval_nonlinearity!r}")
+        raise ValueError(
+            f"interval_nonlinearity must be a 1-D array of finite values; got {interval_nonlinearity!r}"
+        )
     d = np.full(kn.size, math.nan)
     d[1:] = np.abs(np.diff(kn))
     dd = np.full(kn.size, math.nan)
@@ -257,7 +271,9 @@ def heuristic_split(
     return split, d, dd, counter
 
 
-def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int = 3) -> BreakpointSearch:
+def breakpoint_search(
+    rates: ArrayLike, outputs: ArrayLike, *, run_length: int = 3
+) -> BreakpointSearch:
     """The heuristic breakpoint search of seed paper 001 (section 2.2.1), with its trace.
 
     For each direction (positive, then negative rates):
@@ -289,7 +305,11 @@ def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int =
     -------
     BreakpointSearch
     """
-    if isinstance(run_length, bool) or not isinstance(run_length, (int, np.integer)) or run_length < 1:
+    if (
+        isinstance(run_length, bool)
+        or not isinstance(run_length, (int, np.integer))
+        or run_length < 1
+    ):
         raise ValueError(f"run_length must be an integer >= 1; got {run_length!r}")
     w, f = check_rate_table(rates, outputs)
     found: dict[int, float | None] = {1: None, -1: None}
@@ -304,5 +324,15 @@ def breakpoint_search(rates: ArrayLike, outputs: ArrayLike, *, run_length: int =
         if split is not None:
             found[side] = float(w[order[split + 1]])
         for j, kn in enumerate(kns):
-            trace.append(SearchStep(side, float(w[order[j + 1]]), j + 2, kn, float(d[j]), float(dd[j]), int(counter[j])))
+            trace.append(
+                SearchStep(
+                    side,
+                    float(w[order[j + 1]]),
+                    j + 2,
+                    kn,
+                    float(d[j]),
+                    float(dd[j]),
+                    int(counter[j]),
+                )
+            )
     return BreakpointSearch(found[-1], found[1], tuple(trace))

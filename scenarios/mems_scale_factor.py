@@ -21,7 +21,6 @@ table rate (the truth).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -127,10 +126,14 @@ class Config:
             raise TypeError(f"Config.gyro must be a MemsSpec; got {type(self.gyro).__name__}")
         r = np.asarray(self.rates_dps, dtype=float)
         if r.ndim != 1 or r.size < 3 or not np.all(np.isfinite(r)):
-            raise ValueError(f"Config.rates_dps must hold at least 3 finite rates [deg/s]; got {self.rates_dps!r}")
+            raise ValueError(
+                f"Config.rates_dps must hold at least 3 finite rates [deg/s]; got {self.rates_dps!r}"
+            )
         d = np.diff(r)
         if not (np.all(d > 0) or np.all(d < 0)):
-            raise ValueError(f"Config.rates_dps must be strictly monotonic without duplicates [deg/s]; got {self.rates_dps!r}")
+            raise ValueError(
+                f"Config.rates_dps must be strictly monotonic without duplicates [deg/s]; got {self.rates_dps!r}"
+            )
         for name, unit in (("dwell_s", "s"), ("acceleration_dps2", "deg/s^2"), ("fs_hz", "Hz")):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
@@ -140,13 +143,23 @@ class Config:
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"Config.{name} must be finite and >= 0; got {v!r}")
         if not self.settle_s < self.dwell_s:
-            raise ValueError(f"Config.settle_s must be < dwell_s = {self.dwell_s} s; got {self.settle_s!r}")
-        for name, lo in (("n_fit_runs", 1), ("n_heldout_runs", 1), ("poly_degree", 0), ("hidden_units", 1),
-                         ("mlp_epochs", 1), ("timing_repeats", 1)):
+            raise ValueError(
+                f"Config.settle_s must be < dwell_s = {self.dwell_s} s; got {self.settle_s!r}"
+            )
+        for name, lo in (
+            ("n_fit_runs", 1),
+            ("n_heldout_runs", 1),
+            ("poly_degree", 0),
+            ("hidden_units", 1),
+            ("mlp_epochs", 1),
+            ("timing_repeats", 1),
+        ):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < lo:
                 raise ValueError(f"Config.{name} must be an integer >= {lo}; got {v!r}")
-        if len(self.orders) != 3 or any(isinstance(o, bool) or not isinstance(o, int) or o < 0 for o in self.orders):
+        if len(self.orders) != 3 or any(
+            isinstance(o, bool) or not isinstance(o, int) or o < 0 for o in self.orders
+        ):
             raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
         if not 0 < self.join_width < 0.5:
             raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")
@@ -163,7 +176,9 @@ def _program(config: Config):
     )
 
 
-def _simulate_run(config: Config, program, rng: np.random.Generator, *, index: int, role: str, seed: int) -> Recording:
+def _simulate_run(
+    config: Config, program, rng: np.random.Generator, *, index: int, role: str, seed: int
+) -> Recording:
     r_amb, r_gyro = rng.spawn(2)
     fs = config.fs_hz
     n = int(math.floor(program.profile.duration * fs)) + 1
@@ -171,7 +186,9 @@ def _simulate_run(config: Config, program, rng: np.random.Generator, *, index: i
     rate = program.profile(t)
     ambient = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
     temp = die_temperature(config.gyro, ambient, t + config.warmup_s)
-    out = simulate_output(config.gyro, rate, fs=fs, temperature=temp, acceleration=units.G0, rng=r_gyro)
+    out = simulate_output(
+        config.gyro, rate, fs=fs, temperature=temp, acceleration=units.G0, rng=r_gyro
+    )
     truth = {"true_rate": Channel(rate, "rad/s", "table rate (truth)")}
     truth.update({k: Channel(v, "rad/s", f"{k} error") for k, v in out.components.items()})
     return Recording(
@@ -203,7 +220,14 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     n_runs = config.n_fit_runs + config.n_heldout_runs
     children = np.random.default_rng(seed).spawn(n_runs)
     return [
-        _simulate_run(config, program, rng, index=i, role="fit" if i < config.n_fit_runs else "heldout", seed=seed)
+        _simulate_run(
+            config,
+            program,
+            rng,
+            index=i,
+            role="fit" if i < config.n_fit_runs else "heldout",
+            seed=seed,
+        )
         for i, rng in enumerate(children)
     ]
 
@@ -229,9 +253,15 @@ def nonlinearity_scorer(compensated: NDArray[np.float64], run: HeldOutRun) -> di
 
 def _estimators(config: Config, seed: int) -> dict:
     return {
-        "piecewise": PiecewisePolynomial(orders=tuple(config.orders), join_width=config.join_width, alpha=config.piecewise_alpha),
-        "two_stage_poly": TwoStagePolynomial(degree=config.poly_degree, second_degree=config.poly_degree),
-        "bayes_bp": BayesianRegularizedMLP(hidden_units=config.hidden_units, epochs=config.mlp_epochs, random_state=seed),
+        "piecewise": PiecewisePolynomial(
+            orders=tuple(config.orders), join_width=config.join_width, alpha=config.piecewise_alpha
+        ),
+        "two_stage_poly": TwoStagePolynomial(
+            degree=config.poly_degree, second_degree=config.poly_degree
+        ),
+        "bayes_bp": BayesianRegularizedMLP(
+            hidden_units=config.hidden_units, epochs=config.mlp_epochs, random_state=seed
+        ),
     }
 
 
@@ -273,7 +303,9 @@ def _fig_raw(rec: Recording) -> Figure:
     ax = fig.add_subplot()
     step = max(1, int(rec.fs // 10))
     t = rec.time[::step] / 60.0
-    ax.plot(t, units.to_deg_per_s(rec["table_rate"][::step]), color="0.6", lw=1.0, label="table rate")
+    ax.plot(
+        t, units.to_deg_per_s(rec["table_rate"][::step]), color="0.6", lw=1.0, label="table rate"
+    )
     ax.plot(t, units.to_deg_per_s(rec["rate"][::step]), lw=0.8, label="gyro output")
     ax.set_xlabel("time [min]")
     ax.set_ylabel("rate [deg/s]")
@@ -299,7 +331,7 @@ def _fig_io(rates, mean, fit) -> Figure:
 
 def _fig_continuity(model: PiecewisePolynomial, X: NDArray, y: NDArray) -> Figure:
     fig = Figure(figsize=(9.0, 4.2))
-    for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_)):
+    for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_, strict=True)):
         ax = fig.add_subplot(1, len(model.breakpoints_), k + 1)
         h = model.half_join_
         xs = np.linspace(b - 4 * h, b + 4 * h, 400)
@@ -309,7 +341,9 @@ def _fig_continuity(model: PiecewisePolynomial, X: NDArray, y: NDArray) -> Figur
         joined = model.predict(xs[:, None])
         ax.plot(xs, joined, "k", lw=1.6, label="with Hermite join")
         pad = 0.1 * (joined.max() - joined.min())
-        ax.set_ylim(joined.min() - pad, joined.max() + pad)  # the bare segments diverge outside their data
+        ax.set_ylim(
+            joined.min() - pad, joined.max() + pad
+        )  # the bare segments diverge outside their data
         ax.axvspan(b - h, b + h, color="0.9")
         m = np.abs(X[:, 0] - b) < 4 * h
         ax.plot(X[m, 0], y[m], "o", color="C3", ms=4, label="data")
@@ -346,7 +380,14 @@ def _fig_nonlinearity(rates, raw_fit, comp_fits: dict) -> Figure:
     ax1.set_ylabel("pointwise nonlinearity [%]")
     ax2 = fig.add_subplot(1, 2, 2)
     for key, f in comp_fits.items():
-        ax2.plot(rates, 100 * f.pointwise, "o-", ms=3, lw=0.8, label=f"{METHOD_LABELS[key]} ({f.nonlinearity_pct:.3f} %)")
+        ax2.plot(
+            rates,
+            100 * f.pointwise,
+            "o-",
+            ms=3,
+            lw=0.8,
+            label=f"{METHOD_LABELS[key]} ({f.nonlinearity_pct:.3f} %)",
+        )
     ax2.set_title("after compensation (held-out run)")
     ax2.legend(fontsize=7)
     for ax in (ax1, ax2):
@@ -372,7 +413,11 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     mean_fit = fit_scale_factor(rates, table1)
     low = np.abs(rates) <= 1800.0
     low_kn = fit_scale_factor(rates[low], table1[low]).nonlinearity if low.sum() >= 3 else math.nan
-    asym = asymmetry(rates, table1) if (rates >= 0).sum() >= 2 and (rates <= 0).sum() >= 2 else math.nan
+    asym = (
+        asymmetry(rates, table1)
+        if (rates >= 0).sum() >= 2 and (rates <= 0).sum() >= 2
+        else math.nan
+    )
     search = breakpoint_search(rates, table1)
     held_raw_fits = [fit_scale_factor(rates, m) for m in held_means]
 
@@ -384,14 +429,23 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         est.fit(X, y)
         fit_ms = 1e3 * (time.perf_counter() - t0)
         models[key] = est
-        kn_fit = float(np.mean([fit_scale_factor(rates, est.predict(m[:, None])).nonlinearity_pct for m in fit_means]))
+        kn_fit = float(
+            np.mean(
+                [
+                    fit_scale_factor(rates, est.predict(m[:, None])).nonlinearity_pct
+                    for m in fit_means
+                ]
+            )
+        )
         held = [est.predict(m[:, None]) for m in held_means]
         hfits = [fit_scale_factor(rates, c) for c in held]
         x21 = held_means[0][:, None].copy()
         methods[key] = {
             "nonlinearity_pct": kn_fit,
             "heldout_nonlinearity_pct": float(np.mean([f.nonlinearity_pct for f in hfits])),
-            "eval_time_ms": _median_time_ms(lambda e=est, x=x21: e.predict(x), config.timing_repeats),
+            "eval_time_ms": _median_time_ms(
+                lambda e=est, x=x21: e.predict(x), config.timing_repeats
+            ),
             "fit_time_ms": fit_ms,
             "paper_nonlinearity_pct": PAPER["methods"][key]["nonlinearity_pct"],
             "paper_eval_time_ms": PAPER["methods"][key]["eval_time_ms"],
@@ -422,8 +476,12 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         "method_order_heldout": order_sim,
         "method_order_paper": order_paper,
         "method_order_matches_paper": order_sim == order_paper,
-        "table1": {"rates_dps": rates.tolist(), "mean_output_dps": table1.tolist(),
-                   "run_outputs_dps": fit_means.tolist(), "heldout_outputs_dps": held_means.tolist()},
+        "table1": {
+            "rates_dps": rates.tolist(),
+            "mean_output_dps": table1.tolist(),
+            "run_outputs_dps": fit_means.tolist(),
+            "heldout_outputs_dps": held_means.tolist(),
+        },
         "paper": PAPER,
         "n_fit_runs": nf,
         "n_heldout_runs": config.n_heldout_runs,
@@ -432,78 +490,218 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     # ---------------------------------------------------------------- tables
     t1 = Table(
         "Table 1. Ideal and measured gyro output per table rate (mean of the fitting runs)",
-        ["rate [deg/s]", "ideal output [deg/s]", "measured mean [deg/s]", "run std [deg/s]", "nonlinearity a_j [%]"],
-        [[r, r, m, s, 100 * a] for r, m, s, a in zip(rates, table1, fit_means.std(axis=0, ddof=1) if nf > 1 else np.zeros_like(rates), mean_fit.pointwise)],
-        note=(f"Raw K_n = {raw_kn:.2f} % (mean over {nf} runs; paper 15.71 %); low-rate (|rate| <= 1800 deg/s) K_n = "
-              f"{low_kn:.2e} (paper: order 1e-3). The paper's Table 1 values did not survive text extraction."),
+        [
+            "rate [deg/s]",
+            "ideal output [deg/s]",
+            "measured mean [deg/s]",
+            "run std [deg/s]",
+            "nonlinearity a_j [%]",
+        ],
+        [
+            [r, r, m, s, 100 * a]
+            for r, m, s, a in zip(
+                rates,
+                table1,
+                fit_means.std(axis=0, ddof=1) if nf > 1 else np.zeros_like(rates),
+                mean_fit.pointwise,
+                strict=True,
+            )
+        ],
+        note=(
+            f"Raw K_n = {raw_kn:.2f} % (mean over {nf} runs; paper 15.71 %); low-rate (|rate| <= 1800 deg/s) K_n = "
+            f"{low_kn:.2e} (paper: order 1e-3). The paper's Table 1 values did not survive text extraction."
+        ),
     )
     rows2 = []
     for st in search.trace:
-        rows2.append([("+" if st.side > 0 else "-"), f"[0, {st.end_rate:+.0f}]", st.n_points, 100 * st.nonlinearity,
-                      100 * st.abs_diff if not math.isnan(st.abs_diff) else "",
-                      100 * st.diff2 if not math.isnan(st.diff2) else "",
-                      ("+" if st.diff2 > 0 else "-") if not math.isnan(st.diff2) else "", st.counter])
+        rows2.append(
+            [
+                ("+" if st.side > 0 else "-"),
+                f"[0, {st.end_rate:+.0f}]",
+                st.n_points,
+                100 * st.nonlinearity,
+                100 * st.abs_diff if not math.isnan(st.abs_diff) else "",
+                100 * st.diff2 if not math.isnan(st.diff2) else "",
+                ("+" if st.diff2 > 0 else "-") if not math.isnan(st.diff2) else "",
+                st.counter,
+            ]
+        )
     t2 = Table(
         "Table 2. Heuristic breakpoint search (interval nonlinearity, |difference|, its difference, sign, counter)",
-        ["side", "interval [deg/s]", "points", "K_n [%]", "|diff| [%]", "diff of |diff| [%]", "sign", "counter"],
+        [
+            "side",
+            "interval [deg/s]",
+            "points",
+            "K_n [%]",
+            "|diff| [%]",
+            "diff of |diff| [%]",
+            "sign",
+            "counter",
+        ],
         rows2,
-        note=(f"Breakpoints found: {bps} deg/s (paper: -1800 and +1800). Split after {3} consecutive positive signs, "
-              "at the end of the last interval before the run; the paper's Table 2 numbers did not survive extraction."),
+        note=(
+            f"Breakpoints found: {bps} deg/s (paper: -1800 and +1800). Split after {3} consecutive positive signs, "
+            "at the end of the last interval before the run; the paper's Table 2 numbers did not survive extraction."
+        ),
     )
-    rows3 = [["raw (no compensation)", raw_kn, float(np.mean([f.nonlinearity_pct for f in held_raw_fits])), 15.71, "", "", ""]]
+    rows3 = [
+        [
+            "raw (no compensation)",
+            raw_kn,
+            float(np.mean([f.nonlinearity_pct for f in held_raw_fits])),
+            15.71,
+            "",
+            "",
+            "",
+        ]
+    ]
     for key, m in methods.items():
-        rows3.append([METHOD_LABELS[key], m["nonlinearity_pct"], m["heldout_nonlinearity_pct"], m["paper_nonlinearity_pct"],
-                      m["eval_time_ms"], m["paper_eval_time_ms"], m["fit_time_ms"]])
+        rows3.append(
+            [
+                METHOD_LABELS[key],
+                m["nonlinearity_pct"],
+                m["heldout_nonlinearity_pct"],
+                m["paper_nonlinearity_pct"],
+                m["eval_time_ms"],
+                m["paper_eval_time_ms"],
+                m["fit_time_ms"],
+            ]
+        )
     t3 = Table(
         "Table 3. Scale-factor nonlinearity after compensation and time to compensate the 21-point table",
-        ["method", "K_n fit runs [%]", "K_n held-out [%]", "paper K_n [%]", "eval time [ms]", "paper time [ms]", "fit time [ms]"],
+        [
+            "method",
+            "K_n fit runs [%]",
+            "K_n held-out [%]",
+            "paper K_n [%]",
+            "eval time [ms]",
+            "paper time [ms]",
+            "fit time [ms]",
+        ],
         rows3,
-        note=(f"Eval time: median of {config.timing_repeats} compensations of the 21-point table on this machine "
-              "(the paper's times are from its own machine and software). Held-out order (best first): "
-              f"{', '.join(order_sim)}; paper: {', '.join(order_paper)}."),
+        note=(
+            f"Eval time: median of {config.timing_repeats} compensations of the 21-point table on this machine "
+            "(the paper's times are from its own machine and software). Held-out order (best first): "
+            f"{', '.join(order_sim)}; paper: {', '.join(order_paper)}."
+        ),
     )
 
     # ---------------------------------------------------------------- figures
     figures = [
-        FigureSpec("fig2_raw_output", "Raw gyro output over the rate-table program (cf. paper Fig. 2)", _fig_raw(recs[0])),
-        FigureSpec("fig3_input_output", "Table rate vs mean gyro output with the LS line (cf. paper Fig. 3)", _fig_io(rates, table1, mean_fit)),
+        FigureSpec(
+            "fig2_raw_output",
+            "Raw gyro output over the rate-table program (cf. paper Fig. 2)",
+            _fig_raw(recs[0]),
+        ),
+        FigureSpec(
+            "fig3_input_output",
+            "Table rate vs mean gyro output with the LS line (cf. paper Fig. 3)",
+            _fig_io(rates, table1, mean_fit),
+        ),
     ]
     if pw.breakpoints_:
-        figures.append(FigureSpec("fig4_continuity", "Piecewise fit near the breakpoints with and without the Hermite join (cf. paper Fig. 4)",
-                                  _fig_continuity(pw, X, y)))
+        figures.append(
+            FigureSpec(
+                "fig4_continuity",
+                "Piecewise fit near the breakpoints with and without the Hermite join (cf. paper Fig. 4)",
+                _fig_continuity(pw, X, y),
+            )
+        )
     figures += [
-        FigureSpec("fig5_compensated", "Held-out run before and after each compensation (cf. paper Fig. 5)",
-                   _fig_compensated(rates, held_means[0], comp_held)),
-        FigureSpec("fig6_nonlinearity", "Pointwise nonlinearity before and after compensation, held-out run (cf. paper Fig. 6)",
-                   _fig_nonlinearity(rates, held_raw_fits[0], comp_held_fits)),
+        FigureSpec(
+            "fig5_compensated",
+            "Held-out run before and after each compensation (cf. paper Fig. 5)",
+            _fig_compensated(rates, held_means[0], comp_held),
+        ),
+        FigureSpec(
+            "fig6_nonlinearity",
+            "Pointwise nonlinearity before and after compensation, held-out run (cf. paper Fig. 6)",
+            _fig_nonlinearity(rates, held_raw_fits[0], comp_held_fits),
+        ),
     ]
 
     # ---------------------------------------------------------------- headlines
     hl = [
-        Headline("raw scale-factor nonlinearity K_n [%]", f"{raw_kn:.2f}", "15.71", abs(raw_kn - 15.71) <= 1.0, "within +-1 %"),
-        Headline("low-rate (|rate| <= 1800 deg/s) nonlinearity", f"{low_kn:.1e}", "order 1e-3", 1e-4 <= low_kn < 1e-2),
-        Headline("breakpoints [deg/s]", ", ".join(f"{b:+.0f}" for b in bps) or "none", "-1800, +1800", bps == [-1800.0, 1800.0]),
+        Headline(
+            "raw scale-factor nonlinearity K_n [%]",
+            f"{raw_kn:.2f}",
+            "15.71",
+            abs(raw_kn - 15.71) <= 1.0,
+            "within +-1 %",
+        ),
+        Headline(
+            "low-rate (|rate| <= 1800 deg/s) nonlinearity",
+            f"{low_kn:.1e}",
+            "order 1e-3",
+            1e-4 <= low_kn < 1e-2,
+        ),
+        Headline(
+            "breakpoints [deg/s]",
+            ", ".join(f"{b:+.0f}" for b in bps) or "none",
+            "-1800, +1800",
+            bps == [-1800.0, 1800.0],
+        ),
     ]
     for key in ("piecewise", "two_stage_poly", "bayes_bp"):
         m = methods[key]
         p = m["paper_nonlinearity_pct"]
-        ok = (m["heldout_nonlinearity_pct"] <= 0.2) if key == "piecewise" else (p / 2 <= m["heldout_nonlinearity_pct"] <= 2 * p)
-        hl.append(Headline(f"{METHOD_LABELS[key]}: held-out K_n [%]", f"{m['heldout_nonlinearity_pct']:.3f}", f"{p}", ok,
-                           "target <= 0.2 %" if key == "piecewise" else "target within a factor 2 of the paper"))
-    hl.append(Headline("method order (best first, held-out K_n)", " < ".join(order_sim), " < ".join(order_paper), order_sim == order_paper,
-                       "not tuned: the simulation's honest order"))
-    hl.append(Headline("fastest compensation", min(methods, key=lambda k: methods[k]["eval_time_ms"]), "piecewise",
-                       min(methods, key=lambda k: methods[k]["eval_time_ms"]) == "piecewise", "eval time, this machine"))
+        ok = (
+            (m["heldout_nonlinearity_pct"] <= 0.2)
+            if key == "piecewise"
+            else (p / 2 <= m["heldout_nonlinearity_pct"] <= 2 * p)
+        )
+        hl.append(
+            Headline(
+                f"{METHOD_LABELS[key]}: held-out K_n [%]",
+                f"{m['heldout_nonlinearity_pct']:.3f}",
+                f"{p}",
+                ok,
+                "target <= 0.2 %"
+                if key == "piecewise"
+                else "target within a factor 2 of the paper",
+            )
+        )
+    hl.append(
+        Headline(
+            "method order (best first, held-out K_n)",
+            " < ".join(order_sim),
+            " < ".join(order_paper),
+            order_sim == order_paper,
+            "not tuned: the simulation's honest order",
+        )
+    )
+    hl.append(
+        Headline(
+            "fastest compensation",
+            min(methods, key=lambda k: methods[k]["eval_time_ms"]),
+            "piecewise",
+            min(methods, key=lambda k: methods[k]["eval_time_ms"]) == "piecewise",
+            "eval time, this machine",
+        )
+    )
 
     conclusion = (
         f"The simulated gyro shows K_n = {raw_kn:.2f} % raw (paper 15.71 %) with a nearly linear low-rate range; the "
         f"heuristic search splits at {bps} deg/s. Held-out K_n after compensation: "
-        + ", ".join(f"{METHOD_LABELS[k]} {methods[k]['heldout_nonlinearity_pct']:.3f} %" for k in methods)
-        + (". The order of the methods matches the paper." if order_sim == order_paper else
-           f". The order differs from the paper ({' < '.join(order_paper)}): in this simulation {' < '.join(order_sim)}; "
-           "the data were not tuned to force the paper's order.")
+        + ", ".join(
+            f"{METHOD_LABELS[k]} {methods[k]['heldout_nonlinearity_pct']:.3f} %" for k in methods
+        )
+        + (
+            ". The order of the methods matches the paper."
+            if order_sim == order_paper
+            else f". The order differs from the paper ({' < '.join(order_paper)}): in this simulation {' < '.join(order_sim)}; "
+            "the data were not tuned to force the paper's order."
+        )
     )
     return Outcome(
-        scenario=NAME, title=TITLE, seed=seed, config=config, results=results, tables=[t1, t2, t3],
-        figures=figures, headlines=hl, conclusion=conclusion, runtime_s=time.perf_counter() - t_start,
+        scenario=NAME,
+        title=TITLE,
+        seed=seed,
+        config=config,
+        results=results,
+        tables=[t1, t2, t3],
+        figures=figures,
+        headlines=hl,
+        conclusion=conclusion,
+        runtime_s=time.perf_counter() - t_start,
     )

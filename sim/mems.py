@@ -215,9 +215,13 @@ class MemsSpec:
         noise density [deg/s/sqrt(Hz)] is the IEEE two-sided value (ADEV at 1 s).
         """
         if resolution_bits is not None and (
-            isinstance(resolution_bits, bool) or not isinstance(resolution_bits, int) or resolution_bits < 2
+            isinstance(resolution_bits, bool)
+            or not isinstance(resolution_bits, int)
+            or resolution_bits < 2
         ):
-            raise ValueError(f"resolution_bits must be an integer >= 2 or None; got {resolution_bits!r}")
+            raise ValueError(
+                f"resolution_bits must be an integer >= 2 or None; got {resolution_bits!r}"
+            )
         q = 0.0 if resolution_bits is None else 2.0 * range_dps / 2**resolution_bits
         return cls(
             scale_factor=scale_factor,
@@ -250,7 +254,9 @@ def _knee(spec: MemsSpec, w: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.where(a <= ok, w, np.sign(w) * (ok + ws * np.tanh((a - ok) / ws)))
 
 
-def scale_factor_output(spec: MemsSpec, rate: ArrayLike, temperature: ArrayLike | None = None) -> NDArray[np.float64]:
+def scale_factor_output(
+    spec: MemsSpec, rate: ArrayLike, temperature: ArrayLike | None = None
+) -> NDArray[np.float64]:
     """Deterministic scale-factor path F_sf(W, T) [rad/s] (no bias, noise, range or quantization).
 
     Parameters
@@ -270,10 +276,15 @@ def scale_factor_output(spec: MemsSpec, rate: ArrayLike, temperature: ArrayLike 
     t = spec.reference_temperature if temperature is None else np.asarray(temperature, dtype=float)
     sgn = np.sign(w)
     k = spec.scale_factor * (1.0 + spec.scale_factor_tc * (t - spec.reference_temperature))
-    return k * (1.0 + 0.5 * spec.asymmetry * sgn) * (_knee(spec, w) - spec.cubic * w**3) + spec.sign_offset * sgn
+    return (
+        k * (1.0 + 0.5 * spec.asymmetry * sgn) * (_knee(spec, w) - spec.cubic * w**3)
+        + spec.sign_offset * sgn
+    )
 
 
-def die_temperature(spec: MemsSpec, ambient: ArrayLike, time_since_power_on: ArrayLike) -> NDArray[np.float64]:
+def die_temperature(
+    spec: MemsSpec, ambient: ArrayLike, time_since_power_on: ArrayLike
+) -> NDArray[np.float64]:
     """Die temperature [K] with first-order self-heating after power-on.
 
     T(t) = T_amb + dT (1 - exp(-t / tau)), t = time since power-on [s] (>= 0),
@@ -282,7 +293,9 @@ def die_temperature(spec: MemsSpec, ambient: ArrayLike, time_since_power_on: Arr
     t = np.asarray(time_since_power_on, dtype=float)
     if np.any(t < 0):
         raise ValueError("time_since_power_on must be >= 0 s")
-    return np.asarray(ambient, dtype=float) + spec.self_heating * -np.expm1(-t / spec.self_heating_tau)
+    return np.asarray(ambient, dtype=float) + spec.self_heating * -np.expm1(
+        -t / spec.self_heating_tau
+    )
 
 
 @dataclass(frozen=True, slots=True)
@@ -332,7 +345,9 @@ def simulate_output(
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     w = np.asarray(rate, dtype=float)
     if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)):
-        raise ValueError(f"rate must be a non-empty 1-D array of finite values [rad/s]; got shape {w.shape}")
+        raise ValueError(
+            f"rate must be a non-empty 1-D array of finite values [rad/s]; got shape {w.shape}"
+        )
     if isinstance(fs, bool) or not (isinstance(fs, (int, float)) and math.isfinite(fs) and fs > 0):
         raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
     n = w.size

@@ -178,7 +178,11 @@ class BayesianRegularizedMLP(RegressorMixin, BaseEstimator):
         Z = (X - self.x_center_) * self.x_gain_
         t = (y - self.y_center_) / self.y_half_
 
-        rng = self.random_state if isinstance(self.random_state, np.random.Generator) else np.random.default_rng(self.random_state)
+        rng = (
+            self.random_state
+            if isinstance(self.random_state, np.random.Generator)
+            else np.random.default_rng(self.random_state)
+        )
         w = self._init_weights(p, rng)
         n_p = w.size
         eye = np.eye(n_p)
@@ -190,8 +194,9 @@ class BayesianRegularizedMLP(RegressorMixin, BaseEstimator):
         alpha = gamma / (2.0 * max(ew, _TINY))
         mu = float(self.mu)
         perf = beta * ed + alpha * ew
-        epoch = 0
+        n_iter = 0
         for epoch in range(1, int(self.epochs) + 1):
+            n_iter = epoch
             J = self._jacobian(w, Z, A)
             H = J.T @ J
             g = beta * (J.T @ e) - alpha * w  # = -grad(F)/2
@@ -230,7 +235,7 @@ class BayesianRegularizedMLP(RegressorMixin, BaseEstimator):
         self.W1_, self.b1_, self.W2_, self.b2_ = (np.array(v) for v in self._unpack(w, p))
         self.b2_ = float(self.b2_)
         self.alpha_, self.beta_, self.gamma_ = float(alpha), float(beta), float(gamma)
-        self.n_iter_ = epoch
+        self.n_iter_ = n_iter
         return self
 
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
@@ -238,4 +243,6 @@ class BayesianRegularizedMLP(RegressorMixin, BaseEstimator):
         check_is_fitted(self, "W1_")
         X = np.asarray(validate_data(self, X, reset=False), dtype=float)
         Z = (X - self.x_center_) * self.x_gain_
-        return self.y_center_ + self.y_half_ * (np.tanh(Z @ self.W1_.T + self.b1_) @ self.W2_ + self.b2_)
+        return self.y_center_ + self.y_half_ * (
+            np.tanh(Z @ self.W1_.T + self.b1_) @ self.W2_ + self.b2_
+        )

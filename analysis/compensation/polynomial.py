@@ -39,7 +39,9 @@ def _check_degree(owner: str, name: str, d) -> int:
 
 def _check_alpha(owner: str, a) -> float:
     if isinstance(a, bool) or not isinstance(a, Real) or not (math.isfinite(a) and a >= 0):
-        raise ValueError(f"{owner}.alpha must be a finite number >= 0 (curvature-penalty weight, scaled units); got {a!r}")
+        raise ValueError(
+            f"{owner}.alpha must be a finite number >= 0 (curvature-penalty weight, scaled units); got {a!r}"
+        )
     return float(a)
 
 
@@ -106,7 +108,9 @@ class PolynomialRegressor(RegressorMixin, BaseEstimator):
         """Design matrix in the Legendre basis: [1, P_1(u_1) .. P_d(u_1), P_1(u_2) ..]."""
         U = (X - self.x_center_) / self.x_half_
         d = self.degree_
-        return np.hstack([np.ones((X.shape[0], 1))] + [L.legvander(U[:, f], d)[:, 1:] for f in range(X.shape[1])])
+        return np.hstack(
+            [np.ones((X.shape[0], 1))] + [L.legvander(U[:, f], d)[:, 1:] for f in range(X.shape[1])]
+        )
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> PolynomialRegressor:
         """Fit the polynomial to (X, y).
@@ -278,7 +282,9 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         (x0, x1) of each Hermite join.
     """
 
-    def __init__(self, orders=(9, 1, 9), breakpoints="heuristic", join_width=0.05, run_length=3, alpha=1e-6):
+    def __init__(
+        self, orders=(9, 1, 9), breakpoints="heuristic", join_width=0.05, run_length=3, alpha=1e-6
+    ):
         self.orders = orders
         self.breakpoints = breakpoints
         self.join_width = join_width
@@ -288,26 +294,38 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
     def _check_params(self) -> tuple[tuple[int, ...], float, float]:
         owner = type(self).__name__
         if not isinstance(self.orders, (tuple, list)) or len(self.orders) < 1:
-            raise ValueError(f"{owner}.orders must be a non-empty tuple of integers >= 0; got {self.orders!r}")
+            raise ValueError(
+                f"{owner}.orders must be a non-empty tuple of integers >= 0; got {self.orders!r}"
+            )
         orders = tuple(_check_degree(owner, "orders[i]", o) for o in self.orders)
         if isinstance(self.breakpoints, str):
             if self.breakpoints != "heuristic":
-                raise ValueError(f"{owner}.breakpoints must be 'heuristic' or a tuple of floats; got {self.breakpoints!r}")
+                raise ValueError(
+                    f"{owner}.breakpoints must be 'heuristic' or a tuple of floats; got {self.breakpoints!r}"
+                )
             if len(orders) != 3:
-                raise ValueError(f"{owner}.orders must have 3 entries with breakpoints='heuristic'; got {self.orders!r}")
+                raise ValueError(
+                    f"{owner}.orders must have 3 entries with breakpoints='heuristic'; got {self.orders!r}"
+                )
         else:
             if not isinstance(self.breakpoints, (tuple, list)):
-                raise ValueError(f"{owner}.breakpoints must be 'heuristic' or a tuple of floats; got {self.breakpoints!r}")
+                raise ValueError(
+                    f"{owner}.breakpoints must be 'heuristic' or a tuple of floats; got {self.breakpoints!r}"
+                )
             b = np.asarray(self.breakpoints, dtype=float)
             if not np.all(np.isfinite(b)) or np.any(np.diff(b) <= 0):
-                raise ValueError(f"{owner}.breakpoints must be finite and strictly increasing; got {self.breakpoints!r}")
+                raise ValueError(
+                    f"{owner}.breakpoints must be finite and strictly increasing; got {self.breakpoints!r}"
+                )
             if len(orders) != b.size + 1:
                 raise ValueError(
                     f"{owner}.orders must have len(breakpoints) + 1 = {b.size + 1} entries; got {len(orders)}"
                 )
         w = self.join_width
         if isinstance(w, bool) or not isinstance(w, Real) or not (0 < w < 0.5):
-            raise ValueError(f"{owner}.join_width must be in (0, 0.5) (fraction of the input span); got {w!r}")
+            raise ValueError(
+                f"{owner}.join_width must be in (0, 0.5) (fraction of the input span); got {w!r}"
+            )
         return orders, float(w), _check_alpha(owner, self.alpha)
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> PiecewisePolynomial:
@@ -340,7 +358,9 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                 brs.append(self.search_.positive)
                 used.append(orders[2])
             if len(bps) == 2 and not bps[0] < bps[1]:
-                raise ValueError(f"breakpoints in x must increase; got {bps} (is the output decreasing with rate?)")
+                raise ValueError(
+                    f"breakpoints in x must increase; got {bps} (is the output decreasing with rate?)"
+                )
             self.breakpoints_ = tuple(bps)
             self.breakpoint_rates_ = tuple(brs)
             self.orders_ = tuple(used)
@@ -354,9 +374,13 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         edges = [-np.inf, *self.breakpoints_, np.inf]
         for i, b in enumerate(self.breakpoints_):
             if not (lo + h < b < hi - h):
-                raise ValueError(f"breakpoint {b!r} must lie inside the data ({lo!r}, {hi!r}) by more than the half join width {h!r}")
+                raise ValueError(
+                    f"breakpoint {b!r} must lie inside the data ({lo!r}, {hi!r}) by more than the half join width {h!r}"
+                )
             if i and b - self.breakpoints_[i - 1] <= 2 * h:
-                raise ValueError(f"breakpoints {self.breakpoints_[i - 1]!r} and {b!r} are closer than the join width {2 * h!r}")
+                raise ValueError(
+                    f"breakpoints {self.breakpoints_[i - 1]!r} and {b!r} are closer than the join width {2 * h!r}"
+                )
         self.segments_ = []
         for i, order in enumerate(self.orders_):
             sel = (x >= edges[i] - h) & (x <= edges[i + 1] + h)
@@ -366,11 +390,15 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                     f"segment {i} (x from {edges[i]!r} to {edges[i + 1]!r}): order {order} needs at least "
                     f"{order + 1} distinct inputs; got {distinct} sample(s) with distinct inputs"
                 )
-            self.segments_.append(PolynomialRegressor(degree=order, alpha=alpha).fit(X[sel], y[sel]))
+            self.segments_.append(
+                PolynomialRegressor(degree=order, alpha=alpha).fit(X[sel], y[sel])
+            )
         self.joins_ = [(b - h, b + h) for b in self.breakpoints_]
         self._join_ends = None
         if X.shape[1] == 1:  # the end values and slopes are constants: evaluate them once
-            self._join_ends = [self._join_end_values(i, np.zeros((1, 1))) for i in range(len(self.joins_))]
+            self._join_ends = [
+                self._join_end_values(i, np.zeros((1, 1))) for i in range(len(self.joins_))
+            ]
         return self
 
     def _join_end_values(self, i: int, X: NDArray[np.float64]):
@@ -379,19 +407,35 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         left, right = self.segments_[i], self.segments_[i + 1]
         X0, X1 = X.copy(), X.copy()
         X0[:, 0], X1[:, 0] = x0, x1
-        return left._eval(X0), left._eval_derivative(X0), right._eval(X1), right._eval_derivative(X1)
+        return (
+            left._eval(X0),
+            left._eval_derivative(X0),
+            right._eval(X1),
+            right._eval_derivative(X1),
+        )
 
     def _hermite(self, i: int, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
         """Join i at the samples X (feature 0 inside [x0, x1]): value, or d/dx_0 when ``deriv``."""
         x0, x1 = self.joins_[i]
         w = x1 - x0
-        ends = self._join_ends[i] if getattr(self, "_join_ends", None) else self._join_end_values(i, X)
+        ends = (
+            self._join_ends[i] if getattr(self, "_join_ends", None) else self._join_end_values(i, X)
+        )
         y0, m0, y1, m1 = ends
         t = (X[:, 0] - x0) / w
         if deriv:
-            return (6 * t**2 - 6 * t) * (y0 - y1) / w + (3 * t**2 - 4 * t + 1) * m0 + (3 * t**2 - 2 * t) * m1
+            return (
+                (6 * t**2 - 6 * t) * (y0 - y1) / w
+                + (3 * t**2 - 4 * t + 1) * m0
+                + (3 * t**2 - 2 * t) * m1
+            )
         t2, t3 = t * t, t * t * t
-        return (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * w * m0 + (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * w * m1
+        return (
+            (2 * t3 - 3 * t2 + 1) * y0
+            + (t3 - 2 * t2 + t) * w * m0
+            + (-2 * t3 + 3 * t2) * y1
+            + (t3 - t2) * w * m1
+        )
 
     def _piecewise(self, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
         x = X[:, 0]
@@ -410,9 +454,13 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
         """Piecewise prediction with Hermite joins, shape (n_samples,)."""
         check_is_fitted(self, "segments_")
-        return self._piecewise(np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=False)
+        return self._piecewise(
+            np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=False
+        )
 
     def derivative(self, X: ArrayLike) -> NDArray[np.float64]:
         """d prediction / d feature 0 at X (analytic, including the Hermite joins)."""
         check_is_fitted(self, "segments_")
-        return self._piecewise(np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=True)
+        return self._piecewise(
+            np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=True
+        )

@@ -62,7 +62,9 @@ def test_noise_variance_from_the_evidence(rng):
 
 def test_fits_a_saturation_curve():
     x = np.linspace(-3600.0, 3600.0, 21)
-    out = np.where(np.abs(x) <= 1800, x, np.sign(x) * (1800 + 987.6 * np.tanh((np.abs(x) - 1800) / 987.6)))
+    out = np.where(
+        np.abs(x) <= 1800, x, np.sign(x) * (1800 + 987.6 * np.tanh((np.abs(x) - 1800) / 987.6))
+    )
     net = BayesianRegularizedMLP(random_state=1).fit(out[:, None], x)
     assert np.max(np.abs(net.predict(out[:, None]) - x)) < 0.01 * 3600
 
@@ -79,7 +81,9 @@ def test_same_random_state_same_network():
 
 def test_accepts_a_generator_as_random_state():
     x = np.linspace(-1, 1, 30)[:, None]
-    a = BayesianRegularizedMLP(hidden_units=3, epochs=5, random_state=np.random.default_rng(7)).fit(x, x[:, 0])
+    a = BayesianRegularizedMLP(hidden_units=3, epochs=5, random_state=np.random.default_rng(7)).fit(
+        x, x[:, 0]
+    )
     b = BayesianRegularizedMLP(hidden_units=3, epochs=5, random_state=7).fit(x, x[:, 0])
     np.testing.assert_array_equal(a.W1_, b.W1_)
 
@@ -89,8 +93,12 @@ def test_affine_change_of_units_is_invisible():
     x = np.linspace(-3.0, 3.0, 25)[:, None]
     y = np.tanh(x[:, 0])
     a = BayesianRegularizedMLP(hidden_units=3, epochs=20, random_state=0).fit(x, y)
-    b = BayesianRegularizedMLP(hidden_units=3, epochs=20, random_state=0).fit(1000.0 * x + 5.0, 0.01 * y - 2.0)
-    np.testing.assert_allclose(b.predict(1000.0 * x + 5.0), 0.01 * a.predict(x) - 2.0, rtol=1e-8, atol=1e-10)
+    b = BayesianRegularizedMLP(hidden_units=3, epochs=20, random_state=0).fit(
+        1000.0 * x + 5.0, 0.01 * y - 2.0
+    )
+    np.testing.assert_allclose(
+        b.predict(1000.0 * x + 5.0), 0.01 * a.predict(x) - 2.0, rtol=1e-8, atol=1e-10
+    )
 
 
 # ------------------------------------------------------------------ bad input

@@ -9,7 +9,11 @@ import pytest
 from numpy.polynomial import Polynomial
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from analysis.compensation.polynomial import PiecewisePolynomial, PolynomialRegressor, TwoStagePolynomial
+from analysis.compensation.polynomial import (
+    PiecewisePolynomial,
+    PolynomialRegressor,
+    TwoStagePolynomial,
+)
 from analysis.scale_factor import fit_scale_factor
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
@@ -41,8 +45,11 @@ def _knee(w, ok=1800.0, ws=987.61):
 
 def _rate_table_runs(rng, n_runs=3, offset=2.0):
     """Knee gyro + sign offset, each run with its own bias and a tiny scale-factor change [deg/s]."""
-    outs = [(1 + 5e-5 * rng.standard_normal()) * (_knee(GRID) + offset * np.sign(GRID)) + 0.05 * rng.standard_normal()
-            for _ in range(n_runs)]
+    outs = [
+        (1 + 5e-5 * rng.standard_normal()) * (_knee(GRID) + offset * np.sign(GRID))
+        + 0.05 * rng.standard_normal()
+        for _ in range(n_runs)
+    ]
     return np.array(outs)
 
 
@@ -52,9 +59,15 @@ def test_polynomial_reproduces_an_exact_cubic():
     y = 2.0 + 0.5 * x - 3e-4 * x**2 - 1e-9 * x**3
     m = PolynomialRegressor(degree=3).fit(x[:, None], y)
     xt = np.linspace(-3000.0, 3000.0, 7)[:, None]
-    np.testing.assert_allclose(m.predict(xt), 2.0 + 0.5 * xt[:, 0] - 3e-4 * xt[:, 0] ** 2 - 1e-9 * xt[:, 0] ** 3,
-                               rtol=1e-11, atol=1e-9)
-    np.testing.assert_allclose(m.derivative(xt), 0.5 - 6e-4 * xt[:, 0] - 3e-9 * xt[:, 0] ** 2, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(
+        m.predict(xt),
+        2.0 + 0.5 * xt[:, 0] - 3e-4 * xt[:, 0] ** 2 - 1e-9 * xt[:, 0] ** 3,
+        rtol=1e-11,
+        atol=1e-9,
+    )
+    np.testing.assert_allclose(
+        m.derivative(xt), 0.5 - 6e-4 * xt[:, 0] - 3e-9 * xt[:, 0] ** 2, rtol=1e-10, atol=1e-12
+    )
 
 
 def test_polynomial_equals_numpy_least_squares(rng):
@@ -70,14 +83,18 @@ def test_two_stage_is_the_composition_of_its_stages(rng):
     y = np.sin(x[:, 0]) + 0.01 * rng.standard_normal(40)
     m = TwoStagePolynomial(degree=5, second_degree=3).fit(x, y)
     z = m.stage1_.predict(x)
-    np.testing.assert_allclose(m.stage1_.predict(x), PolynomialRegressor(degree=5).fit(x, y).predict(x), rtol=1e-12)
+    np.testing.assert_allclose(
+        m.stage1_.predict(x), PolynomialRegressor(degree=5).fit(x, y).predict(x), rtol=1e-12
+    )
     np.testing.assert_allclose(m.predict(x), m.stage2_.predict(z[:, None]), rtol=1e-12)
 
 
 def test_hermite_joins_are_c1():
     """Value and slope of each join equal the neighbouring segments' at both ends."""
     x = np.linspace(-3.0, 3.0, 61)
-    y = np.where(x < -1, -1 - (x + 1) ** 3, np.where(x > 1, 1 + (x - 1) ** 2, x)) + 0.01 * np.cos(5 * x)
+    y = np.where(x < -1, -1 - (x + 1) ** 3, np.where(x > 1, 1 + (x - 1) ** 2, x)) + 0.01 * np.cos(
+        5 * x
+    )
     m = PiecewisePolynomial(orders=(3, 1, 3), breakpoints=(-1.0, 1.0), alpha=0.0).fit(x[:, None], y)
     for i, (x0, x1) in enumerate(m.joins_):
         left, right = m.segments_[i], m.segments_[i + 1]
@@ -95,11 +112,16 @@ def test_hermite_join_equals_scipy_cubic_hermite_spline():
     y = np.where(x > 0.5, 0.5 + np.tanh(x - 0.5), x)
     m = PiecewisePolynomial(orders=(1, 5), breakpoints=(0.5,), alpha=0.0).fit(x[:, None], y)
     (x0, x1), (left, right) = m.joins_[0], m.segments_
-    ref = CubicHermiteSpline([x0, x1], [left.predict([[x0]])[0], right.predict([[x1]])[0]],
-                             [left.derivative([[x0]])[0], right.derivative([[x1]])[0]])
+    ref = CubicHermiteSpline(
+        [x0, x1],
+        [left.predict([[x0]])[0], right.predict([[x1]])[0]],
+        [left.derivative([[x0]])[0], right.derivative([[x1]])[0]],
+    )
     xs = np.linspace(x0, x1, 9)
     np.testing.assert_allclose(m.predict(xs[:, None]), ref(xs), rtol=1e-12)
-    np.testing.assert_allclose(m.derivative(xs[:, None]), ref.derivative()(xs), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(
+        m.derivative(xs[:, None]), ref.derivative()(xs), rtol=1e-10, atol=1e-12
+    )
 
 
 def test_piecewise_with_two_features_is_c1_in_feature_0(rng):
@@ -120,7 +142,9 @@ def test_heuristic_piecewise_finds_the_knee_and_compensates(rng):
     m = PiecewisePolynomial().fit(X, y)
     assert m.breakpoint_rates_ == (-1800.0, 1800.0)
     assert m.orders_ == (9, 1, 9)
-    np.testing.assert_allclose(m.breakpoints_, [runs[:3, 15].mean(), runs[:3, 5].mean()], rtol=1e-12)
+    np.testing.assert_allclose(
+        m.breakpoints_, [runs[:3, 15].mean(), runs[:3, 5].mean()], rtol=1e-12
+    )
     kn = fit_scale_factor(GRID, m.predict(runs[3][:, None])).nonlinearity_pct
     raw = fit_scale_factor(GRID, runs[3]).nonlinearity_pct
     assert raw > 15.0 and kn < 0.2
@@ -158,12 +182,16 @@ def test_rejects_order_larger_than_distinct_inputs():
 def test_rejects_segment_with_too_few_points():
     x = np.linspace(-3600.0, 3600.0, 21)
     out = _knee(x) + 2.0 * np.sign(x)  # one run: six rates per outer segment
-    with pytest.raises(ValueError, match=r"segment 0 .* order 9 needs at least 10 distinct inputs; got 6 sample"):
+    with pytest.raises(
+        ValueError, match=r"segment 0 .* order 9 needs at least 10 distinct inputs; got 6 sample"
+    ):
         PiecewisePolynomial().fit(out[:, None], x)
 
 
 def test_rejects_negative_degree():
-    with pytest.raises(ValueError, match="PolynomialRegressor.degree must be an integer >= 0; got -1"):
+    with pytest.raises(
+        ValueError, match="PolynomialRegressor.degree must be an integer >= 0; got -1"
+    ):
         PolynomialRegressor(degree=-1).fit([[0.0], [1.0]], [0.0, 1.0])
 
 
@@ -173,17 +201,25 @@ def test_rejects_negative_alpha():
 
 
 def test_rejects_orders_breakpoints_mismatch():
-    with pytest.raises(ValueError, match=r"orders must have len\(breakpoints\) \+ 1 = 2 entries; got 3"):
-        PiecewisePolynomial(orders=(1, 1, 1), breakpoints=(0.0,)).fit(np.linspace(-1, 1, 20)[:, None], np.zeros(20))
+    with pytest.raises(
+        ValueError, match=r"orders must have len\(breakpoints\) \+ 1 = 2 entries; got 3"
+    ):
+        PiecewisePolynomial(orders=(1, 1, 1), breakpoints=(0.0,)).fit(
+            np.linspace(-1, 1, 20)[:, None], np.zeros(20)
+        )
 
 
 def test_rejects_decreasing_breakpoints():
     with pytest.raises(ValueError, match="breakpoints must be finite and strictly increasing"):
-        PiecewisePolynomial(orders=(1, 1, 1), breakpoints=(0.5, -0.5)).fit(np.linspace(-1, 1, 20)[:, None], np.zeros(20))
+        PiecewisePolynomial(orders=(1, 1, 1), breakpoints=(0.5, -0.5)).fit(
+            np.linspace(-1, 1, 20)[:, None], np.zeros(20)
+        )
 
 
 def test_rejects_unknown_breakpoint_mode():
-    with pytest.raises(ValueError, match="breakpoints must be 'heuristic' or a tuple of floats; got 'auto'"):
+    with pytest.raises(
+        ValueError, match="breakpoints must be 'heuristic' or a tuple of floats; got 'auto'"
+    ):
         PiecewisePolynomial(breakpoints="auto").fit(np.linspace(-1, 1, 20)[:, None], np.zeros(20))
 
 
@@ -199,7 +235,9 @@ def test_rejects_bad_join_width():
 
 def test_rejects_breakpoint_outside_the_data():
     with pytest.raises(ValueError, match="breakpoint 5.0 must lie inside the data"):
-        PiecewisePolynomial(orders=(1, 1), breakpoints=(5.0,)).fit(np.linspace(-1, 1, 20)[:, None], np.zeros(20))
+        PiecewisePolynomial(orders=(1, 1), breakpoints=(5.0,)).fit(
+            np.linspace(-1, 1, 20)[:, None], np.zeros(20)
+        )
 
 
 def test_rejects_nan_input():

@@ -26,8 +26,14 @@ def rng(request) -> np.random.Generator:
 def _linear_spec(**kw) -> MemsSpec:
     """A gyro without nonlinearity, noise, quantization or turn-on scatter."""
     base = dict(
-        knee_rate=1e6, cubic=0.0, asymmetry=0.0, sign_offset=0.0, resolution=0.0, measurement_range=1e7,
-        bias_repeatability=0.0, noise=NoiseModel(),
+        knee_rate=1e6,
+        cubic=0.0,
+        asymmetry=0.0,
+        sign_offset=0.0,
+        resolution=0.0,
+        measurement_range=1e7,
+        bias_repeatability=0.0,
+        noise=NoiseModel(),
     )
     base.update(kw)
     return dataclasses.replace(MemsSpec(), **base)
@@ -85,7 +91,9 @@ def test_die_temperature_closed_form():
     spec = MemsSpec()
     t = np.array([0.0, spec.self_heating_tau, 1e9])
     got = die_temperature(spec, 300.0, t)
-    np.testing.assert_allclose(got, 300.0 + spec.self_heating * np.array([0.0, 1 - np.exp(-1.0), 1.0]), rtol=1e-12)
+    np.testing.assert_allclose(
+        got, 300.0 + spec.self_heating * np.array([0.0, 1 - np.exp(-1.0), 1.0]), rtol=1e-12
+    )
 
 
 def test_output_decomposes_exactly(rng):
@@ -95,15 +103,25 @@ def test_output_decomposes_exactly(rng):
     out = simulate_output(spec, w, fs=200.0, temperature=temp, acceleration=units.G0, rng=rng)
     total = w + sum(out.components.values())
     np.testing.assert_allclose(total, out.output, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(out.output / spec.resolution, np.round(out.output / spec.resolution), atol=1e-6)
+    np.testing.assert_allclose(
+        out.output / spec.resolution, np.round(out.output / spec.resolution), atol=1e-6
+    )
 
 
 def test_noise_free_output_is_the_model():
-    spec = _linear_spec(bias=0.01, bias_tc=1e-3, bias_tc2=1e-4, g_sensitivity=1e-4, scale_factor_tc=0.0)
+    spec = _linear_spec(
+        bias=0.01, bias_tc=1e-3, bias_tc2=1e-4, g_sensitivity=1e-4, scale_factor_tc=0.0
+    )
     w = np.linspace(-1.0, 1.0, 11)
     dt = 2.0
-    out = simulate_output(spec, w, fs=10.0, temperature=spec.reference_temperature + dt, acceleration=9.0,
-                          rng=np.random.default_rng(0))
+    out = simulate_output(
+        spec,
+        w,
+        fs=10.0,
+        temperature=spec.reference_temperature + dt,
+        acceleration=9.0,
+        rng=np.random.default_rng(0),
+    )
     expected = w + 0.01 + 1e-3 * dt + 1e-4 * dt**2 + 9e-4
     np.testing.assert_allclose(out.output, expected, rtol=1e-12)
 
@@ -111,7 +129,9 @@ def test_noise_free_output_is_the_model():
 def test_range_clip():
     spec = _linear_spec(measurement_range=units.deg_per_s(1000.0), bias=0.0, g_sensitivity=0.0)
     w = units.deg_per_s(np.array([-3000.0, 500.0, 3000.0]))
-    out = simulate_output(spec, w, fs=1.0, temperature=spec.reference_temperature, rng=np.random.default_rng(0))
+    out = simulate_output(
+        spec, w, fs=1.0, temperature=spec.reference_temperature, rng=np.random.default_rng(0)
+    )
     np.testing.assert_allclose(units.to_deg_per_s(out.output), [-1000.0, 500.0, 1000.0], rtol=1e-12)
 
 
@@ -141,10 +161,14 @@ def test_white_noise_variance(rng):
 def test_turn_on_bias_scatter(rng):
     """Turn-on bias over 400 runs: variance against bias_repeatability^2, chi-square bound at 1e-6."""
     spec = dataclasses.replace(_linear_spec(), bias_repeatability=0.3)
-    draws = np.array([
-        simulate_output(spec, np.zeros(1), fs=1.0, temperature=spec.reference_temperature, rng=r).turn_on_bias
-        for r in rng.spawn(400)
-    ])
+    draws = np.array(
+        [
+            simulate_output(
+                spec, np.zeros(1), fs=1.0, temperature=spec.reference_temperature, rng=r
+            ).turn_on_bias
+            for r in rng.spawn(400)
+        ]
+    )
     stat = np.sum(draws**2) / 0.3**2
     lo, hi = stats.chi2.ppf([0.5e-6, 1 - 0.5e-6], draws.size)
     assert lo < stat < hi
@@ -188,17 +212,27 @@ def test_rejects_bad_resolution_bits():
 
 def test_rejects_nan_rate():
     with pytest.raises(ValueError, match="rate must be a non-empty 1-D array of finite values"):
-        simulate_output(MemsSpec(), np.array([0.0, np.nan]), fs=1.0, temperature=300.0, rng=np.random.default_rng(0))
+        simulate_output(
+            MemsSpec(),
+            np.array([0.0, np.nan]),
+            fs=1.0,
+            temperature=300.0,
+            rng=np.random.default_rng(0),
+        )
 
 
 def test_rejects_nonpositive_fs():
     with pytest.raises(ValueError, match="fs must be a finite number > 0 Hz; got 0.0"):
-        simulate_output(MemsSpec(), np.zeros(3), fs=0.0, temperature=300.0, rng=np.random.default_rng(0))
+        simulate_output(
+            MemsSpec(), np.zeros(3), fs=0.0, temperature=300.0, rng=np.random.default_rng(0)
+        )
 
 
 def test_rejects_legacy_random_state():
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
-        simulate_output(MemsSpec(), np.zeros(3), fs=1.0, temperature=300.0, rng=np.random.RandomState(0))
+        simulate_output(
+            MemsSpec(), np.zeros(3), fs=1.0, temperature=300.0, rng=np.random.RandomState(0)
+        )
 
 
 def test_rejects_negative_time_since_power_on():

@@ -31,6 +31,15 @@ scaled to [-1, 1], spread in those units) fitted to the drift output - truth of
 identification run 1: "improved" on (T, dT, T x dT), "traditional" on (T, dT). The paper
 fits Q = output - mean(output); with the turntable's known rate we fit output - truth, which
 also removes the constant bias (stated, not hidden). MSE against the true rate in (deg/h)^2.
+The paper prints neither spread nor goal; the defaults (spread 16 normalized units, at
+most 5 neurons, goal 0) make the network a smooth low-order surface, and the report
+carries a table of how both conclusions change over spread 1-16 and 5-20 neurons: small
+spreads follow the training trajectory and do not carry over to other ramp rates.
+
+Run-to-run realism: the housing lag differs by ``housing_lag_run_rms`` (10 %) between
+chamber runs, and the noise of every run is a fresh stream; the unit (its winding
+defects) is the same for all runs of a seed. How large the drift is, and therefore the
+raw/compensated ratio, depends strongly on the drawn unit (the seed).
 """
 
 from __future__ import annotations
@@ -95,6 +104,7 @@ class Config:
     constraint_cte_tempco_per_K: float = 0.01
     dn_dT_slope_per_K2: float = 3.0e-8
     housing_time_constant_min: float = 20.0
+    housing_lag_run_rms: float = 0.1
     arw_deg_sqrt_h: float = 0.0005
     bias_instability_deg_h: float = 0.002
     bias_deg_h: float = 0.02
@@ -128,6 +138,8 @@ class Config:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"Config.{name} must be > 0; got {v!r}")
+        if not (math.isfinite(self.housing_lag_run_rms) and 0 <= self.housing_lag_run_rms <= 0.5):
+            raise ValueError(f"Config.housing_lag_run_rms must be in [0, 0.5] (relative); got {self.housing_lag_run_rms!r}")
         if not 0 <= self.point_z_fraction <= 1:
             raise ValueError(f"Config.point_z_fraction must be in [0, 1] (of L0); got {self.point_z_fraction!r}")
         if self.analysis_block_s * self.fs_hz < 1:
@@ -206,8 +218,14 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     runs = _runs(config)
     recs = []
     for (name, prof, rate), rng in zip(runs, rng_runs.spawn(len(runs))):
-        recs.append(unit.simulate(prof, fs=config.fs_hz, rng=rng, true_rate=rate, name=name,
-                                  metadata={"scenario": NAME, "seed": seed, "run": name}))
+        rng_setup, rng_fog = rng.spawn(2)
+        # run-to-run mounting/airflow: the housing lag differs a little between chamber runs
+        factor = max(0.5, 1.0 + config.housing_lag_run_rms * rng_setup.standard_normal())
+        thermal = replace(unit.spec.thermal, housing_time_constant=unit.spec.thermal.housing_time_constant * factor)
+        run_unit = FOGUnit(spec=replace(unit.spec, thermal=thermal), winding=unit.winding)
+        recs.append(run_unit.simulate(prof, fs=config.fs_hz, rng=rng_fog, true_rate=rate, name=name,
+                                      metadata={"scenario": NAME, "seed": seed, "run": name,
+                                                "housing_time_constant_s": thermal.housing_time_constant}))
     return recs
 
 
@@ -444,7 +462,8 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     figures = _figures(config, T_pt, sh_pt, prod_pt, tot_pt, runs, improved, traditional, comp, v1, v2)
     headlines = [
         Headline("max T x dT term, point at 0.25 L0 [deg/h]", f"{txdt_max:.3f}", "> 0.2", txdt_max > 0.2),
-        Headline("validation 1: mean MSE raw / compensated", f"{ratio1:.1f}x", "~10x (>= 10x)", ratio1 >= 10.0),
+        Headline("validation 1: mean MSE raw / compensated", f"{ratio1:.1f}x", "~10x (>= 10x)", ratio1 >= 10.0,
+                 "the ratio is set by the drawn unit's drift over the noise floor; it varies strongly with the seed"),
         Headline("validation 2: improved < traditional", f"{sum(imp_lt_trad)}/{len(imp_lt_trad)} runs",
                  "every run", all(imp_lt_trad)),
         Headline("winding ranking (lowest peak drift first)", " < ".join(ranking),

@@ -60,11 +60,11 @@ not the brick wall of :func:`flicker_avar`. :meth:`NoiseModel.theoretical_avar`
 returns the exact discrete AVAR of this pole sum, not the brick-wall formula.
 
 Generation spends one normal draw per output sample on all the fast poles
-together and a fraction 1/3 of a draw on all the slow ones:
+together and 1/15 of a draw on all the slow ones:
 
 * poles are grouped in levels l = 0, 1, ...; level l runs at step
-  h_l = 4^l tau0 and holds the poles with 256 h_l <= T_i < 1024 h_l (level 0:
-  every T_i < 1024 tau0);
+  h_l = 16^l tau0 and holds the poles with 256 h_l <= T_i < 4096 h_l (level 0:
+  every T_i < 4096 tau0, i.e. 8 poles in 4 second-order sections when f_high = fs/2);
 * the poles of one level are generated together as ONE ARMA process driven by
   one white sequence, with exactly the power spectrum of the sum of those
   independent AR(1) poles (spectral factorisation, :func:`_sum_of_ar1_as_arma`),
@@ -75,10 +75,13 @@ together and a fraction 1/3 of a draw on all the slow ones:
 Decimation error (documented, not in ``theoretical_avar``): linear
 interpolation of a pole sampled at h removes the Brownian-bridge part of its
 path between knots, of relative size ~h/T_i <= 1/256. Evaluated exactly from the
-interpolated process's phase-averaged spectrum (``tests/sim/test_noise.py::
-test_decimation_error_bound``) the flicker AVAR of the generated process
-differs from the full-rate pole sum by less than 0.15 % at every tau, i.e. the
-ADEV by < 0.08 %, far below the scatter of any realistic record.
+interpolated process's phase-averaged autocovariance (``tests/sim/test_noise.py::
+test_decimation_error_bound``), the deficit of one level's poles is at most
+0.066 % of the plateau AVAR (largest at tau ~ h/2); the next coarser level adds
+< 0.015 % there, so the generated flicker AVAR is below the full-rate pole sum
+by less than 0.1 % at every tau (ADEV < 0.05 %), far below the scatter of any
+realistic record. Values are otherwise exact: the level filters realise the
+spectral factors to ~1e-9 (second-order sections pairing slow with fast roots).
 
 References
 ----------
@@ -111,10 +114,22 @@ _POLE_RATIO = math.sqrt(10.0)
 #: a pole is generated at step h only if its correlation time is >= _DECIM_MARGIN * h
 _DECIM_MARGIN = 256
 #: rate ratio between consecutive flicker levels
-_LEVEL_RATIO = 4
+_LEVEL_RATIO = 16
 _MAX_LEVELS = 32
 #: samples per internal block (keeps the working set in cache; has no effect on values)
 _BLOCK = 1 << 16
+#: draw the next block's random numbers in a worker thread (has no effect on values)
+_PREFETCH = True
+_EXECUTOR = None
+
+
+def _executor():
+    global _EXECUTOR
+    if _EXECUTOR is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _EXECUTOR = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sim-noise-draws")
+    return _EXECUTOR
 
 
 def _check_nonneg(owner: str, name: str, v: float) -> None:
@@ -486,8 +501,11 @@ class _ArmaGen:
         self.rng = rng
         self.zi = _stationary_sos_zi(self.sos, rng.standard_normal(2 * self.sos.shape[0]))
 
-    def next(self, n: int) -> NDArray[np.float64]:
-        y, self.zi = signal.sosfilt(self.sos, self.rng.standard_normal(n), zi=self.zi)
+    def next(self, n: int, eps: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """The next ``n`` outputs; ``eps`` = the next ``n`` draws of ``self.rng`` if pre-drawn."""
+        if eps is None:
+            eps = self.rng.standard_normal(n)
+        y, self.zi = signal.sosfilt(self.sos, eps, zi=self.zi)
         return y
 
 
@@ -570,9 +588,10 @@ class _Flicker:
         self.coarse_ratio = _LEVEL_RATIO**prev_l if coarse is not None else 1
         self.k = 0
 
-    def next(self, n: int) -> NDArray[np.float64]:
+    def next(self, n: int, eps: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """The next ``n`` samples; ``eps`` = pre-drawn innovations of the full-rate level (if any)."""
         if self.fine is not None:
-            y = self.fine.next(n)
+            y = self.fine.next(n, eps)
             if self.coarse is not None:
                 _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, out=y)
         else:
@@ -783,7 +802,7 @@ class NoiseModel:
         3Q^2/tau^2 + N^2/tau + sum_i ar1_avar(m, tau0/T_i, sigma_i^2) (flicker poles)
         + K^2 tau/3 (1 + 1/(2m^2)) + R^2 tau^2/2 + Gauss-Markov (:func:`ar1_avar`)
         + sampled sinusoids (:meth:`Sinusoid.avar_sampled`). See the module docstring
-        for the discretisation of each term and the (< 0.15 %) flicker decimation error
+        for the discretisation of each term and the (< 0.1 %) flicker decimation error
         this expression leaves out. The ideal brick-wall flicker curve is
         :func:`flicker_avar`.
         """
@@ -841,8 +860,9 @@ class NoiseStream:
         self._rng = children
         m = model
         # quantization: uniform angle error of std Q on [-q/2, q/2), q = sqrt(12) Q; previous value carried
+        # (drawn as c u, u ~ U[0, 1), c = q fs: the offset -q/2 cancels in the difference)
         self._q_step = math.sqrt(12.0) * m.quantization
-        self._q_prev = self._q_step * (children[_SLOT_QUANT].random() - 0.5) if m.quantization > 0 else 0.0
+        self._q_prev = children[_SLOT_QUANT].uniform(0.0, self._q_step * self.fs) if m.quantization > 0 else 0.0
         self._arw_gain = m.angle_random_walk * math.sqrt(self.fs)
         self._flicker = None
         if m.bias_instability > 0:
@@ -856,51 +876,86 @@ class NoiseStream:
             gain = gm.sigma * math.sqrt(-math.expm1(-2.0 * self.dt / gm.correlation_time))
             state = gm.sigma * children[_SLOT_GM0 + i].standard_normal()
             self._gm.append([phi, gain, state])
-
-    def _block(self, n: int) -> dict[str, NDArray[np.float64]]:
-        """The next ``n`` samples of every present term (one internal block)."""
-        m, fs = self.model, self.fs
-        out: dict[str, NDArray[np.float64]] = {}
-        t = None
+        # full-rate random draws, in a fixed order; drawn block by block, possibly one block ahead
+        # by a worker thread (numpy releases the GIL while filling), never changing their values
+        self._sources: list[tuple[str, object]] = []
+        q_scale = self._q_step * self.fs  # rate step per unit of uniform angle draw
         if m.quantization > 0:
-            e = self._rng[_SLOT_QUANT].random(n)
-            e -= 0.5
-            e *= self._q_step
+            self._sources.append(("q", lambda k, g=children[_SLOT_QUANT], c=q_scale: g.uniform(0.0, c, k)))
+        if m.angle_random_walk > 0:
+            self._sources.append(("arw", lambda k, g=children[_SLOT_ARW], c=self._arw_gain: g.normal(0.0, c, k)))
+        if self._flicker is not None and self._flicker.fine is not None:
+            self._sources.append(("fl", self._flicker.fine.rng.standard_normal))
+        if m.rate_random_walk > 0:
+            self._sources.append(("rrw", lambda k, g=children[_SLOT_RRW], c=self._rrw_gain: g.normal(0.0, c, k)))
+        for i in range(len(m.gauss_markov)):
+            self._sources.append((f"gm{i}", children[_SLOT_GM0 + i].standard_normal))
+
+    def _draw(self, n: int) -> dict[str, NDArray[np.float64]]:
+        return {key: fn(n) for key, fn in self._sources}
+
+    def _blocks(self, n: int) -> Iterator[tuple[int, dict[str, NDArray[np.float64]]]]:
+        """(block size, its pre-drawn random numbers) for the next ``n`` samples.
+
+        With more than one block, the next block's draws run in a worker thread while the
+        caller processes the current one; each stream is drawn sequentially either way.
+        """
+        sizes = [min(_BLOCK, n - s) for s in range(0, n, _BLOCK)]
+        if len(sizes) <= 1 or not _PREFETCH or not self._sources:
+            for k in sizes:
+                yield k, self._draw(k)
+            return
+        ex = _executor()
+        fut = ex.submit(self._draw, sizes[0])
+        try:
+            for i, k in enumerate(sizes):
+                draws = fut.result()
+                fut = ex.submit(self._draw, sizes[i + 1]) if i + 1 < len(sizes) else None
+                yield k, draws
+        finally:
+            if fut is not None:  # abandoned mid-way: let the worker finish before anyone draws again
+                fut.result()
+
+    def _terms(self, n: int, d: dict[str, NDArray[np.float64]]) -> Iterator[tuple[str, NDArray[np.float64]]]:
+        """The next ``n`` samples of every present term (one internal block), in a fixed order."""
+        m, fs = self.model, self.fs
+        if m.quantization > 0:
+            e = d["q"]  # uniform angle error, already in rate units (times fs)
             y = np.empty(n)
             y[0] = e[0] - self._q_prev
             np.subtract(e[1:], e[:-1], out=y[1:])
             self._q_prev = e[-1]
-            y *= fs
-            out["quantization"] = y
+            yield "quantization", y
         if m.angle_random_walk > 0:
-            y = self._rng[_SLOT_ARW].standard_normal(n)
-            y *= self._arw_gain
-            out["angle_random_walk"] = y
+            yield "angle_random_walk", d["arw"]
         if self._flicker is not None:
-            out["bias_instability"] = self._flicker.next(n)
+            yield "bias_instability", self._flicker.next(n, d.get("fl"))
         if m.rate_random_walk > 0:
-            steps = self._rng[_SLOT_RRW].standard_normal(n)
-            steps *= self._rrw_gain
+            steps = d["rrw"]
             steps[0] += self._rrw  # carry folded into the first step: same rounding as one-shot
             np.cumsum(steps, out=steps)
             self._rrw = steps[-1]
-            out["rate_random_walk"] = steps
-        if m.rate_ramp > 0 or m.sinusoids:
-            t = self.t0 + (self._k + np.arange(n)) * self.dt
+            yield "rate_random_walk", steps
         if m.rate_ramp > 0:
-            out["rate_ramp"] = m.rate_ramp * t
+            ramp = np.arange(self._k, self._k + n, dtype=float)
+            ramp *= m.rate_ramp * self.dt
+            ramp += m.rate_ramp * self.t0
+            yield "rate_ramp", ramp  # R t_k, t_k = t0 + k/fs
+        t = None
+        if m.sinusoids:
+            t = np.arange(self._k, self._k + n, dtype=float)
+            t *= self.dt
+            t += self.t0
         for i, st in enumerate(self._gm):
             phi, gain, state = st
-            eps = self._rng[_SLOT_GM0 + i].standard_normal(n)
-            x, _ = signal.lfilter([gain], [1.0, -phi], eps, zi=[phi * state])
+            x, _ = signal.lfilter([gain], [1.0, -phi], d[f"gm{i}"], zi=[phi * state])
             st[2] = x[-1]
-            out[f"gauss_markov_{i}"] = x
+            yield f"gauss_markov_{i}", x
         for i, s in enumerate(m.sinusoids):
-            out[f"sinusoid_{i}"] = s.amplitude * np.sin(2.0 * np.pi * s.frequency * t + s.phase)
+            yield f"sinusoid_{i}", s.amplitude * np.sin(2.0 * np.pi * s.frequency * t + s.phase)
         if m.bias != 0:
-            out["bias"] = np.full(n, m.bias)
+            yield "bias", np.full(n, m.bias)
         self._k += n
-        return out
 
     @staticmethod
     def _check_n(n: int) -> None:
@@ -913,12 +968,9 @@ class NoiseStream:
         """The next ``n`` samples of every present term [rad/s], by term name."""
         self._check_n(n)
         parts: dict[str, list[NDArray[np.float64]]] = {}
-        done = 0
-        while done < n:
-            k = min(_BLOCK, n - done)
-            for name, v in self._block(k).items():
+        for k, d in self._blocks(n):
+            for name, v in self._terms(k, d):
                 parts.setdefault(name, []).append(v)
-            done += k
         if n == 0:
             return {name: np.empty(0) for name in self._names()}
         return {name: (v[0] if len(v) == 1 else np.concatenate(v)) for name, v in parts.items()}
@@ -942,10 +994,9 @@ class NoiseStream:
         self._check_n(n)
         total = np.zeros(n)
         done = 0
-        while done < n:
-            k = min(_BLOCK, n - done)
+        for k, d in self._blocks(n):
             acc = total[done : done + k]
-            for v in self._block(k).values():
+            for _, v in self._terms(k, d):
                 acc += v
             done += k
         return total

@@ -1,0 +1,151 @@
+"""Generation speed and streaming memory of the IEEE-952 noise engine (sim/noise.py).
+
+Run by hand: ``python benchmarks/bench_noise.py [--n-stream 1e8] [--skip-hdf5]``.
+Prints (never asserts):
+
+* the machine (nproc, CPU model, load average);
+* a plain ``Generator.standard_normal`` baseline (float64, 1M per call) in the same run;
+* the five-term model (Q, N, B, K, R) one-shot (``generate``) and streaming in 1M
+  chunks (``stream().chunks``), in samples/s, best of several repeats;
+* the time per term (each term alone, streaming), to show where the time goes;
+* the peak resident memory (ru_maxrss of a fresh subprocess) while streaming 1e8
+  samples of the five-term model to HDF5 with ``sim.recording.HDF5StreamWriter``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+FS = 100.0
+FIVE = dict(quantization=0.3, angle_random_walk=0.05, bias_instability=0.5, rate_random_walk=2.0, rate_ramp=1.0)
+
+
+def machine() -> str:
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    load = os.getloadavg() if hasattr(os, "getloadavg") else ("?",)
+    return (
+        f"nproc={os.cpu_count()}  cpu={cpu!r}  python={platform.python_version()}  numpy={np.__version__}  "
+        f"loadavg={tuple(round(x, 2) for x in load)}"
+    )
+
+
+def best_rate(fn, n: int, repeats: int) -> float:
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return n / best
+
+
+def bench_speed(n: int, repeats: int) -> None:
+    from sim.noise import NoiseModel
+
+    model = NoiseModel.from_datasheet(**FIVE)
+    g = np.random.default_rng(0)
+    buf = np.empty(1 << 20)
+
+    def baseline():
+        for _ in range(n >> 20):
+            g.standard_normal(out=buf)
+
+    r_base = best_rate(baseline, n, repeats)
+    print(f"standard_normal baseline (1M per call)      : {r_base / 1e6:8.1f} M samples/s")
+
+    def one_shot():
+        model.generate(n, FS, rng=np.random.default_rng(1))
+
+    r_one = best_rate(one_shot, n, repeats)
+    print(f"five-term model, one-shot generate({n:.0e})  : {r_one / 1e6:8.1f} M samples/s  "
+          f"({r_one / r_base:.2f} x baseline)")
+
+    def streaming():
+        s = model.stream(FS, rng=np.random.default_rng(1))
+        for _ in s.chunks(n, 1 << 20):
+            pass
+
+    r_str = best_rate(streaming, n, repeats)
+    print(f"five-term model, streaming in 1M chunks     : {r_str / 1e6:8.1f} M samples/s  "
+          f"({r_str / r_base:.2f} x baseline)")
+    print("per term alone (streaming, 1M chunks):")
+    for name, v in FIVE.items():
+        m = NoiseModel.from_datasheet(**{name: v})
+
+        def one_term(m=m):
+            s = m.stream(FS, rng=np.random.default_rng(1))
+            for _ in s.chunks(n, 1 << 20):
+                pass
+
+        r = best_rate(one_term, n, repeats)
+        print(f"    {name:18s}: {r / 1e6:8.1f} M samples/s  ({1e9 / r:5.1f} ns/sample)")
+    t0 = time.perf_counter()
+    model.stream(FS, rng=np.random.default_rng(1))
+    print(f"stream construction (flicker factorisation, {len(model.flicker_poles(FS)[0])} poles): "
+          f"{(time.perf_counter() - t0) * 1e3:.1f} ms")
+
+
+def hdf5_child(n: int, path: str) -> None:
+    """Run in a fresh process: stream n samples to HDF5, print ru_maxrss."""
+    from sim.noise import NoiseModel
+    from sim.recording import HDF5StreamWriter
+
+    model = NoiseModel.from_datasheet(**FIVE)
+    stream = model.stream(FS, rng=np.random.default_rng(2))
+    t0 = time.perf_counter()
+    with HDF5StreamWriter(path, name="noise", fs=FS, channels={"rate": "rad/s"}) as w:
+        for y in stream.chunks(n, 1 << 20):
+            w.append(rate=y)
+    dt = time.perf_counter() - t0
+    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    print(f"{peak_kb} {dt} {os.path.getsize(path)}")
+
+
+def bench_hdf5(n: int) -> None:
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "noise.h5")
+        out = subprocess.run(
+            [sys.executable, __file__, "--hdf5-child", str(n), path], capture_output=True, text=True, check=True
+        ).stdout.split()
+        peak_kb, dt, size = int(out[0]), float(out[1]), int(out[2])
+    print(f"stream {n:.0e} samples to HDF5 (1M chunks): peak RSS {peak_kb / 1024:.0f} MB, "
+          f"{dt:.1f} s ({n / dt / 1e6:.1f} M samples/s incl. writing), file {size / 1e6:.0f} MB")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=float, default=2**25, help="samples per speed measurement (default 2^25)")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--n-stream", type=float, default=1e8, help="samples streamed to HDF5 (default 1e8)")
+    ap.add_argument("--skip-hdf5", action="store_true")
+    ap.add_argument("--hdf5-child", nargs=2, help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.hdf5_child:
+        hdf5_child(int(float(a.hdf5_child[0])), a.hdf5_child[1])
+        return
+    print(machine())
+    n = int(a.n) >> 20 << 20
+    bench_speed(n, a.repeats)
+    if not a.skip_hdf5:
+        bench_hdf5(int(a.n_stream))
+    print(f"after: loadavg={tuple(round(x, 2) for x in os.getloadavg())}")
+
+
+if __name__ == "__main__":
+    main()

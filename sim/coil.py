@@ -84,7 +84,9 @@ def winding_sequence(pattern: str, layers: int) -> str | None:
         (dipolar 2, quadrupolar 4, octupolar 8).
     """
     if pattern not in WINDING_PATTERNS:
-        raise ValueError(f"winding pattern must be one of {sorted(WINDING_PATTERNS)}; got {pattern!r}")
+        raise ValueError(
+            f"winding pattern must be one of {sorted(WINDING_PATTERNS)}; got {pattern!r}"
+        )
     if isinstance(layers, bool) or not isinstance(layers, Integral) or layers < 1:
         raise ValueError(f"coil layers must be an integer >= 1; got {layers!r}")
     period = WINDING_PATTERNS[pattern]
@@ -183,22 +185,57 @@ class CoilSpec:
         o = "CoilSpec"
         _num(o, "length", self.length, "> 0", "m", lambda v: v > 0)
         _num(o, "inner_radius", self.inner_radius, "> 0", "m", lambda v: v > 0)
-        _num(o, "outer_radius", self.outer_radius, f"> inner_radius ({self.inner_radius!r})", "m",
-             lambda v: v > self.inner_radius)
+        _num(
+            o,
+            "outer_radius",
+            self.outer_radius,
+            f"> inner_radius ({self.inner_radius!r})",
+            "m",
+            lambda v: v > self.inner_radius,
+        )
         _num(o, "height", self.height, "> 0", "m", lambda v: v > 0)
         winding_sequence(self.winding, self.layers)  # validates layers and pattern
-        _num(o, "winding_defect_rms", self.winding_defect_rms, "in [0, 0.2]", "(relative)", lambda v: 0 <= v <= 0.2)
+        _num(
+            o,
+            "winding_defect_rms",
+            self.winding_defect_rms,
+            "in [0, 0.2]",
+            "(relative)",
+            lambda v: 0 <= v <= 0.2,
+        )
         _num(o, "wavelength", self.wavelength, "> 0", "m", lambda v: v > 0)
         _num(o, "index", self.index, ">= 1", "", lambda v: v >= 1)
-        for name in ("dn_dT", "dn_dT_slope", "fibre_cte", "p11", "p12", "constraint_cte_inner",
-                     "constraint_cte_outer", "constraint_cte_tempco"):
+        for name in (
+            "dn_dT",
+            "dn_dT_slope",
+            "fibre_cte",
+            "p11",
+            "p12",
+            "constraint_cte_inner",
+            "constraint_cte_outer",
+            "constraint_cte_tempco",
+        ):
             _num(o, name, getattr(self, name), "finite", "", lambda v: True)
         if self.constraint_decay_length != math.inf:
-            _num(o, "constraint_decay_length", self.constraint_decay_length, "> 0 (or inf)", "m", lambda v: v > 0)
+            _num(
+                o,
+                "constraint_decay_length",
+                self.constraint_decay_length,
+                "> 0 (or inf)",
+                "m",
+                lambda v: v > 0,
+            )
         _num(o, "dn_dT_ref", self.dn_dT_ref, "> 0", "K", lambda v: v > 0)
         _num(o, "poisson", self.poisson, "in [0, 0.5)", "", lambda v: 0 <= v < 0.5)
         _num(o, "conductivity", self.conductivity, "> 0", "W/m/K", lambda v: v > 0)
-        _num(o, "volumetric_heat_capacity", self.volumetric_heat_capacity, "> 0", "J/m^3/K", lambda v: v > 0)
+        _num(
+            o,
+            "volumetric_heat_capacity",
+            self.volumetric_heat_capacity,
+            "> 0",
+            "J/m^3/K",
+            lambda v: v > 0,
+        )
 
     # ------------------------------------------------------------------ geometry
     @property
@@ -229,7 +266,9 @@ class CoilSpec:
     @property
     def shupe_coefficient(self) -> float:
         """n (dn/dT + n alpha_f) / (L D) at T0 [1/(K m^2)]: Omega_E = this * sum_j w_j Tdot_j."""
-        return self.index * (self.dn_dT + self.index * self.fibre_cte) / (self.length * self.diameter)
+        return (
+            self.index * (self.dn_dT + self.index * self.fibre_cte) / (self.length * self.diameter)
+        )
 
     def constraint_cte(self) -> NDArray[np.float64]:
         """alpha_c of each layer at T0 [1/K] (inner -> outer; see ``constraint_decay_length``)."""
@@ -239,7 +278,10 @@ class CoilSpec:
             frac = s / (self.outer_radius - self.inner_radius)
         else:
             frac = -np.expm1(-s / lam) / -math.expm1(-(self.outer_radius - self.inner_radius) / lam)
-        return self.constraint_cte_inner + (self.constraint_cte_outer - self.constraint_cte_inner) * frac
+        return (
+            self.constraint_cte_inner
+            + (self.constraint_cte_outer - self.constraint_cte_inner) * frac
+        )
 
     def realize_winding(self, *, rng: np.random.Generator | None = None) -> Winding:
         """The layer -> fibre mapping of this coil; with ``winding_defect_rms`` > 0 one drawn unit (needs ``rng``)."""
@@ -248,7 +290,9 @@ class CoilSpec:
                 raise ValueError(
                     f"CoilSpec.winding_defect_rms = {self.winding_defect_rms!r} > 0 needs an rng to draw the defects"
                 )
-            return Winding.with_defects(self.winding, self.layers, self.length, rms=self.winding_defect_rms, rng=rng)
+            return Winding.with_defects(
+                self.winding, self.layers, self.length, rms=self.winding_defect_rms, rng=rng
+            )
         return Winding.ideal(self.winding, self.layers, self.length)
 
 
@@ -274,7 +318,9 @@ class Winding:
         """Mapping for given per-layer fibre lengths [m] (their sum is the fibre length)."""
         lengths = np.asarray(lengths, dtype=float)
         if lengths.ndim != 1 or not np.all(np.isfinite(lengths)) or np.any(lengths <= 0):
-            raise ValueError(f"layer lengths must be a 1-D array of finite values > 0 m; got {lengths!r}")
+            raise ValueError(
+                f"layer lengths must be a 1-D array of finite values > 0 m; got {lengths!r}"
+            )
         seq = winding_sequence(pattern, len(lengths))
         L = float(lengths.sum())
         z0 = np.empty_like(lengths)
@@ -283,7 +329,9 @@ class Winding:
         else:
             is_a = np.array([c == "A" for c in seq])
             zc = float(lengths[is_a].sum())
-            a_cum = np.cumsum(np.where(is_a, lengths, 0.0))  # A fibre used up to and including layer j
+            a_cum = np.cumsum(
+                np.where(is_a, lengths, 0.0)
+            )  # A fibre used up to and including layer j
             b_cum = np.cumsum(np.where(is_a, 0.0, lengths))
             z0[:] = np.where(is_a, zc - a_cum, zc + b_cum - lengths)
         return cls(pattern=pattern, length=L, z0=z0, z1=z0 + lengths)
@@ -403,7 +451,9 @@ class ThermalNetwork:
         """
         u = np.asarray(u, dtype=float)
         if u.ndim != 1 or len(u) < 1 or not np.all(np.isfinite(u)):
-            raise ValueError(f"u must be a finite 1-D array with at least one sample; got shape {u.shape}")
+            raise ValueError(
+                f"u must be a finite 1-D array with at least one sample; got shape {u.shape}"
+            )
         P, q0, q1 = self.propagator(dt, scheme)
         x = np.empty((len(u), len(self.b)))
         x[0] = self.steady_state(u[0]) if x0 is None else np.asarray(x0, dtype=float)
@@ -415,8 +465,14 @@ class ThermalNetwork:
         return x, xdot
 
 
-def slab_network(n_cells: int, thickness: float, diffusivity: float, *, geometry: str = "slab",
-                 inner_radius: float = 1.0) -> ThermalNetwork:
+def slab_network(
+    n_cells: int,
+    thickness: float,
+    diffusivity: float,
+    *,
+    geometry: str = "slab",
+    inner_radius: float = 1.0,
+) -> ThermalNetwork:
     """Finite-volume conduction through ``n_cells`` cells, both faces tied to the input u (Dirichlet).
 
     For tests against analytic solutions: ``geometry="slab"`` (plane wall of ``thickness``
@@ -496,8 +552,22 @@ class CoilThermalModel:
             raise TypeError(f"{o}.coil must be a CoilSpec; got {type(self.coil).__name__}")
         _num(o, "housing_time_constant", self.housing_time_constant, "> 0", "s", lambda v: v > 0)
         _num(o, "spool_heat_capacity", self.spool_heat_capacity, "> 0", "J/K", lambda v: v > 0)
-        _num(o, "spool_housing_conductance", self.spool_housing_conductance, "> 0", "W/K", lambda v: v > 0)
-        _num(o, "outer_film_coefficient", self.outer_film_coefficient, "> 0", "W/m^2/K", lambda v: v > 0)
+        _num(
+            o,
+            "spool_housing_conductance",
+            self.spool_housing_conductance,
+            "> 0",
+            "W/K",
+            lambda v: v > 0,
+        )
+        _num(
+            o,
+            "outer_film_coefficient",
+            self.outer_film_coefficient,
+            "> 0",
+            "W/m^2/K",
+            lambda v: v > 0,
+        )
 
     def network(self) -> ThermalNetwork:
         """The linear system dx/dt = A x + b T_chamber."""
@@ -536,7 +606,9 @@ class CoilThermalModel:
         b[0] = 1.0 / self.housing_time_constant
         return ThermalNetwork(A=A, b=b)
 
-    def check_step(self, dt: float, chamber_rate_max: float, *, max_step_temperature: float = 0.5) -> None:
+    def check_step(
+        self, dt: float, chamber_rate_max: float, *, max_step_temperature: float = 0.5
+    ) -> None:
         """Refuse a step the diffusion model cannot resolve.
 
         Raises
@@ -628,7 +700,9 @@ def shupe_terms(
     T = np.asarray(T, dtype=float)
     Tdot = np.asarray(Tdot, dtype=float)
     if T.shape != Tdot.shape or T.shape[-1] != len(w):
-        raise ValueError(f"T {T.shape} and Tdot {Tdot.shape} must both end in the number of weights {len(w)}")
+        raise ValueError(
+            f"T {T.shape} and Tdot {Tdot.shape} must both end in the number of weights {len(w)}"
+        )
     if constraint_cte is None:
         if len(w) != coil.layers:
             raise ValueError(
@@ -644,6 +718,10 @@ def shupe_terms(
     shupe = pre * (coil.dn_dT + n * coil.fibre_cte) * wt.sum(axis=-1)
     prod = pre * coil.dn_dT_slope * (dT0 * wt).sum(axis=-1)
     nxi = n * coil.xi
-    strain = pre * nxi * (wt * (ac * (1.0 + coil.constraint_cte_tempco * dT0) - coil.fibre_cte)).sum(axis=-1)
+    strain = (
+        pre
+        * nxi
+        * (wt * (ac * (1.0 + coil.constraint_cte_tempco * dT0) - coil.fibre_cte)).sum(axis=-1)
+    )
     strain_prod = pre * nxi * coil.constraint_cte_tempco * (wt * ac * dT0).sum(axis=-1)
     return ShupeTerms(shupe=shupe, dndT_product=prod, strain=strain, strain_product=strain_prod)

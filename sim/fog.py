@@ -43,7 +43,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sim import units
-from sim.coil import CoilSpec, CoilThermalModel, ShupeTerms, Winding, shupe_terms
+from sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
 from sim.environment import PiecewiseLinear
 from sim.noise import NoiseModel
 from sim.recording import Channel, Recording
@@ -96,15 +96,21 @@ class TemperatureSensorSpec:
 
     def __post_init__(self) -> None:
         if self.location not in _SENSOR_LOCATIONS:
-            raise ValueError(f"TemperatureSensorSpec.location must be one of {_SENSOR_LOCATIONS}; got {self.location!r}")
+            raise ValueError(
+                f"TemperatureSensorSpec.location must be one of {_SENSOR_LOCATIONS}; got {self.location!r}"
+            )
         for name in ("noise", "resolution"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}")
+                raise ValueError(
+                    f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}"
+                )
         if not (isinstance(self.bias, Real) and math.isfinite(self.bias)):
             raise ValueError(f"TemperatureSensorSpec.bias must be finite [K]; got {self.bias!r}")
 
-    def read(self, true_temperature: NDArray[np.float64], *, rng: np.random.Generator) -> NDArray[np.float64]:
+    def read(
+        self, true_temperature: NDArray[np.float64], *, rng: np.random.Generator
+    ) -> NDArray[np.float64]:
         """Logged value: quantize(T + bias + noise) [K]."""
         y = true_temperature + self.bias + self.noise * rng.standard_normal(len(true_temperature))
         if self.resolution > 0:
@@ -148,12 +154,22 @@ class FOGSpec:
     scheme: str = "implicit"
 
     def __post_init__(self) -> None:
-        for name, kind in (("thermal", CoilThermalModel), ("noise", NoiseModel), ("sensor", TemperatureSensorSpec)):
+        for name, kind in (
+            ("thermal", CoilThermalModel),
+            ("noise", NoiseModel),
+            ("sensor", TemperatureSensorSpec),
+        ):
             if not isinstance(getattr(self, name), kind):
-                raise TypeError(f"FOGSpec.{name} must be a {kind.__name__}; got {type(getattr(self, name)).__name__}")
+                raise TypeError(
+                    f"FOGSpec.{name} must be a {kind.__name__}; got {type(getattr(self, name)).__name__}"
+                )
         for name in ("diameter_tempco", "wavelength_tempco"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and abs(v) < 1e-3):
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, Real)
+                or not (math.isfinite(v) and abs(v) < 1e-3)
+            ):
                 raise ValueError(f"FOGSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}")
         v = self.scale_factor_ref_temperature
         if not (isinstance(v, Real) and math.isfinite(v) and v > 0):
@@ -162,7 +178,9 @@ class FOGSpec:
         if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v > 0):
             raise ValueError(f"FOGSpec.thermal_step must be > 0 s; got {v!r}")
         if self.scheme not in ("implicit", "crank-nicolson"):
-            raise ValueError(f"FOGSpec.scheme must be 'implicit' or 'crank-nicolson'; got {self.scheme!r}")
+            raise ValueError(
+                f"FOGSpec.scheme must be 'implicit' or 'crank-nicolson'; got {self.scheme!r}"
+            )
 
     @property
     def coil(self) -> CoilSpec:
@@ -178,7 +196,11 @@ class FOGSpec:
         """SF(T)/SF0 [-] for mean coil and source (housing) temperatures [K]."""
         dc = np.asarray(coil_temperature, dtype=float) - self.scale_factor_ref_temperature
         ds = np.asarray(source_temperature, dtype=float) - self.scale_factor_ref_temperature
-        return (1 + self.coil.fibre_cte * dc) * (1 + self.diameter_tempco * dc) / (1 + self.wavelength_tempco * ds)
+        return (
+            (1 + self.coil.fibre_cte * dc)
+            * (1 + self.diameter_tempco * dc)
+            / (1 + self.wavelength_tempco * ds)
+        )
 
     def realize(self, *, rng: np.random.Generator) -> FOGUnit:
         """One built unit: draws the winding defects (if any) with ``rng``."""
@@ -213,10 +235,16 @@ class FOGUnit:
             :meth:`sim.coil.CoilThermalModel.check_step`).
         """
         if not isinstance(chamber, PiecewiseLinear):
-            raise TypeError(f"chamber must be a sim.environment.PiecewiseLinear; got {type(chamber).__name__}")
+            raise TypeError(
+                f"chamber must be a sim.environment.PiecewiseLinear; got {type(chamber).__name__}"
+            )
         spec = self.spec
         dt = spec.thermal_step
-        slopes = np.diff(chamber.values) / np.diff(chamber.times) if len(chamber.times) > 1 else np.zeros(1)
+        slopes = (
+            np.diff(chamber.values) / np.diff(chamber.times)
+            if len(chamber.times) > 1
+            else np.zeros(1)
+        )
         spec.thermal.check_step(dt, float(np.max(np.abs(slopes))))
         dur = chamber.duration if duration is None else float(duration)
         if not (math.isfinite(dur) and dur > 0):
@@ -285,7 +313,9 @@ class FOGUnit:
             omega = np.asarray(true_rate(t), dtype=float).reshape(n)
         else:
             if not (isinstance(true_rate, Real) and math.isfinite(true_rate)):
-                raise ValueError(f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}")
+                raise ValueError(
+                    f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}"
+                )
             omega = np.full(n, float(true_rate))
         sf_err = omega * (spec.scale_factor_ratio(mean_coil, housing) - 1.0)
         parts = {
@@ -305,11 +335,17 @@ class FOGUnit:
             "thermal_drift": Channel(drift, rs, "coil non-reciprocity (Shupe + strain), total"),
             "shupe": Channel(parts["shupe"], rs, "Shupe term with dn/dT at T0"),
             "dndT_product": Channel(parts["dndT_product"], rs, "T x dT term from dn/dT(T)"),
-            "strain": Channel(parts["strain"], rs, "elasto-optic strain term (incl. its T x dT part)"),
-            "strain_product": Channel(parts["strain_product"], rs, "T x dT part of the strain term"),
+            "strain": Channel(
+                parts["strain"], rs, "elasto-optic strain term (incl. its T x dT part)"
+            ),
+            "strain_product": Channel(
+                parts["strain_product"], rs, "T x dT part of the strain term"
+            ),
             "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T)/SF0 - 1)"),
             "noise": Channel(noise, rs, "random noise and constant bias"),
-            "sensor_temperature": Channel(sensor_true, "K", f"noise-free temperature at the sensor ({loc})"),
+            "sensor_temperature": Channel(
+                sensor_true, "K", f"noise-free temperature at the sensor ({loc})"
+            ),
             "coil_mean_temperature": Channel(mean_coil, "K", "mean over the fibre layers"),
             "housing_temperature": Channel(housing, "K", "housing"),
             "chamber_temperature": Channel(chamber(t), "K", "chamber program"),
@@ -327,5 +363,6 @@ class FOGUnit:
             "scale_factor_s": spec.scale_factor,
             **(metadata or {}),
         }
-        return Recording(fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name)
-
+        return Recording(
+            fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name
+        )

@@ -146,15 +146,21 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
     def _check_params(self) -> None:
         s = self.spread
         if isinstance(s, bool) or not isinstance(s, Real) or not (math.isfinite(s) and s > 0):
-            raise ValueError(f"RBFNetwork.spread must be a finite number > 0 (input units); got {s!r}")
+            raise ValueError(
+                f"RBFNetwork.spread must be a finite number > 0 (input units); got {s!r}"
+            )
         g = self.goal
         if isinstance(g, bool) or not isinstance(g, Real) or not (math.isfinite(g) and g >= 0):
-            raise ValueError(f"RBFNetwork.goal must be a finite number >= 0 (target units^2); got {g!r}")
+            raise ValueError(
+                f"RBFNetwork.goal must be a finite number >= 0 (target units^2); got {g!r}"
+            )
         m = self.max_neurons
         if m is not None and (isinstance(m, bool) or not isinstance(m, Integral) or m < 1):
             raise ValueError(f"RBFNetwork.max_neurons must be None or an integer >= 1; got {m!r}")
         if self.normalize not in _NORMALIZE:
-            raise ValueError(f"RBFNetwork.normalize must be one of {_NORMALIZE}; got {self.normalize!r}")
+            raise ValueError(
+                f"RBFNetwork.normalize must be one of {_NORMALIZE}; got {self.normalize!r}"
+            )
 
     def _scale(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
         return (X - self.x_offset_) * self.x_gain_
@@ -273,7 +279,11 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
 
     # ----------------------------------------------------------------- predict
     def _forward(self, P: NDArray[np.float64]) -> NDArray[np.float64]:
-        a1 = _radbas(cdist(P, self.centers_) * self.b1_[None, :]) if self.n_neurons_ else np.zeros((len(P), 0))
+        a1 = (
+            _radbas(cdist(P, self.centers_) * self.b1_[None, :])
+            if self.n_neurons_
+            else np.zeros((len(P), 0))
+        )
         return a1 @ self.weights_.T + self.bias_[None, :]
 
     def predict(self, X: ArrayLike) -> NDArray[np.float64]:
@@ -336,9 +346,16 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
         """
         doc = json.loads(text)
         if not isinstance(doc, dict) or doc.get("format") != _JSON_FORMAT:
-            raise ValueError(f"RBF JSON must have format {_JSON_FORMAT!r}; got {doc.get('format') if isinstance(doc, dict) else doc!r}")
+            raise ValueError(
+                f"RBF JSON must have format {_JSON_FORMAT!r}; got {doc.get('format') if isinstance(doc, dict) else doc!r}"
+            )
         p = doc["params"]
-        net = cls(spread=p["spread"], goal=p["goal"], max_neurons=p["max_neurons"], normalize=p["normalize"])
+        net = cls(
+            spread=p["spread"],
+            goal=p["goal"],
+            max_neurons=p["max_neurons"],
+            normalize=p["normalize"],
+        )
         nf = int(doc["n_features"])
         iw = np.asarray(doc["IW"], dtype=float).reshape(-1, nf)
         k = iw.shape[0]
@@ -357,7 +374,9 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
         net.n_neurons_ = k
         net.n_features_in_ = nf
         net.mse_history_ = np.asarray(doc.get("mse_history", []), dtype=float)
-        net.selected_ = np.full(k, -1, dtype=int)  # training indices are not part of the deployment form
+        net.selected_ = np.full(
+            k, -1, dtype=int
+        )  # training indices are not part of the deployment form
         net._y_ndim = int(doc.get("y_ndim", 1))
         return net
 
@@ -404,7 +423,9 @@ def batch_compensate(
     out = np.asarray(output, dtype=float)
     T = np.asarray(temperature, dtype=float)
     if out.shape != T.shape or out.ndim != 1:
-        raise ValueError(f"output and temperature must be 1-D of equal length; got {out.shape} and {T.shape}")
+        raise ValueError(
+            f"output and temperature must be 1-D of equal length; got {out.shape} and {T.shape}"
+        )
     X = _drift_model_input(T, fs, window_s, product)
     return out - np.asarray(model.predict(X), dtype=float).reshape(-1)
 
@@ -479,7 +500,9 @@ class StreamingCompensator:
         out = np.atleast_1d(np.asarray(output, dtype=float))
         T = np.atleast_1d(np.asarray(temperature, dtype=float))
         if out.shape != T.shape or out.ndim != 1:
-            raise ValueError(f"output and temperature blocks must be 1-D of equal length; got {out.shape} and {T.shape}")
+            raise ValueError(
+                f"output and temperature blocks must be 1-D of equal length; got {out.shape} and {T.shape}"
+            )
         self._T = np.concatenate([self._T, T])
         self._out = np.concatenate([self._out, out])
         self._n += len(T)

@@ -111,7 +111,9 @@ def test_minmax_normalization_is_scale_invariant(rng):
     a = RBFNetwork(spread=0.7, normalize="minmax", max_neurons=15).fit(X, y)
     b = RBFNetwork(spread=0.7, normalize="minmax", max_neurons=15).fit(X * [1e3, 1e-4] + [5, -2], y)
     np.testing.assert_array_equal(a.selected_, b.selected_)
-    np.testing.assert_allclose(a.predict(X), b.predict(X * [1e3, 1e-4] + [5, -2]), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        a.predict(X), b.predict(X * [1e3, 1e-4] + [5, -2]), rtol=1e-9, atol=1e-12
+    )
 
 
 def test_json_round_trip_predicts_identically(rng):

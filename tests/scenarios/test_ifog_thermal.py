@@ -37,14 +37,21 @@ def test_registered():
 def test_small_run_results_layout(small_outcome):
     r = small_outcome.results
     assert set(r) >= {"txdt_max_deg_h", "validation_zero_rate", "validation_rotated", "windings"}
-    assert len(r["validation_zero_rate"]) == 2 and set(r["validation_zero_rate"][0]) == {"mse_raw", "mse_compensated"}
+    assert len(r["validation_zero_rate"]) == 2 and set(r["validation_zero_rate"][0]) == {
+        "mse_raw",
+        "mse_compensated",
+    }
     assert len(r["validation_rotated"]) == 2
     assert set(r["validation_rotated"][0]) == {"mse_raw", "mse_traditional", "mse_improved"}
     assert set(r["windings"]) == {"helical", "dipolar", "quadrupolar", "octupolar"}
     json.dumps(r)  # results.json must serialise
     assert all(isinstance(f.figure, Figure) for f in small_outcome.figures)
     assert [f.name for f in small_outcome.figures] == [
-        "fig2_point_heating", "fig6_estimated_drift", "fig7_validation1", "fig8_validation2"]
+        "fig2_point_heating",
+        "fig6_estimated_drift",
+        "fig7_validation1",
+        "fig8_validation2",
+    ]
     assert len(small_outcome.tables) == 5
     assert all(isinstance(h.holds, bool) for h in small_outcome.headlines[:3])
 
@@ -67,7 +74,15 @@ def test_point_heating_closed_form():
     T, shupe, prod, total = sc.point_heating(cfg)
     coil = cfg.coil_spec(defects=False)
     tdot = cfg.point_rate_degC_per_min / 60.0
-    exact = coil.index * cfg.dn_dT_slope_per_K2 * 40.0 * tdot * 10.0 * (1000.0 - 500.0) / (1000.0 * coil.diameter)
+    exact = (
+        coil.index
+        * cfg.dn_dT_slope_per_K2
+        * 40.0
+        * tdot
+        * 10.0
+        * (1000.0 - 500.0)
+        / (1000.0 * coil.diameter)
+    )
     assert units.deg_per_h(prod[-1]) == pytest.approx(exact, rel=1e-12)
     np.testing.assert_allclose(total, shupe + prod, rtol=1e-14)
     assert np.max(np.abs(prod)) > 0.2  # the paper's figure 2 statement
@@ -96,12 +111,14 @@ def test_simulate_is_deterministic():
     a = sc.simulate(replace(SMALL, validation1_runs=1, validation2_runs=1), 11)
     b = sc.simulate(replace(SMALL, validation1_runs=1, validation2_runs=1), 11)
     assert [r.name for r in a] == ["ident_1", "ident_2", "val1_run1", "val2_run1"]
-    for x, y in zip(a, b):
+    for x, y in zip(a, b, strict=True):
         np.testing.assert_array_equal(x["rate"], y["rate"])
 
 
 def test_bad_layer_count_for_winding():
-    with pytest.raises(ValueError, match=r"quadrupolar winding needs a layer count that is a multiple of 4"):
+    with pytest.raises(
+        ValueError, match=r"quadrupolar winding needs a layer count that is a multiple of 4"
+    ):
         sc.Config(layers=42)
 
 

@@ -62,7 +62,9 @@ def test_layers_tile_the_fibre_and_weights_sum_to_zero(pattern, groups, seed, rm
     w = Winding.with_defects(pattern, layers, 1000.0, rms=rms, rng=np.random.default_rng(seed))
     order = np.argsort(w.z0)
     np.testing.assert_allclose(w.z0[order][1:], w.z1[order][:-1], rtol=0, atol=1e-9)
-    assert w.z0[order][0] == pytest.approx(0.0, abs=1e-9) and w.z1[order][-1] == pytest.approx(1000.0, rel=1e-12)
+    assert w.z0[order][0] == pytest.approx(0.0, abs=1e-9) and w.z1[order][-1] == pytest.approx(
+        1000.0, rel=1e-12
+    )
     assert abs(w.weights.sum()) <= 1e-9 * 1000.0**2
 
 
@@ -74,7 +76,10 @@ def test_uniform_heating_gives_zero(pattern, rng):
     """A uniform Tdot (and a uniform constraint) gives no rate error for any winding, ideal or defective."""
     coil = CoilSpec(winding=pattern, constraint_cte_inner=7e-6, constraint_cte_outer=7e-6)
     T = np.full(40, units.celsius(35.0))
-    for w in (Winding.ideal(pattern, 40, 1000.0), Winding.with_defects(pattern, 40, 1000.0, rms=0.05, rng=rng)):
+    for w in (
+        Winding.ideal(pattern, 40, 1000.0),
+        Winding.with_defects(pattern, 40, 1000.0, rms=0.05, rng=rng),
+    ):
         t = shupe_terms(coil, w.weights, T, np.full(40, 1.0 / 60.0))
         scale = coil.shupe_coefficient * 1000.0**2 / 4 / 60.0  # the half-heated value
         for part in (t.shupe, t.dndT_product, t.strain, t.strain_product, t.total):
@@ -115,7 +120,12 @@ def _exact_linear_radial_sum(pattern: str, M: int) -> Fraction:
 
 @pytest.mark.parametrize(
     "pattern, printed, digits",
-    [("helical", -0.93, 0.005), ("dipolar", -0.035, 0.0005), ("quadrupolar", 0.0017, 0.00005), ("octupolar", 0.0, 1e-15)],
+    [
+        ("helical", -0.93, 0.005),
+        ("dipolar", -0.035, 0.0005),
+        ("quadrupolar", 0.0017, 0.00005),
+        ("octupolar", 0.0, 1e-15),
+    ],
 )
 def test_linear_radial_tdot_gives_physics_3_2_table(pattern, printed, digits):
     """0.01 K/min outer-inner Tdot difference, linear in radius, M = 40: exact sum and the printed table."""
@@ -125,7 +135,9 @@ def test_linear_radial_tdot_gives_physics_3_2_table(pattern, printed, digits):
     tdot = d * np.arange(40) / 39.0
     got = shupe_terms(coil, w.weights, np.full(40, T0), tdot, constraint_cte=FREE).shupe
     exact = coil.shupe_coefficient * 25.0**2 * d * float(_exact_linear_radial_sum(pattern, 40))
-    assert got == pytest.approx(exact, rel=1e-12, abs=1e-14 * abs(coil.shupe_coefficient * 625 * d * 10660 / 39))
+    assert got == pytest.approx(
+        exact, rel=1e-12, abs=1e-14 * abs(coil.shupe_coefficient * 625 * d * 10660 / 39)
+    )
     assert units.to_deg_per_h(got) == pytest.approx(printed, abs=digits)
 
 
@@ -133,7 +145,9 @@ def test_ratios_relative_to_helical():
     """PHYSICS.md 3.3: dipole 1/27 of helical, quadrupole ~1/500, octupole exactly 0 for a linear profile."""
     h = float(_exact_linear_radial_sum("helical", 40))
     assert float(_exact_linear_radial_sum("dipolar", 40)) / h == pytest.approx(1 / 26.65, rel=0.01)
-    assert abs(h / float(_exact_linear_radial_sum("quadrupolar", 40))) == pytest.approx(533.0, rel=0.01)
+    assert abs(h / float(_exact_linear_radial_sum("quadrupolar", 40))) == pytest.approx(
+        533.0, rel=0.01
+    )
     assert _exact_linear_radial_sum("octupolar", 40) == 0
 
 
@@ -145,7 +159,9 @@ def test_product_term_closed_form():
     t = shupe_terms(coil, w, np.array([T]), np.array([tdot]), constraint_cte=np.zeros(1))
     pre = coil.index / (coil.length * coil.diameter)
     assert t.dndT_product == pytest.approx(pre * coil.dn_dT_slope * 40.0 * tdot * 5000.0, rel=1e-12)
-    assert t.shupe == pytest.approx(pre * (coil.dn_dT + coil.index * coil.fibre_cte) * tdot * 5000.0, rel=1e-12)
+    assert t.shupe == pytest.approx(
+        pre * (coil.dn_dT + coil.index * coil.fibre_cte) * tdot * 5000.0, rel=1e-12
+    )
 
 
 def test_strain_term_closed_form():
@@ -156,8 +172,12 @@ def test_strain_term_closed_form():
     t = shupe_terms(coil, w, np.array([T]), np.array([tdot]), constraint_cte=np.array([ac]))
     pre = coil.index / (coil.length * coil.diameter)
     nxi = coil.index * coil.xi
-    assert t.strain == pytest.approx(pre * nxi * (ac * (1 - 0.2) - coil.fibre_cte) * tdot * w[0], rel=1e-12)
-    assert t.strain_product == pytest.approx(pre * nxi * ac * 0.02 * (-10.0) * tdot * w[0], rel=1e-12)
+    assert t.strain == pytest.approx(
+        pre * nxi * (ac * (1 - 0.2) - coil.fibre_cte) * tdot * w[0], rel=1e-12
+    )
+    assert t.strain_product == pytest.approx(
+        pre * nxi * ac * 0.02 * (-10.0) * tdot * w[0], rel=1e-12
+    )
 
 
 def test_elasto_optic_factor_is_0_78():
@@ -169,7 +189,11 @@ def test_elasto_optic_factor_is_0_78():
 
 def _slab_analytic(x, t, h, a, terms=400):
     k = 2 * np.arange(terms) + 1
-    s = (4 / (np.pi * k))[None, :] * np.sin(np.pi * k[None, :] * x[:, None] / h) * np.exp(-(k**2) * np.pi**2 * a * t / h**2)
+    s = (
+        (4 / (np.pi * k))[None, :]
+        * np.sin(np.pi * k[None, :] * x[:, None] / h)
+        * np.exp(-(k**2) * np.pi**2 * a * t / h**2)
+    )
     return 1.0 - s.sum(axis=1)
 
 
@@ -228,12 +252,16 @@ def test_zero_layers_is_an_error():
 
 
 def test_quadrupolar_needs_multiple_of_four_layers():
-    with pytest.raises(ValueError, match=r"quadrupolar winding needs a layer count that is a multiple of 4.*got 42"):
+    with pytest.raises(
+        ValueError, match=r"quadrupolar winding needs a layer count that is a multiple of 4.*got 42"
+    ):
         CoilSpec(layers=42, winding="quadrupolar")
 
 
 def test_octupolar_needs_multiple_of_eight_layers():
-    with pytest.raises(ValueError, match=r"octupolar winding needs a layer count that is a multiple of 8.*got 36"):
+    with pytest.raises(
+        ValueError, match=r"octupolar winding needs a layer count that is a multiple of 8.*got 36"
+    ):
         Winding.ideal("octupolar", 36, 1000.0)
 
 
@@ -243,7 +271,9 @@ def test_unknown_winding_is_an_error():
 
 
 def test_unresolvable_chamber_rate_is_an_error():
-    with pytest.raises(ValueError, match=r"chamber rate 60 K/min changes the temperature by 5 K per diffusion step"):
+    with pytest.raises(
+        ValueError, match=r"chamber rate 60 K/min changes the temperature by 5 K per diffusion step"
+    ):
         CoilThermalModel().check_step(5.0, 1.0)
 
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import zlib
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -25,12 +24,16 @@ def rng(request) -> np.random.Generator:
 
 def _profile(rate_K_min=1.0):
     C = units.celsius
-    return thermal_profile(C(-10.0), [Soak(duration=600.0), Ramp(target=C(40.0), rate=rate_K_min / 60.0),
-                                      Soak(duration=1200.0)])
+    return thermal_profile(
+        C(-10.0),
+        [Soak(duration=600.0), Ramp(target=C(40.0), rate=rate_K_min / 60.0), Soak(duration=1200.0)],
+    )
 
 
 def _quiet_spec(**kw) -> FOGSpec:
-    return FOGSpec(noise=NoiseModel(), sensor=TemperatureSensorSpec(noise=0.0, resolution=0.0), **kw)
+    return FOGSpec(
+        noise=NoiseModel(), sensor=TemperatureSensorSpec(noise=0.0, resolution=0.0), **kw
+    )
 
 
 def test_sagnac_scale_factor_closed_form():
@@ -54,13 +57,23 @@ def test_noise_free_output_is_sum_of_truth_parts(rng):
     unit = spec.realize(rng=rng)
     a = units.deg_per_h(180.0)
     rec = unit.simulate(_profile(), fs=0.5, rng=rng, true_rate=a)
-    parts = rec["truth/rate"] + rec["truth/scale_factor_error"] + rec["truth/thermal_drift"] + rec["truth/noise"]
+    parts = (
+        rec["truth/rate"]
+        + rec["truth/scale_factor_error"]
+        + rec["truth/thermal_drift"]
+        + rec["truth/noise"]
+    )
     np.testing.assert_allclose(rec["rate"], parts, rtol=1e-14, atol=1e-18)
     np.testing.assert_array_equal(rec["truth/noise"], 0.0)
     np.testing.assert_array_equal(rec["coil_temperature"], rec["truth/sensor_temperature"])
     drift = rec["truth/shupe"] + rec["truth/dndT_product"] + rec["truth/strain"]
     np.testing.assert_allclose(rec["truth/thermal_drift"], drift, rtol=1e-14, atol=1e-20)
-    sf = spec.scale_factor_ratio(rec["truth/coil_mean_temperature"], rec["truth/housing_temperature"]) - 1.0
+    sf = (
+        spec.scale_factor_ratio(
+            rec["truth/coil_mean_temperature"], rec["truth/housing_temperature"]
+        )
+        - 1.0
+    )
     np.testing.assert_allclose(rec["truth/scale_factor_error"], a * sf, rtol=1e-12, atol=1e-20)
 
 
@@ -72,7 +85,9 @@ def test_drift_comes_from_the_thermal_grid():
     direct = shupe_terms(spec.coil, unit.winding.weights, x[:, 2:], xdot[:, 2:])
     np.testing.assert_array_equal(terms.total, direct.total)
     rec = unit.simulate(_profile(), fs=0.1, rng=np.random.default_rng(0))
-    np.testing.assert_allclose(rec["truth/thermal_drift"], np.interp(rec.time, t, terms.total), rtol=1e-12, atol=1e-20)
+    np.testing.assert_allclose(
+        rec["truth/thermal_drift"], np.interp(rec.time, t, terms.total), rtol=1e-12, atol=1e-20
+    )
 
 
 def test_constant_temperature_gives_no_drift(rng):
@@ -121,8 +136,12 @@ def test_sensor_noise_std(rng):
 
 def test_same_seed_same_recording():
     spec = FOGSpec(thermal=CoilThermalModel(coil=CoilSpec(winding_defect_rms=0.01)))
-    a = spec.realize(rng=np.random.default_rng(3)).simulate(_profile(), fs=0.2, rng=np.random.default_rng(4))
-    b = spec.realize(rng=np.random.default_rng(3)).simulate(_profile(), fs=0.2, rng=np.random.default_rng(4))
+    a = spec.realize(rng=np.random.default_rng(3)).simulate(
+        _profile(), fs=0.2, rng=np.random.default_rng(4)
+    )
+    b = spec.realize(rng=np.random.default_rng(3)).simulate(
+        _profile(), fs=0.2, rng=np.random.default_rng(4)
+    )
     np.testing.assert_array_equal(a["rate"], b["rate"])
     np.testing.assert_array_equal(a["coil_temperature"], b["coil_temperature"])
 
@@ -130,7 +149,9 @@ def test_same_seed_same_recording():
 def test_recording_layout(rng):
     rec = FOGSpec().realize(rng=rng).simulate(_profile(), fs=1.0, rng=rng, name="r1")
     assert set(rec.channels) == {"rate", "coil_temperature"}
-    assert {"rate", "thermal_drift", "shupe", "strain", "noise", "chamber_temperature"} <= set(rec.truth)
+    assert {"rate", "thermal_drift", "shupe", "strain", "noise", "chamber_temperature"} <= set(
+        rec.truth
+    )
     assert rec.n_samples == int(_profile().duration)
     assert rec.name == "r1" and rec.fs == 1.0
 
@@ -140,12 +161,17 @@ def test_recording_layout(rng):
 
 def test_profile_with_a_gap_is_an_error():
     with pytest.raises(ValueError, match=r"a gap in the profile"):
-        PiecewiseLinear.from_segments([(0.0, 100.0, 263.15, 263.15), (200.0, 300.0, 263.15, 313.15)])
+        PiecewiseLinear.from_segments(
+            [(0.0, 100.0, 263.15, 263.15), (200.0, 300.0, 263.15, 313.15)]
+        )
 
 
 def test_unresolvable_chamber_rate_is_an_error(rng):
     unit = FOGSpec().realize(rng=rng)
-    with pytest.raises(ValueError, match=r"chamber rate 30 K/min changes the temperature by 2.5 K per diffusion step"):
+    with pytest.raises(
+        ValueError,
+        match=r"chamber rate 30 K/min changes the temperature by 2.5 K per diffusion step",
+    ):
         unit.simulate(_profile(30.0), fs=1.0, rng=rng)
 
 
@@ -166,7 +192,9 @@ def test_bad_fs(rng):
 
 def test_crank_nicolson_and_implicit_agree_on_slow_ramps():
     """A 0.5 K/min ramp is slow against both schemes' errors: the drifts agree to 2 %."""
-    a = FOGUnit(spec=_quiet_spec(thermal_step=2.0), winding=Winding.ideal("quadrupolar", 40, 1000.0))
+    a = FOGUnit(
+        spec=_quiet_spec(thermal_step=2.0), winding=Winding.ideal("quadrupolar", 40, 1000.0)
+    )
     b = FOGUnit(spec=_quiet_spec(thermal_step=2.0, scheme="crank-nicolson"), winding=a.winding)
     da = a.thermal_response(_profile(0.5))[3].total
     db = b.thermal_response(_profile(0.5))[3].total

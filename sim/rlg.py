@@ -857,8 +857,8 @@ class RLGSpec:
     Defaults describe a high-precision mechanically dithered He-Ne RLG: triangle of
     side 0.14 m (pulse weight 1.61 arcsec), lock-in 0.05 deg/s, dither 400 Hz x 150
     arcsec (Omega_D ~ 105 deg/s) -> N ~ 0.002 deg/sqrt(h); flicker B 0.002 deg/h.
-    Thermal-bias sizes (cavity 8e-4 deg/h/K and 4e-6 deg/h/K^2, gradient 6.5e-3
-    deg/h/K, flux 0.1 deg/h per K/min and 0.2 deg/h per (K/min)^2, gas coefficient
+    Thermal-bias sizes (cavity 7.5e-4 deg/h/K and 4e-6 deg/h/K^2, gradient 6e-3
+    deg/h/K, flux 0.095 deg/h per K/min and 0.19 deg/h per (K/min)^2, gas coefficient
     0.005/K) are not published; they are tuned so that over a -40..+65 degC chamber
     cycle at 1 degC/3 min the raw 100-s bias stability (~0.06 deg/h) is about 4x the
     noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
@@ -866,28 +866,28 @@ class RLGSpec:
     is ~1/3 of the raw one as PHYSICS.md 6.4 asks. Turn-on repeatability of the
     gas-flow coefficients, 20 % (unverified), makes a model fitted on one turn-on
     worse on the next, as paper 004's adjusted R^2 0.97 beside a 65 % improvement
-    suggests. Spreads: lock-in 20 % (units are screened at acceptance), mechanisms
-    20 %, thermal constants 10 %.
+    suggests. Spreads (one production batch, screened at acceptance): lock-in 10 %,
+    mechanisms 15 %, thermal constants 10 %.
     """
 
     geometry: CavityGeometry = field(default_factory=lambda: CavityGeometry.triangle(0.14))
     lock_in_rate: float = units.deg_per_s(0.05)
-    lock_in_spread: float = 0.2
+    lock_in_spread: float = 0.1
     dither: Dither = field(default_factory=lambda: Dither(frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1))
     bias_spread: float = units.deg_per_h(0.5)
     thermal: TwoNodeThermal = field(default_factory=TwoNodeThermal)
     thermal_spread: float = 0.1
     thermal_bias: ThermalBias = field(
         default_factory=lambda: ThermalBias(
-            cavity=units.deg_per_h(8e-4),
+            cavity=units.deg_per_h(7.5e-4),
             cavity_quadratic=units.deg_per_h(4e-6),
-            gradient=units.deg_per_h(6.5e-3),
-            flux=units.deg_per_h(0.1) * units.MINUTE,
-            flux_quadratic=units.deg_per_h(0.2) * units.MINUTE**2,
+            gradient=units.deg_per_h(6e-3),
+            flux=units.deg_per_h(0.095) * units.MINUTE,
+            flux_quadratic=units.deg_per_h(0.19) * units.MINUTE**2,
             gas_temperature_coefficient=0.005,
         )
     )
-    mechanism_spread: float = 0.2
+    mechanism_spread: float = 0.15
     bias_instability: float = units.deg_per_h(0.002)
     rate_random_walk: float = 0.0
     bias_repeatability: float = units.deg_per_h(0.01)

@@ -15,7 +15,8 @@ worker count is run ``--repeats`` times and the best (least disturbed) is kept.
 Run::
 
     python benchmarks/bench_campaign.py [--scenario ifog_thermal] [--seeds 16] [--workers 1,2]
-    python benchmarks/bench_campaign.py --scenario tests.scenarios.toy_scenario --toy-work 40 --seeds 200
+    python benchmarks/bench_campaign.py --scenario tests.scenarios.toy_scenario \\
+        --toy-work 40 --seeds 200
 
 ``--toy-work N`` (toy scenario only) adds N dense 120x120 SVDs per seed: a
 sleep-free CPU load standing in for a scenario's simulation.
@@ -43,7 +44,9 @@ COMPENSATOR = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
 
 def measure(scenario, config, seeds: range, workers: int, db: Path) -> tuple[float, bench.Campaign]:
     t0 = time.perf_counter()
-    camp = bench.run_campaign(scenario, COMPENSATOR, seeds, config=config, workers=workers, db=db, progress=False)
+    camp = bench.run_campaign(
+        scenario, COMPENSATOR, seeds, config=config, workers=workers, db=db, progress=False
+    )
     return time.perf_counter() - t0, camp
 
 
@@ -52,8 +55,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--scenario", default="ifog_thermal")
     p.add_argument("--seeds", type=int, default=16, help="seeds per measurement (default 16)")
     p.add_argument("--workers", default="1,2", help="comma list of worker counts (default 1,2)")
-    p.add_argument("--repeats", type=int, default=2, help="runs per worker count; the fastest is kept")
-    p.add_argument("--toy-work", type=int, default=None, help="toy scenario: SVDs per seed (CPU load)")
+    p.add_argument(
+        "--repeats", type=int, default=2, help="runs per worker count; the fastest is kept"
+    )
+    p.add_argument(
+        "--toy-work", type=int, default=None, help="toy scenario: SVDs per seed (CPU load)"
+    )
     args = p.parse_args(argv)
 
     module = bench.resolve_scenario(args.scenario)
@@ -78,8 +85,13 @@ def main(argv: list[str] | None = None) -> int:
                 if reference is None:
                     reference = camp.scores
                 elif camp.scores != reference:
-                    raise SystemExit(f"scores on {w} workers differ from the first run: not deterministic")
-                print(f"  workers {w} run {r + 1}: {dt:8.2f} s  {60 * args.seeds / dt:8.1f} seeds/min  (load {load:.2f})")
+                    raise SystemExit(
+                        f"scores on {w} workers differ from the first run: not deterministic"
+                    )
+                print(
+                    f"  workers {w} run {r + 1}: {dt:8.2f} s  "
+                    f"{60 * args.seeds / dt:8.1f} seeds/min  (load {load:.2f})"
+                )
                 best = dt if best is None else min(best, dt)
             results[w] = best
     base = results[counts[0]]
@@ -87,8 +99,10 @@ def main(argv: list[str] | None = None) -> int:
     for w in counts:
         print(f"{w:7d}  {60 * args.seeds / results[w]:9.1f}  {base / results[w]:8.2f}x")
     summary = next(iter(camp.summary().values()))
-    print(f"\n(scores identical across worker counts; e.g. {summary.name} = {summary.mean:.6g} "
-          f"[{summary.low:.6g}, {summary.high:.6g}])")
+    print(
+        f"\n(scores identical across worker counts; e.g. {summary.name} = {summary.mean:.6g} "
+        f"[{summary.low:.6g}, {summary.high:.6g}])"
+    )
     return 0
 
 

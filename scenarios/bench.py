@@ -43,8 +43,9 @@ identified by a hash of the scenario (its configuration; the source of its
 module and of every module it imports, transitively, from its own package and
 from sim, analysis and scenarios; the gyrobench, numpy, scipy and scikit-learn
 versions) and of the compensator (its class or function and parameters; the
-source of the module defining it, with the same import closure for user code). Running the same campaign again reads the seeds
-already in the database and computes only the others, so a campaign killed at any
+source of the module defining it, with the same import closure for user code).
+Running the same campaign again reads the seeds already in the database and
+computes only the others, so a campaign killed at any
 moment (even SIGKILL) resumes where it stopped; changing the code or the
 configuration starts a new campaign rather than mixing results.
 
@@ -111,10 +112,8 @@ BASELINE_VERSION = 1
 # ----------------------------------------------------------------------------- score directions
 #: Tokens of a score name (last path component split at "_") meaning "lower is better".
 LOWER_IS_BETTER_TOKENS = frozenset(
-    {
-        "mse", "rms", "rmse", "mae", "error", "err", "residual", "stability", "instability",
-        "nonlinearity", "asymmetry", "drift", "std", "adev", "avar", "bias", "max", "peak",
-    }
+    {"mse", "rms", "rmse", "mae", "error", "err", "residual", "stability", "instability"}
+    | {"nonlinearity", "asymmetry", "drift", "std", "adev", "avar", "bias", "max", "peak"}
 )
 #: Tokens meaning "higher is better"; they win over the lower-is-better tokens
 #: ("mse_reduction_pct" is higher-is-better).
@@ -163,7 +162,10 @@ def parse_seeds(text: str) -> tuple[int, ...]:
     if not isinstance(text, str):
         raise TypeError(f"seeds must be a string like '0:100' or '1,5,9'; got {text!r}")
     s = text.strip()
-    usage = f"seeds must be 'START:STOP' (half-open range), 'START:STOP:STEP' or a comma list like '1,5,9' of integers >= 0; got {text!r}"
+    usage = (
+        "seeds must be 'START:STOP' (half-open range), 'START:STOP:STEP' or a comma list "
+        f"like '1,5,9' of integers >= 0; got {text!r}"
+    )
     try:
         if ":" in s:
             parts = [int(p) for p in s.split(":")]
@@ -213,8 +215,8 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
         if scenario in registry.SCENARIOS or "." not in scenario:
             if scenario not in registry.available():
                 raise ValueError(
-                    f"scenario must be one of the scenarios with a compensation stage {_bench_scenarios()} "
-                    f"or an importable module path; got {scenario!r}"
+                    "scenario must be one of the scenarios with a compensation stage "
+                    f"{_bench_scenarios()} or an importable module path; got {scenario!r}"
                 )
             module = registry.get(scenario)
         else:
@@ -222,11 +224,13 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
                 module = importlib.import_module(scenario)
             except ModuleNotFoundError as exc:
                 raise ValueError(
-                    f"scenario must be a registered name {registry.available()} or an importable module; "
-                    f"got {scenario!r} ({exc})"
+                    f"scenario must be a registered name {registry.available()} or an importable "
+                    f"module; got {scenario!r} ({exc})"
                 ) from None
     else:
-        raise TypeError(f"scenario must be a name or a module; got {type(scenario).__name__} {scenario!r}")
+        raise TypeError(
+            f"scenario must be a name or a module; got {type(scenario).__name__} {scenario!r}"
+        )
     if not callable(getattr(module, "compensation_task", None)):
         raise ValueError(
             f"scenario {getattr(module, 'NAME', module.__name__)!r} has no compensation stage "
@@ -236,7 +240,7 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
 
 
 def _bench_scenarios() -> list[str]:
-    """Registered scenarios that define ``compensation_task`` (read from the source, not imported)."""
+    """Registered scenarios defining ``compensation_task`` (read from the source, not imported)."""
     import re
 
     from scenarios import registry
@@ -260,12 +264,16 @@ def _import_attr(spec: str) -> Any:
     try:
         obj: Any = importlib.import_module(mod_name)
     except ModuleNotFoundError as exc:
-        raise ValueError(f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})") from None
+        raise ValueError(
+            f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})"
+        ) from None
     for part in attr.split("."):
         try:
             obj = getattr(obj, part)
         except AttributeError:
-            raise ValueError(f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}") from None
+            raise ValueError(
+                f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}"
+            ) from None
     return obj
 
 
@@ -314,7 +322,11 @@ def _fit(compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed:
 
             est = clone(compensator)
             params = est.get_params(deep=True)
-            seeded = {k: rs for k, v in params.items() if (k == "random_state" or k.endswith("__random_state")) and v is None}
+            seeded = {
+                k: rs
+                for k, v in params.items()
+                if (k == "random_state" or k.endswith("__random_state")) and v is None
+            }
             if seeded:
                 est.set_params(**seeded)
         else:
@@ -334,13 +346,16 @@ def _fit(compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed:
     if callable(predictor):
         return predictor
     raise TypeError(
-        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return a callable "
+        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return a callable"
+        " "
         f"predict(X) or an object with .predict(X); got {type(predictor).__name__}"
     )
 
 
 # ----------------------------------------------------------------------------- one seed
-def score_seed(scenario: str | types.ModuleType, compensator: Any, seed: int, config: Any = None) -> dict[str, float]:
+def score_seed(
+    scenario: str | types.ModuleType, compensator: Any, seed: int, config: Any = None
+) -> dict[str, float]:
     """Fit ``compensator`` on the scenario's training run for ``seed`` and score every held-out run.
 
     Parameters
@@ -376,7 +391,8 @@ def score_seed(scenario: str | types.ModuleType, compensator: Any, seed: int, co
             pred = np.asarray(predict(run.X), dtype=float)
             if pred.size != len(run.output):
                 raise ValueError(
-                    f"compensator prediction on run {run.label!r} must have {len(run.output)} values; got shape {pred.shape}"
+                    f"compensator prediction on run {run.label!r} must have {len(run.output)} "
+                    f"values; got shape {pred.shape}"
                 )
             compensated = task.compensate(pred, run)
             for k, v in task.scorer(compensated, run).items():
@@ -388,7 +404,9 @@ def score_seed(scenario: str | types.ModuleType, compensator: Any, seed: int, co
     return dict(sorted(scores.items()))
 
 
-def _score_job(module_name: str, compensator: Any, seed: int, config: Any) -> tuple[int, dict[str, float], float]:
+def _score_job(
+    module_name: str, compensator: Any, seed: int, config: Any
+) -> tuple[int, dict[str, float], float]:
     """Worker entry point (module level so it pickles by reference)."""
     t0 = time.perf_counter()
     scores = score_seed(importlib.import_module(module_name), compensator, seed, config)
@@ -466,7 +484,11 @@ def _imports(path: str, name: str, is_pkg: bool) -> set[str]:
             out.update(a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):
             try:
-                base = importlib.util.resolve_name("." * node.level + (node.module or ""), package) if node.level else node.module
+                base = (
+                    importlib.util.resolve_name("." * node.level + (node.module or ""), package)
+                    if node.level
+                    else node.module
+                )
             except (ImportError, ValueError):
                 continue
             if not base:
@@ -518,7 +540,10 @@ def _versions() -> str:
 
     from sim.recording import package_version
 
-    return f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} sklearn {sklearn.__version__}"
+    return (
+        f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} "
+        f"sklearn {sklearn.__version__}"
+    )
 
 
 def _canonical(obj: Any, depth: int = 0) -> Any:
@@ -532,23 +557,43 @@ def _canonical(obj: Any, depth: int = 0) -> Any:
     if isinstance(obj, np.generic):
         return _canonical(obj.item(), depth + 1)
     if isinstance(obj, np.ndarray):
-        return {"ndarray": list(obj.shape), "dtype": str(obj.dtype), "sha": hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()[:16]}
+        return {
+            "ndarray": list(obj.shape),
+            "dtype": str(obj.dtype),
+            "sha": hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()[:16],
+        }
     if isinstance(obj, (list, tuple)):
         return [_canonical(o, depth + 1) for o in obj]
     if isinstance(obj, dict):
-        return {str(k): _canonical(v, depth + 1) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
+        return {
+            str(k): _canonical(v, depth + 1)
+            for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))
+        }
     if isinstance(obj, type) or inspect.isroutine(obj):
         mod = getattr(obj, "__module__", None)
-        return {"object": f"{mod}:{getattr(obj, '__qualname__', repr(obj))}", "source": _module_hash(mod)}
+        return {
+            "object": f"{mod}:{getattr(obj, '__qualname__', repr(obj))}",
+            "source": _module_hash(mod),
+        }
     if isinstance(obj, functools.partial):
-        return {"partial": _canonical(obj.func, depth + 1), "args": _canonical(obj.args, depth + 1),
-                "kwargs": _canonical(obj.keywords, depth + 1)}
+        return {
+            "partial": _canonical(obj.func, depth + 1),
+            "args": _canonical(obj.args, depth + 1),
+            "kwargs": _canonical(obj.keywords, depth + 1),
+        }
     if hasattr(obj, "get_params"):
         cls = type(obj)
-        return {"class": _canonical(cls, depth + 1), "params": _canonical(obj.get_params(deep=False), depth + 1)}
+        return {
+            "class": _canonical(cls, depth + 1),
+            "params": _canonical(obj.get_params(deep=False), depth + 1),
+        }
     if dataclasses.is_dataclass(obj):
-        return {"dataclass": _canonical(type(obj), depth + 1),
-                "fields": {f.name: _canonical(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)}}
+        return {
+            "dataclass": _canonical(type(obj), depth + 1),
+            "fields": {
+                f.name: _canonical(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)
+            },
+        }
     text = repr(obj)
     if " at 0x" in text:  # default object repr: the address changes every run
         return {"object": _canonical(type(obj), depth + 1)}
@@ -557,7 +602,9 @@ def _canonical(obj: Any, depth: int = 0) -> Any:
 
 def compensator_identity(compensator: Any) -> str:
     """A stable JSON description of a compensator (class or function, parameters, source hash)."""
-    return json.dumps(_canonical(resolve_compensator(compensator)), sort_keys=True, separators=(",", ":"))
+    return json.dumps(
+        _canonical(resolve_compensator(compensator)), sort_keys=True, separators=(",", ":")
+    )
 
 
 def _compensator_label(comp: Any, given: Any) -> str:
@@ -570,7 +617,7 @@ def _compensator_label(comp: Any, given: Any) -> str:
 
 
 def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any = None) -> str:
-    """Hash of scenario (module, config, code fingerprint) and compensator identity (16 hex digits)."""
+    """Hash of scenario (config, source closure, versions) and compensator (16 hex digits)."""
     module = resolve_scenario(scenario)
     if config is None:
         config = module.Config()
@@ -604,7 +651,9 @@ def _summary(name: str, values: NDArray[np.float64], level: float = 0.95) -> Sco
     v = values[np.isfinite(values)]
     n = int(v.size)
     if n == 0:
-        return ScoreSummary(name=name, mean=math.nan, low=math.nan, high=math.nan, std=math.nan, n=0)
+        return ScoreSummary(
+            name=name, mean=math.nan, low=math.nan, high=math.nan, std=math.nan, n=0
+        )
     mean = float(np.mean(v))
     if n < 2:
         return ScoreSummary(name=name, mean=mean, low=math.nan, high=math.nan, std=math.nan, n=1)
@@ -671,9 +720,14 @@ def format_summary(campaign: Campaign) -> str:
         ci = "n/a" if math.isnan(s.low) else f"[{s.low:.6g}, {s.high:.6g}]"
         rows.append((s.name, f"{s.mean:.6g}", ci, str(s.n)))
     w = [max(len(r[i]) for r in rows) for i in range(4)]
-    head = (f"campaign {campaign.campaign_id}: scenario {campaign.scenario}, compensator {campaign.compensator}; "
-            f"{len(campaign.scores)} seeds ({campaign.computed} computed, {campaign.reused} from the database)")
-    lines = [head] + ["  ".join(c.ljust(w[i]) if i == 0 else c.rjust(w[i]) for i, c in enumerate(r)) for r in rows]
+    head = (
+        f"campaign {campaign.campaign_id}: scenario {campaign.scenario}, "
+        f"compensator {campaign.compensator}; {len(campaign.scores)} seeds "
+        f"({campaign.computed} computed, {campaign.reused} from the database)"
+    )
+    lines = [head] + [
+        "  ".join(c.ljust(w[i]) if i == 0 else c.rjust(w[i]) for i, c in enumerate(r)) for r in rows
+    ]
     return "\n".join(lines)
 
 
@@ -728,7 +782,9 @@ def _connect(path: str | os.PathLike) -> sqlite3.Connection:
 
 def _dumps_scores(scores: Mapping[str, float]) -> str:
     # JSON floats round-trip exactly (repr); NaN/inf as strings so the text stays valid JSON
-    return json.dumps({k: (v if math.isfinite(v) else repr(v)) for k, v in scores.items()}, sort_keys=True)
+    return json.dumps(
+        {k: (v if math.isfinite(v) else repr(v)) for k, v in scores.items()}, sort_keys=True
+    )
 
 
 def _loads_scores(text: str) -> dict[str, float]:
@@ -795,10 +851,14 @@ def run_campaign(
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else _check_seeds(seeds)
     if config is None:
         config = module.Config()
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
+    ):
         raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
     if executor is not None and not isinstance(executor, cf.Executor):
-        raise TypeError(f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}")
+        raise TypeError(
+            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
+        )
     if executor is not None and workers is not None:
         raise ValueError("give either executor or workers, not both")
     cid = campaign_id(module, comp, config)
@@ -814,11 +874,14 @@ def run_campaign(
         )
         done: dict[int, dict[str, float]] = {}
         wanted = set(seeds)
-        for seed, text in conn.execute("SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (cid,)):
+        for seed, text in conn.execute(
+            "SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (cid,)
+        ):
             if seed in wanted:
                 done[seed] = _loads_scores(text)
         cur = conn.execute(
-            "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) VALUES (?, ?, ?, ?, ?)",
+            "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) "
+            "VALUES (?, ?, ?, ?, ?)",
             (cid, time.time(), len(seeds), len(done), os.getpid()),
         )
         session = cur.lastrowid
@@ -842,31 +905,50 @@ def run_campaign(
         if todo:
             from tqdm import tqdm
 
-            bar = tqdm(total=len(seeds), initial=reused, disable=not progress, desc=f"{scen_name} seeds",
-                       unit="seed", dynamic_ncols=True)
+            bar = tqdm(
+                total=len(seeds),
+                initial=reused,
+                disable=not progress,
+                desc=f"{scen_name} seeds",
+                unit="seed",
+                dynamic_ncols=True,
+            )
             try:
                 if executor is None and workers == 0:
                     for seed in todo:
                         try:
                             result = _score_job(module.__name__, comp, seed, config)
                         except Exception as exc:
-                            _note(exc, f"while scoring seed {seed} of {scen_name} (finished seeds are kept in {str(db)!r})")
+                            _note(
+                                exc,
+                                f"while scoring seed {seed} of {scen_name} "
+                                f"(finished seeds are kept in {str(db)!r})",
+                            )
                             raise
                         record(*result)
                         bar.update(1)
                 else:
                     _check_picklable(comp, config)
                     own = executor is None
-                    ex = cf.ProcessPoolExecutor(max_workers=workers or _default_workers()) if own else executor
+                    ex = (
+                        cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
+                        if own
+                        else executor
+                    )
                     futures: dict[cf.Future, int] = {}
                     try:
-                        futures = {ex.submit(_score_job, module.__name__, comp, s, config): s for s in todo}
+                        futures = {
+                            ex.submit(_score_job, module.__name__, comp, s, config): s for s in todo
+                        }
                         for fut in cf.as_completed(futures):
                             try:
                                 result = fut.result()
                             except Exception as exc:
-                                _note(exc, f"while scoring seed {futures[fut]} of {scen_name} "
-                                             f"(finished seeds are kept in {str(db)!r})")
+                                _note(
+                                    exc,
+                                    f"while scoring seed {futures[fut]} of {scen_name} "
+                                    f"(finished seeds are kept in {str(db)!r})",
+                                )
                                 raise
                             record(*result)
                             bar.update(1)
@@ -878,8 +960,14 @@ def run_campaign(
             finally:
                 bar.close()
         return Campaign(
-            campaign_id=cid, scenario=scen_name, compensator=label, config=repr(config),
-            scores={s: done[s] for s in seeds}, computed=len(todo), reused=reused, db=str(db),
+            campaign_id=cid,
+            scenario=scen_name,
+            compensator=label,
+            config=repr(config),
+            scores={s: done[s] for s in seeds},
+            computed=len(todo),
+            reused=reused,
+            db=str(db),
         )
     finally:
         conn.close()
@@ -896,7 +984,8 @@ def _check_picklable(comp: Any, config: Any) -> None:
             pickle.dumps(obj)
         except Exception as exc:  # noqa: BLE001 - pickling raises many kinds
             raise TypeError(
-                f"{what} must pickle to run in worker processes (use a module-level function or class, "
+                f"{what} must pickle to run in worker processes (use a module-level function "
+                "or class, "
                 f"not a lambda or closure, or workers=0); got {obj!r}: {exc}"
             ) from None
 
@@ -918,9 +1007,14 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
         "compensator": campaign.compensator,
         "config": campaign.config,
         "seeds": list(campaign.seeds),
-        "scores": {str(s): {k: (v if math.isfinite(v) else None) for k, v in sc.items()} for s, sc in campaign.scores.items()},
-        "summary": {n: {"mean": s.mean, "low": s.low, "high": s.high, "n": s.n}
-                    for n, s in campaign.summary().items()},
+        "scores": {
+            str(s): {k: (v if math.isfinite(v) else None) for k, v in sc.items()}
+            for s, sc in campaign.scores.items()
+        },
+        "summary": {
+            n: {"mean": s.mean, "low": s.low, "high": s.high, "n": s.n}
+            for n, s in campaign.summary().items()
+        },
     }
     text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
     with atomic_path(path) as tmp:
@@ -945,11 +1039,18 @@ def load_baseline(path: str | os.PathLike) -> Campaign:
         doc = json.loads(p.read_text())
         if doc.get("format") != BASELINE_FORMAT:
             raise ValueError(f"format is {doc.get('format')!r}, not {BASELINE_FORMAT!r}")
-        scores = {int(s): {k: (math.nan if v is None else float(v)) for k, v in sc.items()}
-                  for s, sc in doc["scores"].items()}
-        return Campaign(campaign_id=str(doc["campaign_id"]), scenario=str(doc["scenario"]),
-                        compensator=str(doc["compensator"]), config=str(doc["config"]),
-                        scores=dict(sorted(scores.items())), db=str(p))
+        scores = {
+            int(s): {k: (math.nan if v is None else float(v)) for k, v in sc.items()}
+            for s, sc in doc["scores"].items()
+        }
+        return Campaign(
+            campaign_id=str(doc["campaign_id"]),
+            scenario=str(doc["scenario"]),
+            compensator=str(doc["compensator"]),
+            config=str(doc["config"]),
+            scores=dict(sorted(scores.items())),
+            db=str(p),
+        )
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
 
@@ -997,22 +1098,39 @@ class Comparison:
 
     def format(self) -> str:
         """Plain text: one line per score, then the verdict."""
-        lines = [f"comparison with the baseline over {len(self.seeds)} matching seeds: {self.test}, "
-                 f"Holm-adjusted over {len(self.scores)} scores, alpha {self.alpha:g}"]
+        lines = [
+            f"comparison with the baseline over {len(self.seeds)} matching seeds: {self.test}, "
+            f"Holm-adjusted over {len(self.scores)} scores, alpha {self.alpha:g}"
+        ]
         if self.note:
             lines.append(f"note: {self.note}")
         rows = [("score", "status", "baseline", "candidate", "shift", "change", "p (Holm)")]
         for s in self.scores:
             rel = "n/a" if not math.isfinite(s.relative) else f"{100 * s.relative:+.3g}%"
-            rows.append((s.name, s.status, f"{s.baseline_mean:.6g}", f"{s.candidate_mean:.6g}", f"{s.effect:+.3g}",
-                         rel, f"{s.p_adjusted:.3g}"))
+            rows.append(
+                (
+                    s.name,
+                    s.status,
+                    f"{s.baseline_mean:.6g}",
+                    f"{s.candidate_mean:.6g}",
+                    f"{s.effect:+.3g}",
+                    rel,
+                    f"{s.p_adjusted:.3g}",
+                )
+            )
         w = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-        lines += ["  ".join(c.ljust(w[i]) if i < 2 else c.rjust(w[i]) for i, c in enumerate(r)) for r in rows]
+        lines += [
+            "  ".join(c.ljust(w[i]) if i < 2 else c.rjust(w[i]) for i, c in enumerate(r))
+            for r in rows
+        ]
         if self.missing:
             lines.append(f"not compared (in only one campaign): {', '.join(self.missing)}")
         reg, imp = self.regressions, self.improvements
         if reg:
-            lines.append(f"REGRESSION: {len(reg)} score(s) significantly worse: {', '.join(s.name for s in reg)}")
+            lines.append(
+                f"REGRESSION: {len(reg)} score(s) significantly worse: "
+                + ", ".join(s.name for s in reg)
+            )
         else:
             lines.append(f"no significant regression ({len(imp)} score(s) significantly better)")
         return "\n".join(lines)
@@ -1100,7 +1218,9 @@ def compare(
     names = _order(bnames & cnames)
     missing = tuple(_order(bnames ^ cnames))
     if not names:
-        raise ValueError("baseline and campaign have no score in common; were they run on the same scenario?")
+        raise ValueError(
+            "baseline and campaign have no score in common; were they run on the same scenario?"
+        )
     rows = []
     pvals = []
     for name in names:
@@ -1121,27 +1241,48 @@ def compare(
         pvals.append(p)
         bm = float(np.mean(b)) if b.size else math.nan
         cm = float(np.mean(c)) if c.size else math.nan
-        rows.append(dict(name=name, direction=score_direction(name, directions), n=int(d.size),
-                         baseline_mean=bm, candidate_mean=cm,
-                         effect=_hodges_lehmann(d) if d.size else math.nan,
-                         relative=(cm - bm) / abs(bm) if bm != 0 and math.isfinite(bm) else math.nan,
-                         p_value=p, sign=sign))
+        rows.append(
+            dict(
+                name=name,
+                direction=score_direction(name, directions),
+                n=int(d.size),
+                baseline_mean=bm,
+                candidate_mean=cm,
+                effect=_hodges_lehmann(d) if d.size else math.nan,
+                relative=(cm - bm) / abs(bm) if bm != 0 and math.isfinite(bm) else math.nan,
+                p_value=p,
+                sign=sign,
+            )
+        )
     adj = _holm(np.array(pvals))
     out = []
-    for r, pa in zip(rows, adj):
+    for r, pa in zip(rows, adj, strict=True):
         sign = r.pop("sign")
         if pa < alpha and sign != 0:
-            status = "changed" if r["direction"] == 0 else ("improved" if sign * r["direction"] > 0 else "regressed")
+            status = (
+                "changed"
+                if r["direction"] == 0
+                else ("improved" if sign * r["direction"] > 0 else "regressed")
+            )
         else:
             status = "unchanged"
         out.append(ScoreComparison(**r, p_adjusted=float(pa), status=status))
     n_min = min(r.n for r in out)
     note = ""
     if 2.0 / 2.0**n_min * len(out) >= alpha:
-        note = (f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
-                f"{min(1.0, len(out) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, so no change can be significant; use more seeds")
-    return Comparison(scores=tuple(out), seeds=seeds, alpha=float(alpha),
-                      test="two-sided Wilcoxon signed-rank on paired per-seed scores", missing=missing, note=note)
+        note = (
+            f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
+            f"{min(1.0, len(out) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, "
+            "so no change can be significant; use more seeds"
+        )
+    return Comparison(
+        scores=tuple(out),
+        seeds=seeds,
+        alpha=float(alpha),
+        test="two-sided Wilcoxon signed-rank on paired per-seed scores",
+        missing=missing,
+        note=note,
+    )
 
 
 def _seed_text(seeds: Sequence[int]) -> str:

@@ -26,28 +26,63 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     """Add the ``bench`` sub-command to ``subparsers``; its ``func`` default is :func:`run`."""
     p = subparsers.add_parser(
         "bench",
-        help="score a compensator on a scenario over many seeds (resumable), compare with a baseline",
+        help="score a compensator on a scenario over many seeds; compare with a baseline",
         description=(
-            "Fit and score a compensator on every seed of a scenario's compensation task; print each "
-            "score's mean with a 95%% confidence interval. Finished seeds are kept in --db, so an "
-            "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a score is "
+            "Fit and score a compensator on every seed of a scenario's compensation task; "
+            "print each "
+            "score's mean with a 95 % confidence interval. Finished seeds are kept in --db, so an "
+            "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a "
+            "score is "
             "significantly worse (paired Wilcoxon signed-rank test, Holm-adjusted)."
         ),
     )
-    p.add_argument("scenario", help="scenario name with a compensation stage (see 'gyrobench list', marked [bench])")
-    p.add_argument("--compensator", required=True, metavar="MODULE:ATTR",
-                   help="a scikit-learn estimator (instance or class) or a fit function f(X, y) -> predict, "
-                        "as 'package.module:attr'")
-    p.add_argument("--seeds", default="0:20", help="'START:STOP' (half-open) or '1,5,9' (default 0:20)")
-    p.add_argument("--workers", type=int, default=None,
-                   help="local worker processes (default: usable CPUs; 0 = run in this process)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster")
-    p.add_argument("--db", default=bench.DEFAULT_DB, help=f"SQLite file keeping every finished seed (default {bench.DEFAULT_DB})")
+    p.add_argument(
+        "scenario",
+        help="scenario name with a compensation stage (see 'gyrobench list', marked [bench])",
+    )
+    p.add_argument(
+        "--compensator",
+        required=True,
+        metavar="MODULE:ATTR",
+        help="a scikit-learn estimator (instance or class) or a fit function f(X, y) -> predict, "
+        "as 'package.module:attr'",
+    )
+    p.add_argument(
+        "--seeds", default="0:20", help="'START:STOP' (half-open) or '1,5,9' (default 0:20)"
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="local worker processes (default: usable CPUs; 0 = run in this process)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster",
+    )
+    p.add_argument(
+        "--db",
+        default=bench.DEFAULT_DB,
+        help=f"SQLite file keeping every finished seed (default {bench.DEFAULT_DB})",
+    )
     p.add_argument("--config", metavar="FILE.toml", help="override the scenario's configuration")
-    p.add_argument("--save-baseline", metavar="FILE.json", help="write this campaign's per-seed scores as a baseline")
-    p.add_argument("--baseline", metavar="FILE.json", help="compare with a stored baseline; exit 1 on a significant regression")
-    p.add_argument("--alpha", type=float, default=0.05, help="family-wise significance level of the comparison (default 0.05)")
+    p.add_argument(
+        "--save-baseline",
+        metavar="FILE.json",
+        help="write this campaign's per-seed scores as a baseline",
+    )
+    p.add_argument(
+        "--baseline",
+        metavar="FILE.json",
+        help="compare with a stored baseline; exit 1 on a significant regression",
+    )
+    p.add_argument(
+        "--alpha",
+        type=float,
+        default=0.05,
+        help="family-wise significance level of the comparison (default 0.05)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
     return p
@@ -62,7 +97,9 @@ def _executor(args):
     try:
         from distributed import Client
     except ImportError:
-        raise ValueError("--scheduler needs dask.distributed: pip install 'gyrobench[distributed]'") from None
+        raise ValueError(
+            "--scheduler needs dask.distributed: pip install 'gyrobench[distributed]'"
+        ) from None
     try:
         client = Client(args.scheduler, timeout="10s")
     except (OSError, TimeoutError) as exc:
@@ -82,13 +119,25 @@ def run(args: argparse.Namespace) -> int:
     module = bench.resolve_scenario(args.scenario)
     config = registry.load_config(module, args.config) if args.config else module.Config()
     bench.resolve_compensator(args.compensator)  # fail before connecting or computing
-    baseline = bench.load_baseline(args.baseline) if args.baseline else None  # fail before computing
+    baseline = (
+        bench.load_baseline(args.baseline) if args.baseline else None
+    )  # fail before computing
     if args.save_baseline and Path(args.save_baseline).is_dir():
-        raise ValueError(f"--save-baseline must be a file name; got the directory {args.save_baseline!r}")
+        raise ValueError(
+            f"--save-baseline must be a file name; got the directory {args.save_baseline!r}"
+        )
     executor, close = _executor(args)
     try:
-        campaign = bench.run_campaign(module, args.compensator, seeds, config=config, executor=executor,
-                                      workers=args.workers, db=args.db, progress=not args.quiet)
+        campaign = bench.run_campaign(
+            module,
+            args.compensator,
+            seeds,
+            config=config,
+            executor=executor,
+            workers=args.workers,
+            db=args.db,
+            progress=not args.quiet,
+        )
     finally:
         if close is not None:
             close()

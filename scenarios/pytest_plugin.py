@@ -1,4 +1,4 @@
-"""pytest plugin (entry point ``pytest11``): assert "no regression" of a compensator in your own tests.
+"""pytest plugin (entry point ``pytest11``): assert "no regression" of a compensator in your tests.
 
 Installing gyrobench registers this plugin; its fixture ``gyrobench_bench`` scores
 a compensator on a scenario over many seeds and compares the per-seed scores with
@@ -43,11 +43,16 @@ DEFAULT_SEEDS = tuple(range(20))
 def pytest_addoption(parser: pytest.Parser) -> None:
     group = parser.getgroup("gyrobench", "gyrobench compensator regression tests")
     group.addoption(
-        "--gyrobench-save-baselines", action="store_true", default=False,
-        help="write the baselines named by gyrobench_bench.assert_no_regression instead of comparing",
+        "--gyrobench-save-baselines",
+        action="store_true",
+        default=False,
+        help="write the baselines named by gyrobench_bench.assert_no_regression, do not compare",
     )
     group.addoption(
-        "--gyrobench-workers", type=int, default=0, metavar="N",
+        "--gyrobench-workers",
+        type=int,
+        default=0,
+        metavar="N",
         help="local worker processes for gyrobench campaigns (default 0: in the test process)",
     )
 
@@ -73,8 +78,15 @@ class GyrobenchBench:
         """Run (or read back) a campaign: see :func:`scenarios.bench.run_campaign`."""
         from scenarios import bench
 
-        return bench.run_campaign(scenario, compensator, seeds, config=config,
-                                  workers=self.workers if workers is None else workers, db=self.db, progress=False)
+        return bench.run_campaign(
+            scenario,
+            compensator,
+            seeds,
+            config=config,
+            workers=self.workers if workers is None else workers,
+            db=self.db,
+            progress=False,
+        )
 
     def assert_no_regression(
         self,
@@ -119,7 +131,8 @@ class GyrobenchBench:
         if stored is None and not self.save:
             pytest.fail(
                 f"gyrobench baseline {str(path)!r} does not exist; create it with "
-                "'pytest --gyrobench-save-baselines' from the compensator you trust", pytrace=False,
+                "'pytest --gyrobench-save-baselines' from the compensator you trust",
+                pytrace=False,
             )
         if seeds is None:
             seeds = stored.seeds if stored is not None else DEFAULT_SEEDS
@@ -129,8 +142,11 @@ class GyrobenchBench:
             return None
         result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
         if result.regressions:
-            pytest.fail(f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
-                        + result.format(), pytrace=False)
+            pytest.fail(
+                f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
+                + result.format(),
+                pytrace=False,
+            )
         return result
 
 
@@ -149,5 +165,9 @@ def gyrobench_bench(request: pytest.FixtureRequest, _gyrobench_db: Path) -> Gyro
     workers = cfg.getoption("--gyrobench-workers")
     if workers < 0:
         raise pytest.UsageError(f"--gyrobench-workers must be >= 0; got {workers}")
-    return GyrobenchBench(root=Path(request.path).parent, db=_gyrobench_db,
-                          save=bool(cfg.getoption("--gyrobench-save-baselines")), workers=workers)
+    return GyrobenchBench(
+        root=Path(request.path).parent,
+        db=_gyrobench_db,
+        save=bool(cfg.getoption("--gyrobench-save-baselines")),
+        workers=workers,
+    )

@@ -70,7 +70,9 @@ def test_fit_function_receives_random_state_and_may_return_an_estimator():
 
 
 def test_estimator_class_is_instantiated():
-    assert bench.score_seed(toy, LinearRegression, 4) == bench.score_seed(toy, LinearRegression(), 4)
+    assert bench.score_seed(toy, LinearRegression, 4) == bench.score_seed(
+        toy, LinearRegression(), 4
+    )
 
 
 # ----------------------------------------------------------------------------- campaigns
@@ -90,11 +92,23 @@ def test_campaign_on_dask_localcluster_equals_local(tmp_path):
     from distributed import Client, LocalCluster
 
     seeds = range(20)
-    ref = bench.run_campaign(toy, toy.good, seeds, workers=0, db=tmp_path / "ref.db", progress=False)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
-        camp = bench.run_campaign(toy, toy.good, seeds, executor=client.get_executor(), db=tmp_path / "dask.db",
-                                  progress=False)
+    ref = bench.run_campaign(
+        toy, toy.good, seeds, workers=0, db=tmp_path / "ref.db", progress=False
+    )
+    with (
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        camp = bench.run_campaign(
+            toy,
+            toy.good,
+            seeds,
+            executor=client.get_executor(),
+            db=tmp_path / "dask.db",
+            progress=False,
+        )
     assert camp.computed == 20
     assert camp.scores == ref.scores
 
@@ -144,7 +158,8 @@ _KILL_SCRIPT = textwrap.dedent(
     sys.path.insert(0, {root!r})
     from scenarios import bench
     from tests.scenarios import toy_scenario as toy
-    bench.run_campaign(toy, toy.good, range({n}), config=toy.Config(work={work}), workers=2, db={db!r},
+    bench.run_campaign(toy, toy.good, range({n}), config=toy.Config(work={work}), workers=2,
+                       db={db!r},
                        progress=False)
     """
 )
@@ -158,19 +173,29 @@ def _rows(db: Path) -> int:
         return 0
 
 
-def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, monkeypatch):
+def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(
+    tmp_path, monkeypatch
+):
     n, work = 60, 6  # ~10-20 ms per seed
     db = tmp_path / "kill.db"
     log1, log2 = tmp_path / "calls1.log", tmp_path / "calls2.log"
     env = dict(os.environ, GYROBENCH_TOY_CALL_LOG=str(log1))
     script = _KILL_SCRIPT.format(root=str(ROOT), n=n, work=work, db=str(db))
-    proc = subprocess.Popen([sys.executable, "-c", script], env=env, start_new_session=True,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script],
+        env=env,
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     try:
         deadline = time.monotonic() + 60
         while _rows(db) < 8:
             if proc.poll() is not None:
-                pytest.fail(f"campaign exited early ({proc.returncode}): {proc.stderr.read().decode()[-2000:]}")
+                pytest.fail(
+                    f"campaign exited early ({proc.returncode}): "
+                    + proc.stderr.read().decode()[-2000:]
+                )
             if time.monotonic() > deadline:
                 pytest.fail("campaign did not write 8 seeds within 60 s")
             time.sleep(0.02)
@@ -188,8 +213,9 @@ def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tm
     assert committed <= set(calls1)
 
     monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log2))
-    camp = bench.run_campaign(toy, toy.good, range(n), config=toy.Config(work=work), workers=2, db=db,
-                              progress=False)
+    camp = bench.run_campaign(
+        toy, toy.good, range(n), config=toy.Config(work=work), workers=2, db=db, progress=False
+    )
     calls2 = Counter(map(int, log2.read_text().split()))
     # nothing committed is computed again; everything else exactly once
     assert calls2 == Counter(set(range(n)) - committed)
@@ -222,14 +248,18 @@ def test_failing_seed_keeps_finished_seeds(tmp_path):
 
 def test_failing_seed_in_a_worker_names_the_seed(tmp_path):
     with pytest.raises(TypeError, match="must return a callable predict") as info:
-        bench.run_campaign(toy, toy.fit_returning_nonsense, [4], workers=1, db=tmp_path / "f.db", progress=False)
+        bench.run_campaign(
+            toy, toy.fit_returning_nonsense, [4], workers=1, db=tmp_path / "f.db", progress=False
+        )
     if sys.version_info >= (3, 11):
         assert "while scoring seed 4 of toy" in info.value.__notes__[0]
 
 
 # ----------------------------------------------------------------------------- summaries
 def _campaign(scores: dict[int, dict[str, float]], name: str = "c") -> bench.Campaign:
-    return bench.Campaign(campaign_id=name, scenario="toy", compensator=name, config="", scores=scores)
+    return bench.Campaign(
+        campaign_id=name, scenario="toy", compensator=name, config="", scores=scores
+    )
 
 
 def test_summary_mean_and_t_interval_closed_form():
@@ -238,7 +268,9 @@ def test_summary_mean_and_t_interval_closed_form():
     t975_3 = 3.182446305284263  # Student t quantile, 3 dof
     half = t975_3 * math.sqrt(5 / 3) / 2
     assert (s.n, s.mean) == (4, 2.5)
-    assert s.low == pytest.approx(2.5 - half, rel=1e-12) and s.high == pytest.approx(2.5 + half, rel=1e-12)
+    assert s.low == pytest.approx(2.5 - half, rel=1e-12) and s.high == pytest.approx(
+        2.5 + half, rel=1e-12
+    )
 
 
 def test_summary_of_one_seed_has_no_interval():
@@ -254,8 +286,15 @@ def test_holm_adjustment_closed_form():
 
 @pytest.mark.parametrize(
     ("name", "direction"),
-    [("mean/mse", -1), ("run1/rms", -1), ("val/bias_stability_100s", -1), ("nonlinearity_ppm", -1),
-     ("mean/improvement_pct", 1), ("mse_reduction_pct", 1), ("mean/scale_factor", 0)],
+    [
+        ("mean/mse", -1),
+        ("run1/rms", -1),
+        ("val/bias_stability_100s", -1),
+        ("nonlinearity_ppm", -1),
+        ("mean/improvement_pct", 1),
+        ("mse_reduction_pct", 1),
+        ("mean/scale_factor", 0),
+    ],
 )
 def test_score_direction_table(name, direction):
     assert bench.score_direction(name) == direction
@@ -295,7 +334,9 @@ def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
 
 def test_identical_compensator_is_not_flagged(good_and_bad, tmp_path):
     good, _ = good_and_bad
-    again = bench.run_campaign(toy, f"{TOY}:good", range(20), workers=0, db=tmp_path / "other.db", progress=False)
+    again = bench.run_campaign(
+        toy, f"{TOY}:good", range(20), workers=0, db=tmp_path / "other.db", progress=False
+    )
     res = bench.compare(good, again)
     assert res.regressions == () and res.improvements == ()
     assert all(s.status == "unchanged" and s.p_value == 1.0 and s.effect == 0.0 for s in res.scores)
@@ -373,8 +414,14 @@ def test_compensator_not_callable():
 
 def test_lambda_compensator_cannot_go_to_worker_processes(tmp_path):
     with pytest.raises(TypeError, match="compensator must pickle"):
-        bench.run_campaign(toy, lambda X, y: (lambda Z: Z[:, 0]), range(2), workers=1, db=tmp_path / "x.db",
-                           progress=False)
+        bench.run_campaign(
+            toy,
+            lambda X, y: lambda Z: Z[:, 0],
+            range(2),
+            workers=1,
+            db=tmp_path / "x.db",
+            progress=False,
+        )
 
 
 def test_duplicate_seeds(tmp_path):
@@ -439,8 +486,18 @@ def test_cli_baseline_then_regression_exit_codes(tmp_path, capsys):
 def test_cli_config_file_overrides(tmp_path, capsys):
     cfg = tmp_path / "c.toml"
     cfg.write_text("n_samples = 200\n")
-    argv = [TOY, "--compensator", f"{TOY}:good", "--seeds", "0,1", "--workers", "0", "--quiet",
-            "--db", str(tmp_path / "c.db")]
+    argv = [
+        TOY,
+        "--compensator",
+        f"{TOY}:good",
+        "--seeds",
+        "0,1",
+        "--workers",
+        "0",
+        "--quiet",
+        "--db",
+        str(tmp_path / "c.db"),
+    ]
     assert _cli([*argv, "--config", str(cfg)]) == 0
     with sqlite3.connect(tmp_path / "c.db") as conn:
         (config,) = conn.execute("SELECT config FROM campaigns").fetchone()
@@ -454,12 +511,32 @@ def test_cli_bad_seeds_raise_value_error(tmp_path):
 
 def test_cli_missing_baseline_fails_before_computing(tmp_path):
     with pytest.raises(FileNotFoundError, match="baseline file not found"):
-        _cli([TOY, "--compensator", f"{TOY}:good", "--baseline", str(tmp_path / "no.json"),
-              "--db", str(tmp_path / "c.db")])
+        _cli(
+            [
+                TOY,
+                "--compensator",
+                f"{TOY}:good",
+                "--baseline",
+                str(tmp_path / "no.json"),
+                "--db",
+                str(tmp_path / "c.db"),
+            ]
+        )
     assert not (tmp_path / "c.db").exists()
 
 
 def test_cli_workers_and_scheduler_exclusive(tmp_path):
     with pytest.raises(ValueError, match="either --workers or --scheduler"):
-        _cli([TOY, "--compensator", f"{TOY}:good", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1",
-              "--db", str(tmp_path / "c.db")])
+        _cli(
+            [
+                TOY,
+                "--compensator",
+                f"{TOY}:good",
+                "--workers",
+                "2",
+                "--scheduler",
+                "tcp://127.0.0.1:1",
+                "--db",
+                str(tmp_path / "c.db"),
+            ]
+        )

@@ -6,13 +6,13 @@ import json
 from pathlib import Path
 
 import pytest
+import scipy.stats  # noqa: F401
+import threadpoolctl  # noqa: F401
+import tqdm  # noqa: F401
 
 # Inner runs are in-process: pytester drops modules first imported inside them, and numpy's
 # extension modules cannot load twice in a process, so import what the inner tests use here.
 import scenarios.bench  # noqa: F401
-import scipy.stats  # noqa: F401
-import threadpoolctl  # noqa: F401
-import tqdm  # noqa: F401
 from tests.scenarios import toy_scenario  # noqa: F401
 
 pytest_plugins = ["pytester"]
@@ -25,15 +25,23 @@ from tests.scenarios import toy_scenario as toy
 CFG = toy.Config(n_samples=120)
 
 def test_good(gyrobench_bench):
-    gyrobench_bench.assert_no_regression(toy, toy.good, baseline="baselines/toy.json", seeds=range(12), config=CFG)
+    gyrobench_bench.assert_no_regression(
+        toy, toy.good, baseline="baselines/toy.json", seeds=range(12), config=CFG
+    )
 
 def test_same_by_name(gyrobench_bench):
     res = gyrobench_bench.assert_no_regression(
-        "tests.scenarios.toy_scenario", "tests.scenarios.toy_scenario:good", baseline="baselines/toy.json", config=CFG)
+        "tests.scenarios.toy_scenario",
+        "tests.scenarios.toy_scenario:good",
+        baseline="baselines/toy.json",
+        config=CFG,
+    )
     assert res is None or (len(res.seeds) == 12 and res.regressions == ())
 
 def test_degraded(gyrobench_bench):
-    gyrobench_bench.assert_no_regression(toy, toy.degraded, baseline="baselines/toy.json", seeds=range(12), config=CFG)
+    gyrobench_bench.assert_no_regression(
+        toy, toy.degraded, baseline="baselines/toy.json", seeds=range(12), config=CFG
+    )
 """
 
 
@@ -67,10 +75,16 @@ def test_save_then_assert_no_regression(user_suite: pytest.Pytester):
 
     result = user_suite.runpytest(*FAST)
     result.assert_outcomes(passed=2, failed=1)
-    result.stdout.fnmatch_lines(["*test_degraded*", "*regressed against toy.json*", "*REGRESSION*mean/mse*"])
+    result.stdout.fnmatch_lines(
+        ["*test_degraded*", "*regressed against toy.json*", "*REGRESSION*mean/mse*"]
+    )
     assert "test_good FAILED" not in result.stdout.str()
 
 
 def test_workers_option_runs_in_processes(user_suite: pytest.Pytester):
-    user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines").assert_outcomes(passed=1)
-    user_suite.runpytest(*FAST, "-k", "test_good or test_same_by_name", "--gyrobench-workers", "2").assert_outcomes(passed=2)
+    user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines").assert_outcomes(
+        passed=1
+    )
+    user_suite.runpytest(
+        *FAST, "-k", "test_good or test_same_by_name", "--gyrobench-workers", "2"
+    ).assert_outcomes(passed=2)

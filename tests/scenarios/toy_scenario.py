@@ -37,7 +37,11 @@ FEATURES = ("dT", "dTdt", "dT_x_dTdt")
 class Config:
     n_samples: int = 300
     fs_hz: float = 1.0 / 10.0
-    coef: tuple[float, float, float] = (0.02, 0.5, 0.05)  # a [deg/h/K], b [deg/h/(K/min)], c [deg/h/(K K/min)]
+    coef: tuple[float, float, float] = (
+        0.02,
+        0.5,
+        0.05,
+    )  # a [deg/h/K], b [deg/h/(K/min)], c [deg/h/(K K/min)]
     noise_deg_h: float = 0.02
     n_heldout: int = 2
     work: int = 0  # extra CPU load: number of 120x120 SVDs per call
@@ -79,8 +83,16 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     for k in range(config.n_heldout):
         X, out = _run(config, streams[1 + k])
         heldout.append(HeldOutRun(label=f"run{k + 1}", X=X, output=out, truth=np.zeros_like(out)))
-    return CompensationTask(scenario=NAME, feature_names=FEATURES, X_train=X_train, y_train=y_train,
-                            heldout=tuple(heldout), target="error", unit="deg/h", scorer=scorer)
+    return CompensationTask(
+        scenario=NAME,
+        feature_names=FEATURES,
+        X_train=X_train,
+        y_train=y_train,
+        heldout=tuple(heldout),
+        target="error",
+        unit="deg/h",
+        scorer=scorer,
+    )
 
 
 def scorer(compensated, run: HeldOutRun) -> dict[str, float]:
@@ -93,7 +105,9 @@ def scorer(compensated, run: HeldOutRun) -> dict[str, float]:
 # compensators used by the tests (module level so they pickle and resolve as "module:attr")
 good = make_pipeline(StandardScaler(), LinearRegression())
 #: drops the product feature (column 2)
-degraded = make_pipeline(ColumnTransformer([("keep", "passthrough", [0, 1])]), StandardScaler(), LinearRegression())
+degraded = make_pipeline(
+    ColumnTransformer([("keep", "passthrough", [0, 1])]), StandardScaler(), LinearRegression()
+)
 
 
 def fit_least_squares(X, y):

@@ -52,6 +52,8 @@ PAPER = {
         "bayes_bp": {"nonlinearity_pct": 0.45, "eval_time_ms": 37.8},
     },
 }
+#: run-to-run scale-factor changes of the sensitivity table (Table 4) [-]
+SF_CHANGES = (0.0, 1e-4, 3e-4, 1e-3)
 METHOD_LABELS = {
     "piecewise": "Heuristic piecewise 9-1-9 + Hermite",
     "two_stage_poly": "Two-stage 9th-order polynomial",
@@ -457,6 +459,18 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     methods["bayes_bp"]["effective_parameters"] = models["bayes_bp"].gamma_
     methods["bayes_bp"]["epochs_run"] = models["bayes_bp"].n_iter_
 
+    # what-if: the held-out run's scale factor differs by d (run-to-run repeatability, not simulated
+    # by default); the saturated range amplifies d by 1/s'(W), about 10 at 3600 deg/s
+    sensitivity = {
+        f"{d:g}": {
+            key: fit_scale_factor(
+                rates, est.predict((held_means[0] * (1.0 + d))[:, None])
+            ).nonlinearity_pct
+            for key, est in models.items()
+        }
+        for d in SF_CHANGES
+    }
+
     order_sim = sorted(methods, key=lambda k: methods[k]["heldout_nonlinearity_pct"])
     order_paper = sorted(PAPER["methods"], key=lambda k: PAPER["methods"][k]["nonlinearity_pct"])
     bps = [b for b in (search.negative, search.positive) if b is not None]
@@ -476,6 +490,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         "method_order_heldout": order_sim,
         "method_order_paper": order_paper,
         "method_order_matches_paper": order_sim == order_paper,
+        "heldout_nonlinearity_pct_vs_sf_change": sensitivity,
         "table1": {
             "rates_dps": rates.tolist(),
             "mean_output_dps": table1.tolist(),
@@ -586,6 +601,25 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         ),
     )
 
+    t4 = Table(
+        "Table 4 (not in the paper). Held-out K_n [%] if the held-out run's scale factor differed by d",
+        ["d [ppm]", *(METHOD_LABELS[k] for k in methods), "order (best first)"],
+        [
+            [
+                1e6 * float(d),
+                *(v[k] for k in methods),
+                " < ".join(sorted(v, key=v.get)),
+            ]
+            for d, v in sensitivity.items()
+        ],
+        note=(
+            "The default simulation changes the scale factor between runs only through temperature "
+            "(about 1e-4 K^-1 x 0.5 K). A run-to-run scale-factor change is amplified about tenfold in the "
+            "saturated range, where the compensation curve is steep; the paper's order appears from a few "
+            "hundred ppm on. A sensitivity study, not a fit to the paper."
+        ),
+    )
+
     # ---------------------------------------------------------------- figures
     figures = [
         FigureSpec(
@@ -658,7 +692,8 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
                 ok,
                 "target <= 0.2 %"
                 if key == "piecewise"
-                else "target within a factor 2 of the paper",
+                else "target within a factor 2 of the paper"
+                + ("; better than the paper here" if m["heldout_nonlinearity_pct"] < p / 2 else ""),
             )
         )
     hl.append(
@@ -690,7 +725,8 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
             ". The order of the methods matches the paper."
             if order_sim == order_paper
             else f". The order differs from the paper ({' < '.join(order_paper)}): in this simulation {' < '.join(order_sim)}; "
-            "the data were not tuned to force the paper's order."
+            "the data were not tuned to force the paper's order (Table 4: the paper's order appears when "
+            "the held-out run's scale factor differs by a few hundred ppm)."
         )
     )
     return Outcome(
@@ -699,7 +735,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         seed=seed,
         config=config,
         results=results,
-        tables=[t1, t2, t3],
+        tables=[t1, t2, t3, t4],
         figures=figures,
         headlines=hl,
         conclusion=conclusion,

@@ -88,8 +88,9 @@ def test_results_json_has_the_issue_keys(outcome):
 
 
 def test_tables_figures_headlines(outcome):
-    t1, t2, t3 = outcome.tables
+    t1, t2, t3, t4 = outcome.tables
     assert len(t1.rows) == 21 and len(t2.rows) == 20 and len(t3.rows) == 4
+    assert len(t4.rows) == len(ms.SF_CHANGES)
     assert [f.name for f in outcome.figures] == [
         "fig2_raw_output",
         "fig3_input_output",
@@ -101,6 +102,12 @@ def test_tables_figures_headlines(outcome):
     assert order.holds == outcome.results["method_order_matches_paper"]
     raw = outcome.headlines[0]
     assert raw.holds is True and raw.target == "15.71"
+
+
+def test_sensitivity_at_zero_change_equals_the_heldout_score(outcome):
+    r = outcome.results
+    for key, m in r["methods"].items():
+        assert r["heldout_nonlinearity_pct_vs_sf_change"]["0"][key] == m["heldout_nonlinearity_pct"]
 
 
 def test_method_order_is_reported_not_forced(outcome):

@@ -474,7 +474,7 @@ class StreamingCompensator:
         """Samples a pushed sample waits before it is returned (h = window // 2)."""
         return self._h
 
-    def _emit(self, upto: int, *, final: bool) -> NDArray[np.float64]:
+    def _emit(self, upto: int) -> NDArray[np.float64]:
         """Compensate pending samples [self._next, upto) using the buffered temperature."""
         if upto <= self._next:
             return np.zeros(0)
@@ -508,7 +508,7 @@ class StreamingCompensator:
         self._n += len(T)
         if self._n < self._w:
             return np.zeros(0)
-        return self._emit(self._n - self._h, final=False)
+        return self._emit(self._n - self._h)
 
     def flush(self) -> NDArray[np.float64]:
         """End of record: return the last pending samples.
@@ -524,4 +524,4 @@ class StreamingCompensator:
                 f"({self.window_s} s at {self.fs} Hz)"
             )
         self._closed = True
-        return self._emit(self._n, final=True)
+        return self._emit(self._n)

@@ -7,6 +7,8 @@ import zlib
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from analysis.compensation.rbf import RADBAS_B, RBFNetwork, StreamingCompensator, batch_compensate
@@ -187,3 +189,30 @@ def test_streaming_short_record_is_an_error(rng):
     comp.push(np.zeros(10), np.zeros(10))
     with pytest.raises(ValueError, match="shorter than the derivative window"):
         comp.flush()
+
+
+@settings(max_examples=25, deadline=None)
+@given(cuts=st.lists(st.integers(1, 899), max_size=12, unique=True))
+def test_streaming_equals_batch_for_random_partitions(cuts):
+    """Property: any block partition of the record gives the batch result (to rounding)."""
+    rng = np.random.default_rng(5)
+    out, T = _thermal_record(rng, n=900)
+    net = _STREAM_NET
+    ref = batch_compensate(net, out, T, 1.0, window_s=61.0)
+    comp = StreamingCompensator(net, 1.0, window_s=61.0)
+    edges = [0, *sorted(cuts), 900]
+    got = np.concatenate(
+        [comp.push(out[a:b], T[a:b]) for a, b in zip(edges[:-1], edges[1:], strict=True)] + [comp.flush()]
+    )
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12 * np.max(np.abs(ref)))
+
+
+def _stream_net():
+    from analysis.features import thermal_features
+
+    out, T = _thermal_record(np.random.default_rng(6), n=900)
+    X = thermal_features(T, 1.0, window_s=61.0)
+    return RBFNetwork(spread=1.0, normalize="minmax", max_neurons=15).fit(X[::5], out[::5])
+
+
+_STREAM_NET = _stream_net()

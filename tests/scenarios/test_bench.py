@@ -109,8 +109,14 @@ def test_campaign_on_dask_localcluster_equals_local(tmp_path):
             db=tmp_path / "dask.db",
             progress=False,
         )
+        # the command line's --scheduler path, on the same cluster
+        base = tmp_path / "b.json"
+        argv = [TOY, "--compensator", f"{TOY}:good", "--seeds", "0:20", "--quiet"]
+        argv += ["--scheduler", cluster.scheduler_address, "--db", str(tmp_path / "cli.db")]
+        assert _cli([*argv, "--save-baseline", str(base)]) == 0
     assert camp.computed == 20
     assert camp.scores == ref.scores
+    assert bench.load_baseline(base).scores == ref.scores
 
 
 def test_campaign_resumes_from_the_database_without_recomputing(tmp_path, monkeypatch):

@@ -46,16 +46,25 @@ def machine() -> str:
     )
 
 
-def best_rate(fn, n: int, repeats: int) -> float:
-    best = float("inf")
+def best_rate(fn, n: int, repeats: int) -> tuple[float, float]:
+    """Best-of-``repeats`` throughput [samples/s]: (wall clock, per CPU second of this process)."""
+    best_wall = best_cpu = float("inf")
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         fn()
-        best = min(best, time.perf_counter() - t0)
-    return n / best
+        best_wall = min(best_wall, time.perf_counter() - t0)
+        best_cpu = min(best_cpu, time.process_time() - c0)
+    return n / best_wall, n / best_cpu
+
+
+def _line(label: str, rate: tuple[float, float], base: tuple[float, float] | None = None) -> None:
+    wall, cpu = rate
+    extra = f"  ({wall / base[0]:.2f} x baseline wall, {cpu / base[1]:.2f} x CPU)" if base else ""
+    print(f"{label:44s}: {wall / 1e6:7.1f} M samples/s wall, {cpu / 1e6:7.1f} M per CPU-s{extra}")
 
 
 def bench_speed(n: int, repeats: int) -> None:
+    from sim import noise as nz
     from sim.noise import NoiseModel
 
     model = NoiseModel.from_datasheet(**FIVE)
@@ -66,25 +75,22 @@ def bench_speed(n: int, repeats: int) -> None:
         for _ in range(n >> 20):
             g.standard_normal(out=buf)
 
-    r_base = best_rate(baseline, n, repeats)
-    print(f"standard_normal baseline (1M per call)      : {r_base / 1e6:8.1f} M samples/s")
+    base = best_rate(baseline, n, repeats)
+    _line("standard_normal baseline (1M per call)", base)
 
     def one_shot():
         model.generate(n, FS, rng=np.random.default_rng(1))
-
-    r_one = best_rate(one_shot, n, repeats)
-    print(f"five-term model, one-shot generate({n:.0e})  : {r_one / 1e6:8.1f} M samples/s  "
-          f"({r_one / r_base:.2f} x baseline)")
 
     def streaming():
         s = model.stream(FS, rng=np.random.default_rng(1))
         for _ in s.chunks(n, 1 << 20):
             pass
 
-    r_str = best_rate(streaming, n, repeats)
-    print(f"five-term model, streaming in 1M chunks     : {r_str / 1e6:8.1f} M samples/s  "
-          f"({r_str / r_base:.2f} x baseline)")
-    print("per term alone (streaming, 1M chunks):")
+    _line(f"five-term, one-shot generate({n:.1e})", best_rate(one_shot, n, repeats), base)
+    _line("five-term, streaming in 1M chunks", best_rate(streaming, n, repeats), base)
+    nz._PREFETCH = False
+    _line("five-term, streaming, no draw thread", best_rate(streaming, n, repeats), base)
+    print("per term alone (streaming in 1M chunks, no draw thread):")
     for name, v in FIVE.items():
         m = NoiseModel.from_datasheet(**{name: v})
 
@@ -94,7 +100,8 @@ def bench_speed(n: int, repeats: int) -> None:
                 pass
 
         r = best_rate(one_term, n, repeats)
-        print(f"    {name:18s}: {r / 1e6:8.1f} M samples/s  ({1e9 / r:5.1f} ns/sample)")
+        print(f"    {name:18s}: {1e9 / r[1]:5.1f} ns per sample CPU = {base[1] / r[1]:.2f} standard_normal draws")
+    nz._PREFETCH = True
     t0 = time.perf_counter()
     model.stream(FS, rng=np.random.default_rng(1))
     print(f"stream construction (flicker factorisation, {len(model.flicker_poles(FS)[0])} poles): "

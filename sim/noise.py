@@ -121,6 +121,8 @@ _BLOCK = 1 << 16
 #: draw the next block's random numbers in a worker thread (has no effect on values)
 _PREFETCH = True
 _EXECUTOR = None
+#: largest batch of knots a decimated flicker level generates ahead
+_COARSE_BATCH = 1 << 15
 
 
 def _executor():
@@ -523,14 +525,20 @@ class _CoarseLevel:
         self.ratio = ratio_to_coarser
         self.s = np.empty(0)
         self.s0 = 0  # index of s[0]
+        self.batch = 16
 
     def get(self, j0: int, j1: int) -> NDArray[np.float64]:
         end = self.s0 + len(self.s)
         if j1 > end:
-            new = self.gen.next(j1 - end)
+            # generate ahead in geometrically growing batches (few filter calls on long runs,
+            # little waste on short ones); the values do not depend on the batch sizes
+            self.batch = min(_COARSE_BATCH, max(self.batch * 2, j1 - end))
+            stop = max(j1, end + self.batch)
+            new = self.gen.next(stop - end)
             if self.coarser is not None:
-                _interp_from(self.coarser, end, j1, self.ratio, out=new)
-            self.s = np.concatenate([self.s, new])
+                _interp_from(self.coarser, end, stop, self.ratio, out=new)
+            self.s = np.concatenate([self.s[j0 - self.s0 :], new])
+            self.s0 = j0
         out = self.s[j0 - self.s0 : j1 - self.s0]
         self.s = self.s[j0 - self.s0 :]
         self.s0 = j0

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
 
@@ -156,3 +158,28 @@ def test_search_rejects_bad_run_length():
 def test_asymmetry_needs_two_rates_per_side():
     with pytest.raises(ValueError, match="at least 2 rates >= 0 and 2 rates <= 0"):
         asymmetry([0.0, 1.0, 2.0], [0.0, 1.0, 2.0])
+
+
+# ------------------------------------------------------------------ properties
+@settings(max_examples=50, deadline=None)
+@given(
+    a=st.floats(1e-3, 1e3),
+    c=st.floats(1e-3, 1e3),
+    cubic=st.floats(-1e-8, 1e-8),
+)
+def test_nonlinearity_is_unit_free(a, c, cubic):
+    """K_n does not change when rates are rescaled (deg/s -> rad/s) or outputs rescaled (volts -> counts)."""
+    f = GRID + cubic * GRID**3 + 0.3
+    ref = fit_scale_factor(GRID, f)
+    got = fit_scale_factor(c * GRID, a * f)
+    assert got.nonlinearity == pytest.approx(ref.nonlinearity, rel=1e-9, abs=1e-15)
+    assert got.scale_factor == pytest.approx(ref.scale_factor * a / c, rel=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(a=st.floats(1e-2, 1e2), c=st.floats(1e-2, 1e2))
+def test_breakpoints_scale_with_the_rate_unit(a, c):
+    f = _knee(GRID) + 2.0 * np.sign(GRID)
+    res = breakpoint_search(c * GRID, a * f)
+    assert res.negative == pytest.approx(-1800.0 * c, rel=1e-12)
+    assert res.positive == pytest.approx(1800.0 * c, rel=1e-12)

@@ -346,9 +346,8 @@ def _fit(compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed:
     if callable(predictor):
         return predictor
     raise TypeError(
-        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return a callable"
-        " "
-        f"predict(X) or an object with .predict(X); got {type(predictor).__name__}"
+        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return "
+        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__}"
     )
 
 
@@ -388,6 +387,10 @@ def score_seed(
         scores: dict[str, float] = {}
         per_key: dict[str, list[float]] = {}
         for run in task.heldout:
+            if run.label == "mean" or "/" in run.label:
+                raise ValueError(
+                    f"held-out run labels must not be 'mean' or contain '/'; got {run.label!r}"
+                )
             pred = np.asarray(predict(run.X), dtype=float)
             if pred.size != len(run.output):
                 raise ValueError(

@@ -62,11 +62,15 @@ def _series(name: str, x: ArrayLike) -> NDArray[np.float64]:
     if a.ndim != 1:
         raise ValueError(f"{name} must be 1-D; got shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite; got a NaN or inf at index {int(np.flatnonzero(~np.isfinite(a))[0])}")
+        raise ValueError(
+            f"{name} must be finite; got a NaN or inf at index {int(np.flatnonzero(~np.isfinite(a))[0])}"
+        )
     return a
 
 
-def two_sensor_regressors(t1: ArrayLike, t2: ArrayLike, fs: float, *, window_s: float) -> NDArray[np.float64]:
+def two_sensor_regressors(
+    t1: ArrayLike, t2: ArrayLike, fs: float, *, window_s: float
+) -> NDArray[np.float64]:
     """The eleven candidate regressors x1..x11 from housing and cavity temperatures.
 
     Parameters
@@ -100,7 +104,11 @@ def two_sensor_regressors(t1: ArrayLike, t2: ArrayLike, fs: float, *, window_s: 
     a2 = _series("t2", t2)
     if a1.shape != a2.shape:
         raise ValueError(f"t1 and t2 must have the same length; got {len(a1)} and {len(a2)}")
-    if isinstance(fs, bool) or not isinstance(fs, (int, float)) or not (math.isfinite(fs) and fs > 0):
+    if (
+        isinstance(fs, bool)
+        or not isinstance(fs, (int, float))
+        or not (math.isfinite(fs) and fs > 0)
+    ):
         raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
     d1 = smoothed_derivative(a1, fs, window_s=window_s)
     d2 = smoothed_derivative(a2, fs, window_s=window_s)

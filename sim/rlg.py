@@ -43,7 +43,7 @@ and the discharge-current balance set at each start) is drawn in each ``simulate
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -149,31 +149,44 @@ class CavityGeometry:
         try:
             v = np.asarray(self.vertices, dtype=float)
         except (TypeError, ValueError):
-            raise TypeError(f"CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got {self.vertices!r}") from None
+            raise TypeError(
+                f"CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got {self.vertices!r}"
+            ) from None
         if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
-            raise ValueError(f"CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape {v.shape}")
+            raise ValueError(
+                f"CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape {v.shape}"
+            )
         if not np.all(np.isfinite(v)):
             raise ValueError(f"CavityGeometry.vertices must be finite [m]; got {self.vertices!r}")
         _pos("CavityGeometry", "wavelength", self.wavelength, "m")
         object.__setattr__(self, "vertices", tuple((float(x), float(y)) for x, y in v))
         area = self.area
         if not area > 1e-30:
-            raise ValueError(f"CavityGeometry area must be > 0 m^2 (mirrors not collinear); got {area!r} m^2")
+            raise ValueError(
+                f"CavityGeometry area must be > 0 m^2 (mirrors not collinear); got {area!r} m^2"
+            )
 
     @classmethod
     def triangle(cls, side: float, *, wavelength: float = HENE_WAVELENGTH) -> CavityGeometry:
         """Equilateral triangle of side ``side`` [m]."""
         s = _num("CavityGeometry.triangle", "side", side)
         if s <= 0:
-            raise ValueError(f"CavityGeometry area must be > 0 m^2: triangle side must be > 0 m; got {side!r}")
-        return cls(vertices=((0.0, 0.0), (s, 0.0), (s / 2.0, s * math.sqrt(3.0) / 2.0)), wavelength=wavelength)
+            raise ValueError(
+                f"CavityGeometry area must be > 0 m^2: triangle side must be > 0 m; got {side!r}"
+            )
+        return cls(
+            vertices=((0.0, 0.0), (s, 0.0), (s / 2.0, s * math.sqrt(3.0) / 2.0)),
+            wavelength=wavelength,
+        )
 
     @classmethod
     def square(cls, side: float, *, wavelength: float = HENE_WAVELENGTH) -> CavityGeometry:
         """Square of side ``side`` [m]."""
         s = _num("CavityGeometry.square", "side", side)
         if s <= 0:
-            raise ValueError(f"CavityGeometry area must be > 0 m^2: square side must be > 0 m; got {side!r}")
+            raise ValueError(
+                f"CavityGeometry area must be > 0 m^2: square side must be > 0 m; got {side!r}"
+            )
         return cls(vertices=((0.0, 0.0), (s, 0.0), (s, s), (0.0, s)), wavelength=wavelength)
 
     @property
@@ -206,7 +219,9 @@ class CavityGeometry:
 
 
 # ============================================================================ lock-in (Adler)
-def beat_frequency(rate: ArrayLike, *, scale_factor: float, lock_in_rate: float) -> NDArray[np.float64]:
+def beat_frequency(
+    rate: ArrayLike, *, scale_factor: float, lock_in_rate: float
+) -> NDArray[np.float64]:
     """Mean beat frequency of the Adler equation at a constant input rate [Hz].
 
     Notes
@@ -272,7 +287,11 @@ def integrate_adler(
     if np.any(~np.isfinite(wl)) or np.any(wl < 0):
         raise ValueError(f"lock_in_rate must be finite and >= 0 rad/s; got {lock_in_rate!r}")
     n_steps = int(round(dur / h))
-    psi = np.array(np.broadcast_to(np.asarray(psi0, dtype=float), np.broadcast_shapes(np.shape(psi0), wl.shape)))
+    psi = np.array(
+        np.broadcast_to(
+            np.asarray(psi0, dtype=float), np.broadcast_shapes(np.shape(psi0), wl.shape)
+        )
+    )
     two_pi_k = 2.0 * math.pi * k
 
     def f(t: float, p: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -337,19 +356,25 @@ class Dither:
         _pos("Dither", "amplitude", self.amplitude, "rad")
         j = _nonneg("Dither", "amplitude_jitter", self.amplitude_jitter, "(relative)")
         if j > 0.3:
-            raise ValueError(f"Dither.amplitude_jitter must be <= 0.3 (relative); got {self.amplitude_jitter!r}")
+            raise ValueError(
+                f"Dither.amplitude_jitter must be <= 0.3 (relative); got {self.amplitude_jitter!r}"
+            )
 
     @property
     def peak_rate(self) -> float:
         """Omega_D = 2 pi f_d theta_D [rad/s]."""
         return 2.0 * math.pi * self.frequency * self.amplitude
 
-    def draw(self, n_cycles: int, *, rng: np.random.Generator, size: int | tuple[int, ...] = ()) -> DitherRealization:
+    def draw(
+        self, n_cycles: int, *, rng: np.random.Generator, size: int | tuple[int, ...] = ()
+    ) -> DitherRealization:
         """Draw the amplitude factors of ``n_cycles`` cycles (per realization if ``size``)."""
         _check_rng(rng)
         if not (isinstance(n_cycles, (int, np.integer)) and n_cycles >= 1):
             raise ValueError(f"n_cycles must be an integer >= 1; got {n_cycles!r}")
-        shape = (int(n_cycles), *np.atleast_1d(size).astype(int)) if size != () else (int(n_cycles),)
+        shape = (
+            (int(n_cycles), *np.atleast_1d(size).astype(int)) if size != () else (int(n_cycles),)
+        )
         a = 1.0 + self.amplitude_jitter * rng.standard_normal(shape)
         return DitherRealization(dither=self, factors=np.maximum(a, 0.05))
 
@@ -375,7 +400,9 @@ class DitherRealization:
         a, ph = self._cycle(t)
         return self.dither.peak_rate * a * math.cos(ph)
 
-    def expected_angle_variance(self, *, scale_factor: float, lock_in_rate: float, n_crossings: int) -> NDArray[np.float64]:
+    def expected_angle_variance(
+        self, *, scale_factor: float, lock_in_rate: float, n_crossings: int
+    ) -> NDArray[np.float64]:
         """Angle-error variance [rad^2] after the first ``n_crossings`` rate reversals.
 
         Notes
@@ -402,7 +429,9 @@ def dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> f
     """
     k = _pos("dither_arw", "scale_factor", scale_factor, "counts/rad")
     wl = _nonneg("dither_arw", "lock_in_rate", lock_in_rate, "rad/s")
-    return wl * math.sqrt((1.0 + dither.amplitude_jitter**2) / (2.0 * math.pi * k * dither.peak_rate))
+    return wl * math.sqrt(
+        (1.0 + dither.amplitude_jitter**2) / (2.0 * math.pi * k * dither.peak_rate)
+    )
 
 
 # ============================================================================ thermal model
@@ -444,7 +473,9 @@ class TwoNodeThermal:
         _num("TwoNodeThermal", "heating_cavity", self.heating_cavity)
 
 
-def _first_order_foh(u: NDArray[np.float64], x0: float, tau: float, h: float) -> NDArray[np.float64]:
+def _first_order_foh(
+    u: NDArray[np.float64], x0: float, tau: float, h: float
+) -> NDArray[np.float64]:
     """x' = (u - x)/tau with u linear between samples: exact discrete recursion.
 
     x_{k+1} = phi x_k + b0 u_{k+1} + b1 u_k, phi = exp(-h/tau),
@@ -639,12 +670,19 @@ class RLGUnit:
 
     def __post_init__(self) -> None:
         if not isinstance(self.geometry, CavityGeometry):
-            raise TypeError(f"RLGUnit.geometry must be a CavityGeometry; got {type(self.geometry).__name__}")
+            raise TypeError(
+                f"RLGUnit.geometry must be a CavityGeometry; got {type(self.geometry).__name__}"
+            )
         if not isinstance(self.dither, Dither):
             raise TypeError(f"RLGUnit.dither must be a Dither; got {type(self.dither).__name__}")
         wl = _nonneg("RLGUnit", "lock_in_rate", self.lock_in_rate, "rad/s")
         _num("RLGUnit", "bias", self.bias)
-        for name in ("bias_instability", "rate_random_walk", "bias_repeatability", "flow_repeatability"):
+        for name in (
+            "bias_instability",
+            "rate_random_walk",
+            "bias_repeatability",
+            "flow_repeatability",
+        ):
             _nonneg("RLGUnit", name, getattr(self, name), "(SI)")
         low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
         if low < DITHER_LOCK_IN_MARGIN * wl:
@@ -673,7 +711,9 @@ class RLGUnit:
     @property
     def angle_random_walk(self) -> float:
         """N from dithering through lock-in [rad/sqrt(s)] (:func:`dither_arw`)."""
-        return dither_arw(scale_factor=self.scale_factor, lock_in_rate=self.lock_in_rate, dither=self.dither)
+        return dither_arw(
+            scale_factor=self.scale_factor, lock_in_rate=self.lock_in_rate, dither=self.dither
+        )
 
     def noise_model(self) -> NoiseModel:
         """The IEEE 952 model the statistical output follows (Q from counting, N from dither)."""
@@ -685,7 +725,9 @@ class RLGUnit:
         )
 
     # -------------------------------------------------------------- simulation
-    def temperatures(self, chamber: ArrayLike, fs: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def temperatures(
+        self, chamber: ArrayLike, fs: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """True housing and cavity temperatures [K] for chamber samples [K] at ``fs`` [Hz]."""
         return two_node_temperatures(np.asarray(chamber, dtype=float), fs, self.thermal)
 
@@ -746,16 +788,30 @@ class RLGUnit:
         t_grid = np.arange(n + 1) / fs  # angle at sample boundaries; sample k covers [t_k, t_{k+1})
         tch = np.asarray(chamber(t_grid), dtype=float)
         t1, t2 = self.temperatures(tch, fs)
-        dt1 = (tch + self.thermal.heating_housing - t1) / self.thermal.tau_housing  # exact dT1/dt of the model
+        dt1 = (
+            tch + self.thermal.heating_housing - t1
+        ) / self.thermal.tau_housing  # exact dT1/dt of the model
         # turn-on draws: constant bias and the discharge-current balance
         b_on = self.bias + self.bias_repeatability * r_turnon.standard_normal()
         flow = 1.0 + self.flow_repeatability * r_turnon.standard_normal(2)
-        tb = replace(self.thermal_bias, gradient=self.thermal_bias.gradient * flow[0], flux=self.thermal_bias.flux * flow[1])
+        tb = replace(
+            self.thermal_bias,
+            gradient=self.thermal_bias.gradient * flow[0],
+            flux=self.thermal_bias.flux * flow[1],
+        )
         comps = tb.components(t1, t2, dt1)
-        bias_mid = {k: 0.5 * (v[1:] + v[:-1]) for k, v in comps.items()}  # trapezoid over each sample
+        bias_mid = {
+            k: 0.5 * (v[1:] + v[:-1]) for k, v in comps.items()
+        }  # trapezoid over each sample
         thermal = sum(bias_mid.values())
-        noise = NoiseModel(bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk)
-        flick = noise.generate(n, fs, rng=r_noise) if (self.bias_instability > 0 or self.rate_random_walk > 0) else np.zeros(n)
+        noise = NoiseModel(
+            bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
+        )
+        flick = (
+            noise.generate(n, fs, rng=r_noise)
+            if (self.bias_instability > 0 or self.rate_random_walk > 0)
+            else np.zeros(n)
+        )
         if callable(rate):
             w_in = np.asarray(rate(t_grid[:-1] + 0.5 / fs), dtype=float) * np.ones(n)
         else:
@@ -763,7 +819,9 @@ class RLGUnit:
         arw = self.angle_random_walk * math.sqrt(fs) * r_arw.standard_normal(n)
         total = w_in + b_on + thermal + flick + arw
         theta = np.concatenate(([0.0], np.cumsum(total) / fs))
-        d = self.dither.amplitude * (1.0 + self.dither.amplitude_jitter * r_dither.standard_normal(n + 1))
+        d = self.dither.amplitude * (
+            1.0 + self.dither.amplitude_jitter * r_dither.standard_normal(n + 1)
+        )
         d = d * np.sin(r_dither.uniform(0.0, 2.0 * math.pi, n + 1))
         q = self.pulse_weight
         c = np.floor((theta + d) / q)
@@ -780,16 +838,22 @@ class RLGUnit:
             "thermal_bias": Channel(thermal, "rad/s", "sum of the thermal mechanisms"),
             "turn_on_bias": Channel(np.full(n, b_on), "rad/s", "constant bias of this turn-on"),
             "flicker_rrw": Channel(flick, "rad/s", "bias instability and rate random walk"),
-            "dither_random_walk": Channel(arw, "rad/s", "random walk from dithering through lock-in"),
+            "dither_random_walk": Channel(
+                arw, "rad/s", "random walk from dithering through lock-in"
+            ),
             "quantization": Channel(quant, "rad/s", "rate error from pulse counting"),
         }
-        truth.update({k: Channel(v, "rad/s", f"thermal mechanism {k}") for k, v in bias_mid.items()})
+        truth.update(
+            {k: Channel(v, "rad/s", f"thermal mechanism {k}") for k, v in bias_mid.items()}
+        )
         return Recording(
             fs=fs,
             channels={
                 "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
                 "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
-                "dither_angle": Channel(d[1:], "rad", "dither angle at the end of each sample (pick-off)"),
+                "dither_angle": Channel(
+                    d[1:], "rad", "dither angle at the end of each sample (pick-off)"
+                ),
                 "T1": Channel(t1m, "K", "housing temperature sensor"),
                 "T2": Channel(t2m, "K", "cavity temperature sensor"),
             },
@@ -824,7 +888,13 @@ class RLGUnit:
         if every < 1 or abs(every * dt * fs - 1.0) > 1e-9:
             raise ValueError(f"1/fs must be a whole multiple of dt; got fs={fs!r} Hz, dt={dt!r} s")
         psi = integrate_adler(
-            rate, duration, scale_factor=self.scale_factor, lock_in_rate=self.lock_in_rate, dt=dt, psi0=psi0, sample_every=every
+            rate,
+            duration,
+            scale_factor=self.scale_factor,
+            lock_in_rate=self.lock_in_rate,
+            dt=dt,
+            psi0=psi0,
+            sample_every=every,
         )
         return count_pulses(psi)
 
@@ -873,7 +943,11 @@ class RLGSpec:
     geometry: CavityGeometry = field(default_factory=lambda: CavityGeometry.triangle(0.14))
     lock_in_rate: float = units.deg_per_s(0.05)
     lock_in_spread: float = 0.1
-    dither: Dither = field(default_factory=lambda: Dither(frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1))
+    dither: Dither = field(
+        default_factory=lambda: Dither(
+            frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1
+        )
+    )
     bias_spread: float = units.deg_per_h(0.5)
     thermal: TwoNodeThermal = field(default_factory=TwoNodeThermal)
     thermal_spread: float = 0.1
@@ -897,8 +971,15 @@ class RLGSpec:
 
     def __post_init__(self) -> None:
         for name in (
-            "lock_in_spread", "bias_spread", "thermal_spread", "mechanism_spread", "bias_instability",
-            "rate_random_walk", "bias_repeatability", "flow_repeatability", "sensor_offset_spread",
+            "lock_in_spread",
+            "bias_spread",
+            "thermal_spread",
+            "mechanism_spread",
+            "bias_instability",
+            "rate_random_walk",
+            "bias_repeatability",
+            "flow_repeatability",
+            "sensor_offset_spread",
         ):
             _nonneg("RLGSpec", name, getattr(self, name), "(SI or relative)")
         # the nominal unit must itself be valid (dither vs lock-in, dither vs pulse weight)
@@ -907,10 +988,17 @@ class RLGSpec:
     def nominal(self, label: str = "nominal") -> RLGUnit:
         """The unit at the nominal values (no spread)."""
         return RLGUnit(
-            geometry=self.geometry, lock_in_rate=self.lock_in_rate, dither=self.dither, thermal=self.thermal,
-            thermal_bias=self.thermal_bias, bias_instability=self.bias_instability,
-            rate_random_walk=self.rate_random_walk, bias_repeatability=self.bias_repeatability,
-            flow_repeatability=self.flow_repeatability, sensor_housing=self.sensor, sensor_cavity=self.sensor,
+            geometry=self.geometry,
+            lock_in_rate=self.lock_in_rate,
+            dither=self.dither,
+            thermal=self.thermal,
+            thermal_bias=self.thermal_bias,
+            bias_instability=self.bias_instability,
+            rate_random_walk=self.rate_random_walk,
+            bias_repeatability=self.bias_repeatability,
+            flow_repeatability=self.flow_repeatability,
+            sensor_housing=self.sensor,
+            sensor_cavity=self.sensor,
             label=label,
         )
 
@@ -927,8 +1015,12 @@ class RLGSpec:
         thermal = TwoNodeThermal(
             tau_housing=_lognormal(r_th, th.tau_housing, s),
             tau_cavity=_lognormal(r_th, th.tau_cavity, s),
-            heating_housing=_lognormal(r_th, th.heating_housing, s) if th.heating_housing > 0 else th.heating_housing,
-            heating_cavity=_lognormal(r_th, th.heating_cavity, s) if th.heating_cavity > 0 else th.heating_cavity,
+            heating_housing=_lognormal(r_th, th.heating_housing, s)
+            if th.heating_housing > 0
+            else th.heating_housing,
+            heating_cavity=_lognormal(r_th, th.heating_cavity, s)
+            if th.heating_cavity > 0
+            else th.heating_cavity,
         )
         m = self.mechanism_spread
         mech = ThermalBias(

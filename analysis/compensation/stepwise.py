@@ -120,13 +120,21 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
         for name in ("p_enter", "p_remove"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not (0.0 < v < 1.0):
-                raise ValueError(f"StepwiseRegression.{name} must be a probability in (0, 1); got {v!r}")
+                raise ValueError(
+                    f"StepwiseRegression.{name} must be a probability in (0, 1); got {v!r}"
+                )
         if self.p_enter > self.p_remove:
             raise ValueError(
                 f"StepwiseRegression.p_enter must be <= p_remove; got p_enter={self.p_enter!r} > p_remove={self.p_remove!r}"
             )
-        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, numbers.Integral) or self.max_iter < 1:
-            raise ValueError(f"StepwiseRegression.max_iter must be an integer >= 1; got {self.max_iter!r}")
+        if (
+            isinstance(self.max_iter, bool)
+            or not isinstance(self.max_iter, numbers.Integral)
+            or self.max_iter < 1
+        ):
+            raise ValueError(
+                f"StepwiseRegression.max_iter must be an integer >= 1; got {self.max_iter!r}"
+            )
 
     def fit(self, X, y):
         """Select terms by stepwise partial F-tests and fit the final model.
@@ -165,7 +173,10 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
         while n_iter < self.max_iter:
             rss_s = _rss(X, y, included)
             excluded = [j for j in range(p) if j not in included]
-            enter = [(_partial_p(rss_s, _rss(X, y, included + [j]), n - len(included) - 2), j) for j in excluded]
+            enter = [
+                (_partial_p(rss_s, _rss(X, y, included + [j]), n - len(included) - 2), j)
+                for j in excluded
+            ]
             if enter:
                 pv, j = min(enter)
                 if pv < self.p_enter:
@@ -174,7 +185,10 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
                     n_iter += 1
                     continue
             df = n - len(included) - 1
-            remove = [(_partial_p(_rss(X, y, [k for k in included if k != j]), rss_s, df), j) for j in included]
+            remove = [
+                (_partial_p(_rss(X, y, [k for k in included if k != j]), rss_s, df), j)
+                for j in included
+            ]
             if remove:
                 pv, j = max(remove)
                 if pv > self.p_remove:
@@ -186,7 +200,9 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
             break
         if not converged:
             warnings.warn(
-                f"StepwiseRegression did not settle within max_iter={self.max_iter} steps", ConvergenceWarning, stacklevel=2
+                f"StepwiseRegression did not settle within max_iter={self.max_iter} steps",
+                ConvergenceWarning,
+                stacklevel=2,
             )
         self._finish(X, y, sorted(included))
         self.history_ = history

@@ -143,7 +143,9 @@ def test_empty_model_statistics():
 
 # ------------------------------------------------------------------ bad input
 def test_bad_fewer_samples_than_regressors(rng):
-    with pytest.raises(ValueError, match=r"more observations than regressors.*n_samples = 10, n_features = 11"):
+    with pytest.raises(
+        ValueError, match=r"more observations than regressors.*n_samples = 10, n_features = 11"
+    ):
         StepwiseRegression().fit(rng.standard_normal((10, 11)), rng.standard_normal(10))
 
 
@@ -155,8 +157,12 @@ def test_bad_zero_variance_regressor(rng):
 
 
 def test_bad_p_enter_above_p_remove(rng):
-    with pytest.raises(ValueError, match=r"p_enter must be <= p_remove; got p_enter=0.2 > p_remove=0.1"):
-        StepwiseRegression(p_enter=0.2, p_remove=0.1).fit(rng.standard_normal((20, 2)), rng.standard_normal(20))
+    with pytest.raises(
+        ValueError, match=r"p_enter must be <= p_remove; got p_enter=0.2 > p_remove=0.1"
+    ):
+        StepwiseRegression(p_enter=0.2, p_remove=0.1).fit(
+            rng.standard_normal((20, 2)), rng.standard_normal(20)
+        )
 
 
 def test_bad_probability(rng):

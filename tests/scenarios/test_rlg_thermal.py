@@ -40,15 +40,26 @@ def test_results_contract(outcome):
     g = outcome.results["gyros"]
     assert len(g) == 3
     for r in g:
-        for k in ("selected", "adj_r2", "bias_stability_before_deg_h", "bias_stability_after_deg_h", "improvement_pct"):
+        for k in (
+            "selected",
+            "adj_r2",
+            "bias_stability_before_deg_h",
+            "bias_stability_after_deg_h",
+            "improvement_pct",
+        ):
             assert k in r
         assert all(s in sc.REGRESSOR_LABELS for s in r["selected"])
         assert r["improvement_pct"] == pytest.approx(
-            100 * (1 - r["bias_stability_after_deg_h"] / r["bias_stability_before_deg_h"]), rel=1e-12
+            100 * (1 - r["bias_stability_after_deg_h"] / r["bias_stability_before_deg_h"]),
+            rel=1e-12,
         )
     json.dumps(outcome.results, allow_nan=True)
     assert [t.title.split(".")[0] for t in outcome.tables] == ["Table 1", "Table 1b", "Table 2"]
-    assert {f.name for f in outcome.figures} == {"fig1_output_vs_temperature", "fig2_rate_and_gradient", "fig4_before_after"}
+    assert {f.name for f in outcome.figures} == {
+        "fig1_output_vs_temperature",
+        "fig2_rate_and_gradient",
+        "fig4_before_after",
+    }
 
 
 def test_targets_on_default_seed(outcome):
@@ -76,7 +87,9 @@ def test_compensation_task_reproduces_run(outcome):
     run = task.heldout[0]
     scores = task.scorer(task.compensate(m.predict(run.X), run), run)
     g0 = outcome.results["gyros"][0]
-    assert scores["bias_stability_deg_h"] == pytest.approx(g0["bias_stability_after_deg_h"], rel=1e-12)
+    assert scores["bias_stability_deg_h"] == pytest.approx(
+        g0["bias_stability_after_deg_h"], rel=1e-12
+    )
     assert scores["improvement_pct"] == pytest.approx(g0["improvement_pct"], rel=1e-12)
 
 

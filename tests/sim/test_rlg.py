@@ -57,7 +57,9 @@ def test_reference_values_physics_md():
     assert round(rlg.CavityGeometry.triangle(0.10).scale_factor) == 91237
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).pulse_weight), 2) == 2.26
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).quantization), 2) == 0.65
-    assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.14).pulse_weight), 2) == 1.61  # 1.615 -> text "1.62"
+    assert (
+        round(units.to_arcsec(rlg.CavityGeometry.triangle(0.14).pulse_weight), 2) == 1.61
+    )  # 1.615 -> text "1.62"
     assert round(units.to_arcsec(rlg.CavityGeometry.square(0.10).pulse_weight), 2) == 1.31
 
 
@@ -98,7 +100,15 @@ def test_below_lock_in_no_pulses(rng):
     omega = np.array([0.0, 0.3, -0.6, 0.9]) * WL_TEST
     psi0 = rng.uniform(0, 2 * math.pi, (16, 4))
     dt = 2e-5
-    psi = rlg.integrate_adler(lambda t: omega, 0.2, scale_factor=K_TEST, lock_in_rate=WL_TEST, dt=dt, psi0=psi0, sample_every=100)
+    psi = rlg.integrate_adler(
+        lambda t: omega,
+        0.2,
+        scale_factor=K_TEST,
+        lock_in_rate=WL_TEST,
+        dt=dt,
+        psi0=psi0,
+        sample_every=100,
+    )
     counts = rlg.count_pulses(psi)
     # from any start the phase reaches the stable point without a full slip: at most one counter step
     assert np.all(np.abs(counts.sum(axis=0)) <= 1)
@@ -115,14 +125,25 @@ def test_above_lock_in_beat_period_closed_form(ratio):
     """The Adler phase is periodic: psi(t + T_b) = psi(t) + 2 pi, T_b = 1/(K sqrt(Omega^2 - Omega_L^2))."""
     omega = ratio * WL_TEST
     f_b = float(rlg.beat_frequency(omega, scale_factor=K_TEST, lock_in_rate=WL_TEST))
-    assert f_b == pytest.approx(math.copysign(K_TEST * WL_TEST * math.sqrt(ratio**2 - 1), ratio), rel=1e-12)
+    assert f_b == pytest.approx(
+        math.copysign(K_TEST * WL_TEST * math.sqrt(ratio**2 - 1), ratio), rel=1e-12
+    )
     m = 5
     period = 1.0 / abs(f_b)
     n_per = 4000
-    psi = rlg.integrate_adler(lambda t: omega, m * period, scale_factor=K_TEST, lock_in_rate=WL_TEST,
-                              dt=period / n_per, psi0=0.3, sample_every=n_per)
+    psi = rlg.integrate_adler(
+        lambda t: omega,
+        m * period,
+        scale_factor=K_TEST,
+        lock_in_rate=WL_TEST,
+        dt=period / n_per,
+        psi0=0.3,
+        sample_every=n_per,
+    )
     # RK4, 4000 steps per slip: global phase error << 1e-8 rad per cycle
-    np.testing.assert_allclose(psi - 0.3, math.copysign(2 * math.pi, ratio) * np.arange(m + 1), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(
+        psi - 0.3, math.copysign(2 * math.pi, ratio) * np.arange(m + 1), rtol=0, atol=1e-8
+    )
     assert rlg.count_pulses(psi[[0, -1]])[0] == math.copysign(m, ratio)
 
 
@@ -155,14 +176,29 @@ def test_dither_random_walk_matches_statistical_mode(rng):
     real = dither.draw(n_cyc, rng=rng, size=r)
     psi0 = rng.uniform(0.0, 2 * math.pi, r)
     duration = n_cyc / f_d
-    n = int(math.ceil(duration * 16 * 1.3 * K_TEST * dither.peak_rate))  # >= 16 steps per fastest beat cycle
-    psi = rlg.integrate_adler(real.rate, duration, scale_factor=K_TEST, lock_in_rate=WL_TEST,
-                              dt=duration / n, psi0=psi0, sample_every=n)
+    n = int(
+        math.ceil(duration * 16 * 1.3 * K_TEST * dither.peak_rate)
+    )  # >= 16 steps per fastest beat cycle
+    psi = rlg.integrate_adler(
+        real.rate,
+        duration,
+        scale_factor=K_TEST,
+        lock_in_rate=WL_TEST,
+        dt=duration / n,
+        psi0=psi0,
+        sample_every=n,
+    )
     err = (psi[-1] - psi[0]) / (2 * math.pi * K_TEST)  # true angle change over whole cycles is 0
     s2 = err.var(ddof=1)
     lo, hi = stats.chi2.ppf([0.0005, 0.9995], r - 1) / (r - 1)
     # against the per-crossing stationary-phase sum for the drawn amplitudes
-    expected = float(np.mean(real.expected_angle_variance(scale_factor=K_TEST, lock_in_rate=WL_TEST, n_crossings=2 * n_cyc)))
+    expected = float(
+        np.mean(
+            real.expected_angle_variance(
+                scale_factor=K_TEST, lock_in_rate=WL_TEST, n_crossings=2 * n_cyc
+            )
+        )
+    )
     assert lo <= s2 / expected <= hi, (s2 / expected, lo, hi)
     # against the ARW the statistical mode uses
     n_stat = rlg.dither_arw(scale_factor=K_TEST, lock_in_rate=WL_TEST, dither=dither)
@@ -173,7 +209,11 @@ def test_dither_random_walk_matches_statistical_mode(rng):
 
 def test_statistical_mode_arw_value_physics_md():
     """PHYSICS.md 6.3 example: Omega_L 0.05 deg/s, K 1e5, Omega_D 100 deg/s -> 0.0029 deg/sqrt(h)."""
-    d = rlg.Dither(frequency=400.0, amplitude=units.deg_per_s(100.0) / (2 * math.pi * 400.0), amplitude_jitter=0.0)
+    d = rlg.Dither(
+        frequency=400.0,
+        amplitude=units.deg_per_s(100.0) / (2 * math.pi * 400.0),
+        amplitude_jitter=0.0,
+    )
     n = rlg.dither_arw(scale_factor=1e5, lock_in_rate=units.deg_per_s(0.05), dither=d)
     assert round(units.to_deg_per_sqrt_h(n), 4) == 0.0029
 
@@ -188,11 +228,16 @@ def test_counted_angle_within_one_pulse_of_true_angle(rng):
     """Closed form: sum(output)/fs = true angle - (e_k - e_0) with 0 <= e < q, so |difference| < q."""
     u = _quiet_unit(bias_instability=units.deg_per_h(0.01))
     rec = _run_quiet(u, rng, 200.0, 50.0)
-    true_increment = sum(rec[f"truth/{k}"] for k in ("true_rate", "turn_on_bias", "thermal_bias", "flicker_rrw", "dither_random_walk"))
+    true_increment = sum(
+        rec[f"truth/{k}"]
+        for k in ("true_rate", "turn_on_bias", "thermal_bias", "flicker_rrw", "dither_random_walk")
+    )
     diff = np.cumsum(rec["rate"] - true_increment) / rec.fs
     assert np.max(np.abs(diff)) < u.pulse_weight
     np.testing.assert_array_equal(rec["counts"], np.round(rec["counts"]))
-    np.testing.assert_allclose(rec["rate"] - true_increment, rec["truth/quantization"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        rec["rate"] - true_increment, rec["truth/quantization"], rtol=0, atol=1e-12
+    )
 
 
 def test_quantization_slope_with_dither(rng):
@@ -210,8 +255,10 @@ def test_quantization_slope_with_dither(rng):
     taus, dev, _, _ = allantools.oadev(y, rate=fs, data_type="freq", taus=m / fs)
     q, n = u.geometry.quantization, u.angle_random_walk
     theory = 3 * q**2 / taus**2 + n**2 / taus
-    for mi, t, d, th in zip(m, taus, dev, theory):
-        edf = allantools.edf_greenhall(alpha=2, d=2, m=int(mi), N=len(y) + 1, overlapping=True, modified=False)
+    for mi, t, d, th in zip(m, taus, dev, theory, strict=True):
+        edf = allantools.edf_greenhall(
+            alpha=2, d=2, m=int(mi), N=len(y) + 1, overlapping=True, modified=False
+        )
         lo, hi = stats.chi2.ppf([5e-7, 1 - 5e-7], edf) / edf
         assert lo <= d**2 / th <= hi, (t, d**2 / th, lo, hi)
 
@@ -219,14 +266,21 @@ def test_quantization_slope_with_dither(rng):
 def test_no_dither_randomization_breaks_white_quantization_assumption_is_rejected():
     """A dither smaller than 10 pulse weights cannot randomize the count: rejected."""
     with pytest.raises(ValueError, match="dither amplitude must be >= 10 pulse weights"):
-        _quiet_unit(lock_in_rate=0.0, dither=rlg.Dither(frequency=400.0, amplitude=units.arcsec(5.0), amplitude_jitter=0.1))
+        _quiet_unit(
+            lock_in_rate=0.0,
+            dither=rlg.Dither(frequency=400.0, amplitude=units.arcsec(5.0), amplitude_jitter=0.1),
+        )
 
 
 def test_bad_dither_below_lock_in_needs():
     """Peak dither rate below 10 x lock-in rate: the gyro would spend the cycle locked."""
-    with pytest.raises(ValueError, match=r"dither amplitude too small for lock-in.*>= 10 x lock-in rate"):
-        _quiet_unit(dither=rlg.Dither(frequency=400.0, amplitude=units.arcsec(30.0), amplitude_jitter=0.1),
-                    lock_in_rate=units.deg_per_s(3.0))
+    with pytest.raises(
+        ValueError, match=r"dither amplitude too small for lock-in.*>= 10 x lock-in rate"
+    ):
+        _quiet_unit(
+            dither=rlg.Dither(frequency=400.0, amplitude=units.arcsec(30.0), amplitude_jitter=0.1),
+            lock_in_rate=units.deg_per_s(3.0),
+        )
 
 
 def test_bad_sample_rate_above_dither_quarter(rng):
@@ -248,7 +302,9 @@ def test_two_node_ramp_closed_form():
     Housing node: FOH is exact (to rounding). Cavity node: T1 is taken linear within a
     sample, error <= h^2 max|T1''|/8 = h^2 r/(8 tau1) (unit-gain filter).
     """
-    th = rlg.TwoNodeThermal(tau_housing=600.0, tau_cavity=900.0, heating_housing=0.0, heating_cavity=0.0)
+    th = rlg.TwoNodeThermal(
+        tau_housing=600.0, tau_cavity=900.0, heating_housing=0.0, heating_cavity=0.0
+    )
     fs, r = 2.0, 1.0 / 180.0
     t = np.arange(int(4 * 3600 * fs)) / fs
     tc = r * t
@@ -263,7 +319,9 @@ def test_two_node_ramp_closed_form():
 
 def test_two_node_self_heating_closed_form():
     """Constant chamber, powered at t = 0: T1 = Tc + H1 (1 - e^{-t/tau1}), exact; T2 -> Tc + H1 + H2."""
-    th = rlg.TwoNodeThermal(tau_housing=500.0, tau_cavity=700.0, heating_housing=3.0, heating_cavity=1.2)
+    th = rlg.TwoNodeThermal(
+        tau_housing=500.0, tau_cavity=700.0, heating_housing=3.0, heating_cavity=1.2
+    )
     fs = 1.0
     t = np.arange(40000) / fs
     tc = np.full_like(t, 250.0)
@@ -273,8 +331,15 @@ def test_two_node_self_heating_closed_form():
 
 
 def test_thermal_bias_equation():
-    tb = rlg.ThermalBias(cavity=1.0, cavity_quadratic=0.1, gradient=2.0, flux=3.0, flux_quadratic=4.0,
-                         gas_temperature_coefficient=0.01, reference_temperature=300.0)
+    tb = rlg.ThermalBias(
+        cavity=1.0,
+        cavity_quadratic=0.1,
+        gradient=2.0,
+        flux=3.0,
+        flux_quadratic=4.0,
+        gas_temperature_coefficient=0.01,
+        reference_temperature=300.0,
+    )
     t1, t2, d1 = np.array([310.0]), np.array([305.0]), np.array([0.5])
     gas = 1 + 0.01 * 5.0
     expected = 1.0 * 5 + 0.1 * 25 + gas * (2.0 * 5 + 3.0 * 0.5) + 4.0 * 0.25
@@ -301,11 +366,21 @@ def test_realize_is_reproducible_and_units_differ():
     b = spec.realize(rng=np.random.default_rng(7))
     c = spec.realize(rng=np.random.default_rng(8))
     assert a == b
-    assert a.lock_in_rate != c.lock_in_rate and a.thermal_bias != c.thermal_bias and a.thermal != c.thermal
+    assert (
+        a.lock_in_rate != c.lock_in_rate
+        and a.thermal_bias != c.thermal_bias
+        and a.thermal != c.thermal
+    )
 
 
 def test_realize_without_spread_gives_nominal():
-    spec = rlg.RLGSpec(lock_in_spread=0.0, bias_spread=0.0, thermal_spread=0.0, mechanism_spread=0.0, sensor_offset_spread=0.0)
+    spec = rlg.RLGSpec(
+        lock_in_spread=0.0,
+        bias_spread=0.0,
+        thermal_spread=0.0,
+        mechanism_spread=0.0,
+        sensor_offset_spread=0.0,
+    )
     u = spec.realize(rng=np.random.default_rng(1))
     assert u.lock_in_rate == spec.lock_in_rate
     assert u.thermal == spec.thermal
@@ -315,11 +390,17 @@ def test_realize_without_spread_gives_nominal():
 def test_simulate_reproducible_and_thermal_bias_in_truth(rng):
     spec = rlg.RLGSpec()
     u = spec.realize(rng=np.random.default_rng(3))
-    prof = thermal_profile(units.celsius(-40.0), [Soak(duration=600.0), Ramp(target=units.celsius(-20.0), rate=1 / 180)])
+    prof = thermal_profile(
+        units.celsius(-40.0),
+        [Soak(duration=600.0), Ramp(target=units.celsius(-20.0), rate=1 / 180)],
+    )
     r1 = u.simulate(prof, prof.duration, 10.0, rng=np.random.default_rng(5))
     r2 = u.simulate(prof, prof.duration, 10.0, rng=np.random.default_rng(5))
     np.testing.assert_array_equal(r1["rate"], r2["rate"])
-    mech = sum(r1[f"truth/{k}"] for k in ("bias_cavity_temperature", "bias_discharge_gradient", "bias_heat_flux"))
+    mech = sum(
+        r1[f"truth/{k}"]
+        for k in ("bias_cavity_temperature", "bias_discharge_gradient", "bias_heat_flux")
+    )
     np.testing.assert_allclose(mech, r1["truth/thermal_bias"], rtol=1e-12, atol=0)
     assert r1.n_samples == int(prof.duration * 10)
 

@@ -23,7 +23,9 @@ The model, effect by effect (PHYSICS.md section 6):
   (white angle noise of std q/sqrt(12) once the dither randomizes the angle across q).
 * **Fast statistical mode** (:meth:`RLGUnit.simulate`) for long records: true angle =
   integral of (input + bias + flicker/RRW) + a random walk of coefficient N_dither,
-  then counted and stripped as above.
+  then counted and stripped as above. It assumes a randomized dither: the dynamic
+  lock-in bands of an unrandomized dither (K Omega = integer x f_d) and the lock-in
+  scale-factor nonlinearity are not in this mode (use :func:`integrate_adler`).
 * **Two-node thermal model** (:func:`two_node_temperatures`): housing T1 driven by the
   chamber, cavity T2 driven by the housing, each first order, with self-heating
   from power-on.
@@ -261,8 +263,8 @@ def integrate_adler(
     lock_in_rate : float or array
         Omega_L [rad/s] (per realization if an array).
     dt : float
-        Step [s]. Must resolve the fastest beat: dt <= 1/(8 K max|Omega|) is checked
-        by the caller's choice; RK4 error per beat cycle ~ (2 pi K |Omega| dt)^5.
+        Step [s]. It must resolve the fastest beat: choose dt <= 1/(16 K max|Omega|)
+        (RK4 phase error per beat cycle ~ (2 pi K |Omega| dt)^5 / 120).
     psi0 : float or array
         Initial phase [rad]; an array integrates many realizations at once.
     sample_every : int
@@ -616,7 +618,7 @@ class TemperatureSensor:
 
 # ============================================================================ spec and unit
 def _lognormal(rng: np.random.Generator, nominal: float, spread: float) -> float:
-    """nominal * exp(spread * eps - spread^2/2): median-preserving-ish positive draw with mean nominal."""
+    """Positive draw nominal * exp(spread * eps - spread^2/2), eps ~ N(0, 1): mean = nominal, relative std ~ spread."""
     return float(nominal * math.exp(spread * rng.standard_normal() - 0.5 * spread * spread))
 
 

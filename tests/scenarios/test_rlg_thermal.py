@@ -121,3 +121,12 @@ def test_bad_config_dither_below_lock_in():
 def test_bad_config_block_not_whole_samples():
     with pytest.raises(ValueError, match="whole number of samples"):
         sc.Config(block_s=100.05)
+
+
+def test_bad_program_fewer_blocks_than_regressors():
+    """A chamber program shorter than 13 blocks of 100 s cannot fit 11 candidates: a clear error."""
+    c = sc.Config(
+        n_gyros=1, high_c=-38.0, power_on_soak_min=1.0, high_soak_min=1.0, end_soak_min=1.0
+    )
+    with pytest.raises(ValueError, match=r"more observations than regressors.*n_samples = 9, n_features = 11"):
+        sc.run(c, 0)

@@ -162,49 +162,64 @@ def test_unit_adler_counts_track_input_above_lock_in():
 
 
 # ------------------------------------------------------------------ dither random walk: Adler vs statistical mode
-def test_dither_random_walk_matches_statistical_mode(rng):
-    """Integrated Adler equation with randomized dither vs N = Omega_L/sqrt(2 pi K Omega_D).
+def _adler_vs_statistical(rng, *, k, lock_in, dither, n_cyc, r):
+    """Integrate R realizations over n_cyc whole dither cycles; check the angle-error variance.
 
-    1000 realizations x 10 dither cycles (20 lock-in crossings each), random initial
-    phase. The angle error after whole cycles has variance T N^2 (statistical mode);
-    its sample variance over R realizations is chi-square(R - 1) distributed (the sum
-    of 20 independent kicks is close to Gaussian). Two-sided bounds at a false-alarm
-    rate of 1e-3. Phase kick per crossing 0.03 rad (small-kick regime of the formula).
+    The angle error after whole cycles has variance T N^2 (statistical mode); its sample
+    variance over R realizations is chi-square(R - 1) distributed (a sum of 2 n_cyc
+    independent kicks is close to Gaussian). Two-sided bounds at a false-alarm rate of 1e-3.
     """
-    f_d, n_cyc, r = 400.0, 10, 1000
-    dither = rlg.Dither(frequency=f_d, amplitude=20.0 / K_TEST, amplitude_jitter=0.1)
     real = dither.draw(n_cyc, rng=rng, size=r)
     psi0 = rng.uniform(0.0, 2 * math.pi, r)
-    duration = n_cyc / f_d
+    duration = n_cyc / dither.frequency
     n = int(
-        math.ceil(duration * 16 * 1.3 * K_TEST * dither.peak_rate)
+        math.ceil(duration * 16 * 1.3 * k * dither.peak_rate)
     )  # >= 16 steps per fastest beat cycle
     psi = rlg.integrate_adler(
         real.rate,
         duration,
-        scale_factor=K_TEST,
-        lock_in_rate=WL_TEST,
+        scale_factor=k,
+        lock_in_rate=lock_in,
         dt=duration / n,
         psi0=psi0,
         sample_every=n,
     )
-    err = (psi[-1] - psi[0]) / (2 * math.pi * K_TEST)  # true angle change over whole cycles is 0
+    err = (psi[-1] - psi[0]) / (2 * math.pi * k)  # true angle change over whole cycles is 0
     s2 = err.var(ddof=1)
     lo, hi = stats.chi2.ppf([0.0005, 0.9995], r - 1) / (r - 1)
     # against the per-crossing stationary-phase sum for the drawn amplitudes
     expected = float(
         np.mean(
             real.expected_angle_variance(
-                scale_factor=K_TEST, lock_in_rate=WL_TEST, n_crossings=2 * n_cyc
+                scale_factor=k, lock_in_rate=lock_in, n_crossings=2 * n_cyc
             )
         )
     )
     assert lo <= s2 / expected <= hi, (s2 / expected, lo, hi)
     # against the ARW the statistical mode uses
-    n_stat = rlg.dither_arw(scale_factor=K_TEST, lock_in_rate=WL_TEST, dither=dither)
+    n_stat = rlg.dither_arw(scale_factor=k, lock_in_rate=lock_in, dither=dither)
     assert lo <= s2 / (n_stat**2 * duration) <= hi, (s2 / (n_stat**2 * duration), lo, hi)
     # zero mean: |mean| / (s/sqrt(R)) below the 1e-3 two-sided normal quantile
     assert abs(err.mean()) / math.sqrt(s2 / r) < stats.norm.ppf(1 - 0.0005)
+
+
+def test_dither_random_walk_matches_statistical_mode(rng):
+    """Adler integration with randomized dither vs N = Omega_L/sqrt(2 pi K Omega_D).
+
+    K = 1e5, dither 400 Hz x 20 counts (+-10 %), Omega_L 0.05 deg/s: phase kick per
+    crossing 0.03 rad (small-kick regime of the formula); 1000 realizations x 10 cycles.
+    """
+    dither = rlg.Dither(frequency=400.0, amplitude=20.0 / K_TEST, amplitude_jitter=0.1)
+    _adler_vs_statistical(rng, k=K_TEST, lock_in=WL_TEST, dither=dither, n_cyc=10, r=1000)
+
+
+@pytest.mark.slow
+def test_dither_random_walk_matches_statistical_mode_production_unit(rng):
+    """The same check at the scenario's nominal unit: triangle 0.14 m, 400 Hz x 150 arcsec, 0.05 deg/s."""
+    u = rlg.RLGSpec().nominal()
+    _adler_vs_statistical(
+        rng, k=u.scale_factor, lock_in=u.lock_in_rate, dither=u.dither, n_cyc=8, r=1000
+    )
 
 
 def test_statistical_mode_arw_value_physics_md():

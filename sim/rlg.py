@@ -863,6 +863,7 @@ class RLGUnit:
             metadata={
                 "model": "sim.rlg statistical mode",
                 "unit": self.label,
+                "unit_parameters_si": self,
                 "scale_factor_counts_per_rad": self.scale_factor,
                 "pulse_weight_rad": q,
                 "angle_random_walk_rad_sqrt_s": self.angle_random_walk,

@@ -266,9 +266,13 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     Features: the eleven regressors x1..x11 (degC, degC/s); target: the output error
     [deg/h] (output minus true rate), as the paper compensates the bias.
     """
-    recs = simulate(config, seed)
+    gyros, runs = _units_and_streams(config, seed)
     i = config.bench_gyro
-    fit, held = _blocks(recs[2 * i], config), _blocks(recs[2 * i + 1], config)
+    prof = config.chamber()
+    fit, held = (
+        _blocks(gyros[i].simulate(prof, prof.duration, config.fs_hz, rng=r), config)
+        for r in runs[i]
+    )
     return CompensationTask(
         scenario=NAME,
         feature_names=tuple(

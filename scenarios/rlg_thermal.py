@@ -502,7 +502,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         [
             lab,
             REGRESSOR_NAMES[j],
-            g0["coefficients"].get(lab, 0.0) if lab in g0["coefficients"] else "excluded",
+            g0["coefficients"][lab] if lab in g0["coefficients"] else "excluded",
             float(models[0].coef_stderr_[j]) if lab in g0["coefficients"] else "",
             g0["pvalues"][lab],
         ]

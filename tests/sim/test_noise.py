@@ -378,7 +378,7 @@ def test_flicker_starts_stationary():
     """Var of the first sample over independent streams = sum of pole variances (chi-square, alpha 1e-3)."""
     model = NoiseModel(bias_instability=1.0)
     fs = 100.0
-    k = 400
+    k = 200
     first = np.array([model.generate(1, fs, rng=np.random.default_rng([99, i]))[0] for i in range(k)])
     var_true = np.sum(model.flicker_poles(fs)[1] ** 2)
     stat = np.sum(first**2) / var_true  # chi2(k) under H0 (zero mean)

@@ -469,13 +469,14 @@ def _fig_spectrum_cwt(rec: Recording) -> Figure:
     ax1.set_ylabel("amplitude [deg/h]")
     ax1.set_title("(a) FFT amplitude spectrum: no time information", fontsize=9)
     ax2 = fig.add_subplot(2, 1, 2)
-    pc = ax2.pcolormesh(tf.time, tf.frequency, np.log10(tf.magnitude + 1e-12), shading="nearest", cmap="viridis")
+    rel = tf.magnitude / np.median(tf.magnitude, axis=1, keepdims=True)  # each frequency against its median
+    pc = ax2.pcolormesh(tf.time, tf.frequency, 20 * np.log10(rel + 1e-12), shading="nearest", cmap="viridis")
     ax2.set_yscale("log")
     ax2.set_xlabel("time [s]")
     ax2.set_ylabel("pseudo-frequency [Hz]")
-    ax2.set_title("(c) continuous wavelet transform (complex Morlet), log10 |W| [deg/h]; EMD panel omitted",
-                  fontsize=9)
-    fig.colorbar(pc, ax=ax2)
+    ax2.set_title("(c) continuous wavelet transform (complex Morlet): |W| against its median at each frequency; "
+                  "EMD panel omitted", fontsize=9)
+    fig.colorbar(pc, ax=ax2, label="[dB]")
     fig.tight_layout()
     return fig
 

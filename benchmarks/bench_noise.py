@@ -5,8 +5,9 @@ Prints (never asserts):
 
 * the machine (nproc, CPU model, load average);
 * a plain ``Generator.standard_normal`` baseline (float64, 1M per call) in the same run;
-* the five-term model (Q, N, B, K, R) one-shot (``generate``) and streaming in 1M
-  chunks (``stream().chunks``), in samples/s, best of several repeats;
+* the five-term model (Q, N, B, K, R) one-shot (``generate``, default settings) and
+  streaming in 1M chunks (``stream().chunks``) with and without the draw thread, in
+  samples/s of wall clock and per CPU-second, best of several repeats;
 * the time per term (each term alone, streaming), to show where the time goes;
 * the peak resident memory (ru_maxrss of a fresh subprocess) while streaming 1e8
   samples of the five-term model to HDF5 with ``sim.recording.HDF5StreamWriter``.
@@ -60,7 +61,7 @@ def best_rate(fn, n: int, repeats: int) -> tuple[float, float]:
 def _line(label: str, rate: tuple[float, float], base: tuple[float, float] | None = None) -> None:
     wall, cpu = rate
     extra = f"  ({wall / base[0]:.2f} x baseline wall, {cpu / base[1]:.2f} x CPU)" if base else ""
-    print(f"{label:44s}: {wall / 1e6:7.1f} M samples/s wall, {cpu / 1e6:7.1f} M per CPU-s{extra}")
+    print(f"{label:50s}: {wall / 1e6:7.1f} M samples/s wall, {cpu / 1e6:7.1f} M per CPU-s{extra}")
 
 
 def bench_speed(n: int, repeats: int) -> None:
@@ -87,7 +88,8 @@ def bench_speed(n: int, repeats: int) -> None:
             pass
 
     _line(f"five-term, one-shot generate({n:.1e})", best_rate(one_shot, n, repeats), base)
-    _line("five-term, streaming in 1M chunks", best_rate(streaming, n, repeats), base)
+    nz._PREFETCH = True
+    _line("five-term, streaming in 1M chunks, draw thread", best_rate(streaming, n, repeats), base)
     nz._PREFETCH = False
     _line("five-term, streaming, no draw thread", best_rate(streaming, n, repeats), base)
     print("per term alone (streaming in 1M chunks, no draw thread):")
@@ -101,7 +103,7 @@ def bench_speed(n: int, repeats: int) -> None:
 
         r = best_rate(one_term, n, repeats)
         print(f"    {name:18s}: {1e9 / r[1]:5.1f} ns per sample CPU = {base[1] / r[1]:.2f} standard_normal draws")
-    nz._PREFETCH = True
+    nz._PREFETCH = "auto"
     t0 = time.perf_counter()
     model.stream(FS, rng=np.random.default_rng(1))
     print(f"stream construction (flicker factorisation, {len(model.flicker_poles(FS)[0])} poles): "

@@ -676,6 +676,7 @@ def test_bad_chunk_rejected():
 def test_prefetch_thread_does_not_change_values(monkeypatch):
     """Drawing the next block in the worker thread gives the same samples as drawing inline."""
     n = 3 * nz._BLOCK + 123
+    monkeypatch.setattr(nz, "_PREFETCH", True)
     with_thread = ALL_TERMS.generate(n, 100.0, rng=np.random.default_rng(21))
     monkeypatch.setattr(nz, "_PREFETCH", False)
     inline = ALL_TERMS.generate(n, 100.0, rng=np.random.default_rng(21))

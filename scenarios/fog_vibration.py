@@ -72,7 +72,15 @@ from analysis.allan import allan_deviation, fit_noise
 from analysis.compensation.rbf import RBFNetwork
 from analysis.wavelet import amplitude_spectrum, cwt_map, decompose
 from scenarios.allan_report import TERMS, coefficients_json
-from scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table, mse_scores
+from scenarios.base import (
+    CompensationTask,
+    FigureSpec,
+    Headline,
+    HeldOutRun,
+    Outcome,
+    Table,
+    mse_scores,
+)
 from sim import units
 from sim.noise import NoiseModel
 from sim.recording import Recording
@@ -450,7 +458,7 @@ def _fig_records(recs, config) -> Figure:
         n = len(y) // k * k
         ax.plot(t[:n:k], y[:n].reshape(-1, k).mean(axis=1), lw=0.6)
         ax.set_ylabel("rate [deg/h]")
-        ax.set_title(("(a) sweep %g-%g Hz" % (config.sweep_start_hz, config.sweep_end_hz)) if i == 0
+        ax.set_title((f"(a) sweep {config.sweep_start_hz:g}-{config.sweep_end_hz:g} Hz") if i == 0
                      else f"(b) fixed {config.fixed_hz:g} Hz", fontsize=9)
     ax.set_xlabel("time [s]")
     fig.tight_layout()
@@ -491,7 +499,7 @@ def _fig_multiscale(dec, t: np.ndarray) -> Figure:
     ax = fig.add_subplot()
     k = max(1, len(t) // 3000)
     tt = _block(t, k)
-    rows = [("a%d" % dec.level, dec.approximation)] + [("d%d" % j, dec.detail(j)) for j in range(dec.level, 0, -1)]
+    rows = [(f"a{dec.level}", dec.approximation)] + [(f"d{j}", dec.detail(j)) for j in range(dec.level, 0, -1)]
     for i, (label, x) in enumerate(rows):
         xb = _block(x, k) if label.startswith("a") else np.sqrt(_block(x**2, k))
         xb = xb - np.median(xb)
@@ -671,28 +679,28 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     tables = [
         _coef_table("Table 1. Allan coefficients of the three phases of the 500 Hz record (95 % intervals)",
                     {f"phase {k}": v for k, v in phases.items()},
-                    note=("Phase 1 static, 2 vibration, 3 static; a guard of %g s after each switching edge is "
-                          "excluded. '< x' = not identifiable from the segment, 95 %% upper bound. Paper: every "
-                          "coefficient rises in phase 2; phases 1 and 3 nearly equal." % config.guard_s)),
-        _coef_table("Table 2. Sweep record: original vs reconstructed bias (a%d) vs drift + noise (d1..d%d)" % (j, j),
+                    note=(f"Phase 1 static, 2 vibration, 3 static; a guard of {config.guard_s:g} s after each switching edge is "
+                          "excluded. '< x' = not identifiable from the segment, 95 % upper bound. Paper: every "
+                          "coefficient rises in phase 2; phases 1 and 3 nearly equal.")),
+        _coef_table(f"Table 2. Sweep record: original vs reconstructed bias (a{j}) vs drift + noise (d1..d{j})",
                     decomposition,
-                    note=("Q, N from the full tau range; B, K, R from tau >= 2^%d/fs = %.3g s, for every column (the "
-                          "bias part's ADEV below ~2^%d samples rises with slope +1, a smooth signal, which a fit would "
-                          "read as a large R: an artefact of the low-pass). Paper: the bias part loses most of Q, N and "
-                          "R and keeps B and K; drift + noise the opposite." % (j + 1, m_low / fs, j))),
+                    note=(f"Q, N from the full tau range; B, K, R from tau >= 2^{j + 1}/fs = {m_low / fs:.3g} s, for "
+                          f"every column (the bias part's ADEV below ~2^{j} samples rises with slope +1, a smooth "
+                          "signal, which a fit would read as a large R: an artefact of the low-pass). Paper: the bias "
+                          "part loses most of Q, N and R and keeps B and K; drift + noise the opposite.")),
         _coef_table("Table 3. 500 Hz record: original, wavelet-denoised, RBF- and LS-compensated",
                     compensation,
-                    note=("Q, N from the full tau range; B, K, R from tau >= 2^%d/fs = %.3g s, for every column (a%d "
-                          "is smooth below ~2^%d samples by construction and its ADEV there would read as a spurious "
-                          "rate ramp). Paper: denoising lowers Q and N; compensation lowers B, K, R; RBF lower than "
-                          "LS." % (j + 1, m_low / fs, j, j))),
+                    note=(f"Q, N from the full tau range; B, K, R from tau >= 2^{j + 1}/fs = {m_low / fs:.3g} s, for "
+                          f"every column (a{j} is smooth below ~2^{j} samples by construction and its ADEV there would "
+                          "read as a spurious rate ramp). Paper: denoising lowers Q and N; compensation lowers B, K, R; "
+                          "RBF lower than LS.")),
         Table("Bias model error against vibration frequency",
-              ["model", "MSE vs true bias [(deg/h)^2]", "MSE vs A6 target [(deg/h)^2]", "bias at %g Hz [deg/h]" % config.fixed_hz],
-              [["RBF (newrb, spread %g Hz, goal %g)" % (config.rbf_spread_hz, config.rbf_goal_deg_h2), mse_rbf,
+              ["model", "MSE vs true bias [(deg/h)^2]", "MSE vs A6 target [(deg/h)^2]", f"bias at {config.fixed_hz:g} Hz [deg/h]"],
+              [[f"RBF (newrb, spread {config.rbf_spread_hz:g} Hz, goal {config.rbf_goal_deg_h2:g})", mse_rbf,
                 mse_rbf_t, results["bias_at_fixed_hz"]["rbf"]],
-               ["%dth-order least squares" % config.ls_order, mse_ls, mse_ls_t, results["bias_at_fixed_hz"]["ls"]],
+               [f"{config.ls_order}th-order least squares", mse_ls, mse_ls_t, results["bias_at_fixed_hz"]["ls"]],
                ["truth", 0.0, float(np.mean((bm.truth_bins - bm.y_bins) ** 2)), true_fixed_bias]],
-              note="RBF neurons: %d. Paper: the RBF approximation is far better than the 4th-order fit." % bm.rbf.n_neurons_),
+              note=f"RBF neurons: {bm.rbf.n_neurons_}. Paper: the RBF approximation is far better than the 4th-order fit."),
     ]
 
     # --- headlines

@@ -422,7 +422,7 @@ def grms(breakpoints: Sequence[tuple[float, float]]) -> float:
     bp = np.asarray(breakpoints, dtype=float)
     psd_from_breakpoints(breakpoints, bp[:1, 0])  # validation
     total = 0.0
-    for (f1, g1), (f2, g2) in zip(bp[:-1], bp[1:]):
+    for (f1, g1), (f2, g2) in zip(bp[:-1], bp[1:], strict=True):
         s = math.log(g2 / g1) / math.log(f2 / f1)
         if abs(s + 1.0) < 1e-12:
             total += g1 * f1 * math.log(f2 / f1)

@@ -408,7 +408,7 @@ class FogVibrationModel:
         e_out = [place(e) for e in energies]
         s_tot = np.sum(e_out, axis=0) if e_out else np.zeros(n)
         d_sum = np.zeros(n)
-        for mode, e in zip(self.modes, e_out):
+        for mode, e in zip(self.modes, e_out, strict=True):
             d_sum += mode.noise_weight * e
         u = np.sqrt(d_sum) / self.noise_ref
         comps["vibration_noise"] = self._arw0() * math.sqrt(fo) * u * r_vib.standard_normal(n)

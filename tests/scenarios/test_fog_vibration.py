@@ -62,7 +62,7 @@ def test_bench_task_truth_is_the_output_without_the_true_bias():
     assert task.X_train.shape == (int(sum((30, 60, 30)) * SMALL.bench_rate_hz), 2)
     assert np.all(task.y_train[task.X_train[:, 1] == 0] == 0)
     # compensating each held-out run with its true bias (block means) returns the truth exactly
-    for label, rec in zip(("sweep", "fixed"), sc.simulate(SMALL, 0 + 1_000_003)):
+    for label, rec in zip(("sweep", "fixed"), sc.simulate(SMALL, 0 + 1_000_003), strict=True):
         run = next(r for r in task.heldout if r.label == label)
         k = int(round(rec.fs / SMALL.bench_rate_hz))
         true_bias = units.to_deg_per_h(rec["truth/vibration_bias"]).reshape(-1, k).mean(axis=1)

@@ -689,10 +689,85 @@ def _wnnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float
     return cs / scale
 
 
-def _point_variance(x: NDArray[np.float64], c: NDArray[np.float64], nu: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Var(A_i) = sum_t 2 (C_t tau_i^p_t)^2 / nu_t(m_i): each term's chi-square variance, cross terms neglected."""
-    contrib = x * c[None, :]
-    return np.sum(2.0 * contrib**2 / nu, axis=1)
+#: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
+#: keeping their ratio (the correlation of power-law noise depends on m_j/m_i only, for large m)
+_RHO_M_CAP = 1024
+_RHO_GRID = 64 * _RHO_M_CAP  # frequency points on (0, 1/2]: 128 per period of sin^4(pi f m_cap)
+
+
+def _rate_psd_shape(alpha: int, f: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Shape of the discrete-time rate PSD of each power-law type (f in cycles/sample)."""
+    s = np.sin(np.pi * f)
+    if alpha == 2:
+        return s**2  # differenced white angle (quantization)
+    if alpha == 0:
+        return np.ones_like(f)  # white rate (ARW)
+    if alpha == -1:
+        return 1.0 / f  # flicker rate (bias instability)
+    return 1.0 / s**2  # random-walk rate (RRW; also used for the ramp)
+
+
+_RHO_CACHE: dict[tuple[int, int, int, int], float] = {}
+
+
+def _rho_pair(a1: int, m1: int, a2: int, m2: int) -> float:
+    """Correlation between the noise of type a1 in the AVAR estimate at m1 and of type a2 at m2.
+
+    For Gaussian noise with rate PSD S = sum_t S_t, Cov(sum_k D_i[k]^2, sum_l D_j[l]^2)
+    = 2 sum_{k,l} E[D_i[k] D_j[l]]^2 -> 2 n int S^2 |H_i|^2 |H_j|^2 df (Parseval, n >> m),
+    with |H_m(f)|^2 = 4 sin^4(pi f m) / sin^2(pi f) the response of the second difference
+    of the phase to the rate. Expanding S^2 = sum_{t,s} S_t S_s splits the covariance into
+    rho_ts(i, j) sd_t(i) sd_s(j) with rho_ts(i, j) = int g_ti g_sj / sqrt(int g_ti^2 int g_sj^2),
+    g_ti = S_t |H_i|^2; this returns that rho, by the midpoint rule on (0, 1/2] (accurate for
+    these periodic integrands). For m above 1024 both m are scaled down keeping their ratio:
+    for power-law noise the continuous-time rho depends on m2/m1 only.
+    """
+    if m2 > _RHO_M_CAP or m1 > _RHO_M_CAP:
+        k = max(m1, m2) / _RHO_M_CAP
+        m1, m2 = max(1, int(round(m1 / k))), max(1, int(round(m2 / k)))
+    if (a2, m2) < (a1, m1):
+        a1, m1, a2, m2 = a2, m2, a1, m1
+    key = (a1, m1, a2, m2)
+    if key not in _RHO_CACHE:
+        if key[:2] == key[2:]:
+            _RHO_CACHE[key] = 1.0
+        else:
+            f = (np.arange(_RHO_GRID) + 0.5) / (2 * _RHO_GRID)
+            h = 1.0 / np.sin(np.pi * f) ** 2
+            g1 = _rate_psd_shape(a1, f) * h * np.sin(np.pi * f * m1) ** 4
+            g2 = _rate_psd_shape(a2, f) * h * np.sin(np.pi * f * m2) ** 4
+            _RHO_CACHE[key] = float(np.dot(g1, g2) / math.sqrt(np.dot(g1, g1) * np.dot(g2, g2)))
+    return _RHO_CACHE[key]
+
+
+def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int, int], NDArray[np.float64]]:
+    """rho[(t, s)][i, j] = _rho_pair(alpha_t, m_i, alpha_s, m_j) for every pair of fitted terms."""
+    out = {}
+    for t, at in enumerate(alphas):
+        for s, as_ in enumerate(alphas):
+            if (s, t) in out:
+                out[(t, s)] = out[(s, t)].T
+                continue
+            r = np.empty((ms.size, ms.size))
+            for i in range(ms.size):
+                for j in range(ms.size):
+                    r[i, j] = _rho_pair(at, int(ms[i]), as_, int(ms[j]))
+            out[(t, s)] = r
+    return out
+
+
+def _point_covariance(
+    x: NDArray[np.float64],
+    c: NDArray[np.float64],
+    nu: NDArray[np.float64],
+    rho: dict[tuple[int, int], NDArray[np.float64]],
+) -> NDArray[np.float64]:
+    """Cov(A_i, A_j) = sum_{t,s} rho_ts(i, j) sd_t(i) sd_s(j), sd_t = C_t tau^p sqrt(2 / nu_t) (Greenhall nu)."""
+    sd = x * c[None, :] * np.sqrt(2.0 / nu)
+    out = np.zeros((x.shape[0], x.shape[0]))
+    for (t, s), r in rho.items():
+        out += r * np.outer(sd[:, t], sd[:, s])
+    return out
 
 
 def fit_noise(
@@ -776,23 +851,33 @@ def fit_noise(
     nu = np.stack(
         [_edf(curve.kind, np.full(ms.size, _ALPHA[t], dtype=np.int64), ms, curve.n_samples) for t in terms], axis=1
     )
+    rho = _rho_blocks([_ALPHA[t] for t in terms], ms)
     var = 2.0 * a**2 / np.asarray(curve.edf, dtype=float)  # first pass: the curve's own edf
     c = np.zeros(len(terms))
+    v = np.diag(var)
     it = 0
     for it in range(1, max_iter + 1):
         c_new = _wnnls(x, a, var)
         done = np.allclose(c_new, c, rtol=1e-9, atol=0.0)
         c = c_new
-        var_new = _point_variance(x, c, nu)
-        var = np.where(var_new > 0, var_new, var)  # no fitted term at a tau: keep the last weight
+        v_new = _point_covariance(x, c, nu, rho)
+        var_new = np.diag(v_new)
+        if np.all(var_new > 0):
+            v, var = v_new, var_new
+        else:  # no fitted term at some tau: keep the last weights there
+            var = np.where(var_new > 0, var_new, var)
+            v = v_new + np.diag(np.where(var_new > 0, 0.0, var))
         if done:
             break
 
-    xw = x / np.sqrt(var)[:, None]
-    scale = np.linalg.norm(xw, axis=0)
+    # sandwich covariance of the weighted LS estimate: (X'WX)^-1 X'W V W X (X'WX)^-1,
+    # W = diag(1/var), V the modelled covariance of the AVAR points (correlated across tau)
+    xw = x / var[:, None]
+    scale = np.sqrt(np.einsum("ij,ij->j", x, xw))
     scale[scale == 0] = 1.0
-    info = (xw / scale).T @ (xw / scale)
-    cov = np.linalg.pinv(info, rcond=1e-13) / np.outer(scale, scale)
+    bread = np.linalg.pinv((x / scale).T @ (xw / scale), rcond=1e-13)
+    meat = (xw / scale).T @ v @ (xw / scale)
+    cov = (bread @ meat @ bread) / np.outer(scale, scale)
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
 
     contrib = x * c[None, :]

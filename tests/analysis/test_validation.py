@@ -1,0 +1,166 @@
+"""Reference-value tests of analysis.allan against published data in ../shared/validation.
+
+Tolerances are the precision the sources print (see each folder's README):
+- Stable32 tables: 5 significant digits -> 1e-4 relative on Sigma (README recommendation),
+  term counts exact; the two ocxo octave tables were produced by Stable32 with a slightly
+  different normalisation and agree only to 1.5e-4 (README "What was checked here").
+- ADIS16405 maximum-overlap AVAR computed by the R package avar: 1e-5 relative (README).
+- NavChip AVLR fit printed with 7 significant digits: agree after rounding to 7 digits.
+"""
+
+from __future__ import annotations
+
+import gzip
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analysis.allan import AllanCurve, allan_deviation, slope_readoff
+
+STABLE32_KIND = {
+    "adev": "standard",
+    "oadev": "overlapping",
+    "mdev": "modified",
+    "hdev": "hadamard",
+    "ohdev": "overlapping_hadamard",
+    "totdev": "total",
+}
+
+
+def read_stable32(path: Path) -> np.ndarray:
+    """Rows AF, Tau, #, Alpha, MinSigma, Sigma, MaxSigma of a Stable32 result file."""
+    return np.loadtxt(path, comments="#", ndmin=2)
+
+
+def read_csv(path: Path) -> np.ndarray:
+    """A CSV with '#' comment lines and a header row, as a structured array."""
+    with open(path, encoding="utf-8") as fh:
+        lines = [ln for ln in fh if not ln.startswith("#")]
+    return np.genfromtxt(lines, delimiter=",", names=True, dtype=None, encoding="utf-8")
+
+
+def check_table(rate: np.ndarray, fs: float, table: Path, kind: str, rtol: float) -> None:
+    ref = read_stable32(table)
+    curve = allan_deviation(rate, fs, taus=ref[:, 1], kind=kind)
+    np.testing.assert_array_equal(curve.m, ref[:, 0].astype(int))
+    np.testing.assert_array_equal(curve.n_terms, ref[:, 2].astype(int))
+    np.testing.assert_allclose(curve.deviation, ref[:, 5], rtol=rtol, atol=0)
+
+
+# ---------------------------------------------------------------------------- Stable32 / frequency
+@pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
+def test_ocxo_all_tau_tables(validation, dev):
+    folder = validation / "allantools_stable32" / "ocxo"
+    y = np.loadtxt(folder / "ocxo_frequency.txt", comments="#") / 1e7 - 1.0
+    check_table(y, 1.0, folder / f"stable32_{dev}_alltau.txt", STABLE32_KIND[dev], rtol=1e-4)
+
+
+@pytest.mark.parametrize("dev", ["adev", "hdev"])
+def test_ocxo_octave_tables(validation, dev):
+    folder = validation / "allantools_stable32" / "ocxo"
+    y = np.loadtxt(folder / "ocxo_frequency.txt", comments="#") / 1e7 - 1.0
+    check_table(y, 1.0, folder / f"{dev}_octave.txt", STABLE32_KIND[dev], rtol=1.5e-4)
+
+
+@pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
+def test_pink_frequency_tables(validation, dev):
+    folder = validation / "allantools_stable32" / "pink_frequency"
+    y = np.loadtxt(folder / "pink_frequency.txt", comments="#")
+    name = "totdev_alpha0.txt" if dev == "totdev" else f"{dev}.txt"
+    check_table(y, 1.0 / 42.0, folder / name, STABLE32_KIND[dev], rtol=1e-4)
+
+
+def test_pink_frequency_octave_oadev_and_bounds(validation):
+    """s32_oadev_octave (tau0 = 1 s) including Stable32's 68.3 % bounds with its own alpha."""
+    folder = validation / "allantools_stable32" / "pink_frequency"
+    y = np.loadtxt(folder / "pink_frequency.txt", comments="#")
+    ref = read_stable32(folder / "s32_oadev_octave.txt")
+    curve = allan_deviation(y, 1.0, taus=ref[:, 1], alpha=ref[:, 3].astype(int), confidence=0.683)
+    np.testing.assert_allclose(curve.deviation, ref[:, 5], rtol=1e-4)
+    np.testing.assert_array_equal(curve.n_terms, ref[:, 2].astype(int))
+    np.testing.assert_allclose(curve.low, ref[:, 4], rtol=1e-3)
+    np.testing.assert_allclose(curve.high, ref[:, 6], rtol=1e-3)
+
+
+# ---------------------------------------------------------------------------- Stable32 / phase
+def phase_to_rate(x: np.ndarray, tau0: float) -> np.ndarray:
+    """Rate (fractional frequency) from phase [s]: y_k = (x_{k+1} - x_k) / tau0."""
+    return np.diff(x) / tau0
+
+
+@pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
+@pytest.mark.parametrize("suffix", ["", "_octave"])
+def test_phasedat_tables_via_rate(validation, dev, suffix):
+    folder = validation / "allantools_stable32" / "phasedat"
+    y = phase_to_rate(np.loadtxt(folder / "PHASE.DAT", comments="#"), 1.0)
+    check_table(y, 1.0, folder / f"phase_dat_{dev}{suffix}.txt", STABLE32_KIND[dev], rtol=1e-4)
+
+
+def test_phasedat_angle_and_rate_routes_agree(validation):
+    """PHASE.DAT is the integral of a 1000-point rate series: ADEV(1 s) = 2.9223e-01 either way."""
+    x = np.loadtxt(validation / "allantools_stable32" / "phasedat" / "PHASE.DAT", comments="#")
+    curve = allan_deviation(phase_to_rate(x, 1.0), 1.0, taus=[1.0], kind="standard")
+    assert curve.deviation[0] == pytest.approx(2.9223e-01, rel=0.5e-4 / 2.9223)
+    second = x[2:] - 2 * x[1:-1] + x[:-2]  # the angle route, NIST SP 1065 eq. 7 at m = 1
+    assert np.sqrt(np.mean(second**2) / 2) == pytest.approx(curve.deviation[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
+def test_keysight_tic_tables_via_rate(validation, dev):
+    folder = validation / "allantools_stable32" / "keysight53230A_tic"
+    y = phase_to_rate(np.loadtxt(folder / "tic_phase.txt", comments="#"), 1.0)
+    check_table(y, 1.0, folder / f"tic_{dev}.txt", STABLE32_KIND[dev], rtol=1e-4)
+
+
+# ---------------------------------------------------------------------------- ADIS16405 (real gyro)
+def test_adis16405_overlapping_avar(validation):
+    folder = validation / "smac_imudata_adis16405"
+    with gzip.open(folder / "adis16405_imu1_100Hz.csv.gz", "rt") as fh:
+        lines = (ln for ln in fh if ln[:1] not in ("#", "g"))  # drop comments and the header row
+        data = np.loadtxt(lines, delimiter=",")
+    assert data.shape == (1_000_000, 6)
+    ref = read_csv(folder / "adis16405_imu1_avar_reference.csv")
+    channels = ["Gyro_X", "Gyro_Y", "Gyro_Z", "Accel_X", "Accel_Y", "Accel_Z"]
+    assert sorted(set(ref["channel"])) == sorted(channels)
+    for col, ch in enumerate(channels):
+        r = ref[ref["channel"] == ch]
+        curve = allan_deviation(data[:, col], 100.0, taus=r["tau_s"], kind="overlapping")
+        np.testing.assert_array_equal(curve.m, r["m"].astype(int))
+        np.testing.assert_allclose(curve.variance, r["avar"], rtol=1e-5, err_msg=ch)
+
+
+# ---------------------------------------------------------------------------- NavChip AVLR fit
+def navchip_curves(validation, group: str) -> tuple[list[AllanCurve], np.ndarray]:
+    ref = read_csv(validation / "smac_avar_allan_curves" / "navchip_av.csv")
+    curves = []
+    for axis in "XYZ":
+        r = ref[ref["channel"] == f"{group}_{axis}"]
+        nan = np.full(r.size, np.nan)
+        curves.append(AllanCurve(tau=r["tau_s"], deviation=r["adev"], low=nan, high=nan,
+                                 n_terms=np.zeros(r.size, dtype=np.int64), edf=nan, kind="overlapping",
+                                 confidence=0.683, fs=250.0, n_samples=3105250))
+    return curves, curves[0].tau
+
+
+def levels(tau: np.ndarray, spec: str) -> tuple[float, float]:
+    """tau range of 1-based level indices 'a:b' (R notation)."""
+    a, b = (int(v) for v in spec.split(":"))
+    return float(tau[a - 1]), float(tau[b - 1])
+
+
+def same_to_digits(value: float, published: float, digits: int = 7) -> bool:
+    return float(f"{value:.{digits - 1}e}") == published
+
+
+def test_navchip_published_fixed_slope_fit(validation):
+    pub = read_csv(validation / "smac_avar_allan_curves" / "navchip_avlr_published_fit.csv")
+    name = {"WN": "N", "QN": "Q", "RW": "K"}
+    for group, label in (("gyro", "Gyro"), ("accel", "Accel")):
+        curves, tau = navchip_curves(validation, label)
+        rows = pub[pub["sensor_group"] == group]
+        ranges = {name[r["coefficient"]]: levels(tau, r["scale_indices"]) for r in rows}
+        got = slope_readoff(curves, fit_ranges=ranges)
+        for r in rows:
+            v = got[name[r["coefficient"]]]
+            assert same_to_digits(v, float(r["published_value"])), (group, r["coefficient"], v, r["published_value"])

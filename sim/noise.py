@@ -69,20 +69,26 @@ together and 1/15 of a draw on all the slow ones:
 * the poles of one level are generated together as ONE ARMA process driven by
   one white sequence, with exactly the power spectrum of the sum of those
   independent AR(1) poles (spectral factorisation, :func:`_sum_of_ar1_as_arma`),
-  started in its stationary state;
+  started in its stationary state (discrete Lyapunov equation);
 * a coarse level is linearly interpolated onto the next finer level's grid
-  (knots on the fine grid, so nested interpolation equals direct interpolation).
+  (knots on the fine grid, so nested interpolation equals direct interpolation),
+  plus a discrete Brownian bridge (zero at the coarse knots) whose rate is the sum
+  of 2 sigma_i^2/T_i over the coarser poles: on scales << T_i a pole is a Brownian
+  motion, and motion = interpolated knots + independent bridges (Levy construction).
+  Between the full-rate grid and the first decimated level the bridge costs one
+  draw per sample; it is added only when the decimated poles' Brownian rate exceeds
+  1e-3 of the full-rate poles' (always when f_high is so low that no pole runs at
+  full rate), not for the default band, where the fast poles dominate short tau.
 
-Decimation error (documented, not in ``theoretical_avar``): linear
-interpolation of a pole sampled at h removes the Brownian-bridge part of its
-path between knots, of relative size ~h/T_i <= 1/256. Evaluated exactly from the
-interpolated process's phase-averaged autocovariance (``tests/sim/test_noise.py::
-test_decimation_error_bound``), the deficit of one level's poles is at most
-0.066 % of the plateau AVAR (largest at tau ~ h/2); the next coarser level adds
-< 0.015 % there, so the generated flicker AVAR is below the full-rate pole sum
-by less than 0.1 % at every tau (ADEV < 0.05 %), far below the scatter of any
-realistic record. Values are otherwise exact: the level filters realise the
-spectral factors to ~1e-9 (second-order sections pairing slow with fast roots).
+Decimation error (documented, not in ``theoretical_avar``), evaluated exactly from
+the phase-averaged autocovariances (``tests/sim/test_noise.py``): a pole interpolated
+from knots every h with its bridge has the AVAR of the full-rate pole to 2.5e-6
+relative at T/h = 256 (O((h/T)^2)); without the bridge it would lose up to 94 % of
+its AVAR at tau << h. For the default band (no full-rate bridge) the generated
+flicker AVAR is below that of the full-rate pole sum by less than 0.1 % of the
+flicker AVAR at every tau (ADEV < 0.05 %), far below the scatter of any realistic
+record. Values are otherwise exact: the level filters realise the spectral factors
+to ~1e-9 (second-order sections pairing slow with fast roots).
 
 Cost (``benchmarks/bench_noise.py``; CPU time per sample in units of one
 ``standard_normal`` draw): Q 0.6 (one uniform draw), N 1.3, B 2.4 (one draw, four
@@ -121,6 +127,9 @@ _LN2 = math.log(2.0)
 _POLE_RATIO = math.sqrt(10.0)
 #: a pole is generated at step h only if its correlation time is >= _DECIM_MARGIN * h
 _DECIM_MARGIN = 256
+#: add the full-rate Brownian bridge of the decimated poles when their Brownian rate exceeds
+#: this fraction of the full-rate poles' (always when there are no full-rate poles)
+_BRIDGE_REL = 1e-3
 #: rate ratio between consecutive flicker levels
 _LEVEL_RATIO = 16
 _MAX_LEVELS = 32
@@ -532,18 +541,56 @@ class _ArmaGen:
         return y
 
 
+class _Bridge:
+    """Discrete Brownian bridges on consecutive intervals of ``ratio`` steps, zero at the knots.
+
+    Row a holds B_0..B_{ratio-1} of interval a: W_j = sum of j steps ~ N(0, step_std^2),
+    B_j = W_j - (j/ratio) W_ratio. Rows are drawn in order from ``rng`` (batch-invariant).
+    """
+
+    def __init__(self, ratio: int, step_std: float, rng: np.random.Generator) -> None:
+        self.ratio, self.std, self.rng = ratio, step_std, rng
+        self.rows = np.empty((0, ratio))
+        self.row0 = 0
+        self.batch = 1
+        self.w = np.arange(1, ratio) / ratio
+
+    def get(self, a0: int, a1: int) -> NDArray[np.float64]:
+        """Rows for intervals a0..a1 (inclusive); a0 must not decrease between calls."""
+        end = self.row0 + len(self.rows)
+        if a1 >= end:
+            self.batch = min(max(1, _COARSE_BATCH // self.ratio), max(self.batch * 2, a1 + 1 - end))
+            k = max(a1 + 1 - end, self.batch)
+            walk = self.rng.normal(0.0, self.std, (k, self.ratio))
+            np.cumsum(walk, axis=1, out=walk)
+            rows = np.empty((k, self.ratio))
+            rows[:, 0] = 0.0
+            rows[:, 1:] = walk[:, :-1] - self.w[None, :] * walk[:, -1:]
+            self.rows = np.concatenate([self.rows[a0 - self.row0 :], rows])
+            self.row0 = a0
+        out = self.rows[a0 - self.row0 : a1 + 1 - self.row0]
+        self.rows = self.rows[a0 - self.row0 :]
+        self.row0 = a0
+        return out
+
+
 class _CoarseLevel:
     """A decimated flicker level: its own ARMA plus the (interpolated) coarser levels.
 
     S[j] (j = 0, 1, ...) is the level's value at knot j; knots are ``ratio``
     samples of the next finer grid apart. ``get(j0, j1)`` returns S[j0:j1];
     requests must have non-decreasing j0 (values below j0 are then dropped).
+    ``bridge`` (optional) adds the Brownian-bridge part of the coarser poles
+    between the coarser knots.
     """
 
-    def __init__(self, gen: _ArmaGen, coarser: _CoarseLevel | None, ratio_to_coarser: int) -> None:
+    def __init__(
+        self, gen: _ArmaGen, coarser: _CoarseLevel | None, ratio_to_coarser: int, bridge: _Bridge | None = None
+    ) -> None:
         self.gen = gen
         self.coarser = coarser
         self.ratio = ratio_to_coarser
+        self.bridge = bridge
         self.s = np.empty(0)
         self.s0 = 0  # index of s[0]
         self.batch = 16
@@ -557,7 +604,7 @@ class _CoarseLevel:
             stop = max(j1, end + self.batch)
             new = self.gen.next(stop - end)
             if self.coarser is not None:
-                _interp_from(self.coarser, end, stop, self.ratio, out=new)
+                _interp_from(self.coarser, end, stop, self.ratio, out=new, bridge=self.bridge)
             self.s = np.concatenate([self.s[j0 - self.s0 :], new])
             self.s0 = j0
         out = self.s[j0 - self.s0 : j1 - self.s0]
@@ -566,11 +613,18 @@ class _CoarseLevel:
         return out
 
 
-def _interp_from(level: _CoarseLevel, e: int, j1: int, ratio: int, out: NDArray[np.float64] | None = None):
+def _interp_from(
+    level: _CoarseLevel,
+    e: int,
+    j1: int,
+    ratio: int,
+    out: NDArray[np.float64] | None = None,
+    bridge: _Bridge | None = None,
+):
     """Linear interpolation of ``level`` (knots every ``ratio`` fine samples) at fine indices [e, j1).
 
-    Fine sample j = a ratio + r takes S[a] + (r/ratio)(S[a+1] - S[a]) (the same
-    arithmetic whatever the request boundaries). Added into ``out`` if given.
+    Fine sample j = a ratio + r takes S[a] + (r/ratio)(S[a+1] - S[a]) (+ bridge row a,
+    column r): the same arithmetic whatever the request boundaries. Added into ``out`` if given.
     """
     a0 = e // ratio
     a1 = (j1 - 1) // ratio
@@ -578,6 +632,8 @@ def _interp_from(level: _CoarseLevel, e: int, j1: int, ratio: int, out: NDArray[
     w = np.arange(ratio) / ratio
     cov = np.multiply.outer(s[1:] - s[:-1], w)
     cov += s[:-1, None]
+    if bridge is not None:
+        cov += bridge.get(a0, a1)
     off = e - a0 * ratio
     fine = cov.reshape(-1)[off : off + (j1 - e)]
     if out is None:
@@ -599,7 +655,8 @@ class _Flicker:
         level = np.maximum(level, 0)
         if level.max() >= _MAX_LEVELS:
             raise ValueError(f"flicker band too wide for {_MAX_LEVELS} levels; got T_max/dt = {ratio_t.max():.3g}")
-        subs = rng.spawn(_MAX_LEVELS)
+        subs = rng.spawn(2 * _MAX_LEVELS)  # [0, L): level innovations, [L, 2L): bridges below level l
+        diffusion = 2.0 * var / tc  # q_i [rad^2/s^3]: the Brownian rate of pole i on scales << T_i
         self.fine: _ArmaGen | None = None
         coarse: _CoarseLevel | None = None
         prev_l = None
@@ -610,11 +667,25 @@ class _Flicker:
             if lv == 0:
                 self.fine = gen
             else:
-                ratio = _LEVEL_RATIO ** (prev_l - lv) if coarse is not None else 1
-                coarse = _CoarseLevel(gen, coarse, ratio)
+                bridge = None
+                if coarse is not None:
+                    ratio = _LEVEL_RATIO ** (prev_l - lv)
+                    q = float(np.sum(diffusion[level > lv]))
+                    bridge = _Bridge(ratio, math.sqrt(q * dt * step), subs[_MAX_LEVELS + lv])
+                else:
+                    ratio = 1
+                coarse = _CoarseLevel(gen, coarse, ratio, bridge)
                 prev_l = lv
         self.coarse = coarse
         self.coarse_ratio = _LEVEL_RATIO**prev_l if coarse is not None else 1
+        # bridge between the full-rate grid and the first decimated level: needed when the
+        # decimated poles' Brownian rate is not negligible next to the full-rate poles'
+        self.fine_bridge = None
+        if coarse is not None:
+            q_dec = float(np.sum(diffusion[level > 0]))
+            q_fine = float(np.sum(diffusion[level == 0]))
+            if q_dec > _BRIDGE_REL * q_fine:
+                self.fine_bridge = _Bridge(self.coarse_ratio, math.sqrt(q_dec * dt), subs[_MAX_LEVELS])
         self.k = 0
 
     def next(self, n: int, eps: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
@@ -622,9 +693,9 @@ class _Flicker:
         if self.fine is not None:
             y = self.fine.next(n, eps)
             if self.coarse is not None:
-                _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, out=y)
+                _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, out=y, bridge=self.fine_bridge)
         else:
-            y = _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio).copy()
+            y = _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, bridge=self.fine_bridge).copy()
         self.k += n
         return y
 

@@ -275,7 +275,7 @@ def _check_rate(rate: ArrayLike) -> NDArray[np.float64]:
     if not finite.all():
         bad = int(np.flatnonzero(~finite)[0])
         raise ValueError(
-            f"rate must be finite everywhere; got {y[bad]!r} at index {bad} "
+            f"rate must be finite everywhere; got {float(y[bad])!r} at index {bad} "
             f"({int((~finite).sum())} non-finite sample(s) in total)"
         )
     return y
@@ -346,14 +346,14 @@ def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
     bad = np.abs(mf - m) > 1e-6 * np.maximum(m, 1.0)
     if np.any(bad) or np.any(m < 1):
         i = int(np.flatnonzero(bad | (m < 1))[0])
-        raise ValueError(f"taus must be multiples of 1/fs = {1 / fs!r} s; got tau = {t[i]!r} s")
+        raise ValueError(f"taus must be multiples of 1/fs = {1 / fs!r} s; got tau = {float(t[i])!r} s")
     m = np.unique(m.astype(np.int64))
     m_max = _max_m(kind, n)
     if m[-1] > m_max:
         need = int(m[-1]) * _STOP_RATIO[kind] if kind == "total" else int(m[-1]) * (_D[kind]) + 1
         raise ValueError(
-            f"rate has too few samples for tau = {m[-1] / fs!r} s (m = {int(m[-1])}) in a {kind} deviation: "
-            f"the largest tau with at least 2 terms is {m_max / fs!r} s for {n} samples "
+            f"rate has too few samples for tau = {float(m[-1] / fs)!r} s (m = {int(m[-1])}) in a {kind} deviation: "
+            f"the largest tau with at least 2 terms is {float(m_max / fs)!r} s for {n} samples "
             f"(need about {need} samples)"
         )
     return m
@@ -707,52 +707,51 @@ def _rate_psd_shape(alpha: int, f: NDArray[np.float64]) -> NDArray[np.float64]:
     return 1.0 / s**2  # random-walk rate (RRW; also used for the ramp)
 
 
-_RHO_CACHE: dict[tuple[int, int, int, int], float] = {}
+_RHO_F = (np.arange(_RHO_GRID) + 0.5) / (2 * _RHO_GRID)
 
 
-def _rho_pair(a1: int, m1: int, a2: int, m2: int) -> float:
-    """Correlation between the noise of type a1 in the AVAR estimate at m1 and of type a2 at m2.
+def _g(alpha: int, m: int) -> NDArray[np.float64]:
+    """g = S_alpha |H_m|^2 on the frequency grid, normalised to unit l2 norm."""
+    f = _RHO_F
+    g = _rate_psd_shape(alpha, f) * np.sin(np.pi * f * m) ** 4 / np.sin(np.pi * f) ** 2
+    return g / np.linalg.norm(g)
+
+
+def _scaled(m1: int, m2: int) -> tuple[int, int]:
+    """Scale a pair of m down to max <= _RHO_M_CAP keeping their ratio (see :func:`_rho_blocks`)."""
+    if max(m1, m2) <= _RHO_M_CAP:
+        return m1, m2
+    k = max(m1, m2) / _RHO_M_CAP
+    return max(1, int(round(m1 / k))), max(1, int(round(m2 / k)))
+
+
+def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int, int], NDArray[np.float64]]:
+    """rho[(t, s)][i, j]: correlation of term t's noise in A_i with term s's noise in A_j.
 
     For Gaussian noise with rate PSD S = sum_t S_t, Cov(sum_k D_i[k]^2, sum_l D_j[l]^2)
     = 2 sum_{k,l} E[D_i[k] D_j[l]]^2 -> 2 n int S^2 |H_i|^2 |H_j|^2 df (Parseval, n >> m),
     with |H_m(f)|^2 = 4 sin^4(pi f m) / sin^2(pi f) the response of the second difference
     of the phase to the rate. Expanding S^2 = sum_{t,s} S_t S_s splits the covariance into
     rho_ts(i, j) sd_t(i) sd_s(j) with rho_ts(i, j) = int g_ti g_sj / sqrt(int g_ti^2 int g_sj^2),
-    g_ti = S_t |H_i|^2; this returns that rho, by the midpoint rule on (0, 1/2] (accurate for
-    these periodic integrands). For m above 1024 both m are scaled down keeping their ratio:
-    for power-law noise the continuous-time rho depends on m2/m1 only.
+    g_ti = S_t |H_i|^2 (S_t the discrete-time shape of each power law: sin^2(pi f) for
+    quantization, 1 white, 1/f flicker, 1/sin^2(pi f) random walk). The integrals use the
+    midpoint rule on 65536 points of (0, 1/2] (128 per period of the fastest factor).
+    For m above 1024 both m of a pair are scaled down keeping their ratio: for power-law
+    noise in the continuous-time limit rho depends on m_j/m_i only. Edge effects of a short
+    record (n ~ 4m) are not modelled in rho; the variances themselves (Greenhall edf) have them.
     """
-    if m2 > _RHO_M_CAP or m1 > _RHO_M_CAP:
-        k = max(m1, m2) / _RHO_M_CAP
-        m1, m2 = max(1, int(round(m1 / k))), max(1, int(round(m2 / k)))
-    if (a2, m2) < (a1, m1):
-        a1, m1, a2, m2 = a2, m2, a1, m1
-    key = (a1, m1, a2, m2)
-    if key not in _RHO_CACHE:
-        if key[:2] == key[2:]:
-            _RHO_CACHE[key] = 1.0
-        else:
-            f = (np.arange(_RHO_GRID) + 0.5) / (2 * _RHO_GRID)
-            h = 1.0 / np.sin(np.pi * f) ** 2
-            g1 = _rate_psd_shape(a1, f) * h * np.sin(np.pi * f * m1) ** 4
-            g2 = _rate_psd_shape(a2, f) * h * np.sin(np.pi * f * m2) ** 4
-            _RHO_CACHE[key] = float(np.dot(g1, g2) / math.sqrt(np.dot(g1, g1) * np.dot(g2, g2)))
-    return _RHO_CACHE[key]
-
-
-def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int, int], NDArray[np.float64]]:
-    """rho[(t, s)][i, j] = _rho_pair(alpha_t, m_i, alpha_s, m_j) for every pair of fitted terms."""
+    pairs = {(i, j): _scaled(int(ms[i]), int(ms[j])) for i in range(ms.size) for j in range(ms.size)}
+    uniq = sorted({(a, m) for a in set(alphas) for p in pairs.values() for m in p})
+    index = {k: n for n, k in enumerate(uniq)}
+    g = np.stack([_g(a, m) for a, m in uniq])
+    gram = g @ g.T
     out = {}
     for t, at in enumerate(alphas):
-        for s, as_ in enumerate(alphas):
-            if (s, t) in out:
-                out[(t, s)] = out[(s, t)].T
-                continue
+        for s_, as_ in enumerate(alphas):
             r = np.empty((ms.size, ms.size))
-            for i in range(ms.size):
-                for j in range(ms.size):
-                    r[i, j] = _rho_pair(at, int(ms[i]), as_, int(ms[j]))
-            out[(t, s)] = r
+            for (i, j), (m1, m2) in pairs.items():
+                r[i, j] = 1.0 if (i == j and at == as_) else gram[index[(at, m1)], index[(as_, m2)]]
+            out[(t, s_)] = r
     return out
 
 

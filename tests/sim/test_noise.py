@@ -2,8 +2,8 @@
 
 Statistical tests use fixed seeds and chi-square bands: the overlapping AVAR
 estimate A at cluster size m satisfies A ~ A_true chi2(edf)/edf with edf from
-allantools' Greenhall algorithm (NIST SP 1065 / Greenhall 2004) for the noise
-type that dominates at that tau. Each record is checked at every octave tau up
+allantools' Greenhall algorithm (NIST SP 1065 / Greenhall 2004): the smallest
+over the noise types that carry >= 10 % of the AVAR at that tau. Each record is checked at every octave tau up
 to T/10 against a two-sided band at level ALPHA/n_tau (Bonferroni), so the
 false-alarm probability of each record test is <= ALPHA = 1e-3.
 """
@@ -39,7 +39,7 @@ def _edf(alpha: int, m: int, n_freq: int) -> float:
 _ALPHA_OF = {"quantization": 2, "angle_random_walk": 0, "bias_instability": -1, "rate_random_walk": -2}
 
 
-def _check_record(model: NoiseModel, y: np.ndarray, fs: float, *, deterministic_ok: bool = False) -> None:
+def _check_record(model: NoiseModel, y: np.ndarray, fs: float) -> None:
     """Every octave tau up to T/10: estimate inside the chi-square band of the closed form.
 
     The edf is the smallest Greenhall edf among the noise types contributing >= 10 % of

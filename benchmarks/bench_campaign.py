@@ -12,7 +12,10 @@ Target (issue 7): 2 workers >= 1.7x one worker.
 
 The machine is shared: the 1-minute load average before each run is printed; a
 speed-up measured while other processes hold the CPUs is a lower bound. Each
-worker count is run ``--repeats`` times and the best (least disturbed) is kept.
+worker count is run ``--repeats`` times, interleaved, and the best (least
+disturbed) is kept. After each run, the speed-up that 1 and 2 pure-CPU processes
+(dense SVDs, no bench) get at that moment is measured for comparison: the
+bench's own parallel efficiency is its speed-up divided by the machine's.
 
 Run::
 
@@ -32,10 +35,12 @@ import resource
 import sys
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
+import numpy as np  # noqa: E402
 from sklearn.linear_model import Ridge  # noqa: E402
 from sklearn.pipeline import make_pipeline  # noqa: E402
 from sklearn.preprocessing import StandardScaler  # noqa: E402
@@ -58,6 +63,28 @@ def measure(scenario, config, seeds: range, workers: int, db: Path):
     return dt, cpu, camp
 
 
+def _spin(n: int) -> None:
+    from threadpoolctl import threadpool_limits
+
+    rng = np.random.default_rng(0)
+    with threadpool_limits(limits=1):
+        for _ in range(n):
+            np.linalg.svd(rng.standard_normal((120, 120)))
+
+
+def spin_rate(processes: int, seconds: float = 3.0) -> float:
+    """Units of pure CPU work per second that ``processes`` processes achieve right now."""
+    unit = 20
+    with ProcessPoolExecutor(processes) as ex:
+        list(ex.map(_spin, [1] * processes))  # start the processes
+        t0 = time.perf_counter()
+        done = 0
+        while time.perf_counter() - t0 < seconds:
+            list(ex.map(_spin, [unit] * processes))
+            done += processes
+        return done / (time.perf_counter() - t0)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--scenario", default="ifog_thermal")
@@ -68,6 +95,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument(
         "--toy-work", type=int, default=None, help="toy scenario: SVDs per seed (CPU load)"
+    )
+    p.add_argument(
+        "--no-calibrate",
+        dest="calibrate",
+        action="store_false",
+        help="skip measuring the speed-up pure-CPU processes get on this machine",
     )
     args = p.parse_args(argv)
 
@@ -82,11 +115,12 @@ def main(argv: list[str] | None = None) -> int:
     print(f"scenario {getattr(module, 'NAME', module.__name__)}, compensator {COMPENSATOR!r}")
     print(f"{args.seeds} seeds per run, best of {args.repeats}; {os.cpu_count()} CPUs")
     results: dict[int, tuple[float, float]] = {}
+    machine: dict[int, float] = {}
     reference = None
     with tempfile.TemporaryDirectory() as tmp:
-        for w in counts:
-            best = None
-            for r in range(args.repeats):
+        # interleaved (1, 2, 1, 2, ...) so a change in the machine's load hits both alike
+        for r in range(args.repeats):
+            for w in counts:
                 load = os.getloadavg()[0]
                 dt, cpu, camp = measure(module, config, seeds, w, Path(tmp) / f"w{w}_r{r}.db")
                 assert camp.computed == args.seeds
@@ -101,14 +135,24 @@ def main(argv: list[str] | None = None) -> int:
                     f"{60 * args.seeds / dt:8.1f} seeds/min  "
                     f"worker CPU {cpu / args.seeds:.3f} s/seed  (load {load:.2f})"
                 )
-                if best is None or dt < best[0]:
-                    best = (dt, cpu)
-            results[w] = best
+                if w not in results or dt < results[w][0]:
+                    results[w] = (dt, cpu)
+                if args.calibrate:
+                    machine[w] = max(machine.get(w, 0.0), spin_rate(w))
     base = results[counts[0]][0]
-    print("\nworkers  seeds/min  speed-up  worker CPU s/seed")
+    print("\nworkers  seeds/min  speed-up  worker CPU s/seed", end="")
+    print("  machine speed-up" if machine else "")
     for w in counts:
         dt, cpu = results[w]
-        print(f"{w:7d}  {60 * args.seeds / dt:9.1f}  {base / dt:7.2f}x  {cpu / args.seeds:17.3f}")
+        line = f"{w:7d}  {60 * args.seeds / dt:9.1f}  {base / dt:7.2f}x  {cpu / args.seeds:17.3f}"
+        if machine:
+            line += f"  {machine[w] / machine[counts[0]]:15.2f}x"
+        print(line)
+    if machine:
+        print(
+            "(machine speed-up: what the same number of pure-CPU processes gained at the time; "
+            "the bench's own parallel efficiency is its speed-up divided by this)"
+        )
     summary = next(iter(camp.summary().values()))
     print(
         f"\n(scores identical across worker counts; e.g. {summary.name} = {summary.mean:.6g} "

@@ -91,11 +91,12 @@ record. Values are otherwise exact: the level filters realise the spectral facto
 to ~1e-9 (second-order sections pairing slow with fast roots).
 
 Cost (``benchmarks/bench_noise.py``; CPU time per sample in units of one
-``standard_normal`` draw): Q 0.6 (one uniform draw), N 1.3, B 2.4 (one draw, four
-second-order sections, interpolation, 1/15 draw for the slow levels), K 1.6, R 0.2;
-the five-term model about 6, i.e. ~18 M samples/s single-threaded where a plain
-draw runs at 110 M/s. When a core is idle the next block's draws are made in a
-worker thread (``_PREFETCH``), which never changes the values.
+``standard_normal`` draw): Q 0.45 (one uniform draw), N 1.0, B 2.4 (one draw, four
+second-order sections, interpolation, 1/15 draw for the slow levels), K 1.35,
+R 0.15; the five-term model about 5.3 (0.19 x the plain-draw rate on one core).
+When a core is idle the next block's draws are made in a worker thread
+(``_PREFETCH``, never changing the values): measured 0.22 x the plain-draw rate
+in wall time on the 2-core machine (0.15 x without the thread).
 
 References
 ----------

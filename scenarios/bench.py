@@ -1211,6 +1211,11 @@ def compare(
         raise ValueError(f"alpha must be in (0, 1); got {alpha!r}")
     base = baseline if isinstance(baseline, Campaign) else load_baseline(baseline)
     cand = campaign if isinstance(campaign, Campaign) else load_baseline(campaign)
+    if base.scenario != cand.scenario:
+        raise ValueError(
+            f"baseline is of scenario {base.scenario!r}, campaign of {cand.scenario!r}; "
+            "a paired comparison needs the same scenario"
+        )
     seeds = tuple(s for s in cand.seeds if s in base.scores)
     if not seeds:
         raise ValueError(
@@ -1271,13 +1276,16 @@ def compare(
             status = "unchanged"
         out.append(ScoreComparison(**r, p_adjusted=float(pa), status=status))
     n_min = min(r.n for r in out)
-    note = ""
+    notes = []
+    if base.config != cand.config:
+        notes.append("the two campaigns ran different scenario configurations")
     if 2.0 / 2.0**n_min * len(out) >= alpha:
-        note = (
+        notes.append(
             f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
             f"{min(1.0, len(out) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, "
             "so no change can be significant; use more seeds"
         )
+    note = "; ".join(notes)
     return Comparison(
         scores=tuple(out),
         seeds=seeds,

@@ -48,7 +48,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "as 'package.module:attr'",
     )
     p.add_argument(
-        "--seeds", default="0:20", help="'START:STOP' (half-open) or '1,5,9' (default 0:20)"
+        "--seeds",
+        default=None,
+        help="'START:STOP' (half-open) or '1,5,9' (default: the --baseline's seeds, else 0:20)",
     )
     p.add_argument(
         "--workers",
@@ -111,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
     from scenarios import registry
 
-    seeds = bench.parse_seeds(args.seeds)
+    seeds = bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:
         raise ValueError(f"--workers must be >= 0; got {args.workers}")
     if not 0 < args.alpha < 1:
@@ -119,9 +121,10 @@ def run(args: argparse.Namespace) -> int:
     module = bench.resolve_scenario(args.scenario)
     config = registry.load_config(module, args.config) if args.config else module.Config()
     bench.resolve_compensator(args.compensator)  # fail before connecting or computing
-    baseline = (
-        bench.load_baseline(args.baseline) if args.baseline else None
-    )  # fail before computing
+    # read the baseline first: a bad file fails before any computing
+    baseline = bench.load_baseline(args.baseline) if args.baseline else None
+    if seeds is None:
+        seeds = baseline.seeds if baseline is not None else tuple(range(20))
     if args.save_baseline and Path(args.save_baseline).is_dir():
         raise ValueError(
             f"--save-baseline must be a file name; got the directory {args.save_baseline!r}"

@@ -489,6 +489,22 @@ def test_cli_baseline_then_regression_exit_codes(tmp_path, capsys):
     assert "REGRESSION" in capsys.readouterr().out
 
 
+def test_cli_seeds_default_to_the_baselines(tmp_path, capsys):
+    db, base = str(tmp_path / "c.db"), str(tmp_path / "b.json")
+    common = ["--compensator", f"{TOY}:good", "--workers", "0", "--db", db, "--quiet"]
+    assert _cli([TOY, *common, "--seeds", "3,5,7", "--save-baseline", base]) == 0
+    assert _cli([TOY, *common, "--baseline", base]) == 0
+    assert "over 3 matching seeds" in capsys.readouterr().out
+
+
+def test_compare_refuses_different_scenarios():
+    other = bench.Campaign(
+        campaign_id="x", scenario="other", compensator="c", config="", scores={0: {"mse": 1.0}}
+    )
+    with pytest.raises(ValueError, match="baseline is of scenario 'toy', campaign of 'other'"):
+        bench.compare(_campaign({0: {"mse": 1.0}}), other)
+
+
 def test_cli_config_file_overrides(tmp_path, capsys):
     cfg = tmp_path / "c.toml"
     cfg.write_text("n_samples = 200\n")

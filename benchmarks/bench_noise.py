@@ -27,7 +27,13 @@ import time
 import numpy as np
 
 FS = 100.0
-FIVE = dict(quantization=0.3, angle_random_walk=0.05, bias_instability=0.5, rate_random_walk=2.0, rate_ramp=1.0)
+FIVE = dict(
+    quantization=0.3,
+    angle_random_walk=0.05,
+    bias_instability=0.5,
+    rate_random_walk=2.0,
+    rate_ramp=1.0,
+)
 
 
 def machine() -> str:
@@ -42,7 +48,8 @@ def machine() -> str:
         pass
     load = os.getloadavg() if hasattr(os, "getloadavg") else ("?",)
     return (
-        f"nproc={os.cpu_count()}  cpu={cpu!r}  python={platform.python_version()}  numpy={np.__version__}  "
+        f"nproc={os.cpu_count()}  cpu={cpu!r}  python={platform.python_version()}  "
+        f"numpy={np.__version__}  "
         f"loadavg={tuple(round(x, 2) for x in load)}"
     )
 
@@ -102,12 +109,17 @@ def bench_speed(n: int, repeats: int) -> None:
                 pass
 
         r = best_rate(one_term, n, repeats)
-        print(f"    {name:18s}: {1e9 / r[1]:5.1f} ns per sample CPU = {base[1] / r[1]:.2f} standard_normal draws")
+        print(
+            f"    {name:18s}: {1e9 / r[1]:5.1f} ns per sample CPU"
+            f" = {base[1] / r[1]:.2f} standard_normal draws"
+        )
     nz._PREFETCH = "auto"
     t0 = time.perf_counter()
     model.stream(FS, rng=np.random.default_rng(1))
-    print(f"stream construction (flicker factorisation, {len(model.flicker_poles(FS)[0])} poles): "
-          f"{(time.perf_counter() - t0) * 1e3:.1f} ms")
+    print(
+        f"stream construction (flicker factorisation, {len(model.flicker_poles(FS)[0])} poles): "
+        f"{(time.perf_counter() - t0) * 1e3:.1f} ms"
+    )
 
 
 def hdf5_child(n: int, path: str) -> None:
@@ -130,18 +142,29 @@ def bench_hdf5(n: int) -> None:
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "noise.h5")
         out = subprocess.run(
-            [sys.executable, __file__, "--hdf5-child", str(n), path], capture_output=True, text=True, check=True
+            [sys.executable, __file__, "--hdf5-child", str(n), path],
+            capture_output=True,
+            text=True,
+            check=True,
         ).stdout.split()
         peak_kb, dt, size = int(out[0]), float(out[1]), int(out[2])
-    print(f"stream {n:.0e} samples to HDF5 (1M chunks): peak RSS {peak_kb / 1024:.0f} MB, "
-          f"{dt:.1f} s ({n / dt / 1e6:.1f} M samples/s incl. writing), file {size / 1e6:.0f} MB")
+    print(
+        f"stream {n:.0e} samples to HDF5 (1M chunks): peak RSS {peak_kb / 1024:.0f} MB, "
+        f"{dt:.1f} s ({n / dt / 1e6:.1f} M samples/s incl. writing), file {size / 1e6:.0f} MB"
+    )
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--n", type=float, default=2**25, help="samples per speed measurement (default 2^25)")
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        "--n", type=float, default=2**25, help="samples per speed measurement (default 2^25)"
+    )
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--n-stream", type=float, default=1e8, help="samples streamed to HDF5 (default 1e8)")
+    ap.add_argument(
+        "--n-stream", type=float, default=1e8, help="samples streamed to HDF5 (default 1e8)"
+    )
     ap.add_argument("--skip-hdf5", action="store_true")
     ap.add_argument("--hdf5-child", nargs=2, help=argparse.SUPPRESS)
     a = ap.parse_args()

@@ -117,7 +117,15 @@ from scipy import linalg, optimize, signal, special
 
 from sim import units
 
-__all__ = ["GaussMarkov", "Sinusoid", "NoiseModel", "NoiseStream", "flicker_avar", "ar1_avar", "gm_avar"]
+__all__ = [
+    "GaussMarkov",
+    "Sinusoid",
+    "NoiseModel",
+    "NoiseStream",
+    "flicker_avar",
+    "ar1_avar",
+    "gm_avar",
+]
 
 #: child-stream slots: a term always draws from the same slot, whatever else the model holds
 _SLOT_QUANT, _SLOT_ARW, _SLOT_FLICKER, _SLOT_RRW, _SLOT_GM0 = 0, 1, 2, 3, 8
@@ -215,7 +223,9 @@ def gm_avar(tau: ArrayLike, sigma: float, tc: float) -> NDArray[np.float64]:
     return sigma**2 * _g_series(r) / r**2
 
 
-def ar1_avar(m: ArrayLike, u: float | ArrayLike, var: float | ArrayLike = 1.0) -> NDArray[np.float64]:
+def ar1_avar(
+    m: ArrayLike, u: float | ArrayLike, var: float | ArrayLike = 1.0
+) -> NDArray[np.float64]:
     """Exact overlapping-AVAR expectation of point samples of a Gauss-Markov process.
 
     Parameters
@@ -251,7 +261,9 @@ def ar1_avar(m: ArrayLike, u: float | ArrayLike, var: float | ArrayLike = 1.0) -
     u = np.minimum(np.asarray(u, dtype=float), 50.0)
     m, u = np.broadcast_arrays(m, u)
     s2 = np.sinh(u / 2.0) ** 2
-    return np.asarray(var) * (m * _sinh_minus_x(u) / (2.0 * s2) + _g_series(m * u) / (4.0 * s2)) / m**2
+    return (
+        np.asarray(var) * (m * _sinh_minus_x(u) / (2.0 * s2) + _g_series(m * u) / (4.0 * s2)) / m**2
+    )
 
 
 def _flicker_kernel(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -269,7 +281,10 @@ def _flicker_kernel(x: NDArray[np.float64]) -> NDArray[np.float64]:
     with np.errstate(invalid="ignore"):
         s, c = np.sin(xl), np.cos(xl)
         out[~small] = (
-            _LN2 - s**3 * (s + 4.0 * xl * c) / (2.0 * xl**2) + special.sici(2.0 * xl)[1] - special.sici(4.0 * xl)[1]
+            _LN2
+            - s**3 * (s + 4.0 * xl * c) / (2.0 * xl**2)
+            + special.sici(2.0 * xl)[1]
+            - special.sici(4.0 * xl)[1]
         )
     out[np.isinf(x)] = _LN2
     return out
@@ -297,7 +312,9 @@ def flicker_avar(tau: ArrayLike, b: float, f_low: float, f_high: float) -> NDArr
     generator realises the smooth-edged pole sum of :meth:`NoiseModel.flicker_poles`.
     """
     tau = np.asarray(tau, dtype=float)
-    return (2.0 * b**2 / np.pi) * (_flicker_kernel(np.pi * f_high * tau) - _flicker_kernel(np.pi * f_low * tau))
+    return (2.0 * b**2 / np.pi) * (
+        _flicker_kernel(np.pi * f_high * tau) - _flicker_kernel(np.pi * f_low * tau)
+    )
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -327,14 +344,16 @@ class GaussMarkov:
         _check_nonneg("GaussMarkov", "sigma", self.sigma)
         _check_nonneg("GaussMarkov", "correlation_time", self.correlation_time)
         if self.correlation_time == 0:
-            raise ValueError(f"GaussMarkov.correlation_time must be > 0 s; got {self.correlation_time!r}")
+            raise ValueError(
+                f"GaussMarkov.correlation_time must be > 0 s; got {self.correlation_time!r}"
+            )
 
     def avar(self, tau: ArrayLike) -> NDArray[np.float64]:
         """Continuous-time Allan variance [rad^2/s^2] at cluster times ``tau`` [s]."""
         return gm_avar(tau, self.sigma, self.correlation_time)
 
     def avar_sampled(self, tau: ArrayLike, fs: float) -> NDArray[np.float64]:
-        """Allan variance [rad^2/s^2] of the process sampled at ``fs`` [Hz] (exact, :func:`ar1_avar`)."""
+        """Allan variance [rad^2/s^2] of the process sampled at ``fs`` [Hz]; :func:`ar1_avar`."""
         m = np.asarray(tau, dtype=float) * fs
         return ar1_avar(m, 1.0 / (fs * self.correlation_time), self.sigma**2)
 
@@ -362,7 +381,9 @@ class Sinusoid:
         _check_nonneg("Sinusoid", "frequency", self.frequency)
         if self.frequency == 0:
             raise ValueError(f"Sinusoid.frequency must be > 0 Hz; got {self.frequency!r}")
-        if isinstance(self.phase, bool) or not isinstance(self.phase, (int, float, np.floating, np.integer)):
+        if isinstance(self.phase, bool) or not isinstance(
+            self.phase, (int, float, np.floating, np.integer)
+        ):
             raise TypeError(f"Sinusoid.phase must be a real number [rad]; got {self.phase!r}")
         if not math.isfinite(self.phase):
             raise ValueError(f"Sinusoid.phase must be finite [rad]; got {self.phase!r}")
@@ -389,7 +410,9 @@ class Sinusoid:
 
 # ---------------------------------------------------------------------------- flicker machinery
 def _pole_times(f_low: float, f_high: float) -> NDArray[np.float64]:
-    """Correlation times T_i = T_min r^i [s], T_min = sqrt(r)/(2 pi f_high), up to T_max >= 1/(2 pi f_low).
+    """Pole correlation times T_i = T_min r^i [s] up to T_max >= 1/(2 pi f_low).
+
+    T_min = sqrt(r)/(2 pi f_high).
 
     Each pole stands for a slice of width ln r in ln T centred on T_i (midpoint
     rule), so the first slice starts at T_min/sqrt(r) = 1/(2 pi f_high).
@@ -453,7 +476,8 @@ def _sum_of_ar1_as_arma(u: NDArray[np.float64], var: NDArray[np.float64]):
     g = math.exp(0.5 * (math.log(2.0 * float(np.sum(c))) - float(np.sum(u)) + float(np.sum(mu))))
     b = g * np.poly(zeta) if p > 1 else np.array([g])
     a = np.poly(phi)
-    # residues: rho_i = g prod_k (1 - zeta_k/phi_i) / prod_{m != i} (1 - phi_m/phi_i), differences via expm1
+    # residues: rho_i = g prod_k (1 - zeta_k/phi_i) / prod_{m != i} (1 - phi_m/phi_i),
+    # differences of roots via expm1
     rho = np.empty(p)
     for i in range(p):
         num = np.prod(np.exp(-mu) * np.expm1(mu - u[i]) / phi[i]) if p > 1 else 1.0
@@ -476,7 +500,9 @@ def _sos_from_roots(zeta: NDArray, phi: NDArray, g: float) -> NDArray[np.float64
     zs = np.sort(zeta)[::-1]  # slowest (closest to 1) first
     ps = np.sort(phi)[::-1]
     nz_ = len(zs)
-    zero_groups = [[zs[i], zs[nz_ - 1 - i]] for i in range(nz_ // 2)] + ([[zs[nz_ // 2]]] if nz_ % 2 else [])
+    zero_groups = [[zs[i], zs[nz_ - 1 - i]] for i in range(nz_ // 2)] + (
+        [[zs[nz_ // 2]]] if nz_ % 2 else []
+    )
     for s in range(n_sec):
         poles = [ps[s]] + ([ps[p - 1 - s]] if p - 1 - s != s else [])
         zeros = zero_groups[s] if s < len(zero_groups) else []
@@ -586,7 +612,11 @@ class _CoarseLevel:
     """
 
     def __init__(
-        self, gen: _ArmaGen, coarser: _CoarseLevel | None, ratio_to_coarser: int, bridge: _Bridge | None = None
+        self,
+        gen: _ArmaGen,
+        coarser: _CoarseLevel | None,
+        ratio_to_coarser: int,
+        bridge: _Bridge | None = None,
     ) -> None:
         self.gen = gen
         self.coarser = coarser
@@ -622,7 +652,7 @@ def _interp_from(
     out: NDArray[np.float64] | None = None,
     bridge: _Bridge | None = None,
 ):
-    """Linear interpolation of ``level`` (knots every ``ratio`` fine samples) at fine indices [e, j1).
+    """Linear interpolation of ``level`` (knots every ``ratio`` samples) at fine indices [e, j1).
 
     Fine sample j = a ratio + r takes S[a] + (r/ratio)(S[a+1] - S[a]) (+ bridge row a,
     column r): the same arithmetic whatever the request boundaries. Added into ``out`` if given.
@@ -655,8 +685,13 @@ class _Flicker:
         )
         level = np.maximum(level, 0)
         if level.max() >= _MAX_LEVELS:
-            raise ValueError(f"flicker band too wide for {_MAX_LEVELS} levels; got T_max/dt = {ratio_t.max():.3g}")
-        subs = rng.spawn(2 * _MAX_LEVELS)  # [0, L): level innovations, [L, 2L): bridges below level l
+            raise ValueError(
+                f"flicker band too wide for {_MAX_LEVELS} levels; "
+                f"got T_max/dt = {ratio_t.max():.3g}"
+            )
+        subs = rng.spawn(
+            2 * _MAX_LEVELS
+        )  # [0, L): level innovations, [L, 2L): bridges below level l
         diffusion = 2.0 * var / tc  # q_i [rad^2/s^3]: the Brownian rate of pole i on scales << T_i
         self.fine: _ArmaGen | None = None
         coarse: _CoarseLevel | None = None
@@ -686,17 +721,28 @@ class _Flicker:
             q_dec = float(np.sum(diffusion[level > 0]))
             q_fine = float(np.sum(diffusion[level == 0]))
             if q_dec > _BRIDGE_REL * q_fine:
-                self.fine_bridge = _Bridge(self.coarse_ratio, math.sqrt(q_dec * dt), subs[_MAX_LEVELS])
+                self.fine_bridge = _Bridge(
+                    self.coarse_ratio, math.sqrt(q_dec * dt), subs[_MAX_LEVELS]
+                )
         self.k = 0
 
     def next(self, n: int, eps: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
-        """The next ``n`` samples; ``eps`` = pre-drawn innovations of the full-rate level (if any)."""
+        """The next ``n`` samples; ``eps``: pre-drawn innovations of the full-rate level."""
         if self.fine is not None:
             y = self.fine.next(n, eps)
             if self.coarse is not None:
-                _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, out=y, bridge=self.fine_bridge)
+                _interp_from(
+                    self.coarse,
+                    self.k,
+                    self.k + n,
+                    self.coarse_ratio,
+                    out=y,
+                    bridge=self.fine_bridge,
+                )
         else:
-            y = _interp_from(self.coarse, self.k, self.k + n, self.coarse_ratio, bridge=self.fine_bridge).copy()
+            y = _interp_from(
+                self.coarse, self.k, self.k + n, self.coarse_ratio, bridge=self.fine_bridge
+            ).copy()
         self.k += n
         return y
 
@@ -751,28 +797,45 @@ class NoiseModel:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            if f.name in ("quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp"):
+            if f.name in (
+                "quantization",
+                "angle_random_walk",
+                "bias_instability",
+                "rate_random_walk",
+                "rate_ramp",
+            ):
                 _check_nonneg("NoiseModel", f.name, getattr(self, f.name))
         band = self.flicker_band
         if not isinstance(band, tuple) or len(band) != 2:
-            raise TypeError(f"NoiseModel.flicker_band must be a tuple (f_low, f_high) [Hz]; got {band!r}")
+            raise TypeError(
+                f"NoiseModel.flicker_band must be a tuple (f_low, f_high) [Hz]; got {band!r}"
+            )
         for v in band:
             if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
-                raise TypeError(f"NoiseModel.flicker_band must hold real numbers [Hz]; got {band!r}")
+                raise TypeError(
+                    f"NoiseModel.flicker_band must hold real numbers [Hz]; got {band!r}"
+                )
         lo, hi = band
         if not (math.isfinite(lo) and 0.0 < lo < hi):
-            raise ValueError(f"NoiseModel.flicker_band must satisfy 0 < f_low < f_high [Hz]; got {band!r}")
-        if isinstance(self.bias, bool) or not isinstance(self.bias, (int, float, np.floating, np.integer)):
+            raise ValueError(
+                f"NoiseModel.flicker_band must satisfy 0 < f_low < f_high [Hz]; got {band!r}"
+            )
+        if isinstance(self.bias, bool) or not isinstance(
+            self.bias, (int, float, np.floating, np.integer)
+        ):
             raise TypeError(f"NoiseModel.bias must be a real number [rad/s]; got {self.bias!r}")
         if not math.isfinite(self.bias):
             raise ValueError(f"NoiseModel.bias must be finite [rad/s]; got {self.bias!r}")
         for name, kind in (("gauss_markov", GaussMarkov), ("sinusoids", Sinusoid)):
             terms = getattr(self, name)
             if not isinstance(terms, tuple) or not all(isinstance(t, kind) for t in terms):
-                raise TypeError(f"NoiseModel.{name} must be a tuple of {kind.__name__}; got {terms!r}")
+                raise TypeError(
+                    f"NoiseModel.{name} must be a tuple of {kind.__name__}; got {terms!r}"
+                )
         if len(self.gauss_markov) > _N_SLOTS - _SLOT_GM0:
             raise ValueError(
-                f"NoiseModel.gauss_markov holds at most {_N_SLOTS - _SLOT_GM0} terms; got {len(self.gauss_markov)}"
+                f"NoiseModel.gauss_markov holds at most {_N_SLOTS - _SLOT_GM0} terms; "
+                f"got {len(self.gauss_markov)}"
             )
 
     # ------------------------------------------------------------------ constructors
@@ -829,7 +892,10 @@ class NoiseModel:
         )
 
     def to_datasheet(self) -> dict[str, float]:
-        """The five coefficients in field units: Q arcsec, N deg/sqrt(h), B deg/h, K deg/h/sqrt(h), R deg/h^2."""
+        """The five coefficients in field units.
+
+        Q arcsec, N deg/sqrt(h), B deg/h, K deg/h/sqrt(h), R deg/h^2.
+        """
         return {
             "Q": units.to_arcsec(self.quantization),
             "N": units.to_deg_per_sqrt_h(self.angle_random_walk),
@@ -862,7 +928,7 @@ class NoiseModel:
         return tc, sig
 
     def term_avars(self, tau: ArrayLike, *, fs: float) -> dict[str, NDArray[np.float64]]:
-        """Each term's Allan variance [rad^2/s^2], keyed like :meth:`components` (zero terms omitted)."""
+        """Each term's Allan variance [rad^2/s^2], keyed like :meth:`components`."""
         _check_fs(fs)
         tau = np.asarray(tau, dtype=float)
         if np.any(~(tau > 0)):
@@ -875,7 +941,9 @@ class NoiseModel:
             out["angle_random_walk"] = self.angle_random_walk**2 / tau
         if self.bias_instability > 0:
             tc, sig = self.flicker_poles(fs)
-            out["bias_instability"] = np.sum(ar1_avar(m[..., None], 1.0 / (fs * tc), sig**2), axis=-1)
+            out["bias_instability"] = np.sum(
+                ar1_avar(m[..., None], 1.0 / (fs * tc), sig**2), axis=-1
+            )
         if self.rate_random_walk > 0:
             out["rate_random_walk"] = self.rate_random_walk**2 * tau / 3.0 * (1.0 + 0.5 / m**2)
         if self.rate_ramp > 0:
@@ -919,14 +987,16 @@ class NoiseModel:
         """A :class:`NoiseStream` yielding this model's samples chunk by chunk."""
         return NoiseStream(self, fs, rng=rng, t0=t0)
 
-    def generate(self, n: int, fs: float, *, rng: np.random.Generator, t0: float = 0.0) -> NDArray[np.float64]:
-        """``n`` rate-error samples [rad/s] at ``fs`` [Hz]; identical to any chunking of :meth:`stream`."""
+    def generate(
+        self, n: int, fs: float, *, rng: np.random.Generator, t0: float = 0.0
+    ) -> NDArray[np.float64]:
+        """``n`` rate-error samples [rad/s] at ``fs`` [Hz]; equal to any chunking of a stream."""
         return self.stream(fs, rng=rng, t0=t0).take(n)
 
     def components(
         self, n: int, fs: float, *, rng: np.random.Generator, t0: float = 0.0
     ) -> dict[str, NDArray[np.float64]]:
-        """Each term's samples separately (the truth a Recording keeps); they sum to :meth:`generate`."""
+        """Each term's samples (the truth a Recording keeps); they sum to :meth:`generate`."""
         return self.stream(fs, rng=rng, t0=t0).take_components(n)
 
 
@@ -946,7 +1016,9 @@ class NoiseStream:
     decimated flicker levels keep the coarse knots they still need.
     """
 
-    def __init__(self, model: NoiseModel, fs: float, *, rng: np.random.Generator, t0: float = 0.0) -> None:
+    def __init__(
+        self, model: NoiseModel, fs: float, *, rng: np.random.Generator, t0: float = 0.0
+    ) -> None:
         if not isinstance(rng, np.random.Generator):
             raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
         _check_fs(fs)
@@ -960,10 +1032,15 @@ class NoiseStream:
         children = rng.spawn(_N_SLOTS)
         self._rng = children
         m = model
-        # quantization: uniform angle error of std Q on [-q/2, q/2), q = sqrt(12) Q; previous value carried
+        # quantization: uniform angle error of std Q on [-q/2, q/2), q = sqrt(12) Q;
+        # the previous value is carried
         # (drawn as c u, u ~ U[0, 1), c = q fs: the offset -q/2 cancels in the difference)
         self._q_step = math.sqrt(12.0) * m.quantization
-        self._q_prev = children[_SLOT_QUANT].uniform(0.0, self._q_step * self.fs) if m.quantization > 0 else 0.0
+        self._q_prev = (
+            children[_SLOT_QUANT].uniform(0.0, self._q_step * self.fs)
+            if m.quantization > 0
+            else 0.0
+        )
         self._arw_gain = m.angle_random_walk * math.sqrt(self.fs)
         self._flicker = None
         if m.bias_instability > 0:
@@ -982,13 +1059,19 @@ class NoiseStream:
         self._sources: list[tuple[str, object]] = []
         q_scale = self._q_step * self.fs  # rate step per unit of uniform angle draw
         if m.quantization > 0:
-            self._sources.append(("q", lambda k, g=children[_SLOT_QUANT], c=q_scale: g.uniform(0.0, c, k)))
+            self._sources.append(
+                ("q", lambda k, g=children[_SLOT_QUANT], c=q_scale: g.uniform(0.0, c, k))
+            )
         if m.angle_random_walk > 0:
-            self._sources.append(("arw", lambda k, g=children[_SLOT_ARW], c=self._arw_gain: g.normal(0.0, c, k)))
+            self._sources.append(
+                ("arw", lambda k, g=children[_SLOT_ARW], c=self._arw_gain: g.normal(0.0, c, k))
+            )
         if self._flicker is not None and self._flicker.fine is not None:
             self._sources.append(("fl", self._flicker.fine.rng.standard_normal))
         if m.rate_random_walk > 0:
-            self._sources.append(("rrw", lambda k, g=children[_SLOT_RRW], c=self._rrw_gain: g.normal(0.0, c, k)))
+            self._sources.append(
+                ("rrw", lambda k, g=children[_SLOT_RRW], c=self._rrw_gain: g.normal(0.0, c, k))
+            )
         for i in range(len(m.gauss_markov)):
             self._sources.append((f"gm{i}", children[_SLOT_GM0 + i].standard_normal))
 
@@ -1014,12 +1097,16 @@ class NoiseStream:
                 fut = ex.submit(self._draw, sizes[i + 1]) if i + 1 < len(sizes) else None
                 yield k, draws
         finally:
-            if fut is not None:  # abandoned mid-way: let the worker finish before anyone draws again
+            if (
+                fut is not None
+            ):  # abandoned mid-way: let the worker finish before anyone draws again
                 fut.result()
 
-    def _terms(self, n: int, d: dict[str, NDArray[np.float64]]) -> Iterator[tuple[str, NDArray[np.float64]]]:
+    def _terms(
+        self, n: int, d: dict[str, NDArray[np.float64]]
+    ) -> Iterator[tuple[str, NDArray[np.float64]]]:
         """The next ``n`` samples of every present term (one internal block), in a fixed order."""
-        m, fs = self.model, self.fs
+        m = self.model
         if m.quantization > 0:
             e = d["q"]  # uniform angle error, already in rate units (times fs)
             y = np.empty(n)
@@ -1081,7 +1168,14 @@ class NoiseStream:
         names = [
             f.name
             for f in fields(m)
-            if f.name in ("quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp")
+            if f.name
+            in (
+                "quantization",
+                "angle_random_walk",
+                "bias_instability",
+                "rate_random_walk",
+                "rate_ramp",
+            )
             and getattr(m, f.name) > 0
         ]
         names += [f"gauss_markov_{i}" for i in range(len(m.gauss_markov))]
@@ -1091,7 +1185,10 @@ class NoiseStream:
         return names
 
     def take(self, n: int) -> NDArray[np.float64]:
-        """The next ``n`` samples of the summed rate error [rad/s] (terms added in :meth:`take_components` order)."""
+        """The next ``n`` samples of the summed rate error [rad/s].
+
+        Terms are added in :meth:`take_components` order (the same rounding).
+        """
         self._check_n(n)
         total = np.zeros(n)
         done = 0

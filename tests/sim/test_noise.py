@@ -3,7 +3,8 @@
 Statistical tests use fixed seeds and chi-square bands: the overlapping AVAR
 estimate A at cluster size m satisfies A ~ A_true chi2(edf)/edf with edf from
 allantools' Greenhall algorithm (NIST SP 1065 / Greenhall 2004): the smallest
-over the noise types that carry >= 10 % of the AVAR at that tau. Each record is checked at every octave tau up
+over the noise types that carry >= 10 % of the AVAR at that tau. Each record is checked at
+every octave tau up
 to T/10 against a two-sided band at level ALPHA/n_tau (Bonferroni), so the
 false-alarm probability of each record test is <= ALPHA = 1e-3.
 """
@@ -33,10 +34,17 @@ def _octave_taus(n: int, fs: float, m_min: int = 1) -> np.ndarray:
 
 
 def _edf(alpha: int, m: int, n_freq: int) -> float:
-    return float(allantools.edf_greenhall(alpha=alpha, d=2, m=int(m), N=n_freq + 1, overlapping=True))
+    return float(
+        allantools.edf_greenhall(alpha=alpha, d=2, m=int(m), N=n_freq + 1, overlapping=True)
+    )
 
 
-_ALPHA_OF = {"quantization": 2, "angle_random_walk": 0, "bias_instability": -1, "rate_random_walk": -2}
+_ALPHA_OF = {
+    "quantization": 2,
+    "angle_random_walk": 0,
+    "bias_instability": -1,
+    "rate_random_walk": -2,
+}
 
 
 def _check_record(model: NoiseModel, y: np.ndarray, fs: float) -> None:
@@ -54,7 +62,9 @@ def _check_record(model: NoiseModel, y: np.ndarray, fs: float) -> None:
     p = ALPHA / len(t)
     for i, tau in enumerate(t):
         m = int(round(tau * fs))
-        alphas = [_ALPHA_OF[k] for k, v in terms.items() if k in _ALPHA_OF and v[i] >= 0.1 * total[i]]
+        alphas = [
+            _ALPHA_OF[k] for k, v in terms.items() if k in _ALPHA_OF and v[i] >= 0.1 * total[i]
+        ]
         assert alphas, f"no stochastic term at tau={tau}"
         edf = min(_edf(a, m, len(y)) for a in alphas)
         lo = total[i] * stats.chi2.ppf(p / 2, edf) / edf
@@ -65,7 +75,13 @@ def _check_record(model: NoiseModel, y: np.ndarray, fs: float) -> None:
         )
 
 
-FIVE = dict(quantization=0.3, angle_random_walk=0.05, bias_instability=0.5, rate_random_walk=2.0, rate_ramp=1.0)
+FIVE = dict(
+    quantization=0.3,
+    angle_random_walk=0.05,
+    bias_instability=0.5,
+    rate_random_walk=2.0,
+    rate_ramp=1.0,
+)
 
 
 # ---------------------------------------------------------------------------- closed forms (1e-12)
@@ -79,7 +95,9 @@ def test_white_terms_closed_form():
 
 def test_ramp_closed_form():
     tau = np.array([0.5, 3.0, 100.0])
-    np.testing.assert_allclose(NoiseModel(rate_ramp=2e-9).theoretical_avar(tau, fs=10.0), 2e-9**2 * tau**2 / 2, rtol=1e-12)
+    np.testing.assert_allclose(
+        NoiseModel(rate_ramp=2e-9).theoretical_avar(tau, fs=10.0), 2e-9**2 * tau**2 / 2, rtol=1e-12
+    )
 
 
 def test_rrw_discrete_formula_matches_brute_force():
@@ -115,7 +133,9 @@ def test_ar1_avar_tends_to_continuous_gm():
     tau = np.array([0.1, 1.0, 3.78, 20.0])
     fs = 1e6
     np.testing.assert_allclose(
-        GaussMarkov(sigma=sigma, correlation_time=tc).avar_sampled(tau, fs), gm_avar(tau, sigma, tc), rtol=1e-6
+        GaussMarkov(sigma=sigma, correlation_time=tc).avar_sampled(tau, fs),
+        gm_avar(tau, sigma, tc),
+        rtol=1e-6,
     )
 
 
@@ -127,8 +147,12 @@ def test_gm_continuous_matches_physics_formula_and_peak():
     phys = (qc * tc) ** 2 / tau * (1 - tc / (2 * tau) * (3 - 4 * np.exp(-r) + np.exp(-2 * r)))
     np.testing.assert_allclose(gm_avar(tau, sigma, tc), phys, rtol=1e-12)
     # ADEV peak at tau = 1.893 Tc with value 0.4365 qc sqrt(Tc) (PHYSICS.md 1.2)
-    res = optimize.minimize_scalar(lambda x: -gm_avar(x * tc, sigma, tc), bounds=(0.5, 5), method="bounded",
-                                   options={"xatol": 1e-10})
+    res = optimize.minimize_scalar(
+        lambda x: -gm_avar(x * tc, sigma, tc),
+        bounds=(0.5, 5),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
     assert res.x == pytest.approx(1.8926, abs=5e-4)
     assert math.sqrt(-res.fun) / (qc * math.sqrt(tc)) == pytest.approx(0.4365, abs=5e-5)
 
@@ -137,7 +161,9 @@ def test_gm_small_tau_is_rate_random_walk_without_cancellation():
     tc, sigma = 1e5, 1.0
     tau = 1e-3
     qc2 = 2 * sigma**2 / tc
-    np.testing.assert_allclose(gm_avar(tau, sigma, tc), qc2 * tau / 3 * (1 - 3 * tau / (4 * tc)), rtol=1e-9)
+    np.testing.assert_allclose(
+        gm_avar(tau, sigma, tc), qc2 * tau / 3 * (1 - 3 * tau / (4 * tc)), rtol=1e-9
+    )
 
 
 def test_sinusoid_zeros_at_multiples_of_period():
@@ -152,8 +178,11 @@ def test_sinusoid_sampled_factor_and_brute_force():
     fs = 10.0
     x = math.pi * s.frequency / fs
     tau = np.array([0.1, 0.3, 0.7, 1.1])
-    np.testing.assert_allclose(s.avar_sampled(tau, fs), s.avar(tau) * (x / math.sin(x)) ** 2, rtol=1e-12)
-    # brute force: phase-averaged overlapping AVAR of the sampled sine (exact over full periods of 10 samples)
+    np.testing.assert_allclose(
+        s.avar_sampled(tau, fs), s.avar(tau) * (x / math.sin(x)) ** 2, rtol=1e-12
+    )
+    # brute force: phase-averaged overlapping AVAR of the sampled sine
+    # (exact over full periods of 10 samples)
     n = 10 * 2000
     y = s.amplitude * np.sin(2 * np.pi * s.frequency * np.arange(n) / fs + s.phase)
     for m in (1, 3, 7, 11):
@@ -166,7 +195,9 @@ def test_sinusoid_sampled_factor_and_brute_force():
 
 def test_sinusoid_peak_location():
     s = Sinusoid(amplitude=1.0, frequency=1.0)
-    res = optimize.minimize_scalar(lambda t: -s.avar(t), bounds=(0.1, 0.9), method="bounded", options={"xatol": 1e-10})
+    res = optimize.minimize_scalar(
+        lambda t: -s.avar(t), bounds=(0.1, 0.9), method="bounded", options={"xatol": 1e-10}
+    )
     assert res.x == pytest.approx(0.3710, abs=2e-4)
     assert math.sqrt(-res.fun) == pytest.approx(0.7246, abs=2e-4)
 
@@ -179,20 +210,30 @@ def test_flicker_avar_plateau_limit():
 def test_flicker_avar_small_tau_limit():
     b, f0 = 2e-6, 10.0
     tau = np.array([1e-6, 1e-5])
-    np.testing.assert_allclose(flicker_avar(tau, b, 1e-9, f0), math.pi * b**2 * f0**2 * tau**2, rtol=1e-6)
+    np.testing.assert_allclose(
+        flicker_avar(tau, b, 1e-9, f0), math.pi * b**2 * f0**2 * tau**2, rtol=1e-6
+    )
 
 
 def test_flicker_avar_matches_quadrature():
     b, lo, hi = 1.0, 0.01, 5.0
     for tau in (0.05, 0.4, 3.0, 40.0):
         val, _ = integrate.quad(
-            lambda f: 4 * b**2 / (2 * np.pi * f) * np.sin(np.pi * f * tau) ** 4 / (np.pi * f * tau) ** 2,
-            lo, hi, limit=2000, epsabs=0, epsrel=1e-12)
+            lambda f, tau=tau: (
+                4 * b**2 / (2 * np.pi * f) * np.sin(np.pi * f * tau) ** 4 / (np.pi * f * tau) ** 2
+            ),
+            lo,
+            hi,
+            limit=2000,
+            epsabs=0,
+            epsrel=1e-12,
+        )
         np.testing.assert_allclose(flicker_avar(tau, b, lo, hi), val, rtol=1e-9)
 
 
 def test_flicker_avar_physics_table():
-    # sigma/B = 0.270 (x=0.5), 0.480 (1), 0.647 (2), 0.661 (5), 0.664 (>=20), f_low -> 0 (PHYSICS.md 1.3);
+    # sigma/B = 0.270 (x=0.5), 0.480 (1), 0.647 (2), 0.661 (5), 0.664 (>=20), f_low -> 0
+    # (PHYSICS.md 1.3);
     # printed with 3 digits, apparently truncated (0.2707 -> 0.270): one unit of the last digit
     x = np.array([0.5, 1.0, 2.0, 5.0, 20.0])
     got = np.sqrt(flicker_avar(x / np.pi, 1.0, 1e-15, 1.0))
@@ -225,7 +266,13 @@ def test_pole_sum_psd_within_documented_band():
     tc, sig = NoiseModel(bias_instability=b).flicker_poles(fs)
     f = np.logspace(np.log10(9e-6), np.log10(fs / 3), 2000)
     phi = np.exp(-1 / (fs * tc))
-    s = np.sum(sig**2 * (1 - phi**2) / np.abs(1 - phi * np.exp(-2j * np.pi * f[:, None] / fs)) ** 2, axis=1) / fs
+    s = (
+        np.sum(
+            sig**2 * (1 - phi**2) / np.abs(1 - phi * np.exp(-2j * np.pi * f[:, None] / fs)) ** 2,
+            axis=1,
+        )
+        / fs
+    )
     db = 10 * np.log10(s / (b**2 / (2 * np.pi * f)))
     assert np.max(np.abs(db)) <= 0.15
 
@@ -234,7 +281,9 @@ def test_pole_sum_tracks_brick_wall_inside_band():
     fs = 100.0
     m = NoiseModel(bias_instability=1.0)
     tau = np.logspace(-1, 3, 50)
-    np.testing.assert_allclose(m.theoretical_avar(tau, fs=fs), flicker_avar(tau, 1.0, 1e-6, fs / 2), rtol=0.02)
+    np.testing.assert_allclose(
+        m.theoretical_avar(tau, fs=fs), flicker_avar(tau, 1.0, 1e-6, fs / 2), rtol=0.02
+    )
 
 
 def test_arma_spectral_factor_has_pole_sum_autocovariance():
@@ -250,11 +299,13 @@ def test_arma_spectral_factor_has_pole_sum_autocovariance():
 
 
 def test_sos_realisation_matches_partial_fractions():
-    """The second-order sections realise the factor's impulse response to 1e-9 (poles u = 3 .. 1e-3)."""
+    """The second-order sections realise the factor's impulse response to 1e-9 (u = 3 .. 1e-3)."""
     from scipy import signal
 
-    for u in (np.array([3.0, 0.9, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001]), np.array([1.7, 0.5, 0.17, 0.05, 0.017, 0.005,
-                                                                                  0.0017])):
+    for u in (
+        np.array([3.0, 0.9, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001]),
+        np.array([1.7, 0.5, 0.17, 0.05, 0.017, 0.005, 0.0017]),
+    ):
         _, _, rho, phi, _, zeta, g = nz._sum_of_ar1_as_arma(u, np.full(len(u), 0.7))
         sos = nz._sos_from_roots(zeta, phi, g)
         imp = signal.sosfilt(sos, np.r_[1.0, np.zeros(9999)])
@@ -262,8 +313,14 @@ def test_sos_realisation_matches_partial_fractions():
         np.testing.assert_allclose(imp, want, rtol=1e-9)
 
 
-@pytest.mark.parametrize("u", [np.array([0.004, 0.0013]), np.array([3.0, 0.9, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001]),
-                               np.array([0.5])])
+@pytest.mark.parametrize(
+    "u",
+    [
+        np.array([0.004, 0.0013]),
+        np.array([3.0, 0.9, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001]),
+        np.array([0.5]),
+    ],
+)
 def test_sos_stationary_state_has_pole_sum_variance(u):
     """Output variance from the drawn initial state's covariance = sum of pole variances (1e-9)."""
     var = np.linspace(0.5, 1.0, len(u))
@@ -285,7 +342,9 @@ def test_sos_stationary_state_has_pole_sum_variance(u):
     # the Lyapunov solution carries ~cond * eps ~ eps/u_min^2 relative error (1e-8 at u = 1.3e-3)
     np.testing.assert_allclose(c @ cov @ c + d**2, np.sum(var), rtol=1e-7)
     # lag-1 covariance too: E[y_{k+1} y_k] = C A Sigma C^T + C B D
-    np.testing.assert_allclose(c @ a_mat @ cov @ c + (c @ b_vec) * d, np.sum(var * np.exp(-u)), rtol=1e-7)
+    np.testing.assert_allclose(
+        c @ a_mat @ cov @ c + (c @ b_vec) * d, np.sum(var * np.exp(-u)), rtol=1e-7
+    )
 
 
 def _interp_avar(c: float, ratio: int, ms: np.ndarray) -> np.ndarray:
@@ -299,7 +358,12 @@ def _interp_avar(c: float, ratio: int, ms: np.ndarray) -> np.ndarray:
         j2, r2 = k2 // ratio, k2 % ratio
         w1a, w1b, w2a, w2b = 1 - r / ratio, r / ratio, 1 - r2 / ratio, r2 / ratio
         cov = lambda d: phi ** np.abs(d)  # noqa: E731
-        rbar += w1a * w2a * cov(j2) + w1a * w2b * cov(j2 + 1) + w1b * w2a * cov(j2 - 1) + w1b * w2b * cov(j2)
+        rbar += (
+            w1a * w2a * cov(j2)
+            + w1a * w2b * cov(j2 + 1)
+            + w1b * w2a * cov(j2 - 1)
+            + w1b * w2b * cov(j2)
+        )
     rbar /= ratio
 
     def dsum(n):
@@ -326,7 +390,7 @@ def test_decimation_error_bound(fs):
     ms = np.unique(np.round(np.logspace(0, math.log10(60 * nz._LEVEL_RATIO**2), 40)).astype(int))
     deficit = np.zeros(len(ms))
     n_checked = 0
-    for t, s in zip(tc, sig):
+    for t, s in zip(tc, sig, strict=True):
         h = _level_step(t * fs)
         if h in (nz._LEVEL_RATIO, nz._LEVEL_RATIO**2):
             deficit += (ar1_avar(ms, 1.0 / (t * fs)) - _interp_avar(t * fs / h, h, ms)) * s**2
@@ -363,7 +427,9 @@ def _bridge_avar(v: float, ratio: int, ms: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("c", [256.0, 809.5, 2560.0])
 def test_bridge_restores_decimated_pole(c):
-    """Interpolated knots + Brownian bridge of rate 2 sigma^2/T == the full-rate pole: 2.5e-6 (h/T * 256)^2.
+    """Interpolated knots + Brownian bridge of rate 2 sigma^2/T == the full-rate pole.
+
+    Measured 2.5e-6 (256 h/T)^2 relative.
 
     (Without the bridge the deficit is up to ~100 % of the pole's AVAR at tau << h.)
     """
@@ -421,22 +487,28 @@ def test_gauss_markov_term_adev_within_chi2_band():
     for i, tau in enumerate(t):
         m = int(round(tau * FS))
         edf = min(_edf(a, m, N_REC) for a in (0, -2))  # GM is RRW-like below Tc, white above
-        assert th[i] * stats.chi2.ppf(p / 2, edf) / edf <= ad[i] ** 2 <= th[i] * stats.chi2.ppf(1 - p / 2, edf) / edf
+        assert (
+            th[i] * stats.chi2.ppf(p / 2, edf) / edf
+            <= ad[i] ** 2
+            <= th[i] * stats.chi2.ppf(1 - p / 2, edf) / edf
+        )
 
 
 def test_flicker_starts_stationary():
-    """Var of the first sample over independent streams = sum of pole variances (chi-square, alpha 1e-3)."""
+    """Var of the first sample over independent starts = sum of pole variances (chi2, 1e-3)."""
     model = NoiseModel(bias_instability=1.0)
     fs = 100.0
     k = 200
-    first = np.array([model.generate(1, fs, rng=np.random.default_rng([99, i]))[0] for i in range(k)])
+    first = np.array(
+        [model.generate(1, fs, rng=np.random.default_rng([99, i]))[0] for i in range(k)]
+    )
     var_true = np.sum(model.flicker_poles(fs)[1] ** 2)
     stat = np.sum(first**2) / var_true  # chi2(k) under H0 (zero mean)
     assert stats.chi2.ppf(ALPHA / 2, k) <= stat <= stats.chi2.ppf(1 - ALPHA / 2, k)
 
 
 def _streaming_oavar(model, fs, n, ms, seed, chunk=1 << 22):
-    """Overlapping AVAR at cluster sizes ms of an n-sample record, generated and reduced chunk by chunk."""
+    """Overlapping AVAR at cluster sizes ms of an n-sample record, reduced chunk by chunk."""
     stream = model.stream(fs, rng=np.random.default_rng(seed))
     mmax = int(max(ms))
     tail = np.zeros(0)  # last 2*mmax angle samples carried over
@@ -473,14 +545,16 @@ def test_flicker_plateau_flat_over_four_decades():
     ms = np.array([3 * 2**k for k in range(14)] + [30000])
     theory = model.theoretical_avar(ms / fs, fs=fs)
     p = ALPHA / len(ms)
-    for m, th in zip(ms, theory):
+    for m, th in zip(ms, theory, strict=True):
         edf = _edf(-1, m, n)
         lo = math.sqrt(th * stats.chi2.ppf(p / 2, edf) / edf / PLATEAU)
         hi = math.sqrt(th * stats.chi2.ppf(1 - p / 2, edf) / edf / PLATEAU)
         assert 0.95 <= lo and hi <= 1.05, (m, lo, hi)
     est = _streaming_oavar(model, fs, n, ms, seed=2026)
     ratio = np.sqrt(est / PLATEAU)
-    assert np.all(np.abs(ratio - 1) <= 0.05), dict(zip(ms.tolist(), np.round(ratio, 4).tolist()))
+    assert np.all(np.abs(ratio - 1) <= 0.05), dict(
+        zip(ms.tolist(), np.round(ratio, 4).tolist(), strict=True)
+    )
 
 
 def test_streaming_oavar_helper_matches_allantools():
@@ -492,7 +566,7 @@ def test_streaming_oavar_helper_matches_allantools():
     np.testing.assert_allclose(est, ad**2, rtol=1e-9)
 
 
-# ---------------------------------------------------------------------------- chunking and components
+# ------------------------------------------------------------------------ chunking and components
 ALL_TERMS = NoiseModel(
     quantization=1e-6,
     angle_random_walk=2e-5,
@@ -542,15 +616,26 @@ def test_components_sum_to_generate():
         total += v
     assert np.array_equal(total, ALL_TERMS.generate(5000, 100.0, rng=np.random.default_rng(9)))
     assert set(comps) == {
-        "quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp",
-        "gauss_markov_0", "sinusoid_0", "bias",
+        "quantization",
+        "angle_random_walk",
+        "bias_instability",
+        "rate_random_walk",
+        "rate_ramp",
+        "gauss_markov_0",
+        "sinusoid_0",
+        "bias",
     }
 
 
 def test_adding_a_term_leaves_others_unchanged():
     small = NoiseModel(angle_random_walk=2e-5, bias_instability=3e-6)
-    big = NoiseModel(quantization=1e-6, angle_random_walk=2e-5, bias_instability=3e-6, rate_random_walk=1e-7,
-                     gauss_markov=(GaussMarkov(sigma=1e-5, correlation_time=0.3),))
+    big = NoiseModel(
+        quantization=1e-6,
+        angle_random_walk=2e-5,
+        bias_instability=3e-6,
+        rate_random_walk=1e-7,
+        gauss_markov=(GaussMarkov(sigma=1e-5, correlation_time=0.3),),
+    )
     a = small.components(4000, 100.0, rng=np.random.default_rng(10))
     b = big.components(4000, 100.0, rng=np.random.default_rng(10))
     for k in a:
@@ -558,11 +643,15 @@ def test_adding_a_term_leaves_others_unchanged():
 
 
 def test_deterministic_components_values():
-    m = NoiseModel(rate_ramp=2e-9, sinusoids=(Sinusoid(amplitude=1e-5, frequency=0.5, phase=0.1),), bias=3e-4)
+    m = NoiseModel(
+        rate_ramp=2e-9, sinusoids=(Sinusoid(amplitude=1e-5, frequency=0.5, phase=0.1),), bias=3e-4
+    )
     c = m.components(1000, 10.0, rng=np.random.default_rng(0), t0=5.0)
     t = 5.0 + np.arange(1000) / 10.0
     np.testing.assert_allclose(c["rate_ramp"], 2e-9 * t, rtol=1e-12)
-    np.testing.assert_allclose(c["sinusoid_0"], 1e-5 * np.sin(2 * np.pi * 0.5 * t + 0.1), rtol=1e-9, atol=1e-20)
+    np.testing.assert_allclose(
+        c["sinusoid_0"], 1e-5 * np.sin(2 * np.pi * 0.5 * t + 0.1), rtol=1e-9, atol=1e-20
+    )
     assert np.all(c["bias"] == 3e-4)
 
 
@@ -576,14 +665,23 @@ def test_quantization_angle_error_is_uniform_with_std_q():
 
 def test_zero_samples():
     assert ALL_TERMS.generate(0, 100.0, rng=np.random.default_rng(0)).shape == (0,)
-    assert all(v.shape == (0,) for v in ALL_TERMS.components(0, 100.0, rng=np.random.default_rng(0)).values())
+    assert all(
+        v.shape == (0,)
+        for v in ALL_TERMS.components(0, 100.0, rng=np.random.default_rng(0)).values()
+    )
 
 
 # ---------------------------------------------------------------------------- datasheet round trip
 def test_datasheet_round_trip():
-    ds = dict(quantization=0.7, angle_random_walk=0.013, bias_instability=0.21, rate_random_walk=0.034, rate_ramp=0.05)
+    ds = dict(
+        quantization=0.7,
+        angle_random_walk=0.013,
+        bias_instability=0.21,
+        rate_random_walk=0.034,
+        rate_ramp=0.05,
+    )
     back = NoiseModel.from_datasheet(**ds).to_datasheet()
-    for key, name in zip("QNBKR", ds):
+    for key, name in zip("QNBKR", ds, strict=True):
         assert back[key] == pytest.approx(ds[name], rel=1e-12)
 
 
@@ -593,15 +691,19 @@ def test_from_datasheet_unknown_keyword():
 
 
 # ---------------------------------------------------------------------------- validation
-@pytest.mark.parametrize("name", ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk",
-                                  "rate_ramp"])
+@pytest.mark.parametrize(
+    "name",
+    ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp"],
+)
 def test_negative_coefficient_rejected(name):
     with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be finite and >= 0; got -1"):
         NoiseModel(**{name: -1.0})
 
 
-@pytest.mark.parametrize("name", ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk",
-                                  "rate_ramp"])
+@pytest.mark.parametrize(
+    "name",
+    ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp"],
+)
 def test_nan_coefficient_rejected(name):
     with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be finite.*nan"):
         NoiseModel(**{name: float("nan")})
@@ -613,22 +715,30 @@ def test_inf_coefficient_rejected():
 
 
 def test_string_coefficient_rejected():
-    with pytest.raises(TypeError, match=r"NoiseModel\.bias_instability must be a real number; got '0.1'"):
+    with pytest.raises(
+        TypeError, match=r"NoiseModel\.bias_instability must be a real number; got '0.1'"
+    ):
         NoiseModel(bias_instability="0.1")
 
 
 def test_bool_coefficient_rejected():
-    with pytest.raises(TypeError, match=r"NoiseModel\.quantization must be a real number; got True"):
+    with pytest.raises(
+        TypeError, match=r"NoiseModel\.quantization must be a real number; got True"
+    ):
         NoiseModel(quantization=True)
 
 
 def test_datasheet_negative_rejected():
-    with pytest.raises(ValueError, match=r"from_datasheet\.rate_random_walk must be finite and >= 0; got -0.1"):
+    with pytest.raises(
+        ValueError, match=r"from_datasheet\.rate_random_walk must be finite and >= 0; got -0.1"
+    ):
         NoiseModel.from_datasheet(rate_random_walk=-0.1)
 
 
 def test_flicker_band_inverted_rejected():
-    with pytest.raises(ValueError, match=r"flicker_band must satisfy 0 < f_low < f_high \[Hz\]; got \(1.0, 0.5\)"):
+    with pytest.raises(
+        ValueError, match=r"flicker_band must satisfy 0 < f_low < f_high \[Hz\]; got \(1.0, 0.5\)"
+    ):
         NoiseModel(flicker_band=(1.0, 0.5))
 
 
@@ -739,7 +849,11 @@ SLOW_BAND = NoiseModel(bias_instability=5e-6, flicker_band=(1e-7, 0.05))  # f_hi
 def test_slow_band_is_all_decimated_with_bridge():
     """With f_high << fs/2 every pole is decimated and the full-rate Brownian bridge is on."""
     s = SLOW_BAND.stream(1000.0, rng=np.random.default_rng(0))
-    assert s._flicker.fine is None and s._flicker.coarse is not None and s._flicker.fine_bridge is not None
+    assert (
+        s._flicker.fine is None
+        and s._flicker.coarse is not None
+        and s._flicker.fine_bridge is not None
+    )
 
 
 @settings(max_examples=15, deadline=None)

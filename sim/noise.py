@@ -108,6 +108,7 @@ noise generation", Proc. IEEE 83(5), 1995; W. A. Riley, NIST SP 1065 (2008).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field, fields
 
@@ -157,11 +158,19 @@ def _use_prefetch() -> bool:
     if _PREFETCH != "auto":
         return bool(_PREFETCH)
     try:
-        import os
-
         return os.getloadavg()[0] < (os.cpu_count() or 1) - 1
     except (OSError, AttributeError):
         return False
+
+
+def _forget_executor_in_child() -> None:
+    # a forked child inherits the executor object but not its thread: start afresh
+    global _EXECUTOR
+    _EXECUTOR = None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_executor_in_child)
 
 
 def _executor():

@@ -869,3 +869,21 @@ def test_slow_band_flicker_adev_within_chi2_band():
     fs = 1000.0
     y = SLOW_BAND.generate(1 << 21, fs, rng=np.random.default_rng(18))
     _check_record(SLOW_BAND, y, fs)
+
+
+def test_forked_child_can_use_the_draw_thread(monkeypatch):
+    """After fork the child must not wait on the parent's (absent) worker thread."""
+    import multiprocessing as mp
+
+    monkeypatch.setattr(nz, "_PREFETCH", True)
+    n = 2 * nz._BLOCK + 5
+    want = ALL_TERMS.generate(n, 100.0, rng=np.random.default_rng(33))  # starts the worker here
+    ctx = mp.get_context("fork")
+    with ctx.Pool(1) as pool:
+        got = pool.apply_async(_gen_in_child, (n,)).get(timeout=60)
+    assert np.array_equal(got, want)
+
+
+def _gen_in_child(n):
+    nz._PREFETCH = True
+    return ALL_TERMS.generate(n, 100.0, rng=np.random.default_rng(33))

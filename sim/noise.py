@@ -593,6 +593,8 @@ class _Bridge:
 
     def get(self, a0: int, a1: int) -> NDArray[np.float64]:
         """Rows for intervals a0..a1 (inclusive); a0 must not decrease between calls."""
+        if a0 < self.row0:  # internal invariant: requests only move forward
+            raise RuntimeError(f"bridge asked for interval {a0}; rows below {self.row0} are gone")
         end = self.row0 + len(self.rows)
         if a1 >= end:
             self.batch = min(max(1, _COARSE_BATCH // self.ratio), max(self.batch * 2, a1 + 1 - end))
@@ -636,6 +638,8 @@ class _CoarseLevel:
         self.batch = 16
 
     def get(self, j0: int, j1: int) -> NDArray[np.float64]:
+        if j0 < self.s0:  # internal invariant: requests only move forward
+            raise RuntimeError(f"flicker level asked for knot {j0}; knots below {self.s0} are gone")
         end = self.s0 + len(self.s)
         if j1 > end:
             # generate ahead in geometrically growing batches (few filter calls on long runs,

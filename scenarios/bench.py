@@ -472,14 +472,24 @@ def _is_third_party(path: str) -> bool:
     return bool(stdlib) and Path(path).resolve().is_relative_to(Path(stdlib).resolve())
 
 
-def _imports(path: str, name: str, is_pkg: bool) -> set[str]:
+def _imports(path: str, name: str, is_pkg: bool) -> frozenset[str]:
     """Module names imported anywhere in the file (relative imports resolved)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return frozenset()
+    return _imports_cached(path, st.st_mtime_ns, st.st_size, name, is_pkg)
+
+
+@functools.lru_cache(maxsize=1024)
+def _imports_cached(path: str, mtime_ns: int, size: int, name: str, is_pkg: bool) -> frozenset[str]:
+    """:func:`_imports`, cached on the file's modification time and size."""
     import ast
 
     try:
         tree = ast.parse(Path(path).read_bytes())
     except (OSError, SyntaxError, ValueError):
-        return set()
+        return frozenset()
     package = name if is_pkg else name.rpartition(".")[0]
     out: set[str] = set()
     for node in ast.walk(tree):
@@ -498,7 +508,7 @@ def _imports(path: str, name: str, is_pkg: bool) -> set[str]:
                 continue
             out.add(base)
             out.update(f"{base}.{a.name}" for a in node.names if a.name != "*")  # may be submodules
-    return out
+    return frozenset(out)
 
 
 def _source_closure(name: str) -> list[tuple[str, str]]:

@@ -271,13 +271,16 @@ def _check_rate(rate: ArrayLike) -> NDArray[np.float64]:
     if not (np.issubdtype(y.dtype, np.floating) or np.issubdtype(y.dtype, np.integer)):
         raise TypeError(f"rate must hold real numbers; got dtype {y.dtype}")
     y = np.asarray(y, dtype=np.float64)
-    finite = np.isfinite(y)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
-        raise ValueError(
-            f"rate must be finite everywhere; got {float(y[bad])!r} at index {bad} "
-            f"({int((~finite).sum())} non-finite sample(s) in total)"
-        )
+    step = 1 << 20  # blockwise: no N-sized boolean temporaries
+    for a in range(0, y.size, step):
+        finite = np.isfinite(y[a : a + step])
+        if not finite.all():
+            bad = a + int(np.flatnonzero(~finite)[0])
+            total = int(np.count_nonzero(~np.isfinite(y)))
+            raise ValueError(
+                f"rate must be finite everywhere; got {float(y[bad])!r} at index {bad} "
+                f"({total} non-finite sample(s) in total)"
+            )
     return y
 
 
@@ -307,12 +310,18 @@ def _n_terms(kind: str, n: int, m: NDArray[np.int64]) -> NDArray[np.int64]:
 
 
 def _max_m(kind: str, n: int) -> int:
-    """Largest m a tau may have: at least 2 terms (total deviation: tau <= T/2)."""
-    if kind == "total":
-        return n // 2
-    m = np.arange(1, n + 1)
-    ok = np.flatnonzero(_n_terms(kind, n, m) >= 2)
-    return int(ok[-1] + 1) if ok.size else 0
+    """Largest m with at least 2 terms for n rate samples (total deviation: tau <= T/2).
+
+    Closed forms of ``_n_terms(kind, n, m) >= 2`` (a test checks them against the counts).
+    """
+    return {
+        "overlapping": (n - 1) // 2,  # n + 1 - 2m >= 2
+        "standard": n // 3,  # phase points 0, m, 2m, 3m <= n
+        "modified": n // 3,  # n + 2 - 3m >= 2
+        "hadamard": n // 4,  # phase points 0 .. 4m <= n
+        "overlapping_hadamard": (n - 1) // 3,  # n + 1 - 3m >= 2
+        "total": n // 2,
+    }[kind]
 
 
 def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:

@@ -67,6 +67,15 @@ def test_octave_list_stops_at_quarter_record():
     assert c.m.tolist() == [1, 2, 4, 8, 16, 32, 64, 128]  # m <= N/4 = 250
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_max_m_closed_form_matches_term_counts(kind):
+    for n in range(2, 80):
+        m = np.arange(1, n + 1)
+        counts = allan._n_terms(kind, n, m)
+        brute = n // 2 if kind == "total" else int(m[counts >= 2].max(initial=0))
+        assert allan._max_m(kind, n) == brute, (kind, n)
+
+
 def test_ramp_closed_form():
     """Noise-free ramp y = R t: ADEV = R tau / sqrt(2) exactly (PHYSICS.md 1.2)."""
     fs, r = 50.0, 3.0e-3

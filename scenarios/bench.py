@@ -903,17 +903,31 @@ def run_campaign(
         reused = len(done)
 
         def record(seed: int, scores: dict[str, float], elapsed: float) -> None:
+            text = _dumps_scores(scores)
             conn.execute("BEGIN IMMEDIATE")
             try:
                 conn.execute(
                     "INSERT INTO seed_scores VALUES (?, ?, ?, ?, ?, ?)",
-                    (cid, seed, _dumps_scores(scores), elapsed, time.time(), session),
+                    (cid, seed, text, elapsed, time.time(), session),
                 )
+            except sqlite3.IntegrityError:
+                # another process running the same campaign on this file stored it meanwhile;
+                # scores are deterministic, so it must be the same
+                conn.execute("ROLLBACK")
+                (other,) = conn.execute(
+                    "SELECT scores FROM seed_scores WHERE campaign_id = ? AND seed = ?", (cid, seed)
+                ).fetchone()
+                if other != text:
+                    raise RuntimeError(
+                        f"seed {seed} of campaign {cid} gave different scores in two runs: "
+                        "the scenario or compensator is not deterministic"
+                    ) from None
             except BaseException:
                 conn.execute("ROLLBACK")
                 raise
-            conn.execute("COMMIT")
-            done[seed] = _loads_scores(_dumps_scores(scores))  # exactly what a resume reads back
+            else:
+                conn.execute("COMMIT")
+            done[seed] = _loads_scores(text)  # exactly what a resume reads back
 
         if todo:
             from tqdm import tqdm

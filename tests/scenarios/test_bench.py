@@ -261,6 +261,35 @@ def test_failing_seed_in_a_worker_names_the_seed(tmp_path):
         assert "while scoring seed 4 of toy" in info.value.__notes__[0]
 
 
+def _campaign_with_a_concurrent_writer(db: Path, payload: str):
+    """Run seeds 0, 1 in-process; while seed 1 is fitted, 'another process' stores seed 1."""
+    calls = []
+
+    def fit(X, y):
+        calls.append(1)
+        if len(calls) == 2:
+            with sqlite3.connect(db) as other:
+                (cid,) = other.execute("SELECT campaign_id FROM campaigns").fetchone()
+                other.execute(
+                    "INSERT INTO seed_scores VALUES (?, 1, ?, 0.0, 0.0, 0)", (cid, payload)
+                )
+        return LinearRegression().fit(X, y)
+
+    return bench.run_campaign(toy, fit, [0, 1], workers=0, db=db, progress=False)
+
+
+def test_concurrent_writer_with_the_same_scores_is_accepted(tmp_path):
+    same = bench._dumps_scores(bench.score_seed(toy, LinearRegression(), 1))
+    camp = _campaign_with_a_concurrent_writer(tmp_path / "c.db", same)
+    assert camp.scores[1] == bench.score_seed(toy, LinearRegression(), 1)
+    assert _rows(tmp_path / "c.db") == 2
+
+
+def test_concurrent_writer_with_other_scores_reveals_nondeterminism(tmp_path):
+    with pytest.raises(RuntimeError, match="seed 1 .* gave different scores in two runs"):
+        _campaign_with_a_concurrent_writer(tmp_path / "c.db", '{"run1/mse": 1.0}')
+
+
 # ----------------------------------------------------------------------------- summaries
 def _campaign(scores: dict[int, dict[str, float]], name: str = "c") -> bench.Campaign:
     return bench.Campaign(

@@ -72,7 +72,7 @@ class Config:
 
     fog: GradeSpec = field(
         default_factory=lambda: GradeSpec(
-            label="FOG grade", Q_arcsec=0.5, N_deg_sqrt_h=0.02, B_deg_h=0.05, K_deg_h_sqrt_h=0.02,
+            label="FOG grade", Q_arcsec=0.5, N_deg_sqrt_h=0.005, B_deg_h=0.05, K_deg_h_sqrt_h=0.05,
             R_deg_h2=0.0, fs_hz=100.0, duration_h=8.0,
         )
     )

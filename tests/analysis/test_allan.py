@@ -62,6 +62,18 @@ def test_overlapping_matches_allantools_at_every_tau(mixed):
     np.testing.assert_array_equal(c.n_terms, ns.astype(int))
 
 
+@pytest.mark.parametrize("threads", [2, 3])
+def test_threaded_passes_match_allantools(mixed, monkeypatch, threads):
+    """Splitting each pass across threads (each range keeps the m values after it) changes nothing."""
+    monkeypatch.setattr(allan, "_THREADS", threads)
+    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
+    y = np.tile(mixed, 3)
+    for taus in ("octave", np.r_[1:12, 100, 1000, 4499].astype(float)):
+        c = allan_deviation(y, 1.0, taus=taus, alpha=0)
+        _, d, _, _ = allantools.oadev(y, rate=1.0, data_type="freq", taus=c.tau)
+        np.testing.assert_allclose(c.deviation, d, rtol=1e-9, atol=0)
+
+
 def test_octave_list_stops_at_quarter_record():
     c = allan_deviation(np.arange(1000.0) % 7, 1.0)
     assert c.m.tolist() == [1, 2, 4, 8, 16, 32, 64, 128]  # m <= N/4 = 250
@@ -140,6 +152,15 @@ def test_noise_id_matches_allantools(rng, alpha, make):
     want = [atci.autocorr_noise_id(y, int(m), data_type="freq", dmin=0, dmax=2)[0] for m in tau]
     assert got.tolist() == [int(np.clip(w, -2, 2)) for w in want]
     assert got[0] == alpha
+
+
+def test_octave_path_identifies_like_the_general_path(rng):
+    """allan_deviation's in-place octave recursion reads the same block means as identify_noise."""
+    y = np.cumsum(rng.standard_normal(40000)) * 0.01 + rng.standard_normal(40000)
+    c = allan_deviation(y, 2.0)
+    _, alpha = identify_noise(y, 2.0)
+    assert c.alpha.tolist() == alpha.tolist()
+    assert len(set(alpha.tolist())) > 1  # the test sees a change of noise type
 
 
 def test_bounds_cover_the_truth_at_the_stated_rate(rng):

@@ -8,19 +8,26 @@ Output model (one sense axis), evaluated sample by sample::
     s(W)   = W                                          |W| <= Ok
            = sign(W) (Ok + Ws tanh((|W| - Ok)/Ws))      |W| >  Ok      (saturation knee)
     c(W)   = s(W) - c3 W^3                                             (small cubic)
-    F_sf   = K0 (1 + s1 (T - T0)) (1 + (a/2) sign(W)) c(W) + d sign(W)  (scale-factor path)
+    F_sf   = K0 (1 + e_on) (1 + s1 (T - T0)) (1 + (a/2) sign(W)) c(W) + d sign(W)
+                                                               (scale-factor path, e_on per run)
     b(T)   = b0 + b_on + b1 (T - T0) + b2 (T - T0)^2                   (bias, b_on per run)
     v      = F_sf + b(T) + bg a_s + n(t)                               (+ g-sensitivity, noise)
     F      = q round(clip(v, -R, R) / q)                               (range, quantization)
 
 W true rate [rad/s]; Ok knee rate and Ws knee width [rad/s]; c3 [s^2/rad^2];
-K0 nominal scale factor [-] (output rad/s per input rad/s); s1 scale-factor
-temperature coefficient [1/K]; a asymmetry [-] (K+ - K-)/K0; d rate-sign-dependent
+K0 nominal scale factor [-] (output rad/s per input rad/s); e_on the turn-on
+scale-factor error [-] drawn per run (per power-on) with standard deviation
+``scale_factor_repeatability`` (IEEE Std 1431 scale-factor repeatability);
+s1 scale-factor temperature coefficient [1/K]; a asymmetry [-] (K+ - K-)/K0; d rate-sign-dependent
 offset [rad/s] (a step at zero rate: the dead-band/threshold behaviour of a
 Coriolis vibratory gyro, IEEE Std 1431 "threshold"); b1 [rad/s/K], b2 [rad/s/K^2];
 bg g-sensitivity [rad/s per m/s^2] times the acceleration a_s along the sense
 axis [m/s^2]; n(t) the IEEE-952 noise of :class:`sim.noise.NoiseModel`; R the
 measurement range [rad/s]; q the output resolution [rad/s] (0: no quantization).
+
+One power-on of the gyro is a :class:`MemsUnit` drawn by :meth:`MemsSpec.realize`
+(turn-on bias b_on and scale-factor error e_on); :func:`simulate_output` draws one
+per call unless it is given a unit.
 
 The knee is C2 at Ok (s' = 1 and s'' = 0 on both sides). Die temperature follows
 first-order self-heating after power-on, T(t) = T_amb + dT (1 - exp(-t_on/tau)),
@@ -44,6 +51,13 @@ heuristic found +-1800 in only 34-43 % of the tables (stopping early at
 nonlinearity to fall, not merely stay small, below the knee; no INL is modelled.
 Noise and thermal numbers are typical
 industrial MEMS values (PHYSICS.md 5; unverified datasheet defaults).
+
+The scale-factor repeatability defaults to 0: neither the paper nor PHYSICS.md
+gives a value for this part, and 0 keeps the calibrated defaults and their
+simulated tables unchanged (the turn-on stream draws e_on after b_on, so b_on is
+the same whatever the repeatability). With 0, the scale factor still changes from
+run to run through temperature (s1 x the ambient spread of a scenario). The
+scenario ``mems_scale_factor`` reports its effect over a range of values.
 
 References
 ----------
@@ -71,7 +85,14 @@ from numpy.typing import ArrayLike, NDArray
 from sim import units
 from sim.noise import NoiseModel
 
-__all__ = ["MemsSpec", "MemsOutput", "scale_factor_output", "die_temperature", "simulate_output"]
+__all__ = [
+    "MemsSpec",
+    "MemsUnit",
+    "MemsOutput",
+    "scale_factor_output",
+    "die_temperature",
+    "simulate_output",
+]
 
 #: default knee width [deg/s], calibrated to K_n = 15.71 % (module docstring)
 KNEE_WIDTH_DPS = 987.61
@@ -85,6 +106,9 @@ def _real(owner: str, name: str, v: float) -> float:
     return float(v)
 
 
+#: upper bound of MemsSpec.scale_factor_repeatability [-]: 10 % (1 + e_on > 0 at 10 sigma)
+_MAX_SF_REPEATABILITY = 0.1
+
 #: field -> (lower bound, inclusive?, unit) for the positivity checks of MemsSpec
 _BOUNDS = {
     "scale_factor": (0.0, False, "[-]"),
@@ -94,6 +118,7 @@ _BOUNDS = {
     "measurement_range": (0.0, False, "rad/s"),
     "resolution": (0.0, True, "rad/s"),
     "bias_repeatability": (0.0, True, "rad/s"),
+    "scale_factor_repeatability": (0.0, True, "[-]"),
     "reference_temperature": (0.0, False, "K"),
     "self_heating": (0.0, True, "K"),
     "self_heating_tau": (0.0, False, "s"),
@@ -126,6 +151,9 @@ class MemsSpec:
         b0, bias at the reference temperature [rad/s].
     bias_repeatability : float
         Standard deviation of the turn-on bias b_on drawn per run [rad/s], >= 0.
+    scale_factor_repeatability : float
+        Standard deviation of the turn-on scale-factor error e_on drawn per run
+        [-] (1 sigma, relative; a datasheet gives it in ppm), in [0, 0.1).
     bias_tc : float
         b1 [rad/s/K].
     bias_tc2 : float
@@ -154,6 +182,7 @@ class MemsSpec:
     resolution: float = units.deg_per_s(4000.0 / 2**15)
     bias: float = units.deg_per_s(0.5)
     bias_repeatability: float = units.deg_per_s(0.05)
+    scale_factor_repeatability: float = 0.0
     bias_tc: float = units.deg_per_s(0.01)
     bias_tc2: float = units.deg_per_s(2e-4)
     scale_factor_tc: float = units.ppm(100.0)
@@ -178,6 +207,11 @@ class MemsSpec:
                 if v < lo or (v == lo and not inclusive):
                     op = ">=" if inclusive else ">"
                     raise ValueError(f"MemsSpec.{f.name} must be {op} {lo:g} {unit}; got {v!r}")
+        if not self.scale_factor_repeatability < _MAX_SF_REPEATABILITY:
+            raise ValueError(
+                f"MemsSpec.scale_factor_repeatability must be < {_MAX_SF_REPEATABILITY:g} [-] "
+                f"(1 + e_on stays positive at 10 sigma); got {self.scale_factor_repeatability!r}"
+            )
         if not abs(self.asymmetry) < 1.0:
             raise ValueError(f"MemsSpec.asymmetry must satisfy |a| < 1 [-]; got {self.asymmetry!r}")
         if self.resolution >= self.measurement_range:
@@ -187,6 +221,35 @@ class MemsSpec:
             )
         if not isinstance(self.noise, NoiseModel):
             raise TypeError(f"MemsSpec.noise must be a NoiseModel; got {type(self.noise).__name__}")
+
+    def realize(self, rng: np.random.Generator) -> MemsUnit:
+        """Draw one power-on of this gyro: turn-on bias and turn-on scale-factor error.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The turn-on stream. Two standard normals are drawn, in this order:
+            b_on / ``bias_repeatability`` then e_on / ``scale_factor_repeatability``;
+            both are always drawn, so each draw is the same whatever the other sigma.
+
+        Returns
+        -------
+        MemsUnit
+
+        Examples
+        --------
+        >>> unit = MemsSpec(scale_factor_repeatability=1e-4).realize(np.random.default_rng(1))
+        >>> round(unit.scale_factor_error * 1e6, 1)  # ppm
+        82.2
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
+        z_bias, z_sf = rng.standard_normal(2)
+        return MemsUnit(
+            spec=self,
+            turn_on_bias=float(self.bias_repeatability * z_bias),
+            scale_factor_error=float(self.scale_factor_repeatability * z_sf),
+        )
 
     @classmethod
     def from_datasheet(
@@ -202,6 +265,7 @@ class MemsSpec:
         resolution_bits: int | None = 16,
         bias_dps: float = 0.5,
         bias_repeatability_dps: float = 0.05,
+        scale_factor_repeatability_ppm: float = 0.0,
         bias_tc_dps_per_k: float = 0.01,
         bias_tc2_dps_per_k2: float = 2e-4,
         scale_factor_tc_ppm_per_k: float = 100.0,
@@ -214,8 +278,10 @@ class MemsSpec:
     ) -> MemsSpec:
         """Build a spec from field units (deg/s, ppm, degC, g, bits).
 
-        ``resolution_bits`` sets q = 2 R / 2^bits (None: no quantization); the
-        noise density [deg/s/sqrt(Hz)] is the IEEE two-sided value (ADEV at 1 s).
+        ``scale_factor_repeatability_ppm`` is the 1-sigma turn-on-to-turn-on
+        scale-factor repeatability [ppm]. ``resolution_bits`` sets q = 2 R / 2^bits
+        (None: no quantization); the noise density [deg/s/sqrt(Hz)] is the IEEE
+        two-sided value (ADEV at 1 s).
         """
         if resolution_bits is not None and (
             isinstance(resolution_bits, bool)
@@ -237,6 +303,7 @@ class MemsSpec:
             resolution=units.deg_per_s(q),
             bias=units.deg_per_s(bias_dps),
             bias_repeatability=units.deg_per_s(bias_repeatability_dps),
+            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm),
             bias_tc=units.deg_per_s(bias_tc_dps_per_k),
             bias_tc2=units.deg_per_s(bias_tc2_dps_per_k2),
             scale_factor_tc=units.ppm(scale_factor_tc_ppm_per_k),
@@ -251,20 +318,51 @@ class MemsSpec:
         )
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MemsUnit:
+    """One power-on of a MEMS gyro: its spec and the turn-on values drawn for this run.
+
+    Parameters
+    ----------
+    spec : MemsSpec
+        The datasheet budget the unit was drawn from.
+    turn_on_bias : float
+        b_on [rad/s].
+    scale_factor_error : float
+        e_on [-]: the scale-factor path is multiplied by 1 + e_on; > -1.
+    """
+
+    spec: MemsSpec
+    turn_on_bias: float = 0.0
+    scale_factor_error: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.spec, MemsSpec):
+            raise TypeError(f"MemsUnit.spec must be a MemsSpec; got {type(self.spec).__name__}")
+        _real("MemsUnit", "turn_on_bias", self.turn_on_bias)
+        e = _real("MemsUnit", "scale_factor_error", self.scale_factor_error)
+        if not e > -1.0:
+            raise ValueError(f"MemsUnit.scale_factor_error must be > -1 [-]; got {e!r}")
+
+
 def _knee(spec: MemsSpec, w: NDArray[np.float64]) -> NDArray[np.float64]:
     a = np.abs(w)
     ok, ws = spec.knee_rate, spec.knee_width
-    return np.where(a <= ok, w, np.sign(w) * (ok + ws * np.tanh((a - ok) / ws)))
+    s = w.copy()
+    m = a > ok  # tanh only where needed: most samples of a rate table are not past the knee
+    s[m] = np.sign(w[m]) * (ok + ws * np.tanh((a[m] - ok) / ws))
+    return s
 
 
 def scale_factor_output(
-    spec: MemsSpec, rate: ArrayLike, temperature: ArrayLike | None = None
+    spec: MemsSpec | MemsUnit, rate: ArrayLike, temperature: ArrayLike | None = None
 ) -> NDArray[np.float64]:
     """Deterministic scale-factor path F_sf(W, T) [rad/s] (no bias, noise, range or quantization).
 
     Parameters
     ----------
-    spec : MemsSpec
+    spec : MemsSpec or MemsUnit
+        A spec gives the nominal path (e_on = 0); a unit its own (1 + e_on) K0.
     rate : array_like
         True rate W [rad/s].
     temperature : array_like, optional
@@ -273,14 +371,19 @@ def scale_factor_output(
     Returns
     -------
     ndarray
-        K0 (1 + s1 (T - T0)) (1 + (a/2) sign(W)) (s(W) - c3 W^3) + d sign(W) [rad/s].
+        K0 (1 + e_on) (1 + s1 (T - T0)) (1 + (a/2) sign(W)) (s(W) - c3 W^3) + d sign(W) [rad/s].
     """
+    e_on = 0.0
+    if isinstance(spec, MemsUnit):
+        spec, e_on = spec.spec, spec.scale_factor_error
     w = np.asarray(rate, dtype=float)
     t = spec.reference_temperature if temperature is None else np.asarray(temperature, dtype=float)
     sgn = np.sign(w)
-    k = spec.scale_factor * (1.0 + spec.scale_factor_tc * (t - spec.reference_temperature))
+    k = (spec.scale_factor * (1.0 + e_on)) * (
+        1.0 + spec.scale_factor_tc * (t - spec.reference_temperature)
+    )
     return (
-        k * (1.0 + 0.5 * spec.asymmetry * sgn) * (_knee(spec, w) - spec.cubic * w**3)
+        k * (1.0 + 0.5 * spec.asymmetry * sgn) * (_knee(spec, w) - spec.cubic * (w * w * w))
         + spec.sign_offset * sgn
     )
 
@@ -294,8 +397,12 @@ def die_temperature(
     dT = ``spec.self_heating`` [K], tau = ``spec.self_heating_tau`` [s].
     """
     t = np.asarray(time_since_power_on, dtype=float)
-    if np.any(t < 0):
-        raise ValueError("time_since_power_on must be >= 0 s")
+    bad = ~(t >= 0)  # also catches NaN
+    if np.any(bad):
+        i = int(np.flatnonzero(bad.ravel())[0])
+        raise ValueError(
+            f"time_since_power_on must be >= 0 s; got {float(t.ravel()[i])!r} at index {i}"
+        )
     return np.asarray(ambient, dtype=float) + spec.self_heating * -np.expm1(
         -t / spec.self_heating_tau
     )
@@ -307,16 +414,27 @@ class MemsOutput:
 
     ``components``: ``scale_factor`` (F_sf - W), ``bias`` (b(T) incl. the turn-on
     bias), ``g_sensitivity``, ``noise``, ``range_quantization`` (clip + rounding).
-    ``turn_on_bias`` [rad/s] is the value drawn for this run.
+    ``unit`` is the power-on simulated (drawn for this run unless given);
+    ``turn_on_bias`` [rad/s] and ``scale_factor_error`` [-] are its values.
     """
 
     output: NDArray[np.float64]
     components: dict[str, NDArray[np.float64]]
-    turn_on_bias: float
+    unit: MemsUnit
+
+    @property
+    def turn_on_bias(self) -> float:
+        """b_on of this run [rad/s]."""
+        return self.unit.turn_on_bias
+
+    @property
+    def scale_factor_error(self) -> float:
+        """e_on of this run [-]."""
+        return self.unit.scale_factor_error
 
 
 def simulate_output(
-    spec: MemsSpec,
+    spec: MemsSpec | MemsUnit,
     rate: ArrayLike,
     *,
     fs: float,
@@ -328,7 +446,9 @@ def simulate_output(
 
     Parameters
     ----------
-    spec : MemsSpec
+    spec : MemsSpec or MemsUnit
+        A spec: a unit is drawn for this run (``spec.realize`` on the turn-on
+        stream). A unit: simulated as given (the turn-on stream is not used).
     rate : array_like, shape (n,)
         True rate along the sense axis [rad/s].
     fs : float
@@ -338,12 +458,14 @@ def simulate_output(
     acceleration : array_like
         Specific force along the sense axis [m/s^2], scalar or shape (n,).
     rng : numpy.random.Generator
-        Two child streams are spawned: turn-on bias, noise.
+        Two child streams are spawned: turn-on (b_on, e_on), noise.
 
     Returns
     -------
     MemsOutput
     """
+    if not isinstance(spec, (MemsSpec, MemsUnit)):
+        raise TypeError(f"spec must be a MemsSpec or MemsUnit; got {type(spec).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     w = np.asarray(rate, dtype=float)
@@ -356,15 +478,22 @@ def simulate_output(
     n = w.size
     temp = np.broadcast_to(np.asarray(temperature, dtype=float), (n,))
     acc = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,))
-    if not (np.all(np.isfinite(temp)) and np.all(temp > 0)):
-        raise ValueError("temperature must be finite and > 0 K")
-    if not np.all(np.isfinite(acc)):
-        raise ValueError("acceleration must be finite [m/s^2]")
+    bad = ~(np.isfinite(temp) & (temp > 0))
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"temperature must be finite and > 0 K; got {float(temp[i])!r} at index {i}"
+        )
+    bad = ~np.isfinite(acc)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"acceleration must be finite [m/s^2]; got {float(acc[i])!r} at index {i}")
     r_on, r_noise = rng.spawn(2)
-    b_on = float(spec.bias_repeatability * r_on.standard_normal())
+    unit = spec if isinstance(spec, MemsUnit) else spec.realize(r_on)
+    spec = unit.spec
     dt = temp - spec.reference_temperature
-    sf = scale_factor_output(spec, w, temp) - w
-    bias = spec.bias + b_on + spec.bias_tc * dt + spec.bias_tc2 * dt**2
+    sf = scale_factor_output(unit, w, temp) - w
+    bias = spec.bias + unit.turn_on_bias + spec.bias_tc * dt + spec.bias_tc2 * dt**2
     gsens = spec.g_sensitivity * acc
     noise = spec.noise.generate(n, fs, rng=r_noise)
     v = w + sf + bias + gsens + noise
@@ -378,4 +507,4 @@ def simulate_output(
         "noise": noise,
         "range_quantization": out - v,
     }
-    return MemsOutput(out, comps, b_on)
+    return MemsOutput(out, comps, unit)

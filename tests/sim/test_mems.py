@@ -10,7 +10,14 @@ import pytest
 from scipy import stats
 
 from sim import units
-from sim.mems import KNEE_WIDTH_DPS, MemsSpec, die_temperature, scale_factor_output, simulate_output
+from sim.mems import (
+    KNEE_WIDTH_DPS,
+    MemsSpec,
+    MemsUnit,
+    die_temperature,
+    scale_factor_output,
+    simulate_output,
+)
 from sim.noise import NoiseModel
 
 GRID_DPS = np.arange(3600.0, -3601.0, -360.0)
@@ -135,6 +142,59 @@ def test_range_clip():
     np.testing.assert_allclose(units.to_deg_per_s(out.output), [-1000.0, 500.0, 1000.0], rtol=1e-12)
 
 
+def test_unit_scale_factor_error_scales_the_whole_path():
+    """A unit with e_on: (1 + e_on) times the knee/cubic/asymmetry path; d is not scaled."""
+    spec = MemsSpec()
+    unit = MemsUnit(spec=spec, scale_factor_error=3e-4)
+    w = units.deg_per_s(GRID_DPS)
+    d = spec.sign_offset * np.sign(w)
+    np.testing.assert_allclose(
+        scale_factor_output(unit, w) - d,
+        (1 + 3e-4) * (scale_factor_output(spec, w) - d),
+        rtol=1e-12,
+    )
+
+
+def test_simulate_a_given_unit_is_that_unit():
+    spec = _linear_spec(bias=0.0, g_sensitivity=0.0, scale_factor_repeatability=0.01)
+    unit = MemsUnit(spec=spec, turn_on_bias=0.002, scale_factor_error=-0.004)
+    w = np.linspace(-1.0, 1.0, 11)
+    out = simulate_output(
+        unit, w, fs=10.0, temperature=spec.reference_temperature, rng=np.random.default_rng(0)
+    )
+    assert out.unit is unit
+    np.testing.assert_allclose(out.output, (1 - 0.004) * w + 0.002, rtol=1e-12)
+
+
+def test_scale_factor_repeatability_zero_keeps_the_turn_on_bias_draw():
+    """The turn-on stream draws b_on first: a scale-factor repeatability leaves b_on as it was."""
+    a = MemsSpec().realize(np.random.default_rng(7))
+    b = dataclasses.replace(MemsSpec(), scale_factor_repeatability=1e-3).realize(
+        np.random.default_rng(7)
+    )
+    assert a.turn_on_bias == b.turn_on_bias and a.scale_factor_error == 0.0
+    assert b.scale_factor_error != 0.0
+
+
+def test_simulate_draws_the_scale_factor_error_per_run():
+    spec = _linear_spec(bias=0.0, g_sensitivity=0.0, scale_factor_repeatability=1e-3)
+    w = np.linspace(-1.0, 1.0, 5)
+    outs = [
+        simulate_output(spec, w, fs=1.0, temperature=spec.reference_temperature, rng=r)
+        for r in np.random.default_rng(3).spawn(2)
+    ]
+    assert outs[0].scale_factor_error != outs[1].scale_factor_error
+    for o in outs:
+        np.testing.assert_allclose(
+            o.output, (1 + o.scale_factor_error) * w + o.turn_on_bias, rtol=1e-12
+        )
+
+
+def test_from_datasheet_scale_factor_repeatability_in_ppm():
+    spec = MemsSpec.from_datasheet(scale_factor_repeatability_ppm=300.0)
+    assert spec.scale_factor_repeatability == pytest.approx(3e-4, rel=1e-12)
+
+
 def test_from_datasheet_defaults_equal_spec_defaults():
     a, b = MemsSpec.from_datasheet(), MemsSpec()
     for f in dataclasses.fields(MemsSpec):
@@ -174,7 +234,83 @@ def test_turn_on_bias_scatter(rng):
     assert lo < stat < hi
 
 
+def test_turn_on_scale_factor_scatter(rng):
+    """e_on over 400 draws: variance vs scale_factor_repeatability^2, chi-square bound at 1e-6."""
+    sigma = 5e-4
+    spec = dataclasses.replace(MemsSpec(), scale_factor_repeatability=sigma)
+    draws = np.array([spec.realize(r).scale_factor_error for r in rng.spawn(400)])
+    stat = np.sum(draws**2) / sigma**2
+    lo, hi = stats.chi2.ppf([0.5e-6, 1 - 0.5e-6], draws.size)
+    assert lo < stat < hi
+
+
 # ------------------------------------------------------------------ bad input
+@pytest.mark.parametrize("value", [-1e-4, 0.1, 0.5])
+def test_rejects_out_of_range_scale_factor_repeatability(value):
+    with pytest.raises(
+        ValueError, match=rf"MemsSpec.scale_factor_repeatability must be .* got {value!r}"
+    ):
+        MemsSpec(scale_factor_repeatability=value)
+
+
+def test_unit_rejects_scale_factor_error_of_minus_one():
+    with pytest.raises(
+        ValueError, match=r"MemsUnit.scale_factor_error must be > -1 \[-\]; got -1.0"
+    ):
+        MemsUnit(spec=MemsSpec(), scale_factor_error=-1.0)
+
+
+def test_unit_rejects_wrong_spec_type():
+    with pytest.raises(TypeError, match="MemsUnit.spec must be a MemsSpec; got dict"):
+        MemsUnit(spec={})
+
+
+def test_realize_rejects_legacy_random_state():
+    with pytest.raises(TypeError, match="rng must be a numpy.random.Generator; got RandomState"):
+        MemsSpec().realize(np.random.RandomState(0))
+
+
+def test_simulate_rejects_wrong_spec_type():
+    with pytest.raises(TypeError, match="spec must be a MemsSpec or MemsUnit; got dict"):
+        simulate_output({}, np.zeros(3), fs=1.0, temperature=300.0, rng=np.random.default_rng(0))
+
+
+def test_rejects_nonpositive_temperature_naming_the_value():
+    with pytest.raises(
+        ValueError, match=r"temperature must be finite and > 0 K; got -5.0 at index 1"
+    ):
+        simulate_output(
+            MemsSpec(),
+            np.zeros(3),
+            fs=1.0,
+            temperature=[300.0, -5.0, 300.0],
+            rng=np.random.default_rng(0),
+        )
+
+
+def test_rejects_nan_temperature_naming_the_value():
+    with pytest.raises(
+        ValueError, match=r"temperature must be finite and > 0 K; got nan at index 0"
+    ):
+        simulate_output(
+            MemsSpec(), np.zeros(3), fs=1.0, temperature=np.nan, rng=np.random.default_rng(0)
+        )
+
+
+def test_rejects_infinite_acceleration_naming_the_value():
+    with pytest.raises(
+        ValueError, match=r"acceleration must be finite \[m/s\^2\]; got inf at index 2"
+    ):
+        simulate_output(
+            MemsSpec(),
+            np.zeros(3),
+            fs=1.0,
+            temperature=300.0,
+            acceleration=[0.0, 0.0, np.inf],
+            rng=np.random.default_rng(0),
+        )
+
+
 def test_rejects_nonpositive_knee_rate():
     with pytest.raises(ValueError, match=r"MemsSpec.knee_rate must be > 0 rad/s; got -1.0"):
         MemsSpec(knee_rate=-1.0)
@@ -236,5 +372,12 @@ def test_rejects_legacy_random_state():
 
 
 def test_rejects_negative_time_since_power_on():
-    with pytest.raises(ValueError, match="time_since_power_on must be >= 0 s"):
-        die_temperature(MemsSpec(), 300.0, [-1.0])
+    with pytest.raises(
+        ValueError, match=r"time_since_power_on must be >= 0 s; got -1.0 at index 1"
+    ):
+        die_temperature(MemsSpec(), 300.0, [0.0, -1.0])
+
+
+def test_rejects_nan_time_since_power_on():
+    with pytest.raises(ValueError, match=r"time_since_power_on must be >= 0 s; got nan at index 0"):
+        die_temperature(MemsSpec(), 300.0, np.nan)

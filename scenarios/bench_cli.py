@@ -9,12 +9,22 @@
 Exit status of :func:`run`: 0 on success, 1 when the campaign is significantly
 worse than ``--baseline`` on some score. Bad input raises ``ValueError``,
 ``TypeError`` or ``FileNotFoundError`` with a one-line message (the command line
-wrapper prints it and exits 2).
+wrapper prints it and exits 2). So does a compensator that fails on a seed
+(:class:`scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means "could
+not score", never "got worse". With ``GYROBENCH_TRACEBACK=1`` in the environment
+its traceback is printed on stderr first.
+
+Everything that can be checked without computing is checked before the campaign
+starts: the scenario, configuration, compensator, seeds, the ``--baseline`` file
+(readable, of the same scenario, sharing seeds with ``--seeds``) and the
+``--save-baseline`` path (not a folder; its folder exists: it is never created).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 from pathlib import Path
 
 from scenarios import bench
@@ -109,6 +119,22 @@ def _executor(args):
     return client.get_executor(), client.close
 
 
+def _check_baseline_matches(baseline: bench.Campaign, module, seeds, path: str) -> None:
+    """Refuse a baseline the campaign could not be compared with, before computing anything."""
+    name = getattr(module, "NAME", module.__name__)
+    if baseline.scenario != name:
+        raise ValueError(
+            f"--baseline {path!r} is of scenario {baseline.scenario!r}, not {name!r}; "
+            "a paired comparison needs the same scenario"
+        )
+    if seeds is not None and not set(seeds) & set(baseline.seeds):
+        raise ValueError(
+            f"--seeds must share seeds with --baseline {path!r} (its seeds: "
+            f"{bench._seed_text(baseline.seeds)}); got {bench._seed_text(seeds)} "
+            "(omit --seeds to use the baseline's)"
+        )
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
     from scenarios import registry
@@ -121,14 +147,14 @@ def run(args: argparse.Namespace) -> int:
     module = bench.resolve_scenario(args.scenario)
     config = registry.load_config(module, args.config) if args.config else module.Config()
     bench.resolve_compensator(args.compensator)  # fail before connecting or computing
-    # read the baseline first: a bad file fails before any computing
+    # read and check the baseline first: a bad or mismatched file fails before any computing
     baseline = bench.load_baseline(args.baseline) if args.baseline else None
+    if baseline is not None:
+        _check_baseline_matches(baseline, module, seeds, args.baseline)
     if seeds is None:
         seeds = baseline.seeds if baseline is not None else tuple(range(20))
-    if args.save_baseline and Path(args.save_baseline).is_dir():
-        raise ValueError(
-            f"--save-baseline must be a file name; got the directory {args.save_baseline!r}"
-        )
+    if args.save_baseline:
+        bench.check_baseline_path(args.save_baseline, what="--save-baseline")
     executor, close = _executor(args)
     try:
         campaign = bench.run_campaign(
@@ -141,6 +167,11 @@ def run(args: argparse.Namespace) -> int:
             db=args.db,
             progress=not args.quiet,
         )
+    except bench.CompensatorError as exc:
+        if os.environ.get(bench.TRACEBACK_ENV, "") not in ("", "0"):
+            sys.stderr.write(exc.traceback_text or "(no traceback recorded)\n")
+            raise
+        raise exc.with_context(f"set {bench.TRACEBACK_ENV}=1 for its traceback") from exc
     finally:
         if close is not None:
             close()

@@ -245,20 +245,112 @@ def test_failing_seed_keeps_finished_seeds(tmp_path):
 
     fit.calls = []
     db = tmp_path / "f.db"
-    with pytest.raises(RuntimeError, match="boom") as info:
+    with pytest.raises(bench.CompensatorError) as info:
         bench.run_campaign(toy, fit, range(6), workers=0, db=db, progress=False)
     assert _rows(db) == 3
-    if sys.version_info >= (3, 11):
-        assert "while scoring seed 3 of toy" in info.value.__notes__[0]
+    err = info.value
+    assert isinstance(err, ValueError)  # the command line's "bad input", exit 2
+    assert str(err) == (
+        f"compensator {__name__}:{fit.__qualname__} failed on seed 3 (fit): RuntimeError: boom; "
+        f"the 3 finished seeds are kept in {str(db)!r} (a rerun resumes from them)"
+    )
+    assert (err.seed, err.stage) == (3, "fit")
+    assert "raise RuntimeError(\"boom\")" in err.traceback_text
+    assert isinstance(err.__cause__.__cause__, RuntimeError)  # the user's own exception
 
 
-def test_failing_seed_in_a_worker_names_the_seed(tmp_path):
-    with pytest.raises(TypeError, match="must return a callable predict") as info:
+# module level, so worker processes and the command line can import them
+def fit_raising_value_error(X, y):
+    raise ValueError("singular matrix")
+
+
+class PredictRaises(LinearRegression):
+    def predict(self, X):
+        raise RuntimeError("predict exploded")
+
+
+def fit_wrong_shape(X, y):
+    return lambda Z: np.zeros((len(Z), 2))
+
+
+def test_value_error_inside_fit_names_the_seed_and_compensator():
+    with pytest.raises(
+        bench.CompensatorError,
+        match=rf"^compensator {__name__}:fit_raising_value_error failed on seed 7 \(fit\): "
+        r"ValueError: singular matrix$",
+    ):
+        bench.score_seed(toy, fit_raising_value_error, 7)
+
+
+def test_predict_failure_names_the_run():
+    with pytest.raises(
+        bench.CompensatorError,
+        match=r"^compensator PredictRaises failed on seed 2 \(predict on run run1\): "
+        r"RuntimeError: predict exploded$",
+    ):
+        bench.score_seed(toy, PredictRaises(), 2)
+
+
+def test_prediction_of_the_wrong_size_is_a_compensator_error():
+    with pytest.raises(
+        bench.CompensatorError,
+        match=r"seed 1 \(predict on run run1\): the prediction must have 300 values .* "
+        r"got shape \(300, 2\)",
+    ):
+        bench.score_seed(toy, fit_wrong_shape, 1)
+
+
+def test_failing_seed_in_a_worker_comes_back_as_compensator_error(tmp_path):
+    spec = f"{__name__}:fit_raising_value_error"
+    with pytest.raises(bench.CompensatorError) as info:
+        bench.run_campaign(toy, spec, [4], workers=1, db=tmp_path / "f.db", progress=False)
+    err = info.value  # pickled in the worker, unpickled here: message and attributes intact
+    assert str(err).startswith(
+        f"compensator {spec} failed on seed 4 (fit): ValueError: singular matrix; "
+        "no seed had finished"
+    )
+    assert (err.compensator, err.seed) == (spec, 4)
+    assert 'raise ValueError("singular matrix")' in err.traceback_text
+
+
+def test_fit_function_returning_nonsense_in_a_worker_names_the_seed(tmp_path):
+    with pytest.raises(TypeError, match=r"must return a callable predict.*seed 4\)") as info:
         bench.run_campaign(
             toy, toy.fit_returning_nonsense, [4], workers=1, db=tmp_path / "f.db", progress=False
         )
     if sys.version_info >= (3, 11):
         assert "while scoring seed 4 of toy" in info.value.__notes__[0]
+
+
+def _gyrobench(argv, tmp_path, **env):
+    """The console script in a subprocess: (exit status, stderr lines)."""
+    exe = Path(sys.executable).with_name("gyrobench")
+    r = subprocess.run(
+        [str(exe), *argv],
+        cwd=tmp_path,
+        env=dict(os.environ, PYTHONPATH=str(ROOT), **env),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    return r.returncode, r.stderr.splitlines()
+
+
+def test_cli_crashing_compensator_exits_2_with_one_line(tmp_path):
+    argv = ["bench", TOY, "--compensator", f"{__name__}:fit_raising_value_error"]
+    argv += ["--seeds", "0:2", "--workers", "0", "--quiet", "--db", "c.db"]
+    code, err = _gyrobench(argv, tmp_path)
+    assert code == 2  # not 1, which means "significant regression"
+    assert len(err) == 1, err
+    assert err[0].startswith(
+        f"gyrobench: error: compensator {__name__}:fit_raising_value_error failed on seed 0 (fit): "
+        "ValueError: singular matrix;"
+    )
+    assert err[0].endswith("set GYROBENCH_TRACEBACK=1 for its traceback")
+    code, err = _gyrobench(argv, tmp_path, GYROBENCH_TRACEBACK="1")
+    assert code == 2
+    assert err[0] == "Traceback (most recent call last):" and "raise ValueError" in "\n".join(err)
+    assert err[-1].startswith("gyrobench: error: compensator")
 
 
 def _campaign_with_a_concurrent_writer(db: Path, payload: str):
@@ -470,7 +562,7 @@ def test_negative_workers(tmp_path):
 
 
 def test_fit_function_returning_nonsense(tmp_path):
-    with pytest.raises(TypeError, match="must return a callable predict"):
+    with pytest.raises(TypeError, match=r"must return a callable predict.*; got float \("):
         bench.score_seed(toy, lambda X, y: 3.0, 0)
 
 

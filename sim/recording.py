@@ -17,16 +17,24 @@ read them directly.
 CSV: a header line of ``name [unit]`` columns, first column ``time [s]``.
 
 Writes are atomic: data go to a temporary file in the destination folder,
-which is renamed over the target only when complete (``os.replace``).
+which is renamed over the target only when complete (``os.replace``). The
+file gets the mode an ordinary ``open(path, "w")`` would give (``0o666`` less
+the umask). A failed write (disk full, file-size limit, I/O error) raises
+:class:`AtomicWriteError`, an ``OSError`` whose message names the target path,
+never the temporary file; the temporary file is removed and any previous file
+at the target is left as it was.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import math
 import os
-import tempfile
+import secrets
+import shutil
+import sys
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,7 +47,9 @@ __all__ = [
     "Channel",
     "Recording",
     "RecordingFormatError",
+    "AtomicWriteError",
     "atomic_path",
+    "ensure_free_space",
     "save_hdf5",
     "load_hdf5",
     "list_hdf5",
@@ -53,6 +63,77 @@ FORMAT_VERSION = 1
 
 class RecordingFormatError(ValueError):
     """A file is not a complete gyrobench recording."""
+
+
+class AtomicWriteError(OSError):
+    """Writing a file failed; the message names the target path, not the temporary file.
+
+    ``errno`` is the underlying error number (``ENOSPC``, ``EFBIG``, ...) and
+    ``filename`` the target path.
+    """
+
+    def __str__(self) -> str:  # the message alone, not OSError's "[Errno n] strerror: filename"
+        return str(self.args[0]) if self.args else super().__str__()
+
+
+_WRITE_HINTS = {
+    errno.ENOSPC: " (the disk is full)",
+    errno.EDQUOT: " (disk quota exceeded)",
+    errno.EFBIG: " (file-size limit reached: see 'ulimit -f')",
+}
+
+
+def _write_error(path: Path, exc: OSError) -> AtomicWriteError:
+    """An AtomicWriteError naming ``path``, with the cause of ``exc`` (not its temp-file name)."""
+    if isinstance(exc, AtomicWriteError):
+        return exc
+    cause = exc.strerror or (str(exc.args[0]) if exc.args else type(exc).__name__)
+    err = AtomicWriteError(f"cannot write {str(path)!r}: {cause}{_WRITE_HINTS.get(exc.errno, '')}")
+    err.errno = exc.errno
+    err.filename = str(path)
+    return err
+
+
+def _fmt_bytes(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB"):
+        if abs(n) < 1000 or unit == "TB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.3g} {unit}"
+        n /= 1000
+    raise AssertionError("unreachable")
+
+
+def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
+    """Refuse, before writing, a file of about ``nbytes`` that would not fit on ``path``'s disk.
+
+    Parameters
+    ----------
+    path : path-like
+        The file to be written (it and its folder need not exist yet).
+    nbytes : int
+        Expected size of the file [bytes].
+
+    Raises
+    ------
+    AtomicWriteError
+        With ``errno.ENOSPC`` when ``nbytes`` exceeds the free space of the
+        file system that will hold ``path`` (``shutil.disk_usage``).
+    """
+    p = Path(path).absolute()
+    folder = p.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:  # cannot tell (e.g. a special file system): let the write itself fail or succeed
+        return
+    if nbytes > free:
+        err = AtomicWriteError(
+            f"cannot write {str(path)!r}: the record needs about {_fmt_bytes(nbytes)} but {str(folder)!r} "
+            f"has {_fmt_bytes(free)} free; shorten the record, lower fs or write elsewhere"
+        )
+        err.errno = errno.ENOSPC
+        err.filename = str(path)
+        raise err
 
 
 def package_version() -> str:
@@ -187,25 +268,162 @@ def metadata_json(metadata: Mapping[str, Any]) -> str:
     return json.dumps(dict(metadata), default=_json_default, sort_keys=True)
 
 
+def _create_temp(path: Path) -> Path:
+    """Create an empty, new temporary file beside ``path`` with mode ``0o666 & ~umask``.
+
+    ``tempfile.mkstemp`` would give 0600 whatever the umask, and the final file
+    would keep it; ``os.open`` with 0666 lets the kernel apply the umask (and any
+    default ACL) exactly as for an ordinary ``open(path, "w")``.
+    """
+    for _ in range(100):
+        tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return tmp
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(path))  # pragma: no cover
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; rename it onto ``path`` only on success.
 
     An exception (or a kill) inside the block leaves ``path`` untouched and the
     temporary file removed (or, after a kill, a ``.tmp`` file that never looks
-    like the result).
+    like the result). The result has mode ``0o666 & ~umask``, as any new file.
+
+    Raises
+    ------
+    AtomicWriteError
+        For an ``OSError`` while creating, writing (inside the block) or
+        renaming; the message names ``path``, not the temporary file.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    tmp_path = Path(tmp)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp_path = _create_temp(path)
+    except OSError as exc:
+        raise _write_error(path, exc) from exc
     try:
         yield tmp_path
         os.replace(tmp_path, path)
+    except OSError as exc:
+        raise _write_error(path, exc) from exc
     finally:
-        if tmp_path.exists():
+        with contextlib.suppress(FileNotFoundError):
             tmp_path.unlink()
+
+
+class _GuardedFile:
+    """The binary file h5py's ``fileobj`` driver writes to; a failed write never reaches HDF5.
+
+    With h5py's default driver a failed write (disk full, ``ulimit -f``) leaves
+    dirty HDF5 caches that every later flush tries to write again: closing the
+    file fails, the file stays open, and HDF5's clean-up at interpreter exit
+    crashes the process (segfault, exit 139). An exception raised inside this
+    driver's callbacks is no better (h5py may meet it while freeing an object,
+    then crashes too). So the first ``OSError`` is only remembered in
+    :attr:`error`; from then on writes are accepted and dropped, HDF5 sees
+    success and closes cleanly, and the caller raises :attr:`error` at its next
+    check (:meth:`check`: after each block of writes and after closing).
+    """
+
+    def __init__(self, raw) -> None:
+        self._raw = raw
+        self.error: OSError | None = None
+        self._discard = False
+
+    def discard(self) -> None:
+        """Drop every later write (the file is going to be removed)."""
+        self._discard = True
+
+    def check(self) -> None:
+        """Raise the first write error, if any."""
+        if self.error is not None:
+            raise self.error
+
+    def _failed(self, exc: OSError) -> None:
+        self.error = self.error or exc
+        self._discard = True
+
+    def read(self, n: int = -1) -> bytes:
+        return self._raw.read(n)
+
+    def readinto(self, b) -> int:
+        return self._raw.readinto(b)
+
+    def seek(self, pos: int, whence: int = 0) -> int:
+        return self._raw.seek(pos, whence)
+
+    def tell(self) -> int:
+        return self._raw.tell()
+
+    def write(self, b) -> int:
+        view = memoryview(b).cast("B")
+        if not self._discard:
+            try:
+                done = 0
+                while done < len(view):  # an unbuffered write may be partial (e.g. just below ulimit -f)
+                    k = self._raw.write(view[done:])
+                    if not k:
+                        raise OSError(errno.EIO, "write returned no progress")
+                    done += k
+            except OSError as exc:
+                self._failed(exc)
+        return len(view)
+
+    def truncate(self, size: int | None = None) -> int:
+        if not self._discard:
+            try:
+                return self._raw.truncate(size)
+            except OSError as exc:
+                self._failed(exc)
+        return self.tell() if size is None else size
+
+    def flush(self) -> None:
+        pass  # unbuffered: nothing to flush; durability comes from sync()
+
+    def sync(self) -> None:
+        """Push the data to the disk (before the rename makes the file visible)."""
+        if not self._discard:
+            try:
+                os.fsync(self._raw.fileno())
+            except OSError as exc:
+                self._failed(exc)
+        self.check()
+
+
+@contextlib.contextmanager
+def _h5_create(tmp: Path) -> Iterator[tuple[Any, _GuardedFile]]:
+    """An h5py File writing into the (existing, empty) file ``tmp``, and its guard; closed on exit.
+
+    The caller calls ``guard.check()`` after each block of writes; on leaving,
+    the file is closed (writes discarded if anything failed, so HDF5 has
+    nothing left to flush at exit) and the first write error is raised
+    (``atomic_path`` then names the target path and removes ``tmp``).
+    """
+    import h5py
+
+    raw = open(tmp, "r+b", buffering=0)  # noqa: SIM115 (closed in finally, after the HDF5 file)
+    guard = _GuardedFile(raw)
+    try:
+        h5 = h5py.File(guard, "w")
+        try:
+            yield h5, guard
+            guard.check()
+            h5.close()
+            guard.sync()
+        except BaseException as exc:
+            guard.discard()
+            with contextlib.suppress(Exception):
+                h5.close()
+            if guard.error is not None and exc is not guard.error and not isinstance(exc, KeyboardInterrupt):
+                raise guard.error from None  # e.g. h5py reading back a dropped block: the cause is the write error
+            raise
+    finally:
+        raw.close()
 
 
 def _write_group(h5, rec: Recording) -> None:
@@ -235,18 +453,20 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
     ------
     ValueError
         If two recordings share a name.
+    AtomicWriteError
+        If the data would not fit on the disk (checked before writing) or the
+        write fails; ``path`` is then left as it was.
     """
-    import h5py
-
     recs = [recordings] if isinstance(recordings, Recording) else list(recordings)
     names = [r.name for r in recs]
     if len(set(names)) != len(names):
         raise ValueError(f"recording names must be unique within a file; got {names}")
-    with atomic_path(path) as tmp:
-        with h5py.File(tmp, "w") as h5:
-            _mark_root(h5)
-            for r in recs:
-                _write_group(h5, r)
+    ensure_free_space(path, sum(c.data.nbytes for r in recs for c in (*r.channels.values(), *r.truth.values())))
+    with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
+        _mark_root(h5)
+        for r in recs:
+            _write_group(h5, r)
+            guard.check()
     return Path(path)
 
 
@@ -321,7 +541,10 @@ class HDF5StreamWriter:
     """Write a recording chunk by chunk, so a long record never sits in memory.
 
     Use as a context manager; the file appears at ``path`` only after a clean
-    exit (atomic rename). Channels are declared up front.
+    exit (atomic rename). Channels are declared up front. Given
+    ``expected_samples``, a record that would not fit on the disk is refused
+    on entry, before anything is written (:func:`ensure_free_space`); a write
+    that fails later raises :class:`AtomicWriteError` and leaves no file.
 
     Examples
     --------
@@ -344,38 +567,48 @@ class HDF5StreamWriter:
         t0: float = 0.0,
         metadata: Mapping[str, Any] | None = None,
         chunk: int = 1 << 18,
+        expected_samples: int | None = None,
     ) -> None:
         if not (math.isfinite(fs) and fs > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
+        if not (isinstance(chunk, int) and chunk > 0):
+            raise ValueError(f"chunk must be an integer > 0 samples; got {chunk!r}")
         self.path = Path(path)
         self.name, self.fs, self.t0 = name, float(fs), float(t0)
         self._units = {"channels": dict(channels), "truth": dict(truth or {})}
         self._meta = dict(metadata or {})
         self._chunk = chunk
+        self._expected = expected_samples
         self._n = 0
-        self._ctx = None
+        self._stack: contextlib.ExitStack | None = None
         self._h5 = None
 
     def __enter__(self) -> HDF5StreamWriter:
-        import h5py
-
-        self._ctx = atomic_path(self.path)
-        tmp = self._ctx.__enter__()
-        self._h5 = h5py.File(tmp, "w")
-        _mark_root(self._h5)
-        grp = self._h5.require_group("recordings").create_group(self.name)
-        grp.attrs["fs"] = self.fs
-        grp.attrs["t0"] = self.t0
-        grp.attrs["metadata"] = metadata_json(self._meta)
-        self._ds = {}
-        for sub, units_ in self._units.items():
-            g = grp.create_group(sub)
-            for k, u in units_.items():
-                ds = g.create_dataset(k, shape=(0,), maxshape=(None,), dtype="f8", chunks=(self._chunk,))
-                ds.attrs["unit"] = u
-                ds.attrs["description"] = ""
-                self._ds[(sub, k)] = ds
-        self._grp = grp
+        if self._expected is not None:
+            n_ds = len(self._units["channels"]) + len(self._units["truth"])
+            ensure_free_space(self.path, 8 * self._expected * n_ds)
+        stack = contextlib.ExitStack()
+        try:
+            tmp = stack.enter_context(atomic_path(self.path))
+            self._h5, self._guard = stack.enter_context(_h5_create(tmp))
+            _mark_root(self._h5)
+            grp = self._h5.require_group("recordings").create_group(self.name)
+            grp.attrs["fs"] = self.fs
+            grp.attrs["t0"] = self.t0
+            grp.attrs["metadata"] = metadata_json(self._meta)
+            self._ds = {}
+            for sub, units_ in self._units.items():
+                g = grp.create_group(sub)
+                for k, u in units_.items():
+                    ds = g.create_dataset(k, shape=(0,), maxshape=(None,), dtype="f8", chunks=(self._chunk,))
+                    ds.attrs["unit"] = u
+                    ds.attrs["description"] = ""
+                    self._ds[(sub, k)] = ds
+            self._grp = grp
+        except BaseException:
+            if not stack.__exit__(*sys.exc_info()):
+                raise
+        self._stack = stack
         return self
 
     def append(self, *, truth: Mapping[str, NDArray] | None = None, **channels: NDArray) -> None:
@@ -395,14 +628,20 @@ class HDF5StreamWriter:
             ds.resize((self._n + m,))
             ds[self._n :] = v
         self._n += m
+        self._guard.check()
 
-    def __exit__(self, exc_type, exc, tb) -> None:
-        try:
-            if exc_type is None:
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        # the HDF5 file is closed (writes discarded on error) before atomic_path removes or renames it
+        stack, self._stack = self._stack, None
+        self._ds = {}
+        if exc_type is None:
+            try:
                 self._grp.attrs["n_samples"] = self._n
-            self._h5.close()
-        finally:
-            self._ctx.__exit__(exc_type, exc, tb)
+            except BaseException as e:
+                if not stack.__exit__(type(e), e, e.__traceback__):
+                    raise
+                return False
+        return bool(stack.__exit__(exc_type, exc, tb))
 
 
 def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
@@ -412,6 +651,7 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     if include_truth:
         cols += [(f"truth/{k}", c.unit, c.data) for k, c in rec.truth.items()]
     header = ",".join(f"{k} [{u}]" for k, u, _ in cols)
+    ensure_free_space(path, 25 * len(cols) * rec.n_samples)  # "%.17g," is at most 25 characters
     data = np.column_stack([c for _, _, c in cols])
     with atomic_path(path) as tmp:
         np.savetxt(tmp, data, delimiter=",", header=header, comments="", fmt="%.17g")

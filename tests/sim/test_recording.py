@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sim.recording import (
+    AtomicWriteError,
     Channel,
     HDF5StreamWriter,
     Recording,
@@ -184,3 +185,95 @@ def test_unequal_channel_lengths_rejected():
 def test_channel_must_be_1d():
     with pytest.raises(ValueError, match="Channel.data must be 1-D"):
         Channel(np.zeros((2, 2)), "K")
+
+
+# ----------------------------------------------------------------------------- failed writes, permissions, free space
+_FSIZE_SCRIPT = r"""
+import resource, sys
+import numpy as np
+from sim.recording import AtomicWriteError, HDF5StreamWriter, Recording, Channel, save_hdf5
+
+resource.setrlimit(resource.RLIMIT_FSIZE, (1_000_000, 1_000_000))
+target = sys.argv[1]
+try:
+    if sys.argv[2] == "stream":
+        with HDF5StreamWriter(target, name="x", fs=1.0, channels={"rate": "rad/s"}, chunk=1 << 14) as w:
+            for _ in range(20):
+                w.append(rate=np.ones(1 << 14))  # 128 kB per call: the limit is hit in append
+    else:
+        save_hdf5(target, Recording(fs=1.0, channels={"rate": Channel(np.ones(1 << 18), "rad/s")}))
+except AtomicWriteError as exc:
+    print(f"{exc.errno} {exc}")
+"""
+
+
+@pytest.mark.parametrize("how", ["stream", "save"])
+def test_failed_write_is_an_error_naming_the_target_not_a_crash(tmp_path, how):
+    # before: the HDF5 file stayed open after the failed flush and the interpreter segfaulted at exit (139)
+    import errno
+    import subprocess
+    import sys
+
+    target = tmp_path / "out" / "big.h5"
+    r = subprocess.run([sys.executable, "-c", _FSIZE_SCRIPT, str(target), how], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, (r.returncode, r.stderr)
+    assert r.stderr == ""
+    assert r.stdout.startswith(f"{errno.EFBIG} cannot write {str(target)!r}: File too large (file-size limit reached")
+    assert ".tmp" not in r.stdout
+    assert list((tmp_path / "out").iterdir()) == []  # no temporary file, no half-written target
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o027, 0o077])
+def test_written_files_get_the_umask_mode(tmp_path, umask):
+    # before: tempfile.mkstemp made every output 0600 whatever the umask
+    old = os.umask(umask)
+    try:
+        save_hdf5(tmp_path / "r.h5", _rec(n=10))
+        to_csv(tmp_path / "r.csv", _rec(n=10))
+        with HDF5StreamWriter(tmp_path / "s.h5", name="x", fs=1.0, channels={"rate": "rad/s"}) as w:
+            w.append(rate=np.zeros(3))
+    finally:
+        os.umask(old)
+    for name in ("r.h5", "r.csv", "s.h5"):
+        assert (tmp_path / name).stat().st_mode & 0o777 == 0o666 & ~umask, name
+
+
+def test_unwritable_target_is_named_not_the_temp_file(tmp_path):
+    (tmp_path / "afile").write_text("x")
+    target = tmp_path / "afile" / "r.h5"  # a folder that is a file
+    with pytest.raises(AtomicWriteError, match=r"cannot write '.*afile/r\.h5'") as info:
+        save_hdf5(target, _rec(n=10))
+    assert ".tmp" not in str(info.value)
+
+
+def test_write_error_in_block_names_the_target(tmp_path):
+    import errno
+
+    target = tmp_path / "x.txt"
+    msg = r"cannot write '.*x\.txt': No space left on device \(the disk is full\)"
+    with pytest.raises(AtomicWriteError, match=msg) as info:
+        with atomic_path(target) as tmp:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp))
+    assert info.value.errno == errno.ENOSPC and ".tmp" not in str(info.value)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_record_larger_than_free_space_is_refused_before_writing(tmp_path, monkeypatch):
+    import shutil
+
+    import sim.recording as recording
+
+    monkeypatch.setattr(recording.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 4000, 4000))
+    with pytest.raises(AtomicWriteError, match=r"needs about 32 kB but .* has 4 kB free"):
+        save_hdf5(tmp_path / "r.h5", _rec(n=1000))  # (2 channels + 2 truth) x 1000 x 8 B
+    with pytest.raises(AtomicWriteError, match=r"needs about 8 MB but .* has 4 kB free"):
+        with HDF5StreamWriter(tmp_path / "s.h5", name="x", fs=1.0, channels={"rate": "rad/s"}, expected_samples=10**6):
+            raise AssertionError("the check must come before the file is opened")
+    with pytest.raises(AtomicWriteError, match="free"):
+        to_csv(tmp_path / "r.csv", _rec(n=1000))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_stream_writer_rejects_bad_chunk(tmp_path):
+    with pytest.raises(ValueError, match="chunk must be an integer > 0 samples; got 0"):
+        HDF5StreamWriter(tmp_path / "s.h5", name="x", fs=1.0, channels={"rate": "rad/s"}, chunk=0)

@@ -957,12 +957,12 @@ def format_summary(campaign: Campaign) -> str:
         f"compensator {campaign.compensator}; {len(campaign.scores)} seeds "
         f"({campaign.computed} computed, {campaign.reused} from the database)"
     )
-    how = (
-        "95% CI of the mean over seeds: 't' = Student t; 'lognormal' = modified Cox interval "
-        "for scores non-negative by nature (mse, rms, std, stability, ...), always > 0; "
-        "'t, clipped at 0' = such a score with a zero value"
-    )
-    lines = [head, how] + [
+    how = [
+        "95% CI of the mean over seeds, by CI method: 't' = Student t; 'lognormal' = modified Cox",
+        "interval, always > 0, for scores non-negative by nature (mse, rms, std, stability, ...);",
+        "'t, clipped at 0' = such a score with a value of exactly 0",
+    ]
+    lines = [head, *how] + [
         "  ".join(c.ljust(w[i]) if i in (0, 3) else c.rjust(w[i]) for i, c in enumerate(r))
         for r in rows
     ]

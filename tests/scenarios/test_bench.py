@@ -13,6 +13,7 @@ import sys
 import textwrap
 import time
 import types
+import zlib
 from collections import Counter
 from pathlib import Path
 
@@ -26,6 +27,13 @@ from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]
 TOY = "tests.scenarios.toy_scenario"
+
+
+@pytest.fixture
+def rng(request) -> np.random.Generator:
+    """The same stream on every run, a different one for every test."""
+    key = zlib.crc32(request.node.nodeid.encode())
+    return np.random.default_rng([20261121, key])
 
 
 # ----------------------------------------------------------------------------- one seed
@@ -389,15 +397,83 @@ def _campaign(scores: dict[int, dict[str, float]], name: str = "c") -> bench.Cam
     )
 
 
-def test_summary_mean_and_t_interval_closed_form():
-    c = _campaign({s: {"mean/mse": float(v)} for s, v in enumerate([1, 2, 3, 4])})
+T975_3 = 3.182446305284263  # Student t quantile 0.975, 3 dof
+T975_2 = 4.302652729749464  # Student t quantile 0.975, 2 dof
+
+
+@pytest.mark.parametrize("name", ["mean/improvement_pct", "run1/bias", "mean/mse_reduction_pct"])
+def test_summary_of_a_score_of_either_sign_is_the_t_interval(name):
+    c = _campaign({s: {name: float(v)} for s, v in enumerate([1, 2, 3, 4])})
+    s = c.summary()[name]
+    half = T975_3 * math.sqrt(5 / 3) / 2
+    assert (s.n, s.mean, s.method) == (4, 2.5, "t")
+    assert s.low == pytest.approx(2.5 - half, rel=1e-12)
+    assert s.high == pytest.approx(2.5 + half, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("name", "expected"),
+    [
+        ("mean/mse", True),
+        ("heldout0/rms_dps", True),
+        ("gyro1_heldout/bias_stability_deg_h", True),
+        ("mean/nonlinearity_pct", True),
+        ("run1/std", True),
+        ("mean/improvement_pct", False),
+        ("mean/mse_reduction_pct", False),  # a difference: may be negative
+        ("mean/bias", False),
+        ("mean/before_deg_h", False),
+    ],
+)
+def test_score_is_nonnegative_table(name, expected):
+    assert bench.score_is_nonnegative(name) is expected
+
+
+def test_summary_of_a_positive_skewed_score_is_the_lognormal_interval_above_zero():
+    v = np.array([0.01, 0.02, 5.0])  # one bad seed: skewed, as MSEs over seeds are
+    c = _campaign({s: {"mean/mse": float(x)} for s, x in enumerate(v)})
     s = c.summary()["mean/mse"]
-    t975_3 = 3.182446305284263  # Student t quantile, 3 dof
-    half = t975_3 * math.sqrt(5 / 3) / 2
-    assert (s.n, s.mean) == (4, 2.5)
-    assert s.low == pytest.approx(2.5 - half, rel=1e-12) and s.high == pytest.approx(
-        2.5 + half, rel=1e-12
-    )
+    t_low = v.mean() - T975_2 * v.std(ddof=1) / math.sqrt(3)
+    assert t_low < 0  # what the t interval would say for a positive quantity
+    # modified Cox interval (Olsson 2005), by hand
+    lv = np.log(v)
+    m, s2 = lv.mean(), lv.var(ddof=1)
+    half = T975_2 * math.sqrt(s2 / 3 + s2**2 / 4)
+    assert s.method == "lognormal" and s.mean == pytest.approx(v.mean(), rel=1e-15)
+    assert s.low == pytest.approx(math.exp(m + s2 / 2 - half), rel=1e-12)
+    assert s.high == pytest.approx(math.exp(m + s2 / 2 + half), rel=1e-12)
+    assert 0 < s.low < s.mean < s.high
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 20])
+def test_lower_bound_is_never_negative_for_positive_scores(n, rng):
+    for _ in range(200):
+        v = np.exp(2.0 * rng.standard_normal(n))  # very skewed, positive
+        s = bench._summary("mean/rms", v)
+        assert s.low > 0 and s.low <= s.high
+
+
+def test_nonnegative_score_with_a_zero_gets_the_t_interval_clipped_at_0():
+    c = _campaign({s: {"run1/rms": float(v)} for s, v in enumerate([0.0, 0.1, 3.0])})
+    s = c.summary()["run1/rms"]
+    v = np.array([0.0, 0.1, 3.0])
+    half = T975_2 * v.std(ddof=1) / math.sqrt(3)
+    assert s.method == "t, clipped at 0" and s.low == 0.0
+    assert s.high == pytest.approx(v.mean() + half, rel=1e-12)
+
+
+def test_nonnegative_name_with_a_negative_value_gets_the_plain_t_interval():
+    s = bench._summary("mean/mse", np.array([-1.0, 2.0, 3.0, 4.0]))
+    assert s.method == "t" and s.low < 0
+
+
+def test_format_summary_says_how_each_interval_was_computed():
+    c = _campaign({s: {"mean/mse": 1.0 + s, "mean/improvement_pct": s - 1.0} for s in range(4)})
+    text = bench.format_summary(c)
+    assert "'lognormal' = modified Cox" in text and "always > 0" in text
+    rows = {line.split()[0]: line for line in text.splitlines() if line.startswith("mean/")}
+    assert rows["mean/mse"].split("]")[1].split()[0] == "lognormal"
+    assert rows["mean/improvement_pct"].split("]")[1].split()[0] == "t"
 
 
 def test_summary_of_one_seed_has_no_interval():

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy import optimize, special
+from scipy import integrate, optimize, special
 
 from sim import units
 from sim.coil import (
@@ -227,6 +227,72 @@ def test_cylinder_slowest_mode_matches_bessel_root():
     net = slab_network(200, 1.0, 1.0, geometry="cylinder", inner_radius=1.0)
     slowest = np.min(-np.linalg.eigvals(net.A).real)
     assert slowest == pytest.approx(lam1**2, rel=3e-4)
+
+
+def _annulus_step(r, t, r1, r2, a, terms=40):
+    """Annulus r1 < r < r2 at 0, both faces stepped to 1 at t = 0 (Carslaw & Jaeger 13.3):
+    T = 1 - sum_n c_n U(l_n r) exp(-a l_n^2 t), U(l r) = J0(l r) Y0(l r1) - J0(l r1) Y0(l r),
+    U(l_n r2) = 0, c_n = Int r U dr / Int r U^2 dr (eigenfunction expansion of the initial 1)."""
+
+    def U(lam, x):
+        return special.j0(lam * x) * special.y0(lam * r1) - special.j0(lam * r1) * special.y0(
+            lam * x
+        )
+
+    grid = np.linspace(1.0, (terms + 2) * np.pi / (r2 - r1), 20000)
+    v = U(grid, r2)
+    brackets = np.nonzero(np.sign(v[:-1]) != np.sign(v[1:]))[0][:terms]
+    out = np.ones((len(t), len(r)))
+    for i in brackets:
+        lam = optimize.brentq(lambda x: U(x, r2), grid[i], grid[i + 1])
+        num = integrate.quad(lambda x, lam=lam: x * U(lam, x), r1, r2, limit=200)[0]
+        den = integrate.quad(lambda x, lam=lam: x * U(lam, x) ** 2, r1, r2, limit=200)[0]
+        out -= (num / den) * U(lam, r)[None, :] * np.exp(-a * lam**2 * np.asarray(t))[:, None]
+    return out
+
+
+def test_coil_network_step_response_matches_annulus_series():
+    """The coil's own network (``CoilThermalModel.network``), in the limit where its pack is a
+    plain annulus with both faces held: a spool of huge heat capacity, almost decoupled from
+    the housing (inner face stays at the spool's initial 1 K), and a huge outer film
+    coefficient (outer face at the housing, held at 1 K by a constant chamber). The pack starts
+    at 0 K. Cell-centred finite volumes are second order in dr; backward Euler is first order
+    in dt, so dt ~ dr^2 keeps the whole error O(dr^2): doubling the layer count must divide the
+    error by ~4 (>= 3 asserted). At 40 layers (dr = 0.14 mm, h = 5.6 mm) the leading term
+    ~ (dr/h)^2 ~ 6e-4 K for a 1 K step, so 1e-3 K is asserted. The 40-term series is exact to
+    far below that after 20 s (exp(-a l_41^2 t) ~ exp(-1600))."""
+    times = np.array([20.0, 50.0, 100.0])
+    errs = []
+    for M in (20, 40):
+        coil = CoilSpec(layers=M, winding="helical")
+        net = CoilThermalModel(
+            coil=coil,
+            spool_heat_capacity=1e12,
+            spool_housing_conductance=1e-12,
+            outer_film_coefficient=1e9,
+        ).network()
+        dt = 0.02 * (40 / M) ** 2
+        n = int(round(times[-1] / dt))
+        x0 = np.zeros(M + 2)
+        x0[:2] = 1.0  # housing and spool at 1 K, the pack at 0 K
+        x, _ = net.simulate(np.ones(n + 1), dt, x0=x0)
+        exact = _annulus_step(
+            coil.layer_radii, times, coil.inner_radius, coil.outer_radius, coil.diffusivity
+        )
+        errs.append(np.max(np.abs(x[np.round(times / dt).astype(int), 2:] - exact)))
+    assert errs[1] < 1e-3
+    assert errs[0] / errs[1] > 3.0
+
+
+def test_coil_network_housing_is_first_order_lag():
+    """Chamber step 0 -> 1 K: backward Euler on tau_h dT_h/dt = u - T_h gives exactly
+    T_h[k] = 1 - (1 + dt/tau_h)^-k (closed form of the recursion, 1e-12)."""
+    m = CoilThermalModel(housing_time_constant=1200.0)
+    dt, n = 5.0, 2000
+    u = np.ones(n + 1)
+    x, _ = m.network().simulate(u, dt, x0=np.zeros(m.coil.layers + 2))
+    k = np.arange(n + 1)
+    np.testing.assert_allclose(x[:, 0], 1.0 - (1.0 + dt / 1200.0) ** -k, rtol=0, atol=1e-12)
 
 
 def test_quasi_steady_ramp_all_layers_at_chamber_rate():

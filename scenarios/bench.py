@@ -1287,6 +1287,10 @@ def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path")
     return _check_output_file(path, what=what)
 
 
+def _json_float(v: float) -> float | None:
+    return v if math.isfinite(v) else None
+
+
 def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
     """Write ``campaign``'s per-seed scores to a JSON baseline (atomically).
 
@@ -1317,7 +1321,13 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
             for s, sc in campaign.scores.items()
         },
         "summary": {
-            n: {"mean": s.mean, "low": s.low, "high": s.high, "n": s.n, "interval": s.method}
+            n: {
+                "mean": _json_float(s.mean),
+                "low": _json_float(s.low),  # None: no interval (one seed)
+                "high": _json_float(s.high),
+                "n": s.n,
+                "interval": s.method,
+            }
             for n, s in campaign.summary().items()
         },
     }

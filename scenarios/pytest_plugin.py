@@ -125,9 +125,19 @@ class GyrobenchBench:
         from scenarios import bench
 
         path = Path(baseline)
-        if not path.is_absolute():
+        relative = not path.is_absolute()
+        if relative:
             path = self.root / path
         stored = bench.load_baseline(path) if path.is_file() else None
+        if stored is not None:
+            module = bench.resolve_scenario(scenario)
+            name = getattr(module, "NAME", module.__name__)
+            if stored.scenario != name:  # before computing anything
+                pytest.fail(
+                    f"gyrobench baseline {str(path)!r} is of scenario {stored.scenario!r}, "
+                    f"not {name!r}",
+                    pytrace=False,
+                )
         if stored is None and not self.save:
             pytest.fail(
                 f"gyrobench baseline {str(path)!r} does not exist; create it with "
@@ -138,6 +148,8 @@ class GyrobenchBench:
             seeds = stored.seeds if stored is not None else DEFAULT_SEEDS
         campaign = self.campaign(scenario, compensator, seeds, config=config, workers=workers)
         if self.save:
+            if relative:  # a baseline folder beside the tests is created; absolute paths are not
+                path.parent.mkdir(parents=True, exist_ok=True)
             bench.save_baseline(path, campaign)
             return None
         result = bench.compare(stored, campaign, alpha=alpha, directions=directions)

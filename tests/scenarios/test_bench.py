@@ -759,3 +759,101 @@ def test_cli_workers_and_scheduler_exclusive(tmp_path):
                 str(tmp_path / "c.db"),
             ]
         )
+
+
+def _other_scenario_baseline(path: Path, seeds=(0, 1)) -> Path:
+    other = bench.Campaign(
+        campaign_id="x",
+        scenario="ifog_thermal",
+        compensator="c",
+        config="",
+        scores={s: {"mean/mse": 1.0} for s in seeds},
+    )
+    return bench.save_baseline(path, other)
+
+
+def test_cli_baseline_of_another_scenario_fails_before_computing(tmp_path):
+    base = _other_scenario_baseline(tmp_path / "b.json")
+    db = tmp_path / "c.db"
+    argv = [TOY, "--compensator", f"{TOY}:good", "--workers", "0", "--quiet", "--db", str(db)]
+    with pytest.raises(
+        ValueError, match=r"--baseline .*b.json' is of scenario 'ifog_thermal', not 'toy'"
+    ):
+        _cli([*argv, "--baseline", str(base)])
+    assert not db.exists()  # nothing was computed
+
+
+def test_cli_seeds_sharing_nothing_with_the_baseline_fail_before_computing(tmp_path):
+    c = _campaign({s: {"mean/mse": 1.0} for s in (0, 1)})
+    base = bench.save_baseline(tmp_path / "b.json", c)
+    db = tmp_path / "c.db"
+    argv = [TOY, "--compensator", f"{TOY}:good", "--workers", "0", "--quiet", "--db", str(db)]
+    with pytest.raises(
+        ValueError, match=r"--seeds must share seeds with --baseline .*\(its seeds: 0:2\); got 5:7"
+    ):
+        _cli([*argv, "--baseline", str(base), "--seeds", "5:7"])
+    assert not db.exists()
+
+
+def test_cli_save_baseline_in_a_missing_folder_is_refused_before_computing(tmp_path):
+    db = tmp_path / "c.db"
+    target = tmp_path / "no" / "such" / "b.json"
+    argv = [TOY, "--compensator", f"{TOY}:good", "--workers", "0", "--quiet", "--db", str(db)]
+    with pytest.raises(
+        FileNotFoundError,
+        match=r"--save-baseline must be in an existing folder; the folder .*no/such' does not "
+        r"exist \(create it first\)",
+    ):
+        _cli([*argv, "--save-baseline", str(target)])
+    assert not (tmp_path / "no").exists() and not db.exists()
+
+
+def test_cli_save_baseline_that_is_a_folder_is_refused(tmp_path):
+    argv = [TOY, "--compensator", f"{TOY}:good", "--db", str(tmp_path / "c.db")]
+    with pytest.raises(IsADirectoryError, match="--save-baseline must be a file name; got the"):
+        _cli([*argv, "--save-baseline", str(tmp_path)])
+
+
+def test_save_baseline_and_db_never_create_folders(tmp_path):
+    c = _campaign({0: {"mean/mse": 1.0}})
+    with pytest.raises(FileNotFoundError, match="baseline path must be in an existing folder"):
+        bench.save_baseline(tmp_path / "missing" / "b.json", c)
+    with pytest.raises(FileNotFoundError, match="db must be in an existing folder"):
+        bench.run_campaign(toy, toy.good, [0], workers=0, db=tmp_path / "missing" / "c.db")
+    assert not (tmp_path / "missing").exists()
+
+
+def test_baseline_of_one_seed_round_trips(tmp_path):
+    # one seed has no interval (NaN bounds): the JSON must still be written, as null
+    c = _campaign({7: {"mean/mse": 1.5, "run1/mse": math.nan}})
+    p = bench.save_baseline(tmp_path / "b.json", c)
+    doc = json.loads(p.read_text())
+    summary = {"mean": 1.5, "low": None, "high": None, "n": 1, "interval": "t"}
+    assert doc["summary"]["mean/mse"] == summary
+    back = bench.load_baseline(p)
+    assert back.scores[7]["mean/mse"] == 1.5 and math.isnan(back.scores[7]["run1/mse"])
+
+
+def test_baseline_from_a_newer_format_is_refused(tmp_path):
+    p = bench.save_baseline(tmp_path / "b.json", _campaign({0: {"mean/mse": 1.0}}))
+    doc = json.loads(p.read_text())
+    doc["format_version"] = bench.BASELINE_VERSION + 1
+    p.write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match="format_version must be <= 1 .*; got 2"):
+        bench.load_baseline(p)
+
+
+def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
+    from scenarios.cli import main
+
+    base = _other_scenario_baseline(tmp_path / "b.json")
+    common = ["bench", TOY, "--compensator", f"{TOY}:good", "--quiet", "--workers", "0"]
+    for extra in (
+        ["--baseline", str(base)],
+        ["--save-baseline", "/nonexist_gyrobench_audit/dir/b.json"],
+        ["--db", str(tmp_path / "nodir" / "c.db")],
+    ):
+        assert main([*common, "--db", str(tmp_path / "c.db"), *extra]) == 2
+        err = capsys.readouterr().err.splitlines()
+        assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err
+    assert not Path("/nonexist_gyrobench_audit").exists()

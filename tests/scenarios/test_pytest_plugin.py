@@ -88,3 +88,25 @@ def test_workers_option_runs_in_processes(user_suite: pytest.Pytester):
     user_suite.runpytest(
         *FAST, "-k", "test_good or test_same_by_name", "--gyrobench-workers", "2"
     ).assert_outcomes(passed=2)
+
+
+def test_baseline_of_another_scenario_fails_before_computing(
+    user_suite: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+):
+    (user_suite.path / "baselines").mkdir()
+    scenarios.bench.save_baseline(
+        user_suite.path / "baselines" / "toy.json",
+        scenarios.bench.Campaign(
+            campaign_id="x",
+            scenario="ifog_thermal",
+            compensator="c",
+            config="",
+            scores={s: {"mean/mse": 1.0} for s in range(12)},
+        ),
+    )
+    log = user_suite.path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    result = user_suite.runpytest(*FAST, "-k", "test_good")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*baselines/toy.json* is of scenario 'ifog_thermal', not 'toy'*"])
+    assert not log.exists()  # no seed was simulated

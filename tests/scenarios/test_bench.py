@@ -1,4 +1,5 @@
-"""Tests of scenarios/bench.py and scenarios/bench_cli.py on the toy scenario (ms per seed)."""
+"""Tests of scenarios/bench.py and scenarios/bench_cli.py on the toy scenario (ms per seed),
+and one campaign on a real scenario (rlg_thermal, ~0.5 s per seed)."""
 
 from __future__ import annotations
 
@@ -857,3 +858,40 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
         err = capsys.readouterr().err.splitlines()
         assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err
     assert not Path("/nonexist_gyrobench_audit").exists()
+
+
+# ----------------------------------------------------------------------------- a real scenario
+def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
+    """Two seeds of the RLG thermal scenario (~0.5 s each) with a plain scikit-learn Ridge."""
+    from sklearn.compose import ColumnTransformer
+    from sklearn.linear_model import Ridge
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+
+    import scenarios.rlg_thermal as rlg
+
+    good = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
+    # a static model: only the housing and cavity temperatures (x1 T1, x2 T2), the
+    # temperature-rate and gradient regressors x3..x11 dropped
+    static = make_pipeline(
+        ColumnTransformer([("T1_T2", "passthrough", [0, 1])]), StandardScaler(), Ridge(alpha=1e-3)
+    )
+    db = tmp_path / "rlg.db"
+    c = bench.run_campaign("rlg_thermal", good, [0, 1], workers=0, db=db, progress=False)
+    names = {"mean/bias_stability_deg_h", "mean/before_deg_h", "mean/improvement_pct"}
+    assert c.scenario == rlg.NAME and c.computed == 2 and names <= set(c.score_names)
+    assert all(math.isfinite(v) for s in c.seeds for v in c.scores[s].values())
+    for s in c.seeds:  # compensation must help on this scenario's thermal bias
+        sc = c.scores[s]
+        assert 0 < sc["mean/bias_stability_deg_h"] < sc["mean/before_deg_h"]
+    # deterministic: a rerun reads the db; scoring again gives the same bits
+    again = bench.run_campaign("rlg_thermal", good, [0, 1], workers=0, db=db, progress=False)
+    assert (again.computed, again.reused) == (0, 2) and again.scores == c.scores
+    assert bench.score_seed(rlg, good, 1) == c.scores[1]
+    # the degraded compensator is worse on every seed (same simulated data: paired)
+    d = bench.run_campaign("rlg_thermal", static, [0, 1], workers=0, db=db, progress=False)
+    assert d.campaign_id != c.campaign_id and d.computed == 2
+    for s in c.seeds:
+        key = "mean/bias_stability_deg_h"
+        assert d.scores[s][key] > c.scores[s][key]
+        assert d.scores[s]["mean/before_deg_h"] == c.scores[s]["mean/before_deg_h"]

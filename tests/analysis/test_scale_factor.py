@@ -84,6 +84,29 @@ def test_table2_style_sequence():
     assert counter.tolist() == [0, 0, 0, 0, 0, 1, 2, 3, 3, 3]
 
 
+def test_breakpoint_search_on_a_closed_form_knee():
+    """F = W for |W| <= 1800, F = W - sign(W) c (|W| - 1800)^2 beyond (c = 1e-3 s/deg): splits at +-1800.
+
+    The low range is exactly linear in binary floating point (K_n = 0 exactly). The first
+    interval past the knee, [0, 2160] (7 points j = 0..6, only the last one low by
+    d = c 360^2), has residuals d ((3j - 5)/28 - [j = 6]), so K_n = 15 d / (28 (2160 - d)).
+    The counter then runs 1, 2, 3 and the search splits at the end of the last linear interval.
+    """
+    c = 1e-3
+    a = np.abs(GRID)
+    f = GRID - np.sign(GRID) * np.where(a > 1800.0, c * (a - 1800.0) ** 2, 0.0)
+    res = breakpoint_search(GRID, f)
+    assert (res.negative, res.positive) == (-1800.0, 1800.0)
+    d = c * 360.0**2
+    for side in (1, -1):
+        steps = [st for st in res.trace if st.side == side]
+        assert [st.end_rate for st in steps] == list(side * np.arange(360.0, 3601.0, 360.0))
+        assert [st.nonlinearity for st in steps[:5]] == [0.0] * 5
+        assert steps[5].nonlinearity == pytest.approx(15 * d / (28 * (2160.0 - d)), rel=1e-12)
+        assert [st.counter for st in steps] == [0, 0, 0, 0, 0, 1, 2, 3, 3, 3]
+        assert all(st.diff2 > 0 for st in steps[5:8])
+
+
 def test_no_split_on_a_linear_table():
     res = breakpoint_search(GRID, 2.0 * GRID + 1.0)
     assert res.breakpoints == ()

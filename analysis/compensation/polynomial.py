@@ -297,7 +297,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             raise ValueError(
                 f"{owner}.orders must be a non-empty tuple of integers >= 0; got {self.orders!r}"
             )
-        orders = tuple(_check_degree(owner, "orders[i]", o) for o in self.orders)
+        orders = tuple(_check_degree(owner, f"orders[{i}]", o) for i, o in enumerate(self.orders))
         if isinstance(self.breakpoints, str):
             if self.breakpoints != "heuristic":
                 raise ValueError(

@@ -195,6 +195,20 @@ def test_rejects_negative_degree():
         PolynomialRegressor(degree=-1).fit([[0.0], [1.0]], [0.0, 1.0])
 
 
+def test_rejects_negative_segment_order_naming_its_index():
+    with pytest.raises(
+        ValueError, match=r"PiecewisePolynomial.orders\[1\] must be an integer >= 0; got -1"
+    ):
+        PiecewisePolynomial(orders=(9, -1, 9)).fit(np.linspace(-1, 1, 20)[:, None], np.zeros(20))
+
+
+def test_rejects_non_integer_second_degree():
+    with pytest.raises(
+        ValueError, match=r"TwoStagePolynomial.second_degree must be an integer >= 0; got 2.5"
+    ):
+        TwoStagePolynomial(second_degree=2.5).fit([[0.0], [1.0]], [0.0, 1.0])
+
+
 def test_rejects_negative_alpha():
     with pytest.raises(ValueError, match="alpha must be a finite number >= 0"):
         TwoStagePolynomial(alpha=-1.0).fit([[0.0], [1.0]], [0.0, 1.0])

@@ -107,3 +107,31 @@ def test_report_renders_in_a_browser(tmp_path):
     red = (img[..., 0] > 0.7) & (img[..., 1] < 0.3) & (img[..., 2] < 0.3)
     blue = (img[..., 2] > 0.6) & (img[..., 0] < 0.3)
     assert red.sum() > 200 and blue.sum() > 200
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(_chromium() is None, reason="Chromium not installed (.ci/run installs Debian's chromium)")
+def test_real_report_renders_in_a_browser(tmp_path):
+    """The report of two real scenarios (the fastest, ~8 s), not a synthetic one, in Chromium."""
+    from scenarios.cli import main
+
+    out = tmp_path / "rep"
+    assert main(["reproduce", "mems_scale_factor", "rlg_thermal", "--out", str(out)]) == 0
+    index = out / "index.html"
+    n_img = index.read_text().count("<img ")
+    assert n_img >= 2  # both scenarios have figures
+    dom = subprocess.run(
+        [_chromium(), *_FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=10000",
+         "--dump-dom", index.as_uri()],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    m = re.search(r'data-figures-loaded="(\d+)"\s+data-figures-total="(\d+)"', dom.stdout)
+    assert m, "load check did not run: " + dom.stdout[:500]
+    # every <img> decoded (complete and naturalWidth > 0), and the browser saw all of them
+    assert int(m.group(1)) == int(m.group(2)) == n_img
+    summary = re.search(r"<h2>Summary</h2>\s*<h3>[^<]*</h3>\s*<table>(.*?)</table>", dom.stdout, re.S)
+    assert summary, "summary table missing: " + dom.stdout[:1000]
+    rows = re.findall(r"<tr>(.*?)</tr>", summary.group(1), re.S)
+    scen = {re.match(r"<td>([^<]*)</td>", r).group(1) for r in rows[1:]}
+    assert scen == {"mems_scale_factor", "rlg_thermal"}  # a headline row for each scenario

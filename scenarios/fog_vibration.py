@@ -10,8 +10,11 @@ Analysis, as the paper:
 
 * Table 1: Allan coefficients (Q, N, B, K, R) of the three phases of record (b).
 * Figure 2: FFT spectrum vs continuous-wavelet time-frequency map of record (b).
-  (The paper's third panel, EMD, is not drawn: no maintained EMD package is among
-  the project's dependencies, and the paper itself rejects EMD on noisy data.)
+  The paper's third panel, EMD, is not drawn. Maintained EMD packages exist (PyPI
+  ``EMD-signal`` = PyEMD 1.x, and ``emd`` 0.8), but we do not add a dependency (PyEMD
+  brings extra dependencies of its own) for one figure panel whose only role in the
+  paper is negative: it shows that EMD does not separate the three phases, which the
+  FFT panel already shows for a method without time resolution.
 * Figure 3: multiscale (db4, 10 levels, Mallat) view of record (a).
 * Figure 4, Table 2: record (a) split into the level-6 approximation A6 ("bias")
   and D1 + ... + D6 ("drift + noise"), Allan coefficients of each.
@@ -31,8 +34,15 @@ Choices the paper does not state (documented here and in the report)
   300 s (1.66 Hz/s): the paper's RBF spread of 1.2 Hz needs training points about
   1 Hz apart over the whole band, which a linear sweep supplies evenly (a log sweep
   spends only 0.1 s per Hz near 500 Hz). 12.7 mm (0.5 in) stroke limit below ~5 Hz.
-* Acceleration 2 g peak. Gyro: Q 0.1 arcsec, N 0.005 deg/sqrt(h), B 0.2 deg/h (a
-  mid-grade FOG); structural modes at 180 Hz (Q 15, mount) and 460 Hz (Q 10, coil
+* Acceleration 2 g peak. Gyro: Q 0.1 arcsec, N 0.005 deg/sqrt(h), B 0.2 deg/h,
+  K 0.05 deg/h/sqrt(h) and R 0.01 deg/h^2 static (a mid-grade FOG; K as the project's
+  FOG-grade budget in scenarios/static_noise, R an order of magnitude typical of FOG
+  thermal-drift ramps; FOG datasheets seldom quote K and R: unverified). K and R are
+  NOT identifiable in this scenario: on the Allan curve K overtakes B only beyond
+  tau = 3 (2 ln2/pi) B^2 / K^2 = 21 h and R beyond tau = sqrt(2 (2 ln2/pi)) B / R = 19 h,
+  and a fit needs records of about 4 tau, i.e. days, which the 3-minute runtime budget
+  (phases of 200-300 s) does not allow. Their Table 1 entries are 95 % upper bounds,
+  set by the white and flicker noise of the segment, not by K or R. Structural modes at 180 Hz (Q 15, mount) and 460 Hz (Q 10, coil
   potting) put the rectified bias peak (about 40 deg/h) in the 300-500 Hz band the
   paper's figure 3 points to; about 8 deg/h remain at 500 Hz. During vibration the
   white and flicker noise grow by sqrt(1 + sum_k d_k a^2 |H_k|^2 / g^2) (x2.7 at
@@ -41,13 +51,25 @@ Choices the paper does not state (documented here and in the report)
 * Table 1 phases are cut with a 5 s guard after each switching edge (the on/off
   transients belong to neither steady state).
 * RBF training pairs are means of the A6 bias over 1 Hz frequency bins of the
-  sweep (about 500 pairs; the newrb design matrix is n x n), leaving out 1 s
-  around each switching edge (soft start/stop and the A6 smear of the on/off
-  step). The target is A6 minus its phase-1 mean (the gyro's own static bias is
+  sweep (about 500 pairs; the newrb design matrix is n x n), leaving out the
+  shaker's 0.5 s soft start and stop (``train_edge_s`` = ``ramp_time_s``), so the
+  pairs cover the whole steady-amplitude sweep, 1.8-499.2 Hz (the soft stop takes the
+  last 0.8 Hz). On the noise-free record these bin means equal the true bias to
+  0.01 deg/h up to the last bin; the A6 smear of the on/off step is negligible because
+  the step is the 0.5 s raised-cosine ramp (excluding only 0.25 s biases the last bin by
+  -1.8 deg/h). A bin holding fewer than half the samples of a full bin (the partial
+  last one) is merged into its neighbour. The target is A6 minus its phase-1 mean (the gyro's own static bias is
   not a vibration error). "Spread 1.2" is taken in Hz, the unit of the paper's
   input (MATLAB newrb does not scale inputs); goal 1e-4 in (deg/h)^2. Both models
   are evaluated with the frequency clipped to the training range (no extrapolation;
-  500 Hz is read at ~498 Hz).
+  500 Hz is read at ~499 Hz, where the true bias differs by < 1 deg/h).
+  With spread 1.2 Hz on bins 1 Hz apart the newrb network nearly interpolates its
+  training pairs, and each pair is a noisy 0.6 s mean (a few deg/h of white and
+  flicker noise, grown by the vibration, near the 460 Hz mode). The network therefore
+  reproduces that noise: its value at 500 Hz is essentially the last bin's noisy mean.
+  That is the paper's method (goal 1e-4 on noisy targets), reported as it is; the
+  report gives the mean residual of the compensated 500 Hz vibration phase against
+  the true bias for both models.
 * The bias-model MSE is scored against the true steady rectified bias (known to
   the simulator) at the bin frequencies; the MSE against the noisy A6 target is
   reported beside it.
@@ -61,15 +83,23 @@ Choices the paper does not state (documented here and in the report)
   smooth by construction and its ADEV (slope +1) would be read as a huge spurious
   rate ramp. The same rule is applied to every column, the original included.
 
-"Higher in phase 2" for a term, as the headlines test it: for Q, N, B phase 2's
-lower 95 % bound above phase 1's and phase 3's upper 95 % bound (non-overlapping
-intervals; for a non-identifiable phase 1/3 term its one-sided 95 % bound is used;
-a phase 2 term that is not identifiable cannot be shown higher). For K and R the
-point value of phase 2 must exceed the phase 1/3 point values (or their bounds);
-when K or R is not identifiable in phase 2 (the usual case on 200-300 s segments,
-where they never dominate the curve) only the 95 % upper bounds can be compared,
-and the headline says "upper bounds only". "Keeps B" (Table 2) likewise falls back
-to overlapping bounds when B is not identifiable in both columns.
+How the headlines decide (a conclusion "holds" only when the data demonstrate it)
+-------------------------------------------------------------------------------
+* A comparison in which either side is "not identifiable" (only a 95 % upper bound,
+  set by the other noise terms of the segment) is NOT TESTABLE: the headline's
+  ``holds`` is None (printed '-') with the note "not identifiable in this record:
+  95 % bounds only". Two upper bounds say nothing about the coefficients themselves.
+  This is always the case for K and R here (see above).
+* "Higher in phase 2" (Table 1): phase 2's lower 95 % bound above the other phase's
+  upper 95 % bound (non-overlapping intervals), for every term.
+* "Phases 1 and 3 agree": their 95 % intervals overlap.
+* "Bias part keeps B" (Table 2): the bias part's B inside the original's 95 % interval.
+* "x times lower" (Tables 2 and 3, Q and N): the original's lower 95 % bound over the
+  processed signal's upper 95 % bound (an upper bound is a valid denominator for a
+  "lower" claim; a non-identifiable original is not testable).
+* "RBF lower than LS" (Table 3): the RBF column's upper 95 % bound below the LS
+  column's lower 95 % bound.
+The conclusion counts "N of M testable conclusions".
 """
 
 from __future__ import annotations
@@ -82,8 +112,8 @@ from typing import Any, Literal
 import numpy as np
 from matplotlib.figure import Figure
 
-from analysis.allan import allan_deviation, fit_noise
 from analysis.compensation.rbf import RBFNetwork
+from analysis.metrics import segment_noise_fits
 from analysis.wavelet import amplitude_spectrum, cwt_map, decompose
 from scenarios.allan_report import TERMS, coefficients_json
 from scenarios.base import (
@@ -140,8 +170,8 @@ class FogSpec:
     Q_arcsec: float = 0.1
     N_deg_sqrt_h: float = 0.005
     B_deg_h: float = 0.2
-    K_deg_h_sqrt_h: float = 0.0
-    R_deg_h2: float = 0.0
+    K_deg_h_sqrt_h: float = 0.05
+    R_deg_h2: float = 0.01
     modes: tuple[ModeSpec, ...] = (
         ModeSpec(frequency_hz=180.0, quality=15.0, rectification_deg_h_per_g2=0.011, tone_deg_h_per_g=5.0,
                  noise_weight=0.05),
@@ -210,7 +240,7 @@ class Config:
     level: int = 10
     bias_level: int = 6
     bin_width_hz: float = 1.0
-    train_edge_s: float = 1.0
+    train_edge_s: float = 0.5
     rbf_spread_hz: float = 1.2
     rbf_goal_deg_h2: float = 1e-4
     rbf_max_neurons: int | None = None
@@ -298,9 +328,8 @@ def _fit(rate_rad_s: np.ndarray, fs: float, *, min_m: int = 1):
     A wavelet approximation A_j is smooth below 2^j samples by construction (its ADEV there
     rises with slope +1 and would read as a huge rate ramp), so its curve starts at m = 2^j.
     """
-    n = len(rate_rad_s)
-    ms = [m for m in (2**k for k in range(64)) if min_m <= m <= n // 4]
-    return fit_noise(allan_deviation(rate_rad_s, fs, taus=np.array(ms) / fs))
+    return segment_noise_fits(rate_rad_s, fs, {"record": np.ones(len(rate_rad_s), dtype=bool)},
+                              min_m=min_m)["record"].fit
 
 
 def split_band_coefficients(rate_rad_s: np.ndarray, fs: float, min_m: int) -> dict[str, dict]:
@@ -325,24 +354,35 @@ def segment_coefficients(rate: np.ndarray, fs: float, bounds, *, guard_s: float 
     """Allan coefficient tables (field units) of each [start, end) segment [s] of a rate record [rad/s].
 
     ``guard_s`` is cut after each segment's start (except the first) so switching
-    transients stay out of the steady phases.
+    transients stay out of the steady phases. The fits are
+    :func:`analysis.metrics.segment_noise_fits` (each segment on its own samples).
     """
-    out = {}
-    for i, (t0, t1) in enumerate(bounds, start=1):
-        a = int(round((t0 + (guard_s if i > 1 else 0.0)) * fs))
-        b = int(round(t1 * fs))
-        out[str(i)] = coefficients_json(_fit(rate[a:b], fs))
-    return out
+    segs = {str(i): (t0 + (guard_s if i > 1 else 0.0), t1) for i, (t0, t1) in enumerate(bounds, start=1)}
+    return {k: coefficients_json(f.fit) for k, f in segment_noise_fits(rate, fs, segs).items()}
 
 
 def _bins(f: np.ndarray, y: np.ndarray, lo: float, hi: float, width: float):
-    """Means of f and y over frequency bins of ``width`` [Hz] (bins with at least one sample)."""
+    """Means of f and y over frequency bins of ``width`` [Hz].
+
+    Empty bins are dropped; a bin holding fewer than half the median count (a partial bin
+    at the end of the data, whose mean would be several times noisier) is merged into its
+    lower neighbour (the upper one for the first bin).
+    """
     edges = np.arange(lo, hi + width, width)
     idx = np.digitize(f, edges) - 1
     ok = (idx >= 0) & (idx < len(edges) - 1)
     cnt = np.bincount(idx[ok], minlength=len(edges) - 1)
     sf = np.bincount(idx[ok], f[ok], minlength=len(edges) - 1)
     sy = np.bincount(idx[ok], y[ok], minlength=len(edges) - 1)
+    keep = cnt > 0
+    cnt, sf, sy = cnt[keep].astype(float), sf[keep], sy[keep]
+    small = np.flatnonzero(cnt < 0.5 * np.median(cnt)) if cnt.size > 1 else np.array([], dtype=int)
+    for i in small[::-1]:  # from the top, so indices below stay valid
+        j = i - 1 if i > 0 else i + 1
+        cnt[j] += cnt[i]
+        sf[j] += sf[i]
+        sy[j] += sy[i]
+        cnt[i] = 0.0
     keep = cnt > 0
     return sf[keep] / cnt[keep], sy[keep] / cnt[keep]
 
@@ -392,30 +432,33 @@ def _coef_table(title: str, cols: dict[str, dict], note: str = "") -> Table:
     return Table(title, ["term", "unit"] + names, rows, note)
 
 
-def _lo(d):
-    return d["low"] if d["value"] is not None else None
+#: note of every headline that cannot be decided because a coefficient is only bounded
+NOT_TESTABLE = "not identifiable in this record: 95 % bounds only"
 
 
-def _hi(d):
-    return d["high"]
+def _ident(*ds: dict) -> bool:
+    return all(d["value"] is not None for d in ds)
 
 
-def _higher(p2: dict, other: dict, term: str) -> tuple[bool, str]:
-    """Whether phase 2 is shown higher than ``other`` for one term, and on what basis (module docstring)."""
-    if term in ("Q", "N", "B"):
-        if p2["value"] is None:
-            return False, "phase 2 not identifiable"
-        return p2["low"] > other["high"], "95 % intervals"
-    if p2["value"] is not None:
-        ref = other["value"] if other["value"] is not None else other["high"]
-        return p2["value"] > ref, "point values"
-    return p2["high"] > other["high"], "95 % upper bounds only (not identifiable)"
+def _higher(p2: dict, other: dict) -> tuple[bool | None, str]:
+    """Whether phase 2 is shown higher than ``other`` for one term, and on what basis (module docstring).
+
+    True/False when both are identified (phase 2's lower 95 % bound above the other's upper
+    one, or not); None (not testable) when either is only a 95 % upper bound.
+    """
+    if not _ident(p2, other):
+        return None, NOT_TESTABLE
+    return p2["low"] > other["high"], "95 % intervals do not overlap" if p2["low"] > other["high"] else \
+        "95 % intervals overlap"
 
 
 def _overlap(a: dict, b: dict) -> bool:
-    lo_a = a["low"] if a["value"] is not None else 0.0
-    lo_b = b["low"] if b["value"] is not None else 0.0
-    return lo_a <= b["high"] and lo_b <= a["high"]
+    return a["low"] <= b["high"] and b["low"] <= a["high"]
+
+
+def _all_or_none(results: list[bool | None]) -> bool | None:
+    """A conjunction of sub-conclusions: None when any part is not testable, else all()."""
+    return None if any(r is None for r in results) else all(results)
 
 
 def _value_or_bound(d: dict) -> float:
@@ -657,6 +700,19 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     fv = config.fixed().vibration
     a_fixed = float(fv.amplitude(fv.duration / 2))  # displacement-limited steady amplitude [m/s^2]
     true_fixed_bias = float(units.to_deg_per_h(model.rectified_bias(config.fixed_hz, a_fixed)))
+    # residual of each compensated vibration phase against the truth: mean of (model - true
+    # vibration bias) over the steady dwell (guard after switching on, before switching off)
+    (_, _), (v0, v1), (_, _) = bounds
+    steady = slice(int(round((v0 + config.guard_s) * fs)), int(round((v1 - config.guard_s) * fs)))
+    vb_true = units.to_deg_per_h(fixed["truth/vibration_bias"])[steady]
+    residual = {
+        "rbf": float(np.mean(pred_rbf[steady] - vb_true)),
+        "ls": float(np.mean(pred_ls[steady] - vb_true)),
+        "uncompensated": float(np.mean(-vb_true)),
+        "unit": "deg/h",
+        "definition": ("mean over the steady vibration phase (guard after each edge) of the model's bias "
+                       "minus the true vibration bias; = the step the compensated record keeps"),
+    }
     tick()
     if bar is not None:
         bar.close()
@@ -684,6 +740,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
             "training_range_hz": [lo_t, hi_t],
             "unit": "deg/h",
         },
+        "compensation_residual": residual,
         "record": {
             "output_rate_hz": fs,
             "physics_rate_hz": config.fog.physics_rate_hz,
@@ -697,7 +754,12 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         _coef_table("Table 1. Allan coefficients of the three phases of the 500 Hz record (95 % intervals)",
                     {f"phase {k}": v for k, v in phases.items()},
                     note=(f"Phase 1 static, 2 vibration, 3 static; a guard of {config.guard_s:g} s after each switching edge is "
-                          "excluded. '< x' = not identifiable from the segment, 95 % upper bound. Paper: every "
+                          "excluded. '< x' = not identifiable from the segment, 95 % upper bound (set by the "
+                          "segment's white and flicker noise). The simulated gyro has static K = "
+                          f"{config.fog.K_deg_h_sqrt_h:g} deg/h/sqrt(h) and R = {config.fog.R_deg_h2:g} deg/h^2, "
+                          "which only records of days could identify (they overtake B beyond ~20 h on the "
+                          "Allan curve); with the 3-minute runtime budget (phases of minutes) K and R are "
+                          "reported as bounds and their comparisons as not testable. Paper: every "
                           "coefficient rises in phase 2; phases 1 and 3 nearly equal.")),
         _coef_table(f"Table 2. Sweep record: original vs reconstructed bias (a{j}) vs drift + noise (d1..d{j})",
                     decomposition,
@@ -717,55 +779,91 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
                 mse_rbf_t, results["bias_at_fixed_hz"]["rbf"]],
                [f"{config.ls_order}th-order least squares", mse_ls, mse_ls_t, results["bias_at_fixed_hz"]["ls"]],
                ["truth", 0.0, float(np.mean((bm.truth_bins - bm.y_bins) ** 2)), true_fixed_bias]],
-              note=f"RBF neurons: {bm.rbf.n_neurons_}. Paper: the RBF approximation is far better than the 4th-order fit."),
+              note=(f"RBF neurons: {bm.rbf.n_neurons_}; training range {lo_t:.4g}-{hi_t:.4g} Hz (the steady-"
+                    f"amplitude sweep; {config.fixed_hz:g} Hz is read at the top of it). With spread "
+                    f"{config.rbf_spread_hz:g} Hz on 1 Hz bins the network nearly interpolates its noisy "
+                    "targets (MSE vs target ~ goal, vs truth ~ the targets' own noise): the paper's method, "
+                    "as it is. Paper: the RBF approximation is far better than the 4th-order fit.")),
+        Table("Residual bias of the compensated 500 Hz vibration phase against the truth",
+              ["compensation", "mean residual [deg/h]"],
+              [["none (true bias removed by nothing)", residual["uncompensated"]],
+               ["RBF", residual["rbf"]], [f"{config.ls_order}th-order LS", residual["ls"]]],
+              note=residual["definition"] + "."),
     ]
 
-    # --- headlines
+    # --- headlines (decision rules: module docstring)
     headlines = []
     p1, p2, p3 = phases["1"], phases["2"], phases["3"]
     for t in TERMS:
-        (ok1, why1), (ok3, why3) = _higher(p2[t], p1[t], t), _higher(p2[t], p3[t], t)
-        basis = why1 if why1 == why3 else f"{why1}; {why3}"
+        (ok1, why1), (ok3, why3) = _higher(p2[t], p1[t]), _higher(p2[t], p3[t])
+        basis = why1 if why1 == why3 else f"vs phase 1: {why1}; vs phase 3: {why3}"
         headlines.append(Headline(
             f"Table 1 {t}: phase 2 higher than phases 1 and 3 [{p2[t]['unit']}]",
             f"{_text(p1[t])} / {_text(p2[t])} / {_text(p3[t])}",
             "phase 2 clearly higher",
-            ok1 and ok3,
+            _all_or_none([ok1, ok3]),
             basis,
         ))
-    agree = all(_overlap(p1[t], p3[t]) for t in TERMS)
-    headlines.append(Headline("Table 1: phases 1 and 3 agree", ", ".join(
-        f"{t} {'overlap' if _overlap(p1[t], p3[t]) else 'DIFFER'}" for t in TERMS), "nearly equal", agree,
-        "95 % intervals overlap"))
+    testable = [t for t in TERMS if _ident(p1[t], p3[t])]
+    bounded = [t for t in TERMS if t not in testable]
+    if testable:
+        headlines.append(Headline(
+            f"Table 1 {', '.join(testable)}: phases 1 and 3 agree",
+            ", ".join(f"{t} {'overlap' if _overlap(p1[t], p3[t]) else 'DIFFER'}" for t in testable),
+            "nearly equal", all(_overlap(p1[t], p3[t]) for t in testable), "95 % intervals overlap"))
+    if bounded:
+        headlines.append(Headline(
+            f"Table 1 {', '.join(bounded)}: phases 1 and 3 agree",
+            ", ".join(f"{t} {_text(p1[t])} / {_text(p3[t])}" for t in bounded),
+            "nearly equal (K, R slightly lower after)", None, NOT_TESTABLE))
+
+    def lower_by(orig: dict, proc: dict, factor: float) -> tuple[str, bool | None, str]:
+        """Conservative ratio original / processed: original's lower bound over processed's upper bound."""
+        if orig["value"] is None:
+            return f"original {_text(orig)}", None, NOT_TESTABLE
+        ratio = orig["low"] / proc["high"] if proc["high"] > 0 else math.inf
+        return (f">= {ratio:.3g}x ({_text(orig)} vs {_text(proc)})", ratio >= factor,
+                "original's lower 95 % bound / processed upper 95 % bound")
+
     o, b = decomposition["original"], decomposition["bias"]
     for t in ("Q", "N"):
-        ratio = _value_or_bound(o[t]) / _value_or_bound(b[t]) if _value_or_bound(b[t]) > 0 else math.inf
-        headlines.append(Headline(f"Table 2 {t}: original / bias part", f"{ratio:.3g}x", ">= 5x lower", ratio >= 5.0,
-                                  "bias value or its 95 % bound"))
-    if b["B"]["value"] is not None and o["B"]["value"] is not None:
-        b_in, why = o["B"]["low"] <= b["B"]["value"] <= o["B"]["high"], "bias value inside the original's 95 % interval"
+        txt, ok, why = lower_by(o[t], b[t], 5.0)
+        headlines.append(Headline(f"Table 2 {t}: original / bias part", txt, ">= 5x lower", ok, why))
+    if _ident(b["B"], o["B"]):
+        b_in = o["B"]["low"] <= b["B"]["value"] <= o["B"]["high"]
+        why = "bias value inside the original's 95 % interval"
     else:
-        b_in, why = _overlap(b["B"], o["B"]), "95 % intervals overlap (bounds only: not identifiable in both)"
+        b_in, why = None, NOT_TESTABLE
     headlines.append(Headline("Table 2 B: bias part keeps B", f"{_text(b['B'])} vs original {_text(o['B'])}",
                               "within the original's interval", b_in, why))
     do, dd = compensation["original"], compensation["denoised"]
     for t in ("Q", "N"):
-        ratio = _value_or_bound(do[t]) / _value_or_bound(dd[t]) if _value_or_bound(dd[t]) > 0 else math.inf
-        headlines.append(Headline(f"Table 3 {t}: original / denoised", f"{ratio:.3g}x", "clearly lower",
-                                  ratio >= 5.0, "value or 95 % bound; >= 5x taken as 'clearly'"))
+        txt, ok, why = lower_by(do[t], dd[t], 5.0)
+        headlines.append(Headline(f"Table 3 {t}: original / denoised", txt, "clearly lower (>= 5x)", ok, why))
     cr, cl = compensation["rbf"], compensation["ls"]
     for t in ("B", "K", "R"):
-        vr, vl = _value_or_bound(cr[t]), _value_or_bound(cl[t])
+        if _ident(cr[t], cl[t]):
+            ok, why = cr[t]["high"] < cl[t]["low"], "RBF upper 95 % bound below LS lower 95 % bound"
+        else:
+            ok, why = None, NOT_TESTABLE
         headlines.append(Headline(f"Table 3 {t}: RBF-compensated below LS-compensated [{cr[t]['unit']}]",
-                                  f"{_text(cr[t])} vs {_text(cl[t])}", "RBF lower", vr < vl,
-                                  "point values (or 95 % bounds when not identifiable)"))
+                                  f"{_text(cr[t])} vs {_text(cl[t])}", "RBF lower", ok, why))
     headlines.append(Headline("Bias model MSE RBF / LS (vs truth)", f"{mse_rbf:.3g} / {mse_ls:.3g} (deg/h)^2",
                               "RBF <= LS / 5", mse_rbf <= mse_ls / 5.0, f"ratio {mse_rbf / mse_ls:.3g}"))
+    headlines.append(Headline(
+        f"Residual bias of the compensated {config.fixed_hz:g} Hz vibration phase vs truth, RBF / LS [deg/h]",
+        f"{residual['rbf']:+.3g} / {residual['ls']:+.3g} (uncompensated {residual['uncompensated']:+.3g})",
+        "RBF residual smaller than LS", abs(residual["rbf"]) < abs(residual["ls"]),
+        f"{config.fixed_hz:g} Hz read at {hi_t:.4g} Hz; RBF value = one noisy bin mean (interpolating network)"))
 
     figures = [
         FigureSpec("fig1_records", "Fig. 1: the two records (block means), static -> vibration -> static",
                    _fig_records([sweep, fixed], config)),
-        FigureSpec("fig2_spectrum_cwt", "Fig. 2: FFT spectrum vs continuous-wavelet time-frequency map, 500 Hz record",
+        FigureSpec("fig2_spectrum_cwt",
+                   "Fig. 2: FFT spectrum vs continuous-wavelet time-frequency map, 500 Hz record. The paper's EMD "
+                   "panel is not drawn: maintained EMD packages exist (PyPI EMD-signal/PyEMD, emd), but we do not "
+                   "add a dependency with extra dependencies of its own for one panel whose only role in the paper "
+                   "is to show that EMD does not separate the three phases.",
                    fig2),
         FigureSpec("fig3_multiscale", "Fig. 3: multiscale view of the sweep record (db4, 10 levels)",
                    _fig_multiscale(dec_s, sweep.time)),
@@ -776,7 +874,9 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         FigureSpec("fig7_8_compensation", "Figs. 7-8: denoising and bias compensation of the 500 Hz record",
                    _fig_compensation(fixed.time, y_fixed, den, rbf_c, ls_c)),
     ]
-    held = sum(1 for h in headlines if h.holds)
+    held = sum(1 for h in headlines if h.holds is True)
+    n_testable = sum(1 for h in headlines if h.holds is not None)
+    n_untestable = len(headlines) - n_testable
     return Outcome(
         scenario=NAME,
         title=TITLE,
@@ -787,10 +887,14 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         figures=figures,
         headlines=headlines,
         conclusion=(
-            f"{held} of {len(headlines)} of the paper's conclusions hold on the simulated records. Vibration "
-            "raises the Allan terms through noise growth, the aliased drive tone and the controller-driven "
+            f"{held} of {n_testable} testable conclusions of the paper hold on the simulated records; "
+            f"{n_untestable} are not testable here (K and R, and B where it is only bounded: not identifiable "
+            "in records of minutes, 95 % bounds only; K and R need records of days). Vibration "
+            "raises Q, N and B through noise growth, the aliased drive tone and the controller-driven "
             "fluctuation of the rectified bias; the a6 approximation removes the high-frequency terms and "
-            "keeps the bias; an RBF network follows the resonant bias curve that a 4th-order polynomial cannot. "
+            "keeps the bias; an RBF network follows the resonant bias curve that a 4th-order polynomial cannot, "
+            "but with spread 1.2 Hz it also reproduces the noise of its binned training targets, so the bias it "
+            f"removes at {config.fixed_hz:g} Hz is one noisy bin mean (residual in the table above). "
             "Residual spikes remain at the vibration on/off edges, as in the paper's figure 8."
         ),
         runtime_s=time.perf_counter() - t_start,

@@ -13,6 +13,7 @@ from matplotlib.figure import Figure
 
 from scenarios import fog_vibration as sc
 from scenarios import registry
+from analysis.compensation.rbf import RBFNetwork
 from scenarios.base import CompensationTask
 from sim import units
 
@@ -22,7 +23,8 @@ SMALL = sc.Config(static_before_s=30.0, vibration_s=60.0, static_after_s=30.0, g
 def _noise_free(cfg: sc.Config) -> sc.Config:
     """The same gyro without any random or non-bias term: only the rectified bias remains."""
     fog = replace(
-        cfg.fog, Q_arcsec=0.0, N_deg_sqrt_h=0.0, B_deg_h=0.0, transient_deg_h_per_g2=0.0,
+        cfg.fog, Q_arcsec=0.0, N_deg_sqrt_h=0.0, B_deg_h=0.0, K_deg_h_sqrt_h=0.0, R_deg_h2=0.0,
+        transient_deg_h_per_g2=0.0,
         modes=tuple(replace(m, tone_deg_h_per_g=0.0, noise_weight=0.0) for m in cfg.fog.modes),
     )
     return replace(cfg, fog=fog, control_error=0.0)
@@ -34,18 +36,31 @@ def test_registered():
 
 # ---------------------------------------------------------------- closed form
 def test_noise_free_bias_is_modelled_by_the_rbf_to_its_goal():
-    cfg = _noise_free(SMALL)
-    sweep, _ = sc.simulate(cfg, 0)
-    bm = sc.fit_bias_models(sweep, cfg)
-    # newrb stops as soon as the training MSE is below the goal (1e-4 (deg/h)^2)
-    assert bm.rbf.mse_history_[-1] <= cfg.rbf_goal_deg_h2
-    train = np.mean((bm.rbf.predict(bm.f_bins[:, None]) - bm.y_bins) ** 2)
-    assert train <= cfg.rbf_goal_deg_h2
-    # against the true steady bias the error is what the a6 low-pass and the bin means leave
-    # (the 60 s sweep crosses the 180 Hz peak in ~1 s), far below the 4th-order fit's misfit
-    rbf_true = np.mean((bm.rbf.predict(bm.f_bins[:, None]) - bm.truth_bins) ** 2)
-    ls_true = np.mean((bm.ls(bm.f_bins) - bm.truth_bins) ** 2)
-    assert rbf_true < 0.01 and rbf_true < ls_true / 100
+    """Noise-free samples of the gyro's known rectified bias, 1 Hz apart over 1.5-498.5 Hz (the
+    scenario's bins), fitted with the scenario's newrb settings (spread 1.2 Hz, goal 1e-4 (deg/h)^2);
+    the network is scored at the held-out midpoints between training frequencies.
+
+    Tolerance from the goal: the error at a midpoint is the mean of the two neighbouring node
+    errors (whose MSE the goal bounds, so by convexity their mean has MSE <= goal) plus the
+    network's curvature between the nodes; requiring that curvature term to stay within the
+    same rms gives held-out RMS <= 2 sqrt(goal) = 0.02 deg/h (the curve spans 0-40 deg/h).
+    The criterion can fail: a too-narrow spread (0.3 Hz) leaves dips between the centres.
+    """
+    cfg = sc.Config()
+    model = cfg.fog.model()
+    a = units.g(cfg.acceleration_g)
+
+    def bias(f):
+        return units.to_deg_per_h(model.rectified_bias(f, a))
+
+    f_train = np.arange(1.5, 499.0, 1.0)
+    f_held = f_train[:-1] + 0.5
+    tol = 2.0 * np.sqrt(cfg.rbf_goal_deg_h2)
+    net = RBFNetwork(spread=cfg.rbf_spread_hz, goal=cfg.rbf_goal_deg_h2).fit(f_train[:, None], bias(f_train))
+    held_rms = np.sqrt(np.mean((net.predict(f_held[:, None]) - bias(f_held)) ** 2))
+    assert held_rms <= tol, held_rms
+    narrow = RBFNetwork(spread=0.3, goal=cfg.rbf_goal_deg_h2).fit(f_train[:, None], bias(f_train))
+    assert np.sqrt(np.mean((narrow.predict(f_held[:, None]) - bias(f_held)) ** 2)) > tol
 
 
 def test_noise_free_static_phases_are_exactly_zero():
@@ -74,12 +89,17 @@ def test_bench_task_truth_is_the_output_without_the_true_bias():
 def test_higher_rule_documented_cases():
     ident = {"value": 2.0, "low": 1.5, "high": 2.5}
     low = {"value": 1.0, "low": 0.8, "high": 1.2}
+    overlapping = {"value": 1.0, "low": 0.8, "high": 1.6}
     bound = {"value": None, "low": 0.0, "high": 1.4}
-    assert sc._higher(ident, low, "N") == (True, "95 % intervals")
-    assert sc._higher(ident, {"value": 1.0, "low": 0.8, "high": 1.6}, "B")[0] is False  # overlapping intervals
-    assert sc._higher(bound, low, "Q") == (False, "phase 2 not identifiable")
-    assert sc._higher(ident, bound, "K") == (True, "point values")
-    assert sc._higher({"value": None, "low": 0.0, "high": 3.0}, bound, "R")[1].startswith("95 % upper bounds only")
+    big_bound = {"value": None, "low": 0.0, "high": 3.0}
+    # both identified: decided by the 95 % intervals
+    assert sc._higher(ident, low)[0] is True
+    assert sc._higher(ident, overlapping)[0] is False
+    # a bound on either side: not testable (holds None), never True, whatever the bounds' order
+    for p2, other in ((bound, low), (ident, bound), (big_bound, bound), (bound, big_bound)):
+        assert sc._higher(p2, other) == (None, sc.NOT_TESTABLE)
+    assert sc._all_or_none([True, None]) is None and sc._all_or_none([True, False]) is False
+    assert sc._all_or_none([True, True]) is True
 
 
 # ---------------------------------------------------------------- bad input
@@ -122,20 +142,32 @@ def test_small_run_results_layout():
         "fig7_8_compensation",
     ]
     assert all(isinstance(f.figure, Figure) for f in out.figures)
-    assert len(out.tables) == 4 and all(isinstance(h.holds, bool) for h in out.headlines)
+    assert len(out.tables) == 5 and all(h.holds in (True, False, None) for h in out.headlines)
+    assert {"rbf", "ls", "uncompensated"} <= set(r["compensation_residual"])
 
 
 @pytest.mark.slow
 def test_full_reproduction_default_seed():
-    # the paper's conclusions (issue 6 "How we will know") on the default config and seed 0
+    # the paper's conclusions (issue 6 "How we will know") on the default config and seed 0:
+    # every TESTABLE headline holds; K and R (and any comparison with a bound) are reported as
+    # not testable, never as holding
     t = time.perf_counter()
     out = sc.run(sc.Config(), 0)
     runtime = time.perf_counter() - t
     assert runtime < 180.0
-    failed = [(h.quantity, h.reproduced) for h in out.headlines if not h.holds]
+    failed = [(h.quantity, h.reproduced) for h in out.headlines if h.holds is False]
     assert not failed
+    untestable = [h for h in out.headlines if h.holds is None]
+    assert all(h.note == sc.NOT_TESTABLE for h in untestable)
+    p = out.results["phases"]
+    for t_ in ("K", "R"):
+        assert all(p[k][t_]["value"] is None for k in "123")  # minutes of data cannot identify them
+        h = next(h for h in out.headlines if h.quantity.startswith(f"Table 1 {t_}: phase 2 higher"))
+        assert h.holds is None
+    assert next(h for h in out.headlines if h.quantity == "Table 1 K, R: phases 1 and 3 agree").holds is None
+    assert sum(h.holds is True for h in out.headlines) >= 10
+    assert "testable conclusions of the paper hold" in out.conclusion
     mse = out.results["bias_model_mse"]
     assert mse["rbf"] <= mse["ls"] / 5
-    p = out.results["phases"]
     for t_ in ("Q", "N", "B"):
         assert p["2"][t_]["low"] > max(p["1"][t_]["high"], p["3"][t_]["high"])

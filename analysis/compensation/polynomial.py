@@ -18,6 +18,7 @@ Seed paper 001 (Du, Su, Liu, Li), sections 2.1-2.2 and 3; PHYSICS.md 7.5.
 from __future__ import annotations
 
 import math
+import warnings
 from numbers import Integral, Real
 
 import numpy as np
@@ -256,7 +257,10 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         ``"heuristic"``: :func:`analysis.scale_factor.breakpoint_search` on the
         rate table formed by the distinct target values y (table rates) and the
         mean x at each; the breakpoints in x are the mean outputs at the rates
-        found. A tuple: breakpoints in input (x) units, strictly increasing.
+        found. If the search cannot run (fewer than 3 distinct y) or a breakpoint
+        cannot split x (see :meth:`fit`), fewer segments are fitted and a
+        ``UserWarning`` says why. A tuple: breakpoints in input (x) units,
+        strictly increasing.
     join_width : float
         Width of each Hermite join as a fraction of the input span, in (0, 0.5).
     run_length : int
@@ -334,43 +338,33 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         Raises
         ------
         ValueError
-            For more than one feature, a breakpoint outside the data or closer
-            than the join width to another, or a segment with fewer distinct
-            inputs than its order + 1.
+            For a given breakpoint outside the data (by the half join width) or
+            closer than the join width to another, or a segment with fewer
+            distinct inputs than its order + 1.
+
+        Warns
+        -----
+        UserWarning
+            Heuristic mode on data that are not a rate table of an increasing
+            gyro: fewer than 3 distinct targets, or found breakpoints whose mean
+            outputs do not increase, lie within a half join of the data's ends or
+            closer than a join; such breakpoints are dropped.
         """
         orders, wfrac, alpha = self._check_params()
         X, y = validate_data(self, X, y, y_numeric=True)
         X = np.asarray(X, dtype=float)
         y = np.asarray(y, dtype=float)
         x = X[:, 0]
+        lo, hi = float(x.min()), float(x.max())
+        h = 0.5 * wfrac * (hi - lo)
+        self.half_join_ = h
         self.search_: BreakpointSearch | None = None
         if isinstance(self.breakpoints, str):
-            rates, inv = np.unique(y, return_inverse=True)
-            xm = np.bincount(inv, weights=x) / np.bincount(inv)
-            self.search_ = breakpoint_search(rates, xm, run_length=self.run_length)
-            bps, brs, used = [], [], [orders[1]]
-            if self.search_.negative is not None:
-                bps.append(float(xm[rates == self.search_.negative][0]))
-                brs.append(self.search_.negative)
-                used.insert(0, orders[0])
-            if self.search_.positive is not None:
-                bps.append(float(xm[rates == self.search_.positive][0]))
-                brs.append(self.search_.positive)
-                used.append(orders[2])
-            if len(bps) == 2 and not bps[0] < bps[1]:
-                raise ValueError(
-                    f"breakpoints in x must increase; got {bps} (is the output decreasing with rate?)"
-                )
-            self.breakpoints_ = tuple(bps)
-            self.breakpoint_rates_ = tuple(brs)
-            self.orders_ = tuple(used)
+            self._heuristic(x, y, orders, lo, hi, h)
         else:
             self.breakpoints_ = tuple(float(b) for b in self.breakpoints)
             self.breakpoint_rates_ = ()
             self.orders_ = orders
-        lo, hi = float(x.min()), float(x.max())
-        h = 0.5 * wfrac * (hi - lo)
-        self.half_join_ = h
         edges = [-np.inf, *self.breakpoints_, np.inf]
         for i, b in enumerate(self.breakpoints_):
             if not (lo + h < b < hi - h):
@@ -400,6 +394,56 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                 self._join_end_values(i, np.zeros((1, 1))) for i in range(len(self.joins_))
             ]
         return self
+
+    def _heuristic(
+        self, x: NDArray, y: NDArray, orders: tuple[int, ...], lo: float, hi: float, h: float
+    ) -> None:
+        """Breakpoints by the paper's search on the table (distinct y, mean x at each).
+
+        Where the search cannot run (fewer than 3 distinct targets) or a breakpoint
+        it finds cannot split x (the outputs at the two breakpoints do not increase,
+        or one lies within a half join of the data's ends), the data are not a rate
+        table of an increasing gyro: the model falls back to fewer segments and
+        warns (legal input, degraded model), as for any regression data.
+        """
+        rates, inv = np.unique(y, return_inverse=True)
+        if rates.size < 3:
+            warnings.warn(
+                f"{type(self).__name__}: the breakpoint search needs at least 3 distinct targets "
+                f"(table rates); got {rates.size}: fitting one segment of order {orders[1]}",
+                UserWarning,
+                stacklevel=3,
+            )
+            self.breakpoints_, self.breakpoint_rates_, self.orders_ = (), (), (orders[1],)
+            return
+        xm = np.bincount(inv, weights=x) / np.bincount(inv)
+        self.search_ = breakpoint_search(rates, xm, run_length=self.run_length)
+        found = []  # (x, rate, side)
+        if self.search_.negative is not None:
+            found.append((float(xm[rates == self.search_.negative][0]), self.search_.negative, 0))
+        if self.search_.positive is not None:
+            found.append((float(xm[rates == self.search_.positive][0]), self.search_.positive, 2))
+        usable = [f for f in found if lo + h < f[0] < hi - h]
+        if len(usable) == 2 and not usable[1][0] - usable[0][0] > 2 * h:
+            usable = []  # not increasing in x, or closer than a join
+        if len(usable) < len(found):
+            warnings.warn(
+                f"{type(self).__name__}: breakpoints at x = {[f[0] for f in found]} (rates "
+                f"{[f[1] for f in found]}) cannot split the inputs (they must increase, lie inside "
+                f"({lo!r}, {hi!r}) by more than {h!r} and be more than {2 * h!r} apart); "
+                f"using {[f[0] for f in usable]}",
+                UserWarning,
+                stacklevel=3,
+            )
+        self.breakpoints_ = tuple(f[0] for f in usable)
+        self.breakpoint_rates_ = tuple(f[1] for f in usable)
+        used = [orders[1]]
+        for f in usable:
+            if f[2] == 0:
+                used.insert(0, orders[0])
+            else:
+                used.append(orders[2])
+        self.orders_ = tuple(used)
 
     def _join_end_values(self, i: int, X: NDArray[np.float64]):
         """y0, m0 (left segment at x0) and y1, m1 (right segment at x1), other features from X."""

@@ -123,8 +123,11 @@ def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
     while not folder.exists() and folder != folder.parent:
         folder = folder.parent
     try:
-        free = shutil.disk_usage(folder).free
-    except OSError:  # cannot tell (e.g. a special file system): let the write itself fail or succeed
+        usage = shutil.disk_usage(folder)
+    except OSError:  # cannot tell: let the write itself fail or succeed
+        return
+    free = usage.free
+    if usage.total == 0:  # a pseudo file system (/proc, /sys): sizes mean nothing there
         return
     if nbytes > free:
         err = AtomicWriteError(
@@ -534,7 +537,10 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
                     out[sub][k] = Channel(data, str(ds.attrs["unit"]), str(ds.attrs.get("description", "")))
         except (KeyError, OSError, json.JSONDecodeError) as exc:
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is incomplete ({exc})") from None
-        return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0, metadata=meta, name=name)
+        try:
+            return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0, metadata=meta, name=name)
+        except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
+            raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
 
 
 class HDF5StreamWriter:

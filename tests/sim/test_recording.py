@@ -277,3 +277,20 @@ def test_record_larger_than_free_space_is_refused_before_writing(tmp_path, monke
 def test_stream_writer_rejects_bad_chunk(tmp_path):
     with pytest.raises(ValueError, match="chunk must be an integer > 0 samples; got 0"):
         HDF5StreamWriter(tmp_path / "s.h5", name="x", fs=1.0, channels={"rate": "rad/s"}, chunk=0)
+
+
+def test_free_space_of_a_pseudo_file_system_is_not_a_limit(tmp_path, monkeypatch):
+    import shutil
+
+    from sim.recording import ensure_free_space
+
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(0, 0, 0))  # as /proc reports
+    ensure_free_space(tmp_path / "x.h5", 10**6)  # no refusal: the write itself will say what is wrong
+
+
+def test_invalid_stored_fs_names_the_file(tmp_path):
+    save_hdf5(tmp_path / "r.h5", _rec(n=10))
+    with h5py.File(tmp_path / "r.h5", "r+") as h5:
+        h5["/recordings/run1"].attrs["fs"] = 0.0
+    with pytest.raises(RecordingFormatError, match=r"r\.h5': recording 'run1' is invalid: Recording\.fs must be .* got 0\.0"):
+        load_hdf5(tmp_path / "r.h5")

@@ -19,9 +19,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import shlex
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -82,18 +84,60 @@ def _nonneg_float(name: str):
 def _duration(text: str) -> float:
     from sim.units import parse_duration
 
+    if text.strip().startswith("-"):
+        raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
     try:
         return parse_duration(text)
     except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
+        raise argparse.ArgumentTypeError(f"--{exc}") from None
+
+
+def _positive_int(name: str):
+    def conv(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {text!r}") from None
+        if v <= 0:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {text!r}")
+        return v
+
+    return conv
+
+
+#: the fewest samples a record may have: the overlapping Allan deviation at octave taus
+#: 1, 2, 4, 8, 16 samples (the five points the Q/N/B/K/R fit needs) takes 2 x 16 + 1 samples
+MIN_RECORD_SAMPLES = 33
+
+#: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
+_NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
+_SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
+
+
+def _given(args, flags: dict[str, str]) -> list[str]:
+    return [flag for dest, flag in flags.items() if getattr(args, dest, None) is not None]
 
 
 def _simulate_noise(args) -> int:
+    """Stream one noise record to ``-o FILE.h5|.csv``.
+
+    The record is static: the true rate is 0 rad/s and every sample of channel
+    ``rate`` is error. The HDF5 ``truth`` group is therefore left empty rather
+    than doubling the file with a zero channel or with each noise term (use
+    ``simulate static_noise`` for records with per-term truth); instead the
+    metadata states ``truth.true_rate_rad_s = 0`` and holds the generating
+    model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
+    K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
+    """
     from tqdm import tqdm
 
     from sim.noise import NoiseModel
-    from sim.recording import HDF5StreamWriter, atomic_path, package_version
+    from sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
 
+    if extra := _given(args, _SCENARIO_FLAGS):
+        raise _BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
+                        "a noise record is written to the one file named by -o")
     if args.output is None:
         raise _BadInput("simulate noise needs -o FILE.h5 or FILE.csv")
     out = Path(args.output)
@@ -102,52 +146,89 @@ def _simulate_noise(args) -> int:
         raise _BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
     if args.duration is None:
         raise _BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
-    field = {"quantization": args.Q, "angle_random_walk": args.N, "bias_instability": args.B,
-             "rate_random_walk": args.K, "rate_ramp": args.R}
-    model = NoiseModel.from_datasheet(**field)
-    n = int(round(args.duration * args.fs))
-    if n < 2:
-        raise _BadInput(f"--duration x --fs must give at least 2 samples; got {n}")
+    fs = 100.0 if args.fs is None else args.fs
+    datasheet = {"Q_arcsec": args.Q or 0.0, "N_deg_sqrt_h": args.N or 0.0, "B_deg_h": args.B or 0.0,
+                 "K_deg_h_sqrt_h": args.K or 0.0, "R_deg_h2": args.R or 0.0}
+    model = NoiseModel.from_datasheet(
+        quantization=datasheet["Q_arcsec"], angle_random_walk=datasheet["N_deg_sqrt_h"],
+        bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
+        rate_ramp=datasheet["R_deg_h2"],
+    )
+    n = int(round(args.duration * fs))
+    if n < MIN_RECORD_SAMPLES:
+        raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
+                        f"at least {MIN_RECORD_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
+    # a CSV row is "%.12g,%.17g\n": at most about 42 characters; HDF5 stores 8 bytes per sample
+    ensure_free_space(out, 42 * n if suffix == ".csv" else 8 * n)
     seed = 0 if args.seed is None else args.seed
-    stream = model.stream(args.fs, rng=np.random.default_rng(seed))
-    meta = {"source": "gyrobench simulate noise", "datasheet": {"Q_arcsec": args.Q, "N_deg_sqrt_h": args.N,
-            "B_deg_h": args.B, "K_deg_h_sqrt_h": args.K, "R_deg_h2": args.R}, "seed": seed, "version": package_version()}
-    chunk = args.chunk
+    chunk = args.chunk or 1 << 20
+    stream = model.stream(fs, rng=np.random.default_rng(seed))
+    meta = {
+        "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
+        "truth": {"true_rate_rad_s": 0.0,
+                  "note": "static record: the true rate is 0 rad/s, every sample of 'rate' is error; "
+                          "the noise terms are not stored separately"},
+        "noise_model_si": {"quantization_rad": model.quantization,
+                           "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
+                           "bias_instability_rad_per_s": model.bias_instability,
+                           "rate_random_walk_rad_per_s_sqrt_s": model.rate_random_walk,
+                           "rate_ramp_rad_per_s2": model.rate_ramp},
+    }
     bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
-    if suffix == ".csv":
-        with atomic_path(out) as tmp, open(tmp, "w") as fh:
-            fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
-            fh.write("time [s],rate [rad/s]\n")
-            k = 0
-            for y in stream.chunks(n, chunk):
-                t = (k + np.arange(len(y))) / args.fs
-                np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
-                k += len(y)
-                bar.update(len(y))
-    else:
-        with HDF5StreamWriter(out, name="noise", fs=args.fs, channels={"rate": "rad/s"}, metadata=meta) as w:
-            for y in stream.chunks(n, chunk):
-                w.append(rate=y)
-                bar.update(len(y))
-    bar.close()
-    print(f"wrote {n} samples ({n / args.fs:.6g} s at {args.fs:g} Hz) to {out}")
+    ok = False
+    try:
+        if suffix == ".csv":
+            with atomic_path(out) as tmp, open(tmp, "w") as fh:
+                fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
+                fh.write("time [s],rate [rad/s]\n")
+                k = 0
+                for y in stream.chunks(n, chunk):
+                    t = (k + np.arange(len(y))) / fs
+                    np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
+                    k += len(y)
+                    bar.update(len(y))
+        else:
+            with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
+                                  expected_samples=n) as w:
+                for y in stream.chunks(n, chunk):
+                    w.append(rate=y)
+                    bar.update(len(y))
+        ok = True
+    finally:
+        # also on error, and then erased: a bar left open redraws itself after the one-line error
+        bar.leave = bar.leave and ok
+        bar.close()
+    print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
     return 0
 
 
 def _simulate_scenario(args) -> int:
     from scenarios import registry
-    from sim.recording import save_hdf5
+    from sim.recording import ensure_free_space, save_hdf5
 
+    if extra := _given(args, _NOISE_FLAGS):
+        raise _BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate noise' only; "
+                        f"set a scenario's parameters with --config FILE.toml")
     mod = registry.get(args.target)
     config = registry.load_config(mod, args.config)
     if args.out is None:
         raise _BadInput(f"simulate {args.target} needs --out DIR")
     seed = 0 if args.seed is None else args.seed
     recs = mod.simulate(config, seed)
+    for r in recs:  # check them all before writing any
+        if r.n_samples < MIN_RECORD_SAMPLES:
+            raise _BadInput(
+                f"simulate {args.target}: recording {r.name!r} would have {r.n_samples} samples "
+                f"({r.n_samples / r.fs:.3g} s at {r.fs:g} Hz); a record needs at least {MIN_RECORD_SAMPLES}: "
+                f"lengthen it in the config"
+            )
     out = Path(args.out) / mod.NAME
+    ensure_free_space(out / "all recordings",
+                      sum(c.data.nbytes for r in recs for c in (*r.channels.values(), *r.truth.values())))
     for r in recs:
         path = save_hdf5(out / f"{r.name}.h5", r)
-        print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; truth {', '.join(r.truth)})")
+        print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
+              f"truth {', '.join(r.truth)})")
     return 0
 
 
@@ -158,8 +239,52 @@ def _cmd_simulate(args) -> int:
 
 
 # ----------------------------------------------------------------------------- allan
+#: time-column names (case-insensitive, after removing a "[unit]" or "(unit)"): time, t, timestamp,
+#: optionally with the unit as a suffix (time_s, t_s, time_ms)
+_TIME_NAME = re.compile(r"^(?:time|t|timestamp|times)(?:[ _-]?(s|sec|secs|seconds|ms|us))?$", re.IGNORECASE)
+_TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6,
+               "µs": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0}
+#: a time step larger than this multiple of the median step is a gap in the record
+_GAP_FACTOR = 1.5
+#: fewer data rows than this cannot give any Allan deviation (the analysis asks for more per tau)
+_MIN_CSV_ROWS = 2
+
+
+def _split_header(cell: str) -> tuple[str, str | None]:
+    """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses."""
+    cell = cell.strip()
+    close = cell[-1:] if cell[-1:] in ")]" else None
+    if close is None:
+        return cell, None
+    opening = "(" if close == ")" else "["
+    depth = 0
+    for i in range(len(cell) - 1, -1, -1):
+        depth += (cell[i] == close) - (cell[i] == opening)
+        if depth == 0:
+            return cell[:i].strip(), cell[i + 1 : -1].strip() or None
+    return cell, None
+
+
+def _time_column(names: list[str], hdr_units: list[str | None]) -> tuple[int | None, float | None]:
+    """Index of the time column and its unit in seconds (None when the unit is not a time unit)."""
+    for i, nm in enumerate(names):
+        m = _TIME_NAME.match(nm)
+        if m:
+            unit = hdr_units[i] or m.group(1) or "s"  # no unit anywhere: seconds
+            return i, _TIME_UNITS.get(unit.lower() if unit != "µs" else unit)
+    return None, None
+
+
 def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None):
     """Read one rate column of a CSV (``#`` comments, optional header, .gz allowed).
+
+    Rate column: ``--column`` (name or 0-based index), else the only column
+    that is not the time column. Time column: a header such as ``time``,
+    ``t``, ``timestamp``, ``t_s``, ``Time (s)``, ``time [ms]`` (any case). It
+    gives fs (1 / median step) unless ``--fs`` is given, and it must be
+    uniform: a step that is not positive, or larger than 1.5 x the median
+    step (a gap), is refused, naming the row, since Allan analysis assumes
+    uniform sampling.
 
     Returns (rate in rad/s, fs [Hz], column label).
     """
@@ -167,6 +292,7 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
 
     opener = __import__("gzip").open if path.suffix == ".gz" else open
     header: list[str] | None = None
+    first: list[str] | None = None
     skip = 0
     with opener(path, "rt") as fh:
         for line in fh:
@@ -178,44 +304,82 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
             try:
                 [float(c) for c in cells]
                 skip -= 1  # first data line: no header
+                first = cells
             except ValueError:
                 header = cells
             break
         else:
-            raise _BadInput(f"{str(path)!r} holds no data rows")
-    names = [h.split("[")[0].strip() for h in header] if header else []
-    hdr_units = [h[h.index("[") + 1 : h.rindex("]")].strip() if header and "[" in h and "]" in h else None for h in (header or [])]
+            raise _BadInput(f"CSV {str(path)!r} has 0 data rows; need at least {_MIN_CSV_ROWS}")
+    if header is not None:
+        names, hdr_units = (list(t) for t in zip(*(_split_header(h) for h in header), strict=True))
+    else:
+        names, hdr_units = [], [None] * len(first or [])
+    ncols = len(header or first or [])
+    time_idx, time_scale = _time_column(names, hdr_units)
+    listing = names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
     if column is None:
-        candidates = [i for i, nm in enumerate(names) if not nm.lower().startswith("time")]
-        if header is None or len(candidates) != 1:
-            raise _BadInput(f"name the rate column with --column (columns: {names or 'unnamed, use an index'})")
+        candidates = [i for i in range(ncols) if i != time_idx]
+        if len(candidates) != 1:
+            raise _BadInput(f"{str(path)!r} has {len(candidates)} data columns: name the rate column with "
+                            f"--column (columns: {listing})")
         idx = candidates[0]
     elif column in names:
         idx = names.index(column)
     elif header and column in header:
         idx = header.index(column)
+    elif [nm.lower() for nm in names].count(column.lower()) == 1:
+        idx = [nm.lower() for nm in names].index(column.lower())
     else:
         try:
             idx = int(column)
         except ValueError:
-            raise _BadInput(f"--column {column!r} is not in {str(path)!r}; columns: {names}") from None
-    time_idx = next((i for i, nm in enumerate(names) if nm.lower() in ("time", "t", "time_s")), None)
-    cols = [idx] + ([time_idx] if time_idx is not None and fs is None else [])
+            raise _BadInput(f"--column {column!r} is not in {str(path)!r}; columns: {listing}") from None
+        if not 0 <= idx < ncols:
+            raise _BadInput(f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})")
+    if idx == time_idx:
+        raise _BadInput(f"--column {column!r} is the time column of {str(path)!r}; name the rate column")
+    if fs is None and time_idx is None:
+        raise _BadInput(f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)")
+    if fs is None and time_scale is None:
+        raise _BadInput(f"the time column {header[time_idx]!r} of {str(path)!r} has no time unit "
+                        f"({'|'.join(_TIME_UNITS)}): give --fs (sample rate in Hz)")
+    cols = [idx] + ([time_idx] if time_idx is not None else [])
     try:
-        data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skip, usecols=cols, ndmin=2)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # "input contained no data": reported below
+            data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skip, usecols=cols, ndmin=2)
     except (ValueError, IndexError) as exc:
         raise _BadInput(f"cannot read column {column or idx!r} of {str(path)!r}: {exc}") from None
+    rows = data.shape[0]
+    if rows < _MIN_CSV_ROWS:
+        raise _BadInput(f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
+                        f"{_MIN_CSV_ROWS} (and many more for an Allan analysis)")
     rate = data[:, 0]
-    if fs is None:
-        if time_idx is None:
-            raise _BadInput(f"{str(path)!r} has no time column: give --fs (sample rate in Hz)")
-        dt = np.diff(data[:, 1])
-        if len(dt) < 1 or not np.all(dt > 0):
-            raise _BadInput(f"time column of {str(path)!r} must be strictly increasing")
-        fs = 1.0 / float(np.median(dt))
-    unit = unit or (hdr_units[idx] if hdr_units and hdr_units[idx] else None)
+    if time_idx is not None:
+        t = data[:, 1]
+        dt = np.diff(t)
+        tname = header[time_idx]
+        bad = np.flatnonzero(~(dt > 0))
+        if len(bad):
+            i = int(bad[0])
+            raise _BadInput(f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
+                            f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}")
+        step = float(np.median(dt))
+        gaps = np.flatnonzero(dt > _GAP_FACTOR * step)
+        if len(gaps):
+            i = int(gaps[0])
+            raise _BadInput(
+                f"time column {tname!r} of {str(path)!r} has a gap before data row {i + 2}: step {dt[i]:.6g} "
+                f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / step:.3g} x the median step {step:.6g} "
+                f"({len(gaps)} such gap{'s' if len(gaps) > 1 else ''}); Allan analysis needs uniform sampling: "
+                f"analyse the segments separately"
+            )
+        if fs is None:
+            fs = 1.0 / (step * time_scale)
+    unit = unit or hdr_units[idx]
     if unit is None:
-        raise _BadInput(f"the unit of column {names[idx] if names else idx!r} is unknown: give --units ({'|'.join(units.RATE_UNITS)})")
+        raise _BadInput(f"the unit of column {names[idx] if names else idx!r} is unknown: "
+                        f"give --units ({'|'.join(units.RATE_UNITS)})")
     label = names[idx] if names else f"column {idx}"
     return units.rate_to_si(rate, unit), fs, label
 
@@ -251,8 +415,16 @@ def _cmd_allan(args) -> int:
         rate, fs, label = _read_csv(path, args.column, args.fs, args.units)
     bad = np.flatnonzero(~np.isfinite(rate))
     if len(bad):
-        raise _BadInput(f"{label} contains {rate[bad[0]]!r} at sample {bad[0]}: the data must be finite")
+        # float(): print nan / inf, not np.float64(nan)
+        raise _BadInput(f"{label} contains {float(rate[bad[0]])} at sample {bad[0]} ({len(bad)} non-finite "
+                        f"sample{'s' if len(bad) > 1 else ''}): the data must be finite")
     curve = allan_deviation(rate, fs, taus=args.taus, kind=args.kind)
+    if len(curve.tau) < 5:
+        raise _BadInput(
+            f"{label}: {len(rate)} samples at {fs:g} Hz give {len(curve.tau)} {curve.kind} Allan deviation "
+            f"point(s) at taus={args.taus!r} (up to {curve.tau[-1]:.3g} s); the Q/N/B/K/R fit needs at least 5: "
+            f"use a longer record or --taus all"
+        )
     fit = fit_noise(curve)
     js = coefficients_json(fit)
     if args.json:
@@ -297,11 +469,16 @@ def _cmd_reproduce(args) -> int:
     configs = [registry.load_config(m, args.config) for m in mods]
     outcomes = []
     t0 = time.perf_counter()
-    bar = tqdm(list(zip(mods, configs)), desc="reproduce", unit="scenario", disable=args.quiet)
-    for mod, cfg in bar:
-        bar.set_postfix_str(mod.NAME)
-        outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
-    bar.close()
+    bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
+    try:
+        for mod, cfg in bar:
+            bar.set_postfix_str(mod.NAME)
+            outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
+    except BaseException:
+        bar.leave = False  # erase the bar: the error is the one line left
+        raise
+    finally:
+        bar.close()
     index = write_report(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     held = sum(1 for o in outcomes for h in o.headlines if h.holds is True)
     total = sum(1 for o in outcomes for h in o.headlines if h.holds is not None)
@@ -335,18 +512,19 @@ def build_parser() -> argparse.ArgumentParser:
                        description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
                                    "'simulate SCENARIO' writes every recording of a scenario (HDF5 with truth).")
     s.add_argument("target", help="'noise' or a scenario name (see 'gyrobench list')")
-    s.add_argument("--Q", type=_nonneg_float("--Q"), default=0.0, help="quantization [arcsec]")
-    s.add_argument("--N", type=_nonneg_float("--N"), default=0.0, help="angle random walk [deg/sqrt(h)]")
-    s.add_argument("--B", type=_nonneg_float("--B"), default=0.0, help="bias instability [deg/h]")
-    s.add_argument("--K", type=_nonneg_float("--K"), default=0.0, help="rate random walk [deg/h/sqrt(h)]")
-    s.add_argument("--R", type=_nonneg_float("--R"), default=0.0, help="rate ramp [deg/h^2]")
-    s.add_argument("--fs", type=_positive_float("--fs"), default=100.0, help="sample rate [Hz] (default 100)")
-    s.add_argument("--duration", type=_duration, help="record length: 10h, 30min, 600s")
+    # noise-only flags default to None so that giving one to a scenario (or the reverse) can be refused
+    s.add_argument("--Q", type=_nonneg_float("--Q"), help="noise: quantization [arcsec] (default 0)")
+    s.add_argument("--N", type=_nonneg_float("--N"), help="noise: angle random walk [deg/sqrt(h)] (default 0)")
+    s.add_argument("--B", type=_nonneg_float("--B"), help="noise: bias instability [deg/h] (default 0)")
+    s.add_argument("--K", type=_nonneg_float("--K"), help="noise: rate random walk [deg/h/sqrt(h)] (default 0)")
+    s.add_argument("--R", type=_nonneg_float("--R"), help="noise: rate ramp [deg/h^2] (default 0)")
+    s.add_argument("--fs", type=_positive_float("--fs"), help="noise: sample rate [Hz] (default 100)")
+    s.add_argument("--duration", type=_duration, help="noise: record length > 0: 10h, 30min, 600s")
     s.add_argument("--seed", type=_seed, help="random seed (default 0)")
     s.add_argument("-o", "--output", help="noise: output file, .h5 or .csv")
     s.add_argument("--out", help="scenario: output folder")
     s.add_argument("--config", help="scenario: TOML file overriding the scenario's parameters")
-    s.add_argument("--chunk", type=int, default=1 << 20, help=argparse.SUPPRESS)
+    s.add_argument("--chunk", type=_positive_int("--chunk"), help=argparse.SUPPRESS)
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 
@@ -386,11 +564,34 @@ def _version() -> str:
     return package_version()
 
 
+#: options whose value may start with "-" (argparse would take "--duration -5s" for two options)
+_VALUE_OPTIONS = ("--duration", "--fs", "--Q", "--N", "--B", "--K", "--R", "--seed", "--chunk")
+_NEGATIVE_VALUE = re.compile(r"^-(?:[0-9.]|inf|nan)", re.IGNORECASE)
+
+
+def _attach_negative_values(argv: list[str]) -> list[str]:
+    """``--duration -5s`` -> ``--duration=-5s``, so the value is parsed and refused with its own message."""
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a == "--":
+            out.extend(argv[i:])
+            break
+        if a in _VALUE_OPTIONS and i + 1 < len(argv) and _NEGATIVE_VALUE.match(argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``gyrobench`` console script; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
     try:
         return int(args.func(args) or 0)
@@ -398,9 +599,7 @@ def main(argv: list[str] | None = None) -> int:
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"gyrobench: error: {msg}", file=sys.stderr)
         return 2
-    except OSError as exc:
-        from sim.recording import RecordingFormatError  # noqa: F401  (a ValueError, caught above)
-
+    except OSError as exc:  # a failed write (sim.recording.AtomicWriteError names the target), an unreadable input
         print(f"gyrobench: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -154,21 +154,29 @@ def test_bad_nan_in_csv(tmp_path, capsys):
     p = tmp_path / "g.csv"
     p.write_text("rate [deg/s]\n" + "\n".join(["0.1"] * 500 + ["nan"] + ["0.2"] * 500) + "\n")
     code, _, err = run(["allan", p, "--fs", "10"], capsys)
-    assert_one_line_error(code, err, "nan")
+    assert_one_line_error(code, err, "rate contains nan at sample 500")  # not np.float64(nan)
 
 
 def test_bad_inf_in_csv(tmp_path, capsys):
     p = tmp_path / "g.csv"
     p.write_text("rate [deg/s]\n" + "\n".join(["0.1"] * 500 + ["inf"]) + "\n")
     code, _, err = run(["allan", p, "--fs", "10"], capsys)
-    assert_one_line_error(code, err, "inf")
+    assert_one_line_error(code, err, "rate contains inf at sample 500")
 
 
-def test_bad_too_few_samples(tmp_path, capsys):
+@pytest.mark.parametrize(
+    ("rows", "match"),
+    [
+        (2, "rate has too few samples for a"),  # analysis.allan: fewer than the first octave tau needs
+        (20, "rate: 20 samples at 10 Hz give 3 overlapping Allan deviation point(s) at taus='octave' "
+             "(up to 0.4 s); the Q/N/B/K/R fit needs at least 5"),
+    ],
+)
+def test_bad_too_few_samples(tmp_path, capsys, rows, match):
     p = tmp_path / "g.csv"
-    p.write_text("rate [deg/s]\n0.1\n0.2\n")
+    p.write_text("rate [deg/s]\n" + "\n".join(f"0.{i}" for i in range(rows)) + "\n")
     code, _, err = run(["allan", p, "--fs", "10"], capsys)
-    assert_one_line_error(code, err, "")
+    assert_one_line_error(code, err, match)
 
 
 def test_bad_nonpositive_fs(capsys, tmp_path):
@@ -180,6 +188,28 @@ def test_bad_nonpositive_fs(capsys, tmp_path):
 def test_bad_negative_coefficient(capsys, tmp_path):
     code, _, err = run(["simulate", "noise", "--K", "-0.1", "--duration", "1s", "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, "--K must be a finite number >= 0; got '-0.1'")
+    assert list(tmp_path.iterdir()) == []  # nothing written, not even a temporary file
+    # a value argparse would not take for a number ("-1e-3"): refused by the same check, not "expected one argument"
+    code, _, err = run(["simulate", "noise", "--N", "-1e-3", "--duration", "1s", "-o", tmp_path / "x.h5"], capsys)
+    assert_one_line_error(code, err, "--N must be a finite number >= 0; got '-1e-3'")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_allan_fs_zero(tmp_path, capsys):
+    p = tmp_path / "g.csv"
+    p.write_text("rate [deg/s]\n" + "\n".join(["0.1"] * 100) + "\n")
+    code, _, err = run(["allan", p, "--fs", "0"], capsys)
+    assert_one_line_error(code, err, "--fs must be a finite number > 0; got '0'")
+    code, _, err = run(["allan", p, "--fs", "-5"], capsys)
+    assert_one_line_error(code, err, "--fs must be a finite number > 0; got '-5'")
+
+
+def test_bad_hdf5_with_fs_zero(noise_h5, capsys):
+    with h5py.File(noise_h5, "r+") as h5:
+        h5["recordings/noise"].attrs["fs"] = 0.0
+    code, _, err = run(["allan", noise_h5], capsys)
+    assert_one_line_error(code, err, f"{str(noise_h5)!r}: recording 'noise' is invalid: "
+                                     "Recording.fs must be a finite number > 0 Hz; got 0.0")
 
 
 def test_bad_unknown_units(tmp_path, capsys):
@@ -238,6 +268,22 @@ def test_bad_duration(tmp_path, capsys):
     assert_one_line_error(code, err, "duration must be")
 
 
+@pytest.mark.parametrize("text", ["-5s", "-5", "-0.5h"])
+def test_bad_negative_duration(tmp_path, capsys, text):
+    # before: argparse took "-5s" for an option and said "expected one argument"
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", text, "-o", tmp_path / "x.h5"], capsys)
+    assert_one_line_error(code, err, f"--duration must be > 0 s; got '{text}'")
+    code, _, err = run(["simulate", "noise", "--N", "1", f"--duration={text}", "-o", tmp_path / "x.h5"], capsys)
+    assert_one_line_error(code, err, f"--duration must be > 0 s; got '{text}'")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_too_short_noise_record(tmp_path, capsys):
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "0.1s", "-o", tmp_path / "x.h5"], capsys)
+    assert_one_line_error(code, err, "--duration x --fs = 0.1 s x 100 Hz gives 10 samples; a record needs at least 33")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bad_output_suffix(tmp_path, capsys):
     code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "3s", "-o", tmp_path / "x.mat"], capsys)
     assert_one_line_error(code, err, "-o must end in .h5, .hdf5 or .csv")
@@ -259,3 +305,164 @@ def test_console_script_exit_code(tmp_path):
     r = subprocess.run([str(exe), "simulate", "noise", "--N", "nan", "-o", str(tmp_path / "x.h5")], capture_output=True, text=True)
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+
+
+# ----------------------------------------------------------------------------- flags that belong to the other form
+def test_bad_scenario_flags_for_noise(tmp_path, capsys):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[fog]\nduration_h = 0.05\n")
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "60s", "-o", tmp_path / "x.h5",
+                        "--config", cfg, "--out", tmp_path / "D"], capsys)
+    assert_one_line_error(code, err, "simulate noise: --out, --config apply to 'simulate SCENARIO'")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.toml"]
+
+
+def test_bad_noise_flags_for_scenario(tmp_path, capsys):
+    code, _, err = run(["simulate", "static_noise", "--fs", "10", "--N", "5", "--out", tmp_path / "D"], capsys)
+    assert_one_line_error(code, err, "simulate static_noise: --N, --fs apply to 'simulate noise' only")
+    assert list(tmp_path.iterdir()) == []
+
+
+# ----------------------------------------------------------------------------- config holes
+def test_bad_config_giving_an_empty_record(tmp_path, capsys):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[fog]\nduration_h = 1e-9\n[mems]\nduration_h = 0.05\n")
+    code, _, err = run(["simulate", "static_noise", "--out", tmp_path / "o", "--config", cfg], capsys)
+    assert_one_line_error(code, err, "recording 'static_fog' would have 0 samples (0 s at 100 Hz); "
+                                     "a record needs at least 33")
+    assert not (tmp_path / "o").exists()  # checked before any file is written
+
+
+# ----------------------------------------------------------------------------- writing: failures, names, modes, space
+_FSIZE_MAIN = r"""
+import resource, sys
+from scenarios.cli import main
+resource.setrlimit(resource.RLIMIT_FSIZE, (200_000, 200_000))
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def _visible_lines(err: str) -> list[str]:
+    """What a terminal shows, less the progress bar: for each line, the text after the last carriage
+    return (tqdm redraws in place), without the bar's own lines (tqdm writes those on a pipe too)."""
+    lines = [ln.split("\r")[-1] for ln in err.split("\n")]
+    return [ln for ln in lines if ln.strip() and not ln.startswith("simulate:")]
+
+
+def _assert_error_is_last(err: str, message: str) -> None:
+    assert "Traceback" not in err
+    assert _visible_lines(err) == [message], err
+    assert err.rstrip().splitlines()[-1].split("\r")[-1] == message, err  # nothing redrawn after it
+
+
+@pytest.mark.parametrize("target", ["noise.h5", "noise.csv", "static_noise"])
+def test_failed_write_is_one_line_and_exit_2(tmp_path, target):
+    # before: "gyrobench: error: ... '.a.h5.xxxx.tmp' ..." then a segfault (exit 139), or a traceback then 139
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    if target == "static_noise":
+        cfg = tmp_path / "c.toml"
+        cfg.write_text("[fog]\nduration_h = 0.05\n[mems]\nduration_h = 0.05\n")
+        argv = ["simulate", "static_noise", "--out", out, "--config", cfg]
+        named = out / "static_noise" / "static_fog.h5"
+    else:  # 60 000 samples: 480 kB of HDF5, 2 MB of CSV; progress bar on (no -q, small chunks)
+        argv = ["simulate", "noise", "--N", "1", "--fs", "1000", "--duration", "60s", "--chunk", "4096", "-o", out / target]
+        named = out / target
+    r = subprocess.run([sys.executable, "-c", _FSIZE_MAIN, *map(str, argv)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    _assert_error_is_last(
+        r.stderr,
+        f"gyrobench: error: cannot write {str(named)!r}: File too large (file-size limit reached: see 'ulimit -f')",
+    )
+    assert [p for p in out.rglob("*") if p.is_file()] == []  # no temporary file left, no half-written output
+
+
+def test_progress_bar_is_closed_on_error(tmp_path, capsys, monkeypatch):
+    # before: the bar stayed open and redrew itself after the error line
+    from sim.recording import HDF5StreamWriter
+
+    calls = []
+
+    def failing_append(self, **kw):
+        calls.append(1)
+        if len(calls) == 3:
+            raise ValueError("injected failure while streaming")
+
+    monkeypatch.setattr(HDF5StreamWriter, "append", failing_append)
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "100s", "--chunk", "1000",
+                        "-o", tmp_path / "x.h5"], capsys)
+    assert code == 2 and len(calls) == 3
+    assert "simulate:" in err  # the bar was on
+    _assert_error_is_last(err, "gyrobench: error: injected failure while streaming")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_unwritable_output_names_the_output_not_a_temp_file(tmp_path, capsys):
+    (tmp_path / "afile").write_text("")
+    target = tmp_path / "afile" / "x.h5"  # its folder is a file, as /proc/x.h5 is not writable
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "10s", "-o", target], capsys)
+    assert_one_line_error(code, err, f"cannot write {str(target)!r}")
+    assert ".tmp" not in err
+
+
+def test_output_mode_follows_umask(tmp_path, capsys):
+    import os
+
+    old = os.umask(0o022)
+    try:
+        code, _, _ = run(["simulate", "noise", "--N", "1", "--duration", "10s", "-o", tmp_path / "x.h5", "-q"], capsys)
+    finally:
+        os.umask(old)
+    assert code == 0
+    assert (tmp_path / "x.h5").stat().st_mode & 0o777 == 0o644  # before: 0600 whatever the umask
+
+
+def test_record_larger_than_free_space_is_refused(tmp_path, capsys, monkeypatch):
+    import shutil
+
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**12, 10**12 - 10**6, 10**6))
+    code, _, err = run(["simulate", "noise", "--N", "1", "--fs", "1000", "--duration", "1h",
+                        "-o", tmp_path / "x.h5"], capsys)
+    assert_one_line_error(code, err, "the record needs about 28.8 MB but")
+    assert "has 1 MB free" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_noise_record_states_its_truth(noise_h5):
+    rec = load_hdf5(noise_h5)
+    assert rec.truth == {}  # no zero channel, no per-term copies: the metadata says what the truth is
+    assert rec.metadata["truth"]["true_rate_rad_s"] == 0.0
+    si = rec.metadata["noise_model_si"]
+    assert si["angle_random_walk_rad_per_sqrt_s"] == pytest.approx(units.deg_per_sqrt_h(0.5), rel=1e-15)
+    assert si["bias_instability_rad_per_s"] == pytest.approx(units.deg_per_h(2.0), rel=1e-15)
+    assert si["quantization_rad"] == pytest.approx(units.arcsec(1.0), rel=1e-15)
+    assert si["rate_random_walk_rad_per_s_sqrt_s"] == 0.0 and si["rate_ramp_rad_per_s2"] == 0.0
+
+
+# ----------------------------------------------------------------------------- constant data
+def _allan_rejects_constant_data() -> bool:
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            fit_noise(allan_deviation(np.zeros(1000), 10.0))
+    except ValueError as exc:
+        return "constant" in str(exc)
+    except Exception:  # noqa: BLE001 (any other failure: not fixed yet)
+        return False
+    return False
+
+
+@pytest.mark.xfail(not _allan_rejects_constant_data(), strict=False,
+                   reason="analysis/allan.py (another owner) does not yet raise a ValueError for constant data; "
+                          "the CLI prints any ValueError from analysis as one line")
+def test_bad_constant_data(tmp_path, capsys):
+    p = tmp_path / "g.csv"
+    p.write_text("rate [deg/s]\n" + "\n".join(["0.1"] * 1000) + "\n")
+    code, _, err = run(["allan", p, "--fs", "10"], capsys)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("gyrobench: error:") and "constant" in lines[0], err

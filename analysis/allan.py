@@ -245,6 +245,22 @@ class NoiseFit:
             out = out + self.term_avar(name, tau)
         return out
 
+    def interval(self, name: str, level: float) -> tuple[float, float]:
+        """Two-sided interval of coefficient ``name`` at confidence ``level`` in (0, 1).
+
+        C_n +- z sqrt(Cov_nn) with z = Phi^-1((1 + level)/2), clipped at 0 and mapped by
+        C -> sqrt(C / scale) (the same construction as ``ci68``/``ci95``), e.g. for a test
+        at a stated false-alarm rate: ``fit.interval("N", 1 - 1e-6 / 5)``.
+        """
+        if name not in self.avar_coefficients:
+            raise ValueError(f"name must be one of the fitted terms {tuple(self.avar_coefficients)}; got {name!r}")
+        if isinstance(level, bool) or not isinstance(level, (int, float, np.floating)) or not (0.0 < level < 1.0):
+            raise ValueError(f"level must be a real number in (0, 1); got {level!r}")
+        j = list(self.avar_coefficients).index(name)
+        z = float(stats.norm.ppf(0.5 + float(level) / 2.0))
+        c, se = self.avar_coefficients[name], math.sqrt(max(float(self.covariance[j, j]), 0.0))
+        return avar_to_coefficient(name, c - z * se), avar_to_coefficient(name, c + z * se)
+
     def term_avar(self, name: str, tau: ArrayLike) -> NDArray[np.float64]:
         """One term's AVAR asymptote C_n tau^n at ``tau`` [s] (uses the point estimate C_n)."""
         if name not in self.avar_coefficients:
@@ -547,10 +563,16 @@ def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _noise_id_blocks(z: NDArray[np.float64], dmax: int) -> int:
-    """Lag-1 ACF noise identification (Riley & Greenhall 2004) of block means z of the rate."""
+    """Lag-1 ACF noise identification (Riley & Greenhall 2004) of block means z of the rate.
+
+    Block means that are exactly a line (a constant or noise-free ramp rate) have no noise
+    to identify: 0 (white rate) is returned; their deviation does not depend on the edf.
+    """
     z = _detrend1(z)
     d = 0
     while True:
+        if not np.any(z):
+            return 0
         r1 = _lag1_acf(z)
         rho = r1 / (1.0 + r1)
         if rho < 0.25 or d >= dmax:
@@ -735,6 +757,10 @@ def allan_deviation(
     n-array plus 1 MB of buffers. It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
     1e-9 relative). The other statistics call allantools (adev, mdev, hdev, ohdev, totdev).
 
+    A constant rate (zero variance, e.g. an all-zero record) is legal input: its deviation
+    is 0 at every tau (and so are the bounds; alpha is reported as 0). :func:`fit_noise`
+    rejects such a curve.
+
     Bounds: edf from Greenhall & Riley (allantools.ci.edf_greenhall) for the Allan,
     modified and Hadamard kinds, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
     then sigma^2 edf / chi2_{1-p/2}(edf) <= sigma_true^2 <= sigma^2 edf / chi2_{p/2}(edf)
@@ -876,17 +902,74 @@ def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int,
     return out
 
 
+#: c in Var(ybar_end - ybar_start) = (2 B^2/pi) (ln(L/tau) + c) for flicker rate averaged by the
+#: window of each statistic (L >> tau): triangular 2-tau window (overlapping: the sum of m
+#: overlapping differences telescopes to m^2-weighted triangles) and tau box (standard);
+#: c = 2 Int_0^inf sin^2(lam u) w(u)/u du - ln lam for lam -> inf, w = sinc^4 or sinc^2
+#: (evaluated numerically; the box value is 3/2 to 7 digits)
+_FLICKER_END_C = {"overlapping": 1.15914, "standard": 1.5}
+
+
+def _ramp_cross_sd(
+    terms: Sequence[str], c: NDArray[np.float64], tau: NDArray[np.float64], ms: NDArray[np.int64], n: int, kind: str
+) -> NDArray[np.float64]:
+    """sd of the ramp x noise cross term of each AVAR point (0 when R is not fitted or is 0).
+
+    A rate ramp R t is deterministic: each difference of tau-averages is d_r + e_k with
+    d_r = R tau exactly, so A = d_r^2/2 + d_r mean(e) + mean(e^2)/2. The first part has no
+    variance; the last is the noise's own chi-square part; the middle one has variance
+    d_r^2 Var(mean e), uncorrelated with the chi-square part (odd Gaussian moment). The mean
+    of the differences telescopes to (tau/L)(ybar_end - ybar_start), the difference of two
+    window averages of the rate a lag L apart (L = (n + 1 - 2m)/fs overlapping, with
+    triangular 2-tau windows; (floor(n/m) - 1) tau standard, tau boxes). Its variance for
+    each noise term (continuous-time, L >> tau) is
+    Q: 4 Q^2/(m tau^2) (overlapping) or 4 Q^2/tau^2; N: (4/3) N^2/tau or 2 N^2/tau;
+    B: (2 B^2/pi)(ln(L/tau) + c) (``_FLICKER_END_C``); K: K^2 (L - 7 tau/15) or
+    K^2 (L - tau/3) (random walk: integral of the squared difference of the two window
+    cumulative weights). The cross term is nearly the same random variable (ybar_end -
+    ybar_start, dominated by the slow terms) at every tau, so it is given correlation 1
+    across tau: a rank-one addition s s' to the point covariance.
+    """
+    if "R" not in terms:
+        return np.zeros(tau.size)
+    cd = dict(zip(terms, c))
+    if cd["R"] <= 0:
+        return np.zeros(tau.size)
+    m = ms.astype(float)
+    over = kind == "overlapping"
+    lag = (n + 1 - 2 * m) * tau / m if over else (np.floor(n / m) - 1.0) * tau
+    lag = np.maximum(lag, tau)
+    v = np.zeros(tau.size)
+    v += cd.get("Q", 0.0) * (4.0 / 3.0) / tau**2 / (m if over else 1.0)
+    v += cd.get("N", 0.0) * (4.0 / 3.0 if over else 2.0) / tau
+    v += cd.get("B", 0.0) / math.log(2.0) * np.maximum(np.log(lag / tau) + _FLICKER_END_C[kind], 0.0)
+    v += 3.0 * cd.get("K", 0.0) * (lag - (7.0 / 15.0 if over else 1.0 / 3.0) * tau)
+    d_r = np.sqrt(2.0 * cd["R"]) * tau
+    return d_r * (tau / lag) * np.sqrt(np.maximum(v, 0.0))
+
+
 def _point_covariance(
     x: NDArray[np.float64],
     c: NDArray[np.float64],
     nu: NDArray[np.float64],
     rho: dict[tuple[int, int], NDArray[np.float64]],
+    noise: NDArray[np.bool_] | None = None,
+    cross: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
-    """Cov(A_i, A_j) = sum_{t,s} rho_ts(i, j) sd_t(i) sd_s(j), sd_t = C_t tau^p sqrt(2 / nu_t) (Greenhall nu)."""
+    """Cov(A_i, A_j) = sum_{t,s} rho_ts(i, j) sd_t(i) sd_s(j) + cross_i cross_j.
+
+    sd_t = C_t tau^p sqrt(2 / nu_t) (Greenhall nu) for the random terms (``noise`` True);
+    deterministic terms (the ramp) have no chi-square part, only the rank-one ``cross``
+    term of :func:`_ramp_cross_sd`.
+    """
     sd = x * c[None, :] * np.sqrt(2.0 / nu)
+    if noise is not None:
+        sd = sd * noise[None, :]
     out = np.zeros((x.shape[0], x.shape[0]))
     for (t, s), r in rho.items():
         out += r * np.outer(sd[:, t], sd[:, s])
+    if cross is not None:
+        out += np.outer(cross, cross)
     return out
 
 
@@ -973,8 +1056,15 @@ def fit_noise(
     a = np.asarray(curve.variance, dtype=float)
     if tau.size < len(terms):
         raise ValueError(f"curve has {tau.size} tau points, fewer than the {len(terms)} terms to fit")
+    if not np.any(a > 0):
+        raise ValueError(
+            "rate is constant (zero variance): Allan deviation is 0 at every tau; nothing to fit"
+        )
     if not np.all(a > 0):
-        raise ValueError("curve.deviation must be > 0 at every tau to weight the fit; got a zero deviation")
+        i = int(np.flatnonzero(~(a > 0))[0])
+        raise ValueError(
+            f"curve.deviation must be > 0 at every tau to weight the fit; got 0 at tau = {float(tau[i])!r} s"
+        )
 
     powers = np.array([_POWER[t] for t in terms], dtype=float)
     x = tau[:, None] ** powers[None, :]
@@ -984,6 +1074,7 @@ def fit_noise(
         [_edf(curve.kind, np.full(ms.size, _ALPHA[t], dtype=np.int64), ms, curve.n_samples) for t in terms], axis=1
     )
     rho = _rho_blocks([_ALPHA[t] for t in terms], ms)
+    noise = np.array([t != "R" for t in terms])  # the ramp is deterministic (see _ramp_cross_sd)
     var = 2.0 * a**2 / np.asarray(curve.edf, dtype=float)  # first pass: the curve's own edf
     c = np.zeros(len(terms))
     v = np.diag(var)
@@ -992,7 +1083,9 @@ def fit_noise(
         c_new = _wnnls(x, a, var)
         done = np.allclose(c_new, c, rtol=1e-9, atol=0.0)
         c = c_new
-        v_new = _point_covariance(x, c, nu, rho)
+        v_new = _point_covariance(
+            x, c, nu, rho, noise, _ramp_cross_sd(terms, c, tau, ms, curve.n_samples, curve.kind)
+        )
         var_new = np.diag(v_new)
         if np.all(var_new > 0):
             v, var = v_new, var_new

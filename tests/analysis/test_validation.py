@@ -79,8 +79,15 @@ def test_pink_frequency_octave_oadev_and_bounds(validation):
     curve = allan_deviation(y, 1.0, taus=ref[:, 1], alpha=ref[:, 3].astype(int), confidence=0.683)
     np.testing.assert_allclose(curve.deviation, ref[:, 5], rtol=1e-4)
     np.testing.assert_array_equal(curve.n_terms, ref[:, 2].astype(int))
-    np.testing.assert_allclose(curve.low, ref[:, 4], rtol=1e-3)
-    np.testing.assert_allclose(curve.high, ref[:, 6], rtol=1e-3)
+    # The bounds cannot match to the 5 printed digits: Stable32's edf is not the Greenhall
+    # edf we use (allantools.ci.edf_greenhall). Inverting its printed MinSigma for the edf
+    # gives 0.0-1.5 % more than Greenhall's (4409 vs 4392 at m = 2, 2317 vs 2283 at m = 4,
+    # alpha = -2) and it is not Stein's NIST SP 1065 Table 5 edf either (4998, 2498); the
+    # README says the bounds were not re-verified. A 1.5 % edf difference moves a 68 % bound
+    # by at most 4.4e-4 relative here (measured; the same when the bounds are recomputed
+    # from Stable32's own printed Sigma), so 5e-4 is the tightest tolerance this supports.
+    np.testing.assert_allclose(curve.low, ref[:, 4], rtol=5e-4)
+    np.testing.assert_allclose(curve.high, ref[:, 6], rtol=5e-4)
 
 
 # ---------------------------------------------------------------------------- Stable32 / phase

@@ -1033,9 +1033,33 @@ def fit_noise(
     Gauss-Markov bump or a sinusoid is absorbed into the nearest terms, and an anti-alias
     filter that bends the first octaves biases Q/N); bias instability on its plateau at the
     fitted taus (tau > ~1.6/f_high, i.e. above ~3 samples when the flicker band reaches
-    fs/2). The ramp is deterministic; its points are given random-walk-rate variance, which
-    is conservative. Measured coverage of the 95 % intervals over 200 seeds of a five-term
-    model: 95-97.5 % for Q, N, B, K (benchmarks/coverage_fit.py).
+    fs/2). The ramp is deterministic: it adds no chi-square variance of its own, only the
+    cross term 2 d_r mean(e) with the noise (``_ramp_cross_sd``; a rank-one term of V).
+    Until 2026-11 it was given random-walk-rate variance instead, which overstated the
+    variance of the longest-tau points up to 2.6x (measured over 200 seeds) and K's
+    standard error by 10 % (K 68 % coverage 75.5 %).
+
+    Measured coverage (benchmarks/coverage_fit.py, 200 seeds, 20 h at 10 Hz, each term in
+    charge of about a decade of tau; binomial standard error 1.5 % at 95 %, 3.3 % at 68 %):
+
+    ====  ==========  =====  =====
+    term  identified  95 %   68 %
+    ====  ==========  =====  =====
+    Q     200/200     96.0   73.0
+    N     200/200     95.5   76.5
+    B     200/200     95.0   69.0
+    K     200/200     95.5   69.0
+    R     107/200     99.1   73.8   (given identified; 93.5 % of all seeds at 95 %)
+    ====  ==========  =====  =====
+
+    The 68 % intervals of Q and N over-cover: their standard errors are about 10 % larger
+    than the spread of the estimates over the seeds (std of (C - C_true)/se = 0.91 and
+    0.90; 1.00 for B and K). Not resolved: the Greenhall edf of the quantization points was
+    checked by simulation (variance ratio 0.88-1.19 over 300 records, consistent with 1),
+    so the excess is probably in the modelled correlation of the short-tau points (model
+    0.40, measured 0.33 for the first octaves, each measured to about +-0.06). R, when
+    identified, is biased high (median 1.15x truth): it is identified only on seeds whose
+    estimate is high.
     """
     if isinstance(curve_or_rate, AllanCurve):
         curve = curve_or_rate

@@ -1035,7 +1035,7 @@ def fit_noise(
     fitted taus (tau > ~1.6/f_high, i.e. above ~3 samples when the flicker band reaches
     fs/2). The ramp is deterministic: it adds no chi-square variance of its own, only the
     cross term 2 d_r mean(e) with the noise (``_ramp_cross_sd``; a rank-one term of V).
-    Until 2026-11 it was given random-walk-rate variance instead, which overstated the
+    Before commit 5994ca9 it was given random-walk-rate variance instead, which overstated the
     variance of the longest-tau points up to 2.6x (measured over 200 seeds) and K's
     standard error by 10 % (K 68 % coverage 75.5 %).
 

@@ -10,7 +10,7 @@ The model puts each term in charge of about a decade of tau (rate unit u = rad/s
 unit is immaterial): Q dominates below 0.5 s, N 0.5-20 s, B 20-200 s, K 200-2000 s and R
 above 2000 s, on a 20 h record at 10 Hz (720 000 samples, 18 octave taus).
 
-Measured (200 seeds, 2026-11, after the deterministic-ramp covariance): 95 % coverage
+Measured (200 seeds, after the deterministic-ramp covariance): 95 % coverage
 Q 96.0, N 95.5, B 95.0, K 95.5 %; 68 % coverage Q 73.0, N 76.5, B 69.0, K 69.0 %; R
 identified in 107/200 seeds (see the fit_noise docstring).
 

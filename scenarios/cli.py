@@ -482,7 +482,7 @@ def _cmd_reproduce(args) -> int:
     index = write_report(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     held = sum(1 for o in outcomes for h in o.headlines if h.holds is True)
     total = sum(1 for o in outcomes for h in o.headlines if h.holds is not None)
-    print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s; {held}/{total} headline conclusions hold")
+    print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s; {held}/{total} testable headline conclusions hold")
     for o in outcomes:
         print(f"  {o.scenario:<20} {o.runtime_s:7.1f} s   {Path(args.out) / o.scenario / 'results.json'}")
     print(f"report: {index}")

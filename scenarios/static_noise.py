@@ -11,6 +11,7 @@ below the bound.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import asdict, dataclass, field
 
@@ -28,6 +29,18 @@ NAME = "static_noise"
 TITLE = "Static noise records: fitted IEEE-952 coefficients against the truth (FOG and MEMS grade)"
 
 
+#: the coefficient fields and their (datasheet) units
+_COEFF_UNITS = {
+    "Q_arcsec": "arcsec",
+    "N_deg_sqrt_h": "deg/sqrt(h)",
+    "B_deg_h": "deg/h",
+    "K_deg_h_sqrt_h": "deg/h/sqrt(h)",
+    "R_deg_h2": "deg/h^2",
+}
+#: fewest samples that give the five octave taus the joint Q/N/B/K/R fit needs
+MIN_SAMPLES = 33
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GradeSpec:
     """A datasheet noise budget in field units."""
@@ -42,12 +55,21 @@ class GradeSpec:
     duration_h: float = 1.0
 
     def __post_init__(self) -> None:
-        # NoiseModel validates the coefficients; check the record here
-        self.model()
+        # errors name this config's fields (a TOML user never sees NoiseModel's names)
+        for name, unit in _COEFF_UNITS.items():
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ValueError(f"GradeSpec.{name} must be finite and >= 0 {unit}; got {v!r}")
         if not (self.fs_hz > 0 and np.isfinite(self.fs_hz)):
             raise ValueError(f"GradeSpec.fs_hz must be > 0 Hz; got {self.fs_hz!r}")
         if not (self.duration_h > 0 and np.isfinite(self.duration_h)):
             raise ValueError(f"GradeSpec.duration_h must be > 0 h; got {self.duration_h!r}")
+        if self.n_samples < MIN_SAMPLES:
+            raise ValueError(
+                f"GradeSpec.duration_h x fs_hz must give >= {MIN_SAMPLES} samples (five octave "
+                f"taus for the fit); got {self.duration_h!r} h at {self.fs_hz!r} Hz = {self.n_samples}"
+            )
+        self.model()
 
     def model(self) -> NoiseModel:
         return NoiseModel.from_datasheet(

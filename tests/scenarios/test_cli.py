@@ -328,9 +328,16 @@ def test_bad_config_giving_an_empty_record(tmp_path, capsys):
     cfg = tmp_path / "c.toml"
     cfg.write_text("[fog]\nduration_h = 1e-9\n[mems]\nduration_h = 0.05\n")
     code, _, err = run(["simulate", "static_noise", "--out", tmp_path / "o", "--config", cfg], capsys)
-    assert_one_line_error(code, err, "recording 'static_fog' would have 0 samples (0 s at 100 Hz); "
-                                     "a record needs at least 33")
+    assert_one_line_error(code, err, "GradeSpec.duration_h x fs_hz must give >= 33 samples")
     assert not (tmp_path / "o").exists()  # checked before any file is written
+
+
+def test_bad_config_negative_coefficient_names_the_config_field(tmp_path, capsys):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[fog]\nN_deg_sqrt_h = -1.0\n")
+    code, _, err = run(["simulate", "static_noise", "--out", tmp_path / "o", "--config", cfg], capsys)
+    assert_one_line_error(code, err, "GradeSpec.N_deg_sqrt_h must be finite and >= 0 deg/sqrt(h); got -1.0")
+    assert not (tmp_path / "o").exists()
 
 
 # ----------------------------------------------------------------------------- writing: failures, names, modes, space

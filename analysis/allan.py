@@ -354,7 +354,7 @@ def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
         m_max = min(n // _STOP_RATIO[kind], _max_m(kind, n))
         if m_max < 1:
             raise ValueError(
-                f"rate has too few samples for a {kind} deviation: need at least "
+                f"rate has too few samples for the {kind} deviation: need at least "
                 f"{_STOP_RATIO[kind]} samples for taus={taus!r}; got {n}"
             )
         if taus == "octave":
@@ -384,7 +384,7 @@ def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
     if m[-1] > m_max:
         need = int(m[-1]) * _STOP_RATIO[kind] if kind == "total" else int(m[-1]) * (_D[kind]) + 1
         raise ValueError(
-            f"rate has too few samples for tau = {float(m[-1] / fs)!r} s (m = {int(m[-1])}) in a {kind} deviation: "
+            f"rate has too few samples for tau = {float(m[-1] / fs)!r} s (m = {int(m[-1])}) in the {kind} deviation: "
             f"the largest tau with at least 2 terms is {float(m_max / fs)!r} s for {n} samples "
             f"(need about {need} samples)"
         )
@@ -801,7 +801,7 @@ def allan_deviation(
         al = np.broadcast_to(np.asarray(alpha), ms.shape).astype(np.int64)
         lo = -4 if _D[kind] == 3 else -2
         if np.any((al < lo) | (al > 2)):
-            raise ValueError(f"alpha must be integers in [{lo}, 2] for a {kind} deviation; got {alpha!r}")
+            raise ValueError(f"alpha must be integers in [{lo}, 2] for the {kind} deviation; got {alpha!r}")
     edf = _edf(kind, al, ms, n)
     low, high = _bounds(dev, edf, float(confidence))
     return AllanCurve(

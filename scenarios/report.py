@@ -161,7 +161,7 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     machine = f"{platform.python_implementation()} {platform.python_version()} on {platform.machine()}"
 
-    md = [f"# gyrobench report", "", f"gyrobench {version}; {stamp}; {machine}.", ""]
+    md = ["# gyrobench report", "", f"gyrobench {version}; {stamp}; {machine}.", ""]
     if command:
         md += [f"Command: `{command}`", ""]
     h = [

@@ -167,7 +167,7 @@ def test_bad_inf_in_csv(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("rows", "match"),
     [
-        (2, "rate has too few samples for a"),  # analysis.allan: fewer than the first octave tau needs
+        (2, "rate has too few samples for the"),  # analysis.allan: fewer than the first octave tau needs
         (20, "rate: 20 samples at 10 Hz give 3 overlapping Allan deviation point(s) at taus='octave' "
              "(up to 0.4 s); the Q/N/B/K/R fit needs at least 5"),
     ],

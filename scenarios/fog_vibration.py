@@ -29,8 +29,13 @@ Choices the paper does not state (documented here and in the report)
 * Output rate 400 Hz, physics 4 kHz (so 500 Hz and its rectified 1 kHz component
   are resolved); integrate-and-dump output (a closed-loop FOG outputs angle
   increments), so the 500 Hz tone aliases to 100 Hz and its 2f to 200 Hz.
-* Records of 200 s + 300 s + 200 s (the paper's are minutes long; kept short so the
-  whole scenario runs in well under a minute). The sweep is linear, 1 -> 500 Hz in
+* Records of 600 s + 300 s + 600 s (the paper gives no durations). The static phases
+  are long enough for bias instability to be identified in each: with N = 0.005
+  deg/sqrt(h) and B = 0.2 deg/h, B overtakes white noise near tau = 5 s and a fit
+  needs it to dominate up to T/4; with 200 s phases (tau <= 50 s) B of phases 1 and 3
+  was identifiable on 2 of 10 seeds, so "B rises in phase 2" was mostly not testable;
+  with 600 s it is testable on every seed tried (0-5). The whole scenario stays well
+  under a minute. The sweep is linear, 1 -> 500 Hz in
   300 s (1.66 Hz/s): the paper's RBF spread of 1.2 Hz needs training points about
   1 Hz apart over the whole band, which a linear sweep supplies evenly (a log sweep
   spends only 0.1 s per Hz near 500 Hz). 12.7 mm (0.5 in) stroke limit below ~5 Hz.
@@ -41,7 +46,7 @@ Choices the paper does not state (documented here and in the report)
   NOT identifiable in this scenario: on the Allan curve K overtakes B only beyond
   tau = 3 (2 ln2/pi) B^2 / K^2 = 21 h and R beyond tau = sqrt(2 (2 ln2/pi)) B / R = 19 h,
   and a fit needs records of about 4 tau, i.e. days, which the 3-minute runtime budget
-  (phases of 200-300 s) does not allow. Their Table 1 entries are 95 % upper bounds,
+  (phases of 300-600 s) does not allow. Their Table 1 entries are 95 % upper bounds,
   set by the white and flicker noise of the segment, not by K or R. Structural modes at 180 Hz (Q 15, mount) and 460 Hz (Q 10, coil
   potting) put the rectified bias peak (about 40 deg/h) in the 300-500 Hz band the
   paper's figure 3 points to; about 8 deg/h remain at 500 Hz. During vibration the
@@ -228,9 +233,9 @@ class Config:
     sweep_end_hz: float = 500.0
     sweep_spacing: Literal["log", "linear"] = "linear"
     fixed_hz: float = 500.0
-    static_before_s: float = 200.0
+    static_before_s: float = 600.0
     vibration_s: float = 300.0
-    static_after_s: float = 200.0
+    static_after_s: float = 600.0
     max_displacement_mm: float = 12.7
     ramp_time_s: float = 0.5
     control_error: float = 0.01

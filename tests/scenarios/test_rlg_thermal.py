@@ -54,7 +54,9 @@ def test_results_contract(outcome):
             rel=1e-12,
         )
     json.dumps(outcome.results, allow_nan=True)
-    assert [t.title.split(".")[0] for t in outcome.tables] == ["Table 1", "Table 1b", "Table 2"]
+    assert [t.title.split(".")[0] for t in outcome.tables] == [
+        "Table 1", "Table 1b", "Table 2", "Table 3 (not in the paper)"
+    ]
     assert {f.name for f in outcome.figures} == {
         "fig1_output_vs_temperature",
         "fig2_rate_and_gradient",
@@ -130,3 +132,20 @@ def test_bad_program_fewer_blocks_than_regressors():
     )
     with pytest.raises(ValueError, match=r"more observations than regressors.*n_samples = 9, n_features = 11"):
         sc.run(c, 0)
+
+
+def test_seed_summary_is_the_pipeline_on_other_seeds(outcome):
+    """Table 3's rows are run() on those seeds: row 0 is the reported run, row 2 equals run(seed 2)."""
+    rows = outcome.results["seed_summary"]
+    assert [r["seed"] for r in rows] == list(range(0, 1 + sc.Config().seed_summary_count))
+    assert rows[0]["adj_r2"] == [g["adj_r2"] for g in outcome.results["gyros"]]
+    other = sc.run(replace(sc.Config(), seed_summary_count=0), 2)
+    assert rows[2]["adj_r2"] == [g["adj_r2"] for g in other.results["gyros"]]
+    assert rows[2]["improvement_pct"] == [g["improvement_pct"] for g in other.results["gyros"]]
+    n_adj = sum(r["adj_r2_target_holds"] for r in rows)
+    assert f"holds on {n_adj} of {len(rows)} seeds" in outcome.headlines[0].note
+
+
+def test_bad_seed_summary_count():
+    with pytest.raises(ValueError, match=r"Config.seed_summary_count must be an integer >= 0; got -1"):
+        sc.Config(seed_summary_count=-1)

@@ -95,9 +95,12 @@ def test_higher_rule_documented_cases():
     # both identified: decided by the 95 % intervals
     assert sc._higher(ident, low)[0] is True
     assert sc._higher(ident, overlapping)[0] is False
-    # a bound on either side: not testable (holds None), never True, whatever the bounds' order
-    for p2, other in ((bound, low), (ident, bound), (big_bound, bound), (bound, big_bound)):
+    # the side claimed higher only a bound: not testable (holds None), never True
+    for p2, other in ((bound, low), (big_bound, bound), (bound, big_bound)):
         assert sc._higher(p2, other) == (None, sc.NOT_TESTABLE)
+    # the side claimed lower only a bound: its upper bound is a valid ceiling
+    assert sc._higher(ident, bound)[0] is True  # 1.5 > 1.4
+    assert sc._higher(ident, big_bound)[0] is False  # 1.5 < 3.0: not shown higher
     assert sc._all_or_none([True, None]) is None and sc._all_or_none([True, False]) is False
     assert sc._all_or_none([True, True]) is True
 

@@ -55,30 +55,28 @@ def _cmd_list(args) -> int:
 
 
 # ----------------------------------------------------------------------------- simulate
-def _positive_float(name: str):
+def _float_arg(name: str, *, allow_zero: bool):
+    """argparse type: a finite float > 0 (or >= 0 with ``allow_zero``), errors naming the flag."""
+    bound = ">= 0" if allow_zero else "> 0"
+
     def conv(text: str) -> float:
         try:
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} must be a number; got {text!r}") from None
-        if not math.isfinite(v) or v <= 0:
-            raise argparse.ArgumentTypeError(f"{name} must be a finite number > 0; got {text!r}")
+        if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+            raise argparse.ArgumentTypeError(f"{name} must be a finite number {bound}; got {text!r}")
         return v
 
     return conv
+
+
+def _positive_float(name: str):
+    return _float_arg(name, allow_zero=False)
 
 
 def _nonneg_float(name: str):
-    def conv(text: str) -> float:
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number; got {text!r}") from None
-        if not math.isfinite(v) or v < 0:
-            raise argparse.ArgumentTypeError(f"{name} must be a finite number >= 0; got {text!r}")
-        return v
-
-    return conv
+    return _float_arg(name, allow_zero=True)
 
 
 def _duration(text: str) -> float:

@@ -7,25 +7,9 @@ import numpy as np
 import pytest
 
 from analysis.allan import allan_deviation, fit_noise
-from scenarios.cli import _read_csv, main
+from scenarios.cli import _read_csv
 from sim import units
-
-
-def run(argv, capsys):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def assert_one_line_error(code, err, match):
-    assert code == 2
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    assert lines[0].startswith("gyrobench: error:")
-    assert match in lines[0], lines[0]
+from tests.scenarios.test_cli import assert_one_line_error, run
 
 
 @pytest.fixture

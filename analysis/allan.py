@@ -39,12 +39,14 @@ PHYSICS.md section 1.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import allantools
@@ -52,6 +54,7 @@ import numpy as np
 from allantools import ci as _atci
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize, stats
+from threadpoolctl import threadpool_limits
 
 __all__ = [
     "KINDS",
@@ -107,6 +110,13 @@ _DOT = 8192
 #: the number of terms below which one thread is used
 _THREADS = max(1, min(2, os.cpu_count() or 1))
 _THREAD_MIN = 1 << 21
+#: fused octave passes (see :func:`_octave_overlapping`): octaves of the first pass, octaves
+#: per later pass, values of k per block, and the m from which later passes split k by
+#: residue class mod m across threads instead of by range (no tail copies)
+_FUSE_FIRST = 12
+_FUSE_LATER = 2
+_FUSE_BLOCK = 1 << 17
+_RESIDUE_MIN = 1 << 18
 #: noise identification uses at most this many block averages (see :func:`identify_noise`)
 _NOISE_ID_MAX = 1 << 16
 _NOISE_ID_MIN = 30
@@ -410,6 +420,11 @@ def _sumsq(w: NDArray[np.float64]) -> float:
     return float(sum(np.dot(w[c : c + _DOT], w[c : c + _DOT]) for c in range(0, w.size, _DOT)))
 
 
+def _dot_self(w: NDArray[np.float64]) -> float:
+    """sum(w**2) in one BLAS call (worker-thread blocks, with the BLAS held to one thread)."""
+    return float(np.dot(w, w))
+
+
 def _segments(n: int) -> list[tuple[int, int]]:
     """Split [0, n) into one contiguous range per worker thread (one range for short records)."""
     k = _THREADS if n >= _THREAD_MIN else 1
@@ -457,65 +472,211 @@ def _deviation_overlapping(x: NDArray[np.float64], ms: NDArray[np.int64]) -> NDA
     return dev
 
 
-def _octave_segment(
-    s_arr: NDArray[np.float64], m: int, lo: int, hi: int, tail: NDArray[np.float64] | None, do_dev: bool
-) -> float:
-    """One octave step on k in [lo, hi): returns sum D_m[k]^2 and turns S_m into S_2m there.
+def _first_pass(
+    y: NDArray[np.float64],
+    mean: float,
+    out: NDArray[np.float64] | None,
+    levels: list[int],
+    sums: list[bool],
+    ids: dict[int, NDArray[np.float64]],
+    lo: int,
+    hi: int,
+    ssq: Callable[[NDArray[np.float64]], float],
+) -> list[float]:
+    """The first octaves m = 1, 2, .., M/2 (``levels``) for k in [lo, hi), in one pass over ``y``.
 
-    Reads s_arr[k + m]; for k + m >= hi (the next segment, which another thread may already
-    have updated) it reads ``tail`` = the old s_arr[hi : hi + m] saved before the step.
+    Block by block (_FUSE_BLOCK values of k plus a halo of M - 1 samples, in cache):
+    S_1 = y - mean, then per level sum D_m[k]^2 (where ``sums``), the block means
+    ``ids[m][j] = S_m[j m]`` that fall in the block, and S_2m[k] = S_m[k] + S_m[k+m] into
+    the other buffer. Every S_m value is the same sum, in the same order, as the one-octave
+    recursion. Writes S_M[k] to ``out`` (None when no octave follows). Reads only ``y``, so
+    ranges of k can run on threads without sharing anything but disjoint slices of ``out``.
     """
-    u = np.empty(min(_BLOCK, hi - lo))
-    acc = 0.0
-    for a in range(lo, hi, _BLOCK):
-        b = min(hi, a + _BLOCK)
-        if tail is None or b + m <= hi:
-            r = s_arr[a + m : b + m]
-        elif a + m >= hi:
-            r = tail[a + m - hi : b + m - hi]
-        else:
-            r = np.concatenate((s_arr[a + m : hi], tail[: b + m - hi]))
-        if do_dev:
-            w = u[: b - a]
-            np.subtract(r, s_arr[a:b], out=w)
-            acc += _sumsq(w)
-        np.add(s_arr[a:b], r, out=s_arr[a:b])
+    n = y.size
+    big = 2 * levels[-1]  # M
+    halo = big - 1  # S_M[k] and every D_m[k], m <= M/2, read y[k .. k + M - 1]
+    cur = np.empty(min(_FUSE_BLOCK, hi - lo) + halo)
+    nxt = np.empty_like(cur)
+    acc = [0.0] * len(levels)
+    for a in range(lo, hi, _FUSE_BLOCK):
+        b = min(hi, a + _FUSE_BLOCK)
+        size = min(n, b + halo) - a  # u[i] = S_m[a + i] for i < size
+        u, v = cur, nxt
+        np.subtract(y[a : a + size], mean, out=u[:size])
+        for i, m in enumerate(levels):
+            z = ids.get(m)
+            if z is not None:
+                j0, j1 = -(-a // m), min(-(-b // m), z.size)
+                if j1 > j0:
+                    z[j0:j1] = u[j0 * m - a : (j1 - 1) * m - a + 1 : m]
+            c = min(b, n + 1 - 2 * m) - a  # D_m terms with k in the block
+            if sums[i] and c > 0:
+                np.subtract(u[m : m + c], u[:c], out=v[:c])
+                acc[i] += ssq(v[:c])
+            size -= m
+            if size <= 0:  # no S_2m at k >= a: nothing further in this block
+                break
+            np.add(u[:size], u[m : m + size], out=v[:size])
+            u, v = v, u
+        if out is not None:
+            c = min(b, n + 1 - big) - a  # valid S_M
+            if c > 0:
+                out[a : a + c] = u[:c]
     return acc
+
+
+def _later_pass(
+    s_arr: NDArray[np.float64],
+    m: int,
+    g: int,
+    sums: list[bool],
+    write: bool,
+    ssq: Callable[[NDArray[np.float64]], float],
+    job: tuple[list[tuple[int, int]], int, NDArray[np.float64] | None],
+) -> list[float]:
+    """Octaves m, 2m, .., 2^(g-1) m in one in-place pass over S_m, for k in the runs of ``job``.
+
+    With T_0[j] = S_m[k + j m] (j < 2^g, views of ``s_arr``), T_{l+1}[i] = T_l[2i] +
+    T_l[2i+1] = S_{2^(l+1) m}[k + i 2^(l+1) m]: the same sums in the same order as g
+    one-octave steps. D at level l is T_l[1] - T_l[0]; T_g[0] = S_{2^g m}[k] is written
+    over S_m[k] when ``write``. Returns sum D^2 per level (0 where ``sums`` is False).
+
+    ``job`` = (runs, hi, tail). Each run [a, b) of k is processed in ascending k, so every
+    read of S_m[k + j m] precedes the write at that index. A range of k ending at ``hi``
+    reads the values from ``hi`` on, which the next thread's range overwrites, from
+    ``tail`` (s_arr[hi : hi + (2^g - 1) m] copied before the pass). With one block of
+    residues mod m per thread (runs [q m + r0, q m + r1)) every read stays in the thread's
+    own indices and ``tail`` is None.
+    """
+    runs, hi, tail = job
+    n = s_arr.size
+    acc = [0.0] * g
+    width = min(_FUSE_BLOCK, max(b - a for a, b in runs))
+    d = np.empty(width)
+    tree = [[np.empty(width) for _ in range(1 << (g - lv))] for lv in range(1, g)]
+
+    def view(p: int, c: int) -> NDArray[np.float64]:  # S_m[p : p + c] as it was before the pass
+        if tail is None or p + c <= hi:
+            return s_arr[p : p + c]
+        if p >= hi:
+            return tail[p - hi : p - hi + c]
+        return np.concatenate((s_arr[p:hi], tail[: p + c - hi]))
+
+    for r0, r1 in runs:
+        for a in range(r0, r1, _FUSE_BLOCK):
+            b = min(r1, a + _FUSE_BLOCK)
+            ends = [min(b, n + 1 - 2 * (m << lv)) - a for lv in range(g)]  # D terms per level
+            # T_l[i] is needed for k < a + ends[l + bit_length(i) - 1] (i = 0 like i = 1)
+            need = [
+                [ends[min(lv + max(i.bit_length() - 1, 0), g - 1)] for i in range(1 << (g - lv))]
+                for lv in range(g)
+            ]
+            t = [view(a + j * m, c) for j, c in enumerate(need[0]) if c > 0]
+            for lv in range(g):
+                c = ends[lv]
+                if c <= 0:
+                    break
+                if sums[lv]:
+                    np.subtract(t[1][:c], t[0][:c], out=d[:c])
+                    acc[lv] += ssq(d[:c])
+                if lv == g - 1:
+                    if write:
+                        np.add(t[0][:c], t[1][:c], out=s_arr[a : a + c])
+                    break
+                t = [
+                    np.add(t[2 * i][:c2], t[2 * i + 1][:c2], out=tree[lv][i][:c2])
+                    for i, c2 in enumerate(need[lv + 1])
+                    if c2 > 0
+                ]
+    return acc
+
+
+def _later_jobs(
+    s_arr: NDArray[np.float64], m: int, g: int, nt: int
+) -> list[tuple[list[tuple[int, int]], int, NDArray[np.float64] | None]]:
+    """Thread jobs of one :func:`_later_pass` over k in [0, nt): ranges with tails, or residues."""
+    segs = _segments(nt)
+    k = len(segs)
+    if k > 1 and m >= _RESIDUE_MIN:  # thread i: k mod m in [m i / k, m (i + 1) / k)
+        edges = [(m * i) // k for i in range(k + 1)]
+        return [
+            ([(q + lo, min(q + hi, nt)) for q in range(0, nt - lo, m)], 0, None)
+            for lo, hi in zip(edges[:-1], edges[1:], strict=True)
+        ]
+    span = ((1 << g) - 1) * m
+    jobs = [([(lo, hi)], hi, s_arr[hi : hi + span].copy()) for lo, hi in segs[:-1]]
+    return jobs + [([segs[-1]], 0, None)]
 
 
 def _octave_overlapping(
     y: NDArray[np.float64], ms: NDArray[np.int64], identify: bool
 ) -> tuple[NDArray[np.float64], NDArray[np.int64] | None]:
-    """Overlapping ADEV at power-of-two m by the in-place moving-sum recursion (fast path).
+    """Overlapping ADEV at power-of-two m by the moving-sum recursion (fast path).
 
     S_1[k] = y_k - mean(y); D_m[k] = S_m[k+m] - S_m[k] (= x_{k+2m} - 2 x_{k+m} + x_k);
-    S_2m[k] = S_m[k] + S_m[k+m], updated in place block by block (ascending k reads only
-    not-yet-updated values; with several threads each range keeps a copy of the m values
-    after it). One array of n floats plus block buffers; no cumulative sum.
-    The block means for noise identification are S_m[j m] / m, read before the update.
+    S_2m[k] = S_m[k] + S_m[k+m]. The octaves are computed in fused passes: the first
+    _FUSE_FIRST in one pass over ``y``, block by block in cache (:func:`_first_pass`), which
+    writes S_M (M = 2^_FUSE_FIRST) into the one n-float work array; then _FUSE_LATER octaves
+    per in-place pass over that array (:func:`_later_pass`). Every S_m is the same
+    floating-point sum as in the one-octave-per-pass recursion (so the noise identification
+    block means S_m[j m] / m are bit for bit the same); only the order in which the D_m^2
+    are added differs (~1e-16 relative).
+    Threads split k by range (first pass, small m) or by residue mod m (m >= _RESIDUE_MIN);
+    meanwhile the BLAS is held to one thread (threadpoolctl, a scikit-learn dependency: it
+    is process-wide), so the per-block dot products run in parallel on these threads.
     """
     n = y.size
     want = {int(m) for m in ms}
     top = int(ms.max())
-    s_arr = np.empty(n)
-    np.subtract(y, y.mean(), out=s_arr)
+    mean = y.mean()
+    segs = _segments(n)
+    threaded = len(segs) > 1
+    ssq = _dot_self if threaded else _sumsq
     dev: dict[int, float] = {}
     alpha: dict[int, int | None] = {}
-    m = 1
-    while m <= top:
-        nt = n + 1 - 2 * m  # number of D_m terms = valid length of S_2m
-        if identify and m in want:
-            nb = min(n // m, _NOISE_ID_MAX)
-            alpha[m] = _noise_id_blocks(s_arr[: nb * m : m] / m, 2) if nb >= _NOISE_ID_MIN else None
-        do_dev = m in want
-        segs = _segments(nt)
-        tails = [s_arr[hi : hi + m].copy() for _, hi in segs[:-1]] + [None]
-        jobs = [(lo, hi, t) for (lo, hi), t in zip(segs, tails)]
-        acc = sum(_map(lambda j: _octave_segment(s_arr, m, j[0], j[1], j[2], do_dev), jobs))
-        del tails, jobs
-        if do_dev:
-            dev[m] = math.sqrt(acc / (2.0 * nt)) / m
-        m *= 2
+
+    def nb_of(m: int) -> int:
+        return min(n // m, _NOISE_ID_MAX)
+
+    def finish(levels: list[int], accs: list[list[float]]) -> None:
+        for i, m in enumerate(levels):
+            if m in want:
+                dev[m] = math.sqrt(sum(a[i] for a in accs) / (2.0 * (n + 1 - 2 * m))) / m
+
+    with threadpool_limits(limits=1, user_api="blas") if threaded else contextlib.nullcontext():
+        levels = [1 << i for i in range(_FUSE_FIRST) if (1 << i) <= top]
+        m = 2 * levels[-1]  # the first octave after the first pass
+        s_arr = np.empty(n) if m <= top else None
+        ids = {
+            k: np.empty(nb_of(k))
+            for k in levels
+            if identify and k in want and nb_of(k) >= _NOISE_ID_MIN
+        }
+        fn = partial(_first_pass, y, mean, s_arr, levels, [k in want for k in levels], ids, ssq=ssq)
+        finish(levels, _map(lambda r: fn(*r), segs))
+        for k in levels:
+            if identify and k in want:
+                alpha[k] = _noise_id_blocks(ids[k] / k, 2) if k in ids else None
+
+        while m <= top:
+            g = 1
+            while g < _FUSE_LATER and (m << g) <= top:
+                g += 1
+            levels = [m << lv for lv in range(g)]
+            for lv, mm in enumerate(levels):
+                if identify and mm in want:
+                    nb = nb_of(mm)
+                    if nb < _NOISE_ID_MIN:
+                        alpha[mm] = None
+                        continue
+                    z = s_arr[: nb * mm : m].reshape(nb, 1 << lv)  # S_m[j mm + i m]
+                    while z.shape[1] > 1:  # the pass's sum tree: S_mm[j mm], bit for bit
+                        z = z[:, 0::2] + z[:, 1::2]
+                    alpha[mm] = _noise_id_blocks(z[:, 0] / mm, 2)
+            sums = [mm in want for mm in levels]
+            fn = partial(_later_pass, s_arr, m, g, sums, (m << g) <= top, ssq)
+            finish(levels, _map(fn, _later_jobs(s_arr, m, g, n + 1 - 2 * m)))
+            m <<= g
     del s_arr
     devs = np.array([dev[int(m)] for m in ms])
     if not identify:
@@ -751,10 +912,11 @@ def allan_deviation(
     (here x in rate*samples, so no tau0). At octave taus (m = 2^j, the default) it is
     computed without the cumulative sum: with S_m[k] = x_{k+m} - x_k the moving sum of m
     rates, the second difference is S_m[k+m] - S_m[k] and S_2m[k] = S_m[k] + S_m[k+m], so one
-    float64 array of n moving sums is updated in place, one blockwise pass per octave
-    (which also avoids the phase's cancellation on long drifting records). Other taus use
+    float64 array of n moving sums is updated in place (which also avoids the phase's
+    cancellation on long drifting records); the first 12 octaves take one pass over the
+    data, block by block in cache, and each later pass does two octaves. Other taus use
     one blockwise pass per tau over the float64 cumulative sum. Either way memory is one
-    n-array plus 1 MB of buffers. It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
+    n-array plus a few MB of buffers. It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
     1e-9 relative). The other statistics call allantools (adev, mdev, hdev, ohdev, totdev).
 
     A constant rate (zero variance, e.g. an all-zero record) is legal input: its deviation

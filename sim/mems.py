@@ -222,7 +222,7 @@ class MemsSpec:
         if not isinstance(self.noise, NoiseModel):
             raise TypeError(f"MemsSpec.noise must be a NoiseModel; got {type(self.noise).__name__}")
 
-    def realize(self, rng: np.random.Generator) -> MemsUnit:
+    def realize(self, *, rng: np.random.Generator) -> MemsUnit:
         """Draw one power-on of this gyro: turn-on bias and turn-on scale-factor error.
 
         Parameters
@@ -238,7 +238,7 @@ class MemsSpec:
 
         Examples
         --------
-        >>> unit = MemsSpec(scale_factor_repeatability=1e-4).realize(np.random.default_rng(1))
+        >>> unit = MemsSpec(scale_factor_repeatability=1e-4).realize(rng=np.random.default_rng(1))
         >>> round(unit.scale_factor_error * 1e6, 1)  # ppm
         82.2
         """
@@ -489,7 +489,7 @@ def simulate_output(
         i = int(np.flatnonzero(bad)[0])
         raise ValueError(f"acceleration must be finite [m/s^2]; got {float(acc[i])!r} at index {i}")
     r_on, r_noise = rng.spawn(2)
-    unit = spec if isinstance(spec, MemsUnit) else spec.realize(r_on)
+    unit = spec if isinstance(spec, MemsUnit) else spec.realize(rng=r_on)
     spec = unit.spec
     dt = temp - spec.reference_temperature
     sf = scale_factor_output(unit, w, temp) - w

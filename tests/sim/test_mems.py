@@ -168,9 +168,9 @@ def test_simulate_a_given_unit_is_that_unit():
 
 def test_scale_factor_repeatability_zero_keeps_the_turn_on_bias_draw():
     """The turn-on stream draws b_on first: a scale-factor repeatability leaves b_on as it was."""
-    a = MemsSpec().realize(np.random.default_rng(7))
+    a = MemsSpec().realize(rng=np.random.default_rng(7))
     b = dataclasses.replace(MemsSpec(), scale_factor_repeatability=1e-3).realize(
-        np.random.default_rng(7)
+        rng=np.random.default_rng(7)
     )
     assert a.turn_on_bias == b.turn_on_bias and a.scale_factor_error == 0.0
     assert b.scale_factor_error != 0.0
@@ -238,7 +238,7 @@ def test_turn_on_scale_factor_scatter(rng):
     """e_on over 400 draws: variance vs scale_factor_repeatability^2, chi-square bound at 1e-6."""
     sigma = 5e-4
     spec = dataclasses.replace(MemsSpec(), scale_factor_repeatability=sigma)
-    draws = np.array([spec.realize(r).scale_factor_error for r in rng.spawn(400)])
+    draws = np.array([spec.realize(rng=r).scale_factor_error for r in rng.spawn(400)])
     stat = np.sum(draws**2) / sigma**2
     lo, hi = stats.chi2.ppf([0.5e-6, 1 - 0.5e-6], draws.size)
     assert lo < stat < hi
@@ -267,48 +267,49 @@ def test_unit_rejects_wrong_spec_type():
 
 def test_realize_rejects_legacy_random_state():
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator; got RandomState"):
-        MemsSpec().realize(np.random.RandomState(0))
+        MemsSpec().realize(rng=np.random.RandomState(0))
 
 
-def test_simulate_rejects_wrong_spec_type():
-    with pytest.raises(TypeError, match="spec must be a MemsSpec or MemsUnit; got dict"):
-        simulate_output({}, np.zeros(3), fs=1.0, temperature=300.0, rng=np.random.default_rng(0))
+#: one bad argument of simulate_output at a time: (argument, exception, message naming it)
+_SIMULATE_BAD = {
+    "spec-type": ({"spec": {}}, TypeError, "spec must be a MemsSpec or MemsUnit; got dict"),
+    "nan-rate": (
+        {"rate": np.array([0.0, np.nan])},
+        ValueError,
+        "rate must be a non-empty 1-D array of finite values",
+    ),
+    "fs-zero": ({"fs": 0.0}, ValueError, "fs must be a finite number > 0 Hz; got 0.0"),
+    "negative-temperature": (
+        {"temperature": [300.0, -5.0, 300.0]},
+        ValueError,
+        r"temperature must be finite and > 0 K; got -5.0 at index 1",
+    ),
+    "nan-temperature": (
+        {"temperature": np.nan},
+        ValueError,
+        r"temperature must be finite and > 0 K; got nan at index 0",
+    ),
+    "inf-acceleration": (
+        {"acceleration": [0.0, 0.0, np.inf]},
+        ValueError,
+        r"acceleration must be finite \[m/s\^2\]; got inf at index 2",
+    ),
+    "legacy-rng": (
+        {"rng": np.random.RandomState(0)},
+        TypeError,
+        "rng must be a numpy.random.Generator; got RandomState",
+    ),
+}
 
 
-def test_rejects_nonpositive_temperature_naming_the_value():
-    with pytest.raises(
-        ValueError, match=r"temperature must be finite and > 0 K; got -5.0 at index 1"
-    ):
-        simulate_output(
-            MemsSpec(),
-            np.zeros(3),
-            fs=1.0,
-            temperature=[300.0, -5.0, 300.0],
-            rng=np.random.default_rng(0),
-        )
-
-
-def test_rejects_nan_temperature_naming_the_value():
-    with pytest.raises(
-        ValueError, match=r"temperature must be finite and > 0 K; got nan at index 0"
-    ):
-        simulate_output(
-            MemsSpec(), np.zeros(3), fs=1.0, temperature=np.nan, rng=np.random.default_rng(0)
-        )
-
-
-def test_rejects_infinite_acceleration_naming_the_value():
-    with pytest.raises(
-        ValueError, match=r"acceleration must be finite \[m/s\^2\]; got inf at index 2"
-    ):
-        simulate_output(
-            MemsSpec(),
-            np.zeros(3),
-            fs=1.0,
-            temperature=300.0,
-            acceleration=[0.0, 0.0, np.inf],
-            rng=np.random.default_rng(0),
-        )
+@pytest.mark.parametrize(
+    ("bad", "exc", "msg"), list(_SIMULATE_BAD.values()), ids=list(_SIMULATE_BAD)
+)
+def test_simulate_rejects(bad, exc, msg):
+    args = {"spec": MemsSpec(), "rate": np.zeros(3), "fs": 1.0, "temperature": 300.0}
+    args |= {"rng": np.random.default_rng(0), **bad}
+    with pytest.raises(exc, match=msg):
+        simulate_output(args.pop("spec"), args.pop("rate"), **args)
 
 
 def test_rejects_nonpositive_knee_rate():
@@ -344,31 +345,6 @@ def test_rejects_bad_noise_type():
 def test_rejects_bad_resolution_bits():
     with pytest.raises(ValueError, match="resolution_bits must be an integer >= 2"):
         MemsSpec.from_datasheet(resolution_bits=1)
-
-
-def test_rejects_nan_rate():
-    with pytest.raises(ValueError, match="rate must be a non-empty 1-D array of finite values"):
-        simulate_output(
-            MemsSpec(),
-            np.array([0.0, np.nan]),
-            fs=1.0,
-            temperature=300.0,
-            rng=np.random.default_rng(0),
-        )
-
-
-def test_rejects_nonpositive_fs():
-    with pytest.raises(ValueError, match="fs must be a finite number > 0 Hz; got 0.0"):
-        simulate_output(
-            MemsSpec(), np.zeros(3), fs=0.0, temperature=300.0, rng=np.random.default_rng(0)
-        )
-
-
-def test_rejects_legacy_random_state():
-    with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
-        simulate_output(
-            MemsSpec(), np.zeros(3), fs=1.0, temperature=300.0, rng=np.random.RandomState(0)
-        )
 
 
 def test_rejects_negative_time_since_power_on():

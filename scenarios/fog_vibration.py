@@ -470,10 +470,6 @@ def _all_or_none(results: list[bool | None]) -> bool | None:
     return None if any(r is None for r in results) else all(results)
 
 
-def _value_or_bound(d: dict) -> float:
-    return d["value"] if d["value"] is not None else d["high"]
-
-
 # ------------------------------------------------------------------------------------------ models
 @dataclass(frozen=True)
 class BiasModels:

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+from analysis.compensation.rbf import RBFNetwork
 from scenarios import fog_vibration as sc
 from scenarios import registry
-from analysis.compensation.rbf import RBFNetwork
 from scenarios.base import CompensationTask
 from sim import units
 

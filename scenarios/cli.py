@@ -103,10 +103,6 @@ def _positive_int(name: str):
     return conv
 
 
-#: the fewest samples a record may have: the overlapping Allan deviation at octave taus
-#: 1, 2, 4, 8, 16 samples (the five points the Q/N/B/K/R fit needs) takes 2 x 16 + 1 samples
-MIN_RECORD_SAMPLES = 33
-
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
                 "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
@@ -130,6 +126,7 @@ def _simulate_noise(args) -> int:
     """
     from tqdm import tqdm
 
+    from scenarios.static_noise import MIN_SAMPLES
     from sim.noise import NoiseModel
     from sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
 
@@ -153,9 +150,9 @@ def _simulate_noise(args) -> int:
         rate_ramp=datasheet["R_deg_h2"],
     )
     n = int(round(args.duration * fs))
-    if n < MIN_RECORD_SAMPLES:
+    if n < MIN_SAMPLES:
         raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
-                        f"at least {MIN_RECORD_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
+                        f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
     # a CSV row is "%.12g,%.17g\n": at most about 42 characters; HDF5 stores 8 bytes per sample
     ensure_free_space(out, 42 * n if suffix == ".csv" else 8 * n)
     seed = 0 if args.seed is None else args.seed
@@ -202,6 +199,7 @@ def _simulate_noise(args) -> int:
 
 def _simulate_scenario(args) -> int:
     from scenarios import registry
+    from scenarios.static_noise import MIN_SAMPLES
     from sim.recording import ensure_free_space, save_hdf5
 
     if extra := _given(args, _NOISE_FLAGS):
@@ -214,10 +212,10 @@ def _simulate_scenario(args) -> int:
     seed = 0 if args.seed is None else args.seed
     recs = mod.simulate(config, seed)
     for r in recs:  # check them all before writing any
-        if r.n_samples < MIN_RECORD_SAMPLES:
+        if r.n_samples < MIN_SAMPLES:
             raise _BadInput(
                 f"simulate {args.target}: recording {r.name!r} would have {r.n_samples} samples "
-                f"({r.n_samples / r.fs:.3g} s at {r.fs:g} Hz); a record needs at least {MIN_RECORD_SAMPLES}: "
+                f"({r.n_samples / r.fs:.3g} s at {r.fs:g} Hz); a record needs at least {MIN_SAMPLES}: "
                 f"lengthen it in the config"
             )
     out = Path(args.out) / mod.NAME
@@ -400,7 +398,7 @@ def _read_hdf5(path: Path, name: str | None, column: str | None):
 
 def _cmd_allan(args) -> int:
     from analysis.allan import allan_deviation, fit_noise
-    from scenarios.allan_report import coefficients_json
+    from scenarios.allan_report import TERMS, coefficients_json
 
     path = Path(args.file)
     if not path.is_file():
@@ -417,11 +415,11 @@ def _cmd_allan(args) -> int:
         raise _BadInput(f"{label} contains {float(rate[bad[0]])} at sample {bad[0]} ({len(bad)} non-finite "
                         f"sample{'s' if len(bad) > 1 else ''}): the data must be finite")
     curve = allan_deviation(rate, fs, taus=args.taus, kind=args.kind)
-    if len(curve.tau) < 5:
+    if len(curve.tau) < len(TERMS):
         raise _BadInput(
             f"{label}: {len(rate)} samples at {fs:g} Hz give {len(curve.tau)} {curve.kind} Allan deviation "
-            f"point(s) at taus={args.taus!r} (up to {curve.tau[-1]:.3g} s); the Q/N/B/K/R fit needs at least 5: "
-            f"use a longer record or --taus all"
+            f"point(s) at taus={args.taus!r} (up to {curve.tau[-1]:.3g} s); the Q/N/B/K/R fit needs "
+            f"at least {len(TERMS)}: use a longer record or --taus all"
         )
     fit = fit_noise(curve)
     js = coefficients_json(fit)

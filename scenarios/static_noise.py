@@ -37,8 +37,11 @@ _COEFF_UNITS = {
     "K_deg_h_sqrt_h": "deg/h/sqrt(h)",
     "R_deg_h2": "deg/h^2",
 }
-#: fewest samples that give the five octave taus the joint Q/N/B/K/R fit needs
-MIN_SAMPLES = 33
+#: fewest samples a record may have: the joint Q/N/B/K/R fit needs one tau per term (5), and
+#: the default octave taus m = 1, 2, 4, ... of the overlapping deviation stop at T/4
+#: (analysis.allan), so m = 16 needs 4 x 16 = 64 samples (a test pins this against analysis.allan).
+#: The CLI imports it for 'simulate noise' and 'simulate SCENARIO'.
+MIN_SAMPLES = 4 * 2 ** (len(TERMS) - 1)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

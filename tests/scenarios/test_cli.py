@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from analysis.allan import allan_deviation, fit_noise
+from scenarios.allan_report import TERMS
 from scenarios.cli import main
+from scenarios.static_noise import MIN_SAMPLES
 from sim import units
 from sim.recording import load_hdf5
 
@@ -280,8 +282,21 @@ def test_bad_negative_duration(tmp_path, capsys, text):
 
 def test_bad_too_short_noise_record(tmp_path, capsys):
     code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "0.1s", "-o", tmp_path / "x.h5"], capsys)
-    assert_one_line_error(code, err, "--duration x --fs = 0.1 s x 100 Hz gives 10 samples; a record needs at least 33")
+    assert_one_line_error(code, err, "--duration x --fs = 0.1 s x 100 Hz gives 10 samples; a record needs at least 64")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_min_samples_is_the_fewest_the_default_fit_takes(tmp_path, capsys):
+    # before: the minimum was 33 (2 x 16 + 1), but the default octave taus stop at T/4, so a
+    # 33..63-sample record was written and then refused by 'gyrobench allan' (4 taus, not 5)
+    rate = np.random.default_rng([20261121, 64]).standard_normal(MIN_SAMPLES)
+    assert allan_deviation(rate, 1.0).tau.size == len(TERMS)
+    assert allan_deviation(rate[:-1], 1.0).tau.size == len(TERMS) - 1
+    p = tmp_path / "x.h5"
+    code, _, err = run(["simulate", "noise", "--N", "1", "--duration", f"{MIN_SAMPLES / 100}s", "-o", p, "-q"], capsys)
+    assert code == 0, err
+    code, _, err = run(["allan", p], capsys)
+    assert code == 0, err
 
 
 def test_bad_output_suffix(tmp_path, capsys):
@@ -328,7 +343,7 @@ def test_bad_config_giving_an_empty_record(tmp_path, capsys):
     cfg = tmp_path / "c.toml"
     cfg.write_text("[fog]\nduration_h = 1e-9\n[mems]\nduration_h = 0.05\n")
     code, _, err = run(["simulate", "static_noise", "--out", tmp_path / "o", "--config", cfg], capsys)
-    assert_one_line_error(code, err, "GradeSpec.duration_h x fs_hz must give >= 33 samples")
+    assert_one_line_error(code, err, "GradeSpec.duration_h x fs_hz must give >= 64 samples")
     assert not (tmp_path / "o").exists()  # checked before any file is written
 
 
@@ -343,7 +358,9 @@ def test_bad_config_negative_coefficient_names_the_config_field(tmp_path, capsys
 # ----------------------------------------------------------------------------- writing: failures, names, modes, space
 _FSIZE_MAIN = r"""
 import resource, sys
+from scenarios.allan_report import TERMS
 from scenarios.cli import main
+from scenarios.static_noise import MIN_SAMPLES
 resource.setrlimit(resource.RLIMIT_FSIZE, (200_000, 200_000))
 sys.exit(main(sys.argv[1:]))
 """

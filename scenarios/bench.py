@@ -139,8 +139,14 @@ def score_is_nonnegative(name: str) -> bool:
     :func:`score_direction`: True if one is in :data:`NONNEGATIVE_TOKENS` and none is
     in :data:`HIGHER_IS_BETTER_TOKENS` (improvements and reductions can be negative).
     """
-    tokens = set(name.rsplit("/", 1)[-1].lower().split("_"))
+    tokens = _name_tokens(name)
     return bool(tokens & NONNEGATIVE_TOKENS) and not tokens & HIGHER_IS_BETTER_TOKENS
+
+
+def _name_tokens(name: str) -> set[str]:
+    """The tokens every score-name rule reads: the last path component, lower-cased, split
+    at ``"_"``."""
+    return set(name.rsplit("/", 1)[-1].lower().split("_"))
 
 
 def score_direction(name: str, overrides: Mapping[str, int] | None = None) -> int:
@@ -163,7 +169,7 @@ def score_direction(name: str, overrides: Mapping[str, int] | None = None) -> in
                 if v not in (-1, 0, 1):
                     raise ValueError(f"direction of {k!r} must be -1, 0 or +1; got {v!r}")
                 return int(v)
-    tokens = set(key.lower().split("_"))
+    tokens = _name_tokens(name)
     if tokens & HIGHER_IS_BETTER_TOKENS:
         return 1
     if tokens & LOWER_IS_BETTER_TOKENS:
@@ -387,15 +393,6 @@ class CompensatorError(ValueError):
         )
 
 
-def _short_label(comp: Any) -> str:
-    """A one-word name for messages: ``module:qualname`` of a class or function, else the class."""
-    if isinstance(comp, type) or inspect.isroutine(comp):
-        return f"{comp.__module__}:{comp.__qualname__}"
-    if isinstance(comp, functools.partial):
-        return f"partial({_short_label(comp.func)})"
-    return type(comp).__name__
-
-
 def _compensator_failed(label: str, seed: int, stage: str, exc: BaseException) -> CompensatorError:
     import traceback
 
@@ -415,29 +412,34 @@ def _fit(
     y: NDArray[np.float64],
     seed: int,
     *,
-    label: str = "",
+    label: str,
 ) -> Callable:
     """Fit a fresh copy of ``compensator`` and return ``predict(X) -> ndarray``.
 
     Any exception raised by the user's code (instantiation, cloning, fit, the fit
-    function) becomes a :class:`CompensatorError` naming ``label`` and ``seed``.
+    function) becomes a :class:`CompensatorError` naming ``label`` and ``seed``; a
+    fit function returning something that cannot predict is a ``TypeError``.
     """
-    label = label or _short_label(compensator)
     try:
-        return _fit_unchecked(compensator, X, y, seed)
-    except _BadPredictor as exc:
-        raise TypeError(f"{exc} (compensator {label}, seed {seed})") from None
+        predictor = _fit_user_code(compensator, X, y, seed)
     except Exception as exc:
         raise _compensator_failed(label, seed, "fit", exc) from exc
+    if callable(getattr(predictor, "predict", None)):
+        return predictor.predict
+    if callable(predictor):
+        return predictor
+    raise TypeError(
+        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return "
+        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__} "
+        f"(compensator {label}, seed {seed})"
+    )
 
 
-class _BadPredictor(Exception):
-    """Internal: a fit function returned something that cannot predict (reported as TypeError)."""
-
-
-def _fit_unchecked(
+def _fit_user_code(
     compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed: int
-) -> Callable:
+) -> Any:
+    """The user's code in :func:`_fit`: the fitted estimator's predict, or what a fit
+    function returned."""
     rs = _seed_int(seed)
     if isinstance(compensator, type):
         compensator = compensator()
@@ -457,23 +459,14 @@ def _fit_unchecked(
         else:
             est = copy.deepcopy(compensator)
         fitted = est.fit(X, y)
-        est = est if fitted is None else fitted
-        return est.predict
+        return (est if fitted is None else fitted).predict
     kwargs = {}
     try:
         if "random_state" in inspect.signature(compensator).parameters:
             kwargs["random_state"] = rs
     except (TypeError, ValueError):  # builtins without a signature
         pass
-    predictor = compensator(X, y, **kwargs)
-    if _is_estimator(predictor) or callable(getattr(predictor, "predict", None)):
-        return predictor.predict
-    if callable(predictor):
-        return predictor
-    raise _BadPredictor(
-        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return "
-        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__}"
-    )
+    return compensator(X, y, **kwargs)
 
 
 # ----------------------------------------------------------------------------- one seed
@@ -527,7 +520,7 @@ def _score(
     if config is None:
         config = module.Config()
     if label is None:
-        label = compensator if isinstance(compensator, str) else _short_label(comp)
+        label = _compensator_label(comp, compensator, short=True)
     with threadpool_limits(limits=1):
         task = module.compensation_task(config, seed)
         predict = _fit(comp, task.X_train, task.y_train, seed, label=label)
@@ -774,11 +767,17 @@ def compensator_identity(compensator: Any) -> str:
     )
 
 
-def _compensator_label(comp: Any, given: Any) -> str:
+def _compensator_label(comp: Any, given: Any, *, short: bool = False) -> str:
+    """How the db and messages name a compensator: the string it was given as, else
+    ``module:qualname`` of a class or function, else its repr (``short``: its class name)."""
     if isinstance(given, str):
         return given
     if isinstance(comp, type) or inspect.isroutine(comp):
         return f"{comp.__module__}:{comp.__qualname__}"
+    if short:
+        if isinstance(comp, functools.partial):
+            return f"partial({_compensator_label(comp.func, None, short=True)})"
+        return type(comp).__name__
     text = " ".join(repr(comp).split())
     return text if len(text) <= 200 else text[:197] + "..."
 
@@ -1104,7 +1103,7 @@ def run_campaign(
         raise ValueError("give either executor or workers, not both")
     cid = campaign_id(module, comp, config)
     label = _compensator_label(comp, compensator)
-    short = compensator if isinstance(compensator, str) else _short_label(comp)
+    short = _compensator_label(comp, compensator, short=True)
     scen_name = getattr(module, "NAME", module.__name__)
 
     conn = _connect(db)

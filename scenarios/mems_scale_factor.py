@@ -631,16 +631,15 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         seed,
         {k: m["heldout_nonlinearity_pct"] for k, m in methods.items()} | {"floor": floor_held},
     )
-    paper_order = sorted(PAPER["methods"], key=lambda k: PAPER["methods"][k]["nonlinearity_pct"])
+    order_paper = sorted(PAPER["methods"], key=lambda k: PAPER["methods"][k]["nonlinearity_pct"])
 
     def _in_paper_order(cell: dict[str, float]) -> bool:
-        return sorted(METHOD_LABELS, key=cell.get) == paper_order
+        return sorted(METHOD_LABELS, key=cell.get) == order_paper
 
     for sig, reps in sweep["per_replicate"].items():
         sweep["median"][sig]["paper_order_replicates"] = sum(_in_paper_order(c) for c in reps)
 
     order_sim = sorted(methods, key=lambda k: methods[k]["heldout_nonlinearity_pct"])
-    order_paper = paper_order
     bps = [b for b in (search.negative, search.positive) if b is not None]
 
     results = {

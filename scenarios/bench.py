@@ -100,6 +100,7 @@ __all__ = [
     "score_direction",
     "score_is_nonnegative",
     "check_baseline_path",
+    "check_baseline_matches",
     "save_baseline",
     "load_baseline",
     "compare",
@@ -1284,6 +1285,43 @@ def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path")
         If its folder does not exist (it is not created).
     """
     return _check_output_file(path, what=what)
+
+
+def check_baseline_matches(
+    baseline: Campaign,
+    scenario: str | types.ModuleType,
+    seeds: Iterable[int] | str | None = None,
+    *,
+    what: str = "baseline",
+    seeds_what: str = "seeds",
+) -> None:
+    """Check, before a campaign, that its result can be compared with ``baseline``.
+
+    :func:`compare` needs the same scenario and at least one common seed; this
+    refuses a mismatch before anything is computed. ``what`` and ``seeds_what`` name
+    the baseline and the seeds in the messages (``"--baseline 'b.json'"``, ``"--seeds"``).
+
+    Raises
+    ------
+    ValueError
+        If ``baseline`` is of another scenario, or ``seeds`` (when given) share no
+        seed with it.
+    """
+    module = resolve_scenario(scenario)
+    name = getattr(module, "NAME", module.__name__)
+    if baseline.scenario != name:
+        raise ValueError(
+            f"{what} is of scenario {baseline.scenario!r}, not {name!r}; "
+            "a paired comparison needs the same scenario"
+        )
+    if seeds is not None:
+        seeds = parse_seeds(seeds) if isinstance(seeds, str) else _check_seeds(seeds)
+        if not set(seeds) & set(baseline.seeds):
+            raise ValueError(
+                f"{seeds_what} must share seeds with {what} (its seeds: "
+                f"{_seed_text(baseline.seeds)}); got {_seed_text(seeds)} "
+                f"(omit {seeds_what} to use the baseline's)"
+            )
 
 
 def _json_float(v: float) -> float | None:

@@ -118,22 +118,6 @@ def _executor(args):
     return client.get_executor(), client.close
 
 
-def _check_baseline_matches(baseline: bench.Campaign, module, seeds, path: str) -> None:
-    """Refuse a baseline the campaign could not be compared with, before computing anything."""
-    name = getattr(module, "NAME", module.__name__)
-    if baseline.scenario != name:
-        raise ValueError(
-            f"--baseline {path!r} is of scenario {baseline.scenario!r}, not {name!r}; "
-            "a paired comparison needs the same scenario"
-        )
-    if seeds is not None and not set(seeds) & set(baseline.seeds):
-        raise ValueError(
-            f"--seeds must share seeds with --baseline {path!r} (its seeds: "
-            f"{bench._seed_text(baseline.seeds)}); got {bench._seed_text(seeds)} "
-            "(omit --seeds to use the baseline's)"
-        )
-
-
 def run(args: argparse.Namespace) -> int:
     """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
     from scenarios import registry
@@ -149,7 +133,9 @@ def run(args: argparse.Namespace) -> int:
     # read and check the baseline first: a bad or mismatched file fails before any computing
     baseline = bench.load_baseline(args.baseline) if args.baseline else None
     if baseline is not None:
-        _check_baseline_matches(baseline, module, seeds, args.baseline)
+        bench.check_baseline_matches(
+            baseline, module, seeds, what=f"--baseline {args.baseline!r}", seeds_what="--seeds"
+        )
     if seeds is None:
         seeds = baseline.seeds if baseline is not None else tuple(range(20))
     if args.save_baseline:

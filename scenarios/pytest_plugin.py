@@ -130,14 +130,17 @@ class GyrobenchBench:
             path = self.root / path
         stored = bench.load_baseline(path) if path.is_file() else None
         if stored is not None:
-            module = bench.resolve_scenario(scenario)
-            name = getattr(module, "NAME", module.__name__)
-            if stored.scenario != name:  # before computing anything
-                pytest.fail(
-                    f"gyrobench baseline {str(path)!r} is of scenario {stored.scenario!r}, "
-                    f"not {name!r}",
-                    pytrace=False,
+            try:  # before computing anything; a rewrite (save) may change the seeds
+                bench.check_baseline_matches(
+                    stored,
+                    scenario,
+                    None if self.save else seeds,
+                    what=f"gyrobench baseline {str(path)!r}",
                 )
+            except ValueError as exc:
+                pytest.fail(str(exc), pytrace=False)
+        if self.save and not relative:  # a missing folder fails now, not after the campaign
+            bench.check_baseline_path(path)
         if stored is None and not self.save:
             pytest.fail(
                 f"gyrobench baseline {str(path)!r} does not exist; create it with "

@@ -895,3 +895,16 @@ def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
         key = "mean/bias_stability_deg_h"
         assert d.scores[s][key] > c.scores[s][key]
         assert d.scores[s]["mean/before_deg_h"] == c.scores[s]["mean/before_deg_h"]
+
+
+def test_check_baseline_matches_names_the_baseline_and_the_seeds():
+    c = _campaign({s: {"mean/mse": 1.0} for s in (0, 1)})  # scenario "toy"
+    bench.check_baseline_matches(c, toy, "1:3")  # shares seed 1: fine
+    with pytest.raises(
+        ValueError,
+        match=r"^seeds must share seeds with baseline \(its seeds: 0:2\); got 5:7 "
+        r"\(omit seeds to use the baseline's\)$",
+    ):
+        bench.check_baseline_matches(c, toy, [5, 6])
+    with pytest.raises(ValueError, match="^my.json is of scenario 'toy', not 'rlg_thermal'; "):
+        bench.check_baseline_matches(c, "rlg_thermal", what="my.json")

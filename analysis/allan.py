@@ -264,7 +264,9 @@ class NoiseFit:
         """
         if name not in self.avar_coefficients:
             raise ValueError(f"name must be one of the fitted terms {tuple(self.avar_coefficients)}; got {name!r}")
-        if isinstance(level, bool) or not isinstance(level, (int, float, np.floating)) or not (0.0 < level < 1.0):
+        if isinstance(level, bool) or not isinstance(level, (int, float, np.floating)):
+            raise TypeError(f"level must be a real number in (0, 1); got {level!r}")
+        if not (0.0 < level < 1.0):
             raise ValueError(f"level must be a real number in (0, 1); got {level!r}")
         j = list(self.avar_coefficients).index(name)
         z = float(stats.norm.ppf(0.5 + float(level) / 2.0))
@@ -726,8 +728,10 @@ def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
 def _noise_id_blocks(z: NDArray[np.float64], dmax: int) -> int:
     """Lag-1 ACF noise identification (Riley & Greenhall 2004) of block means z of the rate.
 
-    Block means that are exactly a line (a constant or noise-free ramp rate) have no noise
-    to identify: 0 (white rate) is returned; their deviation does not depend on the edf.
+    Block means that are exactly a line after detrending (e.g. a constant rate: every
+    S_m[j m] is the same sum) have no noise to identify: 0 (white rate) is returned instead
+    of a 0/0 autocorrelation. (A noise-free ramp leaves rounding residue, which gets some
+    alpha; its deviation is exact, only its bounds depend on that alpha.)
     """
     z = _detrend1(z)
     d = 0
@@ -1196,7 +1200,7 @@ def fit_noise(
     filter that bends the first octaves biases Q/N); bias instability on its plateau at the
     fitted taus (tau > ~1.6/f_high, i.e. above ~3 samples when the flicker band reaches
     fs/2). The ramp is deterministic: it adds no chi-square variance of its own, only the
-    cross term 2 d_r mean(e) with the noise (``_ramp_cross_sd``; a rank-one term of V).
+    cross term d_r mean(e) with the noise (``_ramp_cross_sd``; a rank-one term of V).
     Before commit 5994ca9 it was given random-walk-rate variance instead, which overstated the
     variance of the longest-tau points up to 2.6x (measured over 200 seeds) and K's
     standard error by 10 % (K 68 % coverage 75.5 %).

@@ -378,6 +378,10 @@ def test_interval_levels_are_normal_quantiles_on_the_avar_scale(rng):
                 np.testing.assert_allclose(got[0], want[0], rtol=1e-12, atol=0)
     with pytest.raises(ValueError, match=r"level must be a real number in \(0, 1\); got 1.0"):
         fit.interval("N", 1.0)
+    with pytest.raises(TypeError, match=r"level must be a real number in \(0, 1\); got '0.9'"):
+        fit.interval("N", "0.9")
+    with pytest.raises(ValueError, match=r"name must be one of the fitted terms .*; got 'X'"):
+        fit.interval("X", 0.9)
 
 
 def test_short_record_rate_random_walk_and_ramp_not_identifiable(rng):

@@ -42,8 +42,9 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import threading
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import partial
@@ -427,6 +428,35 @@ def _dot_self(w: NDArray[np.float64]) -> float:
     return float(np.dot(w, w))
 
 
+_BLAS_LOCK = threading.Lock()
+_blas_users = 0
+_blas_limit: Any = None
+
+
+@contextlib.contextmanager
+def _one_blas_thread() -> Iterator[None]:
+    """Hold the BLAS to one thread while any caller is inside (reference-counted).
+
+    threadpool_limits is process-wide and restores what it saw on entry, so two overlapping
+    plain ``with threadpool_limits(...)`` blocks on different threads can restore in the
+    wrong order and leave the BLAS at one thread for good; here the first caller in sets
+    the limit and the last one out restores it.
+    """
+    global _blas_users, _blas_limit
+    with _BLAS_LOCK:
+        if _blas_users == 0:
+            _blas_limit = threadpool_limits(limits=1, user_api="blas")
+        _blas_users += 1
+    try:
+        yield
+    finally:
+        with _BLAS_LOCK:
+            _blas_users -= 1
+            if _blas_users == 0:
+                _blas_limit.restore_original_limits()
+                _blas_limit = None
+
+
 def _segments(n: int) -> list[tuple[int, int]]:
     """Split [0, n) into one contiguous range per worker thread (one range for short records)."""
     k = _THREADS if n >= _THREAD_MIN else 1
@@ -625,7 +655,8 @@ def _octave_overlapping(
     are added differs (~1e-16 relative).
     Threads split k by range (first pass, small m) or by residue mod m (m >= _RESIDUE_MIN);
     meanwhile the BLAS is held to one thread (threadpoolctl, a scikit-learn dependency: it
-    is process-wide), so the per-block dot products run in parallel on these threads.
+    is process-wide, so :func:`_one_blas_thread` counts concurrent callers), so the
+    per-block dot products run in parallel on these threads.
     """
     n = y.size
     want = {int(m) for m in ms}
@@ -645,7 +676,7 @@ def _octave_overlapping(
             if m in want:
                 dev[m] = math.sqrt(sum(a[i] for a in accs) / (2.0 * (n + 1 - 2 * m))) / m
 
-    with threadpool_limits(limits=1, user_api="blas") if threaded else contextlib.nullcontext():
+    with _one_blas_thread() if threaded else contextlib.nullcontext():
         levels = [1 << i for i in range(_FUSE_FIRST) if (1 << i) <= top]
         m = 2 * levels[-1]  # the first octave after the first pass
         s_arr = np.empty(n) if m <= top else None

@@ -204,3 +204,22 @@ def test_blas_thread_count_is_restored(rng, monkeypatch):
     before = [p["num_threads"] for p in threadpool_info()]
     allan_deviation(_record(rng, 50_000), 10.0)
     assert [p["num_threads"] for p in threadpool_info()] == before
+
+
+def test_overlapping_blas_limits_restore_in_any_order():
+    """Two callers on different threads leave in the opposite order: the BLAS stays at one
+    thread while either is inside and is restored when the last one leaves (a plain
+    ``with threadpool_limits`` per caller would restore too early, then to 1 for good)."""
+
+    def blas() -> list[int]:
+        return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+
+    before = blas()
+    a, b = allan._one_blas_thread(), allan._one_blas_thread()
+    a.__enter__()
+    b.__enter__()
+    assert set(blas()) <= {1}
+    a.__exit__(None, None, None)  # the first in leaves first
+    assert set(blas()) <= {1}
+    b.__exit__(None, None, None)
+    assert blas() == before

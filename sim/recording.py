@@ -68,12 +68,13 @@ class RecordingFormatError(ValueError):
 class AtomicWriteError(OSError):
     """Writing a file failed; the message names the target path, not the temporary file.
 
-    ``errno`` is the underlying error number (``ENOSPC``, ``EFBIG``, ...) and
-    ``filename`` the target path.
+    Built as ``AtomicWriteError(errno, message, target)``: ``errno`` is the
+    underlying error number (``ENOSPC``, ``EFBIG``, ...), ``strerror`` the
+    message and ``filename`` the target path.
     """
 
     def __str__(self) -> str:  # the message alone, not OSError's "[Errno n] strerror: filename"
-        return str(self.args[0]) if self.args else super().__str__()
+        return str(self.strerror)
 
 
 _WRITE_HINTS = {
@@ -88,18 +89,19 @@ def _write_error(path: Path, exc: OSError) -> AtomicWriteError:
     if isinstance(exc, AtomicWriteError):
         return exc
     cause = exc.strerror or (str(exc.args[0]) if exc.args else type(exc).__name__)
-    err = AtomicWriteError(f"cannot write {str(path)!r}: {cause}{_WRITE_HINTS.get(exc.errno, '')}")
-    err.errno = exc.errno
-    err.filename = str(path)
-    return err
+    hint = _WRITE_HINTS.get(exc.errno, "")
+    return AtomicWriteError(exc.errno, f"cannot write {str(path)!r}: {cause}{hint}", str(path))
 
 
 def _fmt_bytes(n: float) -> str:
-    for unit in ("B", "kB", "MB", "GB", "TB"):
-        if abs(n) < 1000 or unit == "TB":
-            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.3g} {unit}"
+    """``28800000`` -> ``"28.8 MB"`` (decimal units, as ``df -H``)."""
+    if abs(n) < 1000:
+        return f"{n:.0f} B"
+    for unit in ("kB", "MB", "GB"):
         n /= 1000
-    raise AssertionError("unreachable")
+        if abs(n) < 1000:
+            return f"{n:.3g} {unit}"
+    return f"{n / 1000:.3g} TB"
 
 
 def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
@@ -130,13 +132,12 @@ def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
     if usage.total == 0:  # a pseudo file system (/proc, /sys): sizes mean nothing there
         return
     if nbytes > free:
-        err = AtomicWriteError(
+        raise AtomicWriteError(
+            errno.ENOSPC,
             f"cannot write {str(path)!r}: the record needs about {_fmt_bytes(nbytes)} but {str(folder)!r} "
-            f"has {_fmt_bytes(free)} free; shorten the record, lower fs or write elsewhere"
+            f"has {_fmt_bytes(free)} free; shorten the record, lower fs or write elsewhere",
+            str(path),
         )
-        err.errno = errno.ENOSPC
-        err.filename = str(path)
-        raise err
 
 
 def package_version() -> str:
@@ -233,6 +234,11 @@ class Recording:
     @property
     def n_samples(self) -> int:
         return len(next(iter(self.channels.values())).data)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of sample data, channels and truth (about the size of its HDF5 file) [bytes]."""
+        return sum(c.data.nbytes for c in (*self.channels.values(), *self.truth.values()))
 
     @property
     def time(self) -> NDArray[np.float64]:
@@ -422,7 +428,7 @@ def _h5_create(tmp: Path) -> Iterator[tuple[Any, _GuardedFile]]:
             guard.discard()
             with contextlib.suppress(Exception):
                 h5.close()
-            if guard.error is not None and exc is not guard.error and not isinstance(exc, KeyboardInterrupt):
+            if guard.error is not None and exc is not guard.error and isinstance(exc, Exception):
                 raise guard.error from None  # e.g. h5py reading back a dropped block: the cause is the write error
             raise
     finally:
@@ -464,7 +470,7 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
     names = [r.name for r in recs]
     if len(set(names)) != len(names):
         raise ValueError(f"recording names must be unique within a file; got {names}")
-    ensure_free_space(path, sum(c.data.nbytes for r in recs for c in (*r.channels.values(), *r.truth.values())))
+    ensure_free_space(path, sum(r.nbytes for r in recs))
     with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
         _mark_root(h5)
         for r in recs:

@@ -264,6 +264,7 @@ def test_record_larger_than_free_space_is_refused_before_writing(tmp_path, monke
     import sim.recording as recording
 
     monkeypatch.setattr(recording.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 4000, 4000))
+    assert _rec(n=1000).nbytes == 4 * 1000 * 8
     with pytest.raises(AtomicWriteError, match=r"needs about 32 kB but .* has 4 kB free"):
         save_hdf5(tmp_path / "r.h5", _rec(n=1000))  # (2 channels + 2 truth) x 1000 x 8 B
     with pytest.raises(AtomicWriteError, match=r"needs about 8 MB but .* has 4 kB free"):

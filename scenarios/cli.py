@@ -17,6 +17,7 @@ traceback), 1 when ``bench`` finds a significant regression.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import re
@@ -41,6 +42,19 @@ class _Parser(argparse.ArgumentParser):
 
 class _BadInput(ValueError):
     pass
+
+
+@contextlib.contextmanager
+def _closing(bar):
+    """Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
+    last thing on the terminal (a bar left open redraws itself after the error)."""
+    try:
+        yield bar
+    except BaseException:
+        bar.leave = False
+        raise
+    finally:
+        bar.close()
 
 
 # ----------------------------------------------------------------------------- list
@@ -153,8 +167,8 @@ def _simulate_noise(args) -> int:
     if n < MIN_SAMPLES:
         raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
-    # a CSV row is "%.12g,%.17g\n": at most about 42 characters; HDF5 stores 8 bytes per sample
-    ensure_free_space(out, 42 * n if suffix == ".csv" else 8 * n)
+    if suffix == ".csv":  # a row "%.12g,%.17g\n" is at most about 42 characters (HDF5StreamWriter checks its own)
+        ensure_free_space(out, 42 * n)
     seed = 0 if args.seed is None else args.seed
     chunk = args.chunk or 1 << 20
     stream = model.stream(fs, rng=np.random.default_rng(seed))
@@ -170,8 +184,7 @@ def _simulate_noise(args) -> int:
                            "rate_ramp_rad_per_s2": model.rate_ramp},
     }
     bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
-    ok = False
-    try:
+    with _closing(bar):
         if suffix == ".csv":
             with atomic_path(out) as tmp, open(tmp, "w") as fh:
                 fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
@@ -188,11 +201,6 @@ def _simulate_noise(args) -> int:
                 for y in stream.chunks(n, chunk):
                     w.append(rate=y)
                     bar.update(len(y))
-        ok = True
-    finally:
-        # also on error, and then erased: a bar left open redraws itself after the one-line error
-        bar.leave = bar.leave and ok
-        bar.close()
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
     return 0
 
@@ -219,8 +227,7 @@ def _simulate_scenario(args) -> int:
                 f"lengthen it in the config"
             )
     out = Path(args.out) / mod.NAME
-    ensure_free_space(out / "all recordings",
-                      sum(c.data.nbytes for r in recs for c in (*r.channels.values(), *r.truth.values())))
+    ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
     for r in recs:
         path = save_hdf5(out / f"{r.name}.h5", r)
         print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
@@ -267,7 +274,7 @@ def _time_column(names: list[str], hdr_units: list[str | None]) -> tuple[int | N
         m = _TIME_NAME.match(nm)
         if m:
             unit = hdr_units[i] or m.group(1) or "s"  # no unit anywhere: seconds
-            return i, _TIME_UNITS.get(unit.lower() if unit != "µs" else unit)
+            return i, _TIME_UNITS.get(unit.lower())
     return None, None
 
 
@@ -466,15 +473,10 @@ def _cmd_reproduce(args) -> int:
     outcomes = []
     t0 = time.perf_counter()
     bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
-    try:
+    with _closing(bar):
         for mod, cfg in bar:
             bar.set_postfix_str(mod.NAME)
             outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
-    except BaseException:
-        bar.leave = False  # erase the bar: the error is the one line left
-        raise
-    finally:
-        bar.close()
     index = write_report(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     held = sum(1 for o in outcomes for h in o.headlines if h.holds is True)
     total = sum(1 for o in outcomes for h in o.headlines if h.holds is not None)

@@ -384,6 +384,67 @@ def test_interval_levels_are_normal_quantiles_on_the_avar_scale(rng):
         fit.interval("X", 0.9)
 
 
+def _mean_difference_weights(kind: str, n: int, m: int) -> np.ndarray:
+    """w with mean_k(ybar_{k+m} - ybar_k) = w . y: the telescoped end-minus-start windows."""
+    w = np.zeros(n)
+    if kind == "overlapping":  # triangles of 2m - 1 samples, total weight m, over n_t m
+        tri = np.convolve(np.ones(m), np.ones(m)) / (m * (n + 1 - 2 * m))
+        w[n + 1 - 2 * m : n] += tri
+        w[: 2 * m - 1] -= tri
+    else:  # first and last of the M = n // m boxes, over (M - 1) m
+        big = n // m
+        w[(big - 1) * m : big * m] += 1.0 / (m * (big - 1))
+        w[:m] -= 1.0 / (m * (big - 1))
+    return w
+
+
+@pytest.mark.parametrize("kind", ["overlapping", "standard"])
+@pytest.mark.parametrize("m", [16, 64, 256])
+def test_ramp_cross_term_is_the_exact_discrete_variance(rng, kind, m):
+    """_ramp_cross_sd = d_r sd(mean of the differences) against the exact discrete variance.
+
+    The mean of the differences is w . y (checked on a random record, so the telescoping is
+    pinned too); white rate (N = 1, fs = 1) gives Var = |w|^2, random-walk rate (K = 1)
+    gives Var = sum_j (sum_{i >= j} w_i)^2. The docstring's continuous-time forms differ
+    from these sums by the discretisation of the windows: exactly 1/(2 m^2) relative for
+    white rate in the triangles (sum of squares m(2 m^2 + 1)/3 vs 2 m^3/3), 0 for the
+    boxes, and O(tau/(m^2 L)) for the random walk; 1/m^2 bounds all of them.
+    """
+    n, r = 20_001, 1e-3
+    w = _mean_difference_weights(kind, n, m)
+    y = rng.standard_normal(n)
+    if kind == "overlapping":
+        s = np.convolve(y, np.ones(m), "valid") / m
+        direct = np.mean(s[m:] - s[:-m])
+    else:
+        direct = np.mean(np.diff(y[: (n // m) * m].reshape(-1, m).mean(axis=1)))
+    np.testing.assert_allclose(w @ y, direct, rtol=1e-9)
+    tau, ms = np.array([float(m)]), np.array([m], dtype=np.int64)
+    exact = {"N": w @ w, "K": float(np.sum(np.cumsum(w[::-1])[::-1] ** 2))}
+    for name, c in (("N", 1.0), ("K", 1.0 / 3.0)):  # N = 1, K = 1 in AVAR coefficients
+        sd = allan._ramp_cross_sd((name, "R"), np.array([c, r**2 / 2]), tau, ms, n, kind)[0]
+        var = (sd / (r * m)) ** 2  # d_r = R tau
+        assert abs(var / exact[name] - 1.0) <= 1.0 / m**2, (name, var / exact[name] - 1.0)
+
+
+def test_flicker_end_constants_are_the_window_integrals():
+    """_FLICKER_END_C: c = 2 Int_0^inf sin^2(lam u) w(u)/u du - ln lam (lam -> inf)
+    = gamma + ln 2 + Int_0^1 (w - 1)/u du + Int_1^inf w/u du, w = sinc^4 (triangle) or
+    sinc^2 (box); to the 6 digits printed in the module (5e-6)."""
+    from scipy import integrate
+
+    for kind, p in (("overlapping", 4), ("standard", 2)):
+
+        def w(u, p=p):
+            return (np.sin(u) / u) ** p
+
+        head = integrate.quad(lambda u: (w(u) - 1.0) / u, 0.0, 1.0)[0]
+        tail = sum(integrate.quad(lambda u: w(u) / u, k, k + 1.0)[0] for k in range(1, 2000))
+        tail += (1.0 / 4.0 if p == 2 else 3.0 / 32.0) / 2000.0**p  # mean sin^p over the rest
+        c = np.euler_gamma + math.log(2.0) + head + tail
+        assert abs(allan._FLICKER_END_C[kind] - c) <= 5e-6, (kind, c)
+
+
 def test_short_record_rate_random_walk_and_ramp_not_identifiable(rng):
     """30 min at 10 Hz: K and R dominate only beyond the longest tau (T/4 = 450 s).
 

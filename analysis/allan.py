@@ -546,7 +546,7 @@ def _first_pass(
                 np.subtract(u[m : m + c], u[:c], out=v[:c])
                 acc[i] += ssq(v[:c])
             size -= m
-            if size <= 0:  # no S_2m at k >= a: nothing further in this block
+            if size <= 0 or (out is None and i == len(levels) - 1):  # no S_2m at k >= a, or not needed
                 break
             np.add(u[:size], u[m : m + size], out=v[:size])
             u, v = v, u

@@ -645,48 +645,64 @@ def _validation_scores(config: Config, improved, traditional, v1, v2):
     return val1, val2
 
 
+@dataclass(frozen=True, slots=True)
+class _Pipeline:
+    """One seed through the whole pipeline: simulate, CV-select, fit, score the validation runs."""
+
+    recs: list[Recording]
+    runs: dict[str, _Run]
+    sel_imp: RBFSelection
+    sel_trad: RBFSelection
+    improved: RBFNetwork
+    traditional: RBFNetwork
+    v1: list[_Run]
+    v2: list[_Run]
+    val1: list[dict]
+    val2: list[dict]
+
+
+def _pipeline(config: Config, seed: int) -> _Pipeline:
+    """What :func:`run` reports for ``seed`` and :func:`seed_summary` repeats for the other seeds."""
+    recs = simulate(config, seed)
+    runs = {r.name: _prepare(r, config) for r in recs}
+    sel_imp, sel_trad, improved, traditional = fit_models(config, runs["ident_1"])
+    v1 = [runs[f"val1_run{i + 1}"] for i in range(config.validation1_runs)]
+    v2 = [runs[f"val2_run{i + 1}"] for i in range(config.validation2_runs)]
+    val1, val2 = _validation_scores(config, improved, traditional, v1, v2)
+    return _Pipeline(recs, runs, sel_imp, sel_trad, improved, traditional, v1, v2, val1, val2)
+
+
 def seed_summary(config: Config, seeds) -> list[dict]:
     """The whole pipeline (simulate, CV-select, fit, score) for each seed: how much the result depends on the unit drawn.
 
     Returns one dict per seed: ``seed``, the CV choices, ``validation1_ratio`` (mean raw /
     mean compensated MSE) and ``validation2_wins`` (runs with improved < traditional).
     """
-    out = []
-    for s in seeds:
-        runs = {r.name: _prepare(r, config) for r in simulate(config, s)}
-        sel_imp, sel_trad, improved, traditional = fit_models(config, runs["ident_1"])
-        v1 = [runs[f"val1_run{i + 1}"] for i in range(config.validation1_runs)]
-        v2 = [runs[f"val2_run{i + 1}"] for i in range(config.validation2_runs)]
-        val1, val2 = _validation_scores(config, improved, traditional, v1, v2)
-        out.append(_summary_row(s, sel_imp, sel_trad, val1, val2))
-    return out
+    return [_summary_row(s, _pipeline(config, s)) for s in seeds]
 
 
-def _summary_row(seed, sel_imp, sel_trad, val1, val2) -> dict:
+def _summary_row(seed, p: _Pipeline) -> dict:
     return {
         "seed": int(seed),
-        "improved": {"spread": sel_imp.spread, "max_neurons": sel_imp.max_neurons},
-        "traditional": {"spread": sel_trad.spread, "max_neurons": sel_trad.max_neurons},
-        "validation1_ratio": float(np.mean([d["mse_raw"] for d in val1]))
-        / float(np.mean([d["mse_compensated"] for d in val1])),
-        "validation2_wins": int(sum(d["mse_improved"] < d["mse_traditional"] for d in val2)),
+        "improved": {"spread": p.sel_imp.spread, "max_neurons": p.sel_imp.max_neurons},
+        "traditional": {"spread": p.sel_trad.spread, "max_neurons": p.sel_trad.max_neurons},
+        "validation1_ratio": float(np.mean([d["mse_raw"] for d in p.val1]))
+        / float(np.mean([d["mse_compensated"] for d in p.val1])),
+        "validation2_wins": int(sum(d["mse_improved"] < d["mse_traditional"] for d in p.val2)),
     }
 
 
 def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     """Simulate every run, fit both RBF models on identification run 1, score, and draw the paper's figures."""
     t_start = time.perf_counter()
-    recs = simulate(config, seed)
-    runs = {r.name: _prepare(r, config) for r in recs}
-    train = runs["ident_1"]
-    sel_imp, sel_trad, improved, traditional = fit_models(config, train)
+    p = _pipeline(config, seed)
+    recs, runs, train = p.recs, p.runs, p.runs["ident_1"]
+    sel_imp, sel_trad, improved, traditional = p.sel_imp, p.sel_trad, p.improved, p.traditional
+    v1, v2, val1, val2 = p.v1, p.v2, p.val1, p.val2
 
     def comp(model, r: _Run, product: bool):
         return _comp(config, model, r, product)
 
-    v1 = [runs[f"val1_run{i + 1}"] for i in range(config.validation1_runs)]
-    v2 = [runs[f"val2_run{i + 1}"] for i in range(config.validation2_runs)]
-    val1, val2 = _validation_scores(config, improved, traditional, v1, v2)
     id2 = runs["ident_2"]
     ident2 = {
         "mse_raw": _mse(id2.output, id2.truth),
@@ -710,17 +726,20 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     def comp32(d, r: _Run, product: bool):
         return r.output - deployment_float32(d, _features(r, config, product=product)).astype(float)
 
+    held = [id2, *v1, *v2]
+    c32 = {r.name: comp32(doc, r, True) for r in held}
     f32_dev, f32_rel = 0.0, []
-    for r in [id2, *v1, *v2]:
-        c64, c32 = comp(improved, r, True), comp32(doc, r, True)
-        f32_dev = max(f32_dev, float(np.max(np.abs(c32 - c64))))
+    for r in held:
+        c64 = comp(improved, r, True)
+        f32_dev = max(f32_dev, float(np.max(np.abs(c32[r.name] - c64))))
         m64 = _mse(c64, r.truth)
-        f32_rel.append(abs(_mse(c32, r.truth) - m64) / m64)
-    ratio1_f32 = float(np.mean([d["mse_raw"] for d in val1])) / float(
-        np.mean([_mse(comp32(doc, r, True), r.truth) for r in v1])
-    )
+        f32_rel.append(abs(_mse(c32[r.name], r.truth) - m64) / m64)
+    mean_raw1 = float(np.mean([d["mse_raw"] for d in val1]))
+    mean_comp1 = float(np.mean([d["mse_compensated"] for d in val1]))
+    ratio1 = mean_raw1 / mean_comp1
+    ratio1_f32 = mean_raw1 / float(np.mean([_mse(c32[r.name], r.truth) for r in v1]))
     wins_f32 = sum(
-        _mse(comp32(doc, r, True), r.truth) < _mse(comp32(doc_trad, r, False), r.truth) for r in v2
+        _mse(c32[r.name], r.truth) < _mse(comp32(doc_trad, r, False), r.truth) for r in v2
     )
     float32 = {
         "max_abs_output_weight": float(np.max(np.abs(doc["LW"]))),
@@ -731,21 +750,26 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     }
 
     sensitivity = _sensitivity(config, train, v1, v2, comp)
-    summary = [_summary_row(seed, sel_imp, sel_trad, val1, val2)]
+    summary = [_summary_row(seed, p)]
     summary += seed_summary(config, range(seed + 1, seed + config.seed_summary_count))
     n_ratio_ok = sum(d["validation1_ratio"] >= 10.0 for d in summary)
     n_wins_ok = sum(d["validation2_wins"] == len(v2) for d in summary)
     n_both_ok = sum(
         d["validation1_ratio"] >= 10.0 and d["validation2_wins"] == len(v2) for d in summary
     )
-    chosen_row = _score_settings(config, train, v1, v2, comp, sel_imp.chosen, sel_trad.chosen)
+    # the CV choice scored like a sensitivity row: these are the reported models, no refit needed
+    chosen_row = {
+        "spread": sel_imp.spread,
+        "max_neurons": sel_imp.max_neurons,
+        "traditional_spread": sel_trad.spread,
+        "traditional_max_neurons": sel_trad.max_neurons,
+        "validation1_ratio": summary[0]["validation1_ratio"],
+        "validation2_wins": summary[0]["validation2_wins"],
+    }
     T_pt, sh_pt, prod_pt, tot_pt = point_heating(config)
     txdt_max = float(np.max(np.abs(prod_pt)))
     windings = winding_comparison(config)
 
-    mean_raw1 = float(np.mean([d["mse_raw"] for d in val1]))
-    mean_comp1 = float(np.mean([d["mse_compensated"] for d in val1]))
-    ratio1 = mean_raw1 / mean_comp1
     imp_lt_trad = [d["mse_improved"] < d["mse_traditional"] for d in val2]
     ranking = sorted(
         (k for k in windings if "peak_total" in windings[k]),
@@ -1069,39 +1093,34 @@ def _cv_table(sel_imp: RBFSelection, sel_trad: RBFSelection, config: Config) -> 
     )
 
 
-def _score_settings(config: Config, train: _Run, v1, v2, comp, imp_key, trad_key) -> dict:
-    """Validation-1 ratio and validation-2 wins of networks trained on ``train`` with the given settings.
-
-    ``imp_key`` / ``trad_key`` are (spread, max_neurons) of the improved / traditional model.
-    """
-    y = train.output - train.truth
-    imp = _rbf(config, *imp_key).fit(_features(train, config), y)
-    trad = _rbf(config, *trad_key).fit(_features(train, config, product=False), y)
-    raw1 = float(np.mean([_mse(r.output, r.truth) for r in v1]))
-    ratio = raw1 / float(np.mean([_mse(comp(imp, r, True), r.truth) for r in v1]))
-    wins = sum(_mse(comp(imp, r, True), r.truth) < _mse(comp(trad, r, False), r.truth) for r in v2)
-    return {
-        "spread": imp_key[0],
-        "max_neurons": imp_key[1],
-        "traditional_spread": trad_key[0],
-        "traditional_max_neurons": trad_key[1],
-        "validation1_ratio": ratio,
-        "validation2_wins": int(wins),
-    }
-
-
 def _sensitivity(config: Config, train: _Run, v1, v2, comp) -> list[dict]:
     """Validation-1 ratio and validation-2 wins over a small grid of newrb spread / neuron counts.
 
-    Scored on the validation runs: a diagnostic of how much the conclusions depend on
-    the settings. It is NOT used to choose them (that is :func:`select_rbf`, on
-    identification run 1 only).
+    Both networks share the settings of a row. Scored on the validation runs: a diagnostic
+    of how much the conclusions depend on the settings. It is NOT used to choose them
+    (that is :func:`select_rbf`, on identification run 1 only).
     """
-    return [
-        _score_settings(config, train, v1, v2, comp, (spread, mn), (spread, mn))
-        for spread in (1.0, 4.0, 16.0)
-        for mn in (5, 10, 20)
-    ]
+    y = train.output - train.truth
+    X_imp, X_trad = _features(train, config), _features(train, config, product=False)
+    raw1 = float(np.mean([_mse(r.output, r.truth) for r in v1]))
+    out = []
+    for spread in (1.0, 4.0, 16.0):
+        for mn in (5, 10, 20):
+            imp = _rbf(config, spread, mn).fit(X_imp, y)
+            trad = _rbf(config, spread, mn).fit(X_trad, y)
+            ratio = raw1 / float(np.mean([_mse(comp(imp, r, True), r.truth) for r in v1]))
+            wins = sum(
+                _mse(comp(imp, r, True), r.truth) < _mse(comp(trad, r, False), r.truth) for r in v2
+            )
+            out.append(
+                {
+                    "spread": spread,
+                    "max_neurons": mn,
+                    "validation1_ratio": ratio,
+                    "validation2_wins": int(wins),
+                }
+            )
+    return out
 
 
 def _figures(config, T_pt, sh_pt, prod_pt, tot_pt, runs, improved, traditional, comp, v1, v2):
@@ -1147,7 +1166,7 @@ def _figures(config, T_pt, sh_pt, prod_pt, tot_pt, runs, improved, traditional, 
     ax.set_ylabel("drift [deg/h]")
     ax.legend(fontsize=7)
     ax.set_title("Identification run 2 (not used for training)")
-    ax2 = ax.twinx() if False else f.add_subplot(212, sharex=ax)
+    ax2 = f.add_subplot(212, sharex=ax)
     ax2.plot(r.t_h, r.T)
     ax2.set_xlabel("time [h]")
     ax2.set_ylabel("logged coil T [degC]")

@@ -263,7 +263,23 @@ def test_sensitivity_table_is_labelled_as_not_used_for_selection(small_outcome):
     assert "scored on validation data, NOT used for selection" in t.title
     assert str(t.rows[-1][0]).startswith("CV choice")
     r = small_outcome.results
-    assert r["rbf_cv_choice_scored"]["spread"] == r["rbf_selection"]["improved"]["spread"]
+    row, sel = r["rbf_cv_choice_scored"], r["rbf_selection"]
+    assert (row["spread"], row["max_neurons"]) == (
+        sel["improved"]["spread"],
+        sel["improved"]["max_neurons"],
+    )
+    assert (row["traditional_spread"], row["traditional_max_neurons"]) == (
+        sel["traditional"]["spread"],
+        sel["traditional"]["max_neurons"],
+    )
+    # the CV row is the reported models' score, the same numbers as Tables 2 and 3
+    v1, v2 = r["validation_zero_rate"], r["validation_rotated"]
+    assert row["validation1_ratio"] == r["validation_zero_rate_mean_ratio"]
+    assert row["validation1_ratio"] == pytest.approx(
+        np.mean([d["mse_raw"] for d in v1]) / np.mean([d["mse_compensated"] for d in v1]),
+        rel=1e-12,
+    )
+    assert row["validation2_wins"] == sum(d["mse_improved"] < d["mse_traditional"] for d in v2)
 
 
 def test_identification_2_table(small_outcome):

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from analysis.allan import TERMS, NoiseFit, allan_deviation, fit_noise
-from analysis.features import block_means
+from analysis.features import _check_fs, block_means
 
 __all__ = ["mse", "rms", "bias_stability", "improvement_pct", "SegmentFit", "segment_noise_fits"]
 
@@ -207,12 +207,7 @@ def segment_noise_fits(
     y = np.asarray(rate, dtype=float)
     if y.ndim != 1:
         raise ValueError(f"rate must be 1-D; got shape {y.shape}")
-    if (
-        isinstance(fs, bool)
-        or not isinstance(fs, (int, float))
-        or not (math.isfinite(fs) and fs > 0)
-    ):
-        raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
+    fs = _check_fs(fs)
     if isinstance(min_m, bool) or not isinstance(min_m, (int, np.integer)) or min_m < 1:
         raise ValueError(f"min_m must be an integer >= 1 sample; got {min_m!r}")
     if isinstance(terms, str):
@@ -227,7 +222,7 @@ def segment_noise_fits(
     n_min = 4 * int(min_m) * 2 ** (len(tuple(terms)) - 1)
     out: dict[str, SegmentFit] = {}
     for name, seg in items:
-        a, b = _segment_slice(str(name), seg, y.size, float(fs))
+        a, b = _segment_slice(str(name), seg, y.size, fs)
         n = b - a
         if n < n_min:
             raise ValueError(
@@ -238,6 +233,6 @@ def segment_noise_fits(
         ms = [m for m in (int(min_m) * 2**k for k in range(64)) if m <= n // 4]
         curve = allan_deviation(y[a:b], fs, taus=np.array(ms, dtype=float) / fs)
         out[str(name)] = SegmentFit(
-            name=str(name), start=a, stop=b, fs=float(fs), fit=fit_noise(curve, terms=terms)
+            name=str(name), start=a, stop=b, fs=fs, fit=fit_noise(curve, terms=terms)
         )
     return out

@@ -387,29 +387,25 @@ def repeatability_floor(
     return out
 
 
+def _mean_kn(rates: NDArray, tables) -> float:
+    """Mean K_n [%] of compensated rate tables against the table rates."""
+    return float(np.mean([fit_scale_factor(rates, c).nonlinearity_pct for c in tables]))
+
+
+def _floor_kn(rates: NDArray, fit_means: NDArray, outputs: NDArray) -> float:
+    """Mean K_n [%] of ``outputs`` (one table per row) compensated by :func:`repeatability_floor`."""
+    return _mean_kn(rates, [repeatability_floor(rates, fit_means, o) for o in outputs])
+
+
 def _score(
     estimators: dict, rates: NDArray, fit_means: NDArray, held_means: NDArray
 ) -> dict[str, float]:
     """Mean held-out K_n [%] of each fitted estimator and of the repeatability floor."""
     out = {
-        key: float(
-            np.mean(
-                [
-                    fit_scale_factor(rates, est.predict(h[:, None])).nonlinearity_pct
-                    for h in held_means
-                ]
-            )
-        )
+        key: _mean_kn(rates, [est.predict(h[:, None]) for h in held_means])
         for key, est in estimators.items()
     }
-    out["floor"] = float(
-        np.mean(
-            [
-                fit_scale_factor(rates, repeatability_floor(rates, fit_means, h)).nonlinearity_pct
-                for h in held_means
-            ]
-        )
-    )
+    out["floor"] = _floor_kn(rates, fit_means, held_means)
     return out
 
 
@@ -589,14 +585,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         est.fit(X, y)
         fit_ms = 1e3 * (time.perf_counter() - t0)
         models[key] = est
-        kn_fit = float(
-            np.mean(
-                [
-                    fit_scale_factor(rates, est.predict(m[:, None])).nonlinearity_pct
-                    for m in fit_means
-                ]
-            )
-        )
+        kn_fit = _mean_kn(rates, [est.predict(m[:, None]) for m in fit_means])
         held = [est.predict(m[:, None]) for m in held_means]
         hfits = [fit_scale_factor(rates, c) for c in held]
         x21 = held_means[0][:, None].copy()
@@ -617,15 +606,8 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     methods["bayes_bp"]["effective_parameters"] = models["bayes_bp"].gamma_
     methods["bayes_bp"]["epochs_run"] = models["bayes_bp"].n_iter_
 
-    floor_fit = float(
-        np.mean(
-            [
-                fit_scale_factor(rates, repeatability_floor(rates, fit_means, m)).nonlinearity_pct
-                for m in fit_means
-            ]
-        )
-    )
-    floor_held = _score({}, rates, fit_means, held_means)["floor"]
+    floor_fit = _floor_kn(rates, fit_means, fit_means)
+    floor_held = _floor_kn(rates, fit_means, held_means)
     sweep = _sweep(
         config,
         seed,

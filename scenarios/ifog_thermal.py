@@ -14,15 +14,15 @@ paper logs: the gyro output and one coil temperature sensor (noise 3 mK, 1 mK st
 
 Protocols (paper defaults)
 --------------------------
-- identification (x2; run 1 trains, run 2 validates): from 20 degC cool to -10 degC and
-  settle 2 h; heat to 40 degC and hold 2 h; cool to -10 degC and hold 2 h; ramps at
-  1 degC/min (the paper does not print its rate); true rate 0.
+- identification (x2; run 1 trains and selects, run 2 checks the identification): from
+  20 degC cool to -10 degC and settle 2 h; heat to 40 degC and hold 2 h; cool to -10 degC
+  and hold 2 h; ramps at 1 degC/min (the paper does not print its rate); true rate 0.
 - validation 1: 5 runs, 1 h at -10 degC, -10 -> 40 degC at 10 degC/h, 1 h at 40 degC; true rate 0.
 - validation 2: 5 runs, same at 0.5 degC/min; constant true rate 180 deg/h (the turntable).
 
-Rates: the output and the sensor are logged at 1 Hz; the analysis works on 60-s block
-means (the paper's data are slow), features (T [degC], dT/dt [degC/s] by a 15-min
-Savitzky-Golay derivative, T x dT) from the logged temperature only.
+Rates: the output and the sensor are logged at 1 Hz; the analysis works on 100-s block
+means (``analysis_block_s``; the paper's data are slow), features (T [degC], dT/dt
+[degC/s] by a 15-min Savitzky-Golay derivative, T x dT) from the logged temperature only.
 
 Compensation
 ------------
@@ -38,6 +38,12 @@ of the best CV MSE, ties to the largest spread; the same rule for both models). 
 validation run influences the choice. The report also carries a table of how both
 conclusions change over spread 1-16 and 5-20 neurons. That table is scored on the
 validation runs and is labelled as such; it is a diagnostic and is not used for selection.
+
+Further checks in the report: identification run 2 scored with both networks (its own
+table; it takes no part in training or selection); streaming compensation equal to batch;
+and the deployment form (the exported a1/a2 network, ``deployment_float32``) evaluated in
+single precision as on the paper's DSP, against float64. Its acceptance criterion, no
+held-out run's MSE changed by more than 1 %, is ours: the paper states none.
 
 Run-to-run realism: the housing lag differs by ``housing_lag_run_rms`` (10 %) between
 chamber runs, and the noise of every run is a fresh stream; the unit (its winding
@@ -506,7 +512,8 @@ def select_rbf(
     labels = np.unique(segments)
     if len(labels) < 2:
         raise ValueError(
-            f"select_rbf needs at least 2 segments for cross-validation; got labels {labels.tolist()}"
+            "select_rbf: segments must hold at least 2 distinct labels (one cross-validation "
+            f"fold each); got labels {labels.tolist()}"
         )
     cv: dict[tuple[float, int], float] = {}
     for spread in spreads:
@@ -1044,7 +1051,9 @@ _SELECTION_RULE = (
     "take the fewest neurons, ties to the largest spread; each model (traditional, improved) by this same rule"
 )
 
-# A float32 change of a run's MSE below this is negligible against the run-to-run spread of MSE.
+# Our acceptance criterion for the float32 deployment form (the paper states none): no held-out
+# run's MSE may change by more than 1 %. A strict choice: the compensated MSE of the five
+# validation-1 runs differs between runs by tens of %, so 1 % is a change no table would show.
 _FLOAT32_MSE_TOLERANCE = 0.01
 
 
@@ -1062,8 +1071,9 @@ def _float32_note(f32: dict) -> str:
     return (
         "The paper's TMS320F28335 has a single-precision FPU. Here the inputs, weights and every "
         "operation are rounded to float32. Wide Gaussians are nearly collinear, so the output "
-        "weights are large, of opposite signs, and cancel. Criterion: the float32 network must not "
-        f"change any run's MSE by more than {_FLOAT32_MSE_TOLERANCE:.0%}. {verdict} The last two rows "
+        "weights are large, of opposite signs, and cancel. Criterion (our choice; the paper states "
+        "none): the float32 network must not change any held-out run's MSE by more than "
+        f"{_FLOAT32_MSE_TOLERANCE:.0%}. {verdict} The last two rows "
         "show whether the paper's two conclusions still hold in float32."
     )
 

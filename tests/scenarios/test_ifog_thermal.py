@@ -194,7 +194,9 @@ def test_select_rbf_zero_tolerance_is_the_cv_minimum(rng):
 
 def test_select_rbf_needs_two_segments(rng):
     X, y, _ = _segmented_data(rng)
-    with pytest.raises(ValueError, match=r"at least 2 segments"):
+    with pytest.raises(
+        ValueError, match=r"segments must hold at least 2 distinct labels .*got labels \[0\]"
+    ):
         sc.select_rbf(X, y, np.zeros(len(y), dtype=int), spreads=(1.0,), neurons=(3,))
 
 
@@ -318,6 +320,7 @@ def test_float32_result_is_reported_with_its_verdict(small_outcome):
     t = next(t for t in small_outcome.tables if "single precision" in t.title)
     ok = f["max_relative_mse_change"] <= sc._FLOAT32_MSE_TOLERANCE
     assert ("NOT ACCEPTABLE" not in t.note) == ok
+    assert "Criterion (our choice; the paper states none)" in t.note
 
 
 @pytest.mark.slow

@@ -34,7 +34,6 @@ import math
 import os
 import secrets
 import shutil
-import sys
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -593,18 +592,16 @@ class HDF5StreamWriter:
         self._expected = expected_samples
         self._n = 0
         self._stack: contextlib.ExitStack | None = None
-        self._h5 = None
 
     def __enter__(self) -> HDF5StreamWriter:
         if self._expected is not None:
             n_ds = len(self._units["channels"]) + len(self._units["truth"])
             ensure_free_space(self.path, 8 * self._expected * n_ds)
-        stack = contextlib.ExitStack()
-        try:
+        with contextlib.ExitStack() as stack:  # a failure below closes and removes what was opened
             tmp = stack.enter_context(atomic_path(self.path))
-            self._h5, self._guard = stack.enter_context(_h5_create(tmp))
-            _mark_root(self._h5)
-            grp = self._h5.require_group("recordings").create_group(self.name)
+            h5, self._guard = stack.enter_context(_h5_create(tmp))
+            _mark_root(h5)
+            grp = h5.require_group("recordings").create_group(self.name)
             grp.attrs["fs"] = self.fs
             grp.attrs["t0"] = self.t0
             grp.attrs["metadata"] = metadata_json(self._meta)
@@ -617,10 +614,7 @@ class HDF5StreamWriter:
                     ds.attrs["description"] = ""
                     self._ds[(sub, k)] = ds
             self._grp = grp
-        except BaseException:
-            if not stack.__exit__(*sys.exc_info()):
-                raise
-        self._stack = stack
+            self._stack = stack.pop_all()  # success: kept open until __exit__
         return self
 
     def append(self, *, truth: Mapping[str, NDArray] | None = None, **channels: NDArray) -> None:
@@ -646,14 +640,11 @@ class HDF5StreamWriter:
         # the HDF5 file is closed (writes discarded on error) before atomic_path removes or renames it
         stack, self._stack = self._stack, None
         self._ds = {}
-        if exc_type is None:
-            try:
-                self._grp.attrs["n_samples"] = self._n
-            except BaseException as e:
-                if not stack.__exit__(type(e), e, e.__traceback__):
-                    raise
-                return False
-        return bool(stack.__exit__(exc_type, exc, tb))
+        if exc_type is not None:
+            return bool(stack.__exit__(exc_type, exc, tb))  # the file is removed, the target left as it was
+        with stack:  # an error setting the attribute reaches the contexts like one from the block
+            self._grp.attrs["n_samples"] = self._n
+        return False
 
 
 def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:

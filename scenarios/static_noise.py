@@ -29,14 +29,8 @@ NAME = "static_noise"
 TITLE = "Static noise records: fitted IEEE-952 coefficients against the truth (FOG and MEMS grade)"
 
 
-#: the coefficient fields and their (datasheet) units
-_COEFF_UNITS = {
-    "Q_arcsec": "arcsec",
-    "N_deg_sqrt_h": "deg/sqrt(h)",
-    "B_deg_h": "deg/h",
-    "K_deg_h_sqrt_h": "deg/h/sqrt(h)",
-    "R_deg_h2": "deg/h^2",
-}
+#: IEEE-952 term -> its GradeSpec field, in the term's field unit (sim.units.COEFFICIENT_FIELD_UNITS)
+_FIELDS = {"Q": "Q_arcsec", "N": "N_deg_sqrt_h", "B": "B_deg_h", "K": "K_deg_h_sqrt_h", "R": "R_deg_h2"}
 #: fewest samples a record may have: the joint Q/N/B/K/R fit needs one tau per term (5), and
 #: the default octave taus m = 1, 2, 4, ... of the overlapping deviation stop at T/4
 #: (analysis.allan), so m = 16 needs 4 x 16 = 64 samples (a test pins this against analysis.allan).
@@ -59,8 +53,8 @@ class GradeSpec:
 
     def __post_init__(self) -> None:
         # errors name this config's fields (a TOML user never sees NoiseModel's names)
-        for name, unit in _COEFF_UNITS.items():
-            v = getattr(self, name)
+        for term, name in _FIELDS.items():
+            v, unit = getattr(self, name), units.COEFFICIENT_FIELD_UNITS[term][0]
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"GradeSpec.{name} must be finite and >= 0 {unit}; got {v!r}")
         if not (self.fs_hz > 0 and np.isfinite(self.fs_hz)):
@@ -84,7 +78,7 @@ class GradeSpec:
         )
 
     def truth(self) -> dict[str, float]:
-        return {"Q": self.Q_arcsec, "N": self.N_deg_sqrt_h, "B": self.B_deg_h, "K": self.K_deg_h_sqrt_h, "R": self.R_deg_h2}
+        return {term: getattr(self, name) for term, name in _FIELDS.items()}
 
     @property
     def n_samples(self) -> int:

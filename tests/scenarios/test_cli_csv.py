@@ -13,10 +13,8 @@ from tests.scenarios.test_cli import assert_one_line_error, run
 
 
 @pytest.fixture
-def rate(request):
-    import zlib
-
-    return np.random.default_rng([20261121, zlib.crc32(request.node.nodeid.encode())]).standard_normal(3000)
+def rate(rng):
+    return rng.standard_normal(3000)
 
 
 def test_headerless_single_column_needs_no_column(tmp_path, capsys, rate):

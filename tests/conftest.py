@@ -1,4 +1,4 @@
-"""Fixtures for the sim tests."""
+"""Fixtures shared by every test package."""
 
 import zlib
 

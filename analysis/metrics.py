@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from analysis.allan import TERMS, NoiseFit, allan_deviation, fit_noise
-from analysis.features import _check_fs, block_means
+from gyrobench.analysis.allan import TERMS, NoiseFit, allan_deviation, fit_noise
+from gyrobench.analysis.features import _check_fs, block_means
 
 __all__ = ["mse", "rms", "bias_stability", "improvement_pct", "SegmentFit", "segment_noise_fits"]
 
@@ -96,7 +96,7 @@ class SegmentFit:
     fit : NoiseFit
         Coefficients (each with 68 % and 95 % intervals, or "not identifiable" with a
         one-sided 95 % upper bound) in the units implied by the rate unit
-        (:mod:`analysis.allan`), and the fitted curve.
+        (:mod:`gyrobench.analysis.allan`), and the fitted curve.
     """
 
     name: str
@@ -166,7 +166,7 @@ def segment_noise_fits(
         a boolean mask of length n selecting one contiguous run. A sequence is keyed
         ``"1"``, ``"2"``, ... in order.
     terms : sequence of str
-        The terms to fit (:func:`analysis.allan.fit_noise`).
+        The terms to fit (:func:`gyrobench.analysis.allan.fit_noise`).
     min_m : int
         Smallest cluster size: the overlapping Allan deviation is taken at the octave
         cluster sizes m = min_m, 2 min_m, 4 min_m, ... <= n_segment / 4 (tau = m/fs).
@@ -192,7 +192,7 @@ def segment_noise_fits(
     -----
     Each segment is fitted on its own samples only (no sample of a neighbouring segment
     enters any cluster): AVAR at tau = m/fs uses the overlapping estimator (NIST SP 1065
-    eq. 11) and the joint weighted NNLS fit of :func:`analysis.allan.fit_noise`, whose
+    eq. 11) and the joint weighted NNLS fit of :func:`gyrobench.analysis.allan.fit_noise`, whose
     intervals follow from the chi-square statistics of the AVAR points. Cut switching
     transients out by choosing the segment bounds (a guard after each edge).
 

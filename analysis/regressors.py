@@ -25,7 +25,7 @@ housing temperature, the same way x5 lets the rate's effect scale.
 
 Units: temperatures in whatever the caller logs (degC is usual; products then
 depend on that choice of origin, so state it), rates in that unit per second.
-Derivatives are Savitzky-Golay smoothed (:func:`analysis.features.smoothed_derivative`).
+Derivatives are Savitzky-Golay smoothed (:func:`gyrobench.analysis.features.smoothed_derivative`).
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.features import smoothed_derivative
+from gyrobench.analysis.features import smoothed_derivative
 
 __all__ = ["REGRESSOR_NAMES", "REGRESSOR_LABELS", "two_sensor_regressors"]
 

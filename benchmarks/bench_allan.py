@@ -15,7 +15,7 @@ Target (issue 2): at least 4x faster than allantools and below 2 GB.
 
 Run: ``python benchmarks/bench_allan.py [--n 100000000] [--data /tmp/gyrobench_bench_1e8.npy]``.
 The data (the five-term model of coverage_fit.py at 100 Hz, generated chunk by chunk with
-``sim.noise.NoiseModel.stream``) is written once to ``--data`` and reused.
+``gyrobench.sim.noise.NoiseModel.stream``) is written once to ``--data`` and reused.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def worker(which: str, path: str) -> None:
     m = 2 ** np.arange(int(np.log2(y.size // 4)) + 1)
     t0 = time.perf_counter()
     if which == "gyrobench":
-        from analysis.allan import allan_deviation, fit_noise
+        from gyrobench.analysis.allan import allan_deviation, fit_noise
 
         curve = allan_deviation(y, FS)
         fit = fit_noise(curve)

@@ -2,7 +2,7 @@
 
 Scores a plain scikit-learn regressor, ``make_pipeline(StandardScaler(), Ridge())``
 on the scenario's own features, over ``--seeds`` seeds of a scenario's
-compensation task with :func:`scenarios.bench.run_campaign`, once per worker
+compensation task with :func:`gyrobench.scenarios.bench.run_campaign`, once per worker
 count, each time on a fresh database (nothing reused), and reports seeds per
 minute, the speed-up over one worker and the CPU time the workers spent per seed
 (equal CPU per seed on 1 and 2 workers means the work parallelises; the wall-time
@@ -45,7 +45,7 @@ from sklearn.linear_model import Ridge  # noqa: E402
 from sklearn.pipeline import make_pipeline  # noqa: E402
 from sklearn.preprocessing import StandardScaler  # noqa: E402
 
-from scenarios import bench  # noqa: E402
+from gyrobench.scenarios import bench  # noqa: E402
 
 COMPENSATOR = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
 

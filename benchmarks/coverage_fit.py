@@ -1,7 +1,7 @@
 """Coverage of the fit_noise confidence intervals over many seeds of a known five-term model.
 
-For each seed a record of the model below is generated with ``sim.noise.NoiseModel``,
-its overlapping ADEV (octave taus up to T/4) is fitted with ``analysis.allan.fit_noise``,
+For each seed a record of the model below is generated with ``gyrobench.sim.noise.NoiseModel``,
+its overlapping ADEV (octave taus up to T/4) is fitted with ``gyrobench.analysis.allan.fit_noise``,
 and we count how often each coefficient's 95 % (and 68 %) interval contains the truth.
 Target: 93-97 % for every term that is identifiable. With 200 seeds the binomial standard
 error of a 95 % coverage is 1.5 %, so the 93-97 % band is about +-1.3 sigma.
@@ -30,8 +30,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from analysis.allan import TERMS, fit_noise  # noqa: E402
-from sim.noise import NoiseModel  # noqa: E402
+from gyrobench.analysis.allan import TERMS, fit_noise  # noqa: E402
+from gyrobench.sim.noise import NoiseModel  # noqa: E402
 
 #: Q [u s], N [u s^0.5], B [u], K [u s^-0.5], R [u s^-1]
 TRUTH = {"Q": math.sqrt(0.5 / 3.0), "N": 1.0, "B": math.sqrt(0.05 / (2 * math.log(2) / math.pi)),

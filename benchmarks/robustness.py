@@ -47,7 +47,7 @@ def run_one(name: str, seed: int) -> tuple[str, int, list[tuple[str, bool | None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from scenarios import registry
+    from gyrobench.scenarios import registry
 
     mod = registry.get(name)
     t0 = time.perf_counter()

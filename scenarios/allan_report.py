@@ -1,16 +1,16 @@
 """Allan fits in field units: the coefficient table and the ``--json`` document.
 
-:mod:`analysis.allan` returns coefficients in the units of the rate it was given
+:mod:`gyrobench.analysis.allan` returns coefficients in the units of the rate it was given
 (rad/s here, so Q [rad], N [rad/sqrt(s)], ...); this edge module converts them to
-the IEEE-952 field units of :data:`sim.units.COEFFICIENT_FIELD_UNITS`.
+the IEEE-952 field units of :data:`gyrobench.sim.units.COEFFICIENT_FIELD_UNITS`.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from scenarios.base import Table
-from sim import units
+from gyrobench.scenarios.base import Table
+from gyrobench.sim import units
 
 __all__ = ["coefficients_json", "coefficient_table", "TERMS"]
 

@@ -1,6 +1,6 @@
 """Contracts shared by every scenario, the report writer and the bench.
 
-A scenario is a module (registered in :mod:`scenarios.registry`) that defines
+A scenario is a module (registered in :mod:`gyrobench.scenarios.registry`) that defines
 
 ``NAME`` : str
     registry key, e.g. ``"mems_scale_factor"``.

@@ -1,7 +1,7 @@
 """The bench: score a compensator on a scenario over many seeds, keep every seed's scores, compare.
 
 A scenario with a compensation stage defines ``compensation_task(config, seed)``
-(see :mod:`scenarios.base`): a training set and held-out runs whose truth is known.
+(see :mod:`gyrobench.scenarios.base`): a training set and held-out runs whose truth is known.
 The bench fits the user's compensator on the training set, compensates every
 held-out run, and scores the result against the truth with the task's scorer.
 
@@ -41,7 +41,7 @@ dask cluster). Only the calling process writes the SQLite database: one
 transaction per finished seed, WAL journal, ``synchronous=FULL``. A campaign is
 identified by a hash of the scenario (its configuration; the source of its
 module and of every module it imports, transitively, from its own package and
-from sim, analysis and scenarios; the gyrobench, numpy, scipy and scikit-learn
+from gyrobench.sim, analysis and scenarios; the gyrobench, numpy, scipy and scikit-learn
 versions) and of the compensator (its class or function and parameters; the
 source of the module defining it, with the same import closure for user code).
 Running the same campaign again reads the seeds already in the database and
@@ -237,7 +237,7 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
     ValueError
         If the name is unknown or the scenario has no compensation stage.
     """
-    from scenarios import registry
+    from gyrobench.scenarios import registry
 
     if isinstance(scenario, types.ModuleType):
         module = scenario
@@ -273,7 +273,7 @@ def _bench_scenarios() -> list[str]:
     """Registered scenarios defining ``compensation_task`` (read from the source, not imported)."""
     import re
 
-    from scenarios import registry
+    from gyrobench.scenarios import registry
 
     out = []
     for name in registry.available():
@@ -566,7 +566,7 @@ def _score_job(
 
 # ----------------------------------------------------------------------------- identity
 #: gyrobench's own packages: a scenario's or compensator's imports are followed into these
-_OWN_PACKAGES = frozenset({"sim", "analysis", "scenarios"})
+_OWN_PACKAGES = frozenset({"gyrobench"})
 
 
 def _file_hash(path: str) -> str:
@@ -577,7 +577,12 @@ def _file_hash(path: str) -> str:
 
 
 def _module_file(name: str) -> str | None:
-    """The source file of module ``name``, found on the file system without importing it."""
+    """The source file of module ``name``, found without importing the module itself.
+
+    Parent packages are imported (their ``__init__`` files only: for gyrobench these are
+    cheap) because a package's ``__path__`` is the only reliable way to its submodules when
+    setuptools maps folders to packages (an editable install's finder).
+    """
     import importlib.util
     import sys
 
@@ -585,28 +590,22 @@ def _module_file(name: str) -> str | None:
     path = getattr(mod, "__file__", None) if mod is not None else None
     if path:
         return path
-    top, *rest = name.split(".")
-    try:
-        spec = importlib.util.find_spec(top)  # a top-level find_spec imports nothing
-    except (ImportError, ValueError, AttributeError):
-        return None
-    if spec is None or not spec.has_location:
-        return None
-    if not rest:
-        return spec.origin
-    dirs = [Path(d) for d in (spec.submodule_search_locations or [])]
-    for i, part in enumerate(rest):
-        last = i == len(rest) - 1
-        for d in dirs:
-            if (d / part / "__init__.py").is_file():
-                dirs = [d / part]
-                if last:
-                    return str(d / part / "__init__.py")
-                break
-            if last and (d / f"{part}.py").is_file():
-                return str(d / f"{part}.py")
-        else:
+    parent, _, leaf = name.rpartition(".")
+    if not parent:
+        try:
+            spec = importlib.util.find_spec(name)  # a top-level find_spec imports nothing
+        except (ImportError, ValueError, AttributeError):
             return None
+        return spec.origin if spec is not None and spec.has_location else None
+    try:
+        package = importlib.import_module(parent)
+    except Exception:  # a user package that fails to import has no file to hash
+        return None
+    for d in map(Path, getattr(package, "__path__", None) or []):
+        if (d / leaf / "__init__.py").is_file():
+            return str(d / leaf / "__init__.py")
+        if (d / f"{leaf}.py").is_file():
+            return str(d / f"{leaf}.py")
     return None
 
 
@@ -661,7 +660,7 @@ def _imports_cached(path: str, mtime_ns: int, size: int, name: str, is_pkg: bool
 
 def _source_closure(name: str) -> list[tuple[str, str]]:
     """(module, file hash) for ``name`` and every module it imports, transitively, within its own
-    top-level package and gyrobench's packages (sim, analysis, scenarios); package ``__init__``
+    top-level package and the gyrobench package; package ``__init__``
     files included. Third-party and standard-library modules are represented by their versions
     in the campaign identity instead."""
     roots = _OWN_PACKAGES | {name.partition(".")[0]}
@@ -699,7 +698,7 @@ def _versions() -> str:
     import scipy
     import sklearn
 
-    from sim.recording import package_version
+    from gyrobench.sim.recording import package_version
 
     return (
         f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} "
@@ -1339,7 +1338,7 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
         If ``path`` is a folder or its folder does not exist (folders are never
         created).
     """
-    from sim.recording import atomic_path, package_version
+    from gyrobench.sim.recording import atomic_path, package_version
 
     if not isinstance(campaign, Campaign):
         raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")

@@ -10,7 +10,7 @@ Exit status of :func:`run`: 0 on success, 1 when the campaign is significantly
 worse than ``--baseline`` on some score. Bad input raises ``ValueError``,
 ``TypeError`` or ``FileNotFoundError`` with a one-line message (the command line
 wrapper prints it and exits 2). So does a compensator that fails on a seed
-(:class:`scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means "could
+(:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means "could
 not score", never "got worse". With ``GYROBENCH_TRACEBACK=1`` in the environment
 its traceback is printed on stderr first.
 
@@ -26,7 +26,7 @@ import argparse
 import os
 import sys
 
-from scenarios import bench
+from gyrobench.scenarios import bench
 
 __all__ = ["add_parser", "run"]
 
@@ -120,7 +120,7 @@ def _executor(args):
 
 def run(args: argparse.Namespace) -> int:
     """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
-    from scenarios import registry
+    from gyrobench.scenarios import registry
 
     seeds = bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:

@@ -59,7 +59,7 @@ def _closing(bar):
 
 # ----------------------------------------------------------------------------- list
 def _cmd_list(args) -> int:
-    from scenarios import registry
+    from gyrobench.scenarios import registry
 
     for name in registry.available():
         mod = registry.get(name)
@@ -94,7 +94,7 @@ def _nonneg_float(name: str):
 
 
 def _duration(text: str) -> float:
-    from sim.units import parse_duration
+    from gyrobench.sim.units import parse_duration
 
     if text.strip().startswith("-"):
         raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
@@ -140,9 +140,9 @@ def _simulate_noise(args) -> int:
     """
     from tqdm import tqdm
 
-    from scenarios.static_noise import MIN_SAMPLES
-    from sim.noise import NoiseModel
-    from sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim.noise import NoiseModel
+    from gyrobench.sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
 
     if extra := _given(args, _SCENARIO_FLAGS):
         raise _BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
@@ -206,9 +206,9 @@ def _simulate_noise(args) -> int:
 
 
 def _simulate_scenario(args) -> int:
-    from scenarios import registry
-    from scenarios.static_noise import MIN_SAMPLES
-    from sim.recording import ensure_free_space, save_hdf5
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim.recording import ensure_free_space, save_hdf5
 
     if extra := _given(args, _NOISE_FLAGS):
         raise _BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate noise' only; "
@@ -291,7 +291,7 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
 
     Returns (rate in rad/s, fs [Hz], column label).
     """
-    from sim import units
+    from gyrobench.sim import units
 
     opener = __import__("gzip").open if path.suffix == ".gz" else open
     header: list[str] | None = None
@@ -388,7 +388,7 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
 
 
 def _read_hdf5(path: Path, name: str | None, column: str | None):
-    from sim.recording import load_hdf5
+    from gyrobench.sim.recording import load_hdf5
 
     rec = load_hdf5(path, name)
     ch = column or ("rate" if "rate" in rec.channels else None)
@@ -397,15 +397,15 @@ def _read_hdf5(path: Path, name: str | None, column: str | None):
     data = rec[ch]
     unit = rec.channels[ch].unit if ch in rec.channels else rec.truth[ch.removeprefix("truth/")].unit
     if unit != "rad/s":
-        from sim import units
+        from gyrobench.sim import units
 
         data = units.rate_to_si(data, unit)
     return data, rec.fs, f"{rec.name}/{ch}"
 
 
 def _cmd_allan(args) -> int:
-    from analysis.allan import allan_deviation, fit_noise
-    from scenarios.allan_report import TERMS, coefficients_json
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+    from gyrobench.scenarios.allan_report import TERMS, coefficients_json
 
     path = Path(args.file)
     if not path.is_file():
@@ -442,8 +442,8 @@ def _cmd_allan(args) -> int:
             else:
                 print(f"{name:<5}{d['value']:>14.4g}  [{d['low']:.4g}, {d['high']:.4g}]".ljust(49) + f"{d['unit']}")
     if args.plot:
-        from scenarios.figures import allan_figure
-        from sim.recording import atomic_path
+        from gyrobench.scenarios.figures import allan_figure
+        from gyrobench.sim.recording import atomic_path
 
         fig = allan_figure(curve, fit, title=label)
         plot = Path(args.plot)
@@ -458,8 +458,8 @@ def _cmd_allan(args) -> int:
 def _cmd_reproduce(args) -> int:
     from tqdm import tqdm
 
-    from scenarios import registry
-    from scenarios.report import write_report
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.report import write_report
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -548,7 +548,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=_cmd_reproduce)
 
     try:
-        from scenarios import bench_cli
+        from gyrobench.scenarios import bench_cli
     except ImportError:  # pragma: no cover - bench not installed
         bench_cli = None
     if bench_cli is not None:
@@ -557,7 +557,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _version() -> str:
-    from sim.recording import package_version
+    from gyrobench.sim.recording import package_version
 
     return package_version()
 

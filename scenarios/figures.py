@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from sim import units
+from gyrobench.sim import units
 
 __all__ = ["allan_figure"]
 

@@ -117,11 +117,11 @@ from typing import Any, Literal
 import numpy as np
 from matplotlib.figure import Figure
 
-from analysis.compensation.rbf import RBFNetwork
-from analysis.metrics import segment_noise_fits
-from analysis.wavelet import amplitude_spectrum, cwt_map, decompose
-from scenarios.allan_report import TERMS, coefficients_json
-from scenarios.base import (
+from gyrobench.analysis.compensation.rbf import RBFNetwork
+from gyrobench.analysis.metrics import segment_noise_fits
+from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map, decompose
+from gyrobench.scenarios.allan_report import TERMS, coefficients_json
+from gyrobench.scenarios.base import (
     CompensationTask,
     FigureSpec,
     Headline,
@@ -130,11 +130,11 @@ from scenarios.base import (
     Table,
     mse_scores,
 )
-from sim import units
-from sim.noise import NoiseModel
-from sim.recording import Recording
-from sim.shaker import FixedSine, Phased, SineSweep
-from sim.vibration import FogVibrationModel, StructuralMode
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Recording
+from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
+from gyrobench.sim.vibration import FogVibrationModel, StructuralMode
 
 NAME = "fog_vibration"
 TITLE = "FOG under vibration (seed 000): Allan terms by phase, db4 wavelet bias split, RBF vs 4th-order LS bias model"
@@ -360,7 +360,7 @@ def segment_coefficients(rate: np.ndarray, fs: float, bounds, *, guard_s: float 
 
     ``guard_s`` is cut after each segment's start (except the first) so switching
     transients stay out of the steady phases. The fits are
-    :func:`analysis.metrics.segment_noise_fits` (each segment on its own samples).
+    :func:`gyrobench.analysis.metrics.segment_noise_fits` (each segment on its own samples).
     """
     segs = {str(i): (t0 + (guard_s if i > 1 else 0.0), t1) for i, (t0, t1) in enumerate(bounds, start=1)}
     return {k: coefficients_json(f.fit) for k, f in segment_noise_fits(rate, fs, segs).items()}

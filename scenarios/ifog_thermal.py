@@ -9,7 +9,7 @@ One FOG unit (quadrupolar 40-layer coil, 1000 m, D = 0.1 m, with drawn winding d
 sits in a thermal chamber. Its drift is NOT a formula in T and dT: the chamber drives a
 lagging housing, heat diffuses radially through the potted fibre pack (implicit steps of
 5 s), and the rate error is the Shupe integral over the fibre with the elasto-optic strain
-term and a temperature-dependent dn/dT (``sim.coil``, ``sim.fog``). The test logs what the
+term and a temperature-dependent dn/dT (``gyrobench.sim.coil``, ``gyrobench.sim.fog``). The test logs what the
 paper logs: the gyro output and one coil temperature sensor (noise 3 mK, 1 mK steps).
 
 Protocols (paper defaults)
@@ -26,7 +26,7 @@ means (``analysis_block_s``; the paper's data are slow), features (T [degC], dT/
 
 Compensation
 ------------
-RBF networks grown as MATLAB newrb (``analysis.compensation.rbf``; inputs min-max
+RBF networks grown as MATLAB newrb (``gyrobench.analysis.compensation.rbf``; inputs min-max
 scaled to [-1, 1], spread in those units) fitted to the drift output - truth of
 identification run 1: "improved" on (T, dT, T x dT), "traditional" on (T, dT). The paper
 fits Q = output - mean(output); with the turntable's known rate we fit output - truth, which
@@ -63,11 +63,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from matplotlib.figure import Figure
 
-from analysis.compensation.rbf import RBFNetwork, StreamingCompensator, batch_compensate
-from analysis.features import block_means, thermal_features
-from scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
-from sim import units
-from sim.coil import (
+from gyrobench.analysis.compensation.rbf import RBFNetwork, StreamingCompensator, batch_compensate
+from gyrobench.analysis.features import block_means, thermal_features
+from gyrobench.scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from gyrobench.sim import units
+from gyrobench.sim.coil import (
     WINDING_PATTERNS,
     CoilSpec,
     CoilThermalModel,
@@ -75,10 +75,10 @@ from sim.coil import (
     segment_weight,
     shupe_terms,
 )
-from sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
-from sim.fog import FOGSpec, FOGUnit, TemperatureSensorSpec
-from sim.noise import NoiseModel
-from sim.recording import Recording
+from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
+from gyrobench.sim.fog import FOGSpec, FOGUnit, TemperatureSensorSpec
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Recording
 
 NAME = "ifog_thermal"
 TITLE = (

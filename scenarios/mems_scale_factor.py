@@ -28,7 +28,7 @@ Two references computed from the same simulated runs:
   rate table.
 * Table 4 (not in the paper): the held-out K_n of all three methods and the floor
   when every run (fitting and held-out) gets its own turn-on scale-factor error
-  (:attr:`sim.mems.MemsSpec.scale_factor_repeatability`, 1 sigma), for a few sigma
+  (:attr:`gyrobench.sim.mems.MemsSpec.scale_factor_repeatability`, 1 sigma), for a few sigma
   values, each over ``sweep_replicates`` independent sets of runs. Within one
   replicate all sigma values share the random numbers (noise, biases, ambient,
   the standard-normal draw of each run's scale-factor error), so the rows differ
@@ -46,14 +46,14 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
-from analysis.compensation.bayes_mlp import BayesianRegularizedMLP
-from analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
-from analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor
-from scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
-from sim import units
-from sim.environment import rate_steps
-from sim.mems import MemsSpec, die_temperature, simulate_output
-from sim.recording import Channel, Recording, package_version
+from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
+from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
+from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor
+from gyrobench.scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from gyrobench.sim import units
+from gyrobench.sim.environment import rate_steps
+from gyrobench.sim.mems import MemsSpec, die_temperature, simulate_output
+from gyrobench.sim.recording import Channel, Recording, package_version
 
 NAME = "mems_scale_factor"
 TITLE = "High-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise compensation (paper 001)"

@@ -3,7 +3,7 @@
 Installing gyrobench registers this plugin; its fixture ``gyrobench_bench`` scores
 a compensator on a scenario over many seeds and compares the per-seed scores with
 a stored baseline (paired Wilcoxon signed-rank test, Holm-adjusted; see
-:func:`scenarios.bench.compare`)::
+:func:`gyrobench.scenarios.bench.compare`)::
 
     from mylab.models import my_regressor
 
@@ -75,8 +75,8 @@ class GyrobenchBench:
         config: Any = None,
         workers: int | None = None,
     ):
-        """Run (or read back) a campaign: see :func:`scenarios.bench.run_campaign`."""
-        from scenarios import bench
+        """Run (or read back) a campaign: see :func:`gyrobench.scenarios.bench.run_campaign`."""
+        from gyrobench.scenarios import bench
 
         return bench.run_campaign(
             scenario,
@@ -105,16 +105,16 @@ class GyrobenchBench:
         Parameters
         ----------
         scenario, compensator, config
-            As for :func:`scenarios.bench.run_campaign`.
+            As for :func:`gyrobench.scenarios.bench.run_campaign`.
         baseline : path
-            Baseline JSON (:func:`scenarios.bench.save_baseline`), relative to the
+            Baseline JSON (:func:`gyrobench.scenarios.bench.save_baseline`), relative to the
             test file's folder unless absolute.
         seeds : optional
             Default: the baseline's seeds (or :data:`DEFAULT_SEEDS` when writing a new one).
         alpha : float
             Family-wise significance level over all scores.
         directions : mapping, optional
-            Overrides for :func:`scenarios.bench.score_direction`.
+            Overrides for :func:`gyrobench.scenarios.bench.score_direction`.
 
         Returns
         -------
@@ -122,7 +122,7 @@ class GyrobenchBench:
             None when the baseline was (re)written (``--gyrobench-save-baselines``).
         """
         __tracebackhide__ = True
-        from scenarios import bench
+        from gyrobench.scenarios import bench
 
         path = Path(baseline)
         relative = not path.is_absolute()

@@ -1,7 +1,7 @@
 """The scenario registry: name -> module, and config overrides from TOML.
 
 Scenario modules are imported lazily, so ``gyrobench list`` stays fast.
-See :mod:`scenarios.base` for what a scenario module defines.
+See :mod:`gyrobench.scenarios.base` for what a scenario module defines.
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ else:  # pragma: no cover
 
 #: registry key -> module; order = order in ``reproduce --all`` and the report
 SCENARIOS: dict[str, str] = {
-    "static_noise": "scenarios.static_noise",
-    "mems_scale_factor": "scenarios.mems_scale_factor",
-    "ifog_thermal": "scenarios.ifog_thermal",
-    "rlg_thermal": "scenarios.rlg_thermal",
-    "fog_vibration": "scenarios.fog_vibration",
+    "static_noise": "gyrobench.scenarios.static_noise",
+    "mems_scale_factor": "gyrobench.scenarios.mems_scale_factor",
+    "ifog_thermal": "gyrobench.scenarios.ifog_thermal",
+    "rlg_thermal": "gyrobench.scenarios.rlg_thermal",
+    "fog_vibration": "gyrobench.scenarios.fog_vibration",
 }
 
 

@@ -30,8 +30,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from scenarios.base import Headline, Outcome, Table  # noqa: E402
-from sim.recording import atomic_path, package_version  # noqa: E402
+from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
+from gyrobench.sim.recording import atomic_path, package_version  # noqa: E402
 
 __all__ = ["fmt", "write_report", "outcome_json"]
 

@@ -5,19 +5,19 @@ Setup (paper 004, Chen, Liu, Chen): the gyro is switched on in the chamber at
 output is averaged over 100 s (Chinese military standard practice) and the bias
 stability is the standard deviation of these 100-s means. Two temperature sensors
 are logged: T1 on the housing, T2 on the cavity. Eleven candidate regressors
-(:mod:`analysis.regressors`) enter a stepwise regression (p-enter 0.05, p-remove
+(:mod:`gyrobench.analysis.regressors`) enter a stepwise regression (p-enter 0.05, p-remove
 0.10); the paper keeps x1, x3, x5, x7, x11 with adjusted R^2 ~ 0.97 and improves
 the variable-temperature bias stability of three gyros by about 65 %.
 
-Here three gyros are drawn from one :class:`sim.rlg.RLGSpec` (unit-to-unit
+Here three gyros are drawn from one :class:`gyrobench.sim.rlg.RLGSpec` (unit-to-unit
 variation), each runs the chamber program twice (two turn-ons: different turn-on
 bias, discharge-current balance and noise). Each gyro's model is fitted on its
 first run and scored on its second, which it never saw. The simulated output is
-pulse counts at ``fs_hz`` from the statistical mode of :mod:`sim.rlg`.
+pulse counts at ``fs_hz`` from the statistical mode of :mod:`gyrobench.sim.rlg`.
 
 What is not in the paper: the form of x9-x11 (defined in
-:mod:`analysis.regressors`), the thermal time constants and the size of each bias
-mechanism (tuned as PHYSICS.md 6.4 says; see :class:`sim.rlg.RLGSpec`). The paper's
+:mod:`gyrobench.analysis.regressors`), the thermal time constants and the size of each bias
+mechanism (tuned as PHYSICS.md 6.4 says; see :class:`gyrobench.sim.rlg.RLGSpec`). The paper's
 Table 1 and Table 2 numbers did not survive the text extraction; its text gives
 adjusted R^2 ~ 0.97 and ~65 % improvement.
 """
@@ -30,15 +30,15 @@ from dataclasses import dataclass
 import numpy as np
 from matplotlib.figure import Figure
 
-from analysis.compensation.stepwise import StepwiseRegression
-from analysis.features import block_means
-from analysis.metrics import bias_stability, improvement_pct
-from analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES, two_sensor_regressors
-from scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
-from sim import units
-from sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
-from sim.recording import Recording
-from sim.rlg import (
+from gyrobench.analysis.compensation.stepwise import StepwiseRegression
+from gyrobench.analysis.features import block_means
+from gyrobench.analysis.metrics import bias_stability, improvement_pct
+from gyrobench.analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES, two_sensor_regressors
+from gyrobench.scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from gyrobench.sim import units
+from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
+from gyrobench.sim.recording import Recording
+from gyrobench.sim.rlg import (
     CavityGeometry,
     Dither,
     RLGSpec,
@@ -375,7 +375,7 @@ def _stability(x: np.ndarray, b: _Blocks) -> float:
     """Bias stability [deg/h] of 100-s block values ``x`` against the blocks' true rate.
 
     The blocks are already the GJB 100-s means, so this is
-    :func:`analysis.metrics.bias_stability` (1 sigma, n - 1) of the error ``x - truth``.
+    :func:`gyrobench.analysis.metrics.bias_stability` (1 sigma, n - 1) of the error ``x - truth``.
     """
     return float(np.std(np.asarray(x) - b.truth, ddof=1))
 

@@ -17,13 +17,13 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from analysis.allan import allan_deviation, fit_noise
-from scenarios.allan_report import TERMS, coefficient_table, coefficients_json
-from scenarios.base import FigureSpec, Headline, Outcome
-from scenarios.figures import allan_figure
-from sim import units
-from sim.noise import NoiseModel
-from sim.recording import Channel, Recording, package_version
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+from gyrobench.scenarios.allan_report import TERMS, coefficient_table, coefficients_json
+from gyrobench.scenarios.base import FigureSpec, Headline, Outcome
+from gyrobench.scenarios.figures import allan_figure
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
 
 NAME = "static_noise"
 TITLE = "Static noise records: fitted IEEE-952 coefficients against the truth (FOG and MEMS grade)"

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
-from sim import units
+from gyrobench.sim import units
 
 __all__ = [
     "WINDING_PATTERNS",
@@ -133,7 +133,7 @@ class CoilSpec:
         C1, dn/dT at ``dn_dT_ref`` [1/K].
     dn_dT_slope : float
         C2 = d(dn/dT)/dT [1/K^2]. Default 3e-8 /K^2: calibrated so the paper-003
-        point-heating experiment (``scenarios.ifog_thermal``) shows a T x dT term above
+        point-heating experiment (``gyrobench.scenarios.ifog_thermal``) shows a T x dT term above
         0.2 deg/h; the same order as fused-silica data (unverified, PHYSICS.md 3.5).
     dn_dT_ref : float
         T0 [K] of the dn/dT expansion and of the strain tempco (273.15 K = 0 degC, so the

@@ -13,7 +13,7 @@ test equipment:
   acceleration-limited transitions between rates, plus the settled window of
   each dwell (where a test averages the output).
 
-Shaker profiles (sine sweeps, random vibration) live in :mod:`sim.shaker`.
+Shaker profiles (sine sweeps, random vibration) live in :mod:`gyrobench.sim.shaker`.
 """
 
 from __future__ import annotations

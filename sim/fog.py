@@ -1,6 +1,6 @@
 """Interferometric FOG in a thermal chamber: Sagnac scale factor, coil thermal drift, noise, logged temperature.
 
-What one simulated run produces (a :class:`sim.recording.Recording`):
+What one simulated run produces (a :class:`gyrobench.sim.recording.Recording`):
 
 channels (what a real test logs)
     ``rate`` [rad/s]: the gyro output; ``coil_temperature`` [K]: one sensor on the coil
@@ -8,7 +8,7 @@ channels (what a real test logs)
 truth (what only the simulator knows)
     ``rate`` (true input), ``thermal_drift`` (all coil non-reciprocity) and its parts
     ``shupe``, ``dndT_product``, ``strain``, ``strain_product``; ``scale_factor_error``;
-    ``noise`` (the :class:`sim.noise.NoiseModel` sum incl. its constant bias);
+    ``noise`` (the :class:`gyrobench.sim.noise.NoiseModel` sum incl. its constant bias);
     ``sensor_temperature`` (noise-free value at the sensor), ``coil_mean_temperature``,
     ``housing_temperature``, ``chamber_temperature`` [K].
 
@@ -16,7 +16,7 @@ Output model (SI):
 
     output = Omega_true * SF(T)/SF0 + Omega_E(t) + noise(t)                     [rad/s]
 
-with Omega_E from :mod:`sim.coil` (heat diffusion + Shupe integral with strain and
+with Omega_E from :mod:`gyrobench.sim.coil` (heat diffusion + Shupe integral with strain and
 T-dependent dn/dT) and the Sagnac scale factor (PHYSICS.md 3.1, 3.6)
 
     SF = 2 pi L D / (lambda c)                                                  [s]
@@ -42,11 +42,11 @@ from numbers import Real
 import numpy as np
 from numpy.typing import NDArray
 
-from sim import units
-from sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
-from sim.environment import PiecewiseLinear
-from sim.noise import NoiseModel
-from sim.recording import Channel, Recording
+from gyrobench.sim import units
+from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
+from gyrobench.sim.environment import PiecewiseLinear
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording
 
 __all__ = ["SPEED_OF_LIGHT", "TemperatureSensorSpec", "FOGSpec", "FOGUnit", "sagnac_scale_factor"]
 
@@ -232,7 +232,7 @@ class FOGUnit:
         ------
         ValueError
             If the thermal step cannot resolve the chamber profile (see
-            :meth:`sim.coil.CoilThermalModel.check_step`).
+            :meth:`gyrobench.sim.coil.CoilThermalModel.check_step`).
         """
         if not isinstance(chamber, PiecewiseLinear):
             raise TypeError(
@@ -271,7 +271,7 @@ class FOGUnit:
         Parameters
         ----------
         chamber : PiecewiseLinear
-            Chamber temperature program [K] (``sim.environment.thermal_profile``).
+            Chamber temperature program [K] (``gyrobench.sim.environment.thermal_profile``).
         fs : float
             Output and sensor sample rate [Hz].
         rng : numpy.random.Generator
@@ -355,7 +355,7 @@ class FOGUnit:
             "coil_temperature": Channel(logged_T, "K", f"coil temperature sensor ({loc})"),
         }
         meta = {
-            "model": "sim.fog.FOGUnit",
+            "model": "gyrobench.sim.fog.FOGUnit",
             "thermal_step_s": spec.thermal_step,
             "scheme": spec.scheme,
             "winding": self.winding.pattern,

@@ -1,6 +1,6 @@
 """High-range MEMS (Coriolis vibratory) gyro: saturating scale factor, thermal terms, noise.
 
-All parameters are in SI (see :mod:`sim.units`): rates [rad/s], temperature [K],
+All parameters are in SI (see :mod:`gyrobench.sim.units`): rates [rad/s], temperature [K],
 acceleration [m/s^2]. Field units enter only through :meth:`MemsSpec.from_datasheet`.
 
 Output model (one sense axis), evaluated sample by sample::
@@ -22,7 +22,7 @@ s1 scale-factor temperature coefficient [1/K]; a asymmetry [-] (K+ - K-)/K0; d r
 offset [rad/s] (a step at zero rate: the dead-band/threshold behaviour of a
 Coriolis vibratory gyro, IEEE Std 1431 "threshold"); b1 [rad/s/K], b2 [rad/s/K^2];
 bg g-sensitivity [rad/s per m/s^2] times the acceleration a_s along the sense
-axis [m/s^2]; n(t) the IEEE-952 noise of :class:`sim.noise.NoiseModel`; R the
+axis [m/s^2]; n(t) the IEEE-952 noise of :class:`gyrobench.sim.noise.NoiseModel`; R the
 measurement range [rad/s]; q the output resolution [rad/s] (0: no quantization).
 
 One power-on of the gyro is a :class:`MemsUnit` drawn by :meth:`MemsSpec.realize`
@@ -82,8 +82,8 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sim import units
-from sim.noise import NoiseModel
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
 
 __all__ = [
     "MemsSpec",

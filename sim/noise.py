@@ -1,6 +1,6 @@
 """IEEE Std 952 rate-noise model: closed-form Allan variance and fast, chunkable generation.
 
-All parameters are in SI (see :mod:`sim.units`); field units enter only through
+All parameters are in SI (see :mod:`gyrobench.sim.units`); field units enter only through
 :meth:`NoiseModel.from_datasheet`.
 
 The model is a sum of independent processes, each generated from its own child
@@ -116,7 +116,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
 
-from sim import units
+from gyrobench.sim import units
 
 __all__ = [
     "GaussMarkov",
@@ -762,7 +762,7 @@ class _Flicker:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class NoiseModel:
-    """IEEE Std 952 rate-noise model; every field in SI (see :mod:`sim.units`).
+    """IEEE Std 952 rate-noise model; every field in SI (see :mod:`gyrobench.sim.units`).
 
     Parameters
     ----------

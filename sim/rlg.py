@@ -52,9 +52,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
-from sim import units
-from sim.noise import NoiseModel
-from sim.recording import Channel, Recording, package_version
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
 
 __all__ = [
     "HENE_WAVELENGTH",
@@ -748,7 +748,7 @@ class RLGUnit:
         Parameters
         ----------
         chamber : callable t -> K
-            Chamber air temperature [K] (e.g. :func:`sim.environment.thermal_profile`).
+            Chamber air temperature [K] (e.g. :func:`gyrobench.sim.environment.thermal_profile`).
             The gyro is switched on at t = 0.
         duration : float
             Record length [s].
@@ -861,7 +861,7 @@ class RLGUnit:
             },
             truth=truth,
             metadata={
-                "model": "sim.rlg statistical mode",
+                "model": "gyrobench.sim.rlg statistical mode",
                 "unit": self.label,
                 "unit_parameters_si": self,
                 "scale_factor_counts_per_rad": self.scale_factor,

@@ -49,7 +49,7 @@ from typing import Literal, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sim import units
+from gyrobench.sim import units
 
 __all__ = [
     "ShakerSignal",
@@ -212,7 +212,7 @@ class SineSweep:
     duration : float
         Sweep time Ts [s], > 0.
     acceleration : float
-        Acceleration amplitude (peak) [m/s^2], >= 0; see :func:`sim.units.g`.
+        Acceleration amplitude (peak) [m/s^2], >= 0; see :func:`gyrobench.sim.units.g`.
     spacing : {"log", "linear"}
         Logarithmic (constant octaves per minute) or linear sweep.
     max_displacement : float or None

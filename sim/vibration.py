@@ -28,7 +28,7 @@ so x_k = H_k * a [m/s^2] is the modal acceleration. The gyro's rate error is
                 of coil stress when the load changes). Driven by the table level, not the
                 modal energy, so sweeping through a resonance at a constant level adds none.
 
-plus the static noise of :class:`sim.noise.NoiseModel` (Q, N, B, K, R) at the output rate.
+plus the static noise of :class:`gyrobench.sim.noise.NoiseModel` (Q, N, B, K, R) at the output rate.
 
 Sampling
 --------
@@ -74,9 +74,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
-from sim.noise import NoiseModel
-from sim.recording import Channel, Recording, package_version
-from sim.shaker import Phased, VibrationProfile
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.shaker import Phased, VibrationProfile
 
 __all__ = ["StructuralMode", "FogVibrationModel", "alias_frequency", "decimate", "moving_average_gain"]
 
@@ -448,7 +448,7 @@ class FogVibrationModel:
             },
             truth=truth,
             metadata={
-                "model": "sim.vibration.FogVibrationModel",
+                "model": "gyrobench.sim.vibration.FogVibrationModel",
                 "physics_rate": fp,
                 "output_rate": fo,
                 "decimation": dec,

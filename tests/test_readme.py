@@ -25,7 +25,7 @@ def test_readme_starts_with_install_and_test_commands():
 
 
 def test_every_cli_verb_is_in_the_readme():
-    from scenarios.cli import build_parser
+    from gyrobench.scenarios.cli import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")

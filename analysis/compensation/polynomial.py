@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from analysis.scale_factor import BreakpointSearch, breakpoint_search
+from gyrobench.analysis.scale_factor import BreakpointSearch, breakpoint_search
 
 __all__ = ["PolynomialRegressor", "TwoStagePolynomial", "PiecewisePolynomial"]
 
@@ -254,7 +254,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         positive high rates; the paper's 9-1-9); a side where no breakpoint is
         found merges into the middle segment.
     breakpoints : "heuristic" or tuple of float
-        ``"heuristic"``: :func:`analysis.scale_factor.breakpoint_search` on the
+        ``"heuristic"``: :func:`gyrobench.analysis.scale_factor.breakpoint_search` on the
         rate table formed by the distinct target values y (table rates) and the
         mean x at each; the breakpoints in x are the mean outputs at the rates
         found. If the search cannot run (fewer than 3 distinct y) or a breakpoint

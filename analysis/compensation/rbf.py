@@ -48,7 +48,7 @@ from scipy.spatial.distance import cdist
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from analysis.features import thermal_features
+from gyrobench.analysis.features import thermal_features
 
 __all__ = ["RBFNetwork", "StreamingCompensator", "batch_compensate", "RADBAS_B"]
 
@@ -412,7 +412,7 @@ def batch_compensate(
     fs : float
         Sample rate [Hz].
     window_s : float
-        Derivative smoothing window [s] of :func:`analysis.features.thermal_features`.
+        Derivative smoothing window [s] of :func:`gyrobench.analysis.features.thermal_features`.
     product : bool
         Include T x dT/dt (improved model) or not (traditional model).
 

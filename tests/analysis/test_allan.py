@@ -11,8 +11,8 @@ import pytest
 from allantools import ci as atci
 from scipy import stats
 
-from analysis import allan
-from analysis.allan import (
+from gyrobench.analysis import allan
+from gyrobench.analysis.allan import (
     KINDS,
     TERMS,
     AllanCurve,
@@ -22,7 +22,7 @@ from analysis.allan import (
     identify_noise,
     slope_readoff,
 )
-from sim.noise import NoiseModel
+from gyrobench.sim.noise import NoiseModel
 
 ALLANTOOLS = {
     "overlapping": allantools.oadev,

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_info
 
-from analysis import allan
-from analysis.allan import allan_deviation
-from sim.noise import NoiseModel
+from gyrobench.analysis import allan
+from gyrobench.analysis.allan import allan_deviation
+from gyrobench.sim.noise import NoiseModel
 
 #: white + quantization + flicker + random-walk rate, each in charge of some octaves
 MODEL = NoiseModel(

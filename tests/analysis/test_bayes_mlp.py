@@ -9,7 +9,7 @@ import pytest
 from scipy import stats
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from analysis.compensation.bayes_mlp import BayesianRegularizedMLP
+from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
 
 
 @pytest.fixture

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from analysis.allan import allan_deviation, fit_noise
-from analysis.metrics import SegmentFit, segment_noise_fits
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+from gyrobench.analysis.metrics import SegmentFit, segment_noise_fits
 
 #: two-sided false-alarm rate of the statistical bounds
 ALARM = 1e-6

@@ -9,12 +9,12 @@ import pytest
 from numpy.polynomial import Polynomial
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from analysis.compensation.polynomial import (
+from gyrobench.analysis.compensation.polynomial import (
     PiecewisePolynomial,
     PolynomialRegressor,
     TwoStagePolynomial,
 )
-from analysis.scale_factor import fit_scale_factor
+from gyrobench.analysis.scale_factor import fit_scale_factor
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from analysis.compensation.rbf import RADBAS_B, RBFNetwork, StreamingCompensator, batch_compensate
+from gyrobench.analysis.compensation.rbf import RADBAS_B, RBFNetwork, StreamingCompensator, batch_compensate
 
 
 @pytest.fixture
@@ -166,7 +166,7 @@ def _thermal_record(rng, n=900, fs=1.0):
 
 def test_streaming_equals_batch_for_any_blocks(rng):
     out, T = _thermal_record(rng)
-    from analysis.features import thermal_features
+    from gyrobench.analysis.features import thermal_features
 
     X = thermal_features(T, 1.0, window_s=61.0)
     net = RBFNetwork(spread=1.0, normalize="minmax", max_neurons=20).fit(X[::5], out[::5])
@@ -208,7 +208,7 @@ def test_streaming_equals_batch_for_random_partitions(cuts):
 
 
 def _stream_net():
-    from analysis.features import thermal_features
+    from gyrobench.analysis.features import thermal_features
 
     out, T = _thermal_record(np.random.default_rng(6), n=900)
     X = thermal_features(T, 1.0, window_s=61.0)

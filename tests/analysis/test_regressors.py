@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES, two_sensor_regressors
+from gyrobench.analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES, two_sensor_regressors
 
 
 def test_names_and_labels():

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
+from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 

@@ -9,7 +9,7 @@ import pytest
 from scipy import stats
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from analysis.compensation.stepwise import StepwiseRegression
+from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 
 
 @pytest.fixture

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.allan import AllanCurve, allan_deviation, slope_readoff
+from gyrobench.analysis.allan import AllanCurve, allan_deviation, slope_readoff
 
 STABLE32_KIND = {
     "adev": "standard",

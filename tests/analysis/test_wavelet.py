@@ -7,7 +7,7 @@ import zlib
 import numpy as np
 import pytest
 
-from analysis.wavelet import amplitude_spectrum, cwt_map, decompose, max_level
+from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map, decompose, max_level
 
 
 @pytest.fixture

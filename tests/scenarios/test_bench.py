@@ -23,7 +23,7 @@ import pytest
 from sklearn.ensemble import RandomForestRegressor
 from sklearn.linear_model import LinearRegression
 
-from scenarios import bench, bench_cli, registry
+from gyrobench.scenarios import bench, bench_cli, registry
 from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -171,7 +171,7 @@ _KILL_SCRIPT = textwrap.dedent(
     """
     import sys
     sys.path.insert(0, {root!r})
-    from scenarios import bench
+    from gyrobench.scenarios import bench
     from tests.scenarios import toy_scenario as toy
     bench.run_campaign(toy, toy.good, range({n}), config=toy.Config(work={work}), workers=2,
                        db={db!r},
@@ -864,7 +864,7 @@ def test_baseline_from_a_newer_format_is_refused(tmp_path):
 
 
 def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
-    from scenarios.cli import main
+    from gyrobench.scenarios.cli import main
 
     base = _other_scenario_baseline(tmp_path / "b.json")
     common = ["bench", TOY, "--compensator", f"{TOY}:good", "--quiet", "--workers", "0"]
@@ -887,7 +887,7 @@ def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
 
-    import scenarios.rlg_thermal as rlg
+    import gyrobench.scenarios.rlg_thermal as rlg
 
     good = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
     # a static model: only the housing and cavity temperatures (x1 T1, x2 T2), the

@@ -7,12 +7,12 @@ import h5py
 import numpy as np
 import pytest
 
-from analysis.allan import allan_deviation, fit_noise
-from scenarios.allan_report import TERMS
-from scenarios.cli import main
-from scenarios.static_noise import MIN_SAMPLES
-from sim import units
-from sim.recording import load_hdf5
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+from gyrobench.scenarios.allan_report import TERMS
+from gyrobench.scenarios.cli import main
+from gyrobench.scenarios.static_noise import MIN_SAMPLES
+from gyrobench.sim import units
+from gyrobench.sim.recording import load_hdf5
 
 VALIDATION = Path(__file__).resolve().parents[2].parent / "shared" / "validation"
 
@@ -106,7 +106,7 @@ def test_allan_csv_with_time_column_and_units_from_header(tmp_path, capsys):
 
 
 def test_csv_reader_keeps_every_row(tmp_path):
-    from scenarios.cli import _read_csv
+    from gyrobench.scenarios.cli import _read_csv
 
     rate = np.arange(1.0, 101.0)
     for header, comments in (("# a comment\n# another\nrate [deg/h]\n", 2), ("", 0)):
@@ -358,9 +358,9 @@ def test_bad_config_negative_coefficient_names_the_config_field(tmp_path, capsys
 # ----------------------------------------------------------------------------- writing: failures, names, modes, space
 _FSIZE_MAIN = r"""
 import resource, sys
-from scenarios.allan_report import TERMS
-from scenarios.cli import main
-from scenarios.static_noise import MIN_SAMPLES
+from gyrobench.scenarios.allan_report import TERMS
+from gyrobench.scenarios.cli import main
+from gyrobench.scenarios.static_noise import MIN_SAMPLES
 resource.setrlimit(resource.RLIMIT_FSIZE, (200_000, 200_000))
 sys.exit(main(sys.argv[1:]))
 """
@@ -405,7 +405,7 @@ def test_failed_write_is_one_line_and_exit_2(tmp_path, target):
 
 def test_progress_bar_is_closed_on_error(tmp_path, capsys, monkeypatch):
     # before: the bar stayed open and redrew itself after the error line
-    from sim.recording import HDF5StreamWriter
+    from gyrobench.sim.recording import HDF5StreamWriter
 
     calls = []
 

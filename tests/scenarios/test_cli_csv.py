@@ -6,9 +6,9 @@ import warnings
 import numpy as np
 import pytest
 
-from analysis.allan import allan_deviation, fit_noise
-from scenarios.cli import _read_csv
-from sim import units
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+from gyrobench.scenarios.cli import _read_csv
+from gyrobench.sim import units
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 

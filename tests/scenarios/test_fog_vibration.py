@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from analysis.compensation.rbf import RBFNetwork
-from scenarios import fog_vibration as sc
-from scenarios import registry
-from scenarios.base import CompensationTask
-from sim import units
+from gyrobench.analysis.compensation.rbf import RBFNetwork
+from gyrobench.scenarios import fog_vibration as sc
+from gyrobench.scenarios import registry
+from gyrobench.scenarios.base import CompensationTask
+from gyrobench.sim import units
 
 SMALL = sc.Config(static_before_s=30.0, vibration_s=60.0, static_after_s=30.0, guard_s=2.0)
 

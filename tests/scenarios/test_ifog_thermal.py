@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from scenarios import ifog_thermal as sc
-from scenarios import registry
-from sim import units
+from gyrobench.scenarios import ifog_thermal as sc
+from gyrobench.scenarios import registry
+from gyrobench.sim import units
 
 SMALL = sc.Config(
     identification_settle_h=0.5,
@@ -63,7 +63,7 @@ def test_streaming_compensation_equals_batch(small_outcome):
 
 
 def test_deployment_json_rebuilds_the_network(small_outcome):
-    from analysis.compensation.rbf import RBFNetwork
+    from gyrobench.analysis.compensation.rbf import RBFNetwork
 
     doc = small_outcome.results["rbf_improved_deployment"]
     net = RBFNetwork.from_json(json.dumps(doc))
@@ -156,7 +156,7 @@ def rng(request) -> np.random.Generator:
 def test_select_rbf_follows_the_stated_rule(rng):
     """Fewest neurons among cells within 10 % of the best CV MSE; ties to the largest spread;
     the CV MSE of a cell is the mean of its held-out segment MSEs, recomputed here by hand."""
-    from analysis.compensation.rbf import RBFNetwork
+    from gyrobench.analysis.compensation.rbf import RBFNetwork
 
     X, y, seg = _segmented_data(rng)
     spreads, neurons = (0.5, 2.0, 8.0), (2, 4, 8)
@@ -297,7 +297,7 @@ def test_float32_deployment_error_within_rounding_bound(rng):
     """float32 a1/a2 vs float64: each output is a sum of k terms LW_i a1_i, each a1_i carries a
     few ulp of float32 (the inputs, the distance, exp), so
     |a2_32 - a2_64| <= c eps32 (sum |LW_i| + |b2|), with c = 16 covering ~5 roundings per term."""
-    from analysis.compensation.rbf import RBFNetwork
+    from gyrobench.analysis.compensation.rbf import RBFNetwork
 
     X, y, _ = _segmented_data(rng)
     for spread in (0.5, 32.0):  # well conditioned, and large cancelling weights

@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
-from analysis.compensation.polynomial import PiecewisePolynomial
-from scenarios import mems_scale_factor as ms
-from scenarios.base import Outcome
+from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
+from gyrobench.scenarios import mems_scale_factor as ms
+from gyrobench.scenarios.base import Outcome
 
 SMALL = ms.Config(
     rates_dps=(360.0, 0.0, -360.0),

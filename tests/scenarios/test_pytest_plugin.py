@@ -12,7 +12,7 @@ import tqdm  # noqa: F401
 
 # Inner runs are in-process: pytester drops modules first imported inside them, and numpy's
 # extension modules cannot load twice in a process, so import what the inner tests use here.
-import scenarios.bench  # noqa: F401
+import gyrobench.scenarios.bench  # noqa: F401
 from tests.scenarios import toy_scenario  # noqa: F401
 
 pytest_plugins = ["pytester"]
@@ -94,9 +94,9 @@ def test_baseline_of_another_scenario_fails_before_computing(
     user_suite: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
 ):
     (user_suite.path / "baselines").mkdir()
-    scenarios.bench.save_baseline(
+    gyrobench.scenarios.bench.save_baseline(
         user_suite.path / "baselines" / "toy.json",
-        scenarios.bench.Campaign(
+        gyrobench.scenarios.bench.Campaign(
             campaign_id="x",
             scenario="ifog_thermal",
             compensator="c",

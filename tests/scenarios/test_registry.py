@@ -5,7 +5,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
-from scenarios import registry
+from gyrobench.scenarios import registry
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from scenarios.base import FigureSpec, Headline, Outcome, Table
-from scenarios.report import fmt, write_report
+from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
+from gyrobench.scenarios.report import fmt, write_report
 
 
 @dataclass(frozen=True)
@@ -113,7 +113,7 @@ def test_report_renders_in_a_browser(tmp_path):
 @pytest.mark.skipif(_chromium() is None, reason="Chromium not installed (.ci/run installs Debian's chromium)")
 def test_real_report_renders_in_a_browser(tmp_path):
     """The report of two real scenarios (the fastest, ~8 s), not a synthetic one, in Chromium."""
-    from scenarios.cli import main
+    from gyrobench.scenarios.cli import main
 
     out = tmp_path / "rep"
     assert main(["reproduce", "mems_scale_factor", "rlg_thermal", "--out", str(out)]) == 0

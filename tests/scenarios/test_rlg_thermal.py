@@ -8,11 +8,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analysis.compensation.stepwise import StepwiseRegression
-from scenarios import registry
-from scenarios import rlg_thermal as sc
-from scenarios.base import CompensationTask, Outcome
-from sim import units
+from gyrobench.analysis.compensation.stepwise import StepwiseRegression
+from gyrobench.scenarios import registry
+from gyrobench.scenarios import rlg_thermal as sc
+from gyrobench.scenarios.base import CompensationTask, Outcome
+from gyrobench.sim import units
 
 
 @pytest.fixture(scope="module")

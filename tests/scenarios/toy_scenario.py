@@ -26,7 +26,7 @@ from sklearn.linear_model import LinearRegression
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from scenarios.base import CompensationTask, HeldOutRun
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 
 NAME = "toy"
 TITLE = "Toy thermal bias (bench tests only)"

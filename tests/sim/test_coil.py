@@ -12,8 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize, special
 
-from sim import units
-from sim.coil import (
+from gyrobench.sim import units
+from gyrobench.sim.coil import (
     WINDING_PATTERNS,
     CoilSpec,
     CoilThermalModel,

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from sim import units
-from sim.environment import PiecewiseLinear, Ramp, Soak, rate_steps, thermal_profile
+from gyrobench.sim import units
+from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, rate_steps, thermal_profile
 
 
 def test_thermal_profile_ramp_rate_and_soak():

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sim import units
-from sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
-from sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
-from sim.fog import SPEED_OF_LIGHT, FOGSpec, FOGUnit, TemperatureSensorSpec, sagnac_scale_factor
-from sim.noise import NoiseModel
+from gyrobench.sim import units
+from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
+from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
+from gyrobench.sim.fog import SPEED_OF_LIGHT, FOGSpec, FOGUnit, TemperatureSensorSpec, sagnac_scale_factor
+from gyrobench.sim.noise import NoiseModel
 
 
 @pytest.fixture

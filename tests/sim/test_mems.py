@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sim import units
-from sim.mems import (
+from gyrobench.sim import units
+from gyrobench.sim.mems import (
     KNEE_WIDTH_DPS,
     MemsSpec,
     MemsUnit,
@@ -18,7 +18,7 @@ from sim.mems import (
     scale_factor_output,
     simulate_output,
 )
-from sim.noise import NoiseModel
+from gyrobench.sim.noise import NoiseModel
 
 GRID_DPS = np.arange(3600.0, -3601.0, -360.0)
 

@@ -20,8 +20,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize, stats
 
-from sim import noise as nz
-from sim.noise import GaussMarkov, NoiseModel, Sinusoid, ar1_avar, flicker_avar, gm_avar
+from gyrobench.sim import noise as nz
+from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid, ar1_avar, flicker_avar, gm_avar
 
 ALPHA = 1e-3
 PLATEAU = 2.0 * math.log(2.0) / math.pi  # flicker AVAR / B^2

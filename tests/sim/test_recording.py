@@ -7,7 +7,7 @@ import h5py
 import numpy as np
 import pytest
 
-from sim.recording import (
+from gyrobench.sim.recording import (
     AtomicWriteError,
     Channel,
     HDF5StreamWriter,
@@ -93,7 +93,7 @@ def test_interrupted_stream_leaves_no_file(tmp_path):
 def test_interrupted_save_keeps_previous_file(tmp_path, monkeypatch):
     target = tmp_path / "r.h5"
     save_hdf5(target, _rec(name="old"))
-    import sim.recording as recording
+    import gyrobench.sim.recording as recording
 
     def broken(h5, rec):
         raise OSError("disk full")
@@ -191,7 +191,7 @@ def test_channel_must_be_1d():
 _FSIZE_SCRIPT = r"""
 import resource, sys
 import numpy as np
-from sim.recording import AtomicWriteError, HDF5StreamWriter, Recording, Channel, save_hdf5
+from gyrobench.sim.recording import AtomicWriteError, HDF5StreamWriter, Recording, Channel, save_hdf5
 
 resource.setrlimit(resource.RLIMIT_FSIZE, (1_000_000, 1_000_000))
 target = sys.argv[1]
@@ -261,7 +261,7 @@ def test_write_error_in_block_names_the_target(tmp_path):
 def test_record_larger_than_free_space_is_refused_before_writing(tmp_path, monkeypatch):
     import shutil
 
-    import sim.recording as recording
+    import gyrobench.sim.recording as recording
 
     monkeypatch.setattr(recording.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 4000, 4000))
     assert _rec(n=1000).nbytes == 4 * 1000 * 8
@@ -283,7 +283,7 @@ def test_stream_writer_rejects_bad_chunk(tmp_path):
 def test_free_space_of_a_pseudo_file_system_is_not_a_limit(tmp_path, monkeypatch):
     import shutil
 
-    from sim.recording import ensure_free_space
+    from gyrobench.sim.recording import ensure_free_space
 
     monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(0, 0, 0))  # as /proc reports
     ensure_free_space(tmp_path / "x.h5", 10**6)  # no refusal: the write itself will say what is wrong

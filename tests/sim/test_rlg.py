@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sim import rlg, units
-from sim.environment import Ramp, Soak, thermal_profile
+from gyrobench.sim import rlg, units
+from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 
 LAMBDA = rlg.HENE_WAVELENGTH
 

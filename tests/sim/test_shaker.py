@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sim import units
-from sim.shaker import (
+from gyrobench.sim import units
+from gyrobench.sim.shaker import (
     FixedSine,
     Phased,
     RandomVibration,

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sim import units
+from gyrobench.sim import units
 
 
 @pytest.mark.parametrize(

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from sim import units
-from sim.noise import NoiseModel
-from sim.shaker import FixedSine, Phased, SineSweep
-from sim.vibration import (
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
+from gyrobench.sim.vibration import (
     FogVibrationModel,
     StructuralMode,
     alias_frequency,
@@ -197,7 +197,7 @@ def test_bad_decimation_rejected():
 def test_random_vibration_rectified_bias_matches_the_spectrum(rng):
     # Parseval: lines of fixed amplitude A_l (random phases) give <2 x_k^2> = sum_l A_l^2 |H_k(f_l)|^2 over the
     # record period; the filter's start from rest (decay time Q/(pi f_k) = 0.5 ms) costs < 1e-3 of it here
-    from sim.shaker import RandomVibration
+    from gyrobench.sim.shaker import RandomVibration
 
     c = units.deg_per_h(0.2) / G**2
     mode = StructuralMode(frequency=300.0, quality=0.7, rectification=c)
@@ -214,7 +214,7 @@ def test_random_vibration_rectified_bias_matches_the_spectrum(rng):
 
 
 def test_random_vibration_needs_physics_rate_for_its_band(rng):
-    from sim.shaker import RandomVibration
+    from gyrobench.sim.shaker import RandomVibration
 
     rv = RandomVibration(breakpoints=((20.0, 0.01), (2000.0, 0.01)), duration=1.0)
     with pytest.raises(ValueError, match=r"vibration up to 2000.0 Hz needs physics_rate >= 8000.0 Hz"):

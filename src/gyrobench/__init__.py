@@ -1,0 +1,63 @@
+"""gyrobench: a physics-based gyroscope simulator and test bench.
+
+Subpackages
+-----------
+gyrobench.sim
+    The physics: what a gyro outputs in a given environment (noise engine, FOG, MEMS and
+    RLG models, rate table, thermal chamber, shaker). SI units inside.
+gyrobench.analysis
+    Methods for any recording, simulated or real: Allan deviations and the Q/N/B/K/R fit,
+    wavelets, the papers' compensators as scikit-learn estimators, scores.
+gyrobench.scenarios
+    The papers' experiments, the ``gyrobench`` command line, reports and the bench.
+
+The names a user reaches for first are importable from here and load on first use, so
+``import gyrobench`` stays cheap::
+
+    import numpy as np
+    import gyrobench
+
+    model = gyrobench.NoiseModel.from_datasheet(angle_random_walk=0.01)
+    rate = model.generate(100_000, fs=100.0, rng=np.random.default_rng(1))
+    fit = gyrobench.fit_noise(gyrobench.allan_deviation(rate, fs=100.0))
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+__version__ = "0.2.0"
+
+#: public name -> module that defines it (imported on first access)
+_LAZY: dict[str, str] = {
+    "NoiseModel": "gyrobench.sim.noise",
+    "Recording": "gyrobench.sim.recording",
+    "load_hdf5": "gyrobench.sim.recording",
+    "save_hdf5": "gyrobench.sim.recording",
+    "allan_deviation": "gyrobench.analysis.allan",
+    "fit_noise": "gyrobench.analysis.allan",
+    "run_campaign": "gyrobench.scenarios.bench",
+    "format_summary": "gyrobench.scenarios.bench",
+}
+
+__all__ = ["__version__", *_LAZY]
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+    from gyrobench.scenarios.bench import format_summary, run_campaign
+    from gyrobench.sim.noise import NoiseModel
+    from gyrobench.sim.recording import Recording, load_hdf5, save_hdf5
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gyrobench' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

@@ -1,0 +1,113 @@
+"""Closed-form checks of the sensor models: the record type and the collector.
+
+Every physical model in :mod:`gyrobench.sim` has at least one closed-form check: a
+quantity the model simulates beside the value an equation gives for it. Each check
+module listed in :data:`CHECK_MODULES` defines
+
+``checks(rng) -> list[Check]``
+    run the module's checks (short records, full equations where the model has a
+    fast form), drawing every random number from ``rng`` (a
+    :class:`numpy.random.Generator`).
+
+The ``physics_checks`` scenario runs them all and reports each check's id, formula,
+expected and simulated values, relative error and tolerance with its derivation.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["CHECK_MODULES", "Check", "collect"]
+
+#: modules defining ``checks(rng) -> list[Check]``, in report order
+CHECK_MODULES: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Check:
+    """One closed-form check: a simulated quantity beside the value its equation gives.
+
+    Parameters
+    ----------
+    id : str
+        Short stable identifier, ``"<model>.<quantity>"``, e.g. ``"fog.sagnac_scale_factor"``.
+    formula : str
+        The closed form, plain text with units, e.g. ``"S = 2 pi L D / (lambda c) [s]"``.
+    expected : float
+        The closed form's value (SI).
+    simulated : float
+        The model's value for the same quantity (SI).
+    tolerance : float
+        Largest acceptable relative error (``rel_error``), > 0.
+    derivation : str
+        Where the tolerance comes from: the estimator's degrees of freedom and the
+        false-alarm rate for a statistical check, the discretisation order for a
+        numerical one, rounding for an exact one.
+    scale : float, optional
+        The magnitude the error is measured against when ``expected`` is 0 (or when
+        the natural reference is another quantity, e.g. the uncancelled term for a
+        cancellation check); default ``abs(expected)``.
+    """
+
+    id: str
+    formula: str
+    expected: float
+    simulated: float
+    tolerance: float
+    derivation: str
+    scale: float | None = None
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.tolerance) and self.tolerance > 0):
+            raise ValueError(f"check {self.id!r}: tolerance must be finite and > 0; got {self.tolerance!r}")
+        reference = abs(self.expected) if self.scale is None else abs(self.scale)
+        if not (math.isfinite(reference) and reference > 0):
+            raise ValueError(
+                f"check {self.id!r}: needs a finite non-zero reference magnitude (expected or scale); "
+                f"got expected={self.expected!r}, scale={self.scale!r}"
+            )
+
+    @property
+    def rel_error(self) -> float:
+        """``|simulated - expected| / reference`` (reference: ``scale`` or ``|expected|``)."""
+        reference = abs(self.expected) if self.scale is None else abs(self.scale)
+        return abs(self.simulated - self.expected) / reference
+
+    @property
+    def passed(self) -> bool:
+        """True when the relative error is within the tolerance (a NaN never passes)."""
+        return bool(self.rel_error <= self.tolerance)
+
+    def as_dict(self) -> dict[str, object]:
+        """The results.json form: id, formula, expected, simulated, rel_error, tolerance, passed."""
+        return {
+            "id": self.id,
+            "formula": self.formula,
+            "expected": self.expected,
+            "simulated": self.simulated,
+            "rel_error": self.rel_error,
+            "tolerance": self.tolerance,
+            "tolerance_derivation": self.derivation,
+            "passed": self.passed,
+        }
+
+
+def collect(rng: np.random.Generator, modules: tuple[str, ...] = CHECK_MODULES) -> list[Check]:
+    """Run every check module's ``checks`` with its own child stream of ``rng``.
+
+    Each module gets one spawned child generator, in the order of ``modules``, so adding a
+    module at the end changes no earlier module's numbers.
+    """
+    children = rng.spawn(len(modules))
+    out: list[Check] = []
+    for name, child in zip(modules, children, strict=True):
+        out.extend(importlib.import_module(name).checks(child))
+    ids = [c.id for c in out]
+    dup = sorted({i for i in ids if ids.count(i) > 1})
+    if dup:
+        raise ValueError(f"check ids must be unique; repeated: {dup}")
+    return out

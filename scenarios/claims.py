@@ -1,0 +1,301 @@
+"""A paper's claims as data, judged over a population of simulated units.
+
+A paper scenario states every checkable claim of its paper once, as a :class:`Claim`:
+the paper's sentence, where it stands, whether an input of the simulation was set
+from it (``calibrated``) or nothing was set to make it hold (``emergent``), the
+paper's value, and one :class:`Comparator` with its tolerance. The scenario's
+``experiment(config, seed)`` simulates one unit (each seed is another unit, with its
+own noise and its own drawn parameters) and returns the unit's ``quantities``: one
+number per claim (``None`` or NaN where that unit cannot test it). :func:`evaluate`
+then judges each claim over the units: how many could test it, on how many it holds,
+the pass rate with its 95 % Wilson interval, and the median and spread of the
+reproduced quantity.
+
+Comparators (written once per claim, chosen from the paper's wording)
+---------------------------------------------------------------------
+``within_factor(paper_value, 2)``
+    the paper gives a number: holds when ``paper/2 <= q <= 2 paper`` (two-sided).
+``in_range(lo, hi)``
+    the paper gives a band, e.g. "about an order of magnitude" = ``in_range(3, 30)``
+    on the ratio.
+``above(x)`` / ``below(x)``
+    the paper's statement is one-sided ("higher", "lower", "more than 0.2 deg/h").
+``is_true()``
+    a yes/no statement per unit ("improved beats traditional in every run"); the
+    quantity is 1.0 (holds) or 0.0 (fails).
+
+Verdicts
+--------
+"holds for most units" only when the Wilson interval's lower end is above 50 %;
+"fails for most units" when its upper end is below 50 %; otherwise "undecided".
+A calibrated claim is reported with its verdict but never counted as reproduced.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+__all__ = [
+    "Claim",
+    "ClaimResult",
+    "Comparator",
+    "Deviation",
+    "above",
+    "below",
+    "evaluate",
+    "in_range",
+    "is_true",
+    "verdict",
+    "wilson_interval",
+    "within_factor",
+]
+
+#: z for a two-sided 95 % interval
+_Z95 = 1.959963984540054
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Comparator:
+    """How a unit's quantity is judged against the paper. Build with the functions below."""
+
+    kind: Literal["within_factor", "in_range", "above", "below", "is_true"]
+    lo: float = -math.inf
+    hi: float = math.inf
+
+    def holds(self, q: float) -> bool:
+        """Whether quantity ``q`` (finite) satisfies the comparator."""
+        if self.kind == "is_true":
+            return bool(q == 1.0)
+        if self.kind == "above":
+            return bool(q > self.lo)
+        if self.kind == "below":
+            return bool(q < self.hi)
+        return bool(self.lo <= q <= self.hi)
+
+    def text(self, unit: str = "") -> str:
+        """One phrase, e.g. ``"within 2x of 15.71 % (7.855 to 31.42)"``."""
+        u = f" {unit}" if unit else ""
+        if self.kind == "is_true":
+            return "true for the unit"
+        if self.kind == "above":
+            return f"> {self.lo:.4g}{u}"
+        if self.kind == "below":
+            return f"< {self.hi:.4g}{u}"
+        if self.kind == "within_factor":
+            centre = math.sqrt(self.lo * self.hi)
+            factor = math.sqrt(self.hi / self.lo)
+            return f"within {factor:.3g}x of {centre:.4g}{u} ({self.lo:.4g} to {self.hi:.4g})"
+        return f"between {self.lo:.4g} and {self.hi:.4g}{u}"
+
+
+def within_factor(value: float, factor: float = 2.0) -> Comparator:
+    """Two-sided: ``value / factor <= q <= value * factor`` (``value`` > 0, ``factor`` > 1)."""
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"within_factor value must be finite and > 0; got {value!r}")
+    if not (math.isfinite(factor) and factor > 1):
+        raise ValueError(f"within_factor factor must be finite and > 1; got {factor!r}")
+    return Comparator(kind="within_factor", lo=value / factor, hi=value * factor)
+
+
+def in_range(lo: float, hi: float) -> Comparator:
+    """Two-sided band ``lo <= q <= hi``."""
+    if not lo < hi:
+        raise ValueError(f"in_range needs lo < hi; got lo={lo!r}, hi={hi!r}")
+    return Comparator(kind="in_range", lo=lo, hi=hi)
+
+
+def above(x: float) -> Comparator:
+    """One-sided: ``q > x``."""
+    return Comparator(kind="above", lo=float(x))
+
+
+def below(x: float) -> Comparator:
+    """One-sided: ``q < x``."""
+    return Comparator(kind="below", hi=float(x))
+
+
+def is_true() -> Comparator:
+    """Per-unit yes/no: the quantity is 1.0 when the statement holds, 0.0 when it fails."""
+    return Comparator(kind="is_true")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Claim:
+    """One checkable statement of a paper.
+
+    Parameters
+    ----------
+    id : str
+        Stable identifier, ``"<paper>.<short name>"``, e.g. ``"001.raw_kn"``.
+    paper : str
+        The paper's key in :mod:`gyrobench.scenarios.papers` (``"000"`` ... ``"004"``).
+    where : str
+        Table, figure or section of the paper, e.g. ``"Table 3"``, ``"Sec. 4, conclusion"``.
+    statement : str
+        The paper's claim in one sentence.
+    kind : "calibrated" or "emergent"
+        ``calibrated`` when an input of the simulation was set from this number or chosen
+        so that the claim holds (name it in ``calibrated_input``); ``emergent`` when
+        nothing was set to make it hold.
+    quantity : str
+        Key of the unit's ``quantities`` the comparator reads.
+    comparator : Comparator
+        How a unit's quantity is judged.
+    paper_value : float, optional
+        The paper's number, in ``unit``.
+    unit : str
+        Field unit of the quantity and of ``paper_value`` (``"%"``, ``"deg/h"``, ``"x"``...).
+    calibrated_input : str, optional
+        For a calibrated claim: the input and how it was set.
+    """
+
+    id: str
+    paper: str
+    where: str
+    statement: str
+    kind: Literal["calibrated", "emergent"]
+    quantity: str
+    comparator: Comparator
+    paper_value: float | None = None
+    unit: str = ""
+    calibrated_input: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("calibrated", "emergent"):
+            raise ValueError(f"claim {self.id!r}: kind must be 'calibrated' or 'emergent'; got {self.kind!r}")
+        if (self.kind == "calibrated") != bool(self.calibrated_input):
+            raise ValueError(
+                f"claim {self.id!r}: calibrated_input must be given exactly when kind is 'calibrated'; "
+                f"got kind={self.kind!r}, calibrated_input={self.calibrated_input!r}"
+            )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Deviation:
+    """A departure from a protocol the paper states, with its reason and measured effect."""
+
+    paper: str
+    what: str
+    paper_says: str
+    we_do: str
+    reason: str
+    effect: str
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClaimResult:
+    """A claim judged over units (the results.json ``claims`` entry, see :meth:`as_dict`)."""
+
+    claim: Claim
+    units: int
+    testable: int
+    holds: int
+    median: float | None
+    spread: tuple[float, float] | None
+
+    @property
+    def pass_rate(self) -> float | None:
+        """``holds / testable``; None when no unit could test the claim."""
+        return self.holds / self.testable if self.testable else None
+
+    @property
+    def interval95(self) -> tuple[float, float] | None:
+        """95 % Wilson score interval of the pass rate."""
+        return wilson_interval(self.holds, self.testable) if self.testable else None
+
+    @property
+    def verdict(self) -> str:
+        """``"holds for most units"``, ``"fails for most units"``, ``"undecided"``, ``"not testable"``."""
+        return verdict(self.holds, self.testable)
+
+    def as_dict(self) -> dict[str, Any]:
+        c = self.claim
+        return {
+            "id": c.id,
+            "paper": c.paper,
+            "where": c.where,
+            "statement": c.statement,
+            "kind": c.kind,
+            "calibrated_input": c.calibrated_input,
+            "paper_value": c.paper_value,
+            "unit": c.unit,
+            "comparator": c.comparator.text(c.unit),
+            "units": self.units,
+            "testable": self.testable,
+            "holds": self.holds,
+            "pass_rate": self.pass_rate,
+            "interval95": list(self.interval95) if self.interval95 else None,
+            "median": self.median,
+            "spread": list(self.spread) if self.spread else None,
+            "verdict": self.verdict,
+        }
+
+
+def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
+    """Wilson score interval for a binomial proportion ``k / n``.
+
+    ``(p + z^2/2n -+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n)``, ``p = k/n``
+    (Wilson, J. Am. Stat. Assoc. 22, 209 (1927); Brown, Cai & DasGupta, Stat. Sci. 16,
+    101 (2001), eq. 4).
+    """
+    if not (isinstance(n, int | np.integer) and n > 0):
+        raise ValueError(f"n must be an integer > 0; got {n!r}")
+    if not (isinstance(k, int | np.integer) and 0 <= k <= n):
+        raise ValueError(f"k must be an integer in [0, n={n}]; got {k!r}")
+    p = k / n
+    denom = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def verdict(holds: int, testable: int) -> str:
+    """The summary's word for a pass count (see the module docstring)."""
+    if testable == 0:
+        return "not testable"
+    lo, hi = wilson_interval(holds, testable)
+    if lo > 0.5:
+        return "holds for most units"
+    if hi < 0.5:
+        return "fails for most units"
+    return "undecided"
+
+
+def _finite(v: Any) -> float | None:
+    if v is None:
+        return None
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+def evaluate(claims: Sequence[Claim], units: Sequence[Mapping[str, Any]]) -> list[ClaimResult]:
+    """Judge every claim over the units' ``quantities`` mappings.
+
+    A unit whose quantity is missing, None or non-finite cannot test that claim. The
+    spread is the interquartile range (25th and 75th percentiles) of the testable units'
+    quantities.
+    """
+    out = []
+    for c in claims:
+        values = [v for u in units if (v := _finite(u.get(c.quantity))) is not None]
+        k = sum(c.comparator.holds(v) for v in values)
+        arr = np.asarray(values, float)
+        out.append(
+            ClaimResult(
+                claim=c,
+                units=len(units),
+                testable=len(values),
+                holds=int(k),
+                median=float(np.median(arr)) if values else None,
+                spread=(float(np.percentile(arr, 25)), float(np.percentile(arr, 75))) if values else None,
+            )
+        )
+    return out

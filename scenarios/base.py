@@ -102,6 +102,11 @@ class Outcome:
     headlines: list[Headline] = field(default_factory=list)
     conclusion: str = ""
     runtime_s: float = math.nan
+    #: paper scenarios: the claims judged over units (scenarios.claims.ClaimResult), the
+    #: protocol deviations (scenarios.claims.Deviation) and how many units were simulated
+    claims: list[Any] = field(default_factory=list)
+    deviations: list[Any] = field(default_factory=list)
+    units: int = 1
 
 
 @dataclass(frozen=True)

@@ -287,6 +287,20 @@ def _bench_scenarios() -> list[str]:
     return out
 
 
+def prepend_import_path(folder: str | os.PathLike) -> None:
+    """Put ``folder`` first on ``sys.path`` (once), so ``"module:attr"`` compensators and
+    module-path scenarios are found there before anywhere else, as ``python -m`` finds
+    modules in the current folder. Worker processes inherit the path (``spawn`` and
+    ``forkserver`` pass ``sys.path`` to the child)."""
+    import sys
+
+    path = os.fspath(folder)
+    if path in sys.path:
+        sys.path.remove(path)
+    sys.path.insert(0, path)
+    importlib.invalidate_caches()
+
+
 def _import_attr(spec: str) -> Any:
     if spec.count(":") != 1 or not all(spec.split(":")):
         raise ValueError(f"compensator must be 'package.module:attr'; got {spec!r}")

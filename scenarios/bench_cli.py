@@ -26,7 +26,6 @@ import argparse
 import os
 import sys
 
-from gyrobench.scenarios import bench
 
 __all__ = ["add_parser", "run"]
 
@@ -74,8 +73,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--db",
-        default=bench.DEFAULT_DB,
-        help=f"SQLite file keeping every finished seed (default {bench.DEFAULT_DB})",
+        default=None,
+        help="SQLite file keeping every finished seed (default gyrobench-bench.sqlite)",
     )
     p.add_argument("--config", metavar="FILE.toml", help="override the scenario's configuration")
     p.add_argument(
@@ -94,7 +93,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=0.05,
         help="family-wise significance level of the comparison (default 0.05)",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
     return p
 
@@ -120,7 +119,11 @@ def _executor(args):
 
 def run(args: argparse.Namespace) -> int:
     """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
-    from gyrobench.scenarios import registry
+    from gyrobench.scenarios import bench, registry
+
+    # 'mylab.models:mine' is found from the current folder first, as 'python -m' would
+    # (worker processes inherit sys.path)
+    bench.prepend_import_path(os.getcwd())
 
     seeds = bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:
@@ -149,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
             config=config,
             executor=executor,
             workers=args.workers,
-            db=args.db,
+            db=args.db if args.db is not None else bench.DEFAULT_DB,
             progress=not args.quiet,
         )
     except bench.CompensatorError as exc:

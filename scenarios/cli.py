@@ -27,8 +27,6 @@ import time
 import warnings
 from pathlib import Path
 
-import numpy as np
-
 __all__ = ["main"]
 
 #: exceptions that mean "bad input": reported in one line, exit 2
@@ -61,10 +59,14 @@ def _closing(bar):
 def _cmd_list(args) -> int:
     from gyrobench.scenarios import registry
 
+    from gyrobench.scenarios.papers import citation
+
     for name in registry.available():
-        mod = registry.get(name)
-        bench = " [bench]" if hasattr(mod, "compensation_task") else ""
-        print(f"{name:<20} {mod.TITLE}{bench}")
+        info = registry.describe(name)
+        bench = " [bench]" if info.bench else ""
+        print(f"{name:<20} {info.title}{bench}")
+        if info.paper is not None:
+            print(f"{'':<20}   paper {info.paper}: {citation(info.paper)}")
     return 0
 
 
@@ -138,6 +140,8 @@ def _simulate_noise(args) -> int:
     model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
     K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
     """
+    import numpy as np
+
     from tqdm import tqdm
 
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
@@ -291,6 +295,8 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
 
     Returns (rate in rad/s, fs [Hz], column label).
     """
+    import numpy as np
+
     from gyrobench.sim import units
 
     opener = __import__("gzip").open if path.suffix == ".gz" else open
@@ -404,6 +410,8 @@ def _read_hdf5(path: Path, name: str | None, column: str | None):
 
 
 def _cmd_allan(args) -> int:
+    import numpy as np
+
     from gyrobench.analysis.allan import allan_deviation, fit_noise
     from gyrobench.scenarios.allan_report import TERMS, coefficients_json
 
@@ -557,9 +565,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _version() -> str:
-    from gyrobench.sim.recording import package_version
+    from gyrobench import __version__
 
-    return package_version()
+    return __version__
 
 
 #: options whose value may start with "-" (argparse would take "--duration -5s" for two options)

@@ -12,7 +12,10 @@ a stored baseline (paired Wilcoxon signed-rank test, Holm-adjusted; see
             "ifog_thermal", my_regressor, baseline="baselines/ifog_ridge.json", seeds=range(20)
         )
 
-``baseline`` is relative to the test file's folder. Create or refresh the
+``baseline`` is relative to the test file's folder. A ``"module:attr"`` compensator is
+imported from the pytest rootdir first (the folder of your ``pyproject.toml``,
+``pytest.ini`` or ``setup.cfg``), then from the folder pytest was started in, before
+anything installed, whatever your own packages are called. Create or refresh the
 baselines with ``pytest --gyrobench-save-baselines`` (the asserting tests then
 write the file instead of comparing). Seeds run in the test process by default;
 ``--gyrobench-workers N`` (or ``workers=N``) uses N local processes. Campaign
@@ -176,7 +179,12 @@ def gyrobench_bench(request: pytest.FixtureRequest, _gyrobench_db: Path) -> Gyro
 
     See :class:`GyrobenchBench` (``campaign``, ``assert_no_regression``).
     """
+    from gyrobench.scenarios.bench import prepend_import_path
+
     cfg = request.config
+    # "mylab.models:mine" is found from the project first: rootdir, then the invocation folder
+    prepend_import_path(cfg.invocation_params.dir)
+    prepend_import_path(cfg.rootpath)
     workers = cfg.getoption("--gyrobench-workers")
     if workers < 0:
         raise pytest.UsageError(f"--gyrobench-workers must be >= 0; got {workers}")

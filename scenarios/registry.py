@@ -50,6 +50,56 @@ def get(name: str) -> ModuleType:
     return importlib.import_module(SCENARIOS[name])
 
 
+@dataclasses.dataclass(frozen=True, slots=True)
+class ScenarioInfo:
+    """What ``gyrobench list`` shows of a scenario, read from its source without importing it."""
+
+    name: str
+    title: str
+    paper: str | None
+    bench: bool
+
+
+def describe(name: str) -> ScenarioInfo:
+    """Title, paper key and bench capability of scenario ``name``, from its module's source.
+
+    Reading the constants ``TITLE`` and ``PAPER`` and looking for ``def compensation_task``
+    with :mod:`ast` keeps ``gyrobench list`` from importing every scenario (and with them
+    numpy, scipy, scikit-learn and matplotlib).
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a registered scenario, or its module does not set ``TITLE`` to a
+        string literal.
+    """
+    import ast
+
+    if name not in SCENARIOS:
+        raise ValueError(f"scenario must be one of {list(SCENARIOS)}; got {name!r}")
+    spec = importlib.util.find_spec(SCENARIOS[name])
+    if spec is None or not spec.origin:
+        raise ValueError(f"scenario {name!r}: module {SCENARIOS[name]!r} is not installed")
+    tree = ast.parse(Path(spec.origin).read_bytes(), filename=spec.origin)
+    constants: dict[str, Any] = {}
+    bench = False
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and len(node.targets) == 1:
+            target = node.targets[0]
+            if isinstance(target, ast.Name) and target.id in ("TITLE", "PAPER"):
+                try:
+                    constants[target.id] = ast.literal_eval(node.value)
+                except ValueError:
+                    pass
+        elif isinstance(node, ast.FunctionDef) and node.name == "compensation_task":
+            bench = True
+    title = constants.get("TITLE")
+    if not isinstance(title, str):
+        raise ValueError(f"scenario {name!r}: TITLE must be a string literal in {spec.origin}")
+    paper = constants.get("PAPER")
+    return ScenarioInfo(name, title, paper if isinstance(paper, str) else None, bench)
+
+
 def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     """Check a TOML value against a dataclass field's type hint and convert lists to tuples."""
     origin = typing.get_origin(hint)

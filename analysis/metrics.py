@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.analysis.allan import TERMS, NoiseFit, allan_deviation, fit_noise
 from gyrobench.analysis.features import _check_fs, block_means
@@ -16,10 +16,10 @@ from gyrobench.analysis.features import _check_fs, block_means
 __all__ = ["mse", "rms", "bias_stability", "improvement_pct", "SegmentFit", "segment_noise_fits"]
 
 
-def _pair(a: ArrayLike, b: ArrayLike | None):
-    a = np.asarray(a, dtype=float)
-    if b is not None:
-        b = np.asarray(b, dtype=float)
+def _pair(estimate: ArrayLike, truth: ArrayLike | None) -> NDArray[np.float64]:
+    a = np.asarray(estimate, dtype=np.float64)
+    if truth is not None:
+        b = np.asarray(truth, dtype=np.float64)
         if a.shape != b.shape:
             raise ValueError(
                 f"estimate and truth must have the same shape; got {a.shape} and {b.shape}"

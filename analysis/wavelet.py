@@ -306,7 +306,7 @@ def cwt_map(
         coef, _ = pywt.cwt(xm, [fc * fs / f], wavelet, sampling_period=1.0 / fs, method="fft")
         mag[i] = np.abs(coef[0, : n_t * blk]).reshape(n_t, blk).mean(axis=1)
     t = (np.arange(n_t) + 0.5) * blk / fs
-    return TimeFrequencyMap(t, freqs, mag)
+    return TimeFrequencyMap(np.asarray(t, dtype=np.float64), np.asarray(freqs, dtype=np.float64), mag)
 
 
 def amplitude_spectrum(x: ArrayLike, fs: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -326,4 +326,4 @@ def amplitude_spectrum(x: ArrayLike, fs: float) -> tuple[NDArray[np.float64], ND
     spec[1:] *= 2.0
     if n % 2 == 0:
         spec[-1] /= 2.0
-    return np.fft.rfftfreq(n, 1.0 / fs), spec
+    return np.asarray(np.fft.rfftfreq(n, 1.0 / fs), dtype=np.float64), spec

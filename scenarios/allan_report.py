@@ -17,8 +17,9 @@ __all__ = ["coefficients_json", "coefficient_table", "TERMS"]
 TERMS = ("Q", "N", "B", "K", "R")
 
 
-def _field(name: str, v):
-    return None if v is None else float(units.coefficient_to_field(name, v))
+def _field(name: str, v: float | None) -> float | None:
+    f = units.coefficient_to_field(name, v)
+    return None if f is None else float(f)
 
 
 def coefficients_json(fit) -> dict[str, dict[str, Any]]:

@@ -158,6 +158,7 @@ class GyrobenchBench:
                 path.parent.mkdir(parents=True, exist_ok=True)
             bench.save_baseline(path, campaign)
             return None
+        assert stored is not None  # a missing baseline failed above unless saving
         result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
         if result.regressions:
             pytest.fail(

@@ -139,7 +139,7 @@ def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     if dataclasses.is_dataclass(hint):
         if not isinstance(value, dict):
             raise TypeError(f"{owner}.{key} must be a table; got {value!r}")
-        return override(hint(), value, owner=f"{owner}.{key}")
+        return override(typing.cast(Any, hint)(), value, owner=f"{owner}.{key}")
     if typing.get_origin(hint) is typing.Literal:
         if value not in args:
             raise ValueError(f"{owner}.{key} must be one of {list(args)}; got {value!r}")

@@ -251,7 +251,7 @@ class CoilSpec:
     @property
     def layer_radii(self) -> NDArray[np.float64]:
         """Radius of each layer's centre (inner -> outer) [m]."""
-        return self.inner_radius + (np.arange(self.layers) + 0.5) * self.layer_pitch
+        return np.asarray(self.inner_radius + (np.arange(self.layers) + 0.5) * self.layer_pitch, dtype=np.float64)
 
     @property
     def diffusivity(self) -> float:
@@ -425,7 +425,7 @@ class ThermalNetwork:
 
     def steady_state(self, u: float) -> NDArray[np.float64]:
         """x with A x + b u = 0 [K]."""
-        return np.linalg.solve(self.A, -self.b * u)
+        return np.asarray(np.linalg.solve(self.A, -self.b * u), dtype=np.float64)
 
     def simulate(
         self, u: ArrayLike, dt: float, *, x0: ArrayLike | None = None, scheme: str = "implicit"

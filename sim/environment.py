@@ -103,7 +103,8 @@ class PiecewiseLinear:
         """
         if not segments:
             raise ValueError("segments must hold at least one (t_start, t_end, v_start, v_end); got none")
-        times, values = [], []
+        times: list[float] = []
+        values: list[float] = []
         for k, seg in enumerate(segments):
             if len(seg) != 4:
                 raise ValueError(f"segment {k} must be (t_start, t_end, v_start, v_end); got {seg!r}")
@@ -188,7 +189,11 @@ def thermal_profile(start: float, steps: Sequence[Ramp | Soak], *, t0: float = 0
             delta = s.target - temp
             if delta == 0:
                 raise ValueError(f"step {k}: Ramp to {s.target!r} K from the same temperature; use Soak")
-            dur = s.duration if s.duration is not None else abs(delta) / abs(s.rate)
+            if s.duration is not None:
+                dur = s.duration
+            else:
+                assert s.rate is not None  # Ramp.__post_init__ requires a duration or a rate
+                dur = abs(delta) / abs(s.rate)
             temp = float(s.target)
             times.append(times[-1] + dur)
             values.append(temp)
@@ -264,7 +269,7 @@ def rate_steps(
     if lead_in > 0:
         times.append(t0 + lead_in)
         values.append(0.0)
-    windows = []
+    windows: list[tuple[float, float]] = []
     for target in np.append(w, 0.0):
         dv = abs(target - values[-1])
         if dv > 0:

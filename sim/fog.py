@@ -101,7 +101,7 @@ class TemperatureSensorSpec:
             )
         for name in ("noise", "resolution"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v >= 0):
+            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(float(v)) and float(v) >= 0):
                 raise ValueError(
                     f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}"
                 )
@@ -168,7 +168,7 @@ class FOGSpec:
             if (
                 isinstance(v, bool)
                 or not isinstance(v, Real)
-                or not (math.isfinite(v) and abs(v) < 1e-3)
+                or not (math.isfinite(float(v)) and abs(float(v)) < 1e-3)
             ):
                 raise ValueError(f"FOGSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}")
         v = self.scale_factor_ref_temperature

@@ -375,7 +375,8 @@ def scale_factor_output(
     """
     e_on = 0.0
     if isinstance(spec, MemsUnit):
-        spec, e_on = spec.spec, spec.scale_factor_error
+        e_on = spec.scale_factor_error
+        spec = spec.spec
     w = np.asarray(rate, dtype=float)
     t = spec.reference_temperature if temperature is None else np.asarray(temperature, dtype=float)
     sgn = np.sign(w)

@@ -107,9 +107,11 @@ noise generation", Proc. IEEE 83(5), 1995; W. A. Riley, NIST SP 1065 (2008).
 
 from __future__ import annotations
 
+import functools
 import math
 import os
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from typing import Any
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -429,7 +431,7 @@ def _pole_times(f_low: float, f_high: float) -> NDArray[np.float64]:
     t_min = math.sqrt(_POLE_RATIO) / (2.0 * math.pi * f_high)
     t_max = 1.0 / (2.0 * math.pi * f_low)
     n_poles = max(1, int(math.ceil(math.log(t_max / t_min) / math.log(_POLE_RATIO) - 1e-9)) + 1)
-    return t_min * _POLE_RATIO ** np.arange(n_poles)
+    return np.asarray(t_min * _POLE_RATIO ** np.arange(n_poles), dtype=np.float64)
 
 
 def _sum_of_ar1_as_arma(u: NDArray[np.float64], var: NDArray[np.float64]):
@@ -708,7 +710,7 @@ class _Flicker:
         diffusion = 2.0 * var / tc  # q_i [rad^2/s^3]: the Brownian rate of pole i on scales << T_i
         self.fine: _ArmaGen | None = None
         coarse: _CoarseLevel | None = None
-        prev_l = None
+        prev_l = 0
         for lv in sorted(set(level.tolist()), reverse=True):
             sel = level == lv
             step = _LEVEL_RATIO**lv
@@ -753,6 +755,7 @@ class _Flicker:
                     bridge=self.fine_bridge,
                 )
         else:
+            assert self.coarse is not None  # __init__ builds a fine or a coarse level, or both
             y = _interp_from(
                 self.coarse, self.k, self.k + n, self.coarse_ratio, bridge=self.fine_bridge
             ).copy()
@@ -1069,22 +1072,16 @@ class NoiseStream:
             self._gm.append([phi, gain, state])
         # full-rate random draws, in a fixed order; drawn block by block, possibly one block ahead
         # by a worker thread (numpy releases the GIL while filling), never changing their values
-        self._sources: list[tuple[str, object]] = []
+        self._sources: list[tuple[str, Callable[[int], Any]]] = []
         q_scale = self._q_step * self.fs  # rate step per unit of uniform angle draw
         if m.quantization > 0:
-            self._sources.append(
-                ("q", lambda k, g=children[_SLOT_QUANT], c=q_scale: g.uniform(0.0, c, k))
-            )
+            self._sources.append(("q", functools.partial(children[_SLOT_QUANT].uniform, 0.0, q_scale)))
         if m.angle_random_walk > 0:
-            self._sources.append(
-                ("arw", lambda k, g=children[_SLOT_ARW], c=self._arw_gain: g.normal(0.0, c, k))
-            )
+            self._sources.append(("arw", functools.partial(children[_SLOT_ARW].normal, 0.0, self._arw_gain)))
         if self._flicker is not None and self._flicker.fine is not None:
             self._sources.append(("fl", self._flicker.fine.rng.standard_normal))
         if m.rate_random_walk > 0:
-            self._sources.append(
-                ("rrw", lambda k, g=children[_SLOT_RRW], c=self._rrw_gain: g.normal(0.0, c, k))
-            )
+            self._sources.append(("rrw", functools.partial(children[_SLOT_RRW].normal, 0.0, self._rrw_gain)))
         for i in range(len(m.gauss_markov)):
             self._sources.append((f"gm{i}", children[_SLOT_GM0 + i].standard_normal))
 
@@ -1142,11 +1139,9 @@ class NoiseStream:
             ramp *= m.rate_ramp * self.dt
             ramp += m.rate_ramp * self.t0
             yield "rate_ramp", ramp  # R t_k, t_k = t0 + k/fs
-        t = None
-        if m.sinusoids:
-            t = np.arange(self._k, self._k + n, dtype=float)
-            t *= self.dt
-            t += self.t0
+        t = np.arange(self._k, self._k + n, dtype=float) if m.sinusoids else np.zeros(0)
+        t *= self.dt
+        t += self.t0
         for i, st in enumerate(self._gm):
             phi, gain, state = st
             x, _ = signal.lfilter([gain], [1.0, -phi], d[f"gm{i}"], zi=[phi * state])

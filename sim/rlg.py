@@ -575,7 +575,7 @@ class ThermalBias:
     def __call__(self, t1: ArrayLike, t2: ArrayLike, dt1: ArrayLike) -> NDArray[np.float64]:
         """Total thermal bias [rad/s]."""
         c = self.components(t1, t2, dt1)
-        return sum(c.values())
+        return np.asarray(sum(c.values()), dtype=np.float64)
 
 
 # ============================================================================ sensors
@@ -805,7 +805,7 @@ class RLGUnit:
         bias_mid = {
             k: 0.5 * (v[1:] + v[:-1]) for k, v in comps.items()
         }  # trapezoid over each sample
-        thermal = sum(bias_mid.values())
+        thermal = np.asarray(sum(bias_mid.values()), dtype=np.float64)
         noise = NoiseModel(
             bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
         )

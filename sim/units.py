@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 
 import numpy as np
 
@@ -213,7 +214,7 @@ def parse_duration(text: str) -> float:
 
 
 #: IEEE-952 coefficient name -> (field unit, SI -> field function, field -> SI function)
-COEFFICIENT_FIELD_UNITS: dict[str, tuple[str, object, object]] = {
+COEFFICIENT_FIELD_UNITS: dict[str, tuple[str, Callable[[float], float], Callable[[float], float]]] = {
     "Q": ("arcsec", to_arcsec, arcsec),
     "N": ("deg/sqrt(h)", to_deg_per_sqrt_h, deg_per_sqrt_h),
     "B": ("deg/h", to_deg_per_h, deg_per_h),
@@ -222,7 +223,7 @@ COEFFICIENT_FIELD_UNITS: dict[str, tuple[str, object, object]] = {
 }
 
 
-def coefficient_to_field(name: str, value):
+def coefficient_to_field(name: str, value: float | None) -> float | None:
     """An IEEE-952 coefficient (Q, N, B, K, R) from SI to its field unit; ``None`` passes through.
 
     >>> round(coefficient_to_field("N", deg_per_sqrt_h(0.01)), 12)

@@ -164,7 +164,7 @@ class StructuralMode:
         f = np.asarray(f, dtype=float)
         if fs is None:
             r = f / self.frequency
-            return 1.0 / (1.0 - r**2 + 1j * r / self.quality)
+            return np.asarray(1.0 / (1.0 - r**2 + 1j * r / self.quality), dtype=np.complex128)
         b, a = self.filter(fs)
         _, h = signal.freqz(b, a, worN=np.atleast_1d(f), fs=fs)
         return h.reshape(f.shape)

@@ -232,8 +232,8 @@ class BayesianRegularizedMLP(RegressorMixin, BaseEstimator):
             alpha = gamma / (2.0 * max(ew, _TINY)) if gamma > 0 else alpha
             beta = (n - gamma) / (2.0 * max(ed, _TINY)) if n > gamma else beta
             perf = beta * ed + alpha * ew
-        self.W1_, self.b1_, self.W2_, self.b2_ = (np.array(v) for v in self._unpack(w, p))
-        self.b2_ = float(self.b2_)
+        W1, b1, W2, b2 = (np.array(v) for v in self._unpack(w, p))
+        self.W1_, self.b1_, self.W2_, self.b2_ = W1, b1, W2, float(b2)
         self.alpha_, self.beta_, self.gamma_ = float(alpha), float(beta), float(gamma)
         self.n_iter_ = n_iter
         return self

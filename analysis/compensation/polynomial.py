@@ -39,7 +39,7 @@ def _check_degree(owner: str, name: str, d) -> int:
 
 
 def _check_alpha(owner: str, a) -> float:
-    if isinstance(a, bool) or not isinstance(a, Real) or not (math.isfinite(a) and a >= 0):
+    if isinstance(a, bool) or not isinstance(a, Real) or not (math.isfinite(float(a)) and float(a) >= 0):
         raise ValueError(
             f"{owner}.alpha must be a finite number >= 0 (curvature-penalty weight, scaled units); got {a!r}"
         )
@@ -326,7 +326,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                     f"{owner}.orders must have len(breakpoints) + 1 = {b.size + 1} entries; got {len(orders)}"
                 )
         w = self.join_width
-        if isinstance(w, bool) or not isinstance(w, Real) or not (0 < w < 0.5):
+        if isinstance(w, bool) or not isinstance(w, Real) or not (0 < float(w) < 0.5):
             raise ValueError(
                 f"{owner}.join_width must be in (0, 0.5) (fraction of the input span); got {w!r}"
             )
@@ -362,8 +362,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         if isinstance(self.breakpoints, str):
             self._heuristic(x, y, orders, lo, hi, h)
         else:
-            self.breakpoints_ = tuple(float(b) for b in self.breakpoints)
-            self.breakpoint_rates_ = ()
+            self.breakpoints_: tuple[float, ...] = tuple(float(b) for b in self.breakpoints)
+            self.breakpoint_rates_: tuple[float, ...] = ()
             self.orders_ = orders
         edges = [-np.inf, *self.breakpoints_, np.inf]
         for i, b in enumerate(self.breakpoints_):
@@ -388,7 +388,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                 PolynomialRegressor(degree=order, alpha=alpha).fit(X[sel], y[sel])
             )
         self.joins_ = [(b - h, b + h) for b in self.breakpoints_]
-        self._join_ends = None
+        self._join_ends: list[tuple[float, float, float, float]] | None = None
         if X.shape[1] == 1:  # the end values and slopes are constants: evaluate them once
             self._join_ends = [
                 self._join_end_values(i, np.zeros((1, 1))) for i in range(len(self.joins_))
@@ -463,7 +463,7 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         x0, x1 = self.joins_[i]
         w = x1 - x0
         ends = (
-            self._join_ends[i] if getattr(self, "_join_ends", None) else self._join_end_values(i, X)
+            self._join_ends[i] if self._join_ends is not None else self._join_end_values(i, X)
         )
         y0, m0, y1, m1 = ends
         t = (X[:, 0] - x0) / w

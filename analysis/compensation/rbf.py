@@ -145,12 +145,12 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
     # ------------------------------------------------------------------ params
     def _check_params(self) -> None:
         s = self.spread
-        if isinstance(s, bool) or not isinstance(s, Real) or not (math.isfinite(s) and s > 0):
+        if isinstance(s, bool) or not isinstance(s, Real) or not (math.isfinite(float(s)) and float(s) > 0):
             raise ValueError(
                 f"RBFNetwork.spread must be a finite number > 0 (input units); got {s!r}"
             )
         g = self.goal
-        if isinstance(g, bool) or not isinstance(g, Real) or not (math.isfinite(g) and g >= 0):
+        if isinstance(g, bool) or not isinstance(g, Real) or not (math.isfinite(float(g)) and float(g) >= 0):
             raise ValueError(
                 f"RBFNetwork.goal must be a finite number >= 0 (target units^2); got {g!r}"
             )
@@ -450,10 +450,12 @@ class StreamingCompensator:
         As in :func:`batch_compensate`.
     """
 
-    def __init__(self, model: Any, fs: float, *, window_s: float = 300.0, product: bool = True):
-        if isinstance(fs, bool) or not isinstance(fs, Real) or not (math.isfinite(fs) and fs > 0):
+    def __init__(
+        self, model: Any, fs: float, *, window_s: float = 300.0, product: bool = True
+    ) -> None:
+        if isinstance(fs, bool) or not isinstance(fs, (int, float, Real)) or not (math.isfinite(float(fs)) and float(fs) > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
-        if not (isinstance(window_s, Real) and math.isfinite(window_s) and window_s > 0):
+        if not (isinstance(window_s, (int, float, Real)) and math.isfinite(float(window_s)) and float(window_s) > 0):
             raise ValueError(f"window_s must be > 0 s; got {window_s!r}")
         self.model = model
         self.fs = float(fs)

@@ -119,7 +119,7 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
     def _check_params(self) -> None:
         for name in ("p_enter", "p_remove"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not (0.0 < v < 1.0):
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not (0.0 < float(v) < 1.0):
                 raise ValueError(
                     f"StepwiseRegression.{name} must be a probability in (0, 1); got {v!r}"
                 )

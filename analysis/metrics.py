@@ -58,7 +58,7 @@ def bias_stability(rate: ArrayLike, fs: float, *, block_s: float = 100.0) -> flo
     Notes
     -----
     B_s = sqrt(1/(n-1) sum_i (F_i - Fbar)^2), F_i = mean of block i
-    (GJB 2426A-2004; PHYSICS.md 6.5). For white noise B_s = ADEV(block_s).
+    (GJB 2426A-2004; docs/physics.md 6.5). For white noise B_s = ADEV(block_s).
 
     Raises
     ------

@@ -5,7 +5,7 @@ each rate, in any one consistent rate unit (the nonlinearity is a ratio; the
 scale factor is output unit per input unit; breakpoints come back in the unit
 of ``rates``).
 
-Definitions (PHYSICS.md section 5; IEEE Std 1431 / GJB 2426A; seed paper 001, eq. 1-6)::
+Definitions (docs/physics.md section 5; IEEE Std 1431 / GJB 2426A; seed paper 001, eq. 1-6)::
 
     F_j   = K W_j + F0 + v_j                        (model; K, F0 by least squares)
     K     = (m S(WF) - S(W) S(F)) / (m S(W^2) - S(W)^2),  F0 = (S(F) - K S(W)) / m

@@ -3,7 +3,7 @@
 A thin validated layer over PyWavelets: the functions take a plain array and a
 sample rate and work the same on a real gyro's CSV as on simulated data.
 
-Mallat pyramid (PHYSICS.md 7.1): a_{j+1}[k] = sum_n h[n - 2k] a_j[n],
+Mallat pyramid (docs/physics.md 7.1): a_{j+1}[k] = sum_n h[n - 2k] a_j[n],
 d_{j+1}[k] = sum_n g[n - 2k] a_j[n]; the synthesis filters reconstruct exactly,
 so the single-branch reconstructions (MATLAB ``wrcoef``: every other coefficient
 array set to zero, then ``waverec``) sum back to the signal:
@@ -190,7 +190,7 @@ def decompose(
     -----
     Branch j is ``pywt.waverec`` of the coefficient list with every array but
     that branch's zeroed, truncated to ``len(x)`` (``wrcoef`` in MATLAB). Do not
-    use ``pywt.upcoef(..., take=n)``: it aligns differently (PHYSICS.md 7.1).
+    use ``pywt.upcoef(..., take=n)``: it aligns differently (docs/physics.md 7.1).
 
     Examples
     --------

@@ -8,7 +8,7 @@ All parameters in SI (m, K, s, W, J). The chain is
     winding pattern  ->  fibre segment [z0_j, z1_j] of each layer  ->  weight w_j
     Shupe integral with strain term and T-dependent dn/dT  ->  rate error Omega_E(t)
 
-Non-reciprocal rate error (PHYSICS.md 3.2, 3.5; DERIVED there, Shupe 1980, Mohr 1996):
+Non-reciprocal rate error (docs/physics.md 3.2, 3.5; DERIVED there, Shupe 1980, Mohr 1996):
 
     Omega_E = (n / (L D)) Int_0^L [ (dn/dT(T) + n alpha_f) Tdot + n xi eps_dot ] (L - 2 z) dz     [rad/s]
 
@@ -26,12 +26,12 @@ product regressor of paper 003 comes from physically; nothing here is a formula 
 logged temperature.
 
 Sign convention: z = 0 at port A; heating the half z < L/2 gives a positive rate error
-(PHYSICS.md 3.2: +135.6 deg/h for the defaults at 1 K/min).
+(docs/physics.md 3.2: +135.6 deg/h for the defaults at 1 K/min).
 
 References
 ----------
 D. M. Shupe, Appl. Opt. 19(5) 654 (1980); F. Mohr, J. Lightwave Technol. 14(1) 27 (1996);
-PHYSICS.md 3.2-3.5 (derivations, default constants, Li et al. COL 13(9) 090603 (2015) materials).
+docs/physics.md 3.2-3.5 (derivations, default constants, Li et al. COL 13(9) 090603 (2015) materials).
 """
 
 from __future__ import annotations
@@ -101,7 +101,7 @@ def winding_sequence(pattern: str, layers: int) -> str | None:
 
 
 def elasto_optic_factor(n: float, p11: float, p12: float, poisson: float) -> float:
-    """xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: phase change per unit axial strain over n (PHYSICS.md 3.5)."""
+    """xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: phase change per unit axial strain over n (docs/physics.md 3.5)."""
     return 1.0 - 0.5 * n * n * (p12 - poisson * (p11 + p12))
 
 
@@ -115,7 +115,7 @@ class CoilSpec:
         Fibre length L [m].
     inner_radius, outer_radius : float
         Radii of the wound fibre pack [m]; the mean diameter D = inner + outer radius is
-        the Sagnac/Shupe diameter (defaults give D = 0.1 m, PHYSICS.md 3.1).
+        the Sagnac/Shupe diameter (defaults give D = 0.1 m, docs/physics.md 3.1).
     height : float
         Axial height of the pack [m].
     layers : int
@@ -134,7 +134,7 @@ class CoilSpec:
     dn_dT_slope : float
         C2 = d(dn/dT)/dT [1/K^2]. Default 3e-8 /K^2: calibrated so the paper-003
         point-heating experiment (``gyrobench.scenarios.ifog_thermal``) shows a T x dT term above
-        0.2 deg/h; the same order as fused-silica data (unverified, PHYSICS.md 3.5).
+        0.2 deg/h; the same order as fused-silica data (unverified, docs/physics.md 3.5).
     dn_dT_ref : float
         T0 [K] of the dn/dT expansion and of the strain tempco (273.15 K = 0 degC, so the
         product term is literally C2 T[degC] Tdot).
@@ -300,7 +300,7 @@ class CoilSpec:
 class Winding:
     """Which stretch of fibre [z0_j, z1_j] (z from port A) lies in layer j (inner -> outer).
 
-    Symmetric windings (PHYSICS.md 3.3) start at the split point z_c (the fibre midpoint
+    Symmetric windings (docs/physics.md 3.3) start at the split point z_c (the fibre midpoint
     when ideal): the i-th "A" layer takes the next stretch toward port A,
     [z_c - (a_0 + ... + a_i), z_c - (a_0 + ... + a_{i-1})], the i-th "B" layer the next
     stretch toward port B. Helical: layer j holds [l_0 + ... + l_{j-1}, l_0 + ... + l_j].
@@ -351,7 +351,7 @@ class Winding:
 
         Models miscounted turns and crossovers: the A and B halves no longer meet at L/2
         and symmetric layer pairs no longer mirror each other (the "effective asymmetric
-        length" of PHYSICS.md 3.3).
+        length" of docs/physics.md 3.3).
         """
         winding_sequence(pattern, layers)
         _num("Winding", "rms", rms, "in [0, 0.2]", "(relative)", lambda v: 0 <= v <= 0.2)
@@ -526,12 +526,12 @@ class CoilThermalModel:
     - Layers: cylindrical finite volumes of the potted pack (conductivity k, rho c), one
       per fibre layer; the inner face is in contact with the spool, the outer face
       exchanges heat with the housing through a film coefficient h_out:
-      rho c dT/dt = k (d2T/dr2 + (1/r) dT/dr) (PHYSICS.md 3.4).
+      rho c dT/dt = k (d2T/dr2 + (1/r) dT/dr) (docs/physics.md 3.4).
 
     Parameters
     ----------
     housing_time_constant : float
-        tau_h [s] (PHYSICS.md 3.4: 10-30 min, unverified).
+        tau_h [s] (docs/physics.md 3.4: 10-30 min, unverified).
     spool_heat_capacity : float
         C_s [J/K] (an aluminium hub of ~25 g: 2740 * 896 * 1e-5 m^3 ~ 25 J/K).
     spool_housing_conductance : float
@@ -694,7 +694,7 @@ def shupe_terms(
     Notes
     -----
     Omega_E = (n/(L D)) sum_j w_j [(C1 + C2 (T_j - T0) + n alpha_f) Tdot_j
-    + n xi (alpha_c_j (1 + kappa (T_j - T0)) - alpha_f) Tdot_j]  (PHYSICS.md 3.2, 3.5).
+    + n xi (alpha_c_j (1 + kappa (T_j - T0)) - alpha_f) Tdot_j]  (docs/physics.md 3.2, 3.5).
     """
     w = np.asarray(weights, dtype=float)
     T = np.asarray(T, dtype=float)

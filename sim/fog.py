@@ -17,7 +17,7 @@ Output model (SI):
     output = Omega_true * SF(T)/SF0 + Omega_E(t) + noise(t)                     [rad/s]
 
 with Omega_E from :mod:`gyrobench.sim.coil` (heat diffusion + Shupe integral with strain and
-T-dependent dn/dT) and the Sagnac scale factor (PHYSICS.md 3.1, 3.6)
+T-dependent dn/dT) and the Sagnac scale factor (docs/physics.md 3.1, 3.6)
 
     SF = 2 pi L D / (lambda c)                                                  [s]
     SF(T)/SF0 = (1 + alpha_f dT_c)(1 + alpha_D dT_c) / (1 + alpha_lambda dT_s)
@@ -57,7 +57,7 @@ _SENSOR_LOCATIONS = ("outer", "inner", "mean", "spool", "housing")
 
 
 def sagnac_scale_factor(length: float, diameter: float, wavelength: float) -> float:
-    """Optical scale factor SF = 2 pi L D / (lambda c) [s]: Delta phi = SF * Omega (PHYSICS.md 3.1).
+    """Optical scale factor SF = 2 pi L D / (lambda c) [s]: Delta phi = SF * Omega (docs/physics.md 3.1).
 
     >>> round(sagnac_scale_factor(1000.0, 0.1, 1550e-9), 3)
     1.352
@@ -132,7 +132,7 @@ class FOGSpec:
         The logged coil temperature.
     diameter_tempco : float
         alpha_D, relative coil-diameter change per K of mean coil temperature [1/K]
-        (potted coil on an aluminium spool; unverified, PHYSICS.md 3.6).
+        (potted coil on an aluminium spool; unverified, docs/physics.md 3.6).
     wavelength_tempco : float
         Relative source mean-wavelength change per K of housing temperature [1/K]
         (Er-doped fibre source, a few ppm/K; unverified).

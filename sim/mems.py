@@ -33,7 +33,7 @@ The knee is C2 at Ok (s' = 1 and s'' = 0 on both sides). Die temperature follows
 first-order self-heating after power-on, T(t) = T_amb + dT (1 - exp(-t_on/tau)),
 see :func:`die_temperature`.
 
-Calibration of the defaults (PHYSICS.md section 5, seed paper 001)
+Calibration of the defaults (docs/physics.md section 5, seed paper 001)
 -----------------------------------------------------------------
 Ok = 1800 deg/s; c3 = 1e-10 (deg/s)^-2; a = 5e-4; d = 2 deg/s; Ws chosen with
 ``scipy.optimize.brentq`` so that the noise-free curve on the paper's grid
@@ -50,9 +50,9 @@ heuristic found +-1800 in only 34-43 % of the tables (stopping early at
 (INL 0.3 deg/s) and 67 % (INL 0.7 deg/s). The paper's rule needs the interval
 nonlinearity to fall, not merely stay small, below the knee; no INL is modelled.
 Noise and thermal numbers are typical
-industrial MEMS values (PHYSICS.md 5; unverified datasheet defaults).
+industrial MEMS values (docs/physics.md 5; unverified datasheet defaults).
 
-The scale-factor repeatability defaults to 0: neither the paper nor PHYSICS.md
+The scale-factor repeatability defaults to 0: neither the paper nor docs/physics.md
 gives a value for this part, and 0 keeps the calibrated defaults and their
 simulated tables unchanged (the turn-on stream draws e_on after b_on, so b_on is
 the same whatever the repeatability). With 0, the scale factor still changes from
@@ -62,12 +62,12 @@ scenario ``mems_scale_factor`` reports its effect over a range of values.
 References
 ----------
 IEEE Std 1431-2004 (Coriolis vibratory gyros: scale factor, nonlinearity,
-asymmetry, threshold); PHYSICS.md section 5; Du, Su, Liu, Li (seed 001).
+asymmetry, threshold); docs/physics.md section 5; Du, Su, Liu, Li (seed 001).
 
 Examples
 --------
 >>> import numpy as np
->>> from sim import units
+>>> from gyrobench.sim import units
 >>> spec = MemsSpec()
 >>> w = units.deg_per_s(np.array([0.0, 1800.0, 3600.0]))
 >>> np.round(units.to_deg_per_s(scale_factor_output(spec, w)), 1)

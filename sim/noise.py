@@ -36,7 +36,7 @@ Sample k (k = 0, 1, ...) sits at t_k = t0 + k tau0, tau0 = 1/fs.
   :meth:`NoiseModel.theoretical_avar` returns.
 * Gauss-Markov: exact AR(1) point samples (phi = exp(-tau0/Tc), stationary
   start). AVAR at tau = m tau0 is the exact discrete expression of
-  :func:`ar1_avar` (it tends to the continuous PHYSICS.md 1.2 formula for Tc >> tau0).
+  :func:`ar1_avar` (it tends to the continuous docs/physics.md 1.2 formula for Tc >> tau0).
 * B: a sum of Gauss-Markov poles (below), each with the exact discrete AVAR.
 * ramp R t_k and sinusoids A sin(2 pi f0 t_k + phase) are point values; the
   sampled sinusoid's AVAR is the continuous one times (x/sin x)^2,
@@ -47,7 +47,7 @@ Bias instability (flicker) by a pole sum, generated at several rates
 --------------------------------------------------------------------
 B is realised as M independent first-order Gauss-Markov processes with
 correlation times T_i = T_min r^i, r = sqrt(10) (two poles per decade) and
-stationary variances sigma_i^2 = B^2 ln(r)/pi (PHYSICS.md section 2, GM-sum
+stationary variances sigma_i^2 = B^2 ln(r)/pi (docs/physics.md section 2, GM-sum
 weights); T_min = sqrt(r)/(2 pi f_high) (midpoint rule: the first pole stands
 for the slice of ln T starting at 1/(2 pi f_high)), T_max >= 1/(2 pi f_low);
 f_high is capped at fs/2. Computed for the sampled pole sum (see
@@ -100,7 +100,7 @@ in wall time on the 2-core machine (0.15 x without the thread).
 
 References
 ----------
-IEEE Std 952-1997 Annex C; PHYSICS.md sections 1-2; N. J. Kasdin, "Discrete
+IEEE Std 952-1997 Annex C; docs/physics.md sections 1-2; N. J. Kasdin, "Discrete
 simulation of colored noise and stochastic processes and 1/f^alpha power law
 noise generation", Proc. IEEE 83(5), 1995; W. A. Riley, NIST SP 1065 (2008).
 """
@@ -227,7 +227,7 @@ def gm_avar(tau: ArrayLike, sigma: float, tc: float) -> NDArray[np.float64]:
     """Continuous-time Allan variance of a first-order Gauss-Markov process [rad^2/s^2].
 
     sigma^2 g(r)/r^2, r = tau/Tc, g(r) = 2r - 3 + 4e^{-r} - e^{-2r}; equal to
-    PHYSICS.md 1.2 (qc Tc)^2/tau [1 - Tc/(2tau)(3 - 4e^{-r} + e^{-2r})] with
+    docs/physics.md 1.2 (qc Tc)^2/tau [1 - Tc/(2tau)(3 - 4e^{-r} + e^{-2r})] with
     qc^2 = 2 sigma^2/Tc, evaluated without cancellation at small r.
     """
     r = np.asarray(tau, dtype=float) / tc
@@ -278,7 +278,7 @@ def ar1_avar(
 
 
 def _flicker_kernel(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """F(x) = Int_0^x sin^4 u / u^3 du, closed form (PHYSICS.md 1.3).
+    """F(x) = Int_0^x sin^4 u / u^3 du, closed form (docs/physics.md 1.3).
 
     F(x) = ln2 - sin^3 x (sin x + 4 x cos x)/(2 x^2) + Ci(2x) - Ci(4x); F(0) = 0;
     for x < 1e-3 the series F ~ x^2/2 avoids cancellation.
@@ -317,7 +317,7 @@ def flicker_avar(tau: ArrayLike, b: float, f_low: float, f_high: float) -> NDArr
     -----
     sigma^2(tau) = 4 Int_{f_low}^{f_high} S(f) sin^4(pi f tau)/(pi f tau)^2 df
                  = (2 B^2/pi) [F(pi f_high tau) - F(pi f_low tau)],
-    F(x) = Int_0^x sin^4 u/u^3 du (PHYSICS.md 1.3). For f_low -> 0 and
+    F(x) = Int_0^x sin^4 u/u^3 du (docs/physics.md 1.3). For f_low -> 0 and
     f_high tau >> 1 this tends to (2 ln 2/pi) B^2 = 0.4413 B^2; for tau << 1/f_high
     (f_low = 0) to pi B^2 f_high^2 tau^2. This is the IEEE reference curve; the
     generator realises the smooth-edged pole sum of :meth:`NoiseModel.flicker_poles`.
@@ -343,7 +343,7 @@ class GaussMarkov:
     -----
     x_k = phi x_{k-1} + sigma sqrt(1 - phi^2) eps_k, phi = exp(-dt/Tc): the exact
     discretisation, started from the stationary distribution.
-    Continuous AVAR (PHYSICS.md 1.2, qc^2 = 2 sigma^2/Tc):
+    Continuous AVAR (docs/physics.md 1.2, qc^2 = 2 sigma^2/Tc):
     (qc Tc)^2/tau [1 - Tc/(2 tau)(3 - 4 e^{-tau/Tc} + e^{-2 tau/Tc})]; the sampled
     process follows :func:`ar1_avar` (:meth:`avar_sampled`).
     """
@@ -400,7 +400,7 @@ class Sinusoid:
             raise ValueError(f"Sinusoid.phase must be finite [rad]; got {self.phase!r}")
 
     def avar(self, tau: ArrayLike) -> NDArray[np.float64]:
-        """Continuous AVAR = A^2 (sin^2(pi f0 tau)/(pi f0 tau))^2 (PHYSICS.md 1.2)."""
+        """Continuous AVAR = A^2 (sin^2(pi f0 tau)/(pi f0 tau))^2 (docs/physics.md 1.2)."""
         x = np.pi * self.frequency * np.asarray(tau, dtype=float)
         return self.amplitude**2 * (np.sin(x) ** 2 / x) ** 2
 
@@ -935,7 +935,7 @@ class NoiseModel:
             Correlation times T_i = T_min sqrt(10)^i [s], T_min = 1/(2 pi f_high).
         sigma : ndarray
             Stationary std of each pole [rad/s], sigma_i^2 = B^2 ln(sqrt 10)/pi
-            (PHYSICS.md 2). Empty arrays when B = 0.
+            (docs/physics.md 2). Empty arrays when B = 0.
         """
         if self.bias_instability == 0:
             return np.empty(0), np.empty(0)

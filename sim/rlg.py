@@ -3,7 +3,7 @@
 All parameters are in SI: angles [rad], rates [rad/s], time [s], temperature [K],
 lengths [m]. Field units appear only in :func:`RLGSpec.from_datasheet`.
 
-The model, effect by effect (PHYSICS.md section 6):
+The model, effect by effect (docs/physics.md section 6):
 
 * **Scale factor and pulse weight** from the cavity geometry (:class:`CavityGeometry`):
   K = 4 A / (lambda P) [beat cycles per rad], pulse weight q = 1/K [rad per count]
@@ -16,7 +16,7 @@ The model, effect by effect (PHYSICS.md section 6):
   factor a_m = 1 + sigma eps_m drawn per dither cycle (:class:`Dither`). Each rate
   reversal passes through lock-in and leaves a random angle error; the result is a
   random walk of coefficient N = Omega_L / sqrt(2 pi K Omega_D) [rad/sqrt(s)]
-  (PHYSICS.md 6.3, stationary-phase analysis; verified against the integration in
+  (docs/physics.md 6.3, stationary-phase analysis; verified against the integration in
   tests/sim/test_rlg.py).
 * **Pulse counting** c_k = floor((theta_k + theta_d,k)/q): the output is counts, the
   dither angle is stripped after counting, so quantization comes from counting
@@ -124,7 +124,7 @@ class CavityGeometry:
     Notes
     -----
     Enclosed area A by the shoelace formula (absolute value), path length P = sum of
-    the sides. Sagnac beat (PHYSICS.md 6.1):
+    the sides. Sagnac beat (docs/physics.md 6.1):
 
         Delta nu = K Omega,   K = 4 A / (lambda P)   [cycles/rad]
         pulse weight q = 1/K = lambda P / (4 A)       [rad/count]
@@ -277,7 +277,7 @@ def integrate_adler(
 
     Notes
     -----
-    d psi/dt = 2 pi K (Omega(t) - Omega_L sin psi)  (Adler 1946; PHYSICS.md 6.2).
+    d psi/dt = 2 pi K (Omega(t) - Omega_L sin psi)  (Adler 1946; docs/physics.md 6.2).
     The number of laser pulses counted up to t is floor(psi(t)/(2 pi)) (:func:`count_pulses`).
     """
     k = _pos("integrate_adler", "scale_factor", scale_factor, "counts/rad")
@@ -409,7 +409,7 @@ class DitherRealization:
 
         Notes
         -----
-        Per reversal of cycle m (stationary phase, PHYSICS.md 6.3):
+        Per reversal of cycle m (stationary phase, docs/physics.md 6.3):
         var(delta theta) = Omega_L^2 / (2 K Omegadot_m), Omegadot_m = (2 pi f_d)^2 theta_D a_m;
         reversals at t = (m + 1/4)/f_d and (m + 3/4)/f_d, two per cycle.
         """
@@ -424,7 +424,7 @@ def dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> f
 
     Notes
     -----
-    N = Omega_L / sqrt(2 pi K Omega_D) (PHYSICS.md 6.3): 2 f_d independent lock-in
+    N = Omega_L / sqrt(2 pi K Omega_D) (docs/physics.md 6.3): 2 f_d independent lock-in
     crossings per second, each with variance Omega_L^2/(2 K Omegadot),
     Omegadot = 2 pi f_d Omega_D. The amplitude jitter adds E[1/a] ~ 1 + sigma^2, which
     is included.
@@ -544,7 +544,7 @@ class ThermalBias:
     Mechanisms after Aronowitz & Lim (IEEE J. Quantum Electron. 1979, Langmuir flow)
     and paper 004 (unequal discharge legs in a non-uniform temperature field);
     sizes are not published -- the defaults are tuned so that the raw
-    variable-temperature bias stability is about 3x the compensated one (PHYSICS.md 6.4).
+    variable-temperature bias stability is about 3x the compensated one (docs/physics.md 6.4).
     """
 
     cavity: float = 0.0
@@ -936,7 +936,7 @@ class RLGSpec:
     cycle at 1 degC/3 min the raw 100-s bias stability (~0.06 deg/h) is about 4x the
     noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
     and count quantization 0.007 deg/h over 100 s), so that the compensated value
-    is ~1/3 of the raw one as PHYSICS.md 6.4 asks. Turn-on repeatability of the
+    is ~1/3 of the raw one as docs/physics.md 6.4 asks. Turn-on repeatability of the
     gas-flow coefficients, 20 % (unverified), makes a model fitted on one turn-on
     worse on the next, as paper 004's adjusted R^2 0.97 beside a 65 % improvement
     suggests. Spreads (one production batch, screened at acceptance): lock-in 10 %,

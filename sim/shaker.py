@@ -35,7 +35,7 @@ equals d_max (3 sigma taken as the peak, the usual rule for Gaussian drive).
 
 References
 ----------
-PHYSICS.md section 4 (sweep phases, PSD synthesis, NAVMAT P-9492 spectrum);
+docs/physics.md section 4 (sweep phases, PSD synthesis, NAVMAT P-9492 spectrum);
 MIL-STD-810G Method 514.6; IEC 60068-2-6 (sine) and 60068-2-64 (random).
 """
 
@@ -153,7 +153,7 @@ def sweep_frequency(t: ArrayLike, f_start: float, f_end: float, duration: float,
 
 
 def sweep_phase(t: ArrayLike, f_start: float, f_end: float, duration: float, spacing: str) -> NDArray[np.float64]:
-    """Phase [rad] of a sweep, the exact integral of 2 pi f(t) (PHYSICS.md 4).
+    """Phase [rad] of a sweep, the exact integral of 2 pi f(t) (docs/physics.md 4).
 
     log: 2 pi f1 Ts/ln(f2/f1) ((f2/f1)^(t/Ts) - 1); linear: 2 pi (f1 t + (f2 - f1) t^2/(2 Ts)).
     A log sweep with f2 = f1 degenerates to 2 pi f1 t.
@@ -235,7 +235,7 @@ class SineSweep:
     Examples
     --------
     >>> import numpy as np
-    >>> from sim import units
+    >>> from gyrobench.sim import units
     >>> s = SineSweep(f_start=1.0, f_end=500.0, duration=600.0, acceleration=units.g(2.0))
     >>> round(s.octaves_per_minute, 3)
     0.897
@@ -447,7 +447,7 @@ class RandomVibration:
 
     Notes
     -----
-    Synthesis (PHYSICS.md 4): on the FFT grid f_k = k fs/n,
+    Synthesis (docs/physics.md 4): on the FFT grid f_k = k fs/n,
     a(t) = sum_k A_k cos(2 pi f_k t + phi_k), A_k = sqrt(2 G(f_k) df) g0,
     phi_k uniform, done by an inverse real FFT; the variance is sum_k G(f_k) df g0^2.
     Displacement PSD = G(f) g0^2 / (2 pi f)^4.

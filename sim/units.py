@@ -8,11 +8,11 @@ written as a bare number anywhere else.
 
 References
 ----------
-IEEE Std 952-1997, Annex C (units of the noise coefficients); PHYSICS.md section 0.
+IEEE Std 952-1997, Annex C (units of the noise coefficients); docs/physics.md section 0.
 
 Examples
 --------
->>> from sim import units
+>>> from gyrobench.sim import units
 >>> round(units.deg_per_h(1.0), 10)   # 1 deg/h in rad/s
 4.8481e-06
 >>> units.to_deg_per_h(units.deg_per_h(15.0))

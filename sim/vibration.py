@@ -2,7 +2,7 @@
 
 All parameters are in SI (rad/s, m/s^2, Hz, s).
 
-Physical picture (PHYSICS.md 4): the table acceleration a(t) excites structural
+Physical picture (docs/physics.md 4): the table acceleration a(t) excites structural
 modes of the coil, its potting and the housing. Mode k responds as a base-excited
 second-order system with unit static gain
 
@@ -12,7 +12,7 @@ second-order system with unit static gain
 so x_k = H_k * a [m/s^2] is the modal acceleration. The gyro's rate error is
 
     tone        w_t(t) = sum_k g_k x_k(t)                       (linear pick-up: strain-rate
-                                                                  non-reciprocity, PHYSICS.md 3.5)
+                                                                  non-reciprocity, docs/physics.md 3.5)
     rectified   w_r(t) = sum_k 2 c_k x_k(t)^2 + c_lin (pi/2) |a(t)|
                 mean over a cycle of a sine of amplitude a at f:
                 bias_vib(f, a) = sum_k c_k a^2 |H_k(f)|^2 + c_lin a
@@ -58,7 +58,7 @@ rectified 2f component is below the physics Nyquist frequency.
 
 References
 ----------
-PHYSICS.md section 4; seed paper 000 (Fang, Shen, Chen); IEEE Std 952-1997
+docs/physics.md section 4; seed paper 000 (Fang, Shen, Chen); IEEE Std 952-1997
 (FOG test procedures, vibration sensitivity); "Analysis of vibration error in
 fiber optic gyroscope" (abstract, mechanisms). Parameters are phenomenological
 (unverified): tune them to a measured unit.

@@ -3,7 +3,7 @@
 Network: inputs scaled to [-1, 1] (``mapminmax``), one hidden layer of tanh
 units, one linear output, target scaled to [-1, 1]. Weights w (N_p of them).
 
-Objective (MacKay 1992; Foresee & Hagan 1997; PHYSICS.md 7.3)::
+Objective (MacKay 1992; Foresee & Hagan 1997; docs/physics.md 7.3)::
 
     F(w) = beta E_D + alpha E_W,   E_D = sum_i e_i^2,  e = t - f(w),   E_W = sum_j w_j^2
 

@@ -4,7 +4,7 @@ All three are scikit-learn regressors. Each fits in scaled variables: every inpu
 feature is mapped to u in [-1, 1] by its training min/max and the target to
 [-1, 1] the same way, and the polynomial is expressed in the Legendre basis of u.
 That is the same polynomial as the power series but well conditioned (raw 9th
-powers of 3600 deg/s are not; PHYSICS.md 7.5).
+powers of 3600 deg/s are not; docs/physics.md 7.5).
 
 With several input features a polynomial is additive (a sum of one polynomial
 per feature, no cross terms); with one feature, the usual case of a gyro's output
@@ -12,7 +12,7 @@ against the table rate, it is the ordinary polynomial of the given degree.
 
 References
 ----------
-Seed paper 001 (Du, Su, Liu, Li), sections 2.1-2.2 and 3; PHYSICS.md 7.5.
+Seed paper 001 (Du, Su, Liu, Li), sections 2.1-2.2 and 3; docs/physics.md 7.5.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Radial-basis-function network trained as MATLAB ``newrb`` does, its deployment form, and a streaming compensator.
 
-The network (PHYSICS.md 7.2; MATLAB ``newrb`` / ``designrb``):
+The network (docs/physics.md 7.2; MATLAB ``newrb`` / ``designrb``):
 
     a1_i = radbas(||c_i - p|| * b1_i),   radbas(n) = exp(-n^2),   b1_i = sqrt(-ln 0.5) / spread
     a2   = LW a1 + b2
@@ -14,7 +14,7 @@ network has ``max_neurons`` neurons.
 
 Input scaling
 -------------
-MATLAB ``newrb`` does not scale its inputs (no ``processFcns``; PHYSICS.md 7.2 assumes
+MATLAB ``newrb`` does not scale its inputs (no ``processFcns``; docs/physics.md 7.2 assumes
 the same), so ``spread`` is in the units of the raw inputs. ``normalize="none"`` (the
 default) reproduces that exactly: a paper that says "spread 1.2" with a frequency input
 in Hz means 1.2 Hz. ``normalize="minmax"`` first maps every input column to [-1, 1]

@@ -17,7 +17,7 @@ References
 ----------
 MathWorks, ``stepwisefit`` documentation (defaults PEnter = 0.05, PRemove = 0.10,
 empty initial model); Draper & Smith, *Applied Regression Analysis*, 3rd ed.,
-ch. 15 (stepwise procedure); PHYSICS.md 7.4.
+ch. 15 (stepwise procedure); docs/physics.md 7.4.
 """
 
 from __future__ import annotations

@@ -114,7 +114,7 @@ def test_no_split_on_a_linear_table():
 
 
 def test_search_finds_the_knee():
-    """Knee at 1800 deg/s (PHYSICS.md 5) plus a 2 deg/s sign-dependent offset: breakpoints +-1800."""
+    """Knee at 1800 deg/s (docs/physics.md 5) plus a 2 deg/s sign-dependent offset: breakpoints +-1800."""
     f = _knee(GRID) + 2.0 * np.sign(GRID)
     res = breakpoint_search(GRID, f)
     assert (res.negative, res.positive) == (-1800.0, 1800.0)

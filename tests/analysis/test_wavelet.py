@@ -27,7 +27,7 @@ def test_branches_sum_back_to_the_signal(rng):
 
 
 def test_approximation_independent_of_depth(rng):
-    # A6 from a 10-level decomposition (A10 + D10..D7) equals A6 from a 6-level one (PHYSICS.md 7.1)
+    # A6 from a 10-level decomposition (A10 + D10..D7) equals A6 from a 6-level one (docs/physics.md 7.1)
     x = rng.standard_normal(16384)
     a10 = decompose(x, 100.0, level=10).approx(6)
     a6 = decompose(x, 100.0, level=6).approx(6)

@@ -87,7 +87,7 @@ def test_uniform_heating_gives_zero(pattern, rng):
 
 
 def test_half_fibre_at_1K_per_min_gives_135_6_deg_h():
-    """z < L/2 at +1 K/min: Omega = n (dn/dT + n alpha_f) Tdot L / (4 D) (PHYSICS.md 3.2)."""
+    """z < L/2 at +1 K/min: Omega = n (dn/dT + n alpha_f) Tdot L / (4 D) (docs/physics.md 3.2)."""
     coil = CoilSpec(winding="helical")
     w = Winding.ideal("helical", 40, 1000.0)
     tdot = np.where(np.arange(40) < 20, 1.0 / 60.0, 0.0)
@@ -142,7 +142,7 @@ def test_linear_radial_tdot_gives_physics_3_2_table(pattern, printed, digits):
 
 
 def test_ratios_relative_to_helical():
-    """PHYSICS.md 3.3: dipole 1/27 of helical, quadrupole ~1/500, octupole exactly 0 for a linear profile."""
+    """docs/physics.md 3.3: dipole 1/27 of helical, quadrupole ~1/500, octupole exactly 0 for a linear profile."""
     h = float(_exact_linear_radial_sum("helical", 40))
     assert float(_exact_linear_radial_sum("dipolar", 40)) / h == pytest.approx(1 / 26.65, rel=0.01)
     assert abs(h / float(_exact_linear_radial_sum("quadrupolar", 40))) == pytest.approx(

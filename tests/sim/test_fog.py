@@ -39,7 +39,7 @@ def _quiet_spec(**kw) -> FOGSpec:
 def test_sagnac_scale_factor_closed_form():
     sf = sagnac_scale_factor(1000.0, 0.1, 1550e-9)
     assert sf == pytest.approx(2 * math.pi * 1000.0 * 0.1 / (1550e-9 * SPEED_OF_LIGHT), rel=1e-15)
-    assert sf == pytest.approx(1.352, abs=0.0005)  # PHYSICS.md 3.1, printed precision
+    assert sf == pytest.approx(1.352, abs=0.0005)  # docs/physics.md 3.1, printed precision
     assert FOGSpec().scale_factor == pytest.approx(sf, rel=1e-12)  # default coil D = 0.1 m
 
 

@@ -153,7 +153,7 @@ def test_gm_continuous_matches_physics_formula_and_peak():
     r = tau / tc
     phys = (qc * tc) ** 2 / tau * (1 - tc / (2 * tau) * (3 - 4 * np.exp(-r) + np.exp(-2 * r)))
     np.testing.assert_allclose(gm_avar(tau, sigma, tc), phys, rtol=1e-12)
-    # ADEV peak at tau = 1.893 Tc with value 0.4365 qc sqrt(Tc) (PHYSICS.md 1.2)
+    # ADEV peak at tau = 1.893 Tc with value 0.4365 qc sqrt(Tc) (docs/physics.md 1.2)
     res = optimize.minimize_scalar(
         lambda x: -gm_avar(x * tc, sigma, tc),
         bounds=(0.5, 5),
@@ -240,7 +240,7 @@ def test_flicker_avar_matches_quadrature():
 
 def test_flicker_avar_physics_table():
     # sigma/B = 0.270 (x=0.5), 0.480 (1), 0.647 (2), 0.661 (5), 0.664 (>=20), f_low -> 0
-    # (PHYSICS.md 1.3);
+    # (docs/physics.md 1.3);
     # printed with 3 digits, apparently truncated (0.2707 -> 0.270): one unit of the last digit
     x = np.array([0.5, 1.0, 2.0, 5.0, 20.0])
     got = np.sqrt(flicker_avar(x / np.pi, 1.0, 1e-15, 1.0))

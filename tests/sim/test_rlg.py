@@ -53,7 +53,7 @@ def test_square_scale_factor_closed_form(side):
 
 
 def test_reference_values_physics_md():
-    """PHYSICS.md 6.1: triangle 0.10 m -> 91 237 counts/rad, 2.26 arcsec; 0.14 m -> 1.62 arcsec; square 0.10 m -> 1.31."""
+    """docs/physics.md 6.1: triangle 0.10 m -> 91 237 counts/rad, 2.26 arcsec; 0.14 m -> 1.62 arcsec; square 0.10 m -> 1.31."""
     assert round(rlg.CavityGeometry.triangle(0.10).scale_factor) == 91237
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).pulse_weight), 2) == 2.26
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).quantization), 2) == 0.65
@@ -223,7 +223,7 @@ def test_dither_random_walk_matches_statistical_mode_production_unit(rng):
 
 
 def test_statistical_mode_arw_value_physics_md():
-    """PHYSICS.md 6.3 example: Omega_L 0.05 deg/s, K 1e5, Omega_D 100 deg/s -> 0.0029 deg/sqrt(h)."""
+    """docs/physics.md 6.3 example: Omega_L 0.05 deg/s, K 1e5, Omega_D 100 deg/s -> 0.0029 deg/sqrt(h)."""
     d = rlg.Dither(
         frequency=400.0,
         amplitude=units.deg_per_s(100.0) / (2 * math.pi * 400.0),

@@ -74,7 +74,7 @@ def test_displacement_limit_caps_low_frequency_amplitude():
 
 
 def test_grms_of_standard_spectra():
-    # PHYSICS.md 4: NAVMAT P-9492 computes to 6.06 grms; MIL-STD-810G general minimum integrity 7.69
+    # docs/physics.md 4: NAVMAT P-9492 computes to 6.06 grms; MIL-STD-810G general minimum integrity 7.69
     assert grms(NAVMAT) == pytest.approx(6.06, abs=0.005)
     mil = [(20.0, 0.04), (1000.0, 0.04), (2000.0, 0.01)]
     assert grms(mil) == pytest.approx(7.69, abs=0.005)

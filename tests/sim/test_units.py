@@ -1,4 +1,4 @@
-"""Unit conversions: closed-form values from PHYSICS.md section 0 and round trips."""
+"""Unit conversions: closed-form values from docs/physics.md section 0 and round trips."""
 
 import math
 
@@ -26,7 +26,7 @@ def test_closed_form_values(fn, value, expected):
 
 
 def test_physics_md_printed_values():
-    # PHYSICS.md section 0 prints these to 5 significant digits
+    # docs/physics.md section 0 prints these to 5 significant digits
     assert units.deg_per_h(1.0) == pytest.approx(4.8481e-6, rel=1e-4)
     assert units.deg_per_sqrt_h(1.0) == pytest.approx(2.9089e-4, rel=1e-4)
     assert units.deg_per_h_per_sqrt_h(1.0) == pytest.approx(8.0802e-8, rel=1e-4)
@@ -55,7 +55,7 @@ def test_round_trip_scalar_and_array(to_si, from_si):
 
 
 def test_identity_deg_per_h_is_arcsec_per_s():
-    # PHYSICS.md 0: rate in deg/h equals angle in arcsec per second
+    # docs/physics.md 0: rate in deg/h equals angle in arcsec per second
     assert units.deg_per_h(1.0) == pytest.approx(units.arcsec(1.0), rel=1e-15)
 
 

@@ -129,3 +129,47 @@ def test_built_wheel_installs_one_gyrobench_package_and_no_top_level_sim(tmp_pat
         """
     )
     subprocess.run([sys.executable, "-I", "-c", code], check=True, cwd=str(tmp_path), timeout=120)
+
+
+@pytest.mark.parametrize("argv", [["list"], ["--help"], ["bench", "--help"], ["reproduce", "--help"]])
+def test_cli_help_and_list_import_nothing_heavy(argv):
+    """'gyrobench list' and every --help stay fast: no numpy, scipy, sklearn, matplotlib, h5py."""
+    code = textwrap.dedent(
+        f"""
+        import contextlib, io, sys
+        from gyrobench.scenarios.cli import main
+        with contextlib.redirect_stdout(io.StringIO()):
+            try:
+                main({argv!r})
+            except SystemExit:
+                pass
+        heavy = [m for m in ("numpy", "scipy", "sklearn", "matplotlib", "h5py", "dask") if m in sys.modules]
+        assert not heavy, heavy
+        """
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, env=_env(), cwd="/")
+
+
+def test_list_names_every_paper():
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.papers import PAPERS
+
+    papers = {registry.describe(n).paper for n in registry.available()} - {None}
+    assert papers <= set(PAPERS)
+
+
+def test_every_verb_spells_shared_flags_the_same_way():
+    """A flag that several verbs take has the same short and long forms on each (-q/--quiet...)."""
+    from gyrobench.scenarios.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    forms: dict[str, set[tuple[str, ...]]] = {}
+    for verb, p in sub.choices.items():
+        for action in p._actions:
+            longs = [o for o in action.option_strings if o.startswith("--")]
+            for lo in longs:
+                forms.setdefault(lo, set()).add(tuple(sorted(action.option_strings)))
+    mixed = {lo: f for lo, f in forms.items() if len(f) > 1}
+    assert not mixed, mixed
+    assert forms["--quiet"] == {("--quiet", "-q")}

@@ -1,0 +1,107 @@
+"""Tests of scenarios/units.py (the shared runner of paper scenarios) on a toy paper scenario."""
+
+from __future__ import annotations
+
+import pickle
+import sqlite3
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from gyrobench.scenarios import units
+from gyrobench.scenarios.claims import evaluate
+from tests.scenarios import toy_paper as toy
+from tests.scenarios import toy_scenario
+
+
+def _calls(path) -> Counter:
+    return Counter(map(int, path.read_text().split())) if path.exists() else Counter()
+
+
+def test_run_units_in_seed_order_and_as_experiment_gives(tmp_path):
+    run = units.run_units(toy, toy.Config(), seed=3, n_units=4, workers=0, db=tmp_path / "u.db")
+    assert run.seeds == (3, 4, 5, 6)
+    assert (run.computed, run.reused) == (4, 0)
+    for s, r in zip(run.seeds, run.results, strict=True):
+        direct = toy.experiment(toy.Config(), s)
+        assert r["quantities"] == direct["quantities"]
+        np.testing.assert_array_equal(r["trace"], direct["trace"])
+
+
+def test_resumes_and_recomputes_nothing(tmp_path, monkeypatch):
+    db = tmp_path / "u.db"
+    log = tmp_path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    monkeypatch.setenv("GYROBENCH_TOY_FAIL_SEED", "4")
+    with pytest.raises(RuntimeError, match="seed 4"):
+        units.run_units(toy, toy.Config(), seed=0, n_units=8, workers=0, db=db)
+    assert _calls(log) == Counter(range(5))  # 0..3 finished and committed, 4 failed
+    with sqlite3.connect(db) as conn:
+        assert sorted(s for (s,) in conn.execute("SELECT seed FROM unit_results")) == [0, 1, 2, 3]
+    monkeypatch.delenv("GYROBENCH_TOY_FAIL_SEED")
+    log.unlink()
+    run = units.run_units(toy, toy.Config(), seed=0, n_units=8, workers=0, db=db)
+    assert _calls(log) == Counter(range(4, 8))  # only the unfinished units, each once
+    assert (run.computed, run.reused) == (4, 4)
+    log.unlink()
+    again = units.run_units(toy, toy.Config(), seed=0, n_units=8, workers=0, db=db)
+    assert not log.exists() and (again.computed, again.reused) == (0, 8)
+    assert pickle.dumps(again.results) == pickle.dumps(run.results)
+
+
+def test_another_config_is_another_run(tmp_path, monkeypatch):
+    db = tmp_path / "u.db"
+    log = tmp_path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    a = units.run_units(toy, toy.Config(), n_units=2, workers=0, db=db)
+    b = units.run_units(toy, toy.Config(noise=0.2), n_units=2, workers=0, db=db)
+    assert a.run_id != b.run_id and b.computed == 2
+    assert _calls(log) == Counter({0: 2, 1: 2})
+    assert a.results[0]["quantities"]["residual"] != b.results[0]["quantities"]["residual"]
+
+
+def test_bit_identical_for_any_worker_count(tmp_path):
+    out = {}
+    for w in (0, 1, 2):
+        o = units.run_paper(toy, toy.Config(), seed=10, n_units=6, workers=w, db=tmp_path / f"w{w}.db")
+        timing = o.results.pop("units")  # per-unit runtimes differ from run to run
+        assert timing["seeds"] == list(range(10, 16)) and timing["computed"] == 6
+        out[w] = pickle.dumps(([c.as_dict() for c in o.claims], o.results, o.tables))
+    assert out[0] == out[1] == out[2]
+
+
+def test_run_paper_fills_the_outcome(tmp_path):
+    o = units.run_paper(toy, toy.Config(), seed=2, n_units=6, workers=0, db=tmp_path / "u.db")
+    assert (o.seed, o.units) == (2, 6)
+    assert o.deviations == list(toy.DEVIATIONS)
+    assert [c.claim.id for c in o.claims] == [c.id for c in toy.CLAIMS]
+    assert o.runtime_s > 0 and o.results["units"]["seeds"] == list(range(2, 8))
+    # the claims are exactly evaluate() over the units' quantities
+    qs = [toy.experiment(toy.Config(), s)["quantities"] for s in range(2, 8)]
+    assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in evaluate(toy.CLAIMS, qs)]
+    by = {c.claim.id: c for c in o.claims}
+    assert by["toy.even"].testable == 3  # seeds 2, 4, 6: None on odd seeds
+    assert by["toy.sane"].holds == 6
+    gains = sorted(q["gain"] for q in qs)
+    assert by["toy.gain"].median == pytest.approx((gains[2] + gains[3]) / 2, rel=1e-15)
+    assert by["toy.gain"].holds == sum(0.5 <= g <= 2.0 for g in gains)
+
+
+def test_refuses_bad_arguments(tmp_path):
+    db = tmp_path / "u.db"
+    with pytest.raises(ValueError, match="n_units must be an integer >= 1; got 0"):
+        units.run_units(toy, toy.Config(), n_units=0, db=db)
+    with pytest.raises(ValueError, match="seed must be an integer >= 0; got -1"):
+        units.run_units(toy, toy.Config(), seed=-1, db=db)
+    with pytest.raises(ValueError, match="workers must be an integer >= 0"):
+        units.run_units(toy, toy.Config(), workers=-2, db=db)
+    with pytest.raises(ValueError, match="not a paper scenario"):
+        units.run_units(toy_scenario, toy_scenario.Config(), db=db)
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        units.run_units(toy, toy.Config(), db=tmp_path / "nope" / "u.db")
+
+
+def test_is_paper_scenario():
+    assert units.is_paper_scenario(toy)
+    assert not units.is_paper_scenario(toy_scenario)

@@ -298,7 +298,7 @@ def run_paper(
     """Run the units (:func:`run_units`), judge ``module.CLAIMS`` over them, build the report.
 
     Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
-    ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["units"]`` (seeds,
+    ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
     per-unit runtimes, how many were computed and read back) set. The report writer
     puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
     deviations into results.json.
@@ -317,7 +317,7 @@ def run_paper(
     outcome.deviations = list(getattr(module, "DEVIATIONS", ()))
     outcome.units = n_units
     outcome.runtime_s = time.perf_counter() - t0
-    outcome.results["units"] = {
+    outcome.results["unit_run"] = {
         "n": n_units,
         "seeds": list(run.seeds),
         "computed": run.computed,

@@ -65,7 +65,7 @@ def test_bit_identical_for_any_worker_count(tmp_path):
     out = {}
     for w in (0, 1, 2):
         o = units.run_paper(toy, toy.Config(), seed=10, n_units=6, workers=w, db=tmp_path / f"w{w}.db")
-        timing = o.results.pop("units")  # per-unit runtimes differ from run to run
+        timing = o.results.pop("unit_run")  # per-unit runtimes differ from run to run
         assert timing["seeds"] == list(range(10, 16)) and timing["computed"] == 6
         out[w] = pickle.dumps(([c.as_dict() for c in o.claims], o.results, o.tables))
     assert out[0] == out[1] == out[2]
@@ -76,7 +76,7 @@ def test_run_paper_fills_the_outcome(tmp_path):
     assert (o.seed, o.units) == (2, 6)
     assert o.deviations == list(toy.DEVIATIONS)
     assert [c.claim.id for c in o.claims] == [c.id for c in toy.CLAIMS]
-    assert o.runtime_s > 0 and o.results["units"]["seeds"] == list(range(2, 8))
+    assert o.runtime_s > 0 and o.results["unit_run"]["seeds"] == list(range(2, 8))
     # the claims are exactly evaluate() over the units' quantities
     qs = [toy.experiment(toy.Config(), s)["quantities"] for s in range(2, 8)]
     assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in evaluate(toy.CLAIMS, qs)]

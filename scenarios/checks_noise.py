@@ -68,7 +68,7 @@ def _tolerance(term: str, m: int, alpha: int | None) -> tuple[float, str]:
 
     if alpha is None:
         ratio = (_N / m) ** 2
-        tol = 10.0 * np.finfo(float).eps * ratio * math.sqrt(_N)
+        tol = 10.0 * float(np.finfo(float).eps) * ratio * math.sqrt(_N)
         return tol, (
             f"deterministic: float64 cancellation in the second difference of the cumulated phase, "
             f"10 eps (T/tau)^2 sqrt(n) = {tol:.2g} (T/tau = {_N // m}, n = {_N})"

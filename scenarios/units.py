@@ -184,7 +184,9 @@ def _execute(
         return
     bench._check_picklable(None, config)
     own = executor is None
-    ex = cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers()) if own else executor
+    ex: cf.Executor = (
+        cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers()) if executor is None else executor
+    )
     futures: dict[cf.Future, int] = {}
     try:
         futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}

@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+import os
 import pickle
+import signal
 import sqlite3
+import subprocess
+import sys
+import time
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +19,61 @@ from gyrobench.scenarios import units
 from gyrobench.scenarios.claims import evaluate
 from tests.scenarios import toy_paper as toy
 from tests.scenarios import toy_scenario
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+_KILL_SCRIPT = """
+import sys
+sys.path.insert(0, {root!r})
+from gyrobench.scenarios import units
+from tests.scenarios import toy_paper as toy
+units.run_units(toy, toy.Config(sleep_s=0.05), n_units={n}, workers=2, db={db!r})
+"""
+
+
+def _rows(db: Path) -> int:
+    try:
+        with sqlite3.connect(db, timeout=5) as conn:
+            return conn.execute("SELECT COUNT(*) FROM unit_results").fetchone()[0]
+    except sqlite3.OperationalError:  # not created yet
+        return 0
+
+
+def test_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, monkeypatch):
+    n = 80
+    db = tmp_path / "kill.db"
+    log1, log2 = tmp_path / "calls1.log", tmp_path / "calls2.log"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _KILL_SCRIPT.format(root=str(ROOT), n=n, db=str(db))],
+        env=dict(os.environ, GYROBENCH_TOY_CALL_LOG=str(log1)),
+        start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while _rows(db) < 6:
+            if proc.poll() is not None:
+                pytest.fail(f"run exited early ({proc.returncode}): " + proc.stderr.read().decode()[-2000:])
+            if time.monotonic() > deadline:
+                pytest.fail("the run did not commit 6 units within 120 s")
+            time.sleep(0.02)
+        os.killpg(proc.pid, signal.SIGKILL)  # the runner and its worker processes
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    with sqlite3.connect(db) as conn:
+        assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+        committed = {s for (s,) in conn.execute("SELECT seed FROM unit_results")}
+    assert 6 <= len(committed) < n, "the kill must land mid-run"
+    assert committed <= set(_calls(log1))
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log2))
+    run = units.run_units(toy, toy.Config(sleep_s=0.05), n_units=n, workers=2, db=db)
+    assert _calls(log2) == Counter(set(range(n)) - committed)  # nothing committed is recomputed
+    assert (run.computed, run.reused) == (n - len(committed), len(committed))
+    for s in (min(committed), max(set(range(n)) - committed)):  # nothing lost or altered
+        assert pickle.dumps(run.results[s]["quantities"]) == pickle.dumps(
+            toy.experiment(toy.Config(sleep_s=0.05), s)["quantities"])
 
 
 def _calls(path) -> Counter:

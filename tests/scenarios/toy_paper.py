@@ -12,6 +12,7 @@ call appends ``"<seed>\\n"`` to that file (the resume test counts them);
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -31,6 +32,7 @@ class Config:
     n_samples: int = 200
     gain_sigma: float = 0.5
     noise: float = 0.1
+    sleep_s: float = 0.0  # wall time added per unit (the SIGKILL test needs units that take a while)
 
 
 def simulate(config: Config, seed: int) -> list:
@@ -47,6 +49,8 @@ def experiment(config: Config, seed: int) -> dict[str, Any]:
             os.close(fd)
     if os.environ.get("GYROBENCH_TOY_FAIL_SEED") == str(seed):
         raise RuntimeError(f"toy_paper: failing on purpose at seed {seed}")
+    if config.sleep_s:
+        time.sleep(config.sleep_s)
     rng = np.random.default_rng(seed)
     g = float(rng.lognormal(0.0, config.gain_sigma))
     x = rng.standard_normal(config.n_samples)

@@ -479,6 +479,15 @@ def _cmd_reproduce(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     db = Path(args.db) if args.db else units.default_db(out)
     executor, close = _executor(args)
+    workers = args.workers
+    if executor is None and workers != 0 and any(units.is_paper_scenario(m) for m in mods):
+        import concurrent.futures as cf
+
+        from gyrobench.scenarios.bench import _default_workers
+
+        # one local pool for every paper scenario (workers start and import once, not per scenario)
+        pool = cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
+        executor, close, workers = pool, pool.shutdown, None
     outcomes = []
     t0 = time.perf_counter()
     try:
@@ -488,7 +497,7 @@ def _cmd_reproduce(args) -> int:
                 bar.set_postfix_str(mod.NAME)
                 if units.is_paper_scenario(mod):
                     outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=args.units, executor=executor,
-                                                    workers=args.workers, db=db, progress=not args.quiet))
+                                                    workers=workers, db=db, progress=not args.quiet))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
     finally:

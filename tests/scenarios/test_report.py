@@ -190,9 +190,8 @@ def test_paper_claims_in_summary_and_results_json(tmp_path):
 def test_paper_heading_cites_the_paper(monkeypatch, tmp_path):
     from gyrobench.scenarios import papers
 
-    monkeypatch.setitem(papers.PAPERS, "001", papers.Paper(
-        key="001", authors="A. Du, B. Su", affiliation="X", title_zh="标题", title_en="A title",
-        journal="J. Test", year=2018))
+    monkeypatch.setattr(papers, "citation", lambda key, short=False: f"CITATION OF {key}")
     write_report([_paper_outcome()], tmp_path)
     md = (tmp_path / "report.md").read_text()
-    assert 'Claims of A. Du, B. Su, "A title" (标题), J. Test, 2018' in md
+    assert "**Claims of CITATION OF 001**" in md
+    assert "CITATION OF 001. seeds 3 to 22 (20 units)" in md  # the scenario section's header line

@@ -190,9 +190,13 @@ def claim_counts(claims: Sequence[Any]) -> dict[str, int]:
 
 def _claims_table(o: Outcome) -> Table:
     n = claim_counts(o.claims)
+    if o.units > 1:
+        over = (f"Judged over {o.units} units (seeds {o.seed} to {o.seed + o.units - 1}; each unit has its own "
+                "noise and drawn parameters).")
+    else:
+        over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
     note = (
-        f"Judged over {o.units} unit{'s' if o.units != 1 else ''} (seeds {o.seed} to {o.seed + o.units - 1}; "
-        "each unit has its own noise and drawn parameters). Emergent claims: "
+        f"{over} Emergent claims: "
         f"{n['holds']} hold for most units, {n['fails']} FAIL for most units, {n['undecided']} undecided, "
         f"{n['not testable']} not testable. {n['calibrated']} calibrated claim(s) (an input was set from the "
         "paper's number or chosen so the claim holds) are shown but not counted as reproduced. A verdict needs "

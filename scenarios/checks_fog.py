@@ -21,7 +21,6 @@ import math
 from fractions import Fraction
 
 import numpy as np
-
 from gyrobench.scenarios.checks import Check
 
 __all__ = ["checks"]
@@ -39,7 +38,10 @@ def _exact_linear_radial_sum(pattern: str, layers: int) -> Fraction:
     seq = WINDING_PATTERNS[pattern]
     total = Fraction(0)
     if seq is None:  # helical: layer j holds fibre [j l, (j+1) l], w_j = l^2 (M - 2j - 1)
-        return sum((Fraction(layers - 2 * j - 1) * Fraction(j, layers - 1) for j in range(layers)), Fraction(0))
+        return sum(
+            (Fraction(layers - 2 * j - 1) * Fraction(j, layers - 1) for j in range(layers)),
+            Fraction(0),
+        )
     seq = seq * (layers // len(seq))
     a = b = 0
     for j, c in enumerate(seq):
@@ -61,8 +63,15 @@ def _shupe(pattern: str) -> tuple[float, float]:
     coil = CoilSpec(winding=pattern, layers=_LAYERS, length=_LENGTH)
     w = Winding.ideal(pattern, _LAYERS, _LENGTH)
     tdot = _DT_RATE * np.arange(_LAYERS) / (_LAYERS - 1)
-    model = float(shupe_terms(coil, w.weights, np.full(_LAYERS, units.ZERO_CELSIUS), tdot,
-                              constraint_cte=np.zeros(_LAYERS)).shupe)
+    model = float(
+        shupe_terms(
+            coil,
+            w.weights,
+            np.full(_LAYERS, units.ZERO_CELSIUS),
+            tdot,
+            constraint_cte=np.zeros(_LAYERS),
+        ).shupe
+    )
     n = coil.index
     pre = n * (coil.dn_dT + n * coil.fibre_cte) / (coil.length * coil.diameter)
     seg = _LENGTH / _LAYERS
@@ -71,9 +80,8 @@ def _shupe(pattern: str) -> tuple[float, float]:
 
 def checks(rng: np.random.Generator) -> list[Check]:
     """Sagnac scale factor and Shupe cancellation (deterministic; ``rng`` unused)."""
-    from scipy import constants
-
     from gyrobench.sim.fog import FOGSpec
+    from scipy import constants
 
     spec = FOGSpec()
     c = spec.coil
@@ -85,30 +93,45 @@ def checks(rng: np.random.Generator) -> list[Check]:
         Check(
             id="fog.sagnac_scale_factor",
             formula=f"SF = 2 pi L D / (lambda c) [s]; L = {c.length:g} m, D = {c.diameter:g} m, "
-                    f"lambda = {c.wavelength:g} m",
-            expected=sf, simulated=spec.scale_factor, tolerance=10 * _EPS,
+            f"lambda = {c.wavelength:g} m",
+            expected=sf,
+            simulated=spec.scale_factor,
+            tolerance=10 * _EPS,
             derivation="exact expression: 5 float64 roundings, <= 10 eps",
         ),
         Check(
             id="fog.shupe_helical",
             formula="Omega_E = n (dn/dT + n alpha_f)/(L D) l^2 dTdot S_helical [rad/s]; "
-                    f"M = {_LAYERS} layers, Tdot linear in radius, 0 -> 0.01 K/min",
-            expected=helical_cf, simulated=helical, tolerance=sum_tol,
-            derivation=f"exact rational sum vs float64 sum of {_LAYERS} terms: <= 4 M eps = {sum_tol:.2g}",
+            f"M = {_LAYERS} layers, Tdot linear in radius, 0 -> 0.01 K/min",
+            expected=helical_cf,
+            simulated=helical,
+            tolerance=sum_tol,
+            derivation=f"exact rational sum vs float64 sum of {_LAYERS} terms: <= 4 M eps = "
+            f"{sum_tol:.2g}",
         ),
         Check(
             id="fog.shupe_quadrupolar",
-            formula="Omega_E as fog.shupe_helical with the ABBA sequence; error relative to the helical term",
-            expected=quad_cf, simulated=quad, tolerance=sum_tol, scale=helical_cf,
+            formula="Omega_E as fog.shupe_helical with the ABBA sequence; error relative to the "
+            "helical term",
+            expected=quad_cf,
+            simulated=quad,
+            tolerance=sum_tol,
+            scale=helical_cf,
             derivation="rounding of the 40-term sum is relative to its largest terms, those of the "
-                       f"uncancelled (helical) sum: <= 4 M eps = {sum_tol:.2g} of it",
+            f"uncancelled (helical) sum: <= 4 M eps = {sum_tol:.2g} of it",
         ),
         Check(
             id="fog.shupe_cancellation_ratio",
-            formula="Omega_helical / Omega_quadrupolar = S_helical / S_quadrupolar (exact rationals)",
-            expected=float(_exact_linear_radial_sum("helical", _LAYERS) / _exact_linear_radial_sum("quadrupolar", _LAYERS)),
-            simulated=helical / quad, tolerance=2 * sum_tol * abs(helical_cf / quad_cf),
-            derivation="the quadrupolar error (<= 4 M eps of the helical term) relative to the quadrupolar "
-                       "value is amplified by the ratio; twice that",
+            formula="Omega_helical / Omega_quadrupolar = S_helical / S_quadrupolar (exact "
+            "rationals)",
+            expected=float(
+                _exact_linear_radial_sum("helical", _LAYERS)
+                / _exact_linear_radial_sum("quadrupolar", _LAYERS)
+            ),
+            simulated=helical / quad,
+            tolerance=2 * sum_tol * abs(helical_cf / quad_cf),
+            derivation="the quadrupolar error (<= 4 M eps of the helical term) relative to the "
+            "quadrupolar "
+            "value is amplified by the ratio; twice that",
         ),
     ]

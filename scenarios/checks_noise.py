@@ -25,7 +25,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
 from gyrobench.scenarios.checks import Check
 
 __all__ = ["checks", "FALSE_ALARM"]
@@ -38,10 +37,21 @@ _N = 1 << 18
 _TERMS = {
     "Q": ("quantization", 0.5, 1, 2, "AVAR = 3 Q^2 / tau^2 [rad^2/s^2], Q [rad]"),
     "N": ("angle_random_walk", 0.05, 1, 0, "AVAR = N^2 / tau [rad^2/s^2], N [rad/sqrt(s)]"),
-    "B": ("bias_instability", 0.5, 16, -1,
-          "AVAR = (2 B^2/pi) Int_{f_low}^{fs/2} sin^4(pi f tau)/(pi f tau)^2 df/f "
-          "[rad^2/s^2] (plateau (2 ln 2/pi) B^2), B [rad/s]"),
-    "K": ("rate_random_walk", 2.0, 256, -2, "AVAR = K^2 tau/3 (1 + 1/(2 m^2)) [rad^2/s^2], K [rad/s/sqrt(s)]"),
+    "B": (
+        "bias_instability",
+        0.5,
+        16,
+        -1,
+        "AVAR = (2 B^2/pi) Int_{f_low}^{fs/2} sin^4(pi f tau)/(pi f tau)^2 df/f "
+        "[rad^2/s^2] (plateau (2 ln 2/pi) B^2), B [rad/s]",
+    ),
+    "K": (
+        "rate_random_walk",
+        2.0,
+        256,
+        -2,
+        "AVAR = K^2 tau/3 (1 + 1/(2 m^2)) [rad^2/s^2], K [rad/s/sqrt(s)]",
+    ),
     "R": ("rate_ramp", 1.0, 256, None, "AVAR = R^2 tau^2 / 2 [rad^2/s^2], R [rad/s^2]"),
 }
 
@@ -89,11 +99,12 @@ def _tolerance(term: str, m: int, alpha: int | None) -> tuple[float, str]:
 def checks(rng: np.random.Generator) -> list[Check]:
     """One AVAR check per IEEE-952 term (2^18 samples at 100 Hz each, ~0.1 s per term)."""
     import allantools
-
     from gyrobench.sim.noise import NoiseModel
 
     out = []
-    for (term, (key, value, m, alpha, formula)), child in zip(_TERMS.items(), rng.spawn(len(_TERMS)), strict=True):
+    for (term, (key, value, m, alpha, formula)), child in zip(
+        _TERMS.items(), rng.spawn(len(_TERMS)), strict=True
+    ):
         model = NoiseModel.from_datasheet(**{key: value})
         y = model.generate(_N, _FS, rng=child)
         tau = m / _FS

@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
 from gyrobench.scenarios.checks import Check
 
 __all__ = ["checks", "FALSE_ALARM"]
@@ -42,26 +41,36 @@ def _adler(ratio: float) -> Check:
     omega = ratio * wl
     f_b = _K * math.sqrt(omega**2 - wl**2)
     period = 1.0 / f_b
-    psi = rlg.integrate_adler(lambda t: omega, _PERIODS * period, scale_factor=_K, lock_in_rate=wl,
-                              dt=period / _STEPS, psi0=0.3, sample_every=_STEPS)
+    psi = rlg.integrate_adler(
+        lambda t: omega,
+        _PERIODS * period,
+        scale_factor=_K,
+        lock_in_rate=wl,
+        dt=period / _STEPS,
+        psi0=0.3,
+        sample_every=_STEPS,
+    )
     simulated = float(psi[-1] - psi[0]) / (2 * math.pi * _PERIODS * period)
     x = 2 * math.pi * _K * abs(omega) * period / _STEPS
     n_steps = _PERIODS * _STEPS
     tol = 100.0 * (x**5 / 120.0 / (2 * math.pi) + n_steps * float(np.finfo(float).eps))
     return Check(
         id=f"rlg.adler_beat_{ratio:g}x_lock_in",
-        formula=f"f_b = K sqrt(Omega^2 - Omega_L^2) [Hz]; K = {_K:g} /rad, Omega_L = {_LOCK_IN_DEG_S} deg/s, "
-                f"Omega = {ratio:g} Omega_L",
-        expected=f_b, simulated=simulated, tolerance=tol,
-        derivation=f"RK4, {_STEPS} steps per slip: phase error per cycle (2 pi K Omega dt)^5/120 = {x**5 / 120:.2g} rad "
-                   f"plus float64 accumulation over {n_steps} steps ({n_steps} eps), x 100",
+        formula=f"f_b = K sqrt(Omega^2 - Omega_L^2) [Hz]; K = {_K:g} /rad, Omega_L = "
+        f"{_LOCK_IN_DEG_S} deg/s, "
+        f"Omega = {ratio:g} Omega_L",
+        expected=f_b,
+        simulated=simulated,
+        tolerance=tol,
+        derivation=f"RK4, {_STEPS} steps per slip: phase error per cycle (2 pi K Omega dt)^5/120 "
+        f"= {x**5 / 120:.2g} rad "
+        f"plus float64 accumulation over {n_steps} steps ({n_steps} eps), x 100",
     )
 
 
 def _dither(rng: np.random.Generator) -> Check:
-    from scipy import stats
-
     from gyrobench.sim import rlg, units
+    from scipy import stats
 
     r, n_cyc, jitter = 1000, 10, 0.1
     wl = units.deg_per_s(_LOCK_IN_DEG_S)
@@ -70,8 +79,15 @@ def _dither(rng: np.random.Generator) -> Check:
     psi0 = rng.uniform(0.0, 2 * math.pi, r)
     duration = n_cyc / dither.frequency
     n = int(math.ceil(duration * 16 * 1.3 * _K * dither.peak_rate))  # >= 16 steps per fastest slip
-    psi = rlg.integrate_adler(real.rate, duration, scale_factor=_K, lock_in_rate=wl, dt=duration / n,
-                              psi0=psi0, sample_every=n)
+    psi = rlg.integrate_adler(
+        real.rate,
+        duration,
+        scale_factor=_K,
+        lock_in_rate=wl,
+        dt=duration / n,
+        psi0=psi0,
+        sample_every=n,
+    )
     err = (psi[-1] - psi[0]) / (2 * math.pi * _K)  # angle error [rad]: the true angle change is 0
     omega_d = 2 * math.pi * dither.frequency * dither.amplitude  # peak dither rate [rad/s]
     n_arw2 = wl**2 * (1 + jitter**2) / (2 * math.pi * _K * omega_d)
@@ -79,11 +95,15 @@ def _dither(rng: np.random.Generator) -> Check:
     tol = float(max(1 - lo, hi - 1))
     return Check(
         id="rlg.dither_random_walk",
-        formula="Var(angle error after T) = N^2 T, N^2 = Omega_L^2 (1 + sigma_a^2) / (2 pi K Omega_D) [rad^2]; "
-                f"400 Hz x 20 counts, sigma_a = {jitter}, T = {duration:g} s",
-        expected=n_arw2 * duration, simulated=float(err.var(ddof=1)), tolerance=tol,
-        derivation=f"sample variance of R = {r} realisations: chi2({r - 1})/{r - 1} band at false-alarm "
-                   f"{FALSE_ALARM:g} = [{lo:.3f}, {hi:.3f}], wider side",
+        formula="Var(angle error after T) = N^2 T, N^2 = Omega_L^2 (1 + sigma_a^2) / (2 pi K "
+        "Omega_D) [rad^2]; "
+        f"400 Hz x 20 counts, sigma_a = {jitter}, T = {duration:g} s",
+        expected=n_arw2 * duration,
+        simulated=float(err.var(ddof=1)),
+        tolerance=tol,
+        derivation=f"sample variance of R = {r} realisations: chi2({r - 1})/{r - 1} band at "
+        "false-alarm "
+        f"{FALSE_ALARM:g} = [{lo:.3f}, {hi:.3f}], wider side",
     )
 
 

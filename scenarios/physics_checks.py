@@ -15,7 +15,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-
 from gyrobench.scenarios.base import Headline, Outcome, Table
 from gyrobench.scenarios.checks import CHECK_MODULES, Check, collect
 
@@ -50,16 +49,37 @@ def run_checks(config: Config, seed: int) -> list[Check]:
 
 def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
     """The checks as a table, a headline (passed / all) and ``results["checks"]``."""
-    rows = [[c.id, c.formula, c.expected, c.simulated, c.rel_error, c.tolerance, "yes" if c.passed else "NO",
-             c.derivation] for c in checks]
+    rows = [
+        [
+            c.id,
+            c.formula,
+            c.expected,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            "yes" if c.passed else "NO",
+            c.derivation,
+        ]
+        for c in checks
+    ]
     failed = [c.id for c in checks if not c.passed]
     n_ok = len(checks) - len(failed)
     table = Table(
         "Closed-form checks: the model's value beside the equation's",
-        ["check", "formula", "expected", "simulated", "rel. error", "tolerance", "passed", "tolerance from"],
+        [
+            "check",
+            "formula",
+            "expected",
+            "simulated",
+            "rel. error",
+            "tolerance",
+            "passed",
+            "tolerance from",
+        ],
         rows,
-        note="rel. error = |simulated - expected| / reference (|expected|, or the stated scale for a cancellation); "
-             "statistical tolerances are chi-square bands at the stated false-alarm rate.",
+        note="rel. error = |simulated - expected| / reference (|expected|, or the stated scale "
+        "for a cancellation); "
+        "statistical tolerances are chi-square bands at the stated false-alarm rate.",
     )
     return Outcome(
         scenario=NAME,
@@ -68,10 +88,19 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
         config=config,
         results={"checks": [c.as_dict() for c in checks]},
         tables=[table],
-        headlines=[Headline("closed-form checks passed", f"{n_ok}/{len(checks)}", f"{len(checks)}/{len(checks)}",
-                            not failed, "failed: " + ", ".join(failed) if failed else "every model matches its equations")],
-        conclusion=(f"{n_ok} of {len(checks)} closed-form checks pass."
-                    + (f" FAILED: {', '.join(failed)}." if failed else "")),
+        headlines=[
+            Headline(
+                "closed-form checks passed",
+                f"{n_ok}/{len(checks)}",
+                f"{len(checks)}/{len(checks)}",
+                not failed,
+                "failed: " + ", ".join(failed) if failed else "every model matches its equations",
+            )
+        ],
+        conclusion=(
+            f"{n_ok} of {len(checks)} closed-form checks pass."
+            + (f" FAILED: {', '.join(failed)}." if failed else "")
+        ),
         runtime_s=runtime_s,
     )
 

@@ -40,10 +40,14 @@ def load_report(folder: str | Path) -> list[dict[str, Any]]:
     root = Path(folder)
     docs = [json.loads(p.read_text()) for p in sorted(root.glob("*/results.json"))]
     if not docs:
-        raise FileNotFoundError(f"report folder {str(root)!r} holds no <scenario>/results.json; "
-                                "run 'gyrobench reproduce --all --out DIR' first")
+        raise FileNotFoundError(
+            f"report folder {str(root)!r} holds no <scenario>/results.json; "
+            "run 'gyrobench reproduce --all --out DIR' first"
+        )
     order = {n: i for i, n in enumerate(registry.SCENARIOS)}
-    return sorted(docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", "")))
+    return sorted(
+        docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", ""))
+    )
 
 
 def _fmt(x: float | None) -> str:
@@ -64,7 +68,11 @@ def _paper(key: str) -> str:
 def _row(c: dict[str, Any]) -> str:
     unit = f" {c['unit']}" if c.get("unit") else ""
     paper_value = "-" if c["paper_value"] is None else f"{_fmt(c['paper_value'])}{unit}"
-    ours = "n/a" if c["median"] is None else f"{_fmt(c['median'])}{unit} [{_fmt(c['spread'][0])}, {_fmt(c['spread'][1])}]"
+    ours = (
+        "n/a"
+        if c["median"] is None
+        else f"{_fmt(c['median'])}{unit} [{_fmt(c['spread'][0])}, {_fmt(c['spread'][1])}]"
+    )
     if c["testable"]:
         lo, hi = c["interval95"]
         holds = f"{c['holds']}/{c['testable']} ({100 * lo:.0f}-{100 * hi:.0f} %)"
@@ -75,42 +83,72 @@ def _row(c: dict[str, Any]) -> str:
         kind, verdict = "*calibrated*", f"*{verdict}* (calibrated, not counted)"
     else:
         kind = "emergent"
-        verdict = f"**{verdict}**" if verdict in ("holds for most units", "fails for most units") else verdict
-    cells = [_paper(c["paper"]), c["where"], c["statement"], kind, paper_value, c["comparator"], ours, holds, verdict]
+        verdict = (
+            f"**{verdict}**"
+            if verdict in ("holds for most units", "fails for most units")
+            else verdict
+        )
+    cells = [
+        _paper(c["paper"]),
+        c["where"],
+        c["statement"],
+        kind,
+        paper_value,
+        c["comparator"],
+        ours,
+        holds,
+        verdict,
+    ]
     return "| " + " | ".join(s.replace("|", "\\|") for s in cells) + " |"
 
 
 def format_table(docs: Sequence[dict[str, Any]]) -> str:
-    """The markdown: a line on the units, the claims table, the emergent tally, the physics checks."""
+    """The markdown: a line on the units, the claims table, the tally, the physics checks."""
     papers = [d for d in docs if d.get("claims")]
     lines = []
     if papers:
         n = sorted({d["units"] for d in papers})
         lines += [
-            f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) per paper "
-            "(each unit its own noise and drawn parameters). \"holds on\" is k/n with the 95 % Wilson "
-            "interval of the pass rate; a verdict needs that interval entirely above (holds) or below "
-            "(fails) 50 %. Calibrated claims (an input was set from the paper's number) are shown but "
+            f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) "
+            "per paper "
+            '(each unit its own noise and drawn parameters). "holds on" is k/n with the 95 % '
+            "Wilson "
+            "interval of the pass rate; a verdict needs that interval entirely above (holds) or "
+            "below "
+            "(fails) 50 %. Calibrated claims (an input was set from the paper's number) are "
+            "shown but "
             "not counted as reproduced.",
             "",
-            "| paper | where | claim | kind | paper | criterion | ours: median [IQR] | holds on | verdict |",
+            "| paper | where | claim | kind | paper | criterion | ours: median [IQR] | holds on "
+            "| verdict |",
             "|---|---|---|---|---|---|---|---|---|",
         ]
         claims = [c for d in papers for c in d["claims"]]
         lines += [_row(c) for c in claims]
         emergent = [c for c in claims if c["kind"] == "emergent"]
-        tally = {v: sum(c["verdict"] == v for c in emergent)
-                 for v in ("holds for most units", "fails for most units", "undecided", "not testable")}
-        lines += ["", f"Emergent claims: {tally['holds for most units']} hold for most units, "
-                      f"{tally['fails for most units']} fail for most units, {tally['undecided']} undecided, "
-                      f"{tally['not testable']} not testable; {len(claims) - len(emergent)} calibrated."]
+        tally = {
+            v: sum(c["verdict"] == v for c in emergent)
+            for v in ("holds for most units", "fails for most units", "undecided", "not testable")
+        }
+        lines += [
+            "",
+            f"Emergent claims: {tally['holds for most units']} hold for most units, "
+            f"{tally['fails for most units']} fail for most units, {tally['undecided']} undecided, "
+            f"{tally['not testable']} not testable; {len(claims) - len(emergent)} calibrated.",
+        ]
     checks = [c for d in docs for c in d.get("checks", [])]
     if checks:
         failed = [c["id"] for c in checks if not c["passed"]]
-        lines += ["", f"Closed-form checks of the sensor models (`physics_checks`): {len(checks) - len(failed)} of "
-                      f"{len(checks)} pass" + (f"; FAILED: {', '.join(failed)}." if failed else ".")]
+        lines += [
+            "",
+            "Closed-form checks of the sensor models (`physics_checks`): "
+            f"{len(checks) - len(failed)} of "
+            f"{len(checks)} pass" + (f"; FAILED: {', '.join(failed)}." if failed else "."),
+        ]
     if not lines:
-        raise ValueError("the report holds no paper claims and no physics checks: nothing to tabulate")
+        raise ValueError(
+            "the report holds no paper claims and no physics checks: nothing to tabulate"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -124,9 +162,13 @@ def splice(text: str, table: str) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m gyrobench.scenarios.readme_table", description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(
+        prog="python -m gyrobench.scenarios.readme_table", description=__doc__.split("\n")[0]
+    )
     p.add_argument("report", help="report folder written by 'gyrobench reproduce'")
-    p.add_argument("--splice", metavar="FILE", help="replace the marked section of FILE (e.g. README.md)")
+    p.add_argument(
+        "--splice", metavar="FILE", help="replace the marked section of FILE (e.g. README.md)"
+    )
     args = p.parse_args(argv)
     try:
         table = format_table(load_report(args.report))

@@ -44,7 +44,15 @@ from typing import Any
 
 from gyrobench.scenarios.base import Outcome
 
-__all__ = ["DEFAULT_DB", "UnitRun", "default_db", "is_paper_scenario", "run_id", "run_paper", "run_units"]
+__all__ = [
+    "DEFAULT_DB",
+    "UnitRun",
+    "default_db",
+    "is_paper_scenario",
+    "run_id",
+    "run_paper",
+    "run_units",
+]
 
 #: default resume store (in the current directory) when no db is given
 DEFAULT_DB = "gyrobench-units.sqlite"
@@ -122,15 +130,21 @@ def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
         raise ValueError(f"n_units must be an integer >= 1; got {n_units!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
+    ):
         raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
     if executor is not None and not isinstance(executor, cf.Executor):
-        raise TypeError(f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}")
+        raise TypeError(
+            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
+        )
     if executor is not None and workers is not None:
         raise ValueError("give either executor or workers, not both")
 
 
-def _open_store(db: str | os.PathLike, rid: str, name: str, config: Any, identity: str) -> sqlite3.Connection:
+def _open_store(
+    db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
+) -> sqlite3.Connection:
     from gyrobench.scenarios import bench
 
     conn = bench._connect(db)  # WAL, synchronous=FULL, checks the folder exists
@@ -152,7 +166,10 @@ def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: 
     """Commit one unit; return the stored blob (another process may have stored it first)."""
     conn.execute("BEGIN IMMEDIATE")
     try:
-        conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)", (rid, seed, blob, elapsed, time.time()))
+        conn.execute(
+            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
+            (rid, seed, blob, elapsed, time.time()),
+        )
     except sqlite3.IntegrityError:
         conn.execute("ROLLBACK")
         (blob,) = conn.execute(
@@ -185,7 +202,9 @@ def _execute(
     bench._check_picklable(None, config)
     own = executor is None
     ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers()) if executor is None else executor
+        cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers())
+        if executor is None
+        else executor
     )
     futures: dict[cf.Future, int] = {}
     try:
@@ -214,7 +233,7 @@ def run_units(
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = False,
 ) -> UnitRun:
-    """``module.experiment(config, s)`` for ``s`` in ``range(seed, seed + n_units)``, resuming from ``db``.
+    """``module.experiment(config, s)`` for ``s`` in ``range(seed, seed + n_units)``, resuming.
 
     Parameters
     ----------
@@ -262,8 +281,14 @@ def run_units(
         todo = [s for s in seeds if s not in blobs]
         from tqdm import tqdm
 
-        bar = tqdm(total=n_units, initial=reused, disable=not progress or not todo, desc=f"{name} units",
-                   unit="unit", dynamic_ncols=True)
+        bar = tqdm(
+            total=n_units,
+            initial=reused,
+            disable=not progress or not todo,
+            desc=f"{name} units",
+            unit="unit",
+            dynamic_ncols=True,
+        )
 
         def record(s: int, blob: bytes, el: float) -> None:
             blobs[s], elapsed[s] = _store(conn, rid, s, blob, el), el
@@ -308,12 +333,22 @@ def run_paper(
     from gyrobench.scenarios.claims import evaluate
 
     t0 = time.perf_counter()
-    run = run_units(module, config, seed=seed, n_units=n_units, executor=executor, workers=workers,
-                    db=db, progress=progress)
+    run = run_units(
+        module,
+        config,
+        seed=seed,
+        n_units=n_units,
+        executor=executor,
+        workers=workers,
+        db=db,
+        progress=progress,
+    )
     claims = evaluate(module.CLAIMS, [u["quantities"] for u in run.results])
     outcome = module.report(config, list(run.results), claims)
     if not isinstance(outcome, Outcome):
-        raise TypeError(f"{module.__name__}.report must return an Outcome; got {type(outcome).__name__}")
+        raise TypeError(
+            f"{module.__name__}.report must return an Outcome; got {type(outcome).__name__}"
+        )
     outcome.seed = seed
     outcome.claims = list(claims)
     outcome.deviations = list(getattr(module, "DEVIATIONS", ()))

@@ -7,9 +7,16 @@ import math
 
 import numpy as np
 import pytest
-
 from gyrobench.scenarios import claims as cl
-from gyrobench.scenarios.claims import Claim, above, below, evaluate, in_range, is_true, within_factor
+from gyrobench.scenarios.claims import (
+    Claim,
+    above,
+    below,
+    evaluate,
+    in_range,
+    is_true,
+    within_factor,
+)
 
 
 # ----------------------------------------------------------------------------- Wilson interval
@@ -53,8 +60,14 @@ def test_wilson_interval_ends_are_exact_at_zero_and_all(n):
 
 @pytest.mark.parametrize(
     "k, n, match",
-    [(0, 0, "n must be an integer > 0"), (3, 2, r"k must be an integer in \[0, n=2\]"),
-     (-1, 5, "k must be"), (1.0, 5, "k must be"), (True, 5, "k must be"), (1, True, "n must be")],
+    [
+        (0, 0, "n must be an integer > 0"),
+        (3, 2, r"k must be an integer in \[0, n=2\]"),
+        (-1, 5, "k must be"),
+        (1.0, 5, "k must be"),
+        (True, 5, "k must be"),
+        (1, True, "n must be"),
+    ],
 )
 def test_wilson_interval_refuses_bad_counts(k, n, match):
     with pytest.raises(ValueError, match=match):
@@ -119,8 +132,16 @@ def test_comparators_refuse_bad_bounds(make, match):
 
 
 def _claim(**kw) -> Claim:
-    base = dict(id="x.q", paper="001", where="Table 1", statement="q is about 2.", kind="emergent",
-                quantity="q", comparator=within_factor(2.0), paper_value=2.0)
+    base = dict(
+        id="x.q",
+        paper="001",
+        where="Table 1",
+        statement="q is about 2.",
+        kind="emergent",
+        quantity="q",
+        comparator=within_factor(2.0),
+        paper_value=2.0,
+    )
     base.update(kw)
     return Claim(**base)
 
@@ -138,14 +159,24 @@ def test_claim_kind_and_calibrated_input_go_together():
 # ----------------------------------------------------------------------------- evaluate
 def test_evaluate_counts_testable_units_and_skips_none_nan_missing():
     c = _claim()
-    units = [{"q": 2.0}, {"q": None}, {"q": math.nan}, {}, {"q": 5.0}, {"q": np.float64(1.0)},
-             {"q": math.inf}, {"q": 3.9}]
+    units = [
+        {"q": 2.0},
+        {"q": None},
+        {"q": math.nan},
+        {},
+        {"q": 5.0},
+        {"q": np.float64(1.0)},
+        {"q": math.inf},
+        {"q": 3.9},
+    ]
     (r,) = evaluate([c], units)
     assert (r.units, r.testable, r.holds) == (8, 4, 3)  # 2.0, 1.0, 3.9 hold; 5.0 fails
     assert r.pass_rate == 0.75
     assert r.interval95 == cl.wilson_interval(3, 4)
     assert r.median == pytest.approx(np.median([2.0, 5.0, 1.0, 3.9]))
-    assert r.spread == pytest.approx((np.percentile([2, 5, 1, 3.9], 25), np.percentile([2, 5, 1, 3.9], 75)))
+    assert r.spread == pytest.approx(
+        (np.percentile([2, 5, 1, 3.9], 25), np.percentile([2, 5, 1, 3.9], 75))
+    )
     assert r.verdict == "undecided"
 
 
@@ -155,14 +186,23 @@ def test_evaluate_booleans_and_untestable_claim():
     units = [{"t": True, "u": None}, {"t": 1.0, "u": math.nan}, {"t": np.bool_(False)}, {"t": 1}]
     rt, ru = evaluate([t, u], units)
     assert (rt.testable, rt.holds) == (4, 3)
-    assert (ru.testable, ru.holds, ru.pass_rate, ru.interval95, ru.median, ru.spread) == (0, 0, None, None, None, None)
+    assert (ru.testable, ru.holds, ru.pass_rate, ru.interval95, ru.median, ru.spread) == (
+        0,
+        0,
+        None,
+        None,
+        None,
+        None,
+    )
     assert ru.verdict == "not testable"
     d = ru.as_dict()
     assert d["interval95"] is None and d["pass_rate"] is None and d["verdict"] == "not testable"
 
 
 def test_evaluate_refuses_a_quantity_that_is_not_a_number():
-    with pytest.raises(TypeError, match="claim 'x.q': a unit's quantity must be a number, None or NaN; got str"):
+    with pytest.raises(
+        TypeError, match="claim 'x.q': a unit's quantity must be a number, None or NaN; got str"
+    ):
         evaluate([_claim()], [{"q": 1.0}, {"q": "1.0"}])
 
 
@@ -170,8 +210,23 @@ def test_as_dict_has_the_results_json_keys():
     c = _claim(kind="calibrated", calibrated_input="Config.x from Table 1", unit="%")
     (r,) = evaluate([c], [{"q": v} for v in (1.5, 2.5, 3.0, 9.0)])
     d = r.as_dict()
-    need = {"id", "paper", "where", "statement", "kind", "calibrated_input", "paper_value", "comparator",
-            "units", "testable", "holds", "pass_rate", "interval95", "median", "spread"}
+    need = {
+        "id",
+        "paper",
+        "where",
+        "statement",
+        "kind",
+        "calibrated_input",
+        "paper_value",
+        "comparator",
+        "units",
+        "testable",
+        "holds",
+        "pass_rate",
+        "interval95",
+        "median",
+        "spread",
+    }
     assert need <= set(d)
     assert d["comparator"] == "within 2x of 2 % (1 to 4)"
     assert (d["units"], d["testable"], d["holds"]) == (4, 4, 3)

@@ -7,8 +7,8 @@ import json
 from collections import Counter
 
 import pytest
-
 from gyrobench.scenarios import registry
+
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 
@@ -19,12 +19,28 @@ def toy_registered(monkeypatch):
 
 def _claims(path):
     doc = json.loads(path.read_text())
-    return doc, [(c["id"], c["testable"], c["holds"], c["median"], c["interval95"]) for c in doc["claims"]]
+    return doc, [
+        (c["id"], c["testable"], c["holds"], c["median"], c["interval95"]) for c in doc["claims"]
+    ]
 
 
 def test_reproduce_paper_scenario_over_units(toy_registered, tmp_path, capsys):
-    code, out, err = run(["reproduce", "toy_paper", "--out", tmp_path / "a", "--units", "8", "--seed", "5",
-                          "--workers", "0", "-q"], capsys)
+    code, out, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "a",
+            "--units",
+            "8",
+            "--seed",
+            "5",
+            "--workers",
+            "0",
+            "-q",
+        ],
+        capsys,
+    )
     assert code == 0, err
     doc, claims = _claims(tmp_path / "a" / "toy_paper" / "results.json")
     assert doc["units"] == 8 and doc["seed"] == 5 and doc["unit_run"]["seeds"] == list(range(5, 13))
@@ -35,8 +51,22 @@ def test_reproduce_paper_scenario_over_units(toy_registered, tmp_path, capsys):
     md = (tmp_path / "a" / "report.md").read_text()
     assert "CALIBRATED (not counted)" in md and "Deviations from the paper's protocol" in md
     # two workers: the same claims, bit for bit
-    code, _, err = run(["reproduce", "toy_paper", "--out", tmp_path / "b", "--units", "8", "--seed", "5",
-                        "--workers", "2", "-q"], capsys)
+    code, _, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "b",
+            "--units",
+            "8",
+            "--seed",
+            "5",
+            "--workers",
+            "2",
+            "-q",
+        ],
+        capsys,
+    )
     assert code == 0, err
     assert _claims(tmp_path / "b" / "toy_paper" / "results.json")[1] == claims
 
@@ -49,13 +79,17 @@ def test_reproduce_resumes_from_the_db(toy_registered, tmp_path, capsys, monkeyp
     assert run([*argv, "--out", tmp_path / "a"], capsys)[0] == 0
     assert Counter(map(int, log.read_text().split())) == Counter(range(4))
     assert run([*argv[:3], "6", *argv[4:], "--out", tmp_path / "b"], capsys)[0] == 0
-    assert Counter(map(int, log.read_text().split())) == Counter(range(6))  # only units 4 and 5 added
+    assert Counter(map(int, log.read_text().split())) == Counter(
+        range(6)
+    )  # only units 4 and 5 added
     assert not (tmp_path / "a" / "units.sqlite").exists()
 
 
 def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys):
     cfg_free = ["--units", "2", "--workers", "0", "-q"]
-    code, out, err = run(["reproduce", "toy_paper", "static_noise", "--out", tmp_path, *cfg_free], capsys)
+    code, out, err = run(
+        ["reproduce", "toy_paper", "static_noise", "--out", tmp_path, *cfg_free], capsys
+    )
     # static_noise at its default length takes a few seconds; it keeps its own run()
     assert code == 0, err
     assert "testable headline conclusions hold" in out and "2 unit(s)" in out
@@ -67,7 +101,10 @@ def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys)
     [
         (["--units", "0"], "--units must be an integer > 0; got '0'"),
         (["--workers", "-1"], "--workers must be an integer >= 0; got -1"),
-        (["--workers", "1", "--scheduler", "tcp://127.0.0.1:1"], "give either --workers or --scheduler, not both"),
+        (
+            ["--workers", "1", "--scheduler", "tcp://127.0.0.1:1"],
+            "give either --workers or --scheduler, not both",
+        ),
     ],
 )
 def test_reproduce_bad_options(toy_registered, tmp_path, capsys, argv, match):
@@ -76,6 +113,20 @@ def test_reproduce_bad_options(toy_registered, tmp_path, capsys, argv, match):
 
 
 def test_reproduce_db_in_missing_folder(toy_registered, tmp_path, capsys):
-    code, _, err = run(["reproduce", "toy_paper", "--out", tmp_path / "o", "--units", "1", "--workers", "0",
-                        "--db", tmp_path / "missing" / "u.sqlite", "-q"], capsys)
+    code, _, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "o",
+            "--units",
+            "1",
+            "--workers",
+            "0",
+            "--db",
+            tmp_path / "missing" / "u.sqlite",
+            "-q",
+        ],
+        capsys,
+    )
     assert_one_line_error(code, err, "does not exist")

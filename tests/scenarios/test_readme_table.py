@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pytest
-
 from gyrobench.scenarios import readme_table, registry
 from gyrobench.scenarios.cli import main
 
@@ -12,7 +11,10 @@ from gyrobench.scenarios.cli import main
 def report(tmp_path, monkeypatch):
     monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
     out = tmp_path / "rep"
-    assert main(["reproduce", "toy_paper", "--units", "6", "--workers", "0", "--out", str(out), "-q"]) == 0
+    assert (
+        main(["reproduce", "toy_paper", "--units", "6", "--workers", "0", "--out", str(out), "-q"])
+        == 0
+    )
     return out
 
 
@@ -33,10 +35,15 @@ def test_table_rows_are_the_claims(report, capsys):
 
 def test_splice_replaces_only_the_marked_section(report, tmp_path):
     readme = tmp_path / "README.md"
-    readme.write_text(f"# x\n\n## Reproduced results\n\nkept\n{readme_table.BEGIN}\nold\n{readme_table.END}\nafter\n")
+    readme.write_text(
+        "# x\n\n## Reproduced "
+        f"results\n\nkept\n{readme_table.BEGIN}\nold\n{readme_table.END}\nafter\n"
+    )
     assert readme_table.main([str(report), "--splice", str(readme)]) == 0
     text = readme.read_text()
-    assert text.startswith("# x\n\n## Reproduced results\n\nkept\n") and text.endswith(f"{readme_table.END}\nafter\n")
+    assert text.startswith("# x\n\n## Reproduced results\n\nkept\n") and text.endswith(
+        f"{readme_table.END}\nafter\n"
+    )
     assert "\nold\n" not in text and "| toy | Table 1 | The gain is about 1. |" in text
 
 

@@ -14,12 +14,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from gyrobench.scenarios import units
 from gyrobench.scenarios.claims import evaluate
+
 from tests.scenarios import toy_paper as toy
 from tests.scenarios import toy_scenario
-
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -47,13 +46,17 @@ def test_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, m
     proc = subprocess.Popen(
         [sys.executable, "-c", _KILL_SCRIPT.format(root=str(ROOT), n=n, db=str(db))],
         env=dict(os.environ, GYROBENCH_TOY_CALL_LOG=str(log1)),
-        start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
     )
     try:
         deadline = time.monotonic() + 120
         while _rows(db) < 6:
             if proc.poll() is not None:
-                pytest.fail(f"run exited early ({proc.returncode}): " + proc.stderr.read().decode()[-2000:])
+                pytest.fail(
+                    f"run exited early ({proc.returncode}): " + proc.stderr.read().decode()[-2000:]
+                )
             if time.monotonic() > deadline:
                 pytest.fail("the run did not commit 6 units within 120 s")
             time.sleep(0.02)
@@ -73,7 +76,8 @@ def test_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, m
     assert (run.computed, run.reused) == (n - len(committed), len(committed))
     for s in (min(committed), max(set(range(n)) - committed)):  # nothing lost or altered
         assert pickle.dumps(run.results[s]["quantities"]) == pickle.dumps(
-            toy.experiment(toy.Config(sleep_s=0.05), s)["quantities"])
+            toy.experiment(toy.Config(sleep_s=0.05), s)["quantities"]
+        )
 
 
 def _calls(path) -> Counter:
@@ -125,7 +129,9 @@ def test_another_config_is_another_run(tmp_path, monkeypatch):
 def test_bit_identical_for_any_worker_count(tmp_path):
     out = {}
     for w in (0, 1, 2):
-        o = units.run_paper(toy, toy.Config(), seed=10, n_units=6, workers=w, db=tmp_path / f"w{w}.db")
+        o = units.run_paper(
+            toy, toy.Config(), seed=10, n_units=6, workers=w, db=tmp_path / f"w{w}.db"
+        )
         timing = o.results.pop("unit_run")  # per-unit runtimes differ from run to run
         assert timing["seeds"] == list(range(10, 16)) and timing["computed"] == 6
         out[w] = pickle.dumps(([c.as_dict() for c in o.claims], o.results, o.tables))

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-
 from gyrobench.scenarios.base import Outcome, Table
 from gyrobench.scenarios.claims import Claim, ClaimResult, Deviation, below, is_true, within_factor
 
@@ -32,7 +31,9 @@ class Config:
     n_samples: int = 200
     gain_sigma: float = 0.5
     noise: float = 0.1
-    sleep_s: float = 0.0  # wall time added per unit (the SIGKILL test needs units that take a while)
+    sleep_s: float = (
+        0.0  # wall time added per unit (the SIGKILL test needs units that take a while)
+    )
 
 
 def simulate(config: Config, seed: int) -> list:
@@ -70,27 +71,68 @@ def experiment(config: Config, seed: int) -> dict[str, Any]:
 
 
 CLAIMS = (
-    Claim(id="toy.gain", paper=PAPER, where="Table 1", statement="The gain is about 1.",
-          kind="emergent", quantity="gain", comparator=within_factor(1.0, 2.0), paper_value=1.0),
-    Claim(id="toy.residual", paper=PAPER, where="Sec. 3", statement="The residual is below 0.05.",
-          kind="calibrated", calibrated_input="Config.noise set from the paper's residual",
-          quantity="residual", comparator=below(0.05), paper_value=0.05),
-    Claim(id="toy.sane", paper=PAPER, where="Sec. 4", statement="The fit is finite in every run.",
-          kind="emergent", quantity="sane", comparator=is_true()),
-    Claim(id="toy.even", paper=PAPER, where="Fig. 2", statement="Even runs give a gain above 1.",
-          kind="emergent", quantity="even_only", comparator=within_factor(1.5, 1.5)),
+    Claim(
+        id="toy.gain",
+        paper=PAPER,
+        where="Table 1",
+        statement="The gain is about 1.",
+        kind="emergent",
+        quantity="gain",
+        comparator=within_factor(1.0, 2.0),
+        paper_value=1.0,
+    ),
+    Claim(
+        id="toy.residual",
+        paper=PAPER,
+        where="Sec. 3",
+        statement="The residual is below 0.05.",
+        kind="calibrated",
+        calibrated_input="Config.noise set from the paper's residual",
+        quantity="residual",
+        comparator=below(0.05),
+        paper_value=0.05,
+    ),
+    Claim(
+        id="toy.sane",
+        paper=PAPER,
+        where="Sec. 4",
+        statement="The fit is finite in every run.",
+        kind="emergent",
+        quantity="sane",
+        comparator=is_true(),
+    ),
+    Claim(
+        id="toy.even",
+        paper=PAPER,
+        where="Fig. 2",
+        statement="Even runs give a gain above 1.",
+        kind="emergent",
+        quantity="even_only",
+        comparator=within_factor(1.5, 1.5),
+    ),
 )
 
 DEVIATIONS = (
-    Deviation(paper=PAPER, what="record length", paper_says="1000 samples", we_do="200 samples",
-              reason="speed", effect="none measured on toy.gain"),
+    Deviation(
+        paper=PAPER,
+        what="record length",
+        paper_says="1000 samples",
+        we_do="200 samples",
+        reason="speed",
+        effect="none measured on toy.gain",
+    ),
 )
 
 
-def report(config: Config, units: Sequence[dict[str, Any]], claims: Sequence[ClaimResult]) -> Outcome:
+def report(
+    config: Config, units: Sequence[dict[str, Any]], claims: Sequence[ClaimResult]
+) -> Outcome:
     rows = [[i, u["quantities"]["gain"], u["quantities"]["residual"]] for i, u in enumerate(units)]
     return Outcome(
-        scenario=NAME, title=TITLE, seed=0, config=config,
+        scenario=NAME,
+        title=TITLE,
+        seed=0,
+        config=config,
         results={"gains": [u["quantities"]["gain"] for u in units]},
         tables=[Table("Gains per unit", ["unit", "gain", "residual"], rows)],
         conclusion="toy",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import pickle
 import signal
@@ -172,3 +173,30 @@ def test_refuses_bad_arguments(tmp_path):
 def test_is_paper_scenario():
     assert units.is_paper_scenario(toy)
     assert not units.is_paper_scenario(toy_scenario)
+
+
+@pytest.mark.slow
+def test_dask_localcluster_equals_local(tmp_path, monkeypatch):
+    """Units on a dask.distributed cluster (the --scheduler path) give the local run's results."""
+    pytest.importorskip("distributed")
+    from distributed import Client, LocalCluster
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.cli import main
+
+    ref = units.run_paper(toy, toy.Config(), n_units=6, workers=0, db=tmp_path / "ref.db")
+    monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
+    with (
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        o = units.run_paper(
+            toy, toy.Config(), n_units=6, executor=client.get_executor(), db=tmp_path / "d.db"
+        )
+        argv = ["reproduce", "toy_paper", "--units", "6", "--out", str(tmp_path / "rep"), "-q"]
+        assert main([*argv, "--scheduler", cluster.scheduler_address]) == 0
+    assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in ref.claims]
+    doc = json.loads((tmp_path / "rep" / "toy_paper" / "results.json").read_text())
+    assert [c["holds"] for c in doc["claims"]] == [c.holds for c in ref.claims]
+    assert [c["median"] for c in doc["claims"]] == [c.median for c in ref.claims]

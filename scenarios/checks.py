@@ -23,8 +23,14 @@ import numpy as np
 
 __all__ = ["CHECK_MODULES", "Check", "collect"]
 
-#: modules defining ``checks(rng) -> list[Check]``, in report order
-CHECK_MODULES: tuple[str, ...] = ()
+#: modules defining ``checks(rng) -> list[Check]``, in report order (append new ones at the
+#: end: :func:`collect` gives each module its own child stream in this order, so an added
+#: module changes no earlier module's numbers)
+CHECK_MODULES: tuple[str, ...] = (
+    "gyrobench.scenarios.checks_noise",
+    "gyrobench.scenarios.checks_fog",
+    "gyrobench.scenarios.checks_rlg",
+)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

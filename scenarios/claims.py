@@ -243,15 +243,18 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     (Wilson, J. Am. Stat. Assoc. 22, 209 (1927); Brown, Cai & DasGupta, Stat. Sci. 16,
     101 (2001), eq. 4).
     """
-    if not (isinstance(n, int | np.integer) and n > 0):
+    if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n > 0):
         raise ValueError(f"n must be an integer > 0; got {n!r}")
-    if not (isinstance(k, int | np.integer) and 0 <= k <= n):
+    if isinstance(k, bool) or not (isinstance(k, int | np.integer) and 0 <= k <= n):
         raise ValueError(f"k must be an integer in [0, n={n}]; got {k!r}")
     p = k / n
     denom = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / denom
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
-    return max(0.0, centre - half), min(1.0, centre + half)
+    # the ends are exactly 0 at k = 0 and exactly 1 at k = n (rounding gives +-1 ulp otherwise)
+    lo = 0.0 if k == 0 else max(0.0, centre - half)
+    hi = 1.0 if k == n else min(1.0, centre + half)
+    return lo, hi
 
 
 def verdict(holds: int, testable: int) -> str:
@@ -266,26 +269,34 @@ def verdict(holds: int, testable: int) -> str:
     return "undecided"
 
 
-def _finite(v: Any) -> float | None:
+def _finite(v: Any, claim_id: str) -> float | None:
+    """The quantity as a finite float, None when the unit cannot test the claim (None, NaN, inf).
+
+    Anything but a number (a string, a list) is a bug in the scenario's ``experiment``,
+    not an untestable unit: TypeError.
+    """
     if v is None:
         return None
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        return None
+    if not isinstance(v, int | float | np.integer | np.floating | np.bool_):
+        raise TypeError(
+            f"claim {claim_id!r}: a unit's quantity must be a number, None or NaN; "
+            f"got {type(v).__name__} {v!r}"
+        )
+    f = float(v)
     return f if math.isfinite(f) else None
 
 
 def evaluate(claims: Sequence[Claim], units: Sequence[Mapping[str, Any]]) -> list[ClaimResult]:
     """Judge every claim over the units' ``quantities`` mappings.
 
-    A unit whose quantity is missing, None or non-finite cannot test that claim. The
+    A unit whose quantity is missing, None or non-finite cannot test that claim; a
+    quantity that is not a number raises TypeError (a bug in the experiment). The
     spread is the interquartile range (25th and 75th percentiles) of the testable units'
     quantities.
     """
     out = []
     for c in claims:
-        values = [v for u in units if (v := _finite(u.get(c.quantity))) is not None]
+        values = [v for u in units if (v := _finite(u.get(c.quantity), c.id)) is not None]
         k = sum(c.comparator.holds(v) for v in values)
         arr = np.asarray(values, float)
         out.append(

@@ -6,7 +6,7 @@
     gyrobench simulate noise --N 0.01 --B 0.05 --fs 100 --duration 2h --seed 1 -o rec.h5
     gyrobench simulate SCENARIO --seed 1 --out DIR [--config FILE.toml]
     gyrobench allan FILE [--column NAME] [--fs HZ] [--units deg/s] [--json] [--plot FILE.png]
-    gyrobench reproduce --all --out DIR [--seed S]
+    gyrobench reproduce --all --out DIR [--seed S] [--units N] [--workers N | --scheduler ADDR] [--db FILE]
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
 
@@ -464,10 +464,13 @@ def _cmd_allan(args) -> int:
 
 # ----------------------------------------------------------------------------- reproduce
 def _cmd_reproduce(args) -> int:
+    """Run the scenarios; a paper scenario (``experiment`` + ``CLAIMS``) over ``--units`` units
+    through the shared runner (:mod:`gyrobench.scenarios.units`), any other by its ``run``."""
     from tqdm import tqdm
 
-    from gyrobench.scenarios import registry
-    from gyrobench.scenarios.report import write_report
+    from gyrobench.scenarios import registry, units
+    from gyrobench.scenarios.bench_cli import _executor
+    from gyrobench.scenarios.report import claim_counts, write_report
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -476,21 +479,49 @@ def _cmd_reproduce(args) -> int:
         raise _BadInput("give either --all or scenario names, not both")
     if args.config and len(names) != 1:
         raise _BadInput("--config applies to one scenario; name exactly one")
+    if args.workers is not None and args.workers < 0:
+        raise _BadInput(f"--workers must be an integer >= 0; got {args.workers}")
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    db = Path(args.db) if args.db else units.default_db(out)
+    executor, close = _executor(args)
+    workers = args.workers
+    if executor is None and workers != 0 and any(units.is_paper_scenario(m) for m in mods):
+        import concurrent.futures as cf
+
+        from gyrobench.scenarios.bench import _default_workers
+
+        # one local pool for every paper scenario (workers start and import once, not per scenario)
+        pool = cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
+        executor, close, workers = pool, pool.shutdown, None
     outcomes = []
     t0 = time.perf_counter()
-    bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
-    with _closing(bar):
-        for mod, cfg in bar:
-            bar.set_postfix_str(mod.NAME)
-            outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
-    index = write_report(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
-    held = sum(1 for o in outcomes for h in o.headlines if h.holds is True)
-    total = sum(1 for o in outcomes for h in o.headlines if h.holds is not None)
-    print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s; {held}/{total} testable headline conclusions hold")
+    try:
+        bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
+        with _closing(bar):
+            for mod, cfg in bar:
+                bar.set_postfix_str(mod.NAME)
+                if units.is_paper_scenario(mod):
+                    outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=args.units, executor=executor,
+                                                    workers=workers, db=db, progress=not args.quiet))
+                else:
+                    outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
+    finally:
+        if close is not None:
+            close()
+    index = write_report(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
+    print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")
     for o in outcomes:
-        print(f"  {o.scenario:<20} {o.runtime_s:7.1f} s   {Path(args.out) / o.scenario / 'results.json'}")
+        if o.claims:
+            n = claim_counts(o.claims)
+            what = (f"{o.units} unit(s); emergent claims: {n['holds']} hold, {n['fails']} FAIL, "
+                    f"{n['undecided']} undecided, {n['not testable']} not testable; {n['calibrated']} calibrated")
+        else:
+            held = sum(1 for h in o.headlines if h.holds is True)
+            what = f"{held}/{sum(1 for h in o.headlines if h.holds is not None)} testable headline conclusions hold"
+        print(f"  {o.scenario:<20} {o.runtime_s:7.1f} s   {what}")
     print(f"report: {index}")
     return 0
 
@@ -550,7 +581,14 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("scenarios", nargs="*", help="scenario names (see 'gyrobench list')")
     s.add_argument("--all", action="store_true", help="every registered scenario")
     s.add_argument("--out", default="gyrobench-report", help="output folder (default gyrobench-report)")
-    s.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
+    s.add_argument("--seed", type=_seed, default=0, help="seed of the first unit (default 0)")
+    s.add_argument("--units", type=_positive_int("--units"), default=20,
+                   help="paper scenarios: units simulated, seeds SEED..SEED+N-1 (default 20; 1 = quick look)")
+    s.add_argument("--workers", type=int, default=None,
+                   help="local worker processes for the units (default: usable CPUs; 0 = in this process)")
+    s.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed scheduler address; units run there")
+    s.add_argument("--db", help="SQLite file keeping every finished unit, so a rerun resumes "
+                                "(default OUT/units.sqlite)")
     s.add_argument("--config", help="TOML file overriding one scenario's parameters")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.set_defaults(func=_cmd_reproduce)

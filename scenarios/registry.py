@@ -28,6 +28,7 @@ SCENARIOS: dict[str, str] = {
     "ifog_thermal": "gyrobench.scenarios.ifog_thermal",
     "rlg_thermal": "gyrobench.scenarios.rlg_thermal",
     "fog_vibration": "gyrobench.scenarios.fog_vibration",
+    "physics_checks": "gyrobench.scenarios.physics_checks",
 }
 
 

@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
 from gyrobench.sim.recording import atomic_path, package_version  # noqa: E402
 
-__all__ = ["fmt", "write_report", "outcome_json"]
+__all__ = ["claim_counts", "fmt", "write_report", "outcome_json"]
 
 
 def fmt(x: Any) -> str:
@@ -74,8 +74,13 @@ def _jsonable(o: Any) -> Any:
 
 
 def outcome_json(outcome: Outcome) -> dict[str, Any]:
-    """The results.json document of one outcome: results plus seed, version, config, runtime."""
-    doc = {
+    """The results.json document of one outcome: results plus seed, version, config, runtime.
+
+    A paper scenario's document also holds ``units`` (how many were simulated),
+    ``claims`` (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict` each) and
+    ``deviations`` (the paper's protocol departures).
+    """
+    doc: dict[str, Any] = {
         "scenario": outcome.scenario,
         "title": outcome.title,
         "seed": outcome.seed,
@@ -84,6 +89,10 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
         "config": outcome.config,
         "headlines": [dataclasses.asdict(h) for h in outcome.headlines],
     }
+    if outcome.claims or outcome.deviations:
+        doc["units"] = outcome.units
+        doc["claims"] = [c.as_dict() for c in outcome.claims]
+        doc["deviations"] = [dataclasses.asdict(d) for d in outcome.deviations]
     doc.update(outcome.results)
     return _jsonable(doc)
 
@@ -128,6 +137,91 @@ def _summary_rows(outcomes: Sequence[Outcome]) -> list[list[str]]:
 
 _SUMMARY_COLUMNS = ["scenario", "quantity", "reproduced", "paper / target", "conclusion holds", "note"]
 
+#: the claims table of a paper, in the summary and in the scenario's section
+_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "kind", "paper", "criterion",
+                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "verdict"]
+
+
+def _paper_heading(outcome: Outcome) -> str:
+    """The paper's citation (:func:`gyrobench.scenarios.papers.citation`) for a paper scenario."""
+    from gyrobench.scenarios import papers
+
+    keys = sorted({c.claim.paper for c in outcome.claims} | {d.paper for d in outcome.deviations})
+    out = []
+    for k in keys:
+        try:
+            out.append(papers.citation(k))
+        except KeyError:
+            out.append(f"paper {k} (no entry in scenarios.papers)")
+    return "; ".join(out)
+
+
+def _num(x: float | None, unit: str = "") -> str:
+    if x is None:
+        return "n/a"
+    return f"{fmt(float(x))}{' ' + unit if unit else ''}"
+
+
+def _claim_row(r: Any) -> list[str]:
+    """One claims-table row from a :class:`~gyrobench.scenarios.claims.ClaimResult`."""
+    c = r.claim
+    kind = "CALIBRATED (not counted)" if c.kind == "calibrated" else "emergent"
+    ours = "n/a" if r.median is None else f"{_num(r.median, c.unit)} [{fmt(r.spread[0])}, {fmt(r.spread[1])}]"
+    if r.testable:
+        lo, hi = r.interval95
+        rate = f"{100 * r.pass_rate:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] %"
+    else:
+        rate = "n/a"
+    verdict = r.verdict.upper() if r.verdict != "undecided" else r.verdict
+    return [c.id, c.where, c.statement, kind, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
+            f"{r.holds} / {r.testable}", rate, verdict]
+
+
+def claim_counts(claims: Sequence[Any]) -> dict[str, int]:
+    """How many emergent claims hold / fail / are undecided / untestable, and how many are calibrated."""
+    out = {"holds": 0, "fails": 0, "undecided": 0, "not testable": 0, "calibrated": 0}
+    for r in claims:
+        if r.claim.kind == "calibrated":
+            out["calibrated"] += 1
+        else:
+            out[{"holds for most units": "holds", "fails for most units": "fails"}.get(r.verdict, r.verdict)] += 1
+    return out
+
+
+def _claims_table(o: Outcome) -> Table:
+    n = claim_counts(o.claims)
+    if o.units > 1:
+        over = (f"Judged over {o.units} units (seeds {o.seed} to {o.seed + o.units - 1}; each unit has its own "
+                "noise and drawn parameters).")
+    else:
+        over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
+    note = (
+        f"{over} Emergent claims: "
+        f"{n['holds']} hold for most units, {n['fails']} FAIL for most units, {n['undecided']} undecided, "
+        f"{n['not testable']} not testable. {n['calibrated']} calibrated claim(s) (an input was set from the "
+        "paper's number or chosen so the claim holds) are shown but not counted as reproduced. A verdict needs "
+        "the 95 % Wilson interval of the pass rate entirely above (holds) or below (fails) 50 %."
+    )
+    return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
+
+
+def _deviations_table(o: Outcome) -> Table:
+    rows = [[d.what, d.paper_says, d.we_do, d.reason, d.effect] for d in o.deviations]
+    return Table(
+        "Deviations from the paper's protocol",
+        ["what", "the paper", "this simulation", "why", "measured effect on the claims"],
+        rows,
+        note="" if rows else "No departure from a protocol the paper states.",
+    )
+
+
+def _mark_verdicts(text: str) -> str:
+    """Colour the verdict cells of an HTML claims table (failures as prominent as successes)."""
+    for word, cls in (("HOLDS FOR MOST UNITS", "yes"), ("FAILS FOR MOST UNITS", "no"),
+                      ("CALIBRATED (not counted)", "cal")):
+        text = text.replace(f"<td>{word}</td>", f"<td class='{cls}'>{word}</td>")
+    return text
+
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.9em}
@@ -139,6 +233,9 @@ figure{margin:1em 0}
 figure img{max-width:100%;border:1px solid #ddd}
 figcaption{font-size:0.85em;color:#444}
 .no{color:#b00;font-weight:bold}
+.yes{color:#070;font-weight:bold}
+.cal{color:#a60;font-weight:bold;font-style:italic}
+td:nth-child(3){text-align:left}
 .meta{font-size:0.8em;color:#666}
 pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 """
@@ -174,11 +271,19 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         + "</p>",
     ]
 
-    rows = _summary_rows(outcomes)
-    summary = Table("Summary: reproduced values beside the papers'", _SUMMARY_COLUMNS, rows)
-    md += ["## Summary", "", _md_table(summary)]
+    md.append("## Summary")
     h.append("<h2>Summary</h2>")
-    h.append(_html_table(summary).replace("<td>NO</td>", "<td class='no'>NO</td>"))
+    rows = _summary_rows(outcomes)
+    if rows:
+        summary = Table("Headline numbers beside their targets", _SUMMARY_COLUMNS, rows)
+        md += ["", _md_table(summary)]
+        h.append(_html_table(summary).replace("<td>NO</td>", "<td class='no'>NO</td>"))
+    for o in outcomes:
+        if o.claims or o.deviations:
+            md += [f"### {o.title} (`{o.scenario}`)", "", _md_table(_claims_table(o)), _md_table(_deviations_table(o))]
+            h.append(f"<h3>{html.escape(o.title)} (<a href='#{html.escape(o.scenario)}'>{html.escape(o.scenario)}</a>)</h3>")
+            h.append(_mark_verdicts(_html_table(_claims_table(o))))
+            h.append(_html_table(_deviations_table(o)))
 
     for o in outcomes:
         sdir = out / o.scenario
@@ -186,7 +291,10 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         doc = outcome_json(o)
         _write_text(sdir / "results.json", json.dumps(doc, indent=2, sort_keys=False) + "\n")
         cfg = json.dumps(doc["config"], indent=1)
-        meta = f"seed {o.seed}; runtime {fmt(o.runtime_s)} s"
+        seeds = f"seeds {o.seed} to {o.seed + o.units - 1} ({o.units} units)" if o.units > 1 else f"seed {o.seed}"
+        meta = f"{seeds}; runtime {fmt(o.runtime_s)} s"
+        if o.claims or o.deviations:
+            meta = f"{_paper_heading(o)}. {meta}"
         smd = [f"## {o.title} (`{o.scenario}`)", "", meta, ""]
         if o.conclusion:
             smd += [o.conclusion, ""]
@@ -194,9 +302,10 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         h.append(f"<p class='meta'>{html.escape(meta)}</p>")
         if o.conclusion:
             h.append(f"<p>{html.escape(o.conclusion)}</p>")
-        for t in o.tables:
+        own = [_claims_table(o), _deviations_table(o)] if (o.claims or o.deviations) else []
+        for t in [*own, *o.tables]:
             smd.append(_md_table(t))
-            h.append(_html_table(t))
+            h.append(_mark_verdicts(_html_table(t)) if t in own else _html_table(t))
         for f in o.figures:
             png = _png_bytes(f.figure)
             with atomic_path(sdir / f"{f.name}.png") as tmp:

@@ -11,7 +11,8 @@ import pytest
 from matplotlib.figure import Figure
 
 from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
-from gyrobench.scenarios.report import fmt, write_report
+from gyrobench.scenarios.claims import Claim, Deviation, above, evaluate, is_true, within_factor
+from gyrobench.scenarios.report import claim_counts, fmt, write_report
 
 
 @dataclass(frozen=True)
@@ -130,8 +131,70 @@ def test_real_report_renders_in_a_browser(tmp_path):
     assert m, "load check did not run: " + dom.stdout[:500]
     # every <img> decoded (complete and naturalWidth > 0), and the browser saw all of them
     assert int(m.group(1)) == int(m.group(2)) == n_img
-    summary = re.search(r"<h2>Summary</h2>\s*<h3>[^<]*</h3>\s*<table>(.*?)</table>", dom.stdout, re.S)
-    assert summary, "summary table missing: " + dom.stdout[:1000]
-    rows = re.findall(r"<tr>(.*?)</tr>", summary.group(1), re.S)
-    scen = {re.match(r"<td>([^<]*)</td>", r).group(1) for r in rows[1:]}
-    assert scen == {"mems_scale_factor", "rlg_thermal"}  # a headline row for each scenario
+    summary = re.search(r"<h2>Summary</h2>(.*?)<h2", dom.stdout, re.S)
+    assert summary, "summary missing: " + dom.stdout[:1000]
+    for name in ("mems_scale_factor", "rlg_thermal"):  # each scenario's claims (or headlines) are there
+        assert f">{name}<" in summary.group(1)
+
+
+def _paper_outcome():
+    claims = (
+        Claim(id="p.a", paper="001", where="Table 2", statement="K_n is about 15.71 %.", kind="calibrated",
+              calibrated_input="knee width solved for 15.71 %", quantity="a", comparator=within_factor(15.71),
+              paper_value=15.71, unit="%"),
+        Claim(id="p.b", paper="001", where="Sec. 4", statement="The residual drops by more than 10x.",
+              kind="emergent", quantity="b", comparator=above(10.0), paper_value=10.0, unit="x"),
+        Claim(id="p.c", paper="001", where="Sec. 5", statement="The fit converges in every run.",
+              kind="emergent", quantity="c", comparator=is_true()),
+    )
+    units = [{"a": 15.0 + i, "b": 2.0 + i % 3, "c": 1.0} for i in range(20)]
+    o = _outcome("paper")
+    o.headlines = []
+    o.claims = evaluate(claims, units)
+    o.deviations = [Deviation(paper="001", what="target", paper_says="output - mean", we_do="output - truth",
+                              reason="none", effect="ratio 426x -> 18x on unit 0")]
+    o.units = 20
+    return o
+
+
+def test_paper_claims_in_summary_and_results_json(tmp_path, monkeypatch):
+    from gyrobench.scenarios import papers
+
+    monkeypatch.setattr(papers, "PAPERS", {})  # a paper without an entry is named by its key
+    o = _paper_outcome()
+    assert claim_counts(o.claims) == {"holds": 1, "fails": 1, "undecided": 0, "not testable": 0, "calibrated": 1}
+    index = write_report([o, _outcome("beta")], tmp_path)
+    doc = json.loads((tmp_path / "paper" / "results.json").read_text())
+    assert doc["units"] == 20 and [c["id"] for c in doc["claims"]] == ["p.a", "p.b", "p.c"]
+    need = {"id", "paper", "where", "statement", "kind", "calibrated_input", "paper_value", "comparator",
+            "units", "testable", "holds", "pass_rate", "interval95", "median", "spread"}
+    assert all(need <= set(c) for c in doc["claims"])
+    assert doc["claims"][1]["holds"] == 0 and doc["claims"][1]["interval95"][1] < 0.5
+    assert doc["deviations"][0]["effect"] == "ratio 426x -> 18x on unit 0"
+    beta = json.loads((tmp_path / "beta" / "results.json").read_text())
+    assert "claims" not in beta  # a scenario without claims keeps its old document
+    md = (tmp_path / "report.md").read_text()
+    summary = md.split("## Summary", 1)[1].split("\n## paper title", 1)[0]
+    # every claim in the summary: calibrated marked and not counted, the failure as prominent as the success
+    assert "| p.a | Table 2 | K_n is about 15.71 %. | CALIBRATED (not counted) | 15.71 % |" in summary
+    assert "| p.b |" in summary and "| 0 / 20 |" in summary and "FAILS FOR MOST UNITS" in summary
+    assert "| p.c |" in summary and "| 20 / 20 | 100 % [84, 100] % | HOLDS FOR MOST UNITS |" in summary
+    assert "1 hold for most units, 1 FAIL for most units" in summary
+    assert "1 calibrated claim(s)" in summary and "not counted as reproduced" in summary
+    assert "Deviations from the paper's protocol" in summary and "ratio 426x -> 18x on unit 0" in summary
+    assert "paper 001 (no entry in scenarios.papers)" in summary
+    assert "seeds 3 to 22 (20 units)" in md
+    html = index.read_text()
+    assert "<td class='no'>FAILS FOR MOST UNITS</td>" in html and "<td class='yes'>HOLDS FOR MOST UNITS</td>" in html
+    assert "<td class='cal'>CALIBRATED (not counted)</td>" in html
+    assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
+
+
+def test_paper_heading_cites_the_paper(monkeypatch, tmp_path):
+    from gyrobench.scenarios import papers
+
+    monkeypatch.setattr(papers, "citation", lambda key, short=False: f"CITATION OF {key}")
+    write_report([_paper_outcome()], tmp_path)
+    md = (tmp_path / "report.md").read_text()
+    assert "**Claims of CITATION OF 001**" in md
+    assert "CITATION OF 001. seeds 3 to 22 (20 units)" in md  # the scenario section's header line

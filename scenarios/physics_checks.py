@@ -1,0 +1,112 @@
+"""Closed-form checks of every sensor model, in the report.
+
+Runs :func:`gyrobench.scenarios.checks.collect` over the check modules
+(:data:`gyrobench.scenarios.checks.CHECK_MODULES`: noise AVAR per IEEE-952 term,
+Sagnac scale factor, Shupe cancellation, Adler beat frequency, dither random walk,
+and whatever the sensor modules add) and reports each check: its formula, the
+closed form's value, the model's value, the relative error, and the tolerance with
+its derivation. A failed check is a model bug (or a one-in-a-million false alarm of
+a statistical check: each states its false-alarm rate).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from gyrobench.scenarios.base import Headline, Outcome, Table
+from gyrobench.scenarios.checks import CHECK_MODULES, Check, collect
+
+NAME = "physics_checks"
+TITLE = "Closed-form checks of the sensor models (noise, FOG, RLG): simulated beside the equations"
+
+__all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Config:
+    """Which check modules run (default: all of :data:`CHECK_MODULES`, in order)."""
+
+    modules: tuple[str, ...] = CHECK_MODULES
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.modules, tuple) or not all(isinstance(m, str) for m in self.modules):
+            raise TypeError(f"Config.modules must be a tuple of module names; got {self.modules!r}")
+        if not self.modules:
+            raise ValueError("Config.modules must name at least one check module; got ()")
+
+
+def simulate(config: Config, seed: int) -> list:
+    """The checks keep no recordings (each simulates short records internally)."""
+    return []
+
+
+def run_checks(config: Config, seed: int) -> list[Check]:
+    """Every check of ``config.modules``, drawing from ``numpy.random.default_rng(seed)``."""
+    return collect(np.random.default_rng(seed), config.modules)
+
+
+def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
+    """The checks as a table, a headline (passed / all) and ``results["checks"]``."""
+    rows = [
+        [
+            c.id,
+            c.formula,
+            c.expected,
+            c.simulated,
+            c.rel_error,
+            c.tolerance,
+            "yes" if c.passed else "NO",
+            c.derivation,
+        ]
+        for c in checks
+    ]
+    failed = [c.id for c in checks if not c.passed]
+    n_ok = len(checks) - len(failed)
+    table = Table(
+        "Closed-form checks: the model's value beside the equation's",
+        [
+            "check",
+            "formula",
+            "expected",
+            "simulated",
+            "rel. error",
+            "tolerance",
+            "passed",
+            "tolerance from",
+        ],
+        rows,
+        note="rel. error = |simulated - expected| / reference (|expected|, or the stated scale "
+        "for a cancellation); "
+        "statistical tolerances are chi-square bands at the stated false-alarm rate.",
+    )
+    return Outcome(
+        scenario=NAME,
+        title=TITLE,
+        seed=seed,
+        config=config,
+        results={"checks": [c.as_dict() for c in checks]},
+        tables=[table],
+        headlines=[
+            Headline(
+                "closed-form checks passed",
+                f"{n_ok}/{len(checks)}",
+                f"{len(checks)}/{len(checks)}",
+                not failed,
+                "failed: " + ", ".join(failed) if failed else "every model matches its equations",
+            )
+        ],
+        conclusion=(
+            f"{n_ok} of {len(checks)} closed-form checks pass."
+            + (f" FAILED: {', '.join(failed)}." if failed else "")
+        ),
+        runtime_s=runtime_s,
+    )
+
+
+def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
+    """Run every check and build the report."""
+    t0 = time.perf_counter()
+    checks = run_checks(config, seed)
+    return report(config, seed, checks, time.perf_counter() - t0)

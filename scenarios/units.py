@@ -1,0 +1,370 @@
+"""The shared runner of a paper scenario: simulate N units, judge the claims, build the report.
+
+A paper scenario (see :mod:`gyrobench.scenarios.claims`) defines ``experiment(config,
+seed)`` (one unit through the whole pipeline, no formatting), ``CLAIMS``,
+``DEVIATIONS`` and ``report(config, units, claims)``. :func:`run_paper` does exactly::
+
+    seeds = range(seed, seed + n_units)
+    units = [module.experiment(config, s) for s in seeds]   # on the bench's executor, resumable
+    claims = evaluate(module.CLAIMS, [u["quantities"] for u in units])
+    outcome = module.report(config, units, claims)
+    outcome.claims, outcome.deviations, outcome.units = claims, list(module.DEVIATIONS), n
+
+Units run where the bench's seeds run (:mod:`gyrobench.scenarios.bench`): a local
+process pool (``workers``; ``0`` runs them in this process) or any
+:class:`concurrent.futures.Executor`, e.g. ``distributed.Client(addr).get_executor()``.
+Every unit runs with the BLAS/OpenMP pools limited to one thread, as the bench's
+seeds do, so a unit's result is bit-identical whatever the executor and worker count.
+
+Resumption: each finished unit's result is pickled and committed to a SQLite file
+(one transaction per unit, WAL journal, ``synchronous=FULL``; the bench's
+connection), keyed by a run identity (the scenario module's source closure, the
+configuration, the gyrobench/numpy/scipy/scikit-learn versions) and the seed. A
+reproduction killed at any moment resumes and recomputes no finished unit;
+changing the code or the configuration starts afresh rather than mixing units.
+Every result, fresh or stored, is the one read back from the file, so a fresh run
+and a resumed one hand :func:`evaluate` the same objects.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import hashlib
+import importlib
+import json
+import os
+import pickle
+import sqlite3
+import time
+import types
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gyrobench.scenarios.base import Outcome
+
+__all__ = [
+    "DEFAULT_DB",
+    "UnitRun",
+    "default_db",
+    "is_paper_scenario",
+    "run_id",
+    "run_paper",
+    "run_units",
+]
+
+#: default resume store (in the current directory) when no db is given
+DEFAULT_DB = "gyrobench-units.sqlite"
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS unit_runs (
+    run_id TEXT PRIMARY KEY,
+    scenario TEXT NOT NULL,
+    config TEXT NOT NULL,
+    identity TEXT NOT NULL,
+    created REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS unit_results (
+    run_id TEXT NOT NULL REFERENCES unit_runs(run_id),
+    seed INTEGER NOT NULL,
+    result BLOB NOT NULL,
+    elapsed_s REAL NOT NULL,
+    finished REAL NOT NULL,
+    PRIMARY KEY (run_id, seed)
+);
+"""
+
+
+def is_paper_scenario(module: types.ModuleType) -> bool:
+    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``)."""
+    return callable(getattr(module, "experiment", None)) and hasattr(module, "CLAIMS")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class UnitRun:
+    """The units' results in seed order, and how many were computed or read back."""
+
+    run_id: str
+    seeds: tuple[int, ...]
+    results: tuple[dict[str, Any], ...]
+    elapsed_s: tuple[float, ...]
+    computed: int
+    reused: int
+    db: str
+
+
+def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
+    """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
+    from gyrobench.scenarios import bench
+
+    ident = {
+        "scenario": module.__name__,
+        "scenario_source": bench._module_hash(module.__name__),
+        "versions": bench._versions(),
+        "config": bench._canonical(config),
+    }
+    text = json.dumps(ident, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16], text
+
+
+def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, float]:
+    """Worker entry point: one unit's ``experiment`` result, pickled (module level: it pickles)."""
+    from threadpoolctl import threadpool_limits
+
+    t0 = time.perf_counter()
+    module = importlib.import_module(module_name)
+    with threadpool_limits(limits=1):
+        result = module.experiment(config, seed)
+    quantities = result.get("quantities") if isinstance(result, Mapping) else None
+    if not isinstance(quantities, Mapping):
+        raise TypeError(
+            f"{module_name}.experiment must return a dict with a 'quantities' mapping; "
+            f"got {type(result).__name__} for seed {seed}"
+        )
+    return seed, pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL), time.perf_counter() - t0
+
+
+def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
+    if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
+        raise ValueError(f"n_units must be an integer >= 1; got {n_units!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
+    ):
+        raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise TypeError(
+            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
+        )
+    if executor is not None and workers is not None:
+        raise ValueError("give either executor or workers, not both")
+
+
+def _open_store(
+    db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
+) -> sqlite3.Connection:
+    from gyrobench.scenarios import bench
+
+    conn = bench._connect(db)  # WAL, synchronous=FULL, checks the folder exists
+    try:
+        conn.executescript(_SCHEMA)
+        conn.execute("BEGIN IMMEDIATE")
+        conn.execute(
+            "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
+            (rid, name, repr(config), identity, time.time()),
+        )
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.close()
+        raise
+    return conn
+
+
+def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float) -> bytes:
+    """Commit one unit; return the stored blob (another process may have stored it first)."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        conn.execute(
+            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
+            (rid, seed, blob, elapsed, time.time()),
+        )
+    except sqlite3.IntegrityError:
+        conn.execute("ROLLBACK")
+        (blob,) = conn.execute(
+            "SELECT result FROM unit_results WHERE run_id = ? AND seed = ?", (rid, seed)
+        ).fetchone()
+        return bytes(blob)
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    conn.execute("COMMIT")
+    return blob
+
+
+def _execute(
+    module_name: str,
+    config: Any,
+    todo: Sequence[int],
+    record: Callable[[int, bytes, float], None],
+    *,
+    executor: cf.Executor | None,
+    workers: int | None,
+) -> None:
+    """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
+    from gyrobench.scenarios import bench
+
+    if executor is None and workers == 0:
+        for s in todo:
+            record(*_unit_job(module_name, config, s))
+        return
+    bench._check_picklable(None, config)
+    own = executor is None
+    ex: cf.Executor = (
+        cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers())
+        if executor is None
+        else executor
+    )
+    futures: dict[cf.Future, int] = {}
+    try:
+        futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}
+        for fut in cf.as_completed(futures):
+            try:
+                record(*fut.result())
+            except Exception as exc:
+                bench._note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
+                raise
+    finally:
+        for f in futures:
+            f.cancel()
+        if own:
+            ex.shutdown(wait=True, cancel_futures=True)
+
+
+def run_units(
+    module: types.ModuleType,
+    config: Any,
+    *,
+    seed: int = 0,
+    n_units: int = 20,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = False,
+) -> UnitRun:
+    """``module.experiment(config, s)`` for ``s`` in ``range(seed, seed + n_units)``, resuming.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario (:func:`is_paper_scenario`), importable by name in the workers.
+    config : the module's Config
+    seed : int
+        The first unit's seed (>= 0).
+    n_units : int
+        How many units (>= 1).
+    executor : concurrent.futures.Executor, optional
+        Where units run (not shut down here). Excludes ``workers``.
+    workers : int, optional
+        Local process pool size (default: the usable CPUs); ``0`` runs in this process.
+    db : path
+        SQLite resume store (created if absent, in an existing folder).
+    progress : bool
+        A tqdm bar on stderr.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad arguments, or a module without the paper-scenario shape. An exception in a
+        unit is re-raised with a note naming the seed, after the finished units are committed.
+    """
+    _check_args(n_units, seed, workers, executor)
+    if not is_paper_scenario(module):
+        raise ValueError(
+            f"scenario {getattr(module, 'NAME', module.__name__)!r} is not a paper scenario "
+            "(it must define experiment and CLAIMS)"
+        )
+    seeds = tuple(range(seed, seed + n_units))
+    rid, identity = run_id(module, config)
+    name = getattr(module, "NAME", module.__name__)
+    conn = _open_store(db, rid, name, config, identity)
+    try:
+        blobs: dict[int, bytes] = {}
+        elapsed: dict[int, float] = {}
+        for s, blob, el in conn.execute(
+            "SELECT seed, result, elapsed_s FROM unit_results WHERE run_id = ?", (rid,)
+        ):
+            if s in seeds:
+                blobs[s], elapsed[s] = bytes(blob), float(el)
+        reused = len(blobs)
+        todo = [s for s in seeds if s not in blobs]
+        from tqdm import tqdm
+
+        bar = tqdm(
+            total=n_units,
+            initial=reused,
+            disable=not progress or not todo,
+            desc=f"{name} units",
+            unit="unit",
+            dynamic_ncols=True,
+        )
+
+        def record(s: int, blob: bytes, el: float) -> None:
+            blobs[s], elapsed[s] = _store(conn, rid, s, blob, el), el
+            bar.update(1)
+
+        try:
+            _execute(module.__name__, config, todo, record, executor=executor, workers=workers)
+        finally:
+            bar.close()
+        return UnitRun(
+            run_id=rid,
+            seeds=seeds,
+            results=tuple(pickle.loads(blobs[s]) for s in seeds),
+            elapsed_s=tuple(elapsed[s] for s in seeds),
+            computed=len(todo),
+            reused=reused,
+            db=str(db),
+        )
+    finally:
+        conn.close()
+
+
+def run_paper(
+    module: types.ModuleType,
+    config: Any,
+    *,
+    seed: int = 0,
+    n_units: int = 20,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = False,
+) -> Outcome:
+    """Run the units (:func:`run_units`), judge ``module.CLAIMS`` over them, build the report.
+
+    Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
+    ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
+    per-unit runtimes, how many were computed and read back) set. The report writer
+    puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
+    deviations into results.json.
+    """
+    from gyrobench.scenarios.claims import evaluate
+
+    t0 = time.perf_counter()
+    run = run_units(
+        module,
+        config,
+        seed=seed,
+        n_units=n_units,
+        executor=executor,
+        workers=workers,
+        db=db,
+        progress=progress,
+    )
+    claims = evaluate(module.CLAIMS, [u["quantities"] for u in run.results])
+    outcome = module.report(config, list(run.results), claims)
+    if not isinstance(outcome, Outcome):
+        raise TypeError(
+            f"{module.__name__}.report must return an Outcome; got {type(outcome).__name__}"
+        )
+    outcome.seed = seed
+    outcome.claims = list(claims)
+    outcome.deviations = list(getattr(module, "DEVIATIONS", ()))
+    outcome.units = n_units
+    outcome.runtime_s = time.perf_counter() - t0
+    outcome.results["unit_run"] = {
+        "n": n_units,
+        "seeds": list(run.seeds),
+        "computed": run.computed,
+        "reused": run.reused,
+        "unit_runtime_s": list(run.elapsed_s),
+        "run_id": run.run_id,
+    }
+    return outcome
+
+
+def default_db(out_dir: str | os.PathLike) -> Path:
+    """The resume store inside a report folder: ``<out_dir>/units.sqlite``."""
+    return Path(out_dir) / "units.sqlite"

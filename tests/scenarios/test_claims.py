@@ -1,0 +1,234 @@
+"""Tests of scenarios/claims.py: Wilson interval (pinned to a published table), comparators,
+verdicts, and evaluation over units with untestable (None / NaN) quantities."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from gyrobench.scenarios import claims as cl
+from gyrobench.scenarios.claims import (
+    Claim,
+    above,
+    below,
+    evaluate,
+    in_range,
+    is_true,
+    within_factor,
+)
+
+
+# ----------------------------------------------------------------------------- Wilson interval
+@pytest.mark.parametrize(
+    "k, n, lo, hi",
+    [
+        # Newcombe, Stat. Med. 17, 857 (1998), Table I, method 3 (score, no continuity
+        # correction), printed to 4 decimals
+        (81, 263, 0.2553, 0.3662),
+        (15, 148, 0.0624, 0.1605),
+        (0, 20, 0.0, 0.1611),
+        (1, 29, 0.0061, 0.1718),
+    ],
+)
+def test_wilson_interval_matches_newcombe_table_1(k, n, lo, hi):
+    got = cl.wilson_interval(k, n)
+    assert got == pytest.approx((lo, hi), abs=0.5e-4)  # the table's rounding
+
+
+def test_wilson_interval_closed_form_and_symmetry():
+    # k/n = 1/2: centred on 1/2, half-width z sqrt(1/4n + z^2/4n^2) / (1 + z^2/n)
+    z, n = 1.959963984540054, 20
+    lo, hi = cl.wilson_interval(10, n)
+    half = z * math.sqrt(0.25 / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    assert (lo, hi) == pytest.approx((0.5 - half, 0.5 + half), rel=1e-14)
+    # k <-> n - k mirrors the interval about 1/2
+    for k in range(n + 1):
+        a, b = cl.wilson_interval(k, n)
+        c, d = cl.wilson_interval(n - k, n)
+        assert (a, b) == pytest.approx((1 - d, 1 - c), abs=1e-15)
+
+
+@pytest.mark.parametrize("n", range(1, 60))
+def test_wilson_interval_ends_are_exact_at_zero_and_all(n):
+    assert cl.wilson_interval(0, n)[0] == 0.0
+    assert cl.wilson_interval(n, n)[1] == 1.0
+    if n > 1:
+        lo, hi = cl.wilson_interval(n // 2, n)
+        assert 0.0 < lo < hi < 1.0
+
+
+@pytest.mark.parametrize(
+    "k, n, match",
+    [
+        (0, 0, "n must be an integer > 0"),
+        (3, 2, r"k must be an integer in \[0, n=2\]"),
+        (-1, 5, "k must be"),
+        (1.0, 5, "k must be"),
+        (True, 5, "k must be"),
+        (1, True, "n must be"),
+    ],
+)
+def test_wilson_interval_refuses_bad_counts(k, n, match):
+    with pytest.raises(ValueError, match=match):
+        cl.wilson_interval(k, n)
+
+
+# ----------------------------------------------------------------------------- verdicts
+def test_verdict_thresholds_at_20_units():
+    # lower Wilson end crosses 50 % between 14/20 (0.481) and 15/20 (0.531)
+    assert cl.wilson_interval(14, 20)[0] < 0.5 < cl.wilson_interval(15, 20)[0]
+    assert cl.verdict(15, 20) == "holds for most units"
+    assert cl.verdict(14, 20) == "undecided"
+    assert cl.verdict(10, 20) == "undecided"
+    # upper end crosses 50 % between 5/20 (0.469) and 6/20 (0.519)
+    assert cl.verdict(6, 20) == "undecided"
+    assert cl.verdict(5, 20) == "fails for most units"
+    assert cl.verdict(0, 0) == "not testable"
+
+
+def test_few_units_never_decide():
+    # one unit's yes/no is never a verdict (1/1: [0.21, 1]); all of n units hold needs n >= 4
+    assert cl.verdict(1, 1) == "undecided" and cl.verdict(0, 1) == "undecided"
+    assert cl.verdict(3, 3) == "undecided"  # lower end 0.439
+    assert cl.verdict(4, 4) == "holds for most units"  # lower end 0.510
+    assert cl.verdict(0, 4) == "fails for most units"
+
+
+# ----------------------------------------------------------------------------- comparators
+def test_within_factor_is_two_sided_and_inclusive():
+    c = within_factor(15.71, 2)
+    assert (c.lo, c.hi) == (15.71 / 2, 15.71 * 2)
+    assert c.holds(15.71 / 2) and c.holds(15.71 * 2) and c.holds(15.71)
+    assert not c.holds(np.nextafter(15.71 / 2, 0)) and not c.holds(np.nextafter(31.42, 99))
+    assert c.text("%") == "within 2x of 15.71 % (7.855 to 31.42)"
+
+
+def test_in_range_above_below_is_true():
+    r = in_range(3, 30)
+    assert r.holds(3) and r.holds(30) and not r.holds(2.999) and not r.holds(30.01)
+    a, b = above(0.2), below(0.2)
+    assert a.holds(0.2001) and not a.holds(0.2)  # strict: "more than 0.2"
+    assert b.holds(0.1999) and not b.holds(0.2)
+    assert a.text("deg/h") == "> 0.2 deg/h" and b.text() == "< 0.2"
+    t = is_true()
+    assert t.holds(1.0) and not t.holds(0.0)
+    assert r.text() == "between 3 and 30"
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: within_factor(0.0), "within_factor value must be finite and > 0; got 0.0"),
+        (lambda: within_factor(-1.0), "value must be finite and > 0"),
+        (lambda: within_factor(math.nan), "value must be finite and > 0"),
+        (lambda: within_factor(1.0, 1.0), "factor must be finite and > 1; got 1.0"),
+        (lambda: in_range(30, 3), "in_range needs lo < hi; got lo=30, hi=3"),
+    ],
+)
+def test_comparators_refuse_bad_bounds(make, match):
+    with pytest.raises(ValueError, match=match):
+        make()
+
+
+def _claim(**kw) -> Claim:
+    base = dict(
+        id="x.q",
+        paper="001",
+        where="Table 1",
+        statement="q is about 2.",
+        kind="emergent",
+        quantity="q",
+        comparator=within_factor(2.0),
+        paper_value=2.0,
+    )
+    base.update(kw)
+    return Claim(**base)
+
+
+def test_claim_kind_and_calibrated_input_go_together():
+    with pytest.raises(ValueError, match="kind must be 'calibrated' or 'emergent'"):
+        _claim(kind="tuned")
+    with pytest.raises(ValueError, match="calibrated_input must be given exactly when"):
+        _claim(kind="calibrated")
+    with pytest.raises(ValueError, match="calibrated_input must be given exactly when"):
+        _claim(calibrated_input="Config.x set from Table 1")
+    assert _claim(kind="calibrated", calibrated_input="Config.x from Table 1").kind == "calibrated"
+
+
+# ----------------------------------------------------------------------------- evaluate
+def test_evaluate_counts_testable_units_and_skips_none_nan_missing():
+    c = _claim()
+    units = [
+        {"q": 2.0},
+        {"q": None},
+        {"q": math.nan},
+        {},
+        {"q": 5.0},
+        {"q": np.float64(1.0)},
+        {"q": math.inf},
+        {"q": 3.9},
+    ]
+    (r,) = evaluate([c], units)
+    assert (r.units, r.testable, r.holds) == (8, 4, 3)  # 2.0, 1.0, 3.9 hold; 5.0 fails
+    assert r.pass_rate == 0.75
+    assert r.interval95 == cl.wilson_interval(3, 4)
+    assert r.median == pytest.approx(np.median([2.0, 5.0, 1.0, 3.9]))
+    assert r.spread == pytest.approx(
+        (np.percentile([2, 5, 1, 3.9], 25), np.percentile([2, 5, 1, 3.9], 75))
+    )
+    assert r.verdict == "undecided"
+
+
+def test_evaluate_booleans_and_untestable_claim():
+    t = _claim(id="x.t", quantity="t", comparator=is_true(), paper_value=None)
+    u = _claim(id="x.u", quantity="u")
+    units = [{"t": True, "u": None}, {"t": 1.0, "u": math.nan}, {"t": np.bool_(False)}, {"t": 1}]
+    rt, ru = evaluate([t, u], units)
+    assert (rt.testable, rt.holds) == (4, 3)
+    assert (ru.testable, ru.holds, ru.pass_rate, ru.interval95, ru.median, ru.spread) == (
+        0,
+        0,
+        None,
+        None,
+        None,
+        None,
+    )
+    assert ru.verdict == "not testable"
+    d = ru.as_dict()
+    assert d["interval95"] is None and d["pass_rate"] is None and d["verdict"] == "not testable"
+
+
+def test_evaluate_refuses_a_quantity_that_is_not_a_number():
+    with pytest.raises(
+        TypeError, match="claim 'x.q': a unit's quantity must be a number, None or NaN; got str"
+    ):
+        evaluate([_claim()], [{"q": 1.0}, {"q": "1.0"}])
+
+
+def test_as_dict_has_the_results_json_keys():
+    c = _claim(kind="calibrated", calibrated_input="Config.x from Table 1", unit="%")
+    (r,) = evaluate([c], [{"q": v} for v in (1.5, 2.5, 3.0, 9.0)])
+    d = r.as_dict()
+    need = {
+        "id",
+        "paper",
+        "where",
+        "statement",
+        "kind",
+        "calibrated_input",
+        "paper_value",
+        "comparator",
+        "units",
+        "testable",
+        "holds",
+        "pass_rate",
+        "interval95",
+        "median",
+        "spread",
+    }
+    assert need <= set(d)
+    assert d["comparator"] == "within 2x of 2 % (1 to 4)"
+    assert (d["units"], d["testable"], d["holds"]) == (4, 4, 3)
+    assert d["interval95"] == list(cl.wilson_interval(3, 4))
+    assert d["spread"] == [r.spread[0], r.spread[1]]

@@ -1,0 +1,132 @@
+"""``gyrobench reproduce`` with a paper scenario (the toy paper, registered for the test):
+--units, --workers, --db resumption, old-shape scenarios beside it, bad input."""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+
+import pytest
+from gyrobench.scenarios import registry
+
+from tests.scenarios.test_cli import assert_one_line_error, run
+
+
+@pytest.fixture
+def toy_registered(monkeypatch):
+    monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
+
+
+def _claims(path):
+    doc = json.loads(path.read_text())
+    return doc, [
+        (c["id"], c["testable"], c["holds"], c["median"], c["interval95"]) for c in doc["claims"]
+    ]
+
+
+def test_reproduce_paper_scenario_over_units(toy_registered, tmp_path, capsys):
+    code, out, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "a",
+            "--units",
+            "8",
+            "--seed",
+            "5",
+            "--workers",
+            "0",
+            "-q",
+        ],
+        capsys,
+    )
+    assert code == 0, err
+    doc, claims = _claims(tmp_path / "a" / "toy_paper" / "results.json")
+    assert doc["units"] == 8 and doc["seed"] == 5 and doc["unit_run"]["seeds"] == list(range(5, 13))
+    assert [c[0] for c in claims] == ["toy.gain", "toy.residual", "toy.sane", "toy.even"]
+    assert claims[2][1:3] == (8, 8)  # toy.sane holds on every unit
+    assert (tmp_path / "a" / "units.sqlite").is_file()  # the default resume store
+    assert "8 unit(s); emergent claims:" in out and "1 calibrated" in out
+    md = (tmp_path / "a" / "report.md").read_text()
+    assert "CALIBRATED (not counted)" in md and "Deviations from the paper's protocol" in md
+    # two workers: the same claims, bit for bit
+    code, _, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "b",
+            "--units",
+            "8",
+            "--seed",
+            "5",
+            "--workers",
+            "2",
+            "-q",
+        ],
+        capsys,
+    )
+    assert code == 0, err
+    assert _claims(tmp_path / "b" / "toy_paper" / "results.json")[1] == claims
+
+
+def test_reproduce_resumes_from_the_db(toy_registered, tmp_path, capsys, monkeypatch):
+    log = tmp_path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    db = tmp_path / "store.sqlite"
+    argv = ["reproduce", "toy_paper", "--units", "4", "--workers", "0", "--db", db, "-q"]
+    assert run([*argv, "--out", tmp_path / "a"], capsys)[0] == 0
+    assert Counter(map(int, log.read_text().split())) == Counter(range(4))
+    assert run([*argv[:3], "6", *argv[4:], "--out", tmp_path / "b"], capsys)[0] == 0
+    assert Counter(map(int, log.read_text().split())) == Counter(
+        range(6)
+    )  # only units 4 and 5 added
+    assert not (tmp_path / "a" / "units.sqlite").exists()
+
+
+def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys):
+    cfg_free = ["--units", "2", "--workers", "0", "-q"]
+    code, out, err = run(
+        ["reproduce", "toy_paper", "static_noise", "--out", tmp_path, *cfg_free], capsys
+    )
+    # static_noise at its default length takes a few seconds; it keeps its own run()
+    assert code == 0, err
+    assert "testable headline conclusions hold" in out and "2 unit(s)" in out
+    assert "claims" not in json.loads((tmp_path / "static_noise" / "results.json").read_text())
+
+
+@pytest.mark.parametrize(
+    "argv, match",
+    [
+        (["--units", "0"], "--units must be an integer > 0; got '0'"),
+        (["--workers", "-1"], "--workers must be an integer >= 0; got -1"),
+        (
+            ["--workers", "1", "--scheduler", "tcp://127.0.0.1:1"],
+            "give either --workers or --scheduler, not both",
+        ),
+    ],
+)
+def test_reproduce_bad_options(toy_registered, tmp_path, capsys, argv, match):
+    code, _, err = run(["reproduce", "toy_paper", "--out", tmp_path / "o", *argv], capsys)
+    assert_one_line_error(code, err, match)
+
+
+def test_reproduce_db_in_missing_folder(toy_registered, tmp_path, capsys):
+    code, _, err = run(
+        [
+            "reproduce",
+            "toy_paper",
+            "--out",
+            tmp_path / "o",
+            "--units",
+            "1",
+            "--workers",
+            "0",
+            "--db",
+            tmp_path / "missing" / "u.sqlite",
+            "-q",
+        ],
+        capsys,
+    )
+    assert_one_line_error(code, err, "does not exist")

@@ -1,0 +1,129 @@
+"""The physics_checks scenario and the check modules (noise, FOG, RLG)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from gyrobench.scenarios import checks_fog, checks_noise, checks_rlg, physics_checks, registry
+from gyrobench.scenarios.checks import CHECK_MODULES, collect
+from gyrobench.scenarios.report import write_report
+
+
+@pytest.fixture(scope="module")
+def outcome():
+    return physics_checks.run(physics_checks.Config(), 0)
+
+
+def test_every_check_passes_and_is_reported(outcome, tmp_path):
+    ids = [c["id"] for c in outcome.results["checks"]]
+    assert ids == [
+        "noise.avar_Q",
+        "noise.avar_N",
+        "noise.avar_B",
+        "noise.avar_K",
+        "noise.avar_R",
+        "fog.sagnac_scale_factor",
+        "fog.shupe_helical",
+        "fog.shupe_quadrupolar",
+        "fog.shupe_cancellation_ratio",
+        "rlg.adler_beat_1.1x_lock_in",
+        "rlg.adler_beat_2x_lock_in",
+        "rlg.dither_random_walk",
+    ]
+    failed = [c for c in outcome.results["checks"] if not c["passed"]]
+    assert not failed, failed
+    write_report([outcome], tmp_path)
+    doc = json.loads((tmp_path / "physics_checks" / "results.json").read_text())
+    for c in doc["checks"]:
+        assert {
+            "id",
+            "formula",
+            "expected",
+            "simulated",
+            "rel_error",
+            "tolerance",
+            "passed",
+        } <= set(c)
+        assert c["rel_error"] <= c["tolerance"] and c["tolerance_derivation"]
+    assert (
+        "| closed-form checks passed | 12/12 | 12/12 | yes |"
+        in (tmp_path / "report.md").read_text()
+    )
+
+
+def test_registered_last_and_part_of_all():
+    assert list(registry.SCENARIOS)[-1] == "physics_checks"
+    assert "physics_checks" in registry.available()
+    assert physics_checks.Config().modules == CHECK_MODULES
+
+
+def test_same_seed_same_numbers_and_modules_have_own_streams():
+    a = physics_checks.run_checks(physics_checks.Config(modules=CHECK_MODULES[:1]), 7)
+    b = physics_checks.run_checks(physics_checks.Config(modules=CHECK_MODULES[:1]), 7)
+    assert [c.simulated for c in a] == [c.simulated for c in b]
+    c = physics_checks.run_checks(physics_checks.Config(modules=CHECK_MODULES[:1]), 8)
+    assert [x.simulated for x in a] != [x.simulated for x in c]
+
+
+def test_a_wrong_model_fails_the_noise_checks(monkeypatch):
+    """The checks can fail: AVAR theory off by 10 % is outside every statistical band but K's."""
+    real = checks_noise._theory
+    monkeypatch.setattr(
+        checks_noise, "_theory", lambda term, model, tau: 1.1 * real(term, model, tau)
+    )
+    res = {c.id: c.passed for c in checks_noise.checks(np.random.default_rng(0))}
+    assert res == {
+        "noise.avar_Q": False,
+        "noise.avar_N": False,
+        "noise.avar_B": False,
+        "noise.avar_K": True,
+        "noise.avar_R": False,
+    }
+
+
+def test_a_wrong_winding_fails_the_shupe_checks(monkeypatch):
+    """A model that winds 'quadrupolar' coils dipolar (AB instead of ABBA) is caught."""
+    from gyrobench.sim import coil
+
+    real = coil.Winding.ideal
+    monkeypatch.setattr(
+        coil.Winding,
+        "ideal",
+        classmethod(
+            lambda cls, p, m, length: real("dipolar" if p == "quadrupolar" else p, m, length)
+        ),
+    )
+    res = {c.id: c.passed for c in checks_fog.checks(np.random.default_rng(0))}
+    assert not res["fog.shupe_quadrupolar"] and not res["fog.shupe_cancellation_ratio"]
+    assert res["fog.sagnac_scale_factor"] and res["fog.shupe_helical"]
+
+
+def test_adler_check_uses_the_model(monkeypatch):
+    """A lock-in rate 1 % off in the model moves the beat frequency outside the tolerance."""
+    from gyrobench.sim import rlg
+
+    real = rlg.integrate_adler
+    monkeypatch.setattr(
+        rlg,
+        "integrate_adler",
+        lambda *a, lock_in_rate, **k: real(*a, lock_in_rate=1.01 * lock_in_rate, **k),
+    )
+    checks = {c.id: c for c in [checks_rlg._adler(1.1)]}
+    assert not checks["rlg.adler_beat_1.1x_lock_in"].passed
+
+
+def test_collect_refuses_duplicate_ids():
+    with pytest.raises(ValueError, match="check ids must be unique"):
+        collect(
+            np.random.default_rng(0),
+            ("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_fog"),
+        )
+
+
+def test_config_refuses_bad_modules():
+    with pytest.raises(ValueError, match="at least one check module"):
+        physics_checks.Config(modules=())
+    with pytest.raises(TypeError, match="must be a tuple of module names"):
+        physics_checks.Config(modules=("a", 3))

@@ -150,7 +150,8 @@ class Config:
                 raise ValueError(f"Config.{name} must be > 0; got {v!r}")
         if self.fs_hz * self.block_s != round(self.fs_hz * self.block_s):
             raise ValueError(
-                f"Config.block_s x fs_hz must be a whole number of samples; got {self.block_s!r} s x {self.fs_hz!r} Hz"
+                f"Config.block_s x fs_hz must be a whole number of samples; got {self.block_s!r} "
+                f"s x {self.fs_hz!r} Hz"
             )
         self.spec()  # validates the gyro budget
 
@@ -194,7 +195,7 @@ class Config:
     def chamber(self) -> PiecewiseLinear:
         """Chamber program [K]: soak at start (gyro on), ramp up, soak, [ramp down, soak]."""
         rate = self.ramp_c_per_min / units.MINUTE
-        steps = [
+        steps: list[Ramp | Soak] = [
             Soak(duration=self.power_on_soak_min * units.MINUTE),
             Ramp(target=units.celsius(self.high_c), rate=rate),
             Soak(duration=self.high_soak_min * units.MINUTE),
@@ -438,10 +439,10 @@ def experiment(config: Config, seed: int) -> dict[str, Any]:
 
 # ----------------------------------------------------------------------------- claims
 _THERMAL_FORM = (
-    "sim.rlg.ThermalBias writes the thermal bias as k_c T2 + k_cc T2^2 + (1 + a T2)"
-    "[k_g (T1 - T2) + k_f dT1/dt] + k_ff (dT1/dt)^2, i.e. in the paper's regressor forms "
-    "(temperature, housing rate, temperature x rate, squared rate, temperature x gradient), "
-    "chosen after the paper's selection"
+    "sim.rlg.ThermalBias writes the thermal bias as k_c T2 + k_cc T2^2 + (1 + a T2)[k_g (T1 - T2) "
+    "+ k_f dT1/dt] + k_ff (dT1/dt)^2, i.e. in the paper's regressor forms (temperature, housing "
+    "rate, temperature x rate, squared rate, temperature x gradient), chosen after the paper's "
+    "selection"
 )
 _THERMAL_SIZES = (
     "the sizes of sim.rlg.ThermalBias (Config cavity_*, gradient_*, flux_*) were tuned so that "
@@ -469,8 +470,8 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "keeps_x1_x3_x5_x7_x11",
         "Sec. 3 (stepwise), Table 1",
-        "Stepwise regression (MATLAB stepwise over x1..x11) keeps x1, x3, x5, x7 and x11 "
-        "(per unit: all five selected).",
+        "Stepwise regression (MATLAB stepwise over x1..x11) keeps x1, x3, x5, x7 and x11 (per "
+        "unit: all five selected).",
         "keeps_paper_terms",
         is_true(),
         kind="calibrated",
@@ -479,8 +480,8 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "drops_x2_x4_x6_x8_x9_x10",
         "Sec. 3 (stepwise)",
-        "x2, x4, x6, x8, x9 and x10 are not significant and are left out (per unit: none of "
-        "them selected).",
+        "x2, x4, x6, x8, x9 and x10 are not significant and are left out (per unit: none of them "
+        "selected).",
         "drops_other_terms",
         is_true(),
         kind="calibrated",
@@ -489,8 +490,8 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "selection_stability",
         "Sec. 3, Eq. (3) applied to three gyros",
-        "One term set, x1, x3, x5, x7, x11, serves every gyro (selection stability: the pass "
-        "rate is the fraction of units whose stepwise selection is exactly the paper's set).",
+        "One term set, x1, x3, x5, x7, x11, serves every gyro (selection stability: the pass rate "
+        "is the fraction of units whose stepwise selection is exactly the paper's set).",
         "selects_paper_set",
         is_true(),
         kind="calibrated",
@@ -509,9 +510,9 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "multiple_r_high",
         "Table 1 (text)",
-        "Multiple R shows a high positive correlation between x1, x3, x5, x7, x11 and the "
-        "bias (taken as Multiple R > 0.8, the usual threshold of 'high'; R^2 = Multiple R^2 "
-        "is not a separate claim).",
+        "Multiple R shows a high positive correlation between x1, x3, x5, x7, x11 and the bias "
+        "(taken as Multiple R > 0.8, the usual threshold of 'high'; R^2 = Multiple R^2 is not a "
+        "separate claim).",
         "multiple_r",
         above(0.8),
         kind="calibrated",
@@ -531,8 +532,8 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "rmse_below_0_05",
         "Table 1 (text)",
-        "The RMSE is below 0.05 (the paper's words: 'less than the significance level 0.05'; "
-        "read as 0.05 deg/h on the 100-s means).",
+        "The RMSE is below 0.05 (the paper's words: 'less than the significance level 0.05'; read "
+        "as 0.05 deg/h on the 100-s means).",
         "rmse_deg_h",
         below(0.05),
         paper_value=0.05,
@@ -565,8 +566,8 @@ CLAIMS: tuple[Claim, ...] = (
     _claim(
         "improvement_about_2x",
         "Conclusion",
-        "The model improves the variable-temperature bias stability 'by about 2 times' "
-        "(held-out before/after ratio within a factor 2 of 2).",
+        "The model improves the variable-temperature bias stability 'by about 2 times' (held-out "
+        "before/after ratio within a factor 2 of 2).",
         "heldout_ratio",
         within_factor(2.0, 2.0),
         paper_value=2.0,
@@ -583,39 +584,42 @@ DEVIATIONS: tuple[Deviation, ...] = (
     Deviation(
         paper=PAPER,
         what="chamber program",
-        paper_says="gyro powered and started, then the chamber runs over -40..+65 degC at 1 degC/3 min "
-        "(soaks and direction not given)",
-        we_do="gyro on at -40 degC (30-min soak), ramp to +65, 60-min soak, ramp back to -40, 30-min soak "
-        "(12.5 h; Config.return_ramp)",
-        reason="the paper gives range and rate only; a full cycle exercises both signs of the rate and "
-        "of the housing-cavity gradient",
-        effect="with one up-ramp only (return_ramp=False): held-out ratio median 2.10x (full cycle 2.86x), "
-        "1 - adj. R^2 0.19 (0.092), Multiple R 0.90 (0.954); 'drops x2, x4, ...' 10/20 (0/20), "
-        "'temperature, rate and gradient' 12/20 (20/20); exact selection 0/20 and both ratio claims "
-        "20/20 either way",
+        paper_says="gyro powered and started, then the chamber runs over -40..+65 degC at 1 "
+        "degC/3 min (soaks and direction not given)",
+        we_do="gyro on at -40 degC (30-min soak), ramp to +65, 60-min soak, ramp back to -40, "
+        "30-min soak (12.5 h; Config.return_ramp)",
+        reason="the paper gives range and rate only; a full cycle exercises both signs of the "
+        "rate and of the housing-cavity gradient",
+        effect="with one up-ramp only (return_ramp=False): held-out ratio median 2.10x (full "
+        "cycle 2.86x), 1 - adj. R^2 0.19 (0.092), Multiple R 0.90 (0.954); 'drops x2, x4, ...' "
+        "10/20 (0/20), 'temperature, rate and gradient' 12/20 (20/20); exact selection 0/20 and "
+        "both ratio claims 20/20 either way",
     ),
     Deviation(
         paper=PAPER,
         what="data the stability claims are scored on",
-        paper_says="the model is applied to the high/low-temperature test data of three gyros (not said "
-        "whether those data were used for the fit)",
-        we_do="each gyro's model is fitted on its first turn-on and the before/after stability is scored "
-        "on its second turn-on (held out)",
-        reason="a compensation model is used on later runs; in-sample scoring equals adjusted R^2 by "
-        "arithmetic (R^2 = 1 - (after/before)^2)",
-        effect="in-sample ratio median 3.32x vs held-out 2.86x; the 65 % claim holds 20/20 either way, "
-        "the 'about 2x' claim 19/20 in-sample vs 20/20 held-out. A perfect thermal model would reach "
-        "3.31x held out (noise floor): the held-out loss comes from turn-on changes and noise",
+        paper_says="the model is applied to the high/low-temperature test data of three gyros "
+        "(not said whether those data were used for the fit)",
+        we_do="each gyro's model is fitted on its first turn-on and the before/after stability is "
+        "scored on its second turn-on (held out)",
+        reason="a compensation model is used on later runs; in-sample scoring equals adjusted R^2 "
+        "by arithmetic (R^2 = 1 - (after/before)^2)",
+        effect="in-sample ratio median 3.32x vs held-out 2.86x; the 65 % claim holds 20/20 either "
+        "way, the 'about 2x' claim 19/20 in-sample vs 20/20 held-out. A perfect thermal model "
+        "would reach 3.31x held out (noise floor): the held-out loss comes from turn-on changes "
+        "and noise",
     ),
     Deviation(
         paper=PAPER,
         what="one model per gyro",
-        paper_says="'this compensation model applied to three gyros' (Eq. 3; could be one coefficient set)",
-        we_do="each unit (gyro) fits its own stepwise model; applying unit s's model to unit s+1 is a "
-        "labelled diagnostic (Table 4)",
+        paper_says="'this compensation model applied to three gyros' (Eq. 3; could be one "
+        "coefficient set)",
+        we_do="each unit (gyro) fits its own stepwise model; applying unit s's model to unit s+1 "
+        "is a labelled diagnostic (Table 4)",
         reason="the paper's text does not say whether the coefficients are refitted per gyro",
-        effect="with the neighbouring unit's model the held-out ratio median is 2.73x (IQR 2.18-2.94) "
-        "against 2.86x with its own; the 65 % claim would hold on 18/20, 'about 2x' on 19/20",
+        effect="with the neighbouring unit's model the held-out ratio median is 2.73x (IQR "
+        "2.18-2.94) against 2.86x with its own; the 65 % claim would hold on 18/20, 'about 2x' on "
+        "19/20",
     ),
     Deviation(
         paper=PAPER,
@@ -623,36 +627,41 @@ DEVIATIONS: tuple[Deviation, ...] = (
         paper_says="'temperature gradient etc.' (the form of x9-x11 is not given)",
         we_do="x9 = T1 - T2, x10 = d(T1 - T2)/dt, x11 = T1 (T1 - T2) (analysis.regressors)",
         reason="the text names only x1-x8 explicitly",
-        effect="selected by x9 9/20, x10 7/20, x11 5/20 units; the 'keeps x1, x3, x5, x7, x11' claim needs "
-        "x11 and fails on every unit (also because x1 is selected by 8/20, x7 by 17/20); other forms "
-        "were not tried",
+        effect="selected by x9 9/20, x10 7/20, x11 5/20 units; the 'keeps x1, x3, x5, x7, x11' "
+        "claim needs x11 and fails on every unit (also because x1 is selected by 8/20, x7 by "
+        "17/20); other forms were not tried",
     ),
     Deviation(
         paper=PAPER,
         what="temperature-rate estimator",
         paper_says="not given",
         we_do="Savitzky-Golay derivative of the 100-s means over 500 s (5 blocks)",
-        reason="a smoothed derivative of the logged temperatures; 500 s is the shortest 5-block window",
-        effect="with 1000 s: exact selection 1/20 (0/20), 'keeps' 1/20 (0/20), 'drops' 2/20 (0/20); "
-        "adj. R^2, RMSE and the ratios change in the third digit (ratio median 2.85x vs 2.86x)",
+        reason="a smoothed derivative of the logged temperatures; 500 s is the shortest 5-block "
+        "window",
+        effect="with 1000 s: exact selection 1/20 (0/20), 'keeps' 1/20 (0/20), 'drops' 2/20 "
+        "(0/20); adj. R^2, RMSE and the ratios change in the third digit (ratio median 2.85x vs "
+        "2.86x)",
     ),
     Deviation(
         paper=PAPER,
         what="samples of the regression",
-        paper_says="raw data averaged over 100 s (GJB) to compute the gyro's precision; the regression's "
-        "sampling is not stated",
+        paper_says="raw data averaged over 100 s (GJB) to compute the gyro's precision; the "
+        "regression's sampling is not stated",
         we_do="the regression is fitted on the same 100-s means",
         reason="the paper's metric and its Table 1 are most naturally on the 100-s means",
-        effect="on 10-s means (block_s=10; stability then also of 10-s means) noise dominates: Multiple R "
-        "0.55, 1 - adj. R^2 0.70, RMSE 0.082 deg/h, ratio 1.19x; the Multiple R, RMSE and 65 % claims "
-        "fail 20/20",
+        effect="on 10-s means (block_s=10; stability then also of 10-s means) noise dominates: "
+        "Multiple R 0.55, 1 - adj. R^2 0.70, RMSE 0.082 deg/h, ratio 1.19x; the Multiple R, RMSE "
+        "and 65 % claims fail 20/20",
     ),
 )
 
 
 # ----------------------------------------------------------------------------- report
 def _cross_unit_ratios(units_: Sequence[dict[str, Any]]) -> list[float | None]:
-    """Held-out before/after ratio of unit i compensated with unit i-1's model (cyclic; None if one unit)."""
+    """Held-out before/after ratio of unit i compensated with unit i-1's model.
+
+    Cyclic (the first unit uses the last one's model); None for every unit if there is one.
+    """
     if len(units_) < 2:
         return [None] * len(units_)
     out: list[float | None] = []
@@ -713,7 +722,8 @@ def _table1(rows: Sequence[dict[str, Any]]) -> Table:
         ]
     )
     return Table(
-        title="Table 1. Multiple linear regression on the fitting run (100-s means): selected terms and statistics",
+        title="Table 1. Multiple linear regression on the fitting run (100-s means): selected "
+        "terms and statistics",
         columns=[
             "gyro",
             "selected terms",
@@ -730,9 +740,10 @@ def _table1(rows: Sequence[dict[str, Any]]) -> Table:
             + "; ".join(
                 f"{a} = {b}" for a, b in zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)
             )
-            + " (degC, degC/s; x9-x11 are this package's definition, the paper does not give their form). Stepwise "
-            "p-enter 0.05, p-remove 0.10 (MATLAB's defaults). The first units stand in for the paper's gyros 1-3. "
-            "The paper's table values were lost in extraction; its text gives adjusted R^2 ~0.97 and the terms."
+            + " (degC, degC/s; x9-x11 are this package's definition, the paper does not give "
+            "their form). Stepwise p-enter 0.05, p-remove 0.10 (MATLAB's defaults). The first "
+            "units stand in for the paper's gyros 1-3. The paper's table values were lost in "
+            "extraction; its text gives adjusted R^2 ~0.97 and the terms."
         ),
     )
 
@@ -753,7 +764,8 @@ def _table1b(u: dict[str, Any]) -> Table:
             ]
         )
     return Table(
-        title=f"Table 1b. Unit {u['seed']}'s model: coefficients (deg/h per unit of the term) and stepwise p-values",
+        title=f"Table 1b. Unit {u['seed']}'s model: coefficients (deg/h per unit of the term) and "
+        "stepwise p-values",
         columns=[
             "term",
             "definition",
@@ -789,7 +801,8 @@ def _table2(rows: Sequence[dict[str, Any]]) -> Table:
         ]
     )
     return Table(
-        title="Table 2. Variable-temperature bias stability (1 sigma of 100-s means) before and after compensation",
+        title="Table 2. Variable-temperature bias stability (1 sigma of 100-s means) before and "
+        "after compensation",
         columns=[
             "gyro",
             "before [deg/h]",
@@ -801,10 +814,11 @@ def _table2(rows: Sequence[dict[str, Any]]) -> Table:
         ],
         rows=body,
         note=(
-            "Before/after on the held-out run (second turn-on, never used for the fit), each unit with its own model. "
-            "Fitting run: in-sample, equal to 1/sqrt(1 - R^2) by arithmetic. Perfect model: the held-out output minus "
-            "the true thermal bias, what any model of the logged temperatures could at best leave (dither random walk, "
-            "count quantization, flicker, turn-on bias changes)."
+            "Before/after on the held-out run (second turn-on, never used for the fit), each unit "
+            "with its own model. Fitting run: in-sample, equal to 1/sqrt(1 - R^2) by arithmetic. "
+            "Perfect model: the held-out output minus the true thermal bias, what any model of "
+            "the logged temperatures could at best leave (dither random walk, count quantization, "
+            "flicker, turn-on bias changes)."
         ),
     )
 
@@ -820,7 +834,8 @@ def _table3(units_: Sequence[dict[str, Any]], freq: dict[str, float]) -> Table:
     n = len(units_)
     sets = Counter(", ".join(u["model"]["selected"]) or "(none)" for u in units_).most_common(5)
     return Table(
-        title=f"Table 3 (not in the paper). Selection over {n} units: how often each candidate is kept",
+        title=f"Table 3 (not in the paper). Selection over {n} units: how often each candidate is "
+        "kept",
         columns=["term", "definition", "paper", "selected by [% of units]"],
         rows=[
             [lab, nm, "kept" if lab in PAPER_SELECTED else "dropped", 100.0 * freq[lab]]
@@ -829,16 +844,17 @@ def _table3(units_: Sequence[dict[str, Any]], freq: dict[str, float]) -> Table:
         note=(
             "Most common selections: "
             + "; ".join(f"{s} ({k} of {n})" for s, k in sets)
-            + ". The candidates are "
-            "nearly collinear over a chamber cycle (T1 ~ T2, dT1/dt ~ dT2/dt, the gradient ~ the cavity rate), so "
-            "different term sets fit about equally well and the selection moves from unit to unit."
+            + ". The candidates are nearly collinear over a chamber cycle (T1 ~ T2, dT1/dt ~ "
+            "dT2/dt, the gradient ~ the cavity rate), so different term sets fit about equally "
+            "well and the selection moves from unit to unit."
         ),
     )
 
 
 def _table4(rows: Sequence[dict[str, Any]]) -> Table:
     return Table(
-        title="Table 4 (not in the paper). Every unit: selection, adjusted R^2, before/after ratios",
+        title="Table 4 (not in the paper). Every unit: selection, adjusted R^2, before/after "
+        "ratios",
         columns=[
             "unit",
             "selected terms",
@@ -861,9 +877,10 @@ def _table4(rows: Sequence[dict[str, Any]]) -> Table:
             for r in rows
         ],
         note=(
-            "Each unit is one gyro drawn from the population with its own two turn-ons. Last column: the held-out run "
-            "compensated with the previous unit's model (the first unit uses the last one's), a reading of the "
-            "paper's 'this model applied to three gyros' as one coefficient set."
+            "Each unit is one gyro drawn from the population with its own two turn-ons. Last "
+            "column: the held-out run compensated with the previous unit's model (the first unit "
+            "uses the last one's), a reading of the paper's 'this model applied to three gyros' "
+            "as one coefficient set."
         ),
     )
 
@@ -995,25 +1012,37 @@ def _fig_population(rows: Sequence[dict[str, Any]]) -> Figure:
 def _conclusion(
     rows: Sequence[dict[str, Any]], freq: dict[str, float], claims: Sequence[ClaimResult]
 ) -> str:
-    """The report's closing text from the units' numbers and the claims' pass counts (no verdicts made here)."""
+    """Closing text from the units' numbers and the claims' pass counts (no verdict made here)."""
     k = {c.claim.id.removeprefix("004."): f"{c.holds}/{c.testable}" for c in claims}
     n = len(rows)
     adj, held = _median_row(rows, "adj_r2"), _median_row(rows, "heldout_ratio")
     fit, floor = _median_row(rows, "fit_ratio"), _median_row(rows, "floor_ratio")
     often = ", ".join(lab for lab, f in freq.items() if f >= 0.5) or "none"
     return (
-        f"Over {n} simulated gyros (one unit = one gyro with its own two turn-ons), stepwise regression on the "
-        f"housing and cavity temperatures fits the variable-temperature bias with median adjusted R^2 {adj:.3f} "
-        f"(paper ~0.97; within a factor 2 of 1 - 0.97 on {k.get('adj_r2_0_97', 'n/a')} units) and improves the "
-        f"held-out bias stability by a median {held:.2f}x (paper 65 % = 2.86x; {k.get('improvement_65pct', 'n/a')} "
-        f"units within a factor 2). Both are calibrated: the thermal bias is written in the paper's regressor forms "
-        f"with sizes tuned to raw ~3x compensated, and on the fitting run 1/sqrt(1 - R^2) is the before/after "
-        f"ratio by arithmetic (median {fit:.2f}x). The paper's pair cannot both hold in-sample: adjusted R^2 0.97 "
-        f"means ~5.8x (83 %) on the data it was fitted on, and 65 % means R^2 ~0.88. Held out, a perfect thermal model "
-        f"would reach {floor:.2f}x: the compensated stability sits at the noise floor (dither random walk, "
-        f"quantization, turn-on changes). The paper's exact term set x1, x3, x5, x7, x11 is selected on "
-        f"{k.get('selection_stability', 'n/a')} units even though the simulated bias is built from those forms: "
-        f"the candidates are nearly collinear and the selection moves from unit to unit (kept by at least half of "
+        f"Over {n} simulated gyros (one unit = one gyro with its own two turn-ons), stepwise "
+        "regression on the "
+        "housing and cavity temperatures fits the variable-temperature bias with median adjusted "
+        f"R^2 {adj:.3f} "
+        f"(paper ~0.97; within a factor 2 of 1 - 0.97 on {k.get('adj_r2_0_97', 'n/a')} units) and "
+        "improves the "
+        f"held-out bias stability by a median {held:.2f}x (paper 65 % = 2.86x; "
+        f"{k.get('improvement_65pct', 'n/a')} "
+        "units within a factor 2). Both are calibrated: the thermal bias is written in the "
+        "paper's regressor forms "
+        "with sizes tuned to raw ~3x compensated, and on the fitting run 1/sqrt(1 - R^2) is the "
+        "before/after "
+        f"ratio by arithmetic (median {fit:.2f}x). The paper's pair cannot both hold in-sample: "
+        "adjusted R^2 0.97 "
+        "means ~5.8x (83 %) on the data it was fitted on, and 65 % means R^2 ~0.88. Held out, a "
+        "perfect thermal model "
+        f"would reach {floor:.2f}x: the compensated stability sits at the noise floor (dither "
+        "random walk, "
+        "quantization, turn-on changes). The paper's exact term set x1, x3, x5, x7, x11 is "
+        "selected on "
+        f"{k.get('selection_stability', 'n/a')} units even though the simulated bias is built from "
+        "those forms: "
+        "the candidates are nearly collinear and the selection moves from unit to unit (kept by "
+        "at least half of "
         f"the units: {often})."
     )
 
@@ -1021,7 +1050,7 @@ def _conclusion(
 def report(
     config: Config, units: Sequence[dict[str, Any]], claims: Sequence[ClaimResult]
 ) -> Outcome:
-    """Tables and figures of the units' results (details from the first three, populations from all)."""
+    """Tables and figures of the units' results (details: the first three; populations: all)."""
     if not units:
         raise ValueError("units must hold at least one experiment result; got an empty sequence")
     cross = _cross_unit_ratios(units)
@@ -1031,26 +1060,26 @@ def report(
     figures = [
         FigureSpec(
             "fig1_output_vs_temperature",
-            "Figure 1. Output (100-s means) and temperatures over the chamber "
-            "cycle; output vs housing temperature for the first three units.",
+            "Figure 1. Output (100-s means) and temperatures over the chamber cycle; output vs "
+            "housing temperature for the first three units.",
             _fig_output_vs_temperature(units),
         ),
         FigureSpec(
             "fig2_rate_and_gradient",
-            "Figure 2. Temperature rates of housing and cavity and the "
-            "housing-cavity gradient during the cycle.",
+            "Figure 2. Temperature rates of housing and cavity and the housing-cavity gradient "
+            "during the cycle.",
             _fig_rate_gradient(units[0]),
         ),
         FigureSpec(
             "fig4_before_after",
-            "Figure 4. Held-out runs: bias before and after stepwise-regression "
-            "compensation, first three units.",
+            "Figure 4. Held-out runs: bias before and after stepwise-regression compensation, "
+            "first three units.",
             _fig_before_after(units),
         ),
         FigureSpec(
             "fig5_population",
-            "Figure 5 (not in the paper). Every unit's 1 - R^2 against its before/after "
-            "ratio, in-sample and held out, with the in-sample identity and the paper's pair.",
+            "Figure 5 (not in the paper). Every unit's 1 - R^2 against its before/after ratio, "
+            "in-sample and held out, with the in-sample identity and the paper's pair.",
             _fig_population(rows),
         ),
     ]

@@ -5,11 +5,9 @@ from __future__ import annotations
 import json
 import math
 import pickle
-from dataclasses import replace
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.scenarios import registry
 from gyrobench.scenarios import rlg_thermal as sc
@@ -51,7 +49,7 @@ def test_chamber_program_matches_paper():
 
 # ----------------------------------------------------------------------------- claims
 def test_claims_well_formed(three_units):
-    """Unique ids of paper 004; every claim's quantity is produced by experiment as a float or None."""
+    """Unique 004 ids; every claim's quantity comes out of experiment as a float or None."""
     ids = [c.id for c in sc.CLAIMS]
     assert len(ids) == len(set(ids)) and all(i.startswith("004.") for i in ids)
     q = three_units[0]["quantities"]
@@ -78,10 +76,12 @@ def test_selection_quantities_follow_the_selected_set(three_units):
 
 
 def test_in_sample_identity_ties_adj_r2_to_the_ratio(three_units):
-    """Least squares with an intercept: R^2 = 1 - (after/before)^2 on the fitting run (closed form)."""
+    """Least squares with an intercept: R^2 = 1 - (after/before)^2 on the fitting run."""
     for u in three_units:
         s, m = u["stability"], u["model"]
-        assert m["r2"] == pytest.approx(1 - (s["fit_after_deg_h"] / s["fit_before_deg_h"]) ** 2, rel=1e-12)
+        assert m["r2"] == pytest.approx(
+            1 - (s["fit_after_deg_h"] / s["fit_before_deg_h"]) ** 2, rel=1e-12
+        )
         n, p = len(u["traces"]["fit"]["t_h"]), len(m["selected"])
         assert m["adj_r2"] == pytest.approx(1 - (1 - m["r2"]) * (n - 1) / (n - p - 1), rel=1e-12)
         q = u["quantities"]

@@ -448,6 +448,10 @@ _THERMAL_SIZES = (
     "the sizes of sim.rlg.ThermalBias (Config cavity_*, gradient_*, flux_*) were tuned so that "
     "the raw variable-temperature bias stability is about 3x the compensated one (PHYSICS.md 6.4)"
 )
+_RATIO_TIED = (
+    "; on the fitting run this ratio is 1/sqrt(1 - R^2), the adjusted-R^2 claim's number, by "
+    "arithmetic (the claim scores the held-out second turn-on)"
+)
 _TIED = (
     "; in-sample R^2 = 1 - (after/before)^2 exactly, so this follows from the same tuning by "
     "arithmetic"
@@ -561,7 +565,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=1.0 / (1.0 - PAPER_IMPROVEMENT_PCT / 100.0),
         unit="x",
         kind="calibrated",
-        calibrated_input=_THERMAL_SIZES,
+        calibrated_input=_THERMAL_SIZES + _RATIO_TIED,
     ),
     _claim(
         "improvement_about_2x",
@@ -573,7 +577,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=2.0,
         unit="x",
         kind="calibrated",
-        calibrated_input=_THERMAL_SIZES,
+        calibrated_input=_THERMAL_SIZES + _RATIO_TIED,
     ),
 )
 
@@ -1020,30 +1024,22 @@ def _conclusion(
     often = ", ".join(lab for lab, f in freq.items() if f >= 0.5) or "none"
     return (
         f"Over {n} simulated gyros (one unit = one gyro with its own two turn-ons), stepwise "
-        "regression on the "
-        "housing and cavity temperatures fits the variable-temperature bias with median adjusted "
-        f"R^2 {adj:.3f} "
-        f"(paper ~0.97; within a factor 2 of 1 - 0.97 on {k.get('adj_r2_0_97', 'n/a')} units) and "
-        "improves the "
-        f"held-out bias stability by a median {held:.2f}x (paper 65 % = 2.86x; "
-        f"{k.get('improvement_65pct', 'n/a')} "
-        "units within a factor 2). Both are calibrated: the thermal bias is written in the "
-        "paper's regressor forms "
-        "with sizes tuned to raw ~3x compensated, and on the fitting run 1/sqrt(1 - R^2) is the "
-        "before/after "
-        f"ratio by arithmetic (median {fit:.2f}x). The paper's pair cannot both hold in-sample: "
-        "adjusted R^2 0.97 "
-        "means ~5.8x (83 %) on the data it was fitted on, and 65 % means R^2 ~0.88. Held out, a "
-        "perfect thermal model "
-        f"would reach {floor:.2f}x: the compensated stability sits at the noise floor (dither "
-        "random walk, "
-        "quantization, turn-on changes). The paper's exact term set x1, x3, x5, x7, x11 is "
-        "selected on "
-        f"{k.get('selection_stability', 'n/a')} units even though the simulated bias is built from "
-        "those forms: "
-        "the candidates are nearly collinear and the selection moves from unit to unit (kept by "
-        "at least half of "
-        f"the units: {often})."
+        f"regression on the housing and cavity temperatures fits the variable-temperature bias "
+        f"with median adjusted R^2 {adj:.3f} (paper ~0.97; 1 - adj. R^2 within a factor 2 of 0.03 "
+        f"on {k.get('adj_r2_0_97', 'n/a')} units) and improves the held-out bias stability by a "
+        f"median {held:.2f}x (paper 65 % = 2.86x; within a factor 2 on "
+        f"{k.get('improvement_65pct', 'n/a')} units). Both are calibrated: the thermal bias is "
+        "written in the paper's regressor forms with sizes tuned to raw ~3x compensated, and on "
+        f"the fitting run 1/sqrt(1 - R^2) is the before/after ratio by arithmetic (median "
+        f"{fit:.2f}x). The paper's pair cannot both hold on the data a model was fitted on: "
+        "adjusted R^2 0.97 means ~5.8x (83 %) there, and 65 % means R^2 ~0.88. Held out, a "
+        f"perfect thermal model would reach {floor:.2f}x: the compensated stability sits at the "
+        "noise floor (dither random walk, quantization, turn-on changes). The paper's exact term "
+        f"set x1, x3, x5, x7, x11 is selected on {k.get('selection_stability', 'n/a')} units "
+        "although the simulated bias is written in the paper's regressor forms (with T2 and "
+        "T1 - T2 where the paper keeps x1 and x11; they differ by the small gradient): the "
+        "candidates are nearly collinear and the selection moves from unit to unit (kept by at "
+        f"least half of the units: {often})."
     )
 
 

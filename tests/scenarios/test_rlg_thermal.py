@@ -75,6 +75,14 @@ def test_selection_quantities_follow_the_selected_set(three_units):
     assert set(sc.PAPER_SELECTED) | set(sc.PAPER_DROPPED) == set(sc.REGRESSOR_LABELS)
 
 
+def test_temperature_rate_gradient_kinds():
+    """The paper's set carries all three kinds; a set without a gradient carrier does not."""
+    assert sc._has_kinds(sc.PAPER_SELECTED)
+    assert not sc._has_kinds(["x1", "x3", "x7"])  # no gradient carrier
+    assert not sc._has_kinds(["x9", "x3"])  # no temperature carrier
+    assert sc._has_kinds(["x2", "x4"])  # dT2/dt = (T1 + H2 - T2)/tau2 carries the gradient
+
+
 def test_in_sample_identity_ties_adj_r2_to_the_ratio(three_units):
     """Least squares with an intercept: R^2 = 1 - (after/before)^2 on the fitting run."""
     for u in three_units:

@@ -1,40 +1,61 @@
 """Paper 004: variable-temperature bias of a dithered RLG compensated by stepwise regression.
 
-Setup (paper 004, Chen, Liu, Chen): the gyro is switched on in the chamber at
--40 degC, then the chamber ramps to +65 degC at 1 degC per 3 min and back; the
-output is averaged over 100 s (Chinese military standard practice) and the bias
-stability is the standard deviation of these 100-s means. Two temperature sensors
-are logged: T1 on the housing, T2 on the cavity. Eleven candidate regressors
-(:mod:`gyrobench.analysis.regressors`) enter a stepwise regression (p-enter 0.05, p-remove
-0.10); the paper keeps x1, x3, x5, x7, x11 with adjusted R^2 ~ 0.97 and improves
-the variable-temperature bias stability of three gyros by about 65 %.
+Setup (paper 004, Chen, Liu, Chen): the gyro is switched on, then the chamber runs
+between -40 and +65 degC at 1 degC per 3 min; the output is averaged over 100 s
+(Chinese military standard practice) and the variable-temperature bias stability is
+the standard deviation of these 100-s means. Two temperature sensors are logged: T1
+on the housing, T2 on the cavity. Eleven candidate regressors
+(:mod:`gyrobench.analysis.regressors`) enter a stepwise regression (MATLAB
+``stepwise``: p-enter 0.05, p-remove 0.10); the paper keeps x1, x3, x5, x7, x11
+(adjusted R^2 ~0.97, Table 1) and improves the variable-temperature bias stability of
+three gyros by about 65 % ("about 2 times" in its conclusion).
 
-Here three gyros are drawn from one :class:`gyrobench.sim.rlg.RLGSpec` (unit-to-unit
-variation), each runs the chamber program twice (two turn-ons: different turn-on
-bias, discharge-current balance and noise). Each gyro's model is fitted on its
-first run and scored on its second, which it never saw. The simulated output is
-pulse counts at ``fs_hz`` from the statistical mode of :mod:`gyrobench.sim.rlg`.
+One unit = one gyro. Each seed draws one gyro from :class:`gyrobench.sim.rlg.RLGSpec`
+(unit-to-unit spread of the thermal network, the bias mechanisms, lock-in and the
+sensor offsets) and runs the chamber program twice (two turn-ons: different turn-on
+bias, discharge-current balance and noise). The gyro's stepwise model is fitted on
+its first run and scored on its second, which it never saw. The paper's "three
+gyros" statements are therefore per-unit statements judged over the population of
+units (``gyrobench reproduce --units N``); the first three units stand in for the
+paper's gyros 1-3 in the detail tables and figures. The simulated output is pulse
+counts at ``fs_hz`` from the statistical mode of :mod:`gyrobench.sim.rlg`.
 
-What is not in the paper: the form of x9-x11 (defined in
-:mod:`gyrobench.analysis.regressors`), the thermal time constants and the size of each bias
-mechanism (tuned as PHYSICS.md 6.4 says; see :class:`gyrobench.sim.rlg.RLGSpec`). The paper's
-Table 1 and Table 2 numbers did not survive the text extraction; its text gives
-adjusted R^2 ~ 0.97 and ~65 % improvement.
+Calibrated, not reproduced: :class:`gyrobench.sim.rlg.ThermalBias` writes the
+thermal bias in the paper's regressor forms and its sizes were tuned so that the raw
+variable-temperature bias stability is about 3x the compensated one (issue 19
+replaces it by mechanisms). The in-sample adjusted R^2 and the bias-stability ratio
+are tied by arithmetic: for least squares with an intercept,
+``R^2 = 1 - (after_fit / before_fit)^2`` exactly (see :func:`experiment`).
+
+Not in the paper: the form of x9-x11 (defined in :mod:`gyrobench.analysis.regressors`),
+the soaks of the chamber program, the derivative estimator, the thermal time
+constants and the noise budget (see :data:`DEVIATIONS` and :class:`Config`). The
+paper's Table 1 and Table 2 numbers did not survive the text extraction.
 """
 
 from __future__ import annotations
 
-import time
+import math
+from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from matplotlib.figure import Figure
-
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.analysis.features import block_means
 from gyrobench.analysis.metrics import bias_stability, improvement_pct
 from gyrobench.analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES, two_sensor_regressors
-from gyrobench.scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from gyrobench.scenarios.base import CompensationTask, FigureSpec, HeldOutRun, Outcome, Table
+from gyrobench.scenarios.claims import (
+    Claim,
+    ClaimResult,
+    Deviation,
+    above,
+    below,
+    is_true,
+    within_factor,
+)
 from gyrobench.sim import units
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.recording import Recording
@@ -48,13 +69,23 @@ from gyrobench.sim.rlg import (
     TwoNodeThermal,
 )
 
-NAME = "rlg_thermal"
-TITLE = "RLG variable-temperature bias (-40..+65 degC): stepwise regression on housing/cavity temperatures (paper 004)"
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-#: the paper's selected terms and its reported figures
+NAME = "rlg_thermal"
+TITLE = (
+    "RLG variable-temperature bias (-40..+65 degC): stepwise regression on housing and cavity "
+    "temperatures"
+)
+PAPER = "004"
+
+#: the paper's selected terms, the terms it reports as not significant, and its figures
 PAPER_SELECTED = ("x1", "x3", "x5", "x7", "x11")
+PAPER_DROPPED = ("x2", "x4", "x6", "x8", "x9", "x10")
 PAPER_ADJ_R2 = 0.97
 PAPER_IMPROVEMENT_PCT = 65.0
+
+_HOUR = units.HOUR  # report() takes a parameter named units (the contract's)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -64,22 +95,21 @@ class Config:
     Field units at this edge: degC, minutes, deg/s, deg/h, arcsec.
     """
 
-    # --- protocol (paper 004)
-    n_gyros: int = 3
+    # --- protocol (paper 004: range, rate, 100-s averaging, MATLAB stepwise defaults)
     start_c: float = -40.0
     high_c: float = 65.0
     ramp_c_per_min: float = 1.0 / 3.0
+    # --- protocol details the paper does not give (DEVIATIONS)
     power_on_soak_min: float = 30.0
     high_soak_min: float = 60.0
     end_soak_min: float = 30.0
+    #: ramp back to start_c after the high soak (the paper gives the range, not the program)
+    return_ramp: bool = True
     block_s: float = 100.0
     fs_hz: float = 10.0
     derivative_window_s: float = 500.0
     p_enter: float = 0.05
     p_remove: float = 0.10
-    bench_gyro: int = 0
-    #: seeds in the seed-dependence table (Table 3), the reported one included (as in ifog_thermal)
-    seed_summary_count: int = 11
     # --- gyro budget (not in the paper: typical high-precision dithered RLG, see sim.rlg.RLGSpec)
     triangle_side_m: float = 0.14
     lock_in_deg_s: float = 0.05
@@ -95,6 +125,7 @@ class Config:
     heating_housing_k: float = 4.0
     heating_cavity_k: float = 1.5
     thermal_spread: float = 0.1
+    # CALIBRATED (sim.rlg.ThermalBias): sizes tuned so raw ~3x compensated stability
     cavity_deg_h_per_k: float = 7.5e-4
     cavity_quadratic_deg_h_per_k2: float = 4e-6
     gradient_deg_h_per_k: float = 6e-3
@@ -107,27 +138,21 @@ class Config:
     sensor_offset_spread_k: float = 0.2
 
     def __post_init__(self) -> None:
-        if isinstance(self.n_gyros, bool) or not isinstance(self.n_gyros, int) or self.n_gyros < 1:
-            raise ValueError(f"Config.n_gyros must be an integer >= 1; got {self.n_gyros!r}")
-        if not (isinstance(self.bench_gyro, int) and 0 <= self.bench_gyro < self.n_gyros):
-            raise ValueError(
-                f"Config.bench_gyro must be an index in [0, {self.n_gyros}); got {self.bench_gyro!r}"
-            )
         if not self.high_c > self.start_c:
             raise ValueError(
                 f"Config.high_c must be > start_c [degC]; got {self.high_c!r} <= {self.start_c!r}"
             )
+        if not isinstance(self.return_ramp, bool):
+            raise TypeError(f"Config.return_ramp must be a bool; got {self.return_ramp!r}")
         for name in ("ramp_c_per_min", "block_s", "fs_hz", "derivative_window_s"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
                 raise ValueError(f"Config.{name} must be > 0; got {v!r}")
         if self.fs_hz * self.block_s != round(self.fs_hz * self.block_s):
             raise ValueError(
-                f"Config.block_s x fs_hz must be a whole number of samples; got {self.block_s!r} s x {self.fs_hz!r} Hz"
+                f"Config.block_s x fs_hz must be a whole number of samples; got {self.block_s!r} "
+                f"s x {self.fs_hz!r} Hz"
             )
-        v = self.seed_summary_count
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise ValueError(f"Config.seed_summary_count must be an integer >= 0; got {v!r}")
         self.spec()  # validates the gyro budget
 
     def spec(self) -> RLGSpec:
@@ -168,52 +193,50 @@ class Config:
         )
 
     def chamber(self) -> PiecewiseLinear:
-        """Chamber program [K]: soak at start (gyro on), ramp up, soak, ramp down, soak."""
+        """Chamber program [K]: soak at start (gyro on), ramp up, soak, [ramp down, soak]."""
         rate = self.ramp_c_per_min / units.MINUTE
-        steps = [
+        steps: list[Ramp | Soak] = [
             Soak(duration=self.power_on_soak_min * units.MINUTE),
             Ramp(target=units.celsius(self.high_c), rate=rate),
             Soak(duration=self.high_soak_min * units.MINUTE),
-            Ramp(target=units.celsius(self.start_c), rate=rate),
-            Soak(duration=self.end_soak_min * units.MINUTE),
         ]
+        if self.return_ramp:
+            steps += [
+                Ramp(target=units.celsius(self.start_c), rate=rate),
+                Soak(duration=self.end_soak_min * units.MINUTE),
+            ]
         return thermal_profile(units.celsius(self.start_c), steps)
 
 
 # ----------------------------------------------------------------------------- simulation
-def _units_and_streams(
+def _unit_and_streams(
     config: Config, seed: int
-) -> tuple[list[RLGUnit], list[list[np.random.Generator]]]:
-    r_units, r_runs = np.random.default_rng(seed).spawn(2)
-    spec = config.spec()
-    gyros = [
-        spec.realize(rng=r, label=f"gyro {i + 1}")
-        for i, r in enumerate(r_units.spawn(config.n_gyros))
-    ]
-    runs = [r.spawn(2) for r in r_runs.spawn(config.n_gyros)]
-    return gyros, runs
+) -> tuple[RLGUnit, tuple[np.random.Generator, np.random.Generator]]:
+    """The gyro of unit ``seed`` and the streams of its two turn-ons (fit, held-out)."""
+    r_unit, r_fit, r_held = np.random.default_rng(seed).spawn(3)
+    gyro = config.spec().realize(rng=r_unit, label=f"unit {seed}")
+    return gyro, (r_fit, r_held)
 
 
 def simulate(config: Config, seed: int) -> list[Recording]:
-    """Two chamber runs (fit, held-out) per gyro: pulse-count output, logged T1/T2, truth."""
-    gyros, runs = _units_and_streams(config, seed)
+    """The unit's two chamber runs (fit, held-out): pulse-count output, logged T1/T2, truth."""
+    gyro, streams = _unit_and_streams(config, seed)
     prof = config.chamber()
     recs = []
-    for i, (g, rr) in enumerate(zip(gyros, runs, strict=True)):
-        for kind, r in zip(("fit", "heldout"), rr, strict=True):
-            rec = g.simulate(prof, prof.duration, config.fs_hz, rng=r, name=f"gyro{i + 1}_{kind}")
-            meta = dict(rec.metadata)
-            meta.update({"scenario": NAME, "seed": seed, "gyro": i + 1, "run": kind})
-            recs.append(
-                Recording(
-                    fs=rec.fs,
-                    channels=rec.channels,
-                    truth=rec.truth,
-                    t0=rec.t0,
-                    metadata=meta,
-                    name=rec.name,
-                )
+    for kind, r in zip(("fit", "heldout"), streams, strict=True):
+        rec = gyro.simulate(prof, prof.duration, config.fs_hz, rng=r, name=f"unit{seed}_{kind}")
+        meta = dict(rec.metadata)
+        meta.update({"scenario": NAME, "seed": seed, "unit": seed, "run": kind})
+        recs.append(
+            Recording(
+                fs=rec.fs,
+                channels=rec.channels,
+                truth=rec.truth,
+                t0=rec.t0,
+                metadata=meta,
+                name=rec.name,
             )
+        )
     return recs
 
 
@@ -250,6 +273,16 @@ def _blocks(rec: Recording, config: Config) -> _Blocks:
     )
 
 
+def _runs(config: Config, seed: int) -> tuple[RLGUnit, _Blocks, _Blocks]:
+    """The unit's gyro and its fitting and held-out runs as 100-s blocks."""
+    gyro, streams = _unit_and_streams(config, seed)
+    prof = config.chamber()
+    fit, held = (
+        _blocks(gyro.simulate(prof, prof.duration, config.fs_hz, rng=r), config) for r in streams
+    )
+    return gyro, fit, held
+
+
 def bias_stability_scores(compensated: np.ndarray, run: HeldOutRun) -> dict[str, float]:
     """Scorer: bias stability (std of the 100-s means, n - 1) before and after compensation [deg/h].
 
@@ -266,18 +299,12 @@ def bias_stability_scores(compensated: np.ndarray, run: HeldOutRun) -> dict[str,
 
 
 def compensation_task(config: Config, seed: int) -> CompensationTask:
-    """Gyro ``config.bench_gyro``: training = its fitting run, held-out = its second run (100-s blocks).
+    """Unit ``seed``: training = its fitting run, held-out = its second run (100-s blocks).
 
     Features: the eleven regressors x1..x11 (degC, degC/s); target: the output error
     [deg/h] (output minus true rate), as the paper compensates the bias.
     """
-    gyros, runs = _units_and_streams(config, seed)
-    i = config.bench_gyro
-    prof = config.chamber()
-    fit, held = (
-        _blocks(gyros[i].simulate(prof, prof.duration, config.fs_hz, rng=r), config)
-        for r in runs[i]
-    )
+    _, fit, held = _runs(config, seed)
     return CompensationTask(
         scenario=NAME,
         feature_names=tuple(
@@ -286,9 +313,7 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
         X_train=fit.X,
         y_train=fit.output - fit.truth,
         heldout=(
-            HeldOutRun(
-                label=f"gyro{i + 1}_heldout", X=held.X, output=held.output, truth=held.truth
-            ),
+            HeldOutRun(label=f"unit{seed}_heldout", X=held.X, output=held.output, truth=held.truth),
         ),
         target="error",
         unit="deg/h",
@@ -296,81 +321,7 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     )
 
 
-# ----------------------------------------------------------------------------- figures
-def _fig_output_vs_temperature(blocks: list[_Blocks]) -> Figure:
-    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
-    ax1, ax2 = fig.subplots(1, 2)
-    b = blocks[0]
-    ax1.plot(b.t_h, b.output, "k.-", lw=0.8, ms=3, label="gyro 1 output (100-s mean)")
-    ax1.set_xlabel("time [h]")
-    ax1.set_ylabel("output bias [deg/h]")
-    axt = ax1.twinx()
-    axt.plot(b.t_h, b.chamber, color="0.6", lw=1, label="chamber")
-    axt.plot(b.t_h, b.t1, color="tab:red", lw=1, label="T1 housing")
-    axt.plot(b.t_h, b.t2, color="tab:blue", lw=1, label="T2 cavity")
-    axt.set_ylabel("temperature [degC]")
-    axt.legend(loc="lower center", fontsize=8)
-    ax1.legend(loc="upper left", fontsize=8)
-    ax1.set_title("(a) output and temperatures, fitting run")
-    for k, bb in enumerate(blocks):
-        ax2.plot(bb.t1, bb.output - np.mean(bb.output), ".-", lw=0.6, ms=3, label=f"gyro {k + 1}")
-    ax2.set_xlabel("housing temperature T1 [degC]")
-    ax2.set_ylabel("output bias - mean [deg/h]")
-    ax2.set_title("(b) output vs temperature (up and down ramps)")
-    ax2.legend(fontsize=8)
-    return fig
-
-
-def _fig_rate_gradient(b: _Blocks) -> Figure:
-    fig = Figure(figsize=(8.0, 4.2), layout="constrained")
-    ax = fig.subplots()
-    ax.plot(b.t_h, b.X[:, 2] * units.MINUTE, color="tab:red", label="dT1/dt housing")
-    ax.plot(b.t_h, b.X[:, 3] * units.MINUTE, color="tab:blue", label="dT2/dt cavity")
-    ax.set_xlabel("time [h]")
-    ax.set_ylabel("temperature rate [degC/min]")
-    axg = ax.twinx()
-    axg.plot(b.t_h, b.X[:, 8], "k--", label="gradient T1 - T2")
-    axg.set_ylabel("gradient T1 - T2 [degC]")
-    h1, l1 = ax.get_legend_handles_labels()
-    h2, l2 = axg.get_legend_handles_labels()
-    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower left")
-    ax.set_title("Temperature rate and gradient during the chamber cycle (gyro 1, fitting run)")
-    return fig
-
-
-def _fig_before_after(held: list[_Blocks], comps: list[np.ndarray], stats: list[dict]) -> Figure:
-    n = len(held)
-    fig = Figure(figsize=(8.0, 2.6 * n), layout="constrained")
-    axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
-    for k, (ax, b, c, s) in enumerate(zip(axes, held, comps, stats, strict=True)):
-        ax.plot(
-            b.t_h,
-            b.output - b.output.mean(),
-            color="tab:red",
-            lw=1,
-            label=f"before: {s['bias_stability_before_deg_h']:.4f} deg/h",
-        )
-        ax.plot(
-            b.t_h,
-            c - c.mean(),
-            color="tab:blue",
-            lw=1,
-            label=f"after: {s['bias_stability_after_deg_h']:.4f} deg/h",
-        )
-        ax.set_ylabel("bias - mean [deg/h]")
-        ax.set_title(
-            f"({'abc'[k] if k < 3 else k}) gyro {k + 1}, held-out run: {s['improvement_pct']:.1f} % better"
-        )
-        ax.legend(fontsize=8, loc="upper right")
-    axes[-1].set_xlabel("time [h]")
-    return fig
-
-
-# ----------------------------------------------------------------------------- run
-def _terms(support: np.ndarray) -> list[str]:
-    return [REGRESSOR_LABELS[j] for j in np.flatnonzero(support)]
-
-
+# ----------------------------------------------------------------------------- experiment
 def _stability(x: np.ndarray, b: _Blocks) -> float:
     """Bias stability [deg/h] of 100-s block values ``x`` against the blocks' true rate.
 
@@ -380,346 +331,11 @@ def _stability(x: np.ndarray, b: _Blocks) -> float:
     return float(np.std(np.asarray(x) - b.truth, ddof=1))
 
 
-def _fit_gyro(config: Config, g, streams, prof, i: int) -> tuple[_Blocks, _Blocks, StepwiseRegression]:
-    """Simulate gyro ``i``'s fitting and held-out runs, block them, fit stepwise on the first."""
-    rf = g.simulate(prof, prof.duration, config.fs_hz, rng=streams[0], name=f"gyro{i + 1}_fit")
-    rh = g.simulate(prof, prof.duration, config.fs_hz, rng=streams[1], name=f"gyro{i + 1}_heldout")
-    bf, bh = _blocks(rf, config), _blocks(rh, config)
-    m = StepwiseRegression(p_enter=config.p_enter, p_remove=config.p_remove).fit(
-        bf.X, bf.output - bf.truth
-    )
-    return bf, bh, m
+def _terms(support: np.ndarray) -> list[str]:
+    return [REGRESSOR_LABELS[j] for j in np.flatnonzero(support)]
 
 
-def seed_summary(config: Config, seeds) -> list[dict]:
-    """Adjusted R^2 (fitting run) and held-out improvement [%] of every gyro, for each seed.
-
-    The whole pipeline of :func:`run` (draw the units, simulate both turn-ons, fit,
-    score) without tables or figures; it shows how much the two targets depend on the
-    draw, which one seed cannot.
-    """
-    prof = config.chamber()
-    out = []
-    for s in seeds:
-        gyros, runs = _units_and_streams(config, int(s))
-        adj, imp = [], []
-        for i in range(config.n_gyros):
-            bf, bh, m = _fit_gyro(config, gyros[i], runs[i], prof, i)
-            before = _stability(bh.output, bh)
-            after = _stability(bh.output - m.predict(bh.X), bh)
-            adj.append(float(m.adj_r2_))
-            imp.append(improvement_pct(before, after))
-        out.append({"seed": int(s), "adj_r2": adj, "improvement_pct": imp})
-    return out
-
-
-def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
-    """Simulate the three gyros, fit each on its first run, score on its second, build tables and figures."""
-    from tqdm import tqdm
-
-    t_start = time.perf_counter()
-    gyros, runs = _units_and_streams(config, seed)
-    prof = config.chamber()
-    fits, helds, models, comps, gyro_results = [], [], [], [], []
-    for i in tqdm(range(config.n_gyros), desc=NAME, unit="gyro", disable=not progress):
-        g = gyros[i]
-        bf, bh, m = _fit_gyro(config, g, runs[i], prof, i)
-        comp_h = bh.output - m.predict(bh.X)
-        comp_f = bf.output - m.predict(bf.X)
-        before, after = _stability(bh.output, bh), _stability(comp_h, bh)
-        fb, fa = _stability(bf.output, bf), _stability(comp_f, bf)
-        # the best any model of the logged temperatures could do: output minus the true thermal bias
-        floor = _stability(bh.output - bh.thermal, bh)
-        sel = _terms(m.support_)
-        gyro_results.append(
-            {
-                "label": g.label,
-                "selected": sel,
-                "selected_names": [REGRESSOR_NAMES[int(s[1:]) - 1] for s in sel],
-                "multiple_r": m.multiple_r_,
-                "r2": m.r2_,
-                "adj_r2": m.adj_r2_,
-                "rmse_deg_h": m.rmse_,
-                "f_statistic": m.f_statistic_,
-                "significance_f": m.significance_f_,
-                "intercept_deg_h": m.intercept_,
-                "coefficients": {
-                    REGRESSOR_LABELS[j]: float(m.coef_[j]) for j in np.flatnonzero(m.support_)
-                },
-                "pvalues": {
-                    REGRESSOR_LABELS[j]: float(m.pvalues_[j]) for j in range(len(REGRESSOR_LABELS))
-                },
-                "steps": [[a, REGRESSOR_LABELS[j], float(p)] for a, j, p in m.history_],
-                "bias_stability_before_deg_h": before,
-                "bias_stability_after_deg_h": after,
-                "improvement_pct": improvement_pct(before, after),
-                "fit_run": {
-                    "bias_stability_before_deg_h": fb,
-                    "bias_stability_after_deg_h": fa,
-                    "improvement_pct": improvement_pct(fb, fa),
-                },
-                "heldout_noise_floor_deg_h": floor,
-                "n_blocks_fit": int(len(bf.output)),
-                "unit": {
-                    "lock_in_deg_s": float(units.to_deg_per_s(g.lock_in_rate)),
-                    "arw_deg_sqrt_h": float(units.to_deg_per_sqrt_h(g.angle_random_walk)),
-                    "pulse_weight_arcsec": float(units.to_arcsec(g.pulse_weight)),
-                    "tau_housing_min": g.thermal.tau_housing / units.MINUTE,
-                    "tau_cavity_min": g.thermal.tau_cavity / units.MINUTE,
-                    "thermal_bias_std_deg_h": float(np.std(bf.thermal, ddof=1)),
-                },
-            }
-        )
-        fits.append(bf)
-        helds.append(bh)
-        models.append(m)
-        comps.append(comp_h)
-
-    # one model for every unit: gyro 1's fitted model applied to each gyro's held-out run
-    # (a reading of the paper's "this compensation model applied to three gyros")
-    for r, bh in zip(gyro_results, helds, strict=True):
-        comp = bh.output - models[0].predict(bh.X)
-        after = _stability(comp, bh)
-        r["gyro1_model"] = {
-            "bias_stability_after_deg_h": after,
-            "improvement_pct": improvement_pct(r["bias_stability_before_deg_h"], after),
-        }
-
-    # ---------------------------------------------------------------- tables
-    t1_rows = [
-        [
-            r["label"],
-            ", ".join(r["selected"]) or "(none)",
-            r["multiple_r"],
-            r["r2"],
-            r["adj_r2"],
-            r["rmse_deg_h"],
-            r["f_statistic"],
-            r["significance_f"],
-        ]
-        for r in gyro_results
-    ]
-    t1_rows.append(
-        [
-            "paper 004",
-            ", ".join(PAPER_SELECTED),
-            "n/a",
-            "n/a",
-            f"~{PAPER_ADJ_R2}",
-            "n/a",
-            "n/a",
-            "n/a",
-        ]
-    )
-    table1 = Table(
-        title="Table 1. Multiple linear regression on the fitting run (100-s blocks): selected terms and statistics",
-        columns=[
-            "gyro",
-            "selected terms",
-            "Multiple R",
-            "R^2",
-            "adjusted R^2",
-            "RMSE [deg/h]",
-            "F",
-            "significance F",
-        ],
-        rows=t1_rows,
-        note=(
-            "Candidates x1..x11: "
-            + "; ".join(
-                f"{a} = {b}" for a, b in zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)
-            )
-            + " (temperatures in degC, rates in degC/s; x9-x11 defined in analysis.regressors, the paper does not give "
-            "their form). Stepwise p-enter 0.05, p-remove 0.10. The paper's table values were lost in extraction; its "
-            "text gives adjusted R^2 ~0.97 and the terms x1, x3, x5, x7, x11. The candidates are strongly collinear "
-            "(T1 ~ T2, dT1/dt ~ dT2/dt ~ gradient during ramps), so different but equivalent term sets can be selected."
-        ),
-    )
-    g0 = gyro_results[0]
-    coef_rows = [
-        [
-            lab,
-            REGRESSOR_NAMES[j],
-            g0["coefficients"][lab] if lab in g0["coefficients"] else "excluded",
-            float(models[0].coef_stderr_[j]) if lab in g0["coefficients"] else "",
-            g0["pvalues"][lab],
-        ]
-        for j, lab in enumerate(REGRESSOR_LABELS)
-    ]
-    table1b = Table(
-        title="Table 1b. Gyro 1 model: coefficients (deg/h per unit of the term) and stepwise p-values",
-        columns=[
-            "term",
-            "definition",
-            "coefficient",
-            "std. error",
-            "p-value (remove if in, enter if out)",
-        ],
-        rows=[["x0", "intercept", g0["intercept_deg_h"], "", ""]] + coef_rows,
-    )
-    table2 = Table(
-        title="Table 2. Variable-temperature bias stability (1 sigma of 100-s means) before and after compensation",
-        columns=[
-            "gyro",
-            "before [deg/h]",
-            "after [deg/h]",
-            "improvement [%]",
-            "fitting run improvement [%]",
-            "with gyro 1's model [%]",
-            "noise floor [deg/h]",
-            "paper improvement [%]",
-        ],
-        rows=[
-            [
-                r["label"],
-                r["bias_stability_before_deg_h"],
-                r["bias_stability_after_deg_h"],
-                r["improvement_pct"],
-                r["fit_run"]["improvement_pct"],
-                r["gyro1_model"]["improvement_pct"],
-                r["heldout_noise_floor_deg_h"],
-                f"~{PAPER_IMPROVEMENT_PCT:.0f}",
-            ]
-            for r in gyro_results
-        ],
-        note=(
-            "Before/after from the held-out run (second turn-on, never used for fitting), each gyro with its own "
-            "model. 'With gyro 1's model': the held-out run compensated by gyro 1's fitted model instead (the paper's "
-            "text can be read as one model applied to three gyros). Noise floor: the held-out output minus the true "
-            "thermal bias, i.e. what a perfect thermal model would leave (dither random walk, count quantization, "
-            "flicker)."
-        ),
-    )
-
-    # ---------------------------------------------------------------- seed dependence
-    adj = [r["adj_r2"] for r in gyro_results]
-    imp = [r["improvement_pct"] for r in gyro_results]
-    summary = [{"seed": seed, "adj_r2": adj, "improvement_pct": imp}]
-    summary += seed_summary(config, range(seed + 1, seed + config.seed_summary_count))
-    for row in summary:
-        row["adj_r2_target_holds"] = bool(all(a >= 0.9 for a in row["adj_r2"]))
-        row["improvement_target_holds"] = bool(all(50.0 <= v <= 80.0 for v in row["improvement_pct"]))
-    n_adj = sum(r["adj_r2_target_holds"] for r in summary)
-    n_imp = sum(r["improvement_target_holds"] for r in summary)
-    n_both = sum(r["adj_r2_target_holds"] and r["improvement_target_holds"] for r in summary)
-    table3 = Table(
-        title=f"Table 3 (not in the paper). Seed dependence: the whole pipeline on seeds {seed}-{seed + len(summary) - 1}",
-        columns=["seed", "adjusted R^2 (3 gyros)", "held-out improvement [%] (3 gyros)",
-                 "adj. R^2 >= 0.9 (all)", "improvement 50-80 % (all)"],
-        rows=[
-            [r["seed"], ", ".join(f"{a:.3f}" for a in r["adj_r2"]),
-             ", ".join(f"{v:.1f}" for v in r["improvement_pct"]),
-             "yes" if r["adj_r2_target_holds"] else "NO",
-             "yes" if r["improvement_target_holds"] else "NO"]
-            for r in summary
-        ],
-        note=(
-            f"Each seed draws three new units and their two turn-ons. Adjusted R^2 >= 0.9 for every gyro on "
-            f"{n_adj}/{len(summary)} seeds, held-out improvement 50-80 % for every gyro on {n_imp}/{len(summary)}, "
-            f"both on {n_both}/{len(summary)}. The first row is the run reported above. The paper reports one set of three "
-            "gyros; these rows show how far another draw of three units moves the two numbers."
-        ),
-    )
-
-    # ---------------------------------------------------------------- figures
-    stats = gyro_results
-    figures = [
-        FigureSpec(
-            "fig1_output_vs_temperature",
-            "Figure 1. Gyro output (100-s means) and temperatures over the chamber cycle; output vs housing temperature for the three gyros.",
-            _fig_output_vs_temperature(fits),
-        ),
-        FigureSpec(
-            "fig2_rate_and_gradient",
-            "Figure 2. Temperature rates of housing and cavity and the housing-cavity gradient during the cycle.",
-            _fig_rate_gradient(fits[0]),
-        ),
-        FigureSpec(
-            "fig4_before_after",
-            "Figure 4. Held-out runs: bias before and after stepwise-regression compensation, three gyros.",
-            _fig_before_after(helds, comps, stats),
-        ),
-    ]
-
-    # ---------------------------------------------------------------- headlines
-    headlines = [
-        Headline(
-            "adjusted R^2 on the fitting run",
-            ", ".join(f"{a:.3f}" for a in adj),
-            f"~{PAPER_ADJ_R2} (target >= 0.9)",
-            summary[0]["adj_r2_target_holds"],
-            f"holds on {n_adj} of {len(summary)} seeds (Table 3)",
-        ),
-        Headline(
-            "held-out bias-stability improvement [%]",
-            ", ".join(f"{v:.1f}" for v in imp),
-            f"~{PAPER_IMPROVEMENT_PCT:.0f} (target 50-80 each)",
-            summary[0]["improvement_target_holds"],
-            f"holds on {n_imp} of {len(summary)} seeds (Table 3)",
-        ),
-        Headline(
-            "selected terms",
-            "; ".join(f"{r['label']}: {', '.join(r['selected'])}" for r in gyro_results),
-            ", ".join(PAPER_SELECTED),
-            None,
-            "the candidates are collinear: the selected set differs from unit to unit; compare R^2 and improvement",
-        ),
-        Headline(
-            "bias depends on temperature, its rate and the gradient",
-            "every gyro keeps a temperature, a rate and a gradient-carrying term"
-            if all(_has_kinds(r["selected"]) for r in gyro_results)
-            else "not every gyro keeps all three kinds",
-            "x1 (T), x3/x5/x7 (rate), x11 (gradient)",
-            bool(all(_has_kinds(r["selected"]) for r in gyro_results)),
-            "temperature-carrying: x1, x2 or a product with T (x5, x6, x11); gradient-carrying: x9-x11, or the "
-            "cavity rate x4/x6/x8, since in the two-node model dT2/dt = (T1 + H2 - T2)/tau2 is the gradient "
-            "(plus the self-heating offset)",
-        ),
-    ]
-    results = {
-        "gyros": gyro_results,
-        "seed_summary": summary,
-        "regressors": dict(zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)),
-        "paper": {
-            "selected": list(PAPER_SELECTED),
-            "adj_r2": PAPER_ADJ_R2,
-            "improvement_pct": PAPER_IMPROVEMENT_PCT,
-        },
-        "protocol": {
-            "chamber_duration_h": prof.duration / units.HOUR,
-            "block_s": config.block_s,
-            "fs_hz": config.fs_hz,
-        },
-    }
-    mean_imp = float(np.mean(imp))
-    cross_txt = (
-        ", ".join(f"{r['gyro1_model']['improvement_pct']:.0f}" for r in gyro_results[1:]) or "n/a"
-    )
-    return Outcome(
-        scenario=NAME,
-        title=TITLE,
-        seed=seed,
-        config=config,
-        results=results,
-        tables=[table1, table1b, table2, table3],
-        figures=figures,
-        headlines=headlines,
-        conclusion=(
-            f"Stepwise regression on the housing and cavity temperatures, their rates, products and gradient terms "
-            f"fits each gyro's variable-temperature bias with adjusted R^2 {min(adj):.2f}-{max(adj):.2f} and improves "
-            f"the held-out bias stability by {min(imp):.0f}-{max(imp):.0f} % (mean {mean_imp:.0f} %; paper ~65 %, "
-            "'about 2x'). What remains after compensation is close to the noise floor set by the dither random walk "
-            "and pulse quantization over 100 s, plus turn-on changes of the discharge balance the model cannot know. "
-            f"Applying gyro 1's model to the other gyros gives {cross_txt} %. The selected terms differ from unit to "
-            "unit and from the paper's x1, x3, x5, x7, x11: the candidates are nearly collinear, so several term sets "
-            f"fit equally well. Over seeds {seed}-{seed + len(summary) - 1} (Table 3) the adjusted-R^2 target holds for "
-            f"all three gyros on {n_adj} and the improvement target on {n_imp} of {len(summary)} seeds."
-        ),
-        runtime_s=time.perf_counter() - t_start,
-    )
-
-
-def _has_kinds(selected: list[str]) -> bool:
+def _has_kinds(selected: Sequence[str]) -> bool:
     """Whether a selection uses temperature, rate and gradient information.
 
     Temperature: x1, x2 or a product with a temperature (x5, x6, x11). Rate: any
@@ -731,3 +347,768 @@ def _has_kinds(selected: list[str]) -> bool:
     rate = bool(s & {"x3", "x4", "x5", "x6", "x7", "x8", "x10"})
     grad = bool(s & {"x4", "x6", "x8", "x9", "x10", "x11"})
     return temp and rate and grad
+
+
+def _model_record(m: StepwiseRegression) -> dict[str, Any]:
+    """The fitted model's Table-1 statistics, coefficients and stepwise history (JSON-able)."""
+    sel = _terms(m.support_)
+    return {
+        "selected": sel,
+        "multiple_r": float(m.multiple_r_),
+        "r2": float(m.r2_),
+        "adj_r2": float(m.adj_r2_),
+        "rmse_deg_h": float(m.rmse_),
+        "f_statistic": float(m.f_statistic_),
+        "significance_f": float(m.significance_f_),
+        "intercept_deg_h": float(m.intercept_),
+        "coef": [float(c) for c in m.coef_],
+        "coef_stderr": [float(c) for c in m.coef_stderr_],
+        "pvalues": [float(p) for p in m.pvalues_],
+        "steps": [[a, REGRESSOR_LABELS[j], float(p)] for a, j, p in m.history_],
+    }
+
+
+def _quantities(model: dict[str, Any], stab: dict[str, float]) -> dict[str, float | None]:
+    """One number per claim quantity (booleans as 1.0 / 0.0)."""
+    sel = set(model["selected"])
+    after = stab["heldout_after_deg_h"]
+    return {
+        "keeps_paper_terms": float(set(PAPER_SELECTED) <= sel),
+        "drops_other_terms": float(not (sel & set(PAPER_DROPPED))),
+        "selects_paper_set": float(sel == set(PAPER_SELECTED)),
+        "temperature_rate_gradient": float(_has_kinds(model["selected"])),
+        "multiple_r": model["multiple_r"],
+        "one_minus_adj_r2": 1.0 - model["adj_r2"],
+        "rmse_deg_h": model["rmse_deg_h"],
+        "significance_f": model["significance_f"],
+        "heldout_ratio": stab["heldout_before_deg_h"] / after if after > 0 else None,
+    }
+
+
+def experiment(config: Config, seed: int) -> dict[str, Any]:
+    """One unit (one gyro): fit stepwise on its first turn-on, score on its second.
+
+    Returns ``quantities`` (see :data:`CLAIMS`), ``model`` (Table-1 statistics,
+    coefficients, p-values, steps), ``stability`` (bias stability [deg/h] before and
+    after on both runs, and the held-out noise floor: output minus the true thermal
+    bias, what a perfect thermal model would leave), ``unit`` (the drawn parameters)
+    and ``traces`` (the 100-s blocks the figures and the cross-unit table use).
+
+    On the fitting run the least-squares residual has zero mean, so
+    ``R^2 = 1 - (after_fit / before_fit)^2`` exactly: adjusted R^2 and the in-sample
+    bias-stability ratio are one number seen twice.
+    """
+    gyro, fit, held = _runs(config, seed)
+    m = StepwiseRegression(p_enter=config.p_enter, p_remove=config.p_remove).fit(
+        fit.X, fit.output - fit.truth
+    )
+    comp_fit, comp_held = fit.output - m.predict(fit.X), held.output - m.predict(held.X)
+    stab = {
+        "fit_before_deg_h": _stability(fit.output, fit),
+        "fit_after_deg_h": _stability(comp_fit, fit),
+        "heldout_before_deg_h": _stability(held.output, held),
+        "heldout_after_deg_h": _stability(comp_held, held),
+        "heldout_floor_deg_h": _stability(held.output - held.thermal, held),
+    }
+    model = _model_record(m)
+    return {
+        "seed": int(seed),
+        "quantities": _quantities(model, stab),
+        "model": model,
+        "stability": stab,
+        "unit": {
+            "lock_in_deg_s": float(units.to_deg_per_s(gyro.lock_in_rate)),
+            "arw_deg_sqrt_h": float(units.to_deg_per_sqrt_h(gyro.angle_random_walk)),
+            "tau_housing_min": gyro.thermal.tau_housing / units.MINUTE,
+            "tau_cavity_min": gyro.thermal.tau_cavity / units.MINUTE,
+            "thermal_bias_std_deg_h": float(np.std(fit.thermal, ddof=1)),
+        },
+        "traces": {
+            "fit": {k: getattr(fit, k) for k in ("t_h", "output", "t1", "t2", "chamber")}
+            | {"dt1": fit.X[:, 2], "dt2": fit.X[:, 3], "gradient": fit.X[:, 8]},
+            "heldout": {
+                "t_h": held.t_h,
+                "X": held.X,
+                "output": held.output,
+                "truth": held.truth,
+                "compensated": comp_held,
+            },
+        },
+    }
+
+
+# ----------------------------------------------------------------------------- claims
+_THERMAL_FORM = (
+    "sim.rlg.ThermalBias writes the thermal bias as k_c T2 + k_cc T2^2 + (1 + a T2)[k_g (T1 - T2) "
+    "+ k_f dT1/dt] + k_ff (dT1/dt)^2, i.e. in the paper's regressor forms (temperature, housing "
+    "rate, temperature x rate, squared rate, temperature x gradient), chosen after the paper's "
+    "selection"
+)
+_THERMAL_SIZES = (
+    "the sizes of sim.rlg.ThermalBias (Config cavity_*, gradient_*, flux_*) were tuned so that "
+    "the raw variable-temperature bias stability is about 3x the compensated one (PHYSICS.md 6.4)"
+)
+_RATIO_TIED = (
+    "; on the fitting run this ratio is 1/sqrt(1 - R^2), the adjusted-R^2 claim's number, by "
+    "arithmetic (the claim scores the held-out second turn-on)"
+)
+_TIED = (
+    "; in-sample R^2 = 1 - (after/before)^2 exactly, so this follows from the same tuning by "
+    "arithmetic"
+)
+
+
+def _claim(cid: str, where: str, statement: str, quantity: str, comparator, **kw) -> Claim:
+    return Claim(
+        id=f"004.{cid}",
+        paper=PAPER,
+        where=where,
+        statement=statement,
+        quantity=quantity,
+        comparator=comparator,
+        **kw,
+    )
+
+
+CLAIMS: tuple[Claim, ...] = (
+    _claim(
+        "keeps_x1_x3_x5_x7_x11",
+        "Sec. 3 (stepwise), Table 1",
+        "Stepwise regression (MATLAB stepwise over x1..x11) keeps x1, x3, x5, x7 and x11 (per "
+        "unit: all five selected).",
+        "keeps_paper_terms",
+        is_true(),
+        kind="calibrated",
+        calibrated_input=_THERMAL_FORM,
+    ),
+    _claim(
+        "drops_x2_x4_x6_x8_x9_x10",
+        "Sec. 3 (stepwise)",
+        "x2, x4, x6, x8, x9 and x10 are not significant and are left out (per unit: none of them "
+        "selected).",
+        "drops_other_terms",
+        is_true(),
+        kind="calibrated",
+        calibrated_input=_THERMAL_FORM,
+    ),
+    _claim(
+        "selection_stability",
+        "Sec. 3, Eq. (3) applied to three gyros",
+        "One term set, x1, x3, x5, x7, x11, serves every gyro (selection stability: the pass rate "
+        "is the fraction of units whose stepwise selection is exactly the paper's set).",
+        "selects_paper_set",
+        is_true(),
+        kind="calibrated",
+        calibrated_input=_THERMAL_FORM,
+    ),
+    _claim(
+        "bias_depends_on_t_rate_gradient",
+        "Sec. 3 and conclusion",
+        "The output bias depends on the internal temperature, the temperature rate and the "
+        "temperature gradient (per unit: the selection carries all three kinds of term).",
+        "temperature_rate_gradient",
+        is_true(),
+        kind="calibrated",
+        calibrated_input=_THERMAL_FORM,
+    ),
+    _claim(
+        "multiple_r_high",
+        "Table 1 (text)",
+        "Multiple R shows a high positive correlation between x1, x3, x5, x7, x11 and the bias "
+        "(taken as Multiple R > 0.8, the usual threshold of 'high'; R^2 = Multiple R^2 is not a "
+        "separate claim).",
+        "multiple_r",
+        above(0.8),
+        kind="calibrated",
+        calibrated_input=_THERMAL_SIZES + _TIED,
+    ),
+    _claim(
+        "adj_r2_0_97",
+        "Table 1 (text)",
+        "Adjusted R^2 ~0.97: the regressors explain 97 % of the bias (compared as 1 - adjusted "
+        "R^2 within a factor 2 of 0.03, since a factor 2 on a number near 1 means nothing).",
+        "one_minus_adj_r2",
+        within_factor(1.0 - PAPER_ADJ_R2, 2.0),
+        paper_value=1.0 - PAPER_ADJ_R2,
+        kind="calibrated",
+        calibrated_input=_THERMAL_SIZES + _TIED,
+    ),
+    _claim(
+        "rmse_below_0_05",
+        "Table 1 (text)",
+        "The RMSE is below 0.05 (the paper's words: 'less than the significance level 0.05'; read "
+        "as 0.05 deg/h on the 100-s means).",
+        "rmse_deg_h",
+        below(0.05),
+        paper_value=0.05,
+        unit="deg/h",
+        kind="emergent",
+    ),
+    _claim(
+        "significance_f",
+        "Table 1 (text)",
+        "The regression is significant (significance F below the 0.05 level).",
+        "significance_f",
+        below(0.05),
+        paper_value=0.05,
+        kind="calibrated",
+        calibrated_input=_THERMAL_SIZES + "; with ~450 blocks any R^2 above ~0.03 gives "
+        "significance F < 0.05",
+    ),
+    _claim(
+        "improvement_65pct",
+        "Sec. 4, Table 2, Fig. 4",
+        "Compensation improves each gyro's variable-temperature bias stability by about 65 % "
+        "(compared as the held-out before/after ratio within a factor 2 of 1/(1 - 0.65) = 2.86).",
+        "heldout_ratio",
+        within_factor(1.0 / (1.0 - PAPER_IMPROVEMENT_PCT / 100.0), 2.0),
+        paper_value=1.0 / (1.0 - PAPER_IMPROVEMENT_PCT / 100.0),
+        unit="x",
+        kind="calibrated",
+        calibrated_input=_THERMAL_SIZES + _RATIO_TIED,
+    ),
+    _claim(
+        "improvement_about_2x",
+        "Conclusion",
+        "The model improves the variable-temperature bias stability 'by about 2 times' (held-out "
+        "before/after ratio within a factor 2 of 2).",
+        "heldout_ratio",
+        within_factor(2.0, 2.0),
+        paper_value=2.0,
+        unit="x",
+        kind="calibrated",
+        calibrated_input=_THERMAL_SIZES + _RATIO_TIED,
+    ),
+)
+
+
+# ----------------------------------------------------------------------------- deviations
+#: measured over units 0-19 (seeds 0-19) with the default Config unless stated
+DEVIATIONS: tuple[Deviation, ...] = (
+    Deviation(
+        paper=PAPER,
+        what="chamber program",
+        paper_says="gyro powered and started, then the chamber runs over -40..+65 degC at 1 "
+        "degC/3 min (soaks and direction not given)",
+        we_do="gyro on at -40 degC (30-min soak), ramp to +65, 60-min soak, ramp back to -40, "
+        "30-min soak (12.5 h; Config.return_ramp)",
+        reason="the paper gives range and rate only; a full cycle exercises both signs of the "
+        "rate and of the housing-cavity gradient",
+        effect="with one up-ramp only (return_ramp=False): held-out ratio median 2.10x (full "
+        "cycle 2.86x), 1 - adj. R^2 0.19 (0.092), Multiple R 0.90 (0.954); 'drops x2, x4, ...' "
+        "10/20 (0/20), 'temperature, rate and gradient' 12/20 (20/20); exact selection 0/20 and "
+        "both ratio claims 20/20 either way",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="data the stability claims are scored on",
+        paper_says="the model is applied to the high/low-temperature test data of three gyros "
+        "(not said whether those data were used for the fit)",
+        we_do="each gyro's model is fitted on its first turn-on and the before/after stability is "
+        "scored on its second turn-on (held out)",
+        reason="a compensation model is used on later runs; in-sample scoring equals adjusted R^2 "
+        "by arithmetic (R^2 = 1 - (after/before)^2)",
+        effect="in-sample ratio median 3.32x vs held-out 2.86x; the 65 % claim holds 20/20 either "
+        "way, the 'about 2x' claim 19/20 in-sample vs 20/20 held-out. A perfect thermal model "
+        "would reach 3.31x held out (noise floor): the held-out loss comes from turn-on changes "
+        "and noise",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="one model per gyro",
+        paper_says="'this compensation model applied to three gyros' (Eq. 3; could be one "
+        "coefficient set)",
+        we_do="each unit (gyro) fits its own stepwise model; applying unit s's model to unit s+1 "
+        "is a labelled diagnostic (Table 4)",
+        reason="the paper's text does not say whether the coefficients are refitted per gyro",
+        effect="with the neighbouring unit's model the held-out ratio median is 2.73x (IQR "
+        "2.18-2.94) against 2.86x with its own; the 65 % claim would hold on 18/20, 'about 2x' on "
+        "19/20",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="gradient candidates x9-x11",
+        paper_says="'temperature gradient etc.' (the form of x9-x11 is not given)",
+        we_do="x9 = T1 - T2, x10 = d(T1 - T2)/dt, x11 = T1 (T1 - T2) (analysis.regressors)",
+        reason="the text names only x1-x8 explicitly",
+        effect="selected by x9 9/20, x10 7/20, x11 5/20 units; the 'keeps x1, x3, x5, x7, x11' "
+        "claim needs x11 and fails on every unit (also because x1 is selected by 8/20, x7 by "
+        "17/20); other forms were not tried",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="temperature-rate estimator",
+        paper_says="not given",
+        we_do="Savitzky-Golay derivative of the 100-s means over 500 s (5 blocks)",
+        reason="a smoothed derivative of the logged temperatures; 500 s is the shortest 5-block "
+        "window",
+        effect="with 1000 s: exact selection 1/20 (0/20), 'keeps' 1/20 (0/20), 'drops' 2/20 "
+        "(0/20); adj. R^2, RMSE and the ratios change in the third digit (ratio median 2.85x vs "
+        "2.86x)",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="samples of the regression",
+        paper_says="raw data averaged over 100 s (GJB) to compute the gyro's precision; the "
+        "regression's sampling is not stated",
+        we_do="the regression is fitted on the same 100-s means",
+        reason="the paper's metric and its Table 1 are most naturally on the 100-s means",
+        effect="on 10-s means (block_s=10; stability then also of 10-s means) noise dominates: "
+        "Multiple R 0.55, 1 - adj. R^2 0.70, RMSE 0.082 deg/h, ratio 1.19x; the Multiple R, RMSE "
+        "and 65 % claims fail 20/20",
+    ),
+)
+
+
+# ----------------------------------------------------------------------------- report
+def _cross_unit_ratios(units_: Sequence[dict[str, Any]]) -> list[float | None]:
+    """Held-out before/after ratio of unit i compensated with unit i-1's model.
+
+    Cyclic (the first unit uses the last one's model); None for every unit if there is one.
+    """
+    if len(units_) < 2:
+        return [None] * len(units_)
+    out: list[float | None] = []
+    for prev, u in zip([units_[-1], *units_[:-1]], units_, strict=True):
+        m, h = prev["model"], u["traces"]["heldout"]
+        comp = h["output"] - (m["intercept_deg_h"] + h["X"] @ np.asarray(m["coef"]))
+        after = float(np.std(comp - h["truth"], ddof=1))
+        out.append(u["stability"]["heldout_before_deg_h"] / after if after > 0 else None)
+    return out
+
+
+def _unit_summary(u: dict[str, Any], cross: float | None) -> dict[str, Any]:
+    """The JSON-able numbers of one unit behind Tables 1-4."""
+    s, m = u["stability"], u["model"]
+    return {
+        "seed": u["seed"],
+        "selected": m["selected"],
+        **{
+            k: m[k]
+            for k in ("multiple_r", "r2", "adj_r2", "rmse_deg_h", "f_statistic", "significance_f")
+        },
+        **s,
+        "fit_ratio": s["fit_before_deg_h"] / s["fit_after_deg_h"],
+        "heldout_ratio": s["heldout_before_deg_h"] / s["heldout_after_deg_h"],
+        "heldout_improvement_pct": improvement_pct(
+            s["heldout_before_deg_h"], s["heldout_after_deg_h"]
+        ),
+        "floor_ratio": s["heldout_before_deg_h"] / s["heldout_floor_deg_h"],
+        "cross_unit_ratio": cross,
+        "unit": u["unit"],
+    }
+
+
+def _median_row(rows: Sequence[dict[str, Any]], key: str) -> float:
+    v = [r[key] for r in rows if r[key] is not None and math.isfinite(r[key])]
+    return float(np.median(v)) if v else math.nan
+
+
+def _table1(rows: Sequence[dict[str, Any]]) -> Table:
+    keys = ("multiple_r", "r2", "adj_r2", "rmse_deg_h", "f_statistic", "significance_f")
+    body = [
+        [f"unit {r['seed']}", ", ".join(r["selected"]) or "(none)", *[r[k] for k in keys]]
+        for r in rows[:3]
+    ]
+    body.append(
+        [f"median of {len(rows)} units", "(Table 3)", *[_median_row(rows, k) for k in keys]]
+    )
+    body.append(
+        [
+            "paper 004",
+            ", ".join(PAPER_SELECTED),
+            "'high'",
+            "n/a",
+            f"~{PAPER_ADJ_R2}",
+            "< 0.05",
+            "n/a",
+            "< 0.05",
+        ]
+    )
+    return Table(
+        title="Table 1. Multiple linear regression on the fitting run (100-s means): selected "
+        "terms and statistics",
+        columns=[
+            "gyro",
+            "selected terms",
+            "Multiple R",
+            "R^2",
+            "adjusted R^2",
+            "RMSE [deg/h]",
+            "F",
+            "significance F",
+        ],
+        rows=body,
+        note=(
+            "Candidates: "
+            + "; ".join(
+                f"{a} = {b}" for a, b in zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)
+            )
+            + " (degC, degC/s; x9-x11 are this package's definition, the paper does not give "
+            "their form). Stepwise p-enter 0.05, p-remove 0.10 (MATLAB's defaults). The first "
+            "units stand in for the paper's gyros 1-3. The paper's table values were lost in "
+            "extraction; its text gives adjusted R^2 ~0.97 and the terms."
+        ),
+    )
+
+
+def _table1b(u: dict[str, Any]) -> Table:
+    m = u["model"]
+    sel = set(m["selected"])
+    rows: list[list[Any]] = [["x0", "intercept", m["intercept_deg_h"], "", ""]]
+    for j, lab in enumerate(REGRESSOR_LABELS):
+        inside = lab in sel
+        rows.append(
+            [
+                lab,
+                REGRESSOR_NAMES[j],
+                m["coef"][j] if inside else "excluded",
+                m["coef_stderr"][j] if inside else "",
+                m["pvalues"][j],
+            ]
+        )
+    return Table(
+        title=f"Table 1b. Unit {u['seed']}'s model: coefficients (deg/h per unit of the term) and "
+        "stepwise p-values",
+        columns=[
+            "term",
+            "definition",
+            "coefficient",
+            "std. error",
+            "p-value (remove if in, enter if out)",
+        ],
+        rows=rows,
+    )
+
+
+def _table2(rows: Sequence[dict[str, Any]]) -> Table:
+    keys = (
+        "heldout_before_deg_h",
+        "heldout_after_deg_h",
+        "heldout_improvement_pct",
+        "heldout_ratio",
+        "fit_ratio",
+        "floor_ratio",
+    )
+    body = [[f"unit {r['seed']}", *[r[k] for k in keys]] for r in rows[:3]]
+    body.append([f"median of {len(rows)} units", *[_median_row(rows, k) for k in keys]])
+    paper_ratio = 1.0 / (1.0 - PAPER_IMPROVEMENT_PCT / 100.0)
+    body.append(
+        [
+            "paper 004",
+            "n/a",
+            "n/a",
+            f"~{PAPER_IMPROVEMENT_PCT:.0f}",
+            f"~{paper_ratio:.2f} ('about 2x')",
+            "n/a",
+            "n/a",
+        ]
+    )
+    return Table(
+        title="Table 2. Variable-temperature bias stability (1 sigma of 100-s means) before and "
+        "after compensation",
+        columns=[
+            "gyro",
+            "before [deg/h]",
+            "after [deg/h]",
+            "improvement [%]",
+            "before/after",
+            "fitting run before/after",
+            "perfect-model before/after",
+        ],
+        rows=body,
+        note=(
+            "Before/after on the held-out run (second turn-on, never used for the fit), each unit "
+            "with its own model. Fitting run: in-sample, equal to 1/sqrt(1 - R^2) by arithmetic. "
+            "Perfect model: the held-out output minus the true thermal bias, what any model of "
+            "the logged temperatures could at best leave (dither random walk, count quantization, "
+            "flicker, turn-on bias changes)."
+        ),
+    )
+
+
+def selection_frequency(units_: Sequence[dict[str, Any]]) -> dict[str, float]:
+    """Fraction of units whose stepwise model selected each of x1..x11."""
+    n = len(units_)
+    cnt = Counter(t for u in units_ for t in u["model"]["selected"])
+    return {lab: cnt.get(lab, 0) / n for lab in REGRESSOR_LABELS}
+
+
+def _table3(units_: Sequence[dict[str, Any]], freq: dict[str, float]) -> Table:
+    n = len(units_)
+    sets = Counter(", ".join(u["model"]["selected"]) or "(none)" for u in units_).most_common(5)
+    return Table(
+        title=f"Table 3 (not in the paper). Selection over {n} units: how often each candidate is "
+        "kept",
+        columns=["term", "definition", "paper", "selected by [% of units]"],
+        rows=[
+            [lab, nm, "kept" if lab in PAPER_SELECTED else "dropped", 100.0 * freq[lab]]
+            for lab, nm in zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)
+        ],
+        note=(
+            "Most common selections: "
+            + "; ".join(f"{s} ({k} of {n})" for s, k in sets)
+            + ". The candidates are nearly collinear over a chamber cycle (T1 ~ T2, dT1/dt ~ "
+            "dT2/dt, the gradient ~ the cavity rate), so different term sets fit about equally "
+            "well and the selection moves from unit to unit."
+        ),
+    )
+
+
+def _table4(rows: Sequence[dict[str, Any]]) -> Table:
+    return Table(
+        title="Table 4 (not in the paper). Every unit: selection, adjusted R^2, before/after "
+        "ratios",
+        columns=[
+            "unit",
+            "selected terms",
+            "adjusted R^2",
+            "fitting run before/after",
+            "held-out before/after",
+            "perfect-model before/after",
+            "held-out with unit s-1's model",
+        ],
+        rows=[
+            [
+                r["seed"],
+                ", ".join(r["selected"]) or "(none)",
+                r["adj_r2"],
+                r["fit_ratio"],
+                r["heldout_ratio"],
+                r["floor_ratio"],
+                "n/a" if r["cross_unit_ratio"] is None else r["cross_unit_ratio"],
+            ]
+            for r in rows
+        ],
+        note=(
+            "Each unit is one gyro drawn from the population with its own two turn-ons. Last "
+            "column: the held-out run compensated with the previous unit's model (the first unit "
+            "uses the last one's), a reading of the paper's 'this model applied to three gyros' "
+            "as one coefficient set."
+        ),
+    )
+
+
+# ----------------------------------------------------------------------------- figures
+def _fig_output_vs_temperature(units_: Sequence[dict[str, Any]]) -> Figure:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    f = units_[0]["traces"]["fit"]
+    ax1.plot(
+        f["t_h"],
+        f["output"],
+        "k.-",
+        lw=0.8,
+        ms=3,
+        label=f"unit {units_[0]['seed']} output (100-s mean)",
+    )
+    ax1.set_xlabel("time [h]")
+    ax1.set_ylabel("output bias [deg/h]")
+    axt = ax1.twinx()
+    axt.plot(f["t_h"], f["chamber"], color="0.6", lw=1, label="chamber")
+    axt.plot(f["t_h"], f["t1"], color="tab:red", lw=1, label="T1 housing")
+    axt.plot(f["t_h"], f["t2"], color="tab:blue", lw=1, label="T2 cavity")
+    axt.set_ylabel("temperature [degC]")
+    axt.legend(loc="lower center", fontsize=8)
+    ax1.legend(loc="upper left", fontsize=8)
+    ax1.set_title("(a) output and temperatures, fitting run")
+    for u in units_[:3]:
+        g = u["traces"]["fit"]
+        ax2.plot(
+            g["t1"],
+            g["output"] - np.mean(g["output"]),
+            ".-",
+            lw=0.6,
+            ms=3,
+            label=f"unit {u['seed']}",
+        )
+    ax2.set_xlabel("housing temperature T1 [degC]")
+    ax2.set_ylabel("output bias - mean [deg/h]")
+    ax2.set_title("(b) output vs temperature (up and down ramps)")
+    ax2.legend(fontsize=8)
+    return fig
+
+
+def _fig_rate_gradient(u: dict[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    f = u["traces"]["fit"]
+    fig = Figure(figsize=(8.0, 4.2), layout="constrained")
+    ax = fig.subplots()
+    ax.plot(f["t_h"], f["dt1"] * units.MINUTE, color="tab:red", label="dT1/dt housing")
+    ax.plot(f["t_h"], f["dt2"] * units.MINUTE, color="tab:blue", label="dT2/dt cavity")
+    ax.set_xlabel("time [h]")
+    ax.set_ylabel("temperature rate [degC/min]")
+    axg = ax.twinx()
+    axg.plot(f["t_h"], f["gradient"], "k--", label="gradient T1 - T2")
+    axg.set_ylabel("gradient T1 - T2 [degC]")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = axg.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower left")
+    ax.set_title(
+        f"Temperature rate and gradient during the chamber cycle (unit {u['seed']}, fitting run)"
+    )
+    return fig
+
+
+def _fig_before_after(units_: Sequence[dict[str, Any]]) -> Figure:
+    from matplotlib.figure import Figure
+
+    shown = units_[:3]
+    fig = Figure(figsize=(8.0, 2.6 * len(shown)), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(len(shown), 1, sharex=True))
+    for k, (ax, u) in enumerate(zip(axes, shown, strict=True)):
+        h, s = u["traces"]["heldout"], u["stability"]
+        before, comp = h["output"] - h["truth"], h["compensated"] - h["truth"]
+        ax.plot(
+            h["t_h"],
+            before - before.mean(),
+            color="tab:red",
+            lw=1,
+            label=f"before: {s['heldout_before_deg_h']:.4f} deg/h",
+        )
+        ax.plot(
+            h["t_h"],
+            comp - comp.mean(),
+            color="tab:blue",
+            lw=1,
+            label=f"after: {s['heldout_after_deg_h']:.4f} deg/h",
+        )
+        ax.set_ylabel("bias - mean [deg/h]")
+        ratio = s["heldout_before_deg_h"] / s["heldout_after_deg_h"]
+        ax.set_title(f"({'abc'[k]}) unit {u['seed']}, held-out run: {ratio:.2f}x better")
+        ax.legend(fontsize=8, loc="upper right")
+    axes[-1].set_xlabel("time [h]")
+    return fig
+
+
+def _fig_population(rows: Sequence[dict[str, Any]]) -> Figure:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 4.6), layout="constrained")
+    ax = fig.subplots()
+    x = np.array([1.0 - r["r2"] for r in rows])
+    ax.loglog(
+        x,
+        [r["fit_ratio"] for r in rows],
+        "o",
+        mfc="none",
+        color="tab:gray",
+        label="fitting run (in-sample)",
+    )
+    ax.loglog(x, [r["heldout_ratio"] for r in rows], "o", color="tab:blue", label="held-out run")
+    grid = np.geomspace(min(0.01, x.min() / 2), max(0.5, x.max() * 2), 100)
+    ax.loglog(
+        grid, 1.0 / np.sqrt(grid), "k-", lw=0.8, label="in-sample identity: ratio = 1/sqrt(1 - R^2)"
+    )
+    paper_ratio = 1.0 / (1.0 - PAPER_IMPROVEMENT_PCT / 100.0)
+    ax.loglog([1.0 - PAPER_ADJ_R2], [paper_ratio], "r*", ms=14, label="paper: adj. R^2 0.97, 65 %")
+    ax.set_xlabel("1 - R^2 on the fitting run")
+    ax.set_ylabel("bias stability before / after")
+    ax.set_title("Units: fit quality vs improvement (one point per unit)")
+    ax.legend(fontsize=8)
+    return fig
+
+
+# ----------------------------------------------------------------------------- report
+def _conclusion(
+    rows: Sequence[dict[str, Any]], freq: dict[str, float], claims: Sequence[ClaimResult]
+) -> str:
+    """Closing text from the units' numbers and the claims' pass counts (no verdict made here)."""
+    k = {c.claim.id.removeprefix("004."): f"{c.holds}/{c.testable}" for c in claims}
+    n = len(rows)
+    adj, held = _median_row(rows, "adj_r2"), _median_row(rows, "heldout_ratio")
+    fit, floor = _median_row(rows, "fit_ratio"), _median_row(rows, "floor_ratio")
+    often = ", ".join(lab for lab, f in freq.items() if f >= 0.5) or "none"
+    return (
+        f"Over {n} simulated gyros (one unit = one gyro with its own two turn-ons), stepwise "
+        f"regression on the housing and cavity temperatures fits the variable-temperature bias "
+        f"with median adjusted R^2 {adj:.3f} (paper ~0.97; 1 - adj. R^2 within a factor 2 of 0.03 "
+        f"on {k.get('adj_r2_0_97', 'n/a')} units) and improves the held-out bias stability by a "
+        f"median {held:.2f}x (paper 65 % = 2.86x; within a factor 2 on "
+        f"{k.get('improvement_65pct', 'n/a')} units). Both are calibrated: the thermal bias is "
+        "written in the paper's regressor forms with sizes tuned to raw ~3x compensated, and on "
+        f"the fitting run 1/sqrt(1 - R^2) is the before/after ratio by arithmetic (median "
+        f"{fit:.2f}x). The paper's pair cannot both hold on the data a model was fitted on: "
+        "adjusted R^2 0.97 means ~5.8x (83 %) there, and 65 % means R^2 ~0.88. Held out, a "
+        f"perfect thermal model would reach {floor:.2f}x: the compensated stability sits at the "
+        "noise floor (dither random walk, quantization, turn-on changes). The paper's exact term "
+        f"set x1, x3, x5, x7, x11 is selected on {k.get('selection_stability', 'n/a')} units "
+        "although the simulated bias is written in the paper's regressor forms (with T2 and "
+        "T1 - T2 where the paper keeps x1 and x11; they differ by the small gradient): the "
+        "candidates are nearly collinear and the selection moves from unit to unit (kept by at "
+        f"least half of the units: {often})."
+    )
+
+
+def report(
+    config: Config, units: Sequence[dict[str, Any]], claims: Sequence[ClaimResult]
+) -> Outcome:
+    """Tables and figures of the units' results (details: the first three; populations: all)."""
+    if not units:
+        raise ValueError("units must hold at least one experiment result; got an empty sequence")
+    cross = _cross_unit_ratios(units)
+    rows = [_unit_summary(u, c) for u, c in zip(units, cross, strict=True)]
+    freq = selection_frequency(units)
+    prof = config.chamber()
+    figures = [
+        FigureSpec(
+            "fig1_output_vs_temperature",
+            "Figure 1. Output (100-s means) and temperatures over the chamber cycle; output vs "
+            "housing temperature for the first three units.",
+            _fig_output_vs_temperature(units),
+        ),
+        FigureSpec(
+            "fig2_rate_and_gradient",
+            "Figure 2. Temperature rates of housing and cavity and the housing-cavity gradient "
+            "during the cycle.",
+            _fig_rate_gradient(units[0]),
+        ),
+        FigureSpec(
+            "fig4_before_after",
+            "Figure 4. Held-out runs: bias before and after stepwise-regression compensation, "
+            "first three units.",
+            _fig_before_after(units),
+        ),
+        FigureSpec(
+            "fig5_population",
+            "Figure 5 (not in the paper). Every unit's 1 - R^2 against its before/after ratio, "
+            "in-sample and held out, with the in-sample identity and the paper's pair.",
+            _fig_population(rows),
+        ),
+    ]
+    results = {
+        "units": rows,
+        "selection_frequency": freq,
+        "regressors": dict(zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)),
+        "paper": {
+            "selected": list(PAPER_SELECTED),
+            "dropped": list(PAPER_DROPPED),
+            "adj_r2": PAPER_ADJ_R2,
+            "improvement_pct": PAPER_IMPROVEMENT_PCT,
+        },
+        "protocol": {
+            "chamber_duration_h": prof.duration / _HOUR,
+            "block_s": config.block_s,
+            "fs_hz": config.fs_hz,
+            "return_ramp": config.return_ramp,
+        },
+    }
+    return Outcome(
+        scenario=NAME,
+        title=TITLE,
+        seed=int(units[0]["seed"]),
+        config=config,
+        results=results,
+        tables=[
+            _table1(rows),
+            _table1b(units[0]),
+            _table2(rows),
+            _table3(units, freq),
+            _table4(rows),
+        ],
+        figures=figures,
+        conclusion=_conclusion(rows, freq, claims),
+    )

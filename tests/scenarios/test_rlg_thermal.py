@@ -1,27 +1,37 @@
-"""Tests of scenarios/rlg_thermal.py (paper 004 reproduction)."""
+"""Tests of scenarios/rlg_thermal.py (paper 004: one unit = one gyro; claims over units)."""
 
 from __future__ import annotations
 
 import json
-from dataclasses import replace
+import math
+import pickle
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.scenarios import registry
 from gyrobench.scenarios import rlg_thermal as sc
 from gyrobench.scenarios.base import CompensationTask, Outcome
+from gyrobench.scenarios.claims import Claim, Deviation, evaluate
 from gyrobench.sim import units
 
 
 @pytest.fixture(scope="module")
-def outcome() -> Outcome:
-    return sc.run(sc.Config(), 0)
+def three_units() -> list[dict]:
+    return [sc.experiment(sc.Config(), s) for s in range(3)]
 
 
-def test_registered():
+@pytest.fixture(scope="module")
+def outcome(three_units) -> Outcome:
+    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in three_units])
+    return sc.report(sc.Config(), three_units, claims)
+
+
+def test_registered_and_paper_shape():
     assert registry.get("rlg_thermal") is sc
+    assert sc.PAPER == "004"  # key into scenarios.papers.PAPERS (filled by the lead)
+    assert "seed" not in sc.TITLE.lower()
+    assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 
 
 def test_chamber_program_matches_paper():
@@ -33,83 +43,142 @@ def test_chamber_program_matches_paper():
     assert float(units.to_celsius(p(p.times[2]))) == pytest.approx(65.0, abs=1e-9)
     mid = p.times[1] + ramp_s / 2
     assert float(p.derivative(mid)) == pytest.approx(1 / 180.0, rel=1e-12)
+    up = sc.Config(return_ramp=False).chamber()
+    assert up.duration == pytest.approx(30 * 60 + ramp_s + 60 * 60, rel=1e-12)
 
 
-def test_results_contract(outcome):
-    """results.json holds gyros: 3 x {selected, adj_r2, before, after, improvement} and is JSON-clean."""
-    g = outcome.results["gyros"]
-    assert len(g) == 3
-    for r in g:
-        for k in (
-            "selected",
-            "adj_r2",
-            "bias_stability_before_deg_h",
-            "bias_stability_after_deg_h",
-            "improvement_pct",
-        ):
-            assert k in r
-        assert all(s in sc.REGRESSOR_LABELS for s in r["selected"])
-        assert r["improvement_pct"] == pytest.approx(
-            100 * (1 - r["bias_stability_after_deg_h"] / r["bias_stability_before_deg_h"]),
-            rel=1e-12,
+# ----------------------------------------------------------------------------- claims
+def test_claims_well_formed(three_units):
+    """Unique 004 ids; every claim's quantity comes out of experiment as a float or None."""
+    ids = [c.id for c in sc.CLAIMS]
+    assert len(ids) == len(set(ids)) and all(i.startswith("004.") for i in ids)
+    q = three_units[0]["quantities"]
+    for c in sc.CLAIMS:
+        assert isinstance(c, Claim) and c.paper == "004"
+        assert c.quantity in q, c.id
+        assert c.kind == "emergent" or c.calibrated_input
+    for u in three_units:
+        assert all(v is None or type(v) is float for v in u["quantities"].values())
+        # booleans are 1.0 / 0.0
+        for key in ("keeps_paper_terms", "drops_other_terms", "selects_paper_set"):
+            assert u["quantities"][key] in (0.0, 1.0)
+    assert all(isinstance(d, Deviation) and d.paper == "004" and d.effect for d in sc.DEVIATIONS)
+
+
+def test_selection_quantities_follow_the_selected_set(three_units):
+    """The three selection quantities are the set relations of the selected terms to the paper's."""
+    for u in three_units:
+        sel, q = set(u["model"]["selected"]), u["quantities"]
+        assert q["keeps_paper_terms"] == float(set(sc.PAPER_SELECTED) <= sel)
+        assert q["drops_other_terms"] == float(not sel & set(sc.PAPER_DROPPED))
+        assert q["selects_paper_set"] == q["keeps_paper_terms"] * q["drops_other_terms"]
+    assert set(sc.PAPER_SELECTED) | set(sc.PAPER_DROPPED) == set(sc.REGRESSOR_LABELS)
+
+
+def test_temperature_rate_gradient_kinds():
+    """The paper's set carries all three kinds; a set without a gradient carrier does not."""
+    assert sc._has_kinds(sc.PAPER_SELECTED)
+    assert not sc._has_kinds(["x1", "x3", "x7"])  # no gradient carrier
+    assert not sc._has_kinds(["x9", "x3"])  # no temperature carrier
+    assert sc._has_kinds(["x2", "x4"])  # dT2/dt = (T1 + H2 - T2)/tau2 carries the gradient
+
+
+def test_in_sample_identity_ties_adj_r2_to_the_ratio(three_units):
+    """Least squares with an intercept: R^2 = 1 - (after/before)^2 on the fitting run."""
+    for u in three_units:
+        s, m = u["stability"], u["model"]
+        assert m["r2"] == pytest.approx(
+            1 - (s["fit_after_deg_h"] / s["fit_before_deg_h"]) ** 2, rel=1e-12
         )
+        n, p = len(u["traces"]["fit"]["t_h"]), len(m["selected"])
+        assert m["adj_r2"] == pytest.approx(1 - (1 - m["r2"]) * (n - 1) / (n - p - 1), rel=1e-12)
+        q = u["quantities"]
+        assert q["one_minus_adj_r2"] == pytest.approx(1 - m["adj_r2"], rel=1e-12)
+        assert q["heldout_ratio"] == s["heldout_before_deg_h"] / s["heldout_after_deg_h"]
+
+
+def test_experiment_is_deterministic_and_small(three_units):
+    again = sc.experiment(sc.Config(), 1)
+    blob = pickle.dumps(again)
+    assert blob == pickle.dumps(three_units[1])
+    assert len(blob) < 2_000_000
+    assert three_units[0]["quantities"] != three_units[1]["quantities"]  # another unit
+
+
+def test_experiment_matches_its_own_traces(three_units):
+    """The held-out 'after' stability is the std of the stored compensated trace minus truth."""
+    u = three_units[0]
+    h = u["traces"]["heldout"]
+    assert u["stability"]["heldout_after_deg_h"] == pytest.approx(
+        np.std(h["compensated"] - h["truth"], ddof=1), rel=1e-12
+    )
+
+
+# ----------------------------------------------------------------------------- report
+def test_report_runs(outcome, three_units):
+    assert outcome.scenario == sc.NAME and outcome.seed == 0 and outcome.title == sc.TITLE
     json.dumps(outcome.results, allow_nan=True)
     assert [t.title.split(".")[0] for t in outcome.tables] == [
-        "Table 1", "Table 1b", "Table 2", "Table 3 (not in the paper)"
+        "Table 1",
+        "Table 1b",
+        "Table 2",
+        "Table 3 (not in the paper)",
+        "Table 4 (not in the paper)",
     ]
     assert {f.name for f in outcome.figures} == {
         "fig1_output_vs_temperature",
         "fig2_rate_and_gradient",
         "fig4_before_after",
+        "fig5_population",
     }
+    rows = outcome.results["units"]
+    assert [r["seed"] for r in rows] == [0, 1, 2]
+    freq = outcome.results["selection_frequency"]
+    for lab in sc.REGRESSOR_LABELS:
+        assert freq[lab] == sum(lab in u["model"]["selected"] for u in three_units) / 3
+    assert "0/3" in outcome.conclusion or "1/3" in outcome.conclusion or "3/3" in outcome.conclusion
 
 
-def test_targets_on_default_seed(outcome):
-    """Issue 5 targets on seed 0: adjusted R^2 >= 0.9 on the fitting run; held-out improvement 50-80 %."""
-    for r in outcome.results["gyros"]:
-        assert r["adj_r2"] >= 0.9, r
-        assert 50.0 <= r["improvement_pct"] <= 80.0, r
-    hl = {h.quantity: h for h in outcome.headlines}
-    assert hl["adjusted R^2 on the fitting run"].holds is True
-    assert hl["held-out bias-stability improvement [%]"].holds is True
+def test_report_one_unit_and_refuses_none():
+    u = sc.experiment(sc.Config(), 5)
+    o = sc.report(sc.Config(), [u], evaluate(sc.CLAIMS, [u["quantities"]]))
+    assert o.seed == 5 and o.results["units"][0]["cross_unit_ratio"] is None
+    with pytest.raises(ValueError, match="units must hold at least one experiment result"):
+        sc.report(sc.Config(), [], [])
 
 
-def test_compensated_close_to_noise_floor(outcome):
-    """After compensation the held-out stability is within 50 % of what a perfect thermal model leaves."""
-    for r in outcome.results["gyros"]:
-        assert r["bias_stability_after_deg_h"] <= 1.5 * r["heldout_noise_floor_deg_h"]
-        assert r["bias_stability_after_deg_h"] >= r["heldout_noise_floor_deg_h"] * 0.9
+def test_cross_unit_ratio_with_own_model_is_own_ratio(three_units):
+    """Applying a unit's own model (the list [u, u]) gives exactly its held-out ratio."""
+    u = three_units[2]
+    r = sc._cross_unit_ratios([u, u])
+    assert r[0] == pytest.approx(u["quantities"]["heldout_ratio"], rel=1e-12)
+    assert all(isinstance(v, float) for v in sc._cross_unit_ratios(three_units))
 
 
-def test_compensation_task_reproduces_run(outcome):
+# ----------------------------------------------------------------------------- bench, simulate
+def test_compensation_task_reproduces_experiment(three_units):
     task = sc.compensation_task(sc.Config(), 0)
     assert isinstance(task, CompensationTask)
     assert task.X_train.shape[1] == 11 and task.target == "error"
     m = StepwiseRegression().fit(task.X_train, task.y_train)
     run = task.heldout[0]
     scores = task.scorer(task.compensate(m.predict(run.X), run), run)
-    g0 = outcome.results["gyros"][0]
-    assert scores["bias_stability_deg_h"] == pytest.approx(
-        g0["bias_stability_after_deg_h"], rel=1e-12
-    )
-    assert scores["improvement_pct"] == pytest.approx(g0["improvement_pct"], rel=1e-12)
+    s = three_units[0]["stability"]
+    assert scores["bias_stability_deg_h"] == pytest.approx(s["heldout_after_deg_h"], rel=1e-12)
+    assert scores["before_deg_h"] == pytest.approx(s["heldout_before_deg_h"], rel=1e-12)
 
 
 def test_simulate_recordings():
-    c = replace(sc.Config(), n_gyros=1, bench_gyro=0)
-    recs = sc.simulate(c, 3)
-    assert [r.name for r in recs] == ["gyro1_fit", "gyro1_heldout"]
+    recs = sc.simulate(sc.Config(), 3)
+    assert [r.name for r in recs] == ["unit3_fit", "unit3_heldout"]
     for r in recs:
         assert {"rate", "counts", "T1", "T2"} <= set(r.channels)
         assert "thermal_bias" in r.truth
+        assert r.metadata["unit"] == 3
     assert not np.array_equal(recs[0]["rate"], recs[1]["rate"])
 
 
-def test_bad_config_n_gyros():
-    with pytest.raises(ValueError, match=r"Config.n_gyros must be an integer >= 1; got 0"):
-        sc.Config(n_gyros=0)
-
-
+# ----------------------------------------------------------------------------- bad input
 def test_bad_config_temperatures():
     with pytest.raises(ValueError, match=r"Config.high_c must be > start_c"):
         sc.Config(high_c=-50.0)
@@ -125,27 +194,30 @@ def test_bad_config_block_not_whole_samples():
         sc.Config(block_s=100.05)
 
 
+def test_bad_config_return_ramp_kind():
+    with pytest.raises(TypeError, match=r"Config.return_ramp must be a bool; got 1"):
+        sc.Config(return_ramp=1)
+
+
 def test_bad_program_fewer_blocks_than_regressors():
     """A chamber program shorter than 13 blocks of 100 s cannot fit 11 candidates: a clear error."""
-    c = sc.Config(
-        n_gyros=1, high_c=-38.0, power_on_soak_min=1.0, high_soak_min=1.0, end_soak_min=1.0
-    )
-    with pytest.raises(ValueError, match=r"more observations than regressors.*n_samples = 9, n_features = 11"):
-        sc.run(c, 0)
+    c = sc.Config(high_c=-38.0, power_on_soak_min=1.0, high_soak_min=1.0, end_soak_min=1.0)
+    with pytest.raises(
+        ValueError, match=r"more observations than regressors.*n_samples = 9, n_features = 11"
+    ):
+        sc.experiment(c, 0)
 
 
-def test_seed_summary_is_the_pipeline_on_other_seeds(outcome):
-    """Table 3's rows are run() on those seeds: row 0 is the reported run, row 2 equals run(seed 2)."""
-    rows = outcome.results["seed_summary"]
-    assert [r["seed"] for r in rows] == list(range(sc.Config().seed_summary_count))
-    assert rows[0]["adj_r2"] == [g["adj_r2"] for g in outcome.results["gyros"]]
-    other = sc.run(replace(sc.Config(), seed_summary_count=0), 2)
-    assert rows[2]["adj_r2"] == [g["adj_r2"] for g in other.results["gyros"]]
-    assert rows[2]["improvement_pct"] == [g["improvement_pct"] for g in other.results["gyros"]]
-    n_adj = sum(r["adj_r2_target_holds"] for r in rows)
-    assert f"holds on {n_adj} of {len(rows)} seeds" in outcome.headlines[0].note
-
-
-def test_bad_seed_summary_count():
-    with pytest.raises(ValueError, match=r"Config.seed_summary_count must be an integer >= 0; got -1"):
-        sc.Config(seed_summary_count=-1)
+# ----------------------------------------------------------------------------- population (slow)
+@pytest.mark.slow
+def test_twenty_units_every_claim_testable():
+    """20 units (seeds 0-19, ~0.3-0.7 s each): every claim is testable on every unit, and a rerun
+    of the evaluation from the same units gives the same counts."""
+    us = [sc.experiment(sc.Config(), s) for s in range(20)]
+    res = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    assert all(r.testable == 20 for r in res)
+    again = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    assert [r.holds for r in res] == [r.holds for r in again]
+    o = sc.report(sc.Config(), us, res)
+    assert len(o.results["units"]) == 20
+    assert all(math.isfinite(r["cross_unit_ratio"]) for r in o.results["units"])

@@ -443,10 +443,9 @@ def test_twenty_units_through_the_shared_evaluation():
     import time
 
     cfg = sc.Config()
-    t0 = time.perf_counter()
+    t0 = time.process_time()  # CPU time of this process: the budget is per core, load-independent
     us = [sc.experiment(cfg, s) for s in range(20)]
-    per_unit = (time.perf_counter() - t0) / 20
-    assert per_unit < 10.0
+    assert (time.process_time() - t0) / 20 < 5.0  # the issue-13 budget per unit
     claims = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
     assert all(c.testable == 20 for c in claims)
     out = sc.report(cfg, us, claims)

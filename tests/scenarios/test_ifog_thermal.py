@@ -1,18 +1,17 @@
-"""Tests of scenarios.ifog_thermal (paper 003): reduced fast run, closed forms, full reproduction (slow)."""
+"""Tests of scenarios.ifog_thermal (paper 003): contract, protocol, closed forms, selection."""
 
 from __future__ import annotations
 
 import json
+import math
 import pickle
-import time
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
-
 from gyrobench.scenarios import ifog_thermal as sc
 from gyrobench.scenarios import registry
+from gyrobench.scenarios.claims import Claim, Deviation, evaluate
 from gyrobench.sim import units
 
 SMALL = sc.Config(
@@ -22,52 +21,185 @@ SMALL = sc.Config(
     validation1_runs=2,
     validation2_runs=2,
     fs_hz=0.1,
-    seed_summary_count=2,
 )
 
 
 @pytest.fixture(scope="module")
-def small_outcome():
-    return sc.run(SMALL, 7)
+def small_units():
+    return [sc.experiment(SMALL, 7), sc.experiment(SMALL, 8)]
 
 
 def test_registered():
     assert registry.get("ifog_thermal") is sc
+    assert sc.PAPER == "003" and "seed" not in sc.TITLE.lower()
+    assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 
 
-def test_small_run_results_layout(small_outcome):
-    r = small_outcome.results
-    assert set(r) >= {"txdt_max_deg_h", "validation_zero_rate", "validation_rotated", "windings"}
-    assert len(r["validation_zero_rate"]) == 2 and set(r["validation_zero_rate"][0]) == {
-        "mse_raw",
-        "mse_compensated",
-    }
-    assert len(r["validation_rotated"]) == 2
-    assert set(r["validation_rotated"][0]) == {"mse_raw", "mse_traditional", "mse_improved"}
-    assert set(r["windings"]) == {"helical", "dipolar", "quadrupolar", "octupolar"}
-    json.dumps(r)  # results.json must serialise
-    assert all(isinstance(f.figure, Figure) for f in small_outcome.figures)
-    assert [f.name for f in small_outcome.figures] == [
+# ------------------------------------------------------------------ contract
+
+
+def test_claims_are_well_formed(small_units):
+    ids = [c.id for c in sc.CLAIMS]
+    assert len(ids) == len(set(ids))
+    for c in sc.CLAIMS:
+        assert isinstance(c, Claim) and c.paper == "003" and c.id.startswith("003.")
+        assert c.quantity in small_units[0]["quantities"]
+    assert {c.quantity for c in sc.CLAIMS} == set(small_units[0]["quantities"])
+    calibrated = {c.id for c in sc.CLAIMS if c.kind == "calibrated"}
+    assert "003.txdt_point" in calibrated
+    for d in sc.DEVIATIONS:
+        assert isinstance(d, Deviation) and d.paper == "003"
+        assert "EFFECT_" not in d.effect  # every effect is filled in
+
+
+def test_quantities_are_numbers(small_units):
+    for u in small_units:
+        for k, v in u["quantities"].items():
+            assert isinstance(v, float), k
+        for k in ("val1_every_run_lower", "val2_improved_lowest"):
+            assert u["quantities"][k] in (0.0, 1.0)
+
+
+def test_experiment_is_deterministic_and_small(small_units):
+    again = sc.experiment(SMALL, 7)
+    assert again["quantities"] == small_units[0]["quantities"]
+    np.testing.assert_array_equal(
+        again["traces"]["val2"]["improved"], small_units[0]["traces"]["val2"]["improved"]
+    )
+    assert len(pickle.dumps(again)) < 2_000_000
+    assert small_units[1]["quantities"] != small_units[0]["quantities"]
+
+
+def test_quantities_follow_the_scores(small_units):
+    """The claim quantities are the ratios and yes/no statements of the unit's own ERR table."""
+    u = small_units[0]
+    s, q = u["paper"]["scores"], u["quantities"]
+    raw1 = np.mean([d["raw"] for d in s["val1"]])
+    assert q["val1_ratio"] == pytest.approx(raw1 / np.mean([d["improved"] for d in s["val1"]]))
+    assert q["val2_improved_lowest"] == float(
+        all(d["improved"] < min(d["raw"], d["traditional"]) for d in s["val2"])
+    )
+
+
+def test_report_runs(small_units):
+    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in small_units])
+    out = sc.report(SMALL, small_units, claims)
+    assert out.scenario == sc.NAME and out.seed == 7
+    json.dumps(out.results)  # results.json must serialise
+    assert [r[0] for r in out.tables[0].rows] == [7, 8]
+    assert [f.name for f in out.figures] == [
         "fig2_point_heating",
         "fig6_estimated_drift",
         "fig7_validation1",
         "fig8_validation2",
+        "population_ratios",
     ]
-    assert len(small_outcome.tables) == 9
-    assert [d["seed"] for d in r["seed_summary"]] == [7, 8]
-    assert all(isinstance(h.holds, bool) for h in small_outcome.headlines[:3])
+    assert "DIAGNOSTIC" in out.tables[0].note and "DIAGNOSTIC" in out.conclusion
+    for c in claims:
+        assert c.claim.id in out.conclusion
+    assert "CALIBRATED" in out.conclusion
 
 
-def test_streaming_compensation_equals_batch(small_outcome):
-    assert small_outcome.results["streaming_max_abs_deviation_deg_h"] <= 1e-9
+def test_report_refuses_no_units():
+    with pytest.raises(ValueError, match=r"report needs at least one unit"):
+        sc.report(SMALL, [], [])
 
 
-def test_deployment_json_rebuilds_the_network(small_outcome):
+def test_streaming_compensation_equals_batch(small_units):
+    assert small_units[0]["streaming_max_abs_deviation_deg_h"] <= 1e-9
+
+
+def test_deployment_json_rebuilds_the_network(small_units):
     from gyrobench.analysis.compensation.rbf import RBFNetwork
 
-    doc = small_outcome.results["rbf_improved_deployment"]
-    net = RBFNetwork.from_json(json.dumps(doc))
-    assert net.n_neurons_ == small_outcome.results["rbf_improved"]["n_neurons"]
+    u = small_units[0]
+    net = RBFNetwork.from_json(json.dumps(u["deployment"]))
+    assert net.n_neurons_ == u["paper"]["n_neurons"]["improved"]
+
+
+# ------------------------------------------------------------------ the paper's protocol
+
+
+@pytest.fixture(scope="module")
+def small_runs():
+    return {r.name: sc._prepare(r, SMALL) for r in sc.simulate(SMALL, 7)}
+
+
+def test_paper_target_is_output_minus_its_mean_and_ignores_the_truth(small_runs):
+    """Q = output - mean(output) over the record (modelling step 2): the truth is not used."""
+    run = small_runs["ident_1"]
+    ts = sc.training_set(SMALL, run, target="paper")
+    keep = sc.record_mask(SMALL, run)
+    np.testing.assert_allclose(
+        ts.y, run.output[keep] - np.mean(run.output[keep]), rtol=0, atol=1e-12
+    )
+    assert ts.mean_output_deg_h == pytest.approx(np.mean(run.output[keep]), rel=1e-12)
+    blind = replace(run, truth=run.truth + 1e3)
+    np.testing.assert_array_equal(sc.training_set(SMALL, blind, target="paper").y, ts.y)
+    diag = sc.training_set(SMALL, run, target="truth")
+    np.testing.assert_allclose(diag.y, (run.output - run.truth)[keep], rtol=0, atol=1e-12)
+
+
+def test_record_starts_at_minus_10(small_runs):
+    """The paper records from -10 degC (step 2); the 20 -> -10 degC cool-down is not recorded."""
+    run = small_runs["ident_1"]
+    keep = sc.record_mask(SMALL, run)
+    knots = SMALL.identification_profile().times
+    start_h = (knots[1] - knots[0]) / 3600.0
+    assert np.all(run.t_h[keep] >= start_h) and np.all(run.t_h[~keep] < start_h)
+    assert sc.record_mask(replace(SMALL, record_cooldown=True), run).all()
+
+
+def test_validation_is_scored_over_the_heating(small_runs):
+    run = small_runs["val1_run1"]
+    knots = SMALL.validation_profile(SMALL.validation1_rate_degC_per_h / 3600.0).times
+    end_h = (knots[2] - knots[0]) / 3600.0
+    assert np.array_equal(run.scored, run.t_h <= end_h) and (~run.scored).any()
+
+
+def test_err_is_against_the_reference(small_runs):
+    """ERR = MSE(d - a) over the scored samples, a = 180 deg/h in validation 2 (eq. 24)."""
+    r = small_runs["val2_run1"]
+    assert r.reference == SMALL.validation2_true_rate_deg_h
+    d = np.full(len(r.t_h), r.reference + 0.1)
+    assert sc.err(d, r) == pytest.approx(0.01, rel=1e-12)
+    assert small_runs["val1_run1"].reference == 0.0
+    # in this simulation the reference is the simulator's truth (no Earth rate)
+    np.testing.assert_allclose(r.truth, r.reference, rtol=1e-12)
+
+
+def test_heat_cool_average_cancels_what_is_odd_in_the_rate():
+    """Heating and cooling at equal and opposite rates: y = f(T) + g dT/dt averages to f(T),
+    dT/dt to 0, T x dT/dt to 0, bin by bin (the reason it is a variant, not the default)."""
+    T = np.linspace(-10.0, 40.0, 101)
+    rate = 1.0 / 60.0
+    X = np.vstack(
+        [
+            np.column_stack([T, np.full_like(T, rate), T * rate]),
+            np.column_stack([T[::-1], np.full_like(T, -rate), -T[::-1] * rate]),
+        ]
+    )
+    y = 0.01 * X[:, 0] + 3.0 * X[:, 1]
+    seg = np.repeat([1, 2], len(T))
+    Xa, ya, folds = sc.heat_cool_average(X, y, seg, bin_degC=2.5)
+    np.testing.assert_allclose(Xa[:, 1:], 0.0, atol=1e-15)
+    np.testing.assert_allclose(ya, 0.01 * Xa[:, 0], rtol=1e-12)
+    assert np.all(np.diff(Xa[:, 0]) > 0) and set(folds) == {0, 1, 2}
+
+
+def test_heat_cool_average_needs_overlap():
+    X = np.column_stack([np.r_[0.0, 1.0, 20.0, 21.0], np.zeros(4), np.zeros(4)])
+    with pytest.raises(ValueError, match=r"share 0 temperature bins of 2.5 degC; need >= 3"):
+        sc.heat_cool_average(X, np.zeros(4), np.array([1, 1, 2, 2]), bin_degC=2.5)
+
+
+def test_temperature_curves_variant_runs():
+    u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
+    assert u["paper"]["training_rows"] < 30
+    assert set(u["quantities"]) == {c.quantity for c in sc.CLAIMS}
+
+
+# ------------------------------------------------------------------ closed forms
 
 
 def test_point_heating_closed_form():
@@ -87,7 +219,6 @@ def test_point_heating_closed_form():
     )
     assert units.deg_per_h(prod[-1]) == pytest.approx(exact, rel=1e-12)
     np.testing.assert_allclose(total, shupe + prod, rtol=1e-14)
-    assert np.max(np.abs(prod)) > 0.2  # the paper's figure 2 statement
 
 
 def test_winding_table_helical_worst():
@@ -117,6 +248,9 @@ def test_simulate_is_deterministic():
         np.testing.assert_array_equal(x["rate"], y["rate"])
 
 
+# ------------------------------------------------------------------ bad input
+
+
 def test_bad_layer_count_for_winding():
     with pytest.raises(
         ValueError, match=r"quadrupolar winding needs a layer count that is a multiple of 4"
@@ -135,6 +269,32 @@ def test_bad_runs():
         sc.Config(validation1_runs=0)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        ({"rbf_spread": 0.0}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
+        ({"rbf_spread_grid": ()}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
+        (
+            {"rbf_max_neurons": 0},
+            ValueError,
+            r"rbf_max_neurons / rbf_neuron_grid must be integers >= 1",
+        ),
+        ({"rbf_cv_tolerance": -0.1}, ValueError, r"rbf_cv_tolerance must be >= 0"),
+        ({"identification_average": "mean"}, ValueError, r"identification_average must be one of"),
+        ({"curve_bin_degC": 0.0}, ValueError, r"curve_bin_degC must be > 0"),
+        ({"record_cooldown": 1}, TypeError, r"record_cooldown must be a bool"),
+    ],
+)
+def test_bad_settings(kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        sc.Config(**kwargs)
+
+
+def test_bad_training_target(small_runs):
+    with pytest.raises(ValueError, match=r"target must be one of \('paper', 'truth'\); got 'mean'"):
+        sc.training_set(SMALL, small_runs["ident_1"], target="mean")
+
+
 # ------------------------------------------------------------------ RBF selection (CV)
 
 
@@ -146,38 +306,34 @@ def _segmented_data(rng):
     return X, y, np.repeat([0, 1, 2], 50)
 
 
-@pytest.fixture
-def rng(request) -> np.random.Generator:
-    import zlib
-
-    return np.random.default_rng([20261121, zlib.crc32(request.node.nodeid.encode())])
-
-
 def test_select_rbf_follows_the_stated_rule(rng):
     """Fewest neurons among cells within 10 % of the best CV MSE; ties to the largest spread;
-    the CV MSE of a cell is the mean of its held-out segment MSEs, recomputed here by hand."""
+    the CV MSE of a cell is the mean of its held-out segment MSEs, recomputed here by hand
+    with a separate newrb fit of exactly that neuron count (the selection reads it off one
+    longer fit). The two solve the same least-squares problem by different factorizations,
+    so they agree to rounding times the design's condition number: rel 1e-9."""
     from gyrobench.analysis.compensation.rbf import RBFNetwork
 
     X, y, seg = _segmented_data(rng)
     spreads, neurons = (0.5, 2.0, 8.0), (2, 4, 8)
     sel = sc.select_rbf(X, y, seg, spreads=spreads, neurons=neurons, tolerance=0.10)
     assert set(sel.cv_mse) == {(s, n) for s in spreads for n in neurons}
-    s, n = 2.0, 4
-    by_hand = np.mean(
-        [
-            np.mean(
-                (
-                    RBFNetwork(spread=s, max_neurons=n, normalize="minmax")
-                    .fit(X[seg != f], y[seg != f])
-                    .predict(X[seg == f])
-                    - y[seg == f]
+    for s, n in ((2.0, 4), (0.5, 8), (8.0, 2)):
+        by_hand = np.mean(
+            [
+                np.mean(
+                    (
+                        RBFNetwork(spread=s, max_neurons=n, normalize="minmax")
+                        .fit(X[seg != f], y[seg != f])
+                        .predict(X[seg == f])
+                        - y[seg == f]
+                    )
+                    ** 2
                 )
-                ** 2
-            )
-            for f in (0, 1, 2)
-        ]
-    )
-    assert sel.cv_mse[(s, n)] == pytest.approx(by_hand, rel=1e-12)
+                for f in (0, 1, 2)
+            ]
+        )
+        assert sel.cv_mse[(s, n)] == pytest.approx(by_hand, rel=1e-9)
     best = min(sel.cv_mse.values())
     assert sel.cv_mse[sel.best] == best
     band = [k for k, v in sel.cv_mse.items() if v <= 1.1 * best]
@@ -207,17 +363,17 @@ def test_identification_segments_split_at_the_chamber_knots():
     np.testing.assert_array_equal(sc.identification_segments(SMALL, t), [0, 0, 1, 1, 2])
 
 
-def test_selection_sees_only_identification_run_1(small_outcome):
+def test_selection_sees_only_identification_run_1(small_units):
     """The reported choice is reproduced from identification run 1 alone, and a different
     validation protocol (other ramp rates, other run counts) does not change it."""
-    r = small_outcome.results["rbf_selection"]
+    r = small_units[0]["paper"]["selection"]
     other = replace(
         SMALL, validation1_runs=1, validation2_runs=3, validation2_rate_degC_per_min=0.25
     )
     for cfg in (SMALL, other):
         train = sc._prepare(sc.simulate(cfg, 7)[0], cfg)
         assert train.name == "ident_1"
-        sel_imp, sel_trad, imp, trad = sc.fit_models(cfg, train)
+        sel_imp, sel_trad, _, _ = sc.fit_models(cfg, sc.training_set(cfg, train))
         assert [sel_imp.spread, sel_imp.max_neurons] == [
             r["improved"]["spread"],
             r["improved"]["max_neurons"],
@@ -228,66 +384,19 @@ def test_selection_sees_only_identification_run_1(small_outcome):
         ]
 
 
-def test_fixed_rbf_settings_bypass_the_search():
+def test_fixed_rbf_settings_bypass_the_search(small_runs):
     cfg = replace(SMALL, rbf_spread=16.0, rbf_max_neurons=5)
-    train = sc._prepare(sc.simulate(cfg, 7)[0], cfg)
-    sel_imp, sel_trad, imp, _ = sc.fit_models(cfg, train)
+    sel_imp, sel_trad, imp, _ = sc.fit_models(cfg, sc.training_set(cfg, small_runs["ident_1"]))
     assert sel_imp.chosen == sel_trad.chosen == (16.0, 5)
     assert list(sel_imp.cv_mse) == [(16.0, 5)]
     assert imp.spread == 16.0 and imp.max_neurons == 5
 
 
-def test_fixed_spread_searches_the_neuron_count_only():
+def test_fixed_spread_searches_the_neuron_count_only(small_runs):
     cfg = replace(SMALL, rbf_spread=8.0)
-    train = sc._prepare(sc.simulate(cfg, 7)[0], cfg)
-    sel_imp, *_ = sc.fit_models(cfg, train)
+    sel_imp, *_ = sc.fit_models(cfg, sc.training_set(cfg, small_runs["ident_1"]))
     assert {k[0] for k in sel_imp.cv_mse} == {8.0}
     assert {k[1] for k in sel_imp.cv_mse} == set(cfg.rbf_neuron_grid)
-
-
-@pytest.mark.parametrize(
-    ("kwargs", "match"),
-    [
-        ({"rbf_spread": 0.0}, r"rbf_spread / rbf_spread_grid must be > 0"),
-        ({"rbf_spread_grid": ()}, r"rbf_spread / rbf_spread_grid must be > 0"),
-        ({"rbf_max_neurons": 0}, r"rbf_max_neurons / rbf_neuron_grid must be integers >= 1"),
-        ({"rbf_cv_tolerance": -0.1}, r"rbf_cv_tolerance must be >= 0"),
-        ({"seed_summary_count": -1}, r"seed_summary_count must be an integer >= 0"),
-    ],
-)
-def test_bad_rbf_settings(kwargs, match):
-    with pytest.raises(ValueError, match=match):
-        sc.Config(**kwargs)
-
-
-def test_sensitivity_table_is_labelled_as_not_used_for_selection(small_outcome):
-    t = next(t for t in small_outcome.tables if "sensitivity" in t.title or "NOT used" in t.title)
-    assert "scored on validation data, NOT used for selection" in t.title
-    assert str(t.rows[-1][0]).startswith("CV choice")
-    r = small_outcome.results
-    row, sel = r["rbf_cv_choice_scored"], r["rbf_selection"]
-    assert (row["spread"], row["max_neurons"]) == (
-        sel["improved"]["spread"],
-        sel["improved"]["max_neurons"],
-    )
-    assert (row["traditional_spread"], row["traditional_max_neurons"]) == (
-        sel["traditional"]["spread"],
-        sel["traditional"]["max_neurons"],
-    )
-    # the CV row is the reported models' score, the same numbers as Tables 2 and 3
-    v1, v2 = r["validation_zero_rate"], r["validation_rotated"]
-    assert row["validation1_ratio"] == r["validation_zero_rate_mean_ratio"]
-    assert row["validation1_ratio"] == pytest.approx(
-        np.mean([d["mse_raw"] for d in v1]) / np.mean([d["mse_compensated"] for d in v1]),
-        rel=1e-12,
-    )
-    assert row["validation2_wins"] == sum(d["mse_improved"] < d["mse_traditional"] for d in v2)
-
-
-def test_identification_2_table(small_outcome):
-    t = next(t for t in small_outcome.tables if t.title.startswith("Identification run 2"))
-    d = small_outcome.results["identification_2"]
-    assert t.rows[0][:3] == [d["mse_raw"], d["mse_traditional"], d["mse_improved"]]
 
 
 # --------------------------------------------------------------- float32 deployment
@@ -309,58 +418,35 @@ def test_float32_deployment_error_within_rounding_bound(rng):
         assert np.max(np.abs(y32 - net.predict(X))) <= bound
 
 
-def test_float32_result_is_reported_with_its_verdict(small_outcome):
-    f = small_outcome.results["rbf_deployment_float32"]
+def test_float32_check_is_reported(small_units):
+    f = small_units[0]["float32"]
     assert set(f) >= {
         "max_abs_compensation_difference_deg_h",
-        "max_relative_mse_change",
-        "validation_zero_rate_mean_ratio",
-        "validation_rotated_wins",
+        "max_relative_err_change",
+        "quantities",
     }
-    t = next(t for t in small_outcome.tables if "single precision" in t.title)
-    ok = f["max_relative_mse_change"] <= sc._FLOAT32_MSE_TOLERANCE
-    assert ("NOT ACCEPTABLE" not in t.note) == ok
-    assert "Criterion (our choice; the paper states none)" in t.note
+    assert set(f["quantities"]) == set(small_units[0]["paper"]["quantities"])
+    assert math.isfinite(f["max_relative_err_change"])
+
+
+# --------------------------------------------------------------- population (slow)
 
 
 @pytest.mark.slow
-def test_full_reproduction_reports_honestly_and_runtime():
-    """Default config, seed 0, in the 2-minute budget.
+def test_twenty_units_through_the_shared_evaluation():
+    """Default config, 20 units, the runner's three lines; each unit within the time budget.
 
-    The targets (validation 1 >= 10x; improved < traditional in every validation-2 run)
-    are NOT asserted: with the RBF settings chosen by CV on identification run 1 they
-    hold for some drawn units and not for others (seed-dependence table). What is
-    asserted is that the report states the outcome as computed: the headlines' verdicts
-    and the conclusion follow the numbers in results.json, and the seed summary's row for
-    seed 0 is the reported run.
+    No claim's outcome is asserted (a paper's value is never a test threshold): what is
+    asserted is that every claim is testable on every unit and that the report's
+    population table is the units' own numbers.
     """
-    t0 = time.perf_counter()
-    out = sc.run(sc.Config(), 0)
-    elapsed = time.perf_counter() - t0
-    assert elapsed < 120.0
-    r = out.results
-    assert r["txdt_max_deg_h"] > 0.2  # a physics closed form, not a fitted result
-    assert len(r["validation_zero_rate"]) == 5 and len(r["validation_rotated"]) == 5
-    raw = np.mean([d["mse_raw"] for d in r["validation_zero_rate"]])
-    comp = np.mean([d["mse_compensated"] for d in r["validation_zero_rate"]])
-    ratio = raw / comp
-    wins = sum(d["mse_improved"] < d["mse_traditional"] for d in r["validation_rotated"])
-    h = {x.quantity: x for x in out.headlines}
-    assert h["validation 1: mean MSE raw / compensated"].holds == (ratio >= 10.0)
-    assert h["validation 1: mean MSE raw / compensated"].reproduced == f"{ratio:.1f}x"
-    assert h["validation 2: improved < traditional"].holds == (wins == 5)
-    assert h["validation 2: improved < traditional"].reproduced == f"{wins}/5 runs"
-    assert (
-        f"{ratio:.1f}x" in out.conclusion and f"in {wins} of 5 validation-2 runs" in out.conclusion
-    )
-    summary = r["seed_summary"]
-    assert [d["seed"] for d in summary] == list(range(8))
-    assert summary[0]["validation1_ratio"] == pytest.approx(ratio, rel=1e-12)
-    assert summary[0]["validation2_wins"] == wins
-    n_ok = sum(d["validation1_ratio"] >= 10.0 for d in summary)
-    assert f">= 10x in {n_ok}/8 seeds" in h["validation 1: mean MSE raw / compensated"].note
-    sel = r["rbf_selection"]["improved"]
-    assert (sel["spread"], sel["max_neurons"]) == (
-        summary[0]["improved"]["spread"],
-        summary[0]["improved"]["max_neurons"],
-    )
+    import time
+
+    cfg = sc.Config()
+    t0 = time.process_time()  # CPU time of this process: the budget is per core, load-independent
+    us = [sc.experiment(cfg, s) for s in range(20)]
+    assert (time.process_time() - t0) / 20 < 5.0  # the issue-13 budget per unit
+    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    assert all(c.testable == 20 for c in claims)
+    out = sc.report(cfg, us, claims)
+    assert [r[4] for r in out.tables[0].rows] == [u["quantities"]["val1_ratio"] for u in us]

@@ -88,8 +88,17 @@ def test_every_available_scenario_honours_the_contract():
         assert mod.NAME == name
         assert isinstance(mod.TITLE, str) and mod.TITLE
         cfg = mod.Config()
-        for attr in ("simulate", "run"):
-            assert callable(getattr(mod, attr)), f"{name}.{attr}"
+        paper = getattr(mod, "PAPER", None)
+        assert registry.describe(name).paper == paper
+        assert registry.describe(name).title == mod.TITLE
+        if paper is not None:  # a paper scenario: experiment, claims, deviations, report
+            for attr in ("simulate", "experiment", "report"):
+                assert callable(getattr(mod, attr)), f"{name}.{attr}"
+            assert not hasattr(mod, "run"), f"{name} still has the old run()"
+            assert mod.CLAIMS and all(c.paper == paper for c in mod.CLAIMS)
+            assert all(d.paper == paper for d in mod.DEVIATIONS)
+        else:
+            assert callable(mod.run), f"{name}.run"
         # configs are frozen: a custom profile can never mutate the defaults
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(cfg, next(iter(cfg.__dataclass_fields__)), None)

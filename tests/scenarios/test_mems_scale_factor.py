@@ -349,3 +349,17 @@ def test_twenty_units_every_claim_testable():
     assert [c.testable for c in claims] == [20] * len(ms.CLAIMS)
     out = ms.report(ms.Config(), units_, claims)
     assert out.results["population"]["seeds"] == list(range(20))
+
+
+@pytest.mark.slow
+def test_deviation_effects_measures_every_variant(unit0):
+    """The function behind the DEVIATIONS' numbers: its default row is the experiment's."""
+    d = ms.deviation_effects(seeds=(0,))
+    assert set(d) == set(ms._variants(ms.Config()))
+    for k in ms.METHOD_LABELS:
+        assert d["default"][f"kn_heldout_pct.{k}"] == unit0["methods"][k]["kn_heldout_pct"]
+        assert d["default"][f"kn_dense_pct.{k}"] == unit0["methods"][k]["kn_dense_pct"]
+    assert d["default"]["floor_pct"] == unit0["floor_pct"]
+    # common random numbers: the piecewise-only variants leave the other methods unchanged
+    for name in ("piecewise_alpha_0", "join_width_0.02", "join_width_0.10"):
+        assert d[name]["kn_heldout_pct.bayes_bp"] == d["default"]["kn_heldout_pct.bayes_bp"]

@@ -1,4 +1,4 @@
-"""Seed paper 001: a +-3600 deg/s MEMS gyro on a rate table, scale-factor nonlinearity and its compensation.
+"""Paper 001: a +-3600 deg/s MEMS gyro on a rate table, scale-factor nonlinearity, compensation.
 
 Protocol (paper section 3): the gyro is powered and warmed up (20-30 min), then
 the table steps through 21 rates, +3600 -> -3600 deg/s in 360 deg/s steps; the
@@ -11,69 +11,79 @@ piecewise 9-1-9 polynomial with cubic Hermite joins, the two-stage 9th-order
 polynomial and a Bayesian-regularized BP network with 10 hidden units (Table 3:
 0.14 %, 0.59 %, 0.45 %; 0.247, 0.755, 37.8 ms).
 
-Here every compensator is fitted on the per-rate means of the ``n_fit_runs``
-runs (pooled, as the paper fits "several groups of data") and scored by the IEEE
-K_n of the compensated table both on those runs and on ``n_heldout_runs``
-further runs of the same gyro that the fit never saw (different turn-on bias,
-ambient temperature and noise). The compensated rate is scored against the
-table rate (the truth).
+One unit (:func:`experiment`, one seed) is one power-on history of the gyro:
+``n_fit_runs`` rate-table runs the compensators are fitted on (their per-rate
+means pooled, as the paper fits "several groups of data"; a 9th-order segment on
+the six rates of one high-rate side needs more than one run) and ``n_heldout_runs``
+further runs they never saw (each run its own turn-on bias, turn-on scale-factor
+error, ambient temperature and noise). Each method is scored by the IEEE K_n of
+the compensated table against the table rates (the truth)
 
-Two references computed from the same simulated runs:
+* at the 21 table rates of the held-out run(s) (the claims' quantity), and of the
+  fitting runs (in-sample, the paper's own scoring, a reported diagnostic);
+* on a dense held-out sweep: the noise-free static curve of each held-out power-on
+  (its turn-on bias and scale-factor error at its mean die temperature, no
+  quantization: what a long dwell averages to) every ``dense_step_dps`` over the
+  table's range, so K_n also sees the model error between the table rates.
 
-* the run-to-run repeatability floor (:func:`repeatability_floor`): the held-out
-  K_n of a curve through the fitting runs' per-rate mean outputs. It has no
-  model error, so what remains is the held-out run's difference from the
-  fitting runs at the same rate (turn-on bias, temperature, noise, turn-on scale
-  factor). A smooth compensator reaching it has nothing left to learn from the
-  rate table.
-* Table 4 (not in the paper): the held-out K_n of all three methods and the floor
-  when every run (fitting and held-out) gets its own turn-on scale-factor error
-  (:attr:`gyrobench.sim.mems.MemsSpec.scale_factor_repeatability`, 1 sigma), for a few sigma
-  values, each over ``sweep_replicates`` independent sets of runs. Within one
-  replicate all sigma values share the random numbers (noise, biases, ambient,
-  the standard-normal draw of each run's scale-factor error), so the rows differ
-  only by the size of the scale-factor errors. Replicate 0 is the main
-  experiment (same seed).
+A reference computed from the same runs: the run-to-run repeatability floor
+(:func:`repeatability_floor`), the held-out K_n of a curve through the fitting
+runs' per-rate mean outputs (no model error at the table rates).
+
+The claims (:data:`CLAIMS`) are judged over units by
+:func:`gyrobench.scenarios.claims.evaluate`; :func:`report` builds the tables and
+figures from the units' results. What was set from the paper's numbers (the knee
+width, the knee rate and the rate-sign offset of :mod:`gyrobench.sim.mems`) is
+marked ``calibrated``. The default gyro has turn-on scale-factor repeatability 0
+(no source gives one for this part): the simulated runs repeat far better than a
+real device's, which is why the network beats the paper (see :data:`DEVIATIONS`).
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
-from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
-from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
-from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor
-from gyrobench.scenarios.base import CompensationTask, FigureSpec, Headline, HeldOutRun, Outcome, Table
+from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor
+from gyrobench.scenarios.base import CompensationTask, FigureSpec, HeldOutRun, Outcome, Table
+from gyrobench.scenarios.claims import (
+    Claim,
+    ClaimResult,
+    Deviation,
+    in_range,
+    is_true,
+    within_factor,
+)
 from gyrobench.sim import units
 from gyrobench.sim.environment import rate_steps
-from gyrobench.sim.mems import MemsSpec, die_temperature, simulate_output
+from gyrobench.sim.mems import MemsSpec, MemsUnit, die_temperature, simulate_output
+from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
 
-NAME = "mems_scale_factor"
-TITLE = "High-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise compensation (paper 001)"
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-#: the paper's numbers (Table 3 and text)
-PAPER = {
-    "raw_nonlinearity_pct": 15.71,
-    "breakpoints_dps": [-1800.0, 1800.0],
-    "orders": [9, 1, 9],
-    "methods": {
-        "piecewise": {"nonlinearity_pct": 0.14, "eval_time_ms": 0.247},
-        "two_stage_poly": {"nonlinearity_pct": 0.59, "eval_time_ms": 0.755},
-        "bayes_bp": {"nonlinearity_pct": 0.45, "eval_time_ms": 37.8},
-    },
-}
+NAME = "mems_scale_factor"
+TITLE = "High-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise compensation"
+PAPER = "001"
+
+#: the three compensation methods, in the order of the paper's Table 3
 METHOD_LABELS = {
     "piecewise": "Heuristic piecewise 9-1-9 + Hermite",
     "two_stage_poly": "Two-stage 9th-order polynomial",
     "bayes_bp": "Bayes-regularized BP (10 hidden)",
 }
+#: the paper's Table 3: K_n after compensation [%] and evaluation time [ms] (MATLAB)
+PAPER_KN_PCT = {"piecewise": 0.14, "two_stage_poly": 0.59, "bayes_bp": 0.45}
+PAPER_TIME_MS = {"piecewise": 0.247, "two_stage_poly": 0.755, "bayes_bp": 37.8}
+#: the paper's order of the methods, best first (Table 3 and its text)
+PAPER_ORDER = ("piecewise", "bayes_bp", "two_stage_poly")
 
 
 def _default_rates() -> tuple[float, ...]:
@@ -87,7 +97,7 @@ class Config:
     Parameters
     ----------
     gyro : MemsSpec
-        The unit under test (SI; defaults calibrated to K_n = 15.71 %, see sim.mems).
+        The unit under test (SI; knee calibrated to K_n = 15.71 %, see sim.mems).
     rates_dps : tuple of float
         Table rates in test order [deg/s], strictly monotonic.
     dwell_s, settle_s : float
@@ -103,7 +113,7 @@ class Config:
     ambient_c, ambient_spread_c : float
         Mean lab temperature and its run-to-run standard deviation [degC].
     n_fit_runs, n_heldout_runs : int
-        Runs used for Table 1 and the fits; runs kept for scoring only.
+        Runs the compensators are fitted on; runs kept for scoring only (per unit).
     orders : tuple of int
         Piecewise orders (negative high, low, positive high rates).
     join_width : float
@@ -116,11 +126,8 @@ class Config:
         Bayesian-regularized network size and trainbr epochs.
     timing_repeats : int
         Repeats of each method's compensation of the 21-point table (median reported).
-    sf_repeatability_sweep_ppm : tuple of float
-        Turn-on scale-factor repeatability values of Table 4 [ppm, 1 sigma], each >= 0
-        and < 1e5; every run of a replicate gets its own draw.
-    sweep_replicates : int
-        Independent sets of runs per value of Table 4 (the median is reported), >= 1.
+    dense_step_dps : float
+        Rate step of the dense held-out sweep [deg/s], > 0.
     """
 
     gyro: MemsSpec = field(default_factory=MemsSpec)
@@ -141,9 +148,8 @@ class Config:
     poly_degree: int = 9
     hidden_units: int = 10
     mlp_epochs: int = 1000
-    timing_repeats: int = 200
-    sf_repeatability_sweep_ppm: tuple[float, ...] = (0.0, 100.0, 300.0, 1000.0)
-    sweep_replicates: int = 3
+    timing_repeats: int = 50
+    dense_step_dps: float = 10.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.gyro, MemsSpec):
@@ -151,14 +157,21 @@ class Config:
         r = np.asarray(self.rates_dps, dtype=float)
         if r.ndim != 1 or r.size < 3 or not np.all(np.isfinite(r)):
             raise ValueError(
-                f"Config.rates_dps must hold at least 3 finite rates [deg/s]; got {self.rates_dps!r}"
+                "Config.rates_dps must hold at least 3 finite rates [deg/s]; "
+                f"got {self.rates_dps!r}"
             )
         d = np.diff(r)
         if not (np.all(d > 0) or np.all(d < 0)):
             raise ValueError(
-                f"Config.rates_dps must be strictly monotonic without duplicates [deg/s]; got {self.rates_dps!r}"
+                "Config.rates_dps must be strictly monotonic without duplicates [deg/s]; "
+                f"got {self.rates_dps!r}"
             )
-        for name, unit in (("dwell_s", "s"), ("acceleration_dps2", "deg/s^2"), ("fs_hz", "Hz")):
+        for name, unit in (
+            ("dwell_s", "s"),
+            ("acceleration_dps2", "deg/s^2"),
+            ("fs_hz", "Hz"),
+            ("dense_step_dps", "deg/s"),
+        ):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
@@ -177,7 +190,6 @@ class Config:
             ("hidden_units", 1),
             ("mlp_epochs", 1),
             ("timing_repeats", 1),
-            ("sweep_replicates", 1),
         ):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < lo:
@@ -188,21 +200,6 @@ class Config:
             raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
         if not 0 < self.join_width < 0.5:
             raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")
-        sweep = self.sf_repeatability_sweep_ppm
-        if (
-            not isinstance(sweep, tuple)
-            or len(sweep) < 1
-            or any(
-                isinstance(v, bool)
-                or not isinstance(v, (int, float))
-                or not (math.isfinite(v) and 0 <= v < 1e5)
-                for v in sweep
-            )
-        ):
-            raise ValueError(
-                "Config.sf_repeatability_sweep_ppm must be a non-empty tuple of values in "
-                f"[0, 1e5) ppm; got {sweep!r}"
-            )
 
 
 # ------------------------------------------------------------------ simulation
@@ -217,15 +214,9 @@ def _program(config: Config):
 
 
 def _simulate_run(
-    config: Config,
-    program,
-    rng: np.random.Generator,
-    *,
-    index: int,
-    role: str,
-    seed: int,
-    replicate: int = 0,
-) -> Recording:
+    config: Config, program, rng: np.random.Generator, *, index: int, role: str, seed: int
+) -> tuple[Recording, MemsUnit]:
+    """One rate-table run and the power-on (turn-on bias and scale-factor error) it drew."""
     r_amb, r_gyro = rng.spawn(2)
     fs = config.fs_hz
     n = int(math.floor(program.profile.duration * fs)) + 1
@@ -238,7 +229,7 @@ def _simulate_run(
     )
     truth = {"true_rate": Channel(rate, "rad/s", "table rate (truth)")}
     truth.update({k: Channel(v, "rad/s", f"{k} error") for k, v in out.components.items()})
-    return Recording(
+    rec = Recording(
         fs=fs,
         channels={
             "rate": Channel(out.output, "rad/s", "gyro output"),
@@ -256,24 +247,17 @@ def _simulate_run(
             "ambient_c": float(units.to_celsius(ambient)),
             "turn_on_bias_dps": float(units.to_deg_per_s(out.turn_on_bias)),
             "scale_factor_error_ppm": float(units.to_ppm(out.scale_factor_error)),
-            "replicate": replicate,
             "version": package_version(),
         },
-        name=f"{role}_run{index}" if replicate == 0 else f"{role}_run{index}_rep{replicate}",
+        name=f"{role}_run{index}",
     )
+    return rec, out.unit
 
 
-def simulate(config: Config, seed: int, *, replicate: int = 0) -> list[Recording]:
-    """The ``n_fit_runs`` fitting runs then the ``n_heldout_runs`` held-out runs, one child stream each.
-
-    ``replicate`` 0 is the experiment of ``seed``; replicate r > 0 an independent
-    set of runs from the entropy (seed, r) (Table 4).
-    """
-    if isinstance(replicate, bool) or not isinstance(replicate, int) or replicate < 0:
-        raise ValueError(f"replicate must be an integer >= 0; got {replicate!r}")
+def _runs(config: Config, seed: int) -> list[tuple[Recording, MemsUnit]]:
     program = _program(config)
     n_runs = config.n_fit_runs + config.n_heldout_runs
-    root = np.random.default_rng(seed if replicate == 0 else [seed, replicate])
+    root = np.random.default_rng(seed)
     return [
         _simulate_run(
             config,
@@ -282,10 +266,18 @@ def simulate(config: Config, seed: int, *, replicate: int = 0) -> list[Recording
             index=i,
             role="fit" if i < config.n_fit_runs else "heldout",
             seed=seed,
-            replicate=replicate,
         )
         for i, rng in enumerate(root.spawn(n_runs))
     ]
+
+
+def simulate(config: Config, seed: int) -> list[Recording]:
+    """One unit's runs: the ``n_fit_runs`` fitting runs then the ``n_heldout_runs`` held-out runs.
+
+    Each run has its own child stream of ``numpy.random.default_rng(seed)`` (ambient
+    temperature, turn-on values, noise).
+    """
+    return [rec for rec, _ in _runs(config, seed)]
 
 
 def rate_means(rec: Recording) -> NDArray[np.float64]:
@@ -299,15 +291,49 @@ def rate_means(rec: Recording) -> NDArray[np.float64]:
     return np.array(out)
 
 
+def _window_mean_temperature(rec: Recording) -> float:
+    """Mean die temperature over the settled windows of a run [K]."""
+    t = rec.time
+    m = np.zeros(t.size, dtype=bool)
+    for a, b in rec.metadata["windows_s"]:
+        m |= (t >= a) & (t < b)
+    return float(np.mean(rec["temperature"][m]))
+
+
+def static_curve(
+    unit: MemsUnit, rates_dps: NDArray[np.float64], temperature: float
+) -> NDArray[np.float64]:
+    """Noise-free mean output [deg/s] of one power-on at constant rates and die temperature [K].
+
+    The power-on's full output model (its turn-on bias and scale-factor error, bias
+    and scale factor at ``temperature``, g-sensitivity at 1 g along the sense axis as
+    in the runs) without noise and without quantization: the expectation a long
+    dwell averages to (the noise dithers the quantizer). The range clip is kept.
+    """
+    quiet = replace(unit.spec, noise=NoiseModel(), resolution=0.0)
+    out = simulate_output(
+        replace(unit, spec=quiet),
+        units.deg_per_s(np.asarray(rates_dps, dtype=float)),
+        fs=1.0,
+        temperature=temperature,
+        acceleration=units.G0,
+        rng=np.random.default_rng(0),  # draws nothing that matters: no noise, unit given
+    )
+    return units.to_deg_per_s(out.output)
+
+
 # ------------------------------------------------------------------ scoring
 def nonlinearity_scorer(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
-    """K_n [%] of the compensated table against the table rates (IEEE definition), and the RMS error."""
+    """K_n [%] of the compensated table against the table rates (IEEE), and the RMS error."""
     fit = fit_scale_factor(run.truth, np.asarray(compensated, dtype=float))
     err = np.asarray(compensated, dtype=float) - run.truth
     return {"nonlinearity_pct": fit.nonlinearity_pct, "rms_dps": float(np.sqrt(np.mean(err**2)))}
 
 
-def _estimators(config: Config, seed: int) -> dict:
+def _estimators(config: Config, seed: int) -> dict[str, Any]:
+    from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
+    from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
+
     return {
         "piecewise": PiecewisePolynomial(
             orders=tuple(config.orders), join_width=config.join_width, alpha=config.piecewise_alpha
@@ -355,7 +381,7 @@ def repeatability_floor(
     difference from the fitting runs (divided by the local slope): the
     repeatability floor of a compensation fitted to these runs when the runs differ
     by bias, temperature and noise. It is one run's value, not a bound: a smoother
-    curve can land below it, and does when the runs' scale factors differ (Table 4).
+    curve can land below it, and does when the runs' scale factors differ.
 
     Parameters
     ----------
@@ -393,117 +419,764 @@ def _mean_kn(rates: NDArray, tables) -> float:
 
 
 def _floor_kn(rates: NDArray, fit_means: NDArray, outputs: NDArray) -> float:
-    """Mean K_n [%] of ``outputs`` (one table per row) compensated by :func:`repeatability_floor`."""
+    """Mean K_n [%] of ``outputs`` (one table per row) compensated by repeatability_floor."""
     return _mean_kn(rates, [repeatability_floor(rates, fit_means, o) for o in outputs])
 
 
-def _score(
-    estimators: dict, rates: NDArray, fit_means: NDArray, held_means: NDArray
-) -> dict[str, float]:
-    """Mean held-out K_n [%] of each fitted estimator and of the repeatability floor."""
-    out = {
-        key: _mean_kn(rates, [est.predict(h[:, None]) for h in held_means])
-        for key, est in estimators.items()
+# ------------------------------------------------------------------ experiment (one unit)
+def _dense_rates(config: Config) -> NDArray[np.float64]:
+    """The dense sweep's rates [deg/s]: every ``dense_step_dps`` across the table's span."""
+    lo, hi = min(config.rates_dps), max(config.rates_dps)
+    return np.arange(lo, hi + 0.5 * config.dense_step_dps, config.dense_step_dps)
+
+
+def _raw_analysis(
+    rates: NDArray[np.float64], fit_means: NDArray[np.float64], held_means: NDArray[np.float64]
+) -> dict[str, Any]:
+    """Table 1 (mean of the fitting runs), raw K_n, the heuristic search (Table 2), low-rate K_n."""
+    table1 = fit_means.mean(axis=0)
+    fit1 = fit_scale_factor(rates, table1)
+    search = breakpoint_search(rates, table1)
+    low_kn = math.nan
+    if search.negative is not None and search.positive is not None:
+        low = (rates >= search.negative) & (rates <= search.positive)
+        if low.sum() >= 3:
+            low_kn = fit_scale_factor(rates[low], table1[low]).nonlinearity
+    per_run = [fit_scale_factor(rates, m).nonlinearity_pct for m in fit_means]
+    trace = [
+        (s.side, s.end_rate, s.n_points, s.nonlinearity, s.abs_diff, s.diff2, s.counter)
+        for s in search.trace
+    ]
+    std = fit_means.std(axis=0, ddof=1) if len(fit_means) > 1 else np.zeros_like(rates)
+    return {
+        "table1_dps": table1,
+        "run_std_dps": std,
+        "pointwise_pct": 100.0 * fit1.pointwise,
+        "scale_factor": fit1.scale_factor,
+        "bias_dps": fit1.bias,
+        "raw_kn_pct_per_run": per_run,
+        "raw_kn_pct": float(np.mean(per_run)),
+        "raw_kn_pct_heldout": _mean_kn(rates, held_means),
+        "low_rate_kn": low_kn,
+        "breakpoints_dps": list(search.breakpoints),
+        "search_trace": np.array(trace, dtype=float).reshape(-1, 7),
     }
-    out["floor"] = _floor_kn(rates, fit_means, held_means)
+
+
+def _fit_methods(
+    config: Config, seed: int, rates: NDArray[np.float64], fit_means: NDArray[np.float64]
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The three compensators fitted on the pooled fitting runs, and their fit times [ms]."""
+    X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
+    models, fit_ms = _estimators(config, seed), {}
+    for key, est in models.items():
+        t0 = time.perf_counter()
+        est.fit(X, y)
+        fit_ms[key] = 1e3 * (time.perf_counter() - t0)
+    return models, fit_ms
+
+
+def _score_method(
+    est: Any,
+    rates: NDArray[np.float64],
+    fit_means: NDArray[np.float64],
+    held_means: NDArray[np.float64],
+    dense_rates: NDArray[np.float64],
+    dense_outputs: NDArray[np.float64],
+) -> dict[str, Any]:
+    """K_n [%] of one fitted compensator: in-sample, held-out table rates, dense held-out sweep."""
+    held = [est.predict(m[:, None]) for m in held_means]
+    hfits = [fit_scale_factor(rates, c) for c in held]
+    dense = [est.predict(d[:, None]) for d in dense_outputs]
+    return {
+        "kn_fit_pct": _mean_kn(rates, [est.predict(m[:, None]) for m in fit_means]),
+        "kn_heldout_pct": float(np.mean([f.nonlinearity_pct for f in hfits])),
+        "rms_heldout_pct": float(np.mean([100 * np.sqrt(np.mean(f.pointwise**2)) for f in hfits])),
+        "kn_dense_pct": _mean_kn(dense_rates, dense),
+        "compensated_heldout_dps": held[0],
+        "pointwise_heldout_pct": 100.0 * hfits[0].pointwise,
+        "dense_error_dps": dense[0] - dense_rates,
+    }
+
+
+def _continuity(model: Any, fit_means: NDArray[np.float64], rates: NDArray[np.float64]) -> list:
+    """Curves of the piecewise fit around each breakpoint, with and without the Hermite join."""
+    X, y = fit_means.reshape(-1), np.tile(rates, len(fit_means))
+    out = []
+    for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_, strict=True)):
+        h = model.half_join_
+        xs = np.linspace(b - 4 * h, b + 4 * h, 200)
+        m = np.abs(X - b) < 4 * h
+        out.append(
+            {
+                "breakpoint": float(b),
+                "rate_dps": float(br),
+                "half_join": float(h),
+                "x": xs,
+                "left": model.segments_[k].predict(xs[:, None]),
+                "right": model.segments_[k + 1].predict(xs[:, None]),
+                "joined": model.predict(xs[:, None]),
+                "data_x": X[m],
+                "data_y": y[m],
+            }
+        )
     return out
 
 
-def _sweep(config: Config, seed: int, main: dict[str, float]) -> dict:
-    """Table 4: held-out K_n [%] vs turn-on scale-factor repeatability, per replicate.
+def _eval_times_ms(models: Mapping[str, Any], x: NDArray[np.float64], repeats: int) -> dict:
+    """Median wall time [ms] of each model compensating the 21-point table ``x`` (this machine)."""
+    out = {}
+    for key, est in models.items():
+        est.predict(x)  # warm caches
+        ts = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            est.predict(x)
+            ts.append(time.perf_counter() - t0)
+        out[key] = 1e3 * float(np.median(ts))
+    return out
 
-    ``main`` holds the main experiment's scores; it is reused for replicate 0 at the
-    configured repeatability (the same runs), every other cell is simulated and fitted.
+
+def _before(order: Sequence[str], kn: Mapping[str, float]) -> bool:
+    """Whether the K_n values are strictly increasing in ``order`` (best first)."""
+    return all(kn[a] < kn[b] for a, b in zip(order[:-1], order[1:], strict=True))
+
+
+def _quantities(raw: Mapping[str, Any], methods: Mapping[str, Mapping]) -> dict[str, float | None]:
+    """One number per claim quantity (see CLAIMS); booleans as 1.0 / 0.0."""
+    held = {k: m["kn_heldout_pct"] for k, m in methods.items()}
+    dense = {k: m["kn_dense_pct"] for k, m in methods.items()}
+    rms = {k: m["rms_heldout_pct"] for k, m in methods.items()}
+    others = [k for k in methods if k != "piecewise"]
+    q: dict[str, float | None] = {
+        "raw_kn_pct": raw["raw_kn_pct"],
+        "breakpoints_at_1800": float(raw["breakpoints_dps"] == [-1800.0, 1800.0]),
+        "low_rate_kn": raw["low_rate_kn"],
+    }
+    for key in methods:
+        q[f"kn_heldout_pct.{key}"] = held[key]
+        q[f"improvement.{key}"] = raw["raw_kn_pct_heldout"] / held[key]
+    q["order_as_paper"] = float(_before(PAPER_ORDER, held))
+    q["piecewise_best"] = float(all(held["piecewise"] < held[k] for k in others))
+    q["bayes_bp_beats_two_stage"] = float(held["bayes_bp"] < held["two_stage_poly"])
+    q["piecewise_smallest_rms"] = float(all(rms["piecewise"] < rms[k] for k in others))
+    for key in methods:
+        q[f"kn_dense_pct.{key}"] = dense[key]
+    q["order_as_paper_dense"] = float(_before(PAPER_ORDER, dense))
+    return q
+
+
+def experiment(config: Config, seed: int) -> dict[str, Any]:
+    """One unit: its rate-table runs, raw K_n and breakpoints, the three methods fitted and scored.
+
+    Returns the unit's ``quantities`` (one number per claim, see :data:`CLAIMS`) and
+    what :func:`report` draws: Table 1 and the breakpoint search of the fitting runs,
+    per method the in-sample, held-out and dense-sweep K_n [%] and curves, the
+    repeatability floor, a 1 Hz trace of fitting run 0. Deterministic in (config,
+    seed) except ``timing_ms`` and ``fit_time_ms`` (wall times on this machine).
     """
+    runs = _runs(config, seed)
     rates = np.asarray(config.rates_dps, dtype=float)
     nf = config.n_fit_runs
-    cells: dict[str, list[dict[str, float]]] = {}
-    for sigma_ppm in config.sf_repeatability_sweep_ppm:
-        sigma = float(units.ppm(sigma_ppm))
-        cfg = replace(config, gyro=replace(config.gyro, scale_factor_repeatability=sigma))
-        reps = []
-        for r in range(config.sweep_replicates):
-            if r == 0 and sigma == config.gyro.scale_factor_repeatability:
-                reps.append(dict(main))
-                continue
-            means = np.array([rate_means(rec) for rec in simulate(cfg, seed, replicate=r)])
-            X, y = means[:nf].reshape(-1)[:, None], np.tile(rates, nf)
-            ests = {k: e.fit(X, y) for k, e in _estimators(cfg, seed).items()}
-            reps.append(_score(ests, rates, means[:nf], means[nf:]))
-        cells[f"{sigma_ppm:g}"] = reps
-    keys = [*METHOD_LABELS, "floor"]
+    means = np.array([rate_means(rec) for rec, _ in runs])
+    fit_means, held_means = means[:nf], means[nf:]
+    raw = _raw_analysis(rates, fit_means, held_means)
+    dense_rates = _dense_rates(config)
+    dense_out = np.array(
+        [static_curve(u, dense_rates, _window_mean_temperature(rec)) for rec, u in runs[nf:]]
+    )
+    models, fit_ms = _fit_methods(config, seed, rates, fit_means)
+    methods = {
+        k: _score_method(est, rates, fit_means, held_means, dense_rates, dense_out)
+        for k, est in models.items()
+    }
+    rec0, step = runs[0][0], max(1, int(round(config.fs_hz)))
     return {
-        "sigma_ppm": [float(v) for v in config.sf_repeatability_sweep_ppm],
-        "replicates": config.sweep_replicates,
-        "per_replicate": cells,
-        "median": {
-            s: {k: float(np.median([c[k] for c in reps])) for k in keys}
-            for s, reps in cells.items()
+        "seed": seed,
+        "quantities": _quantities(raw, methods),
+        "rates_dps": rates,
+        "fit_means_dps": fit_means,
+        "held_means_dps": held_means,
+        "raw": raw,
+        "raw_kn_dense_pct": _mean_kn(dense_rates, dense_out),
+        "dense_rates_dps": dense_rates,
+        "methods": methods,
+        "floor_pct": _floor_kn(rates, fit_means, held_means),
+        "floor_fit_pct": _floor_kn(rates, fit_means, fit_means),
+        "piecewise_orders": list(models["piecewise"].orders_),
+        "continuity": _continuity(models["piecewise"], fit_means, rates),
+        "mlp": {"gamma": models["bayes_bp"].gamma_, "epochs_run": models["bayes_bp"].n_iter_},
+        "trace": {
+            "time_s": rec0.time[::step],
+            "table_dps": units.to_deg_per_s(rec0["table_rate"][::step]),
+            "output_dps": units.to_deg_per_s(rec0["rate"][::step]),
         },
+        "timing_ms": _eval_times_ms(models, held_means[0][:, None], config.timing_repeats),
+        "fit_time_ms": fit_ms,
     }
 
 
-def _median_time_ms(fn, repeats: int) -> float:
-    fn()  # warm caches
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return 1e3 * float(np.median(ts))
+# ------------------------------------------------------------------ claims
+_CAL_KNEE = (
+    "sim.mems MemsSpec.knee_width = 987.61 deg/s, solved with scipy.optimize.brentq so that the "
+    "noise-free output on the paper's 21 rates has K_n = 15.71 % (knee_rate 1800 deg/s, cubic "
+    "1e-10 (deg/s)^-2, asymmetry 5e-4 fixed before)"
+)
+_CAL_SPLIT = (
+    "sim.mems MemsSpec.knee_rate = 1800 deg/s (the paper's breakpoint) and sign_offset = 2 deg/s "
+    "(a 4 deg/s step at zero rate, no Coriolis-gyro physics behind it) added so that the paper's "
+    "heuristic, run on the simulated Table 1, splits at +-1800 deg/s"
+)
+_CAL_LOW = (
+    "sim.mems MemsSpec.sign_offset = 2 deg/s, chosen (with knee_rate = 1800 deg/s) so that the "
+    "segment |rate| <= 1800 deg/s is nonlinear at the paper's 1e-3 level (noise-free K_n 9e-4)"
+)
+_TEXT3 = "Sec. 3, text and Table 3"
 
 
-# ------------------------------------------------------------------ figures
-def _fig_raw(rec: Recording) -> Figure:
+def _method_claims(key: str) -> tuple[Claim, ...]:
+    label, kn = METHOD_LABELS[key], PAPER_KN_PCT[key]
+    return (
+        Claim(
+            id=f"001.kn_heldout.{key}",
+            paper=PAPER,
+            where="Table 3",
+            statement=(
+                f"{label} compensation brings K_n to {kn} % (scored here on a held-out run at the "
+                "21 table rates)."
+            ),
+            kind="emergent",
+            quantity=f"kn_heldout_pct.{key}",
+            comparator=within_factor(kn),
+            paper_value=kn,
+            unit="%",
+        ),
+        Claim(
+            id=f"001.improvement.{key}",
+            paper=PAPER,
+            where=_TEXT3,
+            statement=(
+                f"{label} compensation improves K_n by about two orders of magnitude (raw / "
+                "compensated K_n of the held-out run, read as 30x to 300x; the paper's own "
+                "Table 3 gives 112x, 27x and 35x)."
+            ),
+            kind="emergent",
+            quantity=f"improvement.{key}",
+            comparator=in_range(30.0, 300.0),
+            unit="x",
+        ),
+    )
+
+
+def _dense_claim(key: str) -> Claim:
+    label, kn = METHOD_LABELS[key], PAPER_KN_PCT[key]
+    return Claim(
+        id=f"001.kn_dense.{key}",
+        paper=PAPER,
+        where="Table 3 (extension: between the table rates)",
+        statement=(
+            f"{label}: the paper's K_n = {kn} % (scored at the 21 table rates) holds between them "
+            f"too (our extension: noise-free held-out sweep every 10 deg/s)."
+        ),
+        kind="emergent",
+        quantity=f"kn_dense_pct.{key}",
+        comparator=within_factor(kn),
+        paper_value=kn,
+        unit="%",
+    )
+
+
+def _order_claim(id_: str, where: str, statement: str, quantity: str) -> Claim:
+    return Claim(
+        id=id_,
+        paper=PAPER,
+        where=where,
+        statement=statement,
+        kind="emergent",
+        quantity=quantity,
+        comparator=is_true(),
+    )
+
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim(
+        id="001.raw_kn",
+        paper=PAPER,
+        where="Sec. 3, after Table 1",
+        statement="The raw scale-factor nonlinearity K_n, averaged over the runs, is 15.71 %.",
+        kind="calibrated",
+        quantity="raw_kn_pct",
+        comparator=within_factor(15.71),
+        paper_value=15.71,
+        unit="%",
+        calibrated_input=_CAL_KNEE,
+    ),
+    Claim(
+        id="001.breakpoints",
+        paper=PAPER,
+        where="Table 2",
+        statement=(
+            "The heuristic breakpoint search splits the range at -1800 and +1800 deg/s "
+            "(negative high-rate, low-rate and positive high-rate segments)."
+        ),
+        kind="calibrated",
+        quantity="breakpoints_at_1800",
+        comparator=is_true(),
+        calibrated_input=_CAL_SPLIT,
+    ),
+    Claim(
+        id="001.low_rate_kn",
+        paper=PAPER,
+        where="Sec. 3, after Table 2",
+        statement=(
+            "In the low-rate segment (between the breakpoints found) K_n is of order 1e-3 "
+            "(read as within a factor sqrt(10) of 1e-3)."
+        ),
+        kind="calibrated",
+        quantity="low_rate_kn",
+        comparator=within_factor(1e-3, math.sqrt(10.0)),
+        paper_value=1e-3,
+        unit="-",
+        calibrated_input=_CAL_LOW,
+    ),
+    *(c for key in METHOD_LABELS for c in _method_claims(key)),
+    _order_claim(
+        "001.order",
+        _TEXT3,
+        "Ranking by K_n: the heuristic piecewise fit best, Bayes-BP second, the two-stage "
+        "polynomial worst (held-out run, table rates).",
+        "order_as_paper",
+    ),
+    _order_claim(
+        "001.piecewise_best",
+        _TEXT3,
+        "The heuristic piecewise fit compensates best (lowest held-out K_n of the three).",
+        "piecewise_best",
+    ),
+    _order_claim(
+        "001.bayes_bp_beats_two_stage",
+        _TEXT3,
+        "The Bayes-BP network compensates better than the two-stage 9th-order polynomial.",
+        "bayes_bp_beats_two_stage",
+    ),
+    _order_claim(
+        "001.piecewise_smallest_error",
+        "Fig. 6",
+        "The piecewise fit has the smallest overall error (RMS of the held-out pointwise "
+        "nonlinearity a_j).",
+        "piecewise_smallest_rms",
+    ),
+    *(_dense_claim(key) for key in METHOD_LABELS),
+    _order_claim(
+        "001.order_dense",
+        "Table 3 (extension: between the table rates)",
+        "The paper's ranking (piecewise < Bayes-BP < two-stage) also holds on the dense held-out "
+        "sweep (our extension).",
+        "order_as_paper_dense",
+    ),
+)
+
+
+#: where the effects below come from (re-measure with :func:`deviation_effects`)
+_MEASURED = "medians over units (seeds) 0-19, default Config, held-out K_n at the table rates"
+
+DEVIATIONS: tuple[Deviation, ...] = (
+    Deviation(
+        paper=PAPER,
+        what="scoring on a held-out run",
+        paper_says=(
+            "fits the several groups of data and computes K_n of the compensated output by eqs. "
+            "(5)-(6) (Table 3); no run kept out of the fit is mentioned"
+        ),
+        we_do=(
+            "the claims score each method on a run it never saw (own turn-on bias, temperature "
+            "and noise); the in-sample K_n is reported beside it (Table 3)"
+        ),
+        reason="a compensation is used on later power-ons; in-sample K_n flatters a flexible model",
+        effect=(
+            f"{_MEASURED}: in-sample piecewise 0.046 %, two-stage 0.573 %, BR-MLP 0.020 % against "
+            "held-out 0.046 %, 0.574 %, 0.026 %; the paper's order on 0/20 units in-sample, 1/20 "
+            "held-out; no claim's verdict changes (the default gyro repeats too well for the "
+            "difference to matter, see the repeatability deviation)"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="number of runs",
+        paper_says="'several groups' of data (number not given); Table 1 is their mean",
+        we_do=(
+            "3 fitting runs pooled for the fits (Table 1 their mean) and 1 held-out run per unit; "
+            "a 9th-order segment on the 6 rates of one side needs >= 10 points, so >= 2 runs "
+            "must be pooled"
+        ),
+        reason="the paper does not give the number; 3 is the smallest that leaves margin",
+        effect=(
+            f"{_MEASURED}: with 5 fitting runs piecewise 0.048 %, two-stage 0.573 %, BR-MLP "
+            "0.019 % (3 runs: 0.046, 0.574, 0.026 %); the paper's order on 2/20 units (3 runs: "
+            "1/20); no verdict changes"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="piecewise segments: curvature penalty",
+        paper_says="each segment an ordinary least-squares polynomial (eqs. 7-9), orders 9-1-9",
+        we_do=(
+            "least squares with a curvature penalty alpha = 1e-6 (scaled units) on each segment "
+            "(PiecewisePolynomial.alpha)"
+        ),
+        reason=(
+            "on six distinct rates a plain 9th-order fit is not determined between them and "
+            "oscillates by thousands of deg/s"
+        ),
+        effect=(
+            f"{_MEASURED}: with alpha = 0 the piecewise K_n is 56 % held-out (56 % in-sample, 67 % "
+            "on the dense sweep: the Hermite join samples the oscillating segments +-h off the "
+            "breakpoint) against 0.046 % with alpha = 1e-6; every piecewise claim would fail"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="continuity at the breakpoints",
+        paper_says=(
+            "weighted refit f2 of the next segment from x_(n-4), then a cubic Hermite curve "
+            "between (x_(n-3), y_(n-3)) and (x_4, y_4) over the overlap of the two fits"
+        ),
+        we_do=(
+            "a cubic Hermite curve over a join of fixed width (5 % of the output span, centred "
+            "on the breakpoint), end values and slopes from the two segment fits; no weighted "
+            "refit"
+        ),
+        reason="the paper's weights and index conventions are not given completely",
+        effect=(
+            f"{_MEASURED}: join width 2 %: piecewise 0.047 % (dense 1.31 %); 5 %: 0.046 % "
+            "(1.31 %); 10 %: 0.24 % (1.30 %), which would put the piecewise claim (0.14 %, "
+            "0.07-0.28) in range: the claim's verdict depends on this unstated choice"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="Bayes-BP network training",
+        paper_says="Bayes-BP network with 10 hidden nodes trained on the learning set (MATLAB)",
+        we_do=(
+            "numpy re-implementation of MATLAB trainbr (Levenberg-Marquardt + MacKay evidence), "
+            "tanh hidden layer, linear output, mapminmax scaling, Nguyen-Widrow start seeded "
+            "per unit, up to 1000 epochs, every fitting point used for training, one training"
+        ),
+        reason="the paper gives no training details; trainbr's defaults are the MATLAB ones",
+        effect=(
+            f"{_MEASURED}: BR-MLP 0.026 % [0.017, 0.034] (interquartile range); with 200 epochs "
+            "0.090 % [0.027, 0.270] and the paper's order on 9/20 units instead of 1/20 (the "
+            "order claim then undecided instead of failing): the ranking depends on how long "
+            "the network is trained, which the paper does not say"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="evaluation times",
+        paper_says=(
+            "0.247 ms (piecewise), 0.755 ms (two-stage), 37.8 ms (Bayes-BP); piecewise tens of "
+            "times faster than the network and more than 2x faster than the two-stage polynomial"
+        ),
+        we_do="time each compensation of the 21-point table (numpy, one thread) but judge no claim",
+        reason=(
+            "a time measures an implementation and a machine (MATLAB, the paper's computer), "
+            "not the method"
+        ),
+        effect=(
+            f"{_MEASURED}: piecewise 0.26 ms, two-stage 0.18 ms, BR-MLP 0.08 ms: the order "
+            "reverses (a 10-unit tanh layer on 21 points is a few numpy operations; the "
+            "piecewise model switches segments and joins in Python)"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="run-to-run repeatability of the device",
+        paper_says=(
+            "a real prototype; its repeatability is not given ('the nonlinear curves of the "
+            "same prototype are similar')"
+        ),
+        we_do=(
+            "sim.mems defaults: turn-on scale-factor repeatability 0 ppm (no source gives one "
+            "for this part), turn-on bias 0.05 deg/s, ambient spread 0.5 K, SF tempco 100 ppm/K"
+        ),
+        reason="no number for this device; 0 keeps the calibrated curve of sim.mems unchanged",
+        effect=(
+            f"{_MEASURED}: repeatability floor 0.016 %; at 300 ppm piecewise 0.20 %, two-stage "
+            "0.57 %, BR-MLP 0.092 %; at 1000 ppm 0.30 %, 0.59 %, 0.33 % (BR-MLP then within 2x "
+            "of the paper's 0.45 %, the paper's order on 8/20 units instead of 1/20): the "
+            "network beating the paper 18x is an artefact of the too-repeatable simulator"
+        ),
+    ),
+    Deviation(
+        paper=PAPER,
+        what="breakpoint heuristic: where to split",
+        paper_says="when the count reaches 3, split 'from the first point' (从第1个点处)",
+        we_do=(
+            "split at the end of the last interval before the run of positive signs "
+            "(analysis.scale_factor.heuristic_split)"
+        ),
+        reason="the text does not say which point is 'the first'; this reading gives the paper's",
+        effect=(
+            "the other reading (the end of the first interval of the run) splits at +-2160 deg/s "
+            "on every unit, so the calibrated breakpoint claim would fail on all 20"
+        ),
+    ),
+)
+
+
+def _variants(config: Config) -> dict[str, Config]:
+    """The configurations :func:`deviation_effects` compares (name -> Config)."""
+    gyro = config.gyro
+    return {
+        "default": config,
+        "fit_runs_5": replace(config, n_fit_runs=5),
+        "sf_repeatability_300ppm": replace(
+            config, gyro=replace(gyro, scale_factor_repeatability=units.ppm(300.0))
+        ),
+        "sf_repeatability_1000ppm": replace(
+            config, gyro=replace(gyro, scale_factor_repeatability=units.ppm(1000.0))
+        ),
+        "piecewise_alpha_0": replace(config, piecewise_alpha=0.0),
+        "join_width_0.02": replace(config, join_width=0.02),
+        "join_width_0.10": replace(config, join_width=0.10),
+        "mlp_epochs_200": replace(config, mlp_epochs=200),
+    }
+
+
+def deviation_effects(
+    config: Config | None = None, seeds: Sequence[int] = tuple(range(20))
+) -> dict[str, dict[str, float]]:
+    """Re-measure the effects quoted in :data:`DEVIATIONS` (slow: about 8 experiments per seed).
+
+    For each variant of :func:`_variants` (5 fitting runs; turn-on scale-factor
+    repeatability 300 and 1000 ppm; piecewise alpha = 0; join width 2 % and 10 %;
+    200 network epochs) and the default: the median over ``seeds`` of each method's
+    in-sample, held-out and dense-sweep K_n [%], of the repeatability floor [%] and
+    of the evaluation times [ms], and the number of units in the paper's order.
+    The quoted numbers were measured with ``deviation_effects()`` (seeds 0-19).
+    """
+    base = Config() if config is None else config
+    out = {}
+    for name, cfg in _variants(base).items():
+        us = [experiment(cfg, s) for s in seeds]
+        row = {
+            f"{what}.{k}": float(np.median([u["methods"][k][what] for u in us]))
+            for k in METHOD_LABELS
+            for what in ("kn_fit_pct", "kn_heldout_pct", "kn_dense_pct")
+        }
+        row |= {
+            f"eval_ms.{k}": float(np.median([u["timing_ms"][k] for u in us])) for k in METHOD_LABELS
+        }
+        row["floor_pct"] = float(np.median([u["floor_pct"] for u in us]))
+        row["units_in_paper_order"] = float(sum(u["quantities"]["order_as_paper"] for u in us))
+        out[name] = row
+    return out
+
+
+# ------------------------------------------------------------------ report: tables
+def _pct(values: Sequence[float], fmt: str = ".3f") -> str:
+    """``"median [25th, 75th percentile]"`` of the units' values."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return "n/a"
+    q1, q2, q3 = np.percentile(v, [25, 50, 75])
+    return f"{q2:{fmt}} [{q1:{fmt}}, {q3:{fmt}}]"
+
+
+def _table1(u: Mapping[str, Any]) -> Table:
+    raw, rates = u["raw"], u["rates_dps"]
+    rows = [
+        [r, r, m, s, a]
+        for r, m, s, a in zip(
+            rates, raw["table1_dps"], raw["run_std_dps"], raw["pointwise_pct"], strict=True
+        )
+    ]
+    return Table(
+        f"Table 1. Ideal and measured output per table rate (unit seed {u['seed']}, mean of "
+        f"{len(u['fit_means_dps'])} fitting runs)",
+        ["rate [deg/s]", "ideal [deg/s]", "measured mean [deg/s]", "run std [deg/s]", "a_j [%]"],
+        rows,
+        note=(
+            f"Raw K_n = {raw['raw_kn_pct']:.2f} % (mean over the runs; paper 15.71 %, calibrated); "
+            f"low-rate K_n = {raw['low_rate_kn']:.1e} (paper: order 1e-3). The paper's Table 1 "
+            "values did not survive text extraction."
+        ),
+    )
+
+
+def _table2(u: Mapping[str, Any]) -> Table:
+    rows = []
+    for side, end, npts, kn, d, dd, counter in u["raw"]["search_trace"]:
+        rows.append(
+            [
+                "+" if side > 0 else "-",
+                f"[0, {end:+.0f}]",
+                int(npts),
+                100 * kn,
+                "" if math.isnan(d) else 100 * d,
+                "" if math.isnan(dd) else 100 * dd,
+                "" if math.isnan(dd) else ("+" if dd > 0 else "-"),
+                "" if math.isnan(counter) else int(counter),
+            ]
+        )
+    bps = u["raw"]["breakpoints_dps"]
+    return Table(
+        f"Table 2. Heuristic breakpoint search on Table 1 (unit seed {u['seed']})",
+        ["side", "interval [deg/s]", "points", "K_n [%]", "abs diff [%]", "diff of abs diff [%]"]
+        + ["sign", "counter"],
+        rows,
+        note=(
+            f"Breakpoints found: {', '.join(f'{b:+.0f}' for b in bps) or 'none'} deg/s (paper: "
+            "-1800 and +1800; calibrated, see the claims). Split after 3 consecutive positive "
+            "signs, at the end of the last interval before the run (our reading of 'from the "
+            "first point'). The paper's Table 2 numbers did not survive extraction."
+        ),
+    )
+
+
+def _table3(units_: Sequence[Mapping[str, Any]]) -> Table:
+    def col(f):
+        return [f(u) for u in units_]
+
+    rows: list[list[Any]] = [
+        [
+            "raw (no compensation)",
+            _pct(col(lambda u: u["raw"]["raw_kn_pct_heldout"]), ".2f"),
+            _pct(col(lambda u: u["raw_kn_dense_pct"]), ".2f"),
+            _pct(col(lambda u: u["raw"]["raw_kn_pct"]), ".2f"),
+            15.71,
+            "",
+            "",
+        ]
+    ]
+    for key, label in METHOD_LABELS.items():
+        rows.append(
+            [
+                label,
+                _pct(col(lambda u, k=key: u["methods"][k]["kn_heldout_pct"])),
+                _pct(col(lambda u, k=key: u["methods"][k]["kn_dense_pct"])),
+                _pct(col(lambda u, k=key: u["methods"][k]["kn_fit_pct"])),
+                PAPER_KN_PCT[key],
+                _pct(col(lambda u, k=key: u["timing_ms"][k])),
+                PAPER_TIME_MS[key],
+            ]
+        )
+    rows.append(
+        [
+            "interpolation through the fit-run means (repeatability floor)",
+            _pct(col(lambda u: u["floor_pct"])),
+            "",
+            _pct(col(lambda u: u["floor_fit_pct"])),
+            "",
+            "",
+            "",
+        ]
+    )
+    return Table(
+        f"Table 3. K_n after compensation over {len(units_)} unit(s): median [interquartile range]",
+        [
+            "method",
+            "K_n held-out, table rates [%]",
+            "K_n held-out, dense sweep [%]",
+            "K_n fitting runs (in-sample) [%]",
+            "paper K_n [%]",
+            "eval time, numpy [ms]",
+            "paper time, MATLAB [ms]",
+        ],
+        rows,
+        note=(
+            "Held-out: runs the fit never saw, scored at the 21 table rates (the claims) and on "
+            "the noise-free static curve of the held-out power-on every 10 deg/s (dense sweep, "
+            "our extension; K_n depends on the grid through the LS line: the raw curve's is "
+            "larger on the dense grid than at the 21 rates). In-sample is the paper's own scoring"
+            " (its Table 3 is computed on the data it fitted). Eval time: median wall time of "
+            "compensating the 21-point table on this machine (numpy), not comparable with the "
+            "paper's MATLAB times. Last row: the run-to-run repeatability floor of these runs; "
+            "the default gyro has turn-on scale-factor repeatability 0 ppm, so it is far below a "
+            "real device's (DEVIATIONS)."
+        ),
+    )
+
+
+def _counts(labels: Sequence[str]) -> list[tuple[str, int]]:
+    keys = sorted(set(labels), key=lambda k: (-labels.count(k), k))
+    return [(k, labels.count(k)) for k in keys]
+
+
+def _order_label(kn: Mapping[str, float]) -> str:
+    return " < ".join(sorted(kn, key=kn.__getitem__))
+
+
+def _table4(units_: Sequence[Mapping[str, Any]]) -> Table:
+    n = len(units_)
+    bps = [", ".join(f"{b:+.0f}" for b in u["raw"]["breakpoints_dps"]) or "none" for u in units_]
+    held = [_order_label({k: m["kn_heldout_pct"] for k, m in u["methods"].items()}) for u in units_]
+    dense = [_order_label({k: m["kn_dense_pct"] for k, m in u["methods"].items()}) for u in units_]
+    rows = [["breakpoints found [deg/s]", v, c] for v, c in _counts(bps)]
+    rows += [["method order, held-out table rates (best first)", v, c] for v, c in _counts(held)]
+    rows += [["method order, dense sweep (best first)", v, c] for v, c in _counts(dense)]
+    return Table(
+        f"Table 4. What the heuristic and the ranking give over {n} unit(s)",
+        ["outcome", "value", f"units (of {n})"],
+        rows,
+        note="Paper: breakpoints -1800, +1800; order piecewise < bayes_bp < two_stage_poly.",
+    )
+
+
+# ------------------------------------------------------------------ report: figures
+def _fig_raw(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    tr = u["trace"]
     fig = Figure(figsize=(8.0, 4.2))
     ax = fig.add_subplot()
-    step = max(1, int(rec.fs // 10))
-    t = rec.time[::step] / 60.0
-    ax.plot(
-        t, units.to_deg_per_s(rec["table_rate"][::step]), color="0.6", lw=1.0, label="table rate"
-    )
-    ax.plot(t, units.to_deg_per_s(rec["rate"][::step]), lw=0.8, label="gyro output")
+    t = tr["time_s"] / 60.0
+    ax.plot(t, tr["table_dps"], color="0.6", lw=1.0, label="table rate")
+    ax.plot(t, tr["output_dps"], lw=0.8, label="gyro output")
     ax.set_xlabel("time [min]")
     ax.set_ylabel("rate [deg/s]")
-    ax.set_title("Raw MEMS output at the 21 table rates (fit run 0)")
+    ax.set_title(f"Raw MEMS output at the 21 table rates (unit seed {u['seed']}, fit run 0, 1 Hz)")
     ax.grid(True, alpha=0.3)
     ax.legend()
     return fig
 
 
-def _fig_io(rates, mean, fit) -> Figure:
+def _fig_io(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    rates, raw = u["rates_dps"], u["raw"]
     fig = Figure(figsize=(6.4, 4.8))
     ax = fig.add_subplot()
     ax.plot(rates, rates, color="0.6", lw=1.0, label="ideal output")
-    ax.plot(rates, fit.scale_factor * rates + fit.bias, "--", color="C1", lw=1.0, label="LS line")
-    ax.plot(rates, mean, "o", color="C0", label="measured (mean of runs)")
+    line = raw["scale_factor"] * rates + raw["bias_dps"]
+    ax.plot(rates, line, "--", color="C1", lw=1.0, label="LS line")
+    ax.plot(rates, raw["table1_dps"], "o", color="C0", label="measured (mean of runs)")
     ax.set_xlabel("table rate [deg/s]")
     ax.set_ylabel("gyro output [deg/s]")
-    ax.set_title(f"Input vs output: K_n = {fit.nonlinearity_pct:.2f} %")
+    kn = np.max(np.abs(raw["pointwise_pct"]))
+    ax.set_title(f"Input vs output: K_n of the mean table = {kn:.2f} %")
     ax.grid(True, alpha=0.3)
     ax.legend()
     return fig
 
 
-def _fig_continuity(model: PiecewisePolynomial, X: NDArray, y: NDArray) -> Figure:
+def _fig_continuity(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    joins = u["continuity"]
     fig = Figure(figsize=(9.0, 4.2))
-    for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_, strict=True)):
-        ax = fig.add_subplot(1, len(model.breakpoints_), k + 1)
-        h = model.half_join_
-        xs = np.linspace(b - 4 * h, b + 4 * h, 400)
-        left, right = model.segments_[k], model.segments_[k + 1]
-        ax.plot(xs, left.predict(xs[:, None]), "--", lw=1.0, label="left segment")
-        ax.plot(xs, right.predict(xs[:, None]), "--", lw=1.0, label="right segment")
-        joined = model.predict(xs[:, None])
-        ax.plot(xs, joined, "k", lw=1.6, label="with Hermite join")
-        pad = 0.1 * (joined.max() - joined.min())
-        ax.set_ylim(
-            joined.min() - pad, joined.max() + pad
-        )  # the bare segments diverge outside their data
+    for k, c in enumerate(joins):
+        ax = fig.add_subplot(1, len(joins), k + 1)
+        ax.plot(c["x"], c["left"], "--", lw=1.0, label="left segment")
+        ax.plot(c["x"], c["right"], "--", lw=1.0, label="right segment")
+        ax.plot(c["x"], c["joined"], "k", lw=1.6, label="with Hermite join")
+        pad = 0.1 * (c["joined"].max() - c["joined"].min())
+        ax.set_ylim(c["joined"].min() - pad, c["joined"].max() + pad)  # bare segments diverge
+        b, h = c["breakpoint"], c["half_join"]
         ax.axvspan(b - h, b + h, color="0.9")
-        m = np.abs(X[:, 0] - b) < 4 * h
-        ax.plot(X[m, 0], y[m], "o", color="C3", ms=4, label="data")
-        ax.set_title(f"breakpoint {br:+.0f} deg/s")
+        ax.plot(c["data_x"], c["data_y"], "o", color="C3", ms=4, label="data")
+        ax.set_title(f"breakpoint {c['rate_dps']:+.0f} deg/s")
         ax.set_xlabel("gyro output [deg/s]")
         ax.set_ylabel("compensated rate [deg/s]")
         ax.grid(True, alpha=0.3)
@@ -513,37 +1186,40 @@ def _fig_continuity(model: PiecewisePolynomial, X: NDArray, y: NDArray) -> Figur
     return fig
 
 
-def _fig_compensated(rates, raw, comps: dict) -> Figure:
+def _fig_compensated(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    rates = u["rates_dps"]
     fig = Figure(figsize=(6.4, 4.8))
     ax = fig.add_subplot()
     ax.plot(rates, rates, color="0.6", lw=1.0, label="ideal")
-    ax.plot(rates, raw, "o-", ms=3, lw=0.8, label="raw")
-    for i, (key, c) in enumerate(comps.items()):
-        ax.plot(rates, c, "s^v"[i], ms=4, mfc="none", label=METHOD_LABELS[key])
+    ax.plot(rates, u["held_means_dps"][0], "o-", ms=3, lw=0.8, label="raw")
+    for i, (key, m) in enumerate(u["methods"].items()):
+        mark, label = "s^v"[i % 3], METHOD_LABELS[key]
+        ax.plot(rates, m["compensated_heldout_dps"], mark, ms=4, mfc="none", label=label)
     ax.set_xlabel("table rate [deg/s]")
     ax.set_ylabel("output [deg/s]")
-    ax.set_title("Held-out run: output before and after compensation")
+    ax.set_title(f"Held-out run before and after compensation (unit seed {u['seed']})")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     return fig
 
 
-def _fig_nonlinearity(rates, raw_fit, comp_fits: dict) -> Figure:
+def _fig_nonlinearity(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
+
+    rates = u["rates_dps"]
+    raw = fit_scale_factor(rates, u["held_means_dps"][0])
     fig = Figure(figsize=(9.0, 4.2))
     ax1 = fig.add_subplot(1, 2, 1)
-    ax1.plot(rates, 100 * raw_fit.pointwise, "o-", ms=3)
+    ax1.plot(rates, 100 * raw.pointwise, "o-", ms=3)
     ax1.set_title("before compensation")
-    ax1.set_ylabel("pointwise nonlinearity [%]")
+    ax1.set_ylabel("pointwise nonlinearity a_j [%]")
     ax2 = fig.add_subplot(1, 2, 2)
-    for key, f in comp_fits.items():
-        ax2.plot(
-            rates,
-            100 * f.pointwise,
-            "o-",
-            ms=3,
-            lw=0.8,
-            label=f"{METHOD_LABELS[key]} ({f.nonlinearity_pct:.3f} %)",
-        )
+    for key, m in u["methods"].items():
+        a = m["pointwise_heldout_pct"]
+        label = f"{METHOD_LABELS[key]} ({np.max(np.abs(a)):.3f} %)"
+        ax2.plot(rates, a, "o-", ms=3, lw=0.8, label=label)
     ax2.set_title("after compensation (held-out run)")
     ax2.legend(fontsize=7)
     for ax in (ax1, ax2):
@@ -553,406 +1229,210 @@ def _fig_nonlinearity(rates, raw_fit, comp_fits: dict) -> Figure:
     return fig
 
 
-# ------------------------------------------------------------------ run
-def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
-    """Simulate the runs, analyse the raw table, fit and score the three compensations."""
-    t_start = time.perf_counter()
-    recs = simulate(config, seed)
-    rates = np.asarray(config.rates_dps, dtype=float)
-    means = np.array([rate_means(r) for r in recs])
-    nf = config.n_fit_runs
-    fit_means, held_means = means[:nf], means[nf:]
-    table1 = fit_means.mean(axis=0)
+def _fig_dense(u: Mapping[str, Any]) -> Figure:
+    from matplotlib.figure import Figure
 
-    raw_fits = [fit_scale_factor(rates, m) for m in fit_means]
-    raw_kn = float(np.mean([f.nonlinearity_pct for f in raw_fits]))
-    mean_fit = fit_scale_factor(rates, table1)
-    low = np.abs(rates) <= 1800.0
-    low_kn = fit_scale_factor(rates[low], table1[low]).nonlinearity if low.sum() >= 3 else math.nan
-    asym = (
-        asymmetry(rates, table1)
-        if (rates >= 0).sum() >= 2 and (rates <= 0).sum() >= 2
-        else math.nan
-    )
-    search = breakpoint_search(rates, table1)
-    held_raw_fits = [fit_scale_factor(rates, m) for m in held_means]
+    fig = Figure(figsize=(8.0, 4.4))
+    ax = fig.add_subplot()
+    for key, m in u["methods"].items():
+        ax.plot(u["dense_rates_dps"], m["dense_error_dps"], lw=0.9, label=METHOD_LABELS[key])
+    for r in u["rates_dps"]:
+        ax.axvline(r, color="0.85", lw=0.6, zorder=0)
+    ax.set_xlabel("true rate [deg/s] (grey: the 21 table rates the models were fitted at)")
+    ax.set_ylabel("compensated - true [deg/s]")
+    ax.set_title(f"Dense held-out sweep, noise-free, every 10 deg/s (unit seed {u['seed']})")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
 
-    X = fit_means.reshape(-1)[:, None]
-    y = np.tile(rates, nf)
-    methods, comp_held, comp_held_fits, models = {}, {}, {}, {}
-    for key, est in _estimators(config, seed).items():
-        t0 = time.perf_counter()
-        est.fit(X, y)
-        fit_ms = 1e3 * (time.perf_counter() - t0)
-        models[key] = est
-        kn_fit = _mean_kn(rates, [est.predict(m[:, None]) for m in fit_means])
-        held = [est.predict(m[:, None]) for m in held_means]
-        hfits = [fit_scale_factor(rates, c) for c in held]
-        x21 = held_means[0][:, None].copy()
-        methods[key] = {
-            "nonlinearity_pct": kn_fit,
-            "heldout_nonlinearity_pct": float(np.mean([f.nonlinearity_pct for f in hfits])),
-            "eval_time_ms": _median_time_ms(
-                lambda e=est, x=x21: e.predict(x), config.timing_repeats
-            ),
-            "fit_time_ms": fit_ms,
-            "paper_nonlinearity_pct": PAPER["methods"][key]["nonlinearity_pct"],
-            "paper_eval_time_ms": PAPER["methods"][key]["eval_time_ms"],
-        }
-        comp_held[key] = held[0]
-        comp_held_fits[key] = hfits[0]
-    pw = models["piecewise"]
-    methods["piecewise"]["orders"] = list(pw.orders_)
-    methods["bayes_bp"]["effective_parameters"] = models["bayes_bp"].gamma_
-    methods["bayes_bp"]["epochs_run"] = models["bayes_bp"].n_iter_
 
-    floor_fit = _floor_kn(rates, fit_means, fit_means)
-    floor_held = _floor_kn(rates, fit_means, held_means)
-    sweep = _sweep(
-        config,
-        seed,
-        {k: m["heldout_nonlinearity_pct"] for k, m in methods.items()} | {"floor": floor_held},
-    )
-    order_paper = sorted(PAPER["methods"], key=lambda k: PAPER["methods"][k]["nonlinearity_pct"])
+def _fig_population(units_: Sequence[Mapping[str, Any]]) -> Figure:
+    from matplotlib.figure import Figure
 
-    def _in_paper_order(cell: dict[str, float]) -> bool:
-        return sorted(METHOD_LABELS, key=cell.get) == order_paper
-
-    for sig, reps in sweep["per_replicate"].items():
-        sweep["median"][sig]["paper_order_replicates"] = sum(_in_paper_order(c) for c in reps)
-
-    order_sim = sorted(methods, key=lambda k: methods[k]["heldout_nonlinearity_pct"])
-    bps = [b for b in (search.negative, search.positive) if b is not None]
-
-    results = {
-        "raw_nonlinearity_pct": raw_kn,
-        "raw_nonlinearity_pct_per_run": [f.nonlinearity_pct for f in raw_fits],
-        "raw_nonlinearity_pct_of_mean_table": mean_fit.nonlinearity_pct,
-        "raw_nonlinearity_pct_heldout": [f.nonlinearity_pct for f in held_raw_fits],
-        "low_rate_nonlinearity": low_kn,
-        "scale_factor": mean_fit.scale_factor,
-        "bias_dps": mean_fit.bias,
-        "asymmetry": asym,
-        "breakpoints_dps": bps,
-        "piecewise_breakpoint_rates_dps": list(pw.breakpoint_rates_),
-        "methods": methods,
-        "method_order_heldout": order_sim,
-        "method_order_paper": order_paper,
-        "method_order_matches_paper": order_sim == order_paper,
-        "repeatability_floor_pct": floor_held,
-        "repeatability_floor_pct_fit_runs": floor_fit,
-        "heldout_nonlinearity_pct_vs_sf_repeatability": sweep,
-        "table1": {
-            "rates_dps": rates.tolist(),
-            "mean_output_dps": table1.tolist(),
-            "run_outputs_dps": fit_means.tolist(),
-            "heldout_outputs_dps": held_means.tolist(),
-        },
-        "paper": PAPER,
-        "n_fit_runs": nf,
-        "n_heldout_runs": config.n_heldout_runs,
-    }
-
-    # ---------------------------------------------------------------- tables
-    t1 = Table(
-        "Table 1. Ideal and measured gyro output per table rate (mean of the fitting runs)",
-        [
-            "rate [deg/s]",
-            "ideal output [deg/s]",
-            "measured mean [deg/s]",
-            "run std [deg/s]",
-            "nonlinearity a_j [%]",
-        ],
-        [
-            [r, r, m, s, 100 * a]
-            for r, m, s, a in zip(
-                rates,
-                table1,
-                fit_means.std(axis=0, ddof=1) if nf > 1 else np.zeros_like(rates),
-                mean_fit.pointwise,
-                strict=True,
-            )
-        ],
-        note=(
-            f"Raw K_n = {raw_kn:.2f} % (mean over {nf} runs; paper 15.71 %); low-rate (|rate| <= 1800 deg/s) K_n = "
-            f"{low_kn:.2e} (paper: order 1e-3). The paper's Table 1 values did not survive text extraction."
-        ),
-    )
-    rows2 = []
-    for st in search.trace:
-        rows2.append(
-            [
-                ("+" if st.side > 0 else "-"),
-                f"[0, {st.end_rate:+.0f}]",
-                st.n_points,
-                100 * st.nonlinearity,
-                100 * st.abs_diff if not math.isnan(st.abs_diff) else "",
-                100 * st.diff2 if not math.isnan(st.diff2) else "",
-                ("+" if st.diff2 > 0 else "-") if not math.isnan(st.diff2) else "",
-                st.counter,
-            ]
+    fig = Figure(figsize=(8.0, 4.4))
+    ax = fig.add_subplot()
+    for i, key in enumerate(METHOD_LABELS):
+        for j, (what, mark) in enumerate((("kn_heldout_pct", "o"), ("kn_dense_pct", "x"))):
+            v = [u["methods"][key][what] for u in units_]
+            x = i + 0.2 * (j - 0.5) + 0.04 * np.linspace(-1, 1, len(v))
+            label = ("held-out, table rates", "held-out, dense sweep")[j] if i == 0 else None
+            ax.plot(x, v, mark, color=f"C{j}", ms=4, label=label)
+        ax.plot(
+            [i - 0.3, i + 0.3],
+            [PAPER_KN_PCT[key]] * 2,
+            "k-",
+            lw=1.5,
+            label="paper" if i == 0 else None,
         )
-    t2 = Table(
-        "Table 2. Heuristic breakpoint search (interval nonlinearity, |difference|, its difference, sign, counter)",
-        [
-            "side",
-            "interval [deg/s]",
-            "points",
-            "K_n [%]",
-            "abs diff [%]",
-            "diff of abs diff [%]",
-            "sign",
-            "counter",
-        ],
-        rows2,
-        note=(
-            f"Breakpoints found: {bps} deg/s (paper: -1800 and +1800). Split after {3} consecutive positive signs, "
-            "at the end of the last interval before the run; the paper's Table 2 numbers did not survive extraction."
-        ),
-    )
-    rows3 = [
-        [
-            "raw (no compensation)",
-            raw_kn,
-            float(np.mean([f.nonlinearity_pct for f in held_raw_fits])),
-            15.71,
-            "",
-            "",
-            "",
-        ]
-    ]
-    for key, m in methods.items():
-        rows3.append(
-            [
-                METHOD_LABELS[key],
-                m["nonlinearity_pct"],
-                m["heldout_nonlinearity_pct"],
-                m["paper_nonlinearity_pct"],
-                m["eval_time_ms"],
-                m["paper_eval_time_ms"],
-                m["fit_time_ms"],
-            ]
-        )
-    rows3.append(
-        [
-            "interpolation through the fit-run means (repeatability floor)",
-            floor_fit,
-            floor_held,
-            "",
-            "",
-            "",
-            "",
-        ]
-    )
-    bb = methods["bayes_bp"]["heldout_nonlinearity_pct"]
-    t3 = Table(
-        "Table 3. Scale-factor nonlinearity after compensation and time to compensate the 21-point table",
-        [
-            "method",
-            "K_n fit runs [%]",
-            "K_n held-out [%]",
-            "paper K_n [%]",
-            "eval time [ms]",
-            "paper time [ms]",
-            "fit time [ms]",
-        ],
-        rows3,
-        note=(
-            f"Eval time: median of {config.timing_repeats} compensations of the 21-point table on this machine "
-            "(the paper's times are from its own machine and software). Held-out order (best first): "
-            f"{', '.join(order_sim)}; paper: {', '.join(order_paper)}. Last row: a curve through the "
-            "fitting runs' per-rate mean outputs (no model error at the table rates); its held-out "
-            f"K_n, {floor_held:.4f} %, is the run-to-run repeatability floor of these runs. "
-            f"BR-MLP's held-out K_n is {bb / floor_held:.2f} x this floor and the paper's 0.45 % is "
-            f"{0.45 / floor_held:.0f} x it: the simulated gyro repeats from run to run "
-            "far better than 0.45 % of full scale, and the network leaves little model error."
-        ),
-    )
+    ax.set_xticks(range(len(METHOD_LABELS)), list(METHOD_LABELS.values()), fontsize=8)
+    ax.set_yscale("log")
+    ax.set_ylabel("K_n after compensation [%]")
+    ax.set_title(f"K_n per unit ({len(units_)} units) beside the paper's Table 3")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
 
-    nrep = config.sweep_replicates
-    med = sweep["median"]
-    t4 = Table(
-        "Table 4 (not in the paper). Held-out K_n [%] vs the turn-on scale-factor repeatability "
-        f"of every run (median of {nrep} replicate(s))",
-        [
-            "repeatability [ppm, 1 sigma]",
-            *(METHOD_LABELS[k] for k in methods),
-            "interpolation through fit-run means",
-            "order of the medians (best first)",
-            f"replicates in the paper's order (of {nrep})",
-        ],
-        [
-            [
-                float(sig),
-                *(med[sig][k] for k in methods),
-                med[sig]["floor"],
-                " < ".join(sorted(METHOD_LABELS, key=med[sig].get)),
-                med[sig]["paper_order_replicates"],
-            ]
-            for sig in med
-        ],
-        note=(
-            "Every run, fitting and held-out, draws its own turn-on scale-factor error "
-            "(MemsSpec.scale_factor_repeatability; the default gyro has 0, so its scale factor changes "
-            "between runs only through temperature, 1e-4 K^-1 x the 0.5 K ambient spread). Replicate 0 "
-            "is the main experiment; within a replicate all rows share the random numbers. "
-            "The interpolation column is the held-out K_n of a curve through the fitting runs' mean "
-            "outputs (Table 3's repeatability floor at 0 ppm); a smoother curve can land below it. "
-            "A sensitivity study computed from simulated runs, not a fit to the paper; the per-replicate "
-            "values are in results.json."
-        ),
-    )
 
-    # ---------------------------------------------------------------- figures
-    figures = [
-        FigureSpec(
+def _figures(units_: Sequence[Mapping[str, Any]]) -> list[FigureSpec]:
+    u = units_[0]
+    specs = [
+        (
             "fig2_raw_output",
             "Raw gyro output over the rate-table program (cf. paper Fig. 2)",
-            _fig_raw(recs[0]),
+            _fig_raw,
         ),
-        FigureSpec(
+        (
             "fig3_input_output",
-            "Table rate vs mean gyro output with the LS line (cf. paper Fig. 3)",
-            _fig_io(rates, table1, mean_fit),
+            "Table rate vs mean output with the LS line (cf. paper Fig. 3)",
+            _fig_io,
         ),
-    ]
-    if pw.breakpoints_:
-        figures.append(
-            FigureSpec(
-                "fig4_continuity",
-                "Piecewise fit near the breakpoints with and without the Hermite join (cf. paper Fig. 4)",
-                _fig_continuity(pw, X, y),
-            )
-        )
-    figures += [
-        FigureSpec(
+        (
+            "fig4_continuity",
+            "Piecewise fit near the breakpoints, with and without the Hermite join (cf. Fig. 4)",
+            _fig_continuity,
+        ),
+        (
             "fig5_compensated",
-            "Held-out run before and after each compensation (cf. paper Fig. 5)",
-            _fig_compensated(rates, held_means[0], comp_held),
+            "Held-out run before and after compensation (cf. paper Fig. 5)",
+            _fig_compensated,
         ),
-        FigureSpec(
+        (
             "fig6_nonlinearity",
             "Pointwise nonlinearity before and after compensation, held-out run (cf. paper Fig. 6)",
-            _fig_nonlinearity(rates, held_raw_fits[0], comp_held_fits),
+            _fig_nonlinearity,
+        ),
+        (
+            "fig7_dense_sweep",
+            "Compensation error between the table rates (not in the paper)",
+            _fig_dense,
         ),
     ]
-
-    # ---------------------------------------------------------------- headlines
-    hl = [
-        Headline(
-            "raw scale-factor nonlinearity K_n [%]",
-            f"{raw_kn:.2f}",
-            "15.71",
-            abs(raw_kn - 15.71) <= 1.0,
-            "within +-1 %",
-        ),
-        Headline(
-            "low-rate (|rate| <= 1800 deg/s) nonlinearity",
-            f"{low_kn:.1e}",
-            "order 1e-3",
-            1e-4 <= low_kn < 1e-2,
-        ),
-        Headline(
-            "breakpoints [deg/s]",
-            ", ".join(f"{b:+.0f}" for b in bps) or "none",
-            "-1800, +1800",
-            bps == [-1800.0, 1800.0],
-        ),
+    figs = [
+        FigureSpec(n, c, f(u)) for n, c, f in specs if n != "fig4_continuity" or u["continuity"]
     ]
-    for key in ("piecewise", "two_stage_poly", "bayes_bp"):
-        m = methods[key]
-        p = m["paper_nonlinearity_pct"]
-        ok = (
-            (m["heldout_nonlinearity_pct"] <= 0.2)
-            if key == "piecewise"
-            else (p / 2 <= m["heldout_nonlinearity_pct"] <= 2 * p)
-        )
-        hl.append(
-            Headline(
-                f"{METHOD_LABELS[key]}: held-out K_n [%]",
-                f"{m['heldout_nonlinearity_pct']:.3f}",
-                f"{p}",
-                ok,
-                "target <= 0.2 %"
-                if key == "piecewise"
-                else "target within a factor 2 of the paper"
-                + (
-                    f"; better than the paper here ({m['heldout_nonlinearity_pct'] / floor_held:.1f} x "
-                    f"the run-to-run repeatability floor {floor_held:.3f} %, Table 3)"
-                    if m["heldout_nonlinearity_pct"] < p / 2
-                    else ""
-                ),
-            )
-        )
-    hl.append(
-        Headline(
-            "method order (best first, held-out K_n)",
-            " < ".join(order_sim),
-            " < ".join(order_paper),
-            order_sim == order_paper,
-            "not tuned: the simulation's honest order",
+    figs.append(
+        FigureSpec(
+            "fig8_population",
+            "Held-out K_n of every unit beside the paper's values (not in the paper)",
+            _fig_population(units_),
         )
     )
-    hl.append(
-        Headline(
-            "fastest compensation",
-            min(methods, key=lambda k: methods[k]["eval_time_ms"]),
-            "piecewise",
-            min(methods, key=lambda k: methods[k]["eval_time_ms"]) == "piecewise",
-            "eval time, this machine",
-        )
+    return figs
+
+
+# ------------------------------------------------------------------ report
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, Mapping):
+        return {str(k): _jsonable(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_jsonable(x) for x in v]
+    return v
+
+
+def _results(units_: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """The numbers behind the tables: unit 0's detail, every unit's quantities and K_n."""
+    u = units_[0]
+    keys = ("kn_fit_pct", "kn_heldout_pct", "kn_dense_pct", "rms_heldout_pct")
+    unit0 = {
+        "seed": u["seed"],
+        "rates_dps": u["rates_dps"],
+        "fit_means_dps": u["fit_means_dps"],
+        "held_means_dps": u["held_means_dps"],
+        "raw": {k: v for k, v in u["raw"].items()},
+        "methods": {k: {f: m[f] for f in keys} for k, m in u["methods"].items()},
+        "piecewise_orders": u["piecewise_orders"],
+        "mlp": u["mlp"],
+        "floor_pct": u["floor_pct"],
+    }
+    population = {
+        "seeds": [x["seed"] for x in units_],
+        "quantities": {k: [x["quantities"][k] for x in units_] for k in u["quantities"]},
+        "methods": {
+            k: {f: [x["methods"][k][f] for x in units_] for f in keys} for k in METHOD_LABELS
+        },
+        "raw_kn_dense_pct": [x["raw_kn_dense_pct"] for x in units_],
+        "floor_pct": [x["floor_pct"] for x in units_],
+        "breakpoints_dps": [x["raw"]["breakpoints_dps"] for x in units_],
+        "eval_time_ms": {k: [x["timing_ms"][k] for x in units_] for k in METHOD_LABELS},
+        "fit_time_ms": {k: [x["fit_time_ms"][k] for x in units_] for k in METHOD_LABELS},
+    }
+    return _jsonable(
+        {
+            "paper_kn_pct": PAPER_KN_PCT,
+            "paper_eval_time_ms": PAPER_TIME_MS,
+            "paper_order": list(PAPER_ORDER),
+            "unit0": unit0,
+            "population": population,
+        }
     )
 
-    in_order = [sig for sig in med if _in_paper_order(med[sig])]
-    below = [sig for sig in med if min(med[sig][k] for k in METHOD_LABELS) < med[sig]["floor"]]
-    conclusion = (
-        f"The simulated gyro shows K_n = {raw_kn:.2f} % raw (paper 15.71 %) with a nearly linear low-rate range; the "
-        f"heuristic search splits at {bps} deg/s. Held-out K_n after compensation: "
-        + ", ".join(
-            f"{METHOD_LABELS[k]} {methods[k]['heldout_nonlinearity_pct']:.3f} %" for k in methods
-        )
-        + f"; the run-to-run repeatability floor of these runs (Table 3, last row) is {floor_held:.3f} %, "
-        f"{0.45 / floor_held:.0f} x below the paper's 0.45 %, and BR-MLP is at {bb / floor_held:.1f} x "
-        "that floor: it leaves little model error, which is why it beats the paper"
-        + (
-            ". The order of the methods matches the paper."
-            if order_sim == order_paper
-            else f". The order differs from the paper ({' < '.join(order_paper)}): in this simulation "
-            f"{' < '.join(order_sim)}; the data were not tuned to force the paper's order."
-        )
-        + f" Table 4 gives every run a turn-on scale-factor error (median of {nrep} replicate(s)): "
-        + "; ".join(
-            f"at {float(sig):g} ppm piecewise {med[sig]['piecewise']:.3f} %, two-stage "
-            f"{med[sig]['two_stage_poly']:.3f} %, BR-MLP {med[sig]['bayes_bp']:.3f} % "
-            f"(interpolation {med[sig]['floor']:.3f} %)"
-            for sig in med
-        )
-        + ". The medians are in the paper's order at "
-        + (
-            "none of these values."
-            if not in_order
-            else ", ".join(f"{float(sig):g}" for sig in in_order) + " ppm only."
-            if len(in_order) < len(med)
-            else "every value."
-        )
-        + (
-            " At "
-            + ", ".join(f"{float(sig):g}" for sig in below)
-            + " ppm a method's median lies below the interpolation through the fit-run means, so with "
-            "scale-factor repeatability that curve is a reference, not a floor."
-            if below
-            else ""
-        )
+
+def _conclusion(
+    config: Config, units_: Sequence[Mapping[str, Any]], claims: Sequence[ClaimResult]
+) -> str:
+    """Prose from the judged claims and the units' medians (no verdict is decided here)."""
+    by: dict[str, list[ClaimResult]] = {"calibrated": [], "holds": [], "fails": [], "other": []}
+    for c in claims:
+        if c.claim.kind == "calibrated":
+            by["calibrated"].append(c)
+        else:
+            v = c.verdict
+            word = v.split()[0] if v.startswith(("holds", "fails")) else "other"
+            by[word].append(c)
+
+    def ids(cs):
+        return ", ".join(f"{c.claim.id} ({c.holds}/{c.testable})" for c in cs) or "none"
+
+    def med(f):
+        return float(np.median([f(u) for u in units_]))
+
+    def kn(k: str, what: str) -> float:
+        return med(lambda u: u["methods"][k][what])
+
+    kns = ", ".join(
+        f"{METHOD_LABELS[k]} {kn(k, 'kn_heldout_pct'):.3f} % (paper {PAPER_KN_PCT[k]} %, dense "
+        f"sweep {kn(k, 'kn_dense_pct'):.3f} %)"
+        for k in METHOD_LABELS
     )
+    floor = med(lambda u: u["floor_pct"])
+    sf_ppm = units.to_ppm(config.gyro.scale_factor_repeatability)
+    return (
+        f"Over {len(units_)} unit(s). Calibrated (set from the paper, not reproduced): "
+        f"{ids(by['calibrated'])}. Emergent claims that hold for most units: {ids(by['holds'])}. "
+        f"Emergent claims that fail for most units: {ids(by['fails'])}. Undecided: "
+        f"{ids(by['other'])}. Median held-out K_n after compensation: {kns}. The run-to-run "
+        f"repeatability floor of the simulated runs is {floor:.3f} % (median); the gyro's turn-on "
+        f"scale-factor repeatability is {sf_ppm:g} ppm"
+        + (
+            " (the default, no source gives one for this part): the simulated runs repeat far "
+            "better than a real device's, so a method that leaves little model error (the network) "
+            "lands far below the paper's value; that is an artefact of the simulator, not a "
+            "finding about the method (see the deviations)."
+            if sf_ppm == 0
+            else "."
+        )
+        + " The dense sweep scores each fit between the 21 rates it was fitted at, which the "
+        "paper's table does not."
+    )
+
+
+def report(
+    config: Config, units: Sequence[Mapping[str, Any]], claims: Sequence[ClaimResult]
+) -> Outcome:
+    """Tables and figures from the units' results (detail from the first unit); no verdicts."""
+    if not units:
+        raise ValueError("report needs at least one unit's experiment result; got none")
     return Outcome(
         scenario=NAME,
         title=TITLE,
-        seed=seed,
+        seed=int(units[0]["seed"]),
         config=config,
-        results=results,
-        tables=[t1, t2, t3, t4],
-        figures=figures,
-        headlines=hl,
-        conclusion=conclusion,
-        runtime_s=time.perf_counter() - t_start,
+        results=_results(units),
+        tables=[_table1(units[0]), _table2(units[0]), _table3(units), _table4(units)],
+        figures=_figures(units),
+        conclusion=_conclusion(config, units, claims),
     )

@@ -57,7 +57,8 @@ gives a value for this part, and 0 keeps the calibrated defaults and their
 simulated tables unchanged (the turn-on stream draws e_on after b_on, so b_on is
 the same whatever the repeatability). With 0, the scale factor still changes from
 run to run through temperature (s1 x the ambient spread of a scenario). The
-scenario ``mems_scale_factor`` reports its effect over a range of values.
+scenario ``mems_scale_factor`` states its effect on the paper's claims in a protocol
+deviation (measured at 0-1000 ppm).
 
 References
 ----------

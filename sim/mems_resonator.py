@@ -224,7 +224,10 @@ class MemsResonator:
         b_trim, factory bias trim subtracted from the output [rad/s].
     bias_repeatability, scale_factor_repeatability : float
         1-sigma turn-on bias [rad/s] and relative scale-factor error [-] drawn per power-on
-        by :meth:`power_on`, >= 0.
+        by :meth:`power_on`, >= 0. Defaults 0.1 deg/s and 1000 ppm: typical of industrial
+        high-range MEMS gyros, unverified (PHYSICS-models 4.7 gives 0.1-1 % SF turn-on
+        repeatability as unverified typicals; the Sensonor STIM202/STIM210 FAQ gives scale-factor
+        accuracy +-2000/+-500 ppm and nonlinearity 200/25 ppm for +-400 deg/s class parts).
     turn_on_bias, turn_on_scale_factor : float
         b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
     """
@@ -256,8 +259,8 @@ class MemsResonator:
     phase_tc: float = 1e-5
     scale_factor_trim: float = 1.0
     bias_trim: float = 0.0
-    bias_repeatability: float = 0.0
-    scale_factor_repeatability: float = 0.0
+    bias_repeatability: float = units.deg_per_s(0.1)
+    scale_factor_repeatability: float = 1e-3
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
 

@@ -76,7 +76,7 @@ def calibrated_vmax(spec: MemsResonatorSpec, n_units: int, seed: int,
                 for u in drawn]
         return float(np.median(vals)) - target
 
-    return brentq(kn, 0.2 * spec.nominal.dac_full_scale, spec.nominal.dac_full_scale, xtol=1e-7)
+    return brentq(kn, 0.4 * spec.nominal.dac_full_scale, spec.nominal.dac_full_scale, xtol=1e-7)
 
 
 def run(spec: MemsResonatorSpec, n_units: int, seed: int, label: str) -> None:
@@ -95,13 +95,13 @@ def run(spec: MemsResonatorSpec, n_units: int, seed: int, label: str) -> None:
         bps.append((bs.negative, bs.positive))
         print(
             f"  unit: authority {units.to_deg_per_s(rate_authority(unit)):7.0f} deg/s, "
-            f"raw K_n {100 * kns[-1]:8.4f} %, breakpoints {bps[-1]}, {times[-1]:.2f} s"
+            f"raw K_n {1e6 * kns[-1]:10.2f} ppm, breakpoints {bps[-1]}, {times[-1]:.2f} s"
         )
     kn = np.array(kns)
     print(f"{label}: {n_units} units, time per unit median {np.median(times):.2f} s "
           f"(min {min(times):.2f}, max {max(times):.2f})")
-    print(f"  raw K_n %: median {100 * np.median(kn):.4f}, min {100 * kn.min():.4f}, "
-          f"max {100 * kn.max():.4f}")
+    print(f"  raw K_n ppm: median {1e6 * np.median(kn):.2f}, min {1e6 * kn.min():.2f}, "
+          f"max {1e6 * kn.max():.2f}")
     pos = [b[1] for b in bps]
     neg = [b[0] for b in bps]
     for name, vals in (("positive", pos), ("negative", neg)):

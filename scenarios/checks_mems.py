@@ -8,6 +8,9 @@
 * ``mems.quadrature_rejection``: zero-rate output (full integration) vs the quadrature leak
   -Omega_q sin(theta) SF/cos(theta) (+ anisodamping), error relative to Omega_q;
 * ``mems.rate_authority``: saturated output (full integration) vs the force-rebalance authority;
+* ``mems.drive_amplitude``: the full integration's AGC holds X0;
+* ``mems.sense_envelope_saturated``: amplitude and phase of the sense motion beyond the knee,
+  full vs slow flow;
 * ``mems.slow_flow_vs_full``: largest output difference over the rate set (relative to the
   rate), slow flow vs full integration;
 * ``mems.slow_flow_noise_vs_full``: variance of 20-ms output means, full vs slow flow;
@@ -87,13 +90,13 @@ def _full_noise_free(unit: MemsResonator, temperature: float, rng: np.random.Gen
         steps_per_cycle=STEPS_PER_CYCLE, noise=False, adc=False,
     )
     keep = int(round(FULL_SETTLE * 1000.0))
-    return rates, res.output[keep:].mean(axis=0)
+    return rates, res.output[keep:].mean(axis=0), res.sense_envelope[-1], res.drive_amplitude[keep:]
 
 
 def _slow_noise_free(unit: MemsResonator, rates, temperature: float, rng: np.random.Generator):
-    res = simulate(unit, np.tile(rates, (20, 1)), fs=1000.0, rng=rng, temperature=temperature,
+    res = simulate(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=rng, temperature=temperature,
                    noise=False, adc=False, flicker=False)
-    return res.output[-1]
+    return res.output[-1], res.sense_envelope[-1]
 
 
 def _arw_check(rng: np.random.Generator) -> Check:
@@ -130,9 +133,13 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     unit = check_unit()
     temp = unit.reference_temperature + DELTA_T
     r_full, r_slow = rng.spawn(2)
-    rates, full = _full_noise_free(unit, temp, r_full)
-    slow = _slow_noise_free(unit, rates, temp, r_slow)
+    rates, full, b_full, x_full = _full_noise_free(unit, temp, r_full)
+    slow, b_slow = _slow_noise_free(unit, rates, temp, r_slow)
     tol = rk4_tolerance(unit)
+    op = operating_point(unit, temp)
+    # the sense envelope in saturation is the open-loop response R F: its sensitivity to a
+    # common relative frequency error is d ln R / d ln w = 2 w^2 / (w_y^2 - w^2)
+    tol_b = tol * 2 * op.wx**2 / (op.wy**2 - op.wx**2)
     sf_closed = low_rate_scale_factor(unit, temp)
     sf_full = (full[2] - full[0]) / rates[2]
     zro = zero_rate_output(unit, temp)
@@ -170,6 +177,24 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
             derivation=der,
         ),
         Check(
+            id="mems.drive_amplitude",
+            formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 10 ms, all rates)",
+            expected=unit.drive_amplitude,
+            simulated=float(np.mean(x_full)),
+            tolerance=tol,
+            derivation=der,
+        ),
+        Check(
+            id="mems.sense_envelope_saturated",
+            formula="complex sense envelope B at 6000 deg/s (rebalance saturated), |B_full - B_slow| / |B_slow| [m]",
+            expected=0.0,
+            simulated=float(abs(b_full[-1] - b_slow[-1])),
+            tolerance=tol_b,
+            derivation=der + f" x d ln R / d ln w = 2 w^2/(w_y^2 - w^2) = {tol_b / tol:.3g} "
+                             "(amplitude and phase of the open-loop sense motion)",
+            scale=float(abs(b_slow[-1])),
+        ),
+        Check(
             id="mems.slow_flow_vs_full",
             formula="max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s) [-]",
             expected=float(slow[i]),
@@ -184,7 +209,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
 def _noise_vs_full(rng: np.random.Generator) -> Check:
     unit = check_unit()
     r_full, r_slow = rng.spawn(2)
-    cases, fs, block = 48, 1000.0, 0.02
+    cases, fs, block = 256, 1000.0, 0.02
     full = simulate_full(unit, np.zeros(cases), duration=0.1, fs=fs, rng=r_full,
                          steps_per_cycle=STEPS_PER_CYCLE, adc=False)
     mu = zero_rate_output(unit)

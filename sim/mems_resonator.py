@@ -365,7 +365,7 @@ class OperatingPoint:
         Re p = -w_y/(2 Q_y), so the loop bandwidth must stay below the sense half-bandwidth.
         """
         c = self.kappa_c * self.receptance * 1j * self.gain * complex(np.exp(1j * self.theta))
-        return np.roots([1.0, -self.pole, c * self.pole])
+        return np.roots([1.0, -self.pole, c * self.pole]).astype(np.complex128)
 
     @property
     def coriolis_gain(self) -> float:
@@ -515,8 +515,13 @@ def saturated_output(unit: MemsResonator, rate: float, temperature: float | None
         ui = sgn * math.sqrt(max(v * v - uq * uq, 0.0))
         return (op.kappa_c * op.receptance * (f_ext + gz * (ui + 1j * uq))).imag
 
-    uq = brentq(resid, -v * (1 - 1e-12), v * (1 - 1e-12), xtol=1e-15 * v)
-    ui = sgn * math.sqrt(v * v - uq * uq)
+    lo, hi = -v * (1 - 1e-12), v * (1 - 1e-12)
+    r_lo, r_hi = resid(lo), resid(hi)
+    if r_lo * r_hi > 0:  # the quadrature channel itself is at the DAC limit
+        uq = lo if abs(r_lo) < abs(r_hi) else hi
+    else:
+        uq = brentq(resid, lo, hi, xtol=1e-15 * v)
+    ui = sgn * math.sqrt(max(v * v - uq * uq, 0.0))
     return float(_output_map(unit, op, np.array([ui]))[0]) + unit.turn_on_bias - unit.bias_trim
 
 

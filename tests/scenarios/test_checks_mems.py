@@ -13,6 +13,8 @@ EXPECTED_IDS = {
     "mems.quadrature_rejection",
     "mems.rate_authority",
     "mems.slow_flow_vs_full",
+    "mems.drive_amplitude",
+    "mems.sense_envelope_saturated",
     "mems.slow_flow_noise_vs_full",
     "mems.zero_rate_continuity",
 }

@@ -114,6 +114,17 @@ def test_scale_factor_tempco_follows_frequency_and_gain_tempcos():
     assert (out[1] - out[0]) / w[1] == pytest.approx(sf, rel=1e-9)
 
 
+def test_bias_tempco_through_the_damping_tempco():
+    # theta = 0: Omega_hat(0, T) = SF(T) eps_c w_y(T) (1 + b_Q dT) / (2 Q_y0)   [c_yx / (2m)]
+    unit = _quiet(damping_coupling=1e-3, phase_tc=0.0, q_tc=3e-3, frequency_tc=-30e-6)
+    for dt in (-20.0, 0.0, 30.0):
+        t = unit.reference_temperature + dt
+        wy = 2 * math.pi * (unit.drive_frequency + unit.mode_split) * (1 - 30e-6 * dt)
+        expected = low_rate_scale_factor(unit, t) * 1e-3 * wy * (1 + 3e-3 * dt) / (2 * unit.sense_q)
+        assert zero_rate_output(unit, t) == pytest.approx(expected, rel=1e-12)
+        assert _settled(unit, np.zeros(1), t)[0] == pytest.approx(expected, rel=1e-9)
+
+
 def test_output_saturates_beyond_the_authority():
     unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
     auth = rate_authority(unit)

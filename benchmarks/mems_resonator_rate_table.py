@@ -119,8 +119,9 @@ def main() -> None:
     spec = MemsResonatorSpec()
     run(spec, a.units, a.seed, "default design")
     v = calibrated_vmax(spec, a.units, a.seed)
+    auth = rate_authority(replace(spec.nominal, dac_full_scale=v))
     print(f"calibrated v_max = {v:.5f} V (default {spec.nominal.dac_full_scale} V): nominal "
-          f"authority {units.to_deg_per_s(rate_authority(replace(spec.nominal, dac_full_scale=v))):.0f} deg/s")
+          f"authority {units.to_deg_per_s(auth):.0f} deg/s")
     run(replace(spec, nominal=replace(spec.nominal, dac_full_scale=v)), a.units, a.seed,
         "v_max calibrated to K_n = 15.71 %")
 

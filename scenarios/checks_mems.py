@@ -170,7 +170,10 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.rate_authority",
-            formula="saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 (onset SF Omega_max + Omega_hat(0)) [rad/s]",
+            formula=(
+                "saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 "
+                "(onset SF Omega_max + Omega_hat(0)) [rad/s]"
+            ),
             expected=sat_expected,
             simulated=float(full[-1]),
             tolerance=tol,
@@ -186,7 +189,10 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.sense_envelope_saturated",
-            formula="complex sense envelope B at 6000 deg/s (rebalance saturated), |B_full - B_slow| / |B_slow| [m]",
+            formula=(
+                "complex sense envelope B at 6000 deg/s (rebalance saturated), "
+                "|B_full - B_slow| / |B_slow| [m]"
+            ),
             expected=0.0,
             simulated=float(abs(b_full[-1] - b_slow[-1])),
             tolerance=tol_b,
@@ -227,7 +233,9 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     tol = max(1 - lo, hi - 1) + 4.89 * sd_slow
     return Check(
         id="mems.slow_flow_noise_vs_full",
-        formula="var of 20-ms output means, Brownian + pick-off noise, full vs slow flow [(rad/s)^2]",
+        formula=(
+            "var of 20-ms output means, Brownian + pick-off noise, full vs slow flow [(rad/s)^2]"
+        ),
         expected=var_slow,
         simulated=var_full,
         tolerance=tol,
@@ -260,7 +268,8 @@ def _continuity(rng: np.random.Generator) -> Check:
         simulated=half,
         tolerance=tol,
         derivation=(
-            f"{z} sigma of the half-difference of two {dur:g}-s means (N = {n_tot:.3g} rad/sqrt(s)), "
+            f"{z} sigma of the half-difference of two {dur:g}-s means "
+            f"(N = {n_tot:.3g} rad/sqrt(s)), "
             f"plus the dithered-quantizer bias bound (q/pi) exp(-2 pi^2 sigma^2/q^2)"
         ),
     )

@@ -275,10 +275,13 @@ class MemsResonator:
                 raise ValueError(f"MemsResonator.{f.name} must be >= 0; got {v!r}")
         b = self.output_bits
         if b is not None and (isinstance(b, bool) or not isinstance(b, (int, np.integer)) or b < 2):
-            raise ValueError(f"MemsResonator.output_bits must be an integer >= 2 or None; got {b!r}")
+            raise ValueError(
+                f"MemsResonator.output_bits must be an integer >= 2 or None; got {b!r}"
+            )
         if not self.drive_frequency + self.mode_split > 0:
             raise ValueError(
-                f"MemsResonator.mode_split must keep f_y = f_x + split > 0 Hz; got {self.mode_split!r}"
+                "MemsResonator.mode_split must keep f_y = f_x + split > 0 Hz; "
+                f"got {self.mode_split!r}"
             )
         if not self.scale_factor_trim > 0:
             raise ValueError(
@@ -286,11 +289,13 @@ class MemsResonator:
             )
         if not self.turn_on_scale_factor > -1:
             raise ValueError(
-                f"MemsResonator.turn_on_scale_factor must be > -1; got {self.turn_on_scale_factor!r}"
+                "MemsResonator.turn_on_scale_factor must be > -1; "
+                f"got {self.turn_on_scale_factor!r}"
             )
         if not abs(self.phase_error) < math.pi / 2:
             raise ValueError(
-                f"MemsResonator.phase_error must satisfy |theta| < pi/2 rad; got {self.phase_error!r}"
+                "MemsResonator.phase_error must satisfy |theta| < pi/2 rad; "
+                f"got {self.phase_error!r}"
             )
 
     @property
@@ -359,7 +364,9 @@ class OperatingPoint:
 
     @property
     def loop_poles(self) -> NDArray[np.complex128]:
-        """Closed-loop poles of the slow flow: roots of s^2 - p s + c p, c = kappa_c R j G e^{j theta}.
+        """Closed-loop poles of the slow flow: roots of s^2 - p s + c p [1/s].
+
+        c = kappa_c R j G e^{j theta}.
 
         The integral controller on the first-order sense envelope: the two real parts sum to
         Re p = -w_y/(2 Q_y), so the loop bandwidth must stay below the sense half-bandwidth.
@@ -412,8 +419,9 @@ def operating_point(unit: MemsResonator, temperature: float | None = None) -> Op
     roots = op.loop_poles
     if not np.all(roots.real < 0):
         raise ValueError(
-            f"rebalance loop unstable at {t!r} K: loop_bandwidth {unit.loop_bandwidth!r} Hz must stay "
-            f"below about the sense half-bandwidth f_y/(2 Q_y) = {op.cy / (2 * op.m) / (2 * math.pi):.3g} Hz"
+            f"rebalance loop unstable at {t!r} K: loop_bandwidth {unit.loop_bandwidth!r} Hz "
+            "must stay below about the sense half-bandwidth f_y/(2 Q_y) = "
+            f"{op.cy / (2 * op.m) / (2 * math.pi):.3g} Hz"
         )
     return op
 
@@ -476,7 +484,7 @@ def rate_authority(unit: MemsResonator, temperature: float | None = None) -> flo
 
     Solves |u_I(Omega)| = sqrt(v_max^2 - u_Q^2) with u_Q the equilibrium quadrature command;
     for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (PHYSICS-models 4.6).
-    Returns inf if the quadrature alone exceeds the authority... (then 0).
+    Returns 0 if the quadrature alone uses up the authority.
     """
     op = operating_point(unit, temperature)
     # u is affine in Omega: u = u0 + u1 Omega; the clamp: |u_Q| <= v, |u_I| <= sqrt(v^2 - u_Q^2)
@@ -936,7 +944,9 @@ def rate_table(
     settle_s: float = 0.5,
     temperature: float | None = None,
 ) -> NDArray[np.float64]:
-    """Mean output per table rate [rad/s]: each dwell settles ``settle_s`` then averages ``average_s``.
+    """Mean output per table rate [rad/s]: each dwell settles, then is averaged.
+
+    ``settle_s`` [s] is discarded, ``average_s`` [s] averaged, at ``fs`` [Hz].
 
     One power-on (the unit as given) for the whole table; the dwells run as independent
     columns of one slow-flow call (the rebalance loop settles in ms, so a dwell's mean does not
@@ -948,7 +958,8 @@ def rate_table(
     n_avg = int(round(average_s * fs))
     if n_avg < 1 or n_settle < 0:
         raise ValueError(
-            f"average_s must cover >= 1 sample and settle_s must be >= 0; got {average_s!r}, {settle_s!r}"
+            "average_s must cover >= 1 sample and settle_s must be >= 0 s; "
+            f"got {average_s!r}, {settle_s!r}"
         )
     col = np.broadcast_to(w, (n_settle + n_avg, w.size))
     res = simulate(unit, col, fs=fs, rng=rng, temperature=temperature)
@@ -997,7 +1008,8 @@ class MemsResonatorSpec:
     def __post_init__(self) -> None:
         if not isinstance(self.nominal, MemsResonator):
             raise TypeError(
-                f"MemsResonatorSpec.nominal must be a MemsResonator; got {type(self.nominal).__name__}"
+                "MemsResonatorSpec.nominal must be a MemsResonator; "
+                f"got {type(self.nominal).__name__}"
             )
         for f in fields(self):
             if f.name in ("nominal", "factory_trim"):
@@ -1085,15 +1097,18 @@ class MemsResonatorSpec:
         base = MemsResonator() if nominal is None else nominal
         rng_ = _real("from_datasheet", "range_dps", range_dps)
         if not rng_ > 0 or not range_margin > 0:
-            raise ValueError(f"range_dps and range_margin must be > 0; got {range_dps!r}, {range_margin!r}")
+            raise ValueError(
+                f"range_dps and range_margin must be > 0; got {range_dps!r}, {range_margin!r}"
+            )
         n_tot = units.deg_per_s(noise_density_dps_rthz)
         if noise_density_convention == "one-sided":
             n_tot /= math.sqrt(2.0)
         n_b = brownian_arw(base)
         if not n_tot > n_b:
             raise ValueError(
-                f"noise density {noise_density_dps_rthz!r} deg/s/sqrt(Hz) ({noise_density_convention}) "
-                f"is below the Brownian floor {units.to_deg_per_s(n_b):.3g} deg/s/sqrt(Hz) of the design"
+                f"noise density {noise_density_dps_rthz!r} deg/s/sqrt(Hz) "
+                f"({noise_density_convention}) is below the Brownian floor "
+                f"{units.to_deg_per_s(n_b):.3g} deg/s/sqrt(Hz) of the design"
             )
         op = operating_point(base)
         x_n = math.sqrt(n_tot**2 - n_b**2) * abs(op.receptance) * op.coriolis_gain

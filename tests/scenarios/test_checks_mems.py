@@ -1,4 +1,4 @@
-"""scenarios/checks_mems.py: every MEMS resonator check passes with its derived tolerance (fixed seed)."""
+"""scenarios/checks_mems.py: every MEMS resonator check passes with its derived tolerance."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tests of sim/mems_resonator.py: closed forms, slow-flow equilibrium, continuity, population, input checks.
+"""Tests of sim/mems_resonator.py: closed forms, slow-flow equilibrium, continuity, population.
 
 The full-integration checks (slow flow vs RK4, noise level, authority) run in
 tests/scenarios/test_checks_mems.py through scenarios.checks_mems.
@@ -82,7 +82,8 @@ def test_authority_without_quadrature_is_f_max_over_coriolis_gain():
     opq = operating_point(uq)
     fq = opq.kyx * opq.x0
     fmax = opq.gain * uq.dac_full_scale
-    assert rate_authority(uq) == pytest.approx(math.sqrt(fmax**2 - fq**2) / opq.coriolis_gain, rel=1e-12)
+    expected_q = math.sqrt(fmax**2 - fq**2) / opq.coriolis_gain
+    assert rate_authority(uq) == pytest.approx(expected_q, rel=1e-12)
 
 
 # ------------------------------------------------------------------ slow-flow equilibrium

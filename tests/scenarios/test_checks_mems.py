@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from gyrobench.scenarios.checks import Check
 from gyrobench.scenarios.checks_mems import checks
@@ -20,6 +21,7 @@ EXPECTED_IDS = {
 }
 
 
+@pytest.mark.slow  # about 80 s: two full RK4 integrations with the carrier
 def test_every_mems_check_passes():
     out = checks(np.random.default_rng(20261123))
     assert all(isinstance(c, Check) for c in out)

@@ -142,6 +142,25 @@ def test_output_saturates_beyond_the_authority():
     assert below[0] == pytest.approx(sf * 0.99 * auth + zro, rel=1e-9)
 
 
+# ------------------------------------------------------------------ full integration (short)
+def test_full_integration_agrees_with_the_slow_flow():
+    """RK4 with the carrier (16 steps per period) vs the slow flow, below and beyond the knee.
+
+    Tolerance: RK4's relative frequency error (w dt)^4/120, carried by the Coriolis force, the
+    AGC amplitude estimate and the demodulation references: 3 (w dt)^4/120 (relative to the
+    rate, floor 100 deg/s).
+    """
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
+    w = units.deg_per_s(np.array([0.0, 1000.0, 6000.0]))
+    full = simulate_full(unit, w, duration=0.045, fs=1000.0, rng=np.random.default_rng(0),
+                         steps_per_cycle=16, noise=False, adc=False)
+    got = full.output[-5:].mean(axis=0)
+    slow = _settled(unit, w)
+    tol = 3 * (2 * math.pi / 16) ** 4 / 120
+    scale = np.maximum(np.abs(w), units.deg_per_s(100.0))
+    assert np.all(np.abs(got - slow) / scale <= tol)
+
+
 # ------------------------------------------------------------------ continuity through zero
 def test_no_step_at_zero_rate_noise_free():
     unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01, damping_coupling=1e-3)

@@ -818,6 +818,87 @@ def _fext(op: OperatingPoint, rate: NDArray, accel: NDArray) -> NDArray:
     return np.stack([re, im], axis=-1)
 
 
+#: steps per noise draw of the slow flow (the stream is the same whatever the path taken)
+_NOISE_CHUNK_VALUES = 2**20
+
+
+def _draw_noise(rng: np.random.Generator, n: int, k: int) -> NDArray[np.float64]:
+    """(n, k, 5) standard normals, drawn in chunks of steps (bounded temporaries)."""
+    chunk = max(1, _NOISE_CHUNK_VALUES // (5 * k))
+    out = np.empty((n, k, 5))
+    for i in range(0, n, chunk):
+        out[i:i + chunk] = rng.standard_normal((min(chunk, n - i), k, 5))
+    return out
+
+
+def _run_linear(
+    s0: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, v_max: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """The unclamped slow flow for all steps at once, in the eigenbasis of Phi (lfilter per mode).
+
+    J (the integral of u_I) never feeds back and is reset each step, so the recursion is the
+    4-state x_{i+1} = Phi4 x_i + e_i; with Phi4 = V Lambda V^-1 each mode is a scalar
+    first-order filter. Returns the per-step mean u_I, end-of-step u_Q and B, and a mask of
+    the columns where the DAC limit is crossed (those must be rerun with the clamp).
+    """
+    from scipy.signal import lfilter
+
+    n, k = d.shape[0], d.shape[1]
+    phi, gam, chol = disc.phi, disc.gam, disc.chol
+    e = d @ gam.T  # (n, k, 5)
+    if z is not None:
+        e = e + z @ chol.T
+    lam, vec = np.linalg.eig(phi[:4, :4])
+    bad = np.ones(k, dtype=bool)
+    if np.linalg.cond(vec) > 1e8:  # not safely diagonalisable: let the clamped loop do it
+        return np.empty((n, k)), np.empty((n, k)), np.empty((n, k), complex), bad
+    vinv = np.linalg.inv(vec)
+    f = e[:, :, :4] @ vinv.T  # (n, k, 4) modal inputs
+    q0 = s0[:, :4] @ vinv.T  # (k, 4)
+    q = np.empty((n, k, 4), complex)
+    for j in range(4):
+        zi = (lam[j] * q0[:, j])[None, :]  # lfilter state for r_i = f_i + lam r_{i-1}
+        q[:, :, j], _ = lfilter([1.0], [1.0, -lam[j]], f[:, :, j], axis=0, zi=zi)
+    x_end = (q @ vec.T).real  # state at the end of each step (n, k, 4)
+    x_start = np.concatenate([s0[None, :, :4], x_end[:-1]], axis=0)
+    mean_u = (x_start @ phi[4, :4] + e[:, :, 4]) / disc.h
+    _, _, hit = _clamp(x_end[:, :, 2], x_end[:, :, 3], v_max)
+    bad = np.any(hit, axis=0)
+    return mean_u, x_end[:, :, 3], x_end[:, :, 0] + 1j * x_end[:, :, 1], bad
+
+
+def _run_clamped(
+    s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`)."""
+    n, k = d.shape[0], d.shape[1]
+    phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
+    zero = np.zeros((k, 5))
+    out_u = np.empty((n, k))
+    out_q = np.empty((n, k))
+    out_b = np.empty((n, k), complex)
+    h = disc.h
+    s = s.copy()
+    for i in range(n):
+        zi = zero if z is None else z[i]
+        s_new = s @ phi_t + d[i] @ gam_t + zi @ chol_t
+        _, _, hit = _clamp(s_new[:, 2], s_new[:, 3], v)
+        if np.any(hit):
+            # redo the step of the saturated columns with u_I held at the DAC limit
+            sh = s[hit].copy()
+            uq0 = np.clip(sh[:, 3], -v, v)
+            sh[:, 2] = np.sign(s_new[hit, 2]) * np.sqrt(np.maximum(v * v - uq0 * uq0, 0.0))
+            s_new[hit] = sh @ sat.phi.T + d[i][hit] @ sat.gam.T + zi[hit] @ sat.chol.T
+        mean_u = s_new[:, 4] / h
+        ui, uq, _ = _clamp(s_new[:, 2], s_new[:, 3], v)
+        s_new[:, 2], s_new[:, 3], s_new[:, 4] = ui, uq, 0.0
+        s = s_new
+        out_u[i], out_q[i] = mean_u, uq
+        out_b[i] = s[:, 0] + 1j * s[:, 1]
+    return out_u, out_q, out_b
+
+
+
 @dataclass(frozen=True, slots=True)
 class SlowFlowResult:
     """Output of :func:`simulate`; arrays of the rate's shape.
@@ -897,32 +978,13 @@ def simulate(
     b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + gz * (ui + 1j * uq))
     s = np.stack([b.real, b.imag, ui, uq, np.zeros(k)], axis=1)  # (k, 5)
     sat = _slow_matrices(op, unit, 1.0 / fs, noise, saturated=True)
-    phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
-    chunk = max(1, 2**20 // (5 * k))  # noise drawn in chunks of steps (same stream, bounded memory)
-    z = np.zeros((1, k, 5))
-    out_u = np.empty((n, k))
-    out_q = np.empty((n, k))
-    out_b = np.empty((n, k), complex)
-    h = disc.h
-    v = op.v_max
-    for i in range(n):
-        if noise and i % chunk == 0:
-            z = r_noise.standard_normal((min(chunk, n - i), k, 5))
-        zi = z[i % chunk] if noise else z[0]
-        s_new = s @ phi_t + d[i] @ gam_t + zi @ chol_t
-        _, _, hit = _clamp(s_new[:, 2], s_new[:, 3], v)
-        if np.any(hit):
-            # redo the step of the saturated columns with u_I held at the DAC limit
-            sh = s[hit].copy()
-            uq0 = np.clip(sh[:, 3], -v, v)
-            sh[:, 2] = np.sign(s_new[hit, 2]) * np.sqrt(np.maximum(v * v - uq0 * uq0, 0.0))
-            s_new[hit] = sh @ sat.phi.T + d[i][hit] @ sat.gam.T + zi[hit] @ sat.chol.T
-        mean_u = s_new[:, 4] / h
-        ui, uq, _ = _clamp(s_new[:, 2], s_new[:, 3], v)
-        s_new[:, 2], s_new[:, 3], s_new[:, 4] = ui, uq, 0.0
-        s = s_new
-        out_u[i], out_q[i] = mean_u, uq
-        out_b[i] = s[:, 0] + 1j * s[:, 1]
+    z = _draw_noise(r_noise, n, k) if noise else None
+    out_u, out_q, out_b, bad = _run_linear(s, d, z, disc, op.v_max)
+    if np.any(bad):  # columns whose rebalance saturates: step by step with the clamp
+        cols = np.flatnonzero(bad)
+        zc = None if z is None else z[:, cols]
+        u_c, q_c, b_c = _run_clamped(s[cols], d[:, cols], zc, disc, sat, op.v_max)
+        out_u[:, cols], out_q[:, cols], out_b[:, cols] = u_c, q_c, b_c
     y = _output_map(unit, op, out_u) + unit.turn_on_bias - unit.bias_trim
     if flicker and unit.bias_instability > 0:
         nm = NoiseModel(bias_instability=unit.bias_instability)

@@ -142,6 +142,28 @@ def test_output_saturates_beyond_the_authority():
     assert below[0] == pytest.approx(sf * 0.99 * auth + zro, rel=1e-9)
 
 
+def test_linear_fast_path_equals_the_clamped_loop():
+    """The all-steps eigenbasis recursion and the step-by-step loop agree below the DAC limit."""
+    from gyrobench.sim import mems_resonator as mr
+
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
+    op = operating_point(unit)
+    n, k = 2000, 3
+    w = np.tile(units.deg_per_s(np.array([-3000.0, 0.0, 2000.0])), (n, 1))
+    w[n // 2:] *= 0.5  # a rate step inside the record
+    d = mr._fext(op, w, np.zeros_like(w))
+    disc = mr._slow_matrices(op, unit, 1 / 200.0, True)
+    sat = mr._slow_matrices(op, unit, 1 / 200.0, True, saturated=True)
+    z = mr._draw_noise(np.random.default_rng(2), n, k)
+    s0 = np.zeros((k, 5))
+    u1, q1, b1, bad = mr._run_linear(s0, d, z, disc, op.v_max)
+    u2, q2, b2 = mr._run_clamped(s0, d, z, disc, sat, op.v_max)
+    assert not np.any(bad)
+    np.testing.assert_allclose(u1, u2, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(q1, q2, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(b1, b2, rtol=0, atol=1e-9 * np.max(np.abs(b2)))
+
+
 # ------------------------------------------------------------------ full integration (short)
 def test_full_integration_agrees_with_the_slow_flow():
     """RK4 with the carrier (16 steps per period) vs the slow flow, below and beyond the knee.

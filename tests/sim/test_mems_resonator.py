@@ -226,6 +226,37 @@ def test_slow_flow_noise_level_matches_the_closed_form(rng):
     assert lo * (1 - bias) <= n_hat / n_cf <= hi
 
 
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(mass=4e-9),
+        dict(sense_q=60.0),
+        dict(reference_temperature=350.0),
+        dict(drive_amplitude=2.5e-6),
+        dict(drive_frequency=10e3, mode_split=300.0),
+    ],
+)
+def test_brownian_arw_scales_with_mass_q_temperature_amplitude_frequency(kw, rng):
+    """N_B = sqrt(k_B T w_y/(m Q_y))/(w X0) across the parameters it names (Brownian only)."""
+    unit = _quiet(pickoff_noise=0.0, **kw)
+    fs, cols, dur, block = 200.0, 16, 100.0, 1.0
+    n = int(dur * fs)
+    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    m = int(block * fs)
+    means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
+    n_hat = math.sqrt(np.mean(means**2) * block) / low_rate_scale_factor(unit)
+    op = operating_point(unit)
+    n_cf = math.sqrt(BOLTZMANN * op.temperature * op.wy / (op.m * unit.sense_q)) / (op.wx * op.x0)
+    assert brownian_arw(unit) == pytest.approx(n_cf, rel=1e-12)
+    from scipy import stats
+
+    dof = means.size
+    lo = math.sqrt(stats.chi2.ppf(5e-7, dof) / dof)
+    hi = math.sqrt(stats.chi2.ppf(1 - 5e-7, dof) / dof)
+    bias = 2.0 / (block * float(np.min(-op.loop_poles.real)))
+    assert lo * (1 - bias) <= n_hat / n_cf <= hi
+
+
 def test_quantization_and_range(rng):
     unit = MemsResonator(pickoff_noise=0.0)
     res = simulate(unit, np.full(50, 2.0 * unit.output_range), fs=200.0, rng=rng)

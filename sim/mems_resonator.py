@@ -131,6 +131,7 @@ __all__ = [
     "SlowFlowResult",
     "simulate",
     "rate_table",
+    "factory_trim",
 ]
 
 #: Boltzmann constant [J/K] (exact, SI 2019)

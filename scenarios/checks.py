@@ -30,6 +30,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_noise",
     "gyrobench.scenarios.checks_fog",
     "gyrobench.scenarios.checks_rlg",
+    "gyrobench.scenarios.checks_mems",
 )
 
 

@@ -1,0 +1,281 @@
+"""Closed-form checks of the MEMS resonator gyro (:mod:`gyrobench.sim.mems_resonator`).
+
+``checks(rng) -> list[Check]`` (the contract of :mod:`gyrobench.scenarios.checks`):
+
+* ``mems.brownian_arw``: slow-flow ARW (Brownian only) vs N_B = sqrt(k_B T c_y)/(m w X0);
+* ``mems.low_rate_scale_factor``: full integration vs SF = s_trim (w/w0)(G0/G) cos(theta) at a
+  temperature away from T0;
+* ``mems.quadrature_rejection``: zero-rate output (full integration) vs the quadrature leak
+  -Omega_q sin(theta) SF/cos(theta) (+ anisodamping), error relative to Omega_q;
+* ``mems.rate_authority``: saturated output (full integration) vs the force-rebalance authority;
+* ``mems.drive_amplitude``: the full integration's AGC holds X0;
+* ``mems.sense_envelope_saturated``: amplitude and phase of the sense motion beyond the knee,
+  full vs slow flow;
+* ``mems.slow_flow_vs_full``: largest output difference over the rate set (relative to the
+  rate), slow flow vs full integration;
+* ``mems.slow_flow_noise_vs_full``: variance of 20-ms output means, full vs slow flow;
+* ``mems.zero_rate_continuity``: a +-0.1 deg/s pair reads +-0.1 deg/s x SF within the noise.
+
+Tolerances: numerical ones from RK4 (relative frequency error (w dt)^4/120 per observable
+that carries the numerical oscillator's frequency: Coriolis force, AGC amplitude estimate,
+demodulation references -> 3 (w dt)^4/120); statistical ones from chi-square quantiles of the
+variance estimator at a two-sided false-alarm rate of 1e-6, plus stated bias bounds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from gyrobench.scenarios.checks import Check
+from gyrobench.sim import units
+from gyrobench.sim.mems_resonator import (
+    MemsResonator,
+    brownian_arw,
+    electronic_arw,
+    low_rate_scale_factor,
+    operating_point,
+    quadrature_rate,
+    rate_authority,
+    saturated_output,
+    simulate,
+    simulate_full,
+    zero_rate_output,
+)
+
+__all__ = ["checks", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds"]
+
+#: two-sided false-alarm rate of every statistical check
+FALSE_ALARM = 1e-6
+#: RK4 steps per drive period of the full integrations
+STEPS_PER_CYCLE = 20
+#: full-integration record [s] and the settling part discarded [s]
+FULL_DURATION = 0.05
+FULL_SETTLE = 0.04
+#: rates of the noise-free full integration [deg/s]
+FULL_RATES_DPS = (0.0, 100.0, 1000.0, 3000.0, 6000.0)
+#: temperature offset of the full-integration unit from T0 [K]
+DELTA_T = 20.0
+
+
+def rk4_tolerance(unit: MemsResonator, steps_per_cycle: int = STEPS_PER_CYCLE) -> float:
+    """3 (w dt)^4 / 120: RK4's relative frequency error, carried by three observables."""
+    wdt = 2.0 * math.pi / steps_per_cycle
+    return 3.0 * wdt**4 / 120.0
+
+
+def variance_ratio_bounds(dof: float, false_alarm: float = FALSE_ALARM) -> tuple[float, float]:
+    """Two-sided chi-square bounds of s^2/sigma^2 with ``dof`` degrees of freedom."""
+    from scipy import stats
+
+    return (
+        float(stats.chi2.ppf(false_alarm / 2, dof) / dof),
+        float(stats.chi2.ppf(1 - false_alarm / 2, dof) / dof),
+    )
+
+
+def check_unit() -> MemsResonator:
+    """The default design with quadrature, a phase error and anisodamping (no trim, no ADC)."""
+    return MemsResonator(
+        quadrature_coupling=1e-4, phase_error=0.02, damping_coupling=5e-4, output_bits=None
+    )
+
+
+def _full_noise_free(unit: MemsResonator, temperature: float, rng: np.random.Generator):
+    rates = units.deg_per_s(np.array(FULL_RATES_DPS))
+    res = simulate_full(
+        unit, rates, duration=FULL_DURATION, fs=1000.0, rng=rng, temperature=temperature,
+        steps_per_cycle=STEPS_PER_CYCLE, noise=False, adc=False,
+    )
+    keep = int(round(FULL_SETTLE * 1000.0))
+    return rates, res.output[keep:].mean(axis=0), res.sense_envelope[-1], res.drive_amplitude[keep:]
+
+
+def _slow_noise_free(unit: MemsResonator, rates, temperature: float, rng: np.random.Generator):
+    res = simulate(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=rng, temperature=temperature,
+                   noise=False, adc=False, flicker=False)
+    return res.output[-1], res.sense_envelope[-1]
+
+
+def _arw_check(rng: np.random.Generator) -> Check:
+    unit = replace(check_unit(), pickoff_noise=0.0)
+    fs, cols, dur, block = 200.0, 32, 250.0, 1.0
+    n = int(dur * fs)
+    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    m = int(block * fs)
+    means = res.output.reshape(n // m, m, cols).mean(axis=1)
+    sf = low_rate_scale_factor(unit)
+    mu = zero_rate_output(unit)
+    var = float(np.mean((means - mu) ** 2))  # known mean: dof = number of blocks
+    dof = means.size
+    n_hat = math.sqrt(var * block) / sf
+    lo, hi = variance_ratio_bounds(dof)
+    poles = operating_point(unit).loop_poles
+    bias = 2.0 / (block * float(np.min(-poles.real)))  # finite-block correction bound
+    tol = max(1 - math.sqrt(lo), math.sqrt(hi) - 1) + bias
+    return Check(
+        id="mems.brownian_arw",
+        formula="N_B = sqrt(k_B T c_y) / (m w X0) = sqrt(k_B T w_y/(m Q_y)) / (w X0) [rad/sqrt(s)]",
+        expected=brownian_arw(unit),
+        simulated=n_hat,
+        tolerance=tol,
+        derivation=(
+            f"variance of {dof} independent {block:g}-s means (known mean): chi-square bounds at "
+            f"{FALSE_ALARM:g} two-sided, square-rooted, plus the finite-block bias bound "
+            f"2/(T |Re s|min) = {bias:.2g} of the loop poles"
+        ),
+    )
+
+
+def _full_checks(rng: np.random.Generator) -> list[Check]:
+    unit = check_unit()
+    temp = unit.reference_temperature + DELTA_T
+    r_full, r_slow = rng.spawn(2)
+    rates, full, b_full, x_full = _full_noise_free(unit, temp, r_full)
+    slow, b_slow = _slow_noise_free(unit, rates, temp, r_slow)
+    tol = rk4_tolerance(unit)
+    op = operating_point(unit, temp)
+    # the sense envelope in saturation is the open-loop response R F: its sensitivity to a
+    # common relative frequency error is d ln R / d ln w = 2 w^2 / (w_y^2 - w^2)
+    tol_b = tol * 2 * op.wx**2 / (op.wy**2 - op.wx**2)
+    sf_closed = low_rate_scale_factor(unit, temp)
+    sf_full = (full[2] - full[0]) / rates[2]
+    zro = zero_rate_output(unit, temp)
+    wq = quadrature_rate(unit, temp)
+    sat_expected = saturated_output(unit, float(rates[-1]), temp)
+    diff = np.abs(full - slow) / np.maximum(np.abs(rates), units.deg_per_s(100.0))
+    i = int(np.argmax(diff))
+    der = (f"RK4 with {STEPS_PER_CYCLE} steps per drive period: 3 (w dt)^4/120 = {tol:.2g} "
+           "(relative frequency error in the Coriolis force, AGC amplitude estimate and "
+           "demodulation references)")
+    return [
+        Check(
+            id="mems.low_rate_scale_factor",
+            formula="SF = s_trim (w/w0) (G0/G) cos(theta) [-] (full integration, 0 and 1000 deg/s)",
+            expected=sf_closed,
+            simulated=float(sf_full),
+            tolerance=tol,
+            derivation=der,
+        ),
+        Check(
+            id="mems.quadrature_rejection",
+            formula="Omega_hat(0) = SF (c_yx/(2m) - Omega_q tan(theta)) [rad/s]; error / Omega_q",
+            expected=zro,
+            simulated=float(full[0]),
+            tolerance=tol,
+            derivation=der + "; measured against the quadrature rate Omega_q it must reject",
+            scale=wq,
+        ),
+        Check(
+            id="mems.rate_authority",
+            formula=(
+                "saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 "
+                "(onset SF Omega_max + Omega_hat(0)) [rad/s]"
+            ),
+            expected=sat_expected,
+            simulated=float(full[-1]),
+            tolerance=tol,
+            derivation=der,
+        ),
+        Check(
+            id="mems.drive_amplitude",
+            formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 10 ms, all rates)",
+            expected=unit.drive_amplitude,
+            simulated=float(np.mean(x_full)),
+            tolerance=tol,
+            derivation=der,
+        ),
+        Check(
+            id="mems.sense_envelope_saturated",
+            formula=(
+                "complex sense envelope B at 6000 deg/s (rebalance saturated), "
+                "|B_full - B_slow| / |B_slow| [m]"
+            ),
+            expected=0.0,
+            simulated=float(abs(b_full[-1] - b_slow[-1])),
+            tolerance=tol_b,
+            derivation=der + f" x d ln R / d ln w = 2 w^2/(w_y^2 - w^2) = {tol_b / tol:.3g} "
+                             "(amplitude and phase of the open-loop sense motion)",
+            scale=float(abs(b_slow[-1])),
+        ),
+        Check(
+            id="mems.slow_flow_vs_full",
+            formula="max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s) [-]",
+            expected=float(slow[i]),
+            simulated=float(full[i]),
+            tolerance=tol,
+            derivation=der + f"; worst rate {units.to_deg_per_s(rates[i]):g} deg/s",
+            scale=float(max(abs(rates[i]), units.deg_per_s(100.0))),
+        ),
+    ]
+
+
+def _noise_vs_full(rng: np.random.Generator) -> Check:
+    unit = check_unit()
+    r_full, r_slow = rng.spawn(2)
+    cases, fs, block = 256, 1000.0, 0.02
+    full = simulate_full(unit, np.zeros(cases), duration=0.1, fs=fs, rng=r_full,
+                         steps_per_cycle=STEPS_PER_CYCLE, adc=False)
+    mu = zero_rate_output(unit)
+    m = int(block * fs)
+    keep = full.output[int(0.02 * fs):]
+    bf = keep.reshape(-1, m, cases).mean(axis=1) - mu
+    var_full = float(np.mean(bf**2))
+    slow = simulate(unit, np.zeros((int(40.0 * fs), 64)), fs=fs, rng=r_slow, adc=False,
+                    flicker=False)
+    bs = slow.output.reshape(-1, m, 64).mean(axis=1) - mu
+    var_slow = float(np.mean(bs**2))
+    dof = bf.size
+    lo, hi = variance_ratio_bounds(dof)
+    sd_slow = math.sqrt(2.0 / bs.size)
+    tol = max(1 - lo, hi - 1) + 4.89 * sd_slow
+    return Check(
+        id="mems.slow_flow_noise_vs_full",
+        formula=(
+            "var of 20-ms output means, Brownian + pick-off noise, full vs slow flow [(rad/s)^2]"
+        ),
+        expected=var_slow,
+        simulated=var_full,
+        tolerance=tol,
+        derivation=(
+            f"chi-square bounds of the full integration's {dof} block means at {FALSE_ALARM:g} "
+            f"two-sided, plus 4.89 sqrt(2/{bs.size}) for the slow-flow reference"
+        ),
+    )
+
+
+def _continuity(rng: np.random.Generator) -> Check:
+    unit = replace(check_unit(), output_bits=16)
+    fs, dur = 200.0, 20.0
+    w = units.deg_per_s(0.1)
+    n = int(dur * fs)
+    res = simulate(unit, np.tile([w, -w], (n, 1)), fs=fs, rng=rng, flicker=False)
+    half = float(res.output[:, 0].mean() - res.output[:, 1].mean()) / 2.0
+    sf = low_rate_scale_factor(unit)
+    n_tot = math.hypot(brownian_arw(unit), electronic_arw(unit))
+    sd = sf * n_tot / math.sqrt(dur) / math.sqrt(2.0)  # half-difference of two independent means
+    q = unit.resolution
+    sigma_sample = sf * n_tot * math.sqrt(fs)
+    dither_bias = q / math.pi * math.exp(-2 * math.pi**2 * sigma_sample**2 / q**2)
+    z = 4.89  # two-sided normal quantile at 1e-6
+    tol = (z * sd + dither_bias) / (sf * w)
+    return Check(
+        id="mems.zero_rate_continuity",
+        formula="(Omega_hat(+0.1 deg/s) - Omega_hat(-0.1 deg/s))/2 = SF x 0.1 deg/s [rad/s]",
+        expected=sf * w,
+        simulated=half,
+        tolerance=tol,
+        derivation=(
+            f"{z} sigma of the half-difference of two {dur:g}-s means "
+            f"(N = {n_tot:.3g} rad/sqrt(s)), "
+            f"plus the dithered-quantizer bias bound (q/pi) exp(-2 pi^2 sigma^2/q^2)"
+        ),
+    )
+
+
+def checks(rng: np.random.Generator) -> list[Check]:
+    """Run the MEMS resonator checks (about a minute; two short full integrations)."""
+    r = rng.spawn(4)
+    return [_arw_check(r[0]), *_full_checks(r[1]), _noise_vs_full(r[2]), _continuity(r[3])]

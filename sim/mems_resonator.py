@@ -1,0 +1,1217 @@
+"""MEMS Coriolis vibratory gyro from resonator physics: 2-DOF rotating-frame model, force rebalance.
+
+All parameters are in SI: m, kg, s, rad, rad/s, N, V, K. Field units enter only through
+:meth:`MemsResonatorSpec.from_datasheet`.
+
+Equations of motion (drive x, sense y; frame rotating at Omega about z)::
+
+    m x'' + c_x x' + k_x x + k_xy y + c_xy y' = F_d + 2 m Omega y' + m Omega^2 x + m Omega' y + f_x
+    m y'' + c_y y' + k_y y + k_yx x + c_yx x' = F_fb - 2 m Omega x' + m Omega^2 y - m Omega' x + f_y
+
+m modal (= Coriolis) mass [kg]; k = m w^2 [N/m]; c = m w / Q [kg/s]; k_xy = k_yx = kappa k_x
+anisoelastic (quadrature) coupling, symmetric [N/m]; c_xy = c_yx = eps_c c_y anisodamping
+coupling [kg/s]; f_x, f_y Brownian forces, one-sided PSD 4 k_B T c [N^2/Hz]
+(fluctuation-dissipation). The inertial terms come from a_inertial = a_rel + 2 Omega x v +
+Omega x (Omega x r) + Omega' x r (PHYSICS-models 4.1).
+
+Drive: a self-oscillation loop (force proportional to the drive velocity, F_d = c_a x') whose
+gain c_a is set by a PI amplitude controller on the demodulated amplitude
+X_hat = sqrt(x^2 + (x'/w_x)^2), holding X_hat = X0. At equilibrium c_a = c_x and the drive
+runs at its resonance without a separate PLL.
+
+Sense: force rebalance. The pick-off y_m = y + n (front-end displacement noise n, one-sided
+PSD S_n [m^2/Hz]) is demodulated against the drive references (the complex envelope
+B_m = <2 y_m e^{-j w t}>); two integral controllers (rate channel u_I, quadrature channel u_Q,
+one complex command u = u_I + j u_Q [V]) null it through a differential parallel-plate
+electrode pair on a carrier at the drive frequency::
+
+    F_fb = Re{ j G e^{j theta_e} u e^{j w t} },   G = 2 eps0 A_e V_b / g^2   [N/V]
+    u'   = j (2 pi f_c) (B_m) / (R_c G_c)          (R_c, G_c: design values at T0)
+
+theta_e is the phase error of the rebalance carrier against the drive velocity (the
+demodulation phase error of the rate channel); f_c the closed-loop bandwidth [Hz].
+The rate output is the rate-channel command: Omega_hat = K_out u_I with
+K_out = s_trim G(T0) / (2 m w_x(T0) X0).
+
+Equilibrium (B = 0) gives (PHYSICS-models 4.2-4.3, DERIVED)::
+
+    u_I G = 2 m w X0 (Omega + Omega_b) cos(theta_e) - (k_yx + m Omega') X0 sin(theta_e)
+    Omega_hat = SF (Omega + Omega_b - Omega_q' tan(theta_e))     (low rates)
+    SF = s_trim (w/w0) (G0/G) cos(theta_e),  Omega_q = k_yx / (2 m w),  Omega_b = c_yx / (2 m)
+
+Saturation (the high-range knee). The rebalance DAC's carrier amplitude is limited to
+|u| <= v_max; the quadrature channel is served first (it holds a large fixed force), the rate
+channel gets the rest, |u_I| <= sqrt(v_max^2 - u_Q^2) (integrator clamp = anti-windup). The
+knee is therefore sharp and the output flat beyond it::
+
+    Omega_max = sqrt(F_max^2 - F_q^2) / (2 m w X0) (cos theta_e ~ 1),  F_max = G v_max
+
+the force-rebalance authority of PHYSICS-models 4.6 item 1 [DERIVED]; a closed-loop high-range
+design's measurement range is set by it (Saukoski 2008, ch. 2-3: the feedback force range
+limits the input range of a force-feedback gyro; Acar & Shkel 2009, ch. 2). The default
+design puts it above the +-3600 deg/s range with a margin, so the default raw
+nonlinearity over +-3600 deg/s is small. An output-referred odd cubic ``output_cubic``
+(rebalance-DAC/actuator gain nonlinearity; default 0) is the only nonlinearity below the knee.
+
+Noise and its closed forms [DERIVED, PHYSICS-models 4.4; the factor 2 of synchronous
+demodulation is Leland 2005]::
+
+    N_B = sqrt(k_B T c_y) / (m w X0)            Brownian ARW [rad/sqrt(s)] (input-referred)
+    N_e = sqrt(S_n) / (|R| 2 m w X0),  R = 1 / (m (w_y^2 - w^2) + j c_y w)   pick-off ARW
+    N   = sqrt(N_B^2 + N_e^2),  one-sided rate PSD 2 N^2
+
+Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker``, clipped to
++-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range).
+
+Two integrators of the same equations
+-------------------------------------
+* :func:`simulate_full`: the equations above with the carrier, a fixed-step RK4 vectorised over
+  independent cases (short records; the Brownian and pick-off noises are held over a step,
+  variance S/(2 dt) per step for one-sided S).
+* :func:`simulate`: the demodulated slow flow (complex envelopes, drive held at X0 by the AGC)
+  at the output rate, exact discretisation of the linear part (matrix exponential; Van Loan
+  for the noise) with the output the exact average of u_I over each output interval. The
+  rebalance clamp is applied at the step ends. Validated against :func:`simulate_full` in
+  tests and in :mod:`gyrobench.scenarios.checks_mems`.
+
+Slow flow (x = Re{A e^{jwt}}, y = Re{B e^{jwt}}, A = X0; "improved" form, PHYSICS-models 4.5)::
+
+    B' = p (B - R F~),  p = -w_y/(2 Q_y) + j (w_y sqrt(1 - 1/(4 Q_y^2)) - w)
+    F~ = -j 2 m w X0 (Omega + Omega_b) - (k_yx + m Omega') X0 + j G e^{j theta} u + f~
+    u' = j (2 pi f_c) (B + n~) / (R_c G_c)
+
+with f~, n~ the envelopes of f_y and n: independent real and imaginary parts, each white with
+one-sided PSD 2 S_F (resp. 2 S_n).
+
+Temperature (per call, constant over a record): w(T) = w0 (1 + a_f dT) (both modes);
+1/Q(T) = (1/Q0)(1 + b_Q dT); G(T) = G0 (1 + a_G dT) (bias-voltage / DAC reference);
+theta(T) = theta0 + g_th dT; Brownian noise at T. Low-rate SF tempco ~ a_f - a_G;
+bias tempco through Omega_b ~ 1/Q and Omega_q sin(theta).
+
+References
+----------
+R. P. Leland, "Mechanical-thermal noise in MEMS gyroscopes", IEEE Sensors J. 5(3):493-500 (2005).
+C. Acar, A. Shkel, *MEMS Vibratory Gyroscopes: Structural Approaches to Improve Robustness*,
+Springer (2009), ch. 2 (dynamics, quadrature, Brownian noise).
+V. Kaajakari, *Practical MEMS* (2009), ch. 6-7 (parallel-plate force, electrostatic spring).
+M. Saukoski, *System and circuit design for a capacitive MEMS gyroscope*, Helsinki Univ. of
+Technology doctoral thesis (2008), ch. 2-3 (force feedback, quadrature, drive AGC).
+M. A. Hopcroft, W. D. Nix, T. W. Kenny, "What is the Young's modulus of silicon?", JMEMS
+19(2):229-238 (2010) (TCE about -60 ppm/K, so TCf about -30 ppm/K; value typical, unverified).
+PHYSICS-models.md section 4 (shared project notes; derivations marked DERIVED there).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+
+__all__ = [
+    "BOLTZMANN",
+    "EPSILON_0",
+    "MemsResonator",
+    "MemsResonatorSpec",
+    "OperatingPoint",
+    "operating_point",
+    "brownian_arw",
+    "electronic_arw",
+    "quadrature_rate",
+    "low_rate_scale_factor",
+    "zero_rate_output",
+    "rate_authority",
+    "saturated_output",
+    "FullResult",
+    "simulate_full",
+    "SlowFlowResult",
+    "simulate",
+    "rate_table",
+    "factory_trim",
+]
+
+#: Boltzmann constant [J/K] (exact, SI 2019)
+BOLTZMANN = 1.380649e-23
+#: vacuum permittivity [F/m] (CODATA 2018)
+EPSILON_0 = 8.8541878128e-12
+
+
+def _real(owner: str, name: str, v: object) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
+    if not math.isfinite(float(v)):
+        raise ValueError(f"{owner}.{name} must be finite; got {v!r}")
+    return float(v)
+
+
+#: fields of MemsResonator that must be > 0
+_POSITIVE = (
+    "mass", "drive_frequency", "drive_q", "sense_q", "drive_amplitude", "electrode_area",
+    "electrode_gap", "bias_voltage", "dac_full_scale", "loop_bandwidth", "agc_bandwidth",
+    "output_range", "reference_temperature",
+)
+#: fields of MemsResonator that must be >= 0
+_NON_NEGATIVE = ("pickoff_noise", "bias_instability", "bias_repeatability",
+                 "scale_factor_repeatability")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MemsResonator:
+    """One MEMS gyro unit: resonator, electrodes and electronics at T0; every field in SI.
+
+    Defaults: a plausible +-3600 deg/s force-rebalance design (module docstring and
+    docs/physics.md section 7): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
+    5 um drive amplitude (the PHYSICS-models 4.4 example scaled to a lower-Q high-range part),
+    parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
+    limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
+    50 Hz rebalance loop, 16-bit output over +-4000 deg/s. Typical values, unverified against a
+    particular part.
+
+    Parameters
+    ----------
+    mass : float
+        m, modal and Coriolis mass of both modes [kg], > 0.
+    drive_frequency : float
+        f_x, drive resonance at T0 [Hz], > 0.
+    mode_split : float
+        f_y - f_x at T0 [Hz]; f_y must stay > 0.
+    drive_q, sense_q : float
+        Q_x, Q_y at T0 [-], > 0.
+    drive_amplitude : float
+        X0, AGC set point [m], > 0.
+    quadrature_coupling : float
+        kappa = k_yx / k_x [-] (anisoelasticity; symmetric k_xy = k_yx).
+    damping_coupling : float
+        eps_c = c_yx / c_y [-] (anisodamping; gives the Coriolis-phase bias c_yx/(2m)).
+    phase_error : float
+        theta_e, rebalance/demodulation phase error of the rate channel at T0 [rad].
+    electrode_area, electrode_gap : float
+        A_e [m^2] and g [m] of each plate of the differential rebalance pair, > 0.
+    bias_voltage : float
+        V_b [V], > 0.
+    dac_full_scale : float
+        v_max, largest rebalance carrier amplitude [V], > 0.
+    loop_bandwidth : float
+        f_c, closed-loop bandwidth of the rebalance integrators [Hz], > 0.
+    agc_bandwidth : float
+        Drive amplitude-loop bandwidth [Hz], > 0 (full integration only).
+    pickoff_noise : float
+        sqrt(S_n), one-sided displacement-equivalent front-end noise density [m/sqrt(Hz)], >= 0.
+    output_range : float
+        R, output full scale [rad/s], > 0.
+    output_bits : int or None
+        Output word length; q = 2 R / 2^bits (None: not quantized).
+    output_cubic : float
+        a3, output-referred odd cubic of the rebalance path [-]: + a3 Omega^3 / R^2.
+    bias_instability : float
+        B of an electronic 1/f term added to the output [rad/s] (IEEE 952), >= 0.
+    reference_temperature : float
+        T0 [K], > 0.
+    frequency_tc : float
+        a_f, relative resonant-frequency tempco of both modes [1/K].
+    q_tc : float
+        b_Q, relative tempco of 1/Q (damping) [1/K].
+    gain_tc : float
+        a_G, relative tempco of the rebalance gain G (bias voltage, DAC reference) [1/K].
+    phase_tc : float
+        g_th, phase-error tempco [rad/K].
+    scale_factor_trim : float
+        s_trim, factory scale-factor trim [-], > 0.
+    bias_trim : float
+        b_trim, factory bias trim subtracted from the output [rad/s].
+    bias_repeatability, scale_factor_repeatability : float
+        1-sigma turn-on bias [rad/s] and relative scale-factor error [-] drawn per power-on
+        by :meth:`power_on`, >= 0. Defaults 0.1 deg/s and 1000 ppm: typical of industrial
+        high-range MEMS gyros, unverified (PHYSICS-models 4.7 gives 0.1-1 % SF turn-on
+        repeatability as unverified typicals; the Sensonor STIM202/STIM210 FAQ gives scale-factor
+        accuracy +-2000/+-500 ppm and nonlinearity 200/25 ppm for +-400 deg/s class parts).
+    turn_on_bias, turn_on_scale_factor : float
+        b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
+    """
+
+    mass: float = 2e-9
+    drive_frequency: float = 15e3
+    mode_split: float = 500.0
+    drive_q: float = 2000.0
+    sense_q: float = 100.0
+    drive_amplitude: float = 5e-6
+    quadrature_coupling: float = 0.0
+    damping_coupling: float = 0.0
+    phase_error: float = 0.0
+    electrode_area: float = 1e-8
+    electrode_gap: float = 2e-6
+    bias_voltage: float = 5.0
+    dac_full_scale: float = 0.7
+    loop_bandwidth: float = 40.0
+    agc_bandwidth: float = 100.0
+    pickoff_noise: float = 1e-13
+    output_range: float = units.deg_per_s(4000.0)
+    output_bits: int | None = 16
+    output_cubic: float = 0.0
+    bias_instability: float = 0.0
+    reference_temperature: float = units.celsius(25.0)
+    frequency_tc: float = -30e-6
+    q_tc: float = 2e-3
+    gain_tc: float = 50e-6
+    phase_tc: float = 1e-5
+    scale_factor_trim: float = 1.0
+    bias_trim: float = 0.0
+    bias_repeatability: float = units.deg_per_s(0.1)
+    scale_factor_repeatability: float = 1e-3
+    turn_on_bias: float = 0.0
+    turn_on_scale_factor: float = 0.0
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            if f.name == "output_bits":
+                continue
+            v = _real("MemsResonator", f.name, getattr(self, f.name))
+            if f.name in _POSITIVE and not v > 0:
+                raise ValueError(f"MemsResonator.{f.name} must be > 0; got {v!r}")
+            if f.name in _NON_NEGATIVE and not v >= 0:
+                raise ValueError(f"MemsResonator.{f.name} must be >= 0; got {v!r}")
+        b = self.output_bits
+        if b is not None and (isinstance(b, bool) or not isinstance(b, (int, np.integer)) or b < 2):
+            raise ValueError(
+                f"MemsResonator.output_bits must be an integer >= 2 or None; got {b!r}"
+            )
+        if not self.drive_frequency + self.mode_split > 0:
+            raise ValueError(
+                "MemsResonator.mode_split must keep f_y = f_x + split > 0 Hz; "
+                f"got {self.mode_split!r}"
+            )
+        if not self.scale_factor_trim > 0:
+            raise ValueError(
+                f"MemsResonator.scale_factor_trim must be > 0; got {self.scale_factor_trim!r}"
+            )
+        if not self.turn_on_scale_factor > -1:
+            raise ValueError(
+                "MemsResonator.turn_on_scale_factor must be > -1; "
+                f"got {self.turn_on_scale_factor!r}"
+            )
+        if not abs(self.phase_error) < math.pi / 2:
+            raise ValueError(
+                "MemsResonator.phase_error must satisfy |theta| < pi/2 rad; "
+                f"got {self.phase_error!r}"
+            )
+
+    @property
+    def resolution(self) -> float:
+        """Output LSB q = 2 R / 2^bits [rad/s] (0 when not quantized)."""
+        return 0.0 if self.output_bits is None else 2.0 * self.output_range / 2**self.output_bits
+
+    def power_on(self, *, rng: np.random.Generator) -> MemsResonator:
+        """This unit after one power-on: turn-on bias and scale-factor error drawn anew.
+
+        Two standard normals are drawn, z_b then z_s: b_on = sigma_b z_b,
+        e_on = sigma_s z_s (both always drawn, so either is the same whatever the other sigma).
+        """
+        _check_rng(rng)
+        z_b, z_s = rng.standard_normal(2)
+        e_on = self.scale_factor_repeatability * float(z_s)
+        if not e_on > -1:
+            raise ValueError(f"drawn turn-on scale-factor error must be > -1; got {e_on!r}")
+        return replace(
+            self, turn_on_bias=self.bias_repeatability * float(z_b), turn_on_scale_factor=e_on
+        )
+
+
+def _check_rng(rng: object) -> None:
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
+
+
+@dataclass(frozen=True, slots=True)
+class OperatingPoint:
+    """The unit's physical constants at one temperature (SI); see :func:`operating_point`.
+
+    Attributes: m [kg]; wx, wy [rad/s]; cx, cy [kg/s]; kx, ky, kyx [N/m]; cyx [kg/s]; x0 [m];
+    gain G [N/V]; theta [rad]; temperature [K]; k_out [rad/s per V] (output conversion,
+    fixed at T0); kappa_c (controller constant j 2 pi f_c / (R_c G_c), complex [V/(m s)]);
+    v_max [V].
+    """
+
+    m: float
+    wx: float
+    wy: float
+    cx: float
+    cy: float
+    kx: float
+    ky: float
+    kyx: float
+    cyx: float
+    x0: float
+    gain: float
+    theta: float
+    temperature: float
+    k_out: float
+    kappa_c: complex
+    v_max: float
+
+    @property
+    def receptance(self) -> complex:
+        """R = 1 / (m (w_y^2 - w^2) + j c_y w) [m/N] at the drive frequency."""
+        return 1.0 / (self.ky - self.m * self.wx**2 + 1j * self.cy * self.wx)
+
+    @property
+    def pole(self) -> complex:
+        """Sense envelope pole p = -w_y/(2Q_y) + j(w_y sqrt(1 - 1/(4Q_y^2)) - w) [1/s]."""
+        zeta = self.cy / (2.0 * self.m * self.wy)
+        return -zeta * self.wy + 1j * (self.wy * math.sqrt(1.0 - zeta * zeta) - self.wx)
+
+    @property
+    def loop_poles(self) -> NDArray[np.complex128]:
+        """Closed-loop poles of the slow flow: roots of s^2 - p s + c p [1/s].
+
+        c = kappa_c R j G e^{j theta}.
+
+        The integral controller on the first-order sense envelope: the two real parts sum to
+        Re p = -w_y/(2 Q_y), so the loop bandwidth must stay below the sense half-bandwidth.
+        """
+        c = self.kappa_c * self.receptance * 1j * self.gain * complex(np.exp(1j * self.theta))
+        return np.roots([1.0, -self.pole, c * self.pole]).astype(np.complex128)
+
+    @property
+    def coriolis_gain(self) -> float:
+        """2 m w X0 [N s/rad]: Coriolis force amplitude per rad/s."""
+        return 2.0 * self.m * self.wx * self.x0
+
+
+def _gain(unit: MemsResonator) -> float:
+    return 2.0 * EPSILON_0 * unit.electrode_area * unit.bias_voltage / unit.electrode_gap**2
+
+
+def operating_point(unit: MemsResonator, temperature: float | None = None) -> OperatingPoint:
+    """The unit's constants at die temperature ``temperature`` [K] (default T0)."""
+    if not isinstance(unit, MemsResonator):
+        raise TypeError(f"unit must be a MemsResonator; got {type(unit).__name__}")
+    t0 = unit.reference_temperature
+    t = t0 if temperature is None else _real("operating_point", "temperature", temperature)
+    if not t > 0:
+        raise ValueError(f"temperature must be > 0 K; got {t!r}")
+    dt = t - t0
+    m = unit.mass
+    wx0 = 2.0 * math.pi * unit.drive_frequency
+    wy0 = 2.0 * math.pi * (unit.drive_frequency + unit.mode_split)
+    sf = 1.0 + unit.frequency_tc * dt
+    dq = 1.0 + unit.q_tc * dt
+    if not (sf > 0 and dq > 0):
+        raise ValueError(f"temperature {t!r} K is outside the linear tempco range of this unit")
+    wx, wy = wx0 * sf, wy0 * sf
+    cx = m * wx / unit.drive_q * dq
+    cy = m * wy / unit.sense_q * dq
+    kx, ky = m * wx * wx, m * wy * wy
+    g0 = _gain(unit)
+    gain = g0 * (1.0 + unit.gain_tc * dt)
+    # controller designed at T0 with theta = 0: R_c the T0 receptance
+    rc = 1.0 / (m * (wy0**2 - wx0**2) + 1j * (m * wy0 / unit.sense_q) * wx0)
+    kappa_c = 1j * 2.0 * math.pi * unit.loop_bandwidth / (rc * g0)
+    k_out = unit.scale_factor_trim * g0 / (2.0 * m * wx0 * unit.drive_amplitude)
+    op = OperatingPoint(
+        m=m, wx=wx, wy=wy, cx=cx, cy=cy, kx=kx, ky=ky,
+        kyx=unit.quadrature_coupling * kx, cyx=unit.damping_coupling * cy,
+        x0=unit.drive_amplitude, gain=gain, theta=unit.phase_error + unit.phase_tc * dt,
+        temperature=t, k_out=k_out, kappa_c=complex(kappa_c), v_max=unit.dac_full_scale,
+    )
+    roots = op.loop_poles
+    if not np.all(roots.real < 0):
+        raise ValueError(
+            f"rebalance loop unstable at {t!r} K: loop_bandwidth {unit.loop_bandwidth!r} Hz "
+            "must stay below about the sense half-bandwidth f_y/(2 Q_y) = "
+            f"{op.cy / (2 * op.m) / (2 * math.pi):.3g} Hz"
+        )
+    return op
+
+
+# ----------------------------------------------------------------------------- closed forms
+def brownian_arw(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Input-referred Brownian ARW N_B = sqrt(k_B T c_y) / (m w X0) [rad/sqrt(s)].
+
+    Equivalently sqrt(k_B T w_y / (m Q_y)) / (w X0); -> sqrt(k_B T / (m Q_y X0^2 w)) when
+    mode-matched. One-sided rate PSD 2 N_B^2. Leland (2005) (the in-phase demodulated channel
+    carries half the band-pass noise power), PHYSICS-models 4.4 [DERIVED].
+    """
+    op = operating_point(unit, temperature)
+    return math.sqrt(BOLTZMANN * op.temperature * op.cy) / (op.m * op.wx * op.x0)
+
+
+def electronic_arw(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Input-referred pick-off ARW N_e = sqrt(S_n) / (|R| 2 m w X0) [rad/sqrt(s)]."""
+    op = operating_point(unit, temperature)
+    return unit.pickoff_noise / (abs(op.receptance) * op.coriolis_gain)
+
+
+def quadrature_rate(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Quadrature-equivalent rate Omega_q = k_yx / (2 m w) [rad/s] (PHYSICS-models 4.3)."""
+    op = operating_point(unit, temperature)
+    return op.kyx / (2.0 * op.m * op.wx)
+
+
+def _equilibrium_command(op: OperatingPoint, rate: NDArray, accel: NDArray) -> NDArray:
+    """u (complex) that nulls the sense envelope: j G e^{j theta} u = -F_ext."""
+    f_ext = (-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0
+             - (op.kyx + op.m * accel) * op.x0)
+    return -f_ext / (1j * op.gain * np.exp(1j * op.theta))
+
+
+def low_rate_scale_factor(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Low-rate scale factor d Omega_hat / d Omega [-] below the knee (noise-free).
+
+    SF = (1 + e_on) s_trim (w/w0) (G0/G) cos(theta)  [DERIVED from the equilibrium u].
+    """
+    op = operating_point(unit, temperature)
+    return (1.0 + unit.turn_on_scale_factor) * op.k_out * op.coriolis_gain * math.cos(
+        op.theta
+    ) / op.gain
+
+
+def zero_rate_output(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Noise-free output at Omega = 0 [rad/s]: SF (Omega_b - Omega_q tan theta) + b_on - b_trim.
+
+    Omega_b = c_yx / (2 m) (anisodamping, Coriolis phase), Omega_q sin(theta) the quadrature
+    leaking through the phase error [DERIVED].
+    """
+    op = operating_point(unit, temperature)
+    u = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
+    return _output_map(unit, op, np.array([u.real]))[0] + unit.turn_on_bias - unit.bias_trim
+
+
+def rate_authority(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Largest rate the rebalance holds, Omega_max [rad/s] (positive side, noise-free).
+
+    Solves |u_I(Omega)| = sqrt(v_max^2 - u_Q^2) with u_Q the equilibrium quadrature command;
+    for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (PHYSICS-models 4.6).
+    Returns 0 if the quadrature alone uses up the authority.
+    """
+    op = operating_point(unit, temperature)
+    # u is affine in Omega: u = u0 + u1 Omega; the clamp: |u_Q| <= v, |u_I| <= sqrt(v^2 - u_Q^2)
+    u0 = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
+    u1 = _equilibrium_command(op, np.ones(1), np.zeros(1))[0] - u0
+    # |u0 + u1 W| = v (a quadratic in W; with Q-priority the rate channel saturates when
+    # u_I^2 + u_Q^2 = v^2 as long as |u_Q| < v)
+    a = abs(u1) ** 2
+    b = 2.0 * (u0.real * u1.real + u0.imag * u1.imag)
+    c = abs(u0) ** 2 - op.v_max**2
+    disc = b * b - 4 * a * c
+    if c >= 0 or disc < 0:
+        return 0.0
+    return float((-b + math.sqrt(disc)) / (2 * a))
+
+
+def saturated_output(unit: MemsResonator, rate: float, temperature: float | None = None) -> float:
+    """Noise-free output [rad/s] for a constant rate beyond the authority (rebalance saturated).
+
+    With u_I clamped at sign(Omega) sqrt(v_max^2 - u_Q^2), the sense mass moves,
+    B = R (F_ext + j G e^{j theta} u), and the quadrature integrator settles where its input
+    vanishes, Im{kappa_c B} = 0; solved for u_Q (scipy brentq). The plateau therefore drifts
+    slightly with the rate (the uncancelled force rotates B) [DERIVED].
+    """
+    from scipy.optimize import brentq
+
+    op = operating_point(unit, temperature)
+    if abs(rate) <= rate_authority(unit, temperature):
+        raise ValueError(f"rate must exceed the rate authority; got {rate!r} rad/s")
+    sgn = math.copysign(1.0, rate)
+    f_ext = complex(-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0 - op.kyx * op.x0)
+    gz = 1j * op.gain * complex(np.exp(1j * op.theta))
+    v = op.v_max
+
+    def resid(uq: float) -> float:
+        ui = sgn * math.sqrt(max(v * v - uq * uq, 0.0))
+        return (op.kappa_c * op.receptance * (f_ext + gz * (ui + 1j * uq))).imag
+
+    lo, hi = -v * (1 - 1e-12), v * (1 - 1e-12)
+    r_lo, r_hi = resid(lo), resid(hi)
+    if r_lo * r_hi > 0:  # the quadrature channel itself is at the DAC limit
+        uq = lo if abs(r_lo) < abs(r_hi) else hi
+    else:
+        uq = brentq(resid, lo, hi, xtol=1e-15 * v)
+    ui = sgn * math.sqrt(max(v * v - uq * uq, 0.0))
+    return float(_output_map(unit, op, np.array([ui]))[0]) + unit.turn_on_bias - unit.bias_trim
+
+
+def _output_map(unit: MemsResonator, op: OperatingPoint, u_i: NDArray) -> NDArray:
+    """Omega_hat from the rate-channel command (before turn-on bias, trim, flicker, ADC)."""
+    w = op.k_out * u_i * (1.0 + unit.turn_on_scale_factor)
+    return w + unit.output_cubic * w**3 / unit.output_range**2
+
+
+def _adc(unit: MemsResonator, w: NDArray) -> NDArray:
+    out = np.clip(w, -unit.output_range, unit.output_range)
+    q = unit.resolution
+    return q * np.round(out / q) if q > 0 else out
+
+
+def _clamp(u_i: NDArray, u_q: NDArray, v_max: float) -> tuple[NDArray, NDArray, NDArray]:
+    """Rebalance DAC limit with quadrature priority; returns (u_I, u_Q, clamped mask)."""
+    u_q = np.clip(u_q, -v_max, v_max)
+    lim = np.sqrt(np.maximum(v_max * v_max - u_q * u_q, 0.0))
+    hit = np.abs(u_i) > lim
+    return np.clip(u_i, -lim, lim), u_q, hit
+
+
+# ----------------------------------------------------------------------------- full model
+@dataclass(frozen=True, slots=True)
+class FullResult:
+    """Output of :func:`simulate_full`, sampled at ``fs`` (boxcar averages over each interval).
+
+    Arrays have shape (n_out, n_cases). ``output`` [rad/s] is the gyro output (before the
+    ADC when ``adc=False``); ``u_i``, ``u_q`` [V] the rebalance commands; ``drive_amplitude``
+    [m] the AGC's amplitude estimate; ``sense_envelope`` [m] the complex sense envelope
+    <2 y e^{-j w t}> (demodulated without noise).
+    """
+
+    fs: float
+    output: NDArray[np.float64]
+    u_i: NDArray[np.float64]
+    u_q: NDArray[np.float64]
+    drive_amplitude: NDArray[np.float64]
+    sense_envelope: NDArray[np.complex128]
+
+
+def _as_cases(name: str, v: ArrayLike) -> NDArray[np.float64]:
+    a = np.atleast_1d(np.asarray(v, dtype=float))
+    if a.ndim != 1 or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be a finite scalar or 1-D array [SI]; got shape {a.shape}")
+    return a
+
+
+def simulate_full(
+    unit: MemsResonator,
+    rate: ArrayLike,
+    *,
+    duration: float,
+    rng: np.random.Generator,
+    fs: float = 1000.0,
+    rate_acceleration: ArrayLike = 0.0,
+    temperature: float | None = None,
+    steps_per_cycle: int = 24,
+    noise: bool = True,
+    adc: bool = True,
+    initial: str = "equilibrium",
+) -> FullResult:
+    """Integrate the full rotating-frame equations with the carrier (fixed-step RK4, vectorised).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+    rate : array_like, shape (k,) or scalar
+        Omega(0) of each independent case [rad/s].
+    duration : float
+        Record length [s], > 0.
+    rng : numpy.random.Generator
+        Noise stream (Brownian forces on both modes, pick-off noise), one draw set per step.
+    fs : float
+        Output sample rate [Hz]; the output is the boxcar mean of the RK4 samples over 1/fs.
+    rate_acceleration : array_like
+        Omega' of each case [rad/s^2]: Omega(t) = Omega(0) + Omega' t.
+    temperature : float, optional
+        Die temperature [K] (default T0).
+    steps_per_cycle : int
+        RK4 steps per drive period (>= 16); the RK4 amplitude error per step is (w dt)^6/144.
+    noise : bool
+        Draw the Brownian and pick-off noises.
+    adc : bool
+        Apply output range and quantization.
+    initial : {"equilibrium", "rest"}
+        Start at the slow-flow equilibrium (drive at X0, sense nulled, commands at their
+        steady values) or with the drive at X0 and the rebalance commands at 0.
+
+    Returns
+    -------
+    FullResult
+
+    Notes
+    -----
+    Each step holds the noise forces constant: variance S/(2 dt) per step for a one-sided PSD S
+    (band-limited white noise of the same level up to 1/(2 dt)). The drive reference is the
+    AGC's own estimate (ideal phase tracking): X_hat = sqrt(x^2 + (x'/w_x)^2),
+    cos wt = x/X_hat, sin wt = -x'/(w_x X_hat).
+    """
+    _check_rng(rng)
+    op = operating_point(unit, temperature)
+    w0 = _as_cases("rate", rate)
+    al = np.broadcast_to(_as_cases("rate_acceleration", rate_acceleration), w0.shape).copy()
+    if not (isinstance(steps_per_cycle, (int, np.integer)) and steps_per_cycle >= 16):
+        raise ValueError(f"steps_per_cycle must be an integer >= 16; got {steps_per_cycle!r}")
+    duration = _real("simulate_full", "duration", duration)
+    fs = _real("simulate_full", "fs", fs)
+    if not (duration > 0 and fs > 0):
+        raise ValueError(f"duration and fs must be > 0; got {duration!r} s and {fs!r} Hz")
+    if initial not in ("equilibrium", "rest"):
+        raise ValueError(f"initial must be 'equilibrium' or 'rest'; got {initial!r}")
+    k = w0.size
+    period = 2.0 * math.pi / op.wx
+    n_dec = max(1, int(round(1.0 / (fs * period * (1.0 / steps_per_cycle)))))
+    dt = 1.0 / (fs * n_dec)  # exactly n_dec steps per output sample
+    n_out = int(round(duration * fs))
+    if n_out < 1:
+        raise ValueError(f"duration must cover at least one output sample; got {duration!r} s")
+
+    m, wx, x0 = op.m, op.wx, op.x0
+    cx, cy, kx, ky, kyx, cyx = op.cx, op.cy, op.kx, op.ky, op.kyx, op.cyx
+    gz = 1j * op.gain * np.exp(1j * op.theta)
+    kc = op.kappa_c
+    # AGC: c_a = c_x + Kp e + I,  I' = Ki e,  e = X0 - X_hat; envelope X' = (c_a - c_x) X / (2m)
+    wa = 2.0 * math.pi * unit.agc_bandwidth
+    kp_a = 2.0 * m * wa / x0
+    ki_a = kp_a * wa / 4.0
+    sig_fx = math.sqrt(2.0 * BOLTZMANN * op.temperature * cx / dt) if noise else 0.0
+    sig_fy = math.sqrt(2.0 * BOLTZMANN * op.temperature * cy / dt) if noise else 0.0
+    sig_n = unit.pickoff_noise / math.sqrt(2.0 * dt) if noise else 0.0
+
+    if initial == "equilibrium":
+        u = _equilibrium_command(op, w0, al)
+        ui, uq, _ = _clamp(u.real, u.imag, op.v_max)
+        f_ext = (-1j * op.coriolis_gain * w0 - 1j * wx * cyx * x0 - (kyx + m * al) * x0)
+        b = op.receptance * (f_ext + gz * (ui + 1j * uq))
+    else:
+        ui, uq, b = np.zeros(k), np.zeros(k), np.zeros(k, complex)
+    # state rows: x, vx, y, vy, I_agc, u_i, u_q
+    s = np.empty((7, k))
+    s[0], s[1] = x0, 0.0
+    s[2], s[3] = b.real, (1j * wx * b).real
+    # I_agc at the discrete equilibrium: c_x plus the RK4 amplitude decay of the harmonic
+    # oscillator, |R| = 1 - (w dt)^6/144 per step, which the AGC must make up
+    s[4] = cx + 2.0 * m * (wx * dt) ** 6 / (144.0 * dt)
+    s[5], s[6] = ui, uq
+
+    gzr, gzi = gz.real, gz.imag
+    kcr, kci = 2.0 * kc.real, 2.0 * kc.imag
+    inv_wx = 1.0 / wx
+    two_m = 2.0 * m
+    ma = m * al
+
+    def deriv(t: float, s: NDArray, fx: NDArray, fy: NDArray, n: NDArray) -> NDArray:
+        x, vx, y, vy, ia, u_i, u_q = s
+        om = w0 + al * t
+        v_n = vx * inv_wx
+        xh = np.sqrt(x * x + v_n * v_n)
+        c_ref = x / xh
+        s_ref = -v_n / xh
+        e = x0 - xh
+        # F_fb = Re{z e^{jwt}}, z = gz u
+        zr = gzr * u_i - gzi * u_q
+        zi = gzr * u_q + gzi * u_i
+        ffb = zr * c_ref - zi * s_ref
+        cen = m * om * om
+        ax = ((ia + kp_a * e - cx) * vx - kx * x - kyx * y - cyx * vy + two_m * om * vy
+              + cen * x + ma * y + fx) / m
+        ay = (ffb - cy * vy - ky * y - kyx * x - cyx * vx - two_m * om * vx
+              + cen * y - ma * x + fy) / m
+        # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
+        ym = y + n
+        pr, pi_ = ym * c_ref, -ym * s_ref
+        out = np.empty_like(s)
+        out[0], out[1], out[2], out[3] = vx, ax, vy, ay
+        out[4] = ki_a * e
+        out[5] = kcr * pr - kci * pi_
+        out[6] = kcr * pi_ + kci * pr
+        return out
+
+    out_ui = np.empty((n_out, k))
+    out_uq = np.empty((n_out, k))
+    out_xa = np.empty((n_out, k))
+    out_b = np.empty((n_out, k), complex)
+    t = 0.0
+    zero = np.zeros(k)
+    for j in range(n_out):
+        acc_ui = np.zeros(k)
+        acc_uq = np.zeros(k)
+        acc_xa = np.zeros(k)
+        acc_b = np.zeros(k, complex)
+        if noise:
+            z3 = rng.standard_normal((n_dec, 3, k))
+        for i in range(n_dec):
+            if noise:
+                fx, fy, nn = sig_fx * z3[i, 0], sig_fy * z3[i, 1], sig_n * z3[i, 2]
+            else:
+                fx = fy = nn = zero
+            k1 = deriv(t, s, fx, fy, nn)
+            k2 = deriv(t + dt / 2, s + (dt / 2) * k1, fx, fy, nn)
+            k3 = deriv(t + dt / 2, s + (dt / 2) * k2, fx, fy, nn)
+            k4 = deriv(t + dt, s + dt * k3, fx, fy, nn)
+            s = s + (dt / 6) * (k1 + 2 * k2 + 2 * k3 + k4)
+            t += dt
+            s[5], s[6], _ = _clamp(s[5], s[6], op.v_max)
+            xh = np.sqrt(s[0] ** 2 + (s[1] / wx) ** 2)
+            acc_ui += s[5]
+            acc_uq += s[6]
+            acc_xa += xh
+            acc_b += 2.0 * s[2] * (s[0] / xh + 1j * s[1] / (wx * xh))  # 2 y e^{-jwt}
+        out_ui[j], out_uq[j] = acc_ui / n_dec, acc_uq / n_dec
+        out_xa[j], out_b[j] = acc_xa / n_dec, acc_b / n_dec
+    y_out = _output_map(unit, op, out_ui) + unit.turn_on_bias - unit.bias_trim
+    if adc:
+        y_out = _adc(unit, y_out)
+    return FullResult(fs, y_out, out_ui, out_uq, out_xa, out_b)
+
+
+# ----------------------------------------------------------------------------- slow flow
+def _cmat(c: complex) -> NDArray:
+    """Real 2x2 matrix of multiplication by the complex number c."""
+    return np.array([[c.real, -c.imag], [c.imag, c.real]])
+
+
+@dataclass(frozen=True, slots=True)
+class _Discrete:
+    phi: NDArray  # (5, 5) state transition over h
+    gam: NDArray  # (5, 2) input (F_ext envelope, ZOH)
+    chol: NDArray  # (5, 5) noise factor
+    h: float
+
+
+def _slow_matrices(
+    op: OperatingPoint, unit: MemsResonator, h: float, noise: bool, *, saturated: bool = False
+) -> _Discrete:
+    """Exact discretisation of the slow flow over h (matrix exponential, Van Loan noise).
+
+    State [B_r, B_i, u_I, u_Q, J], J' = u_I (J: integral of u_I, for the exact output mean).
+    ``saturated``: the rate integrator is clamped (u_I' = 0, u_I held over the step).
+    """
+    from scipy.linalg import expm
+
+    p, r = op.pole, op.receptance
+    gz = 1j * op.gain * np.exp(1j * op.theta)
+    a = np.zeros((5, 5))
+    a[0:2, 0:2] = _cmat(p)
+    a[0:2, 2:4] = _cmat(-p * r * gz)
+    a[2:4, 0:2] = _cmat(op.kappa_c)
+    a[4, 2] = 1.0
+    bd = np.zeros((5, 2))
+    bd[0:2, :] = _cmat(-p * r)
+    bw = np.zeros((5, 4))  # noise inputs: f_r, f_i (force envelope), n_r, n_i (pick-off)
+    bw[0:2, 0:2] = _cmat(-p * r)
+    bw[2:4, 2:4] = _cmat(op.kappa_c)
+    if saturated:
+        a[2, :] = 0.0
+        bw[2, :] = 0.0
+    # two-sided intensities: each envelope component has one-sided PSD 2 S -> intensity S
+    s_f = 4.0 * BOLTZMANN * op.temperature * op.cy if noise else 0.0
+    s_n = unit.pickoff_noise**2 if noise else 0.0
+    qc = np.diag([s_f, s_f, s_n, s_n])
+    aug = np.zeros((7, 7))
+    aug[:5, :5] = a
+    aug[:5, 5:] = bd
+    e = expm(aug * h)
+    phi, gam = e[:5, :5], e[:5, 5:]
+    # Van Loan: [[-A, G Q G^T], [0, A^T]] h
+    vl = np.zeros((10, 10))
+    vl[:5, :5] = -a
+    vl[:5, 5:] = bw @ qc @ bw.T
+    vl[5:, 5:] = a.T
+    ev = expm(vl * h)
+    qd = ev[5:, 5:].T @ ev[:5, 5:]
+    qd = 0.5 * (qd + qd.T)
+    w, v = np.linalg.eigh(qd)
+    chol = v * np.sqrt(np.clip(w, 0.0, None))
+    return _Discrete(phi, gam, chol, h)
+
+
+def _fext(op: OperatingPoint, rate: NDArray, accel: NDArray) -> NDArray:
+    """F_ext envelope (Coriolis, anisodamping, quadrature, angular acceleration) as [re, im]."""
+    re = -(op.kyx + op.m * accel) * op.x0
+    im = -op.coriolis_gain * rate - op.wx * op.cyx * op.x0
+    return np.stack([re, im], axis=-1)
+
+
+#: steps per noise draw of the slow flow (the stream is the same whatever the path taken)
+_NOISE_CHUNK_VALUES = 2**20
+
+
+def _draw_noise(rng: np.random.Generator, n: int, k: int) -> NDArray[np.float64]:
+    """(n, k, 5) standard normals, drawn in chunks of steps (bounded temporaries)."""
+    chunk = max(1, _NOISE_CHUNK_VALUES // (5 * k))
+    out = np.empty((n, k, 5))
+    for i in range(0, n, chunk):
+        out[i:i + chunk] = rng.standard_normal((min(chunk, n - i), k, 5))
+    return out
+
+
+def _run_linear(
+    s0: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, v_max: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """The unclamped slow flow for all steps at once, in the eigenbasis of Phi (lfilter per mode).
+
+    J (the integral of u_I) never feeds back and is reset each step, so the recursion is the
+    4-state x_{i+1} = Phi4 x_i + e_i; with Phi4 = V Lambda V^-1 each mode is a scalar
+    first-order filter. Returns the per-step mean u_I, end-of-step u_Q and B, and a mask of
+    the columns where the DAC limit is crossed (those must be rerun with the clamp).
+    """
+    from scipy.signal import lfilter
+
+    n, k = d.shape[0], d.shape[1]
+    phi, gam, chol = disc.phi, disc.gam, disc.chol
+    e = d @ gam.T  # (n, k, 5)
+    if z is not None:
+        e = e + z @ chol.T
+    lam, vec = np.linalg.eig(phi[:4, :4])
+    bad = np.ones(k, dtype=bool)
+    if np.linalg.cond(vec) > 1e8:  # not safely diagonalisable: let the clamped loop do it
+        return np.empty((n, k)), np.empty((n, k)), np.empty((n, k), complex), bad
+    vinv = np.linalg.inv(vec)
+    f = e[:, :, :4] @ vinv.T  # (n, k, 4) modal inputs
+    q0 = s0[:, :4] @ vinv.T  # (k, 4)
+    q = np.empty((n, k, 4), complex)
+    for j in range(4):
+        zi = (lam[j] * q0[:, j])[None, :]  # lfilter state for r_i = f_i + lam r_{i-1}
+        q[:, :, j], _ = lfilter([1.0], [1.0, -lam[j]], f[:, :, j], axis=0, zi=zi)
+    x_end = (q @ vec.T).real  # state at the end of each step (n, k, 4)
+    x_start = np.concatenate([s0[None, :, :4], x_end[:-1]], axis=0)
+    mean_u = (x_start @ phi[4, :4] + e[:, :, 4]) / disc.h
+    _, _, hit = _clamp(x_end[:, :, 2], x_end[:, :, 3], v_max)
+    bad = np.any(hit, axis=0)
+    return mean_u, x_end[:, :, 3], x_end[:, :, 0] + 1j * x_end[:, :, 1], bad
+
+
+def _run_clamped(
+    s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`)."""
+    n, k = d.shape[0], d.shape[1]
+    phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
+    zero = np.zeros((k, 5))
+    out_u = np.empty((n, k))
+    out_q = np.empty((n, k))
+    out_b = np.empty((n, k), complex)
+    h = disc.h
+    s = s.copy()
+    for i in range(n):
+        zi = zero if z is None else z[i]
+        s_new = s @ phi_t + d[i] @ gam_t + zi @ chol_t
+        _, _, hit = _clamp(s_new[:, 2], s_new[:, 3], v)
+        if np.any(hit):
+            # redo the step of the saturated columns with u_I held at the DAC limit
+            sh = s[hit].copy()
+            uq0 = np.clip(sh[:, 3], -v, v)
+            sh[:, 2] = np.sign(s_new[hit, 2]) * np.sqrt(np.maximum(v * v - uq0 * uq0, 0.0))
+            s_new[hit] = sh @ sat.phi.T + d[i][hit] @ sat.gam.T + zi[hit] @ sat.chol.T
+        mean_u = s_new[:, 4] / h
+        ui, uq, _ = _clamp(s_new[:, 2], s_new[:, 3], v)
+        s_new[:, 2], s_new[:, 3], s_new[:, 4] = ui, uq, 0.0
+        s = s_new
+        out_u[i], out_q[i] = mean_u, uq
+        out_b[i] = s[:, 0] + 1j * s[:, 1]
+    return out_u, out_q, out_b
+
+
+
+@dataclass(frozen=True, slots=True)
+class SlowFlowResult:
+    """Output of :func:`simulate`; arrays of the rate's shape.
+
+    ``output`` [rad/s] the gyro output (after ADC when requested), ``u_i``, ``u_q`` [V] the
+    interval-mean rebalance commands (u_q: end-of-interval value), ``sense_envelope`` [m] the
+    complex sense envelope at the end of each interval.
+    """
+
+    fs: float
+    output: NDArray[np.float64]
+    u_i: NDArray[np.float64]
+    u_q: NDArray[np.float64]
+    sense_envelope: NDArray[np.complex128]
+
+
+def simulate(
+    unit: MemsResonator,
+    rate: ArrayLike,
+    *,
+    fs: float,
+    rng: np.random.Generator,
+    temperature: float | None = None,
+    noise: bool = True,
+    adc: bool = True,
+    flicker: bool = True,
+) -> SlowFlowResult:
+    """Slow-flow (demodulated) simulation at the output rate; one sample per 1/fs.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+    rate : array_like, shape (n,) or (n, k)
+        True rate [rad/s], held over each output interval (ZOH); k independent columns share
+        the unit (e.g. the dwells of a rate table). Omega' = central difference x fs.
+    fs : float
+        Output sample rate [Hz], > 0.
+    rng : numpy.random.Generator
+        Two child streams are spawned: envelope noise, 1/f term.
+    temperature : float, optional
+        Die temperature [K] (default T0).
+    noise, adc, flicker : bool
+        Brownian + pick-off noise; output range and quantization; the 1/f term.
+
+    Returns
+    -------
+    SlowFlowResult
+
+    Notes
+    -----
+    Each column starts at the noise-free equilibrium of its first rate (clamped). Exact for
+    the linear part for any fs: the output is the exact mean of u_I over the interval. When
+    the rate command would leave the DAC range within an interval, that interval is redone
+    with u_I held at the limit (the exact discretisation with u_I' = 0), then u_Q is clipped:
+    exact in the saturated steady state, approximate only in the interval where the loop
+    enters or leaves saturation.
+    """
+    _check_rng(rng)
+    fs = _real("simulate", "fs", fs)
+    if not fs > 0:
+        raise ValueError(f"fs must be > 0 Hz; got {fs!r}")
+    w = np.asarray(rate, dtype=float)
+    if w.ndim not in (1, 2) or w.shape[0] == 0 or not np.all(np.isfinite(w)):
+        raise ValueError(f"rate must be a finite (n,) or (n, k) array [rad/s]; got shape {w.shape}")
+    squeeze = w.ndim == 1
+    w2 = w[:, None] if squeeze else w
+    n, k = w2.shape
+    op = operating_point(unit, temperature)
+    acc = np.gradient(w2, axis=0) * fs if n > 1 else np.zeros_like(w2)
+    d = _fext(op, w2, acc)  # (n, k, 2)
+    disc = _slow_matrices(op, unit, 1.0 / fs, noise)
+    r_noise, r_flick = rng.spawn(2)
+    # initial state: equilibrium at the first rate
+    u = _equilibrium_command(op, w2[0], acc[0])
+    ui, uq, _ = _clamp(u.real, u.imag, op.v_max)
+    gz = 1j * op.gain * np.exp(1j * op.theta)
+    b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + gz * (ui + 1j * uq))
+    s = np.stack([b.real, b.imag, ui, uq, np.zeros(k)], axis=1)  # (k, 5)
+    sat = _slow_matrices(op, unit, 1.0 / fs, noise, saturated=True)
+    z = _draw_noise(r_noise, n, k) if noise else None
+    out_u, out_q, out_b, bad = _run_linear(s, d, z, disc, op.v_max)
+    if np.any(bad):  # columns whose rebalance saturates: step by step with the clamp
+        cols = np.flatnonzero(bad)
+        zc = None if z is None else z[:, cols]
+        u_c, q_c, b_c = _run_clamped(s[cols], d[:, cols], zc, disc, sat, op.v_max)
+        out_u[:, cols], out_q[:, cols], out_b[:, cols] = u_c, q_c, b_c
+    y = _output_map(unit, op, out_u) + unit.turn_on_bias - unit.bias_trim
+    if flicker and unit.bias_instability > 0:
+        nm = NoiseModel(bias_instability=unit.bias_instability)
+        y = y + nm.generate(n * k, fs, rng=r_flick).reshape(k, n).T
+    if adc:
+        y = _adc(unit, y)
+    if squeeze:
+        return SlowFlowResult(fs, y[:, 0], out_u[:, 0], out_q[:, 0], out_b[:, 0])
+    return SlowFlowResult(fs, y, out_u, out_q, out_b)
+
+
+def rate_table(
+    unit: MemsResonator,
+    rates: ArrayLike,
+    *,
+    rng: np.random.Generator,
+    fs: float = 200.0,
+    average_s: float = 90.0,
+    settle_s: float = 0.5,
+    temperature: float | None = None,
+) -> NDArray[np.float64]:
+    """Mean output per table rate [rad/s]: each dwell settles, then is averaged.
+
+    ``settle_s`` [s] is discarded, ``average_s`` [s] averaged, at ``fs`` [Hz].
+
+    One power-on (the unit as given) for the whole table; the dwells run as independent
+    columns of one slow-flow call (the rebalance loop settles in ms, so a dwell's mean does not
+    depend on the previous rate). The 1/f term runs continuously through the dwells in table
+    order.
+    """
+    w = _as_cases("rates", rates)
+    n_settle = int(round(settle_s * fs))
+    n_avg = int(round(average_s * fs))
+    if n_avg < 1 or n_settle < 0:
+        raise ValueError(
+            "average_s must cover >= 1 sample and settle_s must be >= 0 s; "
+            f"got {average_s!r}, {settle_s!r}"
+        )
+    col = np.broadcast_to(w, (n_settle + n_avg, w.size))
+    res = simulate(unit, col, fs=fs, rng=rng, temperature=temperature)
+    return res.output[n_settle:].mean(axis=0)
+
+
+# ----------------------------------------------------------------------------- population
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MemsResonatorSpec:
+    """A production population: nominal unit plus unit-to-unit spreads (1 sigma).
+
+    Parameters
+    ----------
+    nominal : MemsResonator
+        Nominal design (its own quadrature/damping coupling and phase error are the means).
+    mass_spread, frequency_spread, q_spread, gap_spread : float
+        Relative 1-sigma spreads [-] of m, f_x, Q (both modes, lognormal) and the rebalance gap
+        g (G and F_max go as 1/g^2). Defaults 1 %, 2 %, 10 %, 2 % (typical, unverified).
+    split_spread : float
+        1-sigma of the mode split [Hz] (default 30 Hz, typical, unverified).
+    quadrature_spread : float
+        1-sigma of kappa = k_yx/k_x [-] (default 2e-4: Omega_q ~ 9 rad/s ~ 540 deg/s;
+        untrimmed quadrature of hundreds of deg/s is typical of MEMS gyros, unverified).
+    damping_coupling_spread : float
+        1-sigma of eps_c [-] (default 1e-3: Omega_b ~ 1.3 deg/s before trim, unverified).
+    phase_error_spread : float
+        1-sigma of theta_e [rad] (default 5 mrad, unverified).
+    phase_tc_spread : float
+        1-sigma of the phase tempco [rad/K] around the nominal (default 1e-5).
+    factory_trim : bool
+        Trim each drawn unit's scale factor to 1 and bias to 0 at T0 (factory calibration).
+    """
+
+    nominal: MemsResonator = field(default_factory=MemsResonator)
+    mass_spread: float = 0.01
+    frequency_spread: float = 0.02
+    split_spread: float = 30.0
+    q_spread: float = 0.10
+    gap_spread: float = 0.02
+    quadrature_spread: float = 2e-4
+    damping_coupling_spread: float = 1e-3
+    phase_error_spread: float = 5e-3
+    phase_tc_spread: float = 1e-5
+    factory_trim: bool = True
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.nominal, MemsResonator):
+            raise TypeError(
+                "MemsResonatorSpec.nominal must be a MemsResonator; "
+                f"got {type(self.nominal).__name__}"
+            )
+        for f in fields(self):
+            if f.name in ("nominal", "factory_trim"):
+                continue
+            v = _real("MemsResonatorSpec", f.name, getattr(self, f.name))
+            if not v >= 0:
+                raise ValueError(f"MemsResonatorSpec.{f.name} must be >= 0; got {v!r}")
+
+    def realize(self, *, rng: np.random.Generator) -> MemsResonator:
+        """Draw one unit of the population (physical parameters, then the factory trim).
+
+        Nine standard normals are drawn in a fixed order (mass, frequency, split, Q, gap,
+        kappa, eps_c, theta, phase tempco), so a spread set to 0 changes no other draw.
+        """
+        _check_rng(rng)
+        z = rng.standard_normal(9)
+        n = self.nominal
+        theta = n.phase_error + self.phase_error_spread * z[7]
+        theta = float(np.clip(theta, -1.5, 1.5))
+        q = math.exp(self.q_spread * z[3])
+        unit = replace(
+            n,
+            mass=n.mass * (1.0 + self.mass_spread * z[0]),
+            drive_frequency=n.drive_frequency * (1.0 + self.frequency_spread * z[1]),
+            mode_split=n.mode_split + self.split_spread * z[2],
+            drive_q=n.drive_q * q,
+            sense_q=n.sense_q * q,
+            electrode_gap=n.electrode_gap * (1.0 + self.gap_spread * z[4]),
+            quadrature_coupling=n.quadrature_coupling + self.quadrature_spread * z[5],
+            damping_coupling=n.damping_coupling + self.damping_coupling_spread * z[6],
+            phase_error=theta,
+            phase_tc=n.phase_tc + self.phase_tc_spread * z[8],
+        )
+        if self.factory_trim:
+            unit = factory_trim(unit)
+        return unit
+
+    @classmethod
+    def from_datasheet(
+        cls,
+        *,
+        range_dps: float = 3600.0,
+        range_margin: float = 1.3,
+        noise_density_dps_rthz: float = 0.01,
+        noise_density_convention: str,
+        bias_instability_dph: float = 0.0,
+        nonlinearity_pct_fs: float = 0.0,
+        bias_repeatability_dps: float = 0.0,
+        scale_factor_repeatability_ppm: float = 0.0,
+        output_bits: int | None = 16,
+        nominal: MemsResonator | None = None,
+    ) -> MemsResonatorSpec:
+        """A population from datasheet figures (field units); the resonator stays ``nominal``.
+
+        Parameters
+        ----------
+        range_dps : float
+            Measurement range [deg/s]; the output full scale is ``range_dps`` x 10/9
+            (headroom) and the DAC limit v_max is set so the nominal authority is
+            ``range_margin`` x range.
+        noise_density_dps_rthz : float
+            Rate noise density [deg/s/sqrt(Hz)].
+        noise_density_convention : {"one-sided", "two-sided"}
+            "two-sided": the IEEE/ADEV-at-1-s value N (white-noise PSD N^2 two-sided);
+            "one-sided": sqrt of the one-sided PSD, N = d / sqrt(2). Required (no default:
+            datasheets differ). The pick-off noise is set so that sqrt(N_B^2 + N_e^2) = N;
+            ValueError if the Brownian floor N_B already exceeds it.
+        bias_instability_dph : float
+            IEEE 952 bias instability B [deg/h] (electronic 1/f term).
+        nonlinearity_pct_fs : float
+            Scale-factor nonlinearity [% FS] below the knee: sets the output cubic a3 so the
+            IEEE K_n of a noise-free 21-point +-range table is this value.
+        bias_repeatability_dps, scale_factor_repeatability_ppm : float
+            1-sigma turn-on bias [deg/s] and scale-factor repeatability [ppm].
+        output_bits : int or None
+            Output word length.
+        nominal : MemsResonator, optional
+            The resonator design (default the module's default design).
+        """
+        if noise_density_convention not in ("one-sided", "two-sided"):
+            raise ValueError(
+                "noise_density_convention must be 'one-sided' or 'two-sided'; "
+                f"got {noise_density_convention!r}"
+            )
+        base = MemsResonator() if nominal is None else nominal
+        rng_ = _real("from_datasheet", "range_dps", range_dps)
+        if not rng_ > 0 or not range_margin > 0:
+            raise ValueError(
+                f"range_dps and range_margin must be > 0; got {range_dps!r}, {range_margin!r}"
+            )
+        n_tot = units.deg_per_s(noise_density_dps_rthz)
+        if noise_density_convention == "one-sided":
+            n_tot /= math.sqrt(2.0)
+        n_b = brownian_arw(base)
+        if not n_tot > n_b:
+            raise ValueError(
+                f"noise density {noise_density_dps_rthz!r} deg/s/sqrt(Hz) "
+                f"({noise_density_convention}) is below the Brownian floor "
+                f"{units.to_deg_per_s(n_b):.3g} deg/s/sqrt(Hz) of the design"
+            )
+        op = operating_point(base)
+        x_n = math.sqrt(n_tot**2 - n_b**2) * abs(op.receptance) * op.coriolis_gain
+        w_range = units.deg_per_s(rng_)
+        out_range = w_range * 10.0 / 9.0
+        # v_max so the nominal authority (theta = 0, no quadrature) is margin x range
+        v_max = range_margin * w_range * op.coriolis_gain / op.gain
+        # a3: K_n of Omega + a3 Omega^3/R^2 on the 21-point table is |a3| x c(grid)
+        grid = np.linspace(-w_range, w_range, 21)
+        cub = grid**3 / out_range**2
+        c = _lin_residual_max(grid, cub) / w_range  # K_n per unit a3 (to first order in a3)
+        a3 = -nonlinearity_pct_fs / 100.0 / c if nonlinearity_pct_fs else 0.0
+        nom = replace(
+            base,
+            pickoff_noise=x_n,
+            output_range=out_range,
+            output_bits=output_bits,
+            dac_full_scale=v_max,
+            output_cubic=a3,
+            bias_instability=units.deg_per_h(bias_instability_dph),
+            bias_repeatability=units.deg_per_s(bias_repeatability_dps),
+            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm),
+        )
+        return cls(nominal=nom)
+
+
+def _lin_residual_max(w: NDArray, f: NDArray) -> float:
+    """max |f - LS line(w)| (for the datasheet nonlinearity map; sim does not import analysis)."""
+    k, f0 = np.polyfit(w, f, 1)
+    return float(np.max(np.abs(f - (k * w + f0))))
+
+
+def factory_trim(unit: MemsResonator) -> MemsResonator:
+    """Trim the unit's scale factor to 1 and its bias to 0 at T0 (noise-free, before turn-on).
+
+    s_trim = 1 / SF_untrimmed(T0), b_trim = the trimmed zero-rate output at T0.
+    """
+    base = replace(unit, scale_factor_trim=1.0, bias_trim=0.0, turn_on_bias=0.0,
+                   turn_on_scale_factor=0.0)
+    s = 1.0 / low_rate_scale_factor(base)
+    trimmed = replace(base, scale_factor_trim=s)
+    b = zero_rate_output(trimmed)
+    return replace(unit, scale_factor_trim=s, bias_trim=b)

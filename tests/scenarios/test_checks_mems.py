@@ -1,0 +1,30 @@
+"""scenarios/checks_mems.py: every MEMS resonator check passes with its derived tolerance."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks_mems import checks
+
+EXPECTED_IDS = {
+    "mems.brownian_arw",
+    "mems.low_rate_scale_factor",
+    "mems.quadrature_rejection",
+    "mems.rate_authority",
+    "mems.slow_flow_vs_full",
+    "mems.drive_amplitude",
+    "mems.sense_envelope_saturated",
+    "mems.slow_flow_noise_vs_full",
+    "mems.zero_rate_continuity",
+}
+
+
+@pytest.mark.slow  # about 80 s: two full RK4 integrations with the carrier
+def test_every_mems_check_passes():
+    out = checks(np.random.default_rng(20261123))
+    assert all(isinstance(c, Check) for c in out)
+    assert {c.id for c in out} == EXPECTED_IDS
+    failed = [(c.id, c.rel_error, c.tolerance) for c in out if not c.passed]
+    assert not failed, failed

@@ -1,0 +1,403 @@
+"""Tests of sim/mems_resonator.py: closed forms, slow-flow equilibrium, continuity, population.
+
+The full-integration checks (slow flow vs RK4, noise level, authority) run in
+tests/scenarios/test_checks_mems.py through scenarios.checks_mems.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from gyrobench.sim import units
+from gyrobench.sim.mems_resonator import (
+    BOLTZMANN,
+    MemsResonator,
+    MemsResonatorSpec,
+    brownian_arw,
+    electronic_arw,
+    factory_trim,
+    low_rate_scale_factor,
+    operating_point,
+    quadrature_rate,
+    rate_authority,
+    rate_table,
+    saturated_output,
+    simulate,
+    simulate_full,
+    zero_rate_output,
+)
+
+Z = 4.89  # two-sided normal quantile at a 1e-6 false-alarm rate
+
+
+def _quiet(**kw) -> MemsResonator:
+    """Default design without noise sources in the output stage (no ADC, no 1/f)."""
+    base = dict(output_bits=None, bias_instability=0.0)
+    base.update(kw)
+    return MemsResonator(**base)
+
+
+def _settled(unit, rates, temperature=None):
+    res = simulate(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
+                   temperature=temperature, noise=False, adc=False, flicker=False)
+    return res.output[-1]
+
+
+# ------------------------------------------------------------------ closed forms
+def test_brownian_arw_matches_the_physics_notes_example():
+    # PHYSICS-models 4.4: m = 2e-9 kg, 20 kHz, Q_y = 1e4, X = 5 um, 300 K, matched -> 8.12e-6
+    unit = _quiet(drive_frequency=20e3, mode_split=0.0, sense_q=1e4, loop_bandwidth=0.2,
+                  reference_temperature=300.0)
+    n_b = brownian_arw(unit)
+    w = 2 * math.pi * 20e3
+    assert n_b == pytest.approx(math.sqrt(BOLTZMANN * 300.0 / (2e-9 * 1e4 * 25e-12 * w)), rel=1e-12)
+    assert n_b == pytest.approx(8.12e-6, rel=5e-4)  # the notes print 3 figures
+
+
+def test_quadrature_rate_matches_the_physics_notes_example():
+    # PHYSICS-models 4.3: m = 2 ug, 20 kHz, k_yx = 1e-4 k -> Omega_q = 6.283 rad/s
+    unit = _quiet(drive_frequency=20e3, quadrature_coupling=1e-4)
+    assert quadrature_rate(unit) == pytest.approx(1e-4 * 2 * math.pi * 20e3 / 2, rel=1e-12)
+    assert quadrature_rate(unit) == pytest.approx(6.283, rel=1e-4)
+
+
+def test_electronic_arw_is_pickoff_noise_over_open_loop_sensitivity():
+    unit = _quiet(pickoff_noise=2e-13)
+    op = operating_point(unit)
+    dy_dw = 2 * op.m * op.wx * op.x0 / abs(op.ky - op.m * op.wx**2 + 1j * op.cy * op.wx)
+    assert electronic_arw(unit) == pytest.approx(2e-13 / dy_dw, rel=1e-12)
+
+
+def test_authority_without_quadrature_is_f_max_over_coriolis_gain():
+    unit = _quiet()
+    op = operating_point(unit)
+    expected = op.gain * unit.dac_full_scale / op.coriolis_gain
+    assert rate_authority(unit) == pytest.approx(expected, rel=1e-12)
+    # with quadrature (theta = 0): sqrt(F_max^2 - F_q^2) / (2 m w X0)
+    uq = _quiet(quadrature_coupling=3e-4)
+    opq = operating_point(uq)
+    fq = opq.kyx * opq.x0
+    fmax = opq.gain * uq.dac_full_scale
+    expected_q = math.sqrt(fmax**2 - fq**2) / opq.coriolis_gain
+    assert rate_authority(uq) == pytest.approx(expected_q, rel=1e-12)
+
+
+# ------------------------------------------------------------------ slow-flow equilibrium
+@pytest.mark.parametrize("theta", [0.0, 0.01, -0.03])
+def test_slow_flow_settles_on_the_closed_form_output(theta):
+    unit = _quiet(quadrature_coupling=2e-4, damping_coupling=1e-3, phase_error=theta)
+    t = unit.reference_temperature + 15.0
+    w = units.deg_per_s(np.array([-1000.0, 0.0, 500.0, 3000.0]))
+    out = _settled(unit, w, t)
+    sf = low_rate_scale_factor(unit, t)
+    np.testing.assert_allclose(out, sf * w + zero_rate_output(unit, t), rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("theta", [0.0, 0.005, 0.02, -0.02])
+def test_quadrature_leaks_as_omega_q_sin_theta(theta):
+    unit = _quiet(quadrature_coupling=2e-4, phase_error=theta)
+    out = _settled(unit, np.zeros(1))[0]
+    # untrimmed: K_out = G0/(2 m w0 X0), so Omega_hat(0) = -Omega_q sin(theta) exactly
+    assert out == pytest.approx(-quadrature_rate(unit) * math.sin(theta), abs=1e-12)
+
+
+def test_scale_factor_tempco_follows_frequency_and_gain_tempcos():
+    unit = _quiet(frequency_tc=-30e-6, gain_tc=50e-6, phase_tc=0.0)
+    t0 = unit.reference_temperature
+    sf = low_rate_scale_factor(unit, t0 + 10.0)
+    assert sf == pytest.approx((1 - 30e-6 * 10) / (1 + 50e-6 * 10), rel=1e-12)
+    w = units.deg_per_s(np.array([0.0, 1000.0]))
+    out = _settled(unit, w, t0 + 10.0)
+    assert (out[1] - out[0]) / w[1] == pytest.approx(sf, rel=1e-9)
+
+
+def test_bias_tempco_through_the_damping_tempco():
+    # theta = 0: Omega_hat(0, T) = SF(T) eps_c w_y(T) (1 + b_Q dT) / (2 Q_y0)   [c_yx / (2m)]
+    unit = _quiet(damping_coupling=1e-3, phase_tc=0.0, q_tc=3e-3, frequency_tc=-30e-6)
+    for dt in (-20.0, 0.0, 30.0):
+        t = unit.reference_temperature + dt
+        wy = 2 * math.pi * (unit.drive_frequency + unit.mode_split) * (1 - 30e-6 * dt)
+        expected = low_rate_scale_factor(unit, t) * 1e-3 * wy * (1 + 3e-3 * dt) / (2 * unit.sense_q)
+        assert zero_rate_output(unit, t) == pytest.approx(expected, rel=1e-12)
+        assert _settled(unit, np.zeros(1), t)[0] == pytest.approx(expected, rel=1e-9)
+
+
+def test_output_saturates_beyond_the_authority():
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
+    auth = rate_authority(unit)
+    w = np.array([1.05, 1.5, 3.0, -2.0]) * auth
+    out = _settled(unit, w)
+    expected = [saturated_output(unit, x) for x in w]
+    # u_I is held over each saturated step while u_Q still converges: 1e-6, not rounding
+    np.testing.assert_allclose(out, expected, rtol=1e-6)
+    sf, zro = low_rate_scale_factor(unit), zero_rate_output(unit)
+    # flat: from 1.05x to 3x the authority the plateau moves by < 2e-4 of the onset value
+    # SF Omega_max + Omega_hat(0) (it drifts as the uncancelled force rotates B)
+    np.testing.assert_allclose(out[:3], sf * auth + zro, rtol=2e-4)
+    below = _settled(unit, np.array([0.99 * auth]))
+    assert below[0] == pytest.approx(sf * 0.99 * auth + zro, rel=1e-9)
+
+
+def test_linear_fast_path_equals_the_clamped_loop():
+    """The all-steps eigenbasis recursion and the step-by-step loop agree below the DAC limit."""
+    from gyrobench.sim import mems_resonator as mr
+
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
+    op = operating_point(unit)
+    n, k = 2000, 3
+    w = np.tile(units.deg_per_s(np.array([-3000.0, 0.0, 2000.0])), (n, 1))
+    w[n // 2:] *= 0.5  # a rate step inside the record
+    d = mr._fext(op, w, np.zeros_like(w))
+    disc = mr._slow_matrices(op, unit, 1 / 200.0, True)
+    sat = mr._slow_matrices(op, unit, 1 / 200.0, True, saturated=True)
+    z = mr._draw_noise(np.random.default_rng(2), n, k)
+    s0 = np.zeros((k, 5))
+    u1, q1, b1, bad = mr._run_linear(s0, d, z, disc, op.v_max)
+    u2, q2, b2 = mr._run_clamped(s0, d, z, disc, sat, op.v_max)
+    assert not np.any(bad)
+    np.testing.assert_allclose(u1, u2, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(q1, q2, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(b1, b2, rtol=0, atol=1e-9 * np.max(np.abs(b2)))
+
+
+# ------------------------------------------------------------------ full integration (short)
+def test_full_integration_agrees_with_the_slow_flow():
+    """RK4 with the carrier (16 steps per period) vs the slow flow, below and beyond the knee.
+
+    Tolerance: RK4's relative frequency error (w dt)^4/120, carried by the Coriolis force, the
+    AGC amplitude estimate and the demodulation references: 3 (w dt)^4/120 (relative to the
+    rate, floor 100 deg/s).
+    """
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
+    w = units.deg_per_s(np.array([0.0, 1000.0, 6000.0]))
+    full = simulate_full(unit, w, duration=0.045, fs=1000.0, rng=np.random.default_rng(0),
+                         steps_per_cycle=16, noise=False, adc=False)
+    got = full.output[-5:].mean(axis=0)
+    slow = _settled(unit, w)
+    tol = 3 * (2 * math.pi / 16) ** 4 / 120
+    scale = np.maximum(np.abs(w), units.deg_per_s(100.0))
+    assert np.all(np.abs(got - slow) / scale <= tol)
+
+
+# ------------------------------------------------------------------ continuity through zero
+def test_no_step_at_zero_rate_noise_free():
+    unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01, damping_coupling=1e-3)
+    w = units.deg_per_s(np.array([-0.3, -0.2, -0.1, 0.0, 0.1, 0.2, 0.3]))
+    out = _settled(unit, w)
+    sf = low_rate_scale_factor(unit)
+    np.testing.assert_allclose(np.diff(out), sf * np.diff(w), rtol=1e-9)
+
+
+def test_plus_minus_tenth_deg_per_s_reads_within_the_noise(rng):
+    unit = MemsResonator(quadrature_coupling=1e-4, phase_error=0.01)  # with noise and 16-bit ADC
+    fs, dur = 200.0, 20.0
+    w = units.deg_per_s(0.1)
+    res = simulate(unit, np.tile([w, -w, 0.0], (int(dur * fs), 1)), fs=fs, rng=rng)
+    zro = zero_rate_output(unit)
+    sf = low_rate_scale_factor(unit)
+    n = math.hypot(brownian_arw(unit), electronic_arw(unit)) * sf
+    sd = n / math.sqrt(dur)
+    q = unit.resolution
+    dither = q / math.pi * math.exp(-2 * math.pi**2 * (n * math.sqrt(fs)) ** 2 / q**2)
+    got = res.output.mean(axis=0) - zro
+    np.testing.assert_allclose(got, [sf * w, -sf * w, 0.0], atol=Z * sd + dither, rtol=0)
+
+
+# ------------------------------------------------------------------ noise level (slow flow)
+def test_slow_flow_noise_level_matches_the_closed_form(rng):
+    unit = _quiet(quadrature_coupling=1e-4)
+    fs, cols, dur, block = 200.0, 16, 100.0, 1.0
+    n = int(dur * fs)
+    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    m = int(block * fs)
+    means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
+    n_hat = math.sqrt(np.mean(means**2) * block)
+    n_cf = math.hypot(brownian_arw(unit), electronic_arw(unit))
+    from scipy import stats
+
+    dof = means.size
+    lo = math.sqrt(stats.chi2.ppf(5e-7, dof) / dof)
+    hi = math.sqrt(stats.chi2.ppf(1 - 5e-7, dof) / dof)
+    bias = 2.0 / (block * float(np.min(-operating_point(unit).loop_poles.real)))
+    assert lo * (1 - bias) <= n_hat / n_cf <= hi
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(mass=4e-9),
+        dict(sense_q=60.0),
+        dict(reference_temperature=350.0),
+        dict(drive_amplitude=2.5e-6),
+        dict(drive_frequency=10e3, mode_split=300.0),
+    ],
+)
+def test_brownian_arw_scales_with_mass_q_temperature_amplitude_frequency(kw, rng):
+    """N_B = sqrt(k_B T w_y/(m Q_y))/(w X0) across the parameters it names (Brownian only)."""
+    unit = _quiet(pickoff_noise=0.0, **kw)
+    fs, cols, dur, block = 200.0, 16, 100.0, 1.0
+    n = int(dur * fs)
+    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    m = int(block * fs)
+    means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
+    n_hat = math.sqrt(np.mean(means**2) * block) / low_rate_scale_factor(unit)
+    op = operating_point(unit)
+    n_cf = math.sqrt(BOLTZMANN * op.temperature * op.wy / (op.m * unit.sense_q)) / (op.wx * op.x0)
+    assert brownian_arw(unit) == pytest.approx(n_cf, rel=1e-12)
+    from scipy import stats
+
+    dof = means.size
+    lo = math.sqrt(stats.chi2.ppf(5e-7, dof) / dof)
+    hi = math.sqrt(stats.chi2.ppf(1 - 5e-7, dof) / dof)
+    bias = 2.0 / (block * float(np.min(-op.loop_poles.real)))
+    assert lo * (1 - bias) <= n_hat / n_cf <= hi
+
+
+def test_quantization_and_range(rng):
+    unit = MemsResonator(pickoff_noise=0.0)
+    res = simulate(unit, np.full(50, 2.0 * unit.output_range), fs=200.0, rng=rng)
+    q = unit.resolution
+    assert np.all(np.abs(res.output) <= unit.output_range)
+    np.testing.assert_allclose(res.output / q, np.round(res.output / q), atol=1e-9)
+
+
+# ------------------------------------------------------------------ determinism and shapes
+def test_seed_gives_bit_identical_output():
+    unit = MemsResonator(bias_instability=units.deg_per_h(20.0))
+    w = np.linspace(0, 1, 300)
+    a = simulate(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
+    b = simulate(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
+    assert np.array_equal(a, b) and a.shape == (300,)
+
+
+def test_full_integration_seed_is_bit_identical():
+    unit = _quiet()
+    kw = dict(duration=0.002, fs=1000.0, steps_per_cycle=16)
+    a = simulate_full(unit, [0.0, 1.0], rng=np.random.default_rng(3), **kw).output
+    b = simulate_full(unit, [0.0, 1.0], rng=np.random.default_rng(3), **kw).output
+    assert np.array_equal(a, b) and a.shape == (2, 2)
+
+
+def test_rate_table_means_follow_the_scale_factor(rng):
+    unit = _quiet(quadrature_coupling=1e-4)
+    w = units.deg_per_s(np.array([-3600.0, 0.0, 3600.0]))
+    means = rate_table(unit, w, rng=rng, average_s=10.0)
+    sf = low_rate_scale_factor(unit)
+    n = math.hypot(brownian_arw(unit), electronic_arw(unit)) * sf
+    np.testing.assert_allclose(means, sf * w + zero_rate_output(unit), atol=Z * n / math.sqrt(10.0))
+
+
+# ------------------------------------------------------------------ population
+def test_realize_is_deterministic_and_trimmed():
+    spec = MemsResonatorSpec(nominal=_quiet())
+    a = spec.realize(rng=np.random.default_rng(5))
+    b = spec.realize(rng=np.random.default_rng(5))
+    assert a == b
+    assert low_rate_scale_factor(a) == pytest.approx(1.0, rel=1e-12)
+    assert zero_rate_output(a) == pytest.approx(0.0, abs=1e-12)
+    assert a.mass != spec.nominal.mass and a.quadrature_coupling != 0.0
+
+
+def test_zero_spread_population_is_the_nominal_unit():
+    nominal = _quiet(quadrature_coupling=1e-4)
+    spec = MemsResonatorSpec(
+        nominal=nominal, mass_spread=0, frequency_spread=0, split_spread=0, q_spread=0,
+        gap_spread=0, quadrature_spread=0, damping_coupling_spread=0, phase_error_spread=0,
+        phase_tc_spread=0,
+    )
+    assert spec.realize(rng=np.random.default_rng(1)) == factory_trim(nominal)
+
+
+def test_power_on_draws_turn_on_errors():
+    unit = _quiet(bias_repeatability=1e-3, scale_factor_repeatability=1e-3)
+    draws = [unit.power_on(rng=np.random.default_rng(i)) for i in range(400)]
+    b = np.array([d.turn_on_bias for d in draws])
+    e = np.array([d.turn_on_scale_factor for d in draws])
+    from scipy import stats
+
+    lo, hi = stats.chi2.ppf([5e-7, 1 - 5e-7], 400) / 400
+    assert lo <= np.mean(b**2) / 1e-6 <= hi and lo <= np.mean(e**2) / 1e-6 <= hi
+    d0 = draws[0]
+    assert low_rate_scale_factor(d0) == pytest.approx(1 + d0.turn_on_scale_factor, rel=1e-12)
+
+
+def test_datasheet_noise_convention_is_explicit():
+    two = MemsResonatorSpec.from_datasheet(noise_density_dps_rthz=0.01,
+                                           noise_density_convention="two-sided")
+    one = MemsResonatorSpec.from_datasheet(noise_density_dps_rthz=0.01,
+                                           noise_density_convention="one-sided")
+    n2 = math.hypot(brownian_arw(two.nominal), electronic_arw(two.nominal))
+    n1 = math.hypot(brownian_arw(one.nominal), electronic_arw(one.nominal))
+    assert n2 == pytest.approx(units.deg_per_s(0.01), rel=1e-9)
+    assert n1 == pytest.approx(units.deg_per_s(0.01) / math.sqrt(2), rel=1e-9)
+    with pytest.raises(ValueError, match="noise_density_convention"):
+        MemsResonatorSpec.from_datasheet(noise_density_convention="psd")
+    with pytest.raises(ValueError, match="Brownian floor"):
+        MemsResonatorSpec.from_datasheet(noise_density_dps_rthz=1e-5,
+                                         noise_density_convention="two-sided")
+
+
+def test_datasheet_range_sets_the_authority():
+    spec = MemsResonatorSpec.from_datasheet(range_dps=3600.0, range_margin=1.25,
+                                            noise_density_convention="two-sided")
+    assert rate_authority(spec.nominal) == pytest.approx(units.deg_per_s(4500.0), rel=1e-9)
+
+
+def test_datasheet_nonlinearity_sets_the_cubic():
+    spec = MemsResonatorSpec.from_datasheet(nonlinearity_pct_fs=0.1,
+                                            noise_density_convention="two-sided", output_bits=None)
+    w = units.deg_per_s(np.linspace(-3600, 3600, 21))
+    out = _settled(spec.nominal, w)
+    k, f0 = np.polyfit(w, out, 1)
+    kn = np.max(np.abs(out - (k * w + f0))) / np.max(np.abs(out))
+    assert kn == pytest.approx(1e-3, rel=0.01)  # first order in a3: a3 K_n^2 ~ 1e-3 relative
+
+
+# ------------------------------------------------------------------ bad input
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        (dict(mass=0.0), "mass must be > 0"),
+        (dict(sense_q=-1.0), "sense_q must be > 0"),
+        (dict(pickoff_noise=-1e-12), "pickoff_noise must be >= 0"),
+        (dict(output_bits=1), "output_bits must be an integer >= 2"),
+        (dict(phase_error=2.0), "phase_error must satisfy"),
+        (dict(mode_split=-2e4), "mode_split must keep"),
+    ],
+)
+def test_bad_parameters_name_themselves(kw, match):
+    with pytest.raises(ValueError, match=match):
+        MemsResonator(**kw)
+
+
+def test_wrong_kinds_raise_type_error():
+    with pytest.raises(TypeError, match="mass must be a real number"):
+        MemsResonator(mass="2e-9")
+    with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
+        simulate(MemsResonator(), [0.0], fs=200.0, rng=1)
+    with pytest.raises(TypeError, match="nominal must be a MemsResonator"):
+        MemsResonatorSpec(nominal=1)
+
+
+def test_unstable_loop_is_refused():
+    with pytest.raises(ValueError, match="rebalance loop unstable"):
+        operating_point(MemsResonator(sense_q=5000.0))
+
+
+def test_bad_rate_input():
+    with pytest.raises(ValueError, match="rate must be a finite"):
+        simulate(MemsResonator(), [0.0, np.nan], fs=200.0, rng=np.random.default_rng(0))
+    with pytest.raises(ValueError, match="fs must be > 0"):
+        simulate(MemsResonator(), [0.0], fs=0.0, rng=np.random.default_rng(0))
+    with pytest.raises(ValueError, match="steps_per_cycle"):
+        simulate_full(MemsResonator(), [0.0], duration=0.01, rng=np.random.default_rng(0),
+                      steps_per_cycle=4)
+
+
+def test_frozen():
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        MemsResonator().mass = 1.0  # type: ignore[misc]

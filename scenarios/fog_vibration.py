@@ -48,8 +48,8 @@ Choices the paper does not state (also listed in :data:`DEVIATIONS`)
   the 500 Hz tone aliases to 100 Hz and its 2f to 200 Hz.
 * Records of 600 s + 300 s + 600 s (the paper gives no durations). With N = 0.005
   deg/sqrt(h) and B = 0.2 deg/h, B overtakes white noise near tau = 5 s and a fit needs it
-  to dominate up to T/4: with 200 s phases B of phases 1 and 3 was identifiable on 2 of 10
-  seeds. The sweep is linear, 1 -> 500 Hz in 300 s (1.66 Hz/s): the RBF spread of 1.2 Hz
+  to dominate up to T/4: with 200 s static phases B of phases 1 and 3 is identifiable
+  in both on 6 of 20 units (seeds 0-19), with 600 s on 20 of 20. The sweep is linear, 1 -> 500 Hz in 300 s (1.66 Hz/s): the RBF spread of 1.2 Hz
   needs training points about 1 Hz apart over the whole band. 12.7 mm stroke limit.
 * Acceleration 2 g peak. Gyro: Q 0.1 arcsec, N 0.005 deg/sqrt(h), B 0.2 deg/h, K 0.05
   deg/h/sqrt(h), R 0.01 deg/h^2 static (mid-grade FOG; unverified). K and R are not

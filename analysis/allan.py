@@ -47,7 +47,7 @@ import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
-from functools import partial
+from functools import lru_cache, partial
 from typing import Any
 
 import allantools
@@ -1054,11 +1054,19 @@ def _rate_psd_shape(alpha: int, f: NDArray[np.float64]) -> NDArray[np.float64]:
 _RHO_F = (np.arange(_RHO_GRID) + 0.5) / (2 * _RHO_GRID)
 
 
+@lru_cache(maxsize=128)
 def _g(alpha: int, m: int) -> NDArray[np.float64]:
-    """g = S_alpha |H_m|^2 on the frequency grid, normalised to unit l2 norm."""
+    """g = S_alpha |H_m|^2 on the frequency grid, normalised to unit l2 norm.
+
+    Cached (read-only arrays of 0.5 MB, at most 128 kept): a fit evaluates the same
+    (alpha, m) pairs as every other fit at the same octave taus, and recomputing them was
+    most of a fit's cost.
+    """
     f = _RHO_F
     g = _rate_psd_shape(alpha, f) * np.sin(np.pi * f * m) ** 4 / np.sin(np.pi * f) ** 2
-    return g / np.linalg.norm(g)
+    g = g / np.linalg.norm(g)
+    g.flags.writeable = False
+    return g
 
 
 def _scaled(m1: int, m2: int) -> tuple[int, int]:

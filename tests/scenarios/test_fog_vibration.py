@@ -1,66 +1,214 @@
-"""Tests of scenarios.fog_vibration (paper 000): bad input, the noise-free RBF closed case, the bench task,
-the results layout (slow, reduced record) and the full reproduction with the paper's conclusions (slow)."""
+"""Tests of scenarios.fog_vibration (paper 000): the scenario contract (claims, experiment, report), bad
+input, the RBF closed cases (randomly fixed centres and newrb), the bench task, and one full-size unit (slow)."""
 
 from __future__ import annotations
 
 import json
-import time
+import math
+import pickle
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
-
 from gyrobench.analysis.compensation.rbf import RBFNetwork
 from gyrobench.scenarios import fog_vibration as sc
 from gyrobench.scenarios import registry
-from gyrobench.scenarios.base import CompensationTask
+from gyrobench.scenarios.base import CompensationTask, Outcome
+from gyrobench.scenarios.claims import evaluate
 from gyrobench.sim import units
 
-SMALL = sc.Config(static_before_s=30.0, vibration_s=60.0, static_after_s=30.0, guard_s=2.0)
+SMALL = sc.Config(
+    static_before_s=30.0, vibration_s=60.0, static_after_s=30.0, guard_s=2.0, edge_window_s=1.0
+)
 
 
 def _noise_free(cfg: sc.Config) -> sc.Config:
     """The same gyro without any random or non-bias term: only the rectified bias remains."""
     fog = replace(
-        cfg.fog, Q_arcsec=0.0, N_deg_sqrt_h=0.0, B_deg_h=0.0, K_deg_h_sqrt_h=0.0, R_deg_h2=0.0,
+        cfg.fog,
+        Q_arcsec=0.0,
+        N_deg_sqrt_h=0.0,
+        B_deg_h=0.0,
+        K_deg_h_sqrt_h=0.0,
+        R_deg_h2=0.0,
         transient_deg_h_per_g2=0.0,
         modes=tuple(replace(m, tone_deg_h_per_g=0.0, noise_weight=0.0) for m in cfg.fog.modes),
     )
     return replace(cfg, fog=fog, control_error=0.0)
 
 
+@pytest.fixture(scope="module")
+def small_units() -> list[dict]:
+    return [sc.experiment(SMALL, s) for s in (3, 4)]
+
+
 def test_registered():
     assert registry.get("fog_vibration") is sc
 
 
-# ---------------------------------------------------------------- closed form
-def test_noise_free_bias_is_modelled_by_the_rbf_to_its_goal():
-    """Noise-free samples of the gyro's known rectified bias, 1 Hz apart over 1.5-498.5 Hz (the
-    scenario's bins), fitted with the scenario's newrb settings (spread 1.2 Hz, goal 1e-4 (deg/h)^2);
-    the network is scored at the held-out midpoints between training frequencies.
+# ---------------------------------------------------------------- the scenario contract
+def test_module_shape():
+    assert sc.PAPER == "000"
+    assert "seed" not in sc.TITLE.lower()
+    assert not hasattr(sc, "run")
+    for name in ("experiment", "report", "simulate", "compensation_task"):
+        assert callable(getattr(sc, name))
 
-    Tolerance from the goal: the error at a midpoint is the mean of the two neighbouring node
-    errors (whose MSE the goal bounds, so by convexity their mean has MSE <= goal) plus the
-    network's curvature between the nodes; requiring that curvature term to stay within the
-    same rms gives held-out RMS <= 2 sqrt(goal) = 0.02 deg/h (the curve spans 0-40 deg/h).
-    The criterion can fail: a too-narrow spread (0.3 Hz) leaves dips between the centres.
-    """
+
+def test_claims_well_formed(small_units):
+    ids = [c.id for c in sc.CLAIMS]
+    assert len(ids) == len(set(ids))
+    produced = set(small_units[0]["quantities"])
+    for c in sc.CLAIMS:
+        assert c.paper == "000" and c.id.startswith("000.")
+        assert c.quantity in produced, c.id
+        assert (c.kind == "calibrated") == bool(c.calibrated_input)
+    # the claims the issue lists as missing are there
+    for key in (
+        "t2_bias_loses_R",
+        "t2_drift_noise_keeps_R",
+        "t3_ls_lowers_B",
+        "t3_ls_lowers_K",
+        "t3_ls_lowers_R",
+        "fig8_edge_spikes",
+        "fig6_rbf_far_better_target",
+    ):
+        assert f"000.{key}" in ids
+    # every quantity the experiment produces is read by a claim
+    assert produced == {c.quantity for c in sc.CLAIMS}
+
+
+def test_quantities_are_numbers_or_none(small_units):
+    for u in small_units:
+        for k, v in u["quantities"].items():
+            assert v is None or isinstance(v, float), (k, v)
+
+
+def test_experiment_is_deterministic(small_units):
+    again = sc.experiment(SMALL, 3)
+    first = small_units[0]
+    assert again["quantities"] == first["quantities"]
+    for group, traces in first["figures"].items():
+        for k, v in traces.items():
+            np.testing.assert_array_equal(again["figures"][group][k], v, err_msg=f"{group}/{k}")
+    assert small_units[1]["quantities"] != first["quantities"]  # another seed is another unit
+
+
+def test_unit_is_small_and_picklable(small_units):
+    assert len(pickle.dumps(small_units[0])) < 2_000_000
+
+
+def test_report_formats_the_units(small_units):
+    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in small_units])
+    out = sc.report(SMALL, small_units, claims)
+    assert isinstance(out, Outcome) and out.scenario == sc.NAME and out.seed == 3
+    json.dumps(out.results)
+    assert [f.name for f in out.figures] == [
+        "fig1_records",
+        "fig2_spectrum_cwt",
+        "fig3_multiscale",
+        "fig4_split",
+        "fig6_bias_models",
+        "fig7_8_compensation",
+    ]
+    assert len(out.tables) == 5
+    assert [q["seed"] for q in out.results["quantities_by_unit"]] == [3, 4]
+    assert "Over 2 units" in out.conclusion
+    with pytest.raises(ValueError, match="report needs at least one unit; got 0"):
+        sc.report(SMALL, [], claims)
+
+
+def test_deviations_name_the_paper_and_an_effect():
+    assert sc.DEVIATIONS
+    for d in sc.DEVIATIONS:
+        assert d.paper == "000" and d.effect and "@" not in d.effect
+
+
+# ---------------------------------------------------------------- quantity rules
+def test_shown_ratio_and_value_ratio_documented_cases():
+    ident = {"value": 2.0, "low": 1.5, "high": 2.5}
+    low = {"value": 1.0, "low": 0.8, "high": 1.2}
+    bound = {"value": None, "low": 0.0, "high": 1.4}
+    assert sc._shown_ratio(ident, low) == pytest.approx(1.5 / 1.2)
+    assert sc._shown_ratio(ident, bound) == pytest.approx(1.5 / 1.4)  # a bound is a valid ceiling
+    assert sc._shown_ratio(bound, low) is None  # nothing shows a bound above anything
+    assert sc._value_ratio(ident, low) == pytest.approx(2.0)
+    assert sc._value_ratio(ident, bound) is None and sc._value_ratio(bound, ident) is None
+    assert (
+        sc._overlap(ident, low) == 0.0
+        and sc._overlap(ident, {"value": 1.4, "low": 1.0, "high": 1.6}) == 1.0
+    )
+    assert sc._overlap(ident, bound) is None
+
+
+# ---------------------------------------------------------------- closed forms
+def _true_bias_curve():
     cfg = sc.Config()
     model = cfg.fog.model()
     a = units.g(cfg.acceleration_g)
+    return cfg, (lambda f: units.to_deg_per_h(model.rectified_bias(f, a)))
 
-    def bias(f):
-        return units.to_deg_per_h(model.rectified_bias(f, a))
 
+def test_noise_free_bias_is_modelled_by_the_newrb_variant_to_its_goal():
+    """Noise-free samples of the gyro's known rectified bias, 1 Hz apart over 1.5-498.5 Hz, fitted with
+    newrb (spread 1.2 Hz, goal 1e-4 (deg/h)^2), scored at the held-out midpoints.
+
+    Tolerance from the goal: the error at a midpoint is the mean of the two neighbouring node
+    errors (MSE <= goal by convexity) plus the network's curvature between the nodes; requiring
+    that curvature term to stay within the same rms gives held-out RMS <= 2 sqrt(goal). The
+    criterion can fail: a too-narrow spread (0.3 Hz) leaves dips between the centres.
+    """
+    cfg, bias = _true_bias_curve()
     f_train = np.arange(1.5, 499.0, 1.0)
     f_held = f_train[:-1] + 0.5
     tol = 2.0 * np.sqrt(cfg.rbf_goal_deg_h2)
-    net = RBFNetwork(spread=cfg.rbf_spread_hz, goal=cfg.rbf_goal_deg_h2).fit(f_train[:, None], bias(f_train))
-    held_rms = np.sqrt(np.mean((net.predict(f_held[:, None]) - bias(f_held)) ** 2))
-    assert held_rms <= tol, held_rms
+    net = RBFNetwork(spread=cfg.rbf_spread_hz, goal=cfg.rbf_goal_deg_h2).fit(
+        f_train[:, None], bias(f_train)
+    )
+    assert np.sqrt(np.mean((net.predict(f_held[:, None]) - bias(f_held)) ** 2)) <= tol
     narrow = RBFNetwork(spread=0.3, goal=cfg.rbf_goal_deg_h2).fit(f_train[:, None], bias(f_train))
     assert np.sqrt(np.mean((narrow.predict(f_held[:, None]) - bias(f_held)) ** 2)) > tol
+
+
+def test_random_centre_rbf_meets_its_goal_and_generalizes(rng):
+    """The paper's randomly fixed centres on the same noise-free curve: training MSE below the goal
+    (the stopping rule) and the same held-out bound 2 sqrt(goal) as above."""
+    cfg, bias = _true_bias_curve()
+    f_train = np.arange(1.5, 499.0, 1.0)
+    f_held = f_train[:-1] + 0.5
+    net = sc.fit_random_centre_rbf(
+        f_train, bias(f_train), spread=cfg.rbf_spread_hz, goal=cfg.rbf_goal_deg_h2, rng=rng
+    )
+    assert net.mse < cfg.rbf_goal_deg_h2
+    assert np.mean((net(f_train) - bias(f_train)) ** 2) == pytest.approx(
+        net.mse, rel=1e-6, abs=1e-12
+    )
+    assert np.sqrt(np.mean((net(f_held) - bias(f_held)) ** 2)) <= 2.0 * np.sqrt(cfg.rbf_goal_deg_h2)
+
+
+def test_random_centre_rbf_is_least_squares_on_its_centres_and_minimal(rng):
+    """The QR shortcut equals a direct least-squares solve on the chosen centres, and one centre fewer
+    (the same random order) would not have met the goal."""
+    x = np.sort(rng.uniform(0.0, 50.0, 80))
+    y = np.sin(x / 4.0) + 0.1 * rng.standard_normal(80)
+    goal, spread = 0.02, 3.0
+    net = sc.fit_random_centre_rbf(x, y, spread=spread, goal=goal, rng=np.random.default_rng(7))
+    perm = np.random.default_rng(7).permutation(80)
+    assert 1 <= net.n_neurons < 79
+    np.testing.assert_array_equal(net.centres, x[perm[: net.n_neurons]])
+
+    def lstsq_mse(k):
+        g = np.column_stack(
+            [np.ones(80), np.exp(-((net.b * (x[:, None] - x[perm[:k]][None, :])) ** 2))]
+        )
+        sol, *_ = np.linalg.lstsq(g, y, rcond=None)
+        return sol, float(np.mean((g @ sol - y) ** 2))
+
+    sol, mse = lstsq_mse(net.n_neurons)
+    np.testing.assert_allclose(np.r_[net.bias, net.weights], sol, rtol=1e-6, atol=1e-8)
+    assert mse == pytest.approx(net.mse, rel=1e-8) and mse < goal
+    assert lstsq_mse(net.n_neurons - 1)[1] >= goal
+    assert net.b == pytest.approx(math.sqrt(math.log(2.0)) / spread)
 
 
 def test_noise_free_static_phases_are_exactly_zero():
@@ -76,33 +224,17 @@ def test_bench_task_truth_is_the_output_without_the_true_bias():
     assert task.feature_names == ("frequency_hz", "acceleration_g") and task.target == "error"
     assert task.X_train.shape == (int(sum((30, 60, 30)) * SMALL.bench_rate_hz), 2)
     assert np.all(task.y_train[task.X_train[:, 1] == 0] == 0)
-    # compensating each held-out run with its true bias (block means) returns the truth exactly
     for label, rec in zip(("sweep", "fixed"), sc.simulate(SMALL, 0 + 1_000_003), strict=True):
         run = next(r for r in task.heldout if r.label == label)
         k = int(round(rec.fs / SMALL.bench_rate_hz))
         true_bias = units.to_deg_per_h(rec["truth/vibration_bias"]).reshape(-1, k).mean(axis=1)
-        np.testing.assert_allclose(task.compensate(true_bias, run), run.truth, rtol=0,
-                                   atol=1e-12 * np.max(np.abs(run.output)))
+        np.testing.assert_allclose(
+            task.compensate(true_bias, run),
+            run.truth,
+            rtol=0,
+            atol=1e-12 * np.max(np.abs(run.output)),
+        )
         assert task.scorer(task.compensate(true_bias, run), run)["mse"] < 1e-20
-
-
-def test_higher_rule_documented_cases():
-    ident = {"value": 2.0, "low": 1.5, "high": 2.5}
-    low = {"value": 1.0, "low": 0.8, "high": 1.2}
-    overlapping = {"value": 1.0, "low": 0.8, "high": 1.6}
-    bound = {"value": None, "low": 0.0, "high": 1.4}
-    big_bound = {"value": None, "low": 0.0, "high": 3.0}
-    # both identified: decided by the 95 % intervals
-    assert sc._higher(ident, low)[0] is True
-    assert sc._higher(ident, overlapping)[0] is False
-    # the side claimed higher only a bound: not testable (holds None), never True
-    for p2, other in ((bound, low), (big_bound, bound), (bound, big_bound)):
-        assert sc._higher(p2, other) == (None, sc.NOT_TESTABLE)
-    # the side claimed lower only a bound: its upper bound is a valid ceiling
-    assert sc._higher(ident, bound)[0] is True  # 1.5 > 1.4
-    assert sc._higher(ident, big_bound)[0] is False  # 1.5 < 3.0: not shown higher
-    assert sc._all_or_none([True, None]) is None and sc._all_or_none([True, False]) is False
-    assert sc._all_or_none([True, True]) is True
 
 
 # ---------------------------------------------------------------- bad input
@@ -112,65 +244,53 @@ def test_negative_acceleration_rejected():
 
 
 def test_sweep_end_beyond_physics_rate_rejected():
-    with pytest.raises(ValueError, match=r"vibration up to 1200.0 Hz needs fog.physics_rate_hz >= 4800.0 Hz"):
+    with pytest.raises(
+        ValueError, match=r"vibration up to 1200.0 Hz needs fog.physics_rate_hz >= 4800.0 Hz"
+    ):
         sc.Config(sweep_end_hz=1200.0)
 
 
 def test_level_too_deep_for_the_record_rejected():
-    with pytest.raises(ValueError, match=r"Config.level = 10 needs records of >= 7168 samples; got 6000"):
-        sc.Config(static_before_s=5.0, vibration_s=5.0, static_after_s=5.0, guard_s=1.0)
+    with pytest.raises(
+        ValueError, match=r"Config.level = 10 needs records of >= 7168 samples; got 6000"
+    ):
+        sc.Config(
+            static_before_s=5.0, vibration_s=5.0, static_after_s=5.0, guard_s=1.0, edge_window_s=0.5
+        )
 
 
-def test_bias_level_above_decomposition_depth_rejected():
+def test_bias_and_train_levels_above_decomposition_depth_rejected():
     with pytest.raises(ValueError, match=r"Config.bias_level must be in \[1, level=10\]; got 11"):
         sc.Config(bias_level=11)
+    with pytest.raises(ValueError, match=r"Config.train_level must be in \[1, level=10\]; got 0"):
+        sc.Config(train_level=0)
 
 
-# ---------------------------------------------------------------- slow: layout and reproduction
+def test_unknown_centre_rule_and_overlapping_edge_window_rejected():
+    with pytest.raises(
+        ValueError, match=r"Config.rbf_centres must be 'random' or 'ols'; got 'kmeans'"
+    ):
+        sc.Config(rbf_centres="kmeans")
+    with pytest.raises(ValueError, match=r"Config.edge_window_s must be < guard_s = 5.0 s"):
+        sc.Config(edge_window_s=5.0)
+
+
+def test_random_centre_rbf_bad_input():
+    with pytest.raises(ValueError, match=r"x and y must be 1-D of the same length >= 2"):
+        sc.fit_random_centre_rbf(
+            np.arange(3.0), np.arange(4.0), spread=1.0, goal=0.0, rng=np.random.default_rng(0)
+        )
+
+
+# ---------------------------------------------------------------- slow: one full-size unit
 @pytest.mark.slow
-def test_small_run_results_layout():
-    out = sc.run(SMALL, 3)
-    r = out.results
-    assert set(r) >= {"phases", "decomposition", "compensation", "bias_model_mse"}
-    assert set(r["phases"]) == {"1", "2", "3"}
-    assert set(r["decomposition"]) == {"original", "bias", "drift_noise"}
-    assert set(r["compensation"]) == {"original", "denoised", "rbf", "ls"}
-    assert {"rbf", "ls"} <= set(r["bias_model_mse"])
-    for group in (r["phases"], r["decomposition"], r["compensation"]):
+def test_full_size_unit_layout_and_what_minutes_cannot_identify():
+    u = sc.experiment(sc.Config(), 0)
+    for group in (u["phases"], u["decomposition"], u["compensation"]):
         for coeffs in group.values():
-            assert set(coeffs) == {"Q", "N", "B", "K", "R"}
-    json.dumps(r)
-    assert [f.name for f in out.figures] == [
-        "fig1_records", "fig2_spectrum_cwt", "fig3_multiscale", "fig4_split", "fig6_bias_models",
-        "fig7_8_compensation",
-    ]
-    assert all(isinstance(f.figure, Figure) for f in out.figures)
-    assert len(out.tables) == 5 and all(h.holds in (True, False, None) for h in out.headlines)
-    assert {"rbf", "ls", "uncompensated"} <= set(r["compensation_residual"])
-
-
-@pytest.mark.slow
-def test_full_reproduction_default_seed():
-    # the paper's conclusions (issue 6 "How we will know") on the default config and seed 0:
-    # every TESTABLE headline holds; K and R (and any comparison with a bound) are reported as
-    # not testable, never as holding
-    t = time.perf_counter()
-    out = sc.run(sc.Config(), 0)
-    runtime = time.perf_counter() - t
-    assert runtime < 180.0
-    failed = [(h.quantity, h.reproduced) for h in out.headlines if h.holds is False]
-    assert not failed
-    untestable = [h for h in out.headlines if h.holds is None]
-    assert all(h.note == sc.NOT_TESTABLE for h in untestable)
-    p = out.results["phases"]
-    for t_ in ("K", "R"):
-        assert all(p[k][t_]["value"] is None for k in "123")  # minutes of data cannot identify them
-        h = next(h for h in out.headlines if h.quantity.startswith(f"Table 1 {t_}: phase 2 higher"))
-        assert h.holds is None
-    assert next(h for h in out.headlines if h.quantity == "Table 1 K, R: phases 1 and 3 agree").holds is None
-    assert sum(h.holds is True for h in out.headlines) >= 10
-    assert "testable conclusions of the paper hold" in out.conclusion
-    mse = out.results["bias_model_mse"]
-    assert mse["rbf"] <= mse["ls"] / 5
-    for t_ in ("Q", "N", "B"):
-        assert p["2"][t_]["low"] > max(p["1"][t_]["high"], p["3"][t_]["high"])
+            assert set(coeffs) == set(sc.TERMS)
+    # K and R overtake B only beyond ~20 h on the Allan curve: static phases of 10 min cannot identify them
+    for k in ("1", "3"):
+        assert u["phases"][k]["K"]["value"] is None and u["phases"][k]["R"]["value"] is None
+    assert u["quantities"]["t1_K_phase3_over_phase1"] is None
+    assert u["bias_models"]["n_bins"] > 400

@@ -11,9 +11,26 @@ A scenario is a module (registered in :mod:`gyrobench.scenarios.registry`) that 
     at the edge, with the unit in the field name or docstring).
 ``simulate(config, seed) -> list[Recording]``
     every recording the experiment produces, with truth (``gyrobench simulate``).
+
+A **paper scenario** also sets ``PAPER`` (a key of :mod:`gyrobench.scenarios.papers`) and
+defines, instead of ``run``:
+
+``experiment(config, seed) -> dict``
+    one simulated unit (each seed is another unit) through the whole pipeline; its
+    ``"quantities"`` hold one number per claim (None where the unit cannot test it).
+``CLAIMS`` : tuple of :class:`gyrobench.scenarios.claims.Claim`
+    every checkable statement of the paper, calibrated or emergent, with its comparator.
+``DEVIATIONS`` : tuple of :class:`gyrobench.scenarios.claims.Deviation`
+    departures from the paper's stated protocol, with reason and measured effect.
+``report(config, units, claims) -> Outcome``
+    tables and figures from the units' results (formatting only).
+
+:func:`gyrobench.scenarios.units.run_paper` runs the units (resumable, on local processes
+or a dask.distributed cluster), judges the claims over them and calls ``report``. Other
+scenarios (``static_noise``, ``physics_checks``) define
+
 ``run(config, seed, *, progress=False) -> Outcome``
-    simulate, analyse, and return tables, figures and headline numbers beside
-    the paper's targets (``gyrobench reproduce``).
+    simulate, analyse, and return tables, figures and headline numbers.
 
 and, when it has a compensation stage (for ``gyrobench bench``),
 

@@ -24,6 +24,7 @@ import re
 import shlex
 import sys
 import time
+import typing
 import warnings
 from pathlib import Path
 
@@ -34,7 +35,7 @@ _INPUT_ERRORS: tuple[type[BaseException], ...] = (ValueError, TypeError, KeyErro
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
+    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2
         self.exit(2, f"gyrobench: error: {message} (see '{self.prog} --help')\n")
 
 
@@ -593,12 +594,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.set_defaults(func=_cmd_reproduce)
 
-    try:
-        from gyrobench.scenarios import bench_cli
-    except ImportError:  # pragma: no cover - bench not installed
-        bench_cli = None
-    if bench_cli is not None:
-        bench_cli.add_parser(sub)
+    from gyrobench.scenarios import bench_cli
+
+    bench_cli.add_parser(sub)
     return p
 
 

@@ -588,6 +588,7 @@ class BiasModels:
 def _true_bias_at_bins(fb: np.ndarray, config: Config) -> np.ndarray:
     """The true steady rectified bias [deg/h] at sweep frequencies ``fb`` (steady amplitude there)."""
     s = config.sweep().vibration
+    assert isinstance(s, SineSweep)  # Config.sweep() builds the swept-sine profile
     t_of_f = (
         np.log(fb / s.f_start) / np.log(s.f_end / s.f_start) * s.duration
         if s.spacing == "log"

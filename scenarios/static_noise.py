@@ -14,12 +14,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
 
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.scenarios.allan_report import TERMS, coefficient_table, coefficients_json
-from gyrobench.scenarios.base import FigureSpec, Headline, Outcome
+from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
 from gyrobench.scenarios.figures import allan_figure
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
@@ -135,7 +136,10 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     """Simulate both grades, fit, and compare each fitted coefficient with its true value."""
     t_start = time.perf_counter()
     recs = simulate(config, seed)
-    tables, figures, headlines, results = [], [], [], {"grades": {}}
+    tables: list[Table] = []
+    figures: list[FigureSpec] = []
+    headlines: list[Headline] = []
+    results: dict[str, Any] = {"grades": {}}
     for rec, (key, spec) in zip(recs, _grades(config).items()):
         curve = allan_deviation(rec["rate"], rec.fs, taus="octave")
         fit = fit_noise(curve)

@@ -1519,7 +1519,7 @@ def _results(units: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
         }
 
     return {
-        "units": [summary(u) for u in units],
+        "unit_rows": [summary(u) for u in units],
         "detail_unit": {
             "seed": u0["seed"],
             "paper": u0["paper"],

@@ -93,6 +93,11 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
         doc["units"] = outcome.units
         doc["claims"] = [c.as_dict() for c in outcome.claims]
         doc["deviations"] = [dataclasses.asdict(d) for d in outcome.deviations]
+    clash = sorted(set(doc) & set(outcome.results))
+    if clash:  # a scenario's own numbers must not overwrite the runner's (e.g. the unit count)
+        raise ValueError(
+            f"scenario {outcome.scenario!r}: results keys {clash} are reserved in results.json"
+        )
     doc.update(outcome.results)
     return _jsonable(doc)
 

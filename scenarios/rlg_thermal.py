@@ -1080,7 +1080,7 @@ def report(
         ),
     ]
     results = {
-        "units": rows,
+        "unit_rows": rows,
         "selection_frequency": freq,
         "regressors": dict(zip(REGRESSOR_LABELS, REGRESSOR_NAMES, strict=True)),
         "paper": {

@@ -198,3 +198,17 @@ def test_paper_heading_cites_the_paper(monkeypatch, tmp_path):
     md = (tmp_path / "report.md").read_text()
     assert "**Claims of CITATION OF 001**" in md
     assert "CITATION OF 001. seeds 3 to 22 (20 units)" in md  # the scenario section's header line
+
+
+def test_results_keys_may_not_overwrite_the_runners_fields():
+    from gyrobench.scenarios.base import Outcome
+    from gyrobench.scenarios.claims import Deviation
+    from gyrobench.scenarios.report import outcome_json
+
+    o = Outcome(scenario="x", title="t", seed=0, config=None, results={"units": [1, 2]})
+    o.claims, o.units = [], 3
+    o.deviations = [  # any deviation makes the runner's fields appear
+        Deviation(paper="000", what="w", paper_says="p", we_do="d", reason="r", effect="e")
+    ]
+    with pytest.raises(ValueError, match=r"scenario 'x': results keys \['units'\] are reserved"):
+        outcome_json(o)

@@ -131,7 +131,7 @@ def test_report_runs(outcome, three_units):
         "fig4_before_after",
         "fig5_population",
     }
-    rows = outcome.results["units"]
+    rows = outcome.results["unit_rows"]
     assert [r["seed"] for r in rows] == [0, 1, 2]
     freq = outcome.results["selection_frequency"]
     for lab in sc.REGRESSOR_LABELS:
@@ -142,7 +142,7 @@ def test_report_runs(outcome, three_units):
 def test_report_one_unit_and_refuses_none():
     u = sc.experiment(sc.Config(), 5)
     o = sc.report(sc.Config(), [u], evaluate(sc.CLAIMS, [u["quantities"]]))
-    assert o.seed == 5 and o.results["units"][0]["cross_unit_ratio"] is None
+    assert o.seed == 5 and o.results["unit_rows"][0]["cross_unit_ratio"] is None
     with pytest.raises(ValueError, match="units must hold at least one experiment result"):
         sc.report(sc.Config(), [], [])
 
@@ -219,5 +219,5 @@ def test_twenty_units_every_claim_testable():
     again = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
     assert [r.holds for r in res] == [r.holds for r in again]
     o = sc.report(sc.Config(), us, res)
-    assert len(o.results["units"]) == 20
-    assert all(math.isfinite(r["cross_unit_ratio"]) for r in o.results["units"])
+    assert len(o.results["unit_rows"]) == 20
+    assert all(math.isfinite(r["cross_unit_ratio"]) for r in o.results["unit_rows"])

@@ -12,7 +12,7 @@ __all__ = ["allan_figure"]
 _TERM_STYLE = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
 
 
-def allan_figure(curve, fit=None, *, title: str = "", true_avar=None) -> Figure:
+def allan_figure(curve, fit=None, *, title: str = "", true_avar=None, quantity: str = "rate") -> Figure:
     """ADEV in deg/h against tau with its confidence band, the fitted model and each term's asymptote.
 
     Parameters
@@ -24,7 +24,7 @@ def allan_figure(curve, fit=None, *, title: str = "", true_avar=None) -> Figure:
     true_avar : callable tau -> AVAR [rad^2/s^2], optional
         The closed-form curve of the simulated model, drawn dashed.
     """
-    k = units.to_deg_per_h(1.0)
+    k, yunit = (1.0 / 9.80665e-6, "ug") if quantity == "accel" else (units.to_deg_per_h(1.0), "deg/h")
     fig = Figure(figsize=(7.0, 4.8))
     ax = fig.add_subplot()
     tau = np.asarray(curve.tau)
@@ -43,7 +43,7 @@ def allan_figure(curve, fit=None, *, title: str = "", true_avar=None) -> Figure:
         lo, hi = (curve.low * k).min(), (curve.high * k).max()
         ax.set_ylim(lo / 3, hi * 3)
     ax.set_xlabel("cluster time tau [s]")
-    ax.set_ylabel("Allan deviation [deg/h]")
+    ax.set_ylabel(f"Allan deviation [{yunit}]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="best")
     if title:

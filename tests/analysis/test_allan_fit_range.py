@@ -13,7 +13,6 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis.allan import (
     FitRange,
     allan_deviation,

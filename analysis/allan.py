@@ -398,6 +398,39 @@ def _max_m(kind: str, n: int) -> int:
     }[kind]
 
 
+#: taus="all": largest number of (sample, tau) pairs computed, ~1-2 min at the measured
+#: 2.8e8 pairs/s of the blockwise per-tau pass (2 shared cores)
+_ALL_TAUS_MAX_WORK = 2e10
+#: bytes per tau of the curve and its work (tau, m, deviation, bounds, terms, edf, alpha)
+_BYTES_PER_TAU = 8 * 10
+
+
+def _available_memory() -> float:
+    """Available physical memory [bytes] (sysconf; inf where the platform does not say)."""
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return math.inf
+
+
+def _check_all_taus(n: int, n_tau: int) -> None:
+    """Refuse taus='all' that would not fit in memory or would run for hours, in one line."""
+    mem = 8.0 * (n + 1) + _BYTES_PER_TAU * n_tau + 16 * _BLOCK * 8
+    avail = _available_memory()
+    if mem > 0.8 * avail:
+        raise ValueError(
+            f"taus='all' on {n} samples means {n_tau} taus and about {mem / 2**30:.3g} GiB, more than 80 % of the "
+            f"{avail / 2**30:.3g} GiB available: use taus='octave' or 'decade', or a shorter segment"
+        )
+    work = float(n) * n_tau
+    if work > _ALL_TAUS_MAX_WORK:
+        raise ValueError(
+            f"taus='all' on {n} samples means {n_tau} taus, {work:.3g} sample-tau pairs (about "
+            f"{work / 2.8e8 / 60:.3g} min here; the limit is {_ALL_TAUS_MAX_WORK:.0e}, ~1-2 min): use taus='octave' "
+            f"or 'decade', or a shorter segment (n <= {int(math.sqrt(4 * _ALL_TAUS_MAX_WORK))} samples)"
+        )
+
+
 def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
     if isinstance(taus, str):
         if taus not in TAU_CHOICES:
@@ -414,6 +447,7 @@ def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
             k = int(math.floor(math.log10(m_max)))
             m = np.array([f * 10**j for j in range(k + 1) for f in (1, 2, 4)])
         else:
+            _check_all_taus(n, m_max)
             m = np.arange(1, m_max + 1)
         m = m[m <= m_max]
         return m.astype(np.int64)

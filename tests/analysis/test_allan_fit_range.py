@@ -136,3 +136,14 @@ def test_identifiability_uses_the_widened_interval(filtered_curve):
     for j, (name, c) in enumerate(fit.avar_coefficients.items()):
         se = math.sqrt(max(fit.covariance[j, j], 0.0))
         assert fit.coefficients[name].ci95[1] == pytest.approx(avar_to_coefficient(name, c + z * se), rel=1e-9)
+
+
+def test_all_taus_refused_before_any_work(monkeypatch):
+    from gyrobench.analysis import allan
+
+    y = np.zeros(400_001)  # 100_000 taus x 400_001 samples = 4e10 pairs > the 2e10 limit
+    with pytest.raises(ValueError, match=r"taus='all' on 400001 samples means 100000 taus, 4e\+10 sample-tau pairs"):
+        allan_deviation(y, FS, taus="all")
+    monkeypatch.setattr(allan, "_available_memory", lambda: 1e6)  # 1 MB left: refuse on memory first
+    with pytest.raises(ValueError, match="GiB, more than 80 % of the"):
+        allan_deviation(np.zeros(10_000), FS, taus="all")

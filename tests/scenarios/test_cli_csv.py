@@ -289,3 +289,10 @@ def test_other_kinds_export_the_curve_without_a_fit(tmp_path, capsys, rate):
     c = allan_deviation(units.deg_per_s(rate), 10.0, kind="modified")
     np.testing.assert_allclose(doc["curve"]["deviation"], c.deviation, rtol=1e-12)
     assert doc["adev_floor"]["value"] == pytest.approx(float(c.deviation.min()), rel=1e-12)
+
+
+def test_all_taus_too_large_is_one_line(tmp_path, capsys):
+    p = tmp_path / "g.csv"
+    p.write_text("gyro [deg/s]\n" + "0.1\n0.2\n" * 200_001)
+    code, _, err = run(["allan", p, "--fs", "100", "--taus", "all"], capsys)
+    assert_one_line_error(code, err, "taus='all' on 400002 samples means 100000 taus")

@@ -7,7 +7,7 @@ the IEEE-952 field units of :data:`gyrobench.sim.units.COEFFICIENT_FIELD_UNITS`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from gyrobench.scenarios.base import Table
@@ -117,10 +117,28 @@ class ChannelResult:
     fit: Any = None
     no_fit: str | None = None
     fit_range: Any = None
+    warnings: list = field(default_factory=list)
+    temperature: Any = None
+
+
+def _stationarity(data, fs: float, curve, label: str) -> list[str]:
+    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows."""
+    import numpy as np
+
+    from gyrobench.analysis.stationarity import stationarity_check
+
+    n = len(data)
+    ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
+    if not np.any(ok):
+        return []
+    i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
+    rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
+    return rep.warnings(label)
 
 
 def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlapping",
-            terms: tuple[str, ...] = TERMS, tau_min="auto", tau_max: float | None = None) -> ChannelResult:
+            terms: tuple[str, ...] = TERMS, tau_min="auto", tau_max: float | None = None,
+            temperature=None) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
@@ -134,9 +152,15 @@ def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlappin
         # float(): print nan / inf, not np.float64(nan)
         raise ValueError(f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
                          f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite")
-    curve = allan_deviation(channel.data, fs, taus=taus, kind=kind)
+    data, tfit = channel.data, None
+    if temperature is not None:
+        from gyrobench.analysis.stationarity import remove_temperature
+
+        data, tfit = remove_temperature(channel.data, temperature, fs)
+    curve = allan_deviation(data, fs, taus=taus, kind=kind)
+    warn = _stationarity(data, fs, curve, channel.label)
     if kind not in FIT_KINDS:
-        return ChannelResult(channel, curve, no_fit=(
+        return ChannelResult(channel, curve, warnings=warn, temperature=tfit, no_fit=(
             f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
             f"are those of the Allan variance; the curve is exported"))
     fit_curve = curve
@@ -155,7 +179,7 @@ def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlappin
         )
     fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
     fit = fit_noise(fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max)
-    return ChannelResult(channel, curve, fit=fit, fit_range=fr)
+    return ChannelResult(channel, curve, fit=fit, fit_range=fr, warnings=warn, temperature=tfit)
 
 
 def _floor(curve) -> tuple[float, float]:
@@ -225,6 +249,13 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
+    out["warnings"] = list(res.warnings)
+    if res.temperature is not None:
+        tf = res.temperature
+        out["temperature"] = {"model": "y = c0 + c_T (T - Tbar) + c_dT dT/dt", "c_T": tf.c_temperature,
+                              "c_T_unit": f"{_si_unit(q)}/degC", "c_dT": tf.c_rate,
+                              "c_dT_unit": f"{_si_unit(q)}/(degC/s)", "se_T": tf.se_temperature,
+                              "se_dT": tf.se_rate, "explained": tf.explained}
     return out
 
 
@@ -249,6 +280,13 @@ def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
     return {**head, "channels": chans}
 
 
+def _temp_units(quantity: str) -> tuple[float, str]:
+    """Factor from SI and unit of a temperature coefficient's numerator: deg/h (gyro) or ug (accelerometer)."""
+    if quantity == "accel":
+        return 1.0 / 9.80665e-6, "ug"
+    return float(units.to_deg_per_h(1.0)), "deg/h"
+
+
 def plot_title(log, res: ChannelResult) -> str:
     n = len(res.channel.data)
     return (f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
@@ -268,12 +306,22 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                 f"fitted taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s (chi2/dof = {f.chi2_per_dof:.3g}, "
                 f"p = {f.p_value:.2g}); intervals widened x{f.inflation:.3g}"
             )
+    for res in results:
+        out += [f"WARNING {w}" for w in res.warnings]
     first = results[0]
     n = len(first.channel.data)
     out.append(f"{log.path}: {n} samples at {log.fs:g} Hz ({n / log.fs / 3600:.3g} h); {first.curve.kind} "
                f"deviation, {len(first.curve.tau)} taus from {first.curve.tau[0]:.3g} to {first.curve.tau[-1]:.3g} s")
     out += [f"note: {t}" for t in log.notes]
     for res in results:
+        if res.temperature is not None:
+            tf, k, u = res.temperature, *_temp_units(res.channel.quantity)
+            out.append(
+                f"{res.channel.label}: removed the temperature-explained part y = c_T (T - Tbar) + c_dT dT/dt "
+                f"(least squares, {tf.explained:.1%} of the variance): c_T = {tf.c_temperature * k:.4g} "
+                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} +- {tf.se_rate * k / 60:.2g} "
+                f"{u}/(degC/min) (white-residual standard errors)"
+            )
         if res.no_fit:
             out.append(f"{res.channel.label}: {res.no_fit}")
             continue

@@ -313,7 +313,7 @@ def _cmd_allan(args) -> int:
     results = []
     for ch in log.channels:
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
-                                   tau_min=args.tau_min, tau_max=args.tau_max))
+                                   tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))
     if args.json:
         print(json.dumps(rep.log_json(log, results)))
     else:
@@ -416,7 +416,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "(default: from the header '[unit]' or the format)")
     s.add_argument("--start", type=_nonneg_float("--start"), help="CSV: analyse from this time [s after the first sample]")
     s.add_argument("--stop", type=_nonneg_float("--stop"), help="CSV: analyse up to this time [s after the first sample]")
-    s.add_argument("--temperature", help=argparse.SUPPRESS)
+    s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
+                                         "c_dT dT/dt, least squares) is removed before the analysis")
     s.add_argument("--kind", default="overlapping",
                    choices=("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total"),
                    help="overlapping (default) or standard Allan deviation, fitted; modified, hadamard, "

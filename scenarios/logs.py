@@ -325,14 +325,16 @@ def read_csv_log(
         raise ValueError(f"the time column {header[time_idx]!r} of {str(path)!r} has no time unit "
                          f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)")
 
-    data = _parse_rows(path, lines, first_data, delim, ncols, names)
+    usecols = sorted({*idxs, *(i for i in (time_idx, temp_idx) if i is not None)})
+    pos = {c: k for k, c in enumerate(usecols)}
+    data = _parse_rows(path, lines, first_data, delim, ncols, names, usecols)
     rows = data.shape[0]
     if rows < MIN_ROWS:
         raise ValueError(f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
                          f"{MIN_ROWS} (and many more for an Allan analysis)")
     t0 = 0.0
     if time_idx is not None:
-        t = data[:, time_idx]
+        t = data[:, pos[time_idx]]
         t_first = float(t[0])
         if abs(t_first) > 2.0**53:  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
             t = _exact_time(lines, first_data, delim, time_idx, t)
@@ -364,8 +366,8 @@ def read_csv_log(
 
             raise ValueError(f"the unit of column {label!r} is unknown: give --units "
                              f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})")
-        chans.append(Channel(label=label, quantity=q or "rate", data=_to_si(data[a:b, i], q or "rate", u), unit=u))
-    temp = np.array(data[a:b, temp_idx]) if temp_idx is not None else None
+        chans.append(Channel(label=label, quantity=q or "rate", data=_to_si(data[a:b, pos[i]], q or "rate", u), unit=u))
+    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
     return Log(path=path, fs=float(fs), channels=chans, notes=notes, temperature=temp, fmt=fmt, t0=t0 + a / fs)
 
 
@@ -379,34 +381,41 @@ def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float
     return np.asarray(units.rate_to_si(np.ascontiguousarray(x), unit), dtype=float)
 
 
-def _parse_rows(path: Path, lines: list[str], first: int, delim: str, ncols: int, names: list[str]) -> NDArray:
-    """All data rows as floats; a row with another cell count or a non-number is refused naming its line."""
-    body = lines[first:]
-    counts = np.fromiter((ln.count(delim) for ln in body), dtype=np.int64, count=len(body))
-    bad = np.flatnonzero(counts != ncols - 1)
-    for j in bad:  # blank and comment lines are allowed; quoted cells may hold the separator
-        s = body[j].strip()
-        if not s or s.startswith("#"):
-            continue
-        n = len(_cells(s, delim))
-        if n != ncols:
-            raise ValueError(f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
-                             f"a row with {'an extra' if n > ncols else 'a missing'} column is refused")
+def _parse_rows(path: Path, lines: list[str], first: int, delim: str, ncols: int, names: list[str],
+                usecols: list[int]) -> NDArray:
+    """The data rows' columns ``usecols`` as floats.
+
+    Every row must have ``ncols`` cells: when the separators in the body do not add up to
+    that, the rows are scanned and the first bad one is refused naming its line; a cell that
+    is not a number is refused naming its line and column.
+    """
+    body = "\n".join(lines[first:])
+    n_rows = len(lines) - first
+    if body.count(delim) != n_rows * (ncols - 1):  # some row (or a comment, blank or quoted cell) differs
+        for j, ln in enumerate(lines[first:]):
+            s = ln.strip()
+            if not s or s.startswith("#") or ln.count(delim) == ncols - 1:
+                continue
+            n = len(_cells(s, delim))
+            if n != ncols:
+                raise ValueError(f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
+                                 f"a row with {'an extra' if n > ncols else 'a missing'} column is refused")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            return np.loadtxt(io.StringIO("\n".join(body)), delimiter=delim, comments="#", ndmin=2,
-                              quotechar='"', dtype=float)
+            return np.loadtxt(io.StringIO(body), delimiter=delim, comments="#", ndmin=2, quotechar='"',
+                              dtype=float, usecols=usecols)
     except ValueError:
         pass
-    for j, ln in enumerate(body):  # find the first cell that is not a number, for the message
+    for j, ln in enumerate(lines[first:]):  # find the first cell that is not a number, for the message
         s = ln.strip()
         if not s or s.startswith("#"):
             continue
-        for k, cell in enumerate(_cells(s, delim)):
-            if not _is_number(cell):
+        cells = _cells(s, delim)
+        for k in usecols:
+            if k < len(cells) and not _is_number(cells[k]):
                 col = names[k] if k < len(names) else str(k)
-                raise ValueError(f"{str(path)!r} line {first + j + 1}, column {col!r}: {cell!r} is not a number")
+                raise ValueError(f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number")
     raise ValueError(f"{str(path)!r}: the data rows cannot be read as numbers")  # pragma: no cover
 
 

@@ -296,3 +296,22 @@ def test_all_taus_too_large_is_one_line(tmp_path, capsys):
     p.write_text("gyro [deg/s]\n" + "0.1\n0.2\n" * 200_001)
     code, _, err = run(["allan", p, "--fs", "100", "--taus", "all"], capsys)
     assert_one_line_error(code, err, "taus='all' on 400002 samples means 100000 taus")
+
+
+def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
+    n = 100_000
+    t = np.arange(n) / FS
+    temp = 25 + 10 * np.sin(2 * np.pi * t / 500.0)
+    y = 0.01 * rng.standard_normal(n) + 0.002 * (temp - 25)  # deg/s
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([t, y, temp]), delimiter=",", header="time [s],gyro [deg/s],temp [degC]",
+               comments="", fmt="%.9g")
+    code, out, err = run(["allan", p, "--column", "gyro", "--temperature", "temp", "--json"], capsys)
+    assert code == 0, err
+    tc = json.loads(out)["temperature"]
+    assert tc["c_T"] == pytest.approx(units.deg_per_s(0.002), rel=0.05) and tc["c_T_unit"] == "rad/s/degC"
+    y[60_000:] += 0.05  # a step at 600 s
+    np.savetxt(p, np.column_stack([t, y]), delimiter=",", header="time [s],gyro [deg/s]", comments="", fmt="%.9g")
+    code, out, err = run(["allan", p], capsys)
+    assert code == 0, err
+    assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in out.splitlines()[:3]), out

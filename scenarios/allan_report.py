@@ -356,3 +356,51 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                 v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
                 out.append(pre + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0)) + unit)
     return out
+
+
+# ----------------------------------------------------------------------------- Kalibr export
+def kalibr_yaml(log, results: list[ChannelResult]) -> str:
+    """The Kalibr IMU noise file (imu.yaml) from the fits of a log's gyro and accelerometer axes.
+
+    Conversions (Kalibr wiki "IMU Noise Model"; continuous-time densities equal the IEEE 952
+    coefficients in SI):
+
+    * gyroscope_noise_density [rad/s/sqrt(Hz)] = N [rad/sqrt(s)] (angle random walk);
+    * gyroscope_random_walk [rad/s^2/sqrt(Hz)] = K [rad/s/sqrt(s)] (rate random walk);
+    * accelerometer_noise_density [m/s^2/sqrt(Hz)] = N [m/s/sqrt(s)] (velocity random walk);
+    * accelerometer_random_walk [m/s^3/sqrt(Hz)] = K [m/s^2/sqrt(s)] (acceleration random walk);
+    * update_rate [Hz] = the sample rate.
+
+    Kalibr takes one value per sensor: the largest over the axes (conservative). A term not
+    identifiable on an axis contributes its 95 % upper bound, and the file says so in a
+    comment. Bias instability has no place in Kalibr's model and is given as a comment.
+    """
+    lines = ["# Kalibr IMU noise parameters written by gyrobench allan",
+             f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
+             "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time"]
+    keys = {("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
+            ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
+            ("accel", "N"): ("accelerometer_noise_density", "m/s^2/sqrt(Hz)"),
+            ("accel", "K"): ("accelerometer_random_walk", "m/s^3/sqrt(Hz)")}
+    body = []
+    for (q, term), (key, unit) in keys.items():
+        fits = [r for r in results if r.fit is not None and r.channel.quantity == q and term in r.fit.coefficients]
+        if not fits:
+            continue
+        vals, bounds = [], []
+        for r in fits:
+            c = r.fit.coefficients[term]
+            vals.append(c.value if c.identifiable else c.upper_bound)
+            if not c.identifiable:
+                bounds.append(r.channel.label)
+        note = f"  # 95 % upper bound on {', '.join(bounds)} (not identifiable)" if bounds else ""
+        body.append(f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}")
+        if term == "N":
+            bis = [r.fit.coefficients["B"] for r in fits if "B" in r.fit.coefficients]
+            bi = [c.value for c in bis if c.identifiable]
+            if bi:
+                lines.append(f"# {'gyroscope' if q == 'rate' else 'accelerometer'} bias instability B (not used by "
+                             f"Kalibr): {max(bi):.4e} [{_si_unit(q)}]")
+    if not body:
+        raise ValueError("--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted")
+    return "\n".join(lines + body + [f"update_rate: {log.fs:g}  # [Hz]", ""])

@@ -296,10 +296,13 @@ def _cmd_allan(args) -> int:
     path = Path(args.file)
     if not path.is_file():
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
-    if args.plot:
-        plot = Path(args.plot)
-        if plot.is_dir():
-            raise _BadInput(f"--plot must name a file; {str(plot)!r} is a folder")
+    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # checked before any work
+        if target:
+            out = Path(target)
+            if out.is_dir():
+                raise _BadInput(f"{flag} must name a file; {str(out)!r} is a folder")
+            if not out.parent.is_dir():
+                raise _BadInput(f"{flag}: folder {str(out.parent)!r} does not exist")
     columns = args.column or None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -314,6 +317,12 @@ def _cmd_allan(args) -> int:
     for ch in log.channels:
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))
+    if args.kalibr:
+        from gyrobench.sim.recording import atomic_path
+
+        text = rep.kalibr_yaml(log, results)
+        with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
     if args.json:
         print(json.dumps(rep.log_json(log, results)))
     else:
@@ -431,6 +440,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--tau-max", type=_positive_float("--tau-max"), help="longest tau to fit [s]")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
     s.add_argument("--plot", help="write the ADEV figure (PNG)")
+    s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
+                                    "from N and K, largest over the axes)")
     s.set_defaults(func=_cmd_allan)
 
     s = sub.add_parser("reproduce", help="run scenarios and write the report (Markdown, HTML, PNG, results.json)")

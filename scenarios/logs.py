@@ -341,6 +341,11 @@ def read_csv_log(
         tname = header[time_idx] if header else str(time_idx)
         if not time_stated and time_scale is not None:
             time_scale, note = _time_scale_from_magnitude(t_first, tname)
+            if note is None and fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
+                time_scale, note = 1e-9, f"time column {tname!r} read in ns (the {fmt} format's unit)"
+            elif note is None and float(np.median(np.diff(t))) >= 1.0:
+                note = (f"time column {tname!r} has no unit and steps of {float(np.median(np.diff(t))):.6g}: read as "
+                        f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not")
             if note:
                 notes.append(note)
         _check_uniform(path, t, tname)

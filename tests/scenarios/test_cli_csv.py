@@ -315,3 +315,27 @@ def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
     code, out, err = run(["allan", p], capsys)
     assert code == 0, err
     assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in out.splitlines()[:3]), out
+
+
+def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):
+    n = 200_000
+    data = np.column_stack([np.arange(n) * 10_000_000,  # ns
+                            1e-3 * 10 * rng.standard_normal((n, 2)),  # gyro N = 1e-3 rad/sqrt(s) at 100 Hz
+                            2e-2 * 10 * rng.standard_normal((n, 1))])  # accel N = 2e-2 m/s/sqrt(s)
+    p = tmp_path / "imu0.csv"
+    np.savetxt(p, data, delimiter=",", header="timestamp,omega_x,omega_y,alpha_x", comments="",
+               fmt=["%d", "%.9g", "%.9g", "%.9g"])
+    out_yaml = tmp_path / "imu.yaml"
+    code, out, err = run(["allan", p, "--all-axes", "--kalibr", out_yaml, "--json"], capsys)
+    assert code == 0, err
+    doc = json.loads(out)
+    got = dict(ln.split(":", 1) for ln in out_yaml.read_text().splitlines() if ln and not ln.startswith("#"))
+    val = {k: float(v.split("#")[0]) for k, v in got.items()}
+    assert val["update_rate"] == 100.0
+    gyro_n = max(units.deg_per_sqrt_h(c["fit"]["terms"]["N"]["value"]) for c in doc["channels"][:2])
+    assert val["gyroscope_noise_density"] == pytest.approx(gyro_n, rel=1e-5)  # 6 printed digits
+    assert val["accelerometer_noise_density"] == pytest.approx(doc["channels"][2]["fit"]["terms"]["N"]["value"] / 60,
+                                                                rel=1e-5)
+    assert {"gyroscope_random_walk", "accelerometer_random_walk"} <= set(val)
+    code, _, err = run(["allan", p, "--all-axes", "--kalibr", tmp_path / "nope" / "imu.yaml"], capsys)
+    assert_one_line_error(code, err, "--kalibr: folder")

@@ -339,3 +339,18 @@ def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):
     assert {"gyroscope_random_walk", "accelerometer_random_walk"} <= set(val)
     code, _, err = run(["allan", p, "--all-axes", "--kalibr", tmp_path / "nope" / "imu.yaml"], capsys)
     assert_one_line_error(code, err, "--kalibr: folder")
+
+
+def test_allan_figure_has_band_model_bounds_shading_and_residuals(rng):
+    from gyrobench.analysis.allan import fit_noise as fit_
+    from gyrobench.scenarios.figures import allan_figure
+
+    c = allan_deviation(units.deg_per_s(0.01 * rng.standard_normal(100_000)), 100.0)
+    fit = fit_(c, tau_min=0.04)
+    fig = allan_figure(c, fit, title="f.csv: gyro, 100 Hz, 0.278 h")
+    ax, axr = fig.axes
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "95% confidence" in labels and any(t.startswith("fitted model") for t in labels)
+    assert any(t.startswith("N = ") for t in labels) and any(" < " in t and "(95 %)" in t for t in labels)
+    assert len(ax.patches) >= 1  # the not-fitted taus (0.01, 0.02 s) shaded
+    assert axr.get_ylabel() == "(AVAR - fit) / sd" and ax.get_title().startswith("f.csv: gyro")

@@ -114,7 +114,14 @@ def stationarity_check(
     med = float(np.median(var))
     p = false_alarm / k
     limit = 2.0 * float(stats.chi2.isf(p, w - 1)) / (w - 1)
-    motion = [(i * window, (i + 1) * window, float(var[i] / med)) for i in np.flatnonzero(var > limit * med)] if med > 0 else []
+    motion = (
+        [
+            (i * window, (i + 1) * window, float(var[i] / med))
+            for i in np.flatnonzero(var > limit * med)
+        ]
+        if med > 0
+        else []
+    )
     sd = math.sqrt(2.0) * adev_at
     z_lim = NormalDist().inv_cdf(1.0 - p / 2.0)
     steps = []
@@ -180,7 +187,9 @@ def remove_temperature(
     if np.ptp(t) == 0:
         raise ValueError("temperature column is constant: nothing to regress on")
     w = min(max(1, int(round(smooth * fs))), y.size)
-    if w > 1:  # moving average, normalised at the ends (no zero padding: that would fake a slope there)
+    if (
+        w > 1
+    ):  # moving average, normalised at the ends (no zero padding: that would fake a slope there)
         ker = np.ones(w)
         ts = np.convolve(t, ker, mode="same") / np.convolve(np.ones_like(t), ker, mode="same")
     else:
@@ -194,8 +203,10 @@ def remove_temperature(
     cov = s2 * np.linalg.pinv(x.T @ x)
     explained = 1.0 - float(np.var(resid)) / float(np.var(y)) if np.var(y) > 0 else 0.0
     fit = TemperatureFit(
-        c_temperature=float(coef[1]), c_rate=float(coef[2]),
-        se_temperature=math.sqrt(max(cov[1, 1], 0.0)), se_rate=math.sqrt(max(cov[2, 2], 0.0)),
+        c_temperature=float(coef[1]),
+        c_rate=float(coef[2]),
+        se_temperature=math.sqrt(max(cov[1, 1], 0.0)),
+        se_rate=math.sqrt(max(cov[2, 2], 0.0)),
         explained=explained,
     )
     return y - x[:, 1:] @ coef[1:], fit

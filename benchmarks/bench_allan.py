@@ -61,7 +61,9 @@ def nnls_fit(tau: np.ndarray, avar: np.ndarray) -> dict[str, float]:
     """allan-variance's estimate_parameters: nnls of sum_n C_n tau^n / avar = 1 over the five terms."""
     from scipy.optimize import nnls
 
-    x = np.stack([3 / tau**2, 1 / tau, np.full_like(tau, 2 * np.log(2) / np.pi), tau / 3, tau**2 / 2], axis=1)
+    x = np.stack(
+        [3 / tau**2, 1 / tau, np.full_like(tau, 2 * np.log(2) / np.pi), tau / 3, tau**2 / 2], axis=1
+    )
     c = nnls(x / avar[:, None], np.ones_like(avar))[0]
     return dict(zip("QNBKR", np.sqrt(c).tolist(), strict=True))
 
@@ -87,13 +89,28 @@ def worker(which: str, path: str) -> None:
         extra = nnls_fit(np.asarray(taus), np.asarray(dev) ** 2)
     wall = time.perf_counter() - t0
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(json.dumps({"which": which, "wall_s": wall, "peak_kb": peak, "after_load_kb": rss0,
-                      "n_tau": int(len(dev)), "dev": [float(d) for d in dev], "fit": extra}))
+    print(
+        json.dumps(
+            {
+                "which": which,
+                "wall_s": wall,
+                "peak_kb": peak,
+                "after_load_kb": rss0,
+                "n_tau": int(len(dev)),
+                "dev": [float(d) for d in dev],
+                "fit": extra,
+            }
+        )
+    )
 
 
 def run(which: str, path: str) -> dict:
-    out = subprocess.run([sys.executable, __file__, "--worker", which, "--data", path],
-                         check=True, capture_output=True, text=True)
+    out = subprocess.run(
+        [sys.executable, __file__, "--worker", which, "--data", path],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -107,7 +124,9 @@ def compare(n: int, path: str, repeat: int) -> None:
         make_data(path, n)
         print(f"generated {n} samples in {time.perf_counter() - t:.0f} s -> {path}")
     if n >= 10_000_000:
-        subprocess.run([sys.executable, "-c", "import numpy as np; np.ones(1 << 29).sum()"], check=True)  # 4 GB
+        subprocess.run(
+            [sys.executable, "-c", "import numpy as np; np.ones(1 << 29).sum()"], check=True
+        )  # 4 GB
     runs: dict[str, list[dict]] = {"allantools": [], "gyrobench": []}
     for _ in range(repeat):
         for w in runs:
@@ -115,14 +134,21 @@ def compare(n: int, path: str, repeat: int) -> None:
     res = {w: min(r, key=lambda d: d["wall_s"]) for w, r in runs.items()}
     g, t = res["gyrobench"], res["allantools"]
     rel = np.max(np.abs(np.array(g["dev"]) / np.array(t["dev"]) - 1))
-    print(f"\n{n:.3g} samples at {FS:g} Hz, {g['n_tau']} octave taus (m = 1 .. N/4); "
-          f"max |dev/allantools - 1| = {rel:.1e}")
+    print(
+        f"\n{n:.3g} samples at {FS:g} Hz, {g['n_tau']} octave taus (m = 1 .. N/4); "
+        f"max |dev/allantools - 1| = {rel:.1e}"
+    )
     for w, r in runs.items():
         print(f"  {w}: wall times {times(r)} s")
     print(f"  {'':44} {'wall [s]':>9} {'peak RSS [MB]':>14} {'above data [MB]':>16}")
-    for name, r in (("gyrobench allan_deviation + fit_noise", g), ("allantools.oadev + NNLS (allan-variance)", t)):
-        print(f"  {name:44} {r['wall_s']:9.3f} {r['peak_kb'] / 1024:14.0f} "
-              f"{(r['peak_kb'] - r['after_load_kb']) / 1024:16.0f}")
+    for name, r in (
+        ("gyrobench allan_deviation + fit_noise", g),
+        ("allantools.oadev + NNLS (allan-variance)", t),
+    ):
+        print(
+            f"  {name:44} {r['wall_s']:9.3f} {r['peak_kb'] / 1024:14.0f} "
+            f"{(r['peak_kb'] - r['after_load_kb']) / 1024:16.0f}"
+        )
     print(f"  speed-up: {t['wall_s'] / g['wall_s']:.2f}x")
     print("  gyrobench fit:", {k: (None if v is None else f"{v:.4g}") for k, v in g["fit"].items()})
     print("  NNLS fit:     ", {k: f"{v:.4g}" for k, v in t["fit"].items()})
@@ -140,8 +166,10 @@ def main(argv: list[str] | None = None) -> int:
     if a.worker:
         worker(a.worker, a.data)
         return 0
-    print(f"machine: {platform.machine()} {platform.processor() or ''} {os.cpu_count()} cores (shared), "
-          f"Python {platform.python_version()}, numpy {np.__version__}")
+    print(
+        f"machine: {platform.machine()} {platform.processor() or ''} {os.cpu_count()} cores (shared), "
+        f"Python {platform.python_version()}, numpy {np.__version__}"
+    )
     for n in (int(float(v)) for v in a.n.split(",")):
         compare(n, a.data or os.path.join(a.data_dir, f"gyrobench_bench_{n}.npy"), a.repeat)
     return 0

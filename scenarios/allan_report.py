@@ -13,7 +13,15 @@ from typing import Any
 from gyrobench.scenarios.base import Table
 from gyrobench.sim import units
 
-__all__ = ["coefficients_json", "coefficient_table", "TERMS", "analyse", "log_json", "log_text", "ChannelResult"]
+__all__ = [
+    "coefficients_json",
+    "coefficient_table",
+    "TERMS",
+    "analyse",
+    "log_json",
+    "log_text",
+    "ChannelResult",
+]
 
 TERMS = ("Q", "N", "B", "K", "R")
 
@@ -105,7 +113,11 @@ def field_value(name: str, v, quantity: str = "rate"):
 
 
 def field_unit(name: str, quantity: str = "rate") -> str:
-    return ACCEL_FIELD_UNITS[name][1] if quantity == "accel" else units.COEFFICIENT_FIELD_UNITS[name][0]
+    return (
+        ACCEL_FIELD_UNITS[name][1]
+        if quantity == "accel"
+        else units.COEFFICIENT_FIELD_UNITS[name][0]
+    )
 
 
 @dataclass
@@ -124,7 +136,6 @@ class ChannelResult:
 def _stationarity(data, fs: float, curve, label: str) -> list[str]:
     """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows."""
     import numpy as np
-
     from gyrobench.analysis.stationarity import stationarity_check
 
     n = len(data)
@@ -136,9 +147,17 @@ def _stationarity(data, fs: float, curve, label: str) -> list[str]:
     return rep.warnings(label)
 
 
-def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlapping",
-            terms: tuple[str, ...] = TERMS, tau_min="auto", tau_max: float | None = None,
-            temperature=None) -> ChannelResult:
+def analyse(
+    channel,
+    fs: float,
+    *,
+    taus: str = "octave",
+    kind: str = "overlapping",
+    terms: tuple[str, ...] = TERMS,
+    tau_min="auto",
+    tau_max: float | None = None,
+    temperature=None,
+) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
@@ -150,8 +169,10 @@ def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlappin
     bad = np.flatnonzero(~np.isfinite(channel.data))
     if len(bad):
         # float(): print nan / inf, not np.float64(nan)
-        raise ValueError(f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
-                         f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite")
+        raise ValueError(
+            f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
+            f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite"
+        )
     data, tfit = channel.data, None
     if temperature is not None:
         from gyrobench.analysis.stationarity import remove_temperature
@@ -160,17 +181,33 @@ def analyse(channel, fs: float, *, taus: str = "octave", kind: str = "overlappin
     curve = allan_deviation(data, fs, taus=taus, kind=kind)
     warn = _stationarity(data, fs, curve, channel.label)
     if kind not in FIT_KINDS:
-        return ChannelResult(channel, curve, warnings=warn, temperature=tfit, no_fit=(
-            f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
-            f"are those of the Allan variance; the curve is exported"))
+        return ChannelResult(
+            channel,
+            curve,
+            warnings=warn,
+            temperature=tfit,
+            no_fit=(
+                f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
+                f"are those of the Allan variance; the curve is exported"
+            ),
+        )
     fit_curve = curve
     if taus == "all":
         m = curve.m
         keep = (m & (m - 1)) == 0
-        fit_curve = AllanCurve(tau=curve.tau[keep], deviation=curve.deviation[keep], low=curve.low[keep],
-                               high=curve.high[keep], n_terms=curve.n_terms[keep], edf=curve.edf[keep],
-                               kind=curve.kind, confidence=curve.confidence, fs=curve.fs,
-                               n_samples=curve.n_samples, alpha=None if curve.alpha is None else curve.alpha[keep])
+        fit_curve = AllanCurve(
+            tau=curve.tau[keep],
+            deviation=curve.deviation[keep],
+            low=curve.low[keep],
+            high=curve.high[keep],
+            n_terms=curve.n_terms[keep],
+            edf=curve.edf[keep],
+            kind=curve.kind,
+            confidence=curve.confidence,
+            fs=curve.fs,
+            n_samples=curve.n_samples,
+            alpha=None if curve.alpha is None else curve.alpha[keep],
+        )
     if len(fit_curve.tau) < len(terms):
         raise ValueError(
             f"{channel.label}: {len(channel.data)} samples at {fs:g} Hz give {len(fit_curve.tau)} {curve.kind} Allan "
@@ -252,10 +289,16 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
     out["warnings"] = list(res.warnings)
     if res.temperature is not None:
         tf = res.temperature
-        out["temperature"] = {"model": "y = c0 + c_T (T - Tbar) + c_dT dT/dt", "c_T": tf.c_temperature,
-                              "c_T_unit": f"{_si_unit(q)}/degC", "c_dT": tf.c_rate,
-                              "c_dT_unit": f"{_si_unit(q)}/(degC/s)", "se_T": tf.se_temperature,
-                              "se_dT": tf.se_rate, "explained": tf.explained}
+        out["temperature"] = {
+            "model": "y = c0 + c_T (T - Tbar) + c_dT dT/dt",
+            "c_T": tf.c_temperature,
+            "c_T_unit": f"{_si_unit(q)}/degC",
+            "c_dT": tf.c_rate,
+            "c_dT_unit": f"{_si_unit(q)}/(degC/s)",
+            "se_T": tf.se_temperature,
+            "se_dT": tf.se_rate,
+            "explained": tf.explained,
+        }
     return out
 
 
@@ -273,8 +316,12 @@ def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
             for name, t in d["fit"]["terms"].items():
                 d[name] = {k: t[k] for k in ("value", "low", "high", "unit")}
         chans.append(d)
-    head = {"file": str(log.path), "fs": float(log.fs), "n_samples": int(len(results[0].channel.data)),
-            "notes": list(log.notes)}
+    head = {
+        "file": str(log.path),
+        "fs": float(log.fs),
+        "n_samples": int(len(results[0].channel.data)),
+        "notes": list(log.notes),
+    }
     if len(chans) == 1:
         return {**head, **chans[0]}
     return {**head, "channels": chans}
@@ -289,8 +336,10 @@ def _temp_units(quantity: str) -> tuple[float, str]:
 
 def plot_title(log, res: ChannelResult) -> str:
     n = len(res.channel.data)
-    return (f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
-            f"({n} samples)")
+    return (
+        f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
+        f"({n} samples)"
+    )
 
 
 def log_text(log, results: list[ChannelResult]) -> list[str]:
@@ -310,8 +359,10 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
         out += [f"WARNING {w}" for w in res.warnings]
     first = results[0]
     n = len(first.channel.data)
-    out.append(f"{log.path}: {n} samples at {log.fs:g} Hz ({n / log.fs / 3600:.3g} h); {first.curve.kind} "
-               f"deviation, {len(first.curve.tau)} taus from {first.curve.tau[0]:.3g} to {first.curve.tau[-1]:.3g} s")
+    out.append(
+        f"{log.path}: {n} samples at {log.fs:g} Hz ({n / log.fs / 3600:.3g} h); {first.curve.kind} "
+        f"deviation, {len(first.curve.tau)} taus from {first.curve.tau[0]:.3g} to {first.curve.tau[-1]:.3g} s"
+    )
     out += [f"note: {t}" for t in log.notes]
     for res in results:
         if res.temperature is not None:
@@ -331,16 +382,22 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
         concave = res.fit_range.excluded if res.fit_range is not None else 0
         why = ""
         if excl and res.fit_range is not None:
-            why = (f" ({concave} filter-shaped: the log-log curve bends down there, which no sum of the IEEE power "
-                   f"laws can do; {excl - concave} more misfitting the model)")
+            why = (
+                f" ({concave} filter-shaped: the log-log curve bends down there, which no sum of the IEEE power "
+                f"laws can do; {excl - concave} more misfitting the model)"
+            )
         p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
-        out.append(f"{res.channel.label}: fit over {int(f.used.sum())} taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s"
-                   f"{f'; {excl} short tau(s) excluded' + why if excl else ''}; chi2/dof = {f.chi2_per_dof:.3g}, "
-                   f"p = {p}")
+        out.append(
+            f"{res.channel.label}: fit over {int(f.used.sum())} taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s"
+            f"{f'; {excl} short tau(s) excluded' + why if excl else ''}; chi2/dof = {f.chi2_per_dof:.3g}, "
+            f"p = {p}"
+        )
     if all(res.fit is None for res in results):
         return out
     multi = len(results) > 1
-    head = (f"{'channel':<18}" if multi else "") + f"{'term':<5}{'value':>14}  {'95 % interval':<28}unit"
+    head = (
+        f"{'channel':<18}" if multi else ""
+    ) + f"{'term':<5}{'value':>14}  {'95 % interval':<28}unit"
     out.append(head)
     for res in results:
         if res.fit is None:
@@ -351,10 +408,17 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             unit = field_unit(name, q)
             if not c.identifiable:
                 hi = field_value(name, c.upper_bound, q)
-                out.append(pre + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   (not identifiable from this record)")
+                out.append(
+                    pre
+                    + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   (not identifiable from this record)"
+                )
             else:
                 v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
-                out.append(pre + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0)) + unit)
+                out.append(
+                    pre
+                    + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0))
+                    + unit
+                )
     return out
 
 
@@ -375,16 +439,24 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
     identifiable on an axis contributes its 95 % upper bound, and the file says so in a
     comment. Bias instability has no place in Kalibr's model and is given as a comment.
     """
-    lines = ["# Kalibr IMU noise parameters written by gyrobench allan",
-             f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
-             "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time"]
-    keys = {("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
-            ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
-            ("accel", "N"): ("accelerometer_noise_density", "m/s^2/sqrt(Hz)"),
-            ("accel", "K"): ("accelerometer_random_walk", "m/s^3/sqrt(Hz)")}
+    lines = [
+        "# Kalibr IMU noise parameters written by gyrobench allan",
+        f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
+        "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
+    ]
+    keys = {
+        ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
+        ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
+        ("accel", "N"): ("accelerometer_noise_density", "m/s^2/sqrt(Hz)"),
+        ("accel", "K"): ("accelerometer_random_walk", "m/s^3/sqrt(Hz)"),
+    }
     body = []
     for (q, term), (key, unit) in keys.items():
-        fits = [r for r in results if r.fit is not None and r.channel.quantity == q and term in r.fit.coefficients]
+        fits = [
+            r
+            for r in results
+            if r.fit is not None and r.channel.quantity == q and term in r.fit.coefficients
+        ]
         if not fits:
             continue
         vals, bounds = [], []
@@ -394,13 +466,19 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
             if not c.identifiable:
                 bounds.append(r.channel.label)
         note = f"  # 95 % upper bound on {', '.join(bounds)} (not identifiable)" if bounds else ""
-        body.append(f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}")
+        body.append(
+            f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}"
+        )
         if term == "N":
             bis = [r.fit.coefficients["B"] for r in fits if "B" in r.fit.coefficients]
             bi = [c.value for c in bis if c.identifiable]
             if bi:
-                lines.append(f"# {'gyroscope' if q == 'rate' else 'accelerometer'} bias instability B (not used by "
-                             f"Kalibr): {max(bi):.4e} [{_si_unit(q)}]")
+                lines.append(
+                    f"# {'gyroscope' if q == 'rate' else 'accelerometer'} bias instability B (not used by "
+                    f"Kalibr): {max(bi):.4e} [{_si_unit(q)}]"
+                )
     if not body:
-        raise ValueError("--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted")
+        raise ValueError(
+            "--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted"
+        )
     return "\n".join(lines + body + [f"update_rate: {log.fs:g}  # [Hz]", ""])

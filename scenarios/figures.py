@@ -3,13 +3,18 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.figure import Figure
-
 from gyrobench.sim import units
+from matplotlib.figure import Figure
 
 __all__ = ["allan_figure"]
 
-_TERM_STYLE = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
+_TERM_STYLE = {
+    "Q": "tab:purple",
+    "N": "tab:blue",
+    "B": "tab:green",
+    "K": "tab:orange",
+    "R": "tab:red",
+}
 #: confidence of the drawn band: the level of the coefficient table's intervals
 BAND_LEVEL = 0.95
 
@@ -22,10 +27,14 @@ def _band(curve, level: float):
     p = (1.0 - level) / 2.0
     dev = np.asarray(curve.deviation, dtype=float)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf)), dev * np.sqrt(edf / stats.chi2.ppf(p, edf))
+        return dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf)), dev * np.sqrt(
+            edf / stats.chi2.ppf(p, edf)
+        )
 
 
-def allan_figure(curve, fit=None, *, title: str = "", true_avar=None, quantity: str = "rate") -> Figure:
+def allan_figure(
+    curve, fit=None, *, title: str = "", true_avar=None, quantity: str = "rate"
+) -> Figure:
     """ADEV against tau with its 95 % band, the fitted model, each term's asymptote and the residuals.
 
     Parameters
@@ -42,10 +51,14 @@ def allan_figure(curve, fit=None, *, title: str = "", true_avar=None, quantity: 
     true_avar : callable tau -> AVAR [SI^2], optional
         The closed-form curve of a simulated model, drawn dashed.
     """
-    k, yunit = (1.0 / 9.80665e-6, "ug") if quantity == "accel" else (units.to_deg_per_h(1.0), "deg/h")
+    k, yunit = (
+        (1.0 / 9.80665e-6, "ug") if quantity == "accel" else (units.to_deg_per_h(1.0), "deg/h")
+    )
     fig = Figure(figsize=(7.2, 6.0) if fit is not None else (7.0, 4.8))
     if fit is not None:
-        ax, axr = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3.2, 1.0], "hspace": 0.06})
+        ax, axr = fig.subplots(
+            2, 1, sharex=True, gridspec_kw={"height_ratios": [3.2, 1.0], "hspace": 0.06}
+        )
     else:
         ax, axr = fig.add_subplot(), None
     tau = np.asarray(curve.tau)
@@ -57,29 +70,63 @@ def allan_figure(curve, fit=None, *, title: str = "", true_avar=None, quantity: 
     if true_avar is not None:
         ax.loglog(tt, np.sqrt(true_avar(tt)) * k, "k--", lw=0.8, label="true model")
     if fit is not None:
-        used = np.asarray(fit.used, dtype=bool) if np.size(fit.used) == np.size(fit.curve.tau) else None
+        used = (
+            np.asarray(fit.used, dtype=bool)
+            if np.size(fit.used) == np.size(fit.curve.tau)
+            else None
+        )
         fit_tau = np.asarray(fit.curve.tau)
         if used is not None and not used.all():
             t_lo, t_hi = fit_tau[used][0], fit_tau[used][-1]
-            for a_, b_, cut in ((tau[0] / 1.5, t_lo / 1.2, t_lo > tau[0]), (t_hi * 1.2, tau[-1] * 1.5, t_hi < tau[-1])):
+            for a_, b_, cut in (
+                (tau[0] / 1.5, t_lo / 1.2, t_lo > tau[0]),
+                (t_hi * 1.2, tau[-1] * 1.5, t_hi < tau[-1]),
+            ):
                 if cut:
                     for axis in (ax, axr):
                         axis.axvspan(a_, b_, color="tab:red", alpha=0.07, lw=0)
-            ax.text(0.01, 0.02, "shaded: not fitted", transform=ax.transAxes, fontsize=7, color="tab:red")
-        ax.loglog(tt, np.sqrt(fit.avar(tt)) * k, color="tab:cyan", lw=2.4, alpha=0.85,
-                  label="fitted model" + (f" (MISFIT, chi2/dof {fit.chi2_per_dof:.3g})" if fit.misfit else ""))
+            ax.text(
+                0.01,
+                0.02,
+                "shaded: not fitted",
+                transform=ax.transAxes,
+                fontsize=7,
+                color="tab:red",
+            )
+        ax.loglog(
+            tt,
+            np.sqrt(fit.avar(tt)) * k,
+            color="tab:cyan",
+            lw=2.4,
+            alpha=0.85,
+            label="fitted model"
+            + (f" (MISFIT, chi2/dof {fit.chi2_per_dof:.3g})" if fit.misfit else ""),
+        )
         for name, c in fit.coefficients.items():
             if c.identifiable and c.value:
                 v, unit = _field(name, c.value, quantity)
-                ax.loglog(tt, np.sqrt(fit.term_avar(name, tt)) * k, ":", color=_TERM_STYLE[name], lw=1.4,
-                          label=f"{name} = {v:.3g} {unit}")
+                ax.loglog(
+                    tt,
+                    np.sqrt(fit.term_avar(name, tt)) * k,
+                    ":",
+                    color=_TERM_STYLE[name],
+                    lw=1.4,
+                    label=f"{name} = {v:.3g} {unit}",
+                )
             else:
                 from gyrobench.analysis.allan import coefficient_to_avar
 
                 ub = coefficient_to_avar(name, c.upper_bound) * tt ** float(c.power)
                 v, unit = _field(name, c.upper_bound, quantity)
-                ax.loglog(tt, np.sqrt(ub) * k, "-.", color=_TERM_STYLE[name], lw=0.7, alpha=0.6,
-                          label=f"{name} < {v:.3g} {unit} (95 %)")
+                ax.loglog(
+                    tt,
+                    np.sqrt(ub) * k,
+                    "-.",
+                    color=_TERM_STYLE[name],
+                    lw=0.7,
+                    alpha=0.6,
+                    label=f"{name} < {v:.3g} {unit} (95 %)",
+                )
         ax.set_ylim((lo * k).min() / 3, (hi * k).max() * 3)
         # residual panel: (A - model) / sd_A
         model = fit.avar(fit_tau)
@@ -94,7 +141,15 @@ def allan_figure(curve, fit=None, *, title: str = "", true_avar=None, quantity: 
         lim = max(float(np.max(np.abs(good))) * 1.3, 3.0) if good.size else 3.0
         axr.scatter(fit_tau[inside], r[inside], c="k", s=12, zorder=3, label="fitted")
         out_r = np.clip(r[~inside], -lim * 0.95, lim * 0.95)
-        axr.scatter(fit_tau[~inside], out_r, c="tab:red", marker="x", s=14, zorder=3, label="not fitted (clipped)")
+        axr.scatter(
+            fit_tau[~inside],
+            out_r,
+            c="tab:red",
+            marker="x",
+            s=14,
+            zorder=3,
+            label="not fitted (clipped)",
+        )
         axr.set_xscale("log")
         axr.set_ylabel("(AVAR - fit) / sd", fontsize=8)
         axr.set_ylim(-lim, lim)

@@ -48,19 +48,55 @@ _TIME_NAME = re.compile(
     re.IGNORECASE,
 )
 #: time unit name -> seconds
-TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6,
-              "µs": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0}
+TIME_UNITS = {
+    "s": 1.0,
+    "sec": 1.0,
+    "secs": 1.0,
+    "second": 1.0,
+    "seconds": 1.0,
+    "ms": 1e-3,
+    "us": 1e-6,
+    "µs": 1e-6,
+    "ns": 1e-9,
+    "min": 60.0,
+    "h": 3600.0,
+}
 #: acceleration units -> m/s^2 (standard gravity 9.80665 m/s^2, CGPM 1901)
-ACCEL_UNITS = {"m/s^2": 1.0, "m/s2": 1.0, "m s^-2": 1.0, "g": 9.80665, "mg": 9.80665e-3, "ug": 9.80665e-6}
+ACCEL_UNITS = {
+    "m/s^2": 1.0,
+    "m/s2": 1.0,
+    "m s^-2": 1.0,
+    "g": 9.80665,
+    "mg": 9.80665e-3,
+    "ug": 9.80665e-6,
+}
 #: spellings of rate units in real headers -> gyrobench.sim.units.RATE_UNITS names
-_RATE_ALIASES = {"rad s^-1": "rad/s", "rad/sec": "rad/s", "rad s-1": "rad/s", "dps": "deg/s", "deg/sec": "deg/s",
-                 "°/s": "deg/s", "deg s^-1": "deg/s", "dph": "deg/h", "°/h": "deg/h"}
+_RATE_ALIASES = {
+    "rad s^-1": "rad/s",
+    "rad/sec": "rad/s",
+    "rad s-1": "rad/s",
+    "dps": "deg/s",
+    "deg/sec": "deg/s",
+    "°/s": "deg/s",
+    "deg s^-1": "deg/s",
+    "dph": "deg/h",
+    "°/h": "deg/h",
+}
 #: column-name patterns of gyro (rate) and accelerometer columns, for the all-axes mode
 _GYRO_NAME = re.compile(r"(^w_|^omega|gyro|angular_velocity|^g[xyz]$|^w[xyz]$|rate)", re.IGNORECASE)
 _ACCEL_NAME = re.compile(r"(^a_|^alpha_|acc|linear_acceleration|^a[xyz]$)", re.IGNORECASE)
 #: name suffixes that carry a unit (``gyro_x_dps``, ``accel_x_g``)
-_SUFFIX_UNIT = {"dps": "deg/s", "degps": "deg/s", "radps": "rad/s", "rads": "rad/s", "dph": "deg/h",
-                "g": "g", "mg": "mg", "mps2": "m/s^2", "ms2": "m/s^2"}
+_SUFFIX_UNIT = {
+    "dps": "deg/s",
+    "degps": "deg/s",
+    "radps": "rad/s",
+    "rads": "rad/s",
+    "dph": "deg/h",
+    "g": "g",
+    "mg": "mg",
+    "mps2": "m/s^2",
+    "ms2": "m/s^2",
+}
 #: formats whose columns have an implied SI unit
 _SI_FORMATS = ("euroc", "kalibr", "ros")
 
@@ -104,7 +140,9 @@ def split_header(cell: str) -> tuple[str, str | None]:
     return cell, None
 
 
-def time_column(names: list[str], hdr_units: list[str | None]) -> tuple[int | None, float | None, bool]:
+def time_column(
+    names: list[str], hdr_units: list[str | None]
+) -> tuple[int | None, float | None, bool]:
     """Index of the time column, its unit in s (None: not a time unit) and whether the unit was stated."""
     for i, nm in enumerate(names):
         m = _TIME_NAME.match(nm.strip())
@@ -167,7 +205,10 @@ def _sniff_delimiter(line: str) -> str:
 
 
 def _cells(line: str, delim: str) -> list[str]:
-    return [c.strip() for c in next(csv.reader([line], delimiter=delim, quotechar='"', skipinitialspace=True))]
+    return [
+        c.strip()
+        for c in next(csv.reader([line], delimiter=delim, quotechar='"', skipinitialspace=True))
+    ]
 
 
 def _is_number(text: str) -> bool:
@@ -191,13 +232,15 @@ def _read_text(path: Path) -> str:
         else:
             raw = path.read_bytes()
     except (EOFError, gzip.BadGzipFile, zlib.error) as exc:
-        raise ValueError(f"{str(path)!r} is not a complete gzip file ({exc}); re-export or re-download it") from None
+        raise ValueError(
+            f"{str(path)!r} is not a complete gzip file ({exc}); re-export or re-download it"
+        ) from None
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise ValueError(
-            f"{str(path)!r} line {line}: byte {raw[exc.start:exc.start + 1]!r} is not UTF-8 text; "
+            f"{str(path)!r} line {line}: byte {raw[exc.start : exc.start + 1]!r} is not UTF-8 text; "
             f"save the CSV as UTF-8"
         ) from None
 
@@ -272,14 +315,22 @@ def read_csv_log(
         header = _cells(s, delim)
         break
     if header is not None and len(header) != ncols:
-        raise ValueError(f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}")
+        raise ValueError(
+            f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}"
+        )
     names, hdr_units = (
-        (list(t) for t in zip(*(split_header(h) for h in header), strict=True)) if header else ([], [None] * ncols)
+        (list(t) for t in zip(*(split_header(h) for h in header), strict=True))
+        if header
+        else ([], [None] * ncols)
     )
     names = [n.lstrip("#").strip() if k == 0 else n for k, n in enumerate(names)]
     fmt = _format_of(names) if names else "csv"
-    time_idx, time_scale, time_stated = time_column(names, hdr_units) if names else (None, None, False)
-    listing = names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
+    time_idx, time_scale, time_stated = (
+        time_column(names, hdr_units) if names else (None, None, False)
+    )
+    listing = (
+        names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
+    )
     notes: list[str] = []
 
     def index_of(col: str) -> int:
@@ -293,9 +344,13 @@ def read_csv_log(
         try:
             idx = int(col)
         except ValueError:
-            raise ValueError(f"--column {col!r} is not in {str(path)!r}; columns: {listing}") from None
+            raise ValueError(
+                f"--column {col!r} is not in {str(path)!r}; columns: {listing}"
+            ) from None
         if not 0 <= idx < ncols:
-            raise ValueError(f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})")
+            raise ValueError(
+                f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})"
+            )
         return idx
 
     if columns:
@@ -304,48 +359,72 @@ def read_csv_log(
         if dup:
             raise ValueError(f"--column names column {dup[0]} of {str(path)!r} twice")
     elif all_axes:
-        idxs = [i for i, nm in enumerate(names) if i != time_idx and unit_of(nm, hdr_units[i], fmt)[0] is not None
-                and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr_units[i])]
+        idxs = [
+            i
+            for i, nm in enumerate(names)
+            if i != time_idx
+            and unit_of(nm, hdr_units[i], fmt)[0] is not None
+            and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr_units[i])
+        ]
         if not idxs:
-            raise ValueError(f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {listing}); "
-                             f"name them with --column")
+            raise ValueError(
+                f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {listing}); "
+                f"name them with --column"
+            )
     else:
         cand = [i for i in range(ncols) if i != time_idx]
         if len(cand) != 1:
-            raise ValueError(f"{str(path)!r} has {len(cand)} data columns: name the rate column with --column "
-                             f"(columns: {listing}), or use --all-axes")
+            raise ValueError(
+                f"{str(path)!r} has {len(cand)} data columns: name the rate column with --column "
+                f"(columns: {listing}), or use --all-axes"
+            )
         idxs = cand
     for i in idxs:
         if i == time_idx:
-            raise ValueError(f"--column {names[i]!r} is the time column of {str(path)!r}; name the rate column")
+            raise ValueError(
+                f"--column {names[i]!r} is the time column of {str(path)!r}; name the rate column"
+            )
     temp_idx = index_of(temperature) if temperature is not None else None
     if fs is None and time_idx is None:
-        raise ValueError(f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)")
+        raise ValueError(
+            f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)"
+        )
     if fs is None and time_scale is None:
-        raise ValueError(f"the time column {header[time_idx]!r} of {str(path)!r} has no time unit "
-                         f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)")
+        raise ValueError(
+            f"the time column {(header or names)[time_idx or 0]!r} of {str(path)!r} has no time unit "
+            f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)"
+        )
 
     usecols = sorted({*idxs, *(i for i in (time_idx, temp_idx) if i is not None)})
     pos = {c: k for k, c in enumerate(usecols)}
     data = _parse_rows(path, lines, first_data, delim, ncols, names, usecols)
     rows = data.shape[0]
     if rows < MIN_ROWS:
-        raise ValueError(f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
-                         f"{MIN_ROWS} (and many more for an Allan analysis)")
+        raise ValueError(
+            f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
+            f"{MIN_ROWS} (and many more for an Allan analysis)"
+        )
     t0 = 0.0
     if time_idx is not None:
         t = data[:, pos[time_idx]]
         t_first = float(t[0])
-        if abs(t_first) > 2.0**53:  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
+        if (
+            abs(t_first) > 2.0**53
+        ):  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
             t = _exact_time(lines, first_data, delim, time_idx, t)
         tname = header[time_idx] if header else str(time_idx)
         if not time_stated and time_scale is not None:
             time_scale, note = _time_scale_from_magnitude(t_first, tname)
             if note is None and fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
-                time_scale, note = 1e-9, f"time column {tname!r} read in ns (the {fmt} format's unit)"
+                time_scale, note = (
+                    1e-9,
+                    f"time column {tname!r} read in ns (the {fmt} format's unit)",
+                )
             elif note is None and float(np.median(np.diff(t))) >= 1.0:
-                note = (f"time column {tname!r} has no unit and steps of {float(np.median(np.diff(t))):.6g}: read as "
-                        f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not")
+                note = (
+                    f"time column {tname!r} has no unit and steps of {float(np.median(np.diff(t))):.6g}: read as "
+                    f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
+                )
             if note:
                 notes.append(note)
         _check_uniform(path, t, tname)
@@ -353,9 +432,15 @@ def read_csv_log(
         if fs is None:
             fs = 1.0 / step
         elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
-            raise ValueError(f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
-                             f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit")
+            raise ValueError(
+                f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
+                f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
+            )
         t0 = t_first * (time_scale or 1.0)
+    if (
+        fs is None
+    ):  # pragma: no cover - excluded above (no time column or no time unit without --fs)
+        raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
     a, b = _segment(rows, float(fs), start, stop)
     if (a, b) != (0, rows):
         notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
@@ -369,25 +454,51 @@ def read_csv_log(
         if u is None:
             from gyrobench.sim import units
 
-            raise ValueError(f"the unit of column {label!r} is unknown: give --units "
-                             f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})")
-        chans.append(Channel(label=label, quantity=q or "rate", data=_to_si(data[a:b, pos[i]], q or "rate", u), unit=u))
+            raise ValueError(
+                f"the unit of column {label!r} is unknown: give --units "
+                f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
+            )
+        chans.append(
+            Channel(
+                label=label,
+                quantity=q or "rate",
+                data=_to_si(data[a:b, pos[i]], q or "rate", u),
+                unit=u,
+            )
+        )
     temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
-    return Log(path=path, fs=float(fs), channels=chans, notes=notes, temperature=temp, fmt=fmt, t0=t0 + a / fs)
+    return Log(
+        path=path,
+        fs=float(fs),
+        channels=chans,
+        notes=notes,
+        temperature=temp,
+        fmt=fmt,
+        t0=t0 + a / fs,
+    )
 
 
 def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float64]:
     if quantity == "accel":
         if unit not in ACCEL_UNITS:
-            raise ValueError(f"acceleration unit must be one of {sorted(ACCEL_UNITS)}; got {unit!r}")
+            raise ValueError(
+                f"acceleration unit must be one of {sorted(ACCEL_UNITS)}; got {unit!r}"
+            )
         return x * ACCEL_UNITS[unit]
     from gyrobench.sim import units
 
     return np.asarray(units.rate_to_si(np.ascontiguousarray(x), unit), dtype=float)
 
 
-def _parse_rows(path: Path, lines: list[str], first: int, delim: str, ncols: int, names: list[str],
-                usecols: list[int]) -> NDArray:
+def _parse_rows(
+    path: Path,
+    lines: list[str],
+    first: int,
+    delim: str,
+    ncols: int,
+    names: list[str],
+    usecols: list[int],
+) -> NDArray:
     """The data rows' columns ``usecols`` as floats.
 
     Every row must have ``ncols`` cells: when the separators in the body do not add up to
@@ -396,23 +507,36 @@ def _parse_rows(path: Path, lines: list[str], first: int, delim: str, ncols: int
     """
     body = "\n".join(lines[first:])
     n_rows = len(lines) - first
-    if body.count(delim) != n_rows * (ncols - 1):  # some row (or a comment, blank or quoted cell) differs
+    if body.count(delim) != n_rows * (
+        ncols - 1
+    ):  # some row (or a comment, blank or quoted cell) differs
         for j, ln in enumerate(lines[first:]):
             s = ln.strip()
             if not s or s.startswith("#") or ln.count(delim) == ncols - 1:
                 continue
             n = len(_cells(s, delim))
             if n != ncols:
-                raise ValueError(f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
-                                 f"a row with {'an extra' if n > ncols else 'a missing'} column is refused")
+                raise ValueError(
+                    f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
+                    f"a row with {'an extra' if n > ncols else 'a missing'} column is refused"
+                )
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            return np.loadtxt(io.StringIO(body), delimiter=delim, comments="#", ndmin=2, quotechar='"',
-                              dtype=float, usecols=usecols)
+            return np.loadtxt(
+                io.StringIO(body),
+                delimiter=delim,
+                comments="#",
+                ndmin=2,
+                quotechar='"',
+                dtype=float,
+                usecols=usecols,
+            )
     except ValueError:
         pass
-    for j, ln in enumerate(lines[first:]):  # find the first cell that is not a number, for the message
+    for j, ln in enumerate(
+        lines[first:]
+    ):  # find the first cell that is not a number, for the message
         s = ln.strip()
         if not s or s.startswith("#"):
             continue
@@ -420,15 +544,26 @@ def _parse_rows(path: Path, lines: list[str], first: int, delim: str, ncols: int
         for k in usecols:
             if k < len(cells) and not _is_number(cells[k]):
                 col = names[k] if k < len(names) else str(k)
-                raise ValueError(f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number")
+                raise ValueError(
+                    f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number"
+                )
     raise ValueError(f"{str(path)!r}: the data rows cannot be read as numbers")  # pragma: no cover
 
 
-def _exact_time(lines: list[str], first: int, delim: str, idx: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
+def _exact_time(
+    lines: list[str], first: int, delim: str, idx: int, t: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Integer timestamps re-read as int64, relative to the first (exact steps); ``t - t[0]`` otherwise."""
     try:
-        ti = np.loadtxt(io.StringIO("\n".join(lines[first:])), delimiter=delim, comments="#", usecols=[idx],
-                        dtype=np.int64, quotechar='"', ndmin=1)
+        ti = np.loadtxt(
+            io.StringIO("\n".join(lines[first:])),
+            delimiter=delim,
+            comments="#",
+            usecols=[idx],
+            dtype=np.int64,
+            quotechar='"',
+            ndmin=1,
+        )
     except (ValueError, OverflowError):
         return t - t[0]
     return (ti - ti[0]).astype(np.float64)
@@ -442,8 +577,10 @@ def _time_scale_from_magnitude(first: float, name: str) -> tuple[float, str | No
     # 1e8 s = 1973; the present is ~1.7e9 s, ~1.7e12 ms, ~1.7e15 us, ~1.7e18 ns
     for scale, unit in ((1e-9, "ns"), (1e-6, "us"), (1e-3, "ms"), (1.0, "s")):
         if 1e8 <= t0 * scale < 1e11:
-            return scale, (f"time column {name!r} has no unit; its values ({t0:.4g}) are Unix epoch times in "
-                           f"{unit} by their magnitude")
+            return scale, (
+                f"time column {name!r} has no unit; its values ({t0:.4g}) are Unix epoch times in "
+                f"{unit} by their magnitude"
+            )
     return 1.0, None
 
 
@@ -452,8 +589,10 @@ def _check_uniform(path: Path, t: NDArray[np.float64], tname: str) -> None:
     bad = np.flatnonzero(~(dt > 0))
     if len(bad):
         i = int(bad[0])
-        raise ValueError(f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
-                         f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}")
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
+            f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}"
+        )
     step = float(np.median(dt))
     gaps = np.flatnonzero(dt > GAP_FACTOR * step)
     if len(gaps):
@@ -474,5 +613,7 @@ def _segment(rows: int, fs: float, start: float | None, stop: float | None) -> t
     a = 0 if start is None else int(math.ceil(start * fs - 1e-9))
     b = rows if stop is None else min(rows, int(math.floor(stop * fs + 1e-9)))
     if b - a < MIN_ROWS:
-        raise ValueError(f"--start/--stop keep {max(b - a, 0)} samples of the {rows / fs:g} s record; need at least {MIN_ROWS}")
+        raise ValueError(
+            f"--start/--stop keep {max(b - a, 0)} samples of the {rows / fs:g} s record; need at least {MIN_ROWS}"
+        )
     return a, b

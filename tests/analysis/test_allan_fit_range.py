@@ -63,7 +63,9 @@ def test_unrestricted_fit_of_a_filtered_record_is_a_misfit_and_widened(filtered_
     plain = fit_noise(filtered_curve, misfit_p=0.0)  # the test switched off: no widening
     assert not plain.misfit and plain.inflation == 1.0
     j = list(fit.avar_coefficients).index("N")
-    assert fit.covariance[j, j] == pytest.approx(plain.covariance[j, j] * fit.inflation**2, rel=1e-9)
+    assert fit.covariance[j, j] == pytest.approx(
+        plain.covariance[j, j] * fit.inflation**2, rel=1e-9
+    )
 
 
 def test_auto_range_fit_recovers_the_truth(filtered_curve):
@@ -81,8 +83,9 @@ def test_model_conformant_record_keeps_every_point():
     """The five-term model is log-log convex: nothing is cut and the fit is not flagged."""
     from gyrobench.sim.noise import NoiseModel
 
-    model = NoiseModel(quantization=2e-5, angle_random_walk=N_TRUE, bias_instability=1e-4,
-                       rate_random_walk=K_TRUE)
+    model = NoiseModel(
+        quantization=2e-5, angle_random_walk=N_TRUE, bias_instability=1e-4, rate_random_walk=K_TRUE
+    )
     y = model.generate(400_000, FS, rng=np.random.default_rng(20261124))
     curve = allan_deviation(y, FS)
     assert fit_range(curve).tau_min is None
@@ -97,7 +100,9 @@ def test_model_conformant_record_keeps_every_point():
 def test_tau_limits_select_points(filtered_curve):
     fit = fit_noise(filtered_curve, tau_min=0.16, tau_max=100.0)
     tau = filtered_curve.tau
-    np.testing.assert_array_equal(fit.used, (tau >= 0.16 * (1 - 1e-9)) & (tau <= 100.0 * (1 + 1e-9)))
+    np.testing.assert_array_equal(
+        fit.used, (tau >= 0.16 * (1 - 1e-9)) & (tau <= 100.0 * (1 + 1e-9))
+    )
     np.testing.assert_array_equal(fit.tau_used, tau[fit.used])
     assert fit.point_covariance.shape == (fit.used.sum(),) * 2
 
@@ -110,7 +115,11 @@ def test_tau_limits_select_points(filtered_curve):
         ({"tau_max": float("nan")}, ValueError, "tau_max must be finite and > 0 s"),
         ({"tau_min": "automatic"}, ValueError, "tau_min must be a number"),
         ({"tau_min": [1.0]}, TypeError, "tau_min must be a number"),
-        ({"tau_min": 500.0}, ValueError, "holds 1 of the curve's tau points, fewer than the 5 terms"),
+        (
+            {"tau_min": 500.0},
+            ValueError,
+            "holds 1 of the curve's tau points, fewer than the 5 terms",
+        ),
         ({"misfit_p": 1.5}, ValueError, "misfit_p must be a probability"),
     ],
 )
@@ -135,15 +144,21 @@ def test_identifiability_uses_the_widened_interval(filtered_curve):
     z = NormalDist().inv_cdf(0.975)
     for j, (name, c) in enumerate(fit.avar_coefficients.items()):
         se = math.sqrt(max(fit.covariance[j, j], 0.0))
-        assert fit.coefficients[name].ci95[1] == pytest.approx(avar_to_coefficient(name, c + z * se), rel=1e-9)
+        assert fit.coefficients[name].ci95[1] == pytest.approx(
+            avar_to_coefficient(name, c + z * se), rel=1e-9
+        )
 
 
 def test_all_taus_refused_before_any_work(monkeypatch):
     from gyrobench.analysis import allan
 
     y = np.zeros(400_001)  # 100_000 taus x 400_001 samples = 4e10 pairs > the 2e10 limit
-    with pytest.raises(ValueError, match=r"taus='all' on 400001 samples means 100000 taus, 4e\+10 sample-tau pairs"):
+    with pytest.raises(
+        ValueError, match=r"taus='all' on 400001 samples means 100000 taus, 4e\+10 sample-tau pairs"
+    ):
         allan_deviation(y, FS, taus="all")
-    monkeypatch.setattr(allan, "_available_memory", lambda: 1e6)  # 1 MB left: refuse on memory first
+    monkeypatch.setattr(
+        allan, "_available_memory", lambda: 1e6
+    )  # 1 MB left: refuse on memory first
     with pytest.raises(ValueError, match="GiB, more than 80 % of the"):
         allan_deviation(np.zeros(10_000), FS, taus="all")

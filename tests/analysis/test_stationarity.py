@@ -7,7 +7,6 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis.allan import allan_deviation
 from gyrobench.analysis.stationarity import remove_temperature, stationarity_check
 
@@ -15,7 +14,9 @@ FS = 100.0
 
 
 def _record(rng, n=200_000):
-    return 1e-3 * math.sqrt(FS) * rng.standard_normal(n) + np.cumsum(2e-6 / math.sqrt(FS) * rng.standard_normal(n))
+    return 1e-3 * math.sqrt(FS) * rng.standard_normal(n) + np.cumsum(
+        2e-6 / math.sqrt(FS) * rng.standard_normal(n)
+    )
 
 
 def _check(y):
@@ -54,7 +55,9 @@ def test_temperature_coefficients_are_recovered():
     noise = 1e-3 * math.sqrt(FS) * rng.standard_normal(n)
     y = noise + c_t * (temp - temp.mean()) + c_dt * dtdt
     clean, fit = remove_temperature(y, temp, FS)
-    z = NormalDist().inv_cdf(1 - 1e-6 / 4)  # white residuals: the OLS errors hold; 1e-6 over two checks
+    z = NormalDist().inv_cdf(
+        1 - 1e-6 / 4
+    )  # white residuals: the OLS errors hold; 1e-6 over two checks
     assert abs(fit.c_temperature - c_t) <= z * fit.se_temperature
     assert abs(fit.c_rate - c_dt) <= z * fit.se_rate
     # the explained share: drift variance / total (0.5 c_t^2 100 + 0.5 c_dt^2 0.063^2) / (0.01 + that)

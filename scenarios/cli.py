@@ -5,7 +5,9 @@
     gyrobench list
     gyrobench simulate noise --N 0.01 --B 0.05 --fs 100 --duration 2h --seed 1 -o rec.h5
     gyrobench simulate SCENARIO --seed 1 --out DIR [--config FILE.toml]
-    gyrobench allan FILE [--column NAME] [--fs HZ] [--units deg/s] [--json] [--plot FILE.png]
+    gyrobench allan FILE [--column NAME ...|--all-axes] [--fs HZ] [--units deg/s] [--start S --stop S]
+                    [--tau-min S|auto --tau-max S --terms N,B,K] [--temperature COL] [--kind K]
+                    [--json] [--plot FILE.png] [--kalibr FILE.yaml]
     gyrobench reproduce --all --out DIR [--seed S]
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100

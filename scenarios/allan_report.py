@@ -7,12 +7,21 @@ the IEEE-952 field units of :data:`gyrobench.sim.units.COEFFICIENT_FIELD_UNITS`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Any
 
 from gyrobench.scenarios.base import Table
 from gyrobench.sim import units
 
-__all__ = ["coefficients_json", "coefficient_table", "TERMS"]
+__all__ = [
+    "coefficients_json",
+    "coefficient_table",
+    "TERMS",
+    "analyse",
+    "log_json",
+    "log_text",
+    "ChannelResult",
+]
 
 TERMS = ("Q", "N", "B", "K", "R")
 
@@ -78,3 +87,399 @@ def coefficient_table(fit, *, title: str, truth: dict[str, float] | None = None)
             row += [t, inside]
         rows.append(row)
     return Table(title, cols, rows)
+
+
+# ----------------------------------------------------------------------------- CLI analysis of a log
+#: accelerometer coefficients: the same IEEE terms on m/s^2 (IEEE Std 1293-1998 names):
+#: name, field unit, factor from SI (N [m/s/sqrt(s)] x 60 = m/s/sqrt(h); B [m/s^2] / 9.80665e-6 = ug;
+#: K [m/s^2/sqrt(s)] x 60 = m/s^2/sqrt(h))
+ACCEL_FIELD_UNITS = {
+    "Q": ("velocity quantization", "m/s", 1.0),
+    "N": ("velocity random walk", "m/s/sqrt(h)", 60.0),
+    "B": ("bias instability", "ug", 1.0 / 9.80665e-6),
+    "K": ("acceleration random walk", "m/s^2/sqrt(h)", 60.0),
+    "R": ("acceleration ramp", "m/s^3", 1.0),
+}
+#: fitted kinds (the IEEE 952 term coefficients hold for the Allan variance)
+FIT_KINDS = ("overlapping", "standard")
+
+
+def field_value(name: str, v, quantity: str = "rate"):
+    """A coefficient in SI -> its field unit (gyro: IEEE 952 units; accelerometer: ACCEL_FIELD_UNITS)."""
+    if v is None:
+        return None
+    if quantity == "accel":
+        return float(v) * ACCEL_FIELD_UNITS[name][2]
+    return float(units.coefficient_to_field(name, v))
+
+
+def field_unit(name: str, quantity: str = "rate") -> str:
+    return (
+        ACCEL_FIELD_UNITS[name][1]
+        if quantity == "accel"
+        else units.COEFFICIENT_FIELD_UNITS[name][0]
+    )
+
+
+@dataclass
+class ChannelResult:
+    """Curve and fit (None for kinds without a fit) of one channel, with why there is no fit."""
+
+    channel: Any
+    curve: Any
+    fit: Any = None
+    no_fit: str | None = None
+    fit_range: Any = None
+    warnings: list = field(default_factory=list)
+    temperature: Any = None
+
+
+def _stationarity(data, fs: float, curve, label: str) -> list[str]:
+    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows."""
+    import numpy as np
+    from gyrobench.analysis.stationarity import stationarity_check
+
+    n = len(data)
+    ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
+    if not np.any(ok):
+        return []
+    i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
+    rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
+    return rep.warnings(label)
+
+
+def analyse(
+    channel,
+    fs: float,
+    *,
+    taus: str = "octave",
+    kind: str = "overlapping",
+    terms: tuple[str, ...] = TERMS,
+    tau_min="auto",
+    tau_max: float | None = None,
+    temperature=None,
+) -> ChannelResult:
+    """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
+
+    With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
+    grows as the square of the number of taus, and neighbouring m carry no new information).
+    """
+    import numpy as np
+    from gyrobench.analysis.allan import AllanCurve, allan_deviation, fit_noise, fit_range
+
+    bad = np.flatnonzero(~np.isfinite(channel.data))
+    if len(bad):
+        # float(): print nan / inf, not np.float64(nan)
+        raise ValueError(
+            f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
+            f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite"
+        )
+    data, tfit = channel.data, None
+    if temperature is not None:
+        from gyrobench.analysis.stationarity import remove_temperature
+
+        data, tfit = remove_temperature(channel.data, temperature, fs)
+    curve = allan_deviation(data, fs, taus=taus, kind=kind)
+    warn = _stationarity(data, fs, curve, channel.label)
+    if kind not in FIT_KINDS:
+        return ChannelResult(
+            channel,
+            curve,
+            warnings=warn,
+            temperature=tfit,
+            no_fit=(
+                f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
+                f"are those of the Allan variance; the curve is exported"
+            ),
+        )
+    fit_curve = curve
+    if taus == "all":
+        m = curve.m
+        keep = (m & (m - 1)) == 0
+        fit_curve = AllanCurve(
+            tau=curve.tau[keep],
+            deviation=curve.deviation[keep],
+            low=curve.low[keep],
+            high=curve.high[keep],
+            n_terms=curve.n_terms[keep],
+            edf=curve.edf[keep],
+            kind=curve.kind,
+            confidence=curve.confidence,
+            fs=curve.fs,
+            n_samples=curve.n_samples,
+            alpha=None if curve.alpha is None else curve.alpha[keep],
+        )
+    if len(fit_curve.tau) < len(terms):
+        raise ValueError(
+            f"{channel.label}: {len(channel.data)} samples at {fs:g} Hz give {len(fit_curve.tau)} {curve.kind} Allan "
+            f"deviation point(s) at taus={taus!r} (up to {fit_curve.tau[-1]:.3g} s); the "
+            f"{'/'.join(terms)} fit needs at least {len(terms)}: use a longer record or fewer --terms"
+        )
+    fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
+    fit = fit_noise(fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max)
+    return ChannelResult(channel, curve, fit=fit, fit_range=fr, warnings=warn, temperature=tfit)
+
+
+def _floor(curve) -> tuple[float, float]:
+    import numpy as np
+
+    i = int(np.argmin(curve.deviation))
+    return float(curve.deviation[i]), float(curve.tau[i])
+
+
+def _si_unit(quantity: str) -> str:
+    return "m/s^2" if quantity == "accel" else "rad/s"
+
+
+def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
+    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p."""
+    import math
+
+    terms = {}
+    for name, c in fit.coefficients.items():
+        terms[name] = {
+            "value": field_value(name, c.value, quantity) if c.identifiable else None,
+            "low": field_value(name, c.ci95[0], quantity) if c.identifiable else 0.0,
+            "high": field_value(name, c.ci95[1] if c.identifiable else c.upper_bound, quantity),
+            "low68": field_value(name, c.ci68[0], quantity) if c.identifiable else None,
+            "high68": field_value(name, c.ci68[1], quantity) if c.identifiable else None,
+            "unit": field_unit(name, quantity),
+            "identifiable": bool(c.identifiable),
+        }
+
+    def num(v: float):
+        return None if not math.isfinite(v) else float(v)
+
+    return {
+        "terms": terms,
+        "tau_used": [float(t) for t in fit.tau_used],
+        "chi2": num(fit.chi2),
+        "dof": int(fit.dof),
+        "chi2_per_dof": num(fit.chi2_per_dof),
+        "p_value": num(fit.p_value),
+        "misfit": bool(fit.misfit),
+        "interval_inflation": float(fit.inflation),
+    }
+
+
+def curve_json(curve, quantity: str = "rate") -> dict[str, Any]:
+    return {
+        "kind": curve.kind,
+        "unit": _si_unit(quantity),
+        "confidence": float(curve.confidence),
+        "tau": [float(v) for v in curve.tau],
+        "deviation": [float(v) for v in curve.deviation],
+        "low": [float(v) for v in curve.low],
+        "high": [float(v) for v in curve.high],
+        "count": [int(v) for v in curve.n_terms],
+    }
+
+
+def channel_json(res: ChannelResult) -> dict[str, Any]:
+    q = res.channel.quantity
+    floor, tau = _floor(res.curve)
+    out: dict[str, Any] = {
+        "channel": res.channel.label,
+        "quantity": q,
+        "curve": curve_json(res.curve, q),
+        "adev_floor": {"value": floor, "unit": _si_unit(q), "tau": tau},
+        "fit": None if res.fit is None else fit_json(res.fit, q),
+    }
+    if res.no_fit:
+        out["no_fit"] = res.no_fit
+    out["warnings"] = list(res.warnings)
+    if res.temperature is not None:
+        tf = res.temperature
+        out["temperature"] = {
+            "model": "y = c0 + c_T (T - Tbar) + c_dT dT/dt",
+            "c_T": tf.c_temperature,
+            "c_T_unit": f"{_si_unit(q)}/degC",
+            "c_dT": tf.c_rate,
+            "c_dT_unit": f"{_si_unit(q)}/(degC/s)",
+            "se_T": tf.se_temperature,
+            "se_dT": tf.se_rate,
+            "explained": tf.explained,
+        }
+    return out
+
+
+def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
+    """The ``--json`` document: file, rate, notes and one entry per channel.
+
+    For the gyro channels the five coefficients also stand at the top level of each channel
+    entry (``"N": {"value", "low", "high", "unit"}``) as before; with one channel the
+    document is that channel's entry plus ``file``, ``fs``, ``notes``.
+    """
+    chans = []
+    for res in results:
+        d = channel_json(res)
+        if res.fit is not None:
+            for name, t in d["fit"]["terms"].items():
+                d[name] = {k: t[k] for k in ("value", "low", "high", "unit")}
+        chans.append(d)
+    head = {
+        "file": str(log.path),
+        "fs": float(log.fs),
+        "n_samples": int(len(results[0].channel.data)),
+        "notes": list(log.notes),
+    }
+    if len(chans) == 1:
+        return {**head, **chans[0]}
+    return {**head, "channels": chans}
+
+
+def _temp_units(quantity: str) -> tuple[float, str]:
+    """Factor from SI and unit of a temperature coefficient's numerator: deg/h (gyro) or ug (accelerometer)."""
+    if quantity == "accel":
+        return 1.0 / 9.80665e-6, "ug"
+    return float(units.to_deg_per_h(1.0)), "deg/h"
+
+
+def plot_title(log, res: ChannelResult) -> str:
+    n = len(res.channel.data)
+    return (
+        f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
+        f"({n} samples)"
+    )
+
+
+def log_text(log, results: list[ChannelResult]) -> list[str]:
+    """The printed report: misfits first, then the record, the notes and one table of every channel."""
+    import numpy as np
+
+    out = []
+    for res in results:
+        f = res.fit
+        if f is not None and f.misfit:
+            out.append(
+                f"MISFIT {res.channel.label}: the Q/N/B/K/R model does not describe the Allan variance over the "
+                f"fitted taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s (chi2/dof = {f.chi2_per_dof:.3g}, "
+                f"p = {f.p_value:.2g}); intervals widened x{f.inflation:.3g}"
+            )
+    for res in results:
+        out += [f"WARNING {w}" for w in res.warnings]
+    first = results[0]
+    n = len(first.channel.data)
+    out.append(
+        f"{log.path}: {n} samples at {log.fs:g} Hz ({n / log.fs / 3600:.3g} h); {first.curve.kind} "
+        f"deviation, {len(first.curve.tau)} taus from {first.curve.tau[0]:.3g} to {first.curve.tau[-1]:.3g} s"
+    )
+    out += [f"note: {t}" for t in log.notes]
+    for res in results:
+        if res.temperature is not None:
+            tf, k, u = res.temperature, *_temp_units(res.channel.quantity)
+            out.append(
+                f"{res.channel.label}: removed the temperature-explained part y = c_T (T - Tbar) + c_dT dT/dt "
+                f"(least squares, {tf.explained:.1%} of the variance): c_T = {tf.c_temperature * k:.4g} "
+                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} +- {tf.se_rate * k / 60:.2g} "
+                f"{u}/(degC/min) (white-residual standard errors)"
+            )
+        if res.no_fit:
+            out.append(f"{res.channel.label}: {res.no_fit}")
+            continue
+        f = res.fit
+        tau_f = f.curve.tau
+        excl = int(np.sum(tau_f < f.tau_used[0]))
+        concave = res.fit_range.excluded if res.fit_range is not None else 0
+        why = ""
+        if excl and res.fit_range is not None:
+            why = (
+                f" ({concave} filter-shaped: the log-log curve bends down there, which no sum of the IEEE power "
+                f"laws can do; {excl - concave} more misfitting the model)"
+            )
+        p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
+        out.append(
+            f"{res.channel.label}: fit over {int(f.used.sum())} taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s"
+            f"{f'; {excl} short tau(s) excluded' + why if excl else ''}; chi2/dof = {f.chi2_per_dof:.3g}, "
+            f"p = {p}"
+        )
+    if all(res.fit is None for res in results):
+        return out
+    multi = len(results) > 1
+    head = (
+        f"{'channel':<18}" if multi else ""
+    ) + f"{'term':<5}{'value':>14}  {'95 % interval':<28}unit"
+    out.append(head)
+    for res in results:
+        if res.fit is None:
+            continue
+        q = res.channel.quantity
+        for name, c in res.fit.coefficients.items():
+            pre = f"{res.channel.label[:17]:<18}" if multi else ""
+            unit = field_unit(name, q)
+            if not c.identifiable:
+                hi = field_value(name, c.upper_bound, q)
+                out.append(
+                    pre
+                    + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   (not identifiable from this record)"
+                )
+            else:
+                v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
+                out.append(
+                    pre
+                    + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0))
+                    + unit
+                )
+    return out
+
+
+# ----------------------------------------------------------------------------- Kalibr export
+def kalibr_yaml(log, results: list[ChannelResult]) -> str:
+    """The Kalibr IMU noise file (imu.yaml) from the fits of a log's gyro and accelerometer axes.
+
+    Conversions (Kalibr wiki "IMU Noise Model"; continuous-time densities equal the IEEE 952
+    coefficients in SI):
+
+    * gyroscope_noise_density [rad/s/sqrt(Hz)] = N [rad/sqrt(s)] (angle random walk);
+    * gyroscope_random_walk [rad/s^2/sqrt(Hz)] = K [rad/s/sqrt(s)] (rate random walk);
+    * accelerometer_noise_density [m/s^2/sqrt(Hz)] = N [m/s/sqrt(s)] (velocity random walk);
+    * accelerometer_random_walk [m/s^3/sqrt(Hz)] = K [m/s^2/sqrt(s)] (acceleration random walk);
+    * update_rate [Hz] = the sample rate.
+
+    Kalibr takes one value per sensor: the largest over the axes (conservative). A term not
+    identifiable on an axis contributes its 95 % upper bound, and the file says so in a
+    comment. Bias instability has no place in Kalibr's model and is given as a comment.
+    """
+    lines = [
+        "# Kalibr IMU noise parameters written by gyrobench allan",
+        f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
+        "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
+    ]
+    keys = {
+        ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
+        ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
+        ("accel", "N"): ("accelerometer_noise_density", "m/s^2/sqrt(Hz)"),
+        ("accel", "K"): ("accelerometer_random_walk", "m/s^3/sqrt(Hz)"),
+    }
+    body = []
+    for (q, term), (key, unit) in keys.items():
+        fits = [
+            r
+            for r in results
+            if r.fit is not None and r.channel.quantity == q and term in r.fit.coefficients
+        ]
+        if not fits:
+            continue
+        vals, bounds = [], []
+        for r in fits:
+            c = r.fit.coefficients[term]
+            vals.append(c.value if c.identifiable else c.upper_bound)
+            if not c.identifiable:
+                bounds.append(r.channel.label)
+        note = f"  # 95 % upper bound on {', '.join(bounds)} (not identifiable)" if bounds else ""
+        body.append(
+            f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}"
+        )
+        if term == "N":
+            bis = [r.fit.coefficients["B"] for r in fits if "B" in r.fit.coefficients]
+            bi = [c.value for c in bis if c.identifiable]
+            if bi:
+                lines.append(
+                    f"# {'gyroscope' if q == 'rate' else 'accelerometer'} bias instability B (not used by "
+                    f"Kalibr): {max(bi):.4e} [{_si_unit(q)}]"
+                )
+    if not body:
+        raise ValueError(
+            "--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted"
+        )
+    return "\n".join(lines + body + [f"update_rate: {log.fs:g}  # [Hz]", ""])

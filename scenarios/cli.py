@@ -5,7 +5,9 @@
     gyrobench list
     gyrobench simulate noise --N 0.01 --B 0.05 --fs 100 --duration 2h --seed 1 -o rec.h5
     gyrobench simulate SCENARIO --seed 1 --out DIR [--config FILE.toml]
-    gyrobench allan FILE [--column NAME] [--fs HZ] [--units deg/s] [--json] [--plot FILE.png]
+    gyrobench allan FILE [--column NAME ...|--all-axes] [--fs HZ] [--units deg/s] [--start S --stop S]
+                    [--tau-min S|auto --tau-max S --terms N,B,K] [--temperature COL] [--kind K]
+                    [--json] [--plot FILE.png] [--kalibr FILE.yaml]
     gyrobench reproduce --all --out DIR [--seed S] [--units N] [--workers N | --scheduler ADDR] [--db FILE]
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
@@ -25,7 +27,6 @@ import shlex
 import sys
 import time
 import typing
-import warnings
 from pathlib import Path
 
 __all__ = ["main"]
@@ -247,214 +248,100 @@ def _cmd_simulate(args) -> int:
 
 
 # ----------------------------------------------------------------------------- allan
-#: time-column names (case-insensitive, after removing a "[unit]" or "(unit)"): time, t, timestamp,
-#: optionally with the unit as a suffix (time_s, t_s, time_ms)
-_TIME_NAME = re.compile(r"^(?:time|t|timestamp|times)(?:[ _-]?(s|sec|secs|seconds|ms|us))?$", re.IGNORECASE)
-_TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6,
-               "µs": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0}
-#: a time step larger than this multiple of the median step is a gap in the record
-_GAP_FACTOR = 1.5
-#: fewer data rows than this cannot give any Allan deviation (the analysis asks for more per tau)
-_MIN_CSV_ROWS = 2
-
-
+# CSV/log reading lives in scenarios/logs.py; these names stay for callers of the old helpers
 def _split_header(cell: str) -> tuple[str, str | None]:
-    """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses."""
-    cell = cell.strip()
-    close = cell[-1:] if cell[-1:] in ")]" else None
-    if close is None:
-        return cell, None
-    opening = "(" if close == ")" else "["
-    depth = 0
-    for i in range(len(cell) - 1, -1, -1):
-        depth += (cell[i] == close) - (cell[i] == opening)
-        if depth == 0:
-            return cell[:i].strip(), cell[i + 1 : -1].strip() or None
-    return cell, None
+    from gyrobench.scenarios.logs import split_header
 
-
-def _time_column(names: list[str], hdr_units: list[str | None]) -> tuple[int | None, float | None]:
-    """Index of the time column and its unit in seconds (None when the unit is not a time unit)."""
-    for i, nm in enumerate(names):
-        m = _TIME_NAME.match(nm)
-        if m:
-            unit = hdr_units[i] or m.group(1) or "s"  # no unit anywhere: seconds
-            return i, _TIME_UNITS.get(unit.lower())
-    return None, None
+    return split_header(cell)
 
 
 def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None):
-    """Read one rate column of a CSV (``#`` comments, optional header, .gz allowed).
+    """One rate column of a CSV: (rate in rad/s, fs [Hz], column label); see scenarios.logs.read_csv_log."""
+    from gyrobench.scenarios.logs import read_csv_log
 
-    Rate column: ``--column`` (name or 0-based index), else the only column
-    that is not the time column. Time column: a header such as ``time``,
-    ``t``, ``timestamp``, ``t_s``, ``Time (s)``, ``time [ms]`` (any case). It
-    gives fs (1 / median step) unless ``--fs`` is given, and it must be
-    uniform: a step that is not positive, or larger than 1.5 x the median
-    step (a gap), is refused, naming the row, since Allan analysis assumes
-    uniform sampling.
+    log = read_csv_log(path, [column] if column is not None else None, fs, unit)
+    ch = log.channels[0]
+    return ch.data, log.fs, ch.label
 
-    Returns (rate in rad/s, fs [Hz], column label).
-    """
+
+def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
     import numpy as np
 
-    from gyrobench.sim import units
-
-    opener = __import__("gzip").open if path.suffix == ".gz" else open
-    header: list[str] | None = None
-    first: list[str] | None = None
-    skip = 0
-    with opener(path, "rt") as fh:
-        for line in fh:
-            skip += 1
-            s = line.strip()
-            if not s or s.startswith("#"):
-                continue
-            cells = [c.strip() for c in s.split(",")]
-            try:
-                [float(c) for c in cells]
-                skip -= 1  # first data line: no header
-                first = cells
-            except ValueError:
-                header = cells
-            break
-        else:
-            raise _BadInput(f"CSV {str(path)!r} has 0 data rows; need at least {_MIN_CSV_ROWS}")
-    if header is not None:
-        names, hdr_units = (list(t) for t in zip(*(_split_header(h) for h in header), strict=True))
-    else:
-        names, hdr_units = [], [None] * len(first or [])
-    ncols = len(header or first or [])
-    time_idx, time_scale = _time_column(names, hdr_units)
-    listing = names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
-    if column is None:
-        candidates = [i for i in range(ncols) if i != time_idx]
-        if len(candidates) != 1:
-            raise _BadInput(f"{str(path)!r} has {len(candidates)} data columns: name the rate column with "
-                            f"--column (columns: {listing})")
-        idx = candidates[0]
-    elif column in names:
-        idx = names.index(column)
-    elif header and column in header:
-        idx = header.index(column)
-    elif [nm.lower() for nm in names].count(column.lower()) == 1:
-        idx = [nm.lower() for nm in names].index(column.lower())
-    else:
-        try:
-            idx = int(column)
-        except ValueError:
-            raise _BadInput(f"--column {column!r} is not in {str(path)!r}; columns: {listing}") from None
-        if not 0 <= idx < ncols:
-            raise _BadInput(f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})")
-    if idx == time_idx:
-        raise _BadInput(f"--column {column!r} is the time column of {str(path)!r}; name the rate column")
-    if fs is None and time_idx is None:
-        raise _BadInput(f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)")
-    if fs is None and time_scale is None:
-        raise _BadInput(f"the time column {header[time_idx]!r} of {str(path)!r} has no time unit "
-                        f"({'|'.join(_TIME_UNITS)}): give --fs (sample rate in Hz)")
-    cols = [idx] + ([time_idx] if time_idx is not None else [])
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)  # "input contained no data": reported below
-            data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skip, usecols=cols, ndmin=2)
-    except (ValueError, IndexError) as exc:
-        raise _BadInput(f"cannot read column {column or idx!r} of {str(path)!r}: {exc}") from None
-    rows = data.shape[0]
-    if rows < _MIN_CSV_ROWS:
-        raise _BadInput(f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
-                        f"{_MIN_CSV_ROWS} (and many more for an Allan analysis)")
-    rate = data[:, 0]
-    if time_idx is not None:
-        t = data[:, 1]
-        dt = np.diff(t)
-        tname = header[time_idx]
-        bad = np.flatnonzero(~(dt > 0))
-        if len(bad):
-            i = int(bad[0])
-            raise _BadInput(f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
-                            f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}")
-        step = float(np.median(dt))
-        gaps = np.flatnonzero(dt > _GAP_FACTOR * step)
-        if len(gaps):
-            i = int(gaps[0])
-            raise _BadInput(
-                f"time column {tname!r} of {str(path)!r} has a gap before data row {i + 2}: step {dt[i]:.6g} "
-                f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / step:.3g} x the median step {step:.6g} "
-                f"({len(gaps)} such gap{'s' if len(gaps) > 1 else ''}); Allan analysis needs uniform sampling: "
-                f"analyse the segments separately"
-            )
-        if fs is None:
-            fs = 1.0 / (step * time_scale)
-    unit = unit or hdr_units[idx]
-    if unit is None:
-        raise _BadInput(f"the unit of column {names[idx] if names else idx!r} is unknown: "
-                        f"give --units ({'|'.join(units.RATE_UNITS)})")
-    label = names[idx] if names else f"column {idx}"
-    return units.rate_to_si(rate, unit), fs, label
-
-
-def _read_hdf5(path: Path, name: str | None, column: str | None):
+    from gyrobench.scenarios.logs import Channel, Log
     from gyrobench.sim.recording import load_hdf5
 
     rec = load_hdf5(path, name)
-    ch = column or ("rate" if "rate" in rec.channels else None)
-    if ch is None:
-        raise _BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
-    data = rec[ch]
-    unit = rec.channels[ch].unit if ch in rec.channels else rec.truth[ch.removeprefix("truth/")].unit
-    if unit != "rad/s":
-        from gyrobench.sim import units
+    chans = []
+    for ch in columns or [("rate" if "rate" in rec.channels else None)]:
+        if ch is None:
+            raise _BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
+        data = rec[ch]
+        unit = rec.channels[ch].unit if ch in rec.channels else rec.truth[ch.removeprefix("truth/")].unit
+        if unit != "rad/s":
+            from gyrobench.sim import units
 
-        data = units.rate_to_si(data, unit)
-    return data, rec.fs, f"{rec.name}/{ch}"
+            data = units.rate_to_si(data, unit)
+        chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
+    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
+
+
+def _terms_arg(text: str) -> tuple[str, ...]:
+    from gyrobench.analysis.allan import TERMS
+
+    names = tuple(t.strip().upper() for t in text.split(",") if t.strip())
+    bad = [t for t in names if t not in TERMS]
+    if bad or not names or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"--terms must be distinct names from {','.join(TERMS)}; got {text!r}")
+    return names
+
+
+def _tau_min_arg(text: str):
+    return "auto" if text == "auto" else _positive_float("--tau-min")(text)
 
 
 def _cmd_allan(args) -> int:
-    import numpy as np
-
-    from gyrobench.analysis.allan import allan_deviation, fit_noise
-    from gyrobench.scenarios.allan_report import TERMS, coefficients_json
+    from gyrobench.scenarios import allan_report as rep
 
     path = Path(args.file)
     if not path.is_file():
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # checked before any work
+        if target:
+            out = Path(target)
+            if out.is_dir():
+                raise _BadInput(f"{flag} must name a file; {str(out)!r} is a folder")
+            if not out.parent.is_dir():
+                raise _BadInput(f"{flag}: folder {str(out.parent)!r} does not exist")
+    columns = args.column or None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
             raise _BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
-        rate, fs, label = _read_hdf5(path, args.recording, args.column)
+        log = _read_hdf5(path, args.recording, columns)
     else:
-        rate, fs, label = _read_csv(path, args.column, args.fs, args.units)
-    bad = np.flatnonzero(~np.isfinite(rate))
-    if len(bad):
-        # float(): print nan / inf, not np.float64(nan)
-        raise _BadInput(f"{label} contains {float(rate[bad[0]])} at sample {bad[0]} ({len(bad)} non-finite "
-                        f"sample{'s' if len(bad) > 1 else ''}): the data must be finite")
-    curve = allan_deviation(rate, fs, taus=args.taus, kind=args.kind)
-    if len(curve.tau) < len(TERMS):
-        raise _BadInput(
-            f"{label}: {len(rate)} samples at {fs:g} Hz give {len(curve.tau)} {curve.kind} Allan deviation "
-            f"point(s) at taus={args.taus!r} (up to {curve.tau[-1]:.3g} s); the Q/N/B/K/R fit needs "
-            f"at least {len(TERMS)}: use a longer record or --taus all"
-        )
-    fit = fit_noise(curve)
-    js = coefficients_json(fit)
+        from gyrobench.scenarios.logs import read_csv_log
+
+        log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
+                           stop=args.stop, temperature=args.temperature)
+    results = []
+    for ch in log.channels:
+        results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
+                                   tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))
+    if args.kalibr:
+        from gyrobench.sim.recording import atomic_path
+
+        text = rep.kalibr_yaml(log, results)
+        with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
     if args.json:
-        print(json.dumps({k: {kk: d[kk] for kk in ("value", "low", "high", "unit")} for k, d in js.items()}))
+        print(json.dumps(rep.log_json(log, results)))
     else:
-        print(f"{label}: {len(rate)} samples at {fs:g} Hz ({len(rate) / fs / 3600:.3g} h); {curve.kind} Allan deviation, "
-              f"{len(curve.tau)} taus from {curve.tau[0]:.3g} to {curve.tau[-1]:.3g} s")
-        print(f"{'term':<5}{'value':>14}  {'95 % interval':<28}{'unit'}")
-        for name, d in js.items():
-            if d["value"] is None:
-                print(f"{name:<5}{'n/i':>14}  {'< ' + format(d['high'], '.3g'):<28}{d['unit']}   (not identifiable from this record)")
-            else:
-                print(f"{name:<5}{d['value']:>14.4g}  [{d['low']:.4g}, {d['high']:.4g}]".ljust(49) + f"{d['unit']}")
+        print("\n".join(rep.log_text(log, results)))
     if args.plot:
         from gyrobench.scenarios.figures import allan_figure
         from gyrobench.sim.recording import atomic_path
 
-        fig = allan_figure(curve, fit, title=label)
+        res = results[0]
+        fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
         plot = Path(args.plot)
         with atomic_path(plot) as tmp:
             fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
@@ -567,15 +454,34 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=_cmd_simulate)
 
     s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)")
-    s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro")
-    s.add_argument("--column", help="channel (HDF5, default 'rate') or CSV column name or index")
+    s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro (EuRoC, Kalibr, "
+                                "ROS exports included)")
+    s.add_argument("--column", action="append", help="channel (HDF5, default 'rate') or CSV column name or index; "
+                                                     "repeat for several (one table)")
+    s.add_argument("--all-axes", action="store_true", help="CSV: every gyro and accelerometer column")
     s.add_argument("--recording", help="HDF5: recording name when the file holds several")
     s.add_argument("--fs", type=_positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
-    s.add_argument("--units", help="CSV: rate unit, one of deg/s, deg/h, rad/s (default: from the header '[unit]')")
-    s.add_argument("--kind", default="overlapping", help="overlapping (default), standard, modified, hadamard, total")
-    s.add_argument("--taus", default="octave", help="octave (default), decade or all")
-    s.add_argument("--json", action="store_true", help="print the coefficients as JSON")
+    s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
+                                   "(default: from the header '[unit]' or the format)")
+    s.add_argument("--start", type=_nonneg_float("--start"), help="CSV: analyse from this time [s after the first sample]")
+    s.add_argument("--stop", type=_nonneg_float("--stop"), help="CSV: analyse up to this time [s after the first sample]")
+    s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
+                                         "c_dT dT/dt, least squares) is removed before the analysis")
+    s.add_argument("--kind", default="overlapping",
+                   choices=("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total"),
+                   help="overlapping (default) or standard Allan deviation, fitted; modified, hadamard, "
+                        "overlapping_hadamard, total: the curve only (no fit: their term coefficients differ)")
+    s.add_argument("--taus", default="octave", choices=("octave", "decade", "all"),
+                   help="octave (default), decade or all (every m; the fit uses the octave taus among them)")
+    s.add_argument("--terms", type=_terms_arg, default=("Q", "N", "B", "K", "R"),
+                   help="terms to fit, e.g. N,B,K (default Q,N,B,K,R)")
+    s.add_argument("--tau-min", type=_tau_min_arg, default="auto",
+                   help="shortest tau to fit [s], or 'auto' (default: above the filter-shaped short-tau region)")
+    s.add_argument("--tau-max", type=_positive_float("--tau-max"), help="longest tau to fit [s]")
+    s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
     s.add_argument("--plot", help="write the ADEV figure (PNG)")
+    s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
+                                    "from N and K, largest over the axes)")
     s.set_defaults(func=_cmd_allan)
 
     s = sub.add_parser("reproduce", help="run scenarios and write the report (Markdown, HTML, PNG, results.json)")

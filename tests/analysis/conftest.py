@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
-#: ../shared/validation relative to the repository root (never copied into the project)
-VALIDATION = Path(__file__).resolve().parents[2].parent / "shared" / "validation"
+#: ../shared/validation relative to the repository root (never copied into the project);
+#: GYROBENCH_VALIDATION names it explicitly (a git worktree sits at another depth)
+VALIDATION = Path(
+    os.environ.get("GYROBENCH_VALIDATION") or Path(__file__).resolve().parents[2].parent / "shared" / "validation"
+)
 
 
 @pytest.fixture

@@ -66,7 +66,8 @@ def test_allan_json_on_hdf5(noise_h5, capsys):
     code, out, _ = run(["allan", noise_h5, "--json"], capsys)
     assert code == 0
     doc = json.loads(out)
-    assert set(doc) == {"Q", "N", "B", "K", "R"}
+    assert {"curve", "fit", "adev_floor"} <= set(doc)  # issue 14: the curve and the fit's statistics too
+    doc = {name: doc[name] for name in ("Q", "N", "B", "K", "R")}
     for v in doc.values():
         assert set(v) == {"value", "low", "high", "unit"}
     assert doc["N"]["unit"] == "deg/sqrt(h)" and doc["Q"]["unit"] == "arcsec"

@@ -1,0 +1,212 @@
+"""Checks that a static record is static, and removal of its temperature-explained part.
+
+Allan analysis assumes a stationary noise process (plus at most a rate ramp). A record with
+handling motion or a step, or with a temperature swing, violates that: the motion or the
+thermal drift is then reported as noise terms (a rate ramp or random walk with a tight
+interval). Two tools:
+
+* :func:`stationarity_check`: windows of length tau_w; flags windows whose variance is
+  far above the record's median window variance (motion) and jumps between adjacent
+  window means far above what the record's own Allan deviation at tau_w allows (steps).
+* :func:`remove_temperature`: least-squares fit of the rate on the temperature and its
+  rate of change, y = c0 + c_T (T - Tbar) + c_dT dT/dt + e, and the rate minus the
+  explained part.
+
+References: IEEE Std 952-1997 Annex C (AVAR(tau) = 1/2 E[(ybar_{k+1} - ybar_k)^2]);
+IEEE Std 952-1997 Annex A / Std 1431 (thermal sensitivity and its rate term, the
+"temperature-rate" or Shupe-type term of a gyro model).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from statistics import NormalDist
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["StationarityReport", "stationarity_check", "TemperatureFit", "remove_temperature"]
+
+
+@dataclass(frozen=True)
+class StationarityReport:
+    """Result of :func:`stationarity_check`.
+
+    Attributes
+    ----------
+    window : float
+        Window length tau_w [s].
+    motion : list of (start_s, stop_s, ratio)
+        Windows whose variance exceeds the median window variance by the test's factor;
+        ratio = window variance / median.
+    steps : list of (time_s, z)
+        Boundaries between adjacent windows whose means differ by z standard deviations
+        sqrt(2 AVAR(tau_w)) with z beyond the test's limit.
+    """
+
+    window: float
+    motion: list[tuple[float, float, float]]
+    steps: list[tuple[float, float]]
+
+    @property
+    def stationary(self) -> bool:
+        return not self.motion and not self.steps
+
+    def warnings(self, label: str) -> list[str]:
+        """One line per finding kind, for the report."""
+        out = []
+        if self.motion:
+            a, b, r = max(self.motion, key=lambda t: t[2])
+            out.append(
+                f"{label}: {len(self.motion)} {self.window:g} s window(s) with variance far above the record's "
+                f"(worst {r:.3g}x at {a:g}-{b:g} s): motion or vibration? Analyse a quiet segment (--start/--stop)"
+            )
+        if self.steps:
+            t, z = max(self.steps, key=lambda s: abs(s[1]))
+            out.append(
+                f"{label}: {len(self.steps)} step(s) between {self.window:g} s windows beyond the Allan deviation "
+                f"(largest {abs(z):.3g} sigma at {t:g} s): the record is not stationary; the fit treats the step as noise"
+            )
+        return out
+
+
+def stationarity_check(
+    rate: ArrayLike, fs: float, adev_at: float, *, window: float, false_alarm: float = 1e-3
+) -> StationarityReport:
+    """Flag motion (variance bursts) and steps (jumps of the window mean) in a static record.
+
+    Parameters
+    ----------
+    rate : array_like
+        Rate samples [any unit u].
+    fs : float
+        Sample rate [Hz].
+    adev_at : float
+        The record's Allan deviation at tau = ``window`` [u] (from its curve).
+    window : float
+        Window length [s]; a multiple of 1/fs, at least 8 samples.
+    false_alarm : float
+        Probability of any flag on a stationary Gaussian record (Bonferroni over windows).
+
+    Notes
+    -----
+    Motion: with w samples per window, a window's sample variance s^2 of white-dominated
+    noise is sigma^2 chi2(w-1)/(w-1); a window is flagged when s^2 / median(s^2) exceeds
+    chi2_{1-p}(w-1)/(w-1) with p = false_alarm / K (K windows), times 2 for the
+    non-white share (the median is a robust sigma^2; the factor 2 keeps flicker and
+    random-walk wander inside a window from firing it).
+    Steps: AVAR(tau) = 1/2 E[(ybar_{k+1} - ybar_k)^2] (IEEE 952 C.1), so the difference of
+    adjacent window means has standard deviation sqrt(2) ADEV(tau_w) whatever the noise
+    mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, p = false_alarm / K) is
+    flagged. Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
+    """
+    from scipy import stats
+
+    y = np.asarray(rate, dtype=float)
+    w = int(round(window * fs))
+    k = y.size // w
+    if w < 8 or k < 4:
+        return StationarityReport(window=window, motion=[], steps=[])
+    blocks = y[: k * w].reshape(k, w)
+    means = blocks.mean(axis=1)
+    var = blocks.var(axis=1, ddof=1)
+    med = float(np.median(var))
+    p = false_alarm / k
+    limit = 2.0 * float(stats.chi2.isf(p, w - 1)) / (w - 1)
+    motion = (
+        [
+            (i * window, (i + 1) * window, float(var[i] / med))
+            for i in np.flatnonzero(var > limit * med)
+        ]
+        if med > 0
+        else []
+    )
+    sd = math.sqrt(2.0) * adev_at
+    z_lim = NormalDist().inv_cdf(1.0 - p / 2.0)
+    steps = []
+    if sd > 0:
+        z = np.diff(means) / sd
+        steps = [((i + 1) * window, float(z[i])) for i in np.flatnonzero(np.abs(z) > z_lim)]
+    return StationarityReport(window=window, motion=motion, steps=steps)
+
+
+@dataclass(frozen=True)
+class TemperatureFit:
+    """Result of :func:`remove_temperature`.
+
+    Attributes
+    ----------
+    c_temperature : float
+        Sensitivity to temperature [u/degC].
+    c_rate : float
+        Sensitivity to the rate of change of temperature [u/(degC/s)].
+    se_temperature, se_rate : float
+        Ordinary least-squares standard errors (white residuals assumed: with correlated
+        residuals, as bias instability gives, the true errors are larger).
+    explained : float
+        Fraction of the rate variance the two terms explain.
+    """
+
+    c_temperature: float
+    c_rate: float
+    se_temperature: float
+    se_rate: float
+    explained: float
+
+
+def remove_temperature(
+    rate: ArrayLike, temperature: ArrayLike, fs: float, *, smooth: float = 1.0
+) -> tuple[NDArray[np.float64], TemperatureFit]:
+    """Remove the temperature-explained part y = c0 + c_T (T - Tbar) + c_dT dT/dt of a rate.
+
+    Parameters
+    ----------
+    rate : array_like
+        Rate samples [u].
+    temperature : array_like
+        Temperature samples [degC], same length.
+    fs : float
+        Sample rate [Hz].
+    smooth : float
+        dT/dt is the central difference of T averaged over this window [s] (temperature
+        sensors are quantized; a raw difference is mostly quantization noise).
+
+    Returns
+    -------
+    (rate minus c_T (T - Tbar) + c_dT dT/dt, TemperatureFit)
+        The constant c0 is left in (Allan analysis ignores it).
+    """
+    y = np.asarray(rate, dtype=float)
+    t = np.asarray(temperature, dtype=float)
+    if t.shape != y.shape:
+        raise ValueError(f"temperature must have the rate's length {y.size}; got {t.size}")
+    if not np.all(np.isfinite(t)):
+        i = int(np.flatnonzero(~np.isfinite(t))[0])
+        raise ValueError(f"temperature must be finite; got {float(t[i])} at sample {i}")
+    if np.ptp(t) == 0:
+        raise ValueError("temperature column is constant: nothing to regress on")
+    w = min(max(1, int(round(smooth * fs))), y.size)
+    if (
+        w > 1
+    ):  # moving average, normalised at the ends (no zero padding: that would fake a slope there)
+        ker = np.ones(w)
+        ts = np.convolve(t, ker, mode="same") / np.convolve(np.ones_like(t), ker, mode="same")
+    else:
+        ts = t
+    dtdt = np.gradient(ts) * fs
+    x = np.column_stack([np.ones_like(t), t - t.mean(), dtdt - dtdt.mean()])
+    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
+    resid = y - x @ coef
+    dof = max(y.size - 3, 1)
+    s2 = float(resid @ resid) / dof
+    cov = s2 * np.linalg.pinv(x.T @ x)
+    explained = 1.0 - float(np.var(resid)) / float(np.var(y)) if np.var(y) > 0 else 0.0
+    fit = TemperatureFit(
+        c_temperature=float(coef[1]),
+        c_rate=float(coef[2]),
+        se_temperature=math.sqrt(max(cov[1, 1], 0.0)),
+        se_rate=math.sqrt(max(cov[2, 2], 0.0)),
+        explained=explained,
+    )
+    return y - x[:, 1:] @ coef[1:], fit

@@ -1,0 +1,619 @@
+"""Reading real IMU logs (CSV) for ``gyrobench allan``: columns, units, time base, segments.
+
+Formats recognised (see :func:`read_csv_log`):
+
+* plain CSV from any gyro: ``#`` comment lines, an optional header row, ``.gz`` allowed;
+  separator ``,``, ``;`` or tab (detected from the header or the first data row); a UTF-8
+  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted;
+* EuRoC / ASL (``imu0/data.csv``): header ``#timestamp [ns],w_RS_S_x [rad s^-1],...,
+  a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
+* Kalibr IMU CSV: ``timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z``
+  (timestamp in ns, omega in rad/s, alpha = acceleration in m/s^2: Kalibr's naming);
+* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.stamp,...,
+  field.angular_velocity.x,...,field.linear_acceleration.x,...`` (times in ns, SI values).
+
+Time column: its unit comes from the header (``[s]``, ``(ms)``, ``_us``, ``[ns]``) or, when
+there is none, from the magnitude: timestamps above 1e8 are taken as Unix epoch times and
+their unit is chosen from the order of magnitude of the first one (1e9 s, 1e12 ms,
+1e15 us, 1e18 ns around the present), with a note saying so.
+Columns without a unit get the unit of their format's convention (Kalibr/ROS/EuRoC: rad/s
+and m/s^2) or must be given one (``--units``).
+
+Everything returned is SI: rate in rad/s, acceleration in m/s^2, time in s.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import re
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Channel", "Log", "read_csv_log", "ACCEL_UNITS", "unit_of"]
+
+#: a time step larger than this multiple of the median step is a gap in the record
+GAP_FACTOR = 1.5
+#: fewer data rows than this cannot give any Allan deviation
+MIN_ROWS = 2
+
+#: time-column names (case-insensitive, after removing a "[unit]" or "(unit)")
+_TIME_NAME = re.compile(
+    r"^#?\s*(?:%?time|t|timestamp|times|field\.header\.stamp|stamp)(?:[ _-]?(s|sec|secs|seconds|ms|us|ns))?$",
+    re.IGNORECASE,
+)
+#: time unit name -> seconds
+TIME_UNITS = {
+    "s": 1.0,
+    "sec": 1.0,
+    "secs": 1.0,
+    "second": 1.0,
+    "seconds": 1.0,
+    "ms": 1e-3,
+    "us": 1e-6,
+    "µs": 1e-6,
+    "ns": 1e-9,
+    "min": 60.0,
+    "h": 3600.0,
+}
+#: acceleration units -> m/s^2 (standard gravity 9.80665 m/s^2, CGPM 1901)
+ACCEL_UNITS = {
+    "m/s^2": 1.0,
+    "m/s2": 1.0,
+    "m s^-2": 1.0,
+    "g": 9.80665,
+    "mg": 9.80665e-3,
+    "ug": 9.80665e-6,
+}
+#: spellings of rate units in real headers -> gyrobench.sim.units.RATE_UNITS names
+_RATE_ALIASES = {
+    "rad s^-1": "rad/s",
+    "rad/sec": "rad/s",
+    "rad s-1": "rad/s",
+    "dps": "deg/s",
+    "deg/sec": "deg/s",
+    "°/s": "deg/s",
+    "deg s^-1": "deg/s",
+    "dph": "deg/h",
+    "°/h": "deg/h",
+}
+#: column-name patterns of gyro (rate) and accelerometer columns, for the all-axes mode
+_GYRO_NAME = re.compile(r"(^w_|^omega|gyro|angular_velocity|^g[xyz]$|^w[xyz]$|rate)", re.IGNORECASE)
+_ACCEL_NAME = re.compile(r"(^a_|^alpha_|acc|linear_acceleration|^a[xyz]$)", re.IGNORECASE)
+#: name suffixes that carry a unit (``gyro_x_dps``, ``accel_x_g``)
+_SUFFIX_UNIT = {
+    "dps": "deg/s",
+    "degps": "deg/s",
+    "radps": "rad/s",
+    "rads": "rad/s",
+    "dph": "deg/h",
+    "g": "g",
+    "mg": "mg",
+    "mps2": "m/s^2",
+    "ms2": "m/s^2",
+}
+#: formats whose columns have an implied SI unit
+_SI_FORMATS = ("euroc", "kalibr", "ros")
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One analysed column: name, quantity ("rate" or "accel"), SI data and where its unit came from."""
+
+    label: str
+    quantity: str
+    data: NDArray[np.float64]
+    unit: str
+
+
+@dataclass
+class Log:
+    """Columns read from a log, all sampled at ``fs`` [Hz]; ``notes`` are for the report."""
+
+    path: Path
+    fs: float
+    channels: list[Channel]
+    notes: list[str] = field(default_factory=list)
+    temperature: NDArray[np.float64] | None = None
+    fmt: str = "csv"
+    t0: float = 0.0
+
+
+# ----------------------------------------------------------------------------- header parsing
+def split_header(cell: str) -> tuple[str, str | None]:
+    """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses."""
+    cell = cell.strip()
+    close = cell[-1:] if cell[-1:] in ")]" else None
+    if close is None:
+        return cell, None
+    opening = "(" if close == ")" else "["
+    depth = 0
+    for i in range(len(cell) - 1, -1, -1):
+        depth += (cell[i] == close) - (cell[i] == opening)
+        if depth == 0:
+            return cell[:i].strip(), cell[i + 1 : -1].strip() or None
+    return cell, None
+
+
+def time_column(
+    names: list[str], hdr_units: list[str | None]
+) -> tuple[int | None, float | None, bool]:
+    """Index of the time column, its unit in s (None: not a time unit) and whether the unit was stated."""
+    for i, nm in enumerate(names):
+        m = _TIME_NAME.match(nm.strip())
+        if m:
+            unit = hdr_units[i] or m.group(1)
+            if unit is None:
+                return i, 1.0, False
+            return i, TIME_UNITS.get(unit.lower()), True
+    return None, None, False
+
+
+def unit_of(name: str, hdr_unit: str | None, fmt: str) -> tuple[str | None, str | None]:
+    """(quantity, unit) of a data column from its header unit, its name suffix or its format."""
+    from gyrobench.sim import units
+
+    unit = hdr_unit
+    if unit is not None:
+        unit = _RATE_ALIASES.get(unit, unit)
+        if unit in units.RATE_UNITS:
+            return "rate", unit
+        if unit in ACCEL_UNITS:
+            return "accel", unit
+        return None, unit
+    suffix = name.rsplit("_", 1)[-1].lower() if "_" in name else ""
+    if suffix in _SUFFIX_UNIT:
+        u = _SUFFIX_UNIT[suffix]
+        return ("accel" if u in ACCEL_UNITS else "rate"), u
+    if fmt in _SI_FORMATS:
+        if _GYRO_NAME.search(name):
+            return "rate", "rad/s"
+        if _ACCEL_NAME.search(name):
+            return "accel", "m/s^2"
+    if _ACCEL_NAME.search(name):
+        return "accel", None
+    return None, None
+
+
+def _format_of(names: list[str]) -> str:
+    low = [n.lower().lstrip("#").strip() for n in names]
+    if any(n.startswith("w_rs_s_") for n in low):
+        return "euroc"
+    if any(n.startswith("field.angular_velocity") for n in low):
+        return "ros"
+    if "omega_x" in low and low[:1] == ["timestamp"]:
+        return "kalibr"
+    return "csv"
+
+
+def _sniff_delimiter(line: str) -> str:
+    """The separator of a header or data row: the most frequent of , ; tab outside quotes (comma on a tie)."""
+    counts = {d: 0 for d in (",", ";", "\t")}
+    quoted = False
+    for ch in line:
+        if ch == '"':
+            quoted = not quoted
+        elif not quoted and ch in counts:
+            counts[ch] += 1
+    best = max(counts, key=lambda d: (counts[d], d == ","))
+    return best if counts[best] else ","
+
+
+def _cells(line: str, delim: str) -> list[str]:
+    return [
+        c.strip()
+        for c in next(csv.reader([line], delimiter=delim, quotechar='"', skipinitialspace=True))
+    ]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+# ----------------------------------------------------------------------------- file access
+def _read_text(path: Path) -> str:
+    """The whole file as text (gzip when named .gz); one readable line on any read failure."""
+    import gzip
+    import zlib
+
+    try:
+        if path.suffix.lower() == ".gz":
+            with gzip.open(path, "rb") as fh:
+                raw = fh.read()
+        else:
+            raw = path.read_bytes()
+    except (EOFError, gzip.BadGzipFile, zlib.error) as exc:
+        raise ValueError(
+            f"{str(path)!r} is not a complete gzip file ({exc}); re-export or re-download it"
+        ) from None
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ValueError(
+            f"{str(path)!r} line {line}: byte {raw[exc.start : exc.start + 1]!r} is not UTF-8 text; "
+            f"save the CSV as UTF-8"
+        ) from None
+
+
+# ----------------------------------------------------------------------------- the reader
+def read_csv_log(
+    path: Path,
+    columns: list[str] | None = None,
+    fs: float | None = None,
+    unit: str | None = None,
+    *,
+    all_axes: bool = False,
+    start: float | None = None,
+    stop: float | None = None,
+    temperature: str | None = None,
+) -> Log:
+    """Read rate/acceleration columns of a CSV IMU log.
+
+    Parameters
+    ----------
+    path : Path
+        .csv or .csv.gz.
+    columns : list of str, optional
+        Column names or 0-based indices (``--column``, repeatable). None: the only data
+        column, or with ``all_axes`` every gyro and accelerometer column.
+    fs : float, optional
+        Sample rate [Hz]; required without a time column; with one, it must agree.
+    unit : str, optional
+        Unit of the named columns when the header has none (a rate unit of
+        gyrobench.sim.units.RATE_UNITS or an acceleration unit of :data:`ACCEL_UNITS`).
+    all_axes : bool
+        Analyse every gyro (and accelerometer) column the header names.
+    start, stop : float, optional
+        Segment [s from the first sample] to keep.
+    temperature : str, optional
+        Name of a temperature column [degC] to return alongside.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file (and line and column where it applies).
+    """
+    text = _read_text(path)
+    lines = text.splitlines()
+    # the header: the last non-empty line before the first data row that is not numeric;
+    # a "#" line counts when it splits into as many cells as the first data row (EuRoC)
+    first_data = None
+    candidates: list[tuple[int, str]] = []
+    for i, raw in enumerate(lines):
+        s = raw.strip()
+        if not s:
+            continue
+        body = s.lstrip("#").strip() if s.startswith("#") else s
+        if not s.startswith("#"):
+            delim = _sniff_delimiter(s)
+            cells = _cells(s, delim)
+            if all(_is_number(c) for c in cells if c != "") and any(c != "" for c in cells):
+                first_data = i
+                break
+        candidates.append((i, s if not s.startswith("#") else "#" + body))
+    if first_data is None:
+        raise ValueError(f"CSV {str(path)!r} has 0 data rows; need at least {MIN_ROWS}")
+    delim = _sniff_delimiter(lines[first_data].strip())
+    ncols = len(_cells(lines[first_data].strip(), delim))
+    header: list[str] | None = None
+    for i, s in reversed(candidates):
+        if s.startswith("#"):
+            cells = _cells(s[1:], delim)
+            if len(cells) == ncols and len(cells) > 1:
+                header = cells
+            break
+        header = _cells(s, delim)
+        break
+    if header is not None and len(header) != ncols:
+        raise ValueError(
+            f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}"
+        )
+    names, hdr_units = (
+        (list(t) for t in zip(*(split_header(h) for h in header), strict=True))
+        if header
+        else ([], [None] * ncols)
+    )
+    names = [n.lstrip("#").strip() if k == 0 else n for k, n in enumerate(names)]
+    fmt = _format_of(names) if names else "csv"
+    time_idx, time_scale, time_stated = (
+        time_column(names, hdr_units) if names else (None, None, False)
+    )
+    listing = (
+        names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
+    )
+    notes: list[str] = []
+
+    def index_of(col: str) -> int:
+        if col in names:
+            return names.index(col)
+        if header and col in header:
+            return header.index(col)
+        low = [nm.lower() for nm in names]
+        if low.count(col.lower()) == 1:
+            return low.index(col.lower())
+        try:
+            idx = int(col)
+        except ValueError:
+            raise ValueError(
+                f"--column {col!r} is not in {str(path)!r}; columns: {listing}"
+            ) from None
+        if not 0 <= idx < ncols:
+            raise ValueError(
+                f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})"
+            )
+        return idx
+
+    if columns:
+        idxs = [index_of(c) for c in columns]
+        dup = sorted({i for i in idxs if idxs.count(i) > 1})
+        if dup:
+            raise ValueError(f"--column names column {dup[0]} of {str(path)!r} twice")
+    elif all_axes:
+        idxs = [
+            i
+            for i, nm in enumerate(names)
+            if i != time_idx
+            and unit_of(nm, hdr_units[i], fmt)[0] is not None
+            and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr_units[i])
+        ]
+        if not idxs:
+            raise ValueError(
+                f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {listing}); "
+                f"name them with --column"
+            )
+    else:
+        cand = [i for i in range(ncols) if i != time_idx]
+        if len(cand) != 1:
+            raise ValueError(
+                f"{str(path)!r} has {len(cand)} data columns: name the rate column with --column "
+                f"(columns: {listing}), or use --all-axes"
+            )
+        idxs = cand
+    for i in idxs:
+        if i == time_idx:
+            raise ValueError(
+                f"--column {names[i]!r} is the time column of {str(path)!r}; name the rate column"
+            )
+    temp_idx = index_of(temperature) if temperature is not None else None
+    if fs is None and time_idx is None:
+        raise ValueError(
+            f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)"
+        )
+    if fs is None and time_scale is None:
+        raise ValueError(
+            f"the time column {(header or names)[time_idx or 0]!r} of {str(path)!r} has no time unit "
+            f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)"
+        )
+
+    usecols = sorted({*idxs, *(i for i in (time_idx, temp_idx) if i is not None)})
+    pos = {c: k for k, c in enumerate(usecols)}
+    data = _parse_rows(path, lines, first_data, delim, ncols, names, usecols)
+    rows = data.shape[0]
+    if rows < MIN_ROWS:
+        raise ValueError(
+            f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
+            f"{MIN_ROWS} (and many more for an Allan analysis)"
+        )
+    t0 = 0.0
+    if time_idx is not None:
+        t = data[:, pos[time_idx]]
+        t_first = float(t[0])
+        if (
+            abs(t_first) > 2.0**53
+        ):  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
+            t = _exact_time(lines, first_data, delim, time_idx, t)
+        tname = header[time_idx] if header else str(time_idx)
+        if not time_stated and time_scale is not None:
+            time_scale, note = _time_scale_from_magnitude(t_first, tname)
+            if note is None and fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
+                time_scale, note = (
+                    1e-9,
+                    f"time column {tname!r} read in ns (the {fmt} format's unit)",
+                )
+            elif note is None and float(np.median(np.diff(t))) >= 1.0:
+                note = (
+                    f"time column {tname!r} has no unit and steps of {float(np.median(np.diff(t))):.6g}: read as "
+                    f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
+                )
+            if note:
+                notes.append(note)
+        _check_uniform(path, t, tname)
+        step = float(np.median(np.diff(t))) * (time_scale or 1.0)
+        if fs is None:
+            fs = 1.0 / step
+        elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
+            raise ValueError(
+                f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
+                f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
+            )
+        t0 = t_first * (time_scale or 1.0)
+    if (
+        fs is None
+    ):  # pragma: no cover - excluded above (no time column or no time unit without --fs)
+        raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
+    a, b = _segment(rows, float(fs), start, stop)
+    if (a, b) != (0, rows):
+        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
+    chans = []
+    for i in idxs:
+        label = names[i] if names else f"column {i}"
+        q, u = unit_of(names[i], hdr_units[i], fmt) if names else (None, None)
+        if unit is not None:
+            u = _RATE_ALIASES.get(unit, unit)
+            q = "accel" if u in ACCEL_UNITS else "rate"
+        if u is None:
+            from gyrobench.sim import units
+
+            raise ValueError(
+                f"the unit of column {label!r} is unknown: give --units "
+                f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
+            )
+        chans.append(
+            Channel(
+                label=label,
+                quantity=q or "rate",
+                data=_to_si(data[a:b, pos[i]], q or "rate", u),
+                unit=u,
+            )
+        )
+    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
+    return Log(
+        path=path,
+        fs=float(fs),
+        channels=chans,
+        notes=notes,
+        temperature=temp,
+        fmt=fmt,
+        t0=t0 + a / fs,
+    )
+
+
+def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float64]:
+    if quantity == "accel":
+        if unit not in ACCEL_UNITS:
+            raise ValueError(
+                f"acceleration unit must be one of {sorted(ACCEL_UNITS)}; got {unit!r}"
+            )
+        return x * ACCEL_UNITS[unit]
+    from gyrobench.sim import units
+
+    return np.asarray(units.rate_to_si(np.ascontiguousarray(x), unit), dtype=float)
+
+
+def _parse_rows(
+    path: Path,
+    lines: list[str],
+    first: int,
+    delim: str,
+    ncols: int,
+    names: list[str],
+    usecols: list[int],
+) -> NDArray:
+    """The data rows' columns ``usecols`` as floats.
+
+    Every row must have ``ncols`` cells: when the separators in the body do not add up to
+    that, the rows are scanned and the first bad one is refused naming its line; a cell that
+    is not a number is refused naming its line and column.
+    """
+    body = "\n".join(lines[first:])
+    n_rows = len(lines) - first
+    if body.count(delim) != n_rows * (
+        ncols - 1
+    ):  # some row (or a comment, blank or quoted cell) differs
+        for j, ln in enumerate(lines[first:]):
+            s = ln.strip()
+            if not s or s.startswith("#") or ln.count(delim) == ncols - 1:
+                continue
+            n = len(_cells(s, delim))
+            if n != ncols:
+                raise ValueError(
+                    f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
+                    f"a row with {'an extra' if n > ncols else 'a missing'} column is refused"
+                )
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            return np.loadtxt(
+                io.StringIO(body),
+                delimiter=delim,
+                comments="#",
+                ndmin=2,
+                quotechar='"',
+                dtype=float,
+                usecols=usecols,
+            )
+    except ValueError:
+        pass
+    for j, ln in enumerate(
+        lines[first:]
+    ):  # find the first cell that is not a number, for the message
+        s = ln.strip()
+        if not s or s.startswith("#"):
+            continue
+        cells = _cells(s, delim)
+        for k in usecols:
+            if k < len(cells) and not _is_number(cells[k]):
+                col = names[k] if k < len(names) else str(k)
+                raise ValueError(
+                    f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number"
+                )
+    raise ValueError(f"{str(path)!r}: the data rows cannot be read as numbers")  # pragma: no cover
+
+
+def _exact_time(
+    lines: list[str], first: int, delim: str, idx: int, t: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Integer timestamps re-read as int64, relative to the first (exact steps); ``t - t[0]`` otherwise."""
+    try:
+        ti = np.loadtxt(
+            io.StringIO("\n".join(lines[first:])),
+            delimiter=delim,
+            comments="#",
+            usecols=[idx],
+            dtype=np.int64,
+            quotechar='"',
+            ndmin=1,
+        )
+    except (ValueError, OverflowError):
+        return t - t[0]
+    return (ti - ti[0]).astype(np.float64)
+
+
+def _time_scale_from_magnitude(first: float, name: str) -> tuple[float, str | None]:
+    """Unit of a time column without one: Unix epoch times by the magnitude of the first, else seconds."""
+    t0 = abs(first)
+    if t0 < 1e8:
+        return 1.0, None
+    # 1e8 s = 1973; the present is ~1.7e9 s, ~1.7e12 ms, ~1.7e15 us, ~1.7e18 ns
+    for scale, unit in ((1e-9, "ns"), (1e-6, "us"), (1e-3, "ms"), (1.0, "s")):
+        if 1e8 <= t0 * scale < 1e11:
+            return scale, (
+                f"time column {name!r} has no unit; its values ({t0:.4g}) are Unix epoch times in "
+                f"{unit} by their magnitude"
+            )
+    return 1.0, None
+
+
+def _check_uniform(path: Path, t: NDArray[np.float64], tname: str) -> None:
+    dt = np.diff(t)
+    bad = np.flatnonzero(~(dt > 0))
+    if len(bad):
+        i = int(bad[0])
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
+            f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}"
+        )
+    step = float(np.median(dt))
+    gaps = np.flatnonzero(dt > GAP_FACTOR * step)
+    if len(gaps):
+        i = int(gaps[0])
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} has a gap before data row {i + 2}: step {dt[i]:.6g} "
+            f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / step:.3g} x the median step {step:.6g} "
+            f"({len(gaps)} such gap{'s' if len(gaps) > 1 else ''}); Allan analysis needs uniform sampling: "
+            f"analyse the segments separately"
+        )
+
+
+def _segment(rows: int, fs: float, start: float | None, stop: float | None) -> tuple[int, int]:
+    """Sample range of the --start/--stop segment [s from the first sample]."""
+    for name, v in (("--start", start), ("--stop", stop)):
+        if v is not None and not (math.isfinite(v) and v >= 0):
+            raise ValueError(f"{name} must be a finite time >= 0 s; got {v!r}")
+    a = 0 if start is None else int(math.ceil(start * fs - 1e-9))
+    b = rows if stop is None else min(rows, int(math.floor(stop * fs + 1e-9)))
+    if b - a < MIN_ROWS:
+        raise ValueError(
+            f"--start/--stop keep {max(b - a, 0)} samples of the {rows / fs:g} s record; need at least {MIN_ROWS}"
+        )
+    return a, b

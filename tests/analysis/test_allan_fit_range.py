@@ -1,0 +1,164 @@
+"""Fit range and goodness of fit of analysis.allan.fit_noise: where the model holds, chi2, misfit.
+
+Synthetic records with known truth: the five-term model (which the fit must leave whole
+and not flag at the stated level), and white + random-walk rate noise passed through a
+low-pass filter (what a sensor's anti-alias / decimation filter does to its first octaves),
+whose filter-shaped region must be found and excluded.
+"""
+
+from __future__ import annotations
+
+import math
+from statistics import NormalDist
+
+import numpy as np
+import pytest
+from gyrobench.analysis.allan import (
+    FitRange,
+    allan_deviation,
+    avar_to_coefficient,
+    fit_noise,
+    fit_range,
+)
+
+FS = 100.0
+N_TRUE = 1e-3  # rad/s/sqrt(Hz) = rad/sqrt(s)
+K_TRUE = 2e-6  # rad/s/sqrt(s)
+#: false-alarm rate of every interval check below (two-sided, per coefficient)
+FALSE_ALARM = 1e-6
+
+
+def filtered_record(rng: np.random.Generator, n: int = 400_000, cutoff: float = 5.0) -> np.ndarray:
+    """White rate (N_TRUE) + random-walk rate (K_TRUE), low-passed by a 4th-order Butterworth at ``cutoff`` Hz.
+
+    The filter has unit gain at DC, so the ADEV for tau >> 1/cutoff is the unfiltered
+    N^2/tau + K^2 tau/3; the first octaves (tau = 0.01 .. ~0.1 s) lie below it.
+    """
+    from scipy import signal
+
+    white = N_TRUE * math.sqrt(FS) * rng.standard_normal(n)
+    walk = np.cumsum(K_TRUE / math.sqrt(FS) * rng.standard_normal(n))
+    sos = signal.butter(4, cutoff, fs=FS, output="sos")
+    return signal.sosfilt(sos, white) + walk
+
+
+@pytest.fixture(scope="module")
+def filtered_curve():
+    return allan_deviation(filtered_record(np.random.default_rng(20261123)), FS)
+
+
+def test_fit_range_finds_the_filter_shaped_octaves(filtered_curve):
+    fr = fit_range(filtered_curve)
+    assert isinstance(fr, FitRange)
+    # a 5 Hz 4th-order low-pass bends the octaves below ~0.1 s; they must be excluded
+    assert fr.tau_min is not None and fr.tau_min >= 0.04, fr
+    assert fr.excluded == int(np.sum(filtered_curve.tau < fr.tau_min))
+    assert "filter-shaped" in fr.reason
+
+
+def test_unrestricted_fit_of_a_filtered_record_is_a_misfit_and_widened(filtered_curve):
+    fit = fit_noise(filtered_curve)
+    assert fit.misfit and fit.p_value < 1e-3
+    assert fit.inflation == pytest.approx(math.sqrt(fit.chi2 / fit.dof), rel=1e-12)
+    plain = fit_noise(filtered_curve, misfit_p=0.0)  # the test switched off: no widening
+    assert not plain.misfit and plain.inflation == 1.0
+    j = list(fit.avar_coefficients).index("N")
+    assert fit.covariance[j, j] == pytest.approx(
+        plain.covariance[j, j] * fit.inflation**2, rel=1e-9
+    )
+
+
+def test_auto_range_fit_recovers_the_truth(filtered_curve):
+    fit = fit_noise(filtered_curve, tau_min="auto", terms=("Q", "N", "B", "K"))
+    assert fit.tau_used[0] >= fit_range(filtered_curve).tau_min
+    assert not fit.misfit, (fit.chi2, fit.dof, fit.p_value)
+    level = 1.0 - FALSE_ALARM
+    lo, hi = fit.interval("N", level)
+    assert lo <= N_TRUE <= hi, (lo, hi)
+    lo, hi = fit.interval("K", level)
+    assert lo <= K_TRUE <= hi, (lo, hi)
+
+
+def test_model_conformant_record_keeps_every_point():
+    """The five-term model is log-log convex: nothing is cut and the fit is not flagged."""
+    from gyrobench.sim.noise import NoiseModel
+
+    model = NoiseModel(
+        quantization=2e-5, angle_random_walk=N_TRUE, bias_instability=1e-4, rate_random_walk=K_TRUE
+    )
+    y = model.generate(400_000, FS, rng=np.random.default_rng(20261124))
+    curve = allan_deviation(y, FS)
+    assert fit_range(curve).tau_min is None
+    fit = fit_noise(curve, tau_min="auto")
+    assert fit.used.all()
+    assert not fit.misfit, (fit.chi2, fit.dof, fit.p_value)
+    assert 0.0 <= fit.p_value <= 1.0 and fit.dof == fit.used.sum() - sum(
+        1 for v in fit.avar_coefficients.values() if v > 0
+    )
+
+
+def test_tau_limits_select_points(filtered_curve):
+    fit = fit_noise(filtered_curve, tau_min=0.16, tau_max=100.0)
+    tau = filtered_curve.tau
+    np.testing.assert_array_equal(
+        fit.used, (tau >= 0.16 * (1 - 1e-9)) & (tau <= 100.0 * (1 + 1e-9))
+    )
+    np.testing.assert_array_equal(fit.tau_used, tau[fit.used])
+    assert fit.point_covariance.shape == (fit.used.sum(),) * 2
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        ({"tau_min": 10.0, "tau_max": 1.0}, ValueError, "tau_min must be <= tau_max"),
+        ({"tau_min": -1.0}, ValueError, "tau_min must be finite and > 0 s; got -1.0"),
+        ({"tau_max": float("nan")}, ValueError, "tau_max must be finite and > 0 s"),
+        ({"tau_min": "automatic"}, ValueError, "tau_min must be a number"),
+        ({"tau_min": [1.0]}, TypeError, "tau_min must be a number"),
+        (
+            {"tau_min": 500.0},
+            ValueError,
+            "holds 1 of the curve's tau points, fewer than the 5 terms",
+        ),
+        ({"misfit_p": 1.5}, ValueError, "misfit_p must be a probability"),
+    ],
+)
+def test_bad_fit_limits_are_refused(filtered_curve, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        fit_noise(filtered_curve, **kwargs)
+
+
+def test_chi2_is_the_generalised_residual_norm(filtered_curve):
+    fit = fit_noise(filtered_curve, tau_min=0.32, misfit_p=0.0)
+    a = filtered_curve.variance[fit.used]
+    r = a - fit.avar(fit.tau_used)
+    chi2 = float(r @ np.linalg.solve(fit.point_covariance, r))
+    assert fit.chi2 == pytest.approx(chi2, rel=1e-6)
+    from scipy import stats
+
+    assert fit.p_value == pytest.approx(stats.chi2.sf(chi2, fit.dof), rel=1e-6)
+
+
+def test_identifiability_uses_the_widened_interval(filtered_curve):
+    fit = fit_noise(filtered_curve)
+    z = NormalDist().inv_cdf(0.975)
+    for j, (name, c) in enumerate(fit.avar_coefficients.items()):
+        se = math.sqrt(max(fit.covariance[j, j], 0.0))
+        assert fit.coefficients[name].ci95[1] == pytest.approx(
+            avar_to_coefficient(name, c + z * se), rel=1e-9
+        )
+
+
+def test_all_taus_refused_before_any_work(monkeypatch):
+    from gyrobench.analysis import allan
+
+    y = np.zeros(400_001)  # 100_000 taus x 400_001 samples = 4e10 pairs > the 2e10 limit
+    with pytest.raises(
+        ValueError, match=r"taus='all' on 400001 samples means 100000 taus, 4e\+10 sample-tau pairs"
+    ):
+        allan_deviation(y, FS, taus="all")
+    monkeypatch.setattr(
+        allan, "_available_memory", lambda: 1e6
+    )  # 1 MB left: refuse on memory first
+    with pytest.raises(ValueError, match="GiB, more than 80 % of the"):
+        allan_deviation(np.zeros(10_000), FS, taus="all")

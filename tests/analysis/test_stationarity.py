@@ -1,0 +1,74 @@
+"""analysis.stationarity: motion and step flags on static records; temperature regression."""
+
+from __future__ import annotations
+
+import math
+from statistics import NormalDist
+
+import numpy as np
+import pytest
+from gyrobench.analysis.allan import allan_deviation
+from gyrobench.analysis.stationarity import remove_temperature, stationarity_check
+
+FS = 100.0
+
+
+def _record(rng, n=200_000):
+    return 1e-3 * math.sqrt(FS) * rng.standard_normal(n) + np.cumsum(
+        2e-6 / math.sqrt(FS) * rng.standard_normal(n)
+    )
+
+
+def _check(y):
+    c = allan_deviation(y, FS, taus=[1.28])
+    return stationarity_check(y, FS, float(c.deviation[0]), window=1.28)
+
+
+def test_stationary_record_is_not_flagged():
+    rep = _check(_record(np.random.default_rng(31)))
+    assert rep.stationary, (rep.motion[:3], rep.steps[:3])
+
+
+def test_motion_burst_is_flagged():
+    y = _record(np.random.default_rng(32))
+    y[50_000:50_300] += 0.05 * np.random.default_rng(33).standard_normal(300)  # 3 s of handling
+    rep = _check(y)
+    assert rep.motion and all(480 <= a <= 505 for a, _, _ in rep.motion), rep.motion
+    assert "motion or vibration" in rep.warnings("gx")[0]
+
+
+def test_step_is_flagged_at_its_time():
+    y = _record(np.random.default_rng(34))
+    y[120_000:] += 0.02  # a 0.02 rad/s step at t = 1200 s (20x the 1.28 s ADEV)
+    rep = _check(y)
+    assert any(abs(t - 1200) <= 1.28 for t, _ in rep.steps), rep.steps
+    assert "not stationary" in rep.warnings("gx")[-1]
+
+
+def test_temperature_coefficients_are_recovered():
+    rng = np.random.default_rng(35)
+    n = 200_000
+    t = np.arange(n) / FS
+    temp = 25 + 10 * np.sin(2 * np.pi * t / 1000.0)  # 10 degC swing, period 1000 s
+    dtdt = 10 * 2 * np.pi / 1000.0 * np.cos(2 * np.pi * t / 1000.0)
+    c_t, c_dt = 3e-4, 5e-3  # [rad/s/degC], [rad/s/(degC/s)]
+    noise = 1e-3 * math.sqrt(FS) * rng.standard_normal(n)
+    y = noise + c_t * (temp - temp.mean()) + c_dt * dtdt
+    clean, fit = remove_temperature(y, temp, FS)
+    z = NormalDist().inv_cdf(
+        1 - 1e-6 / 4
+    )  # white residuals: the OLS errors hold; 1e-6 over two checks
+    assert abs(fit.c_temperature - c_t) <= z * fit.se_temperature
+    assert abs(fit.c_rate - c_dt) <= z * fit.se_rate
+    # the explained share: drift variance / total (0.5 c_t^2 100 + 0.5 c_dt^2 0.063^2) / (0.01 + that)
+    assert 0.02 < fit.explained < 0.08
+    # what is left is the white noise (up to its mean): the drift is gone to within the coefficients' errors
+    left = np.std(clean - noise)
+    assert left <= z * (fit.se_temperature * np.std(temp) + fit.se_rate * np.std(dtdt)), left
+
+
+def test_temperature_input_checks():
+    with pytest.raises(ValueError, match="temperature must have the rate's length 10; got 9"):
+        remove_temperature(np.zeros(10), np.zeros(9), FS)
+    with pytest.raises(ValueError, match="temperature column is constant"):
+        remove_temperature(np.zeros(10), np.ones(10), FS)

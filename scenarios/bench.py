@@ -83,9 +83,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobench.scenarios import exits
+
 __all__ = [
     "DEFAULT_DB",
     "CompensatorError",
+    "FailedSeedsError",
     "Campaign",
     "ScoreSummary",
     "ScoreComparison",
@@ -343,7 +346,7 @@ def _seed_int(seed: int) -> int:
 
 #: environment variable: when set (to anything but "" or "0"), ``gyrobench bench`` prints the
 #: traceback of a failing compensator on stderr before its one-line error
-TRACEBACK_ENV = "GYROBENCH_TRACEBACK"
+TRACEBACK_ENV = exits.TRACEBACK_ENV
 
 
 class CompensatorError(ValueError):
@@ -392,6 +395,17 @@ class CompensatorError(ValueError):
             stage=self.stage,
             traceback_text=self.traceback_text,
         )
+
+
+class FailedSeedsError(ValueError):
+    """A campaign with failed seeds was to be saved as a baseline or compared (exit 3).
+
+    ``seeds`` holds the failed seeds.
+    """
+
+    def __init__(self, message: str, *, seeds: Sequence[int] = ()) -> None:
+        super().__init__(message)
+        self.seeds = tuple(seeds)
 
 
 def _compensator_failed(label: str, seed: int, stage: str, exc: BaseException) -> CompensatorError:
@@ -498,11 +512,23 @@ def score_seed(
     CompensatorError
         If the compensator's fit or predict raises (the message names the
         compensator, the seed, the stage and the original exception; the original
-        is chained as ``__cause__``), or its prediction has the wrong size.
+        is chained as ``__cause__``), its prediction has the wrong size, or its
+        prediction or a score is not finite (NaN or inf: in a campaign such a seed
+        is recorded as failed instead, see :func:`run_campaign`).
     TypeError
         If a fit function returns something that cannot predict.
     """
-    return _score(scenario, compensator, seed, config)
+    comp = resolve_compensator(compensator)
+    label = _compensator_label(comp, compensator, short=True)
+    scores, failure = _score(scenario, comp, seed, config, label)
+    if failure is not None:
+        raise CompensatorError(
+            f"compensator {label} failed on seed {seed}: {failure}",
+            compensator=label,
+            seed=seed,
+            stage="score",
+        )
+    return scores
 
 
 def _score(
@@ -511,8 +537,13 @@ def _score(
     seed: int,
     config: Any = None,
     label: str | None = None,
-) -> dict[str, float]:
-    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object)."""
+) -> tuple[dict[str, float], str | None]:
+    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object).
+
+    Returns the scores and, for a failed seed, why it failed (:func:`_nonfinite`); else None.
+    A seed fails at the first held-out run whose prediction or scores are not all finite;
+    the runs after it are not scored.
+    """
     from threadpoolctl import threadpool_limits
 
     module = resolve_scenario(scenario)
@@ -545,23 +576,47 @@ def _score(
                     seed=seed,
                     stage=stage,
                 )
-            compensated = task.compensate(pred, run)
-            for k, v in task.scorer(compensated, run).items():
-                v = float(v)
-                scores[f"{run.label}/{k}"] = v
-                per_key.setdefault(k, []).append(v)
+            failure = _nonfinite(f"the prediction on run {run.label}", pred)
+            if failure is None:
+                compensated = task.compensate(pred, run)
+                with np.errstate(all="ignore"):  # an overflow is reported as a failed seed
+                    run_scores = {k: float(v) for k, v in task.scorer(compensated, run).items()}
+                bad = [k for k, v in run_scores.items() if not math.isfinite(v)]
+                if bad:
+                    failure = (
+                        f"score {run.label}/{bad[0]} is {run_scores[bad[0]]!r}"
+                        + (f" ({len(bad)} non-finite scores)" if len(bad) > 1 else "")
+                    )
+                for k, v in run_scores.items():
+                    scores[f"{run.label}/{k}"] = v
+                    per_key.setdefault(k, []).append(v)
+            if failure is not None:
+                return dict(sorted(scores.items())), failure
     for k, vals in per_key.items():
         scores[f"mean/{k}"] = math.fsum(vals) / len(vals)
-    return dict(sorted(scores.items()))
+    return dict(sorted(scores.items())), None
+
+
+def _nonfinite(what: str, values: NDArray[np.float64]) -> str | None:
+    """``"<what> has 3 non-finite values of 300 (nan at sample 0)"``, or None if all are finite."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size == 0:
+        return None
+    i = int(bad[0])
+    return (
+        f"{what} has {bad.size} non-finite value{'s' if bad.size > 1 else ''} of {values.size} "
+        f"({float(values.flat[i])!r} at sample {i})"
+    )
 
 
 def _score_job(
     module_name: str, compensator: Any, seed: int, config: Any, label: str | None = None
-) -> tuple[int, dict[str, float], float]:
-    """Worker entry point (module level so it pickles by reference)."""
+) -> tuple[int, dict[str, float], float, str | None]:
+    """Worker entry point (module level so it pickles by reference):
+    (seed, scores, elapsed [s], failure or None)."""
     t0 = time.perf_counter()
-    scores = _score(importlib.import_module(module_name), compensator, seed, config, label)
-    return seed, scores, time.perf_counter() - t0
+    scores, failure = _score(importlib.import_module(module_name), compensator, seed, config, label)
+    return seed, scores, time.perf_counter() - t0, failure
 
 
 # ----------------------------------------------------------------------------- identity
@@ -899,9 +954,13 @@ class Campaign:
     scenario, compensator, config : str
         Human-readable descriptions.
     scores : mapping
-        seed -> {score name: value}, in seed order.
+        seed -> {score name: value}, in seed order (a failed seed's scores are those
+        computed before it failed, possibly non-finite).
     computed, reused : int
         Seeds computed by this call / read back from the database.
+    failed : mapping
+        seed -> why it failed (a non-finite prediction or score), for the failed seeds.
+        Summaries leave them out; :func:`compare` and :func:`save_baseline` refuse them.
     """
 
     campaign_id: str
@@ -912,6 +971,7 @@ class Campaign:
     computed: int = 0
     reused: int = 0
     db: str = ""
+    failed: Mapping[int, str] = dataclasses.field(default_factory=dict)
 
     @property
     def seeds(self) -> tuple[int, ...]:
@@ -924,18 +984,36 @@ class Campaign:
             names.update(s)
         return _order(names)
 
+    @property
+    def ok_seeds(self) -> tuple[int, ...]:
+        """The seeds that did not fail."""
+        return tuple(s for s in self.scores if s not in self.failed)
+
     def values(self, name: str, seeds: Sequence[int] | None = None) -> NDArray[np.float64]:
         """The score ``name`` for each seed (NaN where a seed lacks it)."""
         seeds = self.seeds if seeds is None else seeds
         return np.array([self.scores[s].get(name, math.nan) for s in seeds], dtype=float)
 
     def summary(self, level: float = 0.95) -> dict[str, ScoreSummary]:
-        """Per score: mean over seeds with a ``level`` confidence interval.
+        """Per score: mean over the seeds that did not fail, with a ``level`` confidence interval.
 
         Student t for scores of either sign; for scores non-negative by nature a
         lognormal (modified Cox) interval that stays > 0 (see :func:`_summary`).
         """
-        return {n: _summary(n, self.values(n), level) for n in self.score_names}
+        ok = self.ok_seeds
+        return {n: _summary(n, self.values(n, ok), level) for n in self.score_names}
+
+    def failure_text(self, limit: int = 10) -> str:
+        """One line naming the failed seeds and the first reasons ("" when none failed)."""
+        if not self.failed:
+            return ""
+        seeds = sorted(self.failed)
+        first = seeds[0]
+        return (
+            f"compensator {self.compensator} failed on {len(seeds)} of {len(self.scores)} seeds "
+            f"of {self.scenario} (seeds {_seed_text(seeds, limit)}); seed {first}: "
+            f"{self.failed[first]}"
+        )
 
 
 def format_summary(campaign: Campaign) -> str:
@@ -956,6 +1034,11 @@ def format_summary(campaign: Campaign) -> str:
         f"compensator {campaign.compensator}; {len(campaign.scores)} seeds "
         f"({campaign.computed} computed, {campaign.reused} from the database)"
     )
+    if campaign.failed:
+        head += (
+            f"; {len(campaign.failed)} FAILED (non-finite prediction or score: "
+            f"seeds {_seed_text(sorted(campaign.failed))}), left out of the summary"
+        )
     how = [
         "95% CI of the mean over seeds, by CI method: 't' = Student t; 'lognormal' = modified Cox",
         "interval, always > 0, for scores non-negative by nature (mse, rms, std, stability, ...);",
@@ -985,6 +1068,12 @@ CREATE TABLE IF NOT EXISTS seed_scores (
     elapsed_s REAL NOT NULL,
     finished REAL NOT NULL,
     session_id INTEGER NOT NULL REFERENCES sessions(session_id),
+    PRIMARY KEY (campaign_id, seed)
+);
+CREATE TABLE IF NOT EXISTS seed_failures (
+    campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
+    seed INTEGER NOT NULL,
+    reason TEXT NOT NULL,
     PRIMARY KEY (campaign_id, seed)
 );
 CREATE TABLE IF NOT EXISTS sessions (
@@ -1115,11 +1204,17 @@ def run_campaign(
         )
         done: dict[int, dict[str, float]] = {}
         wanted = set(seeds)
+        failed: dict[int, str] = {}
         for seed, text in conn.execute(
             "SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (cid,)
         ):
             if seed in wanted:
                 done[seed] = _loads_scores(text)
+        for seed, reason in conn.execute(
+            "SELECT seed, reason FROM seed_failures WHERE campaign_id = ?", (cid,)
+        ):
+            if seed in done:
+                failed[seed] = reason
         cur = conn.execute(
             "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) "
             "VALUES (?, ?, ?, ?, ?)",
@@ -1130,14 +1225,21 @@ def run_campaign(
         todo = [s for s in seeds if s not in done]
         reused = len(done)
 
-        def record(seed: int, scores: dict[str, float], elapsed: float) -> None:
+        def record(seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
             text = _dumps_scores(scores)
             conn.execute("BEGIN IMMEDIATE")
             try:
                 conn.execute(
-                    "INSERT INTO seed_scores VALUES (?, ?, ?, ?, ?, ?)",
+                    "INSERT INTO seed_scores "
+                    "(campaign_id, seed, scores, elapsed_s, finished, session_id) "
+                    "VALUES (?, ?, ?, ?, ?, ?)",
                     (cid, seed, text, elapsed, time.time(), session),
                 )
+                if failure is not None:
+                    conn.execute(
+                        "INSERT INTO seed_failures (campaign_id, seed, reason) VALUES (?, ?, ?)",
+                        (cid, seed, failure),
+                    )
             except sqlite3.IntegrityError:
                 # another process running the same campaign on this file stored it meanwhile;
                 # scores are deterministic, so it must be the same
@@ -1146,16 +1248,24 @@ def run_campaign(
                     "SELECT scores FROM seed_scores WHERE campaign_id = ? AND seed = ?", (cid, seed)
                 ).fetchone()
                 if other != text:
-                    raise RuntimeError(
-                        f"seed {seed} of campaign {cid} gave different scores in two runs: "
-                        "the scenario or compensator is not deterministic"
+                    raise exits.InternalError(
+                        f"seed {seed} of campaign {cid} gave different scores in two runs on "
+                        f"db {str(db)!r}: the scenario or compensator is not deterministic "
+                        "(it must give the same scores for the same seed)"
                     ) from None
+                row = conn.execute(
+                    "SELECT reason FROM seed_failures WHERE campaign_id = ? AND seed = ?",
+                    (cid, seed),
+                ).fetchone()
+                failure = row[0] if row else failure
             except BaseException:
                 conn.execute("ROLLBACK")
                 raise
             else:
                 conn.execute("COMMIT")
             done[seed] = _loads_scores(text)  # exactly what a resume reads back
+            if failure is not None:
+                failed[seed] = failure
 
         def kept() -> str:
             n = len(done)
@@ -1209,6 +1319,12 @@ def run_campaign(
                                 result = fut.result()
                             except CompensatorError as exc:
                                 raise exc.with_context(kept()) from exc
+                            except cf.BrokenExecutor as exc:
+                                raise exits.InternalError(
+                                    f"a worker process died while scoring seed {seed} of "
+                                    f"{scen_name} (killed, or out of memory: see 'dmesg'); "
+                                    f"{kept()}"
+                                ) from exc
                             except Exception as exc:
                                 _note(
                                     exc, f"while scoring seed {seed} of {scen_name} ({kept()})"
@@ -1232,6 +1348,7 @@ def run_campaign(
             computed=len(todo),
             reused=reused,
             db=str(db),
+            failed={s: failed[s] for s in seeds if s in failed},
         )
     finally:
         conn.close()
@@ -1343,6 +1460,11 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
     if not isinstance(campaign, Campaign):
         raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
     path = check_baseline_path(path)
+    if campaign.failed:
+        raise FailedSeedsError(
+            f"not saving baseline {str(path)!r}: {campaign.failure_text()}",
+            seeds=sorted(campaign.failed),
+        )
     doc = {
         "format": BASELINE_FORMAT,
         "format_version": BASELINE_VERSION,
@@ -1435,7 +1557,13 @@ class ScoreComparison:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comparison:
-    """All scores compared; ``regressions`` non-empty means a significant regression."""
+    """All scores compared; ``regressions`` non-empty means a significant regression.
+
+    ``failed_seeds`` non-empty means the candidate failed on those seeds (a non-finite
+    prediction or score): the comparison then fails whatever the scores say (``passed`` is
+    False; the command line exits :data:`gyrobench.scenarios.exits.FAILED_SEEDS`), and
+    ``failure`` says so in one line. The paired test runs on the other seeds.
+    """
 
     scores: tuple[ScoreComparison, ...]
     seeds: tuple[int, ...]
@@ -1443,6 +1571,13 @@ class Comparison:
     test: str
     missing: tuple[str, ...] = ()
     note: str = ""
+    failed_seeds: tuple[int, ...] = ()
+    failure: str = ""
+
+    @property
+    def passed(self) -> bool:
+        """No failed seed and no significant regression."""
+        return not self.failed_seeds and not self.regressions
 
     @property
     def regressions(self) -> tuple[ScoreComparison, ...]:
@@ -1482,10 +1617,17 @@ class Comparison:
         if self.missing:
             lines.append(f"not compared (in only one campaign): {', '.join(self.missing)}")
         reg, imp = self.regressions, self.improvements
+        if self.failed_seeds:
+            lines.append(f"FAILED: {self.failure}")
         if reg:
             lines.append(
                 f"REGRESSION: {len(reg)} score(s) significantly worse: "
                 + ", ".join(s.name for s in reg)
+            )
+        elif self.failed_seeds:
+            lines.append(
+                f"no significant regression on the {len(self.seeds)} seeds compared, but the "
+                "comparison FAILS: the compensator failed on the seeds named above"
             )
         else:
             lines.append(f"no significant regression ({len(imp)} score(s) significantly better)")
@@ -1549,6 +1691,12 @@ def compare(
     A score whose differences are all exactly zero (the same compensator: scores
     are deterministic) is "unchanged" with p = 1.
 
+    A candidate seed that failed (listed in ``campaign.failed``, or with a non-finite
+    score: a campaign read from JSON) is never dropped silently: it is named in
+    ``failed_seeds`` and the comparison does not pass, whatever the other seeds say. A
+    baseline seed with a non-finite score is left out of the paired test (with a note);
+    if no seed is left, the comparison is refused.
+
     Many scores are tested at once (each held-out run and the mean), so the
     p-values are adjusted by Holm's step-down method, which keeps the probability
     of any false "regressed" or "improved" at most ``alpha``. A significant score
@@ -1569,25 +1717,41 @@ def compare(
             f"baseline is of scenario {base.scenario!r}, campaign of {cand.scenario!r}; "
             "a paired comparison needs the same scenario"
         )
-    seeds = tuple(s for s in cand.seeds if s in base.scores)
-    if not seeds:
+    common = tuple(s for s in cand.seeds if s in base.scores)
+    if not common:
         raise ValueError(
             f"baseline and campaign share no seed (baseline seeds {_seed_text(base.seeds)}, "
             f"campaign seeds {_seed_text(cand.seeds)}); run the campaign on the baseline's seeds"
         )
     bnames, cnames = set(base.score_names), set(cand.score_names)
     names = _order(bnames & cnames)
+    if not names and set(cand.failed) >= set(common):  # failed before any score: compare all
+        names, cnames = _order(bnames), bnames
     missing = tuple(_order(bnames ^ cnames))
     if not names:
         raise ValueError(
             "baseline and campaign have no score in common; were they run on the same scenario?"
         )
+    cand_failed = dict(cand.failed)
+    base_failed = set(base.failed)
+    for s in common:
+        if s not in cand_failed:
+            bad = [n for n in names if not math.isfinite(cand.scores[s].get(n, math.nan))]
+            if bad:
+                cand_failed[s] = f"score {bad[0]} is {cand.scores[s].get(bad[0], math.nan)!r}"
+        if any(not math.isfinite(base.scores[s].get(n, math.nan)) for n in names):
+            base_failed.add(s)
+    failed_seeds = tuple(sorted(s for s in cand_failed if s in cand.scores))
+    seeds = tuple(s for s in common if s not in cand_failed and s not in base_failed)
+    if not seeds and not failed_seeds:
+        raise ValueError(
+            f"the baseline has no finite scores on the seeds it shares with the campaign "
+            f"({_seed_text(common)}): re-save it from a compensator that works"
+        )
     rows = []
     pvals = []
     for name in names:
         b, c = base.values(name, seeds), cand.values(name, seeds)
-        ok = np.isfinite(b) & np.isfinite(c)
-        b, c = b[ok], c[ok]
         d = c - b
         nz = d[d != 0]
         if nz.size == 0:
@@ -1630,6 +1794,11 @@ def compare(
         out.append(ScoreComparison(**r, p_adjusted=float(pa), status=status))
     n_min = min(r.n for r in out)
     notes = []
+    dropped = sorted(s for s in base_failed if s in common and s not in cand_failed)
+    if dropped:
+        notes.append(
+            f"baseline seeds {_seed_text(dropped)} have non-finite scores and are not compared"
+        )
     if base.config != cand.config:
         notes.append("the two campaigns ran different scenario configurations")
     if 2.0 / 2.0**n_min * len(out) >= alpha:
@@ -1639,6 +1808,14 @@ def compare(
             "so no change can be significant; use more seeds"
         )
     note = "; ".join(notes)
+    failure = ""
+    if failed_seeds:
+        first = failed_seeds[0]
+        failure = (
+            f"compensator {cand.compensator} failed on {len(failed_seeds)} of {len(common)} "
+            f"compared seeds (seeds {_seed_text(failed_seeds)}; seed {first}: "
+            f"{cand_failed[first]}): a campaign with a failed seed never passes the comparison"
+        )
     return Comparison(
         scores=tuple(out),
         seeds=seeds,
@@ -1646,11 +1823,13 @@ def compare(
         test="two-sided Wilcoxon signed-rank on paired per-seed scores",
         missing=missing,
         note=note,
+        failed_seeds=failed_seeds,
+        failure=failure,
     )
 
 
-def _seed_text(seeds: Sequence[int]) -> str:
+def _seed_text(seeds: Sequence[int], limit: int = 10) -> str:
     s = list(seeds)
     if len(s) > 1 and s == list(range(s[0], s[-1] + 1)):
         return f"{s[0]}:{s[-1] + 1}"
-    return ",".join(map(str, s[:10])) + (",..." if len(s) > 10 else "")
+    return ",".join(map(str, s[:limit])) + (f",... ({len(s)} seeds)" if len(s) > limit else "")

@@ -10,8 +10,10 @@
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
 
-Exit status: 0 on success, 2 on bad input (one readable line on stderr, no
-traceback), 1 when ``bench`` finds a significant regression.
+Exit status (:mod:`gyrobench.scenarios.exits`): 0 on success, 1 when ``bench`` finds
+a significant regression, 2 on bad input, 3 when ``bench``'s compensator failed on
+some seeds, 4 on an internal failure, 130 when interrupted. Every error is one
+readable line on stderr, no traceback (``GYROBENCH_TRACEBACK=1`` shows it).
 """
 
 from __future__ import annotations
@@ -585,24 +587,77 @@ def _attach_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
+def _one_line(text: object) -> str:
+    """``text`` on one line (a message from a library may hold newlines)."""
+    return " ".join(str(text).split())
+
+
+def _error_status(exc: BaseException) -> tuple[int, str]:
+    """(exit status, one-line message) for an exception leaving a verb (see scenarios.exits)."""
+    from gyrobench.scenarios import exits
+
+    bench = sys.modules.get("gyrobench.scenarios.bench")
+    if bench is not None and isinstance(exc, bench.FailedSeedsError):
+        return exits.FAILED_SEEDS, _one_line(exc)
+    if isinstance(exc, exits.InternalError):
+        return exits.INTERNAL, f"internal failure: {_one_line(exc)}"
+    if isinstance(exc, _INPUT_ERRORS):
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        return exits.BAD_INPUT, _one_line(msg)
+    if isinstance(exc, OverflowError):  # a number too large for the computation: an input value
+        return exits.BAD_INPUT, f"a value is too large to compute with ({_one_line(exc)}); check the inputs"
+    if isinstance(exc, MemoryError):
+        return exits.BAD_INPUT, ("out of memory: the run needs more memory than is available "
+                                 "(shorten the record, lower fs or use fewer seeds)")
+    if isinstance(exc, OSError):  # a failed write (AtomicWriteError names the target), an unreadable input
+        return exits.BAD_INPUT, _one_line(exc)
+    import sqlite3
+
+    if isinstance(exc, sqlite3.Error):
+        return exits.BAD_INPUT, f"database error: {_one_line(exc)}"
+    return exits.INTERNAL, (f"internal failure ({type(exc).__name__}: {_one_line(exc) or 'no message'}); "
+                            f"this is a bug: please report it with the output of GYROBENCH_TRACEBACK=1")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings in one line each, without the source line Python prints under them."""
+    where = Path(str(filename)).name
+    print(f"gyrobench: warning: {_one_line(message)} ({category.__name__} in {where}:{lineno})",
+          file=sys.stderr if file is None else file)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``gyrobench`` console script; returns the exit status."""
+    """Entry point of the ``gyrobench`` console script; returns the exit status.
+
+    Exit statuses are listed in :mod:`gyrobench.scenarios.exits`: 0 ok, 1 significant
+    regression, 2 bad input, 3 failed seeds, 4 internal failure, 130 interrupted. Every
+    error is one line on stderr; ``GYROBENCH_TRACEBACK=1`` prints the traceback first.
+    """
+    from gyrobench.scenarios import exits
+
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
     try:
-        return int(args.func(args) or 0)
-    except _INPUT_ERRORS as exc:
-        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-        print(f"gyrobench: error: {msg}", file=sys.stderr)
-        return 2
-    except OSError as exc:  # a failed write (sim.recording.AtomicWriteError names the target), an unreadable input
-        print(f"gyrobench: error: {exc}", file=sys.stderr)
-        return 2
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print("gyrobench: interrupted", file=sys.stderr)
-        return 130
+        return exits.INTERRUPTED
+    except Exception as exc:
+        code, msg = _error_status(exc)
+        if exits.traceback_wanted():
+            text = getattr(exc, "traceback_text", "")  # a compensator's, from its worker process
+            if text:
+                sys.stderr.write(text)
+            else:
+                import traceback
+
+                traceback.print_exception(exc, file=sys.stderr)
+        print(f"gyrobench: error: {msg}", file=sys.stderr)
+        return code
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -206,22 +206,56 @@ def parse_seeds(text: str) -> tuple[int, ...]:
                 raise ValueError
             if len(parts) == 3 and parts[2] <= 0:
                 raise ValueError
-            seeds = tuple(range(*parts))
+            span = range(*parts)
+            _check_count(len(span), what=text)  # before building a tuple of 10**12 ints
+            seeds = tuple(span)
         else:
             seeds = tuple(int(p) for p in s.split(","))
-    except ValueError:
+    except ValueError as exc:
+        if str(exc).startswith("seeds must"):
+            raise
         raise ValueError(usage) from None
     return _check_seeds(seeds, what=text)
+
+
+#: most seeds one campaign may hold. The bound is what the calling process holds at once:
+#: every seed is a submitted future (~1 kB) and a row of scores read back (~1-2 kB for the
+#: scenarios' 10-40 scores), so 10**6 seeds take about 2-3 GB, checked against the memory
+#: limit too (gyrobench.sim.memory); at ~0.5 s per seed it is also ~6 CPU-days of work.
+MAX_SEEDS = 10**6
+#: largest seed: the database stores seeds as SQLite INTEGER (signed 64-bit)
+MAX_SEED = 2**63 - 1
+#: bytes one seed costs the calling process (a future and its scores), for the memory check
+BYTES_PER_SEED = 3000
+
+
+def _check_count(n: int, *, what: Any) -> None:
+    if n > MAX_SEEDS:
+        raise ValueError(
+            f"seeds must number at most {MAX_SEEDS} per campaign (each is a future and a row of "
+            f"scores held by this process); got {n} in {what!r}: split the campaign"
+        )
+    from gyrobench.sim import memory
+
+    memory.check_memory(
+        n * BYTES_PER_SEED, f"a campaign of {n} seeds", hint="use fewer seeds per campaign"
+    )
 
 
 def _check_seeds(seeds: Iterable[int], *, what: Any = None) -> tuple[int, ...]:
     seeds = tuple(seeds)
     what = seeds if what is None else what
+    _check_count(len(seeds), what=what if len(seeds) < 20 else f"{len(seeds)} seeds")
     for s in seeds:
         if isinstance(s, (bool, np.bool_)) or not isinstance(s, (int, np.integer)):
             raise TypeError(f"seeds must be integers >= 0; got {s!r} in {what!r}")
         if s < 0:
             raise ValueError(f"seeds must be integers >= 0; got {int(s)} in {what!r}")
+        if s > MAX_SEED:
+            raise ValueError(
+                f"seeds must be <= 2**63 - 1 = {MAX_SEED} (the database stores them as 64-bit "
+                f"integers); got {int(s)} in {what!r}"
+            )
     if not seeds:
         raise ValueError(f"seeds must hold at least one seed; got {what!r}")
     seeds = tuple(int(s) for s in seeds)
@@ -300,6 +334,19 @@ def _import_attr(spec: str) -> Any:
         raise ValueError(
             f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})"
         ) from None
+    except SyntaxError as exc:
+        raise CompensatorImportError(
+            f"compensator {spec!r}: module {mod_name!r} has a syntax error: {exc.msg} "
+            f"({exc.filename}, line {exc.lineno})",
+            exc,
+        ) from exc
+    except Exception as exc:  # noqa: BLE001 - whatever the user's module raises while importing
+        detail = " ".join(str(exc).split()) or "(no message)"
+        raise CompensatorImportError(
+            f"compensator {spec!r}: importing module {mod_name!r} raised "
+            f"{type(exc).__name__}: {detail}",
+            exc,
+        ) from exc
     for part in attr.split("."):
         try:
             obj = getattr(obj, part)
@@ -308,6 +355,20 @@ def _import_attr(spec: str) -> Any:
                 f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}"
             ) from None
     return obj
+
+
+class CompensatorImportError(ValueError):
+    """The compensator's module failed to import (a syntax error, an exception at import time).
+
+    Bad input (exit 2); ``traceback_text`` holds the import's traceback, which the
+    command line prints with ``GYROBENCH_TRACEBACK=1``.
+    """
+
+    def __init__(self, message: str, cause: BaseException) -> None:
+        import traceback
+
+        super().__init__(message)
+        self.traceback_text = "".join(traceback.format_exception(cause))
 
 
 def _is_estimator(obj: Any) -> bool:
@@ -1089,7 +1150,10 @@ CREATE TABLE IF NOT EXISTS sessions (
 
 def _connect(path: str | os.PathLike) -> sqlite3.Connection:
     p = _check_output_file(path, what="db")
-    conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+    try:
+        conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+    except sqlite3.Error as exc:
+        raise ValueError(f"db {str(p)!r} cannot be opened: {exc}") from None
     try:
         conn.execute("PRAGMA busy_timeout = 60000")
         mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
@@ -1097,6 +1161,13 @@ def _connect(path: str | os.PathLike) -> sqlite3.Connection:
             raise ValueError(f"db {str(p)!r}: cannot switch to WAL journal mode (got {mode!r})")
         conn.execute("PRAGMA synchronous = FULL")
         conn.executescript(_SCHEMA)
+    except sqlite3.OperationalError as exc:  # an unwritable folder or file, a read-only file system
+        conn.close()
+        writable = os.access(p.parent, os.W_OK) and (not p.exists() or os.access(p, os.W_OK))
+        why = "" if writable else " (no write permission)"
+        raise ValueError(
+            f"db {str(p)!r} cannot be opened for writing{why}: {exc}; give --db in a writable folder"
+        ) from None
     except sqlite3.DatabaseError as exc:
         conn.close()
         raise ValueError(f"db {str(p)!r} is not a usable SQLite database: {exc}") from None

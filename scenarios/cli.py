@@ -101,9 +101,12 @@ def _duration(text: str) -> float:
     if text.strip().startswith("-"):
         raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
     try:
-        return parse_duration(text)
+        value = parse_duration(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"--{exc}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"--duration must be a finite number of seconds; got {text!r}")
+    return value
 
 
 def _positive_int(name: str):
@@ -143,8 +146,15 @@ def _simulate_noise(args) -> int:
     from tqdm import tqdm
 
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import memory
     from gyrobench.sim.noise import NoiseModel
-    from gyrobench.sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
+    from gyrobench.sim.recording import (
+        HDF5StreamWriter,
+        atomic_path,
+        check_magnitude,
+        ensure_free_space,
+        package_version,
+    )
 
     if extra := _given(args, _SCENARIO_FLAGS):
         raise _BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
@@ -165,7 +175,11 @@ def _simulate_noise(args) -> int:
         bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
         rate_ramp=datasheet["R_deg_h2"],
     )
-    n = int(round(args.duration * fs))
+    n_float = args.duration * fs
+    if not n_float < 2.0**62:  # inf or beyond any disk: said here, not as an OverflowError
+        raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n_float:.3g} samples; "
+                        "a record holds at most 2**62 (and must fit on the disk)")
+    n = int(round(n_float))
     if n < MIN_SAMPLES:
         raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
@@ -173,6 +187,9 @@ def _simulate_noise(args) -> int:
         ensure_free_space(out, 42 * n)
     seed = 0 if args.seed is None else args.seed
     chunk = args.chunk or 1 << 20
+    # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)
+    memory.check_memory(memory.series_bytes(min(chunk, n), 12), f"simulate noise (chunks of {min(chunk, n)} samples)",
+                        hint="lower --chunk")
     stream = model.stream(fs, rng=np.random.default_rng(seed))
     meta = {
         "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
@@ -185,6 +202,7 @@ def _simulate_noise(args) -> int:
                            "rate_random_walk_rad_per_s_sqrt_s": model.rate_random_walk,
                            "rate_ramp_rad_per_s2": model.rate_ramp},
     }
+    too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
     bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
     with _closing(bar):
         if suffix == ".csv":
@@ -193,6 +211,7 @@ def _simulate_noise(args) -> int:
                 fh.write("time [s],rate [rad/s]\n")
                 k = 0
                 for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
                     t = (k + np.arange(len(y))) / fs
                     np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
                     k += len(y)
@@ -201,6 +220,7 @@ def _simulate_noise(args) -> int:
             with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
                                   expected_samples=n) as w:
                 for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
                     w.append(rate=y)
                     bar.update(len(y))
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")

@@ -49,6 +49,7 @@ __all__ = [
     "AtomicWriteError",
     "atomic_path",
     "ensure_free_space",
+    "check_magnitude",
     "save_hdf5",
     "load_hdf5",
     "list_hdf5",
@@ -136,6 +137,42 @@ def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
             f"cannot write {str(path)!r}: the record needs about {_fmt_bytes(nbytes)} but {str(folder)!r} "
             f"has {_fmt_bytes(free)} free; shorten the record, lower fs or write elsewhere",
             str(path),
+        )
+
+
+#: |sample| above ``MAX_MAGNITUDE / sqrt(n)`` is refused by :func:`check_magnitude`
+MAX_MAGNITUDE = 1e100
+
+
+def check_magnitude(
+    values: NDArray[np.float64], what: str, *, n_total: int | None = None, hint: str = "check its unit and scale"
+) -> None:
+    """Refuse samples too large for the sums of squares an analysis forms.
+
+    An Allan variance sums ``n`` squared differences of block averages; with every
+    ``|y| <= M`` each term is at most ``4 M**2``, so the sum stays far below the float64
+    maximum (1.8e308) when ``M <= 1e100 / sqrt(n)`` (a margin of 1e100). No gyro's rate,
+    in any unit, comes near it: larger samples are a wrong unit or corrupt data, and
+    would otherwise end in overflow warnings and NaN. Non-finite samples are refused too.
+
+    ``n_total`` is the length of the whole record when ``values`` is one chunk of it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the first offending sample and the limit.
+    """
+    v = np.asarray(values)
+    n = max(int(v.size if n_total is None else n_total), 1)
+    limit = MAX_MAGNITUDE / math.sqrt(n)
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(~(np.abs(v) <= limit))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"{what} has {float(v.flat[i]):.6g} at sample {i} ({bad.size} sample"
+            f"{'s' if bad.size > 1 else ''} outside +-{limit:.3g}, the largest magnitude an "
+            f"analysis of {n} samples can square without overflow): {hint}"
         )
 
 
@@ -505,43 +542,183 @@ def list_hdf5(path: str | os.PathLike) -> list[str]:
         return list(h5["recordings"].keys())
 
 
+class _NameError(KeyError):
+    """No recording of that name (or several and none named): a KeyError with a plain message."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class _ChoiceError(ValueError):
+    """Several recordings in the file and none named."""
+
+
+def _attr(grp, key: str, kind: type, where: str):
+    """Group attribute ``key`` as a finite float or an int, else RecordingFormatError naming it."""
+    if key not in grp.attrs:
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    raw = grp.attrs[key]
+    arr = np.asarray(raw)
+    if arr.size != 1 or arr.dtype.kind not in ("f", "i", "u") or arr.dtype == bool:
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a real number; got {_short_repr(raw)}"
+        )
+    v = float(arr.reshape(()))
+    if not math.isfinite(v) or (kind is int and v != int(v)):
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a finite {'integer' if kind is int else 'number'}; "
+            f"got {_short_repr(raw)}"
+        )
+    return int(v) if kind is int else v
+
+
+def _short_repr(v: Any) -> str:
+    text = " ".join(repr(v).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _text_attr(attrs, key: str, where: str, default: str | None = None) -> str:
+    if key not in attrs:
+        if default is not None:
+            return default
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    v = attrs[key]
+    if isinstance(v, bytes):
+        try:
+            return v.decode()
+        except UnicodeDecodeError:
+            raise RecordingFormatError(f"{where}: attribute {key!r} is not UTF-8 text") from None
+    if not isinstance(v, str):
+        raise RecordingFormatError(f"{where}: attribute {key!r} must be text; got {_short_repr(v)}")
+    return v
+
+
+def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
+    """The datasets of ``grp[sub]``, refusing links that leave the file or do not resolve.
+
+    HDF5 external links would make a recording read another file without a word, and soft
+    links can loop: both are refused (gyrobench writes neither).
+    """
+    import h5py
+
+    link = grp.get(sub, getlink=True)
+    if link is None:
+        raise RecordingFormatError(f"{where} has no {sub!r} group: incomplete file?")
+    if isinstance(link, (h5py.ExternalLink, h5py.SoftLink)):
+        raise RecordingFormatError(_link_message(f"{where}/{sub}", link))
+    out = {}
+    g = grp[sub]
+    if not isinstance(g, h5py.Group):
+        raise RecordingFormatError(f"{where}/{sub} must be a group; got a {type(g).__name__}")
+    for k in g:
+        lk = g.get(k, getlink=True)
+        if isinstance(lk, (h5py.ExternalLink, h5py.SoftLink)):
+            raise RecordingFormatError(_link_message(f"{where}/{sub}/{k}", lk))
+        ds = g[k]
+        if not isinstance(ds, h5py.Dataset):
+            raise RecordingFormatError(f"{where}/{sub}/{k} must be a dataset; got a group")
+        out[k] = ds
+    return out
+
+
+def _link_message(name: str, lk: Any) -> str:
+    import h5py
+
+    if isinstance(lk, h5py.ExternalLink):
+        return (f"{name} is an HDF5 external link to {lk.filename!r}:{lk.path}; external links are "
+                "refused (a recording must hold its own data): copy the data into the file")
+    return f"{name} is an HDF5 soft link to {lk.path!r}; links are refused in a recording"
+
+
 def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
     """Read one recording (``name``, or the only one) and check it is complete.
+
+    Everything is checked before any sample is read: the attributes ``fs``, ``t0``
+    (finite real numbers), ``n_samples`` (an integer) and ``metadata`` (JSON text);
+    every channel must be a real (float or integer) 1-D dataset of ``n_samples``
+    values, stored in the file itself (external and soft links are refused), and all
+    of them together must fit in memory (:func:`gyrobench.sim.memory.check_memory`).
 
     Raises
     ------
     RecordingFormatError
-        For a foreign or truncated file, or channel lengths that disagree with
-        the stored ``n_samples``.
+        For a foreign, truncated or malformed file (the message names the file and
+        the item), complex data, or links.
+    gyrobench.sim.memory.MemoryLimitError
+        If the channels would not fit in memory.
     KeyError
         If ``name`` is not in the file.
     """
+    from gyrobench.sim import memory
+
     with _open_checked(path) as h5:
-        recs = h5["recordings"]
-        if name is None:
-            if len(recs) != 1:
-                raise ValueError(f"{str(path)!r} holds {len(recs)} recordings {list(recs)}; name one")
-            name = next(iter(recs))
-        if name not in recs:
-            raise KeyError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
-        grp = recs[name]
         try:
-            fs = float(grp.attrs["fs"])
-            t0 = float(grp.attrs["t0"])
-            n = int(grp.attrs["n_samples"])
-            meta = json.loads(grp.attrs["metadata"])
-            out: dict[str, dict[str, Channel]] = {}
-            for sub in ("channels", "truth"):
-                out[sub] = {}
-                for k, ds in grp[sub].items():
-                    data = ds[()]
-                    if data.shape != (n,):
+            recs = h5["recordings"]
+            if name is None:
+                if len(recs) != 1:
+                    raise _ChoiceError(f"{str(path)!r} holds {len(recs)} recordings {list(recs)}; name one")
+                name = next(iter(recs))
+            if name not in recs:
+                raise _NameError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
+            grp = recs[name]
+            where = f"{str(path)!r}: recording {name!r}"
+            fs = _attr(grp, "fs", float, where)
+            t0 = _attr(grp, "t0", float, where)
+            n = _attr(grp, "n_samples", int, where)
+            meta_text = _text_attr(grp.attrs, "metadata", where)
+            try:
+                meta = json.loads(meta_text)
+            except (json.JSONDecodeError, RecursionError) as exc:
+                raise RecordingFormatError(f"{where}: attribute 'metadata' is not JSON ({exc})") from None
+            if not isinstance(meta, dict):
+                raise RecordingFormatError(
+                    f"{where}: attribute 'metadata' must be a JSON object; got {_short_repr(meta)}"
+                )
+            sets = {sub: _datasets(h5, grp, sub, where) for sub in ("channels", "truth")}
+            for sub, dss in sets.items():
+                for k, ds in dss.items():
+                    if ds.dtype.kind not in ("f", "i", "u"):
+                        kind = "complex" if ds.dtype.kind == "c" else str(ds.dtype)
                         raise RecordingFormatError(
-                            f"{str(path)!r}: {name}/{sub}/{k} has shape {data.shape}, expected ({n},): truncated file?"
+                            f"{where}: {sub}/{k} holds {kind} data; a channel must be real "
+                            "(float or integer), it is never cast"
                         )
-                    out[sub][k] = Channel(data, str(ds.attrs["unit"]), str(ds.attrs.get("description", "")))
-        except (KeyError, OSError, json.JSONDecodeError) as exc:
+                    if ds.shape != (n,):
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} has shape {ds.shape}, expected ({n},) "
+                            "(attribute n_samples): truncated file?"
+                        )
+                    stored = ds.id.get_storage_size()
+                    if ds.id.get_create_plist().get_nfilters() == 0 and stored < ds.nbytes:
+                        # unfiltered data take their full size on disk: less means unwritten chunks
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} claims {n} samples ({_fmt_bytes(ds.nbytes)}) but "
+                            f"the file stores {_fmt_bytes(stored)} of them: truncated or forged file"
+                        )
+            n_series = sum(len(d) for d in sets.values())
+            memory.check_memory(
+                memory.series_bytes(n, n_series),
+                f"reading {where} ({n_series} channels of {n} samples)",
+                hint="read fewer samples (split the file) or use a machine with more memory",
+            )
+            out: dict[str, dict[str, Channel]] = {}
+            for sub, dss in sets.items():
+                out[sub] = {}
+                for k, ds in dss.items():
+                    data = ds[()].astype(float, copy=False)
+                    out[sub][k] = Channel(
+                        data,
+                        _text_attr(ds.attrs, "unit", f"{where}: {sub}/{k}"),
+                        _text_attr(ds.attrs, "description", f"{where}: {sub}/{k}", default=""),
+                    )
+        except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError):
+            raise
+        except (KeyError, ValueError) as exc:
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is incomplete ({exc})") from None
+        except (OSError, RuntimeError, TypeError, RecursionError) as exc:  # h5py: link loops, bad objects
+            raise RecordingFormatError(
+                f"{str(path)!r}: recording {name!r} cannot be read ({' '.join(str(exc).split())})"
+            ) from None
         try:
             return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0, metadata=meta, name=name)
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file

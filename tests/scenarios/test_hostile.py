@@ -58,7 +58,10 @@ def huge_pred(X, y):
 
 
 def _run(argv, capsys):
-    code = main(argv)
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse refuses a value: one line, exit 2
+        code = exc.code
     cap = capsys.readouterr()
     return code, cap.out, cap.err.splitlines()
 
@@ -180,3 +183,250 @@ def test_plugin_assert_no_regression_fails_on_failed_seeds(tmp_path, good_baseli
     with pytest.raises(pytest.fail.Exception, match="not written: compensator .* failed on 2 of 2"):
         saving.assert_no_regression(toy, inf_pred, baseline=tmp_path / "new.json", seeds=[0, 1])
     assert not (tmp_path / "new.json").exists()
+
+
+# ----------------------------------------------------------------------------- 2. one line, the right code
+def _recording_file(path: Path, build) -> Path:
+    """A minimal gyrobench HDF5 file whose recording 'r' is completed by ``build(group)``."""
+    import h5py
+
+    with h5py.File(path, "w") as f:
+        f.attrs["format"] = "gyrobench-recording"
+        f.attrs["format_version"] = 1
+        g = f.create_group("recordings/r")
+        g.attrs.update({"fs": 1.0, "t0": 0.0, "n_samples": 1000, "metadata": "{}"})
+        g.create_group("truth")
+        build(g)
+    return path
+
+
+def _soft_loop(g):
+    import h5py
+
+    g["channels"] = h5py.SoftLink("/recordings/r/channels")
+
+
+def _complex(g):
+    d = g.create_group("channels").create_dataset("rate", data=np.full(1000, 1e-5 + 1e-5j))
+    d.attrs["unit"] = "rad/s"
+
+
+def _external(g):
+    import h5py
+
+    g.create_group("channels")["rate"] = h5py.ExternalLink("target.h5", "/rate")
+
+
+def _claims_2e9(g):
+    g.attrs["n_samples"] = 2_000_000_000
+    d = g.create_group("channels").create_dataset("rate", shape=(2_000_000_000,), dtype="f8",
+                                                  chunks=(1 << 16,))
+    d.attrs["unit"] = "rad/s"
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+BENCH = ["bench", TOY, "--workers", "0", "--quiet"]
+
+#: case -> (files to make in tmp_path: name -> maker(path), argv, exit status, message fragment)
+CASES = {
+    "hdf5-soft-link-loop": (
+        {"loop.h5": lambda p: _recording_file(p, _soft_loop)}, ["allan", "loop.h5"], 2,
+        "'loop.h5': recording 'r'/channels is an HDF5 soft link to '/recordings/r/channels'"),
+    "hdf5-complex-data": (
+        {"c.h5": lambda p: _recording_file(p, _complex)}, ["allan", "c.h5"], 2,
+        "channels/rate holds complex data; a channel must be real"),
+    "hdf5-external-link": (
+        {"e.h5": lambda p: _recording_file(p, _external)}, ["allan", "e.h5"], 2,
+        "channels/rate is an HDF5 external link to 'target.h5':/rate; external links are refused"),
+    "hdf5-claims-2e9-samples": (
+        {"h.h5": lambda p: _recording_file(p, _claims_2e9)}, ["allan", "h.h5"], 2,
+        "channels/rate claims 2000000000 samples (16 GB) but the file stores 0 B"),
+    "duration-1e400h": (
+        {}, ["simulate", "noise", "--N", "0.01", "--duration", "1e400h", "-o", "x.h5"], 2,
+        "--duration must be a finite number of seconds; got '1e400h'"),
+    "duration-x-fs-overflows": (
+        {}, ["simulate", "noise", "--duration", "1e300h", "--fs", "1e300", "-o", "x.h5"], 2,
+        "gives inf samples; a record holds at most 2**62"),
+    "toml-duration_h-1e308": (
+        {"big.toml": lambda p: _write(p, "[fog]\nduration_h = 1e308\n")},
+        ["simulate", "static_noise", "--config", "big.toml", "--out", "o"], 2,
+        "config file 'big.toml': Config.fog: a value is out of range (Config.fog.duration_h = 1e+308)"),
+    "toml-deeply-nested": (
+        {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
+        ["simulate", "static_noise", "--config", "deep.toml", "--out", "o"], 2,
+        "config file 'deep.toml' nests arrays or tables too deeply to read"),
+    "toml-nested-20-levels": (
+        {"d20.toml": lambda p: _write(p, "a = " + "[" * 20 + "]" * 20 + "\n")},
+        ["simulate", "static_noise", "--config", "d20.toml", "--out", "o"], 2,
+        "nests values 17 levels deep; a scenario configuration needs at most 16"),
+    "db-in-unwritable-folder": (
+        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:2", "--db", "/proc/gyrobench.db"],
+        2, "db '/proc/gyrobench.db' cannot be opened"),
+    "compensator-syntax-error": (
+        {"hostile_syntax.py": lambda p: _write(p, "def f(X, y:\n    pass\n")},
+        [*BENCH, "--compensator", "hostile_syntax:f"], 2,
+        "compensator 'hostile_syntax:f': module 'hostile_syntax' has a syntax error: "),
+    "compensator-import-time-exception": (
+        {"hostile_raises.py": lambda p: _write(p, "raise RuntimeError('import-time boom')\n")},
+        [*BENCH, "--compensator", "hostile_raises:f"], 2,
+        "importing module 'hostile_raises' raised RuntimeError: import-time boom"),
+    "seed-2**63": (
+        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", str(2**63)], 2,
+        f"seeds must be <= 2**63 - 1 = {2**63 - 1} (the database stores them as 64-bit integers)"),
+    "seeds-0:1e12": (
+        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:1000000000000"], 2,
+        "seeds must number at most 1000000 per campaign"),
+    "noise-coefficient-1e300": (
+        {}, ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"], 2,
+        "simulate noise: the record has "),
+    "rate-ramp-1e300": (
+        {}, ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"], 2,
+        "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"),
+    "scenario-200h-at-1kHz-memory": (
+        {"long.toml": lambda p: _write(p, "[fog]\nduration_h = 200\nfs_hz = 1000\n")},
+        ["simulate", "static_noise", "--config", "long.toml", "--out", "o"], 2,
+        "scenario static_noise with config file 'long.toml' needs about 51.9 GB of memory, "
+        "more than the limit of 1 GB (GYROBENCH_MEMORY_LIMIT=1G)"),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_hostile_case_one_line_and_exit_status(case, tmp_path, capsys, monkeypatch):
+    files, argv, status, fragment = CASES[case]
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "1G")
+    for name, make in files.items():
+        make(tmp_path / name)
+    code, _, err = _run(argv, capsys)
+    _one_line(err, code, status)
+    assert fragment in err[0]
+    assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("case", ["toml-duration_h-1e308", "compensator-import-time-exception",
+                                  "hdf5-soft-link-loop"])
+def test_traceback_env_shows_the_traceback_then_the_line(case, tmp_path, capsys, monkeypatch):
+    files, argv, status, fragment = CASES[case]
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("GYROBENCH_TRACEBACK", "1")
+    for name, make in files.items():
+        make(tmp_path / name.replace("hostile_raises", "hostile_raises_tb"))
+    argv = [a.replace("hostile_raises", "hostile_raises_tb") for a in argv]
+    code, _, err = _run(argv, capsys)
+    assert code == status
+    assert err[0] == "Traceback (most recent call last):" and len(err) > 3
+    assert err[-1].startswith("gyrobench: error: ")
+
+
+def die_in_fit(X, y):
+    """A worker process that dies (as if killed by the OOM killer)."""
+    import os
+
+    os._exit(9)
+
+
+def test_worker_process_that_dies_is_an_internal_failure(tmp_path, capsys):
+    argv = ["bench", TOY, "--compensator", f"{HERE}:die_in_fit", "--seeds", "0:2", "--workers", "1",
+            "--quiet", "--db", str(tmp_path / "c.db")]
+    code, _, err = _run(argv, capsys)
+    _one_line(err, code, exits.INTERNAL)
+    assert "internal failure: a worker process died while scoring seed" in err[0]
+    assert "no seed had finished" in err[0]
+
+
+def racing_nondeterministic(X, y):
+    """Fits; meanwhile 'another run' of the same campaign stored other scores for seed 1."""
+    import os
+
+    db = os.environ.get("HOSTILE_RACE_DB")
+    if db and abs(float(X[0, 0]) - _SEED1_X00) < 1e-12:
+        with sqlite3.connect(db) as other:
+            (cid,) = other.execute("SELECT campaign_id FROM campaigns").fetchone()
+            other.execute("INSERT INTO seed_scores VALUES (?, 1, ?, 0.0, 0.0, 0)",
+                          (cid, '{"run1/mse": 1.0}'))
+    return LinearRegression().fit(X, y)
+
+
+_SEED1_X00 = float(toy.compensation_task(toy.Config(), 1).X_train[0, 0])
+
+
+def test_racing_nondeterministic_run_on_the_same_db_is_an_internal_failure(tmp_path, capsys,
+                                                                           monkeypatch):
+    db = tmp_path / "c.db"
+    monkeypatch.setenv("HOSTILE_RACE_DB", str(db))
+    argv = ["bench", TOY, "--compensator", f"{HERE}:racing_nondeterministic", "--seeds", "0:2",
+            "--workers", "0", "--quiet", "--db", str(db)]
+    code, _, err = _run(argv, capsys)
+    _one_line(err, code, exits.INTERNAL)
+    assert "seed 1 of campaign" in err[0] and "gave different scores in two runs" in err[0]
+
+
+def test_unexpected_error_is_internal_with_one_line(capsys, monkeypatch):
+    from gyrobench.scenarios import registry
+
+    def broken(name):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr(registry, "get", broken)
+    code, _, err = _run(["simulate", "static_noise", "--out", "o"], capsys)
+    _one_line(err, code, exits.INTERNAL)
+    assert "internal failure (ZeroDivisionError: a bug); this is a bug" in err[0]
+
+
+# ----------------------------------------------------------------------------- 3. memory
+def test_memory_limit_is_read_from_meminfo_with_a_margin(monkeypatch):
+    from gyrobench.sim import memory
+
+    monkeypatch.delenv(memory.LIMIT_ENV, raising=False)
+    avail = memory.available_memory()
+    assert avail is not None and avail > 0
+    limit, how = memory.memory_limit()
+    assert limit <= memory.MARGIN * avail * 1.05  # MemAvailable moves between the two reads
+    assert how.startswith("80% of the ")
+    monkeypatch.setenv(memory.LIMIT_ENV, "2M")
+    assert memory.memory_limit() == (2e6, f"{memory.LIMIT_ENV}=2M")
+    with pytest.raises(memory.MemoryLimitError, match=r"^x needs about 3 MB of memory, more than "
+                       r"the limit of 2 MB \(GYROBENCH_MEMORY_LIMIT=2M\): do less$"):
+        memory.check_memory(3e6, "x", hint="do less")
+    for bad in (math.inf, math.nan):
+        with pytest.raises(memory.MemoryLimitError):
+            memory.check_memory(bad, "x")
+    monkeypatch.setenv(memory.LIMIT_ENV, "lots")
+    with pytest.raises(ValueError, match="GYROBENCH_MEMORY_LIMIT must be a size in bytes"):
+        memory.memory_limit()
+
+
+def test_hdf5_read_refused_above_the_memory_limit(tmp_path, monkeypatch):
+    from gyrobench.sim import memory
+    from gyrobench.sim.recording import Channel, Recording, load_hdf5, save_hdf5
+
+    rec = Recording(fs=10.0, channels={"rate": Channel(np.zeros(50_000), "rad/s")})
+    path = save_hdf5(tmp_path / "r.h5", rec)
+    monkeypatch.setenv(memory.LIMIT_ENV, "100k")
+    with pytest.raises(memory.MemoryLimitError, match=r"reading '.*r.h5': recording 'recording' "
+                       r"\(1 channels of 50000 samples\) needs about 400 kB of memory"):
+        load_hdf5(path)
+    monkeypatch.setenv(memory.LIMIT_ENV, "1M")
+    assert load_hdf5(path).n_samples == 50_000
+
+
+def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monkeypatch, tmp_path):
+    from gyrobench.scenarios import registry, static_noise
+    from gyrobench.sim import memory
+
+    monkeypatch.setenv(memory.LIMIT_ENV, "1G")
+    est = static_noise.memory_estimate(static_noise.Config())
+    assert est == 9 * 8 * (8 + 2) * 3600 * 100  # 9 series of the two default grades' samples
+    assert registry.load_config(static_noise, None) == static_noise.Config()  # 259 MB < 1 GB
+    toml = _write(tmp_path / "long.toml", "[fog]\nduration_h = 200\nfs_hz = 1000\n")
+    with pytest.raises(memory.MemoryLimitError, match="needs about 51.9 GB of memory"):
+        registry.load_config(static_noise, toml)
+    monkeypatch.setenv(memory.LIMIT_ENV, "100M")
+    with pytest.raises(memory.MemoryLimitError, match="with its default configuration needs about 259 MB"):
+        registry.load_config(static_noise, None)

@@ -1444,21 +1444,15 @@ def _check_picklable(comp: Any, config: Any) -> None:
 
 # ----------------------------------------------------------------------------- baselines
 def _check_output_file(path: str | os.PathLike, *, what: str) -> Path:
-    """``path`` as a Path if it can be written as a file: not a folder, and its folder exists.
+    """``path`` as a Path if it can be written as a file: not a folder, its folder exists
+    and accepts new files (:func:`gyrobench.scenarios.outputs.check_output`).
 
     Missing folders are never created: a typo (or ``/nonexist/dir/b.json`` run as
     root) must not scatter folders over the file system.
     """
-    p = Path(path)
-    if p.is_dir():
-        raise IsADirectoryError(f"{what} must be a file name; got the folder {str(p)!r}")
-    parent = p.parent
-    if not parent.is_dir():
-        raise FileNotFoundError(
-            f"{what} must be in an existing folder; the folder {str(parent)!r} does not exist "
-            f"(create it first); got {str(p)!r}"
-        )
-    return p
+    from gyrobench.scenarios.outputs import check_output
+
+    return check_output(path, what=what, kind="file", create_parents=False)
 
 
 def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
@@ -1470,6 +1464,8 @@ def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path")
         If ``path`` is a folder.
     FileNotFoundError
         If its folder does not exist (it is not created).
+    PermissionError
+        If its folder does not accept new files.
     """
     return _check_output_file(path, what=what)
 

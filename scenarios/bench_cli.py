@@ -144,6 +144,7 @@ def run(args: argparse.Namespace) -> int:
         seeds = baseline.seeds if baseline is not None else tuple(range(20))
     if args.save_baseline:
         bench.check_baseline_path(args.save_baseline, what="--save-baseline")
+    bench.check_baseline_path(args.db, what="--db")  # before connecting to a cluster
     executor, close = _executor(args)
     try:
         campaign = bench.run_campaign(

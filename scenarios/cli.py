@@ -145,6 +145,7 @@ def _simulate_noise(args) -> int:
     """
     from tqdm import tqdm
 
+    from gyrobench.scenarios.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
     from gyrobench.sim import memory
     from gyrobench.sim.noise import NoiseModel
@@ -165,6 +166,7 @@ def _simulate_noise(args) -> int:
     suffix = "".join(out.suffixes[-1:]).lower()
     if suffix not in (".h5", ".hdf5", ".csv"):
         raise _BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
     if args.duration is None:
         raise _BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
     fs = 100.0 if args.fs is None else args.fs
@@ -229,6 +231,7 @@ def _simulate_noise(args) -> int:
 
 def _simulate_scenario(args) -> int:
     from gyrobench.scenarios import registry
+    from gyrobench.scenarios.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
     from gyrobench.sim.recording import ensure_free_space, save_hdf5
 
@@ -239,6 +242,7 @@ def _simulate_scenario(args) -> int:
     config = registry.load_config(mod, args.config)
     if args.out is None:
         raise _BadInput(f"simulate {args.target} needs --out DIR")
+    check_output(Path(args.out) / mod.NAME, what="--out", kind="folder")
     seed = 0 if args.seed is None else args.seed
     recs = mod.simulate(config, seed)
     for r in recs:  # check them all before writing any

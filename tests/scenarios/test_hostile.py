@@ -265,7 +265,7 @@ CASES = {
         "nests values 17 levels deep; a scenario configuration needs at most 16"),
     "db-in-unwritable-folder": (
         {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:2", "--db", "/proc/gyrobench.db"],
-        2, "db '/proc/gyrobench.db' cannot be opened"),
+        2, "cannot write '/proc/gyrobench.db' (--db): the folder '/proc' does not accept new files"),
     "compensator-syntax-error": (
         {"hostile_syntax.py": lambda p: _write(p, "def f(X, y:\n    pass\n")},
         [*BENCH, "--compensator", "hostile_syntax:f"], 2,

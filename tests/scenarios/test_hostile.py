@@ -430,3 +430,183 @@ def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monk
     monkeypatch.setenv(memory.LIMIT_ENV, "100M")
     with pytest.raises(memory.MemoryLimitError, match="with its default configuration needs about 259 MB"):
         registry.load_config(static_noise, None)
+
+
+# ----------------------------------------------------------------------------- 4. temp files
+def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    exe = Path(sys.executable).with_name("gyrobench")
+    target = tmp_path / "rec.h5"
+    proc = subprocess.Popen(
+        [str(exe), "simulate", "noise", "--N", "0.01", "--B", "0.05", "--duration", "200h", "-o",
+         str(target), "-q", "--chunk", "65536"],
+        cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+    )
+    pattern = f".rec.h5.{proc.pid}.*.tmp"
+    deadline = time.monotonic() + 120
+    while not any(p.stat().st_size > 1 << 20 for p in tmp_path.glob(pattern)):
+        assert proc.poll() is None, proc.stderr.read()
+        assert time.monotonic() < deadline, "the writer never started"
+        time.sleep(0.05)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    (left,) = tmp_path.glob(".rec.h5.*.tmp")
+    assert left.name.startswith(f".rec.h5.{proc.pid}.")  # the owner is named
+    # a live process's temp file for the same target is left alone
+    mine = tmp_path / f".rec.h5.{os.getpid()}.0123abcd.tmp"
+    mine.write_text("being written")
+    other = tmp_path / f".other.h5.{proc.pid}.0123abcd.tmp"  # another target: not ours to remove
+    other.write_text("")
+    code = main(["simulate", "noise", "--N", "0.01", "--duration", "60s", "-o", str(target), "-q"])
+    assert code == 0
+    assert not left.exists() and mine.exists() and other.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["rec.h5", mine.name, other.name]
+    )
+
+
+def test_reused_pid_of_a_younger_process_does_not_protect_a_stale_temp(tmp_path):
+    import os
+    import time
+
+    from gyrobench.sim.recording import remove_stale_temps
+
+    target = tmp_path / "r.csv"
+    stale = tmp_path / f".r.csv.{os.getppid()}.00000000.tmp"  # the parent pid is alive...
+    stale.write_text("")
+    old = time.time() - 10 * 365 * 86400  # ...but started long after this file was written
+    os.utime(stale, (old, old))
+    assert remove_stale_temps(target) == [stale] and not stale.exists()
+
+
+# ----------------------------------------------------------------------------- 5. outputs first
+def _calls_nothing(monkeypatch):
+    """Make every kind of work fail loudly: an output check must come before it."""
+    from gyrobench.scenarios import static_noise
+    from gyrobench.sim import noise
+
+    def work(*a, **k):
+        raise AssertionError("work started before the output was checked")
+
+    monkeypatch.setattr(static_noise, "simulate", work)
+    monkeypatch.setattr(noise.NoiseModel, "stream", work)
+    monkeypatch.setattr(bench, "run_campaign", work)
+
+
+OUTPUT_CASES = {
+    "simulate-o-is-a-folder": (["simulate", "noise", "--N", "1", "--duration", "1h", "-o", "adir.h5"],
+                               "-o must be a file name; got the folder 'adir.h5'"),
+    "simulate-o-in-unwritable-folder": (
+        ["simulate", "noise", "--N", "1", "--duration", "1h", "-o", "/proc/x.h5"],
+        "cannot write '/proc/x.h5' (-o): the folder '/proc' does not accept new files"),
+    "simulate-out-through-a-file": (["simulate", "static_noise", "--out", "afile"],
+                                    "cannot write 'afile/static_noise' (--out): 'afile' is a file"),
+    "save-baseline-unwritable-folder": (
+        [*BENCH, "--compensator", f"{TOY}:good", "--save-baseline", "/proc/b.json", "--db", "c.db"],
+        "cannot write '/proc/b.json' (--save-baseline): the folder '/proc' does not accept new files"),
+    "save-baseline-is-a-folder": (
+        [*BENCH, "--compensator", f"{TOY}:good", "--save-baseline", "adir.h5", "--db", "c.db"],
+        "--save-baseline must be a file name; got the folder 'adir.h5'"),
+}
+
+
+@pytest.mark.parametrize("case", list(OUTPUT_CASES))
+def test_outputs_are_checked_before_any_work(case, tmp_path, capsys, monkeypatch):
+    argv, fragment = OUTPUT_CASES[case]
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "adir.h5").mkdir()
+    (tmp_path / "afile").write_text("")
+    _calls_nothing(monkeypatch)
+    code, _, err = _run(argv, capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert fragment in err[0]
+
+
+@pytest.mark.parametrize(
+    ("kind", "make", "exc", "match"),
+    [
+        ("report", "file", NotADirectoryError, "--out must be a folder; '.*out' is an existing file"),
+        ("report", "foreign", ValueError, "exists and is not a gyrobench report folder"),
+        ("file", "dir", IsADirectoryError, "--out must be a file name; got the folder"),
+        ("folder", "file", NotADirectoryError, "--out must be a folder"),
+    ],
+)
+def test_check_output_refuses(tmp_path, kind, make, exc, match):
+    from gyrobench.scenarios.outputs import check_output
+
+    out = tmp_path / "out"
+    if make == "file":
+        out.write_text("")
+    elif make == "dir":
+        out.mkdir()
+    else:
+        out.mkdir()
+        (out / "thesis.tex").write_text("not a report")
+    with pytest.raises(exc, match=match):
+        check_output(out, what="--out", kind=kind)
+
+
+def test_check_output_accepts(tmp_path):
+    from gyrobench.scenarios.outputs import REPORT_MARKER, check_output
+
+    assert check_output(tmp_path / "new" / "deeper" / "x.png", what="--plot") == (
+        tmp_path / "new" / "deeper" / "x.png"
+    )
+    assert not (tmp_path / "new").exists()  # checking creates nothing
+    (tmp_path / "rep").mkdir()
+    (tmp_path / "rep" / REPORT_MARKER).write_text("")
+    (tmp_path / "rep" / "x.txt").write_text("")
+    check_output(tmp_path / "rep", what="--out", kind="report")
+    with pytest.raises(FileNotFoundError, match="must be in an existing folder"):
+        check_output(tmp_path / "nodir" / "b.json", what="--save-baseline", create_parents=False)
+    assert list(tmp_path.glob("**/.gyrobench-probe*")) == []  # the write probe is removed
+
+
+def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch):
+    from gyrobench.scenarios import outputs, report
+
+    out = tmp_path / "rep"
+
+    def fake_write_report(outcomes, out_dir, *, command=""):
+        d = Path(out_dir)
+        for name in outcomes:
+            (d / name).mkdir()
+            (d / name / "results.json").write_text(command)
+            if name == "boom":
+                raise OSError(28, "No space left on device")
+        (d / "index.html").write_text("<title>gyrobench report</title>")
+        return d / "index.html"
+
+    monkeypatch.setattr(report, "write_report", fake_write_report)
+    index = outputs.write_report_as_a_set(["a", "b"], out, command="run 1")
+    assert index == out / "index.html"
+    assert sorted(p.name for p in out.iterdir()) == [".gyrobench-report", "a", "b", "index.html"]
+    outputs.write_report_as_a_set(["c"], out, command="run 2")  # another run: no file of run 1
+    assert sorted(p.name for p in out.iterdir()) == [".gyrobench-report", "c", "index.html"]
+    with pytest.raises(OSError, match="cannot write '.*rep': No space left on device"):
+        outputs.write_report_as_a_set(["d", "boom"], out, command="run 3")
+    assert sorted(p.name for p in out.iterdir()) == [".gyrobench-report", "c", "index.html"]
+    assert (out / "c" / "results.json").read_text() == "run 2"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]  # no temp folder left
+
+
+def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
+    from gyrobench.sim.recording import atomic_folder
+
+    out = tmp_path / "rep"
+    dead = 2**22 + 12345  # above the default pid_max of 4194304: no such process
+    old = tmp_path / f".rep.{dead}.0badc0de.old"
+    old.mkdir()
+    (old / "index.html").write_text("previous")
+    half = tmp_path / f".rep.{dead}.00c0ffee.tmpdir"
+    half.mkdir()
+    with pytest.raises(RuntimeError):
+        with atomic_folder(out):  # the leftovers are handled on entry
+            raise RuntimeError("stop")
+    assert (out / "index.html").read_text() == "previous"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]

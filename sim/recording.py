@@ -670,7 +670,9 @@ def _open_checked(path: str | os.PathLike):
         raise RecordingFormatError(f"{str(p)!r} is not a readable HDF5 file ({exc})") from None
     fmt = h5.attrs.get("format")
     if isinstance(fmt, bytes):
-        fmt = fmt.decode()
+        fmt = fmt.decode(errors="replace")
+    if not isinstance(fmt, str):
+        fmt = _short_repr(fmt)
     if fmt != FORMAT or "recordings" not in h5:
         h5.close()
         raise RecordingFormatError(
@@ -683,6 +685,12 @@ def list_hdf5(path: str | os.PathLike) -> list[str]:
     """Names of the recordings in a gyrobench HDF5 file."""
     with _open_checked(path) as h5:
         return list(h5["recordings"].keys())
+
+
+#: sample rates a recording read from a file may have [Hz]: one sample per ~32 years to
+#: 1 PHz, beyond any gyro's data rate. The Allan fit itself was checked finite over
+#: 1e-12..1e40 Hz (its tau**-2 .. tau**2 terms overflow float64 near 1e83 Hz).
+FS_RANGE_HZ = (1e-9, 1e15)
 
 
 class _NameError(KeyError):
@@ -734,6 +742,13 @@ def _text_attr(attrs, key: str, where: str, default: str | None = None) -> str:
     if not isinstance(v, str):
         raise RecordingFormatError(f"{where}: attribute {key!r} must be text; got {_short_repr(v)}")
     return v
+
+
+def _free_text(v: Any) -> str:
+    """A free-text attribute (a description) as text, whatever another tool stored in it."""
+    if isinstance(v, bytes):
+        return v.decode(errors="replace")
+    return v if isinstance(v, str) else _short_repr(v)
 
 
 def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
@@ -806,6 +821,11 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
             grp = recs[name]
             where = f"{str(path)!r}: recording {name!r}"
             fs = _attr(grp, "fs", float, where)
+            if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+                raise RecordingFormatError(
+                    f"{where}: attribute 'fs' must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                    f"(no gyro samples outside it); got {fs!r}"
+                )
             t0 = _attr(grp, "t0", float, where)
             n = _attr(grp, "n_samples", int, where)
             meta_text = _text_attr(grp.attrs, "metadata", where)
@@ -852,7 +872,7 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
                     out[sub][k] = Channel(
                         data,
                         _text_attr(ds.attrs, "unit", f"{where}: {sub}/{k}"),
-                        _text_attr(ds.attrs, "description", f"{where}: {sub}/{k}", default=""),
+                        _free_text(ds.attrs.get("description", "")),
                     )
         except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError):
             raise

@@ -7,6 +7,7 @@ Exit statuses (gyrobench.scenarios.exits): 0 ok, 1 regression, 2 bad input, 3 fa
 
 from __future__ import annotations
 
+import json
 import math
 import sqlite3
 from pathlib import Path
@@ -610,3 +611,139 @@ def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
             raise RuntimeError("stop")
     assert (out / "index.html").read_text() == "previous"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+# ----------------------------------------------------------------------------- 6. fuzzing
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+
+#: any value an HDF5 attribute can hold, weighted towards the edges
+_ATTR_VALUES = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -1.0, 1e-300, 1e300, 5e-324, 1.7976931348623157e308, 64, 63, 2**62, 2**63 - 1]),
+    st.integers(min_value=-(2**63), max_value=2**63 - 1),
+    st.booleans(),
+    st.text(max_size=30),
+    st.binary(max_size=30),
+    st.lists(st.floats(allow_nan=False, allow_infinity=False, width=32), min_size=0, max_size=4),
+    st.complex_numbers(allow_nan=False, allow_infinity=False, max_magnitude=1e6),
+    st.sampled_from(['{"a": 1}', "[]", "null", '"x"', "{" * 5000, '{"a": NaN}', "rad/s", "deg/h", "K"]),
+)
+
+
+def _fuzzed_recording(path: Path, where: str, key: str, value) -> None:
+    import h5py
+
+    rate = np.random.default_rng(7).standard_normal(512) * 1e-4
+    with h5py.File(path, "w") as f:
+        f.attrs["format"] = "gyrobench-recording"
+        f.attrs["format_version"] = 1
+        g = f.create_group("recordings/r")
+        g.attrs.update({"fs": 10.0, "t0": 0.0, "n_samples": 512, "metadata": "{}"})
+        d = g.create_group("channels").create_dataset("rate", data=rate)
+        d.attrs.update({"unit": "rad/s", "description": ""})
+        g.create_group("truth")
+        target = {"root": f, "group": g, "dataset": d}[where]
+        if isinstance(value, list):
+            value = np.asarray(value, dtype=float)
+        try:
+            target.attrs[key] = value
+        except (TypeError, ValueError):  # h5py cannot store it: nothing to read back
+            target.attrs[key] = str(value)
+
+
+def _exit_0_finite_or_exit_2_one_line(code, out, err):
+    assert "Traceback" not in "\n".join(err)
+    if code == 0:
+        doc = json.loads(out)
+        for term, d in doc.items():
+            for k in ("value", "low", "high"):
+                assert d[k] is None or math.isfinite(d[k]), (term, d)
+    else:
+        assert code == 2, err
+        assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err
+
+
+@FUZZ
+@given(
+    slot=st.sampled_from([("group", "fs"), ("group", "t0"), ("group", "n_samples"),
+                          ("group", "metadata"), ("dataset", "unit"), ("dataset", "description"),
+                          ("root", "format")]),
+    value=_ATTR_VALUES,
+)
+def test_fuzz_hdf5_attributes_exit_0_finite_or_2_one_line(tmp_path, capsys, slot, value):
+    path = tmp_path / "fuzz.h5"
+    _fuzzed_recording(path, *slot, value)
+    code, out, err = _run(["allan", str(path), "--json"], capsys)
+    _exit_0_finite_or_exit_2_one_line(code, out, err)
+
+
+_TOML_KEYS = ["duration_h", "fs_hz", "N_deg_sqrt_h", "B_deg_h", "Q_arcsec", "K_deg_h_sqrt_h",
+              "R_deg_h2", "label", "bogus"]
+_TOML_SCALARS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(
+        lambda v: "nan" if math.isnan(v) else ("inf" if v == math.inf else ("-inf" if v == -math.inf else repr(v)))
+    ),
+    st.sampled_from(["1e308", "-1e308", "0", "0.0", "1e-300", "5e-324", "0.01", "64", "true", '"x"',
+                     "[]", "[1, 2]", "{}", "9223372036854775807", "-9223372036854775808"]),
+    st.integers(min_value=-(2**63), max_value=2**63 - 1).map(str),
+    st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=10).map(
+        lambda t: '"' + t.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    ),
+)
+
+
+_NUMBERS = st.one_of(
+    st.floats(min_value=0.0, max_value=1.0),
+    st.sampled_from(["0.0", "0.5", "1e-3", "100", "1"]),
+)
+
+
+@st.composite
+def _toml_docs(draw):
+    """A static_noise configuration: half the time valid and short (each grade 0.001-0.01 h)
+    with fuzzed values added, else any tables and keys; sometimes damaged afterwards."""
+    lines = []
+    if draw(st.booleans()):
+        for table in ("fog", "mems"):
+            lines.append(f"[{table}]")
+            keys = draw(st.lists(st.sampled_from(_TOML_KEYS), max_size=3, unique=True))
+            if "duration_h" not in keys:
+                lines.append(f"duration_h = {draw(st.sampled_from(['0.001', '0.005', '0.01']))}")
+            for key in keys:
+                value = draw(st.one_of(_NUMBERS.map(str), _TOML_SCALARS) if key != "label" else _TOML_SCALARS)
+                lines.append(f"{key} = {value}")
+    else:
+        for table in draw(st.lists(st.sampled_from(["fog", "mems", None, "static_noise.fog", "x"]),
+                                   max_size=3, unique=True)):
+            if table is not None:
+                lines.append(f"[{table}]")
+            for key in draw(st.lists(st.sampled_from(_TOML_KEYS), max_size=4, unique=True)):
+                lines.append(f"{key} = {draw(_TOML_SCALARS)}")
+    text = "\n".join(lines) + "\n"
+    if draw(st.integers(0, 3)) == 0:  # sometimes garbage: truncation, stray bytes, deep nesting
+        cut = draw(st.integers(min_value=0, max_value=len(text)))
+        text = text[:cut] + draw(st.sampled_from(["", "[", "= =", "\x00", "a = [" * 300, "\ufeff"]))
+    return text
+
+
+@FUZZ
+@given(doc=_toml_docs())
+def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypatch, doc):
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "20M")  # a valid long record is refused fast
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(doc, encoding="utf-8", errors="surrogatepass")
+    out = tmp_path / "o"
+    code, _, err = _run(["simulate", "static_noise", "--config", str(cfg), "--out", str(out)], capsys)
+    assert "Traceback" not in "\n".join(err)
+    if code == 0:
+        from gyrobench.sim.recording import load_hdf5
+
+        for f in sorted((out / "static_noise").glob("*.h5")):
+            rec = load_hdf5(f)
+            assert np.all(np.isfinite(rec["rate"]))
+    else:
+        assert code == 2, err
+        assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err

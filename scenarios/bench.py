@@ -81,9 +81,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
-
 from gyrobench.scenarios import exits
+from numpy.typing import NDArray
 
 __all__ = [
     "DEFAULT_DB",
@@ -813,7 +812,6 @@ def _module_hash(module_name: str | None) -> str:
 def _versions() -> str:
     import scipy
     import sklearn
-
     from gyrobench.sim.recording import package_version
 
     return (
@@ -1166,7 +1164,8 @@ def _connect(path: str | os.PathLike) -> sqlite3.Connection:
         writable = os.access(p.parent, os.W_OK) and (not p.exists() or os.access(p, os.W_OK))
         why = "" if writable else " (no write permission)"
         raise ValueError(
-            f"db {str(p)!r} cannot be opened for writing{why}: {exc}; give --db in a writable folder"
+            f"db {str(p)!r} cannot be opened for writing{why}: {exc}; "
+            "give --db in a writable folder"
         ) from None
     except sqlite3.DatabaseError as exc:
         conn.close()
@@ -1296,7 +1295,9 @@ def run_campaign(
         todo = [s for s in seeds if s not in done]
         reused = len(done)
 
-        def record(seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
+        def record(
+            seed: int, scores: dict[str, float], elapsed: float, failure: str | None
+        ) -> None:
             text = _dumps_scores(scores)
             conn.execute("BEGIN IMMEDIATE")
             try:

@@ -132,12 +132,15 @@ def check_output(
     if base != receiver and not create_parents:
         raise FileNotFoundError(
             f"{what} must be in an existing folder; the folder {str(receiver)!r} does not exist "
-            f"(create it first); got {text!r}")
+            f"(create it first); got {text!r}"
+        )
     _probe_writable(base, what, p)
     return p
 
 
-def write_report_as_a_set(outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = "") -> Path:
+def write_report_as_a_set(
+    outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = ""
+) -> Path:
     """:func:`gyrobench.scenarios.report.write_report` into a new folder swapped in for
     ``out_dir`` when complete (:func:`gyrobench.sim.recording.atomic_folder`); returns the
     path of ``index.html`` in ``out_dir``.
@@ -151,5 +154,7 @@ def write_report_as_a_set(outcomes: Sequence[Any], out_dir: str | os.PathLike, *
     out = Path(out_dir)
     with atomic_folder(out) as tmp:
         index = write_report(outcomes, tmp, command=command)
-        (tmp / REPORT_MARKER).write_text("written by gyrobench reproduce; replaced as a whole by the next report\n")
+        (tmp / REPORT_MARKER).write_text(
+            "written by gyrobench reproduce; replaced as a whole by the next report\n"
+        )
     return out / Path(index).relative_to(tmp)

@@ -121,7 +121,9 @@ def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -
         return dataclasses.replace(config, **changes)
     except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:
         # the config's own checks computed with an absurd value (1e308 h x fs = inf samples)
-        given = ", ".join(f"{owner}.{k} = {v!r}" for k, v in values.items() if not isinstance(v, dict))
+        given = ", ".join(
+            f"{owner}.{k} = {v!r}" for k, v in values.items() if not isinstance(v, dict)
+        )
         raise ValueError(
             f"{owner}: a value is out of range ({given or 'nested values'}): "
             f"{type(exc).__name__}: {exc}"
@@ -183,7 +185,8 @@ def _check_memory(module: ModuleType, config: Any, path: Path | None) -> Any:
     from gyrobench.sim import memory
 
     name = getattr(module, "NAME", module.__name__)
-    what = f"scenario {name} with {'config file ' + repr(str(path)) if path else 'its default configuration'}"
+    source = f"config file {str(path)!r}" if path else "its default configuration"
+    what = f"scenario {name} with {source}"
     memory.check_scenario(module, config, what)
     return config
 

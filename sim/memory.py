@@ -168,7 +168,8 @@ def check_memory(nbytes: float, what: str, *, hint: str = "") -> float:
 
 
 def series_bytes(n_samples: float, n_series: float = 1) -> float:
-    """Bytes of ``n_series`` float64 series of ``n_samples`` samples each (float: never overflows)."""
+    """Bytes of ``n_series`` float64 series of ``n_samples`` samples each (a float: never
+    overflows)."""
     return float(n_samples) * float(n_series) * SAMPLE_BYTES
 
 
@@ -196,7 +197,8 @@ def scenario_bytes(module, config) -> float | None:
 
 
 def check_scenario(module, config, what: str) -> None:
-    """:func:`check_memory` for a scenario's run, when it states an estimate (:func:`scenario_bytes`)."""
+    """:func:`check_memory` for a scenario's run, when it states an estimate
+    (:func:`scenario_bytes`)."""
     est = scenario_bytes(module, config)
     if est is not None:
         check_memory(est, what, hint="shorten the records or lower the sample rate in --config")

@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from sklearn.linear_model import LinearRegression
-
 from gyrobench.scenarios import bench, exits
 from gyrobench.scenarios.cli import main
 from gyrobench.scenarios.pytest_plugin import GyrobenchBench
+from sklearn.linear_model import LinearRegression
+
 from tests.scenarios import toy_scenario as toy
 
 TOY = "tests.scenarios.toy_scenario"
@@ -97,7 +97,13 @@ def test_nonfinite_prediction_or_score_makes_the_seed_failed_and_recorded(tmp_pa
 
 def test_failed_seeds_are_left_out_of_the_summary(tmp_path):
     camp = bench.run_campaign(
-        toy, nan_on_odd_seeds, range(8), config=FAST, workers=0, db=tmp_path / "c.db", progress=False
+        toy,
+        nan_on_odd_seeds,
+        range(8),
+        config=FAST,
+        workers=0,
+        db=tmp_path / "c.db",
+        progress=False,
     )
     assert camp.failed and camp.ok_seeds  # both kinds among 8 seeds
     n_ok = len(camp.ok_seeds)
@@ -105,8 +111,11 @@ def test_failed_seeds_are_left_out_of_the_summary(tmp_path):
 
 
 def test_score_seed_raises_for_a_nonfinite_prediction():
-    with pytest.raises(bench.CompensatorError, match=r"failed on seed 3: the prediction on run run1 "
-                       r"has 60 non-finite values of 60 \(nan at sample 0\)"):
+    with pytest.raises(
+        bench.CompensatorError,
+        match=r"failed on seed 3: the prediction on run run1 "
+        r"has 60 non-finite values of 60 \(nan at sample 0\)",
+    ):
         bench.score_seed(toy, nan_pred, 3, FAST)
 
 
@@ -118,9 +127,22 @@ def good_baseline(tmp_path_factory):
 
 
 @pytest.mark.parametrize("comp", ["nan_pred", "inf_pred"])
-def test_cli_baseline_with_failed_seeds_exits_3_naming_the_seeds(tmp_path, capsys, good_baseline, comp):
-    argv = ["bench", TOY, "--compensator", f"{HERE}:{comp}", "--baseline", str(good_baseline),
-            "--workers", "0", "--quiet", "--db", str(tmp_path / "c.db")]
+def test_cli_baseline_with_failed_seeds_exits_3_naming_the_seeds(
+    tmp_path, capsys, good_baseline, comp
+):
+    argv = [
+        "bench",
+        TOY,
+        "--compensator",
+        f"{HERE}:{comp}",
+        "--baseline",
+        str(good_baseline),
+        "--workers",
+        "0",
+        "--quiet",
+        "--db",
+        str(tmp_path / "c.db"),
+    ]
     code, out, err = _run(argv, capsys)
     _one_line(err, code, exits.FAILED_SEEDS)
     assert code not in (exits.OK, exits.REGRESSION, exits.BAD_INPUT)
@@ -130,19 +152,44 @@ def test_cli_baseline_with_failed_seeds_exits_3_naming_the_seeds(tmp_path, capsy
 
 
 def test_cli_some_failed_seeds_fail_the_gate_and_name_them(tmp_path, capsys, good_baseline):
-    argv = ["bench", TOY, "--compensator", f"{HERE}:nan_on_odd_seeds", "--baseline",
-            str(good_baseline), "--workers", "0", "--quiet", "--db", str(tmp_path / "c.db")]
+    argv = [
+        "bench",
+        TOY,
+        "--compensator",
+        f"{HERE}:nan_on_odd_seeds",
+        "--baseline",
+        str(good_baseline),
+        "--workers",
+        "0",
+        "--quiet",
+        "--db",
+        str(tmp_path / "c.db"),
+    ]
     code, out, err = _run(argv, capsys)
     _one_line(err, code, exits.FAILED_SEEDS)
-    camp = bench.run_campaign(toy, nan_on_odd_seeds, range(12), workers=0, db=tmp_path / "c.db",
-                              progress=False)
+    camp = bench.run_campaign(
+        toy, nan_on_odd_seeds, range(12), workers=0, db=tmp_path / "c.db", progress=False
+    )
     assert f"(seeds {','.join(map(str, sorted(camp.failed)))})" in err[0]
 
 
 def test_cli_save_baseline_of_failed_seeds_is_refused(tmp_path, capsys):
     base = tmp_path / "b.json"
-    argv = ["bench", TOY, "--compensator", f"{HERE}:inf_pred", "--seeds", "0:2", "--save-baseline",
-            str(base), "--workers", "0", "--quiet", "--db", str(tmp_path / "c.db")]
+    argv = [
+        "bench",
+        TOY,
+        "--compensator",
+        f"{HERE}:inf_pred",
+        "--seeds",
+        "0:2",
+        "--save-baseline",
+        str(base),
+        "--workers",
+        "0",
+        "--quiet",
+        "--db",
+        str(tmp_path / "c.db"),
+    ]
     code, _, err = _run(argv, capsys)
     _one_line(err, code, exits.FAILED_SEEDS)
     assert "--save-baseline" in err[0] and "not written" in err[0]
@@ -150,8 +197,15 @@ def test_cli_save_baseline_of_failed_seeds_is_refused(tmp_path, capsys):
 
 
 def test_failed_seeds_in_a_worker_process(tmp_path):
-    camp = bench.run_campaign(toy, f"{HERE}:nan_pred", [0, 1], config=FAST, workers=2,
-                              db=tmp_path / "c.db", progress=False)
+    camp = bench.run_campaign(
+        toy,
+        f"{HERE}:nan_pred",
+        [0, 1],
+        config=FAST,
+        workers=2,
+        db=tmp_path / "c.db",
+        progress=False,
+    )
     assert sorted(camp.failed) == [0, 1]
 
 
@@ -160,8 +214,9 @@ def test_compare_with_a_baseline_read_from_json_with_nan_never_passes(tmp_path, 
     good = bench.load_baseline(good_baseline)
     scores = {s: dict(v) for s, v in good.scores.items()}
     scores[4] = {k: math.nan for k in scores[4]}
-    cand = bench.Campaign(campaign_id="x", scenario="toy", compensator="old", config=good.config,
-                          scores=scores)
+    cand = bench.Campaign(
+        campaign_id="x", scenario="toy", compensator="old", config=good.config, scores=scores
+    )
     res = bench.compare(good, cand)
     assert res.failed_seeds == (4,) and not res.passed
     assert "seed 4: score mean/bias_stability is nan" in res.failure
@@ -177,8 +232,11 @@ def test_compare_refuses_a_baseline_without_finite_scores(good_baseline):
 
 def test_plugin_assert_no_regression_fails_on_failed_seeds(tmp_path, good_baseline):
     fixture = GyrobenchBench(root=tmp_path, db=tmp_path / "p.db", save=False, workers=0)
-    with pytest.raises(pytest.fail.Exception, match=r"failed on 12 of 12 compared seeds "
-                       r"\(seeds 0:12; seed 0: the prediction on run run1 has 300 non-finite"):
+    with pytest.raises(
+        pytest.fail.Exception,
+        match=r"failed on 12 of 12 compared seeds "
+        r"\(seeds 0:12; seed 0: the prediction on run run1 has 300 non-finite",
+    ):
         fixture.assert_no_regression(toy, nan_pred, baseline=good_baseline)
     saving = GyrobenchBench(root=tmp_path, db=tmp_path / "p.db", save=True, workers=0)
     with pytest.raises(pytest.fail.Exception, match="not written: compensator .* failed on 2 of 2"):
@@ -186,7 +244,7 @@ def test_plugin_assert_no_regression_fails_on_failed_seeds(tmp_path, good_baseli
     assert not (tmp_path / "new.json").exists()
 
 
-# ----------------------------------------------------------------------------- 2. one line, the right code
+# ------------------------------------------------------------------ 2. one line, the right code
 def _recording_file(path: Path, build) -> Path:
     """A minimal gyrobench HDF5 file whose recording 'r' is completed by ``build(group)``."""
     import h5py
@@ -220,8 +278,9 @@ def _external(g):
 
 def _claims_2e9(g):
     g.attrs["n_samples"] = 2_000_000_000
-    d = g.create_group("channels").create_dataset("rate", shape=(2_000_000_000,), dtype="f8",
-                                                  chunks=(1 << 16,))
+    d = g.create_group("channels").create_dataset(
+        "rate", shape=(2_000_000_000,), dtype="f8", chunks=(1 << 16,)
+    )
     d.attrs["unit"] = "rad/s"
 
 
@@ -235,63 +294,109 @@ BENCH = ["bench", TOY, "--workers", "0", "--quiet"]
 #: case -> (files to make in tmp_path: name -> maker(path), argv, exit status, message fragment)
 CASES = {
     "hdf5-soft-link-loop": (
-        {"loop.h5": lambda p: _recording_file(p, _soft_loop)}, ["allan", "loop.h5"], 2,
-        "'loop.h5': recording 'r'/channels is an HDF5 soft link to '/recordings/r/channels'"),
+        {"loop.h5": lambda p: _recording_file(p, _soft_loop)},
+        ["allan", "loop.h5"],
+        2,
+        "'loop.h5': recording 'r'/channels is an HDF5 soft link to '/recordings/r/channels'",
+    ),
     "hdf5-complex-data": (
-        {"c.h5": lambda p: _recording_file(p, _complex)}, ["allan", "c.h5"], 2,
-        "channels/rate holds complex data; a channel must be real"),
+        {"c.h5": lambda p: _recording_file(p, _complex)},
+        ["allan", "c.h5"],
+        2,
+        "channels/rate holds complex data; a channel must be real",
+    ),
     "hdf5-external-link": (
-        {"e.h5": lambda p: _recording_file(p, _external)}, ["allan", "e.h5"], 2,
-        "channels/rate is an HDF5 external link to 'target.h5':/rate; external links are refused"),
+        {"e.h5": lambda p: _recording_file(p, _external)},
+        ["allan", "e.h5"],
+        2,
+        "channels/rate is an HDF5 external link to 'target.h5':/rate; external links are refused",
+    ),
     "hdf5-claims-2e9-samples": (
-        {"h.h5": lambda p: _recording_file(p, _claims_2e9)}, ["allan", "h.h5"], 2,
-        "channels/rate claims 2000000000 samples (16 GB) but the file stores 0 B"),
+        {"h.h5": lambda p: _recording_file(p, _claims_2e9)},
+        ["allan", "h.h5"],
+        2,
+        "channels/rate claims 2000000000 samples (16 GB) but the file stores 0 B",
+    ),
     "duration-1e400h": (
-        {}, ["simulate", "noise", "--N", "0.01", "--duration", "1e400h", "-o", "x.h5"], 2,
-        "--duration must be a finite number of seconds; got '1e400h'"),
+        {},
+        ["simulate", "noise", "--N", "0.01", "--duration", "1e400h", "-o", "x.h5"],
+        2,
+        "--duration must be a finite number of seconds; got '1e400h'",
+    ),
     "duration-x-fs-overflows": (
-        {}, ["simulate", "noise", "--duration", "1e300h", "--fs", "1e300", "-o", "x.h5"], 2,
-        "gives inf samples; a record holds at most 2**62"),
+        {},
+        ["simulate", "noise", "--duration", "1e300h", "--fs", "1e300", "-o", "x.h5"],
+        2,
+        "gives inf samples; a record holds at most 2**62",
+    ),
     "toml-duration_h-1e308": (
         {"big.toml": lambda p: _write(p, "[fog]\nduration_h = 1e308\n")},
-        ["simulate", "static_noise", "--config", "big.toml", "--out", "o"], 2,
-        "config file 'big.toml': Config.fog: a value is out of range (Config.fog.duration_h = 1e+308)"),
+        ["simulate", "static_noise", "--config", "big.toml", "--out", "o"],
+        2,
+        "config file 'big.toml': Config.fog: a value is out of range "
+        "(Config.fog.duration_h = 1e+308)",
+    ),
     "toml-deeply-nested": (
         {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
-        ["simulate", "static_noise", "--config", "deep.toml", "--out", "o"], 2,
-        "config file 'deep.toml' nests arrays or tables too deeply to read"),
+        ["simulate", "static_noise", "--config", "deep.toml", "--out", "o"],
+        2,
+        "config file 'deep.toml' nests arrays or tables too deeply to read",
+    ),
     "toml-nested-20-levels": (
         {"d20.toml": lambda p: _write(p, "a = " + "[" * 20 + "]" * 20 + "\n")},
-        ["simulate", "static_noise", "--config", "d20.toml", "--out", "o"], 2,
-        "nests values 17 levels deep; a scenario configuration needs at most 16"),
+        ["simulate", "static_noise", "--config", "d20.toml", "--out", "o"],
+        2,
+        "nests values 17 levels deep; a scenario configuration needs at most 16",
+    ),
     "db-in-unwritable-folder": (
-        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:2", "--db", "/proc/gyrobench.db"],
-        2, "cannot write '/proc/gyrobench.db' (--db): the folder '/proc' does not accept new files"),
+        {},
+        [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:2", "--db", "/proc/gyrobench.db"],
+        2,
+        "cannot write '/proc/gyrobench.db' (--db): the folder '/proc' does not accept new files",
+    ),
     "compensator-syntax-error": (
         {"hostile_syntax.py": lambda p: _write(p, "def f(X, y:\n    pass\n")},
-        [*BENCH, "--compensator", "hostile_syntax:f"], 2,
-        "compensator 'hostile_syntax:f': module 'hostile_syntax' has a syntax error: "),
+        [*BENCH, "--compensator", "hostile_syntax:f"],
+        2,
+        "compensator 'hostile_syntax:f': module 'hostile_syntax' has a syntax error: ",
+    ),
     "compensator-import-time-exception": (
         {"hostile_raises.py": lambda p: _write(p, "raise RuntimeError('import-time boom')\n")},
-        [*BENCH, "--compensator", "hostile_raises:f"], 2,
-        "importing module 'hostile_raises' raised RuntimeError: import-time boom"),
+        [*BENCH, "--compensator", "hostile_raises:f"],
+        2,
+        "importing module 'hostile_raises' raised RuntimeError: import-time boom",
+    ),
     "seed-2**63": (
-        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", str(2**63)], 2,
-        f"seeds must be <= 2**63 - 1 = {2**63 - 1} (the database stores them as 64-bit integers)"),
+        {},
+        [*BENCH, "--compensator", f"{TOY}:good", "--seeds", str(2**63)],
+        2,
+        f"seeds must be <= 2**63 - 1 = {2**63 - 1} (the database stores them as 64-bit integers)",
+    ),
     "seeds-0:1e12": (
-        {}, [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:1000000000000"], 2,
-        "seeds must number at most 1000000 per campaign"),
+        {},
+        [*BENCH, "--compensator", f"{TOY}:good", "--seeds", "0:1000000000000"],
+        2,
+        "seeds must number at most 1000000 per campaign",
+    ),
     "noise-coefficient-1e300": (
-        {}, ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"], 2,
-        "simulate noise: the record has "),
+        {},
+        ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"],
+        2,
+        "simulate noise: the record has ",
+    ),
     "rate-ramp-1e300": (
-        {}, ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"], 2,
-        "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"),
+        {},
+        ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"],
+        2,
+        "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro",
+    ),
     "scenario-200h-at-1kHz-memory": (
         {"long.toml": lambda p: _write(p, "[fog]\nduration_h = 200\nfs_hz = 1000\n")},
-        ["simulate", "static_noise", "--config", "long.toml", "--out", "o"], 2,
+        ["simulate", "static_noise", "--config", "long.toml", "--out", "o"],
+        2,
         "scenario static_noise with config file 'long.toml' needs about 51.9 GB of memory, "
-        "more than the limit of 1 GB (GYROBENCH_MEMORY_LIMIT=1G)"),
+        "more than the limit of 1 GB (GYROBENCH_MEMORY_LIMIT=1G)",
+    ),
 }
 
 
@@ -309,8 +414,9 @@ def test_hostile_case_one_line_and_exit_status(case, tmp_path, capsys, monkeypat
     assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("case", ["toml-duration_h-1e308", "compensator-import-time-exception",
-                                  "hdf5-soft-link-loop"])
+@pytest.mark.parametrize(
+    "case", ["toml-duration_h-1e308", "compensator-import-time-exception", "hdf5-soft-link-loop"]
+)
 def test_traceback_env_shows_the_traceback_then_the_line(case, tmp_path, capsys, monkeypatch):
     files, argv, status, fragment = CASES[case]
     monkeypatch.chdir(tmp_path)
@@ -333,8 +439,19 @@ def die_in_fit(X, y):
 
 
 def test_worker_process_that_dies_is_an_internal_failure(tmp_path, capsys):
-    argv = ["bench", TOY, "--compensator", f"{HERE}:die_in_fit", "--seeds", "0:2", "--workers", "1",
-            "--quiet", "--db", str(tmp_path / "c.db")]
+    argv = [
+        "bench",
+        TOY,
+        "--compensator",
+        f"{HERE}:die_in_fit",
+        "--seeds",
+        "0:2",
+        "--workers",
+        "1",
+        "--quiet",
+        "--db",
+        str(tmp_path / "c.db"),
+    ]
     code, _, err = _run(argv, capsys)
     _one_line(err, code, exits.INTERNAL)
     assert "internal failure: a worker process died while scoring seed" in err[0]
@@ -349,20 +466,33 @@ def racing_nondeterministic(X, y):
     if db and abs(float(X[0, 0]) - _SEED1_X00) < 1e-12:
         with sqlite3.connect(db) as other:
             (cid,) = other.execute("SELECT campaign_id FROM campaigns").fetchone()
-            other.execute("INSERT INTO seed_scores VALUES (?, 1, ?, 0.0, 0.0, 0)",
-                          (cid, '{"run1/mse": 1.0}'))
+            other.execute(
+                "INSERT INTO seed_scores VALUES (?, 1, ?, 0.0, 0.0, 0)", (cid, '{"run1/mse": 1.0}')
+            )
     return LinearRegression().fit(X, y)
 
 
 _SEED1_X00 = float(toy.compensation_task(toy.Config(), 1).X_train[0, 0])
 
 
-def test_racing_nondeterministic_run_on_the_same_db_is_an_internal_failure(tmp_path, capsys,
-                                                                           monkeypatch):
+def test_racing_nondeterministic_run_on_the_same_db_is_an_internal_failure(
+    tmp_path, capsys, monkeypatch
+):
     db = tmp_path / "c.db"
     monkeypatch.setenv("HOSTILE_RACE_DB", str(db))
-    argv = ["bench", TOY, "--compensator", f"{HERE}:racing_nondeterministic", "--seeds", "0:2",
-            "--workers", "0", "--quiet", "--db", str(db)]
+    argv = [
+        "bench",
+        TOY,
+        "--compensator",
+        f"{HERE}:racing_nondeterministic",
+        "--seeds",
+        "0:2",
+        "--workers",
+        "0",
+        "--quiet",
+        "--db",
+        str(db),
+    ]
     code, _, err = _run(argv, capsys)
     _one_line(err, code, exits.INTERNAL)
     assert "seed 1 of campaign" in err[0] and "gave different scores in two runs" in err[0]
@@ -392,8 +522,11 @@ def test_memory_limit_is_read_from_meminfo_with_a_margin(monkeypatch):
     assert how.startswith("80% of the ")
     monkeypatch.setenv(memory.LIMIT_ENV, "2M")
     assert memory.memory_limit() == (2e6, f"{memory.LIMIT_ENV}=2M")
-    with pytest.raises(memory.MemoryLimitError, match=r"^x needs about 3 MB of memory, more than "
-                       r"the limit of 2 MB \(GYROBENCH_MEMORY_LIMIT=2M\): do less$"):
+    with pytest.raises(
+        memory.MemoryLimitError,
+        match=r"^x needs about 3 MB of memory, more than "
+        r"the limit of 2 MB \(GYROBENCH_MEMORY_LIMIT=2M\): do less$",
+    ):
         memory.check_memory(3e6, "x", hint="do less")
     for bad in (math.inf, math.nan):
         with pytest.raises(memory.MemoryLimitError):
@@ -410,8 +543,11 @@ def test_hdf5_read_refused_above_the_memory_limit(tmp_path, monkeypatch):
     rec = Recording(fs=10.0, channels={"rate": Channel(np.zeros(50_000), "rad/s")})
     path = save_hdf5(tmp_path / "r.h5", rec)
     monkeypatch.setenv(memory.LIMIT_ENV, "100k")
-    with pytest.raises(memory.MemoryLimitError, match=r"reading '.*r.h5': recording 'recording' "
-                       r"\(1 channels of 50000 samples\) needs about 400 kB of memory"):
+    with pytest.raises(
+        memory.MemoryLimitError,
+        match=r"reading '.*r.h5': recording 'recording' "
+        r"\(1 channels of 50000 samples\) needs about 400 kB of memory",
+    ):
         load_hdf5(path)
     monkeypatch.setenv(memory.LIMIT_ENV, "1M")
     assert load_hdf5(path).n_samples == 50_000
@@ -429,7 +565,9 @@ def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monk
     with pytest.raises(memory.MemoryLimitError, match="needs about 51.9 GB of memory"):
         registry.load_config(static_noise, toml)
     monkeypatch.setenv(memory.LIMIT_ENV, "100M")
-    with pytest.raises(memory.MemoryLimitError, match="with its default configuration needs about 259 MB"):
+    with pytest.raises(
+        memory.MemoryLimitError, match="with its default configuration needs about 259 MB"
+    ):
         registry.load_config(static_noise, None)
 
 
@@ -444,9 +582,25 @@ def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path
     exe = Path(sys.executable).with_name("gyrobench")
     target = tmp_path / "rec.h5"
     proc = subprocess.Popen(
-        [str(exe), "simulate", "noise", "--N", "0.01", "--B", "0.05", "--duration", "200h", "-o",
-         str(target), "-q", "--chunk", "65536"],
-        cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+        [
+            str(exe),
+            "simulate",
+            "noise",
+            "--N",
+            "0.01",
+            "--B",
+            "0.05",
+            "--duration",
+            "200h",
+            "-o",
+            str(target),
+            "-q",
+            "--chunk",
+            "65536",
+        ],
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
     )
     pattern = f".rec.h5.{proc.pid}.*.tmp"
     deadline = time.monotonic() + 120
@@ -466,9 +620,7 @@ def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path
     code = main(["simulate", "noise", "--N", "0.01", "--duration", "60s", "-o", str(target), "-q"])
     assert code == 0
     assert not left.exists() and mine.exists() and other.exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        ["rec.h5", mine.name, other.name]
-    )
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["rec.h5", mine.name, other.name])
 
 
 def test_reused_pid_of_a_younger_process_does_not_protect_a_stale_temp(tmp_path):
@@ -500,19 +652,27 @@ def _calls_nothing(monkeypatch):
 
 
 OUTPUT_CASES = {
-    "simulate-o-is-a-folder": (["simulate", "noise", "--N", "1", "--duration", "1h", "-o", "adir.h5"],
-                               "-o must be a file name; got the folder 'adir.h5'"),
+    "simulate-o-is-a-folder": (
+        ["simulate", "noise", "--N", "1", "--duration", "1h", "-o", "adir.h5"],
+        "-o must be a file name; got the folder 'adir.h5'",
+    ),
     "simulate-o-in-unwritable-folder": (
         ["simulate", "noise", "--N", "1", "--duration", "1h", "-o", "/proc/x.h5"],
-        "cannot write '/proc/x.h5' (-o): the folder '/proc' does not accept new files"),
-    "simulate-out-through-a-file": (["simulate", "static_noise", "--out", "afile"],
-                                    "cannot write 'afile/static_noise' (--out): 'afile' is a file"),
+        "cannot write '/proc/x.h5' (-o): the folder '/proc' does not accept new files",
+    ),
+    "simulate-out-through-a-file": (
+        ["simulate", "static_noise", "--out", "afile"],
+        "cannot write 'afile/static_noise' (--out): 'afile' is a file",
+    ),
     "save-baseline-unwritable-folder": (
         [*BENCH, "--compensator", f"{TOY}:good", "--save-baseline", "/proc/b.json", "--db", "c.db"],
-        "cannot write '/proc/b.json' (--save-baseline): the folder '/proc' does not accept new files"),
+        "cannot write '/proc/b.json' (--save-baseline): the folder '/proc' "
+        "does not accept new files",
+    ),
     "save-baseline-is-a-folder": (
         [*BENCH, "--compensator", f"{TOY}:good", "--save-baseline", "adir.h5", "--db", "c.db"],
-        "--save-baseline must be a file name; got the folder 'adir.h5'"),
+        "--save-baseline must be a file name; got the folder 'adir.h5'",
+    ),
 }
 
 
@@ -531,7 +691,12 @@ def test_outputs_are_checked_before_any_work(case, tmp_path, capsys, monkeypatch
 @pytest.mark.parametrize(
     ("kind", "make", "exc", "match"),
     [
-        ("report", "file", NotADirectoryError, "--out must be a folder; '.*out' is an existing file"),
+        (
+            "report",
+            "file",
+            NotADirectoryError,
+            "--out must be a folder; '.*out' is an existing file",
+        ),
         ("report", "foreign", ValueError, "exists and is not a gyrobench report folder"),
         ("file", "dir", IsADirectoryError, "--out must be a file name; got the folder"),
         ("folder", "file", NotADirectoryError, "--out must be a folder"),
@@ -617,19 +782,25 @@ def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+FUZZ = settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
 
 #: any value an HDF5 attribute can hold, weighted towards the edges
 _ATTR_VALUES = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
-    st.sampled_from([0.0, -1.0, 1e-300, 1e300, 5e-324, 1.7976931348623157e308, 64, 63, 2**62, 2**63 - 1]),
+    st.sampled_from(
+        [0.0, -1.0, 1e-300, 1e300, 5e-324, 1.7976931348623157e308, 64, 63, 2**62, 2**63 - 1]
+    ),
     st.integers(min_value=-(2**63), max_value=2**63 - 1),
     st.booleans(),
     st.text(max_size=30),
     st.binary(max_size=30),
     st.lists(st.floats(allow_nan=False, allow_infinity=False, width=32), min_size=0, max_size=4),
     st.complex_numbers(allow_nan=False, allow_infinity=False, max_magnitude=1e6),
-    st.sampled_from(['{"a": 1}', "[]", "null", '"x"', "{" * 5000, '{"a": NaN}', "rad/s", "deg/h", "K"]),
+    st.sampled_from(
+        ['{"a": 1}', "[]", "null", '"x"', "{" * 5000, '{"a": NaN}', "rad/s", "deg/h", "K"]
+    ),
 )
 
 
@@ -668,9 +839,17 @@ def _exit_0_finite_or_exit_2_one_line(code, out, err):
 
 @FUZZ
 @given(
-    slot=st.sampled_from([("group", "fs"), ("group", "t0"), ("group", "n_samples"),
-                          ("group", "metadata"), ("dataset", "unit"), ("dataset", "description"),
-                          ("root", "format")]),
+    slot=st.sampled_from(
+        [
+            ("group", "fs"),
+            ("group", "t0"),
+            ("group", "n_samples"),
+            ("group", "metadata"),
+            ("dataset", "unit"),
+            ("dataset", "description"),
+            ("root", "format"),
+        ]
+    ),
     value=_ATTR_VALUES,
 )
 def test_fuzz_hdf5_attributes_exit_0_finite_or_2_one_line(tmp_path, capsys, slot, value):
@@ -680,14 +859,44 @@ def test_fuzz_hdf5_attributes_exit_0_finite_or_2_one_line(tmp_path, capsys, slot
     _exit_0_finite_or_exit_2_one_line(code, out, err)
 
 
-_TOML_KEYS = ["duration_h", "fs_hz", "N_deg_sqrt_h", "B_deg_h", "Q_arcsec", "K_deg_h_sqrt_h",
-              "R_deg_h2", "label", "bogus"]
+_TOML_KEYS = [
+    "duration_h",
+    "fs_hz",
+    "N_deg_sqrt_h",
+    "B_deg_h",
+    "Q_arcsec",
+    "K_deg_h_sqrt_h",
+    "R_deg_h2",
+    "label",
+    "bogus",
+]
 _TOML_SCALARS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(
-        lambda v: "nan" if math.isnan(v) else ("inf" if v == math.inf else ("-inf" if v == -math.inf else repr(v)))
+        lambda v: (
+            "nan"
+            if math.isnan(v)
+            else ("inf" if v == math.inf else ("-inf" if v == -math.inf else repr(v)))
+        )
     ),
-    st.sampled_from(["1e308", "-1e308", "0", "0.0", "1e-300", "5e-324", "0.01", "64", "true", '"x"',
-                     "[]", "[1, 2]", "{}", "9223372036854775807", "-9223372036854775808"]),
+    st.sampled_from(
+        [
+            "1e308",
+            "-1e308",
+            "0",
+            "0.0",
+            "1e-300",
+            "5e-324",
+            "0.01",
+            "64",
+            "true",
+            '"x"',
+            "[]",
+            "[1, 2]",
+            "{}",
+            "9223372036854775807",
+            "-9223372036854775808",
+        ]
+    ),
     st.integers(min_value=-(2**63), max_value=2**63 - 1).map(str),
     st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=10).map(
         lambda t: '"' + t.replace("\\", "\\\\").replace('"', '\\"') + '"'
@@ -713,11 +922,18 @@ def _toml_docs(draw):
             if "duration_h" not in keys:
                 lines.append(f"duration_h = {draw(st.sampled_from(['0.001', '0.005', '0.01']))}")
             for key in keys:
-                value = draw(st.one_of(_NUMBERS.map(str), _TOML_SCALARS) if key != "label" else _TOML_SCALARS)
+                value = draw(
+                    st.one_of(_NUMBERS.map(str), _TOML_SCALARS) if key != "label" else _TOML_SCALARS
+                )
                 lines.append(f"{key} = {value}")
     else:
-        for table in draw(st.lists(st.sampled_from(["fog", "mems", None, "static_noise.fog", "x"]),
-                                   max_size=3, unique=True)):
+        for table in draw(
+            st.lists(
+                st.sampled_from(["fog", "mems", None, "static_noise.fog", "x"]),
+                max_size=3,
+                unique=True,
+            )
+        ):
             if table is not None:
                 lines.append(f"[{table}]")
             for key in draw(st.lists(st.sampled_from(_TOML_KEYS), max_size=4, unique=True)):
@@ -736,7 +952,9 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
     cfg = tmp_path / "c.toml"
     cfg.write_text(doc, encoding="utf-8", errors="surrogatepass")
     out = tmp_path / "o"
-    code, _, err = _run(["simulate", "static_noise", "--config", str(cfg), "--out", str(out)], capsys)
+    code, _, err = _run(
+        ["simulate", "static_noise", "--config", str(cfg), "--out", str(out)], capsys
+    )
     assert "Traceback" not in "\n".join(err)
     if code == 0:
         from gyrobench.sim.recording import load_hdf5

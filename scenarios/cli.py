@@ -525,7 +525,11 @@ def _seed(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="gyrobench", description="Gyroscope simulator and test bench.")
+    p = _Parser(prog="gyrobench", description="Gyroscope simulator and test bench.",
+                epilog="exit status: 0 ok; 1 bench: significant regression; 2 bad input (one line on "
+                       "stderr); 3 bench: the compensator failed on some seeds (non-finite output); "
+                       "4 internal failure (a worker died, non-deterministic runs, a bug); "
+                       "130 interrupted. GYROBENCH_TRACEBACK=1 prints the traceback of an error.")
     p.add_argument("--version", action="version", version=f"gyrobench {_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 

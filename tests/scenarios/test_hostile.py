@@ -965,3 +965,22 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
     else:
         assert code == 2, err
         assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err
+
+
+def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
+    from gyrobench.scenarios import outputs, registry, static_noise
+
+    cfg = registry.override(
+        static_noise.Config(), {"fog": {"duration_h": 0.01}, "mems": {"duration_h": 0.01}}
+    )
+    outcome = static_noise.run(cfg, 3)
+    out = tmp_path / "report"
+    out.mkdir()
+    (out / "stale_scenario").mkdir()  # an earlier report's folder: gone after the swap
+    (out / outputs.REPORT_MARKER).write_text("")
+    outputs.check_output(out, what="--out", kind="report")
+    index = outputs.write_report_as_a_set([outcome], out, command="gyrobench reproduce static_noise")
+    assert index == out / "index.html" and index.is_file()
+    assert (out / "static_noise" / "results.json").is_file()
+    assert not (out / "stale_scenario").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]

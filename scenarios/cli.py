@@ -429,13 +429,27 @@ def _read_hdf5(path: Path, name: str | None, column: str | None):
     return data, rec.fs, f"{rec.name}/{ch}"
 
 
+def _check_allan_input(rate, label: str, kind: str) -> None:
+    """Refuse, before the analysis, samples too large to square and a run that needs more memory
+    than is available (issue 15)."""
+    from gyrobench.sim import memory
+    from gyrobench.sim.recording import check_magnitude
+
+    check_magnitude(rate, label)
+    memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
+                        f"({len(rate)} samples)", hint="analyse a shorter segment")
+
+
 def _cmd_allan(args) -> int:
     from gyrobench.analysis.allan import allan_deviation, fit_noise
     from gyrobench.scenarios.allan_report import TERMS, coefficients_json
+    from gyrobench.scenarios.outputs import check_output
 
     path = Path(args.file)
     if not path.is_file():
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    if args.plot:  # issue 15: outputs before any work
+        check_output(args.plot, what="--plot")
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
             raise _BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
@@ -447,6 +461,7 @@ def _cmd_allan(args) -> int:
         # float(): print nan / inf, not np.float64(nan)
         raise _BadInput(f"{label} contains {float(rate[bad[0]])} at sample {bad[0]} ({len(bad)} non-finite "
                         f"sample{'s' if len(bad) > 1 else ''}): the data must be finite")
+    _check_allan_input(rate, label, args.kind)  # issue 15: magnitudes that overflow, memory
     curve = allan_deviation(rate, fs, taus=args.taus, kind=args.kind)
     if len(curve.tau) < len(TERMS):
         raise _BadInput(
@@ -485,7 +500,7 @@ def _cmd_reproduce(args) -> int:
     from tqdm import tqdm
 
     from gyrobench.scenarios import registry
-    from gyrobench.scenarios.report import write_report
+    from gyrobench.scenarios.outputs import check_output, write_report_as_a_set
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -496,6 +511,7 @@ def _cmd_reproduce(args) -> int:
         raise _BadInput("--config applies to one scenario; name exactly one")
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
+    check_output(args.out, what="--out", kind="report")  # issue 15: before any work
     outcomes = []
     t0 = time.perf_counter()
     bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
@@ -503,7 +519,7 @@ def _cmd_reproduce(args) -> int:
         for mod, cfg in bar:
             bar.set_postfix_str(mod.NAME)
             outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
-    index = write_report(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
+    index = write_report_as_a_set(outcomes, args.out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     held = sum(1 for o in outcomes for h in o.headlines if h.holds is True)
     total = sum(1 for o in outcomes for h in o.headlines if h.holds is not None)
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s; {held}/{total} testable headline conclusions hold")

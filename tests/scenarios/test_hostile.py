@@ -984,3 +984,48 @@ def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
     assert (out / "static_noise" / "results.json").is_file()
     assert not (out / "stale_scenario").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+
+
+def _noise_h5(tmp_path: Path, scale: float = 1.0) -> Path:
+    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+
+    rate = np.random.default_rng(11).standard_normal(4096) * 1e-4 * scale
+    return save_hdf5(
+        tmp_path / "n.h5", Recording(fs=100.0, channels={"rate": Channel(rate, "rad/s")}, name="n")
+    )
+
+
+def test_allan_plot_into_a_folder_is_refused_before_the_analysis(tmp_path, capsys, monkeypatch):
+    from gyrobench.analysis import allan
+
+    path = _noise_h5(tmp_path)
+    (tmp_path / "figs").mkdir()
+    monkeypatch.setattr(allan, "allan_deviation", lambda *a, **k: pytest.fail("analysed first"))
+    code, _, err = _run(["allan", str(path), "--plot", str(tmp_path / "figs")], capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert f"--plot must be a file name; got the folder {str(tmp_path / 'figs')!r}" in err[0]
+
+
+def test_reproduce_out_an_existing_file_is_refused_before_running(tmp_path, capsys, monkeypatch):
+    from gyrobench.scenarios import static_noise
+
+    monkeypatch.setattr(static_noise, "run", lambda *a, **k: pytest.fail("ran first"))
+    (tmp_path / "taken").write_text("")
+    code, _, err = _run(["reproduce", "static_noise", "--out", str(tmp_path / "taken"), "-q"], capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert f"--out must be a folder; {str(tmp_path / 'taken')!r} is an existing file" in err[0]
+
+
+def test_allan_of_samples_too_large_to_square_is_one_line(tmp_path, capsys):
+    path = _noise_h5(tmp_path, scale=1e200)
+    code, _, err = _run(["allan", str(path)], capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert "n/rate has " in err[0] and "outside +-1.56e+98" in err[0]
+
+
+def test_allan_analysis_above_the_memory_limit_is_one_line(tmp_path, capsys, monkeypatch):
+    path = _noise_h5(tmp_path)
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "100k")
+    code, _, err = _run(["allan", str(path)], capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert "the overlapping Allan analysis of n/rate (4096 samples) needs about 131 kB" in err[0]

@@ -763,7 +763,7 @@ def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
     if link is None:
         raise RecordingFormatError(f"{where} has no {sub!r} group: incomplete file?")
     if isinstance(link, (h5py.ExternalLink, h5py.SoftLink)):
-        raise RecordingFormatError(_link_message(f"{where}/{sub}", link))
+        raise RecordingFormatError(_link_message(f"{where}: {sub}", link))
     out = {}
     g = grp[sub]
     if not isinstance(g, h5py.Group):
@@ -771,7 +771,7 @@ def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
     for k in g:
         lk = g.get(k, getlink=True)
         if isinstance(lk, (h5py.ExternalLink, h5py.SoftLink)):
-            raise RecordingFormatError(_link_message(f"{where}/{sub}/{k}", lk))
+            raise RecordingFormatError(_link_message(f"{where}: {sub}/{k}", lk))
         ds = g[k]
         if not isinstance(ds, h5py.Dataset):
             raise RecordingFormatError(f"{where}/{sub}/{k} must be a dataset; got a group")

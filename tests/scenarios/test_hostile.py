@@ -297,7 +297,7 @@ CASES = {
         {"loop.h5": lambda p: _recording_file(p, _soft_loop)},
         ["allan", "loop.h5"],
         2,
-        "'loop.h5': recording 'r'/channels is an HDF5 soft link to '/recordings/r/channels'",
+        "'loop.h5': recording 'r': channels is an HDF5 soft link to '/recordings/r/channels'",
     ),
     "hdf5-complex-data": (
         {"c.h5": lambda p: _recording_file(p, _complex)},
@@ -309,7 +309,8 @@ CASES = {
         {"e.h5": lambda p: _recording_file(p, _external)},
         ["allan", "e.h5"],
         2,
-        "channels/rate is an HDF5 external link to 'target.h5':/rate; external links are refused",
+        "recording 'r': channels/rate is an HDF5 external link to 'target.h5':/rate; "
+        "external links are refused",
     ),
     "hdf5-claims-2e9-samples": (
         {"h.h5": lambda p: _recording_file(p, _claims_2e9)},
@@ -979,7 +980,7 @@ def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
     (out / "stale_scenario").mkdir()  # an earlier report's folder: gone after the swap
     (out / outputs.REPORT_MARKER).write_text("")
     outputs.check_output(out, what="--out", kind="report")
-    index = outputs.write_report_as_a_set([outcome], out, command="gyrobench reproduce static_noise")
+    index = outputs.write_report_as_a_set([outcome], out, command="gyrobench reproduce")
     assert index == out / "index.html" and index.is_file()
     assert (out / "static_noise" / "results.json").is_file()
     assert not (out / "stale_scenario").exists()
@@ -1011,7 +1012,8 @@ def test_reproduce_out_an_existing_file_is_refused_before_running(tmp_path, caps
 
     monkeypatch.setattr(static_noise, "run", lambda *a, **k: pytest.fail("ran first"))
     (tmp_path / "taken").write_text("")
-    code, _, err = _run(["reproduce", "static_noise", "--out", str(tmp_path / "taken"), "-q"], capsys)
+    argv = ["reproduce", "static_noise", "--out", str(tmp_path / "taken"), "-q"]
+    code, _, err = _run(argv, capsys)
     _one_line(err, code, exits.BAD_INPUT)
     assert f"--out must be a folder; {str(tmp_path / 'taken')!r} is an existing file" in err[0]
 

@@ -429,12 +429,16 @@ def _read_hdf5(path: Path, name: str | None, column: str | None):
     return data, rec.fs, f"{rec.name}/{ch}"
 
 
-def _check_allan_input(rate, label: str, kind: str) -> None:
-    """Refuse, before the analysis, samples too large to square and a run that needs more memory
+def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
+    """Refuse, before the analysis, a sample rate outside any gyro's (the fit's tau**-2 .. tau**2
+    terms overflow far outside it), samples too large to square and a run that needs more memory
     than is available (issue 15)."""
     from gyrobench.sim import memory
-    from gyrobench.sim.recording import check_magnitude
+    from gyrobench.sim.recording import FS_RANGE_HZ, check_magnitude
 
+    if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+        raise _BadInput(f"the sample rate of {label} must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                        f"(no gyro samples outside it); got {fs:g} Hz")
     check_magnitude(rate, label)
     memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
                         f"({len(rate)} samples)", hint="analyse a shorter segment")
@@ -461,7 +465,7 @@ def _cmd_allan(args) -> int:
         # float(): print nan / inf, not np.float64(nan)
         raise _BadInput(f"{label} contains {float(rate[bad[0]])} at sample {bad[0]} ({len(bad)} non-finite "
                         f"sample{'s' if len(bad) > 1 else ''}): the data must be finite")
-    _check_allan_input(rate, label, args.kind)  # issue 15: magnitudes that overflow, memory
+    _check_allan_input(rate, fs, label, args.kind)  # issue 15: magnitudes that overflow, memory
     curve = allan_deviation(rate, fs, taus=args.taus, kind=args.kind)
     if len(curve.tau) < len(TERMS):
         raise _BadInput(

@@ -1031,3 +1031,14 @@ def test_allan_analysis_above_the_memory_limit_is_one_line(tmp_path, capsys, mon
     code, _, err = _run(["allan", str(path)], capsys)
     _one_line(err, code, exits.BAD_INPUT)
     assert "the overlapping Allan analysis of n/rate (4096 samples) needs about 131 kB" in err[0]
+
+
+@pytest.mark.parametrize("fs", ["1e100", "1e-100"])
+def test_allan_csv_with_a_sample_rate_outside_any_gyros_is_one_line(tmp_path, capsys, fs):
+    path = tmp_path / "w.csv"
+    rate = np.random.default_rng(1).standard_normal(2000) * 1e-3
+    np.savetxt(path, rate, header="rate [rad/s]", comments="")
+    code, _, err = _run(["allan", str(path), "--fs", fs], capsys)
+    _one_line(err, code, exits.BAD_INPUT)
+    assert "must be in [1e-09, 1e+15] Hz (no gyro samples outside it)" in err[0]
+    assert err[0].endswith(f"; got {float(fs):g} Hz")

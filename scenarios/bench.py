@@ -81,11 +81,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from gyrobench.scenarios import exits
 from numpy.typing import NDArray
 
 __all__ = [
     "DEFAULT_DB",
     "CompensatorError",
+    "FailedSeedsError",
     "Campaign",
     "ScoreSummary",
     "ScoreComparison",
@@ -203,22 +205,56 @@ def parse_seeds(text: str) -> tuple[int, ...]:
                 raise ValueError
             if len(parts) == 3 and parts[2] <= 0:
                 raise ValueError
-            seeds = tuple(range(*parts))
+            span = range(*parts)
+            _check_count(len(span), what=text)  # before building a tuple of 10**12 ints
+            seeds = tuple(span)
         else:
             seeds = tuple(int(p) for p in s.split(","))
-    except ValueError:
+    except ValueError as exc:
+        if str(exc).startswith("seeds must"):
+            raise
         raise ValueError(usage) from None
     return _check_seeds(seeds, what=text)
+
+
+#: most seeds one campaign may hold. The bound is what the calling process holds at once:
+#: every seed is a submitted future (~1 kB) and a row of scores read back (~1-2 kB for the
+#: scenarios' 10-40 scores), so 10**6 seeds take about 2-3 GB, checked against the memory
+#: limit too (gyrobench.sim.memory); at ~0.5 s per seed it is also ~6 CPU-days of work.
+MAX_SEEDS = 10**6
+#: largest seed: the database stores seeds as SQLite INTEGER (signed 64-bit)
+MAX_SEED = 2**63 - 1
+#: bytes one seed costs the calling process (a future and its scores), for the memory check
+BYTES_PER_SEED = 3000
+
+
+def _check_count(n: int, *, what: Any) -> None:
+    if n > MAX_SEEDS:
+        raise ValueError(
+            f"seeds must number at most {MAX_SEEDS} per campaign (each is a future and a row of "
+            f"scores held by this process); got {n} in {what!r}: split the campaign"
+        )
+    from gyrobench.sim import memory
+
+    memory.check_memory(
+        n * BYTES_PER_SEED, f"a campaign of {n} seeds", hint="use fewer seeds per campaign"
+    )
 
 
 def _check_seeds(seeds: Iterable[int], *, what: Any = None) -> tuple[int, ...]:
     seeds = tuple(seeds)
     what = seeds if what is None else what
+    _check_count(len(seeds), what=what if len(seeds) < 20 else f"{len(seeds)} seeds")
     for s in seeds:
         if isinstance(s, (bool, np.bool_)) or not isinstance(s, (int, np.integer)):
             raise TypeError(f"seeds must be integers >= 0; got {s!r} in {what!r}")
         if s < 0:
             raise ValueError(f"seeds must be integers >= 0; got {int(s)} in {what!r}")
+        if s > MAX_SEED:
+            raise ValueError(
+                f"seeds must be <= 2**63 - 1 = {MAX_SEED} (the database stores them as 64-bit "
+                f"integers); got {int(s)} in {what!r}"
+            )
     if not seeds:
         raise ValueError(f"seeds must hold at least one seed; got {what!r}")
     seeds = tuple(int(s) for s in seeds)
@@ -311,6 +347,19 @@ def _import_attr(spec: str) -> Any:
         raise ValueError(
             f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})"
         ) from None
+    except SyntaxError as exc:
+        raise CompensatorImportError(
+            f"compensator {spec!r}: module {mod_name!r} has a syntax error: {exc.msg} "
+            f"({exc.filename}, line {exc.lineno})",
+            exc,
+        ) from exc
+    except Exception as exc:  # noqa: BLE001 - whatever the user's module raises while importing
+        detail = " ".join(str(exc).split()) or "(no message)"
+        raise CompensatorImportError(
+            f"compensator {spec!r}: importing module {mod_name!r} raised "
+            f"{type(exc).__name__}: {detail}",
+            exc,
+        ) from exc
     for part in attr.split("."):
         try:
             obj = getattr(obj, part)
@@ -319,6 +368,20 @@ def _import_attr(spec: str) -> Any:
                 f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}"
             ) from None
     return obj
+
+
+class CompensatorImportError(ValueError):
+    """The compensator's module failed to import (a syntax error, an exception at import time).
+
+    Bad input (exit 2); ``traceback_text`` holds the import's traceback, which the
+    command line prints with ``GYROBENCH_TRACEBACK=1``.
+    """
+
+    def __init__(self, message: str, cause: BaseException) -> None:
+        import traceback
+
+        super().__init__(message)
+        self.traceback_text = "".join(traceback.format_exception(cause))
 
 
 def _is_estimator(obj: Any) -> bool:
@@ -357,7 +420,7 @@ def _seed_int(seed: int) -> int:
 
 #: environment variable: when set (to anything but "" or "0"), ``gyrobench bench`` prints the
 #: traceback of a failing compensator on stderr before its one-line error
-TRACEBACK_ENV = "GYROBENCH_TRACEBACK"
+TRACEBACK_ENV = exits.TRACEBACK_ENV
 
 
 class CompensatorError(ValueError):
@@ -406,6 +469,17 @@ class CompensatorError(ValueError):
             stage=self.stage,
             traceback_text=self.traceback_text,
         )
+
+
+class FailedSeedsError(ValueError):
+    """A campaign with failed seeds was to be saved as a baseline or compared (exit 3).
+
+    ``seeds`` holds the failed seeds.
+    """
+
+    def __init__(self, message: str, *, seeds: Sequence[int] = ()) -> None:
+        super().__init__(message)
+        self.seeds = tuple(seeds)
 
 
 def _compensator_failed(label: str, seed: int, stage: str, exc: BaseException) -> CompensatorError:
@@ -512,11 +586,23 @@ def score_seed(
     CompensatorError
         If the compensator's fit or predict raises (the message names the
         compensator, the seed, the stage and the original exception; the original
-        is chained as ``__cause__``), or its prediction has the wrong size.
+        is chained as ``__cause__``), its prediction has the wrong size, or its
+        prediction or a score is not finite (NaN or inf: in a campaign such a seed
+        is recorded as failed instead, see :func:`run_campaign`).
     TypeError
         If a fit function returns something that cannot predict.
     """
-    return _score(scenario, compensator, seed, config)
+    comp = resolve_compensator(compensator)
+    label = _compensator_label(comp, compensator, short=True)
+    scores, failure = _score(scenario, comp, seed, config, label)
+    if failure is not None:
+        raise CompensatorError(
+            f"compensator {label} failed on seed {seed}: {failure}",
+            compensator=label,
+            seed=seed,
+            stage="score",
+        )
+    return scores
 
 
 def _score(
@@ -525,8 +611,13 @@ def _score(
     seed: int,
     config: Any = None,
     label: str | None = None,
-) -> dict[str, float]:
-    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object)."""
+) -> tuple[dict[str, float], str | None]:
+    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object).
+
+    Returns the scores and, for a failed seed, why it failed (:func:`_nonfinite`); else None.
+    A seed fails at the first held-out run whose prediction or scores are not all finite;
+    the runs after it are not scored.
+    """
     from threadpoolctl import threadpool_limits
 
     module = resolve_scenario(scenario)
@@ -559,23 +650,47 @@ def _score(
                     seed=seed,
                     stage=stage,
                 )
-            compensated = task.compensate(pred, run)
-            for k, v in task.scorer(compensated, run).items():
-                v = float(v)
-                scores[f"{run.label}/{k}"] = v
-                per_key.setdefault(k, []).append(v)
+            failure = _nonfinite(f"the prediction on run {run.label}", pred)
+            if failure is None:
+                compensated = task.compensate(pred, run)
+                with np.errstate(all="ignore"):  # an overflow is reported as a failed seed
+                    run_scores = {k: float(v) for k, v in task.scorer(compensated, run).items()}
+                bad = [k for k, v in run_scores.items() if not math.isfinite(v)]
+                if bad:
+                    failure = (
+                        f"score {run.label}/{bad[0]} is {run_scores[bad[0]]!r}"
+                        + (f" ({len(bad)} non-finite scores)" if len(bad) > 1 else "")
+                    )
+                for k, v in run_scores.items():
+                    scores[f"{run.label}/{k}"] = v
+                    per_key.setdefault(k, []).append(v)
+            if failure is not None:
+                return dict(sorted(scores.items())), failure
     for k, vals in per_key.items():
         scores[f"mean/{k}"] = math.fsum(vals) / len(vals)
-    return dict(sorted(scores.items()))
+    return dict(sorted(scores.items())), None
+
+
+def _nonfinite(what: str, values: NDArray[np.float64]) -> str | None:
+    """``"<what> has 3 non-finite values of 300 (nan at sample 0)"``, or None if all are finite."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size == 0:
+        return None
+    i = int(bad[0])
+    return (
+        f"{what} has {bad.size} non-finite value{'s' if bad.size > 1 else ''} of {values.size} "
+        f"({float(values.flat[i])!r} at sample {i})"
+    )
 
 
 def _score_job(
     module_name: str, compensator: Any, seed: int, config: Any, label: str | None = None
-) -> tuple[int, dict[str, float], float]:
-    """Worker entry point (module level so it pickles by reference)."""
+) -> tuple[int, dict[str, float], float, str | None]:
+    """Worker entry point (module level so it pickles by reference):
+    (seed, scores, elapsed [s], failure or None)."""
     t0 = time.perf_counter()
-    scores = _score(importlib.import_module(module_name), compensator, seed, config, label)
-    return seed, scores, time.perf_counter() - t0
+    scores, failure = _score(importlib.import_module(module_name), compensator, seed, config, label)
+    return seed, scores, time.perf_counter() - t0, failure
 
 
 # ----------------------------------------------------------------------------- identity
@@ -711,7 +826,6 @@ def _module_hash(module_name: str | None) -> str:
 def _versions() -> str:
     import scipy
     import sklearn
-
     from gyrobench.sim.recording import package_version
 
     return (
@@ -913,9 +1027,13 @@ class Campaign:
     scenario, compensator, config : str
         Human-readable descriptions.
     scores : mapping
-        seed -> {score name: value}, in seed order.
+        seed -> {score name: value}, in seed order (a failed seed's scores are those
+        computed before it failed, possibly non-finite).
     computed, reused : int
         Seeds computed by this call / read back from the database.
+    failed : mapping
+        seed -> why it failed (a non-finite prediction or score), for the failed seeds.
+        Summaries leave them out; :func:`compare` and :func:`save_baseline` refuse them.
     """
 
     campaign_id: str
@@ -926,6 +1044,7 @@ class Campaign:
     computed: int = 0
     reused: int = 0
     db: str = ""
+    failed: Mapping[int, str] = dataclasses.field(default_factory=dict)
 
     @property
     def seeds(self) -> tuple[int, ...]:
@@ -938,18 +1057,36 @@ class Campaign:
             names.update(s)
         return _order(names)
 
+    @property
+    def ok_seeds(self) -> tuple[int, ...]:
+        """The seeds that did not fail."""
+        return tuple(s for s in self.scores if s not in self.failed)
+
     def values(self, name: str, seeds: Sequence[int] | None = None) -> NDArray[np.float64]:
         """The score ``name`` for each seed (NaN where a seed lacks it)."""
         seeds = self.seeds if seeds is None else seeds
         return np.array([self.scores[s].get(name, math.nan) for s in seeds], dtype=float)
 
     def summary(self, level: float = 0.95) -> dict[str, ScoreSummary]:
-        """Per score: mean over seeds with a ``level`` confidence interval.
+        """Per score: mean over the seeds that did not fail, with a ``level`` confidence interval.
 
         Student t for scores of either sign; for scores non-negative by nature a
         lognormal (modified Cox) interval that stays > 0 (see :func:`_summary`).
         """
-        return {n: _summary(n, self.values(n), level) for n in self.score_names}
+        ok = self.ok_seeds
+        return {n: _summary(n, self.values(n, ok), level) for n in self.score_names}
+
+    def failure_text(self, limit: int = 10) -> str:
+        """One line naming the failed seeds and the first reasons ("" when none failed)."""
+        if not self.failed:
+            return ""
+        seeds = sorted(self.failed)
+        first = seeds[0]
+        return (
+            f"compensator {self.compensator} failed on {len(seeds)} of {len(self.scores)} seeds "
+            f"of {self.scenario} (seeds {_seed_text(seeds, limit)}); seed {first}: "
+            f"{self.failed[first]}"
+        )
 
 
 def format_summary(campaign: Campaign) -> str:
@@ -970,6 +1107,11 @@ def format_summary(campaign: Campaign) -> str:
         f"compensator {campaign.compensator}; {len(campaign.scores)} seeds "
         f"({campaign.computed} computed, {campaign.reused} from the database)"
     )
+    if campaign.failed:
+        head += (
+            f"; {len(campaign.failed)} FAILED (non-finite prediction or score: "
+            f"seeds {_seed_text(sorted(campaign.failed))}), left out of the summary"
+        )
     how = [
         "95% CI of the mean over seeds, by CI method: 't' = Student t; 'lognormal' = modified Cox",
         "interval, always > 0, for scores non-negative by nature (mse, rms, std, stability, ...);",
@@ -1001,6 +1143,12 @@ CREATE TABLE IF NOT EXISTS seed_scores (
     session_id INTEGER NOT NULL REFERENCES sessions(session_id),
     PRIMARY KEY (campaign_id, seed)
 );
+CREATE TABLE IF NOT EXISTS seed_failures (
+    campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
+    seed INTEGER NOT NULL,
+    reason TEXT NOT NULL,
+    PRIMARY KEY (campaign_id, seed)
+);
 CREATE TABLE IF NOT EXISTS sessions (
     session_id INTEGER PRIMARY KEY AUTOINCREMENT,
     campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
@@ -1014,7 +1162,10 @@ CREATE TABLE IF NOT EXISTS sessions (
 
 def _connect(path: str | os.PathLike) -> sqlite3.Connection:
     p = _check_output_file(path, what="db")
-    conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+    try:
+        conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+    except sqlite3.Error as exc:
+        raise ValueError(f"db {str(p)!r} cannot be opened: {exc}") from None
     try:
         conn.execute("PRAGMA busy_timeout = 60000")
         mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
@@ -1022,6 +1173,14 @@ def _connect(path: str | os.PathLike) -> sqlite3.Connection:
             raise ValueError(f"db {str(p)!r}: cannot switch to WAL journal mode (got {mode!r})")
         conn.execute("PRAGMA synchronous = FULL")
         conn.executescript(_SCHEMA)
+    except sqlite3.OperationalError as exc:  # an unwritable folder or file, a read-only file system
+        conn.close()
+        writable = os.access(p.parent, os.W_OK) and (not p.exists() or os.access(p, os.W_OK))
+        why = "" if writable else " (no write permission)"
+        raise ValueError(
+            f"db {str(p)!r} cannot be opened for writing{why}: {exc}; "
+            "give --db in a writable folder"
+        ) from None
     except sqlite3.DatabaseError as exc:
         conn.close()
         raise ValueError(f"db {str(p)!r} is not a usable SQLite database: {exc}") from None
@@ -1129,11 +1288,17 @@ def run_campaign(
         )
         done: dict[int, dict[str, float]] = {}
         wanted = set(seeds)
+        failed: dict[int, str] = {}
         for seed, text in conn.execute(
             "SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (cid,)
         ):
             if seed in wanted:
                 done[seed] = _loads_scores(text)
+        for seed, reason in conn.execute(
+            "SELECT seed, reason FROM seed_failures WHERE campaign_id = ?", (cid,)
+        ):
+            if seed in done:
+                failed[seed] = reason
         cur = conn.execute(
             "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) "
             "VALUES (?, ?, ?, ?, ?)",
@@ -1144,14 +1309,23 @@ def run_campaign(
         todo = [s for s in seeds if s not in done]
         reused = len(done)
 
-        def record(seed: int, scores: dict[str, float], elapsed: float) -> None:
+        def record(
+            seed: int, scores: dict[str, float], elapsed: float, failure: str | None
+        ) -> None:
             text = _dumps_scores(scores)
             conn.execute("BEGIN IMMEDIATE")
             try:
                 conn.execute(
-                    "INSERT INTO seed_scores VALUES (?, ?, ?, ?, ?, ?)",
+                    "INSERT INTO seed_scores "
+                    "(campaign_id, seed, scores, elapsed_s, finished, session_id) "
+                    "VALUES (?, ?, ?, ?, ?, ?)",
                     (cid, seed, text, elapsed, time.time(), session),
                 )
+                if failure is not None:
+                    conn.execute(
+                        "INSERT INTO seed_failures (campaign_id, seed, reason) VALUES (?, ?, ?)",
+                        (cid, seed, failure),
+                    )
             except sqlite3.IntegrityError:
                 # another process running the same campaign on this file stored it meanwhile;
                 # scores are deterministic, so it must be the same
@@ -1160,16 +1334,24 @@ def run_campaign(
                     "SELECT scores FROM seed_scores WHERE campaign_id = ? AND seed = ?", (cid, seed)
                 ).fetchone()
                 if other != text:
-                    raise RuntimeError(
-                        f"seed {seed} of campaign {cid} gave different scores in two runs: "
-                        "the scenario or compensator is not deterministic"
+                    raise exits.InternalError(
+                        f"seed {seed} of campaign {cid} gave different scores in two runs on "
+                        f"db {str(db)!r}: the scenario or compensator is not deterministic "
+                        "(it must give the same scores for the same seed)"
                     ) from None
+                row = conn.execute(
+                    "SELECT reason FROM seed_failures WHERE campaign_id = ? AND seed = ?",
+                    (cid, seed),
+                ).fetchone()
+                failure = row[0] if row else failure
             except BaseException:
                 conn.execute("ROLLBACK")
                 raise
             else:
                 conn.execute("COMMIT")
             done[seed] = _loads_scores(text)  # exactly what a resume reads back
+            if failure is not None:
+                failed[seed] = failure
 
         def kept() -> str:
             n = len(done)
@@ -1223,6 +1405,12 @@ def run_campaign(
                                 result = fut.result()
                             except CompensatorError as exc:
                                 raise exc.with_context(kept()) from exc
+                            except cf.BrokenExecutor as exc:
+                                raise exits.InternalError(
+                                    f"a worker process died while scoring seed {seed} of "
+                                    f"{scen_name} (killed, or out of memory: see 'dmesg'); "
+                                    f"{kept()}"
+                                ) from exc
                             except Exception as exc:
                                 _note(
                                     exc, f"while scoring seed {seed} of {scen_name} ({kept()})"
@@ -1246,6 +1434,7 @@ def run_campaign(
             computed=len(todo),
             reused=reused,
             db=str(db),
+            failed={s: failed[s] for s in seeds if s in failed},
         )
     finally:
         conn.close()
@@ -1270,21 +1459,15 @@ def _check_picklable(comp: Any, config: Any) -> None:
 
 # ----------------------------------------------------------------------------- baselines
 def _check_output_file(path: str | os.PathLike, *, what: str) -> Path:
-    """``path`` as a Path if it can be written as a file: not a folder, and its folder exists.
+    """``path`` as a Path if it can be written as a file: not a folder, its folder exists
+    and accepts new files (:func:`gyrobench.scenarios.outputs.check_output`).
 
     Missing folders are never created: a typo (or ``/nonexist/dir/b.json`` run as
     root) must not scatter folders over the file system.
     """
-    p = Path(path)
-    if p.is_dir():
-        raise IsADirectoryError(f"{what} must be a file name; got the folder {str(p)!r}")
-    parent = p.parent
-    if not parent.is_dir():
-        raise FileNotFoundError(
-            f"{what} must be in an existing folder; the folder {str(parent)!r} does not exist "
-            f"(create it first); got {str(p)!r}"
-        )
-    return p
+    from gyrobench.scenarios.outputs import check_output
+
+    return check_output(path, what=what, kind="file", create_parents=False)
 
 
 def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
@@ -1296,6 +1479,8 @@ def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path")
         If ``path`` is a folder.
     FileNotFoundError
         If its folder does not exist (it is not created).
+    PermissionError
+        If its folder does not accept new files.
     """
     return _check_output_file(path, what=what)
 
@@ -1357,6 +1542,11 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
     if not isinstance(campaign, Campaign):
         raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
     path = check_baseline_path(path)
+    if campaign.failed:
+        raise FailedSeedsError(
+            f"not saving baseline {str(path)!r}: {campaign.failure_text()}",
+            seeds=sorted(campaign.failed),
+        )
     doc = {
         "format": BASELINE_FORMAT,
         "format_version": BASELINE_VERSION,
@@ -1449,7 +1639,13 @@ class ScoreComparison:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comparison:
-    """All scores compared; ``regressions`` non-empty means a significant regression."""
+    """All scores compared; ``regressions`` non-empty means a significant regression.
+
+    ``failed_seeds`` non-empty means the candidate failed on those seeds (a non-finite
+    prediction or score): the comparison then fails whatever the scores say (``passed`` is
+    False; the command line exits :data:`gyrobench.scenarios.exits.FAILED_SEEDS`), and
+    ``failure`` says so in one line. The paired test runs on the other seeds.
+    """
 
     scores: tuple[ScoreComparison, ...]
     seeds: tuple[int, ...]
@@ -1457,6 +1653,13 @@ class Comparison:
     test: str
     missing: tuple[str, ...] = ()
     note: str = ""
+    failed_seeds: tuple[int, ...] = ()
+    failure: str = ""
+
+    @property
+    def passed(self) -> bool:
+        """No failed seed and no significant regression."""
+        return not self.failed_seeds and not self.regressions
 
     @property
     def regressions(self) -> tuple[ScoreComparison, ...]:
@@ -1496,10 +1699,17 @@ class Comparison:
         if self.missing:
             lines.append(f"not compared (in only one campaign): {', '.join(self.missing)}")
         reg, imp = self.regressions, self.improvements
+        if self.failed_seeds:
+            lines.append(f"FAILED: {self.failure}")
         if reg:
             lines.append(
                 f"REGRESSION: {len(reg)} score(s) significantly worse: "
                 + ", ".join(s.name for s in reg)
+            )
+        elif self.failed_seeds:
+            lines.append(
+                f"no significant regression on the {len(self.seeds)} seeds compared, but the "
+                "comparison FAILS: the compensator failed on the seeds named above"
             )
         else:
             lines.append(f"no significant regression ({len(imp)} score(s) significantly better)")
@@ -1563,6 +1773,12 @@ def compare(
     A score whose differences are all exactly zero (the same compensator: scores
     are deterministic) is "unchanged" with p = 1.
 
+    A candidate seed that failed (listed in ``campaign.failed``, or with a non-finite
+    score: a campaign read from JSON) is never dropped silently: it is named in
+    ``failed_seeds`` and the comparison does not pass, whatever the other seeds say. A
+    baseline seed with a non-finite score is left out of the paired test (with a note);
+    if no seed is left, the comparison is refused.
+
     Many scores are tested at once (each held-out run and the mean), so the
     p-values are adjusted by Holm's step-down method, which keeps the probability
     of any false "regressed" or "improved" at most ``alpha``. A significant score
@@ -1583,25 +1799,41 @@ def compare(
             f"baseline is of scenario {base.scenario!r}, campaign of {cand.scenario!r}; "
             "a paired comparison needs the same scenario"
         )
-    seeds = tuple(s for s in cand.seeds if s in base.scores)
-    if not seeds:
+    common = tuple(s for s in cand.seeds if s in base.scores)
+    if not common:
         raise ValueError(
             f"baseline and campaign share no seed (baseline seeds {_seed_text(base.seeds)}, "
             f"campaign seeds {_seed_text(cand.seeds)}); run the campaign on the baseline's seeds"
         )
     bnames, cnames = set(base.score_names), set(cand.score_names)
     names = _order(bnames & cnames)
+    if not names and set(cand.failed) >= set(common):  # failed before any score: compare all
+        names, cnames = _order(bnames), bnames
     missing = tuple(_order(bnames ^ cnames))
     if not names:
         raise ValueError(
             "baseline and campaign have no score in common; were they run on the same scenario?"
         )
+    cand_failed = dict(cand.failed)
+    base_failed = set(base.failed)
+    for s in common:
+        if s not in cand_failed:
+            bad = [n for n in names if not math.isfinite(cand.scores[s].get(n, math.nan))]
+            if bad:
+                cand_failed[s] = f"score {bad[0]} is {cand.scores[s].get(bad[0], math.nan)!r}"
+        if any(not math.isfinite(base.scores[s].get(n, math.nan)) for n in names):
+            base_failed.add(s)
+    failed_seeds = tuple(sorted(s for s in cand_failed if s in cand.scores))
+    seeds = tuple(s for s in common if s not in cand_failed and s not in base_failed)
+    if not seeds and not failed_seeds:
+        raise ValueError(
+            f"the baseline has no finite scores on the seeds it shares with the campaign "
+            f"({_seed_text(common)}): re-save it from a compensator that works"
+        )
     rows = []
     pvals = []
     for name in names:
         b, c = base.values(name, seeds), cand.values(name, seeds)
-        ok = np.isfinite(b) & np.isfinite(c)
-        b, c = b[ok], c[ok]
         d = c - b
         nz = d[d != 0]
         if nz.size == 0:
@@ -1644,6 +1876,11 @@ def compare(
         out.append(ScoreComparison(**r, p_adjusted=float(pa), status=status))
     n_min = min(r.n for r in out)
     notes = []
+    dropped = sorted(s for s in base_failed if s in common and s not in cand_failed)
+    if dropped:
+        notes.append(
+            f"baseline seeds {_seed_text(dropped)} have non-finite scores and are not compared"
+        )
     if base.config != cand.config:
         notes.append("the two campaigns ran different scenario configurations")
     if 2.0 / 2.0**n_min * len(out) >= alpha:
@@ -1653,6 +1890,14 @@ def compare(
             "so no change can be significant; use more seeds"
         )
     note = "; ".join(notes)
+    failure = ""
+    if failed_seeds:
+        first = failed_seeds[0]
+        failure = (
+            f"compensator {cand.compensator} failed on {len(failed_seeds)} of {len(common)} "
+            f"compared seeds (seeds {_seed_text(failed_seeds)}; seed {first}: "
+            f"{cand_failed[first]}): a campaign with a failed seed never passes the comparison"
+        )
     return Comparison(
         scores=tuple(out),
         seeds=seeds,
@@ -1660,11 +1905,13 @@ def compare(
         test="two-sided Wilcoxon signed-rank on paired per-seed scores",
         missing=missing,
         note=note,
+        failed_seeds=failed_seeds,
+        failure=failure,
     )
 
 
-def _seed_text(seeds: Sequence[int]) -> str:
+def _seed_text(seeds: Sequence[int], limit: int = 10) -> str:
     s = list(seeds)
     if len(s) > 1 and s == list(range(s[0], s[-1] + 1)):
         return f"{s[0]}:{s[-1] + 1}"
-    return ",".join(map(str, s[:10])) + (",..." if len(s) > 10 else "")
+    return ",".join(map(str, s[:limit])) + (f",... ({len(s)} seeds)" if len(s) > limit else "")

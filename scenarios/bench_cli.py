@@ -6,13 +6,19 @@
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
 
-Exit status of :func:`run`: 0 on success, 1 when the campaign is significantly
-worse than ``--baseline`` on some score. Bad input raises ``ValueError``,
-``TypeError`` or ``FileNotFoundError`` with a one-line message (the command line
-wrapper prints it and exits 2). So does a compensator that fails on a seed
-(:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means "could
-not score", never "got worse". With ``GYROBENCH_TRACEBACK=1`` in the environment
-its traceback is printed on stderr first.
+Exit status of :func:`run` (see :mod:`gyrobench.scenarios.exits`): 0 on success, 1 when
+the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
+``ValueError``, ``TypeError`` or ``FileNotFoundError`` with a one-line message (the
+command line wrapper prints it and exits 2). So does a compensator that raises on a
+seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means
+"could not score", never "got worse". A compensator whose prediction or scores are not
+finite (NaN, inf) on some seeds makes those seeds *failed*: they are recorded in the
+database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
+is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
+whatever the comparison says, and no baseline is written. A worker process that dies,
+or another run of the same campaign on the same database that got other scores, raises
+:class:`~gyrobench.scenarios.exits.InternalError`: exit 4. With ``GYROBENCH_TRACEBACK=1``
+in the environment the traceback is printed on stderr first.
 
 Everything that can be checked without computing is checked before the campaign
 starts: the scenario, configuration, compensator, seeds, the ``--baseline`` file
@@ -24,8 +30,8 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 
+from gyrobench.scenarios import exits
 
 __all__ = ["add_parser", "run"]
 
@@ -143,6 +149,8 @@ def run(args: argparse.Namespace) -> int:
         seeds = baseline.seeds if baseline is not None else tuple(range(20))
     if args.save_baseline:
         bench.check_baseline_path(args.save_baseline, what="--save-baseline")
+    db = args.db if args.db is not None else bench.DEFAULT_DB
+    bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
     executor, close = _executor(args)
     try:
         campaign = bench.run_campaign(
@@ -152,23 +160,33 @@ def run(args: argparse.Namespace) -> int:
             config=config,
             executor=executor,
             workers=args.workers,
-            db=args.db if args.db is not None else bench.DEFAULT_DB,
+            db=db,
             progress=not args.quiet,
         )
     except bench.CompensatorError as exc:
-        if os.environ.get(bench.TRACEBACK_ENV, "") not in ("", "0"):
-            sys.stderr.write(exc.traceback_text or "(no traceback recorded)\n")
-            raise
+        if exits.traceback_wanted():
+            raise  # the command line prints exc.traceback_text (the worker's traceback)
         raise exc.with_context(f"set {bench.TRACEBACK_ENV}=1 for its traceback") from exc
     finally:
         if close is not None:
             close()
     print(bench.format_summary(campaign))
+    result = bench.compare(baseline, campaign, alpha=args.alpha) if baseline is not None else None
+    if result is not None:
+        print(result.format())
+    if campaign.failed:
+        what = []
+        if args.save_baseline:
+            what.append(f"--save-baseline {args.save_baseline!r} not written")
+        if result is not None:
+            what.append(f"the comparison with --baseline {args.baseline!r} fails")
+        raise bench.FailedSeedsError(
+            campaign.failure_text() + "".join(f"; {w}" for w in what),
+            seeds=sorted(campaign.failed),
+        )
     if args.save_baseline:
         path = bench.save_baseline(args.save_baseline, campaign)
         print(f"baseline written to {path}")
-    if baseline is not None:
-        result = bench.compare(baseline, campaign, alpha=args.alpha)
-        print(result.format())
-        return 1 if result.regressions else 0
-    return 0
+    if result is not None:
+        return exits.REGRESSION if result.regressions else exits.OK
+    return exits.OK

@@ -12,8 +12,10 @@
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
 
-Exit status: 0 on success, 2 on bad input (one readable line on stderr, no
-traceback), 1 when ``bench`` finds a significant regression.
+Exit status (:mod:`gyrobench.scenarios.exits`): 0 on success, 1 when ``bench`` finds
+a significant regression, 2 on bad input, 3 when ``bench``'s compensator failed on
+some seeds, 4 on an internal failure, 130 when interrupted. Every error is one
+readable line on stderr, no traceback (``GYROBENCH_TRACEBACK=1`` shows it).
 """
 
 from __future__ import annotations
@@ -103,9 +105,12 @@ def _duration(text: str) -> float:
     if text.strip().startswith("-"):
         raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
     try:
-        return parse_duration(text)
+        value = parse_duration(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"--{exc}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"--duration must be a finite number of seconds; got {text!r}")
+    return value
 
 
 def _positive_int(name: str):
@@ -146,9 +151,17 @@ def _simulate_noise(args) -> int:
 
     from tqdm import tqdm
 
+    from gyrobench.scenarios.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import memory
     from gyrobench.sim.noise import NoiseModel
-    from gyrobench.sim.recording import HDF5StreamWriter, atomic_path, ensure_free_space, package_version
+    from gyrobench.sim.recording import (
+        HDF5StreamWriter,
+        atomic_path,
+        check_magnitude,
+        ensure_free_space,
+        package_version,
+    )
 
     if extra := _given(args, _SCENARIO_FLAGS):
         raise _BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
@@ -159,6 +172,7 @@ def _simulate_noise(args) -> int:
     suffix = "".join(out.suffixes[-1:]).lower()
     if suffix not in (".h5", ".hdf5", ".csv"):
         raise _BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
     if args.duration is None:
         raise _BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
     fs = 100.0 if args.fs is None else args.fs
@@ -169,7 +183,11 @@ def _simulate_noise(args) -> int:
         bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
         rate_ramp=datasheet["R_deg_h2"],
     )
-    n = int(round(args.duration * fs))
+    n_float = args.duration * fs
+    if not n_float < 2.0**62:  # inf or beyond any disk: said here, not as an OverflowError
+        raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n_float:.3g} samples; "
+                        "a record holds at most 2**62 (and must fit on the disk)")
+    n = int(round(n_float))
     if n < MIN_SAMPLES:
         raise _BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
@@ -177,6 +195,9 @@ def _simulate_noise(args) -> int:
         ensure_free_space(out, 42 * n)
     seed = 0 if args.seed is None else args.seed
     chunk = args.chunk or 1 << 20
+    # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)
+    memory.check_memory(memory.series_bytes(min(chunk, n), 12), f"simulate noise (chunks of {min(chunk, n)} samples)",
+                        hint="lower --chunk")
     stream = model.stream(fs, rng=np.random.default_rng(seed))
     meta = {
         "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
@@ -189,6 +210,7 @@ def _simulate_noise(args) -> int:
                            "rate_random_walk_rad_per_s_sqrt_s": model.rate_random_walk,
                            "rate_ramp_rad_per_s2": model.rate_ramp},
     }
+    too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
     bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
     with _closing(bar):
         if suffix == ".csv":
@@ -197,6 +219,7 @@ def _simulate_noise(args) -> int:
                 fh.write("time [s],rate [rad/s]\n")
                 k = 0
                 for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
                     t = (k + np.arange(len(y))) / fs
                     np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
                     k += len(y)
@@ -205,6 +228,7 @@ def _simulate_noise(args) -> int:
             with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
                                   expected_samples=n) as w:
                 for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
                     w.append(rate=y)
                     bar.update(len(y))
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
@@ -213,6 +237,7 @@ def _simulate_noise(args) -> int:
 
 def _simulate_scenario(args) -> int:
     from gyrobench.scenarios import registry
+    from gyrobench.scenarios.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
     from gyrobench.sim.recording import ensure_free_space, save_hdf5
 
@@ -223,6 +248,7 @@ def _simulate_scenario(args) -> int:
     config = registry.load_config(mod, args.config)
     if args.out is None:
         raise _BadInput(f"simulate {args.target} needs --out DIR")
+    check_output(Path(args.out) / mod.NAME, what="--out", kind="folder")
     seed = 0 if args.seed is None else args.seed
     recs = mod.simulate(config, seed)
     for r in recs:  # check them all before writing any
@@ -299,19 +325,31 @@ def _tau_min_arg(text: str):
     return "auto" if text == "auto" else _positive_float("--tau-min")(text)
 
 
+def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
+    """Refuse, before the analysis, a sample rate outside any gyro's (the fit's tau**-2 .. tau**2
+    terms overflow far outside it), samples too large to square and a run that needs more memory
+    than is available (issue 15)."""
+    from gyrobench.sim import memory
+    from gyrobench.sim.recording import FS_RANGE_HZ, check_magnitude
+
+    if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+        raise _BadInput(f"the sample rate of {label} must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                        f"(no gyro samples outside it); got {fs:g} Hz")
+    check_magnitude(rate, label)
+    memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
+                        f"({len(rate)} samples)", hint="analyse a shorter segment")
+
+
 def _cmd_allan(args) -> int:
     from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.outputs import check_output
 
     path = Path(args.file)
     if not path.is_file():
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
-    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # checked before any work
+    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # before any work
         if target:
-            out = Path(target)
-            if out.is_dir():
-                raise _BadInput(f"{flag} must name a file; {str(out)!r} is a folder")
-            if not out.parent.is_dir():
-                raise _BadInput(f"{flag}: folder {str(out.parent)!r} does not exist")
+            check_output(target, what=flag)
     columns = args.column or None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -324,6 +362,7 @@ def _cmd_allan(args) -> int:
                            stop=args.stop, temperature=args.temperature)
     results = []
     for ch in log.channels:
+        _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))
     if args.kalibr:
@@ -358,7 +397,8 @@ def _cmd_reproduce(args) -> int:
 
     from gyrobench.scenarios import registry, units
     from gyrobench.scenarios.bench_cli import _executor
-    from gyrobench.scenarios.report import claim_counts, write_report
+    from gyrobench.scenarios.outputs import check_output, write_report_as_a_set
+    from gyrobench.scenarios.report import claim_counts
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -371,8 +411,8 @@ def _cmd_reproduce(args) -> int:
         raise _BadInput(f"--workers must be an integer >= 0; got {args.workers}")
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
+    check_output(args.out, what="--out", kind="report")  # before any work
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     db = Path(args.db) if args.db else units.default_db(out)
     executor, close = _executor(args)
     workers = args.workers
@@ -399,7 +439,7 @@ def _cmd_reproduce(args) -> int:
     finally:
         if close is not None:
             close()
-    index = write_report(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
+    index = write_report_as_a_set(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")
     for o in outcomes:
         if o.claims:
@@ -426,7 +466,11 @@ def _seed(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="gyrobench", description="Gyroscope simulator and test bench.")
+    p = _Parser(prog="gyrobench", description="Gyroscope simulator and test bench.",
+                epilog="exit status: 0 ok; 1 bench: significant regression; 2 bad input (one line on "
+                       "stderr); 3 bench: the compensator failed on some seeds (non-finite output); "
+                       "4 internal failure (a worker died, non-deterministic runs, a bug); "
+                       "130 interrupted. GYROBENCH_TRACEBACK=1 prints the traceback of an error.")
     p.add_argument("--version", action="version", version=f"gyrobench {_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
@@ -535,24 +579,77 @@ def _attach_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
+def _one_line(text: object) -> str:
+    """``text`` on one line (a message from a library may hold newlines)."""
+    return " ".join(str(text).split())
+
+
+def _error_status(exc: BaseException) -> tuple[int, str]:
+    """(exit status, one-line message) for an exception leaving a verb (see scenarios.exits)."""
+    from gyrobench.scenarios import exits
+
+    bench = sys.modules.get("gyrobench.scenarios.bench")
+    if bench is not None and isinstance(exc, bench.FailedSeedsError):
+        return exits.FAILED_SEEDS, _one_line(exc)
+    if isinstance(exc, exits.InternalError):
+        return exits.INTERNAL, f"internal failure: {_one_line(exc)}"
+    if isinstance(exc, _INPUT_ERRORS):
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        return exits.BAD_INPUT, _one_line(msg)
+    if isinstance(exc, OverflowError):  # a number too large for the computation: an input value
+        return exits.BAD_INPUT, f"a value is too large to compute with ({_one_line(exc)}); check the inputs"
+    if isinstance(exc, MemoryError):
+        return exits.BAD_INPUT, ("out of memory: the run needs more memory than is available "
+                                 "(shorten the record, lower fs or use fewer seeds)")
+    if isinstance(exc, OSError):  # a failed write (AtomicWriteError names the target), an unreadable input
+        return exits.BAD_INPUT, _one_line(exc)
+    import sqlite3
+
+    if isinstance(exc, sqlite3.Error):
+        return exits.BAD_INPUT, f"database error: {_one_line(exc)}"
+    return exits.INTERNAL, (f"internal failure ({type(exc).__name__}: {_one_line(exc) or 'no message'}); "
+                            f"this is a bug: please report it with the output of GYROBENCH_TRACEBACK=1")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings in one line each, without the source line Python prints under them."""
+    where = Path(str(filename)).name
+    print(f"gyrobench: warning: {_one_line(message)} ({category.__name__} in {where}:{lineno})",
+          file=sys.stderr if file is None else file)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``gyrobench`` console script; returns the exit status."""
+    """Entry point of the ``gyrobench`` console script; returns the exit status.
+
+    Exit statuses are listed in :mod:`gyrobench.scenarios.exits`: 0 ok, 1 significant
+    regression, 2 bad input, 3 failed seeds, 4 internal failure, 130 interrupted. Every
+    error is one line on stderr; ``GYROBENCH_TRACEBACK=1`` prints the traceback first.
+    """
+    from gyrobench.scenarios import exits
+
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
     try:
-        return int(args.func(args) or 0)
-    except _INPUT_ERRORS as exc:
-        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-        print(f"gyrobench: error: {msg}", file=sys.stderr)
-        return 2
-    except OSError as exc:  # a failed write (sim.recording.AtomicWriteError names the target), an unreadable input
-        print(f"gyrobench: error: {exc}", file=sys.stderr)
-        return 2
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print("gyrobench: interrupted", file=sys.stderr)
-        return 130
+        return exits.INTERRUPTED
+    except Exception as exc:
+        code, msg = _error_status(exc)
+        if exits.traceback_wanted():
+            text = getattr(exc, "traceback_text", "")  # a compensator's, from its worker process
+            if text:
+                sys.stderr.write(text)
+            else:
+                import traceback
+
+                traceback.print_exception(exc, file=sys.stderr)
+        print(f"gyrobench: error: {msg}", file=sys.stderr)
+        return code
 
 
 if __name__ == "__main__":  # pragma: no cover

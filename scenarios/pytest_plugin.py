@@ -103,7 +103,9 @@ class GyrobenchBench:
         workers: int | None = None,
         directions: Mapping[str, int] | None = None,
     ):
-        """Fail the test if ``compensator`` is significantly worse than ``baseline`` on any score.
+        """Fail the test if ``compensator`` is significantly worse than ``baseline`` on any score,
+        or if it failed on any seed (a non-finite prediction or score; the message names the
+        seeds).
 
         Parameters
         ----------
@@ -154,12 +156,23 @@ class GyrobenchBench:
             seeds = stored.seeds if stored is not None else DEFAULT_SEEDS
         campaign = self.campaign(scenario, compensator, seeds, config=config, workers=workers)
         if self.save:
+            if campaign.failed:  # a baseline from a compensator that fails is never written
+                pytest.fail(
+                    f"gyrobench baseline {str(path)!r} not written: {campaign.failure_text()}",
+                    pytrace=False,
+                )
             if relative:  # a baseline folder beside the tests is created; absolute paths are not
                 path.parent.mkdir(parents=True, exist_ok=True)
             bench.save_baseline(path, campaign)
             return None
         assert stored is not None  # a missing baseline failed above unless saving
         result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
+        if result.failed_seeds:  # fails whatever the other seeds say (exit 3 on the command line)
+            pytest.fail(
+                f"{campaign.compensator} on {campaign.scenario} against {path.name}: "
+                f"{result.failure}",
+                pytrace=False,
+            )
         if result.regressions:
             pytest.fail(
                 f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"

@@ -168,24 +168,88 @@ def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -
             changes[k] = override(current[k], v, owner=f"{owner}.{k}")
         else:
             changes[k] = _coerce(owner, k, v, hint)
-    return dataclasses.replace(config, **changes)
+    try:
+        return dataclasses.replace(config, **changes)
+    except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:
+        # the config's own checks computed with an absurd value (1e308 h x fs = inf samples)
+        given = ", ".join(
+            f"{owner}.{k} = {v!r}" for k, v in values.items() if not isinstance(v, dict)
+        )
+        raise ValueError(
+            f"{owner}: a value is out of range ({given or 'nested values'}): "
+            f"{type(exc).__name__}: {exc}"
+        ) from None
 
 
 def load_config(module: ModuleType, path: str | Path | None) -> Any:
     """The scenario's default ``Config``, overridden by the TOML file at ``path`` if given.
 
     The file may hold the fields at top level or under a table named after the scenario.
+    Every error is a ``ValueError`` or ``TypeError`` naming the file (not TOML, not UTF-8,
+    nested deeper than :data:`MAX_CONFIG_DEPTH`, an unknown or mistyped parameter, a value
+    so large the configuration's checks overflow), or
+    :class:`gyrobench.sim.memory.MemoryLimitError` when the scenario states a memory
+    estimate (``memory_estimate(config)``) above the limit.
     """
     config = module.Config()
     if path is None:
-        return config
+        return _check_memory(module, config, None)
     p = Path(path)
     if not p.is_file():
         raise FileNotFoundError(f"config file not found: {str(p)!r}")
     try:
-        data = tomllib.loads(p.read_text())
+        text = p.read_bytes().decode("utf-8-sig")  # a BOM (Windows editors) is not an error
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"config file {str(p)!r} is not UTF-8 text: {exc}") from None
+    if len(text) > MAX_CONFIG_CHARS:
+        raise ValueError(
+            f"config file {str(p)!r} has {len(text)} characters; a configuration is at most "
+            f"{MAX_CONFIG_CHARS}"
+        )
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"config file {str(p)!r} is not valid TOML: {exc}") from None
+    except RecursionError:
+        raise ValueError(
+            f"config file {str(p)!r} nests arrays or tables too deeply to read"
+        ) from None
+    if _depth(data) > MAX_CONFIG_DEPTH:
+        raise ValueError(
+            f"config file {str(p)!r} nests values {_depth(data)} levels deep; a scenario "
+            f"configuration needs at most {MAX_CONFIG_DEPTH}"
+        )
     if set(data) == {module.NAME} and isinstance(data[module.NAME], dict):
         data = data[module.NAME]
-    return override(config, data)
+    try:
+        config = override(config, data)
+    except RecursionError:  # pragma: no cover - bounded by MAX_CONFIG_DEPTH
+        raise ValueError(f"config file {str(p)!r} nests values too deeply") from None
+    except (ValueError, TypeError) as exc:
+        raise type(exc)(f"config file {str(p)!r}: {exc}") from None
+    return _check_memory(module, config, p)
+
+
+def _check_memory(module: ModuleType, config: Any, path: Path | None) -> Any:
+    """``config``, if the scenario's run fits in memory (gyrobench.sim.memory.check_scenario):
+    every verb reads its configuration here, before any work."""
+    from gyrobench.sim import memory
+
+    name = getattr(module, "NAME", module.__name__)
+    source = f"config file {str(path)!r}" if path else "its default configuration"
+    what = f"scenario {name} with {source}"
+    memory.check_scenario(module, config, what)
+    return config
+
+
+#: a scenario configuration is a few tables of scalars and short lists
+MAX_CONFIG_DEPTH = 16
+MAX_CONFIG_CHARS = 1_000_000
+
+
+def _depth(value: Any, level: int = 0) -> int:
+    """Nesting depth of lists and tables (stops counting past MAX_CONFIG_DEPTH + 1)."""
+    if level > MAX_CONFIG_DEPTH or not isinstance(value, (dict, list)):
+        return level
+    items = value.values() if isinstance(value, dict) else value
+    return max((_depth(v, level + 1) for v in items), default=level + 1)

@@ -366,5 +366,10 @@ def run_paper(
 
 
 def default_db(out_dir: str | os.PathLike) -> Path:
-    """The resume store inside a report folder: ``<out_dir>/units.sqlite``."""
-    return Path(out_dir) / "units.sqlite"
+    """The resume store beside a report folder: ``<out_dir>.units.sqlite``.
+
+    Beside, not inside: the report folder is replaced as a whole by each new report
+    (:func:`gyrobench.scenarios.outputs.write_report_as_a_set`), the store must survive it.
+    """
+    out = Path(out_dir)
+    return out.with_name(out.name + ".units.sqlite")

@@ -48,7 +48,11 @@ __all__ = [
     "RecordingFormatError",
     "AtomicWriteError",
     "atomic_path",
+    "atomic_folder",
+    "remove_stale_temps",
+    "temp_name",
     "ensure_free_space",
+    "check_magnitude",
     "save_hdf5",
     "load_hdf5",
     "list_hdf5",
@@ -136,6 +140,42 @@ def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
             f"cannot write {str(path)!r}: the record needs about {_fmt_bytes(nbytes)} but {str(folder)!r} "
             f"has {_fmt_bytes(free)} free; shorten the record, lower fs or write elsewhere",
             str(path),
+        )
+
+
+#: |sample| above ``MAX_MAGNITUDE / sqrt(n)`` is refused by :func:`check_magnitude`
+MAX_MAGNITUDE = 1e100
+
+
+def check_magnitude(
+    values: NDArray[np.float64], what: str, *, n_total: int | None = None, hint: str = "check its unit and scale"
+) -> None:
+    """Refuse samples too large for the sums of squares an analysis forms.
+
+    An Allan variance sums ``n`` squared differences of block averages; with every
+    ``|y| <= M`` each term is at most ``4 M**2``, so the sum stays far below the float64
+    maximum (1.8e308) when ``M <= 1e100 / sqrt(n)`` (a margin of 1e100). No gyro's rate,
+    in any unit, comes near it: larger samples are a wrong unit or corrupt data, and
+    would otherwise end in overflow warnings and NaN. Non-finite samples are refused too.
+
+    ``n_total`` is the length of the whole record when ``values`` is one chunk of it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the first offending sample and the limit.
+    """
+    v = np.asarray(values)
+    n = max(int(v.size if n_total is None else n_total), 1)
+    limit = MAX_MAGNITUDE / math.sqrt(n)
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(~(np.abs(v) <= limit))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"{what} has {float(v.flat[i]):.6g} at sample {i} ({bad.size} sample"
+            f"{'s' if bad.size > 1 else ''} outside +-{limit:.3g}, the largest magnitude an "
+            f"analysis of {n} samples can square without overflow): {hint}"
         )
 
 
@@ -276,15 +316,104 @@ def metadata_json(metadata: Mapping[str, Any]) -> str:
     return json.dumps(dict(metadata), default=_json_default, sort_keys=True)
 
 
+def temp_name(path: Path, kind: str = "tmp") -> Path:
+    """``.NAME.<pid>.<8 hex>.<kind>`` beside ``path``: the owning process id is in the name, so a
+    later run can tell a dead writer's leftovers (:func:`remove_stale_temps`) from a live one's."""
+    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.{kind}")
+
+
+#: kinds of leftovers :func:`remove_stale_temps` removes (a file being written, a folder being
+#: filled, a folder swapped out)
+_TEMP_KINDS = ("tmp", "tmpdir", "old")
+
+
+def _process_start(pid: int) -> float | None:
+    """Start time of process ``pid`` [s since the epoch] (Linux /proc), None if unknown."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+        ticks = int(stat.rpartition(")")[2].split()[19])  # field 22, after the command name
+        for line in Path("/proc/stat").read_text().splitlines():
+            if line.startswith("btime "):
+                return int(line.split()[1]) + ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _owner_alive(pid: int, since: float) -> bool:
+    """Whether process ``pid`` exists and could own a file last modified at ``since``: a
+    process that started after it is another process that got the pid again."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process: alive
+        pass
+    except OSError:
+        return True
+    start = _process_start(pid)
+    return start is None or start <= since + 1.0  # 1 s: the clock-tick rounding of btime
+
+
+def remove_stale_temps(path: str | os.PathLike) -> list[Path]:
+    """Remove the temporary files and folders that dead processes left for target ``path``.
+
+    Leftovers are named ``.NAME.<pid>.<hex>.tmp`` (a file being written),
+    ``.NAME.<pid>.<hex>.tmpdir`` (a folder being filled) and ``.NAME.<pid>.<hex>.old`` (a
+    folder being replaced, :func:`atomic_folder`); those whose process is gone (or whose pid
+    now belongs to a process started after them) are removed. A live writer's files are
+    left alone. If a ``.old`` folder is left and the target is missing (a kill between the
+    two renames of a folder swap), it is renamed back instead of removed.
+
+    Returns the paths removed (or restored).
+    """
+    import re
+
+    p = Path(path)
+    pattern = re.compile(rf"^\.{re.escape(p.name)}\.(\d+)\.[0-9a-f]{{8}}\.({'|'.join(_TEMP_KINDS)})$")
+    done: list[Path] = []
+    try:
+        entries = list(os.scandir(p.parent))
+    except OSError:
+        return done
+    for e in entries:
+        m = pattern.match(e.name)
+        if not m:
+            continue
+        try:
+            mtime = e.stat(follow_symlinks=False).st_mtime
+        except OSError:
+            continue
+        if _owner_alive(int(m.group(1)), mtime):
+            continue
+        stale = Path(e.path)
+        try:
+            if m.group(2) == "old" and not p.exists() and not p.is_symlink():
+                os.replace(stale, p)
+            elif e.is_dir(follow_symlinks=False):
+                shutil.rmtree(stale)
+            else:
+                stale.unlink()
+        except OSError:  # another process cleaned it first, or no permission: not ours to fix
+            continue
+        done.append(stale)
+    return done
+
+
 def _create_temp(path: Path) -> Path:
     """Create an empty, new temporary file beside ``path`` with mode ``0o666 & ~umask``.
 
     ``tempfile.mkstemp`` would give 0600 whatever the umask, and the final file
     would keep it; ``os.open`` with 0666 lets the kernel apply the umask (and any
-    default ACL) exactly as for an ordinary ``open(path, "w")``.
+    default ACL) exactly as for an ordinary ``open(path, "w")``. The name carries the
+    process id (:func:`temp_name`); leftovers of dead processes for the same target are
+    removed first (:func:`remove_stale_temps`).
     """
+    remove_stale_temps(path)
     for _ in range(100):
-        tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+        tmp = temp_name(path)
         try:
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
         except FileExistsError:
@@ -299,8 +428,9 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; rename it onto ``path`` only on success.
 
     An exception (or a kill) inside the block leaves ``path`` untouched and the
-    temporary file removed (or, after a kill, a ``.tmp`` file that never looks
-    like the result). The result has mode ``0o666 & ~umask``, as any new file.
+    temporary file removed (or, after a kill, a ``.NAME.<pid>.<hex>.tmp`` file that
+    never looks like the result, and that the next write to ``path`` removes once that
+    process is gone). The result has mode ``0o666 & ~umask``, as any new file.
 
     Raises
     ------
@@ -322,6 +452,56 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     finally:
         with contextlib.suppress(FileNotFoundError):
             tmp_path.unlink()
+
+
+@contextlib.contextmanager
+def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a new, empty folder beside ``path``; on success it replaces ``path`` as a whole.
+
+    The files of a run are written into ``.NAME.<pid>.<hex>.tmpdir``; only when the block
+    finishes is that folder renamed to ``path`` (a previous ``path`` is first renamed to
+    ``.NAME.<pid>.<hex>.old``, then removed). So ``path`` holds one run's files or the
+    previous run's, never a mix. An exception in the block removes the new folder and
+    leaves ``path`` as it was. After a kill, the next call removes the dead run's folders
+    (:func:`remove_stale_temps`; an ``.old`` folder whose target went missing between the
+    two renames is renamed back).
+
+    Raises
+    ------
+    AtomicWriteError
+        For an ``OSError`` while creating or swapping; the message names ``path``.
+    NotADirectoryError
+        If ``path`` exists and is not a folder.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, f"{str(path)!r} exists and is not a folder", str(path))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temps(path)
+        tmp = temp_name(path, "tmpdir")
+        tmp.mkdir(mode=0o777)
+    except OSError as exc:
+        raise _write_error(path, exc) from exc
+    try:
+        yield tmp
+        old = None
+        if path.exists():
+            old = temp_name(path, "old")
+            os.replace(path, old)
+        try:
+            os.replace(tmp, path)
+        except OSError:
+            if old is not None:
+                os.replace(old, path)
+            raise
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except OSError as exc:
+        raise _write_error(path, exc) from exc
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 class _GuardedFile:
@@ -490,7 +670,9 @@ def _open_checked(path: str | os.PathLike):
         raise RecordingFormatError(f"{str(p)!r} is not a readable HDF5 file ({exc})") from None
     fmt = h5.attrs.get("format")
     if isinstance(fmt, bytes):
-        fmt = fmt.decode()
+        fmt = fmt.decode(errors="replace")
+    if not isinstance(fmt, str):
+        fmt = _short_repr(fmt)
     if fmt != FORMAT or "recordings" not in h5:
         h5.close()
         raise RecordingFormatError(
@@ -505,43 +687,201 @@ def list_hdf5(path: str | os.PathLike) -> list[str]:
         return list(h5["recordings"].keys())
 
 
+#: sample rates a recording read from a file may have [Hz]: one sample per ~32 years to
+#: 1 PHz, beyond any gyro's data rate. The Allan fit itself was checked finite over
+#: 1e-12..1e40 Hz (its tau**-2 .. tau**2 terms overflow float64 near 1e83 Hz).
+FS_RANGE_HZ = (1e-9, 1e15)
+
+
+class _NameError(KeyError):
+    """No recording of that name (or several and none named): a KeyError with a plain message."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class _ChoiceError(ValueError):
+    """Several recordings in the file and none named."""
+
+
+def _attr(grp, key: str, kind: type, where: str):
+    """Group attribute ``key`` as a finite float or an int, else RecordingFormatError naming it."""
+    if key not in grp.attrs:
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    raw = grp.attrs[key]
+    arr = np.asarray(raw)
+    if arr.size != 1 or arr.dtype.kind not in ("f", "i", "u") or arr.dtype == bool:
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a real number; got {_short_repr(raw)}"
+        )
+    v = float(arr.reshape(()))
+    if not math.isfinite(v) or (kind is int and v != int(v)):
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a finite {'integer' if kind is int else 'number'}; "
+            f"got {_short_repr(raw)}"
+        )
+    return int(v) if kind is int else v
+
+
+def _short_repr(v: Any) -> str:
+    text = " ".join(repr(v).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _text_attr(attrs, key: str, where: str, default: str | None = None) -> str:
+    if key not in attrs:
+        if default is not None:
+            return default
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    v = attrs[key]
+    if isinstance(v, bytes):
+        try:
+            return v.decode()
+        except UnicodeDecodeError:
+            raise RecordingFormatError(f"{where}: attribute {key!r} is not UTF-8 text") from None
+    if not isinstance(v, str):
+        raise RecordingFormatError(f"{where}: attribute {key!r} must be text; got {_short_repr(v)}")
+    return v
+
+
+def _free_text(v: Any) -> str:
+    """A free-text attribute (a description) as text, whatever another tool stored in it."""
+    if isinstance(v, bytes):
+        return v.decode(errors="replace")
+    return v if isinstance(v, str) else _short_repr(v)
+
+
+def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
+    """The datasets of ``grp[sub]``, refusing links that leave the file or do not resolve.
+
+    HDF5 external links would make a recording read another file without a word, and soft
+    links can loop: both are refused (gyrobench writes neither).
+    """
+    import h5py
+
+    link = grp.get(sub, getlink=True)
+    if link is None:
+        raise RecordingFormatError(f"{where} has no {sub!r} group: incomplete file?")
+    if isinstance(link, (h5py.ExternalLink, h5py.SoftLink)):
+        raise RecordingFormatError(_link_message(f"{where}: {sub}", link))
+    out = {}
+    g = grp[sub]
+    if not isinstance(g, h5py.Group):
+        raise RecordingFormatError(f"{where}/{sub} must be a group; got a {type(g).__name__}")
+    for k in g:
+        lk = g.get(k, getlink=True)
+        if isinstance(lk, (h5py.ExternalLink, h5py.SoftLink)):
+            raise RecordingFormatError(_link_message(f"{where}: {sub}/{k}", lk))
+        ds = g[k]
+        if not isinstance(ds, h5py.Dataset):
+            raise RecordingFormatError(f"{where}/{sub}/{k} must be a dataset; got a group")
+        out[k] = ds
+    return out
+
+
+def _link_message(name: str, lk: Any) -> str:
+    import h5py
+
+    if isinstance(lk, h5py.ExternalLink):
+        return (f"{name} is an HDF5 external link to {lk.filename!r}:{lk.path}; external links are "
+                "refused (a recording must hold its own data): copy the data into the file")
+    return f"{name} is an HDF5 soft link to {lk.path!r}; links are refused in a recording"
+
+
 def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
     """Read one recording (``name``, or the only one) and check it is complete.
+
+    Everything is checked before any sample is read: the attributes ``fs``, ``t0``
+    (finite real numbers), ``n_samples`` (an integer) and ``metadata`` (JSON text);
+    every channel must be a real (float or integer) 1-D dataset of ``n_samples``
+    values, stored in the file itself (external and soft links are refused), and all
+    of them together must fit in memory (:func:`gyrobench.sim.memory.check_memory`).
 
     Raises
     ------
     RecordingFormatError
-        For a foreign or truncated file, or channel lengths that disagree with
-        the stored ``n_samples``.
+        For a foreign, truncated or malformed file (the message names the file and
+        the item), complex data, or links.
+    gyrobench.sim.memory.MemoryLimitError
+        If the channels would not fit in memory.
     KeyError
         If ``name`` is not in the file.
     """
+    from gyrobench.sim import memory
+
     with _open_checked(path) as h5:
-        recs = h5["recordings"]
-        if name is None:
-            if len(recs) != 1:
-                raise ValueError(f"{str(path)!r} holds {len(recs)} recordings {list(recs)}; name one")
-            name = next(iter(recs))
-        if name not in recs:
-            raise KeyError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
-        grp = recs[name]
         try:
-            fs = float(grp.attrs["fs"])
-            t0 = float(grp.attrs["t0"])
-            n = int(grp.attrs["n_samples"])
-            meta = json.loads(grp.attrs["metadata"])
-            out: dict[str, dict[str, Channel]] = {}
-            for sub in ("channels", "truth"):
-                out[sub] = {}
-                for k, ds in grp[sub].items():
-                    data = ds[()]
-                    if data.shape != (n,):
+            recs = h5["recordings"]
+            if name is None:
+                if len(recs) != 1:
+                    raise _ChoiceError(f"{str(path)!r} holds {len(recs)} recordings {list(recs)}; name one")
+                name = next(iter(recs))
+            if name not in recs:
+                raise _NameError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
+            grp = recs[name]
+            where = f"{str(path)!r}: recording {name!r}"
+            fs = _attr(grp, "fs", float, where)
+            if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+                raise RecordingFormatError(
+                    f"{where}: attribute 'fs' must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                    f"(no gyro samples outside it); got {fs!r}"
+                )
+            t0 = _attr(grp, "t0", float, where)
+            n = _attr(grp, "n_samples", int, where)
+            meta_text = _text_attr(grp.attrs, "metadata", where)
+            try:
+                meta = json.loads(meta_text)
+            except (json.JSONDecodeError, RecursionError) as exc:
+                raise RecordingFormatError(f"{where}: attribute 'metadata' is not JSON ({exc})") from None
+            if not isinstance(meta, dict):
+                raise RecordingFormatError(
+                    f"{where}: attribute 'metadata' must be a JSON object; got {_short_repr(meta)}"
+                )
+            sets = {sub: _datasets(h5, grp, sub, where) for sub in ("channels", "truth")}
+            for sub, dss in sets.items():
+                for k, ds in dss.items():
+                    if ds.dtype.kind not in ("f", "i", "u"):
+                        kind = "complex" if ds.dtype.kind == "c" else str(ds.dtype)
                         raise RecordingFormatError(
-                            f"{str(path)!r}: {name}/{sub}/{k} has shape {data.shape}, expected ({n},): truncated file?"
+                            f"{where}: {sub}/{k} holds {kind} data; a channel must be real "
+                            "(float or integer), it is never cast"
                         )
-                    out[sub][k] = Channel(data, str(ds.attrs["unit"]), str(ds.attrs.get("description", "")))
-        except (KeyError, OSError, json.JSONDecodeError) as exc:
+                    if ds.shape != (n,):
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} has shape {ds.shape}, expected ({n},) "
+                            "(attribute n_samples): truncated file?"
+                        )
+                    stored = ds.id.get_storage_size()
+                    if ds.id.get_create_plist().get_nfilters() == 0 and stored < ds.nbytes:
+                        # unfiltered data take their full size on disk: less means unwritten chunks
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} claims {n} samples ({_fmt_bytes(ds.nbytes)}) but "
+                            f"the file stores {_fmt_bytes(stored)} of them: truncated or forged file"
+                        )
+            n_series = sum(len(d) for d in sets.values())
+            memory.check_memory(
+                memory.series_bytes(n, n_series),
+                f"reading {where} ({n_series} channels of {n} samples)",
+                hint="read fewer samples (split the file) or use a machine with more memory",
+            )
+            out: dict[str, dict[str, Channel]] = {}
+            for sub, dss in sets.items():
+                out[sub] = {}
+                for k, ds in dss.items():
+                    data = ds[()].astype(float, copy=False)
+                    out[sub][k] = Channel(
+                        data,
+                        _text_attr(ds.attrs, "unit", f"{where}: {sub}/{k}"),
+                        _free_text(ds.attrs.get("description", "")),
+                    )
+        except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError):
+            raise
+        except (KeyError, ValueError) as exc:
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is incomplete ({exc})") from None
+        except (OSError, RuntimeError, TypeError, RecursionError) as exc:  # h5py: link loops, bad objects
+            raise RecordingFormatError(
+                f"{str(path)!r}: recording {name!r} cannot be read ({' '.join(str(exc).split())})"
+            ) from None
         try:
             return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0, metadata=meta, name=name)
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file

@@ -211,8 +211,8 @@ def test_bad_hdf5_with_fs_zero(noise_h5, capsys):
     with h5py.File(noise_h5, "r+") as h5:
         h5["recordings/noise"].attrs["fs"] = 0.0
     code, _, err = run(["allan", noise_h5], capsys)
-    assert_one_line_error(code, err, f"{str(noise_h5)!r}: recording 'noise' is invalid: "
-                                     "Recording.fs must be a finite number > 0 Hz; got 0.0")
+    assert_one_line_error(code, err, f"{str(noise_h5)!r}: recording 'noise': attribute 'fs' "
+                                     "must be in [1e-09, 1e+15] Hz (no gyro samples outside it); got 0.0")
 
 
 def test_bad_unknown_units(tmp_path, capsys):

@@ -293,5 +293,5 @@ def test_invalid_stored_fs_names_the_file(tmp_path):
     save_hdf5(tmp_path / "r.h5", _rec(n=10))
     with h5py.File(tmp_path / "r.h5", "r+") as h5:
         h5["/recordings/run1"].attrs["fs"] = 0.0
-    with pytest.raises(RecordingFormatError, match=r"r\.h5': recording 'run1' is invalid: Recording\.fs must be .* got 0\.0"):
+    with pytest.raises(RecordingFormatError, match=r"r\.h5': recording 'run1': attribute 'fs' must be in \[1e-09, 1e\+15\] Hz .*got 0\.0"):
         load_hdf5(tmp_path / "r.h5")

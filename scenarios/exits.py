@@ -1,0 +1,56 @@
+"""Exit statuses of the ``gyrobench`` command line, in one place.
+
+=====  ==============================================================================
+code   meaning
+=====  ==============================================================================
+0      success
+1      ``bench --baseline``: a score is significantly worse than the baseline
+2      bad input: an argument, file, configuration or compensator module is wrong, or
+       the run would need more memory or disk than there is (one line on stderr)
+3      ``bench``: the compensator failed on some seeds (non-finite predictions or
+       scores); the line names the seeds. A campaign with a failed seed never passes
+       a ``--baseline`` comparison and is never saved as a baseline
+4      internal failure: a worker process died (killed, out of memory), two runs of
+       the same campaign on one database disagree (a non-deterministic scenario or
+       compensator), or an unexpected error (a bug: please report it)
+130    interrupted (Ctrl-C)
+=====  ==============================================================================
+
+Every failure prints one line ``gyrobench: error: ...`` on stderr; with
+``GYROBENCH_TRACEBACK=1`` in the environment the traceback is printed before it.
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = [
+    "OK",
+    "REGRESSION",
+    "BAD_INPUT",
+    "FAILED_SEEDS",
+    "INTERNAL",
+    "INTERRUPTED",
+    "TRACEBACK_ENV",
+    "InternalError",
+    "traceback_wanted",
+]
+
+OK = 0
+REGRESSION = 1
+BAD_INPUT = 2
+FAILED_SEEDS = 3
+INTERNAL = 4
+INTERRUPTED = 130
+
+#: environment variable: when set (to anything but "" or "0"), errors print their traceback
+TRACEBACK_ENV = "GYROBENCH_TRACEBACK"
+
+
+class InternalError(RuntimeError):
+    """A failure that is not the user's input: a worker died, runs disagree (exit 4)."""
+
+
+def traceback_wanted() -> bool:
+    """Whether :data:`TRACEBACK_ENV` asks for tracebacks."""
+    return os.environ.get(TRACEBACK_ENV, "") not in ("", "0")

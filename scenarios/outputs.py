@@ -1,0 +1,160 @@
+"""Output locations, checked before any work; a report folder written as a set.
+
+Every verb that writes calls :func:`check_output` on each of its output paths first,
+before simulating or analysing anything, so a wrong ``--out``, ``-o``, ``--plot``,
+``--save-baseline`` or ``--db`` fails in one line in a fraction of a second instead of
+after the work. :func:`write_report_as_a_set` writes a report folder so that it holds
+one run's files or the previous run's, never a mix.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, Literal
+
+__all__ = ["check_output", "write_report_as_a_set", "REPORT_MARKER"]
+
+#: file every report folder written by :func:`write_report_as_a_set` holds: a folder that
+#: may be replaced as a whole by the next report
+REPORT_MARKER = ".gyrobench-report"
+
+
+def _existing_ancestor(p: Path) -> Path:
+    a = p
+    while not a.exists() and not a.is_symlink() and a != a.parent:
+        a = a.parent
+    return a
+
+
+def _probe_writable(folder: Path, what: str, target: Path) -> None:
+    """Create and remove a file in ``folder``: the one test that answers "can I write here"
+    for root, read-only mounts, /proc and ACLs alike."""
+    from gyrobench.sim.recording import temp_name
+
+    probe = temp_name(folder / ".gyrobench-probe")
+    try:
+        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as exc:
+        raise PermissionError(
+            f"cannot write {str(target)!r} ({what}): the folder {str(folder)!r} does not "
+            f"accept new files ({exc.strerror or exc})"
+        ) from None
+    os.close(fd)
+    os.unlink(probe)
+
+
+def _is_report_folder(p: Path) -> bool:
+    """An empty folder, or one a gyrobench report was written to (the marker, or the
+    index.html that write_report writes)."""
+    try:
+        names = os.listdir(p)
+    except OSError:
+        return False
+    if not names or REPORT_MARKER in names:
+        return True
+    index = p / "index.html"
+    try:
+        with open(index, encoding="utf-8", errors="replace") as fh:
+            head = fh.read(400)
+    except OSError:
+        return False
+    return "<title>gyrobench report</title>" in head
+
+
+def check_output(
+    path: str | os.PathLike,
+    *,
+    what: str,
+    kind: Literal["file", "folder", "report"] = "file",
+    create_parents: bool = True,
+    suffixes: Sequence[str] | None = None,
+) -> Path:
+    """Check, before any work, that ``path`` can be written as a ``kind``; return it as a Path.
+
+    Parameters
+    ----------
+    path : path-like
+        The output.
+    what : str
+        How the user named it, for the message (``"--out"``, ``"--plot"``, ``"-o"``).
+    kind : {"file", "folder", "report"}
+        ``"file"``: a file (an existing file is replaced; a folder is refused).
+        ``"folder"``: a folder files are written into (created if missing).
+        ``"report"``: a folder replaced as a whole (:func:`write_report_as_a_set`): if it
+        exists it must be empty or an earlier gyrobench report, so a mistyped ``--out``
+        (``.``, a home folder) can never be swapped away.
+    create_parents : bool
+        Whether missing parent folders will be created (else they must exist).
+    suffixes : sequence of str, optional
+        Accepted file suffixes (lower case, with the dot).
+
+    Raises
+    ------
+    IsADirectoryError
+        A file output that is an existing folder.
+    NotADirectoryError
+        A folder output that is an existing file, or a path through a file.
+    FileNotFoundError
+        A missing parent folder when ``create_parents`` is False.
+    PermissionError
+        The folder that would receive the output does not accept new files.
+    ValueError
+        A wrong suffix, or a report folder that holds other files.
+    """
+    p = Path(path)
+    text = str(p)
+    if not text or text.strip() != text:
+        raise ValueError(f"{what} must be a path without surrounding spaces; got {text!r}")
+    if kind == "file":
+        if p.is_dir():
+            raise IsADirectoryError(f"{what} must be a file name; got the folder {text!r}")
+        if suffixes is not None and p.suffix.lower() not in suffixes:
+            raise ValueError(f"{what} must end in {', '.join(suffixes)}; got {text!r}")
+        if p.exists() and not p.is_file():
+            raise ValueError(f"{what} must be a regular file; got {text!r}")
+    else:
+        if p.exists() and not p.is_dir():
+            raise NotADirectoryError(f"{what} must be a folder; {text!r} is an existing file")
+        if kind == "report" and p.is_dir() and not _is_report_folder(p):
+            raise ValueError(
+                f"{what} {text!r} exists and is not a gyrobench report folder (a report replaces "
+                "its folder as a whole): give a new folder or an earlier report's"
+            )
+    # the folder that receives the output (for "report": its parent, where the swap happens)
+    receiver = p.parent if kind in ("file", "report") or not p.exists() else p
+    base = _existing_ancestor(receiver)
+    if not base.is_dir():
+        raise NotADirectoryError(
+            f"cannot write {text!r} ({what}): {str(base)!r} is a file, not a folder"
+        )
+    if base != receiver and not create_parents:
+        raise FileNotFoundError(
+            f"{what} must be in an existing folder; the folder {str(receiver)!r} does not exist "
+            f"(create it first); got {text!r}"
+        )
+    _probe_writable(base, what, p)
+    return p
+
+
+def write_report_as_a_set(
+    outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = ""
+) -> Path:
+    """:func:`gyrobench.scenarios.report.write_report` into a new folder swapped in for
+    ``out_dir`` when complete (:func:`gyrobench.sim.recording.atomic_folder`); returns the
+    path of ``index.html`` in ``out_dir``.
+
+    A failed or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never
+    mixes two runs' files. Call :func:`check_output` (``kind="report"``) before the work.
+    """
+    from gyrobench.scenarios.report import write_report
+    from gyrobench.sim.recording import atomic_folder
+
+    out = Path(out_dir)
+    with atomic_folder(out) as tmp:
+        index = write_report(outcomes, tmp, command=command)
+        (tmp / REPORT_MARKER).write_text(
+            "written by gyrobench reproduce; replaced as a whole by the next report\n"
+        )
+    return out / Path(index).relative_to(tmp)

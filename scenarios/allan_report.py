@@ -148,6 +148,19 @@ def _stationarity(data, fs: float, curve, label: str) -> list[str]:
     return rep.warnings(label)
 
 
+def check_finite(channel: Any) -> None:
+    """Refuse a channel with NaN or inf samples, naming the first one."""
+    import numpy as np
+
+    bad = np.flatnonzero(~np.isfinite(channel.data))
+    if len(bad):
+        # float(): print nan / inf, not np.float64(nan)
+        raise ValueError(
+            f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
+            f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite"
+        )
+
+
 def analyse(
     channel,
     fs: float,
@@ -167,13 +180,7 @@ def analyse(
     import numpy as np
     from gyrobench.analysis.allan import AllanCurve, allan_deviation, fit_noise, fit_range
 
-    bad = np.flatnonzero(~np.isfinite(channel.data))
-    if len(bad):
-        # float(): print nan / inf, not np.float64(nan)
-        raise ValueError(
-            f"{channel.label} contains {float(channel.data[bad[0]])} at sample {bad[0]} ({len(bad)} "
-            f"non-finite sample{'s' if len(bad) > 1 else ''}): the data must be finite"
-        )
+    check_finite(channel)
     data, tfit = channel.data, None
     if temperature is not None:
         from gyrobench.analysis.stationarity import remove_temperature

@@ -29,6 +29,7 @@ import shlex
 import sys
 import time
 import typing
+import warnings
 from pathlib import Path
 
 __all__ = ["main"]
@@ -349,7 +350,7 @@ def _cmd_allan(args) -> int:
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
     for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # before any work
         if target:
-            check_output(target, what=flag)
+            check_output(target, what=flag, create_parents=False)
     columns = args.column or None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -362,6 +363,7 @@ def _cmd_allan(args) -> int:
                            stop=args.stop, temperature=args.temperature)
     results = []
     for ch in log.channels:
+        rep.check_finite(ch)
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))

@@ -338,7 +338,7 @@ def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):
                                                                 rel=1e-5)
     assert {"gyroscope_random_walk", "accelerometer_random_walk"} <= set(val)
     code, _, err = run(["allan", p, "--all-axes", "--kalibr", tmp_path / "nope" / "imu.yaml"], capsys)
-    assert_one_line_error(code, err, "--kalibr: folder")
+    assert_one_line_error(code, err, "--kalibr must be in an existing folder")
 
 
 def test_allan_figure_has_band_model_bounds_shading_and_residuals(rng):

@@ -46,7 +46,7 @@ def test_reproduce_paper_scenario_over_units(toy_registered, tmp_path, capsys):
     assert doc["units"] == 8 and doc["seed"] == 5 and doc["unit_run"]["seeds"] == list(range(5, 13))
     assert [c[0] for c in claims] == ["toy.gain", "toy.residual", "toy.sane", "toy.even"]
     assert claims[2][1:3] == (8, 8)  # toy.sane holds on every unit
-    assert (tmp_path / "a" / "units.sqlite").is_file()  # the default resume store
+    assert (tmp_path / "a.units.sqlite").is_file()  # the default resume store, beside the report
     assert "8 unit(s); emergent claims:" in out and "1 calibrated" in out
     md = (tmp_path / "a" / "report.md").read_text()
     assert "CALIBRATED (not counted)" in md and "Deviations from the paper's protocol" in md

@@ -189,6 +189,16 @@ def _check_nonneg(owner: str, name: str, v: float) -> None:
         raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
     if not (math.isfinite(v) and v >= 0.0):
         raise ValueError(f"{owner}.{name} must be finite and >= 0; got {v!r}")
+    if v > _MAX_COEFFICIENT:
+        raise ValueError(
+            f"{owner}.{name} must be <= {_MAX_COEFFICIENT:g} (SI; no gyro comes near it, and the "
+            f"variances square it); got {v!r}"
+        )
+
+
+#: largest noise coefficient accepted [SI]: its square and the variances built from it stay
+#: far from float64 overflow (1.8e308), so a wrong unit fails here, not as a NaN downstream
+_MAX_COEFFICIENT = 1e100
 
 
 # ---------------------------------------------------------------------------- closed forms

@@ -383,13 +383,13 @@ CASES = {
         {},
         ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"],
         2,
-        "simulate noise: the record has ",
+        "angle_random_walk must be <= 1e+100 (SI; no gyro comes near it",
     ),
     "rate-ramp-1e300": (
         {},
         ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"],
         2,
-        "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro",
+        "rate_ramp must be <= 1e+100 (SI; no gyro comes near it",
     ),
     "scenario-200h-at-1kHz-memory": (
         {"long.toml": lambda p: _write(p, "[fog]\nduration_h = 200\nfs_hz = 1000\n")},

@@ -68,7 +68,6 @@ from gyrobench.sim.rlg import (
     _nonneg,
     _num,
     _pos,
-    dither_arw,
 )
 
 __all__ = [
@@ -78,6 +77,8 @@ __all__ = [
     "lock_in_from_backscatter",
     "Backscatter",
     "PathLengthControl",
+    "SwingDither",
+    "swing_dither_arw",
     "mode_index",
     "CavityThermal",
     "Discharge",
@@ -399,6 +400,84 @@ class Discharge:
         return self.coefficient * (ia * fa - ib * fb)
 
 
+# ============================================================================ dither swing
+@dataclass(frozen=True, slots=True)
+class SwingDither:
+    """Dither whose amplitude is redrawn at every angle extreme (each half-cycle's swing random).
+
+    Parameters
+    ----------
+    dither : Dither
+        Frequency f_d, nominal amplitude theta_D and relative jitter sigma.
+    extremes : ndarray, shape (2 n + 2, ...)
+        Signed angle extremes e_k = (-1)^k theta_D a_k [rad], a_k = 1 + sigma eps_k.
+
+    Notes
+    -----
+    Angle (continuous, rate zero at each extreme): for t < 1/(4 f_d),
+    theta = e_0 sin(w t); in half-cycle k >= 1, t in [t_k, t_k + 1/(2 f_d)), t_k =
+    (k/2 - 1/4)/f_d,
+
+        theta(t) = (e_{k-1} + e_k)/2 + (e_{k-1} - e_k)/2 cos(w (t - t_k)),   w = 2 pi f_d
+
+    so the rate reversal (lock-in crossing) in the middle of half-cycle k has slope
+    w^2 |e_{k-1} - e_k|/2 = w^2 theta_D (a_{k-1} + a_k)/2, and successive crossings see
+    independent swings. :class:`gyrobench.sim.rlg.DitherRealization` instead changes the
+    amplitude where the angle crosses zero, which repeats the crossing phases within a
+    cycle: at low input rate its random walk is ~1/3 of the formula after 100 cycles
+    (issue 19; PHYSICS-models.md 5.5: "randomisation must change the swing between
+    successive crossings"). Random walk of this dither (stationary phase, 2 f_d independent
+    crossings per second): N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)]
+    (E[2/(a_{k-1} + a_k)] = 1 + sigma^2/2 to second order).
+    """
+
+    dither: Dither
+    extremes: NDArray[np.float64]
+
+    @classmethod
+    def draw(
+        cls, dither: Dither, n_cycles: int, *, rng: np.random.Generator, size: int = 1
+    ) -> SwingDither:
+        """Draw the extremes of ``n_cycles`` cycles for ``size`` realizations."""
+        _check_rng(rng)
+        if not (isinstance(n_cycles, (int, np.integer)) and n_cycles >= 1):
+            raise ValueError(f"n_cycles must be an integer >= 1; got {n_cycles!r}")
+        a = 1.0 + dither.amplitude_jitter * rng.standard_normal((2 * int(n_cycles) + 2, size))
+        sign = np.where(np.arange(len(a)) % 2 == 0, 1.0, -1.0)[:, None]
+        return cls(dither, dither.amplitude * np.maximum(a, 0.05) * sign)
+
+    def _half(self, t: float) -> tuple[int, float]:
+        f = self.dither.frequency
+        k = min(int(math.floor(2.0 * t * f + 0.5)), len(self.extremes) - 1)
+        return k, (k / 2.0 - 0.25) / f
+
+    def angle(self, t: float) -> NDArray[np.float64]:
+        """theta_d(t) [rad], one value per realization."""
+        w = 2.0 * math.pi * self.dither.frequency
+        k, tk = self._half(t)
+        if k == 0:
+            return self.extremes[0] * math.sin(w * t)
+        e0, e1 = self.extremes[k - 1], self.extremes[k]
+        return 0.5 * (e0 + e1) + 0.5 * (e0 - e1) * math.cos(w * (t - tk))
+
+    def rate(self, t: float) -> NDArray[np.float64]:
+        """Omega_d(t) [rad/s], one value per realization."""
+        w = 2.0 * math.pi * self.dither.frequency
+        k, tk = self._half(t)
+        if k == 0:
+            return self.extremes[0] * w * math.cos(w * t)
+        e0, e1 = self.extremes[k - 1], self.extremes[k]
+        return -0.5 * (e0 - e1) * w * math.sin(w * (t - tk))
+
+
+def swing_dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
+    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`)."""
+    k = _pos("swing_dither_arw", "scale_factor", scale_factor, "counts/rad")
+    wl = _nonneg("swing_dither_arw", "lock_in_rate", lock_in_rate, "rad/s")
+    s = dither.amplitude_jitter
+    return wl * math.sqrt((1.0 + 0.5 * s * s) / (2.0 * math.pi * k * dither.peak_rate))
+
+
 # ============================================================================ unit
 def _mirror_positions(geometry: CavityGeometry) -> tuple[float, ...]:
     """Each mirror's path position from mirror 0, as a fraction of the perimeter."""
@@ -573,8 +652,10 @@ class CavityRLG:
         Notes
         -----
         theta_k [counts] = sum_{j<k} K_j (Omega_j + b_j)/fs + K N_j sqrt(1/fs) eps_j,
-        N_j = Omega_L,j sqrt((1 + sigma^2)/(2 pi K Omega_D)) (:func:`gyrobench.sim.rlg.dither_arw`
-        with the lock-in of the sample), K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
+        N_j = Omega_L,j sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) (:func:`swing_dither_arw`, the
+        dither redrawing its swing at every extreme, :class:`SwingDither`, with the lock-in of
+        the sample; checked against the Adler equation in
+        :mod:`gyrobench.scenarios.checks_rlg_cavity`), K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
         (PLC holds the path at the mode, the area follows the block); counts and dither
         stripping as in :mod:`gyrobench.sim.rlg`.
         """
@@ -609,7 +690,9 @@ class CavityRLG:
             w_in = np.asarray(rate(t_grid[:-1] + 0.5 / fs), dtype=float) * np.ones(n)
         else:
             w_in = np.full(n, _num("CavityRLG.simulate", "rate", rate))
-        n_unit = dither_arw(scale_factor=self.scale_factor, lock_in_rate=1.0, dither=self.dither)
+        n_unit = swing_dither_arw(
+            scale_factor=self.scale_factor, lock_in_rate=1.0, dither=self.dither
+        )
         arw = n_unit * lock * math.sqrt(fs) * r_arw.standard_normal(n)
         total = k_ratio * (w_in + on["bias"] + thermal + flick) + arw
         theta = np.concatenate(([0.0], np.cumsum(total) / fs))

@@ -591,12 +591,18 @@ class CavityRLG:
         return (self.plc.travel / self.geometry.wavelength - 1.0) * self.hop_spacing
 
     def cavity_state(
-        self, nodes: NDArray[np.float64], *, n0: int
+        self, nodes: NDArray[np.float64], *, n0: int, mode_hops: bool = True
     ) -> dict[str, NDArray[np.float64]]:
-        """Block strain, PLC mode and correction, r_net and lock-in at node temperatures (3, n)."""
+        """Block strain, PLC mode and correction, r_net and lock-in at node temperatures (3, n).
+
+        ``mode_hops=False`` is a counterfactual: a PLC of unlimited travel stays on mode n0.
+        """
         p, lam = self.geometry.perimeter, self.geometry.wavelength
         strain = self.cte * (0.5 * (nodes[1] + nodes[2]) - self.reference_temperature)
-        n = mode_index(p * strain, wavelength=lam, travel=self.plc.travel, n0=n0)
+        if mode_hops:
+            n = mode_index(p * strain, wavelength=lam, travel=self.plc.travel, n0=n0)
+        else:
+            n = np.full(len(strain), int(n0), dtype=np.int64)
         u = n * lam - p * strain
         r = self.backscatter.net(strain, u, perimeter=p, wavelength=lam)
         lock = lock_in_from_backscatter(r, area=self.geometry.area, wavelength=lam)
@@ -622,10 +628,10 @@ class CavityRLG:
         }
 
     def thermal_bias(
-        self, nodes: NDArray[np.float64], on: dict[str, float]
+        self, nodes: NDArray[np.float64], on: dict[str, float], *, mode_hops: bool = True
     ) -> dict[str, NDArray[np.float64]]:
         """Mechanism biases [rad/s] and the cavity state at node temperatures (3, n) [K]."""
-        st = self.cavity_state(nodes, n0=int(on["mode0"]))
+        st = self.cavity_state(nodes, n0=int(on["mode0"]), mode_hops=mode_hops)
         dis = replace(self.discharge, imbalance=on["imbalance"], gas_rise=on["gas_rise"])
         return st | {
             "bias_langmuir": dis.bias(nodes[0], nodes[1], nodes[2]),
@@ -641,6 +647,7 @@ class CavityRLG:
         rng: np.random.Generator,
         rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
         name: str = "rlg",
+        mode_hops: bool = True,
     ) -> Recording:
         """Statistical mode over a thermal run: pulse counts at ``fs`` (gyro on at t = 0).
 
@@ -648,6 +655,7 @@ class CavityRLG:
         (``rate``, ``counts``, ``dither_angle``, ``T1`` housing, ``T2`` cavity). Truth adds the
         node temperatures, ``lock_in_rate``, ``mode`` (PLC mode index), ``plc`` [m],
         ``bias_langmuir``, ``bias_backscatter`` and ``scale_factor_ratio``.
+        ``mode_hops=False`` runs the counterfactual PLC of unlimited travel (same draws).
 
         Notes
         -----
@@ -674,7 +682,7 @@ class CavityRLG:
         tch = np.asarray(chamber(t_grid), dtype=float)
         nodes = self.thermal.temperatures(tch, fs)
         on = self.turn_on(r_on, 0.5 * (nodes[1, 0] + nodes[2, 0]))
-        mech = self.thermal_bias(nodes, on)
+        mech = self.thermal_bias(nodes, on, mode_hops=mode_hops)
         mid = {k: 0.5 * (mech[k][1:] + mech[k][:-1]) for k in ("bias_langmuir", "bias_backscatter")}
         thermal = mid["bias_langmuir"] + mid["bias_backscatter"]
         lock = 0.5 * (mech["lock_in"][1:] + mech["lock_in"][:-1])

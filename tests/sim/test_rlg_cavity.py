@@ -265,3 +265,20 @@ def test_bad_input_refused():
         u.simulate(_cycle_profile(), 10.0, 200.0, rng=np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng"):
         u.simulate(_cycle_profile(), 10.0, 10.0, rng=0)  # type: ignore[arg-type]
+
+
+def test_counterfactual_without_hops_differs_only_by_the_hops():
+    spec = rc.CavityRLGSpec()
+    u = next(
+        x for x in (spec.realize(rng=np.random.default_rng(s)) for s in range(40)) if x.hop_spacing < 30
+    )
+    prof = _cycle_profile()
+    a = u.simulate(prof, prof.duration, 1.0, rng=np.random.default_rng(9))
+    b = u.simulate(prof, prof.duration, 1.0, rng=np.random.default_rng(9), mode_hops=False)
+    assert np.count_nonzero(np.diff(a["truth/mode"])) >= 3
+    assert np.count_nonzero(np.diff(b["truth/mode"])) == 0
+    np.testing.assert_array_equal(a["truth/bias_langmuir"], b["truth/bias_langmuir"])
+    np.testing.assert_array_equal(a["truth/flicker_rrw"], b["truth/flicker_rrw"])
+    # before the first hop the two runs are the same gyro
+    j = int(np.flatnonzero(np.diff(a["truth/mode"]))[0])
+    np.testing.assert_allclose(a["truth/lock_in_rate"][:j], b["truth/lock_in_rate"][:j], rtol=1e-12)

@@ -554,7 +554,7 @@ class CavityRLG:
         low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
         if low < 10.0 * worst:
             raise ValueError(
-                f"dither amplitude too small: peak dither rate at -3 sigma jitter {low!r} rad/s "
+                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter {low!r} rad/s "
                 f"must be >= 10 x the largest possible lock-in {worst!r} rad/s"
             )
 
@@ -840,6 +840,20 @@ class CavityRLGSpec:
             "sensor_offset_spread",
         ):
             _nonneg("CavityRLGSpec", name, getattr(self, name), "(SI or relative)")
+        # every unit must be dithered well above its largest lock-in: bound the mirrors'
+        # amplitudes at the Rayleigh quantile of exceedance 1e-6, all scattering in phase
+        worst = lock_in_from_backscatter(
+            len(self.geometry.vertices) * self.backscatter_sigma * math.sqrt(2.0 * math.log(1e6)),
+            area=self.geometry.area,
+            wavelength=self.geometry.wavelength,
+        )
+        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
+        if low < 10.0 * float(worst):
+            raise ValueError(
+                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
+                f"{low!r} rad/s must be >= 10 x the largest likely lock-in {float(worst)!r} rad/s "
+                f"(backscatter_sigma {self.backscatter_sigma!r})"
+            )
         lo, hi = self.plc_travel
         if not self.geometry.wavelength < lo <= hi:
             raise ValueError(

@@ -68,7 +68,9 @@ def _check_lock_in(u: CavityRLG) -> Check:
     st = u.cavity_state(nodes, n0=int(u.acquired_modes(t_block)[0]))
     wl_model = float(st["lock_in"][0])
     expected = (
-        SPEED_OF_LIGHT * g.wavelength * abs(_hand_r_net(u, float(st["strain"][0]), float(st["plc"][0])))
+        SPEED_OF_LIGHT
+        * g.wavelength
+        * abs(_hand_r_net(u, float(st["strain"][0]), float(st["plc"][0])))
         / (8.0 * math.pi * g.area)
     )
     k = g.scale_factor
@@ -148,7 +150,8 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
             simulated=float(spacing),
             tolerance=2.0 * res / (len(th) - 1) / expect_sp,
             derivation=(
-                f"{len(th)} heating hops of a -40..+65 degC ramp at 1 degC/3 min, 1-s samples: each "
+                f"{len(th)} heating hops of a -40..+65 degC ramp at 1 degC/3 min, 1-s samples: "
+                "each "
                 f"hop temperature is resolved to the block's change over one sample ({res:.4f} K), "
                 "so the mean spacing (last - first)/(n - 1) is within 2 x that / (n - 1)"
             ),
@@ -194,7 +197,7 @@ def _check_dead_band() -> Check:
     finite = 1.0 / (2.0 * (k * band * obs) ** 2)
     return Check(
         id="rlg_cavity.dead_band_width",
-        formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed-amplitude dither)",
+        formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
         expected=band,
         simulated=edge,
         tolerance=step / 2.0 + finite,
@@ -231,7 +234,9 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
     rel_sd = math.sqrt((kurt - 1.0 + 2.0 / (m - 1)) / m)
     return Check(
         id="rlg_cavity.dither_random_walk",
-        formula="var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))",
+        formula=(
+            "var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))"
+        ),
         expected=expected,
         simulated=var,
         tolerance=Z_FALSE_ALARM * rel_sd,

@@ -554,7 +554,8 @@ class CavityRLG:
         low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
         if low < 10.0 * worst:
             raise ValueError(
-                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter {low!r} rad/s "
+                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
+                f"{low!r} rad/s "
                 f"must be >= 10 x the largest possible lock-in {worst!r} rad/s"
             )
 
@@ -663,7 +664,8 @@ class CavityRLG:
         N_j = Omega_L,j sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) (:func:`swing_dither_arw`, the
         dither redrawing its swing at every extreme, :class:`SwingDither`, with the lock-in of
         the sample; checked against the Adler equation in
-        :mod:`gyrobench.scenarios.checks_rlg_cavity`), K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
+        :mod:`gyrobench.scenarios.checks_rlg_cavity`),
+        K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
         (PLC holds the path at the mode, the area follows the block); counts and dither
         stripping as in :mod:`gyrobench.sim.rlg`.
         """
@@ -672,7 +674,8 @@ class CavityRLG:
         dur = _pos("CavityRLG.simulate", "duration", duration, "s")
         if fs > self.dither.frequency / 4.0:
             raise ValueError(
-                f"fs must be <= dither frequency / 4 = {self.dither.frequency / 4.0!r} Hz; got {fs!r}"
+                f"fs must be <= dither frequency / 4 = {self.dither.frequency / 4.0!r} Hz; "
+                f"got {fs!r}"
             )
         n = int(round(dur * fs))
         if n < 2:
@@ -687,8 +690,12 @@ class CavityRLG:
         thermal = mid["bias_langmuir"] + mid["bias_backscatter"]
         lock = 0.5 * (mech["lock_in"][1:] + mech["lock_in"][:-1])
         g, lam = self.geometry, self.geometry.wavelength
-        k_ratio = (1.0 + mech["strain"][:-1]) ** 2 * g.perimeter / (g.perimeter + mech["mode"][:-1] * lam)
-        noise = NoiseModel(bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk)
+        k_ratio = (
+            (1.0 + mech["strain"][:-1]) ** 2 * g.perimeter / (g.perimeter + mech["mode"][:-1] * lam)
+        )
+        noise = NoiseModel(
+            bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
+        )
         flick = (
             noise.generate(n, fs, rng=r_noise)
             if (self.bias_instability > 0 or self.rate_random_walk > 0)
@@ -704,7 +711,8 @@ class CavityRLG:
         arw = n_unit * lock * math.sqrt(fs) * r_arw.standard_normal(n)
         total = k_ratio * (w_in + on["bias"] + thermal + flick) + arw
         theta = np.concatenate(([0.0], np.cumsum(total) / fs))
-        d = self.dither.amplitude * (1.0 + self.dither.amplitude_jitter * r_dither.standard_normal(n + 1))
+        jit = self.dither.amplitude_jitter * r_dither.standard_normal(n + 1)
+        d = self.dither.amplitude * (1.0 + jit)
         d = d * np.sin(r_dither.uniform(0.0, 2.0 * math.pi, n + 1))
         q = self.pulse_weight
         counts = np.diff(np.floor((theta + d) / q))
@@ -723,9 +731,9 @@ class CavityRLG:
             "mode": Channel(mech["mode"][sl], "1", "PLC mode index"),
             "plc": Channel(mech["plc"][sl], "m", "PLC path correction"),
             "scale_factor_ratio": Channel(k_ratio, "1", "K / K(T_ref, mode 0)"),
-            "turn_on_bias": Channel(np.full(n, on["bias"]), "rad/s", "constant bias of this turn-on"),
+            "turn_on_bias": Channel(np.full(n, on["bias"]), "rad/s", "bias of this turn-on"),
             "flicker_rrw": Channel(flick, "rad/s", "bias instability and rate random walk"),
-            "dither_random_walk": Channel(arw, "rad/s", "random walk from dithering through lock-in"),
+            "dither_random_walk": Channel(arw, "rad/s", "random walk from dither and lock-in"),
             "quantization": Channel(out - np.diff(theta) * fs, "rad/s", "counting error"),
         }
         return Recording(
@@ -734,8 +742,12 @@ class CavityRLG:
                 "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
                 "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
                 "dither_angle": Channel(d[1:], "rad", "dither angle at the end of each sample"),
-                "T1": Channel(self.sensor_housing.measure(nodes[0, sl], rng=r_t1), "K", "housing sensor"),
-                "T2": Channel(self.sensor_cavity.measure(nodes[1, sl], rng=r_t2), "K", "cavity sensor"),
+                "T1": Channel(
+                    self.sensor_housing.measure(nodes[0, sl], rng=r_t1), "K", "housing sensor"
+                ),
+                "T2": Channel(
+                    self.sensor_cavity.measure(nodes[1, sl], rng=r_t2), "K", "cavity sensor"
+                ),
             },
             truth=truth,
             metadata={
@@ -857,11 +869,12 @@ class CavityRLGSpec:
         lo, hi = self.plc_travel
         if not self.geometry.wavelength < lo <= hi:
             raise ValueError(
-                f"CavityRLGSpec.plc_travel must satisfy wavelength < low <= high [m]; got {self.plc_travel!r}"
+                "CavityRLGSpec.plc_travel must satisfy wavelength < low <= high [m]; "
+                f"got {self.plc_travel!r}"
             )
 
     def realize(self, *, rng: np.random.Generator, label: str = "RLG") -> CavityRLG:
-        """Draw one unit (one child stream per group: optics, block, thermal, discharge, sensors)."""
+        """Draw one unit (a child stream per group: optics, block, thermal, discharge, sensors)."""
         _check_rng(rng)
         r_opt, r_blk, r_th, r_dis, r_sens = rng.spawn(5)
         n_m = len(self.geometry.vertices)
@@ -885,7 +898,8 @@ class CavityRLGSpec:
             p_leg=_lognormal(r_th, th.p_leg, s),
         )
         dis = replace(
-            self.discharge, sense_tcr_mismatch=self.tcr_mismatch_std * float(r_dis.standard_normal())
+            self.discharge,
+            sense_tcr_mismatch=self.tcr_mismatch_std * float(r_dis.standard_normal()),
         )
         offs = self.sensor_offset_spread * r_sens.standard_normal(2)
         return CavityRLG(

@@ -1,4 +1,4 @@
-"""Tests of sim/rlg_cavity.py: backscatter lock-in, PLC mode hops, thermal network, Langmuir flow."""
+"""Tests of sim/rlg_cavity.py: backscatter lock-in, PLC mode hops, thermal network, Langmuir."""
 
 from __future__ import annotations
 
@@ -197,7 +197,7 @@ def test_chamber_run_mode_hops_unit_dependent_with_hysteresis():
         np.testing.assert_allclose(np.diff(np.sort(up)), u.hop_spacing, atol=0.02)
         np.testing.assert_allclose(np.diff(np.sort(down)), u.hop_spacing, atol=0.02)
         # closed form: heating hops where P alpha (T - T_ref) = n lambda + sign(alpha) S/2,
-        # i.e. at T_ref + S/(2 P |alpha|) modulo the spacing; cooling hops at T_ref - S/(2 P |alpha|)
+        # i.e. at T_ref + S/(2 P |alpha|) modulo the spacing; cooling at T_ref - S/(2 P |alpha|)
         dsp, half = u.hop_spacing, u.plc.travel / (2 * u.geometry.perimeter * abs(u.cte))
         tr = u.reference_temperature
         np.testing.assert_allclose(_wrap(up - tr - half, dsp), 0.0, atol=0.02)
@@ -209,7 +209,8 @@ def test_chamber_run_mode_hops_unit_dependent_with_hysteresis():
         assert u.hysteresis > 1.0
         ups.append(np.sort(up))
     # unit-dependent hop temperatures
-    assert abs(ups[0][0] - ups[1][0]) > 0.5 and abs(np.diff(ups[0]).mean() - np.diff(ups[1]).mean()) > 0.1
+    assert abs(ups[0][0] - ups[1][0]) > 0.5
+    assert abs(np.diff(ups[0]).mean() - np.diff(ups[1]).mean()) > 0.1
 
 
 def test_hop_steps_lock_in_and_bias():
@@ -217,7 +218,9 @@ def test_hop_steps_lock_in_and_bias():
     Langmuir bias is continuous."""
     spec = rc.CavityRLGSpec()
     u = next(
-        x for x in (spec.realize(rng=np.random.default_rng(s)) for s in range(40)) if x.hop_spacing < 30
+        x
+        for x in (spec.realize(rng=np.random.default_rng(s)) for s in range(40))
+        if x.hop_spacing < 30
     )
     _, _, d = _hop_temperatures(u, _cycle_profile(), 1)
     lock = d["state"]["lock_in"]
@@ -270,7 +273,9 @@ def test_bad_input_refused():
 def test_counterfactual_without_hops_differs_only_by_the_hops():
     spec = rc.CavityRLGSpec()
     u = next(
-        x for x in (spec.realize(rng=np.random.default_rng(s)) for s in range(40)) if x.hop_spacing < 30
+        x
+        for x in (spec.realize(rng=np.random.default_rng(s)) for s in range(40))
+        if x.hop_spacing < 30
     )
     prof = _cycle_profile()
     a = u.simulate(prof, prof.duration, 1.0, rng=np.random.default_rng(9))

@@ -21,6 +21,7 @@ def test_ids_and_records(results):
         "rlg_cavity.mode_hop_hysteresis",
         "rlg_cavity.dead_band_width",
         "rlg_cavity.dither_random_walk",
+        "rlg_cavity.no_dead_band_with_swing_dither",
     ]
     for c in results:
         assert c.derivation and c.tolerance < 0.5
@@ -28,7 +29,7 @@ def test_ids_and_records(results):
         assert d["id"] == c.id and d["passed"] == c.passed
 
 
-@pytest.mark.parametrize("i", range(5))
+@pytest.mark.parametrize("i", range(6))
 def test_each_check_passes(results, i):
     c = results[i]
     assert c.passed, (c.id, c.expected, c.simulated, c.rel_error, c.tolerance)

@@ -89,7 +89,7 @@ _HOUR = units.HOUR  # report() takes a parameter named units (the contract's)
 class Config:
     """The paper's protocol (chamber, averaging, stepwise thresholds) and the simulated gyro budget.
 
-    Field units at this edge: degC, minutes, deg/s, deg/h, arcsec.
+    Field units at this edge: degC, minutes, deg/h, arcsec, mA, uA, ppm/K (1e-6/K).
     """
 
     # --- protocol (paper 004: range, rate, 100-s averaging, MATLAB stepwise defaults)
@@ -358,8 +358,9 @@ def _has_kinds(selected: Sequence[str]) -> bool:
     """Whether a selection uses temperature, rate and gradient information.
 
     Temperature: x1, x2 or a product with a temperature (x5, x6, x11). Rate: any
-    rate term. Gradient: x9-x11, or the cavity rate terms, since in the two-node
-    model dT2/dt = (T1 + H2 - T2)/tau2 (x4, x6, x8 carry the gradient).
+    rate term. Gradient: x9-x11, or the cavity rate terms, since the cavity node's
+    rate is driven by the housing-cavity difference, C_b dT2/dt = g_a (T1 - T2) + ...
+    (sim.rlg_cavity.CavityThermal; x4, x6, x8 carry the gradient).
     """
     s = set(selected)
     temp = bool(s & {"x1", "x2", "x5", "x6", "x11"})

@@ -664,7 +664,10 @@ DEVIATIONS: tuple[Deviation, ...] = (
             "Null shift eta x10 (1e-3): adj. R^2 0.52, held-out 1.45x while a perfect thermal "
             "model would reach 7.6x (the backscatter bias oscillates with temperature and steps "
             "at hops: no polynomial regressor follows it); hops then cost fit on 13/19 and "
-            "improvement on 13/19 units (median 1 - adj. R^2 ratio 1.35)"
+            "improvement on 13/19 units (median 1 - adj. R^2 ratio 1.35). With the Langmuir "
+            "coefficient as Aronowitz & Lim print it (0.0066 deg/h per mA, 1000x smaller than "
+            "the default's reading per uA) the thermal bias is the null shift alone: adj. R^2 "
+            "median 0.12, held-out 1.05x, 65 % 1/20, 'about 2x' 18/20"
         ),
     ),
     Deviation(

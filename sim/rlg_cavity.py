@@ -92,10 +92,11 @@ SPEED_OF_LIGHT = 299_792_458.0
 #: (SCHOTT, "Technical Details of ZERODUR", CTE classes; PHYSICS-models.md 5.3 [VERIFIED S7])
 ZERODUR_CTE_CLASS_2 = 0.10e-6
 #: Langmuir-flow bias per unit of leg-current imbalance [rad/s per A]. Aronowitz & Lim,
-#: Opt. Eng. 18(4) (1979) abstract prints 0.0066 deg/h "per mA" (PHYSICS-models.md 5.4,
-#: unit as printed, not verified). STATED ASSUMPTION: we read it per microampere, the
-#: scale at which balanced double-anode gyros are matched; per mA the mechanism would be
-#: below 1e-4 deg/h for any plausible imbalance.
+#: Opt. Eng. 18(4) 376 (1979), abstract: "a nullshift sensitivity of 0.0066 deg/hr/mamp of
+#: unbalance" (43.4 cm gyro) and 4.4 deg/h per cm/s of velocity unbalance. STATED
+#: ASSUMPTION, 1000x the printed value: we take 0.0066 deg/h per microampere; per mA the
+#: mechanism stays below 1e-4 deg/h for any plausible imbalance and the thermal bias would
+#: be the backscatter null shift alone (effect on paper 004 in its DEVIATIONS).
 LANGMUIR_COEFFICIENT = units.deg_per_h(0.0066) / 1e-6
 
 

@@ -31,6 +31,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_fog",
     "gyrobench.scenarios.checks_rlg",
     "gyrobench.scenarios.checks_mems",
+    "gyrobench.scenarios.checks_rlg_cavity",
 )
 
 

@@ -881,8 +881,9 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
 
 # ----------------------------------------------------------------------------- a real scenario
 def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
-    """Two seeds of the RLG thermal scenario (~0.5 s each) with a plain scikit-learn Ridge."""
+    """Two seeds of the RLG thermal scenario (~2 s each) with a plain scikit-learn Ridge."""
     from sklearn.compose import ColumnTransformer
+    from sklearn.dummy import DummyRegressor
     from sklearn.linear_model import Ridge
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
@@ -890,10 +891,11 @@ def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     import gyrobench.scenarios.rlg_thermal as rlg
 
     good = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
-    # a static model: only the housing and cavity temperatures (x1 T1, x2 T2), the
-    # temperature-rate and gradient regressors x3..x11 dropped
+    # the degraded compensator predicts a constant (no compensation). (A static T1/T2-only
+    # model was used here; with the cavity RLG of issue 19 it is not worse on every seed,
+    # which is a physics result, not a bench property.)
     static = make_pipeline(
-        ColumnTransformer([("T1_T2", "passthrough", [0, 1])]), StandardScaler(), Ridge(alpha=1e-3)
+        ColumnTransformer([("T1", "passthrough", [0])]), DummyRegressor(strategy="mean")
     )
     db = tmp_path / "rlg.db"
     c = bench.run_campaign("rlg_thermal", good, [0, 1], workers=0, db=db, progress=False)

@@ -1,0 +1,304 @@
+"""Closed-form checks of the cavity RLG model (:mod:`gyrobench.sim.rlg_cavity`).
+
+``checks(rng)`` returns:
+
+* ``rlg_cavity.lock_in_backscatter``: the lock-in rate a drawn unit's backscatter state gives
+  (measured from the beat of the Adler equation just above lock-in) against
+  Omega_L = c lambda |r_net| / (8 pi A) evaluated by hand from the mirrors' amplitudes, phases
+  and path positions.
+* ``rlg_cavity.mode_hop_spacing``: heating hop spacing in a chamber ramp against
+  lambda / (P alpha).
+* ``rlg_cavity.mode_hop_hysteresis``: heating minus cooling temperature of the same mode
+  transition against (S - lambda) / (P alpha).
+* ``rlg_cavity.dead_band_width``: edge of the locked band of an unrandomized dithered gyro
+  near zero input (Adler integration) against Omega_L |J_0(beta_D)|.
+* ``rlg_cavity.dither_random_walk``: angle-error variance after 100 dither cycles with the
+  Earth's rate present (Adler integration, swing-randomized dither, 400 realizations) against
+  the statistical model's N^2 T.
+* ``rlg_cavity.no_dead_band_with_swing_dither``: at half the fixed-amplitude dead band, the
+  swing-randomized gyro's mean output equals the input (the statistical mode has no dead band).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from gyrobench.scenarios.checks import Check
+from gyrobench.sim import units
+from gyrobench.sim.environment import Ramp, Soak, thermal_profile
+from gyrobench.sim.rlg import Dither, integrate_adler
+from gyrobench.sim.rlg_cavity import (
+    SPEED_OF_LIGHT,
+    ZERODUR_CTE_CLASS_2,
+    CavityRLG,
+    CavityRLGSpec,
+    SwingDither,
+    swing_dither_arw,
+)
+
+__all__ = ["checks"]
+
+#: two-sided false-alarm rate of the statistical checks
+FALSE_ALARM = 1e-6
+#: standard-normal quantile for FALSE_ALARM two-sided
+Z_FALSE_ALARM = 4.8916
+#: latitude of the Earth-rate check (Beijing, PHYSICS-models.md 6) [rad]
+LATITUDE = math.radians(39.9)
+
+
+def _hand_r_net(u: CavityRLG, strain: float, plc: float) -> complex:
+    """r_net written out mirror by mirror (independent of Backscatter.net)."""
+    b, g = u.backscatter, u.geometry
+    k = 2.0 * math.pi / g.wavelength
+    total = 0j
+    for i, (a, th, pos) in enumerate(zip(b.amplitudes, b.phases, b.positions, strict=True)):
+        if i == 0:
+            ph = th + b.walk_phase * plc / g.wavelength
+        else:
+            ph = th + 2.0 * k * (pos * g.perimeter * (1.0 + strain) + plc / 2.0)
+        total += a * complex(math.cos(ph), math.sin(ph))
+    return total
+
+
+def _check_lock_in(u: CavityRLG) -> Check:
+    g = u.geometry
+    t_block = u.reference_temperature + 12.0
+    nodes = np.full((3, 2), t_block)
+    st = u.cavity_state(nodes, n0=int(u.acquired_modes(t_block)[0]))
+    wl_model = float(st["lock_in"][0])
+    expected = (
+        SPEED_OF_LIGHT
+        * g.wavelength
+        * abs(_hand_r_net(u, float(st["strain"][0]), float(st["plc"][0])))
+        / (8.0 * math.pi * g.area)
+    )
+    k = g.scale_factor
+    omega = 2.0 * wl_model
+    dt = 1.0 / (64.0 * k * (omega + wl_model))
+    beat = k * math.sqrt(omega**2 - wl_model**2)
+    dur = 60.0 / beat  # 60 slips
+    psi = integrate_adler(lambda t: omega, dur, scale_factor=k, lock_in_rate=wl_model, dt=dt)
+    cyc = psi / (2.0 * math.pi)
+    n_first, n_last = math.ceil(cyc[0]) + 1, math.floor(cyc[-1])
+    t = np.arange(len(psi)) * dt
+    t_first, t_last = (float(np.interp(n, cyc, t)) for n in (n_first, n_last))
+    f = (n_last - n_first) / (t_last - t_first)
+    simulated = math.sqrt(omega**2 - (f / k) ** 2)
+    h = 2.0 * math.pi * k * (omega + wl_model) * dt  # largest phase step per RK4 step
+    rk4 = h**4 / 120.0  # relative phase error of RK4 per unit phase
+    interp = (h**2 / 8.0) / (2.0 * math.pi * (n_last - n_first))  # crossing-time interpolation
+    inv = (f / k) ** 2 / simulated**2  # d(Omega_L)/Omega_L per d f/f
+    tol = inv * (rk4 + 2.0 * interp) + 1e-12
+    return Check(
+        id="rlg_cavity.lock_in_backscatter",
+        formula="Omega_L = c lambda |sum_i r_i exp(j(2 k s_i + theta_i))| / (8 pi A) [rad/s]",
+        expected=expected,
+        simulated=simulated,
+        tolerance=tol,
+        derivation=(
+            "Omega_L recovered from the Adler beat f = K sqrt(Omega^2 - Omega_L^2) at Omega = 2 "
+            f"Omega_L over 60 slips, RK4 step 2 pi K Omega dt = {h:.3f} rad: RK4 relative phase "
+            "error h^4/120 plus linear interpolation of the two crossing times (h^2/8 rad each, "
+            "over the slips' phase), times (f/K)^2/Omega_L^2 for the inversion"
+        ),
+    )
+
+
+def _chamber_cycle() -> object:
+    return thermal_profile(
+        units.celsius(-40.0),
+        [
+            Soak(duration=1800.0),
+            Ramp(target=units.celsius(65.0), rate=1.0 / 180.0),
+            Soak(duration=3600.0),
+            Ramp(target=units.celsius(-40.0), rate=1.0 / 180.0),
+            Soak(duration=1800.0),
+        ],
+    )
+
+
+def _hop_checks(u: CavityRLG) -> list[Check]:
+    fs = 1.0
+    prof = _chamber_cycle()
+    tt = np.arange(int(prof.duration * fs) + 1) / fs  # type: ignore[attr-defined]
+    nodes = u.thermal.temperatures(prof(tt), fs)  # type: ignore[operator]
+    tb = 0.5 * (nodes[1] + nodes[2])
+    st = u.cavity_state(nodes, n0=int(u.acquired_modes(float(tb[0]))[0]))
+    mode = st["mode"]
+    j = np.flatnonzero(np.diff(mode)) + 1
+    up = mode[j] > mode[j - 1]  # alpha > 0: up-steps of the mode index happen on heating
+    heating = np.diff(tb)[j - 1] > 0
+    res = float(np.max(np.abs(np.diff(tb))))  # block temperature change per sample [K]
+    th = np.sort(tb[j][heating])
+    spacing = (th[-1] - th[0]) / (len(th) - 1)
+    expect_sp = u.geometry.wavelength / (u.geometry.perimeter * abs(u.cte))
+    # the same transition n <-> n+1 on heating and on cooling
+    pairs = []
+    for lo in np.unique(np.minimum(mode[j], mode[j - 1])):
+        a = [tb[i] for i in j[(np.minimum(mode[j], mode[j - 1]) == lo) & heating]]
+        b = [tb[i] for i in j[(np.minimum(mode[j], mode[j - 1]) == lo) & ~heating]]
+        if a and b:
+            pairs.append(a[0] - b[0])
+    assert np.all(up == heating) or np.all(up != heating)
+    expect_h = (u.plc.travel - u.geometry.wavelength) / (u.geometry.perimeter * abs(u.cte))
+    return [
+        Check(
+            id="rlg_cavity.mode_hop_spacing",
+            formula="Delta T_hop = lambda / (P alpha) [K]",
+            expected=expect_sp,
+            simulated=float(spacing),
+            tolerance=2.0 * res / (len(th) - 1) / expect_sp,
+            derivation=(
+                f"{len(th)} heating hops of a -40..+65 degC ramp at 1 degC/3 min, 1-s samples: "
+                "each "
+                f"hop temperature is resolved to the block's change over one sample ({res:.4f} K), "
+                "so the mean spacing (last - first)/(n - 1) is within 2 x that / (n - 1)"
+            ),
+        ),
+        Check(
+            id="rlg_cavity.mode_hop_hysteresis",
+            formula="T_hop,heating - T_hop,cooling = (S - lambda) / (P alpha) [K]",
+            expected=expect_h,
+            simulated=float(np.mean(pairs)),
+            tolerance=2.0 * res / expect_h,
+            derivation=(
+                f"mean over {len(pairs)} transitions seen both heating and cooling; each "
+                f"temperature resolved to one sample's block change ({res:.4f} K)"
+            ),
+        ),
+    ]
+
+
+def _check_dead_band() -> Check:
+    from scipy.special import j0
+
+    k, wl, fd, beta = 1000.0, 0.01, 50.0, 20.0
+    theta = beta / (2.0 * math.pi * k)
+    w = 2.0 * math.pi * fd
+    od = w * theta
+    band = wl * abs(float(j0(beta)))
+    step = 0.0025
+    grid = band * (0.97 + step * np.arange(25))
+    n_cyc, skip = 250, 50
+
+    def rate(t: float) -> np.ndarray:
+        return grid + od * math.cos(w * t)
+
+    n_per = int(math.ceil(16.0 * k * od * 1.05 / fd))
+    psi = integrate_adler(
+        rate, n_cyc / fd, scale_factor=k, lock_in_rate=wl, dt=1.0 / (fd * n_per),
+        psi0=np.zeros(len(grid)), sample_every=n_per,
+    )
+    slips = (psi[-1] - psi[skip]) / (2.0 * math.pi)
+    unlocked = np.flatnonzero(np.abs(slips) >= 0.5)
+    edge = float(0.5 * (grid[unlocked[0]] + grid[unlocked[0] - 1])) if unlocked.size else math.nan
+    obs = (n_cyc - skip) / fd
+    finite = 1.0 / (2.0 * (k * band * obs) ** 2)
+    return Check(
+        id="rlg_cavity.dead_band_width",
+        formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
+        expected=band,
+        simulated=edge,
+        tolerance=step / 2.0 + finite,
+        derivation=(
+            f"Adler RK4, K = {k:g}/rad, Omega_L = {wl} rad/s, f_d = {fd:g} Hz, beta_D = {beta:g}, "
+            f"inputs on a grid of {step:.2%} of the band; edge = midpoint between the last locked "
+            f"and first slipping input over {n_cyc - skip} cycles: half the grid step plus the "
+            "smallest detectable excess, half a slip in the observation time T, "
+            "(Omega - w)/w = 1/(2 (K w T)^2). First-order (Jacobi-Anger) averaging is what is "
+            "tested, so its own error is not in the tolerance"
+        ),
+    )
+
+
+def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
+    from scipy.special import j0
+
+    # phase jitter per swing sigma beta_D = 6 rad (the default gyro: 0.1 x 5.9e3 rad); at
+    # sigma = 0.1 here (2 rad) a residual compression of ~4 % (5 standard errors) remains
+    k, wl, fd, beta, sigma = 1000.0, 0.01, 50.0, 20.0, 0.3
+    m, n_cyc = 100, 250
+    dith = Dither(frequency=fd, amplitude=beta / (2.0 * math.pi * k), amplitude_jitter=sigma)
+    omega = 0.5 * wl * abs(float(j0(beta)))  # half the fixed-amplitude dead band
+    r_sw, r_psi = rng.spawn(2)
+    sw = SwingDither.draw(dith, n_cyc, rng=r_sw, size=m)
+    psi0 = r_psi.uniform(0.0, 2.0 * math.pi, m)
+    n_per = int(math.ceil(16.0 * k * dith.peak_rate * (1.0 + 3.0 * sigma) / fd))
+    dur = n_cyc / fd
+    psi = integrate_adler(
+        lambda t: omega + sw.rate(t), dur, scale_factor=k, lock_in_rate=wl,
+        dt=1.0 / (fd * n_per), psi0=psi0, sample_every=n_per * n_cyc,
+    )
+    rate = ((psi[-1] - psi0) / (2.0 * math.pi * k) - sw.angle(dur)) / dur
+    n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
+    return Check(
+        id="rlg_cavity.no_dead_band_with_swing_dither",
+        formula="mean output rate = input rate (no dead band), input = Omega_L |J_0(beta_D)| / 2",
+        expected=omega,
+        simulated=float(np.mean(rate)),
+        tolerance=Z_FALSE_ALARM * n_stat / math.sqrt(dur * m) / omega,
+        derivation=(
+            f"Adler RK4 over {n_cyc} cycles, {m} realizations of the swing-randomized dither "
+            f"(sigma = {sigma}, phase jitter per swing sigma beta_D = {sigma * beta:g} rad; the "
+            "same gyro with a fixed amplitude locks at this input, see "
+            "rlg_cavity.dead_band_width): the mean of M recovered rates has sd N/sqrt(T M) "
+            f"(N = {n_stat:.3e} rad/sqrt(s)), times z = {Z_FALSE_ALARM} (false alarm "
+            f"{FALSE_ALARM:g}); this is what lets the statistical mode omit the dead band"
+        ),
+    )
+
+
+def _check_random_walk(rng: np.random.Generator) -> Check:
+    k, wl, fd, beta, sigma = 1000.0, 0.05, 50.0, 30.0, 0.1
+    m, n_cyc = 400, 100
+    dith = Dither(frequency=fd, amplitude=beta / (2.0 * math.pi * k), amplitude_jitter=sigma)
+    earth = units.EARTH_RATE * math.cos(LATITUDE)
+    r_sw, r_psi = rng.spawn(2)
+    sw = SwingDither.draw(dith, n_cyc, rng=r_sw, size=m)
+    psi0 = r_psi.uniform(0.0, 2.0 * math.pi, m)
+    n_per = int(math.ceil(16.0 * k * dith.peak_rate * (1.0 + 3.0 * sigma) / fd))
+    dur = n_cyc / fd
+    psi = integrate_adler(
+        lambda t: earth + sw.rate(t), dur, scale_factor=k, lock_in_rate=wl,
+        dt=1.0 / (fd * n_per), psi0=psi0, sample_every=n_per * n_cyc,
+    )
+    err = (psi[-1] - psi0) / (2.0 * math.pi * k) - earth * dur - sw.angle(dur)
+    n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
+    expected = n_stat**2 * dur
+    var = float(np.var(err, ddof=1))
+    kurt = float(np.mean((err - err.mean()) ** 4) / np.mean((err - err.mean()) ** 2) ** 2)
+    rel_sd = math.sqrt((kurt - 1.0 + 2.0 / (m - 1)) / m)
+    return Check(
+        id="rlg_cavity.dither_random_walk",
+        formula=(
+            "var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))"
+        ),
+        expected=expected,
+        simulated=var,
+        tolerance=Z_FALSE_ALARM * rel_sd,
+        derivation=(
+            f"Adler RK4 over {n_cyc} dither cycles, {m} realizations (swing-randomized dither, "
+            f"sigma = {sigma}, K = {k:g}/rad, Omega_L = {wl} rad/s, f_d = {fd:g} Hz, beta_D = "
+            f"{beta:g}) with the Earth's north rate at 39.9 N ({earth:.4e} rad/s) as input; "
+            f"sample variance: relative sd sqrt((kurtosis - 1)/M) with the measured kurtosis "
+            f"{kurt:.2f}, times z = {Z_FALSE_ALARM} (two-sided false alarm {FALSE_ALARM:g})"
+        ),
+    )
+
+
+def checks(rng: np.random.Generator) -> list[Check]:
+    """The cavity RLG's closed-form checks (see module docstring)."""
+    r_unit, r_rw, r_db = rng.spawn(3)
+    u = CavityRLGSpec().realize(rng=r_unit, label="check unit")
+    # a block at 0.8 x the class-2 bound: several hops in the -40..+65 degC cycle
+    hop_unit = replace(u, cte=0.8 * ZERODUR_CTE_CLASS_2)
+    return [
+        _check_lock_in(u),
+        *_hop_checks(hop_unit),
+        _check_dead_band(),
+        _check_random_walk(r_rw),
+        _check_randomized_dead_band(r_db),
+    ]

@@ -1,0 +1,923 @@
+"""Ring laser gyro from cavity mechanisms: backscatter lock-in, path-length control, mode hops,
+Langmuir flow, and a thermal network whose nodes the two temperature sensors read.
+
+All parameters are SI: angles [rad], rates [rad/s], time [s], temperature [K], lengths [m],
+currents [A], powers [W]. Field units appear only in docstrings and in the defaults' comments.
+
+What this module adds to :mod:`gyrobench.sim.rlg` (whose geometry, Adler integration, dither,
+dither random walk, pulse counting and temperature sensors it imports and reuses):
+
+* **Backscatter lock-in** (:class:`Backscatter`, :func:`lock_in_from_backscatter`):
+  Omega_L = c lambda |r_net| / (8 pi A), r_net = sum_i r_i exp(j (2 k s_i + theta_i))
+  (coupled-mode form of Aronowitz, "The laser gyro" (1971) and Chow et al., Rev. Mod. Phys.
+  57, 61 (1985), Sec. III; prefactor as derived in PHYSICS-models.md 5.2). The path positions
+  s_i of the mirrors change with the block's thermal expansion and with the path-length
+  control (PLC) mirror, so Omega_L changes with temperature and at every mode hop.
+* **Path-length control and mode hops** (:class:`PathLengthControl`): the block's free
+  perimeter P (1 + alpha (T_block - T_ref)) is held at the gain peak by a piezo mirror whose
+  travel (in path units) is finite; when the needed correction leaves the travel the PLC
+  relocks one wavelength away (mode hop). Hops are spaced Delta T = lambda / (P alpha) and,
+  since the travel exceeds one wavelength, the hop temperatures on heating and on cooling
+  differ by (S - lambda)/(P alpha) (hysteresis). The mode acquired at turn-on is drawn
+  among those inside the travel, so hop temperatures also change from turn-on to turn-on.
+* **Langmuir flow** (:class:`Discharge`): the gas in each anode leg flows with a speed
+  proportional to its current over the gas viscosity; the bias is k_LF times the net
+  (leg A minus leg B) effective current,
+  Omega_LF = k_LF [I_A (T_ref/T_gA)^m - I_B (T_ref/T_gB)^m],
+  with the gas temperature of each leg set by its own block node (so a temperature
+  difference across the block gives a bias) and the current imbalance set at turn-on and
+  drifting with the housing temperature through the current regulators' sense resistors.
+* **Backscatter null shift**: the dissipative part of the backscatter leaves a bias
+  eta Omega_L sin(arg r_net - phi_d) (stated assumption, see :class:`Backscatter`); it varies
+  with temperature through the mirror phases and steps at every hop.
+* **Thermal network** (:class:`CavityThermal`): housing node (sensor T1), two block nodes
+  (leg-A side, which carries the cavity sensor T2, and leg-B side), conductances and heat
+  capacities with unit-to-unit mounting asymmetry.
+
+No term of the thermal bias is written in the form of paper 004's regressors (T, dT/dt,
+products, gradients of the logged readings): the bias is a function of the network's node
+temperatures through the mechanisms above, and the PLC state.
+
+The long-record output (:meth:`CavityRLG.simulate`) is the statistical mode of
+:mod:`gyrobench.sim.rlg` (random walk from dithering through lock-in, now with the
+time-varying Omega_L, then pulse counting with the dither stripped). Its validity against the
+full Adler equation (>= 100 dither cycles with the Earth's rate present) and the dead band of
+an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks_rlg_cavity`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.sim import units
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.rlg import (
+    HENE_WAVELENGTH,
+    CavityGeometry,
+    Dither,
+    TemperatureSensor,
+    _check_rng,
+    _first_order_foh,
+    _lognormal,
+    _nonneg,
+    _num,
+    _pos,
+)
+
+__all__ = [
+    "SPEED_OF_LIGHT",
+    "ZERODUR_CTE_CLASS_2",
+    "LANGMUIR_COEFFICIENT",
+    "lock_in_from_backscatter",
+    "Backscatter",
+    "PathLengthControl",
+    "SwingDither",
+    "swing_dither_arw",
+    "mode_index",
+    "CavityThermal",
+    "Discharge",
+    "CavityRLGSpec",
+    "CavityRLG",
+]
+
+#: speed of light in vacuum [m/s] (SI definition)
+SPEED_OF_LIGHT = 299_792_458.0
+#: ZERODUR expansion class 2 tolerance, |alpha(0..50 degC)| <= 0.10e-6 /K
+#: (SCHOTT, "Technical Details of ZERODUR", CTE classes; PHYSICS-models.md 5.3 [VERIFIED S7])
+ZERODUR_CTE_CLASS_2 = 0.10e-6
+#: Langmuir-flow bias per unit of leg-current imbalance [rad/s per A]. Aronowitz & Lim,
+#: Opt. Eng. 18(4) 376 (1979), abstract: "a nullshift sensitivity of 0.0066 deg/hr/mamp of
+#: unbalance" (43.4 cm gyro) and 4.4 deg/h per cm/s of velocity unbalance. STATED
+#: ASSUMPTION, 1000x the printed value: we take 0.0066 deg/h per microampere; per mA the
+#: mechanism stays below 1e-4 deg/h for any plausible imbalance and the thermal bias would
+#: be the backscatter null shift alone (effect on paper 004 in its DEVIATIONS).
+LANGMUIR_COEFFICIENT = units.deg_per_h(0.0066) / 1e-6
+
+
+# ============================================================================ backscatter
+def lock_in_from_backscatter(r_net: ArrayLike, *, area: float, wavelength: float) -> NDArray:
+    """Lock-in rate [rad/s] from the net complex backscatter amplitude per round trip.
+
+    Notes
+    -----
+    Omega_L = c lambda |r_net| / (8 pi A) (PHYSICS-models.md 5.2 [DERIVED] from the coupled-
+    mode equations of Aronowitz 1971 / Chow et al. 1985: lock-in frequency (c/L)|r_net|/(2 pi),
+    divided by the scale factor 4A/(lambda L)). 10 cm square, 632.8 nm: 0.05 deg/s needs
+    |r_net| = 1.16e-6.
+    """
+    a = _pos("lock_in_from_backscatter", "area", area, "m^2")
+    lam = _pos("lock_in_from_backscatter", "wavelength", wavelength, "m")
+    return SPEED_OF_LIGHT * lam * np.abs(np.asarray(r_net)) / (8.0 * math.pi * a)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Backscatter:
+    """The mirrors' backscatter: amplitudes, phases and path positions.
+
+    Parameters
+    ----------
+    amplitudes : tuple of float
+        |r_i| per mirror (field amplitude per reflection, dimensionless), in path order.
+    phases : tuple of float
+        theta_i [rad], each mirror's own scatter phase.
+    positions : tuple of float
+        s_i / P: each mirror's position along the path as a fraction of the perimeter,
+        measured from the PLC mirror (index 0, position 0).
+    walk_phase : float
+        gamma [rad per wavelength of PLC travel]: change of the PLC mirror's scatter phase as
+        its diaphragm tilts and the beam spot walks over its surface (STATED ASSUMPTION).
+    dissipative : float
+        eta (dimensionless): null shift per unit lock-in from the dissipative part of the
+        coupling (STATED ASSUMPTION; see Notes).
+    dissipative_phase : float
+        phi_d [rad].
+
+    Notes
+    -----
+    With block strain e = alpha (T_block - T_ref) and PLC correction u [m of path] (the PLC
+    mirror lengthens its two adjacent legs by u/2 each):
+
+        s_0 = 0,  s_i = s_i0 (1 + e) + u/2            (i >= 1)
+        r_net = sum_i r_i exp(j (2 k s_i + theta_i)) x exp(j gamma u/lambda) [i = 0 only]
+        Omega_L = c lambda |r_net| / (8 pi A)
+
+    A hop changes u by one wavelength: 2 k (u/2) changes by 2 pi (no change), so the lock-in
+    steps only through gamma; between hops the phases drift by 2 k alpha dT (s_i0 - P/2).
+    Null shift from the dissipative (non-conservative) part of the coupling, which
+    unbalances the two beams' intensities (Chow et al. 1985, Sec. III.B); no closed form for
+    its size is used here: Omega_ns = eta Omega_L sin(arg r_net - phi_d) (STATED ASSUMPTION,
+    form and size; eta ~ 1e-4 gives ~0.02 deg/h at 0.05 deg/s lock-in, the order of the
+    variable-temperature bias of precision RLGs).
+    """
+
+    amplitudes: tuple[float, ...]
+    phases: tuple[float, ...]
+    positions: tuple[float, ...]
+    walk_phase: float = 0.0
+    dissipative: float = 0.0
+    dissipative_phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        n = len(self.amplitudes)
+        if n < 2 or len(self.phases) != n or len(self.positions) != n:
+            raise ValueError(
+                f"Backscatter needs >= 2 mirrors with one amplitude, phase and position each; "
+                f"got {len(self.amplitudes)}, {len(self.phases)}, {len(self.positions)}"
+            )
+        for a in self.amplitudes:
+            _nonneg("Backscatter", "amplitudes", a, "(field ratio)")
+        for p in self.positions:
+            if not 0.0 <= _num("Backscatter", "positions", p) < 1.0:
+                raise ValueError(f"Backscatter.positions must be in [0, 1); got {self.positions!r}")
+        for name in ("walk_phase", "dissipative", "dissipative_phase"):
+            _num("Backscatter", name, getattr(self, name))
+
+    def net(self, strain: ArrayLike, plc: ArrayLike, *, perimeter: float, wavelength: float):
+        """r_net (complex) for block strain ``strain`` and PLC correction ``plc`` [m]."""
+        e = np.asarray(strain, dtype=float)[..., None]
+        u = np.asarray(plc, dtype=float)[..., None]
+        s0 = np.asarray(self.positions) * perimeter
+        moved = (s0 > 0).astype(float)
+        k = 2.0 * math.pi / wavelength
+        ph = 2.0 * k * (s0 * (1.0 + e) + moved * u / 2.0) + np.asarray(self.phases)
+        ph = ph + (1.0 - moved) * self.walk_phase * u / wavelength
+        return np.sum(np.asarray(self.amplitudes) * np.exp(1j * ph), axis=-1)
+
+    def null_shift(self, r_net: ArrayLike, lock_in: ArrayLike) -> NDArray[np.float64]:
+        """Omega_ns = eta Omega_L sin(arg r_net - phi_d) [rad/s]."""
+        arg = np.angle(np.asarray(r_net))
+        return self.dissipative * np.asarray(lock_in) * np.sin(arg - self.dissipative_phase)
+
+
+# ============================================================================ PLC
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PathLengthControl:
+    """Piezo path-length control of finite travel.
+
+    Parameters
+    ----------
+    travel : float
+        S [m of path]: total path correction the piezo mirror can make, centred on its rest
+        position; must exceed one wavelength so a hop lands back inside the travel.
+
+    Notes
+    -----
+    The free perimeter change x = P alpha (T_block - T_ref) is corrected by u = n lambda - x
+    with the mode index n changed by +-1 only when |u| would exceed S/2 (:func:`mode_index`).
+    Hop spacing Delta T = lambda / (P alpha); on heating (alpha > 0) hops happen where
+    x - n lambda = S/2, on cooling where it is -S/2: the up and down hop temperatures differ
+    by (S - lambda)/(P alpha) (hysteresis).
+    """
+
+    travel: float
+
+    def __post_init__(self) -> None:
+        _pos("PathLengthControl", "travel", self.travel, "m")
+
+
+def mode_index(
+    excursion: NDArray[np.float64], *, wavelength: float, travel: float, n0: int
+) -> NDArray[np.int64]:
+    """Mode index n(t) of the PLC for free-perimeter excursions ``excursion`` [m].
+
+    n changes by the fewest whole steps that bring |n lambda - x| back to <= travel/2, and
+    only when it is exceeded (hysteresis). Sequential in time (a play operator); loops only
+    over the samples where the bound is exceeded.
+    """
+    if not travel > wavelength:
+        raise ValueError(
+            f"PLC travel must be > one wavelength {wavelength!r} m; got {travel!r} m"
+        )
+    x = np.asarray(excursion, dtype=float) / wavelength
+    w = travel / (2.0 * wavelength)
+    n = np.empty(len(x), dtype=np.int64)
+    cur = int(n0)
+    k = 0
+    while k < len(x):
+        # next sample where the current mode leaves the travel
+        out = np.flatnonzero(np.abs(x[k:] - cur) > w)
+        if out.size == 0:
+            n[k:] = cur
+            break
+        j = k + int(out[0])
+        n[k:j] = cur
+        d = x[j] - cur
+        cur += int(math.ceil(d - w)) if d > w else -int(math.ceil(-d - w))
+        k = j
+    return n
+
+
+# ============================================================================ thermal network
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CavityThermal:
+    """Three-node network: housing H, block side A (leg A, cavity sensor), block side B (leg B).
+
+    Parameters
+    ----------
+    c_housing, c_block : float
+        Heat capacities [J/K]: housing; each half of the block.
+    g_air : float
+        Housing to chamber air [W/K].
+    g_mount_a, g_mount_b : float
+        Housing to block side A / B through the mounts [W/K] (unequal: mounting asymmetry).
+    g_block : float
+        Across the block, A to B [W/K].
+    p_housing : float
+        Electronics power dissipated in the housing [W].
+    p_leg : float
+        Discharge power dissipated in each leg's side of the block [W].
+
+    Notes
+    -----
+    C_H T_H' = g_air (T_ch - T_H) + g_a (T_A - T_H) + g_b (T_B - T_H) + P_H
+    C_b T_A' = g_a (T_H - T_A) + g_AB (T_B - T_A) + P_leg
+    C_b T_B' = g_b (T_H - T_B) + g_AB (T_A - T_B) + P_leg
+    Solved by modal decomposition (real negative eigenvalues: a conduction network), each
+    mode by the exact first-order-hold recursion of :mod:`gyrobench.sim.rlg`.
+    Defaults (STATED ASSUMPTIONS, no published RLG network): aluminium housing ~2 kg
+    (C = 1800 J/K), air 3 W/K (tau ~10 min); ZERODUR block 0.6 kg, c_p 0.8 J/(g K) (SCHOTT
+    data sheet) -> 240 J/K per half; mounts 0.15 W/K each (block tau ~13 min); across the block
+    ZERODUR k = 1.46 W/(m K) (SCHOTT) over a 4e-3 m^2 section and 0.07 m -> 0.08 W/K;
+    electronics 5 W, discharge 2 x 0.6 W (1 kV x 0.6 mA per leg).
+    """
+
+    c_housing: float = 1800.0
+    c_block: float = 240.0
+    g_air: float = 3.0
+    g_mount_a: float = 0.15
+    g_mount_b: float = 0.15
+    g_block: float = 0.08
+    p_housing: float = 5.0
+    p_leg: float = 0.6
+
+    def __post_init__(self) -> None:
+        for name in ("c_housing", "c_block", "g_air", "g_mount_a", "g_mount_b", "g_block"):
+            _pos("CavityThermal", name, getattr(self, name), "(W/K or J/K)")
+        _nonneg("CavityThermal", "p_housing", self.p_housing, "W")
+        _nonneg("CavityThermal", "p_leg", self.p_leg, "W")
+
+    def matrices(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(M, B): d[T_H, T_A, T_B]/dt = M T + B [T_ch, 1]."""
+        ga, gb, gab = self.g_mount_a, self.g_mount_b, self.g_block
+        ch, cb = self.c_housing, self.c_block
+        m = np.array(
+            [
+                [-(self.g_air + ga + gb) / ch, ga / ch, gb / ch],
+                [ga / cb, -(ga + gab) / cb, gab / cb],
+                [gb / cb, gab / cb, -(gb + gab) / cb],
+            ]
+        )
+        b = np.array(
+            [[self.g_air / ch, self.p_housing / ch], [0.0, self.p_leg / cb], [0.0, self.p_leg / cb]]
+        )
+        return m, b
+
+    def temperatures(self, chamber: ArrayLike, fs: float) -> NDArray[np.float64]:
+        """Node temperatures [K], shape (3, n): housing, block A, block B; powered at t = 0.
+
+        The unit starts soaked at the first chamber sample.
+        """
+        tc = np.asarray(chamber, dtype=float)
+        h = 1.0 / _pos("CavityThermal.temperatures", "fs", fs, "Hz")
+        if tc.ndim != 1 or len(tc) < 2:
+            raise ValueError(f"chamber must be 1-D with >= 2 samples; got shape {tc.shape}")
+        m, b = self.matrices()
+        lam, v = np.linalg.eig(m)
+        lam, v = lam.real, v.real
+        vinv = np.linalg.inv(v)
+        drive = vinv @ b  # (3, 2)
+        x0 = vinv @ np.full(3, tc[0])
+        z = np.empty((3, len(tc)))
+        for i in range(3):
+            tau = -1.0 / lam[i]
+            u = tau * (drive[i, 0] * tc + drive[i, 1])
+            z[i] = _first_order_foh(u, x0[i], tau, h)
+        return v @ z
+
+
+# ============================================================================ discharge
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Discharge:
+    """Two-leg DC discharge and its Langmuir-flow bias.
+
+    Parameters
+    ----------
+    current : float
+        I_0 [A], regulated current per leg (0.6 mA; STATED ASSUMPTION, typical He-Ne RLG).
+    imbalance : float
+        Delta I_0 [A], this turn-on's leg current difference I_A - I_B at T_ref.
+    sense_tcr_mismatch : float
+        delta [1/K], difference of the two regulators' sense-resistor temperature coefficients
+        (read at the housing node).
+    gas_rise : float
+        Gas temperature above its block node [K] (discharge heating; STATED ASSUMPTION 30 K).
+    viscosity_exponent : float
+        m: He-Ne viscosity ~ T^m; flow speed at fixed current ~ 1/viscosity. m = 0.7 is the
+        kinetic-theory temperature exponent of helium's viscosity (Chapman-Enskog, ~0.66-0.7;
+        STATED ASSUMPTION for the mixture).
+    coefficient : float
+        k_LF [rad/s per A] (:data:`LANGMUIR_COEFFICIENT`).
+    reference_temperature : float
+        T_ref [K].
+
+    Notes
+    -----
+    I_A = I_0 + Delta I / 2, I_B = I_0 - Delta I / 2, Delta I = Delta I_0 + I_0 delta (T_H - T_ref)
+    Omega_LF = k_LF [I_A (T_ref/T_gA)^m - I_B (T_ref/T_gB)^m],  T_g = T_node + gas_rise
+    (Langmuir flow: null shift linear in the current imbalance and odd in it, Aronowitz & Lim
+    1979; PHYSICS-models.md 5.4). For small differences
+    Omega_LF ~ k_LF [Delta I - I_0 m (T_gA - T_gB)/T_ref].
+    """
+
+    current: float = 0.6e-3
+    imbalance: float = 0.0
+    sense_tcr_mismatch: float = 0.0
+    gas_rise: float = 30.0
+    viscosity_exponent: float = 0.7
+    coefficient: float = LANGMUIR_COEFFICIENT
+    reference_temperature: float = units.celsius(25.0)
+
+    def __post_init__(self) -> None:
+        _pos("Discharge", "current", self.current, "A")
+        for name in ("imbalance", "sense_tcr_mismatch", "gas_rise", "viscosity_exponent"):
+            _num("Discharge", name, getattr(self, name))
+        _num("Discharge", "coefficient", self.coefficient)
+        _pos("Discharge", "reference_temperature", self.reference_temperature, "K")
+
+    def bias(self, t_housing: ArrayLike, t_a: ArrayLike, t_b: ArrayLike) -> NDArray[np.float64]:
+        """Omega_LF [rad/s] at node temperatures [K]."""
+        th, ta, tb = (np.asarray(x, dtype=float) for x in (t_housing, t_a, t_b))
+        tr, m = self.reference_temperature, self.viscosity_exponent
+        di = self.imbalance + self.current * self.sense_tcr_mismatch * (th - tr)
+        ia, ib = self.current + di / 2.0, self.current - di / 2.0
+        fa = (tr / (ta + self.gas_rise)) ** m
+        fb = (tr / (tb + self.gas_rise)) ** m
+        return self.coefficient * (ia * fa - ib * fb)
+
+
+# ============================================================================ dither swing
+@dataclass(frozen=True, slots=True)
+class SwingDither:
+    """Dither whose amplitude is redrawn at every angle extreme (each half-cycle's swing random).
+
+    Parameters
+    ----------
+    dither : Dither
+        Frequency f_d, nominal amplitude theta_D and relative jitter sigma.
+    extremes : ndarray, shape (2 n + 2, ...)
+        Signed angle extremes e_k = (-1)^k theta_D a_k [rad], a_k = 1 + sigma eps_k.
+
+    Notes
+    -----
+    Angle (continuous, rate zero at each extreme): for t < 1/(4 f_d),
+    theta = e_0 sin(w t); in half-cycle k >= 1, t in [t_k, t_k + 1/(2 f_d)), t_k =
+    (k/2 - 1/4)/f_d,
+
+        theta(t) = (e_{k-1} + e_k)/2 + (e_{k-1} - e_k)/2 cos(w (t - t_k)),   w = 2 pi f_d
+
+    so the rate reversal (lock-in crossing) in the middle of half-cycle k has slope
+    w^2 |e_{k-1} - e_k|/2 = w^2 theta_D (a_{k-1} + a_k)/2, and successive crossings see
+    independent swings. :class:`gyrobench.sim.rlg.DitherRealization` instead changes the
+    amplitude where the angle crosses zero, which repeats the crossing phases within a
+    cycle: at low input rate its random walk is ~1/3 of the formula after 100 cycles
+    (issue 19; PHYSICS-models.md 5.5: "randomisation must change the swing between
+    successive crossings"). Random walk of this dither (stationary phase, 2 f_d independent
+    crossings per second): N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)]
+    (E[2/(a_{k-1} + a_k)] = 1 + sigma^2/2 to second order).
+    """
+
+    dither: Dither
+    extremes: NDArray[np.float64]
+
+    @classmethod
+    def draw(
+        cls, dither: Dither, n_cycles: int, *, rng: np.random.Generator, size: int = 1
+    ) -> SwingDither:
+        """Draw the extremes of ``n_cycles`` cycles for ``size`` realizations."""
+        _check_rng(rng)
+        if not (isinstance(n_cycles, (int, np.integer)) and n_cycles >= 1):
+            raise ValueError(f"n_cycles must be an integer >= 1; got {n_cycles!r}")
+        a = 1.0 + dither.amplitude_jitter * rng.standard_normal((2 * int(n_cycles) + 2, size))
+        sign = np.where(np.arange(len(a)) % 2 == 0, 1.0, -1.0)[:, None]
+        return cls(dither, dither.amplitude * np.maximum(a, 0.05) * sign)
+
+    def _half(self, t: float) -> tuple[int, float]:
+        f = self.dither.frequency
+        k = min(int(math.floor(2.0 * t * f + 0.5)), len(self.extremes) - 1)
+        return k, (k / 2.0 - 0.25) / f
+
+    def angle(self, t: float) -> NDArray[np.float64]:
+        """theta_d(t) [rad], one value per realization."""
+        w = 2.0 * math.pi * self.dither.frequency
+        k, tk = self._half(t)
+        if k == 0:
+            return self.extremes[0] * math.sin(w * t)
+        e0, e1 = self.extremes[k - 1], self.extremes[k]
+        return 0.5 * (e0 + e1) + 0.5 * (e0 - e1) * math.cos(w * (t - tk))
+
+    def rate(self, t: float) -> NDArray[np.float64]:
+        """Omega_d(t) [rad/s], one value per realization."""
+        w = 2.0 * math.pi * self.dither.frequency
+        k, tk = self._half(t)
+        if k == 0:
+            return self.extremes[0] * w * math.cos(w * t)
+        e0, e1 = self.extremes[k - 1], self.extremes[k]
+        return -0.5 * (e0 - e1) * w * math.sin(w * (t - tk))
+
+
+def swing_dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
+    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`)."""
+    k = _pos("swing_dither_arw", "scale_factor", scale_factor, "counts/rad")
+    wl = _nonneg("swing_dither_arw", "lock_in_rate", lock_in_rate, "rad/s")
+    s = dither.amplitude_jitter
+    return wl * math.sqrt((1.0 + 0.5 * s * s) / (2.0 * math.pi * k * dither.peak_rate))
+
+
+# ============================================================================ unit
+def _mirror_positions(geometry: CavityGeometry) -> tuple[float, ...]:
+    """Each mirror's path position from mirror 0, as a fraction of the perimeter."""
+    v = np.asarray(geometry.vertices)
+    legs = np.hypot(*(np.roll(v, -1, axis=0) - v).T)
+    return tuple(float(s) for s in np.concatenate(([0.0], np.cumsum(legs)[:-1])) / legs.sum())
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CavityRLG:
+    """One drawn cavity-model RLG (all SI). Build with :meth:`CavityRLGSpec.realize`.
+
+    Parameters
+    ----------
+    geometry : CavityGeometry
+    dither : Dither
+    backscatter : Backscatter
+    cte : float
+        alpha [1/K], the block's linear expansion coefficient.
+    plc : PathLengthControl
+    thermal : CavityThermal
+    discharge : Discharge
+        Nominal discharge; turn-on draws replace ``imbalance`` and scale ``gas_rise``.
+    imbalance_repeatability : float
+        Std of the leg-current imbalance set at each turn-on [A].
+    gas_rise_repeatability : float
+        Relative std of the gas temperature rise at each turn-on.
+    bias : float
+        Constant bias [rad/s]; ``bias_repeatability`` its turn-on std [rad/s].
+    bias_instability, rate_random_walk : float
+        Flicker B [rad/s] and K [rad/s/sqrt(s)] (IEEE 952).
+    sensor_housing, sensor_cavity : TemperatureSensor
+        T1 reads the housing node, T2 the block node on leg A's side.
+    reference_temperature : float
+        T_ref [K] of the block's length and the PLC's rest position.
+    label : str
+    """
+
+    geometry: CavityGeometry
+    dither: Dither
+    backscatter: Backscatter
+    cte: float
+    plc: PathLengthControl
+    thermal: CavityThermal = field(default_factory=CavityThermal)
+    discharge: Discharge = field(default_factory=Discharge)
+    imbalance_repeatability: float = 0.0
+    gas_rise_repeatability: float = 0.0
+    bias: float = 0.0
+    bias_repeatability: float = 0.0
+    bias_instability: float = 0.0
+    rate_random_walk: float = 0.0
+    sensor_housing: TemperatureSensor = field(default_factory=TemperatureSensor)
+    sensor_cavity: TemperatureSensor = field(default_factory=TemperatureSensor)
+    reference_temperature: float = units.celsius(25.0)
+    label: str = "RLG"
+
+    def __post_init__(self) -> None:
+        _num("CavityRLG", "cte", self.cte)
+        for name in (
+            "imbalance_repeatability",
+            "gas_rise_repeatability",
+            "bias_repeatability",
+            "bias_instability",
+            "rate_random_walk",
+        ):
+            _nonneg("CavityRLG", name, getattr(self, name), "(SI)")
+        _num("CavityRLG", "bias", self.bias)
+        lam = self.geometry.wavelength
+        if not self.plc.travel > lam:
+            raise ValueError(
+                f"CavityRLG.plc.travel must be > one wavelength {lam!r} m; got {self.plc.travel!r}"
+            )
+        worst = self.max_lock_in_rate
+        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
+        if low < 10.0 * worst:
+            raise ValueError(
+                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
+                f"{low!r} rad/s "
+                f"must be >= 10 x the largest possible lock-in {worst!r} rad/s"
+            )
+
+    @property
+    def scale_factor(self) -> float:
+        """K at T_ref [counts/rad]."""
+        return self.geometry.scale_factor
+
+    @property
+    def pulse_weight(self) -> float:
+        """q at T_ref [rad/count]."""
+        return self.geometry.pulse_weight
+
+    @property
+    def max_lock_in_rate(self) -> float:
+        """Omega_L with every mirror's scatter in phase [rad/s]."""
+        return float(
+            lock_in_from_backscatter(
+                sum(self.backscatter.amplitudes),
+                area=self.geometry.area,
+                wavelength=self.geometry.wavelength,
+            )
+        )
+
+    @property
+    def hop_spacing(self) -> float:
+        """Delta T_hop = lambda / (P |alpha|) [K] (inf for alpha = 0)."""
+        d = self.geometry.perimeter * abs(self.cte)
+        return self.geometry.wavelength / d if d > 0 else math.inf
+
+    @property
+    def hysteresis(self) -> float:
+        """Difference of heating and cooling hop temperatures, (S - lambda)/(P |alpha|) [K]."""
+        return (self.plc.travel / self.geometry.wavelength - 1.0) * self.hop_spacing
+
+    def cavity_state(
+        self, nodes: NDArray[np.float64], *, n0: int, mode_hops: bool = True
+    ) -> dict[str, NDArray[np.float64]]:
+        """Block strain, PLC mode and correction, r_net and lock-in at node temperatures (3, n).
+
+        ``mode_hops=False`` is a counterfactual: a PLC of unlimited travel stays on mode n0.
+        """
+        p, lam = self.geometry.perimeter, self.geometry.wavelength
+        strain = self.cte * (0.5 * (nodes[1] + nodes[2]) - self.reference_temperature)
+        if mode_hops:
+            n = mode_index(p * strain, wavelength=lam, travel=self.plc.travel, n0=n0)
+        else:
+            n = np.full(len(strain), int(n0), dtype=np.int64)
+        u = n * lam - p * strain
+        r = self.backscatter.net(strain, u, perimeter=p, wavelength=lam)
+        lock = lock_in_from_backscatter(r, area=self.geometry.area, wavelength=lam)
+        return {"strain": strain, "mode": n.astype(float), "plc": u, "r_net": r, "lock_in": lock}
+
+    def acquired_modes(self, t_block: float) -> NDArray[np.int64]:
+        """Modes the PLC can lock at turn-on: |n lambda - x| <= S/2 at block temperature [K]."""
+        lam = self.geometry.wavelength
+        x = self.geometry.perimeter * self.cte * (t_block - self.reference_temperature) / lam
+        w = self.plc.travel / (2.0 * lam)
+        return np.arange(math.ceil(x - w), math.floor(x + w) + 1)
+
+    def turn_on(self, rng: np.random.Generator, t_block: float) -> dict[str, float]:
+        """This turn-on's draws: constant bias, leg imbalance, gas rise, acquired mode."""
+        modes = self.acquired_modes(t_block)
+        return {
+            "bias": self.bias + self.bias_repeatability * rng.standard_normal(),
+            "imbalance": self.discharge.imbalance
+            + self.imbalance_repeatability * rng.standard_normal(),
+            "gas_rise": self.discharge.gas_rise
+            * (1.0 + self.gas_rise_repeatability * rng.standard_normal()),
+            "mode0": int(rng.choice(modes)),
+        }
+
+    def thermal_bias(
+        self, nodes: NDArray[np.float64], on: dict[str, float], *, mode_hops: bool = True
+    ) -> dict[str, NDArray[np.float64]]:
+        """Mechanism biases [rad/s] and the cavity state at node temperatures (3, n) [K]."""
+        st = self.cavity_state(nodes, n0=int(on["mode0"]), mode_hops=mode_hops)
+        dis = replace(self.discharge, imbalance=on["imbalance"], gas_rise=on["gas_rise"])
+        return st | {
+            "bias_langmuir": dis.bias(nodes[0], nodes[1], nodes[2]),
+            "bias_backscatter": self.backscatter.null_shift(st["r_net"], st["lock_in"]),
+        }
+
+    def simulate(
+        self,
+        chamber: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        duration: float,
+        fs: float,
+        *,
+        rng: np.random.Generator,
+        rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
+        name: str = "rlg",
+        mode_hops: bool = True,
+    ) -> Recording:
+        """Statistical mode over a thermal run: pulse counts at ``fs`` (gyro on at t = 0).
+
+        Parameters and output channels as :meth:`gyrobench.sim.rlg.RLGUnit.simulate`
+        (``rate``, ``counts``, ``dither_angle``, ``T1`` housing, ``T2`` cavity). Truth adds the
+        node temperatures, ``lock_in_rate``, ``mode`` (PLC mode index), ``plc`` [m],
+        ``bias_langmuir``, ``bias_backscatter`` and ``scale_factor_ratio``.
+        ``mode_hops=False`` runs the counterfactual PLC of unlimited travel (same draws).
+
+        Notes
+        -----
+        theta_k [counts] = sum_{j<k} K_j (Omega_j + b_j)/fs + K N_j sqrt(1/fs) eps_j,
+        N_j = Omega_L,j sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) (:func:`swing_dither_arw`, the
+        dither redrawing its swing at every extreme, :class:`SwingDither`, with the lock-in of
+        the sample; checked against the Adler equation in
+        :mod:`gyrobench.scenarios.checks_rlg_cavity`),
+        K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
+        (PLC holds the path at the mode, the area follows the block); counts and dither
+        stripping as in :mod:`gyrobench.sim.rlg`.
+        """
+        _check_rng(rng)
+        fs = _pos("CavityRLG.simulate", "fs", fs, "Hz")
+        dur = _pos("CavityRLG.simulate", "duration", duration, "s")
+        if fs > self.dither.frequency / 4.0:
+            raise ValueError(
+                f"fs must be <= dither frequency / 4 = {self.dither.frequency / 4.0!r} Hz; "
+                f"got {fs!r}"
+            )
+        n = int(round(dur * fs))
+        if n < 2:
+            raise ValueError(f"duration x fs must give >= 2 samples; got {n}")
+        r_on, r_noise, r_arw, r_dither, r_t1, r_t2 = rng.spawn(6)
+        t_grid = np.arange(n + 1) / fs
+        tch = np.asarray(chamber(t_grid), dtype=float)
+        nodes = self.thermal.temperatures(tch, fs)
+        on = self.turn_on(r_on, 0.5 * (nodes[1, 0] + nodes[2, 0]))
+        mech = self.thermal_bias(nodes, on, mode_hops=mode_hops)
+        mid = {k: 0.5 * (mech[k][1:] + mech[k][:-1]) for k in ("bias_langmuir", "bias_backscatter")}
+        thermal = mid["bias_langmuir"] + mid["bias_backscatter"]
+        lock = 0.5 * (mech["lock_in"][1:] + mech["lock_in"][:-1])
+        g, lam = self.geometry, self.geometry.wavelength
+        k_ratio = (
+            (1.0 + mech["strain"][:-1]) ** 2 * g.perimeter / (g.perimeter + mech["mode"][:-1] * lam)
+        )
+        noise = NoiseModel(
+            bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
+        )
+        flick = (
+            noise.generate(n, fs, rng=r_noise)
+            if (self.bias_instability > 0 or self.rate_random_walk > 0)
+            else np.zeros(n)
+        )
+        if callable(rate):
+            w_in = np.asarray(rate(t_grid[:-1] + 0.5 / fs), dtype=float) * np.ones(n)
+        else:
+            w_in = np.full(n, _num("CavityRLG.simulate", "rate", rate))
+        n_unit = swing_dither_arw(
+            scale_factor=self.scale_factor, lock_in_rate=1.0, dither=self.dither
+        )
+        arw = n_unit * lock * math.sqrt(fs) * r_arw.standard_normal(n)
+        total = k_ratio * (w_in + on["bias"] + thermal + flick) + arw
+        theta = np.concatenate(([0.0], np.cumsum(total) / fs))
+        jit = self.dither.amplitude_jitter * r_dither.standard_normal(n + 1)
+        d = self.dither.amplitude * (1.0 + jit)
+        d = d * np.sin(r_dither.uniform(0.0, 2.0 * math.pi, n + 1))
+        q = self.pulse_weight
+        counts = np.diff(np.floor((theta + d) / q))
+        out = (q * counts - np.diff(d)) * fs
+        sl = slice(None, -1)
+        truth = {
+            "true_rate": Channel(w_in, "rad/s", "input rate about the sense axis"),
+            "T1": Channel(nodes[0, sl], "K", "housing node"),
+            "T2": Channel(nodes[1, sl], "K", "block node A (cavity sensor)"),
+            "T_block_b": Channel(nodes[2, sl], "K", "block node B"),
+            "chamber": Channel(tch[sl], "K", "chamber air temperature"),
+            "thermal_bias": Channel(thermal, "rad/s", "Langmuir flow + backscatter null shift"),
+            "bias_langmuir": Channel(mid["bias_langmuir"], "rad/s", "Langmuir flow"),
+            "bias_backscatter": Channel(mid["bias_backscatter"], "rad/s", "backscatter null shift"),
+            "lock_in_rate": Channel(lock, "rad/s", "lock-in rate from backscatter"),
+            "mode": Channel(mech["mode"][sl], "1", "PLC mode index"),
+            "plc": Channel(mech["plc"][sl], "m", "PLC path correction"),
+            "scale_factor_ratio": Channel(k_ratio, "1", "K / K(T_ref, mode 0)"),
+            "turn_on_bias": Channel(np.full(n, on["bias"]), "rad/s", "bias of this turn-on"),
+            "flicker_rrw": Channel(flick, "rad/s", "bias instability and rate random walk"),
+            "dither_random_walk": Channel(arw, "rad/s", "random walk from dither and lock-in"),
+            "quantization": Channel(out - np.diff(theta) * fs, "rad/s", "counting error"),
+        }
+        return Recording(
+            fs=fs,
+            channels={
+                "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
+                "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
+                "dither_angle": Channel(d[1:], "rad", "dither angle at the end of each sample"),
+                "T1": Channel(
+                    self.sensor_housing.measure(nodes[0, sl], rng=r_t1), "K", "housing sensor"
+                ),
+                "T2": Channel(
+                    self.sensor_cavity.measure(nodes[1, sl], rng=r_t2), "K", "cavity sensor"
+                ),
+            },
+            truth=truth,
+            metadata={
+                "model": "gyrobench.sim.rlg_cavity statistical mode",
+                "unit": self.label,
+                "scale_factor_counts_per_rad": self.scale_factor,
+                "pulse_weight_rad": q,
+                "turn_on": on,
+                "cte_per_k": self.cte,
+                "hop_spacing_k": self.hop_spacing,
+                "version": package_version(),
+            },
+            name=name,
+        )
+
+
+# ============================================================================ spec
+def _rayleigh_amplitudes(rng: np.random.Generator, n: int, sigma: float) -> NDArray[np.float64]:
+    return sigma * np.sqrt(-2.0 * np.log1p(-rng.uniform(0.0, 1.0, n)))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CavityRLGSpec:
+    """A cavity-model RLG budget (nominal values, SI) and the unit-to-unit spread of each.
+
+    Parameters
+    ----------
+    geometry : CavityGeometry
+        Default: equilateral triangle of side 0.14 m (P = 0.42 m), He-Ne 632.8 nm.
+    dither : Dither
+        Default 400 Hz x 150 arcsec, 10 % amplitude jitter (as :class:`gyrobench.sim.rlg.RLGSpec`).
+    backscatter_sigma : float
+        Rayleigh scale of each mirror's |r_i| (random-phase scatterers, Rayleigh-distributed
+        backscatter in He-Ne rings: PHYSICS-models.md 5.2 [VERIFIED S16]). Default 4.0e-7:
+        STATED ASSUMPTION chosen so the rms lock-in of the triangle is ~0.05 deg/s
+        (E|r_net|^2 = 3 x 2 sigma^2), the lock-in of :class:`gyrobench.sim.rlg.RLGSpec`.
+    walk_phase_std : float
+        Std of gamma [rad per wavelength of PLC travel] (STATED ASSUMPTION, 1 rad).
+    dissipative : float
+        Nominal eta (STATED ASSUMPTION 1e-4), log-normal spread ``dissipative_spread``.
+    cte_bound : float
+        alpha is drawn uniform in [-cte_bound, +cte_bound]: a block of ZERODUR expansion class 2
+        (|alpha| <= 0.10e-6 /K, :data:`ZERODUR_CTE_CLASS_2`).
+    plc_travel : tuple of float
+        PLC travel drawn uniform in this range [m of path]; default 1.2..1.8 wavelengths
+        (STATED ASSUMPTION; must exceed one wavelength).
+    thermal : CavityThermal
+        Nominal network; ``mount_asymmetry`` is the log-normal spread of each mount's
+        conductance (STATED ASSUMPTION 0.3), ``thermal_spread`` of the others (0.1).
+    discharge : Discharge
+        Nominal discharge; ``tcr_mismatch_std`` [1/K] (STATED ASSUMPTION 5e-6/K: matched
+        metal-film sense resistors), ``imbalance_repeatability`` [A] (1e-6 A, 0.17 % of the leg
+        current, STATED ASSUMPTION), ``gas_rise_repeatability`` (0.1, STATED ASSUMPTION).
+    bias_spread, bias_repeatability, bias_instability, rate_random_walk : float
+        [rad/s], [rad/s], [rad/s], [rad/s/sqrt(s)]; as :class:`gyrobench.sim.rlg.RLGSpec`.
+    sensor : TemperatureSensor
+        Both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
+    """
+
+    geometry: CavityGeometry = field(default_factory=lambda: CavityGeometry.triangle(0.14))
+    dither: Dither = field(
+        default_factory=lambda: Dither(
+            frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1
+        )
+    )
+    backscatter_sigma: float = 4.0e-7
+    walk_phase_std: float = 1.0
+    dissipative: float = 1e-4
+    dissipative_spread: float = 0.5
+    cte_bound: float = ZERODUR_CTE_CLASS_2
+    plc_travel: tuple[float, float] = (1.2 * HENE_WAVELENGTH, 1.8 * HENE_WAVELENGTH)
+    thermal: CavityThermal = field(default_factory=CavityThermal)
+    thermal_spread: float = 0.1
+    mount_asymmetry: float = 0.3
+    discharge: Discharge = field(default_factory=Discharge)
+    tcr_mismatch_std: float = 5e-6
+    imbalance_repeatability: float = 1e-6
+    gas_rise_repeatability: float = 0.1
+    bias_spread: float = units.deg_per_h(0.5)
+    bias_repeatability: float = units.deg_per_h(0.01)
+    bias_instability: float = units.deg_per_h(0.002)
+    rate_random_walk: float = 0.0
+    sensor: TemperatureSensor = field(default_factory=TemperatureSensor)
+    sensor_offset_spread: float = 0.2
+
+    def __post_init__(self) -> None:
+        for name in (
+            "backscatter_sigma",
+            "walk_phase_std",
+            "dissipative",
+            "dissipative_spread",
+            "cte_bound",
+            "thermal_spread",
+            "mount_asymmetry",
+            "tcr_mismatch_std",
+            "imbalance_repeatability",
+            "gas_rise_repeatability",
+            "bias_spread",
+            "bias_repeatability",
+            "bias_instability",
+            "rate_random_walk",
+            "sensor_offset_spread",
+        ):
+            _nonneg("CavityRLGSpec", name, getattr(self, name), "(SI or relative)")
+        # every unit must be dithered well above its largest lock-in: bound the mirrors'
+        # amplitudes at the Rayleigh quantile of exceedance 1e-6, all scattering in phase
+        worst = lock_in_from_backscatter(
+            len(self.geometry.vertices) * self.backscatter_sigma * math.sqrt(2.0 * math.log(1e6)),
+            area=self.geometry.area,
+            wavelength=self.geometry.wavelength,
+        )
+        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
+        if low < 10.0 * float(worst):
+            raise ValueError(
+                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
+                f"{low!r} rad/s must be >= 10 x the largest likely lock-in {float(worst)!r} rad/s "
+                f"(backscatter_sigma {self.backscatter_sigma!r})"
+            )
+        lo, hi = self.plc_travel
+        if not self.geometry.wavelength < lo <= hi:
+            raise ValueError(
+                "CavityRLGSpec.plc_travel must satisfy wavelength < low <= high [m]; "
+                f"got {self.plc_travel!r}"
+            )
+
+    def realize(self, *, rng: np.random.Generator, label: str = "RLG") -> CavityRLG:
+        """Draw one unit (a child stream per group: optics, block, thermal, discharge, sensors)."""
+        _check_rng(rng)
+        r_opt, r_blk, r_th, r_dis, r_sens = rng.spawn(5)
+        n_m = len(self.geometry.vertices)
+        bs = Backscatter(
+            amplitudes=tuple(_rayleigh_amplitudes(r_opt, n_m, self.backscatter_sigma)),
+            phases=tuple(r_opt.uniform(0.0, 2.0 * math.pi, n_m)),
+            positions=_mirror_positions(self.geometry),
+            walk_phase=self.walk_phase_std * float(r_opt.standard_normal()),
+            dissipative=_lognormal(r_opt, self.dissipative, self.dissipative_spread),
+            dissipative_phase=float(r_opt.uniform(0.0, 2.0 * math.pi)),
+        )
+        th, s, a = self.thermal, self.thermal_spread, self.mount_asymmetry
+        thermal = CavityThermal(
+            c_housing=_lognormal(r_th, th.c_housing, s),
+            c_block=_lognormal(r_th, th.c_block, s),
+            g_air=_lognormal(r_th, th.g_air, s),
+            g_mount_a=_lognormal(r_th, th.g_mount_a, a),
+            g_mount_b=_lognormal(r_th, th.g_mount_b, a),
+            g_block=_lognormal(r_th, th.g_block, s),
+            p_housing=_lognormal(r_th, th.p_housing, s),
+            p_leg=_lognormal(r_th, th.p_leg, s),
+        )
+        dis = replace(
+            self.discharge,
+            sense_tcr_mismatch=self.tcr_mismatch_std * float(r_dis.standard_normal()),
+        )
+        offs = self.sensor_offset_spread * r_sens.standard_normal(2)
+        return CavityRLG(
+            geometry=self.geometry,
+            dither=self.dither,
+            backscatter=bs,
+            cte=float(r_blk.uniform(-self.cte_bound, self.cte_bound)),
+            plc=PathLengthControl(travel=float(r_blk.uniform(*self.plc_travel))),
+            thermal=thermal,
+            discharge=dis,
+            imbalance_repeatability=self.imbalance_repeatability,
+            gas_rise_repeatability=self.gas_rise_repeatability,
+            bias=self.bias_spread * float(r_dis.standard_normal()),
+            bias_repeatability=self.bias_repeatability,
+            bias_instability=self.bias_instability,
+            rate_random_walk=self.rate_random_walk,
+            sensor_housing=replace(self.sensor, offset=self.sensor.offset + offs[0]),
+            sensor_cavity=replace(self.sensor, offset=self.sensor.offset + offs[1]),
+            label=label,
+        )

@@ -517,15 +517,25 @@ def _raw_analysis(
 
 def _fit_methods(
     config: Config, seed: int, rates: NDArray[np.float64], fit_means: NDArray[np.float64]
-) -> tuple[dict[str, Any], dict[str, float]]:
-    """The three compensators fitted on the pooled fitting runs, and their fit times [ms]."""
+) -> tuple[dict[str, Any], dict[str, float], dict[str, str]]:
+    """The three compensators fitted on the pooled fitting runs, and their fit times [ms].
+
+    A method that cannot be fitted on this unit's data (ValueError: e.g. a 9th-order piecewise
+    segment beyond a breakpoint where the saturated plateau leaves fewer than 10 distinct
+    outputs) is None, its error message in the third item.
+    """
     X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
-    models, fit_ms = _estimators(config, seed), {}
+    models: dict[str, Any] = _estimators(config, seed)
+    fit_ms: dict[str, float] = {}
+    errors: dict[str, str] = {}
     for key, est in models.items():
         t0 = time.perf_counter()
-        est.fit(X, y)
+        try:
+            est.fit(X, y)
+        except ValueError as exc:
+            models[key], errors[key] = None, str(exc)
         fit_ms[key] = 1e3 * (time.perf_counter() - t0)
-    return models, fit_ms
+    return models, fit_ms, errors
 
 
 def _score_method(
@@ -536,7 +546,18 @@ def _score_method(
     dense_rates: NDArray[np.float64],
     dense_outputs: NDArray[np.float64],
 ) -> dict[str, Any]:
-    """K_n [%] of one fitted compensator: in-sample, held-out table rates, dense held-out sweep."""
+    """K_n [%] of one fitted compensator: in-sample, held-out table rates, dense held-out sweep.
+
+    ``est`` None (the method could not be fitted): every number NaN (untestable).
+    """
+    if est is None:
+        nan = math.nan
+        return {
+            "kn_fit_pct": nan, "kn_heldout_pct": nan, "rms_heldout_pct": nan, "kn_dense_pct": nan,
+            "compensated_heldout_dps": np.full(rates.size, nan),
+            "pointwise_heldout_pct": np.full(rates.size, nan),
+            "dense_error_dps": np.full(dense_rates.size, nan),
+        }
     held = [est.predict(m[:, None]) for m in held_means]
     hfits = [fit_scale_factor(rates, c) for c in held]
     dense = [est.predict(d[:, None]) for d in dense_outputs]
@@ -579,6 +600,9 @@ def _eval_times_ms(models: Mapping[str, Any], x: NDArray[np.float64], repeats: i
     """Median wall time [ms] of each model compensating the 21-point table ``x`` (this machine)."""
     out = {}
     for key, est in models.items():
+        if est is None:
+            out[key] = math.nan
+            continue
         est.predict(x)  # warm caches
         ts = []
         for _ in range(repeats):
@@ -608,14 +632,21 @@ def _quantities(raw: Mapping[str, Any], methods: Mapping[str, Mapping]) -> dict[
     for key in methods:
         q[f"kn_heldout_pct.{key}"] = held[key]
         q[f"improvement.{key}"] = raw["raw_kn_pct_heldout"] / held[key]
-    q["order_as_paper"] = float(_before(PAPER_ORDER, held))
-    q["piecewise_best"] = float(all(held["piecewise"] < held[k] for k in others))
-    q["bayes_bp_beats_two_stage"] = float(held["bayes_bp"] < held["two_stage_poly"])
-    q["piecewise_smallest_rms"] = float(all(rms["piecewise"] < rms[k] for k in others))
+    q["order_as_paper"] = _flag(held, _before(PAPER_ORDER, held))
+    q["piecewise_best"] = _flag(held, all(held["piecewise"] < held[k] for k in others))
+    q["bayes_bp_beats_two_stage"] = _flag(held, held["bayes_bp"] < held["two_stage_poly"])
+    q["piecewise_smallest_rms"] = _flag(rms, all(rms["piecewise"] < rms[k] for k in others))
     for key in methods:
         q[f"kn_dense_pct.{key}"] = dense[key]
-    q["order_as_paper_dense"] = float(_before(PAPER_ORDER, dense))
+    q["order_as_paper_dense"] = _flag(dense, _before(PAPER_ORDER, dense))
     return q
+
+
+def _flag(values: Mapping[str, float], holds: bool) -> float | None:
+    """A ranking as 1.0 / 0.0, or None (untestable) when a method has no value (not fitted)."""
+    if any(not math.isfinite(v) for v in values.values()):
+        return None
+    return float(holds)
 
 
 def _trace(config: Config, run: _Run) -> dict[str, NDArray[np.float64]]:
@@ -648,7 +679,8 @@ def experiment(config: Config, seed: int) -> dict[str, Any]:
     raw = _raw_analysis(rates, fit_means, held_means)
     dense_rates = _dense_rates(config)
     dense_out = np.array([static_output(r.unit, dense_rates, r.temperature) for r in runs[nf:]])
-    models, fit_ms = _fit_methods(config, seed, rates, fit_means)
+    models, fit_ms, fit_errors = _fit_methods(config, seed, rates, fit_means)
+    pw, bp = models["piecewise"], models["bayes_bp"]
     methods = {
         k: _score_method(est, rates, fit_means, held_means, dense_rates, dense_out)
         for k, est in models.items()
@@ -667,9 +699,10 @@ def experiment(config: Config, seed: int) -> dict[str, Any]:
         "floor_pct": _floor_kn(rates, fit_means, held_means),
         "floor_fit_pct": _floor_kn(rates, fit_means, fit_means),
         "rate_authority_dps": float(units.to_deg_per_s(mr.rate_authority(runs[0].unit))),
-        "piecewise_orders": list(models["piecewise"].orders_),
-        "continuity": _continuity(models["piecewise"], fit_means, rates),
-        "mlp": {"gamma": models["bayes_bp"].gamma_, "epochs_run": models["bayes_bp"].n_iter_},
+        "piecewise_orders": [] if pw is None else list(pw.orders_),
+        "continuity": [] if pw is None else _continuity(pw, fit_means, rates),
+        "mlp": {} if bp is None else {"gamma": bp.gamma_, "epochs_run": bp.n_iter_},
+        "fit_errors": fit_errors,
         "trace": _trace(config, runs[0]),
         "timing_ms": _eval_times_ms(models, held_means[0][:, None], config.timing_repeats),
         "fit_time_ms": fit_ms,
@@ -1055,7 +1088,7 @@ def claims_for(config: Config) -> tuple[Claim, ...]:
 
 
 # ------------------------------------------------------------------ report: tables
-def _pct(values: Sequence[float], fmt: str = ".3f") -> str:
+def _pct(values: Sequence[float], fmt: str = ".3g") -> str:
     """``"median [25th, 75th percentile]"`` of the units' values."""
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v)]
@@ -1125,9 +1158,9 @@ def _table3(units_: Sequence[Mapping[str, Any]]) -> Table:
     rows: list[list[Any]] = [
         [
             "raw (no compensation)",
-            _pct(col(lambda u: u["raw"]["raw_kn_pct_heldout"]), ".2f"),
-            _pct(col(lambda u: u["raw_kn_dense_pct"]), ".2f"),
-            _pct(col(lambda u: u["raw"]["raw_kn_pct"]), ".2f"),
+            _pct(col(lambda u: u["raw"]["raw_kn_pct_heldout"])),
+            _pct(col(lambda u: u["raw_kn_dense_pct"])),
+            _pct(col(lambda u: u["raw"]["raw_kn_pct"])),
             15.71,
             "",
             "",
@@ -1198,6 +1231,10 @@ def _table4(units_: Sequence[Mapping[str, Any]]) -> Table:
     rows = [["breakpoints found [deg/s]", v, c] for v, c in _counts(bps)]
     rows += [["method order, held-out table rates (best first)", v, c] for v, c in _counts(held)]
     rows += [["method order, dense sweep (best first)", v, c] for v, c in _counts(dense)]
+    for key in METHOD_LABELS:
+        failed = sum(key in u["fit_errors"] for u in units_)
+        if failed:
+            rows.append([f"{METHOD_LABELS[key]}: could not be fitted", "ValueError", failed])
     return Table(
         f"Table 4. What the heuristic and the ranking give over {n} unit(s)",
         ["outcome", "value", f"units (of {n})"],
@@ -1470,17 +1507,18 @@ def _conclusion(
         return ", ".join(f"{c.claim.id} ({c.holds}/{c.testable})" for c in cs) or "none"
 
     def med(f):
-        return float(np.median([f(u) for u in units_]))
+        v = np.asarray([f(u) for u in units_], dtype=float)
+        return float(np.median(v[np.isfinite(v)])) if np.any(np.isfinite(v)) else math.nan
 
     def kn(k: str, what: str) -> float:
         return med(lambda u: u["methods"][k][what])
 
     kns = ", ".join(
-        f"{METHOD_LABELS[k]} {kn(k, 'kn_heldout_pct'):.3f} % (paper {PAPER_KN_PCT[k]} %, dense "
-        f"sweep {kn(k, 'kn_dense_pct'):.3f} %)"
+        f"{METHOD_LABELS[k]} {kn(k, 'kn_heldout_pct'):.3g} % (paper {PAPER_KN_PCT[k]} %, dense "
+        f"sweep {kn(k, 'kn_dense_pct'):.3g} %)"
         for k in METHOD_LABELS
     )
-    floor = med(lambda u: float(np.nan_to_num(u["floor_pct"], nan=np.inf)))
+    floor = med(lambda u: u["floor_pct"])
     nom = device_spec(config).nominal
     sf_ppm = units.to_ppm(nom.scale_factor_repeatability)
     auth = [u["rate_authority_dps"] for u in units_]
@@ -1500,8 +1538,8 @@ def _conclusion(
         f"Emergent claims that fail for most units: {ids(by['fails'])}. Undecided: "
         f"{ids(by['other'])}. Median held-out K_n after compensation: {kns}. Median raw K_n "
         f"{med(lambda u: u['raw']['raw_kn_pct']):.3g} % (paper 15.71 %). The run-to-run "
-        f"repeatability floor of the simulated runs is {floor:.3g} % (median; inf where a "
-        "saturated plateau makes it undefined). Beyond the knee the output is flat, so no "
+        f"repeatability floor of the simulated runs is {floor:.3g} % (median over the units "
+        "where it is defined: not where a saturated plateau repeats an output). Beyond the knee the output is flat, so no "
         "compensator can recover the rate there. The dense sweep scores each fit between the "
         "21 rates it was fitted at, which the paper's table does not."
     )

@@ -222,6 +222,24 @@ def test_order_quantities(held, order, best, bp_ts):
     assert q["breakpoints_at_1800"] == 0.0
 
 
+def test_a_method_that_cannot_be_fitted_is_untestable():
+    """A None model (fit refused) gives NaN K_n and leaves the rankings untestable (None)."""
+    rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    tab = rates[None, :]
+    failed = ms._score_method(None, rates, tab, tab, rates, tab)
+    assert math.isnan(failed["kn_heldout_pct"]) and math.isnan(failed["kn_dense_pct"])
+    ok = {"kn_heldout_pct": 0.1, "kn_dense_pct": 0.1, "rms_heldout_pct": 0.1}
+    methods = {"piecewise": failed, "two_stage_poly": ok, "bayes_bp": ok}
+    raw = {"raw_kn_pct": 15.0, "raw_kn_pct_heldout": 15.0, "low_rate_kn": 1e-3,
+           "breakpoints_dps": []}
+    q = ms._quantities(raw, methods)
+    for k in ("order_as_paper", "piecewise_best", "bayes_bp_beats_two_stage",
+              "piecewise_smallest_rms", "order_as_paper_dense"):
+        assert q[k] is None, k
+    assert math.isnan(q["kn_heldout_pct.piecewise"]) and q["kn_heldout_pct.bayes_bp"] == 0.1
+    assert ms._order_label({"a": 2.0, "b": math.nan, "c": 1.0}) == "c < a (b not fitted)"
+
+
 def test_low_rate_kn_is_untestable_without_both_breakpoints():
     rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
     out = rates.copy()[None, :]  # perfectly linear: the heuristic finds no breakpoint
@@ -378,6 +396,17 @@ def test_twenty_units_every_claim_testable():
     assert [c.testable for c in claims] == [20] * len(ms.CLAIMS)
     out = ms.report(ms.Config(), units_, claims)
     assert out.results["population"]["seeds"] == list(range(20))
+
+
+@pytest.mark.slow
+def test_calibrated_variant_unit_runs_and_reports():
+    """One unit of the calibrated device: knee inside the table, raw K_n of order 10 %."""
+    cfg = ms.Config(variant="calibrated")
+    u = ms.experiment(cfg, 0)
+    assert u["rate_authority_dps"] < 3600.0 and u["variant"] == "calibrated"
+    claims = evaluate(ms.claims_for(cfg), [u["quantities"]])
+    out = ms.report(cfg, [u], claims)
+    assert "CALIBRATED" in out.conclusion and "001.raw_kn (" in out.conclusion
 
 
 @pytest.mark.slow

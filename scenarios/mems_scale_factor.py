@@ -1590,8 +1590,9 @@ def _conclusion(
         f"{ids(by['other'])}. Median held-out K_n after compensation: {kns}. Median raw K_n "
         f"{med(lambda u: u['raw']['raw_kn_pct']):.3g} % (paper 15.71 %). The run-to-run "
         f"repeatability floor of the simulated runs is {floor:.3g} % (median over the units "
-        "where it is defined: not where a saturated plateau repeats an output). Beyond the knee the output is flat, so no "
-        "compensator can recover the rate there. The dense sweep scores each fit between the "
+        "where it is defined: not where a saturated plateau repeats an output). Beyond the "
+        "knee the output is flat, so no compensator can recover the rate there. The dense "
+        "sweep scores each fit between the "
         "21 rates it was fitted at, which the paper's table does not."
     )
 

@@ -1,5 +1,10 @@
 """High-range MEMS (Coriolis vibratory) gyro: saturating scale factor, thermal terms, noise.
 
+Paper 001 (scenario ``mems_scale_factor``) no longer uses this module: it runs on the
+resonator-physics model :mod:`gyrobench.sim.mems_resonator`, whose knee is the force-rebalance
+authority. This phenomenological curve, and its defaults calibrated from paper 001 below, stay
+for user code that wants a cheap saturating MEMS output (nothing in the package imports it now).
+
 All parameters are in SI (see :mod:`gyrobench.sim.units`): rates [rad/s], temperature [K],
 acceleration [m/s^2]. Field units enter only through :meth:`MemsSpec.from_datasheet`.
 
@@ -56,9 +61,8 @@ The scale-factor repeatability defaults to 0: neither the paper nor docs/physics
 gives a value for this part, and 0 keeps the calibrated defaults and their
 simulated tables unchanged (the turn-on stream draws e_on after b_on, so b_on is
 the same whatever the repeatability). With 0, the scale factor still changes from
-run to run through temperature (s1 x the ambient spread of a scenario). The
-scenario ``mems_scale_factor`` states its effect on the paper's claims in a protocol
-deviation (measured at 0-1000 ppm).
+run to run through temperature (s1 x the ambient spread of a scenario). When
+paper 001's scenario ran on this model it measured the effect on its claims at 0-1000 ppm.
 
 References
 ----------

@@ -19,15 +19,14 @@ from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.scenarios import mems_scale_factor as ms
 from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import Claim, evaluate
+from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
-from gyrobench.sim.mems import KNEE_WIDTH_DPS, MemsSpec, MemsUnit, scale_factor_output
+from gyrobench.sim.mems_resonator import MemsResonator
 
 SMALL = ms.Config(
     rates_dps=(360.0, 0.0, -360.0),
-    dwell_s=5.0,
-    settle_s=1.0,
-    warmup_s=0.0,
-    lead_in_s=1.0,
+    average_s=5.0,
+    settle_s=0.5,
     fs_hz=50.0,
     n_fit_runs=1,
     n_heldout_runs=1,
@@ -87,21 +86,25 @@ def test_claims_are_well_formed(unit0):
             assert math.isclose(math.sqrt(c.comparator.lo * c.comparator.hi), c.paper_value)
     # every produced quantity is some claim's (no orphan numbers in 'quantities')
     assert set(unit0["quantities"]) == {c.quantity for c in ms.CLAIMS}
-    calibrated = {c.id for c in ms.CLAIMS if c.kind == "calibrated"}
-    assert calibrated == {"001.raw_kn", "001.breakpoints", "001.low_rate_kn"}
+    # the default design sets nothing from the paper: no claim is calibrated
+    assert {c.id for c in ms.CLAIMS if c.kind == "calibrated"} == set()
+    cal = ms.claims_for(ms.Config(variant="calibrated"))
+    assert {c.id for c in cal if c.kind == "calibrated"} == {"001.raw_kn"}
+    assert ms.claims_for(ms.Config()) == ms.CLAIMS
 
 
-def test_calibrated_inputs_name_the_current_sim_defaults():
-    """If sim.mems stops setting these from the paper, this fails: re-examine the claims' kinds."""
-    spec = MemsSpec()
-    text = {c.id: c.calibrated_input for c in ms.CLAIMS if c.kind == "calibrated"}
-    assert f"{KNEE_WIDTH_DPS}" in text["001.raw_kn"]
-    assert math.isclose(units.to_deg_per_s(spec.knee_width), KNEE_WIDTH_DPS)
-    assert math.isclose(units.to_deg_per_s(spec.knee_rate), 1800.0)
-    assert math.isclose(units.to_deg_per_s(spec.sign_offset), 2.0)
-    assert "knee_rate = 1800" in text["001.breakpoints"]
-    assert "sign_offset = 2" in text["001.breakpoints"]
-    assert "sign_offset = 2" in text["001.low_rate_kn"]
+def test_calibrated_inputs_name_the_current_device():
+    """The default device is the module's design (not the calibrated v_max); the variant's
+    calibrated input names the value it sets. If either changes, re-examine the claims' kinds."""
+    design = ms.device_spec(ms.Config())
+    assert design.nominal.dac_full_scale == MemsResonator().dac_full_scale
+    assert design.nominal.dac_full_scale != ms.CALIBRATED_V_MAX_V
+    cal = ms.device_spec(ms.Config(variant="calibrated"))
+    assert cal.nominal.dac_full_scale == ms.CALIBRATED_V_MAX_V
+    assert f"{ms.CALIBRATED_V_MAX_V} V" in ms.CALIBRATED_INPUT
+    assert dataclasses.replace(cal.nominal, dac_full_scale=design.nominal.dac_full_scale) == (
+        design.nominal
+    )  # the variant changes v_max only
 
 
 def test_deviations_are_complete_records():
@@ -141,10 +144,11 @@ def test_report_builds_tables_and_figures(outcome):
     t1, t2, t3, t4 = outcome.tables
     assert len(t1.rows) == 21 and len(t2.rows) == 20 and len(t3.rows) == 5
     assert t3.rows[-1][0].startswith("interpolation through the fit-run means")
+    joins = ["fig4_continuity"] if outcome.results["unit0"]["raw"]["breakpoints_dps"] else []
     assert [f.name for f in outcome.figures] == [
         "fig2_raw_output",
         "fig3_input_output",
-        "fig4_continuity",
+        *joins,
         "fig5_compensated",
         "fig6_nonlinearity",
         "fig7_dense_sweep",
@@ -155,7 +159,8 @@ def test_report_builds_tables_and_figures(outcome):
     assert (
         r["unit0"]["raw"]["breakpoints_dps"] == outcome.results["unit0"]["raw"]["breakpoints_dps"]
     )
-    assert "0 ppm" in outcome.conclusion  # the default repeatability is said, not hidden
+    assert "1000 ppm" in outcome.conclusion  # the device's repeatability is said, not hidden
+    assert "'design' variant" in outcome.conclusion
 
 
 def test_report_conclusion_lists_every_claim(outcome):
@@ -217,6 +222,24 @@ def test_order_quantities(held, order, best, bp_ts):
     assert q["breakpoints_at_1800"] == 0.0
 
 
+def test_a_method_that_cannot_be_fitted_is_untestable():
+    """A None model (fit refused) gives NaN K_n and leaves the rankings untestable (None)."""
+    rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    tab = rates[None, :]
+    failed = ms._score_method(None, rates, tab, tab, rates, tab)
+    assert math.isnan(failed["kn_heldout_pct"]) and math.isnan(failed["kn_dense_pct"])
+    ok = {"kn_heldout_pct": 0.1, "kn_dense_pct": 0.1, "rms_heldout_pct": 0.1}
+    methods = {"piecewise": failed, "two_stage_poly": ok, "bayes_bp": ok}
+    raw = {"raw_kn_pct": 15.0, "raw_kn_pct_heldout": 15.0, "low_rate_kn": 1e-3,
+           "breakpoints_dps": []}
+    q = ms._quantities(raw, methods)
+    for k in ("order_as_paper", "piecewise_best", "bayes_bp_beats_two_stage",
+              "piecewise_smallest_rms", "order_as_paper_dense"):
+        assert q[k] is None, k
+    assert math.isnan(q["kn_heldout_pct.piecewise"]) and q["kn_heldout_pct.bayes_bp"] == 0.1
+    assert ms._order_label({"a": 2.0, "b": math.nan, "c": 1.0}) == "c < a (b not fitted)"
+
+
 def test_low_rate_kn_is_untestable_without_both_breakpoints():
     rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
     out = rates.copy()[None, :]  # perfectly linear: the heuristic finds no breakpoint
@@ -230,17 +253,26 @@ def test_dense_rates_cover_the_table():
     np.testing.assert_allclose(np.diff(d), 10.0)
 
 
-def test_static_curve_closed_form():
-    """Noise-free mean output = F_sf(W, T) + b0 + b_on + b1 dT + b2 dT^2 + bg g (no quantizer)."""
-    spec = MemsSpec()
-    unit = MemsUnit(spec=spec, turn_on_bias=units.deg_per_s(0.03), scale_factor_error=2e-4)
-    temp = spec.reference_temperature + 3.0
-    w = np.array([-3600.0, -1000.0, 0.0, 0.5, 1000.0, 3600.0])
-    dt = temp - spec.reference_temperature
-    bias = spec.bias + unit.turn_on_bias + spec.bias_tc * dt + spec.bias_tc2 * dt**2
-    expected = scale_factor_output(unit, units.deg_per_s(w), temp) + bias
-    expected = units.to_deg_per_s(expected + spec.g_sensitivity * units.G0)
-    np.testing.assert_allclose(ms.static_curve(unit, w, temp), expected, rtol=1e-13, atol=1e-12)
+def test_static_output_closed_form():
+    """Noise-free settled output = SF W + ZRO below the authority, saturated_output beyond it."""
+    base = ms.draw_unit(ms.device_spec(ms.Config(variant="calibrated")), 3)
+    unit = dataclasses.replace(
+        base, turn_on_bias=units.deg_per_s(0.07), turn_on_scale_factor=-8e-4
+    )
+    temp = unit.reference_temperature + 3.0
+    auth = units.to_deg_per_s(mr.rate_authority(unit, temp))
+    assert 1000.0 < auth < 3600.0  # the case tests both branches
+    w = np.array([-3600.0, -1000.0, 0.0, 0.1, 1000.0, 3600.0])
+    got = ms.static_output(unit, w, temp)
+    lin = np.abs(w) <= auth
+    sf, zro = mr.low_rate_scale_factor(unit, temp), mr.zero_rate_output(unit, temp)
+    expected = units.to_deg_per_s(sf * units.deg_per_s(w[lin]) + zro)
+    # linear columns start at their equilibrium: exact to rounding
+    np.testing.assert_allclose(got[lin], expected, rtol=1e-12, atol=1e-9)
+    sat = [units.to_deg_per_s(mr.saturated_output(unit, units.deg_per_s(x), temp))
+           for x in w[~lin]]
+    # saturated columns settle with the loop poles (|Re| >= ~2 pi 30 Hz over 0.9 s)
+    np.testing.assert_allclose(got[~lin], sat, rtol=1e-9)
 
 
 def test_heldout_table_is_what_the_bench_scores(unit0):
@@ -269,33 +301,43 @@ def test_repeatability_floor_rejects_non_increasing_means():
 
 
 # ------------------------------------------------------------------ simulation and task
-def test_simulate_records_truth_that_sums_to_the_output():
+def test_simulate_records_the_table_and_its_dwells():
     recs = ms.simulate(SMALL, 5)
     assert [r.metadata["role"] for r in recs] == ["fit", "heldout"]
+    n = int(round(5.5 * 50))
     for rec in recs:
-        total = rec["truth/true_rate"] + sum(
-            c.data for k, c in rec.truth.items() if k != "true_rate"
-        )
-        np.testing.assert_allclose(total, rec["rate"], rtol=1e-12, atol=1e-15)
         np.testing.assert_array_equal(rec["table_rate"], rec["truth/true_rate"])
+        assert rec["rate"].shape == (3 * n,)
+        np.testing.assert_array_equal(
+            rec["table_rate"], units.deg_per_s(np.repeat([360.0, 0.0, -360.0], n))
+        )
     m = ms.rate_means(recs[0])
-    # linear range: output = rate + bias + sign offset + g-sensitivity + noise, a few deg/s at most
-    assert m.shape == (3,) and np.all(np.abs(m - np.array([360.0, 0.0, -360.0])) < 5.0)
-    windows = np.array(recs[0].metadata["windows_s"])
-    assert np.all(windows[:, 1] <= recs[0].time[-1])
+    # design device, linear range: output = rate (1 + e_on) + turn-on bias + noise
+    on = recs[0].metadata
+    expected = np.array([360.0, 0.0, -360.0]) * (1 + 1e-6 * on["scale_factor_error_ppm"])
+    assert m.shape == (3,) and np.all(np.abs(m - expected - on["turn_on_bias_dps"]) < 0.5)
+    assert recs[0].metadata["windows_samples"][1] == [n + 25, 2 * n]
 
 
 def test_simulate_is_reproducible_and_runs_differ():
     a, b = ms.simulate(SMALL, 11), ms.simulate(SMALL, 11)
     np.testing.assert_array_equal(a[0]["rate"], b[0]["rate"])
-    assert a[0].metadata["turn_on_bias_dps"] != a[1].metadata["turn_on_bias_dps"]
-    assert a[0].metadata["scale_factor_error_ppm"] == 0.0  # default gyro: no turn-on SF scatter
+    for key in ("turn_on_bias_dps", "scale_factor_error_ppm", "die_temperature_c"):
+        assert a[0].metadata[key] != a[1].metadata[key], key  # each run its own power-on
     c = ms.simulate(SMALL, 12)
-    assert c[0].metadata["turn_on_bias_dps"] != a[0].metadata["turn_on_bias_dps"]
+    assert c[0].metadata["rate_authority_dps"] != a[0].metadata["rate_authority_dps"]  # units
+
+
+def test_experiment_means_are_the_records_means():
+    """experiment/compensation_task and simulate see the same runs for a seed."""
+    task = ms.compensation_task(SMALL, 4)
+    recs = ms.simulate(SMALL, 4)
+    np.testing.assert_allclose(task.X_train[:, 0], ms.rate_means(recs[0]), rtol=1e-12)
+    np.testing.assert_allclose(task.heldout[0].output, ms.rate_means(recs[1]), rtol=1e-12)
 
 
 def test_compensation_task():
-    cfg = dataclasses.replace(ms.Config(), dwell_s=20.0, settle_s=5.0, warmup_s=600.0)
+    cfg = dataclasses.replace(ms.Config(), average_s=20.0)
     task = ms.compensation_task(cfg, 3)
     assert task.X_train.shape == (63, 1) and task.y_train.shape == (63,)
     assert task.target == "rate" and task.unit == "deg/s" and len(task.heldout) == 1
@@ -304,13 +346,15 @@ def test_compensation_task():
     raw = task.scorer(run.output, run)["nonlinearity_pct"]
     model = PiecewisePolynomial().fit(task.X_train, task.y_train)
     comp = task.scorer(task.compensate(model.predict(run.X), run), run)["nonlinearity_pct"]
-    assert 0 < comp < raw
+    assert comp >= 0 and math.isfinite(comp) and raw > 0
 
 
 def test_one_fit_run_is_too_few_for_order_9():
-    cfg = dataclasses.replace(ms.Config(), dwell_s=12.0, settle_s=2.0, warmup_s=0.0, n_fit_runs=1)
-    with pytest.raises(ValueError, match="order 9 needs at least 10 distinct inputs; got 6"):
-        ms.experiment(cfg, 0)
+    """With breakpoints given, a 9th-order side on one run's few rates is refused."""
+    x = np.arange(3600.0, -3601.0, -360.0)
+    model = PiecewisePolynomial(breakpoints=(-1800.0, 1800.0))
+    with pytest.raises(ValueError, match="order 9 needs at least 10 distinct inputs"):
+        model.fit(x[:, None], x)
 
 
 # ------------------------------------------------------------------ bad config
@@ -321,7 +365,10 @@ def test_one_fit_run_is_too_few_for_order_9():
         ({"rates_dps": (0.0, 2.0, 1.0)}, "strictly monotonic"),
         ({"rates_dps": (2.0, 1.0, 1.0, 0.0)}, "strictly monotonic without duplicates"),
         ({"rates_dps": (2.0, float("nan"), 0.0)}, "finite rates"),
-        ({"settle_s": 100.0}, "settle_s must be < dwell_s"),
+        ({"settle_s": -1.0}, "settle_s must be finite and >= 0"),
+        ({"average_s": 0.0}, "average_s must be > 0 s; got 0.0"),
+        ({"average_s": 0.001}, "average_s must cover at least one sample"),
+        ({"variant": "tuned"}, "variant must be one of"),
         ({"fs_hz": 0.0}, "fs_hz must be > 0 Hz"),
         ({"dense_step_dps": 0.0}, "dense_step_dps must be > 0 deg/s; got 0.0"),
         ({"n_fit_runs": 0}, "n_fit_runs must be an integer >= 1"),
@@ -336,30 +383,51 @@ def test_config_rejects(kw, msg):
 
 
 def test_config_rejects_wrong_gyro_type():
-    with pytest.raises(TypeError, match="Config.gyro must be a MemsSpec"):
+    with pytest.raises(TypeError, match="Config.gyro must be a MemsResonatorSpec"):
         ms.Config(gyro={"knee_rate": 1.0})
 
 
 # ------------------------------------------------------------------ population (slow tier)
 @pytest.mark.slow
 def test_twenty_units_every_claim_testable():
-    """The runner's three lines over 20 units: every claim is testable on every unit."""
+    """The runner's three lines over 20 units: every claim is testable on every unit, except the
+    low-rate K_n, testable exactly where the heuristic found both breakpoints."""
     units_ = [ms.experiment(ms.Config(), s) for s in range(20)]
     claims = evaluate(ms.CLAIMS, [u["quantities"] for u in units_])
-    assert [c.testable for c in claims] == [20] * len(ms.CLAIMS)
+    both = sum(len(u["raw"]["breakpoints_dps"]) == 2 for u in units_)
+    expected = [both if c.id == "001.low_rate_kn" else 20 for c in ms.CLAIMS]
+    assert [c.testable for c in claims] == expected
     out = ms.report(ms.Config(), units_, claims)
     assert out.results["population"]["seeds"] == list(range(20))
 
 
 @pytest.mark.slow
+def test_calibrated_variant_unit_runs_and_reports():
+    """One unit of the calibrated device: knee inside the table, raw K_n of order 10 %."""
+    cfg = ms.Config(variant="calibrated")
+    u = ms.experiment(cfg, 0)
+    assert u["rate_authority_dps"] < 3600.0 and u["variant"] == "calibrated"
+    claims = evaluate(ms.claims_for(cfg), [u["quantities"]])
+    out = ms.report(cfg, [u], claims)
+    assert "CALIBRATED" in out.conclusion and "001.raw_kn (" in out.conclusion
+
+
+@pytest.mark.slow
+def test_calibrated_v_max_reproduces_the_constant():
+    """CALIBRATED_V_MAX_V is what calibrated_v_max() solves for (brentq xtol 1e-5 V)."""
+    assert abs(ms.calibrated_v_max() - ms.CALIBRATED_V_MAX_V) < 2e-5
+
+
+@pytest.mark.slow
 def test_deviation_effects_measures_every_variant(unit0):
     """The function behind the DEVIATIONS' numbers: its default row is the experiment's."""
-    d = ms.deviation_effects(seeds=(0,))
-    assert set(d) == set(ms._variants(ms.Config()))
+    names = ("default", "piecewise_alpha_0", "join_width_0.02", "join_width_0.10")
+    d = ms.deviation_effects(seeds=(0,), names=names)
+    assert set(d) == set(names) and set(names) <= set(ms._variants(ms.Config()))
     for k in ms.METHOD_LABELS:
         assert d["default"][f"kn_heldout_pct.{k}"] == unit0["methods"][k]["kn_heldout_pct"]
         assert d["default"][f"kn_dense_pct.{k}"] == unit0["methods"][k]["kn_dense_pct"]
-    assert d["default"]["floor_pct"] == unit0["floor_pct"]
+    assert d["default"]["floor_pct"] == unit0["floor_pct"] or math.isnan(unit0["floor_pct"])
     # common random numbers: the piecewise-only variants leave the other methods unchanged
     for name in ("piecewise_alpha_0", "join_width_0.02", "join_width_0.10"):
         assert d[name]["kn_heldout_pct.bayes_bp"] == d["default"]["kn_heldout_pct.bayes_bp"]

@@ -48,16 +48,22 @@ checked numerically there).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from numbers import Integral, Real
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gyrobench.sim.earth import BEIJING, sensed_earth_rate
+from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog import sagnac_scale_factor
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.shaker import ShakerSignal
 
-__all__ = ["LoopSpec", "LoopRun", "run_loop", "gain_error_scale_factor"]
+__all__ = ["LoopSpec", "LoopRun", "run_loop", "gain_error_scale_factor", "loop_average", "ClosedLoopFOG"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -208,12 +214,24 @@ class LoopSpec:
         """c = sum_l |l| r_h(l), r_h the autocorrelation of h [transits].
 
         A block sum of M transits of H-filtered white noise (per-transit variance s^2) has
-        variance s^2 (M - c) and lag-1 covariance s^2 c/2 (exact for M > memory of h).
+        variance s^2 (M - c) and lag-1 covariance s^2 c/2 when M exceeds the loop's memory
+        (:meth:`block_noise_moments` gives the exact values for any M).
         """
         h = self.impulse_response()
         r = np.correlate(h, h, mode="full")
         lag = np.arange(-(len(h) - 1), len(h))
         return float(np.sum(np.abs(lag) * r))
+
+    def block_noise_moments(self, m: int) -> tuple[float, float]:
+        """Exact (variance, lag-1 covariance) of block sums of M transits of H-filtered unit
+        white noise: sum_{|l|<M} (M - |l|) r(l) and sum_{l=1}^{2M-1} min(l, 2M - l) r(l)."""
+        h = self.impulse_response()
+        r = np.correlate(h, h, mode="full")
+        lag = np.arange(-(len(h) - 1), len(h))
+        al = np.abs(lag)
+        var = float(np.sum(np.where(al < m, m - al, 0) * r))
+        cov = float(np.sum(np.where((lag >= 1) & (lag <= 2 * m - 1), np.minimum(lag, 2 * m - lag), 0) * r))
+        return var, cov
 
     def noise_phase_psd(self, optics: OpticalBudget) -> float:
         """One-sided equivalent phase-noise PSD of the budget at this loop's bias [rad^2/Hz]."""
@@ -392,3 +410,338 @@ def run_loop(
     rate = -(out_delta.reshape(-1, m).sum(axis=1)) * tau / spec.scale_factor / (m * tau)
     return LoopRun(fs=1.0 / (m * tau), rate=rate, delta=out_delta, resets=out_reset, dac_gain=out_g2)
 
+
+
+# ============================================================================ the unit
+def _default_modes() -> tuple[StrainMode, ...]:
+    # Assumed values (unverified; no paper number used). Sizes chosen so that the largest
+    # strain tone at 2 g is a few deg/h at the pigtail resonance, the order vibration tests of
+    # navigation-grade FOGs report, and the coil mode adds ~0.1 deg/h at 500 Hz: axial strain
+    # of the core is small because bending strain vanishes on the fibre's neutral axis.
+    # - coil mode 1.2 kHz, Q 15: 2e-12 strain per m/s^2 with 1e-3 of the linear-ramp weight
+    #   L^2/6 left after the quadrupolar winding;
+    # - pigtail 300 Hz, Q 30: 0.5 m at the coil end (W = l (L - l)), 3e-12 strain per m/s^2,
+    #   microbending loss 1e-6 per m/s^2;
+    # - fixture mode 900 Hz, Q 10: rocking 1e-8 rad per m/s^2 about the sense axis (true rate).
+    length = 1000.0
+    return (
+        StrainMode(frequency=1200.0, quality=15.0, strain=2e-12, weight=1e-3 * length**2 / 6),
+        StrainMode(
+            frequency=300.0,
+            quality=30.0,
+            strain=3e-12,
+            weight=segment_weight(0.0, 0.5, length),
+            loss=1e-6,
+        ),
+        StrainMode(frequency=900.0, quality=10.0, rocking=1e-8),
+    )
+
+
+def loop_average(
+    spectrum: NDArray[np.complex128], n_phys: int, fs_phys: float, fs: float, loop: LoopSpec | None
+) -> NDArray[np.float64]:
+    """Output-rate samples of a physics-rate signal given by its rfft ``spectrum``.
+
+    Applies the loop's H(e^{j 2 pi f tau}) (``loop`` None: no loop) and the integrate-and-dump
+    average over T_o = 1/fs (sinc(f T_o)), and samples at the block centres
+    t_j = (j + 1/2) T_o: exact for the periodic band-limited record. ``fs_phys`` must be an
+    even integer multiple of ``fs``.
+    """
+    m = int(round(fs_phys / fs))
+    if m < 2 or m % 2 or abs(m * fs - fs_phys) > 1e-9 * fs_phys or n_phys % m:
+        raise ValueError(
+            f"physics rate must be an even integer multiple of fs = {fs!r} Hz with whole blocks; "
+            f"got {fs_phys!r} Hz, {n_phys} samples"
+        )
+    f = np.fft.rfftfreq(n_phys, 1.0 / fs_phys)
+    x = spectrum * np.sinc(f / fs)
+    if loop is not None:
+        x = x * loop.transfer(f)
+    return np.fft.irfft(x, n_phys)[np.arange(n_phys // m) * m + m // 2]
+
+
+def _profile(name: str, v, t: NDArray[np.float64], default: float) -> NDArray[np.float64]:
+    if v is None:
+        return np.full(len(t), default)
+    if callable(v):
+        out = np.asarray(v(t), dtype=float).reshape(len(t))
+    elif isinstance(v, Real) and not isinstance(v, bool):
+        out = np.full(len(t), float(v))
+    else:
+        raise TypeError(f"{name} must be a number or a callable of time [s]; got {type(v).__name__}")
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{name} must be finite")
+    return out
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClosedLoopFOG:
+    """One closed-loop IFOG unit in its reduced (output-rate) form, for long records.
+
+    Parameters
+    ----------
+    loop : LoopSpec
+        Coil, modulation and loop.
+    optics : OpticalBudget
+        Source, losses, detector: the white (ARW) noise.
+    noise : NoiseModel
+        Additive IEEE-952 terms for what the optics do not produce (bias, B, K, R, Q);
+        default none.
+    diameter_tempco : float
+        alpha_D, hoop expansion of the mean winding diameter [1/K] (Al spool pack ~15 ppm/K,
+        PHYSICS-models.md 1.6, derived from assumed pack properties; unverified).
+    wavelength_tempco : float
+        (1/lambda) dlambda/dT of the source mean wavelength [1/K] (Er ASE unstabilised, a few
+        ppm/K; unverified).
+    reference_temperature : float
+        Temperature at which SF = SF0 [K].
+    modes : tuple of StrainMode
+        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults typical, unverified.
+    index : float
+        Phase index n of the fibre for the strain term [-].
+    latitude, azimuth, elevation : float
+        Site latitude and sense-axis azimuth (from north, toward east) and elevation [rad]
+        (:func:`gyrobench.sim.earth.sensed_earth_rate`); default horizontal north at Beijing.
+
+    Notes
+    -----
+    Reduced form (output period T_o = 1/fs, M = T_o/tau transits per sample):
+
+    * slow inputs (table rate, Earth rate) are evaluated at the block centres and pass with
+      H(0) = 1; the loop's delay (d tau ~ 5 us) moves an angle Omega d tau between blocks,
+      neglected;
+    * scale factor: output = Omega SF(T)/SF0 with SF ~ N D^2 / lambda:
+      SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_source); with the V_2pi loop
+      on, its settled state (gain error 0); off, :func:`gain_error_scale_factor`;
+    * vibration: on the shaker's physics-rate grid (an even integer multiple of fs), in the
+      frequency domain (exact for the sampled, band-limited record, circular): modal response,
+      strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
+      loop residual (1 - H) phi, rectification -m(t) phi_res(t)/SF0 (intensity-phase
+      correlation, PHYSICS-models.md 2.4b) passed through H, then the integrate-and-dump
+      average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
+      electronics' decimation does it;
+    * optical white noise: block sums of the H-filtered per-transit phase noise, an MA(1)
+      with variance s^2 (M - c) and lag-1 covariance s^2 c/2 (c from
+      :meth:`LoopSpec.block_noise_correction`; s^2 = S_phi/(2 tau) (tau/SF0)^2): the full
+      loop's second-order statistics exactly (M > loop memory); ARW = sqrt(S_phi/2)/SF0.
+    """
+
+    loop: LoopSpec = field(default_factory=LoopSpec)
+    optics: OpticalBudget = field(default_factory=OpticalBudget)
+    noise: NoiseModel = field(default_factory=NoiseModel)
+    diameter_tempco: float = 15e-6
+    wavelength_tempco: float = 5e-6
+    reference_temperature: float = 293.15
+    modes: tuple[StrainMode, ...] = field(default_factory=_default_modes)
+    index: float = 1.46
+    latitude: float = BEIJING.latitude
+    azimuth: float = 0.0
+    elevation: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, kind in (("loop", LoopSpec), ("optics", OpticalBudget), ("noise", NoiseModel)):
+            if not isinstance(getattr(self, name), kind):
+                raise TypeError(f"ClosedLoopFOG.{name} must be a {kind.__name__}; got {type(getattr(self, name)).__name__}")
+        if not all(isinstance(m, StrainMode) for m in self.modes):
+            raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
+        for name in ("diameter_tempco", "wavelength_tempco"):
+            _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
+        _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
+        _real("ClosedLoopFOG", "index", self.index, "-", 1.0)
+        _real("ClosedLoopFOG", "latitude", self.latitude, "rad", -math.pi / 2 - 1e-15, math.pi / 2 + 1e-15)
+        _real("ClosedLoopFOG", "azimuth", self.azimuth, "rad", -1e3, 1e3)
+        _real("ClosedLoopFOG", "elevation", self.elevation, "rad", -1e3, 1e3)
+
+    @property
+    def scale_factor(self) -> float:
+        """SF0 [s]."""
+        return self.loop.scale_factor
+
+    @property
+    def earth_rate(self) -> float:
+        """Earth-rate component along the sense axis [rad/s]."""
+        return float(sensed_earth_rate(self.latitude, azimuth=self.azimuth, elevation=self.elevation))
+
+    @property
+    def arw(self) -> float:
+        """Angle random walk of the optical budget [rad/sqrt(s)]."""
+        return self.loop.arw(self.optics)
+
+    @property
+    def scale_factor_tempco(self) -> float:
+        """(1/SF) dSF/dT = 2 alpha_D - (1/lambda) dlambda/dT [1/K] (coil and source together)."""
+        return 2.0 * self.diameter_tempco - self.wavelength_tempco
+
+    def scale_factor_ratio(self, coil_temperature: ArrayLike, source_temperature: ArrayLike) -> NDArray[np.float64]:
+        """SF(T)/SF0 = (1 + alpha_D dT_c)^2 / (1 + alpha_lambda dT_s) [-]."""
+        dc = np.asarray(coil_temperature, dtype=float) - self.reference_temperature
+        ds = np.asarray(source_temperature, dtype=float) - self.reference_temperature
+        return (1.0 + self.diameter_tempco * dc) ** 2 / (1.0 + self.wavelength_tempco * ds)
+
+    def strain_coefficient(self) -> float:
+        """K = n_g n xi/(L D) [1/m^2] (:func:`gyrobench.sim.fiber_strain.strain_rate_coefficient`)."""
+        lp = self.loop
+        return strain_rate_coefficient(lp.length, lp.diameter, lp.group_index, self.index)
+
+    def vibration_spectra(self, f: ArrayLike) -> dict[str, NDArray[np.complex128]]:
+        """Per unit table acceleration at ``f`` [Hz]: strain rate error, rocking rate [rad/s per
+        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop)."""
+        f = np.asarray(f, dtype=float)
+        jw = 2j * np.pi * f
+        k = self.strain_coefficient()
+        z = np.zeros(f.shape, dtype=np.complex128)
+        out = {"strain": z.copy(), "rocking": z.copy(), "loss": z.copy()}
+        for m in self.modes:
+            h = m.response(f)
+            out["strain"] += k * m.strain * m.weight * jw * h
+            out["rocking"] += m.rocking * jw * h
+            out["loss"] += m.loss * h
+        return out
+
+    def simulate(
+        self,
+        duration: float,
+        fs: float,
+        *,
+        rng: np.random.Generator,
+        true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
+        shaker: ShakerSignal | None = None,
+        coil_temperature: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
+        source_temperature: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
+        t0: float = 0.0,
+        name: str = "fog_loop",
+        metadata: dict | None = None,
+    ) -> Recording:
+        """A record at output rate ``fs`` [Hz] of ``duration`` [s] (reduced form; class Notes).
+
+        Parameters
+        ----------
+        true_rate : float or callable
+            Table rate about the sense axis [rad/s] (the Earth's rate is added).
+        shaker : ShakerSignal, optional
+            Table acceleration at a physics rate that is an even multiple of ``fs``, covering
+            the record (``round(duration * shaker.fs)`` samples from ``t0``).
+        coil_temperature, source_temperature : float or callable, optional
+            [K]; default the reference temperature (no scale-factor change).
+        rng : numpy.random.Generator
+            Two child streams: optical noise, IEEE-952 terms.
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
+        dur = _real("simulate", "duration", duration, "s", 0.0)
+        fs = _real("simulate", "fs", fs, "Hz", 0.0)
+        n = int(math.floor(dur * fs + 1e-9))
+        if n < 2:
+            raise ValueError(f"duration * fs must give >= 2 samples; got {dur!r} s at {fs!r} Hz")
+        lp = self.loop
+        sf0 = lp.scale_factor
+        tau = lp.transit_time
+        t_o = 1.0 / fs
+        if t_o < 100 * tau:
+            raise ValueError(f"fs must be <= 1/(100 tau) = {1 / (100 * tau):.6g} Hz for the reduced form; got {fs!r}")
+        tc = t0 + (np.arange(n) + 0.5) * t_o
+        omega_table = _profile("true_rate", true_rate, tc, 0.0)
+        earth = np.full(n, self.earth_rate)
+        r_t = self.scale_factor_ratio(
+            _profile("coil_temperature", coil_temperature, tc, self.reference_temperature),
+            _profile("source_temperature", source_temperature, tc, self.reference_temperature),
+        )
+        slow = omega_table + earth
+        if lp.gain_loop or lp.modulator_gain_error == 0.0:
+            r_g = np.ones(n)
+        else:
+            r_g = gain_error_scale_factor(sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking)
+        vib = self._vibration(shaker, n, fs, t0) if shaker is not None else None
+        zeros = np.zeros(n)
+        rock_true = vib["rock_true"] if vib else zeros
+        rock_out = vib["rock_out"] if vib else zeros
+        strain = vib["strain"] if vib else zeros
+        rect = vib["rect"] if vib else zeros
+        rng_opt, rng_ieee = rng.spawn(2)
+        optical = self._optical_noise(n, fs, rng_opt)
+        ieee = self.noise.generate(n, fs, rng=rng_ieee, t0=t0)
+        true = slow + rock_true
+        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0)
+        loop_err = rock_out - rock_true
+        output = true + sf_err + loop_err + strain + rect + optical + ieee
+        rs = "rad/s"
+        truth = {
+            "rate": Channel(true, rs, "true rate about the sense axis (table + Earth + rocking), block mean"),
+            "table_rate": Channel(omega_table, rs, "table rate"),
+            "earth_rate": Channel(earth, rs, "Earth-rate component along the sense axis"),
+            "rocking_rate": Channel(rock_true, rs, "fixture rocking about the sense axis (true rate)"),
+            "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T) SF(eps)/SF0 - 1)"),
+            "loop_error": Channel(loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"),
+            "strain_nonreciprocity": Channel(strain, rs, "strain-rate nonreciprocity (L - 2z kernel) through the loop"),
+            "rectification": Channel(rect, rs, "intensity-phase correlation -m phi_res/SF0 through the loop"),
+            "optical_noise": Channel(optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"),
+            "ieee_noise": Channel(ieee, rs, "additive IEEE-952 terms (NoiseModel, incl. its bias)"),
+        }
+        channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
+        if shaker is not None:
+            m = int(round(shaker.fs / fs))
+            freq = shaker.frequency[: n * m].reshape(n, m)[:, m // 2]  # at the block centre
+            channels["vibration_frequency"] = Channel(freq, "Hz", "shaker drive frequency (controller log; NaN when off)")
+            channels["vibration_amplitude"] = Channel(shaker.amplitude[: n * m].reshape(n, m)[:, m // 2], "m/s^2", "shaker acceleration envelope")
+        meta = {
+            "model": "gyrobench.sim.fog_loop.ClosedLoopFOG (reduced form)",
+            "scale_factor_s": sf0,
+            "transit_time_s": tau,
+            "loop_gain": lp.loop_gain,
+            "loop_bandwidth_hz": lp.bandwidth(),
+            "arw_rad_per_sqrt_s": self.arw,
+            "earth_rate_rad_per_s": self.earth_rate,
+            "latitude_rad": self.latitude,
+            "package_version": package_version(),
+            **(metadata or {}),
+        }
+        return Recording(fs=fs, channels=channels, truth=truth, t0=float(t0), metadata=meta, name=name)
+
+    def _optical_noise(self, n: int, fs: float, rng: np.random.Generator) -> NDArray[np.float64]:
+        lp = self.loop
+        tau = lp.transit_time
+        m = 1.0 / (fs * tau)
+        c = lp.block_noise_correction()
+        s_phi = lp.noise_phase_psd(self.optics)
+        sigma = math.sqrt(s_phi / (2.0 * tau)) * tau / lp.scale_factor  # per-transit angle [rad]
+        a = (math.sqrt(m) + math.sqrt(m - 2 * c)) / 2
+        b = (math.sqrt(m) - math.sqrt(m - 2 * c)) / 2
+        e = rng.standard_normal(n + 1)
+        return sigma * (a * e[1:] + b * e[:-1]) * fs
+
+    def _vibration(self, shaker: ShakerSignal, n: int, fs: float, t0: float) -> dict[str, NDArray[np.float64]]:
+        if not isinstance(shaker, ShakerSignal):
+            raise TypeError(f"shaker must be a sim.shaker.ShakerSignal; got {type(shaker).__name__}")
+        m = int(round(shaker.fs / fs))
+        if m < 2 or m % 2 or abs(m * fs - shaker.fs) > 1e-9 * shaker.fs:
+            raise ValueError(f"shaker.fs must be an even integer multiple of fs = {fs!r} Hz; got {shaker.fs!r} Hz")
+        if len(shaker.acceleration) < n * m or abs(shaker.t0 - t0) > 0.5 / shaker.fs:
+            raise ValueError(
+                f"shaker must cover the record: >= {n * m} samples from t0 = {t0!r} s; "
+                f"got {len(shaker.acceleration)} from {shaker.t0!r} s"
+            )
+        a = shaker.acceleration[: n * m]
+        nn = n * m
+        f = np.fft.rfftfreq(nn, 1.0 / shaker.fs)
+        spec = self.vibration_spectra(f)
+        big_a = np.fft.rfft(a)
+        h = self.loop.transfer(f)
+        sf0 = self.loop.scale_factor
+
+        def out(x: NDArray[np.complex128], through_loop: bool = True) -> NDArray[np.float64]:
+            return loop_average(x, nn, shaker.fs, fs, self.loop if through_loop else None)
+
+        u_rock = spec["rocking"] * big_a
+        u_strain = spec["strain"] * big_a
+        res = {
+            "rock_true": out(u_rock, through_loop=False),
+            "rock_out": out(u_rock),
+            "strain": out(u_strain),
+        }
+        if any(md.loss for md in self.modes):
+            phi_res = sf0 * np.fft.irfft((1.0 - h) * (u_rock + u_strain), nn)
+            loss = np.fft.irfft(spec["loss"] * big_a, nn)
+            res["rect"] = out(np.fft.rfft(-loss * phi_res / sf0))
+        else:
+            res["rect"] = np.zeros(n)
+        return res

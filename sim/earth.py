@@ -30,9 +30,8 @@ from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "EARTH_RATE",
@@ -69,8 +68,10 @@ class Site:
 
     def __post_init__(self) -> None:
         v = self.latitude
-        if isinstance(v, bool) or not isinstance(v, Real) or not (
-            math.isfinite(v) and abs(v) <= math.pi / 2
+        if (
+            isinstance(v, bool)
+            or not isinstance(v, Real)
+            or not (math.isfinite(v) and abs(v) <= math.pi / 2)
         ):
             raise ValueError(f"Site.latitude must be finite in [-pi/2, pi/2] rad; got {v!r}")
 

@@ -60,7 +60,9 @@ __all__ = [
 ]
 
 
-def elasto_optic_factor(n: float = 1.46, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17) -> float:
+def elasto_optic_factor(
+    n: float = 1.46, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17
+) -> float:
     """xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] [-] (optical path change per unit axial strain / n).
 
     >>> round(elasto_optic_factor(), 3)
@@ -83,7 +85,12 @@ def segment_weight(z0: float, length: float, fibre_length: float) -> float:
     return length * (fibre_length - 2.0 * z0 - length)
 
 
-def shape_weight(shape: Callable[[NDArray[np.float64]], NDArray[np.float64]], fibre_length: float, *, n: int = 200001) -> float:
+def shape_weight(
+    shape: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+    fibre_length: float,
+    *,
+    n: int = 200001,
+) -> float:
     """W = int_0^L psi(z) (L - 2z) dz [m^2] (composite Simpson rule on n points, n odd)."""
     from scipy.integrate import simpson
 
@@ -93,7 +100,13 @@ def shape_weight(shape: Callable[[NDArray[np.float64]], NDArray[np.float64]], fi
     return float(simpson(np.asarray(shape(z), dtype=float) * (fibre_length - 2.0 * z), x=z))
 
 
-def strain_rate_coefficient(length: float, diameter: float, group_index: float, index: float = 1.46, xi: float = ELASTO_OPTIC_FACTOR) -> float:
+def strain_rate_coefficient(
+    length: float,
+    diameter: float,
+    group_index: float,
+    index: float = 1.46,
+    xi: float = ELASTO_OPTIC_FACTOR,
+) -> float:
     """K = n_g n xi / (L D) [1/m^2]: Omega_eps = K int eps_dot (L - 2z) dz."""
     return group_index * index * xi / (length * diameter)
 
@@ -114,9 +127,8 @@ def exact_strain_phase(
     dphi(t) = k0 n xi int_0^L [eps(z, t - (L - z)/v) - eps(z, t - z/v)] dz (Simpson in z),
     with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row).
     """
-    from scipy.integrate import simpson
-
     from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
+    from scipy.integrate import simpson
 
     v = SPEED_OF_LIGHT / group_index
     k0 = 2.0 * math.pi / wavelength
@@ -131,7 +143,9 @@ def _real(owner: str, name: str, v: object, unit: str, *, positive: bool = False
         raise TypeError(f"{owner}.{name} must be a real number [{unit}]; got {v!r}")
     x = float(v)
     if not math.isfinite(x) or (positive and x <= 0):
-        raise ValueError(f"{owner}.{name} must be finite{' and > 0' if positive else ''} [{unit}]; got {v!r}")
+        raise ValueError(
+            f"{owner}.{name} must be finite{' and > 0' if positive else ''} [{unit}]; got {v!r}"
+        )
     return x
 
 
@@ -167,7 +181,12 @@ class StrainMode:
         _real(o, "frequency", self.frequency, "Hz", positive=True)
         if _real(o, "quality", self.quality, "-", positive=True) <= 0.5:
             raise ValueError(f"StrainMode.quality must be > 0.5; got {self.quality!r}")
-        for name, unit in (("strain", "1/(m/s^2)"), ("weight", "m^2"), ("rocking", "rad/(m/s^2)"), ("loss", "1/(m/s^2)")):
+        for name, unit in (
+            ("strain", "1/(m/s^2)"),
+            ("weight", "m^2"),
+            ("rocking", "rad/(m/s^2)"),
+            ("loss", "1/(m/s^2)"),
+        ):
             _real(o, name, getattr(self, name), unit)
 
     def response(self, f: ArrayLike) -> NDArray[np.complex128]:

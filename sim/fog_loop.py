@@ -53,8 +53,6 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog import sagnac_scale_factor
@@ -62,13 +60,23 @@ from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_pha
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
 from gyrobench.sim.shaker import ShakerSignal
+from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LoopSpec", "LoopRun", "run_loop", "gain_error_scale_factor", "loop_average", "ClosedLoopFOG"]
+__all__ = [
+    "LoopSpec",
+    "LoopRun",
+    "run_loop",
+    "gain_error_scale_factor",
+    "loop_average",
+    "ClosedLoopFOG",
+]
 
 _TWO_PI = 2.0 * math.pi
 
 
-def _real(owner: str, name: str, v: object, unit: str, lo: float | None = None, hi: float | None = None) -> float:
+def _real(
+    owner: str, name: str, v: object, unit: str, lo: float | None = None, hi: float | None = None
+) -> float:
     if isinstance(v, bool) or not isinstance(v, Real):
         raise TypeError(f"{owner}.{name} must be a real number [{unit}]; got {v!r}")
     x = float(v)
@@ -129,14 +137,18 @@ class LoopSpec:
         _real(o, "bias_phase", self.bias_phase, "rad", 0.0, math.pi)
         _real(o, "gain_loop_gain", self.gain_loop_gain, "-", 0.0, 1.0)
         _real(o, "modulator_gain_error", self.modulator_gain_error, "-", -0.5, 0.5)
-        if isinstance(self.delay, bool) or not isinstance(self.delay, Integral) or self.delay not in (1, 2):
+        if (
+            isinstance(self.delay, bool)
+            or not isinstance(self.delay, Integral)
+            or self.delay not in (1, 2)
+        ):
             raise ValueError(f"LoopSpec.delay must be 1 or 2 transits; got {self.delay!r}")
         gmax = 2.0 if self.delay == 1 else 1.0
         _real(o, "loop_gain", self.loop_gain, "-", 0.0)
         if not self.stable:
             raise ValueError(
-                f"LoopSpec.loop_gain must give a stable loop (delay {self.delay}: below ~{gmax:g}); "
-                f"got {self.loop_gain!r}"
+                f"LoopSpec.loop_gain must give a stable loop (delay {self.delay}: "
+                f"below ~{gmax:g}); got {self.loop_gain!r}"
             )
         for name in ("gain_loop", "reset_blanking"):
             if not isinstance(getattr(self, name), bool):
@@ -196,7 +208,11 @@ class LoopSpec:
         f = np.linspace(0.0, self.proper_frequency, 20001)[1:]
         m = np.abs(self.transfer(f)) - 1 / math.sqrt(2)
         i = int(np.argmax(m < 0))
-        return float(brentq(lambda x: abs(self.transfer(x)) - 1 / math.sqrt(2), f[i - 1] if i else 1e-9, f[i]))
+        return float(
+            brentq(
+                lambda x: abs(self.transfer(x)) - 1 / math.sqrt(2), f[i - 1] if i else 1e-9, f[i]
+            )
+        )
 
     def impulse_response(self, n: int | None = None) -> NDArray[np.float64]:
         """h_k of H(z), k = 0..n-1 (default: until |h| < 1e-16 of its peak)."""
@@ -230,7 +246,9 @@ class LoopSpec:
         lag = np.arange(-(len(h) - 1), len(h))
         al = np.abs(lag)
         var = float(np.sum(np.where(al < m, m - al, 0) * r))
-        cov = float(np.sum(np.where((lag >= 1) & (lag <= 2 * m - 1), np.minimum(lag, 2 * m - lag), 0) * r))
+        cov = float(
+            np.sum(np.where((lag >= 1) & (lag <= 2 * m - 1), np.minimum(lag, 2 * m - lag), 0) * r)
+        )
         return var, cov
 
     def noise_phase_psd(self, optics: OpticalBudget) -> float:
@@ -282,7 +300,9 @@ def gain_error_scale_factor(
         xn = np.arctan2(f * np.sin(_TWO_PI * s * eps), 1.0 - f + f * np.cos(_TWO_PI * eps))
         delta = (xn - phi) / (1.0 + eps)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(phi == 0, 1.0 / (1.0 + eps - math.sin(_TWO_PI * eps) / _TWO_PI), -delta / phi)
+        return np.where(
+            phi == 0, 1.0 / (1.0 + eps - math.sin(_TWO_PI * eps) / _TWO_PI), -delta / phi
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -408,8 +428,9 @@ def run_loop(
         e_prev = e
         last_reset = reset
     rate = -(out_delta.reshape(-1, m).sum(axis=1)) * tau / spec.scale_factor / (m * tau)
-    return LoopRun(fs=1.0 / (m * tau), rate=rate, delta=out_delta, resets=out_reset, dac_gain=out_g2)
-
+    return LoopRun(
+        fs=1.0 / (m * tau), rate=rate, delta=out_delta, resets=out_reset, dac_gain=out_g2
+    )
 
 
 # ============================================================================ the unit
@@ -460,7 +481,7 @@ def loop_average(
     return np.fft.irfft(x, n_phys)[np.arange(n_phys // m) * m + m // 2]
 
 
-def _profile(name: str, v, t: NDArray[np.float64], default: float) -> NDArray[np.float64]:
+def _profile(name: str, v, t: NDArray, default: float) -> NDArray[np.float64]:
     if v is None:
         return np.full(len(t), default)
     if callable(v):
@@ -468,7 +489,9 @@ def _profile(name: str, v, t: NDArray[np.float64], default: float) -> NDArray[np
     elif isinstance(v, Real) and not isinstance(v, bool):
         out = np.full(len(t), float(v))
     else:
-        raise TypeError(f"{name} must be a number or a callable of time [s]; got {type(v).__name__}")
+        raise TypeError(
+            f"{name} must be a number or a callable of time [s]; got {type(v).__name__}"
+        )
     if not np.all(np.isfinite(out)):
         raise ValueError(f"{name} must be finite")
     return out
@@ -541,14 +564,24 @@ class ClosedLoopFOG:
     def __post_init__(self) -> None:
         for name, kind in (("loop", LoopSpec), ("optics", OpticalBudget), ("noise", NoiseModel)):
             if not isinstance(getattr(self, name), kind):
-                raise TypeError(f"ClosedLoopFOG.{name} must be a {kind.__name__}; got {type(getattr(self, name)).__name__}")
+                raise TypeError(
+                    f"ClosedLoopFOG.{name} must be a {kind.__name__}; "
+                    f"got {type(getattr(self, name)).__name__}"
+                )
         if not all(isinstance(m, StrainMode) for m in self.modes):
             raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
         for name in ("diameter_tempco", "wavelength_tempco"):
             _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
         _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
         _real("ClosedLoopFOG", "index", self.index, "-", 1.0)
-        _real("ClosedLoopFOG", "latitude", self.latitude, "rad", -math.pi / 2 - 1e-15, math.pi / 2 + 1e-15)
+        _real(
+            "ClosedLoopFOG",
+            "latitude",
+            self.latitude,
+            "rad",
+            -math.pi / 2 - 1e-15,
+            math.pi / 2 + 1e-15,
+        )
         _real("ClosedLoopFOG", "azimuth", self.azimuth, "rad", -1e3, 1e3)
         _real("ClosedLoopFOG", "elevation", self.elevation, "rad", -1e3, 1e3)
 
@@ -560,7 +593,9 @@ class ClosedLoopFOG:
     @property
     def earth_rate(self) -> float:
         """Earth-rate component along the sense axis [rad/s]."""
-        return float(sensed_earth_rate(self.latitude, azimuth=self.azimuth, elevation=self.elevation))
+        return float(
+            sensed_earth_rate(self.latitude, azimuth=self.azimuth, elevation=self.elevation)
+        )
 
     @property
     def arw(self) -> float:
@@ -572,14 +607,16 @@ class ClosedLoopFOG:
         """(1/SF) dSF/dT = 2 alpha_D - (1/lambda) dlambda/dT [1/K] (coil and source together)."""
         return 2.0 * self.diameter_tempco - self.wavelength_tempco
 
-    def scale_factor_ratio(self, coil_temperature: ArrayLike, source_temperature: ArrayLike) -> NDArray[np.float64]:
+    def scale_factor_ratio(
+        self, coil_temperature: ArrayLike, source_temperature: ArrayLike
+    ) -> NDArray[np.float64]:
         """SF(T)/SF0 = (1 + alpha_D dT_c)^2 / (1 + alpha_lambda dT_s) [-]."""
         dc = np.asarray(coil_temperature, dtype=float) - self.reference_temperature
         ds = np.asarray(source_temperature, dtype=float) - self.reference_temperature
         return (1.0 + self.diameter_tempco * dc) ** 2 / (1.0 + self.wavelength_tempco * ds)
 
     def strain_coefficient(self) -> float:
-        """K = n_g n xi/(L D) [1/m^2] (:func:`gyrobench.sim.fiber_strain.strain_rate_coefficient`)."""
+        """K = n_g n xi/(L D) [1/m^2] (``fiber_strain.strain_rate_coefficient``)."""
         lp = self.loop
         return strain_rate_coefficient(lp.length, lp.diameter, lp.group_index, self.index)
 
@@ -606,8 +643,12 @@ class ClosedLoopFOG:
         rng: np.random.Generator,
         true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
         shaker: ShakerSignal | None = None,
-        coil_temperature: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
-        source_temperature: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
+        coil_temperature: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
+        source_temperature: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
         t0: float = 0.0,
         name: str = "fog_loop",
         metadata: dict | None = None,
@@ -638,7 +679,10 @@ class ClosedLoopFOG:
         tau = lp.transit_time
         t_o = 1.0 / fs
         if t_o < 100 * tau:
-            raise ValueError(f"fs must be <= 1/(100 tau) = {1 / (100 * tau):.6g} Hz for the reduced form; got {fs!r}")
+            raise ValueError(
+                f"fs must be <= 1/(100 tau) = {1 / (100 * tau):.6g} Hz for the reduced form; "
+                f"got {fs!r}"
+            )
         tc = t0 + (np.arange(n) + 0.5) * t_o
         omega_table = _profile("true_rate", true_rate, tc, 0.0)
         earth = np.full(n, self.earth_rate)
@@ -650,7 +694,9 @@ class ClosedLoopFOG:
         if lp.gain_loop or lp.modulator_gain_error == 0.0:
             r_g = np.ones(n)
         else:
-            r_g = gain_error_scale_factor(sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking)
+            r_g = gain_error_scale_factor(
+                sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking
+            )
         vib = self._vibration(shaker, n, fs, t0) if shaker is not None else None
         zeros = np.zeros(n)
         rock_true = vib["rock_true"] if vib else zeros
@@ -666,23 +712,41 @@ class ClosedLoopFOG:
         output = true + sf_err + loop_err + strain + rect + optical + ieee
         rs = "rad/s"
         truth = {
-            "rate": Channel(true, rs, "true rate about the sense axis (table + Earth + rocking), block mean"),
+            "rate": Channel(
+                true, rs, "true rate about the sense axis (table + Earth + rocking), block mean"
+            ),
             "table_rate": Channel(omega_table, rs, "table rate"),
             "earth_rate": Channel(earth, rs, "Earth-rate component along the sense axis"),
-            "rocking_rate": Channel(rock_true, rs, "fixture rocking about the sense axis (true rate)"),
+            "rocking_rate": Channel(
+                rock_true, rs, "fixture rocking about the sense axis (true rate)"
+            ),
             "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T) SF(eps)/SF0 - 1)"),
-            "loop_error": Channel(loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"),
-            "strain_nonreciprocity": Channel(strain, rs, "strain-rate nonreciprocity (L - 2z kernel) through the loop"),
-            "rectification": Channel(rect, rs, "intensity-phase correlation -m phi_res/SF0 through the loop"),
-            "optical_noise": Channel(optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"),
+            "loop_error": Channel(
+                loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"
+            ),
+            "strain_nonreciprocity": Channel(
+                strain, rs, "strain-rate nonreciprocity (L - 2z kernel) through the loop"
+            ),
+            "rectification": Channel(
+                rect, rs, "intensity-phase correlation -m phi_res/SF0 through the loop"
+            ),
+            "optical_noise": Channel(
+                optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"
+            ),
             "ieee_noise": Channel(ieee, rs, "additive IEEE-952 terms (NoiseModel, incl. its bias)"),
         }
         channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
         if shaker is not None:
             m = int(round(shaker.fs / fs))
             freq = shaker.frequency[: n * m].reshape(n, m)[:, m // 2]  # at the block centre
-            channels["vibration_frequency"] = Channel(freq, "Hz", "shaker drive frequency (controller log; NaN when off)")
-            channels["vibration_amplitude"] = Channel(shaker.amplitude[: n * m].reshape(n, m)[:, m // 2], "m/s^2", "shaker acceleration envelope")
+            channels["vibration_frequency"] = Channel(
+                freq, "Hz", "shaker drive frequency (controller log; NaN when off)"
+            )
+            channels["vibration_amplitude"] = Channel(
+                shaker.amplitude[: n * m].reshape(n, m)[:, m // 2],
+                "m/s^2",
+                "shaker acceleration envelope",
+            )
         meta = {
             "model": "gyrobench.sim.fog_loop.ClosedLoopFOG (reduced form)",
             "scale_factor_s": sf0,
@@ -695,7 +759,9 @@ class ClosedLoopFOG:
             "package_version": package_version(),
             **(metadata or {}),
         }
-        return Recording(fs=fs, channels=channels, truth=truth, t0=float(t0), metadata=meta, name=name)
+        return Recording(
+            fs=fs, channels=channels, truth=truth, t0=float(t0), metadata=meta, name=name
+        )
 
     def _optical_noise(self, n: int, fs: float, rng: np.random.Generator) -> NDArray[np.float64]:
         lp = self.loop
@@ -709,12 +775,19 @@ class ClosedLoopFOG:
         e = rng.standard_normal(n + 1)
         return sigma * (a * e[1:] + b * e[:-1]) * fs
 
-    def _vibration(self, shaker: ShakerSignal, n: int, fs: float, t0: float) -> dict[str, NDArray[np.float64]]:
+    def _vibration(
+        self, shaker: ShakerSignal, n: int, fs: float, t0: float
+    ) -> dict[str, NDArray[np.float64]]:
         if not isinstance(shaker, ShakerSignal):
-            raise TypeError(f"shaker must be a sim.shaker.ShakerSignal; got {type(shaker).__name__}")
+            raise TypeError(
+                f"shaker must be a sim.shaker.ShakerSignal; got {type(shaker).__name__}"
+            )
         m = int(round(shaker.fs / fs))
         if m < 2 or m % 2 or abs(m * fs - shaker.fs) > 1e-9 * shaker.fs:
-            raise ValueError(f"shaker.fs must be an even integer multiple of fs = {fs!r} Hz; got {shaker.fs!r} Hz")
+            raise ValueError(
+                f"shaker.fs must be an even integer multiple of fs = {fs!r} Hz; "
+                f"got {shaker.fs!r} Hz"
+            )
         if len(shaker.acceleration) < n * m or abs(shaker.t0 - t0) > 0.5 / shaker.fs:
             raise ValueError(
                 f"shaker must cover the record: >= {n * m} samples from t0 = {t0!r} s; "

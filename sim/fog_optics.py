@@ -64,7 +64,9 @@ def _pos(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fals
     x = float(v)
     ok = math.isfinite(x) and (x >= 0 if allow_zero else x > 0)
     if not ok:
-        raise ValueError(f"{owner}.{name} must be finite and {'>=' if allow_zero else '>'} 0 {unit}; got {v!r}")
+        raise ValueError(
+            f"{owner}.{name} must be finite and {'>=' if allow_zero else '>'} 0 {unit}; got {v!r}"
+        )
 
 
 def arw_from_phase_psd(phase_psd: float, scale_factor: float) -> float:
@@ -117,7 +119,13 @@ class OpticalBudget:
         _pos(o, "loss_db", self.loss_db, "dB", allow_zero=True)
         _pos(o, "responsivity", self.responsivity, "A/W")
         _pos(o, "feedback_resistance", self.feedback_resistance, "Ohm")
-        _pos(o, "amplifier_current_noise", self.amplifier_current_noise, "A/sqrt(Hz)", allow_zero=True)
+        _pos(
+            o,
+            "amplifier_current_noise",
+            self.amplifier_current_noise,
+            "A/sqrt(Hz)",
+            allow_zero=True,
+        )
         _pos(o, "temperature", self.temperature, "K")
         if not isinstance(self.polarized, bool):
             raise TypeError(f"OpticalBudget.polarized must be a bool; got {self.polarized!r}")
@@ -153,7 +161,7 @@ class OpticalBudget:
         }
 
     def phase_psd(self, bias_phase: float, wavelength: float) -> dict[str, float]:
-        """One-sided equivalent phase-noise PSDs [rad^2/Hz] (current PSD / slope^2) and their sum."""
+        """One-sided equivalent phase-noise PSDs [rad^2/Hz] (current PSD / slope^2) and total."""
         s = self.slope(bias_phase) ** 2
         out = {k: v / s for k, v in self.current_psd(bias_phase, wavelength).items()}
         out["total"] = out["shot"] + out["rin"] + out["thermal"]
@@ -161,7 +169,9 @@ class OpticalBudget:
 
 
 def _check_bias(bias_phase: float) -> None:
-    if isinstance(bias_phase, bool) or not isinstance(bias_phase, Real) or not (
-        0.0 < float(bias_phase) < math.pi
+    if (
+        isinstance(bias_phase, bool)
+        or not isinstance(bias_phase, Real)
+        or not (0.0 < float(bias_phase) < math.pi)
     ):
         raise ValueError(f"bias_phase must be in (0, pi) rad; got {bias_phase!r}")

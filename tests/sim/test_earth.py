@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 import pytest
-
 from gyrobench.sim import earth, units
 
 EPS = float(np.finfo(float).eps)

@@ -4,11 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy import signal, stats
-
 from gyrobench.sim import units
 from gyrobench.sim.fog_loop import LoopSpec, gain_error_scale_factor, run_loop
-from gyrobench.sim.fog_optics import OpticalBudget
+from scipy import signal
 
 EPS = float(np.finfo(float).eps)
 
@@ -21,7 +19,9 @@ def test_coil_numbers():
     assert round(s.proper_frequency / 1e3, 2) == 102.11
     assert round(units.to_arcsec(s.angle_quantum), 2) == 4.69
     # angle quantum = n_g lambda / D exactly
-    assert abs(s.angle_quantum - s.group_index * s.wavelength / s.diameter) < 8 * EPS * s.angle_quantum
+    assert (
+        abs(s.angle_quantum - s.group_index * s.wavelength / s.diameter) < 8 * EPS * s.angle_quantum
+    )
 
 
 def test_transfer_function_values():
@@ -91,8 +91,10 @@ def test_gain_error_scale_factor_three_cases():
     assert abs((ratio - 1) + 2 / 3 * math.pi**2 * eps**3) < 1e-6
     r = run_loop(s, np.full(n, s.scale_factor * om), samples_per_output=512)
     g = 1 + eps
-    bound = abs(math.cos(g * s.bias_phase)) * (1 - math.cos(2 * math.pi * eps)) / (
-        2 * math.pi * math.sin(s.bias_phase)
+    bound = (
+        abs(math.cos(g * s.bias_phase))
+        * (1 - math.cos(2 * math.pi * eps))
+        / (2 * math.pi * math.sin(s.bias_phase))
     )
     assert abs(r.rate[200:].mean() / om - ratio) < bound
     assert abs(r.rate[200:].mean() / om - 1) < 1e-4  # far below the blanked -2 %

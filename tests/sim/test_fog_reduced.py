@@ -4,14 +4,13 @@ import math
 
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import units
 from gyrobench.sim.earth import sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, loop_average, run_loop
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.shaker import FixedSine
+from scipy import stats
 
 ALPHA = 1e-6  # false-alarm rate of every statistical bound below
 Z = stats.norm.isf(ALPHA / 2)  # two-sided normal quantile (5.33)
@@ -80,7 +79,11 @@ def test_doubling_source_power_of_shot_limited_budget_lowers_arw_by_sqrt2(rng):
         from dataclasses import replace
 
         run = run_loop(
-            spec, np.zeros(m * n_out), samples_per_output=m, optics=replace(base, source_power=p), rng=r
+            spec,
+            np.zeros(m * n_out),
+            samples_per_output=m,
+            optics=replace(base, source_power=p),
+            rng=r,
         )
         out.append(float(np.mean(run.rate[10:] ** 2)))
     ratio = math.sqrt(out[1] / out[0])
@@ -159,15 +162,21 @@ def test_earth_rate_and_scale_factor_tempco(rng):
     np.testing.assert_allclose(rec["rate"] - rec["truth/optical_noise"], expected, rtol=1e-14)
     # (1/SF) dSF/dT = 2 alpha_D - alpha_lambda
     dT = 1e-3
-    d_coil = (unit.scale_factor_ratio(unit.reference_temperature + dT, unit.reference_temperature) - 1) / dT
-    d_src = (unit.scale_factor_ratio(unit.reference_temperature, unit.reference_temperature + dT) - 1) / dT
+    d_coil = (
+        unit.scale_factor_ratio(unit.reference_temperature + dT, unit.reference_temperature) - 1
+    ) / dT
+    d_src = (
+        unit.scale_factor_ratio(unit.reference_temperature, unit.reference_temperature + dT) - 1
+    ) / dT
     assert abs(d_coil + d_src - unit.scale_factor_tempco) < 1e-3 * unit.scale_factor_tempco
 
 
 def test_bad_inputs():
     with pytest.raises(ValueError, match="even integer multiple"):
         unit = ClosedLoopFOG()
-        sh = FixedSine(frequency=10.0, duration=1.0, acceleration=1.0).sample(1000.0, rng=np.random.default_rng(0))
+        sh = FixedSine(frequency=10.0, duration=1.0, acceleration=1.0).sample(
+            1000.0, rng=np.random.default_rng(0)
+        )
         unit.simulate(1.0, 400.0, rng=np.random.default_rng(0), shaker=sh)
     with pytest.raises(TypeError, match="rng must be"):
         ClosedLoopFOG().simulate(1.0, 400.0, rng=None)

@@ -11,7 +11,8 @@ propagation constant per unit length is crossed by the two waves at t - (L - z)/
     w tau << 1:                  dphi ~ (1/v) int_0^L d(db)/dt (L - 2z) dz
 
 Axial strain eps changes the optical path per unit length by n xi eps (xi = 1 -
-(n^2/2)[p12 - nu (p11 + p12)] = 0.79 for fused silica: p11 = 0.121, p12 = 0.270, nu = 0.17), so
+(n^2/2)[p12 - nu (p11 + p12)] = 0.788 for fused silica: p11 = 0.121, p12 = 0.270, nu = 0.17,
+n = 1.444, the phase index of fused silica at 1550 nm, Malitson, JOSA 55, 1205 (1965)), so
 db = k0 n xi eps and, divided by SF = 2 pi L D/(lambda c), the rate-equivalent error is
 
     Omega_eps(t) = (n_g n xi / (L D)) int_0^L eps_dot(z, t) (L - 2z) dz                 [rad/s]
@@ -61,7 +62,7 @@ __all__ = [
 
 
 def elasto_optic_factor(
-    n: float = 1.46, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17
+    n: float = 1.444, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17
 ) -> float:
     """xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] [-] (optical path change per unit axial strain / n).
 
@@ -104,7 +105,7 @@ def strain_rate_coefficient(
     length: float,
     diameter: float,
     group_index: float,
-    index: float = 1.46,
+    index: float = 1.444,
     xi: float = ELASTO_OPTIC_FACTOR,
 ) -> float:
     """K = n_g n xi / (L D) [1/m^2]: Omega_eps = K int eps_dot (L - 2z) dz."""
@@ -118,7 +119,7 @@ def exact_strain_phase(
     length: float,
     wavelength: float,
     group_index: float,
-    index: float = 1.46,
+    index: float = 1.444,
     xi: float = ELASTO_OPTIC_FACTOR,
     nz: int = 4001,
 ) -> NDArray[np.float64]:

@@ -521,7 +521,8 @@ class ClosedLoopFOG:
     modes : tuple of StrainMode
         Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults typical, unverified.
     index : float
-        Phase index n of the fibre for the strain term [-].
+        Phase index n of the fibre for the strain term [-] (fused silica at 1550 nm, 1.444,
+        Malitson 1965).
     latitude, azimuth, elevation : float
         Site latitude and sense-axis azimuth (from north, toward east) and elevation [rad]
         (:func:`gyrobench.sim.earth.sensed_earth_rate`); default horizontal north at Beijing.
@@ -556,7 +557,7 @@ class ClosedLoopFOG:
     wavelength_tempco: float = 5e-6
     reference_temperature: float = 293.15
     modes: tuple[StrainMode, ...] = field(default_factory=_default_modes)
-    index: float = 1.46
+    index: float = 1.444
     latitude: float = BEIJING.latitude
     azimuth: float = 0.0
     elevation: float = 0.0

@@ -30,7 +30,7 @@ def test_weights_closed_forms():
 
 def test_elasto_optic_factor_values():
     # PHYSICS-models.md 2.2 quotes 0.795 for SMF-28 (0.125, 0.258, 0.161): that is n = 1.444
-    # (fused silica at 1550 nm); 0.788 for (0.121, 0.270, 0.17) at n = 1.46
+    # (fused silica at 1550 nm); 0.788 for (0.121, 0.270, 0.17) at the same n (the default)
     assert round(elasto_optic_factor(1.444, 0.125, 0.258, 0.161), 3) == 0.795
     assert (
         abs(
@@ -50,7 +50,12 @@ def test_exact_kernel_vs_small_tau_and_harmonic_form(f):
     k0 = 2 * np.pi / lam
     t = np.linspace(0, 1 / f, 32, endpoint=False)
     y = exact_strain_phase(
-        lambda z, tt: eps0 * (z / L) * np.cos(w * tt), t, length=L, wavelength=lam, group_index=ng
+        lambda z, tt: eps0 * (z / L) * np.cos(w * tt),
+        t,
+        length=L,
+        wavelength=lam,
+        group_index=ng,
+        index=n,
     )
     # harmonic form: dphi = Re{-2j e^{-jw tau/2} e^{jwt} k0 n xi eps0 int psi sin(w (L-2z)/(2v)) dz}
     z = np.linspace(0, L, 200001)

@@ -15,7 +15,9 @@
   fibre (no small-tau approximation) against the closed form
   (k0 n xi n_g / c) w eps0 int psi (L - 2z) dz: 0 for uniform strain, -L^2/6 for psi = z/L.
 - Vibration through the reduced chain: the strain tone of a record against
-  K kappa W w |H_k(f)| |H(f)| sinc(f/fs) a.
+  K kappa W w |H_k(f)| |H(f)| sinc(f/fs) a; the reduced chain against the full loop for a
+  500 Hz tone; rectification of the full loop with a loss modulation against
+  m phi_res cos(theta)/(2 SF) (PHYSICS-models.md 2.4b).
 
 Tolerances are derived where each check is built (docstrings/derivation strings).
 """
@@ -323,6 +325,40 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
     ]
 
 
+def _rectification() -> Check:
+    from gyrobench.sim.fog_loop import LoopSpec, run_loop
+
+    spec = LoopSpec(gain_loop=False)
+    m, n_out = 512, 400
+    fs = 1 / (m * spec.transit_time)
+    f = round(500 * n_out / fs) * fs / n_out
+    om0, m0, th = 0.05, 1e-2, 0.3
+    tk = (np.arange(n_out * m) + 0.5) * spec.transit_time
+    ph = spec.scale_factor * om0 * np.sin(2 * np.pi * f * tk)
+    mk = m0 * np.cos(2 * np.pi * f * tk + th)
+    bias = float(
+        (
+            run_loop(spec, ph, samples_per_output=m, intensity=mk).rate
+            - run_loop(spec, ph, samples_per_output=m).rate
+        )[2:].mean()
+    )
+    hf = complex(spec.transfer(f))
+    x_res = spec.scale_factor * om0 * abs(1 - hf)
+    p_res = spec.scale_factor * om0 * (1 - hf) * -1j  # phasor of the residual (sin -> -j)
+    closed = float(np.real(m0 * np.exp(1j * th) * np.conj(p_res))) / (2 * spec.scale_factor)
+    return Check(
+        id="fog.vibration_rectification_full_loop",
+        formula="bias = m phi_res cos(theta)/(2 SF) = Re(M conj(P))/(2 SF), P = SF Omega_v "
+        "(1 - H(f)): full nonlinear loop with loss modulation m = 1e-2 at 500 Hz, rate tone "
+        "0.05 rad/s",
+        expected=closed,
+        simulated=bias,
+        tolerance=m0 + x_res**2 / 6,
+        derivation="orders the closed form neglects: m relative (the loop gain modulated by "
+        "1 + m changes phi_res) and the sin curvature x_res^2/6",
+    )
+
+
 def checks(rng: np.random.Generator) -> list[Check]:
     """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
     r = rng.spawn(4)
@@ -333,4 +369,5 @@ def checks(rng: np.random.Generator) -> list[Check]:
         *_resets(r[2]),
         *_strain_kernel(),
         *_vibration_chain(r[3]),
+        _rectification(),
     ]

@@ -338,6 +338,7 @@ def run_loop(
     optics: OpticalBudget | None = None,
     rng: np.random.Generator | None = None,
     initial_ramp: float = 0.0,
+    intensity: ArrayLike | None = None,
 ) -> LoopRun:
     """Full-rate closed loop, one step per transit (validation reference; ~1-2 us per transit).
 
@@ -355,6 +356,9 @@ def run_loop(
         Required when ``optics`` is given.
     initial_ramp : float
         Ramp register at k = -1 [rad], in [0, 2 pi).
+    intensity : array, shape (n,), optional
+        Relative detected-power modulation m_k per transit [-] (loss modulation, e.g. pigtail
+        microbending): I_k = (1 + m_k)(1 + cos(...)) + n_k.
     """
     phi = np.asarray(phase, dtype=float)
     if phi.ndim != 1 or not np.all(np.isfinite(phi)):
@@ -396,6 +400,13 @@ def run_loop(
     blanking = spec.reset_blanking
     phil = phi.tolist()
     noisel = noise.tolist()
+    if intensity is None:
+        gainl = [1.0] * n
+    else:
+        mod = np.asarray(intensity, dtype=float)
+        if mod.shape != phi.shape or not np.all(np.isfinite(mod)) or np.any(mod <= -1):
+            raise ValueError("intensity must be a finite array like phase with values > -1")
+        gainl = (1.0 + mod).tolist()
     for k in range(n):
         b = 1.0 if (k & 1) == 0 else -1.0
         r = ramp + delta
@@ -408,7 +419,7 @@ def run_loop(
             reset = -1
         dr = r - ramp
         ramp = r
-        i_k = 1.0 + cos(phil[k] + gm * g2 * (dr + b * pb)) + noisel[k]
+        i_k = gainl[k] * (1.0 + cos(phil[k] + gm * g2 * (dr + b * pb))) + noisel[k]
         e = -b * (i_k - prev_i) / (2.0 * sinpb)
         prev_i = i_k
         out_delta[k] = delta
@@ -540,7 +551,7 @@ class ClosedLoopFOG:
     * vibration: on the shaker's physics-rate grid (an even integer multiple of fs), in the
       frequency domain (exact for the sampled, band-limited record, circular): modal response,
       strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
-      loop residual (1 - H) phi, rectification -m(t) phi_res(t)/SF0 (intensity-phase
+      loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
       correlation, PHYSICS-models.md 2.4b) passed through H, then the integrate-and-dump
       average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
       electronics' decimation does it;
@@ -729,7 +740,7 @@ class ClosedLoopFOG:
                 strain, rs, "strain-rate nonreciprocity (L - 2z kernel) through the loop"
             ),
             "rectification": Channel(
-                rect, rs, "intensity-phase correlation -m phi_res/SF0 through the loop"
+                rect, rs, "intensity-phase correlation +m phi_res/SF0 through the loop"
             ),
             "optical_noise": Channel(
                 optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"
@@ -815,7 +826,7 @@ class ClosedLoopFOG:
         if any(md.loss for md in self.modes):
             phi_res = sf0 * np.fft.irfft((1.0 - h) * (u_rock + u_strain), nn)
             loss = np.fft.irfft(spec["loss"] * big_a, nn)
-            res["rect"] = out(np.fft.rfft(-loss * phi_res / sf0))
+            res["rect"] = out(np.fft.rfft(loss * phi_res / sf0))
         else:
             res["rect"] = np.zeros(n)
         return res

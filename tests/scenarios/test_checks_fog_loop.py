@@ -17,6 +17,7 @@ IDS = [
     "fog.strain_mode_linear",
     "fog.vibration_strain_tone",
     "fog.vibration_reduced_vs_full_loop",
+    "fog.vibration_rectification_full_loop",
 ]
 
 

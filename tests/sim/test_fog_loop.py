@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from gyrobench.sim import units
 from gyrobench.sim.fog_loop import LoopSpec, gain_error_scale_factor, run_loop
+from gyrobench.sim.fog_optics import OpticalBudget
 from scipy import signal
 
 EPS = float(np.finfo(float).eps)
@@ -103,3 +104,33 @@ def test_gain_error_scale_factor_three_cases():
     r = run_loop(s, np.full(n, s.scale_factor * om), samples_per_output=512)
     assert abs(r.dac_gain[-1] * (1 + eps) - 1) < 1e-7
     assert abs(r.rate[-200:].mean() / om - 1) < 1e-6
+
+
+def test_scale_factor_nonlinearity_of_gain_error_matches_full_loop():
+    # -52 ppm at low rate falls to ~-24 ppm at 1 rad/s (second order in the reset fraction)
+    eps = 0.02
+    s = LoopSpec(modulator_gain_error=eps, gain_loop=False)
+    bound = (
+        abs(math.cos((1 + eps) * s.bias_phase))
+        * (1 - math.cos(2 * math.pi * eps))
+        / (2 * math.pi * math.sin(s.bias_phase))
+    )
+    ratios = []
+    for om in (0.0123, 0.2, 1.0):
+        r = run_loop(s, np.full(512 * 1200, s.scale_factor * om), samples_per_output=512)
+        th = float(gain_error_scale_factor(s.scale_factor * om, eps))
+        assert abs(r.rate[200:].mean() / om - th) < bound
+        ratios.append(th)
+    assert ratios[2] - ratios[0] > 2.5e-5  # the formula is not flat: 29 ppm from 0.0123 to 1 rad/s
+
+
+def test_reduced_unit_uses_the_gain_error_scale_factor(rng):
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+
+    loop = LoopSpec(modulator_gain_error=0.02, gain_loop=False)
+    unit = ClosedLoopFOG(loop=loop, modes=(), optics=OpticalBudget(source_power=1e3))
+    om = 1.0
+    rec = unit.simulate(1.0, 400.0, rng=rng, true_rate=om)
+    true = om + unit.earth_rate
+    expected = true * (gain_error_scale_factor(loop.scale_factor * true, 0.02) - 1)
+    np.testing.assert_allclose(rec["truth/scale_factor_error"], expected, rtol=1e-12)

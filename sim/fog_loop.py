@@ -340,7 +340,7 @@ def run_loop(
     initial_ramp: float = 0.0,
     intensity: ArrayLike | None = None,
 ) -> LoopRun:
-    """Full-rate closed loop, one step per transit (validation reference; ~1-2 us per transit).
+    """Full-rate closed loop, one step per transit (validation reference; ~0.5 us CPU per transit).
 
     Parameters
     ----------
@@ -394,7 +394,8 @@ def run_loop(
     e_prev = 0.0
     pending = 0  # sign of a reset whose second demodulator tap is still to come
     e_acc = 0.0
-    last_reset = 0
+    last_reset = 0  # reset of transit k - 1
+    reset_2 = 0  # reset of transit k - 2
     cos = math.cos
     two_pi = _TWO_PI
     blanking = spec.reset_blanking
@@ -432,11 +433,16 @@ def run_loop(
         if reset and k2:
             pending = reset
             e_acc = e
-        # rate loop: integrator on e_{k+1-d}
-        u = e if d == 1 else e_prev
-        if not (blanking and (reset or last_reset)):
+        # rate loop: integrator on e_{k+1-d}, which holds transits k+1-d and k-d; blanking
+        # skips it when either was a reset transit
+        if d == 1:
+            u, holds_reset = e, reset or last_reset
+        else:
+            u, holds_reset = e_prev, last_reset or reset_2
+        if not (blanking and holds_reset):
             delta -= g * u
         e_prev = e
+        reset_2 = last_reset
         last_reset = reset
     rate = -(out_delta.reshape(-1, m).sum(axis=1)) * tau / spec.scale_factor / (m * tau)
     return LoopRun(
@@ -530,7 +536,8 @@ class ClosedLoopFOG:
     reference_temperature : float
         Temperature at which SF = SF0 [K].
     modes : tuple of StrainMode
-        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults typical, unverified.
+        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults assumed (unverified)
+        and sized for the default 1 km coil (their weights W do not follow ``loop.length``).
     index : float
         Phase index n of the fibre for the strain term [-] (fused silica at 1550 nm, 1.444,
         Malitson 1965).

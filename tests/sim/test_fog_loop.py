@@ -82,10 +82,11 @@ def test_gain_error_scale_factor_three_cases():
     eps, om = 0.02, 0.0123
     n = 512 * 1200
     base = dict(modulator_gain_error=eps)
-    # reset samples blanked: SF ratio 1/(1 + eps) exactly
-    s = LoopSpec(gain_loop=False, reset_blanking=True, **base)
-    r = run_loop(s, np.full(n, s.scale_factor * om), samples_per_output=512)
-    assert abs(r.rate[200:].mean() / om - 1 / (1 + eps)) < 1e-9
+    # reset samples blanked: SF ratio 1/(1 + eps) exactly, for either loop delay
+    for d, g in ((1, 0.1), (2, 0.08)):
+        s = LoopSpec(gain_loop=False, reset_blanking=True, delay=d, loop_gain=g, **base)
+        r = run_loop(s, np.full(n, s.scale_factor * om), samples_per_output=512)
+        assert abs(r.rate[200:].mean() / om - 1 / (1 + eps)) < 1e-9
     # resets in the loop: -(2/3) pi^2 eps^3 (-52 ppm) within the parity-term bound
     s = LoopSpec(gain_loop=False, **base)
     ratio = float(gain_error_scale_factor(s.scale_factor * om, eps))

@@ -724,7 +724,10 @@ class ClosedLoopFOG:
         rect = vib["rect"] if vib else zeros
         rng_opt, rng_ieee = rng.spawn(2)
         optical = self._optical_noise(n, fs, rng_opt)
-        ieee = self.noise.generate(n, fs, rng=rng_ieee, t0=t0)
+        ieee_parts = self.noise.components(n, fs, rng=rng_ieee, t0=t0)
+        ieee = np.zeros(n)
+        for part in ieee_parts.values():
+            ieee = ieee + part
         true = slow + rock_true
         sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0)
         loop_err = rock_out - rock_true
@@ -753,6 +756,10 @@ class ClosedLoopFOG:
                 optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"
             ),
             "ieee_noise": Channel(ieee, rs, "additive IEEE-952 terms (NoiseModel, incl. its bias)"),
+            **{
+                f"ieee_{k}": Channel(v, rs, f"IEEE-952 term {k} (part of ieee_noise)")
+                for k, v in ieee_parts.items()
+            },
         }
         channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
         if shaker is not None:

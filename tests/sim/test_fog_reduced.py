@@ -234,3 +234,33 @@ def test_vibration_span_equals_whole_record_transform(rng):
     y = rec["truth/strain_nonreciprocity"]
     assert np.max(np.abs(y - whole)) < 1e-9 * np.max(np.abs(whole))
     assert np.all(y[: int(3.0 * fs)] == 0.0)  # before the span (4 s - 0.96 s margin): no term
+
+
+def test_truth_parts_sum_to_the_output(rng):
+    from gyrobench.sim.noise import NoiseModel
+
+    unit = ClosedLoopFOG(
+        noise=NoiseModel.from_datasheet(bias_instability=0.003, rate_random_walk=0.0005, bias=0.05)
+    )
+    sh = FixedSine(frequency=290.0, duration=5.0, acceleration=units.g(2.0)).sample(3200.0, rng=rng)
+    rec = unit.simulate(5.0, 400.0, rng=rng, true_rate=0.01, shaker=sh)
+    parts = [
+        "rate",
+        "scale_factor_error",
+        "loop_error",
+        "strain_nonreciprocity",
+        "rectification",
+        "optical_noise",
+        "ieee_noise",
+    ]
+    total = sum(rec[f"truth/{p}"] for p in parts)
+    np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-15)
+    ieee = sum(rec[f"truth/ieee_{k}"] for k in ("bias_instability", "rate_random_walk", "bias"))
+    np.testing.assert_allclose(rec["truth/ieee_noise"], ieee, rtol=0, atol=1e-18)
+    np.testing.assert_allclose(
+        rec["truth/rate"],
+        rec["truth/table_rate"] + rec["truth/earth_rate"] + rec["truth/rocking_rate"],
+        rtol=0,
+        atol=1e-18,
+    )
+    assert np.all(rec["vibration_frequency"] == 290.0)

@@ -264,3 +264,17 @@ def test_truth_parts_sum_to_the_output(rng):
         atol=1e-18,
     )
     assert np.all(rec["vibration_frequency"] == 290.0)
+
+
+def test_integrate_and_dump_has_no_dc_error_at_multiples_of_the_output_rate(rng):
+    # PHYSICS-models.md 2.6: a rate tone at exactly m f_o integrates to zero in every block
+    mode = StrainMode(frequency=900.0, quality=10.0, rocking=1e-8)
+    unit = ClosedLoopFOG(modes=(mode,))
+    fs = 400.0
+    sh = FixedSine(frequency=2 * fs, duration=5.0, acceleration=units.g(2.0)).sample(
+        8 * fs, rng=rng
+    )
+    rec = unit.simulate(5.0, fs, rng=rng, shaker=sh)
+    peak = mode.rocking * 2 * np.pi * 2 * fs * units.g(2.0) * abs(mode.response(2 * fs)[()])
+    assert np.max(np.abs(rec["truth/rocking_rate"])) < 1e-9 * peak
+    assert np.max(np.abs(rec["truth/loop_error"])) < 1e-9 * peak

@@ -561,7 +561,9 @@ class ClosedLoopFOG:
       loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
       correlation, PHYSICS-models.md 2.4b) passed through H, then the integrate-and-dump
       average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
-      electronics' decimation does it;
+      electronics' decimation does it. The j w factor is an ideal band-limited derivative:
+      an abrupt shaker onset (``ramp_time = 0``) rings (Gibbs) on both sides of the edge,
+      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp;
     * optical white noise: block sums of the H-filtered per-transit phase noise, an MA(1)
       with variance s^2 (M - c) and lag-1 covariance s^2 c/2 (c from
       :meth:`LoopSpec.block_noise_correction`; s^2 = S_phi/(2 tau) (tau/SF0)^2): the full

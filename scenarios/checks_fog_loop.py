@@ -71,6 +71,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
 def _arw_full(rng: np.random.Generator) -> Check:
     from gyrobench.sim.fog_loop import LoopSpec, run_loop
     from gyrobench.sim.fog_optics import OpticalBudget
+    from scipy import stats
 
     spec = LoopSpec(gain_loop=False)
     optics = OpticalBudget()
@@ -82,18 +83,18 @@ def _arw_full(rng: np.random.Generator) -> Check:
     ang = run.rate[10:] / run.fs
     n2_hat = float(np.mean(ang**2)) / (tau * v)
     rho = cv / v
-    sd = math.sqrt(2 * (1 + 2 * rho**2) / len(ang))
-    n_true = spec.arw(optics)
+    dof = len(ang) / (1 + 2 * rho**2)  # equivalent dof of the mean square of an MA(1)
+    lo = stats.chi2.ppf(FALSE_ALARM / 2, dof) / dof
+    hi = stats.chi2.isf(FALSE_ALARM / 2, dof) / dof
     return Check(
         id="fog.loop_full_arw_optical_budget",
         formula="var(block angle of M transits) = N^2 tau v(M), v(M) = sum_{|l|<M} (M-|l|) "
         "r_h(l); full-rate loop, M = 64, detector noise from the budget",
-        expected=n_true,
-        simulated=math.sqrt(n2_hat) * 1.0 if n2_hat > 0 else 0.0,
-        tolerance=_z() * sd / 2 * 1.05,
-        derivation=f"{len(ang)} block sums, MA(1) correlation rho = {rho:.3f}: sd of the variance "
-        f"estimate sqrt(2 (1 + 2 rho^2)/n) = {sd:.4f}, halved for N, x z({FALSE_ALARM:g}) "
-        "(two-sided) and 5 % for the normal approximation of chi-square",
+        expected=spec.arw(optics),
+        simulated=math.sqrt(n2_hat),
+        tolerance=max(math.sqrt(hi) - 1, 1 - math.sqrt(lo)),
+        derivation=f"{len(ang)} block sums with MA(1) correlation rho = {rho:.3f}: equivalent "
+        f"dof n/(1 + 2 rho^2) = {dof:.0f}; two-sided chi-square band at {FALSE_ALARM:g} on N",
     )
 
 

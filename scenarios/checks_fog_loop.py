@@ -1,0 +1,374 @@
+"""Closed-form checks of the closed-loop FOG (:mod:`gyrobench.sim.fog_loop`, ``fog_optics``,
+``fiber_strain``).
+
+- ARW of the optical budget, N = sqrt(S_phi/2)/SF (shot + excess RIN + thermal; Lefevre
+  sec. 5.3), against the reduced record (1 s angle increments, chi-square with one degree of
+  freedom per block) and against the full-rate loop (block sums of M transits whose exact
+  variance s^2 v(M) comes from the loop's impulse response, normal bound with the MA(1)
+  correlation).
+- Loop transfer H(z) = G/(1 + G), G = g z^-d (1 + z^-1)/2/(1 - z^-1): the full nonlinear loop's
+  amplitude at 3 kHz and its step response.
+- 2 pi resets: the count over a record equals the accumulated ramp phase / 2 pi (within one
+  reset), i.e. the angle / angle quantum; the V_2pi loop removes a 2 % modulator gain error
+  from the scale factor, blanked reset samples leave -eps/(1 + eps).
+- Vibration nonreciprocity: the two-crossing-time integral of a harmonic strain along the
+  fibre (no small-tau approximation) against the closed form
+  (k0 n xi n_g / c) w eps0 int psi (L - 2z) dz: 0 for uniform strain, -L^2/6 for psi = z/L.
+- Vibration through the reduced chain: the strain tone of a record against
+  K kappa W w |H_k(f)| |H(f)| sinc(f/fs) a; the reduced chain against the full loop for a
+  500 Hz tone; rectification of the full loop with a loss modulation against
+  m phi_res cos(theta)/(2 SF) (PHYSICS-models.md 2.4b).
+
+Tolerances are derived where each check is built (docstrings/derivation strings).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from gyrobench.scenarios.checks import Check
+
+__all__ = ["checks", "FALSE_ALARM"]
+
+#: false-alarm rate of each statistical check
+FALSE_ALARM = 1e-6
+
+
+def _z() -> float:
+    from scipy import stats
+
+    return float(stats.norm.isf(FALSE_ALARM / 2))
+
+
+def _arw_reduced(rng: np.random.Generator) -> Check:
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+    from scipy import stats
+
+    unit = ClosedLoopFOG(modes=())
+    rec = unit.simulate(600.0, 400.0, rng=rng)
+    noise = rec["rate"] - rec["truth/rate"]
+    ang = noise.reshape(-1, 400).sum(axis=1) / 400.0
+    n = len(ang)
+    n2 = float(np.mean(ang**2))
+    hi = stats.chi2.isf(FALSE_ALARM / 2, n) / n
+    lo = stats.chi2.ppf(FALSE_ALARM / 2, n) / n
+    # N_hat/N = sqrt(chi2/n): relative band on N
+    tol = max(math.sqrt(hi) - 1, 1 - math.sqrt(lo))
+    return Check(
+        id="fog.loop_arw_optical_budget",
+        formula="N = sqrt(S_phi/2)/SF, S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu "
+        "+ S_th/((i0/2)^2 sin^2 phi_b) [rad/sqrt(s)]; reduced record 600 s at 400 Hz",
+        expected=unit.arw,
+        simulated=math.sqrt(n2),
+        tolerance=tol,
+        derivation=f"{n} zero-mean 1 s angle increments: N_hat^2/N^2 ~ chi2({n})/{n}; "
+        f"two-sided band at {FALSE_ALARM:g} on N (the loop's block correction c/(400 M) "
+        "~ 4e-5 is far inside)",
+    )
+
+
+def _arw_full(rng: np.random.Generator) -> Check:
+    from gyrobench.sim.fog_loop import LoopSpec, run_loop
+    from gyrobench.sim.fog_optics import OpticalBudget
+    from scipy import stats
+
+    spec = LoopSpec(gain_loop=False)
+    optics = OpticalBudget()
+    m, n_out = 64, 6000
+    run = run_loop(spec, np.zeros(m * n_out), samples_per_output=m, optics=optics, rng=rng)
+    tau = spec.transit_time
+    v, cv = spec.block_noise_moments(m)
+    # N^2 from block sums: var(angle) = s^2 v(M), s^2 = S_phi/(2 tau) (tau/SF)^2 = N^2 tau
+    ang = run.rate[10:] / run.fs
+    n2_hat = float(np.mean(ang**2)) / (tau * v)
+    rho = cv / v
+    dof = len(ang) / (1 + 2 * rho**2)  # equivalent dof of the mean square of an MA(1)
+    lo = stats.chi2.ppf(FALSE_ALARM / 2, dof) / dof
+    hi = stats.chi2.isf(FALSE_ALARM / 2, dof) / dof
+    return Check(
+        id="fog.loop_full_arw_optical_budget",
+        formula="var(block angle of M transits) = N^2 tau v(M), v(M) = sum_{|l|<M} (M-|l|) "
+        "r_h(l); full-rate loop, M = 64, detector noise from the budget",
+        expected=spec.arw(optics),
+        simulated=math.sqrt(n2_hat),
+        tolerance=max(math.sqrt(hi) - 1, 1 - math.sqrt(lo)),
+        derivation=f"{len(ang)} block sums with MA(1) correlation rho = {rho:.3f}: equivalent "
+        f"dof n/(1 + 2 rho^2) = {dof:.0f}; two-sided chi-square band at {FALSE_ALARM:g} on N",
+    )
+
+
+def _loop_response() -> list[Check]:
+    from gyrobench.sim.fog_loop import LoopSpec, run_loop
+    from scipy import signal
+
+    spec = LoopSpec(gain_loop=False)
+    f = 3000.0
+    k = np.arange(1 << 15)
+    w = 2 * np.pi * f * spec.transit_time
+    amp = 1e-3
+    y = -run_loop(spec, amp * np.sin(w * k), samples_per_output=1).delta
+    sl = slice(2000, None)
+    basis = np.column_stack([np.sin(w * k[sl]), np.cos(w * k[sl])])
+    c, *_ = np.linalg.lstsq(basis, y[sl], rcond=None)
+    h = complex(spec.transfer(f))
+    step = np.full(4096, amp)
+    b, a = spec._poly()
+    lin = signal.lfilter(b, a, step)
+    ys = -run_loop(spec, step, samples_per_output=1).delta
+    nl = amp**2 / 6  # sin x = x - x^3/6: relative error of the slope <= x^2/6 at |x| <= amp
+    return [
+        Check(
+            id="fog.loop_frequency_response",
+            formula="|H(e^{j w tau})|, H = G/(1+G), G = g z^-1 (1+z^-1)/2/(1-z^-1); g = 0.1, "
+            "f = 3 kHz",
+            expected=abs(h),
+            simulated=math.hypot(*c) / amp,
+            tolerance=10 * nl + 1e-6,
+            derivation="loop nonlinearity sin x vs x: <= x^2/6 relative at |x| <= 1e-3 rad (x10 "
+            "for its accumulation over the loop's memory) + 1e-6 for the least-squares fit of "
+            "30 000 samples after the start transient",
+        ),
+        Check(
+            id="fog.loop_step_response",
+            formula="-delta_k = (h * phi)_k for a phase step phi = 1e-3 rad; largest deviation "
+            "of the full loop from the linear H over 4096 transits, relative to the step",
+            expected=amp,
+            simulated=amp + float(np.max(np.abs(ys - lin))),
+            tolerance=10 * nl,
+            derivation="nonlinearity x^2/6 of the error signal during the transient, x10 for "
+            "its accumulation",
+        ),
+    ]
+
+
+def _resets(rng: np.random.Generator) -> list[Check]:
+    from gyrobench.sim.fog_loop import LoopSpec, run_loop
+    from gyrobench.sim.fog_optics import OpticalBudget
+
+    spec = LoopSpec(gain_loop=False)
+    om = 0.0123  # rad/s
+    m, n_out = 512, 400
+    run = run_loop(
+        spec,
+        np.full(m * n_out, spec.scale_factor * om),
+        samples_per_output=m,
+        optics=OpticalBudget(),
+        rng=rng,
+    )
+    count = float(-run.resets.sum())
+    accumulated = float(-run.delta.sum()) / (2 * math.pi)
+    expected_rate = om * len(run.delta) * spec.transit_time / spec.angle_quantum
+    eps = 0.02
+    sv = LoopSpec(modulator_gain_error=eps, gain_loop=True)
+    rv = run_loop(sv, np.full(m * 1200, sv.scale_factor * om), samples_per_output=m)
+    sb = LoopSpec(modulator_gain_error=eps, gain_loop=False, reset_blanking=True)
+    rb = run_loop(sb, np.full(m * 1200, sb.scale_factor * om), samples_per_output=m)
+    return [
+        Check(
+            id="fog.loop_reset_count",
+            formula="number of 2 pi resets = accumulated ramp phase / (2 pi) (+-1); noisy record, "
+            f"Omega = {om} rad/s, {len(run.delta)} transits",
+            expected=accumulated,
+            simulated=count,
+            tolerance=1.0 / accumulated,
+            derivation="the ramp register stays in [0, 2 pi): count and accumulated phase / 2 pi "
+            "differ by less than one reset",
+        ),
+        Check(
+            id="fog.loop_reset_rate",
+            formula="resets = Omega T / (angle quantum), quantum = 2 pi tau/SF = n_g lambda/D",
+            expected=expected_rate,
+            simulated=count,
+            tolerance=(
+                1.0
+                + _z()
+                * spec.arw(OpticalBudget())
+                * math.sqrt(len(run.delta) * spec.transit_time)
+                / spec.angle_quantum
+            )
+            / expected_rate,
+            derivation="one reset of register quantisation plus z(1e-6) x the ARW angle noise "
+            "N sqrt(T) in quanta",
+        ),
+        Check(
+            id="fog.loop_v2pi_scale_factor",
+            formula="SF ratio with the V_2pi loop on and a 2 % modulator gain error = 1",
+            expected=1.0,
+            simulated=float(rv.rate[-200:].mean() / om),
+            tolerance=1e-6,
+            derivation="the gain loop drives G - 1 to < 1e-7 (integral control); 1 ppm allows "
+            "the reset ripple in a 200-sample mean",
+        ),
+        Check(
+            id="fog.loop_blanked_reset_scale_factor",
+            formula="SF ratio with reset samples blanked = 1/(1 + eps), eps = 0.02",
+            expected=1.0 / (1.0 + eps),
+            simulated=float(rb.rate[200:].mean() / om),
+            tolerance=1e-9,
+            derivation="noise-free, linear after lock: float64 rounding of the block sums",
+        ),
+    ]
+
+
+def _strain_kernel() -> list[Check]:
+    from gyrobench.sim.fiber_strain import ELASTO_OPTIC_FACTOR, exact_strain_phase
+    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
+
+    length, lam, ng, n = 1000.0, 1550e-9, 1.468, 1.46
+    f, eps0 = 500.0, 1e-6
+    w = 2 * np.pi * f
+    k0 = 2 * np.pi / lam
+    pre = k0 * n * ELASTO_OPTIC_FACTOR * ng / SPEED_OF_LIGHT * w * eps0
+    t = np.linspace(0, 1 / f, 64, endpoint=False)
+
+    def amp(psi):
+        y = exact_strain_phase(
+            lambda z, tt: eps0 * psi(z) * np.cos(w * tt),
+            t,
+            length=length,
+            wavelength=lam,
+            group_index=ng,
+            index=n,
+        )
+        basis = np.column_stack([np.sin(w * t), np.cos(w * t)])
+        c, *_ = np.linalg.lstsq(basis, y, rcond=None)
+        return math.hypot(*c)
+
+    tau = ng * length / SPEED_OF_LIGHT
+    small_tau = (w * tau / 2) ** 2 / 6  # sin x = x (1 - x^2/6), |x| <= w tau/2
+    uncancelled = pre * length**2 / 2  # int |L - 2z| dz: every contribution with one sign
+    return [
+        Check(
+            id="fog.strain_uniform_zero",
+            formula="dphi = (k0 n xi n_g/c) w eps0 int_0^L (L - 2z) dz = 0 for uniform strain; "
+            "exact two-crossing-time integral, 500 Hz, L = 1 km; relative to the "
+            "uncancelled integral of |L - 2z|",
+            expected=0.0,
+            simulated=amp(lambda z: np.ones_like(z)),
+            tolerance=1e-9,
+            scale=uncancelled,
+            derivation="Simpson on 4001 points integrates the odd kernel to rounding; 1e-9 "
+            "covers float64 cancellation of terms of size k0 n xi eps0 L",
+        ),
+        Check(
+            id="fog.strain_mode_linear",
+            formula="dphi amplitude = (k0 n xi n_g/c) w eps0 W, W = int (z/L)(L - 2z) dz = "
+            "-L^2/6 (psi = z/L), 500 Hz",
+            expected=pre * length**2 / 6,
+            simulated=amp(lambda z: z / length),
+            tolerance=small_tau + 1e-8,
+            derivation=f"small-tau kernel error (w tau/2)^2/6 = {small_tau:.2g} plus Simpson "
+            "(h^4 error on a smooth integrand) and fit rounding 1e-8",
+        ),
+    ]
+
+
+def _vibration_chain(rng: np.random.Generator) -> list[Check]:
+    from gyrobench.sim import units
+    from gyrobench.sim.fiber_strain import StrainMode
+    from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, loop_average, run_loop
+    from gyrobench.sim.shaker import FixedSine
+
+    mode = StrainMode(frequency=300.0, quality=30.0, strain=3e-12, weight=500.0)
+    unit = ClosedLoopFOG(modes=(mode,))
+    fs, f, a0 = 400.0, 150.0, units.g(2.0)
+    sh = FixedSine(frequency=f, duration=10.0, acceleration=a0).sample(8 * fs, rng=rng)
+    rec = unit.simulate(10.0, fs, rng=rng, shaker=sh)
+    y = rec["truth/strain_nonreciprocity"]
+    t = rec.time + 0.5 / fs
+    basis = np.column_stack([np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t)])
+    c, *_ = np.linalg.lstsq(basis, y, rcond=None)
+    cf = (
+        unit.strain_coefficient()
+        * mode.strain
+        * mode.weight
+        * 2
+        * np.pi
+        * f
+        * a0
+        * abs(mode.response(f)[()])
+        * abs(unit.loop.transfer(f))
+        * abs(np.sinc(f / fs))
+    )
+    spec = LoopSpec(gain_loop=False)
+    m, n_out, kp = 512, 100, 16
+    fo = 1 / (m * spec.transit_time)
+    fv = round(500.0 * n_out / fo) * fo / n_out
+    amp = 1e-3
+    x = amp * np.sin(2 * np.pi * fv * np.arange(n_out * kp) / (kp * fo))
+    red = loop_average(np.fft.rfft(x), len(x), kp * fo, fo, spec)
+    k = np.arange(n_out * m)
+    ph = spec.scale_factor * amp * np.sin(2 * np.pi * fv * (k + 0.5) * spec.transit_time)
+    full = run_loop(spec, ph, samples_per_output=m).rate
+    mid = (2 * np.pi * fv * spec.transit_time) ** 2 / 24
+    return [
+        Check(
+            id="fog.vibration_strain_tone",
+            formula="tone = K kappa W w a |H_k(f)| |H(f)| sinc(f/fs), K = n_g n xi/(L D); "
+            "150 Hz, 2 g, mode 300 Hz Q 30; reduced record at 400 Hz",
+            expected=float(cf),
+            simulated=math.hypot(*c),
+            tolerance=1e-9,
+            derivation="the frequency-domain chain is exact for a whole number of cycles; "
+            "1e-9 for FFT and least-squares rounding",
+        ),
+        Check(
+            id="fog.vibration_reduced_vs_full_loop",
+            formula="reduced form (H, integrate-and-dump sinc, block centres) vs the full-rate "
+            "loop for a 500 Hz rate tone of 1e-3 rad/s; largest output difference / amplitude",
+            expected=amp,
+            simulated=amp + float(np.max(np.abs(full[2:] - red[2:]))),
+            tolerance=2 * mid + 1e-6,
+            derivation=f"midpoint-rule error of the transit sum (w tau)^2/24 = {mid:.2g}, twice, "
+            "+ 1e-6 for the loop's start transient and rounding",
+        ),
+    ]
+
+
+def _rectification() -> Check:
+    from gyrobench.sim.fog_loop import LoopSpec, run_loop
+
+    spec = LoopSpec(gain_loop=False)
+    m, n_out = 512, 400
+    fs = 1 / (m * spec.transit_time)
+    f = round(500 * n_out / fs) * fs / n_out
+    om0, m0, th = 0.05, 1e-2, 0.3
+    tk = (np.arange(n_out * m) + 0.5) * spec.transit_time
+    ph = spec.scale_factor * om0 * np.sin(2 * np.pi * f * tk)
+    mk = m0 * np.cos(2 * np.pi * f * tk + th)
+    bias = float(
+        (
+            run_loop(spec, ph, samples_per_output=m, intensity=mk).rate
+            - run_loop(spec, ph, samples_per_output=m).rate
+        )[2:].mean()
+    )
+    hf = complex(spec.transfer(f))
+    x_res = spec.scale_factor * om0 * abs(1 - hf)
+    p_res = spec.scale_factor * om0 * (1 - hf) * -1j  # phasor of the residual (sin -> -j)
+    closed = float(np.real(m0 * np.exp(1j * th) * np.conj(p_res))) / (2 * spec.scale_factor)
+    return Check(
+        id="fog.vibration_rectification_full_loop",
+        formula="bias = m phi_res cos(theta)/(2 SF) = Re(M conj(P))/(2 SF), P = SF Omega_v "
+        "(1 - H(f)): full nonlinear loop with loss modulation m = 1e-2 at 500 Hz, rate tone "
+        "0.05 rad/s",
+        expected=closed,
+        simulated=bias,
+        tolerance=m0 + x_res**2 / 6,
+        derivation="orders the closed form neglects: m relative (the loop gain modulated by "
+        "1 + m changes phi_res) and the sin curvature x_res^2/6",
+    )
+
+
+def checks(rng: np.random.Generator) -> list[Check]:
+    """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
+    r = rng.spawn(4)
+    return [
+        _arw_reduced(r[0]),
+        _arw_full(r[1]),
+        *_loop_response(),
+        *_resets(r[2]),
+        *_strain_kernel(),
+        *_vibration_chain(r[3]),
+        _rectification(),
+    ]

@@ -1,0 +1,196 @@
+"""Vibration of a FOG from mechanics: shaker -> structural mode -> strain along the fibre -> phase.
+
+All SI: acceleration [m/s^2], strain [-], phase [rad], rate [rad/s], z along the fibre [m].
+
+Time-varying nonreciprocity (PHYSICS-models.md 2.1, derived there): a change db(z, t) of the
+propagation constant per unit length is crossed by the two waves at t - (L - z)/v and t - z/v
+(v = c/n_g), so the phase difference is
+
+    dphi(t) = int_0^L [db(z, t - (L - z)/v) - db(z, t - z/v)] dz
+    harmonic db = B(z) e^{jwt}:  dphi = -2j e^{-jw tau/2} int_0^L B(z) sin(w (L - 2z)/(2v)) dz
+    w tau << 1:                  dphi ~ (1/v) int_0^L d(db)/dt (L - 2z) dz
+
+Axial strain eps changes the optical path per unit length by n xi eps (xi = 1 -
+(n^2/2)[p12 - nu (p11 + p12)] = 0.788 for fused silica: p11 = 0.121, p12 = 0.270, nu = 0.17,
+n = 1.444, the phase index of fused silica at 1550 nm, Malitson, JOSA 55, 1205 (1965)), so
+db = k0 n xi eps and, divided by SF = 2 pi L D/(lambda c), the rate-equivalent error is
+
+    Omega_eps(t) = (n_g n xi / (L D)) int_0^L eps_dot(z, t) (L - 2z) dz                 [rad/s]
+
+It follows the strain RATE: a harmonic strain at w gives an error proportional to w, 90 deg
+ahead of the strain, zero-mean at first order.
+
+Structural mode k (base excitation by the table acceleration a, unit static gain):
+
+    x_k = H_k a,   H_k(s) = w_k^2 / (s^2 + s w_k/Q_k + w_k^2)                    [m/s^2]
+    eps(z, t) = kappa_k psi_k(z) x_k(t)           (kappa_k: strain per m/s^2, psi_k: shape)
+    Omega_eps,k = (n_g n xi / (L D)) kappa_k W_k dx_k/dt,   W_k = int psi_k (L - 2z) dz   [m^2]
+    rocking about the sense axis: Omega_rock,k = theta_k dx_k/dt       (true rate, theta_k
+                                                                          rad per m/s^2)
+    loss modulation (pigtail microbending): m(t) = sum_k mu_k x_k        [-]
+
+Weights (closed forms, tests): psi uniform -> W = 0; psi = z/L -> W = -L^2/6; a segment
+[z0, z0 + l] -> W = l (L - 2 z0 - l).
+
+References
+----------
+PHYSICS-models.md 2.1-2.5 (kernel derived there); Lefevre, The Fiber-Optic Gyroscope, 2nd ed.
+(2014), sec. 3.2 (reciprocity and time-varying perturbations: the (L - 2z) weighting shared with
+the Shupe effect); Shupe, Appl. Opt. 19(5) 654 (1980); elasto-optic factor: Bertholds &
+Dandliker, J. Lightwave Technol. 6(1) 17 (1988) (strain sensitivity of optical fibres).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from numbers import Real
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "ELASTO_OPTIC_FACTOR",
+    "elasto_optic_factor",
+    "segment_weight",
+    "shape_weight",
+    "strain_rate_coefficient",
+    "exact_strain_phase",
+    "StrainMode",
+]
+
+
+def elasto_optic_factor(
+    n: float = 1.444, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17
+) -> float:
+    """xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] [-] (optical path change per unit axial strain / n).
+
+    >>> round(elasto_optic_factor(), 3)
+    0.788
+    """
+    return 1.0 - n**2 / 2.0 * (p12 - nu * (p11 + p12))
+
+
+#: xi for fused silica (p11 = 0.121, p12 = 0.270, nu = 0.17; PHYSICS-models.md 2.2) [-]
+ELASTO_OPTIC_FACTOR = elasto_optic_factor()
+
+
+def segment_weight(z0: float, length: float, fibre_length: float) -> float:
+    """W = int_{z0}^{z0+l} (L - 2z) dz = l (L - 2 z0 - l) [m^2] for a uniformly strained segment."""
+    if not (0.0 <= z0 and length > 0 and z0 + length <= fibre_length * (1 + 1e-12)):
+        raise ValueError(
+            f"segment [z0, z0 + length] must lie in [0, {fibre_length!r}] m; got z0={z0!r}, "
+            f"length={length!r}"
+        )
+    return length * (fibre_length - 2.0 * z0 - length)
+
+
+def shape_weight(
+    shape: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+    fibre_length: float,
+    *,
+    n: int = 200001,
+) -> float:
+    """W = int_0^L psi(z) (L - 2z) dz [m^2] (composite Simpson rule on n points, n odd)."""
+    from scipy.integrate import simpson
+
+    if n < 3 or n % 2 == 0:
+        raise ValueError(f"n must be an odd integer >= 3; got {n!r}")
+    z = np.linspace(0.0, fibre_length, n)
+    return float(simpson(np.asarray(shape(z), dtype=float) * (fibre_length - 2.0 * z), x=z))
+
+
+def strain_rate_coefficient(
+    length: float,
+    diameter: float,
+    group_index: float,
+    index: float = 1.444,
+    xi: float = ELASTO_OPTIC_FACTOR,
+) -> float:
+    """K = n_g n xi / (L D) [1/m^2]: Omega_eps = K int eps_dot (L - 2z) dz."""
+    return group_index * index * xi / (length * diameter)
+
+
+def exact_strain_phase(
+    strain: Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]],
+    t: ArrayLike,
+    *,
+    length: float,
+    wavelength: float,
+    group_index: float,
+    index: float = 1.444,
+    xi: float = ELASTO_OPTIC_FACTOR,
+    nz: int = 4001,
+) -> NDArray[np.float64]:
+    """Phase difference [rad] by the two-crossing-time integral, no small-tau approximation.
+
+    dphi(t) = k0 n xi int_0^L [eps(z, t - (L - z)/v) - eps(z, t - z/v)] dz (Simpson in z),
+    with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row).
+    """
+    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
+    from scipy.integrate import simpson
+
+    v = SPEED_OF_LIGHT / group_index
+    k0 = 2.0 * math.pi / wavelength
+    z = np.linspace(0.0, length, nz)[:, None]
+    tt = np.atleast_1d(np.asarray(t, dtype=float))[None, :]
+    diff = strain(z, tt - (length - z) / v) - strain(z, tt - z / v)
+    return k0 * index * xi * np.asarray(simpson(diff, x=z[:, 0], axis=0), dtype=float)
+
+
+def _real(owner: str, name: str, v: object, unit: str, *, positive: bool = False) -> float:
+    if isinstance(v, bool) or not isinstance(v, Real):
+        raise TypeError(f"{owner}.{name} must be a real number [{unit}]; got {v!r}")
+    x = float(v)
+    if not math.isfinite(x) or (positive and x <= 0):
+        raise ValueError(
+            f"{owner}.{name} must be finite{' and > 0' if positive else ''} [{unit}]; got {v!r}"
+        )
+    return x
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StrainMode:
+    """One structural mode and how it reaches the interferometer.
+
+    Parameters
+    ----------
+    frequency : float
+        f_k [Hz].
+    quality : float
+        Q_k [-], > 0.5.
+    strain : float
+        kappa_k: fibre strain amplitude per unit modal acceleration [1/(m/s^2)].
+    weight : float
+        W_k = int psi_k(z) (L - 2z) dz [m^2] of the mode's strain shape along the fibre.
+    rocking : float
+        theta_k: rotation about the sense axis per unit modal acceleration [rad/(m/s^2)].
+    loss : float
+        mu_k: relative detected-power modulation per unit modal acceleration [1/(m/s^2)].
+    """
+
+    frequency: float
+    quality: float
+    strain: float = 0.0
+    weight: float = 0.0
+    rocking: float = 0.0
+    loss: float = 0.0
+
+    def __post_init__(self) -> None:
+        o = "StrainMode"
+        _real(o, "frequency", self.frequency, "Hz", positive=True)
+        if _real(o, "quality", self.quality, "-", positive=True) <= 0.5:
+            raise ValueError(f"StrainMode.quality must be > 0.5; got {self.quality!r}")
+        for name, unit in (
+            ("strain", "1/(m/s^2)"),
+            ("weight", "m^2"),
+            ("rocking", "rad/(m/s^2)"),
+            ("loss", "1/(m/s^2)"),
+        ):
+            _real(o, name, getattr(self, name), unit)
+
+    def response(self, f: ArrayLike) -> NDArray[np.complex128]:
+        """H_k(j 2 pi f) = 1/(1 - r^2 + j r/Q), r = f/f_k."""
+        r = np.asarray(f, dtype=float) / self.frequency
+        return np.asarray(1.0 / (1.0 - r**2 + 1j * r / self.quality), dtype=np.complex128)

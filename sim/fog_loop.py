@@ -1,0 +1,855 @@
+"""Closed-loop interferometric FOG: square-wave bias modulation, serrodyne feedback, V_2pi loop.
+
+All quantities SI: phase [rad], rate [rad/s], time [s]. Equations: PHYSICS-models.md section 1
+(derived there from first principles), docs/physics.md 3.8.
+
+Interferometer and modulation (one step per transit time tau = n_g L / c)
+-----------------------------------------------------------------------------
+The phase modulator at one coil end applies phi_m(k) = G (R_k + b_k phi_b / 2) in transit k
+(b_k = +1, -1, ... alternating: a square wave at the proper frequency f_p = 1/(2 tau)); the
+two waves see it one transit apart, so the phase difference is
+
+    x_k + b_k G phi_b,   x_k = phi_s(k) + G dR_k,   dR_k = R_k - R_{k-1}
+
+with phi_s the Sagnac phase SF Omega (plus any nonreciprocal phase), R the digital ramp
+(wrapped to [0, 2 pi): dR_k = delta_k - 2 pi r_k, r_k = +-1 on a reset) and G the true
+modulator gain relative to its nominal value (G = G_m g_2, g_2 the DAC gain the second loop
+sets). Normalised detector samples (current / (i0/2)):
+
+    I_k = 1 + cos(x_k + b_k G phi_b) + n_k
+
+Two-tap demodulation e_k = -b_k (I_k - I_{k-1}) / (2 sin phi_b) = (sin x_k + sin x_{k-1})/2 for
+G = 1. Rate loop (integrator, d transits of delay): delta_{k+1} = delta_k - g e_{k+1-d}.
+Second loop (V_2pi control, reset-error demodulation, integral control): after a reset in
+transit k, g_2 += k_2 r_k (e_k + e_{k+1}); the reset transit's phase error is -2 pi r_k (G - 1).
+
+Output: the ramp's angle increments. Each transit the loop adds delta_k to the ramp (resets
+remove whole 2 pi, counted), i.e. an angle -delta_k tau / SF0; integrate-and-dump over the
+output period T_o gives the output rate sample (1/T_o) sum_k (-delta_k tau / SF0).
+
+Linearised loop (G = 1, sin x = x):
+
+    G_ol(z) = g z^-d (1 + z^-1)/2 / (1 - z^-1),   H(z) = G_ol / (1 + G_ol),   -delta = H phi_s
+
+H(1) = 1 (no steady-state error); small g: f_3dB ~ g/(2 pi tau). Default g = 0.1, d = 1 for a
+1 km coil: f_3dB = 3.4 kHz (computed by :meth:`LoopSpec.bandwidth`).
+
+Reduced form (long records; :class:`ClosedLoopFOG`) -- see that class.
+
+References
+----------
+H. C. Lefevre, The Fiber-Optic Gyroscope, 2nd ed. (Artech House, 2014), ch. 3 (reciprocity,
+proper frequency, square-wave biasing) and ch. 6 (closed-loop, digital phase ramp, 2 pi reset
+and V_2pi control); Arditty & Lefevre, "Closed-loop fiber gyroscope with a phase ramp",
+Opt. Lett. 6(8) 401 (1981). PHYSICS-models.md 1.1-1.4 (the formulas above, derived and
+checked numerically there).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from numbers import Integral, Real
+
+import numpy as np
+from gyrobench.sim.earth import BEIJING, sensed_earth_rate
+from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
+from gyrobench.sim.fog import sagnac_scale_factor
+from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.shaker import ShakerSignal
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "LoopSpec",
+    "LoopRun",
+    "run_loop",
+    "gain_error_scale_factor",
+    "loop_average",
+    "ClosedLoopFOG",
+]
+
+_TWO_PI = 2.0 * math.pi
+
+
+def _real(
+    owner: str, name: str, v: object, unit: str, lo: float | None = None, hi: float | None = None
+) -> float:
+    if isinstance(v, bool) or not isinstance(v, Real):
+        raise TypeError(f"{owner}.{name} must be a real number [{unit}]; got {v!r}")
+    x = float(v)
+    if not math.isfinite(x) or (lo is not None and x <= lo) or (hi is not None and x >= hi):
+        rng = f"in ({lo}, {hi})" if hi is not None else f"> {lo}"
+        raise ValueError(f"{owner}.{name} must be finite and {rng} {unit}; got {v!r}")
+    return x
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LoopSpec:
+    """Coil, modulation and loop parameters of a closed-loop IFOG (SI).
+
+    Parameters
+    ----------
+    length : float
+        Coil fibre length L [m].
+    diameter : float
+        Mean coil diameter D [m].
+    wavelength : float
+        Source mean wavelength lambda [m].
+    group_index : float
+        Fibre group index n_g [-] (1.468, SMF at 1550 nm; typical).
+    bias_phase : float
+        Modulation depth phi_b [rad] (square wave +-phi_b/2 at f_p; pi/2 default).
+    loop_gain : float
+        Normalised integrator gain g [-] (per transit, error normalised to sin x).
+    delay : int
+        Transits between a detector sample and the ramp step it changes (1 or 2).
+    gain_loop : bool
+        Second (V_2pi) loop on.
+    gain_loop_gain : float
+        k_2 [-], integrator gain of the V_2pi loop per reset.
+    modulator_gain_error : float
+        eps = G_m - 1: the modulator's true gain relative to the DAC's nominal V_2pi [-].
+    reset_blanking : bool
+        Skip the rate-loop update on samples that contain a reset transit.
+    """
+
+    length: float = 1000.0
+    diameter: float = 0.10
+    wavelength: float = 1550e-9
+    group_index: float = 1.468
+    bias_phase: float = math.pi / 2
+    loop_gain: float = 0.1
+    delay: int = 1
+    gain_loop: bool = True
+    gain_loop_gain: float = 0.02
+    modulator_gain_error: float = 0.0
+    reset_blanking: bool = False
+
+    def __post_init__(self) -> None:
+        o = "LoopSpec"
+        _real(o, "length", self.length, "m", 0.0)
+        _real(o, "diameter", self.diameter, "m", 0.0)
+        _real(o, "wavelength", self.wavelength, "m", 0.0)
+        _real(o, "group_index", self.group_index, "-", 1.0)
+        _real(o, "bias_phase", self.bias_phase, "rad", 0.0, math.pi)
+        _real(o, "gain_loop_gain", self.gain_loop_gain, "-", 0.0, 1.0)
+        _real(o, "modulator_gain_error", self.modulator_gain_error, "-", -0.5, 0.5)
+        if (
+            isinstance(self.delay, bool)
+            or not isinstance(self.delay, Integral)
+            or self.delay not in (1, 2)
+        ):
+            raise ValueError(f"LoopSpec.delay must be 1 or 2 transits; got {self.delay!r}")
+        gmax = 2.0 if self.delay == 1 else 1.0
+        _real(o, "loop_gain", self.loop_gain, "-", 0.0)
+        if not self.stable:
+            raise ValueError(
+                f"LoopSpec.loop_gain must give a stable loop (delay {self.delay}: "
+                f"below ~{gmax:g}); got {self.loop_gain!r}"
+            )
+        for name in ("gain_loop", "reset_blanking"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"LoopSpec.{name} must be a bool; got {getattr(self, name)!r}")
+
+    # ----------------------------------------------------------------- optics
+    @property
+    def scale_factor(self) -> float:
+        """SF0 = 2 pi L D / (lambda c) [s] (sim.fog.sagnac_scale_factor)."""
+        return sagnac_scale_factor(self.length, self.diameter, self.wavelength)
+
+    @property
+    def transit_time(self) -> float:
+        """tau = n_g L / c [s]."""
+        return self.group_index * self.length / SPEED_OF_LIGHT
+
+    @property
+    def proper_frequency(self) -> float:
+        """f_p = 1/(2 tau) [Hz]."""
+        return 1.0 / (2.0 * self.transit_time)
+
+    @property
+    def angle_quantum(self) -> float:
+        """One 2 pi of ramp as output angle, 2 pi tau / SF0 = n_g lambda / D [rad]."""
+        return _TWO_PI * self.transit_time / self.scale_factor
+
+    # ----------------------------------------------------------------- loop
+    def _poly(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(b, a) of H(z) in powers of z^-1."""
+        g, d = self.loop_gain, self.delay
+        num = np.zeros(d + 2)
+        num[d] += g / 2
+        num[d + 1] += g / 2
+        den = np.zeros(d + 2)
+        den[0], den[1] = 1.0, -1.0
+        den = den + num
+        return num, den
+
+    @property
+    def stable(self) -> bool:
+        """All closed-loop poles inside the unit circle."""
+        _, a = self._poly()
+        return bool(np.all(np.abs(np.roots(a)) < 1.0))
+
+    def transfer(self, f: ArrayLike) -> NDArray[np.complex128]:
+        """Closed-loop H(e^{j 2 pi f tau}) from Sagnac phase to -delta at frequency ``f`` [Hz]."""
+        z1 = np.exp(-2j * np.pi * np.asarray(f, dtype=float) * self.transit_time)
+        b, a = self._poly()
+        num = sum(c * z1**i for i, c in enumerate(b))
+        den = sum(c * z1**i for i, c in enumerate(a))
+        return np.asarray(num / den, dtype=np.complex128)
+
+    def bandwidth(self) -> float:
+        """-3 dB frequency of |H| [Hz] (first crossing of 1/sqrt(2) below f_p)."""
+        from scipy.optimize import brentq
+
+        f = np.linspace(0.0, self.proper_frequency, 20001)[1:]
+        m = np.abs(self.transfer(f)) - 1 / math.sqrt(2)
+        i = int(np.argmax(m < 0))
+        return float(
+            brentq(
+                lambda x: abs(self.transfer(x)) - 1 / math.sqrt(2), f[i - 1] if i else 1e-9, f[i]
+            )
+        )
+
+    def impulse_response(self, n: int | None = None) -> NDArray[np.float64]:
+        """h_k of H(z), k = 0..n-1 (default: until |h| < 1e-16 of its peak)."""
+        from scipy.signal import lfilter
+
+        if n is None:
+            r = float(np.max(np.abs(np.roots(self._poly()[1]))))
+            n = int(math.ceil(40.0 / max(1e-12, -math.log(r)))) + 8
+        x = np.zeros(n)
+        x[0] = 1.0
+        b, a = self._poly()
+        return np.asarray(lfilter(b, a, x), dtype=float)
+
+    def block_noise_correction(self) -> float:
+        """c = sum_l |l| r_h(l), r_h the autocorrelation of h [transits].
+
+        A block sum of M transits of H-filtered white noise (per-transit variance s^2) has
+        variance s^2 (M - c) and lag-1 covariance s^2 c/2 when M exceeds the loop's memory
+        (:meth:`block_noise_moments` gives the exact values for any M).
+        """
+        h = self.impulse_response()
+        r = np.correlate(h, h, mode="full")
+        lag = np.arange(-(len(h) - 1), len(h))
+        return float(np.sum(np.abs(lag) * r))
+
+    def block_noise_moments(self, m: int) -> tuple[float, float]:
+        """Exact (variance, lag-1 covariance) of block sums of M transits of H-filtered unit
+        white noise: sum_{|l|<M} (M - |l|) r(l) and sum_{l=1}^{2M-1} min(l, 2M - l) r(l)."""
+        h = self.impulse_response()
+        r = np.correlate(h, h, mode="full")
+        lag = np.arange(-(len(h) - 1), len(h))
+        al = np.abs(lag)
+        var = float(np.sum(np.where(al < m, m - al, 0) * r))
+        cov = float(
+            np.sum(np.where((lag >= 1) & (lag <= 2 * m - 1), np.minimum(lag, 2 * m - lag), 0) * r)
+        )
+        return var, cov
+
+    def noise_phase_psd(self, optics: OpticalBudget) -> float:
+        """One-sided equivalent phase-noise PSD of the budget at this loop's bias [rad^2/Hz]."""
+        return optics.phase_psd(self.bias_phase, self.wavelength)["total"]
+
+    def arw(self, optics: OpticalBudget) -> float:
+        """Angle random walk of the budget, N = sqrt(S_phi/2)/SF0 [rad/sqrt(s)]."""
+        return arw_from_phase_psd(self.noise_phase_psd(optics), self.scale_factor)
+
+
+def gain_error_scale_factor(
+    phase: ArrayLike, eps: float, *, reset_blanking: bool = False, iterations: int = 60
+) -> NDArray[np.float64]:
+    """Mean-output scale-factor ratio (output / input) of the rate loop with modulator gain 1 + eps.
+
+    Solves the loop's null condition for the mean demodulated error with resets in the
+    loop: normal transits at x_n, a fraction f = |delta|/(2 pi) of reset transits at
+    x_n - 2 pi s eps (s = sign(delta)):
+
+        (1 - f) sin(x_n) + f sin(x_n - 2 pi s eps) = 0,   x_n = phi_s + (1 + eps) delta
+
+    (fixed-point iteration). To first order in f the ratio -delta/phi_s is
+    1/(1 + eps - sin(2 pi eps)/(2 pi)) = 1 - (2/3) pi^2 eps^3 + ...; with reset samples
+    blanked it is 1/(1 + eps). PHYSICS-models.md 1.3.
+
+    Not included: with G != 1 the modulation depth is G phi_b and the two-tap demodulator
+    keeps a term -b_k cos(G phi_b)(cos x_k - cos x_{k-1})/(2 sin phi_b); at a reset it adds
+    b_k cos(G phi_b)(1 - cos 2 pi eps)/sin(phi_b) to the error, whose mean depends on the
+    modulation parity of the reset transits (set by the rate). Its scale-factor effect is
+    bounded by |cos(G phi_b)| (1 - cos 2 pi eps) / (2 pi sin phi_b) (39 ppm at eps = 0.02,
+    phi_b = pi/2; 0.13 % at 3 pi/4) [derived; the full loop stays inside it, test_fog_loop].
+
+    Parameters
+    ----------
+    phase : array
+        Sagnac phase phi_s [rad], |phi_s| < pi.
+    eps : float
+        Modulator gain error G - 1 [-].
+    """
+    phi = np.asarray(phase, dtype=float)
+    if reset_blanking:
+        return np.full_like(phi, 1.0 / (1.0 + eps))
+    delta = -phi / (1.0 + eps)
+    for _ in range(iterations):
+        f = np.abs(delta) / _TWO_PI
+        s = np.sign(delta)
+        # x_n from tan(x_n) = f sin(2 pi s eps) / (1 - f + f cos(2 pi s eps))
+        xn = np.arctan2(f * np.sin(_TWO_PI * s * eps), 1.0 - f + f * np.cos(_TWO_PI * eps))
+        delta = (xn - phi) / (1.0 + eps)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(
+            phi == 0, 1.0 / (1.0 + eps - math.sin(_TWO_PI * eps) / _TWO_PI), -delta / phi
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class LoopRun:
+    """Result of :func:`run_loop`.
+
+    Attributes
+    ----------
+    fs : float
+        Output rate 1/(M tau) [Hz].
+    rate : ndarray
+        Output rate samples, angle increment / T_o [rad/s].
+    delta : ndarray
+        Ramp step per transit [rad] (length n).
+    resets : ndarray of int
+        Reset sign per transit (0, +1 wrap down, -1 wrap up).
+    dac_gain : ndarray
+        g_2 per transit (the V_2pi loop's state).
+    """
+
+    fs: float
+    rate: NDArray[np.float64]
+    delta: NDArray[np.float64]
+    resets: NDArray[np.int8]
+    dac_gain: NDArray[np.float64]
+
+
+def run_loop(
+    spec: LoopSpec,
+    phase: ArrayLike,
+    *,
+    samples_per_output: int,
+    optics: OpticalBudget | None = None,
+    rng: np.random.Generator | None = None,
+    initial_ramp: float = 0.0,
+    intensity: ArrayLike | None = None,
+) -> LoopRun:
+    """Full-rate closed loop, one step per transit (validation reference; ~0.5 us CPU per transit).
+
+    Parameters
+    ----------
+    spec : LoopSpec
+    phase : array, shape (n,)
+        Nonreciprocal phase per transit [rad]: SF Omega plus any other (strain) phase.
+    samples_per_output : int
+        M transits per output sample (output rate 1/(M tau)); n must be a multiple of M.
+    optics : OpticalBudget, optional
+        Detector noise from the budget (white, per-transit variance S_i / (2 tau) at the bias
+        point); None: noise-free.
+    rng : numpy.random.Generator
+        Required when ``optics`` is given.
+    initial_ramp : float
+        Ramp register at k = -1 [rad], in [0, 2 pi).
+    intensity : array, shape (n,), optional
+        Relative detected-power modulation m_k per transit [-] (loss modulation, e.g. pigtail
+        microbending): I_k = (1 + m_k)(1 + cos(...)) + n_k.
+    """
+    phi = np.asarray(phase, dtype=float)
+    if phi.ndim != 1 or not np.all(np.isfinite(phi)):
+        raise ValueError("phase must be a finite 1-D array [rad]")
+    m = samples_per_output
+    if isinstance(m, bool) or not isinstance(m, Integral) or m < 1 or len(phi) % m:
+        raise ValueError(
+            f"samples_per_output must be an int >= 1 dividing len(phase) = {len(phi)}; got {m!r}"
+        )
+    n = len(phi)
+    tau = spec.transit_time
+    pb = spec.bias_phase
+    sinpb = math.sin(pb)
+    if optics is not None:
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
+        psd = sum(optics.current_psd(pb, spec.wavelength).values())
+        sigma = math.sqrt(psd / (2.0 * tau)) / (optics.peak_current / 2.0)
+        noise = sigma * rng.standard_normal(n)
+    else:
+        noise = np.zeros(n)
+    g = spec.loop_gain
+    d = spec.delay
+    k2 = spec.gain_loop_gain if spec.gain_loop else 0.0
+    gm = 1.0 + spec.modulator_gain_error
+    g2 = 1.0
+    ramp = float(initial_ramp)
+    out_delta = np.empty(n)
+    out_reset = np.zeros(n, dtype=np.int8)
+    out_g2 = np.empty(n)
+    prev_i = 1.0 + math.cos(pb)  # sample before the record: locked at zero residual
+    delta = 0.0  # ramp step of the coming transit
+    e_prev = 0.0
+    pending = 0  # sign of a reset whose second demodulator tap is still to come
+    e_acc = 0.0
+    last_reset = 0  # reset of transit k - 1
+    reset_2 = 0  # reset of transit k - 2
+    cos = math.cos
+    two_pi = _TWO_PI
+    blanking = spec.reset_blanking
+    phil = phi.tolist()
+    noisel = noise.tolist()
+    if intensity is None:
+        gainl = [1.0] * n
+    else:
+        mod = np.asarray(intensity, dtype=float)
+        if mod.shape != phi.shape or not np.all(np.isfinite(mod)) or np.any(mod <= -1):
+            raise ValueError("intensity must be a finite array like phase with values > -1")
+        gainl = (1.0 + mod).tolist()
+    for k in range(n):
+        b = 1.0 if (k & 1) == 0 else -1.0
+        r = ramp + delta
+        reset = 0
+        if r >= two_pi:
+            r -= two_pi
+            reset = 1
+        elif r < 0.0:
+            r += two_pi
+            reset = -1
+        dr = r - ramp
+        ramp = r
+        i_k = gainl[k] * (1.0 + cos(phil[k] + gm * g2 * (dr + b * pb))) + noisel[k]
+        e = -b * (i_k - prev_i) / (2.0 * sinpb)
+        prev_i = i_k
+        out_delta[k] = delta
+        out_reset[k] = reset
+        out_g2[k] = g2
+        # V_2pi loop: the reset transit's error sits in the two taps e_k and e_{k+1}
+        if pending:
+            g2 += k2 * pending * (e_acc + e)
+            pending = 0
+        if reset and k2:
+            pending = reset
+            e_acc = e
+        # rate loop: integrator on e_{k+1-d}, which holds transits k+1-d and k-d; blanking
+        # skips it when either was a reset transit
+        if d == 1:
+            u, holds_reset = e, reset or last_reset
+        else:
+            u, holds_reset = e_prev, last_reset or reset_2
+        if not (blanking and holds_reset):
+            delta -= g * u
+        e_prev = e
+        reset_2 = last_reset
+        last_reset = reset
+    rate = -(out_delta.reshape(-1, m).sum(axis=1)) * tau / spec.scale_factor / (m * tau)
+    return LoopRun(
+        fs=1.0 / (m * tau), rate=rate, delta=out_delta, resets=out_reset, dac_gain=out_g2
+    )
+
+
+# ============================================================================ the unit
+def _default_modes() -> tuple[StrainMode, ...]:
+    # Assumed values (unverified; no paper number used). Sizes chosen so that the largest
+    # strain tone at 2 g is a few deg/h at the pigtail resonance, the order vibration tests of
+    # navigation-grade FOGs report, and the coil mode adds ~0.1 deg/h at 500 Hz: axial strain
+    # of the core is small because bending strain vanishes on the fibre's neutral axis.
+    # - coil mode 1.2 kHz, Q 15: 2e-12 strain per m/s^2 with 1e-3 of the linear-ramp weight
+    #   L^2/6 left after the quadrupolar winding;
+    # - pigtail 300 Hz, Q 30: 0.5 m at the coil end (W = l (L - l)), 3e-12 strain per m/s^2,
+    #   microbending loss 1e-6 per m/s^2;
+    # - fixture mode 900 Hz, Q 10: rocking 1e-8 rad per m/s^2 about the sense axis (true rate).
+    length = 1000.0
+    return (
+        StrainMode(frequency=1200.0, quality=15.0, strain=2e-12, weight=1e-3 * length**2 / 6),
+        StrainMode(
+            frequency=300.0,
+            quality=30.0,
+            strain=3e-12,
+            weight=segment_weight(0.0, 0.5, length),
+            loss=1e-6,
+        ),
+        StrainMode(frequency=900.0, quality=10.0, rocking=1e-8),
+    )
+
+
+def loop_average(
+    spectrum: NDArray[np.complex128], n_phys: int, fs_phys: float, fs: float, loop: LoopSpec | None
+) -> NDArray[np.float64]:
+    """Output-rate samples of a physics-rate signal given by its rfft ``spectrum``.
+
+    Applies the loop's H(e^{j 2 pi f tau}) (``loop`` None: no loop) and the integrate-and-dump
+    average over T_o = 1/fs (sinc(f T_o)), and samples at the block centres
+    t_j = (j + 1/2) T_o: exact for the periodic band-limited record. ``fs_phys`` must be an
+    even integer multiple of ``fs``.
+    """
+    m = int(round(fs_phys / fs))
+    if m < 2 or m % 2 or abs(m * fs - fs_phys) > 1e-9 * fs_phys or n_phys % m:
+        raise ValueError(
+            f"physics rate must be an even integer multiple of fs = {fs!r} Hz with whole blocks; "
+            f"got {fs_phys!r} Hz, {n_phys} samples"
+        )
+    f = np.fft.rfftfreq(n_phys, 1.0 / fs_phys)
+    x = spectrum * np.sinc(f / fs)
+    if loop is not None:
+        x = x * loop.transfer(f)
+    return np.fft.irfft(x, n_phys)[np.arange(n_phys // m) * m + m // 2]
+
+
+def _profile(name: str, v, t: NDArray, default: float) -> NDArray[np.float64]:
+    if v is None:
+        return np.full(len(t), default)
+    if callable(v):
+        out = np.asarray(v(t), dtype=float).reshape(len(t))
+    elif isinstance(v, Real) and not isinstance(v, bool):
+        out = np.full(len(t), float(v))
+    else:
+        raise TypeError(
+            f"{name} must be a number or a callable of time [s]; got {type(v).__name__}"
+        )
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{name} must be finite")
+    return out
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClosedLoopFOG:
+    """One closed-loop IFOG unit in its reduced (output-rate) form, for long records.
+
+    Parameters
+    ----------
+    loop : LoopSpec
+        Coil, modulation and loop.
+    optics : OpticalBudget
+        Source, losses, detector: the white (ARW) noise.
+    noise : NoiseModel
+        Additive IEEE-952 terms for what the optics do not produce (bias, B, K, R, Q);
+        default none.
+    diameter_tempco : float
+        alpha_D, hoop expansion of the mean winding diameter [1/K] (Al spool pack ~15 ppm/K,
+        PHYSICS-models.md 1.6, derived from assumed pack properties; unverified).
+    wavelength_tempco : float
+        (1/lambda) dlambda/dT of the source mean wavelength [1/K] (Er ASE unstabilised, a few
+        ppm/K; unverified).
+    reference_temperature : float
+        Temperature at which SF = SF0 [K].
+    modes : tuple of StrainMode
+        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults assumed (unverified)
+        and sized for the default 1 km coil (their weights W do not follow ``loop.length``).
+    index : float
+        Phase index n of the fibre for the strain term [-] (fused silica at 1550 nm, 1.444,
+        Malitson 1965).
+    latitude, azimuth, elevation : float
+        Site latitude and sense-axis azimuth (from north, toward east) and elevation [rad]
+        (:func:`gyrobench.sim.earth.sensed_earth_rate`); default horizontal north at Beijing.
+
+    Notes
+    -----
+    Reduced form (output period T_o = 1/fs, M = T_o/tau transits per sample):
+
+    * slow inputs (table rate, Earth rate) are evaluated at the block centres and pass with
+      H(0) = 1; the loop's delay (d tau ~ 5 us) moves an angle Omega d tau between blocks,
+      neglected;
+    * scale factor: output = Omega SF(T)/SF0 with SF ~ N D^2 / lambda:
+      SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_source); with the V_2pi loop
+      on, its settled state (gain error 0); off, :func:`gain_error_scale_factor`;
+    * vibration: on the shaker's physics-rate grid (an even integer multiple of fs), in the
+      frequency domain (exact for the sampled, band-limited record, circular): modal response,
+      strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
+      loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
+      correlation, PHYSICS-models.md 2.4b) passed through H, then the integrate-and-dump
+      average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
+      electronics' decimation does it. The j w factor is an ideal band-limited derivative:
+      an abrupt shaker onset (``ramp_time = 0``) rings (Gibbs) on both sides of the edge,
+      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp;
+    * optical white noise: block sums of the H-filtered per-transit phase noise, an MA(1)
+      with variance s^2 (M - c) and lag-1 covariance s^2 c/2 (c from
+      :meth:`LoopSpec.block_noise_correction`; s^2 = S_phi/(2 tau) (tau/SF0)^2): the full
+      loop's second-order statistics exactly (M > loop memory); ARW = sqrt(S_phi/2)/SF0.
+    """
+
+    loop: LoopSpec = field(default_factory=LoopSpec)
+    optics: OpticalBudget = field(default_factory=OpticalBudget)
+    noise: NoiseModel = field(default_factory=NoiseModel)
+    diameter_tempco: float = 15e-6
+    wavelength_tempco: float = 5e-6
+    reference_temperature: float = 293.15
+    modes: tuple[StrainMode, ...] = field(default_factory=_default_modes)
+    index: float = 1.444
+    latitude: float = BEIJING.latitude
+    azimuth: float = 0.0
+    elevation: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, kind in (("loop", LoopSpec), ("optics", OpticalBudget), ("noise", NoiseModel)):
+            if not isinstance(getattr(self, name), kind):
+                raise TypeError(
+                    f"ClosedLoopFOG.{name} must be a {kind.__name__}; "
+                    f"got {type(getattr(self, name)).__name__}"
+                )
+        if not all(isinstance(m, StrainMode) for m in self.modes):
+            raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
+        for name in ("diameter_tempco", "wavelength_tempco"):
+            _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
+        _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
+        _real("ClosedLoopFOG", "index", self.index, "-", 1.0)
+        _real(
+            "ClosedLoopFOG",
+            "latitude",
+            self.latitude,
+            "rad",
+            -math.pi / 2 - 1e-15,
+            math.pi / 2 + 1e-15,
+        )
+        _real("ClosedLoopFOG", "azimuth", self.azimuth, "rad", -1e3, 1e3)
+        _real("ClosedLoopFOG", "elevation", self.elevation, "rad", -1e3, 1e3)
+
+    @property
+    def scale_factor(self) -> float:
+        """SF0 [s]."""
+        return self.loop.scale_factor
+
+    @property
+    def earth_rate(self) -> float:
+        """Earth-rate component along the sense axis [rad/s]."""
+        return float(
+            sensed_earth_rate(self.latitude, azimuth=self.azimuth, elevation=self.elevation)
+        )
+
+    @property
+    def arw(self) -> float:
+        """Angle random walk of the optical budget [rad/sqrt(s)]."""
+        return self.loop.arw(self.optics)
+
+    @property
+    def scale_factor_tempco(self) -> float:
+        """(1/SF) dSF/dT = 2 alpha_D - (1/lambda) dlambda/dT [1/K] (coil and source together)."""
+        return 2.0 * self.diameter_tempco - self.wavelength_tempco
+
+    def scale_factor_ratio(
+        self, coil_temperature: ArrayLike, source_temperature: ArrayLike
+    ) -> NDArray[np.float64]:
+        """SF(T)/SF0 = (1 + alpha_D dT_c)^2 / (1 + alpha_lambda dT_s) [-]."""
+        dc = np.asarray(coil_temperature, dtype=float) - self.reference_temperature
+        ds = np.asarray(source_temperature, dtype=float) - self.reference_temperature
+        return (1.0 + self.diameter_tempco * dc) ** 2 / (1.0 + self.wavelength_tempco * ds)
+
+    def strain_coefficient(self) -> float:
+        """K = n_g n xi/(L D) [1/m^2] (``fiber_strain.strain_rate_coefficient``)."""
+        lp = self.loop
+        return strain_rate_coefficient(lp.length, lp.diameter, lp.group_index, self.index)
+
+    def vibration_spectra(self, f: ArrayLike) -> dict[str, NDArray[np.complex128]]:
+        """Per unit table acceleration at ``f`` [Hz]: strain rate error, rocking rate [rad/s per
+        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop)."""
+        f = np.asarray(f, dtype=float)
+        jw = 2j * np.pi * f
+        k = self.strain_coefficient()
+        z = np.zeros(f.shape, dtype=np.complex128)
+        out = {"strain": z.copy(), "rocking": z.copy(), "loss": z.copy()}
+        for m in self.modes:
+            h = m.response(f)
+            out["strain"] += k * m.strain * m.weight * jw * h
+            out["rocking"] += m.rocking * jw * h
+            out["loss"] += m.loss * h
+        return out
+
+    def simulate(
+        self,
+        duration: float,
+        fs: float,
+        *,
+        rng: np.random.Generator,
+        true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
+        shaker: ShakerSignal | None = None,
+        coil_temperature: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
+        source_temperature: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
+        t0: float = 0.0,
+        name: str = "fog_loop",
+        metadata: dict | None = None,
+    ) -> Recording:
+        """A record at output rate ``fs`` [Hz] of ``duration`` [s] (reduced form; class Notes).
+
+        Parameters
+        ----------
+        true_rate : float or callable
+            Table rate about the sense axis [rad/s] (the Earth's rate is added).
+        shaker : ShakerSignal, optional
+            Table acceleration at a physics rate that is an even multiple of ``fs``, covering
+            the record (``round(duration * shaker.fs)`` samples from ``t0``).
+        coil_temperature, source_temperature : float or callable, optional
+            [K]; default the reference temperature (no scale-factor change).
+        rng : numpy.random.Generator
+            Two child streams: optical noise, IEEE-952 terms.
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
+        dur = _real("simulate", "duration", duration, "s", 0.0)
+        fs = _real("simulate", "fs", fs, "Hz", 0.0)
+        n = int(math.floor(dur * fs + 1e-9))
+        if n < 2:
+            raise ValueError(f"duration * fs must give >= 2 samples; got {dur!r} s at {fs!r} Hz")
+        lp = self.loop
+        sf0 = lp.scale_factor
+        tau = lp.transit_time
+        t_o = 1.0 / fs
+        if t_o < 100 * tau:
+            raise ValueError(
+                f"fs must be <= 1/(100 tau) = {1 / (100 * tau):.6g} Hz for the reduced form; "
+                f"got {fs!r}"
+            )
+        tc = t0 + (np.arange(n) + 0.5) * t_o
+        omega_table = _profile("true_rate", true_rate, tc, 0.0)
+        earth = np.full(n, self.earth_rate)
+        r_t = self.scale_factor_ratio(
+            _profile("coil_temperature", coil_temperature, tc, self.reference_temperature),
+            _profile("source_temperature", source_temperature, tc, self.reference_temperature),
+        )
+        slow = omega_table + earth
+        if lp.gain_loop or lp.modulator_gain_error == 0.0:
+            r_g = np.ones(n)
+        else:
+            r_g = gain_error_scale_factor(
+                sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking
+            )
+        vib = self._vibration(shaker, n, fs, t0) if shaker is not None else None
+        zeros = np.zeros(n)
+        rock_true = vib["rock_true"] if vib else zeros
+        rock_out = vib["rock_out"] if vib else zeros
+        strain = vib["strain"] if vib else zeros
+        rect = vib["rect"] if vib else zeros
+        rng_opt, rng_ieee = rng.spawn(2)
+        optical = self._optical_noise(n, fs, rng_opt)
+        ieee_parts = self.noise.components(n, fs, rng=rng_ieee, t0=t0)
+        ieee = np.zeros(n)
+        for part in ieee_parts.values():
+            ieee = ieee + part
+        true = slow + rock_true
+        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0)
+        loop_err = rock_out - rock_true
+        output = true + sf_err + loop_err + strain + rect + optical + ieee
+        rs = "rad/s"
+        truth = {
+            "rate": Channel(
+                true, rs, "true rate about the sense axis (table + Earth + rocking), block mean"
+            ),
+            "table_rate": Channel(omega_table, rs, "table rate"),
+            "earth_rate": Channel(earth, rs, "Earth-rate component along the sense axis"),
+            "rocking_rate": Channel(
+                rock_true, rs, "fixture rocking about the sense axis (true rate)"
+            ),
+            "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T) SF(eps)/SF0 - 1)"),
+            "loop_error": Channel(
+                loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"
+            ),
+            "strain_nonreciprocity": Channel(
+                strain, rs, "strain-rate nonreciprocity (L - 2z kernel) through the loop"
+            ),
+            "rectification": Channel(
+                rect, rs, "intensity-phase correlation +m phi_res/SF0 through the loop"
+            ),
+            "optical_noise": Channel(
+                optical, rs, "shot + excess RIN + thermal, through the loop (ARW)"
+            ),
+            "ieee_noise": Channel(ieee, rs, "additive IEEE-952 terms (NoiseModel, incl. its bias)"),
+            **{
+                f"ieee_{k}": Channel(v, rs, f"IEEE-952 term {k} (part of ieee_noise)")
+                for k, v in ieee_parts.items()
+            },
+        }
+        channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
+        if shaker is not None:
+            m = int(round(shaker.fs / fs))
+            freq = shaker.frequency[: n * m].reshape(n, m)[:, m // 2]  # at the block centre
+            channels["vibration_frequency"] = Channel(
+                freq, "Hz", "shaker drive frequency (controller log; NaN when off)"
+            )
+            channels["vibration_amplitude"] = Channel(
+                shaker.amplitude[: n * m].reshape(n, m)[:, m // 2],
+                "m/s^2",
+                "shaker acceleration envelope",
+            )
+        meta = {
+            "model": "gyrobench.sim.fog_loop.ClosedLoopFOG (reduced form)",
+            "scale_factor_s": sf0,
+            "transit_time_s": tau,
+            "loop_gain": lp.loop_gain,
+            "loop_bandwidth_hz": lp.bandwidth(),
+            "arw_rad_per_sqrt_s": self.arw,
+            "earth_rate_rad_per_s": self.earth_rate,
+            "latitude_rad": self.latitude,
+            "package_version": package_version(),
+            **(metadata or {}),
+        }
+        return Recording(
+            fs=fs, channels=channels, truth=truth, t0=float(t0), metadata=meta, name=name
+        )
+
+    def _optical_noise(self, n: int, fs: float, rng: np.random.Generator) -> NDArray[np.float64]:
+        lp = self.loop
+        tau = lp.transit_time
+        m = 1.0 / (fs * tau)
+        c = lp.block_noise_correction()
+        s_phi = lp.noise_phase_psd(self.optics)
+        sigma = math.sqrt(s_phi / (2.0 * tau)) * tau / lp.scale_factor  # per-transit angle [rad]
+        a = (math.sqrt(m) + math.sqrt(m - 2 * c)) / 2
+        b = (math.sqrt(m) - math.sqrt(m - 2 * c)) / 2
+        e = rng.standard_normal(n + 1)
+        return sigma * (a * e[1:] + b * e[:-1]) * fs
+
+    def _vibration(
+        self, shaker: ShakerSignal, n: int, fs: float, t0: float
+    ) -> dict[str, NDArray[np.float64]]:
+        if not isinstance(shaker, ShakerSignal):
+            raise TypeError(
+                f"shaker must be a sim.shaker.ShakerSignal; got {type(shaker).__name__}"
+            )
+        m = int(round(shaker.fs / fs))
+        if m < 2 or m % 2 or abs(m * fs - shaker.fs) > 1e-9 * shaker.fs:
+            raise ValueError(
+                f"shaker.fs must be an even integer multiple of fs = {fs!r} Hz; "
+                f"got {shaker.fs!r} Hz"
+            )
+        if len(shaker.acceleration) < n * m or abs(shaker.t0 - t0) > 0.5 / shaker.fs:
+            raise ValueError(
+                f"shaker must cover the record: >= {n * m} samples from t0 = {t0!r} s; "
+                f"got {len(shaker.acceleration)} from {shaker.t0!r} s"
+            )
+        # Only the span where the table moves, plus a ring-down margin, is transformed: the
+        # modes decay as exp(-pi f_k t / Q_k); 30 Q_k/(pi f_k) leaves e^-30 (1e-13) to wrap
+        # around the circular transform. The rest of the record has no vibration term.
+        nz = np.flatnonzero(shaker.acceleration[: n * m])
+        res = {k: np.zeros(n) for k in ("rock_true", "rock_out", "strain", "rect")}
+        if nz.size == 0:
+            return res
+        ring = max((30.0 * md.quality / (math.pi * md.frequency) for md in self.modes), default=0.0)
+        pad = int(math.ceil(ring * fs)) + 2
+        j0 = max(0, int(nz[0]) // m - pad)
+        j1 = min(n, int(nz[-1]) // m + 1 + pad)
+        a = shaker.acceleration[j0 * m : j1 * m]
+        nn = len(a)
+        f = np.fft.rfftfreq(nn, 1.0 / shaker.fs)
+        spec = self.vibration_spectra(f)
+        big_a = np.fft.rfft(a)
+        h = self.loop.transfer(f)
+        sf0 = self.loop.scale_factor
+
+        def out(x: NDArray[np.complex128], through_loop: bool = True) -> NDArray[np.float64]:
+            return loop_average(x, nn, shaker.fs, fs, self.loop if through_loop else None)
+
+        u_rock = spec["rocking"] * big_a
+        u_strain = spec["strain"] * big_a
+        res["rock_true"][j0:j1] = out(u_rock, through_loop=False)
+        res["rock_out"][j0:j1] = out(u_rock)
+        res["strain"][j0:j1] = out(u_strain)
+        if any(md.loss for md in self.modes):
+            phi_res = sf0 * np.fft.irfft((1.0 - h) * (u_rock + u_strain), nn)
+            loss = np.fft.irfft(spec["loss"] * big_a, nn)
+            res["rect"][j0:j1] = out(np.fft.rfft(loss * phi_res / sf0))
+        return res

@@ -32,6 +32,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_rlg",
     "gyrobench.scenarios.checks_mems",
     "gyrobench.scenarios.checks_rlg_cavity",
+    "gyrobench.scenarios.checks_fog_loop",
 )
 
 

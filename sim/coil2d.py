@@ -76,6 +76,8 @@ __all__ = [
     "Coil2D",
     "ThermalRun",
     "fv_grid",
+    "first_order_hold",
+    "heated_stretch",
 ]
 
 
@@ -554,6 +556,12 @@ class Coil2DSpec:
     lead_length : float
         Fibre lead from each end of the pack to the coupler [m] (0.5, stated), in the skin
         at the top outer corner.
+    lead_difference_rms : float
+        rms of a drawn unit's lead A - lead B length (fibre-midpoint error plus pigtail
+        routing) [m]. CALIBRATED: 1.0 m sets the median peak drift of drawn units under
+        paper 003's validation-1 program (10 degC/h, -10 -> 40 degC) to ~0.15 deg/h, the
+        level the paper quotes for a 10 degC change; it is the dominant drift source of a
+        drawn quadrupolar unit (0.20 deg/h per m of asymmetry in that program).
     housing_heat_capacity : float
         C_h [J/K] (0.5 kg of aluminium: 450 J/K, stated).
     chamber_conductance : float
@@ -594,6 +602,7 @@ class Coil2DSpec:
     wavelength: float = 1550e-9
     crossover_turns: float = 0.5
     lead_length: float = 0.5
+    lead_difference_rms: float = 1.0
     housing_heat_capacity: float = 450.0
     chamber_conductance: float = 0.375
     gap_coefficient: float = 10.0
@@ -624,7 +633,7 @@ class Coil2DSpec:
                 raise TypeError(f"{o}.{name} must be a Material; got {type(getattr(self, name)).__name__}")
         for name in ("index",):
             _num(o, name, getattr(self, name), ">= 1", "", lambda v: v >= 1)
-        for name in ("crossover_turns", "lead_length"):
+        for name in ("crossover_turns", "lead_length", "lead_difference_rms"):
             _num(o, name, getattr(self, name), ">= 0", "", lambda v: v >= 0)
         for name in ("housing_heat_capacity", "chamber_conductance", "gap_coefficient",
                      "mount_coefficient", "wavelength"):
@@ -707,7 +716,8 @@ class Imperfections:
     radius_errors : ndarray, shape (M,)
         Radial displacement of each layer [m]; N(0, (0.03 p_r)^2) (tension variation; stated).
     lead_difference : float
-        Lead A minus lead B length [m]; N(0, 0.1^2) (fibre midpoint marked to ~0.1 m; stated).
+        Lead A minus lead B length [m]; N(0, ``Coil2DSpec.lead_difference_rms``^2) (CALIBRATED
+        rms, see there).
     sensor_z : float
         Axial position of the logged temperature sensor on the outer potting surface,
         as a fraction of the half height in [-1, 1] (uniform; stated).
@@ -729,7 +739,7 @@ class Imperfections:
         return cls(
             turn_errors=te.astype(np.int64),
             radius_errors=0.03 * spec.layer_pitch * rng.standard_normal(M),
-            lead_difference=float(0.1 * rng.standard_normal()),
+            lead_difference=float(spec.lead_difference_rms * rng.standard_normal()),
             sensor_z=float(rng.uniform(-1.0, 1.0)),
         )
 
@@ -1070,3 +1080,38 @@ def _with(run: ThermalRun, conv: float) -> ThermalRun:
     import dataclasses
 
     return dataclasses.replace(run, convergence=conv)
+
+
+def heated_stretch(
+    spec: Coil2DSpec,
+    T: ArrayLike,
+    rate: float,
+    *,
+    fibre_length: float,
+    diameter: float,
+    z_center: float,
+    seg_length: float,
+    radius: float | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Shupe and T x dT rate errors [rad/s] of one heated stretch (paper 003, Table 1 / Fig. 2).
+
+    A stretch of ``seg_length`` [m] centred at ``z_center`` [m] along a fibre of
+    ``fibre_length`` L, at temperature T [K] rising at ``rate`` [K/s], the rest static:
+
+        Omega_Shupe = (n/(L D)) beta_T(T0') Tdot w,   Omega_TxdT = (n/(L D)) b T[degC] Tdot w,
+        w = l (L - 2 z_c),  beta_T(T) ~ beta_T(T0') + b (T - T0'),  T0' = 0 degC,
+
+    with b the secant slope of beta_T over [t_lo, t_hi] (material data; the paper's T x dT
+    regressor has T in degC, so the split is taken at 0 degC). ``radius`` None: free
+    fibre (dn/dT + n alpha_f); a radius: fibre bonded in the pack at that radius.
+    """
+    T = np.asarray(T, dtype=float)
+    r = np.array([spec.inner_radius if radius is None else radius])
+    bonded = radius is not None
+    b1 = float(((spec.beta(r, spec.t_hi, bonded=bonded) - spec.beta(r, spec.t_lo, bonded=bonded))
+                / (spec.t_hi - spec.t_lo))[0])
+    b0 = float(spec.beta(r, units.ZERO_CELSIUS, bonded=bonded)[0])
+    w = seg_length * (fibre_length - 2.0 * z_center)
+    pre = spec.index / (fibre_length * diameter)
+    dT = T - units.ZERO_CELSIUS
+    return np.full(T.shape, pre * b0 * rate * w), pre * b1 * dT * rate * w

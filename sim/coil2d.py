@@ -914,9 +914,16 @@ class Coil2D:
         kr[pr, pz], kz[pr, pz], rc[pr, pz] = pack.k_r, pack.k_z, pack.rho_c
         return fv_grid(r_faces, z_faces, kr, kz, rc)
 
-    def network(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Grid]:
-        """(K, cap, g_in, grid): cap dx/dt = -K x + g_in T_chamber; K symmetric [W/K], cap [J/K]."""
+    def network(
+        self, chamber_scale: float = 1.0
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Grid]:
+        """(K, cap, g_in, grid): cap dx/dt = -K x + g_in T_chamber; K symmetric [W/K], cap [J/K].
+
+        ``chamber_scale`` multiplies the chamber-housing conductance G_ch (run-to-run airflow).
+        """
+        _num("Coil2D.network", "chamber_scale", chamber_scale, "> 0", "", lambda v: v > 0)
         c = self.spec
+        g_ch = c.chamber_conductance * chamber_scale
         g = self.grid()
         nr, nz = g.shape
         m = nr * nz
@@ -943,10 +950,10 @@ class Coil2D:
         K[:m, :m] += np.diag(gb)
         K[:m, m] = -gb
         K[m, :m] = -gb
-        K[m, m] = gb.sum() + c.chamber_conductance
+        K[m, m] = gb.sum() + g_ch
         cap = np.concatenate([g.cap, [c.housing_heat_capacity]])
         g_in = np.zeros(m + 1)
-        g_in[m] = c.chamber_conductance
+        g_in[m] = g_ch
         return K, cap, g_in, g
 
     @cached_property
@@ -955,8 +962,11 @@ class Coil2D:
 
     @cached_property
     def _modes(self):
+        return self.modes(1.0)
+
+    def modes(self, chamber_scale: float = 1.0):
         """Symmetric modal form: x = Tm z, dz/dt = -mu z + beta u (S = C^-1/2 K C^-1/2 = V mu V^T)."""
-        K, cap, g_in, _ = self.network()
+        K, cap, g_in, _ = self.network(chamber_scale)
         ci = 1.0 / np.sqrt(cap)
         mu, V = np.linalg.eigh(ci[:, None] * K * ci[None, :])
         if np.any(mu <= 0):
@@ -1001,6 +1011,7 @@ class Coil2D:
         dt: float = 20.0,
         tol: float = 2e-3,
         max_halvings: int = 4,
+        chamber_scale: float = 1.0,
     ) -> ThermalRun:
         """Solve the network once for a piecewise-linear chamber program; check convergence.
 
@@ -1017,19 +1028,22 @@ class Coil2D:
             Convergence check: the run is repeated at dt/2 and accepted when
             max |Omega(dt) - Omega(dt/2)| <= tol max |Omega(dt/2)| (else dt is halved, at
             most ``max_halvings`` times, then ValueError).
+        chamber_scale : float
+            Factor on the chamber-housing conductance for this run (the Shupe map is reused).
         """
         tk = np.asarray(chamber_times, float)
         vk = np.asarray(chamber_values, float)
         if tk.ndim != 1 or tk.shape != vk.shape or len(tk) < 2 or np.any(np.diff(tk) <= 0):
             raise ValueError("chamber_times must be >= 2 increasing knots [s] matching chamber_values [K]")
         _num("Coil2D.run", "dt", dt, "> 0", "s", lambda v: v > 0)
+        modes = self._modes if chamber_scale == 1.0 else self.modes(chamber_scale)
         on_grid = np.allclose((tk - tk[0]) / dt, np.round((tk - tk[0]) / dt), atol=1e-9, rtol=0)
         if on_grid:  # FOH is exact at the samples for knots on the step grid: nothing to check
-            return self._solve(tk, vk, dt)
+            return self._solve(tk, vk, dt, modes)
         conv = float("nan")
         for _ in range(max_halvings + 1):
-            coarse = self._solve(tk, vk, dt)
-            fine = self._solve(tk, vk, dt / 2)
+            coarse = self._solve(tk, vk, dt, modes)
+            fine = self._solve(tk, vk, dt / 2, modes)
             tot_f = fine.total[::2][: len(coarse.t)]
             scale = max(float(np.max(np.abs(tot_f))), 1e-30)
             conv = float(np.max(np.abs(coarse.total - tot_f))) / scale
@@ -1047,13 +1061,13 @@ class Coil2D:
         w = mask.ravel() * self._grid.cap
         return np.concatenate([w / w.sum(), [0.0]])
 
-    def _solve(self, tk, vk, dt) -> ThermalRun:
+    def _solve(self, tk, vk, dt, modes) -> ThermalRun:
         """Modal first-order-hold recursion, exact for u linear over each step (mode by mode):
 
         z_{k+1} = phi z_k + beta [(G0 - G1) u_k + G1 u_{k+1}],  phi = exp(-mu dt),
         G0 = (1 - phi)/mu,  G1 = (mu dt - 1 + phi)/(mu^2 dt).
         """
-        mu, Tm, beta = self._modes
+        mu, Tm, beta = modes
         W0, Q, pre = self.shupe_map
         n = int(math.floor((tk[-1] - tk[0]) / dt + 1e-9)) + 1
         t = tk[0] + dt * np.arange(n)

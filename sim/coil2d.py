@@ -1052,6 +1052,16 @@ class Coil2D:
             dt /= 2
         raise ValueError(f"thermal run did not converge to {tol:g} (last {conv:.3g}) down to dt = {dt:g} s")
 
+    def node_temperatures(
+        self, chamber_times: ArrayLike, chamber_values: ArrayLike, *, dt: float = 20.0
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(t, x): every node's temperature [K] on the step grid (cells then housing; diagnostics)."""
+        tk = np.asarray(chamber_times, float)
+        vk = np.asarray(chamber_values, float)
+        _num("Coil2D.node_temperatures", "dt", dt, "> 0", "s", lambda v: v > 0)
+        t, _, z = _modal_states(tk, vk, dt, self._modes)
+        return t, z @ self._modes[1].T
+
     @cached_property
     def _pack_mask(self) -> NDArray[np.float64]:
         c = self.spec
@@ -1069,25 +1079,32 @@ class Coil2D:
         """
         mu, Tm, beta = modes
         W0, Q, pre = self.shupe_map
-        n = int(math.floor((tk[-1] - tk[0]) / dt + 1e-9)) + 1
-        t = tk[0] + dt * np.arange(n)
-        u = np.interp(t, tk, vk)
-        h = mu * dt
-        phi = np.exp(-h)
-        G0 = -np.expm1(-h) / mu
-        G1 = np.where(h > 1e-6, (h + np.expm1(-h)) / (mu * h), 0.5 * dt * (1 - h / 3))
-        q0, q1 = beta * (G0 - G1), beta * G1
-        z = np.empty((n, len(mu)))
-        z[0] = beta * u[0] / mu
-        f = np.outer(u[:-1], q0) + np.outer(u[1:], q1)
-        for k in range(n - 1):
-            z[k + 1] = phi * z[k] + f[k]
+        t, u, z = _modal_states(tk, vk, dt, modes)
         x = z @ Tm.T
         xdot = (np.outer(u, beta) - mu * z) @ Tm.T
         dT = x - self.spec.t_ref
         return ThermalRun(t=t, chamber=u, housing=x[:, -1], sensor=x @ self.sensor_row,
                           coil_mean=x @ self._pack_mask, shupe=pre * (xdot @ W0),
                           product=pre * np.einsum("ti,ti->t", dT @ Q, xdot), dt=dt, convergence=0.0)
+
+
+def _modal_states(tk, vk, dt, modes):
+    """(t, u, z): sample times [s], chamber input [K] and modal states on the step grid."""
+    mu, _, beta = modes
+    n = int(math.floor((tk[-1] - tk[0]) / dt + 1e-9)) + 1
+    t = tk[0] + dt * np.arange(n)
+    u = np.interp(t, tk, vk)
+    h = mu * dt
+    phi = np.exp(-h)
+    G0 = -np.expm1(-h) / mu
+    G1 = np.where(h > 1e-6, (h + np.expm1(-h)) / (mu * np.maximum(h, 1e-300)), 0.5 * dt * (1 - h / 3))
+    q0, q1 = beta * (G0 - G1), beta * G1
+    z = np.empty((n, len(mu)))
+    z[0] = beta * u[0] / mu
+    f = np.outer(u[:-1], q0) + np.outer(u[1:], q1)
+    for k in range(n - 1):
+        z[k + 1] = phi * z[k] + f[k]
+    return t, u, z
 
 
 def _with(run: ThermalRun, conv: float) -> ThermalRun:

@@ -156,3 +156,22 @@ def test_txdt_uses_material_slopes_not_a_constant():
     assert float(b1_flat[0]) == pytest.approx(float(dn), rel=1e-9)
     assert float(b1[0]) > float(b1_flat[0])
     assert units.ZERO_CELSIUS < spec.t_ref
+
+
+def test_the_mount_makes_an_axial_gradient():
+    """The spool bolted at its bottom face heats the pack's bottom first: an axial gradient
+    during a ramp, which vanishes when the mount is no better than the gas gap elsewhere
+    (the grid is then symmetric about z = 0)."""
+
+    def top_minus_bottom(spec):
+        unit = Coil2D(spec=spec)
+        t, x = unit.node_temperatures([0.0, 600.0, 3600.0], [263.15, 263.15, 313.15], dt=60.0)
+        g = unit._grid
+        rows = g.interpolation([0.05, 0.05], [0.45 * spec.height, -0.45 * spec.height])
+        top, bottom = x[-1, :-1] @ rows.T
+        return float(top - bottom)
+
+    asym = top_minus_bottom(Coil2DSpec())
+    sym = top_minus_bottom(Coil2DSpec(mount_coefficient=10.0))
+    assert asym < -1e-3  # bottom warmer by more than a millikelvin while heating
+    assert abs(sym) < 1e-9 * abs(asym) * 1e3

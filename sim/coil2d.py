@@ -687,7 +687,13 @@ class Coil2DSpec:
         return b0, b1
 
     def realize(self, *, rng: np.random.Generator) -> Coil2D:
-        """One drawn unit: potting properties and winding imperfections (see :class:`Imperfections`)."""
+        """One drawn unit: potting properties and winding imperfections (see :class:`Imperfections`).
+
+        Potting spreads (stated, typical batch-to-batch and cure variation; none from a paper):
+        matrix CTE x (1 + 0.15 N(0, 1)), matrix modulus x exp(0.3 N(0, 1)), matrix
+        conductivity x (1 + 0.1 N(0, 1)), packing + 0.03 N(0, 1) clipped to [0.6, 0.9],
+        interlayer fraction uniform in [0.05, 0.2].
+        """
         import dataclasses
 
         if not isinstance(rng, np.random.Generator):
@@ -858,7 +864,8 @@ class ThermalRun:
     ``shupe`` (n,) [rad/s]: (n/(L D)) Tdot . W0 (beta_T at T0, all of dn/dT, expansion and the
     elasto-optic strain term); ``product`` (n,) [rad/s]: (n/(L D)) (T - T0) . Q Tdot (the
     T x dT term from the material temperature dependences); ``dt`` [s] the step used and
-    ``convergence`` the max |Omega(dt) - Omega(dt/2)| / max |Omega(dt/2)| of the check.
+    ``convergence`` the max |Omega(dt) - Omega(dt/2)| / max |Omega(dt/2)| of the check (0 when
+    every chamber knot lies on the step grid: the first-order hold is then exact at the samples).
     """
 
     t: NDArray[np.float64]

@@ -23,11 +23,10 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import special
-
 from gyrobench.scenarios.checks import Check
 from gyrobench.sim import coil2d
 from gyrobench.sim.coil import winding_sequence
+from scipy import special
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
 
@@ -96,12 +95,15 @@ def _conduction_check() -> Check:
 
 def _uniform_check() -> Check:
     spec = dataclasses.replace(coil2d.Coil2DSpec(), winding="quadrupolar")
-    unit = coil2d.Coil2D(spec=spec, imperfections=coil2d.Imperfections.draw(spec, rng=np.random.default_rng(1)))
+    unit = coil2d.Coil2D(
+        spec=spec, imperfections=coil2d.Imperfections.draw(spec, rng=np.random.default_rng(1))
+    )
     w = unit.fibre().weights
     scale = float(np.sum(np.abs(w)))
     return Check(
         id="coil.zero_uniform",
-        formula="sum_i ds_i (L - 2 s_i) = Int_0^L (L - 2z) dz = 0 [m^2] (uniform Tdot, any winding)",
+        formula="sum_i ds_i (L - 2 s_i) = Int_0^L (L - 2z) dz = 0 [m^2] (uniform Tdot, any "
+        "winding)",
         expected=0.0,
         simulated=float(np.sum(w)),
         scale=scale,
@@ -116,7 +118,8 @@ def quadrupole_axial_closed_form(spec: coil2d.Coil2DSpec, G: float) -> float:
     A layer of N turns (pitch p = H/N, turn length l = 2 pi r) traversed in direction
     sigma_z (+1 up) whose fibre coordinate runs sigma_s (-1 toward port A, +1 toward B):
     with centred turn index u, z = sigma_z p u and s = s_mid + sigma_s l u, so
-    sum_t l (L - 2 s) G z = -2 sigma_s sigma_z G p l^2 sum u^2 = -sigma_s sigma_z G p l^2 N (N^2 - 1)/6.
+    sum_t l (L - 2 s) G z = -2 sigma_s sigma_z G p l^2 sum u^2
+                          = -sigma_s sigma_z G p l^2 N (N^2 - 1)/6.
     Each half reverses its traverse at each of its own layers, starting upward.
     """
     seq = winding_sequence(spec.winding, spec.layers)
@@ -160,19 +163,28 @@ def _strain_checks() -> list[Check]:
     a, b, c = 0.035, 0.0472, 0.0528
     Es, nus, als = 69e9, 0.33, 23.1e-6
     Ep, nup, alp = 5e9, 0.3, 50e-6
-    pack = coil2d.PackProperties(k_r=1, k_z=1, rho_c=1, E_t=Ep, E_r=Ep, nu_tr=nup, alpha_t=alp, alpha_r=alp)
+    pack = coil2d.PackProperties(
+        k_r=1, k_z=1, rho_c=1, E_t=Ep, E_r=Ep, nu_tr=nup, alpha_t=alp, alpha_r=alp
+    )
     r = np.array([b, 0.5 * (b + c), c])
     eps, p = coil2d.composite_cylinder_strain(
         r, bore=a, inner=b, outer=c, spool_E=Es, spool_nu=nus, spool_alpha=als, pack=pack
     )
-    p_cf = (als - alp) / (((b * b + a * a) / (b * b - a * a) - nus) / Es + ((c * c + b * b) / (c * c - b * b) + nup) / Ep)
+    p_cf = (als - alp) / (
+        ((b * b + a * a) / (b * b - a * a) - nus) / Es
+        + ((c * c + b * b) / (c * c - b * b) + nup) / Ep
+    )
     eps_cf = alp + p_cf * b * b / (Ep * (c * c - b * b)) * ((1 - nup) + (1 + nup) * c * c / r**2)
     der = "4x4 linear solve, condition number < 1e6: 1e6 x eps ~ 2e-10, rounded up to 1e-9"
-    common = "plane-stress compound cylinder, Al spool 35-47.2 mm, isotropic pack 47.2-52.8 mm (5 GPa, 0.3, 50e-6/K)"
+    common = (
+        "plane-stress compound cylinder, Al spool 35-47.2 mm, "
+        "isotropic pack 47.2-52.8 mm (5 GPa, 0.3, 50e-6/K)"
+    )
     return [
         Check(
             id="coil.potted_cylinder_strain",
-            formula="eps_theta(r) = alpha_p + p b^2/(E_p (c^2 - b^2)) [(1 - nu_p) + (1 + nu_p) c^2/r^2] "
+            formula="eps_theta(r) = alpha_p + p b^2/(E_p (c^2 - b^2)) [(1 - nu_p) + (1 + nu_p) "
+            "c^2/r^2] "
             f"per K at the pack mid-radius ({common}; Timoshenko & Goodier)",
             expected=float(eps_cf[1]),
             simulated=float(eps[1]),
@@ -220,4 +232,10 @@ def checks(rng: np.random.Generator) -> list[Check]:
     """All coil checks (deterministic; ``rng`` unused but required by the collector)."""
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-    return [_conduction_check(), _uniform_check(), _quadrupole_check(), *_strain_checks(), _modal_check()]
+    return [
+        _conduction_check(),
+        _uniform_check(),
+        _quadrupole_check(),
+        *_strain_checks(),
+        _modal_check(),
+    ]

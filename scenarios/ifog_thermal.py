@@ -283,7 +283,8 @@ class Config:
             turns_per_layer=turns,
             winding=self.winding if winding is None else winding,
             lead_difference_rms=self.lead_difference_rms_m,
-            chamber_conductance=base.housing_heat_capacity / (self.housing_time_constant_min * _MIN),
+            chamber_conductance=base.housing_heat_capacity
+            / (self.housing_time_constant_min * _MIN),
         )
 
     def fog_spec(self, *, winding: str | None = None) -> FOG2DSpec:
@@ -753,7 +754,7 @@ def point_heating(config: Config, *, bonded: bool = False):
 
 
 def winding_comparison(config: Config) -> dict[str, dict[str, Any]]:
-    """Peak coil drift [deg/h] of the identification run per ideal winding (no imperfections or noise)."""
+    """Peak coil drift [deg/h] of the identification run per ideal winding (no noise or defects)."""
     out: dict[str, dict[str, Any]] = {}
     prof = config.identification_profile()
     d = units.to_deg_per_h
@@ -1078,10 +1079,8 @@ CLAIMS: tuple[Claim, ...] = (
 )
 
 # Effects measured with scripts over seeds 0-19 (default Config; each variant = one Config
-# switch); the numbers are pass counts "k/20" of the claims named. They were measured on the
-# 1-D coil (sim.coil) before issue 18 moved the scenario to the (r, z) coil and are not yet
-# re-measured: every effect says so.
-_OLD_COIL = "[measured on the former 1-D coil (sim.coil), not yet re-measured on the (r, z) coil] "
+# switch); the numbers are pass counts "k/20" of the claims named, on the (r, z) coil
+# (sim.coil2d, issue 18).
 DEVIATIONS: tuple[Deviation, ...] = (
     Deviation(
         paper=PAPER,
@@ -1091,11 +1090,13 @@ DEVIATIONS: tuple[Deviation, ...] = (
         "validation 1), so the reference a equals the simulator's truth",
         reason="we follow the paper's statement; a horizontal north-pointing axis at Harbin "
         "(45.75 degN) would sense 15.041 cos(45.75 deg) = 10.49 deg/h",
-        effect=_OLD_COIL + "measured over seeds 0-19 with 10.49 deg/h added to every run's output and a "
-        "kept at the paper's value: validation-1 raw/compensated median 1.002x (IQR 0.995-1.017), "
-        "validation-2 1.003x; 003.val1_order 0/20 (6/20 without), 003.val2_order 0/20 (6/20), "
-        "003.val2_lowest 0/20 (17/20), 003.val1_every_run 11/20 (16/20): Q removes the constant "
-        "from the training target, so a constant the reference does not contain stays in d",
+        effect="measured over seeds 0-19 with 10.49 deg/h added to every run's output and a kept "
+        "at the "
+        "paper's value: validation-1 raw/compensated median 1.01x (default 15.9x), validation-2 "
+        "1.02x (73x); 003.val1_order 0/20 (13/20 without), 003.val2_order 0/20 (4/20), "
+        "003.val2_lowest 6/20 (9/20), 003.val1_every_run 12/20 (19/20): Q removes the constant "
+        "from "
+        "the training target, so a constant the reference does not contain stays in d",
     ),
     Deviation(
         paper=PAPER,
@@ -1104,10 +1105,12 @@ DEVIATIONS: tuple[Deviation, ...] = (
         we_do="a constant 180 deg/h input rate (the reference of eq. 24); the thermal "
         "scale-factor error at that rate is simulated",
         reason="the text's only number for the reference is 180 deg/h",
-        effect=_OLD_COIL + "the scale-factor error at 180 deg/h spans -0.0096 to +0.0049 deg/h (unit 0, run 1) "
-        "beside a coil drift of 0.5 deg/h; measured over seeds 0-19 with a zero validation-2 "
-        "rate (a = 0, no scale-factor error) instead: 003.val2_lowest 14/20 (17/20 at 180 "
-        "deg/h), 003.val2_order 8/20 (6/20), median raw/improved 22.9x (42.7x)",
+        effect="the scale-factor error at 180 deg/h spans -0.0083 to +0.0050 deg/h (unit 0, run 1) "
+        "beside "
+        "a coil drift of 0.43 deg/h; measured over seeds 0-19 with a zero validation-2 rate (a = "
+        "0, "
+        "no scale-factor error) instead: 003.val2_lowest 9/20 (9/20 at 180 deg/h), "
+        "003.val2_order 5/20 (4/20), median raw/improved 76.6x (73x)",
     ),
     Deviation(
         paper=PAPER,
@@ -1116,10 +1119,11 @@ DEVIATIONS: tuple[Deviation, ...] = (
         we_do="claims are scored with the float64 network; the exported a1/a2 form is also "
         "evaluated in float32 and re-scored (report table)",
         reason="float64 is the reference implementation; the float32 form is the check",
-        effect=_OLD_COIL + "measured over seeds 0-19: every claim's pass count is unchanged in float32 "
-        "(val1_every_run 16, val1_order 6, val2_lowest 17, val2_order 6 of 20); the largest "
-        "relative change of a run's ERR is 0.38 % (median over units), 8.5 % at most; 12 of 20 "
-        "units stay within our 1 % criterion (the wide, cancelling Gaussians lose digits)",
+        effect="measured over seeds 0-19: in float32 003.val2_lowest is 10/20 (9/20 in float64; "
+        "one unit "
+        "changes), every other claim's pass count is unchanged (val1_every_run 19, val1_order 13, "
+        "val2_order 4 of 20); the largest relative change of a run's ERR is 0.16 % (median over "
+        "units), 5.2 % at most; 16 of 20 units stay within our 1 % criterion",
     ),
     Deviation(
         paper=PAPER,
@@ -1140,9 +1144,10 @@ DEVIATIONS: tuple[Deviation, ...] = (
         we_do="the record starts when the chamber reaches -10 degC, so the 2-h settle includes "
         "the coil's approach (housing lag 20 min); ramps at 1 degC/min",
         reason="'stable' has no stated criterion; the rate is not printed",
-        effect=_OLD_COIL + "nearest measured (seeds 0-19): also recording the 20 -> -10 degC cool-down "
-        "before it (record_cooldown=True) gives val1_every_run 15/20 (16/20), val1_order 8/20 "
-        "(6/20), val2_lowest 14/20 (17/20), val2_order 7/20 (6/20)",
+        effect="nearest measured (seeds 0-19): also recording the 20 -> -10 degC cool-down before "
+        "it "
+        "(record_cooldown=True) gives val1_every_run 19/20 (19/20), val1_order 12/20 (13/20), "
+        "val2_lowest 15/20 (9/20), val2_order 9/20 (4/20)",
     ),
     Deviation(
         paper=PAPER,
@@ -1154,11 +1159,11 @@ DEVIATIONS: tuple[Deviation, ...] = (
         "cooling records as curves against temperature",
         reason="averaging the two records against T sets dT/dt to ~0 and cancels the drift "
         "that is odd in dT/dt, the very dependence the paper models",
-        effect=_OLD_COIL + "measured over seeds 0-19 with the temperature_curves variant: validation-1 "
-        "raw/compensated median 1.48x (default 8.29x), validation-2 1.07x (default 42.7x); "
-        "003.val1_every_run 13/20 (16/20), 003.val1_order 6/20 (6/20; a ratio below 3x for "
-        "most units, above 30x for a few), 003.val2_lowest 7/20 (17/20), 003.val2_order 3/20 "
-        "(6/20)",
+        effect="measured over seeds 0-19 with the temperature_curves variant: validation-1 "
+        "raw/compensated "
+        "median 14.5x (default 15.9x), validation-2 10.9x (default 73x); 003.val1_every_run 18/20 "
+        "(19/20), 003.val1_order 11/20 (13/20), 003.val2_lowest 6/20 (9/20), 003.val2_order 12/20 "
+        "(4/20)",
     ),
 )
 

@@ -1,4 +1,4 @@
-"""Fibre coil in (r, z): axisymmetric heat conduction, winding map, thermo-elastic strain, Shupe map.
+"""Fibre coil in (r, z): axisymmetric heat flow, winding map, thermo-elastic strain, Shupe map.
 
 All parameters in SI (m, K, s, W, J, Pa). The chain is
 
@@ -51,11 +51,10 @@ from functools import cached_property
 from numbers import Integral, Real
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-from scipy import linalg
-
 from gyrobench.sim import units
 from gyrobench.sim.coil import elasto_optic_factor, winding_sequence
+from numpy.typing import ArrayLike, NDArray
+from scipy import linalg
 
 __all__ = [
     "Material",
@@ -227,7 +226,14 @@ def silica_dn_dT(T: ArrayLike, wavelength: float = 1550e-9) -> NDArray[np.float6
     8.16
     """
     T = np.asarray(T, dtype=float)
-    _num("silica_dn_dT", "wavelength", wavelength, "in (0.2e-6, 3e-6)", "m", lambda v: 2e-7 < v < 3e-6)
+    _num(
+        "silica_dn_dT",
+        "wavelength",
+        wavelength,
+        "in (0.2e-6, 3e-6)",
+        "m",
+        lambda v: 2e-7 < v < 3e-6,
+    )
     if np.any((T < 30.0) | (T > 330.0)):
         raise ValueError(f"temperature must be within 30-330 K for the Leviton-Frey fit; got {T!r}")
     h = 0.05
@@ -331,7 +337,7 @@ def composite_cylinder_strain(
     spool_alpha: float,
     pack: PackProperties,
 ) -> tuple[NDArray[np.float64], float]:
-    """Hoop strain per kelvin eps_theta(r)/dT [1/K] in the pack, and the interface pressure per K [Pa/K].
+    """Hoop strain per kelvin d eps_theta/dT(r) [1/K] in the pack and interface pressure [Pa/K].
 
     Plane stress, uniform temperature change. Spool: isotropic annulus bore..inner,
     u = A_s r + B_s / r with the stress-free part alpha_s r. Pack (cylindrically orthotropic,
@@ -346,7 +352,9 @@ def composite_cylinder_strain(
     """
     r = np.asarray(r, dtype=float)
     if not (0 < bore < inner < outer):
-        raise ValueError(f"need 0 < bore < inner < outer radius; got {bore!r}, {inner!r}, {outer!r}")
+        raise ValueError(
+            f"need 0 < bore < inner < outer radius; got {bore!r}, {inner!r}, {outer!r}"
+        )
     S = np.array([[1 / pack.E_r, -pack.nu_tr / pack.E_t], [-pack.nu_tr / pack.E_t, 1 / pack.E_t]])
     C = np.linalg.inv(S)
     Crr, Crt, Ctt = C[0, 0], C[0, 1], C[1, 1]
@@ -361,7 +369,9 @@ def composite_cylinder_strain(
     Es = spool_E / (1 - spool_nu**2)
 
     def spool_sr(rr):  # sigma_r coefficients of (A_s, B_s) and constant, per K
-        return np.array([Es * (1 + spool_nu), -Es * (1 - spool_nu) / rr**2]), -Es * (1 + spool_nu) * spool_alpha
+        return np.array([Es * (1 + spool_nu), -Es * (1 - spool_nu) / rr**2]), -Es * (
+            1 + spool_nu
+        ) * spool_alpha
 
     def pack_sr(rr):  # sigma_r = Crr u' + Crt u/r - beta_r
         cA = (Crr * k + Crt) * rr ** (k - 1)
@@ -424,7 +434,7 @@ class Grid:
         return len(self.r_faces) - 1, len(self.z_faces) - 1
 
     def interpolation(self, r: ArrayLike, z: ArrayLike) -> NDArray[np.float64]:
-        """P (n_points, m): bilinear interpolation on the cell centres, linear extrapolation at edges.
+        """P (n_points, m): bilinear interpolation on the cell centres, linear beyond the edges.
 
         Exact for any field linear in r and z (so the axial-gradient check is exact).
         """
@@ -476,7 +486,9 @@ def fv_grid(
     # half-cell resistances [K/W]
     R_out = np.log(rf[1:] / rc)[:, None] / (2 * math.pi * kr * dz)
     with np.errstate(divide="ignore"):
-        R_in = np.log(rc / np.where(rf[:-1] > 0, rf[:-1], np.nan))[:, None] / (2 * math.pi * kr * dz)
+        R_in = np.log(rc / np.where(rf[:-1] > 0, rf[:-1], np.nan))[:, None] / (
+            2 * math.pi * kr * dz
+        )
     R_z = 0.5 * dz / (kz * area)
     m = nr * nz
     idx = np.arange(m).reshape(nr, nz)
@@ -503,7 +515,7 @@ def fv_grid(
 
 
 def first_order_hold(A: NDArray[np.float64], b: NDArray[np.float64], dt: float):
-    """(Phi, q0, q1) with x_{k+1} = Phi x_k + q0 u_k + q1 u_{k+1}: exact for u linear over each step.
+    """(Phi, q0, q1): x_{k+1} = Phi x_k + q0 u_k + q1 u_{k+1}, exact for u linear over each step.
 
     From expm of the augmented matrix [[A dt, b dt, 0], [0, 0, 1], [0, 0, 0]] (Van Loan
     1978): Phi = E11, Gamma0 = E12, Gamma1 = E13; u(t_k + tau) = u_k + (u_{k+1} - u_k) tau/dt
@@ -525,7 +537,7 @@ def first_order_hold(A: NDArray[np.float64], b: NDArray[np.float64], dt: float):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Coil2DSpec:
-    """A potted fibre coil on an aluminium spool in a housing (SI). Defaults: 1 km navigation-grade coil.
+    """A potted fibre coil on an aluminium spool in a housing (SI); defaults: a 1 km nav-grade coil.
 
     Parameters
     ----------
@@ -617,10 +629,22 @@ class Coil2DSpec:
     def __post_init__(self) -> None:
         o = "Coil2DSpec"
         _num(o, "bore_radius", self.bore_radius, "> 0", "m", lambda v: v > 0)
-        _num(o, "inner_radius", self.inner_radius, f"> bore_radius ({self.bore_radius!r})", "m",
-             lambda v: v > self.bore_radius)
-        _num(o, "outer_radius", self.outer_radius, f"> inner_radius ({self.inner_radius!r})", "m",
-             lambda v: v > self.inner_radius)
+        _num(
+            o,
+            "inner_radius",
+            self.inner_radius,
+            f"> bore_radius ({self.bore_radius!r})",
+            "m",
+            lambda v: v > self.bore_radius,
+        )
+        _num(
+            o,
+            "outer_radius",
+            self.outer_radius,
+            f"> inner_radius ({self.inner_radius!r})",
+            "m",
+            lambda v: v > self.inner_radius,
+        )
         _num(o, "height", self.height, "> 0", "m", lambda v: v > 0)
         _num(o, "skin", self.skin, "> 0", "m", lambda v: v > 0)
         winding_sequence(self.winding, self.layers)
@@ -630,19 +654,29 @@ class Coil2DSpec:
                 raise ValueError(f"{o}.{name} must be an integer >= 2; got {v!r}")
         for name in ("spool", "matrix", "coating", "glass"):
             if not isinstance(getattr(self, name), Material):
-                raise TypeError(f"{o}.{name} must be a Material; got {type(getattr(self, name)).__name__}")
+                raise TypeError(
+                    f"{o}.{name} must be a Material; got {type(getattr(self, name)).__name__}"
+                )
         for name in ("index",):
             _num(o, name, getattr(self, name), ">= 1", "", lambda v: v >= 1)
         for name in ("crossover_turns", "lead_length", "lead_difference_rms"):
             _num(o, name, getattr(self, name), ">= 0", "", lambda v: v >= 0)
-        for name in ("housing_heat_capacity", "chamber_conductance", "gap_coefficient",
-                     "mount_coefficient", "wavelength"):
+        for name in (
+            "housing_heat_capacity",
+            "chamber_conductance",
+            "gap_coefficient",
+            "mount_coefficient",
+            "wavelength",
+        ):
             _num(o, name, getattr(self, name), "> 0", "(SI)", lambda v: v > 0)
         _num(o, "t_lo", self.t_lo, f"< t_hi ({self.t_hi!r})", "K", lambda v: 30 < v < self.t_hi)
         _num(o, "t_hi", self.t_hi, "<= 330", "K", lambda v: v <= 330)
         _num(o, "t_ref", self.t_ref, "in (30, 330)", "K", lambda v: 30 < v < 330)
-        pack_properties(packing=self.packing, glass_fraction=self.glass_fraction,
-                        interlayer_fraction=self.interlayer_fraction)
+        pack_properties(
+            packing=self.packing,
+            glass_fraction=self.glass_fraction,
+            interlayer_fraction=self.interlayer_fraction,
+        )
 
     @property
     def layer_pitch(self) -> float:
@@ -656,20 +690,37 @@ class Coil2DSpec:
 
     def pack(self, T: float = T_REF) -> PackProperties:
         """Effective pack properties at temperature T [K] (:func:`pack_properties`)."""
-        return pack_properties(packing=self.packing, glass_fraction=self.glass_fraction,
-                               interlayer_fraction=self.interlayer_fraction, T=T,
-                               glass=self.glass, coating=self.coating, matrix=self.matrix)
+        return pack_properties(
+            packing=self.packing,
+            glass_fraction=self.glass_fraction,
+            interlayer_fraction=self.interlayer_fraction,
+            T=T,
+            glass=self.glass,
+            coating=self.coating,
+            matrix=self.matrix,
+        )
 
     def hoop_strain_rate(self, r: ArrayLike, T: float) -> NDArray[np.float64]:
         """d eps_theta/dT [1/K] of the pack at radii r with all CTEs taken at T [K]."""
         eps, _ = composite_cylinder_strain(
-            r, bore=self.bore_radius, inner=self.inner_radius, outer=self.outer_radius,
-            spool_E=self.spool.youngs_modulus, spool_nu=self.spool.poisson,
-            spool_alpha=float(self.spool.alpha(T)), pack=self.pack(T))
+            r,
+            bore=self.bore_radius,
+            inner=self.inner_radius,
+            outer=self.outer_radius,
+            spool_E=self.spool.youngs_modulus,
+            spool_nu=self.spool.poisson,
+            spool_alpha=float(self.spool.alpha(T)),
+            pack=self.pack(T),
+        )
         return eps
 
-    def beta(self, r: ArrayLike, T: float, *, bonded: ArrayLike | bool = True) -> NDArray[np.float64]:
-        """beta_T(r, T) = dn/dT + n alpha_f + n xi (d eps_theta/dT - alpha_f) [1/K]; free fibre where not bonded."""
+    def beta(
+        self, r: ArrayLike, T: float, *, bonded: ArrayLike | bool = True
+    ) -> NDArray[np.float64]:
+        """beta_T(r, T) = dn/dT + n alpha_f + n xi (d eps_theta/dT - alpha_f) [1/K].
+
+        Where not ``bonded`` (leads): the free fibre, dn/dT + n alpha_f.
+        """
         r = np.asarray(r, dtype=float)
         a_f = float(self.glass.alpha(T))
         n = self.index
@@ -680,14 +731,15 @@ class Coil2DSpec:
         return free + np.where(bonded, mech, 0.0)
 
     def beta_coefficients(self, r: ArrayLike, bonded: ArrayLike | bool = True):
-        """(beta_0, beta_1): beta_T at t_ref [1/K] and its secant slope over [t_lo, t_hi] [1/K^2]."""
+        """(beta_0, beta_1): beta_T at t_ref [1/K], its secant slope over [t_lo, t_hi] [1/K^2]."""
         b0 = self.beta(r, self.t_ref, bonded=bonded)
         b1 = (self.beta(r, self.t_hi, bonded=bonded) - self.beta(r, self.t_lo, bonded=bonded)) / (
-            self.t_hi - self.t_lo)
+            self.t_hi - self.t_lo
+        )
         return b0, b1
 
     def realize(self, *, rng: np.random.Generator) -> Coil2D:
-        """One drawn unit: potting properties and winding imperfections (see :class:`Imperfections`).
+        """One drawn unit: potting properties and winding imperfections (:class:`Imperfections`).
 
         Potting spreads (stated, typical batch-to-batch and cure variation; none from a paper):
         matrix CTE x (1 + 0.15 N(0, 1)), matrix modulus x exp(0.3 N(0, 1)), matrix
@@ -700,13 +752,17 @@ class Coil2DSpec:
             raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
         m = self.matrix
         matrix = dataclasses.replace(
-            m, cte=m.cte * (1 + 0.15 * rng.standard_normal()),
+            m,
+            cte=m.cte * (1 + 0.15 * rng.standard_normal()),
             youngs_modulus=m.youngs_modulus * math.exp(0.3 * rng.standard_normal()),
-            conductivity=m.conductivity * (1 + 0.1 * rng.standard_normal()))
+            conductivity=m.conductivity * (1 + 0.1 * rng.standard_normal()),
+        )
         spec = dataclasses.replace(
-            self, matrix=matrix,
+            self,
+            matrix=matrix,
             packing=float(np.clip(self.packing + 0.03 * rng.standard_normal(), 0.6, 0.9)),
-            interlayer_fraction=float(rng.uniform(0.05, 0.2)))
+            interlayer_fraction=float(rng.uniform(0.05, 0.2)),
+        )
         return Coil2D(spec=spec, imperfections=Imperfections.draw(self, rng=rng))
 
 
@@ -752,7 +808,7 @@ class Imperfections:
 
 @dataclass(frozen=True, slots=True)
 class FibreMap:
-    """The fibre as pieces: centre radius r, axial position z, fibre coordinate s (from port A), length ds [m].
+    """The fibre as pieces: radius r, axial z, fibre coordinate s (from port A), length ds [m].
 
     ``bonded`` is False for the leads (free fibre); ``layer`` is -1 for leads and
     crossovers. ``length`` L = sum ds; ``diameter`` D = sum_{turns} ds 2 r / L (Sagnac:
@@ -810,8 +866,14 @@ def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> F
         if prev_r is not None and spec.crossover_turns > 0:
             rx = 0.5 * (prev_r + r[0])
             zx = -0.5 * spec.height if up else 0.5 * spec.height
-            pieces[h].append((np.array([rx]), np.array([zx]),
-                              np.array([spec.crossover_turns * 2 * math.pi * rx]), np.array([-1])))
+            pieces[h].append(
+                (
+                    np.array([rx]),
+                    np.array([zx]),
+                    np.array([spec.crossover_turns * 2 * math.pi * rx]),
+                    np.array([-1]),
+                )
+            )
         pieces[h].append((r, z, ds, np.full(len(r), j)))
         count[h] += 1
         last[h] = float(r[0])
@@ -846,9 +908,16 @@ def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> F
     turns = layer >= 0
     D = float(np.sum(ds[turns] * 2 * r[turns]) / L)
     keep = ds > 0
-    return FibreMap(r=r[keep], z=z[keep], s=s[keep], ds=ds[keep], bonded=bonded[keep],
-                    layer=layer[keep], length=float(L), diameter=D)
-
+    return FibreMap(
+        r=r[keep],
+        z=z[keep],
+        s=s[keep],
+        ds=ds[keep],
+        bonded=bonded[keep],
+        layer=layer[keep],
+        length=float(L),
+        diameter=D,
+    )
 
 
 # ======================================================================================
@@ -901,12 +970,17 @@ class Coil2D:
     def grid(self) -> Grid:
         """The FV grid with the materials of spool, pack and skin."""
         c = self.spec
-        r_faces = np.concatenate([
-            np.linspace(c.bore_radius, c.inner_radius, c.grid_spool + 1),
-            np.linspace(c.inner_radius, c.outer_radius, c.grid_pack_r + 1)[1:],
-            [c.outer_radius + c.skin]])
+        r_faces = np.concatenate(
+            [
+                np.linspace(c.bore_radius, c.inner_radius, c.grid_spool + 1),
+                np.linspace(c.inner_radius, c.outer_radius, c.grid_pack_r + 1)[1:],
+                [c.outer_radius + c.skin],
+            ]
+        )
         h2 = 0.5 * c.height
-        z_faces = np.concatenate([[-h2 - c.skin], np.linspace(-h2, h2, c.grid_pack_z + 1), [h2 + c.skin]])
+        z_faces = np.concatenate(
+            [[-h2 - c.skin], np.linspace(-h2, h2, c.grid_pack_z + 1), [h2 + c.skin]]
+        )
         nr, nz = len(r_faces) - 1, len(z_faces) - 1
         pack = c.pack(T_REF)
         m = c.matrix
@@ -972,12 +1046,14 @@ class Coil2D:
         return self.modes(1.0)
 
     def modes(self, chamber_scale: float = 1.0):
-        """Symmetric modal form: x = Tm z, dz/dt = -mu z + beta u (S = C^-1/2 K C^-1/2 = V mu V^T)."""
+        """Modal form x = Tm z, dz/dt = -mu z + beta u (S = C^-1/2 K C^-1/2 = V mu V^T)."""
         K, cap, g_in, _ = self.network(chamber_scale)
         ci = 1.0 / np.sqrt(cap)
         mu, V = np.linalg.eigh(ci[:, None] * K * ci[None, :])
         if np.any(mu <= 0):
-            raise ValueError("thermal network is not strictly stable (a node without a path to the chamber)")
+            raise ValueError(
+                "thermal network is not strictly stable (a node without a path to the chamber)"
+            )
         return mu, ci[:, None] * V, V.T @ (ci * g_in)
 
     def fibre(self) -> FibreMap:
@@ -1041,7 +1117,9 @@ class Coil2D:
         tk = np.asarray(chamber_times, float)
         vk = np.asarray(chamber_values, float)
         if tk.ndim != 1 or tk.shape != vk.shape or len(tk) < 2 or np.any(np.diff(tk) <= 0):
-            raise ValueError("chamber_times must be >= 2 increasing knots [s] matching chamber_values [K]")
+            raise ValueError(
+                "chamber_times must be >= 2 increasing knots [s] matching chamber_values [K]"
+            )
         _num("Coil2D.run", "dt", dt, "> 0", "s", lambda v: v > 0)
         modes = self._modes if chamber_scale == 1.0 else self.modes(chamber_scale)
         on_grid = np.allclose((tk - tk[0]) / dt, np.round((tk - tk[0]) / dt), atol=1e-9, rtol=0)
@@ -1057,12 +1135,14 @@ class Coil2D:
             if conv <= tol:
                 return _with(coarse, conv)
             dt /= 2
-        raise ValueError(f"thermal run did not converge to {tol:g} (last {conv:.3g}) down to dt = {dt:g} s")
+        raise ValueError(
+            f"thermal run did not converge to {tol:g} (last {conv:.3g}) down to dt = {dt:g} s"
+        )
 
     def node_temperatures(
         self, chamber_times: ArrayLike, chamber_values: ArrayLike, *, dt: float = 20.0
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """(t, x): every node's temperature [K] on the step grid (cells then housing; diagnostics)."""
+        """(t, x): every node's temperature [K] on the step grid (cells, then housing)."""
         tk = np.asarray(chamber_times, float)
         vk = np.asarray(chamber_values, float)
         _num("Coil2D.node_temperatures", "dt", dt, "> 0", "s", lambda v: v > 0)
@@ -1090,9 +1170,17 @@ class Coil2D:
         x = z @ Tm.T
         xdot = (np.outer(u, beta) - mu * z) @ Tm.T
         dT = x - self.spec.t_ref
-        return ThermalRun(t=t, chamber=u, housing=x[:, -1], sensor=x @ self.sensor_row,
-                          coil_mean=x @ self._pack_mask, shupe=pre * (xdot @ W0),
-                          product=pre * np.einsum("ti,ti->t", dT @ Q, xdot), dt=dt, convergence=0.0)
+        return ThermalRun(
+            t=t,
+            chamber=u,
+            housing=x[:, -1],
+            sensor=x @ self.sensor_row,
+            coil_mean=x @ self._pack_mask,
+            shupe=pre * (xdot @ W0),
+            product=pre * np.einsum("ti,ti->t", dT @ Q, xdot),
+            dt=dt,
+            convergence=0.0,
+        )
 
 
 def _modal_states(tk, vk, dt, modes):
@@ -1104,7 +1192,9 @@ def _modal_states(tk, vk, dt, modes):
     h = mu * dt
     phi = np.exp(-h)
     G0 = -np.expm1(-h) / mu
-    G1 = np.where(h > 1e-6, (h + np.expm1(-h)) / (mu * np.maximum(h, 1e-300)), 0.5 * dt * (1 - h / 3))
+    G1 = np.where(
+        h > 1e-6, (h + np.expm1(-h)) / (mu * np.maximum(h, 1e-300)), 0.5 * dt * (1 - h / 3)
+    )
     q0, q1 = beta * (G0 - G1), beta * G1
     z = np.empty((n, len(mu)))
     z[0] = beta * u[0] / mu
@@ -1146,8 +1236,12 @@ def heated_stretch(
     T = np.asarray(T, dtype=float)
     r = np.array([spec.inner_radius if radius is None else radius])
     bonded = radius is not None
-    b1 = float(((spec.beta(r, spec.t_hi, bonded=bonded) - spec.beta(r, spec.t_lo, bonded=bonded))
-                / (spec.t_hi - spec.t_lo))[0])
+    b1 = float(
+        (
+            (spec.beta(r, spec.t_hi, bonded=bonded) - spec.beta(r, spec.t_lo, bonded=bonded))
+            / (spec.t_hi - spec.t_lo)
+        )[0]
+    )
     b0 = float(spec.beta(r, units.ZERO_CELSIUS, bonded=bonded)[0])
     w = seg_length * (fibre_length - 2.0 * z_center)
     pre = spec.index / (fibre_length * diameter)

@@ -1,4 +1,4 @@
-"""Interferometric FOG built on the (r, z) coil of :mod:`gyrobench.sim.coil2d`, in a thermal chamber.
+"""Interferometric FOG on the (r, z) coil of :mod:`gyrobench.sim.coil2d`, in a thermal chamber.
 
 Same recording layout as :mod:`gyrobench.sim.fog` (channels ``rate`` [rad/s] and
 ``coil_temperature`` [K]; truth ``rate``, ``thermal_drift`` and its parts, the scale-factor
@@ -23,14 +23,13 @@ from dataclasses import dataclass, field
 from numbers import Real
 
 import numpy as np
-from numpy.typing import NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog import TemperatureSensorSpec, sagnac_scale_factor
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
+from numpy.typing import NDArray
 
 __all__ = ["FOG2DSpec", "FOG2DUnit"]
 
@@ -68,15 +67,29 @@ class FOG2DSpec:
     thermal_step: float = 20.0
 
     def __post_init__(self) -> None:
-        for name, kind in (("coil", Coil2DSpec), ("noise", NoiseModel), ("sensor", TemperatureSensorSpec)):
+        for name, kind in (
+            ("coil", Coil2DSpec),
+            ("noise", NoiseModel),
+            ("sensor", TemperatureSensorSpec),
+        ):
             if not isinstance(getattr(self, name), kind):
-                raise TypeError(f"FOG2DSpec.{name} must be a {kind.__name__}; got {type(getattr(self, name)).__name__}")
+                got = type(getattr(self, name)).__name__
+                raise TypeError(f"FOG2DSpec.{name} must be a {kind.__name__}; got {got}")
         if self.sensor.location != "outer":
-            raise ValueError(f"FOG2DSpec.sensor.location must be 'outer' (on the potting); got {self.sensor.location!r}")
+            raise ValueError(
+                f"FOG2DSpec.sensor.location must be 'outer' (on the potting); got "
+                f"{self.sensor.location!r}"
+            )
         for name in ("diameter_tempco", "wavelength_tempco"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and abs(v) < 1e-3):
-                raise ValueError(f"FOG2DSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}")
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, Real)
+                or not (math.isfinite(v) and abs(v) < 1e-3)
+            ):
+                raise ValueError(
+                    f"FOG2DSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}"
+                )
         v = self.thermal_step
         if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v > 0):
             raise ValueError(f"FOG2DSpec.thermal_step must be > 0 s; got {v!r}")
@@ -98,11 +111,17 @@ class FOG2DUnit:
         fm = self.coil.fibre()
         return sagnac_scale_factor(fm.length, fm.diameter, self.coil.spec.wavelength)
 
-    def thermal_response(self, chamber: PiecewiseLinear, *, chamber_scale: float = 1.0) -> ThermalRun:
+    def thermal_response(
+        self, chamber: PiecewiseLinear, *, chamber_scale: float = 1.0
+    ) -> ThermalRun:
         """The coil's thermal run for a chamber program (:meth:`Coil2D.run`)."""
         if not isinstance(chamber, PiecewiseLinear):
-            raise TypeError(f"chamber must be a sim.environment.PiecewiseLinear; got {type(chamber).__name__}")
-        return self.coil.run(chamber.times, chamber.values, dt=self.spec.thermal_step, chamber_scale=chamber_scale)
+            raise TypeError(
+                f"chamber must be a sim.environment.PiecewiseLinear; got {type(chamber).__name__}"
+            )
+        return self.coil.run(
+            chamber.times, chamber.values, dt=self.spec.thermal_step, chamber_scale=chamber_scale
+        )
 
     def simulate(
         self,
@@ -115,7 +134,7 @@ class FOG2DUnit:
         name: str = "fog2d_thermal",
         metadata: dict | None = None,
     ) -> Recording:
-        """One chamber run logged at ``fs`` [Hz] (``rng``: two children, rate noise and sensor noise)."""
+        """One chamber run logged at ``fs`` [Hz] (``rng``: two children, rate and sensor noise)."""
         if isinstance(fs, bool) or not isinstance(fs, Real) or not (math.isfinite(fs) and fs > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
         if not isinstance(rng, np.random.Generator):
@@ -134,7 +153,9 @@ class FOG2DUnit:
         elif isinstance(true_rate, Real) and math.isfinite(true_rate):
             omega = np.full(n, float(true_rate))
         else:
-            raise ValueError(f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}")
+            raise ValueError(
+                f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}"
+            )
         housing, mean_coil = at(run.housing), at(run.coil_mean)
         dc = mean_coil - spec.scale_factor_ref_temperature
         ds = housing - spec.scale_factor_ref_temperature
@@ -151,8 +172,12 @@ class FOG2DUnit:
         truth = {
             "rate": Channel(omega, rs, "true input rate"),
             "thermal_drift": Channel(drift, rs, "coil non-reciprocity, total"),
-            "shupe": Channel(shupe, rs, "Shupe map with beta_T(T0) (dn/dT, expansion, elasto-optic strain)"),
-            "txdt_product": Channel(product, rs, "T x dT term from the material temperature dependences"),
+            "shupe": Channel(
+                shupe, rs, "Shupe map with beta_T(T0) (dn/dT, expansion, elasto-optic strain)"
+            ),
+            "txdt_product": Channel(
+                product, rs, "T x dT term from the material temperature dependences"
+            ),
             "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T)/SF0 - 1)"),
             "noise": Channel(noise, rs, "random noise and constant bias"),
             "sensor_temperature": Channel(sensor_true, "K", "noise-free temperature at the sensor"),
@@ -172,4 +197,6 @@ class FOG2DUnit:
             "scale_factor_s": self.scale_factor,
             **(metadata or {}),
         }
-        return Recording(fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name)
+        return Recording(
+            fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name
+        )

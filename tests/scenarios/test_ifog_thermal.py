@@ -213,7 +213,9 @@ def test_point_heating_closed_form():
     T, shupe, prod, total = sc.point_heating(cfg)
     spec = cfg.coil_spec()
     lo, hi = units.celsius(-10.0), units.celsius(40.0)
-    b = (coil2d.silica_dn_dT(hi) - coil2d.silica_dn_dT(lo)) / 50.0 + spec.index * spec.glass.cte_slope
+    b = (
+        coil2d.silica_dn_dT(hi) - coil2d.silica_dn_dT(lo)
+    ) / 50.0 + spec.index * spec.glass.cte_slope
     tdot = cfg.point_rate_degC_per_min / 60.0
     exact = spec.index * float(b) * 40.0 * tdot * 10.0 * (1000.0 - 500.0) / (1000.0 * 0.1)
     assert units.deg_per_h(prod[-1]) == pytest.approx(exact, rel=1e-9)

@@ -1,4 +1,4 @@
-"""Tests of sim.coil2d: materials, FV conduction, winding map, composite-cylinder strain, Shupe map, runs."""
+"""Tests of sim.coil2d: materials, FV conduction, winding map, strain, Shupe map, runs."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 import pytest
-
 from gyrobench.scenarios import checks_coil
 from gyrobench.sim import coil2d, units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, Imperfections, fibre_map
@@ -69,8 +68,15 @@ def test_composite_cylinder_equal_properties_is_free_expansion():
     a = 23e-6
     pack = coil2d.PackProperties(1, 1, 1, E_t=70e9, E_r=70e9, nu_tr=0.33, alpha_t=a, alpha_r=a)
     eps, p = coil2d.composite_cylinder_strain(
-        np.array([0.048, 0.052]), bore=0.035, inner=0.0472, outer=0.0528,
-        spool_E=70e9, spool_nu=0.33, spool_alpha=a, pack=pack)
+        np.array([0.048, 0.052]),
+        bore=0.035,
+        inner=0.0472,
+        outer=0.0528,
+        spool_E=70e9,
+        spool_nu=0.33,
+        spool_alpha=a,
+        pack=pack,
+    )
     np.testing.assert_allclose(eps, a, rtol=1e-10)
     assert abs(p) < 1e-6
 
@@ -78,8 +84,12 @@ def test_composite_cylinder_equal_properties_is_free_expansion():
 def test_all_coil_checks_pass():
     out = checks_coil.checks(np.random.default_rng(0))
     assert {c.id for c in out} >= {
-        "coil.conduction_finite_cylinder", "coil.quadrupole_axial_gradient",
-        "coil.potted_cylinder_strain", "coil.zero_uniform", "coil.modal_vs_expm"}
+        "coil.conduction_finite_cylinder",
+        "coil.quadrupole_axial_gradient",
+        "coil.potted_cylinder_strain",
+        "coil.zero_uniform",
+        "coil.modal_vs_expm",
+    }
     bad = [(c.id, c.rel_error, c.tolerance) for c in out if not c.passed]
     assert not bad
 
@@ -90,7 +100,7 @@ def test_conduction_converges_second_order():
     for n, i in ((6, 1), (18, 4)):
         v, r, z = checks_coil.finite_cylinder_fv(n, n + 1, 30.0, i, **p)
         errs.append(abs(v - checks_coil.finite_cylinder_analytic(r, z, 30.0, **p)))
-    assert errs[0] / errs[1] > 3 ** 1.5  # at least 1.5th order observed on 3x refinement
+    assert errs[0] / errs[1] > 3**1.5  # at least 1.5th order observed on 3x refinement
 
 
 def test_run_is_exact_on_grid_and_checked_off_grid():

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from gyrobench.sim import coil2d, units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.fog import TemperatureSensorSpec, sagnac_scale_factor
@@ -20,11 +19,26 @@ SPEC = FOG2DSpec(coil=coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4))
 def test_recording_layout_and_sum():
     unit = SPEC.realize(rng=np.random.default_rng(0))
     rec = unit.simulate(PROFILE, fs=0.1, rng=np.random.default_rng(1))
-    for ch in ("rate", "coil_temperature", "truth/rate", "truth/thermal_drift", "truth/shupe",
-               "truth/txdt_product", "truth/noise", "truth/scale_factor_error"):
+    for ch in (
+        "rate",
+        "coil_temperature",
+        "truth/rate",
+        "truth/thermal_drift",
+        "truth/shupe",
+        "truth/txdt_product",
+        "truth/noise",
+        "truth/scale_factor_error",
+    ):
         assert len(rec[ch]) == len(rec["rate"])
-    np.testing.assert_allclose(rec["truth/thermal_drift"], rec["truth/shupe"] + rec["truth/txdt_product"])
-    total = rec["truth/rate"] + rec["truth/scale_factor_error"] + rec["truth/thermal_drift"] + rec["truth/noise"]
+    np.testing.assert_allclose(
+        rec["truth/thermal_drift"], rec["truth/shupe"] + rec["truth/txdt_product"]
+    )
+    total = (
+        rec["truth/rate"]
+        + rec["truth/scale_factor_error"]
+        + rec["truth/thermal_drift"]
+        + rec["truth/noise"]
+    )
     np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-18)
 
 
@@ -35,8 +49,12 @@ def test_scale_factor_uses_the_mapped_fibre():
 
 
 def test_deterministic_in_seed():
-    a = SPEC.realize(rng=np.random.default_rng(4)).simulate(PROFILE, fs=0.1, rng=np.random.default_rng(5))
-    b = SPEC.realize(rng=np.random.default_rng(4)).simulate(PROFILE, fs=0.1, rng=np.random.default_rng(5))
+    a = SPEC.realize(rng=np.random.default_rng(4)).simulate(
+        PROFILE, fs=0.1, rng=np.random.default_rng(5)
+    )
+    b = SPEC.realize(rng=np.random.default_rng(4)).simulate(
+        PROFILE, fs=0.1, rng=np.random.default_rng(5)
+    )
     np.testing.assert_array_equal(a["rate"], b["rate"])
     np.testing.assert_array_equal(a["coil_temperature"], b["coil_temperature"])
 

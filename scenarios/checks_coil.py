@@ -26,7 +26,6 @@ import numpy as np
 from gyrobench.scenarios.checks import Check
 from gyrobench.sim import coil2d
 from gyrobench.sim.coil import winding_sequence
-from scipy import special
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
 
@@ -41,6 +40,8 @@ def finite_cylinder_analytic(r, z, t, *, a, h, k_r, k_z, rho_c, terms: int = 80)
     Fo_r = k_r t/(rho_c a^2), Fo_z = k_z t/(rho_c h^2) (separation of variables;
     Carslaw & Jaeger, Conduction of Heat in Solids (1959) sec. 7.3 and 3.3).
     """
+    from scipy import special
+
     b = special.jn_zeros(0, terms)
     fr = k_r * t / (rho_c * a * a)
     R = np.sum(2 / (b * special.j1(b)) * special.j0(b * r / a) * np.exp(-(b**2) * fr))

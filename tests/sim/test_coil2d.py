@@ -198,3 +198,59 @@ def test_default_grid_is_converged_for_the_drift():
         spec = Coil2DSpec(grid_spool=3 * n // 8, grid_pack_r=n, grid_pack_z=n)
         peaks.append(np.max(np.abs(Coil2D(spec=spec, imperfections=imp).run(tk, vk).total)))
     assert abs(peaks[0] - peaks[1]) < 0.01 * peaks[1]
+
+
+def test_orthotropic_composite_cylinder_satisfies_its_equations():
+    """The default (orthotropic) pack: check equilibrium, free outer face, interface pressure and
+    displacement continuity with the spool's Lame solution, from eps_theta(r) alone (u = eps r,
+    u' by a 4th-order central difference), independently of the solver's constants."""
+    spec = Coil2DSpec()
+    pack = spec.pack(293.15)
+    a, b, c = spec.bore_radius, spec.inner_radius, spec.outer_radius
+    Es, nus, als = spec.spool.youngs_modulus, spec.spool.poisson, float(spec.spool.alpha(293.15))
+
+    def u(r):
+        eps, _ = coil2d.composite_cylinder_strain(
+            np.atleast_1d(r),
+            bore=a,
+            inner=b,
+            outer=c,
+            spool_E=Es,
+            spool_nu=nus,
+            spool_alpha=als,
+            pack=pack,
+        )
+        return eps * np.atleast_1d(r)
+
+    S = np.array([[1 / pack.E_r, -pack.nu_tr / pack.E_t], [-pack.nu_tr / pack.E_t, 1 / pack.E_t]])
+    C = np.linalg.inv(S)
+
+    def sigma(r):
+        h = 1e-6
+        du = (-u(r + 2 * h) + 8 * u(r + h) - 8 * u(r - h) + u(r - 2 * h)) / (12 * h)
+        er, et = du - pack.alpha_r, u(r) / r - pack.alpha_t
+        return C[0, 0] * er + C[0, 1] * et, C[0, 1] * er + C[1, 1] * et
+
+    _, p = coil2d.composite_cylinder_strain(
+        np.array([b]),
+        bore=a,
+        inner=b,
+        outer=c,
+        spool_E=Es,
+        spool_nu=nus,
+        spool_alpha=als,
+        pack=pack,
+    )
+    scale = p if abs(p) > 0 else 1.0
+    sr_out, _ = sigma(np.array([c - 2.1e-6]))
+    assert abs(sr_out[0]) < 1e-3 * abs(scale) + 1.0  # free outer face (evaluated just inside)
+    sr_in, _ = sigma(np.array([b + 2.1e-6]))
+    assert sr_in[0] == pytest.approx(-p, rel=1e-3)
+    # equilibrium d(r sigma_r)/dr = sigma_theta in the pack
+    r = np.linspace(b + 1e-4, c - 1e-4, 5)
+    h = 1e-5
+    d_rsr = ((r + h) * sigma(r + h)[0] - (r - h) * sigma(r - h)[0]) / (2 * h)
+    np.testing.assert_allclose(d_rsr, sigma(r)[1], rtol=1e-4, atol=1e-3 * abs(scale))
+    # the spool (Lame, free bore, pressure p at b) meets the pack without a gap
+    u_spool = als * b - p * b / Es * ((b * b + a * a) / (b * b - a * a) - nus)
+    assert u(b)[0] == pytest.approx(u_spool, rel=1e-9)

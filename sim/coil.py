@@ -132,9 +132,10 @@ class CoilSpec:
     dn_dT : float
         C1, dn/dT at ``dn_dT_ref`` [1/K].
     dn_dT_slope : float
-        C2 = d(dn/dT)/dT [1/K^2]. Default 3e-8 /K^2: calibrated so the paper-003
-        point-heating experiment (``gyrobench.scenarios.ifog_thermal``) shows a T x dT term above
-        0.2 deg/h; the same order as fused-silica data (unverified, docs/physics.md 3.5).
+        C2 = d(dn/dT)/dT [1/K^2]. Default 3e-8 /K^2: was calibrated so paper 003's
+        point-heating case showed a T x dT term above 0.2 deg/h (docs/physics.md 3.5; about 1.5x the Leviton-Frey
+        slope of fused silica, 2.07e-8 over -10..40 degC). Paper 003 now runs on
+        :mod:`gyrobench.sim.coil2d`, where this slope comes from material data.
     dn_dT_ref : float
         T0 [K] of the dn/dT expansion and of the strain tempco (273.15 K = 0 degC, so the
         product term is literally C2 T[degC] Tdot).

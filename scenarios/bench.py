@@ -745,7 +745,9 @@ def _is_third_party(path: str) -> bool:
     if "site-packages" in parts or "dist-packages" in parts:
         return True
     stdlib = sysconfig.get_paths().get("stdlib")
-    return bool(stdlib) and Path(path).resolve().is_relative_to(Path(stdlib).resolve())
+    if not stdlib:
+        return False
+    return Path(path).resolve().is_relative_to(Path(stdlib).resolve())
 
 
 def _imports(path: str, name: str, is_pkg: bool) -> frozenset[str]:
@@ -1388,9 +1390,9 @@ def run_campaign(
                 else:
                     _check_picklable(comp, config)
                     own = executor is None
-                    ex = (
+                    ex: cf.Executor = (
                         cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
-                        if own
+                        if executor is None
                         else executor
                     )
                     futures: dict[cf.Future, int] = {}
@@ -1830,7 +1832,7 @@ def compare(
             f"the baseline has no finite scores on the seeds it shares with the campaign "
             f"({_seed_text(common)}): re-save it from a compensator that works"
         )
-    rows = []
+    rows: list[dict[str, Any]] = []
     pvals = []
     for name in names:
         b, c = base.values(name, seeds), cand.values(name, seeds)

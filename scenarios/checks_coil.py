@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 from gyrobench.scenarios.checks import Check
@@ -70,7 +71,7 @@ def finite_cylinder_fv(nr: int, nz: int, t: float, i: int, *, a, h, k_r, k_z, rh
 
 
 def _conduction_check() -> Check:
-    p = dict(a=0.010, h=0.005, k_r=0.27, k_z=0.40, rho_c=1.7e6)
+    p: dict[str, Any] = dict(a=0.010, h=0.005, k_r=0.27, k_z=0.40, rho_c=1.7e6)
     t = 30.0
     nr, nz = 6, 7
     coarse, r0, z0 = finite_cylinder_fv(nr, nz, t, 0, **p)
@@ -124,6 +125,7 @@ def quadrupole_axial_closed_form(spec: coil2d.Coil2DSpec, G: float) -> float:
     Each half reverses its traverse at each of its own layers, starting upward.
     """
     seq = winding_sequence(spec.winding, spec.layers)
+    assert seq is not None  # a symmetric winding (helical has no A/B sequence)
     N = spec.turns_per_layer
     p = spec.height / N
     count = {"A": 0, "B": 0}

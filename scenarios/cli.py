@@ -299,7 +299,8 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
 
     rec = load_hdf5(path, name)
     chans = []
-    for ch in columns or [("rate" if "rate" in rec.channels else None)]:
+    wanted: list[str | None] = list(columns) if columns else ["rate" if "rate" in rec.channels else None]
+    for ch in wanted:
         if ch is None:
             raise _BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
         data = rec[ch]

@@ -857,7 +857,7 @@ def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> F
     halves = ["A"] * spec.layers if seq is None else list(seq)
     pieces: dict[str, list[tuple]] = {"A": [], "B": []}
     count = {"A": 0, "B": 0}
-    last = {"A": None, "B": None}
+    last: dict[str, float | None] = {"A": None, "B": None}
     r_start = spec.inner_radius + 0.5 * spec.layer_pitch
     for j, h in enumerate(halves):
         up = count[h] % 2 == 0 if seq is not None else j % 2 == 0

@@ -84,8 +84,8 @@ class FOG2DSpec:
             v = getattr(self, name)
             if (
                 isinstance(v, bool)
-                or not isinstance(v, Real)
-                or not (math.isfinite(v) and abs(v) < 1e-3)
+                or not isinstance(v, (int, float, Real))
+                or not (math.isfinite(float(v)) and abs(float(v)) < 1e-3)
             ):
                 raise ValueError(
                     f"FOG2DSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}"

@@ -92,7 +92,7 @@ def _write_error(path: Path, exc: OSError) -> AtomicWriteError:
     if isinstance(exc, AtomicWriteError):
         return exc
     cause = exc.strerror or (str(exc.args[0]) if exc.args else type(exc).__name__)
-    hint = _WRITE_HINTS.get(exc.errno, "")
+    hint = _WRITE_HINTS.get(exc.errno or 0, "")
     return AtomicWriteError(exc.errno, f"cannot write {str(path)!r}: {cause}{hint}", str(path))
 
 
@@ -979,6 +979,7 @@ class HDF5StreamWriter:
     def __exit__(self, exc_type, exc, tb) -> bool:
         # the HDF5 file is closed (writes discarded on error) before atomic_path removes or renames it
         stack, self._stack = self._stack, None
+        assert stack is not None  # set by __enter__; __exit__ runs once
         self._ds = {}
         if exc_type is not None:
             return bool(stack.__exit__(exc_type, exc, tb))  # the file is removed, the target left as it was

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import re
+import typing
 from collections.abc import Callable
 
 import numpy as np
@@ -223,6 +224,10 @@ COEFFICIENT_FIELD_UNITS: dict[str, tuple[str, Callable[[float], float], Callable
 }
 
 
+@typing.overload
+def coefficient_to_field(name: str, value: float) -> float: ...
+@typing.overload
+def coefficient_to_field(name: str, value: None) -> None: ...
 def coefficient_to_field(name: str, value: float | None) -> float | None:
     """An IEEE-952 coefficient (Q, N, B, K, R) from SI to its field unit; ``None`` passes through.
 

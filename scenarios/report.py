@@ -121,9 +121,16 @@ def _md_table(t: Table) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _td(cell: Any) -> str:
+    """A table cell; prose (a string longer than a number or a short word) reads left-aligned."""
+    text = fmt(cell)
+    cls = " class='txt'" if isinstance(cell, str) and len(text) > 24 else ""
+    return f"<td{cls}>{html.escape(text)}</td>"
+
+
 def _html_table(t: Table) -> str:
     head = "".join(f"<th>{html.escape(c)}</th>" for c in t.columns)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(fmt(c))}</td>" for c in row) + "</tr>" for row in t.rows)
+    body = "".join("<tr>" + "".join(_td(c) for c in row) + "</tr>" for row in t.rows)
     note = f"<p class='note'>{html.escape(t.note)}</p>" if t.note else ""
     return f"<h3>{html.escape(t.title)}</h3><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{note}"
 
@@ -241,6 +248,7 @@ figcaption{font-size:0.85em;color:#444}
 .yes{color:#070;font-weight:bold}
 .cal{color:#a60;font-weight:bold;font-style:italic}
 td:nth-child(3){text-align:left}
+td.txt{text-align:left;min-width:14em}
 .meta{font-size:0.8em;color:#666}
 pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 """

@@ -124,7 +124,7 @@ def _md_table(t: Table) -> str:
 def _td(cell: Any) -> str:
     """A table cell; prose (a string longer than a number or a short word) reads left-aligned."""
     text = fmt(cell)
-    cls = " class='txt'" if isinstance(cell, str) and len(text) > 24 else ""
+    cls = " class='txt'" if isinstance(cell, str) and len(text) > 12 else ""
     return f"<td{cls}>{html.escape(text)}</td>"
 
 
@@ -235,8 +235,8 @@ def _mark_verdicts(text: str) -> str:
     return text
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
-table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.9em}
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;padding:0 1em;color:#222}
+table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.85em;display:block;overflow-x:auto}
 th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
 th{background:#eef}
 td:first-child,th:first-child{text-align:left}
@@ -248,7 +248,7 @@ figcaption{font-size:0.85em;color:#444}
 .yes{color:#070;font-weight:bold}
 .cal{color:#a60;font-weight:bold;font-style:italic}
 td:nth-child(3){text-align:left}
-td.txt{text-align:left;min-width:14em}
+td.txt{text-align:left;min-width:9em}
 .meta{font-size:0.8em;color:#666}
 pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 """

@@ -231,7 +231,8 @@ def _mark_verdicts(text: str) -> str:
     """Colour the verdict cells of an HTML claims table (failures as prominent as successes)."""
     for word, cls in (("HOLDS FOR MOST UNITS", "yes"), ("FAILS FOR MOST UNITS", "no"),
                       ("CALIBRATED (not counted)", "cal")):
-        text = text.replace(f"<td>{word}</td>", f"<td class='{cls}'>{word}</td>")
+        for cell in (f"<td>{word}</td>", f"<td class='txt'>{word}</td>"):
+            text = text.replace(cell, f"<td class='{cls}'>{word}</td>")
     return text
 
 _CSS = """

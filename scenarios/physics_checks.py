@@ -19,7 +19,7 @@ from gyrobench.scenarios.base import Headline, Outcome, Table
 from gyrobench.scenarios.checks import CHECK_MODULES, Check, collect
 
 NAME = "physics_checks"
-TITLE = "Closed-form checks of the sensor models (noise, FOG, RLG): simulated beside the equations"
+TITLE = "Closed-form checks of the sensor models (noise, FOG loop and coil, MEMS resonator, RLG): simulated beside the equations"
 
 __all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
 

@@ -237,7 +237,7 @@ class FogSpec:
 
 
 def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
-    """Steady rectified bias [deg/h] of a sine table acceleration of amplitude ``a`` [m/s^2] at ``f`` [Hz].
+    """Steady rectified bias [deg/h] under a sine table acceleration ``a`` [m/s^2] at ``f`` [Hz].
 
     The only first-order DC term of the closed-loop FOG under vibration is the intensity-phase
     correlation m(t) phi_res(t)/SF0 (sim.fog_loop, PHYSICS-models.md 2.4b); for a = A cos(w t),
@@ -436,7 +436,7 @@ def _on_table(
 
 
 def simulate(config: Config, seed: int) -> list[Recording]:
-    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG, static -> vibration -> static."""
+    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static)."""
     r_sweep, r_fixed = np.random.default_rng(seed).spawn(2)
     fog = draw_unit(config, seed)
     recs = []
@@ -1179,11 +1179,13 @@ DEVIATIONS: tuple[Deviation, ...] = (
         effect=(
             "measured on seeds 0-19: true rectified bias at 500 Hz and 2 g 1.9e-4 deg/h (median; "
             "closed form (A^2/2) Re[L conj((1 - H)(S + Rk))]) against a 0.21 deg/h scatter of 10 s "
-            "means; strain tone a few deg/h rms aliased to 100 Hz under 56 deg/h rms output noise (mostly Q). So "
+            "means; strain tone a few deg/h rms aliased to 100 Hz under 56 deg/h rms output "
+            "noise (mostly Q). So "
             "t1_Q_rises 0/20 (median phase-2/phase-1 Q 1.05), fig7_offset_remains 0/20, "
             "fig8_rbf_compensates_offset 3/20 (RBF adds the noise it learned: |offset| x2.98), "
             "t3 B claims 0/20 (ratio 0.84), fig6_rbf_far_better_truth 0/20; fig3_bias_band 15/20 "
-            "reads where the a7 noise peaks (10/20 with 200 s static phases), not a bias band. With "
+            "reads where the a7 noise peaks (10/20 with 200 s static phases), not a bias band. "
+            "With "
             "the sim.vibration sizes these claims held and were marked calibrated"
         ),
     ),

@@ -303,10 +303,12 @@ def test_unknown_centre_rule_and_overlapping_edge_window_rejected():
 
 
 def test_fog_spread_and_physics_rate_rejected():
-    with pytest.raises(ValueError, match=r"FogSpec.coupling_spread must be in \[0, 2.0\); got -0.1"):
+    with pytest.raises(
+        ValueError, match=r"FogSpec.coupling_spread must be in \[0, 2.0\); got -0.1"
+    ):
         sc.FogSpec(coupling_spread=-0.1)
     with pytest.raises(
-        ValueError, match=r"FogSpec.physics_rate_hz must be an even integer multiple of output_rate_hz"
+        ValueError, match=r"FogSpec.physics_rate_hz must be an even integer multiple of output"
     ):
         sc.FogSpec(physics_rate_hz=2000.0)
 

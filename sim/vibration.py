@@ -2,6 +2,11 @@
 
 All parameters are in SI (rad/s, m/s^2, Hz, s).
 
+Paper 000 (``scenarios.fog_vibration``) no longer uses this model: it runs on the closed-loop
+FOG (:class:`gyrobench.sim.fog_loop.ClosedLoopFOG`) whose vibration error comes from strain
+along the fibre (:mod:`gyrobench.sim.fiber_strain`). This phenomenological model is kept for
+user code.
+
 Physical picture (docs/physics.md 4): the table acceleration a(t) excites structural
 modes of the coil, its potting and the housing. Mode k responds as a base-excited
 second-order system with unit static gain

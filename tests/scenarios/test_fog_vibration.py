@@ -22,21 +22,6 @@ SMALL = sc.Config(
 )
 
 
-def _noise_free(cfg: sc.Config) -> sc.Config:
-    """The same gyro without any random or non-bias term: only the rectified bias remains."""
-    fog = replace(
-        cfg.fog,
-        Q_arcsec=0.0,
-        N_deg_sqrt_h=0.0,
-        B_deg_h=0.0,
-        K_deg_h_sqrt_h=0.0,
-        R_deg_h2=0.0,
-        transient_deg_h_per_g2=0.0,
-        modes=tuple(replace(m, tone_deg_h_per_g=0.0, noise_weight=0.0) for m in cfg.fog.modes),
-    )
-    return replace(cfg, fog=fog, control_error=0.0)
-
-
 @pytest.fixture(scope="module")
 def small_units() -> list[dict]:
     return [sc.experiment(SMALL, s) for s in (3, 4)]
@@ -143,10 +128,16 @@ def test_shown_ratio_and_value_ratio_documented_cases():
 
 # ---------------------------------------------------------------- closed forms
 def _true_bias_curve():
+    """A resonant bias curve for the RBF tests (two Lorentzian peaks, tens of deg/h): a test
+    function of the fitters, independent of the simulated FOG (whose rectified bias is ~1e-4
+    deg/h and would not exercise the goal)."""
     cfg = sc.Config()
-    model = cfg.fog.model()
-    a = units.g(cfg.acceleration_g)
-    return cfg, (lambda f: units.to_deg_per_h(model.rectified_bias(f, a)))
+
+    def bias(f):
+        f = np.asarray(f, dtype=float)
+        return 4.0 / (1 + ((f - 180.0) / 6.0) ** 2) + 40.0 / (1 + ((f - 460.0) / 23.0) ** 2)
+
+    return cfg, bias
 
 
 def test_noise_free_bias_is_modelled_by_the_newrb_variant_to_its_goal():
@@ -211,11 +202,47 @@ def test_random_centre_rbf_is_least_squares_on_its_centres_and_minimal(rng):
     assert net.b == pytest.approx(math.sqrt(math.log(2.0)) / spread)
 
 
-def test_noise_free_static_phases_are_exactly_zero():
-    cfg = _noise_free(SMALL)
-    sweep, fixed = sc.simulate(cfg, 0)
-    n1 = int(cfg.static_before_s * sweep.fs)
-    assert np.all(sweep["rate"][:n1] == 0.0) and np.all(fixed["rate"][:n1] == 0.0)
+def test_output_is_the_sum_of_its_truth_parts_and_earth_rate_is_the_closed_form():
+    sweep, fixed = sc.simulate(SMALL, 0)
+    fog = sc.draw_unit(SMALL, 0)
+    lat, az = np.radians(SMALL.fog.latitude_deg), np.radians(SMALL.fog.azimuth_deg)
+    earth = 7.2921150e-5 * np.cos(lat) * np.cos(az)  # horizontal axis: Omega_e cos(lat) cos(az)
+    for rec in (sweep, fixed):
+        np.testing.assert_allclose(rec["truth/earth_rate"], earth, rtol=1e-6)
+        parts = (
+            "rate", "scale_factor_error", "loop_error", "strain_nonreciprocity", "rectification",
+            "optical_noise", "ieee_noise",
+        )  # fmt: skip
+        total = sum(rec[f"truth/{k}"] for k in parts)
+        np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
+        assert rec.metadata["mode_frequencies_hz"] == [m.frequency for m in fog.modes]
+
+
+def test_simulated_rectification_matches_the_closed_form_steady_bias():
+    """Fixed sine with no amplitude control error: the mean of the simulated rectification over the
+    steady vibration phase equals (A^2/2) Re[L conj((1 - H)(S + Rk))]. The record is deterministic
+    (no noise enters this channel); the 2f term at 1 kHz aliases to 200 Hz (fs/2) and cancels over
+    whole pairs of samples, so only the ramp's edge ring-in is left: tolerance 1e-3 relative."""
+    cfg = replace(SMALL, control_error=0.0)
+    _, fixed = sc.simulate(cfg, 5)
+    fog = sc.draw_unit(cfg, 5)
+    on = fixed["shaker_on"] > 0.5
+    idx = np.flatnonzero(on)
+    k = int(2.0 * fixed.fs)
+    steady = idx[k : len(idx) - k]
+    steady = steady[: len(steady) // 2 * 2]
+    sim = units.to_deg_per_h(np.mean(fixed["truth/rectification"][steady]))
+    closed = sc.steady_vibration_bias(fog, cfg.fixed_hz, units.g(cfg.acceleration_g))
+    assert closed != 0.0
+    assert sim == pytest.approx(float(closed), rel=1e-3)
+
+
+def test_units_differ_by_their_drawn_modes_and_zero_spread_gives_the_defaults():
+    a, b = sc.draw_unit(SMALL, 0), sc.draw_unit(SMALL, 1)
+    assert [m.frequency for m in a.modes] != [m.frequency for m in b.modes]
+    fog0 = replace(SMALL.fog, mode_frequency_spread=0.0, coupling_spread=0.0)
+    c = sc.draw_unit(replace(SMALL, fog=fog0), 0)
+    assert c.modes == SMALL.fog.modes
 
 
 def test_bench_task_truth_is_the_output_without_the_true_bias():
@@ -273,6 +300,17 @@ def test_unknown_centre_rule_and_overlapping_edge_window_rejected():
         sc.Config(rbf_centres="kmeans")
     with pytest.raises(ValueError, match=r"Config.edge_window_s must be < guard_s = 5.0 s"):
         sc.Config(edge_window_s=5.0)
+
+
+def test_fog_spread_and_physics_rate_rejected():
+    with pytest.raises(
+        ValueError, match=r"FogSpec.coupling_spread must be in \[0, 2.0\); got -0.1"
+    ):
+        sc.FogSpec(coupling_spread=-0.1)
+    with pytest.raises(
+        ValueError, match=r"FogSpec.physics_rate_hz must be an even integer multiple of output"
+    ):
+        sc.FogSpec(physics_rate_hz=2000.0)
 
 
 def test_random_centre_rbf_bad_input():

@@ -135,3 +135,14 @@ def test_reduced_unit_uses_the_gain_error_scale_factor(rng):
     true = om + unit.earth_rate
     expected = true * (gain_error_scale_factor(loop.scale_factor * true, 0.02) - 1)
     np.testing.assert_allclose(rec["truth/scale_factor_error"], expected, rtol=1e-12)
+
+
+def test_vibration_span_is_widened_to_a_5_smooth_transform_length():
+    """The vibration span is padded to a block count whose sample count factors into 2, 3, 5 (a
+    prime-sized FFT is ~10x slower); it never shrinks and never exceeds the record."""
+    from gyrobench.sim.fog_loop import _smooth_blocks
+    from scipy.fft import next_fast_len
+
+    k = _smooth_blocks(120766, 8, 600000)
+    assert k >= 120766 and next_fast_len(k * 8, real=True) == k * 8
+    assert _smooth_blocks(120766, 8, 120766) == 120766  # the record is the limit

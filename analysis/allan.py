@@ -34,7 +34,7 @@ IEEE Std 952-1997, Annex C. W. J. Riley, "Handbook of Frequency Stability Analys
 NIST SP 1065 (2008). C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances
 based on finite differences", PTTI 2003. W. J. Riley and C. A. Greenhall, "Power law noise
 identification using the lag 1 autocorrelation", EFTF 2004. A. Wallin et al., allantools.
-PHYSICS.md section 1.
+docs/physics.md section 1.
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ TERMS = ("Q", "N", "B", "K", "R")
 
 #: AVAR = C * tau**power for each term
 _POWER = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
-#: C = _SCALE * coefficient**2  (PHYSICS.md 1.5)
+#: C = _SCALE * coefficient**2  (docs/physics.md 1.5)
 _FLICKER = 2.0 * math.log(2.0) / math.pi  # 0.4413: flicker AVAR plateau / B^2
 _SCALE = {"Q": 3.0, "N": 1.0, "B": _FLICKER, "K": 1.0 / 3.0, "R": 0.5}
 #: power-law exponent alpha of S_y(f) (frequency-domain, as in NIST SP 1065) of each term,
@@ -1446,7 +1446,7 @@ def fit_noise(
 
     Notes
     -----
-    Model (PHYSICS.md 1.5): AVAR(tau) = sum_n C_n tau^n with C_-2 = 3 Q^2, C_-1 = N^2,
+    Model (docs/physics.md 1.5): AVAR(tau) = sum_n C_n tau^n with C_-2 = 3 Q^2, C_-1 = N^2,
     C_0 = (2 ln2/pi) B^2 (the flicker plateau, reached for tau > ~1.6/f_high), C_1 = K^2/3,
     C_2 = R^2/2. Each AVAR point A_i is treated as (sigma_i^2/nu_i) chi2(nu_i) with
     variance 2 sigma_i^2 / nu_i, where sigma_i^2 is the *fitted* curve (not the noisy A_i:
@@ -1755,7 +1755,7 @@ def slope_readoff(
 
     Notes
     -----
-    Graphical mode (IEEE 952-1997 C.1; PHYSICS.md 1.4; the MathWorks procedure): for the
+    Graphical mode (IEEE 952-1997 C.1; docs/physics.md 1.4; the MathWorks procedure): for the
     slopes -1, -1/2, +1/2, +1 find the segment between adjacent taus whose log-log slope is
     closest to the target, draw the line of exactly that slope through the segment's
     log-midpoint and read it at tau = sqrt(3) s (Q), 1 s (N), 3 s (K), sqrt(2) s (R).

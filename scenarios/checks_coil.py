@@ -5,7 +5,7 @@
 
 - ``coil.conduction_finite_cylinder``: the FV solver on an anisotropic finite cylinder after
   a step in surface temperature vs the product of the radial Bessel series and the axial
-  Fourier series (PHYSICS-models 3.2); tolerance from Richardson extrapolation of a 3x grid
+  Fourier series (docs/physics.md 3.7); tolerance from Richardson extrapolation of a 3x grid
   refinement (second-order scheme).
 - ``coil.zero_uniform``: a uniform temperature rate gives no Shupe error for any winding
   (sum of the turn weights vs their magnitude; rounding tolerance).

@@ -7,7 +7,7 @@
   a heating rate linear in radius (inner layer 0, outer layer 0.01 K/min more) against
   the closed form Omega_E = n (dn/dT + n alpha_f)/(L D) * l^2 * d * S, where
   S = sum_j (w_j/l^2) j/(M-1) is summed in exact rationals from the A/B layer sequence
-  (a fibre stretch [z0, z0+l] has weight w = l (L - 2 z_mid); PHYSICS.md 3.2, 3.3),
+  (a fibre stretch [z0, z0+l] has weight w = l (L - 2 z_mid); docs/physics.md 3.2, 3.3),
   independent of :mod:`gyrobench.sim.coil`'s own weights. The quadrupolar error is
   measured against the uncancelled (helical) term, and the cancellation ratio
   helical/quadrupolar against the exact rational ratio.

@@ -17,7 +17,7 @@
 - Vibration through the reduced chain: the strain tone of a record against
   K kappa W w |H_k(f)| |H(f)| sinc(f/fs) a; the reduced chain against the full loop for a
   500 Hz tone; rectification of the full loop with a loss modulation against
-  m phi_res cos(theta)/(2 SF) (PHYSICS-models.md 2.4b).
+  m phi_res cos(theta)/(2 SF) (docs/physics.md 4.1).
 
 Tolerances are derived where each check is built (docstrings/derivation strings).
 """

@@ -2,13 +2,13 @@
 
 - Adler lock-in equation dpsi/dt = 2 pi K (Omega - Omega_L sin psi): above lock-in the
   phase slips at the mean beat frequency f_b = K sqrt(Omega^2 - Omega_L^2) [Hz]
-  (Aronowitz, in Laser Applications 1971; PHYSICS.md 6.2). The model's RK4
+  (Aronowitz, in Laser Applications 1971; docs/physics.md 6.2). The model's RK4
   integration (:func:`gyrobench.sim.rlg.integrate_adler`) over 5 beat periods gives
   the simulated mean beat frequency; near lock-in (Omega = 1.1 Omega_L, the
   frequency is 46 % of the unlocked one) and well above it (2 Omega_L).
 - Dither random walk: the angle error left after whole cycles of a randomised
   dither has variance N^2 T with N = Omega_L sqrt((1 + sigma_a^2) / (2 pi K Omega_D))
-  [rad/sqrt(s)] (Killpatrick 1967; PHYSICS.md 6.3; sigma_a the relative amplitude
+  [rad/sqrt(s)] (Killpatrick 1967; docs/physics.md 6.3; sigma_a the relative amplitude
   jitter, E[1/a] ~ 1 + sigma_a^2). The sample variance of R = 1000 independent
   realisations (each 10 dither cycles of the Adler equation) is set beside it.
 

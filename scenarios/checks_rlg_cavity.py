@@ -45,7 +45,7 @@ __all__ = ["checks"]
 FALSE_ALARM = 1e-6
 #: standard-normal quantile for FALSE_ALARM two-sided
 Z_FALSE_ALARM = 4.8916
-#: latitude of the Earth-rate check (Beijing, PHYSICS-models.md 6) [rad]
+#: latitude of the Earth-rate check (Beijing, docs/physics.md 8) [rad]
 LATITUDE = math.radians(39.9)
 
 

@@ -1,7 +1,6 @@
 """Paper 000: a FOG under linear vibration, wavelet multiscale split, RBF bias model vs 4th-order LS.
 
-Protocol (Fang, Shen, Chen; Chinese text in shared/seeds/000_*.txt, summary in
-shared/seeds/README.md): a FOG with its sense axis horizontal sits on a shaker at a fixed
+Protocol (Fang, Shen, Chen; the paper's Chinese text): a FOG with its sense axis horizontal sits on a shaker at a fixed
 acceleration level. Two records, each static -> vibration -> static:
 (a) a sine sweep 1 -> 500 Hz; (b) a fixed 500 Hz dwell.
 
@@ -240,7 +239,7 @@ def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDA
     """Steady rectified bias [deg/h] under a sine table acceleration ``a`` [m/s^2] at ``f`` [Hz].
 
     The only first-order DC term of the closed-loop FOG under vibration is the intensity-phase
-    correlation m(t) phi_res(t)/SF0 (sim.fog_loop, PHYSICS-models.md 2.4b); for a = A cos(w t),
+    correlation m(t) phi_res(t)/SF0 (sim.fog_loop, docs/physics.md 4.1); for a = A cos(w t),
     m = Re(L A e^{jwt}) and phi_res/SF0 = Re((1 - H)(S + Rk) A e^{jwt}), whose mean is
 
         b(f) = (A^2/2) Re[L(f) conj((1 - H(f)) (S(f) + Rk(f)))]

@@ -1,7 +1,7 @@
 """Paper 003: IFOG temperature drift from coil physics; RBF compensation with a T x dT input.
 
 Cheng, Qi, Zhao (Harbin Engineering University), "Design of a compensation system for
-temperature drift errors of interferometric FOGs" (Chinese text: shared/seeds/003_*.txt).
+temperature drift errors of interferometric FOGs" (the paper's Chinese text).
 
 What is simulated
 -----------------

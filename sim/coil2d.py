@@ -16,7 +16,7 @@ All parameters in SI (m, K, s, W, J, Pa). The chain is
 
 with P the bilinear interpolation from the cell centres to the turns (exact for a field
 linear in r and z), beta_T(r, T) = beta_0(r) + beta_1(r) (T - T0) the phase coefficient of a
-fibre bonded into the pack (PHYSICS-models 3.3-3.4):
+fibre bonded into the pack (docs/physics.md 3.7):
 
     beta_T = dn/dT(T) + n alpha_f(T) + n xi (d eps_theta/dT (r, T) - alpha_f(T))            [1/K]
 
@@ -40,7 +40,7 @@ D. B. Leviton, B. J. Frey, Proc. SPIE 6273, 62732K (2006); S. G. Lekhnitskii, An
 Plates (1968), cylindrically anisotropic disc; R. A. Schapery, J. Compos. Mater. 2, 380
 (1968) (composite CTEs); J. C. Halpin, J. L. Kardos, Polym. Eng. Sci. 16, 344 (1976);
 J. C. Maxwell (1873) / L. N. McCartney, composite conductivity; S. Timoshenko,
-J. N. Goodier, Theory of Elasticity (1951), compound cylinders; PHYSICS-models.md sec. 3.
+J. N. Goodier, Theory of Elasticity (1951), compound cylinders; docs/physics.md 3.7.
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ class Material:
 
 
 #: Fused silica. k 1.38 W/(m K), rho c 2201 kg/m^3 x 740 J/(kg K) (Corning 7980 data sheet);
-#: E 73 GPa, nu 0.17 (PHYSICS.md 3.5 photo-elastic set); alpha 0.52e-6 /K at 293 K and
+#: E 73 GPa, nu 0.17 (docs/physics.md 3.5 photo-elastic set); alpha 0.52e-6 /K at 293 K and
 #: slope 2.4e-9 /K^2 (Hahn & Kirby, AIP Conf. Proc. 3, 13 (1972), SRM 739 table, read as
 #: 0.40e-6 at 250 K -> 0.52e-6 at 300 K; UNVERIFIED transcription, +-0.05e-6 /K).
 SILICA = Material(
@@ -145,7 +145,7 @@ SILICA = Material(
     cte_slope=2.4e-9,
     source="Corning 7980 data sheet; Hahn & Kirby 1972 (SRM 739), UNVERIFIED transcription",
 )
-#: UV-cured acrylate fibre coating: k 0.20 W/(m K) (PHYSICS-models 3.1, UNVERIFIED typical);
+#: UV-cured acrylate fibre coating: k 0.20 W/(m K) (docs/physics.md 3.7, UNVERIFIED typical);
 #: rho c 1.2e3 x 1.5e3; E 0.7 GPa (secondary coating, UNVERIFIED typical); alpha 1e-4 /K
 #: (UNVERIFIED typical of acrylates below Tg), slope 3e-7 /K^2 (UNVERIFIED, same ratio
 #: slope/alpha as EPOXY).
@@ -157,10 +157,10 @@ ACRYLATE = Material(
     poisson=0.40,
     cte=1.0e-4,
     cte_slope=3.0e-7,
-    source="typical values, UNVERIFIED (PHYSICS-models 3.1)",
+    source="typical values, UNVERIFIED (docs/physics.md 3.7)",
 )
 #: Potting epoxy below its glass transition: k 0.20 W/(m K), rho c 1.2e3 x 1.1e3; E 3 GPa,
-#: nu 0.35 (PHYSICS-models 3.4, UNVERIFIED typical); alpha 55e-6 /K at 293 K with slope
+#: nu 0.35 (docs/physics.md 3.7, UNVERIFIED typical); alpha 55e-6 /K at 293 K with slope
 #: 0.17e-6 /K^2: mean slope of a bulk epoxy whose alpha falls to ~20e-6 /K at 77 K
 #: (NIST cryogenic material-property pages for epoxy; UNVERIFIED transcription).
 EPOXY = Material(
@@ -190,7 +190,7 @@ ALUMINIUM = Material(
 
 # Leviton & Frey (2006) temperature-dependent Sellmeier of Corning 7980 (valid 30-310 K):
 # n^2 - 1 = sum_i S_i(T) lam^2 / (lam^2 - lam_i(T)^2), lam in um, S_i, lam_i quartic in T [K].
-# Coefficients as transcribed in public code citing doi:10.1117/12.672853 (PHYSICS-models S2);
+# Coefficients as transcribed in public code citing doi:10.1117/12.672853 (Leviton & Frey, Proc. SPIE 6273 (2006));
 # they reproduce dn/dT = 8.16e-6 /K at 293 K, 1.55 um (S1).
 _LF_S = np.array(
     [
@@ -244,7 +244,7 @@ def maxwell_conductivity(k_f: float, k_m: float, phi: float) -> float:
     """Transverse conductivity of parallel cylinders (k_f, fraction phi) in a matrix k_m [W/(m K)].
 
     k_T = k_m [(k_f + k_m) + phi (k_f - k_m)] / [(k_f + k_m) - phi (k_f - k_m)]
-    (Maxwell's dilute-cylinder form, as applied by McCartney; PHYSICS-models 3.1).
+    (Maxwell's dilute-cylinder form, as applied by McCartney; docs/physics.md 3.7).
     """
     _num("maxwell_conductivity", "phi", phi, "in [0, 1)", "", lambda v: 0 <= v < 1)
     return k_m * ((k_f + k_m) + phi * (k_f - k_m)) / ((k_f + k_m) - phi * (k_f - k_m))
@@ -293,7 +293,7 @@ def pack_properties(
     Notes
     -----
     Conduction: Maxwell twice (glass in coating, coated fibre in matrix) for k_T; radial
-    series with the interlayer: 1/k_r = (1 - f)/k_T + f/k_m; k_z = k_T (PHYSICS-models 3.1).
+    series with the interlayer: 1/k_r = (1 - f)/k_T + f/k_m; k_z = k_T (docs/physics.md 3.7).
     Elasticity (glass volume fraction v_g = phi glass_fraction; the soft coating is lumped
     into the matrix): E_t = v_g E_g + (1 - v_g) E_m (Voigt); E_r Halpin-Tsai with xi = 2;
     nu_tr = v_g nu_g + (1 - v_g) nu_m (rule of mixtures). Expansion (Schapery 1968):
@@ -346,7 +346,7 @@ def composite_cylinder_strain(
         u(r) = A r^k + B r^-k + Gamma r,   k = sqrt(C_tt/C_rr)
         Gamma = [(C_rr - C_rt) alpha_r - (C_tt - C_rt) alpha_t] / (C_rr - C_tt)
 
-    (Lekhnitskii; PHYSICS-models 3.4) with Gamma = alpha for an isotropic pack. Four
+    (Lekhnitskii; docs/physics.md 3.7) with Gamma = alpha for an isotropic pack. Four
     conditions: sigma_r(bore) = 0, sigma_r(outer) = 0, u and sigma_r continuous at inner.
     Returns eps_theta = u/r at ``r`` and p = -sigma_r(inner) (positive = compression).
     """
@@ -463,7 +463,7 @@ def fv_grid(
 ) -> Grid:
     """Finite-volume conduction on an (r, z) tensor grid with per-cell properties (shape (nr, nz)).
 
-    Discretises rho c dT/dt = (1/r) d/dr(k_r r dT/dr) + d/dz(k_z dT/dz) (PHYSICS-models 3.1):
+    Discretises rho c dT/dt = (1/r) d/dr(k_r r dT/dr) + d/dz(k_z dT/dz) (docs/physics.md 3.7):
     radial half-cell resistance ln(r_face / r_c) / (2 pi k_r dz), axial (dz/2) / (k_z pi
     (r2^2 - r1^2)), links in series (harmonic mean across a material interface). Second order
     in space for smooth fields.
@@ -560,7 +560,7 @@ class Coil2DSpec:
     index : float
         Effective index n of the guided mode (1.46 as sim/coil.py).
     p11, p12 : float
-        Photo-elastic constants of silica (0.121, 0.270; PHYSICS.md 3.5).
+        Photo-elastic constants of silica (0.121, 0.270; docs/physics.md 3.5).
     wavelength : float
         [m].
     crossover_turns : float
@@ -581,7 +581,7 @@ class Coil2DSpec:
         ~12.5 W/(m^2 K) over 0.03 m^2, giving tau_h = C_h/G = 1200 s as sim/coil.py; stated).
     gap_coefficient : float
         h_gap [W/(m^2 K)] of the gas gap between the coil's outer/end/bore faces and the
-        housing (10; PHYSICS-models 3.1 range 5-20, UNVERIFIED).
+        housing (10; docs/physics.md 3.7 range 5-20, UNVERIFIED).
     mount_coefficient : float
         h_c [W/(m^2 K)] of the bolted spool-to-housing contact under the spool (bottom face of
         the spool only: the asymmetric mount makes axial gradients) (1000; bare Al-Al bolted

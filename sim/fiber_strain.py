@@ -2,7 +2,7 @@
 
 All SI: acceleration [m/s^2], strain [-], phase [rad], rate [rad/s], z along the fibre [m].
 
-Time-varying nonreciprocity (PHYSICS-models.md 2.1, derived there): a change db(z, t) of the
+Time-varying nonreciprocity (docs/physics.md 4.1, derived there): a change db(z, t) of the
 propagation constant per unit length is crossed by the two waves at t - (L - z)/v and t - z/v
 (v = c/n_g), so the phase difference is
 
@@ -34,7 +34,7 @@ Weights (closed forms, tests): psi uniform -> W = 0; psi = z/L -> W = -L^2/6; a 
 
 References
 ----------
-PHYSICS-models.md 2.1-2.5 (kernel derived there); Lefevre, The Fiber-Optic Gyroscope, 2nd ed.
+docs/physics.md 4.1 (kernel derived there); Lefevre, The Fiber-Optic Gyroscope, 2nd ed.
 (2014), sec. 3.2 (reciprocity and time-varying perturbations: the (L - 2z) weighting shared with
 the Shupe effect); Shupe, Appl. Opt. 19(5) 654 (1980); elasto-optic factor: Bertholds &
 Dandliker, J. Lightwave Technol. 6(1) 17 (1988) (strain sensitivity of optical fibres).
@@ -72,7 +72,7 @@ def elasto_optic_factor(
     return 1.0 - n**2 / 2.0 * (p12 - nu * (p11 + p12))
 
 
-#: xi for fused silica (p11 = 0.121, p12 = 0.270, nu = 0.17; PHYSICS-models.md 2.2) [-]
+#: xi for fused silica (p11 = 0.121, p12 = 0.270, nu = 0.17; docs/physics.md 4.1) [-]
 ELASTO_OPTIC_FACTOR = elasto_optic_factor()
 
 

@@ -1,6 +1,6 @@
 """Closed-loop interferometric FOG: square-wave bias modulation, serrodyne feedback, V_2pi loop.
 
-All quantities SI: phase [rad], rate [rad/s], time [s]. Equations: PHYSICS-models.md section 1
+All quantities SI: phase [rad], rate [rad/s], time [s]. Equations: docs/physics.md 3.8
 (derived there from first principles), docs/physics.md 3.8.
 
 Interferometer and modulation (one step per transit time tau = n_g L / c)
@@ -41,7 +41,7 @@ References
 H. C. Lefevre, The Fiber-Optic Gyroscope, 2nd ed. (Artech House, 2014), ch. 3 (reciprocity,
 proper frequency, square-wave biasing) and ch. 6 (closed-loop, digital phase ramp, 2 pi reset
 and V_2pi control); Arditty & Lefevre, "Closed-loop fiber gyroscope with a phase ramp",
-Opt. Lett. 6(8) 401 (1981). PHYSICS-models.md 1.1-1.4 (the formulas above, derived and
+Opt. Lett. 6(8) 401 (1981). docs/physics.md 3.8 (the formulas above, derived and
 checked numerically there).
 """
 
@@ -273,7 +273,7 @@ def gain_error_scale_factor(
 
     (fixed-point iteration). To first order in f the ratio -delta/phi_s is
     1/(1 + eps - sin(2 pi eps)/(2 pi)) = 1 - (2/3) pi^2 eps^3 + ...; with reset samples
-    blanked it is 1/(1 + eps). PHYSICS-models.md 1.3.
+    blanked it is 1/(1 + eps). docs/physics.md 3.8.
 
     Not included: with G != 1 the modulation depth is G phi_b and the two-tap demodulator
     keeps a term -b_k cos(G phi_b)(cos x_k - cos x_{k-1})/(2 sin phi_b); at a reset it adds
@@ -539,7 +539,7 @@ class ClosedLoopFOG:
         default none.
     diameter_tempco : float
         alpha_D, hoop expansion of the mean winding diameter [1/K] (Al spool pack ~15 ppm/K,
-        PHYSICS-models.md 1.6, derived from assumed pack properties; unverified).
+        docs/physics.md 3.8, derived from assumed pack properties; unverified).
     wavelength_tempco : float
         (1/lambda) dlambda/dT of the source mean wavelength [1/K] (Er ASE unstabilised, a few
         ppm/K; unverified).
@@ -569,7 +569,7 @@ class ClosedLoopFOG:
       frequency domain (exact for the sampled, band-limited record, circular): modal response,
       strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
       loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
-      correlation, PHYSICS-models.md 2.4b) passed through H, then the integrate-and-dump
+      correlation, docs/physics.md 4.1) passed through H, then the integrate-and-dump
       average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
       electronics' decimation does it. The j w factor is an ideal band-limited derivative:
       an abrupt shaker onset (``ramp_time = 0``) rings (Gibbs) on both sides of the edge,

@@ -30,7 +30,7 @@ Gaussian (derived: sqrt(pi/(2 ln 2)) * ... = 1.5054). Shot noise: Schottky formu
 Johnson noise of the transimpedance feedback resistor plus the amplifier's input current noise.
 
 Constants: elementary charge q and Boltzmann k_B are exact in the 2019 SI (CODATA 2018).
-Defaults (the worked example of PHYSICS-models.md 1.5): Er ASE source 10 mW, 30 nm
+Defaults (the worked example of docs/physics.md 3.8): Er ASE source 10 mW, 30 nm
 (rectangular-equivalent), 20 dB source-to-detector loss, R = 0.9 A/W, R_f = 100 kOhm,
 i_n = 1 pA/sqrt(Hz), 300 K: N = 9.4e-4 deg/sqrt(h) at phi_b = pi/2 (RIN dominated). Those
 defaults are typical values, not measured on a unit (unverified).

@@ -12,7 +12,7 @@ m modal (= Coriolis) mass [kg]; k = m w^2 [N/m]; c = m w / Q [kg/s]; k_xy = k_yx
 anisoelastic (quadrature) coupling, symmetric [N/m]; c_xy = c_yx = eps_c c_y anisodamping
 coupling [kg/s]; f_x, f_y Brownian forces, one-sided PSD 4 k_B T c [N^2/Hz]
 (fluctuation-dissipation). The inertial terms come from a_inertial = a_rel + 2 Omega x v +
-Omega x (Omega x r) + Omega' x r (PHYSICS-models 4.1).
+Omega x (Omega x r) + Omega' x r (docs/physics.md 5.1).
 
 Drive: a self-oscillation loop (force proportional to the drive velocity, F_d = c_a x') whose
 gain c_a is set by a PI amplitude controller on the demodulated amplitude
@@ -33,7 +33,7 @@ demodulation phase error of the rate channel); f_c the closed-loop bandwidth [Hz
 The rate output is the rate-channel command: Omega_hat = K_out u_I with
 K_out = s_trim G(T0) / (2 m w_x(T0) X0).
 
-Equilibrium (B = 0) gives (PHYSICS-models 4.2-4.3, DERIVED)::
+Equilibrium (B = 0) gives (docs/physics.md 5.1)::
 
     u_I G = 2 m w X0 (Omega + Omega_b) cos(theta_e) - (k_yx + m Omega') X0 sin(theta_e)
     Omega_hat = SF (Omega + Omega_b - Omega_q' tan(theta_e))     (low rates)
@@ -46,14 +46,14 @@ knee is therefore sharp and the output flat beyond it::
 
     Omega_max = sqrt(F_max^2 - F_q^2) / (2 m w X0) (cos theta_e ~ 1),  F_max = G v_max
 
-the force-rebalance authority of PHYSICS-models 4.6 item 1 [DERIVED]; a closed-loop high-range
+the force-rebalance authority of docs/physics.md 5.1 item 1; a closed-loop high-range
 design's measurement range is set by it (Saukoski 2008, ch. 2-3: the feedback force range
 limits the input range of a force-feedback gyro; Acar & Shkel 2009, ch. 2). The default
 design puts it above the +-3600 deg/s range with a margin, so the default raw
 nonlinearity over +-3600 deg/s is small. An output-referred odd cubic ``output_cubic``
 (rebalance-DAC/actuator gain nonlinearity; default 0) is the only nonlinearity below the knee.
 
-Noise and its closed forms [DERIVED, PHYSICS-models 4.4; the factor 2 of synchronous
+Noise and its closed forms [docs/physics.md 5.1; the factor 2 of synchronous
 demodulation is Leland 2005]::
 
     N_B = sqrt(k_B T c_y) / (m w X0)            Brownian ARW [rad/sqrt(s)] (input-referred)
@@ -74,7 +74,7 @@ Two integrators of the same equations
   rebalance clamp is applied at the step ends. Validated against :func:`simulate_full` in
   tests and in :mod:`gyrobench.scenarios.checks_mems`.
 
-Slow flow (x = Re{A e^{jwt}}, y = Re{B e^{jwt}}, A = X0; "improved" form, PHYSICS-models 4.5)::
+Slow flow (x = Re{A e^{jwt}}, y = Re{B e^{jwt}}, A = X0; "improved" form, docs/physics.md 5.1)::
 
     B' = p (B - R F~),  p = -w_y/(2 Q_y) + j (w_y sqrt(1 - 1/(4 Q_y^2)) - w)
     F~ = -j 2 m w X0 (Omega + Omega_b) - (k_yx + m Omega') X0 + j G e^{j theta} u + f~
@@ -98,7 +98,7 @@ M. Saukoski, *System and circuit design for a capacitive MEMS gyroscope*, Helsin
 Technology doctoral thesis (2008), ch. 2-3 (force feedback, quadrature, drive AGC).
 M. A. Hopcroft, W. D. Nix, T. W. Kenny, "What is the Young's modulus of silicon?", JMEMS
 19(2):229-238 (2010) (TCE about -60 ppm/K, so TCf about -30 ppm/K; value typical, unverified).
-PHYSICS-models.md section 4 (shared project notes; derivations marked DERIVED there).
+docs/physics.md 5.1.
 """
 
 from __future__ import annotations
@@ -165,7 +165,7 @@ class MemsResonator:
 
     Defaults: a plausible +-3600 deg/s force-rebalance design (module docstring and
     docs/physics.md section 7): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
-    5 um drive amplitude (the PHYSICS-models 4.4 example scaled to a lower-Q high-range part),
+    5 um drive amplitude (the docs/physics.md 5.1 example scaled to a lower-Q high-range part),
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
     50 Hz rebalance loop, 16-bit output over +-4000 deg/s. Typical values, unverified against a
@@ -226,7 +226,7 @@ class MemsResonator:
     bias_repeatability, scale_factor_repeatability : float
         1-sigma turn-on bias [rad/s] and relative scale-factor error [-] drawn per power-on
         by :meth:`power_on`, >= 0. Defaults 0.1 deg/s and 1000 ppm: typical of industrial
-        high-range MEMS gyros, unverified (PHYSICS-models 4.7 gives 0.1-1 % SF turn-on
+        high-range MEMS gyros, unverified (docs/physics.md 5.1 gives 0.1-1 % SF turn-on
         repeatability as unverified typicals; the Sensonor STIM202/STIM210 FAQ gives scale-factor
         accuracy +-2000/+-500 ppm and nonlinearity 200/25 ppm for +-400 deg/s class parts).
     turn_on_bias, turn_on_scale_factor : float
@@ -433,7 +433,7 @@ def brownian_arw(unit: MemsResonator, temperature: float | None = None) -> float
 
     Equivalently sqrt(k_B T w_y / (m Q_y)) / (w X0); -> sqrt(k_B T / (m Q_y X0^2 w)) when
     mode-matched. One-sided rate PSD 2 N_B^2. Leland (2005) (the in-phase demodulated channel
-    carries half the band-pass noise power), PHYSICS-models 4.4 [DERIVED].
+    carries half the band-pass noise power), docs/physics.md 5.1.
     """
     op = operating_point(unit, temperature)
     return math.sqrt(BOLTZMANN * op.temperature * op.cy) / (op.m * op.wx * op.x0)
@@ -446,7 +446,7 @@ def electronic_arw(unit: MemsResonator, temperature: float | None = None) -> flo
 
 
 def quadrature_rate(unit: MemsResonator, temperature: float | None = None) -> float:
-    """Quadrature-equivalent rate Omega_q = k_yx / (2 m w) [rad/s] (PHYSICS-models 4.3)."""
+    """Quadrature-equivalent rate Omega_q = k_yx / (2 m w) [rad/s] (docs/physics.md 5.1)."""
     op = operating_point(unit, temperature)
     return op.kyx / (2.0 * op.m * op.wx)
 
@@ -473,7 +473,7 @@ def zero_rate_output(unit: MemsResonator, temperature: float | None = None) -> f
     """Noise-free output at Omega = 0 [rad/s]: SF (Omega_b - Omega_q tan theta) + b_on - b_trim.
 
     Omega_b = c_yx / (2 m) (anisodamping, Coriolis phase), Omega_q sin(theta) the quadrature
-    leaking through the phase error [DERIVED].
+    leaking through the phase error.
     """
     op = operating_point(unit, temperature)
     u = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
@@ -484,7 +484,7 @@ def rate_authority(unit: MemsResonator, temperature: float | None = None) -> flo
     """Largest rate the rebalance holds, Omega_max [rad/s] (positive side, noise-free).
 
     Solves |u_I(Omega)| = sqrt(v_max^2 - u_Q^2) with u_Q the equilibrium quadrature command;
-    for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (PHYSICS-models 4.6).
+    for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (docs/physics.md 5.1).
     Returns 0 if the quadrature alone uses up the authority.
     """
     op = operating_point(unit, temperature)
@@ -508,7 +508,7 @@ def saturated_output(unit: MemsResonator, rate: float, temperature: float | None
     With u_I clamped at sign(Omega) sqrt(v_max^2 - u_Q^2), the sense mass moves,
     B = R (F_ext + j G e^{j theta} u), and the quadrature integrator settles where its input
     vanishes, Im{kappa_c B} = 0; solved for u_Q (scipy brentq). The plateau therefore drifts
-    slightly with the rate (the uncancelled force rotates B) [DERIVED].
+    slightly with the rate (the uncancelled force rotates B).
     """
     from scipy.optimize import brentq
 

@@ -10,7 +10,7 @@ dither random walk, pulse counting and temperature sensors it imports and reuses
 * **Backscatter lock-in** (:class:`Backscatter`, :func:`lock_in_from_backscatter`):
   Omega_L = c lambda |r_net| / (8 pi A), r_net = sum_i r_i exp(j (2 k s_i + theta_i))
   (coupled-mode form of Aronowitz, "The laser gyro" (1971) and Chow et al., Rev. Mod. Phys.
-  57, 61 (1985), Sec. III; prefactor as derived in PHYSICS-models.md 5.2). The path positions
+  57, 61 (1985), Sec. III; prefactor as derived in docs/physics.md 6.6). The path positions
   s_i of the mirrors change with the block's thermal expansion and with the path-length
   control (PLC) mirror, so Omega_L changes with temperature and at every mode hop.
 * **Path-length control and mode hops** (:class:`PathLengthControl`): the block's free
@@ -89,7 +89,7 @@ __all__ = [
 #: speed of light in vacuum [m/s] (SI definition)
 SPEED_OF_LIGHT = 299_792_458.0
 #: ZERODUR expansion class 2 tolerance, |alpha(0..50 degC)| <= 0.10e-6 /K
-#: (SCHOTT, "Technical Details of ZERODUR", CTE classes; PHYSICS-models.md 5.3 [VERIFIED S7])
+#: (SCHOTT, "Technical Details of ZERODUR", CTE classes; docs/physics.md 6.6)
 ZERODUR_CTE_CLASS_2 = 0.10e-6
 #: Langmuir-flow bias per unit of leg-current imbalance [rad/s per A]. Aronowitz & Lim,
 #: Opt. Eng. 18(4) 376 (1979), abstract: "a nullshift sensitivity of 0.0066 deg/hr/mamp of
@@ -106,7 +106,7 @@ def lock_in_from_backscatter(r_net: ArrayLike, *, area: float, wavelength: float
 
     Notes
     -----
-    Omega_L = c lambda |r_net| / (8 pi A) (PHYSICS-models.md 5.2 [DERIVED] from the coupled-
+    Omega_L = c lambda |r_net| / (8 pi A) (docs/physics.md 6.6 from the coupled-
     mode equations of Aronowitz 1971 / Chow et al. 1985: lock-in frequency (c/L)|r_net|/(2 pi),
     divided by the scale factor 4A/(lambda L)). 10 cm square, 632.8 nm: 0.05 deg/s needs
     |r_net| = 1.16e-6.
@@ -371,7 +371,7 @@ class Discharge:
     I_A = I_0 + Delta I / 2, I_B = I_0 - Delta I / 2, Delta I = Delta I_0 + I_0 delta (T_H - T_ref)
     Omega_LF = k_LF [I_A (T_ref/T_gA)^m - I_B (T_ref/T_gB)^m],  T_g = T_node + gas_rise
     (Langmuir flow: null shift linear in the current imbalance and odd in it, Aronowitz & Lim
-    1979; PHYSICS-models.md 5.4). For small differences
+    1979; docs/physics.md 6.6). For small differences
     Omega_LF ~ k_LF [Delta I - I_0 m (T_gA - T_gB)/T_ref].
     """
 
@@ -426,7 +426,7 @@ class SwingDither:
     independent swings. :class:`gyrobench.sim.rlg.DitherRealization` instead changes the
     amplitude where the angle crosses zero, which repeats the crossing phases within a
     cycle: at low input rate its random walk is ~1/3 of the formula after 100 cycles
-    (issue 19; PHYSICS-models.md 5.5: "randomisation must change the swing between
+    (issue 19; docs/physics.md 6.6: "randomisation must change the swing between
     successive crossings"). Random walk of this dither (stationary phase, 2 f_d independent
     crossings per second): N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)]
     (E[2/(a_{k-1} + a_k)] = 1 + sigma^2/2 to second order).
@@ -782,7 +782,7 @@ class CavityRLGSpec:
         Default 400 Hz x 150 arcsec, 10 % amplitude jitter (as :class:`gyrobench.sim.rlg.RLGSpec`).
     backscatter_sigma : float
         Rayleigh scale of each mirror's |r_i| (random-phase scatterers, Rayleigh-distributed
-        backscatter in He-Ne rings: PHYSICS-models.md 5.2 [VERIFIED S16]). Default 4.0e-7:
+        backscatter in He-Ne rings: docs/physics.md 6.6). Default 4.0e-7:
         STATED ASSUMPTION chosen so the rms lock-in of the triangle is ~0.05 deg/s
         (E|r_net|^2 = 3 x 2 sigma^2), the lock-in of :class:`gyrobench.sim.rlg.RLGSpec`.
     walk_phase_std : float

@@ -90,7 +90,7 @@ def test_max_m_closed_form_matches_term_counts(kind):
 
 
 def test_ramp_closed_form():
-    """Noise-free ramp y = R t: ADEV = R tau / sqrt(2) exactly (PHYSICS.md 1.2)."""
+    """Noise-free ramp y = R t: ADEV = R tau / sqrt(2) exactly (docs/physics.md 1.2)."""
     fs, r = 50.0, 3.0e-3
     y = r * np.arange(20000) / fs
     for kind in ("overlapping", "standard"):
@@ -300,7 +300,7 @@ def test_fit_recovers_exact_curve():
 
 
 def test_coefficient_conversions_are_ieee():
-    """C_-2 = 3 Q^2, C_-1 = N^2, C_0 = (2 ln2/pi) B^2, C_1 = K^2/3, C_2 = R^2/2 (PHYSICS.md 1.5)."""
+    """C_-2 = 3 Q^2, C_-1 = N^2, C_0 = (2 ln2/pi) B^2, C_1 = K^2/3, C_2 = R^2/2 (docs/physics.md 1.5)."""
     got = [coefficient_to_avar(k, 2.0) for k in TERMS]
     assert got == pytest.approx([12.0, 4.0, 4 * 2 * math.log(2) / math.pi, 4.0 / 3.0, 2.0], rel=1e-15)
 

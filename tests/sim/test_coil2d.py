@@ -13,9 +13,9 @@ from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, Imperfections, fibre_map
 
 
 def test_silica_dn_dT_matches_published_value():
-    # Leviton-Frey Sellmeier at 293 K, 1.55 um: 8.16e-6 /K (Corning 7980, PHYSICS-models S1)
+    # Leviton-Frey Sellmeier at 293 K, 1.55 um: 8.16e-6 /K (Corning 7980)
     assert float(coil2d.silica_dn_dT(293.0)) == pytest.approx(8.16e-6, abs=0.01e-6)
-    # its slope over -10..40 degC is ~2e-8 /K^2 (PHYSICS-models 3.5: 2.0-2.3e-8)
+    # its slope over -10..40 degC is ~2e-8 /K^2 (docs/physics.md 3.7: 2.0-2.3e-8)
     s = (coil2d.silica_dn_dT(313.15) - coil2d.silica_dn_dT(263.15)) / 50.0
     assert 1.8e-8 < float(s) < 2.4e-8
     with pytest.raises(ValueError, match="temperature"):
@@ -55,7 +55,7 @@ def test_pieces_tile_the_fibre(pattern):
 
 
 def test_quadrupole_cancels_radial_gradient_better_than_helical():
-    # PHYSICS-models 3.3: radial-gradient ratio helical / quadrupole > 100
+    # docs/physics.md 3.7: radial-gradient ratio helical / quadrupole > 100
     out = {}
     for pattern in ("helical", "quadrupolar"):
         spec = Coil2DSpec(winding=pattern, crossover_turns=0.0, lead_length=0.0)

@@ -27,7 +27,7 @@ def test_north_up_east_closed_forms(lat_deg):
 
 
 def test_table_values_to_five_figures():
-    # PHYSICS-models.md section 6 table (deg/h): Beijing 11.539 / 9.648, Harbin 10.486 / 10.783
+    # docs/physics.md 8 table (deg/h): Beijing 11.539 / 9.648, Harbin 10.486 / 10.783
     for site, n_dh, u_dh in ((earth.BEIJING, 11.539, 9.648), (earth.HARBIN, 10.486, 10.783)):
         n, u = earth.earth_rate_components(site.latitude)
         assert round(units.to_deg_per_h(float(n)), 3) == n_dh

@@ -29,7 +29,7 @@ def test_weights_closed_forms():
 
 
 def test_elasto_optic_factor_values():
-    # PHYSICS-models.md 2.2 quotes 0.795 for SMF-28 (0.125, 0.258, 0.161): that is n = 1.444
+    # docs/physics.md 4.1 quotes 0.795 for SMF-28 (0.125, 0.258, 0.161): that is n = 1.444
     # (fused silica at 1550 nm); 0.788 for (0.121, 0.270, 0.17) at the same n (the default)
     assert round(elasto_optic_factor(1.444, 0.125, 0.258, 0.161), 3) == 0.795
     assert (

@@ -13,7 +13,7 @@ EPS = float(np.finfo(float).eps)
 
 
 def test_coil_numbers():
-    # PHYSICS-models.md 1.1 / 1.3 (1 km, 0.1 m, 1550 nm, n_g 1.468)
+    # docs/physics.md 3.8 / 1.3 (1 km, 0.1 m, 1550 nm, n_g 1.468)
     s = LoopSpec()
     assert round(s.scale_factor, 4) == 1.3522
     assert round(s.transit_time * 1e6, 3) == 4.897
@@ -28,7 +28,7 @@ def test_coil_numbers():
 def test_transfer_function_values():
     s = LoopSpec()
     assert abs(s.transfer(0.0) - 1.0) < 1e-14
-    assert abs(abs(s.transfer(3000.0)) - 0.771) < 0.005  # PHYSICS-models.md 1.4 check
+    assert abs(abs(s.transfer(3000.0)) - 0.771) < 0.005  # docs/physics.md 3.8 check
     # small-g bandwidth g/(2 pi tau) within the O(g) correction
     small = LoopSpec(loop_gain=0.01)
     f0 = 0.01 / (2 * math.pi * small.transit_time)

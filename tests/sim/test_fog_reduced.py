@@ -183,7 +183,7 @@ def test_bad_inputs():
 
 
 def test_rectification_matches_full_loop_with_loss_modulation():
-    # intensity-phase correlation (PHYSICS-models.md 2.4b): the full nonlinear loop with a loss
+    # intensity-phase correlation (docs/physics.md 4.1): the full nonlinear loop with a loss
     # modulation m(t) against the reduced form's +m phi_res/SF through H and the decimation
     spec = LoopSpec(gain_loop=False)
     m, n_out, kp = 512, 400, 16
@@ -267,7 +267,7 @@ def test_truth_parts_sum_to_the_output(rng):
 
 
 def test_integrate_and_dump_has_no_dc_error_at_multiples_of_the_output_rate(rng):
-    # PHYSICS-models.md 2.6: a rate tone at exactly m f_o integrates to zero in every block
+    # docs/physics.md 4.1: a rate tone at exactly m f_o integrates to zero in every block
     mode = StrainMode(frequency=900.0, quality=10.0, rocking=1e-8)
     unit = ClosedLoopFOG(modes=(mode,))
     fs = 400.0

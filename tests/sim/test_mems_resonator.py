@@ -49,7 +49,7 @@ def _settled(unit, rates, temperature=None):
 
 # ------------------------------------------------------------------ closed forms
 def test_brownian_arw_matches_the_physics_notes_example():
-    # PHYSICS-models 4.4: m = 2e-9 kg, 20 kHz, Q_y = 1e4, X = 5 um, 300 K, matched -> 8.12e-6
+    # docs/physics.md 5.1: m = 2e-9 kg, 20 kHz, Q_y = 1e4, X = 5 um, 300 K, matched -> 8.12e-6
     unit = _quiet(drive_frequency=20e3, mode_split=0.0, sense_q=1e4, loop_bandwidth=0.2,
                   reference_temperature=300.0)
     n_b = brownian_arw(unit)
@@ -59,7 +59,7 @@ def test_brownian_arw_matches_the_physics_notes_example():
 
 
 def test_quadrature_rate_matches_the_physics_notes_example():
-    # PHYSICS-models 4.3: m = 2 ug, 20 kHz, k_yx = 1e-4 k -> Omega_q = 6.283 rad/s
+    # docs/physics.md 5.1: m = 2 ug, 20 kHz, k_yx = 1e-4 k -> Omega_q = 6.283 rad/s
     unit = _quiet(drive_frequency=20e3, quadrature_coupling=1e-4)
     assert quadrature_rate(unit) == pytest.approx(1e-4 * 2 * math.pi * 20e3 / 2, rel=1e-12)
     assert quadrature_rate(unit) == pytest.approx(6.283, rel=1e-4)

@@ -16,7 +16,7 @@ LAM = HENE_WAVELENGTH
 
 # ----------------------------------------------------------------------------- backscatter
 def test_lock_in_formula_ten_cm_square():
-    """PHYSICS-models 5.2: 0.05 deg/s in a 10 cm square needs |r_net| = 1.16e-6."""
+    """docs/physics.md 6.6: 0.05 deg/s in a 10 cm square needs |r_net| = 1.16e-6."""
     g = CavityGeometry.square(0.10)
     r = units.deg_per_s(0.05) * 8 * math.pi * g.area / (rc.SPEED_OF_LIGHT * LAM)
     assert r == pytest.approx(1.16e-6, rel=5e-3)

@@ -772,6 +772,7 @@ def _octave_overlapping(
                 alpha[k] = _noise_id_blocks(ids[k] / k, 2) if k in ids else None
 
         while m <= top:
+            assert s_arr is not None  # allocated by the first pass whenever m <= top
             g = 1
             while g < _FUSE_LATER and (m << g) <= top:
                 g += 1
@@ -1092,8 +1093,13 @@ def allan_deviation(
         dev, al = _octave_overlapping(y, ms, identify=alpha is None)
     else:
         x = _phase(y) if (kind == "overlapping" or alpha is None) else None
-        dev = _deviation_overlapping(x, ms) if kind == "overlapping" else _deviation_allantools(kind, y, fs, ms)
+        if kind == "overlapping":
+            assert x is not None
+            dev = _deviation_overlapping(x, ms)
+        else:
+            dev = _deviation_allantools(kind, y, fs, ms)
         if alpha is None:
+            assert x is not None
             al = _identify(x, ms, kind)
         del x
     if alpha is not None:
@@ -1101,6 +1107,7 @@ def allan_deviation(
         lo = -4 if _D[kind] == 3 else -2
         if np.any((al < lo) | (al > 2)):
             raise ValueError(f"alpha must be integers in [{lo}, 2] for the {kind} deviation; got {alpha!r}")
+    assert al is not None  # identified above, or given as alpha
     edf = _edf(kind, al, ms, n)
     low, high = _bounds(dev, edf, float(confidence))
     return AllanCurve(

@@ -415,6 +415,12 @@ def _cmd_reproduce(args) -> int:
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
     check_output(args.out, what="--out", kind="report")  # before any work
+    if not args.scheduler:  # local units share this machine's memory: one per worker at once
+        source = f"config file {args.config!r}" if args.config else "its default configuration"
+        for m, cfg in zip(mods, configs, strict=True):
+            if units.is_paper_scenario(m):
+                n_at_once = units.concurrent_units(args.units, args.workers)
+                units.check_unit_memory(m, cfg, concurrent=n_at_once, source=source)
     out = Path(args.out)
     db = Path(args.db) if args.db else units.default_db(out)
     executor, close = _executor(args)

@@ -362,6 +362,34 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     ]
 
 
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's :func:`experiment` or :func:`simulate` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``n_run = (settle_s +
+    average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
+    ``sim.mems_resonator.simulate``), ``N = n_run (n_fit_runs + n_heldout_runs)`` in all, and
+    ``n_dense = 200 (span(rates_dps) / dense_step_dps + 1)`` in one dense-sweep call
+    (:func:`static_output`, 200 samples per rate)::
+
+        bytes = 1.1 x (48 N + 376 max(n_run, n_dense) + 40e6)
+
+    48 B = 6 float64 series held per sample of every run (outputs, recordings' channels),
+    376 B = 47 float64 working series of the slow-flow call running, 40 MB the rest (fits,
+    figure data); 1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py): 160 MB at the default (N = 1.0e6), 514 MB at
+    average_s = 240 (N = 4.0e6), 314 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
+    1.0 GB at dense_step_dps = 0.5 (n_dense = 2.9e6); the formula is 1.2-1.4 x these.
+    Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
+    """
+    n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
+    n_run *= len(config.rates_dps)
+    span = float(max(config.rates_dps)) - float(min(config.rates_dps))
+    n_dense = 200.0 * (span / config.dense_step_dps + 1.0)
+    n_all = n_run * (config.n_fit_runs + config.n_heldout_runs)
+    return 1.1 * (48.0 * n_all + 376.0 * max(n_run, n_dense) + 40e6)
+
+
 def rate_means(rec: Recording) -> NDArray[np.float64]:
     """Mean output over each settled window of a record [deg/s]."""
     y = units.to_deg_per_s(rec["rate"])

@@ -236,6 +236,29 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     return recs
 
 
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's :func:`simulate` or :func:`experiment` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``N = 2 duration(chamber())
+    fs_hz`` samples in the unit's two chamber runs::
+
+        bytes = 1.1 x (232 N + 20e6)
+
+    232 B = 29 float64 series per sample: :func:`simulate` holds both runs' recordings (the
+    counts, dither, temperatures and truth channels, 26 series per run sample) with the
+    generator's working copies; :func:`experiment` holds one run at a time before its
+    100-s block means (~39 series per sample of one run, 19.5 per sample of N). 20 MB is
+    the rest; 1.1 the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py): simulate 202 / 490 / 626 MB and experiment
+    142 / 347 / 420 MB at the default (N = 9.0e5), fs_hz = 25 (N = 2.25e6) and
+    ramp_c_per_min = 0.1 with high_soak_min = 240 (N = 2.88e6); the formula is 1.2-1.25 x
+    simulate's and 1.7-1.8 x experiment's. Floats: never an overflow.
+    """
+    n = 2.0 * float(config.chamber().duration) * float(config.fs_hz)
+    return 1.1 * (232.0 * n + 20e6)
+
+
 @dataclass(frozen=True)
 class _Blocks:
     t_h: np.ndarray  # block centre [h]

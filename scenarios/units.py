@@ -47,6 +47,8 @@ from gyrobench.scenarios.base import Outcome
 __all__ = [
     "DEFAULT_DB",
     "UnitRun",
+    "check_unit_memory",
+    "concurrent_units",
     "default_db",
     "is_paper_scenario",
     "run_id",
@@ -106,6 +108,47 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
     }
     text = json.dumps(ident, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16], text
+
+
+def concurrent_units(n_units: int, workers: int | None) -> int:
+    """How many units a local run holds in memory at once: one per worker process, at most
+    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs)."""
+    from gyrobench.scenarios import bench
+
+    if workers == 0:
+        return 1
+    return max(1, min(int(n_units), workers or bench._default_workers()))
+
+
+def check_unit_memory(
+    module: types.ModuleType, config: Any, *, concurrent: int, source: str = "its configuration"
+) -> None:
+    """Refuse, before any unit starts, a local run whose units do not fit in memory together.
+
+    A scenario's ``memory_estimate(config)`` is the peak of ONE unit (one ``experiment`` in
+    one worker process). This is the one place that multiplies it by the units running at
+    once on this machine (:func:`concurrent_units`); a remote executor's workers hold their
+    units in their own memory, so its callers do not call this.
+    :func:`gyrobench.scenarios.registry.load_config` has already checked one unit.
+
+    Raises
+    ------
+    gyrobench.sim.memory.MemoryLimitError
+        One line: the scenario, ``source`` (e.g. ``"config file 'big.toml'"``), the units at
+        once, the estimate and the limit.
+    """
+    from gyrobench.sim import memory
+
+    est = memory.scenario_bytes(module, config)
+    if est is None:
+        return
+    name = getattr(module, "NAME", module.__name__)
+    memory.check_memory(
+        est * concurrent,
+        f"scenario {name} with {source} ({concurrent} unit(s) at once, one per worker process, "
+        f"about {memory.format_bytes(est)} each)",
+        hint="lower --workers, or shorten the records or lower the sample rate in --config",
+    )
 
 
 def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, float]:
@@ -279,6 +322,8 @@ def run_units(
                 blobs[s], elapsed[s] = bytes(blob), float(el)
         reused = len(blobs)
         todo = [s for s in seeds if s not in blobs]
+        if executor is None and todo:  # our own local pool: its units share this machine
+            check_unit_memory(module, config, concurrent=concurrent_units(len(todo), workers))
         from tqdm import tqdm
 
         bar = tqdm(

@@ -434,6 +434,27 @@ def _on_table(
     return rec, channels, truth
 
 
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's :func:`simulate` or :func:`experiment` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``T`` the record length
+    (static + vibration + static) [s], ``T_v`` the vibration phase [s] and ``f_p`` the shaker
+    grid rate ``fog.physics_rate_hz`` [Hz], for the unit's two records (swept and fixed sine)::
+
+        bytes = 1.2 x f_p x (100 T + 125 T_v)
+
+    MEASURED (peak RSS increase of a forked child, one BLAS thread; the harness of
+    tests/scenarios/test_memory_estimates.py): experiment 497 MB at the default (T = 1500 s,
+    T_v = 300 s, f_p = 3200 Hz), 920 MB with T_v = 900 s, 1614 MB with 2400-s static phases,
+    959 MB with the rates doubled; simulate 491, 920, 1331, 959 MB. The formula is 1.30-1.50 x
+    those (about 100 B per grid sample of the whole records and 125 B more per grid sample of
+    vibration, with 1.2 the margin). Floats: never an overflow.
+    """
+    t_total = float(config.static_before_s) + float(config.vibration_s) + float(config.static_after_s)
+    return 1.2 * float(config.fog.physics_rate_hz) * (100.0 * t_total + 125.0 * float(config.vibration_s))
+
+
 def simulate(config: Config, seed: int) -> list[Recording]:
     """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static)."""
     r_sweep, r_fixed = np.random.default_rng(seed).spawn(2)

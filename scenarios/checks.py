@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import math
+from concurrent.futures import Executor
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,16 +107,29 @@ class Check:
         }
 
 
-def collect(rng: np.random.Generator, modules: tuple[str, ...] = CHECK_MODULES) -> list[Check]:
+def _module_checks(name: str, rng: np.random.Generator) -> list[Check]:
+    """One module's checks (module level, so it pickles to a worker process)."""
+    return list(importlib.import_module(name).checks(rng))
+
+
+def collect(
+    rng: np.random.Generator,
+    modules: tuple[str, ...] = CHECK_MODULES,
+    *,
+    executor: Executor | None = None,
+) -> list[Check]:
     """Run every check module's ``checks`` with its own child stream of ``rng``.
 
     Each module gets one spawned child generator, in the order of ``modules``, so adding a
-    module at the end changes no earlier module's numbers.
+    module at the end changes no earlier module's numbers, and the results are the same
+    whether the modules run here or on ``executor`` (e.g. a process pool), in any order.
     """
     children = rng.spawn(len(modules))
-    out: list[Check] = []
-    for name, child in zip(modules, children, strict=True):
-        out.extend(importlib.import_module(name).checks(child))
+    if executor is None:
+        per_module = [_module_checks(n, c) for n, c in zip(modules, children, strict=True)]
+    else:
+        per_module = list(executor.map(_module_checks, modules, children))
+    out: list[Check] = [c for checks in per_module for c in checks]
     ids = [c.id for c in out]
     dup = sorted({i for i in ids if ids.count(i) > 1})
     if dup:

@@ -42,9 +42,19 @@ def simulate(config: Config, seed: int) -> list:
     return []
 
 
-def run_checks(config: Config, seed: int) -> list[Check]:
-    """Every check of ``config.modules``, drawing from ``numpy.random.default_rng(seed)``."""
-    return collect(np.random.default_rng(seed), config.modules)
+def run_checks(config: Config, seed: int, *, workers: int = 0) -> list[Check]:
+    """Every check of ``config.modules``, drawing from ``numpy.random.default_rng(seed)``.
+
+    ``workers`` > 0 runs the modules on that many local processes (the same numbers: each
+    module draws from its own child stream).
+    """
+    rng = np.random.default_rng(seed)
+    if workers <= 0 or len(config.modules) < 2:
+        return collect(rng, config.modules)
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=min(workers, len(config.modules))) as pool:
+        return collect(rng, config.modules, executor=pool)
 
 
 def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
@@ -107,6 +117,8 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
 
 def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     """Run every check and build the report."""
+    import os
+
     t0 = time.perf_counter()
-    checks = run_checks(config, seed)
+    checks = run_checks(config, seed, workers=len(os.sched_getaffinity(0)))
     return report(config, seed, checks, time.perf_counter() - t0)

@@ -130,3 +130,11 @@ def test_config_refuses_bad_modules():
         physics_checks.Config(modules=())
     with pytest.raises(TypeError, match="must be a tuple of module names"):
         physics_checks.Config(modules=("a", 3))
+
+
+def test_checks_on_worker_processes_equal_checks_in_process():
+    """The modules' numbers do not depend on where they run (each has its own child stream)."""
+    cfg = physics_checks.Config(modules=CHECK_MODULES[:3])
+    here = physics_checks.run_checks(cfg, 3)
+    pooled = physics_checks.run_checks(cfg, 3, workers=2)
+    assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]

@@ -926,30 +926,139 @@ def _identify(x: NDArray[np.float64], ms: NDArray[np.int64], kind: str) -> NDArr
     return out
 
 
+#: Greenhall & Riley (2003) Table 2: (a0, a1) of 1/edf ~ (a0 - a1/r)/r for unmodified variances
+#: at large r, by alpha (+2 .. -4) and d (1, 2, 3); None where alpha + 2d <= 1
+_GH_TABLE2: dict[int, tuple[tuple[float, float] | None, ...]] = {
+    2: ((3.0 / 2.0, 1.0 / 2.0), (35.0 / 18.0, 1.0), (231.0 / 100.0, 3.0 / 2.0)),
+    1: ((78.6, 25.2), (790.0, 410.0), (9950.0, 6520.0)),
+    0: ((2.0 / 3.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 1.0 / 2.0)),
+    -1: (None, (0.852, 0.375), (0.997, 0.617)),
+    -2: (None, (1.079, 0.368), (1.033, 0.607)),
+    -3: (None, None, (1.053, 0.553)),
+    -4: (None, None, (1.302, 0.535)),
+}
+#: Greenhall & Riley (2003) Table 3: (b0, b1) of the alpha = +1 (flicker PM) case, by d
+_GH_TABLE3 = ((6.0, 4.0), (15.23, 12.0), (47.8, 40.0))
+_GH_JMAX = 100
+
+
+def _gh_sw(t: NDArray[np.float64], alpha: int) -> NDArray[np.float64]:
+    """Greenhall & Riley eq. (7): the generalised autocovariance kernel s_w(t) of S_x ~ f^(alpha - 2)."""
+    a = abs(t)
+    if alpha % 2 == 0:  # alpha = 2, 0, -2, -4: -|t|, |t|^3, |t|^5, |t|^7
+        return -a if alpha == 2 else a ** (3 - alpha)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(a == 0.0, 0.0, t ** (2 - alpha + 1) * np.log(np.where(a == 0.0, 1.0, a)))
+
+
+def _gh_sx(t: NDArray[np.float64], f: float, alpha: int) -> NDArray[np.float64]:
+    """Eq. (8): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2)."""
+    if math.isinf(f):
+        return _gh_sw(t, alpha + 2)
+    return f**2 * (2.0 * _gh_sw(t, alpha) - _gh_sw(t - 1.0 / f, alpha) - _gh_sw(t + 1.0 / f, alpha))
+
+
+def _gh_sz(t: NDArray[np.float64], f: float, alpha: int, d: int) -> NDArray[np.float64]:
+    """Eq. (9): the kernel after the d-th difference, sum_k (-1)^k C(2d, d+k) s_x(t + k)."""
+    out = math.comb(2 * d, d) * _gh_sx(t, f, alpha)
+    for k in range(1, d + 1):
+        out = out + (-1) ** k * math.comb(2 * d, d + k) * (_gh_sx(t - k, f, alpha) + _gh_sx(t + k, f, alpha))
+    return out
+
+
+def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
+    """Eq. (10): sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2, over sz(0)^2 M."""
+    j = np.arange(1, int(j_top), dtype=float)
+    z0 = float(_gh_sz(np.array([0.0]), f, alpha, d)[0])
+    zj = float(_gh_sz(np.array([float(j_top) / s]), f, alpha, d)[0])
+    mid = float(np.sum(2.0 * (1.0 - j / big_m) * _gh_sz(j / s, f, alpha, d) ** 2))
+    return (z0**2 + (1.0 - float(j_top) / big_m) * zj**2 + mid) / (z0**2 * big_m)
+
+
+def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) -> float:
+    """Equivalent degrees of freedom of an unmodified Allan (d = 2) or Hadamard (d = 3) variance.
+
+    C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances based on finite
+    differences", PTTI 2003 (NIST SP 1065 section 5.3.3): the exact sum eq. (10) for J <= 100
+    lags, the Table 2/3 large-r approximations beyond, cases 2-4 of the paper (F = m; the
+    modified variance, case 1, is left to allantools). Same arithmetic as
+    allantools.ci.edf_greenhall (a test pins the two to 1e-12) without importing allantools,
+    whose import pulls in scipy.stats and scipy.interpolate (~1-3 s). Raises
+    NotImplementedError for alpha = +2 with ceil(r) <= d, where the paper gives no formula.
+    """
+    if not alpha + 2 * d > 1:
+        raise ValueError(f"alpha + 2 d must be > 1; got alpha = {alpha}, d = {d}")
+    s = float(m) if overlapping else 1.0
+    big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
+    j_top = min(big_m, (d + 1) * s)
+    r = big_m / s
+    if alpha <= 0:
+        if j_top <= _GH_JMAX:
+            f = float(m) if m * (d + 1) <= _GH_JMAX else math.inf
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, f, alpha, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[alpha][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / r) * (a0 - a1 / r))
+        return 1.0 / _gh_basic_sum(_GH_JMAX, _GH_JMAX, _GH_JMAX / r, math.inf, alpha, d)
+    if alpha == 1:
+        b0, b1 = _GH_TABLE3[d - 1]
+        if j_top <= _GH_JMAX:
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, float(m), 1, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[1][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / ((b0 + b1 * math.log(m)) ** 2 * r)) * (a0 - a1 / r))
+        mp = _GH_JMAX / r
+        z0 = float(_gh_sz(np.array([0.0]), mp, 1, d)[0])
+        return 1.0 / (_gh_basic_sum(_GH_JMAX, _GH_JMAX, mp, mp, 1, d) * z0**2 / (b0 + b1 * math.log(m)) ** 2)
+    if math.ceil(r) <= d:
+        raise NotImplementedError(f"no Greenhall edf for alpha = 2 with r = {r} <= d = {d}")
+    a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
+    return 1.0 / ((1.0 / big_m) * (a0 - (d / 2.0) / r))
+
+
+def _edf_stein(n_phase: int, m: int, alpha: int) -> float:
+    """Stein's approximate edf of the overlapping ADEV (NIST SP 1065 Table 5; N phase points)."""
+    n, mm = float(n_phase), float(m)
+    if alpha == 2:
+        return (n + 1) * (n - 2 * mm) / (2 * (n - mm))
+    if alpha == 1:
+        prod = math.log((n - 1) / (2 * mm)) * math.log((2 * mm + 1) * (n - 1) / 4)
+        return math.exp(math.sqrt(prod)) if prod >= 0 else float("nan")  # nan: no edf (caller falls back)
+    if alpha == 0:
+        return ((3 * (n - 1) / (2 * mm)) - (2 * (n - 2) / n)) * ((4 * mm**2) / ((4 * mm**2) + 5))
+    if alpha == -1:
+        return 2 * (n - 2) / (2.3 * n - 4.9) if m == 1 else 5 * n**2 / (4 * mm * (n + (3 * mm)))
+    if alpha == -2:
+        return (n - 2) / (mm * (n - 3) ** 2) * ((n - 1) ** 2 - 3 * mm * (n - 1) + 4 * mm**2)
+    return n - 1
+
+
 @functools.lru_cache(maxsize=4096)
 def _edf_one(kind: str, alpha: int, m: int, n: int) -> float:
     """Equivalent degrees of freedom of one estimate (n rate samples, n + 1 phase points)."""
-    from allantools import ci as _atci
-
     p = n + 1
+    d = _D[kind]
+    if kind in ("total", "modified"):
+        from allantools import ci as _atci
+
     if kind == "total":
         return float(_atci.edf_totdev(n, m, alpha))
-    d = _D[kind]
     overlapping = kind in ("overlapping", "modified", "overlapping_hadamard")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            e = float(
-                _atci.edf_greenhall(
-                    alpha=int(alpha), d=d, m=int(m), N=p, overlapping=overlapping, modified=(kind == "modified")
+            if kind == "modified":
+                e = float(
+                    _atci.edf_greenhall(alpha=int(alpha), d=d, m=int(m), N=p, overlapping=True, modified=True)
                 )
-            )
+            else:
+                e = _edf_greenhall(int(alpha), d, int(m), p, overlapping)
     except (NotImplementedError, AssertionError, ZeroDivisionError):  # pragma: no cover - tiny records
         e = float("nan")
     if not (math.isfinite(e) and e > 0):
         # Greenhall has no formula for white PM with fewer than d + 1 terms: fall back to Stein's
         # approximation (NIST SP 1065 Table 5) and, failing that, the term count
-        e = float(_atci.edf_simple(p, m, alpha)) if d == 2 else float("nan")
+        e = _edf_stein(p, m, alpha) if d == 2 else float("nan")
         if not (math.isfinite(e) and e > 0):
             e = float(max(_n_terms(kind, n, np.array([m]))[0], 1))
     return e
@@ -968,11 +1077,11 @@ def _edf(kind: str, alpha: NDArray[np.int64], ms: NDArray[np.int64], n: int) -> 
 
 def _bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
     """Chi-square bounds (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised)."""
-    from scipy import stats
+    from scipy import special  # chi2.ppf(q, nu) = 2 gammaincinv(nu/2, q), as scipy.stats computes it
 
     p = (1.0 - confidence) / 2.0
-    lo = dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf))
-    hi = dev * np.sqrt(edf / stats.chi2.ppf(p, edf))
+    lo = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, 1.0 - p)))
+    hi = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, p)))
     return lo, hi
 
 
@@ -1128,14 +1237,50 @@ _FIT_KINDS = ("overlapping", "standard")
 
 def _wnnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float64]) -> NDArray[np.float64]:
     """argmin_{C >= 0} sum_i (x_i . C - a_i)^2 / var_i, on column-scaled X for conditioning."""
-    from scipy import optimize
-
     sw = 1.0 / np.sqrt(var)
     xw = x * sw[:, None]
     scale = np.linalg.norm(xw, axis=0)
     scale[scale == 0] = 1.0
-    cs, _ = optimize.nnls(xw / scale, a * sw, maxiter=50 * x.shape[1])
+    if x.shape[1] <= _NNLS_ENUM:
+        cs = _nnls_enumerate(xw / scale, a * sw)
+    else:  # pragma: no cover - the fit has at most five terms
+        from scipy import optimize
+
+        cs, _ = optimize.nnls(xw / scale, a * sw, maxiter=50 * x.shape[1])
     return cs / scale
+
+
+#: up to this many columns NNLS is solved by enumerating the passive sets (2^k - 1 least squares)
+_NNLS_ENUM = 6
+
+
+def _nnls_enumerate(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """argmin_{c >= 0} ||a c - b|| for a few columns, exactly, by trying every passive set.
+
+    The NNLS solution is the unconstrained least-squares solution on its passive set (the
+    Lawson-Hanson optimality conditions), so it is the feasible (all >= 0) subset solution of
+    least residual; every other feasible subset solution is a feasible point with a residual
+    at least as large; a larger set must lower the residual by more than rounding (1e-12
+    relative), so a term that does not help stays at exactly 0 as in Lawson-Hanson. Same
+    minimiser as scipy.optimize.nnls (to rounding) without importing
+    scipy.optimize (~0.3-0.5 s, the largest single cost of a short CLI run).
+    """
+    k = a.shape[1]
+    best = np.zeros(k)
+    best_r = float(b @ b)
+    for mask in sorted(range(1, 1 << k), key=lambda v: (v.bit_count(), v)):  # smaller sets first
+        cols = [j for j in range(k) if mask >> j & 1]
+        sub = a[:, cols]
+        sol = np.linalg.lstsq(sub, b, rcond=None)[0]
+        if np.any(sol < 0.0):
+            continue
+        res = b - sub @ sol
+        r = float(res @ res)
+        if r < best_r * (1.0 - 1e-12):  # a column whose gain is rounding stays out (exactly 0)
+            best_r = r
+            best = np.zeros(k)
+            best[cols] = sol
+    return best
 
 
 #: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
@@ -1578,9 +1723,9 @@ def fit_noise(
         # past the concave region the filter can still pull the first points off the model: drop
         # the first fitted point while the fit misfits and dropping it lowers chi2 by more than
         # the chi2(1) quantile at the misfit level (the point is an outlier of the model there)
-        from scipy import stats
+        from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
 
-        gain = float(stats.chi2.isf(misfit_p, 1)) if misfit_p > 0 else math.inf
+        gain = float(special.chdtri(1, misfit_p)) if misfit_p > 0 else math.inf
         while fit.misfit and int(used.sum()) > len(terms) + 1:
             trial = used.copy()
             trial[int(np.flatnonzero(used)[0])] = False
@@ -1696,14 +1841,14 @@ def _goodness(r: NDArray[np.float64], v: NDArray[np.float64], dof: int) -> tuple
     """chi2 = r' V^-1 r (V scaled to unit diagonal for conditioning), dof and P(chi2_dof >= chi2)."""
     if dof <= 0:
         return float("nan"), 0, float("nan")
-    from scipy import stats
+    from scipy import special  # chi2.sf(x, nu) = chdtrc(nu, x), as scipy.stats computes it
 
     d = np.sqrt(np.diag(v))
     rn = r / d
     corr = v / np.outer(d, d)
     sol = np.linalg.lstsq(corr, rn, rcond=1e-12)[0]
     chi2 = float(rn @ sol)
-    return chi2, dof, float(stats.chi2.sf(chi2, dof))
+    return chi2, dof, float(special.chdtrc(dof, chi2))
 
 
 # ---------------------------------------------------------------------------------- public: read-off

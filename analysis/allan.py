@@ -111,6 +111,8 @@ _D = {"overlapping": 2, "standard": 2, "modified": 2, "hadamard": 3, "overlappin
 #: OpenBLAS threads ddot above 10000 elements, which costs far more than it gains here
 _BLOCK = 1 << 16
 _DOT = 8192
+#: OpenBLAS runs a gemm on one thread when m n k <= 65536 * GEMM_MULTITHREAD_THRESHOLD (4)
+_GEMM_SINGLE = 65536 * 4
 #: worker threads of the overlapping estimator (numpy ufuncs and BLAS release the GIL) and
 #: the number of terms below which one thread is used
 _THREADS = max(1, min(2, os.cpu_count() or 1))
@@ -495,6 +497,13 @@ def _sumsq(w: NDArray[np.float64]) -> float:
     return float(sum(np.dot(w[c : c + _DOT], w[c : c + _DOT]) for c in range(0, w.size, _DOT)))
 
 
+def _dot(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
+    """a . b by BLAS dot products on chunks of _DOT elements (OpenBLAS never threads those)."""
+    if a.size <= _DOT:
+        return float(np.dot(a, b))
+    return float(sum(np.dot(a[c : c + _DOT], b[c : c + _DOT]) for c in range(0, a.size, _DOT)))
+
+
 def _dot_self(w: NDArray[np.float64]) -> float:
     """sum(w**2) in one BLAS call (worker-thread blocks, with the BLAS held to one thread)."""
     return float(np.dot(w, w))
@@ -828,7 +837,7 @@ def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDAr
 def _lag1_acf(z: NDArray[np.float64]) -> float:
     """Lag-1 autocorrelation (Riley & Greenhall 2004 eq. 2), as allantools.ci.lag1_acf, vectorised."""
     d = z - z.mean()
-    return float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+    return _dot(d[:-1], d[1:]) / _dot(d, d)
 
 
 def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -836,7 +845,7 @@ def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
     t = np.arange(z.size, dtype=float)
     t -= t.mean()
     zc = z - z.mean()
-    return zc - t * (np.dot(t, zc) / np.dot(t, t))
+    return zc - t * (_dot(t, zc) / _dot(t, t))
 
 
 def _noise_id_blocks(z: NDArray[np.float64], dmax: int) -> int:
@@ -944,25 +953,27 @@ _GH_JMAX = 100
 
 def _gh_sw(t: NDArray[np.float64], alpha: int) -> NDArray[np.float64]:
     """Greenhall & Riley eq. (7): the generalised autocovariance kernel s_w(t) of S_x ~ f^(alpha - 2)."""
-    a = abs(t)
+    a = np.abs(t)
     if alpha % 2 == 0:  # alpha = 2, 0, -2, -4: -|t|, |t|^3, |t|^5, |t|^7
         return -a if alpha == 2 else a ** (3 - alpha)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(a == 0.0, 0.0, t ** (2 - alpha + 1) * np.log(np.where(a == 0.0, 1.0, a)))
+    # alpha = 1, -1, -3: t^(3 - alpha) ln|t|, 0 at t = 0
+    return t ** (3 - alpha) * np.log(a, out=np.zeros_like(a), where=a > 0.0)
 
 
 def _gh_sx(t: NDArray[np.float64], f: float, alpha: int) -> NDArray[np.float64]:
     """Eq. (8): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2)."""
     if math.isinf(f):
         return _gh_sw(t, alpha + 2)
-    return f**2 * (2.0 * _gh_sw(t, alpha) - _gh_sw(t - 1.0 / f, alpha) - _gh_sw(t + 1.0 / f, alpha))
+    w = _gh_sw(np.stack((t, t - 1.0 / f, t + 1.0 / f)), alpha)
+    return f**2 * (2.0 * w[0] - w[1] - w[2])
 
 
 def _gh_sz(t: NDArray[np.float64], f: float, alpha: int, d: int) -> NDArray[np.float64]:
     """Eq. (9): the kernel after the d-th difference, sum_k (-1)^k C(2d, d+k) s_x(t + k)."""
-    out = math.comb(2 * d, d) * _gh_sx(t, f, alpha)
+    sx = _gh_sx(t[None, :] + np.arange(-d, d + 1, dtype=float)[:, None], f, alpha)  # row d + k: t + k
+    out = math.comb(2 * d, d) * sx[d]
     for k in range(1, d + 1):
-        out = out + (-1) ** k * math.comb(2 * d, d + k) * (_gh_sx(t - k, f, alpha) + _gh_sx(t + k, f, alpha))
+        out = out + (-1) ** k * math.comb(2 * d, d + k) * (sx[d - k] + sx[d + k])
     return out
 
 
@@ -1090,14 +1101,35 @@ def _check_kind(kind: Any) -> None:
         raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
 
 
+#: curves with at most this many taus (and records below _THREAD_MIN samples) keep every BLAS
+#: product under OpenBLAS's threading thresholds (gemm m n k <= 65536 * 4; dot products are
+#: chunked by _DOT), so no thread limit is needed for them
+_SMALL_TAUS = 64
+
+
+def _is_small(args: tuple, kwargs: dict) -> bool:
+    """True when a call of allan_deviation/fit_noise makes no BLAS call large enough to thread."""
+    first = args[0] if args else kwargs.get("curve_or_rate", kwargs.get("rate"))
+    if isinstance(first, AllanCurve):
+        return first.tau.size <= _SMALL_TAUS
+    taus = kwargs.get("taus", "octave")
+    few = (taus in ("octave", "decade")) if isinstance(taus, str) else np.size(taus) <= _SMALL_TAUS
+    return few and np.size(first) < _THREAD_MIN
+
+
 def _single_blas(fn: Callable) -> Callable:
-    """Run ``fn`` with the BLAS held to one thread: its products are small (<= 65536 x 44), and
-    the first multithreaded BLAS call of a process costs ~1-2 s of thread start-up on a busy
-    virtual machine (measured: 1.9 s, then 0.05 s; single-threaded 0.02 s)."""
+    """Run ``fn`` with the BLAS held to one thread unless the call is small (:func:`_is_small`).
+
+    The first multithreaded BLAS call of a process costs ~1-2 s of thread start-up on a busy
+    virtual machine (measured: 1.9 s, then 0.05 s; single-threaded 0.02 s), and the
+    products here are small (<= 65536 x 44); but setting the limit costs ~10-15 ms on first
+    use (threadpoolctl scans every loaded library), a third of a whole analysis of a 2e5
+    sample record, so calls whose products stay below the threading thresholds skip it.
+    """
 
     @functools.wraps(fn)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
-        with _one_blas_thread():
+        with contextlib.nullcontext() if _is_small(args, kwargs) else _one_blas_thread():
             return fn(*args, **kwargs)
 
     return wrapper
@@ -1250,37 +1282,44 @@ def _wnnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float
     return cs / scale
 
 
-#: up to this many columns NNLS is solved by enumerating the passive sets (2^k - 1 least squares)
+#: up to this many columns NNLS is solved here (Lawson-Hanson), without scipy.optimize
 _NNLS_ENUM = 6
 
 
 def _nnls_enumerate(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """argmin_{c >= 0} ||a c - b|| for a few columns, exactly, by trying every passive set.
+    """argmin_{c >= 0} ||a c - b|| for a few columns: the Lawson-Hanson active-set algorithm.
 
-    The NNLS solution is the unconstrained least-squares solution on its passive set (the
-    Lawson-Hanson optimality conditions), so it is the feasible (all >= 0) subset solution of
-    least residual; every other feasible subset solution is a feasible point with a residual
-    at least as large; a larger set must lower the residual by more than rounding (1e-12
-    relative), so a term that does not help stays at exactly 0 as in Lawson-Hanson. Same
-    minimiser as scipy.optimize.nnls (to rounding) without importing
-    scipy.optimize (~0.3-0.5 s, the largest single cost of a short CLI run).
+    C. L. Lawson and R. J. Hanson, "Solving Least Squares Problems" (1974), ch. 23 (as in
+    MATLAB's lsqnonneg and scipy.optimize.nnls): move the column of largest gradient
+    a'(b - a c) into the passive set, solve least squares on it, and step back to the
+    feasible region while a coefficient goes negative. A gradient within the tolerance
+    10 eps ||a||_1 max(shape) counts as zero, so a term that does not help stays exactly 0.
+    Same minimiser as scipy.optimize.nnls (to rounding; a test compares them) without
+    importing scipy.optimize (~0.3-0.5 s, the largest single cost of a short CLI run).
     """
-    k = a.shape[1]
-    best = np.zeros(k)
-    best_r = float(b @ b)
-    for mask in sorted(range(1, 1 << k), key=lambda v: (v.bit_count(), v)):  # smaller sets first
-        cols = [j for j in range(k) if mask >> j & 1]
-        sub = a[:, cols]
-        sol = np.linalg.lstsq(sub, b, rcond=None)[0]
-        if np.any(sol < 0.0):
-            continue
-        res = b - sub @ sol
-        r = float(res @ res)
-        if r < best_r * (1.0 - 1e-12):  # a column whose gain is rounding stays out (exactly 0)
-            best_r = r
-            best = np.zeros(k)
-            best[cols] = sol
-    return best
+    rows, k = a.shape
+    tol = 10.0 * np.finfo(float).eps * float(np.abs(a).sum(axis=0).max()) * max(rows, k)
+    passive = np.zeros(k, dtype=bool)
+    x = np.zeros(k)
+    w = a.T @ (b - a @ x)
+    for _ in range(3 * k + 3):
+        if passive.all() or not np.any(w[~passive] > tol):
+            break
+        j = int(np.argmax(np.where(passive, -np.inf, w)))
+        passive[j] = True
+        while True:
+            z = np.zeros(k)
+            z[passive] = np.linalg.lstsq(a[:, passive], b, rcond=None)[0]
+            neg = passive & (z <= 0.0)
+            if not neg.any():
+                break
+            step = np.min(x[neg] / (x[neg] - z[neg]))
+            x = x + step * (z - x)
+            passive &= x > tol
+            x[~passive] = 0.0
+        x = z
+        w = a.T @ (b - a @ x)
+    return x
 
 
 #: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
@@ -1376,8 +1415,16 @@ def _rho_blocks_cached(
     ua = sorted(set(alphas))
     g = np.concatenate([h * _rate_psd_shape(a, f)[None, :] for a in ua])  # (len(ua) len(mu), grid)
     g /= np.linalg.norm(g, axis=1)[:, None]
-    with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of thread start-up on a busy VM
-        gram = g @ g.T
+    rows = g.shape[0]
+    chunk = _GEMM_SINGLE // (rows * rows)
+    if chunk >= 64:  # k-chunks small enough that OpenBLAS runs each product on one thread
+        gram = np.zeros((rows, rows))
+        for a in range(0, g.shape[1], chunk):
+            gk = g[:, a : a + chunk]
+            gram += gk @ np.ascontiguousarray(gk.T)
+    else:
+        with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of start-up on a busy VM
+            gram = g @ g.T
     i1 = np.vectorize(col.get)(pairs[..., 0])
     i2 = np.vectorize(col.get)(pairs[..., 1])
     diag = np.eye(n, dtype=bool)

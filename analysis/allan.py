@@ -1379,6 +1379,17 @@ def _scaled(m1: int, m2: int) -> tuple[int, int]:
     return max(1, int(round(m1 / k))), max(1, int(round(m2 / k)))
 
 
+def _scaled_pairs(ms: NDArray[np.int64]) -> NDArray[np.int64]:
+    """:func:`_scaled` of every pair (ms[i], ms[j]), vectorised: shape (n, n, 2)."""
+    m1, m2 = np.meshgrid(ms, ms, indexing="ij")
+    top = np.maximum(m1, m2)
+    k = top / _RHO_M_CAP
+    big = top > _RHO_M_CAP
+    s1 = np.where(big, np.maximum(1, np.rint(m1 / k)), m1).astype(np.int64)  # rint: half to even, as round
+    s2 = np.where(big, np.maximum(1, np.rint(m2 / k)), m2).astype(np.int64)
+    return np.stack((s1, s2), axis=-1)
+
+
 def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int, int], NDArray[np.float64]]:
     """rho[(t, s)][i, j]: correlation of term t's noise in A_i with term s's noise in A_j.
 
@@ -1407,8 +1418,8 @@ def _rho_blocks_cached(
     alphas: tuple[int, ...], ms: tuple[int, ...]
 ) -> dict[tuple[int, int], NDArray[np.float64]]:
     n = len(ms)
-    pairs = np.array([[_scaled(ms[i], ms[j]) for j in range(n)] for i in range(n)])  # (n, n, 2)
-    mu = sorted({int(m) for m in pairs.ravel()})
+    pairs = _scaled_pairs(np.asarray(ms, dtype=np.int64))  # (n, n, 2)
+    mu = sorted({int(m) for m in np.unique(pairs)})
     col = {m: k for k, m in enumerate(mu)}
     f = _rho_grid()[0]
     h = np.stack([_h(m) for m in mu])  # (len(mu), grid)
@@ -1419,9 +1430,9 @@ def _rho_blocks_cached(
     chunk = _GEMM_SINGLE // (rows * rows)
     if chunk >= 64:  # k-chunks small enough that OpenBLAS runs each product on one thread
         gram = np.zeros((rows, rows))
+        gt = np.ascontiguousarray(g.T)
         for a in range(0, g.shape[1], chunk):
-            gk = g[:, a : a + chunk]
-            gram += gk @ np.ascontiguousarray(gk.T)
+            gram += g[:, a : a + chunk] @ gt[a : a + chunk]
     else:
         with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of start-up on a busy VM
             gram = g @ g.T

@@ -101,3 +101,11 @@ def test_plain_rows_parse_like_loadtxt(rng):
 def test_plain_rows_refuse_what_loadtxt_would_refuse(body):
     n_rows = body.count("\n") + 1
     assert logs._parse_plain(body, ",", n_rows, 2) is None
+
+
+@pytest.mark.parametrize(
+    "ms", [2 ** np.arange(27), np.array([1, 3, 5, 100, 1000, 1025, 1536, 3000, 5000, 99_999, 2**20 + 1])]
+)
+def test_scaled_pairs_is_scaled_of_every_pair(ms):
+    want = np.array([[allan._scaled(int(a), int(b)) for b in ms] for a in ms])
+    assert np.array_equal(allan._scaled_pairs(ms), want)

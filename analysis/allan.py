@@ -729,6 +729,125 @@ def _later_jobs(
     return jobs + [([segs[-1]], 0, None)]
 
 
+#: above this many bytes of work array (n float64 moving sums) the octaves from 2^_FUSE_FIRST on
+#: are computed group by group of residues (see :func:`_later_streamed`) instead of in place
+_WORK_BYTES = 256 << 20
+#: residue groups of the streamed later octaves, and rows per chunk of their passes
+_GROUPS = 16
+_STREAM_ROWS = 512
+
+
+def _later_streamed(
+    y: NDArray[np.float64],
+    mean: float,
+    big: int,
+    top: int,
+    want: set[int],
+    identify: bool,
+    ssq: Callable[[NDArray[np.float64]], float],
+) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
+    """Octaves m = big, 2 big, .., top without an n-float work array: by residue groups mod ``big``.
+
+    With B = big, write k = j B + i (0 <= i < B). For every m that is a multiple of B,
+    S_m[j B + i] = sum_{l < m/B} S_B[(j + l) B + i] and D_m[j B + i] = S_m[(j + q) B + i] -
+    S_m[j B + i] (q = m/B): for a fixed residue i the recursion S_2m = S_m + S_m(+m) runs on
+    the decimated sequence Z_i[j] = S_B[j B + i] alone. The residues are split into
+    _GROUPS groups of B/_GROUPS columns; a group's Z (n/_GROUPS floats) is built from the
+    data and carried through every later octave, then dropped, so the work memory is
+    n/_GROUPS floats per thread instead of n. S_B[j B + i] is built as the tail of block j
+    from i plus the head of block j + 1 before i (block sums of the column groups plus
+    cumulative sums inside the group), so it differs from the tree sum of the in-place path
+    by rounding only (relative ~1e-16 of the partial sums); every later S_m is the same
+    tree as in :func:`_later_pass`. Invalid entries (k + m > n) are NaN and never summed.
+    Returns sum D_m^2 per wanted m and, for the noise identification, the block means'
+    sums S_m[j m] (j < min(n/m, _NOISE_ID_MAX)) of each wanted m (None below _NOISE_ID_MIN).
+    """
+    n = y.size
+    b = big
+    w = b // _GROUPS
+    nb_all = -(-n // b) + 1  # blocks, plus one of padding
+    octs = []
+    mm = b
+    while mm <= top:
+        octs.append(mm)
+        mm <<= 1
+
+    def rows_of(r0: int, r1: int) -> NDArray[np.float64]:
+        """Blocks r0 .. r1-1 of y - mean as a (r1 - r0, B) array, zero past the end."""
+        a0, a1 = r0 * b, min(r1 * b, n)
+        if a1 >= r1 * b:
+            return y[a0:a1].reshape(r1 - r0, b) - mean
+        out = np.zeros((r1 - r0, b))
+        if a1 > a0:
+            out.ravel()[: a1 - a0] = y[a0:a1] - mean
+        return out
+
+    # block sums of each column group: gs[j, g] = sum of y - mean over block j, columns of group g
+    gs = np.zeros((nb_all, _GROUPS))
+    for r0 in range(0, nb_all, _STREAM_ROWS):
+        r1 = min(nb_all, r0 + _STREAM_ROWS)
+        gs[r0:r1] = rows_of(r0, r1).reshape(r1 - r0, _GROUPS, w).sum(axis=2)
+    after = np.cumsum(gs[:, ::-1], axis=1)[:, ::-1]  # after[j, g] = sum of groups >= g
+    after = np.concatenate((after[:, 1:], np.zeros((nb_all, 1))), axis=1)  # groups > g
+    before = np.concatenate((np.zeros((nb_all, 1)), np.cumsum(gs[:, :-1], axis=1)), axis=1)  # groups < g
+
+    def one_group(g: int) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
+        i0 = g * w
+        nj = (n - b - i0) // b + 1  # rows with a valid first column: j B + i0 + B <= n
+        z = np.empty((nj, w))
+        for r0 in range(0, nj, _STREAM_ROWS):
+            r1 = min(nj, r0 + _STREAM_ROWS)
+            blk = rows_of(r0, r1 + 1)[:, i0 : i0 + w]
+            tail = np.cumsum(blk[:-1, ::-1], axis=1)[:, ::-1]  # sum of columns i .. i0 + w - 1 of block j
+            head = np.zeros((r1 - r0, w))
+            np.cumsum(blk[1:, :-1], axis=1, out=head[:, 1:])  # sum of columns i0 .. i - 1 of block j + 1
+            z[r0:r1] = (after[r0:r1, g, None] + tail) + (before[r0 + 1 : r1 + 1, g, None] + head)
+        k_last = (nj - 1) * b + i0 + np.arange(w)  # the last row's k: valid while k + B <= n
+        z[nj - 1, k_last + b > n] = np.nan
+        acc: dict[int, float] = {}
+        ids: dict[int, NDArray[np.float64] | None] = {}
+        buf = np.empty((_STREAM_ROWS, w))
+        rows = nj
+        for mm in octs:
+            q = mm // b
+            if identify and g == 0 and mm in want:
+                nbk = min(n // mm, _NOISE_ID_MAX)
+                ids[mm] = z[: nbk * q : q, 0].copy() if nbk >= _NOISE_ID_MIN else None
+            full = rows - q - 1  # D rows j with row j + q fully valid
+            s_ = 0.0
+            nxt = (mm << 1) <= top
+            for r0 in range(0, max(full, 0), _STREAM_ROWS):
+                r1 = min(full, r0 + _STREAM_ROWS)
+                if mm in want:
+                    d = np.subtract(z[r0 + q : r1 + q], z[r0:r1], out=buf[: r1 - r0])
+                    s_ += ssq(d.ravel())
+                if nxt:
+                    z[r0:r1] += z[r0 + q : r1 + q]
+            if rows - q - 1 >= 0:  # the last D row: row j + q is the partly valid last row
+                j = rows - q - 1
+                d = z[j + q] - z[j]
+                ok = np.isfinite(d)
+                if mm in want:
+                    s_ += float(np.dot(d[ok], d[ok]))
+                if nxt:
+                    z[j] += z[j + q]
+            if mm in want:
+                acc[mm] = s_
+            rows = rows - q  # rows past this are not S_2m
+        return acc, ids
+
+    accs: dict[int, float] = {mm: 0.0 for mm in octs if mm in want}
+    ids_late: dict[int, NDArray[np.float64] | None] = {}
+    gs_all = list(range(_GROUPS))
+    jobs = [gs_all[t::_THREADS] for t in range(min(_THREADS, _GROUPS))]
+    for part in _map(lambda grp: [one_group(g) for g in grp], jobs):
+        for acc, ids in part:
+            for k_, v in acc.items():
+                accs[k_] += v
+            ids_late.update(ids)
+    return accs, ids_late
+
+
 def _octave_overlapping(
     y: NDArray[np.float64], ms: NDArray[np.int64], identify: bool
 ) -> tuple[NDArray[np.float64], NDArray[np.int64] | None]:
@@ -768,7 +887,8 @@ def _octave_overlapping(
     with _one_blas_thread() if threaded else contextlib.nullcontext():
         levels = [1 << i for i in range(_FUSE_FIRST) if (1 << i) <= top]
         m = 2 * levels[-1]  # the first octave after the first pass
-        s_arr = np.empty(n) if m <= top else None
+        streamed = m <= top and n * 8 > _WORK_BYTES
+        s_arr = np.empty(n) if (m <= top and not streamed) else None
         ids = {
             k: np.empty(nb_of(k))
             for k in levels
@@ -780,6 +900,13 @@ def _octave_overlapping(
             if identify and k in want:
                 alpha[k] = _noise_id_blocks(ids[k] / k, 2) if k in ids else None
 
+        if streamed:
+            accs, ids_late = _later_streamed(y, mean, m, top, want, identify, ssq)
+            later = sorted(accs)
+            finish(later, [[accs[k] for k in later]])
+            for k, z in ids_late.items():
+                alpha[k] = _noise_id_blocks(z / k, 2) if z is not None else None
+            m = 2 * top  # done
         while m <= top:
             g = 1
             while g < _FUSE_LATER and (m << g) <= top:

@@ -733,8 +733,10 @@ def _later_jobs(
 #: are computed group by group of residues (see :func:`_later_streamed`) instead of in place
 _WORK_BYTES = 256 << 20
 #: residue groups of the streamed later octaves, and rows per chunk of their passes
-_GROUPS = 16
-_STREAM_ROWS = 512
+#: (64 groups: a group's moving sums, n/64 floats, stay in the L3 cache through all of its
+#: octaves on 1e8 samples; 16 groups ran 3x slower, memory-bound)
+_GROUPS = 64
+_STREAM_ROWS = 2048
 
 
 def _later_streamed(
@@ -754,7 +756,7 @@ def _later_streamed(
     the decimated sequence Z_i[j] = S_B[j B + i] alone. The residues are split into
     _GROUPS groups of B/_GROUPS columns; a group's Z (n/_GROUPS floats) is built from the
     data and carried through every later octave, then dropped, so the work memory is
-    n/_GROUPS floats per thread instead of n. S_B[j B + i] is built as the tail of block j
+    n/_GROUPS floats per thread instead of n (and in cache while it is worked on). S_B[j B + i] is built as the tail of block j
     from i plus the head of block j + 1 before i (block sums of the column groups plus
     cumulative sums inside the group), so it differs from the tree sum of the in-place path
     by rounding only (relative ~1e-16 of the partial sums); every later S_m is the same
@@ -772,20 +774,20 @@ def _later_streamed(
         octs.append(mm)
         mm <<= 1
 
-    def rows_of(r0: int, r1: int) -> NDArray[np.float64]:
-        """Blocks r0 .. r1-1 of y - mean as a (r1 - r0, B) array, zero past the end."""
+    def rows_of(r0: int, r1: int, c0: int = 0, c1: int = b) -> NDArray[np.float64]:
+        """Columns c0 .. c1-1 of blocks r0 .. r1-1 of y - mean, shape (r1 - r0, c1 - c0), zero past the end."""
         a0, a1 = r0 * b, min(r1 * b, n)
         if a1 >= r1 * b:
-            return y[a0:a1].reshape(r1 - r0, b) - mean
+            return y[a0:a1].reshape(r1 - r0, b)[:, c0:c1] - mean
         out = np.zeros((r1 - r0, b))
         if a1 > a0:
             out.ravel()[: a1 - a0] = y[a0:a1] - mean
-        return out
+        return out[:, c0:c1]
 
     # block sums of each column group: gs[j, g] = sum of y - mean over block j, columns of group g
     gs = np.zeros((nb_all, _GROUPS))
-    for r0 in range(0, nb_all, _STREAM_ROWS):
-        r1 = min(nb_all, r0 + _STREAM_ROWS)
+    for r0 in range(0, nb_all, 512):
+        r1 = min(nb_all, r0 + 512)
         gs[r0:r1] = rows_of(r0, r1).reshape(r1 - r0, _GROUPS, w).sum(axis=2)
     after = np.cumsum(gs[:, ::-1], axis=1)[:, ::-1]  # after[j, g] = sum of groups >= g
     after = np.concatenate((after[:, 1:], np.zeros((nb_all, 1))), axis=1)  # groups > g
@@ -797,11 +799,13 @@ def _later_streamed(
         z = np.empty((nj, w))
         for r0 in range(0, nj, _STREAM_ROWS):
             r1 = min(nj, r0 + _STREAM_ROWS)
-            blk = rows_of(r0, r1 + 1)[:, i0 : i0 + w]
-            tail = np.cumsum(blk[:-1, ::-1], axis=1)[:, ::-1]  # sum of columns i .. i0 + w - 1 of block j
-            head = np.zeros((r1 - r0, w))
-            np.cumsum(blk[1:, :-1], axis=1, out=head[:, 1:])  # sum of columns i0 .. i - 1 of block j + 1
-            z[r0:r1] = (after[r0:r1, g, None] + tail) + (before[r0 + 1 : r1 + 1, g, None] + head)
+            blk = rows_of(r0, r1 + 1, i0, i0 + w)
+            head = np.zeros((r1 - r0 + 1, w + 1))  # head[j, c] = sum of columns i0 .. i0 + c - 1 of block j
+            np.cumsum(blk, axis=1, out=head[:, 1:])
+            # tail of block j from column i (group sum minus head) plus head of block j + 1 before i
+            z[r0:r1] = (after[r0:r1, g, None] + (head[:-1, w, None] - head[:-1, :w])) + (
+                before[r0 + 1 : r1 + 1, g, None] + head[1:, :w]
+            )
         k_last = (nj - 1) * b + i0 + np.arange(w)  # the last row's k: valid while k + B <= n
         z[nj - 1, k_last + b > n] = np.nan
         acc: dict[int, float] = {}
@@ -1319,17 +1323,22 @@ def allan_deviation(
     rates, the second difference is S_m[k+m] - S_m[k] and S_2m[k] = S_m[k] + S_m[k+m], so one
     float64 array of n moving sums is updated in place (which also avoids the phase's
     cancellation on long drifting records); the first 12 octaves take one pass over the
-    data, block by block in cache, and each later pass does two octaves. Other taus use
-    one blockwise pass per tau over the float64 cumulative sum. Either way memory is one
-    n-array plus a few MB of buffers. It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
+    data, block by block in cache, and each later pass does two octaves. Above 3.4e7
+    samples the octaves from m = 4096 on run by residue groups of k mod 4096 instead, each
+    group carried through all of them and dropped (n/16 floats per thread; see
+    ``_later_streamed``), so memory is the input plus ~n/8 floats. Other taus use one
+    blockwise pass per tau over the float64 cumulative sum (one n-array plus a few MB of
+    buffers). It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
     1e-9 relative). The other statistics call allantools (adev, mdev, hdev, ohdev, totdev).
 
     A constant rate (zero variance, e.g. an all-zero record) is legal input: its deviation
     is 0 at every tau (and so are the bounds; alpha is reported as 0). :func:`fit_noise`
     rejects such a curve.
 
-    Bounds: edf from Greenhall & Riley (allantools.ci.edf_greenhall) for the Allan,
-    modified and Hadamard kinds, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
+    Bounds: edf from Greenhall & Riley for the Allan and Hadamard kinds (computed here,
+    equal to allantools.ci.edf_greenhall to 1e-12; for alpha = -4 Hadamard, where allantools'
+    table lookup fails, from the paper's Table 2 row), allantools.ci.edf_greenhall for the
+    modified kind, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
     then sigma^2 edf / chi2_{1-p/2}(edf) <= sigma_true^2 <= sigma^2 edf / chi2_{p/2}(edf)
     (NIST SP 1065 eq. 45).
 

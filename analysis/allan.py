@@ -776,13 +776,18 @@ def _later_streamed(
 
     def rows_of(r0: int, r1: int, c0: int = 0, c1: int = b) -> NDArray[np.float64]:
         """Columns c0 .. c1-1 of blocks r0 .. r1-1 of y - mean, shape (r1 - r0, c1 - c0), zero past the end."""
-        a0, a1 = r0 * b, min(r1 * b, n)
-        if a1 >= r1 * b:
-            return y[a0:a1].reshape(r1 - r0, b)[:, c0:c1] - mean
-        out = np.zeros((r1 - r0, b))
-        if a1 > a0:
-            out.ravel()[: a1 - a0] = y[a0:a1] - mean
-        return out[:, c0:c1]
+        a0 = r0 * b
+        full = min(r1 - r0, max(0, (n - a0) // b))  # rows wholly inside the record
+        if full == r1 - r0:
+            return y[a0 : r1 * b].reshape(r1 - r0, b)[:, c0:c1] - mean
+        out = np.zeros((r1 - r0, c1 - c0))  # (only these columns: a full-width pad was 60 MB)
+        if full:
+            out[:full] = y[a0 : a0 + full * b].reshape(full, b)[:, c0:c1] - mean
+        start = a0 + full * b  # the partial row
+        if start + c0 < n:
+            seg = y[start + c0 : min(start + c1, n)]
+            out[full, : seg.size] = seg - mean
+        return out
 
     # block sums of each column group: gs[j, g] = sum of y - mean over block j, columns of group g
     gs = np.zeros((nb_all, _GROUPS))

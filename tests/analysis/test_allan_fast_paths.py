@@ -111,7 +111,7 @@ def test_scaled_pairs_is_scaled_of_every_pair(ms):
     assert np.array_equal(allan._scaled_pairs(ms), want)
 
 
-@pytest.mark.parametrize("n", [20_000, 1_060_001])
+@pytest.mark.parametrize("n", [20_000, 4096 * 300, 1_060_001])
 def test_streamed_later_octaves_match_in_place(monkeypatch, n):
     """The residue-group path of long records (no n-float work array) against the in-place one.
 

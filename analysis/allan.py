@@ -111,6 +111,8 @@ _D = {"overlapping": 2, "standard": 2, "modified": 2, "hadamard": 3, "overlappin
 #: OpenBLAS threads ddot above 10000 elements, which costs far more than it gains here
 _BLOCK = 1 << 16
 _DOT = 8192
+#: OpenBLAS runs a gemm on one thread when m n k <= 65536 * GEMM_MULTITHREAD_THRESHOLD (4)
+_GEMM_SINGLE = 65536 * 4
 #: worker threads of the overlapping estimator (numpy ufuncs and BLAS release the GIL) and
 #: the number of terms below which one thread is used
 _THREADS = max(1, min(2, os.cpu_count() or 1))
@@ -495,6 +497,13 @@ def _sumsq(w: NDArray[np.float64]) -> float:
     return float(sum(np.dot(w[c : c + _DOT], w[c : c + _DOT]) for c in range(0, w.size, _DOT)))
 
 
+def _dot(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
+    """a . b by BLAS dot products on chunks of _DOT elements (OpenBLAS never threads those)."""
+    if a.size <= _DOT:
+        return float(np.dot(a, b))
+    return float(sum(np.dot(a[c : c + _DOT], b[c : c + _DOT]) for c in range(0, a.size, _DOT)))
+
+
 def _dot_self(w: NDArray[np.float64]) -> float:
     """sum(w**2) in one BLAS call (worker-thread blocks, with the BLAS held to one thread)."""
     return float(np.dot(w, w))
@@ -720,6 +729,134 @@ def _later_jobs(
     return jobs + [([segs[-1]], 0, None)]
 
 
+#: above this many bytes of work array (n float64 moving sums) the octaves from 2^_FUSE_FIRST on
+#: are computed group by group of residues (see :func:`_later_streamed`) instead of in place
+_WORK_BYTES = 256 << 20
+#: residue groups of the streamed later octaves, and rows per chunk of their passes
+#: (64 groups: a group's moving sums, n/64 floats, stay in the L3 cache through all of its
+#: octaves on 1e8 samples; 16 groups ran 3x slower, memory-bound)
+_GROUPS = 64
+_STREAM_ROWS = 2048
+
+
+def _later_streamed(
+    y: NDArray[np.float64],
+    mean: float,
+    big: int,
+    top: int,
+    want: set[int],
+    identify: bool,
+    ssq: Callable[[NDArray[np.float64]], float],
+) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
+    """Octaves m = big, 2 big, .., top without an n-float work array: by residue groups mod ``big``.
+
+    With B = big, write k = j B + i (0 <= i < B). For every m that is a multiple of B,
+    S_m[j B + i] = sum_{l < m/B} S_B[(j + l) B + i] and D_m[j B + i] = S_m[(j + q) B + i] -
+    S_m[j B + i] (q = m/B): for a fixed residue i the recursion S_2m = S_m + S_m(+m) runs on
+    the decimated sequence Z_i[j] = S_B[j B + i] alone. The residues are split into
+    _GROUPS groups of B/_GROUPS columns; a group's Z (n/_GROUPS floats) is built from the
+    data and carried through every later octave, then dropped, so the work memory is
+    n/_GROUPS floats per thread instead of n (and in cache while it is worked on). S_B[j B + i] is built as the tail of block j
+    from i plus the head of block j + 1 before i (block sums of the column groups plus
+    cumulative sums inside the group), so it differs from the tree sum of the in-place path
+    by rounding only (relative ~1e-16 of the partial sums); every later S_m is the same
+    tree as in :func:`_later_pass`. Invalid entries (k + m > n) are NaN and never summed.
+    Returns sum D_m^2 per wanted m and, for the noise identification, the block means'
+    sums S_m[j m] (j < min(n/m, _NOISE_ID_MAX)) of each wanted m (None below _NOISE_ID_MIN).
+    """
+    n = y.size
+    b = big
+    w = b // _GROUPS
+    nb_all = -(-n // b) + 1  # blocks, plus one of padding
+    octs = []
+    mm = b
+    while mm <= top:
+        octs.append(mm)
+        mm <<= 1
+
+    def rows_of(r0: int, r1: int, c0: int = 0, c1: int = b) -> NDArray[np.float64]:
+        """Columns c0 .. c1-1 of blocks r0 .. r1-1 of y - mean, shape (r1 - r0, c1 - c0), zero past the end."""
+        a0 = r0 * b
+        full = min(r1 - r0, max(0, (n - a0) // b))  # rows wholly inside the record
+        if full == r1 - r0:
+            return y[a0 : r1 * b].reshape(r1 - r0, b)[:, c0:c1] - mean
+        out = np.zeros((r1 - r0, c1 - c0))  # (only these columns: a full-width pad was 60 MB)
+        if full:
+            out[:full] = y[a0 : a0 + full * b].reshape(full, b)[:, c0:c1] - mean
+        start = a0 + full * b  # the partial row
+        if start + c0 < n:
+            seg = y[start + c0 : min(start + c1, n)]
+            out[full, : seg.size] = seg - mean
+        return out
+
+    # block sums of each column group: gs[j, g] = sum of y - mean over block j, columns of group g
+    gs = np.zeros((nb_all, _GROUPS))
+    for r0 in range(0, nb_all, 512):
+        r1 = min(nb_all, r0 + 512)
+        gs[r0:r1] = rows_of(r0, r1).reshape(r1 - r0, _GROUPS, w).sum(axis=2)
+    after = np.cumsum(gs[:, ::-1], axis=1)[:, ::-1]  # after[j, g] = sum of groups >= g
+    after = np.concatenate((after[:, 1:], np.zeros((nb_all, 1))), axis=1)  # groups > g
+    before = np.concatenate((np.zeros((nb_all, 1)), np.cumsum(gs[:, :-1], axis=1)), axis=1)  # groups < g
+
+    def one_group(g: int) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
+        i0 = g * w
+        nj = (n - b - i0) // b + 1  # rows with a valid first column: j B + i0 + B <= n
+        z = np.empty((nj, w))
+        for r0 in range(0, nj, _STREAM_ROWS):
+            r1 = min(nj, r0 + _STREAM_ROWS)
+            blk = rows_of(r0, r1 + 1, i0, i0 + w)
+            head = np.zeros((r1 - r0 + 1, w + 1))  # head[j, c] = sum of columns i0 .. i0 + c - 1 of block j
+            np.cumsum(blk, axis=1, out=head[:, 1:])
+            # tail of block j from column i (group sum minus head) plus head of block j + 1 before i
+            z[r0:r1] = (after[r0:r1, g, None] + (head[:-1, w, None] - head[:-1, :w])) + (
+                before[r0 + 1 : r1 + 1, g, None] + head[1:, :w]
+            )
+        k_last = (nj - 1) * b + i0 + np.arange(w)  # the last row's k: valid while k + B <= n
+        z[nj - 1, k_last + b > n] = np.nan
+        acc: dict[int, float] = {}
+        ids: dict[int, NDArray[np.float64] | None] = {}
+        buf = np.empty((_STREAM_ROWS, w))
+        rows = nj
+        for mm in octs:
+            q = mm // b
+            if identify and g == 0 and mm in want:
+                nbk = min(n // mm, _NOISE_ID_MAX)
+                ids[mm] = z[: nbk * q : q, 0].copy() if nbk >= _NOISE_ID_MIN else None
+            full = rows - q - 1  # D rows j with row j + q fully valid
+            s_ = 0.0
+            nxt = (mm << 1) <= top
+            for r0 in range(0, max(full, 0), _STREAM_ROWS):
+                r1 = min(full, r0 + _STREAM_ROWS)
+                if mm in want:
+                    d = np.subtract(z[r0 + q : r1 + q], z[r0:r1], out=buf[: r1 - r0])
+                    s_ += ssq(d.ravel())
+                if nxt:
+                    z[r0:r1] += z[r0 + q : r1 + q]
+            if rows - q - 1 >= 0:  # the last D row: row j + q is the partly valid last row
+                j = rows - q - 1
+                d = z[j + q] - z[j]
+                ok = np.isfinite(d)
+                if mm in want:
+                    s_ += float(np.dot(d[ok], d[ok]))
+                if nxt:
+                    z[j] += z[j + q]
+            if mm in want:
+                acc[mm] = s_
+            rows = rows - q  # rows past this are not S_2m
+        return acc, ids
+
+    accs: dict[int, float] = {mm: 0.0 for mm in octs if mm in want}
+    ids_late: dict[int, NDArray[np.float64] | None] = {}
+    gs_all = list(range(_GROUPS))
+    jobs = [gs_all[t::_THREADS] for t in range(min(_THREADS, _GROUPS))]
+    for part in _map(lambda grp: [one_group(g) for g in grp], jobs):
+        for acc, ids in part:
+            for k_, v in acc.items():
+                accs[k_] += v
+            ids_late.update(ids)
+    return accs, ids_late
+
+
 def _octave_overlapping(
     y: NDArray[np.float64], ms: NDArray[np.int64], identify: bool
 ) -> tuple[NDArray[np.float64], NDArray[np.int64] | None]:
@@ -759,7 +896,8 @@ def _octave_overlapping(
     with _one_blas_thread() if threaded else contextlib.nullcontext():
         levels = [1 << i for i in range(_FUSE_FIRST) if (1 << i) <= top]
         m = 2 * levels[-1]  # the first octave after the first pass
-        s_arr = np.empty(n) if m <= top else None
+        streamed = m <= top and n * 8 > _WORK_BYTES
+        s_arr = np.empty(n) if (m <= top and not streamed) else None
         ids = {
             k: np.empty(nb_of(k))
             for k in levels
@@ -771,6 +909,13 @@ def _octave_overlapping(
             if identify and k in want:
                 alpha[k] = _noise_id_blocks(ids[k] / k, 2) if k in ids else None
 
+        if streamed:
+            accs, ids_late = _later_streamed(y, mean, m, top, want, identify, ssq)
+            later = sorted(accs)
+            finish(later, [[accs[k] for k in later]])
+            for k, z in ids_late.items():
+                alpha[k] = _noise_id_blocks(z / k, 2) if z is not None else None
+            m = 2 * top  # done
         while m <= top:
             assert s_arr is not None  # allocated by the first pass whenever m <= top
             g = 1
@@ -829,7 +974,7 @@ def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDAr
 def _lag1_acf(z: NDArray[np.float64]) -> float:
     """Lag-1 autocorrelation (Riley & Greenhall 2004 eq. 2), as allantools.ci.lag1_acf, vectorised."""
     d = z - z.mean()
-    return float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+    return _dot(d[:-1], d[1:]) / _dot(d, d)
 
 
 def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -837,7 +982,7 @@ def _detrend1(z: NDArray[np.float64]) -> NDArray[np.float64]:
     t = np.arange(z.size, dtype=float)
     t -= t.mean()
     zc = z - z.mean()
-    return zc - t * (np.dot(t, zc) / np.dot(t, t))
+    return zc - t * (_dot(t, zc) / _dot(t, t))
 
 
 def _noise_id_blocks(z: NDArray[np.float64], dmax: int) -> int:
@@ -927,30 +1072,141 @@ def _identify(x: NDArray[np.float64], ms: NDArray[np.int64], kind: str) -> NDArr
     return out
 
 
+#: Greenhall & Riley (2003) Table 2: (a0, a1) of 1/edf ~ (a0 - a1/r)/r for unmodified variances
+#: at large r, by alpha (+2 .. -4) and d (1, 2, 3); None where alpha + 2d <= 1
+_GH_TABLE2: dict[int, tuple[tuple[float, float] | None, ...]] = {
+    2: ((3.0 / 2.0, 1.0 / 2.0), (35.0 / 18.0, 1.0), (231.0 / 100.0, 3.0 / 2.0)),
+    1: ((78.6, 25.2), (790.0, 410.0), (9950.0, 6520.0)),
+    0: ((2.0 / 3.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 1.0 / 2.0)),
+    -1: (None, (0.852, 0.375), (0.997, 0.617)),
+    -2: (None, (1.079, 0.368), (1.033, 0.607)),
+    -3: (None, None, (1.053, 0.553)),
+    -4: (None, None, (1.302, 0.535)),
+}
+#: Greenhall & Riley (2003) Table 3: (b0, b1) of the alpha = +1 (flicker PM) case, by d
+_GH_TABLE3 = ((6.0, 4.0), (15.23, 12.0), (47.8, 40.0))
+_GH_JMAX = 100
+
+
+def _gh_sw(t: NDArray[np.float64], alpha: int) -> NDArray[np.float64]:
+    """Greenhall & Riley eq. (7): the generalised autocovariance kernel s_w(t) of S_x ~ f^(alpha - 2)."""
+    a = np.abs(t)
+    if alpha % 2 == 0:  # alpha = 2, 0, -2, -4: -|t|, |t|^3, |t|^5, |t|^7
+        return -a if alpha == 2 else a ** (3 - alpha)
+    # alpha = 1, -1, -3: t^(3 - alpha) ln|t|, 0 at t = 0
+    return t ** (3 - alpha) * np.log(a, out=np.zeros_like(a), where=a > 0.0)
+
+
+def _gh_sx(t: NDArray[np.float64], f: float, alpha: int) -> NDArray[np.float64]:
+    """Eq. (8): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2)."""
+    if math.isinf(f):
+        return _gh_sw(t, alpha + 2)
+    w = _gh_sw(np.stack((t, t - 1.0 / f, t + 1.0 / f)), alpha)
+    return f**2 * (2.0 * w[0] - w[1] - w[2])
+
+
+def _gh_sz(t: NDArray[np.float64], f: float, alpha: int, d: int) -> NDArray[np.float64]:
+    """Eq. (9): the kernel after the d-th difference, sum_k (-1)^k C(2d, d+k) s_x(t + k)."""
+    sx = _gh_sx(t[None, :] + np.arange(-d, d + 1, dtype=float)[:, None], f, alpha)  # row d + k: t + k
+    out = math.comb(2 * d, d) * sx[d]
+    for k in range(1, d + 1):
+        out = out + (-1) ** k * math.comb(2 * d, d + k) * (sx[d - k] + sx[d + k])
+    return out
+
+
+def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
+    """Eq. (10): sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2, over sz(0)^2 M."""
+    j = np.arange(1, int(j_top), dtype=float)
+    z0 = float(_gh_sz(np.array([0.0]), f, alpha, d)[0])
+    zj = float(_gh_sz(np.array([float(j_top) / s]), f, alpha, d)[0])
+    mid = float(np.sum(2.0 * (1.0 - j / big_m) * _gh_sz(j / s, f, alpha, d) ** 2))
+    return (z0**2 + (1.0 - float(j_top) / big_m) * zj**2 + mid) / (z0**2 * big_m)
+
+
+def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) -> float:
+    """Equivalent degrees of freedom of an unmodified Allan (d = 2) or Hadamard (d = 3) variance.
+
+    C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances based on finite
+    differences", PTTI 2003 (NIST SP 1065 section 5.3.3): the exact sum eq. (10) for J <= 100
+    lags, the Table 2/3 large-r approximations beyond, cases 2-4 of the paper (F = m; the
+    modified variance, case 1, is left to allantools). Same arithmetic as
+    allantools.ci.edf_greenhall (a test pins the two to 1e-12) without importing allantools,
+    whose import pulls in scipy.stats and scipy.interpolate (~1-3 s). Raises
+    NotImplementedError for alpha = +2 with ceil(r) <= d, where the paper gives no formula.
+    """
+    if not alpha + 2 * d > 1:
+        raise ValueError(f"alpha + 2 d must be > 1; got alpha = {alpha}, d = {d}")
+    s = float(m) if overlapping else 1.0
+    big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
+    j_top = min(big_m, (d + 1) * s)
+    r = big_m / s
+    if alpha <= 0:
+        if j_top <= _GH_JMAX:
+            f = float(m) if m * (d + 1) <= _GH_JMAX else math.inf
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, f, alpha, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[alpha][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / r) * (a0 - a1 / r))
+        return 1.0 / _gh_basic_sum(_GH_JMAX, _GH_JMAX, _GH_JMAX / r, math.inf, alpha, d)
+    if alpha == 1:
+        b0, b1 = _GH_TABLE3[d - 1]
+        if j_top <= _GH_JMAX:
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, float(m), 1, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[1][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / ((b0 + b1 * math.log(m)) ** 2 * r)) * (a0 - a1 / r))
+        mp = _GH_JMAX / r
+        z0 = float(_gh_sz(np.array([0.0]), mp, 1, d)[0])
+        return 1.0 / (_gh_basic_sum(_GH_JMAX, _GH_JMAX, mp, mp, 1, d) * z0**2 / (b0 + b1 * math.log(m)) ** 2)
+    if math.ceil(r) <= d:
+        raise NotImplementedError(f"no Greenhall edf for alpha = 2 with r = {r} <= d = {d}")
+    a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
+    return 1.0 / ((1.0 / big_m) * (a0 - (d / 2.0) / r))
+
+
+def _edf_stein(n_phase: int, m: int, alpha: int) -> float:
+    """Stein's approximate edf of the overlapping ADEV (NIST SP 1065 Table 5; N phase points)."""
+    n, mm = float(n_phase), float(m)
+    if alpha == 2:
+        return (n + 1) * (n - 2 * mm) / (2 * (n - mm))
+    if alpha == 1:
+        prod = math.log((n - 1) / (2 * mm)) * math.log((2 * mm + 1) * (n - 1) / 4)
+        return math.exp(math.sqrt(prod)) if prod >= 0 else float("nan")  # nan: no edf (caller falls back)
+    if alpha == 0:
+        return ((3 * (n - 1) / (2 * mm)) - (2 * (n - 2) / n)) * ((4 * mm**2) / ((4 * mm**2) + 5))
+    if alpha == -1:
+        return 2 * (n - 2) / (2.3 * n - 4.9) if m == 1 else 5 * n**2 / (4 * mm * (n + (3 * mm)))
+    if alpha == -2:
+        return (n - 2) / (mm * (n - 3) ** 2) * ((n - 1) ** 2 - 3 * mm * (n - 1) + 4 * mm**2)
+    return n - 1
+
+
 @functools.lru_cache(maxsize=4096)
 def _edf_one(kind: str, alpha: int, m: int, n: int) -> float:
     """Equivalent degrees of freedom of one estimate (n rate samples, n + 1 phase points)."""
-    from allantools import ci as _atci
-
     p = n + 1
+    d = _D[kind]
+    if kind in ("total", "modified"):
+        from allantools import ci as _atci
+
     if kind == "total":
         return float(_atci.edf_totdev(n, m, alpha))
-    d = _D[kind]
     overlapping = kind in ("overlapping", "modified", "overlapping_hadamard")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            e = float(
-                _atci.edf_greenhall(
-                    alpha=int(alpha), d=d, m=int(m), N=p, overlapping=overlapping, modified=(kind == "modified")
+            if kind == "modified":
+                e = float(
+                    _atci.edf_greenhall(alpha=int(alpha), d=d, m=int(m), N=p, overlapping=True, modified=True)
                 )
-            )
+            else:
+                e = _edf_greenhall(int(alpha), d, int(m), p, overlapping)
     except (NotImplementedError, AssertionError, ZeroDivisionError):  # pragma: no cover - tiny records
         e = float("nan")
     if not (math.isfinite(e) and e > 0):
         # Greenhall has no formula for white PM with fewer than d + 1 terms: fall back to Stein's
         # approximation (NIST SP 1065 Table 5) and, failing that, the term count
-        e = float(_atci.edf_simple(p, m, alpha)) if d == 2 else float("nan")
+        e = _edf_stein(p, m, alpha) if d == 2 else float("nan")
         if not (math.isfinite(e) and e > 0):
             e = float(max(_n_terms(kind, n, np.array([m]))[0], 1))
     return e
@@ -969,11 +1225,11 @@ def _edf(kind: str, alpha: NDArray[np.int64], ms: NDArray[np.int64], n: int) -> 
 
 def _bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
     """Chi-square bounds (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised)."""
-    from scipy import stats
+    from scipy import special  # chi2.ppf(q, nu) = 2 gammaincinv(nu/2, q), as scipy.stats computes it
 
     p = (1.0 - confidence) / 2.0
-    lo = dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf))
-    hi = dev * np.sqrt(edf / stats.chi2.ppf(p, edf))
+    lo = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, 1.0 - p)))
+    hi = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, p)))
     return lo, hi
 
 
@@ -982,14 +1238,35 @@ def _check_kind(kind: Any) -> None:
         raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
 
 
+#: curves with at most this many taus (and records below _THREAD_MIN samples) keep every BLAS
+#: product under OpenBLAS's threading thresholds (gemm m n k <= 65536 * 4; dot products are
+#: chunked by _DOT), so no thread limit is needed for them
+_SMALL_TAUS = 64
+
+
+def _is_small(args: tuple, kwargs: dict) -> bool:
+    """True when a call of allan_deviation/fit_noise makes no BLAS call large enough to thread."""
+    first = args[0] if args else kwargs.get("curve_or_rate", kwargs.get("rate"))
+    if isinstance(first, AllanCurve):
+        return first.tau.size <= _SMALL_TAUS
+    taus = kwargs.get("taus", "octave")
+    few = (taus in ("octave", "decade")) if isinstance(taus, str) else np.size(taus) <= _SMALL_TAUS
+    return few and np.size(first) < _THREAD_MIN
+
+
 def _single_blas(fn: Callable) -> Callable:
-    """Run ``fn`` with the BLAS held to one thread: its products are small (<= 65536 x 44), and
-    the first multithreaded BLAS call of a process costs ~1-2 s of thread start-up on a busy
-    virtual machine (measured: 1.9 s, then 0.05 s; single-threaded 0.02 s)."""
+    """Run ``fn`` with the BLAS held to one thread unless the call is small (:func:`_is_small`).
+
+    The first multithreaded BLAS call of a process costs ~1-2 s of thread start-up on a busy
+    virtual machine (measured: 1.9 s, then 0.05 s; single-threaded 0.02 s), and the
+    products here are small (<= 65536 x 44); but setting the limit costs ~10-15 ms on first
+    use (threadpoolctl scans every loaded library), a third of a whole analysis of a 2e5
+    sample record, so calls whose products stay below the threading thresholds skip it.
+    """
 
     @functools.wraps(fn)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
-        with _one_blas_thread():
+        with contextlib.nullcontext() if _is_small(args, kwargs) else _one_blas_thread():
             return fn(*args, **kwargs)
 
     return wrapper
@@ -1052,17 +1329,22 @@ def allan_deviation(
     rates, the second difference is S_m[k+m] - S_m[k] and S_2m[k] = S_m[k] + S_m[k+m], so one
     float64 array of n moving sums is updated in place (which also avoids the phase's
     cancellation on long drifting records); the first 12 octaves take one pass over the
-    data, block by block in cache, and each later pass does two octaves. Other taus use
-    one blockwise pass per tau over the float64 cumulative sum. Either way memory is one
-    n-array plus a few MB of buffers. It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
+    data, block by block in cache, and each later pass does two octaves. Above 3.4e7
+    samples the octaves from m = 4096 on run by residue groups of k mod 4096 instead, each
+    group carried through all of them and dropped (n/16 floats per thread; see
+    ``_later_streamed``), so memory is the input plus ~n/8 floats. Other taus use one
+    blockwise pass per tau over the float64 cumulative sum (one n-array plus a few MB of
+    buffers). It agrees with allantools.oadev(data_type="freq") to rounding (a test pins
     1e-9 relative). The other statistics call allantools (adev, mdev, hdev, ohdev, totdev).
 
     A constant rate (zero variance, e.g. an all-zero record) is legal input: its deviation
     is 0 at every tau (and so are the bounds; alpha is reported as 0). :func:`fit_noise`
     rejects such a curve.
 
-    Bounds: edf from Greenhall & Riley (allantools.ci.edf_greenhall) for the Allan,
-    modified and Hadamard kinds, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
+    Bounds: edf from Greenhall & Riley for the Allan and Hadamard kinds (computed here,
+    equal to allantools.ci.edf_greenhall to 1e-12; for alpha = -4 Hadamard, where allantools'
+    table lookup fails, from the paper's Table 2 row), allantools.ci.edf_greenhall for the
+    modified kind, NIST SP 1065 Table 7 (allantools.ci.edf_totdev) for total;
     then sigma^2 edf / chi2_{1-p/2}(edf) <= sigma_true^2 <= sigma^2 edf / chi2_{p/2}(edf)
     (NIST SP 1065 eq. 45).
 
@@ -1135,14 +1417,57 @@ _FIT_KINDS = ("overlapping", "standard")
 
 def _wnnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float64]) -> NDArray[np.float64]:
     """argmin_{C >= 0} sum_i (x_i . C - a_i)^2 / var_i, on column-scaled X for conditioning."""
-    from scipy import optimize
-
     sw = 1.0 / np.sqrt(var)
     xw = x * sw[:, None]
     scale = np.linalg.norm(xw, axis=0)
     scale[scale == 0] = 1.0
-    cs, _ = optimize.nnls(xw / scale, a * sw, maxiter=50 * x.shape[1])
+    if x.shape[1] <= _NNLS_ENUM:
+        cs = _nnls_enumerate(xw / scale, a * sw)
+    else:  # pragma: no cover - the fit has at most five terms
+        from scipy import optimize
+
+        cs, _ = optimize.nnls(xw / scale, a * sw, maxiter=50 * x.shape[1])
     return cs / scale
+
+
+#: up to this many columns NNLS is solved here (Lawson-Hanson), without scipy.optimize
+_NNLS_ENUM = 6
+
+
+def _nnls_enumerate(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """argmin_{c >= 0} ||a c - b|| for a few columns: the Lawson-Hanson active-set algorithm.
+
+    C. L. Lawson and R. J. Hanson, "Solving Least Squares Problems" (1974), ch. 23 (as in
+    MATLAB's lsqnonneg and scipy.optimize.nnls): move the column of largest gradient
+    a'(b - a c) into the passive set, solve least squares on it, and step back to the
+    feasible region while a coefficient goes negative. A gradient within the tolerance
+    10 eps ||a||_1 max(shape) counts as zero, so a term that does not help stays exactly 0.
+    Same minimiser as scipy.optimize.nnls (to rounding; a test compares them) without
+    importing scipy.optimize (~0.3-0.5 s, the largest single cost of a short CLI run).
+    """
+    rows, k = a.shape
+    tol = 10.0 * np.finfo(float).eps * float(np.abs(a).sum(axis=0).max()) * max(rows, k)
+    passive = np.zeros(k, dtype=bool)
+    x = np.zeros(k)
+    w = a.T @ (b - a @ x)
+    for _ in range(3 * k + 3):
+        if passive.all() or not np.any(w[~passive] > tol):
+            break
+        j = int(np.argmax(np.where(passive, -np.inf, w)))
+        passive[j] = True
+        while True:
+            z = np.zeros(k)
+            z[passive] = np.linalg.lstsq(a[:, passive], b, rcond=None)[0]
+            neg = passive & (z <= 0.0)
+            if not neg.any():
+                break
+            step = np.min(x[neg] / (x[neg] - z[neg]))
+            x = x + step * (z - x)
+            passive &= x > tol
+            x[~passive] = 0.0
+        x = z
+        w = a.T @ (b - a @ x)
+    return x
 
 
 #: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
@@ -1202,6 +1527,17 @@ def _scaled(m1: int, m2: int) -> tuple[int, int]:
     return max(1, int(round(m1 / k))), max(1, int(round(m2 / k)))
 
 
+def _scaled_pairs(ms: NDArray[np.int64]) -> NDArray[np.int64]:
+    """:func:`_scaled` of every pair (ms[i], ms[j]), vectorised: shape (n, n, 2)."""
+    m1, m2 = np.meshgrid(ms, ms, indexing="ij")
+    top = np.maximum(m1, m2)
+    k = top / _RHO_M_CAP
+    big = top > _RHO_M_CAP
+    s1 = np.where(big, np.maximum(1, np.rint(m1 / k)), m1).astype(np.int64)  # rint: half to even, as round
+    s2 = np.where(big, np.maximum(1, np.rint(m2 / k)), m2).astype(np.int64)
+    return np.stack((s1, s2), axis=-1)
+
+
 def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int, int], NDArray[np.float64]]:
     """rho[(t, s)][i, j]: correlation of term t's noise in A_i with term s's noise in A_j.
 
@@ -1230,16 +1566,24 @@ def _rho_blocks_cached(
     alphas: tuple[int, ...], ms: tuple[int, ...]
 ) -> dict[tuple[int, int], NDArray[np.float64]]:
     n = len(ms)
-    pairs = np.array([[_scaled(ms[i], ms[j]) for j in range(n)] for i in range(n)])  # (n, n, 2)
-    mu = sorted({int(m) for m in pairs.ravel()})
+    pairs = _scaled_pairs(np.asarray(ms, dtype=np.int64))  # (n, n, 2)
+    mu = sorted({int(m) for m in np.unique(pairs)})
     col = {m: k for k, m in enumerate(mu)}
     f = _rho_grid()[0]
     h = np.stack([_h(m) for m in mu])  # (len(mu), grid)
     ua = sorted(set(alphas))
     g = np.concatenate([h * _rate_psd_shape(a, f)[None, :] for a in ua])  # (len(ua) len(mu), grid)
     g /= np.linalg.norm(g, axis=1)[:, None]
-    with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of thread start-up on a busy VM
-        gram = g @ g.T
+    rows = g.shape[0]
+    chunk = _GEMM_SINGLE // (rows * rows)
+    if chunk >= 64:  # k-chunks small enough that OpenBLAS runs each product on one thread
+        gram = np.zeros((rows, rows))
+        gt = np.ascontiguousarray(g.T)
+        for a in range(0, g.shape[1], chunk):
+            gram += g[:, a : a + chunk] @ gt[a : a + chunk]
+    else:
+        with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of start-up on a busy VM
+            gram = g @ g.T
     i1 = np.vectorize(col.get)(pairs[..., 0])
     i2 = np.vectorize(col.get)(pairs[..., 1])
     diag = np.eye(n, dtype=bool)
@@ -1585,9 +1929,9 @@ def fit_noise(
         # past the concave region the filter can still pull the first points off the model: drop
         # the first fitted point while the fit misfits and dropping it lowers chi2 by more than
         # the chi2(1) quantile at the misfit level (the point is an outlier of the model there)
-        from scipy import stats
+        from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
 
-        gain = float(stats.chi2.isf(misfit_p, 1)) if misfit_p > 0 else math.inf
+        gain = float(special.chdtri(1, misfit_p)) if misfit_p > 0 else math.inf
         while fit.misfit and int(used.sum()) > len(terms) + 1:
             trial = used.copy()
             trial[int(np.flatnonzero(used)[0])] = False
@@ -1703,14 +2047,14 @@ def _goodness(r: NDArray[np.float64], v: NDArray[np.float64], dof: int) -> tuple
     """chi2 = r' V^-1 r (V scaled to unit diagonal for conditioning), dof and P(chi2_dof >= chi2)."""
     if dof <= 0:
         return float("nan"), 0, float("nan")
-    from scipy import stats
+    from scipy import special  # chi2.sf(x, nu) = chdtrc(nu, x), as scipy.stats computes it
 
     d = np.sqrt(np.diag(v))
     rn = r / d
     corr = v / np.outer(d, d)
     sol = np.linalg.lstsq(corr, rn, rcond=1e-12)[0]
     chi2 = float(rn @ sol)
-    return chi2, dof, float(stats.chi2.sf(chi2, dof))
+    return chi2, dof, float(special.chdtrc(dof, chi2))
 
 
 # ---------------------------------------------------------------------------------- public: read-off

@@ -490,6 +490,26 @@ def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float
     return np.asarray(units.rate_to_si(np.ascontiguousarray(x), unit), dtype=float)
 
 
+def _parse_plain(body: str, delim: str, n_rows: int, ncols: int) -> NDArray | None:
+    """Rows of plain numbers (no quotes, comments or blank lines) parsed in C; None if any cell is not.
+
+    numpy.fromstring with a separator reads every cell with the same correctly rounded
+    string-to-double conversion as numpy.loadtxt, about 10x faster; it stops (and warns) at the
+    first cell that is not a number or is empty, and the count check catches a short or blank
+    row, so any such file returns None and goes through loadtxt and its error messages. Only
+    for "," and ";": numpy's separator matching would let a tab also match spaces in a cell.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            flat = np.fromstring(body.replace("\n", delim), dtype=float, sep=delim)
+        except (ValueError, DeprecationWarning):
+            return None
+    if flat.size != n_rows * ncols:
+        return None
+    return flat.reshape(n_rows, ncols)
+
+
 def _parse_rows(
     path: Path,
     lines: list[str],
@@ -520,6 +540,10 @@ def _parse_rows(
                     f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
                     f"a row with {'an extra' if n > ncols else 'a missing'} column is refused"
                 )
+    elif delim in ",;" and '"' not in body and "#" not in body:  # (a tab separator would match any whitespace)
+        fast = _parse_plain(body, delim, n_rows, ncols)
+        if fast is not None:
+            return fast[:, usecols]
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)

@@ -1,0 +1,133 @@
+"""The import-free replacements on the CLI path agree with what they replace.
+
+gyrobench's own Greenhall edf (instead of allantools.ci, whose import pulls in scipy.stats),
+the chi-square quantiles from scipy.special (instead of scipy.stats), the enumerated NNLS
+(instead of scipy.optimize.nnls) and the C parse of plain CSV rows (instead of numpy.loadtxt).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from allantools import ci as atci
+from scipy import optimize, stats
+
+from gyrobench.analysis import allan
+from gyrobench.scenarios import logs
+
+N_PHASE = [50, 101, 1000, 4097, 100_001, 1_000_001, 100_000_001]
+
+
+def _ms(n: int) -> list[int]:
+    return sorted({1, 2, 3, 5, 8, 16, 25, 33, 64, 100, 128, 1000, 4096, n // 5, n // 4, n // 3, (n - 1) // 2} - {0})
+
+
+@pytest.mark.parametrize(("d", "overlapping"), [(2, True), (2, False), (3, True), (3, False)])
+def test_edf_greenhall_matches_allantools(d, overlapping):
+    """Cases 2-4 of Greenhall & Riley over N, m and alpha, including the J > 100 and r <= d + 1 branches."""
+    checked = 0
+    for alpha in range(-4 if d == 3 else -2, 3):
+        for n in N_PHASE:
+            for m in _ms(n):
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        want = atci.edf_greenhall(alpha=alpha, d=d, m=m, N=n, overlapping=overlapping)
+                except (NotImplementedError, AssertionError, ZeroDivisionError) as exc:
+                    want = exc
+                if isinstance(want, AssertionError) and alpha == -4:
+                    # allantools' Table 2 lookup refuses alpha = -4 although the table has the row
+                    assert allan._edf_greenhall(alpha, d, m, n, overlapping) > 0
+                    continue
+                if isinstance(want, Exception):
+                    with pytest.raises(type(want)):
+                        allan._edf_greenhall(alpha, d, m, n, overlapping)
+                    continue
+                got = allan._edf_greenhall(alpha, d, m, n, overlapping)
+                if np.isfinite(want):
+                    assert got == pytest.approx(want, rel=1e-12), (alpha, n, m)
+                    checked += 1
+    assert checked > 200
+
+
+@pytest.mark.parametrize("alpha", [2, 1, 0, -1, -2])
+def test_edf_stein_matches_allantools(alpha):
+    for n in (10, 1001, 100_001):
+        for m in (1, 2, 7, n // 4):
+            with np.errstate(invalid="ignore"):
+                want = atci.edf_simple(n, m, alpha)
+            assert allan._edf_stein(n, m, alpha) == pytest.approx(want, rel=1e-14, nan_ok=True)
+
+
+def test_bounds_match_scipy_stats(rng):
+    dev = rng.uniform(0.5, 2.0, 50)
+    edf = np.concatenate([rng.uniform(0.3, 10.0, 25), rng.uniform(10.0, 1e6, 25)])
+    for conf in (0.683, 0.95):
+        lo, hi = allan._bounds(dev, edf, conf)
+        p = (1.0 - conf) / 2.0
+        np.testing.assert_allclose(lo, dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf)), rtol=1e-14)
+        np.testing.assert_allclose(hi, dev * np.sqrt(edf / stats.chi2.ppf(p, edf)), rtol=1e-14)
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_enumerated_nnls_matches_scipy(seed):
+    g = np.random.default_rng(seed)
+    rows, k = int(g.integers(6, 40)), int(g.integers(1, 6))
+    a = g.standard_normal((rows, k)) * np.exp(g.uniform(-3, 3, k))
+    a /= np.linalg.norm(a, axis=0)
+    b = g.standard_normal(rows)
+    got = allan._nnls_enumerate(a, b)
+    want, _ = optimize.nnls(a, b)
+    assert np.all(got >= 0)
+    assert np.array_equal(got == 0, want == 0)
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12)
+
+
+def test_plain_rows_parse_like_loadtxt(rng):
+    x = rng.standard_normal((500, 3)) * np.array([1e-9, 1.0, 1e6])
+    body = "\n".join(",".join(f"{v:.17g}" for v in row) for row in x)
+    got = logs._parse_plain(body, ",", 500, 3)
+    assert got is not None and np.array_equal(got, x)
+    semi = body.replace(",", ";")
+    assert np.array_equal(logs._parse_plain(semi, ";", 500, 3), x)
+
+
+@pytest.mark.parametrize(
+    "body",
+    ["1,2\n3,", "1,2\n3,x", "1,,2\n3,4", "1,2\n\n3,4", "1 2,3\n4,5", "1,2\n3,4e"],
+)
+def test_plain_rows_refuse_what_loadtxt_would_refuse(body):
+    n_rows = body.count("\n") + 1
+    assert logs._parse_plain(body, ",", n_rows, 2) is None
+
+
+@pytest.mark.parametrize(
+    "ms", [2 ** np.arange(27), np.array([1, 3, 5, 100, 1000, 1025, 1536, 3000, 5000, 99_999, 2**20 + 1])]
+)
+def test_scaled_pairs_is_scaled_of_every_pair(ms):
+    want = np.array([[allan._scaled(int(a), int(b)) for b in ms] for a in ms])
+    assert np.array_equal(allan._scaled_pairs(ms), want)
+
+
+@pytest.mark.parametrize("n", [20_000, 4096 * 300, 1_060_001])
+def test_streamed_later_octaves_match_in_place(monkeypatch, n):
+    """The residue-group path of long records (no n-float work array) against the in-place one.
+
+    Forced on here by a zero work-array budget; a drifting record with an offset, of a length
+    that is not a multiple of the 4096-sample block, so the partly valid last rows are exercised.
+    """
+    g = np.random.default_rng(n)
+    y = g.standard_normal(n) + 1e-2 * np.cumsum(g.standard_normal(n)) + 1e-6 * np.arange(n) + 5.0
+    ref = allan.allan_deviation(y, 100.0)
+    assert ref.m.max() >= 4096  # octaves past the first pass exist
+    calls = []
+    real = allan._later_streamed
+    monkeypatch.setattr(allan, "_later_streamed", lambda *a: calls.append(1) or real(*a))
+    monkeypatch.setattr(allan, "_WORK_BYTES", 0)
+    got = allan.allan_deviation(y, 100.0)
+    assert calls
+    np.testing.assert_allclose(got.deviation, ref.deviation, rtol=1e-12, atol=0)
+    assert np.array_equal(got.alpha, ref.alpha)
+    np.testing.assert_array_equal(got.edf, ref.edf)

@@ -1251,7 +1251,7 @@ def _is_small(args: tuple, kwargs: dict) -> bool:
         return first.tau.size <= _SMALL_TAUS
     taus = kwargs.get("taus", "octave")
     few = (taus in ("octave", "decade")) if isinstance(taus, str) else np.size(taus) <= _SMALL_TAUS
-    return few and np.size(first) < _THREAD_MIN
+    return few and first is not None and np.size(first) < _THREAD_MIN
 
 
 def _single_blas(fn: Callable) -> Callable:

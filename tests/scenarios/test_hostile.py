@@ -783,8 +783,11 @@ def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-FUZZ = settings(
-    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+FUZZ = settings(  # derandomized: the same examples on every run, as a fixed seed would
+    max_examples=60,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 
 #: any value an HDF5 attribute can hold, weighted towards the edges
@@ -795,7 +798,8 @@ _ATTR_VALUES = st.one_of(
     ),
     st.integers(min_value=-(2**63), max_value=2**63 - 1),
     st.booleans(),
-    st.text(max_size=30),
+    # an HDF5 variable-length string cannot hold NUL, so no file can carry one
+    st.text(alphabet=st.characters(blacklist_characters="\x00"), max_size=30),
     st.binary(max_size=30),
     st.lists(st.floats(allow_nan=False, allow_infinity=False, width=32), min_size=0, max_size=4),
     st.complex_numbers(allow_nan=False, allow_infinity=False, max_magnitude=1e6),

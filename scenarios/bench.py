@@ -1390,6 +1390,15 @@ def run_campaign(
                 else:
                     _check_picklable(comp, config)
                     own = executor is None
+                    if own:  # every local worker holds one seed's task in memory at once
+                        from gyrobench.scenarios import units
+
+                        units.check_unit_memory(
+                            module,
+                            config,
+                            concurrent=units.concurrent_units(len(todo), workers),
+                            source="its configuration (bench seeds)",
+                        )
                     ex: cf.Executor = (
                         cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
                         if executor is None

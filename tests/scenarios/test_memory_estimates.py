@@ -198,3 +198,18 @@ def test_units_at_once_multiply_the_per_unit_estimate(tmp_path, capsys, monkeypa
         "gyrobench: error: scenario rlg_thermal with its default configuration (2 unit(s) at once"
     ), err
     assert not (tmp_path / "o").exists()
+
+
+def test_bench_workers_multiply_the_per_seed_estimate(tmp_path, monkeypatch):
+    """A campaign on its own local pool refuses, before any seed starts, more seeds at once
+    than fit: the same one check as reproduce (units.check_unit_memory)."""
+    from gyrobench.scenarios import bench, rlg_thermal
+    from gyrobench.sim.memory import MemoryLimitError
+
+    est = rlg_thermal.memory_estimate(rlg_thermal.Config())
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", str(int(1.5 * est / 0.8)))
+    with pytest.raises(MemoryLimitError, match=r"scenario rlg_thermal .* \(2 unit\(s\) at once"):
+        bench.run_campaign(
+            "rlg_thermal", "sklearn.linear_model:LinearRegression", range(2), workers=2,
+            db=tmp_path / "b.sqlite", progress=False,
+        )

@@ -308,7 +308,10 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
         if unit != "rad/s":
             from gyrobench.sim import units
 
-            data = units.rate_to_si(data, unit)
+            try:
+                data = units.rate_to_si(data, unit)
+            except ValueError as exc:  # name the file and the channel, not only the unit
+                raise _BadInput(f"{str(path)!r}: channel {rec.name}/{ch}: {exc}") from None
         chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
     return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
 

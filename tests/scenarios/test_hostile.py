@@ -1047,3 +1047,17 @@ def test_allan_csv_with_a_sample_rate_outside_any_gyros_is_one_line(tmp_path, ca
     _one_line(err, code, exits.BAD_INPUT)
     assert "must be in [1e-09, 1e+15] Hz (no gyro samples outside it)" in err[0]
     assert err[0].endswith(f"; got {float(fs):g} Hz")
+
+
+def test_hdf5_channel_with_unknown_unit_names_file_and_channel(tmp_path, capsys):
+    import numpy as np
+
+    from gyrobench.scenarios.cli import main
+    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+
+    rec = Recording(name="r", fs=100.0, channels={"rate": Channel(np.zeros(1000), "furlong/s", "x")})
+    p = save_hdf5(tmp_path / "u.h5", rec)
+    code = main(["allan", str(p)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert "u.h5" in err[0] and "channel r/rate" in err[0] and "furlong/s" in err[0], err

@@ -1040,8 +1040,10 @@ CLAIMS: tuple[Claim, ...] = (
         where="Sec. 2, Table 1 / Fig. 2",
         statement="A stretch of the 1000-m coil at 0.25 L0 heated from -10 to 40 degC: the "
         "nonreciprocity caused by the T x dT term alone exceeds 0.2 deg/h at its maximum "
-        "(here: a free fibre, 10 m heated at 1 degC/min, length and rate not printed; the "
-        "T x dT coefficient from Leviton-Frey dn/dT(T) and the silica expansion slope).",
+        "(here: a free fibre, 10 m heated at 1 degC/min; the paper prints neither, and the "
+        "term scales linearly with both, so the verdict rests on that assumed case, which was "
+        "fixed before the coil model and not changed for it; the T x dT coefficient from "
+        "Leviton-Frey dn/dT(T) and the silica expansion slope).",
         kind="emergent",
         quantity="txdt_point_max_deg_h",
         comparator=above(0.2),

@@ -1148,9 +1148,8 @@ def deviation_effects(
 def claims_for(config: Config) -> tuple[Claim, ...]:
     """:data:`CLAIMS` with the raw-K_n claim marked calibrated when ``config.variant`` sets v_max.
 
-    The shared runner judges :data:`CLAIMS` (right for the default design); under the
-    calibrated variant the report's conclusion says the raw-K_n claim is calibrated, and this
-    function gives the claims with that kind for a runner that asks.
+    The shared runner judges these (:func:`gyrobench.scenarios.units.module_claims`), so under
+    the calibrated variant the raw-K_n claim is reported calibrated, not reproduced.
     """
     if config.variant != "calibrated":
         return CLAIMS

@@ -78,6 +78,14 @@ CREATE TABLE IF NOT EXISTS unit_results (
 """
 
 
+def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
+    """The claims to judge for ``config``: ``module.claims_for(config)`` where a scenario
+    defines it (a config variant that sets an input from a paper number makes that claim
+    calibrated), else ``module.CLAIMS``."""
+    claims_for = getattr(module, "claims_for", None)
+    return tuple(claims_for(config)) if callable(claims_for) else tuple(module.CLAIMS)
+
+
 def is_paper_scenario(module: types.ModuleType) -> bool:
     """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``)."""
     return callable(getattr(module, "experiment", None)) and hasattr(module, "CLAIMS")
@@ -388,7 +396,7 @@ def run_paper(
         db=db,
         progress=progress,
     )
-    claims = evaluate(module.CLAIMS, [u["quantities"] for u in run.results])
+    claims = evaluate(module_claims(module, config), [u["quantities"] for u in run.results])
     outcome = module.report(config, list(run.results), claims)
     if not isinstance(outcome, Outcome):
         raise TypeError(

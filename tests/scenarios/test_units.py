@@ -200,3 +200,14 @@ def test_dask_localcluster_equals_local(tmp_path, monkeypatch):
     doc = json.loads((tmp_path / "rep" / "toy_paper" / "results.json").read_text())
     assert [c["holds"] for c in doc["claims"]] == [c.holds for c in ref.claims]
     assert [c["median"] for c in doc["claims"]] == [c.median for c in ref.claims]
+
+
+def test_a_config_variant_can_mark_a_claim_calibrated():
+    """The runner judges claims_for(config) when a scenario defines it (paper 001's v_max variant)."""
+    from gyrobench.scenarios import mems_scale_factor as ms
+    from gyrobench.scenarios.units import module_claims
+
+    default = {c.id: c.kind for c in module_claims(ms, ms.Config())}
+    variant = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="calibrated"))}
+    assert default["001.raw_kn"] == "emergent" and variant["001.raw_kn"] == "calibrated"
+    assert {k for k in default if default[k] != variant[k]} == {"001.raw_kn"}

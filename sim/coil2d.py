@@ -28,7 +28,10 @@ CTEs evaluated at T. beta_1 is the secant slope of beta_T over [``t_lo``, ``t_hi
 NOTHING in the T x Tdot term is a free constant.
 
 Stated simplifications: axisymmetric (the in-layer crossover sector and the lead routing
-are smeared over the circumference); the strain follows the local temperature with the
+are smeared over the circumference; for the Shupe integral this is exact, since in an
+axisymmetric temperature field a fibre element's temperature does not depend on its azimuth,
+but heat paths that break the symmetry, e.g. a bolt pattern or a cable exit, are not
+represented); the strain follows the local temperature with the
 uniform-temperature coefficient d eps_theta/dT (quasi-static, no stress from gradients);
 plane stress in the pack (free end faces), no potting skin or housing in the elastic model;
 moduli independent of temperature; no flanges.
@@ -59,9 +62,11 @@ from scipy import linalg
 __all__ = [
     "Material",
     "SILICA",
+    "SILICA_CTE_SLOPE_BOUNDS",
     "ACRYLATE",
     "EPOXY",
     "ALUMINIUM",
+    "nist_6061_alpha",
     "silica_dn_dT",
     "maxwell_conductivity",
     "PackProperties",
@@ -131,24 +136,37 @@ class Material:
         return self.cte + self.cte_slope * (np.asarray(T, dtype=float) - T_REF)
 
 
-#: Fused silica. k 1.38 W/(m K), rho c 2201 kg/m^3 x 740 J/(kg K) (Corning 7980 data sheet);
-#: E 73 GPa, nu 0.17 (docs/physics.md 3.5 photo-elastic set); alpha 0.52e-6 /K at 293 K and
-#: slope 2.4e-9 /K^2 (Hahn & Kirby, AIP Conf. Proc. 3, 13 (1972), SRM 739 table, read as
-#: 0.40e-6 at 250 K -> 0.52e-6 at 300 K; UNVERIFIED transcription, +-0.05e-6 /K).
+#: Fused silica (every value cited; docs/physics.md 3.7 "Material data"): rho 2203 kg/m^3,
+#: k 1.38 W/(m K), E 73.1 GPa, nu 0.17, alpha 0.55e-6 /K at 300 K (Crystran Ltd., The Crystran
+#: Handbook of Infra-red and Ultra-violet Optical Materials, 5th ed. (2023), fused silica, as
+#: tabulated in the refractiveindex.info database); c_p 703 J/(kg K) (Crystran fused silica
+#: data sheet). alpha at T_REF = alpha(300 K) - slope x 6.85 K. Slope 2.4e-9 /K^2 (Hahn &
+#: Kirby, AIP Conf. Proc. 3, 13 (1972), SRM 739 table; this transcription is not re-verified)
+#: is bounded by verified facts: fused silica has its minimum length near -80 degC (Souder &
+#: Hidnert, NBS Sci. Paper 524 (1926)), so alpha rises from 0 at ~193 K to 0.55e-6 at 300 K
+#: and, rising ever more slowly, its slope at 293 K lies in [0, 0.55e-6 / 107 K = 5.1e-9]
+#: (``SILICA_CTE_SLOPE_BOUNDS``). Over that bound the free-fibre T x dT term of paper 003
+#: moves by -13 % / +6 % (docs/physics.md 3.7).
+SILICA_CTE_SLOPE = 2.4e-9
+SILICA_CTE_SLOPE_BOUNDS = (0.0, 0.55e-6 / (300.0 - 193.15))
 SILICA = Material(
     name="fused silica",
     conductivity=1.38,
-    volumetric_heat_capacity=2201.0 * 740.0,
-    youngs_modulus=73e9,
+    volumetric_heat_capacity=2203.0 * 703.0,
+    youngs_modulus=73.1e9,
     poisson=0.17,
-    cte=0.52e-6,
-    cte_slope=2.4e-9,
-    source="Corning 7980 data sheet; Hahn & Kirby 1972 (SRM 739), UNVERIFIED transcription",
+    cte=0.55e-6 - SILICA_CTE_SLOPE * (300.0 - T_REF),
+    cte_slope=SILICA_CTE_SLOPE,
+    source="Crystran handbook 5th ed. (2023); slope Hahn & Kirby 1972 within the bound "
+    "from Souder & Hidnert 1926",
 )
-#: UV-cured acrylate fibre coating: k 0.20 W/(m K) (docs/physics.md 3.7, UNVERIFIED typical);
-#: rho c 1.2e3 x 1.5e3; E 0.7 GPa (secondary coating, UNVERIFIED typical); alpha 1e-4 /K
-#: (UNVERIFIED typical of acrylates below Tg), slope 3e-7 /K^2 (UNVERIFIED, same ratio
-#: slope/alpha as EPOXY).
+#: UV-cured acrylate fibre coating. Only k 0.20 W/(m K) and rho c 1.2e3 x 1.5e3 J/(m^3 K)
+#: enter the model (the coating's share of the pack conductivity and heat capacity); both are
+#: ASSUMED (no published value was read for this project) and halving or doubling either
+#: moves paper 003's drift and T x dT by < 0.5 % (docs/physics.md 9,
+#: ``benchmarks/coil_sensitivity.py``). The elastic model lumps the soft coating into the
+#: matrix (:func:`pack_properties`), so E, nu, alpha and its slope below are placeholders that
+#: no result depends on (``test_coating_elastic_values_do_not_enter``).
 ACRYLATE = Material(
     name="acrylate coating",
     conductivity=0.20,
@@ -157,35 +175,50 @@ ACRYLATE = Material(
     poisson=0.40,
     cte=1.0e-4,
     cte_slope=3.0e-7,
-    source="typical values, UNVERIFIED (docs/physics.md 3.7)",
+    source="ASSUMED k and rho c (effect < 0.5 %); elastic values unused",
 )
-#: Potting epoxy below its glass transition: k 0.20 W/(m K), rho c 1.2e3 x 1.1e3; E 3 GPa,
-#: nu 0.35 (docs/physics.md 3.7, UNVERIFIED typical); alpha 55e-6 /K at 293 K with slope
-#: 0.17e-6 /K^2: mean slope of a bulk epoxy whose alpha falls to ~20e-6 /K at 77 K
-#: (NIST cryogenic material-property pages for epoxy; UNVERIFIED transcription).
+#: Potting epoxy below its glass transition: rho 1300 kg/m^3, E 4 GPa, alpha 60e-6 /K
+#: (Budinski & Budinski, Engineering Materials, Prentice Hall (1999), as quoted in Princeton
+#: MAE 324's materials glossary); k 0.20 W/(m K), c_p 1500 J/(kg K), nu 0.40 (MakeItFrom.com,
+#: "Epoxy"; polymers 0.1-0.2 W/(m K), Windberger et al., Proceedings 69, 18 (2021)). Slope
+#: 0.18e-6 /K^2 ASSUMED (the same slope/alpha ratio, 3e-3 /K, as the acrylate; no published
+#: alpha(T) read for a potting epoxy); its effect is measured (docs/physics.md 9).
 EPOXY = Material(
     name="potting epoxy",
     conductivity=0.20,
-    volumetric_heat_capacity=1.32e6,
-    youngs_modulus=3.0e9,
-    poisson=0.35,
-    cte=55e-6,
-    cte_slope=0.17e-6,
-    source="typical bulk epoxy below Tg; NIST cryogenic epoxy data, UNVERIFIED transcription",
+    volumetric_heat_capacity=1300.0 * 1500.0,
+    youngs_modulus=4.0e9,
+    poisson=0.40,
+    cte=60e-6,
+    cte_slope=0.18e-6,
+    source="Budinski & Budinski 1999; MakeItFrom 'Epoxy'; slope ASSUMED",
 )
-#: Aluminium alloy spool (6061): k 167 W/(m K), rho c 2700 x 896; E 69 GPa, nu 0.33;
-#: alpha 23.1e-6 /K at 293 K, slope 0.019e-6 /K^2 (Touloukian et al., Thermophysical
-#: Properties of Matter vol. 12 (1975), pure Al: 21.7e-6 at 250 K -> 23.2e-6 at 300 K;
-#: UNVERIFIED transcription).
+#: Aluminium alloy 6061-T6 spool: rho 2700 kg/m^3, E 68.9 GPa, nu 0.33, k 167 W/(m K) at
+#: 25 degC, c_p 896 J/(kg K), mean alpha 23.6e-6 /K over 20-100 degC (Aluminum Association
+#: typical values as listed on 6061-T6 material data sheets, e.g. Glemco's). alpha(T_REF)
+#: from NIST's cryogenic fit for 6061-T6 (trc.nist.gov/cryogenics/materials, linear
+#: expansion (L - L293)/L293 x 1e5 = a + bT + cT^2 + dT^3, 4-300 K, 4 % fit error):
+#: d/dT at 293.15 K = 22.64e-6 /K (``nist_6061_alpha``); slope = (23.6e-6 - alpha(293.15 K))
+#: / (333.15 K - 293.15 K) = 0.024e-6 /K^2, the AA mean taken at its range's midpoint.
+NIST_6061_EXPANSION = (-4.1277e2, -3.0389e-1, 8.7696e-3, -9.9821e-6)
+
+
+def nist_6061_alpha(T: float) -> float:
+    """alpha(T) [1/K] of 6061-T6 from NIST's cryogenic linear-expansion fit (4-300 K)."""
+    _, b, c, d = NIST_6061_EXPANSION
+    return (b + 2.0 * c * T + 3.0 * d * T * T) * 1e-5
+
+
+_AL_ALPHA_REF = nist_6061_alpha(T_REF)
 ALUMINIUM = Material(
-    name="aluminium 6061",
+    name="aluminium 6061-T6",
     conductivity=167.0,
     volumetric_heat_capacity=2700.0 * 896.0,
-    youngs_modulus=69e9,
+    youngs_modulus=68.9e9,
     poisson=0.33,
-    cte=23.1e-6,
-    cte_slope=0.019e-6,
-    source="ASM handbook 6061-T6; Touloukian vol. 12 (1975) slope, UNVERIFIED transcription",
+    cte=_AL_ALPHA_REF,
+    cte_slope=(23.6e-6 - _AL_ALPHA_REF) / (333.15 - T_REF),
+    source="Aluminum Association typical 6061-T6; NIST cryogenic 6061-T6 expansion fit",
 )
 
 # Leviton & Frey (2006) temperature-dependent Sellmeier of Corning 7980 (valid 30-310 K):
@@ -577,15 +610,18 @@ class Coil2DSpec:
     housing_heat_capacity : float
         C_h [J/K] (0.5 kg of aluminium: 450 J/K, stated).
     chamber_conductance : float
-        h_ch A_h between chamber air and housing [W/K] (0.375: forced convection
-        ~12.5 W/(m^2 K) over 0.03 m^2, giving tau_h = C_h/G = 1200 s as sim/coil.py; stated).
+        h_ch A_h between chamber air and housing [W/K] (0.375: 12.5 W/(m^2 K) over 0.03 m^2,
+        the top of Cengel's free-convection range for gases, 2-25 W/(m^2 K), a slow chamber
+        fan; tau_h = C_h/G = 1200 s as sim/coil.py; ASSUMED, effect measured in
+        docs/physics.md 9).
     gap_coefficient : float
         h_gap [W/(m^2 K)] of the gas gap between the coil's outer/end/bore faces and the
-        housing (10; docs/physics.md 3.7 range 5-20, UNVERIFIED).
+        housing (10 = k_air/delta for a still-air gap delta = 2.6 mm, k_air 0.026 W/(m K),
+        radiation neglected; ASSUMED gap, effect measured in docs/physics.md 9).
     mount_coefficient : float
         h_c [W/(m^2 K)] of the bolted spool-to-housing contact under the spool (bottom face of
-        the spool only: the asymmetric mount makes axial gradients) (1000; bare Al-Al bolted
-        joints 1e3-1e4, Madhusudana, Thermal Contact Conductance (1996), UNVERIFIED).
+        the spool only: the asymmetric mount makes axial gradients) (1000; ASSUMED bolted
+        Al-Al joint, effect measured in docs/physics.md 9: none within 0.1 %).
     t_ref, t_lo, t_hi : float
         T0 of the expansion beta_T = beta_0 + beta_1 (T - T0) and the secant range of beta_1
         [K] (15 degC; -10 and 40 degC, paper 003's range).

@@ -254,3 +254,46 @@ def test_orthotropic_composite_cylinder_satisfies_its_equations():
     # the spool (Lame, free bore, pressure p at b) meets the pack without a gap
     u_spool = als * b - p * b / Es * ((b * b + a * a) / (b * b - a * a) - nus)
     assert u(b)[0] == pytest.approx(u_spool, rel=1e-9)
+
+
+def test_aluminium_expansion_follows_its_two_cited_sources():
+    """ALUMINIUM's alpha(T_REF) is the derivative of NIST's 6061-T6 expansion fit (checked here
+    by a central difference of the fit itself), and its slope carries it to the Aluminum
+    Association's mean 23.6e-6 /K over 20-100 degC at that range's midpoint (60 degC)."""
+    a, b, c, d = coil2d.NIST_6061_EXPANSION
+
+    def strain(T):
+        return (a + b * T + c * T**2 + d * T**3) * 1e-5
+
+    h = 0.01
+    fd = (strain(293.15 + h) - strain(293.15 - h)) / (2 * h)
+    # central-difference truncation of a cubic: d 1e-5 h^2 exactly; rounding ~1e-17
+    assert abs(coil2d.ALUMINIUM.cte - fd) < abs(d) * 1e-5 * h * h + 1e-16
+    assert abs(float(coil2d.ALUMINIUM.alpha(333.15)) - 23.6e-6) < 1e-15
+
+
+def test_silica_expansion_slope_lies_within_its_verified_bound():
+    """alpha(300 K) is Crystran's 0.55e-6 /K, and the (unverified) Hahn & Kirby slope lies
+    between 0 and the secant from the minimum-length temperature (~193 K, Souder & Hidnert)."""
+    lo, hi = coil2d.SILICA_CTE_SLOPE_BOUNDS
+    assert lo <= coil2d.SILICA.cte_slope <= hi
+    assert abs(float(coil2d.SILICA.alpha(300.0)) - 0.55e-6) < 1e-18
+    assert abs(hi - 0.55e-6 / (300.0 - 193.15)) < 1e-18
+
+
+def test_coating_elastic_values_do_not_enter():
+    """The coating's E, nu, alpha and slope are documented as unused (the elastic model lumps
+    the soft coating into the matrix): changing them must leave beta_T unchanged, while its
+    conductivity does change the pack."""
+    import dataclasses
+
+    spec = Coil2DSpec()
+    odd = dataclasses.replace(
+        spec.coating, youngs_modulus=7e9, poisson=0.2, cte=3e-4, cte_slope=1e-6
+    )
+    other = dataclasses.replace(spec, coating=odd)
+    r = np.linspace(spec.inner_radius, spec.outer_radius, 5)
+    for T in (263.15, 293.15, 313.15):
+        assert np.array_equal(spec.beta(r, T), other.beta(r, T))
+    hot = dataclasses.replace(spec, coating=dataclasses.replace(spec.coating, conductivity=0.4))
+    assert hot.pack().k_r != spec.pack().k_r

@@ -53,8 +53,24 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from gyrobench.sim import units
+from gyrobench.sim._rlg_common import (
+    DITHER_LOCK_IN_MARGIN,
+    _CavityScale,
+    _chamber_samples,
+    _check_rng,
+    _finish_run,
+    _nonneg,
+    _nonneg_fields,
+    _num,
+    _pos,
+    _require_dither_margin,
+    _sensor_pair,
+    _start_run,
+    _Terms,
+    _Wording,
+)
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.recording import Channel, Recording
 
 __all__ = [
     "HENE_WAVELENGTH",
@@ -76,37 +92,7 @@ __all__ = [
 
 #: He-Ne laser wavelength [m]
 HENE_WAVELENGTH = 632.8e-9
-#: the dither peak rate must exceed this multiple of the lock-in rate (statistical model validity)
-DITHER_LOCK_IN_MARGIN = 10.0
-
-
-def _num(owner: str, name: str, v: object) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{owner}.{name} must be finite; got {v!r}")
-    return v
-
-
-def _pos(owner: str, name: str, v: object, unit: str) -> float:
-    x = _num(owner, name, v)
-    if x <= 0:
-        raise ValueError(f"{owner}.{name} must be > 0 {unit}; got {v!r}")
-    return x
-
-
-def _nonneg(owner: str, name: str, v: object, unit: str) -> float:
-    x = _num(owner, name, v)
-    if x < 0:
-        raise ValueError(f"{owner}.{name} must be >= 0 {unit}; got {v!r}")
-    return x
-
-
-def _check_rng(rng: object) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-    return rng
+# DITHER_LOCK_IN_MARGIN (imported above) lives in gyrobench.sim._rlg_common, shared with rlg_cavity
 
 
 # ============================================================================ geometry
@@ -500,10 +486,7 @@ def two_node_temperatures(
 
     See :class:`TwoNodeThermal` for the equations. The unit is powered at the first sample.
     """
-    tc = np.asarray(chamber, dtype=float)
-    h = 1.0 / _pos("two_node_temperatures", "fs", fs, "Hz")
-    if tc.ndim != 1 or len(tc) < 2:
-        raise ValueError(f"chamber must be 1-D with >= 2 samples; got shape {tc.shape}")
+    tc, h = _chamber_samples("two_node_temperatures", chamber, fs)
     t1 = _first_order_foh(tc + thermal.heating_housing, tc[0], thermal.tau_housing, h)
     t2 = _first_order_foh(t1 + thermal.heating_cavity, tc[0], thermal.tau_cavity, h)
     return t1, t2
@@ -617,13 +600,24 @@ class TemperatureSensor:
 
 
 # ============================================================================ spec and unit
+#: how this model describes the recording channels common to both RLG models
+_WORDING = _Wording(
+    dither_angle="dither angle at the end of each sample (pick-off)",
+    housing_sensor="housing temperature sensor",
+    cavity_sensor="cavity temperature sensor",
+    turn_on_bias="constant bias of this turn-on",
+    dither_random_walk="random walk from dithering through lock-in",
+    quantization="rate error from pulse counting",
+)
+
+
 def _lognormal(rng: np.random.Generator, nominal: float, spread: float) -> float:
     """Positive draw nominal * exp(spread * eps - spread^2/2), eps ~ N(0, 1): mean = nominal, relative std ~ spread."""
     return float(nominal * math.exp(spread * rng.standard_normal() - 0.5 * spread * spread))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class RLGUnit:
+class RLGUnit(_CavityScale):
     """One drawn ring laser gyro (all SI). Build with :meth:`RLGSpec.realize`.
 
     Parameters
@@ -679,20 +673,18 @@ class RLGUnit:
             raise TypeError(f"RLGUnit.dither must be a Dither; got {type(self.dither).__name__}")
         wl = _nonneg("RLGUnit", "lock_in_rate", self.lock_in_rate, "rad/s")
         _num("RLGUnit", "bias", self.bias)
-        for name in (
-            "bias_instability",
-            "rate_random_walk",
-            "bias_repeatability",
-            "flow_repeatability",
-        ):
-            _nonneg("RLGUnit", name, getattr(self, name), "(SI)")
-        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
-        if low < DITHER_LOCK_IN_MARGIN * wl:
-            raise ValueError(
-                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
-                f"{low!r} rad/s must be >= {DITHER_LOCK_IN_MARGIN:g} x lock-in rate {wl!r} rad/s "
-                f"(dither amplitude {self.dither.amplitude!r} rad at {self.dither.frequency!r} Hz)"
-            )
+        _nonneg_fields(
+            "RLGUnit",
+            self,
+            ("bias_instability", "rate_random_walk", "bias_repeatability", "flow_repeatability"),
+            "(SI)",
+        )
+        _require_dither_margin(
+            self.dither,
+            wl,
+            "lock-in rate",
+            f" (dither amplitude {self.dither.amplitude!r} rad at {self.dither.frequency!r} Hz)",
+        )
         if self.dither.amplitude < 10.0 * self.geometry.pulse_weight:
             raise ValueError(
                 f"dither amplitude must be >= 10 pulse weights ({10 * self.geometry.pulse_weight!r} rad) "
@@ -700,16 +692,7 @@ class RLGUnit:
             )
 
     # -------------------------------------------------------------- derived
-    @property
-    def scale_factor(self) -> float:
-        """K [counts/rad]."""
-        return self.geometry.scale_factor
-
-    @property
-    def pulse_weight(self) -> float:
-        """q [rad/count]."""
-        return self.geometry.pulse_weight
-
+    # scale_factor K [counts/rad] and pulse_weight q [rad/count]: from _CavityScale
     @property
     def angle_random_walk(self) -> float:
         """N from dithering through lock-in [rad/sqrt(s)] (:func:`dither_arw`)."""
@@ -776,24 +759,14 @@ class RLGUnit:
         c_k = floor((theta_k + d_k)/q);  output_k = (q (c_k - c_{k-1}) - (d_k - d_{k-1})) fs.
         Each effect draws from its own child stream.
         """
-        _check_rng(rng)
-        fs = _pos("RLGUnit.simulate", "fs", fs, "Hz")
-        dur = _pos("RLGUnit.simulate", "duration", duration, "s")
-        if fs > self.dither.frequency / 4.0:
-            raise ValueError(
-                f"fs must be <= dither frequency / 4 = {self.dither.frequency / 4.0!r} Hz in the statistical mode; got {fs!r}"
-            )
-        n = int(round(dur * fs))
-        if n < 2:
-            raise ValueError(f"duration x fs must give >= 2 samples; got {n}")
-        r_turnon, r_noise, r_arw, r_dither, r_t1, r_t2 = rng.spawn(6)
-        t_grid = np.arange(n + 1) / fs  # angle at sample boundaries; sample k covers [t_k, t_{k+1})
-        tch = np.asarray(chamber(t_grid), dtype=float)
+        run = _start_run("RLGUnit.simulate", self.dither, chamber, duration, fs, rng)
+        fs, tch = run.fs, run.chamber
         t1, t2 = self.temperatures(tch, fs)
         dt1 = (
             tch + self.thermal.heating_housing - t1
         ) / self.thermal.tau_housing  # exact dT1/dt of the model
         # turn-on draws: constant bias and the discharge-current balance
+        r_turnon = run.turn_on_rng
         b_on = self.bias + self.bias_repeatability * r_turnon.standard_normal()
         flow = 1.0 + self.flow_repeatability * r_turnon.standard_normal(2)
         tb = replace(
@@ -806,72 +779,33 @@ class RLGUnit:
             k: 0.5 * (v[1:] + v[:-1]) for k, v in comps.items()
         }  # trapezoid over each sample
         thermal = np.asarray(sum(bias_mid.values()), dtype=np.float64)
-        noise = NoiseModel(
-            bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
-        )
-        flick = (
-            noise.generate(n, fs, rng=r_noise)
-            if (self.bias_instability > 0 or self.rate_random_walk > 0)
-            else np.zeros(n)
-        )
-        if callable(rate):
-            w_in = np.asarray(rate(t_grid[:-1] + 0.5 / fs), dtype=float) * np.ones(n)
-        else:
-            w_in = np.full(n, _num("RLGUnit.simulate", "rate", rate))
-        arw = self.angle_random_walk * math.sqrt(fs) * r_arw.standard_normal(n)
-        total = w_in + b_on + thermal + flick + arw
-        theta = np.concatenate(([0.0], np.cumsum(total) / fs))
-        d = self.dither.amplitude * (
-            1.0 + self.dither.amplitude_jitter * r_dither.standard_normal(n + 1)
-        )
-        d = d * np.sin(r_dither.uniform(0.0, 2.0 * math.pi, n + 1))
-        q = self.pulse_weight
-        c = np.floor((theta + d) / q)
-        counts = np.diff(c)
-        out = (q * counts - np.diff(d)) * fs
-        quant = out - np.diff(theta) * fs
-        t1m = self.sensor_housing.measure(t1[:-1], rng=r_t1)
-        t2m = self.sensor_cavity.measure(t2[:-1], rng=r_t2)
-        truth = {
-            "true_rate": Channel(w_in, "rad/s", "input rate about the sense axis"),
-            "T1": Channel(t1[:-1], "K", "true housing temperature"),
-            "T2": Channel(t2[:-1], "K", "true cavity temperature"),
-            "chamber": Channel(tch[:-1], "K", "chamber air temperature"),
-            "thermal_bias": Channel(thermal, "rad/s", "sum of the thermal mechanisms"),
-            "turn_on_bias": Channel(np.full(n, b_on), "rad/s", "constant bias of this turn-on"),
-            "flicker_rrw": Channel(flick, "rad/s", "bias instability and rate random walk"),
-            "dither_random_walk": Channel(
-                arw, "rad/s", "random walk from dithering through lock-in"
-            ),
-            "quantization": Channel(quant, "rad/s", "rate error from pulse counting"),
-        }
-        truth.update(
-            {k: Channel(v, "rad/s", f"thermal mechanism {k}") for k, v in bias_mid.items()}
-        )
-        return Recording(
-            fs=fs,
-            channels={
-                "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
-                "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
-                "dither_angle": Channel(
-                    d[1:], "rad", "dither angle at the end of each sample (pick-off)"
-                ),
-                "T1": Channel(t1m, "K", "housing temperature sensor"),
-                "T2": Channel(t2m, "K", "cavity temperature sensor"),
+        terms = _Terms(
+            turn_on_bias=b_on,
+            thermal_bias=thermal,
+            random_walk=self.angle_random_walk,
+            scale_ratio=None,
+            t_housing=t1[:-1],
+            t_cavity=t2[:-1],
+            truth={
+                "T1": Channel(t1[:-1], "K", "true housing temperature"),
+                "T2": Channel(t2[:-1], "K", "true cavity temperature"),
+                "chamber": Channel(tch[:-1], "K", "chamber air temperature"),
+                "thermal_bias": Channel(thermal, "rad/s", "sum of the thermal mechanisms"),
             },
-            truth=truth,
+            truth_last={
+                k: Channel(v, "rad/s", f"thermal mechanism {k}") for k, v in bias_mid.items()
+            },
             metadata={
                 "model": "gyrobench.sim.rlg statistical mode",
                 "unit": self.label,
                 "unit_parameters_si": self,
                 "scale_factor_counts_per_rad": self.scale_factor,
-                "pulse_weight_rad": q,
+                "pulse_weight_rad": self.pulse_weight,
                 "angle_random_walk_rad_sqrt_s": self.angle_random_walk,
                 "turn_on_flow_factors": flow.tolist(),
-                "version": package_version(),
             },
-            name=name,
         )
+        return _finish_run(self, run, rate, terms, _WORDING, name)
 
     def adler_counts(
         self,
@@ -900,6 +834,16 @@ class RLGUnit:
             sample_every=every,
         )
         return count_pulses(psi)
+
+
+def _default_geometry() -> CavityGeometry:
+    """The default cavity of both RLG specs: equilateral triangle of side 0.14 m, He-Ne."""
+    return CavityGeometry.triangle(0.14)
+
+
+def _default_dither() -> Dither:
+    """The default dither of both RLG specs: 400 Hz x 150 arcsec, 10 % amplitude jitter."""
+    return Dither(frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -943,14 +887,10 @@ class RLGSpec:
     mechanisms 15 %, thermal constants 10 %.
     """
 
-    geometry: CavityGeometry = field(default_factory=lambda: CavityGeometry.triangle(0.14))
+    geometry: CavityGeometry = field(default_factory=_default_geometry)
     lock_in_rate: float = units.deg_per_s(0.05)
     lock_in_spread: float = 0.1
-    dither: Dither = field(
-        default_factory=lambda: Dither(
-            frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1
-        )
-    )
+    dither: Dither = field(default_factory=_default_dither)
     bias_spread: float = units.deg_per_h(0.5)
     thermal: TwoNodeThermal = field(default_factory=TwoNodeThermal)
     thermal_spread: float = 0.1
@@ -973,18 +913,22 @@ class RLGSpec:
     sensor_offset_spread: float = 0.2
 
     def __post_init__(self) -> None:
-        for name in (
-            "lock_in_spread",
-            "bias_spread",
-            "thermal_spread",
-            "mechanism_spread",
-            "bias_instability",
-            "rate_random_walk",
-            "bias_repeatability",
-            "flow_repeatability",
-            "sensor_offset_spread",
-        ):
-            _nonneg("RLGSpec", name, getattr(self, name), "(SI or relative)")
+        _nonneg_fields(
+            "RLGSpec",
+            self,
+            (
+                "lock_in_spread",
+                "bias_spread",
+                "thermal_spread",
+                "mechanism_spread",
+                "bias_instability",
+                "rate_random_walk",
+                "bias_repeatability",
+                "flow_repeatability",
+                "sensor_offset_spread",
+            ),
+            "(SI or relative)",
+        )
         # the nominal unit must itself be valid (dither vs lock-in, dither vs pulse weight)
         self.nominal()
 
@@ -1035,7 +979,7 @@ class RLGSpec:
             gas_temperature_coefficient=tb.gas_temperature_coefficient * _lognormal(r_mech, 1.0, m),
             reference_temperature=tb.reference_temperature,
         )
-        offs = self.sensor_offset_spread * r_sens.standard_normal(2)
+        housing, cavity = _sensor_pair(self.sensor, self.sensor_offset_spread, r_sens)
         return RLGUnit(
             geometry=self.geometry,
             lock_in_rate=_lognormal(r_lock, self.lock_in_rate, self.lock_in_spread),
@@ -1047,7 +991,7 @@ class RLGSpec:
             rate_random_walk=self.rate_random_walk,
             bias_repeatability=self.bias_repeatability,
             flow_repeatability=self.flow_repeatability,
-            sensor_housing=replace(self.sensor, offset=self.sensor.offset + offs[0]),
-            sensor_cavity=replace(self.sensor, offset=self.sensor.offset + offs[1]),
+            sensor_housing=housing,
+            sensor_cavity=cavity,
             label=label,
         )

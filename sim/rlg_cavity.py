@@ -40,7 +40,8 @@ temperatures through the mechanisms above, and the PLC state.
 
 The long-record output (:meth:`CavityRLG.simulate`) is the statistical mode of
 :mod:`gyrobench.sim.rlg` (random walk from dithering through lock-in, now with the
-time-varying Omega_L, then pulse counting with the dither stripped). Its validity against the
+time-varying Omega_L, then pulse counting with the dither stripped), run by the same code
+(the private ``gyrobench.sim._rlg_common``, shared by both models). Its validity against the
 full Adler equation (>= 100 dither cycles with the Earth's rate present) and the dead band of
 an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks_rlg_cavity`.
 """
@@ -55,19 +56,31 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.sim import units
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim._rlg_common import (
+    _CavityScale,
+    _chamber_samples,
+    _check_rng,
+    _finish_run,
+    _nonneg,
+    _nonneg_fields,
+    _num,
+    _pos,
+    _require_dither_margin,
+    _sensor_pair,
+    _start_run,
+    _Terms,
+    _Wording,
+)
+from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.rlg import (
     HENE_WAVELENGTH,
     CavityGeometry,
     Dither,
     TemperatureSensor,
-    _check_rng,
+    _default_dither,
+    _default_geometry,
     _first_order_foh,
     _lognormal,
-    _nonneg,
-    _num,
-    _pos,
 )
 
 __all__ = [
@@ -323,10 +336,7 @@ class CavityThermal:
 
         The unit starts soaked at the first chamber sample.
         """
-        tc = np.asarray(chamber, dtype=float)
-        h = 1.0 / _pos("CavityThermal.temperatures", "fs", fs, "Hz")
-        if tc.ndim != 1 or len(tc) < 2:
-            raise ValueError(f"chamber must be 1-D with >= 2 samples; got shape {tc.shape}")
+        tc, h = _chamber_samples("CavityThermal.temperatures", chamber, fs)
         m, b = self.matrices()
         lam, v = np.linalg.eig(m)
         lam, v = lam.real, v.real
@@ -488,7 +498,7 @@ def _mirror_positions(geometry: CavityGeometry) -> tuple[float, ...]:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
-class CavityRLG:
+class CavityRLG(_CavityScale):
     """One drawn cavity-model RLG (all SI). Build with :meth:`CavityRLGSpec.realize`.
 
     Parameters
@@ -537,38 +547,27 @@ class CavityRLG:
 
     def __post_init__(self) -> None:
         _num("CavityRLG", "cte", self.cte)
-        for name in (
-            "imbalance_repeatability",
-            "gas_rise_repeatability",
-            "bias_repeatability",
-            "bias_instability",
-            "rate_random_walk",
-        ):
-            _nonneg("CavityRLG", name, getattr(self, name), "(SI)")
+        _nonneg_fields(
+            "CavityRLG",
+            self,
+            (
+                "imbalance_repeatability",
+                "gas_rise_repeatability",
+                "bias_repeatability",
+                "bias_instability",
+                "rate_random_walk",
+            ),
+            "(SI)",
+        )
         _num("CavityRLG", "bias", self.bias)
         lam = self.geometry.wavelength
         if not self.plc.travel > lam:
             raise ValueError(
                 f"CavityRLG.plc.travel must be > one wavelength {lam!r} m; got {self.plc.travel!r}"
             )
-        worst = self.max_lock_in_rate
-        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
-        if low < 10.0 * worst:
-            raise ValueError(
-                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
-                f"{low!r} rad/s "
-                f"must be >= 10 x the largest possible lock-in {worst!r} rad/s"
-            )
+        _require_dither_margin(self.dither, self.max_lock_in_rate, "the largest possible lock-in")
 
-    @property
-    def scale_factor(self) -> float:
-        """K at T_ref [counts/rad]."""
-        return self.geometry.scale_factor
-
-    @property
-    def pulse_weight(self) -> float:
-        """q at T_ref [rad/count]."""
-        return self.geometry.pulse_weight
+    # scale_factor K and pulse_weight q at T_ref, mode 0 [counts/rad, rad/count]: _CavityScale
 
     @property
     def max_lock_in_rate(self) -> float:
@@ -670,22 +669,10 @@ class CavityRLG:
         (PLC holds the path at the mode, the area follows the block); counts and dither
         stripping as in :mod:`gyrobench.sim.rlg`.
         """
-        _check_rng(rng)
-        fs = _pos("CavityRLG.simulate", "fs", fs, "Hz")
-        dur = _pos("CavityRLG.simulate", "duration", duration, "s")
-        if fs > self.dither.frequency / 4.0:
-            raise ValueError(
-                f"fs must be <= dither frequency / 4 = {self.dither.frequency / 4.0!r} Hz; "
-                f"got {fs!r}"
-            )
-        n = int(round(dur * fs))
-        if n < 2:
-            raise ValueError(f"duration x fs must give >= 2 samples; got {n}")
-        r_on, r_noise, r_arw, r_dither, r_t1, r_t2 = rng.spawn(6)
-        t_grid = np.arange(n + 1) / fs
-        tch = np.asarray(chamber(t_grid), dtype=float)
-        nodes = self.thermal.temperatures(tch, fs)
-        on = self.turn_on(r_on, 0.5 * (nodes[1, 0] + nodes[2, 0]))
+        run = _start_run("CavityRLG.simulate", self.dither, chamber, duration, fs, rng)
+        tch = run.chamber
+        nodes = self.thermal.temperatures(tch, run.fs)
+        on = self.turn_on(run.turn_on_rng, 0.5 * (nodes[1, 0] + nodes[2, 0]))
         mech = self.thermal_bias(nodes, on, mode_hops=mode_hops)
         mid = {k: 0.5 * (mech[k][1:] + mech[k][:-1]) for k in ("bias_langmuir", "bias_backscatter")}
         thermal = mid["bias_langmuir"] + mid["bias_backscatter"]
@@ -694,75 +681,55 @@ class CavityRLG:
         k_ratio = (
             (1.0 + mech["strain"][:-1]) ** 2 * g.perimeter / (g.perimeter + mech["mode"][:-1] * lam)
         )
-        noise = NoiseModel(
-            bias_instability=self.bias_instability, rate_random_walk=self.rate_random_walk
-        )
-        flick = (
-            noise.generate(n, fs, rng=r_noise)
-            if (self.bias_instability > 0 or self.rate_random_walk > 0)
-            else np.zeros(n)
-        )
-        if callable(rate):
-            w_in = np.asarray(rate(t_grid[:-1] + 0.5 / fs), dtype=float) * np.ones(n)
-        else:
-            w_in = np.full(n, _num("CavityRLG.simulate", "rate", rate))
         n_unit = swing_dither_arw(
             scale_factor=self.scale_factor, lock_in_rate=1.0, dither=self.dither
         )
-        arw = n_unit * lock * math.sqrt(fs) * r_arw.standard_normal(n)
-        total = k_ratio * (w_in + on["bias"] + thermal + flick) + arw
-        theta = np.concatenate(([0.0], np.cumsum(total) / fs))
-        jit = self.dither.amplitude_jitter * r_dither.standard_normal(n + 1)
-        d = self.dither.amplitude * (1.0 + jit)
-        d = d * np.sin(r_dither.uniform(0.0, 2.0 * math.pi, n + 1))
-        q = self.pulse_weight
-        counts = np.diff(np.floor((theta + d) / q))
-        out = (q * counts - np.diff(d)) * fs
         sl = slice(None, -1)
-        truth = {
-            "true_rate": Channel(w_in, "rad/s", "input rate about the sense axis"),
-            "T1": Channel(nodes[0, sl], "K", "housing node"),
-            "T2": Channel(nodes[1, sl], "K", "block node A (cavity sensor)"),
-            "T_block_b": Channel(nodes[2, sl], "K", "block node B"),
-            "chamber": Channel(tch[sl], "K", "chamber air temperature"),
-            "thermal_bias": Channel(thermal, "rad/s", "Langmuir flow + backscatter null shift"),
-            "bias_langmuir": Channel(mid["bias_langmuir"], "rad/s", "Langmuir flow"),
-            "bias_backscatter": Channel(mid["bias_backscatter"], "rad/s", "backscatter null shift"),
-            "lock_in_rate": Channel(lock, "rad/s", "lock-in rate from backscatter"),
-            "mode": Channel(mech["mode"][sl], "1", "PLC mode index"),
-            "plc": Channel(mech["plc"][sl], "m", "PLC path correction"),
-            "scale_factor_ratio": Channel(k_ratio, "1", "K / K(T_ref, mode 0)"),
-            "turn_on_bias": Channel(np.full(n, on["bias"]), "rad/s", "bias of this turn-on"),
-            "flicker_rrw": Channel(flick, "rad/s", "bias instability and rate random walk"),
-            "dither_random_walk": Channel(arw, "rad/s", "random walk from dither and lock-in"),
-            "quantization": Channel(out - np.diff(theta) * fs, "rad/s", "counting error"),
-        }
-        return Recording(
-            fs=fs,
-            channels={
-                "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
-                "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
-                "dither_angle": Channel(d[1:], "rad", "dither angle at the end of each sample"),
-                "T1": Channel(
-                    self.sensor_housing.measure(nodes[0, sl], rng=r_t1), "K", "housing sensor"
+        terms = _Terms(
+            turn_on_bias=on["bias"],
+            thermal_bias=thermal,
+            random_walk=n_unit * lock,
+            scale_ratio=k_ratio,
+            t_housing=nodes[0, sl],
+            t_cavity=nodes[1, sl],
+            truth={
+                "T1": Channel(nodes[0, sl], "K", "housing node"),
+                "T2": Channel(nodes[1, sl], "K", "block node A (cavity sensor)"),
+                "T_block_b": Channel(nodes[2, sl], "K", "block node B"),
+                "chamber": Channel(tch[sl], "K", "chamber air temperature"),
+                "thermal_bias": Channel(thermal, "rad/s", "Langmuir flow + backscatter null shift"),
+                "bias_langmuir": Channel(mid["bias_langmuir"], "rad/s", "Langmuir flow"),
+                "bias_backscatter": Channel(
+                    mid["bias_backscatter"], "rad/s", "backscatter null shift"
                 ),
-                "T2": Channel(
-                    self.sensor_cavity.measure(nodes[1, sl], rng=r_t2), "K", "cavity sensor"
-                ),
+                "lock_in_rate": Channel(lock, "rad/s", "lock-in rate from backscatter"),
+                "mode": Channel(mech["mode"][sl], "1", "PLC mode index"),
+                "plc": Channel(mech["plc"][sl], "m", "PLC path correction"),
+                "scale_factor_ratio": Channel(k_ratio, "1", "K / K(T_ref, mode 0)"),
             },
-            truth=truth,
+            truth_last={},
             metadata={
                 "model": "gyrobench.sim.rlg_cavity statistical mode",
                 "unit": self.label,
                 "scale_factor_counts_per_rad": self.scale_factor,
-                "pulse_weight_rad": q,
+                "pulse_weight_rad": self.pulse_weight,
                 "turn_on": on,
                 "cte_per_k": self.cte,
                 "hop_spacing_k": self.hop_spacing,
-                "version": package_version(),
             },
-            name=name,
         )
+        return _finish_run(self, run, rate, terms, _WORDING, name)
+
+
+#: how this model describes the recording channels common to both RLG models
+_WORDING = _Wording(
+    dither_angle="dither angle at the end of each sample",
+    housing_sensor="housing sensor",
+    cavity_sensor="cavity sensor",
+    turn_on_bias="bias of this turn-on",
+    dither_random_walk="random walk from dither and lock-in",
+    quantization="counting error",
+)
 
 
 # ============================================================================ spec
@@ -808,12 +775,8 @@ class CavityRLGSpec:
         Both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
     """
 
-    geometry: CavityGeometry = field(default_factory=lambda: CavityGeometry.triangle(0.14))
-    dither: Dither = field(
-        default_factory=lambda: Dither(
-            frequency=400.0, amplitude=units.arcsec(150.0), amplitude_jitter=0.1
-        )
-    )
+    geometry: CavityGeometry = field(default_factory=_default_geometry)
+    dither: Dither = field(default_factory=_default_dither)
     backscatter_sigma: float = 4.0e-7
     walk_phase_std: float = 1.0
     dissipative: float = 1e-4
@@ -835,24 +798,28 @@ class CavityRLGSpec:
     sensor_offset_spread: float = 0.2
 
     def __post_init__(self) -> None:
-        for name in (
-            "backscatter_sigma",
-            "walk_phase_std",
-            "dissipative",
-            "dissipative_spread",
-            "cte_bound",
-            "thermal_spread",
-            "mount_asymmetry",
-            "tcr_mismatch_std",
-            "imbalance_repeatability",
-            "gas_rise_repeatability",
-            "bias_spread",
-            "bias_repeatability",
-            "bias_instability",
-            "rate_random_walk",
-            "sensor_offset_spread",
-        ):
-            _nonneg("CavityRLGSpec", name, getattr(self, name), "(SI or relative)")
+        _nonneg_fields(
+            "CavityRLGSpec",
+            self,
+            (
+                "backscatter_sigma",
+                "walk_phase_std",
+                "dissipative",
+                "dissipative_spread",
+                "cte_bound",
+                "thermal_spread",
+                "mount_asymmetry",
+                "tcr_mismatch_std",
+                "imbalance_repeatability",
+                "gas_rise_repeatability",
+                "bias_spread",
+                "bias_repeatability",
+                "bias_instability",
+                "rate_random_walk",
+                "sensor_offset_spread",
+            ),
+            "(SI or relative)",
+        )
         # every unit must be dithered well above its largest lock-in: bound the mirrors'
         # amplitudes at the Rayleigh quantile of exceedance 1e-6, all scattering in phase
         worst = lock_in_from_backscatter(
@@ -860,13 +827,12 @@ class CavityRLGSpec:
             area=self.geometry.area,
             wavelength=self.geometry.wavelength,
         )
-        low = self.dither.peak_rate * (1.0 - 3.0 * self.dither.amplitude_jitter)
-        if low < 10.0 * float(worst):
-            raise ValueError(
-                f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
-                f"{low!r} rad/s must be >= 10 x the largest likely lock-in {float(worst)!r} rad/s "
-                f"(backscatter_sigma {self.backscatter_sigma!r})"
-            )
+        _require_dither_margin(
+            self.dither,
+            float(worst),
+            "the largest likely lock-in",
+            f" (backscatter_sigma {self.backscatter_sigma!r})",
+        )
         lo, hi = self.plc_travel
         if not self.geometry.wavelength < lo <= hi:
             raise ValueError(
@@ -902,7 +868,7 @@ class CavityRLGSpec:
             self.discharge,
             sense_tcr_mismatch=self.tcr_mismatch_std * float(r_dis.standard_normal()),
         )
-        offs = self.sensor_offset_spread * r_sens.standard_normal(2)
+        housing, cavity = _sensor_pair(self.sensor, self.sensor_offset_spread, r_sens)
         return CavityRLG(
             geometry=self.geometry,
             dither=self.dither,
@@ -917,7 +883,7 @@ class CavityRLGSpec:
             bias_repeatability=self.bias_repeatability,
             bias_instability=self.bias_instability,
             rate_random_walk=self.rate_random_walk,
-            sensor_housing=replace(self.sensor, offset=self.sensor.offset + offs[0]),
-            sensor_cavity=replace(self.sensor, offset=self.sensor.offset + offs[1]),
+            sensor_housing=housing,
+            sensor_cavity=cavity,
             label=label,
         )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -268,6 +269,36 @@ def test_bad_input_refused():
         u.simulate(_cycle_profile(), 10.0, 200.0, rng=np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng"):
         u.simulate(_cycle_profile(), 10.0, 10.0, rng=0)  # type: ignore[arg-type]
+
+
+def test_dither_margin_refused_just_below_and_accepted_just_above():
+    """Statistical-mode validity: the dither peak rate at -3 sigma of its jitter must be
+    >= 10 x the lock-in, for the spec (Rayleigh 1e-6 quantile, all mirrors in phase:
+    Omega_L = c lambda n sigma sqrt(2 ln 1e6) / (8 pi A)) and for a unit (sum of |r_i|)."""
+    spec = rc.CavityRLGSpec()
+    g, d = spec.geometry, spec.dither
+    low = d.peak_rate * (1.0 - 3.0 * d.amplitude_jitter)
+    quantile = len(g.vertices) * math.sqrt(2.0 * math.log(1e6))
+    per_sigma = rc.SPEED_OF_LIGHT * LAM * quantile / (8.0 * math.pi * g.area)
+    crit = low / (10.0 * per_sigma)
+    rc.CavityRLGSpec(backscatter_sigma=0.99 * crit)
+    with pytest.raises(ValueError, match=r"too small for lock-in.*10 x the largest likely"):
+        rc.CavityRLGSpec(backscatter_sigma=1.01 * crit)
+    u = spec.realize(rng=np.random.default_rng(0))
+    amps = np.asarray(u.backscatter.amplitudes)
+    scale = (low / 10.0) / u.max_lock_in_rate
+    ok = replace(u.backscatter, amplitudes=tuple(0.99 * scale * amps))
+    assert replace(u, backscatter=ok).max_lock_in_rate < low / 10.0
+    bad = replace(u.backscatter, amplitudes=tuple(1.01 * scale * amps))
+    with pytest.raises(ValueError, match=r"too small for lock-in.*10 x the largest possible"):
+        replace(u, backscatter=bad)
+
+
+def test_network_refuses_a_chamber_that_is_not_a_series():
+    with pytest.raises(ValueError, match=r"chamber must be 1-D with >= 2 samples; got shape \(2,"):
+        rc.CavityThermal().temperatures(np.full((2, 2), 300.0), 1.0)
+    with pytest.raises(ValueError, match=r"CavityThermal.temperatures.fs must be > 0 Hz"):
+        rc.CavityThermal().temperatures(np.full(3, 300.0), 0.0)
 
 
 def test_counterfactual_without_hops_differs_only_by_the_hops():

@@ -868,10 +868,184 @@ def _run_linear(
     return mean_u, x_end[:, :, 3], x_end[:, :, 0] + 1j * x_end[:, :, 1], bad
 
 
+def _modal_filter(m: NDArray, y0: NDArray, f: NDArray) -> NDArray | None:
+    """y_{i+1} = M y_i + f_i for all i at once (eigenbasis of M, one lfilter per mode).
+
+    ``y0`` (q,), ``f`` (n, q); returns the end-of-step states (n, q), or None when M is not
+    safely diagonalisable (eigenvector condition number > 1e8).
+    """
+    from scipy.signal import lfilter
+
+    lam, vec = np.linalg.eig(m)
+    if np.linalg.cond(vec) > 1e8:
+        return None
+    vinv = np.linalg.inv(vec)
+    g = f @ vinv.T
+    q0 = vinv @ y0
+    out = np.empty(g.shape, complex)
+    for j in range(lam.size):
+        out[:, j], _ = lfilter([1.0], [1.0, -lam[j]], g[:, j], zi=[lam[j] * q0[j]])
+    return (out @ vec.T).real
+
+
+@dataclass(frozen=True, slots=True)
+class _Segment:
+    """``length`` steps of one column of the clamped slow flow: per-step mean u_I, end-of-step
+    u_Q and B, and the (clamped, J = 0) state after the last of them."""
+
+    length: int
+    mean_u: NDArray
+    u_q: NDArray
+    b: NDArray
+    end: NDArray
+
+
+def _linear_segment(
+    x0: NDArray, e_lin: NDArray, disc: _Discrete, v: float
+) -> _Segment | None:
+    """Steps from state ``x0`` (5,) while the unclamped step stays inside the DAC limit.
+
+    ``e_lin`` (n, 5): the step inputs d gam^T + z chol^T. The segment ends before the first
+    step whose end state would cross the limit (that step is a saturated one).
+    """
+    x = _modal_filter(disc.phi[:4, :4], x0[:4], e_lin[:, :4])
+    if x is None:
+        return None
+    _, _, hit = _clamp(x[:, 2], x[:, 3], v)
+    n_ok = int(np.argmax(hit)) if np.any(hit) else x.shape[0]
+    x_start = np.concatenate([x0[None, :4], x[:-1]], axis=0)[:n_ok]
+    mean_u = (x_start @ disc.phi[4, :4] + e_lin[:n_ok, 4]) / disc.h
+    end = x0.copy() if n_ok == 0 else np.append(x[n_ok - 1], 0.0)
+    return _Segment(n_ok, mean_u, x[:n_ok, 3], x[:n_ok, 0] + 1j * x[:n_ok, 1], end)
+
+
+#: iterations and tolerance [x v_max] of the saturated-segment fixed point
+_SAT_ITER = 40
+_SAT_TOL = 1e-13
+
+
+def _saturated_segment(
+    x0: NDArray, e_lin: NDArray, e_sat: NDArray, disc: _Discrete, sat: _Discrete, v: float
+) -> _Segment | None:
+    """Saturated steps from the clamped state ``x0`` (5,), all at once.
+
+    Each saturated step holds u_I = sgn sqrt(v^2 - u_Q^2) (u_Q at the step start), so the
+    recursion of y = [B_r, B_i, u_Q] is y_{i+1} = A y_i + g a(u_Q,i) + e_i with a nonlinear
+    only through the square root. Linearised at the start value u_Q0, a = alpha + beta u_Q + r,
+    the linear part runs as modal filters (:func:`_modal_filter`) and the residual r is
+    iterated to a fixed point (a chord-Newton iteration; r is second order in u_Q - u_Q0).
+    The segment ends before the first step the step-by-step loop would not take as saturated
+    with this sign (its unclamped candidate inside the limit, or of the other sign), after a
+    step whose u_Q must be clipped at the DAC limit, or where the iteration has not converged.
+    ``e_lin``, ``e_sat`` (n, 5): step inputs of the free and the saturated discretisation.
+    """
+    n = e_lin.shape[0]
+    cand0 = disc.phi @ x0 + e_lin[0]
+    sgn = 1.0 if cand0[2] >= 0 else -1.0
+    uq0 = float(x0[3])
+    s0 = math.sqrt(max(v * v - uq0 * uq0, 0.0))
+    if not s0 > 1e-6 * v:
+        return None
+    alpha, beta = sgn * (s0 + uq0 * uq0 / s0), -sgn * uq0 / s0
+    idx = [0, 1, 3]
+    a_m = sat.phi[np.ix_(idx, idx)]
+    g = sat.phi[idx, 2]
+    m = a_m.copy()
+    m[:, 2] += g * beta
+    y0 = x0[idx]
+    r = np.zeros(n)
+    y_start = np.empty((n, 3))
+    converged = np.zeros(n, dtype=bool)
+    for _ in range(_SAT_ITER):
+        y = _modal_filter(m, y0, e_sat[:, idx] + np.outer(alpha + r, g))
+        if y is None:
+            return None
+        y_start[0], y_start[1:] = y0, y[:-1]
+        uq = y_start[:, 2]
+        r_new = sgn * np.sqrt(np.maximum(v * v - uq * uq, 0.0)) - (alpha + beta * uq)
+        delta = np.abs(r_new - r)
+        r = r_new
+        converged = delta <= _SAT_TOL * v
+        if np.all(converged):
+            break
+    # the steps exactly as the loop takes them, from the converged start states
+    uq_s = y_start[:, 2]
+    sh = np.zeros((n, 5))
+    sh[:, 0], sh[:, 1], sh[:, 3] = y_start[:, 0], y_start[:, 1], uq_s
+    sh[:, 2] = sgn * np.sqrt(np.maximum(v * v - uq_s * uq_s, 0.0))
+    s_new = sh @ sat.phi.T + e_sat
+    mean_u = s_new[:, 4] / sat.h
+    ui_e, uq_e, _ = _clamp(s_new[:, 2], s_new[:, 3], v)
+    # start states as the loop has them (clamped ends), and its candidate test
+    st = np.empty((n, 5))
+    st[0] = x0
+    st[1:, 0], st[1:, 1] = s_new[:-1, 0], s_new[:-1, 1]
+    st[1:, 2], st[1:, 3], st[1:, 4] = ui_e[:-1], uq_e[:-1], 0.0
+    cand = st @ disc.phi.T + e_lin
+    _, _, hit = _clamp(cand[:, 2], cand[:, 3], v)
+    take = hit & (np.sign(cand[:, 2]) == sgn) & converged
+    # a step whose u_Q is clipped changes the next start state: the segment ends after it
+    take[1:] &= np.abs(s_new[:-1, 3]) <= v
+    n_ok = int(np.argmin(take)) if not np.all(take) else n
+    if n_ok == 0:
+        return None
+    end = np.array([s_new[n_ok - 1, 0], s_new[n_ok - 1, 1], ui_e[n_ok - 1], uq_e[n_ok - 1], 0.0])
+    b = s_new[:n_ok, 0] + 1j * s_new[:n_ok, 1]
+    return _Segment(n_ok, mean_u[:n_ok], uq_e[:n_ok], b, end)
+
+
+#: segments per column before the segmented solver steps the rest of it
+_MAX_SEGMENTS = 16
+
+
+def _run_segmented(
+    s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The clamped slow flow, column by column, as alternating free and saturated segments.
+
+    Takes the same steps as :func:`_run_clamped` (the reference; equal to rounding, test):
+    a free segment runs until the first step whose unclamped end crosses the DAC limit
+    (:func:`_linear_segment`), a saturated one until the loop would leave saturation
+    (:func:`_saturated_segment`); each is solved for all its steps at once. A column that
+    switches more than ``_MAX_SEGMENTS`` times (a rate dithering on the knee), or whose
+    segment cannot be solved, is stepped from there by :func:`_run_clamped`.
+    """
+    n, k = d.shape[0], d.shape[1]
+    out_u = np.empty((n, k))
+    out_q = np.empty((n, k))
+    out_b = np.empty((n, k), complex)
+    for c in range(k):
+        zc = None if z is None else z[:, c]
+        e_lin = d[:, c] @ disc.gam.T
+        e_sat = d[:, c] @ sat.gam.T
+        if zc is not None:
+            e_lin = e_lin + zc @ disc.chol.T
+            e_sat = e_sat + zc @ sat.chol.T
+        x = s[c].copy()
+        i, saturated, segments = 0, False, 0
+        while i < n:
+            seg: _Segment | None = None
+            if segments < _MAX_SEGMENTS:
+                seg = (_saturated_segment(x, e_lin[i:], e_sat[i:], disc, sat, v) if saturated
+                       else _linear_segment(x, e_lin[i:], disc, v))
+            if seg is None or (saturated and seg.length == 0):
+                zr = None if zc is None else zc[i:, None, :]
+                u_c, q_c, b_c = _run_clamped(x[None], d[i:, c:c + 1], zr, disc, sat, v)
+                out_u[i:, c], out_q[i:, c], out_b[i:, c] = u_c[:, 0], q_c[:, 0], b_c[:, 0]
+                break
+            j = i + seg.length
+            out_u[i:j, c], out_q[i:j, c], out_b[i:j, c] = seg.mean_u, seg.u_q, seg.b
+            i, x, saturated, segments = j, seg.end, not saturated, segments + 1
+    return out_u, out_q, out_b
+
+
 def _run_clamped(
     s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
 ) -> tuple[NDArray, NDArray, NDArray]:
-    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`)."""
+    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`).
+
+    The reference of :func:`_run_segmented` (which :func:`simulate` uses).
+    """
     n, k = d.shape[0], d.shape[1]
     phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
     zero = np.zeros((k, 5))
@@ -955,7 +1129,10 @@ def simulate(
     the rate command would leave the DAC range within an interval, that interval is redone
     with u_I held at the limit (the exact discretisation with u_I' = 0), then u_Q is clipped:
     exact in the saturated steady state, approximate only in the interval where the loop
-    enters or leaves saturation.
+    enters or leaves saturation. Columns that never reach the limit run as modal filters over
+    all steps; the others as alternating free and saturated segments, each solved for all its
+    steps at once (:func:`_run_segmented`; the step-by-step loop :func:`_run_clamped` is its
+    reference, equal to rounding in a test).
     """
     _check_rng(rng)
     fs = _real("simulate", "fs", fs)
@@ -984,7 +1161,7 @@ def simulate(
     if np.any(bad):  # columns whose rebalance saturates: step by step with the clamp
         cols = np.flatnonzero(bad)
         zc = None if z is None else z[:, cols]
-        u_c, q_c, b_c = _run_clamped(s[cols], d[:, cols], zc, disc, sat, op.v_max)
+        u_c, q_c, b_c = _run_segmented(s[cols], d[:, cols], zc, disc, sat, op.v_max)
         out_u[:, cols], out_q[:, cols], out_b[:, cols] = u_c, q_c, b_c
     y = _output_map(unit, op, out_u) + unit.turn_on_bias - unit.bias_trim
     if flicker and unit.bias_instability > 0:

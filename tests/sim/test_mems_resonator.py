@@ -164,6 +164,42 @@ def test_linear_fast_path_equals_the_clamped_loop():
     np.testing.assert_allclose(b1, b2, rtol=0, atol=1e-9 * np.max(np.abs(b2)))
 
 
+def test_segmented_solver_equals_the_step_loop():
+    """The saturated-segment solver takes the loop's steps: equal to rounding.
+
+    Columns: deep saturation of both signs, a rate stepping out of and back into saturation,
+    one stepping in, and two within 1e-5 of the knee (noise dithers them across it, so they
+    exercise the switch limit and the step-by-step fallback). 1e-9 of v_max (of max |B|) is
+    rounding of a 12000-step recursion solved in a different order, not a model tolerance.
+    """
+    from gyrobench.sim import mems_resonator as mr
+
+    unit = _quiet(quadrature_coupling=2e-4, phase_error=0.02, damping_coupling=5e-4,
+                  dac_full_scale=0.44)
+    op = operating_point(unit)
+    auth = rate_authority(unit)
+    fs, n = 200.0, 12000
+    w = np.tile(np.array([3.0, 1.2, -1.5, 1.00001, 0.99999, 0.5]) * auth, (n, 1))
+    w[n // 3:2 * n // 3, 1] = 0.5 * auth
+    w[n // 2:, 5] = 2.0 * auth
+    acc = np.gradient(w, axis=0) * fs
+    d = mr._fext(op, w, acc)
+    disc = mr._slow_matrices(op, unit, 1 / fs, True)
+    sat = mr._slow_matrices(op, unit, 1 / fs, True, saturated=True)
+    z = mr._draw_noise(np.random.default_rng(3), n, w.shape[1])
+    u = mr._equilibrium_command(op, w[0], acc[0])
+    ui, uq, _ = mr._clamp(u.real, u.imag, op.v_max)
+    b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + 1j * op.gain
+                         * np.exp(1j * op.theta) * (ui + 1j * uq))
+    s0 = np.stack([b.real, b.imag, ui, uq, np.zeros(w.shape[1])], axis=1)
+    u1, q1, b1 = mr._run_clamped(s0, d, z, disc, sat, op.v_max)
+    u2, q2, b2 = mr._run_segmented(s0, d, z, disc, sat, op.v_max)
+    assert np.all(np.abs(u1[n // 2:, 0]) > 0.9 * op.v_max)  # really saturated
+    np.testing.assert_allclose(u2, u1, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(q2, q1, rtol=0, atol=1e-9 * op.v_max)
+    np.testing.assert_allclose(b2, b1, rtol=0, atol=1e-9 * np.max(np.abs(b1)))
+
+
 # ------------------------------------------------------------------ full integration (short)
 def test_full_integration_agrees_with_the_slow_flow():
     """RK4 with the carrier (16 steps per period) vs the slow flow, below and beyond the knee.

@@ -63,6 +63,26 @@ demodulation is Leland 2005]::
 Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker``, clipped to
 +-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range).
 
+Open-loop read-out (``readout="open_loop"``): no rebalance force; the sense mass moves,
+B = R F_ext at low rates, and the rate channel is the demodulated pick-off envelope
+against the design Coriolis phase, Omega_hat = K_ol Re{w_c sat(B_m)}, w_c = j e^{-j theta}/R_c,
+K_ol = s_trim/(2 m w0 X0)::
+
+    SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c}          (follows the mode split and Q)
+    H(f)  = [c_+ G(jW) + conj(c_- G(-jW))] / (2 Re c_0),  G(s) = -p/(s - p)   (bandwidth ~ split)
+
+sat limits |B_m| to the pick-off front end's full scale Y_fs (phase kept): the open-loop knee
+Omega_max solves |R F_ext(Omega)| = Y_fs (:func:`rate_authority`).
+
+g-sensitivity: a specific force f along the sense axis displaces the mass, y_s = -m f/k_y;
+the forcer plates' overlap changes with the drive motion (A_e(x) = A_e (1 + eps_A x)), so
+their electrostatic spring k_e = 2 eps0 A_e V_b^2/g^3 gives the force k_e eps_A x y_s at the
+carrier: a quadrature stiffness dk_yx = (k_e eps_A m/k_y) f, which leaks into the rate output
+through the phase error, dOmega_hat/df = -SF tan(theta) dk_yx/df/(2 m w)
+(:func:`electrostatic_cross_stiffness`, :func:`g_sensitivity`). A drive-axis specific force
+shifts x statically and changes k_y by k_e eps_A x_s (about 1e-5 of k_y - m w^2 per g: an
+open-loop SF change of ~13 ppm/g, none in force rebalance); not modelled.
+
 Two integrators of the same equations
 -------------------------------------
 * :func:`simulate_full`: the equations above with the carrier, a fixed-step RK4 vectorised over
@@ -114,6 +134,7 @@ from gyrobench.sim.noise import NoiseModel
 
 __all__ = [
     "BOLTZMANN",
+    "LIMIT_SIGMAS",
     "EPSILON_0",
     "MemsResonator",
     "MemsResonatorSpec",
@@ -151,6 +172,13 @@ def _real(owner: str, name: str, v: object) -> float:
         raise ValueError(f"{owner}.{name} must be finite; got {v!r}")
     return float(v)
 
+
+#: sigmas a datasheet's +- (or max) limit is read as: the convention of this module's cited
+#: defaults and of ``MemsResonatorSpec.from_datasheet(repeatability_convention="limit")``
+#: (an assumption: a limit screened in production covers nearly every unit; a "typical"
+#: figure is read as 1 sigma, as Analog Devices' EngineerZone note DOC-16082 says their
+#: typical specification-table metrics "often reflect one standard deviation")
+LIMIT_SIGMAS = 3.0
 
 #: fields of MemsResonator that must be > 0
 _POSITIVE = (
@@ -247,10 +275,22 @@ class MemsResonator:
         b_trim, factory bias trim subtracted from the output [rad/s].
     bias_repeatability, scale_factor_repeatability : float
         1-sigma turn-on bias [rad/s] and relative scale-factor error [-] drawn per power-on
-        by :meth:`power_on`, >= 0. Defaults 0.1 deg/s and 1000 ppm: typical of industrial
-        high-range MEMS gyros, unverified (docs/physics.md 5.1 gives 0.1-1 % SF turn-on
-        repeatability as unverified typicals; the Sensonor STIM202/STIM210 FAQ gives scale-factor
-        accuracy +-2000/+-500 ppm and nonlinearity 200/25 ppm for +-400 deg/s class parts).
+        by :meth:`power_on`, >= 0. Defaults for a +-3600 deg/s rate (industrial) grade part,
+        read from these sources with the convention of :data:`LIMIT_SIGMAS` (a datasheet's
+        +- or max limit is 3 sigma; a "typical" value or a grade table's class figure is
+        1 sigma):
+
+        * 0.1 deg/s = 360 deg/h: inside the rate-grade bias range 10-1000 deg/h of the grade
+          table in A. Norouzpour-Shirazi, "Interface circuits and systems for inertial
+          sensors", IEEE Sensors 2013 tutorial (Georgia Tech), in its upper half because a
+          high-range part has a coarse output and a large quadrature to reject. Bracketed by
+          the ADXRS453 data sheet Rev. B (Analog Devices 2011; +-300 deg/s, 16 deg/h null bias
+          stability, an in-run figure: lower bound) and the consumer InvenSense MPU-6050
+          initial ZRO tolerance +-20 deg/s (untrimmed, upper bound).
+        * 1000 ppm: the lower end of the same table's rate-grade scale-factor accuracy
+          0.1-1 %; the tactical Sensonor STIM202 (+-400 deg/s) states +-2000 ppm (Sensonor FAQ
+          "functional differences from STIM202 to STIM210"), i.e. 667 ppm at 3 sigma, and a
+          rate-grade high-range part is not better than it.
     turn_on_bias, turn_on_scale_factor : float
         b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
     """
@@ -1565,6 +1605,7 @@ class MemsResonatorSpec:
         nonlinearity_pct_fs: float = 0.0,
         bias_repeatability_dps: float = 0.0,
         scale_factor_repeatability_ppm: float = 0.0,
+        repeatability_convention: str = "1-sigma",
         output_bits: int | None = 16,
         nominal: MemsResonator | None = None,
     ) -> MemsResonatorSpec:
@@ -1589,12 +1630,21 @@ class MemsResonatorSpec:
             Scale-factor nonlinearity [% FS] below the knee: sets the output cubic a3 so the
             IEEE K_n of a noise-free 21-point +-range table is this value.
         bias_repeatability_dps, scale_factor_repeatability_ppm : float
-            1-sigma turn-on bias [deg/s] and scale-factor repeatability [ppm].
+            Turn-on bias [deg/s] and scale-factor repeatability [ppm].
+        repeatability_convention : {"1-sigma", "limit"}
+            "1-sigma": the two figures are standard deviations (a "typical" entry);
+            "limit": they are +- / max limits, read as :data:`LIMIT_SIGMAS` sigma.
         output_bits : int or None
             Output word length.
         nominal : MemsResonator, optional
             The resonator design (default the module's default design).
         """
+        if repeatability_convention not in ("1-sigma", "limit"):
+            raise ValueError(
+                "repeatability_convention must be '1-sigma' or 'limit'; "
+                f"got {repeatability_convention!r}"
+            )
+        rep_div = LIMIT_SIGMAS if repeatability_convention == "limit" else 1.0
         if noise_density_convention not in ("one-sided", "two-sided"):
             raise ValueError(
                 "noise_density_convention must be 'one-sided' or 'two-sided'; "
@@ -1635,8 +1685,8 @@ class MemsResonatorSpec:
             dac_full_scale=v_max,
             output_cubic=a3,
             bias_instability=units.deg_per_h(bias_instability_dph),
-            bias_repeatability=units.deg_per_s(bias_repeatability_dps),
-            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm),
+            bias_repeatability=units.deg_per_s(bias_repeatability_dps) / rep_div,
+            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm) / rep_div,
         )
         return cls(nominal=nom)
 

@@ -619,3 +619,18 @@ def test_open_loop_trim_and_bad_readout():
     assert zero_rate_output(u) == pytest.approx(0.0, abs=1e-12)
     with pytest.raises(ValueError, match="readout must be one of"):
         MemsResonator(readout="closed")
+
+
+def test_datasheet_repeatability_limit_is_read_as_three_sigma():
+    from gyrobench.sim.mems_resonator import LIMIT_SIGMAS
+
+    kw = dict(noise_density_convention="two-sided", bias_repeatability_dps=0.3,
+              scale_factor_repeatability_ppm=2000.0)
+    one = MemsResonatorSpec.from_datasheet(**kw).nominal
+    lim = MemsResonatorSpec.from_datasheet(repeatability_convention="limit", **kw).nominal
+    assert LIMIT_SIGMAS == 3.0
+    assert one.scale_factor_repeatability == pytest.approx(2e-3, rel=1e-12)
+    assert lim.scale_factor_repeatability == pytest.approx(2e-3 / 3, rel=1e-12)
+    assert lim.bias_repeatability == pytest.approx(units.deg_per_s(0.1), rel=1e-12)
+    with pytest.raises(ValueError, match="repeatability_convention"):
+        MemsResonatorSpec.from_datasheet(repeatability_convention="max", **kw)

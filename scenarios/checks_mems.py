@@ -231,7 +231,8 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         Check(
             id="mems.g_sensitivity",
             formula=(
-                "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), k_e = 2 eps0 A V_b^2/g^3 "
+                "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), "
+                "k_e = 2 eps0 A V_b^2/g^3 "
                 "[rad/s per m/s^2]; (Omega(+20 g) - Omega(-20 g))/(40 g), error / quadrature shift"
             ),
             expected=g_sensitivity(unit, temp),

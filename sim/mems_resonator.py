@@ -255,7 +255,7 @@ class MemsResonator:
     pickoff_full_scale : float
         Y_fs, largest sense envelope amplitude |B_m| the pick-off front end passes [m], > 0
         (open loop only: the envelope is limited to Y_fs, phase kept). Default 1.25e-7 m: the
-        nominal open-loop knee at about the force-rebalance authority (4700 deg/s), a design
+        nominal open-loop knee 4630 deg/s, beside the rebalance authority 4710 deg/s; a design
         choice (6 % of the 2 um gap).
     bias_instability : float
         B of an electronic 1/f term added to the output [rad/s] (IEEE 952), >= 0.
@@ -332,7 +332,9 @@ class MemsResonator:
 
     def __post_init__(self) -> None:
         if self.readout not in READOUTS:
-            raise ValueError(f"MemsResonator.readout must be one of {READOUTS}; got {self.readout!r}")
+            raise ValueError(
+                f"MemsResonator.readout must be one of {READOUTS}; got {self.readout!r}"
+            )
         for f in fields(self):
             if f.name in ("output_bits", "readout"):
                 continue
@@ -574,7 +576,7 @@ def _f_ext(op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | f
 
 
 def _readout_weight(op: OperatingPoint) -> complex:
-    """w_c = j e^{-j theta} / R_c: the open-loop demodulator (rate channel Re{w_c B_m}) [1/(m/N)]."""
+    """w_c = j e^{-j theta} / R_c [N/m]: the open-loop demodulator (rate channel Re{w_c B_m})."""
     return complex(1j * np.exp(-1j * op.theta) / op.r_design)
 
 
@@ -1032,7 +1034,9 @@ def _fext(
     return np.stack([re, im], axis=-1)
 
 
-def _open_loop_matrices(op: OperatingPoint, unit: MemsResonator, h: float, noise: bool) -> _Discrete:
+def _open_loop_matrices(
+    op: OperatingPoint, unit: MemsResonator, h: float, noise: bool
+) -> _Discrete:
     """Exact discretisation of the open-loop slow flow over h (no rebalance).
 
     State [B_r, B_i, J_r, J_i] with J' = B + n~ (the integral of the pick-off envelope, for its

@@ -1198,74 +1198,86 @@ _SAT_ITER = 40
 _SAT_TOL = 1e-13
 
 
-def _saturated_segment(
+def _saturated_batch(
     x0: NDArray, e_lin: NDArray, e_sat: NDArray, disc: _Discrete, sat: _Discrete, v: float
-) -> _Segment | None:
-    """Saturated steps from the clamped state ``x0`` (5,), all at once.
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray] | None:
+    """Saturated steps of k columns from their clamped states ``x0`` (k, 5), all at once.
 
     Each saturated step holds u_I = sgn sqrt(v^2 - u_Q^2) (u_Q at the step start), so the
     recursion of y = [B_r, B_i, u_Q] is y_{i+1} = A y_i + g a(u_Q,i) + e_i with a nonlinear
-    only through the square root. Linearised at the start value u_Q0, a = alpha + beta u_Q + r,
-    the linear part runs as modal filters (:func:`_modal_filter`) and the residual r is
-    iterated to a fixed point (a chord-Newton iteration; r is second order in u_Q - u_Q0).
-    The segment ends before the first step the step-by-step loop would not take as saturated
-    with this sign (its unclamped candidate inside the limit, or of the other sign), after a
-    step whose u_Q must be clipped at the DAC limit, or where the iteration has not converged.
-    ``e_lin``, ``e_sat`` (n, 5): step inputs of the free and the saturated discretisation.
+    only through the square root. Linearised, a = alpha + beta u_Q + r (beta common to the
+    columns: the median slope at their start values; alpha per column so a is exact at the
+    start), the linear part runs as modal filters (:func:`_modal_filter`) and the residual r
+    is iterated to a fixed point (a chord iteration: r is second order in u_Q - u_Q0 plus the
+    columns' slope spread). A column's segment ends before the first step the step-by-step
+    loop would not take as saturated with its sign (the unclamped candidate inside the limit,
+    or of the other sign), after a step whose u_Q must be clipped at the DAC limit, or where
+    the iteration has not converged. ``e_lin``, ``e_sat`` (n, k, 5): step inputs of the free
+    and the saturated discretisation.
+
+    Returns (n_ok (k,), mean u_I (n, k), end-of-step u_Q (n, k), B (n, k), the clamped end
+    states (n, k, 5)), or None if the transition matrix cannot be diagonalised.
     """
-    n = e_lin.shape[0]
-    cand0 = disc.phi @ x0 + e_lin[0]
-    sgn = 1.0 if cand0[2] >= 0 else -1.0
-    uq0 = float(x0[3])
-    s0 = math.sqrt(max(v * v - uq0 * uq0, 0.0))
-    if not s0 > 1e-6 * v:
-        return None
-    alpha, beta = sgn * (s0 + uq0 * uq0 / s0), -sgn * uq0 / s0
+    n, k = e_lin.shape[0], e_lin.shape[1]
+    cand0 = x0 @ disc.phi.T + e_lin[0]
+    sgn = np.where(cand0[:, 2] >= 0, 1.0, -1.0)
+    uq0 = x0[:, 3]
+    s0 = np.sqrt(np.maximum(v * v - uq0 * uq0, 0.0))
+    ok0 = s0 > 1e-6 * v
+    slope = np.where(ok0, -sgn * uq0 / np.where(ok0, s0, 1.0), 0.0)
+    beta = float(np.median(slope))
+    alpha = sgn * s0 - beta * uq0
     idx = [0, 1, 3]
-    a_m = sat.phi[np.ix_(idx, idx)]
     g = sat.phi[idx, 2]
-    m = a_m.copy()
+    m = sat.phi[np.ix_(idx, idx)].copy()
     m[:, 2] += g * beta
-    y0 = x0[idx]
-    r = np.zeros(n)
-    y_start = np.empty((n, 3))
-    converged = np.zeros(n, dtype=bool)
+    y0 = x0[:, idx]
+    es = e_sat[:, :, idx]
+    r = np.zeros((n, k))
+    y_start = np.empty((n, k, 3))
+    converged = np.zeros((n, k), dtype=bool)
     for _ in range(_SAT_ITER):
-        y = _modal_filter(m, y0, e_sat[:, idx] + np.outer(alpha + r, g))
+        y = _modal_filter(m, y0, es + (alpha + r)[:, :, None] * g)
         if y is None:
             return None
         y_start[0], y_start[1:] = y0, y[:-1]
-        uq = y_start[:, 2]
+        uq = y_start[:, :, 2]
         r_new = sgn * np.sqrt(np.maximum(v * v - uq * uq, 0.0)) - (alpha + beta * uq)
-        delta = np.abs(r_new - r)
+        converged = np.abs(r_new - r) <= _SAT_TOL * v
         r = r_new
-        converged = delta <= _SAT_TOL * v
         if np.all(converged):
             break
     # the steps exactly as the loop takes them, from the converged start states
-    uq_s = y_start[:, 2]
-    sh = np.zeros((n, 5))
-    sh[:, 0], sh[:, 1], sh[:, 3] = y_start[:, 0], y_start[:, 1], uq_s
-    sh[:, 2] = sgn * np.sqrt(np.maximum(v * v - uq_s * uq_s, 0.0))
+    uq_s = y_start[:, :, 2]
+    sh = np.zeros((n, k, 5))
+    sh[..., 0], sh[..., 1], sh[..., 3] = y_start[..., 0], y_start[..., 1], uq_s
+    sh[..., 2] = sgn * np.sqrt(np.maximum(v * v - uq_s * uq_s, 0.0))
     s_new = sh @ sat.phi.T + e_sat
-    mean_u = s_new[:, 4] / sat.h
-    ui_e, uq_e, _ = _clamp(s_new[:, 2], s_new[:, 3], v)
+    mean_u = s_new[..., 4] / sat.h
+    ui_e, uq_e, _ = _clamp(s_new[..., 2], s_new[..., 3], v)
+    ends = np.stack([s_new[..., 0], s_new[..., 1], ui_e, uq_e, np.zeros((n, k))], axis=-1)
     # start states as the loop has them (clamped ends), and its candidate test
-    st = np.empty((n, 5))
-    st[0] = x0
-    st[1:, 0], st[1:, 1] = s_new[:-1, 0], s_new[:-1, 1]
-    st[1:, 2], st[1:, 3], st[1:, 4] = ui_e[:-1], uq_e[:-1], 0.0
+    st = np.concatenate([x0[None], ends[:-1]], axis=0)
     cand = st @ disc.phi.T + e_lin
-    _, _, hit = _clamp(cand[:, 2], cand[:, 3], v)
-    take = hit & (np.sign(cand[:, 2]) == sgn) & converged
+    _, _, hit = _clamp(cand[..., 2], cand[..., 3], v)
+    take = hit & (np.sign(cand[..., 2]) == sgn) & converged & ok0
     # a step whose u_Q is clipped changes the next start state: the segment ends after it
-    take[1:] &= np.abs(s_new[:-1, 3]) <= v
-    n_ok = int(np.argmin(take)) if not np.all(take) else n
-    if n_ok == 0:
+    take[1:] &= np.abs(s_new[:-1, :, 3]) <= v
+    n_ok = np.where(np.all(take, axis=0), n, np.argmin(take, axis=0))
+    return n_ok, mean_u, uq_e, s_new[..., 0] + 1j * s_new[..., 1], ends
+
+
+def _saturated_segment(
+    x0: NDArray, e_lin: NDArray, e_sat: NDArray, disc: _Discrete, sat: _Discrete, v: float
+) -> _Segment | None:
+    """One column's saturated segment from the clamped state ``x0`` (5,) (see
+    :func:`_saturated_batch`); None if it cannot start here."""
+    out = _saturated_batch(x0[None], e_lin[:, None], e_sat[:, None], disc, sat, v)
+    if out is None or out[0][0] == 0:
         return None
-    end = np.array([s_new[n_ok - 1, 0], s_new[n_ok - 1, 1], ui_e[n_ok - 1], uq_e[n_ok - 1], 0.0])
-    b = s_new[:n_ok, 0] + 1j * s_new[:n_ok, 1]
-    return _Segment(n_ok, mean_u[:n_ok], uq_e[:n_ok], b, end)
+    n_ok = int(out[0][0])
+    mean_u, uq, b, ends = (a[:n_ok, 0] for a in out[1:])
+    return _Segment(n_ok, mean_u, uq, b, ends[-1])
 
 
 #: segments per column before the segmented solver steps the rest of it
@@ -1288,7 +1300,25 @@ def _run_segmented(
     out_u = np.empty((n, k))
     out_q = np.empty((n, k))
     out_b = np.empty((n, k), complex)
-    for c in range(k):
+    todo = np.ones(k, dtype=bool)
+    # columns saturated from the first step (a dwell beyond the knee): one batch; those it
+    # carries to the end are done, the others go column by column below
+    cand0 = s @ disc.phi.T + d[0] @ disc.gam.T + (0.0 if z is None else z[0] @ disc.chol.T)
+    _, _, hit0 = _clamp(cand0[:, 2], cand0[:, 3], v)
+    if np.any(hit0):
+        cols = np.flatnonzero(hit0)
+        e_lin = d[:, cols] @ disc.gam.T
+        e_sat = d[:, cols] @ sat.gam.T
+        if z is not None:
+            e_lin = e_lin + z[:, cols] @ disc.chol.T
+            e_sat = e_sat + z[:, cols] @ sat.chol.T
+        batch = _saturated_batch(s[cols], e_lin, e_sat, disc, sat, v)
+        if batch is not None:
+            full = batch[0] == n
+            done = cols[full]
+            out_u[:, done], out_q[:, done], out_b[:, done] = (a[:, full] for a in batch[1:4])
+            todo[done] = False
+    for c in np.flatnonzero(todo):
         zc = None if z is None else z[:, c]
         e_lin = d[:, c] @ disc.gam.T
         e_sat = d[:, c] @ sat.gam.T

@@ -198,7 +198,7 @@ class MemsResonator:
     """One MEMS gyro unit: resonator, electrodes and electronics at T0; every field in SI.
 
     Defaults: a plausible +-3600 deg/s force-rebalance design (module docstring and
-    docs/physics.md section 7): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
+    docs/physics.md section 5.1): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
     5 um drive amplitude (the docs/physics.md 5.1 example scaled to a lower-Q high-range part),
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
@@ -1649,8 +1649,8 @@ class MemsResonatorSpec:
         ----------
         range_dps : float
             Measurement range [deg/s]; the output full scale is ``range_dps`` x 10/9
-            (headroom) and the DAC limit v_max is set so the nominal authority is
-            ``range_margin`` x range.
+            (headroom) and the DAC limit v_max (open-loop ``nominal``: the pick-off full
+            scale Y_fs) is set so the nominal authority is ``range_margin`` x range.
         noise_density_dps_rthz : float
             Rate noise density [deg/s/sqrt(Hz)].
         noise_density_convention : {"one-sided", "two-sided"}
@@ -1704,8 +1704,10 @@ class MemsResonatorSpec:
         x_n = math.sqrt(n_tot**2 - n_b**2) * abs(op.receptance) * op.coriolis_gain
         w_range = units.deg_per_s(rng_)
         out_range = w_range * 10.0 / 9.0
-        # v_max so the nominal authority (theta = 0, no quadrature) is margin x range
+        # v_max (open loop: Y_fs) so the nominal authority (theta = 0, no quadrature) is
+        # margin x range
         v_max = range_margin * w_range * op.coriolis_gain / op.gain
+        y_fs = range_margin * w_range * op.coriolis_gain * abs(op.receptance)
         # a3: K_n of Omega + a3 Omega^3/R^2 on the 21-point table is |a3| x c(grid)
         grid = np.linspace(-w_range, w_range, 21)
         cub = grid**3 / out_range**2
@@ -1717,6 +1719,7 @@ class MemsResonatorSpec:
             output_range=out_range,
             output_bits=output_bits,
             dac_full_scale=v_max,
+            pickoff_full_scale=y_fs if op.open_loop else base.pickoff_full_scale,
             output_cubic=a3,
             bias_instability=units.deg_per_h(bias_instability_dph),
             bias_repeatability=units.deg_per_s(bias_repeatability_dps) / rep_div,

@@ -383,6 +383,13 @@ def test_datasheet_range_sets_the_authority():
     assert rate_authority(spec.nominal) == pytest.approx(units.deg_per_s(4500.0), rel=1e-9)
 
 
+def test_datasheet_range_sets_the_open_loop_knee():
+    spec = MemsResonatorSpec.from_datasheet(range_dps=3600.0, range_margin=1.25,
+                                            noise_density_convention="two-sided",
+                                            nominal=MemsResonator(readout="open_loop"))
+    assert rate_authority(spec.nominal) == pytest.approx(units.deg_per_s(4500.0), rel=1e-9)
+
+
 def test_datasheet_nonlinearity_sets_the_cubic():
     spec = MemsResonatorSpec.from_datasheet(nonlinearity_pct_fs=0.1,
                                             noise_density_convention="two-sided", output_bits=None)

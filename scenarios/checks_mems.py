@@ -14,7 +14,16 @@
 * ``mems.slow_flow_vs_full``: largest output difference over the rate set (relative to the
   rate), slow flow vs full integration;
 * ``mems.slow_flow_noise_vs_full``: variance of 20-ms output means, full vs slow flow;
-* ``mems.zero_rate_continuity``: a +-0.1 deg/s pair reads +-0.1 deg/s x SF within the noise.
+* ``mems.zero_rate_continuity``: a +-0.1 deg/s pair reads +-0.1 deg/s x SF within the noise;
+* ``mems.g_sensitivity``: full integration at +-20 g along the sense axis (inertial force on the
+  proof mass, electrostatic cross-stiffness of the forcer plates) vs
+  -SF tan(theta) (dk_yx/df)/(2 m w), error relative to the quadrature shift it must reject;
+* ``mems.open_loop_scale_factor``: open-loop read-out, full integration vs
+  SF = s_trim (w/w0) Re{e^{-j theta} R/R_c} at a temperature away from T0;
+* ``mems.open_loop_slow_vs_full``: open loop, slow flow vs full integration (0-6000 deg/s,
+  through the pick-off full-scale knee);
+* ``mems.open_loop_frequency_response``: open loop, slow flow driven by sinusoidal rates vs the
+  closed-form response H(f) (Coriolis + Euler forces through the envelope pole).
 
 Tolerances: numerical ones from RK4 (relative frequency error (w dt)^4/120 per observable
 that carries the numerical oscillator's frequency: Coriolis force, AGC amplitude estimate,
@@ -35,7 +44,9 @@ from gyrobench.sim.mems_resonator import (
     MemsResonator,
     brownian_arw,
     electronic_arw,
+    g_sensitivity,
     low_rate_scale_factor,
+    open_loop_response,
     operating_point,
     quadrature_rate,
     rate_authority,
@@ -58,6 +69,16 @@ FULL_SETTLE = 0.04
 FULL_RATES_DPS = (0.0, 100.0, 1000.0, 3000.0, 6000.0)
 #: temperature offset of the full-integration unit from T0 [K]
 DELTA_T = 20.0
+#: specific force of the g-sensitivity cases [m/s^2] (+- 20 g)
+G_CASE = 20.0 * 9.80665
+#: open-loop full integration: steps per drive period, record and settling [s], rates [deg/s]
+OPEN_STEPS_PER_CYCLE = 24
+OPEN_DURATION = 0.03
+OPEN_SETTLE = 0.01
+OPEN_RATES_DPS = (0.0, 500.0, 2000.0, 6000.0)
+#: sinusoidal-rate frequencies of the open-loop response check [Hz] and its sample rate [Hz]
+RESPONSE_FREQS_HZ = (20.0, 200.0, 500.0, 800.0)
+RESPONSE_FS = 1e5
 
 
 def rk4_tolerance(unit: MemsResonator, steps_per_cycle: int = STEPS_PER_CYCLE) -> float:
@@ -84,13 +105,18 @@ def check_unit() -> MemsResonator:
 
 
 def _full_noise_free(unit: MemsResonator, temperature: float, rng: np.random.Generator):
+    """The rate cases, then two zero-rate cases at +-G_CASE along the sense axis."""
     rates = units.deg_per_s(np.array(FULL_RATES_DPS))
+    k = rates.size
     res = simulate_full(
-        unit, rates, duration=FULL_DURATION, fs=1000.0, rng=rng, temperature=temperature,
-        steps_per_cycle=STEPS_PER_CYCLE, noise=False, adc=False,
+        unit, np.concatenate([rates, [0.0, 0.0]]), duration=FULL_DURATION, fs=1000.0, rng=rng,
+        temperature=temperature, steps_per_cycle=STEPS_PER_CYCLE, noise=False, adc=False,
+        specific_force=np.concatenate([np.zeros(k), [G_CASE, -G_CASE]]),
     )
     keep = int(round(FULL_SETTLE * 1000.0))
-    return rates, res.output[keep:].mean(axis=0), res.sense_envelope[-1], res.drive_amplitude[keep:]
+    out = res.output[keep:].mean(axis=0)
+    return (rates, out[:k], res.sense_envelope[-1, :k], res.drive_amplitude[keep:, :k],
+            out[k:])
 
 
 def _slow_noise_free(unit: MemsResonator, rates, temperature: float, rng: np.random.Generator):
@@ -133,7 +159,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     unit = check_unit()
     temp = unit.reference_temperature + DELTA_T
     r_full, r_slow = rng.spawn(2)
-    rates, full, b_full, x_full = _full_noise_free(unit, temp, r_full)
+    rates, full, b_full, x_full, g_full = _full_noise_free(unit, temp, r_full)
     slow, b_slow = _slow_noise_free(unit, rates, temp, r_slow)
     tol = rk4_tolerance(unit)
     op = operating_point(unit, temp)
@@ -147,6 +173,8 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     sat_expected = saturated_output(unit, float(rates[-1]), temp)
     diff = np.abs(full - slow) / np.maximum(np.abs(rates), units.deg_per_s(100.0))
     i = int(np.argmax(diff))
+    # the quadrature shift per unit specific force the g-sensitivity check must reject
+    wq_g = abs(op.kyx_g / (2.0 * op.m * op.wx)) * low_rate_scale_factor(unit, temp)
     der = (f"RK4 with {STEPS_PER_CYCLE} steps per drive period: 3 (w dt)^4/120 = {tol:.2g} "
            "(relative frequency error in the Coriolis force, AGC amplitude estimate and "
            "demodulation references)")
@@ -199,6 +227,20 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
             derivation=der + f" x d ln R / d ln w = 2 w^2/(w_y^2 - w^2) = {tol_b / tol:.3g} "
                              "(amplitude and phase of the open-loop sense motion)",
             scale=float(abs(b_slow[-1])),
+        ),
+        Check(
+            id="mems.g_sensitivity",
+            formula=(
+                "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), "
+                "k_e = 2 eps0 A V_b^2/g^3 "
+                "[rad/s per m/s^2]; (Omega(+20 g) - Omega(-20 g))/(40 g), error / quadrature shift"
+            ),
+            expected=g_sensitivity(unit, temp),
+            simulated=float((g_full[0] - g_full[1]) / (2.0 * G_CASE)),
+            tolerance=tol,
+            derivation=der + "; measured against the quadrature shift per m/s^2 "
+                             "SF (dk_yx/df)/(2 m w) it must reject",
+            scale=wq_g,
         ),
         Check(
             id="mems.slow_flow_vs_full",
@@ -275,7 +317,97 @@ def _continuity(rng: np.random.Generator) -> Check:
     )
 
 
+def open_loop_unit() -> MemsResonator:
+    """:func:`check_unit` read out open loop."""
+    return replace(check_unit(), readout="open_loop")
+
+
+def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
+    unit = open_loop_unit()
+    temp = unit.reference_temperature + DELTA_T
+    rates = units.deg_per_s(np.array(OPEN_RATES_DPS))
+    r_full, r_slow = rng.spawn(2)
+    res = simulate_full(unit, rates, duration=OPEN_DURATION, fs=1000.0, rng=r_full,
+                        temperature=temp, steps_per_cycle=OPEN_STEPS_PER_CYCLE, noise=False,
+                        adc=False)
+    full = res.output[int(round(OPEN_SETTLE * 1000.0)):].mean(axis=0)
+    slow, _ = _slow_noise_free(unit, rates, temp, r_slow)
+    op = operating_point(unit, temp)
+    sens = 2 * op.wx**2 / (op.wy**2 - op.wx**2)
+    tol = rk4_tolerance(unit, OPEN_STEPS_PER_CYCLE) * sens
+    der = (f"RK4 with {OPEN_STEPS_PER_CYCLE} steps per drive period: 3 (w dt)^4/120 times the "
+           f"receptance's sensitivity to a common frequency error 2 w^2/(w_y^2 - w^2) = {sens:.3g}"
+           " (the open-loop output is R F)")
+    floor = units.deg_per_s(100.0)
+    diff = np.abs(full - slow) / np.maximum(np.abs(rates), floor)
+    i = int(np.argmax(diff))
+    return [
+        Check(
+            id="mems.open_loop_scale_factor",
+            formula="SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c} [-] (full integration, "
+                    "0 and 500 deg/s)",
+            expected=low_rate_scale_factor(unit, temp),
+            simulated=float((full[1] - full[0]) / rates[1]),
+            tolerance=tol,
+            derivation=der,
+        ),
+        Check(
+            id="mems.open_loop_slow_vs_full",
+            formula="open loop: max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s)"
+                    " [-] (0-6000 deg/s, through the pick-off full-scale knee)",
+            expected=float(slow[i]),
+            simulated=float(full[i]),
+            tolerance=tol,
+            derivation=der + f"; worst rate {units.to_deg_per_s(rates[i]):g} deg/s",
+            scale=float(max(abs(rates[i]), floor)),
+        ),
+    ]
+
+
+def _open_loop_response_check(rng: np.random.Generator) -> Check:
+    """Slow flow (open loop) driven by sinusoidal rates vs H(f) sinc^2(f/fs) (ZOH in, mean out)."""
+    unit = open_loop_unit()
+    op = operating_point(unit)
+    fs, h = RESPONSE_FS, 1.0 / RESPONSE_FS
+    amp = units.deg_per_s(100.0)
+    sf, zro, p = low_rate_scale_factor(unit), zero_rate_output(unit), op.pole
+    worst = (-1.0, 0.0, 0.0, 1.0, 0.0)  # (rel error / tol, f, |err|, tol, |H|)
+    for f in RESPONSE_FREQS_HZ:
+        per = int(round(fs / f))
+        nset, nrec = int(0.05 * fs), per * max(1, int(round(0.05 * f)))
+        t = np.arange(nset + nrec) * h
+        res = simulate(unit, amp * np.cos(2 * np.pi * f * t), fs=fs, rng=rng, noise=False,
+                       adc=False, flicker=False)
+        y, tt = res.output[nset:] - zro, t[nset:]
+        a = np.stack([np.cos(2 * np.pi * f * tt), -np.sin(2 * np.pi * f * tt)], axis=1)
+        c = np.linalg.lstsq(a, y, rcond=None)[0]
+        h_sim = complex(c[0], c[1]) / (amp * sf)
+        h_cf = complex(open_loop_response(unit, f)) * float(np.sinc(f * h)) ** 2
+        w = 2 * np.pi * f
+        gmax = max(abs(-p / (1j * w - p)), abs(-p / (-1j * w - p)))
+        t_f = 2 * (w * h) ** 2 / 6 * w / (2 * op.wx) * gmax / abs(h_cf) + 1e-9
+        e = abs(h_sim - h_cf) / abs(h_cf)
+        if e / t_f > worst[0]:
+            worst = (e / t_f, f, e, t_f, abs(h_cf))
+    _, f_w, e_w, t_w, _ = worst
+    return Check(
+        id="mems.open_loop_frequency_response",
+        formula=("H(f) = [c_+ G(jW) + conj(c_- G(-jW))]/2 / Re c_0, G(s) = -p/(s - p), "
+                 "c_+- ~ -j m X0 (2 w +- W) w_c R; worst of "
+                 f"{', '.join(f'{x:g}' for x in RESPONSE_FREQS_HZ)} Hz, |H_sim - H| / |H| [-]"),
+        expected=0.0,
+        simulated=float(e_w),
+        tolerance=float(t_w),
+        derivation=(f"at {f_w:g} Hz (worst relative to its tolerance): twice the bound of the "
+                    "central-difference Omega' error (W h)^2/6 on the Euler term W/(2 w), times "
+                    "max |G(+-jW)| / |H|, plus 1e-9; the ZOH input and interval-mean output are "
+                    "in the closed form as sinc^2(f/fs)"),
+        scale=1.0,
+    )
+
+
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Run the MEMS resonator checks (about a minute; two short full integrations)."""
-    r = rng.spawn(4)
-    return [_arw_check(r[0]), *_full_checks(r[1]), _noise_vs_full(r[2]), _continuity(r[3])]
+    """Run the MEMS resonator checks (a minute or two; three short full integrations)."""
+    r = rng.spawn(6)
+    return [_arw_check(r[0]), *_full_checks(r[1]), _noise_vs_full(r[2]), _continuity(r[3]),
+            *_open_loop_checks(r[4]), _open_loop_response_check(r[5])]

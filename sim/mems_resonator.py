@@ -63,6 +63,26 @@ demodulation is Leland 2005]::
 Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker``, clipped to
 +-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range).
 
+Open-loop read-out (``readout="open_loop"``): no rebalance force; the sense mass moves,
+B = R F_ext at low rates, and the rate channel is the demodulated pick-off envelope
+against the design Coriolis phase, Omega_hat = K_ol Re{w_c sat(B_m)}, w_c = j e^{-j theta}/R_c,
+K_ol = s_trim/(2 m w0 X0)::
+
+    SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c}          (follows the mode split and Q)
+    H(f)  = [c_+ G(jW) + conj(c_- G(-jW))] / (2 Re c_0),  G(s) = -p/(s - p)   (bandwidth ~ split)
+
+sat limits |B_m| to the pick-off front end's full scale Y_fs (phase kept): the open-loop knee
+Omega_max solves |R F_ext(Omega)| = Y_fs (:func:`rate_authority`).
+
+g-sensitivity: a specific force f along the sense axis displaces the mass, y_s = -m f/k_y;
+the forcer plates' overlap changes with the drive motion (A_e(x) = A_e (1 + eps_A x)), so
+their electrostatic spring k_e = 2 eps0 A_e V_b^2/g^3 gives the force k_e eps_A x y_s at the
+carrier: a quadrature stiffness dk_yx = (k_e eps_A m/k_y) f, which leaks into the rate output
+through the phase error, dOmega_hat/df = -SF tan(theta) dk_yx/df/(2 m w)
+(:func:`electrostatic_cross_stiffness`, :func:`g_sensitivity`). A drive-axis specific force
+shifts x statically and changes k_y by k_e eps_A x_s (about 1e-5 of k_y - m w^2 per g: an
+open-loop SF change of ~13 ppm/g, none in force rebalance); not modelled.
+
 Two integrators of the same equations
 -------------------------------------
 * :func:`simulate_full`: the equations above with the carrier, a fixed-step RK4 vectorised over
@@ -114,6 +134,7 @@ from gyrobench.sim.noise import NoiseModel
 
 __all__ = [
     "BOLTZMANN",
+    "LIMIT_SIGMAS",
     "EPSILON_0",
     "MemsResonator",
     "MemsResonatorSpec",
@@ -122,7 +143,11 @@ __all__ = [
     "brownian_arw",
     "electronic_arw",
     "quadrature_rate",
+    "electrostatic_cross_stiffness",
+    "g_sensitivity",
     "low_rate_scale_factor",
+    "open_loop_response",
+    "READOUTS",
     "zero_rate_output",
     "rate_authority",
     "saturated_output",
@@ -148,12 +173,21 @@ def _real(owner: str, name: str, v: object) -> float:
     return float(v)
 
 
+#: sigmas a datasheet's +- (or max) limit is read as: the convention of this module's cited
+#: defaults and of ``MemsResonatorSpec.from_datasheet(repeatability_convention="limit")``
+#: (an assumption: a limit screened in production covers nearly every unit; a "typical"
+#: figure is read as 1 sigma, as Analog Devices' EngineerZone note DOC-16082 says their
+#: typical specification-table metrics "often reflect one standard deviation")
+LIMIT_SIGMAS = 3.0
+
 #: fields of MemsResonator that must be > 0
 _POSITIVE = (
     "mass", "drive_frequency", "drive_q", "sense_q", "drive_amplitude", "electrode_area",
     "electrode_gap", "bias_voltage", "dac_full_scale", "loop_bandwidth", "agc_bandwidth",
-    "output_range", "reference_temperature",
+    "output_range", "reference_temperature", "pickoff_full_scale",
 )
+#: the sense read-outs (MemsResonator.readout)
+READOUTS = ("force_rebalance", "open_loop")
 #: fields of MemsResonator that must be >= 0
 _NON_NEGATIVE = ("pickoff_noise", "bias_instability", "bias_repeatability",
                  "scale_factor_repeatability")
@@ -164,7 +198,7 @@ class MemsResonator:
     """One MEMS gyro unit: resonator, electrodes and electronics at T0; every field in SI.
 
     Defaults: a plausible +-3600 deg/s force-rebalance design (module docstring and
-    docs/physics.md section 7): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
+    docs/physics.md section 5.1): 2 ug modal mass, 15 kHz drive, +500 Hz mode split, Q = 2000,
     5 um drive amplitude (the docs/physics.md 5.1 example scaled to a lower-Q high-range part),
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
@@ -207,6 +241,22 @@ class MemsResonator:
         Output word length; q = 2 R / 2^bits (None: not quantized).
     output_cubic : float
         a3, output-referred odd cubic of the rebalance path [-]: + a3 Omega^3 / R^2.
+    forcer_area_gradient : float
+        eps_A = (1/A_e) dA_e/dx [1/m]: relative change of the rebalance plates' overlap area
+        per metre of drive displacement (the g-sensitivity mechanism, :func:`g_sensitivity`).
+        1/L_p for single-ended plates of overlap L_p along the drive; 0 for a double-ended
+        arrangement whose overlap changes cancel. Default 2.5e4 1/m: single-ended plates of
+        40 um overlap (8x the drive amplitude), a design choice.
+    readout : {"force_rebalance", "open_loop"}
+        Sense read-out. "force_rebalance": the rebalance loop nulls the sense motion and the
+        rate is its rate-channel command. "open_loop": no rebalance; the rate is the sense
+        envelope demodulated against the design Coriolis phase, K_ol Re{j e^{-j theta} B_m/R_c}
+        with K_ol = s_trim / (2 m w0 X0) (see :func:`open_loop_response`).
+    pickoff_full_scale : float
+        Y_fs, largest sense envelope amplitude |B_m| the pick-off front end passes [m], > 0
+        (open loop only: the envelope is limited to Y_fs, phase kept). Default 1.25e-7 m: the
+        nominal open-loop knee 4630 deg/s, beside the rebalance authority 4710 deg/s; a design
+        choice (6 % of the 2 um gap).
     bias_instability : float
         B of an electronic 1/f term added to the output [rad/s] (IEEE 952), >= 0.
     reference_temperature : float
@@ -225,10 +275,22 @@ class MemsResonator:
         b_trim, factory bias trim subtracted from the output [rad/s].
     bias_repeatability, scale_factor_repeatability : float
         1-sigma turn-on bias [rad/s] and relative scale-factor error [-] drawn per power-on
-        by :meth:`power_on`, >= 0. Defaults 0.1 deg/s and 1000 ppm: typical of industrial
-        high-range MEMS gyros, unverified (docs/physics.md 5.1 gives 0.1-1 % SF turn-on
-        repeatability as unverified typicals; the Sensonor STIM202/STIM210 FAQ gives scale-factor
-        accuracy +-2000/+-500 ppm and nonlinearity 200/25 ppm for +-400 deg/s class parts).
+        by :meth:`power_on`, >= 0. Defaults for a +-3600 deg/s rate (industrial) grade part,
+        read from these sources with the convention of :data:`LIMIT_SIGMAS` (a datasheet's
+        +- or max limit is 3 sigma; a "typical" value or a grade table's class figure is
+        1 sigma):
+
+        * 0.1 deg/s = 360 deg/h: inside the rate-grade bias range 10-1000 deg/h of the grade
+          table in A. Norouzpour-Shirazi, "Interface circuits and systems for inertial
+          sensors", IEEE Sensors 2013 tutorial (Georgia Tech), in its upper half because a
+          high-range part has a coarse output and a large quadrature to reject. Bracketed by
+          the ADXRS453 data sheet Rev. B (Analog Devices 2011; +-300 deg/s, 16 deg/h null bias
+          stability, an in-run figure: lower bound) and the consumer InvenSense MPU-6050
+          initial ZRO tolerance +-20 deg/s (untrimmed, upper bound).
+        * 1000 ppm: the lower end of the same table's rate-grade scale-factor accuracy
+          0.1-1 %; the tactical Sensonor STIM202 (+-400 deg/s) states +-2000 ppm (Sensonor FAQ
+          "functional differences from STIM202 to STIM210"), i.e. 667 ppm at 3 sigma, and a
+          rate-grade high-range part is not better than it.
     turn_on_bias, turn_on_scale_factor : float
         b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
     """
@@ -252,6 +314,9 @@ class MemsResonator:
     output_range: float = units.deg_per_s(4000.0)
     output_bits: int | None = 16
     output_cubic: float = 0.0
+    forcer_area_gradient: float = 2.5e4
+    readout: str = "force_rebalance"
+    pickoff_full_scale: float = 1.25e-7
     bias_instability: float = 0.0
     reference_temperature: float = units.celsius(25.0)
     frequency_tc: float = -30e-6
@@ -266,8 +331,12 @@ class MemsResonator:
     turn_on_scale_factor: float = 0.0
 
     def __post_init__(self) -> None:
+        if self.readout not in READOUTS:
+            raise ValueError(
+                f"MemsResonator.readout must be one of {READOUTS}; got {self.readout!r}"
+            )
         for f in fields(self):
-            if f.name == "output_bits":
+            if f.name in ("output_bits", "readout"):
                 continue
             v = _real("MemsResonator", f.name, getattr(self, f.name))
             if f.name in _POSITIVE and not v > 0:
@@ -332,7 +401,10 @@ class OperatingPoint:
     Attributes: m [kg]; wx, wy [rad/s]; cx, cy [kg/s]; kx, ky, kyx [N/m]; cyx [kg/s]; x0 [m];
     gain G [N/V]; theta [rad]; temperature [K]; k_out [rad/s per V] (output conversion,
     fixed at T0); kappa_c (controller constant j 2 pi f_c / (R_c G_c), complex [V/(m s)]);
-    v_max [V].
+    v_max [V]; r_design R_c [m/N] (the T0 receptance the controller and the open-loop
+    demodulator are designed with); open_loop (readout); y_fs [m] the pick-off full scale;
+    kyx_g = dk_yx/df [N/m per m/s^2] (specific force along the sense axis f:
+    the electrostatic cross-stiffness of the forcer plates, :func:`g_sensitivity`).
     """
 
     m: float
@@ -351,6 +423,10 @@ class OperatingPoint:
     k_out: float
     kappa_c: complex
     v_max: float
+    kyx_g: float = 0.0
+    r_design: complex = 0j
+    open_loop: bool = False
+    y_fs: float = math.inf
 
     @property
     def receptance(self) -> complex:
@@ -410,15 +486,19 @@ def operating_point(unit: MemsResonator, temperature: float | None = None) -> Op
     # controller designed at T0 with theta = 0: R_c the T0 receptance
     rc = 1.0 / (m * (wy0**2 - wx0**2) + 1j * (m * wy0 / unit.sense_q) * wx0)
     kappa_c = 1j * 2.0 * math.pi * unit.loop_bandwidth / (rc * g0)
-    k_out = unit.scale_factor_trim * g0 / (2.0 * m * wx0 * unit.drive_amplitude)
+    open_loop = unit.readout == "open_loop"
+    k_out = unit.scale_factor_trim * (1.0 if open_loop else g0) / (
+        2.0 * m * wx0 * unit.drive_amplitude)
     op = OperatingPoint(
         m=m, wx=wx, wy=wy, cx=cx, cy=cy, kx=kx, ky=ky,
         kyx=unit.quadrature_coupling * kx, cyx=unit.damping_coupling * cy,
         x0=unit.drive_amplitude, gain=gain, theta=unit.phase_error + unit.phase_tc * dt,
         temperature=t, k_out=k_out, kappa_c=complex(kappa_c), v_max=unit.dac_full_scale,
+        kyx_g=gain * unit.bias_voltage / unit.electrode_gap * unit.forcer_area_gradient * m / ky,
+        r_design=complex(rc), open_loop=open_loop, y_fs=unit.pickoff_full_scale,
     )
     roots = op.loop_poles
-    if not np.all(roots.real < 0):
+    if not open_loop and not np.all(roots.real < 0):
         raise ValueError(
             f"rebalance loop unstable at {t!r} K: loop_bandwidth {unit.loop_bandwidth!r} Hz "
             "must stay below about the sense half-bandwidth f_y/(2 Q_y) = "
@@ -451,32 +531,129 @@ def quadrature_rate(unit: MemsResonator, temperature: float | None = None) -> fl
     return op.kyx / (2.0 * op.m * op.wx)
 
 
-def _equilibrium_command(op: OperatingPoint, rate: NDArray, accel: NDArray) -> NDArray:
+def electrostatic_cross_stiffness(unit: MemsResonator, temperature: float | None = None) -> float:
+    """dk_yx/df [N/m per m/s^2]: quadrature stiffness per unit specific force along the sense axis.
+
+    The differential forcer pair (gap g, bias V_b, area A_e(x) = A_e (1 + eps_A x)) has the
+    co-energy W = (eps0 A_e(x) V_b^2 / 2) [1/(g - y) + 1/(g + y)], so
+    F_y = dW/dy = k_e (1 + eps_A x) y + O(y^3/g^3) with the electrostatic spring
+    k_e = 2 eps0 A_e V_b^2 / g^3 = G V_b / g, and F_x = dW/dx = k_e eps_A y^2 / 2 + const.
+    A specific force f along the sense axis displaces the mass statically, y_s = -m f / k_y,
+    and the term k_e eps_A x y_s is a force at the carrier in phase with the drive
+    displacement: a quadrature stiffness dk_yx = -k_e eps_A y_s = k_e eps_A m f / k_y
+    [DERIVED; Kaajakari 2009 ch. 6-7 for the parallel-plate force and spring]. Quadrature
+    reaches the rate output only through the phase error (:func:`g_sensitivity`).
+    """
+    return operating_point(unit, temperature).kyx_g
+
+
+def g_sensitivity(unit: MemsResonator, temperature: float | None = None) -> float:
+    """d Omega_hat / d f [rad/s per m/s^2]: output change per specific force along the sense axis.
+
+    Force rebalance: -SF tan(theta) dk_yx/df / (2 m w) (the quadrature leak of
+    :func:`zero_rate_output`); open loop: the same quadrature force read through
+    Re{e^{-j theta} R/R_c} (:func:`zero_rate_output`). Exact for the linear model
+    (from the noise-free equilibrium at f = 0 and 1 m/s^2).
+    """
+    return zero_rate_output(unit, temperature, specific_force=1.0) - zero_rate_output(
+        unit, temperature
+    )
+
+
+def _equilibrium_command(
+    op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
+) -> NDArray:
     """u (complex) that nulls the sense envelope: j G e^{j theta} u = -F_ext."""
     f_ext = (-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0
-             - (op.kyx + op.m * accel) * op.x0)
+             - (op.kyx + op.kyx_g * force + op.m * accel) * op.x0)
     return -f_ext / (1j * op.gain * np.exp(1j * op.theta))
+
+
+def _f_ext(op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0):
+    """The external sense force envelope F_ext [N] (complex)."""
+    return (-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0
+            - (op.kyx + op.kyx_g * force + op.m * accel) * op.x0)
+
+
+def _readout_weight(op: OperatingPoint) -> complex:
+    """w_c = j e^{-j theta} / R_c [N/m]: the open-loop demodulator (rate channel Re{w_c B_m})."""
+    return complex(1j * np.exp(-1j * op.theta) / op.r_design)
+
+
+def _limit(b: NDArray, y_fs: float) -> NDArray:
+    """Front-end limit of the envelope amplitude: b min(1, Y_fs/|b|) (phase kept)."""
+    mag = np.abs(b)
+    return b * np.minimum(1.0, y_fs / np.maximum(mag, 1e-300))
+
+
+def _static_channels(
+    op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
+) -> NDArray:
+    """Noise-free settled channels (complex; the real part is the rate channel), unclamped in
+    force rebalance (the equilibrium command u [V]); open loop w_c sat(R F_ext) [N]."""
+    if op.open_loop:
+        return _readout_weight(op) * _limit(op.receptance * _f_ext(op, rate, accel, force),
+                                            op.y_fs)
+    return _equilibrium_command(op, rate, accel, force)
 
 
 def low_rate_scale_factor(unit: MemsResonator, temperature: float | None = None) -> float:
     """Low-rate scale factor d Omega_hat / d Omega [-] below the knee (noise-free).
 
-    SF = (1 + e_on) s_trim (w/w0) (G0/G) cos(theta)  [DERIVED from the equilibrium u].
+    Force rebalance: SF = (1 + e_on) s_trim (w/w0) (G0/G) cos(theta)  [DERIVED from the
+    equilibrium u]. Open loop: SF = (1 + e_on) s_trim (w/w0) Re{e^{-j theta} R(T)/R_c}, the
+    sense receptance R = 1/(m (w_y^2 - w^2) + j c_y w) at the drive frequency relative to its
+    design value [DERIVED from B = R F_ext]: it follows the mode split and Q.
     """
     op = operating_point(unit, temperature)
+    if op.open_loop:
+        return (1.0 + unit.turn_on_scale_factor) * op.k_out * op.coriolis_gain * float(
+            (np.exp(-1j * op.theta) * op.receptance / op.r_design).real)
     return (1.0 + unit.turn_on_scale_factor) * op.k_out * op.coriolis_gain * math.cos(
         op.theta
     ) / op.gain
 
 
-def zero_rate_output(unit: MemsResonator, temperature: float | None = None) -> float:
+def open_loop_response(
+    unit: MemsResonator, frequency: ArrayLike, temperature: float | None = None
+) -> NDArray[np.complex128]:
+    """Open-loop rate-to-output frequency response relative to DC, H(f)/H(0) [-] (complex).
+
+    The sense envelope obeys B' = p (B - R F) (:func:`simulate`), so a force component
+    e^{j W t} reaches B through G(jW) = -p/(jW - p). A real rate cos(W t) applies the Coriolis
+    and the angular-acceleration (Euler) forces, F = -j 2 m w X0 Omega - m X0 Omega', i.e.
+    F_+- = -j m X0 (2 w +- W) on e^{+-j W t}; the output Re{w_c B} is Re{H e^{j W t}} with
+    H = [c_+ G(jW) + conj(c_- G(-jW))]/2, c_+- = w_c R F_+- [DERIVED], returned divided by the
+    DC gain Re{c_0}. |H| peaks near the mode split |Im p| and falls beyond it: the open-loop
+    bandwidth is set by the split and the sense half-bandwidth w_y/(2 Q_y).
+    """
+    op = operating_point(unit, temperature)
+    f = np.asarray(frequency, dtype=float)
+    if not np.all(np.isfinite(f)):
+        raise ValueError("frequency must be finite [Hz]")
+    p = op.pole
+    cw = _readout_weight(op) * op.receptance * (-1j * op.m * op.x0)
+
+    def g(s: NDArray) -> NDArray:
+        return -p / (s - p)
+
+    w = 2.0 * math.pi * f
+    h = (cw * (2 * op.wx + w) * g(1j * w) + np.conj(cw * (2 * op.wx - w) * g(-1j * w))) / 2.0
+    return np.asarray(h / (cw * 2 * op.wx).real, dtype=np.complex128)
+
+
+def zero_rate_output(
+    unit: MemsResonator, temperature: float | None = None, *, specific_force: float = 0.0
+) -> float:
     """Noise-free output at Omega = 0 [rad/s]: SF (Omega_b - Omega_q tan theta) + b_on - b_trim.
 
     Omega_b = c_yx / (2 m) (anisodamping, Coriolis phase), Omega_q sin(theta) the quadrature
-    leaking through the phase error.
+    leaking through the phase error; Omega_q includes the specific-force part
+    (dk_yx/df) f / (2 m w) (``specific_force`` f [m/s^2] along the sense axis).
     """
     op = operating_point(unit, temperature)
-    u = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
+    f = _real("zero_rate_output", "specific_force", specific_force)
+    u = _static_channels(op, np.zeros(1), np.zeros(1), f)[0]
     return _output_map(unit, op, np.array([u.real]))[0] + unit.turn_on_bias - unit.bias_trim
 
 
@@ -485,17 +662,24 @@ def rate_authority(unit: MemsResonator, temperature: float | None = None) -> flo
 
     Solves |u_I(Omega)| = sqrt(v_max^2 - u_Q^2) with u_Q the equilibrium quadrature command;
     for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (docs/physics.md 5.1).
-    Returns 0 if the quadrature alone uses up the authority.
+    Returns 0 if the quadrature alone uses up the authority. Open loop: the rate where the
+    sense envelope |R F_ext| reaches the pick-off full scale Y_fs (the quadrature shares it).
     """
     op = operating_point(unit, temperature)
     # u is affine in Omega: u = u0 + u1 Omega; the clamp: |u_Q| <= v, |u_I| <= sqrt(v^2 - u_Q^2)
-    u0 = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
-    u1 = _equilibrium_command(op, np.ones(1), np.zeros(1))[0] - u0
+    if op.open_loop:
+        u0 = complex(op.receptance * _f_ext(op, np.zeros(1), np.zeros(1))[0])
+        u1 = complex(op.receptance * _f_ext(op, np.ones(1), np.zeros(1))[0]) - u0
+        lim = op.y_fs
+    else:
+        u0 = _equilibrium_command(op, np.zeros(1), np.zeros(1))[0]
+        u1 = _equilibrium_command(op, np.ones(1), np.zeros(1))[0] - u0
+        lim = op.v_max
     # |u0 + u1 W| = v (a quadratic in W; with Q-priority the rate channel saturates when
     # u_I^2 + u_Q^2 = v^2 as long as |u_Q| < v)
     a = abs(u1) ** 2
     b = 2.0 * (u0.real * u1.real + u0.imag * u1.imag)
-    c = abs(u0) ** 2 - op.v_max**2
+    c = abs(u0) ** 2 - lim**2
     disc = b * b - 4 * a * c
     if c >= 0 or disc < 0:
         return 0.0
@@ -515,6 +699,10 @@ def saturated_output(unit: MemsResonator, rate: float, temperature: float | None
     op = operating_point(unit, temperature)
     if abs(rate) <= rate_authority(unit, temperature):
         raise ValueError(f"rate must exceed the rate authority; got {rate!r} rad/s")
+    if op.open_loop:  # the front end limits |B| to Y_fs, phase kept
+        ch = _static_channels(op, np.array([float(rate)]), np.zeros(1))[0]
+        return (float(_output_map(unit, op, np.array([ch.real]))[0]) + unit.turn_on_bias
+                - unit.bias_trim)
     sgn = math.copysign(1.0, rate)
     f_ext = complex(-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0 - op.kyx * op.x0)
     gz = 1j * op.gain * complex(np.exp(1j * op.theta))
@@ -588,6 +776,7 @@ def simulate_full(
     rng: np.random.Generator,
     fs: float = 1000.0,
     rate_acceleration: ArrayLike = 0.0,
+    specific_force: ArrayLike = 0.0,
     temperature: float | None = None,
     steps_per_cycle: int = 24,
     noise: bool = True,
@@ -609,6 +798,11 @@ def simulate_full(
         Output sample rate [Hz]; the output is the boxcar mean of the RK4 samples over 1/fs.
     rate_acceleration : array_like
         Omega' of each case [rad/s^2]: Omega(t) = Omega(0) + Omega' t.
+    specific_force : array_like
+        f of each case [m/s^2], constant: specific force along the sense axis (+1 g at rest
+        with the sense axis up). Enters as the inertial force -m f on the proof mass and, through
+        the displaced mass, the forcer's electrostatic cross-stiffness k_e eps_A x y
+        (:func:`electrostatic_cross_stiffness`; its reciprocal k_e eps_A y^2/2 on the drive).
     temperature : float, optional
         Die temperature [K] (default T0).
     steps_per_cycle : int
@@ -636,6 +830,7 @@ def simulate_full(
     op = operating_point(unit, temperature)
     w0 = _as_cases("rate", rate)
     al = np.broadcast_to(_as_cases("rate_acceleration", rate_acceleration), w0.shape).copy()
+    sf_y = np.broadcast_to(_as_cases("specific_force", specific_force), w0.shape).copy()
     if not (isinstance(steps_per_cycle, (int, np.integer)) and steps_per_cycle >= 16):
         raise ValueError(f"steps_per_cycle must be an integer >= 16; got {steps_per_cycle!r}")
     duration = _real("simulate_full", "duration", duration)
@@ -664,27 +859,37 @@ def simulate_full(
     sig_fy = math.sqrt(2.0 * BOLTZMANN * op.temperature * cy / dt) if noise else 0.0
     sig_n = unit.pickoff_noise / math.sqrt(2.0 * dt) if noise else 0.0
 
-    if initial == "equilibrium":
-        u = _equilibrium_command(op, w0, al)
+    # electrostatic cross-stiffness k_e eps_A of the forcer plates [N/m per m]
+    ke_eps = op.kyx_g * ky / m
+    y_static = -m * sf_y / ky
+    if op.open_loop:  # no rebalance: the sense mass moves, B = R F_ext at equilibrium
+        f_ext = (-1j * op.coriolis_gain * w0 - 1j * wx * cyx * x0
+                 - (kyx + op.kyx_g * sf_y + m * al) * x0)
+        ui, uq = np.zeros(k), np.zeros(k)
+        b = op.receptance * f_ext if initial == "equilibrium" else np.zeros(k, complex)
+    elif initial == "equilibrium":
+        u = _equilibrium_command(op, w0, al, sf_y)
         ui, uq, _ = _clamp(u.real, u.imag, op.v_max)
-        f_ext = (-1j * op.coriolis_gain * w0 - 1j * wx * cyx * x0 - (kyx + m * al) * x0)
+        f_ext = (-1j * op.coriolis_gain * w0 - 1j * wx * cyx * x0
+                 - (kyx + op.kyx_g * sf_y + m * al) * x0)
         b = op.receptance * (f_ext + gz * (ui + 1j * uq))
     else:
         ui, uq, b = np.zeros(k), np.zeros(k), np.zeros(k, complex)
     # state rows: x, vx, y, vy, I_agc, u_i, u_q
     s = np.empty((7, k))
     s[0], s[1] = x0, 0.0
-    s[2], s[3] = b.real, (1j * wx * b).real
+    s[2], s[3] = b.real + y_static, (1j * wx * b).real
     # I_agc at the discrete equilibrium: c_x plus the RK4 amplitude decay of the harmonic
     # oscillator, |R| = 1 - (w dt)^6/144 per step, which the AGC must make up
     s[4] = cx + 2.0 * m * (wx * dt) ** 6 / (144.0 * dt)
     s[5], s[6] = ui, uq
 
     gzr, gzi = gz.real, gz.imag
-    kcr, kci = 2.0 * kc.real, 2.0 * kc.imag
+    kcr, kci = (0.0, 0.0) if op.open_loop else (2.0 * kc.real, 2.0 * kc.imag)
     inv_wx = 1.0 / wx
     two_m = 2.0 * m
     ma = m * al
+    mf = m * sf_y
 
     def deriv(t: float, s: NDArray, fx: NDArray, fy: NDArray, n: NDArray) -> NDArray:
         x, vx, y, vy, ia, u_i, u_q = s
@@ -700,9 +905,9 @@ def simulate_full(
         ffb = zr * c_ref - zi * s_ref
         cen = m * om * om
         ax = ((ia + kp_a * e - cx) * vx - kx * x - kyx * y - cyx * vy + two_m * om * vy
-              + cen * x + ma * y + fx) / m
+              + cen * x + ma * y + 0.5 * ke_eps * y * y + fx) / m
         ay = (ffb - cy * vy - ky * y - kyx * x - cyx * vx - two_m * om * vx
-              + cen * y - ma * x + fy) / m
+              + cen * y - ma * x - mf + ke_eps * x * y + fy) / m
         # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
         ym = y + n
         pr, pi_ = ym * c_ref, -ym * s_ref
@@ -717,6 +922,7 @@ def simulate_full(
     out_uq = np.empty((n_out, k))
     out_xa = np.empty((n_out, k))
     out_b = np.empty((n_out, k), complex)
+    out_bm = np.empty((n_out, k), complex)
     t = 0.0
     zero = np.zeros(k)
     for j in range(n_out):
@@ -724,6 +930,7 @@ def simulate_full(
         acc_uq = np.zeros(k)
         acc_xa = np.zeros(k)
         acc_b = np.zeros(k, complex)
+        acc_bm = np.zeros(k, complex)
         if noise:
             z3 = rng.standard_normal((n_dec, 3, k))
         for i in range(n_dec):
@@ -742,9 +949,14 @@ def simulate_full(
             acc_ui += s[5]
             acc_uq += s[6]
             acc_xa += xh
-            acc_b += 2.0 * s[2] * (s[0] / xh + 1j * s[1] / (wx * xh))  # 2 y e^{-jwt}
+            ref = s[0] / xh + 1j * s[1] / (wx * xh)  # e^{-jwt}
+            acc_b += 2.0 * s[2] * ref  # 2 y e^{-jwt}
+            acc_bm += 2.0 * (s[2] + nn) * ref  # the pick-off's, with its noise
         out_ui[j], out_uq[j] = acc_ui / n_dec, acc_uq / n_dec
-        out_xa[j], out_b[j] = acc_xa / n_dec, acc_b / n_dec
+        out_xa[j], out_b[j], out_bm[j] = acc_xa / n_dec, acc_b / n_dec, acc_bm / n_dec
+    if op.open_loop:  # read-out: the demodulated pick-off, limited by the front end
+        ch = _readout_weight(op) * _limit(out_bm, op.y_fs)
+        out_ui, out_uq = ch.real, ch.imag
     y_out = _output_map(unit, op, out_ui) + unit.turn_on_bias - unit.bias_trim
     if adc:
         y_out = _adc(unit, y_out)
@@ -812,11 +1024,72 @@ def _slow_matrices(
     return _Discrete(phi, gam, chol, h)
 
 
-def _fext(op: OperatingPoint, rate: NDArray, accel: NDArray) -> NDArray:
-    """F_ext envelope (Coriolis, anisodamping, quadrature, angular acceleration) as [re, im]."""
-    re = -(op.kyx + op.m * accel) * op.x0
+def _fext(
+    op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
+) -> NDArray:
+    """F_ext envelope (Coriolis, anisodamping, quadrature incl. its specific-force part,
+    angular acceleration) as [re, im]."""
+    re = -(op.kyx + op.kyx_g * force + op.m * accel) * op.x0
     im = -op.coriolis_gain * rate - op.wx * op.cyx * op.x0
     return np.stack([re, im], axis=-1)
+
+
+def _open_loop_matrices(
+    op: OperatingPoint, unit: MemsResonator, h: float, noise: bool
+) -> _Discrete:
+    """Exact discretisation of the open-loop slow flow over h (no rebalance).
+
+    State [B_r, B_i, J_r, J_i] with J' = B + n~ (the integral of the pick-off envelope, for its
+    exact interval mean); inputs the F_ext envelope [re, im] (ZOH); noise f~ (force) and n~
+    (pick-off), two-sided intensities S_F = 4 k_B T c_y and S_n per component.
+    """
+    from scipy.linalg import expm
+
+    p, r = op.pole, op.receptance
+    a = np.zeros((4, 4))
+    a[0:2, 0:2] = _cmat(p)
+    a[2:4, 0:2] = np.eye(2)
+    bd = np.zeros((4, 2))
+    bd[0:2, :] = _cmat(-p * r)
+    bw = np.zeros((4, 4))
+    bw[0:2, 0:2] = _cmat(-p * r)
+    bw[2:4, 2:4] = np.eye(2)
+    s_f = 4.0 * BOLTZMANN * op.temperature * op.cy if noise else 0.0
+    s_n = unit.pickoff_noise**2 if noise else 0.0
+    qc = np.diag([s_f, s_f, s_n, s_n])
+    aug = np.zeros((6, 6))
+    aug[:4, :4] = a
+    aug[:4, 4:] = bd
+    e = expm(aug * h)
+    vl = np.zeros((8, 8))
+    vl[:4, :4] = -a
+    vl[:4, 4:] = bw @ qc @ bw.T
+    vl[4:, 4:] = a.T
+    ev = expm(vl * h)
+    qd = ev[4:, 4:].T @ ev[:4, 4:]
+    qd = 0.5 * (qd + qd.T)
+    w, v = np.linalg.eigh(qd)
+    return _Discrete(e[:4, :4], e[:4, 4:], v * np.sqrt(np.clip(w, 0.0, None)), h)
+
+
+def _run_open_loop(
+    b0: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete
+) -> tuple[NDArray, NDArray]:
+    """Open-loop slow flow for all steps at once: per-step mean pick-off envelope and end B.
+
+    ``b0`` (k,) complex start envelope, ``d`` (n, k, 2), ``z`` (n, k, >= 4) standard normals.
+    """
+    e = d @ disc.gam.T
+    if z is not None:
+        e = e + z[..., :4] @ disc.chol.T
+    y0 = np.stack([b0.real, b0.imag], axis=-1)
+    x = _modal_filter(disc.phi[:2, :2], y0, e[..., :2])
+    if x is None:  # pragma: no cover - a 2x2 complex-pole block is always diagonalisable
+        raise RuntimeError("open-loop transition matrix not diagonalisable")
+    x_start = np.concatenate([y0[None], x[:-1]], axis=0)
+    j = x_start @ disc.phi[2:4, :2].T + e[..., 2:4]
+    mean_b = (j[..., 0] + 1j * j[..., 1]) / disc.h
+    return mean_b, x[..., 0] + 1j * x[..., 1]
 
 
 #: steps per noise draw of the slow flow (the stream is the same whatever the path taken)
@@ -868,10 +1141,215 @@ def _run_linear(
     return mean_u, x_end[:, :, 3], x_end[:, :, 0] + 1j * x_end[:, :, 1], bad
 
 
+def _modal_filter(m: NDArray, y0: NDArray, f: NDArray) -> NDArray | None:
+    """y_{i+1} = M y_i + f_i for all i at once (eigenbasis of M, one lfilter per mode).
+
+    ``y0`` (..., q), ``f`` (n, ..., q); returns the end-of-step states (n, ..., q), or None when
+    M is not safely diagonalisable (eigenvector condition number > 1e8).
+    """
+    from scipy.signal import lfilter
+
+    lam, vec = np.linalg.eig(m)
+    if np.linalg.cond(vec) > 1e8:
+        return None
+    vinv = np.linalg.inv(vec)
+    g = f @ vinv.T
+    q0 = y0 @ vinv.T
+    out = np.empty(g.shape, complex)
+    for j in range(lam.size):
+        zi = (lam[j] * q0[..., j])[None, ...]
+        out[..., j], _ = lfilter([1.0], [1.0, -lam[j]], g[..., j], axis=0, zi=zi)
+    return (out @ vec.T).real
+
+
+@dataclass(frozen=True, slots=True)
+class _Segment:
+    """``length`` steps of one column of the clamped slow flow: per-step mean u_I, end-of-step
+    u_Q and B, and the (clamped, J = 0) state after the last of them."""
+
+    length: int
+    mean_u: NDArray
+    u_q: NDArray
+    b: NDArray
+    end: NDArray
+
+
+def _linear_segment(
+    x0: NDArray, e_lin: NDArray, disc: _Discrete, v: float
+) -> _Segment | None:
+    """Steps from state ``x0`` (5,) while the unclamped step stays inside the DAC limit.
+
+    ``e_lin`` (n, 5): the step inputs d gam^T + z chol^T. The segment ends before the first
+    step whose end state would cross the limit (that step is a saturated one).
+    """
+    x = _modal_filter(disc.phi[:4, :4], x0[:4], e_lin[:, :4])
+    if x is None:
+        return None
+    _, _, hit = _clamp(x[:, 2], x[:, 3], v)
+    n_ok = int(np.argmax(hit)) if np.any(hit) else x.shape[0]
+    x_start = np.concatenate([x0[None, :4], x[:-1]], axis=0)[:n_ok]
+    mean_u = (x_start @ disc.phi[4, :4] + e_lin[:n_ok, 4]) / disc.h
+    end = x0.copy() if n_ok == 0 else np.append(x[n_ok - 1], 0.0)
+    return _Segment(n_ok, mean_u, x[:n_ok, 3], x[:n_ok, 0] + 1j * x[:n_ok, 1], end)
+
+
+#: iterations and tolerance [x v_max] of the saturated-segment fixed point
+_SAT_ITER = 40
+_SAT_TOL = 1e-13
+
+
+def _saturated_batch(
+    x0: NDArray, e_lin: NDArray, e_sat: NDArray, disc: _Discrete, sat: _Discrete, v: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray] | None:
+    """Saturated steps of k columns from their clamped states ``x0`` (k, 5), all at once.
+
+    Each saturated step holds u_I = sgn sqrt(v^2 - u_Q^2) (u_Q at the step start), so the
+    recursion of y = [B_r, B_i, u_Q] is y_{i+1} = A y_i + g a(u_Q,i) + e_i with a nonlinear
+    only through the square root. Linearised, a = alpha + beta u_Q + r (beta common to the
+    columns: the median slope at their start values; alpha per column so a is exact at the
+    start), the linear part runs as modal filters (:func:`_modal_filter`) and the residual r
+    is iterated to a fixed point (a chord iteration: r is second order in u_Q - u_Q0 plus the
+    columns' slope spread). A column's segment ends before the first step the step-by-step
+    loop would not take as saturated with its sign (the unclamped candidate inside the limit,
+    or of the other sign), after a step whose u_Q must be clipped at the DAC limit, or where
+    the iteration has not converged. ``e_lin``, ``e_sat`` (n, k, 5): step inputs of the free
+    and the saturated discretisation.
+
+    Returns (n_ok (k,), mean u_I (n, k), end-of-step u_Q (n, k), B (n, k), the clamped end
+    states (n, k, 5)), or None if the transition matrix cannot be diagonalised.
+    """
+    n, k = e_lin.shape[0], e_lin.shape[1]
+    cand0 = x0 @ disc.phi.T + e_lin[0]
+    sgn = np.where(cand0[:, 2] >= 0, 1.0, -1.0)
+    uq0 = x0[:, 3]
+    s0 = np.sqrt(np.maximum(v * v - uq0 * uq0, 0.0))
+    ok0 = s0 > 1e-6 * v
+    slope = np.where(ok0, -sgn * uq0 / np.where(ok0, s0, 1.0), 0.0)
+    beta = float(np.median(slope))
+    alpha = sgn * s0 - beta * uq0
+    idx = [0, 1, 3]
+    g = sat.phi[idx, 2]
+    m = sat.phi[np.ix_(idx, idx)].copy()
+    m[:, 2] += g * beta
+    y0 = x0[:, idx]
+    es = e_sat[:, :, idx]
+    r = np.zeros((n, k))
+    y_start = np.empty((n, k, 3))
+    converged = np.zeros((n, k), dtype=bool)
+    for _ in range(_SAT_ITER):
+        y = _modal_filter(m, y0, es + (alpha + r)[:, :, None] * g)
+        if y is None:
+            return None
+        y_start[0], y_start[1:] = y0, y[:-1]
+        uq = y_start[:, :, 2]
+        r_new = sgn * np.sqrt(np.maximum(v * v - uq * uq, 0.0)) - (alpha + beta * uq)
+        converged = np.abs(r_new - r) <= _SAT_TOL * v
+        r = r_new
+        if np.all(converged):
+            break
+    # the steps exactly as the loop takes them, from the converged start states
+    uq_s = y_start[:, :, 2]
+    sh = np.zeros((n, k, 5))
+    sh[..., 0], sh[..., 1], sh[..., 3] = y_start[..., 0], y_start[..., 1], uq_s
+    sh[..., 2] = sgn * np.sqrt(np.maximum(v * v - uq_s * uq_s, 0.0))
+    s_new = sh @ sat.phi.T + e_sat
+    mean_u = s_new[..., 4] / sat.h
+    ui_e, uq_e, _ = _clamp(s_new[..., 2], s_new[..., 3], v)
+    ends = np.stack([s_new[..., 0], s_new[..., 1], ui_e, uq_e, np.zeros((n, k))], axis=-1)
+    # start states as the loop has them (clamped ends), and its candidate test
+    st = np.concatenate([x0[None], ends[:-1]], axis=0)
+    cand = st @ disc.phi.T + e_lin
+    _, _, hit = _clamp(cand[..., 2], cand[..., 3], v)
+    take = hit & (np.sign(cand[..., 2]) == sgn) & converged & ok0
+    # a step whose u_Q is clipped changes the next start state: the segment ends after it
+    take[1:] &= np.abs(s_new[:-1, :, 3]) <= v
+    n_ok = np.where(np.all(take, axis=0), n, np.argmin(take, axis=0))
+    return n_ok, mean_u, uq_e, s_new[..., 0] + 1j * s_new[..., 1], ends
+
+
+def _saturated_segment(
+    x0: NDArray, e_lin: NDArray, e_sat: NDArray, disc: _Discrete, sat: _Discrete, v: float
+) -> _Segment | None:
+    """One column's saturated segment from the clamped state ``x0`` (5,) (see
+    :func:`_saturated_batch`); None if it cannot start here."""
+    out = _saturated_batch(x0[None], e_lin[:, None], e_sat[:, None], disc, sat, v)
+    if out is None or out[0][0] == 0:
+        return None
+    n_ok = int(out[0][0])
+    mean_u, uq, b, ends = (a[:n_ok, 0] for a in out[1:])
+    return _Segment(n_ok, mean_u, uq, b, ends[-1])
+
+
+#: segments per column before the segmented solver steps the rest of it
+_MAX_SEGMENTS = 16
+
+
+def _run_segmented(
+    s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The clamped slow flow, column by column, as alternating free and saturated segments.
+
+    Takes the same steps as :func:`_run_clamped` (the reference; equal to rounding, test):
+    a free segment runs until the first step whose unclamped end crosses the DAC limit
+    (:func:`_linear_segment`), a saturated one until the loop would leave saturation
+    (:func:`_saturated_segment`); each is solved for all its steps at once. A column that
+    switches more than ``_MAX_SEGMENTS`` times (a rate dithering on the knee), or whose
+    segment cannot be solved, is stepped from there by :func:`_run_clamped`.
+    """
+    n, k = d.shape[0], d.shape[1]
+    out_u = np.empty((n, k))
+    out_q = np.empty((n, k))
+    out_b = np.empty((n, k), complex)
+    todo = np.ones(k, dtype=bool)
+    # columns saturated from the first step (a dwell beyond the knee): one batch; those it
+    # carries to the end are done, the others go column by column below
+    cand0 = s @ disc.phi.T + d[0] @ disc.gam.T + (0.0 if z is None else z[0] @ disc.chol.T)
+    _, _, hit0 = _clamp(cand0[:, 2], cand0[:, 3], v)
+    if np.any(hit0):
+        cols = np.flatnonzero(hit0)
+        e_lin = d[:, cols] @ disc.gam.T
+        e_sat = d[:, cols] @ sat.gam.T
+        if z is not None:
+            e_lin = e_lin + z[:, cols] @ disc.chol.T
+            e_sat = e_sat + z[:, cols] @ sat.chol.T
+        batch = _saturated_batch(s[cols], e_lin, e_sat, disc, sat, v)
+        if batch is not None:
+            full = batch[0] == n
+            done = cols[full]
+            out_u[:, done], out_q[:, done], out_b[:, done] = (a[:, full] for a in batch[1:4])
+            todo[done] = False
+    for c in np.flatnonzero(todo):
+        zc = None if z is None else z[:, c]
+        e_lin = d[:, c] @ disc.gam.T
+        e_sat = d[:, c] @ sat.gam.T
+        if zc is not None:
+            e_lin = e_lin + zc @ disc.chol.T
+            e_sat = e_sat + zc @ sat.chol.T
+        x = s[c].copy()
+        i, saturated, segments = 0, False, 0
+        while i < n:
+            seg: _Segment | None = None
+            if segments < _MAX_SEGMENTS:
+                seg = (_saturated_segment(x, e_lin[i:], e_sat[i:], disc, sat, v) if saturated
+                       else _linear_segment(x, e_lin[i:], disc, v))
+            if seg is None or (saturated and seg.length == 0):
+                zr = None if zc is None else zc[i:, None, :]
+                u_c, q_c, b_c = _run_clamped(x[None], d[i:, c:c + 1], zr, disc, sat, v)
+                out_u[i:, c], out_q[i:, c], out_b[i:, c] = u_c[:, 0], q_c[:, 0], b_c[:, 0]
+                break
+            j = i + seg.length
+            out_u[i:j, c], out_q[i:j, c], out_b[i:j, c] = seg.mean_u, seg.u_q, seg.b
+            i, x, saturated, segments = j, seg.end, not saturated, segments + 1
+    return out_u, out_q, out_b
+
+
 def _run_clamped(
     s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
 ) -> tuple[NDArray, NDArray, NDArray]:
-    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`)."""
+    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`).
+
+    The reference of :func:`_run_segmented` (which :func:`simulate` uses).
+    """
     n, k = d.shape[0], d.shape[1]
     phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
     zero = np.zeros((k, 5))
@@ -905,8 +1383,9 @@ class SlowFlowResult:
     """Output of :func:`simulate`; arrays of the rate's shape.
 
     ``output`` [rad/s] the gyro output (after ADC when requested), ``u_i``, ``u_q`` [V] the
-    interval-mean rebalance commands (u_q: end-of-interval value), ``sense_envelope`` [m] the
-    complex sense envelope at the end of each interval.
+    interval-mean rebalance commands (u_q: end-of-interval value; open loop: the rate and
+    quadrature channels Re, Im{w_c sat(mean B_m)} [N]), ``sense_envelope`` [m] the complex
+    sense envelope at the end of each interval.
     """
 
     fs: float
@@ -926,6 +1405,7 @@ def simulate(
     noise: bool = True,
     adc: bool = True,
     flicker: bool = True,
+    specific_force: ArrayLike | None = None,
 ) -> SlowFlowResult:
     """Slow-flow (demodulated) simulation at the output rate; one sample per 1/fs.
 
@@ -943,6 +1423,10 @@ def simulate(
         Die temperature [K] (default T0).
     noise, adc, flicker : bool
         Brownian + pick-off noise; output range and quantization; the 1/f term.
+    specific_force : array_like, optional
+        Specific force along the sense axis [m/s^2] (+1 g at rest with the sense axis up),
+        broadcast to the rate's shape, held over each interval (ZOH); default 0. It adds the
+        quadrature stiffness (dk_yx/df) f (:func:`electrostatic_cross_stiffness`).
 
     Returns
     -------
@@ -955,7 +1439,10 @@ def simulate(
     the rate command would leave the DAC range within an interval, that interval is redone
     with u_I held at the limit (the exact discretisation with u_I' = 0), then u_Q is clipped:
     exact in the saturated steady state, approximate only in the interval where the loop
-    enters or leaves saturation.
+    enters or leaves saturation. Columns that never reach the limit run as modal filters over
+    all steps; the others as alternating free and saturated segments, each solved for all its
+    steps at once (:func:`_run_segmented`; the step-by-step loop :func:`_run_clamped` is its
+    reference, equal to rounding in a test).
     """
     _check_rng(rng)
     fs = _real("simulate", "fs", fs)
@@ -969,11 +1456,32 @@ def simulate(
     n, k = w2.shape
     op = operating_point(unit, temperature)
     acc = np.gradient(w2, axis=0) * fs if n > 1 else np.zeros_like(w2)
-    d = _fext(op, w2, acc)  # (n, k, 2)
-    disc = _slow_matrices(op, unit, 1.0 / fs, noise)
+    if specific_force is None:
+        fy = np.zeros_like(w2)
+    else:
+        f_in = np.asarray(specific_force, dtype=float)
+        if not np.all(np.isfinite(f_in)):
+            raise ValueError("specific_force must be finite [m/s^2]")
+        try:
+            fy = np.broadcast_to(f_in[:, None] if squeeze and f_in.ndim == 1 else f_in,
+                                 w2.shape)
+        except ValueError:
+            raise ValueError(
+                f"specific_force must broadcast to the rate's shape {w.shape}; "
+                f"got shape {f_in.shape}"
+            ) from None
+    d = _fext(op, w2, acc, fy)  # (n, k, 2)
     r_noise, r_flick = rng.spawn(2)
+    if op.open_loop:
+        ol = _open_loop_matrices(op, unit, 1.0 / fs, noise)
+        b0 = op.receptance * (d[0, :, 0] + 1j * d[0, :, 1])
+        z = _draw_noise(r_noise, n, k) if noise else None
+        mean_b, out_b = _run_open_loop(b0, d, z, ol)
+        ch = _readout_weight(op) * _limit(mean_b, op.y_fs)
+        return _finish(unit, op, ch.real, ch.imag, out_b, fs, r_flick, flicker, adc, squeeze)
+    disc = _slow_matrices(op, unit, 1.0 / fs, noise)
     # initial state: equilibrium at the first rate
-    u = _equilibrium_command(op, w2[0], acc[0])
+    u = _equilibrium_command(op, w2[0], acc[0], fy[0])
     ui, uq, _ = _clamp(u.real, u.imag, op.v_max)
     gz = 1j * op.gain * np.exp(1j * op.theta)
     b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + gz * (ui + 1j * uq))
@@ -984,8 +1492,17 @@ def simulate(
     if np.any(bad):  # columns whose rebalance saturates: step by step with the clamp
         cols = np.flatnonzero(bad)
         zc = None if z is None else z[:, cols]
-        u_c, q_c, b_c = _run_clamped(s[cols], d[:, cols], zc, disc, sat, op.v_max)
+        u_c, q_c, b_c = _run_segmented(s[cols], d[:, cols], zc, disc, sat, op.v_max)
         out_u[:, cols], out_q[:, cols], out_b[:, cols] = u_c, q_c, b_c
+    return _finish(unit, op, out_u, out_q, out_b, fs, r_flick, flicker, adc, squeeze)
+
+
+def _finish(
+    unit: MemsResonator, op: OperatingPoint, out_u: NDArray, out_q: NDArray, out_b: NDArray,
+    fs: float, r_flick: np.random.Generator, flicker: bool, adc: bool, squeeze: bool,
+) -> SlowFlowResult:
+    """Output map, turn-on bias and trim, the 1/f term and the ADC; the result."""
+    n, k = out_u.shape
     y = _output_map(unit, op, out_u) + unit.turn_on_bias - unit.bias_trim
     if flicker and unit.bias_instability > 0:
         nm = NoiseModel(bias_instability=unit.bias_instability)
@@ -1122,6 +1639,7 @@ class MemsResonatorSpec:
         nonlinearity_pct_fs: float = 0.0,
         bias_repeatability_dps: float = 0.0,
         scale_factor_repeatability_ppm: float = 0.0,
+        repeatability_convention: str = "1-sigma",
         output_bits: int | None = 16,
         nominal: MemsResonator | None = None,
     ) -> MemsResonatorSpec:
@@ -1131,8 +1649,8 @@ class MemsResonatorSpec:
         ----------
         range_dps : float
             Measurement range [deg/s]; the output full scale is ``range_dps`` x 10/9
-            (headroom) and the DAC limit v_max is set so the nominal authority is
-            ``range_margin`` x range.
+            (headroom) and the DAC limit v_max (open-loop ``nominal``: the pick-off full
+            scale Y_fs) is set so the nominal authority is ``range_margin`` x range.
         noise_density_dps_rthz : float
             Rate noise density [deg/s/sqrt(Hz)].
         noise_density_convention : {"one-sided", "two-sided"}
@@ -1146,12 +1664,21 @@ class MemsResonatorSpec:
             Scale-factor nonlinearity [% FS] below the knee: sets the output cubic a3 so the
             IEEE K_n of a noise-free 21-point +-range table is this value.
         bias_repeatability_dps, scale_factor_repeatability_ppm : float
-            1-sigma turn-on bias [deg/s] and scale-factor repeatability [ppm].
+            Turn-on bias [deg/s] and scale-factor repeatability [ppm].
+        repeatability_convention : {"1-sigma", "limit"}
+            "1-sigma": the two figures are standard deviations (a "typical" entry);
+            "limit": they are +- / max limits, read as :data:`LIMIT_SIGMAS` sigma.
         output_bits : int or None
             Output word length.
         nominal : MemsResonator, optional
             The resonator design (default the module's default design).
         """
+        if repeatability_convention not in ("1-sigma", "limit"):
+            raise ValueError(
+                "repeatability_convention must be '1-sigma' or 'limit'; "
+                f"got {repeatability_convention!r}"
+            )
+        rep_div = LIMIT_SIGMAS if repeatability_convention == "limit" else 1.0
         if noise_density_convention not in ("one-sided", "two-sided"):
             raise ValueError(
                 "noise_density_convention must be 'one-sided' or 'two-sided'; "
@@ -1177,8 +1704,10 @@ class MemsResonatorSpec:
         x_n = math.sqrt(n_tot**2 - n_b**2) * abs(op.receptance) * op.coriolis_gain
         w_range = units.deg_per_s(rng_)
         out_range = w_range * 10.0 / 9.0
-        # v_max so the nominal authority (theta = 0, no quadrature) is margin x range
+        # v_max (open loop: Y_fs) so the nominal authority (theta = 0, no quadrature) is
+        # margin x range
         v_max = range_margin * w_range * op.coriolis_gain / op.gain
+        y_fs = range_margin * w_range * op.coriolis_gain * abs(op.receptance)
         # a3: K_n of Omega + a3 Omega^3/R^2 on the 21-point table is |a3| x c(grid)
         grid = np.linspace(-w_range, w_range, 21)
         cub = grid**3 / out_range**2
@@ -1190,10 +1719,11 @@ class MemsResonatorSpec:
             output_range=out_range,
             output_bits=output_bits,
             dac_full_scale=v_max,
+            pickoff_full_scale=y_fs if op.open_loop else base.pickoff_full_scale,
             output_cubic=a3,
             bias_instability=units.deg_per_h(bias_instability_dph),
-            bias_repeatability=units.deg_per_s(bias_repeatability_dps),
-            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm),
+            bias_repeatability=units.deg_per_s(bias_repeatability_dps) / rep_div,
+            scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm) / rep_div,
         )
         return cls(nominal=nom)
 

@@ -18,10 +18,14 @@ EXPECTED_IDS = {
     "mems.sense_envelope_saturated",
     "mems.slow_flow_noise_vs_full",
     "mems.zero_rate_continuity",
+    "mems.g_sensitivity",
+    "mems.open_loop_scale_factor",
+    "mems.open_loop_slow_vs_full",
+    "mems.open_loop_frequency_response",
 }
 
 
-@pytest.mark.slow  # about 80 s: two full RK4 integrations with the carrier
+@pytest.mark.slow  # about 90 s: three full RK4 integrations with the carrier
 def test_every_mems_check_passes():
     out = checks(np.random.default_rng(20261123))
     assert all(isinstance(c, Check) for c in out)

@@ -107,6 +107,7 @@ from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, heated_stretch
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.fog import TemperatureSensorSpec
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit
+from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Recording
 
@@ -139,6 +140,24 @@ class Config:
     change). ``housing_time_constant_min`` sets the chamber-housing conductance
     (C_h / tau_h); ``fibre_length_m`` sets the turns per layer (round(L / (2 pi sum r_j))).
 
+    The FOG (issue 17): the same closed-loop unit as paper 000
+    (``gyrobench.sim.fog_loop.ClosedLoopFOG``, built on the drawn coil by
+    ``gyrobench.sim.fog2d``), with this paper's parameter set: the loop on the coil's own
+    L (~1012 m) and D (~0.099 m) at 1550 nm, loop gain 0.1 (f_3dB ~3.6 kHz), the default
+    optical budget (10 mW Er ASE, 30 nm, 20 dB loss; ``sim.fog_optics``) at modulation
+    depth ``modulation_depth_pi`` x pi = 3 pi/4 (excess-RIN limited, so a deeper bias
+    lowers the noise: cot^2(phi_b/2)), giving ARW 4.0e-4 deg/sqrt(h) (navigation grade;
+    a stated choice, not the paper's number: the paper prints none). The IEEE-952 terms the
+    optics do not produce are added: bias instability ``bias_instability_deg_h`` and a
+    constant ``bias_deg_h`` (assumed). Scale factor vs temperature of the loop,
+    (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_housing) about 20 degC: the coil's mean
+    pack temperature drives alpha_D, the housing temperature (the source's) drives
+    alpha_lambda; ``diameter_tempco_ppm_per_K`` None = the coil's own hoop expansion from its
+    composite-cylinder model (``sim.fog2d.coil_diameter_tempco``, ~22 ppm/K on the Al
+    spool); ``wavelength_tempco_ppm_per_K`` 4 ppm/K (an unstabilised Er ASE source;
+    assumed, unverified). The sense axis is horizontal pointing east at Harbin, so the
+    Earth-rate component is 0 (the paper's "output 0 deg/h"; see ``DEVIATIONS``).
+
     RBF settings: ``rbf_spread`` / ``rbf_max_neurons`` = None (the default) means
     "choose by leave-one-segment-out cross-validation on identification run 1" (see
     :func:`select_rbf`) over ``rbf_spread_grid`` x ``rbf_neuron_grid``. A number fixes
@@ -168,9 +187,11 @@ class Config:
     lead_difference_rms_m: float = 1.0
     housing_time_constant_min: float = 20.0
     housing_lag_run_rms: float = 0.1
-    arw_deg_sqrt_h: float = 0.0005
+    modulation_depth_pi: float = 0.75
     bias_instability_deg_h: float = 0.002
     bias_deg_h: float = 0.02
+    diameter_tempco_ppm_per_K: float | None = None
+    wavelength_tempco_ppm_per_K: float = 4.0
     sensor_location: str = "outer"
     sensor_noise_K: float = 0.003
     sensor_resolution_K: float = 0.001
@@ -288,13 +309,17 @@ class Config:
         )
 
     def fog_spec(self, *, winding: str | None = None) -> FOG2DSpec:
+        dtc = self.diameter_tempco_ppm_per_K
         return FOG2DSpec(
             coil=self.coil_spec(winding=winding),
             noise=NoiseModel.from_datasheet(
-                angle_random_walk=self.arw_deg_sqrt_h,
                 bias_instability=self.bias_instability_deg_h,
                 bias=self.bias_deg_h,
             ),
+            optics=OpticalBudget(),
+            bias_phase=self.modulation_depth_pi * math.pi,
+            diameter_tempco=None if dtc is None else dtc * 1e-6,
+            wavelength_tempco=self.wavelength_tempco_ppm_per_K * 1e-6,
             sensor=TemperatureSensorSpec(
                 location=self.sensor_location,
                 noise=self.sensor_noise_K,

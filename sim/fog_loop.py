@@ -559,9 +559,12 @@ class ClosedLoopFOG:
     -----
     Reduced form (output period T_o = 1/fs, M = T_o/tau transits per sample):
 
-    * slow inputs (table rate, Earth rate) are evaluated at the block centres and pass with
-      H(0) = 1; the loop's delay (d tau ~ 5 us) moves an angle Omega d tau between blocks,
-      neglected;
+    * slow inputs (table rate, Earth rate, a nonreciprocal phase such as the coil's thermal
+      Shupe term) are evaluated at the block centres and pass with H(0) = 1; the loop's delay
+      (d tau ~ 5 us) moves an angle Omega d tau between blocks, neglected; for an input
+      linear over a block the block mean equals the centre value; the loop delays a slow
+      input by tau/g (49 us for the default loop, computed from :meth:`LoopSpec.transfer`)
+      and |H(f)| - 1 = -3.8e-8 at 1 Hz, both neglected;
     * scale factor: output = Omega SF(T)/SF0 with SF ~ N D^2 / lambda:
       SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_source); with the V_2pi loop
       on, its settled state (gain error 0); off, :func:`gain_error_scale_factor`;
@@ -680,6 +683,9 @@ class ClosedLoopFOG:
         source_temperature: float
         | Callable[[NDArray[np.float64]], NDArray[np.float64]]
         | None = None,
+        nonreciprocal_rate: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
         t0: float = 0.0,
         name: str = "fog_loop",
         metadata: dict | None = None,
@@ -694,7 +700,15 @@ class ClosedLoopFOG:
             Table acceleration at a physics rate that is an even multiple of ``fs``, covering
             the record (``round(duration * shaker.fs)`` samples from ``t0``).
         coil_temperature, source_temperature : float or callable, optional
-            [K]; default the reference temperature (no scale-factor change).
+            [K]; default the reference temperature (no scale-factor change). The coil's is
+            the temperature its winding diameter follows (alpha_D), the source's the one its
+            mean wavelength follows (alpha_lambda).
+        nonreciprocal_rate : float or callable, optional
+            A slow nonreciprocal phase at the loop's input besides the Sagnac phase, as its
+            rate equivalent phi_nr/SF0 [rad/s] (e.g. the coil's thermal Shupe and T x dT
+            terms, :mod:`gyrobench.sim.fog2d`). It adds to the Sagnac phase SF(T) Omega and
+            passes the loop like it (H(0) = 1, the gain error's ratio); it is a phase, so
+            SF(T)/SF0 does not scale it. Default 0.
         rng : numpy.random.Generator
             Two child streams: optical noise, IEEE-952 terms.
         """
@@ -722,11 +736,14 @@ class ClosedLoopFOG:
             _profile("source_temperature", source_temperature, tc, self.reference_temperature),
         )
         slow = omega_table + earth
+        nonrec = _profile("nonreciprocal_rate", nonreciprocal_rate, tc, 0.0)
         if lp.gain_loop or lp.modulator_gain_error == 0.0:
             r_g = np.ones(n)
         else:
             r_g = gain_error_scale_factor(
-                sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking
+                sf0 * (r_t * slow + nonrec),
+                lp.modulator_gain_error,
+                reset_blanking=lp.reset_blanking,
             )
         vib = self._vibration(shaker, n, fs, t0) if shaker is not None else None
         zeros = np.zeros(n)
@@ -741,9 +758,9 @@ class ClosedLoopFOG:
         for part in ieee_parts.values():
             ieee = ieee + part
         true = slow + rock_true
-        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0)
+        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0) + nonrec * (r_g - 1.0)
         loop_err = rock_out - rock_true
-        output = true + sf_err + loop_err + strain + rect + optical + ieee
+        output = true + sf_err + loop_err + nonrec + strain + rect + optical + ieee
         rs = "rad/s"
         truth = {
             "rate": Channel(
@@ -754,7 +771,14 @@ class ClosedLoopFOG:
             "rocking_rate": Channel(
                 rock_true, rs, "fixture rocking about the sense axis (true rate)"
             ),
-            "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T) SF(eps)/SF0 - 1)"),
+            "scale_factor_error": Channel(
+                sf_err,
+                rs,
+                "true rate x (SF(T) SF(eps)/SF0 - 1) + nonreciprocal input x (SF(eps) - 1)",
+            ),
+            "nonreciprocal": Channel(
+                nonrec, rs, "slow nonreciprocal input phase / SF0 (e.g. the coil's thermal term)"
+            ),
             "loop_error": Channel(
                 loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"
             ),

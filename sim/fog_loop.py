@@ -470,6 +470,7 @@ def _default_modes() -> tuple[StrainMode, ...]:
             strain=3e-12,
             weight=segment_weight(0.0, 0.5, length),
             loss=1e-6,
+            segment=(0.0, 0.5),
         ),
         StrainMode(frequency=900.0, quality=10.0, rocking=1e-8),
     )
@@ -604,6 +605,8 @@ class ClosedLoopFOG:
                 )
         if not all(isinstance(m, StrainMode) for m in self.modes):
             raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
+        for m in self.modes:  # a segment mode's weight must fit this coil
+            m.kernel(0.0, self.loop.length, self.loop.group_index)
         for name in ("diameter_tempco", "wavelength_tempco"):
             _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
         _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
@@ -656,15 +659,23 @@ class ClosedLoopFOG:
 
     def vibration_spectra(self, f: ArrayLike) -> dict[str, NDArray[np.complex128]]:
         """Per unit table acceleration at ``f`` [Hz]: strain rate error, rocking rate [rad/s per
-        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop)."""
+        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop).
+
+        Strain: K kappa_k jw H_k(f) e^{-jw tau/2} W_k(w) with the exact transit-time kernel
+        (:meth:`StrainMode.kernel`: closed form for a mode with a ``segment``; W_k and the
+        half-transit delay otherwise).
+        """
         f = np.asarray(f, dtype=float)
         jw = 2j * np.pi * f
         k = self.strain_coefficient()
+        lp = self.loop
         z = np.zeros(f.shape, dtype=np.complex128)
         out = {"strain": z.copy(), "rocking": z.copy(), "loss": z.copy()}
         for m in self.modes:
             h = m.response(f)
-            out["strain"] += k * m.strain * m.weight * jw * h
+            if m.strain:
+                kern = m.kernel(f, lp.length, lp.group_index)
+                out["strain"] += k * m.strain * jw * h * kern
             out["rocking"] += m.rocking * jw * h
             out["loss"] += m.loss * h
         return out

@@ -680,6 +680,81 @@ class ClosedLoopFOG:
             out["loss"] += m.loss * h
         return out
 
+    def vibration_transfer(self, f: ArrayLike, fs: float, term: str = "strain") -> NDArray[np.complex128]:
+        """G(f): table acceleration -> output-rate error before sampling [rad/s per m/s^2].
+
+        G = V(f) H(e^{jw tau}) sinc(f/fs) with V the ``term`` of :meth:`vibration_spectra`
+        ("strain" or "rocking"), or for "loop_error" V_rock (H - 1) sinc(f/fs) (the rocking
+        through the loop minus its true value).
+        """
+        f = np.asarray(f, dtype=float)
+        spec = self.vibration_spectra(f)
+        h = self.loop.transfer(f)
+        if term == "strain":
+            v = spec["strain"] * h
+        elif term == "rocking":
+            v = spec["rocking"] * h
+        elif term == "loop_error":
+            v = spec["rocking"] * (h - 1.0)
+        else:
+            raise ValueError(
+                f"term must be 'strain', 'rocking' or 'loop_error'; got {term!r}"
+            )
+        return np.asarray(v * np.sinc(f / fs), dtype=np.complex128)
+
+    def vibration_error_psd(
+        self,
+        accel_psd: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        fs: float,
+        f_max: float,
+        *,
+        term: str = "strain",
+        n: int = 4001,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """One-sided PSD of the output samples' vibration error under random vibration.
+
+        For a stationary table acceleration of one-sided PSD S_a(f) [(m/s^2)^2/Hz] (zero above
+        ``f_max``), the output samples at ``fs`` (block means, taken every 1/fs) have the
+        folded (aliased) one-sided PSD on [0, fs/2]
+
+            S_y(f) = sum_{k >= 0} |G(f + k fs)|^2 S_a(f + k fs)
+                     + sum_{k >= 1} |G(k fs - f)|^2 S_a(k fs - f)      [(rad/s)^2/Hz]
+
+        (G from :meth:`vibration_transfer`), whose integral over [0, fs/2] is the variance
+        int_0^inf |G|^2 S_a df (:meth:`vibration_error_variance`). Returns (f, S_y) on ``n``
+        points. docs/physics.md 4.1.
+        """
+        fs = _real("vibration_error_psd", "fs", fs, "Hz", 0.0)
+        f_max = _real("vibration_error_psd", "f_max", f_max, "Hz", 0.0)
+        fo = np.linspace(0.0, fs / 2, n)
+        s = np.zeros(n)
+        for k in range(int(math.ceil(f_max / fs)) + 1):
+            for ff in (k * fs + fo, (k + 1) * fs - fo):
+                ok = ff <= f_max
+                if np.any(ok):
+                    g = self.vibration_transfer(ff[ok], fs, term)
+                    s[ok] += np.abs(g) ** 2 * np.asarray(accel_psd(ff[ok]), dtype=float)
+        return fo, s
+
+    def vibration_error_variance(
+        self,
+        accel_psd: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        fs: float,
+        f_max: float,
+        *,
+        term: str = "strain",
+        df: float = 0.02,
+    ) -> float:
+        """Var of the output samples' vibration error: int_0^f_max |G(f)|^2 S_a(f) df [(rad/s)^2].
+
+        Trapezoid on a uniform grid of step <= ``df`` [Hz] (the modes' half-power widths
+        f_k/Q_k are >= 10 Hz by default: relative error ~ (df Q/f)^2 / 12).
+        """
+        f_max = _real("vibration_error_variance", "f_max", f_max, "Hz", 0.0)
+        f = np.linspace(0.0, f_max, int(math.ceil(f_max / df)) + 1)
+        g = self.vibration_transfer(f, fs, term)
+        return float(np.trapezoid(np.abs(g) ** 2 * np.asarray(accel_psd(f), dtype=float), f))
+
     def simulate(
         self,
         duration: float,

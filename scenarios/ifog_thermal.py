@@ -155,8 +155,10 @@ class Config:
     alpha_lambda; ``diameter_tempco_ppm_per_K`` None = the coil's own hoop expansion from its
     composite-cylinder model (``sim.fog2d.coil_diameter_tempco``, ~22 ppm/K on the Al
     spool); ``wavelength_tempco_ppm_per_K`` 4 ppm/K (an unstabilised Er ASE source;
-    assumed, unverified). The sense axis is horizontal pointing east at Harbin, so the
-    Earth-rate component is 0 (the paper's "output 0 deg/h"; see ``DEVIATIONS``).
+    assumed, unverified). The sense axis is horizontal at Harbin (45.8 degN), at azimuth
+    ``sense_azimuth_deg`` from north: 90 (east, the default) senses no Earth rate, which is
+    the paper's "output 0 deg/h"; 0 (north, the paper's words) senses 10.49 deg/h (see
+    ``DEVIATIONS``).
 
     RBF settings: ``rbf_spread`` / ``rbf_max_neurons`` = None (the default) means
     "choose by leave-one-segment-out cross-validation on identification run 1" (see
@@ -192,6 +194,7 @@ class Config:
     bias_deg_h: float = 0.02
     diameter_tempco_ppm_per_K: float | None = None
     wavelength_tempco_ppm_per_K: float = 4.0
+    sense_azimuth_deg: float = 90.0
     sensor_location: str = "outer"
     sensor_noise_K: float = 0.003
     sensor_resolution_K: float = 0.001
@@ -289,6 +292,23 @@ class Config:
                 f"Config.analysis_block_s must span at least one sample at fs_hz = {self.fs_hz}; "
                 f"got {self.analysis_block_s!r} s"
             )
+        v = self.modulation_depth_pi
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < 1:
+            raise ValueError(f"Config.modulation_depth_pi must be in (0, 1) (x pi rad); got {v!r}")
+        for name, bound in (
+            ("diameter_tempco_ppm_per_K", 1000.0),
+            ("wavelength_tempco_ppm_per_K", 1000.0),
+            ("sense_azimuth_deg", 360.0),
+        ):
+            v = getattr(self, name)
+            if v is None and name == "diameter_tempco_ppm_per_K":
+                continue
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, (int, float))
+                or not (math.isfinite(v) and abs(v) <= bound)
+            ):
+                raise ValueError(f"Config.{name} must be finite with |value| <= {bound:g}; got {v!r}")
         self.fog_spec()  # the sim layer validates the build (layers, winding, ...)
 
     # ----------------------------------------------------------------- builders
@@ -320,6 +340,7 @@ class Config:
             bias_phase=self.modulation_depth_pi * math.pi,
             diameter_tempco=None if dtc is None else dtc * 1e-6,
             wavelength_tempco=self.wavelength_tempco_ppm_per_K * 1e-6,
+            azimuth=math.radians(self.sense_azimuth_deg),
             sensor=TemperatureSensorSpec(
                 location=self.sensor_location,
                 noise=self.sensor_noise_K,

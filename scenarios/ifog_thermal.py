@@ -312,7 +312,9 @@ class Config:
                 or not isinstance(v, (int, float))
                 or not (math.isfinite(v) and abs(v) <= bound)
             ):
-                raise ValueError(f"Config.{name} must be finite with |value| <= {bound:g}; got {v!r}")
+                raise ValueError(
+                    f"Config.{name} must be finite with |value| <= {bound:g}; got {v!r}"
+                )
         self.fog_spec()  # the sim layer validates the build (layers, winding, ...)
 
     # ----------------------------------------------------------------- builders

@@ -1,4 +1,4 @@
-"""The closed-loop FOG of :mod:`gyrobench.sim.fog_loop` on the (r, z) coil of :mod:`gyrobench.sim.coil2d`.
+"""The closed-loop FOG of :mod:`gyrobench.sim.fog_loop` on the (r, z) coil of ``sim.coil2d``.
 
 An adapter, not a second FOG model: :class:`FOG2DUnit` pairs one drawn :class:`Coil2D` with
 the :class:`gyrobench.sim.fog_loop.ClosedLoopFOG` built on that coil (fibre length L and
@@ -191,7 +191,9 @@ class FOG2DUnit:
         """The unit's closed-loop FOG: loop on this coil's L, D, wavelength; spec's optics."""
         s = self.spec
         fm = self.coil.fibre()
-        alpha_d = coil_diameter_tempco(self.coil) if s.diameter_tempco is None else s.diameter_tempco
+        alpha_d = (
+            coil_diameter_tempco(self.coil) if s.diameter_tempco is None else s.diameter_tempco
+        )
         return ClosedLoopFOG(
             loop=s.loop_spec(length=fm.length, diameter=fm.diameter),
             optics=s.optics,

@@ -680,7 +680,9 @@ class ClosedLoopFOG:
             out["loss"] += m.loss * h
         return out
 
-    def vibration_transfer(self, f: ArrayLike, fs: float, term: str = "strain") -> NDArray[np.complex128]:
+    def vibration_transfer(
+        self, f: ArrayLike, fs: float, term: str = "strain"
+    ) -> NDArray[np.complex128]:
         """G(f): table acceleration -> output-rate error before sampling [rad/s per m/s^2].
 
         G = V(f) H(e^{jw tau}) sinc(f/fs) with V the ``term`` of :meth:`vibration_spectra`
@@ -697,9 +699,7 @@ class ClosedLoopFOG:
         elif term == "loop_error":
             v = spec["rocking"] * (h - 1.0)
         else:
-            raise ValueError(
-                f"term must be 'strain', 'rocking' or 'loop_error'; got {term!r}"
-            )
+            raise ValueError(f"term must be 'strain', 'rocking' or 'loop_error'; got {term!r}")
         return np.asarray(v * np.sinc(f / fs), dtype=np.complex128)
 
     def vibration_error_psd(

@@ -1,4 +1,4 @@
-"""Exact strain kernel, random-PSD vibration variance and the nonreciprocal input of ClosedLoopFOG."""
+"""Exact strain kernel, random-PSD vibration variance, ClosedLoopFOG's nonreciprocal input."""
 
 from __future__ import annotations
 

@@ -433,18 +433,21 @@ def memory_estimate(config: Config) -> float:
     thermal_step_s`` thermal steps in the longest run and ``g`` thermal nodes of the coil
     grid (``(grid_spool + grid_pack_r + 1)(grid_pack_z + 2) + 1``, 121 by default)::
 
-        bytes = 1.1 x (108 N + 80 g m + 10e6)
+        bytes = 1.1 x (168 N + 80 g m + 10e6)
 
-    108 B = 13.5 float64 series per sample: :func:`simulate` returns every run's recording
-    (12 channels and truth channels) and :func:`experiment` holds them all while it
-    block-averages them; 80 B = 10 float64 (steps x nodes) arrays of the modal thermal
-    solution of one run (~5 measured, doubled for the convergence check at dt / 2 when the
-    chamber knots are off the step grid). 10 MB the rest; 1.1 the margin. MEASURED (peak
-    RSS increase, one BLAS thread; tests/scenarios/test_memory_estimates.py): 33 MB at the
-    default (N = 2.5e5, m = 1470), 253 MB at fs_hz = 10, 76 MB with validation1_runs = 20
-    and identification_hold_h = 8 (N = 7.2e5, m = 3630), 92 MB at thermal_step_s = 2
-    (m = 14700, on the grid: ~5 arrays), 63 MB at thermal_step_s = 7 (m = 4200, off the
-    grid: ~9.3 arrays), simulate and experiment alike; the formula is 1.2-1.8 x these.
+    168 B = 21 float64 series per sample: :func:`simulate` returns every run's recording (2
+    channels; ~19 truth series: the closed loop's parts -- true, table and Earth rate,
+    scale-factor error, nonreciprocal input, loop error, optical and IEEE-952 noise and its
+    terms -- and the coil's Shupe and T x dT terms, noise sum and four temperatures) and
+    :func:`experiment` holds them all while it block-averages them; 80 B = 10 float64
+    (steps x nodes) arrays of the modal thermal solution of one run (~5 measured, doubled for
+    the convergence check at dt / 2 when the chamber knots are off the step grid). 10 MB the
+    rest; 1.1 the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py; on the closed-loop FOG, issue 17): 55 MB at the
+    default (N = 2.5e5, m = 1470), 419 MB at fs_hz = 10, 132 MB with validation1_runs = 20
+    and identification_hold_h = 8 (N = 7.2e5, m = 3630), 117 MB at thermal_step_s = 2
+    (m = 14700, on the grid: ~5 arrays), 84 MB at thermal_step_s = 7 (m = 4200, off the
+    grid: ~9.3 arrays), simulate and experiment alike; the formula is 1.2-2.1 x these.
     Floats: never an overflow.
     """
     durations = [float(prof.duration) for _, prof, _ in _runs(config)]
@@ -452,7 +455,7 @@ def memory_estimate(config: Config) -> float:
     nodes = (spec.grid_spool + spec.grid_pack_r + 1) * (spec.grid_pack_z + 2) + 1
     n = sum(durations) * float(config.fs_hz)
     m = max(durations) / float(config.thermal_step_s)
-    return 1.1 * (108.0 * n + 80.0 * nodes * m + 10e6)
+    return 1.1 * (168.0 * n + 80.0 * nodes * m + 10e6)
 
 
 # ======================================================================================

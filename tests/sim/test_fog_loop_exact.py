@@ -118,3 +118,9 @@ def test_nonreciprocal_input_shares_the_gain_error_ratio(rng):
     slow = unit.earth_rate
     got = rec["rate"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
     np.testing.assert_allclose(got, (slow + 1e-5) * r_g, rtol=1e-12)
+
+
+@pytest.mark.parametrize("f", [500.0, 5e4, 3e5])
+def test_uniform_strain_rate_cancels_exactly(f):
+    # psi = 1 over the whole fibre: W(w) = 0 at every frequency, not only as w tau -> 0
+    assert abs(complex(segment_kernel(0.0, L, L, f, NG))) < 1e-12 * L**2

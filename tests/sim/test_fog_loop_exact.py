@@ -124,3 +124,30 @@ def test_nonreciprocal_input_shares_the_gain_error_ratio(rng):
 def test_uniform_strain_rate_cancels_exactly(f):
     # psi = 1 over the whole fibre: W(w) = 0 at every frequency, not only as w tau -> 0
     assert abs(complex(segment_kernel(0.0, L, L, f, NG))) < 1e-12 * L**2
+
+
+@pytest.mark.parametrize(
+    "term,channel", [("loop_error", "loop_error"), ("strain", "strain_nonreciprocity")]
+)
+def test_random_vibration_record_variance_matches_the_closed_form(rng, term, channel):
+    # a second configuration besides the physics check: output 400 Hz (little aliasing),
+    # 30 s of a flat 20-1500 Hz PSD; chi-square band with nu = 2 B_e T at 1e-6 two-sided
+    from gyrobench.sim.shaker import RandomVibration
+    from scipy import stats
+
+    unit = ClosedLoopFOG()
+    rv = RandomVibration(breakpoints=((20.0, 0.02), (1500.0, 0.02)), duration=30.0)
+    g0 = units.g(1.0)
+
+    def psd(f):
+        return rv.shaped_psd(f) * g0**2
+
+    fs = 400.0
+    var = unit.vibration_error_variance(psd, fs, 1500.0, term=term)
+    fo, sy = unit.vibration_error_psd(psd, fs, 1500.0, term=term)
+    nu = 2.0 * 30.0 * np.trapezoid(sy, fo) ** 2 / np.trapezoid(sy**2, fo)
+    sh = rv.sample(8 * fs, rng=rng)
+    y = unit.simulate(30.0, fs, rng=rng, shaker=sh)[f"truth/{channel}"]
+    ratio = float(np.mean(y**2)) / var
+    lo, hi = stats.chi2.ppf(5e-7, nu) / nu, stats.chi2.isf(5e-7, nu) / nu
+    assert lo < ratio < hi

@@ -571,13 +571,16 @@ class ClosedLoopFOG:
       on, its settled state (gain error 0); off, :func:`gain_error_scale_factor`;
     * vibration: on the shaker's physics-rate grid (an even integer multiple of fs), in the
       frequency domain (exact for the sampled, band-limited record, circular): modal response,
-      strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
+      strain-rate nonreciprocity (j w with the exact transit-time kernel e^{-jw tau/2} W(w),
+      :meth:`StrainMode.kernel`) and rocking rate (j w), loop transfer H(e^{jw tau}),
       loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
       correlation, docs/physics.md 4.1) passed through H, then the integrate-and-dump
       average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
       electronics' decimation does it. The j w factor is an ideal band-limited derivative:
       an abrupt shaker onset (``ramp_time = 0``) rings (Gibbs) on both sides of the edge,
-      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp;
+      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp. Random (PSD)
+      vibration: the samples' variance is int |G|^2 S_a df
+      (:meth:`vibration_error_variance`, folded PSD :meth:`vibration_error_psd`);
     * optical white noise: block sums of the H-filtered per-transit phase noise, an MA(1)
       with variance s^2 (M - c) and lag-1 covariance s^2 c/2 (c from
       :meth:`LoopSpec.block_noise_correction`; s^2 = S_phi/(2 tau) (tau/SF0)^2): the full

@@ -1672,7 +1672,10 @@ def _conclusion(claims: Sequence[ClaimResult], units: Sequence[Mapping[str, Any]
         + "; ".join(parts)
         + f". Validation-1 ratio: {_bands(units, 'val1_ratio')}"
         f" (median {p1:.3g}x); validation-2 ratio: {_bands(units, 'val2_ratio')}. The ratio is set "
-        "by the drawn unit's drift over the constant that Q leaves in the output. DIAGNOSTIC with "
+        "by the drawn unit's drift over the constant that Q leaves in the output; in validation 2 "
+        "(180 deg/h) also by the loop's uncompensated scale-factor error, which follows T and "
+        "which networks trained at rate 0 cannot remove (deviation 'Scale factor vs "
+        "temperature'). DIAGNOSTIC with "
         f"the simulator's truth as target (not possible for the paper): median validation-1 ratio "
         f"{d1:.3g}x."
     )

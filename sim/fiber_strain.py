@@ -3,12 +3,26 @@
 All SI: acceleration [m/s^2], strain [-], phase [rad], rate [rad/s], z along the fibre [m].
 
 Time-varying nonreciprocity (docs/physics.md 4.1, derived there): a change db(z, t) of the
-propagation constant per unit length is crossed by the two waves at t - (L - z)/v and t - z/v
-(v = c/n_g), so the phase difference is
+propagation constant per unit length is crossed at t - z/v by the wave that entered at z = L
+and at t - (L - z)/v by the wave that entered at z = 0 (v = c/n_g, both detected at t); their
+phase difference (the former minus the latter, the orientation used throughout) is
 
-    dphi(t) = int_0^L [db(z, t - (L - z)/v) - db(z, t - z/v)] dz
-    harmonic db = B(z) e^{jwt}:  dphi = -2j e^{-jw tau/2} int_0^L B(z) sin(w (L - 2z)/(2v)) dz
+    dphi(t) = int_0^L [db(z, t - z/v) - db(z, t - (L - z)/v)] dz
+    harmonic db = B(z) e^{jwt}:  dphi = 2j e^{-jw tau/2} int_0^L B(z) sin(a (L - 2z)) dz,
+                                 a = w/(2v), tau = L/v                       (exact)
     w tau << 1:                  dphi ~ (1/v) int_0^L d(db)/dt (L - 2z) dz
+
+Exact kernel: dphi = (jw/v) e^{-jw tau/2} W(w) B-amplitude, with the frequency-dependent weight
+
+    W(w) = (1/a) int_0^L psi(z) sin(a (L - 2z)) dz -> W = int psi (L - 2z) dz as a -> 0  [m^2]
+
+closed forms (:func:`segment_kernel`, :func:`linear_kernel`): a segment [z0, z1] gives
+(cos(a (L - 2 z1)) - cos(a (L - 2 z0)))/(2 a^2); psi = z/L gives
+-L^2 (sin x - x cos x)/(2 x^3), x = a L (docs/physics.md 4.1). The factor e^{-jw tau/2} (a
+delay of half a transit) is exact for every shape; the remaining small-tau error is
+|W(w) - W| <= (a L)^2/6 int |psi| |L - 2z| dz (sin x/x = 1 - x^2/6 + ..., |x| <= a L),
+relative to W at most (w tau/2)^2/6 for a shape of one sign of (L - 2z) (6e-5 at 1.2 kHz,
+1 km).
 
 Axial strain eps changes the optical path per unit length by n xi eps (xi = 1 -
 (n^2/2)[p12 - nu (p11 + p12)] = 0.788 for fused silica: p11 = 0.121, p12 = 0.270, nu = 0.17,
@@ -18,7 +32,7 @@ db = k0 n xi eps and, divided by SF = 2 pi L D/(lambda c), the rate-equivalent e
     Omega_eps(t) = (n_g n xi / (L D)) int_0^L eps_dot(z, t) (L - 2z) dz                 [rad/s]
 
 It follows the strain RATE: a harmonic strain at w gives an error proportional to w, 90 deg
-ahead of the strain, zero-mean at first order.
+ahead of the strain (less the half-transit delay w tau/2), zero-mean at first order.
 
 Structural mode k (base excitation by the table acceleration a, unit static gain):
 
@@ -57,6 +71,8 @@ __all__ = [
     "shape_weight",
     "strain_rate_coefficient",
     "exact_strain_phase",
+    "segment_kernel",
+    "linear_kernel",
     "StrainMode",
 ]
 
@@ -125,8 +141,9 @@ def exact_strain_phase(
 ) -> NDArray[np.float64]:
     """Phase difference [rad] by the two-crossing-time integral, no small-tau approximation.
 
-    dphi(t) = k0 n xi int_0^L [eps(z, t - (L - z)/v) - eps(z, t - z/v)] dz (Simpson in z),
-    with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row).
+    dphi(t) = k0 n xi int_0^L [eps(z, t - z/v) - eps(z, t - (L - z)/v)] dz (Simpson in z),
+    with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row) (the wave entered
+    at L minus the wave entered at 0: small-tau limit +(k0 n xi/v) int eps_dot (L - 2z) dz).
     """
     from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
     from scipy.integrate import simpson
@@ -135,8 +152,56 @@ def exact_strain_phase(
     k0 = 2.0 * math.pi / wavelength
     z = np.linspace(0.0, length, nz)[:, None]
     tt = np.atleast_1d(np.asarray(t, dtype=float))[None, :]
-    diff = strain(z, tt - (length - z) / v) - strain(z, tt - z / v)
+    diff = strain(z, tt - z / v) - strain(z, tt - (length - z) / v)
     return k0 * index * xi * np.asarray(simpson(diff, x=z[:, 0], axis=0), dtype=float)
+
+
+def _wavenumber(f: ArrayLike, group_index: float) -> NDArray[np.float64]:
+    """a = w/(2v) = pi f n_g / c [1/m]."""
+    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
+
+    return np.pi * np.asarray(f, dtype=float) * group_index / SPEED_OF_LIGHT
+
+
+def _half_transit(f: ArrayLike, fibre_length: float, group_index: float) -> NDArray[np.complex128]:
+    """e^{-j w tau/2}, tau = n_g L / c."""
+    return np.exp(-1j * _wavenumber(f, group_index) * fibre_length)
+
+
+def segment_kernel(
+    z0: float, length: float, fibre_length: float, f: ArrayLike, group_index: float
+) -> NDArray[np.complex128]:
+    """Exact weight e^{-jw tau/2} W(w) [m^2] of a uniform strain over [z0, z0 + l] at ``f`` [Hz].
+
+    W(w) = (cos(a (L - 2 z1)) - cos(a (L - 2 z0)))/(2 a^2), z1 = z0 + l, a = pi f n_g/c;
+    -> l (L - 2 z0 - l) (:func:`segment_weight`) as f -> 0 (evaluated by a series there).
+    """
+    w0 = segment_weight(z0, length, fibre_length)
+    a = _wavenumber(f, group_index)
+    u0, u1 = fibre_length - 2.0 * z0, fibre_length - 2.0 * (z0 + length)
+    big = a > 0.0  # the product form has no cancellation; a = 0 takes the limit
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # cos A - cos B = -2 sin((A + B)/2) sin((A - B)/2): no cancellation at small a
+        exact = -np.sin(a * (u1 + u0) / 2) * np.sin(a * (u1 - u0) / 2) / a**2
+    # series: sin x sin y/a^2 = (u1+u0)(u1-u0)/4 (1 - a^2 ((u1+u0)^2 + (u1-u0)^2)/24)
+    series = w0 * (1.0 - a**2 * ((u1 + u0) ** 2 + (u1 - u0) ** 2) / 24.0)
+    return np.where(big, exact, series) * _half_transit(f, fibre_length, group_index)
+
+
+def linear_kernel(fibre_length: float, f: ArrayLike, group_index: float) -> NDArray[np.complex128]:
+    """Exact weight e^{-jw tau/2} W(w) [m^2] of the shape psi = z/L at ``f`` [Hz].
+
+    W(w) = -L^2 (sin x - x cos x)/(2 x^3), x = a L; below x = 0.1 its series
+    -L^2/6 (1 - x^2/10 + x^4/280) (next term x^6/15120 < 1e-10 there; the closed form would
+    lose digits to cancellation).
+    """
+    L = fibre_length
+    x = _wavenumber(f, group_index) * L
+    big = x > 0.1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exact = -(L**2) * (np.sin(x) - x * np.cos(x)) / (2.0 * x**3)
+    series = -(L**2) / 6.0 * (1.0 - x**2 / 10.0 + x**4 / 280.0)
+    return np.where(big, exact, series) * _half_transit(f, fibre_length, group_index)
 
 
 def _real(owner: str, name: str, v: object, unit: str, *, positive: bool = False) -> float:
@@ -168,6 +233,11 @@ class StrainMode:
         theta_k: rotation about the sense axis per unit modal acceleration [rad/(m/s^2)].
     loss : float
         mu_k: relative detected-power modulation per unit modal acceleration [1/(m/s^2)].
+    segment : (float, float) or None
+        (z0, l) [m]: the mode strains the fibre uniformly over [z0, z0 + l] (``weight`` must
+        then be l (L - 2 z0 - l) for the coil it is used on); the strain term then uses the
+        exact transit-time kernel (:func:`segment_kernel`). None: only W is known, and the
+        kernel is W e^{-jw tau/2} (delay exact, amplitude to the bound in the module notes).
     """
 
     frequency: float
@@ -176,6 +246,7 @@ class StrainMode:
     weight: float = 0.0
     rocking: float = 0.0
     loss: float = 0.0
+    segment: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         o = "StrainMode"
@@ -189,6 +260,32 @@ class StrainMode:
             ("loss", "1/(m/s^2)"),
         ):
             _real(o, name, getattr(self, name), unit)
+        if self.segment is not None:
+            seg = self.segment
+            if not (isinstance(seg, tuple) and len(seg) == 2):
+                raise TypeError(f"StrainMode.segment must be a (z0, l) tuple [m]; got {seg!r}")
+            _real(o, "segment[0]", seg[0], "m")
+            _real(o, "segment[1]", seg[1], "m", positive=True)
+            if seg[0] < 0:
+                raise ValueError(f"StrainMode.segment z0 must be >= 0 m; got {seg[0]!r}")
+
+    def kernel(
+        self, f: ArrayLike, fibre_length: float, group_index: float
+    ) -> NDArray[np.complex128]:
+        """e^{-jw tau/2} W(w) [m^2] at ``f`` [Hz]: exact for a ``segment``, else W e^{-jw tau/2}.
+
+        Raises ValueError when ``segment`` and ``weight`` disagree (relative 1e-9) for this L.
+        """
+        if self.segment is None:
+            return self.weight * _half_transit(f, fibre_length, group_index)
+        z0, ln = self.segment
+        w0 = segment_weight(z0, ln, fibre_length)
+        if abs(w0 - self.weight) > 1e-9 * max(abs(w0), 1e-300):
+            raise ValueError(
+                f"StrainMode.weight must equal l (L - 2 z0 - l) = {w0!r} m^2 for its segment "
+                f"on a {fibre_length!r} m coil; got {self.weight!r}"
+            )
+        return segment_kernel(z0, ln, fibre_length, f, group_index)
 
     def response(self, f: ArrayLike) -> NDArray[np.complex128]:
         """H_k(j 2 pi f) = 1/(1 - r^2 + j r/Q), r = f/f_k."""

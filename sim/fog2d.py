@@ -1,18 +1,32 @@
-"""Interferometric FOG on the (r, z) coil of :mod:`gyrobench.sim.coil2d`, in a thermal chamber.
+"""The closed-loop FOG of :mod:`gyrobench.sim.fog_loop` on the (r, z) coil of ``sim.coil2d``.
 
-Same recording layout as :mod:`gyrobench.sim.fog` (channels ``rate`` [rad/s] and
-``coil_temperature`` [K]; truth ``rate``, ``thermal_drift`` and its parts, the scale-factor
-error, noise and the temperatures), so scenarios can switch coil models without changing
-their analysis. Output model (SI):
+An adapter, not a second FOG model: :class:`FOG2DUnit` pairs one drawn :class:`Coil2D` with
+the :class:`gyrobench.sim.fog_loop.ClosedLoopFOG` built on that coil (fibre length L and
+mean diameter D of its fibre map, the coil's wavelength and phase index), and feeds the
+coil's thermal nonreciprocity to the loop as one more nonreciprocal phase input:
 
-    output = Omega_true * SF(T)/SF0 + Omega_E(t) + noise(t)                          [rad/s]
+    phi_nr(t) = SF0 Omega_E(t),   Omega_E = Shupe map + T x dT form of Coil2D   [rad, rad/s]
 
-with Omega_E = Shupe map + T x dT form of :class:`gyrobench.sim.coil2d.Coil2D` (its thermal
-network solved once per chamber program on the coarse step ``thermal_step``, then
-interpolated linearly to the output rate), SF = 2 pi L D/(lambda c) from
-:func:`gyrobench.sim.fog.sagnac_scale_factor` and SF(T)/SF0 as in :mod:`gyrobench.sim.fog`
-with the mean pack temperature and the housing temperature. The logged sensor sits on the
-outer potting surface at the unit's drawn axial position.
+(:meth:`Coil2D.run`: the thermal network solved once per chamber program on the coarse
+step ``thermal_step``, interpolated linearly to the output block centres). The output is
+the loop's (reduced form, :class:`ClosedLoopFOG`): Sagnac phase of the true rate (table +
+Earth component of the sense axis) times SF(T)/SF0, plus phi_nr/SF0, through H(0) = 1, plus
+the optical budget's white noise and the additive IEEE-952 terms of ``noise`` (what the
+optics do not produce: bias instability, constant bias). Scale factor vs temperature:
+
+    SF(T)/SF0 = (1 + alpha_D (T_coil - T_ref))^2 / (1 + alpha_lambda (T_source - T_ref))
+
+with T_coil the coil's mean pack temperature, T_source the housing temperature (the source
+sits in the housing), alpha_D by default the coil's own hoop expansion (fibre-length mean
+of the composite-cylinder d eps_theta/dT of :meth:`Coil2DSpec.hoop_strain_rate` at T_ref:
+the winding radius and the wound fibre length both follow the hoop strain, so SF ~ L D
+~ D^2).
+
+Recording layout as before (channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
+``rate``, ``thermal_drift`` = ``shupe`` + ``txdt_product``, ``scale_factor_error``,
+``noise`` = optical + IEEE-952, the temperatures) plus the loop's own truth channels, so
+scenarios need not change their analysis. The logged sensor sits on the outer potting
+surface at the unit's drawn axial position.
 """
 
 from __future__ import annotations
@@ -20,56 +34,109 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from numbers import Real
 
 import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
+from gyrobench.sim.earth import HARBIN
 from gyrobench.sim.environment import PiecewiseLinear
-from gyrobench.sim.fog import TemperatureSensorSpec, sagnac_scale_factor
+from gyrobench.sim.fog import TemperatureSensorSpec
+from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
+from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
 from numpy.typing import NDArray
 
-__all__ = ["FOG2DSpec", "FOG2DUnit"]
+__all__ = ["FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
 
 
 def _default_noise() -> NoiseModel:
-    return NoiseModel.from_datasheet(angle_random_walk=0.001, bias_instability=0.003, bias=0.05)
+    # additive IEEE-952 terms the optics do not produce (the white noise is the budget's)
+    return NoiseModel.from_datasheet(bias_instability=0.003, bias=0.05)
+
+
+def _default_optics() -> OpticalBudget:
+    return OpticalBudget()
+
+
+def coil_diameter_tempco(coil: Coil2DSpec | Coil2D, temperature: float | None = None) -> float:
+    """alpha_D of a coil: fibre-length mean of d eps_theta/dT over the bonded fibre [1/K].
+
+    The composite-cylinder hoop strain rate of the pack on its spool
+    (:meth:`Coil2DSpec.hoop_strain_rate`, at ``temperature``, default the coil's t_ref [K]),
+    averaged over the fibre pieces in the pack with their lengths as weights (an ideal
+    winding when a spec is given). It is the relative change of the winding radius, hence of
+    the mean diameter D and of the wound length L (turns fixed): SF ~ L D changes by 2 alpha_D.
+    """
+    c = coil if isinstance(coil, Coil2D) else Coil2D(spec=coil)
+    if not isinstance(c, Coil2D):
+        raise TypeError(f"coil must be a Coil2DSpec or Coil2D; got {type(coil).__name__}")
+    t = c.spec.t_ref if temperature is None else float(temperature)
+    fm = c.fibre()
+    b = fm.bonded
+    h = c.spec.hoop_strain_rate(fm.r[b], t)
+    return float(np.sum(h * fm.ds[b]) / np.sum(fm.ds[b]))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class FOG2DSpec:
-    """Datasheet-level FOG on the (r, z) coil (SI).
+    """A closed-loop FOG on the (r, z) coil, in a thermal chamber (SI): the build of a unit.
 
     Parameters
     ----------
     coil : Coil2DSpec
     noise : NoiseModel
+        Additive IEEE-952 terms (:class:`ClosedLoopFOG` ``noise``): what the optics do not
+        produce. Default bias instability 0.003 deg/h and bias 0.05 deg/h, no ARW (the ARW is
+        the optical budget's: an N term given here adds to it); assumed, unverified.
+    optics : OpticalBudget
+        Source, losses, detector of the loop (the white noise).
+    bias_phase : float
+        Modulation depth phi_b [rad] of the loop (pi/2 default).
+    loop_gain : float
+        Normalised rate-loop gain g [-] (:class:`LoopSpec`).
     sensor : TemperatureSensorSpec
         Noise, resolution and bias of the logged temperature (its ``location`` must be
         ``"outer"``: the sensor is on the outer potting surface).
-    diameter_tempco, wavelength_tempco : float
-        As :class:`gyrobench.sim.fog.FOGSpec` [1/K] (unverified there).
+    diameter_tempco : float or None
+        alpha_D [1/K]; None (default): the coil's own hoop expansion
+        (:func:`coil_diameter_tempco` of the drawn coil at its t_ref). Changed with issue 17:
+        the law is the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding
+        radius), no longer (1 + alpha_f dT)(1 + alpha_D dT) with the glass expansion alpha_f.
+    wavelength_tempco : float
+        (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; assumed, unverified).
     scale_factor_ref_temperature : float
-        [K].
+        T_ref, where SF = SF0 [K].
     thermal_step : float
         Coarse step of the thermal solve [s] (20 s; the solve is exact for chamber knots on
         the step grid and checked against dt/2 otherwise, :meth:`Coil2D.run`).
+    latitude, azimuth, elevation : float
+        Site latitude and the sense axis' azimuth (from north toward east) and elevation
+        [rad]. Default Harbin (paper 003's lab), axis horizontal pointing east, where the
+        Earth-rate component is 0 (:func:`gyrobench.sim.earth.sensed_earth_rate`).
     """
 
     coil: Coil2DSpec = field(default_factory=Coil2DSpec)
     noise: NoiseModel = field(default_factory=_default_noise)
+    optics: OpticalBudget = field(default_factory=_default_optics)
+    bias_phase: float = math.pi / 2
+    loop_gain: float = 0.1
     sensor: TemperatureSensorSpec = field(default_factory=TemperatureSensorSpec)
-    diameter_tempco: float = 5.0e-6
+    diameter_tempco: float | None = None
     wavelength_tempco: float = 4.0e-6
     scale_factor_ref_temperature: float = units.celsius(20.0)
     thermal_step: float = 20.0
+    latitude: float = HARBIN.latitude
+    azimuth: float = math.pi / 2
+    elevation: float = 0.0
 
     def __post_init__(self) -> None:
         for name, kind in (
             ("coil", Coil2DSpec),
             ("noise", NoiseModel),
+            ("optics", OpticalBudget),
             ("sensor", TemperatureSensorSpec),
         ):
             if not isinstance(getattr(self, name), kind):
@@ -82,9 +149,11 @@ class FOG2DSpec:
             )
         for name in ("diameter_tempco", "wavelength_tempco"):
             v = getattr(self, name)
+            if v is None and name == "diameter_tempco":
+                continue
             if (
                 isinstance(v, bool)
-                or not isinstance(v, (int, float, Real))
+                or not isinstance(v, Real)
                 or not (math.isfinite(float(v)) and abs(float(v)) < 1e-3)
             ):
                 raise ValueError(
@@ -93,23 +162,58 @@ class FOG2DSpec:
         v = self.thermal_step
         if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v > 0):
             raise ValueError(f"FOG2DSpec.thermal_step must be > 0 s; got {v!r}")
+        # the loop validates bias_phase / loop_gain, the unit latitude / azimuth / elevation
+        self.loop_spec(length=1000.0, diameter=0.1)
+        ClosedLoopFOG(latitude=self.latitude, azimuth=self.azimuth, elevation=self.elevation)
+
+    def loop_spec(self, *, length: float, diameter: float) -> LoopSpec:
+        """The loop on a coil of fibre length ``length`` and mean diameter ``diameter`` [m]."""
+        return LoopSpec(
+            length=length,
+            diameter=diameter,
+            wavelength=self.coil.wavelength,
+            bias_phase=self.bias_phase,
+            loop_gain=self.loop_gain,
+        )
 
     def realize(self, *, rng: np.random.Generator) -> FOG2DUnit:
         """One built unit (potting properties, winding imperfections, sensor position drawn)."""
         return FOG2DUnit(spec=self, coil=self.coil.realize(rng=rng))
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True)
 class FOG2DUnit:
-    """One FOG: its spec and its drawn coil."""
+    """One FOG: its spec, its drawn coil, and the closed loop on that coil (:attr:`fog`)."""
 
     spec: FOG2DSpec
     coil: Coil2D
 
+    @cached_property
+    def fog(self) -> ClosedLoopFOG:
+        """The unit's closed-loop FOG: loop on this coil's L, D, wavelength; spec's optics."""
+        s = self.spec
+        fm = self.coil.fibre()
+        alpha_d = (
+            coil_diameter_tempco(self.coil) if s.diameter_tempco is None else s.diameter_tempco
+        )
+        return ClosedLoopFOG(
+            loop=s.loop_spec(length=fm.length, diameter=fm.diameter),
+            optics=s.optics,
+            noise=s.noise,
+            diameter_tempco=float(alpha_d),
+            wavelength_tempco=s.wavelength_tempco,
+            reference_temperature=s.scale_factor_ref_temperature,
+            modes=(),
+            index=self.coil.spec.index,
+            latitude=s.latitude,
+            azimuth=s.azimuth,
+            elevation=s.elevation,
+        )
+
     @property
     def scale_factor(self) -> float:
-        fm = self.coil.fibre()
-        return sagnac_scale_factor(fm.length, fm.diameter, self.coil.spec.wavelength)
+        """SF0 = 2 pi L D/(lambda c) of the mapped fibre [s]."""
+        return self.fog.scale_factor
 
     def thermal_response(
         self, chamber: PiecewiseLinear, *, chamber_scale: float = 1.0
@@ -134,68 +238,82 @@ class FOG2DUnit:
         name: str = "fog2d_thermal",
         metadata: dict | None = None,
     ) -> Recording:
-        """One chamber run logged at ``fs`` [Hz] (``rng``: two children, rate and sensor noise)."""
+        """One chamber run logged at ``fs`` [Hz] through :meth:`ClosedLoopFOG.simulate`.
+
+        ``true_rate`` is the table rate [rad/s] (the sense axis' Earth component is added by
+        the loop). Samples are block means over 1/fs (output) at the block centres
+        t0 + (k + 1/2)/fs, where the temperatures are also taken. ``rng``: two children, the
+        loop (optical and IEEE-952 noise) and the sensor noise.
+        """
         if isinstance(fs, bool) or not isinstance(fs, Real) or not (math.isfinite(fs) and fs > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
         if not isinstance(rng, np.random.Generator):
             raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-        spec = self.spec
-        run = self.thermal_response(chamber, chamber_scale=chamber_scale)
-        n = int(math.floor((run.t[-1] - run.t[0]) * fs + 1e-9))
-        t0 = float(run.t[0])
-        t = t0 + np.arange(n) / fs
-
-        def at(y):
-            return np.interp(t, run.t, y)
-
-        if callable(true_rate):
-            omega = np.asarray(true_rate(t), dtype=float).reshape(n)
-        elif isinstance(true_rate, Real) and math.isfinite(true_rate):
-            omega = np.full(n, float(true_rate))
-        else:
+        if not (callable(true_rate) or (isinstance(true_rate, Real) and math.isfinite(true_rate))):
             raise ValueError(
                 f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}"
             )
-        housing, mean_coil = at(run.housing), at(run.coil_mean)
-        dc = mean_coil - spec.scale_factor_ref_temperature
-        ds = housing - spec.scale_factor_ref_temperature
-        a_f = float(self.coil.spec.glass.alpha(spec.scale_factor_ref_temperature))
-        ratio = (1 + a_f * dc) * (1 + spec.diameter_tempco * dc) / (1 + spec.wavelength_tempco * ds)
-        sf_err = omega * (ratio - 1.0)
-        shupe, product = at(run.shupe), at(run.product)
-        drift = shupe + product
-        rng_noise, rng_sensor = rng.spawn(2)
-        noise = spec.noise.generate(n, fs, rng=rng_noise, t0=t0)
-        sensor_true = at(run.sensor)
-        logged = spec.sensor.read(sensor_true, rng=rng_sensor)
+        run = self.thermal_response(chamber, chamber_scale=chamber_scale)
+        t0 = float(run.t[0])
+        duration = float(run.t[-1] - run.t[0])
+
+        def interp(y: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+            return lambda t: np.interp(t, run.t, y)
+
+        rng_fog, rng_sensor = rng.spawn(2)
+        rec = self.fog.simulate(
+            duration,
+            float(fs),
+            rng=rng_fog,
+            true_rate=true_rate,
+            coil_temperature=interp(run.coil_mean),
+            source_temperature=interp(run.housing),
+            nonreciprocal_rate=interp(run.shupe + run.product),
+            t0=t0,
+            name=name,
+            metadata=metadata,
+        )
+        n = len(rec["rate"])
+        t = t0 + (np.arange(n) + 0.5) / fs
+        shupe, product = np.interp(t, run.t, run.shupe), np.interp(t, run.t, run.product)
+        sensor_true = np.interp(t, run.t, run.sensor)
+        logged = self.spec.sensor.read(sensor_true, rng=rng_sensor)
         rs = "rad/s"
+        tr = dict(rec.truth)
+        noise = tr["optical_noise"].data + tr["ieee_noise"].data
         truth = {
-            "rate": Channel(omega, rs, "true input rate"),
-            "thermal_drift": Channel(drift, rs, "coil non-reciprocity, total"),
+            **tr,
+            "thermal_drift": Channel(
+                tr["nonreciprocal"].data, rs, "coil non-reciprocity, total (the loop's input)"
+            ),
             "shupe": Channel(
                 shupe, rs, "Shupe map with beta_T(T0) (dn/dT, expansion, elasto-optic strain)"
             ),
             "txdt_product": Channel(
                 product, rs, "T x dT term from the material temperature dependences"
             ),
-            "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T)/SF0 - 1)"),
-            "noise": Channel(noise, rs, "random noise and constant bias"),
+            "noise": Channel(noise, rs, "optical (budget ARW) + IEEE-952 terms incl. bias"),
             "sensor_temperature": Channel(sensor_true, "K", "noise-free temperature at the sensor"),
-            "coil_mean_temperature": Channel(mean_coil, "K", "mean over the fibre pack"),
-            "housing_temperature": Channel(housing, "K", "housing"),
-            "chamber_temperature": Channel(at(run.chamber), "K", "chamber program"),
+            "coil_mean_temperature": Channel(
+                np.interp(t, run.t, run.coil_mean), "K", "mean over the fibre pack (alpha_D)"
+            ),
+            "housing_temperature": Channel(
+                np.interp(t, run.t, run.housing), "K", "housing (source, alpha_lambda)"
+            ),
+            "chamber_temperature": Channel(np.interp(t, run.t, run.chamber), "K", "chamber"),
         }
         channels = {
-            "rate": Channel(omega + sf_err + drift + noise, rs, "FOG output"),
+            "rate": rec.channels["rate"],
             "coil_temperature": Channel(logged, "K", "coil temperature sensor (outer potting)"),
         }
         meta = {
-            "model": "gyrobench.sim.fog2d.FOG2DUnit",
+            **rec.metadata,
+            "model": "gyrobench.sim.fog2d.FOG2DUnit -> gyrobench.sim.fog_loop.ClosedLoopFOG",
             "thermal_step_s": run.dt,
             "thermal_convergence": run.convergence,
             "winding": self.coil.spec.winding,
-            "scale_factor_s": self.scale_factor,
-            **(metadata or {}),
+            "diameter_tempco_per_K": self.fog.diameter_tempco,
+            "wavelength_tempco_per_K": self.fog.wavelength_tempco,
         }
         return Recording(
             fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name

@@ -470,6 +470,7 @@ def _default_modes() -> tuple[StrainMode, ...]:
             strain=3e-12,
             weight=segment_weight(0.0, 0.5, length),
             loss=1e-6,
+            segment=(0.0, 0.5),
         ),
         StrainMode(frequency=900.0, quality=10.0, rocking=1e-8),
     )
@@ -559,21 +560,27 @@ class ClosedLoopFOG:
     -----
     Reduced form (output period T_o = 1/fs, M = T_o/tau transits per sample):
 
-    * slow inputs (table rate, Earth rate) are evaluated at the block centres and pass with
-      H(0) = 1; the loop's delay (d tau ~ 5 us) moves an angle Omega d tau between blocks,
-      neglected;
+    * slow inputs (table rate, Earth rate, a nonreciprocal phase such as the coil's thermal
+      Shupe term) are evaluated at the block centres and pass with H(0) = 1; the loop's delay
+      (d tau ~ 5 us) moves an angle Omega d tau between blocks, neglected; for an input
+      linear over a block the block mean equals the centre value; the loop delays a slow
+      input by tau/g (49 us for the default loop, computed from :meth:`LoopSpec.transfer`)
+      and |H(f)| - 1 = -3.8e-8 at 1 Hz, both neglected;
     * scale factor: output = Omega SF(T)/SF0 with SF ~ N D^2 / lambda:
       SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_source); with the V_2pi loop
       on, its settled state (gain error 0); off, :func:`gain_error_scale_factor`;
     * vibration: on the shaker's physics-rate grid (an even integer multiple of fs), in the
       frequency domain (exact for the sampled, band-limited record, circular): modal response,
-      strain-rate nonreciprocity and rocking rate (j w factors), loop transfer H(e^{jw tau}),
+      strain-rate nonreciprocity (j w with the exact transit-time kernel e^{-jw tau/2} W(w),
+      :meth:`StrainMode.kernel`) and rocking rate (j w), loop transfer H(e^{jw tau}),
       loop residual (1 - H) phi, rectification +m(t) phi_res(t)/SF0 (intensity-phase
       correlation, docs/physics.md 4.1) passed through H, then the integrate-and-dump
       average over T_o (sinc(f T_o)) sampled at the block centres -- aliasing as the
       electronics' decimation does it. The j w factor is an ideal band-limited derivative:
       an abrupt shaker onset (``ramp_time = 0``) rings (Gibbs) on both sides of the edge,
-      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp;
+      ~1e-3 deg/h rms for a 2 g, 500 Hz start; give the profile a ramp. Random (PSD)
+      vibration: the samples' variance is int |G|^2 S_a df
+      (:meth:`vibration_error_variance`, folded PSD :meth:`vibration_error_psd`);
     * optical white noise: block sums of the H-filtered per-transit phase noise, an MA(1)
       with variance s^2 (M - c) and lag-1 covariance s^2 c/2 (c from
       :meth:`LoopSpec.block_noise_correction`; s^2 = S_phi/(2 tau) (tau/SF0)^2): the full
@@ -601,6 +608,8 @@ class ClosedLoopFOG:
                 )
         if not all(isinstance(m, StrainMode) for m in self.modes):
             raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
+        for m in self.modes:  # a segment mode's weight must fit this coil
+            m.kernel(0.0, self.loop.length, self.loop.group_index)
         for name in ("diameter_tempco", "wavelength_tempco"):
             _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
         _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
@@ -653,18 +662,101 @@ class ClosedLoopFOG:
 
     def vibration_spectra(self, f: ArrayLike) -> dict[str, NDArray[np.complex128]]:
         """Per unit table acceleration at ``f`` [Hz]: strain rate error, rocking rate [rad/s per
-        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop)."""
+        m/s^2] and loss modulation [1/(m/s^2)] (complex amplitudes, before the loop).
+
+        Strain: K kappa_k jw H_k(f) e^{-jw tau/2} W_k(w) with the exact transit-time kernel
+        (:meth:`StrainMode.kernel`: closed form for a mode with a ``segment``; W_k and the
+        half-transit delay otherwise).
+        """
         f = np.asarray(f, dtype=float)
         jw = 2j * np.pi * f
         k = self.strain_coefficient()
+        lp = self.loop
         z = np.zeros(f.shape, dtype=np.complex128)
         out = {"strain": z.copy(), "rocking": z.copy(), "loss": z.copy()}
         for m in self.modes:
             h = m.response(f)
-            out["strain"] += k * m.strain * m.weight * jw * h
+            if m.strain:
+                kern = m.kernel(f, lp.length, lp.group_index)
+                out["strain"] += k * m.strain * jw * h * kern
             out["rocking"] += m.rocking * jw * h
             out["loss"] += m.loss * h
         return out
+
+    def vibration_transfer(
+        self, f: ArrayLike, fs: float, term: str = "strain"
+    ) -> NDArray[np.complex128]:
+        """G(f): table acceleration -> output-rate error before sampling [rad/s per m/s^2].
+
+        G = V(f) H(e^{jw tau}) sinc(f/fs) with V the ``term`` of :meth:`vibration_spectra`
+        ("strain" or "rocking"), or for "loop_error" V_rock (H - 1) sinc(f/fs) (the rocking
+        through the loop minus its true value).
+        """
+        f = np.asarray(f, dtype=float)
+        spec = self.vibration_spectra(f)
+        h = self.loop.transfer(f)
+        if term == "strain":
+            v = spec["strain"] * h
+        elif term == "rocking":
+            v = spec["rocking"] * h
+        elif term == "loop_error":
+            v = spec["rocking"] * (h - 1.0)
+        else:
+            raise ValueError(f"term must be 'strain', 'rocking' or 'loop_error'; got {term!r}")
+        return np.asarray(v * np.sinc(f / fs), dtype=np.complex128)
+
+    def vibration_error_psd(
+        self,
+        accel_psd: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        fs: float,
+        f_max: float,
+        *,
+        term: str = "strain",
+        n: int = 4001,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """One-sided PSD of the output samples' vibration error under random vibration.
+
+        For a stationary table acceleration of one-sided PSD S_a(f) [(m/s^2)^2/Hz] (zero above
+        ``f_max``), the output samples at ``fs`` (block means, taken every 1/fs) have the
+        folded (aliased) one-sided PSD on [0, fs/2]
+
+            S_y(f) = sum_{k >= 0} |G(f + k fs)|^2 S_a(f + k fs)
+                     + sum_{k >= 1} |G(k fs - f)|^2 S_a(k fs - f)      [(rad/s)^2/Hz]
+
+        (G from :meth:`vibration_transfer`), whose integral over [0, fs/2] is the variance
+        int_0^inf |G|^2 S_a df (:meth:`vibration_error_variance`). Returns (f, S_y) on ``n``
+        points. docs/physics.md 4.1.
+        """
+        fs = _real("vibration_error_psd", "fs", fs, "Hz", 0.0)
+        f_max = _real("vibration_error_psd", "f_max", f_max, "Hz", 0.0)
+        fo = np.linspace(0.0, fs / 2, n)
+        s = np.zeros(n)
+        for k in range(int(math.ceil(f_max / fs)) + 1):
+            for ff in (k * fs + fo, (k + 1) * fs - fo):
+                ok = ff <= f_max
+                if np.any(ok):
+                    g = self.vibration_transfer(ff[ok], fs, term)
+                    s[ok] += np.abs(g) ** 2 * np.asarray(accel_psd(ff[ok]), dtype=float)
+        return fo, s
+
+    def vibration_error_variance(
+        self,
+        accel_psd: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        fs: float,
+        f_max: float,
+        *,
+        term: str = "strain",
+        df: float = 0.02,
+    ) -> float:
+        """Var of the output samples' vibration error: int_0^f_max |G(f)|^2 S_a(f) df [(rad/s)^2].
+
+        Trapezoid on a uniform grid of step <= ``df`` [Hz] (the modes' half-power widths
+        f_k/Q_k are >= 10 Hz by default: relative error ~ (df Q/f)^2 / 12).
+        """
+        f_max = _real("vibration_error_variance", "f_max", f_max, "Hz", 0.0)
+        f = np.linspace(0.0, f_max, int(math.ceil(f_max / df)) + 1)
+        g = self.vibration_transfer(f, fs, term)
+        return float(np.trapezoid(np.abs(g) ** 2 * np.asarray(accel_psd(f), dtype=float), f))
 
     def simulate(
         self,
@@ -678,6 +770,9 @@ class ClosedLoopFOG:
         | Callable[[NDArray[np.float64]], NDArray[np.float64]]
         | None = None,
         source_temperature: float
+        | Callable[[NDArray[np.float64]], NDArray[np.float64]]
+        | None = None,
+        nonreciprocal_rate: float
         | Callable[[NDArray[np.float64]], NDArray[np.float64]]
         | None = None,
         t0: float = 0.0,
@@ -694,7 +789,15 @@ class ClosedLoopFOG:
             Table acceleration at a physics rate that is an even multiple of ``fs``, covering
             the record (``round(duration * shaker.fs)`` samples from ``t0``).
         coil_temperature, source_temperature : float or callable, optional
-            [K]; default the reference temperature (no scale-factor change).
+            [K]; default the reference temperature (no scale-factor change). The coil's is
+            the temperature its winding diameter follows (alpha_D), the source's the one its
+            mean wavelength follows (alpha_lambda).
+        nonreciprocal_rate : float or callable, optional
+            A slow nonreciprocal phase at the loop's input besides the Sagnac phase, as its
+            rate equivalent phi_nr/SF0 [rad/s] (e.g. the coil's thermal Shupe and T x dT
+            terms, :mod:`gyrobench.sim.fog2d`). It adds to the Sagnac phase SF(T) Omega and
+            passes the loop like it (H(0) = 1, the gain error's ratio); it is a phase, so
+            SF(T)/SF0 does not scale it. Default 0.
         rng : numpy.random.Generator
             Two child streams: optical noise, IEEE-952 terms.
         """
@@ -722,11 +825,14 @@ class ClosedLoopFOG:
             _profile("source_temperature", source_temperature, tc, self.reference_temperature),
         )
         slow = omega_table + earth
+        nonrec = _profile("nonreciprocal_rate", nonreciprocal_rate, tc, 0.0)
         if lp.gain_loop or lp.modulator_gain_error == 0.0:
             r_g = np.ones(n)
         else:
             r_g = gain_error_scale_factor(
-                sf0 * r_t * slow, lp.modulator_gain_error, reset_blanking=lp.reset_blanking
+                sf0 * (r_t * slow + nonrec),
+                lp.modulator_gain_error,
+                reset_blanking=lp.reset_blanking,
             )
         vib = self._vibration(shaker, n, fs, t0) if shaker is not None else None
         zeros = np.zeros(n)
@@ -741,9 +847,9 @@ class ClosedLoopFOG:
         for part in ieee_parts.values():
             ieee = ieee + part
         true = slow + rock_true
-        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0)
+        sf_err = slow * (r_t * r_g - 1.0) + rock_out * (r_t - 1.0) + nonrec * (r_g - 1.0)
         loop_err = rock_out - rock_true
-        output = true + sf_err + loop_err + strain + rect + optical + ieee
+        output = true + sf_err + loop_err + nonrec + strain + rect + optical + ieee
         rs = "rad/s"
         truth = {
             "rate": Channel(
@@ -754,7 +860,14 @@ class ClosedLoopFOG:
             "rocking_rate": Channel(
                 rock_true, rs, "fixture rocking about the sense axis (true rate)"
             ),
-            "scale_factor_error": Channel(sf_err, rs, "true rate x (SF(T) SF(eps)/SF0 - 1)"),
+            "scale_factor_error": Channel(
+                sf_err,
+                rs,
+                "true rate x (SF(T) SF(eps)/SF0 - 1) + nonreciprocal input x (SF(eps) - 1)",
+            ),
+            "nonreciprocal": Channel(
+                nonrec, rs, "slow nonreciprocal input phase / SF0 (e.g. the coil's thermal term)"
+            ),
             "loop_error": Channel(
                 loop_err, rs, "rocking through the loop's finite bandwidth minus its true value"
             ),

@@ -450,3 +450,40 @@ def test_twenty_units_through_the_shared_evaluation():
     assert all(c.testable == 20 for c in claims)
     out = sc.report(cfg, us, claims)
     assert [r[4] for r in out.tables[0].rows] == [u["quantities"]["val1_ratio"] for u in us]
+
+
+# --------------------------------------------------------------- the FOG (issue 17)
+
+
+def test_paper_003_runs_on_the_closed_loop_fog():
+    from gyrobench.sim.fog2d import coil_diameter_tempco
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+
+    cfg = sc.Config()
+    unit = sc._unit(cfg, np.random.default_rng(0))
+    fog = unit.fog
+    assert isinstance(fog, ClosedLoopFOG)
+    assert fog.loop.bias_phase == pytest.approx(0.75 * math.pi)
+    # ARW from the optical budget at 3 pi/4 (the Config docstring's 4.0e-4 deg/sqrt(h))
+    assert units.to_deg_per_sqrt_h(fog.arw) == pytest.approx(4.04e-4, rel=0.01)
+    assert abs(fog.earth_rate) < 1e-19  # axis east: the paper's zero input
+    assert fog.diameter_tempco == pytest.approx(coil_diameter_tempco(unit.coil), rel=1e-12)
+    north = sc._unit(replace(cfg, sense_azimuth_deg=0.0), np.random.default_rng(0)).fog
+    assert units.to_deg_per_h(north.earth_rate) == pytest.approx(10.48, abs=0.01)
+    fixed = sc._unit(replace(cfg, diameter_tempco_ppm_per_K=2.76), np.random.default_rng(0))
+    assert fixed.fog.diameter_tempco == pytest.approx(2.76e-6)
+
+
+@pytest.mark.parametrize(
+    "field,value",
+    [
+        ("modulation_depth_pi", 1.2),
+        ("modulation_depth_pi", 0.0),
+        ("sense_azimuth_deg", float("nan")),
+        ("diameter_tempco_ppm_per_K", 5e3),
+        ("wavelength_tempco_ppm_per_K", float("inf")),
+    ],
+)
+def test_fog_parameters_are_checked(field, value):
+    with pytest.raises(ValueError, match=field):
+        sc.Config(**{field: value})

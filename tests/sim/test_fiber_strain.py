@@ -57,14 +57,15 @@ def test_exact_kernel_vs_small_tau_and_harmonic_form(f):
         group_index=ng,
         index=n,
     )
-    # harmonic form: dphi = Re{-2j e^{-jw tau/2} e^{jwt} k0 n xi eps0 int psi sin(w (L-2z)/(2v)) dz}
+    # harmonic form: dphi = Re{2j e^{-jw tau/2} e^{jwt} k0 n xi eps0 int psi sin(w (L-2z)/(2v)) dz}
+    # (orientation: wave entered at L minus wave entered at 0, the sign of the small-tau form)
     z = np.linspace(0, L, 200001)
     from scipy.integrate import simpson
 
     integral = simpson((z / L) * np.sin(w * (L - 2 * z) / (2 * v)), x=z)
     tau = L / v
     harm = np.real(
-        -2j
+        2j
         * np.exp(-1j * w * tau / 2)
         * np.exp(1j * w * t)
         * k0

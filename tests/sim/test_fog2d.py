@@ -71,3 +71,59 @@ def test_bad_input():
         unit.simulate(PROFILE, fs=1.0, rng=3)
     with pytest.raises(TypeError, match="PiecewiseLinear"):
         unit.thermal_response([0, 1])
+
+
+def test_the_output_is_the_closed_loop_fogs():
+    # issue 17: one FOG class; the coil's thermal term is the loop's nonreciprocal input
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+
+    unit = SPEC.realize(rng=np.random.default_rng(2))
+    assert isinstance(unit.fog, ClosedLoopFOG)
+    fm = unit.coil.fibre()
+    assert unit.fog.loop.length == fm.length and unit.fog.loop.diameter == fm.diameter
+    rec = unit.simulate(PROFILE, fs=0.1, rng=np.random.default_rng(3), true_rate=1e-3)
+    run = unit.thermal_response(PROFILE)
+    t = rec.time + 5.0  # block centres
+    np.testing.assert_allclose(
+        rec["truth/thermal_drift"], np.interp(t, run.t, run.shupe + run.product), atol=1e-20
+    )
+    np.testing.assert_array_equal(rec["truth/thermal_drift"], rec["truth/nonreciprocal"])
+    np.testing.assert_allclose(
+        rec["truth/noise"], rec["truth/optical_noise"] + rec["truth/ieee_noise"], atol=0
+    )
+    # SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_housing) at the true rate
+    dc = rec["truth/coil_mean_temperature"] - SPEC.scale_factor_ref_temperature
+    ds = rec["truth/housing_temperature"] - SPEC.scale_factor_ref_temperature
+    a_d, a_l = unit.fog.diameter_tempco, SPEC.wavelength_tempco
+    ratio = (1 + a_d * dc) ** 2 / (1 + a_l * ds)
+    np.testing.assert_allclose(
+        rec["truth/scale_factor_error"], 1e-3 * (ratio - 1), rtol=1e-9, atol=1e-22
+    )
+    # the white noise is the optical budget's ARW (not an IEEE-952 N term)
+    assert rec.metadata["arw_rad_per_sqrt_s"] == pytest.approx(
+        unit.fog.loop.arw(SPEC.optics), rel=1e-12
+    )
+
+
+def test_diameter_tempco_is_the_coils_hoop_expansion():
+    from gyrobench.sim.fog2d import coil_diameter_tempco
+
+    coil = coil2d.Coil2D(spec=SPEC.coil)
+    fm = coil.fibre()
+    b = fm.bonded
+    h = SPEC.coil.hoop_strain_rate(fm.r[b], SPEC.coil.t_ref)
+    want = float(np.sum(h * fm.ds[b]) / np.sum(fm.ds[b]))
+    assert coil_diameter_tempco(SPEC.coil) == pytest.approx(want, rel=1e-12)
+    assert FOG2DUnit(spec=SPEC, coil=coil).fog.diameter_tempco == pytest.approx(want, rel=1e-12)
+    fixed = FOG2DSpec(coil=SPEC.coil, diameter_tempco=7e-6)
+    assert FOG2DUnit(spec=fixed, coil=coil).fog.diameter_tempco == 7e-6
+
+
+def test_earth_rate_follows_the_axis():
+    coil = coil2d.Coil2D(spec=SPEC.coil)
+    east = FOG2DUnit(spec=SPEC, coil=coil).fog  # default: horizontal east at Harbin
+    assert abs(east.earth_rate) < 1e-19
+    north = FOG2DUnit(spec=FOG2DSpec(coil=SPEC.coil, azimuth=0.0), coil=coil).fog
+    assert units.to_deg_per_h(north.earth_rate) == pytest.approx(
+        15.041 * np.cos(np.radians(45.75)), abs=0.01
+    )

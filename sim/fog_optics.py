@@ -30,10 +30,22 @@ Gaussian (derived: sqrt(pi/(2 ln 2)) * ... = 1.5054). Shot noise: Schottky formu
 Johnson noise of the transimpedance feedback resistor plus the amplifier's input current noise.
 
 Constants: elementary charge q and Boltzmann k_B are exact in the 2019 SI (CODATA 2018).
-Defaults (the worked example of docs/physics.md 3.8): Er ASE source 10 mW, 30 nm
-(rectangular-equivalent), 20 dB source-to-detector loss, R = 0.9 A/W, R_f = 100 kOhm,
-i_n = 1 pA/sqrt(Hz), 300 K: N = 9.4e-4 deg/sqrt(h) at phi_b = pi/2 (RIN dominated). Those
-defaults are typical values, not measured on a unit (unverified).
+Defaults (the worked example of docs/physics.md 3.8), each with where it comes from:
+
+- Er ASE source 10 mW, 30 nm (rectangular-equivalent): an Er-doped superfluorescent source
+  for FOGs gave up to 15 mW from 70 mW of 980 nm pump with RIN < -125 dB/Hz ("Broadband erbium
+  source for fiber optic sensor applications"); 30 nm gives lambda^2/(c dlambda) = -125.7 dB/Hz,
+  consistent with it.
+- 20 dB source-to-detector loss: an ASSUMED budget of a depolarised-source IFOG (source
+  coupler twice 6 dB, polariser 3 dB, Y-junction/IOC insertion 4 dB and its 3 dB split, 1 km
+  of fibre at 0.5-1 dB, splices and excess ~3 dB); not measured on a unit.
+- R = 0.9 A/W: R = eta q lambda/(h c) = 1.25 eta A/W at 1550 nm, i.e. a quantum efficiency of
+  0.72; InGaAs PIN diodes reach eta > 0.83 at 1.55 um (Lee et al., Electron. Lett. 20, 196
+  (1984)), so this is a conservative front end.
+- R_f = 100 kOhm, i_n = 1 pA/sqrt(Hz), 300 K: ASSUMED transimpedance design values; the
+  thermal current PSD is 0.2 % of the RIN term at phi_b = pi/2 (docs/physics.md 3.8).
+
+N = 9.4e-4 deg/sqrt(h) at phi_b = pi/2 (RIN dominated).
 """
 
 from __future__ import annotations

@@ -90,7 +90,7 @@ class FOG2DSpec:
     noise : NoiseModel
         Additive IEEE-952 terms (:class:`ClosedLoopFOG` ``noise``): what the optics do not
         produce. Default bias instability 0.003 deg/h and bias 0.05 deg/h, no ARW (the ARW is
-        the optical budget's: an N term given here adds to it); assumed, unverified.
+        the optical budget's: an N term given here adds to it); ASSUMED navigation-grade sizes.
     optics : OpticalBudget
         Source, losses, detector of the loop (the white noise).
     bias_phase : float
@@ -106,7 +106,7 @@ class FOG2DSpec:
         the law is the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding
         radius), no longer (1 + alpha_f dT)(1 + alpha_D dT) with the glass expansion alpha_f.
     wavelength_tempco : float
-        (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; assumed, unverified).
+        (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; ASSUMED, as ClosedLoopFOG's).
     scale_factor_ref_temperature : float
         T_ref, where SF = SF0 [K].
     thermal_step : float

@@ -99,7 +99,8 @@ class LoopSpec:
     wavelength : float
         Source mean wavelength lambda [m].
     group_index : float
-        Fibre group index n_g [-] (1.468, SMF at 1550 nm; typical).
+        Fibre group index n_g [-] (1.468: Corning SMF-28 product information, effective group
+        index 1.4682 at 1550 nm).
     bias_phase : float
         Modulation depth phi_b [rad] (square wave +-phi_b/2 at f_p; pi/2 default).
     loop_gain : float
@@ -452,7 +453,7 @@ def run_loop(
 
 # ============================================================================ the unit
 def _default_modes() -> tuple[StrainMode, ...]:
-    # Assumed values (unverified; no paper number used). Sizes chosen so that the largest
+    # ASSUMED values (no paper number, no measured unit). Sizes chosen so that the largest
     # strain tone at 2 g is a few deg/h at the pigtail resonance, the order vibration tests of
     # navigation-grade FOGs report, and the coil mode adds ~0.1 deg/h at 500 Hz: axial strain
     # of the core is small because bending strain vanishes on the fibre's neutral axis.
@@ -539,16 +540,18 @@ class ClosedLoopFOG:
         Additive IEEE-952 terms for what the optics do not produce (bias, B, K, R, Q);
         default none.
     diameter_tempco : float
-        alpha_D, hoop expansion of the mean winding diameter [1/K] (Al spool pack ~15 ppm/K,
-        docs/physics.md 3.8, derived from assumed pack properties; unverified).
+        alpha_D, hoop expansion of the mean winding diameter [1/K] (15 ppm/K: ASSUMED for
+        paper 000's unit; paper 003 takes it from its coil's composite-cylinder model,
+        22.7 ppm/K for an aluminium spool, :mod:`gyrobench.sim.fog2d`).
     wavelength_tempco : float
-        (1/lambda) dlambda/dT of the source mean wavelength [1/K] (Er ASE unstabilised, a few
-        ppm/K; unverified).
+        (1/lambda) dlambda/dT of the source mean wavelength [1/K] (5 ppm/K: ASSUMED for an
+        unstabilised Er ASE source, whose mean-wavelength stability is its reason for use in
+        FOGs, Wysocki et al., J. Lightwave Technol. 12(3) 550 (1994)).
     reference_temperature : float
         Temperature at which SF = SF0 [K].
     modes : tuple of StrainMode
-        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults assumed (unverified)
-        and sized for the default 1 km coil (their weights W do not follow ``loop.length``).
+        Structural modes (:mod:`gyrobench.sim.fiber_strain`); defaults ASSUMED (no paper or
+        measured unit) and sized for the default 1 km coil (their weights W do not follow ``loop.length``).
     index : float
         Phase index n of the fibre for the strain term [-] (fused silica at 1550 nm, 1.444,
         Malitson 1965).

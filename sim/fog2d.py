@@ -106,7 +106,7 @@ class FOG2DSpec:
         the law is the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding
         radius), no longer (1 + alpha_f dT)(1 + alpha_D dT) with the glass expansion alpha_f.
     wavelength_tempco : float
-        (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; ASSUMED, as ClosedLoopFOG's).
+        (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; ASSUMED).
     scale_factor_ref_temperature : float
         T_ref, where SF = SF0 [K].
     thermal_step : float

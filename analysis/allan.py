@@ -1568,10 +1568,33 @@ def _rho_blocks_cached(
     n = len(ms)
     pairs = _scaled_pairs(np.asarray(ms, dtype=np.int64))  # (n, n, 2)
     mu = sorted({int(m) for m in np.unique(pairs)})
-    col = {m: k for k, m in enumerate(mu)}
+    ua = sorted(set(alphas))
+    gram = _octave_gram(ua, mu)
+    if gram is None:  # some m is not a power of two (or the table does not hold it): compute
+        gram = _gram_direct(ua, mu)
+    lookup = np.zeros(max(mu) + 1, dtype=np.int64)
+    lookup[mu] = np.arange(len(mu))
+    i1 = lookup[pairs[..., 0]]
+    i2 = lookup[pairs[..., 1]]
+    diag = np.eye(n, dtype=bool)
+    out = {}
+    for t, at in enumerate(alphas):
+        for s_, as_ in enumerate(alphas):
+            r = gram[ua.index(at) * len(mu) + i1, ua.index(as_) * len(mu) + i2]
+            if at == as_:
+                r[diag] = 1.0
+            out[(t, s_)] = r
+    return out
+
+
+def _gram_direct(ua: Sequence[int], mu: Sequence[int]) -> NDArray[np.float64]:
+    """Gram matrix of the unit-norm g = S_alpha |H_m|^2 rows, alpha in ``ua`` (outer) by m in ``mu`` (inner).
+
+    Entry [a * len(mu) + i, b * len(mu) + j] = int g_{ua[a], mu[i]} g_{ua[b], mu[j]} df on
+    the midpoint grid of :func:`_rho_grid` (see :func:`_rho_blocks`).
+    """
     f = _rho_grid()[0]
     h = np.stack([_h(m) for m in mu])  # (len(mu), grid)
-    ua = sorted(set(alphas))
     g = np.concatenate([h * _rate_psd_shape(a, f)[None, :] for a in ua])  # (len(ua) len(mu), grid)
     g /= np.linalg.norm(g, axis=1)[:, None]
     rows = g.shape[0]
@@ -1584,17 +1607,49 @@ def _rho_blocks_cached(
     else:
         with _one_blas_thread():  # a first multithreaded BLAS call costs ~1-2 s of start-up on a busy VM
             gram = g @ g.T
-    i1 = np.vectorize(col.get)(pairs[..., 0])
-    i2 = np.vectorize(col.get)(pairs[..., 1])
-    diag = np.eye(n, dtype=bool)
-    out = {}
-    for t, at in enumerate(alphas):
-        for s_, as_ in enumerate(alphas):
-            r = gram[ua.index(at) * len(mu) + i1, ua.index(as_) * len(mu) + i2]
-            if at == as_:
-                r[diag] = 1.0
-            out[(t, s_)] = r
-    return out
+    return gram
+
+
+#: the noise types and the m of the stored octave table (``_allan_rho_table``)
+_TABLE_ALPHAS = (-2, -1, 0, 2)
+_TABLE_MS = tuple(1 << k for k in range(_RHO_M_CAP.bit_length()))  # 1, 2, 4, .., 1024
+
+
+def _octave_gram_direct() -> NDArray[np.float64]:
+    """The full octave gram matrix (every alpha of _TABLE_ALPHAS, every m of _TABLE_MS), computed."""
+    return _gram_direct(_TABLE_ALPHAS, _TABLE_MS)
+
+
+@functools.lru_cache(maxsize=1)
+def _octave_table() -> NDArray[np.float64] | None:
+    """The stored octave gram matrix (44 x 44), or None when it was made for another grid or cap."""
+    import binascii  # (base64 itself imports struct and re: ~1 ms)
+
+    from gyrobench.analysis import _allan_rho_table as tab
+
+    if (tab.GRID, tab.M_CAP, tab.ALPHAS, tab.MS) != (_RHO_GRID, _RHO_M_CAP, _TABLE_ALPHAS, _TABLE_MS):
+        return None  # pragma: no cover - the table is regenerated whenever these change (a test checks)
+    k = len(tab.ALPHAS) * len(tab.MS)
+    gram = np.frombuffer(binascii.a2b_base64(tab.GRAM), dtype="<f8").reshape(k, k).astype(float)
+    gram.flags.writeable = False
+    return gram
+
+
+def _octave_gram(ua: Sequence[int], mu: Sequence[int]) -> NDArray[np.float64] | None:
+    """Rows/columns ``ua`` x ``mu`` of the stored octave table, or None if it does not hold them all.
+
+    The table is :func:`_octave_gram_direct` evaluated once and stored (gyrobench.analysis.
+    _allan_rho_table, written by benchmarks/make_rho_table.py): building the 44 g vectors on
+    the 16384-point grid and their products cost ~20 ms on first use, the largest fixed cost
+    of a fit on an ordinary record; a test checks the table against the direct computation.
+    """
+    if not (set(ua) <= set(_TABLE_ALPHAS) and set(mu) <= set(_TABLE_MS)):
+        return None
+    table = _octave_table()
+    if table is None:  # pragma: no cover
+        return None
+    idx = np.array([_TABLE_ALPHAS.index(a) * len(_TABLE_MS) + _TABLE_MS.index(m) for a in ua for m in mu])
+    return table[np.ix_(idx, idx)]
 
 
 #: c in Var(ybar_end - ybar_start) = (2 B^2/pi) (ln(L/tau) + c) for flicker rate averaged by the

@@ -47,7 +47,7 @@ import threading
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache, partial
 from typing import Any
 
@@ -68,6 +68,9 @@ __all__ = [
     "FitRange",
     "NoiseFit",
     "fit_range",
+    "bandwidth_range",
+    "BANDWIDTH_BIAS",
+    "lowpass_avar_bias",
     "allan_deviation",
     "fit_noise",
     "identify_noise",
@@ -263,6 +266,14 @@ class NoiseFit:
         Birge ratio), else 1.
     point_covariance : ndarray
         Modelled covariance V of the fitted AVAR points [rate unit^4] (not inflated).
+    range_rule : str
+        What set the shortest fitted tau: "user" (a number given as ``tau_min``), "data"
+        (the filter-shaped region :func:`fit_range` found, ``tau_min="auto"``), "bandwidth"
+        (the stated sensor bandwidth, :func:`bandwidth_range`), or "" (no lower limit). When
+        several apply the largest tau_min wins and is named here. ``tau_min="auto"`` may then
+        drop further misfitting first points (see :func:`fit_noise`).
+    range_reason : str
+        One line saying why the fit starts where it does ("" without a lower limit).
     """
 
     coefficients: dict[str, Coefficient]
@@ -277,6 +288,8 @@ class NoiseFit:
     misfit: bool = False
     inflation: float = 1.0
     point_covariance: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)))
+    range_rule: str = ""
+    range_reason: str = ""
 
     @property
     def tau_used(self) -> NDArray[np.float64]:
@@ -1811,6 +1824,136 @@ def fit_range(curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = le
     )
 
 
+def lowpass_avar_bias(tau: ArrayLike, bandwidth: float, *, fs: float | None = None) -> NDArray[np.float64]:
+    """Fractional deficit of the Allan variance of white rate noise behind a first-order low-pass.
+
+    Parameters
+    ----------
+    tau : array_like
+        Cluster times [s], > 0.
+    bandwidth : float
+        Corner (-3 dB) frequency f_c of the low-pass [Hz], > 0.
+    fs : float, optional
+        Sample rate [Hz] of the record (0 < f_c < fs/2); None: continuous time (fs -> inf).
+
+    Returns
+    -------
+    ndarray
+        b(tau) = 1 - AVAR(tau) / (N^2 / tau) in [0, 1), with
+
+            b(tau) = (T / (2 tau)) (3 - 4 exp(-tau/T') + exp(-2 tau/T')),  T' = 1 / (2 pi f_c),
+
+        T = T' in continuous time and T = 1 / (fs sinh(2 pi f_c / fs)) <= T' for a record
+        sampled at fs; b -> 3 T / (2 tau) for tau >> T'.
+
+    Notes
+    -----
+    White rate noise N^2 (one-sided PSD) through H(s) = 1/(1 + s T') is a first-order
+    Gauss-Markov process with autocorrelation (N^2/(2T')) exp(-|t|/T'); its Allan variance is
+    (N^2/tau) (1 - b(tau)) (IEEE Std 952-1997 Annex C, exponentially correlated noise with
+    q_c T' = N). Sampled at fs (point samples of that process, or the IIR y_k = a y_(k-1) +
+    (1 - a) x_k with a = exp(-2 pi f_c / fs): the same autocorrelation a^|j|), the variance of
+    a sum of m samples is D(m) = sigma^2 (m - c (1 - a^m)), c = 2 a / (1 - a^2) =
+    1/sinh(2 pi f_c / fs), and AVAR = (4 D(m) - D(2m)) / (2 m^2) gives the expression above
+    with T = c / fs (a test checks it against simulation). For any unit-DC-gain filter the
+    large-tau deficit is 3 c / (2 tau) with c = (1/pi^2) int_0^inf (1 - |H(f)|^2) / f^2 df:
+    1/(2 pi f_c) first order, 1/(2 pi n f_c sin(pi/(2n))) for an n-th order Butterworth
+    (0.65x the first-order value at n = 4), 0.148/f_c for a moving average of -3 dB
+    frequency f_c (docs/physics.md 1.7).
+    """
+    tau = _positive_tau(tau)
+    bw = _check_bandwidth(bandwidth, fs)
+    t_corr = 1.0 / (2.0 * math.pi * bw)
+    t = t_corr if fs is None else 1.0 / (float(fs) * math.sinh(2.0 * math.pi * bw / float(fs)))
+    x = tau / t_corr
+    return (t / (2.0 * tau)) * (3.0 - 4.0 * np.exp(-x) + np.exp(-2.0 * x))
+
+
+def _check_bandwidth(bandwidth: Any, fs: float | None, name: str = "bandwidth") -> float:
+    if isinstance(bandwidth, bool) or not isinstance(bandwidth, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number [Hz]; got {bandwidth!r}")
+    bw = float(bandwidth)
+    if not (math.isfinite(bw) and bw > 0.0):
+        raise ValueError(f"{name} must be finite and > 0 Hz; got {bandwidth!r}")
+    if fs is not None and not bw < fs / 2.0:
+        raise ValueError(
+            f"{name} must be < the Nyquist frequency fs/2 = {fs / 2.0:g} Hz (a wider filter cannot shape a record "
+            f"sampled at {fs:g} Hz); got {bw:g} Hz"
+        )
+    return bw
+
+
+#: default of ``bandwidth_bias``: the filter's bias of an included white-noise point is at most
+#: this fraction of the point's standard error (see :func:`bandwidth_range`)
+BANDWIDTH_BIAS = 0.1
+
+
+def bandwidth_range(curve: AllanCurve, bandwidth: float, *, bias: float = BANDWIDTH_BIAS) -> FitRange:
+    """Shortest tau at which a stated sensor bandwidth no longer biases the white-noise points.
+
+    Parameters
+    ----------
+    curve : AllanCurve
+        The Allan variance curve (overlapping or standard) to be fitted.
+    bandwidth : float
+        The sensor's bandwidth f_c [Hz] (-3 dB frequency of its anti-alias / decimation /
+        on-chip low-pass), 0 < f_c < fs/2.
+    bias : float
+        Largest allowed ratio of the filter's bias of a white-noise Allan variance point to
+        that point's standard error, > 0 (default :data:`BANDWIDTH_BIAS` = 0.1).
+
+    Returns
+    -------
+    FitRange
+        ``tau_min`` is the first curve tau with b(tau) <= bias * sqrt(2 / nu0(tau)); None when
+        that is the first point already.
+
+    Notes
+    -----
+    Rule: a point tau_i is kept when tau_i >= 1/f_c and the first-order low-pass deficit
+    b(tau_i) (:func:`lowpass_avar_bias` at the curve's fs, ~ 3/(4 pi f_c tau)) is at most
+    ``bias`` times the relative standard error sqrt(2/nu0_i) of that point for white rate
+    noise (nu0 the Greenhall edf of white FM at m_i for this record and statistic; ~ 3 n / (2 m)
+    overlapping). b falls and the standard error grows with tau, so every later point passes
+    too. For tau >> 1/f_c the rule is tau_min ~ (3 / (4 pi f_c bias))^(2/3) (3 T_rec / 4)^(1/3)
+    (overlapping, record length T_rec): longer records, whose points are more precise, start
+    later. With the default 0.1 a kept point's bias changes its chi-square contribution by
+    about 1 % and moves the fitted N^2 by a fraction of its standard error; ``bias=0.01`` is
+    stricter. Why it is conservative: the white-noise standard error is the smallest a point
+    can have (other noise only adds variance); and from tau = 1/f_c on, the first-order
+    deficit bounds that of Butterworth low-passes of order 2, 4 and 8 (0.5-0.93x of it) and
+    of a moving average of the same -3 dB frequency (0.84-0.92x), computed exactly from
+    their impulse responses for f_c / fs = 0.01-0.45 (below 1/f_c higher orders can exceed
+    it, up to 1.9x; a test checks the 4th order).
+    """
+    if not isinstance(curve, AllanCurve):
+        raise TypeError(f"curve must be an AllanCurve; got {type(curve).__name__}")
+    bw = _check_bandwidth(bandwidth, curve.fs)
+    if isinstance(bias, bool) or not isinstance(bias, (int, float)) or not (math.isfinite(bias) and bias > 0):
+        raise ValueError(f"bandwidth_bias must be finite and > 0; got {bias!r}")
+    tau = np.asarray(curve.tau, dtype=float)
+    ms = curve.m
+    nu0 = _edf(curve.kind if curve.kind in _D else "overlapping", np.zeros(ms.size, dtype=np.int64), ms, curve.n_samples)
+    b = lowpass_avar_bias(tau, bw, fs=curve.fs)
+    ok = (b <= bias * np.sqrt(2.0 / nu0)) & (tau >= (1.0 - 1e-9) / bw)
+    rule = f"a first-order low-pass at the stated bandwidth {bw:g} Hz biases a white-noise point by more than {bias:g} of its standard error"
+    if ok[0]:
+        return FitRange(tau_min=None, excluded=0, reason=f"no tau excluded by the bandwidth: nowhere does {rule[2:]}")
+    if not ok.any():
+        # the rule's limit lies beyond the curve: report it, so the fit's refusal can say so
+        return FitRange(
+            tau_min=float(tau[-1]) * 2.0,
+            excluded=int(tau.size),
+            reason=f"every point (tau <= {tau[-1]:.3g} s) is excluded: {rule} at every tau of the curve",
+        )
+    j = int(np.flatnonzero(ok)[0])
+    return FitRange(
+        tau_min=float(tau[j]),
+        excluded=j,
+        reason=f"the first {j} point(s) (tau < {tau[j]:.3g} s) are excluded: there {rule}",
+    )
+
+
 @_single_blas
 def fit_noise(
     curve_or_rate: AllanCurve | ArrayLike,
@@ -1821,6 +1964,8 @@ def fit_noise(
     tau_min: float | str | None = None,
     tau_max: float | None = None,
     misfit_p: float = 1e-3,
+    bandwidth: float | None = None,
+    bandwidth_bias: float = BANDWIDTH_BIAS,
 ) -> NoiseFit:
     """Joint weighted non-negative least-squares fit of the IEEE 952 terms to an Allan variance.
 
@@ -1844,6 +1989,13 @@ def fit_noise(
     misfit_p : float
         Level of the goodness-of-fit test: a fit with p-value below it is a misfit
         (``NoiseFit.misfit``), and its standard errors are multiplied by sqrt(chi2/dof).
+    bandwidth : float, optional
+        The sensor's bandwidth [Hz] (0 < bandwidth < fs/2), when known: taus where its
+        low-pass still biases the white-noise points are not fitted (:func:`bandwidth_range`,
+        with ``bandwidth_bias``). Combined with ``tau_min`` (a number or "auto"): the larger
+        tau_min wins, and ``NoiseFit.range_rule`` / ``range_reason`` say which rule set it.
+    bandwidth_bias : float
+        Ratio of filter bias to a point's standard error that :func:`bandwidth_range` allows.
 
     Returns
     -------
@@ -1947,10 +2099,17 @@ def fit_noise(
             "rate is constant (zero variance): Allan deviation is 0 at every tau; nothing to fit"
         )
     auto = isinstance(tau_min, str)
+    rule, reason = ("user", f"tau_min = {tau_min!r} s given") if tau_min is not None else ("", "")
     if auto:
         if tau_min != "auto":
             raise ValueError(f"tau_min must be a number [s], 'auto' or None; got {tau_min!r}")
-        tau_min = fit_range(curve, n_terms=len(terms)).tau_min
+        found = fit_range(curve, n_terms=len(terms))
+        tau_min, rule, reason = found.tau_min, ("data" if found.tau_min is not None else ""), found.reason
+    if bandwidth is not None:
+        limit = bandwidth_range(curve, bandwidth, bias=bandwidth_bias)
+        current = _check_tau_limit("tau_min", tau_min)
+        if limit.tau_min is not None and (current is None or limit.tau_min > current * (1 + 1e-9)):
+            tau_min, rule, reason = limit.tau_min, "bandwidth", limit.reason
     lo_t = _check_tau_limit("tau_min", tau_min)
     hi_t = _check_tau_limit("tau_max", tau_max)
     used = np.ones(tau_all.size, dtype=bool)
@@ -1964,6 +2123,7 @@ def fit_noise(
         raise ValueError(
             f"the fit range [{lo_t or tau_all[0]:.6g}, {hi_t or tau_all[-1]:.6g}] s holds {int(used.sum())} "
             f"of the curve's tau points, fewer than the {len(terms)} terms to fit ({', '.join(terms)})"
+            + (f" (tau_min set by the {rule} rule: {reason})" if rule in ("data", "bandwidth") else "")
         )
     a = a_all[used]
     if not np.all(a > 0):
@@ -1994,7 +2154,7 @@ def fit_noise(
             if not (fit.chi2 - fit2.chi2 > gain):
                 break
             used, fit = trial, fit2
-    return fit
+    return replace(fit, range_rule=rule, range_reason=reason)
 
 
 def _fit_core(

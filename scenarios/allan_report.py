@@ -270,6 +270,7 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
         "tau_used": [float(t) for t in fit.tau_used],
         "chi2": num(fit.chi2),
         "dof": int(fit.dof),
+        "chi2_expected": num(fit.chi2_expected),
         "chi2_per_dof": num(fit.chi2_per_dof),
         "p_value": num(fit.p_value),
         "misfit": bool(fit.misfit),

@@ -1736,9 +1736,14 @@ def _point_covariance(
     sd = x * c[None, :] * np.sqrt(2.0 / nu)
     if noise is not None:
         sd = sd * noise[None, :]
-    out = np.zeros((x.shape[0], x.shape[0]))
-    for (t, s), r in rho.items():
-        out += r * np.outer(sd[:, t], sd[:, s])
+    k = sd.shape[1]
+    if len(rho) == k * k:  # every pair of terms: one contraction over the stacked blocks
+        blocks = np.stack([rho[(t, s)] for t in range(k) for s in range(k)]).reshape(k, k, *rho[(0, 0)].shape)
+        out = np.einsum("tsij,it,js->ij", blocks, sd, sd)
+    else:
+        out = np.zeros((x.shape[0], x.shape[0]))
+        for (t, s), r in rho.items():
+            out += r * np.outer(sd[:, t], sd[:, s])
     if cross is not None:
         out += np.outer(cross, cross)
     return out

@@ -130,6 +130,7 @@ class ChannelResult:
     fit: Any = None
     no_fit: str | None = None
     fit_range: Any = None
+    bandwidth_range: Any = None
     warnings: list = field(default_factory=list)
     temperature: Any = None
 
@@ -171,6 +172,8 @@ def analyse(
     tau_min="auto",
     tau_max: float | None = None,
     temperature=None,
+    bandwidth: float | None = None,
+    bandwidth_bias: float = 0.1,
 ) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
@@ -178,7 +181,7 @@ def analyse(
     grows as the square of the number of taus, and neighbouring m carry no new information).
     """
     import numpy as np
-    from gyrobench.analysis.allan import AllanCurve, allan_deviation, fit_noise, fit_range
+    from gyrobench.analysis.allan import AllanCurve, allan_deviation, bandwidth_range, fit_noise, fit_range
 
     check_finite(channel)
     data, tfit = channel.data, None
@@ -223,8 +226,13 @@ def analyse(
             f"{'/'.join(terms)} fit needs at least {len(terms)}: use a longer record or fewer --terms"
         )
     fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
-    fit = fit_noise(fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max)
-    return ChannelResult(channel, curve, fit=fit, fit_range=fr, warnings=warn, temperature=tfit)
+    bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
+    fit = fit_noise(
+        fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth, bandwidth_bias=bandwidth_bias
+    )
+    return ChannelResult(
+        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit
+    )
 
 
 def _floor(curve) -> tuple[float, float]:
@@ -262,10 +270,13 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
         "tau_used": [float(t) for t in fit.tau_used],
         "chi2": num(fit.chi2),
         "dof": int(fit.dof),
+        "chi2_expected": num(fit.chi2_expected),
         "chi2_per_dof": num(fit.chi2_per_dof),
         "p_value": num(fit.p_value),
         "misfit": bool(fit.misfit),
         "interval_inflation": float(fit.inflation),
+        "tau_min_rule": fit.range_rule or None,
+        "tau_min_reason": fit.range_reason or None,
     }
 
 
@@ -350,6 +361,26 @@ def plot_title(log, res: ChannelResult) -> str:
     )
 
 
+def _excluded_text(res: ChannelResult, excl: int) -> str:
+    """Why the first ``excl`` taus of a channel's fit were left out: the rule that set tau_min, then misfit."""
+    f = res.fit
+    if f.range_rule == "bandwidth" and res.bandwidth_range is not None:
+        n = res.bandwidth_range.excluded
+        what = "by --bandwidth: " + res.bandwidth_range.reason.split(": there ")[-1]
+    elif f.range_rule == "data" and res.fit_range is not None:
+        n, what = res.fit_range.excluded, "filter-shaped: the log-log curve bends down there, which no sum of the "
+        what += "IEEE power laws can do"
+    elif f.range_rule == "user":
+        n, what = excl, "below --tau-min"
+    else:
+        n, what = 0, ""
+    n = min(n, excl)
+    parts = [f"{n} {what}"] if n else []
+    if excl > n:
+        parts.append(f"{excl - n} {'more ' if n else ''}misfitting the model")
+    return f" ({'; '.join(parts)})"
+
+
 def log_text(log, results: list[ChannelResult]) -> list[str]:
     """The printed report: misfits first, then the record, the notes and one table of every channel."""
     import numpy as np
@@ -387,13 +418,9 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
         f = res.fit
         tau_f = f.curve.tau
         excl = int(np.sum(tau_f < f.tau_used[0]))
-        concave = res.fit_range.excluded if res.fit_range is not None else 0
         why = ""
-        if excl and res.fit_range is not None:
-            why = (
-                f" ({concave} filter-shaped: the log-log curve bends down there, which no sum of the IEEE power "
-                f"laws can do; {excl - concave} more misfitting the model)"
-            )
+        if excl:
+            why = _excluded_text(res, excl)
         p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
         out.append(
             f"{res.channel.label}: fit over {int(f.used.sum())} taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s"

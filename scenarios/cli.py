@@ -6,8 +6,8 @@
     gyrobench simulate noise --N 0.01 --B 0.05 --fs 100 --duration 2h --seed 1 -o rec.h5
     gyrobench simulate SCENARIO --seed 1 --out DIR [--config FILE.toml]
     gyrobench allan FILE [--column NAME ...|--all-axes] [--fs HZ] [--units deg/s] [--start S --stop S]
-                    [--tau-min S|auto --tau-max S --terms N,B,K] [--temperature COL] [--kind K]
-                    [--json] [--plot FILE.png] [--kalibr FILE.yaml]
+                    [--tau-min S|auto --tau-max S --bandwidth HZ --terms N,B,K] [--temperature COL]
+                    [--kind K] [--json] [--plot FILE.png] [--kalibr FILE.yaml]
     gyrobench reproduce --all --out DIR [--seed S] [--units N] [--workers N | --scheduler ADDR] [--db FILE]
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
@@ -365,12 +365,18 @@ def _cmd_allan(args) -> int:
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
                            stop=args.stop, temperature=args.temperature)
+    if args.bandwidth is None and args.bandwidth_bias != 0.1:
+        raise _BadInput("--bandwidth-bias applies with --bandwidth HZ")
+    if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
+        raise _BadInput(f"--bandwidth must be < the Nyquist frequency fs/2 = {log.fs / 2:g} Hz of {path.name} "
+                        f"(sampled at {log.fs:g} Hz); got {args.bandwidth:g} Hz")
     results = []
     for ch in log.channels:
         rep.check_finite(ch)
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
-                                   tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature))
+                                   tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
+                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias))
     if args.kalibr:
         from gyrobench.sim.recording import atomic_path
 
@@ -534,6 +540,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--tau-min", type=_tau_min_arg, default="auto",
                    help="shortest tau to fit [s], or 'auto' (default: above the filter-shaped short-tau region)")
     s.add_argument("--tau-max", type=_positive_float("--tau-max"), help="longest tau to fit [s]")
+    s.add_argument("--bandwidth", type=_positive_float("--bandwidth"), metavar="HZ",
+                   help="the sensor's bandwidth [Hz], 0 < HZ < fs/2: taus its low-pass still biases are not fitted "
+                        "(with --tau-min the larger limit wins; the output names the rule that set it)")
+    s.add_argument("--bandwidth-bias", type=_positive_float("--bandwidth-bias"), default=0.1, metavar="FRACTION",
+                   help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
+                        "standard error (default 0.1)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
     s.add_argument("--plot", help="write the ADEV figure (PNG)")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "

@@ -472,3 +472,61 @@ def test_bad_constant_data(tmp_path, capsys):
     p.write_text("rate [deg/s]\n" + "\n".join(["0.1"] * 1000) + "\n")
     code, _, err = run(["allan", p, "--fs", "10"], capsys)
     assert_one_line_error(code, err, "rate is constant (zero variance): Allan deviation is 0 at every tau")
+
+
+# ----------------------------------------------------------------------------- allan --bandwidth
+@pytest.fixture
+def lowpassed_csv(tmp_path):
+    """20 min at 100 Hz of white rate noise behind a first-order 2 Hz low-pass (no time column)."""
+    from scipy import signal
+
+    a = np.exp(-2 * np.pi * 2.0 / 100.0)
+    y = signal.lfilter([1 - a], [1, -a], 0.01 * np.random.default_rng(5).standard_normal(120_000))
+    p = tmp_path / "lp.csv"
+    p.write_text("rate [rad/s]\n" + "\n".join(f"{v:.9e}" for v in y) + "\n")
+    return p
+
+
+def test_allan_bandwidth_sets_the_fit_range_and_says_so(lowpassed_csv, capsys):
+    from gyrobench.analysis.allan import bandwidth_range
+
+    # (20 min: the rule keeps tau >= 20 s, 4 octaves, so fit the white level alone)
+    args = ["allan", lowpassed_csv, "--fs", "100", "--terms", "N", "--bandwidth", "2"]
+    code, out, _ = run([*args, "--json"], capsys)
+    assert code == 0
+    d = json.loads(out)
+    assert d["fit"]["tau_min_rule"] == "bandwidth"
+    assert "stated bandwidth 2 Hz" in d["fit"]["tau_min_reason"]
+    rate = np.loadtxt(lowpassed_csv, skiprows=1)
+    want = bandwidth_range(allan_deviation(rate, 100.0), 2.0).tau_min
+    assert d["fit"]["tau_used"][0] == pytest.approx(want)
+    code, out, _ = run(args, capsys)
+    assert code == 0
+    assert "11 short tau(s) excluded (11 by --bandwidth: a first-order low-pass at the stated bandwidth 2 Hz" in out
+    # a --tau-min above the bandwidth's limit wins, and the output says the user's limit set it
+    code, out, _ = run([*args, "--tau-min", str(4 * want), "--json"], capsys)
+    assert code == 0 and json.loads(out)["fit"]["tau_min_rule"] == "user"
+    # a looser fraction starts earlier
+    code, out, _ = run([*args, "--bandwidth-bias", "0.5", "--json"], capsys)
+    assert code == 0 and json.loads(out)["fit"]["tau_used"][0] < want
+
+
+@pytest.mark.parametrize(
+    ("value", "match"),
+    [
+        ("0", "--bandwidth must be a finite number > 0; got '0'"),
+        ("-2", "--bandwidth must be a finite number > 0; got '-2'"),
+        ("50", "--bandwidth must be < the Nyquist frequency fs/2 = 50 Hz of lp.csv (sampled at 100 Hz); got 50 Hz"),
+        ("75", "--bandwidth must be < the Nyquist frequency fs/2 = 50 Hz"),
+    ],
+)
+def test_bad_allan_bandwidth(lowpassed_csv, capsys, value, match):
+    code, _, err = run(["allan", lowpassed_csv, "--fs", "100", "--bandwidth", value], capsys)
+    assert_one_line_error(code, err, match)
+
+
+def test_bad_allan_bandwidth_bias_without_bandwidth(lowpassed_csv, capsys):
+    code, _, err = run(["allan", lowpassed_csv, "--fs", "100", "--bandwidth-bias", "0.2"], capsys)
+    assert_one_line_error(code, err, "--bandwidth-bias applies with --bandwidth HZ")
+    code, _, err = run(["allan", lowpassed_csv, "--fs", "100", "--bandwidth", "2", "--bandwidth-bias", "0"], capsys)
+    assert_one_line_error(code, err, "--bandwidth-bias must be a finite number > 0; got '0'")

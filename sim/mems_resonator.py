@@ -985,8 +985,6 @@ def _slow_matrices(
     State [B_r, B_i, u_I, u_Q, J], J' = u_I (J: integral of u_I, for the exact output mean).
     ``saturated``: the rate integrator is clamped (u_I' = 0, u_I held over the step).
     """
-    from scipy.linalg import expm
-
     p, r = op.pole, op.receptance
     gz = 1j * op.gain * np.exp(1j * op.theta)
     a = np.zeros((5, 5))
@@ -1006,22 +1004,32 @@ def _slow_matrices(
     s_f = 4.0 * BOLTZMANN * op.temperature * op.cy if noise else 0.0
     s_n = unit.pickoff_noise**2 if noise else 0.0
     qc = np.diag([s_f, s_f, s_n, s_n])
-    aug = np.zeros((7, 7))
-    aug[:5, :5] = a
-    aug[:5, 5:] = bd
+    return _discretize(a, bd, bw, qc, h)
+
+
+def _discretize(a: NDArray, bd: NDArray, bw: NDArray, qc: NDArray, h: float) -> _Discrete:
+    """Zero-order-hold (Phi, Gamma) of dx = A x + B_d u and the noise factor of B_w w.
+
+    Van Loan (IEEE Trans. Autom. Control 23(3) 395, 1978): the discrete noise covariance is
+    Q_d = F22^T F12 with F = expm([[-A, B_w Q_c B_w^T], [0, A^T]] h); returned as a
+    square-root factor L (L L^T = Q_d, via its eigen-decomposition, clipped at 0).
+    """
+    from scipy.linalg import expm
+
+    n, m = a.shape[0], bd.shape[1]
+    aug = np.zeros((n + m, n + m))
+    aug[:n, :n] = a
+    aug[:n, n:] = bd
     e = expm(aug * h)
-    phi, gam = e[:5, :5], e[:5, 5:]
-    # Van Loan: [[-A, G Q G^T], [0, A^T]] h
-    vl = np.zeros((10, 10))
-    vl[:5, :5] = -a
-    vl[:5, 5:] = bw @ qc @ bw.T
-    vl[5:, 5:] = a.T
+    vl = np.zeros((2 * n, 2 * n))
+    vl[:n, :n] = -a
+    vl[:n, n:] = bw @ qc @ bw.T
+    vl[n:, n:] = a.T
     ev = expm(vl * h)
-    qd = ev[5:, 5:].T @ ev[:5, 5:]
+    qd = ev[n:, n:].T @ ev[:n, n:]
     qd = 0.5 * (qd + qd.T)
     w, v = np.linalg.eigh(qd)
-    chol = v * np.sqrt(np.clip(w, 0.0, None))
-    return _Discrete(phi, gam, chol, h)
+    return _Discrete(e[:n, :n], e[:n, n:], v * np.sqrt(np.clip(w, 0.0, None)), h)
 
 
 def _fext(
@@ -1043,8 +1051,6 @@ def _open_loop_matrices(
     exact interval mean); inputs the F_ext envelope [re, im] (ZOH); noise f~ (force) and n~
     (pick-off), two-sided intensities S_F = 4 k_B T c_y and S_n per component.
     """
-    from scipy.linalg import expm
-
     p, r = op.pole, op.receptance
     a = np.zeros((4, 4))
     a[0:2, 0:2] = _cmat(p)
@@ -1057,19 +1063,7 @@ def _open_loop_matrices(
     s_f = 4.0 * BOLTZMANN * op.temperature * op.cy if noise else 0.0
     s_n = unit.pickoff_noise**2 if noise else 0.0
     qc = np.diag([s_f, s_f, s_n, s_n])
-    aug = np.zeros((6, 6))
-    aug[:4, :4] = a
-    aug[:4, 4:] = bd
-    e = expm(aug * h)
-    vl = np.zeros((8, 8))
-    vl[:4, :4] = -a
-    vl[:4, 4:] = bw @ qc @ bw.T
-    vl[4:, 4:] = a.T
-    ev = expm(vl * h)
-    qd = ev[4:, 4:].T @ ev[:4, 4:]
-    qd = 0.5 * (qd + qd.T)
-    w, v = np.linalg.eigh(qd)
-    return _Discrete(e[:4, :4], e[:4, 4:], v * np.sqrt(np.clip(w, 0.0, None)), h)
+    return _discretize(a, bd, bw, qc, h)
 
 
 def _run_open_loop(

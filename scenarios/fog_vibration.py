@@ -53,7 +53,7 @@ Choices the paper does not state (also listed in :data:`DEVIATIONS`)
   :mod:`gyrobench.sim.fog_loop` (1 km, 10 cm coil, square-wave modulation, serrodyne and
   V_2pi loops; ARW 0.00094 deg/sqrt(h) from its optical budget), with additive IEEE-952
   terms Q 0.1 arcsec, B 0.2 deg/h, K 0.05 deg/h/sqrt(h), R 0.01 deg/h^2 (mid-grade FOG;
-  assumed, unverified; Q 0.1 arcsec dominates the 400 Hz output's short-tau ADEV, so N is
+  assumed; Q 0.1 arcsec dominates the 400 Hz output's short-tau ADEV, so N is
   not identifiable in minutes). Its vibration error comes from mechanics: three structural
   modes (coil 1.2 kHz, pigtail 300 Hz, fixture rocking 900 Hz; sim.fog_loop's assumed
   defaults, no paper number used) give a strain-rate nonreciprocity through the (L - 2z)
@@ -157,7 +157,7 @@ class FogSpec:
 
     The loop, optics and structural modes are the module defaults of :mod:`gyrobench.sim.fog_loop`
     (1 km, 10 cm coil; ARW from the optical budget; modes assumed, no paper number used).
-    Additive IEEE-952 terms (what the optics do not produce; mid-grade FOG, assumed, unverified):
+    Additive IEEE-952 terms (what the optics do not produce; mid-grade FOG, assumed):
     ``Q_arcsec`` readout quantization, ``B_deg_h`` bias instability, ``K_deg_h_sqrt_h`` rate
     random walk, ``R_deg_h2`` rate ramp. Site: ``latitude_deg`` (paper 000's lab, Southeast
     University, Nanjing: :data:`gyrobench.sim.earth.PAPER_SITES`), sense axis horizontal as

@@ -159,7 +159,7 @@ class Config:
     alpha_lambda; ``diameter_tempco_ppm_per_K`` None = the coil's own hoop expansion from its
     composite-cylinder model (``sim.fog2d.coil_diameter_tempco``, ~22 ppm/K on the Al
     spool); ``wavelength_tempco_ppm_per_K`` 4 ppm/K (an unstabilised Er ASE source;
-    assumed, unverified). The sense axis is horizontal at Harbin (45.8 degN), at azimuth
+    assumed). The sense axis is horizontal at Harbin (45.8 degN), at azimuth
     ``sense_azimuth_deg`` from north: 90 (east, the default) senses no Earth rate, which is
     the paper's "output 0 deg/h"; 0 (north, the paper's words) senses 10.49 deg/h (see
     ``DEVIATIONS``).

@@ -1060,7 +1060,7 @@ DEVIATIONS: tuple[Deviation, ...] = (
         ),
         we_do=(
             "each power-on draws a turn-on scale-factor error (1000 ppm, 1 sigma) and bias "
-            "(0.1 deg/s), sim.mems_resonator defaults (typical industrial MEMS, unverified)"
+            "(0.1 deg/s), sim.mems_resonator defaults (rate grade, cited in docs/physics.md 5.1)"
         ),
         reason="no number for this device; the resonator model's population defaults",
         effect=(

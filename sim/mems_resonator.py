@@ -117,7 +117,7 @@ V. Kaajakari, *Practical MEMS* (2009), ch. 6-7 (parallel-plate force, electrosta
 M. Saukoski, *System and circuit design for a capacitive MEMS gyroscope*, Helsinki Univ. of
 Technology doctoral thesis (2008), ch. 2-3 (force feedback, quadrature, drive AGC).
 M. A. Hopcroft, W. D. Nix, T. W. Kenny, "What is the Young's modulus of silicon?", JMEMS
-19(2):229-238 (2010) (TCE about -60 ppm/K, so TCf about -30 ppm/K; value typical, unverified).
+19(2):229-238 (2010) (TCE about -60 ppm/K, so TCf about -30 ppm/K).
 docs/physics.md 5.1.
 """
 
@@ -202,8 +202,8 @@ class MemsResonator:
     5 um drive amplitude (the docs/physics.md 5.1 example scaled to a lower-Q high-range part),
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
-    50 Hz rebalance loop, 16-bit output over +-4000 deg/s. Typical values, unverified against a
-    particular part.
+    50 Hz rebalance loop, 16-bit output over +-4000 deg/s. An ASSUMED design, not a
+    particular part (docs/physics.md 5.1 says what each value is sized for).
 
     Parameters
     ----------
@@ -1551,16 +1551,16 @@ class MemsResonatorSpec:
         Nominal design (its own quadrature/damping coupling and phase error are the means).
     mass_spread, frequency_spread, q_spread, gap_spread : float
         Relative 1-sigma spreads [-] of m, f_x, Q (both modes, lognormal) and the rebalance gap
-        g (G and F_max go as 1/g^2). Defaults 1 %, 2 %, 10 %, 2 % (typical, unverified).
+        g (G and F_max go as 1/g^2). Defaults 1 %, 2 %, 10 %, 2 % (assumed production spreads).
     split_spread : float
-        1-sigma of the mode split [Hz] (default 30 Hz, typical, unverified).
+        1-sigma of the mode split [Hz] (default 30 Hz, assumed).
     quadrature_spread : float
         1-sigma of kappa = k_yx/k_x [-] (default 2e-4: Omega_q ~ 9 rad/s ~ 540 deg/s;
-        untrimmed quadrature of hundreds of deg/s is typical of MEMS gyros, unverified).
+        assumed: an untrimmed quadrature of hundreds of deg/s).
     damping_coupling_spread : float
-        1-sigma of eps_c [-] (default 1e-3: Omega_b ~ 1.3 deg/s before trim, unverified).
+        1-sigma of eps_c [-] (default 1e-3: Omega_b ~ 1.3 deg/s before trim, assumed).
     phase_error_spread : float
-        1-sigma of theta_e [rad] (default 5 mrad, unverified).
+        1-sigma of theta_e [rad] (default 5 mrad, assumed).
     phase_tc_spread : float
         1-sigma of the phase tempco [rad/K] around the nominal (default 1e-5).
     factory_trim : bool

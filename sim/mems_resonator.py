@@ -147,6 +147,7 @@ __all__ = [
     "g_sensitivity",
     "low_rate_scale_factor",
     "open_loop_response",
+    "open_loop_noise_psd",
     "READOUTS",
     "zero_rate_output",
     "rate_authority",
@@ -640,6 +641,51 @@ def open_loop_response(
     w = 2.0 * math.pi * f
     h = (cw * (2 * op.wx + w) * g(1j * w) + np.conj(cw * (2 * op.wx - w) * g(-1j * w))) / 2.0
     return np.asarray(h / (cw * 2 * op.wx).real, dtype=np.complex128)
+
+
+def open_loop_noise_psd(
+    unit: MemsResonator, frequency: ArrayLike, temperature: float | None = None
+) -> NDArray[np.float64]:
+    """One-sided PSD of the open-loop output noise [(rad/s)^2/Hz] (slow flow, continuous time).
+
+    The envelope noises of :func:`simulate` (force f~ and pick-off n~: independent real and
+    imaginary parts, each of two-sided intensity S_F = 4 k_B T c_y [N^2/Hz] resp.
+    S_n [m^2/Hz]) reach the output K Re{w_c (B + n~)}, K = k_out (1 + e_on),
+    through B = G R f~, G(s) = -p/(s - p). The real part of a circular process keeps the mean of
+    its two sidebands [DERIVED]::
+
+        S(f) = 2 K^2 [ |w_c R|^2 S_F (|G(jW)|^2 + |G(-jW)|^2)/2 + |w_c|^2 S_n ],  W = 2 pi f
+
+    At f = 0, T = T0: S(0) = 2 SF^2 (N_B^2 + N_e^2)/cos^2(theta) (:func:`brownian_arw`,
+    :func:`electronic_arw`). The Brownian part peaks near the mode split (|G| up to
+    |p|/|Re p|); the pick-off part is white. This is the PSD before the output's interval
+    mean; sampled at fs it becomes sum_k S(f + k fs) sinc^2((f + k fs)/fs). The full
+    equations differ from it by O(f/f_x): the slow flow's first-order envelope and its ideal
+    demodulator (docs/physics.md 5.1; ``mems.open_loop_noise_psd_vs_full``).
+    """
+    op = operating_point(unit, temperature)
+    if not op.open_loop:
+        raise ValueError(f"unit.readout must be 'open_loop'; got {unit.readout!r}")
+    brown, white = _open_loop_noise_parts(unit, op, frequency)
+    return np.asarray(brown + white, dtype=np.float64)
+
+
+def _open_loop_noise_parts(
+    unit: MemsResonator, op: OperatingPoint, frequency: ArrayLike
+) -> tuple[NDArray[np.float64], float]:
+    """(Brownian part S_B(f), white pick-off level) of :func:`open_loop_noise_psd`, one-sided."""
+    f = np.asarray(frequency, dtype=float)
+    if not np.all(np.isfinite(f)):
+        raise ValueError("frequency must be finite [Hz]")
+    k = op.k_out * (1.0 + unit.turn_on_scale_factor)
+    wc = _readout_weight(op)
+    p = op.pole
+    s_f = 4.0 * BOLTZMANN * op.temperature * op.cy
+    w = 2.0 * math.pi * f
+    g2 = (np.abs(p / (1j * w - p)) ** 2 + np.abs(p / (-1j * w - p)) ** 2) / 2.0
+    brown = 2.0 * k**2 * abs(wc * op.receptance) ** 2 * s_f * g2
+    white = 2.0 * k**2 * abs(wc) ** 2 * unit.pickoff_noise**2
+    return np.asarray(brown, dtype=np.float64), float(white)
 
 
 def zero_rate_output(

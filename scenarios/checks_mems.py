@@ -24,11 +24,17 @@
   through the pick-off full-scale knee);
 * ``mems.open_loop_frequency_response``: open loop, slow flow driven by sinusoidal rates vs the
   closed-form response H(f) (Coriolis + Euler forces through the envelope pole).
+* ``mems.open_loop_noise_vs_full``: open loop, output noise PSD over 0-100 Hz (the white level
+  inside the bandwidth), full integration with Brownian and pick-off noise vs the slow flow;
+* ``mems.open_loop_noise_psd_vs_full``: the same in 100-Hz bands to Nyquist, through the
+  sense-mode peak; both against the closed-form ratio rho of the two models' spectra
+  (:func:`full_noise_spectrum`, :func:`slow_noise_spectrum`), F-test on the equivalent dof.
 
 Tolerances: numerical ones from RK4 (relative frequency error (w dt)^4/120 per observable
 that carries the numerical oscillator's frequency: Coriolis force, AGC amplitude estimate,
 demodulation references -> 3 (w dt)^4/120); statistical ones from chi-square quantiles of the
-variance estimator at a two-sided false-alarm rate of 1e-6, plus stated bias bounds.
+variance estimator (or F quantiles of the ratio of two) at a two-sided false-alarm rate of 1e-6,
+plus stated bias bounds.
 """
 
 from __future__ import annotations
@@ -59,7 +65,11 @@ from gyrobench.sim.mems_resonator import (
     zero_rate_output,
 )
 
-__all__ = ["checks", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds"]
+__all__ = [
+    "checks", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds",
+    "f_ratio_bounds", "full_noise_spectrum", "slow_noise_spectrum", "periodogram_band_stats",
+    "open_loop_noise_checks",
+]
 
 #: two-sided false-alarm rate of every statistical check
 FALSE_ALARM = 1e-6

@@ -22,10 +22,12 @@ EXPECTED_IDS = {
     "mems.open_loop_scale_factor",
     "mems.open_loop_slow_vs_full",
     "mems.open_loop_frequency_response",
+    "mems.open_loop_noise_vs_full",
+    "mems.open_loop_noise_psd_vs_full",
 }
 
 
-@pytest.mark.slow  # about 90 s: three full RK4 integrations with the carrier
+@pytest.mark.slow  # about 110 s: four full RK4 integrations with the carrier
 def test_every_mems_check_passes():
     out = checks(np.random.default_rng(20261123))
     assert all(isinstance(c, Check) for c in out)

@@ -80,8 +80,10 @@ their electrostatic spring k_e = 2 eps0 A_e V_b^2/g^3 gives the force k_e eps_A 
 carrier: a quadrature stiffness dk_yx = (k_e eps_A m/k_y) f, which leaks into the rate output
 through the phase error, dOmega_hat/df = -SF tan(theta) dk_yx/df/(2 m w)
 (:func:`electrostatic_cross_stiffness`, :func:`g_sensitivity`). A drive-axis specific force
-shifts x statically and changes k_y by k_e eps_A x_s (about 1e-5 of k_y - m w^2 per g: an
-open-loop SF change of ~13 ppm/g, none in force rebalance); not modelled.
+f_d shifts x statically, x_s = -m f_d/k_x, and changes k_y by -k_e eps_A x_s (about 1e-5 of
+k_y - m w^2 per g: an open-loop SF change of -12.4 ppm/g, none in force rebalance;
+:func:`drive_axis_sensitivity`, ``drive_specific_force`` of :func:`operating_point`,
+:func:`simulate`, :func:`simulate_full`).
 
 Two integrators of the same equations
 -------------------------------------
@@ -148,6 +150,7 @@ __all__ = [
     "low_rate_scale_factor",
     "open_loop_response",
     "open_loop_noise_psd",
+    "drive_axis_sensitivity",
     "READOUTS",
     "zero_rate_output",
     "rate_authority",
@@ -462,10 +465,21 @@ def _gain(unit: MemsResonator) -> float:
     return 2.0 * EPSILON_0 * unit.electrode_area * unit.bias_voltage / unit.electrode_gap**2
 
 
-def operating_point(unit: MemsResonator, temperature: float | None = None) -> OperatingPoint:
-    """The unit's constants at die temperature ``temperature`` [K] (default T0)."""
+def operating_point(
+    unit: MemsResonator, temperature: float | None = None, *, drive_specific_force: float = 0.0
+) -> OperatingPoint:
+    """The unit's constants at die temperature ``temperature`` [K] (default T0).
+
+    ``drive_specific_force`` f_d [m/s^2], constant: specific force along the drive axis. It
+    displaces the drive statically, x_s = -m f_d/k_x, and the forcer plates' overlap term
+    k_e eps_A x y (:func:`electrostatic_cross_stiffness`) then changes the sense stiffness,
+    k_y -> k_y + k_e eps_A m f_d / k_x [DERIVED] (w_y follows; c_y does not). The open-loop
+    scale factor follows R (:func:`drive_axis_sensitivity`); force rebalance nulls the motion
+    and keeps its scale factor. The full integration gets this from its own equations.
+    """
     if not isinstance(unit, MemsResonator):
         raise TypeError(f"unit must be a MemsResonator; got {type(unit).__name__}")
+    f_d = _real("operating_point", "drive_specific_force", drive_specific_force)
     t0 = unit.reference_temperature
     t = t0 if temperature is None else _real("operating_point", "temperature", temperature)
     if not t > 0:
@@ -484,6 +498,12 @@ def operating_point(unit: MemsResonator, temperature: float | None = None) -> Op
     kx, ky = m * wx * wx, m * wy * wy
     g0 = _gain(unit)
     gain = g0 * (1.0 + unit.gain_tc * dt)
+    # electrostatic spring times overlap gradient k_e eps_A [N/m per m]
+    ke_eps = gain * unit.bias_voltage / unit.electrode_gap * unit.forcer_area_gradient
+    kyx_g = ke_eps * m / ky
+    ky_d = ky + ke_eps * m * f_d / kx  # sense stiffness with the drive displaced by x_s
+    if not ky_d > 0:
+        raise ValueError(f"drive_specific_force {f_d!r} m/s^2 leaves no sense stiffness")
     # controller designed at T0 with theta = 0: R_c the T0 receptance
     rc = 1.0 / (m * (wy0**2 - wx0**2) + 1j * (m * wy0 / unit.sense_q) * wx0)
     kappa_c = 1j * 2.0 * math.pi * unit.loop_bandwidth / (rc * g0)
@@ -491,11 +511,11 @@ def operating_point(unit: MemsResonator, temperature: float | None = None) -> Op
     k_out = unit.scale_factor_trim * (1.0 if open_loop else g0) / (
         2.0 * m * wx0 * unit.drive_amplitude)
     op = OperatingPoint(
-        m=m, wx=wx, wy=wy, cx=cx, cy=cy, kx=kx, ky=ky,
+        m=m, wx=wx, wy=wy if f_d == 0 else math.sqrt(ky_d / m), cx=cx, cy=cy, kx=kx, ky=ky_d,
         kyx=unit.quadrature_coupling * kx, cyx=unit.damping_coupling * cy,
         x0=unit.drive_amplitude, gain=gain, theta=unit.phase_error + unit.phase_tc * dt,
         temperature=t, k_out=k_out, kappa_c=complex(kappa_c), v_max=unit.dac_full_scale,
-        kyx_g=gain * unit.bias_voltage / unit.electrode_gap * unit.forcer_area_gradient * m / ky,
+        kyx_g=kyx_g,
         r_design=complex(rc), open_loop=open_loop, y_fs=unit.pickoff_full_scale,
     )
     roots = op.loop_poles
@@ -598,21 +618,42 @@ def _static_channels(
     return _equilibrium_command(op, rate, accel, force)
 
 
-def low_rate_scale_factor(unit: MemsResonator, temperature: float | None = None) -> float:
+def low_rate_scale_factor(
+    unit: MemsResonator, temperature: float | None = None, *, drive_specific_force: float = 0.0
+) -> float:
     """Low-rate scale factor d Omega_hat / d Omega [-] below the knee (noise-free).
 
     Force rebalance: SF = (1 + e_on) s_trim (w/w0) (G0/G) cos(theta)  [DERIVED from the
     equilibrium u]. Open loop: SF = (1 + e_on) s_trim (w/w0) Re{e^{-j theta} R(T)/R_c}, the
     sense receptance R = 1/(m (w_y^2 - w^2) + j c_y w) at the drive frequency relative to its
     design value [DERIVED from B = R F_ext]: it follows the mode split and Q.
+    ``drive_specific_force`` [m/s^2] along the drive axis: see :func:`operating_point`.
     """
-    op = operating_point(unit, temperature)
+    op = operating_point(unit, temperature, drive_specific_force=drive_specific_force)
     if op.open_loop:
         return (1.0 + unit.turn_on_scale_factor) * op.k_out * op.coriolis_gain * float(
             (np.exp(-1j * op.theta) * op.receptance / op.r_design).real)
     return (1.0 + unit.turn_on_scale_factor) * op.k_out * op.coriolis_gain * math.cos(
         op.theta
     ) / op.gain
+
+
+def drive_axis_sensitivity(unit: MemsResonator, temperature: float | None = None) -> float:
+    """Relative scale-factor change per specific force along the drive axis [1/(m/s^2)].
+
+    The static drive displacement x_s = -m f_d/k_x changes the sense stiffness through the
+    forcer plates' overlap gradient, dk_y/df_d = k_e eps_A m/k_x (:func:`operating_point`).
+    Open loop: SF ~ Re{e^{-j theta} R/R_c}, dR = -R^2 dk_y, so
+
+        d ln SF / d f_d = -(k_e eps_A m/k_x) Re{e^{-j theta} R^2/R_c} / Re{e^{-j theta} R/R_c}
+                        ~ -(k_e eps_A / w_x^2) / (m (w_y^2 - w_x^2))   (Q_y >> 1, theta ~ 0)
+
+    [DERIVED]: -13 ppm/g for the defaults. Force rebalance: 0 (the loop nulls the sense
+    motion; only its loop poles move). Returned exactly, from the noise-free scale factor at
+    f_d = 0 and 1 m/s^2.
+    """
+    s0 = low_rate_scale_factor(unit, temperature)
+    return low_rate_scale_factor(unit, temperature, drive_specific_force=1.0) / s0 - 1.0
 
 
 def open_loop_response(
@@ -823,6 +864,7 @@ def simulate_full(
     fs: float = 1000.0,
     rate_acceleration: ArrayLike = 0.0,
     specific_force: ArrayLike = 0.0,
+    drive_specific_force: ArrayLike = 0.0,
     temperature: float | None = None,
     steps_per_cycle: int = 24,
     noise: bool = True,
@@ -849,6 +891,10 @@ def simulate_full(
         with the sense axis up). Enters as the inertial force -m f on the proof mass and, through
         the displaced mass, the forcer's electrostatic cross-stiffness k_e eps_A x y
         (:func:`electrostatic_cross_stiffness`; its reciprocal k_e eps_A y^2/2 on the drive).
+    drive_specific_force : array_like
+        f_d of each case [m/s^2], constant: specific force along the drive axis, the inertial
+        force -m f_d on the drive; the drive oscillates about x_s = -m f_d/k_x (the start
+        state includes it) and the same k_e eps_A x y term changes the sense stiffness.
     temperature : float, optional
         Die temperature [K] (default T0).
     steps_per_cycle : int
@@ -877,6 +923,13 @@ def simulate_full(
     w0 = _as_cases("rate", rate)
     al = np.broadcast_to(_as_cases("rate_acceleration", rate_acceleration), w0.shape).copy()
     sf_y = np.broadcast_to(_as_cases("specific_force", specific_force), w0.shape).copy()
+    f_d = _as_cases("drive_specific_force", drive_specific_force)
+    if f_d.size not in (1, w0.size):
+        raise ValueError(
+            f"drive_specific_force must be a scalar or one value per case ({w0.size}); "
+            f"got shape {f_d.shape}"
+        )
+    f_d = np.broadcast_to(f_d, w0.shape).copy()
     if not (isinstance(steps_per_cycle, (int, np.integer)) and steps_per_cycle >= 16):
         raise ValueError(f"steps_per_cycle must be an integer >= 16; got {steps_per_cycle!r}")
     duration = _real("simulate_full", "duration", duration)
@@ -908,11 +961,14 @@ def simulate_full(
     # electrostatic cross-stiffness k_e eps_A of the forcer plates [N/m per m]
     ke_eps = op.kyx_g * ky / m
     y_static = -m * sf_y / ky
+    x_static = -m * f_d / kx
     if op.open_loop:  # no rebalance: the sense mass moves, B = R F_ext at equilibrium
         f_ext = (-1j * op.coriolis_gain * w0 - 1j * wx * cyx * x0
                  - (kyx + op.kyx_g * sf_y + m * al) * x0)
         ui, uq = np.zeros(k), np.zeros(k)
-        b = op.receptance * f_ext if initial == "equilibrium" else np.zeros(k, complex)
+        # receptance with the sense stiffness the displaced drive gives (operating_point)
+        r_d = 1.0 / (ky - ke_eps * x_static - m * wx**2 + 1j * cy * wx)
+        b = r_d * f_ext if initial == "equilibrium" else np.zeros(k, complex)
     elif initial == "equilibrium":
         u = _equilibrium_command(op, w0, al, sf_y)
         ui, uq, _ = _clamp(u.real, u.imag, op.v_max)
@@ -923,7 +979,7 @@ def simulate_full(
         ui, uq, b = np.zeros(k), np.zeros(k), np.zeros(k, complex)
     # state rows: x, vx, y, vy, I_agc, u_i, u_q
     s = np.empty((7, k))
-    s[0], s[1] = x0, 0.0
+    s[0], s[1] = x0 + x_static, 0.0
     s[2], s[3] = b.real + y_static, (1j * wx * b).real
     # I_agc at the discrete equilibrium: c_x plus the RK4 amplitude decay of the harmonic
     # oscillator, |R| = 1 - (w dt)^6/144 per step, which the AGC must make up
@@ -936,6 +992,7 @@ def simulate_full(
     two_m = 2.0 * m
     ma = m * al
     mf = m * sf_y
+    mfd = m * f_d
 
     def deriv(t: float, s: NDArray, fx: NDArray, fy: NDArray, n: NDArray) -> NDArray:
         x, vx, y, vy, ia, u_i, u_q = s
@@ -951,7 +1008,7 @@ def simulate_full(
         ffb = zr * c_ref - zi * s_ref
         cen = m * om * om
         ax = ((ia + kp_a * e - cx) * vx - kx * x - kyx * y - cyx * vy + two_m * om * vy
-              + cen * x + ma * y + 0.5 * ke_eps * y * y + fx) / m
+              + cen * x + ma * y + 0.5 * ke_eps * y * y - mfd + fx) / m
         ay = (ffb - cy * vy - ky * y - kyx * x - cyx * vx - two_m * om * vx
               + cen * y - ma * x - mf + ke_eps * x * y + fy) / m
         # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
@@ -1446,6 +1503,7 @@ def simulate(
     adc: bool = True,
     flicker: bool = True,
     specific_force: ArrayLike | None = None,
+    drive_specific_force: float = 0.0,
 ) -> SlowFlowResult:
     """Slow-flow (demodulated) simulation at the output rate; one sample per 1/fs.
 
@@ -1467,6 +1525,10 @@ def simulate(
         Specific force along the sense axis [m/s^2] (+1 g at rest with the sense axis up),
         broadcast to the rate's shape, held over each interval (ZOH); default 0. It adds the
         quadrature stiffness (dk_yx/df) f (:func:`electrostatic_cross_stiffness`).
+    drive_specific_force : float
+        Specific force along the drive axis [m/s^2], constant over the record (like the
+        temperature): the sense stiffness it changes (:func:`operating_point`,
+        :func:`drive_axis_sensitivity`); default 0.
 
     Returns
     -------
@@ -1494,7 +1556,7 @@ def simulate(
     squeeze = w.ndim == 1
     w2 = w[:, None] if squeeze else w
     n, k = w2.shape
-    op = operating_point(unit, temperature)
+    op = operating_point(unit, temperature, drive_specific_force=drive_specific_force)
     acc = np.gradient(w2, axis=0) * fs if n > 1 else np.zeros_like(w2)
     if specific_force is None:
         fy = np.zeros_like(w2)

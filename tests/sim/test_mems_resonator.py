@@ -723,3 +723,53 @@ def test_full_and_slow_noise_spectra_differ_by_the_first_order_envelope():
     w = dataclasses.replace(_open(), reference_temperature=1e-9)
     assert full_noise_spectrum(w, f, fs, spc) == pytest.approx(
         slow_noise_spectrum(w, f, fs), rel=1e-9)
+
+
+# ------------------------------------------------------------------ drive-axis specific force
+def test_drive_axis_sensitivity_is_the_receptance_change_of_the_displaced_drive():
+    """d ln SF/d f_d = -(k_e eps_A m/k_x) Re{e^{-j theta} R^2/R_c}/Re{e^{-j theta} R/R_c}."""
+    from gyrobench.sim.mems_resonator import EPSILON_0, drive_axis_sensitivity
+
+    unit = _open(phase_error=0.01)
+    op = operating_point(unit)
+    k_e = 2 * EPSILON_0 * unit.electrode_area * unit.bias_voltage**2 / unit.electrode_gap**3
+    dk = k_e * unit.forcer_area_gradient * op.m / op.kx  # [N/m per m/s^2]
+    r = op.receptance
+    e = np.exp(-1j * op.theta) / op.r_design
+    expected = -dk * (e * r * r).real / (e * r).real
+    assert drive_axis_sensitivity(unit) == pytest.approx(expected, rel=1e-5)
+    # size: about -12 ppm/g for the default design (Q_y = 100 moves it a few % from the
+    # undamped -(k_e eps_A / w_x^2)/(m (w_y^2 - w_x^2)))
+    ppm_per_g = drive_axis_sensitivity(unit) * 9.80665 * 1e6
+    undamped = -(k_e * unit.forcer_area_gradient / op.wx**2) / (op.m * (op.wy**2 - op.wx**2))
+    assert -14.0 < ppm_per_g < -11.0
+    assert drive_axis_sensitivity(unit) == pytest.approx(undamped, rel=0.05)
+    # force rebalance nulls the sense motion: no scale-factor change
+    assert drive_axis_sensitivity(_quiet(phase_error=0.01)) == 0.0
+    # a double-ended forcer (eps_A = 0) has none either
+    assert drive_axis_sensitivity(_open(forcer_area_gradient=0.0)) == 0.0
+
+
+@pytest.mark.parametrize("g_d", [-20.0, 20.0])
+def test_slow_flow_settles_on_the_drive_axis_scale_factor(g_d):
+    unit = _open(quadrature_coupling=1e-4, phase_error=0.01)
+    f_d = g_d * 9.80665
+    w = units.deg_per_s(np.array([0.0, 500.0]))
+    res = simulate(unit, np.tile(w, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
+                   noise=False, adc=False, flicker=False, drive_specific_force=f_d)
+    sf = (res.output[-1, 1] - res.output[-1, 0]) / w[1]
+    assert sf == pytest.approx(low_rate_scale_factor(unit, drive_specific_force=f_d), rel=1e-9)
+    from gyrobench.sim.mems_resonator import drive_axis_sensitivity
+
+    assert sf / low_rate_scale_factor(unit) - 1 == pytest.approx(
+        drive_axis_sensitivity(unit) * f_d, rel=1e-3)  # linear to (dSF/SF)^2
+
+
+def test_bad_drive_specific_force():
+    with pytest.raises(ValueError, match="drive_specific_force"):
+        operating_point(_open(), drive_specific_force=float("nan"))
+    with pytest.raises(ValueError, match="drive_specific_force"):
+        operating_point(_open(), drive_specific_force=-1e12)
+    with pytest.raises(ValueError, match="drive_specific_force"):
+        simulate_full(_open(), np.zeros(2), duration=0.001, rng=np.random.default_rng(0),
+                      drive_specific_force=np.zeros(3))

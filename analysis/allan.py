@@ -1673,6 +1673,132 @@ def _octave_gram(ua: Sequence[int], mu: Sequence[int]) -> NDArray[np.float64] | 
     return table[np.ix_(idx, idx)]
 
 
+#: finite-record correction of rho (overlapping AVAR, :func:`_finite_record_delta`): a pair
+#: whose larger m exceeds this is scaled down to it, keeping the ratio m_j/m_i and N/m
+_FIN_CAP = 64
+#: lags h on a circle of this many points (midpoint frequency grid): more than the 4 _FIN_CAP + 1
+#: lags where the kernels' cross-correlations of Q, N and K are non-zero, so those are exact
+_FIN_GRID = 8 * _FIN_CAP
+
+
+def _lag_covariances(
+    alphas: Sequence[int], m1: NDArray[np.int64], m2: NDArray[np.int64], grid: int
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """R[p, t, h] = E[d_{m1[p]}[k] d_{m2[p]}[k + h]] for unit noise of type alphas[t]; and h.
+
+    d_m[k] = x[k + 2m] - 2 x[k + m] + x[k] is the second difference of the phase x (cumulative
+    sum of the rate samples y), i.e. sum_u w_m[u] y[k + u] with w_m = -1 on u < m, +1 on
+    m <= u < 2m, whose transfer function is W_m(f) = -(1 - z^m)^2 / (1 - z), z = exp(-2 pi i f).
+    R(h) = int_{-1/2}^{1/2} S(f) W_1(f) conj(W_2(f)) exp(2 pi i f h) df with S the discrete
+    rate PSD shape of :func:`_rate_psd_shape` (sin^2(pi f): differenced white phase; 1; 1/|f|;
+    1/sin^2(pi f): random walk), evaluated on ``grid`` midpoints by one inverse FFT: exact for
+    lags |h| < grid/2 whenever S |W|^2 is a trigonometric polynomial of degree < grid/2 (Q, N,
+    K: the kernels have finite support), else aliased (flicker: the error is the tail sum
+    sum_p (-1)^p R(h + p grid), R decaying as h^-2).
+    """
+    f = (np.arange(grid) + 0.5) / grid
+    mu, inv = np.unique(np.concatenate([m1, m2]), return_inverse=True)
+    z1 = np.exp(-2j * np.pi * f)
+    zm = np.exp(-2j * np.pi * np.outer(mu, f))
+    w = -((1.0 - zm) ** 2) / (1.0 - z1)
+    p = w[inv[: len(m1)]] * np.conj(w[inv[len(m1):]])
+    s = np.stack([_rate_psd_shape(int(a), np.minimum(f, 1.0 - f)) for a in alphas])
+    h = np.arange(grid)
+    h = np.where(h < grid // 2, h, h - grid)
+    r = np.fft.ifft(p[:, None, :] * s[None, :, :], axis=-1) * np.exp(1j * np.pi * h / grid)
+    return r.real, h
+
+
+def _overlap_counts(big_m1: NDArray[np.float64], big_m2: NDArray[np.float64], h: NDArray[np.int64]) -> NDArray[np.float64]:
+    """#{k : 0 <= k < M1, 0 <= k + h < M2}: pairs of terms (d_1[k], d_2[k + h]) of two estimates."""
+    m1 = np.asarray(big_m1, dtype=float)[:, None]
+    m2 = np.asarray(big_m2, dtype=float)[:, None]
+    return np.maximum(0.0, np.minimum(m1, m2 - h[None, :]) - np.maximum(0, -h)[None, :])
+
+
+def _finite_cov_sums(
+    alphas: Sequence[int],
+    m1: NDArray[np.int64],
+    m2: NDArray[np.int64],
+    big_m1: NDArray[np.float64],
+    big_m2: NDArray[np.float64],
+    grid: int,
+) -> NDArray[np.float64]:
+    """T[p, t, s] = sum_h R^t_p(h) R^s_p(h) c_p(h), c_p the :func:`_overlap_counts`.
+
+    For Gaussian rate noise with covariance S = sum_t S_t, the overlapping AVAR estimates
+    A_i = sum_{k < M_i} d_i[k]^2 / (2 m_i^2 tau_0^2 M_i) are quadratic forms, and
+    Cov(A_1, A_2) = 2 sum_{k, l} E[d_1[k] d_2[l]]^2 / norms = 2 sum_{t, s} sum_h R^t(h) R^s(h)
+    c(h) / norms: exact for a record of finite length (M_i = n + 1 - 2 m_i terms; the count of
+    overlapping term pairs at lag h is where the record ends enter), as the trace
+    2 tr(A_1 S A_2 S) (a test checks it against the explicit matrices).
+    """
+    r, h = _lag_covariances(alphas, m1, m2, grid)
+    c = _overlap_counts(big_m1, big_m2, h)
+    return np.einsum("pth,psh,ph->pts", r, r, c)
+
+
+def _finite_record_delta(
+    alphas: Sequence[int], ms: NDArray[np.int64], n: int
+) -> dict[tuple[int, int], NDArray[np.float64]]:
+    """rho_ts(i, j) of a record of n samples minus the same for n -> infinity (overlapping AVAR).
+
+    rho_ts(i, j) = T_ts(i, j) / sqrt(T_tt(i, i) T_ss(j, j)) with T of :func:`_finite_cov_sums`
+    (counts for n samples) and with counts replaced by 1 (the n >> m limit that
+    :func:`_rho_blocks` models). Pairs with max(m_i, m_j) > _FIN_CAP are evaluated at m scaled
+    down to _FIN_CAP with the record scaled alike (M / k): for power-law noise in the
+    continuous-time limit the correlation depends on m_j/m_i and M/m only. The difference of
+    the two (same kernels, same grid) is added to the stored asymptotic correlations; its
+    error against the exact unscaled computation is checked in the tests.
+    """
+    key = (tuple(int(a) for a in alphas), tuple(int(m) for m in ms), int(n))
+    return {k: v.copy() for k, v in _finite_record_delta_cached(*key).items()}
+
+
+@functools.lru_cache(maxsize=16)
+def _finite_record_delta_cached(
+    alphas: tuple[int, ...], ms_t: tuple[int, ...], n: int
+) -> dict[tuple[int, int], NDArray[np.float64]]:
+    ms = np.asarray(ms_t, dtype=np.int64)
+    ua = sorted(set(alphas))
+    nm = ms.size
+    ii, jj = np.triu_indices(nm)
+    mi, mj = ms[ii], ms[jj]
+    k = np.maximum(np.maximum(mi, mj) / _FIN_CAP, 1.0)
+    a = np.maximum(1, np.rint(mi / k)).astype(np.int64)
+    b = np.maximum(1, np.rint(mj / k)).astype(np.int64)
+    big = _n_terms("overlapping", n, ms).astype(float)
+    bi, bj = big[ii] / k, big[jj] / k
+    # the distinct kernel pairs (a, b), (a, a), (b, b); their lag covariances once each
+    keys = np.concatenate([np.stack([a, b], 1), np.stack([a, a], 1), np.stack([b, b], 1)])
+    uk, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    r, h = _lag_covariances(ua, uk[:, 0], uk[:, 1], _FIN_GRID)
+    rr = r[:, :, None, :] * r[:, None, :, :]  # (keys, T, T, grid)
+    p = ii.size
+    cross, d1, d2 = inv[:p], inv[p : 2 * p], inv[2 * p :]
+    tt = np.arange(len(ua))
+    diag = rr[:, tt, tt, :]  # (keys, T, grid)
+    c12 = _overlap_counts(bi, bj, h)
+    fin = np.einsum("ptsh,ph->pts", rr[cross], c12)
+    v1 = np.einsum("pth,ph->pt", diag[d1], _overlap_counts(bi, bi, h))
+    v2 = np.einsum("pth,ph->pt", diag[d2], _overlap_counts(bj, bj, h))
+    zf = rr.sum(axis=-1)
+    zd = diag.sum(axis=-1)
+    rho_fin = fin / np.sqrt(v1[:, :, None] * v2[:, None, :])
+    rho_inf = zf[cross] / np.sqrt(zd[d1][:, :, None] * zd[d2][:, None, :])
+    delta = rho_fin - rho_inf  # (pairs, T, T): t at m_i, s at m_j
+    out = {}
+    for t, at in enumerate(alphas):
+        for s_, as_ in enumerate(alphas):
+            x, y = ua.index(at), ua.index(as_)
+            blk = np.zeros((nm, nm))
+            blk[ii, jj] = delta[:, x, y]
+            blk[jj, ii] = delta[:, y, x]
+            out[(t, s_)] = blk
+    return out
+
+
 #: c in Var(ybar_end - ybar_start) = (2 B^2/pi) (ln(L/tau) + c) for flicker rate averaged by the
 #: window of each statistic (L >> tau): triangular 2-tau window (overlapping: the sum of m
 #: overlapping differences telescopes to m^2-weighted triangles) and tau box (standard);
@@ -2171,6 +2297,9 @@ def fit_noise(
         axis=1,
     )
     rho_all = _rho_blocks([_ALPHA[t] for t in terms], ms_all)
+    if curve.kind == "overlapping":  # the record's ends: exact finite-n correction of rho
+        delta = _finite_record_delta([_ALPHA[t] for t in terms], ms_all, curve.n_samples)
+        rho_all = {k: r + delta[k] for k, r in rho_all.items()}
     fit, _ = _fit_core(curve, terms, used, nu_all, rho_all, max_iter, misfit_p)
     if auto:
         # past the concave region the filter can still pull the first points off the model: drop

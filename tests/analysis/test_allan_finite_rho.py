@@ -1,0 +1,127 @@
+"""The finite-record covariance of overlapping Allan-variance points (allan._finite_cov_sums).
+
+Each overlapping AVAR estimate is a quadratic form in the Gaussian rate samples, so the
+covariance of two of them is 2 tr(A_1 S A_2 S); ``_finite_cov_sums`` evaluates it as a sum
+over lags of products of the second-difference kernels' cross-covariances, weighted by the
+number of overlapping term pairs (where the record length enters). Checked here against the
+explicit matrices, against Monte Carlo, and the scaled correction ``_finite_record_delta``
+used by fit_noise against the unscaled exact computation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gyrobench.analysis import allan
+
+#: the rate covariance matrices of the brute-force check and the factor of each type's shape:
+#: Q y = diff of white phase (PSD 4 sin^2), N white, K random walk from 0 (PSD 1/(4 sin^2))
+_SCALE = {2: 4.0, 0: 1.0, -2: 0.25}
+
+
+def _rate_cov(alpha: int, n: int) -> np.ndarray:
+    u = np.arange(n)
+    if alpha == 0:
+        return np.eye(n)
+    if alpha == 2:
+        return 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    return np.minimum.outer(u, u) + 1.0  # random walk e_0 + .. + e_u (non-stationary rate)
+
+
+def _second_differences(m: int, n: int) -> np.ndarray:
+    """Rows d_m[k] = x[k + 2m] - 2 x[k + m] + x[k] as weights on the n rate samples."""
+    big = n + 1 - 2 * m
+    d = np.zeros((big, n))
+    for k in range(big):
+        d[k, k : k + m] = -1.0
+        d[k, k + m : k + 2 * m] = 1.0
+    return d
+
+
+@pytest.mark.parametrize(("m1", "m2"), [(1, 1), (1, 4), (3, 5), (8, 8), (2, 9), (9, 2)])
+def test_cov_sums_equal_the_trace(m1, m2):
+    n = 40
+    alphas = [2, 0, -2]
+    got = allan._finite_cov_sums(
+        alphas, np.array([m1]), np.array([m2]), np.array([n + 1.0 - 2 * m1]),
+        np.array([n + 1 - 2 * m2]), 256,
+    )[0]
+    d1, d2 = _second_differences(m1, n), _second_differences(m2, n)
+    a1, a2 = d1.T @ d1, d2.T @ d2
+    for ti, t in enumerate(alphas):
+        for si, s in enumerate(alphas):
+            want = np.trace(a1 @ _rate_cov(t, n) @ a2 @ _rate_cov(s, n))
+            assert got[ti, si] * _SCALE[t] * _SCALE[s] == pytest.approx(want, rel=1e-12)
+
+
+def _exact_rho(alphas, mi, mj, n, grid):
+    """Unscaled rho_ts(i, j) of a record of n samples and of n -> infinity (single pair)."""
+    big = lambda m: float(n + 1 - 2 * m)  # noqa: E731
+    m1, m2 = np.array([mi, mj, mi]), np.array([mi, mj, mj])
+
+    def rho(b1, b2):
+        t = allan._finite_cov_sums(alphas, m1, m2, b1, b2, grid)
+        return t[2] / np.sqrt(np.outer(np.diagonal(t[0]), np.diagonal(t[1])))
+
+    fin = rho(np.array([big(mi), big(mj), big(mi)]), np.array([big(mi), big(mj), big(mj)]))
+    inf = rho(np.full(3, 1e18), np.full(3, 1e18))
+    return fin, inf
+
+
+def test_scaled_correction_against_the_exact_one():
+    """The correction fit_noise adds (pairs scaled to m <= 64) against the unscaled exact one.
+
+    Measured worst errors over every octave pair of n = 20000 are the tolerances below:
+    same-type terms (the ones that carry a point's variance) <= 0.02 (K; the correction
+    itself reaches 0.2); cross-type terms with quantization at a large m up to 0.095 (Q is
+    not scale-free, but its share of a point there is ~(m_Q/m)^2, negligible). Pairs with
+    both m <= 64 are unscaled and exact (Q, N, K) to rounding.
+    """
+    n = 20000
+    ms = 2 ** np.arange(13)  # up to 4096 < n/4
+    ua = [2, 0, -1, -2]
+    delta = allan._finite_record_delta(ua, ms, n)
+    worst_same = worst_cross = 0.0
+    for i in range(ms.size):
+        for j in range(i, ms.size):
+            grid = max(1 << 14, int(2 ** np.ceil(np.log2(16 * (ms[i] + ms[j])))))
+            fin, inf = _exact_rho(ua, ms[i], ms[j], n, grid)
+            got = np.array([[delta[(t, s)][i, j] for s in range(4)] for t in range(4)])
+            err = np.abs(got - (fin - inf))
+            if ms[j] <= allan._FIN_CAP:  # unscaled: Q, N, K exact; flicker aliased on the grid
+                np.testing.assert_allclose(got[np.ix_([0, 1, 3], [0, 1, 3])], (fin - inf)[np.ix_([0, 1, 3], [0, 1, 3])], atol=1e-12)
+            worst_same = max(worst_same, float(np.diagonal(err).max()))
+            worst_cross = max(worst_cross, float((err - np.diag(np.diagonal(err))).max()))
+    assert worst_same <= 0.02
+    assert worst_cross <= 0.1
+
+
+def test_finite_record_covariance_against_monte_carlo(rng):
+    """White rate noise, n = 256, m = 32 and 64 (T/4): the record ends lower the correlation.
+
+    Cov(A_32, A_64) is estimated from 20000 records in 100 batches; the batch means' t test
+    at false alarm 1e-6 accepts the exact finite-record value and rejects the n >> m model.
+    """
+    from scipy import stats
+
+    n, reps, batches = 256, 20000, 100
+    m = np.array([32, 64])
+    big = n + 1 - 2 * m
+    exact = allan._finite_cov_sums([0], m[[0]], m[[1]], big[[0]].astype(float), big[[1]].astype(float), 1024)[0, 0, 0]
+    var = allan._finite_cov_sums([0], m, m, big.astype(float), big.astype(float), 1024)[:, 0, 0]
+    norm = 2.0 * m.astype(float) ** 2 * big
+    cov_exact = 2.0 * exact / (norm[0] * norm[1])
+    # the n >> m model: the same correlation with every count equal (allan._rho_blocks)
+    rho_inf = allan._rho_blocks([0], m)[(0, 0)][0, 1]
+    cov_inf = rho_inf * 2.0 * np.sqrt(var[0] * var[1]) / (norm[0] * norm[1])
+    y = rng.standard_normal((reps, n))
+    x = np.concatenate([np.zeros((reps, 1)), np.cumsum(y, axis=1)], axis=1)
+    a = np.stack([((x[:, 2 * k :] - 2 * x[:, k : n + 1 - k] + x[:, : n + 1 - 2 * k]) ** 2).sum(1) for k in m], 1) / norm
+    a = a.reshape(batches, reps // batches, 2)
+    c = ((a[..., 0] - a[..., 0].mean(1, keepdims=True)) * (a[..., 1] - a[..., 1].mean(1, keepdims=True))).sum(1)
+    c /= reps // batches - 1
+    se = c.std(ddof=1) / np.sqrt(batches)
+    tol = stats.t.isf(0.5e-6, batches - 1) * se
+    assert abs(c.mean() - cov_exact) <= tol
+    assert abs(c.mean() - cov_inf) > tol

@@ -1684,7 +1684,7 @@ _FIN_GRID = 8 * _FIN_CAP
 def _lag_covariances(
     alphas: Sequence[int], m1: NDArray[np.int64], m2: NDArray[np.int64], grid: int
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """R[p, t, h] = E[d_{m1[p]}[k] d_{m2[p]}[k + h]] for unit noise of type alphas[t]; and h.
+    """R[p, j, t] = E[d_{m1[p]}[k] d_{m2[p]}[k + h[j]]] for unit noise of type alphas[t]; and h.
 
     d_m[k] = x[k + 2m] - 2 x[k + m] + x[k] is the second difference of the phase x (cumulative
     sum of the rate samples y), i.e. sum_u w_m[u] y[k + u] with w_m = -1 on u < m, +1 on
@@ -1702,11 +1702,11 @@ def _lag_covariances(
     zm = np.exp(-2j * np.pi * np.outer(mu, f))
     w = -((1.0 - zm) ** 2) / (1.0 - z1)
     p = w[inv[: len(m1)]] * np.conj(w[inv[len(m1):]])
-    s = np.stack([_rate_psd_shape(int(a), np.minimum(f, 1.0 - f)) for a in alphas])
+    s = np.stack([_rate_psd_shape(int(a), np.minimum(f, 1.0 - f)) for a in alphas], axis=1)
     h = np.arange(grid)
     h = np.where(h < grid // 2, h, h - grid)
-    r = np.fft.ifft(p[:, None, :] * s[None, :, :], axis=-1) * np.exp(1j * np.pi * h / grid)
-    return r.real, h
+    r = np.fft.ifft(p[:, :, None] * s[None, :, :], axis=1) * np.exp(1j * np.pi * h / grid)[:, None]
+    return np.ascontiguousarray(r.real), h
 
 
 def _overlap_counts(big_m1: NDArray[np.float64], big_m2: NDArray[np.float64], h: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -1735,7 +1735,7 @@ def _finite_cov_sums(
     """
     r, h = _lag_covariances(alphas, m1, m2, grid)
     c = _overlap_counts(big_m1, big_m2, h)
-    return np.einsum("pth,psh,ph->pts", r, r, c)
+    return np.einsum("pht,phs,ph->pts", r, r, c)
 
 
 def _finite_record_delta(
@@ -1753,6 +1753,28 @@ def _finite_record_delta(
     """
     key = (tuple(int(a) for a in alphas), tuple(int(m) for m in ms), int(n))
     return {k: v.copy() for k, v in _finite_record_delta_cached(*key).items()}
+
+
+def _count_weighted(
+    xt: NDArray[np.float64],
+    key: NDArray[np.int64],
+    h: NDArray[np.int64],
+    big_m1: NDArray[np.float64],
+    big_m2: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """out[p, q] = sum_h xt[key[p], h, q] c_p(h), c_p the :func:`_overlap_counts` of p.
+
+    One (pairs of that key) x grid x q product per distinct key (BLAS), instead of gathering
+    a (pairs, q, grid) copy of xt.
+    """
+    c = _overlap_counts(big_m1, big_m2, h)
+    out = np.empty((key.size, xt.shape[2]))
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    cuts = np.flatnonzero(np.diff(ks)) + 1
+    for grp in np.split(order, cuts):
+        out[grp] = c[grp] @ xt[key[grp[0]]]
+    return out
 
 
 @functools.lru_cache(maxsize=16)
@@ -1776,13 +1798,15 @@ def _finite_record_delta_cached(
     r, h = _lag_covariances(ua, uk[:, 0], uk[:, 1], _FIN_GRID)  # (keys, T, grid)
     p = ii.size
     cross, d1, d2 = inv[:p], inv[p : 2 * p], inv[2 * p :]
-    rc = r[cross]
-    fin = np.matmul(rc * _overlap_counts(bi, bj, h)[:, None, :], rc.transpose(0, 2, 1))  # (pairs, T, T)
-    r2 = r * r
-    v1 = np.einsum("pth,ph->pt", r2[d1], _overlap_counts(bi, bi, h))
-    v2 = np.einsum("pth,ph->pt", r2[d2], _overlap_counts(bj, bj, h))
-    zf = np.matmul(r, r.transpose(0, 2, 1))
-    zd = r2.sum(axis=-1)
+    nt = len(ua)
+    xt = (r[:, :, :, None] * r[:, :, None, :]).reshape(uk.shape[0], r.shape[1], nt * nt)
+    fin = _count_weighted(xt, cross, h, bi, bj).reshape(p, nt, nt)  # xt[u, h, (t, s)] = R^t R^s
+    tt = np.arange(nt) * (nt + 1)  # the t = s entries
+    xd = r * r
+    v1 = _count_weighted(xd, d1, h, bi, bi)
+    v2 = _count_weighted(xd, d2, h, bj, bj)
+    zf = xt.sum(axis=1).reshape(-1, nt, nt)
+    zd = xd.sum(axis=1)
     rho_fin = fin / np.sqrt(v1[:, :, None] * v2[:, None, :])
     rho_inf = zf[cross] / np.sqrt(zd[d1][:, :, None] * zd[d2][:, None, :])
     delta = rho_fin - rho_inf  # (pairs, T, T): t at m_i, s at m_j

@@ -55,6 +55,11 @@ def test_cov_sums_equal_the_trace(m1, m2):
             assert got[ti, si] * _SCALE[t] * _SCALE[s] == pytest.approx(want, rel=1e-12)
 
 
+def _d2(x: np.ndarray, m: int, n: int) -> np.ndarray:
+    """Second differences x[k + 2m] - 2 x[k + m] + x[k] of each row of the (reps, n + 1) phases."""
+    return x[:, 2 * m :] - 2 * x[:, m : n + 1 - m] + x[:, : n + 1 - 2 * m]
+
+
 def _exact_rho(alphas, mi, mj, n, grid):
     """Unscaled rho_ts(i, j) of a record of n samples and of n -> infinity (single pair)."""
     big = lambda m: float(n + 1 - 2 * m)  # noqa: E731
@@ -90,7 +95,8 @@ def test_scaled_correction_against_the_exact_one():
             got = np.array([[delta[(t, s)][i, j] for s in range(4)] for t in range(4)])
             err = np.abs(got - (fin - inf))
             if ms[j] <= allan._FIN_CAP:  # unscaled: Q, N, K exact; flicker aliased on the grid
-                np.testing.assert_allclose(got[np.ix_([0, 1, 3], [0, 1, 3])], (fin - inf)[np.ix_([0, 1, 3], [0, 1, 3])], atol=1e-12)
+                qnk = np.ix_([0, 1, 3], [0, 1, 3])
+                np.testing.assert_allclose(got[qnk], (fin - inf)[qnk], atol=1e-12)
             worst_same = max(worst_same, float(np.diagonal(err).max()))
             worst_cross = max(worst_cross, float((err - np.diag(np.diagonal(err))).max()))
     assert worst_same <= 0.02
@@ -108,7 +114,8 @@ def test_finite_record_covariance_against_monte_carlo(rng):
     n, reps, batches = 256, 20000, 100
     m = np.array([32, 64])
     big = n + 1 - 2 * m
-    exact = allan._finite_cov_sums([0], m[[0]], m[[1]], big[[0]].astype(float), big[[1]].astype(float), 1024)[0, 0, 0]
+    bf = big.astype(float)
+    exact = allan._finite_cov_sums([0], m[[0]], m[[1]], bf[[0]], bf[[1]], 1024)[0, 0, 0]
     var = allan._finite_cov_sums([0], m, m, big.astype(float), big.astype(float), 1024)[:, 0, 0]
     norm = 2.0 * m.astype(float) ** 2 * big
     cov_exact = 2.0 * exact / (norm[0] * norm[1])
@@ -117,9 +124,10 @@ def test_finite_record_covariance_against_monte_carlo(rng):
     cov_inf = rho_inf * 2.0 * np.sqrt(var[0] * var[1]) / (norm[0] * norm[1])
     y = rng.standard_normal((reps, n))
     x = np.concatenate([np.zeros((reps, 1)), np.cumsum(y, axis=1)], axis=1)
-    a = np.stack([((x[:, 2 * k :] - 2 * x[:, k : n + 1 - k] + x[:, : n + 1 - 2 * k]) ** 2).sum(1) for k in m], 1) / norm
+    a = np.stack([(_d2(x, k, n) ** 2).sum(1) for k in m], 1) / norm
     a = a.reshape(batches, reps // batches, 2)
-    c = ((a[..., 0] - a[..., 0].mean(1, keepdims=True)) * (a[..., 1] - a[..., 1].mean(1, keepdims=True))).sum(1)
+    a = a - a.mean(1, keepdims=True)
+    c = (a[..., 0] * a[..., 1]).sum(1)
     c /= reps // batches - 1
     se = c.std(ddof=1) / np.sqrt(batches)
     tol = stats.t.isf(0.5e-6, batches - 1) * se
@@ -147,7 +155,8 @@ def test_quantization_kurtosis_rho_equals_the_matrix_form():
     k = allan._QUANT_EXCESS_KURTOSIS
     for i in range(ms.size):
         for j in range(ms.size):
-            want = k * np.sum(np.diag(a[i]) * np.diag(a[j])) / (2 * np.sqrt(np.trace(a[i] @ a[i]) * np.trace(a[j] @ a[j])))
+            tr = np.sqrt(np.trace(a[i] @ a[i]) * np.trace(a[j] @ a[j]))
+            want = k * np.sum(np.diag(a[i]) * np.diag(a[j])) / (2 * tr)
             assert got[i, j] == pytest.approx(want, rel=1e-12)
 
 
@@ -165,14 +174,15 @@ def test_uniform_quantization_covariance_against_monte_carlo(rng):
     ms = np.array([1, 2, 8, 64])
     big = (n + 1 - 2 * ms).astype(float)
     i1, i2 = np.meshgrid(np.arange(4), np.arange(4), indexing="ij")
-    t = allan._finite_cov_sums([2], ms[i1.ravel()], ms[i2.ravel()], big[i1.ravel()], big[i2.ravel()], 2048)
-    gauss = 2.0 * 16.0 * t[:, 0, 0].reshape(4, 4)  # shape sin^2 vs the 4 sin^2 of a differenced white phase
+    i1, i2 = i1.ravel(), i2.ravel()
+    t = allan._finite_cov_sums([2], ms[i1], ms[i2], big[i1], big[i2], 2048)
+    gauss = 2.0 * 16.0 * t[:, 0, 0].reshape(4, 4)  # shape sin^2; differenced phase: 4 sin^2
     sd = np.sqrt(np.diag(gauss))
     kurt = allan._quantization_kurtosis_rho(ms, n) * np.outer(sd, sd)
     norm = 2.0 * ms.astype(float) ** 2 * big
     want, gauss_only = (gauss + kurt) / np.outer(norm, norm), gauss / np.outer(norm, norm)
     e = (rng.random((reps, n + 1)) - 0.5) * np.sqrt(12.0)
-    a = np.stack([((e[:, 2 * m :] - 2 * e[:, m : n + 1 - m] + e[:, : n + 1 - 2 * m]) ** 2).sum(1) for m in ms], 1) / norm
+    a = np.stack([(_d2(e, m, n) ** 2).sum(1) for m in ms], 1) / norm
     a = a.reshape(batches, reps // batches, 4)
     a = a - a.mean(1, keepdims=True)
     c = np.einsum("bri,brj->bij", a, a) / (reps // batches - 1)

@@ -70,6 +70,7 @@ __all__ = [
     "fit_range",
     "bandwidth_range",
     "BANDWIDTH_BIAS",
+    "QUANTIZATION_KURTOSIS",
     "lowpass_avar_bias",
     "allan_deviation",
     "fit_noise",
@@ -1825,11 +1826,14 @@ def _finite_record_delta_cached(
 
 #: excess kurtosis kappa_4 / sigma^4 of angle quantization noise: the error of a uniform
 #: quantizer is uniform on [-q/2, q/2) (Widrow & Kollar, Quantization Noise, 2008, ch. 4),
-#: mu_4 / sigma^4 = 9/5, so -6/5 (the simulator's ``quantization`` draws exactly this)
-_QUANT_EXCESS_KURTOSIS = -6.0 / 5.0
+#: mu_4 / sigma^4 = 9/5, so -6/5 (the simulator's ``quantization`` draws exactly this);
+#: fit_noise's default ``quantization_kurtosis``
+QUANTIZATION_KURTOSIS = -6.0 / 5.0
 
 
-def _quantization_kurtosis_rho(ms: NDArray[np.int64], n: int) -> NDArray[np.float64]:
+def _quantization_kurtosis_rho(
+    ms: NDArray[np.int64], n: int, kurtosis: float = QUANTIZATION_KURTOSIS
+) -> NDArray[np.float64]:
     """Fourth-cumulant part of the quantization term's rho_QQ(i, j) (overlapping AVAR).
 
     For i.i.d. angle errors e of variance s^2 and excess kurtosis k, a quadratic form
@@ -1851,7 +1855,7 @@ def _quantization_kurtosis_rho(ms: NDArray[np.int64], n: int) -> NDArray[np.floa
     end = start + big[:, None]
     hi = np.minimum(end[:, None, :, None], end[None, :, None, :])
     ab = (np.maximum(hi - lo, 0.0) * (w[:, None] * w[None, :])).sum(axis=(2, 3))
-    return _QUANT_EXCESS_KURTOSIS * ab / (2.0 * np.sqrt(np.outer(t, t)))
+    return kurtosis * ab / (2.0 * np.sqrt(np.outer(t, t)))
 
 
 #: c in Var(ybar_end - ybar_start) = (2 B^2/pi) (ln(L/tau) + c) for flicker rate averaged by the
@@ -2160,6 +2164,7 @@ def fit_noise(
     misfit_p: float = 1e-3,
     bandwidth: float | None = None,
     bandwidth_bias: float = BANDWIDTH_BIAS,
+    quantization_kurtosis: float = QUANTIZATION_KURTOSIS,
 ) -> NoiseFit:
     """Joint weighted non-negative least-squares fit of the IEEE 952 terms to an Allan variance.
 
@@ -2190,6 +2195,11 @@ def fit_noise(
         tau_min wins, and ``NoiseFit.range_rule`` / ``range_reason`` say which rule set it.
     bandwidth_bias : float
         Ratio of filter bias to a point's standard error that :func:`bandwidth_range` allows.
+    quantization_kurtosis : float
+        Excess kurtosis (>= -2) of the angle errors behind the Q term, used in the point
+        covariance of an overlapping curve: -6/5 (default) for a uniform quantizer's error
+        (angle or pulse output), 0 for Gaussian white angle noise (e.g. a Q term that is
+        not quantization).
 
     Returns
     -------
@@ -2317,6 +2327,11 @@ def fit_noise(
     terms = tuple(t for t in TERMS if t in terms)  # canonical order
     if isinstance(misfit_p, bool) or not isinstance(misfit_p, (int, float)) or not (0.0 <= misfit_p < 1.0):
         raise ValueError(f"misfit_p must be a probability in [0, 1); got {misfit_p!r}")
+    qk = quantization_kurtosis
+    if isinstance(qk, bool) or not isinstance(qk, (int, float)):
+        raise TypeError(f"quantization_kurtosis must be a number; got {qk!r}")
+    if not (-2.0 <= qk < math.inf):
+        raise ValueError(f"quantization_kurtosis must be >= -2 (an excess kurtosis); got {qk!r}")
     tau_all = np.asarray(curve.tau, dtype=float)
     a_all = np.asarray(curve.variance, dtype=float)
     if not np.any(a_all > 0):
@@ -2369,7 +2384,9 @@ def fit_noise(
         rho_all = {k: r + delta[k] for k, r in rho_all.items()}
         if "Q" in terms:  # uniform angle quantization: its fourth cumulant (not Gaussian)
             q = terms.index("Q")
-            rho_all[(q, q)] = rho_all[(q, q)] + _quantization_kurtosis_rho(ms_all, curve.n_samples)
+            if qk != 0:
+                kq = _quantization_kurtosis_rho(ms_all, curve.n_samples, float(qk))
+                rho_all[(q, q)] = rho_all[(q, q)] + kq
     fit, _ = _fit_core(curve, terms, used, nu_all, rho_all, max_iter, misfit_p)
     if auto:
         # past the concave region the filter can still pull the first points off the model: drop

@@ -152,7 +152,7 @@ def test_quantization_kurtosis_rho_equals_the_matrix_form():
     ms = np.array([1, 2, 3, 5, 8, 10])
     got = allan._quantization_kurtosis_rho(ms, n)
     a = [(lambda d: d.T @ d)(_phase_second_differences(int(m), n)) for m in ms]
-    k = allan._QUANT_EXCESS_KURTOSIS
+    k = allan.QUANTIZATION_KURTOSIS
     for i in range(ms.size):
         for j in range(ms.size):
             tr = np.sqrt(np.trace(a[i] @ a[i]) * np.trace(a[j] @ a[j]))
@@ -191,3 +191,17 @@ def test_uniform_quantization_covariance_against_monte_carlo(rng):
     iu = np.triu_indices(4)
     assert np.all(np.abs(c.mean(0) - want)[iu] <= q * se[iu])
     assert np.any(np.abs(c.mean(0) - gauss_only)[iu] > q * se[iu])
+
+
+def test_gaussian_quantization_kurtosis_gives_the_gaussian_fit(rng):
+    """quantization_kurtosis=0 drops the fourth-cumulant term; bad values are refused."""
+    y = np.diff(rng.random(20_001)) * 3.0 + rng.standard_normal(20_000)
+    curve = allan.allan_deviation(y, 10.0)
+    gauss = allan.fit_noise(curve, quantization_kurtosis=0.0)
+    uniform = allan.fit_noise(curve)
+    q = list(uniform.avar_coefficients).index("Q")
+    assert uniform.covariance[q, q] < gauss.covariance[q, q]  # uniform error: smaller variance
+    with pytest.raises(ValueError, match="quantization_kurtosis must be >= -2"):
+        allan.fit_noise(curve, quantization_kurtosis=-3.0)
+    with pytest.raises(TypeError, match="quantization_kurtosis must be a number"):
+        allan.fit_noise(curve, quantization_kurtosis="uniform")

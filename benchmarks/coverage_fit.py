@@ -10,9 +10,11 @@ The model puts each term in charge of about a decade of tau (rate unit u = rad/s
 unit is immaterial): Q dominates below 0.5 s, N 0.5-20 s, B 20-200 s, K 200-2000 s and R
 above 2000 s, on a 20 h record at 10 Hz (720 000 samples, 18 octave taus).
 
-Measured (200 seeds, 2026-11-23, after issue 14's fit range and misfit widening): 95 %
-coverage Q 96.0, N 96.0, B 96.0, K 96.0 %; 68 % coverage Q 75.5, N 77.0, B 70.0, K 70.9 %;
-R identified in 95/200 seeds (its 95 % interval then covers 100 %).
+Measured (200 seeds, 2026-11-24, with the finite-record and uniform-quantization point
+covariance): 95 % coverage Q 93.5, N 95.0, B 95.0, K 95.5 %; 68 % coverage Q 68.0, N 75.5,
+B 69.0, K 68.0 %; R identified in 108/200 seeds (its 95 % interval then covers 99.1 %).
+Before those two corrections (same seeds): 95 % Q 96.0, N 95.5, B 95.0, K 95.5 %; 68 %
+Q 73.0, N 76.5, B 69.0, K 69.0 %.
 
 Run: ``python benchmarks/coverage_fit.py [--seeds 200] [--workers 2] [--hours 20] [--fs 10]``.
 """

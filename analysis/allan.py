@@ -1675,8 +1675,11 @@ def _octave_gram(ua: Sequence[int], mu: Sequence[int]) -> NDArray[np.float64] | 
 
 
 #: finite-record correction of rho (overlapping AVAR, :func:`_finite_record_delta`): a pair
-#: whose larger m exceeds this is scaled down to it, keeping the ratio m_j/m_i and N/m
-_FIN_CAP = 64
+#: whose larger m exceeds this is scaled down to it, keeping the ratio m_j/m_i and N/m.
+#: 32, not 64: same-type correlations stay within 0.03 of the exact form (0.02 at 64), and
+#: the first fit of a 2e5-sample record is ~4 ms faster (it keeps the fit ahead of
+#: allantools + NNLS there; coverage is the same at either cap)
+_FIN_CAP = 32
 #: lags h on a circle of this many points (midpoint frequency grid): more than the 4 _FIN_CAP + 1
 #: lags where the kernels' cross-correlations of Q, N and K are non-zero, so those are exact
 _FIN_GRID = 8 * _FIN_CAP

@@ -77,11 +77,12 @@ def _exact_rho(alphas, mi, mj, n, grid):
 def test_scaled_correction_against_the_exact_one():
     """The correction fit_noise adds (pairs scaled to m <= 64) against the unscaled exact one.
 
-    Measured worst errors over every octave pair of n = 20000 are the tolerances below:
-    same-type terms (the ones that carry a point's variance) <= 0.02 (K; the correction
-    itself reaches 0.2); cross-type terms with quantization at a large m up to 0.095 (Q is
-    not scale-free, but its share of a point there is ~(m_Q/m)^2, negligible). Pairs with
-    both m <= 64 are unscaled and exact (Q, N, K) to rounding.
+    The stated accuracy of the scaled approximation (docs/physics.md 1.6), at _FIN_CAP = 32:
+    same-type terms (the ones that carry a point's variance) <= 0.03 (measured 0.028, K; the
+    correction itself reaches 0.2; 0.020 at a cap of 64, which cost ~4 ms per first fit and
+    the 2e5-sample speed target); cross-type terms with quantization at a large m <= 0.1
+    (measured 0.096; Q is not scale-free, but its share of a point there is ~(m_Q/m)^2,
+    negligible). Pairs with both m <= _FIN_CAP are unscaled and exact (Q, N, K) to rounding.
     """
     n = 20000
     ms = 2 ** np.arange(13)  # up to 4096 < n/4
@@ -99,7 +100,7 @@ def test_scaled_correction_against_the_exact_one():
                 np.testing.assert_allclose(got[qnk], (fin - inf)[qnk], atol=1e-12)
             worst_same = max(worst_same, float(np.diagonal(err).max()))
             worst_cross = max(worst_cross, float((err - np.diag(np.diagonal(err))).max()))
-    assert worst_same <= 0.02
+    assert worst_same <= 0.03
     assert worst_cross <= 0.1
 
 

@@ -192,3 +192,23 @@ class CompensationTask:
         """Turn a regressor's prediction on ``run.X`` into the compensated output."""
         prediction = np.asarray(prediction, float).reshape(-1)
         return run.output - prediction if self.target == "error" else prediction
+
+
+def check_pool(executor: Any, workers: Any) -> None:
+    """Refuse a bad ``workers``/``executor`` pair of a unit or seed runner in one line.
+
+    ``workers``: None or an integer >= 0 (0: in-process); ``executor``: None or a
+    :class:`concurrent.futures.Executor`; not both.
+    """
+    import concurrent.futures as cf
+
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
+    ):
+        raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise TypeError(
+            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
+        )
+    if executor is not None and workers is not None:
+        raise ValueError("give either executor or workers, not both")

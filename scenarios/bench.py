@@ -82,6 +82,7 @@ from typing import Any
 
 import numpy as np
 from gyrobench.scenarios import exits
+from gyrobench.scenarios.base import check_pool
 from numpy.typing import NDArray
 
 __all__ = [
@@ -1266,16 +1267,7 @@ def run_campaign(
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else _check_seeds(seeds)
     if config is None:
         config = module.Config()
-    if workers is not None and (
-        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
-    ):
-        raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
-    if executor is not None and not isinstance(executor, cf.Executor):
-        raise TypeError(
-            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
-        )
-    if executor is not None and workers is not None:
-        raise ValueError("give either executor or workers, not both")
+    check_pool(executor, workers)
     cid = campaign_id(module, comp, config)
     label = _compensator_label(comp, compensator)
     short = _compensator_label(comp, compensator, short=True)

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from gyrobench.scenarios.base import Outcome
+from gyrobench.scenarios.base import Outcome, check_pool
 
 __all__ = [
     "DEFAULT_DB",
@@ -181,16 +181,7 @@ def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
         raise ValueError(f"n_units must be an integer >= 1; got {n_units!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
-    if workers is not None and (
-        isinstance(workers, bool) or not isinstance(workers, int) or workers < 0
-    ):
-        raise ValueError(f"workers must be an integer >= 0; got {workers!r}")
-    if executor is not None and not isinstance(executor, cf.Executor):
-        raise TypeError(
-            f"executor must be a concurrent.futures.Executor; got {type(executor).__name__}"
-        )
-    if executor is not None and workers is not None:
-        raise ValueError("give either executor or workers, not both")
+    check_pool(executor, workers)
 
 
 def _open_store(

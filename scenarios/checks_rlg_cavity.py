@@ -25,6 +25,7 @@ import math
 from dataclasses import replace
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gyrobench.scenarios.checks import Check
 from gyrobench.sim import units
@@ -221,18 +222,9 @@ def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
     # sigma = 0.1 here (2 rad) a residual compression of ~4 % (5 standard errors) remains
     k, wl, fd, beta, sigma = 1000.0, 0.01, 50.0, 20.0, 0.3
     m, n_cyc = 100, 250
-    dith = Dither(frequency=fd, amplitude=beta / (2.0 * math.pi * k), amplitude_jitter=sigma)
     omega = 0.5 * wl * abs(float(j0(beta)))  # half the fixed-amplitude dead band
-    r_sw, r_psi = rng.spawn(2)
-    sw = SwingDither.draw(dith, n_cyc, rng=r_sw, size=m)
-    psi0 = r_psi.uniform(0.0, 2.0 * math.pi, m)
-    n_per = int(math.ceil(16.0 * k * dith.peak_rate * (1.0 + 3.0 * sigma) / fd))
-    dur = n_cyc / fd
-    psi = integrate_adler(
-        lambda t: omega + sw.rate(t), dur, scale_factor=k, lock_in_rate=wl,
-        dt=1.0 / (fd * n_per), psi0=psi0, sample_every=n_per * n_cyc,
-    )
-    rate = ((psi[-1] - psi0) / (2.0 * math.pi * k) - sw.angle(dur)) / dur
+    dith, dur, angle = _swing_adler_angles(k, wl, fd, beta, sigma, m, n_cyc, omega, rng)
+    rate = angle / dur
     n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
     return Check(
         id="rlg_cavity.no_dead_band_with_swing_dither",
@@ -251,21 +243,43 @@ def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
     )
 
 
-def _check_random_walk(rng: np.random.Generator) -> Check:
-    k, wl, fd, beta, sigma = 1000.0, 0.05, 50.0, 30.0, 0.1
-    m, n_cyc = 400, 100
+def _swing_adler_angles(
+    k: float,
+    wl: float,
+    fd: float,
+    beta: float,
+    sigma: float,
+    m: int,
+    n_cyc: int,
+    rate: float,
+    rng: np.random.Generator,
+) -> tuple[Dither, float, NDArray[np.float64]]:
+    """m realizations of the Adler equation (RK4, 16 steps per beat at the jittered peak rate)
+    under a constant ``rate`` plus a swing-randomized dither of beta_D = ``beta`` (K = k/rad,
+    Omega_L = ``wl``, f_d = ``fd``, amplitude jitter ``sigma``) for ``n_cyc`` dither cycles.
+
+    Returns the dither, the duration T [s] and each realization's recovered angle over T
+    [rad]: the counted phase / (2 pi K) minus the dither's own angle.
+    """
     dith = Dither(frequency=fd, amplitude=beta / (2.0 * math.pi * k), amplitude_jitter=sigma)
-    earth = units.EARTH_RATE * math.cos(LATITUDE)
     r_sw, r_psi = rng.spawn(2)
     sw = SwingDither.draw(dith, n_cyc, rng=r_sw, size=m)
     psi0 = r_psi.uniform(0.0, 2.0 * math.pi, m)
     n_per = int(math.ceil(16.0 * k * dith.peak_rate * (1.0 + 3.0 * sigma) / fd))
     dur = n_cyc / fd
     psi = integrate_adler(
-        lambda t: earth + sw.rate(t), dur, scale_factor=k, lock_in_rate=wl,
+        lambda t: rate + sw.rate(t), dur, scale_factor=k, lock_in_rate=wl,
         dt=1.0 / (fd * n_per), psi0=psi0, sample_every=n_per * n_cyc,
     )
-    err = (psi[-1] - psi0) / (2.0 * math.pi * k) - earth * dur - sw.angle(dur)
+    return dith, dur, (psi[-1] - psi0) / (2.0 * math.pi * k) - sw.angle(dur)
+
+
+def _check_random_walk(rng: np.random.Generator) -> Check:
+    k, wl, fd, beta, sigma = 1000.0, 0.05, 50.0, 30.0, 0.1
+    m, n_cyc = 400, 100
+    earth = units.EARTH_RATE * math.cos(LATITUDE)
+    dith, dur, angle = _swing_adler_angles(k, wl, fd, beta, sigma, m, n_cyc, earth, rng)
+    err = angle - earth * dur
     n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
     expected = n_stat**2 * dur
     var = float(np.var(err, ddof=1))

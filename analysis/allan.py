@@ -1532,15 +1532,6 @@ def _h(m: int) -> NDArray[np.float64]:
     return s
 
 
-@lru_cache(maxsize=128)
-def _g(alpha: int, m: int) -> NDArray[np.float64]:
-    """g = S_alpha |H_m|^2 on the frequency grid, normalised to unit l2 norm (cached, read-only)."""
-    g = _rate_psd_shape(alpha, _rho_grid()[0]) * _h(m)
-    g = g / np.linalg.norm(g)
-    g.flags.writeable = False
-    return g
-
-
 def _scaled(m1: int, m2: int) -> tuple[int, int]:
     """Scale a pair of m down to max <= _RHO_M_CAP keeping their ratio (see :func:`_rho_blocks`)."""
     if max(m1, m2) <= _RHO_M_CAP:
@@ -1572,12 +1563,10 @@ def _rho_blocks(alphas: Sequence[int], ms: NDArray[np.int64]) -> dict[tuple[int,
     quantization, 1 white, 1/f flicker, 1/sin^2(pi f) random walk). The integrals use the
     midpoint rule on 16384 points of (0, 1/2] (32 per period of the fastest factor).
     For m above 1024 both m of a pair are scaled down keeping their ratio: for power-law
-    noise in the continuous-time limit rho depends on m_j/m_i only. Edge effects of a short
-    record (n ~ 4m) are not modelled in rho; the variances themselves (Greenhall edf) have them.
-
-    The result depends only on the alphas and the m, so it is cached (one fit of an
-    18-octave curve evaluates 11 |H_m|^2 and 44 g vectors once; the same taus again, e.g.
-    the other axes of a triad, cost nothing).
+    noise in the continuous-time limit rho depends on m_j/m_i only. This is the n >> m limit:
+    the record's ends are added by :func:`_finite_record_delta` in the fit. Octave taus read
+    the stored table (:func:`_octave_gram`); the result depends only on the alphas and the m,
+    so it is cached (the same taus again, e.g. the other axes of a triad, cost nothing).
     """
     key = (tuple(int(a) for a in alphas), tuple(int(m) for m in ms))
     return {k: v.copy() for k, v in _rho_blocks_cached(*key).items()}
@@ -2190,7 +2179,7 @@ def fit_noise(
         the first octaves, where no sum of the five power laws can follow).
     misfit_p : float
         Level of the goodness-of-fit test: a fit with p-value below it is a misfit
-        (``NoiseFit.misfit``), and its standard errors are multiplied by sqrt(chi2/dof).
+        (``NoiseFit.misfit``), and its standard errors are multiplied by sqrt(chi2/E[chi2]).
     bandwidth : float, optional
         The sensor's bandwidth [Hz] (0 < bandwidth < fs/2), when known: taus where its
         low-pass still biases the white-noise points are not fitted (:func:`bandwidth_range`,
@@ -2218,7 +2207,8 @@ def fit_noise(
     weighting by the data itself biases the fit low) and nu_i the edf of the estimate for
     the noise type that dominates the fitted curve at tau_i (alpha +2 Q, 0 N, -1 B, -2 K
     and R; Greenhall edf as in :func:`allan_deviation`). The weighted problem
-    min || W^1/2 (X C - A) ||, C >= 0, is solved by scipy.optimize.nnls on column-scaled X,
+    min || W^1/2 (X C - A) ||, C >= 0, is solved by Lawson-Hanson active-set NNLS
+    (:func:`_nnls_enumerate`, equal to scipy.optimize.nnls to rounding) on column-scaled X,
     starting from the weights of the curve's own estimate, and reweighted until stable.
 
     Uncertainty (the point of the method; checked by benchmarks/coverage_fit.py): the
@@ -2569,20 +2559,17 @@ def _ltz_sf(q: float, c1: float, c2: float, c3: float, c4: float, special: Any) 
 
 
 # ---------------------------------------------------------------------------------- public: read-off
-#: tau [s] at which each single-term asymptote equals its coefficient (IEEE 952 C.1)
-_READ_TAU = {"Q": math.sqrt(3.0), "N": 1.0, "K": 3.0, "R": math.sqrt(2.0)}
-_SLOPE = {"Q": -1.0, "N": -0.5, "B": 0.0, "K": 0.5, "R": 1.0}
+#: tau [s] at which each single-term asymptote equals its coefficient (IEEE 952 C.1):
+#: scale tau^power = 1, i.e. sqrt(3), 1, 3, sqrt(2) for Q, N, K, R
+_READ_TAU = {t: _SCALE[t] ** (-1.0 / _POWER[t]) for t in TERMS if _POWER[t] != 0}
+#: log-log slope of each term's Allan deviation
+_SLOPE = {t: _POWER[t] / 2.0 for t in TERMS}
 
 
 def _normalised(name: str, tau: NDArray[np.float64], dev: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Coefficient implied by each point if the single term ``name`` made the whole deviation."""
-    return {
-        "Q": dev * tau / math.sqrt(3.0),  # sigma = sqrt(3) Q / tau
-        "N": dev * np.sqrt(tau),  # sigma = N / sqrt(tau)
-        "B": dev / FLICKER_FLOOR,  # sigma = 0.6643 B
-        "K": dev * math.sqrt(3.0) / np.sqrt(tau),  # sigma = K sqrt(tau / 3)
-        "R": dev * math.sqrt(2.0) / tau,  # sigma = R tau / sqrt(2)
-    }[name]
+    """Coefficient implied by each point if the single term ``name`` made the whole deviation:
+    sqrt(dev^2 tau^-power / scale) (:func:`avar_to_coefficient` per point)."""
+    return np.sqrt(dev * dev * tau ** (-float(_POWER[name])) / _SCALE[name])
 
 
 def slope_readoff(

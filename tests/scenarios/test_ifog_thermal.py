@@ -49,6 +49,9 @@ def test_claims_are_well_formed(small_units):
     # issue 18: the T x dT term comes from material data (emergent); the drift level is
     # calibrated through the lead-asymmetry spread
     assert "003.txdt_point" not in calibrated and "003.drift_level" in calibrated
+    # the validation claims judge that calibrated drift against its residual: fed by it
+    assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest",
+            "003.val2_order"} <= calibrated
     for d in sc.DEVIATIONS:
         assert isinstance(d, Deviation) and d.paper == "003"
         assert "EFFECT_" not in d.effect  # every effect is filled in

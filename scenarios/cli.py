@@ -276,12 +276,6 @@ def _cmd_simulate(args) -> int:
 
 # ----------------------------------------------------------------------------- allan
 # CSV/log reading lives in scenarios/logs.py; these names stay for callers of the old helpers
-def _split_header(cell: str) -> tuple[str, str | None]:
-    from gyrobench.scenarios.logs import split_header
-
-    return split_header(cell)
-
-
 def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None):
     """One rate column of a CSV: (rate in rad/s, fs [Hz], column label); see scenarios.logs.read_csv_log."""
     from gyrobench.scenarios.logs import read_csv_log

@@ -6,7 +6,7 @@ seed)`` (one unit through the whole pipeline, no formatting), ``CLAIMS``,
 
     seeds = range(seed, seed + n_units)
     units = [module.experiment(config, s) for s in seeds]   # on the bench's executor, resumable
-    claims = evaluate(module.CLAIMS, [u["quantities"] for u in units])
+    claims = evaluate(module_claims(module, config), [u["quantities"] for u in units])
     outcome = module.report(config, units, claims)
     outcome.claims, outcome.deviations, outcome.units = claims, list(module.DEVIATIONS), n
 
@@ -366,7 +366,7 @@ def run_paper(
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = False,
 ) -> Outcome:
-    """Run the units (:func:`run_units`), judge ``module.CLAIMS`` over them, build the report.
+    """Run the units (:func:`run_units`), judge :func:`module_claims` over them, build the report.
 
     Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
     ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,

@@ -38,6 +38,22 @@ def test_every_cli_verb_is_in_the_readme():
         assert f"gyrobench {verb}" in text, f"README does not mention 'gyrobench {verb}'"
 
 
+def test_every_cli_flag_is_in_the_readme():
+    """Each long option of the top level and of every verb appears in the README."""
+    from gyrobench.scenarios.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    text = (ROOT / "README.md").read_text()
+    for name, p in [("gyrobench", parser), *sub.choices.items()]:
+        for action in p._actions:
+            if action.help == "==SUPPRESS==":  # hidden (internal) options
+                continue
+            for flag in action.option_strings:
+                if flag.startswith("--") and flag != "--help":
+                    assert flag in text, f"README does not mention {name}'s {flag}"
+
+
 def _blocks(lang: str) -> list[str]:
     text = (ROOT / "README.md").read_text()
     return re.findall(rf"```{lang}\n(.+?)\n```", text, flags=re.S)

@@ -29,6 +29,11 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = ["StationarityReport", "stationarity_check", "TemperatureFit", "remove_temperature"]
 
 
+#: allowance on the motion test's white-noise variance limit for the non-white share of a
+#: window's variance (flicker and random-walk wander); stated, not derived
+NON_WHITE_MARGIN = 2.0
+
+
 @dataclass(frozen=True)
 class StationarityReport:
     """Result of :func:`stationarity_check`.
@@ -43,18 +48,25 @@ class StationarityReport:
     steps : list of (time_s, z)
         Boundaries between adjacent windows whose means differ by z standard deviations
         sqrt(2 AVAR(tau_w)) with z beyond the test's limit.
+    tested : bool
+        False when the record is too short to test (fewer than 4 windows of 8 samples):
+        nothing was checked, so :attr:`stationary` says nothing either.
     """
 
     window: float
     motion: list[tuple[float, float, float]]
     steps: list[tuple[float, float]]
+    tested: bool = True
 
     @property
     def stationary(self) -> bool:
-        return not self.motion and not self.steps
+        """True when the record was tested and nothing was flagged."""
+        return self.tested and not self.motion and not self.steps
 
     def warnings(self, label: str) -> list[str]:
         """One line per finding kind, for the report."""
+        if not self.tested:
+            return [f"{label}: too short to test for motion or steps (needs 4 windows of 8 samples)"]
         out = []
         if self.motion:
             a, b, r = max(self.motion, key=lambda t: t[2])
@@ -87,19 +99,20 @@ def stationarity_check(
     window : float
         Window length [s]; a multiple of 1/fs, at least 8 samples.
     false_alarm : float
-        Probability of any flag on a stationary Gaussian record (Bonferroni over windows).
+        Probability of any flag on a stationary Gaussian record (Bonferroni over the K motion
+        and K - 1 step tests).
 
     Notes
     -----
     Motion: with w samples per window, a window's sample variance s^2 of white-dominated
-    noise is sigma^2 chi2(w-1)/(w-1); a window is flagged when s^2 / median(s^2) exceeds
-    chi2_{1-p}(w-1)/(w-1) with p = false_alarm / K (K windows), times 2 for the
-    non-white share (the median is a robust sigma^2; the factor 2 keeps flicker and
-    random-walk wander inside a window from firing it).
+    noise is sigma^2 chi2(w-1)/(w-1); sigma^2 is estimated robustly as median(s^2) divided by
+    the median of chi2(w-1)/(w-1) (which is below 1: 0.91 at w = 8), and a window is flagged
+    when s^2 / sigma^2 exceeds chi2_{1-p}(w-1)/(w-1) with p = false_alarm / (2K - 1), times
+    ``NON_WHITE_MARGIN`` = 2 for the non-white share (a stated allowance, not derived: it
+    keeps flicker and random-walk wander inside a window from firing it).
     Steps: AVAR(tau) = 1/2 E[(ybar_{k+1} - ybar_k)^2] (IEEE 952 C.1), so the difference of
     adjacent window means has standard deviation sqrt(2) ADEV(tau_w) whatever the noise
-    mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, p = false_alarm / K) is
-    flagged. Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
+    mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, same p) is flagged. Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
     """
     from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
 
@@ -107,13 +120,13 @@ def stationarity_check(
     w = int(round(window * fs))
     k = y.size // w
     if w < 8 or k < 4:
-        return StationarityReport(window=window, motion=[], steps=[])
+        return StationarityReport(window=window, motion=[], steps=[], tested=False)
     blocks = y[: k * w].reshape(k, w)
     means = blocks.mean(axis=1)
     var = blocks.var(axis=1, ddof=1)
-    med = float(np.median(var))
-    p = false_alarm / k
-    limit = 2.0 * float(special.chdtri(w - 1, p)) / (w - 1)
+    med = float(np.median(var)) / (float(special.chdtri(w - 1, 0.5)) / (w - 1))
+    p = false_alarm / (2 * k - 1)
+    limit = NON_WHITE_MARGIN * float(special.chdtri(w - 1, p)) / (w - 1)
     motion = (
         [
             (i * window, (i + 1) * window, float(var[i] / med))

@@ -29,6 +29,29 @@ def test_stationary_record_is_not_flagged():
     assert rep.stationary, (rep.motion[:3], rep.steps[:3])
 
 
+def test_false_alarm_rate_of_white_noise_within_its_binomial_bound():
+    """White noise, 400 records of 64 windows: the any-flag rate at false_alarm = 0.05 (the
+    documented probability of any flag, Bonferroni over the motion and step tests) stays
+    within its binomial bound at 1e-6."""
+    from scipy.stats import binom
+
+    rng = np.random.default_rng(41)
+    w, k, n_rec, fa = 32, 64, 400, 0.05
+    flags = 0
+    for _ in range(n_rec):
+        y = rng.standard_normal(w * k)
+        adev = math.sqrt(1.0 / w)  # white rate, unit variance: AVAR(tau_w) = 1/w
+        rep = stationarity_check(y, 1.0, adev, window=float(w), false_alarm=fa)
+        flags += not rep.stationary
+    assert flags <= binom.isf(1e-6, n_rec, fa)
+
+
+def test_too_short_record_is_not_called_stationary():
+    rep = stationarity_check(np.zeros(20), 10.0, 1.0, window=1.0)
+    assert not rep.tested and not rep.stationary
+    assert "too short" in rep.warnings("gyro")[0]
+
+
 def test_motion_burst_is_flagged():
     y = _record(np.random.default_rng(32))
     y[50_000:50_300] += 0.05 * np.random.default_rng(33).standard_normal(300)  # 3 s of handling

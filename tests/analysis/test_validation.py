@@ -231,10 +231,11 @@ def _sandwich(x, w, v):
 def test_adis16405_unrestricted_fit_is_flagged(adis_fits):
     """The filter-bent first octaves make the all-tau fit a misfit on every record, widened, never tight."""
     flagged = [key for key, (_, full, _) in adis_fits.items() if full.misfit]
-    assert len(flagged) >= 1
+    assert set(flagged) == set(adis_fits)
     for key in flagged:
         full = adis_fits[key][1]
-        assert full.inflation > 10.0, (key, full.chi2_per_dof)  # chi2/dof ~ 1.6e3-1.8e4 measured
+        # widened by sqrt(chi2/E[chi2]) (2.0e3-1.3e4 measured), never left at the tight width
+        assert full.inflation > 1.0, (key, full.chi2_per_dof)
 
 
 def test_adis16405_auto_fit_agrees_with_nnls(adis_fits):

@@ -91,16 +91,17 @@ def coefficient_table(fit, *, title: str, truth: dict[str, float] | None = None)
 
 # ----------------------------------------------------------------------------- CLI analysis of a log
 #: accelerometer coefficients: the same IEEE terms on m/s^2 (IEEE Std 1293-1998 names):
-#: name, field unit, factor from SI (N [m/s/sqrt(s)] x 60 = m/s/sqrt(h); B [m/s^2] / 9.80665e-6 = ug;
-#: K [m/s^2/sqrt(s)] x 60 = m/s^2/sqrt(h))
+#: name, field unit, factor from SI (N [m/s/sqrt(s)] x sqrt(3600) = m/s/sqrt(h); B [m/s^2] /
+#: (1e-6 g0) = ug; K [m/s^2/sqrt(s)] x sqrt(3600) = m/s^2/sqrt(h))
 ACCEL_FIELD_UNITS = {
     "Q": ("velocity quantization", "m/s", 1.0),
-    "N": ("velocity random walk", "m/s/sqrt(h)", 60.0),
-    "B": ("bias instability", "ug", 1.0 / 9.80665e-6),
-    "K": ("acceleration random walk", "m/s^2/sqrt(h)", 60.0),
+    "N": ("velocity random walk", "m/s/sqrt(h)", units.HOUR**0.5),
+    "B": ("bias instability", "ug", 1.0 / (1e-6 * units.G0)),
+    "K": ("acceleration random walk", "m/s^2/sqrt(h)", units.HOUR**0.5),
     "R": ("acceleration ramp", "m/s^3", 1.0),
 }
-#: fitted kinds (the IEEE 952 term coefficients hold for the Allan variance)
+#: fitted kinds (the IEEE 952 term coefficients hold for the Allan variance); the same as
+#: gyrobench.analysis.allan's, repeated so the CLI need not import the analysis (a test pins it)
 FIT_KINDS = ("overlapping", "standard")
 
 

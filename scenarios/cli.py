@@ -47,6 +47,11 @@ class _BadInput(ValueError):
     pass
 
 
+#: default of --bandwidth-bias: gyrobench.analysis.allan.BANDWIDTH_BIAS, repeated so parsing
+#: imports no analysis (tests/scenarios/test_cli.py pins the two)
+_BANDWIDTH_BIAS = 0.1
+
+
 @contextlib.contextmanager
 def _closing(bar):
     """Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
@@ -359,7 +364,7 @@ def _cmd_allan(args) -> int:
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
                            stop=args.stop, temperature=args.temperature)
-    if args.bandwidth is None and args.bandwidth_bias != 0.1:
+    if args.bandwidth is None and args.bandwidth_bias != _BANDWIDTH_BIAS:
         raise _BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
         raise _BadInput(f"--bandwidth must be < the Nyquist frequency fs/2 = {log.fs / 2:g} Hz of {path.name} "
@@ -537,9 +542,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--bandwidth", type=_positive_float("--bandwidth"), metavar="HZ",
                    help="the sensor's bandwidth [Hz], 0 < HZ < fs/2: taus its low-pass still biases are not fitted "
                         "(with --tau-min the larger limit wins; the output names the rule that set it)")
-    s.add_argument("--bandwidth-bias", type=_positive_float("--bandwidth-bias"), default=0.1, metavar="FRACTION",
+    s.add_argument("--bandwidth-bias", type=_positive_float("--bandwidth-bias"), default=_BANDWIDTH_BIAS,
+                   metavar="FRACTION",
                    help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
-                        "standard error (default 0.1)")
+                        f"standard error (default {_BANDWIDTH_BIAS:g})")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
     s.add_argument("--plot", help="write the ADEV figure (PNG)")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "

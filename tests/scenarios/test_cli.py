@@ -530,3 +530,22 @@ def test_bad_allan_bandwidth_bias_without_bandwidth(lowpassed_csv, capsys):
     assert_one_line_error(code, err, "--bandwidth-bias applies with --bandwidth HZ")
     code, _, err = run(["allan", lowpassed_csv, "--fs", "100", "--bandwidth", "2", "--bandwidth-bias", "0"], capsys)
     assert_one_line_error(code, err, "--bandwidth-bias must be a finite number > 0; got '0'")
+
+
+def test_cli_edge_copies_of_analysis_constants_agree():
+    """The CLI-side copies (kept so parsing imports no analysis) equal the analysis values."""
+    import inspect
+
+    from gyrobench.analysis import allan
+    from gyrobench.scenarios import allan_report, logs
+    from gyrobench.scenarios.cli import build_parser
+    from gyrobench.sim import units
+
+    assert allan_report.FIT_KINDS == allan._FIT_KINDS
+    assert inspect.signature(allan_report.analyse).parameters["bandwidth_bias"].default == (
+        allan.BANDWIDTH_BIAS
+    )
+    sub = next(a for a in build_parser()._actions if a.__class__.__name__ == "_SubParsersAction")
+    bw = next(a for a in sub.choices["allan"]._actions if "--bandwidth-bias" in a.option_strings)
+    assert bw.default == allan.BANDWIDTH_BIAS
+    assert logs.ACCEL_UNITS["g"] == units.G0 and logs.TIME_UNITS["h"] == units.HOUR

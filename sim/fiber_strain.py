@@ -62,6 +62,7 @@ from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
+from gyrobench.sim.coil import elasto_optic_factor
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
@@ -77,19 +78,9 @@ __all__ = [
 ]
 
 
-def elasto_optic_factor(
-    n: float = 1.444, p11: float = 0.121, p12: float = 0.270, nu: float = 0.17
-) -> float:
-    """xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] [-] (optical path change per unit axial strain / n).
-
-    >>> round(elasto_optic_factor(), 3)
-    0.788
-    """
-    return 1.0 - n**2 / 2.0 * (p12 - nu * (p11 + p12))
-
-
-#: xi for fused silica (p11 = 0.121, p12 = 0.270, nu = 0.17; docs/physics.md 4.1) [-]
-ELASTO_OPTIC_FACTOR = elasto_optic_factor()
+#: xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] for fused silica at n = 1.444 (p11 = 0.121,
+#: p12 = 0.270, nu = 0.17; docs/physics.md 4.1): 0.788 [-]
+ELASTO_OPTIC_FACTOR = elasto_optic_factor(1.444, 0.121, 0.270, 0.17)
 
 
 def segment_weight(z0: float, length: float, fibre_length: float) -> float:

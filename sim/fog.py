@@ -47,11 +47,10 @@ from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
+from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
 
 __all__ = ["SPEED_OF_LIGHT", "TemperatureSensorSpec", "FOGSpec", "FOGUnit", "sagnac_scale_factor"]
 
-#: speed of light in vacuum [m/s]
-SPEED_OF_LIGHT = 299_792_458.0
 
 _SENSOR_LOCATIONS = ("outer", "inner", "mean", "spool", "housing")
 

@@ -54,6 +54,8 @@ import math
 from dataclasses import dataclass
 from numbers import Real
 
+from gyrobench.sim.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT  # exact SI, re-exported
+
 __all__ = [
     "ELEMENTARY_CHARGE",
     "BOLTZMANN",
@@ -62,12 +64,6 @@ __all__ = [
     "arw_from_phase_psd",
 ]
 
-#: elementary charge [C] (exact, SI 2019)
-ELEMENTARY_CHARGE = 1.602176634e-19
-#: Boltzmann constant [J/K] (exact, SI 2019)
-BOLTZMANN = 1.380649e-23
-#: speed of light in vacuum [m/s] (exact)
-SPEED_OF_LIGHT = 299_792_458.0
 
 
 def _pos(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = False) -> None:

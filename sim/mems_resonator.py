@@ -133,6 +133,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 
 __all__ = [
     "BOLTZMANN",
@@ -163,8 +164,6 @@ __all__ = [
     "factory_trim",
 ]
 
-#: Boltzmann constant [J/K] (exact, SI 2019)
-BOLTZMANN = 1.380649e-23
 #: vacuum permittivity [F/m] (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
 

@@ -82,6 +82,7 @@ from gyrobench.sim.rlg import (
     _first_order_foh,
     _lognormal,
 )
+from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
 
 __all__ = [
     "SPEED_OF_LIGHT",
@@ -99,8 +100,6 @@ __all__ = [
     "CavityRLG",
 ]
 
-#: speed of light in vacuum [m/s] (SI definition)
-SPEED_OF_LIGHT = 299_792_458.0
 #: ZERODUR expansion class 2 tolerance, |alpha(0..50 degC)| <= 0.10e-6 /K
 #: (SCHOTT, "Technical Details of ZERODUR", CTE classes; docs/physics.md 6.6)
 ZERODUR_CTE_CLASS_2 = 0.10e-6

@@ -42,6 +42,12 @@ G0 = 9.80665
 ZERO_CELSIUS = 273.15
 #: Earth's rotation rate [rad/s] (sidereal)
 EARTH_RATE = 7.292115e-5
+#: speed of light in vacuum [m/s] (exact, SI)
+SPEED_OF_LIGHT = 299_792_458.0
+#: Boltzmann constant [J/K] (exact, SI 2019)
+BOLTZMANN = 1.380649e-23
+#: elementary charge [C] (exact, SI 2019)
+ELEMENTARY_CHARGE = 1.602176634e-19
 
 _SQRT_HOUR = math.sqrt(HOUR)
 

@@ -489,10 +489,46 @@ def _rectification() -> Check:
     )
 
 
+def _optical_budget() -> list[Check]:
+    """The budget's per-current computation against its closed form, at two bias phases."""
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+    from gyrobench.sim.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT
+
+    unit = ClosedLoopFOG(modes=())
+    ob, lam = unit.optics, unit.loop.wavelength
+    i0 = ob.responsivity * ob.source_power * 10.0 ** (-ob.loss_db / 10.0)
+    dnu = ob.width_factor * SPEED_OF_LIGHT * ob.spectral_width / lam**2 / (
+        1.0 if ob.polarized else 0.5
+    )
+    s_th = 4.0 * BOLTZMANN * ob.temperature / ob.feedback_resistance + ob.amplifier_current_noise**2
+    out = []
+    for phi in (math.pi / 2, 3 * math.pi / 4):
+        closed = (
+            2.0 * ELEMENTARY_CHARGE / (i0 * math.sin(phi / 2) ** 2)
+            + 1.0 / (math.tan(phi / 2) ** 2 * dnu)
+            + s_th / ((i0 / 2) ** 2 * math.sin(phi) ** 2)
+        )
+        out.append(
+            Check(
+                id=f"fog.optical_budget_closed_form_{round(math.degrees(phi))}deg",
+                formula="S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu_eff + "
+                "S_th/((i0/2)^2 sin^2 phi_b), i0 = R P 10^(-loss/10), dnu_eff = k_w c dlambda/"
+                "lambda^2 (x2 unpolarised), S_th = 4 k_B T/R_f + i_n^2 [rad^2/Hz]",
+                expected=closed,
+                simulated=ob.phase_psd(phi, lam)["total"],
+                tolerance=1e-12,
+                derivation="the closed form written out from the constants against "
+                "OpticalBudget's per-current PSDs over the squared slope: equal to rounding",
+            )
+        )
+    return out
+
+
 def checks(rng: np.random.Generator) -> list[Check]:
     """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
     r = rng.spawn(5)
     return [
+        *_optical_budget(),
         _arw_reduced(r[0]),
         _arw_full(r[1]),
         *_loop_response(),

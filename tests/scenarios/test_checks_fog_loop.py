@@ -5,6 +5,8 @@ from gyrobench.scenarios import checks_fog_loop
 from gyrobench.scenarios.checks import collect
 
 IDS = [
+    "fog.optical_budget_closed_form_90deg",
+    "fog.optical_budget_closed_form_135deg",
     "fog.loop_arw_optical_budget",
     "fog.loop_full_arw_optical_budget",
     "fog.loop_frequency_response",

@@ -146,3 +146,18 @@ def test_vibration_span_is_widened_to_a_5_smooth_transform_length():
     k = _smooth_blocks(120766, 8, 600000)
     assert k >= 120766 and next_fast_len(k * 8, real=True) == k * 8
     assert _smooth_blocks(120766, 8, 120766) == 120766  # the record is the limit
+
+
+def test_default_budget_arw_is_the_documented_worked_example():
+    """docs/physics.md 3.8's worked example, N = sqrt(S_phi/2)/SF with S_phi from the closed
+    form (checks_fog_loop: fog.optical_budget_closed_form_*), is 9.42e-4 deg/sqrt(h) at
+    phi_b = pi/2, RIN-limited with RIN/shot = 37.5."""
+    from gyrobench.scenarios.checks_fog_loop import _optical_budget
+    from gyrobench.sim.fog_loop import ClosedLoopFOG
+
+    for c in _optical_budget():
+        assert abs(c.simulated / c.expected - 1) <= c.tolerance, c.id
+    unit = ClosedLoopFOG(modes=())
+    assert units.to_deg_per_sqrt_h(unit.arw) == pytest.approx(9.42e-4, abs=0.005e-4)
+    psd = unit.optics.phase_psd(math.pi / 2, unit.loop.wavelength)
+    assert psd["rin"] / psd["shot"] == pytest.approx(37.51, abs=0.005)

@@ -488,14 +488,21 @@ def _smooth_blocks(nb: int, m: int, n: int) -> int:
 
 
 def loop_average(
-    spectrum: NDArray[np.complex128], n_phys: int, fs_phys: float, fs: float, loop: LoopSpec | None
+    spectrum: NDArray[np.complex128],
+    n_phys: int,
+    fs_phys: float,
+    fs: float,
+    loop: LoopSpec | None,
+    *,
+    weight: NDArray[np.complex128] | None = None,
 ) -> NDArray[np.float64]:
     """Output-rate samples of a physics-rate signal given by its rfft ``spectrum``.
 
     Applies the loop's H(e^{j 2 pi f tau}) (``loop`` None: no loop) and the integrate-and-dump
     average over T_o = 1/fs (sinc(f T_o)), and samples at the block centres
     t_j = (j + 1/2) T_o: exact for the periodic band-limited record. ``fs_phys`` must be an
-    even integer multiple of ``fs``.
+    even integer multiple of ``fs``. ``weight``: that product sinc(f T_o) H on the rfft grid,
+    when the caller already has it (several signals of one record); ``loop`` is then unused.
     """
     m = int(round(fs_phys / fs))
     if m < 2 or m % 2 or abs(m * fs - fs_phys) > 1e-9 * fs_phys or n_phys % m:
@@ -503,11 +510,10 @@ def loop_average(
             f"physics rate must be an even integer multiple of fs = {fs!r} Hz with whole blocks; "
             f"got {fs_phys!r} Hz, {n_phys} samples"
         )
-    f = np.fft.rfftfreq(n_phys, 1.0 / fs_phys)
-    x = spectrum * np.sinc(f / fs)
-    if loop is not None:
-        x = x * loop.transfer(f)
-    return np.fft.irfft(x, n_phys)[np.arange(n_phys // m) * m + m // 2]
+    if weight is None:
+        f = np.fft.rfftfreq(n_phys, 1.0 / fs_phys)
+        weight = np.sinc(f / fs) * (1.0 if loop is None else loop.transfer(f))
+    return np.fft.irfft(spectrum * weight, n_phys)[np.arange(n_phys // m) * m + m // 2]
 
 
 def _profile(name: str, v, t: NDArray, default: float) -> NDArray[np.float64]:
@@ -970,9 +976,12 @@ class ClosedLoopFOG:
         big_a = np.fft.rfft(a)
         h = self.loop.transfer(f)
         sf0 = self.loop.scale_factor
+        avg = np.sinc(f / fs)  # integrate-and-dump; with H once for every term of the record
+        w_loop, w_open = avg * h, avg.astype(np.complex128)
 
         def out(x: NDArray[np.complex128], through_loop: bool = True) -> NDArray[np.float64]:
-            return loop_average(x, nn, shaker.fs, fs, self.loop if through_loop else None)
+            w = w_loop if through_loop else w_open
+            return loop_average(x, nn, shaker.fs, fs, None, weight=w)
 
         u_rock = spec["rocking"] * big_a
         u_strain = spec["strain"] * big_a

@@ -584,9 +584,7 @@ def _equilibrium_command(
     op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
 ) -> NDArray:
     """u (complex) that nulls the sense envelope: j G e^{j theta} u = -F_ext."""
-    f_ext = (-1j * op.coriolis_gain * rate - 1j * op.wx * op.cyx * op.x0
-             - (op.kyx + op.kyx_g * force + op.m * accel) * op.x0)
-    return -f_ext / (1j * op.gain * np.exp(1j * op.theta))
+    return -_f_ext(op, rate, accel, force) / (1j * op.gain * np.exp(1j * op.theta))
 
 
 def _f_ext(op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0):
@@ -1138,10 +1136,9 @@ def _fext(
     op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
 ) -> NDArray:
     """F_ext envelope (Coriolis, anisodamping, quadrature incl. its specific-force part,
-    angular acceleration) as [re, im]."""
-    re = -(op.kyx + op.kyx_g * force + op.m * accel) * op.x0
-    im = -op.coriolis_gain * rate - op.wx * op.cyx * op.x0
-    return np.stack([re, im], axis=-1)
+    angular acceleration) as [re, im] (:func:`_f_ext`)."""
+    z = _f_ext(op, rate, accel, force)
+    return np.stack([np.real(z), np.imag(z)], axis=-1)
 
 
 def _open_loop_matrices(
@@ -1587,10 +1584,10 @@ def simulate(
     gz = 1j * op.gain * np.exp(1j * op.theta)
     b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + gz * (ui + 1j * uq))
     s = np.stack([b.real, b.imag, ui, uq, np.zeros(k)], axis=1)  # (k, 5)
-    sat = _slow_matrices(op, unit, 1.0 / fs, noise, saturated=True)
     z = _draw_noise(r_noise, n, k) if noise else None
     out_u, out_q, out_b, bad = _run_linear(s, d, z, disc, op.v_max)
     if np.any(bad):  # columns whose rebalance saturates: step by step with the clamp
+        sat = _slow_matrices(op, unit, 1.0 / fs, noise, saturated=True)
         cols = np.flatnonzero(bad)
         zc = None if z is None else z[:, cols]
         u_c, q_c, b_c = _run_segmented(s[cols], d[:, cols], zc, disc, sat, op.v_max)

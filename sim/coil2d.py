@@ -1041,7 +1041,7 @@ class Coil2D:
         _num("Coil2D.network", "chamber_scale", chamber_scale, "> 0", "", lambda v: v > 0)
         c = self.spec
         g_ch = c.chamber_conductance * chamber_scale
-        g = self.grid()
+        g = self._grid
         nr, nz = g.shape
         m = nr * nz
         rf, zf = g.r_faces, g.z_faces
@@ -1075,7 +1075,7 @@ class Coil2D:
 
     @cached_property
     def _grid(self) -> Grid:
-        return self.network()[3]
+        return self.grid()
 
     @cached_property
     def _modes(self):
@@ -1093,6 +1093,11 @@ class Coil2D:
         return mu, ci[:, None] * V, V.T @ (ci * g_in)
 
     def fibre(self) -> FibreMap:
+        """This unit's fibre map (:func:`fibre_map`; built once per unit)."""
+        return self._fibre
+
+    @cached_property
+    def _fibre(self) -> FibreMap:
         return fibre_map(self.spec, self.imperfections)
 
     @cached_property

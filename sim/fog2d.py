@@ -70,9 +70,9 @@ def coil_diameter_tempco(coil: Coil2DSpec | Coil2D, temperature: float | None = 
     winding when a spec is given). It is the relative change of the winding radius, hence of
     the mean diameter D and of the wound length L (turns fixed): SF ~ L D changes by 2 alpha_D.
     """
-    c = coil if isinstance(coil, Coil2D) else Coil2D(spec=coil)
-    if not isinstance(c, Coil2D):
+    if not isinstance(coil, (Coil2D, Coil2DSpec)):
         raise TypeError(f"coil must be a Coil2DSpec or Coil2D; got {type(coil).__name__}")
+    c = coil if isinstance(coil, Coil2D) else Coil2D(spec=coil)
     t = c.spec.t_ref if temperature is None else float(temperature)
     fm = c.fibre()
     b = fm.bonded

@@ -253,7 +253,8 @@ def silica_dn_dT(T: ArrayLike, wavelength: float = 1550e-9) -> NDArray[np.float6
     """dn/dT of fused silica [1/K] at temperature T [K] (Leviton & Frey 2006 Sellmeier).
 
     Central difference (h = 0.05 K) of the temperature-dependent Sellmeier index; the fit
-    holds for 30-310 K (used up to 313.15 K here, a 3 K extrapolation: stated).
+    holds for 30-310 K. Accepted to 330 K (the coil spec's t_hi limit); paper 003's programs
+    reach 313.15 K, a 3 K extrapolation (stated).
 
     >>> round(float(silica_dn_dT(293.15)) * 1e6, 2)
     8.16
@@ -268,7 +269,10 @@ def silica_dn_dT(T: ArrayLike, wavelength: float = 1550e-9) -> NDArray[np.float6
         lambda v: 2e-7 < v < 3e-6,
     )
     if np.any((T < 30.0) | (T > 330.0)):
-        raise ValueError(f"temperature must be within 30-330 K for the Leviton-Frey fit; got {T!r}")
+        raise ValueError(
+            f"temperature must be within 30-330 K (the Leviton-Frey fit holds to 310 K; beyond, "
+            f"a stated extrapolation); got {T!r}"
+        )
     h = 0.05
     return (_silica_index(T + h, wavelength) - _silica_index(T - h, wavelength)) / (2 * h)
 

@@ -645,9 +645,10 @@ def drive_axis_sensitivity(unit: MemsResonator, temperature: float | None = None
         d ln SF / d f_d = -(k_e eps_A m/k_x) Re{e^{-j theta} R^2/R_c} / Re{e^{-j theta} R/R_c}
                         ~ -(k_e eps_A / w_x^2) / (m (w_y^2 - w_x^2))   (Q_y >> 1, theta ~ 0)
 
-    [DERIVED]: -13 ppm/g for the defaults. Force rebalance: 0 (the loop nulls the sense
-    motion; only its loop poles move). Returned exactly, from the noise-free scale factor at
-    f_d = 0 and 1 m/s^2.
+    [DERIVED]: -12.4 ppm/g for the defaults (-12.7 with the Q_y >> 1 form). Force
+    rebalance: 0 (the loop nulls the sense motion; only its loop poles move). Returned as the
+    secant of the noise-free scale factor between f_d = 0 and 1 m/s^2 (the stiffness change
+    is linear in f_d; the response's curvature leaves ~1e-5 relative).
     """
     s0 = low_rate_scale_factor(unit, temperature)
     return low_rate_scale_factor(unit, temperature, drive_specific_force=1.0) / s0 - 1.0

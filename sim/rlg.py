@@ -526,8 +526,10 @@ class ThermalBias:
 
     Mechanisms after Aronowitz & Lim (IEEE J. Quantum Electron. 1979, Langmuir flow)
     and paper 004 (unequal discharge legs in a non-uniform temperature field);
-    sizes are not published -- the defaults are tuned so that the raw
-    variable-temperature bias stability is about 3x the compensated one (docs/physics.md 6.4).
+    sizes are not published -- the defaults are CALIBRATED to paper 004's ~65 % improvement:
+    tuned so that the raw variable-temperature bias stability is about 3x the compensated one
+    (docs/physics.md 6.4, 9). No paper scenario uses this model now (paper 004 runs on
+    :mod:`gyrobench.sim.rlg_cavity`); a claim judged on it would be calibrated.
     """
 
     cavity: float = 0.0
@@ -876,7 +878,7 @@ class RLGSpec:
     arcsec (Omega_D ~ 105 deg/s) -> N ~ 0.002 deg/sqrt(h); flicker B 0.002 deg/h.
     Thermal-bias sizes (cavity 7.5e-4 deg/h/K and 4e-6 deg/h/K^2, gradient 6e-3
     deg/h/K, flux 0.095 deg/h per K/min and 0.19 deg/h per (K/min)^2, gas coefficient
-    0.005/K) are not published; they are tuned so that over a -40..+65 degC chamber
+    0.005/K) are not published; they are CALIBRATED (docs/physics.md 9): tuned so that over a -40..+65 degC chamber
     cycle at 1 degC/3 min the raw 100-s bias stability (~0.06 deg/h) is about 4x the
     noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
     and count quantization 0.007 deg/h over 100 s), so that the compensated value

@@ -878,9 +878,9 @@ class RLGSpec:
     arcsec (Omega_D ~ 105 deg/s) -> N ~ 0.002 deg/sqrt(h); flicker B 0.002 deg/h.
     Thermal-bias sizes (cavity 7.5e-4 deg/h/K and 4e-6 deg/h/K^2, gradient 6e-3
     deg/h/K, flux 0.095 deg/h per K/min and 0.19 deg/h per (K/min)^2, gas coefficient
-    0.005/K) are not published; they are CALIBRATED (docs/physics.md 9): tuned so that over a -40..+65 degC chamber
-    cycle at 1 degC/3 min the raw 100-s bias stability (~0.06 deg/h) is about 4x the
-    noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
+    0.005/K) are not published; they are CALIBRATED (docs/physics.md 9): tuned so that
+    over a -40..+65 degC chamber cycle at 1 degC/3 min the raw 100-s bias stability
+    (~0.06 deg/h) is about 4x the noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
     and count quantization 0.007 deg/h over 100 s), so that the compensated value
     is ~1/3 of the raw one as docs/physics.md 6.4 asks. Turn-on repeatability of the
     gas-flow coefficients, 20 % (unverified), makes a model fitted on one turn-on

@@ -1163,7 +1163,13 @@ CREATE TABLE IF NOT EXISTS sessions (
 """
 
 
-def _connect(path: str | os.PathLike) -> sqlite3.Connection:
+def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Connection:
+    """Open (or create) a results database: WAL, synchronous=FULL, ``schema`` (default the
+    bench's) applied; bad paths and unwritable folders are one-line ValueErrors.
+
+    Shared by the bench and :mod:`gyrobench.scenarios.units` (each with its own schema).
+    """
+    schema = _SCHEMA if schema is None else schema
     p = _check_output_file(path, what="db")
     try:
         conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
@@ -1175,7 +1181,7 @@ def _connect(path: str | os.PathLike) -> sqlite3.Connection:
         if str(mode).lower() != "wal":
             raise ValueError(f"db {str(p)!r}: cannot switch to WAL journal mode (got {mode!r})")
         conn.execute("PRAGMA synchronous = FULL")
-        conn.executescript(_SCHEMA)
+        conn.executescript(schema)
     except sqlite3.OperationalError as exc:  # an unwritable folder or file, a read-only file system
         conn.close()
         writable = os.access(p.parent, os.W_OK) and (not p.exists() or os.access(p, os.W_OK))
@@ -1273,7 +1279,7 @@ def run_campaign(
     short = _compensator_label(comp, compensator, short=True)
     scen_name = getattr(module, "NAME", module.__name__)
 
-    conn = _connect(db)
+    conn = connect_db(db)
     try:
         conn.execute("BEGIN IMMEDIATE")
         conn.execute(

@@ -189,9 +189,8 @@ def _open_store(
 ) -> sqlite3.Connection:
     from gyrobench.scenarios import bench
 
-    conn = bench._connect(db)  # WAL, synchronous=FULL, checks the folder exists
+    conn = bench.connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
     try:
-        conn.executescript(_SCHEMA)
         conn.execute("BEGIN IMMEDIATE")
         conn.execute(
             "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",

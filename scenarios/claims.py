@@ -34,7 +34,7 @@ A calibrated claim is reported with its verdict but never counted as reproduced.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -48,6 +48,7 @@ __all__ = [
     "above",
     "below",
     "evaluate",
+    "finite_median",
     "in_range",
     "is_true",
     "verdict",
@@ -284,6 +285,16 @@ def _finite(v: Any, claim_id: str) -> float | None:
         )
     f = float(v)
     return f if math.isfinite(f) else None
+
+
+def finite_median(values: Iterable[Any]) -> float:
+    """Median of the finite numbers among ``values`` (None, NaN and inf skipped); NaN if none.
+
+    The one median the scenario reports use for per-unit figures, so an untestable unit
+    (None or NaN) never turns a reported median into NaN or an error.
+    """
+    v = [float(x) for x in values if x is not None and math.isfinite(float(x))]
+    return float(np.median(v)) if v else math.nan
 
 
 def evaluate(claims: Sequence[Claim], units: Sequence[Mapping[str, Any]]) -> list[ClaimResult]:

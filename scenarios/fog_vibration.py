@@ -124,6 +124,7 @@ from gyrobench.scenarios.claims import (
     Deviation,
     above,
     below,
+    finite_median,
     in_range,
     is_true,
     within_factor,
@@ -1548,7 +1549,7 @@ def _conclusion(claims: Sequence[ClaimResult], units_: Sequence[dict]) -> str:
         return ", ".join(c.claim.id.removeprefix("000.") for c in sel) or "none"
 
     def med(group: str, key: str) -> float:
-        return float(np.nanmedian([u[group][key] for u in units_]))
+        return finite_median(u[group][key] for u in units_)
 
     def cm(key: str) -> str:
         c = next(c for c in claims if c.claim.id == f"000.{key}")

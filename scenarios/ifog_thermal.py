@@ -101,6 +101,7 @@ from gyrobench.scenarios.claims import (
     ClaimResult,
     Deviation,
     above,
+    finite_median,
     in_range,
     is_true,
     within_factor,
@@ -1287,7 +1288,7 @@ DEVIATIONS: tuple[Deviation, ...] = (
 
 
 def _med(units: Sequence[Mapping[str, Any]], get) -> float:
-    return float(np.median([get(u) for u in units]))
+    return finite_median(get(u) for u in units)
 
 
 def _population_table(units: Sequence[Mapping[str, Any]]) -> Table:
@@ -1662,10 +1663,12 @@ def _results(units: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
 
 
 def _bands(units: Sequence[Mapping[str, Any]], key: str) -> str:
-    """How many units' ratio ``key`` lie below 3x, in 3-30x and above 30x."""
-    q = [u["quantities"][key] for u in units]
-    lo, hi = sum(v < 3.0 for v in q), sum(v > 30.0 for v in q)
-    return f"{lo} below 3x, {len(q) - lo - hi} in 3-30x, {hi} above 30x"
+    """How many units' ratio ``key`` lie below, inside and above its claim's band (3-30x)."""
+    cmp = next(c.comparator for c in CLAIMS if c.quantity == key)
+    a, b = cmp.lo, cmp.hi
+    q = [v for u in units if (v := u["quantities"][key]) is not None and math.isfinite(v)]
+    lo, hi = sum(v < a for v in q), sum(v > b for v in q)
+    return f"{lo} below {a:g}x, {len(q) - lo - hi} in {a:g}-{b:g}x, {hi} above {b:g}x"
 
 
 def _conclusion(claims: Sequence[ClaimResult], units: Sequence[Mapping[str, Any]]) -> str:

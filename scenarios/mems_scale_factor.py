@@ -62,6 +62,7 @@ from gyrobench.scenarios.claims import (
     Claim,
     ClaimResult,
     Deviation,
+    finite_median,
     in_range,
     is_true,
     within_factor,
@@ -1111,7 +1112,7 @@ def _effect_row(us: Sequence[Mapping[str, Any]]) -> dict[str, float]:
     """Medians over units of the numbers the DEVIATIONS quote."""
 
     def med(f: Any) -> float:
-        return float(np.nanmedian([f(u) for u in us]))
+        return finite_median(f(u) for u in us)
 
     row = {
         f"{what}.{k}": med(lambda u, k=k, w=what: u["methods"][k][w])
@@ -1584,8 +1585,7 @@ def _conclusion(
         return ", ".join(f"{c.claim.id} ({c.holds}/{c.testable})" for c in cs) or "none"
 
     def med(f):
-        v = np.asarray([f(u) for u in units_], dtype=float)
-        return float(np.median(v[np.isfinite(v)])) if np.any(np.isfinite(v)) else math.nan
+        return finite_median(f(u) for u in units_)
 
     def kn(k: str, what: str) -> float:
         return med(lambda u: u["methods"][k][what])

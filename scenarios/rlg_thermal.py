@@ -57,6 +57,7 @@ from gyrobench.scenarios.claims import (
     Deviation,
     above,
     below,
+    finite_median,
     in_range,
     is_true,
     within_factor,
@@ -825,8 +826,7 @@ def _unit_summary(u: dict[str, Any], cross: float | None) -> dict[str, Any]:
 
 
 def _median_row(rows: Sequence[dict[str, Any]], key: str) -> float:
-    v = [r[key] for r in rows if r[key] is not None and math.isfinite(r[key])]
-    return float(np.median(v)) if v else math.nan
+    return finite_median(r[key] for r in rows)
 
 
 def _table1(rows: Sequence[dict[str, Any]]) -> Table:

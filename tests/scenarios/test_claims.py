@@ -232,3 +232,12 @@ def test_as_dict_has_the_results_json_keys():
     assert (d["units"], d["testable"], d["holds"]) == (4, 4, 3)
     assert d["interval95"] == list(cl.wilson_interval(3, 4))
     assert d["spread"] == [r.spread[0], r.spread[1]]
+
+
+def test_finite_median_skips_untestable_units():
+    import math
+
+    from gyrobench.scenarios.claims import finite_median
+
+    assert finite_median([3.0, None, float("nan"), 1.0, float("inf"), 2.0]) == 2.0
+    assert math.isnan(finite_median([None, float("nan")]))

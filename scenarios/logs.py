@@ -413,6 +413,7 @@ def read_csv_log(
         ):  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
             t = _exact_time(lines, first_data, delim, time_idx, t)
         tname = header[time_idx] if header else str(time_idx)
+        raw_step = float(np.median(np.diff(t)))  # in the column's own unit
         if not time_stated and time_scale is not None:
             time_scale, note = _time_scale_from_magnitude(t_first, tname)
             if note is None and fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
@@ -420,15 +421,15 @@ def read_csv_log(
                     1e-9,
                     f"time column {tname!r} read in ns (the {fmt} format's unit)",
                 )
-            elif note is None and float(np.median(np.diff(t))) >= 1.0:
+            elif note is None and raw_step >= 1.0:
                 note = (
-                    f"time column {tname!r} has no unit and steps of {float(np.median(np.diff(t))):.6g}: read as "
+                    f"time column {tname!r} has no unit and steps of {raw_step:.6g}: read as "
                     f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
                 )
             if note:
                 notes.append(note)
         _check_uniform(path, t, tname)
-        step = float(np.median(np.diff(t))) * (time_scale or 1.0)
+        step = raw_step * (time_scale or 1.0)
         if fs is None:
             fs = 1.0 / step
         elif time_scale is not None and abs(fs * step - 1.0) > 0.01:

@@ -83,8 +83,11 @@ def test_temperature_coefficients_are_recovered():
     )  # white residuals: the OLS errors hold; 1e-6 over two checks
     assert abs(fit.c_temperature - c_t) <= z * fit.se_temperature
     assert abs(fit.c_rate - c_dt) <= z * fit.se_rate
-    # the explained share: drift variance / total (0.5 c_t^2 100 + 0.5 c_dt^2 0.063^2) / (0.01 + that)
-    assert 0.02 < fit.explained < 0.08
+    # the explained share R^2 = drift variance / total; its large-n sampling sd is
+    # 2 R (1 - R^2) / sqrt(n) (delta method, fixed regressors); z as above
+    drift = np.var(c_t * (temp - temp.mean()) + c_dt * dtdt)
+    r2 = drift / (np.var(noise) + drift)  # 0.043: noise variance 1e-4 (sd 0.01)
+    assert abs(fit.explained - r2) <= z * 2 * math.sqrt(r2) * (1 - r2) / math.sqrt(n)
     # what is left is the white noise (up to its mean): the drift is gone to within the coefficients' errors
     left = np.std(clean - noise)
     assert left <= z * (fit.se_temperature * np.std(temp) + fit.se_rate * np.std(dtdt)), left

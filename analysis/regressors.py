@@ -33,9 +33,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.analysis.features import smoothed_derivative
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["REGRESSOR_NAMES", "REGRESSOR_LABELS", "two_sensor_regressors"]
 

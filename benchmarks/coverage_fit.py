@@ -23,14 +23,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
-
-
 from gyrobench.analysis.allan import TERMS, fit_noise
 from gyrobench.sim.noise import NoiseModel
 

@@ -22,7 +22,6 @@ import os
 import textwrap
 
 import numpy as np
-
 from gyrobench.analysis import allan
 
 OUT = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "analysis", "_allan_rho_table.py")

@@ -181,7 +181,6 @@ def analyse(
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
     grows as the square of the number of taus, and neighbouring m carry no new information).
     """
-    import numpy as np
     from gyrobench.analysis.allan import AllanCurve, allan_deviation, bandwidth_range, fit_noise, fit_range
 
     check_finite(channel)

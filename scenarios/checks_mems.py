@@ -43,10 +43,7 @@ import math
 from dataclasses import replace
 
 import numpy as np
-
 from gyrobench.scenarios.checks import Check
-from numpy.typing import NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
@@ -58,12 +55,12 @@ from gyrobench.sim.mems_resonator import (
     open_loop_response,
     operating_point,
     quadrature_rate,
-    rate_authority,
     saturated_output,
     simulate,
     simulate_full,
     zero_rate_output,
 )
+from numpy.typing import NDArray
 
 __all__ = [
     "checks", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds",

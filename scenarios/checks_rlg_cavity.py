@@ -25,8 +25,6 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from numpy.typing import NDArray
-
 from gyrobench.scenarios.checks import Check
 from gyrobench.sim import units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
@@ -39,6 +37,7 @@ from gyrobench.sim.rlg_cavity import (
     SwingDither,
     swing_dither_arw,
 )
+from numpy.typing import NDArray
 
 __all__ = ["checks"]
 

@@ -68,7 +68,6 @@ def _closing(bar):
 # ----------------------------------------------------------------------------- list
 def _cmd_list(args) -> int:
     from gyrobench.scenarios import registry
-
     from gyrobench.scenarios.papers import citation
 
     for name in registry.available():
@@ -154,9 +153,6 @@ def _simulate_noise(args) -> int:
     K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
     """
     import numpy as np
-
-    from tqdm import tqdm
-
     from gyrobench.scenarios.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
     from gyrobench.sim import memory
@@ -168,6 +164,7 @@ def _simulate_noise(args) -> int:
         ensure_free_space,
         package_version,
     )
+    from tqdm import tqdm
 
     if extra := _given(args, _SCENARIO_FLAGS):
         raise _BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
@@ -292,7 +289,6 @@ def _read_csv(path: Path, column: str | None, fs: float | None, unit: str | None
 
 def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
     import numpy as np
-
     from gyrobench.scenarios.logs import Channel, Log
     from gyrobench.sim.recording import load_hdf5
 
@@ -404,12 +400,11 @@ def _cmd_allan(args) -> int:
 def _cmd_reproduce(args) -> int:
     """Run the scenarios; a paper scenario (``experiment`` + ``CLAIMS``) over ``--units`` units
     through the shared runner (:mod:`gyrobench.scenarios.units`), any other by its ``run``."""
-    from tqdm import tqdm
-
     from gyrobench.scenarios import registry, units
     from gyrobench.scenarios.bench_cli import _executor
     from gyrobench.scenarios.outputs import check_output, write_report_as_a_set
     from gyrobench.scenarios.report import claim_counts
+    from tqdm import tqdm
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:

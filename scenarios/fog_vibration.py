@@ -130,14 +130,13 @@ from gyrobench.scenarios.claims import (
     within_factor,
 )
 from gyrobench.sim import units
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Recording
-from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
 from gyrobench.sim.earth import NANJING
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
-from gyrobench.sim.recording import Channel
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording
+from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
 from numpy.typing import ArrayLike, NDArray
 
 NAME = "fog_vibration"

@@ -54,8 +54,6 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
-
 from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor
 from gyrobench.scenarios.base import CompensationTask, FigureSpec, HeldOutRun, Outcome, Table
 from gyrobench.scenarios.claims import (
@@ -71,6 +69,7 @@ from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec
 from gyrobench.sim.recording import Channel, Recording, package_version
+from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -39,7 +39,6 @@ paper's Table 1 and Table 2 numbers did not survive the text extraction.
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass

@@ -17,7 +17,6 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
-
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.scenarios.allan_report import TERMS, coefficient_table, coefficients_json
 from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table

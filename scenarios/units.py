@@ -6,7 +6,7 @@ seed)`` (one unit through the whole pipeline, no formatting), ``CLAIMS``,
 
     seeds = range(seed, seed + n_units)
     units = [module.experiment(config, s) for s in seeds]   # on the bench's executor, resumable
-    claims = evaluate(module_claims(module, config), [u["quantities"] for u in units])
+    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in units])
     outcome = module.report(config, units, claims)
     outcome.claims, outcome.deviations, outcome.units = claims, list(module.DEVIATIONS), n
 
@@ -37,12 +37,13 @@ import pickle
 import sqlite3
 import time
 import types
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from gyrobench.scenarios.base import Outcome, check_pool
+from gyrobench.scenarios.papers.contract import quantities_of
 
 __all__ = [
     "DEFAULT_DB",
@@ -167,12 +168,13 @@ def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, flo
     module = importlib.import_module(module_name)
     with threadpool_limits(limits=1):
         result = module.experiment(config, seed)
-    quantities = result.get("quantities") if isinstance(result, Mapping) else None
-    if not isinstance(quantities, Mapping):
+    try:
+        quantities_of(result)
+    except TypeError:
         raise TypeError(
-            f"{module_name}.experiment must return a dict with a 'quantities' mapping; "
-            f"got {type(result).__name__} for seed {seed}"
-        )
+            f"{module_name}.experiment must return a UnitResult (a typed result with a 'quantities' "
+            f"mapping); got {type(result).__name__} for seed {seed}"
+        ) from None
     return seed, pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL), time.perf_counter() - t0
 
 
@@ -386,7 +388,7 @@ def run_paper(
         db=db,
         progress=progress,
     )
-    claims = evaluate(module_claims(module, config), [u["quantities"] for u in run.results])
+    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in run.results])
     outcome = module.report(config, list(run.results), claims)
     if not isinstance(outcome, Outcome):
         raise TypeError(

@@ -33,10 +33,9 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
+from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from gyrobench.sim.rlg import CavityGeometry, Dither, TemperatureSensor

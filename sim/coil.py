@@ -41,10 +41,9 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 
 import numpy as np
+from gyrobench.sim import units
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
-
-from gyrobench.sim import units
 
 __all__ = [
     "WINDING_PATTERNS",

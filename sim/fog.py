@@ -40,14 +40,13 @@ from dataclasses import dataclass, field
 from numbers import Real
 
 import numpy as np
-from numpy.typing import NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
+from numpy.typing import NDArray
 
 __all__ = ["SPEED_OF_LIGHT", "TemperatureSensorSpec", "FOGSpec", "FOGUnit", "sagnac_scale_factor"]
 

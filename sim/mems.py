@@ -85,10 +85,9 @@ import math
 from dataclasses import dataclass, field, fields
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "MemsSpec",

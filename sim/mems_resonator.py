@@ -129,11 +129,10 @@ import math
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "BOLTZMANN",

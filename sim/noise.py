@@ -111,14 +111,13 @@ import functools
 import math
 import os
 from collections.abc import Callable, Iterator
-from typing import Any
 from dataclasses import dataclass, field, fields
+from typing import Any
 
 import numpy as np
+from gyrobench.sim import units
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
-
-from gyrobench.sim import units
 
 __all__ = [
     "GaussMarkov",

@@ -49,9 +49,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-from scipy import signal
-
 from gyrobench.sim import units
 from gyrobench.sim._rlg_common import (
     DITHER_LOCK_IN_MARGIN,
@@ -71,6 +68,8 @@ from gyrobench.sim._rlg_common import (
 )
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
+from numpy.typing import ArrayLike, NDArray
+from scipy import signal
 
 __all__ = [
     "HENE_WAVELENGTH",

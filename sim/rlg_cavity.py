@@ -53,8 +53,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim import units
 from gyrobench.sim._rlg_common import (
     _CavityScale,
@@ -83,6 +81,7 @@ from gyrobench.sim.rlg import (
     _lognormal,
 )
 from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "SPEED_OF_LIGHT",

@@ -47,9 +47,8 @@ from dataclasses import dataclass, field
 from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-
 from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "ShakerSignal",

@@ -76,12 +76,11 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
-from scipy import signal
-
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
 from gyrobench.sim.shaker import Phased, VibrationProfile
+from numpy.typing import ArrayLike, NDArray
+from scipy import signal
 
 __all__ = ["StructuralMode", "FogVibrationModel", "alias_frequency", "decimate", "moving_average_gain"]
 

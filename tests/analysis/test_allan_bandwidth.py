@@ -18,8 +18,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy import signal, stats
-
+from gyrobench.analysis import allan
 from gyrobench.analysis.allan import (
     BANDWIDTH_BIAS,
     allan_deviation,
@@ -27,7 +26,7 @@ from gyrobench.analysis.allan import (
     fit_noise,
     lowpass_avar_bias,
 )
-from gyrobench.analysis import allan
+from scipy import signal, stats
 
 FS = 100.0
 F_C = 1.0  # Hz

@@ -12,10 +12,9 @@ import warnings
 import numpy as np
 import pytest
 from allantools import ci as atci
-from scipy import optimize, stats
-
 from gyrobench.analysis import allan
 from gyrobench.scenarios import logs
+from scipy import optimize, stats
 
 N_PHASE = [50, 101, 1000, 4097, 100_001, 1_000_001, 100_000_001]
 

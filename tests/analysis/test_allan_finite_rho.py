@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis import allan
 
 #: the rate covariance matrices of the brute-force check and the factor of each type's shape:

@@ -157,9 +157,8 @@ def test_chi2_is_the_standardised_residual_norm_with_its_exact_law(filtered_curv
 def test_quadratic_form_tail(lam):
     """The Liu-Tang-Zhang tail: exact for equal weights (chi2_k); elsewhere measured within 0.5-11 % of p
     down to p = 1e-3 (one dominant weight is the hardest case), checked to 15 % + the Monte Carlo error."""
-    from scipy import special, stats
-
     from gyrobench.analysis import allan
+    from scipy import special, stats
 
     lam = np.array(lam)
     c = [float(np.sum(lam**k)) for k in (1, 2, 3, 4)]

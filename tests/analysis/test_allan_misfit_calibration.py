@@ -17,10 +17,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats
-
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.sim.noise import NoiseModel
+from scipy import stats
 
 SEEDS = 600
 FS, HOURS = 10.0, 2.0

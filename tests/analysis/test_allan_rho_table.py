@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis import _allan_rho_table as tab
 from gyrobench.analysis import allan
 

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 

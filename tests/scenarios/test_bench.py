@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gyrobench.scenarios import bench, bench_cli, registry
 from sklearn.ensemble import RandomForestRegressor
 from sklearn.linear_model import LinearRegression
 
-from gyrobench.scenarios import bench, bench_cli, registry
 from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -882,13 +882,12 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
 # ----------------------------------------------------------------------------- a real scenario
 def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     """Two seeds of the RLG thermal scenario (~2 s each) with a plain scikit-learn Ridge."""
+    import gyrobench.scenarios.rlg_thermal as rlg
     from sklearn.compose import ColumnTransformer
     from sklearn.dummy import DummyRegressor
     from sklearn.linear_model import Ridge
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
-
-    import gyrobench.scenarios.rlg_thermal as rlg
 
     good = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
     # the degraded compensator predicts a constant (no compensation). (A static T1/T2-only

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from gyrobench.scenarios.checks import Check
 from gyrobench.scenarios.checks_mems import checks
 

@@ -6,7 +6,6 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.scenarios.allan_report import TERMS
 from gyrobench.scenarios.cli import main

@@ -1051,7 +1051,6 @@ def test_allan_csv_with_a_sample_rate_outside_any_gyros_is_one_line(tmp_path, ca
 
 def test_hdf5_channel_with_unknown_unit_names_file_and_channel(tmp_path, capsys):
     import numpy as np
-
     from gyrobench.scenarios.cli import main
     from gyrobench.sim.recording import Channel, Recording, save_hdf5
 

@@ -17,7 +17,6 @@ import sys
 import textwrap
 
 import pytest
-
 from gyrobench.scenarios.cli import main
 
 #: an estimate may exceed the measured peak by at most this factor (each formula states its

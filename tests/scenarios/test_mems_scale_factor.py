@@ -13,7 +13,6 @@ import pickle
 
 import numpy as np
 import pytest
-
 from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.scenarios import mems_scale_factor as ms

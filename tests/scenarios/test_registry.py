@@ -4,7 +4,6 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import pytest
-
 from gyrobench.scenarios import registry
 
 

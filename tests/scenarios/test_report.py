@@ -8,11 +8,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
-
 from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
 from gyrobench.scenarios.claims import Claim, Deviation, above, evaluate, is_true, within_factor
 from gyrobench.scenarios.report import claim_counts, fmt, write_report
+from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True)

@@ -8,10 +8,6 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
-from scipy import integrate, optimize, special
-
 from gyrobench.sim import units
 from gyrobench.sim.coil import (
     WINDING_PATTERNS,
@@ -24,6 +20,9 @@ from gyrobench.sim.coil import (
     slab_network,
     winding_sequence,
 )
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import integrate, optimize, special
 
 
 @pytest.fixture

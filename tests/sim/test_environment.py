@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-
 from gyrobench.sim import units
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, rate_steps, thermal_profile
 

@@ -7,13 +7,12 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import units
 from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.fog import SPEED_OF_LIGHT, FOGSpec, FOGUnit, TemperatureSensorSpec, sagnac_scale_factor
 from gyrobench.sim.noise import NoiseModel
+from scipy import stats
 
 
 @pytest.fixture

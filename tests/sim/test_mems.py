@@ -7,8 +7,6 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import units
 from gyrobench.sim.mems import (
     KNEE_WIDTH_DPS,
@@ -19,6 +17,7 @@ from gyrobench.sim.mems import (
     simulate_output,
 )
 from gyrobench.sim.noise import NoiseModel
+from scipy import stats
 
 GRID_DPS = np.arange(3600.0, -3601.0, -360.0)
 

@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
@@ -488,9 +487,8 @@ def test_default_population_g_sensitivity_size():
     (dk_yx/df) g / (2 m w); the chi-square bounds of an rms of 400 draws at 1e-6 (the other
     drawn parameters move m, w, k_y by a few % -> 10 % allowance).
     """
-    from scipy import stats
-
     from gyrobench.sim.mems_resonator import electrostatic_cross_stiffness, g_sensitivity
+    from scipy import stats
 
     spec = MemsResonatorSpec(nominal=_quiet())
     rng = np.random.default_rng(11)
@@ -666,13 +664,12 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
     closed form sampled at fs (aliasing, interval mean, rectangular-window leakage), band by
     band from 17 Hz to Nyquist; chi-square bounds with the closed-form equivalent dof at
     1e-6 two-sided, Bonferroni over the 15 bands."""
-    from scipy import stats
-
     from gyrobench.scenarios.checks_mems import (
         _PSD_GRID,
         periodogram_band_stats,
         slow_noise_spectrum,
     )
+    from scipy import stats
 
     unit = _open(quadrature_coupling=1e-4, phase_error=0.02)
     fs, n, cols, n_seg = 3000.0, 180, 32, 200

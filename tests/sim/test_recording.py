@@ -6,7 +6,6 @@ import os
 import h5py
 import numpy as np
 import pytest
-
 from gyrobench.sim.recording import (
     AtomicWriteError,
     Channel,

@@ -9,10 +9,9 @@ from dataclasses import replace
 import allantools
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import rlg, units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
+from scipy import stats
 
 LAMBDA = rlg.HENE_WAVELENGTH
 

@@ -7,8 +7,6 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import units
 from gyrobench.sim.shaker import (
     FixedSine,
@@ -20,6 +18,7 @@ from gyrobench.sim.shaker import (
     sweep_frequency,
     sweep_phase,
 )
+from scipy import stats
 
 G = units.g(1.0)
 NAVMAT = [(20.0, 0.01), (80.0, 0.04), (350.0, 0.04), (2000.0, 0.007)]

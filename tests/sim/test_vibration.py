@@ -7,8 +7,6 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy import stats
-
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
@@ -19,6 +17,7 @@ from gyrobench.sim.vibration import (
     decimate,
     moving_average_gain,
 )
+from scipy import stats
 
 G = units.g(1.0)
 

@@ -65,6 +65,7 @@ def describe(name: str) -> ScenarioInfo:
     """Title, paper key and bench capability of scenario ``name``, from its module's source.
 
     Reading the constants ``TITLE`` and ``PAPER`` and looking for ``def compensation_task``
+    (or, in a paper package's ``__init__``, ``from .x import compensation_task``)
     with :mod:`ast` keeps ``gyrobench list`` from importing every scenario (and with them
     numpy, scipy, scikit-learn and matplotlib).
 
@@ -94,6 +95,10 @@ def describe(name: str) -> ScenarioInfo:
                     pass
         elif isinstance(node, ast.FunctionDef) and node.name == "compensation_task":
             bench = True
+        elif isinstance(node, ast.ImportFrom) and any(
+            (a.asname or a.name) == "compensation_task" for a in node.names
+        ):
+            bench = True  # a paper package's __init__ re-exports it from its modules
     title = constants.get("TITLE")
     if not isinstance(title, str):
         raise ValueError(f"scenario {name!r}: TITLE must be a string literal in {spec.origin}")
@@ -136,7 +141,7 @@ def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
             return tuple(_coerce(owner, f"{key}[{i}]", v, args[0]) for i, v in enumerate(value))
         if len(args) != len(value):
             raise ValueError(f"{owner}.{key} must have {len(args)} elements; got {value!r}")
-        return tuple(_coerce(owner, f"{key}[{i}]", v, a) for i, (v, a) in enumerate(zip(value, args)))
+        return tuple(_coerce(owner, f"{key}[{i}]", v, a) for i, (v, a) in enumerate(zip(value, args, strict=True)))
     if dataclasses.is_dataclass(hint):
         if not isinstance(value, dict):
             raise TypeError(f"{owner}.{key} must be a table; got {value!r}")

@@ -1,4 +1,9 @@
-"""Reference-value tests of analysis.allan against published data in ../shared/validation.
+"""Reference-value tests of analysis.allan against published data.
+
+The subset in tests/data (see its README: Stable32 tables of PHASE.DAT and the pink-frequency
+set, the NBS14 values, a 1 Hz excerpt of the six ADIS16405 records) runs in any clone; the
+full sets in ../shared/validation (more Stable32 tables, the 100 Hz ADIS16405 records, the
+NavChip curves) run when that folder is present and skip otherwise.
 
 Tolerances are the precision the sources print (see each folder's README):
 - Stable32 tables: 5 significant digits -> 1e-4 relative on Sigma (README recommendation),
@@ -12,6 +17,7 @@ from __future__ import annotations
 
 import gzip
 import math
+from decimal import Decimal
 from pathlib import Path
 from statistics import NormalDist
 
@@ -19,6 +25,9 @@ import numpy as np
 import pytest
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import AllanCurve, allan_deviation, fit_noise, slope_readoff
+
+#: the reference data shipped with the tests (tests/data/README.md)
+REFERENCE = Path(__file__).resolve().parents[1] / "data"
 
 STABLE32_KIND = {
     "adev": "standard",
@@ -66,16 +75,16 @@ def test_ocxo_octave_tables(validation, dev):
 
 
 @pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
-def test_pink_frequency_tables(validation, dev):
-    folder = validation / "allantools_stable32" / "pink_frequency"
+def test_pink_frequency_tables(dev):
+    folder = REFERENCE / "stable32" / "pink_frequency"
     y = np.loadtxt(folder / "pink_frequency.txt", comments="#")
     name = "totdev_alpha0.txt" if dev == "totdev" else f"{dev}.txt"
     check_table(y, 1.0 / 42.0, folder / name, STABLE32_KIND[dev], rtol=1e-4)
 
 
-def test_pink_frequency_octave_oadev_and_bounds(validation):
+def test_pink_frequency_octave_oadev_and_bounds():
     """s32_oadev_octave (tau0 = 1 s) including Stable32's 68.3 % bounds with its own alpha."""
-    folder = validation / "allantools_stable32" / "pink_frequency"
+    folder = REFERENCE / "stable32" / "pink_frequency"
     y = np.loadtxt(folder / "pink_frequency.txt", comments="#")
     ref = read_stable32(folder / "s32_oadev_octave.txt")
     curve = allan_deviation(y, 1.0, taus=ref[:, 1], alpha=ref[:, 3].astype(int), confidence=0.683)
@@ -100,15 +109,15 @@ def phase_to_rate(x: np.ndarray, tau0: float) -> np.ndarray:
 
 @pytest.mark.parametrize("dev", sorted(STABLE32_KIND))
 @pytest.mark.parametrize("suffix", ["", "_octave"])
-def test_phasedat_tables_via_rate(validation, dev, suffix):
-    folder = validation / "allantools_stable32" / "phasedat"
+def test_phasedat_tables_via_rate(dev, suffix):
+    folder = REFERENCE / "stable32" / "phasedat"
     y = phase_to_rate(np.loadtxt(folder / "PHASE.DAT", comments="#"), 1.0)
     check_table(y, 1.0, folder / f"phase_dat_{dev}{suffix}.txt", STABLE32_KIND[dev], rtol=1e-4)
 
 
-def test_phasedat_angle_and_rate_routes_agree(validation):
+def test_phasedat_angle_and_rate_routes_agree():
     """PHASE.DAT is the integral of a 1000-point rate series: ADEV(1 s) = 2.9223e-01 either way."""
-    x = np.loadtxt(validation / "allantools_stable32" / "phasedat" / "PHASE.DAT", comments="#")
+    x = np.loadtxt(REFERENCE / "stable32" / "phasedat" / "PHASE.DAT", comments="#")
     curve = allan_deviation(phase_to_rate(x, 1.0), 1.0, taus=[1.0], kind="standard")
     assert curve.deviation[0] == pytest.approx(2.9223e-01, rel=0.5e-4 / 2.9223)
     second = x[2:] - 2 * x[1:-1] + x[:-2]  # the angle route, NIST SP 1065 eq. 7 at m = 1
@@ -120,6 +129,24 @@ def test_keysight_tic_tables_via_rate(validation, dev):
     folder = validation / "allantools_stable32" / "keysight53230A_tic"
     y = phase_to_rate(np.loadtxt(folder / "tic_phase.txt", comments="#"), 1.0)
     check_table(y, 1.0, folder / f"tic_{dev}.txt", STABLE32_KIND[dev], rtol=1e-4)
+
+
+# ---------------------------------------------------------------------------- NBS14
+def test_nbs14_published_deviations():
+    """NIST SP 1065's NBS14 9-point set: every statistic at tau = 1, 2 s to the printed digits.
+
+    The tolerance is one unit in the last printed digit, not half: the source prints the same
+    quantity (HDEV and OHDEV at tau = 1 s are one statistic) as 70.80608 and 70.80607, so its
+    own rounding is good to one unit (the exact value is 70.806073).
+    """
+    y = np.loadtxt(REFERENCE / "nbs14" / "nbs14_frequency.txt", comments="#")
+    with open(REFERENCE / "nbs14" / "nbs14_deviations.csv", encoding="utf-8") as fh:
+        rows = [ln.strip().split(",") for ln in fh if not ln.startswith("#")][1:]
+    assert {r[0] for r in rows} == set(STABLE32_KIND.values())
+    for kind, tau, printed in rows:
+        got = allan_deviation(y, 1.0, taus=[float(tau)], kind=kind).deviation[0]
+        ulp = float(Decimal(1).scaleb(Decimal(printed).as_tuple().exponent))
+        assert abs(got - float(printed)) <= ulp, (kind, tau, got, printed)
 
 
 # ---------------------------------------------------------------------------- ADIS16405 (real gyro)
@@ -186,27 +213,39 @@ ADIS_AXES = ("gyro_x", "gyro_y", "gyro_z")
 ADIS_TERMS = ("N", "B", "K", "R")
 
 
-def _adis_records(validation):
-    folder = validation / "smac_imudata_adis16405"
-    out = []
-    for k in range(1, 7):
-        with gzip.open(folder / f"adis16405_imu{k}_100Hz.csv.gz", "rt") as fh:
-            lines = (ln for ln in fh if ln[:1] not in ("#", "g"))
-            out.append(np.deg2rad(np.loadtxt(lines, delimiter=",", usecols=(0, 1, 2))))
-    return out
+def _read_gyro(path: Path) -> np.ndarray:
+    """The three gyro columns [rad/s] of an ADIS16405 CSV (gz; '#' comments, one header row)."""
+    with gzip.open(path, "rt") as fh:
+        lines = (ln for ln in fh if ln[:1] not in ("#", "g"))  # drop comments and the header row
+        return np.deg2rad(np.loadtxt(lines, delimiter=",", usecols=(0, 1, 2)))
 
 
-@pytest.fixture(scope="module")
-def adis_fits():
-    """(curve, unrestricted fit, auto-range fit) for each of the 6 records x 3 gyro axes."""
+def _adis_records(source: str) -> tuple[list[np.ndarray], float]:
+    """The six records of ``source`` ("excerpt_1hz": tests/data; "full_100hz": shared) and fs [Hz]."""
+    if source == "excerpt_1hz":
+        folder = REFERENCE / "adis16405_1hz"
+        return [_read_gyro(folder / f"adis16405_imu{k}_1Hz.csv.gz") for k in range(1, 7)], 1.0
     from tests.analysis.conftest import VALIDATION as validation
 
-    if not (validation / "smac_imudata_adis16405").is_dir():
-        pytest.skip(f"reference data folder {validation / 'smac_imudata_adis16405'} not found")
+    folder = validation / "smac_imudata_adis16405"
+    if not folder.is_dir():
+        pytest.skip(f"reference data folder {folder} not found")
+    return [_read_gyro(folder / f"adis16405_imu{k}_100Hz.csv.gz") for k in range(1, 7)], 100.0
+
+
+@pytest.fixture(scope="module", params=["excerpt_1hz", "full_100hz"])
+def adis_fits(request):
+    """(curve, unrestricted fit, auto-range fit) for each of the 6 records x 3 gyro axes.
+
+    ``excerpt_1hz`` (tests/data, any clone) is the block-mean decimation of ``full_100hz``
+    (../shared/validation, optional): the same gyros' N and B, without the sensor filter's
+    bend at the shortest taus.
+    """
+    records, fs = _adis_records(request.param)
     out = {}
-    for k, data in enumerate(_adis_records(validation), start=1):
+    for k, data in enumerate(records, start=1):
         for ax, name in enumerate(ADIS_AXES):
-            curve = allan_deviation(data[:, ax], 100.0)
+            curve = allan_deviation(data[:, ax], fs)
             out[(k, name)] = (curve, fit_noise(curve), fit_noise(curve, tau_min="auto", terms=ADIS_TERMS))
     return out
 
@@ -229,6 +268,8 @@ def _sandwich(x, w, v):
 
 def test_adis16405_unrestricted_fit_is_flagged(adis_fits):
     """The filter-bent first octaves make the all-tau fit a misfit on every record, widened, never tight."""
+    if next(iter(adis_fits.values()))[0].fs != 100.0:
+        pytest.skip("the sensor filter's bend is visible only in the 100 Hz records")
     flagged = [key for key, (_, full, _) in adis_fits.items() if full.misfit]
     assert set(flagged) == set(adis_fits)
     for key in flagged:
@@ -237,7 +278,7 @@ def test_adis16405_unrestricted_fit_is_flagged(adis_fits):
         assert full.inflation > 1.0, (key, full.chi2_per_dof)
 
 
-def test_adis16405_auto_fit_agrees_with_nnls(adis_fits):
+def test_adis16405_auto_fit_agrees_with_nnls(adis_fits, request):
     """N and B of the auto-range fit vs the relative-weight NNLS on the same points.
 
     Combined uncertainty: sqrt(se_fit^2 + se_nnls^2), se_nnls the sandwich standard error of
@@ -245,6 +286,12 @@ def test_adis16405_auto_fit_agrees_with_nnls(adis_fits):
     points and are positively correlated, so this overstates the spread of their difference
     (the check is conservative).
     """
+    if next(iter(adis_fits.values()))[0].fs == 1.0:
+        # Known defect, kept visible: on the 1 Hz excerpt the fits of imu2 x and others are
+        # left at their tight width at misfit p = 0.003-0.03 (widening starts only at p < 1e-3),
+        # and N differs from the NNLS by 8 combined standard errors on imu2 x. Intervals that
+        # cover on real records are open work (the Allan round-two issue, item 2).
+        request.applymarker(pytest.mark.xfail(strict=True, reason="fit intervals too narrow on real records"))
     pairs = [(key, name) for key in adis_fits for name in ("N", "B")]
     z = NormalDist().inv_cdf(1.0 - ADIS_FALSE_ALARM / 2.0 / len(pairs))
     for key, name in pairs:

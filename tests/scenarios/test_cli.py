@@ -117,6 +117,21 @@ def test_csv_reader_keeps_every_row(tmp_path):
         assert fs == 10.0
 
 
+def test_allan_reads_the_shipped_real_gyro_excerpt(capsys):
+    """A real gzip CSV from tests/data (any clone): the CLI reports the library's own fit of it."""
+    import gzip
+
+
+    p = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz" / "adis16405_imu1_1Hz.csv.gz"
+    code, out, err = run(["allan", p, "--column", "gyro_x_dps", "--fs", "1", "--units", "deg/s", "--json"], capsys)
+    assert code == 0, err
+    doc = json.loads(out)
+    with gzip.open(p, "rt") as fh:
+        x = np.loadtxt((ln for ln in fh if ln[:1] not in ("#", "g")), delimiter=",", usecols=0)
+    fit = fit_noise(allan_deviation(units.deg_per_s(x), 1.0), tau_min="auto")
+    assert doc["N"]["value"] == pytest.approx(fit.coefficients["N"].value / units.deg_per_sqrt_h(1.0), rel=1e-12)
+
+
 @pytest.mark.skipif(not (VALIDATION / "smac_imudata_adis16405").is_dir(), reason="shared/validation absent")
 def test_allan_reads_a_real_gyro_csv(capsys):
     p = VALIDATION / "smac_imudata_adis16405" / "adis16405_imu1_100Hz.csv.gz"

@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
 from gyrobench.sim.recording import atomic_path, package_version  # noqa: E402
 
-__all__ = ["claim_counts", "fmt", "write_report", "outcome_json"]
+__all__ = ["claim_counts", "fmt", "outcome_json", "tally_table", "write_report"]
 
 
 def fmt(x: Any) -> str:
@@ -236,14 +236,22 @@ def _mark_verdicts(text: str) -> str:
     return text
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;padding:0 1em;color:#222}
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;
+padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.85em;display:block;overflow-x:auto}
 th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
 th{background:#eef}
 td:first-child,th:first-child{text-align:left}
 .note{font-size:0.85em;color:#555;max-width:900px}
-figure{margin:1em 0}
+figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(33.3% - 1em);margin-right:0.5em}
+details.fold>summary h3{display:inline}
+table.claims td:nth-child(3){min-width:26em}
+table.claims td:nth-child(2),table.claims td:nth-child(6){min-width:8em}
 figure img{max-width:100%;border:1px solid #ddd}
+nav ol{font-size:0.9em;columns:2}
+nav details{display:inline;margin-left:0.5em;font-size:0.9em}
+nav details ol{columns:1}
+a.top{font-size:0.9em;margin-left:1em}
 figcaption{font-size:0.85em;color:#444}
 .no{color:#b00;font-weight:bold}
 .yes{color:#070;font-weight:bold}
@@ -260,12 +268,153 @@ _LOAD_CHECK = (
     "<script>window.addEventListener('load',function(){var im=document.images,ok=0;"
     "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0)ok++;}"
     "document.body.setAttribute('data-figures-loaded',ok);"
-    "document.body.setAttribute('data-figures-total',im.length);});</script>"
+    "document.body.setAttribute('data-figures-total',im.length);"
+    "document.body.setAttribute('data-page-height',document.documentElement.scrollHeight);});</script>"
 )
 
 
+def tally_table(outcomes: Sequence[Outcome]) -> Table:
+    """The verdicts of every paper scenario in one table (the report's first screen)."""
+    cols = ["scenario", "paper", "units", "emergent: hold", "FAIL", "undecided", "not testable",
+            "calibrated (not counted)"]
+    rows: list[list[Any]] = []
+    total = dict.fromkeys(("holds", "fails", "undecided", "not testable", "calibrated"), 0)
+    for o in outcomes:
+        if not (o.claims or o.deviations):
+            continue
+        n = claim_counts(o.claims)
+        for k in total:
+            total[k] += n[k]
+        papers = ", ".join(sorted({c.claim.paper for c in o.claims})) or "-"
+        rows.append([o.scenario, papers, o.units, n["holds"], n["fails"], n["undecided"], n["not testable"],
+                     n["calibrated"]])
+    if len(rows) > 1:
+        rows.append(["all papers", "", "", total["holds"], total["fails"], total["undecided"],
+                     total["not testable"], total["calibrated"]])
+    return Table(
+        "Verdicts at a glance", cols, rows,
+        note="A verdict needs the 95 % Wilson interval of a claim's pass rate over the units entirely above "
+        "(holds) or below (fails) 50 %; each paper's section gives every claim with its interval.",
+    )
+
+
+def _anchor(*parts: str) -> str:
+    return "-".join(p.replace(" ", "-") for p in parts)
+
+
+def _scenario_tables(o: Outcome) -> list[tuple[Table, bool]]:
+    """(table, is_claims_or_deviations) in the order a scenario's section shows them."""
+    own = [(_claims_table(o), True), (_deviations_table(o), True)] if (o.claims or o.deviations) else []
+    return [*own, *((t, False) for t in o.tables)]
+
+
+def _contents(outcomes: Sequence[Outcome]) -> tuple[list[str], str]:
+    """The contents list, as Markdown lines and as an HTML <nav>."""
+    md = ["## Contents", "", "- [Summary](#summary)"]
+    h = ["<nav id='contents'><h2>Contents</h2><ol>", "<li><a href='#summary'>Summary</a></li>"]
+    for o in outcomes:
+        md.append(f"- [{o.title}](#{o.scenario})")
+        sub = [
+            f"<li><a href='#{_anchor(o.scenario, 't', str(i))}'>{html.escape(t.title)}</a></li>"
+            for i, (t, _) in enumerate(_scenario_tables(o))
+        ]
+        if o.figures:
+            sub.append(f"<li><a href='#{_anchor(o.scenario, 'figures')}'>Figures ({len(o.figures)})</a></li>")
+        h.append(
+            f"<li><a href='#{html.escape(o.scenario)}'>{html.escape(o.title)}</a>"
+            f"<details><summary>{len(sub)} parts</summary><ol>{''.join(sub)}</ol></details></li>"
+        )
+    h.append("</ol></nav>")
+    return md + [""], "".join(h)
+
+
+def _summary(outcomes: Sequence[Outcome]) -> tuple[list[str], list[str]]:
+    """The summary: the verdict tally and the headline numbers (each paper's tables stay in its section)."""
+    md = ["## Summary", ""]
+    h = ["<h2 id='summary'>Summary</h2>"]
+    tally = tally_table(outcomes)
+    if tally.rows:
+        md += [_md_table(tally)]
+        h.append(_link_scenarios(_html_table(tally), outcomes))
+    rows = _summary_rows(outcomes)
+    if rows:
+        summary = Table("Headline numbers beside their targets", _SUMMARY_COLUMNS, rows)
+        md += ["", _md_table(summary)]
+        h.append(_html_table(summary).replace("<td>NO</td>", "<td class='no'>NO</td>"))
+    return md, h
+
+
+def _link_scenarios(text: str, outcomes: Sequence[Outcome]) -> str:
+    """Make each scenario's name in a table's first column a link to its section."""
+    for o in outcomes:
+        name = html.escape(o.scenario)
+        for cell in ("<td>", "<td class='txt'>"):
+            text = text.replace(f"{cell}{name}</td>", f"{cell}<a href='#{name}'>{name}</a></td>", 1)
+    return text
+
+
+def _figure_html(caption: str, png: bytes) -> str:
+    b64 = base64.b64encode(png).decode("ascii")
+    return (
+        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'>"
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
+#: a table with more rows than this is folded under its title (one click opens it)
+FOLD_ROWS = 12
+
+
+def _section_table_html(t: Table, own: bool) -> str:
+    """A section's table: claims tables in full; deviations and long tables folded under their title."""
+    if own and t.title.startswith("Claims of "):
+        return _mark_verdicts(_html_table(t)).replace("<table>", "<table class='claims'>", 1)
+    if own or len(t.rows) > FOLD_ROWS:
+        body = _html_table(t).split("</h3>", 1)[1]
+        return (f"<details class='fold'><summary><h3>{html.escape(t.title)}</h3> ({len(t.rows)} rows)</summary>"
+                f"{body}</details>")
+    return _html_table(t)
+
+
+def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list[str]]:
+    """One scenario's section (Markdown lines, HTML parts); writes its figures' PNG files."""
+    seeds = f"seeds {o.seed} to {o.seed + o.units - 1} ({o.units} units)" if o.units > 1 else f"seed {o.seed}"
+    meta = f"{seeds}; runtime {fmt(o.runtime_s)} s"
+    if o.claims or o.deviations:
+        meta = f"{_paper_heading(o)}. {meta}"
+    smd = [f"## {o.title} (`{o.scenario}`)", "", meta, ""]
+    if o.conclusion:
+        smd += [o.conclusion, ""]
+    name = html.escape(o.scenario)
+    h = [f"<section><h2 id='{name}'>{html.escape(o.title)} (<code>{name}</code>)</h2>",
+         f"<p class='meta'>{html.escape(meta)} <a class='top' href='#contents'>contents</a></p>"]
+    if o.conclusion:
+        h.append(f"<p>{html.escape(o.conclusion)}</p>")
+    for i, (t, own) in enumerate(_scenario_tables(o)):
+        smd.append(_md_table(t))
+        h.append(f"<div id='{_anchor(o.scenario, 't', str(i))}'>{_section_table_html(t, own)}</div>")
+    if o.figures:
+        h.append(f"<h3 id='{_anchor(o.scenario, 'figures')}'>Figures</h3><div class='figs'>")
+    for f in o.figures:
+        png = _png_bytes(f.figure)
+        with atomic_path(sdir / f"{f.name}.png") as tmp:
+            tmp.write_bytes(png)
+        smd += [f"![{f.caption}]({o.scenario}/{f.name}.png)", "", f"*{f.caption}*", ""]
+        h.append(_figure_html(f.caption, png))
+    if o.figures:
+        h.append("</div>")
+    smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]
+    h.append(f"<details><summary>configuration</summary><pre>{html.escape(cfg)}</pre></details></section>")
+    return smd, h
+
+
 def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: str = "") -> Path:
-    """Write every outcome's files and the summary page; return the path of ``index.html``."""
+    """Write every outcome's files and the summary page; return the path of ``index.html``.
+
+    The page reads like a paper's supplement: a contents list with anchors, the tally of
+    verdicts and the headline numbers on top, then each scenario once (claims, deviations,
+    its tables, its figures side by side, its configuration folded).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     version = package_version()
@@ -284,56 +433,22 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         + (f"; command <code>{html.escape(command)}</code>" if command else "")
         + "</p>",
     ]
-
-    md.append("## Summary")
-    h.append("<h2>Summary</h2>")
-    rows = _summary_rows(outcomes)
-    if rows:
-        summary = Table("Headline numbers beside their targets", _SUMMARY_COLUMNS, rows)
-        md += ["", _md_table(summary)]
-        h.append(_html_table(summary).replace("<td>NO</td>", "<td class='no'>NO</td>"))
-    for o in outcomes:
-        if o.claims or o.deviations:
-            md += [f"### {o.title} (`{o.scenario}`)", "", _md_table(_claims_table(o)), _md_table(_deviations_table(o))]
-            h.append(f"<h3>{html.escape(o.title)} (<a href='#{html.escape(o.scenario)}'>{html.escape(o.scenario)}</a>)</h3>")
-            h.append(_mark_verdicts(_html_table(_claims_table(o))))
-            h.append(_html_table(_deviations_table(o)))
+    contents_md, contents_html = _contents(outcomes)
+    md += contents_md
+    h.append(contents_html)
+    summary_md, summary_html = _summary(outcomes)
+    md += summary_md
+    h += summary_html
 
     for o in outcomes:
         sdir = out / o.scenario
         sdir.mkdir(parents=True, exist_ok=True)
         doc = outcome_json(o)
         _write_text(sdir / "results.json", json.dumps(doc, indent=2, sort_keys=False) + "\n")
-        cfg = json.dumps(doc["config"], indent=1)
-        seeds = f"seeds {o.seed} to {o.seed + o.units - 1} ({o.units} units)" if o.units > 1 else f"seed {o.seed}"
-        meta = f"{seeds}; runtime {fmt(o.runtime_s)} s"
-        if o.claims or o.deviations:
-            meta = f"{_paper_heading(o)}. {meta}"
-        smd = [f"## {o.title} (`{o.scenario}`)", "", meta, ""]
-        if o.conclusion:
-            smd += [o.conclusion, ""]
-        h.append(f"<h2 id='{html.escape(o.scenario)}'>{html.escape(o.title)} (<code>{html.escape(o.scenario)}</code>)</h2>")
-        h.append(f"<p class='meta'>{html.escape(meta)}</p>")
-        if o.conclusion:
-            h.append(f"<p>{html.escape(o.conclusion)}</p>")
-        own = [_claims_table(o), _deviations_table(o)] if (o.claims or o.deviations) else []
-        for t in [*own, *o.tables]:
-            smd.append(_md_table(t))
-            h.append(_mark_verdicts(_html_table(t)) if t in own else _html_table(t))
-        for f in o.figures:
-            png = _png_bytes(f.figure)
-            with atomic_path(sdir / f"{f.name}.png") as tmp:
-                tmp.write_bytes(png)
-            smd += [f"![{f.caption}]({o.scenario}/{f.name}.png)", "", f"*{f.caption}*", ""]
-            b64 = base64.b64encode(png).decode("ascii")
-            h.append(
-                f"<figure><img alt='{html.escape(f.caption)}' src='data:image/png;base64,{b64}'>"
-                f"<figcaption>{html.escape(f.caption)}</figcaption></figure>"
-            )
-        smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]
-        h.append(f"<details><summary>configuration</summary><pre>{html.escape(cfg)}</pre></details>")
+        smd, sh = _scenario_section(o, sdir, json.dumps(doc["config"], indent=1))
         _write_text(sdir / "report.md", "\n".join(smd).replace(f"]({o.scenario}/", "]("))
         md += smd
+        h += sh
     h.append(_LOAD_CHECK)
     h.append("</body></html>")
     _write_text(out / "report.md", "\n".join(md))

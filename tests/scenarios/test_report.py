@@ -174,19 +174,40 @@ def test_paper_claims_in_summary_and_results_json(tmp_path, monkeypatch):
     assert "claims" not in beta  # a scenario without claims keeps its old document
     md = (tmp_path / "report.md").read_text()
     summary = md.split("## Summary", 1)[1].split("\n## paper title", 1)[0]
-    # every claim in the summary: calibrated marked and not counted, the failure as prominent as the success
-    assert "| p.a | Table 2 | K_n is about 15.71 %. | CALIBRATED (not counted) | 15.71 % |" in summary
-    assert "| p.b |" in summary and "| 0 / 20 |" in summary and "FAILS FOR MOST UNITS" in summary
-    assert "| p.c |" in summary and "| 20 / 20 | 100 % [84, 100] % | HOLDS FOR MOST UNITS |" in summary
-    assert "1 hold for most units, 1 FAIL for most units" in summary
-    assert "1 calibrated claim(s)" in summary and "not counted as reproduced" in summary
-    assert "Deviations from the paper's protocol" in summary and "ratio 426x -> 18x on unit 0" in summary
-    assert "paper 001 (no entry in scenarios.papers)" in summary
+    # the summary tallies the verdicts; the claims table stands once, in the paper's own section
+    assert "**Verdicts at a glance**" in summary
+    assert "| paper | 001 | 20 | 1 | 1 | 0 | 0 | 1 |" in summary
+    assert "| p.a |" not in summary
+    section = md.split("\n## paper title", 1)[1]
+    # every claim in the section: calibrated marked and not counted, the failure as prominent as the success
+    assert "| p.a | Table 2 | K_n is about 15.71 %. | CALIBRATED (not counted) | 15.71 % |" in section
+    assert "| p.b |" in section and "| 0 / 20 |" in section and "FAILS FOR MOST UNITS" in section
+    assert "| p.c |" in section and "| 20 / 20 | 100 % [84, 100] % | HOLDS FOR MOST UNITS |" in section
+    assert "1 hold for most units, 1 FAIL for most units" in section
+    assert "1 calibrated claim(s)" in section and "not counted as reproduced" in section
+    assert "Deviations from the paper's protocol" in section and "ratio 426x -> 18x on unit 0" in section
+    assert "paper 001 (no entry in scenarios.papers)" in section
+    assert md.count("| p.a | Table 2 |") == 1
     assert "seeds 3 to 22 (20 units)" in md
     html = index.read_text()
     assert "<td class='no'>FAILS FOR MOST UNITS</td>" in html and "<td class='yes'>HOLDS FOR MOST UNITS</td>" in html
     assert "<td class='cal'>CALIBRATED (not counted)</td>" in html
     assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
+
+
+def test_contents_links_resolve_and_the_tally_comes_first(tmp_path):
+    index = write_report([_paper_outcome(), _outcome("beta")], tmp_path)
+    page = index.read_text()
+    nav = page[page.index("<nav id='contents'>"):page.index("</nav>")]
+    links = re.findall(r"href='#([^']+)'", nav)
+    ids = set(re.findall(r"id='([^']+)'", page))
+    assert links and set(links) <= ids, set(links) - ids
+    assert {"summary", "paper", "beta"} <= set(links)
+    tally = page[page.index("Verdicts at a glance"):page.index("Headline numbers")]
+    assert "<a href='#paper'>paper</a>" in tally
+    # the tally precedes every scenario section, and the page holds each claims table once
+    assert page.index("Verdicts at a glance") < page.index("<h2 id='paper'>")
+    assert page.count("<h3>Claims of ") == 1
 
 
 def test_paper_heading_cites_the_paper(monkeypatch, tmp_path):

@@ -15,7 +15,8 @@ Definitions (docs/physics.md section 5; IEEE Std 1431 / GJB 2426A; seed paper 00
 F_m is the one-sided full-scale output amplitude, max_j |F_j| unless given.
 Asymmetry: K+ fitted on W >= 0, K- on W <= 0, K_a = |K+ - K-| / ((K+ + K-)/2).
 
-Two helpers for several runs of one table: :func:`range_nonlinearity` (K_n of the rates
+:func:`dwell_means` turns a continuous rate-table record into the table's outputs (the
+mean over each settled dwell). Two helpers for several runs of one table: :func:`range_nonlinearity` (K_n of the rates
 inside a band, e.g. between the breakpoints found) and :func:`repeatability_floor` (the
 compensation with no model error at the table rates, whose held-out K_n is the run-to-run
 repeatability floor).
@@ -38,6 +39,7 @@ __all__ = [
     "breakpoint_search",
     "heuristic_split",
     "check_rate_table",
+    "dwell_means",
     "range_nonlinearity",
     "repeatability_floor",
 ]
@@ -433,3 +435,46 @@ def repeatability_floor(
     out[lo] = r[0] + (o[lo] - x[0]) * (r[1] - r[0]) / (x[1] - x[0])
     out[hi] = r[-1] + (o[hi] - x[-1]) * (r[-1] - r[-2]) / (x[-1] - x[-2])
     return out
+
+
+def dwell_means(output: ArrayLike, windows: ArrayLike) -> NDArray[np.float64]:
+    """Mean of a continuous rate-table record over each settled dwell: the table's outputs F_j.
+
+    Parameters
+    ----------
+    output : array_like, shape (n,)
+        The gyro output sampled through the whole table program [output unit].
+    windows : array_like of int, shape (m, 2)
+        Per table rate, the [start, stop) sample indices of its settled dwell (settling
+        time already cut), 0 <= start < stop <= n.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Mean output over each window [output unit].
+
+    Raises
+    ------
+    ValueError
+        If ``output`` is not 1-D, or a window is not an integer pair with
+        0 <= start < stop <= n.
+
+    Examples
+    --------
+    >>> dwell_means([9.0, 1.0, 2.0, 9.0, 5.0, 7.0], [[1, 3], [4, 6]]).tolist()
+    [1.5, 6.0]
+    """
+    y = np.asarray(output, dtype=float)
+    if y.ndim != 1:
+        raise ValueError(f"output must be a 1-D record; got shape {y.shape}")
+    w = np.asarray(windows)
+    if w.ndim != 2 or w.shape[1] != 2 or w.shape[0] < 1 or not np.issubdtype(w.dtype, np.integer):
+        raise ValueError(f"windows must be integer [start, stop) pairs, shape (m, 2); got {windows!r}")
+    bad = (w[:, 0] < 0) | (w[:, 0] >= w[:, 1]) | (w[:, 1] > y.size)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"windows must satisfy 0 <= start < stop <= {y.size} (record length); "
+            f"got {w[i].tolist()!r} at index {i}"
+        )
+    return np.array([float(np.mean(y[a:b])) for a, b in w])

@@ -7,6 +7,7 @@ import pytest
 from gyrobench.analysis.scale_factor import (
     asymmetry,
     breakpoint_search,
+    dwell_means,
     fit_scale_factor,
     heuristic_split,
     range_nonlinearity,
@@ -259,3 +260,29 @@ def test_repeatability_floor_rate_order_does_not_matter():
 def test_repeatability_floor_rejects_non_increasing_means():
     with pytest.raises(ValueError, match="increase strictly with rate; got"):
         repeatability_floor(np.arange(3.0), np.array([[0.0, 1.0, 1.0]]), np.zeros(3))
+
+
+def test_dwell_means_by_hand():
+    """Each window's mean; the settling samples outside the windows do not enter."""
+    y = np.array([100.0, 1.0, 2.0, 3.0, -100.0, 10.0, 20.0])
+    np.testing.assert_array_equal(dwell_means(y, [[1, 4], [5, 7]]), [2.0, 15.0])
+
+
+@pytest.mark.parametrize(
+    ("windows", "msg"),
+    [
+        ([[0, 3], [3, 3]], r"0 <= start < stop <= 5 \(record length\); got \[3, 3\] at index 1"),
+        ([[-1, 2]], "got \\[-1, 2\\] at index 0"),
+        ([[0, 6]], "got \\[0, 6\\] at index 0"),
+        ([[0.0, 2.0]], "integer"),
+        ([0, 2], "shape \\(m, 2\\)"),
+    ],
+)
+def test_dwell_means_rejects_bad_windows(windows, msg):
+    with pytest.raises(ValueError, match=msg):
+        dwell_means(np.zeros(5), windows)
+
+
+def test_dwell_means_rejects_a_2d_record():
+    with pytest.raises(ValueError, match="output must be a 1-D record; got shape"):
+        dwell_means(np.zeros((5, 2)), [[0, 2]])

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from . import NAME
 from .config import PAPER_ORDER, Config
 from .device import device_spec, rate_authority_dps, static_output
-from .rate_table import dense_rates, dwell_means, simulate_runs, trace
+from .rate_table import dense_rates, run_means, simulate_runs, trace
 from .results import DeviceSummary, Join, MethodScore, MlpFit, RawAnalysis, UnitResult
 
 __all__ = [
@@ -78,7 +78,7 @@ def _estimators(config: Config, seed: int) -> dict[str, Any]:
 def compensation_task(config: Config, seed: int) -> CompensationTask:
     """Features = per-rate mean outputs [deg/s] of the fitting runs, target = table rate [deg/s]."""
     rates = np.asarray(config.rates_dps, dtype=float)
-    means = [dwell_means(config, run) for run in simulate_runs(config, seed)]
+    means = [run_means(config, run) for run in simulate_runs(config, seed)]
     fit = means[: config.n_fit_runs]
     held = tuple(
         HeldOutRun(label=f"heldout{i}", X=m[:, None], output=m, truth=rates.copy())
@@ -286,7 +286,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
     runs = simulate_runs(config, seed)
     rates = np.asarray(config.rates_dps, dtype=float)
     nf = config.n_fit_runs
-    means = np.array([dwell_means(config, run) for run in runs])
+    means = np.array([run_means(config, run) for run in runs])
     fit_means, held_means = means[:nf], means[nf:]
     raw = raw_analysis(rates, fit_means, held_means)
     dense = dense_rates(config)

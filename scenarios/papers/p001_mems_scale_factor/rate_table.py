@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import MemsResonator
@@ -27,7 +28,7 @@ from .results import Trace
 __all__ = [
     "Run",
     "dense_rates",
-    "dwell_means",
+    "run_means",
     "memory_estimate",
     "rate_means",
     "simulate",
@@ -66,7 +67,7 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
     return out
 
 
-def dwell_means(config: Config, run: Run) -> NDArray[np.float64]:
+def run_means(config: Config, run: Run) -> NDArray[np.float64]:
     """Mean output over each settled dwell [deg/s] (the paper's per-rate measured output)."""
     n_settle = int(round(config.settle_s * config.fs_hz))
     return units.to_deg_per_s(run.output[n_settle:].mean(axis=0))
@@ -138,9 +139,8 @@ def simulate(config: Config, seed: int) -> list[Recording]:
 
 
 def rate_means(rec: Recording) -> NDArray[np.float64]:
-    """Mean output over each settled window of a record [deg/s]."""
-    y = units.to_deg_per_s(rec["rate"])
-    return np.array([float(np.mean(y[a:b])) for a, b in rec.metadata["windows_samples"]])
+    """Mean output over each settled window of a record [deg/s] (``analysis.scale_factor.dwell_means``)."""
+    return dwell_means(units.to_deg_per_s(rec["rate"]), rec.metadata["windows_samples"])
 
 
 def memory_estimate(config: Config) -> float:

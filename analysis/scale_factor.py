@@ -14,6 +14,12 @@ Definitions (docs/physics.md section 5; IEEE Std 1431 / GJB 2426A; seed paper 00
 
 F_m is the one-sided full-scale output amplitude, max_j |F_j| unless given.
 Asymmetry: K+ fitted on W >= 0, K- on W <= 0, K_a = |K+ - K-| / ((K+ + K-)/2).
+
+:func:`dwell_means` turns a continuous rate-table record into the table's outputs (the
+mean over each settled dwell). Two helpers for several runs of one table: :func:`range_nonlinearity` (K_n of the rates
+inside a band, e.g. between the breakpoints found) and :func:`repeatability_floor` (the
+compensation with no model error at the table rates, whose held-out K_n is the run-to-run
+repeatability floor).
 """
 
 from __future__ import annotations
@@ -33,6 +39,9 @@ __all__ = [
     "breakpoint_search",
     "heuristic_split",
     "check_rate_table",
+    "dwell_means",
+    "range_nonlinearity",
+    "repeatability_floor",
 ]
 
 
@@ -71,7 +80,8 @@ def check_rate_table(
             )
         i = int(np.flatnonzero(np.sign(d) != np.sign(d[0]))[0])
         raise ValueError(
-            f"rates must be strictly monotonic (a rate-table sequence); got {float(w[i])!r} -> {float(w[i + 1])!r} at index {i + 1}"
+            "rates must be strictly monotonic (a rate-table sequence); "
+            f"got {float(w[i])!r} -> {float(w[i + 1])!r} at index {i + 1}"
         )
     return w, f
 
@@ -336,3 +346,135 @@ def breakpoint_search(
                 )
             )
     return BreakpointSearch(found[-1], found[1], tuple(trace))
+
+
+def range_nonlinearity(rates: ArrayLike, outputs: ArrayLike, lo: float, hi: float) -> float:
+    """K_n [-] of the part of a rate table with ``lo <= rate <= hi``; NaN with fewer than 3 rates.
+
+    The LS line and F_m = max |F_j| are those of the selected points only
+    (:func:`fit_scale_factor` on them), e.g. the low-rate segment between the breakpoints
+    of :func:`breakpoint_search`.
+
+    Parameters
+    ----------
+    rates, outputs : array_like
+        The rate table (strictly monotonic rates, finite outputs).
+    lo, hi : float
+        Band of rates kept [rate unit], inclusive.
+
+    Returns
+    -------
+    float
+        K_n of the band [-], or NaN when it holds fewer than 3 rates.
+
+    Examples
+    --------
+    >>> w = [-2.0, -1.0, 0.0, 1.0, 2.0]
+    >>> range_nonlinearity(w, [-1.5, -1.0, 0.0, 1.0, 1.5], -1.0, 1.0)
+    0.0
+    """
+    w, f = check_rate_table(rates, outputs, min_points=1)
+    if not (isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and lo <= hi):
+        raise ValueError(f"range_nonlinearity needs numbers lo <= hi [rate unit]; got lo={lo!r}, hi={hi!r}")
+    sel = (w >= lo) & (w <= hi)
+    if sel.sum() < 3:
+        return math.nan
+    return fit_scale_factor(w[sel], f[sel]).nonlinearity
+
+
+def repeatability_floor(
+    rates: ArrayLike, fit_means: ArrayLike, outputs: ArrayLike
+) -> NDArray[np.float64]:
+    """Compensate ``outputs`` with a curve through the fitting runs' per-rate mean outputs.
+
+    The curve maps output -> rate by piecewise-linear interpolation through the
+    points (mean over the fitting runs of the output at rate j, rate j), extended
+    linearly beyond the end rates by the end chords. It has no model error at the
+    table rates, so the K_n left on a held-out run is its run-to-run
+    difference from the fitting runs (divided by the local slope): the
+    repeatability floor of a compensation fitted to these runs when the runs differ
+    by bias, temperature and noise. It is one run's value, not a bound: a smoother
+    curve can land below it, and does when the runs' scale factors differ.
+
+    Parameters
+    ----------
+    rates : array_like, shape (m,)
+        Table rates [rate unit].
+    fit_means : array_like, shape (n_runs, m)
+        Per-rate mean outputs of the fitting runs [output unit].
+    outputs : array_like, shape (m,)
+        The outputs to compensate [output unit].
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Compensated rates [rate unit].
+
+    Raises
+    ------
+    ValueError
+        If the mean outputs do not increase strictly with rate (a saturated plateau: no
+        curve through them can be inverted).
+
+    Examples
+    --------
+    >>> repeatability_floor([-1.0, 0.0, 1.0], [[-2.0, 0.0, 2.0]], [1.0, 3.0]).tolist()
+    [0.5, 1.5]
+    """
+    xm = np.asarray(fit_means, dtype=float).mean(axis=0)
+    order = np.argsort(xm)
+    x, r = xm[order], np.asarray(rates, dtype=float)[order]
+    if np.any(np.diff(x) <= 0):
+        raise ValueError(
+            "repeatability_floor needs mean outputs that increase strictly with rate; "
+            f"got {xm.tolist()!r}"
+        )
+    o = np.asarray(outputs, dtype=float)
+    out = np.interp(o, x, r)
+    lo, hi = o < x[0], o > x[-1]
+    out[lo] = r[0] + (o[lo] - x[0]) * (r[1] - r[0]) / (x[1] - x[0])
+    out[hi] = r[-1] + (o[hi] - x[-1]) * (r[-1] - r[-2]) / (x[-1] - x[-2])
+    return out
+
+
+def dwell_means(output: ArrayLike, windows: ArrayLike) -> NDArray[np.float64]:
+    """Mean of a continuous rate-table record over each settled dwell: the table's outputs F_j.
+
+    Parameters
+    ----------
+    output : array_like, shape (n,)
+        The gyro output sampled through the whole table program [output unit].
+    windows : array_like of int, shape (m, 2)
+        Per table rate, the [start, stop) sample indices of its settled dwell (settling
+        time already cut), 0 <= start < stop <= n.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Mean output over each window [output unit].
+
+    Raises
+    ------
+    ValueError
+        If ``output`` is not 1-D, or a window is not an integer pair with
+        0 <= start < stop <= n.
+
+    Examples
+    --------
+    >>> dwell_means([9.0, 1.0, 2.0, 9.0, 5.0, 7.0], [[1, 3], [4, 6]]).tolist()
+    [1.5, 6.0]
+    """
+    y = np.asarray(output, dtype=float)
+    if y.ndim != 1:
+        raise ValueError(f"output must be a 1-D record; got shape {y.shape}")
+    w = np.asarray(windows)
+    if w.ndim != 2 or w.shape[1] != 2 or w.shape[0] < 1 or not np.issubdtype(w.dtype, np.integer):
+        raise ValueError(f"windows must be integer [start, stop) pairs, shape (m, 2); got {windows!r}")
+    bad = (w[:, 0] < 0) | (w[:, 0] >= w[:, 1]) | (w[:, 1] > y.size)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"windows must satisfy 0 <= start < stop <= {y.size} (record length); "
+            f"got {w[i].tolist()!r} at index {i}"
+        )
+    return np.array([float(np.mean(y[a:b])) for a, b in w])

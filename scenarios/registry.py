@@ -24,7 +24,7 @@ else:  # pragma: no cover
 #: registry key -> module; order = order in ``reproduce --all`` and the report
 SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
-    "mems_scale_factor": "gyrobench.scenarios.mems_scale_factor",
+    "mems_scale_factor": "gyrobench.scenarios.papers.p001_mems_scale_factor",
     "ifog_thermal": "gyrobench.scenarios.ifog_thermal",
     "rlg_thermal": "gyrobench.scenarios.rlg_thermal",
     "fog_vibration": "gyrobench.scenarios.fog_vibration",

@@ -4,7 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.analysis.scale_factor import asymmetry, breakpoint_search, fit_scale_factor, heuristic_split
+from gyrobench.analysis.scale_factor import (
+    asymmetry,
+    breakpoint_search,
+    dwell_means,
+    fit_scale_factor,
+    heuristic_split,
+    range_nonlinearity,
+    repeatability_floor,
+)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -205,3 +213,76 @@ def test_breakpoints_scale_with_the_rate_unit(a, c):
     res = breakpoint_search(c * GRID, a * f)
     assert res.negative == pytest.approx(-1800.0 * c, rel=1e-12)
     assert res.positive == pytest.approx(1800.0 * c, rel=1e-12)
+
+
+# ------------------------------------------------------------------ several runs of one table
+def test_range_nonlinearity_closed_form():
+    """F = W + c W^2 on W = -2..2, band [0, 2]: LS line slope 1 + 2c, intercept -c/3, max residual
+    2c/3 at W = 1, F_m = 2 + 4c, so K_n = (2c/3) / (2 + 4c); the points outside do not enter."""
+    c = 0.01
+    w = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    f = w + c * w**2
+    f[0] = -50.0  # far off, outside the band
+    assert range_nonlinearity(w, f, 0.0, 2.0) == pytest.approx((2 * c / 3) / (2 + 4 * c), rel=1e-12)
+
+
+def test_range_nonlinearity_needs_three_rates_in_the_band():
+    w = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    assert np.isnan(range_nonlinearity(w, w**3, 0.5, 2.0))  # only 1 and 2 inside
+    assert range_nonlinearity(w, 2 * w + 1, -1.0, 1.0) < 1e-15  # a line: no nonlinearity
+
+
+def test_range_nonlinearity_rejects_an_empty_band():
+    with pytest.raises(ValueError, match="lo <= hi"):
+        range_nonlinearity([0.0, 1.0, 2.0], [0.0, 1.0, 2.0], 2.0, 1.0)
+
+
+def test_repeatability_floor_closed_form():
+    """Outputs equal to the fit-run means map to the rates exactly; linear beyond the ends."""
+    rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    fit = np.array([[-1.5, -0.9, 0.1, 1.1, 1.4], [-1.7, -1.1, -0.1, 0.9, 1.6]])  # mean: tanh-like
+    xm = fit.mean(axis=0)
+    np.testing.assert_allclose(repeatability_floor(rates, fit, xm), rates, rtol=1e-15)
+    got = repeatability_floor(rates, fit, np.array([xm[0] - 0.1, 0.5 * (xm[1] + xm[2]), xm[-1] + 0.1]))
+    np.testing.assert_allclose(got, [-2.0 - 0.1 / 0.6, -0.5, 2.0 + 0.1 / 0.5], rtol=1e-12)
+
+
+def test_repeatability_floor_rate_order_does_not_matter():
+    """A table taken from +rate to -rate (the paper's order) gives the same compensation."""
+    rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+    fit = np.array([[-1.5, -0.9, 0.1, 1.1, 1.4]])
+    out = np.array([-1.0, 0.3, 1.5])
+    np.testing.assert_array_equal(
+        repeatability_floor(rates[::-1], fit[:, ::-1], out), repeatability_floor(rates, fit, out)
+    )
+
+
+def test_repeatability_floor_rejects_non_increasing_means():
+    with pytest.raises(ValueError, match="increase strictly with rate; got"):
+        repeatability_floor(np.arange(3.0), np.array([[0.0, 1.0, 1.0]]), np.zeros(3))
+
+
+def test_dwell_means_by_hand():
+    """Each window's mean; the settling samples outside the windows do not enter."""
+    y = np.array([100.0, 1.0, 2.0, 3.0, -100.0, 10.0, 20.0])
+    np.testing.assert_array_equal(dwell_means(y, [[1, 4], [5, 7]]), [2.0, 15.0])
+
+
+@pytest.mark.parametrize(
+    ("windows", "msg"),
+    [
+        ([[0, 3], [3, 3]], r"0 <= start < stop <= 5 \(record length\); got \[3, 3\] at index 1"),
+        ([[-1, 2]], "got \\[-1, 2\\] at index 0"),
+        ([[0, 6]], "got \\[0, 6\\] at index 0"),
+        ([[0.0, 2.0]], "integer"),
+        ([0, 2], "shape \\(m, 2\\)"),
+    ],
+)
+def test_dwell_means_rejects_bad_windows(windows, msg):
+    with pytest.raises(ValueError, match=msg):
+        dwell_means(np.zeros(5), windows)
+
+
+def test_dwell_means_rejects_a_2d_record():
+    with pytest.raises(ValueError, match="output must be a 1-D record; got shape"):
+        dwell_means(np.zeros((5, 2)), [[0, 2]])

@@ -1,12 +1,15 @@
-"""Tests of scenarios/mems_scale_factor.py: paper 001 as experiment + claims + report.
+"""Tests of the paper-001 package (scenarios/papers/p001_mems_scale_factor): experiment, claims, report.
 
-No paper value is a threshold here: the claims are judged by the shared evaluation,
-these tests check that the parts are well formed, deterministic and consistent.
+No paper value is a threshold here: the claims are judged by the shared evaluation, these
+tests check that the parts are well formed, deterministic and consistent. What every paper
+must do (typed frozen result, a quantity per claim, judged claims, report from results, the
+package layout) is tests/scenarios/test_paper_contract.py's.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import json
 import math
 import pickle
@@ -15,12 +18,19 @@ import numpy as np
 import pytest
 from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
 from gyrobench.analysis.scale_factor import fit_scale_factor
-from gyrobench.scenarios import mems_scale_factor as ms
 from gyrobench.scenarios.base import Outcome
-from gyrobench.scenarios.claims import Claim, evaluate
+from gyrobench.scenarios.claims import evaluate
+from gyrobench.scenarios.papers import p001_mems_scale_factor as ms
+from gyrobench.scenarios.papers.p001_mems_scale_factor.effects import deviation_effects, variants
+from gyrobench.scenarios.papers.p001_mems_scale_factor.rate_table import dense_rates
+from gyrobench.scenarios.papers.p001_mems_scale_factor.results import MethodScore, RawAnalysis, UnitResult
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import MemsResonator
+
+# the package's modules named like its functions (experiment, report): reach them by name
+exp = importlib.import_module(f"{ms.__name__}.experiment")
+rep_ = importlib.import_module(f"{ms.__name__}.report")
 
 SMALL = ms.Config(
     rates_dps=(360.0, 0.0, -360.0),
@@ -31,25 +41,29 @@ SMALL = ms.Config(
     n_heldout_runs=1,
 )
 
-#: keys of experiment() that are wall times (the only non-deterministic part)
+#: fields of experiment()'s result that are wall times (the only non-deterministic part)
 _TIMES = ("timing_ms", "fit_time_ms")
 
 
 @pytest.fixture(scope="module")
-def unit0() -> dict:
+def unit0() -> UnitResult:
     return ms.experiment(ms.Config(), 0)
 
 
 @pytest.fixture(scope="module")
 def outcome(unit0) -> Outcome:
     units_ = [unit0, ms.experiment(ms.Config(), 1)]
-    claims = evaluate(ms.CLAIMS, [u["quantities"] for u in units_])
+    claims = evaluate(ms.CLAIMS, [u.quantities for u in units_])
     return ms.report(ms.Config(), units_, claims)
 
 
 def _assert_same(a, b, path="unit"):
-    """Recursive bit-identity of two experiment results (dicts, lists, arrays, numbers)."""
-    if isinstance(a, dict):
+    """Recursive bit-identity of two experiment results (dataclasses, dicts, lists, arrays, numbers)."""
+    if dataclasses.is_dataclass(a):
+        assert type(a) is type(b), path
+        for f in dataclasses.fields(a):
+            _assert_same(getattr(a, f.name), getattr(b, f.name), f"{path}.{f.name}")
+    elif isinstance(a, dict):
         assert a.keys() == b.keys(), path
         for k in a:
             _assert_same(a[k], b[k], f"{path}[{k!r}]")
@@ -65,26 +79,25 @@ def _assert_same(a, b, path="unit"):
         assert a == b, path
 
 
-# ------------------------------------------------------------------ the contract
+# ------------------------------------------------------------------ the package (beyond the contract)
 def test_module_shape():
+    """What the contract test does not check: the registry key, a title without a seed, no run()."""
     assert ms.PAPER == "001" and ms.NAME == "mems_scale_factor"
     assert "seed" not in ms.TITLE.lower()
     assert not hasattr(ms, "run")
-    assert all(callable(getattr(ms, f)) for f in ("experiment", "report", "simulate"))
 
 
 def test_claims_are_well_formed(unit0):
     ids = [c.id for c in ms.CLAIMS]
     assert len(ids) == len(set(ids))
     for c in ms.CLAIMS:
-        assert isinstance(c, Claim) and c.paper == "001" and c.id.startswith("001.")
-        assert c.quantity in unit0["quantities"], c.id  # every claim's quantity is produced
+        assert c.id.startswith("001."), c.id
         assert c.statement.endswith("."), c.id
         if c.comparator.kind == "within_factor":
             assert c.paper_value is not None
             assert math.isclose(math.sqrt(c.comparator.lo * c.comparator.hi), c.paper_value)
     # every produced quantity is some claim's (no orphan numbers in 'quantities')
-    assert set(unit0["quantities"]) == {c.quantity for c in ms.CLAIMS}
+    assert set(unit0.quantities) == {c.quantity for c in ms.CLAIMS}
     # the default design sets nothing from the paper: no claim is calibrated
     assert {c.id for c in ms.CLAIMS if c.kind == "calibrated"} == set()
     cal = ms.claims_for(ms.Config(variant="calibrated"))
@@ -115,23 +128,22 @@ def test_deviations_are_complete_records():
         assert any(ch.isdigit() for ch in d.effect), d.what  # a measured effect has numbers
 
 
-def test_quantities_are_numbers(unit0):
-    for k, v in unit0["quantities"].items():
-        assert v is None or isinstance(v, float), (k, v)
+def test_rankings_are_yes_or_no(unit0):
     for k in ("order_as_paper", "piecewise_best", "breakpoints_at_1800", "order_as_paper_dense"):
-        assert unit0["quantities"][k] in (0.0, 1.0)
+        assert unit0.quantities[k] in (0.0, 1.0)
 
 
 def test_experiment_is_deterministic(unit0):
     again = ms.experiment(ms.Config(), 0)
-    strip = {k: v for k, v in again.items() if k not in _TIMES}
-    _assert_same({k: v for k, v in unit0.items() if k not in _TIMES}, strip)
-    assert set(unit0["timing_ms"]) == set(ms.METHOD_LABELS)
+    for f in dataclasses.fields(unit0):
+        if f.name not in _TIMES:
+            _assert_same(getattr(unit0, f.name), getattr(again, f.name), f.name)
+    assert set(unit0.timing_ms) == set(ms.METHOD_LABELS)
 
 
 def test_units_differ(unit0, outcome):
     q1 = outcome.results["population"]["quantities"]["kn_heldout_pct.bayes_bp"]
-    assert q1[0] == unit0["quantities"]["kn_heldout_pct.bayes_bp"] and q1[0] != q1[1]
+    assert q1[0] == unit0.quantities["kn_heldout_pct.bayes_bp"] and q1[0] != q1[1]
 
 
 def test_experiment_is_small_and_picklable(unit0):
@@ -175,21 +187,37 @@ def test_report_refuses_no_units():
 # ------------------------------------------------------------------ the unit's numbers
 def test_quantities_follow_the_unit_results(unit0):
     """The claim quantities are the unit's reported K_n values and their orders, not set apart."""
-    q, m, raw = unit0["quantities"], unit0["methods"], unit0["raw"]
+    q, m, raw = unit0.quantities, unit0.methods, unit0.raw
     for k in ms.METHOD_LABELS:
-        assert q[f"kn_heldout_pct.{k}"] == m[k]["kn_heldout_pct"]
-        assert q[f"kn_dense_pct.{k}"] == m[k]["kn_dense_pct"]
-        assert math.isclose(
-            q[f"improvement.{k}"] * m[k]["kn_heldout_pct"], raw["raw_kn_pct_heldout"]
-        )
-    held = {k: m[k]["kn_heldout_pct"] for k in m}
+        assert q[f"kn_heldout_pct.{k}"] == m[k].kn_heldout_pct
+        assert q[f"kn_dense_pct.{k}"] == m[k].kn_dense_pct
+        assert math.isclose(q[f"improvement.{k}"] * m[k].kn_heldout_pct, raw.raw_kn_pct_heldout)
+    held = {k: m[k].kn_heldout_pct for k in m}
     assert q["order_as_paper"] == float(
         held["piecewise"] < held["bayes_bp"] < held["two_stage_poly"]
     )
-    assert q["raw_kn_pct"] == float(np.mean(raw["raw_kn_pct_per_run"]))
+    assert q["raw_kn_pct"] == float(np.mean(raw.raw_kn_pct_per_run))
     # held-out K_n is the IEEE K_n of the compensated table the report draws
-    kn = fit_scale_factor(unit0["rates_dps"], m["piecewise"]["compensated_heldout_dps"])
-    assert math.isclose(kn.nonlinearity_pct, m["piecewise"]["kn_heldout_pct"])
+    kn = fit_scale_factor(unit0.rates_dps, m["piecewise"].compensated_heldout_dps)
+    assert math.isclose(kn.nonlinearity_pct, m["piecewise"].kn_heldout_pct)
+
+
+def _raw(breakpoints=()) -> RawAnalysis:
+    """A raw analysis with raw K_n 15 % (held-out too) and the given breakpoints."""
+    z = np.zeros(3)
+    return RawAnalysis(
+        table1_dps=z, run_std_dps=z, pointwise_pct=z, scale_factor=1.0, bias_dps=0.0,
+        raw_kn_pct_per_run=(15.0,), raw_kn_pct=15.0, raw_kn_pct_heldout=15.0, low_rate_kn=1e-3,
+        breakpoints_dps=tuple(breakpoints), search_trace=(),
+    )
+
+
+def _score(kn: float) -> MethodScore:
+    z = np.zeros(3)
+    return MethodScore(
+        kn_fit_pct=kn, kn_heldout_pct=kn, rms_heldout_pct=kn, kn_dense_pct=kn,
+        compensated_heldout_dps=z, pointwise_heldout_pct=z, dense_error_dps=z,
+    )
 
 
 @pytest.mark.parametrize(
@@ -202,16 +230,8 @@ def test_quantities_follow_the_unit_results(unit0):
     ],
 )
 def test_order_quantities(held, order, best, bp_ts):
-    methods = {
-        k: {"kn_heldout_pct": v, "kn_dense_pct": v, "rms_heldout_pct": v} for k, v in held.items()
-    }
-    raw = {
-        "raw_kn_pct": 15.0,
-        "raw_kn_pct_heldout": 15.0,
-        "low_rate_kn": 1e-3,
-        "breakpoints_dps": [],
-    }
-    q = ms._quantities(raw, methods)
+    methods = {k: _score(v) for k, v in held.items()}
+    q = exp.quantities(_raw(), methods)
     assert (q["order_as_paper"], q["piecewise_best"], q["bayes_bp_beats_two_stage"]) == (
         order,
         best,
@@ -219,35 +239,34 @@ def test_order_quantities(held, order, best, bp_ts):
     )
     assert q["order_as_paper_dense"] == order and q["piecewise_smallest_rms"] == best
     assert q["breakpoints_at_1800"] == 0.0
+    assert exp.quantities(_raw((-1800.0, 1800.0)), methods)["breakpoints_at_1800"] == 1.0
 
 
 def test_a_method_that_cannot_be_fitted_is_untestable():
     """A None model (fit refused) gives NaN K_n and leaves the rankings untestable (None)."""
     rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
     tab = rates[None, :]
-    failed = ms._score_method(None, rates, tab, tab, rates, tab)
-    assert math.isnan(failed["kn_heldout_pct"]) and math.isnan(failed["kn_dense_pct"])
-    ok = {"kn_heldout_pct": 0.1, "kn_dense_pct": 0.1, "rms_heldout_pct": 0.1}
+    failed = exp.score_method(None, rates, tab, tab, rates, tab)
+    assert math.isnan(failed.kn_heldout_pct) and math.isnan(failed.kn_dense_pct)
+    ok = _score(0.1)
     methods = {"piecewise": failed, "two_stage_poly": ok, "bayes_bp": ok}
-    raw = {"raw_kn_pct": 15.0, "raw_kn_pct_heldout": 15.0, "low_rate_kn": 1e-3,
-           "breakpoints_dps": []}
-    q = ms._quantities(raw, methods)
+    q = exp.quantities(_raw(), methods)
     for k in ("order_as_paper", "piecewise_best", "bayes_bp_beats_two_stage",
               "piecewise_smallest_rms", "order_as_paper_dense"):
         assert q[k] is None, k
     assert math.isnan(q["kn_heldout_pct.piecewise"]) and q["kn_heldout_pct.bayes_bp"] == 0.1
-    assert ms._order_label({"a": 2.0, "b": math.nan, "c": 1.0}) == "c < a (b not fitted)"
+    assert rep_._order_label({"a": 2.0, "b": math.nan, "c": 1.0}) == "c < a (b not fitted)"
 
 
 def test_low_rate_kn_is_untestable_without_both_breakpoints():
     rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
     out = rates.copy()[None, :]  # perfectly linear: the heuristic finds no breakpoint
-    raw = ms._raw_analysis(rates, out, out)
-    assert raw["breakpoints_dps"] == [] and math.isnan(raw["low_rate_kn"])
+    raw = exp.raw_analysis(rates, out, out)
+    assert raw.breakpoints_dps == () and math.isnan(raw.low_rate_kn)
 
 
 def test_dense_rates_cover_the_table():
-    d = ms._dense_rates(ms.Config())
+    d = dense_rates(ms.Config())
     assert d.size == 721 and d[0] == -3600.0 and d[-1] == 3600.0 and 0.0 in d
     np.testing.assert_allclose(np.diff(d), 10.0)
 
@@ -277,26 +296,8 @@ def test_static_output_closed_form():
 def test_heldout_table_is_what_the_bench_scores(unit0):
     """experiment and compensation_task simulate the same runs for a seed."""
     task = ms.compensation_task(ms.Config(), 0)
-    np.testing.assert_array_equal(task.heldout[0].output, unit0["held_means_dps"][0])
-    np.testing.assert_array_equal(task.X_train[:, 0], unit0["fit_means_dps"].reshape(-1))
-
-
-# ------------------------------------------------------------------ closed forms kept
-def test_repeatability_floor_closed_form():
-    """Outputs equal to the fit-run means map to the rates exactly; linear beyond the ends."""
-    rates = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
-    fit = np.array([[-1.5, -0.9, 0.1, 1.1, 1.4], [-1.7, -1.1, -0.1, 0.9, 1.6]])  # mean: tanh-like
-    xm = fit.mean(axis=0)
-    np.testing.assert_allclose(ms.repeatability_floor(rates, fit, xm), rates, rtol=1e-15)
-    got = ms.repeatability_floor(
-        rates, fit, np.array([xm[0] - 0.1, 0.5 * (xm[1] + xm[2]), xm[-1] + 0.1])
-    )
-    np.testing.assert_allclose(got, [-2.0 - 0.1 / 0.6, -0.5, 2.0 + 0.1 / 0.5], rtol=1e-12)
-
-
-def test_repeatability_floor_rejects_non_increasing_means():
-    with pytest.raises(ValueError, match="increase strictly with rate; got"):
-        ms.repeatability_floor(np.arange(3.0), np.array([[0.0, 1.0, 1.0]]), np.zeros(3))
+    np.testing.assert_array_equal(task.heldout[0].output, unit0.held_means_dps[0])
+    np.testing.assert_array_equal(task.X_train[:, 0], unit0.fit_means_dps.reshape(-1))
 
 
 # ------------------------------------------------------------------ simulation and task
@@ -392,8 +393,8 @@ def test_twenty_units_every_claim_testable():
     """The runner's three lines over 20 units: every claim is testable on every unit, except the
     low-rate K_n, testable exactly where the heuristic found both breakpoints."""
     units_ = [ms.experiment(ms.Config(), s) for s in range(20)]
-    claims = evaluate(ms.CLAIMS, [u["quantities"] for u in units_])
-    both = sum(len(u["raw"]["breakpoints_dps"]) == 2 for u in units_)
+    claims = evaluate(ms.CLAIMS, [u.quantities for u in units_])
+    both = sum(len(u.raw.breakpoints_dps) == 2 for u in units_)
     expected = [both if c.id == "001.low_rate_kn" else 20 for c in ms.CLAIMS]
     assert [c.testable for c in claims] == expected
     out = ms.report(ms.Config(), units_, claims)
@@ -405,8 +406,8 @@ def test_calibrated_variant_unit_runs_and_reports():
     """One unit of the calibrated device: knee inside the table, raw K_n of order 10 %."""
     cfg = ms.Config(variant="calibrated")
     u = ms.experiment(cfg, 0)
-    assert u["rate_authority_dps"] < 3600.0 and u["variant"] == "calibrated"
-    claims = evaluate(ms.claims_for(cfg), [u["quantities"]])
+    assert u.rate_authority_dps < 3600.0 and u.variant == "calibrated"
+    claims = evaluate(ms.claims_for(cfg), [u.quantities])
     out = ms.report(cfg, [u], claims)
     assert "CALIBRATED" in out.conclusion and "001.raw_kn (" in out.conclusion
 
@@ -421,12 +422,12 @@ def test_calibrated_v_max_reproduces_the_constant():
 def test_deviation_effects_measures_every_variant(unit0):
     """The function behind the DEVIATIONS' numbers: its default row is the experiment's."""
     names = ("default", "piecewise_alpha_0", "join_width_0.02", "join_width_0.10")
-    d = ms.deviation_effects(seeds=(0,), names=names)
-    assert set(d) == set(names) and set(names) <= set(ms._variants(ms.Config()))
+    d = deviation_effects(seeds=(0,), names=names)
+    assert set(d) == set(names) and set(names) <= set(variants(ms.Config()))
     for k in ms.METHOD_LABELS:
-        assert d["default"][f"kn_heldout_pct.{k}"] == unit0["methods"][k]["kn_heldout_pct"]
-        assert d["default"][f"kn_dense_pct.{k}"] == unit0["methods"][k]["kn_dense_pct"]
-    assert d["default"]["floor_pct"] == unit0["floor_pct"] or math.isnan(unit0["floor_pct"])
+        assert d["default"][f"kn_heldout_pct.{k}"] == unit0.methods[k].kn_heldout_pct
+        assert d["default"][f"kn_dense_pct.{k}"] == unit0.methods[k].kn_dense_pct
+    assert d["default"]["floor_pct"] == unit0.floor_pct or math.isnan(unit0.floor_pct)
     # common random numbers: the piecewise-only variants leave the other methods unchanged
     for name in ("piecewise_alpha_0", "join_width_0.02", "join_width_0.10"):
         assert d[name]["kn_heldout_pct.bayes_bp"] == d["default"]["kn_heldout_pct.bayes_bp"]

@@ -204,7 +204,7 @@ def test_dask_localcluster_equals_local(tmp_path, monkeypatch):
 
 def test_a_config_variant_can_mark_a_claim_calibrated():
     """The runner judges claims_for(config) when a scenario defines it (paper 001's v_max variant)."""
-    from gyrobench.scenarios import mems_scale_factor as ms
+    from gyrobench.scenarios.papers import p001_mems_scale_factor as ms
     from gyrobench.scenarios.units import module_claims
 
     default = {c.id: c.kind for c in module_claims(ms, ms.Config())}

@@ -1,0 +1,164 @@
+"""Paper 001's rate-table test and methods as a frozen :class:`Config`, and the paper's printed values.
+
+Defaults are the paper's protocol (section 3): 21 table rates, +3600 -> -3600 deg/s in
+360 deg/s steps, 200 Hz output averaged over 60 s of each settled dwell, several runs; the
+methods of section 4 (piecewise 9-1-9 with Hermite joins, two-stage 9th-order polynomial,
+Bayes-regularized BP network with 10 hidden units). Field units at this edge, in the field
+names; the device population is SI (:class:`gyrobench.sim.mems_resonator.MemsResonatorSpec`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from gyrobench.sim.mems_resonator import MemsResonatorSpec
+
+__all__ = [
+    "CALIBRATED_V_MAX_V",
+    "Config",
+    "METHOD_LABELS",
+    "PAPER_KN_PCT",
+    "PAPER_ORDER",
+    "PAPER_RAW_KN",
+    "PAPER_TIME_MS",
+    "VARIANTS",
+    "default_rates",
+]
+
+#: the three compensation methods, in the order of the paper's Table 3
+METHOD_LABELS = {
+    "piecewise": "Heuristic piecewise 9-1-9 + Hermite",
+    "two_stage_poly": "Two-stage 9th-order polynomial",
+    "bayes_bp": "Bayes-regularized BP (10 hidden)",
+}
+#: the paper's Table 3: K_n after compensation [%] and evaluation time [ms] (MATLAB)
+PAPER_KN_PCT = {"piecewise": 0.14, "two_stage_poly": 0.59, "bayes_bp": 0.45}
+PAPER_TIME_MS = {"piecewise": 0.247, "two_stage_poly": 0.755, "bayes_bp": 37.8}
+#: the paper's order of the methods, best first (Table 3 and its text)
+PAPER_ORDER = ("piecewise", "bayes_bp", "two_stage_poly")
+#: the paper's raw K_n (section 3) [-]
+PAPER_RAW_KN = 0.1571
+#: the devices Config.variant selects
+VARIANTS = ("design", "calibrated")
+#: rebalance DAC full scale v_max [V] of the "calibrated" variant: CALIBRATED by
+#: :func:`~gyrobench.scenarios.papers.p001_mems_scale_factor.device.calibrated_v_max`
+#: (default spec, units 0-19) so that the median noise-free raw K_n on the paper's 21 rates
+#: is 15.71 %. The design value is 0.7 V.
+CALIBRATED_V_MAX_V = 0.44017
+
+
+def default_rates() -> tuple[float, ...]:
+    """The paper's 21 table rates, +3600 -> -3600 deg/s in 360 deg/s steps [deg/s]."""
+    return tuple(float(r) for r in np.arange(3600.0, -3600.0 - 1.0, -360.0))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Config:
+    """The paper's rate-table test and methods (field units at this edge).
+
+    Parameters
+    ----------
+    gyro : MemsResonatorSpec
+        The population the units are drawn from (SI; default the plausible design).
+    variant : {"design", "calibrated"}
+        "design": ``gyro`` as given; "calibrated": ``gyro`` with its nominal rebalance DAC
+        full scale set to :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %).
+    rates_dps : tuple of float
+        Table rates in test order [deg/s], strictly monotonic.
+    average_s, settle_s : float
+        Averaged and discarded (settling) time of each dwell [s].
+    fs_hz : float
+        Output sample rate [Hz].
+    ambient_c, ambient_spread_c : float
+        Mean die temperature during the runs and its run-to-run standard deviation [degC]
+        (the units are factory-trimmed at 25 degC).
+    n_fit_runs, n_heldout_runs : int
+        Power-ons the compensators are fitted on; power-ons kept for scoring only (per unit).
+    orders : tuple of int
+        Piecewise orders (negative high, low, positive high rates).
+    join_width : float
+        Hermite join width as a fraction of the output span.
+    piecewise_alpha : float
+        Curvature penalty of the piecewise segments (scaled units).
+    poly_degree : int
+        Degree of both stages of the two-stage polynomial.
+    hidden_units, mlp_epochs : int
+        Bayesian-regularized network size and trainbr epochs.
+    timing_repeats : int
+        Repeats of each method's compensation of the 21-point table (median reported).
+    dense_step_dps : float
+        Rate step of the dense held-out sweep [deg/s], > 0.
+    """
+
+    gyro: MemsResonatorSpec = field(default_factory=MemsResonatorSpec)
+    variant: str = "design"
+    rates_dps: tuple[float, ...] = field(default_factory=default_rates)
+    average_s: float = 60.0
+    settle_s: float = 0.5
+    fs_hz: float = 200.0
+    ambient_c: float = 25.0
+    ambient_spread_c: float = 0.5
+    n_fit_runs: int = 3
+    n_heldout_runs: int = 1
+    orders: tuple[int, int, int] = (9, 1, 9)
+    join_width: float = 0.05
+    piecewise_alpha: float = 1e-6
+    poly_degree: int = 9
+    hidden_units: int = 10
+    mlp_epochs: int = 1000
+    timing_repeats: int = 50
+    dense_step_dps: float = 10.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.gyro, MemsResonatorSpec):
+            raise TypeError(
+                f"Config.gyro must be a MemsResonatorSpec; got {type(self.gyro).__name__}"
+            )
+        if self.variant not in VARIANTS:
+            raise ValueError(f"Config.variant must be one of {VARIANTS}; got {self.variant!r}")
+        r = np.asarray(self.rates_dps, dtype=float)
+        if r.ndim != 1 or r.size < 3 or not np.all(np.isfinite(r)):
+            raise ValueError(
+                "Config.rates_dps must hold at least 3 finite rates [deg/s]; "
+                f"got {self.rates_dps!r}"
+            )
+        d = np.diff(r)
+        if not (np.all(d > 0) or np.all(d < 0)):
+            raise ValueError(
+                "Config.rates_dps must be strictly monotonic without duplicates [deg/s]; "
+                f"got {self.rates_dps!r}"
+            )
+        for name, unit in (("average_s", "s"), ("fs_hz", "Hz"), ("dense_step_dps", "deg/s")):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
+        for name in ("settle_s", "ambient_spread_c", "piecewise_alpha"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ValueError(f"Config.{name} must be finite and >= 0; got {v!r}")
+        if not (isinstance(self.ambient_c, (int, float)) and math.isfinite(self.ambient_c)):
+            raise ValueError(f"Config.ambient_c must be finite [degC]; got {self.ambient_c!r}")
+        if int(round(self.average_s * self.fs_hz)) < 1:
+            raise ValueError(
+                "Config.average_s must cover at least one sample at fs_hz; "
+                f"got {self.average_s!r} s at {self.fs_hz!r} Hz"
+            )
+        for name, lo in (
+            ("n_fit_runs", 1),
+            ("n_heldout_runs", 1),
+            ("poly_degree", 0),
+            ("hidden_units", 1),
+            ("mlp_epochs", 1),
+            ("timing_repeats", 1),
+        ):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                raise ValueError(f"Config.{name} must be an integer >= {lo}; got {v!r}")
+        if len(self.orders) != 3 or any(
+            isinstance(o, bool) or not isinstance(o, int) or o < 0 for o in self.orders
+        ):
+            raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
+        if not 0 < self.join_width < 0.5:
+            raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")

@@ -1,0 +1,326 @@
+"""One paper-001 unit through the whole pipeline: :func:`experiment` -> :class:`~.results.UnitResult`.
+
+Methods (paper section 4): the heuristic breakpoint search (Table 2, run unchanged:
+:func:`gyrobench.analysis.scale_factor.breakpoint_search`; where it splits is a result), the
+piecewise 9-1-9 polynomial with cubic Hermite joins, the two-stage 9th-order polynomial and a
+Bayesian-regularized BP network with 10 hidden units (Table 3: 0.14 %, 0.59 %, 0.45 %).
+
+Each method is fitted on the pooled per-rate means of the unit's ``n_fit_runs`` runs and
+scored by the IEEE K_n of the compensated table against the table rates
+
+* at the 21 table rates of the held-out run(s) (claims), and of the fitting runs (in-sample,
+  the paper's own scoring, reported);
+* on a dense held-out sweep: the noise-free static output of each held-out power-on (its
+  turn-on errors at its die temperature, no quantization) every ``dense_step_dps`` over the
+  table's range (claims), so K_n also sees the model error between the table rates.
+
+:func:`compensation_task` hands the same runs to ``gyrobench bench``. No formatting here.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from gyrobench.analysis.scale_factor import (
+    breakpoint_search,
+    fit_scale_factor,
+    range_nonlinearity,
+    repeatability_floor,
+)
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun
+from gyrobench.sim import units
+from numpy.typing import NDArray
+
+from . import NAME
+from .config import PAPER_ORDER, Config
+from .device import device_spec, rate_authority_dps, static_output
+from .rate_table import dense_rates, run_means, simulate_runs, trace
+from .results import DeviceSummary, Join, MethodScore, MlpFit, RawAnalysis, UnitResult
+
+__all__ = [
+    "compensation_task",
+    "experiment",
+    "nonlinearity_scorer",
+    "quantities",
+    "raw_analysis",
+    "score_method",
+]
+
+
+def nonlinearity_scorer(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
+    """K_n [%] of the compensated table against the table rates (IEEE), and the RMS error."""
+    fit = fit_scale_factor(run.truth, np.asarray(compensated, dtype=float))
+    err = np.asarray(compensated, dtype=float) - run.truth
+    return {"nonlinearity_pct": fit.nonlinearity_pct, "rms_dps": float(np.sqrt(np.mean(err**2)))}
+
+
+def _estimators(config: Config, seed: int) -> dict[str, Any]:
+    from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
+    from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
+
+    return {
+        "piecewise": PiecewisePolynomial(
+            orders=tuple(config.orders), join_width=config.join_width, alpha=config.piecewise_alpha
+        ),
+        "two_stage_poly": TwoStagePolynomial(
+            degree=config.poly_degree, second_degree=config.poly_degree
+        ),
+        "bayes_bp": BayesianRegularizedMLP(
+            hidden_units=config.hidden_units, epochs=config.mlp_epochs, random_state=seed
+        ),
+    }
+
+
+def compensation_task(config: Config, seed: int) -> CompensationTask:
+    """Features = per-rate mean outputs [deg/s] of the fitting runs, target = table rate [deg/s]."""
+    rates = np.asarray(config.rates_dps, dtype=float)
+    means = [run_means(config, run) for run in simulate_runs(config, seed)]
+    fit = means[: config.n_fit_runs]
+    held = tuple(
+        HeldOutRun(label=f"heldout{i}", X=m[:, None], output=m, truth=rates.copy())
+        for i, m in enumerate(means[config.n_fit_runs :])
+    )
+    return CompensationTask(
+        scenario=NAME,
+        feature_names=("output_dps",),
+        X_train=np.concatenate(fit)[:, None],
+        y_train=np.tile(rates, len(fit)),
+        heldout=held,
+        target="rate",
+        unit="deg/s",
+        scorer=nonlinearity_scorer,
+    )
+
+
+def _mean_kn(rates: NDArray[np.float64], tables: Any) -> float:
+    """Mean K_n [%] of compensated rate tables against the table rates."""
+    return float(np.mean([fit_scale_factor(rates, c).nonlinearity_pct for c in tables]))
+
+
+def _floor_kn(rates: NDArray[np.float64], fit_means: NDArray[np.float64], outputs: NDArray[np.float64]) -> float:
+    """Mean K_n [%] of ``outputs`` (one table per row) compensated by repeatability_floor.
+
+    NaN when the fitting runs' mean outputs do not increase strictly with rate (a saturated
+    device's flat plateau): no curve through them can be inverted there.
+    """
+    xm = np.asarray(fit_means, dtype=float).mean(axis=0)
+    if np.any(np.diff(xm[np.argsort(rates)]) <= 0):
+        return math.nan
+    return _mean_kn(rates, [repeatability_floor(rates, fit_means, o) for o in outputs])
+
+
+def raw_analysis(
+    rates: NDArray[np.float64], fit_means: NDArray[np.float64], held_means: NDArray[np.float64]
+) -> RawAnalysis:
+    """Table 1 (mean of the fitting runs), raw K_n, the heuristic search (Table 2), low-rate K_n."""
+    table1 = fit_means.mean(axis=0)
+    fit1 = fit_scale_factor(rates, table1)
+    search = breakpoint_search(rates, table1)
+    low_kn = math.nan
+    if search.negative is not None and search.positive is not None:
+        low_kn = range_nonlinearity(rates, table1, search.negative, search.positive)
+    per_run = tuple(fit_scale_factor(rates, m).nonlinearity_pct for m in fit_means)
+    std = fit_means.std(axis=0, ddof=1) if len(fit_means) > 1 else np.zeros_like(rates)
+    return RawAnalysis(
+        table1_dps=table1,
+        run_std_dps=std,
+        pointwise_pct=100.0 * fit1.pointwise,
+        scale_factor=fit1.scale_factor,
+        bias_dps=fit1.bias,
+        raw_kn_pct_per_run=per_run,
+        raw_kn_pct=float(np.mean(per_run)),
+        raw_kn_pct_heldout=_mean_kn(rates, held_means),
+        low_rate_kn=low_kn,
+        breakpoints_dps=tuple(search.breakpoints),
+        search_trace=search.trace,
+    )
+
+
+def _fit_methods(
+    config: Config, seed: int, rates: NDArray[np.float64], fit_means: NDArray[np.float64]
+) -> tuple[dict[str, Any], dict[str, float], dict[str, str]]:
+    """The three compensators fitted on the pooled fitting runs, and their fit times [ms].
+
+    A method that cannot be fitted on this unit's data (ValueError: e.g. a 9th-order piecewise
+    segment beyond a breakpoint where the saturated plateau leaves fewer than 10 distinct
+    outputs) is None, its error message in the third item.
+    """
+    X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
+    models: dict[str, Any] = _estimators(config, seed)
+    fit_ms: dict[str, float] = {}
+    errors: dict[str, str] = {}
+    for key, est in models.items():
+        t0 = time.perf_counter()
+        try:
+            est.fit(X, y)
+        except ValueError as exc:
+            models[key], errors[key] = None, str(exc)
+        fit_ms[key] = 1e3 * (time.perf_counter() - t0)
+    return models, fit_ms, errors
+
+
+def score_method(
+    est: Any,
+    rates: NDArray[np.float64],
+    fit_means: NDArray[np.float64],
+    held_means: NDArray[np.float64],
+    dense_rates_dps: NDArray[np.float64],
+    dense_outputs: NDArray[np.float64],
+) -> MethodScore:
+    """K_n [%] of one fitted compensator: in-sample, held-out table rates, dense held-out sweep.
+
+    ``est`` None (the method could not be fitted): every number NaN (untestable).
+    """
+    if est is None:
+        nan = math.nan
+        return MethodScore(
+            kn_fit_pct=nan, kn_heldout_pct=nan, rms_heldout_pct=nan, kn_dense_pct=nan,
+            compensated_heldout_dps=np.full(rates.size, nan),
+            pointwise_heldout_pct=np.full(rates.size, nan),
+            dense_error_dps=np.full(dense_rates_dps.size, nan),
+        )
+    held = [est.predict(m[:, None]) for m in held_means]
+    hfits = [fit_scale_factor(rates, c) for c in held]
+    dense = [est.predict(d[:, None]) for d in dense_outputs]
+    return MethodScore(
+        kn_fit_pct=_mean_kn(rates, [est.predict(m[:, None]) for m in fit_means]),
+        kn_heldout_pct=float(np.mean([f.nonlinearity_pct for f in hfits])),
+        rms_heldout_pct=float(np.mean([100 * np.sqrt(np.mean(f.pointwise**2)) for f in hfits])),
+        kn_dense_pct=_mean_kn(dense_rates_dps, dense),
+        compensated_heldout_dps=held[0],
+        pointwise_heldout_pct=100.0 * hfits[0].pointwise,
+        dense_error_dps=dense[0] - dense_rates_dps,
+    )
+
+
+def _continuity(model: Any, fit_means: NDArray[np.float64], rates: NDArray[np.float64]) -> tuple[Join, ...]:
+    """Curves of the piecewise fit around each breakpoint, with and without the Hermite join."""
+    X, y = fit_means.reshape(-1), np.tile(rates, len(fit_means))
+    out = []
+    for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_, strict=True)):
+        h = model.half_join_
+        xs = np.linspace(b - 4 * h, b + 4 * h, 200)
+        m = np.abs(X - b) < 4 * h
+        out.append(
+            Join(
+                breakpoint=float(b),
+                rate_dps=float(br),
+                half_join=float(h),
+                x=xs,
+                left=model.segments_[k].predict(xs[:, None]),
+                right=model.segments_[k + 1].predict(xs[:, None]),
+                joined=model.predict(xs[:, None]),
+                data_x=X[m],
+                data_y=y[m],
+            )
+        )
+    return tuple(out)
+
+
+def _eval_times_ms(models: Mapping[str, Any], x: NDArray[np.float64], repeats: int) -> dict[str, float]:
+    """Median wall time [ms] of each model compensating the 21-point table ``x`` (this machine)."""
+    out = {}
+    for key, est in models.items():
+        if est is None:
+            out[key] = math.nan
+            continue
+        est.predict(x)  # warm caches
+        ts = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            est.predict(x)
+            ts.append(time.perf_counter() - t0)
+        out[key] = 1e3 * float(np.median(ts))
+    return out
+
+
+def _before(order: Sequence[str], kn: Mapping[str, float]) -> bool:
+    """Whether the K_n values are strictly increasing in ``order`` (best first)."""
+    return all(kn[a] < kn[b] for a, b in zip(order[:-1], order[1:], strict=True))
+
+
+def _flag(values: Mapping[str, float], holds: bool) -> float | None:
+    """A ranking as 1.0 / 0.0, or None (untestable) when a method has no value (not fitted)."""
+    if any(not math.isfinite(v) for v in values.values()):
+        return None
+    return float(holds)
+
+
+def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str, float | None]:
+    """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0."""
+    held = {k: m.kn_heldout_pct for k, m in methods.items()}
+    dense = {k: m.kn_dense_pct for k, m in methods.items()}
+    rms = {k: m.rms_heldout_pct for k, m in methods.items()}
+    others = [k for k in methods if k != "piecewise"]
+    q: dict[str, float | None] = {
+        "raw_kn_pct": raw.raw_kn_pct,
+        "breakpoints_at_1800": float(raw.breakpoints_dps == (-1800.0, 1800.0)),
+        "low_rate_kn": raw.low_rate_kn,
+    }
+    for key in methods:
+        q[f"kn_heldout_pct.{key}"] = held[key]
+        q[f"improvement.{key}"] = raw.raw_kn_pct_heldout / held[key]
+    q["order_as_paper"] = _flag(held, _before(PAPER_ORDER, held))
+    q["piecewise_best"] = _flag(held, all(held["piecewise"] < held[k] for k in others))
+    q["bayes_bp_beats_two_stage"] = _flag(held, held["bayes_bp"] < held["two_stage_poly"])
+    q["piecewise_smallest_rms"] = _flag(rms, all(rms["piecewise"] < rms[k] for k in others))
+    for key in methods:
+        q[f"kn_dense_pct.{key}"] = dense[key]
+    q["order_as_paper_dense"] = _flag(dense, _before(PAPER_ORDER, dense))
+    return q
+
+
+def experiment(config: Config, seed: int) -> UnitResult:
+    """One unit: its rate-table runs, raw K_n and breakpoints, the three methods fitted and scored.
+
+    Returns the unit's ``quantities`` (one number per claim, see ``claims.CLAIMS``) and
+    what the report draws: Table 1 and the breakpoint search of the fitting runs,
+    per method the in-sample, held-out and dense-sweep K_n [%] and curves, the
+    repeatability floor, the unit's rate authority, a 1 Hz trace of fitting run 0.
+    Deterministic in (config, seed) except ``timing_ms`` and ``fit_time_ms`` (wall times).
+    """
+    runs = simulate_runs(config, seed)
+    rates = np.asarray(config.rates_dps, dtype=float)
+    nf = config.n_fit_runs
+    means = np.array([run_means(config, run) for run in runs])
+    fit_means, held_means = means[:nf], means[nf:]
+    raw = raw_analysis(rates, fit_means, held_means)
+    dense = dense_rates(config)
+    dense_out = np.array([static_output(r.unit, dense, r.temperature) for r in runs[nf:]])
+    models, fit_ms, fit_errors = _fit_methods(config, seed, rates, fit_means)
+    pw, bp = models["piecewise"], models["bayes_bp"]
+    methods = {
+        k: score_method(est, rates, fit_means, held_means, dense, dense_out)
+        for k, est in models.items()
+    }
+    nom = device_spec(config).nominal
+    return UnitResult(
+        seed=seed,
+        variant=config.variant,
+        quantities=quantities(raw, methods),
+        rates_dps=rates,
+        fit_means_dps=fit_means,
+        held_means_dps=held_means,
+        raw=raw,
+        raw_kn_dense_pct=_mean_kn(dense, dense_out),
+        dense_rates_dps=dense,
+        methods=methods,
+        floor_pct=_floor_kn(rates, fit_means, held_means),
+        floor_fit_pct=_floor_kn(rates, fit_means, fit_means),
+        device=DeviceSummary(
+            dac_full_scale_v=float(nom.dac_full_scale),
+            scale_factor_repeatability_ppm=float(units.to_ppm(nom.scale_factor_repeatability)),
+            rate_authority_dps=rate_authority_dps(runs[0].unit),
+        ),
+        piecewise_orders=() if pw is None else tuple(pw.orders_),
+        continuity=() if pw is None else _continuity(pw, fit_means, rates),
+        mlp=None if bp is None else MlpFit(gamma=bp.gamma_, epochs_run=bp.n_iter_),
+        fit_errors=fit_errors,
+        trace=trace(config, runs[0]),
+        timing_ms=_eval_times_ms(models, held_means[0][:, None], config.timing_repeats),
+        fit_time_ms=fit_ms,
+    )

@@ -1,0 +1,171 @@
+"""Paper 001's rate-table runs: the simulated power-ons, their dwell means, records and memory.
+
+Protocol (paper section 3): after warm-up the table steps through 21 rates, +3600 -> -3600
+deg/s in 360 deg/s steps; the output is sampled at 200 Hz and averaged over 1-2 min of each
+settled dwell (here 60 s after 0.5 s settling). A unit is ``n_fit_runs`` runs the
+compensators are fitted on, then ``n_heldout_runs`` further power-ons they never see. Each
+run's dwells are independent columns of one slow-flow call (the rebalance loop settles in
+ms, so a dwell's mean does not depend on the previous rate).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from gyrobench.analysis.scale_factor import dwell_means
+from gyrobench.sim import mems_resonator as mr
+from gyrobench.sim import units
+from gyrobench.sim.mems_resonator import MemsResonator
+from gyrobench.sim.recording import Channel, Recording, package_version
+from numpy.typing import NDArray
+
+from . import NAME
+from .config import Config
+from .device import device_spec, draw_unit, rate_authority_dps
+from .results import Trace
+
+__all__ = [
+    "Run",
+    "dense_rates",
+    "run_means",
+    "memory_estimate",
+    "rate_means",
+    "simulate",
+    "simulate_runs",
+    "trace",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class Run:
+    """One rate-table run: the power-on, its die temperature [K], the output (n, k) [rad/s]."""
+
+    unit: MemsResonator
+    temperature: float
+    output: NDArray[np.float64]
+
+
+def simulate_runs(config: Config, seed: int) -> list[Run]:
+    """Unit ``seed``'s runs: realize the unit, then per run its ambient, power-on and noise.
+
+    The unit comes from the first child stream of ``numpy.random.default_rng(seed)``; each
+    run has its own child of the second (ambient temperature, power-on, noise).
+    """
+    unit = draw_unit(device_spec(config), seed)
+    _, r_runs = np.random.default_rng(seed).spawn(2)
+    w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
+    n = int(round(config.settle_s * config.fs_hz)) + int(round(config.average_s * config.fs_hz))
+    col = np.broadcast_to(w, (n, w.size))
+    out = []
+    for rr in r_runs.spawn(config.n_fit_runs + config.n_heldout_runs):
+        r_amb, r_on, r_sim = rr.spawn(3)
+        temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
+        on = unit.power_on(rng=r_on)
+        res = mr.simulate(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
+        out.append(Run(on, float(temp), res.output))
+    return out
+
+
+def run_means(config: Config, run: Run) -> NDArray[np.float64]:
+    """Mean output over each settled dwell [deg/s] (the paper's per-rate measured output)."""
+    n_settle = int(round(config.settle_s * config.fs_hz))
+    return units.to_deg_per_s(run.output[n_settle:].mean(axis=0))
+
+
+def dense_rates(config: Config) -> NDArray[np.float64]:
+    """The dense sweep's rates [deg/s]: every ``dense_step_dps`` across the table's span."""
+    lo, hi = min(config.rates_dps), max(config.rates_dps)
+    return np.arange(lo, hi + 0.5 * config.dense_step_dps, config.dense_step_dps)
+
+
+def trace(config: Config, run: Run) -> Trace:
+    """A 1 Hz trace of a run (dwells in table order) for the report's figure."""
+    n, k = run.output.shape
+    step = max(1, int(round(config.fs_hz)))
+    y = run.output.T.reshape(-1)[::step]
+    table = np.repeat(np.asarray(config.rates_dps, dtype=float), n)[::step]
+    return Trace(
+        time_s=np.arange(y.size) * step / config.fs_hz,
+        table_dps=table,
+        output_dps=units.to_deg_per_s(y),
+    )
+
+
+def _recording(config: Config, run: Run, *, index: int, role: str, seed: int) -> Recording:
+    """A run as a record: the dwells one after another in table order."""
+    n, k = run.output.shape
+    rate = np.repeat(units.deg_per_s(np.asarray(config.rates_dps, dtype=float)), n)
+    n_settle = int(round(config.settle_s * config.fs_hz))
+    windows = [[j * n + n_settle, (j + 1) * n] for j in range(k)]
+    return Recording(
+        fs=config.fs_hz,
+        channels={
+            "rate": Channel(run.output.T.reshape(-1), "rad/s", "gyro output"),
+            "table_rate": Channel(rate, "rad/s", "rate-table rate"),
+            "temperature": Channel(np.full(n * k, run.temperature), "K", "die temperature"),
+        },
+        truth={"true_rate": Channel(rate.copy(), "rad/s", "table rate (truth)")},
+        metadata={
+            "scenario": NAME,
+            "seed": seed,
+            "run": index,
+            "role": role,
+            "variant": config.variant,
+            "rates_dps": list(config.rates_dps),
+            "windows_samples": windows,
+            "die_temperature_c": float(units.to_celsius(run.temperature)),
+            "turn_on_bias_dps": float(units.to_deg_per_s(run.unit.turn_on_bias)),
+            "scale_factor_error_ppm": float(units.to_ppm(run.unit.turn_on_scale_factor)),
+            "rate_authority_dps": rate_authority_dps(run.unit),
+            "version": package_version(),
+        },
+        name=f"{role}_run{index}",
+    )
+
+
+def simulate(config: Config, seed: int) -> list[Recording]:
+    """Unit ``seed``'s runs as records: the ``n_fit_runs`` fitting runs then the held-out runs.
+
+    The unit is drawn from the first child stream of ``numpy.random.default_rng(seed)``; each
+    run has its own child of the second (ambient temperature, power-on, noise).
+    """
+    return [
+        _recording(
+            config, run, index=i, role="fit" if i < config.n_fit_runs else "heldout", seed=seed
+        )
+        for i, run in enumerate(simulate_runs(config, seed))
+    ]
+
+
+def rate_means(rec: Recording) -> NDArray[np.float64]:
+    """Mean output over each settled window of a record [deg/s] (``analysis.scale_factor.dwell_means``)."""
+    return dwell_means(units.to_deg_per_s(rec["rate"]), rec.metadata["windows_samples"])
+
+
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's experiment or :func:`simulate` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``n_run = (settle_s +
+    average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
+    ``sim.mems_resonator.simulate``), ``N = n_run (n_fit_runs + n_heldout_runs)`` in all, and
+    ``n_dense = 200 (span(rates_dps) / dense_step_dps + 1)`` in one dense-sweep call
+    (:func:`~.device.static_output`, 200 samples per rate)::
+
+        bytes = 1.1 x (48 N + 376 max(n_run, n_dense) + 40e6)
+
+    48 B = 6 float64 series held per sample of every run (outputs, recordings' channels),
+    376 B = 47 float64 working series of the slow-flow call running, 40 MB the rest (fits,
+    figure data); 1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py): 160 MB at the default (N = 1.0e6), 514 MB at
+    average_s = 240 (N = 4.0e6), 314 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
+    1.0 GB at dense_step_dps = 0.5 (n_dense = 2.9e6); the formula is 1.2-1.4 x these.
+    Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
+    """
+    n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
+    n_run *= len(config.rates_dps)
+    span = float(max(config.rates_dps)) - float(min(config.rates_dps))
+    n_dense = 200.0 * (span / config.dense_step_dps + 1.0)
+    n_all = n_run * (config.n_fit_runs + config.n_heldout_runs)
+    return 1.1 * (48.0 * n_all + 376.0 * max(n_run, n_dense) + 40e6)

@@ -27,8 +27,36 @@ Comparators (written once per claim, chosen from the paper's wording)
 Verdicts
 --------
 "holds for most units" only when the Wilson interval's lower end is above 50 %;
-"fails for most units" when its upper end is below 50 %; otherwise "undecided".
-A calibrated claim is reported with its verdict but never counted as reproduced.
+"fails for most units" when its upper end is below 50 %; otherwise "undecided". A verdict
+whose interval ends within :data:`PROVISIONAL_MARGIN` (5 percentage points) of 50 % is
+**provisional**: a unit or two more could flip it. A calibrated claim is reported with its
+verdict but never counted as reproduced.
+
+Roles, preconditions and the control
+------------------------------------
+Every claim has a ``role``:
+
+``device``
+    what the paper reports about its device under test (raw nonlinearity, drift level, the
+    vibration-phase rise): what the simulation's device is matched to, shown as "device
+    matched" or not, never counted as reproduced;
+``method``
+    what the paper's method achieves on that device: the paper's contribution, the claims
+    that count;
+``extension``
+    ours (dense sweeps, scoring against the truth): tallied apart.
+
+A method (or extension) claim may state a :class:`Precondition`, as data: the per-unit
+condition under which it can be judged ("the vibration bias exceeds 3 sigma of the
+scatter"). A unit without it counts as ``precondition_absent``, not as a fail; a claim whose
+precondition is absent on most units is "not reproducible on this device".
+
+A paper scenario also runs a **control population**: the same seeds with the paper's effect
+switched off. Each claim is judged on the control too (without its precondition: the point
+is what the analysis gives when there is nothing to find); a method claim that holds on the
+units while its control pass-rate interval overlaps the units' is an **identity of the
+analysis**, flagged and not counted as reproduced. :attr:`ClaimResult.status` gives the
+final word.
 """
 
 from __future__ import annotations
@@ -41,14 +69,21 @@ from typing import Any, Literal
 import numpy as np
 
 __all__ = [
+    "PROVISIONAL_MARGIN",
+    "ROLES",
+    "STATUSES",
     "Claim",
     "ClaimResult",
     "Comparator",
+    "ClaimTally",
+    "ControlResult",
     "Deviation",
+    "Precondition",
     "above",
     "below",
     "evaluate",
     "finite_median",
+    "tally",
     "in_range",
     "is_true",
     "verdict",
@@ -58,6 +93,25 @@ __all__ = [
 
 #: z for a two-sided 95 % interval
 _Z95 = 1.959963984540054
+
+#: a verdict whose 95 % interval ends within this of 50 % is provisional
+PROVISIONAL_MARGIN = 0.05
+
+#: a claim's role (see the module docstring)
+ROLES = ("device", "method", "extension")
+Role = Literal["device", "method", "extension"]
+
+#: the final word on a judged claim (:attr:`ClaimResult.status`)
+STATUSES = (
+    "device matched",
+    "device not matched",
+    "reproduced",
+    "contradicted",
+    "identity of the analysis",
+    "not reproducible on this device",
+    "undecided",
+    "not testable",
+)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -77,6 +131,15 @@ class Comparator:
         if self.kind == "below":
             return bool(q < self.hi)
         return bool(self.lo <= q <= self.hi)
+
+    def miss(self, q: float) -> str | None:
+        """For a finite ``q`` the comparator rejects: ``"below"`` or ``"above"`` its band
+        (``"false"`` for a yes/no claim); None when it holds."""
+        if self.holds(q):
+            return None
+        if self.kind == "is_true":
+            return "false"
+        return "below" if q < self.lo or (self.kind == "above" and q <= self.lo) else "above"
 
     def text(self, unit: str = "") -> str:
         """One phrase, e.g. ``"within 2x of 15.71 % (7.855 to 31.42)"``."""
@@ -126,6 +189,29 @@ def is_true() -> Comparator:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class Precondition:
+    """The per-unit condition under which a claim can be judged: "the unit shows the effect".
+
+    Parameters
+    ----------
+    text : str
+        The condition in words, e.g. ``"the vibration bias exceeds 3 sigma of the 10-s scatter"``.
+    quantity : str
+        Key of the unit's ``quantities`` the comparator reads (e.g. the bias-to-scatter ratio).
+    comparator : Comparator
+        Present when the comparator holds on the unit's (finite) value.
+    """
+
+    text: str
+    quantity: str
+    comparator: Comparator
+
+    def present(self, q: float | None) -> bool:
+        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not)."""
+        return q is not None and self.comparator.holds(q)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Claim:
     """One checkable statement of a paper.
 
@@ -153,6 +239,10 @@ class Claim:
         Field unit of the quantity and of ``paper_value`` (``"%"``, ``"deg/h"``, ``"x"``...).
     calibrated_input : str, optional
         For a calibrated claim: the input and how it was set.
+    role : "device", "method" or "extension"
+        See the module docstring. Default ``"method"``.
+    precondition : Precondition, optional
+        For a method or extension claim: when a unit can judge it.
     """
 
     id: str
@@ -165,8 +255,16 @@ class Claim:
     paper_value: float | None = None
     unit: str = ""
     calibrated_input: str | None = None
+    role: Role = "method"
+    precondition: Precondition | None = None
 
     def __post_init__(self) -> None:
+        if self.role not in ROLES:
+            raise ValueError(f"claim {self.id!r}: role must be one of {ROLES}; got {self.role!r}")
+        if self.role == "device" and self.precondition is not None:
+            raise ValueError(
+                f"claim {self.id!r}: a device claim states what the device shows; it takes no precondition"
+            )
         if self.kind not in ("calibrated", "emergent"):
             raise ValueError(f"claim {self.id!r}: kind must be 'calibrated' or 'emergent'; got {self.kind!r}")
         if (self.kind == "calibrated") != bool(self.calibrated_input):
@@ -189,8 +287,39 @@ class Deviation:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class ControlResult:
+    """A claim judged on the control units (the paper's effect switched off; no precondition)."""
+
+    units: int
+    testable: int
+    holds: int
+
+    @property
+    def pass_rate(self) -> float | None:
+        return self.holds / self.testable if self.testable else None
+
+    @property
+    def interval95(self) -> tuple[float, float] | None:
+        return wilson_interval(self.holds, self.testable) if self.testable else None
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "units": self.units,
+            "testable": self.testable,
+            "holds": self.holds,
+            "pass_rate": self.pass_rate,
+            "interval95": list(self.interval95) if self.interval95 else None,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class ClaimResult:
-    """A claim judged over units (the results.json ``claims`` entry, see :meth:`as_dict`)."""
+    """A claim judged over units (the results.json ``claims`` entry, see :meth:`as_dict`).
+
+    ``precondition_absent`` units lacked the claim's precondition (they are not in
+    ``testable``); ``misses_below`` / ``misses_above`` count the testable units whose quantity
+    fell below / above the comparator's band; ``control`` is the claim on the control units.
+    """
 
     claim: Claim
     units: int
@@ -198,6 +327,10 @@ class ClaimResult:
     holds: int
     median: float | None
     spread: tuple[float, float] | None
+    precondition_absent: int = 0
+    misses_below: int = 0
+    misses_above: int = 0
+    control: ControlResult | None = None
 
     @property
     def pass_rate(self) -> float | None:
@@ -214,8 +347,56 @@ class ClaimResult:
         """``"holds for most units"``, ``"fails for most units"``, ``"undecided"``, ``"not testable"``."""
         return verdict(self.holds, self.testable)
 
+    @property
+    def provisional(self) -> bool:
+        """A holds/fails verdict whose interval ends within :data:`PROVISIONAL_MARGIN` of 50 %."""
+        iv = self.interval95
+        if iv is None:
+            return False
+        v = self.verdict
+        return (v == "holds for most units" and iv[0] < 0.5 + PROVISIONAL_MARGIN) or (
+            v == "fails for most units" and iv[1] > 0.5 - PROVISIONAL_MARGIN
+        )
+
+    @property
+    def identity(self) -> bool:
+        """Holds on the units and about as often on the control (overlapping 95 % intervals)."""
+        if self.verdict != "holds for most units" or self.control is None or not self.control.testable:
+            return False
+        lo, hi = self.interval95 or (0.0, 1.0)
+        clo, chi = self.control.interval95 or (0.0, 1.0)
+        return clo <= hi and lo <= chi
+
+    @property
+    def precondition_mostly_absent(self) -> bool:
+        """The claim's precondition is absent on more than half the units."""
+        return self.claim.precondition is not None and 2 * self.precondition_absent > self.units
+
+    @property
+    def status(self) -> str:
+        """The final word (one of :data:`STATUSES`), by role; see the module docstring."""
+        v = self.verdict
+        if self.claim.role == "device":
+            return {"holds for most units": "device matched", "fails for most units": "device not matched"}.get(v, v)
+        if self.precondition_mostly_absent:
+            return "not reproducible on this device"
+        if self.identity:
+            return "identity of the analysis"
+        return {"holds for most units": "reproduced", "fails for most units": "contradicted"}.get(v, v)
+
+    @property
+    def miss_direction(self) -> str | None:
+        """``"below"`` / ``"above"`` the band where most misses fall, ``"both"``; None without misses."""
+        if not (self.misses_below or self.misses_above):
+            return None
+        if self.misses_below and self.misses_above:
+            return "below" if self.misses_below > 2 * self.misses_above else (
+                "above" if self.misses_above > 2 * self.misses_below else "both")
+        return "below" if self.misses_below else "above"
+
     def as_dict(self) -> dict[str, Any]:
         c = self.claim
+        pre = c.precondition
         return {
             "id": c.id,
             "paper": c.paper,
@@ -234,6 +415,15 @@ class ClaimResult:
             "median": self.median,
             "spread": list(self.spread) if self.spread else None,
             "verdict": self.verdict,
+            "role": c.role,
+            "status": self.status,
+            "provisional": self.provisional,
+            "precondition": None if pre is None else {
+                "text": pre.text, "quantity": pre.quantity, "comparator": pre.comparator.text()},
+            "precondition_absent": self.precondition_absent,
+            "misses": {"below": self.misses_below, "above": self.misses_above, "direction": self.miss_direction},
+            "identity": self.identity,
+            "control": None if self.control is None else self.control.as_dict(),
         }
 
 
@@ -297,27 +487,114 @@ def finite_median(values: Iterable[Any]) -> float:
     return float(np.median(v)) if v else math.nan
 
 
-def evaluate(claims: Sequence[Claim], units: Sequence[Mapping[str, Any]]) -> list[ClaimResult]:
-    """Judge every claim over the units' ``quantities`` mappings.
+def evaluate(
+    claims: Sequence[Claim],
+    units: Sequence[Mapping[str, Any]],
+    control: Sequence[Mapping[str, Any]] | None = None,
+) -> list[ClaimResult]:
+    """Judge every claim over the units' ``quantities`` mappings (and over the control's).
 
-    A unit whose quantity is missing, None or non-finite cannot test that claim; a
-    quantity that is not a number raises TypeError (a bug in the experiment). The
-    spread is the interquartile range (25th and 75th percentiles) of the testable units'
-    quantities.
+    A unit whose quantity is missing, None or non-finite cannot test that claim; a unit
+    that lacks the claim's precondition is counted in ``precondition_absent`` and cannot
+    test it either. A quantity that is not a number raises TypeError (a bug in the
+    experiment). The spread is the interquartile range (25th and 75th percentiles) of the
+    testable units' quantities. ``control`` (the same seeds with the paper's effect switched
+    off) is judged without the precondition.
     """
     out = []
     for c in claims:
-        values = [v for u in units if (v := _finite(u.get(c.quantity), c.id)) is not None]
-        k = sum(c.comparator.holds(v) for v in values)
+        values, absent = [], 0
+        for u in units:
+            v = _finite(u.get(c.quantity), c.id)
+            if c.precondition is not None and not c.precondition.present(
+                _finite(u.get(c.precondition.quantity), c.id)
+            ):
+                absent += 1
+                continue
+            if v is not None:
+                values.append(v)
+        misses = [m for v in values if (m := c.comparator.miss(v)) is not None]
         arr = np.asarray(values, float)
         out.append(
             ClaimResult(
                 claim=c,
                 units=len(units),
                 testable=len(values),
-                holds=int(k),
+                holds=len(values) - len(misses),
                 median=float(np.median(arr)) if values else None,
                 spread=(float(np.percentile(arr, 25)), float(np.percentile(arr, 75))) if values else None,
+                precondition_absent=absent,
+                misses_below=misses.count("below"),
+                misses_above=misses.count("above"),
+                control=None if control is None else _judge_control(c, control),
             )
         )
     return out
+
+
+def _judge_control(c: Claim, control: Sequence[Mapping[str, Any]]) -> ControlResult:
+    values = [v for u in control if (v := _finite(u.get(c.quantity), c.id)) is not None]
+    return ControlResult(units=len(control), testable=len(values), holds=sum(c.comparator.holds(v) for v in values))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ClaimTally:
+    """A paper's judged claims counted by role and status (the report's first screen).
+
+    Method claims: ``reproduced`` counts only emergent ones (a calibrated claim holds by
+    construction and is counted in ``calibrated``); the other statuses count every method
+    claim. Extensions (ours) are counted apart.
+    """
+
+    device: int = 0
+    device_matched: int = 0
+    method: int = 0
+    reproduced: int = 0
+    contradicted: int = 0
+    not_reproducible: int = 0
+    identity: int = 0
+    undecided: int = 0
+    not_testable: int = 0
+    calibrated: int = 0
+    extension: int = 0
+    extension_reproduced: int = 0
+
+    def __add__(self, other: ClaimTally) -> ClaimTally:
+        from dataclasses import fields
+
+        return ClaimTally(**{f.name: getattr(self, f.name) + getattr(other, f.name) for f in fields(self)})
+
+
+_METHOD_FIELD = {
+    "contradicted": "contradicted",
+    "not reproducible on this device": "not_reproducible",
+    "identity of the analysis": "identity",
+    "undecided": "undecided",
+    "not testable": "not_testable",
+}
+
+
+def tally(results: Sequence[ClaimResult]) -> ClaimTally:
+    """Count judged claims by role and :attr:`ClaimResult.status`."""
+    n: dict[str, int] = {}
+
+    def add(key: str) -> None:
+        n[key] = n.get(key, 0) + 1
+
+    for r in results:
+        role, status = r.claim.role, r.status
+        if role == "device":
+            add("device")
+            if status == "device matched":
+                add("device_matched")
+        elif role == "extension":
+            add("extension")
+            if status == "reproduced":
+                add("extension_reproduced")
+        else:
+            add("method")
+            if status == "reproduced":
+                add("calibrated" if r.claim.kind == "calibrated" else "reproduced")
+            else:
+                add(_METHOD_FIELD[status])
+    return ClaimTally(**n)

@@ -403,7 +403,7 @@ def _cmd_reproduce(args) -> int:
     from gyrobench.scenarios import registry, units
     from gyrobench.scenarios.bench_cli import _executor
     from gyrobench.scenarios.outputs import check_output, write_report_as_a_set
-    from gyrobench.scenarios.report import claim_counts
+    from gyrobench.scenarios.report import claim_tally, tally_text
     from tqdm import tqdm
 
     names = registry.available() if args.all else list(args.scenarios)
@@ -455,9 +455,7 @@ def _cmd_reproduce(args) -> int:
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")
     for o in outcomes:
         if o.claims:
-            n = claim_counts(o.claims)
-            what = (f"{o.units} unit(s); emergent claims: {n['holds']} hold, {n['fails']} FAIL, "
-                    f"{n['undecided']} undecided, {n['not testable']} not testable; {n['calibrated']} calibrated")
+            what = f"{o.units} unit(s); {tally_text(claim_tally(o.claims))}"
         else:
             held = sum(1 for h in o.headlines if h.holds is True)
             what = f"{held}/{sum(1 for h in o.headlines if h.holds is not None)} testable headline conclusions hold"

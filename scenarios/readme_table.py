@@ -78,28 +78,65 @@ def _row(c: dict[str, Any]) -> str:
         holds = f"{c['holds']}/{c['testable']} ({100 * lo:.0f}-{100 * hi:.0f} %)"
     else:
         holds = f"0/0 of {c['units']}"
-    verdict = c["verdict"]
-    if c["kind"] == "calibrated":
-        kind, verdict = "*calibrated*", f"*{verdict}* (calibrated, not counted)"
-    else:
-        kind = "emergent"
-        verdict = (
-            f"**{verdict}**"
-            if verdict in ("holds for most units", "fails for most units")
-            else verdict
-        )
+    status = c.get("status", c["verdict"])
+    if c["kind"] == "calibrated" and c.get("role", "method") == "method" and status == "reproduced":
+        status = "*calibrated, not counted*"
+    elif status in ("reproduced", "contradicted", "device matched", "device not matched", "identity of the analysis"):
+        status = f"**{status}**"
+    notes = []
+    if c.get("provisional"):
+        notes.append("provisional")
+    direction = (c.get("misses") or {}).get("direction")
+    if c.get("status") in ("contradicted", "device not matched") and direction:
+        notes.append(f"misses {direction}")
+    if c.get("precondition_absent"):
+        notes.append(f"{c['precondition_absent']} unit(s) lack the precondition")
+    control = c.get("control")
+    if control:
+        notes.append(f"control {control['holds']}/{control['testable']}")
+    if notes:
+        status += f" ({'; '.join(notes)})"
+    role = c.get("role", "method") + (" (calibrated)" if c["kind"] == "calibrated" else "")
     cells = [
         _paper(c["paper"]),
         c["where"],
         c["statement"],
-        kind,
+        role,
         paper_value,
         c["comparator"],
         ours,
         holds,
-        verdict,
+        status,
     ]
     return "| " + " | ".join(s.replace("|", "\\|") for s in cells) + " |"
+
+
+def _tally_row(doc: dict[str, Any]) -> str:
+    """One paper's claims counted by role and status (from its results.json claims)."""
+    claims = doc["claims"]
+
+    def count(role: str, *statuses: str, kind: str | None = None) -> int:
+        return sum(
+            c.get("role", "method") == role and c.get("status") in statuses and (kind is None or c["kind"] == kind)
+            for c in claims
+        )
+
+    device = sum(c.get("role") == "device" for c in claims)
+    ext = sum(c.get("role") == "extension" for c in claims)
+    cells = [
+        _paper(doc["claims"][0]["paper"]) if claims else doc.get("scenario", ""),
+        str(doc.get("units", "")),
+        f"{count('device', 'device matched')} / {device}",
+        str(count("method", "reproduced", kind="emergent")),
+        str(count("method", "contradicted")),
+        str(count("method", "not reproducible on this device")),
+        str(count("method", "identity of the analysis")),
+        str(count("method", "undecided")),
+        str(count("method", "not testable")),
+        str(count("method", "reproduced", kind="calibrated")),
+        f"{count('extension', 'reproduced')} / {ext}",
+    ]
+    return "| " + " | ".join(cells) + " |"
 
 
 def format_table(docs: Sequence[dict[str, Any]]) -> str:
@@ -109,33 +146,25 @@ def format_table(docs: Sequence[dict[str, Any]]) -> str:
     if papers:
         n = sorted({d["units"] for d in papers})
         lines += [
-            f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) "
-            "per paper "
-            '(each unit its own noise and drawn parameters). "holds on" is k/n with the 95 % '
-            "Wilson "
-            "interval of the pass rate; a verdict needs that interval entirely above (holds) or "
-            "below "
-            "(fails) 50 %. Calibrated claims (an input was set from the paper's number, or the "
-            "claim holds by the model's construction) are shown but "
-            "not counted as reproduced.",
+            f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) per paper "
+            "(each unit its own noise and drawn parameters). Device claims are what the simulated device "
+            "was matched to; method claims are what the paper's method achieves on it, judged only on units "
+            "that show the effect, and against a control (the same seeds with the effect switched off): a claim "
+            "that holds there about as often is an identity of the analysis, not a finding. \"holds on\" is k/n "
+            "with the 95 % Wilson interval of the pass rate; a verdict needs that interval entirely above or below "
+            "50 %, and is provisional within 5 points of it. Calibrated claims are shown but not counted.",
             "",
-            "| paper | where | claim | kind | paper | criterion | ours: median [IQR] | holds on "
-            "| verdict |",
-            "|---|---|---|---|---|---|---|---|---|",
+            "| paper | units | device matched | method: reproduced | contradicted | not reproducible on this "
+            "device | identity | undecided | not testable | calibrated | extensions: hold / all |",
+            "|---|---|---|---|---|---|---|---|---|---|---|",
         ]
-        claims = [c for d in papers for c in d["claims"]]
-        lines += [_row(c) for c in claims]
-        emergent = [c for c in claims if c["kind"] == "emergent"]
-        tally = {
-            v: sum(c["verdict"] == v for c in emergent)
-            for v in ("holds for most units", "fails for most units", "undecided", "not testable")
-        }
+        lines += [_tally_row(d) for d in papers]
         lines += [
             "",
-            f"Emergent claims: {tally['holds for most units']} hold for most units, "
-            f"{tally['fails for most units']} fail for most units, {tally['undecided']} undecided, "
-            f"{tally['not testable']} not testable; {len(claims) - len(emergent)} calibrated.",
+            "| paper | where | claim | role | paper | criterion | ours: median [IQR] | holds on | status |",
+            "|---|---|---|---|---|---|---|---|---|",
         ]
+        lines += [_row(c) for d in papers for c in d["claims"]]
     checks = [c for d in docs for c in d.get("checks", [])]
     if checks:
         failed = [c["id"] for c in checks if not c["passed"]]

@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
 from gyrobench.sim.recording import atomic_path, package_version  # noqa: E402
 
-__all__ = ["claim_counts", "fmt", "outcome_json", "tally_table", "write_report"]
+__all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "tally_text", "write_report"]
 
 
 def fmt(x: Any) -> str:
@@ -149,9 +149,9 @@ def _summary_rows(outcomes: Sequence[Outcome]) -> list[list[str]]:
 
 _SUMMARY_COLUMNS = ["scenario", "quantity", "reproduced", "paper / target", "conclusion holds", "note"]
 
-#: the claims table of a paper, in the summary and in the scenario's section
-_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "kind", "paper", "criterion",
-                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "verdict"]
+#: the claims table of a paper, in the scenario's section
+_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "role", "paper", "criterion",
+                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control", "status"]
 
 
 def _paper_heading(outcome: Outcome) -> str:
@@ -174,45 +174,72 @@ def _num(x: float | None, unit: str = "") -> str:
     return f"{fmt(float(x))}{' ' + unit if unit else ''}"
 
 
+def status_text(r: Any) -> str:
+    """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
+    status = r.status
+    word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
+                                        "identity of the analysis") else status
+    if r.claim.kind == "calibrated" and r.claim.role == "method" and status == "reproduced":
+        word = "CALIBRATED (not counted)"
+    notes = []
+    if r.provisional:
+        notes.append("provisional")
+    if status in ("contradicted", "device not matched") and r.miss_direction:
+        notes.append(f"misses {r.miss_direction}")
+    if status == "not reproducible on this device":
+        notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    return word + (f" ({'; '.join(notes)})" if notes else "")
+
+
 def _claim_row(r: Any) -> list[str]:
     """One claims-table row from a :class:`~gyrobench.scenarios.claims.ClaimResult`."""
     c = r.claim
-    kind = "CALIBRATED (not counted)" if c.kind == "calibrated" else "emergent"
+    role = c.role + (" (calibrated)" if c.kind == "calibrated" else "")
     ours = "n/a" if r.median is None else f"{_num(r.median, c.unit)} [{fmt(r.spread[0])}, {fmt(r.spread[1])}]"
     if r.testable:
         lo, hi = r.interval95
         rate = f"{100 * r.pass_rate:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] %"
     else:
         rate = "n/a"
-    verdict = r.verdict.upper() if r.verdict != "undecided" else r.verdict
-    return [c.id, c.where, c.statement, kind, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
-            f"{r.holds} / {r.testable}", rate, verdict]
+    counts = f"{r.holds} / {r.testable}" + (f" ({r.precondition_absent} lack the precondition)"
+                                            if r.precondition_absent else "")
+    control = "-" if r.control is None else f"{r.control.holds} / {r.control.testable}"
+    return [c.id, c.where, c.statement, role, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
+            counts, rate, control, status_text(r)]
 
 
-def claim_counts(claims: Sequence[Any]) -> dict[str, int]:
-    """How many emergent claims hold / fail / are undecided / untestable, and how many are calibrated."""
-    out = {"holds": 0, "fails": 0, "undecided": 0, "not testable": 0, "calibrated": 0}
-    for r in claims:
-        if r.claim.kind == "calibrated":
-            out["calibrated"] += 1
-        else:
-            out[{"holds for most units": "holds", "fails for most units": "fails"}.get(r.verdict, r.verdict)] += 1
-    return out
+def claim_tally(claims: Sequence[Any]) -> Any:
+    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims."""
+    from gyrobench.scenarios.claims import tally
+
+    return tally(claims)
+
+
+def tally_text(n: Any) -> str:
+    """One line: device matched, method claims by status, extensions."""
+    dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
+    ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
+    return (
+        f"{dev}method claims: {n.reproduced} reproduced, {n.contradicted} CONTRADICTED, "
+        f"{n.not_reproducible} not reproducible on this device, {n.identity} identities of the analysis, "
+        f"{n.undecided} undecided, {n.not_testable} not testable, {n.calibrated} calibrated (not counted){ext}"
+    )
 
 
 def _claims_table(o: Outcome) -> Table:
-    n = claim_counts(o.claims)
     if o.units > 1:
         over = (f"Judged over {o.units} units (seeds {o.seed} to {o.seed + o.units - 1}; each unit has its own "
                 "noise and drawn parameters).")
     else:
         over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
     note = (
-        f"{over} Emergent claims: "
-        f"{n['holds']} hold for most units, {n['fails']} FAIL for most units, {n['undecided']} undecided, "
-        f"{n['not testable']} not testable. {n['calibrated']} calibrated claim(s) (an input was set from the "
-        "paper's number or chosen so the claim holds) are shown but not counted as reproduced. A verdict needs "
-        "the 95 % Wilson interval of the pass rate entirely above (holds) or below (fails) 50 %."
+        f"{over} {tally_text(claim_tally(o.claims))}. A verdict needs the 95 % Wilson interval of the pass rate "
+        "entirely above (holds) or below (fails) 50 %; it is provisional when the interval ends within 5 points "
+        "of 50 %. Device claims are what the simulated device was matched to; method claims are the paper's "
+        "results on it, judged only on units that show the effect (the precondition); 'control' is the same "
+        "claim on the same seeds with the paper's effect switched off, and a claim holding there about as "
+        "often is an identity of the analysis, not a finding. A calibrated claim (an input was set from the "
+        "paper's number) is not counted as reproduced."
     )
     return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
 
@@ -228,11 +255,14 @@ def _deviations_table(o: Outcome) -> Table:
 
 
 def _mark_verdicts(text: str) -> str:
-    """Colour the verdict cells of an HTML claims table (failures as prominent as successes)."""
-    for word, cls in (("HOLDS FOR MOST UNITS", "yes"), ("FAILS FOR MOST UNITS", "no"),
+    """Colour the status cells of an HTML claims table (failures as prominent as successes)."""
+    import re
+
+    for word, cls in (("REPRODUCED", "yes"), ("DEVICE MATCHED", "yes"), ("CONTRADICTED", "no"),
+                      ("DEVICE NOT MATCHED", "no"), ("IDENTITY OF THE ANALYSIS", "cal"),
                       ("CALIBRATED (not counted)", "cal")):
-        for cell in (f"<td>{word}</td>", f"<td class='txt'>{word}</td>"):
-            text = text.replace(cell, f"<td class='{cls}'>{word}</td>")
+        text = re.sub(rf"<td(?: class='txt')?>({re.escape(word)}(?: \([^<]*\))?)</td>", rf"<td class='{cls}'>\1</td>",
+                      text)
     return text
 
 _CSS = """
@@ -274,27 +304,23 @@ _LOAD_CHECK = (
 
 
 def tally_table(outcomes: Sequence[Outcome]) -> Table:
-    """The verdicts of every paper scenario in one table (the report's first screen)."""
-    cols = ["scenario", "paper", "units", "emergent: hold", "FAIL", "undecided", "not testable",
-            "calibrated (not counted)"]
+    """The status of every paper's claims in one table (the report's first screen)."""
+    cols = ["scenario", "paper", "units", "device matched", "method: reproduced", "CONTRADICTED",
+            "not reproducible on this device", "identity of the analysis", "undecided", "not testable",
+            "calibrated (not counted)", "extensions: hold / all"]
     rows: list[list[Any]] = []
-    total = dict.fromkeys(("holds", "fails", "undecided", "not testable", "calibrated"), 0)
     for o in outcomes:
         if not (o.claims or o.deviations):
             continue
-        n = claim_counts(o.claims)
-        for k in total:
-            total[k] += n[k]
+        n = claim_tally(o.claims)
         papers = ", ".join(sorted({c.claim.paper for c in o.claims})) or "-"
-        rows.append([o.scenario, papers, o.units, n["holds"], n["fails"], n["undecided"], n["not testable"],
-                     n["calibrated"]])
-    if len(rows) > 1:
-        rows.append(["all papers", "", "", total["holds"], total["fails"], total["undecided"],
-                     total["not testable"], total["calibrated"]])
+        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}", n.reproduced, n.contradicted,
+                     n.not_reproducible, n.identity, n.undecided, n.not_testable, n.calibrated,
+                     f"{n.extension_reproduced} / {n.extension}"])
     return Table(
-        "Verdicts at a glance", cols, rows,
-        note="A verdict needs the 95 % Wilson interval of a claim's pass rate over the units entirely above "
-        "(holds) or below (fails) 50 %; each paper's section gives every claim with its interval.",
+        "Claims at a glance", cols, rows,
+        note="Per paper: how many device claims the simulated device matches, and the paper's method claims by "
+        "status. Each paper's section gives every claim with its interval, precondition and control.",
     )
 
 

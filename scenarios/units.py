@@ -6,7 +6,9 @@ seed)`` (one unit through the whole pipeline, no formatting), ``CLAIMS``,
 
     seeds = range(seed, seed + n_units)
     units = [module.experiment(config, s) for s in seeds]   # on the bench's executor, resumable
-    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in units])
+    control = [module.experiment(module.control_config(config), s) for s in seeds]  # when it has one
+    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in units],
+                      [quantities_of(u) for u in control])
     outcome = module.report(config, units, claims)
     outcome.claims, outcome.deviations, outcome.units = claims, list(module.DEVIATIONS), n
 
@@ -388,7 +390,14 @@ def run_paper(
         db=db,
         progress=progress,
     )
-    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in run.results])
+    control = _run_control(
+        module, config, seed=seed, n_units=n_units, executor=executor, workers=workers, db=db, progress=progress
+    )
+    claims = evaluate(
+        module_claims(module, config),
+        [quantities_of(u) for u in run.results],
+        None if control is None else [quantities_of(u) for u in control.results],
+    )
     outcome = module.report(config, list(run.results), claims)
     if not isinstance(outcome, Outcome):
         raise TypeError(
@@ -407,7 +416,25 @@ def run_paper(
         "unit_runtime_s": list(run.elapsed_s),
         "run_id": run.run_id,
     }
+    if control is not None:
+        outcome.results["control_run"] = {
+            "n": n_units,
+            "seeds": list(control.seeds),
+            "computed": control.computed,
+            "reused": control.reused,
+            "unit_runtime_s": list(control.elapsed_s),
+            "run_id": control.run_id,
+        }
     return outcome
+
+
+def _run_control(module: types.ModuleType, config: Any, **kw: Any) -> UnitRun | None:
+    """The control population: the same seeds under ``module.control_config(config)`` (the paper's
+    effect switched off), on the same executor and store; None for a scenario without a control."""
+    make = getattr(module, "control_config", None)
+    if not callable(make):
+        return None
+    return run_units(module, make(config), **kw)
 
 
 def default_db(out_dir: str | os.PathLike) -> Path:

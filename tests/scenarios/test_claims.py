@@ -10,11 +10,13 @@ import pytest
 from gyrobench.scenarios import claims as cl
 from gyrobench.scenarios.claims import (
     Claim,
+    Precondition,
     above,
     below,
     evaluate,
     in_range,
     is_true,
+    tally,
     within_factor,
 )
 
@@ -241,3 +243,88 @@ def test_finite_median_skips_untestable_units():
 
     assert finite_median([3.0, None, float("nan"), 1.0, float("inf"), 2.0]) == 2.0
     assert math.isnan(finite_median([None, float("nan")]))
+
+
+# ---------------------------------------------------------------------------- roles, preconditions, control
+def _units(values, key="q"):
+    return [{key: float(v)} for v in values]
+
+
+def test_precondition_absent_units_are_not_fails():
+    pre = Precondition(text="the unit shows the effect", quantity="effect", comparator=above(3.0))
+    c = Claim(id="x.m", paper="001", where="s", statement="t", kind="emergent", quantity="q",
+              comparator=above(1.0), precondition=pre)
+    units = [{"q": 2.0, "effect": 5.0}, {"q": 0.0, "effect": 5.0}, {"q": 0.0, "effect": 1.0},
+             {"q": 2.0, "effect": None}]
+    (r,) = evaluate([c], units)
+    assert (r.units, r.testable, r.holds, r.precondition_absent) == (4, 2, 1, 2)
+    assert not r.precondition_mostly_absent  # 2 of 4 is not most
+    (r,) = evaluate([c], units + [{"q": 2.0, "effect": 0.0}])
+    assert r.precondition_mostly_absent and r.status == "not reproducible on this device"
+
+
+def test_control_overlap_makes_an_identity_and_separation_a_finding():
+    c = Claim(id="x.i", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true())
+    units = _units([1.0] * 20)
+    (same,) = evaluate([c], units, _units([1.0] * 17 + [0.0] * 3))
+    assert same.verdict == "holds for most units" and same.identity and same.status == "identity of the analysis"
+    (apart,) = evaluate([c], units, _units([0.0] * 20))
+    assert not apart.identity and apart.status == "reproduced"
+    # without a control nothing is flagged
+    (alone,) = evaluate([c], units)
+    assert alone.control is None and alone.status == "reproduced"
+
+
+def test_the_control_ignores_the_precondition():
+    pre = Precondition(text="effect", quantity="e", comparator=above(0.5))
+    c = Claim(id="x.p", paper="001", where="s", statement="t", kind="emergent", quantity="q",
+              comparator=is_true(), precondition=pre)
+    (r,) = evaluate([c], [{"q": 1.0, "e": 1.0}] * 10, [{"q": 1.0, "e": 0.0}] * 10)
+    assert r.control.testable == 10 and r.control.holds == 10 and r.identity
+
+
+def test_provisional_verdicts_end_within_five_points_of_half():
+    c = _claim()
+    for k, n, provisional in ((15, 20, True), (17, 20, False), (2, 20, False), (5, 20, True)):
+        (r,) = evaluate([c], _units([2.0] * k + [0.0] * (n - k)))
+        lo, hi = r.interval95
+        assert r.provisional is provisional, (k, n, lo, hi)
+        assert r.verdict != "undecided"
+
+
+def test_misses_say_which_way():
+    c = Claim(id="x.f", paper="001", where="s", statement="t", kind="emergent", quantity="q",
+              comparator=within_factor(10.0, 2.0))
+    (r,) = evaluate([c], _units([1.0, 2.0, 30.0, 10.0]))
+    assert (r.misses_below, r.misses_above, r.miss_direction) == (2, 1, "both")
+    (r,) = evaluate([c], _units([1.0, 2.0, 3.0, 30.0]))
+    assert r.miss_direction == "below"
+    assert above(1.0).miss(1.0) == "below" and below(1.0).miss(1.0) == "above" and is_true().miss(0.0) == "false"
+
+
+def test_device_claims_are_matched_not_reproduced_and_take_no_precondition():
+    c = Claim(id="x.d", paper="001", where="s", statement="t", kind="calibrated", calibrated_input="set",
+              quantity="q", comparator=above(0.0), role="device")
+    (r,) = evaluate([c], _units([1.0] * 10))
+    assert r.status == "device matched"
+    n = tally([r])
+    assert (n.device, n.device_matched, n.method, n.reproduced) == (1, 1, 0, 0)
+    with pytest.raises(ValueError, match="device claim .* takes no precondition"):
+        Claim(id="x.d", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true(),
+              role="device", precondition=Precondition(text="p", quantity="q", comparator=is_true()))
+    with pytest.raises(ValueError, match="role must be one of"):
+        Claim(id="x.d", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true(),
+              role="finding")  # type: ignore[arg-type]
+
+
+def test_tally_counts_each_status_once():
+    mk = lambda i, role="method", kind="emergent": Claim(  # noqa: E731
+        id=f"x.{i}", paper="001", where="s", statement="t", kind=kind, quantity="q", comparator=above(0.0),
+        role=role, calibrated_input="set" if kind == "calibrated" else None)
+    claims = [mk(0), mk(1, kind="calibrated"), mk(2, role="extension"), mk(3)]
+    units = _units([1.0] * 10)
+    res = evaluate(claims[:3], units) + evaluate(claims[3:], _units([-1.0] * 10))
+    n = tally(res)
+    assert (n.method, n.reproduced, n.calibrated, n.contradicted, n.extension, n.extension_reproduced) == (
+        3, 1, 1, 1, 1, 1)
+    assert tally(res) + tally(res) == tally(res + res)

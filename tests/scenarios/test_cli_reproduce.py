@@ -47,9 +47,9 @@ def test_reproduce_paper_scenario_over_units(toy_registered, tmp_path, capsys):
     assert [c[0] for c in claims] == ["toy.gain", "toy.residual", "toy.sane", "toy.even"]
     assert claims[2][1:3] == (8, 8)  # toy.sane holds on every unit
     assert (tmp_path / "a.units.sqlite").is_file()  # the default resume store, beside the report
-    assert "8 unit(s); emergent claims:" in out and "1 calibrated" in out
+    assert "8 unit(s); method claims:" in out and "CONTRADICTED" in out
     md = (tmp_path / "a" / "report.md").read_text()
-    assert "CALIBRATED (not counted)" in md and "Deviations from the paper's protocol" in md
+    assert "method (calibrated)" in md and "Deviations from the paper's protocol" in md
     # two workers: the same claims, bit for bit
     code, _, err = run(
         [
@@ -77,11 +77,12 @@ def test_reproduce_resumes_from_the_db(toy_registered, tmp_path, capsys, monkeyp
     db = tmp_path / "store.sqlite"
     argv = ["reproduce", "toy_paper", "--units", "4", "--workers", "0", "--db", db, "-q"]
     assert run([*argv, "--out", tmp_path / "a"], capsys)[0] == 0
-    assert Counter(map(int, log.read_text().split())) == Counter(range(4))
+    twice = 2  # each seed runs as a unit and as its control
+    assert Counter(map(int, log.read_text().split())) == Counter(list(range(4)) * twice)
     assert run([*argv[:3], "6", *argv[4:], "--out", tmp_path / "b"], capsys)[0] == 0
     assert Counter(map(int, log.read_text().split())) == Counter(
-        range(6)
-    )  # only units 4 and 5 added
+        list(range(6)) * twice
+    )  # only units 4 and 5 (and their controls) added
     assert not (tmp_path / "a" / "units.sqlite").exists()
 
 

@@ -21,16 +21,21 @@ def report(tmp_path, monkeypatch):
 def test_table_rows_are_the_claims(report, capsys):
     assert readme_table.main([str(report)]) == 0
     text = capsys.readouterr().out
-    rows = [r for r in text.splitlines() if r.startswith("| toy |")]
-    assert len(rows) == 4  # one per claim
     import json
 
     claims = json.loads((report / "toy_paper" / "results.json").read_text())["claims"]
+    tally, *rows = [r for r in text.splitlines() if r.startswith("| toy |")]
+    assert len(rows) == 4  # one per claim, after the paper's tally row
     for row, c in zip(rows, claims, strict=True):
-        assert c["statement"] in row and f"{c['holds']}/{c['testable']}" in row
-    assert "*calibrated*" in rows[1] and "(calibrated, not counted)" in rows[1]
+        assert c["statement"] in row and f"{c['holds']}/{c['testable']}" in row and c["status"] in row.lower()
+    assert "| method (calibrated) |" in rows[1]
     assert f"| {claims[3]['holds']}/3 (" in rows[3]  # the even-only claim: 3 of 6 units test it
-    assert "Emergent claims:" in text and "1 calibrated." in text
+    def n(status, kind=None):
+        return sum(c["status"] == status and kind in (None, c["kind"]) for c in claims)
+
+    assert tally == (f"| toy | 6 | 0 / 0 | {n('reproduced', 'emergent')} | {n('contradicted')} | 0 "
+                     f"| {n('identity of the analysis')} "
+                     f"| {n('undecided')} | 0 | {n('reproduced', 'calibrated')} | 0 / 0 |")
 
 
 def test_splice_replaces_only_the_marked_section(report, tmp_path):

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
-from gyrobench.scenarios.claims import Claim, Deviation, above, evaluate, is_true, within_factor
-from gyrobench.scenarios.report import claim_counts, fmt, write_report
+from gyrobench.scenarios.claims import Claim, Deviation, Precondition, above, evaluate, is_true, within_factor
+from gyrobench.scenarios.report import claim_tally, fmt, write_report
 from matplotlib.figure import Figure
 
 
@@ -140,58 +140,74 @@ def _paper_outcome():
     claims = (
         Claim(id="p.a", paper="001", where="Table 2", statement="K_n is about 15.71 %.", kind="calibrated",
               calibrated_input="knee width solved for 15.71 %", quantity="a", comparator=within_factor(15.71),
-              paper_value=15.71, unit="%"),
+              paper_value=15.71, unit="%", role="device"),
         Claim(id="p.b", paper="001", where="Sec. 4", statement="The residual drops by more than 10x.",
               kind="emergent", quantity="b", comparator=above(10.0), paper_value=10.0, unit="x"),
         Claim(id="p.c", paper="001", where="Sec. 5", statement="The fit converges in every run.",
               kind="emergent", quantity="c", comparator=is_true()),
+        Claim(id="p.d", paper="001", where="Sec. 5", statement="The method finds the knee.",
+              kind="emergent", quantity="c", comparator=is_true(),
+              precondition=Precondition(text="the unit has a knee", quantity="knee", comparator=above(0.5))),
+        Claim(id="p.e", paper="001", where="Sec. 6", statement="The split keeps Q.", kind="emergent",
+              quantity="c", comparator=is_true()),
     )
-    units = [{"a": 15.0 + i, "b": 2.0 + i % 3, "c": 1.0} for i in range(20)]
+    units = [{"a": 15.0 + i, "b": 2.0 + i % 3, "c": 1.0, "knee": float(i < 3)} for i in range(20)]
+    control = [{"a": 1.0, "b": 1.0, "c": float(i % 4 != 0), "knee": 0.0} for i in range(20)]
     o = _outcome("paper")
     o.headlines = []
-    o.claims = evaluate(claims, units)
+    o.claims = evaluate(claims, units, control)
     o.deviations = [Deviation(paper="001", what="target", paper_says="output - mean", we_do="output - truth",
                               reason="none", effect="ratio 426x -> 18x on unit 0")]
     o.units = 20
     return o
 
 
-def test_paper_claims_in_summary_and_results_json(tmp_path, monkeypatch):
+def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     from gyrobench.scenarios import papers
 
     monkeypatch.setattr(papers, "PAPERS", {})  # a paper without an entry is named by its key
     o = _paper_outcome()
-    assert claim_counts(o.claims) == {"holds": 1, "fails": 1, "undecided": 0, "not testable": 0, "calibrated": 1}
+    n = claim_tally(o.claims)
+    # p.a device matched; p.b contradicted; p.c and p.e hold on the control too (15/20): identities;
+    # p.d lacks its precondition on 17 of 20 units
+    assert (n.device, n.device_matched, n.method, n.reproduced, n.contradicted, n.identity, n.not_reproducible) == (
+        1, 1, 4, 0, 1, 2, 1)
     index = write_report([o, _outcome("beta")], tmp_path)
     doc = json.loads((tmp_path / "paper" / "results.json").read_text())
-    assert doc["units"] == 20 and [c["id"] for c in doc["claims"]] == ["p.a", "p.b", "p.c"]
+    assert doc["units"] == 20 and [c["id"] for c in doc["claims"]] == ["p.a", "p.b", "p.c", "p.d", "p.e"]
     need = {"id", "paper", "where", "statement", "kind", "calibrated_input", "paper_value", "comparator",
-            "units", "testable", "holds", "pass_rate", "interval95", "median", "spread"}
+            "units", "testable", "holds", "pass_rate", "interval95", "median", "spread", "role", "status",
+            "precondition", "precondition_absent", "control", "misses", "provisional", "identity"}
     assert all(need <= set(c) for c in doc["claims"])
-    assert doc["claims"][1]["holds"] == 0 and doc["claims"][1]["interval95"][1] < 0.5
+    b = doc["claims"][1]
+    assert b["holds"] == 0 and b["interval95"][1] < 0.5 and b["status"] == "contradicted"
+    assert b["misses"] == {"below": 20, "above": 0, "direction": "below"}
+    assert doc["claims"][2]["control"]["holds"] == 15 and doc["claims"][2]["status"] == "identity of the analysis"
+    assert doc["claims"][3]["precondition_absent"] == 17
+    assert doc["claims"][3]["precondition"]["text"] == "the unit has a knee"
     assert doc["deviations"][0]["effect"] == "ratio 426x -> 18x on unit 0"
     beta = json.loads((tmp_path / "beta" / "results.json").read_text())
     assert "claims" not in beta  # a scenario without claims keeps its old document
     md = (tmp_path / "report.md").read_text()
     summary = md.split("## Summary", 1)[1].split("\n## paper title", 1)[0]
-    # the summary tallies the verdicts; the claims table stands once, in the paper's own section
-    assert "**Verdicts at a glance**" in summary
-    assert "| paper | 001 | 20 | 1 | 1 | 0 | 0 | 1 |" in summary
+    # the summary tallies the claims; the claims table stands once, in the paper's own section
+    assert "**Claims at a glance**" in summary
+    assert "| paper | 001 | 20 | 1 / 1 | 0 | 1 | 1 | 2 | 0 | 0 | 0 | 0 / 0 |" in summary
     assert "| p.a |" not in summary
     section = md.split("\n## paper title", 1)[1]
-    # every claim in the section: calibrated marked and not counted, the failure as prominent as the success
-    assert "| p.a | Table 2 | K_n is about 15.71 %. | CALIBRATED (not counted) | 15.71 % |" in section
-    assert "| p.b |" in section and "| 0 / 20 |" in section and "FAILS FOR MOST UNITS" in section
-    assert "| p.c |" in section and "| 20 / 20 | 100 % [84, 100] % | HOLDS FOR MOST UNITS |" in section
-    assert "1 hold for most units, 1 FAIL for most units" in section
-    assert "1 calibrated claim(s)" in section and "not counted as reproduced" in section
+    assert "| p.a | Table 2 | K_n is about 15.71 %. | device (calibrated) | 15.71 % |" in section
+    assert "| p.b |" in section and "| 0 / 20 |" in section and "CONTRADICTED (misses below)" in section
+    assert "| p.c |" in section and "| 20 / 20 | 100 % [84, 100] % | 15 / 20 | IDENTITY OF THE ANALYSIS |" in section
+    assert "| 3 / 3 (17 lack the precondition) |" in section
+    assert "not reproducible on this device (absent on 17/20: the unit has a knee)" in section
     assert "Deviations from the paper's protocol" in section and "ratio 426x -> 18x on unit 0" in section
     assert "paper 001 (no entry in scenarios.papers)" in section
     assert md.count("| p.a | Table 2 |") == 1
     assert "seeds 3 to 22 (20 units)" in md
     html = index.read_text()
-    assert "<td class='no'>FAILS FOR MOST UNITS</td>" in html and "<td class='yes'>HOLDS FOR MOST UNITS</td>" in html
-    assert "<td class='cal'>CALIBRATED (not counted)</td>" in html
+    assert "<td class='no'>CONTRADICTED (misses below)</td>" in html
+    assert "<td class='yes'>DEVICE MATCHED</td>" in html
+    assert "<td class='cal'>IDENTITY OF THE ANALYSIS</td>" in html
     assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
 
 
@@ -203,10 +219,10 @@ def test_contents_links_resolve_and_the_tally_comes_first(tmp_path):
     ids = set(re.findall(r"id='([^']+)'", page))
     assert links and set(links) <= ids, set(links) - ids
     assert {"summary", "paper", "beta"} <= set(links)
-    tally = page[page.index("Verdicts at a glance"):page.index("Headline numbers")]
+    tally = page[page.index("Claims at a glance"):page.index("Headline numbers")]
     assert "<a href='#paper'>paper</a>" in tally
     # the tally precedes every scenario section, and the page holds each claims table once
-    assert page.index("Verdicts at a glance") < page.index("<h2 id='paper'>")
+    assert page.index("Claims at a glance") < page.index("<h2 id='paper'>")
     assert page.count("<h3>Claims of ") == 1
 
 

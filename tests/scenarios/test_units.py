@@ -134,6 +134,7 @@ def test_bit_identical_for_any_worker_count(tmp_path):
             toy, toy.Config(), seed=10, n_units=6, workers=w, db=tmp_path / f"w{w}.db"
         )
         timing = o.results.pop("unit_run")  # per-unit runtimes differ from run to run
+        o.results.pop("control_run")
         assert timing["seeds"] == list(range(10, 16)) and timing["computed"] == 6
         out[w] = pickle.dumps(([c.as_dict() for c in o.claims], o.results, o.tables))
     assert out[0] == out[1] == out[2]
@@ -147,7 +148,11 @@ def test_run_paper_fills_the_outcome(tmp_path):
     assert o.runtime_s > 0 and o.results["unit_run"]["seeds"] == list(range(2, 8))
     # the claims are exactly evaluate() over the units' quantities
     qs = [toy.experiment(toy.Config(), s)["quantities"] for s in range(2, 8)]
-    assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in evaluate(toy.CLAIMS, qs)]
+    # the control: the same seeds under control_config, judged beside the units
+    cqs = [toy.experiment(toy.control_config(toy.Config()), s)["quantities"] for s in range(2, 8)]
+    assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in evaluate(toy.CLAIMS, qs, cqs)]
+    assert o.results["control_run"]["seeds"] == list(range(2, 8))
+    assert o.results["control_run"]["run_id"] != o.results["unit_run"]["run_id"]
     by = {c.claim.id: c for c in o.claims}
     assert by["toy.even"].testable == 3  # seeds 2, 4, 6: None on odd seeds
     assert by["toy.sane"].holds == 6

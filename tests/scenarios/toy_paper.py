@@ -36,6 +36,13 @@ class Config:
     )
 
 
+def control_config(config: Config) -> Config:
+    """The control population: the same units with no measurement noise."""
+    import dataclasses
+
+    return dataclasses.replace(config, noise=0.0)
+
+
 def simulate(config: Config, seed: int) -> list:
     return []
 

@@ -276,14 +276,22 @@ class Claim:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Deviation:
-    """A departure from a protocol the paper states, with its reason and measured effect."""
+    """A departure from the protocol the paper states (or a choice where it states nothing).
+
+    ``variant`` names a config variant of the scenario (``variant_config(config, variant)``)
+    that runs the paper's protocol instead of ours; ``gyrobench reproduce --deviations`` runs
+    it over the units and the report prints the measured change of every claim's pass count.
+    ``effect`` is legacy free text; new deviations leave it empty so that no number in a
+    deviation is hand-written.
+    """
 
     paper: str
     what: str
     paper_says: str
     we_do: str
     reason: str
-    effect: str
+    effect: str = ""
+    variant: str | None = None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -39,7 +39,7 @@ _MEASURE = textwrap.dedent(
 
     out = []
     for name, func, over in json.loads(sys.argv[1]):
-        mod = importlib.import_module("gyrobench.scenarios." + name)
+        mod = registry.get(name)
         cfg = registry.override(mod.Config(), over) if over else mod.Config()
         est = mod.memory_estimate(cfg)
         sys.stdout.flush()
@@ -115,18 +115,19 @@ def test_estimates_bound_the_measured_peak_at_larger_configs():
 
 
 def _default_estimate(name: str) -> float:
-    import importlib
+    from gyrobench.scenarios import registry
 
-    mod = importlib.import_module(f"gyrobench.scenarios.{name}")
+    mod = registry.get(name)
     return float(mod.memory_estimate(mod.Config()))
 
 
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_estimate_grows_with_the_fields_it_names(name):
     import dataclasses
-    import importlib
 
-    mod = importlib.import_module(f"gyrobench.scenarios.{name}")
+    from gyrobench.scenarios import registry
+
+    mod = registry.get(name)
     base = mod.memory_estimate(mod.Config())
     assert 10e6 < base < 1e9  # default configs: tens to hundreds of MB (measured above)
     for over in LARGER[name]:

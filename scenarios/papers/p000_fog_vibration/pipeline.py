@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
 from gyrobench.analysis.metrics import segment_noise_fits
+from gyrobench.analysis.sweep import bin_means
 from gyrobench.analysis.wavelet import MultiscaleDecomposition
 from gyrobench.scenarios.allan_report import TERMS, coefficients_json
 from gyrobench.sim import units
@@ -86,33 +87,6 @@ def phase_table(
     return PhaseTable(phase1=fits["1"], phase2=fits["2"], phase3=fits["3"])
 
 
-def _bins(
-    f: NDArray[np.float64], y: NDArray[np.float64], lo: float, hi: float, width: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Means of f and y over frequency bins of ``width`` [Hz].
-
-    Empty bins are dropped; a bin holding fewer than half the median count (a partial bin
-    at the end of the data) is merged into its lower neighbour (the upper one for the first).
-    """
-    edges = np.arange(lo, hi + width, width)
-    idx = np.digitize(f, edges) - 1
-    ok = (idx >= 0) & (idx < len(edges) - 1)
-    cnt = np.bincount(idx[ok], minlength=len(edges) - 1)
-    sf = np.bincount(idx[ok], f[ok], minlength=len(edges) - 1)
-    sy = np.bincount(idx[ok], y[ok], minlength=len(edges) - 1)
-    keep = cnt > 0
-    cnt, sf, sy = cnt[keep].astype(float), sf[keep], sy[keep]
-    small = np.flatnonzero(cnt < 0.5 * np.median(cnt)) if cnt.size > 1 else np.array([], dtype=int)
-    for i in small[::-1]:  # from the top, so indices below stay valid
-        j = i - 1 if i > 0 else i + 1
-        cnt[j] += cnt[i]
-        sf[j] += sf[i]
-        sy[j] += sy[i]
-        cnt[i] = 0.0
-    keep = cnt > 0
-    return sf[keep] / cnt[keep], sy[keep] / cnt[keep]
-
-
 def _near_edges(on: np.ndarray, fs: float, width_s: float) -> np.ndarray:
     """True within ``width_s`` [s] of any switching edge of the boolean ``on``."""
     edges = np.flatnonzero(np.diff(on.astype(np.int8))) + 1
@@ -178,9 +152,7 @@ def fit_bias_models(
         max(config.sweep_start_hz, config.sweep_end_hz),
     )
     use = on & ~_near_edges(on, fs, config.train_edge_s)
-    fb, yb = _bins(
-        rec["shaker_frequency"][use], bias[use] - static_mean, lo, hi, config.bin_width_hz
-    )
+    fb, yb = bin_means(rec["shaker_frequency"][use], bias[use] - static_mean, lo=lo, hi=hi, width=config.bin_width_hz)
     rbf: Callable[[np.ndarray], np.ndarray]
     if config.rbf_centres == "random":
         net = RandomCentreRBF(

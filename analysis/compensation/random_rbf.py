@@ -7,7 +7,8 @@ is MATLAB ``newrb``'s radial-basis layer with a linear output layer:
 
 so a basis function falls to 0.5 at a distance ``spread`` from its centre (inputs are not
 scaled, as in ``newrb``: ``spread`` is in the units of the inputs). The centres are the
-training inputs taken in a random order; with the first k of them the output layer
+distinct training inputs taken in a random order (a repeated input, e.g. the many samples of
+a static phase, would only repeat a column); with the first k of them the output layer
 [b2, w] is the least-squares solution of [1, Phi_k] [b2; w] = y, and k is the smallest
 count whose training MSE is below ``goal`` (``newrb``'s stopping rule), else
 ``max_neurons``. MATLAB ``newrb``'s orthogonal-least-squares choice of centres is
@@ -55,8 +56,10 @@ class RandomCentreRBF(RegressorMixin, BaseEstimator):
         Mean-squared-error goal [target units^2]: the network stops growing at the first
         size whose training MSE is below it. Must be finite and >= 0.
     max_neurons : int or None, default None
-        Largest number of centres; None means n - 1 (with the constant column, n - 1
-        centres already interpolate n samples). Must be None or an integer >= 1.
+        Largest number of centres. The network never has more than m - 1 (m distinct
+        training inputs: with the constant column, m - 1 centres already interpolate them;
+        0 centres when every input is the same); None means that many. Must be None or an
+        integer >= 1.
     random_state : None, int or numpy.random.Generator, default None
         The random order of the centres: a Generator is used as given (its stream
         advances), an int seeds ``numpy.random.default_rng``, None draws fresh entropy.
@@ -64,7 +67,8 @@ class RandomCentreRBF(RegressorMixin, BaseEstimator):
     Attributes
     ----------
     centers_ : ndarray, shape (n_neurons, n_features)
-        The centres, training inputs in the drawn order.
+        The centres: distinct training inputs (rows of ``numpy.unique(X, axis=0)``) in the
+        drawn order.
     b_ : float
         Basis width parameter RADBAS_B / spread [1 / input units].
     weights_ : ndarray, shape (n_neurons,)
@@ -147,9 +151,11 @@ class RandomCentreRBF(RegressorMixin, BaseEstimator):
         n = X.shape[0]
         if n < 2:
             raise ValueError(f"RandomCentreRBF needs at least 2 samples; got n_samples = {n}")
-        k_max = n - 1 if self.max_neurons is None else max(1, min(int(self.max_neurons), n - 1))
+        distinct = np.unique(X, axis=0)  # a repeated input would give a repeated (dependent) column
+        k_cap = len(distinct) - 1  # with the constant column, m - 1 centres interpolate m distinct inputs
+        k_max = k_cap if self.max_neurons is None else min(int(self.max_neurons), k_cap)
         b = RADBAS_B / float(self.spread)
-        centres = X[self._rng().permutation(n)[:k_max]]
+        centres = distinct[self._rng().permutation(len(distinct))[:k_max]]
         design = np.column_stack([np.ones(n), _basis(X, centres, b)])
         q, r = qr(design, mode="economic")
         qy = q.T @ y
@@ -157,7 +163,10 @@ class RandomCentreRBF(RegressorMixin, BaseEstimator):
         mse = resid / n
         below_goal = np.flatnonzero(mse[1:] < self.goal)
         k = int(below_goal[0]) + 1 if below_goal.size else k_max
-        sol = solve_triangular(r[: k + 1, : k + 1], qy[: k + 1])
+        if np.all(np.diag(r)[: k + 1] != 0.0):
+            sol = solve_triangular(r[: k + 1, : k + 1], qy[: k + 1])
+        else:  # exactly dependent columns (e.g. the constant in the span): minimum-norm least squares
+            sol = np.linalg.lstsq(design[:, : k + 1], y, rcond=None)[0]
         self.centers_ = centres[:k].copy()
         self.b_ = b
         self.weights_ = np.asarray(sol[1:], dtype=float)

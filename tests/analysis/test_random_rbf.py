@@ -90,3 +90,20 @@ def test_bad_input_named():
         RandomCentreRBF(random_state="seed").fit(x, x[:, 0])
     with pytest.raises(ValueError, match=r"needs at least 2 samples; got n_samples = 1"):
         RandomCentreRBF().fit(x[:1], x[:1, 0])
+
+
+def test_repeated_inputs_fit_the_mean_of_each_input(rng):
+    """Five distinct inputs, each repeated ten times (as the static samples of a record): the centres are
+    distinct, and with goal 0 the m - 1 = 4 centres and the constant interpolate the five group means
+    (least squares on repeated rows), so the training MSE is the within-group mean square (closed form)."""
+    levels = np.arange(5.0)
+    x = np.repeat(levels, 10)
+    y = np.sin(x) + 0.1 * rng.standard_normal(x.size)
+    net = RandomCentreRBF(spread=1.0, random_state=rng).fit(x[:, None], y)
+    assert net.n_neurons_ == 4 and np.unique(net.centers_[:, 0]).size == 4
+    means = np.array([y[x == v].mean() for v in levels])
+    np.testing.assert_allclose(net.predict(levels[:, None]), means, rtol=0, atol=1e-9)
+    within = float(np.mean((y - np.repeat(means, 10)) ** 2))
+    assert net.mse_ == pytest.approx(within, rel=1e-9)
+    flat = RandomCentreRBF(random_state=0).fit(np.ones((6, 2)), np.arange(6.0))  # one distinct input
+    assert flat.n_neurons_ == 0 and flat.predict(np.zeros((2, 2))) == pytest.approx([2.5, 2.5])

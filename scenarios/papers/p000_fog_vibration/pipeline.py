@@ -121,6 +121,7 @@ def block_means(x: np.ndarray, k: int) -> np.ndarray:
     n = len(x) // k * k
     return x[:n].reshape(-1, k).mean(axis=1)
 
+
 @dataclass(frozen=True)
 class BiasModels:
     """The fitted bias-vs-frequency models and their training data (deg/h, Hz)."""

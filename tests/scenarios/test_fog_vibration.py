@@ -1,21 +1,33 @@
-"""Tests of scenarios.fog_vibration (paper 000): the scenario contract (claims, experiment, report), bad
-input, the RBF closed cases (randomly fixed centres and newrb), the bench task, and one full-size unit (slow)."""
+"""Tests of scenarios.papers.p000_fog_vibration (paper 000): claims, experiment, report from results alone,
+bad input, the newrb variant's closed case, the bench task, and one full-size unit (slow).
+
+What every paper must do (typed result, a quantity per claim, report built from results) is checked
+by tests/scenarios/test_paper_contract.py; the random-centre RBF network by
+tests/analysis/test_random_rbf.py."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
-import math
 import pickle
 from dataclasses import replace
 
 import numpy as np
 import pytest
 from gyrobench.analysis.compensation.rbf import RBFNetwork
-from gyrobench.scenarios import fog_vibration as sc
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import CompensationTask, Outcome
 from gyrobench.scenarios.claims import evaluate
+from gyrobench.scenarios.papers import p000_fog_vibration as sc
+from gyrobench.scenarios.papers.p000_fog_vibration.results import (
+    Coefficient,
+    UnitResult,
+    overlap,
+    shown_ratio,
+    value_ratio,
+)
 from gyrobench.sim import units
+from gyrobench.sim.fog_loop import ClosedLoopFOG
 
 SMALL = sc.Config(
     static_before_s=30.0, vibration_s=60.0, static_after_s=30.0, guard_s=2.0, edge_window_s=1.0
@@ -23,7 +35,7 @@ SMALL = sc.Config(
 
 
 @pytest.fixture(scope="module")
-def small_units() -> list[dict]:
+def small_units() -> list[UnitResult]:
     return [sc.experiment(SMALL, s) for s in (3, 4)]
 
 
@@ -31,23 +43,13 @@ def test_registered():
     assert registry.get("fog_vibration") is sc
 
 
-# ---------------------------------------------------------------- the scenario contract
-def test_module_shape():
-    assert sc.PAPER == "000"
-    assert "seed" not in sc.TITLE.lower()
-    assert not hasattr(sc, "run")
-    for name in ("experiment", "report", "simulate", "compensation_task"):
-        assert callable(getattr(sc, name))
-
-
-def test_claims_well_formed(small_units):
+# ---------------------------------------------------------------- claims, experiment, report
+def test_claims_cover_the_paper_and_every_quantity(small_units):
     ids = [c.id for c in sc.CLAIMS]
     assert len(ids) == len(set(ids))
-    produced = set(small_units[0]["quantities"])
-    for c in sc.CLAIMS:
-        assert c.paper == "000" and c.id.startswith("000.")
-        assert c.quantity in produced, c.id
-        assert (c.kind == "calibrated") == bool(c.calibrated_input)
+    assert all(c.id.startswith("000.") for c in sc.CLAIMS)
+    assert sc.claims_for(SMALL) == sc.CLAIMS
+    produced = set(small_units[0].quantities)
     # the claims the issue lists as missing are there
     for key in (
         "t2_bias_loses_R",
@@ -63,20 +65,23 @@ def test_claims_well_formed(small_units):
     assert produced == {c.quantity for c in sc.CLAIMS}
 
 
-def test_quantities_are_numbers_or_none(small_units):
-    for u in small_units:
-        for k, v in u["quantities"].items():
-            assert v is None or isinstance(v, float), (k, v)
-
-
 def test_experiment_is_deterministic(small_units):
     again = sc.experiment(SMALL, 3)
     first = small_units[0]
-    assert again["quantities"] == first["quantities"]
-    for group, traces in first["figures"].items():
-        for k, v in traces.items():
-            np.testing.assert_array_equal(again["figures"][group][k], v, err_msg=f"{group}/{k}")
-    assert small_units[1]["quantities"] != first["quantities"]  # another seed is another unit
+    assert again.quantities == first.quantities
+    assert again.phases == first.phases and again.bias_models == first.bias_models
+    for group in dataclasses.fields(first.figures):
+        traces = getattr(first.figures, group.name)
+        if not dataclasses.is_dataclass(traces):
+            np.testing.assert_array_equal(getattr(again.figures, group.name), traces, err_msg=group.name)
+            continue
+        for f in dataclasses.fields(traces):
+            np.testing.assert_array_equal(
+                getattr(getattr(again.figures, group.name), f.name),
+                getattr(traces, f.name),
+                err_msg=f"{group.name}/{f.name}",
+            )
+    assert small_units[1].quantities != first.quantities  # another seed is another unit
 
 
 def test_unit_is_small_and_picklable(small_units):
@@ -84,7 +89,7 @@ def test_unit_is_small_and_picklable(small_units):
 
 
 def test_report_formats_the_units(small_units):
-    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in small_units])
+    claims = evaluate(sc.CLAIMS, [u.quantities for u in small_units])
     out = sc.report(SMALL, small_units, claims)
     assert isinstance(out, Outcome) and out.scenario == sc.NAME and out.seed == 3
     json.dumps(out.results)
@@ -109,21 +114,38 @@ def test_deviations_name_the_paper_and_an_effect():
         assert d.paper == "000" and d.effect and "@" not in d.effect
 
 
+def test_report_never_simulates(small_units, monkeypatch):
+    """The report draws every figure from the units' results: with the FOG's simulate() broken it
+    still builds, and its results equal those of a normal build."""
+    claims = evaluate(sc.CLAIMS, [u.quantities for u in small_units])
+    normal = sc.report(SMALL, small_units, claims)
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("the report must not simulate")
+
+    monkeypatch.setattr(ClosedLoopFOG, "simulate", no_simulation)
+    out = sc.report(SMALL, small_units, claims)
+    assert len(out.figures) == 6
+    assert json.dumps(out.results) == json.dumps(normal.results)
+
+
 # ---------------------------------------------------------------- quantity rules
+def _coef(value, low, high):
+    ident = value is not None
+    return Coefficient(value=value, low=low, high=high, low68=None, high68=None, unit="x", identifiable=ident)
+
+
 def test_shown_ratio_and_value_ratio_documented_cases():
-    ident = {"value": 2.0, "low": 1.5, "high": 2.5}
-    low = {"value": 1.0, "low": 0.8, "high": 1.2}
-    bound = {"value": None, "low": 0.0, "high": 1.4}
-    assert sc._shown_ratio(ident, low) == pytest.approx(1.5 / 1.2)
-    assert sc._shown_ratio(ident, bound) == pytest.approx(1.5 / 1.4)  # a bound is a valid ceiling
-    assert sc._shown_ratio(bound, low) is None  # nothing shows a bound above anything
-    assert sc._value_ratio(ident, low) == pytest.approx(2.0)
-    assert sc._value_ratio(ident, bound) is None and sc._value_ratio(bound, ident) is None
-    assert (
-        sc._overlap(ident, low) == 0.0
-        and sc._overlap(ident, {"value": 1.4, "low": 1.0, "high": 1.6}) == 1.0
-    )
-    assert sc._overlap(ident, bound) is None
+    ident = _coef(2.0, 1.5, 2.5)
+    low = _coef(1.0, 0.8, 1.2)
+    bound = _coef(None, 0.0, 1.4)
+    assert shown_ratio(ident, low) == pytest.approx(1.5 / 1.2)
+    assert shown_ratio(ident, bound) == pytest.approx(1.5 / 1.4)  # a bound is a valid ceiling
+    assert shown_ratio(bound, low) is None  # nothing shows a bound above anything
+    assert value_ratio(ident, low) == pytest.approx(2.0)
+    assert value_ratio(ident, bound) is None and value_ratio(bound, ident) is None
+    assert overlap(ident, low) == 0.0 and overlap(ident, _coef(1.4, 1.0, 1.6)) == 1.0
+    assert overlap(ident, bound) is None
 
 
 # ---------------------------------------------------------------- closed forms
@@ -159,47 +181,6 @@ def test_noise_free_bias_is_modelled_by_the_newrb_variant_to_its_goal():
     assert np.sqrt(np.mean((net.predict(f_held[:, None]) - bias(f_held)) ** 2)) <= tol
     narrow = RBFNetwork(spread=0.3, goal=cfg.rbf_goal_deg_h2).fit(f_train[:, None], bias(f_train))
     assert np.sqrt(np.mean((narrow.predict(f_held[:, None]) - bias(f_held)) ** 2)) > tol
-
-
-def test_random_centre_rbf_meets_its_goal_and_generalizes(rng):
-    """The paper's randomly fixed centres on the same noise-free curve: training MSE below the goal
-    (the stopping rule) and the same held-out bound 2 sqrt(goal) as above."""
-    cfg, bias = _true_bias_curve()
-    f_train = np.arange(1.5, 499.0, 1.0)
-    f_held = f_train[:-1] + 0.5
-    net = sc.fit_random_centre_rbf(
-        f_train, bias(f_train), spread=cfg.rbf_spread_hz, goal=cfg.rbf_goal_deg_h2, rng=rng
-    )
-    assert net.mse < cfg.rbf_goal_deg_h2
-    assert np.mean((net(f_train) - bias(f_train)) ** 2) == pytest.approx(
-        net.mse, rel=1e-6, abs=1e-12
-    )
-    assert np.sqrt(np.mean((net(f_held) - bias(f_held)) ** 2)) <= 2.0 * np.sqrt(cfg.rbf_goal_deg_h2)
-
-
-def test_random_centre_rbf_is_least_squares_on_its_centres_and_minimal(rng):
-    """The QR shortcut equals a direct least-squares solve on the chosen centres, and one centre fewer
-    (the same random order) would not have met the goal."""
-    x = np.sort(rng.uniform(0.0, 50.0, 80))
-    y = np.sin(x / 4.0) + 0.1 * rng.standard_normal(80)
-    goal, spread = 0.02, 3.0
-    net = sc.fit_random_centre_rbf(x, y, spread=spread, goal=goal, rng=np.random.default_rng(7))
-    perm = np.random.default_rng(7).permutation(80)
-    assert 1 <= net.n_neurons < 79
-    np.testing.assert_array_equal(net.centres, x[perm[: net.n_neurons]])
-
-    def lstsq_mse(k):
-        g = np.column_stack(
-            [np.ones(80), np.exp(-((net.b * (x[:, None] - x[perm[:k]][None, :])) ** 2))]
-        )
-        sol, *_ = np.linalg.lstsq(g, y, rcond=None)
-        return sol, float(np.mean((g @ sol - y) ** 2))
-
-    sol, mse = lstsq_mse(net.n_neurons)
-    np.testing.assert_allclose(np.r_[net.bias, net.weights], sol, rtol=1e-6, atol=1e-8)
-    assert mse == pytest.approx(net.mse, rel=1e-8) and mse < goal
-    assert lstsq_mse(net.n_neurons - 1)[1] >= goal
-    assert net.b == pytest.approx(math.sqrt(math.log(2.0)) / spread)
 
 
 def test_output_is_the_sum_of_its_truth_parts_and_earth_rate_is_the_closed_form():
@@ -313,22 +294,15 @@ def test_fog_spread_and_physics_rate_rejected():
         sc.FogSpec(physics_rate_hz=2000.0)
 
 
-def test_random_centre_rbf_bad_input():
-    with pytest.raises(ValueError, match=r"x and y must be 1-D of the same length >= 2"):
-        sc.fit_random_centre_rbf(
-            np.arange(3.0), np.arange(4.0), spread=1.0, goal=0.0, rng=np.random.default_rng(0)
-        )
-
-
 # ---------------------------------------------------------------- slow: one full-size unit
 @pytest.mark.slow
 def test_full_size_unit_layout_and_what_minutes_cannot_identify():
     u = sc.experiment(sc.Config(), 0)
-    for group in (u["phases"], u["decomposition"], u["compensation"]):
-        for coeffs in group.values():
-            assert set(coeffs) == set(sc.TERMS)
+    for table in (u.phases, u.decomposition, u.compensation):
+        for coeffs in table.columns().values():
+            assert set(coeffs.as_dict()) == set(sc.TERMS)
     # K and R overtake B only beyond ~20 h on the Allan curve: static phases of 10 min cannot identify them
-    for k in ("1", "3"):
-        assert u["phases"][k]["K"]["value"] is None and u["phases"][k]["R"]["value"] is None
-    assert u["quantities"]["t1_K_phase3_over_phase1"] is None
-    assert u["bias_models"]["n_bins"] > 400
+    for phase in (u.phases.phase1, u.phases.phase3):
+        assert phase.K.value is None and phase.R.value is None
+    assert u.quantities["t1_K_phase3_over_phase1"] is None
+    assert u.bias_models.n_bins > 400

@@ -1,0 +1,69 @@
+"""Paper 000's compensation task for ``gyrobench bench``: the bias model's features and targets.
+
+Any regressor the bench runs is trained on one unit's sweep record and scored on another
+unit's sweep and fixed-frequency records (block means, see :func:`compensation_task`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun, mse_scores
+from gyrobench.sim import units
+from gyrobench.sim.recording import Recording
+from numpy.typing import NDArray
+
+from . import NAME
+from .config import Config
+from .experiment import simulate
+from .pipeline import block_means
+
+__all__ = ["compensation_task"]
+
+
+def _bench_arrays(
+    rec: Recording, config: Config, dec: MultiscaleDecomposition | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Block means at ``bench_rate_hz``: X = [frequency Hz, acceleration g], output [deg/h],
+    truth [deg/h], a6 [deg/h]."""
+    k = max(1, int(round(rec.fs / config.bench_rate_hz)))
+    y = units.to_deg_per_h(rec["rate"])
+    if dec is None:
+        dec = decompose(y, rec.fs, wavelet=config.wavelet, level=config.level)
+    a6 = dec.approx(config.bias_level)
+    vb = units.to_deg_per_h(rec["truth/vibration_bias"])
+    f = block_means(rec["shaker_frequency"], k)
+    a = block_means(units.to_g(rec["shaker_amplitude"]), k)
+    x = np.column_stack([f, a])
+    return x, block_means(y, k), block_means(y - vb, k), block_means(a6, k)
+
+
+def compensation_task(config: Config, seed: int) -> CompensationTask:
+    """Train on the sweep's a6 bias against [frequency, acceleration]; hold out another seed's sweep and 500 Hz records.
+
+    Samples are block means at ``config.bench_rate_hz`` (2 Hz: a6 holds nothing above
+    fs/2^7 = 3.1 Hz). Target (``"error"``): the a6 bias minus its phase-1 mean [deg/h].
+    Held-out truth: the output with the true rectified bias removed, so the default
+    MSE score [(deg/h)^2] is the bias model's error alone.
+    """
+    sweep, _ = simulate(config, seed)
+    x, _, _, a6 = _bench_arrays(sweep, config)
+    on = x[:, 1] > 0
+    first_on = int(np.argmax(on)) if on.any() else len(on)
+    y = a6 - (np.mean(a6[:first_on]) if first_on else 0.0)
+    y = np.where(on, y, 0.0)  # static samples: no vibration error to learn
+    held = []
+    h_sweep, h_fixed = simulate(config, seed + 1_000_003)
+    for label, rec in (("sweep", h_sweep), ("fixed", h_fixed)):
+        xh, out, truth, _ = _bench_arrays(rec, config)
+        held.append(HeldOutRun(label=label, X=xh, output=out, truth=truth))
+    return CompensationTask(
+        scenario=NAME,
+        feature_names=("frequency_hz", "acceleration_g"),
+        X_train=x,
+        y_train=y,
+        heldout=tuple(held),
+        target="error",
+        unit="deg/h",
+        scorer=mse_scores,
+    )

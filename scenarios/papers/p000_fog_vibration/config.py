@@ -1,0 +1,263 @@
+"""Paper 000's configuration: the gyro (:class:`FogSpec`) and the experiment (:class:`Config`).
+
+Defaults are the paper's protocol where it states one; the values it leaves open are listed
+in the package docstring and in :data:`~.claims.DEVIATIONS`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Literal
+
+import numpy as np
+from gyrobench.sim import units
+from gyrobench.sim.earth import NANJING
+from gyrobench.sim.fiber_strain import StrainMode
+from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
+from gyrobench.sim.fog_optics import OpticalBudget
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
+
+__all__ = ["Config", "FogSpec", "split_level_m"]
+
+
+def _default_modes() -> tuple[StrainMode, ...]:
+    """The closed-loop FOG's assumed structural modes (:mod:`gyrobench.sim.fog_loop` defaults)."""
+    return ClosedLoopFOG().modes
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FogSpec:
+    """The gyro: a closed-loop FOG (:class:`~gyrobench.sim.fog_loop.ClosedLoopFOG`), unit spread.
+
+    The loop, optics and structural modes are the module defaults of :mod:`gyrobench.sim.fog_loop`
+    (1 km, 10 cm coil; ARW from the optical budget; modes assumed, no paper number used).
+    Additive IEEE-952 terms (what the optics do not produce; mid-grade FOG, assumed):
+    ``Q_arcsec`` readout quantization, ``B_deg_h`` bias instability, ``K_deg_h_sqrt_h`` rate
+    random walk, ``R_deg_h2`` rate ramp. Site: ``latitude_deg`` (paper 000's lab, Southeast
+    University, Nanjing: :data:`gyrobench.sim.earth.PAPER_SITES`), sense axis horizontal as
+    the paper says, ``azimuth_deg`` from north toward east (not stated by the paper; north
+    assumed: Earth-rate component Omega_e cos(lat) = 12.7 deg/h, constant through the record).
+
+    Unit-to-unit spread (one seed = one drawn FOG; assumed, no source: assembly tolerances):
+    each mode's frequency x (1 + ``mode_frequency_spread`` N(0, 1)), its strain, rocking and
+    loss couplings x exp(``coupling_spread`` N(0, 1)) independently.
+    ``physics_rate_hz`` is the shaker's sampling rate (an even multiple of ``output_rate_hz``).
+    """
+
+    loop: LoopSpec = field(default_factory=LoopSpec)
+    optics: OpticalBudget = field(default_factory=OpticalBudget)
+    modes: tuple[StrainMode, ...] = field(default_factory=_default_modes)
+    Q_arcsec: float = 0.1
+    B_deg_h: float = 0.2
+    K_deg_h_sqrt_h: float = 0.05
+    R_deg_h2: float = 0.01
+    latitude_deg: float = units.to_deg(NANJING.latitude)
+    azimuth_deg: float = 0.0
+    mode_frequency_spread: float = 0.05
+    coupling_spread: float = 0.3
+    physics_rate_hz: float = 3200.0
+    output_rate_hz: float = 400.0
+
+    def __post_init__(self) -> None:
+        for name, hi in (("mode_frequency_spread", 0.3), ("coupling_spread", 2.0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < hi:
+                raise ValueError(f"FogSpec.{name} must be in [0, {hi}); got {v!r}")
+        m = self.physics_rate_hz / self.output_rate_hz
+        if not (self.output_rate_hz > 0 and m >= 2 and abs(m - 2 * round(m / 2)) < 1e-9):
+            raise ValueError(
+                f"FogSpec.physics_rate_hz must be an even integer multiple of output_rate_hz = "
+                f"{self.output_rate_hz!r} Hz; got {self.physics_rate_hz!r} Hz"
+            )
+        self.unit(self.modes)  # the SI model validates every value
+
+    def noise(self) -> NoiseModel:
+        return NoiseModel.from_datasheet(
+            quantization=self.Q_arcsec,
+            bias_instability=self.B_deg_h,
+            rate_random_walk=self.K_deg_h_sqrt_h,
+            rate_ramp=self.R_deg_h2,
+        )
+
+    def unit(self, modes: tuple[StrainMode, ...]) -> ClosedLoopFOG:
+        """The FOG with the given (drawn) structural modes."""
+        return ClosedLoopFOG(
+            loop=self.loop,
+            optics=self.optics,
+            noise=self.noise(),
+            modes=modes,
+            latitude=units.deg(self.latitude_deg),
+            azimuth=units.deg(self.azimuth_deg),
+            elevation=0.0,
+        )
+
+    def draw(self, rng: np.random.Generator) -> ClosedLoopFOG:
+        """One unit: the modes' frequencies and couplings drawn with the stated spreads."""
+        n = len(self.modes)
+        fs = np.clip(1.0 + self.mode_frequency_spread * rng.standard_normal(n), 0.5, 1.5)
+        cs = np.exp(self.coupling_spread * rng.standard_normal((n, 3)))
+        modes = tuple(
+            replace(
+                md,
+                frequency=md.frequency * float(fs[i]),
+                strain=md.strain * float(cs[i, 0]),
+                rocking=md.rocking * float(cs[i, 1]),
+                loss=md.loss * float(cs[i, 2]),
+            )
+            for i, md in enumerate(self.modes)
+        )
+        return self.unit(modes)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Config:
+    """Paper 000's experiment; values the paper leaves open are documented in the package docstring.
+
+    ``bias_level`` (6) is the approximation taken as the bias for Table 2 and the denoising of
+    Table 3, ``train_level`` (7) the one the bias models are trained on, as the paper's text
+    says (package docstring). ``rbf_centres``: ``"random"`` (the paper's randomly fixed centres)
+    or ``"ols"`` (MATLAB newrb's orthogonal least squares; a labelled variant).
+    """
+
+    fog: FogSpec = field(default_factory=FogSpec)
+    acceleration_g: float = 2.0
+    sweep_start_hz: float = 1.0
+    sweep_end_hz: float = 500.0
+    sweep_spacing: Literal["log", "linear"] = "linear"
+    fixed_hz: float = 500.0
+    static_before_s: float = 600.0
+    vibration_s: float = 300.0
+    static_after_s: float = 600.0
+    max_displacement_mm: float = 12.7
+    ramp_time_s: float = 0.5
+    control_error: float = 0.01
+    control_time_s: float = 30.0
+    guard_s: float = 5.0
+    wavelet: str = "db4"
+    level: int = 10
+    bias_level: int = 6
+    train_level: int = 7
+    bin_width_hz: float = 1.0
+    train_edge_s: float = 0.5
+    rbf_spread_hz: float = 1.2
+    rbf_goal_deg_h2: float = 1e-4
+    rbf_max_neurons: int | None = None
+    rbf_centres: Literal["random", "ols"] = "random"
+    ls_order: int = 4
+    edge_window_s: float = 3.0
+    offset_block_s: float = 10.0
+    bench_rate_hz: float = 2.0
+
+    def __post_init__(self) -> None:
+        def pos(name: str, unit: str) -> None:
+            v = getattr(self, name)
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, (int, float))
+                or not (math.isfinite(v) and v > 0)
+            ):
+                raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
+
+        if isinstance(self.acceleration_g, (int, float)) and self.acceleration_g < 0:
+            raise ValueError(f"Config.acceleration_g must be >= 0 g; got {self.acceleration_g!r}")
+        for name, unit in (
+            ("acceleration_g", "g"),
+            ("sweep_start_hz", "Hz"),
+            ("sweep_end_hz", "Hz"),
+            ("fixed_hz", "Hz"),
+            ("static_before_s", "s"),
+            ("vibration_s", "s"),
+            ("static_after_s", "s"),
+            ("max_displacement_mm", "mm"),
+            ("control_time_s", "s"),
+            ("bin_width_hz", "Hz"),
+            ("train_edge_s", "s"),
+            ("rbf_spread_hz", "Hz"),
+            ("edge_window_s", "s"),
+            ("offset_block_s", "s"),
+            ("bench_rate_hz", "Hz"),
+        ):
+            pos(name, unit)
+        if (
+            not 0
+            <= self.guard_s
+            < min(self.static_before_s, self.vibration_s, self.static_after_s) / 2
+        ):
+            raise ValueError(
+                f"Config.guard_s must be in [0, shortest phase/2) s; got {self.guard_s!r}"
+            )
+        if not 1 <= self.bias_level <= self.level:
+            raise ValueError(
+                f"Config.bias_level must be in [1, level={self.level}]; got {self.bias_level!r}"
+            )
+        if not 1 <= self.train_level <= self.level:
+            raise ValueError(
+                f"Config.train_level must be in [1, level={self.level}]; got {self.train_level!r}"
+            )
+        if self.rbf_centres not in ("random", "ols"):
+            raise ValueError(
+                f"Config.rbf_centres must be 'random' or 'ols'; got {self.rbf_centres!r}"
+            )
+        if self.edge_window_s >= self.guard_s:
+            raise ValueError(
+                f"Config.edge_window_s must be < guard_s = {self.guard_s!r} s (edge windows and "
+                f"steady phases must not overlap); got {self.edge_window_s!r}"
+            )
+        if not 1 <= self.ls_order <= 12:
+            raise ValueError(f"Config.ls_order must be in [1, 12]; got {self.ls_order!r}")
+        if self.control_error < 0:
+            raise ValueError(f"Config.control_error must be >= 0; got {self.control_error!r}")
+        if self.rbf_goal_deg_h2 < 0:
+            raise ValueError(
+                f"Config.rbf_goal_deg_h2 must be >= 0 (deg/h)^2; got {self.rbf_goal_deg_h2!r}"
+            )
+        fmax = max(self.sweep_start_hz, self.sweep_end_hz, self.fixed_hz)
+        if fmax > self.fog.physics_rate_hz / 4:
+            raise ValueError(
+                f"Config: vibration up to {fmax!r} Hz needs fog.physics_rate_hz >= {4 * fmax!r} Hz; "
+                f"got {self.fog.physics_rate_hz!r} Hz"
+            )
+        n_min = (8 - 1) * 2**self.level  # db4: pywt.dwt_max_level needs len >= 7 * 2^level
+        n_tot = (
+            self.static_before_s + self.vibration_s + self.static_after_s
+        ) * self.fog.output_rate_hz
+        if n_tot < n_min:
+            raise ValueError(
+                f"Config.level = {self.level} needs records of >= {n_min} samples; got {int(n_tot)} "
+                f"(lengthen the phases or lower the level)"
+            )
+
+    # -------------------------------------------------------------- profiles
+    def _common(self) -> dict[str, Any]:
+        return dict(
+            acceleration=units.g(self.acceleration_g),
+            max_displacement=self.max_displacement_mm * 1e-3,
+            ramp_time=self.ramp_time_s,
+            control_error=self.control_error,
+            control_time=self.control_time_s,
+        )
+
+    def sweep(self) -> Phased:
+        s = SineSweep(
+            f_start=self.sweep_start_hz,
+            f_end=self.sweep_end_hz,
+            duration=self.vibration_s,
+            spacing=self.sweep_spacing,
+            **self._common(),
+        )
+        return Phased(
+            vibration=s, static_before=self.static_before_s, static_after=self.static_after_s
+        )
+
+    def fixed(self) -> Phased:
+        s = FixedSine(frequency=self.fixed_hz, duration=self.vibration_s, **self._common())
+        return Phased(
+            vibration=s, static_before=self.static_before_s, static_after=self.static_after_s
+        )
+
+
+def split_level_m(config: Config) -> int:
+    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)."""
+    return 2 ** (config.bias_level + 1)

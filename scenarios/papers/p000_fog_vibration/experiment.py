@@ -1,0 +1,180 @@
+"""Paper 000's experiment: one unit (one seed) simulated and carried through the whole analysis.
+
+:func:`experiment` returns a typed :class:`~.results.UnitResult` (no formatting, no verdicts);
+:func:`simulate` gives the unit's two recordings with truth; :func:`memory_estimate` the peak
+memory of one unit. Seed streams: ``default_rng(seed).spawn(4)``: children 0 and 1 the two
+records, 2 the RBF centres' order, 3 the drawn unit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
+from gyrobench.sim import units
+from gyrobench.sim.recording import Recording
+from numpy.typing import NDArray
+
+from . import NAME
+from .config import Config, split_level_m
+from .device import draw_unit, record_on_table
+from .pipeline import (
+    BiasModels,
+    bias_model_scores,
+    block_means,
+    compensated,
+    decomposition_table,
+    edges_and_offsets,
+    fit_bias_models,
+    phase_table,
+    split_band_coefficients,
+)
+from .results import (
+    CompensationTable,
+    CompensationTraces,
+    FigureData,
+    ModelTraces,
+    MultiscaleTraces,
+    RecordTraces,
+    SplitTraces,
+    UnitResult,
+    unit_quantities,
+)
+
+__all__ = ["experiment", "memory_estimate", "simulate"]
+
+
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's :func:`simulate` or :func:`experiment` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``T`` the record length
+    (static + vibration + static) [s], ``T_v`` the vibration phase [s] and ``f_p`` the shaker
+    grid rate ``fog.physics_rate_hz`` [Hz], for the unit's two records (swept and fixed sine)::
+
+        bytes = 1.2 x f_p x (100 T + 125 T_v)
+
+    MEASURED (peak RSS increase of a forked child, one BLAS thread; the harness of
+    tests/scenarios/test_memory_estimates.py): experiment 497 MB at the default (T = 1500 s,
+    T_v = 300 s, f_p = 3200 Hz), 920 MB with T_v = 900 s, 1614 MB with 2400-s static phases,
+    959 MB with the rates doubled; simulate 491, 920, 1331, 959 MB. The formula is 1.30-1.50 x
+    those (about 100 B per grid sample of the whole records and 125 B more per grid sample of
+    vibration, with 1.2 the margin). Floats: never an overflow.
+    """
+    t_total = float(config.static_before_s) + float(config.vibration_s) + float(config.static_after_s)
+    return 1.2 * float(config.fog.physics_rate_hz) * (100.0 * t_total + 125.0 * float(config.vibration_s))
+
+
+def simulate(config: Config, seed: int) -> list[Recording]:
+    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static)."""
+    r_sweep, r_fixed = np.random.default_rng(seed).spawn(2)
+    fog = draw_unit(config, seed)
+    recs = []
+    for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):
+        rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}")
+        meta = dict(rec.metadata)
+        meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
+        meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
+        recs.append(
+            Recording(
+                fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name
+            )
+        )
+    return recs
+
+
+def experiment(config: Config, seed: int) -> UnitResult:
+    """Simulate one unit (``seed``) through the paper's whole analysis; no formatting, no verdicts.
+
+    Returns the unit's ``quantities`` (one number per claim quantity, None where this unit
+    cannot test it), the coefficient tables, the bias-model scores, the offsets and what the
+    report's figures draw (downsampled traces and the fixed-frequency record).
+    """
+    sweep, fixed = simulate(config, seed)
+    rng_centres = np.random.default_rng(seed).spawn(3)[2]  # simulate() uses children 0 and 1
+    fs = fixed.fs
+    phases = phase_table(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)
+    dec_s = decompose(units.to_deg_per_h(sweep["rate"]), fs, wavelet=config.wavelet, level=config.level)
+    decomposition = decomposition_table(sweep, dec_s, config)
+    bm = fit_bias_models(sweep, config, dec_s, draw_unit(config, seed), rng=rng_centres)
+    scores = bias_model_scores(bm)
+    dec_f = decompose(units.to_deg_per_h(fixed["rate"]), fs, wavelet=config.wavelet, level=config.level)
+    sig = compensated(fixed, dec_f, bm, config)
+    m = split_level_m(config)
+    table3 = {k: split_band_coefficients(units.deg_per_h(v), fs, m) for k, v in sig.items()}
+    compensation = CompensationTable(
+        original=table3["original"], denoised=table3["denoised"], rbf=table3["rbf"], ls=table3["ls"]
+    )
+    offsets = edges_and_offsets(sig, fixed, config)
+    return UnitResult(
+        seed=int(seed),
+        quantities=unit_quantities(phases, decomposition, compensation, scores, offsets),
+        phases=phases,
+        decomposition=decomposition,
+        compensation=compensation,
+        bias_models=scores,
+        offsets=offsets,
+        figures=_figure_data(sweep, fixed, dec_s, sig, bm, config),
+    )
+
+
+def _f32(x: object) -> NDArray[np.float32]:
+    return np.asarray(x, dtype=np.float32)
+
+
+def _figure_data(
+    sweep: Recording,
+    fixed: Recording,
+    dec_s: MultiscaleDecomposition,
+    sig: dict[str, np.ndarray],
+    bm: BiasModels,
+    config: Config,
+) -> FigureData:
+    """Downsampled traces for figures 1, 3, 4, 6, 7-8 (float32, well under 1 MB per unit) and the
+    whole fixed-frequency record [deg/h] for figure 2 (float32, 4 bytes a sample: 2.4 MB at the
+    default; its spectrum and wavelet map are drawn by the report)."""
+    k = max(1, len(fixed.time) // 4000)
+    km = max(1, len(sweep.time) // 3000)
+    ks = max(1, len(sweep.time) // 4000)
+    kc = max(1, len(fixed.time) // 15000)
+    j = config.bias_level
+    ff = np.linspace(bm.f_bins[0], bm.f_bins[-1], 2000)
+    return FigureData(
+        records=RecordTraces(
+            t=_f32(block_means(fixed.time, k)),
+            sweep=_f32(block_means(units.to_deg_per_h(sweep["rate"]), k)),
+            fixed=_f32(block_means(sig["original"], k)),
+        ),
+        multiscale=MultiscaleTraces(
+            t=_f32(block_means(sweep.time, km)),
+            a=_f32(block_means(dec_s.approximation, km)),
+            d_rms=_f32([np.sqrt(block_means(dec_s.detail(i) ** 2, km)) for i in range(1, dec_s.level + 1)]),
+        ),
+        split=SplitTraces(
+            t_mean=_f32(block_means(sweep.time, ks)),
+            t_sample=_f32(sweep.time[::ks]),
+            a_train=_f32(block_means(dec_s.approx(config.train_level), ks)),
+            a_bias=_f32(block_means(dec_s.approx(j), ks)),
+            d_j=_f32(dec_s.detail(j)[::ks]),
+            d1=_f32(dec_s.detail(1)[::ks]),
+            d=_f32(dec_s.detail_sum(j)[::ks]),
+        ),
+        models=ModelTraces(
+            f_bins=_f32(bm.f_bins),
+            y_bins=_f32(bm.y_bins),
+            truth_bins=_f32(bm.truth_bins),
+            ff=_f32(ff),
+            rbf=_f32(bm.rbf(ff)),
+            ls=_f32(bm.ls(ff)),
+        ),
+        compensation=CompensationTraces(
+            t=_f32(fixed.time[::kc]),
+            original=_f32(sig["original"][::kc]),
+            denoised=_f32(sig["denoised"][::kc]),
+            rbf=_f32(sig["rbf"][::kc]),
+            ls=_f32(sig["ls"][::kc]),
+        ),
+        fixed_rate=_f32(sig["original"]),
+        fs=float(fixed.fs),
+    )

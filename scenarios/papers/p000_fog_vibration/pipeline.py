@@ -1,0 +1,301 @@
+"""Paper 000's analysis steps on one unit's records: Allan tables, bias models, compensation, offsets.
+
+Each step takes recordings or arrays and returns typed results (:mod:`.results`) or arrays;
+:func:`~.experiment.experiment` chains them. The RBF network with randomly fixed centres is
+:class:`gyrobench.analysis.compensation.random_rbf.RandomCentreRBF`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import numpy as np
+from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
+from gyrobench.analysis.metrics import segment_noise_fits
+from gyrobench.analysis.sweep import bin_means
+from gyrobench.analysis.wavelet import MultiscaleDecomposition
+from gyrobench.scenarios.allan_report import TERMS, coefficients_json
+from gyrobench.sim import units
+from gyrobench.sim.fog_loop import ClosedLoopFOG
+from gyrobench.sim.recording import Recording
+from numpy.typing import NDArray
+
+from .config import Config, split_level_m
+from .device import true_bias_at_bins
+from .results import BiasModelScores, Coefficients, Decomposition, Offsets, PhaseTable
+
+__all__ = [
+    "BiasModels",
+    "bias_model_scores",
+    "block_means",
+    "compensated",
+    "decomposition_table",
+    "edge_spike_ratio",
+    "edges_and_offsets",
+    "fit_bias_models",
+    "phase_table",
+    "predict_on",
+    "split_band_coefficients",
+]
+
+
+def _fit(rate_rad_s: NDArray[np.float64], fs: float, *, min_m: int = 1) -> Any:
+    """Joint IEEE fit on the overlapping ADEV at octave taus m = min_m, 2 min_m, ... <= n/4."""
+    return segment_noise_fits(
+        rate_rad_s, fs, {"record": np.ones(len(rate_rad_s), dtype=bool)}, min_m=min_m
+    )["record"].fit
+
+
+def split_band_coefficients(rate_rad_s: NDArray[np.float64], fs: float, min_m: int) -> Coefficients:
+    """Q and N from the fit on the full tau range, B, K and R from the fit on tau >= min_m/fs (field units).
+
+    Used for wavelet-processed signals and what they are compared with: an approximation
+    A_j has no content above fs/2^(j+1), so its short-tau ADEV measures the filter (slope +1,
+    read as a spurious R); the low-frequency terms are read where A_j is faithful, the
+    high-frequency terms where they live. Each entry carries its ``tau_min_s``.
+    """
+    full = coefficients_json(_fit(rate_rad_s, fs))
+    low = coefficients_json(_fit(rate_rad_s, fs, min_m=min_m))
+    out = {}
+    for t in TERMS:
+        d = dict(full[t] if t in ("Q", "N") else low[t])
+        d["tau_min_s"] = 1.0 / fs if t in ("Q", "N") else min_m / fs
+        out[t] = d
+    return Coefficients.from_mapping(out)
+
+
+def phase_table(
+    rate: NDArray[np.float64], fs: float, bounds: Sequence[tuple[float, float]], *, guard_s: float = 0.0
+) -> PhaseTable:
+    """Table 1: Allan coefficients (field units) of the three [start, end) phases [s] of a rate record [rad/s].
+
+    ``guard_s`` is cut after each phase's start (except the first) so switching
+    transients stay out of the steady phases.
+    """
+    if len(bounds) != 3:
+        raise ValueError(f"phase_table needs 3 phases (static, vibration, static); got {len(bounds)}")
+    segs = {
+        str(i): (t0 + (guard_s if i > 1 else 0.0), t1) for i, (t0, t1) in enumerate(bounds, start=1)
+    }
+    fits = {
+        k: Coefficients.from_mapping(coefficients_json(f.fit)) for k, f in segment_noise_fits(rate, fs, segs).items()
+    }
+    return PhaseTable(phase1=fits["1"], phase2=fits["2"], phase3=fits["3"])
+
+
+def _near_edges(on: np.ndarray, fs: float, width_s: float) -> np.ndarray:
+    """True within ``width_s`` [s] of any switching edge of the boolean ``on``."""
+    edges = np.flatnonzero(np.diff(on.astype(np.int8))) + 1
+    near = np.zeros_like(on)
+    w = int(round(width_s * fs))
+    for e in edges:
+        near[max(0, e - w) : e + w] = True
+    return near
+
+
+def predict_on(
+    fn: Callable[[NDArray[np.float64]], Any], f: np.ndarray, on: np.ndarray, lo: float, hi: float
+) -> np.ndarray:
+    """Model bias [deg/h] while ``on``, 0 otherwise; inputs clipped to the training range [lo, hi] Hz."""
+    out = np.zeros(len(f))
+    if on.any():
+        u, inv = np.unique(np.clip(f[on], lo, hi), return_inverse=True)
+        out[on] = np.asarray(fn(u), dtype=float).reshape(-1)[inv]
+    return out
+
+
+def _phase_mask(rec: Recording) -> tuple[np.ndarray, np.ndarray]:
+    on = rec["shaker_on"] > 0.5
+    first_on = int(np.argmax(on)) if on.any() else len(on)
+    static1 = np.zeros_like(on)
+    static1[:first_on] = True
+    return on, static1
+
+
+def block_means(x: np.ndarray, k: int) -> np.ndarray:
+    """Means of consecutive blocks of ``k`` samples (a partial last block is dropped)."""
+    n = len(x) // k * k
+    return x[:n].reshape(-1, k).mean(axis=1)
+
+
+@dataclass(frozen=True)
+class BiasModels:
+    """The fitted bias-vs-frequency models and their training data (deg/h, Hz)."""
+
+    f_bins: np.ndarray
+    y_bins: np.ndarray
+    truth_bins: np.ndarray
+    rbf: Callable[[np.ndarray], np.ndarray]
+    rbf_neurons: int
+    ls: np.polynomial.Polynomial
+    static_mean: float
+
+
+def _predict_column(model: Any, u: np.ndarray) -> np.ndarray:
+    """A fitted sklearn-style regressor on a 1-D input (one column)."""
+    return np.asarray(model.predict(np.asarray(u, dtype=float).reshape(-1, 1)), dtype=float)
+
+
+def fit_bias_models(
+    rec: Recording, config: Config, dec: MultiscaleDecomposition, fog: ClosedLoopFOG, *, rng: np.random.Generator
+) -> BiasModels:
+    """RBF and 4th-order LS models of the a_{train_level} bias [deg/h] against drive frequency [Hz] (a sweep)."""
+    fs = rec.fs
+    bias = dec.approx(config.train_level)
+    on, static1 = _phase_mask(rec)
+    static_mean = float(np.mean(bias[static1])) if static1.any() else 0.0
+    lo, hi = (
+        min(config.sweep_start_hz, config.sweep_end_hz),
+        max(config.sweep_start_hz, config.sweep_end_hz),
+    )
+    use = on & ~_near_edges(on, fs, config.train_edge_s)
+    fb, yb = bin_means(rec["shaker_frequency"][use], bias[use] - static_mean, lo=lo, hi=hi, width=config.bin_width_hz)
+    rbf: Callable[[np.ndarray], np.ndarray]
+    if config.rbf_centres == "random":
+        net = RandomCentreRBF(
+            spread=config.rbf_spread_hz,
+            goal=config.rbf_goal_deg_h2,
+            max_neurons=config.rbf_max_neurons,
+            random_state=rng,
+        ).fit(fb[:, None], yb)
+        rbf, neurons = partial(_predict_column, net), int(net.n_neurons_)
+    else:
+        from gyrobench.analysis.compensation.rbf import RBFNetwork
+
+        ols = RBFNetwork(
+            spread=config.rbf_spread_hz,
+            goal=config.rbf_goal_deg_h2,
+            max_neurons=config.rbf_max_neurons,
+        ).fit(fb[:, None], yb)
+        rbf, neurons = partial(_predict_column, ols), int(ols.n_neurons_)
+    ls = np.polynomial.Polynomial.fit(fb, yb, config.ls_order)
+    return BiasModels(fb, yb, true_bias_at_bins(fb, config, fog), rbf, neurons, ls, static_mean)
+
+
+def decomposition_table(sweep: Recording, dec: MultiscaleDecomposition, config: Config) -> Decomposition:
+    """Allan coefficients of the sweep record, its a_j bias part and its d1..d_j drift + noise part."""
+    fs, j, m = sweep.fs, config.bias_level, split_level_m(config)
+    return Decomposition(
+        original=split_band_coefficients(sweep["rate"], fs, m),
+        bias=split_band_coefficients(units.deg_per_h(dec.approx(j)), fs, m),
+        drift_noise=split_band_coefficients(units.deg_per_h(dec.detail_sum(j)), fs, m),
+    )
+
+
+def bias_model_scores(bm: BiasModels) -> BiasModelScores:
+    """MSE of each model against its training targets (the paper's measure) and against the true bias."""
+    pr, pl = np.asarray(bm.rbf(bm.f_bins), float), bm.ls(bm.f_bins)
+    return BiasModelScores(
+        rbf_vs_target=float(np.mean((pr - bm.y_bins) ** 2)),
+        ls_vs_target=float(np.mean((pl - bm.y_bins) ** 2)),
+        rbf_vs_truth=float(np.mean((pr - bm.truth_bins) ** 2)),
+        ls_vs_truth=float(np.mean((pl - bm.truth_bins) ** 2)),
+        target_vs_truth=float(np.mean((bm.y_bins - bm.truth_bins) ** 2)),
+        rbf_neurons=int(bm.rbf_neurons),
+        n_bins=int(bm.f_bins.size),
+        training_range_hz=(float(bm.f_bins[0]), float(bm.f_bins[-1])),
+        peak_bias_frequency_hz=float(bm.f_bins[int(np.argmax(np.abs(bm.y_bins)))]),
+        true_peak_bias_frequency_hz=float(bm.f_bins[int(np.argmax(np.abs(bm.truth_bins)))]),
+    )
+
+
+def compensated(
+    fixed: Recording, dec: MultiscaleDecomposition, bm: BiasModels, config: Config
+) -> dict[str, np.ndarray]:
+    """Original, denoised (a_j) and RBF-/LS-compensated 500 Hz record [deg/h]."""
+    on = fixed["shaker_on"] > 0.5
+    den = dec.approx(config.bias_level)
+    f = fixed["shaker_frequency"]
+    lo, hi = float(bm.f_bins[0]), float(bm.f_bins[-1])
+    return {
+        "original": units.to_deg_per_h(fixed["rate"]),
+        "denoised": den,
+        "rbf": den - predict_on(bm.rbf, f, on, lo, hi),
+        "ls": den - predict_on(bm.ls, f, on, lo, hi),
+    }
+
+
+def _phase_index(fixed: Recording, config: Config) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample: phase 0/1/2 (before, during, after the shaker runs) and whether it is steady.
+
+    Steady = at least ``guard_s`` from every switching edge and from both ends of the record
+    (where the wavelet approximation has boundary artefacts).
+    """
+    on = fixed["shaker_on"] > 0.5
+    idx = np.zeros(len(on), dtype=np.int8)
+    if on.any():
+        first, last = int(np.argmax(on)), len(on) - int(np.argmax(on[::-1]))
+        idx[first:last], idx[last:] = 1, 2
+    steady = ~_near_edges(on, fixed.fs, config.guard_s)
+    g = int(round(config.guard_s * fixed.fs))
+    steady[:g], steady[len(steady) - g :] = False, False
+    return idx, steady
+
+
+def edge_spike_ratio(
+    x: np.ndarray, on: np.ndarray, idx: np.ndarray, steady: np.ndarray, w: int
+) -> float:
+    """How far the on/off edges of a compensated record stand out of its steady vibration phase.
+
+    dev = |x - median of the steady part of the sample's phase|. For each switching edge e,
+    the largest dev in [e - w, e + w); the reference is the 95th percentile of the largest dev
+    in consecutive windows of the same length 2w of the steady vibration phase. Returns the
+    smaller of the edges' ratios (> 1: every edge exceeds 95 % of equally long steady windows);
+    NaN when the record has no edge or no full steady window.
+    """
+    level = np.array(
+        [
+            np.median(x[steady & (idx == p)]) if (steady & (idx == p)).any() else np.nan
+            for p in range(3)
+        ]
+    )
+    dev = np.abs(x - level[idx])
+    edges = np.flatnonzero(np.diff(on.astype(np.int8))) + 1
+    vib = dev[steady & (idx == 1)]
+    n_win = vib.size // (2 * w)
+    if edges.size == 0 or n_win < 1:
+        return math.nan
+    ref = float(np.percentile(vib[: n_win * 2 * w].reshape(n_win, 2 * w).max(axis=1), 95))
+    return float(min(np.max(dev[max(0, e - w) : e + w]) for e in edges) / ref)
+
+
+def edges_and_offsets(sig: Mapping[str, np.ndarray], fixed: Recording, config: Config) -> Offsets:
+    """Figures 7-8 in numbers: bias offsets during vibration, their scatter, spikes at the edges.
+
+    offset_x = mean over the steady vibration phase minus mean over the steady phase 1 of
+    signal x [deg/h]; scatter = std of ``offset_block_s`` block means of the original's steady
+    phase 1 [deg/h]; spike ratio: :func:`edge_spike_ratio` of the RBF-compensated record with
+    half-window ``edge_window_s``.
+    """
+    idx, steady = _phase_index(fixed, config)
+    s1, s2 = steady & (idx == 0), steady & (idx == 1)
+    out: dict[str, float] = {}
+    for k in ("denoised", "rbf", "ls"):
+        out[f"offset_{k}"] = (
+            float(np.mean(sig[k][s2]) - np.mean(sig[k][s1])) if s1.any() and s2.any() else math.nan
+        )
+    kb = max(1, int(round(config.offset_block_s * fixed.fs)))
+    blocks = block_means(sig["original"][s1], kb)
+    out["static_scatter"] = float(np.std(blocks, ddof=1)) if blocks.size > 2 else math.nan
+    out["edge_spike_ratio"] = edge_spike_ratio(
+        sig["rbf"],
+        fixed["shaker_on"] > 0.5,
+        idx,
+        steady,
+        max(1, int(round(config.edge_window_s * fixed.fs))),
+    )
+    vb = units.to_deg_per_h(fixed["truth/vibration_bias"])
+    for k in (
+        "rbf",
+        "ls",
+    ):  # diagnostic: mean of (model bias - true vibration bias) over the steady vibration
+        out[f"residual_vs_truth_{k}"] = (
+            float(np.mean((sig["denoised"] - sig[k])[s2] - vb[s2])) if s2.any() else math.nan
+        )
+    out["true_bias_steady"] = float(np.mean(vb[s2])) if s2.any() else math.nan
+    return Offsets(**out)
+

@@ -1,0 +1,385 @@
+"""Paper 000's typed unit result and the rules that turn it into one number per claim.
+
+:class:`UnitResult` is what :func:`~.experiment.experiment` returns for one unit and all
+that :mod:`.claims` and :mod:`.report` read. Coefficients are in field units
+(:data:`gyrobench.sim.units.COEFFICIENT_FIELD_UNITS`), frequencies in Hz, rates in deg/h.
+
+How a unit's quantity tests a claim
+-----------------------------------
+* "A higher than B" / "B lower than A": the conservative ratio A_low / B_high (A's lower
+  95 % bound over B's upper 95 % bound, which is B's interval end or, when B is not
+  identifiable, its 95 % upper bound: the coefficient is below it either way). Above 1
+  shows A > B at 95 %. When A, the side that must be shown larger, is itself only an upper
+  bound, nothing shows it is above anything: the unit cannot test the claim (None), unless
+  the data show the reverse (A's bound below B's lower 95 % bound; then A_high / B_low < 1
+  is reported, a failure).
+* "keeps" (Table 2): the ratio of the two point values, judged within a factor 2 of 1. When
+  one side is only a bound the unit decides only if the bound already puts the ratio
+  outside that window (then the bounding ratio is reported, a failure); else None.
+* "nearly equal" (Table 1, phases 1 and 3): the 95 % intervals overlap (both identified).
+* "slightly lower after" (K, R of phase 3 vs 1): the ratio of the point values, both
+  identified (else None).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from gyrobench.scenarios.allan_report import TERMS
+from numpy.typing import NDArray
+
+__all__ = [
+    "TERMS",
+    "BiasModelScores",
+    "Coefficient",
+    "Coefficients",
+    "CompensationTable",
+    "CompensationTraces",
+    "Decomposition",
+    "FigureData",
+    "ModelTraces",
+    "MultiscaleTraces",
+    "Offsets",
+    "PhaseTable",
+    "RecordTraces",
+    "SplitTraces",
+    "UnitResult",
+    "keeps_ratio",
+    "overlap",
+    "shown_ratio",
+    "unit_quantities",
+    "value_ratio",
+]
+
+F32 = NDArray[np.float32]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Coefficient:
+    """One Allan coefficient [field unit ``unit``]: the value with 95 % and 68 % intervals.
+
+    ``value`` is None when the term is not identifiable from the record; then ``high`` is its
+    95 % upper bound, ``low`` 0 and the 68 % ends None. ``tau_min_s`` [s], when set, is the
+    shortest cluster time of the fit it comes from (Tables 2 and 3).
+    """
+
+    value: float | None
+    low: float
+    high: float
+    low68: float | None
+    high68: float | None
+    unit: str
+    identifiable: bool
+    tau_min_s: float | None = None
+
+    @classmethod
+    def from_mapping(cls, d: Mapping[str, Any]) -> Coefficient:
+        """From :func:`gyrobench.scenarios.allan_report.coefficients_json`'s entry of one term."""
+        return cls(**d)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The results.json form (``tau_min_s`` only when set)."""
+        out: dict[str, Any] = {
+            "value": self.value,
+            "low": self.low,
+            "high": self.high,
+            "low68": self.low68,
+            "high68": self.high68,
+            "unit": self.unit,
+            "identifiable": self.identifiable,
+        }
+        if self.tau_min_s is not None:
+            out["tau_min_s"] = self.tau_min_s
+        return out
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Coefficients:
+    """The five coefficients of one signal (one column of Tables 1-3)."""
+
+    Q: Coefficient
+    N: Coefficient
+    B: Coefficient
+    K: Coefficient
+    R: Coefficient
+
+    @classmethod
+    def from_mapping(cls, d: Mapping[str, Mapping[str, Any]]) -> Coefficients:
+        return cls(**{t: Coefficient.from_mapping(d[t]) for t in TERMS})
+
+    def __getitem__(self, term: str) -> Coefficient:
+        if term not in TERMS:
+            raise KeyError(f"term must be one of {TERMS}; got {term!r}")
+        c: Coefficient = getattr(self, term)
+        return c
+
+    def as_dict(self) -> dict[str, Any]:
+        return {t: self[t].as_dict() for t in TERMS}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PhaseTable:
+    """Table 1: the fixed-frequency record's phases (1 static, 2 vibration, 3 static)."""
+
+    phase1: Coefficients
+    phase2: Coefficients
+    phase3: Coefficients
+
+    def columns(self) -> dict[str, Coefficients]:
+        """``{"1": ..., "2": ..., "3": ...}`` (the results.json keys)."""
+        return {"1": self.phase1, "2": self.phase2, "3": self.phase3}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Decomposition:
+    """Table 2: the sweep record, its a_j bias part and its d1..d_j drift + noise part."""
+
+    original: Coefficients
+    bias: Coefficients
+    drift_noise: Coefficients
+
+    def columns(self) -> dict[str, Coefficients]:
+        return {"original": self.original, "bias": self.bias, "drift_noise": self.drift_noise}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CompensationTable:
+    """Table 3: the fixed-frequency record original, denoised, RBF- and LS-compensated."""
+
+    original: Coefficients
+    denoised: Coefficients
+    rbf: Coefficients
+    ls: Coefficients
+
+    def columns(self) -> dict[str, Coefficients]:
+        return {"original": self.original, "denoised": self.denoised, "rbf": self.rbf, "ls": self.ls}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BiasModelScores:
+    """The bias models' MSE [(deg/h)^2] against their a7 targets and the true bias, and the bins."""
+
+    rbf_vs_target: float
+    ls_vs_target: float
+    rbf_vs_truth: float
+    ls_vs_truth: float
+    target_vs_truth: float
+    rbf_neurons: int
+    n_bins: int
+    training_range_hz: tuple[float, float]
+    peak_bias_frequency_hz: float
+    true_peak_bias_frequency_hz: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "rbf_vs_target": self.rbf_vs_target,
+            "ls_vs_target": self.ls_vs_target,
+            "rbf_vs_truth": self.rbf_vs_truth,
+            "ls_vs_truth": self.ls_vs_truth,
+            "target_vs_truth": self.target_vs_truth,
+            "rbf_neurons": self.rbf_neurons,
+            "n_bins": self.n_bins,
+            "training_range_hz": list(self.training_range_hz),
+            "peak_bias_frequency_hz": self.peak_bias_frequency_hz,
+            "true_peak_bias_frequency_hz": self.true_peak_bias_frequency_hz,
+            "unit": "(deg/h)^2",
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Offsets:
+    """Figures 7-8 in numbers [deg/h] (spike ratio dimensionless); NaN where not measurable."""
+
+    offset_denoised: float
+    offset_rbf: float
+    offset_ls: float
+    static_scatter: float
+    edge_spike_ratio: float
+    residual_vs_truth_rbf: float
+    residual_vs_truth_ls: float
+    true_bias_steady: float
+
+    def as_dict(self) -> dict[str, float]:
+        return {
+            "offset_denoised": self.offset_denoised,
+            "offset_rbf": self.offset_rbf,
+            "offset_ls": self.offset_ls,
+            "static_scatter": self.static_scatter,
+            "edge_spike_ratio": self.edge_spike_ratio,
+            "residual_vs_truth_rbf": self.residual_vs_truth_rbf,
+            "residual_vs_truth_ls": self.residual_vs_truth_ls,
+            "true_bias_steady": self.true_bias_steady,
+        }
+
+
+# ------------------------------------------------------------------------------ figure traces (float32)
+@dataclass(frozen=True, slots=True, kw_only=True)
+class RecordTraces:
+    """Figure 1: block means [deg/h] of both records at times ``t`` [s]."""
+
+    t: F32
+    sweep: F32
+    fixed: F32
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MultiscaleTraces:
+    """Figure 3: the sweep's deepest approximation and each detail's rms envelope [deg/h]."""
+
+    t: F32
+    a: F32
+    d_rms: F32  # shape (level, n): row i is detail i + 1
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SplitTraces:
+    """Figure 4: approximations (block means at ``t_mean``) and details (samples at ``t_sample``)."""
+
+    t_mean: F32
+    t_sample: F32
+    a_train: F32
+    a_bias: F32
+    d_j: F32
+    d1: F32
+    d: F32
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ModelTraces:
+    """Figure 6: training bins, true bias there, and both models on the grid ``ff`` [Hz, deg/h]."""
+
+    f_bins: F32
+    y_bins: F32
+    truth_bins: F32
+    ff: F32
+    rbf: F32
+    ls: F32
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CompensationTraces:
+    """Figures 7-8: every k-th sample [deg/h] of the fixed record at each stage."""
+
+    t: F32
+    original: F32
+    denoised: F32
+    rbf: F32
+    ls: F32
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FigureData:
+    """Everything the report's figures draw (float32; ``fixed_rate`` is the whole fixed-frequency
+    record [deg/h] at ``fs`` [Hz], for figure 2's spectrum and wavelet map)."""
+
+    records: RecordTraces
+    multiscale: MultiscaleTraces
+    split: SplitTraces
+    models: ModelTraces
+    compensation: CompensationTraces
+    fixed_rate: F32
+    fs: float
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class UnitResult:
+    """One simulated unit through paper 000's analysis (satisfies
+    :class:`gyrobench.scenarios.papers.contract.UnitResult`)."""
+
+    seed: int
+    quantities: Mapping[str, float | None]
+    phases: PhaseTable
+    decomposition: Decomposition
+    compensation: CompensationTable
+    bias_models: BiasModelScores
+    offsets: Offsets
+    figures: FigureData
+
+
+# ------------------------------------------------------------------------------ quantity rules
+def shown_ratio(big: Coefficient, small: Coefficient) -> float | None:
+    """Evidence that ``big`` > ``small`` (module docstring).
+
+    big identified: big's lower 95 % bound over small's upper 95 % bound (> 1 shows big > small).
+    big only a bound: the unit decides only when the data show the reverse (big's bound below
+    small's lower 95 % bound: big.high / small.low < 1), else None.
+    """
+    if big.value is not None:
+        return float(big.low / max(small.high, 1e-300))
+    if small.value is not None and big.high < small.low:
+        return float(big.high / small.low)
+    return None
+
+
+def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> float | None:
+    """num / den for a "keeps" claim (judged within ``factor`` of 1).
+
+    Both identified: the ratio of the values. One side only a bound: the unit decides only
+    when the bound already puts the ratio outside the window (num.high / den.low < 1/factor,
+    or num.low / den.high > factor; that bounding ratio is returned), else None.
+    """
+    if num.value is not None and den.value is not None:
+        return float(num.value / den.value) if den.value > 0 else None
+    if num.value is None and den.value is not None and num.high < den.low / factor:
+        return float(num.high / den.low)
+    if den.value is None and num.value is not None and num.low > factor * den.high:
+        return float(num.low / max(den.high, 1e-300))
+    return None
+
+
+def value_ratio(num: Coefficient, den: Coefficient) -> float | None:
+    """num / den of the point values; None unless both are identified."""
+    if num.value is None or den.value is None or den.value <= 0:
+        return None
+    return float(num.value / den.value)
+
+
+def overlap(a: Coefficient, b: Coefficient) -> float | None:
+    """1.0 when the 95 % intervals of two identified coefficients overlap, 0.0 when not, None if a bound."""
+    if a.value is None or b.value is None:
+        return None
+    return 1.0 if (a.low <= b.high and b.low <= a.high) else 0.0
+
+
+def unit_quantities(
+    phases: PhaseTable,
+    decomposition: Decomposition,
+    compensation: CompensationTable,
+    scores: BiasModelScores,
+    offsets: Offsets,
+) -> dict[str, float | None]:
+    """One number per claim quantity (module docstring: how a unit's quantity tests a claim)."""
+    p1, p2, p3 = phases.phase1, phases.phase2, phases.phase3
+    o, b, dn = decomposition.original, decomposition.bias, decomposition.drift_noise
+    co, cd, cr, cl = compensation.original, compensation.denoised, compensation.rbf, compensation.ls
+    q: dict[str, float | None] = {}
+    for t in TERMS:  # "higher than phases 1 and 3": the weaker of the two comparisons
+        vs = [r for r in (shown_ratio(p2[t], p1[t]), shown_ratio(p2[t], p3[t])) if r is not None]
+        q[f"t1_{t}_phase2_over_static"] = min(vs) if vs else None
+    for t in ("Q", "N", "B"):
+        q[f"t1_{t}_phase1_phase3_overlap"] = overlap(p1[t], p3[t])
+    for t in ("K", "R"):
+        q[f"t1_{t}_phase3_over_phase1"] = value_ratio(p3[t], p1[t])
+    for t in ("Q", "N", "R"):
+        q[f"t2_{t}_original_over_bias"] = shown_ratio(o[t], b[t])
+        q[f"t2_{t}_drift_noise_over_original"] = keeps_ratio(dn[t], o[t])
+    for t in ("B", "K"):
+        q[f"t2_{t}_bias_over_original"] = keeps_ratio(b[t], o[t])
+        q[f"t2_{t}_original_over_drift_noise"] = shown_ratio(o[t], dn[t])
+    for t in ("Q", "N"):
+        q[f"t3_{t}_original_over_denoised"] = shown_ratio(co[t], cd[t])
+    for t in ("B", "K", "R"):
+        q[f"t3_{t}_denoised_over_rbf"] = shown_ratio(cd[t], cr[t])
+        q[f"t3_{t}_denoised_over_ls"] = shown_ratio(cd[t], cl[t])
+        q[f"t3_{t}_ls_over_rbf"] = shown_ratio(cl[t], cr[t])
+    q["fig3_peak_bias_frequency"] = scores.peak_bias_frequency_hz
+    q["fig6_mse_ls_over_rbf_target"] = scores.ls_vs_target / max(scores.rbf_vs_target, 1e-300)
+    q["fig6_mse_ls_over_rbf_truth"] = scores.ls_vs_truth / max(scores.rbf_vs_truth, 1e-300)
+    q["fig7_offset_over_scatter"] = abs(offsets.offset_denoised) / offsets.static_scatter
+    q["fig8_edge_spike_ratio"] = offsets.edge_spike_ratio
+    q["fig8_rbf_offset_over_denoised"] = abs(offsets.offset_rbf) / max(abs(offsets.offset_denoised), 1e-300)
+    return {k: (float(v) if v is not None and math.isfinite(v) else None) for k, v in q.items()}

@@ -124,6 +124,9 @@ class Outcome:
     claims: list[Any] = field(default_factory=list)
     deviations: list[Any] = field(default_factory=list)
     units: int = 1
+    #: paper scenarios run with ``reproduce --deviations``: each deviation's measured effect
+    #: (scenarios.claims.DeviationEffect); empty when the effects were not measured in this run
+    deviation_effects: list[Any] = field(default_factory=list)
 
 
 @dataclass(frozen=True)

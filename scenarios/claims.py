@@ -78,7 +78,9 @@ __all__ = [
     "ClaimTally",
     "ControlResult",
     "Deviation",
+    "DeviationEffect",
     "Precondition",
+    "deviation_effect",
     "above",
     "below",
     "evaluate",
@@ -606,3 +608,53 @@ def tally(results: Sequence[ClaimResult]) -> ClaimTally:
             else:
                 add(_METHOD_FIELD[status])
     return ClaimTally(**n)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DeviationEffect:
+    """A deviation's effect, measured by the run: every claim's pass count with our protocol and
+    with the paper's (the deviation's config variant), over the same ``units`` seeds.
+
+    ``changes`` holds ``(claim id, holds, testable, holds under the variant, testable under the
+    variant)`` for every claim.
+    """
+
+    variant: str
+    units: int
+    changes: tuple[tuple[str, int, int, int, int], ...]
+
+    @property
+    def changed(self) -> tuple[tuple[str, int, int, int, int], ...]:
+        """The claims whose pass count or testable count the variant changes."""
+        return tuple(c for c in self.changes if c[1:3] != c[3:5])
+
+    def text(self) -> str:
+        """One phrase for the report: the changed claims, or that none changed."""
+        if not self.changed:
+            return f"no claim's pass count changes over {self.units} unit(s)"
+        return f"over {self.units} unit(s): " + "; ".join(
+            f"{cid} {h}/{t} -> {hv}/{tv}" for cid, h, t, hv, tv in self.changed
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "variant": self.variant,
+            "units": self.units,
+            "changes": [
+                {"claim": cid, "holds": h, "testable": t, "holds_variant": hv, "testable_variant": tv}
+                for cid, h, t, hv, tv in self.changes
+            ],
+        }
+
+
+def deviation_effect(
+    variant: str, ours: Sequence[ClaimResult], theirs: Sequence[ClaimResult]
+) -> DeviationEffect:
+    """Pair the claims judged on the same units under our protocol (``ours``) and the variant's."""
+    by_id = {r.claim.id: r for r in theirs}
+    changes = tuple(
+        (r.claim.id, r.holds, r.testable, by_id[r.claim.id].holds, by_id[r.claim.id].testable)
+        for r in ours
+        if r.claim.id in by_id
+    )
+    return DeviationEffect(variant=variant, units=ours[0].units if ours else 0, changes=changes)

@@ -397,6 +397,10 @@ def _cmd_allan(args) -> int:
 
 
 # ----------------------------------------------------------------------------- reproduce
+#: units each deviation's variant runs over with a bare ``reproduce --deviations``
+DEVIATION_UNITS = 5
+
+
 def _cmd_reproduce(args) -> int:
     """Run the scenarios; a paper scenario (``experiment`` + ``CLAIMS``) over ``--units`` units
     through the shared runner (:mod:`gyrobench.scenarios.units`), any other by its ``run``."""
@@ -445,7 +449,8 @@ def _cmd_reproduce(args) -> int:
                 bar.set_postfix_str(mod.NAME)
                 if units.is_paper_scenario(mod):
                     outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=args.units, executor=executor,
-                                                    workers=workers, db=db, progress=not args.quiet))
+                                                    workers=workers, db=db, progress=not args.quiet,
+                                                    deviation_units=args.deviations or 0))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
     finally:
@@ -558,6 +563,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--db", help="SQLite file keeping every finished unit, so a rerun resumes "
                                 "(default OUT/units.sqlite)")
     s.add_argument("--config", help="TOML file overriding one scenario's parameters")
+    s.add_argument("--deviations", nargs="?", const=DEVIATION_UNITS, type=_positive_int("--deviations"),
+                   metavar="N", help="also run each deviation's config variant (the paper's protocol) over the "
+                   f"first N units (default {DEVIATION_UNITS}) and report every claim's measured change")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.set_defaults(func=_cmd_reproduce)
 

@@ -93,6 +93,8 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
         doc["units"] = outcome.units
         doc["claims"] = [c.as_dict() for c in outcome.claims]
         doc["deviations"] = [dataclasses.asdict(d) for d in outcome.deviations]
+        if outcome.deviation_effects:
+            doc["deviation_effects"] = [e.as_dict() for e in outcome.deviation_effects]
     clash = sorted(set(doc) & set(outcome.results))
     if clash:  # a scenario's own numbers must not overwrite the runner's (e.g. the unit count)
         raise ValueError(
@@ -244,8 +246,21 @@ def _claims_table(o: Outcome) -> Table:
     return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
 
 
+def deviation_effect_text(d: Any, effects: Sequence[Any]) -> str:
+    """The measured-effect cell of a deviation: this run's measurement, or why there is none."""
+    by_variant = {e.variant: e for e in effects}
+    variant = getattr(d, "variant", None)
+    if variant and variant in by_variant:
+        return f"variant '{variant}' {by_variant[variant].text()}"
+    legacy = f" An earlier run's note: {d.effect}" if d.effect else ""
+    if not variant:
+        return "no config variant: not measurable by a run." + legacy
+    return f"not measured in this run (gyrobench reproduce --deviations runs variant '{variant}')." + legacy
+
+
 def _deviations_table(o: Outcome) -> Table:
-    rows = [[d.what, d.paper_says, d.we_do, d.reason, d.effect] for d in o.deviations]
+    rows = [[d.what, d.paper_says, d.we_do, d.reason, deviation_effect_text(d, o.deviation_effects)]
+            for d in o.deviations]
     return Table(
         "Deviations from the paper's protocol",
         ["what", "the paper", "this simulation", "why", "measured effect on the claims"],

@@ -368,8 +368,13 @@ def run_paper(
     workers: int | None = None,
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = False,
+    deviation_units: int = 0,
 ) -> Outcome:
     """Run the units (:func:`run_units`), judge :func:`module_claims` over them, build the report.
+
+    With ``deviation_units`` > 0, each deviation's config variant also runs over the first
+    that many units (:func:`measure_deviations`) and ``outcome.deviation_effects`` holds the
+    measured change of every claim's pass count.
 
     Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
     ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
@@ -408,6 +413,11 @@ def run_paper(
     outcome.deviations = list(getattr(module, "DEVIATIONS", ()))
     outcome.units = n_units
     outcome.runtime_s = time.perf_counter() - t0
+    if deviation_units:
+        outcome.deviation_effects = measure_deviations(
+            module, config, run.results[:deviation_units], seed=seed, executor=executor, workers=workers, db=db,
+            progress=progress,
+        )
     outcome.results["unit_run"] = {
         "n": n_units,
         "seeds": list(run.seeds),
@@ -426,6 +436,40 @@ def run_paper(
             "run_id": control.run_id,
         }
     return outcome
+
+
+def measure_deviations(
+    module: types.ModuleType,
+    config: Any,
+    units: Sequence[Any],
+    *,
+    seed: int,
+    executor: cf.Executor | None,
+    workers: int | None,
+    db: str | os.PathLike,
+    progress: bool,
+) -> list[Any]:
+    """Each deviation's effect: its config variant (``module.variant_config(config, name)``) run over
+    the seeds of ``units`` (our protocol's first units, already run), claims judged on both.
+
+    Deviations without a variant, or a scenario without ``variant_config``, measure nothing.
+    """
+    from gyrobench.scenarios.claims import deviation_effect, evaluate
+
+    make = getattr(module, "variant_config", None)
+    if not callable(make) or not units:
+        return []
+    claims = module_claims(module, config)
+    ours = evaluate(claims, [quantities_of(u) for u in units])
+    effects = []
+    for d in getattr(module, "DEVIATIONS", ()):
+        if not getattr(d, "variant", None):
+            continue
+        vrun = run_units(module, make(config, d.variant), seed=seed, n_units=len(units), executor=executor,
+                         workers=workers, db=db, progress=progress)
+        theirs = evaluate(claims, [quantities_of(u) for u in vrun.results])
+        effects.append(deviation_effect(d.variant, ours, theirs))
+    return effects
 
 
 def _run_control(module: types.ModuleType, config: Any, **kw: Any) -> UnitRun | None:

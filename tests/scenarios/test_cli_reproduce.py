@@ -131,3 +131,24 @@ def test_reproduce_db_in_missing_folder(toy_registered, tmp_path, capsys):
         capsys,
     )
     assert_one_line_error(code, err, "does not exist")
+
+
+def test_reproduce_measures_the_deviations(toy_registered, tmp_path, capsys):
+    """--deviations runs each deviation's variant over the first N units; without it nothing is claimed."""
+    code, _, err = run(["reproduce", "toy_paper", "--units", "4", "--workers", "0", "--out", tmp_path / "a", "-q"],
+                       capsys)
+    assert code == 0, err
+    doc = json.loads((tmp_path / "a" / "toy_paper" / "results.json").read_text())
+    assert "deviation_effects" not in doc
+    assert "not measured in this run" in (tmp_path / "a" / "report.md").read_text()
+    code, _, err = run(["reproduce", "toy_paper", "--units", "4", "--workers", "0", "--deviations", "3",
+                        "--out", tmp_path / "b", "-q"], capsys)
+    assert code == 0, err
+    doc = json.loads((tmp_path / "b" / "toy_paper" / "results.json").read_text())
+    effects = {e["variant"]: e for e in doc["deviation_effects"]}
+    assert set(effects) == {"paper_length", "paper_noise"} and {e["units"] for e in effects.values()} == {3}
+    # the residual claim (below 0.05) cannot hold with 10x the noise: the measured change shows it
+    res = next(c for c in effects["paper_noise"]["changes"] if c["claim"] == "toy.residual")
+    assert res["holds_variant"] == 0 and res["testable_variant"] == 3
+    md = (tmp_path / "b" / "report.md").read_text()
+    assert "variant 'paper_noise' over 3 unit(s): " in md and "toy.residual" in md

@@ -126,9 +126,28 @@ DEVIATIONS = (
         paper_says="1000 samples",
         we_do="200 samples",
         reason="speed",
-        effect="none measured on toy.gain",
+        variant="paper_length",
+    ),
+    Deviation(
+        paper=PAPER,
+        what="noise level",
+        paper_says="not stated",
+        we_do="0.1",
+        reason="a choice",
+        variant="paper_noise",
     ),
 )
+
+
+def variant_config(config: Config, name: str) -> Config:
+    """The paper's protocol for a deviation: ``paper_length`` (1000 samples) or ``paper_noise`` (10x the noise)."""
+    import dataclasses
+
+    if name == "paper_length":
+        return dataclasses.replace(config, n_samples=1000)
+    if name == "paper_noise":
+        return dataclasses.replace(config, noise=10 * config.noise)
+    raise ValueError(f"toy_paper variant must be 'paper_length' or 'paper_noise'; got {name!r}")
 
 
 def report(

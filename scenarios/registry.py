@@ -26,7 +26,7 @@ SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
     "mems_scale_factor": "gyrobench.scenarios.papers.p001_mems_scale_factor",
     "ifog_thermal": "gyrobench.scenarios.ifog_thermal",
-    "rlg_thermal": "gyrobench.scenarios.rlg_thermal",
+    "rlg_thermal": "gyrobench.scenarios.papers.p004_rlg_thermal",
     "fog_vibration": "gyrobench.scenarios.papers.p000_fog_vibration",
     "physics_checks": "gyrobench.scenarios.physics_checks",
 }

@@ -882,7 +882,7 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
 # ----------------------------------------------------------------------------- a real scenario
 def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     """Two seeds of the RLG thermal scenario (~2 s each) with a plain scikit-learn Ridge."""
-    import gyrobench.scenarios.rlg_thermal as rlg
+    import gyrobench.scenarios.papers.p004_rlg_thermal as rlg
     from sklearn.compose import ColumnTransformer
     from sklearn.dummy import DummyRegressor
     from sklearn.linear_model import Ridge

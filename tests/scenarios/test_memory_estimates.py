@@ -17,6 +17,7 @@ import sys
 import textwrap
 
 import pytest
+from gyrobench.scenarios import registry
 from gyrobench.scenarios.cli import main
 
 #: an estimate may exceed the measured peak by at most this factor (each formula states its
@@ -115,8 +116,6 @@ def test_estimates_bound_the_measured_peak_at_larger_configs():
 
 
 def _default_estimate(name: str) -> float:
-    from gyrobench.scenarios import registry
-
     mod = registry.get(name)
     return float(mod.memory_estimate(mod.Config()))
 
@@ -124,8 +123,6 @@ def _default_estimate(name: str) -> float:
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_estimate_grows_with_the_fields_it_names(name):
     import dataclasses
-
-    from gyrobench.scenarios import registry
 
     mod = registry.get(name)
     base = mod.memory_estimate(mod.Config())
@@ -174,7 +171,8 @@ def test_absurd_config_is_refused_in_one_line_before_allocating(
 
 
 def test_units_at_once_multiply_the_per_unit_estimate(tmp_path, capsys, monkeypatch):
-    from gyrobench.scenarios import rlg_thermal, units
+    from gyrobench.scenarios import units
+    from gyrobench.scenarios.papers import p004_rlg_thermal as rlg_thermal
     from gyrobench.sim import memory
 
     est = rlg_thermal.memory_estimate(rlg_thermal.Config())  # ~250 MB
@@ -203,7 +201,8 @@ def test_units_at_once_multiply_the_per_unit_estimate(tmp_path, capsys, monkeypa
 def test_bench_workers_multiply_the_per_seed_estimate(tmp_path, monkeypatch):
     """A campaign on its own local pool refuses, before any seed starts, more seeds at once
     than fit: the same one check as reproduce (units.check_unit_memory)."""
-    from gyrobench.scenarios import bench, rlg_thermal
+    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.papers import p004_rlg_thermal as rlg_thermal
     from gyrobench.sim.memory import MemoryLimitError
 
     est = rlg_thermal.memory_estimate(rlg_thermal.Config())

@@ -1,4 +1,9 @@
-"""Tests of scenarios/rlg_thermal.py (paper 004: one unit = one gyro; claims over units)."""
+"""Tests of scenarios/papers/p004_rlg_thermal (paper 004: one unit = one gyro; claims over units).
+
+The checks every paper shares (a typed frozen result with one float per claim, claims and
+deviations well formed, claims judged from the quantities, a report from results alone) are
+in tests/scenarios/test_paper_contract.py; these test what paper 004's results mean.
+"""
 
 from __future__ import annotations
 
@@ -9,21 +14,24 @@ import pickle
 import numpy as np
 import pytest
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
+from gyrobench.analysis.regressors import REGRESSOR_LABELS
 from gyrobench.scenarios import registry
-from gyrobench.scenarios import rlg_thermal as sc
 from gyrobench.scenarios.base import CompensationTask, Outcome
-from gyrobench.scenarios.claims import Claim, Deviation, evaluate
+from gyrobench.scenarios.claims import evaluate
+from gyrobench.scenarios.papers import p004_rlg_thermal as sc
+from gyrobench.scenarios.papers.p004_rlg_thermal.experiment import has_kinds
+from gyrobench.scenarios.papers.p004_rlg_thermal.report import _cross_unit_ratios
 from gyrobench.sim import units
 
 
 @pytest.fixture(scope="module")
-def three_units() -> list[dict]:
+def three_units() -> list[sc.UnitResult]:
     return [sc.experiment(sc.Config(), s) for s in range(3)]
 
 
 @pytest.fixture(scope="module")
 def outcome(three_units) -> Outcome:
-    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in three_units])
+    claims = evaluate(sc.CLAIMS, [u.quantities for u in three_units])
     return sc.report(sc.Config(), three_units, claims)
 
 
@@ -48,31 +56,16 @@ def test_chamber_program_matches_paper():
 
 
 # ----------------------------------------------------------------------------- claims
-def test_claims_well_formed(three_units):
-    """Unique 004 ids; every claim's quantity comes out of experiment as a float or None."""
-    ids = [c.id for c in sc.CLAIMS]
-    assert len(ids) == len(set(ids)) and all(i.startswith("004.") for i in ids)
-    q = three_units[0]["quantities"]
-    for c in sc.CLAIMS:
-        assert isinstance(c, Claim) and c.paper == "004"
-        assert c.quantity in q, c.id
-        assert c.kind == "emergent" or c.calibrated_input
-    for u in three_units:
-        assert all(v is None or type(v) is float for v in u["quantities"].values())
-        # booleans are 1.0 / 0.0
-        for key in ("keeps_paper_terms", "drops_other_terms", "selects_paper_set"):
-            assert u["quantities"][key] in (0.0, 1.0)
-    assert all(isinstance(d, Deviation) and d.paper == "004" and d.effect for d in sc.DEVIATIONS)
-
-
 def test_selection_quantities_follow_the_selected_set(three_units):
     """The three selection quantities are the set relations of the selected terms to the paper's."""
     for u in three_units:
-        sel, q = set(u["model"]["selected"]), u["quantities"]
+        sel, q = set(u.model.selected), u.quantities
+        for key in ("keeps_paper_terms", "drops_other_terms", "selects_paper_set"):
+            assert q[key] in (0.0, 1.0)  # booleans as 1.0 / 0.0
         assert q["keeps_paper_terms"] == float(set(sc.PAPER_SELECTED) <= sel)
         assert q["drops_other_terms"] == float(not sel & set(sc.PAPER_DROPPED))
         assert q["selects_paper_set"] == q["keeps_paper_terms"] * q["drops_other_terms"]
-    assert set(sc.PAPER_SELECTED) | set(sc.PAPER_DROPPED) == set(sc.REGRESSOR_LABELS)
+    assert set(sc.PAPER_SELECTED) | set(sc.PAPER_DROPPED) == set(REGRESSOR_LABELS)
 
 
 def test_every_claim_emergent():
@@ -83,40 +76,36 @@ def test_every_claim_emergent():
 def test_hop_quantities_against_the_counterfactual(three_units):
     """hop_* quantities are the with/without-hops ratios, None when the unit never hops."""
     for u in three_units:
-        h, q, s = u["hops"], u["quantities"], u["stability"]
-        ratio = s["heldout_before_deg_h"] / s["heldout_after_deg_h"]
-        if h["fit_hops"] + h["heldout_hops"] == 0:
+        h, q, s = u.hops, u.quantities, u.stability
+        ratio = s.heldout_before_deg_h / s.heldout_after_deg_h
+        if h.fit_hops + h.heldout_hops == 0:
             assert q["hop_ratio_cost"] is None and q["hop_adj_r2_cost"] is None
             continue
-        assert q["hop_ratio_cost"] == pytest.approx(h["heldout_ratio_nohop"] / ratio, rel=1e-12)
-        if h["fit_hops"]:
-            assert q["hop_adj_r2_cost"] == pytest.approx(
-                (1 - u["model"]["adj_r2"]) / (1 - h["adj_r2_nohop"]), rel=1e-12
-            )
-        assert len(h["fit_up_degc"]) + len(h["fit_down_degc"]) == h["fit_hops"]
-    assert any(u["hops"]["fit_hops"] > 0 for u in three_units)
+        assert q["hop_ratio_cost"] == pytest.approx(h.heldout_ratio_nohop / ratio, rel=1e-12)
+        if h.fit_hops:
+            assert q["hop_adj_r2_cost"] == pytest.approx((1 - u.model.adj_r2) / (1 - h.adj_r2_nohop), rel=1e-12)
+        assert len(h.fit_up_degc) + len(h.fit_down_degc) == h.fit_hops
+    assert any(u.hops.fit_hops > 0 for u in three_units)
 
 
 def test_temperature_rate_gradient_kinds():
     """The paper's set carries all three kinds; a set without a gradient carrier does not."""
-    assert sc._has_kinds(sc.PAPER_SELECTED)
-    assert not sc._has_kinds(["x1", "x3", "x7"])  # no gradient carrier
-    assert not sc._has_kinds(["x9", "x3"])  # no temperature carrier
-    assert sc._has_kinds(["x2", "x4"])  # dT2/dt = (T1 + H2 - T2)/tau2 carries the gradient
+    assert has_kinds(sc.PAPER_SELECTED)
+    assert not has_kinds(["x1", "x3", "x7"])  # no gradient carrier
+    assert not has_kinds(["x9", "x3"])  # no temperature carrier
+    assert has_kinds(["x2", "x4"])  # dT2/dt = (T1 + H2 - T2)/tau2 carries the gradient
 
 
 def test_in_sample_identity_ties_adj_r2_to_the_ratio(three_units):
     """Least squares with an intercept: R^2 = 1 - (after/before)^2 on the fitting run."""
     for u in three_units:
-        s, m = u["stability"], u["model"]
-        assert m["r2"] == pytest.approx(
-            1 - (s["fit_after_deg_h"] / s["fit_before_deg_h"]) ** 2, rel=1e-12
-        )
-        n, p = len(u["traces"]["fit"]["t_h"]), len(m["selected"])
-        assert m["adj_r2"] == pytest.approx(1 - (1 - m["r2"]) * (n - 1) / (n - p - 1), rel=1e-12)
-        q = u["quantities"]
-        assert q["one_minus_adj_r2"] == pytest.approx(1 - m["adj_r2"], rel=1e-12)
-        assert q["heldout_ratio"] == s["heldout_before_deg_h"] / s["heldout_after_deg_h"]
+        s, m = u.stability, u.model
+        assert m.r2 == pytest.approx(1 - (s.fit_after_deg_h / s.fit_before_deg_h) ** 2, rel=1e-12)
+        n, p = len(u.fit.t_h), len(m.selected)
+        assert m.adj_r2 == pytest.approx(1 - (1 - m.r2) * (n - 1) / (n - p - 1), rel=1e-12)
+        q = u.quantities
+        assert q["one_minus_adj_r2"] == pytest.approx(1 - m.adj_r2, rel=1e-12)
+        assert q["heldout_ratio"] == s.heldout_before_deg_h / s.heldout_after_deg_h
 
 
 def test_experiment_is_deterministic_and_small(three_units):
@@ -124,16 +113,16 @@ def test_experiment_is_deterministic_and_small(three_units):
     blob = pickle.dumps(again)
     assert blob == pickle.dumps(three_units[1])
     assert len(blob) < 2_000_000
-    assert three_units[0]["quantities"] != three_units[1]["quantities"]  # another unit
+    assert three_units[0].quantities != three_units[1].quantities  # another unit
 
 
 def test_experiment_matches_its_own_traces(three_units):
     """The held-out 'after' stability is the std of the stored compensated trace minus truth."""
     u = three_units[0]
-    h = u["traces"]["heldout"]
-    assert u["stability"]["heldout_after_deg_h"] == pytest.approx(
-        np.std(h["compensated"] - h["truth"], ddof=1), rel=1e-12
-    )
+    h = u.heldout
+    assert u.stability.heldout_after_deg_h == pytest.approx(np.std(h.compensated - h.truth, ddof=1), rel=1e-12)
+    # the stored compensation is the stored model applied to the stored regressors
+    assert np.allclose(h.compensated, h.output - u.model.predict(h.X), rtol=0, atol=1e-12)
 
 
 # ----------------------------------------------------------------------------- report
@@ -158,14 +147,14 @@ def test_report_runs(outcome, three_units):
     rows = outcome.results["unit_rows"]
     assert [r["seed"] for r in rows] == [0, 1, 2]
     freq = outcome.results["selection_frequency"]
-    for lab in sc.REGRESSOR_LABELS:
-        assert freq[lab] == sum(lab in u["model"]["selected"] for u in three_units) / 3
+    for lab in REGRESSOR_LABELS:
+        assert freq[lab] == sum(lab in u.model.selected for u in three_units) / 3
     assert "0/3" in outcome.conclusion or "1/3" in outcome.conclusion or "3/3" in outcome.conclusion
 
 
 def test_report_one_unit_and_refuses_none():
     u = sc.experiment(sc.Config(), 5)
-    o = sc.report(sc.Config(), [u], evaluate(sc.CLAIMS, [u["quantities"]]))
+    o = sc.report(sc.Config(), [u], evaluate(sc.CLAIMS, [u.quantities]))
     assert o.seed == 5 and o.results["unit_rows"][0]["cross_unit_ratio"] is None
     with pytest.raises(ValueError, match="units must hold at least one experiment result"):
         sc.report(sc.Config(), [], [])
@@ -174,9 +163,9 @@ def test_report_one_unit_and_refuses_none():
 def test_cross_unit_ratio_with_own_model_is_own_ratio(three_units):
     """Applying a unit's own model (the list [u, u]) gives exactly its held-out ratio."""
     u = three_units[2]
-    r = sc._cross_unit_ratios([u, u])
-    assert r[0] == pytest.approx(u["quantities"]["heldout_ratio"], rel=1e-12)
-    assert all(isinstance(v, float) for v in sc._cross_unit_ratios(three_units))
+    r = _cross_unit_ratios([u, u])
+    assert r[0] == pytest.approx(u.quantities["heldout_ratio"], rel=1e-12)
+    assert all(isinstance(v, float) for v in _cross_unit_ratios(three_units))
 
 
 # ----------------------------------------------------------------------------- bench, simulate
@@ -187,9 +176,9 @@ def test_compensation_task_reproduces_experiment(three_units):
     m = StepwiseRegression().fit(task.X_train, task.y_train)
     run = task.heldout[0]
     scores = task.scorer(task.compensate(m.predict(run.X), run), run)
-    s = three_units[0]["stability"]
-    assert scores["bias_stability_deg_h"] == pytest.approx(s["heldout_after_deg_h"], rel=1e-12)
-    assert scores["before_deg_h"] == pytest.approx(s["heldout_before_deg_h"], rel=1e-12)
+    s = three_units[0].stability
+    assert scores["bias_stability_deg_h"] == pytest.approx(s.heldout_after_deg_h, rel=1e-12)
+    assert scores["before_deg_h"] == pytest.approx(s.heldout_before_deg_h, rel=1e-12)
 
 
 def test_simulate_recordings():
@@ -249,12 +238,12 @@ def test_twenty_units_every_claim_testable():
     """20 units (seeds 0-19, ~2-3 s each): every paper claim is testable on every unit, and a rerun
     of the evaluation from the same units gives the same counts."""
     us = [sc.experiment(sc.Config(), s) for s in range(20)]
-    res = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    res = evaluate(sc.CLAIMS, [u.quantities for u in us])
     hop_ids = {"004.mode_hops_lower_adj_r2", "004.mode_hops_lower_improvement"}
     assert all(r.testable == 20 for r in res if r.claim.id not in hop_ids)
     # units that never hop cannot test the hop claims; most units hop
     assert all(10 <= r.testable <= 20 for r in res if r.claim.id in hop_ids)
-    again = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    again = evaluate(sc.CLAIMS, [u.quantities for u in us])
     assert [r.holds for r in res] == [r.holds for r in again]
     o = sc.report(sc.Config(), us, res)
     assert len(o.results["unit_rows"]) == 20

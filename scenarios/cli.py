@@ -131,6 +131,11 @@ def _positive_int(name: str):
     return conv
 
 
+def _units_or_auto(text: str) -> int | str:
+    """``--units``: a positive integer, or ``auto``."""
+    return "auto" if text == "auto" else _positive_int("--units (or 'auto')")(text)
+
+
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
                 "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
@@ -399,6 +404,9 @@ def _cmd_allan(args) -> int:
 # ----------------------------------------------------------------------------- reproduce
 #: units each deviation's variant runs over with a bare ``reproduce --deviations``
 DEVIATION_UNITS = 5
+#: ``--units auto``: the first batch, and the default ceiling (``--max-units``)
+AUTO_START_UNITS = 20
+MAX_UNITS = 60
 
 
 def _cmd_reproduce(args) -> int:
@@ -419,6 +427,12 @@ def _cmd_reproduce(args) -> int:
         raise _BadInput("--config applies to one scenario; name exactly one")
     if args.workers is not None and args.workers < 0:
         raise _BadInput(f"--workers must be an integer >= 0; got {args.workers}")
+    if args.units == "auto":
+        start_units, max_units = min(AUTO_START_UNITS, args.max_units), args.max_units
+    elif args.max_units != MAX_UNITS:
+        raise _BadInput(f"--max-units goes with --units auto; got --units {args.units}")
+    else:
+        start_units, max_units = args.units, None
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
     check_output(args.out, what="--out", kind="report")  # before any work
@@ -426,7 +440,7 @@ def _cmd_reproduce(args) -> int:
         source = f"config file {args.config!r}" if args.config else "its default configuration"
         for m, cfg in zip(mods, configs, strict=True):
             if units.is_paper_scenario(m):
-                n_at_once = units.concurrent_units(args.units, args.workers)
+                n_at_once = units.concurrent_units(start_units, args.workers)
                 units.check_unit_memory(m, cfg, concurrent=n_at_once, source=source)
     out = Path(args.out)
     db = Path(args.db) if args.db else units.default_db(out)
@@ -448,9 +462,9 @@ def _cmd_reproduce(args) -> int:
             for mod, cfg in bar:
                 bar.set_postfix_str(mod.NAME)
                 if units.is_paper_scenario(mod):
-                    outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=args.units, executor=executor,
+                    outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=start_units, executor=executor,
                                                     workers=workers, db=db, progress=not args.quiet,
-                                                    deviation_units=args.deviations or 0))
+                                                    deviation_units=args.deviations or 0, max_units=max_units))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
     finally:
@@ -555,8 +569,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--all", action="store_true", help="every registered scenario")
     s.add_argument("--out", default="gyrobench-report", help="output folder (default gyrobench-report)")
     s.add_argument("--seed", type=_seed, default=0, help="seed of the first unit (default 0)")
-    s.add_argument("--units", type=_positive_int("--units"), default=20,
-                   help="paper scenarios: units simulated, seeds SEED..SEED+N-1 (default 20; 1 = quick look)")
+    s.add_argument("--max-units", type=_positive_int("--max-units"), default=MAX_UNITS,
+                   help=f"with --units auto: the most units a claim may use (default {MAX_UNITS})")
+    s.add_argument("--units", type=_units_or_auto, default=20,
+                   help="paper scenarios: units simulated, seeds SEED..SEED+N-1 (default 20; 1 = quick look; "
+                   "'auto': 20, then batches of 10 while a claim's interval straddles 50 %%, up to --max-units)")
     s.add_argument("--workers", type=int, default=None,
                    help="local worker processes for the units (default: usable CPUs; 0 = in this process)")
     s.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed scheduler address; units run there")

@@ -39,7 +39,7 @@ import pickle
 import sqlite3
 import time
 import types
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -369,6 +369,7 @@ def run_paper(
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = False,
     deviation_units: int = 0,
+    max_units: int | None = None,
 ) -> Outcome:
     """Run the units (:func:`run_units`), judge :func:`module_claims` over them, build the report.
 
@@ -376,33 +377,30 @@ def run_paper(
     that many units (:func:`measure_deviations`) and ``outcome.deviation_effects`` holds the
     measured change of every claim's pass count.
 
+    With ``max_units`` (``reproduce --units auto``), units are added in batches of
+    :data:`AUTO_BATCH` while any claim's 95 % interval still straddles 50 %, up to
+    ``max_units``; each claim is judged over the units it needed (its ``units`` field): a claim
+    keeps the units that decided it, an open one gets every batch.
+
     Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
     ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
     per-unit runtimes, how many were computed and read back) set. The report writer
     puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
     deviations into results.json.
     """
-    from gyrobench.scenarios.claims import evaluate
-
     t0 = time.perf_counter()
-    run = run_units(
-        module,
-        config,
-        seed=seed,
-        n_units=n_units,
-        executor=executor,
-        workers=workers,
-        db=db,
-        progress=progress,
-    )
-    control = _run_control(
-        module, config, seed=seed, n_units=n_units, executor=executor, workers=workers, db=db, progress=progress
-    )
-    claims = evaluate(
-        module_claims(module, config),
-        [quantities_of(u) for u in run.results],
-        None if control is None else [quantities_of(u) for u in control.results],
-    )
+    kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
+    claim_list = module_claims(module, config)
+    used = dict.fromkeys((c.id for c in claim_list), n_units)
+    while True:
+        run = run_units(module, config, n_units=n_units, **kw)
+        control = _run_control(module, config, n_units=n_units, **kw)
+        claims = _judge(claim_list, used, run, control)
+        open_ids = [r.claim.id for r in claims if r.verdict == "undecided"]
+        if max_units is None or not open_ids or n_units >= max_units:
+            break
+        n_units = min(n_units + AUTO_BATCH, max_units)
+        used.update(dict.fromkeys(open_ids, n_units))  # decided claims keep the units that decided them
     outcome = module.report(config, list(run.results), claims)
     if not isinstance(outcome, Outcome):
         raise TypeError(
@@ -470,6 +468,23 @@ def measure_deviations(
         theirs = evaluate(claims, [quantities_of(u) for u in vrun.results])
         effects.append(deviation_effect(d.variant, ours, theirs))
     return effects
+
+
+#: units added per batch by ``reproduce --units auto``
+AUTO_BATCH = 10
+
+
+def _judge(claims: Sequence[Any], used: Mapping[str, int], run: UnitRun, control: UnitRun | None) -> list[Any]:
+    """Each claim judged over its first ``used[claim.id]`` units (and as many control units)."""
+    from gyrobench.scenarios.claims import evaluate
+
+    units = [quantities_of(u) for u in run.results]
+    ctrl = None if control is None else [quantities_of(u) for u in control.results]
+    out = []
+    for c in claims:
+        n = used[c.id]
+        out += evaluate([c], units[:n], None if ctrl is None else ctrl[:n])
+    return out
 
 
 def _run_control(module: types.ModuleType, config: Any, **kw: Any) -> UnitRun | None:

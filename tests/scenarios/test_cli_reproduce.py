@@ -152,3 +152,25 @@ def test_reproduce_measures_the_deviations(toy_registered, tmp_path, capsys):
     assert res["holds_variant"] == 0 and res["testable_variant"] == 3
     md = (tmp_path / "b" / "report.md").read_text()
     assert "variant 'paper_noise' over 3 unit(s): " in md and "toy.residual" in md
+
+
+def test_units_auto_adds_units_only_for_open_claims(toy_registered, tmp_path, capsys):
+    """--units auto: 20 units, then batches of 10 while a claim's interval straddles 50 %, up to --max-units."""
+    from tests.scenarios import toy_paper as toy
+
+    code, _, err = run(["reproduce", "toy_paper", "--units", "auto", "--max-units", "40", "--workers", "0",
+                        "--out", tmp_path / "a", "-q"], capsys)
+    assert code == 0, err
+    doc = json.loads((tmp_path / "a" / "toy_paper" / "results.json").read_text())
+    used = {c["id"]: c["units"] for c in doc["claims"]}
+    assert doc["units"] == max(used.values()) and set(used.values()) <= {20, 30, 40}
+    # recompute from the units themselves: each claim stops at the first batch that decides it
+    from gyrobench.scenarios.claims import evaluate
+
+    qs = [toy.experiment(toy.Config(), s)["quantities"] for s in range(40)]
+    for claim in toy.CLAIMS:
+        verdicts = {n: evaluate([claim], qs[:n])[0].verdict for n in (20, 30, 40)}
+        first = next((n for n in (20, 30) if verdicts[n] != "undecided"), 40)
+        assert used[claim.id] == first, (claim.id, verdicts)
+    assert run(["reproduce", "toy_paper", "--units", "5", "--max-units", "9", "--out", tmp_path / "b", "-q"],
+               capsys)[0] == 2

@@ -100,7 +100,7 @@ def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys)
 @pytest.mark.parametrize(
     "argv, match",
     [
-        (["--units", "0"], "--units must be an integer > 0; got '0'"),
+        (["--units", "0"], "--units (or 'auto') must be an integer > 0; got '0'"),
         (["--workers", "-1"], "--workers must be an integer >= 0; got -1"),
         (
             ["--workers", "1", "--scheduler", "tcp://127.0.0.1:1"],

@@ -412,11 +412,8 @@ MAX_UNITS = 60
 def _cmd_reproduce(args) -> int:
     """Run the scenarios; a paper scenario (``experiment`` + ``CLAIMS``) over ``--units`` units
     through the shared runner (:mod:`gyrobench.scenarios.units`), any other by its ``run``."""
-    from gyrobench.scenarios import registry, units
-    from gyrobench.scenarios.bench_cli import _executor
-    from gyrobench.scenarios.outputs import check_output, write_report_as_a_set
-    from gyrobench.scenarios.report import claim_tally, tally_text
-    from tqdm import tqdm
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.outputs import check_output, output_lock
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -436,6 +433,18 @@ def _cmd_reproduce(args) -> int:
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
     check_output(args.out, what="--out", kind="report")  # before any work
+    with output_lock(args.out, what="--out"):  # a second reproduce into the same --out is refused
+        return _reproduce(args, mods, configs, start_units, max_units)
+
+
+def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> int:
+    """The work of ``reproduce`` once its inputs are checked and its output is locked."""
+    from gyrobench.scenarios import units
+    from gyrobench.scenarios.bench_cli import _executor
+    from gyrobench.scenarios.outputs import write_report_as_a_set
+    from gyrobench.scenarios.report import claim_tally, tally_text
+    from tqdm import tqdm
+
     if not args.scheduler:  # local units share this machine's memory: one per worker at once
         source = f"config file {args.config!r}" if args.config else "its default configuration"
         for m, cfg in zip(mods, configs, strict=True):

@@ -9,15 +9,17 @@ one run's files or the previous run's, never a mix.
 
 from __future__ import annotations
 
+import contextlib
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
-__all__ = ["check_output", "write_report_as_a_set", "REPORT_MARKER"]
+__all__ = ["check_output", "output_lock", "report_manifest", "write_report_as_a_set", "REPORT_MARKER"]
 
-#: file every report folder written by :func:`write_report_as_a_set` holds: a folder that
-#: may be replaced as a whole by the next report
+#: the manifest every report folder written by :func:`write_report_as_a_set` holds: JSON naming
+#: every file the report wrote with its SHA-256; the next report replaces the folder as a whole
+#: only while it holds nothing but those files, unchanged
 REPORT_MARKER = ".gyrobench-report"
 
 
@@ -45,22 +47,59 @@ def _probe_writable(folder: Path, what: str, target: Path) -> None:
     os.unlink(probe)
 
 
-def _is_report_folder(p: Path) -> bool:
-    """An empty folder, or one a gyrobench report was written to (the marker, or the
-    index.html that write_report writes)."""
+def _sha256(path: Path) -> str:
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _files(folder: Path) -> dict[str, Path]:
+    """Every entry below ``folder`` that is not a folder (links included), by relative POSIX path."""
+    out = {}
+    for root, dirs, names in os.walk(folder, followlinks=False):
+        for name in names + [d for d in dirs if os.path.islink(os.path.join(root, d))]:
+            full = Path(root) / name
+            out[full.relative_to(folder).as_posix()] = full
+    return out
+
+
+def report_manifest(folder: str | os.PathLike) -> dict[str, str]:
+    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest it writes)."""
+    return {rel: _sha256(p) for rel, p in sorted(_files(Path(folder)).items()) if rel != REPORT_MARKER}
+
+
+def _foreign_files(p: Path) -> list[str] | None:
+    """The files of folder ``p`` a gyrobench report did not write (None: ``p`` is not readable).
+
+    A folder may be replaced when it is empty, or when its manifest names every file it holds
+    with the same SHA-256: a file the user added or edited, a link, or a folder without a
+    manifest (anything else), is foreign.
+    """
+    import json
+
     try:
-        names = os.listdir(p)
+        files = _files(p)
     except OSError:
-        return False
-    if not names or REPORT_MARKER in names:
-        return True
-    index = p / "index.html"
+        return None
+    if not files:
+        return []
     try:
-        with open(index, encoding="utf-8", errors="replace") as fh:
-            head = fh.read(400)
-    except OSError:
-        return False
-    return "<title>gyrobench report</title>" in head
+        manifest = json.loads((p / REPORT_MARKER).read_text(encoding="utf-8"))["files"]
+        if not isinstance(manifest, dict):
+            raise TypeError
+    except (OSError, ValueError, KeyError, TypeError):
+        manifest = {}
+    foreign = []
+    for rel, full in sorted(files.items()):
+        if rel == REPORT_MARKER and manifest:
+            continue
+        if full.is_symlink() or not full.is_file() or manifest.get(rel) != _sha256(full):
+            foreign.append(rel)
+    return foreign
 
 
 def check_output(
@@ -117,10 +156,15 @@ def check_output(
     else:
         if p.exists() and not p.is_dir():
             raise NotADirectoryError(f"{what} must be a folder; {text!r} is an existing file")
-        if kind == "report" and p.is_dir() and not _is_report_folder(p):
+        if p.is_symlink():
+            raise ValueError(f"{what} must not be a symbolic link (it would be replaced by a folder); got {text!r}")
+        foreign = _foreign_files(p) if kind == "report" and p.is_dir() else []
+        if foreign is None or foreign:
+            shown = ", ".join(foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign or []) > 3 else "")
             raise ValueError(
                 f"{what} {text!r} exists and is not a gyrobench report folder (a report replaces "
-                "its folder as a whole): give a new folder or an earlier report's"
+                f"its folder as a whole, and this one holds files no report wrote: {shown or 'unreadable'}): "
+                "give a new folder or an earlier report's"
             )
     # the folder that receives the output (for "report": its parent, where the swap happens)
     receiver = p.parent if kind in ("file", "report") or not p.exists() else p
@@ -148,13 +192,49 @@ def write_report_as_a_set(
     A failed or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never
     mixes two runs' files. Call :func:`check_output` (``kind="report"``) before the work.
     """
+    import json
+
     from gyrobench.scenarios.report import write_report
     from gyrobench.sim.recording import atomic_folder
 
     out = Path(out_dir)
     with atomic_folder(out) as tmp:
         index = write_report(outcomes, tmp, command=command)
-        (tmp / REPORT_MARKER).write_text(
-            "written by gyrobench reproduce; replaced as a whole by the next report\n"
-        )
+        doc = {
+            "written_by": "gyrobench reproduce; replaced as a whole by the next report while it holds only these files",
+            "files": report_manifest(tmp),
+        }
+        (tmp / REPORT_MARKER).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
     return out / Path(index).relative_to(tmp)
+
+
+@contextlib.contextmanager
+def output_lock(path: str | os.PathLike, *, what: str) -> Iterator[None]:
+    """Hold an exclusive lock on output ``path`` for the block, so two gyrobench processes never
+    write one output at once; the second is refused in one line.
+
+    The lock is ``fcntl.flock`` on ``.<name>.gyrobench-lock`` beside ``path`` (released by
+    the kernel when the process ends, however it ends).
+
+    Raises
+    ------
+    BlockingIOError
+        Another process holds the lock.
+    """
+    import fcntl
+
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    lock = p.parent / f".{p.name}.gyrobench-lock"
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise BlockingIOError(
+                f"{what} {str(p)!r} is being written by another gyrobench process (lock {str(lock)!r}): "
+                "wait for it to finish or choose another output"
+            ) from None
+        yield
+    finally:
+        os.close(fd)

@@ -719,16 +719,16 @@ def test_check_output_refuses(tmp_path, kind, make, exc, match):
 
 
 def test_check_output_accepts(tmp_path):
-    from gyrobench.scenarios.outputs import REPORT_MARKER, check_output
+    from gyrobench.scenarios.outputs import REPORT_MARKER, check_output, report_manifest
 
     assert check_output(tmp_path / "new" / "deeper" / "x.png", what="--plot") == (
         tmp_path / "new" / "deeper" / "x.png"
     )
     assert not (tmp_path / "new").exists()  # checking creates nothing
     (tmp_path / "rep").mkdir()
-    (tmp_path / "rep" / REPORT_MARKER).write_text("")
-    (tmp_path / "rep" / "x.txt").write_text("")
-    check_output(tmp_path / "rep", what="--out", kind="report")
+    (tmp_path / "rep" / "x.txt").write_text("ours")
+    (tmp_path / "rep" / REPORT_MARKER).write_text(json.dumps({"files": report_manifest(tmp_path / "rep")}))
+    check_output(tmp_path / "rep", what="--out", kind="report")  # holds only what its manifest names
     with pytest.raises(FileNotFoundError, match="must be in an existing folder"):
         check_output(tmp_path / "nodir" / "b.json", what="--save-baseline", create_parents=False)
     assert list(tmp_path.glob("**/.gyrobench-probe*")) == []  # the write probe is removed
@@ -973,6 +973,53 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
         assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err
 
 
+@pytest.mark.parametrize("intrusion", ["user_file", "edited", "no_manifest", "link", "old_index_only"])
+def test_a_report_folder_holding_what_no_report_wrote_is_never_replaced(tmp_path, intrusion):
+    """The user's file beside an old report survives: the next report is refused in one line."""
+    from gyrobench.scenarios import outputs
+
+    out = tmp_path / "rep"
+    (out / "s").mkdir(parents=True)
+    (out / "index.html").write_text("<title>gyrobench report</title>")
+    (out / "s" / "results.json").write_text("{}")
+    (out / outputs.REPORT_MARKER).write_text(json.dumps({"files": outputs.report_manifest(out)}))
+    outputs.check_output(out, what="--out", kind="report")  # as written: replaceable
+    if intrusion == "user_file":
+        (out / "thesis.tex").write_text("mine")
+    elif intrusion == "edited":
+        (out / "s" / "results.json").write_text('{"edited": true}')
+    elif intrusion == "no_manifest":
+        (out / outputs.REPORT_MARKER).write_text("")
+    elif intrusion == "link":
+        (out / "s" / "data").symlink_to(tmp_path)
+    else:
+        (out / outputs.REPORT_MARKER).unlink()
+    with pytest.raises(ValueError, match="is not a gyrobench report folder .* holds files no report wrote"):
+        outputs.check_output(out, what="--out", kind="report")
+
+
+def test_a_symlinked_report_folder_is_refused(tmp_path):
+    from gyrobench.scenarios import outputs
+
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "real")
+    with pytest.raises(ValueError, match="--out must not be a symbolic link"):
+        outputs.check_output(tmp_path / "link", what="--out", kind="report")
+
+
+def test_two_writers_to_one_output_the_second_is_refused(tmp_path, capsys):
+    from gyrobench.scenarios import outputs
+    from gyrobench.scenarios.cli import main
+
+    with outputs.output_lock(tmp_path / "rep", what="--out"):
+        code = main(["reproduce", "static_noise", "--out", str(tmp_path / "rep"), "-q"])
+        err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "is being written by another gyrobench process" in err
+    assert not (tmp_path / "rep").exists()
+    with outputs.output_lock(tmp_path / "rep", what="--out"):  # released: it can be taken again
+        pass
+
+
 def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
     from gyrobench.scenarios import outputs, registry, static_noise
 
@@ -983,7 +1030,8 @@ def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
     out = tmp_path / "report"
     out.mkdir()
     (out / "stale_scenario").mkdir()  # an earlier report's folder: gone after the swap
-    (out / outputs.REPORT_MARKER).write_text("")
+    (out / "stale_scenario" / "results.json").write_text("{}")
+    (out / outputs.REPORT_MARKER).write_text(json.dumps({"files": outputs.report_manifest(out)}))
     outputs.check_output(out, what="--out", kind="report")
     index = outputs.write_report_as_a_set([outcome], out, command="gyrobench reproduce")
     assert index == out / "index.html" and index.is_file()

@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import importlib.util
+import math
 import sys
 import types
 import typing
@@ -106,6 +107,11 @@ def describe(name: str) -> ScenarioInfo:
     return ScenarioInfo(name, title, paper if isinstance(paper, str) else None, bench)
 
 
+#: the largest integer magnitude a configuration accepts (TOML's own limit, 64-bit signed): a
+#: larger one (Python parses any size) would make the config's checks hang or overflow
+MAX_CONFIG_INT = 2**63 - 1
+
+
 def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     """Check a TOML value against a dataclass field's type hint and convert lists to tuples."""
     origin = typing.get_origin(hint)
@@ -125,10 +131,16 @@ def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise TypeError(f"{owner}.{key} must be a number; got {value!r}")
+        if isinstance(value, int) and abs(value) > MAX_CONFIG_INT:
+            raise ValueError(f"{owner}.{key} must be a finite number of magnitude <= {MAX_CONFIG_INT}; got {value!r}")
+        if not math.isfinite(value):
+            raise ValueError(f"{owner}.{key} must be a finite number; got {value!r}")
         return float(value)
     if hint is int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise TypeError(f"{owner}.{key} must be an integer; got {value!r}")
+        if abs(value) > MAX_CONFIG_INT:
+            raise ValueError(f"{owner}.{key} must be an integer of magnitude <= {MAX_CONFIG_INT}; got {value!r}")
         return value
     if hint is bool or hint is str:
         if not isinstance(value, hint):

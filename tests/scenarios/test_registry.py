@@ -101,3 +101,15 @@ def test_every_available_scenario_honours_the_contract():
         # configs are frozen: a custom profile can never mutate the defaults
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(cfg, next(iter(cfg.__dataclass_fields__)), None)
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), 10**400, -(10**30)])
+def test_non_finite_and_huge_config_numbers_are_refused_in_one_line(value):
+    """A config number is checked before the config's own code sees it: NaN, inf and integers
+    beyond TOML's 64-bit range are refused naming the field (they hung or overflowed before)."""
+    from gyrobench.scenarios import registry
+
+    mod = registry.get("static_noise")
+    field = next(f for f in dataclasses.fields(mod.Config().fog) if f.type in (float, "float"))
+    with pytest.raises(ValueError, match=rf"FogGrade\\.{field.name}|\.{field.name} must be"):
+        registry.override(mod.Config(), {"fog": {field.name: value}})

@@ -30,10 +30,11 @@ from __future__ import annotations
 
 import argparse
 import os
+from typing import Any
 
 from gyrobench.scenarios import exits
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "scheduler_executor"]
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -104,8 +105,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _executor(args):
-    """(executor, closer) for --scheduler; (None, None) for the local process pool."""
+def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
+    """(executor, closer) for ``args.scheduler`` (a dask.distributed address); (None, None) for the
+    local process pool. Shared by ``gyrobench bench`` and ``gyrobench reproduce``."""
     if not args.scheduler:
         return None, None
     if args.workers is not None:
@@ -151,7 +153,7 @@ def run(args: argparse.Namespace) -> int:
         bench.check_baseline_path(args.save_baseline, what="--save-baseline")
     db = args.db if args.db is not None else bench.DEFAULT_DB
     bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
-    executor, close = _executor(args)
+    executor, close = scheduler_executor(args)
     try:
         campaign = bench.run_campaign(
             module,

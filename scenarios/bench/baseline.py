@@ -216,6 +216,9 @@ class Comparison:
     prediction or score): the comparison then fails whatever the scores say (``passed`` is
     False; the command line exits :data:`gyrobench.scenarios.exits.FAILED_SEEDS`), and
     ``failure`` says so in one line. The paired test runs on the other seeds.
+
+    ``missing`` names the scores held by only one campaign, ``unpaired`` those that some
+    compared seed lacks (a name that changes with the seed): neither is tested.
     """
 
     scores: tuple[ScoreComparison, ...]
@@ -223,6 +226,7 @@ class Comparison:
     alpha: float
     test: str
     missing: tuple[str, ...] = ()
+    unpaired: tuple[str, ...] = ()
     note: str = ""
     failed_seeds: tuple[int, ...] = ()
     failure: str = ""
@@ -274,7 +278,10 @@ def compare(
     Both campaigns ran the same seeds, so seed ``s`` gives both compensators the
     same simulated data: the comparison is paired, on the per-seed differences
     ``d_s = candidate_s - baseline_s`` over the seeds both hold (seeds where either
-    score is NaN are dropped).
+    score is NaN are dropped). Pairs are made by seed, never by a run's name: a score is
+    compared only if every compared seed holds it in both campaigns; one whose name changes
+    with the seed (``"unit7_heldout/mse"``) is listed in ``unpaired`` and not tested (its
+    ``mean/`` counterpart is).
 
     The test is the two-sided Wilcoxon signed-rank test (``scipy.stats.wilcoxon``,
     zeros dropped, exact null distribution for small n). It is chosen over the
@@ -305,7 +312,7 @@ def compare(
     base = baseline if isinstance(baseline, Campaign) else load_baseline(baseline)
     cand = campaign if isinstance(campaign, Campaign) else load_baseline(campaign)
     common = _common_seeds(base, cand)
-    names, missing = _score_names(base, cand, common)
+    names, missing, unpaired = _score_names(base, cand, common)
     cand_failed, base_failed = _failed_seeds(base, cand, common, names)
     failed_seeds = tuple(sorted(s for s in cand_failed if s in cand.scores))
     seeds = tuple(s for s in common if s not in cand_failed and s not in base_failed)
@@ -332,6 +339,7 @@ def compare(
         alpha=float(alpha),
         test="two-sided Wilcoxon signed-rank on paired per-seed scores",
         missing=missing,
+        unpaired=unpaired,
         note=_note(out, dropped, same_config=base.config == cand.config, alpha=alpha),
         failed_seeds=failed_seeds,
         failure=failure,
@@ -354,9 +362,16 @@ def _common_seeds(base: Campaign, cand: Campaign) -> tuple[int, ...]:
     return common
 
 
-def _score_names(base: Campaign, cand: Campaign, common: Sequence[int]) -> tuple[list[str], tuple[str, ...]]:
-    """(the scores to compare, the scores in only one campaign). A candidate that failed on every
-    common seed before any score is compared on all the baseline's scores."""
+def _score_names(
+    base: Campaign, cand: Campaign, common: Sequence[int]
+) -> tuple[list[str], tuple[str, ...], tuple[str, ...]]:
+    """(the scores to compare, the scores in only one campaign, the scores not in every seed).
+
+    Pairs are made by seed: a score is compared only if every common seed that did not fail
+    holds it in both campaigns. A name that changes with the seed (``"unit7_heldout/mse"``)
+    cannot be paired and is listed apart, never taken for a failure. A candidate that failed on
+    every common seed before any score is compared on all the baseline's scores.
+    """
     bnames, cnames = set(base.score_names), set(cand.score_names)
     names = order_scores(bnames & cnames)
     if not names and set(cand.failed) >= set(common):  # failed before any score: compare all
@@ -366,7 +381,17 @@ def _score_names(base: Campaign, cand: Campaign, common: Sequence[int]) -> tuple
         raise ValueError(
             "baseline and campaign have no score in common; were they run on the same scenario?"
         )
-    return names, missing
+    ok = [s for s in common if s not in base.failed and s not in cand.failed]
+    held = [set(c.scores[s]) for c in (base, cand) for s in ok]
+    unpaired = tuple(n for n in names if any(n not in h for h in held))
+    names = [n for n in names if n not in unpaired]
+    if not names:
+        raise ValueError(
+            f"no score is held by every seed compared ({len(unpaired)} scores, e.g. "
+            f"{', '.join(unpaired[:3])}, are not): a score name that changes with the seed "
+            "cannot be paired by seed"
+        )
+    return names, missing, unpaired
 
 
 def _failed_seeds(

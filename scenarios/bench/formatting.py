@@ -78,6 +78,12 @@ def format_comparison(comparison: Comparison) -> str:
     ]
     if comparison.missing:
         lines.append(f"not compared (in only one campaign): {', '.join(comparison.missing)}")
+    if comparison.unpaired:
+        u = comparison.unpaired
+        lines.append(
+            f"not compared ({len(u)} score(s) not held by every seed, so not paired by seed: "
+            f"their names change with the seed): {', '.join(u[:6])}" + (", ..." if len(u) > 6 else "")
+        )
     reg, imp = comparison.regressions, comparison.improvements
     if comparison.failed_seeds:
         lines.append(f"FAILED: {comparison.failure}")

@@ -612,7 +612,7 @@ def _error_status(exc: BaseException) -> tuple[int, str]:
     from gyrobench.scenarios import exits
 
     bench = sys.modules.get("gyrobench.scenarios.bench")
-    if bench is not None and isinstance(exc, bench.FailedSeedsError):
+    if bench is not None and isinstance(exc, (bench.FailedSeedsError, bench.ComparisonError)):
         return exits.FAILED_SEEDS, _one_line(exc)
     if isinstance(exc, exits.InternalError):
         return exits.INTERNAL, f"internal failure: {_one_line(exc)}"

@@ -29,6 +29,7 @@ __all__ = [
     "BASELINE_FORMAT",
     "BASELINE_VERSION",
     "Comparison",
+    "ComparisonError",
     "ScoreComparison",
     "check_baseline_matches",
     "check_baseline_path",
@@ -186,6 +187,17 @@ def load_baseline(path: str | os.PathLike) -> Campaign:
         raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
 
 
+class ComparisonError(ValueError):
+    """A campaign cannot be compared with the baseline: no seed or no score can be paired, or
+    the baseline has no finite score on the shared seeds.
+
+    Raised by :func:`compare` once the campaign has run; the command line exits
+    :data:`gyrobench.scenarios.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
+    does not pass. (What can be checked before the campaign, a baseline of another scenario or
+    sharing no seed with ``--seeds``, is refused first as bad input, exit 2.)
+    """
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ScoreComparison:
     """One score of a candidate campaign against the baseline, over the matching seeds.
@@ -317,7 +329,7 @@ def compare(
     failed_seeds = tuple(sorted(s for s in cand_failed if s in cand.scores))
     seeds = tuple(s for s in common if s not in cand_failed and s not in base_failed)
     if not seeds and not failed_seeds:
-        raise ValueError(
+        raise ComparisonError(
             f"the baseline has no finite scores on the seeds it shares with the campaign "
             f"({seed_text(common)}): re-save it from a compensator that works"
         )
@@ -355,7 +367,7 @@ def _common_seeds(base: Campaign, cand: Campaign) -> tuple[int, ...]:
         )
     common = tuple(s for s in cand.seeds if s in base.scores)
     if not common:
-        raise ValueError(
+        raise ComparisonError(
             f"baseline and campaign share no seed (baseline seeds {seed_text(base.seeds)}, "
             f"campaign seeds {seed_text(cand.seeds)}); run the campaign on the baseline's seeds"
         )
@@ -378,7 +390,7 @@ def _score_names(
         names, cnames = order_scores(bnames), bnames
     missing = tuple(order_scores(bnames ^ cnames))
     if not names:
-        raise ValueError(
+        raise ComparisonError(
             "baseline and campaign have no score in common; were they run on the same scenario?"
         )
     ok = [s for s in common if s not in base.failed and s not in cand.failed]
@@ -386,7 +398,7 @@ def _score_names(
     unpaired = tuple(n for n in names if any(n not in h for h in held))
     names = [n for n in names if n not in unpaired]
     if not names:
-        raise ValueError(
+        raise ComparisonError(
             f"no score is held by every seed compared ({len(unpaired)} scores, e.g. "
             f"{', '.join(unpaired[:3])}, are not): a score name that changes with the seed "
             "cannot be paired by seed"

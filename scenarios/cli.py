@@ -35,7 +35,9 @@ from pathlib import Path
 __all__ = ["main"]
 
 #: exceptions that mean "bad input": reported in one line, exit 2
-_INPUT_ERRORS: tuple[type[BaseException], ...] = (ValueError, TypeError, KeyError, FileNotFoundError, IsADirectoryError, PermissionError)
+_INPUT_ERRORS: tuple[type[BaseException], ...] = (
+    ValueError, TypeError, KeyError, FileNotFoundError, IsADirectoryError, PermissionError
+)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -440,7 +442,7 @@ def _cmd_reproduce(args) -> int:
 def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> int:
     """The work of ``reproduce`` once its inputs are checked and its output is locked."""
     from gyrobench.scenarios import units
-    from gyrobench.scenarios.bench_cli import _executor
+    from gyrobench.scenarios.bench.cli import scheduler_executor
     from gyrobench.scenarios.outputs import write_report_as_a_set
     from gyrobench.scenarios.report import claim_tally, tally_text
     from tqdm import tqdm
@@ -453,15 +455,15 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
                 units.check_unit_memory(m, cfg, concurrent=n_at_once, source=source)
     out = Path(args.out)
     db = Path(args.db) if args.db else units.default_db(out)
-    executor, close = _executor(args)
+    executor, close = scheduler_executor(args)
     workers = args.workers
     if executor is None and workers != 0 and any(units.is_paper_scenario(m) for m in mods):
         import concurrent.futures as cf
 
-        from gyrobench.scenarios.bench import _default_workers
+        from gyrobench.scenarios.bench.executors import default_workers
 
         # one local pool for every paper scenario (workers start and import once, not per scenario)
-        pool = cf.ProcessPoolExecutor(max_workers=workers or _default_workers())
+        pool = cf.ProcessPoolExecutor(max_workers=workers or default_workers())
         executor, close, workers = pool, pool.shutdown, None
     outcomes = []
     t0 = time.perf_counter()
@@ -545,8 +547,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--fs", type=_positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
                                    "(default: from the header '[unit]' or the format)")
-    s.add_argument("--start", type=_nonneg_float("--start"), help="CSV: analyse from this time [s after the first sample]")
-    s.add_argument("--stop", type=_nonneg_float("--stop"), help="CSV: analyse up to this time [s after the first sample]")
+    s.add_argument("--start", type=_nonneg_float("--start"),
+                   help="CSV: analyse from this time [s after the first sample]")
+    s.add_argument("--stop", type=_nonneg_float("--stop"),
+                   help="CSV: analyse up to this time [s after the first sample]")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
     s.add_argument("--kind", default="overlapping",
@@ -595,7 +599,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.set_defaults(func=_cmd_reproduce)
 
-    from gyrobench.scenarios import bench_cli
+    from gyrobench.scenarios.bench import cli as bench_cli
 
     bench_cli.add_parser(sub)
     return p
@@ -640,7 +644,7 @@ def _error_status(exc: BaseException) -> tuple[int, str]:
     from gyrobench.scenarios import exits
 
     bench = sys.modules.get("gyrobench.scenarios.bench")
-    if bench is not None and isinstance(exc, bench.FailedSeedsError):
+    if bench is not None and isinstance(exc, (bench.FailedSeedsError, bench.ComparisonError)):
         return exits.FAILED_SEEDS, _one_line(exc)
     if isinstance(exc, exits.InternalError):
         return exits.INTERNAL, f"internal failure: {_one_line(exc)}"

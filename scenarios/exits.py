@@ -9,7 +9,9 @@ code   meaning
        the run would need more memory or disk than there is (one line on stderr)
 3      ``bench``: the compensator failed on some seeds (non-finite predictions or
        scores); the line names the seeds. A campaign with a failed seed never passes
-       a ``--baseline`` comparison and is never saved as a baseline
+       a ``--baseline`` comparison and is never saved as a baseline; or the
+       ``--baseline`` comparison cannot be made once the campaign has run (no seed or
+       no score can be paired)
 4      internal failure: a worker process died (killed, out of memory), two runs of
        the same campaign on one database disagree (a non-deterministic scenario or
        compensator), or an unexpected error (a bug: please report it)

@@ -166,7 +166,13 @@ class GyrobenchBench:
             bench.save_baseline(path, campaign)
             return None
         assert stored is not None  # a missing baseline failed above unless saving
-        result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
+        try:
+            result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
+        except bench.ComparisonError as exc:  # a gate that cannot compare does not pass
+            pytest.fail(
+                f"{campaign.compensator} on {campaign.scenario} against {path.name}: {exc}",
+                pytrace=False,
+            )
         if result.failed_seeds:  # fails whatever the other seeds say (exit 3 on the command line)
             pytest.fail(
                 f"{campaign.compensator} on {campaign.scenario} against {path.name}: "

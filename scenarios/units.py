@@ -109,14 +109,9 @@ class UnitRun:
 
 def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
     """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
-    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.identity import scenario_identity
 
-    ident = {
-        "scenario": module.__name__,
-        "scenario_source": bench._module_hash(module.__name__),
-        "versions": bench._versions(),
-        "config": bench._canonical(config),
-    }
+    ident = scenario_identity(module, config)
     text = json.dumps(ident, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16], text
 
@@ -124,11 +119,11 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
 def concurrent_units(n_units: int, workers: int | None) -> int:
     """How many units a local run holds in memory at once: one per worker process, at most
     ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs)."""
-    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.executors import default_workers
 
     if workers == 0:
         return 1
-    return max(1, min(int(n_units), workers or bench._default_workers()))
+    return max(1, min(int(n_units), workers or default_workers()))
 
 
 def check_unit_memory(
@@ -191,9 +186,9 @@ def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
 def _open_store(
     db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
 ) -> sqlite3.Connection:
-    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.store import connect_db
 
-    conn = bench.connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
+    conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
     try:
         conn.execute("BEGIN IMMEDIATE")
         conn.execute(
@@ -238,16 +233,16 @@ def _execute(
     workers: int | None,
 ) -> None:
     """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
-    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
 
     if executor is None and workers == 0:
         for s in todo:
             record(*_unit_job(module_name, config, s))
         return
-    bench._check_picklable(None, config)
+    check_picklable(None, config)
     own = executor is None
     ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or bench._default_workers())
+        cf.ProcessPoolExecutor(max_workers=workers or default_workers())
         if executor is None
         else executor
     )
@@ -258,7 +253,7 @@ def _execute(
             try:
                 record(*fut.result())
             except Exception as exc:
-                bench._note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
+                add_note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
                 raise
     finally:
         for f in futures:

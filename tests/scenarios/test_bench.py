@@ -1,5 +1,5 @@
-"""Tests of scenarios/bench.py and scenarios/bench_cli.py on the toy scenario (ms per seed),
-and one campaign on a real scenario (rlg_thermal, ~0.5 s per seed)."""
+"""Tests of the scenarios/bench/ package and its command line (scenarios/bench/cli.py) on the
+toy scenario (ms per seed), and one campaign on a real scenario (rlg_thermal, ~0.5 s per seed)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, bench_cli, registry
+from gyrobench.scenarios import bench, registry
+from gyrobench.scenarios.bench import cli as bench_cli
+from gyrobench.scenarios.bench import compensators, identity, statistics, store
 from sklearn.ensemble import RandomForestRegressor
 from sklearn.linear_model import LinearRegression
 
@@ -75,7 +77,7 @@ def test_fit_function_receives_random_state_and_may_return_an_estimator():
 
     s = bench.score_seed(toy, fit, 4)
     assert s == bench.score_seed(toy, LinearRegression(), 4)
-    assert seen == [bench._seed_int(4)]
+    assert seen == [compensators.seed_int(4)]
 
 
 def test_estimator_class_is_instantiated():
@@ -160,11 +162,11 @@ def test_source_hash_follows_imports_but_ignores_unrelated_files(tmp_path, monke
     (pkg / "helper.py").write_text("K = 1\n")
     (pkg / "other.py").write_text("Z = 1\n")
     monkeypatch.syspath_prepend(str(tmp_path))
-    h0 = bench._module_hash("mylab_bench_probe.scen")
+    h0 = identity.module_hash("mylab_bench_probe.scen")
     (pkg / "other.py").write_text("Z = 2\n")
-    assert bench._module_hash("mylab_bench_probe.scen") == h0
+    assert identity.module_hash("mylab_bench_probe.scen") == h0
     (pkg / "helper.py").write_text("K = 2\n")
-    assert bench._module_hash("mylab_bench_probe.scen") != h0
+    assert identity.module_hash("mylab_bench_probe.scen") != h0
 
 
 _KILL_SCRIPT = textwrap.dedent(
@@ -384,7 +386,7 @@ def _campaign_with_a_concurrent_writer(db: Path, payload: str):
 
 
 def test_concurrent_writer_with_the_same_scores_is_accepted(tmp_path):
-    same = bench._dumps_scores(bench.score_seed(toy, LinearRegression(), 1))
+    same = store.dumps_scores(bench.score_seed(toy, LinearRegression(), 1))
     camp = _campaign_with_a_concurrent_writer(tmp_path / "c.db", same)
     assert camp.scores[1] == bench.score_seed(toy, LinearRegression(), 1)
     assert _rows(tmp_path / "c.db") == 2
@@ -451,7 +453,7 @@ def test_summary_of_a_positive_skewed_score_is_the_lognormal_interval_above_zero
 def test_lognormal_interval_reproduces_olsson_2005_example():
     # the worked example of Olsson (2005): CO levels, n = 9; modified Cox 95 % CI 12.31 - 78.72
     co = np.array([12.5, 20, 4, 20, 25, 170, 15, 20, 15])
-    s = bench._summary("mean/mse", co)
+    s = statistics.summarize("mean/mse", co)
     assert (round(s.low, 2), round(s.high, 2)) == (12.31, 78.72)
 
 
@@ -467,7 +469,7 @@ def test_lognormal_interval_covers_the_mean_as_documented(rng):
     N, n, truth = 2000, 5, math.exp(0.5)
     covered = 0
     for _ in range(N):
-        s = bench._summary("mean/rms", np.exp(rng.standard_normal(n)))
+        s = statistics.summarize("mean/rms", np.exp(rng.standard_normal(n)))
         assert s.low > 0 and s.method == "lognormal"
         covered += s.low <= truth <= s.high
     assert covered >= stats.binom.ppf(1e-6, N, 0.93)
@@ -483,7 +485,7 @@ def test_nonnegative_score_with_a_zero_gets_the_t_interval_clipped_at_0():
 
 
 def test_nonnegative_name_with_a_negative_value_gets_the_plain_t_interval():
-    s = bench._summary("mean/mse", np.array([-1.0, 2.0, 3.0, 4.0]))
+    s = statistics.summarize("mean/mse", np.array([-1.0, 2.0, 3.0, 4.0]))
     assert s.method == "t" and s.low < 0
 
 
@@ -503,7 +505,7 @@ def test_summary_of_one_seed_has_no_interval():
 
 # ----------------------------------------------------------------------------- baselines
 def test_holm_adjustment_closed_form():
-    adj = bench._holm(np.array([0.01, 0.04, 0.03, 0.005]))
+    adj = statistics.holm(np.array([0.01, 0.04, 0.03, 0.005]))
     np.testing.assert_allclose(adj, [0.03, 0.06, 0.06, 0.02], rtol=1e-12)
 
 

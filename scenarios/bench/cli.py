@@ -15,7 +15,9 @@ seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): ex
 finite (NaN, inf) on some seeds makes those seeds *failed*: they are recorded in the
 database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
 is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
-whatever the comparison says, and no baseline is written. A worker process that dies,
+whatever the comparison says, and no baseline is written. A comparison that cannot be made
+once the campaign has run (no seed or no score can be paired:
+:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A worker process that dies,
 or another run of the same campaign on the same database that got other scores, raises
 :class:`~gyrobench.scenarios.exits.InternalError`: exit 4. With ``GYROBENCH_TRACEBACK=1``
 in the environment the traceback is printed on stderr first.
@@ -30,10 +32,11 @@ from __future__ import annotations
 
 import argparse
 import os
+from typing import Any
 
 from gyrobench.scenarios import exits
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "scheduler_executor"]
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -104,8 +107,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _executor(args):
-    """(executor, closer) for --scheduler; (None, None) for the local process pool."""
+def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
+    """(executor, closer) for ``args.scheduler`` (a dask.distributed address); (None, None) for the
+    local process pool. Shared by ``gyrobench bench`` and ``gyrobench reproduce``."""
     if not args.scheduler:
         return None, None
     if args.workers is not None:
@@ -151,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
         bench.check_baseline_path(args.save_baseline, what="--save-baseline")
     db = args.db if args.db is not None else bench.DEFAULT_DB
     bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
-    executor, close = _executor(args)
+    executor, close = scheduler_executor(args)
     try:
         campaign = bench.run_campaign(
             module,
@@ -174,16 +178,21 @@ def run(args: argparse.Namespace) -> int:
     result = bench.compare(baseline, campaign, alpha=args.alpha) if baseline is not None else None
     if result is not None:
         print(result.format())
+    # the comparison may find failed seeds the campaign did not record (a non-finite score read
+    # back); either way "FAILED" is never followed by exit 0
     if campaign.failed:
+        failure, failed = campaign.failure_text(), sorted(campaign.failed)
+    elif result is not None and result.failed_seeds:
+        failure, failed = result.failure, list(result.failed_seeds)
+    else:
+        failure, failed = "", []
+    if failure:
         what = []
         if args.save_baseline:
             what.append(f"--save-baseline {args.save_baseline!r} not written")
         if result is not None:
             what.append(f"the comparison with --baseline {args.baseline!r} fails")
-        raise bench.FailedSeedsError(
-            campaign.failure_text() + "".join(f"; {w}" for w in what),
-            seeds=sorted(campaign.failed),
-        )
+        raise bench.FailedSeedsError(failure + "".join(f"; {w}" for w in what), seeds=failed)
     if args.save_baseline:
         path = bench.save_baseline(args.save_baseline, campaign)
         print(f"baseline written to {path}")

@@ -1,0 +1,505 @@
+"""Baselines: a campaign's per-seed scores saved to JSON, and the paired comparison of a new
+campaign against one.
+
+:func:`save_baseline` writes a campaign's per-seed scores; :func:`compare` tests a new
+campaign against a baseline, seed by seed (see its Notes for the test and the
+multiple-comparison correction; the statistics are in
+:mod:`gyrobench.scenarios.bench.statistics`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import types
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from gyrobench.scenarios.bench.campaign import Campaign
+from gyrobench.scenarios.bench.compensators import FailedSeedsError
+from gyrobench.scenarios.bench.scoring import resolve_scenario
+from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
+from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction, signed_rank
+from gyrobench.scenarios.bench.store import check_output_file
+
+__all__ = [
+    "BASELINE_FORMAT",
+    "BASELINE_VERSION",
+    "Comparison",
+    "ComparisonError",
+    "ScoreComparison",
+    "check_baseline_matches",
+    "check_baseline_path",
+    "compare",
+    "load_baseline",
+    "save_baseline",
+]
+
+BASELINE_FORMAT = "gyrobench-baseline"
+BASELINE_VERSION = 1
+
+
+def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
+    """Check, before a campaign, that :func:`save_baseline` can write ``path``.
+
+    Raises
+    ------
+    IsADirectoryError
+        If ``path`` is a folder.
+    FileNotFoundError
+        If its folder does not exist (it is not created).
+    PermissionError
+        If its folder does not accept new files.
+    """
+    return check_output_file(path, what=what)
+
+
+def check_baseline_matches(
+    baseline: Campaign,
+    scenario: str | types.ModuleType,
+    seeds: Iterable[int] | str | None = None,
+    *,
+    what: str = "baseline",
+    seeds_what: str = "seeds",
+) -> None:
+    """Check, before a campaign, that its result can be compared with ``baseline``.
+
+    :func:`compare` needs the same scenario and at least one common seed; this
+    refuses a mismatch before anything is computed. ``what`` and ``seeds_what`` name
+    the baseline and the seeds in the messages (``"--baseline 'b.json'"``, ``"--seeds"``).
+
+    Raises
+    ------
+    ValueError
+        If ``baseline`` is of another scenario, or ``seeds`` (when given) share no
+        seed with it.
+    """
+    module = resolve_scenario(scenario)
+    name = getattr(module, "NAME", module.__name__)
+    if baseline.scenario != name:
+        raise ValueError(
+            f"{what} is of scenario {baseline.scenario!r}, not {name!r}; "
+            "a paired comparison needs the same scenario"
+        )
+    if seeds is not None:
+        seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
+        if not set(seeds) & set(baseline.seeds):
+            raise ValueError(
+                f"{seeds_what} must share seeds with {what} (its seeds: "
+                f"{seed_text(baseline.seeds)}); got {seed_text(seeds)} "
+                f"(omit {seeds_what} to use the baseline's)"
+            )
+
+
+def _json_float(v: float) -> float | None:
+    return v if math.isfinite(v) else None
+
+
+def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
+    """Write ``campaign``'s per-seed scores to a JSON baseline (atomically).
+
+    Raises
+    ------
+    TypeError
+        If ``campaign`` is not a :class:`Campaign`.
+    IsADirectoryError, FileNotFoundError
+        If ``path`` is a folder or its folder does not exist (folders are never
+        created).
+    """
+    from gyrobench.sim.recording import atomic_path, package_version
+
+    if not isinstance(campaign, Campaign):
+        raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
+    path = check_baseline_path(path)
+    if campaign.failed:
+        raise FailedSeedsError(
+            f"not saving baseline {str(path)!r}: {campaign.failure_text()}",
+            seeds=sorted(campaign.failed),
+        )
+    doc = {
+        "format": BASELINE_FORMAT,
+        "format_version": BASELINE_VERSION,
+        "gyrobench_version": package_version(),
+        "campaign_id": campaign.campaign_id,
+        "scenario": campaign.scenario,
+        "compensator": campaign.compensator,
+        "config": campaign.config,
+        "seeds": list(campaign.seeds),
+        "scores": {
+            str(s): {k: (v if math.isfinite(v) else None) for k, v in sc.items()}
+            for s, sc in campaign.scores.items()
+        },
+        "summary": {
+            n: {
+                "mean": _json_float(s.mean),
+                "low": _json_float(s.low),  # None: no interval (one seed)
+                "high": _json_float(s.high),
+                "n": s.n,
+                "interval": s.method,
+            }
+            for n, s in campaign.summary().items()
+        },
+    }
+    text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return path
+
+
+def load_baseline(path: str | os.PathLike) -> Campaign:
+    """Read a baseline written by :func:`save_baseline`.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        If it is not a gyrobench baseline.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"baseline file not found: {str(p)!r}")
+    try:
+        doc = json.loads(p.read_text())
+        if doc.get("format") != BASELINE_FORMAT:
+            raise ValueError(f"format is {doc.get('format')!r}, not {BASELINE_FORMAT!r}")
+        if int(doc.get("format_version", 1)) > BASELINE_VERSION:
+            raise ValueError(
+                f"format_version must be <= {BASELINE_VERSION} (written by a newer gyrobench?); "
+                f"got {doc.get('format_version')!r}"
+            )
+        scores = {
+            int(s): {k: (math.nan if v is None else float(v)) for k, v in sc.items()}
+            for s, sc in doc["scores"].items()
+        }
+        return Campaign(
+            campaign_id=str(doc["campaign_id"]),
+            scenario=str(doc["scenario"]),
+            compensator=str(doc["compensator"]),
+            config=str(doc["config"]),
+            scores=dict(sorted(scores.items())),
+            db=str(p),
+        )
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
+
+
+class ComparisonError(ValueError):
+    """A campaign cannot be compared with the baseline: no seed or no score can be paired, or
+    the baseline has no finite score on the shared seeds.
+
+    Raised by :func:`compare` once the campaign has run; the command line exits
+    :data:`gyrobench.scenarios.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
+    does not pass. (What can be checked before the campaign, a baseline of another scenario or
+    sharing no seed with ``--seeds``, is refused first as bad input, exit 2.)
+    """
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ScoreComparison:
+    """One score of a candidate campaign against the baseline, over the matching seeds.
+
+    ``effect`` is the Hodges-Lehmann estimate of the paired shift (candidate - baseline,
+    in the score's unit); ``relative`` = (mean candidate - mean baseline) / |mean baseline|.
+    ``status`` is "improved", "regressed", "changed" (significant, direction unknown)
+    or "unchanged".
+    """
+
+    name: str
+    direction: int
+    n: int
+    baseline_mean: float
+    candidate_mean: float
+    effect: float
+    relative: float
+    p_value: float
+    p_adjusted: float
+    status: str
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Comparison:
+    """All scores compared; ``regressions`` non-empty means a significant regression.
+
+    ``failed_seeds`` non-empty means the candidate failed on those seeds (a non-finite
+    prediction or score): the comparison then fails whatever the scores say (``passed`` is
+    False; the command line exits :data:`gyrobench.scenarios.exits.FAILED_SEEDS`), and
+    ``failure`` says so in one line. The paired test runs on the other seeds.
+
+    ``missing`` names the scores held by only one campaign, ``unpaired`` those that some
+    compared seed lacks (a name that changes with the seed): neither is tested.
+    """
+
+    scores: tuple[ScoreComparison, ...]
+    seeds: tuple[int, ...]
+    alpha: float
+    test: str
+    missing: tuple[str, ...] = ()
+    unpaired: tuple[str, ...] = ()
+    note: str = ""
+    failed_seeds: tuple[int, ...] = ()
+    failure: str = ""
+
+    @property
+    def passed(self) -> bool:
+        """No failed seed and no significant regression."""
+        return not self.failed_seeds and not self.regressions
+
+    @property
+    def regressions(self) -> tuple[ScoreComparison, ...]:
+        return tuple(s for s in self.scores if s.status == "regressed")
+
+    @property
+    def improvements(self) -> tuple[ScoreComparison, ...]:
+        return tuple(s for s in self.scores if s.status == "improved")
+
+    def format(self) -> str:
+        """Plain text: one line per score, then the verdict
+        (:func:`~gyrobench.scenarios.bench.formatting.format_comparison`)."""
+        from gyrobench.scenarios.bench.formatting import format_comparison
+
+        return format_comparison(self)
+
+
+def compare(
+    baseline: Campaign | str | os.PathLike,
+    campaign: Campaign | str | os.PathLike,
+    *,
+    alpha: float = 0.05,
+    directions: Mapping[str, int] | None = None,
+) -> Comparison:
+    """Compare a candidate campaign with a baseline, seed by seed.
+
+    Parameters
+    ----------
+    baseline, campaign : Campaign or path to a baseline JSON
+    alpha : float
+        Family-wise error rate over all compared scores.
+    directions : mapping, optional
+        Overrides for :func:`score_direction`.
+
+    Returns
+    -------
+    Comparison
+
+    Notes
+    -----
+    Both campaigns ran the same seeds, so seed ``s`` gives both compensators the
+    same simulated data: the comparison is paired, on the per-seed differences
+    ``d_s = candidate_s - baseline_s`` over the seeds both hold (seeds where either
+    score is NaN are dropped). Pairs are made by seed, never by a run's name: a score is
+    compared only if every compared seed holds it in both campaigns; one whose name changes
+    with the seed (``"unit7_heldout/mse"``) is listed in ``unpaired`` and not tested (its
+    ``mean/`` counterpart is).
+
+    The test is the two-sided Wilcoxon signed-rank test (``scipy.stats.wilcoxon``,
+    zeros dropped, exact null distribution for small n). It is chosen over the
+    paired t-test because per-seed error scores (MSE, RMS, stability) are skewed
+    and heavy-tailed, while the null hypothesis "the two compensators are
+    interchangeable" makes ``d`` symmetric about zero, which is all the
+    signed-rank test needs for its level to hold without a normality assumption.
+    A score whose differences are all exactly zero (the same compensator: scores
+    are deterministic) is "unchanged" with p = 1.
+
+    A candidate seed that failed (listed in ``campaign.failed``, or with a non-finite
+    score: a campaign read from JSON) is never dropped silently: it is named in
+    ``failed_seeds`` and the comparison does not pass, whatever the other seeds say. A
+    baseline seed with a non-finite score is left out of the paired test (with a note);
+    if no seed is left, the comparison is refused.
+
+    Many scores are tested at once (each held-out run and the mean), so the
+    p-values are adjusted by Holm's step-down method, which keeps the probability
+    of any false "regressed" or "improved" at most ``alpha``. A significant score
+    is "improved" or "regressed" by the sign of the signed-rank statistic
+    (``W+ - W-``) and the score's direction; the reported effect is the
+    Hodges-Lehmann shift. With n nonzero differences the smallest attainable
+    two-sided p is 2 / 2**n: use at least ~10 seeds (a note says when n is too
+    small to ever reach significance).
+    """
+    if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
+        raise ValueError(f"alpha must be in (0, 1); got {alpha!r}")
+    base = baseline if isinstance(baseline, Campaign) else load_baseline(baseline)
+    cand = campaign if isinstance(campaign, Campaign) else load_baseline(campaign)
+    common = _common_seeds(base, cand)
+    names, missing, unpaired = _score_names(base, cand, common)
+    cand_failed, base_failed = _failed_seeds(base, cand, common, names)
+    failed_seeds = tuple(sorted(s for s in cand_failed if s in cand.scores))
+    seeds = tuple(s for s in common if s not in cand_failed and s not in base_failed)
+    if not seeds and not failed_seeds:
+        raise ComparisonError(
+            f"the baseline has no finite scores on the seeds it shares with the campaign "
+            f"({seed_text(common)}): re-save it from a compensator that works"
+        )
+    paired = [_paired(name, base, cand, seeds, directions) for name in names]
+    adjusted = holm(np.array([p.p_value for p in paired]))
+    out = tuple(_judged(p, float(pa), alpha) for p, pa in zip(paired, adjusted, strict=True))
+    dropped = sorted(s for s in base_failed if s in common and s not in cand_failed)
+    failure = ""
+    if failed_seeds:
+        first = failed_seeds[0]
+        failure = (
+            f"compensator {cand.compensator} failed on {len(failed_seeds)} of {len(common)} "
+            f"compared seeds (seeds {seed_text(failed_seeds)}; seed {first}: "
+            f"{cand_failed[first]}): a campaign with a failed seed never passes the comparison"
+        )
+    return Comparison(
+        scores=out,
+        seeds=seeds,
+        alpha=float(alpha),
+        test="two-sided Wilcoxon signed-rank on paired per-seed scores",
+        missing=missing,
+        unpaired=unpaired,
+        note=_note(out, dropped, same_config=base.config == cand.config, alpha=alpha),
+        failed_seeds=failed_seeds,
+        failure=failure,
+    )
+
+
+def _common_seeds(base: Campaign, cand: Campaign) -> tuple[int, ...]:
+    """The candidate's seeds the baseline holds too (refusing another scenario or no overlap)."""
+    if base.scenario != cand.scenario:
+        raise ValueError(
+            f"baseline is of scenario {base.scenario!r}, campaign of {cand.scenario!r}; "
+            "a paired comparison needs the same scenario"
+        )
+    common = tuple(s for s in cand.seeds if s in base.scores)
+    if not common:
+        raise ComparisonError(
+            f"baseline and campaign share no seed (baseline seeds {seed_text(base.seeds)}, "
+            f"campaign seeds {seed_text(cand.seeds)}); run the campaign on the baseline's seeds"
+        )
+    return common
+
+
+def _score_names(
+    base: Campaign, cand: Campaign, common: Sequence[int]
+) -> tuple[list[str], tuple[str, ...], tuple[str, ...]]:
+    """(the scores to compare, the scores in only one campaign, the scores not in every seed).
+
+    Pairs are made by seed: a score is compared only if every common seed that did not fail
+    holds it in both campaigns. A name that changes with the seed (``"unit7_heldout/mse"``)
+    cannot be paired and is listed apart, never taken for a failure. A candidate that failed on
+    every common seed before any score is compared on all the baseline's scores.
+    """
+    bnames, cnames = set(base.score_names), set(cand.score_names)
+    names = order_scores(bnames & cnames)
+    if not names and set(cand.failed) >= set(common):  # failed before any score: compare all
+        names, cnames = order_scores(bnames), bnames
+    missing = tuple(order_scores(bnames ^ cnames))
+    if not names:
+        raise ComparisonError(
+            "baseline and campaign have no score in common; were they run on the same scenario?"
+        )
+    ok = [s for s in common if s not in base.failed and s not in cand.failed]
+    held = [set(c.scores[s]) for c in (base, cand) for s in ok]
+    unpaired = tuple(n for n in names if any(n not in h for h in held))
+    names = [n for n in names if n not in unpaired]
+    if not names:
+        raise ComparisonError(
+            f"no score is held by every seed compared ({len(unpaired)} scores, e.g. "
+            f"{', '.join(unpaired[:3])}, are not): a score name that changes with the seed "
+            "cannot be paired by seed"
+        )
+    return names, missing, unpaired
+
+
+def _failed_seeds(
+    base: Campaign, cand: Campaign, common: Sequence[int], names: Sequence[str]
+) -> tuple[dict[int, str], set[int]]:
+    """(candidate seeds that failed -> why, baseline seeds with a non-finite score): the
+    candidate's recorded failures plus any common seed with a non-finite compared score."""
+    cand_failed = dict(cand.failed)
+    base_failed = set(base.failed)
+    for s in common:
+        if s not in cand_failed:
+            bad = [n for n in names if not math.isfinite(cand.scores[s].get(n, math.nan))]
+            if bad:
+                cand_failed[s] = f"score {bad[0]} is {cand.scores[s].get(bad[0], math.nan)!r}"
+        if any(not math.isfinite(base.scores[s].get(n, math.nan)) for n in names):
+            base_failed.add(s)
+    return cand_failed, base_failed
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Paired:
+    """One score's paired test before the correction: :class:`ScoreComparison`'s fields but the
+    adjusted p and the status, and the sign of ``W+ - W-``."""
+
+    name: str
+    direction: int
+    n: int
+    baseline_mean: float
+    candidate_mean: float
+    effect: float
+    relative: float
+    p_value: float
+    sign: float
+
+
+def _paired(
+    name: str, base: Campaign, cand: Campaign, seeds: Sequence[int], directions: Mapping[str, int] | None
+) -> _Paired:
+    """The signed-rank test, means and Hodges-Lehmann shift of score ``name`` over ``seeds``."""
+    b, c = base.values(name, seeds), cand.values(name, seeds)
+    d = c - b
+    p, sign = signed_rank(d)
+    bm = float(np.mean(b)) if b.size else math.nan
+    cm = float(np.mean(c)) if c.size else math.nan
+    return _Paired(
+        name=name,
+        direction=score_direction(name, directions),
+        n=int(d.size),
+        baseline_mean=bm,
+        candidate_mean=cm,
+        effect=hodges_lehmann(d) if d.size else math.nan,
+        relative=(cm - bm) / abs(bm) if bm != 0 and math.isfinite(bm) else math.nan,
+        p_value=p,
+        sign=sign,
+    )
+
+
+def _judged(p: _Paired, p_adjusted: float, alpha: float) -> ScoreComparison:
+    """The score's status at ``alpha`` after Holm's correction: "improved" or "regressed" by the
+    sign of the shift and the score's direction, "changed" when the direction is unknown."""
+    if p_adjusted < alpha and p.sign != 0:
+        if p.direction == 0:
+            status = "changed"
+        else:
+            status = "improved" if p.sign * p.direction > 0 else "regressed"
+    else:
+        status = "unchanged"
+    return ScoreComparison(
+        name=p.name,
+        direction=p.direction,
+        n=p.n,
+        baseline_mean=p.baseline_mean,
+        candidate_mean=p.candidate_mean,
+        effect=p.effect,
+        relative=p.relative,
+        p_value=p.p_value,
+        p_adjusted=p_adjusted,
+        status=status,
+    )
+
+
+def _note(scores: Sequence[ScoreComparison], dropped: Sequence[int], *, same_config: bool, alpha: float) -> str:
+    """The comparison's caveats in one line: baseline seeds left out, different configurations,
+    too few seeds for any change to be significant."""
+    notes = []
+    if dropped:
+        notes.append(
+            f"baseline seeds {seed_text(dropped)} have non-finite scores and are not compared"
+        )
+    if not same_config:
+        notes.append("the two campaigns ran different scenario configurations")
+    n_min = min(s.n for s in scores)
+    if 2.0 / 2.0**n_min * len(scores) >= alpha:
+        notes.append(
+            f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
+            f"{min(1.0, len(scores) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, "
+            "so no change can be significant; use more seeds"
+        )
+    return "; ".join(notes)

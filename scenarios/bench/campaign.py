@@ -1,0 +1,362 @@
+"""Campaigns: score a compensator on a scenario over many seeds, resuming from the store.
+
+:func:`run_campaign` scores many seeds on any :class:`concurrent.futures.Executor` (local
+processes by default; ``distributed.Client(address).get_executor()`` for a dask cluster).
+Only the calling process writes the database (:mod:`gyrobench.scenarios.bench.store`):
+one transaction per finished seed. Running the same campaign again (same
+:func:`~gyrobench.scenarios.bench.identity.campaign_id`) reads the seeds already stored and
+computes only the others.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import math
+import os
+import sqlite3
+import types
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, NoReturn
+
+import numpy as np
+from gyrobench.scenarios import exits
+from gyrobench.scenarios.base import check_pool
+from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
+from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
+from gyrobench.scenarios.bench.scoring import resolve_scenario, score_job
+from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
+from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
+from gyrobench.scenarios.bench.store import DEFAULT_DB, connect_db, record_seed, start_session
+from numpy.typing import NDArray
+
+__all__ = ["Campaign", "run_campaign"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Campaign:
+    """Scores of one compensator on one scenario over a set of seeds.
+
+    Attributes
+    ----------
+    campaign_id : str
+        Hash identifying scenario + configuration + code + compensator.
+    scenario, compensator, config : str
+        Human-readable descriptions.
+    scores : mapping
+        seed -> {score name: value}, in seed order (a failed seed's scores are those
+        computed before it failed, possibly non-finite).
+    computed, reused : int
+        Seeds computed by this call / read back from the database.
+    failed : mapping
+        seed -> why it failed (a non-finite prediction or score), for the failed seeds.
+        Summaries leave them out; :func:`compare` and :func:`save_baseline` refuse them.
+    """
+
+    campaign_id: str
+    scenario: str
+    compensator: str
+    config: str
+    scores: Mapping[int, Mapping[str, float]]
+    computed: int = 0
+    reused: int = 0
+    db: str = ""
+    failed: Mapping[int, str] = dataclasses.field(default_factory=dict)
+
+    @property
+    def seeds(self) -> tuple[int, ...]:
+        return tuple(self.scores)
+
+    @property
+    def score_names(self) -> list[str]:
+        names: set[str] = set()
+        for s in self.scores.values():
+            names.update(s)
+        return order_scores(names)
+
+    @property
+    def ok_seeds(self) -> tuple[int, ...]:
+        """The seeds that did not fail."""
+        return tuple(s for s in self.scores if s not in self.failed)
+
+    def values(self, name: str, seeds: Sequence[int] | None = None) -> NDArray[np.float64]:
+        """The score ``name`` for each seed (NaN where a seed lacks it)."""
+        seeds = self.seeds if seeds is None else seeds
+        return np.array([self.scores[s].get(name, math.nan) for s in seeds], dtype=float)
+
+    def summary(self, level: float = 0.95) -> dict[str, ScoreSummary]:
+        """Per score: mean over the seeds that did not fail, with a ``level`` confidence interval.
+
+        Student t for scores of either sign; for scores non-negative by nature a
+        lognormal (modified Cox) interval that stays > 0 (see :func:`summarize`).
+        """
+        ok = self.ok_seeds
+        return {n: summarize(n, self.values(n, ok), level) for n in self.score_names}
+
+    def failure_text(self, limit: int = 10) -> str:
+        """One line naming the failed seeds and the first reasons ("" when none failed)."""
+        if not self.failed:
+            return ""
+        seeds = sorted(self.failed)
+        first = seeds[0]
+        return (
+            f"compensator {self.compensator} failed on {len(seeds)} of {len(self.scores)} seeds "
+            f"of {self.scenario} (seeds {seed_text(seeds, limit)}); seed {first}: "
+            f"{self.failed[first]}"
+        )
+
+
+def run_campaign(
+    scenario: str | types.ModuleType,
+    compensator: Any,
+    seeds: Iterable[int] | str,
+    *,
+    config: Any = None,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = True,
+) -> Campaign:
+    """Score ``compensator`` on ``scenario`` for every seed, resuming from ``db``.
+
+    Parameters
+    ----------
+    scenario : str or module
+        Registered name, importable module path or module with ``compensation_task``.
+    compensator : estimator, estimator class, fit function or "module:attr"
+        See the module docstring. It must pickle (module-level functions and
+        classes do; lambdas do not) unless ``workers=0``.
+    seeds : iterable of int or str
+        Distinct seeds >= 0, or the text forms of :func:`parse_seeds`.
+    config : scenario Config, optional
+        Defaults to ``Config()``.
+    executor : concurrent.futures.Executor, optional
+        Where seeds run, e.g. ``distributed.Client(addr).get_executor()``; it must
+        be able to import the scenario module and the compensator's module. Not
+        shut down by this function.
+    workers : int, optional
+        Size of the local process pool when ``executor`` is None (default: the
+        usable CPUs). ``0`` runs the seeds one after another in this process.
+    db : path
+        SQLite file holding every finished seed (created if absent, in an
+        existing folder: folders are not created).
+    progress : bool
+        Show a tqdm progress bar on stderr.
+
+    Returns
+    -------
+    Campaign
+        Scores for ``seeds`` in the order given.
+
+    Raises
+    ------
+    CompensatorError
+        If the compensator fails on a seed (see :func:`score_seed`); the message
+        adds how many finished seeds are kept in ``db``. Seeds finished before the
+        failure are committed; a rerun resumes from them.
+    ValueError, TypeError
+        Bad scenario, compensator, seeds or db. Any other exception inside a seed
+        (a bug in the scenario) is re-raised as is, with a note naming the seed,
+        after the seeds already finished are committed.
+    """
+    module = resolve_scenario(scenario)
+    comp = resolve_compensator(compensator)
+    seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
+    if config is None:
+        config = module.Config()
+    check_pool(executor, workers)
+    plan = _Plan(
+        module=module,
+        compensator=comp,
+        config=config,
+        campaign_id=campaign_id(module, comp, config),
+        label=compensator_label(comp, compensator),
+        short=compensator_label(comp, compensator, short=True),
+        name=getattr(module, "NAME", module.__name__),
+        db=str(db),
+    )
+    conn = connect_db(db)
+    try:
+        session = start_session(
+            conn,
+            plan.campaign_id,
+            seeds,
+            scenario=plan.name,
+            compensator=plan.label,
+            config=repr(config),
+            identity=compensator_identity(comp),
+        )
+        recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed)
+        todo = [s for s in seeds if s not in session.done]
+        if todo:
+            _compute(plan, todo, recorder, total=len(seeds), executor=executor, workers=workers, progress=progress)
+        return Campaign(
+            campaign_id=plan.campaign_id,
+            scenario=plan.name,
+            compensator=plan.label,
+            config=repr(config),
+            scores={s: recorder.done[s] for s in seeds},
+            computed=len(todo),
+            reused=len(session.done),
+            db=plan.db,
+            failed={s: recorder.failed[s] for s in seeds if s in recorder.failed},
+        )
+    finally:
+        conn.close()
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Plan:
+    """What every step of one campaign needs: the resolved scenario, compensator and
+    configuration, the campaign id, the compensator's labels (full, and short for errors),
+    the scenario's name and the database path."""
+
+    module: types.ModuleType
+    compensator: Any
+    config: Any
+    campaign_id: str
+    label: str
+    short: str
+    name: str
+    db: str
+
+
+class _Recorder:
+    """Commits finished seeds to the open database and keeps what is stored (``done``,
+    ``failed``), so an error can say how many seeds a rerun will resume from."""
+
+    def __init__(
+        self,
+        conn: sqlite3.Connection,
+        plan: _Plan,
+        session_id: int,
+        done: Mapping[int, Mapping[str, float]],
+        failed: Mapping[int, str],
+    ) -> None:
+        self.conn, self.plan, self.session_id = conn, plan, session_id
+        self.done: dict[int, Mapping[str, float]] = dict(done)
+        self.failed: dict[int, str] = dict(failed)
+
+    def __call__(self, seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
+        stored, failure = record_seed(
+            self.conn, self.plan.campaign_id, self.session_id, seed, scores, elapsed, failure, db=self.plan.db
+        )
+        self.done[seed] = stored  # exactly what a resume reads back
+        if failure is not None:
+            self.failed[seed] = failure
+
+    def kept(self) -> str:
+        """What is left in the database for a rerun, in words."""
+        n = len(self.done)
+        if n == 0:
+            return f"no seed had finished (nothing stored in {self.plan.db!r})"
+        return (
+            f"the {n} finished seed{'s are' if n != 1 else ' is'} kept in {self.plan.db!r} "
+            "(a rerun resumes from them)"
+        )
+
+
+def _compute(
+    plan: _Plan,
+    todo: Sequence[int],
+    recorder: _Recorder,
+    *,
+    total: int,
+    executor: cf.Executor | None,
+    workers: int | None,
+    progress: bool,
+) -> None:
+    """Score the seeds of ``todo`` in this process (``workers=0``) or on a pool, recording each,
+    with a progress bar over all ``total`` seeds."""
+    from tqdm import tqdm
+
+    bar = tqdm(
+        total=total,
+        initial=total - len(todo),
+        disable=not progress,
+        desc=f"{plan.name} seeds",
+        unit="seed",
+        dynamic_ncols=True,
+    )
+    try:
+        if executor is None and workers == 0:
+            _run_here(plan, todo, recorder, bar)
+        else:
+            _run_on_pool(plan, todo, recorder, bar, executor=executor, workers=workers)
+    finally:
+        bar.close()
+
+
+def _run_here(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any) -> None:
+    """Score the seeds one after another in this process."""
+    for seed in todo:
+        try:
+            result = score_job(plan.module.__name__, plan.compensator, seed, plan.config, plan.short)
+        except Exception as exc:
+            _raise_seed_error(exc, seed, plan, recorder)
+        recorder(*result)
+        bar.update(1)
+
+
+def _run_on_pool(
+    plan: _Plan,
+    todo: Sequence[int],
+    recorder: _Recorder,
+    bar: Any,
+    *,
+    executor: cf.Executor | None,
+    workers: int | None,
+) -> None:
+    """Score the seeds on ``executor``, or on a local process pool of ``workers`` (checked to fit
+    in memory first), recording each as it finishes."""
+    check_picklable(plan.compensator, plan.config)
+    own = executor is None
+    if own:  # every local worker holds one seed's task in memory at once
+        from gyrobench.scenarios import units
+
+        units.check_unit_memory(
+            plan.module,
+            plan.config,
+            concurrent=units.concurrent_units(len(todo), workers),
+            source="its configuration (bench seeds)",
+        )
+    ex: cf.Executor = (
+        cf.ProcessPoolExecutor(max_workers=workers or default_workers()) if executor is None else executor
+    )
+    futures: dict[cf.Future, int] = {}
+    try:
+        futures = {
+            ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short): s
+            for s in todo
+        }
+        for fut in cf.as_completed(futures):
+            seed = futures[fut]
+            try:
+                result = fut.result()
+            except Exception as exc:
+                _raise_seed_error(exc, seed, plan, recorder)
+            recorder(*result)
+            bar.update(1)
+    finally:
+        for f in futures:
+            f.cancel()
+        if own:
+            ex.shutdown(wait=True, cancel_futures=True)
+
+
+def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:
+    """Re-raise what scoring ``seed`` raised, saying what the database keeps: a compensator's
+    failure with that context added, a dead worker as an internal error, anything else (a bug
+    in the scenario) as is with a note naming the seed."""
+    if isinstance(exc, CompensatorError):
+        raise exc.with_context(recorder.kept()) from exc
+    if isinstance(exc, cf.BrokenExecutor):
+        raise exits.InternalError(
+            f"a worker process died while scoring seed {seed} of "
+            f"{plan.name} (killed, or out of memory: see 'dmesg'); "
+            f"{recorder.kept()}"
+        ) from exc
+    add_note(exc, f"while scoring seed {seed} of {plan.name} ({recorder.kept()})")
+    raise exc

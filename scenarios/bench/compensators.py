@@ -1,0 +1,287 @@
+"""Compensators: the user's estimator, estimator class, fit function or ``"module:attr"``.
+
+:func:`resolve_compensator` accepts exactly the forms listed in
+:mod:`gyrobench.scenarios.bench`; :func:`fit_compensator` fits a fresh copy on one seed's
+training set (seeding any ``random_state`` left at None from the seed) and returns its
+``predict``. Whatever the user's code raises becomes a :class:`CompensatorError` naming
+the compensator, the seed and the stage.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import importlib
+import inspect
+import os
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from gyrobench.scenarios import exits
+from numpy.typing import NDArray
+
+__all__ = [
+    "TRACEBACK_ENV",
+    "CompensatorError",
+    "CompensatorImportError",
+    "FailedSeedsError",
+    "compensator_failed",
+    "compensator_label",
+    "fit_compensator",
+    "prepend_import_path",
+    "resolve_compensator",
+    "seed_int",
+]
+
+
+def prepend_import_path(folder: str | os.PathLike) -> None:
+    """Put ``folder`` first on ``sys.path`` (once), so ``"module:attr"`` compensators and
+    module-path scenarios are found there before anywhere else, as ``python -m`` finds
+    modules in the current folder. Worker processes inherit the path (``spawn`` and
+    ``forkserver`` pass ``sys.path`` to the child)."""
+    import sys
+
+    path = os.fspath(folder)
+    if path in sys.path:
+        sys.path.remove(path)
+    sys.path.insert(0, path)
+    importlib.invalidate_caches()
+
+
+def _import_attr(spec: str) -> Any:
+    if spec.count(":") != 1 or not all(spec.split(":")):
+        raise ValueError(f"compensator must be 'package.module:attr'; got {spec!r}")
+    mod_name, attr = spec.split(":")
+    try:
+        obj: Any = importlib.import_module(mod_name)
+    except ModuleNotFoundError as exc:
+        raise ValueError(
+            f"compensator {spec!r}: cannot import module {mod_name!r} ({exc})"
+        ) from None
+    except SyntaxError as exc:
+        raise CompensatorImportError(
+            f"compensator {spec!r}: module {mod_name!r} has a syntax error: {exc.msg} "
+            f"({exc.filename}, line {exc.lineno})",
+            exc,
+        ) from exc
+    except Exception as exc:  # noqa: BLE001 - whatever the user's module raises while importing
+        detail = " ".join(str(exc).split()) or "(no message)"
+        raise CompensatorImportError(
+            f"compensator {spec!r}: importing module {mod_name!r} raised "
+            f"{type(exc).__name__}: {detail}",
+            exc,
+        ) from exc
+    for part in attr.split("."):
+        try:
+            obj = getattr(obj, part)
+        except AttributeError:
+            raise ValueError(
+                f"compensator {spec!r}: module {mod_name!r} has no attribute {attr!r}"
+            ) from None
+    return obj
+
+
+class CompensatorImportError(ValueError):
+    """The compensator's module failed to import (a syntax error, an exception at import time).
+
+    Bad input (exit 2); ``traceback_text`` holds the import's traceback, which the
+    command line prints with ``GYROBENCH_TRACEBACK=1``.
+    """
+
+    def __init__(self, message: str, cause: BaseException) -> None:
+        import traceback
+
+        super().__init__(message)
+        self.traceback_text = "".join(traceback.format_exception(cause))
+
+
+def _is_estimator(obj: Any) -> bool:
+    return callable(getattr(obj, "fit", None)) and callable(getattr(obj, "predict", None))
+
+
+def resolve_compensator(compensator: Any) -> Any:
+    """Check ``compensator`` is one of the accepted forms (module docstring) and import strings.
+
+    Returns the estimator instance, estimator class or fit function.
+
+    Raises
+    ------
+    ValueError
+        If a ``"module:attr"`` string does not resolve.
+    TypeError
+        If the object is not an estimator, an estimator class or a callable.
+    """
+    obj = _import_attr(compensator) if isinstance(compensator, str) else compensator
+    if isinstance(obj, type):
+        if not _is_estimator(obj):
+            raise TypeError(f"compensator class {obj.__qualname__} must define fit and predict")
+        return obj
+    if _is_estimator(obj) or callable(obj):
+        return obj
+    raise TypeError(
+        "compensator must be a scikit-learn estimator, an estimator class, a fit function "
+        f"f(X, y) -> predictor, or 'module:attr'; got {type(obj).__name__} {obj!r}"
+    )
+
+
+def seed_int(seed: int) -> int:
+    """An integer in [0, 2**32) derived from the campaign seed, for ``random_state``."""
+    return int(np.random.SeedSequence([int(seed), 0x62656E63]).generate_state(1)[0])
+
+
+#: environment variable: when set (to anything but "" or "0"), ``gyrobench bench`` prints the
+#: traceback of a failing compensator on stderr before its one-line error
+TRACEBACK_ENV = exits.TRACEBACK_ENV
+
+
+class CompensatorError(ValueError):
+    """The compensator failed on a seed: its fit or predict raised, or its prediction is unusable.
+
+    Raised by :func:`score_seed` (and so by :func:`run_campaign`, after the seeds
+    already finished are committed). A ``ValueError``, so the command line reports it
+    in one line and exits 2, distinct from exit 1 ("significant regression"). The
+    message reads ``"compensator <name> failed on seed <s> (<stage>): <Type>: <message>"``.
+
+    Attributes
+    ----------
+    compensator : str
+        The compensator's label (``"module:attr"`` or its class name).
+    seed : int or None
+        The seed it failed on.
+    stage : str
+        ``"fit"`` or ``"predict on run <label>"``.
+    traceback_text : str
+        The formatted traceback of the original exception (a string, so it survives
+        the trip back from a worker process, where the exception chain is lost).
+        ``gyrobench bench`` prints it when :data:`TRACEBACK_ENV` is set.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        compensator: str = "",
+        seed: int | None = None,
+        stage: str = "",
+        traceback_text: str = "",
+    ) -> None:
+        super().__init__(message)  # args == (message,): pickles and unpickles as is
+        self.compensator = compensator
+        self.seed = seed
+        self.stage = stage
+        self.traceback_text = traceback_text
+
+    def with_context(self, text: str) -> CompensatorError:
+        """A copy whose message ends with ``"; " + text`` (raise it ``from`` this one)."""
+        return CompensatorError(
+            f"{self.args[0]}; {text}",
+            compensator=self.compensator,
+            seed=self.seed,
+            stage=self.stage,
+            traceback_text=self.traceback_text,
+        )
+
+
+class FailedSeedsError(ValueError):
+    """A campaign with failed seeds was to be saved as a baseline or compared (exit 3).
+
+    ``seeds`` holds the failed seeds.
+    """
+
+    def __init__(self, message: str, *, seeds: Sequence[int] = ()) -> None:
+        super().__init__(message)
+        self.seeds = tuple(seeds)
+
+
+def compensator_failed(label: str, seed: int, stage: str, exc: BaseException) -> CompensatorError:
+    """The :class:`CompensatorError` for ``exc`` raised by the user's code on ``seed`` at ``stage``,
+    its traceback kept as text (raise it ``from exc``)."""
+    import traceback
+
+    detail = " ".join(str(exc).split()) or "(no message)"
+    return CompensatorError(
+        f"compensator {label} failed on seed {seed} ({stage}): {type(exc).__name__}: {detail}",
+        compensator=label,
+        seed=seed,
+        stage=stage,
+        traceback_text="".join(traceback.format_exception(exc)),
+    )
+
+
+def fit_compensator(
+    compensator: Any,
+    X: NDArray[np.float64],
+    y: NDArray[np.float64],
+    seed: int,
+    *,
+    label: str,
+) -> Callable:
+    """Fit a fresh copy of ``compensator`` and return ``predict(X) -> ndarray``.
+
+    Any exception raised by the user's code (instantiation, cloning, fit, the fit
+    function) becomes a :class:`CompensatorError` naming ``label`` and ``seed``; a
+    fit function returning something that cannot predict is a ``TypeError``.
+    """
+    try:
+        predictor = _fit_user_code(compensator, X, y, seed)
+    except Exception as exc:
+        raise compensator_failed(label, seed, "fit", exc) from exc
+    if callable(getattr(predictor, "predict", None)):
+        return predictor.predict
+    if callable(predictor):
+        return predictor
+    raise TypeError(
+        f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return "
+        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__} "
+        f"(compensator {label}, seed {seed})"
+    )
+
+
+def _fit_user_code(
+    compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed: int
+) -> Any:
+    """The user's code in :func:`fit_compensator`: the fitted estimator's predict, or what a fit
+    function returned."""
+    rs = seed_int(seed)
+    if isinstance(compensator, type):
+        compensator = compensator()
+    if _is_estimator(compensator):
+        if hasattr(compensator, "get_params"):
+            from sklearn.base import clone
+
+            est = clone(compensator)
+            params = est.get_params(deep=True)
+            seeded = {
+                k: rs
+                for k, v in params.items()
+                if (k == "random_state" or k.endswith("__random_state")) and v is None
+            }
+            if seeded:
+                est.set_params(**seeded)
+        else:
+            est = copy.deepcopy(compensator)
+        fitted = est.fit(X, y)
+        return (est if fitted is None else fitted).predict
+    kwargs = {}
+    try:
+        if "random_state" in inspect.signature(compensator).parameters:
+            kwargs["random_state"] = rs
+    except (TypeError, ValueError):  # builtins without a signature
+        pass
+    return compensator(X, y, **kwargs)
+
+
+def compensator_label(comp: Any, given: Any, *, short: bool = False) -> str:
+    """How the db and messages name a compensator: the string it was given as, else
+    ``module:qualname`` of a class or function, else its repr (``short``: its class name)."""
+    if isinstance(given, str):
+        return given
+    if isinstance(comp, type) or inspect.isroutine(comp):
+        return f"{comp.__module__}:{comp.__qualname__}"
+    if short:
+        if isinstance(comp, functools.partial):
+            return f"partial({compensator_label(comp.func, None, short=True)})"
+        return type(comp).__name__
+    text = " ".join(repr(comp).split())
+    return text if len(text) <= 200 else text[:197] + "..."

@@ -1,0 +1,102 @@
+"""Plain-text tables of the bench: a campaign's summary and a comparison's verdict."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from gyrobench.scenarios.bench.seeds import seed_text
+
+if TYPE_CHECKING:
+    from gyrobench.scenarios.bench.baseline import Comparison
+    from gyrobench.scenarios.bench.campaign import Campaign
+
+__all__ = ["format_comparison", "format_summary"]
+
+
+def format_summary(campaign: Campaign) -> str:
+    """A plain-text table of every score's mean, 95 % CI, how the CI was computed, and n.
+
+    The header states the interval methods (see :func:`~gyrobench.scenarios.bench.statistics.summarize`): Student t for
+    scores of either sign; for scores non-negative by nature (mse, rms, std,
+    stability, ...) the lognormal (modified Cox) interval for the mean, which is
+    always > 0 (or the t interval clipped at 0 when a value is exactly 0).
+    """
+    rows = [("score", "mean", "95% CI", "CI", "n")]
+    for s in campaign.summary().values():
+        ci = "n/a" if math.isnan(s.low) else f"[{s.low:.6g}, {s.high:.6g}]"
+        rows.append((s.name, f"{s.mean:.6g}", ci, s.method if s.n > 1 else "-", str(s.n)))
+    w = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    head = (
+        f"campaign {campaign.campaign_id}: scenario {campaign.scenario}, "
+        f"compensator {campaign.compensator}; {len(campaign.scores)} seeds "
+        f"({campaign.computed} computed, {campaign.reused} from the database)"
+    )
+    if campaign.failed:
+        head += (
+            f"; {len(campaign.failed)} FAILED (non-finite prediction or score: "
+            f"seeds {seed_text(sorted(campaign.failed))}), left out of the summary"
+        )
+    how = [
+        "95% CI of the mean over seeds, by CI method: 't' = Student t; 'lognormal' = modified Cox",
+        "interval, always > 0, for scores non-negative by nature (mse, rms, std, stability, ...);",
+        "'t, clipped at 0' = such a score with a value of exactly 0",
+    ]
+    lines = [head, *how] + [
+        "  ".join(c.ljust(w[i]) if i in (0, 3) else c.rjust(w[i]) for i, c in enumerate(r))
+        for r in rows
+    ]
+    return "\n".join(lines)
+
+
+def format_comparison(comparison: Comparison) -> str:
+    """Plain text: the test and correction, one line per score, then the verdict."""
+    lines = [
+        f"comparison with the baseline over {len(comparison.seeds)} matching seeds: {comparison.test}, "
+        f"Holm-adjusted over {len(comparison.scores)} scores, alpha {comparison.alpha:g}"
+    ]
+    if comparison.note:
+        lines.append(f"note: {comparison.note}")
+    rows = [("score", "status", "baseline", "candidate", "shift", "change", "p (Holm)")]
+    for s in comparison.scores:
+        rel = "n/a" if not math.isfinite(s.relative) else f"{100 * s.relative:+.3g}%"
+        rows.append(
+            (
+                s.name,
+                s.status,
+                f"{s.baseline_mean:.6g}",
+                f"{s.candidate_mean:.6g}",
+                f"{s.effect:+.3g}",
+                rel,
+                f"{s.p_adjusted:.3g}",
+            )
+        )
+    w = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    lines += [
+        "  ".join(c.ljust(w[i]) if i < 2 else c.rjust(w[i]) for i, c in enumerate(r))
+        for r in rows
+    ]
+    if comparison.missing:
+        lines.append(f"not compared (in only one campaign): {', '.join(comparison.missing)}")
+    if comparison.unpaired:
+        u = comparison.unpaired
+        lines.append(
+            f"not compared ({len(u)} score(s) not held by every seed, so not paired by seed: "
+            f"their names change with the seed): {', '.join(u[:6])}" + (", ..." if len(u) > 6 else "")
+        )
+    reg, imp = comparison.regressions, comparison.improvements
+    if comparison.failed_seeds:
+        lines.append(f"FAILED: {comparison.failure}")
+    if reg:
+        lines.append(
+            f"REGRESSION: {len(reg)} score(s) significantly worse: "
+            + ", ".join(s.name for s in reg)
+        )
+    elif comparison.failed_seeds:
+        lines.append(
+            f"no significant regression on the {len(comparison.seeds)} seeds compared, but the "
+            "comparison FAILS: the compensator failed on the seeds named above"
+        )
+    else:
+        lines.append(f"no significant regression ({len(imp)} score(s) significantly better)")
+    return "\n".join(lines)

@@ -1,0 +1,275 @@
+"""Identity of a campaign: what a campaign id hashes, so that changed code never mixes results.
+
+A campaign is identified by a hash of the scenario (its configuration; the source of its
+module and of every module it imports, transitively, from its own package and from
+gyrobench; the gyrobench, numpy, scipy and scikit-learn versions), of the bench's own source
+and of the compensator (its class or function and parameters; the source of the module
+defining it, with the same import closure for user code). :func:`scenario_identity` is the
+scenario half, shared with the units runner (:mod:`gyrobench.scenarios.units`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import importlib
+import importlib.util
+import inspect
+import json
+import os
+import types
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from gyrobench.scenarios.bench.compensators import resolve_compensator
+from gyrobench.scenarios.bench.scoring import resolve_scenario
+
+__all__ = [
+    "bench_source_hash",
+    "campaign_id",
+    "canonical",
+    "compensator_identity",
+    "file_hash",
+    "module_file",
+    "module_hash",
+    "scenario_identity",
+    "source_closure",
+    "versions",
+]
+
+#: gyrobench's own packages: a scenario's or compensator's imports are followed into these
+_OWN_PACKAGES = frozenset({"gyrobench"})
+
+
+def file_hash(path: str) -> str:
+    """First 16 hex digits of the SHA-256 of the file at ``path`` (``"unreadable"`` if it cannot be read)."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
+    except OSError:
+        return "unreadable"
+
+
+def module_file(name: str) -> str | None:
+    """The source file of module ``name``, found without importing the module itself.
+
+    Parent packages are imported (their ``__init__`` files only: for gyrobench these are
+    cheap) because a package's ``__path__`` is the only reliable way to its submodules when
+    setuptools maps folders to packages (an editable install's finder).
+    """
+    import importlib.util
+    import sys
+
+    mod = sys.modules.get(name)
+    path = getattr(mod, "__file__", None) if mod is not None else None
+    if path:
+        return path
+    parent, _, leaf = name.rpartition(".")
+    if not parent:
+        try:
+            spec = importlib.util.find_spec(name)  # a top-level find_spec imports nothing
+        except (ImportError, ValueError, AttributeError):
+            return None
+        return spec.origin if spec is not None and spec.has_location else None
+    try:
+        package = importlib.import_module(parent)
+    except Exception:  # a user package that fails to import has no file to hash
+        return None
+    for d in map(Path, getattr(package, "__path__", None) or []):
+        if (d / leaf / "__init__.py").is_file():
+            return str(d / leaf / "__init__.py")
+        if (d / f"{leaf}.py").is_file():
+            return str(d / f"{leaf}.py")
+    return None
+
+
+def _is_third_party(path: str) -> bool:
+    import sysconfig
+
+    parts = Path(path).parts
+    if "site-packages" in parts or "dist-packages" in parts:
+        return True
+    stdlib = sysconfig.get_paths().get("stdlib")
+    if not stdlib:
+        return False
+    return Path(path).resolve().is_relative_to(Path(stdlib).resolve())
+
+
+def _imports(path: str, name: str, is_pkg: bool) -> frozenset[str]:
+    """Module names imported anywhere in the file (relative imports resolved)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return frozenset()
+    return _imports_cached(path, st.st_mtime_ns, st.st_size, name, is_pkg)
+
+
+@functools.lru_cache(maxsize=1024)
+def _imports_cached(path: str, mtime_ns: int, size: int, name: str, is_pkg: bool) -> frozenset[str]:
+    """:func:`_imports`, cached on the file's modification time and size."""
+    import ast
+
+    try:
+        tree = ast.parse(Path(path).read_bytes())
+    except (OSError, SyntaxError, ValueError):
+        return frozenset()
+    package = name if is_pkg else name.rpartition(".")[0]
+    out: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            try:
+                base = (
+                    importlib.util.resolve_name("." * node.level + (node.module or ""), package)
+                    if node.level
+                    else node.module
+                )
+            except (ImportError, ValueError):
+                continue
+            if not base:
+                continue
+            out.add(base)
+            out.update(f"{base}.{a.name}" for a in node.names if a.name != "*")  # may be submodules
+    return frozenset(out)
+
+
+def source_closure(name: str) -> list[tuple[str, str]]:
+    """(module, file hash) for ``name`` and every module it imports, transitively, within its own
+    top-level package and the gyrobench package; package ``__init__``
+    files included. Third-party and standard-library modules are represented by their versions
+    in the campaign identity instead."""
+    roots = _OWN_PACKAGES | {name.partition(".")[0]}
+    seen: dict[str, str] = {}
+    todo = [name]
+    while todo:
+        mod = todo.pop()
+        if mod in seen or mod.partition(".")[0] not in roots:
+            continue
+        path = module_file(mod)
+        if path is None or not path.endswith(".py"):
+            continue
+        seen[mod] = file_hash(path)
+        parent = mod.rpartition(".")[0]
+        if parent:
+            todo.append(parent)
+        todo.extend(_imports(path, mod, Path(path).name == "__init__.py"))
+    return sorted(seen.items())
+
+
+def module_hash(module_name: str | None) -> str:
+    """Hash of a module's source: with its closure (:func:`source_closure`) for user and
+    gyrobench code, the file alone for third-party modules (their version is in the identity)."""
+    if not module_name:
+        return "none"
+    path = module_file(module_name)
+    if not path:
+        return "builtin"
+    if _is_third_party(path):
+        return file_hash(path)
+    return hashlib.sha256(json.dumps(source_closure(module_name)).encode()).hexdigest()[:16]
+
+
+def versions() -> str:
+    import scipy
+    import sklearn
+    from gyrobench.sim.recording import package_version
+
+    return (
+        f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} "
+        f"sklearn {sklearn.__version__}"
+    )
+
+
+def canonical(obj: Any, depth: int = 0) -> Any:
+    """A JSON-able description of ``obj`` that is stable across processes and runs."""
+    if depth > 20:
+        return "..."
+    if obj is None or isinstance(obj, (bool, int, str)):
+        return obj
+    if isinstance(obj, float):
+        return repr(obj)
+    if isinstance(obj, np.generic):
+        return canonical(obj.item(), depth + 1)
+    if isinstance(obj, np.ndarray):
+        return {
+            "ndarray": list(obj.shape),
+            "dtype": str(obj.dtype),
+            "sha": hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()[:16],
+        }
+    if isinstance(obj, (list, tuple)):
+        return [canonical(o, depth + 1) for o in obj]
+    if isinstance(obj, dict):
+        return {
+            str(k): canonical(v, depth + 1)
+            for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))
+        }
+    if isinstance(obj, type) or inspect.isroutine(obj):
+        mod = getattr(obj, "__module__", None)
+        return {
+            "object": f"{mod}:{getattr(obj, '__qualname__', repr(obj))}",
+            "source": module_hash(mod),
+        }
+    if isinstance(obj, functools.partial):
+        return {
+            "partial": canonical(obj.func, depth + 1),
+            "args": canonical(obj.args, depth + 1),
+            "kwargs": canonical(obj.keywords, depth + 1),
+        }
+    if hasattr(obj, "get_params"):
+        cls = type(obj)
+        return {
+            "class": canonical(cls, depth + 1),
+            "params": canonical(obj.get_params(deep=False), depth + 1),
+        }
+    if dataclasses.is_dataclass(obj):
+        return {
+            "dataclass": canonical(type(obj), depth + 1),
+            "fields": {
+                f.name: canonical(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)
+            },
+        }
+    text = repr(obj)
+    if " at 0x" in text:  # default object repr: the address changes every run
+        return {"object": canonical(type(obj), depth + 1)}
+    return text
+
+
+def compensator_identity(compensator: Any) -> str:
+    """A stable JSON description of a compensator (class or function, parameters, source hash)."""
+    return json.dumps(
+        canonical(resolve_compensator(compensator)), sort_keys=True, separators=(",", ":")
+    )
+
+
+def scenario_identity(module: types.ModuleType, config: Any) -> dict[str, Any]:
+    """What identifies a scenario's results: its module name, the hash of its source closure
+    (:func:`module_hash`), the library versions (:func:`versions`) and its configuration
+    (:func:`canonical`), as a JSON-able dict."""
+    return {
+        "scenario": module.__name__,
+        "scenario_source": module_hash(module.__name__),
+        "versions": versions(),
+        "config": canonical(config),
+    }
+
+
+def bench_source_hash() -> str:
+    """Hash of the bench's own modules (every ``.py`` file of this package)."""
+    folder = Path(__file__).parent
+    parts = [(p.name, file_hash(str(p))) for p in sorted(folder.glob("*.py"))]
+    return hashlib.sha256(json.dumps(parts).encode()).hexdigest()[:16]
+
+
+def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any = None) -> str:
+    """Hash of scenario (config, source closure, versions) and compensator (16 hex digits)."""
+    module = resolve_scenario(scenario)
+    if config is None:
+        config = module.Config()
+    ident = {
+        **scenario_identity(module, config),
+        "bench_source": bench_source_hash(),
+        "compensator": json.loads(compensator_identity(compensator)),
+    }
+    return hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16]

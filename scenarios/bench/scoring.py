@@ -1,0 +1,227 @@
+"""One seed: resolve the scenario, fit the compensator on its training set, score every held-out run.
+
+A scenario with a compensation stage defines ``compensation_task(config, seed)``
+(:mod:`gyrobench.scenarios.base`): a training set and held-out runs whose truth is known.
+Scenarios are reached only through :mod:`gyrobench.scenarios.registry` (a registered name)
+or an importable module path the user gives; no scenario module is named here.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+import types
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from gyrobench.scenarios.bench.compensators import (
+    CompensatorError,
+    compensator_failed,
+    compensator_label,
+    fit_compensator,
+    resolve_compensator,
+)
+from gyrobench.scenarios.bench.seeds import check_seeds
+from numpy.typing import NDArray
+
+__all__ = ["bench_scenarios", "resolve_scenario", "score_job", "score_or_failure", "score_seed"]
+
+
+def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
+    """The scenario module for a registered name, an importable module path or a module.
+
+    Raises
+    ------
+    ValueError
+        If the name is unknown or the scenario has no compensation stage.
+    """
+    from gyrobench.scenarios import registry
+
+    if isinstance(scenario, types.ModuleType):
+        module = scenario
+    elif isinstance(scenario, str):
+        if scenario in registry.SCENARIOS or "." not in scenario:
+            if scenario not in registry.available():
+                raise ValueError(
+                    "scenario must be one of the scenarios with a compensation stage "
+                    f"{bench_scenarios()} or an importable module path; got {scenario!r}"
+                )
+            module = registry.get(scenario)
+        else:
+            try:
+                module = importlib.import_module(scenario)
+            except ModuleNotFoundError as exc:
+                raise ValueError(
+                    f"scenario must be a registered name {registry.available()} or an importable "
+                    f"module; got {scenario!r} ({exc})"
+                ) from None
+    else:
+        raise TypeError(
+            f"scenario must be a name or a module; got {type(scenario).__name__} {scenario!r}"
+        )
+    if not callable(getattr(module, "compensation_task", None)):
+        raise ValueError(
+            f"scenario {getattr(module, 'NAME', module.__name__)!r} has no compensation stage "
+            f"(no compensation_task); scenarios with one: {bench_scenarios()}"
+        )
+    return module
+
+
+def bench_scenarios() -> list[str]:
+    """Registered scenarios with a compensation stage (:func:`gyrobench.scenarios.registry.describe`
+    reads their source: nothing is imported)."""
+    from gyrobench.scenarios import registry
+
+    out = []
+    for name in registry.available():
+        try:
+            if registry.describe(name).bench:
+                out.append(name)
+        except (OSError, SyntaxError, ValueError):  # unreadable source: not offered
+            continue
+    return out
+
+
+def score_seed(
+    scenario: str | types.ModuleType, compensator: Any, seed: int, config: Any = None
+) -> dict[str, float]:
+    """Fit ``compensator`` on the scenario's training run for ``seed`` and score every held-out run.
+
+    Parameters
+    ----------
+    scenario : str or module
+        Registered scenario name, importable module path, or module object.
+    compensator : estimator, estimator class, fit function or "module:attr"
+        See the module docstring.
+    seed : int
+        Seed of the scenario's simulation (>= 0); also seeds the compensator.
+    config : scenario Config, optional
+        Defaults to the scenario's ``Config()`` (the paper's setup).
+
+    Returns
+    -------
+    dict
+        ``"<run label>/<score>"`` for every held-out run and ``"mean/<score>"``, the
+        mean over the runs that report that score; keys sorted.
+
+    Raises
+    ------
+    CompensatorError
+        If the compensator's fit or predict raises (the message names the
+        compensator, the seed, the stage and the original exception; the original
+        is chained as ``__cause__``), its prediction has the wrong size, or its
+        prediction or a score is not finite (NaN or inf: in a campaign such a seed
+        is recorded as failed instead, see :func:`run_campaign`).
+    TypeError
+        If a fit function returns something that cannot predict.
+    """
+    comp = resolve_compensator(compensator)
+    label = compensator_label(comp, compensator, short=True)
+    scores, failure = score_or_failure(scenario, comp, seed, config, label)
+    if failure is not None:
+        raise CompensatorError(
+            f"compensator {label} failed on seed {seed}: {failure}",
+            compensator=label,
+            seed=seed,
+            stage="score",
+        )
+    return scores
+
+
+def score_or_failure(
+    scenario: str | types.ModuleType,
+    compensator: Any,
+    seed: int,
+    config: Any = None,
+    label: str | None = None,
+) -> tuple[dict[str, float], str | None]:
+    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object).
+
+    Returns the scores and, for a failed seed, why it failed (a non-finite prediction or
+    score); else None. A seed fails at the first held-out run whose prediction or scores are
+    not all finite; the runs after it are not scored.
+    """
+    from threadpoolctl import threadpool_limits
+
+    module = resolve_scenario(scenario)
+    comp = resolve_compensator(compensator)
+    (seed,) = check_seeds([seed])
+    if config is None:
+        config = module.Config()
+    if label is None:
+        label = compensator_label(comp, compensator, short=True)
+    with threadpool_limits(limits=1):
+        task = module.compensation_task(config, seed)
+        predict = fit_compensator(comp, task.X_train, task.y_train, seed, label=label)
+        scores: dict[str, float] = {}
+        per_key: dict[str, list[float]] = {}
+        for run in task.heldout:
+            run_scores, failure = _score_run(task, run, predict, seed, label)
+            for k, v in run_scores.items():
+                scores[f"{run.label}/{k}"] = v
+                per_key.setdefault(k, []).append(v)
+            if failure is not None:
+                return dict(sorted(scores.items())), failure
+    for k, vals in per_key.items():
+        scores[f"mean/{k}"] = math.fsum(vals) / len(vals)
+    return dict(sorted(scores.items())), None
+
+
+def _score_run(
+    task: Any, run: Any, predict: Callable, seed: int, label: str
+) -> tuple[dict[str, float], str | None]:
+    """One held-out run's scores (empty if the prediction is not finite) and why it failed, or
+    None."""
+    if run.label == "mean" or "/" in run.label:
+        raise ValueError(
+            f"held-out run labels must not be 'mean' or contain '/'; got {run.label!r}"
+        )
+    stage = f"predict on run {run.label}"
+    try:
+        pred = np.asarray(predict(run.X), dtype=float)
+    except Exception as exc:
+        raise compensator_failed(label, seed, stage, exc) from exc
+    if pred.size != len(run.output):
+        raise CompensatorError(
+            f"compensator {label} failed on seed {seed} ({stage}): the prediction must "
+            f"have {len(run.output)} values (one per sample of X); got shape {pred.shape}",
+            compensator=label,
+            seed=seed,
+            stage=stage,
+        )
+    failure = _nonfinite(f"the prediction on run {run.label}", pred)
+    if failure is not None:
+        return {}, failure
+    compensated = task.compensate(pred, run)
+    with np.errstate(all="ignore"):  # an overflow is reported as a failed seed
+        run_scores = {k: float(v) for k, v in task.scorer(compensated, run).items()}
+    bad = [k for k, v in run_scores.items() if not math.isfinite(v)]
+    if bad:
+        failure = f"score {run.label}/{bad[0]} is {run_scores[bad[0]]!r}" + (
+            f" ({len(bad)} non-finite scores)" if len(bad) > 1 else ""
+        )
+    return run_scores, failure
+
+
+def _nonfinite(what: str, values: NDArray[np.float64]) -> str | None:
+    """``"<what> has 3 non-finite values of 300 (nan at sample 0)"``, or None if all are finite."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size == 0:
+        return None
+    i = int(bad[0])
+    return (
+        f"{what} has {bad.size} non-finite value{'s' if bad.size > 1 else ''} of {values.size} "
+        f"({float(values.flat[i])!r} at sample {i})"
+    )
+
+
+def score_job(
+    module_name: str, compensator: Any, seed: int, config: Any, label: str | None = None
+) -> tuple[int, dict[str, float], float, str | None]:
+    """Worker entry point (module level so it pickles by reference):
+    (seed, scores, elapsed [s], failure or None)."""
+    t0 = time.perf_counter()
+    scores, failure = score_or_failure(importlib.import_module(module_name), compensator, seed, config, label)
+    return seed, scores, time.perf_counter() - t0, failure

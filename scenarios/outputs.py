@@ -160,7 +160,8 @@ def check_output(
             raise ValueError(f"{what} must not be a symbolic link (it would be replaced by a folder); got {text!r}")
         foreign = _foreign_files(p) if kind == "report" and p.is_dir() else []
         if foreign is None or foreign:
-            shown = ", ".join(foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign or []) > 3 else "")
+            listed = foreign or []
+            shown = ", ".join(listed[:3]) + (f" and {len(listed) - 3} more" if len(listed) > 3 else "")
             raise ValueError(
                 f"{what} {text!r} exists and is not a gyrobench report folder (a report replaces "
                 f"its folder as a whole, and this one holds files no report wrote: {shown or 'unreadable'}): "

@@ -4,7 +4,8 @@ Formats recognised (see :func:`read_csv_log`):
 
 * plain CSV from any gyro: ``#`` comment lines, an optional header row, ``.gz`` allowed;
   separator ``,``, ``;`` or tab (detected from the header or the first data row); a UTF-8
-  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted;
+  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted; a header
+  that names a column twice is refused;
 * EuRoC / ASL (``imu0/data.csv``): header ``#timestamp [ns],w_RS_S_x [rad s^-1],...,
   a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
 * Kalibr IMU CSV: ``timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z``
@@ -293,6 +294,7 @@ def read_csv_log(
     lines = _read_text(path).splitlines()
     layout = _sniff(path, lines)
     hdr = _header_of(layout)
+    _check_unique_names(path, hdr)
     idxs = _selected_columns(path, hdr, columns, all_axes)
     temp_idx = _index_of(path, hdr, temperature) if temperature is not None else None
     _check_time_base(path, hdr, fs)
@@ -435,6 +437,21 @@ def _header_of(layout: _Layout) -> _Header:
         time_scale=time_scale,
         time_stated=time_stated,
     )
+
+
+def _check_unique_names(path: Path, hdr: _Header) -> None:
+    """Refuse a header that names a column twice (a name would choose only the first), in one line."""
+    seen: dict[str, list[int]] = {}
+    for i, nm in enumerate(hdr.names):
+        if nm:
+            seen.setdefault(nm, []).append(i)
+    dups = [(nm, idx) for nm, idx in seen.items() if len(idx) > 1]
+    if dups:
+        which = "; ".join(f"{nm!r} (columns {', '.join(str(i) for i in idx)})" for nm, idx in dups)
+        raise ValueError(
+            f"the header of {str(path)!r} names {which} more than once: rename the duplicates so that each "
+            f"column has its own name"
+        )
 
 
 # ----------------------------------------------------------------------------- column selection

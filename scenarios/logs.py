@@ -10,8 +10,10 @@ Formats recognised (see :func:`read_csv_log`):
   a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
 * Kalibr IMU CSV: ``timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z``
   (timestamp in ns, omega in rad/s, alpha = acceleration in m/s^2: Kalibr's naming);
-* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.stamp,...,
-  field.angular_velocity.x,...,field.linear_acceleration.x,...`` (times in ns, SI values).
+* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.seq,field.header.stamp,
+  field.header.frame_id,...,field.angular_velocity.x,...,field.linear_acceleration.x,...``
+  (times in ns, SI values; text columns such as the frame_id are read only when named, and
+  ``all_axes`` skips the orientation and covariance fields).
 
 Time column: its unit comes from the header (``[s]``, ``(ms)``, ``_us``, ``[ns]``) or, when
 there is none, from the magnitude: timestamps above 1e8 are taken as Unix epoch times and
@@ -86,6 +88,9 @@ _RATE_ALIASES = {
 #: column-name patterns of gyro (rate) and accelerometer columns, for the all-axes mode
 _GYRO_NAME = re.compile(r"(^w_|^omega|gyro|angular_velocity|^g[xyz]$|^w[xyz]$|rate)", re.IGNORECASE)
 _ACCEL_NAME = re.compile(r"(^a_|^alpha_|acc|linear_acceleration|^a[xyz]$)", re.IGNORECASE)
+#: names that are not a measured axis although they match the patterns above (the covariance
+#: fields of ROS sensor_msgs/Imu, e.g. ``field.angular_velocity_covariance0``)
+_NOT_AXIS_NAME = re.compile(r"covariance", re.IGNORECASE)
 #: name suffixes that carry a unit (``gyro_x_dps``, ``accel_x_g``)
 _SUFFIX_UNIT = {
     "dps": "deg/s",
@@ -344,8 +349,8 @@ class _Layout:
 def _sniff(path: Path, lines: list[str]) -> _Layout:
     """The first data row, the separator and the header of a CSV's lines.
 
-    The header is the last non-empty line before the first data row (the first line whose
-    cells are all numbers); a "#" line counts when it splits into as many cells as the first
+    The header is the last non-empty line before the first data row (see
+    :func:`_first_data_row`); a "#" line counts when it splits into as many cells as the first
     data row (EuRoC).
     """
     first_data, candidates = _first_data_row(lines)
@@ -362,22 +367,32 @@ def _sniff(path: Path, lines: list[str]) -> _Layout:
 
 
 def _first_data_row(lines: list[str]) -> tuple[int | None, list[str]]:
-    """Index of the first row of numbers (None: there is none) and the non-empty lines before it.
+    """Index of the first data row (None: there is none) and the non-empty lines before it.
 
-    The lines before it come stripped, "#" lines as "#" + their text without the leading "#"s.
+    A data row is a row of numbers, or a row that follows a header of as many cells and holds
+    more numbers than text, at least two (a ``rostopic echo -p`` row with its text frame_id;
+    text in an analysed column is refused when the rows are parsed). The lines before it come
+    stripped, "#" lines as "#" + their text without the leading "#"s.
     """
     candidates: list[str] = []
+    header: list[str] | None = None  # cells of the previous line when it reads as a header
     for i, raw in enumerate(lines):
         s = raw.strip()
         if not s:
             continue
-        if not s.startswith("#"):
-            cells = _cells(s, _sniff_delimiter(s))
-            if all(_is_number(c) for c in cells if c != "") and any(c != "" for c in cells):
-                return i, candidates
-            candidates.append(s)
-        else:
+        if s.startswith("#"):
             candidates.append("#" + s.lstrip("#").strip())
+            header = None
+            continue
+        cells = _cells(s, _sniff_delimiter(s))
+        numbers = sum(1 for c in cells if c != "" and _is_number(c))
+        texts = sum(1 for c in cells if c != "" and not _is_number(c))
+        if numbers and not texts:
+            return i, candidates
+        if header is not None and len(header) == len(cells) > 1 and numbers > texts and numbers >= 2:
+            return i, candidates
+        candidates.append(s)
+        header = cells if numbers == 0 else None
     return None, candidates
 
 
@@ -492,6 +507,7 @@ def _selected_columns(path: Path, hdr: _Header, columns: list[str] | None, all_a
             i
             for i, nm in enumerate(names)
             if i != time_idx
+            and not _NOT_AXIS_NAME.search(nm)
             and unit_of(nm, hdr.units[i], hdr.fmt)[0] is not None
             and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr.units[i])
         ]

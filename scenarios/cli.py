@@ -359,7 +359,7 @@ def _cmd_allan(args) -> int:
         from gyrobench.scenarios.logs import read_csv_log
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
-                           stop=args.stop, temperature=args.temperature)
+                           stop=args.stop, temperature=args.temperature, decimal=args.decimal)
     if args.bandwidth is None and args.bandwidth_bias != _BANDWIDTH_BIAS:
         raise _BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
@@ -519,10 +519,15 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--fs", type=_positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
                                    "(default: from the header '[unit]' or the format)")
-    s.add_argument("--start", type=_nonneg_float("--start"), help="CSV: analyse from this time [s after the first sample]")
-    s.add_argument("--stop", type=_nonneg_float("--stop"), help="CSV: analyse up to this time [s after the first sample]")
+    s.add_argument("--start", type=_nonneg_float("--start"),
+                   help="CSV: analyse from this time [s after the first sample]")
+    s.add_argument("--stop", type=_nonneg_float("--stop"),
+                   help="CSV: analyse up to this time [s after the first sample]")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
+    s.add_argument("--decimal", choices=(".", ","),
+                   help="CSV: decimal mark of the numbers (default: detected; a decimal comma needs ';' or tab "
+                        "separators to be detected)")
     s.add_argument("--kind", default="overlapping",
                    choices=("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total"),
                    help="overlapping (default) or standard Allan deviation, fitted; modified, hadamard, "

@@ -4,7 +4,8 @@ Formats recognised (see :func:`read_csv_log`):
 
 * plain CSV from any gyro: ``#`` comment lines, an optional header row, ``.gz`` allowed;
   separator ``,``, ``;`` or tab (detected from the header or the first data row); a UTF-8
-  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted; a header
+  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted; decimal
+  commas ("0,5;1,2", detected with ``;`` or tab separators, or ``decimal=","``); a header
   that names a column twice is refused;
 * EuRoC / ASL (``imu0/data.csv``): header ``#timestamp [ns],w_RS_S_x [rad s^-1],...,
   a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
@@ -262,6 +263,7 @@ def read_csv_log(
     start: float | None = None,
     stop: float | None = None,
     temperature: str | None = None,
+    decimal: str | None = None,
 ) -> Log:
     """Read rate/acceleration columns of a CSV IMU log.
 
@@ -283,6 +285,10 @@ def read_csv_log(
         Segment [s from the first sample] to keep.
     temperature : str, optional
         Name of a temperature column [degC] to return alongside.
+    decimal : {".", ","}, optional
+        Decimal mark of the numbers (``--decimal``); None: detected (a decimal comma when the
+        first row of numbers reads as numbers only with "," as the decimal mark, separated
+        by ";" or tabs), with a note saying so.
 
     Raises
     ------
@@ -297,7 +303,10 @@ def read_csv_log(
     (:func:`_time_base`: unit, uniform steps, fs) and the channels (:func:`_channel`).
     """
     lines = _read_text(path).splitlines()
-    layout = _sniff(path, lines)
+    comma = _decimal_comma(lines, decimal)
+    layout = _sniff(path, lines, comma)
+    if comma:  # the data rows with decimal points (header lines keep their text)
+        lines = lines[: layout.first_data] + [ln.replace(",", ".") for ln in lines[layout.first_data :]]
     hdr = _header_of(layout)
     _check_unique_names(path, hdr)
     idxs = _selected_columns(path, hdr, columns, all_axes)
@@ -314,6 +323,11 @@ def read_csv_log(
             f"{MIN_ROWS} (and many more for an Allan analysis)"
         )
     notes: list[str] = []
+    if comma and decimal is None:
+        notes.append(
+            f"decimal comma detected: numbers such as '0,5' separated by {_DELIM_NAMES[layout.delim]} read as 0.5 "
+            f"(give --decimal . if the file means otherwise)"
+        )
     t0 = 0.0
     if hdr.time_idx is not None:
         fs, t0 = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes)
@@ -346,18 +360,19 @@ class _Layout:
     header: list[str] | None
 
 
-def _sniff(path: Path, lines: list[str]) -> _Layout:
+def _sniff(path: Path, lines: list[str], comma: bool = False) -> _Layout:
     """The first data row, the separator and the header of a CSV's lines.
 
     The header is the last non-empty line before the first data row (see
     :func:`_first_data_row`); a "#" line counts when it splits into as many cells as the first
-    data row (EuRoC).
+    data row (EuRoC). With ``comma`` the numbers have decimal commas.
     """
-    first_data, candidates = _first_data_row(lines)
+    first_data, candidates = _first_data_row(lines, comma)
     if first_data is None:
         raise ValueError(f"CSV {str(path)!r} has 0 data rows; need at least {MIN_ROWS}")
-    delim = _sniff_delimiter(lines[first_data].strip())
-    ncols = len(_cells(lines[first_data].strip(), delim))
+    first = _decimal_point(lines[first_data].strip(), comma)
+    delim = _sniff_delimiter(first)
+    ncols = len(_cells(first, delim))
     header = _header_row(candidates, delim, ncols)
     if header is not None and len(header) != ncols:
         raise ValueError(
@@ -366,7 +381,7 @@ def _sniff(path: Path, lines: list[str]) -> _Layout:
     return _Layout(first_data=first_data, delim=delim, ncols=ncols, header=header)
 
 
-def _first_data_row(lines: list[str]) -> tuple[int | None, list[str]]:
+def _first_data_row(lines: list[str], comma: bool = False) -> tuple[int | None, list[str]]:
     """Index of the first data row (None: there is none) and the non-empty lines before it.
 
     A data row is a row of numbers, or a row that follows a header of as many cells and holds
@@ -384,7 +399,8 @@ def _first_data_row(lines: list[str]) -> tuple[int | None, list[str]]:
             candidates.append("#" + s.lstrip("#").strip())
             header = None
             continue
-        cells = _cells(s, _sniff_delimiter(s))
+        line = _decimal_point(s, comma)
+        cells = _cells(line, _sniff_delimiter(line))
         numbers = sum(1 for c in cells if c != "" and _is_number(c))
         texts = sum(1 for c in cells if c != "" and not _is_number(c))
         if numbers and not texts:
@@ -394,6 +410,46 @@ def _first_data_row(lines: list[str]) -> tuple[int | None, list[str]]:
         candidates.append(s)
         header = cells if numbers == 0 else None
     return None, candidates
+
+
+def _decimal_point(line: str, comma: bool) -> str:
+    """The line with decimal points for decimal commas (``comma``), else as it is."""
+    return line.replace(",", ".") if comma else line
+
+
+#: separators by name, for messages
+_DELIM_NAMES = {",": "','", ";": "';'", "\t": "tabs"}
+#: lines of a file looked at to detect a decimal comma
+_DECIMAL_SNIFF_LINES = 200
+
+
+def _decimal_comma(lines: list[str], decimal: str | None) -> bool:
+    """Whether the numbers have decimal commas: ``decimal`` (``--decimal``), or detected.
+
+    Detected from the first row that reads as numbers: with points ("0.5,1.2" or "0,1" as
+    two columns) it is False; it is True when that row reads as numbers only with "," as
+    the decimal mark, its cells separated by ";" or tabs ("0,5;1,2"). A single column of
+    "0,5" is read as two columns unless ``decimal=","``.
+    """
+    if decimal is not None:
+        if decimal not in (".", ","):
+            raise ValueError(f"--decimal must be '.' or ','; got {decimal!r}")
+        return decimal == ","
+    for raw in lines[:_DECIMAL_SNIFF_LINES]:
+        s = raw.strip()
+        if not s or s.startswith("#"):
+            continue
+        if _all_numbers(s):
+            return False
+        if "," in s and ("\t" in s or ";" in s) and _all_numbers(s.replace(",", ".")):
+            return True
+    return False
+
+
+def _all_numbers(line: str) -> bool:
+    """Every non-empty cell of the line (its own separator) is a number, and one is at least."""
+    cells = _cells(line, _sniff_delimiter(line))
+    return all(_is_number(c) for c in cells if c != "") and any(c != "" for c in cells)
 
 
 def _header_row(candidates: list[str], delim: str, ncols: int) -> list[str] | None:

@@ -82,6 +82,59 @@ def test_metadata_lines_before_the_header_are_not_data(tmp_path, rng, metadata):
     np.testing.assert_allclose(log.channels[0].data, np.deg2rad(rate), rtol=1e-15)
 
 
+def _point_and_comma(tmp_path, rng, sep):
+    rate = rng.standard_normal(3000) * 0.01
+    rows = [f"{i / 100:.2f}{sep}{v:.9f}" for i, v in enumerate(rate)]
+    point = tmp_path / "point.csv"
+    point.write_text("time [s]" + sep + "gyro [deg/s]\n" + "\n".join(rows) + "\n")
+    comma = tmp_path / "comma.csv"
+    comma.write_text("time [s]" + sep + "gyro [deg/s]\n" + "\n".join(r.replace(".", ",") for r in rows) + "\n")
+    return point, comma
+
+
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_decimal_comma_is_detected(tmp_path, rng, sep):
+    point, comma = _point_and_comma(tmp_path, rng, sep)
+    ref = read_csv_log(point, None, None, None)
+    got = read_csv_log(comma, None, None, None)
+    assert got.fs == ref.fs
+    np.testing.assert_array_equal(got.channels[0].data, ref.channels[0].data)
+    assert any(n.startswith("decimal comma detected") for n in got.notes)
+    assert not any("decimal" in n for n in ref.notes)
+    forced = read_csv_log(comma, None, None, None, decimal=",")
+    np.testing.assert_array_equal(forced.channels[0].data, ref.channels[0].data)
+    assert not any("decimal" in n for n in forced.notes)  # given, not guessed: nothing to say
+
+
+def test_decimal_comma_of_a_single_column_needs_the_flag(tmp_path, rng):
+    rate = rng.standard_normal(500)
+    p = tmp_path / "g.csv"
+    p.write_text("\n".join(f"{v:.9f}".replace(".", ",") for v in rate) + "\n")
+    with pytest.raises(ValueError, match="has 2 data columns"):  # "0,5" alone reads as two columns
+        read_csv_log(p, None, 100.0, "deg/s")
+    log = read_csv_log(p, None, 100.0, "deg/s", decimal=",")
+    np.testing.assert_allclose(log.channels[0].data, np.deg2rad(np.round(rate, 9)), rtol=1e-15)
+
+
+def test_decimal_flag_is_checked(tmp_path, rng):
+    point, _ = _point_and_comma(tmp_path, rng, ";")
+    with pytest.raises(ValueError, match=r"^--decimal must be '\.' or ','; got ';'$"):
+        read_csv_log(point, None, None, None, decimal=";")
+
+
+def test_decimal_comma_through_the_command_line(tmp_path, capsys, rng):
+    point, comma = _point_and_comma(tmp_path, rng, ";")
+    code, ref, err = run(["allan", point, "--json"], capsys)
+    assert code == 0, err
+    for extra in ([], ["--decimal", ","]):
+        code, out, err = run(["allan", comma, "--json", *extra], capsys)
+        assert code == 0, err
+        a, b = json.loads(ref), json.loads(out)
+        assert a["N"] == b["N"] and a["fs"] == b["fs"]
+    code, _, err = run(["allan", comma, "--decimal", "."], capsys)  # forced point: no row of numbers
+    assert_one_line_error(code, err, "has 0 data rows")
+
+
 @pytest.mark.parametrize(
     ("header", "named"),
     [

@@ -366,7 +366,7 @@ def _cmd_allan(args) -> int:
         from gyrobench.scenarios.logs import read_csv_log
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
-                           stop=args.stop, temperature=args.temperature)
+                           stop=args.stop, temperature=args.temperature, decimal=args.decimal)
     if args.bandwidth is None and args.bandwidth_bias != _BANDWIDTH_BIAS:
         raise _BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
@@ -553,6 +553,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="CSV: analyse up to this time [s after the first sample]")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
+    s.add_argument("--decimal", choices=(".", ","),
+                   help="CSV: decimal mark of the numbers (default: detected; a decimal comma needs ';' or tab "
+                        "separators to be detected)")
     s.add_argument("--kind", default="overlapping",
                    choices=("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total"),
                    help="overlapping (default) or standard Allan deviation, fitted; modified, hadamard, "

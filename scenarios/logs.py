@@ -4,13 +4,17 @@ Formats recognised (see :func:`read_csv_log`):
 
 * plain CSV from any gyro: ``#`` comment lines, an optional header row, ``.gz`` allowed;
   separator ``,``, ``;`` or tab (detected from the header or the first data row); a UTF-8
-  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted;
+  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted; decimal
+  commas ("0,5;1,2", detected with ``;`` or tab separators, or ``decimal=","``); a header
+  that names a column twice is refused;
 * EuRoC / ASL (``imu0/data.csv``): header ``#timestamp [ns],w_RS_S_x [rad s^-1],...,
   a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
 * Kalibr IMU CSV: ``timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z``
   (timestamp in ns, omega in rad/s, alpha = acceleration in m/s^2: Kalibr's naming);
-* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.stamp,...,
-  field.angular_velocity.x,...,field.linear_acceleration.x,...`` (times in ns, SI values).
+* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.seq,field.header.stamp,
+  field.header.frame_id,...,field.angular_velocity.x,...,field.linear_acceleration.x,...``
+  (times in ns, SI values; text columns such as the frame_id are read only when named, and
+  ``all_axes`` skips the orientation and covariance fields).
 
 Time column: its unit comes from the header (``[s]``, ``(ms)``, ``_us``, ``[ns]``) or, when
 there is none, from the magnitude: timestamps above 1e8 are taken as Unix epoch times and
@@ -85,6 +89,9 @@ _RATE_ALIASES = {
 #: column-name patterns of gyro (rate) and accelerometer columns, for the all-axes mode
 _GYRO_NAME = re.compile(r"(^w_|^omega|gyro|angular_velocity|^g[xyz]$|^w[xyz]$|rate)", re.IGNORECASE)
 _ACCEL_NAME = re.compile(r"(^a_|^alpha_|acc|linear_acceleration|^a[xyz]$)", re.IGNORECASE)
+#: names that are not a measured axis although they match the patterns above (the covariance
+#: fields of ROS sensor_msgs/Imu, e.g. ``field.angular_velocity_covariance0``)
+_NOT_AXIS_NAME = re.compile(r"covariance", re.IGNORECASE)
 #: name suffixes that carry a unit (``gyro_x_dps``, ``accel_x_g``)
 _SUFFIX_UNIT = {
     "dps": "deg/s",
@@ -256,6 +263,7 @@ def read_csv_log(
     start: float | None = None,
     stop: float | None = None,
     temperature: str | None = None,
+    decimal: str | None = None,
 ) -> Log:
     """Read rate/acceleration columns of a CSV IMU log.
 
@@ -277,84 +285,276 @@ def read_csv_log(
         Segment [s from the first sample] to keep.
     temperature : str, optional
         Name of a temperature column [degC] to return alongside.
+    decimal : {".", ","}, optional
+        Decimal mark of the numbers (``--decimal``); None: detected (a decimal comma when the
+        first row of numbers reads as numbers only with "," as the decimal mark, separated
+        by ";" or tabs), with a note saying so.
 
     Raises
     ------
     ValueError
         One line naming the file (and line and column where it applies).
+
+    Notes
+    -----
+    The steps, each a function: the layout (:func:`_sniff`: first data row, separator,
+    header), the columns (:func:`_header_of`, :func:`_selected_columns`), the time base
+    check (:func:`_check_time_base`), the parsing (:func:`_parse_rows`), the time column
+    (:func:`_time_base`: unit, uniform steps, fs) and the channels (:func:`_channel`).
     """
-    text = _read_text(path)
-    lines = text.splitlines()
-    # the header: the last non-empty line before the first data row that is not numeric;
-    # a "#" line counts when it splits into as many cells as the first data row (EuRoC)
-    first_data = None
-    candidates: list[tuple[int, str]] = []
-    for i, raw in enumerate(lines):
-        s = raw.strip()
-        if not s:
-            continue
-        body = s.lstrip("#").strip() if s.startswith("#") else s
-        if not s.startswith("#"):
-            delim = _sniff_delimiter(s)
-            cells = _cells(s, delim)
-            if all(_is_number(c) for c in cells if c != "") and any(c != "" for c in cells):
-                first_data = i
-                break
-        candidates.append((i, s if not s.startswith("#") else "#" + body))
+    lines = _read_text(path).splitlines()
+    comma = _decimal_comma(lines, decimal)
+    layout = _sniff(path, lines, comma)
+    if comma:  # the data rows with decimal points (header lines keep their text)
+        lines = lines[: layout.first_data] + [ln.replace(",", ".") for ln in lines[layout.first_data :]]
+    hdr = _header_of(layout)
+    _check_unique_names(path, hdr)
+    idxs = _selected_columns(path, hdr, columns, all_axes)
+    temp_idx = _index_of(path, hdr, temperature) if temperature is not None else None
+    _check_time_base(path, hdr, fs)
+
+    usecols = sorted({*idxs, *(i for i in (hdr.time_idx, temp_idx) if i is not None)})
+    pos = {c: k for k, c in enumerate(usecols)}
+    data = _parse_rows(path, lines, layout.first_data, layout.delim, layout.ncols, hdr.names, usecols)
+    rows = data.shape[0]
+    if rows < MIN_ROWS:
+        raise ValueError(
+            f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
+            f"{MIN_ROWS} (and many more for an Allan analysis)"
+        )
+    notes: list[str] = []
+    if comma and decimal is None:
+        notes.append(
+            f"decimal comma detected: numbers such as '0,5' separated by {_DELIM_NAMES[layout.delim]} read as 0.5 "
+            f"(give --decimal . if the file means otherwise)"
+        )
+    t0 = 0.0
+    if hdr.time_idx is not None:
+        fs, t0 = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes)
+    if fs is None:  # pragma: no cover - excluded above (no time column or no time unit without --fs)
+        raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
+    a, b = _segment(rows, float(fs), start, stop)
+    if (a, b) != (0, rows):
+        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
+    chans = [_channel(hdr, i, unit, data[a:b, pos[i]]) for i in idxs]
+    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
+    return Log(
+        path=path,
+        fs=float(fs),
+        channels=chans,
+        notes=notes,
+        temperature=temp,
+        fmt=hdr.fmt,
+        t0=t0 + a / fs,
+    )
+
+
+# ----------------------------------------------------------------------------- layout and header
+@dataclass(frozen=True)
+class _Layout:
+    """Where the data start, their separator and cell count, and the header row's cells (None: no header)."""
+
+    first_data: int
+    delim: str
+    ncols: int
+    header: list[str] | None
+
+
+def _sniff(path: Path, lines: list[str], comma: bool = False) -> _Layout:
+    """The first data row, the separator and the header of a CSV's lines.
+
+    The header is the last non-empty line before the first data row (see
+    :func:`_first_data_row`); a "#" line counts when it splits into as many cells as the first
+    data row (EuRoC). With ``comma`` the numbers have decimal commas.
+    """
+    first_data, candidates = _first_data_row(lines, comma)
     if first_data is None:
         raise ValueError(f"CSV {str(path)!r} has 0 data rows; need at least {MIN_ROWS}")
-    delim = _sniff_delimiter(lines[first_data].strip())
-    ncols = len(_cells(lines[first_data].strip(), delim))
-    header: list[str] | None = None
-    for i, s in reversed(candidates):
-        if s.startswith("#"):
-            cells = _cells(s[1:], delim)
-            if len(cells) == ncols and len(cells) > 1:
-                header = cells
-            break
-        header = _cells(s, delim)
-        break
+    first = _decimal_point(lines[first_data].strip(), comma)
+    delim = _sniff_delimiter(first)
+    ncols = len(_cells(first, delim))
+    header = _header_row(candidates, delim, ncols)
     if header is not None and len(header) != ncols:
         raise ValueError(
             f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}"
         )
+    return _Layout(first_data=first_data, delim=delim, ncols=ncols, header=header)
+
+
+def _first_data_row(lines: list[str], comma: bool = False) -> tuple[int | None, list[str]]:
+    """Index of the first data row (None: there is none) and the non-empty lines before it.
+
+    A data row is a row of numbers, or a row that follows a header of as many cells and holds
+    more numbers than text, at least two (a ``rostopic echo -p`` row with its text frame_id;
+    text in an analysed column is refused when the rows are parsed). The lines before it come
+    stripped, "#" lines as "#" + their text without the leading "#"s.
+    """
+    candidates: list[str] = []
+    header: list[str] | None = None  # cells of the previous line when it reads as a header
+    for i, raw in enumerate(lines):
+        s = raw.strip()
+        if not s:
+            continue
+        if s.startswith("#"):
+            candidates.append("#" + s.lstrip("#").strip())
+            header = None
+            continue
+        line = _decimal_point(s, comma)
+        cells = _cells(line, _sniff_delimiter(line))
+        numbers = sum(1 for c in cells if c != "" and _is_number(c))
+        texts = sum(1 for c in cells if c != "" and not _is_number(c))
+        if numbers and not texts:
+            return i, candidates
+        if header is not None and len(header) == len(cells) > 1 and numbers > texts and numbers >= 2:
+            return i, candidates
+        candidates.append(s)
+        header = cells if numbers == 0 else None
+    return None, candidates
+
+
+def _decimal_point(line: str, comma: bool) -> str:
+    """The line with decimal points for decimal commas (``comma``), else as it is."""
+    return line.replace(",", ".") if comma else line
+
+
+#: separators by name, for messages
+_DELIM_NAMES = {",": "','", ";": "';'", "\t": "tabs"}
+#: lines of a file looked at to detect a decimal comma
+_DECIMAL_SNIFF_LINES = 200
+
+
+def _decimal_comma(lines: list[str], decimal: str | None) -> bool:
+    """Whether the numbers have decimal commas: ``decimal`` (``--decimal``), or detected.
+
+    Detected from the first row that reads as numbers: with points ("0.5,1.2" or "0,1" as
+    two columns) it is False; it is True when that row reads as numbers only with "," as
+    the decimal mark, its cells separated by ";" or tabs ("0,5;1,2"). A single column of
+    "0,5" is read as two columns unless ``decimal=","``.
+    """
+    if decimal is not None:
+        if decimal not in (".", ","):
+            raise ValueError(f"--decimal must be '.' or ','; got {decimal!r}")
+        return decimal == ","
+    for raw in lines[:_DECIMAL_SNIFF_LINES]:
+        s = raw.strip()
+        if not s or s.startswith("#"):
+            continue
+        if _all_numbers(s):
+            return False
+        if "," in s and ("\t" in s or ";" in s) and _all_numbers(s.replace(",", ".")):
+            return True
+    return False
+
+
+def _all_numbers(line: str) -> bool:
+    """Every non-empty cell of the line (its own separator) is a number, and one is at least."""
+    cells = _cells(line, _sniff_delimiter(line))
+    return all(_is_number(c) for c in cells if c != "") and any(c != "" for c in cells)
+
+
+def _header_row(candidates: list[str], delim: str, ncols: int) -> list[str] | None:
+    """The header cells: the last line before the data, or None (a "#" line that is not a header)."""
+    if not candidates:
+        return None
+    s = candidates[-1]
+    if s.startswith("#"):
+        cells = _cells(s[1:], delim)
+        return cells if len(cells) == ncols and len(cells) > 1 else None
+    return _cells(s, delim)
+
+
+@dataclass(frozen=True)
+class _Header:
+    """The columns of a log: raw header cells, names and units, format and the time column."""
+
+    header: list[str] | None
+    ncols: int
+    names: list[str]
+    units: list[str | None]
+    fmt: str
+    time_idx: int | None
+    time_scale: float | None
+    time_stated: bool
+
+    @property
+    def listing(self) -> list[str] | str:
+        """The column names for a message (or how to name unnamed columns)."""
+        return (
+            self.names
+            if self.names
+            else f"{self.ncols} unnamed columns, no header: give an index 0..{self.ncols - 1}"
+        )
+
+
+def _header_of(layout: _Layout) -> _Header:
+    """Names and units of the header cells, the log's format and its time column."""
+    header, ncols = layout.header, layout.ncols
     names, hdr_units = (
         (list(t) for t in zip(*(split_header(h) for h in header), strict=True))
         if header
         else ([], [None] * ncols)
     )
     names = [n.lstrip("#").strip() if k == 0 else n for k, n in enumerate(names)]
-    fmt = _format_of(names) if names else "csv"
     time_idx, time_scale, time_stated = (
         time_column(names, hdr_units) if names else (None, None, False)
     )
-    listing = (
-        names if names else f"{ncols} unnamed columns, no header: give an index 0..{ncols - 1}"
+    return _Header(
+        header=header,
+        ncols=ncols,
+        names=names,
+        units=hdr_units,
+        fmt=_format_of(names) if names else "csv",
+        time_idx=time_idx,
+        time_scale=time_scale,
+        time_stated=time_stated,
     )
-    notes: list[str] = []
 
-    def index_of(col: str) -> int:
-        if col in names:
-            return names.index(col)
-        if header and col in header:
-            return header.index(col)
-        low = [nm.lower() for nm in names]
-        if low.count(col.lower()) == 1:
-            return low.index(col.lower())
-        try:
-            idx = int(col)
-        except ValueError:
-            raise ValueError(
-                f"--column {col!r} is not in {str(path)!r}; columns: {listing}"
-            ) from None
-        if not 0 <= idx < ncols:
-            raise ValueError(
-                f"--column {idx} is out of range for {str(path)!r}: it has {ncols} columns (0..{ncols - 1})"
-            )
-        return idx
 
+def _check_unique_names(path: Path, hdr: _Header) -> None:
+    """Refuse a header that names a column twice (a name would choose only the first), in one line."""
+    seen: dict[str, list[int]] = {}
+    for i, nm in enumerate(hdr.names):
+        if nm:
+            seen.setdefault(nm, []).append(i)
+    dups = [(nm, idx) for nm, idx in seen.items() if len(idx) > 1]
+    if dups:
+        which = "; ".join(f"{nm!r} (columns {', '.join(str(i) for i in idx)})" for nm, idx in dups)
+        raise ValueError(
+            f"the header of {str(path)!r} names {which} more than once: rename the duplicates so that each "
+            f"column has its own name"
+        )
+
+
+# ----------------------------------------------------------------------------- column selection
+def _index_of(path: Path, hdr: _Header, col: str) -> int:
+    """Index of a ``--column`` (or ``--temperature``) given by name, header cell, unique
+    case-insensitive name, or 0-based index."""
+    names = hdr.names
+    if col in names:
+        return names.index(col)
+    if hdr.header and col in hdr.header:
+        return hdr.header.index(col)
+    low = [nm.lower() for nm in names]
+    if low.count(col.lower()) == 1:
+        return low.index(col.lower())
+    try:
+        idx = int(col)
+    except ValueError:
+        raise ValueError(
+            f"--column {col!r} is not in {str(path)!r}; columns: {hdr.listing}"
+        ) from None
+    if not 0 <= idx < hdr.ncols:
+        raise ValueError(
+            f"--column {idx} is out of range for {str(path)!r}: it has {hdr.ncols} columns (0..{hdr.ncols - 1})"
+        )
+    return idx
+
+
+def _selected_columns(path: Path, hdr: _Header, columns: list[str] | None, all_axes: bool) -> list[int]:
+    """Indices of the columns to analyse: the named ones, every gyro/accelerometer column, or the only one."""
+    names, time_idx = hdr.names, hdr.time_idx
     if columns:
-        idxs = [index_of(c) for c in columns]
+        idxs = [_index_of(path, hdr, c) for c in columns]
         dup = sorted({i for i in idxs if idxs.count(i) > 1})
         if dup:
             raise ValueError(f"--column names column {dup[0]} of {str(path)!r} twice")
@@ -363,20 +563,21 @@ def read_csv_log(
             i
             for i, nm in enumerate(names)
             if i != time_idx
-            and unit_of(nm, hdr_units[i], fmt)[0] is not None
-            and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr_units[i])
+            and not _NOT_AXIS_NAME.search(nm)
+            and unit_of(nm, hdr.units[i], hdr.fmt)[0] is not None
+            and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr.units[i])
         ]
         if not idxs:
             raise ValueError(
-                f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {listing}); "
+                f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {hdr.listing}); "
                 f"name them with --column"
             )
     else:
-        cand = [i for i in range(ncols) if i != time_idx]
+        cand = [i for i in range(hdr.ncols) if i != time_idx]
         if len(cand) != 1:
             raise ValueError(
                 f"{str(path)!r} has {len(cand)} data columns: name the rate column with --column "
-                f"(columns: {listing}), or use --all-axes"
+                f"(columns: {hdr.listing}), or use --all-axes"
             )
         idxs = cand
     for i in idxs:
@@ -384,99 +585,95 @@ def read_csv_log(
             raise ValueError(
                 f"--column {names[i]!r} is the time column of {str(path)!r}; name the rate column"
             )
-    temp_idx = index_of(temperature) if temperature is not None else None
-    if fs is None and time_idx is None:
+    return idxs
+
+
+# ----------------------------------------------------------------------------- time column
+def _check_time_base(path: Path, hdr: _Header, fs: float | None) -> None:
+    """Without --fs the log needs a time column with a time unit."""
+    if fs is None and hdr.time_idx is None:
         raise ValueError(
             f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)"
         )
-    if fs is None and time_scale is None:
+    if fs is None and hdr.time_scale is None:
         raise ValueError(
-            f"the time column {(header or names)[time_idx or 0]!r} of {str(path)!r} has no time unit "
+            f"the time column {(hdr.header or hdr.names)[hdr.time_idx or 0]!r} of {str(path)!r} has no time unit "
             f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)"
         )
 
-    usecols = sorted({*idxs, *(i for i in (time_idx, temp_idx) if i is not None)})
-    pos = {c: k for k, c in enumerate(usecols)}
-    data = _parse_rows(path, lines, first_data, delim, ncols, names, usecols)
-    rows = data.shape[0]
-    if rows < MIN_ROWS:
-        raise ValueError(
-            f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
-            f"{MIN_ROWS} (and many more for an Allan analysis)"
-        )
-    t0 = 0.0
-    if time_idx is not None:
-        t = data[:, pos[time_idx]]
-        t_first = float(t[0])
-        if (
-            abs(t_first) > 2.0**53
-        ):  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
-            t = _exact_time(lines, first_data, delim, time_idx, t)
-        tname = header[time_idx] if header else str(time_idx)
-        raw_step = float(np.median(np.diff(t)))  # in the column's own unit
-        if not time_stated and time_scale is not None:
-            time_scale, note = _time_scale_from_magnitude(t_first, tname)
-            if note is None and fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
-                time_scale, note = (
-                    1e-9,
-                    f"time column {tname!r} read in ns (the {fmt} format's unit)",
-                )
-            elif note is None and raw_step >= 1.0:
-                note = (
-                    f"time column {tname!r} has no unit and steps of {raw_step:.6g}: read as "
-                    f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
-                )
-            if note:
-                notes.append(note)
-        _check_uniform(path, t, tname)
-        step = raw_step * (time_scale or 1.0)
-        if fs is None:
-            fs = 1.0 / step
-        elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
-            raise ValueError(
-                f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
-                f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
-            )
-        t0 = t_first * (time_scale or 1.0)
-    if (
-        fs is None
-    ):  # pragma: no cover - excluded above (no time column or no time unit without --fs)
-        raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
-    a, b = _segment(rows, float(fs), start, stop)
-    if (a, b) != (0, rows):
-        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
-    chans = []
-    for i in idxs:
-        label = names[i] if names else f"column {i}"
-        q, u = unit_of(names[i], hdr_units[i], fmt) if names else (None, None)
-        if unit is not None:
-            u = _RATE_ALIASES.get(unit, unit)
-            q = "accel" if u in ACCEL_UNITS else "rate"
-        if u is None:
-            from gyrobench.sim import units
 
-            raise ValueError(
-                f"the unit of column {label!r} is unknown: give --units "
-                f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
-            )
-        chans.append(
-            Channel(
-                label=label,
-                quantity=q or "rate",
-                data=_to_si(data[a:b, pos[i]], q or "rate", u),
-                unit=u,
-            )
+def _time_unit(
+    t_first: float, raw_step: float, tname: str, hdr: _Header
+) -> tuple[float | None, str | None]:
+    """Seconds per unit of the time column and a note on how it was chosen (None: stated in the header)."""
+    time_scale = hdr.time_scale
+    if hdr.time_stated or time_scale is None:
+        return time_scale, None
+    time_scale, note = _time_scale_from_magnitude(t_first, tname)
+    if note is None and hdr.fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
+        time_scale, note = (
+            1e-9,
+            f"time column {tname!r} read in ns (the {hdr.fmt} format's unit)",
         )
-    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
-    return Log(
-        path=path,
-        fs=float(fs),
-        channels=chans,
-        notes=notes,
-        temperature=temp,
-        fmt=fmt,
-        t0=t0 + a / fs,
-    )
+    elif note is None and raw_step >= 1.0:
+        note = (
+            f"time column {tname!r} has no unit and steps of {raw_step:.6g}: read as "
+            f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
+        )
+    return time_scale, note
+
+
+def _time_base(
+    path: Path,
+    lines: list[str],
+    layout: _Layout,
+    hdr: _Header,
+    t: NDArray[np.float64],
+    fs: float | None,
+    notes: list[str],
+) -> tuple[float | None, float]:
+    """The sample rate [Hz] and the first time [s] from the time column ``t`` (checked uniform).
+
+    The rate is 1 / the median step; a given ``fs`` must agree with it to 1 %. How the time
+    unit was chosen, when the header does not state it, is appended to ``notes``.
+    """
+    assert hdr.time_idx is not None
+    t_first = float(t[0])
+    if abs(t_first) > 2.0**53:  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
+        t = _exact_time(lines, layout.first_data, layout.delim, hdr.time_idx, t)
+    tname = hdr.header[hdr.time_idx] if hdr.header else str(hdr.time_idx)
+    raw_step = float(np.median(np.diff(t)))  # in the column's own unit
+    time_scale, note = _time_unit(t_first, raw_step, tname, hdr)
+    if note:
+        notes.append(note)
+    _check_uniform(path, t, tname)
+    step = raw_step * (time_scale or 1.0)
+    if fs is None:
+        fs = 1.0 / step
+    elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
+        raise ValueError(
+            f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
+            f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
+        )
+    return fs, t_first * (time_scale or 1.0)
+
+
+# ----------------------------------------------------------------------------- channels
+def _channel(hdr: _Header, i: int, unit: str | None, x: NDArray[np.float64]) -> Channel:
+    """Column ``i`` as a Channel in SI, its unit from ``--units``, the header, the name or the format."""
+    label = hdr.names[i] if hdr.names else f"column {i}"
+    q, u = unit_of(hdr.names[i], hdr.units[i], hdr.fmt) if hdr.names else (None, None)
+    if unit is not None:
+        u = _RATE_ALIASES.get(unit, unit)
+        q = "accel" if u in ACCEL_UNITS else "rate"
+    if u is None:
+        from gyrobench.sim import units
+
+        raise ValueError(
+            f"the unit of column {label!r} is unknown: give --units "
+            f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
+        )
+    return Channel(label=label, quantity=q or "rate", data=_to_si(x, q or "rate", u), unit=u)
 
 
 def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float64]:
@@ -531,16 +728,7 @@ def _parse_rows(
     if body.count(delim) != n_rows * (
         ncols - 1
     ):  # some row (or a comment, blank or quoted cell) differs
-        for j, ln in enumerate(lines[first:]):
-            s = ln.strip()
-            if not s or s.startswith("#") or ln.count(delim) == ncols - 1:
-                continue
-            n = len(_cells(s, delim))
-            if n != ncols:
-                raise ValueError(
-                    f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
-                    f"a row with {'an extra' if n > ncols else 'a missing'} column is refused"
-                )
+        _check_row_lengths(path, lines, first, delim, ncols)
     elif delim in ",;" and '"' not in body and "#" not in body:  # (a tab separator would match any whitespace)
         fast = _parse_plain(body, delim, n_rows, ncols)
         if fast is not None:
@@ -559,9 +747,29 @@ def _parse_rows(
             )
     except ValueError:
         pass
-    for j, ln in enumerate(
-        lines[first:]
-    ):  # find the first cell that is not a number, for the message
+    _refuse_first_bad_cell(path, lines, first, delim, names, usecols)
+    raise ValueError(f"{str(path)!r}: the data rows cannot be read as numbers")  # pragma: no cover
+
+
+def _check_row_lengths(path: Path, lines: list[str], first: int, delim: str, ncols: int) -> None:
+    """Refuse the first data row without ``ncols`` cells, naming its line."""
+    for j, ln in enumerate(lines[first:]):
+        s = ln.strip()
+        if not s or s.startswith("#") or ln.count(delim) == ncols - 1:
+            continue
+        n = len(_cells(s, delim))
+        if n != ncols:
+            raise ValueError(
+                f"{str(path)!r} line {first + j + 1}: {n} cells where the file has {ncols}; "
+                f"a row with {'an extra' if n > ncols else 'a missing'} column is refused"
+            )
+
+
+def _refuse_first_bad_cell(
+    path: Path, lines: list[str], first: int, delim: str, names: list[str], usecols: list[int]
+) -> None:
+    """Refuse the first cell of ``usecols`` that is not a number, naming its line and column."""
+    for j, ln in enumerate(lines[first:]):
         s = ln.strip()
         if not s or s.startswith("#"):
             continue
@@ -572,7 +780,6 @@ def _parse_rows(
                 raise ValueError(
                     f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number"
                 )
-    raise ValueError(f"{str(path)!r}: the data rows cannot be read as numbers")  # pragma: no cover
 
 
 def _exact_time(

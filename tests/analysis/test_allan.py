@@ -14,6 +14,10 @@ from gyrobench.analysis.allan import (
     KINDS,
     TERMS,
     AllanCurve,
+    _blas,
+    _covariance,
+    _kinds,
+    _terms,
     allan_deviation,
     coefficient_to_avar,
     fit_noise,
@@ -65,8 +69,8 @@ def test_overlapping_matches_allantools_at_every_tau(mixed):
 @pytest.mark.parametrize("threads", [2, 3])
 def test_threaded_passes_match_allantools(mixed, monkeypatch, threads):
     """Splitting each pass across threads (each range keeps the m values after it) changes nothing."""
-    monkeypatch.setattr(allan, "_THREADS", threads)
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
+    monkeypatch.setattr(_blas, "_THREADS", threads)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100)
     y = np.tile(mixed, 3)
     for taus in ("octave", np.r_[1:12, 100, 1000, 4499].astype(float)):
         c = allan_deviation(y, 1.0, taus=taus, alpha=0)
@@ -83,9 +87,9 @@ def test_octave_list_stops_at_quarter_record():
 def test_max_m_closed_form_matches_term_counts(kind):
     for n in range(2, 80):
         m = np.arange(1, n + 1)
-        counts = allan._n_terms(kind, n, m)
+        counts = _kinds._n_terms(kind, n, m)
         brute = n // 2 if kind == "total" else int(m[counts >= 2].max(initial=0))
-        assert allan._max_m(kind, n) == brute, (kind, n)
+        assert _kinds._max_m(kind, n) == brute, (kind, n)
 
 
 def test_ramp_closed_form():
@@ -121,7 +125,7 @@ def test_sinusoid_closed_form():
 # ------------------------------------------------------------------------------------ bounds, edf, noise id
 def test_bounds_match_allantools_confidence_interval(mixed):
     c = allan_deviation(mixed, 1.0, alpha=0, confidence=0.9)
-    for d, e, lo, hi in zip(c.deviation, c.edf, c.low, c.high):
+    for d, e, lo, hi in zip(c.deviation, c.edf, c.low, c.high, strict=True):
         alo, ahi = atci.confidence_interval(d, e, ci=0.9)
         assert lo == pytest.approx(alo, rel=1e-12) and hi == pytest.approx(ahi, rel=1e-12)
 
@@ -281,8 +285,8 @@ def exact_curve(c: dict[str, float], *, fs: float = 10.0, n: int = 10_000_000) -
     """A noise-free AllanCurve sigma^2 = sum C_n tau^n at octave taus (edf for white rate)."""
     m = 2 ** np.arange(int(math.log2(n // 4)) + 1)
     tau = m / fs
-    var = sum(v * tau ** float(allan._POWER[k]) for k, v in c.items())
-    edf = allan._edf("overlapping", np.zeros(m.size, dtype=np.int64), m, n)
+    var = sum(v * tau ** float(_terms._POWER[k]) for k, v in c.items())
+    edf = _kinds._edf("overlapping", np.zeros(m.size, dtype=np.int64), m, n)
     return AllanCurve(tau=tau, deviation=np.sqrt(var), low=np.sqrt(var), high=np.sqrt(var),
                       n_terms=n + 1 - 2 * m, edf=edf, kind="overlapping", confidence=0.683, fs=fs, n_samples=n)
 
@@ -421,13 +425,13 @@ def test_ramp_cross_term_is_the_exact_discrete_variance(rng, kind, m):
     tau, ms = np.array([float(m)]), np.array([m], dtype=np.int64)
     exact = {"N": w @ w, "K": float(np.sum(np.cumsum(w[::-1])[::-1] ** 2))}
     for name, c in (("N", 1.0), ("K", 1.0 / 3.0)):  # N = 1, K = 1 in AVAR coefficients
-        sd = allan._ramp_cross_sd((name, "R"), np.array([c, r**2 / 2]), tau, ms, n, kind)[0]
+        sd = _covariance._ramp_cross_sd((name, "R"), np.array([c, r**2 / 2]), tau, ms, n, kind)[0]
         var = (sd / (r * m)) ** 2  # d_r = R tau
         assert abs(var / exact[name] - 1.0) <= 1.0 / m**2, (name, var / exact[name] - 1.0)
 
 
 def test_flicker_end_constants_are_the_window_integrals():
-    """_FLICKER_END_C: c = 2 Int_0^inf sin^2(lam u) w(u)/u du - ln lam (lam -> inf)
+    """FitConstants.flicker_end_c: c = 2 Int_0^inf sin^2(lam u) w(u)/u du - ln lam (lam -> inf)
     = gamma + ln 2 + Int_0^1 (w - 1)/u du + Int_1^inf w/u du, w = sinc^4 (triangle) or
     sinc^2 (box); to the 6 digits printed in the module (5e-6)."""
     from scipy import integrate
@@ -441,7 +445,7 @@ def test_flicker_end_constants_are_the_window_integrals():
         tail = sum(integrate.quad(lambda u: w(u) / u, k, k + 1.0)[0] for k in range(1, 2000))
         tail += (1.0 / 4.0 if p == 2 else 3.0 / 32.0) / 2000.0**p  # mean sin^p over the rest
         c = np.euler_gamma + math.log(2.0) + head + tail
-        assert abs(allan._FLICKER_END_C[kind] - c) <= 5e-6, (kind, c)
+        assert abs(_kinds.STATISTICS[kind].fit.flicker_end_c - c) <= 5e-6, (kind, c)
 
 
 def test_short_record_rate_random_walk_and_ramp_not_identifiable(rng):

@@ -18,9 +18,9 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.analysis import allan
 from gyrobench.analysis.allan import (
     BANDWIDTH_BIAS,
+    _kinds,
     allan_deviation,
     bandwidth_range,
     fit_noise,
@@ -102,7 +102,7 @@ def test_fourth_order_butterworth_closed_form_and_first_order_bound():
 
 
 def _white_se(curve) -> np.ndarray:
-    nu0 = allan._edf(curve.kind, np.zeros(curve.m.size, dtype=np.int64), curve.m, curve.n_samples)
+    nu0 = _kinds._edf(curve.kind, np.zeros(curve.m.size, dtype=np.int64), curve.m, curve.n_samples)
     return np.sqrt(2.0 / nu0)
 
 

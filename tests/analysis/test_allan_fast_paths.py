@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from allantools import ci as atci
 from gyrobench.analysis import allan
+from gyrobench.analysis.allan import _covariance, _curve, _edf, _nnls, _octave
 from gyrobench.scenarios import logs
 from scipy import optimize, stats
 
@@ -38,13 +39,13 @@ def test_edf_greenhall_matches_allantools(d, overlapping):
                     want = exc
                 if isinstance(want, AssertionError) and alpha == -4:
                     # allantools' Table 2 lookup refuses alpha = -4 although the table has the row
-                    assert allan._edf_greenhall(alpha, d, m, n, overlapping) > 0
+                    assert _edf._edf_greenhall(alpha, d, m, n, overlapping) > 0
                     continue
                 if isinstance(want, Exception):
                     with pytest.raises(type(want)):
-                        allan._edf_greenhall(alpha, d, m, n, overlapping)
+                        _edf._edf_greenhall(alpha, d, m, n, overlapping)
                     continue
-                got = allan._edf_greenhall(alpha, d, m, n, overlapping)
+                got = _edf._edf_greenhall(alpha, d, m, n, overlapping)
                 if np.isfinite(want):
                     assert got == pytest.approx(want, rel=1e-12), (alpha, n, m)
                     checked += 1
@@ -57,14 +58,14 @@ def test_edf_stein_matches_allantools(alpha):
         for m in (1, 2, 7, n // 4):
             with np.errstate(invalid="ignore"):
                 want = atci.edf_simple(n, m, alpha)
-            assert allan._edf_stein(n, m, alpha) == pytest.approx(want, rel=1e-14, nan_ok=True)
+            assert _edf._edf_stein(n, m, alpha) == pytest.approx(want, rel=1e-14, nan_ok=True)
 
 
 def test_bounds_match_scipy_stats(rng):
     dev = rng.uniform(0.5, 2.0, 50)
     edf = np.concatenate([rng.uniform(0.3, 10.0, 25), rng.uniform(10.0, 1e6, 25)])
     for conf in (0.683, 0.95):
-        lo, hi = allan._bounds(dev, edf, conf)
+        lo, hi = _curve._bounds(dev, edf, conf)
         p = (1.0 - conf) / 2.0
         np.testing.assert_allclose(lo, dev * np.sqrt(edf / stats.chi2.ppf(1.0 - p, edf)), rtol=1e-14)
         np.testing.assert_allclose(hi, dev * np.sqrt(edf / stats.chi2.ppf(p, edf)), rtol=1e-14)
@@ -77,7 +78,7 @@ def test_enumerated_nnls_matches_scipy(seed):
     a = g.standard_normal((rows, k)) * np.exp(g.uniform(-3, 3, k))
     a /= np.linalg.norm(a, axis=0)
     b = g.standard_normal(rows)
-    got = allan._nnls_enumerate(a, b)
+    got = _nnls._nnls_enumerate(a, b)
     want, _ = optimize.nnls(a, b)
     assert np.all(got >= 0)
     assert np.array_equal(got == 0, want == 0)
@@ -106,8 +107,8 @@ def test_plain_rows_refuse_what_loadtxt_would_refuse(body):
     "ms", [2 ** np.arange(27), np.array([1, 3, 5, 100, 1000, 1025, 1536, 3000, 5000, 99_999, 2**20 + 1])]
 )
 def test_scaled_pairs_is_scaled_of_every_pair(ms):
-    want = np.array([[allan._scaled(int(a), int(b)) for b in ms] for a in ms])
-    assert np.array_equal(allan._scaled_pairs(ms), want)
+    want = np.array([[_covariance._scaled(int(a), int(b)) for b in ms] for a in ms])
+    assert np.array_equal(_covariance._scaled_pairs(ms), want)
 
 
 @pytest.mark.parametrize("n", [20_000, 4096 * 300, 1_060_001])
@@ -122,9 +123,9 @@ def test_streamed_later_octaves_match_in_place(monkeypatch, n):
     ref = allan.allan_deviation(y, 100.0)
     assert ref.m.max() >= 4096  # octaves past the first pass exist
     calls = []
-    real = allan._later_streamed
-    monkeypatch.setattr(allan, "_later_streamed", lambda *a: calls.append(1) or real(*a))
-    monkeypatch.setattr(allan, "_WORK_BYTES", 0)
+    real = _octave._later_streamed
+    monkeypatch.setattr(_octave, "_later_streamed", lambda *a: calls.append(1) or real(*a))
+    monkeypatch.setattr(_octave, "_WORK_BYTES", 0)
     got = allan.allan_deviation(y, 100.0)
     assert calls
     np.testing.assert_allclose(got.deviation, ref.deviation, rtol=1e-12, atol=0)

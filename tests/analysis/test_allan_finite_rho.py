@@ -1,4 +1,4 @@
-"""The finite-record covariance of overlapping Allan-variance points (allan._finite_cov_sums).
+"""The finite-record covariance of overlapping Allan-variance points (_covariance._finite_cov_sums).
 
 Each overlapping AVAR estimate is a quadratic form in the Gaussian rate samples, so the
 covariance of two of them is 2 tr(A_1 S A_2 S); ``_finite_cov_sums`` evaluates it as a sum
@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from gyrobench.analysis import allan
+from gyrobench.analysis.allan import _covariance
 
 #: the rate covariance matrices of the brute-force check and the factor of each type's shape:
 #: Q y = diff of white phase (PSD 4 sin^2), N white, K random walk from 0 (PSD 1/(4 sin^2))
@@ -42,7 +43,7 @@ def _second_differences(m: int, n: int) -> np.ndarray:
 def test_cov_sums_equal_the_trace(m1, m2):
     n = 40
     alphas = [2, 0, -2]
-    got = allan._finite_cov_sums(
+    got = _covariance._finite_cov_sums(
         alphas, np.array([m1]), np.array([m2]), np.array([n + 1.0 - 2 * m1]),
         np.array([n + 1 - 2 * m2]), 256,
     )[0]
@@ -65,7 +66,7 @@ def _exact_rho(alphas, mi, mj, n, grid):
     m1, m2 = np.array([mi, mj, mi]), np.array([mi, mj, mj])
 
     def rho(b1, b2):
-        t = allan._finite_cov_sums(alphas, m1, m2, b1, b2, grid)
+        t = _covariance._finite_cov_sums(alphas, m1, m2, b1, b2, grid)
         return t[2] / np.sqrt(np.outer(np.diagonal(t[0]), np.diagonal(t[1])))
 
     fin = rho(np.array([big(mi), big(mj), big(mi)]), np.array([big(mi), big(mj), big(mj)]))
@@ -86,7 +87,7 @@ def test_scaled_correction_against_the_exact_one():
     n = 20000
     ms = 2 ** np.arange(13)  # up to 4096 < n/4
     ua = [2, 0, -1, -2]
-    delta = allan._finite_record_delta(ua, ms, n)
+    delta = _covariance._finite_record_delta(ua, ms, n)
     worst_same = worst_cross = 0.0
     for i in range(ms.size):
         for j in range(i, ms.size):
@@ -94,7 +95,7 @@ def test_scaled_correction_against_the_exact_one():
             fin, inf = _exact_rho(ua, ms[i], ms[j], n, grid)
             got = np.array([[delta[(t, s)][i, j] for s in range(4)] for t in range(4)])
             err = np.abs(got - (fin - inf))
-            if ms[j] <= allan._FIN_CAP:  # unscaled: Q, N, K exact; flicker aliased on the grid
+            if ms[j] <= _covariance._FIN_CAP:  # unscaled: Q, N, K exact; flicker aliased on the grid
                 qnk = np.ix_([0, 1, 3], [0, 1, 3])
                 np.testing.assert_allclose(got[qnk], (fin - inf)[qnk], atol=1e-12)
             worst_same = max(worst_same, float(np.diagonal(err).max()))
@@ -115,12 +116,12 @@ def test_finite_record_covariance_against_monte_carlo(rng):
     m = np.array([32, 64])
     big = n + 1 - 2 * m
     bf = big.astype(float)
-    exact = allan._finite_cov_sums([0], m[[0]], m[[1]], bf[[0]], bf[[1]], 1024)[0, 0, 0]
-    var = allan._finite_cov_sums([0], m, m, big.astype(float), big.astype(float), 1024)[:, 0, 0]
+    exact = _covariance._finite_cov_sums([0], m[[0]], m[[1]], bf[[0]], bf[[1]], 1024)[0, 0, 0]
+    var = _covariance._finite_cov_sums([0], m, m, big.astype(float), big.astype(float), 1024)[:, 0, 0]
     norm = 2.0 * m.astype(float) ** 2 * big
     cov_exact = 2.0 * exact / (norm[0] * norm[1])
-    # the n >> m model: the same correlation with every count equal (allan._rho_blocks)
-    rho_inf = allan._rho_blocks([0], m)[(0, 0)][0, 1]
+    # the n >> m model: the same correlation with every count equal (_covariance._rho_blocks)
+    rho_inf = _covariance._rho_blocks([0], m)[(0, 0)][0, 1]
     cov_inf = rho_inf * 2.0 * np.sqrt(var[0] * var[1]) / (norm[0] * norm[1])
     y = rng.standard_normal((reps, n))
     x = np.concatenate([np.zeros((reps, 1)), np.cumsum(y, axis=1)], axis=1)
@@ -150,7 +151,7 @@ def test_quantization_kurtosis_rho_equals_the_matrix_form():
     """k sum_u A_uu B_uu / (2 sqrt(tr(AA) tr(BB))) with the explicit matrices (n = 40)."""
     n = 40
     ms = np.array([1, 2, 3, 5, 8, 10])
-    got = allan._quantization_kurtosis_rho(ms, n)
+    got = _covariance._quantization_kurtosis_rho(ms, n)
     a = [(lambda d: d.T @ d)(_phase_second_differences(int(m), n)) for m in ms]
     k = allan.QUANTIZATION_KURTOSIS
     for i in range(ms.size):
@@ -175,10 +176,10 @@ def test_uniform_quantization_covariance_against_monte_carlo(rng):
     big = (n + 1 - 2 * ms).astype(float)
     i1, i2 = np.meshgrid(np.arange(4), np.arange(4), indexing="ij")
     i1, i2 = i1.ravel(), i2.ravel()
-    t = allan._finite_cov_sums([2], ms[i1], ms[i2], big[i1], big[i2], 2048)
+    t = _covariance._finite_cov_sums([2], ms[i1], ms[i2], big[i1], big[i2], 2048)
     gauss = 2.0 * 16.0 * t[:, 0, 0].reshape(4, 4)  # shape sin^2; differenced phase: 4 sin^2
     sd = np.sqrt(np.diag(gauss))
-    kurt = allan._quantization_kurtosis_rho(ms, n) * np.outer(sd, sd)
+    kurt = _covariance._quantization_kurtosis_rho(ms, n) * np.outer(sd, sd)
     norm = 2.0 * ms.astype(float) ** 2 * big
     want, gauss_only = (gauss + kurt) / np.outer(norm, norm), gauss / np.outer(norm, norm)
     e = (rng.random((reps, n + 1)) - 0.5) * np.sqrt(12.0)

@@ -157,7 +157,7 @@ def test_chi2_is_the_standardised_residual_norm_with_its_exact_law(filtered_curv
 def test_quadratic_form_tail(lam):
     """The Liu-Tang-Zhang tail: exact for equal weights (chi2_k); elsewhere measured within 0.5-11 % of p
     down to p = 1e-3 (one dominant weight is the hardest case), checked to 15 % + the Monte Carlo error."""
-    from gyrobench.analysis import allan
+    from gyrobench.analysis.allan import _goodness
     from scipy import special, stats
 
     lam = np.array(lam)
@@ -165,7 +165,7 @@ def test_quadratic_form_tail(lam):
     draws = (np.random.default_rng(12).standard_normal((1_000_000, lam.size)) ** 2) @ lam
     for p in (0.5, 0.1, 1e-2, 1e-3):
         q = float(np.quantile(draws, 1 - p))
-        got = allan._ltz_sf(q, *c, special)
+        got = _goodness._ltz_sf(q, *c, special)
         if np.all(lam == lam[0]):
             assert got == pytest.approx(stats.chi2.sf(q / lam[0], lam.size), rel=1e-9)
         se = math.sqrt(p * (1 - p) / draws.size)
@@ -183,7 +183,7 @@ def test_identifiability_uses_the_widened_interval(filtered_curve):
 
 
 def test_all_taus_refused_before_any_work(monkeypatch):
-    from gyrobench.analysis import allan
+    from gyrobench.analysis.allan import _taus
 
     y = np.zeros(400_001)  # 100_000 taus x 400_001 samples = 4e10 pairs > the 2e10 limit
     with pytest.raises(
@@ -191,7 +191,7 @@ def test_all_taus_refused_before_any_work(monkeypatch):
     ):
         allan_deviation(y, FS, taus="all")
     monkeypatch.setattr(
-        allan, "_available_memory", lambda: 1e6
+        _taus, "_available_memory", lambda: 1e6
     )  # 1 MB left: refuse on memory first
     with pytest.raises(ValueError, match="GiB, more than 80 % of the"):
         allan_deviation(np.zeros(10_000), FS, taus="all")

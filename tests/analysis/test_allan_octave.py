@@ -16,7 +16,7 @@ import allantools
 import numpy as np
 import pytest
 from gyrobench.analysis import allan
-from gyrobench.analysis.allan import allan_deviation
+from gyrobench.analysis.allan import _blas, _noise_id, _octave, _taus, allan_deviation
 from gyrobench.sim.noise import NoiseModel
 from threadpoolctl import threadpool_info
 
@@ -42,8 +42,8 @@ def _reference(y: np.ndarray, ms: np.ndarray) -> tuple[np.ndarray, dict[int, np.
     m = 1
     while m <= ms.max():
         nt = n + 1 - 2 * m
-        nb = min(n // m, allan._NOISE_ID_MAX)
-        if nb >= allan._NOISE_ID_MIN:
+        nb = min(n // m, _noise_id._NOISE_ID_MAX)
+        if nb >= _noise_id._NOISE_ID_MIN:
             blocks[m] = s[: nb * m : m] / m
         d = s[m : m + nt] - s[:nt]
         dev[m] = math.sqrt(float(np.dot(d, d)) / (2.0 * nt)) / m
@@ -55,19 +55,19 @@ def _reference(y: np.ndarray, ms: np.ndarray) -> tuple[np.ndarray, dict[int, np.
 def _fast(y: np.ndarray, ms: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[int, np.ndarray]]:
     """The fast path's deviation, alpha and the block means it hands to _noise_id_blocks."""
     seen: list[np.ndarray] = []
-    real = allan._noise_id_blocks
+    real = _octave._noise_id_blocks
 
     def spy(z, dmax):
         seen.append(np.array(z))
         return real(z, dmax)
 
-    allan._noise_id_blocks = spy
+    _octave._noise_id_blocks = spy
     try:
-        dev, alpha = allan._octave_overlapping(y, ms, identify=True)
+        dev, alpha = _octave._octave_overlapping(y, ms, identify=True)
     finally:
-        allan._noise_id_blocks = real
+        _octave._noise_id_blocks = real
     n = y.size
-    with_blocks = [int(m) for m in ms if min(n // m, allan._NOISE_ID_MAX) >= allan._NOISE_ID_MIN]
+    with_blocks = [int(m) for m in ms if min(n // m, _noise_id._NOISE_ID_MAX) >= _noise_id._NOISE_ID_MIN]
     assert len(seen) == len(with_blocks)
     return dev, alpha, dict(zip(with_blocks, seen, strict=True))
 
@@ -92,8 +92,8 @@ CONFIGS = {
 @pytest.mark.parametrize("name", list(CONFIGS))
 def test_fused_passes_match_one_octave_recursion_and_allantools(rng, monkeypatch, name):
     n, threads, block, first, later, residue_min = CONFIGS[name]
-    monkeypatch.setattr(allan, "_THREADS", threads)
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100 if threads > 1 else 1 << 40)
+    monkeypatch.setattr(_blas, "_THREADS", threads)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100 if threads > 1 else 1 << 40)
     for attr, value in (
         ("_FUSE_BLOCK", block),
         ("_FUSE_FIRST", first),
@@ -101,9 +101,9 @@ def test_fused_passes_match_one_octave_recursion_and_allantools(rng, monkeypatch
         ("_RESIDUE_MIN", residue_min),
     ):
         if value is not None:
-            monkeypatch.setattr(allan, attr, value)
+            monkeypatch.setattr(_octave, attr, value)
     y = _record(rng, n)
-    ms = allan._resolve_m("octave", 1.0, n, "overlapping")
+    ms = _taus._resolve_m("octave", 1.0, n, "overlapping")
     assert ms[-1] >= 1 << 15  # the later passes run, several of them on big m
     dev, alpha, blocks = _fast(y, ms)
     ref, ref_blocks = _reference(y, ms)
@@ -122,7 +122,7 @@ def test_fused_passes_match_one_octave_recursion_and_allantools(rng, monkeypatch
 def test_short_records_match_the_reference(rng, n):
     """Records shorter than a block, with and without a later pass (n = 4: m = 1 only)."""
     y = _record(rng, n)
-    ms = allan._resolve_m("octave", 1.0, n, "overlapping")
+    ms = _taus._resolve_m("octave", 1.0, n, "overlapping")
     dev, alpha, blocks = _fast(y, ms)
     ref, ref_blocks = _reference(y, ms)
     np.testing.assert_allclose(dev, ref, rtol=1e-12, atol=0)
@@ -133,9 +133,9 @@ def test_short_records_match_the_reference(rng, n):
 
 def test_some_octaves_only(rng, monkeypatch):
     """A tau list of some powers of two: the passes still run through every octave below."""
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
-    monkeypatch.setattr(allan, "_FUSE_BLOCK", 1 << 13)
-    monkeypatch.setattr(allan, "_FUSE_FIRST", 4)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100)
+    monkeypatch.setattr(_octave, "_FUSE_BLOCK", 1 << 13)
+    monkeypatch.setattr(_octave, "_FUSE_FIRST", 4)
     y = _record(rng, 200_003)
     m = np.array([2, 8, 16, 256, 2048, 4096, 32768], dtype=np.int64)
     c = allan_deviation(y, 4.0, taus=m / 4.0)
@@ -149,10 +149,10 @@ def test_some_octaves_only(rng, monkeypatch):
 
 def test_drifting_record_keeps_its_precision(rng, monkeypatch):
     """Random-walk rate on an offset of 1e6: every S_m is the reference's, so 1e-12 still holds."""
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100)
     n = 400_001
     y = 1e6 + np.cumsum(rng.standard_normal(n)) + 1e-3 * rng.standard_normal(n)
-    ms = allan._resolve_m("octave", 1.0, n, "overlapping")
+    ms = _taus._resolve_m("octave", 1.0, n, "overlapping")
     dev, _, _ = _fast(y, ms)
     ref, _ = _reference(y, ms)
     np.testing.assert_allclose(dev, ref, rtol=1e-12, atol=0)
@@ -172,13 +172,13 @@ NT = {
 @pytest.mark.parametrize("shape", list(NT))
 def test_later_jobs_cover_every_k_once(monkeypatch, threads, m, shape):
     """Jobs of a later pass: ranges (with tails) or residue classes, disjoint and complete."""
-    monkeypatch.setattr(allan, "_THREADS", threads)
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
-    monkeypatch.setattr(allan, "_RESIDUE_MIN", 1 << 12)
+    monkeypatch.setattr(_blas, "_THREADS", threads)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100)
+    monkeypatch.setattr(_octave, "_RESIDUE_MIN", 1 << 12)
     nt = NT[shape](m, threads)
     g = 2
     s = np.arange(nt + 4 * m, dtype=float)
-    jobs = allan._later_jobs(s, m, g, nt)
+    jobs = _octave._later_jobs(s, m, g, nt)
     hits = np.zeros(nt, dtype=np.int64)
     owner = np.zeros(m, dtype=np.int64)  # jobs touching each residue k mod m
     for runs, hi, tail in jobs:
@@ -191,7 +191,7 @@ def test_later_jobs_cover_every_k_once(monkeypatch, threads, m, shape):
         if tail is not None:  # the values after the range, as they were before the pass
             np.testing.assert_array_equal(tail, s[hi : hi + (2**g - 1) * m])
     np.testing.assert_array_equal(hits, 1)
-    residue = threads > 1 and m >= allan._RESIDUE_MIN
+    residue = threads > 1 and m >= _octave._RESIDUE_MIN
     assert all(tail is None for _, _, tail in jobs) == (residue or threads == 1)
     if residue:  # each thread reads and writes only its own residues: nothing shared
         np.testing.assert_array_equal(owner, 1)
@@ -199,7 +199,7 @@ def test_later_jobs_cover_every_k_once(monkeypatch, threads, m, shape):
 
 def test_blas_thread_count_is_restored(rng, monkeypatch):
     """The fast path holds the BLAS to one thread while its own threads run, then restores it."""
-    monkeypatch.setattr(allan, "_THREAD_MIN", 100)
+    monkeypatch.setattr(_blas, "_THREAD_MIN", 100)
     before = [p["num_threads"] for p in threadpool_info()]
     allan_deviation(_record(rng, 50_000), 10.0)
     assert [p["num_threads"] for p in threadpool_info()] == before
@@ -214,7 +214,7 @@ def test_overlapping_blas_limits_restore_in_any_order():
         return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
 
     before = blas()
-    a, b = allan._one_blas_thread(), allan._one_blas_thread()
+    a, b = _blas._one_blas_thread(), _blas._one_blas_thread()
     a.__enter__()
     b.__enter__()
     assert set(blas()) <= {1}

@@ -1,6 +1,6 @@
 """Stored octave correlation table of the Allan noise fit (generated: do not edit).
 
-Written by benchmarks/make_rho_table.py from ``gyrobench.analysis.allan._octave_gram_direct``:
+Written by benchmarks/make_rho_table.py from ``gyrobench.analysis.allan._covariance._octave_gram_direct``:
 the Gram matrix of the unit-norm vectors g = S_alpha |H_m|^2 on the midpoint grid of
 (0, 1/2] cycles/sample, rows and columns ordered alpha-major (ALPHAS) then m (MS), row by
 row, as base64 of little-endian float64 (numpy.frombuffer(base64.b64decode(GRAM), '<f8')

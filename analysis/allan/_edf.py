@@ -1,0 +1,122 @@
+"""Equivalent degrees of freedom of the Allan and Hadamard variances (Greenhall-Riley, Stein).
+
+References
+----------
+C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances based on finite
+differences", PTTI 2003 (NIST SP 1065 section 5.3.3); NIST SP 1065 Table 5 (Stein).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: Greenhall & Riley (2003) Table 2: (a0, a1) of 1/edf ~ (a0 - a1/r)/r for unmodified variances
+#: at large r, by alpha (+2 .. -4) and d (1, 2, 3); None where alpha + 2d <= 1
+_GH_TABLE2: dict[int, tuple[tuple[float, float] | None, ...]] = {
+    2: ((3.0 / 2.0, 1.0 / 2.0), (35.0 / 18.0, 1.0), (231.0 / 100.0, 3.0 / 2.0)),
+    1: ((78.6, 25.2), (790.0, 410.0), (9950.0, 6520.0)),
+    0: ((2.0 / 3.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 1.0 / 2.0)),
+    -1: (None, (0.852, 0.375), (0.997, 0.617)),
+    -2: (None, (1.079, 0.368), (1.033, 0.607)),
+    -3: (None, None, (1.053, 0.553)),
+    -4: (None, None, (1.302, 0.535)),
+}
+#: Greenhall & Riley (2003) Table 3: (b0, b1) of the alpha = +1 (flicker PM) case, by d
+_GH_TABLE3 = ((6.0, 4.0), (15.23, 12.0), (47.8, 40.0))
+_GH_JMAX = 100
+
+
+def _gh_sw(t: NDArray[np.float64], alpha: int) -> NDArray[np.float64]:
+    """Greenhall & Riley eq. (7): the generalised autocovariance kernel s_w(t) of S_x ~ f^(alpha - 2)."""
+    a = np.abs(t)
+    if alpha % 2 == 0:  # alpha = 2, 0, -2, -4: -|t|, |t|^3, |t|^5, |t|^7
+        return -a if alpha == 2 else a ** (3 - alpha)
+    # alpha = 1, -1, -3: t^(3 - alpha) ln|t|, 0 at t = 0
+    return t ** (3 - alpha) * np.log(a, out=np.zeros_like(a), where=a > 0.0)
+
+
+def _gh_sx(t: NDArray[np.float64], f: float, alpha: int) -> NDArray[np.float64]:
+    """Eq. (8): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2)."""
+    if math.isinf(f):
+        return _gh_sw(t, alpha + 2)
+    w = _gh_sw(np.stack((t, t - 1.0 / f, t + 1.0 / f)), alpha)
+    return f**2 * (2.0 * w[0] - w[1] - w[2])
+
+
+def _gh_sz(t: NDArray[np.float64], f: float, alpha: int, d: int) -> NDArray[np.float64]:
+    """Eq. (9): the kernel after the d-th difference, sum_k (-1)^k C(2d, d+k) s_x(t + k)."""
+    sx = _gh_sx(t[None, :] + np.arange(-d, d + 1, dtype=float)[:, None], f, alpha)  # row d + k: t + k
+    out = math.comb(2 * d, d) * sx[d]
+    for k in range(1, d + 1):
+        out = out + (-1) ** k * math.comb(2 * d, d + k) * (sx[d - k] + sx[d + k])
+    return out
+
+
+def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
+    """Eq. (10): sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2, over sz(0)^2 M."""
+    j = np.arange(1, int(j_top), dtype=float)
+    z0 = float(_gh_sz(np.array([0.0]), f, alpha, d)[0])
+    zj = float(_gh_sz(np.array([float(j_top) / s]), f, alpha, d)[0])
+    mid = float(np.sum(2.0 * (1.0 - j / big_m) * _gh_sz(j / s, f, alpha, d) ** 2))
+    return (z0**2 + (1.0 - float(j_top) / big_m) * zj**2 + mid) / (z0**2 * big_m)
+
+
+def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) -> float:
+    """Equivalent degrees of freedom of an unmodified Allan (d = 2) or Hadamard (d = 3) variance.
+
+    C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances based on finite
+    differences", PTTI 2003 (NIST SP 1065 section 5.3.3): the exact sum eq. (10) for J <= 100
+    lags, the Table 2/3 large-r approximations beyond, cases 2-4 of the paper (F = m; the
+    modified variance, case 1, is left to allantools). Same arithmetic as
+    allantools.ci.edf_greenhall (a test pins the two to 1e-12) without importing allantools,
+    whose import pulls in scipy.stats and scipy.interpolate (~1-3 s). Raises
+    NotImplementedError for alpha = +2 with ceil(r) <= d, where the paper gives no formula.
+    """
+    if not alpha + 2 * d > 1:
+        raise ValueError(f"alpha + 2 d must be > 1; got alpha = {alpha}, d = {d}")
+    s = float(m) if overlapping else 1.0
+    big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
+    j_top = min(big_m, (d + 1) * s)
+    r = big_m / s
+    if alpha <= 0:
+        if j_top <= _GH_JMAX:
+            f = float(m) if m * (d + 1) <= _GH_JMAX else math.inf
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, f, alpha, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[alpha][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / r) * (a0 - a1 / r))
+        return 1.0 / _gh_basic_sum(_GH_JMAX, _GH_JMAX, _GH_JMAX / r, math.inf, alpha, d)
+    if alpha == 1:
+        b0, b1 = _GH_TABLE3[d - 1]
+        if j_top <= _GH_JMAX:
+            return 1.0 / _gh_basic_sum(j_top, big_m, s, float(m), 1, d)
+        if r > d + 1:
+            a0, a1 = _GH_TABLE2[1][d - 1]  # type: ignore[misc]
+            return 1.0 / ((1.0 / ((b0 + b1 * math.log(m)) ** 2 * r)) * (a0 - a1 / r))
+        mp = _GH_JMAX / r
+        z0 = float(_gh_sz(np.array([0.0]), mp, 1, d)[0])
+        return 1.0 / (_gh_basic_sum(_GH_JMAX, _GH_JMAX, mp, mp, 1, d) * z0**2 / (b0 + b1 * math.log(m)) ** 2)
+    if math.ceil(r) <= d:
+        raise NotImplementedError(f"no Greenhall edf for alpha = 2 with r = {r} <= d = {d}")
+    a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
+    return 1.0 / ((1.0 / big_m) * (a0 - (d / 2.0) / r))
+
+
+def _edf_stein(n_phase: int, m: int, alpha: int) -> float:
+    """Stein's approximate edf of the overlapping ADEV (NIST SP 1065 Table 5; N phase points)."""
+    n, mm = float(n_phase), float(m)
+    if alpha == 2:
+        return (n + 1) * (n - 2 * mm) / (2 * (n - mm))
+    if alpha == 1:
+        prod = math.log((n - 1) / (2 * mm)) * math.log((2 * mm + 1) * (n - 1) / 4)
+        return math.exp(math.sqrt(prod)) if prod >= 0 else float("nan")  # nan: no edf (caller falls back)
+    if alpha == 0:
+        return ((3 * (n - 1) / (2 * mm)) - (2 * (n - 2) / n)) * ((4 * mm**2) / ((4 * mm**2) + 5))
+    if alpha == -1:
+        return 2 * (n - 2) / (2.3 * n - 4.9) if m == 1 else 5 * n**2 / (4 * mm * (n + (3 * mm)))
+    if alpha == -2:
+        return (n - 2) / (mm * (n - 3) ** 2) * ((n - 1) ** 2 - 3 * mm * (n - 1) + 4 * mm**2)
+    return n - 1

@@ -26,7 +26,7 @@ else:  # pragma: no cover
 SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
     "mems_scale_factor": "gyrobench.scenarios.papers.p001_mems_scale_factor",
-    "ifog_thermal": "gyrobench.scenarios.ifog_thermal",
+    "ifog_thermal": "gyrobench.scenarios.papers.p003_ifog_thermal",
     "rlg_thermal": "gyrobench.scenarios.papers.p004_rlg_thermal",
     "fog_vibration": "gyrobench.scenarios.papers.p000_fog_vibration",
     "physics_checks": "gyrobench.scenarios.physics_checks",

@@ -43,7 +43,11 @@ def diff(a: Any, b: Any, path: str, ignore: list[re.Pattern[str]]) -> list[str]:
     if any(p.search(path) for p in ignore):
         return []
     if isinstance(a, dict) and isinstance(b, dict):
-        out = [f"{path}/{k}: only in {'before' if k in a else 'after'}" for k in set(a) ^ set(b)]
+        out = [
+            f"{path}/{k}: only in {'before' if k in a else 'after'}"
+            for k in set(a) ^ set(b)
+            if not any(p.search(f"{path}/{k}") for p in ignore)
+        ]
         for k in a.keys() & b.keys():
             out += diff(a[k], b[k], f"{path}/{k}", ignore)
         return out

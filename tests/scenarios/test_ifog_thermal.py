@@ -1,4 +1,8 @@
-"""Tests of scenarios.ifog_thermal (paper 003): contract, protocol, closed forms, selection."""
+"""Tests of the paper-003 package (ifog_thermal): protocol, closed forms, selection.
+
+The contract every paper meets (typed result, claims judged from its quantities, report from
+results alone) is tests/scenarios/test_paper_contract.py.
+"""
 
 from __future__ import annotations
 
@@ -9,9 +13,10 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import ifog_thermal as sc
 from gyrobench.scenarios import registry
-from gyrobench.scenarios.claims import Claim, Deviation, evaluate
+from gyrobench.scenarios.claims import Deviation, evaluate
+from gyrobench.scenarios.papers import p003_ifog_thermal as sc
+from gyrobench.scenarios.papers.p003_ifog_thermal import runs
 from gyrobench.sim import coil2d, units
 
 SMALL = sc.Config(
@@ -35,19 +40,16 @@ def test_registered():
     assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 
 
-# ------------------------------------------------------------------ contract
+# ------------------------------------------------------------------ claims and results
 
 
-def test_claims_are_well_formed(small_units):
+def test_claims_cover_the_quantities_and_say_what_is_calibrated(small_units):
     ids = [c.id for c in sc.CLAIMS]
-    assert len(ids) == len(set(ids))
-    for c in sc.CLAIMS:
-        assert isinstance(c, Claim) and c.paper == "003" and c.id.startswith("003.")
-        assert c.quantity in small_units[0]["quantities"]
-    assert {c.quantity for c in sc.CLAIMS} == set(small_units[0]["quantities"])
+    assert len(ids) == len(set(ids)) and all(i.startswith("003.") for i in ids)
+    assert {c.quantity for c in sc.CLAIMS} == set(small_units[0].quantities)
     calibrated = {c.id for c in sc.CLAIMS if c.kind == "calibrated"}
-    # issue 18: the T x dT term comes from material data (emergent); the drift level is
-    # calibrated through the lead-asymmetry spread
+    # the T x dT term comes from material data (emergent); the drift level is calibrated
+    # through the lead-asymmetry spread
     assert "003.txdt_point" not in calibrated and "003.drift_level" in calibrated
     # the validation claims judge that calibrated drift against its residual: fed by it
     assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest",
@@ -57,37 +59,31 @@ def test_claims_are_well_formed(small_units):
         assert "EFFECT_" not in d.effect  # every effect is filled in
 
 
-def test_quantities_are_numbers(small_units):
+def test_yes_no_quantities_are_zero_or_one(small_units):
     for u in small_units:
-        for k, v in u["quantities"].items():
-            assert isinstance(v, float), k
         for k in ("val1_every_run_lower", "val2_improved_lowest"):
-            assert u["quantities"][k] in (0.0, 1.0)
+            assert u.quantities[k] in (0.0, 1.0)
 
 
 def test_experiment_is_deterministic_and_small(small_units):
     again = sc.experiment(SMALL, 7)
-    assert again["quantities"] == small_units[0]["quantities"]
-    np.testing.assert_array_equal(
-        again["traces"]["val2"]["improved"], small_units[0]["traces"]["val2"]["improved"]
-    )
+    assert again.quantities == small_units[0].quantities
+    np.testing.assert_array_equal(again.traces.val2.improved, small_units[0].traces.val2.improved)
     assert len(pickle.dumps(again)) < 2_000_000
-    assert small_units[1]["quantities"] != small_units[0]["quantities"]
+    assert small_units[1].quantities != small_units[0].quantities
 
 
 def test_quantities_follow_the_scores(small_units):
     """The claim quantities are the ratios and yes/no statements of the unit's own ERR table."""
     u = small_units[0]
-    s, q = u["paper"]["scores"], u["quantities"]
-    raw1 = np.mean([d["raw"] for d in s["val1"]])
-    assert q["val1_ratio"] == pytest.approx(raw1 / np.mean([d["improved"] for d in s["val1"]]))
-    assert q["val2_improved_lowest"] == float(
-        all(d["improved"] < min(d["raw"], d["traditional"]) for d in s["val2"])
-    )
+    s, q = u.paper.scores, u.quantities
+    raw1 = np.mean([d.raw for d in s.val1])
+    assert q["val1_ratio"] == pytest.approx(raw1 / np.mean([d.improved for d in s.val1]))
+    assert q["val2_improved_lowest"] == float(all(d.improved < min(d.raw, d.traditional) for d in s.val2))
 
 
 def test_report_runs(small_units):
-    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in small_units])
+    claims = evaluate(sc.CLAIMS, [u.quantities for u in small_units])
     out = sc.report(SMALL, small_units, claims)
     assert out.scenario == sc.NAME and out.seed == 7
     json.dumps(out.results)  # results.json must serialise
@@ -111,15 +107,15 @@ def test_report_refuses_no_units():
 
 
 def test_streaming_compensation_equals_batch(small_units):
-    assert small_units[0]["streaming_max_abs_deviation_deg_h"] <= 1e-9
+    assert small_units[0].streaming_max_abs_deviation_deg_h <= 1e-9
 
 
 def test_deployment_json_rebuilds_the_network(small_units):
     from gyrobench.analysis.compensation.rbf import RBFNetwork
 
     u = small_units[0]
-    net = RBFNetwork.from_json(json.dumps(u["deployment"]))
-    assert net.n_neurons_ == u["paper"]["n_neurons"]["improved"]
+    net = RBFNetwork.from_json(u.deployment_json)
+    assert net.n_neurons_ == u.paper.n_neurons_improved
 
 
 # ------------------------------------------------------------------ the paper's protocol
@@ -127,7 +123,7 @@ def test_deployment_json_rebuilds_the_network(small_units):
 
 @pytest.fixture(scope="module")
 def small_runs():
-    return {r.name: sc._prepare(r, SMALL) for r in sc.simulate(SMALL, 7)}
+    return {r.name: sc.prepare(r, SMALL) for r in sc.simulate(SMALL, 7)}
 
 
 def test_paper_target_is_output_minus_its_mean_and_ignores_the_truth(small_runs):
@@ -200,8 +196,8 @@ def test_heat_cool_average_needs_overlap():
 
 def test_temperature_curves_variant_runs():
     u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
-    assert u["paper"]["training_rows"] < 30
-    assert set(u["quantities"]) == {c.quantity for c in sc.CLAIMS}
+    assert u.paper.training_rows < 30
+    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS}
 
 
 # ------------------------------------------------------------------ closed forms
@@ -226,8 +222,7 @@ def test_point_heating_closed_form():
 
 
 def test_winding_table_helical_worst():
-    w = sc.winding_comparison(SMALL)
-    peaks = {k: v["peak_total"] for k, v in w.items()}
+    peaks = {w.winding: w.peak_total for w in sc.winding_comparison(SMALL) if w.error is None}
     assert max(peaks, key=peaks.get) == "helical"
     assert peaks["dipolar"] > max(peaks["quadrupolar"], peaks["octupolar"])
 
@@ -298,67 +293,6 @@ def test_bad_training_target(small_runs):
         sc.training_set(SMALL, small_runs["ident_1"], target="mean")
 
 
-# ------------------------------------------------------------------ RBF selection (CV)
-
-
-def _segmented_data(rng):
-    """Three contiguous segments of a smooth 2-D surface plus small noise."""
-    x = np.linspace(-1.0, 1.0, 150)
-    X = np.column_stack([x, np.sin(3 * x)])
-    y = 0.5 * x**2 + 0.2 * X[:, 1] + 0.01 * rng.standard_normal(len(x))
-    return X, y, np.repeat([0, 1, 2], 50)
-
-
-def test_select_rbf_follows_the_stated_rule(rng):
-    """Fewest neurons among cells within 10 % of the best CV MSE; ties to the largest spread;
-    the CV MSE of a cell is the mean of its held-out segment MSEs, recomputed here by hand
-    with a separate newrb fit of exactly that neuron count (the selection reads it off one
-    longer fit). The two solve the same least-squares problem by different factorizations,
-    so they agree to rounding times the design's condition number: rel 1e-9."""
-    from gyrobench.analysis.compensation.rbf import RBFNetwork
-
-    X, y, seg = _segmented_data(rng)
-    spreads, neurons = (0.5, 2.0, 8.0), (2, 4, 8)
-    sel = sc.select_rbf(X, y, seg, spreads=spreads, neurons=neurons, tolerance=0.10)
-    assert set(sel.cv_mse) == {(s, n) for s in spreads for n in neurons}
-    for s, n in ((2.0, 4), (0.5, 8), (8.0, 2)):
-        by_hand = np.mean(
-            [
-                np.mean(
-                    (
-                        RBFNetwork(spread=s, max_neurons=n, normalize="minmax")
-                        .fit(X[seg != f], y[seg != f])
-                        .predict(X[seg == f])
-                        - y[seg == f]
-                    )
-                    ** 2
-                )
-                for f in (0, 1, 2)
-            ]
-        )
-        assert sel.cv_mse[(s, n)] == pytest.approx(by_hand, rel=1e-9)
-    best = min(sel.cv_mse.values())
-    assert sel.cv_mse[sel.best] == best
-    band = [k for k, v in sel.cv_mse.items() if v <= 1.1 * best]
-    assert sel.chosen in band
-    assert sel.max_neurons == min(k[1] for k in band)
-    assert sel.spread == max(k[0] for k in band if k[1] == sel.max_neurons)
-
-
-def test_select_rbf_zero_tolerance_is_the_cv_minimum(rng):
-    X, y, seg = _segmented_data(rng)
-    sel = sc.select_rbf(X, y, seg, spreads=(0.5, 4.0), neurons=(3, 6), tolerance=0.0)
-    assert sel.chosen == sel.best
-
-
-def test_select_rbf_needs_two_segments(rng):
-    X, y, _ = _segmented_data(rng)
-    with pytest.raises(
-        ValueError, match=r"segments must hold at least 2 distinct labels .*got labels \[0\]"
-    ):
-        sc.select_rbf(X, y, np.zeros(len(y), dtype=int), spreads=(1.0,), neurons=(3,))
-
-
 def test_identification_segments_split_at_the_chamber_knots():
     """Settle ends, and the 40 degC hold ends, at knots 2 and 4 of the chamber program."""
     knots_h = SMALL.identification_profile().times / 3600.0
@@ -369,21 +303,21 @@ def test_identification_segments_split_at_the_chamber_knots():
 def test_selection_sees_only_identification_run_1(small_units):
     """The reported choice is reproduced from identification run 1 alone, and a different
     validation protocol (other ramp rates, other run counts) does not change it."""
-    r = small_units[0]["paper"]["selection"]
+    r = small_units[0].paper
     other = replace(
         SMALL, validation1_runs=1, validation2_runs=3, validation2_rate_degC_per_min=0.25
     )
     for cfg in (SMALL, other):
-        train = sc._prepare(sc.simulate(cfg, 7)[0], cfg)
+        train = sc.prepare(sc.simulate(cfg, 7)[0], cfg)
         assert train.name == "ident_1"
         sel_imp, sel_trad, _, _ = sc.fit_models(cfg, sc.training_set(cfg, train))
         assert [sel_imp.spread, sel_imp.max_neurons] == [
-            r["improved"]["spread"],
-            r["improved"]["max_neurons"],
+            r.selection_improved.spread,
+            r.selection_improved.max_neurons,
         ]
         assert [sel_trad.spread, sel_trad.max_neurons] == [
-            r["traditional"]["spread"],
-            r["traditional"]["max_neurons"],
+            r.selection_traditional.spread,
+            r.selection_traditional.max_neurons,
         ]
 
 
@@ -402,34 +336,10 @@ def test_fixed_spread_searches_the_neuron_count_only(small_runs):
     assert {k[1] for k in sel_imp.cv_mse} == set(cfg.rbf_neuron_grid)
 
 
-# --------------------------------------------------------------- float32 deployment
-
-
-def test_float32_deployment_error_within_rounding_bound(rng):
-    """float32 a1/a2 vs float64: each output is a sum of k terms LW_i a1_i, each a1_i carries a
-    few ulp of float32 (the inputs, the distance, exp), so
-    |a2_32 - a2_64| <= c eps32 (sum |LW_i| + |b2|), with c = 16 covering ~5 roundings per term."""
-    from gyrobench.analysis.compensation.rbf import RBFNetwork
-
-    X, y, _ = _segmented_data(rng)
-    for spread in (0.5, 32.0):  # well conditioned, and large cancelling weights
-        net = RBFNetwork(spread=spread, max_neurons=8, normalize="minmax").fit(X, y)
-        doc = json.loads(net.to_json())
-        y32 = sc.deployment_float32(doc, X)
-        assert y32.dtype == np.float32
-        bound = 16 * np.finfo(np.float32).eps * (np.sum(np.abs(doc["LW"])) + abs(doc["b2"][0]))
-        assert np.max(np.abs(y32 - net.predict(X))) <= bound
-
-
 def test_float32_check_is_reported(small_units):
-    f = small_units[0]["float32"]
-    assert set(f) >= {
-        "max_abs_compensation_difference_deg_h",
-        "max_relative_err_change",
-        "quantities",
-    }
-    assert set(f["quantities"]) == set(small_units[0]["paper"]["quantities"])
-    assert math.isfinite(f["max_relative_err_change"])
+    f = small_units[0].float32
+    assert set(f.quantities.as_dict()) == set(small_units[0].paper.quantities.as_dict())
+    assert math.isfinite(f.max_relative_err_change) and math.isfinite(f.max_abs_compensation_difference_deg_h)
 
 
 # --------------------------------------------------------------- population (slow)
@@ -449,10 +359,10 @@ def test_twenty_units_through_the_shared_evaluation():
     t0 = time.process_time()  # CPU time of this process: the budget is per core, load-independent
     us = [sc.experiment(cfg, s) for s in range(20)]
     assert (time.process_time() - t0) / 20 < 5.0  # the issue-13 budget per unit
-    claims = evaluate(sc.CLAIMS, [u["quantities"] for u in us])
+    claims = evaluate(sc.CLAIMS, [u.quantities for u in us])
     assert all(c.testable == 20 for c in claims)
     out = sc.report(cfg, us, claims)
-    assert [r[4] for r in out.tables[0].rows] == [u["quantities"]["val1_ratio"] for u in us]
+    assert [r[4] for r in out.tables[0].rows] == [u.quantities["val1_ratio"] for u in us]
 
 
 # --------------------------------------------------------------- the FOG (issue 17)
@@ -463,7 +373,7 @@ def test_paper_003_runs_on_the_closed_loop_fog():
     from gyrobench.sim.fog_loop import ClosedLoopFOG
 
     cfg = sc.Config()
-    unit = sc._unit(cfg, np.random.default_rng(0))
+    unit = runs.realize_unit(cfg, np.random.default_rng(0))
     fog = unit.fog
     assert isinstance(fog, ClosedLoopFOG)
     assert fog.loop.bias_phase == pytest.approx(0.75 * math.pi)
@@ -471,9 +381,9 @@ def test_paper_003_runs_on_the_closed_loop_fog():
     assert units.to_deg_per_sqrt_h(fog.arw) == pytest.approx(4.04e-4, rel=0.01)
     assert abs(fog.earth_rate) < 1e-19  # axis east: the paper's zero input
     assert fog.diameter_tempco == pytest.approx(coil_diameter_tempco(unit.coil), rel=1e-12)
-    north = sc._unit(replace(cfg, sense_azimuth_deg=0.0), np.random.default_rng(0)).fog
+    north = runs.realize_unit(replace(cfg, sense_azimuth_deg=0.0), np.random.default_rng(0)).fog
     assert units.to_deg_per_h(north.earth_rate) == pytest.approx(10.48, abs=0.01)
-    fixed = sc._unit(replace(cfg, diameter_tempco_ppm_per_K=2.76), np.random.default_rng(0))
+    fixed = runs.realize_unit(replace(cfg, diameter_tempco_ppm_per_K=2.76), np.random.default_rng(0))
     assert fixed.fog.diameter_tempco == pytest.approx(2.76e-6)
 
 

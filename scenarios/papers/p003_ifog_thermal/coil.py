@@ -1,0 +1,100 @@
+"""Paper 003's coil studies: the Table 1 / figure 2 point heating and the winding comparison.
+
+Both evaluate the (r, z) coil model (:mod:`gyrobench.sim.coil2d`) on the configured build,
+without noise or drawn imperfections; they are the same for every unit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gyrobench.sim import units
+from gyrobench.sim.coil import WINDING_PATTERNS
+from gyrobench.sim.coil2d import Coil2D, heated_stretch
+from gyrobench.sim.fog2d import FOG2DUnit
+
+from .config import Config
+from .results import PointHeating, WindingPeak
+
+__all__ = ["free_fibre_beta_slope", "point_heating", "point_heating_result", "winding_comparison"]
+
+_MIN = units.MINUTE
+
+
+def point_heating(
+    config: Config, *, bonded: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Paper Table 1 / figure 2: a stretch of fibre at z = 0.25 L0 heated -10 -> 40 degC.
+
+    The stretch (``point_length_m``) ramps at ``point_rate_degC_per_min``; the rest of the
+    coil is static (:func:`gyrobench.sim.coil2d.heated_stretch`). Returns T [degC] and the
+    components [deg/h]: beta_T at 0 degC, the T x dT term from the material temperature
+    dependences (T in degC, as the paper's regressor), their sum. ``bonded=False``: a free
+    fibre (dn/dT + n alpha_f, the paper's model); True: bonded in the pack at the radius
+    of the layer that holds 0.25 L0 of an ideal winding.
+    """
+    spec = config.coil_spec()
+    L = config.fibre_length_m
+    T_c = np.linspace(config.low_degC, config.high_degC, 201)
+    radius = None
+    if bonded:
+        fm = Coil2D(spec=spec).fibre()
+        radius = float(fm.r[np.argmin(np.abs(fm.s / fm.length - config.point_z_fraction))])
+    sh, prod = heated_stretch(
+        spec,
+        units.celsius(T_c),
+        config.point_rate_degC_per_min / _MIN,
+        fibre_length=L,
+        diameter=0.1,
+        z_center=config.point_z_fraction * L,
+        seg_length=config.point_length_m,
+        radius=radius,
+    )
+    d = units.to_deg_per_h
+    return T_c, d(sh), d(prod), d(sh + prod)
+
+
+def free_fibre_beta_slope(config: Config) -> float:
+    """d(beta_T)/dT [1/K^2] of a free fibre: the secant of beta_T over the coil spec's range."""
+    cs = config.coil_spec()
+    r_any = np.array([cs.inner_radius])
+    rise = cs.beta(r_any, cs.t_hi, bonded=False) - cs.beta(r_any, cs.t_lo, bonded=False)
+    return float(rise[0] / (cs.t_hi - cs.t_lo))
+
+
+def point_heating_result(config: Config) -> PointHeating:
+    """:func:`point_heating` free and bonded, with the coil constants Table 1 prints."""
+    T_pt, sh_pt, prod_pt, tot_pt = point_heating(config)
+    coil = config.coil_spec()
+    return PointHeating(
+        T_degC=T_pt,
+        shupe=sh_pt,
+        product=prod_pt,
+        total=tot_pt,
+        bonded_max=float(np.max(np.abs(point_heating(config, bonded=True)[2]))),
+        b_free=free_fibre_beta_slope(config),
+        fibre_cte_per_K=float(coil.glass.cte),
+        wavelength_m=float(coil.wavelength),
+    )
+
+
+def winding_comparison(config: Config) -> tuple[WindingPeak, ...]:
+    """Peak coil drift [deg/h] of the identification run per ideal winding (no noise or defects)."""
+    out = []
+    prof = config.identification_profile()
+    d = units.to_deg_per_h
+    for pattern in WINDING_PATTERNS:
+        try:
+            spec = config.fog_spec(winding=pattern)
+        except ValueError as exc:  # layer count not a multiple of the pattern's period
+            out.append(WindingPeak(winding=pattern, error=str(exc)))
+            continue
+        run = FOG2DUnit(spec=spec, coil=Coil2D(spec=spec.coil)).thermal_response(prof)
+        out.append(
+            WindingPeak(
+                winding=pattern,
+                peak_total=float(np.max(np.abs(d(run.total)))),
+                peak_shupe=float(np.max(np.abs(d(run.shupe)))),
+                peak_product=float(np.max(np.abs(d(run.product)))),
+            )
+        )
+    return tuple(out)

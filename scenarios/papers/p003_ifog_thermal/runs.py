@@ -1,0 +1,236 @@
+"""Paper 003's chamber runs: simulated, block-averaged, masked to what the paper records.
+
+:func:`simulate` runs one drawn FOG unit through every chamber run of the protocol
+(identification twice, validation 1 and 2); :func:`prepare` reduces a recording to what
+the analysis uses (:class:`Run`: 100-s block means of the logged output and coil
+temperature, and of the simulator's truth for diagnostics and figures).
+:func:`compensation_task` hands the same runs to ``gyrobench bench``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from gyrobench.analysis.features import block_means, thermal_features
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun
+from gyrobench.sim import units
+from gyrobench.sim.environment import PiecewiseLinear
+from gyrobench.sim.fog2d import FOG2DUnit
+from gyrobench.sim.recording import Recording
+from numpy.typing import NDArray
+
+from .config import FEATURES_IMPROVED, NAME, Config
+
+__all__ = [
+    "IDENTIFICATION_SEGMENTS",
+    "Run",
+    "chamber_runs",
+    "compensation_task",
+    "features",
+    "identification_segments",
+    "memory_estimate",
+    "prepare",
+    "record_mask",
+    "reference_deg_h",
+    "realize_unit",
+    "score_mse",
+    "simulate",
+]
+
+_H = units.HOUR
+_MIN = units.MINUTE
+
+#: the folds of the RBF selection: segments of an identification run
+IDENTIFICATION_SEGMENTS = ("settle", "heat + hold", "cool + hold")
+
+
+def chamber_runs(config: Config) -> list[tuple[str, PiecewiseLinear, float]]:
+    """(name, chamber profile, true rate [rad/s]) of every run, in order."""
+    ident = config.identification_profile()
+    v1 = config.validation_profile(config.validation1_rate_degC_per_h / _H)
+    v2 = config.validation_profile(config.validation2_rate_degC_per_min / _MIN)
+    a = units.deg_per_h(config.validation2_true_rate_deg_h)
+    out = [("ident_1", ident, 0.0), ("ident_2", ident, 0.0)]
+    out += [(f"val1_run{i + 1}", v1, 0.0) for i in range(config.validation1_runs)]
+    out += [(f"val2_run{i + 1}", v2, a) for i in range(config.validation2_runs)]
+    return out
+
+
+def realize_unit(config: Config, rng: np.random.Generator) -> FOG2DUnit:
+    """One drawn FOG unit of the configured build."""
+    return config.fog_spec().realize(rng=rng)
+
+
+def simulate(config: Config, seed: int) -> list[Recording]:
+    """All runs of the experiment with one FOG unit: 2 identification, validation 1 and 2 runs."""
+    root = np.random.default_rng(seed)
+    rng_unit, rng_runs = root.spawn(2)
+    unit = realize_unit(config, rng_unit)
+    runs = chamber_runs(config)
+    recs = []
+    for (name, prof, rate), rng in zip(runs, rng_runs.spawn(len(runs)), strict=True):
+        rng_setup, rng_fog = rng.spawn(2)
+        # run-to-run mounting/airflow: the housing lag differs a little between chamber runs
+        factor = max(0.5, 1.0 + config.housing_lag_run_rms * rng_setup.standard_normal())
+        recs.append(
+            unit.simulate(
+                prof,
+                fs=config.fs_hz,
+                rng=rng_fog,
+                true_rate=rate,
+                chamber_scale=1.0 / factor,
+                name=name,
+                metadata={
+                    "scenario": NAME,
+                    "seed": seed,
+                    "run": name,
+                    "housing_time_constant_s": config.housing_time_constant_min * _MIN * factor,
+                },
+            )
+        )
+    return recs
+
+
+def memory_estimate(config: Config) -> float:
+    """Peak memory of one unit's ``experiment`` or :func:`simulate` [bytes], before allocating.
+
+    Per unit (one worker process); the runner multiplies it by the units it runs at once
+    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``N = sum_runs duration fs_hz``
+    samples in all the unit's chamber runs (:func:`chamber_runs`), ``m = max_runs duration /
+    thermal_step_s`` thermal steps in the longest run and ``g`` thermal nodes of the coil
+    grid (``(grid_spool + grid_pack_r + 1)(grid_pack_z + 2) + 1``, 121 by default)::
+
+        bytes = 1.1 x (168 N + 80 g m + 10e6)
+
+    168 B = 21 float64 series per sample: :func:`simulate` returns every run's recording (2
+    channels; ~19 truth series: the closed loop's parts -- true, table and Earth rate,
+    scale-factor error, nonreciprocal input, loop error, optical and IEEE-952 noise and its
+    terms -- and the coil's Shupe and T x dT terms, noise sum and four temperatures) and
+    ``experiment`` holds them all while it block-averages them; 80 B = 10 float64
+    (steps x nodes) arrays of the modal thermal solution of one run (~5 measured, doubled for
+    the convergence check at dt / 2 when the chamber knots are off the step grid). 10 MB the
+    rest; 1.1 the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py; on the closed-loop FOG, issue 17): 55 MB at the
+    default (N = 2.5e5, m = 1470), 419 MB at fs_hz = 10, 132 MB with validation1_runs = 20
+    and identification_hold_h = 8 (N = 7.2e5, m = 3630), 117 MB at thermal_step_s = 2
+    (m = 14700, on the grid: ~5 arrays), 84 MB at thermal_step_s = 7 (m = 4200, off the
+    grid: ~9.3 arrays), simulate and experiment alike; the formula is 1.2-2.1 x these.
+    Floats: never an overflow.
+    """
+    durations = [float(prof.duration) for _, prof, _ in chamber_runs(config)]
+    spec = config.coil_spec()
+    nodes = (spec.grid_spool + spec.grid_pack_r + 1) * (spec.grid_pack_z + 2) + 1
+    n = sum(durations) * float(config.fs_hz)
+    m = max(durations) / float(config.thermal_step_s)
+    return 1.1 * (168.0 * n + 80.0 * nodes * m + 10e6)
+
+
+@dataclass(frozen=True, slots=True)
+class Run:
+    """One chamber run at the analysis rate (block means of the recording)."""
+
+    name: str
+    t_h: NDArray[np.float64]  # block-centre times from the start of the run [h]
+    T: NDArray[np.float64]  # logged coil temperature [degC]
+    output: NDArray[np.float64]  # [deg/h]
+    truth: NDArray[np.float64]  # simulator's true rate [deg/h] (diagnostics only)
+    drift: NDArray[np.float64]  # simulator's true coil thermal drift [deg/h] (figures only)
+    fs: float  # analysis rate [Hz]
+    reference: float  # the turntable reference a [deg/h] the paper scores against
+    scored: NDArray[np.bool_] | None = None  # samples the paper records / scores (record_mask)
+
+
+def reference_deg_h(config: Config, name: str) -> float:
+    """The paper's reference a [deg/h]: 0 (turntable pointing north), validation 2: eq. (24)."""
+    return float(config.validation2_true_rate_deg_h) if name.startswith("val2") else 0.0
+
+
+def prepare(rec: Recording, config: Config) -> Run:
+    """Block means of what the test logs (and of the truth) at the analysis rate."""
+    b = config.analysis_block_s
+
+    def bm(x):
+        return block_means(x, rec.fs, block_s=b)
+
+    n = len(bm(rec["rate"]))
+    run = Run(
+        name=rec.name,
+        t_h=(np.arange(n) + 0.5) * b / _H,
+        T=units.to_celsius(bm(rec["coil_temperature"])),
+        output=units.to_deg_per_h(bm(rec["rate"])),
+        truth=units.to_deg_per_h(bm(rec["truth/rate"])),
+        drift=units.to_deg_per_h(bm(rec["truth/thermal_drift"])),
+        fs=1.0 / b,
+        reference=reference_deg_h(config, rec.name),
+    )
+    return replace(run, scored=record_mask(config, run))
+
+
+def features(run: Run, config: Config, *, product: bool = True) -> NDArray[np.float64]:
+    """(T [degC], dT/dt [degC/s][, T x dT/dt]) of the run, from the logged temperature only."""
+    return thermal_features(run.T, run.fs, window_s=config.derivative_window_s, product=product)
+
+
+def identification_segments(config: Config, t_h: NDArray[np.float64]) -> NDArray[np.int_]:
+    """Segment (0 settle, 1 heat + hold, 2 cool + hold) of each time ``t_h`` [h] of an ident. run.
+
+    The boundaries are knots of the chamber program (``Config.identification_profile``),
+    known before any data are seen: the end of the -10 degC settle and the end of the
+    40 degC hold.
+    """
+    knots_h = np.asarray(config.identification_profile().times, dtype=float) / _H
+    knots_h = knots_h - knots_h[0]
+    return np.digitize(np.asarray(t_h, dtype=float), [knots_h[2], knots_h[4]])
+
+
+def record_mask(config: Config, run: Run) -> NDArray[np.bool_]:
+    """Samples of ``run`` the paper records (identification) or scores (validation).
+
+    Identification: from the chamber reaching -10 degC (experiment step 2), unless
+    ``record_cooldown``. Validation: until the end of the heating ramp (validation step 2
+    records the heating), unless ``score_final_soak``.
+    """
+    if run.name.startswith("ident"):
+        knots = config.identification_profile().times
+        start_h = (knots[1] - knots[0]) / _H
+        return np.ones(len(run.t_h), bool) if config.record_cooldown else run.t_h >= start_h
+    if config.score_final_soak:
+        return np.ones(len(run.t_h), bool)
+    rate = (
+        config.validation1_rate_degC_per_h / _H
+        if run.name.startswith("val1")
+        else config.validation2_rate_degC_per_min / _MIN
+    )
+    knots = config.validation_profile(rate).times
+    return run.t_h <= (knots[2] - knots[0]) / _H
+
+
+def score_mse(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
+    """MSE [(deg/h)^2] and RMS [deg/h] of compensated output against the true rate (the bench)."""
+    err = np.asarray(compensated, dtype=float) - run.truth
+    m = float(np.mean(err**2))
+    return {"mse": m, "rms": math.sqrt(m)}
+
+
+def compensation_task(config: Config, seed: int) -> CompensationTask:
+    """Training = identification run 1; held out = identification run 2 and every validation run.
+
+    The bench's task (unchanged by issue 13): the whole runs, target output - truth.
+    """
+    runs = [prepare(r, config) for r in simulate(config, seed)]
+    train = runs[0]
+    held = tuple(
+        HeldOutRun(label=r.name, X=features(r, config), output=r.output, truth=r.truth) for r in runs[1:]
+    )
+    return CompensationTask(
+        scenario=NAME,
+        feature_names=FEATURES_IMPROVED,
+        X_train=features(train, config),
+        y_train=train.output - train.truth,
+        heldout=held,
+        target="error",
+        unit="deg/h",
+        scorer=score_mse,
+    )

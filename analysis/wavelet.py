@@ -1,4 +1,6 @@
-"""Wavelet multiscale analysis of a rate record: Mallat decomposition, single-branch reconstructions, CWT map, FFT spectrum.
+"""Wavelet multiscale analysis of a rate record.
+
+Mallat decomposition, single-branch reconstructions, CWT map, FFT spectrum.
 
 A thin validated layer over PyWavelets: the functions take a plain array and a
 sample rate and work the same on a real gyro's CSV as on simulated data.

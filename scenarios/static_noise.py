@@ -111,7 +111,7 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     """One static record per grade: output rate [rad/s], truth = zero true rate + each noise term."""
     children = np.random.default_rng(seed).spawn(2)
     recs = []
-    for (key, spec), rng in zip(_grades(config).items(), children):
+    for (key, spec), rng in zip(_grades(config).items(), children, strict=True):
         n = spec.n_samples
         comps = spec.model().components(n, spec.fs_hz, rng=rng)
         out = np.zeros(n)
@@ -124,7 +124,9 @@ def simulate(config: Config, seed: int) -> list[Recording]:
                 fs=spec.fs_hz,
                 channels={"rate": Channel(out, "rad/s", "gyro output")},
                 truth=truth,
-                metadata={"scenario": NAME, "grade": key, "spec": asdict(spec), "seed": seed, "version": package_version()},
+                metadata={
+                    "scenario": NAME, "grade": key, "spec": asdict(spec), "seed": seed, "version": package_version()
+                },
                 name=f"static_{key}",
             )
         )
@@ -139,7 +141,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     figures: list[FigureSpec] = []
     headlines: list[Headline] = []
     results: dict[str, Any] = {"grades": {}}
-    for rec, (key, spec) in zip(recs, _grades(config).items()):
+    for rec, (key, spec) in zip(recs, _grades(config).items(), strict=True):
         curve = allan_deviation(rec["rate"], rec.fs, taus="octave")
         fit = fit_noise(curve)
         truth = spec.truth()
@@ -150,8 +152,12 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
         figures.append(
             FigureSpec(
                 f"adev_{key}",
-                f"{spec.label}: overlapping ADEV with its confidence band, the fitted model, each term and the true curve",
-                allan_figure(curve, fit, title=spec.label, true_avar=lambda t, m=model, fs=spec.fs_hz: m.theoretical_avar(t, fs=fs)),
+                f"{spec.label}: overlapping ADEV with its confidence band, the fitted model, each term "
+                "and the true curve",
+                allan_figure(
+                    curve, fit, title=spec.label,
+                    true_avar=lambda t, m=model, fs=spec.fs_hz: m.theoretical_avar(t, fs=fs),
+                ),
             )
         )
         for name in TERMS:
@@ -165,7 +171,8 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
                 rep = f"{d['value']:.4g} [{d['low']:.3g}, {d['high']:.3g}]"
             headlines.append(
                 Headline(f"{spec.label} {name} [{d['unit']}]", rep, f"true {t:.4g}", ok,
-                         "true value inside the 95 % interval" if d["value"] is not None else "true value below the 95 % bound")
+                         "true value inside the 95 % interval" if d["value"] is not None
+                         else "true value below the 95 % bound")
             )
     return Outcome(
         scenario=NAME,

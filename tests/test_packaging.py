@@ -165,7 +165,7 @@ def test_every_verb_spells_shared_flags_the_same_way():
     parser = build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
     forms: dict[str, set[tuple[str, ...]]] = {}
-    for verb, p in sub.choices.items():
+    for p in sub.choices.values():
         for action in p._actions:
             longs = [o for o in action.option_strings if o.startswith("--")]
             for lo in longs:

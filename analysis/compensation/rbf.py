@@ -346,7 +346,8 @@ class RBFNetwork(RegressorMixin, BaseEstimator):
         doc = json.loads(text)
         if not isinstance(doc, dict) or doc.get("format") != _JSON_FORMAT:
             raise ValueError(
-                f"RBF JSON must have format {_JSON_FORMAT!r}; got {doc.get('format') if isinstance(doc, dict) else doc!r}"
+                f"RBF JSON must have format {_JSON_FORMAT!r}; "
+                f"got {doc.get('format') if isinstance(doc, dict) else doc!r}"
             )
         p = doc["params"]
         net = cls(
@@ -452,7 +453,11 @@ class StreamingCompensator:
     def __init__(
         self, model: Any, fs: float, *, window_s: float = 300.0, product: bool = True
     ) -> None:
-        if isinstance(fs, bool) or not isinstance(fs, (int, float, Real)) or not (math.isfinite(float(fs)) and float(fs) > 0):
+        if (
+            isinstance(fs, bool)
+            or not isinstance(fs, (int, float, Real))
+            or not (math.isfinite(float(fs)) and float(fs) > 0)
+        ):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
         if not (isinstance(window_s, (int, float, Real)) and math.isfinite(float(window_s)) and float(window_s) > 0):
             raise ValueError(f"window_s must be > 0 s; got {window_s!r}")

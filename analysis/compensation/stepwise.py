@@ -125,7 +125,8 @@ class StepwiseRegression(RegressorMixin, BaseEstimator):
                 )
         if self.p_enter > self.p_remove:
             raise ValueError(
-                f"StepwiseRegression.p_enter must be <= p_remove; got p_enter={self.p_enter!r} > p_remove={self.p_remove!r}"
+                "StepwiseRegression.p_enter must be <= p_remove; "
+                f"got p_enter={self.p_enter!r} > p_remove={self.p_remove!r}"
             )
         if (
             isinstance(self.max_iter, bool)

@@ -44,10 +44,14 @@ _LAZY: dict[str, str] = {
 __all__ = ["__version__", *_LAZY]
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
-    from gyrobench.analysis.allan import allan_deviation, fit_noise
-    from gyrobench.scenarios.bench import format_summary, run_campaign
-    from gyrobench.sim.noise import NoiseModel
-    from gyrobench.sim.recording import Recording, load_hdf5, save_hdf5
+    from gyrobench.analysis.allan import allan_deviation as allan_deviation
+    from gyrobench.analysis.allan import fit_noise as fit_noise
+    from gyrobench.scenarios.bench import format_summary as format_summary
+    from gyrobench.scenarios.bench import run_campaign as run_campaign
+    from gyrobench.sim.noise import NoiseModel as NoiseModel
+    from gyrobench.sim.recording import Recording as Recording
+    from gyrobench.sim.recording import load_hdf5 as load_hdf5
+    from gyrobench.sim.recording import save_hdf5 as save_hdf5
 
 
 def __getattr__(name: str) -> Any:

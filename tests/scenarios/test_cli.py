@@ -96,7 +96,8 @@ def test_allan_csv_with_time_column_and_units_from_header(tmp_path, capsys):
     fs = 50.0
     rate = np.random.default_rng([20261121, 9]).standard_normal(20_000) * 0.1  # deg/s
     p = tmp_path / "g.csv"
-    np.savetxt(p, np.column_stack([np.arange(len(rate)) / fs, rate]), delimiter=",", header="time [s],gyro [deg/s]", comments="")
+    np.savetxt(p, np.column_stack([np.arange(len(rate)) / fs, rate]), delimiter=",",
+               header="time [s],gyro [deg/s]", comments="")
     code, out, _ = run(["allan", p, "--json"], capsys)
     assert code == 0
     n = json.loads(out)["N"]
@@ -197,7 +198,8 @@ def test_bad_too_few_samples(tmp_path, capsys, rows, match):
 
 
 def test_bad_nonpositive_fs(capsys, tmp_path):
-    code, _, err = run(["simulate", "noise", "--N", "1", "--fs", "0", "--duration", "1s", "-o", tmp_path / "x.h5"], capsys)
+    code, _, err = run(["simulate", "noise", "--N", "1", "--fs", "0", "--duration", "1s", "-o", tmp_path / "x.h5"],
+                       capsys)
     assert_one_line_error(code, err, "--fs must be a finite number > 0; got '0'")
     assert not (tmp_path / "x.h5").exists()
 
@@ -332,7 +334,8 @@ def test_console_script_exit_code(tmp_path):
     exe = Path(sys.executable).parent / "gyrobench"
     if not exe.exists():
         pytest.skip("gyrobench console script not installed beside this python")
-    r = subprocess.run([str(exe), "simulate", "noise", "--N", "nan", "-o", str(tmp_path / "x.h5")], capture_output=True, text=True)
+    r = subprocess.run([str(exe), "simulate", "noise", "--N", "nan", "-o", str(tmp_path / "x.h5")],
+                       capture_output=True, text=True)
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
 
@@ -407,9 +410,11 @@ def test_failed_write_is_one_line_and_exit_2(tmp_path, target):
         argv = ["simulate", "static_noise", "--out", out, "--config", cfg]
         named = out / "static_noise" / "static_fog.h5"
     else:  # 60 000 samples: 480 kB of HDF5, 2 MB of CSV; progress bar on (no -q, small chunks)
-        argv = ["simulate", "noise", "--N", "1", "--fs", "1000", "--duration", "60s", "--chunk", "4096", "-o", out / target]
+        argv = ["simulate", "noise", "--N", "1", "--fs", "1000", "--duration", "60s", "--chunk", "4096",
+                "-o", out / target]
         named = out / target
-    r = subprocess.run([sys.executable, "-c", _FSIZE_MAIN, *map(str, argv)], capture_output=True, text=True, timeout=300)
+    r = subprocess.run([sys.executable, "-c", _FSIZE_MAIN, *map(str, argv)], capture_output=True, text=True,
+                       timeout=300)
     assert r.returncode == 2, (r.returncode, r.stderr)
     _assert_error_is_last(
         r.stderr,

@@ -43,7 +43,8 @@ def test_defaults_without_file():
 
 
 def test_override_fields_and_nested(tmp_path):
-    cfg = registry.load_config(_Module, _toml(tmp_path, 'fs_hz = 200\nruns = 5\nrates = [3, 4.5]\n[inner]\nlabel = "y"\n'))
+    toml = 'fs_hz = 200\nruns = 5\nrates = [3, 4.5]\n[inner]\nlabel = "y"\n'
+    cfg = registry.load_config(_Module, _toml(tmp_path, toml))
     assert cfg.fs_hz == 200.0 and isinstance(cfg.fs_hz, float)
     assert cfg.runs == 5 and cfg.rates == (3.0, 4.5) and cfg.inner == _Inner(a=1.0, label="y")
 

@@ -36,7 +36,8 @@ def _outcome(name="toy", holds=True):
         config=_Cfg(),
         results={"value_pct": 0.14, "array": np.arange(3), "nan": float("nan")},
         tables=[Table("Table 1. <things>", ["a", "b [deg/h]"], [["x", 1.234567], ["y", None]], note="target 1.2")],
-        figures=[FigureSpec("fig_a", "first figure", _figure("tab:red")), FigureSpec("fig_b", "second", _figure("tab:blue"))],
+        figures=[FigureSpec("fig_a", "first figure", _figure("tab:red")),
+                 FigureSpec("fig_b", "second", _figure("tab:blue"))],
         headlines=[Headline("K_n [%]", "0.14", "0.14", holds, "held-out run")],
         conclusion="It holds.",
         runtime_s=1.5,
@@ -49,7 +50,8 @@ def test_fmt():
 
 
 def test_files_and_results_json(tmp_path):
-    index = write_report([_outcome("alpha"), _outcome("beta", holds=False)], tmp_path, command="gyrobench reproduce --all")
+    index = write_report([_outcome("alpha"), _outcome("beta", holds=False)], tmp_path,
+                         command="gyrobench reproduce --all")
     assert index == tmp_path / "index.html"
     for name in ("alpha", "beta"):
         doc = json.loads((tmp_path / name / "results.json").read_text())

@@ -80,6 +80,7 @@ def prefix_predictions(
     ``min || [1, radbas(||z - c_j|| b)] w - y_fit ||``, ``b = sqrt(-ln 0.5) / spread``
     (MATLAB newrb's radbas bias). ``net`` must be fitted (one output).
     """
+    y_arr = np.asarray(y_fit, dtype=float)
     Z = (np.asarray(X_fit, float) - net.x_offset_) * net.x_gain_
     Zn = (np.asarray(X_new, float) - net.x_offset_) * net.x_gain_
     b = RADBAS_B / float(net.spread)
@@ -87,7 +88,7 @@ def prefix_predictions(
     for k in counts:
         c = net.centers_[: min(int(k), net.n_neurons_)]
         G = np.column_stack([np.ones(len(Z)), np.exp(-((_cdist(Z, c) * b) ** 2))])
-        sol, *_ = np.linalg.lstsq(G, y_fit, rcond=None)
+        sol, *_ = np.linalg.lstsq(G, y_arr, rcond=None)
         out[int(k)] = sol[0] + np.exp(-((_cdist(Zn, c) * b) ** 2)) @ sol[1:]
     return out
 

@@ -1,17 +1,11 @@
-"""select_rbf (analysis.compensation.rbf_selection) and deployment_float32 (analysis.deployment):
-RBF selection by leave-one-segment-out cross-validation, and single-precision deployment of an
-exported network, methods a user applies to a real gyro's thermal-chamber logs."""
+"""Tests of analysis.compensation.rbf_selection: newrb spread and size by leave-one-segment-out CV."""
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
-from gyrobench.analysis.compensation.rbf_selection import select_rbf
-from gyrobench.analysis.deployment import deployment_float32
-
-# ------------------------------------------------------------------ RBF selection (CV)
+from gyrobench.analysis.compensation.rbf import RBFNetwork
+from gyrobench.analysis.compensation.rbf_selection import prefix_predictions, select_rbf
 
 
 def _segmented_data(rng):
@@ -28,8 +22,6 @@ def test_select_rbf_follows_the_stated_rule(rng):
     with a separate newrb fit of exactly that neuron count (the selection reads it off one
     longer fit). The two solve the same least-squares problem by different factorizations,
     so they agree to rounding times the design's condition number: rel 1e-9."""
-    from gyrobench.analysis.compensation.rbf import RBFNetwork
-
     X, y, seg = _segmented_data(rng)
     spreads, neurons = (0.5, 2.0, 8.0), (2, 4, 8)
     sel = select_rbf(X, y, seg, spreads=spreads, neurons=neurons, tolerance=0.10)
@@ -72,23 +64,34 @@ def test_select_rbf_needs_two_segments(rng):
         select_rbf(X, y, np.zeros(len(y), dtype=int), spreads=(1.0,), neurons=(3,))
 
 
-
-# --------------------------------------------------------------- float32 deployment
-
-
-def test_float32_deployment_error_within_rounding_bound(rng):
-    """float32 a1/a2 vs float64: each output is a sum of k terms LW_i a1_i, each a1_i carries a
-    few ulp of float32 (the inputs, the distance, exp), so
-    |a2_32 - a2_64| <= c eps32 (sum |LW_i| + |b2|), with c = 16 covering ~5 roundings per term."""
-    from gyrobench.analysis.compensation.rbf import RBFNetwork
-
+def test_prefix_predictions_equal_a_fit_of_that_size(rng):
+    """The k-neuron network read off a longer newrb fit predicts as a fresh k-neuron fit (newrb
+    picks neurons greedily, independent of max_neurons); same least-squares problem, different
+    factorizations: rel 1e-9."""
     X, y, _ = _segmented_data(rng)
-    for spread in (0.5, 32.0):  # well conditioned, and large cancelling weights
-        net = RBFNetwork(spread=spread, max_neurons=8, normalize="minmax").fit(X, y)
-        doc = json.loads(net.to_json())
-        y32 = deployment_float32(doc, X)
-        assert y32.dtype == np.float32
-        bound = 16 * np.finfo(np.float32).eps * (np.sum(np.abs(doc["LW"])) + abs(doc["b2"][0]))
-        assert np.max(np.abs(y32 - net.predict(X))) <= bound
+    long = RBFNetwork(spread=2.0, max_neurons=8, normalize="minmax").fit(X, y)
+    pred = prefix_predictions(long, X, y, X[::7], (3, 8))
+    for k in (3, 8):
+        fresh = RBFNetwork(spread=2.0, max_neurons=k, normalize="minmax").fit(X, y).predict(X[::7])
+        np.testing.assert_allclose(pred[k], fresh, rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"spreads": ()}, r"spreads and neurons must be non-empty"),
+        ({"neurons": ()}, r"spreads and neurons must be non-empty"),
+        ({"tolerance": -0.1}, r"tolerance must be >= 0 \(relative\); got -0.1"),
+    ],
+)
+def test_select_rbf_bad_grid(rng, kwargs, match):
+    X, y, seg = _segmented_data(rng)
+    args = {"spreads": (1.0,), "neurons": (3,), **kwargs}
+    with pytest.raises(ValueError, match=match):
+        select_rbf(X, y, seg, **args)
+
+
+def test_select_rbf_bad_shapes(rng):
+    X, y, seg = _segmented_data(rng)
+    with pytest.raises(ValueError, match=r"X must have shape \(n, k\) and y, segments shape \(n,\)"):
+        select_rbf(X, y, seg[:-1], spreads=(1.0,), neurons=(3,))

@@ -1,7 +1,7 @@
-"""Tests of the paper-003 package (ifog_thermal): protocol, closed forms, selection.
+"""Tests of the paper-003 package (scenario ifog_thermal): protocol, closed forms, selection.
 
-The contract every paper meets (typed result, claims judged from its quantities, report from
-results alone) is tests/scenarios/test_paper_contract.py.
+What every paper must do (typed result, a quantity per claim, claims judged by the shared
+evaluator, report from results alone) is checked by tests/scenarios/test_paper_contract.py.
 """
 
 from __future__ import annotations
@@ -14,9 +14,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from gyrobench.scenarios import registry
-from gyrobench.scenarios.claims import Deviation, evaluate
+from gyrobench.scenarios.claims import evaluate
 from gyrobench.scenarios.papers import p003_ifog_thermal as sc
-from gyrobench.scenarios.papers.p003_ifog_thermal import runs
+from gyrobench.scenarios.papers.p003_ifog_thermal import config as sc_config
+from gyrobench.scenarios.papers.p003_ifog_thermal import runs as sc_runs
 from gyrobench.sim import coil2d, units
 
 SMALL = sc.Config(
@@ -37,26 +38,23 @@ def small_units():
 def test_registered():
     assert registry.get("ifog_thermal") is sc
     assert sc.PAPER == "003" and "seed" not in sc.TITLE.lower()
+    # the package's literals (read by the registry with ast) are the ones its modules use
+    assert (sc.NAME, sc.TITLE, sc.PAPER) == (sc_config.NAME, sc_config.TITLE, sc_config.PAPER)
     assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 
 
 # ------------------------------------------------------------------ claims and results
 
 
-def test_claims_cover_the_quantities_and_say_what_is_calibrated(small_units):
-    ids = [c.id for c in sc.CLAIMS]
-    assert len(ids) == len(set(ids)) and all(i.startswith("003.") for i in ids)
-    assert {c.quantity for c in sc.CLAIMS} == set(small_units[0].quantities)
+def test_which_claims_are_calibrated():
     calibrated = {c.id for c in sc.CLAIMS if c.kind == "calibrated"}
-    # the T x dT term comes from material data (emergent); the drift level is calibrated
-    # through the lead-asymmetry spread
+    # issue 18: the T x dT term comes from material data (emergent); the drift level is
+    # calibrated through the lead-asymmetry spread
     assert "003.txdt_point" not in calibrated and "003.drift_level" in calibrated
     # the validation claims judge that calibrated drift against its residual: fed by it
-    assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest",
-            "003.val2_order"} <= calibrated
-    for d in sc.DEVIATIONS:
-        assert isinstance(d, Deviation) and d.paper == "003"
-        assert "EFFECT_" not in d.effect  # every effect is filled in
+    assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"} <= calibrated
+    assert sc.claims_for(SMALL) == sc.CLAIMS
+    assert all("EFFECT_" not in d.effect for d in sc.DEVIATIONS)  # every effect is filled in
 
 
 def test_yes_no_quantities_are_zero_or_one(small_units):
@@ -69,6 +67,7 @@ def test_experiment_is_deterministic_and_small(small_units):
     again = sc.experiment(SMALL, 7)
     assert again.quantities == small_units[0].quantities
     np.testing.assert_array_equal(again.traces.val2.improved, small_units[0].traces.val2.improved)
+    assert pickle.loads(pickle.dumps(again)).quantities == again.quantities  # the unit store pickles it
     assert len(pickle.dumps(again)) < 2_000_000
     assert small_units[1].quantities != small_units[0].quantities
 
@@ -87,6 +86,9 @@ def test_report_runs(small_units):
     out = sc.report(SMALL, small_units, claims)
     assert out.scenario == sc.NAME and out.seed == 7
     json.dumps(out.results)  # results.json must serialise
+    detail = out.results["detail_unit"]["paper"]
+    assert detail["selection"]["improved"]["spread"] == small_units[0].paper.selection_improved.spread
+    assert detail["scores"]["val2"][0]["improved"] == small_units[0].paper.scores.val2[0].improved
     assert [r[0] for r in out.tables[0].rows] == [7, 8]
     assert [f.name for f in out.figures] == [
         "fig2_point_heating",
@@ -222,7 +224,9 @@ def test_point_heating_closed_form():
 
 
 def test_winding_table_helical_worst():
-    peaks = {w.winding: w.peak_total for w in sc.winding_comparison(SMALL) if w.error is None}
+    w = sc.winding_comparison(SMALL)
+    peaks = {p.winding: p.peak_total for p in w}
+    assert all(p.error is None for p in w)
     assert max(peaks, key=peaks.get) == "helical"
     assert peaks["dipolar"] > max(peaks["quadrupolar"], peaks["octupolar"])
 
@@ -293,6 +297,9 @@ def test_bad_training_target(small_runs):
         sc.training_set(SMALL, small_runs["ident_1"], target="mean")
 
 
+# ------------------------------------------------------------------ RBF selection (CV)
+
+
 def test_identification_segments_split_at_the_chamber_knots():
     """Settle ends, and the 40 degC hold ends, at knots 2 and 4 of the chamber program."""
     knots_h = SMALL.identification_profile().times / 3600.0
@@ -303,7 +310,7 @@ def test_identification_segments_split_at_the_chamber_knots():
 def test_selection_sees_only_identification_run_1(small_units):
     """The reported choice is reproduced from identification run 1 alone, and a different
     validation protocol (other ramp rates, other run counts) does not change it."""
-    r = small_units[0].paper
+    p = small_units[0].paper
     other = replace(
         SMALL, validation1_runs=1, validation2_runs=3, validation2_rate_degC_per_min=0.25
     )
@@ -311,14 +318,8 @@ def test_selection_sees_only_identification_run_1(small_units):
         train = sc.prepare(sc.simulate(cfg, 7)[0], cfg)
         assert train.name == "ident_1"
         sel_imp, sel_trad, _, _ = sc.fit_models(cfg, sc.training_set(cfg, train))
-        assert [sel_imp.spread, sel_imp.max_neurons] == [
-            r.selection_improved.spread,
-            r.selection_improved.max_neurons,
-        ]
-        assert [sel_trad.spread, sel_trad.max_neurons] == [
-            r.selection_traditional.spread,
-            r.selection_traditional.max_neurons,
-        ]
+        assert sel_imp.chosen == p.selection_improved.chosen
+        assert sel_trad.chosen == p.selection_traditional.chosen
 
 
 def test_fixed_rbf_settings_bypass_the_search(small_runs):
@@ -336,10 +337,14 @@ def test_fixed_spread_searches_the_neuron_count_only(small_runs):
     assert {k[1] for k in sel_imp.cv_mse} == set(cfg.rbf_neuron_grid)
 
 
+# --------------------------------------------------------------- float32 deployment
+
+
 def test_float32_check_is_reported(small_units):
     f = small_units[0].float32
-    assert set(f.quantities.as_dict()) == set(small_units[0].paper.quantities.as_dict())
-    assert math.isfinite(f.max_relative_err_change) and math.isfinite(f.max_abs_compensation_difference_deg_h)
+    assert f.quantities.as_dict().keys() == small_units[0].paper.quantities.as_dict().keys()
+    assert math.isfinite(f.max_relative_err_change)
+    assert 0 <= f.max_abs_compensation_difference_deg_h < f.max_abs_output_weight
 
 
 # --------------------------------------------------------------- population (slow)
@@ -373,7 +378,7 @@ def test_paper_003_runs_on_the_closed_loop_fog():
     from gyrobench.sim.fog_loop import ClosedLoopFOG
 
     cfg = sc.Config()
-    unit = runs.realize_unit(cfg, np.random.default_rng(0))
+    unit = sc_runs.realize_unit(cfg, np.random.default_rng(0))
     fog = unit.fog
     assert isinstance(fog, ClosedLoopFOG)
     assert fog.loop.bias_phase == pytest.approx(0.75 * math.pi)
@@ -381,9 +386,9 @@ def test_paper_003_runs_on_the_closed_loop_fog():
     assert units.to_deg_per_sqrt_h(fog.arw) == pytest.approx(4.04e-4, rel=0.01)
     assert abs(fog.earth_rate) < 1e-19  # axis east: the paper's zero input
     assert fog.diameter_tempco == pytest.approx(coil_diameter_tempco(unit.coil), rel=1e-12)
-    north = runs.realize_unit(replace(cfg, sense_azimuth_deg=0.0), np.random.default_rng(0)).fog
+    north = sc_runs.realize_unit(replace(cfg, sense_azimuth_deg=0.0), np.random.default_rng(0)).fog
     assert units.to_deg_per_h(north.earth_rate) == pytest.approx(10.48, abs=0.01)
-    fixed = runs.realize_unit(replace(cfg, diameter_tempco_ppm_per_K=2.76), np.random.default_rng(0))
+    fixed = sc_runs.realize_unit(replace(cfg, diameter_tempco_ppm_per_K=2.76), np.random.default_rng(0))
     assert fixed.fog.diameter_tempco == pytest.approx(2.76e-6)
 
 

@@ -157,7 +157,7 @@ def prepare(rec: Recording, config: Config) -> Run:
     n = len(bm(rec["rate"]))
     run = Run(
         name=rec.name,
-        t_h=(np.arange(n) + 0.5) * b / _H,
+        t_h=(np.arange(n, dtype=float) + 0.5) * b / _H,
         T=units.to_celsius(bm(rec["coil_temperature"])),
         output=units.to_deg_per_h(bm(rec["rate"])),
         truth=units.to_deg_per_h(bm(rec["truth/rate"])),

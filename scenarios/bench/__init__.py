@@ -84,6 +84,8 @@ from typing import TYPE_CHECKING, Any
 
 #: public name -> module of this package that defines it (imported on first access)
 _LAZY: dict[str, str] = {
+    "reference_campaigns": "gyrobench.scenarios.bench.gate",
+    "UnderpoweredWarning": "gyrobench.scenarios.bench.power",
     "Uncompensated": "gyrobench.scenarios.bench.references",
     "UNCOMPENSATED": "gyrobench.scenarios.bench.references",
     "score_unit": "gyrobench.scenarios.bench.primary",
@@ -134,6 +136,8 @@ _LAZY: dict[str, str] = {
 }
 
 __all__ = [
+    "reference_campaigns",
+    "UnderpoweredWarning",
     "Uncompensated",
     "UNCOMPENSATED",
     "score_unit",
@@ -206,9 +210,9 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         resolve_compensator,
     )
     from gyrobench.scenarios.bench.formatting import format_summary
-    from gyrobench.scenarios.bench.gate import PowerPlan, detectable, plan_power
+    from gyrobench.scenarios.bench.gate import PowerPlan, detectable, plan_power, reference_campaigns
     from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
-    from gyrobench.scenarios.bench.power import UnderpoweredError, min_attainable_p, seeds_needed
+    from gyrobench.scenarios.bench.power import UnderpoweredError, UnderpoweredWarning, min_attainable_p, seeds_needed
     from gyrobench.scenarios.bench.primary import SCENARIO_SCORES, PrimaryScore, gated_scores, score_unit
     from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
     from gyrobench.scenarios.bench.scoring import resolve_scenario, score_seed

@@ -207,7 +207,11 @@ def run(args: argparse.Namespace) -> int:
             db=db,
             progress=not args.quiet,
         )
-        references = {} if args.no_references else _references(module, seeds, config, executor, args.workers, db)
+        references = (
+            {}
+            if args.no_references
+            else bench.reference_campaigns(module, seeds, config=config, executor=executor, workers=args.workers, db=db)
+        )
     except bench.CompensatorError as exc:
         if exits.traceback_wanted():
             raise  # the command line prints exc.traceback_text (the worker's traceback)
@@ -245,22 +249,3 @@ def run(args: argparse.Namespace) -> int:
         return exits.REGRESSION if result.regressions else exits.OK
     return exits.OK
 
-
-def _references(module: Any, seeds: Any, config: Any, executor: Any, workers: Any, db: Any) -> dict[str, Any]:
-    """label -> campaign of the reference compensators on ``seeds``: the uncompensated output and
-    the paper's method when the scenario names one (:mod:`gyrobench.scenarios.bench.primary`).
-    They share the database, so a second run reads them back."""
-    from gyrobench.scenarios import bench
-    from gyrobench.scenarios.bench.primary import scenario_scores
-    from gyrobench.scenarios.bench.references import UNCOMPENSATED
-
-    declared = scenario_scores(getattr(module, "NAME", module.__name__))
-    refs = {"uncompensated": UNCOMPENSATED}
-    if declared is not None and declared.paper:
-        refs[declared.paper_label or "paper"] = declared.paper
-    return {
-        label: bench.run_campaign(
-            module, comp, seeds, config=config, executor=executor, workers=workers, db=db, progress=False
-        )
-        for label, comp in refs.items()
-    }

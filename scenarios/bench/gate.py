@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.power import (
@@ -29,7 +30,7 @@ from gyrobench.scenarios.bench.power import (
 from gyrobench.scenarios.bench.primary import PrimaryScore, gated_scores, primary_count, score_unit
 from gyrobench.scenarios.bench.statistics import score_direction
 
-__all__ = ["PowerPlan", "detectable", "gates_of", "plan_power", "power_doc"]
+__all__ = ["PowerPlan", "detectable", "gates_of", "plan_power", "power_doc", "reference_campaigns"]
 
 
 def _json_float(v: float) -> float | None:
@@ -212,3 +213,30 @@ def plan_power(
             n, m, alpha, allow_underpowered=allow_underpowered, seeds_flag=seeds_flag, allow_flag=allow_flag
         )
     return PowerPlan(seeds=resolved, primary=m, warning=warning, auto=reason)
+
+
+def reference_campaigns(
+    module: Any, seeds: Sequence[int], *, config: Any = None, executor: Any = None, workers: int | None = None,
+    db: Any = None,
+) -> dict[str, Campaign]:
+    """label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
+    output, :data:`~gyrobench.scenarios.bench.references.UNCOMPENSATED`) and the paper's method
+    when the scenario names one (:data:`~gyrobench.scenarios.bench.primary.SCENARIO_SCORES`).
+    Run into ``db`` like any campaign, so a second run reads them back."""
+    from gyrobench.scenarios.bench.campaign import run_campaign
+    from gyrobench.scenarios.bench.primary import scenario_scores
+    from gyrobench.scenarios.bench.references import UNCOMPENSATED
+    from gyrobench.scenarios.bench.scoring import resolve_scenario
+
+    module = resolve_scenario(module)
+    declared = scenario_scores(getattr(module, "NAME", module.__name__))
+    refs = {"uncompensated": UNCOMPENSATED}
+    if declared is not None and declared.paper:
+        refs[declared.paper_label or "paper"] = declared.paper
+    kw: dict[str, Any] = {"db": db} if db is not None else {}
+    return {
+        label: run_campaign(
+            module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
+        )
+        for label, comp in refs.items()
+    }

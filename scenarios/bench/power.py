@@ -29,6 +29,7 @@ __all__ = [
     "AutoSeeds",
     "Detectable",
     "UnderpoweredError",
+    "UnderpoweredWarning",
     "auto_seeds",
     "check_power",
     "detectable_change",
@@ -50,6 +51,10 @@ WILCOXON_ARE = 108 / 125
 
 class UnderpoweredError(ValueError):
     """The gate cannot reach ``alpha`` with these seeds and scores (bad input: exit 2)."""
+
+
+class UnderpoweredWarning(UserWarning):
+    """A gate allowed to run although its seeds cannot reach ``alpha``: it cannot fail."""
 
 
 def min_attainable_p(n: int, m: int) -> float:

@@ -207,3 +207,47 @@ def test_baseline_file_stores_what_it_can_detect(toy_baseline):
         mean, std = power.spread(camp.values(name))
         assert d["change"] == pytest.approx(power.detectable_change(std, 16, 3, 0.05))
         assert d["relative"] == pytest.approx(d["change"] / mean)
+
+
+def five_percent_scale_error(X, y):
+    """A compensator for a "rate" target (mems_scale_factor: X = the output) that returns the
+    output 5 % too large: clearly worse than no compensation on the RMS rate error."""
+    return lambda Xn: 1.05 * np.asarray(Xn, dtype=float)[:, 0]
+
+
+LS = "sklearn.linear_model:LinearRegression"
+SCALED = "tests.scenarios.test_bench_power:five_percent_scale_error"
+
+#: scenario -> (the compensator of the baseline, a clearly worse one, --min-change, baseline seeds).
+#: On mems_scale_factor least squares is not reliably better than no compensation (the held-out
+#: runs' scale factor differs from the fitting runs'), and on fog_vibration it is 35x worse than
+#: none (issue filed in the report): there the uncompensated output is the baseline.
+GATE_CASES = {
+    "ifog_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
+    "rlg_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
+    "mems_scale_factor": (bench.UNCOMPENSATED, SCALED, 2.0, 16),
+    "fog_vibration": (bench.UNCOMPENSATED, LS, 1.0, 10),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scenario", sorted(SCENARIO_SCORES))
+def test_every_scenario_unchanged_passes_and_a_worse_one_fails_on_the_seeds_auto_asks(scenario, tmp_path, capsys):
+    """Issue 31 item 3 over every bench scenario: a compensator against its own baseline exits 0
+    on 3 seeds (allowed underpowered, with the warning first); a clearly worse one exits 1 on
+    the seeds --seeds auto picks from the baseline's spread."""
+    good, worse, min_change, n_base = GATE_CASES[scenario]
+    base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
+    common = ["--workers", "0", "-q", "--db", db, "--no-references"]
+    argv = ["bench", scenario, "--compensator", good, *common, "--seeds", f"0:{n_base}", "--save-baseline", base]
+    assert main(argv) == 0
+    capsys.readouterr()
+    code = main(["bench", scenario, "--compensator", good, *common, "--seeds", "0:3", "--baseline", base,
+                 "--allow-underpowered"])
+    out = capsys.readouterr().out
+    assert code == exits.OK and out.startswith("WARNING: underpowered:") and "FAILED" not in out
+    code = main(["bench", scenario, "--compensator", worse, *common, "--seeds", "auto", "--min-change",
+                 str(min_change), "--baseline", base])
+    cap = capsys.readouterr()
+    assert code == exits.REGRESSION, cap.out + cap.err
+    assert cap.out.startswith("--seeds auto: ") and "REGRESSION" in cap.out and "FAILED" not in cap.out

@@ -75,7 +75,8 @@ nearly every seed (0.10 against 0.08 deg/h over seeds 0-11; uncompensated: 0.26 
   signed-rank test (seed s of both campaigns sees the same simulated data), Holm-adjusted
   over the primary scores at `--alpha` (0.05); the output states the test and correction,
   prints each score with its unit beside the uncompensated output and the paper's method
-  (where the bench knows it), and exits 1 on a significant regression of a primary score.
+  (where the bench knows it; `--no-references` skips both), and exits 1 on a significant
+  regression of a primary score.
 - **Enough seeds, checked before the run.** With n seeds and m primary scores the smallest
   p the gate can report is m x 2/2^n. A comparison (or a baseline written) whose seeds
   cannot reach `--alpha` is refused in one line naming the seeds needed (exit 2; 6 seeds
@@ -198,3 +199,15 @@ def test_readme_pytest_example_fails_with_the_worse_compensator(tmp_path):
     )
     assert worse.returncode == 1, worse.stdout + worse.stderr
     assert "regressed against ifog.json" in worse.stdout and "mean/rms" in worse.stdout
+
+
+def test_every_bench_flag_is_in_the_section_or_the_rest_of_the_readme():
+    """tests/test_readme.py checks README.md for every flag once the section is merged; this
+    checks now that the section (with the rest of README.md) names every ``bench`` option."""
+    from gyrobench.scenarios.cli import build_parser
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    sub = next(a for a in build_parser()._actions if a.__class__.__name__ == "_SubParsersAction")
+    flags = [f for a in sub.choices["bench"]._actions for f in a.option_strings if f.startswith("--")]
+    missing = [f for f in flags if f != "--help" and f not in README_SECTION and f not in readme]
+    assert not missing

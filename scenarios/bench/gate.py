@@ -12,11 +12,13 @@ run and ``--seeds auto``.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from gyrobench.scenarios.bench.campaign import Campaign
+from gyrobench.scenarios.bench.compensators import CompensatorError
 from gyrobench.scenarios.bench.power import (
     DEFAULT_MIN_CHANGE,
     DEFAULT_POWER,
@@ -222,7 +224,8 @@ def reference_campaigns(
     """label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
     output, :data:`~gyrobench.scenarios.bench.references.UNCOMPENSATED`) and the paper's method
     when the scenario names one (:data:`~gyrobench.scenarios.bench.primary.SCENARIO_SCORES`).
-    Run into ``db`` like any campaign, so a second run reads them back."""
+    Run into ``db`` like any campaign, so a second run reads them back. A reference whose
+    compensator raises on a seed is left out with a warning (it never fails the user's run)."""
     from gyrobench.scenarios.bench.campaign import run_campaign
     from gyrobench.scenarios.bench.primary import scenario_scores
     from gyrobench.scenarios.bench.references import UNCOMPENSATED
@@ -234,9 +237,12 @@ def reference_campaigns(
     if declared is not None and declared.paper:
         refs[declared.paper_label or "paper"] = declared.paper
     kw: dict[str, Any] = {"db": db} if db is not None else {}
-    return {
-        label: run_campaign(
-            module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
-        )
-        for label, comp in refs.items()
-    }
+    out = {}
+    for label, comp in refs.items():
+        try:
+            out[label] = run_campaign(
+                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
+            )
+        except (CompensatorError, TypeError) as exc:  # a reference that cannot run never fails the run
+            warnings.warn(f"reference {label} ({comp}) not shown: {exc}", stacklevel=2)
+    return out

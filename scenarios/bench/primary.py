@@ -124,8 +124,8 @@ SCENARIO_SCORES: dict[str, ScenarioScores] = {
             ),
         ),
         units={"nonlinearity_pct": "%", "rms_dps": "deg/s"},
-        paper=f"{_REF}:mems_bayes_bp",
-        paper_label="Bayesian-regularised BP network (paper)",
+        paper=f"{_REF}:mems_piecewise",
+        paper_label="piecewise polynomial (paper)",
     ),
 }
 

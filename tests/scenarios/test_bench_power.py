@@ -251,3 +251,19 @@ def test_every_scenario_unchanged_passes_and_a_worse_one_fails_on_the_seeds_auto
     cap = capsys.readouterr()
     assert code == exits.REGRESSION, cap.out + cap.err
     assert cap.out.startswith("--seeds auto: ") and "REGRESSION" in cap.out and "FAILED" not in cap.out
+
+
+def test_a_paper_reference_that_fails_is_left_out_with_a_warning(tmp_path, monkeypatch):
+    """The reference columns never fail the user's run: a paper method that raises is skipped."""
+    from gyrobench.scenarios.bench.primary import PrimaryScore, ScenarioScores
+
+    declared = ScenarioScores(
+        primary=(PrimaryScore(name="mean/rms", unit="deg/h", direction=-1),),
+        units={"rms": "deg/h"},
+        paper=f"{TOY}:fit_returning_nonsense",
+        paper_label="broken paper",
+    )
+    monkeypatch.setitem(SCENARIO_SCORES, "toy", declared)
+    with pytest.warns(UserWarning, match="reference broken paper .* not shown"):
+        refs = bench.reference_campaigns(toy, range(2), workers=0, db=tmp_path / "r.db")
+    assert list(refs) == ["uncompensated"]

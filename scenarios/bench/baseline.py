@@ -9,7 +9,6 @@ multiple-comparison correction; the statistics are in
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import os
@@ -34,6 +33,7 @@ __all__ = [
     "BASELINE_VERSION",
     "Comparison",
     "ComparisonError",
+    "ReferenceMeans",
     "ScoreComparison",
     "check_baseline_matches",
     "check_baseline_path",
@@ -231,6 +231,16 @@ class ScoreComparison:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class ReferenceMeans:
+    """A reference compensator's mean of every compared score over the compared seeds: printed
+    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method."""
+
+    label: str
+    compensator: str
+    means: Mapping[str, float]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Comparison:
     """All scores compared; ``regressions`` non-empty means a significant regression.
 
@@ -246,8 +256,8 @@ class Comparison:
     ``regressions`` holds the primary scores significantly worse (Holm over the primary
     scores); ``secondary_regressions`` the secondary ones (Holm among the secondary scores),
     reported, never failing the comparison. ``correction`` states the correction;
-    ``references`` maps a reference's label (``"uncompensated"``, the paper's method) to its
-    mean of every score over the compared seeds.
+    ``references`` holds each reference compensator's (the uncompensated output, the paper's
+    method) mean of every score over the compared seeds (:class:`ReferenceMeans`).
     """
 
     scores: tuple[ScoreComparison, ...]
@@ -260,7 +270,7 @@ class Comparison:
     failed_seeds: tuple[int, ...] = ()
     failure: str = ""
     correction: str = ""
-    references: Mapping[str, Mapping[str, float]] = dataclasses.field(default_factory=dict)
+    references: tuple[ReferenceMeans, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -394,10 +404,14 @@ def compare(
         for p, pa in zip(paired, adjusted, strict=True)
     )
     out = tuple(sorted(out, key=lambda s: not s.primary))
-    refs = {
-        label: {n: float(np.mean(r.values(n, seeds))) for n in names if r.values(n, seeds).size}
+    refs = tuple(
+        ReferenceMeans(
+            label=label,
+            compensator=r.compensator,
+            means={n: float(np.mean(r.values(n, seeds))) for n in names if r.values(n, seeds).size},
+        )
         for label, r in (references or {}).items()
-    }
+    )
     dropped = sorted(s for s in base_failed if s in common and s not in cand_failed)
     failure = ""
     if failed_seeds:

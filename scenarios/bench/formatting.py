@@ -83,7 +83,7 @@ def format_summary(campaign: Campaign, references: Mapping[str, Campaign] | None
 def format_comparison(comparison: Comparison) -> str:
     """Plain text: the test and correction, one line per score (primary first, with units and
     the references' means), then the verdict on the primary scores."""
-    refs = dict(comparison.references)
+    refs = {r.label: r.means for r in comparison.references}
     n_primary = len(comparison.primary)
     lines = [
         f"comparison with the baseline over {len(comparison.seeds)} matching seeds: {comparison.test}; "

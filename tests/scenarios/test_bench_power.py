@@ -267,3 +267,31 @@ def test_a_paper_reference_that_fails_is_left_out_with_a_warning(tmp_path, monke
     with pytest.warns(UserWarning, match="reference broken paper .* not shown"):
         refs = bench.reference_campaigns(toy, range(2), workers=0, db=tmp_path / "r.db")
     assert list(refs) == ["uncompensated"]
+
+
+def _t1_only():
+    from sklearn.compose import ColumnTransformer
+    from sklearn.linear_model import LinearRegression
+    from sklearn.pipeline import make_pipeline
+
+    return make_pipeline(ColumnTransformer([("T1", "passthrough", [0])]), LinearRegression())
+
+
+#: rlg_thermal's least squares on the first regressor only (x1) instead of all eleven: a partial
+#: regression (held-out improvement ~24 % -> ~10 % on seeds 0-7), not "no compensation"
+rlg_x1_only = _t1_only()
+
+
+@pytest.mark.slow
+def test_rlg_thermal_partial_regression_exits_1_on_the_seeds_auto_asks(tmp_path, capsys):
+    base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
+    common = ["--workers", "0", "-q", "--db", db]
+    assert main(["bench", "rlg_thermal", "--compensator", LS, *common, "--seeds", "0:16", "--save-baseline", base]) == 0
+    capsys.readouterr()
+    worse = f"{__name__}:rlg_x1_only"
+    code = main(["bench", "rlg_thermal", "--compensator", worse, *common, "--seeds", "auto", "--baseline", base])
+    out = capsys.readouterr().out
+    assert code == exits.REGRESSION, out
+    assert out.startswith("--seeds auto: ") and "mean/bias_stability_deg_h" in out.splitlines()[0]
+    assert "REGRESSION: 1 of 1 primary score(s) significantly worse: mean/bias_stability_deg_h" in out
+    assert "least squares on x1..x11 (paper)" in out and "uncompensated" in out

@@ -2,8 +2,10 @@
 
 Installing gyrobench registers this plugin; its fixture ``gyrobench_bench`` scores
 a compensator on a scenario over many seeds and compares the per-seed scores with
-a stored baseline (paired Wilcoxon signed-rank test, Holm-adjusted; see
-:func:`gyrobench.scenarios.bench.compare`)::
+a stored baseline (paired two-sided Wilcoxon signed-rank test, Holm-adjusted over the
+scenario's primary scores; see :func:`gyrobench.scenarios.bench.compare`). Seeds that
+cannot reach ``alpha`` fail the test before anything is computed, naming the seeds needed
+(``allow_underpowered=True`` turns that into a warning)::
 
     from mylab.models import my_regressor
 
@@ -33,6 +35,7 @@ Options
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -102,10 +105,20 @@ class GyrobenchBench:
         alpha: float = 0.05,
         workers: int | None = None,
         directions: Mapping[str, int] | None = None,
+        allow_underpowered: bool = False,
+        min_change: float = 0.2,
     ):
-        """Fail the test if ``compensator`` is significantly worse than ``baseline`` on any score,
-        or if it failed on any seed (a non-finite prediction or score; the message names the
+        """Fail the test if ``compensator`` is significantly worse than ``baseline`` on a primary
+        score (:mod:`gyrobench.scenarios.bench.primary`; the others are reported, not gated), or
+        if it failed on any seed (a non-finite prediction or score; the message names the
         seeds).
+
+        Before computing anything, the seeds must be able to reach ``alpha`` with the scenario's
+        primary scores (:func:`gyrobench.scenarios.bench.gate.plan_power`): else the test fails in
+        one line naming the seeds needed, unless ``allow_underpowered=True``, which emits an
+        :class:`~gyrobench.scenarios.bench.power.UnderpoweredWarning` (in pytest's warnings
+        summary) instead. A failing comparison's message shows the uncompensated output and the
+        paper's method beside the compensator.
 
         Parameters
         ----------
@@ -116,10 +129,16 @@ class GyrobenchBench:
             test file's folder unless absolute.
         seeds : optional
             Default: the baseline's seeds (or :data:`DEFAULT_SEEDS` when writing a new one).
+            ``"auto"``: the count that detects a ``min_change`` of every primary score (from
+            the baseline's spread; see :func:`gyrobench.scenarios.bench.power.auto_seeds`).
         alpha : float
-            Family-wise significance level over all scores.
+            Family-wise significance level over the primary scores.
         directions : mapping, optional
             Overrides for :func:`gyrobench.scenarios.bench.score_direction`.
+        allow_underpowered : bool
+            Run a comparison whose seeds cannot reach ``alpha`` (with a warning).
+        min_change : float
+            The relative change ``seeds="auto"`` must detect (0.2 = 20 %, power 0.8).
 
         Returns
         -------
@@ -139,7 +158,7 @@ class GyrobenchBench:
                 bench.check_baseline_matches(
                     stored,
                     scenario,
-                    None if self.save else seeds,
+                    None if self.save or (isinstance(seeds, str) and seeds.strip().lower() == "auto") else seeds,
                     what=f"gyrobench baseline {str(path)!r}",
                 )
             except ValueError as exc:
@@ -152,9 +171,26 @@ class GyrobenchBench:
                 "'pytest --gyrobench-save-baselines' from the compensator you trust",
                 pytrace=False,
             )
-        if seeds is None:
-            seeds = stored.seeds if stored is not None else DEFAULT_SEEDS
-        campaign = self.campaign(scenario, compensator, seeds, config=config, workers=workers)
+        module = bench.resolve_scenario(scenario)
+        auto = isinstance(seeds, str) and seeds.strip().lower() == "auto"
+        try:  # power before the run: a gate that can never fire fails here, before computing
+            plan = bench.plan_power(
+                getattr(module, "NAME", module.__name__),
+                "auto" if auto else None if seeds is None else _seed_tuple(seeds),
+                baseline=None if self.save else stored,
+                alpha=alpha,
+                gate=True,
+                allow_underpowered=allow_underpowered,
+                min_change=min_change,
+                default=stored.seeds if stored is not None else DEFAULT_SEEDS,
+                seeds_flag="seeds",
+                allow_flag="allow_underpowered=True",
+            )
+        except ValueError as exc:
+            pytest.fail(f"{path.name}: {exc}", pytrace=False)
+        if plan.warning:
+            warnings.warn(bench.UnderpoweredWarning(f"{path.name}: {plan.warning}"), stacklevel=2)
+        campaign = self.campaign(module, compensator, plan.seeds, config=config, workers=workers)
         if self.save:
             if campaign.failed:  # a baseline from a compensator that fails is never written
                 pytest.fail(
@@ -180,12 +216,24 @@ class GyrobenchBench:
                 pytrace=False,
             )
         if result.regressions:
+            refs = bench.reference_campaigns(
+                module, plan.seeds, config=config, workers=self.workers if workers is None else workers, db=self.db
+            )
+            result = bench.compare(stored, campaign, alpha=alpha, directions=directions, references=refs)
             pytest.fail(
-                f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
+                (f"{plan.warning}\n" if plan.warning else "")
+                + f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
                 + result.format(),
                 pytrace=False,
             )
         return result
+
+
+def _seed_tuple(seeds: Iterable[int] | str) -> tuple[int, ...]:
+    """``seeds`` (a list or ``"0:20"``-style text) as a checked tuple."""
+    from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds
+
+    return parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
 
 
 @pytest.fixture(scope="session")

@@ -67,6 +67,10 @@ Modules
 :mod:`~gyrobench.scenarios.bench.statistics` (intervals, paired test, correction),
 :mod:`~gyrobench.scenarios.bench.campaign` (:func:`run_campaign`),
 :mod:`~gyrobench.scenarios.bench.baseline` (save, load, compare),
+:mod:`~gyrobench.scenarios.bench.primary` (each scenario's primary, gated, scores and units),
+:mod:`~gyrobench.scenarios.bench.power` (smallest attainable p, seeds needed, ``--seeds auto``),
+:mod:`~gyrobench.scenarios.bench.gate` (the power check before a run),
+:mod:`~gyrobench.scenarios.bench.references` (the uncompensated reference, papers' methods),
 :mod:`~gyrobench.scenarios.bench.formatting` (text tables) and
 :mod:`~gyrobench.scenarios.bench.cli` (the ``gyrobench bench`` verb). Every public name is
 importable from this package; the package loads its modules on first use, so the
@@ -80,6 +84,20 @@ from typing import TYPE_CHECKING, Any
 
 #: public name -> module of this package that defines it (imported on first access)
 _LAZY: dict[str, str] = {
+    "reference_campaigns": "gyrobench.scenarios.bench.gate",
+    "UnderpoweredWarning": "gyrobench.scenarios.bench.power",
+    "Uncompensated": "gyrobench.scenarios.bench.references",
+    "UNCOMPENSATED": "gyrobench.scenarios.bench.references",
+    "score_unit": "gyrobench.scenarios.bench.primary",
+    "gated_scores": "gyrobench.scenarios.bench.primary",
+    "SCENARIO_SCORES": "gyrobench.scenarios.bench.primary",
+    "PrimaryScore": "gyrobench.scenarios.bench.primary",
+    "seeds_needed": "gyrobench.scenarios.bench.power",
+    "min_attainable_p": "gyrobench.scenarios.bench.power",
+    "UnderpoweredError": "gyrobench.scenarios.bench.power",
+    "detectable": "gyrobench.scenarios.bench.gate",
+    "plan_power": "gyrobench.scenarios.bench.gate",
+    "PowerPlan": "gyrobench.scenarios.bench.gate",
     "BASELINE_FORMAT": "gyrobench.scenarios.bench.baseline",
     "BASELINE_VERSION": "gyrobench.scenarios.bench.baseline",
     "BYTES_PER_SEED": "gyrobench.scenarios.bench.seeds",
@@ -118,6 +136,20 @@ _LAZY: dict[str, str] = {
 }
 
 __all__ = [
+    "reference_campaigns",
+    "UnderpoweredWarning",
+    "Uncompensated",
+    "UNCOMPENSATED",
+    "score_unit",
+    "gated_scores",
+    "SCENARIO_SCORES",
+    "PrimaryScore",
+    "seeds_needed",
+    "min_attainable_p",
+    "UnderpoweredError",
+    "detectable",
+    "plan_power",
+    "PowerPlan",
     "BASELINE_FORMAT",
     "BASELINE_VERSION",
     "BYTES_PER_SEED",
@@ -178,7 +210,11 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         resolve_compensator,
     )
     from gyrobench.scenarios.bench.formatting import format_summary
+    from gyrobench.scenarios.bench.gate import PowerPlan, detectable, plan_power, reference_campaigns
     from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
+    from gyrobench.scenarios.bench.power import UnderpoweredError, UnderpoweredWarning, min_attainable_p, seeds_needed
+    from gyrobench.scenarios.bench.primary import SCENARIO_SCORES, PrimaryScore, gated_scores, score_unit
+    from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
     from gyrobench.scenarios.bench.scoring import resolve_scenario, score_seed
     from gyrobench.scenarios.bench.seeds import BYTES_PER_SEED, MAX_SEED, MAX_SEEDS, parse_seeds
     from gyrobench.scenarios.bench.statistics import (

@@ -20,6 +20,9 @@ from pathlib import Path
 import numpy as np
 from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.compensators import FailedSeedsError
+from gyrobench.scenarios.bench.gate import gates_of, power_doc
+from gyrobench.scenarios.bench.power import min_attainable_p
+from gyrobench.scenarios.bench.primary import directions_of, score_unit
 from gyrobench.scenarios.bench.scoring import resolve_scenario
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction, signed_rank
@@ -30,6 +33,7 @@ __all__ = [
     "BASELINE_VERSION",
     "Comparison",
     "ComparisonError",
+    "ReferenceMeans",
     "ScoreComparison",
     "check_baseline_matches",
     "check_baseline_path",
@@ -98,8 +102,11 @@ def _json_float(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
-def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
+def save_baseline(path: str | os.PathLike, campaign: Campaign, *, alpha: float = 0.05) -> Path:
     """Write ``campaign``'s per-seed scores to a JSON baseline (atomically).
+
+    The file also stores, under ``"power"``, what its seeds can detect on each primary score
+    at ``alpha`` (:func:`~gyrobench.scenarios.bench.gate.detectable`).
 
     Raises
     ------
@@ -142,6 +149,7 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign) -> Path:
             }
             for n, s in campaign.summary().items()
         },
+        "power": power_doc(campaign, alpha),
     }
     text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
     with atomic_path(path) as tmp:
@@ -218,6 +226,18 @@ class ScoreComparison:
     p_value: float
     p_adjusted: float
     status: str
+    primary: bool = True
+    unit: str = ""
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ReferenceMeans:
+    """A reference compensator's mean of every compared score over the compared seeds: printed
+    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method."""
+
+    label: str
+    compensator: str
+    means: Mapping[str, float]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -231,6 +251,13 @@ class Comparison:
 
     ``missing`` names the scores held by only one campaign, ``unpaired`` those that some
     compared seed lacks (a name that changes with the seed): neither is tested.
+
+    Only the *primary* scores (:mod:`~gyrobench.scenarios.bench.primary`) are gated:
+    ``regressions`` holds the primary scores significantly worse (Holm over the primary
+    scores); ``secondary_regressions`` the secondary ones (Holm among the secondary scores),
+    reported, never failing the comparison. ``correction`` states the correction;
+    ``references`` holds each reference compensator's (the uncompensated output, the paper's
+    method) mean of every score over the compared seeds (:class:`ReferenceMeans`).
     """
 
     scores: tuple[ScoreComparison, ...]
@@ -242,19 +269,32 @@ class Comparison:
     note: str = ""
     failed_seeds: tuple[int, ...] = ()
     failure: str = ""
+    correction: str = ""
+    references: tuple[ReferenceMeans, ...] = ()
 
     @property
     def passed(self) -> bool:
-        """No failed seed and no significant regression."""
+        """No failed seed and no significant regression of a primary score."""
         return not self.failed_seeds and not self.regressions
 
     @property
+    def primary(self) -> tuple[ScoreComparison, ...]:
+        """The gated scores."""
+        return tuple(s for s in self.scores if s.primary)
+
+    @property
     def regressions(self) -> tuple[ScoreComparison, ...]:
-        return tuple(s for s in self.scores if s.status == "regressed")
+        """Primary scores significantly worse: these fail the comparison."""
+        return tuple(s for s in self.scores if s.primary and s.status == "regressed")
+
+    @property
+    def secondary_regressions(self) -> tuple[ScoreComparison, ...]:
+        """Secondary scores significantly worse: reported, not gated."""
+        return tuple(s for s in self.scores if not s.primary and s.status == "regressed")
 
     @property
     def improvements(self) -> tuple[ScoreComparison, ...]:
-        return tuple(s for s in self.scores if s.status == "improved")
+        return tuple(s for s in self.scores if s.primary and s.status == "improved")
 
     def format(self) -> str:
         """Plain text: one line per score, then the verdict
@@ -270,6 +310,8 @@ def compare(
     *,
     alpha: float = 0.05,
     directions: Mapping[str, int] | None = None,
+    primary: Sequence[str] | None = None,
+    references: Mapping[str, Campaign] | None = None,
 ) -> Comparison:
     """Compare a candidate campaign with a baseline, seed by seed.
 
@@ -280,10 +322,22 @@ def compare(
         Family-wise error rate over all compared scores.
     directions : mapping, optional
         Overrides for :func:`score_direction`.
+    primary : sequence of str, optional
+        The scores to gate; default: the scenario's primary scores
+        (:func:`~gyrobench.scenarios.bench.primary.gated_scores`).
+    references : mapping, optional
+        Label -> campaign of a reference compensator on the same seeds (the uncompensated
+        output, the paper's method): its means are reported beside the user's, never tested.
 
     Returns
     -------
     Comparison
+
+    Raises
+    ------
+    ComparisonError
+        If no seed or score can be paired, or a primary score is not held by both campaigns
+        on every compared seed.
 
     Notes
     -----
@@ -310,14 +364,17 @@ def compare(
     baseline seed with a non-finite score is left out of the paired test (with a note);
     if no seed is left, the comparison is refused.
 
-    Many scores are tested at once (each held-out run and the mean), so the
-    p-values are adjusted by Holm's step-down method, which keeps the probability
-    of any false "regressed" or "improved" at most ``alpha``. A significant score
+    Only the primary scores are gated. Their p-values are adjusted by Holm's step-down
+    method over the primary scores alone, which keeps the probability of any false
+    "regressed" or "improved" among them at most ``alpha``; the secondary scores (each
+    held-out run, the other means) are Holm-adjusted among themselves and reported,
+    never gated. A significant score
     is "improved" or "regressed" by the sign of the signed-rank statistic
     (``W+ - W-``) and the score's direction; the reported effect is the
     Hodges-Lehmann shift. With n nonzero differences the smallest attainable
-    two-sided p is 2 / 2**n: use at least ~10 seeds (a note says when n is too
-    small to ever reach significance).
+    two-sided p is 2 / 2**n, times the number of primary scores under Holm (a note
+    says when n is too small to ever reach significance; the command line refuses such a
+    run before computing, :func:`~gyrobench.scenarios.bench.power.check_power`).
     """
     if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
         raise ValueError(f"alpha must be in (0, 1); got {alpha!r}")
@@ -333,9 +390,28 @@ def compare(
             f"the baseline has no finite scores on the seeds it shares with the campaign "
             f"({seed_text(common)}): re-save it from a compensator that works"
         )
-    paired = [_paired(name, base, cand, seeds, directions) for name in names]
-    adjusted = holm(np.array([p.p_value for p in paired]))
-    out = tuple(_judged(p, float(pa), alpha) for p, pa in zip(paired, adjusted, strict=True))
+    gates = gates_of(cand.scenario, names, primary, directions, error=ComparisonError)
+    dirs = {**directions_of(gates), **(directions or {})}
+    paired = [_paired(name, base, cand, seeds, dirs) for name in names]
+    gated = {g.name for g in gates}
+    adjusted = np.empty(len(paired))
+    for group in (True, False):  # Holm over the primary scores; the secondary among themselves
+        idx = [i for i, p in enumerate(paired) if (p.name in gated) == group]
+        if idx:
+            adjusted[idx] = holm(np.array([paired[i].p_value for i in idx]))
+    out = tuple(
+        _judged(p, float(pa), alpha, primary=p.name in gated, unit=score_unit(cand.scenario, p.name))
+        for p, pa in zip(paired, adjusted, strict=True)
+    )
+    out = tuple(sorted(out, key=lambda s: not s.primary))
+    refs = tuple(
+        ReferenceMeans(
+            label=label,
+            compensator=r.compensator,
+            means={n: float(np.mean(r.values(n, seeds))) for n in names if r.values(n, seeds).size},
+        )
+        for label, r in (references or {}).items()
+    )
     dropped = sorted(s for s in base_failed if s in common and s not in cand_failed)
     failure = ""
     if failed_seeds:
@@ -355,6 +431,12 @@ def compare(
         note=_note(out, dropped, same_config=base.config == cand.config, alpha=alpha),
         failed_seeds=failed_seeds,
         failure=failure,
+        correction=(
+            f"Holm over the {len(gates)} primary score(s) at family-wise alpha {alpha:g} (gated); "
+            f"the {len(out) - len(gates)} secondary score(s) Holm-adjusted among themselves "
+            "(reported, not gated)"
+        ),
+        references=refs,
     )
 
 
@@ -461,7 +543,7 @@ def _paired(
     )
 
 
-def _judged(p: _Paired, p_adjusted: float, alpha: float) -> ScoreComparison:
+def _judged(p: _Paired, p_adjusted: float, alpha: float, *, primary: bool, unit: str) -> ScoreComparison:
     """The score's status at ``alpha`` after Holm's correction: "improved" or "regressed" by the
     sign of the shift and the score's direction, "changed" when the direction is unknown."""
     if p_adjusted < alpha and p.sign != 0:
@@ -482,6 +564,8 @@ def _judged(p: _Paired, p_adjusted: float, alpha: float) -> ScoreComparison:
         p_value=p.p_value,
         p_adjusted=p_adjusted,
         status=status,
+        primary=primary,
+        unit=unit,
     )
 
 
@@ -495,11 +579,12 @@ def _note(scores: Sequence[ScoreComparison], dropped: Sequence[int], *, same_con
         )
     if not same_config:
         notes.append("the two campaigns ran different scenario configurations")
-    n_min = min(s.n for s in scores)
-    if 2.0 / 2.0**n_min * len(scores) >= alpha:
+    gated = [s for s in scores if s.primary]
+    n_min = min(s.n for s in gated)
+    if min_attainable_p(n_min, len(gated)) >= alpha:
         notes.append(
-            f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p is "
-            f"{min(1.0, len(scores) * 2.0 / 2.0**n_min):.3g} >= alpha {alpha:g}, "
-            "so no change can be significant; use more seeds"
+            f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p over the "
+            f"{len(gated)} primary score(s) is {min_attainable_p(n_min, len(gated)):.3g} >= alpha "
+            f"{alpha:g}, so no change can be significant; use more seeds"
         )
     return "; ".join(notes)

@@ -5,6 +5,7 @@
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
+        [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
 
 Exit status of :func:`run` (see :mod:`gyrobench.scenarios.exits`): 0 on success, 1 when
 the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
@@ -23,7 +24,11 @@ or another run of the same campaign on the same database that got other scores, 
 in the environment the traceback is printed on stderr first.
 
 Everything that can be checked without computing is checked before the campaign
-starts: the scenario, configuration, compensator, seeds, the ``--baseline`` file
+starts, including the gate's power (:func:`gyrobench.scenarios.bench.gate.plan_power`: a
+comparison, or a baseline written, whose seeds cannot reach ``--alpha`` with the scenario's
+primary scores is refused in one line naming the seeds needed, exit 2, unless
+``--allow-underpowered``, which prints a WARNING as the first line): the scenario,
+configuration, compensator, seeds, the ``--baseline`` file
 (readable, of the same scenario, sharing seeds with ``--seeds``) and the
 ``--save-baseline`` path (not a folder; its folder exists: it is never created).
 """
@@ -50,7 +55,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
             "score's mean with a 95 % confidence interval. Finished seeds are kept in --db, so an "
             "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a "
             "score is "
-            "significantly worse (paired Wilcoxon signed-rank test, Holm-adjusted)."
+            "significantly worse on a primary score (paired two-sided Wilcoxon signed-rank test, Holm-adjusted "
+            "over the scenario's primary scores; the others are reported, not gated). A comparison whose seeds "
+            "cannot reach --alpha is refused before computing (exit 2) unless --allow-underpowered."
         ),
     )
     p.add_argument(
@@ -67,7 +74,27 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--seeds",
         default=None,
-        help="'START:STOP' (half-open) or '1,5,9' (default: the --baseline's seeds, else 0:20)",
+        help="'START:STOP' (half-open), '1,5,9', or 'auto': the count that detects a --min-change "
+        "of the primary scores (from the --baseline's spread) (default: the --baseline's seeds, else 0:20)",
+    )
+    p.add_argument(
+        "--min-change",
+        type=float,
+        default=0.2,
+        metavar="FRACTION",
+        help="the smallest change of a primary score --seeds auto must detect, as a fraction of "
+        "the baseline's mean (default 0.2 = 20 %%, with power 0.8)",
+    )
+    p.add_argument(
+        "--allow-underpowered",
+        action="store_true",
+        help="run a comparison whose seeds cannot reach --alpha (refused otherwise, exit 2); "
+        "a WARNING line comes first",
+    )
+    p.add_argument(
+        "--no-references",
+        action="store_true",
+        help="do not score the uncompensated output and the paper's method beside the compensator",
     )
     p.add_argument(
         "--workers",
@@ -135,7 +162,8 @@ def run(args: argparse.Namespace) -> int:
     # (worker processes inherit sys.path)
     bench.prepend_import_path(os.getcwd())
 
-    seeds = bench.parse_seeds(args.seeds) if args.seeds is not None else None
+    auto = args.seeds is not None and args.seeds.strip().lower() == "auto"
+    seeds = "auto" if auto else bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:
         raise ValueError(f"--workers must be >= 0; got {args.workers}")
     if not 0 < args.alpha < 1:
@@ -147,14 +175,26 @@ def run(args: argparse.Namespace) -> int:
     baseline = bench.load_baseline(args.baseline) if args.baseline else None
     if baseline is not None:
         bench.check_baseline_matches(
-            baseline, module, seeds, what=f"--baseline {args.baseline!r}", seeds_what="--seeds"
+            baseline, module, None if auto else seeds, what=f"--baseline {args.baseline!r}", seeds_what="--seeds"
         )
-    if seeds is None:
-        seeds = baseline.seeds if baseline is not None else tuple(range(20))
+    # power before the run: a gate that can never fire is refused here, before any computing
+    plan = bench.plan_power(
+        getattr(module, "NAME", module.__name__),
+        seeds,
+        baseline=baseline,
+        alpha=args.alpha,
+        gate=baseline is not None or bool(args.save_baseline),
+        allow_underpowered=args.allow_underpowered,
+        min_change=args.min_change,
+    )
+    seeds = plan.seeds
     if args.save_baseline:
         bench.check_baseline_path(args.save_baseline, what="--save-baseline")
     db = args.db if args.db is not None else bench.DEFAULT_DB
     bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
+    for line in (plan.warning, plan.auto):
+        if line:
+            print(line, flush=True)
     executor, close = scheduler_executor(args)
     try:
         campaign = bench.run_campaign(
@@ -167,6 +207,11 @@ def run(args: argparse.Namespace) -> int:
             db=db,
             progress=not args.quiet,
         )
+        references = (
+            {}
+            if args.no_references
+            else bench.reference_campaigns(module, seeds, config=config, executor=executor, workers=args.workers, db=db)
+        )
     except bench.CompensatorError as exc:
         if exits.traceback_wanted():
             raise  # the command line prints exc.traceback_text (the worker's traceback)
@@ -174,8 +219,12 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if close is not None:
             close()
-    print(bench.format_summary(campaign))
-    result = bench.compare(baseline, campaign, alpha=args.alpha) if baseline is not None else None
+    print(bench.format_summary(campaign, references))
+    result = (
+        bench.compare(baseline, campaign, alpha=args.alpha, references=references)
+        if baseline is not None
+        else None
+    )
     if result is not None:
         print(result.format())
     # the comparison may find failed seeds the campaign did not record (a non-finite score read
@@ -194,8 +243,9 @@ def run(args: argparse.Namespace) -> int:
             what.append(f"the comparison with --baseline {args.baseline!r} fails")
         raise bench.FailedSeedsError(failure + "".join(f"; {w}" for w in what), seeds=failed)
     if args.save_baseline:
-        path = bench.save_baseline(args.save_baseline, campaign)
+        path = bench.save_baseline(args.save_baseline, campaign, alpha=args.alpha)
         print(f"baseline written to {path}")
     if result is not None:
         return exits.REGRESSION if result.regressions else exits.OK
     return exits.OK
+

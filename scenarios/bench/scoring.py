@@ -23,6 +23,7 @@ from gyrobench.scenarios.bench.compensators import (
     fit_compensator,
     resolve_compensator,
 )
+from gyrobench.scenarios.bench.references import Uncompensated
 from gyrobench.scenarios.bench.seeds import check_seeds
 from numpy.typing import NDArray
 
@@ -154,7 +155,9 @@ def score_or_failure(
         label = compensator_label(comp, compensator, short=True)
     with threadpool_limits(limits=1):
         task = module.compensation_task(config, seed)
-        predict = fit_compensator(comp, task.X_train, task.y_train, seed, label=label)
+        # the uncompensated reference scores the raw output: nothing to fit or predict
+        raw = comp is Uncompensated or isinstance(comp, Uncompensated)
+        predict = None if raw else fit_compensator(comp, task.X_train, task.y_train, seed, label=label)
         scores: dict[str, float] = {}
         per_key: dict[str, list[float]] = {}
         for run in task.heldout:
@@ -170,14 +173,16 @@ def score_or_failure(
 
 
 def _score_run(
-    task: Any, run: Any, predict: Callable, seed: int, label: str
+    task: Any, run: Any, predict: Callable | None, seed: int, label: str
 ) -> tuple[dict[str, float], str | None]:
     """One held-out run's scores (empty if the prediction is not finite) and why it failed, or
-    None."""
+    None. ``predict`` None scores the raw output (the uncompensated reference)."""
     if run.label == "mean" or "/" in run.label:
         raise ValueError(
             f"held-out run labels must not be 'mean' or contain '/'; got {run.label!r}"
         )
+    if predict is None:
+        return _scored(task, run, np.asarray(run.output, dtype=float))
     stage = f"predict on run {run.label}"
     try:
         pred = np.asarray(predict(run.X), dtype=float)
@@ -194,7 +199,13 @@ def _score_run(
     failure = _nonfinite(f"the prediction on run {run.label}", pred)
     if failure is not None:
         return {}, failure
-    compensated = task.compensate(pred, run)
+    return _scored(task, run, task.compensate(pred, run))
+
+
+def _scored(task: Any, run: Any, compensated: NDArray[np.float64]) -> tuple[dict[str, float], str | None]:
+    """The task's scores of ``compensated`` on ``run`` and why the seed failed (a non-finite
+    score), or None."""
+    failure = None
     with np.errstate(all="ignore"):  # an overflow is reported as a failed seed
         run_scores = {k: float(v) for k, v in task.scorer(compensated, run).items()}
     bad = [k for k, v in run_scores.items() if not math.isfinite(v)]

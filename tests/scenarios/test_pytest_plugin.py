@@ -110,3 +110,55 @@ def test_baseline_of_another_scenario_fails_before_computing(
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines(["*baselines/toy.json* is of scenario 'ifog_thermal', not 'toy'*"])
     assert not log.exists()  # no seed was simulated
+
+
+UNDERPOWERED_TESTS = """
+from tests.scenarios import toy_scenario as toy
+
+CFG = toy.Config(n_samples=120)
+
+def test_save(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(
+        toy, toy.good, baseline="baselines/toy.json", seeds=range(12), config=CFG
+    )
+
+def test_few_seeds(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(
+        toy, toy.degraded, baseline="baselines/toy.json", seeds=range(5), config=CFG
+    )
+
+def test_few_seeds_allowed(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(
+        toy, toy.degraded, baseline="baselines/toy.json", seeds=range(5), config=CFG,
+        allow_underpowered=True,
+    )
+
+def test_auto(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(
+        toy, toy.degraded, baseline="baselines/toy.json", seeds="auto", config=CFG
+    )
+"""
+
+
+def test_underpowered_fails_before_computing_or_warns_in_the_report(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+):
+    """5 seeds on the toy's 3 gated scores reach 3 x 2/2^5 = 0.19: the test fails naming 7
+    seeds, nothing simulated; allowed, it passes (it cannot fail) with the warning in the
+    report's warnings summary. seeds="auto" sizes the run from the baseline and catches the
+    degraded compensator."""
+    pytester.syspathinsert(ROOT)
+    pytester.makepyfile(test_user=UNDERPOWERED_TESTS)
+    pytester.runpytest(*FAST, "-k", "test_save", "--gyrobench-save-baselines").assert_outcomes(passed=1)
+    log = pytester.path / "calls.log"
+    monkeypatch.setenv("GYROBENCH_TOY_CALL_LOG", str(log))
+    result = pytester.runpytest(*FAST, "-k", "test_few_seeds and not allowed")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*toy.json: seeds: *3 x 2/2^5 = 0.188 >= alpha 0.05*at least 7 seeds*"])
+    assert not log.exists()
+    result = pytester.runpytest(*FAST, "-k", "test_few_seeds_allowed", "-rA")
+    result.assert_outcomes(passed=1, warnings=1)
+    result.stdout.fnmatch_lines(["*warnings summary*", "*UnderpoweredWarning: toy.json: WARNING: underpowered:*"])
+    result = pytester.runpytest(*FAST, "-k", "test_auto")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*regressed against toy.json*", "*uncompensated*", "*REGRESSION*primary*"])

@@ -1,0 +1,248 @@
+"""The gate of the bench: which scores it judges, what its seeds can detect, the check before a
+run and ``--seeds auto``.
+
+- :func:`gates_of`: the primary scores a comparison gates (:mod:`~gyrobench.scenarios.bench.primary`);
+- :func:`detectable` and :func:`power_doc`: what a baseline's seeds can detect (stored in the
+  baseline file);
+- :func:`plan_power`: before anything is computed, the seeds a comparison will pair and whether
+  they can reach ``alpha`` (:func:`~gyrobench.scenarios.bench.power.check_power`), and the seed
+  count of ``--seeds auto`` (:func:`~gyrobench.scenarios.bench.power.auto_seeds`).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from gyrobench.scenarios.bench.campaign import Campaign
+from gyrobench.scenarios.bench.compensators import CompensatorError
+from gyrobench.scenarios.bench.power import (
+    DEFAULT_MIN_CHANGE,
+    DEFAULT_POWER,
+    Detectable,
+    auto_seeds,
+    check_power,
+    detectable_change,
+    min_attainable_p,
+    spread,
+)
+from gyrobench.scenarios.bench.primary import PrimaryScore, gated_scores, primary_count, score_unit
+from gyrobench.scenarios.bench.statistics import score_direction
+
+__all__ = ["PowerPlan", "detectable", "gates_of", "plan_power", "power_doc", "reference_campaigns"]
+
+
+def _json_float(v: float) -> float | None:
+    return v if math.isfinite(v) else None
+
+
+def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAULT_POWER) -> list[Detectable]:
+    """What ``campaign``'s seeds, as a baseline, can detect on each of its primary scores.
+
+    For a primary score with mean ``mu`` and seed-to-seed std ``sigma`` over the campaign's
+    ``n`` seeds: the shift :func:`~gyrobench.scenarios.bench.power.detectable_change`
+    detects with probability ``power`` at ``alpha`` (Holm over the primary scores), assuming
+    per-seed paired differences as spread as the baseline's seeds; ``inf`` when ``n`` seeds
+    cannot reach ``alpha`` at all.
+    """
+    names = campaign.score_names
+    gates = [g for g in gated_scores(campaign.scenario, names) if g.name in names]
+    seeds = campaign.ok_seeds
+    out = []
+    for g in gates:
+        mean, std = spread(campaign.values(g.name, seeds))
+        n = len(seeds)
+        change = detectable_change(std, n, len(gates), alpha, power=power) if math.isfinite(std) else math.inf
+        out.append(
+            Detectable(
+                name=g.name,
+                unit=g.unit,
+                mean=mean,
+                std=std,
+                n=n,
+                change=change,
+                relative=change / abs(mean) if mean and math.isfinite(mean) else math.inf,
+            )
+        )
+    return out
+
+
+def power_doc(campaign: Campaign, alpha: float) -> dict:
+    """A baseline file's ``"power"`` section: what its seeds can detect (JSON-ready)."""
+    found = detectable(campaign, alpha=alpha)
+    m = max(1, len(found))
+    n = len(campaign.ok_seeds)
+    return {
+        "test": "two-sided Wilcoxon signed-rank on paired per-seed scores",
+        "correction": f"Holm over the {len(found)} primary score(s)",
+        "alpha": alpha,
+        "power": DEFAULT_POWER,
+        "seeds": n,
+        "min_attainable_p": min_attainable_p(n, m),
+        "assumption": "per-seed paired differences as spread as this baseline's seed-to-seed values",
+        "detectable": {
+            d.name: {
+                "unit": d.unit,
+                "mean": _json_float(d.mean),
+                "std": _json_float(d.std),
+                "change": _json_float(d.change),  # None: cannot detect any change
+                "relative": _json_float(d.relative),
+            }
+            for d in found
+        },
+    }
+
+
+def gates_of(
+    scenario: str,
+    names: Sequence[str],
+    primary: Sequence[str] | None,
+    directions: Mapping[str, int] | None,
+    *,
+    error: type[Exception] = ValueError,
+) -> tuple[PrimaryScore, ...]:
+    """The primary scores to gate, all among the compared ``names`` (else ``error``, one line)."""
+    if primary is None:
+        gates = gated_scores(scenario, names)
+    else:
+        if isinstance(primary, str) or not primary:
+            raise ValueError(f"primary must be a non-empty sequence of score names; got {primary!r}")
+        given = []
+        for n in primary:
+            d = score_direction(n, directions)
+            if d == 0:
+                raise ValueError(
+                    f"primary score {n!r} has no known direction: give it in directions={{{n!r}: -1 or +1}}"
+                )
+            given.append(PrimaryScore(name=n, unit=score_unit(scenario, n), direction=d))
+        gates = tuple(given)
+    absent = [g.name for g in gates if g.name not in names]
+    if absent or not gates:
+        raise error(
+            f"primary score(s) {', '.join(absent) or '(none)'} of {scenario} are not held by both "
+            f"campaigns on every compared seed (compared: {', '.join(names[:6])}"
+            f"{', ...' if len(names) > 6 else ''}): a regression cannot be judged"
+        )
+    return gates
+
+
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PowerPlan:
+    """The seeds a run will use and what its gate can do, settled before anything is computed.
+
+    ``primary`` is the number of gated scores (None when not known before the run: a scenario
+    that declares none, without a baseline); ``warning`` the underpowered warning (only with
+    ``allow_underpowered``); ``auto`` the reason line of ``--seeds auto``.
+    """
+
+    seeds: tuple[int, ...]
+    primary: int | None
+    warning: str = ""
+    auto: str = ""
+
+
+def plan_power(
+    scenario: str,
+    seeds: tuple[int, ...] | str | None,
+    *,
+    baseline: Campaign | None,
+    alpha: float,
+    gate: bool,
+    allow_underpowered: bool = False,
+    min_change: float = DEFAULT_MIN_CHANGE,
+    default: Sequence[int] = tuple(range(20)),
+    seeds_flag: str = "--seeds",
+    allow_flag: str = "--allow-underpowered",
+) -> PowerPlan:
+    """Settle the seeds of a run (``"auto"``, given, or the baseline's / ``default``) and check
+    that the gate can fire with them.
+
+    ``gate``: the run compares with ``baseline`` or writes a baseline, so its seeds must be
+    able to reach ``alpha`` with the scenario's primary scores
+    (:func:`~gyrobench.scenarios.bench.power.check_power`; the paired seeds are those shared
+    with ``baseline``).
+
+    Raises
+    ------
+    UnderpoweredError
+        If the gate cannot reach ``alpha`` and ``allow_underpowered`` is false.
+    ValueError
+        If ``"auto"`` cannot be sized (no primary scores known) or asks for more seeds than the
+        baseline holds.
+    """
+    m = primary_count(scenario, baseline.score_names if baseline is not None else None)
+    reason = ""
+    if seeds == "auto":
+        if m is None:
+            raise ValueError(
+                f"{seeds_flag} auto: scenario {scenario!r} declares no primary scores and no baseline "
+                f"gives its score names; give {seeds_flag} explicitly"
+            )
+        spreads: dict[str, tuple[float, float]] = {}
+        units: dict[str, str] = {}
+        if baseline is not None:
+            for g in gated_scores(scenario, baseline.score_names):
+                if g.name in baseline.score_names:
+                    spreads[g.name] = spread(baseline.values(g.name, baseline.ok_seeds))
+                    units[g.name] = g.unit
+        chosen = auto_seeds(m, alpha, spreads=spreads or None, units=units, min_change=min_change)
+        reason = chosen.reason
+        if baseline is not None:
+            have = sorted(baseline.ok_seeds)
+            if chosen.n > len(have):
+                raise ValueError(
+                    f"{reason}; but the baseline holds only {len(have)} seeds: re-save it on "
+                    f"{seeds_flag} 0:{chosen.n}"
+                )
+            resolved = tuple(have[: chosen.n])
+        else:
+            resolved = tuple(range(chosen.n))
+    elif seeds is None:
+        resolved = baseline.seeds if baseline is not None else tuple(default)
+    elif isinstance(seeds, str):
+        raise ValueError(f"{seeds_flag} must be a seed list or 'auto'; got {seeds!r}")
+    else:
+        resolved = tuple(seeds)
+    warning = ""
+    if gate and m is not None:
+        n = len(set(resolved) & set(baseline.seeds)) if baseline is not None else len(resolved)
+        warning = check_power(
+            n, m, alpha, allow_underpowered=allow_underpowered, seeds_flag=seeds_flag, allow_flag=allow_flag
+        )
+    return PowerPlan(seeds=resolved, primary=m, warning=warning, auto=reason)
+
+
+def reference_campaigns(
+    module: Any, seeds: Sequence[int], *, config: Any = None, executor: Any = None, workers: int | None = None,
+    db: Any = None,
+) -> dict[str, Campaign]:
+    """label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
+    output, :data:`~gyrobench.scenarios.bench.references.UNCOMPENSATED`) and the paper's method
+    when the scenario names one (:data:`~gyrobench.scenarios.bench.primary.SCENARIO_SCORES`).
+    Run into ``db`` like any campaign, so a second run reads them back. A reference whose
+    compensator raises on a seed is left out with a warning (it never fails the user's run)."""
+    from gyrobench.scenarios.bench.campaign import run_campaign
+    from gyrobench.scenarios.bench.primary import scenario_scores
+    from gyrobench.scenarios.bench.references import UNCOMPENSATED
+    from gyrobench.scenarios.bench.scoring import resolve_scenario
+
+    module = resolve_scenario(module)
+    declared = scenario_scores(getattr(module, "NAME", module.__name__))
+    refs = {"uncompensated": UNCOMPENSATED}
+    if declared is not None and declared.paper:
+        refs[declared.paper_label or "paper"] = declared.paper
+    kw: dict[str, Any] = {"db": db} if db is not None else {}
+    out = {}
+    for label, comp in refs.items():
+        try:
+            out[label] = run_campaign(
+                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
+            )
+        except (CompensatorError, TypeError) as exc:  # a reference that cannot run never fails the run
+            warnings.warn(f"reference {label} ({comp}) not shown: {exc}", stacklevel=2)
+    return out

@@ -1,0 +1,181 @@
+"""Primary scores: the few scores of each bench scenario a regression is judged on.
+
+A scenario's compensation task reports many scores (every held-out run's and their
+``mean/``); testing all of them under a multiple-comparison correction asks for more seeds
+than a user can afford (with ``m`` scores the smallest attainable Holm-adjusted p of the
+signed-rank test on ``n`` seeds is ``m * 2 / 2**n``). So each bench scenario declares here,
+on the bench side, a small set of *primary* scores with their unit and direction: the gate
+(:func:`~gyrobench.scenarios.bench.compare`'s verdict, the exit status) reads only those;
+the others are *secondary*: tested and reported, never gated.
+
+Primary scores are ``mean/`` scores (the mean over the held-out runs), so they are held by
+every seed whatever the runs are called (rlg_thermal's run is named after the unit).
+
+A scenario not in :data:`SCENARIO_SCORES` (a user's own, or the tests' toy scenario) gates on
+every ``mean/`` score whose direction :func:`score_direction` knows.
+
+The table also names, per scenario, the *paper's method* as a bench compensator
+(``"module:attr"``, see :mod:`gyrobench.scenarios.bench.references`), printed beside the
+user's compensator with the uncompensated output.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+from gyrobench.scenarios.bench.statistics import score_direction
+
+__all__ = [
+    "SCENARIO_SCORES",
+    "PrimaryScore",
+    "ScenarioScores",
+    "directions_of",
+    "gated_scores",
+    "primary_count",
+    "scenario_scores",
+    "score_unit",
+]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PrimaryScore:
+    """One gated score: its name in the campaign, unit and which way is better.
+
+    ``direction`` is -1 (lower is better) or +1 (higher is better).
+    """
+
+    name: str
+    unit: str
+    direction: int
+    meaning: str = ""
+
+    def __post_init__(self) -> None:
+        if self.direction not in (-1, 1):
+            raise ValueError(f"PrimaryScore.direction must be -1 or +1; got {self.direction!r}")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ScenarioScores:
+    """What the bench knows of one scenario's scores.
+
+    ``units`` maps a score's last path component (``"mse"``) to its unit; ``paper`` is the
+    paper's method as a ``"module:attr"`` compensator and ``paper_label`` its short name.
+    """
+
+    primary: tuple[PrimaryScore, ...]
+    units: Mapping[str, str]
+    paper: str = ""
+    paper_label: str = ""
+
+
+_REF = "gyrobench.scenarios.bench.references"
+
+#: bench scenario name -> its primary scores, score units and the paper's method
+SCENARIO_SCORES: dict[str, ScenarioScores] = {
+    "ifog_thermal": ScenarioScores(
+        primary=(
+            PrimaryScore(
+                name="mean/rms",
+                unit="deg/h",
+                direction=-1,
+                meaning="RMS error of the compensated output, mean over the held-out runs",
+            ),
+        ),
+        units={"mse": "(deg/h)^2", "rms": "deg/h"},
+    ),
+    "fog_vibration": ScenarioScores(
+        primary=(
+            PrimaryScore(
+                name="mean/rms",
+                unit="deg/h",
+                direction=-1,
+                meaning="RMS error left by the vibration-bias model, mean over the held-out records",
+            ),
+        ),
+        units={"mse": "(deg/h)^2", "rms": "deg/h"},
+    ),
+    "rlg_thermal": ScenarioScores(
+        primary=(
+            PrimaryScore(
+                name="mean/bias_stability_deg_h",
+                unit="deg/h",
+                direction=-1,
+                meaning="bias stability (100-s blocks) of the compensated held-out run",
+            ),
+        ),
+        units={"bias_stability_deg_h": "deg/h", "before_deg_h": "deg/h", "improvement_pct": "%"},
+        paper="sklearn.linear_model:LinearRegression",
+        paper_label="least squares on x1..x11 (paper)",
+    ),
+    "mems_scale_factor": ScenarioScores(
+        primary=(
+            PrimaryScore(
+                name="mean/nonlinearity_pct",
+                unit="%",
+                direction=-1,
+                meaning="scale-factor nonlinearity K_n of the compensated rate table",
+            ),
+            PrimaryScore(
+                name="mean/rms_dps",
+                unit="deg/s",
+                direction=-1,
+                meaning="RMS error of the compensated rate table",
+            ),
+        ),
+        units={"nonlinearity_pct": "%", "rms_dps": "deg/s"},
+        paper=f"{_REF}:mems_piecewise",
+        paper_label="piecewise polynomial (paper)",
+    ),
+}
+
+
+def scenario_scores(scenario: str) -> ScenarioScores | None:
+    """The declared scores of the scenario named ``scenario``, or None if it declares none."""
+    return SCENARIO_SCORES.get(scenario)
+
+
+def primary_count(scenario: str, names: Iterable[str] | None = None) -> int | None:
+    """How many scores the gate tests for ``scenario``: its declared primary scores, else the
+    directional ``mean/`` scores among ``names``; None if neither is known (no names given)."""
+    declared = scenario_scores(scenario)
+    if declared is not None:
+        return len(declared.primary)
+    if names is None:
+        return None
+    return len(gated_scores(scenario, names))
+
+
+def gated_scores(scenario: str, names: Iterable[str]) -> tuple[PrimaryScore, ...]:
+    """The primary scores of ``scenario`` (declared, or every ``mean/`` score of ``names`` with
+    a known direction when the scenario declares none)."""
+    declared = scenario_scores(scenario)
+    if declared is not None:
+        return declared.primary
+    out = []
+    for n in sorted(names):
+        d = score_direction(n)
+        if n.startswith("mean/") and d != 0:
+            out.append(PrimaryScore(name=n, unit=score_unit(scenario, n), direction=d))
+    return tuple(out)
+
+
+def score_unit(scenario: str, name: str) -> str:
+    """The unit of score ``name`` of ``scenario`` (``""`` when not known).
+
+    Declared units first (by the name's last path component), then the suffix of the name:
+    ``_pct`` is %, ``_deg_h`` deg/h, ``_dps`` deg/s.
+    """
+    key = name.rsplit("/", 1)[-1]
+    declared = scenario_scores(scenario)
+    if declared is not None and key in declared.units:
+        return declared.units[key]
+    for suffix, unit in (("_pct", "%"), ("_deg_h", "deg/h"), ("_dps", "deg/s")):
+        if key.endswith(suffix):
+            return unit
+    return ""
+
+
+def directions_of(primary: Iterable[PrimaryScore]) -> Mapping[str, int]:
+    """``{name: direction}`` of the primary scores (the overrides :func:`compare` applies)."""
+    return {p.name: p.direction for p in primary}

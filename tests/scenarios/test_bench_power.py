@@ -1,0 +1,298 @@
+"""Power before the run and primary scores (issue 31 items 1, 2 and 6).
+
+The smallest attainable p and the seeds needed are checked against scipy's exact signed-rank
+distribution (not against the formula retyped); the seed count for a shift is checked by
+simulation with a binomial bound at a false-alarm rate of 1e-3.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+from gyrobench.scenarios import bench, exits
+from gyrobench.scenarios.bench import power
+from gyrobench.scenarios.bench.gate import plan_power
+from gyrobench.scenarios.bench.primary import SCENARIO_SCORES
+from gyrobench.scenarios.cli import main
+from scipy import stats
+
+from tests.scenarios import toy_scenario as toy
+
+TOY = "tests.scenarios.toy_scenario"
+
+
+def _exact_min_p(n: int) -> float:
+    """scipy's exact two-sided signed-rank p of n differences all positive (distinct ranks)."""
+    return float(stats.wilcoxon(np.arange(1.0, n + 1), method="exact").pvalue)
+
+
+@pytest.mark.parametrize("n", [3, 5, 8, 12])
+@pytest.mark.parametrize("m", [1, 2, 24])
+def test_min_attainable_p_is_scipys_exact_extreme_times_holm(n, m):
+    assert power.min_attainable_p(n, m) == pytest.approx(min(1.0, m * _exact_min_p(n)), rel=1e-12)
+
+
+@pytest.mark.parametrize("alpha", [0.05, 0.01])
+@pytest.mark.parametrize("m", [1, 2, 3, 24])
+def test_seeds_needed_is_the_fewest_seeds_that_reach_alpha(m, alpha):
+    n = power.seeds_needed(m, alpha)
+    assert m * _exact_min_p(n) < alpha <= m * _exact_min_p(n - 1)
+
+
+def test_issue_figures_ifog_with_24_scores_on_8_seeds_is_refused():
+    """The issue's figure: 24 scores on 8 seeds reach no lower than 0.188."""
+    with pytest.raises(power.UnderpoweredError, match=r"24 x 2/2\^8 = 0.188 >= alpha 0.05.*at least 10 seeds"):
+        power.check_power(8, 24, 0.05)
+    assert power.check_power(10, 24, 0.05) == ""
+    warning = power.check_power(8, 24, 0.05, allow_underpowered=True)
+    assert warning.startswith("WARNING: underpowered:") and "\n" not in warning
+
+
+def test_seeds_for_change_detects_the_shift_with_the_stated_power():
+    """Normal differences with shift delta = 0.6 sigma, one of m = 2 primary scores: the
+    signed-rank test at alpha/2 must reject in >= 80 % of campaigns of the computed size. With
+    2000 simulated campaigns the rate's std is <= 0.009; the bound allows 3.1 std (1e-3)."""
+    m, alpha, delta = 2, 0.05, 0.6
+    n = power.seeds_for_change(1.0, delta, m, alpha)
+    rng = np.random.default_rng(20261127)
+    d = delta + rng.standard_normal((2000, n))
+    p = np.array([stats.wilcoxon(row).pvalue for row in d])
+    rate = float(np.mean(m * p < alpha))
+    assert rate >= power.DEFAULT_POWER - 3.1 * math.sqrt(0.8 * 0.2 / 2000), (n, rate)
+
+
+@pytest.mark.parametrize("n", [6, 10, 40])
+def test_detectable_change_is_the_inverse_of_seeds_for_change(n):
+    change = power.detectable_change(2.0, n, 1, 0.05)
+    assert power.seeds_for_change(2.0, change * 1.000001, 1, 0.05) <= n
+    assert power.seeds_for_change(2.0, change * 0.9, 1, 0.05) > n or n == power.seeds_needed(1, 0.05)
+    assert power.detectable_change(2.0, 3, 1, 0.05) == math.inf  # 2/2^3 >= 0.05: nothing
+
+
+def test_every_declared_primary_score_is_a_mean_score_with_a_unit():
+    for name, declared in SCENARIO_SCORES.items():
+        assert 1 <= len(declared.primary) <= 2, name
+        for p in declared.primary:
+            assert p.name.startswith("mean/") and p.unit and p.direction in (-1, 1), (name, p)
+
+
+@pytest.mark.parametrize("scenario", ["ifog_thermal", "rlg_thermal", "mems_scale_factor"])
+def test_declared_primary_scores_are_what_the_scenario_scores(scenario):
+    """Robust to the held-out runs' names (rlg_thermal's 'unit7_heldout' or 'heldout'): the
+    primary scores are the means, held by every seed."""
+    scores = bench.score_seed(scenario, bench.Uncompensated(), 0)
+    for p in SCENARIO_SCORES[scenario].primary:
+        assert math.isfinite(scores[p.name]), p.name
+
+
+@pytest.mark.slow
+def test_fog_vibration_primary_scores_are_what_it_scores():
+    scores = bench.score_seed("fog_vibration", bench.Uncompensated(), 0)
+    assert all(math.isfinite(scores[p.name]) for p in SCENARIO_SCORES["fog_vibration"].primary)
+
+
+def test_uncompensated_scores_the_raw_output_for_error_and_rate_targets():
+    """The reference is the task's scorer on each held-out run's output as it is."""
+    task = toy.compensation_task(toy.Config(), 3)
+    want = [toy.scorer(run.output, run) for run in task.heldout]
+    got = bench.score_seed(toy, bench.UNCOMPENSATED, 3)
+    for run, w in zip(task.heldout, want, strict=True):
+        assert all(got[f"{run.label}/{k}"] == v for k, v in w.items())
+    module = bench.resolve_scenario("mems_scale_factor")  # target "rate": compensated = output
+    task = module.compensation_task(module.Config(), 0)
+    got = bench.score_seed(module, bench.Uncompensated, 0)
+    rms = [math.sqrt(np.mean((run.output - run.truth) ** 2)) for run in task.heldout]
+    assert got["mean/rms_dps"] == pytest.approx(np.mean(rms), rel=1e-12)
+
+
+def _campaign(scenario, values):
+    return bench.Campaign(campaign_id="x", scenario=scenario, compensator="c", config="", scores=values)
+
+
+def test_only_primary_scores_are_gated():
+    """rlg_thermal: a secondary score worse on all 12 seeds is reported, not gated; the primary
+    worse on all 12 fails the comparison."""
+    base = {s: {"mean/bias_stability_deg_h": 1.0 + s, "mean/improvement_pct": 20.0 + s} for s in range(12)}
+    sec = {s: {"mean/bias_stability_deg_h": 1.0 + s, "mean/improvement_pct": 10.0 + s} for s in range(12)}
+    r = bench.compare(_campaign("rlg_thermal", base), _campaign("rlg_thermal", sec))
+    assert r.passed and not r.regressions and [s.name for s in r.secondary_regressions] == ["mean/improvement_pct"]
+    assert "Holm over the 1 primary score(s)" in r.format() and "reported, not gated" in r.format()
+    prim = {s: {"mean/bias_stability_deg_h": 2.0 + s, "mean/improvement_pct": 20.0 + s} for s in range(12)}
+    r = bench.compare(_campaign("rlg_thermal", base), _campaign("rlg_thermal", prim))
+    assert not r.passed and [s.name for s in r.regressions] == ["mean/bias_stability_deg_h"]
+    assert r.regressions[0].unit == "deg/h" and r.regressions[0].p_adjusted == pytest.approx(_exact_min_p(12))
+
+
+def test_a_missing_primary_score_cannot_be_judged():
+    base = {s: {"mean/improvement_pct": 20.0 + s} for s in range(12)}
+    with pytest.raises(bench.ComparisonError, match="primary score.*mean/bias_stability_deg_h.*cannot be judged"):
+        bench.compare(_campaign("rlg_thermal", base), _campaign("rlg_thermal", base))
+
+
+def test_plan_power_without_baseline_says_what_it_assumed():
+    plan = plan_power("ifog_thermal", "auto", baseline=None, alpha=0.05, gate=True)
+    assert plan.seeds == tuple(range(power.seeds_needed(1, 0.05))) == tuple(range(6))
+    assert "assumed a change larger than the seed-to-seed spread" in plan.auto
+    plan = plan_power("mems_scale_factor", "auto", baseline=None, alpha=0.05, gate=True)
+    assert len(plan.seeds) == power.seeds_needed(2, 0.05) == 7
+
+
+def test_plan_power_refuses_before_computing_and_names_the_seeds():
+    with pytest.raises(power.UnderpoweredError, match=r"at least 7 seeds \(--seeds 0:7\)"):
+        plan_power("mems_scale_factor", tuple(range(5)), baseline=None, alpha=0.05, gate=True)
+    plan = plan_power("mems_scale_factor", tuple(range(5)), baseline=None, alpha=0.05, gate=False)
+    assert plan.warning == "" and plan.seeds == tuple(range(5))  # a summary alone is not a gate
+
+
+@pytest.fixture(scope="module")
+def toy_baseline(tmp_path_factory):
+    d = tmp_path_factory.mktemp("power")
+    camp = bench.run_campaign(toy, toy.good, range(16), workers=0, db=d / "b.db", progress=False)
+    return bench.save_baseline(d / "good.json", camp)
+
+
+def _bench(argv, capsys):
+    code = main(["bench", TOY, "--workers", "0", "--quiet", *argv])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err.splitlines()
+
+
+def test_cli_refuses_an_underpowered_comparison_in_one_line(tmp_path, capsys, toy_baseline):
+    """The toy gates 3 mean scores: 5 seeds reach 3 x 2/2^5 = 0.19; refused, nothing computed."""
+    db = tmp_path / "c.db"
+    argv = ["--compensator", f"{TOY}:degraded", "--baseline", str(toy_baseline), "--seeds", "0:5", "--db", str(db)]
+    code, out, err = _bench(argv, capsys)
+    assert code == exits.BAD_INPUT and out == "" and not db.exists()
+    assert len(err) == 1 and "3 x 2/2^5 = 0.188 >= alpha 0.05" in err[0] and "at least 7 seeds" in err[0]
+    code, out, err = _bench([*argv, "--allow-underpowered"], capsys)
+    assert code == exits.OK, err  # the degraded compensator passes: this gate cannot fail
+    assert out.splitlines()[0].startswith("WARNING: underpowered:") and "cannot fail" in out.splitlines()[0]
+
+
+def test_cli_seeds_auto_from_the_baseline_catches_the_degraded_compensator(tmp_path, capsys, toy_baseline):
+    argv = ["--compensator", f"{TOY}:degraded", "--baseline", str(toy_baseline), "--seeds", "auto"]
+    code, out, err = _bench([*argv, "--db", str(tmp_path / "c.db")], capsys)
+    first = out.splitlines()[0]
+    assert re.match(r"--seeds auto: (\d+) seeds detect a 20 % change of mean/", first), first
+    n = int(first.split()[2])
+    assert power.seeds_needed(3, 0.05) <= n <= 16 and "seed-to-seed std" in first
+    assert code == exits.REGRESSION and f"over {n} matching seeds" in out
+    # a smaller change to detect asks for more seeds than the baseline holds: refused, one line
+    code, out, err = _bench([*argv, "--min-change", "0.01", "--db", str(tmp_path / "d.db")], capsys)
+    assert code == exits.BAD_INPUT and len(err) == 1 and "the baseline holds only 16 seeds" in err[0]
+
+
+def test_cli_prints_units_and_the_uncompensated_reference(tmp_path, capsys, toy_baseline):
+    argv = ["--compensator", f"{TOY}:good", "--baseline", str(toy_baseline), "--db", str(tmp_path / "c.db")]
+    code, out, err = _bench(argv, capsys)
+    assert code == exits.OK, err
+    head = next(line for line in out.splitlines() if line.startswith("score ") and "status" in line)
+    assert head.split()[:4] == ["score", "gate", "unit", "status"] and "uncompensated" in head
+    row = next(line for line in out.splitlines() if line.startswith("mean/mse ") and "unchanged" in line)
+    uncompensated = bench.run_campaign(toy, bench.UNCOMPENSATED, range(16), workers=0, db=tmp_path / "c.db",
+                                       progress=False)
+    assert f"{np.mean(uncompensated.values('mean/mse')):.6g}" in row.split()
+    assert "Holm over the 3 primary score(s)" in out and "not gated" in out
+
+
+def test_baseline_file_stores_what_it_can_detect(toy_baseline):
+    doc = json.loads(toy_baseline.read_text())["power"]
+    assert doc["seeds"] == 16 and set(doc["detectable"]) == {"mean/mse", "mean/rms", "mean/bias_stability"}
+    camp = bench.load_baseline(toy_baseline)
+    for name, d in doc["detectable"].items():
+        mean, std = power.spread(camp.values(name))
+        assert d["change"] == pytest.approx(power.detectable_change(std, 16, 3, 0.05))
+        assert d["relative"] == pytest.approx(d["change"] / mean)
+
+
+def five_percent_scale_error(X, y):
+    """A compensator for a "rate" target (mems_scale_factor: X = the output) that returns the
+    output 5 % too large: clearly worse than no compensation on the RMS rate error."""
+    return lambda Xn: 1.05 * np.asarray(Xn, dtype=float)[:, 0]
+
+
+LS = "sklearn.linear_model:LinearRegression"
+SCALED = "tests.scenarios.test_bench_power:five_percent_scale_error"
+
+#: scenario -> (the compensator of the baseline, a clearly worse one, --min-change, baseline seeds).
+#: On mems_scale_factor least squares is not reliably better than no compensation (the held-out
+#: runs' scale factor differs from the fitting runs'), and on fog_vibration it is 35x worse than
+#: none (issue filed in the report): there the uncompensated output is the baseline.
+GATE_CASES = {
+    "ifog_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
+    "rlg_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
+    "mems_scale_factor": (bench.UNCOMPENSATED, SCALED, 2.0, 16),
+    "fog_vibration": (bench.UNCOMPENSATED, LS, 1.0, 10),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scenario", sorted(SCENARIO_SCORES))
+def test_every_scenario_unchanged_passes_and_a_worse_one_fails_on_the_seeds_auto_asks(scenario, tmp_path, capsys):
+    """Issue 31 item 3 over every bench scenario: a compensator against its own baseline exits 0
+    on 3 seeds (allowed underpowered, with the warning first); a clearly worse one exits 1 on
+    the seeds --seeds auto picks from the baseline's spread."""
+    good, worse, min_change, n_base = GATE_CASES[scenario]
+    base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
+    common = ["--workers", "0", "-q", "--db", db, "--no-references"]
+    argv = ["bench", scenario, "--compensator", good, *common, "--seeds", f"0:{n_base}", "--save-baseline", base]
+    assert main(argv) == 0
+    capsys.readouterr()
+    code = main(["bench", scenario, "--compensator", good, *common, "--seeds", "0:3", "--baseline", base,
+                 "--allow-underpowered"])
+    out = capsys.readouterr().out
+    assert code == exits.OK and out.startswith("WARNING: underpowered:") and "FAILED" not in out
+    code = main(["bench", scenario, "--compensator", worse, *common, "--seeds", "auto", "--min-change",
+                 str(min_change), "--baseline", base])
+    cap = capsys.readouterr()
+    assert code == exits.REGRESSION, cap.out + cap.err
+    assert cap.out.startswith("--seeds auto: ") and "REGRESSION" in cap.out and "FAILED" not in cap.out
+
+
+def test_a_paper_reference_that_fails_is_left_out_with_a_warning(tmp_path, monkeypatch):
+    """The reference columns never fail the user's run: a paper method that raises is skipped."""
+    from gyrobench.scenarios.bench.primary import PrimaryScore, ScenarioScores
+
+    declared = ScenarioScores(
+        primary=(PrimaryScore(name="mean/rms", unit="deg/h", direction=-1),),
+        units={"rms": "deg/h"},
+        paper=f"{TOY}:fit_returning_nonsense",
+        paper_label="broken paper",
+    )
+    monkeypatch.setitem(SCENARIO_SCORES, "toy", declared)
+    with pytest.warns(UserWarning, match="reference broken paper .* not shown"):
+        refs = bench.reference_campaigns(toy, range(2), workers=0, db=tmp_path / "r.db")
+    assert list(refs) == ["uncompensated"]
+
+
+def _t1_only():
+    from sklearn.compose import ColumnTransformer
+    from sklearn.linear_model import LinearRegression
+    from sklearn.pipeline import make_pipeline
+
+    return make_pipeline(ColumnTransformer([("T1", "passthrough", [0])]), LinearRegression())
+
+
+#: rlg_thermal's least squares on the first regressor only (x1) instead of all eleven: a partial
+#: regression, not "no compensation". Over seeds 0-15 the held-out improvement falls from 28.0 %
+#: to 7.0 % (the issue's "28.4 % -> 7.0 %"), the bias stability rises on 16 of 16 seeds.
+rlg_x1_only = _t1_only()
+
+
+@pytest.mark.slow
+def test_rlg_thermal_partial_regression_exits_1_on_the_seeds_auto_asks(tmp_path, capsys):
+    base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
+    common = ["--workers", "0", "-q", "--db", db]
+    assert main(["bench", "rlg_thermal", "--compensator", LS, *common, "--seeds", "0:16", "--save-baseline", base]) == 0
+    capsys.readouterr()
+    worse = f"{__name__}:rlg_x1_only"
+    code = main(["bench", "rlg_thermal", "--compensator", worse, *common, "--seeds", "auto", "--baseline", base])
+    out = capsys.readouterr().out
+    assert code == exits.REGRESSION, out
+    assert out.startswith("--seeds auto: ") and "mean/bias_stability_deg_h" in out.splitlines()[0]
+    assert "REGRESSION: 1 of 1 primary score(s) significantly worse: mean/bias_stability_deg_h" in out
+    assert "least squares on x1..x11 (paper)" in out and "uncompensated" in out

@@ -1,7 +1,7 @@
 """The README's bench examples can fail (issue 31 item 5).
 
-:data:`README_SECTION` is the text proposed for README.md's "Bench: regression-test your own
-compensator" section (README.md is merged by the lead; paste it there verbatim). The tests run
+:data:`README_SECTION` is README.md's "Bench: regression-test your own compensator" section,
+read from the file. The tests run
 its own code blocks in a fresh project folder: the module ``mylab/models.py``, the two shell
 commands, and the pytest example, with the README's "worse" compensator (``changed``), and
 expect failure: exit 1 on the command line, a failing pytest run through the plugin.
@@ -20,109 +20,14 @@ import pytest
 from gyrobench.scenarios.bench.gate import plan_power
 from gyrobench.scenarios.bench.power import min_attainable_p
 
-README_SECTION = """\
-## Bench: regression-test your own compensator
+def _readme_section() -> str:
+    """README.md's "Bench: regression-test your own compensator" section, as shipped."""
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    start = text.index("## Bench: regression-test your own compensator")
+    return text[start:text.index("\n## ", start + 3)]
 
-A scenario with a compensation stage (`[bench]` in `gyrobench list`: `mems_scale_factor`,
-`ifog_thermal`, `rlg_thermal`, `fog_vibration`) defines the features a real test would log,
-one training run and the held-out runs, all with known truth. The bench fits your
-compensator on the training run, compensates every held-out run and scores it against
-the truth, for every seed. A compensator is any scikit-learn regressor or pipeline, an
-estimator class, or a plain function `fit(X, y) -> predict`. On the IFOG thermal scenario
-(features T, dT/dt and T x dT/dt from the logged coil temperature; target: output minus
-true rate, in deg/h), a project folder holding a package `mylab` with this module:
 
-```python
-# mylab/models.py  (beside an empty mylab/__init__.py)
-from sklearn.ensemble import GradientBoostingRegressor
-from sklearn.linear_model import Ridge
-from sklearn.pipeline import make_pipeline
-from sklearn.preprocessing import PolynomialFeatures, StandardScaler
-
-mine = make_pipeline(StandardScaler(), PolynomialFeatures(2), Ridge(alpha=1e-3))
-changed = make_pipeline(StandardScaler(), GradientBoostingRegressor(n_estimators=20, max_depth=2))
-```
-
-From that folder, in Python (`run_mine.py`):
-
-```python
-# run_mine.py
-from gyrobench.scenarios.bench import format_summary, run_campaign
-from mylab.models import mine
-
-if __name__ == "__main__":  # worker processes re-import this file
-    campaign = run_campaign("ifog_thermal", mine, seeds=range(12), workers=2, db="mine.sqlite")
-    print(format_summary(campaign))  # every score: unit, mean and 95 % interval over the seeds
-```
-
-or from the shell (`module:attr` is found from the current folder first, as `python -m`
-would find it):
-
-```console
-gyrobench bench ifog_thermal --compensator mylab.models:mine --seeds 0:12 --save-baseline good.json
-gyrobench bench ifog_thermal --compensator mylab.models:changed --baseline good.json
-```
-
-The second command exits 1: `changed` has a larger held-out RMS error than `mine` on
-nearly every seed (0.10 against 0.08 deg/h over seeds 0-11; uncompensated: 0.26 deg/h).
-
-- **Primary scores.** Each scenario gates a regression on one or two *primary* scores
-  (ifog_thermal and fog_vibration: `mean/rms` [deg/h]; rlg_thermal:
-  `mean/bias_stability_deg_h` [deg/h]; mems_scale_factor: `mean/nonlinearity_pct` [%] and
-  `mean/rms_dps` [deg/s]). The other scores (each held-out run's, the other means) are
-  tested and reported, never gated.
-- **The test.** `--baseline` compares per-seed scores with a paired two-sided Wilcoxon
-  signed-rank test (seed s of both campaigns sees the same simulated data), Holm-adjusted
-  over the primary scores at `--alpha` (0.05); the output states the test and correction,
-  prints each score with its unit beside the uncompensated output and the paper's method
-  (where the bench knows it; `--no-references` skips both), and exits 1 on a significant
-  regression of a primary score.
-- **Enough seeds, checked before the run.** With n seeds and m primary scores the smallest
-  p the gate can report is m x 2/2^n. A comparison (or a baseline written) whose seeds
-  cannot reach `--alpha` is refused in one line naming the seeds needed (exit 2; 6 seeds
-  for one primary score, 7 for two); `--allow-underpowered` runs it anyway with a WARNING
-  on the first line. `--seeds auto` picks the count that detects a 20 % change of each
-  primary score (`--min-change`) with power 0.8, from the baseline's seed-to-seed spread
-  (without a baseline it assumes a change larger than that spread, and says so); the
-  baseline file stores, under `"power"`, the change its seeds can detect.
-- Seeds run on local processes (`--workers N`) or on a dask.distributed cluster
-  (`--scheduler tcp://host:8786`, through `Client.get_executor()`); a seed gives the
-  same scores, bit for bit, on any executor.
-- The summary gives each score's mean over the seeds with a 95 % interval: Student t
-  for scores of either sign, and for scores that cannot be negative (MSE, RMS, bias
-  stability, nonlinearity) the modified-Cox lognormal interval, which stays above 0.
-- Every finished seed is committed to SQLite (`--db`, default `gyrobench-bench.sqlite`)
-  in its own transaction: a campaign killed at any moment resumes where it stopped and
-  recomputes nothing. Changing the scenario's code or configuration, or the
-  compensator's, starts a new campaign instead of mixing results.
-- Exit status: 0 no significant regression; 1 a primary score significantly worse; 2 bad
-  input, a compensator that raises, or too few seeds; 3 a comparison that cannot be made or
-  a compensator that fails (non-finite output) on some seed; never 0 with "FAILED" printed.
-- In your own test suite, installing gyrobench registers a pytest plugin whose fixture
-  does the same (it loads nothing heavy until a test uses it, and never collides with your
-  own package names). In the same project, `tests/test_mine.py`:
-
-```python
-# tests/test_mine.py
-def test_my_compensator_does_not_regress(gyrobench_bench):
-    gyrobench_bench.assert_no_regression(
-        "ifog_thermal", "mylab.models:mine", baseline="baselines/ifog.json", seeds=range(12)
-    )
-```
-
-  Write the baseline once from the compensator you trust, then run the tests as usual
-  (`module:attr` is found from pytest's rootdir; the baseline path is relative to the test
-  file, so this writes `tests/baselines/ifog.json`):
-
-```console
-python -m pytest --gyrobench-save-baselines tests/test_mine.py
-python -m pytest tests/test_mine.py
-```
-
-  The test fails if the compensator regresses, and fails at once, naming the seeds needed,
-  if its seeds could never show a regression (`allow_underpowered=True` turns that into a
-  warning in pytest's report; `seeds="auto"` sizes the run from the baseline).
-"""
+README_SECTION = _readme_section()
 
 
 def _blocks(kind: str) -> list[str]:

@@ -20,6 +20,7 @@ import pytest
 from gyrobench.scenarios.bench.gate import plan_power
 from gyrobench.scenarios.bench.power import min_attainable_p
 
+
 def _readme_section() -> str:
     """README.md's "Bench: regression-test your own compensator" section, as shipped."""
     text = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")

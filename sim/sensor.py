@@ -32,6 +32,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 from gyrobench.sim import mems_resonator as mr
+from gyrobench.sim._validate import check_fs, check_rng, positive_number
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit
 from gyrobench.sim.recording import Channel, Recording
@@ -106,9 +107,7 @@ class Environment:
     specific_force: Input = 0.0
 
     def __post_init__(self) -> None:
-        d = self.duration
-        if isinstance(d, bool) or not isinstance(d, Real) or not (math.isfinite(d) and d > 0):
-            raise ValueError(f"Environment.duration must be a finite number > 0 s; got {d!r}")
+        positive_number("Environment.duration", self.duration, "s")
         _check_input("true_rate", self.true_rate, "rad/s")
         _check_input("temperature", self.temperature, "K", optional=True)
         _check_input("specific_force", self.specific_force, "m/s^2")
@@ -192,11 +191,8 @@ RLG_ERROR_COMPONENTS = ("turn_on_bias", "thermal_bias", "flicker_rrw", "dither_r
 
 
 def _check_common(fs: float, rng: object) -> float:
-    if isinstance(fs, bool) or not isinstance(fs, Real) or not (math.isfinite(fs) and fs > 0):
-        raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-    return float(fs)
+    check_rng(rng)
+    return check_fs(fs)
 
 
 def _with_meta(rec: Recording, **extra: object) -> Recording:
@@ -302,9 +298,7 @@ class MemsSensor:
     def __post_init__(self) -> None:
         if not isinstance(self.spec, mr.MemsResonatorSpec):
             raise TypeError(f"MemsSensor.spec must be a MemsResonatorSpec; got {type(self.spec).__name__}")
-        b = self.temperature_block
-        if isinstance(b, bool) or not isinstance(b, Real) or not (math.isfinite(b) and b > 0):
-            raise ValueError(f"MemsSensor.temperature_block must be a finite number > 0 s; got {b!r}")
+        positive_number("MemsSensor.temperature_block", self.temperature_block, "s")
 
     def realize(self, rng: np.random.Generator) -> MemsSensorUnit:
         """Draw one unit (:meth:`MemsResonatorSpec.realize`)."""

@@ -33,6 +33,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
+from gyrobench.sim._validate import check_rng as _check_rng
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
 from numpy.typing import ArrayLike, NDArray
@@ -72,12 +73,6 @@ def _nonneg_fields(owner: str, obj: object, names: tuple[str, ...], unit: str) -
     """Check that each named attribute of ``obj`` is a finite real >= 0 (``unit``: message)."""
     for name in names:
         _nonneg(owner, name, getattr(obj, name), unit)
-
-
-def _check_rng(rng: object) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-    return rng
 
 
 def _require_dither_margin(dither: Dither, lock_in: float, what: str, context: str = "") -> None:

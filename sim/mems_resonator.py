@@ -130,6 +130,8 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import check_rng as _check_rng
+from gyrobench.sim._validate import real_number
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 from numpy.typing import ArrayLike, NDArray
@@ -168,11 +170,7 @@ EPSILON_0 = 8.8541878128e-12
 
 
 def _real(owner: str, name: str, v: object) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
-    if not math.isfinite(float(v)):
-        raise ValueError(f"{owner}.{name} must be finite; got {v!r}")
-    return float(v)
+    return real_number(f"{owner}.{name}", v)
 
 
 #: sigmas a datasheet's +- (or max) limit is read as: the convention of this module's cited
@@ -389,11 +387,6 @@ class MemsResonator:
         return replace(
             self, turn_on_bias=self.bias_repeatability * float(z_b), turn_on_scale_factor=e_on
         )
-
-
-def _check_rng(rng: object) -> None:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
 
 
 @dataclass(frozen=True, slots=True)

@@ -116,6 +116,7 @@ from typing import Any
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import check_fs as _check_fs
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
 
@@ -1023,13 +1024,6 @@ class NoiseModel:
     ) -> dict[str, NDArray[np.float64]]:
         """Each term's samples (the truth a Recording keeps); they sum to :meth:`generate`."""
         return self.stream(fs, rng=rng, t0=t0).take_components(n)
-
-
-def _check_fs(fs: float) -> None:
-    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.floating, np.integer)):
-        raise TypeError(f"fs must be a real number [Hz]; got {fs!r}")
-    if not (math.isfinite(fs) and fs > 0):
-        raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
 
 
 class NoiseStream:

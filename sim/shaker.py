@@ -48,6 +48,9 @@ from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import check_fs as _check_fs
+from gyrobench.sim._validate import check_rng as _check_rng
+from gyrobench.sim._validate import real_number
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
@@ -65,30 +68,12 @@ __all__ = [
 
 
 def _real(owner: str, name: str, v, unit: str, *, positive: bool = False, nonneg: bool = False) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{owner}.{name} must be a real number [{unit}]; got {v!r}")
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{owner}.{name} must be finite [{unit}]; got {v!r}")
+    v = real_number(f"{owner}.{name}", v, unit)
     if positive and v <= 0:
         raise ValueError(f"{owner}.{name} must be > 0 {unit}; got {v!r}")
     if nonneg and v < 0:
         raise ValueError(f"{owner}.{name} must be >= 0 {unit}; got {v!r}")
     return v
-
-
-def _check_rng(rng) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-    return rng
-
-
-def _check_fs(fs) -> float:
-    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.integer, np.floating)) or not (
-        math.isfinite(fs) and fs > 0
-    ):
-        raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
-    return float(fs)
 
 
 @dataclass(frozen=True, slots=True)
@@ -299,7 +284,8 @@ class SineSweep:
         rng = _check_rng(rng)
         if self.max_frequency >= fs / 2:
             raise ValueError(
-                f"SineSweep up to {self.max_frequency!r} Hz needs fs > {2 * self.max_frequency!r} Hz (Nyquist); got fs={fs!r} Hz"
+                f"SineSweep up to {self.max_frequency!r} Hz needs fs > {2 * self.max_frequency!r} Hz (Nyquist); "
+                f"got fs={fs!r} Hz"
             )
         n = int(round(self.duration * fs))
         t = np.arange(n) / fs
@@ -362,7 +348,8 @@ class FixedSine:
         """Commanded acceleration envelope [m/s^2]."""
         t = np.asarray(t, dtype=float)
         f = np.full_like(t, self.frequency)
-        return _displacement_limited(self.acceleration, f, self.max_displacement) * _taper(t, self.duration, self.ramp_time)
+        envelope = _taper(t, self.duration, self.ramp_time)
+        return _displacement_limited(self.acceleration, f, self.max_displacement) * envelope
 
     def sample(self, fs: float, *, rng: np.random.Generator, t0: float = 0.0) -> ShakerSignal:
         """Sample the dwell at ``fs`` [Hz]; raises ValueError if ``frequency`` >= fs/2."""
@@ -580,5 +567,10 @@ class Phased:
             return np.concatenate([np.full(n1, fill, dtype=x.dtype), x, np.full(n3, fill, dtype=x.dtype)])
 
         return ShakerSignal(
-            fs, pad(vib.acceleration, 0.0), pad(vib.frequency, np.nan), pad(vib.amplitude, 0.0), pad(vib.on, False), float(t0)
+            fs,
+            pad(vib.acceleration, 0.0),
+            pad(vib.frequency, np.nan),
+            pad(vib.amplitude, 0.0),
+            pad(vib.on, False),
+            float(t0),
         )

@@ -138,3 +138,13 @@ def test_checks_on_worker_processes_equal_checks_in_process():
     here = physics_checks.run_checks(cfg, 3)
     pooled = physics_checks.run_checks(cfg, 3, workers=2)
     assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]
+
+
+def test_progress_bar_moves_per_module_and_changes_no_number(capsys):
+    """The bar reports each module as it finishes; the checks are those of a run without it."""
+    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_coil"))
+    plain = physics_checks.run_checks(cfg, 3)
+    shown = physics_checks.run_checks(cfg, 3, progress=True)
+    assert [c.as_dict() for c in shown] == [c.as_dict() for c in plain]
+    err = capsys.readouterr().err
+    assert "checks_fog: 4/4 passed" in err and "2/2" in err

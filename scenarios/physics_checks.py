@@ -59,7 +59,7 @@ def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = 
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(config.modules), desc=NAME, unit="module", leave=False)
+        bar = tqdm(total=len(config.modules), desc=NAME, unit="module", leave=False, mininterval=0)
 
         def done(name: str, checks: list[Check]) -> None:
             bar.set_postfix_str(f"{name.rsplit('.', 1)[-1]}: {sum(c.passed for c in checks)}/{len(checks)} passed")

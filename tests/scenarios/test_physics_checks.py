@@ -147,4 +147,4 @@ def test_progress_bar_moves_per_module_and_changes_no_number(capsys):
     shown = physics_checks.run_checks(cfg, 3, progress=True)
     assert [c.as_dict() for c in shown] == [c.as_dict() for c in plain]
     err = capsys.readouterr().err
-    assert "checks_fog: 4/4 passed" in err and "2/2" in err
+    assert "checks_fog: 4/4 passed" in err and "checks_coil: 6/6 passed" in err and "1/2" in err

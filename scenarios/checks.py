@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import math
+from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
 
@@ -117,18 +118,31 @@ def collect(
     modules: tuple[str, ...] = CHECK_MODULES,
     *,
     executor: Executor | None = None,
+    on_module_done: Callable[[str, list[Check]], None] | None = None,
 ) -> list[Check]:
     """Run every check module's ``checks`` with its own child stream of ``rng``.
 
     Each module gets one spawned child generator, in the order of ``modules``, so adding a
     module at the end changes no earlier module's numbers, and the results are the same
     whether the modules run here or on ``executor`` (e.g. a process pool), in any order.
+    ``on_module_done(name, checks)`` is called as each module finishes (in completion order
+    on an executor), e.g. to move a progress bar.
     """
     children = rng.spawn(len(modules))
     if executor is None:
-        per_module = [_module_checks(n, c) for n, c in zip(modules, children, strict=True)]
+        per_module = []
+        for n, c in zip(modules, children, strict=True):
+            per_module.append(_module_checks(n, c))
+            if on_module_done is not None:
+                on_module_done(n, per_module[-1])
     else:
-        per_module = list(executor.map(_module_checks, modules, children))
+        from concurrent.futures import as_completed
+
+        futures = {executor.submit(_module_checks, n, c): n for n, c in zip(modules, children, strict=True)}
+        if on_module_done is not None:
+            for f in as_completed(futures):
+                on_module_done(futures[f], f.result())
+        per_module = [f.result() for f in futures]
     out: list[Check] = [c for checks in per_module for c in checks]
     ids = [c.id for c in out]
     dup = sorted({i for i in ids if ids.count(i) > 1})

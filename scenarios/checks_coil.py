@@ -11,6 +11,14 @@
   (sum of the turn weights vs their magnitude; rounding tolerance).
 - ``coil.quadrupole_axial_gradient``: the quadrupolar residual under a pure axial gradient
   of the temperature rate, through the precomputed node map, vs its closed form per layer.
+- ``coil.shupe_radial_helical`` / ``coil.shupe_radial_quadrupolar`` /
+  ``coil.shupe_radial_cancellation_ratio``: the Shupe integral sum_i w_i Tdot_i of the (r, z)
+  coil (ideal winding, no crossovers or leads) under a heating rate linear in radius,
+  Tdot = G r, through the node map, vs its closed form layer by layer: a layer of N turns at
+  radius r_j holds Lambda_j = 2 pi r_j N of fibre; its turns' weights sum to
+  Lambda_j (L - 2 s_mid,j) (linear in s), with s_mid,j = C_j + Lambda_j/2 (helical, C_j the
+  fibre wound before) or L/2 -+ (C_j + Lambda_j/2) (half A / B of a symmetric winding, C_j the
+  half's earlier layers); Shupe, Appl. Opt. 19 (1980) 654 for the weighting (L - 2z).
 - ``coil.potted_cylinder_strain`` / ``coil.potted_cylinder_pressure``: the composite-cylinder
   solver with an isotropic pack vs the compound-cylinder (Lame) closed form.
 - ``coil.modal_vs_expm``: the modal first-order-hold stepping vs the matrix exponential of
@@ -162,6 +170,71 @@ def _quadrupole_check() -> Check:
     )
 
 
+def radial_shupe_closed_form(spec: coil2d.Coil2DSpec, G: float) -> float:
+    """sum_layers sum_turns l (L - 2 s) G r_j [m^3 K/s] for Tdot = G r, ideal winding, layer by layer."""
+    seq = winding_sequence(spec.winding, spec.layers)
+    radii = [spec.inner_radius + (j + 0.5) * spec.layer_pitch for j in range(spec.layers)]
+    lam = [spec.turns_per_layer * 2 * math.pi * r for r in radii]
+    length = sum(lam)
+    total = 0.0
+    if seq is None:  # helical: one fibre from port A, layer after layer
+        wound = 0.0
+        for r, lj in zip(radii, lam, strict=True):
+            total += G * r * lj * (length - 2 * wound - lj)
+            wound += lj
+        return total
+    wound_half = {"A": 0.0, "B": 0.0}  # each half from the fibre midpoint toward its port
+    for r, lj, half in zip(radii, lam, seq, strict=True):
+        sign = 1.0 if half == "A" else -1.0
+        total += sign * G * r * lj * (2 * wound_half[half] + lj)
+        wound_half[half] += lj
+    return total
+
+
+def _radial_shupe_checks() -> list[Check]:
+    out: dict[str, tuple[float, float, float, int]] = {}
+    for winding in ("helical", "quadrupolar"):
+        spec = dataclasses.replace(coil2d.Coil2DSpec(), winding=winding, crossover_turns=0.0, lead_length=0.0)
+        unit = coil2d.Coil2D(spec=spec)
+        fm = unit.fibre()
+        g = unit._grid
+        P = g.interpolation(fm.r, fm.z)
+        rc = np.repeat(g.r_centres, g.shape[1])  # node i*nz + j -> r_i
+        simulated = float((P.T @ fm.weights) @ rc)
+        scale = float(np.sum(np.abs(fm.weights * fm.r)))
+        out[winding] = (simulated, radial_shupe_closed_form(spec, 1.0), scale, len(fm.r))
+    checks = []
+    tols = {}
+    for winding, (sim, cf, scale, n) in out.items():
+        tols[winding] = 64 * n * _EPS * scale / abs(cf)
+        checks.append(
+            Check(
+                id=f"coil.shupe_radial_{winding}",
+                formula="sum_j (+-) G r_j Lambda_j (L - 2 s_mid,j), Lambda_j = 2 pi r_j N "
+                f"[m^3 K/s per (K/s/m)]; {winding}, 40 layers x 80 turns, Tdot = G r, G = 1 K/s/m, "
+                "through the node map W = P^T w (Shupe weighting, Appl. Opt. 19 (1980) 654)",
+                expected=cf,
+                simulated=sim,
+                tolerance=tols[winding],
+                derivation="bilinear interpolation is exact for a field linear in r, so only "
+                f"rounding: 64 n eps x sum |w r| / |expected| (n = {n} pieces)",
+            )
+        )
+    (h, hcf, _, _), (q, qcf, _, _) = out["helical"], out["quadrupolar"]
+    checks.append(
+        Check(
+            id="coil.shupe_radial_cancellation_ratio",
+            formula="Shupe integral helical / quadrupolar under Tdot = G r, (r, z) coil, closed "
+            "forms layer by layer",
+            expected=hcf / qcf,
+            simulated=h / q,
+            tolerance=tols["helical"] + tols["quadrupolar"],
+            derivation="relative errors of a ratio add: the two checks' tolerances summed",
+        )
+    )
+    return checks
+
+
 def _strain_checks() -> list[Check]:
     a, b, c = 0.035, 0.0472, 0.0528
     Es, nus, als = 69e9, 0.33, 23.1e-6
@@ -239,6 +312,7 @@ def checks(rng: np.random.Generator) -> list[Check]:
         _conduction_check(),
         _uniform_check(),
         _quadrupole_check(),
+        *_radial_shupe_checks(),
         *_strain_checks(),
         _modal_check(),
     ]

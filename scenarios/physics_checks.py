@@ -12,6 +12,7 @@ a statistical check: each states its false-alarm rate).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +20,10 @@ from gyrobench.scenarios.base import Headline, Outcome, Table
 from gyrobench.scenarios.checks import CHECK_MODULES, Check, collect
 
 NAME = "physics_checks"
-TITLE = "Closed-form checks of the sensor models (noise, FOG loop and coil, MEMS resonator, RLG): simulated beside the equations"
+TITLE = (
+    "Closed-form checks of the sensor models (noise, FOG loop and coil, MEMS resonator, RLG): "
+    "simulated beside the equations"
+)
 
 __all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
 
@@ -42,19 +46,35 @@ def simulate(config: Config, seed: int) -> list:
     return []
 
 
-def run_checks(config: Config, seed: int, *, workers: int = 0) -> list[Check]:
+def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = False) -> list[Check]:
     """Every check of ``config.modules``, drawing from ``numpy.random.default_rng(seed)``.
 
     ``workers`` > 0 runs the modules on that many local processes (the same numbers: each
-    module draws from its own child stream).
+    module draws from its own child stream). ``progress`` shows a tqdm bar on stderr that
+    moves as each check module finishes, with its passed/total.
     """
     rng = np.random.default_rng(seed)
-    if workers <= 0 or len(config.modules) < 2:
-        return collect(rng, config.modules)
-    from concurrent.futures import ProcessPoolExecutor
+    bar = None
+    done: Callable[[str, list[Check]], None] | None = None
+    if progress:
+        from tqdm import tqdm
 
-    with ProcessPoolExecutor(max_workers=min(workers, len(config.modules))) as pool:
-        return collect(rng, config.modules, executor=pool)
+        bar = tqdm(total=len(config.modules), desc=NAME, unit="module", leave=False, mininterval=0)
+
+        def done(name: str, checks: list[Check]) -> None:
+            bar.set_postfix_str(f"{name.rsplit('.', 1)[-1]}: {sum(c.passed for c in checks)}/{len(checks)} passed")
+            bar.update(1)
+
+    try:
+        if workers <= 0 or len(config.modules) < 2:
+            return collect(rng, config.modules, on_module_done=done)
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=min(workers, len(config.modules))) as pool:
+            return collect(rng, config.modules, executor=pool, on_module_done=done)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
@@ -120,5 +140,5 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     import os
 
     t0 = time.perf_counter()
-    checks = run_checks(config, seed, workers=len(os.sched_getaffinity(0)))
+    checks = run_checks(config, seed, workers=len(os.sched_getaffinity(0)), progress=progress)
     return report(config, seed, checks, time.perf_counter() - t0)

@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_fog, checks_noise, checks_rlg, physics_checks, registry
+from gyrobench.scenarios import checks_coil, checks_noise, checks_rlg, physics_checks, registry
 from gyrobench.scenarios.checks import CHECK_MODULES, collect
 from gyrobench.scenarios.report import write_report
 
@@ -23,16 +23,13 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
     assert [m.rsplit(".", 1)[1].removeprefix("checks_") for m in CHECK_MODULES] == [
         "noise", "fog", "rlg", "mems", "rlg_cavity", "fog_loop", "coil"
     ]
-    assert ids[:12] == [
+    assert ids[:9] == [
         "noise.avar_Q",
         "noise.avar_N",
         "noise.avar_B",
         "noise.avar_K",
         "noise.avar_R",
         "fog.sagnac_scale_factor",
-        "fog.shupe_helical",
-        "fog.shupe_quadrupolar",
-        "fog.shupe_cancellation_ratio",
         "rlg.adler_beat_1.1x_lock_in",
         "rlg.adler_beat_2x_lock_in",
         "rlg.dither_random_walk",
@@ -87,20 +84,16 @@ def test_a_wrong_model_fails_the_noise_checks(monkeypatch):
 
 
 def test_a_wrong_winding_fails_the_shupe_checks(monkeypatch):
-    """A model that winds 'quadrupolar' coils dipolar (AB instead of ABBA) is caught."""
-    from gyrobench.sim import coil
+    """A (r, z) coil that winds 'quadrupolar' coils dipolar (AB instead of ABBA) is caught."""
+    from gyrobench.sim import coil2d
 
-    real = coil.Winding.ideal
+    real = coil2d.winding_sequence
     monkeypatch.setattr(
-        coil.Winding,
-        "ideal",
-        classmethod(
-            lambda cls, p, m, length: real("dipolar" if p == "quadrupolar" else p, m, length)
-        ),
+        coil2d, "winding_sequence", lambda p, m: real("dipolar" if p == "quadrupolar" else p, m)
     )
-    res = {c.id: c.passed for c in checks_fog.checks(np.random.default_rng(0))}
-    assert not res["fog.shupe_quadrupolar"] and not res["fog.shupe_cancellation_ratio"]
-    assert res["fog.sagnac_scale_factor"] and res["fog.shupe_helical"]
+    res = {c.id: c.passed for c in checks_coil.checks(np.random.default_rng(0))}
+    assert not res["coil.shupe_radial_quadrupolar"] and not res["coil.shupe_radial_cancellation_ratio"]
+    assert res["coil.shupe_radial_helical"]
 
 
 def test_adler_check_uses_the_model(monkeypatch):
@@ -138,3 +131,13 @@ def test_checks_on_worker_processes_equal_checks_in_process():
     here = physics_checks.run_checks(cfg, 3)
     pooled = physics_checks.run_checks(cfg, 3, workers=2)
     assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]
+
+
+def test_progress_bar_moves_per_module_and_changes_no_number(capsys):
+    """The bar reports each module as it finishes; the checks are those of a run without it."""
+    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_coil"))
+    plain = physics_checks.run_checks(cfg, 3)
+    shown = physics_checks.run_checks(cfg, 3, progress=True)
+    assert [c.as_dict() for c in shown] == [c.as_dict() for c in plain]
+    err = capsys.readouterr().err
+    assert "checks_fog: 1/1 passed" in err and "checks_coil: 9/9 passed" in err and "1/2" in err

@@ -55,6 +55,7 @@ def test_recovers_exactly_the_true_set_when_others_are_orthogonal():
     np.testing.assert_allclose(m.coef_, [0.0, 3.0, 2.0, 0.0, -1.0], rtol=0, atol=1e-12)
 
 
+@pytest.mark.slow  # statistical calibration over many fits (tens of seconds): slow tier
 def test_noise_regressor_enters_at_the_stated_rate(rng):
     """Two real terms and one pure-noise candidate: the noise term's partial F (given the real
     terms) is exactly F(1, n - 4) under the null, so it enters with probability p_enter = 0.05.

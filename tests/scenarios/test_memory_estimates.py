@@ -100,6 +100,7 @@ EXTRA = [
 ]
 
 
+@pytest.mark.slow  # runs every paper unit at its default config under a memory probe (tens of seconds): slow tier
 def test_estimates_bound_the_measured_peak_at_the_default_config():
     _check_bounds(_measure([(s, f, {}) for s in SCENARIOS for f in ("simulate", "experiment")]))
 

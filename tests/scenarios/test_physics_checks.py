@@ -125,6 +125,7 @@ def test_config_refuses_bad_modules():
         physics_checks.Config(modules=("a", 3))
 
 
+@pytest.mark.slow  # runs the check modules twice, in process and on workers (tens of seconds): slow tier
 def test_checks_on_worker_processes_equal_checks_in_process():
     """The modules' numbers do not depend on where they run (each has its own child stream)."""
     cfg = physics_checks.Config(modules=CHECK_MODULES[:3])

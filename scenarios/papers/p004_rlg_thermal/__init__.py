@@ -59,9 +59,10 @@ from .claims import (  # noqa: E402
     PAPER_DROPPED,
     PAPER_IMPROVEMENT_PCT,
     PAPER_SELECTED,
+    THERMAL_PRECONDITION,
     claims_for,
 )
-from .config import Config  # noqa: E402
+from .config import VARIANTS, Config, control_config, variant_config  # noqa: E402
 from .experiment import bias_stability_scores, compensation_task, experiment  # noqa: E402
 from .report import report  # noqa: E402
 from .results import UnitResult  # noqa: E402
@@ -77,7 +78,11 @@ __all__ = [
     "PAPER_DROPPED",
     "PAPER_IMPROVEMENT_PCT",
     "PAPER_SELECTED",
+    "THERMAL_PRECONDITION",
     "Config",
+    "VARIANTS",
+    "control_config",
+    "variant_config",
     "UnitResult",
     "bias_stability_scores",
     "claims_for",

@@ -306,3 +306,26 @@ def test_twenty_units_every_claim_testable():
     o = sc.report(sc.Config(), us, res)
     assert len(o.results["unit_rows"]) == 20
     assert all(math.isfinite(r["cross_unit_ratio"]) for r in o.results["unit_rows"])
+
+
+def test_triples_group_consecutive_units_and_judge_the_mean_improvement(three_units):
+    """Three units make one triple; its ratio is 1 / (1 - mean improvement); four units still one."""
+    from gyrobench.scenarios.papers.p004_rlg_thermal.triples import judge_triples
+
+    t = judge_triples(three_units)
+    assert t.seeds == (0,)
+    present = all(sc.THERMAL_PRECONDITION.present(u.quantities["thermal_share"]) for u in three_units)
+    assert (t.testable, t.precondition_absent) == ((1, 0) if present else (0, 1))
+    if present:
+        gains = [1.0 - 1.0 / u.quantities["heldout_ratio"] for u in three_units]
+        assert t.ratios[0] == pytest.approx(1.0 / (1.0 - sum(gains) / 3.0), rel=1e-12)
+        assert min(u.quantities["heldout_ratio"] for u in three_units) <= t.ratios[0]
+        assert t.ratios[0] <= max(u.quantities["heldout_ratio"] for u in three_units)
+    assert judge_triples(three_units[:2]).seeds == ()
+    assert judge_triples([*three_units, three_units[0]]).seeds == (0,)
+
+
+def test_report_gives_the_triples(outcome):
+    t = outcome.results["triples_65pct"]
+    assert t["claim"] == "004.improvement_65pct" and t["triples"] == 1
+    assert "triples of units" in outcome.conclusion

@@ -1,13 +1,16 @@
 """Paper 004's claims and protocol deviations, as data over :class:`~.results.UnitResult`.
 
-Every claim is emergent: the thermal bias comes from mechanisms (Langmuir flow of the two
-discharge legs at their own gas temperatures, the current regulators' drift, the
-backscatter null shift whose phases follow the block's expansion and the PLC, mode hops),
-evaluated on the nodes of a housing/block thermal network that T1 and T2 read; no term is
-written in the form of the paper's regressors and no size was set from a paper-004 number.
+Roles: the large thermal effect, Multiple R and adjusted R^2 are ``device`` claims (the
+large effect and adjusted R^2 sized by the identification, :mod:`.identify`, and so
+``calibrated``, as they say); selection, RMSE, significance F and improvement are ``method`` claims judged where
+the unit shows the thermal effect (:data:`THERMAL_PRECONDITION`); the mode-hop questions are
+``extension`` claims (ours). The thermal bias comes from mechanisms (Langmuir flow, regulator
+drift, backscatter null shift following the block and the PLC, mode hops) on a housing/block
+thermal network; no term is written in the form of the paper's regressors.
 Each claim reads one key of the unit's ``quantities`` (built by
 :func:`.experiment.experiment`); the paper's "three gyros" statements are per-unit
-statements judged over the population of units.
+statements judged over the population of units (the 65 % also over triples of units,
+:mod:`.triples`).
 """
 
 from __future__ import annotations

@@ -87,6 +87,8 @@ __all__ = [
     "SPEED_OF_LIGHT",
     "ZERODUR_CTE_CLASS_2",
     "LANGMUIR_COEFFICIENT",
+    "LANGMUIR_COEFFICIENT_PRINTED",
+    "LANGMUIR_VELOCITY_SENSITIVITY",
     "lock_in_from_backscatter",
     "Backscatter",
     "PathLengthControl",
@@ -109,6 +111,16 @@ ZERODUR_CTE_CLASS_2 = 0.10e-6
 #: mechanism stays below 1e-4 deg/h for any plausible imbalance and the thermal bias would
 #: be the backscatter null shift alone (effect on paper 004 in its DEVIATIONS).
 LANGMUIR_COEFFICIENT = units.deg_per_h(0.0066) / 1e-6
+#: Langmuir-flow null shift per unit of leg-current imbalance as its source prints it
+#: [rad/s per A]: Aronowitz & Lim, "Dispersion and gas flow effects in the ring laser gyro",
+#: Opt. Eng. 18(4) 376 (1979), abstract: "A nullshift sensitivity of 0.0066 deg/hr/mamp of
+#: unbalance was found" (43.4 cm and 21.7 cm visible laser gyros). Pinned in
+#: tests/sim/test_rlg_sources.py.
+LANGMUIR_COEFFICIENT_PRINTED = units.deg_per_h(0.0066) / 1e-3
+#: Null shift per unit of gas-velocity unbalance [rad/s per (m/s)], same source: "the nullshift
+#: sensitivity to velocity flow to be 4.4 deg/hr/cm/sec of velocity unbalance". Not used by the
+#: model (it works in current imbalance); kept as the source's second printed figure.
+LANGMUIR_VELOCITY_SENSITIVITY = units.deg_per_h(4.4) / 1e-2
 
 
 # ============================================================================ backscatter

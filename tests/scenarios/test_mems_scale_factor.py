@@ -489,3 +489,23 @@ def test_identified_device_is_monotone_through_the_table():
     unit = ms.draw_unit(ms.device_spec(cfg), 0)
     out = ms.static_output(unit, dense_rates(cfg), unit.reference_temperature, ms.rate_transfer(cfg))
     assert np.all(np.diff(out) > 0)
+
+
+@pytest.mark.slow
+def test_bench_separates_no_correction_from_the_papers_fit():
+    """On the identified device the bench is meaningful: an identity compensator (the raw output)
+    scores a held-out K_n more than twice the paper's piecewise fit's on most units.
+
+    Sign test: under "no difference" each of n = 8 units (seeds 0-7) shows it with probability
+    at most 1/2, so all 8 happen with probability 2^-8 = 0.4 % (the false-alarm rate)."""
+    cfg = ms.Config()
+    wins = 0
+    for seed in range(8):
+        task = ms.compensation_task(cfg, seed)
+        pw = PiecewisePolynomial(orders=cfg.orders, join_width=cfg.join_width, alpha=cfg.piecewise_alpha)
+        pw.fit(task.X_train, task.y_train)
+        run = task.heldout[0]
+        identity = task.scorer(run.output, run)["nonlinearity_pct"]
+        fitted = task.scorer(pw.predict(run.X), run)["nonlinearity_pct"]
+        wins += identity > 2.0 * fitted
+    assert wins == 8

@@ -169,9 +169,9 @@ CLAIMS: tuple[Claim, ...] = (
         paper=PAPER,
         where="Sec. 3, after Table 2",
         statement=(
-            "In the low-rate segment (between the breakpoints found) K_n is of order 1e-3 "
-            "(read as within a factor sqrt(10) of 1e-3; untestable on a unit where the "
-            "heuristic does not find both breakpoints)."
+            "In the low-rate segment K_n is of order 1e-3 (read as within a factor sqrt(10) of "
+            "1e-3; a device property, so measured on the paper's segment between -1800 and "
+            "+1800 deg/s, not between the breakpoints our heuristic finds)."
         ),
         kind="emergent",
         quantity="low_rate_kn",

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from . import NAME
 from .config import PAPER_ORDER, PAPER_RAW_KN, Config
 from .device import device_spec, rate_authority_dps, rate_transfer, static_output
+from .identify import LOW_RATE_LIMIT_DPS
 from .rate_table import dense_rates, run_means, simulate_runs, trace
 from .results import DeviceSummary, Join, MethodScore, MlpFit, RawAnalysis, UnitResult
 
@@ -135,6 +136,7 @@ def raw_analysis(
         raw_kn_pct=float(np.mean(per_run)),
         raw_kn_pct_heldout=_mean_kn(rates, held_means),
         low_rate_kn=low_kn,
+        low_rate_kn_paper=range_nonlinearity(rates, table1, -LOW_RATE_LIMIT_DPS, LOW_RATE_LIMIT_DPS),
         breakpoints_dps=tuple(search.breakpoints),
         search_trace=search.trace,
     )
@@ -268,7 +270,7 @@ def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str
         "raw_kn_ratio": raw.raw_kn_pct / (100.0 * PAPER_RAW_KN),
         "run_spread_ratio": _run_spread_ratio(raw),
         "breakpoints_at_1800": float(raw.breakpoints_dps == (-1800.0, 1800.0)),
-        "low_rate_kn": raw.low_rate_kn,
+        "low_rate_kn": raw.low_rate_kn_paper,
     }
     for key in methods:
         q[f"kn_heldout_pct.{key}"] = held[key]

@@ -31,7 +31,14 @@ from gyrobench.sim.mems_nonlinear import RateTransfer
 
 from .config import PAPER_RAW_KN, default_rates
 
-__all__ = ["IDENTIFIED", "Identification", "identify_p001_device", "transfer_of"]
+__all__ = [
+    "IDENTIFIED",
+    "LOW_RATE_LIMIT_DPS",
+    "PAPER_LOW_RATE_KN",
+    "Identification",
+    "identify_p001_device",
+    "transfer_of",
+]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -28,9 +28,9 @@ sense channel has, composed into one static, odd, strictly monotone, invertible 
    nonlinearity of MEMS resonators); Acar & Shkel, *MEMS Vibratory Gyroscopes* (Springer
    2009), ch. 2 (open-loop sense response to the Coriolis force).
 2. **Front-end compression (Rapp).** The charge amplifier / demodulator chain approaching its
-   rails compresses smoothly; the memoryless Rapp characteristic (C. Rapp, "Effects of
-   HPA-nonlinearity on 4-DPSK/OFDM-signal for a digital sound broadcasting system", Proc. 2nd
-   European Conf. on Satellite Communications, Liege, 1991, pp. 179-184) in rate units:
+   rails compresses smoothly; the memoryless Rapp characteristic of solid-state amplifiers
+   (C. Rapp, 1991; as given in Ghannouchi, Hammi & Helaoui, *Behavioral Modeling and
+   Predistortion of Wideband Wireless Transmitters*, Wiley 2015, eq. 4.45) in rate units:
 
        y = x / (1 + |x / Omega_s|^(2p))^(1/(2p)),   |y| < Omega_s,
 

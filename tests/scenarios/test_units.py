@@ -212,7 +212,7 @@ def test_a_config_variant_can_mark_a_claim_calibrated():
     from gyrobench.scenarios.papers import p001_mems_scale_factor as ms
     from gyrobench.scenarios.units import module_claims
 
-    default = {c.id: c.kind for c in module_claims(ms, ms.Config())}
+    default = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="design"))}
     variant = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="calibrated"))}
     assert default["001.raw_kn"] == "emergent" and variant["001.raw_kn"] == "calibrated"
     assert {k for k in default if default[k] != variant[k]} == set(default)  # every claim

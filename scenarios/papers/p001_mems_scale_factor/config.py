@@ -40,8 +40,8 @@ PAPER_TIME_MS = {"piecewise": 0.247, "two_stage_poly": 0.755, "bayes_bp": 37.8}
 PAPER_ORDER = ("piecewise", "bayes_bp", "two_stage_poly")
 #: the paper's raw K_n (section 3) [-]
 PAPER_RAW_KN = 0.1571
-#: the devices Config.variant selects
-VARIANTS = ("design", "calibrated")
+#: the devices Config.variant selects ("identified": the paper's prototype, identify.py)
+VARIANTS = ("identified", "design", "calibrated")
 #: rebalance DAC full scale v_max [V] of the "calibrated" variant: CALIBRATED by
 #: :func:`~gyrobench.scenarios.papers.p001_mems_scale_factor.device.calibrated_v_max`
 #: (default spec, units 0-19) so that the median noise-free raw K_n on the paper's 21 rates
@@ -62,8 +62,10 @@ class Config:
     ----------
     gyro : MemsResonatorSpec
         The population the units are drawn from (SI; default the plausible design).
-    variant : {"design", "calibrated"}
-        "design": ``gyro`` as given; "calibrated": ``gyro`` with its nominal rebalance DAC
+    variant : {"identified", "design", "calibrated"}
+        "identified" (default): ``gyro`` read out through the front-end compression identified
+        from the paper's device reports (``identify.IDENTIFIED``, CALIBRATED); "design":
+        ``gyro`` as given (linear through the table); "calibrated": ``gyro`` with its nominal rebalance DAC
         full scale set to :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %).
     rates_dps : tuple of float
         Table rates in test order [deg/s], strictly monotonic.
@@ -93,7 +95,7 @@ class Config:
     """
 
     gyro: MemsResonatorSpec = field(default_factory=MemsResonatorSpec)
-    variant: str = "design"
+    variant: str = "identified"
     rates_dps: tuple[float, ...] = field(default_factory=default_rates)
     average_s: float = 60.0
     settle_s: float = 0.5

@@ -15,12 +15,13 @@ import numpy as np
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
+from gyrobench.sim.mems_nonlinear import RateTransfer
 from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec
 from numpy.typing import NDArray
 
 from .config import CALIBRATED_V_MAX_V, PAPER_RAW_KN, Config, default_rates
 
-__all__ = ["calibrated_v_max", "device_spec", "draw_unit", "rate_authority_dps", "static_output"]
+__all__ = ["calibrated_v_max", "device_spec", "draw_unit", "rate_authority_dps", "rate_transfer", "static_output"]
 
 
 def device_spec(config: Config) -> MemsResonatorSpec:
@@ -29,6 +30,19 @@ def device_spec(config: Config) -> MemsResonatorSpec:
         nom = replace(config.gyro.nominal, dac_full_scale=CALIBRATED_V_MAX_V)
         return replace(config.gyro, nominal=nom)
     return config.gyro
+
+
+def rate_transfer(config: Config) -> RateTransfer:
+    """The static rate transfer of ``config.variant``'s read-out (identity but for "identified").
+
+    "identified": the Rapp front-end compression of :data:`~.identify.IDENTIFIED` (CALIBRATED),
+    applied to the resonator's rate output (noise, bias and turn-on errors pass through it).
+    """
+    if config.variant == "identified":
+        from .identify import IDENTIFIED, transfer_of
+
+        return transfer_of(IDENTIFIED)
+    return RateTransfer()
 
 
 def draw_unit(spec: MemsResonatorSpec, seed: int) -> MemsResonator:
@@ -43,7 +57,10 @@ def rate_authority_dps(unit: MemsResonator) -> float:
 
 
 def static_output(
-    unit: MemsResonator, rates_dps: NDArray[np.float64], temperature: float
+    unit: MemsResonator,
+    rates_dps: NDArray[np.float64],
+    temperature: float,
+    transfer: RateTransfer | None = None,
 ) -> NDArray[np.float64]:
     """Noise-free settled output [deg/s] of one power-on at constant rates and temperature [K].
 
@@ -51,6 +68,7 @@ def static_output(
     (clamped) equilibrium; the mean of the last 0.1 s. Linear columns start at their
     equilibrium; saturated ones settle within the loop's time constants (tens of ms). Equals
     SF Omega + ZRO below the authority and ``mems_resonator.saturated_output`` beyond it (test).
+    ``transfer`` (default none) is the read-out's static rate transfer (:func:`rate_transfer`).
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     col = np.broadcast_to(w, (200, w.size))
@@ -58,7 +76,10 @@ def static_output(
         unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
         noise=False, adc=False, flicker=False,
     )
-    return units.to_deg_per_s(res.output[-20:].mean(axis=0))
+    out = res.output[-20:].mean(axis=0)
+    if transfer is not None:
+        out = transfer(out)
+    return units.to_deg_per_s(out)
 
 
 def calibrated_v_max(

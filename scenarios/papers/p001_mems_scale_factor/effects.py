@@ -11,7 +11,7 @@ from .config import METHOD_LABELS, Config
 from .experiment import experiment
 from .results import UnitResult
 
-__all__ = ["deviation_effects", "variants"]
+__all__ = ["control_config", "deviation_effects", "variant_config", "variants"]
 
 
 def variants(config: Config) -> dict[str, Config]:
@@ -19,6 +19,7 @@ def variants(config: Config) -> dict[str, Config]:
     nom = config.gyro.nominal
     return {
         "default": config,
+        "design": replace(config, variant="design"),
         "calibrated": replace(config, variant="calibrated"),
         "fit_runs_5": replace(config, n_fit_runs=5),
         "sf_repeatability_0": replace(
@@ -31,6 +32,20 @@ def variants(config: Config) -> dict[str, Config]:
         "mlp_epochs_200": replace(config, mlp_epochs=200),
         "average_120s": replace(config, average_s=120.0),
     }
+
+
+def variant_config(config: Config, name: str) -> Config:
+    """The config variant ``name`` of :func:`variants` (a ``Deviation.variant``: the paper's protocol)."""
+    table = variants(config)
+    if name not in table:
+        raise ValueError(f"variant_config name must be one of {sorted(table)}; got {name!r}")
+    return table[name]
+
+
+def control_config(config: Config) -> Config:
+    """The control population: the same units with a linear scale factor (no read-out
+    compression, the resonator design's force rebalance, linear through the table)."""
+    return replace(config, variant="design")
 
 
 def _effect_row(us: Sequence[UnitResult]) -> dict[str, float]:

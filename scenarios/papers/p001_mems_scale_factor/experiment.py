@@ -36,8 +36,9 @@ from gyrobench.sim import units
 from numpy.typing import NDArray
 
 from . import NAME
-from .config import PAPER_ORDER, Config
-from .device import device_spec, rate_authority_dps, static_output
+from .config import PAPER_ORDER, PAPER_RAW_KN, Config
+from .device import device_spec, rate_authority_dps, rate_transfer, static_output
+from .identify import LOW_RATE_LIMIT_DPS
 from .rate_table import dense_rates, run_means, simulate_runs, trace
 from .results import DeviceSummary, Join, MethodScore, MlpFit, RawAnalysis, UnitResult
 
@@ -135,6 +136,7 @@ def raw_analysis(
         raw_kn_pct=float(np.mean(per_run)),
         raw_kn_pct_heldout=_mean_kn(rates, held_means),
         low_rate_kn=low_kn,
+        low_rate_kn_paper=range_nonlinearity(rates, table1, -LOW_RATE_LIMIT_DPS, LOW_RATE_LIMIT_DPS),
         breakpoints_dps=tuple(search.breakpoints),
         search_trace=search.trace,
     )
@@ -250,6 +252,13 @@ def _flag(values: Mapping[str, float], holds: bool) -> float | None:
     return float(holds)
 
 
+def _run_spread_ratio(raw: RawAnalysis) -> float:
+    """Largest run-to-run standard deviation of the output at a table rate, over the amplitude
+    of the nonlinearity (K_n F_m, F_m = max |Table 1|) [-]: small when the runs' curves are alike."""
+    amplitude = raw.raw_kn_pct / 100.0 * float(np.max(np.abs(raw.table1_dps)))
+    return float(np.max(raw.run_std_dps)) / amplitude if amplitude > 0 else math.inf
+
+
 def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str, float | None]:
     """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0."""
     held = {k: m.kn_heldout_pct for k, m in methods.items()}
@@ -258,8 +267,10 @@ def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str
     others = [k for k in methods if k != "piecewise"]
     q: dict[str, float | None] = {
         "raw_kn_pct": raw.raw_kn_pct,
+        "raw_kn_ratio": raw.raw_kn_pct / (100.0 * PAPER_RAW_KN),
+        "run_spread_ratio": _run_spread_ratio(raw),
         "breakpoints_at_1800": float(raw.breakpoints_dps == (-1800.0, 1800.0)),
-        "low_rate_kn": raw.low_rate_kn,
+        "low_rate_kn": raw.low_rate_kn_paper,
     }
     for key in methods:
         q[f"kn_heldout_pct.{key}"] = held[key]
@@ -290,7 +301,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
     fit_means, held_means = means[:nf], means[nf:]
     raw = raw_analysis(rates, fit_means, held_means)
     dense = dense_rates(config)
-    dense_out = np.array([static_output(r.unit, dense, r.temperature) for r in runs[nf:]])
+    dense_out = np.array([static_output(r.unit, dense, r.temperature, rate_transfer(config)) for r in runs[nf:]])
     models, fit_ms, fit_errors = _fit_methods(config, seed, rates, fit_means)
     pw, bp = models["piecewise"], models["bayes_bp"]
     methods = {

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from . import NAME
 from .config import Config
-from .device import device_spec, draw_unit, rate_authority_dps
+from .device import device_spec, draw_unit, rate_authority_dps, rate_transfer
 from .results import Trace
 
 __all__ = [
@@ -57,13 +57,14 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
     w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
     n = int(round(config.settle_s * config.fs_hz)) + int(round(config.average_s * config.fs_hz))
     col = np.broadcast_to(w, (n, w.size))
+    transfer = rate_transfer(config)
     out = []
     for rr in r_runs.spawn(config.n_fit_runs + config.n_heldout_runs):
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
         res = mr.simulate(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
-        out.append(Run(on, float(temp), res.output))
+        out.append(Run(on, float(temp), transfer(res.output)))
     return out
 
 

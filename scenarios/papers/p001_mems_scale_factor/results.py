@@ -39,6 +39,10 @@ class RawAnalysis:
         Mean K_n of the held-out runs [%].
     low_rate_kn : float
         K_n between the breakpoints found [-] (NaN without both, or with fewer than 3 rates).
+    low_rate_kn_paper : float
+        K_n on the paper's low-rate segment, |rate| <= 1800 deg/s (between the paper's
+        breakpoints) [-]: a property of the device, whatever our heuristic finds (NaN with
+        fewer than 3 rates there).
     breakpoints_dps : tuple of float
         The breakpoints the heuristic search found, ascending [deg/s].
     search_trace : tuple of SearchStep
@@ -54,6 +58,7 @@ class RawAnalysis:
     raw_kn_pct: float
     raw_kn_pct_heldout: float
     low_rate_kn: float
+    low_rate_kn_paper: float
     breakpoints_dps: tuple[float, ...]
     search_trace: tuple[SearchStep, ...]
 

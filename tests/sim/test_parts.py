@@ -118,3 +118,34 @@ def test_toml_part_round_trip_and_one_line_errors(tmp_path):
         parts.load_toml(tmp_path / "none.toml")
     with pytest.raises(ValueError, match="unknown part 'nope'"):
         parts.get("nope")
+
+
+def test_three_line_python_form_and_the_sensor_protocol(tmp_path):
+    import gyrobench.sim.parts
+    from gyrobench.sim.sensor import Sensor, SensorUnit
+
+    part = gyrobench.sim.parts.get("hg9900")
+    rec = part.simulate(Environment(60.0), fs=10.0, rng=np.random.default_rng(1))
+    save_hdf5(tmp_path / "hg9900.h5", rec)
+    assert load_hdf5(tmp_path / "hg9900.h5").n_samples == 600
+    assert isinstance(part, Sensor)
+    assert isinstance(part.realize(np.random.default_rng(0)), SensorUnit)
+
+
+def test_a_unit_is_one_draw_of_the_population():
+    # turn-on bias and scale-factor error are the unit's: the same unit repeats them, and over
+    # 2000 units their spread is the repeatability within 5 sigma of the sample-std error
+    # (std of a sample std ~ sigma / sqrt(2 n))
+    sheet = parts.Datasheet(name="x", manufacturer="m", model="x", technology="FOG", grade="tactical", source="s",
+                            bias_instability_dph=0.1, arw=0.01, bias_repeatability=2.0, scale_factor_repeatability=50.0)
+    part = parts.Part(sheet)
+    rng = np.random.default_rng(11)
+    units_ = [part.realize(rng) for _ in range(2000)]
+    b = np.array([u.turn_on_bias for u in units_])
+    k = np.array([u.scale_factor_error for u in units_])
+    tol = 5 / math.sqrt(2 * len(units_))
+    assert abs(np.std(b) / math.radians(2.0 / 3600) - 1) < tol
+    assert abs(np.std(k) / 50e-6 - 1) < tol
+    rec = units_[0].simulate(Environment(1.0, true_rate=0.1), fs=10.0, rng=rng)
+    assert np.all(rec["truth/turn_on_bias"] == units_[0].turn_on_bias)
+    assert np.allclose(rec["truth/scale_factor_error"], units_[0].scale_factor_error * 0.1, rtol=1e-12)

@@ -14,6 +14,8 @@ __all__ = ["CATALOGUE"]
 
 _NAVTK = "NavToolkit (is4s.github.io/NavToolkit) ImuModel documentation, which quotes the sheet"
 
+_G0 = 9.80665  # m/s^2 per g
+
 CATALOGUE: tuple[Datasheet, ...] = (
     Datasheet(
         name="stim300",
@@ -130,5 +132,32 @@ CATALOGUE: tuple[Datasheet, ...] = (
         bias_instability_dph=10.0,
         arw=0.75,
         notes="range not in the quoting source: left unset (no saturation)",
+    ),
+    Datasheet(
+        name="sch16t-k01",
+        manufacturer="Murata",
+        model="SCH16T-K01",
+        technology="MEMS",
+        grade="industrial",
+        source=(
+            "Murata SCH16T-K01 data sheet, Doc.No. 11624 Rev. 2 (January 2024), Table 4 'Performance "
+            "specifications for gyroscope' (read from a public chunked copy, github.com/taylor-curran/"
+            "data-sheets-naive-chunking)"
+        ),
+        range_dps=300.0,
+        bias_instability_dph=0.5,
+        bias_instability_is_b=True,
+        arw=0.015,
+        noise_density=0.0006,
+        bias_repeatability=0.6 / 3 * 3600.0,
+        g_sensitivity=0.006 * _G0 * 3600.0,
+        resolution=1.0 / 1600.0,
+        notes=(
+            "range: guaranteed +-300 deg/s at the lowest sensitivity; bias instability 0.5 deg/h is defined by "
+            "the sheet as the Allan minimum / 0.664, i.e. B itself; ARW 0.015 deg/sqrt(h) is used (the sheet's "
+            "noise density 0.0006 deg/s/sqrt(Hz) is recorded, not used); bias repeatability: offset +-0.6 deg/s "
+            "at +-3 sigma over -40..110 degC, so 0.2 deg/s 1 sigma (it includes temperature); g-sensitivity "
+            "0.006 (deg/s)/(m/s^2) for a DC gravity input; resolution: 1600 LSB/(deg/s) in 20-bit mode"
+        ),
     ),
 )

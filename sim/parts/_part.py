@@ -13,7 +13,8 @@ The solve (one figure sets one parameter; SI inside)
   PSD is 2 S). IEEE Std 952-1997 Annex C.
 * Bias instability B (IEEE coefficient) [rad/s]: datasheets quote the minimum of the Allan
   deviation ("in-run bias stability"), which for flicker rate noise is
-  sqrt(2 ln2/pi) B = 0.664 B, so B = figure / 0.664 (IEEE Std 952 Table C.2).
+  sqrt(2 ln2/pi) B = 0.664 B, so B = figure / 0.664 (IEEE Std 952 Table C.2); a sheet that
+  quotes B itself (``bias_instability_is_b``) is taken as is.
 * Turn-on bias b0 ~ N(0, bias repeatability) per unit; bias temperature coefficient c_T:
   b_T(t) = c_T (T(t) - T_ref).
 * Scale-factor error e_K ~ N(0, scale-factor repeatability) per unit, plus its temperature
@@ -104,6 +105,9 @@ class Datasheet:
         they were read if not from the document itself.
     bias_instability_dph : float
         In-run bias stability: the Allan-deviation minimum [deg/h], > 0.
+    bias_instability_is_b : bool
+        True when the sheet quotes the IEEE coefficient B itself (ADEV minimum / 0.664, as
+        Murata does) rather than the ADEV minimum. Default False.
     range_dps : float, optional
         Input range [deg/s] (the output saturates at +-range); None: not given, no saturation.
     arw : float, optional
@@ -139,6 +143,7 @@ class Datasheet:
     grade: str
     source: str
     bias_instability_dph: float
+    bias_instability_is_b: bool = False
     range_dps: float | None = None
     arw: float | None = None
     noise_density: float | None = None
@@ -162,6 +167,8 @@ class Datasheet:
             raise ValueError(f"Datasheet.technology must be one of {TECHNOLOGIES}; got {self.technology!r}")
         if self.grade not in GRADES:
             raise ValueError(f"Datasheet.grade must be one of {GRADES}; got {self.grade!r}")
+        if not isinstance(self.bias_instability_is_b, bool):
+            raise TypeError(f"Datasheet.bias_instability_is_b must be a bool; got {self.bias_instability_is_b!r}")
         if self.noise_density_sided not in ("one", "two"):
             raise ValueError(f"Datasheet.noise_density_sided must be 'one' or 'two'; got {self.noise_density_sided!r}")
         _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h", optional=False)
@@ -186,8 +193,9 @@ class Datasheet:
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
     def bias_instability(self) -> float:
-        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664."""
-        return units.deg_per_h(self.bias_instability_dph) / ADEV_MIN_PER_B
+        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``)."""
+        b = units.deg_per_h(self.bias_instability_dph)
+        return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
 
     def noise_model(self) -> NoiseModel:
         """The IEEE 952 model: N and B from the figures (module docstring), no Q, K or R."""

@@ -277,7 +277,183 @@ def _simulate_scenario(args) -> int:
     return 0
 
 
+# ----------------------------------------------------------------------------- device and parts
+#: flags of 'simulate device' only (dest -> flag)
+_DEVICE_FLAGS = {"rate_csv": "--rate-csv", "temperature_csv": "--temperature-csv", "profile": "--profile"}
+
+
+def _profile_from_csv(path: str, flag: str, convert) -> tuple[typing.Any, float]:
+    """A (time [s], value) CSV as a PiecewiseLinear in SI, and its last time [s].
+
+    The file has a header row and two columns: time [s] (strictly increasing) and the value
+    in the flag's field unit (``--rate-csv`` deg/s, ``--temperature-csv`` degC).
+    """
+    import numpy as np
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    p = Path(path)
+    if not p.is_file():
+        raise _BadInput(f"{flag}: file {path!r} does not exist")
+    try:
+        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2, dtype=float)
+    except ValueError as exc:
+        raise _BadInput(f"{flag}: {path!r} is not a CSV of numbers under one header row: {_one_line(exc)}") from None
+    if data.shape[1] != 2 or data.shape[0] < 2:
+        raise _BadInput(f"{flag}: {path!r} must hold >= 2 rows of two columns (time [s], value); got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise _BadInput(f"{flag}: {path!r} holds NaN or inf")
+    t = data[:, 0]
+    if not np.all(np.diff(t) > 0):
+        raise _BadInput(f"{flag}: {path!r}: the time column must increase strictly")
+    return PiecewiseLinear(t - t[0], convert(data[:, 1])), float(t[-1] - t[0])
+
+
+def _profile_value(v, key: str, path: str, convert):
+    """A profile TOML value: a number or a list of [time_s, value] knots (linear between them)."""
+    import numpy as np
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(convert(np.array([float(v)]))[0])
+    if isinstance(v, list) and v and all(isinstance(k, list) and len(k) == 2 for k in v):
+        arr = np.asarray(v, dtype=float)
+        return PiecewiseLinear(arr[:, 0], convert(arr[:, 1]))
+    raise _BadInput(f"--profile {path!r}: {key} must be a number or a list of [time_s, value] pairs; got {v!r}")
+
+
+def _device_environment(args, part):
+    """(Environment, fs) from --profile or --rate-csv/--temperature-csv, --duration and --fs."""
+    import math
+
+    import numpy as np
+    from gyrobench.sim.sensor import Environment
+
+    if args.profile is not None and (args.rate_csv is not None or args.temperature_csv is not None):
+        raise _BadInput("simulate device: give --profile or --rate-csv/--temperature-csv, not both")
+    dps = np.radians
+    kelvin = lambda c: np.asarray(c, dtype=float) + 273.15  # noqa: E731
+    g0 = lambda g: np.asarray(g, dtype=float) * 9.80665  # noqa: E731
+    rate: typing.Any = 0.0
+    temp: typing.Any = None
+    force: typing.Any = 0.0
+    duration = args.duration
+    if args.profile is not None:
+        data = _read_toml(args.profile, "--profile")
+        allowed = {"duration_s", "rate_dps", "temperature_c", "specific_force_g"}
+        if unknown := sorted(set(data) - allowed):
+            raise _BadInput(f"--profile {args.profile!r}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+        if "rate_dps" in data:
+            rate = _profile_value(data["rate_dps"], "rate_dps", args.profile, dps)
+        if "temperature_c" in data:
+            temp = _profile_value(data["temperature_c"], "temperature_c", args.profile, kelvin)
+        if "specific_force_g" in data:
+            force = _profile_value(data["specific_force_g"], "specific_force_g", args.profile, g0)
+        if duration is None and "duration_s" in data:
+            duration = float(data["duration_s"])
+    else:
+        if args.rate_csv is not None:
+            rate, span = _profile_from_csv(args.rate_csv, "--rate-csv", dps)
+            duration = span if duration is None else duration
+        if args.temperature_csv is not None:
+            temp, span = _profile_from_csv(args.temperature_csv, "--temperature-csv", kelvin)
+            duration = span if duration is None else duration
+    if duration is None:
+        raise _BadInput("simulate device needs --duration (or a profile's duration_s, or a CSV's time span)")
+    fs = args.fs if args.fs is not None else (part.datasheet.output_rate or 100.0)
+    if not (math.isfinite(duration * fs) and duration * fs < 2**31):
+        raise _BadInput(f"--duration x --fs = {duration:g} s x {fs:g} Hz is too many samples for one record in memory")
+    try:
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs
+    except (TypeError, ValueError) as exc:
+        raise _BadInput(f"simulate device: {_one_line(exc)}") from None
+
+
+def _read_toml(path: str, flag: str) -> dict:
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise _BadInput(f"{flag}: file {path!r} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise _BadInput(f"{flag}: {path!r} is not valid TOML: {_one_line(exc)}") from None
+
+
+def _simulate_device(args) -> int:
+    """One record of a part (built-in name or FILE.toml) in a rate/temperature profile -> -o FILE.h5|.csv."""
+    import numpy as np
+    from gyrobench.scenarios.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import memory, parts
+    from gyrobench.sim.recording import save_hdf5, to_csv
+
+    if extra := [f for f in _given(args, _NOISE_FLAGS) if f not in ("--fs", "--duration", "-o/--output")]:
+        raise _BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate noise' only")
+    if extra := _given(args, _SCENARIO_FLAGS):
+        raise _BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate SCENARIO' only")
+    if args.part is None:
+        raise _BadInput(f"simulate device needs a PART: one of {', '.join(parts.names())}, or a FILE.toml")
+    try:
+        part = parts.get(args.part)
+    except ValueError as exc:
+        raise _BadInput(_one_line(exc)) from None
+    if args.output is None:
+        raise _BadInput("simulate device needs -o FILE.h5 or FILE.csv")
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    if suffix not in (".h5", ".hdf5", ".csv"):
+        raise _BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
+    env, fs = _device_environment(args, part)
+    n = env.n_samples(fs)
+    if n < MIN_SAMPLES:
+        raise _BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
+                        f"a record needs at least {MIN_SAMPLES}")
+    # output, true rate, 7 error components, temperature, force, plus the model's temporaries
+    memory.check_memory(memory.series_bytes(n, 20), "simulate device", hint="shorten --duration or lower --fs")
+    seed = 0 if args.seed is None else args.seed
+    rec = part.simulate(env, fs=fs, rng=np.random.default_rng(seed))
+    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
+    print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
+          f"truth {', '.join(rec.truth)})")
+    return 0
+
+
+def _cmd_parts(args) -> int:
+    """List the built-in parts with their datasheet figures, sources and the notes on what was assumed."""
+    from gyrobench.sim import parts
+
+    def fmt(v, unit: str) -> str:
+        return "-" if v is None else f"{v:g} {unit}"
+
+    for d in parts.datasheets():
+        noise = (fmt(d.arw, "deg/sqrt(h)") if d.arw is not None
+                 else f"{fmt(d.noise_density, 'deg/s/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
+        print(f"{d.name}: {d.manufacturer} {d.model} [{d.technology}, {d.grade}]")
+        print(f"    range {fmt(d.range_dps, 'deg/s')}; bias instability {fmt(d.bias_instability_dph, 'deg/h')}; "
+              f"noise {noise}; bias repeatability {fmt(d.bias_repeatability, 'deg/h')}; "
+              f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
+              f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
+              f"resolution {fmt(d.resolution, 'deg/s')}")
+        print(f"    source: {d.source}")
+        if d.notes:
+            print(f"    notes: {d.notes}")
+    return 0
+
+
 def _cmd_simulate(args) -> int:
+    if args.target == "device":
+        return _simulate_device(args)
+    if args.part is not None:
+        raise _BadInput(f"simulate {args.target}: a second positional ({args.part!r}) is taken "
+                        "by 'simulate device PART' only")
+    if extra := _given(args, _DEVICE_FLAGS):
+        raise _BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate device' only")
     if args.target == "noise":
         return _simulate_noise(args)
     return _simulate_scenario(args)
@@ -519,8 +695,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("simulate", help="simulate a noise record or every recording of a scenario",
                        description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
+                                   "'simulate device PART' simulates a datasheet part in a rate/temperature profile; "
                                    "'simulate SCENARIO' writes every recording of a scenario (HDF5 with truth).")
-    s.add_argument("target", help="'noise' or a scenario name (see 'gyrobench list')")
+    s.add_argument("target", help="'noise', 'device' or a scenario name (see 'gyrobench list')")
+    s.add_argument("part", nargs="?", help="device: a part (see 'gyrobench parts') or a FILE.toml of its datasheet")
     # noise-only flags default to None so that giving one to a scenario (or the reverse) can be refused
     s.add_argument("--Q", type=_nonneg_float("--Q"), help="noise: quantization [arcsec] (default 0)")
     s.add_argument("--N", type=_nonneg_float("--N"), help="noise: angle random walk [deg/sqrt(h)] (default 0)")
@@ -534,8 +712,15 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="scenario: output folder")
     s.add_argument("--config", help="scenario: TOML file overriding the scenario's parameters")
     s.add_argument("--chunk", type=_positive_int("--chunk"), help=argparse.SUPPRESS)
+    s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
+    s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
+    s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "
+                   "[time_s, value] knots) and duration_s")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
+
+    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures")
+    s.set_defaults(func=_cmd_parts)
 
     s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)")
     s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro (EuRoC, Kalibr, "

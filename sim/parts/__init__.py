@@ -1,0 +1,104 @@
+"""Real gyro parts from their public datasheets, and the user's own parts from TOML.
+
+Three lines from a part to a file::
+
+    part = gyrobench.sim.parts.get("stim300")
+    rec = part.simulate(Environment(3600.0), fs=100.0, rng=np.random.default_rng(1))
+    save_hdf5("stim300.h5", rec)
+
+:func:`names` lists the built-in parts, :func:`get` returns one as a :class:`Part`, and
+:func:`load_toml` reads a user's part from a TOML file with the :class:`Datasheet` fields
+(one table, or top-level keys). The solve from figures to models is in
+:mod:`gyrobench.sim.parts._part` (see :class:`Part`); the figures and their sources in
+:mod:`gyrobench.sim.parts._catalogue`.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import fields
+from pathlib import Path
+
+from gyrobench.sim.parts._catalogue import CATALOGUE
+from gyrobench.sim.parts._part import (
+    ADEV_MIN_PER_B,
+    ERROR_COMPONENTS,
+    GRADES,
+    TECHNOLOGIES,
+    Datasheet,
+    Part,
+    PartUnit,
+)
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = [
+    "ADEV_MIN_PER_B",
+    "ERROR_COMPONENTS",
+    "GRADES",
+    "TECHNOLOGIES",
+    "Datasheet",
+    "Part",
+    "PartUnit",
+    "get",
+    "names",
+    "load_toml",
+    "datasheets",
+]
+
+_BY_NAME = {d.name: d for d in CATALOGUE}
+
+
+def names() -> list[str]:
+    """Keys of the built-in parts, in catalogue order."""
+    return [d.name for d in CATALOGUE]
+
+
+def datasheets() -> tuple[Datasheet, ...]:
+    """The built-in parts' datasheets."""
+    return CATALOGUE
+
+
+def get(name: str) -> Part:
+    """The built-in part ``name`` (case-insensitive), or a part read from a ``.toml`` path."""
+    if not isinstance(name, str):
+        raise TypeError(f"part name must be a str; got {type(name).__name__}")
+    if name.lower().endswith(".toml"):
+        return load_toml(name)
+    key = name.strip().lower()
+    if key not in _BY_NAME:
+        raise ValueError(f"unknown part {name!r}; built-in parts: {', '.join(names())} (or a .toml file)")
+    return Part(_BY_NAME[key])
+
+
+def load_toml(path: str | os.PathLike) -> Part:
+    """A user's part from a TOML file holding the :class:`Datasheet` fields.
+
+    The fields may be top-level keys or the single table ``[part]``. Errors are one line
+    naming the file and the key.
+    """
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise ValueError(f"part file {str(p)!r} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"part file {str(p)!r} is not valid TOML: {exc}") from None
+    if set(data) == {"part"} and isinstance(data["part"], dict):
+        data = data["part"]
+    known = {f.name for f in fields(Datasheet)}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise ValueError(f"part file {str(p)!r}: unknown key(s) {unknown}; allowed: {sorted(known)}")
+    data = {k: (float(v) if isinstance(v, int) and not isinstance(v, bool) else v) for k, v in data.items()}
+    try:
+        return Part(Datasheet(**data))
+    except TypeError as exc:
+        raise ValueError(f"part file {str(p)!r}: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"part file {str(p)!r}: {exc}") from None

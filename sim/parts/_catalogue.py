@@ -1,0 +1,163 @@
+"""The built-in parts: figures read from public datasheets (or public pages quoting them, named).
+
+Only parts whose in-run bias stability AND angle random walk (or noise density) could be
+read from a public source are included; a figure the source does not give is left None,
+never filled in. ``source`` names the document and revision; where the figures were read
+from a page quoting the datasheet, that page is named too.
+"""
+
+from __future__ import annotations
+
+from gyrobench.sim.parts._part import Datasheet
+
+__all__ = ["CATALOGUE"]
+
+_NAVTK = "NavToolkit (is4s.github.io/NavToolkit) ImuModel documentation, which quotes the sheet"
+
+_G0 = 9.80665  # m/s^2 per g
+
+CATALOGUE: tuple[Datasheet, ...] = (
+    Datasheet(
+        name="stim300",
+        manufacturer="Safran Sensing Technologies (Sensonor)",
+        model="STIM300",
+        technology="MEMS",
+        grade="tactical",
+        source=f"STIM300 datasheet TS1524 rev. 9 (figures as quoted in {_NAVTK}, stim300_model)",
+        range_dps=400.0,
+        bias_instability_dph=0.5,
+        arw=0.15,
+        scale_factor_repeatability=500.0,
+        g_sensitivity=1.0,
+        notes=(
+            "range: the sheet's non-linearity is given up to 400 deg/s; scale-factor 500 ppm is the sheet's "
+            "accuracy, taken as the 1 sigma; bias range +-250 deg/h is a limit, not a repeatability, so "
+            "no turn-on bias is drawn; Sensonor measures bias instability as the ADEV minimum over 18 h at "
+            "1000 Hz (sensonor.com FAQ)"
+        ),
+    ),
+    Datasheet(
+        name="hg1700",
+        manufacturer="Honeywell",
+        model="HG1700",
+        technology="RLG",
+        grade="tactical",
+        source=f"Honeywell HG1700 IMU brochure N61-1619-000-001 (figures as quoted in {_NAVTK}, hg1700_model)",
+        bias_instability_dph=1.0,
+        arw=0.125,
+        notes=(
+            "range: not in the quoting page, left unset (no saturation); "
+            "gyro bias 1 deg/h (1 sigma) read as the in-run stability figure"
+        ),
+    ),
+    Datasheet(
+        name="hg9900",
+        manufacturer="Honeywell",
+        model="HG9900 (GG1320 RLGs)",
+        technology="RLG",
+        grade="navigation",
+        source=f"Honeywell HG9900 IMU brochure N61-1638-000-000 (figures as quoted in {_NAVTK}, hg9900_model)",
+        bias_instability_dph=0.0035,
+        arw=0.002,
+        scale_factor_repeatability=5.0,
+        notes=(
+            "ARW 0.002 deg/sqrt(h) is the brochure's maximum; gyro bias 0.0035 deg/h (1 sigma) read as the "
+            "in-run stability figure; range not in the quoting page, left unset"
+        ),
+    ),
+    Datasheet(
+        name="openrtk330",
+        manufacturer="Aceinna",
+        model="OpenRTK330 IMU",
+        technology="MEMS",
+        grade="industrial",
+        source=(
+            "Aceinna OpenRTK330 documentation, 'IMU Sensors' "
+            "(github.com/Aceinna/docs_openrtk, 300ZA/imu-sensors.rst)"
+        ),
+        range_dps=400.0,
+        bias_instability_dph=6.0,
+        arw=0.3,
+        scale_factor_repeatability=1000.0,
+        bandwidth=50.0,
+        resolution=0.02,
+        notes=(
+            "all figures are the page's limits (<): range > 400, bias instability < 6 deg/h (Allan curve, "
+            "1 sigma), ARW < 0.3, resolution < 0.02 deg/s, scale-factor accuracy < 0.1 %, bandwidth 5-50 Hz "
+            "(the upper end taken)"
+        ),
+    ),
+    Datasheet(
+        name="adxrs646",
+        manufacturer="Analog Devices",
+        model="ADXRS646",
+        technology="MEMS",
+        grade="industrial",
+        source="ADXRS646 data sheet (Analog Devices; revision not shown in the copy read, manualmachine.com)",
+        range_dps=250.0,
+        bias_instability_dph=12.0,
+        arw=0.01 * 60.0,
+        notes="ARW 0.01 deg/sqrt(s) = 0.6 deg/sqrt(h); bias drift 12 deg/h typical; range: +-250 deg/s minimum",
+    ),
+    Datasheet(
+        name="mti-1",
+        manufacturer="Xsens",
+        model="MTi-1",
+        technology="MEMS",
+        grade="consumer",
+        source=(
+            "Xsens MTi-1 gyroscope figures as tabulated in 'Characteristics of IMU Xsens MTI-1 sensors', "
+            "Transactions on Aerospace Research, doi:10.2478/tar-2023-0022 (datasheet revision not given)"
+        ),
+        range_dps=2000.0,
+        bias_instability_dph=10.0,
+        noise_density=0.007,
+        noise_density_sided="two",
+        bandwidth=255.0,
+        notes=(
+            "noise density 0.007 deg/s/sqrt(Hz); the table does not state the PSD convention: taken two-sided "
+            "(ARW = 60 x density, the convention of ADI and Xsens ARW figures)"
+        ),
+    ),
+    Datasheet(
+        name="ahrs380",
+        manufacturer="MEMSIC (Aceinna)",
+        model="AHRS380SA",
+        technology="MEMS",
+        grade="industrial",
+        source=(
+            "MEMSIC AHRS380SA datasheet (figures as used in gnss-ins-sim's imu_model.py low-accuracy profile, "
+            "which cites it; revision not given)"
+        ),
+        bias_instability_dph=10.0,
+        arw=0.75,
+        notes="range not in the quoting source: left unset (no saturation)",
+    ),
+    Datasheet(
+        name="sch16t-k01",
+        manufacturer="Murata",
+        model="SCH16T-K01",
+        technology="MEMS",
+        grade="industrial",
+        source=(
+            "Murata SCH16T-K01 data sheet, Doc.No. 11624 Rev. 2 (January 2024), Table 4 'Performance "
+            "specifications for gyroscope' (read from a public chunked copy, github.com/taylor-curran/"
+            "data-sheets-naive-chunking)"
+        ),
+        range_dps=300.0,
+        bias_instability_dph=0.5,
+        bias_instability_is_b=True,
+        arw=0.015,
+        noise_density=0.0006,
+        bias_repeatability=0.6 / 3 * 3600.0,
+        g_sensitivity=0.006 * _G0 * 3600.0,
+        resolution=1.0 / 1600.0,
+        notes=(
+            "range: guaranteed +-300 deg/s at the lowest sensitivity; bias instability 0.5 deg/h is defined by "
+            "the sheet as the Allan minimum / 0.664, i.e. B itself; ARW 0.015 deg/sqrt(h) is used (the sheet's "
+            "noise density 0.0006 deg/s/sqrt(Hz) is recorded, not used); bias repeatability: offset +-0.6 deg/s "
+            "at +-3 sigma over -40..110 degC, so 0.2 deg/s 1 sigma (it includes temperature); g-sensitivity "
+            "0.006 (deg/s)/(m/s^2) for a DC gravity input; resolution: 1600 LSB/(deg/s) in 20-bit mode"
+        ),
+    ),
+)

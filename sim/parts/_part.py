@@ -1,0 +1,321 @@
+"""A gyro part from its datasheet figures, and the documented solve onto the simulator's models.
+
+A :class:`Datasheet` holds a part's public figures in the units datasheets use; a
+:class:`Part` maps them onto the IEEE Std 952 :class:`gyrobench.sim.noise.NoiseModel` and a
+deterministic error layer, draws units (:meth:`Part.realize`) and simulates records through
+the :class:`gyrobench.sim.sensor.Environment` interface.
+
+The solve (one figure sets one parameter; SI inside)
+----------------------------------------------------
+* ARW N [rad/sqrt(s)]: an ARW figure [deg/sqrt(h)] converts directly; a rate noise density
+  ND [deg/s/sqrt(Hz)] gives N = ND for a two-sided density and N = ND/sqrt(2) for a
+  one-sided one (white rate noise of two-sided PSD S has AVAR S/tau = N^2/tau; the one-sided
+  PSD is 2 S). IEEE Std 952-1997 Annex C.
+* Bias instability B (IEEE coefficient) [rad/s]: datasheets quote the minimum of the Allan
+  deviation ("in-run bias stability"), which for flicker rate noise is
+  sqrt(2 ln2/pi) B = 0.664 B, so B = figure / 0.664 (IEEE Std 952 Table C.2); a sheet that
+  quotes B itself (``bias_instability_is_b``) is taken as is.
+* Turn-on bias b0 ~ N(0, bias repeatability) per unit; bias temperature coefficient c_T:
+  b_T(t) = c_T (T(t) - T_ref).
+* Scale-factor error e_K ~ N(0, scale-factor repeatability) per unit, plus its temperature
+  coefficient: error e_K(t) omega(t), e_K(t) = e_K + k_T (T(t) - T_ref).
+* g-sensitivity g_s [rad/s per m/s^2]: error g_s f(t), f the specific force along the axis.
+* Range: the output saturates at +-range (error: clipped - unclipped); no range given, no clipping.
+* Resolution q [rad/s]: the output is rounded to multiples of q (error: rounded - unrounded).
+
+Output: y = omega + b0 + b_T + e_K omega + g_s f + n_IEEE, then clipped and rounded; every
+term is a truth channel and their sum is y - omega up to float64 rounding. The technology's
+physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
+fix the error budget directly, not the physical parameters behind it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+from gyrobench.sim import units
+from gyrobench.sim._validate import check_fs, check_rng
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.recording import Channel, Recording
+from gyrobench.sim.sensor import Environment
+from numpy.typing import NDArray
+
+__all__ = ["Datasheet", "Part", "PartUnit", "ERROR_COMPONENTS", "TECHNOLOGIES", "GRADES", "ADEV_MIN_PER_B"]
+
+ADEV_MIN_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)
+"""Allan deviation minimum of flicker rate noise per IEEE coefficient B: sqrt(2 ln2/pi) = 0.664."""
+
+TECHNOLOGIES = ("MEMS", "FOG", "RLG")
+GRADES = ("consumer", "industrial", "tactical", "navigation")
+
+ERROR_COMPONENTS = (
+    "turn_on_bias",
+    "bias_temperature",
+    "scale_factor_error",
+    "g_sensitivity",
+    "ieee_noise",
+    "saturation",
+    "quantization",
+)
+"""Truth channels of a part's record, in order; their sum is ``output - true_rate``."""
+
+_T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
+
+_OPTIONAL = (
+    "range_dps",
+    "arw",
+    "noise_density",
+    "bias_repeatability",
+    "bias_tempco",
+    "scale_factor_repeatability",
+    "scale_factor_tempco",
+    "g_sensitivity",
+    "bandwidth",
+    "output_rate",
+    "resolution",
+)
+
+
+def _check_figure(name: str, v: object, unit: str, *, optional: bool = True) -> None:
+    if v is None and optional:
+        return
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise TypeError(f"Datasheet.{name} must be a number [{unit}]; got {v!r}")
+    if not (math.isfinite(float(v)) and float(v) >= 0.0):
+        raise ValueError(f"Datasheet.{name} must be finite and >= 0 [{unit}]; got {v!r}")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Datasheet:
+    """A gyro's public datasheet figures, in datasheet units (1 sigma unless the source says otherwise).
+
+    Parameters
+    ----------
+    name : str
+        Part key (lower case, e.g. ``"stim300"``).
+    manufacturer, model : str
+    technology : str
+        "MEMS", "FOG" or "RLG".
+    grade : str
+        "consumer", "industrial", "tactical" or "navigation".
+    source : str
+        The datasheet (title, document number, revision) the figures come from, and where
+        they were read if not from the document itself.
+    bias_instability_dph : float
+        In-run bias stability: the Allan-deviation minimum [deg/h], > 0.
+    bias_instability_is_b : bool
+        True when the sheet quotes the IEEE coefficient B itself (ADEV minimum / 0.664, as
+        Murata does) rather than the ADEV minimum. Default False.
+    range_dps : float, optional
+        Input range [deg/s] (the output saturates at +-range); None: not given, no saturation.
+    arw : float, optional
+        Angle random walk [deg/sqrt(h)].
+    noise_density : float, optional
+        Rate noise density [deg/s/sqrt(Hz)] (used when ``arw`` is not given).
+    noise_density_sided : str
+        "one" or "two": the PSD convention of ``noise_density`` (module docstring).
+    bias_repeatability : float, optional
+        Turn-on bias 1 sigma [deg/h].
+    bias_tempco : float, optional
+        Bias temperature coefficient [deg/h/K].
+    scale_factor_repeatability : float, optional
+        Scale-factor error 1 sigma [ppm].
+    scale_factor_tempco : float, optional
+        Scale-factor temperature coefficient [ppm/K].
+    g_sensitivity : float, optional
+        Linear-acceleration effect on the bias [deg/h/g].
+    bandwidth : float, optional
+        -3 dB bandwidth [Hz] (recorded; the simulated noise is white to fs/2).
+    output_rate : float, optional
+        Default output data rate [Hz].
+    resolution : float, optional
+        Output resolution (LSB) [deg/s].
+    notes : str
+        What was assumed where the source was silent.
+    """
+
+    name: str
+    manufacturer: str
+    model: str
+    technology: str
+    grade: str
+    source: str
+    bias_instability_dph: float
+    bias_instability_is_b: bool = False
+    range_dps: float | None = None
+    arw: float | None = None
+    noise_density: float | None = None
+    noise_density_sided: str = "two"
+    bias_repeatability: float | None = None
+    bias_tempco: float | None = None
+    scale_factor_repeatability: float | None = None
+    scale_factor_tempco: float | None = None
+    g_sensitivity: float | None = None
+    bandwidth: float | None = None
+    output_rate: float | None = None
+    resolution: float | None = None
+    notes: str = ""
+
+    def __post_init__(self) -> None:
+        for key in ("name", "manufacturer", "model", "source"):
+            v = getattr(self, key)
+            if not isinstance(v, str) or not v.strip():
+                raise ValueError(f"Datasheet.{key} must be a non-empty string; got {v!r}")
+        if self.technology not in TECHNOLOGIES:
+            raise ValueError(f"Datasheet.technology must be one of {TECHNOLOGIES}; got {self.technology!r}")
+        if self.grade not in GRADES:
+            raise ValueError(f"Datasheet.grade must be one of {GRADES}; got {self.grade!r}")
+        if not isinstance(self.bias_instability_is_b, bool):
+            raise TypeError(f"Datasheet.bias_instability_is_b must be a bool; got {self.bias_instability_is_b!r}")
+        if self.noise_density_sided not in ("one", "two"):
+            raise ValueError(f"Datasheet.noise_density_sided must be 'one' or 'two'; got {self.noise_density_sided!r}")
+        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h", optional=False)
+        if self.bias_instability_dph <= 0:
+            raise ValueError(f"Datasheet.bias_instability_dph must be > 0 [deg/h]; got {self.bias_instability_dph!r}")
+        for f in fields(self):
+            if f.name in _OPTIONAL:
+                _check_figure(f.name, getattr(self, f.name), f.metadata.get("unit", "datasheet unit"))
+        if self.arw is None and self.noise_density is None:
+            raise ValueError(f"Datasheet {self.name!r} needs arw [deg/sqrt(h)] or noise_density [deg/s/sqrt(Hz)]")
+        for key in ("range_dps", "output_rate", "resolution", "arw", "noise_density"):
+            v = getattr(self, key)
+            if v is not None and v <= 0:
+                raise ValueError(f"Datasheet.{key} must be > 0 when given; got {v!r}")
+
+    # ------------------------------------------------------------------ the solve
+    def angle_random_walk(self) -> float:
+        """N [rad/sqrt(s)] (module docstring: from ARW, or from the noise density and its sidedness)."""
+        if self.arw is not None:
+            return units.deg_per_sqrt_h(self.arw)
+        nd = math.radians(float(self.noise_density))  # type: ignore[arg-type]
+        return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
+
+    def bias_instability(self) -> float:
+        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``)."""
+        b = units.deg_per_h(self.bias_instability_dph)
+        return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
+
+    def noise_model(self) -> NoiseModel:
+        """The IEEE 952 model: N and B from the figures (module docstring), no Q, K or R."""
+        return NoiseModel(angle_random_walk=self.angle_random_walk(), bias_instability=self.bias_instability())
+
+    def figures(self) -> dict[str, object]:
+        """The datasheet fields as a flat dict (for listing and metadata)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True, slots=True)
+class Part:
+    """A part's population: draws units whose errors follow its datasheet (module docstring)."""
+
+    datasheet: Datasheet
+    reference_temperature: float = _T_REF
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.datasheet, Datasheet):
+            raise TypeError(f"Part.datasheet must be a Datasheet; got {type(self.datasheet).__name__}")
+
+    @property
+    def name(self) -> str:
+        return self.datasheet.name
+
+    def realize(self, rng: np.random.Generator) -> PartUnit:
+        """Draw one unit: turn-on bias and scale-factor error from their repeatabilities."""
+        check_rng(rng)
+        ds = self.datasheet
+        b0 = units.deg_per_h(ds.bias_repeatability or 0.0) * float(rng.standard_normal())
+        ek = (ds.scale_factor_repeatability or 0.0) * 1e-6 * float(rng.standard_normal())
+        return PartUnit(self, turn_on_bias=b0, scale_factor_error=ek)
+
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """Draw a unit from ``rng`` and simulate one record with it (:meth:`PartUnit.simulate`)."""
+        return self.realize(rng).simulate(environment, fs=fs, rng=rng)
+
+
+@dataclass(frozen=True, slots=True)
+class PartUnit:
+    """One drawn unit of a :class:`Part` (a :class:`gyrobench.sim.sensor.SensorUnit`).
+
+    Parameters
+    ----------
+    part : Part
+    turn_on_bias : float
+        b0 [rad/s].
+    scale_factor_error : float
+        e_K [1] at the reference temperature.
+    """
+
+    part: Part
+    turn_on_bias: float = 0.0
+    scale_factor_error: float = 0.0
+
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """One record at ``fs`` [Hz]: channel ``output`` [rad/s], truth ``true_rate`` and every error term.
+
+        Inputs are taken at the sample centres (:meth:`Environment.sampled`); temperature
+        None is the reference temperature (25 degC).
+        """
+        check_rng(rng)
+        fs = check_fs(fs)
+        if not isinstance(environment, Environment):
+            raise TypeError(f"environment must be an Environment; got {type(environment).__name__}")
+        n = environment.n_samples(fs)
+        if n < 2:
+            raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
+        ds = self.part.datasheet
+        t_ref = self.part.reference_temperature
+        omega = environment.sampled("true_rate", fs)
+        temp = environment.sampled("temperature", fs, default=t_ref)
+        force = environment.sampled("specific_force", fs)
+        d_t = temp - t_ref
+        comps: dict[str, NDArray[np.float64]] = {
+            "turn_on_bias": np.full(n, self.turn_on_bias),
+            "bias_temperature": units.deg_per_h(ds.bias_tempco or 0.0) * d_t,
+            "scale_factor_error": (self.scale_factor_error + (ds.scale_factor_tempco or 0.0) * 1e-6 * d_t) * omega,
+            "g_sensitivity": units.deg_per_h(ds.g_sensitivity or 0.0) / units.G0 * force,
+            "ieee_noise": ds.noise_model().generate(n, fs, rng=rng),
+        }
+        raw = omega + sum(comps.values())
+        if ds.range_dps is not None:
+            limit = math.radians(ds.range_dps)
+            clipped = np.clip(raw, -limit, limit)
+        else:
+            clipped = raw.copy()
+        comps["saturation"] = clipped - raw
+        if ds.resolution:
+            q = math.radians(ds.resolution)
+            out = np.round(clipped / q) * q
+        else:
+            out = clipped
+        comps["quantization"] = out - clipped
+        descr = {
+            "turn_on_bias": "turn-on bias b0 (drawn from the bias repeatability)",
+            "bias_temperature": "bias temperature coefficient x (T - T_ref)",
+            "scale_factor_error": "(e_K + k_T (T - T_ref)) x true rate",
+            "g_sensitivity": "g-sensitivity x specific force",
+            "ieee_noise": "IEEE 952 noise (N, B from the datasheet)",
+            "saturation": "clipping at +-range",
+            "quantization": "rounding to the output resolution",
+        }
+        truth = {"true_rate": Channel(omega, "rad/s", "input rate about the sense axis")}
+        truth.update({k: Channel(comps[k], "rad/s", descr[k]) for k in ERROR_COMPONENTS})
+        truth["temperature"] = Channel(temp, "K", "unit temperature")
+        truth["specific_force"] = Channel(force, "m/s^2", "specific force along the sense axis")
+        return Recording(
+            fs=fs,
+            channels={"output": Channel(out, "rad/s", f"{ds.manufacturer} {ds.model} output")},
+            truth=truth,
+            t0=0.5 / fs,
+            metadata={
+                "model": "gyrobench.sim.parts.PartUnit",
+                "part": ds.name,
+                "datasheet": ds.figures(),
+                "unit": {"turn_on_bias_rad_s": self.turn_on_bias, "scale_factor_error": self.scale_factor_error},
+                "noise_model": ds.noise_model().to_datasheet(),
+                "error_components": list(ERROR_COMPONENTS),
+                "ignored_inputs": [],
+            },
+            name=ds.name.replace("/", "_"),
+        )

@@ -1,0 +1,151 @@
+"""Tests of sim/parts: the datasheet solve, the one truth layout, the fit-back of every part, TOML parts."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from gyrobench.analysis.allan import fit_noise
+from gyrobench.sim import parts
+from gyrobench.sim.recording import load_hdf5, save_hdf5
+from gyrobench.sim.sensor import Environment
+from scipy.stats import norm
+
+EPS = np.finfo(float).eps
+NAMES = parts.names()
+
+
+def test_catalogue_spans_the_technologies_and_names_its_sources():
+    sheets = parts.datasheets()
+    assert len({d.name for d in sheets}) == len(sheets)
+    assert {d.technology for d in sheets} >= {"MEMS", "RLG"}
+    for d in sheets:
+        assert d.source.strip() and d.bias_instability_dph > 0
+
+
+def test_solve_noise_density_sidedness():
+    # white rate noise: two-sided PSD S = N^2, one-sided 2 S (module docstring)
+    two = parts.Datasheet(name="x", manufacturer="m", model="x", technology="MEMS", grade="consumer",
+                          source="s", bias_instability_dph=1.0, noise_density=0.01, noise_density_sided="two")
+    one = parts.Datasheet(name="x", manufacturer="m", model="x", technology="MEMS", grade="consumer",
+                          source="s", bias_instability_dph=1.0, noise_density=0.01, noise_density_sided="one")
+    assert two.angle_random_walk() == pytest.approx(math.radians(0.01), rel=1e-12)
+    assert one.angle_random_walk() == pytest.approx(math.radians(0.01) / math.sqrt(2), rel=1e-12)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_truth_components_sum_to_the_error(name, tmp_path):
+    part = parts.get(name)
+    fs, dur = 50.0, 20.0
+    n = int(fs * dur)
+    rng = np.random.default_rng(3)
+    d = part.datasheet
+    # a rate sweep past the range (when there is one), a temperature ramp and 1 g: every term acts
+    top = math.radians(1.5 * (d.range_dps or 100.0))
+    env = Environment(dur, true_rate=np.linspace(-top, top, n), temperature=np.linspace(283.15, 313.15, n),
+                      specific_force=9.80665)
+    rec = part.simulate(env, fs=fs, rng=rng)
+    out, true = rec["output"], rec["truth/true_rate"]
+    comps = [rec["truth/" + k] for k in rec.metadata["error_components"]]
+    assert rec.metadata["error_components"] == list(parts.ERROR_COMPONENTS)
+    # an identity up to rounding: each of the len + 2 terms rounded at eps of the largest magnitude,
+    # a factor 16 for the intermediate operations
+    scale = max(np.max(np.abs(a)) for a in (out, true, *comps))
+    assert np.max(np.abs(out - true - np.sum(comps, axis=0))) <= 16 * (len(comps) + 2) * EPS * scale
+    if d.range_dps is not None:
+        assert np.max(np.abs(out)) <= math.radians(d.range_dps) * (1 + 4 * EPS) + math.radians(d.resolution or 0)
+        assert np.any(rec["truth/saturation"] != 0)
+    if d.resolution:
+        q = math.radians(d.resolution)
+        assert np.allclose(out / q, np.round(out / q), atol=1e-6)
+    for k in rec.truth:
+        assert rec.truth[k].unit in ("rad/s", "K", "m/s^2")
+    back = load_hdf5(save_hdf5(tmp_path / "r.h5", rec))
+    assert np.array_equal(back["output"], out)
+
+
+# The fit-back: a static record 300 crossover times long (tau_c = (N / 0.664 B)^2, where the ARW
+# and flicker ADEVs meet) at 3e5 samples; each part's N and B must lie within z standard errors
+# of the fit, z for a 1 % family-wise false-alarm rate over the 2 x len(NAMES) checks
+# (Bonferroni). The standard error is the 95 % interval's half-width / 1.96.
+Z = float(norm.ppf(1 - 0.01 / (2 * 2 * len(NAMES))))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_simulated_part_meets_its_datasheet(name):
+    part = parts.get(name)
+    d = part.datasheet
+    n_true, b_true = d.angle_random_walk(), d.bias_instability()
+    tc = (n_true / (parts.ADEV_MIN_PER_B * b_true)) ** 2
+    dur = 300 * tc
+    fs = min(200.0, 3e5 / dur)
+    rec = part.simulate(Environment(dur), fs=fs, rng=np.random.default_rng(20261127))
+    if d.resolution:
+        # rounding to q adds white rate noise of variance q^2/12 per sample: N^2 += q^2 / (12 fs)
+        # (valid while the per-sample noise N sqrt(fs) is well above q, checked here)
+        q = math.radians(d.resolution)
+        assert n_true * math.sqrt(fs) > 2 * q
+        n_true = math.sqrt(n_true**2 + q**2 / (12 * fs))
+    fit = fit_noise(rec["output"], fs, terms=("Q", "N", "B", "K"))
+    assert not fit.misfit
+    for key, truth in (("N", n_true), ("B", b_true)):
+        c = fit.coefficients[key]
+        se = (c.ci95[1] - c.ci95[0]) / (2 * 1.96)
+        assert c.value is not None and abs(c.value - truth) <= Z * se, (key, c.value, truth, se)
+
+
+def test_toml_part_round_trip_and_one_line_errors(tmp_path):
+    good = tmp_path / "mine.toml"
+    good.write_text(
+        '[part]\nname = "mine"\nmanufacturer = "me"\nmodel = "M1"\ntechnology = "FOG"\ngrade = "tactical"\n'
+        'source = "my sheet rev A"\nbias_instability_dph = 0.1\narw = 0.01\nrange_dps = 500\n'
+    )
+    part = parts.get(str(good))
+    assert part.datasheet.range_dps == 500.0 and part.datasheet.technology == "FOG"
+    rec = part.simulate(Environment(10.0), fs=10.0, rng=np.random.default_rng(0))
+    assert rec.n_samples == 100
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "b"\nmanufacturer = "m"\nmodel = "b"\ntechnology = "MEMS"\ngrade = "x"\nsource = "s"\n'
+                   'bias_instability_dph = 1\narw = 1\n')
+    with pytest.raises(ValueError, match=r"bad.toml.*grade") as e:
+        parts.load_toml(bad)
+    assert "\n" not in str(e.value)
+    bad.write_text('name = "b"\nbias_instabilty_dph = 1\n')
+    with pytest.raises(ValueError, match=r"unknown key.*bias_instabilty_dph"):
+        parts.load_toml(bad)
+    with pytest.raises(ValueError, match="does not exist"):
+        parts.load_toml(tmp_path / "none.toml")
+    with pytest.raises(ValueError, match="unknown part 'nope'"):
+        parts.get("nope")
+
+
+def test_three_line_python_form_and_the_sensor_protocol(tmp_path):
+    import gyrobench.sim.parts
+    from gyrobench.sim.sensor import Sensor, SensorUnit
+
+    part = gyrobench.sim.parts.get("hg9900")
+    rec = part.simulate(Environment(60.0), fs=10.0, rng=np.random.default_rng(1))
+    save_hdf5(tmp_path / "hg9900.h5", rec)
+    assert load_hdf5(tmp_path / "hg9900.h5").n_samples == 600
+    assert isinstance(part, Sensor)
+    assert isinstance(part.realize(np.random.default_rng(0)), SensorUnit)
+
+
+def test_a_unit_is_one_draw_of_the_population():
+    # turn-on bias and scale-factor error are the unit's: the same unit repeats them, and over
+    # 2000 units their spread is the repeatability within 5 sigma of the sample-std error
+    # (std of a sample std ~ sigma / sqrt(2 n))
+    sheet = parts.Datasheet(name="x", manufacturer="m", model="x", technology="FOG", grade="tactical", source="s",
+                            bias_instability_dph=0.1, arw=0.01, bias_repeatability=2.0, scale_factor_repeatability=50.0)
+    part = parts.Part(sheet)
+    rng = np.random.default_rng(11)
+    units_ = [part.realize(rng) for _ in range(2000)]
+    b = np.array([u.turn_on_bias for u in units_])
+    k = np.array([u.scale_factor_error for u in units_])
+    tol = 5 / math.sqrt(2 * len(units_))
+    assert abs(np.std(b) / math.radians(2.0 / 3600) - 1) < tol
+    assert abs(np.std(k) / 50e-6 - 1) < tol
+    rec = units_[0].simulate(Environment(1.0, true_rate=0.1), fs=10.0, rng=rng)
+    assert np.all(rec["truth/turn_on_bias"] == units_[0].turn_on_bias)
+    assert np.allclose(rec["truth/scale_factor_error"], units_[0].scale_factor_error * 0.1, rtol=1e-12)

@@ -181,7 +181,14 @@ def analyse(
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
     grows as the square of the number of taus, and neighbouring m carry no new information).
     """
-    from gyrobench.analysis.allan import AllanCurve, allan_deviation, bandwidth_range, fit_noise, fit_range
+    from gyrobench.analysis.allan import (
+        AllanCurve,
+        allan_deviation,
+        bandwidth_range,
+        fit_noise,
+        fit_range,
+        floor_bounds,
+    )
 
     check_finite(channel)
     data, tfit = channel.data, None
@@ -227,9 +234,10 @@ def analyse(
         )
     fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
-    fit = fit_noise(
-        fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth, bandwidth_bias=bandwidth_bias
-    )
+    options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
+    fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, **options)
+    # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
+    fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
     return ChannelResult(
         channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit
     )
@@ -260,6 +268,7 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
             "high68": field_value(name, c.ci68[1], quantity) if c.identifiable else None,
             "unit": field_unit(name, quantity),
             "identifiable": bool(c.identifiable),
+            "bound_note": c.bound_note or None,
         }
 
     def num(v: float):
@@ -409,8 +418,8 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             out.append(
                 f"{res.channel.label}: removed the temperature-explained part y = c_T (T - Tbar) + c_dT dT/dt "
                 f"(least squares, {tf.explained:.1%} of the variance): c_T = {tf.c_temperature * k:.4g} "
-                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} +- {tf.se_rate * k / 60:.2g} "
-                f"{u}/(degC/min) (white-residual standard errors)"
+                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} "
+                f"+- {tf.se_rate * k / 60:.2g} {u}/(degC/min) (white-residual standard errors)"
             )
         if res.no_fit:
             out.append(f"{res.channel.label}: {res.no_fit}")
@@ -443,10 +452,8 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             unit = field_unit(name, q)
             if not c.identifiable:
                 hi = field_value(name, c.upper_bound, q)
-                out.append(
-                    pre
-                    + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   (not identifiable from this record)"
-                )
+                why = "not identifiable from this record" + ("; bound from a sub-segment" if c.bound_note else "")
+                out.append(pre + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   ({why})")
             else:
                 v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
                 out.append(

@@ -15,6 +15,7 @@ Tolerances are the precision the sources print (see each folder's README):
 
 from __future__ import annotations
 
+import functools
 import gzip
 import math
 from decimal import Decimal
@@ -378,6 +379,17 @@ def _read_all(path: Path) -> np.ndarray:
         return np.loadtxt((ln for ln in fh if ln[:1] not in ("#", "g")), delimiter=",")
 
 
+@functools.lru_cache(maxsize=1)
+def _full_records() -> tuple[np.ndarray, ...]:
+    """The six 100 Hz ADIS16405 records, all six columns (skips without ../shared/validation)."""
+    from tests.analysis.conftest import VALIDATION as validation
+
+    folder = validation / "smac_imudata_adis16405"
+    if not folder.is_dir():
+        pytest.skip(f"reference data folder {folder} not found")
+    return tuple(_read_all(folder / f"adis16405_imu{k}_100Hz.csv.gz") for k in range(1, 7))
+
+
 def _interval_or_bound(c: allan.Coefficient) -> tuple[float, float]:
     return c.ci95 if c.identifiable else (0.0, c.upper_bound)
 
@@ -396,16 +408,7 @@ def test_adis16405_halves_intervals_overlap(source):
     """
     from scipy import stats
 
-    if source == "excerpt_1hz":
-        records, fs = _adis_records(source)
-    else:
-        from tests.analysis.conftest import VALIDATION as validation
-
-        folder = validation / "smac_imudata_adis16405"
-        if not folder.is_dir():
-            pytest.skip(f"reference data folder {folder} not found")
-        records = [_read_all(folder / f"adis16405_imu{k}_100Hz.csv.gz") for k in range(1, 7)]
-        fs = 100.0
+    records, fs = _adis_records(source) if source == "excerpt_1hz" else (_full_records(), 100.0)
     pairs, apart = 0, []
     for k, data in enumerate(records, start=1):
         for col in range(data.shape[1]):
@@ -423,3 +426,40 @@ def test_adis16405_halves_intervals_overlap(source):
     assert pairs >= 30, pairs
     limit = int(stats.binom.isf(1e-3, pairs, 1.0 - HALVES_TARGET))
     assert len(apart) <= limit, (pairs, limit, apart)
+
+
+def test_adis16405_open_bounds_not_below_other_segments():
+    """No upper bound of the whole record's fit below what another stretch of it shows (issue 30).
+
+    :func:`floor_bounds` raises an open term's bound to the values its halves and quarters
+    identify; here stretches it did not fit (the thirds, the first and last 2000 s) are fitted
+    alike, and wherever they identify a term the whole record leaves open, the bound must not
+    sit below that stretch's 95 % interval (bound >= its lower end: the data of the stretch
+    do not contradict it). Before: 26 of 47 such bounds sat below the stretch's value itself,
+    e.g. accelerometer VRW 0.186 vs 0.30 m/s/sqrt(h) on the first 2000 s of imu1.
+    """
+    below = []
+    checked = 0
+    for k, data in enumerate(_full_records(), start=1):
+        for col in range(data.shape[1]):
+            y = data[:, col]
+            fit = allan.floor_bounds(fit_noise(allan_deviation(y, 100.0), tau_min="auto"), y, 100.0, tau_min="auto")
+            third = y.size // 3
+            for seg in (y[:200_000], y[-200_000:], y[:third], y[third : 2 * third], y[2 * third :]):
+                sub = fit_noise(allan_deviation(seg, 100.0), tau_min="auto")
+                for name, c in fit.coefficients.items():
+                    s = sub.coefficients[name]
+                    if c.identifiable or not s.identifiable:
+                        continue
+                    checked += 1
+                    if c.upper_bound < s.ci95[0]:
+                        below.append((k, col, name, seg.size, c.upper_bound, s.ci95))
+    assert checked >= 20, checked
+    assert not below, below
+
+
+def test_floor_bounds_refuses_bad_parts():
+    y = np.random.default_rng(0).normal(size=4096)
+    fit = fit_noise(y, 1.0)
+    with pytest.raises(ValueError, match=r"parts must be integers >= 2 \(segments per split\); got \[1\]"):
+        allan.floor_bounds(fit, y, 1.0, parts=[1])

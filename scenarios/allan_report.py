@@ -134,20 +134,22 @@ class ChannelResult:
     bandwidth_range: Any = None
     warnings: list = field(default_factory=list)
     temperature: Any = None
+    nonstationary: bool = False
 
 
-def _stationarity(data, fs: float, curve, label: str) -> list[str]:
-    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows."""
+def _stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool]:
+    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows, and
+    whether motion or steps were found (the record is then flagged non-stationary)."""
     import numpy as np
     from gyrobench.analysis.stationarity import stationarity_check
 
     n = len(data)
     ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
     if not np.any(ok):
-        return []
+        return [], False
     i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
     rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
-    return rep.warnings(label)
+    return rep.warnings(label), bool(rep.tested and not rep.stationary)
 
 
 def check_finite(channel: Any) -> None:
@@ -197,13 +199,14 @@ def analyse(
 
         data, tfit = remove_temperature(channel.data, temperature, fs)
     curve = allan_deviation(data, fs, taus=taus, kind=kind)
-    warn = _stationarity(data, fs, curve, channel.label)
+    warn, moving = _stationarity(data, fs, curve, channel.label)
     if kind not in FIT_KINDS:
         return ChannelResult(
             channel,
             curve,
             warnings=warn,
             temperature=tfit,
+            nonstationary=moving,
             no_fit=(
                 f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
                 f"are those of the Allan variance; the curve is exported"
@@ -239,7 +242,8 @@ def analyse(
     # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
     fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
     return ChannelResult(
-        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit
+        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,
+        nonstationary=moving,
     )
 
 
@@ -254,8 +258,9 @@ def _si_unit(quantity: str) -> str:
     return "m/s^2" if quantity == "accel" else "rad/s"
 
 
-def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
-    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p."""
+def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
+    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
+    ``nonstationary`` (motion or steps in the record: the terms describe them too)."""
     import math
 
     terms = {}
@@ -283,6 +288,7 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
         "chi2_per_dof": num(fit.chi2_per_dof),
         "p_value": num(fit.p_value),
         "misfit": bool(fit.misfit),
+        "nonstationary": bool(nonstationary),
         "interval_inflation": float(fit.inflation),
         "tau_min_rule": fit.range_rule or None,
         "tau_min_reason": fit.range_reason or None,
@@ -310,7 +316,8 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
         "quantity": q,
         "curve": curve_json(res.curve, q),
         "adev_floor": {"value": floor, "unit": _si_unit(q), "tau": tau},
-        "fit": None if res.fit is None else fit_json(res.fit, q),
+        "fit": None if res.fit is None else fit_json(res.fit, q, res.nonstationary),
+        "nonstationary": bool(res.nonstationary),
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
@@ -364,9 +371,17 @@ def _temp_units(quantity: str) -> tuple[float, str]:
 
 def plot_title(log, res: ChannelResult) -> str:
     n = len(res.channel.data)
+    title = f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"
+    if res.nonstationary:
+        title += "\nNOT STATIONARY (motion or steps): the terms describe them too"
+    return title
+
+
+def nonstationary_line(res: ChannelResult) -> str:
+    """The report's first line for a channel with motion or steps."""
     return (
-        f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
-        f"({n} samples)"
+        f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fitted "
+        f"terms describe them as noise: analyse a quiet stretch (--start/--stop)"
     )
 
 
@@ -394,7 +409,7 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
     """The printed report: misfits first, then the record, the notes and one table of every channel."""
     import numpy as np
 
-    out = []
+    out = [nonstationary_line(res) for res in results if res.nonstationary]
     for res in results:
         f = res.fit
         if f is not None and f.misfit:

@@ -400,6 +400,10 @@ def _cmd_allan(args) -> int:
             fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
         if not args.json:
             print(f"wrote {plot}")
+    if any(r.nonstationary for r in results) and not args.accept_nonstationary:
+        from gyrobench.scenarios import exits
+
+        return exits.NONSTATIONARY
     return 0
 
 
@@ -537,7 +541,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 
-    s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)")
+    s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)",
+                       epilog="exit status: 0 ok; 2 bad input; 5 a channel is not stationary (motion or steps: "
+                              "the report is written, its first line says so; --accept-nonstationary exits 0)")
     s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro (EuRoC, Kalibr, "
                                 "ROS exports included)")
     s.add_argument("--column", action="append", help="channel (HDF5, default 'rate') or CSV column name or index; "
@@ -574,6 +580,8 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="FRACTION",
                    help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
                         f"standard error (default {_BANDWIDTH_BIAS:g})")
+    s.add_argument("--accept-nonstationary", action="store_true",
+                   help="exit 0 also when motion or steps are found (default: exit status 5)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
     s.add_argument("--plot", help="write the ADEV figure (PNG)")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "

@@ -128,7 +128,8 @@ def test_euroc_header_ns_timestamps_and_all_axes(tmp_path, capsys, rng):
     p = tmp_path / "data.csv"
     head = ("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
             "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n")
-    p.write_text(head + "\n".join(f"{ti}," + ",".join(f"{v:.9g}" for v in row) for ti, row in zip(t, data)) + "\n")
+    p.write_text(head + "\n".join(f"{ti}," + ",".join(f"{v:.9g}" for v in row)
+                                  for ti, row in zip(t, data, strict=True)) + "\n")
     from gyrobench.scenarios.logs import read_csv_log
 
     log = read_csv_log(p, None, None, None, all_axes=True)
@@ -150,7 +151,8 @@ def test_kalibr_and_ros_exports(tmp_path, rng):
     t = 1_600_000_000_000_000_000 + np.arange(len(data)) * 10_000_000
     k = tmp_path / "imu0.csv"
     k.write_text("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z\n"
-                 + "\n".join(f"{ti}," + ",".join(f"{v:.17g}" for v in row) for ti, row in zip(t, data)) + "\n")
+                 + "\n".join(f"{ti}," + ",".join(f"{v:.17g}" for v in row)
+                              for ti, row in zip(t, data, strict=True)) + "\n")
     log = read_csv_log(k, ["omega_y", "alpha_z"], None, None)
     assert log.fmt == "kalibr" and log.fs == pytest.approx(FS, rel=1e-12)
     assert [(c.quantity, c.unit) for c in log.channels] == [("rate", "rad/s"), ("accel", "m/s^2")]
@@ -160,7 +162,8 @@ def test_kalibr_and_ros_exports(tmp_path, rng):
     cols = ["%time", "field.header.seq", "field.angular_velocity.x", "field.angular_velocity.y",
             "field.angular_velocity.z", "field.linear_acceleration.x"]
     r.write_text(",".join(cols) + "\n" + "\n".join(
-        f"{ti},{i}," + ",".join(f"{v:.17g}" for v in row[:4]) for i, (ti, row) in enumerate(zip(t, data))) + "\n")
+        f"{ti},{i}," + ",".join(f"{v:.17g}" for v in row[:4])
+        for i, (ti, row) in enumerate(zip(t, data, strict=True))) + "\n")
     log = read_csv_log(r, None, None, None, all_axes=True)
     assert log.fmt == "ros" and log.fs == pytest.approx(FS, rel=1e-12)
     assert [c.label for c in log.channels] == cols[2:]
@@ -181,7 +184,7 @@ def test_epoch_ns_without_unit_is_not_read_as_seconds(tmp_path, capsys, rng):
     rate = rng.standard_normal(4000) * 0.1
     p = tmp_path / "g.csv"
     t = 1_700_000_000_000_000_000 + np.arange(rate.size) * 10_000_000
-    p.write_text("timestamp,gyro [deg/s]\n" + "\n".join(f"{ti},{v:.17g}" for ti, v in zip(t, rate)) + "\n")
+    p.write_text("timestamp,gyro [deg/s]\n" + "\n".join(f"{ti},{v:.17g}" for ti, v in zip(t, rate, strict=True)) + "\n")
     code, out, err = run(["allan", p], capsys)
     assert code == 0, err
     assert "100 Hz" in out and "Unix epoch times in ns" in out
@@ -317,8 +320,26 @@ def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
     y[60_000:] += 0.05  # a step at 600 s
     np.savetxt(p, np.column_stack([t, y]), delimiter=",", header="time [s],gyro [deg/s]", comments="", fmt="%.9g")
     code, out, err = run(["allan", p], capsys)
+    assert code == 5, err  # exits.NONSTATIONARY: the step is its own diagnosis (issue 30)
+    lines = out.splitlines()
+    assert lines[0].startswith("NONSTATIONARY gyro: "), out
+    assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in lines[:4]), out
+    code, out, err = run(["allan", p, "--json", "--accept-nonstationary"], capsys)
     assert code == 0, err
-    assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in out.splitlines()[:3]), out
+    doc = json.loads(out)
+    assert doc["nonstationary"] is True and doc["fit"]["nonstationary"] is True
+
+
+def test_quiet_record_is_not_flagged_nonstationary(tmp_path, capsys, rng):
+    """White noise only: no motion or step flag, exit 0, nonstationary false in the fit."""
+    n = 100_000
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, 0.01 * rng.standard_normal(n)]), delimiter=",",
+               header="time [s],gyro [deg/s]", comments="", fmt="%.9g")
+    code, out, err = run(["allan", p, "--json"], capsys)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["nonstationary"] is False and doc["fit"]["nonstationary"] is False
 
 
 def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):

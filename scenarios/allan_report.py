@@ -369,12 +369,37 @@ def _temp_units(quantity: str) -> tuple[float, str]:
     return float(units.to_deg_per_h(1.0)), "deg/h"
 
 
+def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelResult]]:
+    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``."""
+    import re
+
+    if len(results) == 1:
+        return [(plot, results[0])]
+    out = []
+    for res in results:
+        safe = re.sub(r"[^A-Za-z0-9._-]+", "_", res.channel.label).strip("_") or "channel"
+        out.append((plot.with_name(f"{plot.stem}_{safe}{plot.suffix}"), res))
+    return out
+
+
+#: longest warning line in a figure's title block [characters]
+_TITLE_WIDTH = 110
+
+
 def plot_title(log, res: ChannelResult) -> str:
+    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
     n = len(res.channel.data)
-    title = f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"
+    lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
     if res.nonstationary:
-        title += "\nNOT STATIONARY (motion or steps): the terms describe them too"
-    return title
+        lines.append("NOT STATIONARY (motion or steps): the terms describe them too")
+    f = res.fit
+    if f is not None and f.misfit:
+        lines.append(
+            f"MISFIT: chi2/dof = {f.chi2_per_dof:.3g}, p = {f.p_value:.2g}; intervals widened x{f.inflation:.3g}"
+        )
+    for w in res.warnings:
+        lines.append(w if len(w) <= _TITLE_WIDTH else w[: _TITLE_WIDTH - 3] + "...")
+    return "\n".join(lines)
 
 
 def nonstationary_line(res: ChannelResult) -> str:

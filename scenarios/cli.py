@@ -393,13 +393,12 @@ def _cmd_allan(args) -> int:
         from gyrobench.scenarios.figures import allan_figure
         from gyrobench.sim.recording import atomic_path
 
-        res = results[0]
-        fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
-        plot = Path(args.plot)
-        with atomic_path(plot) as tmp:
-            fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
-        if not args.json:
-            print(f"wrote {plot}")
+        for plot, res in rep.plot_paths(Path(args.plot), results):  # one file per channel
+            fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
+            with atomic_path(plot) as tmp:
+                fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+            if not args.json:
+                print(f"wrote {plot}")
     if any(r.nonstationary for r in results) and not args.accept_nonstationary:
         from gyrobench.scenarios import exits
 
@@ -583,7 +582,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--accept-nonstationary", action="store_true",
                    help="exit 0 also when motion or steps are found (default: exit status 5)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
-    s.add_argument("--plot", help="write the ADEV figure (PNG)")
+    s.add_argument("--plot", help="write the ADEV figure (PNG); with several channels one file per channel, "
+                                  "FILE_<channel>.png")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
                                     "from N and K, largest over the axes)")
     s.set_defaults(func=_cmd_allan)

@@ -379,3 +379,26 @@ def test_allan_figure_has_band_model_bounds_shading_and_residuals(rng):
     assert any(t.startswith("N = ") for t in labels) and any(" < " in t and "(95 %)" in t for t in labels)
     assert len(ax.patches) >= 1  # the not-fitted taus (0.01, 0.02 s) shaded
     assert axr.get_ylabel() == "(AVAR - fit) / sd" and ax.get_title().startswith("f.csv: gyro")
+
+
+def test_plot_writes_every_channel_with_its_warnings(tmp_path, capsys, rng):
+    """--plot with several channels: one figure per channel (issue 30 item 6), warnings in the title."""
+    n = 20_000
+    y = 0.01 * rng.standard_normal((n, 2))
+    y[12_000:, 1] += 0.05  # a step in the second channel only
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, y]), delimiter=",",
+               header="time [s],gx [deg/s],gy [deg/s]", comments="", fmt="%.9g")
+    png = tmp_path / "adev.png"
+    code, out, err = run(["allan", p, "--column", "gx", "--column", "gy", "--plot", png], capsys)
+    assert code == 5, err  # the step: exits.NONSTATIONARY
+    for name in ("adev_gx.png", "adev_gy.png"):
+        assert (tmp_path / name).stat().st_size > 0 and f"wrote {tmp_path / name}" in out
+    assert not png.exists()
+    from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.logs import read_csv_log
+
+    log = read_csv_log(p, ["gy"], None, None)
+    res = rep.analyse(log.channels[0], log.fs)
+    title = rep.plot_title(log, res)
+    assert "NOT STATIONARY" in title and "step(s)" in title, title

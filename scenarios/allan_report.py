@@ -526,6 +526,9 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
         f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
         "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
     ]
+    moving = [r.channel.label for r in results if r.nonstationary]
+    if moving:
+        lines.append(f"# WARNING not stationary (motion or steps; the values describe them too): {', '.join(moving)}")
     keys = {
         ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
         ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
@@ -547,7 +550,9 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
             vals.append(c.value if c.identifiable else c.upper_bound)
             if not c.identifiable:
                 bounds.append(r.channel.label)
+        floored = [r.channel.label for r in fits if r.fit.coefficients[term].bound_note]
         note = f"  # 95 % upper bound on {', '.join(bounds)} (not identifiable)" if bounds else ""
+        note += f"; bound from a sub-segment on {', '.join(floored)}" if floored else ""
         body.append(
             f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}"
         )

@@ -324,10 +324,12 @@ def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
     lines = out.splitlines()
     assert lines[0].startswith("NONSTATIONARY gyro: "), out
     assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in lines[:4]), out
-    code, out, err = run(["allan", p, "--json", "--accept-nonstationary"], capsys)
+    kalibr = tmp_path / "imu.yaml"
+    code, out, err = run(["allan", p, "--json", "--accept-nonstationary", "--kalibr", kalibr], capsys)
     assert code == 0, err
     doc = json.loads(out)
     assert doc["nonstationary"] is True and doc["fit"]["nonstationary"] is True
+    assert "# WARNING not stationary (motion or steps; the values describe them too): gyro" in kalibr.read_text()
 
 
 def test_quiet_record_is_not_flagged_nonstationary(tmp_path, capsys, rng):

@@ -135,21 +135,23 @@ class ChannelResult:
     warnings: list = field(default_factory=list)
     temperature: Any = None
     nonstationary: bool = False
+    segments: list = field(default_factory=list)  # (start_s, stop_s, ChannelResult) of --segments auto
 
 
-def _stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool]:
-    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows, and
-    whether motion or steps were found (the record is then flagged non-stationary)."""
+def _stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
+    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows,
+    whether motion or steps were found (the record is then flagged non-stationary) and the
+    :class:`StationarityReport` (None when no tau qualifies)."""
     import numpy as np
     from gyrobench.analysis.stationarity import stationarity_check
 
     n = len(data)
     ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
     if not np.any(ok):
-        return [], False
+        return [], False, None
     i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
     rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
-    return rep.warnings(label), bool(rep.tested and not rep.stationary)
+    return rep.warnings(label), bool(rep.tested and not rep.stationary), rep
 
 
 def check_finite(channel: Any) -> None:
@@ -177,6 +179,7 @@ def analyse(
     temperature=None,
     bandwidth: float | None = None,
     bandwidth_bias: float = 0.1,
+    segments: str | None = None,
 ) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
@@ -199,7 +202,7 @@ def analyse(
 
         data, tfit = remove_temperature(channel.data, temperature, fs)
     curve = allan_deviation(data, fs, taus=taus, kind=kind)
-    warn, moving = _stationarity(data, fs, curve, channel.label)
+    warn, moving, stat = _stationarity(data, fs, curve, channel.label)
     if kind not in FIT_KINDS:
         return ChannelResult(
             channel,
@@ -241,10 +244,38 @@ def analyse(
     fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, **options)
     # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
     fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
-    return ChannelResult(
+    result = ChannelResult(
         channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,
         nonstationary=moving,
     )
+    if segments == "auto" and moving:
+        result.segments = _segment_fits(channel, data, fs, stat, taus=taus, kind=kind, terms=terms,
+                                        tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth,
+                                        bandwidth_bias=bandwidth_bias)
+    return result
+
+
+def _segment_fits(channel, data, fs: float, stat, **options) -> list:
+    """``--segments auto``: the fit of each quiet stretch (:func:`quiet_stretches`) long enough to fit.
+
+    Each stretch is analysed as a record of its own (its own stationarity check and fit range);
+    a stretch too short for the fit is left out.
+    """
+    from dataclasses import replace as _replace
+
+    from gyrobench.analysis.stationarity import quiet_stretches
+
+    out = []
+    for a, b in quiet_stretches(stat, len(data), fs):
+        part = _replace(channel, data=data[a:b]) if hasattr(channel, "__dataclass_fields__") else None
+        if part is None:
+            continue
+        try:
+            res = analyse(part, fs, **options)
+        except ValueError:  # too short for the fit
+            continue
+        out.append((a / fs, b / fs, res))
+    return out
 
 
 def _floor(curve) -> tuple[float, float]:
@@ -321,6 +352,12 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
+    if res.segments:
+        out["segments"] = [
+            {"start_s": a, "stop_s": b, "nonstationary": bool(sub.nonstationary),
+             "fit": None if sub.fit is None else fit_json(sub.fit, q, sub.nonstationary)}
+            for a, b, sub in res.segments
+        ]
     out["warnings"] = list(res.warnings)
     if res.temperature is not None:
         tf = res.temperature
@@ -501,6 +538,25 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                     + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0))
                     + unit
                 )
+    for res in results:
+        out += _segment_lines(res)
+    return out
+
+
+def _segment_lines(res: ChannelResult) -> list[str]:
+    """``--segments auto``: one line per quiet stretch of a non-stationary channel (its terms, in field units)."""
+    if not res.nonstationary or not res.segments:
+        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit"] if res.nonstationary else []
+    out = [f"SEGMENTS {res.channel.label}: {len(res.segments)} quiet stretch(es) fitted on their own"]
+    for a, b, sub in res.segments:
+        q = sub.channel.quantity
+        parts = []
+        for name, c in (sub.fit.coefficients.items() if sub.fit is not None else ()):
+            if c.identifiable:
+                v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
+                parts.append(f"{name} {v:.4g} [{lo:.4g}, {hi:.4g}] {field_unit(name, q)}")
+        flag = "; itself not stationary" if sub.nonstationary else ""
+        out.append(f"  {a:g}-{b:g} s: " + ("; ".join(parts) or "no identifiable term") + flag)
     return out
 
 

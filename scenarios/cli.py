@@ -378,7 +378,8 @@ def _cmd_allan(args) -> int:
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
-                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias))
+                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
+                                   segments=args.segments))
     if args.kalibr:
         from gyrobench.sim.recording import atomic_path
 
@@ -579,6 +580,9 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="FRACTION",
                    help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
                         f"standard error (default {_BANDWIDTH_BIAS:g})")
+    s.add_argument("--segments", choices=("auto",),
+                   help="auto: on a channel with motion or steps, also fit each quiet stretch between them on "
+                        "its own (SEGMENTS lines, JSON 'segments')")
     s.add_argument("--accept-nonstationary", action="store_true",
                    help="exit 0 also when motion or steps are found (default: exit status 5)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")

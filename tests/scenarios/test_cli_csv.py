@@ -1,6 +1,7 @@
 """``gyrobench allan`` on CSV from a real gyro: headers, time columns, gaps, too few rows."""
 
 import json
+import math
 import warnings
 
 import numpy as np
@@ -404,3 +405,44 @@ def test_plot_writes_every_channel_with_its_warnings(tmp_path, capsys, rng):
     res = rep.analyse(log.channels[0], log.fs)
     title = rep.plot_title(log, res)
     assert "NOT STATIONARY" in title and "step(s)" in title, title
+
+
+def test_segments_auto_fits_the_quiet_stretches_around_a_step(tmp_path, capsys, rng):
+    """--segments auto: a step at 600 s of a 1000 s white-noise record; the two stretches are fitted alone.
+
+    Each stretch is white noise of N = 0.01 deg/s / sqrt(100 Hz) = 1e-3 deg/sqrt(s) (0.06 deg/sqrt(h)):
+    its N must lie within z se of it, se half the 68 % interval, z for two-sided false alarm
+    1e-6 over the two stretches. The check fails if a stretch spans the step (the step would
+    enter as a random walk and bias N) or if none is fitted.
+    """
+    from statistics import NormalDist
+
+    n = 100_000
+    y = 0.01 * rng.standard_normal(n)
+    y[60_000:] += 0.05
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, y]), delimiter=",", header="time [s],gyro [deg/s]",
+               comments="", fmt="%.9g")
+    code, out, err = run(["allan", p, "--segments", "auto", "--json", "--terms", "N,B"], capsys)
+    assert code == 5, err
+    segs = json.loads(out)["segments"]
+    assert len(segs) == 2 and segs[0]["stop_s"] <= 600.0 <= segs[1]["start_s"], segs
+    n_true = 0.01 / math.sqrt(FS) * 60.0  # deg/sqrt(h)
+    z = NormalDist().inv_cdf(1.0 - 1e-6 / 2.0 / len(segs))
+    for s in segs:
+        t = s["fit"]["terms"]["N"]
+        se = (t["high68"] - t["low68"]) / 2.0
+        assert abs(t["value"] - n_true) <= z * se, (s, n_true)
+    code, out, err = run(["allan", p, "--segments", "auto", "--terms", "N,B"], capsys)
+    assert any(ln.startswith("SEGMENTS gyro: 2 quiet stretch(es)") for ln in out.splitlines()), out
+
+
+def test_quiet_stretches_split_at_motion_and_steps():
+    from gyrobench.analysis.stationarity import StationarityReport, quiet_stretches
+
+    rep = StationarityReport(window=1.0, motion=[(40.0, 41.0, 9.0)], steps=[(100.0, 7.0)])
+    # windows 0-39 | 40 moving | 41-99 | step before 100 | 100-149 (150 windows of 10 samples)
+    assert quiet_stretches(rep, 1505, 10.0) == [(0, 400), (410, 1000), (1000, 1500)]
+    assert quiet_stretches(rep, 1505, 10.0, min_windows=55) == [(410, 1000)]
+    with pytest.raises(ValueError, match=r"min_windows must be an integer >= 4; got 2"):
+        quiet_stretches(rep, 1505, 10.0, min_windows=2)

@@ -181,8 +181,8 @@ def fit_noise(
     error when the point covariance is modelled with C_n = u (``_bound_se``, a test
     inversion; the plain C_n + 1.645 sqrt(Cov_nn) models none of the term's own noise when
     the NNLS set C_n near 0: with it, the 95 % intervals of the ADIS16405 records' halves
-    missed each other on 10 of 90 term pairs at misfit level 0.05, with the inversion on 5). :func:`floor_bounds` further raises it to
-    what a sub-segment of the record identifies.
+    missed each other on 10 of 90 term pairs at misfit level 0.05, with the inversion on 5).
+    :func:`floor_bounds` further raises it to what a sub-segment of the record identifies.
 
     Assumptions: Gaussian noise, except quantization (uniform angle error); independent
     terms; the five power laws only (a

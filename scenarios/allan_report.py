@@ -453,6 +453,10 @@ def _excluded_text(res: ChannelResult, excl: int) -> str:
     if f.range_rule == "bandwidth" and res.bandwidth_range is not None:
         n = res.bandwidth_range.excluded
         what = "by --bandwidth: " + res.bandwidth_range.reason.split(": there ")[-1]
+    elif f.range_rule == "data" and res.fit_range is not None and res.nonstationary:
+        # motion and steps bend the curve too: the exclusion is not evidence of a filter here (issue 30)
+        n, what = res.fit_range.excluded, "concave: the log-log curve bends down there, which no sum of the IEEE "
+        what += "power laws can do; a filter or the motion/steps of this non-stationary record"
     elif f.range_rule == "data" and res.fit_range is not None:
         n, what = res.fit_range.excluded, "filter-shaped: the log-log curve bends down there, which no sum of the "
         what += "IEEE power laws can do"

@@ -446,3 +446,21 @@ def test_quiet_stretches_split_at_motion_and_steps():
     assert quiet_stretches(rep, 1505, 10.0, min_windows=55) == [(410, 1000)]
     with pytest.raises(ValueError, match=r"min_windows must be an integer >= 4; got 2"):
         quiet_stretches(rep, 1505, 10.0, min_windows=2)
+
+
+def test_short_tau_exclusion_of_a_nonstationary_record_is_not_called_filter_shaped(rng):
+    """Issue 30: motion and steps bend the curve too; a flagged record's excluded taus are not blamed on a filter."""
+    from dataclasses import replace
+
+    from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.logs import Channel
+
+    n = 200_000
+    y = 0.01 * np.convolve(rng.standard_normal(n + 15), np.ones(16) / 16, mode="valid")  # a 16-sample filter
+    res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 100.0)
+    assert res.fit.range_rule == "data" and res.fit_range.excluded > 0
+    excl = res.fit_range.excluded
+    quiet, moving = replace(res, nonstationary=False), replace(res, nonstationary=True)
+    assert "filter-shaped" in rep._excluded_text(quiet, excl)
+    text = rep._excluded_text(moving, excl)
+    assert "filter-shaped" not in text and "non-stationary" in text, text

@@ -26,7 +26,7 @@ from statistics import NormalDist
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["StationarityReport", "stationarity_check", "TemperatureFit", "remove_temperature"]
+__all__ = ["StationarityReport", "stationarity_check", "quiet_stretches", "TemperatureFit", "remove_temperature"]
 
 
 #: allowance on the motion test's white-noise variance limit for the non-white share of a
@@ -78,7 +78,8 @@ class StationarityReport:
             t, z = max(self.steps, key=lambda s: abs(s[1]))
             out.append(
                 f"{label}: {len(self.steps)} step(s) between {self.window:g} s windows beyond the Allan deviation "
-                f"(largest {abs(z):.3g} sigma at {t:g} s): the record is not stationary; the fit treats the step as noise"
+                f"(largest {abs(z):.3g} sigma at {t:g} s): the record is not stationary; the fit treats the step "
+                "as noise"
             )
         return out
 
@@ -112,7 +113,8 @@ def stationarity_check(
     keeps flicker and random-walk wander inside a window from firing it).
     Steps: AVAR(tau) = 1/2 E[(ybar_{k+1} - ybar_k)^2] (IEEE 952 C.1), so the difference of
     adjacent window means has standard deviation sqrt(2) ADEV(tau_w) whatever the noise
-    mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, same p) is flagged. Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
+    mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, same p) is flagged.
+    Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
     """
     from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
 
@@ -142,6 +144,51 @@ def stationarity_check(
         z = np.diff(means) / sd
         steps = [((i + 1) * window, float(z[i])) for i in np.flatnonzero(np.abs(z) > z_lim)]
     return StationarityReport(window=window, motion=motion, steps=steps)
+
+
+def quiet_stretches(report: StationarityReport, n: int, fs: float, *, min_windows: int = 32) -> list[tuple[int, int]]:
+    """The stretches of a record between its flagged motion windows and steps, as sample ranges.
+
+    Parameters
+    ----------
+    report : StationarityReport
+        The record's :func:`stationarity_check` (window length tau_w).
+    n : int
+        Samples in the record.
+    fs : float
+        Sample rate [Hz].
+    min_windows : int
+        Shortest stretch kept, in windows of tau_w (>= 4): shorter ones hold too few
+        octaves for a fit.
+
+    Returns
+    -------
+    list of (start, stop)
+        Half-open sample ranges [start, stop) of the maximal runs of unflagged windows that
+        cross no flagged step, in time order; the samples after the last whole window are
+        left out. Empty when the record was not tested.
+    """
+    if isinstance(min_windows, bool) or not isinstance(min_windows, int) or min_windows < 4:
+        raise ValueError(f"min_windows must be an integer >= 4; got {min_windows!r}")
+    w = int(round(report.window * fs))
+    if not report.tested or w < 1:
+        return []
+    k = n // w
+    bad = np.zeros(k, dtype=bool)
+    for a, _, _ in report.motion:
+        bad[int(round(a / report.window))] = True
+    cut = {int(round(t / report.window)) for t, _ in report.steps}  # a step before window i
+    out: list[tuple[int, int]] = []
+    start = None
+    for i in range(k + 1):
+        end_run = i == k or bad[i] or i in cut
+        if end_run and start is not None:
+            if i - start >= min_windows:
+                out.append((start * w, i * w))
+            start = None
+        if i < k and not bad[i] and start is None:
+            start = i
+    return out
 
 
 @dataclass(frozen=True)

@@ -134,20 +134,24 @@ class ChannelResult:
     bandwidth_range: Any = None
     warnings: list = field(default_factory=list)
     temperature: Any = None
+    nonstationary: bool = False
+    segments: list = field(default_factory=list)  # (start_s, stop_s, ChannelResult) of --segments auto
 
 
-def _stationarity(data, fs: float, curve, label: str) -> list[str]:
-    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows."""
+def _stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
+    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows,
+    whether motion or steps were found (the record is then flagged non-stationary) and the
+    :class:`StationarityReport` (None when no tau qualifies)."""
     import numpy as np
     from gyrobench.analysis.stationarity import stationarity_check
 
     n = len(data)
     ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
     if not np.any(ok):
-        return []
+        return [], False, None
     i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
     rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
-    return rep.warnings(label)
+    return rep.warnings(label), bool(rep.tested and not rep.stationary), rep
 
 
 def check_finite(channel: Any) -> None:
@@ -175,13 +179,21 @@ def analyse(
     temperature=None,
     bandwidth: float | None = None,
     bandwidth_bias: float = 0.1,
+    segments: str | None = None,
 ) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
     grows as the square of the number of taus, and neighbouring m carry no new information).
     """
-    from gyrobench.analysis.allan import AllanCurve, allan_deviation, bandwidth_range, fit_noise, fit_range
+    from gyrobench.analysis.allan import (
+        AllanCurve,
+        allan_deviation,
+        bandwidth_range,
+        fit_noise,
+        fit_range,
+        floor_bounds,
+    )
 
     check_finite(channel)
     data, tfit = channel.data, None
@@ -190,13 +202,14 @@ def analyse(
 
         data, tfit = remove_temperature(channel.data, temperature, fs)
     curve = allan_deviation(data, fs, taus=taus, kind=kind)
-    warn = _stationarity(data, fs, curve, channel.label)
+    warn, moving, stat = _stationarity(data, fs, curve, channel.label)
     if kind not in FIT_KINDS:
         return ChannelResult(
             channel,
             curve,
             warnings=warn,
             temperature=tfit,
+            nonstationary=moving,
             no_fit=(
                 f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
                 f"are those of the Allan variance; the curve is exported"
@@ -227,12 +240,42 @@ def analyse(
         )
     fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
-    fit = fit_noise(
-        fit_curve, terms=terms, tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth, bandwidth_bias=bandwidth_bias
+    options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
+    fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, **options)
+    # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
+    fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
+    result = ChannelResult(
+        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,
+        nonstationary=moving,
     )
-    return ChannelResult(
-        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit
-    )
+    if segments == "auto" and moving:
+        result.segments = _segment_fits(channel, data, fs, stat, taus=taus, kind=kind, terms=terms,
+                                        tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth,
+                                        bandwidth_bias=bandwidth_bias)
+    return result
+
+
+def _segment_fits(channel, data, fs: float, stat, **options) -> list:
+    """``--segments auto``: the fit of each quiet stretch (:func:`quiet_stretches`) long enough to fit.
+
+    Each stretch is analysed as a record of its own (its own stationarity check and fit range);
+    a stretch too short for the fit is left out.
+    """
+    from dataclasses import replace as _replace
+
+    from gyrobench.analysis.stationarity import quiet_stretches
+
+    out = []
+    for a, b in quiet_stretches(stat, len(data), fs):
+        part = _replace(channel, data=data[a:b]) if hasattr(channel, "__dataclass_fields__") else None
+        if part is None:
+            continue
+        try:
+            res = analyse(part, fs, **options)
+        except ValueError:  # too short for the fit
+            continue
+        out.append((a / fs, b / fs, res))
+    return out
 
 
 def _floor(curve) -> tuple[float, float]:
@@ -246,8 +289,9 @@ def _si_unit(quantity: str) -> str:
     return "m/s^2" if quantity == "accel" else "rad/s"
 
 
-def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
-    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p."""
+def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
+    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
+    ``nonstationary`` (motion or steps in the record: the terms describe them too)."""
     import math
 
     terms = {}
@@ -260,6 +304,7 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
             "high68": field_value(name, c.ci68[1], quantity) if c.identifiable else None,
             "unit": field_unit(name, quantity),
             "identifiable": bool(c.identifiable),
+            "bound_note": c.bound_note or None,
         }
 
     def num(v: float):
@@ -274,6 +319,7 @@ def fit_json(fit, quantity: str = "rate") -> dict[str, Any]:
         "chi2_per_dof": num(fit.chi2_per_dof),
         "p_value": num(fit.p_value),
         "misfit": bool(fit.misfit),
+        "nonstationary": bool(nonstationary),
         "interval_inflation": float(fit.inflation),
         "tau_min_rule": fit.range_rule or None,
         "tau_min_reason": fit.range_reason or None,
@@ -301,10 +347,17 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
         "quantity": q,
         "curve": curve_json(res.curve, q),
         "adev_floor": {"value": floor, "unit": _si_unit(q), "tau": tau},
-        "fit": None if res.fit is None else fit_json(res.fit, q),
+        "fit": None if res.fit is None else fit_json(res.fit, q, res.nonstationary),
+        "nonstationary": bool(res.nonstationary),
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
+    if res.segments:
+        out["segments"] = [
+            {"start_s": a, "stop_s": b, "nonstationary": bool(sub.nonstationary),
+             "fit": None if sub.fit is None else fit_json(sub.fit, q, sub.nonstationary)}
+            for a, b, sub in res.segments
+        ]
     out["warnings"] = list(res.warnings)
     if res.temperature is not None:
         tf = res.temperature
@@ -353,11 +406,44 @@ def _temp_units(quantity: str) -> tuple[float, str]:
     return float(units.to_deg_per_h(1.0)), "deg/h"
 
 
+def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelResult]]:
+    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``."""
+    import re
+
+    if len(results) == 1:
+        return [(plot, results[0])]
+    out = []
+    for res in results:
+        safe = re.sub(r"[^A-Za-z0-9._-]+", "_", res.channel.label).strip("_") or "channel"
+        out.append((plot.with_name(f"{plot.stem}_{safe}{plot.suffix}"), res))
+    return out
+
+
+#: longest warning line in a figure's title block [characters]
+_TITLE_WIDTH = 110
+
+
 def plot_title(log, res: ChannelResult) -> str:
+    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
     n = len(res.channel.data)
+    lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
+    if res.nonstationary:
+        lines.append("NOT STATIONARY (motion or steps): the terms describe them too")
+    f = res.fit
+    if f is not None and f.misfit:
+        lines.append(
+            f"MISFIT: chi2/dof = {f.chi2_per_dof:.3g}, p = {f.p_value:.2g}; intervals widened x{f.inflation:.3g}"
+        )
+    for w in res.warnings:
+        lines.append(w if len(w) <= _TITLE_WIDTH else w[: _TITLE_WIDTH - 3] + "...")
+    return "\n".join(lines)
+
+
+def nonstationary_line(res: ChannelResult) -> str:
+    """The report's first line for a channel with motion or steps."""
     return (
-        f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h "
-        f"({n} samples)"
+        f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fitted "
+        f"terms describe them as noise: analyse a quiet stretch (--start/--stop)"
     )
 
 
@@ -367,6 +453,10 @@ def _excluded_text(res: ChannelResult, excl: int) -> str:
     if f.range_rule == "bandwidth" and res.bandwidth_range is not None:
         n = res.bandwidth_range.excluded
         what = "by --bandwidth: " + res.bandwidth_range.reason.split(": there ")[-1]
+    elif f.range_rule == "data" and res.fit_range is not None and res.nonstationary:
+        # motion and steps bend the curve too: the exclusion is not evidence of a filter here (issue 30)
+        n, what = res.fit_range.excluded, "concave: the log-log curve bends down there, which no sum of the IEEE "
+        what += "power laws can do; a filter or the motion/steps of this non-stationary record"
     elif f.range_rule == "data" and res.fit_range is not None:
         n, what = res.fit_range.excluded, "filter-shaped: the log-log curve bends down there, which no sum of the "
         what += "IEEE power laws can do"
@@ -385,7 +475,7 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
     """The printed report: misfits first, then the record, the notes and one table of every channel."""
     import numpy as np
 
-    out = []
+    out = [nonstationary_line(res) for res in results if res.nonstationary]
     for res in results:
         f = res.fit
         if f is not None and f.misfit:
@@ -409,8 +499,8 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             out.append(
                 f"{res.channel.label}: removed the temperature-explained part y = c_T (T - Tbar) + c_dT dT/dt "
                 f"(least squares, {tf.explained:.1%} of the variance): c_T = {tf.c_temperature * k:.4g} "
-                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} +- {tf.se_rate * k / 60:.2g} "
-                f"{u}/(degC/min) (white-residual standard errors)"
+                f"+- {tf.se_temperature * k:.2g} {u}/degC, c_dT = {tf.c_rate * k / 60:.4g} "
+                f"+- {tf.se_rate * k / 60:.2g} {u}/(degC/min) (white-residual standard errors)"
             )
         if res.no_fit:
             out.append(f"{res.channel.label}: {res.no_fit}")
@@ -443,10 +533,8 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             unit = field_unit(name, q)
             if not c.identifiable:
                 hi = field_value(name, c.upper_bound, q)
-                out.append(
-                    pre
-                    + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   (not identifiable from this record)"
-                )
+                why = "not identifiable from this record" + ("; bound from a sub-segment" if c.bound_note else "")
+                out.append(pre + f"{name:<5}{'n/i':>14}  {'< ' + format(hi, '.3g'):<28}{unit}   ({why})")
             else:
                 v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
                 out.append(
@@ -454,6 +542,25 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                     + f"{name:<5}{v:>14.4g}  [{lo:.4g}, {hi:.4g}]".ljust(49 - (0 if multi else 0))
                     + unit
                 )
+    for res in results:
+        out += _segment_lines(res)
+    return out
+
+
+def _segment_lines(res: ChannelResult) -> list[str]:
+    """``--segments auto``: one line per quiet stretch of a non-stationary channel (its terms, in field units)."""
+    if not res.nonstationary or not res.segments:
+        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit"] if res.nonstationary else []
+    out = [f"SEGMENTS {res.channel.label}: {len(res.segments)} quiet stretch(es) fitted on their own"]
+    for a, b, sub in res.segments:
+        q = sub.channel.quantity
+        parts = []
+        for name, c in (sub.fit.coefficients.items() if sub.fit is not None else ()):
+            if c.identifiable:
+                v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
+                parts.append(f"{name} {v:.4g} [{lo:.4g}, {hi:.4g}] {field_unit(name, q)}")
+        flag = "; itself not stationary" if sub.nonstationary else ""
+        out.append(f"  {a:g}-{b:g} s: " + ("; ".join(parts) or "no identifiable term") + flag)
     return out
 
 
@@ -479,6 +586,9 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
         f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
         "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
     ]
+    moving = [r.channel.label for r in results if r.nonstationary]
+    if moving:
+        lines.append(f"# WARNING not stationary (motion or steps; the values describe them too): {', '.join(moving)}")
     keys = {
         ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
         ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
@@ -500,7 +610,9 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
             vals.append(c.value if c.identifiable else c.upper_bound)
             if not c.identifiable:
                 bounds.append(r.channel.label)
+        floored = [r.channel.label for r in fits if r.fit.coefficients[term].bound_note]
         note = f"  # 95 % upper bound on {', '.join(bounds)} (not identifiable)" if bounds else ""
+        note += f"; bound from a sub-segment on {', '.join(floored)}" if floored else ""
         body.append(
             f"{key}: {max(vals):.6e}  # [{unit}] max over {', '.join(r.channel.label for r in fits)}{note}"
         )

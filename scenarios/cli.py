@@ -554,7 +554,8 @@ def _cmd_allan(args) -> int:
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
-                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias))
+                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
+                                   segments=args.segments))
     if args.kalibr:
         from gyrobench.sim.recording import atomic_path
 
@@ -569,13 +570,16 @@ def _cmd_allan(args) -> int:
         from gyrobench.scenarios.figures import allan_figure
         from gyrobench.sim.recording import atomic_path
 
-        res = results[0]
-        fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
-        plot = Path(args.plot)
-        with atomic_path(plot) as tmp:
-            fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
-        if not args.json:
-            print(f"wrote {plot}")
+        for plot, res in rep.plot_paths(Path(args.plot), results):  # one file per channel
+            fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
+            with atomic_path(plot) as tmp:
+                fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+            if not args.json:
+                print(f"wrote {plot}")
+    if any(r.nonstationary for r in results) and not args.accept_nonstationary:
+        from gyrobench.scenarios import exits
+
+        return exits.NONSTATIONARY
     return 0
 
 
@@ -722,7 +726,9 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures")
     s.set_defaults(func=_cmd_parts)
 
-    s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)")
+    s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)",
+                       epilog="exit status: 0 ok; 2 bad input; 5 a channel is not stationary (motion or steps: "
+                              "the report is written, its first line says so; --accept-nonstationary exits 0)")
     s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro (EuRoC, Kalibr, "
                                 "ROS exports included)")
     s.add_argument("--column", action="append", help="channel (HDF5, default 'rate') or CSV column name or index; "
@@ -759,8 +765,14 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="FRACTION",
                    help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
                         f"standard error (default {_BANDWIDTH_BIAS:g})")
+    s.add_argument("--segments", choices=("auto",),
+                   help="auto: on a channel with motion or steps, also fit each quiet stretch between them on "
+                        "its own (SEGMENTS lines, JSON 'segments')")
+    s.add_argument("--accept-nonstationary", action="store_true",
+                   help="exit 0 also when motion or steps are found (default: exit status 5)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
-    s.add_argument("--plot", help="write the ADEV figure (PNG)")
+    s.add_argument("--plot", help="write the ADEV figure (PNG); with several channels one file per channel, "
+                                  "FILE_<channel>.png")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
                                     "from N and K, largest over the axes)")
     s.set_defaults(func=_cmd_allan)

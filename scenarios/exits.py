@@ -15,6 +15,9 @@ code   meaning
 4      internal failure: a worker process died (killed, out of memory), two runs of
        the same campaign on one database disagree (a non-deterministic scenario or
        compensator), or an unexpected error (a bug: please report it)
+5      ``allan``: a channel is not stationary (motion or steps found): its noise terms
+       describe the motion too. The report is still written; ``--accept-nonstationary``
+       exits 0 instead
 130    interrupted (Ctrl-C)
 =====  ==============================================================================
 
@@ -32,6 +35,7 @@ __all__ = [
     "BAD_INPUT",
     "FAILED_SEEDS",
     "INTERNAL",
+    "NONSTATIONARY",
     "INTERRUPTED",
     "TRACEBACK_ENV",
     "InternalError",
@@ -43,6 +47,7 @@ REGRESSION = 1
 BAD_INPUT = 2
 FAILED_SEEDS = 3
 INTERNAL = 4
+NONSTATIONARY = 5
 INTERRUPTED = 130
 
 #: environment variable: when set (to anything but "" or "0"), errors print their traceback

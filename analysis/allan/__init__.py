@@ -53,11 +53,12 @@ from __future__ import annotations
 
 from gyrobench.analysis.allan._covariance import QUANTIZATION_KURTOSIS
 from gyrobench.analysis.allan._curve import allan_deviation, identify_noise
-from gyrobench.analysis.allan._fit import fit_noise
+from gyrobench.analysis.allan._fit import MISFIT_P, fit_noise
 from gyrobench.analysis.allan._kinds import _FIT_KINDS as _FIT_KINDS  # (allan_report pins its copy to it)
 from gyrobench.analysis.allan._kinds import KINDS
 from gyrobench.analysis.allan._readoff import slope_readoff
 from gyrobench.analysis.allan._results import AllanCurve, Coefficient, FitRange, NoiseFit
+from gyrobench.analysis.allan._segments import floor_bounds
 from gyrobench.analysis.allan._taus import TAU_CHOICES
 from gyrobench.analysis.allan._terms import _POWER as _POWER  # (read by tests/analysis/test_validation.py)
 from gyrobench.analysis.allan._terms import FLICKER_FLOOR as FLICKER_FLOOR
@@ -82,6 +83,8 @@ __all__ = [
     "lowpass_avar_bias",
     "allan_deviation",
     "fit_noise",
+    "MISFIT_P",
+    "floor_bounds",
     "identify_noise",
     "slope_readoff",
     "avar_to_coefficient",

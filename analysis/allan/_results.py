@@ -101,9 +101,12 @@ class Coefficient:
         True when the term dominates the fitted curve at one tau at least and its 95 %
         interval excludes 0.
     upper_bound : float
-        One-sided 95 % upper bound.
+        One-sided 95 % upper bound (for a non-identifiable term never below the value a
+        sub-segment of the record identifies, when :func:`floor_bounds` was applied).
     power : int
         The AVAR term is C tau**power: Q -2, N -1, B 0, K 1, R 2.
+    bound_note : str
+        Empty, or why ``upper_bound`` was raised (the sub-segment and its value).
     """
 
     name: str
@@ -113,6 +116,7 @@ class Coefficient:
     identifiable: bool
     upper_bound: float
     power: int
+    bound_note: str = ""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -195,3 +195,37 @@ def test_all_taus_refused_before_any_work(monkeypatch):
     )  # 1 MB left: refuse on memory first
     with pytest.raises(ValueError, match="GiB, more than 80 % of the"):
         allan_deviation(np.zeros(10_000), FS, taus="all")
+
+
+def test_default_misfit_level_is_005_and_widens_a_real_record():
+    """Issue 30: the misfit test rejects at 0.05 by default (was 1e-3), and a rejected fit is widened.
+
+    ADIS16405 imu2 gyro x, 1 Hz excerpt (tests/data): p between 1e-3 and 0.05 with the auto range.
+    """
+    import gzip
+    from pathlib import Path
+
+    from gyrobench.analysis.allan import MISFIT_P
+
+    assert MISFIT_P == 0.05
+    path = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz" / "adis16405_imu2_1Hz.csv.gz"
+    with gzip.open(path, "rt") as fh:
+        y = np.loadtxt((ln for ln in fh if ln[:1] not in ("#", "g")), delimiter=",", usecols=0)
+    fit = fit_noise(y, 1.0, tau_min="auto", terms=("N", "B", "K", "R"))
+    assert 1e-3 < fit.p_value < MISFIT_P, fit.p_value
+    assert fit.misfit and fit.inflation == pytest.approx(math.sqrt(fit.chi2 / fit.chi2_expected), rel=1e-12)
+    strict = fit_noise(y, 1.0, tau_min="auto", terms=("N", "B", "K", "R"), misfit_p=1e-3)
+    assert not strict.misfit and strict.inflation == 1.0
+
+
+def test_quantization_needs_two_dominated_taus():
+    """A Q term that dominates a single fitted tau (a one-octave bump) is not identifiable; two are enough."""
+    from gyrobench.analysis.allan._fit import _coefficients
+
+    tau = np.array([1.0, 2.0, 4.0, 8.0, 16.0])
+    x = tau[:, None] ** np.array([-2.0, -1.0])[None, :]
+    se = np.array([1e-6, 1e-6])  # intervals far from 0: only dominance decides
+    one = _coefficients(("Q", "N"), x, np.array([1.5, 1.0]), se)  # Q > N at tau = 1 only
+    two = _coefficients(("Q", "N"), x, np.array([3.0, 1.0]), se)  # Q > N at tau = 1 and 2
+    assert not one["Q"].identifiable and one["N"].identifiable
+    assert two["Q"].identifiable and two["N"].identifiable

@@ -15,6 +15,7 @@ Tolerances are the precision the sources print (see each folder's README):
 
 from __future__ import annotations
 
+import functools
 import gzip
 import math
 from decimal import Decimal
@@ -287,11 +288,13 @@ def test_adis16405_auto_fit_agrees_with_nnls(adis_fits, request):
     (the check is conservative).
     """
     if next(iter(adis_fits.values()))[0].fs == 1.0:
-        # Known defect, kept visible: on the 1 Hz excerpt the fits of imu2 x and others are
-        # left at their tight width at misfit p = 0.003-0.03 (widening starts only at p < 1e-3),
-        # and N differs from the NNLS by 8 combined standard errors on imu2 x. Intervals that
-        # cover on real records are open work (the Allan round-two issue, item 2).
-        request.applymarker(pytest.mark.xfail(strict=True, reason="fit intervals too narrow on real records"))
+        # Known defect, kept visible: on the 1 Hz excerpt N differs from the relative-weight
+        # NNLS by 4.4-8.1 combined standard errors on 6 of 18 axes (imu2 x, imu4 z, imu5 x/y,
+        # imu6 x/z), also where the fit does not misfit (p = 0.08-0.6 on imu5 x/y, imu6 x):
+        # widening at p < 0.05 (issue 30 item 2) widens imu2 x and imu4 z (x1.6) and is not
+        # the cause. Open: the two estimators weight the filter-free 1 Hz points differently
+        # and one of them is biased there.
+        request.applymarker(pytest.mark.xfail(strict=True, reason="N off the NNLS on the 1 Hz excerpt"))
     pairs = [(key, name) for key in adis_fits for name in ("N", "B")]
     z = NormalDist().inv_cdf(1.0 - ADIS_FALSE_ALARM / 2.0 / len(pairs))
     for key, name in pairs:
@@ -363,3 +366,100 @@ def test_adis16405_records_agree_on_b(adis_fits):
         assert chi2 <= limit, (name, np.round(v * 180 / np.pi * 3600, 1), chi2, limit)
         # and in field units the published range: B of the x/y axes 25-45 deg/h (issue 14)
         assert 10.0 < mean * 180 / np.pi * 3600 < 60.0, (name, mean)
+
+
+# ---------------------------------------------------------------------------- halves of real records
+#: the target of issue 30: 95 % intervals of the two halves of a record overlap on >= 95 % of term pairs
+HALVES_TARGET = 0.95
+
+
+def _read_all(path: Path) -> np.ndarray:
+    """All six columns of an ADIS16405 CSV (gz): gyro [deg/s] and accelerometer [g], as printed."""
+    with gzip.open(path, "rt") as fh:
+        return np.loadtxt((ln for ln in fh if ln[:1] not in ("#", "g")), delimiter=",")
+
+
+@functools.lru_cache(maxsize=1)
+def _full_records() -> tuple[np.ndarray, ...]:
+    """The six 100 Hz ADIS16405 records, all six columns (skips without ../shared/validation)."""
+    from tests.analysis.conftest import VALIDATION as validation
+
+    folder = validation / "smac_imudata_adis16405"
+    if not folder.is_dir():
+        pytest.skip(f"reference data folder {folder} not found")
+    return tuple(_read_all(folder / f"adis16405_imu{k}_100Hz.csv.gz") for k in range(1, 7))
+
+
+def _interval_or_bound(c: allan.Coefficient) -> tuple[float, float]:
+    return c.ci95 if c.identifiable else (0.0, c.upper_bound)
+
+
+@pytest.mark.parametrize("source", ["excerpt_1hz", "full_100hz"])
+def test_adis16405_halves_intervals_overlap(source):
+    """The two halves of each real record: their 95 % intervals overlap on >= 95 % of term pairs.
+
+    A pair is a term identified in at least one half (the other half enters with [0, its
+    one-sided bound]); the fits are the CLI's (five terms, ``tau_min="auto"``). The 1 Hz
+    excerpt has the gyro axes only; the full records also the accelerometer axes. Two
+    consistent 95 % intervals overlap far more often than 95 % of the time, so the check is
+    that the non-overlapping pairs are not significantly more than 5 %: their count must not
+    exceed the binomial(pairs, 0.05) quantile at false-alarm 1e-3. Measured (docs/physics.md
+    1.8): 39/39 pairs on the excerpt, 78/79 on the full records (75/100 before issue 30).
+    """
+    from scipy import stats
+
+    records, fs = _adis_records(source) if source == "excerpt_1hz" else (_full_records(), 100.0)
+    pairs, apart = 0, []
+    for k, data in enumerate(records, start=1):
+        for col in range(data.shape[1]):
+            y = data[:, col]
+            h = y.size // 2
+            first, second = (fit_noise(allan_deviation(part, fs), tau_min="auto") for part in (y[:h], y[h:]))
+            for name, a in first.coefficients.items():
+                b = second.coefficients[name]
+                if not (a.identifiable or b.identifiable):
+                    continue
+                pairs += 1
+                (lo_a, hi_a), (lo_b, hi_b) = _interval_or_bound(a), _interval_or_bound(b)
+                if not (lo_a <= hi_b and lo_b <= hi_a):
+                    apart.append((k, col, name, (lo_a, hi_a), (lo_b, hi_b)))
+    assert pairs >= 30, pairs
+    limit = int(stats.binom.isf(1e-3, pairs, 1.0 - HALVES_TARGET))
+    assert len(apart) <= limit, (pairs, limit, apart)
+
+
+def test_adis16405_open_bounds_not_below_other_segments():
+    """No upper bound of the whole record's fit below what another stretch of it shows (issue 30).
+
+    :func:`floor_bounds` raises an open term's bound to the values its halves and quarters
+    identify; here stretches it did not fit (the thirds, the first and last 2000 s) are fitted
+    alike, and wherever they identify a term the whole record leaves open, the bound must not
+    sit below that stretch's 95 % interval (bound >= its lower end: the data of the stretch
+    do not contradict it). Before: 26 of 47 such bounds sat below the stretch's value itself,
+    e.g. accelerometer VRW 0.186 vs 0.30 m/s/sqrt(h) on the first 2000 s of imu1.
+    """
+    below = []
+    checked = 0
+    for k, data in enumerate(_full_records(), start=1):
+        for col in range(data.shape[1]):
+            y = data[:, col]
+            fit = allan.floor_bounds(fit_noise(allan_deviation(y, 100.0), tau_min="auto"), y, 100.0, tau_min="auto")
+            third = y.size // 3
+            for seg in (y[:200_000], y[-200_000:], y[:third], y[third : 2 * third], y[2 * third :]):
+                sub = fit_noise(allan_deviation(seg, 100.0), tau_min="auto")
+                for name, c in fit.coefficients.items():
+                    s = sub.coefficients[name]
+                    if c.identifiable or not s.identifiable:
+                        continue
+                    checked += 1
+                    if c.upper_bound < s.ci95[0]:
+                        below.append((k, col, name, seg.size, c.upper_bound, s.ci95))
+    assert checked >= 20, checked
+    assert not below, below
+
+
+def test_floor_bounds_refuses_bad_parts():
+    y = np.random.default_rng(0).normal(size=4096)
+    fit = fit_noise(y, 1.0)
+    with pytest.raises(ValueError, match=r"parts must be integers >= 2 \(segments per split\); got \[1\]"):
+        allan.floor_bounds(fit, y, 1.0, parts=[1])

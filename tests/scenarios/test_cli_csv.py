@@ -1,6 +1,7 @@
 """``gyrobench allan`` on CSV from a real gyro: headers, time columns, gaps, too few rows."""
 
 import json
+import math
 import warnings
 
 import numpy as np
@@ -128,7 +129,8 @@ def test_euroc_header_ns_timestamps_and_all_axes(tmp_path, capsys, rng):
     p = tmp_path / "data.csv"
     head = ("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
             "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n")
-    p.write_text(head + "\n".join(f"{ti}," + ",".join(f"{v:.9g}" for v in row) for ti, row in zip(t, data)) + "\n")
+    p.write_text(head + "\n".join(f"{ti}," + ",".join(f"{v:.9g}" for v in row)
+                                  for ti, row in zip(t, data, strict=True)) + "\n")
     from gyrobench.scenarios.logs import read_csv_log
 
     log = read_csv_log(p, None, None, None, all_axes=True)
@@ -150,7 +152,8 @@ def test_kalibr_and_ros_exports(tmp_path, rng):
     t = 1_600_000_000_000_000_000 + np.arange(len(data)) * 10_000_000
     k = tmp_path / "imu0.csv"
     k.write_text("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z\n"
-                 + "\n".join(f"{ti}," + ",".join(f"{v:.17g}" for v in row) for ti, row in zip(t, data)) + "\n")
+                 + "\n".join(f"{ti}," + ",".join(f"{v:.17g}" for v in row)
+                              for ti, row in zip(t, data, strict=True)) + "\n")
     log = read_csv_log(k, ["omega_y", "alpha_z"], None, None)
     assert log.fmt == "kalibr" and log.fs == pytest.approx(FS, rel=1e-12)
     assert [(c.quantity, c.unit) for c in log.channels] == [("rate", "rad/s"), ("accel", "m/s^2")]
@@ -160,7 +163,8 @@ def test_kalibr_and_ros_exports(tmp_path, rng):
     cols = ["%time", "field.header.seq", "field.angular_velocity.x", "field.angular_velocity.y",
             "field.angular_velocity.z", "field.linear_acceleration.x"]
     r.write_text(",".join(cols) + "\n" + "\n".join(
-        f"{ti},{i}," + ",".join(f"{v:.17g}" for v in row[:4]) for i, (ti, row) in enumerate(zip(t, data))) + "\n")
+        f"{ti},{i}," + ",".join(f"{v:.17g}" for v in row[:4])
+        for i, (ti, row) in enumerate(zip(t, data, strict=True))) + "\n")
     log = read_csv_log(r, None, None, None, all_axes=True)
     assert log.fmt == "ros" and log.fs == pytest.approx(FS, rel=1e-12)
     assert [c.label for c in log.channels] == cols[2:]
@@ -181,7 +185,7 @@ def test_epoch_ns_without_unit_is_not_read_as_seconds(tmp_path, capsys, rng):
     rate = rng.standard_normal(4000) * 0.1
     p = tmp_path / "g.csv"
     t = 1_700_000_000_000_000_000 + np.arange(rate.size) * 10_000_000
-    p.write_text("timestamp,gyro [deg/s]\n" + "\n".join(f"{ti},{v:.17g}" for ti, v in zip(t, rate)) + "\n")
+    p.write_text("timestamp,gyro [deg/s]\n" + "\n".join(f"{ti},{v:.17g}" for ti, v in zip(t, rate, strict=True)) + "\n")
     code, out, err = run(["allan", p], capsys)
     assert code == 0, err
     assert "100 Hz" in out and "Unix epoch times in ns" in out
@@ -317,8 +321,28 @@ def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
     y[60_000:] += 0.05  # a step at 600 s
     np.savetxt(p, np.column_stack([t, y]), delimiter=",", header="time [s],gyro [deg/s]", comments="", fmt="%.9g")
     code, out, err = run(["allan", p], capsys)
+    assert code == 5, err  # exits.NONSTATIONARY: the step is its own diagnosis (issue 30)
+    lines = out.splitlines()
+    assert lines[0].startswith("NONSTATIONARY gyro: "), out
+    assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in lines[:4]), out
+    kalibr = tmp_path / "imu.yaml"
+    code, out, err = run(["allan", p, "--json", "--accept-nonstationary", "--kalibr", kalibr], capsys)
     assert code == 0, err
-    assert any(ln.startswith("WARNING gyro: ") and "step(s)" in ln for ln in out.splitlines()[:3]), out
+    doc = json.loads(out)
+    assert doc["nonstationary"] is True and doc["fit"]["nonstationary"] is True
+    assert "# WARNING not stationary (motion or steps; the values describe them too): gyro" in kalibr.read_text()
+
+
+def test_quiet_record_is_not_flagged_nonstationary(tmp_path, capsys, rng):
+    """White noise only: no motion or step flag, exit 0, nonstationary false in the fit."""
+    n = 100_000
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, 0.01 * rng.standard_normal(n)]), delimiter=",",
+               header="time [s],gyro [deg/s]", comments="", fmt="%.9g")
+    code, out, err = run(["allan", p, "--json"], capsys)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["nonstationary"] is False and doc["fit"]["nonstationary"] is False
 
 
 def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):
@@ -358,3 +382,85 @@ def test_allan_figure_has_band_model_bounds_shading_and_residuals(rng):
     assert any(t.startswith("N = ") for t in labels) and any(" < " in t and "(95 %)" in t for t in labels)
     assert len(ax.patches) >= 1  # the not-fitted taus (0.01, 0.02 s) shaded
     assert axr.get_ylabel() == "(AVAR - fit) / sd" and ax.get_title().startswith("f.csv: gyro")
+
+
+def test_plot_writes_every_channel_with_its_warnings(tmp_path, capsys, rng):
+    """--plot with several channels: one figure per channel (issue 30 item 6), warnings in the title."""
+    n = 20_000
+    y = 0.01 * rng.standard_normal((n, 2))
+    y[12_000:, 1] += 0.05  # a step in the second channel only
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, y]), delimiter=",",
+               header="time [s],gx [deg/s],gy [deg/s]", comments="", fmt="%.9g")
+    png = tmp_path / "adev.png"
+    code, out, err = run(["allan", p, "--column", "gx", "--column", "gy", "--plot", png], capsys)
+    assert code == 5, err  # the step: exits.NONSTATIONARY
+    for name in ("adev_gx.png", "adev_gy.png"):
+        assert (tmp_path / name).stat().st_size > 0 and f"wrote {tmp_path / name}" in out
+    assert not png.exists()
+    from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.logs import read_csv_log
+
+    log = read_csv_log(p, ["gy"], None, None)
+    res = rep.analyse(log.channels[0], log.fs)
+    title = rep.plot_title(log, res)
+    assert "NOT STATIONARY" in title and "step(s)" in title, title
+
+
+def test_segments_auto_fits_the_quiet_stretches_around_a_step(tmp_path, capsys, rng):
+    """--segments auto: a step at 600 s of a 1000 s white-noise record; the two stretches are fitted alone.
+
+    Each stretch is white noise of N = 0.01 deg/s / sqrt(100 Hz) = 1e-3 deg/sqrt(s) (0.06 deg/sqrt(h)):
+    its N must lie within z se of it, se half the 68 % interval, z for two-sided false alarm
+    1e-6 over the two stretches. The check fails if a stretch spans the step (the step would
+    enter as a random walk and bias N) or if none is fitted.
+    """
+    from statistics import NormalDist
+
+    n = 100_000
+    y = 0.01 * rng.standard_normal(n)
+    y[60_000:] += 0.05
+    p = tmp_path / "g.csv"
+    np.savetxt(p, np.column_stack([np.arange(n) / FS, y]), delimiter=",", header="time [s],gyro [deg/s]",
+               comments="", fmt="%.9g")
+    code, out, err = run(["allan", p, "--segments", "auto", "--json", "--terms", "N,B"], capsys)
+    assert code == 5, err
+    segs = json.loads(out)["segments"]
+    assert len(segs) == 2 and segs[0]["stop_s"] <= 600.0 <= segs[1]["start_s"], segs
+    n_true = 0.01 / math.sqrt(FS) * 60.0  # deg/sqrt(h)
+    z = NormalDist().inv_cdf(1.0 - 1e-6 / 2.0 / len(segs))
+    for s in segs:
+        t = s["fit"]["terms"]["N"]
+        se = (t["high68"] - t["low68"]) / 2.0
+        assert abs(t["value"] - n_true) <= z * se, (s, n_true)
+    code, out, err = run(["allan", p, "--segments", "auto", "--terms", "N,B"], capsys)
+    assert any(ln.startswith("SEGMENTS gyro: 2 quiet stretch(es)") for ln in out.splitlines()), out
+
+
+def test_quiet_stretches_split_at_motion_and_steps():
+    from gyrobench.analysis.stationarity import StationarityReport, quiet_stretches
+
+    rep = StationarityReport(window=1.0, motion=[(40.0, 41.0, 9.0)], steps=[(100.0, 7.0)])
+    # windows 0-39 | 40 moving | 41-99 | step before 100 | 100-149 (150 windows of 10 samples)
+    assert quiet_stretches(rep, 1505, 10.0) == [(0, 400), (410, 1000), (1000, 1500)]
+    assert quiet_stretches(rep, 1505, 10.0, min_windows=55) == [(410, 1000)]
+    with pytest.raises(ValueError, match=r"min_windows must be an integer >= 4; got 2"):
+        quiet_stretches(rep, 1505, 10.0, min_windows=2)
+
+
+def test_short_tau_exclusion_of_a_nonstationary_record_is_not_called_filter_shaped(rng):
+    """Issue 30: motion and steps bend the curve too; a flagged record's excluded taus are not blamed on a filter."""
+    from dataclasses import replace
+
+    from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.logs import Channel
+
+    n = 200_000
+    y = 0.01 * np.convolve(rng.standard_normal(n + 15), np.ones(16) / 16, mode="valid")  # a 16-sample filter
+    res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 100.0)
+    assert res.fit.range_rule == "data" and res.fit_range.excluded > 0
+    excl = res.fit_range.excluded
+    quiet, moving = replace(res, nonstationary=False), replace(res, nonstationary=True)
+    assert "filter-shaped" in rep._excluded_text(quiet, excl)
+    text = rep._excluded_text(moving, excl)
+    assert "filter-shaped" not in text and "non-stationary" in text, text

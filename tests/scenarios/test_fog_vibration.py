@@ -61,8 +61,44 @@ def test_claims_cover_the_paper_and_every_quantity(small_units):
         "fig6_rbf_far_better_target",
     ):
         assert f"000.{key}" in ids
-    # every quantity the experiment produces is read by a claim
-    assert produced == {c.quantity for c in sc.CLAIMS}
+    # every quantity the experiment produces is read by a claim or a claim's precondition
+    read = {c.quantity for c in sc.CLAIMS} | {c.precondition.quantity for c in sc.CLAIMS if c.precondition}
+    assert produced == read
+
+
+def test_roles_follow_the_paper_device_method_extension():
+    """Table 1 and the bias level are the device, the analysis is the method, truth scoring is ours;
+    every method claim carries the vibration-bias precondition, no device claim carries one."""
+    role = {c.id.removeprefix("000."): c.role for c in sc.CLAIMS}
+    assert all(role[k] == "device" for k in role if k.startswith("t1_"))
+    assert role["fig3_bias_band"] == role["fig7_offset_remains"] == "device"
+    assert all(role[k] == "method" for k in role if k.startswith(("t2_", "t3_")))
+    assert role["fig6_rbf_far_better_truth"] == "extension"
+    for c in sc.CLAIMS:
+        assert (c.precondition is sc.VIBRATION_BIAS_SHOWS) == (c.role == "method")
+
+
+def test_control_is_the_same_units_without_vibration(small_units):
+    """The control moves nothing: its output has no vibration error (truth channel zero) while the
+    shaker log still switches, so the analysis runs the same steps."""
+    cc = sc.control_config(SMALL)
+    assert cc.acceleration_g == 0.0 and replace(cc, acceleration_g=SMALL.acceleration_g) == SMALL
+    _, fixed = sc.simulate(cc, 3)
+    assert np.all(fixed["truth/vibration_bias"] == 0.0)
+    assert np.any(fixed["shaker_on"] > 0.5)
+    u = sc.experiment(cc, 3)
+    assert u.offsets.true_bias_steady == 0.0
+    assert set(u.quantities) == set(small_units[0].quantities)
+
+
+def test_every_named_variant_builds_a_different_valid_config():
+    names = {d.variant for d in sc.DEVIATIONS if d.variant}
+    assert names <= set(sc.VARIANTS)
+    for n in sc.VARIANTS:
+        v = sc.variant_config(sc.Config(), n)
+        assert isinstance(v, sc.Config) and v != sc.Config()
+    with pytest.raises(ValueError, match="variant must be one of .*; got 'nope'"):
+        sc.variant_config(sc.Config(), "nope")
 
 
 def test_experiment_is_deterministic(small_units):
@@ -108,10 +144,13 @@ def test_report_formats_the_units(small_units):
         sc.report(SMALL, [], claims)
 
 
-def test_deviations_name_the_paper_and_an_effect():
+def test_deviations_hold_no_hand_written_effect():
+    """Effects are measured by running the variants (reproduce --deviations), never typed in."""
     assert sc.DEVIATIONS
     for d in sc.DEVIATIONS:
-        assert d.paper == "000" and d.effect and "@" not in d.effect
+        assert d.paper == "000" and d.effect == ""
+    whats = {d.what for d in sc.DEVIATIONS if d.variant}
+    assert {"noise budget", "phase durations", "RBF goal unit"} <= whats
 
 
 def test_report_never_simulates(small_units, monkeypatch):
@@ -247,7 +286,7 @@ def test_bench_task_truth_is_the_output_without_the_true_bias():
 
 # ---------------------------------------------------------------- bad input
 def test_negative_acceleration_rejected():
-    with pytest.raises(ValueError, match=r"Config.acceleration_g must be >= 0 g; got -1.0"):
+    with pytest.raises(ValueError, match=r"Config.acceleration_g must be finite and >= 0 g \(0: the control\); got -1"):
         sc.Config(acceleration_g=-1.0)
 
 

@@ -90,7 +90,8 @@ Modules
 ``config`` (:class:`Config`, :class:`FogSpec`), ``device`` (the drawn FOG on the shaker),
 ``pipeline`` (the analysis steps), ``experiment`` (:func:`experiment`, :func:`simulate`,
 :func:`memory_estimate`), ``results`` (the typed :class:`UnitResult`), ``claims``
-(:data:`CLAIMS`, :data:`DEVIATIONS`, :func:`claims_for`), ``report`` and ``figures``
+(:data:`CLAIMS`, :data:`DEVIATIONS`, :func:`claims_for`), ``variants`` (:func:`control_config`, the
+same units at 0 g; :func:`variant_config`, each deviation's variant), ``report`` and ``figures``
 (:func:`report`), ``bench`` (:func:`compensation_task`).
 """
 
@@ -101,12 +102,13 @@ PAPER = "000"
 
 # the modules below read NAME, TITLE, PAPER from this package: they are imported after them
 from .bench import compensation_task  # noqa: E402
-from .claims import CLAIMS, DEVIATIONS, claims_for  # noqa: E402
+from .claims import CLAIMS, DEVIATIONS, VIBRATION_BIAS_SHOWS, claims_for  # noqa: E402
 from .config import Config, FogSpec  # noqa: E402
 from .device import draw_unit, steady_vibration_bias  # noqa: E402
 from .experiment import experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 from .results import TERMS, UnitResult  # noqa: E402
+from .variants import VARIANTS, control_config, variant_config  # noqa: E402
 
 __all__ = [
     "CLAIMS",
@@ -118,12 +120,16 @@ __all__ = [
     "Config",
     "FogSpec",
     "UnitResult",
+    "VIBRATION_BIAS_SHOWS",
+    "VARIANTS",
     "claims_for",
     "compensation_task",
+    "control_config",
     "draw_unit",
     "experiment",
     "memory_estimate",
     "report",
     "simulate",
     "steady_vibration_bias",
+    "variant_config",
 ]

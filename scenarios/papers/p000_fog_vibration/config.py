@@ -119,6 +119,10 @@ class Config:
     Table 3, ``train_level`` (7) the one the bias models are trained on, as the paper's text
     says (package docstring). ``rbf_centres``: ``"random"`` (the paper's randomly fixed centres)
     or ``"ols"`` (MATLAB newrb's orthogonal least squares; a labelled variant).
+    ``acceleration_g`` 0 is the control (:func:`~.variants.control_config`: the shaker's
+    controller still switches and logs its frequency, the table does not move).
+    ``split_fit_range``: B, K, R of wavelet-processed signals from tau >= 2^(bias_level+1)/fs
+    (True) or from the full tau range (False, a labelled variant).
     """
 
     fog: FogSpec = field(default_factory=FogSpec)
@@ -149,6 +153,7 @@ class Config:
     edge_window_s: float = 3.0
     offset_block_s: float = 10.0
     bench_rate_hz: float = 2.0
+    split_fit_range: bool = True
 
     def __post_init__(self) -> None:
         def pos(name: str, unit: str) -> None:
@@ -160,10 +165,12 @@ class Config:
             ):
                 raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
 
-        if isinstance(self.acceleration_g, (int, float)) and self.acceleration_g < 0:
-            raise ValueError(f"Config.acceleration_g must be >= 0 g; got {self.acceleration_g!r}")
+        a = self.acceleration_g
+        if isinstance(a, bool) or not isinstance(a, (int, float)) or not (math.isfinite(a) and a >= 0):
+            raise ValueError(f"Config.acceleration_g must be finite and >= 0 g (0: the control); got {a!r}")
+        if not isinstance(self.split_fit_range, bool):
+            raise TypeError(f"Config.split_fit_range must be a bool; got {self.split_fit_range!r}")
         for name, unit in (
-            ("acceleration_g", "g"),
             ("sweep_start_hz", "Hz"),
             ("sweep_end_hz", "Hz"),
             ("fixed_hz", "Hz"),
@@ -259,5 +266,6 @@ class Config:
 
 
 def split_level_m(config: Config) -> int:
-    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)."""
-    return 2 ** (config.bias_level + 1)
+    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)
+    (1, the full tau range, when ``config.split_fit_range`` is False: the labelled variant)."""
+    return 2 ** (config.bias_level + 1) if config.split_fit_range else 1

@@ -53,7 +53,7 @@ Choices the paper does not state (also listed in :data:`DEVIATIONS`)
   1.2 Hz needs training points about 1 Hz apart over the whole band. 12.7 mm stroke limit.
 * Acceleration 2 g peak. The gyro (:class:`FogSpec`) is the closed-loop FOG of
   :mod:`gyrobench.sim.fog_loop` (1 km, 10 cm coil, square-wave modulation, serrodyne and
-  V_2pi loops; ARW 0.00094 deg/sqrt(h) from its optical budget), with additive IEEE-952
+  V_2pi loops; ARW 0.0013 deg/sqrt(h) from its optical budget), with additive IEEE-952
   terms Q 0.1 arcsec, B 0.2 deg/h, K 0.05 deg/h/sqrt(h), R 0.01 deg/h^2 (mid-grade FOG;
   assumed; Q 0.1 arcsec dominates the 400 Hz output's short-tau ADEV, so N is
   not identifiable in minutes). Its vibration error comes from mechanics: three structural

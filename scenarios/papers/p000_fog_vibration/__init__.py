@@ -104,7 +104,7 @@ PAPER = "000"
 from .bench import compensation_task  # noqa: E402
 from .claims import CLAIMS, DEVIATIONS, VIBRATION_BIAS_SHOWS, claims_for  # noqa: E402
 from .config import Config, FogSpec  # noqa: E402
-from .device import draw_unit, steady_vibration_bias  # noqa: E402
+from .device import draw_mount, draw_unit, steady_mount_bias, steady_vibration_bias  # noqa: E402
 from .experiment import experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 from .results import TERMS, UnitResult  # noqa: E402
@@ -125,11 +125,13 @@ __all__ = [
     "claims_for",
     "compensation_task",
     "control_config",
+    "draw_mount",
     "draw_unit",
     "experiment",
     "memory_estimate",
     "report",
     "simulate",
+    "steady_mount_bias",
     "steady_vibration_bias",
     "variant_config",
 ]

@@ -39,7 +39,10 @@ VARIANTS: dict[str, Callable[[Config], Config]] = {
     "azimuth_east": lambda c: replace(c, fog=replace(c.fog, azimuth_deg=90.0)),
     "acceleration_1g": lambda c: replace(c, acceleration_g=1.0),
     "rbf_goal_deg_s": lambda c: replace(c, rbf_goal_deg_h2=_GOAL_DEG_S_IN_DEG_H2),
-    "no_quantization": lambda c: replace(c, fog=replace(c.fog, Q_arcsec=0.0)),
+    "mixed_grade_budget": lambda c: replace(
+        c, fog=replace(c.fog, Q_arcsec=0.1, B_deg_h=0.2, K_deg_h_sqrt_h=0.05, R_deg_h2=0.01)
+    ),
+    "no_mount": lambda c: replace(c, fog=replace(c.fog, mount=None)),
 }
 
 

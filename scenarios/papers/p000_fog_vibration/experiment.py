@@ -66,9 +66,12 @@ def memory_estimate(config: Config) -> float:
     return 1.2 * float(config.fog.physics_rate_hz) * (100.0 * t_total + 125.0 * float(config.vibration_s))
 
 
-def simulate(config: Config, seed: int) -> list[Recording]:
-    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static)."""
-    r_sweep, r_fixed = np.random.default_rng(seed).spawn(2)
+def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
+    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static).
+
+    The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
+    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
+    r_sweep, r_fixed = np.random.default_rng(seed if record_seed is None else record_seed).spawn(2)
     fog, mount = draw_unit(config, seed), draw_mount(config, seed)
     recs = []
     for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):

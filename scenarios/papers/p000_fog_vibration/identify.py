@@ -7,10 +7,13 @@ do not have, so only their stated shape is used):
   each term dominates somewhere. We take a navigation-grade closed-loop FOG on
   :mod:`gyrobench.sim.fog_loop`'s 1 km coil (its ARW is the optical budget's, 1.32e-3
   deg/sqrt(h)) with IEEE-952 terms of the same grade (assumed): Q 0.01 arcsec, B 0.01 deg/h,
-  K 0.003 deg/h/sqrt(h), R 0.001 deg/h^2. Q dominates the 400 Hz output below tau = 3 Q^2/N^2,
-  N up to (N / (0.664 B))^2, B beyond; K and R only beyond :func:`crossover_tau_s` (hours), so
-  no record of minutes identifies them: those claims are not testable by design and
-  :func:`required_record_s` gives the record they need (four crossover taus: ADEV to T/4).
+  K 0.003 deg/h/sqrt(h), R 0.001 deg/h^2. Q dominates the 400 Hz output below tau = 3 Q^2/N^2
+  (0.05 s), N up to (N / (0.664 B))^2 (142 s), B beyond; K and R only beyond
+  :func:`crossover_tau_s` (hours), so no record of minutes identifies them: those claims are not
+  testable by design and :func:`required_record_s` gives the record they need (16 crossover
+  taus: ADEV to T/4, four taus past the crossover). B itself needs about 38 min per phase by the
+  same rule: the default 600 s static phases do not identify it (a finding of issue 26's run;
+  see the phase-duration deviation).
 * Fig. 3 and Sec. 3: the vibration-phase bias offset sits at high vibration frequencies,
   "about 300-500 Hz". The paper's introduction names the paths: coil stress, pigtail vibration
   and structural resonance. We take the structural one: two rocking modes of the gyro's mount
@@ -95,16 +98,19 @@ def sigma_10s(arw_deg_sqrt_h: float, B_deg_h: float, block_s: float) -> float:
 
 
 def crossover_tau_s(term: str, i: IdentificationInputs) -> float:
-    """Tau [s] beyond which ``term`` ("K" or "R") dominates the ADEV over the B floor:
-    K sqrt(tau/3) = 0.664 B, or R tau / sqrt(2) = 0.664 B (IEEE Std 952-1997, C.1)."""
+    """Tau [s] beyond which ``term`` dominates the ADEV: "B" over N (N/sqrt(tau) = 0.664 B), "K" or
+    "R" over the B floor (K sqrt(tau/3) = 0.664 B, R tau / sqrt(2) = 0.664 B; IEEE Std 952-1997, C.1)."""
     b = _FLICKER * units.deg_per_h(i.B_deg_h)
+    if term == "B":  # N / sqrt(tau) = 0.664 B
+        n = units.deg_per_h(i.arw_deg_sqrt_h * 60.0)  # deg/sqrt(h) -> deg/h/sqrt(Hz) -> rad/s/sqrt(Hz)
+        return (n / b) ** 2
     if term == "K":
         k = units.deg_per_h(i.K_deg_h_sqrt_h) / 60.0  # deg/h/sqrt(h) -> rad/s/sqrt(s)
         return 3.0 * (b / k) ** 2
     if term == "R":
         r = units.deg_per_h(i.R_deg_h2) / 3600.0  # deg/h^2 -> rad/s^2
         return math.sqrt(2.0) * b / r
-    raise ValueError(f"term must be 'K' or 'R'; got {term!r}")
+    raise ValueError(f"term must be 'B', 'K' or 'R'; got {term!r}")
 
 
 def required_record_s(term: str, i: IdentificationInputs) -> float:

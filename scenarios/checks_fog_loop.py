@@ -505,13 +505,13 @@ def _optical_budget() -> list[Check]:
     for phi in (math.pi / 2, 3 * math.pi / 4):
         closed = (
             2.0 * ELEMENTARY_CHARGE / (i0 * math.sin(phi / 2) ** 2)
-            + 1.0 / (math.tan(phi / 2) ** 2 * dnu)
+            + 2.0 / (math.tan(phi / 2) ** 2 * dnu)
             + s_th / ((i0 / 2) ** 2 * math.sin(phi) ** 2)
         )
         out.append(
             Check(
                 id=f"fog.optical_budget_closed_form_{round(math.degrees(phi))}deg",
-                formula="S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu_eff + "
+                formula="S_phi = 2q/(i0 sin^2(phi_b/2)) + 2 cot^2(phi_b/2)/dnu_eff + "
                 "S_th/((i0/2)^2 sin^2 phi_b), i0 = R P 10^(-loss/10), dnu_eff = k_w c dlambda/"
                 "lambda^2 (x2 unpolarised), S_th = 4 k_B T/R_f + i_n^2 [rad^2/Hz]",
                 expected=closed,

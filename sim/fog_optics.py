@@ -8,23 +8,31 @@ detector sits at i_b = i0 (1 + cos phi_b)/2 = i0 cos^2(phi_b/2) and the demodula
 (i0/2) sin(phi_b). One-sided current noise PSDs at the bias point:
 
     shot          S_shot = 2 q i_b                                                 [A^2/Hz]
-    excess RIN    S_rin  = i_b^2 / dnu_eff,   dnu_eff = k_w c dlambda / lambda^2      [A^2/Hz]
+    excess RIN    S_rin  = 2 i_b^2 / dnu_eff, dnu_eff = k_w c dlambda / lambda^2      [A^2/Hz]
                   (x 1/2 for unpolarised light at the detector)
     thermal       S_th   = 4 k_B T / R_f + i_n^2                                    [A^2/Hz]
 
 Divided by the squared slope they give the equivalent phase-noise PSD
 
-    S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu_eff + S_th/((i0/2)^2 sin^2 phi_b)
+    S_phi = 2q/(i0 sin^2(phi_b/2)) + 2 cot^2(phi_b/2)/dnu_eff + S_th/((i0/2)^2 sin^2 phi_b)
 
 and the angle random walk of the closed-loop output (rate = phase / SF; docs/physics.md 1:
 N = sqrt(S1/2) for a one-sided rate PSD S1)
 
     N = sqrt(S_phi / 2) / SF                                                        [rad/sqrt(s)]
 
-RIN of a broadband (thermal-like) source: the relative intensity noise is 1/dnu_eff
-(Lefevre, The Fiber-Optic Gyroscope, 2nd ed., 2014, sec. 5.3.3 "excess RIN", RIN = lambda^2 /
-(c dlambda) for a rectangular spectrum of width dlambda; Burns, Moeller, Chen, J. Lightwave
-Technol. 1(1) 98 (1983), excess noise of broadband sources). k_w (``width_factor``) converts
+RIN of a broadband (thermal-like) source, one-sided: 2/dnu_eff for polarised light, 1/dnu_eff
+depolarised (two independent polarisation modes). Derivation: for polarised thermal light the
+photocount variance over a time T is <K> + <K>^2 tau_c/T with the coherence time tau_c =
+int |gamma(tau)|^2 dtau = 1/dnu_eff (Goodman, Statistical Optics, Wiley 1985, sec. 9.2-9.3,
+Mandel's formula; unpolarised light halves the excess term); the variance of the mean current
+over T is then q<i>/T + <i>^2/(dnu_eff T), and a white one-sided PSD S1 gives S1/(2T): S_shot =
+2 q <i> (Schottky) and S_rin = 2 <i>^2 / dnu_eff. The "RIN = 1/dnu" often quoted for FOGs
+(Lefevre, The Fiber-Optic Gyroscope, sec. 5.3.3; Burns, Moeller, Chen, J. Lightwave Technol.
+1(1) 98 (1983)) is this with depolarised light or a two-sided PSD; this module used it for
+polarised light until issue 26 (ARW x sqrt((2 r + 1)/(r + 1)) = 1.40 at the default RIN/shot
+r = 37.5). tests/sim/test_fog_optics_rin.py checks 2/dnu_eff on simulated thermal light.
+k_w (``width_factor``) converts
 the FWHM to the effective width (int S)^2 / int S^2: 1 for a rectangular spectrum, 1.505 for a
 Gaussian (derived: sqrt(pi/(2 ln 2)) * ... = 1.5054). Shot noise: Schottky formula. Thermal:
 Johnson noise of the transimpedance feedback resistor plus the amplifier's input current noise.
@@ -45,7 +53,7 @@ Defaults (the worked example of docs/physics.md 3.8), each with where it comes f
 - R_f = 100 kOhm, i_n = 1 pA/sqrt(Hz), 300 K: ASSUMED transimpedance design values; the
   thermal current PSD is 0.2 % of the RIN term at phi_b = pi/2 (docs/physics.md 3.8).
 
-N = 9.4e-4 deg/sqrt(h) at phi_b = pi/2 (RIN dominated).
+N = 1.32e-3 deg/sqrt(h) at phi_b = pi/2 (RIN dominated; 9.4e-4 with the former 1/dnu_eff).
 """
 
 from __future__ import annotations
@@ -160,7 +168,7 @@ class OpticalBudget:
         """One-sided current-noise PSDs at the bias point [A^2/Hz]: shot, rin, thermal."""
         _check_bias(bias_phase)
         ib = self.bias_current(bias_phase)
-        rin = 1.0 / self.effective_bandwidth(wavelength) * (1.0 if self.polarized else 0.5)
+        rin = 2.0 / self.effective_bandwidth(wavelength) * (1.0 if self.polarized else 0.5)
         return {
             "shot": 2.0 * ELEMENTARY_CHARGE * ib,
             "rin": ib**2 * rin,

@@ -150,14 +150,14 @@ def test_vibration_span_is_widened_to_a_5_smooth_transform_length():
 
 def test_default_budget_arw_is_the_documented_worked_example():
     """docs/physics.md 3.8's worked example, N = sqrt(S_phi/2)/SF with S_phi from the closed
-    form (checks_fog_loop: fog.optical_budget_closed_form_*), is 9.42e-4 deg/sqrt(h) at
-    phi_b = pi/2, RIN-limited with RIN/shot = 37.5."""
+    form (checks_fog_loop: fog.optical_budget_closed_form_*), is 1.323e-3 deg/sqrt(h) at
+    phi_b = pi/2, RIN-limited with RIN/shot = 75.0 (one-sided polarised RIN 2/dnu_eff, issue 26)."""
     from gyrobench.scenarios.checks_fog_loop import _optical_budget
     from gyrobench.sim.fog_loop import ClosedLoopFOG
 
     for c in _optical_budget():
         assert abs(c.simulated / c.expected - 1) <= c.tolerance, c.id
     unit = ClosedLoopFOG(modes=())
-    assert units.to_deg_per_sqrt_h(unit.arw) == pytest.approx(9.42e-4, abs=0.005e-4)
+    assert units.to_deg_per_sqrt_h(unit.arw) == pytest.approx(1.323e-3, abs=0.0005e-3)
     psd = unit.optics.phase_psd(math.pi / 2, unit.loop.wavelength)
-    assert psd["rin"] / psd["shot"] == pytest.approx(37.51, abs=0.005)
+    assert psd["rin"] / psd["shot"] == pytest.approx(75.03, abs=0.005)

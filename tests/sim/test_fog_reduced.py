@@ -61,7 +61,7 @@ def test_full_loop_block_noise_matches_ma1_form(rng):
 
 
 def test_doubling_source_power_of_shot_limited_budget_lowers_arw_by_sqrt2(rng):
-    # shot-limited: RIN/shot = i_b/(2 q dnu) ~ 1e-3, thermal/shot ~ 1e-3
+    # shot-limited: RIN/shot = i_b/(q dnu) ~ 2e-3 (polarised RIN 2/dnu), thermal/shot ~ 1e-3
     base = OpticalBudget(
         source_power=10e-3,
         spectral_width=100e-9,
@@ -71,7 +71,7 @@ def test_doubling_source_power_of_shot_limited_budget_lowers_arw_by_sqrt2(rng):
     )
     spec = LoopSpec(gain_loop=False)
     psd = base.phase_psd(spec.bias_phase, spec.wavelength)
-    assert psd["rin"] < 2e-3 * psd["shot"] and psd["thermal"] < 2e-3 * psd["shot"]
+    assert psd["rin"] < 3e-3 * psd["shot"] and psd["thermal"] < 2e-3 * psd["shot"]
     m, n_out = 64, 8000
     r1, r2 = rng.spawn(2)
     out = []

@@ -47,26 +47,29 @@ Choices the paper does not state (also listed in :data:`DEVIATIONS`)
 * Output rate 400 Hz, shaker sampled at 3.2 kHz (8 x the output rate: 500 Hz and its
   rectified 1 kHz component are resolved); integrate-and-dump output (a closed-loop FOG
   outputs angle increments), so the 500 Hz tone aliases to 100 Hz and its 2f to 200 Hz.
-* Records of 600 s + 300 s + 600 s (the paper gives no durations): B of the static phases
-  is identified in every unit (also with 200 s; :data:`DEVIATIONS` gives what 200 s
-  changes). The sweep is linear, 1 -> 500 Hz in 300 s (1.66 Hz/s): the RBF spread of
+* Records of 600 s + 300 s + 600 s (the paper gives no durations; :data:`DEVIATIONS`, variant
+  ``static_200s``). The sweep is linear, 1 -> 500 Hz in 300 s (1.66 Hz/s): the RBF spread of
   1.2 Hz needs training points about 1 Hz apart over the whole band. 12.7 mm stroke limit.
 * Acceleration 2 g peak. The gyro (:class:`FogSpec`) is the closed-loop FOG of
   :mod:`gyrobench.sim.fog_loop` (1 km, 10 cm coil, square-wave modulation, serrodyne and
-  V_2pi loops; ARW 0.00094 deg/sqrt(h) from its optical budget), with additive IEEE-952
-  terms Q 0.1 arcsec, B 0.2 deg/h, K 0.05 deg/h/sqrt(h), R 0.01 deg/h^2 (mid-grade FOG;
-  assumed; Q 0.1 arcsec dominates the 400 Hz output's short-tau ADEV, so N is
-  not identifiable in minutes). Its vibration error comes from mechanics: three structural
-  modes (coil 1.2 kHz, pigtail 300 Hz, fixture rocking 900 Hz; sim.fog_loop's assumed
-  defaults, no paper number used) give a strain-rate nonreciprocity through the (L - 2z)
+  V_2pi loops; ARW 0.0013 deg/sqrt(h) from its optical budget), with additive IEEE-952
+  terms of the same (navigation) grade, Q 0.01 arcsec, B 0.01 deg/h, K 0.003 deg/h/sqrt(h),
+  R 0.001 deg/h^2 (assumed; :mod:`.identify`): Q dominates the 400 Hz ADEV below 0.05 s, N
+  up to 143 s, B beyond (so B needs ~38 min per phase); K and R need ~235 h and ~150 h per
+  phase: their claims are not testable by design. Its vibration error comes from mechanics:
+  three structural modes (coil 1.2 kHz, pigtail 300 Hz, fixture rocking 900 Hz;
+  sim.fog_loop's assumed defaults) give a strain-rate nonreciprocity through the (L - 2z)
   kernel (a zero-mean tone, a few deg/h rms at 2 g), a rocking true rate and a rectified
-  bias from loss modulation times the loop residual (~2e-4 deg/h at 500 Hz): the paper's
+  bias from loss modulation times the loop residual (~2e-4 deg/h at 500 Hz); and two rocking
+  modes of the mount (400 and 460 Hz, Q 10) cone, a DC rate between them
+  (:mod:`gyrobench.sim.mount_coning`): the device's vibration bias, identified in
+  :mod:`.identify` from fig. 3's band and fig. 7's visible offset (0.26 deg/h at 500 Hz and 2
+  g, 10 x the predicted scatter of 10-s means; up to 3.2 deg/h near 408 Hz). The paper's
   model w = wn + b0 + br + noise with wn the Earth's rate at Nanjing (32.06 N, sense axis
   horizontal, azimuth north assumed: 12.7 deg/h). Each seed draws its own unit: mode
-  frequencies +-5 % and couplings x exp(0.3 N(0,1)) (assumed spreads). Nothing in the
-  device was set from a paper number; K and R are not identifiable in records of minutes
-  (K overtakes B beyond ~21 h on the Allan curve, R beyond ~19 h); their entries are 95 %
-  upper bounds, and claims needing them identified are not testable on such a unit.
+  frequencies +-5 % and couplings (mount compliances too) x exp(0.3 N(0,1)) (assumed spreads).
+  Coefficients that are not identifiable are 95 % upper bounds, and claims needing them
+  identified are not testable on such a unit.
 * The shaker controller holds the amplitude to 1 % rms (correlation 30 s).
 * Table 1 phases are cut with a 5 s guard after each switching edge.
 * RBF and LS training pairs are means of the a7 bias over 1 Hz frequency bins of the
@@ -90,7 +93,8 @@ Modules
 ``config`` (:class:`Config`, :class:`FogSpec`), ``device`` (the drawn FOG on the shaker),
 ``pipeline`` (the analysis steps), ``experiment`` (:func:`experiment`, :func:`simulate`,
 :func:`memory_estimate`), ``results`` (the typed :class:`UnitResult`), ``claims``
-(:data:`CLAIMS`, :data:`DEVIATIONS`, :func:`claims_for`), ``report`` and ``figures``
+(:data:`CLAIMS`, :data:`DEVIATIONS`, :func:`claims_for`), ``variants`` (:func:`control_config`, the
+same units at 0 g; :func:`variant_config`, each deviation's variant), ``report`` and ``figures``
 (:func:`report`), ``bench`` (:func:`compensation_task`).
 """
 
@@ -101,12 +105,13 @@ PAPER = "000"
 
 # the modules below read NAME, TITLE, PAPER from this package: they are imported after them
 from .bench import compensation_task  # noqa: E402
-from .claims import CLAIMS, DEVIATIONS, claims_for  # noqa: E402
+from .claims import CLAIMS, DEVIATIONS, VIBRATION_BIAS_SHOWS, claims_for  # noqa: E402
 from .config import Config, FogSpec  # noqa: E402
-from .device import draw_unit, steady_vibration_bias  # noqa: E402
+from .device import draw_mount, draw_unit, steady_mount_bias, steady_vibration_bias  # noqa: E402
 from .experiment import experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 from .results import TERMS, UnitResult  # noqa: E402
+from .variants import VARIANTS, control_config, variant_config  # noqa: E402
 
 __all__ = [
     "CLAIMS",
@@ -118,12 +123,18 @@ __all__ = [
     "Config",
     "FogSpec",
     "UnitResult",
+    "VIBRATION_BIAS_SHOWS",
+    "VARIANTS",
     "claims_for",
     "compensation_task",
+    "control_config",
+    "draw_mount",
     "draw_unit",
     "experiment",
     "memory_estimate",
     "report",
     "simulate",
+    "steady_mount_bias",
     "steady_vibration_bias",
+    "variant_config",
 ]

@@ -16,8 +16,11 @@ from gyrobench.sim.earth import NANJING
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
+from gyrobench.sim.mount_coning import MountConing, RockingMode
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
+
+from .identify import IDENTIFIED, INPUTS
 
 __all__ = ["Config", "FogSpec", "split_level_m"]
 
@@ -33,7 +36,10 @@ class FogSpec:
 
     The loop, optics and structural modes are the module defaults of :mod:`gyrobench.sim.fog_loop`
     (1 km, 10 cm coil; ARW from the optical budget; modes assumed, no paper number used).
-    Additive IEEE-952 terms (what the optics do not produce; mid-grade FOG, assumed):
+    ``mount``: the two rocking modes of the gyro's mount whose coning rectifies vibration into a
+    DC rate (:mod:`gyrobench.sim.mount_coning`; identified in :mod:`.identify`; None: no mount
+    modes, the earlier device). Additive IEEE-952 terms (what the optics do not produce;
+    navigation grade, :mod:`.identify`):
     ``Q_arcsec`` readout quantization, ``B_deg_h`` bias instability, ``K_deg_h_sqrt_h`` rate
     random walk, ``R_deg_h2`` rate ramp. Site: ``latitude_deg`` (paper 000's lab, Southeast
     University, Nanjing: :data:`gyrobench.sim.earth.PAPER_SITES`), sense axis horizontal as
@@ -49,10 +55,11 @@ class FogSpec:
     loop: LoopSpec = field(default_factory=LoopSpec)
     optics: OpticalBudget = field(default_factory=OpticalBudget)
     modes: tuple[StrainMode, ...] = field(default_factory=_default_modes)
-    Q_arcsec: float = 0.1
-    B_deg_h: float = 0.2
-    K_deg_h_sqrt_h: float = 0.05
-    R_deg_h2: float = 0.01
+    mount: MountConing | None = field(default_factory=IDENTIFIED.mount)
+    Q_arcsec: float = INPUTS.Q_arcsec
+    B_deg_h: float = INPUTS.B_deg_h
+    K_deg_h_sqrt_h: float = INPUTS.K_deg_h_sqrt_h
+    R_deg_h2: float = INPUTS.R_deg_h2
     latitude_deg: float = units.to_deg(NANJING.latitude)
     azimuth_deg: float = 0.0
     mode_frequency_spread: float = 0.05
@@ -110,6 +117,19 @@ class FogSpec:
         )
         return self.unit(modes)
 
+    def draw_mount(self, rng: np.random.Generator) -> MountConing | None:
+        """The unit's mount: each rocking mode's frequency x (1 + ``mode_frequency_spread`` N(0, 1))
+        and compliance x exp(``coupling_spread`` N(0, 1)) (None without a mount)."""
+        if self.mount is None:
+            return None
+        fs = np.clip(1.0 + self.mode_frequency_spread * rng.standard_normal(2), 0.5, 1.5)
+        cs = np.exp(self.coupling_spread * rng.standard_normal(2))
+
+        def one(m: RockingMode, i: int) -> RockingMode:
+            return replace(m, frequency=m.frequency * float(fs[i]), compliance=m.compliance * float(cs[i]))
+
+        return MountConing(x=one(self.mount.x, 0), y=one(self.mount.y, 1))
+
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Config:
@@ -119,6 +139,10 @@ class Config:
     Table 3, ``train_level`` (7) the one the bias models are trained on, as the paper's text
     says (package docstring). ``rbf_centres``: ``"random"`` (the paper's randomly fixed centres)
     or ``"ols"`` (MATLAB newrb's orthogonal least squares; a labelled variant).
+    ``acceleration_g`` 0 is the control (:func:`~.variants.control_config`: the shaker's
+    controller still switches and logs its frequency, the table does not move).
+    ``split_fit_range``: B, K, R of wavelet-processed signals from tau >= 2^(bias_level+1)/fs
+    (True) or from the full tau range (False, a labelled variant).
     """
 
     fog: FogSpec = field(default_factory=FogSpec)
@@ -149,6 +173,7 @@ class Config:
     edge_window_s: float = 3.0
     offset_block_s: float = 10.0
     bench_rate_hz: float = 2.0
+    split_fit_range: bool = True
 
     def __post_init__(self) -> None:
         def pos(name: str, unit: str) -> None:
@@ -160,10 +185,12 @@ class Config:
             ):
                 raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
 
-        if isinstance(self.acceleration_g, (int, float)) and self.acceleration_g < 0:
-            raise ValueError(f"Config.acceleration_g must be >= 0 g; got {self.acceleration_g!r}")
+        a = self.acceleration_g
+        if isinstance(a, bool) or not isinstance(a, (int, float)) or not (math.isfinite(a) and a >= 0):
+            raise ValueError(f"Config.acceleration_g must be finite and >= 0 g (0: the control); got {a!r}")
+        if not isinstance(self.split_fit_range, bool):
+            raise TypeError(f"Config.split_fit_range must be a bool; got {self.split_fit_range!r}")
         for name, unit in (
-            ("acceleration_g", "g"),
             ("sweep_start_hz", "Hz"),
             ("sweep_end_hz", "Hz"),
             ("fixed_hz", "Hz"),
@@ -259,5 +286,6 @@ class Config:
 
 
 def split_level_m(config: Config) -> int:
-    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)."""
-    return 2 ** (config.bias_level + 1)
+    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)
+    (1, the full tau range, when ``config.split_fit_range`` is False: the labelled variant)."""
+    return 2 ** (config.bias_level + 1) if config.split_fit_range else 1

@@ -10,13 +10,21 @@ from __future__ import annotations
 import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG
+from gyrobench.sim.mount_coning import MountConing
 from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.shaker import Phased, SineSweep
 from numpy.typing import ArrayLike, NDArray
 
 from .config import Config
 
-__all__ = ["draw_unit", "record_on_table", "steady_vibration_bias", "true_bias_at_bins"]
+__all__ = [
+    "draw_mount",
+    "draw_unit",
+    "record_on_table",
+    "steady_mount_bias",
+    "steady_vibration_bias",
+    "true_bias_at_bins",
+]
 
 
 def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
@@ -40,15 +48,37 @@ def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDA
     return units.to_deg_per_h(b)
 
 
+def steady_mount_bias(mount: MountConing | None, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
+    """Mean coning rate of the mount [deg/h] under a sine ``a`` [m/s^2] at ``f`` [Hz]
+    (:meth:`~gyrobench.sim.mount_coning.MountConing.mean_rate`; 0 without a mount)."""
+    if mount is None:
+        return np.zeros(np.broadcast(np.asarray(f, float), np.asarray(a, float)).shape)
+    return units.to_deg_per_h(mount.mean_rate(f, a))
+
+
 def draw_unit(config: Config, seed: int) -> ClosedLoopFOG:
     """The FOG of unit ``seed`` (child 3 of the seed's generator; 0-2: records, centres)."""
     return config.fog.draw(np.random.default_rng(seed).spawn(4)[3])
 
 
+def draw_mount(config: Config, seed: int) -> MountConing | None:
+    """The mount of unit ``seed`` (child 4 of the seed's generator)."""
+    return config.fog.draw_mount(np.random.default_rng(seed).spawn(5)[4])
+
+
 def record_on_table(
-    fog: ClosedLoopFOG, prof: Phased, config: Config, rng: np.random.Generator, name: str
+    fog: ClosedLoopFOG,
+    prof: Phased,
+    config: Config,
+    rng: np.random.Generator,
+    name: str,
+    mount: MountConing | None = None,
 ) -> tuple[Recording, dict[str, Channel], dict[str, Channel]]:
-    """One record of ``fog`` on the shaker profile, with the controller log at the output rate."""
+    """One record of ``fog`` on the shaker profile, with the controller log at the output rate.
+
+    With a ``mount``, its coning rate (a true rate about the sense axis, computed on the shaker's
+    grid and averaged over each output interval, as the integrate-and-dump output does) is added
+    to the output and to the truth (``truth/coning_rate``, part of ``truth/vibration_bias``)."""
     r_shaker, r_fog = rng.spawn(2)
     spec = config.fog
     sh = prof.sample(spec.physics_rate_hz, rng=r_shaker)
@@ -60,18 +90,36 @@ def record_on_table(
     tr = rec.truth
     vib_err = tr["strain_nonreciprocity"].data + tr["rectification"].data + tr["loop_error"].data
     channels = dict(rec.channels)
+    coning = np.zeros(n)
+    if mount is not None:
+        fast = np.zeros(n * m)
+        moving = np.flatnonzero(sh.acceleration[: n * m])
+        if moving.size:  # transform only where the table moves, plus 30 ring-down times e^-30
+            f_min = min(mount.x.frequency, mount.y.frequency)
+            q_max = max(mount.x.quality, mount.y.quality)
+            pad = int(np.ceil(30.0 * q_max / (np.pi * f_min) * spec.physics_rate_hz))
+            j0, j1 = max(0, moving[0] - pad), min(n * m, moving[-1] + 1 + pad)
+            fast[j0:j1] = mount.rate(sh.acceleration[j0:j1], spec.physics_rate_hz)
+        coning = fast.reshape(n, m).mean(axis=1)
+        out = channels["rate"]
+        channels["rate"] = Channel(out.data + coning, out.unit, out.description + " (+ mount coning)")
+        vib_err = vib_err + coning
     channels["shaker_frequency"] = Channel(freq, "Hz", "drive frequency (0 when off)")
     channels["shaker_amplitude"] = Channel(sh.amplitude[centre], "m/s^2", "acceleration envelope")
     channels["shaker_on"] = Channel(on, "1", "1 while the shaker drives")
     truth = dict(tr)
+    truth["coning_rate"] = Channel(coning, "rad/s", "mount coning rate about the sense axis (true rate)")
     truth["vibration_bias"] = Channel(
-        vib_err, "rad/s", "vibration error: strain nonreciprocity + rectification + loop error"
+        vib_err, "rad/s", "vibration error: strain nonreciprocity + rectification + loop error + mount coning"
     )
     return rec, channels, truth
 
 
-def true_bias_at_bins(fb: np.ndarray, config: Config, fog: ClosedLoopFOG) -> np.ndarray:
-    """The true steady rectified bias [deg/h] at sweep frequencies ``fb`` (steady amplitude there)."""
+def true_bias_at_bins(
+    fb: np.ndarray, config: Config, fog: ClosedLoopFOG, mount: MountConing | None = None
+) -> np.ndarray:
+    """The true steady vibration bias [deg/h] at sweep frequencies ``fb`` (steady amplitude there):
+    the loop's rectification plus the mount's coning."""
     s = config.sweep().vibration
     assert isinstance(s, SineSweep)  # Config.sweep() builds the swept-sine profile
     t_of_f = (
@@ -80,4 +128,4 @@ def true_bias_at_bins(fb: np.ndarray, config: Config, fog: ClosedLoopFOG) -> np.
         else (fb - s.f_start) / (s.f_end - s.f_start) * s.duration
     )
     a_b = s.amplitude(np.clip(t_of_f, s.ramp_time, s.duration - s.ramp_time))
-    return steady_vibration_bias(fog, fb, a_b)
+    return steady_vibration_bias(fog, fb, a_b) + steady_mount_bias(mount, fb, a_b)

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from . import NAME
 from .config import Config, split_level_m
-from .device import draw_unit, record_on_table
+from .device import draw_mount, draw_unit, record_on_table
 from .pipeline import (
     BiasModels,
     bias_model_scores,
@@ -66,13 +66,16 @@ def memory_estimate(config: Config) -> float:
     return 1.2 * float(config.fog.physics_rate_hz) * (100.0 * t_total + 125.0 * float(config.vibration_s))
 
 
-def simulate(config: Config, seed: int) -> list[Recording]:
-    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static)."""
-    r_sweep, r_fixed = np.random.default_rng(seed).spawn(2)
-    fog = draw_unit(config, seed)
+def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
+    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static).
+
+    The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
+    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
+    r_sweep, r_fixed = np.random.default_rng(seed if record_seed is None else record_seed).spawn(2)
+    fog, mount = draw_unit(config, seed), draw_mount(config, seed)
     recs = []
     for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):
-        rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}")
+        rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}", mount)
         meta = dict(rec.metadata)
         meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
         meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
@@ -97,7 +100,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
     phases = phase_table(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)
     dec_s = decompose(units.to_deg_per_h(sweep["rate"]), fs, wavelet=config.wavelet, level=config.level)
     decomposition = decomposition_table(sweep, dec_s, config)
-    bm = fit_bias_models(sweep, config, dec_s, draw_unit(config, seed), rng=rng_centres)
+    bm = fit_bias_models(sweep, config, dec_s, draw_unit(config, seed), rng=rng_centres, mount=draw_mount(config, seed))
     scores = bias_model_scores(bm)
     dec_f = decompose(units.to_deg_per_h(fixed["rate"]), fs, wavelet=config.wavelet, level=config.level)
     sig = compensated(fixed, dec_f, bm, config)

@@ -21,6 +21,7 @@ from gyrobench.analysis.wavelet import MultiscaleDecomposition
 from gyrobench.scenarios.allan_report import TERMS, coefficients_json
 from gyrobench.sim import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG
+from gyrobench.sim.mount_coning import MountConing
 from gyrobench.sim.recording import Recording
 from numpy.typing import NDArray
 
@@ -141,7 +142,13 @@ def _predict_column(model: Any, u: np.ndarray) -> np.ndarray:
 
 
 def fit_bias_models(
-    rec: Recording, config: Config, dec: MultiscaleDecomposition, fog: ClosedLoopFOG, *, rng: np.random.Generator
+    rec: Recording,
+    config: Config,
+    dec: MultiscaleDecomposition,
+    fog: ClosedLoopFOG,
+    *,
+    rng: np.random.Generator,
+    mount: MountConing | None = None,
 ) -> BiasModels:
     """RBF and 4th-order LS models of the a_{train_level} bias [deg/h] against drive frequency [Hz] (a sweep)."""
     fs = rec.fs
@@ -173,7 +180,7 @@ def fit_bias_models(
         ).fit(fb[:, None], yb)
         rbf, neurons = partial(_predict_column, ols), int(ols.n_neurons_)
     ls = np.polynomial.Polynomial.fit(fb, yb, config.ls_order)
-    return BiasModels(fb, yb, true_bias_at_bins(fb, config, fog), rbf, neurons, ls, static_mean)
+    return BiasModels(fb, yb, true_bias_at_bins(fb, config, fog, mount), rbf, neurons, ls, static_mean)
 
 
 def decomposition_table(sweep: Recording, dec: MultiscaleDecomposition, config: Config) -> Decomposition:

@@ -1,0 +1,217 @@
+"""Hostile stores and compensators (issue 32): no code from data, identity that follows the code.
+
+A crafted units database (a pickle payload, a type outside gyrobench, a class that is not a
+frozen dataclass) must run no code and be refused in one line; every paper's real unit result
+must round-trip through the store's codec bit-identically.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pickle
+import sqlite3
+
+import numpy as np
+import pytest
+from gyrobench.scenarios import registry, units
+from gyrobench.scenarios.bench import codec
+from gyrobench.scenarios.cli import main
+
+from tests.scenarios import toy_paper as toy
+
+TOY_CONFIG = toy.Config(n_samples=50)
+
+
+# ----------------------------------------------------------------------------- codec
+def _same(a, b, path="result"):
+    """Structural equality, arrays compared bit for bit (dtype, shape, bytes)."""
+    assert type(a) is type(b), (path, type(a), type(b))
+    if isinstance(a, np.ndarray):
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes(), path
+    elif dataclasses.is_dataclass(a):
+        for f in dataclasses.fields(a):
+            _same(getattr(a, f.name), getattr(b, f.name), f"{path}.{f.name}")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            _same(x, y, f"{path}[{i}]")
+    elif isinstance(a, dict):
+        assert list(a) == list(b), path
+        for k in a:
+            _same(a[k], b[k], f"{path}[{k!r}]")
+    elif isinstance(a, float):
+        assert np.float64(a).tobytes() == np.float64(b).tobytes(), path  # NaN and -0.0 included
+    else:
+        assert a == b, path
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        None, True, 0, -(2**70), 1.5, -0.0, float("nan"), float("-inf"), "text", [1, (2, 3.0)],
+        {"a": None, 3: "x", (1, 2): [4]},
+        np.arange(12, dtype=">i4").reshape(3, 4), np.array([np.nan, 1e-300, -0.0], dtype=np.float32),
+        np.zeros((0, 3)), np.array([1 + 2j]), np.float32(2.5), np.int64(7), np.bool_(True),
+        np.asfortranarray(np.arange(6.0).reshape(2, 3)),
+    ],
+)
+def test_codec_round_trips_plain_values_exactly(value):
+    _same(value, codec.loads(codec.dumps(value)))
+
+
+PAPERS = [n for n in registry.available() if registry.describe(n).paper is not None]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", PAPERS)
+def test_every_papers_real_unit_result_round_trips(name):
+    """A real unit (seed 0, default config) comes back equal, arrays bit-identical, through text."""
+    module = registry.get(name)
+    unit = module.experiment(module.Config(), 0)
+    back = codec.loads(codec.dumps(unit).encode("utf-8"))
+    _same(unit, back)
+
+
+class NotOurs:
+    """A plain class (not a dataclass)."""
+
+
+@dataclasses.dataclass
+class Mutable:
+    x: int = 0
+
+
+def test_codec_refuses_values_it_cannot_store():
+    for bad in (NotOurs(), Mutable(), {1, 2}, np.array(["a"]), np.array([object()])):
+        with pytest.raises(codec.CodecError):
+            codec.dumps(bad)
+
+
+_CLAIM = "gyrobench.scenarios.claims:Claim"
+
+
+def _doc(value) -> str:
+    return json.dumps({"schema": codec.SCHEMA, "value": value})
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("not json", "not valid JSON"),
+        (json.dumps({"schema": "other", "value": 1}), "not of schema"),
+        (_doc({"$dc": {"type": "os:system", "fields": {}}}), "outside the gyrobench package"),
+        (_doc({"$dc": {"type": "subprocess:Popen", "fields": {"args": "true"}}}), "outside the gyrobench"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.cli:main", "fields": {}}}), "not a frozen dataclass"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.base:Outcome", "fields": {}}}), "not a frozen dataclass"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.bench.codec:np", "fields": {}}}), "not a frozen dataclass"),
+        (_doc({"$dc": {"type": "gyrobench.nothere:X", "fields": {}}}), "no module"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.units:__builtins__", "fields": {}}}), "not a frozen"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.units:UnitRun", "fields": {"x": 1}}}), "has fields"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.units:UnitRun.__init__", "fields": {}}}), "not a frozen"),
+        (_doc({"$reduce": ["os.system", ["echo pwned"]]}), "unknown tag"),
+        (_doc({"$nd": {"dtype": "|O", "shape": [1], "data": "AAAAAAAAAAA="}}), "not a numeric numpy dtype"),
+        (_doc({"$nd": {"dtype": "<f8", "shape": [10**9, 10**9], "data": ""}}), "exceeds the limit"),
+        (_doc({"$nd": {"dtype": "<f8", "shape": [2], "data": "AAAA"}}), "does not hold 16 bytes"),
+        (_doc({"$float": "1e5"}), r"\$float must be"),
+        (_doc({"a": 1, "b": 2}), "one tag key"),
+        ('{"schema": "' + codec.SCHEMA + '", "value": NaN}', "non-JSON constant"),
+    ],
+)
+def test_codec_refuses_crafted_documents_in_one_line(text, match):
+    with pytest.raises(codec.CodecError, match=match) as info:
+        codec.loads(text)
+    assert "\n" not in str(info.value)
+
+
+class _Payload:
+    """Unpickling this writes a marker file: proof that code ran."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (open, (self.marker, "w"))
+
+
+def _crafted_units_db(tmp_path, blob):
+    """A units database whose row for (toy, seed 0) holds ``blob``, under the real run id."""
+    db = tmp_path / "units.sqlite"
+    rid, ident = units.run_id(toy, TOY_CONFIG)
+    conn = units._open_store(db, rid, toy.NAME, TOY_CONFIG, ident)
+    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)", (rid, 0, blob, 0.1, 0.0))
+    conn.close()
+    return db
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda marker: pickle.dumps(_Payload(str(marker))),
+        lambda marker: _doc({"$dc": {"type": "tests.scenarios.test_hostile_bench:_Payload",
+                                     "fields": {"marker": str(marker)}}}).encode(),
+        lambda marker: _doc({"$dc": {"type": "builtins:open", "fields": {"file": str(marker)}}}).encode(),
+        lambda marker: _doc({"$dc": {"type": "gyrobench.scenarios.base:Outcome", "fields": {}}}).encode(),
+    ],
+    ids=["pickle-payload", "type-outside-gyrobench", "builtin-callable", "non-dataclass"],
+)
+def test_crafted_units_db_runs_no_code_and_is_refused_in_one_line(tmp_path, make):
+    marker = tmp_path / "pwned"
+    db = _crafted_units_db(tmp_path, make(marker))
+    with pytest.raises(ValueError, match=r"stored unit \(seed 0\) refused") as info:
+        units.run_units(toy, TOY_CONFIG, n_units=1, workers=0, db=db)
+    assert "\n" not in str(info.value)
+    assert not marker.exists()
+
+
+def test_crafted_units_db_through_reproduce_exits_2_with_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
+    marker = tmp_path / "pwned"
+    module = registry.get("toy_paper")
+    config = module.Config()
+    db = tmp_path / "units.sqlite"
+    rid, ident = units.run_id(module, config)
+    conn = units._open_store(db, rid, module.NAME, config, ident)
+    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
+                 (rid, 0, pickle.dumps(_Payload(str(marker))), 0.1, 0.0))
+    conn.close()
+    argv = ["reproduce", "toy_paper", "--units", "2", "--workers", "0", "--db", str(db),
+            "--out", str(tmp_path / "rep"), "-q"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "never unpickled" in err[0], err
+    assert not marker.exists()
+
+
+def test_units_store_holds_json_and_resumes_identically(tmp_path):
+    db = tmp_path / "u.sqlite"
+    first = units.run_units(toy, TOY_CONFIG, n_units=3, workers=0, db=db)
+    again = units.run_units(toy, TOY_CONFIG, n_units=3, workers=0, db=db)
+    assert again.reused == 3 and again.computed == 0
+    _same(list(first.results), list(again.results))
+    with sqlite3.connect(db) as conn:
+        blobs = [bytes(b) for (b,) in conn.execute("SELECT result FROM unit_results")]
+    assert blobs and all(json.loads(b)["schema"] == codec.SCHEMA for b in blobs)
+
+
+# ----------------------------------------------------------------------------- configs
+def test_physics_checks_config_imports_nothing_outside_its_registry(tmp_path, capsys, monkeypatch):
+    """``modules = ["this"]`` would print the Zen of Python if imported: refused in one line listing
+    the valid modules, before anything is imported."""
+    import sys
+
+    from gyrobench.scenarios import physics_checks
+    from gyrobench.scenarios.checks import CHECK_MODULES
+
+    monkeypatch.delitem(sys.modules, "this", raising=False)
+    with pytest.raises(ValueError, match="must be among the check modules") as info:
+        physics_checks.Config(modules=("this",))
+    assert all(m in str(info.value) for m in CHECK_MODULES) and "\n" not in str(info.value)
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('modules = ["this"]\n')
+    code = main(["reproduce", "physics_checks", "--config", str(cfg), "--out", str(tmp_path / "rep"), "-q"])
+    captured = capsys.readouterr()
+    assert code == 2 and "this" not in sys.modules
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and "check modules" in err[0], err
+    assert "Beautiful is better" not in captured.out

@@ -215,3 +215,107 @@ def test_physics_checks_config_imports_nothing_outside_its_registry(tmp_path, ca
     err = captured.err.strip().splitlines()
     assert len(err) == 1 and "check modules" in err[0], err
     assert "Beautiful is better" not in captured.out
+
+
+# ----------------------------------------------------------------------------- identity
+from gyrobench.scenarios import bench  # noqa: E402
+from gyrobench.scenarios.bench import identity  # noqa: E402
+
+from tests.scenarios import toy_scenario  # noqa: E402
+
+FAST = toy_scenario.Config(n_samples=60)
+
+_COMP = '''
+import numpy as np
+import {helper}
+
+
+class Poly:
+    """A polynomial fit without get_params: its state is its attributes."""
+
+    def __init__(self, degree):
+        self.degree = degree
+
+    def __call__(self, X, y):
+        coef = np.polyfit(X[:, 0], y, self.degree) * {helper}.SCALE
+        return lambda Z: np.polyval(coef, Z[:, 0])
+
+
+POLY = Poly({degree})
+'''
+
+
+def _user_compensator(tmp_path, monkeypatch, name, degree=1, scale="1.0"):
+    """A compensator file ``<name>.py`` importing a helper module beside it (both top-level,
+    outside any package), imported afresh."""
+    import importlib
+    import sys
+
+    helper = f"{name}_helper"
+    (tmp_path / f"{helper}.py").write_text(f"SCALE = {scale}\n")
+    (tmp_path / f"{name}.py").write_text(_COMP.format(helper=helper, degree=degree))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for m in (name, helper):
+        sys.modules.pop(m, None)
+    importlib.invalidate_caches()
+    return importlib.import_module(name)
+
+
+def test_editing_a_helper_module_beside_the_compensator_changes_the_campaign_id(tmp_path, monkeypatch):
+    mod = _user_compensator(tmp_path, monkeypatch, "gb_comp_a")
+    before = identity.campaign_id(toy_scenario, mod.POLY, FAST)
+    assert identity.campaign_id(toy_scenario, mod.POLY, FAST) == before  # stable while nothing changes
+    mod = _user_compensator(tmp_path, monkeypatch, "gb_comp_a", scale="1600.0")
+    assert identity.campaign_id(toy_scenario, mod.POLY, FAST) != before
+
+
+def test_a_constructor_argument_without_get_params_changes_the_campaign_id(tmp_path, monkeypatch):
+    mod = _user_compensator(tmp_path, monkeypatch, "gb_comp_b")
+    assert identity.campaign_id(toy_scenario, mod.Poly(1), FAST) != identity.campaign_id(
+        toy_scenario, mod.Poly(3), FAST
+    )
+    assert identity.campaign_id(toy_scenario, mod.Poly(3), FAST) == identity.campaign_id(
+        toy_scenario, mod.Poly(3), FAST
+    )
+
+
+def test_changed_helper_recomputes_instead_of_serving_old_scores(tmp_path, monkeypatch):
+    db = tmp_path / "c.db"
+    mod = _user_compensator(tmp_path, monkeypatch, "gb_comp_c")
+    first = bench.run_campaign(toy_scenario, mod.POLY, range(2), config=FAST, workers=0, db=db, progress=False)
+    mod = _user_compensator(tmp_path, monkeypatch, "gb_comp_c", scale="1600.0")
+    second = bench.run_campaign(toy_scenario, mod.POLY, range(2), config=FAST, workers=0, db=db, progress=False)
+    assert (second.reused, second.computed) == (0, 2)
+    assert second.scores != first.scores
+
+
+def test_a_score_edited_in_the_db_is_recomputed_with_a_warning_never_dropped(tmp_path):
+    from sklearn.linear_model import LinearRegression
+
+    db = tmp_path / "c.db"
+    kw = dict(config=FAST, workers=0, db=db, progress=False)
+    first = bench.run_campaign(toy_scenario, LinearRegression(), range(3), **kw)
+    with sqlite3.connect(db) as conn:
+        (text,) = conn.execute("SELECT scores FROM seed_scores WHERE seed = 1").fetchone()
+        doc = json.loads(text)
+        doc[sorted(doc)[0]] = "nan"
+        conn.execute("UPDATE seed_scores SET scores = ? WHERE seed = 1", (json.dumps(doc, sort_keys=True),))
+    with pytest.warns(RuntimeWarning, match=r"seed\(s\) 1 do not match their checksum"):
+        again = bench.run_campaign(toy_scenario, LinearRegression(), range(3), **kw)
+    assert (again.reused, again.computed) == (2, 1)
+    assert again.scores == first.scores and not again.failed
+    third = bench.run_campaign(toy_scenario, LinearRegression(), range(3), **kw)  # now verified: reused
+    assert (third.reused, third.computed) == (3, 0)
+
+
+def test_a_row_without_a_checksum_is_recomputed(tmp_path):
+    from sklearn.linear_model import LinearRegression
+
+    db = tmp_path / "c.db"
+    kw = dict(config=FAST, workers=0, db=db, progress=False)
+    bench.run_campaign(toy_scenario, LinearRegression(), range(2), **kw)
+    with sqlite3.connect(db) as conn:
+        conn.execute("DELETE FROM seed_checksums WHERE seed = 0")
+    with pytest.warns(RuntimeWarning, match="checksum"):
+        again = bench.run_campaign(toy_scenario, LinearRegression(), range(2), **kw)
+    assert (again.reused, again.computed) == (1, 1)

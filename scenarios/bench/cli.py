@@ -103,6 +103,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="local worker processes (default: usable CPUs; 0 = run in this process)",
     )
     p.add_argument(
+        "--seed-timeout",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="per-seed time limit; a seed past it is failed (exit 3) and retried by a rerun (default 600)",
+    )
+    p.add_argument(
         "--scheduler",
         metavar="ADDRESS",
         help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster",
@@ -166,6 +173,9 @@ def run(args: argparse.Namespace) -> int:
     seeds = "auto" if auto else bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:
         raise ValueError(f"--workers must be >= 0; got {args.workers}")
+    seed_timeout = bench.check_seed_timeout(
+        bench.DEFAULT_SEED_TIMEOUT_S if args.seed_timeout is None else args.seed_timeout
+    )
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
     module = bench.resolve_scenario(args.scenario)
@@ -206,6 +216,7 @@ def run(args: argparse.Namespace) -> int:
             workers=args.workers,
             db=db,
             progress=not args.quiet,
+            seed_timeout=seed_timeout,
         )
         references = (
             {}

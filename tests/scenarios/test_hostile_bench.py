@@ -319,3 +319,90 @@ def test_a_row_without_a_checksum_is_recomputed(tmp_path):
     with pytest.warns(RuntimeWarning, match="checksum"):
         again = bench.run_campaign(toy_scenario, LinearRegression(), range(2), **kw)
     assert (again.reused, again.computed) == (1, 1)
+
+
+# ----------------------------------------------------------------------------- containment
+# module level, so worker processes import them as "module:attr"
+def exits_in_fit(X, y):
+    """Calls sys.exit(7) in fit."""
+    import sys
+
+    sys.exit(7)
+
+
+def exits_in_predict(X, y):
+    """Fits; calls sys.exit(0) on predict."""
+    import sys
+
+    return lambda Z: sys.exit(0)
+
+
+def complex_pred(X, y):
+    """Predicts complex values."""
+    return lambda Z: np.zeros(len(Z)) + 1j
+
+
+def hangs_in_fit(X, y):
+    """Never returns (swallowing every Exception on the way)."""
+    import time
+
+    while True:
+        try:
+            time.sleep(0.05)
+        except Exception:  # noqa: BLE001, S110 - a hostile compensator
+            pass
+
+
+@pytest.mark.parametrize(
+    "comp, reason",
+    [
+        (exits_in_fit, "the compensator called sys.exit(7)"),
+        (exits_in_predict, "the compensator called sys.exit(0)"),
+        (complex_pred, "the prediction on run run1 is complex (complex128)"),
+    ],
+    ids=["sys-exit-in-fit", "sys-exit-in-predict", "complex"],
+)
+@pytest.mark.parametrize("workers", [0, 1])
+def test_misbehaving_compensator_makes_the_seed_failed_with_its_reason(tmp_path, comp, reason, workers):
+    camp = bench.run_campaign(toy_scenario, comp, range(2), config=FAST, workers=workers, db=tmp_path / "c.db",
+                              progress=False)
+    assert sorted(camp.failed) == [0, 1]
+    assert all(r.startswith(reason) for r in camp.failed.values()), camp.failed
+
+
+@pytest.mark.parametrize("workers", [0, 1])
+def test_a_hanging_compensator_is_failed_at_the_seed_timeout_and_retried_by_a_rerun(tmp_path, workers):
+    import time
+
+    t0 = time.monotonic()
+    camp = bench.run_campaign(toy_scenario, hangs_in_fit, [3], config=FAST, workers=workers, db=tmp_path / "c.db",
+                              progress=False, seed_timeout=0.5)
+    assert time.monotonic() - t0 < 30
+    assert camp.failed[3].startswith("exceeded the per-seed time limit of 0.5 s")
+    with sqlite3.connect(tmp_path / "c.db") as conn:
+        assert conn.execute("SELECT COUNT(*) FROM seed_scores").fetchone() == (0,)  # not stored
+
+
+@pytest.mark.parametrize(
+    "comp, words",
+    [
+        ("exits_in_fit", "seed 0: the compensator called sys.exit(7)"),
+        ("complex_pred", "is complex"),
+    ],
+)
+def test_cli_misbehaving_compensator_exits_3_naming_seed_and_reason(tmp_path, capsys, monkeypatch, comp, words):
+    monkeypatch.chdir(tmp_path)
+    argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:{comp}", "--seeds", "0:2",
+            "--workers", "0", "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
+    assert main(argv) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err
+
+
+def test_cli_seed_timeout_is_checked(tmp_path, capsys):
+    for bad in ("0", "-1", "nan", "inf"):
+        argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:complex_pred",
+                "--seed-timeout", bad, "-q"]
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "seed_timeout must be a finite number of seconds > 0" in err[0], err

@@ -689,10 +689,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
+    restore = _raise_on_sigterm()
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return int(args.func(args) or 0)
+    except exits.Terminated:
+        print("gyrobench: error: terminated (SIGTERM)", file=sys.stderr)
+        return exits.TERMINATED
     except KeyboardInterrupt:
         print("gyrobench: interrupted", file=sys.stderr)
         return exits.INTERRUPTED
@@ -708,6 +712,27 @@ def main(argv: list[str] | None = None) -> int:
                 traceback.print_exception(exc, file=sys.stderr)
         print(f"gyrobench: error: {msg}", file=sys.stderr)
         return code
+    finally:
+        restore()
+
+
+def _raise_on_sigterm() -> typing.Callable[[], None]:
+    """Make SIGTERM raise :class:`~gyrobench.scenarios.exits.Terminated` in the main thread while a
+    verb runs (its cleanups run, the exit is 143 with one line); returns what restores the previous
+    handler. Nothing outside the main thread (signal handlers can only be set there)."""
+    import signal
+    import threading
+
+    from gyrobench.scenarios import exits
+
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+
+    def _terminated(signum: int, frame: typing.Any) -> None:
+        raise exits.Terminated
+
+    previous = signal.signal(signal.SIGTERM, _terminated)
+    return lambda: signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -15,7 +15,8 @@ code   meaning
 4      internal failure: a worker process died (killed, out of memory), two runs of
        the same campaign on one database disagree (a non-deterministic scenario or
        compensator), or an unexpected error (a bug: please report it)
-130    interrupted (Ctrl-C)
+130    interrupted (Ctrl-C, SIGINT): one line; local worker processes are killed
+143    terminated (SIGTERM): one line; local worker processes are killed
 =====  ==============================================================================
 
 Every failure prints one line ``gyrobench: error: ...`` on stderr; with
@@ -33,6 +34,8 @@ __all__ = [
     "FAILED_SEEDS",
     "INTERNAL",
     "INTERRUPTED",
+    "TERMINATED",
+    "Terminated",
     "TRACEBACK_ENV",
     "InternalError",
     "traceback_wanted",
@@ -44,9 +47,15 @@ BAD_INPUT = 2
 FAILED_SEEDS = 3
 INTERNAL = 4
 INTERRUPTED = 130
+TERMINATED = 143  # 128 + SIGTERM, as a shell reports a process killed by it
 
 #: environment variable: when set (to anything but "" or "0"), errors print their traceback
 TRACEBACK_ENV = "GYROBENCH_TRACEBACK"
+
+
+class Terminated(KeyboardInterrupt):
+    """Raised in the main thread by SIGTERM while a verb runs (exit 143). A KeyboardInterrupt, so
+    every cleanup that Ctrl-C runs (killing local workers, closing stores) runs for it too."""
 
 
 class InternalError(RuntimeError):

@@ -250,7 +250,7 @@ def _execute(
     workers: int | None,
 ) -> None:
     """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
-    from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
+    from gyrobench.scenarios.bench.executors import add_note, check_picklable, local_pool, stop_pool
 
     if executor is None and workers == 0:
         for s in todo:
@@ -258,12 +258,9 @@ def _execute(
         return
     check_picklable(None, config)
     own = executor is None
-    ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or default_workers())
-        if executor is None
-        else executor
-    )
+    ex: cf.Executor = local_pool(workers) if executor is None else executor
     futures: dict[cf.Future, int] = {}
+    ok = False
     try:
         futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}
         for fut in cf.as_completed(futures):
@@ -272,11 +269,12 @@ def _execute(
             except Exception as exc:
                 add_note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
                 raise
+        ok = True
     finally:
         for f in futures:
             f.cancel()
         if own:
-            ex.shutdown(wait=True, cancel_futures=True)
+            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: running units are killed
 
 
 def run_units(

@@ -24,7 +24,7 @@ import numpy as np
 from gyrobench.scenarios import exits
 from gyrobench.scenarios.base import check_pool
 from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, local_pool, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
 from gyrobench.scenarios.bench.scoring import (
     DEFAULT_SEED_TIMEOUT_S,
@@ -339,10 +339,9 @@ def _run_on_pool(
             concurrent=units.concurrent_units(len(todo), workers),
             source="its configuration (bench seeds)",
         )
-    ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or default_workers()) if executor is None else executor
-    )
+    ex: cf.Executor = local_pool(workers) if executor is None else executor
     futures: dict[cf.Future, int] = {}
+    ok = False
     try:
         futures = {
             ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
@@ -357,11 +356,12 @@ def _run_on_pool(
                 _raise_seed_error(exc, seed, plan, recorder)
             recorder(*result)
             bar.update(1)
+        ok = True
     finally:
         for f in futures:
             f.cancel()
         if own:
-            ex.shutdown(wait=True, cancel_futures=True)
+            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: stuck workers are killed
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

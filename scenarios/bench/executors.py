@@ -1,14 +1,61 @@
-"""Where seeds and units run: the local pool size, the pickling check before a pool, notes on
-errors. Shared by the bench's campaigns and the units runner (:mod:`gyrobench.scenarios.units`).
+"""Where seeds and units run: the local pool (its size, workers that die with their parent,
+stopping it at once on Ctrl-C or SIGTERM), the pickling check before a pool, notes on errors.
+Shared by the bench's campaigns and the units runner (:mod:`gyrobench.scenarios.units`).
 """
 
 from __future__ import annotations
 
+import concurrent.futures as cf
+import contextlib
 import os
 import pickle
+import signal
+import sys
 from typing import Any
 
-__all__ = ["add_note", "check_picklable", "default_workers"]
+__all__ = ["add_note", "check_picklable", "default_workers", "local_pool", "stop_pool"]
+
+#: prctl option: the signal a process gets when its parent dies (linux/prctl.h)
+_PR_SET_PDEATHSIG = 1
+
+
+def _die_with_parent(parent_pid: int) -> None:
+    """Worker initializer: SIGKILL this worker when its parent dies (``prctl(PR_SET_PDEATHSIG)``
+    on Linux; elsewhere nothing), exit at once if the parent is already gone, and ignore SIGINT
+    (a Ctrl-C reaches the whole process group: the parent alone stops the pool, so a worker
+    prints no traceback)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    if os.getppid() != parent_pid:  # the parent died before the death signal was set
+        os._exit(1)
+
+
+def local_pool(workers: int | None) -> cf.ProcessPoolExecutor:
+    """A local process pool of ``workers`` (default :func:`default_workers`) whose workers die
+    with this process (:func:`_die_with_parent`), even when it is SIGKILLed."""
+    return cf.ProcessPoolExecutor(
+        max_workers=workers or default_workers(), initializer=_die_with_parent, initargs=(os.getpid(),)
+    )
+
+
+def stop_pool(ex: cf.Executor, *, kill: bool) -> None:
+    """Shut a local pool down: wait for its workers, or with ``kill`` (Ctrl-C, SIGTERM, an
+    error) SIGKILL them first, so a stuck compensator cannot hold the campaign."""
+    if kill:
+        procs = list((getattr(ex, "_processes", None) or {}).values())
+        for p in procs:
+            with contextlib.suppress(Exception):
+                p.kill()
+        ex.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            with contextlib.suppress(Exception):
+                p.join(timeout=2.0)
+        return
+    ex.shutdown(wait=True, cancel_futures=True)
 
 
 def default_workers() -> int:

@@ -406,3 +406,86 @@ def test_cli_seed_timeout_is_checked(tmp_path, capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "seed_timeout must be a finite number of seconds > 0" in err[0], err
+
+
+# ----------------------------------------------------------------------------- process hygiene
+def _children(pid: int) -> set[int]:
+    """Live processes whose parent is ``pid`` (Linux /proc)."""
+    import os
+
+    out = set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as fh:
+                    fields = fh.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                out.add(int(entry))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def _stuck_campaign(tmp_path, workers: int):
+    """A `gyrobench bench` process whose compensator never returns, once its workers run."""
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+            "bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:hangs_in_fit",
+            "--seeds", "0:4", "--workers", str(workers), "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
+    proc = subprocess.Popen(argv, cwd=root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    kids: set[int] = set()
+    while time.monotonic() < deadline and len(kids) < max(workers, 1):
+        time.sleep(0.2)
+        kids = _children(proc.pid) if workers else {proc.pid}
+    time.sleep(2.0)  # the seeds are in fit (the toy task takes well under a second)
+    assert proc.poll() is None, proc.communicate()
+    return proc, _children(proc.pid)
+
+
+@pytest.mark.slow
+def test_workers_die_within_seconds_of_a_sigkilled_parent(tmp_path):
+    import os
+    import signal
+    import time
+
+    proc, kids = _stuck_campaign(tmp_path, workers=2)
+    assert kids
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(_alive(k) for k in kids):
+        time.sleep(0.1)
+    assert not [k for k in kids if _alive(k)]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig, code, line", [("SIGTERM", 143, "gyrobench: error: terminated (SIGTERM)"),
+                                             ("SIGINT", 130, "gyrobench: interrupted")])
+@pytest.mark.parametrize("workers", [0, 2])
+def test_one_signal_stops_a_stuck_campaign_within_seconds_with_one_line(tmp_path, sig, code, line, workers):
+    import signal
+    import time
+
+    proc, kids = _stuck_campaign(tmp_path, workers=workers)
+    t0 = time.monotonic()
+    proc.send_signal(getattr(signal, sig))
+    _, err = proc.communicate(timeout=10)
+    assert time.monotonic() - t0 < 10
+    assert proc.returncode == code
+    assert err.strip().splitlines() == [line]
+    time.sleep(0.5)
+    assert not [k for k in kids if _alive(k)]

@@ -732,7 +732,11 @@ def _raise_on_sigterm() -> typing.Callable[[], None]:
         raise exits.Terminated
 
     previous = signal.signal(signal.SIGTERM, _terminated)
-    return lambda: signal.signal(signal.SIGTERM, previous)
+
+    def restore() -> None:
+        signal.signal(signal.SIGTERM, previous)
+
+    return restore
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -24,7 +24,7 @@ import numpy as np
 from gyrobench.scenarios import exits
 from gyrobench.scenarios.base import check_pool
 from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, local_pool, stop_pool
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
 from gyrobench.scenarios.bench.scoring import (
     DEFAULT_SEED_TIMEOUT_S,
@@ -339,7 +339,10 @@ def _run_on_pool(
             concurrent=units.concurrent_units(len(todo), workers),
             source="its configuration (bench seeds)",
         )
-    ex: cf.Executor = local_pool(workers) if executor is None else executor
+    if executor is None:
+        _run_contained(plan, todo, recorder, bar, workers=workers)
+        return
+    ex: cf.Executor = executor
     futures: dict[cf.Future, int] = {}
     ok = False
     try:
@@ -362,6 +365,38 @@ def _run_on_pool(
             f.cancel()
         if own:
             stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: stuck workers are killed
+
+
+def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any, *, workers: int | None) -> None:
+    """Score each seed in its own local process (:func:`~gyrobench.scenarios.bench.executors.contained_map`):
+    a compensator that ends its process (``os._exit``, a segfault) or hangs past the seed time
+    limit (plus a grace of :data:`_KILL_GRACE_S`, for code the in-process limit cannot interrupt)
+    fails that seed with the reason; a process killed by SIGKILL (the OOM killer) is an internal
+    failure, as before."""
+    hard = None if plan.seed_timeout is None else plan.seed_timeout + _KILL_GRACE_S
+    jobs = [
+        (s, (plan.module.__name__, plan.compensator, s, plan.config, plan.short, plan.seed_timeout)) for s in todo
+    ]
+    for seed, kind, value in contained_map(score_job, jobs, workers=workers, hard_timeout=hard):
+        if kind == "ok":
+            recorder(*value)
+        elif kind == "err":
+            _raise_seed_error(value, seed, plan, recorder)
+        elif value == "killed by SIGKILL":
+            raise exits.InternalError(
+                f"a worker process died while scoring seed {seed} of {plan.name} (killed, or out of memory: "
+                f"see 'dmesg'); {recorder.kept()}"
+            )
+        elif value.startswith("timed out"):
+            recorder(seed, {}, 0.0, f"{TIMEOUT_FAILURE} of {plan.seed_timeout:g} s (--seed-timeout; its process was "
+                                    "killed)")
+        else:
+            recorder(seed, {}, 0.0, f"the compensator's process {value}")
+        bar.update(1)
+
+
+#: seconds past the seed time limit after which a seed's process is killed from outside
+_KILL_GRACE_S = 30.0
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

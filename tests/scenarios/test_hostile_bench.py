@@ -489,3 +489,33 @@ def test_one_signal_stops_a_stuck_campaign_within_seconds_with_one_line(tmp_path
     assert err.strip().splitlines() == [line]
     time.sleep(0.5)
     assert not [k for k in kids if _alive(k)]
+
+
+def os_exit_in_fit(X, y):
+    """Ends its process with status 0 in fit, bypassing every Python handler."""
+    import os
+
+    os._exit(0)
+
+
+def segfault_in_predict(X, y):
+    """Fits; reads address 0 on predict (SIGSEGV)."""
+    import ctypes
+
+    return lambda Z: ctypes.string_at(0)
+
+
+@pytest.mark.parametrize(
+    "comp, words",
+    [
+        ("os_exit_in_fit", "seed 0: the compensator's process exited with code 0"),
+        ("segfault_in_predict", "seed 0: the compensator's process killed by SIGSEGV"),
+    ],
+)
+def test_cli_a_compensator_that_ends_its_process_fails_the_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words):
+    monkeypatch.chdir(tmp_path)
+    argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:{comp}", "--seeds", "0:2",
+            "--workers", "1", "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
+    assert main(argv) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err

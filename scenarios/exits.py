@@ -7,12 +7,13 @@ code   meaning
 1      ``bench --baseline``: a score is significantly worse than the baseline
 2      bad input: an argument, file, configuration or compensator module is wrong, or
        the run would need more memory or disk than there is (one line on stderr)
-3      ``bench``: the compensator failed on some seeds (non-finite predictions or
-       scores); the line names the seeds. A campaign with a failed seed never passes
+3      ``bench``: the compensator failed on some seeds (non-finite or complex
+       predictions or scores, ``sys.exit``/``os._exit``, a crash, past the seed time
+       limit); the line names the seeds and the reasons. A campaign with a failed seed never passes
        a ``--baseline`` comparison and is never saved as a baseline; or the
        ``--baseline`` comparison cannot be made once the campaign has run (no seed or
        no score can be paired)
-4      internal failure: a worker process died (killed, out of memory), two runs of
+4      internal failure: a worker process was killed (SIGKILL, out of memory), two runs of
        the same campaign on one database disagree (a non-deterministic scenario or
        compensator), or an unexpected error (a bug: please report it)
 130    interrupted (Ctrl-C, SIGINT): one line; local worker processes are killed

@@ -6,6 +6,7 @@
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
         [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
+        [--seed-timeout SECONDS]
 
 Exit status of :func:`run` (see :mod:`gyrobench.scenarios.exits`): 0 on success, 1 when
 the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
@@ -13,12 +14,17 @@ the campaign is significantly worse than ``--baseline`` on some score. Bad input
 command line wrapper prints it and exits 2). So does a compensator that raises on a
 seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means
 "could not score", never "got worse". A compensator whose prediction or scores are not
-finite (NaN, inf) on some seeds makes those seeds *failed*: they are recorded in the
+finite (NaN, inf) or complex on some seeds, that calls ``sys.exit`` or ``os._exit``, crashes
+(a segfault), or runs past ``--seed-timeout`` (default 600 s) makes those seeds *failed*
+(with a local pool each seed runs in its own process; with ``--workers 0`` in this one,
+where ``SystemExit`` and the time limit are caught but ``os._exit`` and a segfault are not):
+they are recorded in the
 database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
 is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
 whatever the comparison says, and no baseline is written. A comparison that cannot be made
 once the campaign has run (no seed or no score can be paired:
-:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A worker process that dies,
+:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A timed-out seed is not
+stored (a rerun retries it). A worker process killed by SIGKILL (the OOM killer),
 or another run of the same campaign on the same database that got other scores, raises
 :class:`~gyrobench.scenarios.exits.InternalError`: exit 4. With ``GYROBENCH_TRACEBACK=1``
 in the environment the traceback is printed on stderr first.

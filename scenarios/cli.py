@@ -457,16 +457,17 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
     db = Path(args.db) if args.db else units.default_db(out)
     executor, close = scheduler_executor(args)
     workers = args.workers
+    from gyrobench.scenarios.bench.executors import local_pool, stop_pool
+
+    pool = None
     if executor is None and workers != 0 and any(units.is_paper_scenario(m) for m in mods):
-        import concurrent.futures as cf
-
-        from gyrobench.scenarios.bench.executors import default_workers
-
-        # one local pool for every paper scenario (workers start and import once, not per scenario)
-        pool = cf.ProcessPoolExecutor(max_workers=workers or default_workers())
-        executor, close, workers = pool, pool.shutdown, None
+        # one local pool for every paper scenario (workers start and import once, not per scenario);
+        # its workers die with this process, and are killed on Ctrl-C, SIGTERM or an error
+        pool = local_pool(workers)
+        executor, workers = pool, None
     outcomes = []
     t0 = time.perf_counter()
+    ok = False
     try:
         bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
         with _closing(bar):
@@ -478,8 +479,11 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
                                                     deviation_units=args.deviations or 0, max_units=max_units))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
+        ok = True
     finally:
-        if close is not None:
+        if pool is not None:
+            stop_pool(pool, kill=not ok)
+        elif close is not None:
             close()
     index = write_report_as_a_set(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")

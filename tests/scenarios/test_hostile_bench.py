@@ -519,3 +519,29 @@ def test_cli_a_compensator_that_ends_its_process_fails_the_seed_exit_3(tmp_path,
     assert main(argv) == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err
+
+
+@pytest.mark.slow
+def test_reproduce_workers_die_within_seconds_of_a_sigkilled_parent(tmp_path):
+    """The units runner's local pool: its workers die with a SIGKILLed `reproduce`."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+            "reproduce", "rlg_thermal", "--units", "8", "--workers", "2", "--out", str(tmp_path / "rep"), "-q"]
+    proc = subprocess.Popen(argv, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    kids: set[int] = set()
+    while time.monotonic() < deadline and len(kids) < 2 and proc.poll() is None:
+        time.sleep(0.2)
+        kids = _children(proc.pid)
+    assert kids and proc.poll() is None
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(_alive(k) for k in kids):
+        time.sleep(0.1)
+    assert not [k for k in kids if _alive(k)]

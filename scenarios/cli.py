@@ -637,16 +637,17 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
     db = Path(args.db) if args.db else units.default_db(out)
     executor, close = scheduler_executor(args)
     workers = args.workers
+    from gyrobench.scenarios.bench.executors import local_pool, stop_pool
+
+    pool = None
     if executor is None and workers != 0 and any(units.is_paper_scenario(m) for m in mods):
-        import concurrent.futures as cf
-
-        from gyrobench.scenarios.bench.executors import default_workers
-
-        # one local pool for every paper scenario (workers start and import once, not per scenario)
-        pool = cf.ProcessPoolExecutor(max_workers=workers or default_workers())
-        executor, close, workers = pool, pool.shutdown, None
+        # one local pool for every paper scenario (workers start and import once, not per scenario);
+        # its workers die with this process, and are killed on Ctrl-C, SIGTERM or an error
+        pool = local_pool(workers)
+        executor, workers = pool, None
     outcomes = []
     t0 = time.perf_counter()
+    ok = False
     try:
         bar = tqdm(list(zip(mods, configs, strict=True)), desc="reproduce", unit="scenario", disable=args.quiet)
         with _closing(bar):
@@ -658,8 +659,11 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
                                                     deviation_units=args.deviations or 0, max_units=max_units))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
+        ok = True
     finally:
-        if close is not None:
+        if pool is not None:
+            stop_pool(pool, kill=not ok)
+        elif close is not None:
             close()
     index = write_report_as_a_set(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")
@@ -886,10 +890,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
+    restore = _raise_on_sigterm()
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return int(args.func(args) or 0)
+    except exits.Terminated:
+        print("gyrobench: error: terminated (SIGTERM)", file=sys.stderr)
+        return exits.TERMINATED
     except KeyboardInterrupt:
         print("gyrobench: interrupted", file=sys.stderr)
         return exits.INTERRUPTED
@@ -905,6 +913,31 @@ def main(argv: list[str] | None = None) -> int:
                 traceback.print_exception(exc, file=sys.stderr)
         print(f"gyrobench: error: {msg}", file=sys.stderr)
         return code
+    finally:
+        restore()
+
+
+def _raise_on_sigterm() -> typing.Callable[[], None]:
+    """Make SIGTERM raise :class:`~gyrobench.scenarios.exits.Terminated` in the main thread while a
+    verb runs (its cleanups run, the exit is 143 with one line); returns what restores the previous
+    handler. Nothing outside the main thread (signal handlers can only be set there)."""
+    import signal
+    import threading
+
+    from gyrobench.scenarios import exits
+
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+
+    def _terminated(signum: int, frame: typing.Any) -> None:
+        raise exits.Terminated
+
+    previous = signal.signal(signal.SIGTERM, _terminated)
+
+    def restore() -> None:
+        signal.signal(signal.SIGTERM, previous)
+
+    return restore
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -18,7 +18,10 @@ process pool (``workers``; ``0`` runs them in this process) or any
 Every unit runs with the BLAS/OpenMP pools limited to one thread, as the bench's
 seeds do, so a unit's result is bit-identical whatever the executor and worker count.
 
-Resumption: each finished unit's result is pickled and committed to a SQLite file
+Resumption: each finished unit's result is encoded as JSON with a schema
+(:mod:`gyrobench.scenarios.bench.codec`: typed frozen gyrobench dataclasses, tuples, numbers,
+strings and numeric arrays; never pickle, so a crafted store runs no code and is refused in one
+line) and committed to a SQLite file
 (one transaction per unit, WAL journal, ``synchronous=FULL``; the bench's
 connection), keyed by a run identity (the scenario module's source closure, the
 configuration, the gyrobench/numpy/scipy/scikit-learn versions) and the seed. A
@@ -35,7 +38,6 @@ import hashlib
 import importlib
 import json
 import os
-import pickle
 import sqlite3
 import time
 import types
@@ -109,9 +111,10 @@ class UnitRun:
 
 def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
     """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
+    from gyrobench.scenarios.bench.codec import SCHEMA
     from gyrobench.scenarios.bench.identity import scenario_identity
 
-    ident = scenario_identity(module, config)
+    ident = dict(scenario_identity(module, config), store_format=SCHEMA)  # old pickled stores never match
     text = json.dumps(ident, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16], text
 
@@ -158,7 +161,8 @@ def check_unit_memory(
 
 
 def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, float]:
-    """Worker entry point: one unit's ``experiment`` result, pickled (module level: it pickles)."""
+    """Worker entry point: one unit's ``experiment`` result, encoded by the codec (module level: it
+    pickles to the worker; the result comes back as JSON text, never as a pickle of our own)."""
     from threadpoolctl import threadpool_limits
 
     t0 = time.perf_counter()
@@ -172,7 +176,20 @@ def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, flo
             f"{module_name}.experiment must return a UnitResult (a typed result with a 'quantities' "
             f"mapping); got {type(result).__name__} for seed {seed}"
         ) from None
-    return seed, pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL), time.perf_counter() - t0
+    from gyrobench.scenarios.bench import codec
+
+    return seed, codec.dumps(result).encode("utf-8"), time.perf_counter() - t0
+
+
+def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
+    """A stored unit result, decoded without running code (a one-line ValueError naming the db
+    and the seed if the row is not a result the codec wrote)."""
+    from gyrobench.scenarios.bench import codec
+
+    try:
+        return codec.loads(blob)
+    except codec.CodecError as exc:
+        raise ValueError(f"db {str(db)!r}: stored unit (seed {seed}) refused: {exc}") from None
 
 
 def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
@@ -233,7 +250,7 @@ def _execute(
     workers: int | None,
 ) -> None:
     """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
-    from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
+    from gyrobench.scenarios.bench.executors import add_note, check_picklable, local_pool, stop_pool
 
     if executor is None and workers == 0:
         for s in todo:
@@ -241,12 +258,9 @@ def _execute(
         return
     check_picklable(None, config)
     own = executor is None
-    ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or default_workers())
-        if executor is None
-        else executor
-    )
+    ex: cf.Executor = local_pool(workers) if executor is None else executor
     futures: dict[cf.Future, int] = {}
+    ok = False
     try:
         futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}
         for fut in cf.as_completed(futures):
@@ -255,11 +269,12 @@ def _execute(
             except Exception as exc:
                 add_note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
                 raise
+        ok = True
     finally:
         for f in futures:
             f.cancel()
         if own:
-            ex.shutdown(wait=True, cancel_futures=True)
+            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: running units are killed
 
 
 def run_units(
@@ -343,7 +358,7 @@ def run_units(
         return UnitRun(
             run_id=rid,
             seeds=seeds,
-            results=tuple(pickle.loads(blobs[s]) for s in seeds),
+            results=tuple(_decode(blobs[s], s, db) for s in seeds),
             elapsed_s=tuple(elapsed[s] for s in seeds),
             computed=len(todo),
             reused=reused,

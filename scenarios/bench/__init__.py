@@ -133,9 +133,13 @@ _LAZY: dict[str, str] = {
     "score_direction": "gyrobench.scenarios.bench.statistics",
     "score_is_nonnegative": "gyrobench.scenarios.bench.statistics",
     "score_seed": "gyrobench.scenarios.bench.scoring",
+    "check_seed_timeout": "gyrobench.scenarios.bench.scoring",
+    "DEFAULT_SEED_TIMEOUT_S": "gyrobench.scenarios.bench.scoring",
 }
 
 __all__ = [
+    "check_seed_timeout",
+    "DEFAULT_SEED_TIMEOUT_S",
     "reference_campaigns",
     "UnderpoweredWarning",
     "Uncompensated",
@@ -215,7 +219,12 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.scenarios.bench.power import UnderpoweredError, UnderpoweredWarning, min_attainable_p, seeds_needed
     from gyrobench.scenarios.bench.primary import SCENARIO_SCORES, PrimaryScore, gated_scores, score_unit
     from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
-    from gyrobench.scenarios.bench.scoring import resolve_scenario, score_seed
+    from gyrobench.scenarios.bench.scoring import (
+        DEFAULT_SEED_TIMEOUT_S,
+        check_seed_timeout,
+        resolve_scenario,
+        score_seed,
+    )
     from gyrobench.scenarios.bench.seeds import BYTES_PER_SEED, MAX_SEED, MAX_SEEDS, parse_seeds
     from gyrobench.scenarios.bench.statistics import (
         HIGHER_IS_BETTER_TOKENS,

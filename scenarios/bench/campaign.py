@@ -24,9 +24,15 @@ import numpy as np
 from gyrobench.scenarios import exits
 from gyrobench.scenarios.base import check_pool
 from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, default_workers
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
-from gyrobench.scenarios.bench.scoring import resolve_scenario, score_job
+from gyrobench.scenarios.bench.scoring import (
+    DEFAULT_SEED_TIMEOUT_S,
+    TIMEOUT_FAILURE,
+    check_seed_timeout,
+    resolve_scenario,
+    score_job,
+)
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
 from gyrobench.scenarios.bench.store import DEFAULT_DB, connect_db, record_seed, start_session
@@ -118,6 +124,7 @@ def run_campaign(
     workers: int | None = None,
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = True,
+    seed_timeout: float | None = DEFAULT_SEED_TIMEOUT_S,
 ) -> Campaign:
     """Score ``compensator`` on ``scenario`` for every seed, resuming from ``db``.
 
@@ -144,6 +151,10 @@ def run_campaign(
         existing folder: folders are not created).
     progress : bool
         Show a tqdm progress bar on stderr.
+    seed_timeout : float or None
+        Per-seed time limit [s] (default :data:`DEFAULT_SEED_TIMEOUT_S`, 600 s; None: none).
+        A seed past it, or whose compensator calls ``sys.exit`` or predicts complex values,
+        is failed with that reason (a timed-out seed is not stored: a rerun retries it).
 
     Returns
     -------
@@ -167,6 +178,7 @@ def run_campaign(
     if config is None:
         config = module.Config()
     check_pool(executor, workers)
+    seed_timeout = check_seed_timeout(seed_timeout)
     plan = _Plan(
         module=module,
         compensator=comp,
@@ -176,6 +188,7 @@ def run_campaign(
         short=compensator_label(comp, compensator, short=True),
         name=getattr(module, "NAME", module.__name__),
         db=str(db),
+        seed_timeout=seed_timeout,
     )
     conn = connect_db(db)
     try:
@@ -221,6 +234,7 @@ class _Plan:
     short: str
     name: str
     db: str
+    seed_timeout: float | None = None
 
 
 class _Recorder:
@@ -240,6 +254,9 @@ class _Recorder:
         self.failed: dict[int, str] = dict(failed)
 
     def __call__(self, seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
+        if failure is not None and failure.startswith(TIMEOUT_FAILURE):  # not stored: a rerun retries it
+            self.done[seed], self.failed[seed] = dict(scores), failure
+            return
         stored, failure = record_seed(
             self.conn, self.plan.campaign_id, self.session_id, seed, scores, elapsed, failure, db=self.plan.db
         )
@@ -293,7 +310,7 @@ def _run_here(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any) -
     """Score the seeds one after another in this process."""
     for seed in todo:
         try:
-            result = score_job(plan.module.__name__, plan.compensator, seed, plan.config, plan.short)
+            result = score_job(plan.module.__name__, plan.compensator, seed, plan.config, plan.short, plan.seed_timeout)
         except Exception as exc:
             _raise_seed_error(exc, seed, plan, recorder)
         recorder(*result)
@@ -322,13 +339,16 @@ def _run_on_pool(
             concurrent=units.concurrent_units(len(todo), workers),
             source="its configuration (bench seeds)",
         )
-    ex: cf.Executor = (
-        cf.ProcessPoolExecutor(max_workers=workers or default_workers()) if executor is None else executor
-    )
+    if executor is None:
+        _run_contained(plan, todo, recorder, bar, workers=workers)
+        return
+    ex: cf.Executor = executor
     futures: dict[cf.Future, int] = {}
+    ok = False
     try:
         futures = {
-            ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short): s
+            ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
+                      plan.seed_timeout): s
             for s in todo
         }
         for fut in cf.as_completed(futures):
@@ -339,11 +359,44 @@ def _run_on_pool(
                 _raise_seed_error(exc, seed, plan, recorder)
             recorder(*result)
             bar.update(1)
+        ok = True
     finally:
         for f in futures:
             f.cancel()
         if own:
-            ex.shutdown(wait=True, cancel_futures=True)
+            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: stuck workers are killed
+
+
+def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any, *, workers: int | None) -> None:
+    """Score each seed in its own local process (:func:`~gyrobench.scenarios.bench.executors.contained_map`):
+    a compensator that ends its process (``os._exit``, a segfault) or hangs past the seed time
+    limit (plus a grace of :data:`_KILL_GRACE_S`, for code the in-process limit cannot interrupt)
+    fails that seed with the reason; a process killed by SIGKILL (the OOM killer) is an internal
+    failure, as before."""
+    hard = None if plan.seed_timeout is None else plan.seed_timeout + _KILL_GRACE_S
+    jobs = [
+        (s, (plan.module.__name__, plan.compensator, s, plan.config, plan.short, plan.seed_timeout)) for s in todo
+    ]
+    for seed, kind, value in contained_map(score_job, jobs, workers=workers, hard_timeout=hard):
+        if kind == "ok":
+            recorder(*value)
+        elif kind == "err":
+            _raise_seed_error(value, seed, plan, recorder)
+        elif value == "killed by SIGKILL":
+            raise exits.InternalError(
+                f"a worker process died while scoring seed {seed} of {plan.name} (killed, or out of memory: "
+                f"see 'dmesg'); {recorder.kept()}"
+            )
+        elif value.startswith("timed out"):
+            recorder(seed, {}, 0.0, f"{TIMEOUT_FAILURE} of {plan.seed_timeout:g} s (--seed-timeout; its process was "
+                                    "killed)")
+        else:
+            recorder(seed, {}, 0.0, f"the compensator's process {value}")
+        bar.update(1)
+
+
+#: seconds past the seed time limit after which a seed's process is killed from outside
+_KILL_GRACE_S = 30.0
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

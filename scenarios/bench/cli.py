@@ -6,6 +6,7 @@
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
         [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
+        [--seed-timeout SECONDS]
 
 Exit status of :func:`run` (see :mod:`gyrobench.scenarios.exits`): 0 on success, 1 when
 the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
@@ -13,12 +14,17 @@ the campaign is significantly worse than ``--baseline`` on some score. Bad input
 command line wrapper prints it and exits 2). So does a compensator that raises on a
 seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means
 "could not score", never "got worse". A compensator whose prediction or scores are not
-finite (NaN, inf) on some seeds makes those seeds *failed*: they are recorded in the
+finite (NaN, inf) or complex on some seeds, that calls ``sys.exit`` or ``os._exit``, crashes
+(a segfault), or runs past ``--seed-timeout`` (default 600 s) makes those seeds *failed*
+(with a local pool each seed runs in its own process; with ``--workers 0`` in this one,
+where ``SystemExit`` and the time limit are caught but ``os._exit`` and a segfault are not):
+they are recorded in the
 database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
 is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
 whatever the comparison says, and no baseline is written. A comparison that cannot be made
 once the campaign has run (no seed or no score can be paired:
-:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A worker process that dies,
+:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A timed-out seed is not
+stored (a rerun retries it). A worker process killed by SIGKILL (the OOM killer),
 or another run of the same campaign on the same database that got other scores, raises
 :class:`~gyrobench.scenarios.exits.InternalError`: exit 4. With ``GYROBENCH_TRACEBACK=1``
 in the environment the traceback is printed on stderr first.
@@ -103,6 +109,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="local worker processes (default: usable CPUs; 0 = run in this process)",
     )
     p.add_argument(
+        "--seed-timeout",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="per-seed time limit; a seed past it is failed (exit 3) and retried by a rerun (default 600)",
+    )
+    p.add_argument(
         "--scheduler",
         metavar="ADDRESS",
         help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster",
@@ -166,6 +179,9 @@ def run(args: argparse.Namespace) -> int:
     seeds = "auto" if auto else bench.parse_seeds(args.seeds) if args.seeds is not None else None
     if args.workers is not None and args.workers < 0:
         raise ValueError(f"--workers must be >= 0; got {args.workers}")
+    seed_timeout = bench.check_seed_timeout(
+        bench.DEFAULT_SEED_TIMEOUT_S if args.seed_timeout is None else args.seed_timeout
+    )
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
     module = bench.resolve_scenario(args.scenario)
@@ -206,6 +222,7 @@ def run(args: argparse.Namespace) -> int:
             workers=args.workers,
             db=db,
             progress=not args.quiet,
+            seed_timeout=seed_timeout,
         )
         references = (
             {}

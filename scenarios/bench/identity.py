@@ -3,8 +3,10 @@
 A campaign is identified by a hash of the scenario (its configuration; the source of its
 module and of every module it imports, transitively, from its own package and from
 gyrobench; the gyrobench, numpy, scipy and scikit-learn versions), of the bench's own source
-and of the compensator (its class or function and parameters; the source of the module
-defining it, with the same import closure for user code). :func:`scenario_identity` is the
+and of the compensator (its class or function and its full state: ``get_params`` where it
+has them, else its attributes, else its pickled bytes; the source of the module defining it
+with its import closure: every module it imports, transitively, that lies outside the
+standard library and site-packages, so a helper module beside it is hashed too). :func:`scenario_identity` is the
 scenario half, shared with the units runner (:mod:`gyrobench.scenarios.units`).
 """
 
@@ -135,17 +137,31 @@ def _imports_cached(path: str, mtime_ns: int, size: int, name: str, is_pkg: bool
     return frozenset(out)
 
 
+@functools.lru_cache(maxsize=4096)
+def _top_level_is_ours(top: str) -> bool:
+    """Whether top-level module ``top`` is followed by :func:`source_closure`: gyrobench, or any
+    module whose file lies outside the standard library and site-packages (user code: the
+    compensator's own package, a helper module beside it, a project package on sys.path)."""
+    import sys
+
+    if top in _OWN_PACKAGES:
+        return True
+    if top in sys.builtin_module_names:
+        return False
+    path = module_file(top)  # a top-level lookup imports nothing
+    return path is not None and path.endswith(".py") and not _is_third_party(path)
+
+
 def source_closure(name: str) -> list[tuple[str, str]]:
-    """(module, file hash) for ``name`` and every module it imports, transitively, within its own
-    top-level package and the gyrobench package; package ``__init__``
-    files included. Third-party and standard-library modules are represented by their versions
-    in the campaign identity instead."""
-    roots = _OWN_PACKAGES | {name.partition(".")[0]}
+    """(module, file hash) for ``name`` and every module it imports, transitively, that is
+    gyrobench's or the user's (:func:`_top_level_is_ours`: not in the standard library or
+    site-packages); package ``__init__`` files included. Third-party and standard-library
+    modules are represented by their versions in the campaign identity instead."""
     seen: dict[str, str] = {}
     todo = [name]
     while todo:
         mod = todo.pop()
-        if mod in seen or mod.partition(".")[0] not in roots:
+        if mod in seen or not (mod == name or _top_level_is_ours(mod.partition(".")[0])):
             continue
         path = module_file(mod)
         if path is None or not path.endswith(".py"):
@@ -230,10 +246,35 @@ def canonical(obj: Any, depth: int = 0) -> Any:
                 f.name: canonical(getattr(obj, f.name), depth + 1) for f in dataclasses.fields(obj)
             },
         }
+    if isinstance(obj, (set, frozenset)):  # iteration order varies with hash randomization
+        return {"set": sorted((canonical(o, depth + 1) for o in obj), key=lambda c: json.dumps(c, sort_keys=True))}
+    if isinstance(obj, types.ModuleType):
+        return {"module": obj.__name__, "source": module_hash(obj.__name__)}
     text = repr(obj)
-    if " at 0x" in text:  # default object repr: the address changes every run
-        return {"object": canonical(type(obj), depth + 1)}
-    return text
+    if " at 0x" not in text and not _top_level_is_ours(str(type(obj).__module__).partition(".")[0]):
+        return text  # a library value (a Path, a Decimal): its repr is its state
+    return {"object": canonical(type(obj), depth + 1), "state": _state(obj, depth)}
+
+
+def _state(obj: Any, depth: int) -> Any:
+    """An instance's full state: its attributes (``__dict__`` and ``__slots__``), canonical and
+    recursive; else the SHA-256 of its pickled bytes; else its repr (never a memory address)."""
+    attrs: dict[str, Any] = dict(getattr(obj, "__dict__", None) or {})
+    for cls in type(obj).__mro__:
+        slots = cls.__dict__.get("__slots__", ())
+        for slot in (slots,) if isinstance(slots, str) else slots:
+            if slot not in ("__dict__", "__weakref__") and hasattr(obj, slot):
+                attrs[slot] = getattr(obj, slot)
+    if attrs:
+        return canonical(attrs, depth + 1)
+    try:
+        import pickle
+
+        return {"pickle_sha": hashlib.sha256(pickle.dumps(obj, protocol=4)).hexdigest()[:16]}
+    except Exception:  # noqa: BLE001 - an object that does not pickle: its repr, without addresses
+        import re
+
+        return re.sub(r" at 0x[0-9a-fA-F]+", "", repr(obj))
 
 
 def compensator_identity(compensator: Any) -> str:

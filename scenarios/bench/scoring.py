@@ -8,11 +8,14 @@ or an importable module path the user gives; no scenario module is named here.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import math
+import signal
+import threading
 import time
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -27,7 +30,61 @@ from gyrobench.scenarios.bench.references import Uncompensated
 from gyrobench.scenarios.bench.seeds import check_seeds
 from numpy.typing import NDArray
 
-__all__ = ["bench_scenarios", "resolve_scenario", "score_job", "score_or_failure", "score_seed"]
+__all__ = [
+    "DEFAULT_SEED_TIMEOUT_S",
+    "TIMEOUT_FAILURE",
+    "bench_scenarios",
+    "check_seed_timeout",
+    "resolve_scenario",
+    "score_job",
+    "score_or_failure",
+    "score_seed",
+]
+
+#: default per-seed time limit [s] of a campaign (``bench --seed-timeout``)
+DEFAULT_SEED_TIMEOUT_S = 600.0
+
+#: how a timed-out seed's failure reason starts (such a failure is not stored: a rerun retries it)
+TIMEOUT_FAILURE = "exceeded the per-seed time limit"
+
+
+class _SeedTimeout(BaseException):
+    """Raised inside a seed by its time limit (a BaseException: a compensator's ``except
+    Exception`` cannot swallow it)."""
+
+
+def check_seed_timeout(value: Any) -> float | None:
+    """``value`` as a per-seed time limit in seconds: a finite number > 0, or None (no limit)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise ValueError(f"seed_timeout must be a finite number of seconds > 0 (or None); got {value!r}")
+    return float(value)
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise :class:`_SeedTimeout` in this thread after ``seconds`` (SIGALRM; only in the main
+    thread of a process: local pool workers and ``workers=0`` runs. A dask worker's thread runs
+    without a limit). Python code is interrupted between bytecodes; a C loop that never returns
+    to Python is not."""
+    if seconds is None or threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "setitimer"
+    ):
+        yield
+        return
+
+    def _expired(signum: int, frame: Any) -> None:
+        raise _SeedTimeout
+
+    previous = signal.signal(signal.SIGALRM, _expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
 
 
 def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
@@ -185,7 +242,11 @@ def _score_run(
         return _scored(task, run, np.asarray(run.output, dtype=float))
     stage = f"predict on run {run.label}"
     try:
-        pred = np.asarray(predict(run.X), dtype=float)
+        raw = predict(run.X)
+        if np.iscomplexobj(raw):  # never truncated to its real part
+            return {}, (f"the prediction on run {run.label} is complex ({np.asarray(raw).dtype}); "
+                        "a compensator must predict real values")
+        pred = np.asarray(raw, dtype=float)
     except Exception as exc:
         raise compensator_failed(label, seed, stage, exc) from exc
     if pred.size != len(run.output):
@@ -229,10 +290,28 @@ def _nonfinite(what: str, values: NDArray[np.float64]) -> str | None:
 
 
 def score_job(
-    module_name: str, compensator: Any, seed: int, config: Any, label: str | None = None
+    module_name: str,
+    compensator: Any,
+    seed: int,
+    config: Any,
+    label: str | None = None,
+    seed_timeout: float | None = None,
 ) -> tuple[int, dict[str, float], float, str | None]:
     """Worker entry point (module level so it pickles by reference):
-    (seed, scores, elapsed [s], failure or None)."""
+    (seed, scores, elapsed [s], failure or None).
+
+    Contained: a compensator (or scenario) that calls ``sys.exit`` or runs past
+    ``seed_timeout`` seconds makes the seed failed with that reason instead of ending or
+    hanging the campaign (see :func:`_time_limit` for what the limit can interrupt).
+    """
     t0 = time.perf_counter()
-    scores, failure = score_or_failure(importlib.import_module(module_name), compensator, seed, config, label)
+    try:
+        with _time_limit(seed_timeout):
+            scores, failure = score_or_failure(
+                importlib.import_module(module_name), compensator, seed, config, label
+            )
+    except SystemExit as exc:
+        scores, failure = {}, f"the compensator called sys.exit({exc.code!r}); a compensator must return or raise"
+    except _SeedTimeout:
+        scores, failure = {}, f"{TIMEOUT_FAILURE} of {seed_timeout:g} s (--seed-timeout)"
     return seed, scores, time.perf_counter() - t0, failure

@@ -5,15 +5,23 @@
 units runner's, :mod:`gyrobench.scenarios.units`). :func:`start_session` and
 :func:`record_seed` are the bench's reads and writes: a campaign's finished seeds are read
 back on a rerun, so a campaign killed at any moment (even SIGKILL) resumes where it stopped.
+
+Every stored seed carries a checksum (:func:`seed_checksum`: SHA-256 of the campaign id, the
+seed, the scores' text and the failure reason) in ``seed_checksums``, written in the same
+transaction. A resume verifies it: a row edited in the file (a score set to ``"nan"``), a
+corrupted one, or one written before checksums existed is deleted with a warning and its seed
+recomputed, never served and never silently dropped from the summary.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
 import sqlite3
 import time
+import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,6 +37,7 @@ __all__ = [
     "dumps_scores",
     "loads_scores",
     "record_seed",
+    "seed_checksum",
     "start_session",
 ]
 
@@ -57,6 +66,12 @@ CREATE TABLE IF NOT EXISTS seed_failures (
     campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
     seed INTEGER NOT NULL,
     reason TEXT NOT NULL,
+    PRIMARY KEY (campaign_id, seed)
+);
+CREATE TABLE IF NOT EXISTS seed_checksums (
+    campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
+    seed INTEGER NOT NULL,
+    sha256 TEXT NOT NULL,
     PRIMARY KEY (campaign_id, seed)
 );
 CREATE TABLE IF NOT EXISTS sessions (
@@ -119,6 +134,44 @@ def loads_scores(text: str) -> dict[str, float]:
     return {k: float(v) for k, v in json.loads(text).items()}
 
 
+def seed_checksum(campaign_id: str, seed: int, scores_text: str, failure: str | None) -> str:
+    """SHA-256 (hex) of one stored seed: campaign id, seed, scores text and failure reason."""
+    doc = json.dumps([campaign_id, int(seed), scores_text, failure], separators=(",", ":"))
+    return hashlib.sha256(doc.encode("utf-8")).hexdigest()
+
+
+def _verified(conn: sqlite3.Connection, campaign_id: str, wanted: set[int]) -> tuple[dict, dict]:
+    """The stored seeds among ``wanted`` whose checksum holds (scores, failures); the others are
+    deleted (inside the caller's transaction) with one warning naming them, so they are recomputed."""
+    failures = dict(conn.execute("SELECT seed, reason FROM seed_failures WHERE campaign_id = ?", (campaign_id,)))
+    sums = dict(conn.execute("SELECT seed, sha256 FROM seed_checksums WHERE campaign_id = ?", (campaign_id,)))
+    done: dict[int, dict[str, float]] = {}
+    bad: list[int] = []
+    for seed, text in conn.execute("SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (campaign_id,)):
+        if seed not in wanted:
+            continue
+        ok = isinstance(text, str) and sums.get(seed) == seed_checksum(campaign_id, seed, text, failures.get(seed))
+        try:
+            scores = loads_scores(text) if ok else None
+        except (ValueError, TypeError, AttributeError):
+            scores = None
+        if scores is None:
+            bad.append(seed)
+        else:
+            done[seed] = scores
+    for seed in bad:
+        for table in ("seed_scores", "seed_failures", "seed_checksums"):
+            conn.execute(f"DELETE FROM {table} WHERE campaign_id = ? AND seed = ?", (campaign_id, seed))
+    if bad:
+        warnings.warn(
+            f"campaign {campaign_id}: the stored scores of seed(s) {', '.join(map(str, sorted(bad)))} do not match "
+            "their checksum (edited, corrupted or stored by an older gyrobench); recomputing them",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    return done, {s: r for s, r in failures.items() if s in done}
+
+
 def check_output_file(path: str | os.PathLike, *, what: str) -> Path:
     """``path`` as a Path if it can be written as a file: not a folder, its folder exists
     and accepts new files (:func:`gyrobench.scenarios.outputs.check_output`).
@@ -163,20 +216,7 @@ def start_session(
             "INSERT OR IGNORE INTO campaigns VALUES (?, ?, ?, ?, ?, ?)",
             (campaign_id, scenario, compensator, config, identity, time.time()),
         )
-        wanted = set(seeds)
-        done: dict[int, dict[str, float]] = {}
-        for seed, text in conn.execute(
-            "SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (campaign_id,)
-        ):
-            if seed in wanted:
-                done[seed] = loads_scores(text)
-        failed = {
-            seed: reason
-            for seed, reason in conn.execute(
-                "SELECT seed, reason FROM seed_failures WHERE campaign_id = ?", (campaign_id,)
-            )
-            if seed in done
-        }
+        done, failed = _verified(conn, campaign_id, set(seeds))
         cur = conn.execute(
             "INSERT INTO sessions (campaign_id, started, n_requested, n_reused, pid) "
             "VALUES (?, ?, ?, ?, ?)",
@@ -222,6 +262,10 @@ def record_seed(
                 "INSERT INTO seed_failures (campaign_id, seed, reason) VALUES (?, ?, ?)",
                 (campaign_id, seed, failure),
             )
+        conn.execute(
+            "INSERT INTO seed_checksums (campaign_id, seed, sha256) VALUES (?, ?, ?)",
+            (campaign_id, seed, seed_checksum(campaign_id, seed, text, failure)),
+        )
     except sqlite3.IntegrityError:
         conn.execute("ROLLBACK")
         (other,) = conn.execute(

@@ -433,10 +433,11 @@ def test_traceback_env_shows_the_traceback_then_the_line(case, tmp_path, capsys,
 
 
 def die_in_fit(X, y):
-    """A worker process that dies (as if killed by the OOM killer)."""
+    """A worker process that dies as if killed by the OOM killer (SIGKILL)."""
     import os
+    import signal
 
-    os._exit(9)
+    os.kill(os.getpid(), signal.SIGKILL)
 
 
 def test_worker_process_that_dies_is_an_internal_failure(tmp_path, capsys):

@@ -95,7 +95,9 @@ class PiecewiseLinear:
         return out
 
     @classmethod
-    def from_segments(cls, segments: Sequence[tuple[float, float, float, float]], *, tol: float = 1e-9) -> PiecewiseLinear:
+    def from_segments(
+        cls, segments: Sequence[tuple[float, float, float, float]], *, tol: float = 1e-9
+    ) -> PiecewiseLinear:
         """Build from explicit segments ``(t_start, t_end, v_start, v_end)``.
 
         Consecutive segments must touch in time and value: a gap, an overlap or a
@@ -115,11 +117,13 @@ class PiecewiseLinear:
                 if abs(t0 - times[-1]) > tol * max(1.0, abs(t0)):
                     kind = "a gap" if t0 > times[-1] else "an overlap"
                     raise ValueError(
-                        f"segment {k} starts at {t0!r} s but segment {k - 1} ends at {times[-1]!r} s: {kind} in the profile"
+                        f"segment {k} starts at {t0!r} s but segment {k - 1} ends at {times[-1]!r} s: "
+                        f"{kind} in the profile"
                     )
                 if abs(v0 - values[-1]) > tol * max(1.0, abs(v0)):
                     raise ValueError(
-                        f"segment {k} starts at value {v0!r} but segment {k - 1} ends at {values[-1]!r}: a jump in the profile"
+                        f"segment {k} starts at value {v0!r} but segment {k - 1} ends at {values[-1]!r}: "
+                        "a jump in the profile"
                     )
                 times.append(t1)
                 values.append(v1)
@@ -140,7 +144,10 @@ class Ramp:
     def __post_init__(self) -> None:
         _finite("Ramp.target", self.target)
         if (self.rate is None) == (self.duration is None):
-            raise ValueError(f"Ramp needs exactly one of rate [K/s] or duration [s]; got rate={self.rate!r}, duration={self.duration!r}")
+            raise ValueError(
+                f"Ramp needs exactly one of rate [K/s] or duration [s]; got rate={self.rate!r}, "
+                f"duration={self.duration!r}"
+            )
         if self.rate is not None:
             _positive("Ramp.rate", abs(self.rate) if isinstance(self.rate, (int, float)) else self.rate, "K/s")
         if self.duration is not None:

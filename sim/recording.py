@@ -963,7 +963,8 @@ class HDF5StreamWriter:
         given.update({("truth", k): v for k, v in (truth or {}).items()})
         if set(given) != set(self._ds):
             raise ValueError(
-                f"append must give every declared channel {sorted(k for _, k in self._ds)}; got {sorted(k for _, k in given)}"
+                f"append must give every declared channel {sorted(k for _, k in self._ds)}; "
+                f"got {sorted(k for _, k in given)}"
             )
         lengths = {len(v) for v in given.values()}
         if len(lengths) != 1:

@@ -39,11 +39,12 @@ FREE = np.zeros(40)  # no strain: the Shupe term alone
 
 
 def test_quadrupolar_mapping_follows_physics_3_3():
-    """First layers of ABBA: A0 = [L/2 - l, L/2], B0 = [L/2, L/2 + l], B1 = [L/2 + l, L/2 + 2l], A1 = [L/2 - 2l, L/2 - l]."""
+    """First layers of ABBA: A0 = [L/2 - l, L/2], B0 = [L/2, L/2 + l], B1 = [L/2 + l, L/2 + 2l],
+    A1 = [L/2 - 2l, L/2 - l]."""
     w = Winding.ideal("quadrupolar", 8, 800.0)
-    l, h = 100.0, 400.0
-    np.testing.assert_array_equal(w.z0[:4], [h - l, h, h + l, h - 2 * l])
-    np.testing.assert_array_equal(w.z1[:4], [h, h + l, h + 2 * l, h - l])
+    lay, h = 100.0, 400.0
+    np.testing.assert_array_equal(w.z0[:4], [h - lay, h, h + lay, h - 2 * lay])
+    np.testing.assert_array_equal(w.z1[:4], [h, h + lay, h + 2 * lay, h - lay])
     assert winding_sequence("octupolar", 8) == "ABBABAAB"
 
 

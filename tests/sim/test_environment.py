@@ -23,8 +23,10 @@ def test_ramp_by_duration_and_direction():
 
 @pytest.mark.parametrize(
     ("kwargs", "match"),
-    [({"target": 300.0}, "exactly one of rate"), ({"target": 300.0, "rate": 1.0, "duration": 2.0}, "exactly one of rate"),
-     ({"target": 300.0, "rate": 0.0}, "Ramp.rate must be > 0"), ({"target": float("nan"), "rate": 1.0}, "Ramp.target must be a finite")],
+    [({"target": 300.0}, "exactly one of rate"),
+     ({"target": 300.0, "rate": 1.0, "duration": 2.0}, "exactly one of rate"),
+     ({"target": 300.0, "rate": 0.0}, "Ramp.rate must be > 0"),
+     ({"target": float("nan"), "rate": 1.0}, "Ramp.target must be a finite")],
 )
 def test_ramp_rejects(kwargs, match):
     with pytest.raises(ValueError, match=match):

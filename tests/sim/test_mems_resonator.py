@@ -683,7 +683,7 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
     grid = np.fft.fftfreq(_PSD_GRID, 1 / fs)
     mean, dof = periodogram_band_stats(slow_noise_spectrum(unit, grid, fs), fs, n, bands)
     alpha = 1e-6 / len(bands)
-    for b, mu, nu in zip(bands, mean, dof * n_seg * cols):
+    for b, mu, nu in zip(bands, mean, dof * n_seg * cols, strict=True):
         got = p[b].mean() / mu
         lo, hi = stats.chi2.ppf([alpha / 2, 1 - alpha / 2], nu) / nu
         assert lo <= got <= hi, (f[b][0], got, lo, hi)

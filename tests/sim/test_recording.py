@@ -25,7 +25,9 @@ def _rec(n=1000, name="run1"):
     return Recording(
         fs=200.0,
         t0=12.5,
-        channels={"rate": Channel(rng.standard_normal(n), "rad/s", "gyro output"), "temp": Channel(np.full(n, 300.0), "K")},
+        channels={
+            "rate": Channel(rng.standard_normal(n), "rad/s", "gyro output"), "temp": Channel(np.full(n, 300.0), "K")
+        },
         truth={"true_rate": Channel(np.zeros(n), "rad/s"), "arw": Channel(rng.standard_normal(n), "rad/s")},
         metadata={"seed": 7, "spec": {"N": 1e-4}, "tags": [1, 2]},
         name=name,
@@ -214,7 +216,8 @@ def test_failed_write_is_an_error_naming_the_target_not_a_crash(tmp_path, how):
     import sys
 
     target = tmp_path / "out" / "big.h5"
-    r = subprocess.run([sys.executable, "-c", _FSIZE_SCRIPT, str(target), how], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([sys.executable, "-c", _FSIZE_SCRIPT, str(target), how], capture_output=True, text=True,
+                       timeout=120)
     assert r.returncode == 0, (r.returncode, r.stderr)
     assert r.stderr == ""
     assert r.stdout.startswith(f"{errno.EFBIG} cannot write {str(target)!r}: File too large (file-size limit reached")
@@ -292,5 +295,6 @@ def test_invalid_stored_fs_names_the_file(tmp_path):
     save_hdf5(tmp_path / "r.h5", _rec(n=10))
     with h5py.File(tmp_path / "r.h5", "r+") as h5:
         h5["/recordings/run1"].attrs["fs"] = 0.0
-    with pytest.raises(RecordingFormatError, match=r"r\.h5': recording 'run1': attribute 'fs' must be in \[1e-09, 1e\+15\] Hz .*got 0\.0"):
+    msg = r"r\.h5': recording 'run1': attribute 'fs' must be in \[1e-09, 1e\+15\] Hz .*got 0\.0"
+    with pytest.raises(RecordingFormatError, match=msg):
         load_hdf5(tmp_path / "r.h5")

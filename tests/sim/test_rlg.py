@@ -52,7 +52,8 @@ def test_square_scale_factor_closed_form(side):
 
 
 def test_reference_values_physics_md():
-    """docs/physics.md 6.1: triangle 0.10 m -> 91 237 counts/rad, 2.26 arcsec; 0.14 m -> 1.62 arcsec; square 0.10 m -> 1.31."""
+    """docs/physics.md 6.1: triangle 0.10 m -> 91 237 counts/rad, 2.26 arcsec; 0.14 m -> 1.62 arcsec;
+    square 0.10 m -> 1.31."""
     assert round(rlg.CavityGeometry.triangle(0.10).scale_factor) == 91237
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).pulse_weight), 2) == 2.26
     assert round(units.to_arcsec(rlg.CavityGeometry.triangle(0.10).quantization), 2) == 0.65

@@ -64,7 +64,9 @@ def test_rate_to_si_and_unknown_unit():
         units.rate_to_si(1.0, "furlong/fortnight")
 
 
-@pytest.mark.parametrize(("text", "seconds"), [("10h", 36000.0), ("30min", 1800.0), ("600s", 600.0), ("2.5", 2.5), ("1e3ms", 1.0)])
+@pytest.mark.parametrize(
+    ("text", "seconds"), [("10h", 36000.0), ("30min", 1800.0), ("600s", 600.0), ("2.5", 2.5), ("1e3ms", 1.0)]
+)
 def test_parse_duration(text, seconds):
     assert units.parse_duration(text) == seconds
 

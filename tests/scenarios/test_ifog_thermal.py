@@ -46,15 +46,64 @@ def test_registered():
 # ------------------------------------------------------------------ claims and results
 
 
-def test_which_claims_are_calibrated():
-    calibrated = {c.id for c in sc.CLAIMS if c.kind == "calibrated"}
-    # issue 18: the T x dT term comes from material data (emergent); the drift level is
-    # calibrated through the lead-asymmetry spread
-    assert "003.txdt_point" not in calibrated and "003.drift_level" in calibrated
-    # the validation claims judge that calibrated drift against its residual: fed by it
-    assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"} <= calibrated
+def test_claim_roles_and_preconditions():
+    by_id = {c.id: c for c in sc.CLAIMS}
+    # issue 27: the drift level and the Table 1 term describe the device; the drift level is
+    # calibrated (identified: sc.identify), the T x dT term comes from material data (emergent)
+    assert by_id["003.drift_level"].role == "device" and by_id["003.drift_level"].kind == "calibrated"
+    assert by_id["003.txdt_point"].role == "device" and by_id["003.txdt_point"].kind == "emergent"
+    # the validation claims are the paper's method claims, judged where the unit shows a drift
+    for cid in ("003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"):
+        c = by_id[cid]
+        assert (c.role, c.kind) == ("method", "emergent")
+        assert c.precondition is not None and c.precondition.quantity == "val1_drift_to_noise"
     assert sc.claims_for(SMALL) == sc.CLAIMS
-    assert all("EFFECT_" not in d.effect for d in sc.DEVIATIONS)  # every effect is filled in
+
+
+def test_deviations_are_data_measured_by_their_variant():
+    # issue 24: no hand-written effect; each variant name builds a valid, different Config
+    assert all(d.effect == "" for d in sc.DEVIATIONS)
+    names = [d.variant for d in sc.DEVIATIONS if d.variant]
+    assert len(names) == len(set(names)) and set(names) == set(sc.VARIANTS)
+    base = sc.Config()
+    for n in names:
+        assert sc.variant_config(base, n) != base
+    assert sc.variant_config(base, "err_logged_rate").analysis_block_s == 1.0 / base.fs_hz
+    with pytest.raises(ValueError, match="variant_config name"):
+        sc.variant_config(base, "no_such_variant")
+    # the protocol-fidelity deviations of issue 27 item 4 are there
+    assert {"err_logged_rate", "dTdt_central_difference"} <= set(names)
+
+
+def test_control_holds_the_chamber_and_keeps_the_windows():
+    ctrl = sc.control_config(SMALL)
+    for prof, cprof in (
+        (SMALL.identification_profile(), ctrl.identification_profile()),
+        (SMALL.validation_profile(1e-3), ctrl.validation_profile(1e-3)),
+    ):
+        np.testing.assert_array_equal(cprof.times, prof.times)
+        assert np.all(cprof.values == units.celsius(SMALL.start_degC))
+
+
+def test_control_unit_has_no_drift_and_lacks_the_precondition(small_units):
+    u = sc.experiment(sc.control_config(SMALL), 7)
+    q = u.quantities
+    # no thermal program: no coil drift at all (the nonreciprocity needs a changing temperature)
+    assert q["drift_peak_val1_deg_h"] < 1e-9
+    assert not sc.claims.DRIFT_ABOVE_NOISE.present(q["val1_drift_to_noise"])
+    # the same seed with its thermal program shows the drift
+    assert small_units[0].quantities["drift_peak_val1_deg_h"] > 1e3 * q["drift_peak_val1_deg_h"]
+
+
+def test_central_difference_estimator():
+    run = sc_runs.Run(
+        name="x", t_h=np.arange(5.0), T=np.array([0.0, 1.0, 4.0, 9.0, 16.0]), output=np.zeros(5),
+        truth=np.zeros(5), drift=np.zeros(5), fs=0.5, reference=0.0,
+    )
+    X = sc_runs.features(run, replace(SMALL, derivative_estimator="central_difference"))
+    # T = k^2 per sample at 0.5 Hz: interior central difference 2k x 0.5 [degC/s]
+    np.testing.assert_allclose(X[1:-1, 1], [1.0, 2.0, 3.0])
+    np.testing.assert_allclose(X[:, 2], X[:, 0] * X[:, 1])
 
 
 def test_yes_no_quantities_are_zero_or_one(small_units):
@@ -199,7 +248,7 @@ def test_heat_cool_average_needs_overlap():
 def test_temperature_curves_variant_runs():
     u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
     assert u.paper.training_rows < 30
-    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS}
+    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | {"val1_drift_to_noise"}
 
 
 # ------------------------------------------------------------------ closed forms
@@ -274,6 +323,8 @@ def test_bad_runs():
 @pytest.mark.parametrize(
     ("kwargs", "exc", "match"),
     [
+        ({"derivative_estimator": "finite"}, ValueError, r"derivative_estimator must be one of"),
+        ({"thermal_program": 0}, TypeError, r"thermal_program must be a bool"),
         ({"rbf_spread": 0.0}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
         ({"rbf_spread_grid": ()}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
         (

@@ -105,6 +105,7 @@ from .runs import (
     score_mse,
     simulate,
 )
+from .variants import VARIANTS, control_config, variant_config
 
 # literals: the registry reads them with ast (config.NAME, TITLE, PAPER are the same)
 NAME = "ifog_thermal"
@@ -124,9 +125,11 @@ __all__ = [
     "TITLE",
     "TrainingSet",
     "UnitResult",
+    "VARIANTS",
     "Config",
     "claims_for",
     "compensation_task",
+    "control_config",
     "deployment_float32",
     "err",
     "experiment",
@@ -142,5 +145,6 @@ __all__ = [
     "select_rbf",
     "simulate",
     "training_set",
+    "variant_config",
     "winding_comparison",
 ]

@@ -214,6 +214,7 @@ class UnitResult:
     seed: int
     txdt_point_max_deg_h: float
     drift_peak_val1_deg_h: float
+    val1_drift_to_noise: float  # std(true drift) / std(the rest of the error), validation 1 [x]
     paper: ProtocolResult
     diagnostic_truth_target: ProtocolResult
     deployment_json: str
@@ -229,6 +230,7 @@ class UnitResult:
         return {
             "txdt_point_max_deg_h": self.txdt_point_max_deg_h,
             "drift_peak_val1_deg_h": self.drift_peak_val1_deg_h,
+            "val1_drift_to_noise": self.val1_drift_to_noise,
             **self.paper.quantities.as_dict(),
         }
 

@@ -456,3 +456,65 @@ def test_paper_003_runs_on_the_closed_loop_fog():
 def test_fog_parameters_are_checked(field, value):
     with pytest.raises(ValueError, match=field):
         sc.Config(**{field: value})
+
+
+# ------------------------------------------------- issue 27: an origin-free T x dT split
+
+#: relative float64 rounding of the sum of the two terms (the kelvin split cancels terms
+#: ~(T / (t_hi - t_lo)) ~ 6x the sum: a few 1e-16 each; 1e-12 leaves three decades)
+_ROUNDING = 1e-12
+
+
+def test_coil_drift_is_the_same_for_any_temperature_origin():
+    spec = replace(coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4), lead_difference_rms=1.0)
+    imp = coil2d.Imperfections.draw(spec, rng=np.random.default_rng(3))
+    prof = replace(SMALL, identification_settle_h=0.2).identification_profile()
+    runs = {}
+    for name, t_ref in (("15 degC", units.celsius(15.0)), ("0 degC", units.ZERO_CELSIUS), ("kelvin", 0.0),
+                        ("shifted +100 K", units.celsius(115.0))):
+        unit = coil2d.Coil2D(spec=replace(spec, t_ref=t_ref), imperfections=imp)
+        runs[name] = unit.run(prof.times, prof.values)
+    ref = runs["15 degC"].total
+    scale = float(np.max(np.abs(ref)))
+    assert scale > 0
+    for name, run in runs.items():
+        np.testing.assert_allclose(run.total, ref, rtol=0, atol=_ROUNDING * scale, err_msg=name)
+    # only the split moves, and by far more than the rounding: each term changes by a part of
+    # the drift comparable with the drift itself
+    for name in ("kelvin", "0 degC"):
+        moved = float(np.max(np.abs(runs[name].product - runs["15 degC"].product)))
+        assert moved > 0.01 * scale, (name, moved / scale)
+
+
+def test_heated_stretch_is_the_same_for_any_temperature_origin():
+    spec = SMALL.coil_spec()
+    T = units.celsius(np.linspace(-10.0, 40.0, 51))
+    kw = dict(fibre_length=1000.0, diameter=0.1, z_center=250.0, seg_length=10.0)
+    totals, products = [], []
+    for t_ref in (units.ZERO_CELSIUS, units.celsius(15.0), 0.0):
+        sh, prod = coil2d.heated_stretch(spec, T, 1.0 / 60.0, t_ref=t_ref, **kw)
+        totals.append(sh + prod)
+        products.append(prod)
+    for tot in totals[1:]:
+        np.testing.assert_allclose(tot, totals[0], rtol=0, atol=_ROUNDING * float(np.max(np.abs(totals[0]))))
+    # the T x dT part is zero where T = T_ref and is linear in T - T_ref
+    assert products[0][10] == 0.0  # -10 + 10 x 1 degC = 0 degC
+    assert products[1][25] == 0.0  # 15 degC
+
+
+def test_point_heating_sweep_and_reference_split():
+    p = sc.coil.point_heating_result(SMALL)
+    # the sweep covers every (length, rate) and the T x dT maximum is linear in their product
+    assert len(p.sweep) == len(sc.coil.SWEEP_LENGTHS_M) * len(sc.coil.SWEEP_RATES_DEGC_PER_MIN)
+    per = [v / (length * rate) for length, rate, v in p.sweep]
+    np.testing.assert_allclose(per, per[0], rtol=1e-12)
+    # the default case is a point of the sweep
+    default = [v for length, rate, v in p.sweep if (length, rate) == (10.0, 1.0)]
+    assert default == [pytest.approx(float(np.max(np.abs(p.product))), rel=1e-12)]
+    # split at 0 degC (the paper's eq. 9), at the coil's t_ref and at 0 K: the sums agree, the parts do not
+    T, *_ = sc.point_heating(SMALL)
+    totals = [sc.point_heating(SMALL, t_ref=t)[3] for t in (units.ZERO_CELSIUS, units.celsius(15.0), 0.0)]
+    for tot in totals[1:]:
+        np.testing.assert_allclose(tot, totals[0], rtol=1e-12)
+    assert p.by_reference[0][0].startswith("0 degC")
+    assert len({round(prod, 12) for _, prod, _ in p.by_reference}) == 3

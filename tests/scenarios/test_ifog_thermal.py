@@ -518,3 +518,24 @@ def test_point_heating_sweep_and_reference_split():
         np.testing.assert_allclose(tot, totals[0], rtol=1e-12)
     assert p.by_reference[0][0].startswith("0 degC")
     assert len({round(prod, 12) for _, prod, _ in p.by_reference}) == 3
+
+
+def test_identified_lead_asymmetry_reruns():
+    ident = sc.IDENTIFIED
+    # the frozen result is the Config default, and its inputs are the identification's defaults
+    assert sc.Config().lead_difference_rms_m == ident.lead_difference_rms_m
+    kw = dict(n_units=ident.units, first_seed=ident.first_seed)
+    base = sc.Config()
+    # re-run the defining equation at the frozen spread: the same median, bit for bit (deterministic)
+    assert sc.identify.median_peak_drift(base, ident.lead_difference_rms_m, **kw) == ident.median_peak_deg_h
+    # and the target is crossed within the bisection tolerance of it
+    below = sc.identify.median_peak_drift(base, ident.lead_difference_rms_m - ident.xtol_m, **kw)
+    above = sc.identify.median_peak_drift(base, ident.lead_difference_rms_m + ident.xtol_m, **kw)
+    assert below < ident.target_deg_h < above
+
+
+def test_identification_refuses_a_bad_bracket():
+    with pytest.raises(ValueError, match="bracket_m must bracket"):
+        sc.identify_lead_asymmetry(SMALL, n_units=1, bracket_m=(0.0, 0.01))
+    with pytest.raises(ValueError, match="lead_rms_m must be"):
+        sc.identify.median_peak_drift(SMALL, -1.0, n_units=1, first_seed=0)

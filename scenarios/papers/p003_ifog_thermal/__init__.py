@@ -91,6 +91,7 @@ from .claims import CLAIMS, DEVIATIONS, claims_for
 from .coil import point_heating, winding_comparison
 from .config import FEATURES_IMPROVED, FEATURES_TRADITIONAL, Config
 from .experiment import experiment
+from .identify import IDENTIFIED, identify_lead_asymmetry
 from .pipeline import TrainingSet, err, fit_models, heat_cool_average, training_set
 from .report import report
 from .results import UnitResult
@@ -117,6 +118,7 @@ __all__ = [
     "DEVIATIONS",
     "FEATURES_IMPROVED",
     "FEATURES_TRADITIONAL",
+    "IDENTIFIED",
     "IDENTIFICATION_SEGMENTS",
     "NAME",
     "PAPER",
@@ -136,6 +138,7 @@ __all__ = [
     "fit_models",
     "heat_cool_average",
     "identification_segments",
+    "identify_lead_asymmetry",
     "memory_estimate",
     "point_heating",
     "prepare",

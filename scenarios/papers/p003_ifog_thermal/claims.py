@@ -2,8 +2,14 @@
 
 Each :class:`~gyrobench.scenarios.claims.Claim` reads one key of
 :attr:`.results.UnitResult.quantities`; the shared runner judges them over the units
-(:func:`gyrobench.scenarios.claims.evaluate`). :data:`DEVIATIONS` state where the
-reproduction departs from the paper's protocol, with the measured effect.
+(:func:`gyrobench.scenarios.claims.evaluate`), on the control too (:mod:`.variants`).
+Roles (issue 24): the drift level and the Table 1 T x dT term describe the paper's device
+(``device``; the drift level is what :mod:`.identify` matches); the four validation claims
+are the paper's ``method`` claims, judged on units whose validation-1 drift stands above
+their noise (:data:`DRIFT_ABOVE_NOISE`). :data:`DEVIATIONS` state where the reproduction
+departs from the paper's protocol; each measurable one names its config variant
+(``variant_config``), whose effect ``gyrobench reproduce --deviations`` measures; no effect
+is written by hand.
 """
 
 from __future__ import annotations

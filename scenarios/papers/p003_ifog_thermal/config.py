@@ -64,9 +64,9 @@ class Config:
     constant has a cited source or a stated value there; the T x dT term comes from the
     Leviton-Frey dn/dT(T) of silica and the expansion slopes of silica, epoxy and aluminium
     (nothing is set for it). One input is CALIBRATED to the paper: ``lead_difference_rms_m``
-    (1.44 m), the spread of a unit's lead A - lead B length, identified by
+    (1.198 m), the spread of a unit's lead A - lead B length, identified by
     :func:`.identify.identify_lead_asymmetry` (frozen in ``identify.IDENTIFIED``) so that the
-    median validation-1 peak coil drift of 20 drawn coils (identification seeds) is 0.15 deg/h
+    median validation-1 peak coil drift of 60 drawn coils (identification seeds) is 0.15 deg/h
     (the paper's level for a 10 degC change). ``housing_time_constant_min`` sets the chamber-housing conductance
     (C_h / tau_h); ``fibre_length_m`` sets the turns per layer (round(L / (2 pi sum r_j))).
 
@@ -120,7 +120,7 @@ class Config:
     winding: str = "quadrupolar"
     layers: int = 40
     fibre_length_m: float = 1000.0
-    lead_difference_rms_m: float = 1.44  # CALIBRATED: identify.IDENTIFIED
+    lead_difference_rms_m: float = 1.198  # CALIBRATED: identify.IDENTIFIED
     housing_time_constant_min: float = 20.0
     housing_lag_run_rms: float = 0.1
     modulation_depth_pi: float = 0.75

@@ -12,6 +12,9 @@ All parameters in SI (m, K, s, W, J, Pa). The chain is
 
         Omega_E(t) = (n/(L D)) [ Tdot(t) . W0  +  (T(t) - T0) . Q Tdot(t) ]            [rad/s]
 
+    (beta_T as its chord over [t_lo, t_hi] written about T0 = ``t_ref``: the sum is the same
+    for any T0, temperature unit or origin; only the split between the two terms moves)
+
         W0 = P^T (w * beta_0),   Q = P^T diag(w * beta_1) P,   w_i = ds_i (L - 2 s_i)  [m^2]
 
 with P the bilinear interpolation from the cell centres to the turns (exact for a field
@@ -628,7 +631,9 @@ class Coil2DSpec:
         Al-Al joint, effect measured in docs/physics.md 9: none within 0.1 %).
     t_ref, t_lo, t_hi : float
         T0 of the expansion beta_T = beta_0 + beta_1 (T - T0) and the secant range of beta_1
-        [K] (15 degC; -10 and 40 degC, paper 003's range).
+        [K] (15 degC; -10 and 40 degC, paper 003's range). beta_T is the chord over
+        [t_lo, t_hi], so T0 moves only the split between the Tdot and T x Tdot terms, never
+        their sum (any T0 >= 0 K is accepted: 0 K is the kelvin origin).
     grid_spool, grid_pack_r, grid_pack_z : int
         Cells across the spool, the pack radially and the pack axially (one skin cell each).
     """
@@ -711,7 +716,7 @@ class Coil2DSpec:
             _num(o, name, getattr(self, name), "> 0", "(SI)", lambda v: v > 0)
         _num(o, "t_lo", self.t_lo, f"< t_hi ({self.t_hi!r})", "K", lambda v: 30 < v < self.t_hi)
         _num(o, "t_hi", self.t_hi, "<= 330", "K", lambda v: v <= 330)
-        _num(o, "t_ref", self.t_ref, "in (30, 330)", "K", lambda v: 30 < v < 330)
+        _num(o, "t_ref", self.t_ref, "in [0, 1000]", "K", lambda v: 0 <= v <= 1000)
         pack_properties(
             packing=self.packing,
             glass_fraction=self.glass_fraction,
@@ -770,13 +775,23 @@ class Coil2DSpec:
         mech = n * self.xi * (self.hoop_strain_rate(rr, T) - a_f)
         return free + np.where(bonded, mech, 0.0)
 
-    def beta_coefficients(self, r: ArrayLike, bonded: ArrayLike | bool = True):
-        """(beta_0, beta_1): beta_T at t_ref [1/K], its secant slope over [t_lo, t_hi] [1/K^2]."""
-        b0 = self.beta(r, self.t_ref, bonded=bonded)
-        b1 = (self.beta(r, self.t_hi, bonded=bonded) - self.beta(r, self.t_lo, bonded=bonded)) / (
-            self.t_hi - self.t_lo
-        )
-        return b0, b1
+    def beta_coefficients(self, r: ArrayLike, bonded: ArrayLike | bool = True, *, t_ref: float | None = None):
+        """(beta_0, beta_1) of the chord of beta_T over [t_lo, t_hi], split about ``t_ref``.
+
+        beta_T(T) is represented by its chord (secant) over the material data's range,
+        beta_T(T) ~ beta_T(t_lo) + beta_1 (T - t_lo), beta_1 the secant slope [1/K^2]; written
+        about a reference T_ref it is beta_0 + beta_1 (T - T_ref) with beta_0 = the chord at
+        T_ref [1/K] (``t_ref`` None: the spec's ``t_ref``). The drift (n/(L D)) [Tdot . W0 +
+        (T - T_ref) . Q Tdot] is then the same for every T_ref, in any temperature unit or
+        origin; only its split between the Tdot and the T x Tdot terms moves with T_ref
+        (the Tdot term by beta_1 (T_ref' - T_ref) . Tdot). Until issue 27 beta_0 was beta_T at
+        t_ref itself, 0.2-0.9 % above the chord at 15 degC (the chord's curvature error), which
+        made the sum depend on T_ref at that order.
+        """
+        t0 = self.t_ref if t_ref is None else float(t_ref)
+        lo = self.beta(r, self.t_lo, bonded=bonded)
+        b1 = (self.beta(r, self.t_hi, bonded=bonded) - lo) / (self.t_hi - self.t_lo)
+        return lo + b1 * (t0 - self.t_lo), b1
 
     def realize(self, *, rng: np.random.Generator) -> Coil2D:
         """One drawn unit: potting properties and winding imperfections (:class:`Imperfections`).
@@ -1265,30 +1280,26 @@ def heated_stretch(
     z_center: float,
     seg_length: float,
     radius: float | None = None,
+    t_ref: float = units.ZERO_CELSIUS,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Shupe and T x dT rate errors [rad/s] of one heated stretch (paper 003, Table 1 / Fig. 2).
+    """Tdot and T x dT rate errors [rad/s] of one heated stretch (paper 003, Table 1 / Fig. 2).
 
     A stretch of ``seg_length`` [m] centred at ``z_center`` [m] along a fibre of
     ``fibre_length`` L, at temperature T [K] rising at ``rate`` [K/s], the rest static:
 
-        Omega_Shupe = (n/(L D)) beta_T(T0') Tdot w,   Omega_TxdT = (n/(L D)) b T[degC] Tdot w,
-        w = l (L - 2 z_c),  beta_T(T) ~ beta_T(T0') + b (T - T0'),  T0' = 0 degC,
+        Omega_Tdot = (n/(L D)) beta_0 Tdot w,   Omega_TxdT = (n/(L D)) beta_1 (T - T_ref) Tdot w,
+        w = l (L - 2 z_c),  beta_T(T) ~ beta_0 + beta_1 (T - T_ref)
 
-    with b the secant slope of beta_T over [t_lo, t_hi] (material data; the paper's T x dT
-    regressor has T in degC, so the split is taken at 0 degC). ``radius`` None: free
-    fibre (dn/dT + n alpha_f); a radius: fibre bonded in the pack at that radius.
+    with beta_T represented by its chord over [t_lo, t_hi] (material data;
+    :meth:`Coil2DSpec.beta_coefficients`), so the sum does not depend on ``t_ref`` [K] or on
+    the temperature scale; the split does. Default T_ref = 0 degC: the paper's eq. (9),
+    dz = alpha_T L0 T with T in degC, puts the reference length at 0 degC, and its T x dT
+    regressor has T in degC. ``radius`` None: free fibre (dn/dT + n alpha_f); a radius: fibre
+    bonded in the pack at that radius.
     """
     T = np.asarray(T, dtype=float)
     r = np.array([spec.inner_radius if radius is None else radius])
-    bonded = radius is not None
-    b1 = float(
-        (
-            (spec.beta(r, spec.t_hi, bonded=bonded) - spec.beta(r, spec.t_lo, bonded=bonded))
-            / (spec.t_hi - spec.t_lo)
-        )[0]
-    )
-    b0 = float(spec.beta(r, units.ZERO_CELSIUS, bonded=bonded)[0])
+    b0, b1 = (float(v[0]) for v in spec.beta_coefficients(r, bonded=radius is not None, t_ref=t_ref))
     w = seg_length * (fibre_length - 2.0 * z_center)
     pre = spec.index / (fibre_length * diameter)
-    dT = T - units.ZERO_CELSIUS
-    return np.full(T.shape, pre * b0 * rate * w), pre * b1 * dT * rate * w
+    return np.full(T.shape, pre * b0 * rate * w), pre * b1 * (T - t_ref) * rate * w

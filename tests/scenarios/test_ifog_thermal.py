@@ -46,15 +46,64 @@ def test_registered():
 # ------------------------------------------------------------------ claims and results
 
 
-def test_which_claims_are_calibrated():
-    calibrated = {c.id for c in sc.CLAIMS if c.kind == "calibrated"}
-    # issue 18: the T x dT term comes from material data (emergent); the drift level is
-    # calibrated through the lead-asymmetry spread
-    assert "003.txdt_point" not in calibrated and "003.drift_level" in calibrated
-    # the validation claims judge that calibrated drift against its residual: fed by it
-    assert {"003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"} <= calibrated
+def test_claim_roles_and_preconditions():
+    by_id = {c.id: c for c in sc.CLAIMS}
+    # issue 27: the drift level and the Table 1 term describe the device; the drift level is
+    # calibrated (identified: sc.identify), the T x dT term comes from material data (emergent)
+    assert by_id["003.drift_level"].role == "device" and by_id["003.drift_level"].kind == "calibrated"
+    assert by_id["003.txdt_point"].role == "device" and by_id["003.txdt_point"].kind == "emergent"
+    # the validation claims are the paper's method claims, judged where the unit shows a drift
+    for cid in ("003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"):
+        c = by_id[cid]
+        assert (c.role, c.kind) == ("method", "emergent")
+        assert c.precondition is not None and c.precondition.quantity == "val1_drift_to_noise"
     assert sc.claims_for(SMALL) == sc.CLAIMS
-    assert all("EFFECT_" not in d.effect for d in sc.DEVIATIONS)  # every effect is filled in
+
+
+def test_deviations_are_data_measured_by_their_variant():
+    # issue 24: no hand-written effect; each variant name builds a valid, different Config
+    assert all(d.effect == "" for d in sc.DEVIATIONS)
+    names = [d.variant for d in sc.DEVIATIONS if d.variant]
+    assert len(names) == len(set(names)) and set(names) == set(sc.VARIANTS)
+    base = sc.Config()
+    for n in names:
+        assert sc.variant_config(base, n) != base
+    assert sc.variant_config(base, "err_logged_rate").analysis_block_s == 1.0 / base.fs_hz
+    with pytest.raises(ValueError, match="variant_config name"):
+        sc.variant_config(base, "no_such_variant")
+    # the protocol-fidelity deviations of issue 27 item 4 are there
+    assert {"err_logged_rate", "dTdt_central_difference"} <= set(names)
+
+
+def test_control_holds_the_chamber_and_keeps_the_windows():
+    ctrl = sc.control_config(SMALL)
+    for prof, cprof in (
+        (SMALL.identification_profile(), ctrl.identification_profile()),
+        (SMALL.validation_profile(1e-3), ctrl.validation_profile(1e-3)),
+    ):
+        np.testing.assert_array_equal(cprof.times, prof.times)
+        assert np.all(cprof.values == units.celsius(SMALL.start_degC))
+
+
+def test_control_unit_has_no_drift_and_lacks_the_precondition(small_units):
+    u = sc.experiment(sc.control_config(SMALL), 7)
+    q = u.quantities
+    # no thermal program: no coil drift at all (the nonreciprocity needs a changing temperature)
+    assert q["drift_peak_val1_deg_h"] < 1e-9
+    assert not sc.claims.DRIFT_ABOVE_NOISE.present(q["val1_drift_to_noise"])
+    # the same seed with its thermal program shows the drift
+    assert small_units[0].quantities["drift_peak_val1_deg_h"] > 1e3 * q["drift_peak_val1_deg_h"]
+
+
+def test_central_difference_estimator():
+    run = sc_runs.Run(
+        name="x", t_h=np.arange(5.0), T=np.array([0.0, 1.0, 4.0, 9.0, 16.0]), output=np.zeros(5),
+        truth=np.zeros(5), drift=np.zeros(5), fs=0.5, reference=0.0,
+    )
+    X = sc_runs.features(run, replace(SMALL, derivative_estimator="central_difference"))
+    # T = k^2 per sample at 0.5 Hz: interior central difference 2k x 0.5 [degC/s]
+    np.testing.assert_allclose(X[1:-1, 1], [1.0, 2.0, 3.0])
+    np.testing.assert_allclose(X[:, 2], X[:, 0] * X[:, 1])
 
 
 def test_yes_no_quantities_are_zero_or_one(small_units):
@@ -199,7 +248,7 @@ def test_heat_cool_average_needs_overlap():
 def test_temperature_curves_variant_runs():
     u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
     assert u.paper.training_rows < 30
-    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS}
+    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | {"val1_drift_to_noise"}
 
 
 # ------------------------------------------------------------------ closed forms
@@ -274,6 +323,8 @@ def test_bad_runs():
 @pytest.mark.parametrize(
     ("kwargs", "exc", "match"),
     [
+        ({"derivative_estimator": "finite"}, ValueError, r"derivative_estimator must be one of"),
+        ({"thermal_program": 0}, TypeError, r"thermal_program must be a bool"),
         ({"rbf_spread": 0.0}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
         ({"rbf_spread_grid": ()}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
         (
@@ -406,3 +457,86 @@ def test_paper_003_runs_on_the_closed_loop_fog():
 def test_fog_parameters_are_checked(field, value):
     with pytest.raises(ValueError, match=field):
         sc.Config(**{field: value})
+
+
+# ------------------------------------------------- issue 27: an origin-free T x dT split
+
+#: relative float64 rounding of the sum of the two terms (the kelvin split cancels terms
+#: ~(T / (t_hi - t_lo)) ~ 6x the sum: a few 1e-16 each; 1e-12 leaves three decades)
+_ROUNDING = 1e-12
+
+
+def test_coil_drift_is_the_same_for_any_temperature_origin():
+    spec = replace(coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4), lead_difference_rms=1.0)
+    imp = coil2d.Imperfections.draw(spec, rng=np.random.default_rng(3))
+    prof = replace(SMALL, identification_settle_h=0.2).identification_profile()
+    runs = {}
+    for name, t_ref in (("15 degC", units.celsius(15.0)), ("0 degC", units.ZERO_CELSIUS), ("kelvin", 0.0),
+                        ("shifted +100 K", units.celsius(115.0))):
+        unit = coil2d.Coil2D(spec=replace(spec, t_ref=t_ref), imperfections=imp)
+        runs[name] = unit.run(prof.times, prof.values)
+    ref = runs["15 degC"].total
+    scale = float(np.max(np.abs(ref)))
+    assert scale > 0
+    for name, run in runs.items():
+        np.testing.assert_allclose(run.total, ref, rtol=0, atol=_ROUNDING * scale, err_msg=name)
+    # only the split moves, and by far more than the rounding: each term changes by a part of
+    # the drift comparable with the drift itself
+    for name in ("kelvin", "0 degC"):
+        moved = float(np.max(np.abs(runs[name].product - runs["15 degC"].product)))
+        assert moved > 0.01 * scale, (name, moved / scale)
+
+
+def test_heated_stretch_is_the_same_for_any_temperature_origin():
+    spec = SMALL.coil_spec()
+    T = units.celsius(np.linspace(-10.0, 40.0, 51))
+    kw = dict(fibre_length=1000.0, diameter=0.1, z_center=250.0, seg_length=10.0)
+    totals, products = [], []
+    for t_ref in (units.ZERO_CELSIUS, units.celsius(15.0), 0.0):
+        sh, prod = coil2d.heated_stretch(spec, T, 1.0 / 60.0, t_ref=t_ref, **kw)
+        totals.append(sh + prod)
+        products.append(prod)
+    for tot in totals[1:]:
+        np.testing.assert_allclose(tot, totals[0], rtol=0, atol=_ROUNDING * float(np.max(np.abs(totals[0]))))
+    # the T x dT part is zero where T = T_ref and is linear in T - T_ref
+    assert products[0][10] == 0.0  # -10 + 10 x 1 degC = 0 degC
+    assert products[1][25] == 0.0  # 15 degC
+
+
+def test_point_heating_sweep_and_reference_split():
+    p = sc.coil.point_heating_result(SMALL)
+    # the sweep covers every (length, rate) and the T x dT maximum is linear in their product
+    assert len(p.sweep) == len(sc.coil.SWEEP_LENGTHS_M) * len(sc.coil.SWEEP_RATES_DEGC_PER_MIN)
+    per = [v / (length * rate) for length, rate, v in p.sweep]
+    np.testing.assert_allclose(per, per[0], rtol=1e-12)
+    # the default case is a point of the sweep
+    default = [v for length, rate, v in p.sweep if (length, rate) == (10.0, 1.0)]
+    assert default == [pytest.approx(float(np.max(np.abs(p.product))), rel=1e-12)]
+    # split at 0 degC (the paper's eq. 9), at the coil's t_ref and at 0 K: the sums agree, the parts do not
+    T, *_ = sc.point_heating(SMALL)
+    totals = [sc.point_heating(SMALL, t_ref=t)[3] for t in (units.ZERO_CELSIUS, units.celsius(15.0), 0.0)]
+    for tot in totals[1:]:
+        np.testing.assert_allclose(tot, totals[0], rtol=1e-12)
+    assert p.by_reference[0][0].startswith("0 degC")
+    assert len({round(prod, 12) for _, prod, _ in p.by_reference}) == 3
+
+
+def test_identified_lead_asymmetry_reruns():
+    ident = sc.IDENTIFIED
+    # the frozen result is the Config default, and its inputs are the identification's defaults
+    assert sc.Config().lead_difference_rms_m == ident.lead_difference_rms_m
+    kw = dict(n_units=ident.units, first_seed=ident.first_seed)
+    base = sc.Config()
+    # re-run the defining equation at the frozen spread: the same median, bit for bit (deterministic)
+    assert sc.identify.median_peak_drift(base, ident.lead_difference_rms_m, **kw) == ident.median_peak_deg_h
+    # and the target is crossed within the bisection tolerance of it
+    below = sc.identify.median_peak_drift(base, ident.lead_difference_rms_m - ident.xtol_m, **kw)
+    above = sc.identify.median_peak_drift(base, ident.lead_difference_rms_m + ident.xtol_m, **kw)
+    assert below < ident.target_deg_h < above
+
+
+def test_identification_refuses_a_bad_bracket():
+    with pytest.raises(ValueError, match="bracket_m must bracket"):
+        sc.identify_lead_asymmetry(SMALL, n_units=1, bracket_m=(0.0, 0.01))
+    with pytest.raises(ValueError, match="lead_rms_m must be"):
+        sc.identify.median_peak_drift(SMALL, -1.0, n_units=1, first_seed=0)

@@ -14,6 +14,7 @@ from .coil import point_heating_result, winding_comparison
 from .config import Config
 from .pipeline import (
     drift_peak_val1,
+    drift_to_noise_val1,
     fit_protocol,
     float32_check,
     protocol_result,
@@ -46,6 +47,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
         seed=int(seed),
         txdt_point_max_deg_h=float(np.max(np.abs(point.product))),
         drift_peak_val1_deg_h=drift_peak_val1(runs),
+        val1_drift_to_noise=drift_to_noise_val1(runs),
         paper=protocol_result(paper, s_paper),
         diagnostic_truth_target=protocol_result(truth, s_truth),
         deployment_json=paper.improved.to_json(),

@@ -136,13 +136,17 @@ class PointHeating:
     """Table 1 / figure 2: a heated fibre stretch, -10 -> 40 degC, and the coil constants printed."""
 
     T_degC: NDArray[np.float64]  # temperature of the heated stretch
-    shupe: NDArray[np.float64]  # beta_T(0 degC) term [deg/h]
-    product: NDArray[np.float64]  # T x dT term, free fibre [deg/h]
+    shupe: NDArray[np.float64]  # Tdot term, beta_T's chord at 0 degC [deg/h]
+    product: NDArray[np.float64]  # T x dT term about 0 degC, free fibre [deg/h]
     total: NDArray[np.float64]  # their sum [deg/h]
     bonded_max: float  # max |T x dT term| of the stretch bonded in the pack [deg/h]
     b_free: float  # d(beta_T)/dT of a free fibre [1/K^2]
     fibre_cte_per_K: float  # the fibre glass's expansion coefficient at 20 degC [1/K]
     wavelength_m: float  # source wavelength [m]
+    # (heated length [m], rate [degC/min], max |T x dT| [deg/h]): the claim against what Table 1 leaves out
+    sweep: tuple[tuple[float, float, float], ...] = ()
+    # (reference, max |T x dT| [deg/h], max |Tdot term| [deg/h]): the split at 0 degC, t_ref, 0 K
+    by_reference: tuple[tuple[str, float, float], ...] = ()
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -214,6 +218,7 @@ class UnitResult:
     seed: int
     txdt_point_max_deg_h: float
     drift_peak_val1_deg_h: float
+    val1_drift_to_noise: float  # std(true drift) / std(the rest of the error), validation 1 [x]
     paper: ProtocolResult
     diagnostic_truth_target: ProtocolResult
     deployment_json: str
@@ -229,6 +234,7 @@ class UnitResult:
         return {
             "txdt_point_max_deg_h": self.txdt_point_max_deg_h,
             "drift_peak_val1_deg_h": self.drift_peak_val1_deg_h,
+            "val1_drift_to_noise": self.val1_drift_to_noise,
             **self.paper.quantities.as_dict(),
         }
 

@@ -169,8 +169,17 @@ def prepare(rec: Recording, config: Config) -> Run:
 
 
 def features(run: Run, config: Config, *, product: bool = True) -> NDArray[np.float64]:
-    """(T [degC], dT/dt [degC/s][, T x dT/dt]) of the run, from the logged temperature only."""
-    return thermal_features(run.T, run.fs, window_s=config.derivative_window_s, product=product)
+    """(T [degC], dT/dt [degC/s][, T x dT/dt]) of the run, from the logged temperature only.
+
+    dT/dt by ``config.derivative_estimator``: a Savitzky-Golay derivative over
+    ``derivative_window_s`` (``gyrobench.analysis.features.thermal_features``) or the central
+    difference of the analysis-rate samples.
+    """
+    if config.derivative_estimator == "savgol":
+        return thermal_features(run.T, run.fs, window_s=config.derivative_window_s, product=product)
+    T = np.asarray(run.T, dtype=float)
+    dT = np.gradient(T) * run.fs  # central difference of the analysis-rate samples [degC/s]
+    return np.column_stack([T, dT] + ([T * dT] if product else []))
 
 
 def identification_segments(config: Config, t_h: NDArray[np.float64]) -> NDArray[np.int_]:

@@ -120,3 +120,25 @@ def test_package_exports_what_it_defines(paper):
     for name in PACKAGE_MODULES:
         sub = importlib.import_module(f"{module.__name__}.{name}")
         assert hasattr(sub, "__all__"), f"{sub.__name__} has no __all__"
+
+
+def test_deviations_are_variants_with_no_hand_written_number(paper):
+    """A deviation names the config variant that runs the paper's protocol; its measured effect is
+    computed by ``reproduce --deviations``, so its effect cell holds no number the run did not compute."""
+    import re
+
+    module, config, _ = paper
+    assert module.DEVIATIONS, "a paper states at least one departure (or choice) as a deviation"
+    for d in module.DEVIATIONS:
+        assert not re.search(r"\d", d.effect), (d.what, d.effect)
+        if d.variant:  # a departure no config can undo (a figure not drawn) is listed without one
+            variant = module.variant_config(config, d.variant)
+            assert type(variant) is type(config) and variant != config, d.variant
+    assert any(d.variant for d in module.DEVIATIONS), "no deviation of this paper can be measured"
+
+
+def test_control_switches_the_effect_off(paper):
+    """Every paper defines its control population: the same units with the paper's effect off."""
+    module, config, _ = paper
+    control = module.control_config(config)
+    assert type(control) is type(config) and control != config

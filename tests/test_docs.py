@@ -38,7 +38,8 @@ def test_contents_list_is_the_sections():
 
 
 def test_no_outside_documents_or_issue_numbers():
-    bad = re.findall(r"(?i)\bissues? #?\d+|\.\./shared|PHYSICS(?:-models)?\.md|DESIGN\.md|STYLE\.md|seeds/", TEXT)
+    bad = re.findall(r"(?i)\bissues? #?\d+|\.\./shared|seeds/", TEXT)
+    bad += re.findall(r"PHYSICS(?:-models)?\.md|DESIGN\.md|STYLE\.md", TEXT)  # the shared notes, not this file
     assert not bad, sorted(set(bad))
 
 

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 from gyrobench.scenarios.checks import Check
-from gyrobench.sim import coil2d
+from gyrobench.sim import coil2d, units
 from gyrobench.sim.coil import winding_sequence
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
@@ -304,6 +304,35 @@ def _modal_check() -> Check:
     )
 
 
+def _origin_check() -> Check:
+    """The coil drift does not depend on the temperature scale's origin (docs/physics.md 3.7).
+
+    A physical drift cannot change with where temperature is measured from: the coil's
+    Tdot and T x dT terms are written about ``Coil2DSpec.t_ref``, so moving t_ref from 15 degC
+    to 0 K moves the split between them (by ~40 % of the drift here) and leaves their sum
+    unchanged but for rounding.
+    """
+    spec = dataclasses.replace(coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4), lead_difference_rms=1.0)
+    imp = coil2d.Imperfections.draw(spec, rng=np.random.default_rng(3))
+    times = np.array([0.0, 3600.0, 7200.0])
+    values = units.celsius(np.array([-10.0, 40.0, 40.0]))
+    runs = [
+        coil2d.Coil2D(spec=dataclasses.replace(spec, t_ref=t_ref), imperfections=imp).run(times, values)
+        for t_ref in (units.celsius(15.0), 0.0)
+    ]
+    return Check(
+        id="coil.drift_temperature_origin",
+        formula="Omega_E(t_ref = 15 degC) - Omega_E(t_ref = 0 K) = 0 [rad/s] (only the Tdot / T x dT split "
+        "moves; -10 -> 40 degC in 1 h)",
+        expected=0.0,
+        simulated=float(np.max(np.abs(runs[1].total - runs[0].total))),
+        scale=float(np.max(np.abs(runs[0].total))),
+        tolerance=1e-12,
+        derivation="rounding: each term is below 10 x the drift and passes ~100 floating-point operations, "
+        "10 x 100 x eps = 2.2e-13, so 1e-12",
+    )
+
+
 def checks(rng: np.random.Generator) -> list[Check]:
     """All coil checks (deterministic; ``rng`` unused but required by the collector)."""
     if not isinstance(rng, np.random.Generator):
@@ -315,4 +344,5 @@ def checks(rng: np.random.Generator) -> list[Check]:
         *_radial_shupe_checks(),
         *_strain_checks(),
         _modal_check(),
+        _origin_check(),
     ]

@@ -74,6 +74,7 @@ def _exact_rho(alphas, mi, mj, n, grid):
     return fin, inf
 
 
+@pytest.mark.slow  # exact finite-record correlations over many pairs (tens of seconds): slow tier
 def test_scaled_correction_against_the_exact_one():
     """The correction fit_noise adds (pairs scaled to m <= 64) against the unscaled exact one.
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.sim.noise import NoiseModel
 from scipy import stats
@@ -34,6 +35,7 @@ TRUTH = {
 }
 
 
+@pytest.mark.slow  # statistical calibration over 600 seeds (tens of seconds): slow tier
 def test_misfit_false_alarm_rate_is_nominal():
     model = NoiseModel(
         quantization=TRUTH["Q"],

@@ -190,6 +190,7 @@ def _rows(db: Path) -> int:
         return 0
 
 
+@pytest.mark.slow  # end to end: SIGKILLs a running campaign and resumes it: slow tier
 def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(
     tmp_path, monkeypatch
 ):

@@ -40,6 +40,7 @@ def _rows(db: Path) -> int:
         return 0
 
 
+@pytest.mark.slow  # end to end: SIGKILLs a running reproduction and resumes it: slow tier
 def test_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(tmp_path, monkeypatch):
     n = 80
     db = tmp_path / "kill.db"

@@ -394,7 +394,9 @@ def _interval_or_bound(c: allan.Coefficient) -> tuple[float, float]:
     return c.ci95 if c.identifiable else (0.0, c.upper_bound)
 
 
-@pytest.mark.parametrize("source", ["excerpt_1hz", "full_100hz"])
+@pytest.mark.parametrize(
+    "source", ["excerpt_1hz", pytest.param("full_100hz", marks=pytest.mark.slow)]  # 100 Hz: ~15 s
+)
 def test_adis16405_halves_intervals_overlap(source):
     """The two halves of each real record: their 95 % intervals overlap on >= 95 % of term pairs.
 
@@ -428,6 +430,7 @@ def test_adis16405_halves_intervals_overlap(source):
     assert len(apart) <= limit, (pairs, limit, apart)
 
 
+@pytest.mark.slow  # fits every segment of the six 100 Hz records (~20 s)
 def test_adis16405_open_bounds_not_below_other_segments():
     """No upper bound of the whole record's fit below what another stretch of it shows (issue 30).
 

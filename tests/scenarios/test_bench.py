@@ -352,6 +352,7 @@ def _gyrobench(argv, tmp_path, **env):
     return r.returncode, r.stderr.splitlines()
 
 
+@pytest.mark.slow  # a real campaign through the CLI in a subprocess (~10 s)
 def test_cli_crashing_compensator_exits_2_with_one_line(tmp_path):
     argv = ["bench", TOY, "--compensator", f"{__name__}:fit_raising_value_error"]
     argv += ["--seeds", "0:2", "--workers", "0", "--quiet", "--db", "c.db"]

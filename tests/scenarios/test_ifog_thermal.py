@@ -521,6 +521,7 @@ def test_point_heating_sweep_and_reference_split():
     assert len({round(prod, 12) for _, prod, _ in p.by_reference}) == 3
 
 
+@pytest.mark.slow  # re-runs the identification's coil drifts (~10 s)
 def test_identified_lead_asymmetry_reruns():
     ident = sc.IDENTIFIED
     # the frozen result is the Config default, and its inputs are the identification's defaults

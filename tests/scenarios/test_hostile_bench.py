@@ -391,12 +391,7 @@ def test_a_hanging_compensator_is_failed_at_the_seed_timeout_and_retried_by_a_re
     ],
 )
 def test_cli_misbehaving_compensator_exits_3_naming_seed_and_reason(tmp_path, capsys, monkeypatch, comp, words):
-    monkeypatch.chdir(tmp_path)
-    argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:{comp}", "--seeds", "0:2",
-            "--workers", "0", "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
-    assert main(argv) == 3
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err
+    _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, workers="0")
 
 
 def test_cli_seed_timeout_is_checked(tmp_path, capsys):
@@ -513,12 +508,7 @@ def segfault_in_predict(X, y):
     ],
 )
 def test_cli_a_compensator_that_ends_its_process_fails_the_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words):
-    monkeypatch.chdir(tmp_path)
-    argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:{comp}", "--seeds", "0:2",
-            "--workers", "1", "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
-    assert main(argv) == 3
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err
+    _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, workers="1")
 
 
 @pytest.mark.slow
@@ -545,3 +535,13 @@ def test_reproduce_workers_die_within_seconds_of_a_sigkilled_parent(tmp_path):
     while time.monotonic() < deadline and any(_alive(k) for k in kids):
         time.sleep(0.1)
     assert not [k for k in kids if _alive(k)]
+
+
+def _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, *, workers):
+    """``gyrobench bench`` with compensator ``comp`` on the toy exits 3 in one line containing ``words``."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:{comp}", "--seeds", "0:2",
+            "--workers", workers, "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
+    assert main(argv) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err

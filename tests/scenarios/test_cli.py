@@ -107,7 +107,7 @@ def test_allan_csv_with_time_column_and_units_from_header(tmp_path, capsys):
 
 
 def test_csv_reader_keeps_every_row(tmp_path):
-    from gyrobench.scenarios.cli import _read_csv
+    from gyrobench.scenarios.cli_allan import read_csv as _read_csv
 
     rate = np.arange(1.0, 101.0)
     for header, comments in (("# a comment\n# another\nrate [deg/h]\n", 2), ("", 0)):

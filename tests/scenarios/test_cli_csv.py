@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 import pytest
 from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios.cli import _read_csv
+from gyrobench.scenarios.cli_allan import read_csv as _read_csv
 from gyrobench.sim import units
 
 from tests.scenarios.test_cli import assert_one_line_error, run

@@ -1,0 +1,191 @@
+"""``gyrobench allan``: Allan deviation and the noise fit of an HDF5 recording or any IMU's CSV log."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from gyrobench.scenarios.cli_common import BadInput, nonneg_float, positive_float
+
+__all__ = ["add_parser", "read_csv"]
+
+#: default of --bandwidth-bias: gyrobench.analysis.allan.BANDWIDTH_BIAS, repeated so parsing
+#: imports no analysis (tests/scenarios/test_cli.py pins the two)
+BANDWIDTH_BIAS = 0.1
+
+
+def read_csv(path: Path, column: str | None, fs: float | None, unit: str | None):
+    """One rate column of a CSV: (rate in rad/s, fs [Hz], column label); see scenarios.logs.read_csv_log."""
+    from gyrobench.scenarios.logs import read_csv_log
+
+    log = read_csv_log(path, [column] if column is not None else None, fs, unit)
+    ch = log.channels[0]
+    return ch.data, log.fs, ch.label
+
+
+def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
+    import numpy as np
+    from gyrobench.scenarios.logs import Channel, Log
+    from gyrobench.sim.recording import load_hdf5
+
+    rec = load_hdf5(path, name)
+    chans = []
+    wanted: list[str | None] = list(columns) if columns else ["rate" if "rate" in rec.channels else None]
+    for ch in wanted:
+        if ch is None:
+            raise BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
+        data = rec[ch]
+        unit = rec.channels[ch].unit if ch in rec.channels else rec.truth[ch.removeprefix("truth/")].unit
+        if unit != "rad/s":
+            from gyrobench.sim import units
+
+            try:
+                data = units.rate_to_si(data, unit)
+            except ValueError as exc:  # name the file and the channel, not only the unit
+                raise BadInput(f"{str(path)!r}: channel {rec.name}/{ch}: {exc}") from None
+        chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
+    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
+
+
+def _terms_arg(text: str) -> tuple[str, ...]:
+    from gyrobench.analysis.allan import TERMS
+
+    names = tuple(t.strip().upper() for t in text.split(",") if t.strip())
+    bad = [t for t in names if t not in TERMS]
+    if bad or not names or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"--terms must be distinct names from {','.join(TERMS)}; got {text!r}")
+    return names
+
+
+def _tau_min_arg(text: str):
+    return "auto" if text == "auto" else positive_float("--tau-min")(text)
+
+
+def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
+    """Refuse, before the analysis, a sample rate outside any gyro's (the fit's tau**-2 .. tau**2
+    terms overflow far outside it), samples too large to square and a run that needs more memory
+    than is available (issue 15)."""
+    from gyrobench.sim import memory
+    from gyrobench.sim.recording import FS_RANGE_HZ, check_magnitude
+
+    if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+        raise BadInput(f"the sample rate of {label} must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                        f"(no gyro samples outside it); got {fs:g} Hz")
+    check_magnitude(rate, label)
+    memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
+                        f"({len(rate)} samples)", hint="analyse a shorter segment")
+
+
+def _cmd_allan(args) -> int:
+    from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios.outputs import check_output
+
+    path = Path(args.file)
+    if not path.is_file():
+        raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # before any work
+        if target:
+            check_output(target, what=flag, create_parents=False)
+    columns = args.column or None
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        if args.fs is not None or args.units is not None:
+            raise BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
+        log = _read_hdf5(path, args.recording, columns)
+    else:
+        from gyrobench.scenarios.logs import read_csv_log
+
+        log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
+                           stop=args.stop, temperature=args.temperature, decimal=args.decimal)
+    if args.bandwidth is None and args.bandwidth_bias != BANDWIDTH_BIAS:
+        raise BadInput("--bandwidth-bias applies with --bandwidth HZ")
+    if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
+        raise BadInput(f"--bandwidth must be < the Nyquist frequency fs/2 = {log.fs / 2:g} Hz of {path.name} "
+                        f"(sampled at {log.fs:g} Hz); got {args.bandwidth:g} Hz")
+    results = []
+    for ch in log.channels:
+        rep.check_finite(ch)
+        _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
+        results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
+                                   tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
+                                   bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
+                                   segments=args.segments))
+    if args.kalibr:
+        from gyrobench.sim.recording import atomic_path
+
+        text = rep.kalibr_yaml(log, results)
+        with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
+    if args.json:
+        print(json.dumps(rep.log_json(log, results)))
+    else:
+        print("\n".join(rep.log_text(log, results)))
+    if args.plot:
+        from gyrobench.scenarios.figures import allan_figure
+        from gyrobench.sim.recording import atomic_path
+
+        for plot, res in rep.plot_paths(Path(args.plot), results):  # one file per channel
+            fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
+            with atomic_path(plot) as tmp:
+                fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+            if not args.json:
+                print(f"wrote {plot}")
+    if any(r.nonstationary for r in results) and not args.accept_nonstationary:
+        from gyrobench.scenarios import exits
+
+        return exits.NONSTATIONARY
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Add ``allan`` to the subparsers ``sub``."""
+    s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)",
+                       epilog="exit status: 0 ok; 2 bad input; 5 a channel is not stationary (motion or steps: "
+                              "the report is written, its first line says so; --accept-nonstationary exits 0)")
+    s.add_argument("file", help="gyrobench HDF5 recording, or CSV (.csv or .csv.gz) from any gyro (EuRoC, Kalibr, "
+                                "ROS exports included)")
+    s.add_argument("--column", action="append", help="channel (HDF5, default 'rate') or CSV column name or index; "
+                                                     "repeat for several (one table)")
+    s.add_argument("--all-axes", action="store_true", help="CSV: every gyro and accelerometer column")
+    s.add_argument("--recording", help="HDF5: recording name when the file holds several")
+    s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
+    s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
+                                   "(default: from the header '[unit]' or the format)")
+    s.add_argument("--start", type=nonneg_float("--start"),
+                   help="CSV: analyse from this time [s after the first sample]")
+    s.add_argument("--stop", type=nonneg_float("--stop"),
+                   help="CSV: analyse up to this time [s after the first sample]")
+    s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
+                                         "c_dT dT/dt, least squares) is removed before the analysis")
+    s.add_argument("--decimal", choices=(".", ","),
+                   help="CSV: decimal mark of the numbers (default: detected; a decimal comma needs ';' or tab "
+                        "separators to be detected)")
+    s.add_argument("--kind", default="overlapping",
+                   choices=("overlapping", "standard", "modified", "hadamard", "overlapping_hadamard", "total"),
+                   help="overlapping (default) or standard Allan deviation, fitted; modified, hadamard, "
+                        "overlapping_hadamard, total: the curve only (no fit: their term coefficients differ)")
+    s.add_argument("--taus", default="octave", choices=("octave", "decade", "all"),
+                   help="octave (default), decade or all (every m; the fit uses the octave taus among them)")
+    s.add_argument("--terms", type=_terms_arg, default=("Q", "N", "B", "K", "R"),
+                   help="terms to fit, e.g. N,B,K (default Q,N,B,K,R)")
+    s.add_argument("--tau-min", type=_tau_min_arg, default="auto",
+                   help="shortest tau to fit [s], or 'auto' (default: above the filter-shaped short-tau region)")
+    s.add_argument("--tau-max", type=positive_float("--tau-max"), help="longest tau to fit [s]")
+    s.add_argument("--bandwidth", type=positive_float("--bandwidth"), metavar="HZ",
+                   help="the sensor's bandwidth [Hz], 0 < HZ < fs/2: taus its low-pass still biases are not fitted "
+                        "(with --tau-min the larger limit wins; the output names the rule that set it)")
+    s.add_argument("--bandwidth-bias", type=positive_float("--bandwidth-bias"), default=BANDWIDTH_BIAS,
+                   metavar="FRACTION",
+                   help="with --bandwidth: largest filter bias of a fitted white-noise point, as a fraction of its "
+                        f"standard error (default {BANDWIDTH_BIAS:g})")
+    s.add_argument("--segments", choices=("auto",),
+                   help="auto: on a channel with motion or steps, also fit each quiet stretch between them on "
+                        "its own (SEGMENTS lines, JSON 'segments')")
+    s.add_argument("--accept-nonstationary", action="store_true",
+                   help="exit 0 also when motion or steps are found (default: exit status 5)")
+    s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")
+    s.add_argument("--plot", help="write the ADEV figure (PNG); with several channels one file per channel, "
+                                  "FILE_<channel>.png")
+    s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
+                                    "from N and K, largest over the axes)")
+    s.set_defaults(func=_cmd_allan)

@@ -1,0 +1,132 @@
+"""What every ``gyrobench`` verb shares: the one-line parser, the bad-input error, argparse value types
+with messages naming the flag, a progress bar that leaves nothing behind on an error, and the TOML reader."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import typing
+
+__all__ = ["BadInput", "Parser", "closing", "duration", "given", "nonneg_float", "one_line", "positive_float",
+           "positive_int", "read_toml", "seed", "units_or_auto"]
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2
+        self.exit(2, f"gyrobench: error: {message} (see '{self.prog} --help')\n")
+
+
+class BadInput(ValueError):
+    """Bad input found by a verb: one line, exit 2."""
+
+
+@contextlib.contextmanager
+def closing(bar):
+    """Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
+    last thing on the terminal (a bar left open redraws itself after the error)."""
+    try:
+        yield bar
+    except BaseException:
+        bar.leave = False
+        raise
+    finally:
+        bar.close()
+
+
+
+def float_arg(name: str, *, allow_zero: bool):
+    """argparse type: a finite float > 0 (or >= 0 with ``allow_zero``), errors naming the flag."""
+    bound = ">= 0" if allow_zero else "> 0"
+
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number; got {text!r}") from None
+        if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+            raise argparse.ArgumentTypeError(f"{name} must be a finite number {bound}; got {text!r}")
+        return v
+
+    return conv
+
+
+def positive_float(name: str):
+    return float_arg(name, allow_zero=False)
+
+
+def nonneg_float(name: str):
+    return float_arg(name, allow_zero=True)
+
+
+def duration(text: str) -> float:
+    from gyrobench.sim.units import parse_duration
+
+    if text.strip().startswith("-"):
+        raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
+    try:
+        value = parse_duration(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"--{exc}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"--duration must be a finite number of seconds; got {text!r}")
+    return value
+
+
+def positive_int(name: str):
+    def conv(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {text!r}") from None
+        if v <= 0:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {text!r}")
+        return v
+
+    return conv
+
+
+def units_or_auto(text: str) -> int | str:
+    """``--units``: a positive integer, or ``auto``."""
+    return "auto" if text == "auto" else positive_int("--units (or 'auto')")(text)
+
+
+
+
+def given(args, flags: dict[str, str]) -> list[str]:
+    return [flag for dest, flag in flags.items() if getattr(args, dest, None) is not None]
+
+
+
+def seed(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer >= 0; got {text!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer >= 0; got {text!r}")
+    return v
+
+
+
+def one_line(text: object) -> str:
+    """``text`` on one line (a message from a library may hold newlines)."""
+    return " ".join(str(text).split())
+
+
+
+def read_toml(path: str, flag: str) -> dict:
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise BadInput(f"{flag}: file {path!r} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise BadInput(f"{flag}: {path!r} is not valid TOML: {one_line(exc)}") from None
+

@@ -1,0 +1,356 @@
+"""``gyrobench simulate`` (noise, a scenario's recordings, a datasheet part in a profile) and ``gyrobench parts``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import typing
+from pathlib import Path
+
+from gyrobench.scenarios.cli_common import (
+    BadInput,
+    closing,
+    duration,
+    given,
+    nonneg_float,
+    one_line,
+    positive_float,
+    positive_int,
+    read_toml,
+    seed,
+)
+
+__all__ = ["add_parsers"]
+
+#: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
+_NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
+_SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
+
+
+def _simulate_noise(args) -> int:
+    """Stream one noise record to ``-o FILE.h5|.csv``.
+
+    The record is static: the true rate is 0 rad/s and every sample of channel
+    ``rate`` is error. The HDF5 ``truth`` group is therefore left empty rather
+    than doubling the file with a zero channel or with each noise term (use
+    ``simulate static_noise`` for records with per-term truth); instead the
+    metadata states ``truth.true_rate_rad_s = 0`` and holds the generating
+    model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
+    K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
+    """
+    import numpy as np
+    from gyrobench.scenarios.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import memory
+    from gyrobench.sim.noise import NoiseModel
+    from gyrobench.sim.recording import (
+        HDF5StreamWriter,
+        atomic_path,
+        check_magnitude,
+        ensure_free_space,
+        package_version,
+    )
+    from tqdm import tqdm
+
+    if extra := given(args, _SCENARIO_FLAGS):
+        raise BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
+                        "a noise record is written to the one file named by -o")
+    if args.output is None:
+        raise BadInput("simulate noise needs -o FILE.h5 or FILE.csv")
+    out = Path(args.output)
+    suffix = "".join(out.suffixes[-1:]).lower()
+    if suffix not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
+    if args.duration is None:
+        raise BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
+    fs = 100.0 if args.fs is None else args.fs
+    datasheet = {"Q_arcsec": args.Q or 0.0, "N_deg_sqrt_h": args.N or 0.0, "B_deg_h": args.B or 0.0,
+                 "K_deg_h_sqrt_h": args.K or 0.0, "R_deg_h2": args.R or 0.0}
+    model = NoiseModel.from_datasheet(
+        quantization=datasheet["Q_arcsec"], angle_random_walk=datasheet["N_deg_sqrt_h"],
+        bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
+        rate_ramp=datasheet["R_deg_h2"],
+    )
+    n_float = args.duration * fs
+    if not n_float < 2.0**62:  # inf or beyond any disk: said here, not as an OverflowError
+        raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n_float:.3g} samples; "
+                        "a record holds at most 2**62 (and must fit on the disk)")
+    n = int(round(n_float))
+    if n < MIN_SAMPLES:
+        raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
+                        f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
+    if suffix == ".csv":  # a row "%.12g,%.17g\n" is at most about 42 characters (HDF5StreamWriter checks its own)
+        ensure_free_space(out, 42 * n)
+    seed = 0 if args.seed is None else args.seed
+    chunk = args.chunk or 1 << 20
+    # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)
+    memory.check_memory(memory.series_bytes(min(chunk, n), 12), f"simulate noise (chunks of {min(chunk, n)} samples)",
+                        hint="lower --chunk")
+    stream = model.stream(fs, rng=np.random.default_rng(seed))
+    meta = {
+        "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
+        "truth": {"true_rate_rad_s": 0.0,
+                  "note": "static record: the true rate is 0 rad/s, every sample of 'rate' is error; "
+                          "the noise terms are not stored separately"},
+        "noise_model_si": {"quantization_rad": model.quantization,
+                           "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
+                           "bias_instability_rad_per_s": model.bias_instability,
+                           "rate_random_walk_rad_per_s_sqrt_s": model.rate_random_walk,
+                           "rate_ramp_rad_per_s2": model.rate_ramp},
+    }
+    too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
+    bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
+    with closing(bar):
+        if suffix == ".csv":
+            with atomic_path(out) as tmp, open(tmp, "w") as fh:
+                fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
+                fh.write("time [s],rate [rad/s]\n")
+                k = 0
+                for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+                    t = (k + np.arange(len(y))) / fs
+                    np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
+                    k += len(y)
+                    bar.update(len(y))
+        else:
+            with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
+                                  expected_samples=n) as w:
+                for y in stream.chunks(n, chunk):
+                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+                    w.append(rate=y)
+                    bar.update(len(y))
+    print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
+    return 0
+
+
+def _simulate_scenario(args) -> int:
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim.recording import ensure_free_space, save_hdf5
+
+    if extra := given(args, _NOISE_FLAGS):
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate noise' only; "
+                        f"set a scenario's parameters with --config FILE.toml")
+    mod = registry.get(args.target)
+    config = registry.load_config(mod, args.config)
+    if args.out is None:
+        raise BadInput(f"simulate {args.target} needs --out DIR")
+    check_output(Path(args.out) / mod.NAME, what="--out", kind="folder")
+    seed = 0 if args.seed is None else args.seed
+    recs = mod.simulate(config, seed)
+    for r in recs:  # check them all before writing any
+        if r.n_samples < MIN_SAMPLES:
+            raise BadInput(
+                f"simulate {args.target}: recording {r.name!r} would have {r.n_samples} samples "
+                f"({r.n_samples / r.fs:.3g} s at {r.fs:g} Hz); a record needs at least {MIN_SAMPLES}: "
+                f"lengthen it in the config"
+            )
+    out = Path(args.out) / mod.NAME
+    ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
+    for r in recs:
+        path = save_hdf5(out / f"{r.name}.h5", r)
+        print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
+              f"truth {', '.join(r.truth)})")
+    return 0
+
+
+# ----------------------------------------------------------------------------- device and parts
+#: flags of 'simulate device' only (dest -> flag)
+_DEVICE_FLAGS = {"rate_csv": "--rate-csv", "temperature_csv": "--temperature-csv", "profile": "--profile"}
+
+
+def _profile_from_csv(path: str, flag: str, convert) -> tuple[typing.Any, float]:
+    """A (time [s], value) CSV as a PiecewiseLinear in SI, and its last time [s].
+
+    The file has a header row and two columns: time [s] (strictly increasing) and the value
+    in the flag's field unit (``--rate-csv`` deg/s, ``--temperature-csv`` degC).
+    """
+    import numpy as np
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    p = Path(path)
+    if not p.is_file():
+        raise BadInput(f"{flag}: file {path!r} does not exist")
+    try:
+        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2, dtype=float)
+    except ValueError as exc:
+        raise BadInput(f"{flag}: {path!r} is not a CSV of numbers under one header row: {one_line(exc)}") from None
+    if data.shape[1] != 2 or data.shape[0] < 2:
+        raise BadInput(f"{flag}: {path!r} must hold >= 2 rows of two columns (time [s], value); got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise BadInput(f"{flag}: {path!r} holds NaN or inf")
+    t = data[:, 0]
+    if not np.all(np.diff(t) > 0):
+        raise BadInput(f"{flag}: {path!r}: the time column must increase strictly")
+    return PiecewiseLinear(t - t[0], convert(data[:, 1])), float(t[-1] - t[0])
+
+
+def _profile_value(v, key: str, path: str, convert):
+    """A profile TOML value: a number or a list of [time_s, value] knots (linear between them)."""
+    import numpy as np
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(convert(np.array([float(v)]))[0])
+    if isinstance(v, list) and v and all(isinstance(k, list) and len(k) == 2 for k in v):
+        arr = np.asarray(v, dtype=float)
+        return PiecewiseLinear(arr[:, 0], convert(arr[:, 1]))
+    raise BadInput(f"--profile {path!r}: {key} must be a number or a list of [time_s, value] pairs; got {v!r}")
+
+
+def _device_environment(args, part):
+    """(Environment, fs) from --profile or --rate-csv/--temperature-csv, --duration and --fs."""
+
+    import numpy as np
+    from gyrobench.sim.sensor import Environment
+
+    if args.profile is not None and (args.rate_csv is not None or args.temperature_csv is not None):
+        raise BadInput("simulate device: give --profile or --rate-csv/--temperature-csv, not both")
+    dps = np.radians
+    kelvin = lambda c: np.asarray(c, dtype=float) + 273.15  # noqa: E731
+    g0 = lambda g: np.asarray(g, dtype=float) * 9.80665  # noqa: E731
+    rate: typing.Any = 0.0
+    temp: typing.Any = None
+    force: typing.Any = 0.0
+    duration = args.duration
+    if args.profile is not None:
+        data = read_toml(args.profile, "--profile")
+        allowed = {"duration_s", "rate_dps", "temperature_c", "specific_force_g"}
+        if unknown := sorted(set(data) - allowed):
+            raise BadInput(f"--profile {args.profile!r}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+        if "rate_dps" in data:
+            rate = _profile_value(data["rate_dps"], "rate_dps", args.profile, dps)
+        if "temperature_c" in data:
+            temp = _profile_value(data["temperature_c"], "temperature_c", args.profile, kelvin)
+        if "specific_force_g" in data:
+            force = _profile_value(data["specific_force_g"], "specific_force_g", args.profile, g0)
+        if duration is None and "duration_s" in data:
+            duration = float(data["duration_s"])
+    else:
+        if args.rate_csv is not None:
+            rate, span = _profile_from_csv(args.rate_csv, "--rate-csv", dps)
+            duration = span if duration is None else duration
+        if args.temperature_csv is not None:
+            temp, span = _profile_from_csv(args.temperature_csv, "--temperature-csv", kelvin)
+            duration = span if duration is None else duration
+    if duration is None:
+        raise BadInput("simulate device needs --duration (or a profile's duration_s, or a CSV's time span)")
+    fs = args.fs if args.fs is not None else (part.datasheet.output_rate or 100.0)
+    if not (math.isfinite(duration * fs) and duration * fs < 2**31):
+        raise BadInput(f"--duration x --fs = {duration:g} s x {fs:g} Hz is too many samples for one record in memory")
+    try:
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs
+    except (TypeError, ValueError) as exc:
+        raise BadInput(f"simulate device: {one_line(exc)}") from None
+
+
+
+def _simulate_device(args) -> int:
+    """One record of a part (built-in name or FILE.toml) in a rate/temperature profile -> -o FILE.h5|.csv."""
+    import numpy as np
+    from gyrobench.scenarios.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import memory, parts
+    from gyrobench.sim.recording import save_hdf5, to_csv
+
+    if extra := [f for f in given(args, _NOISE_FLAGS) if f not in ("--fs", "--duration", "-o/--output")]:
+        raise BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate noise' only")
+    if extra := given(args, _SCENARIO_FLAGS):
+        raise BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate SCENARIO' only")
+    if args.part is None:
+        raise BadInput(f"simulate device needs a PART: one of {', '.join(parts.names())}, or a FILE.toml")
+    try:
+        part = parts.get(args.part)
+    except ValueError as exc:
+        raise BadInput(one_line(exc)) from None
+    if args.output is None:
+        raise BadInput("simulate device needs -o FILE.h5 or FILE.csv")
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    if suffix not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
+    env, fs = _device_environment(args, part)
+    n = env.n_samples(fs)
+    if n < MIN_SAMPLES:
+        raise BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
+                        f"a record needs at least {MIN_SAMPLES}")
+    # output, true rate, 7 error components, temperature, force, plus the model's temporaries
+    memory.check_memory(memory.series_bytes(n, 20), "simulate device", hint="shorten --duration or lower --fs")
+    seed = 0 if args.seed is None else args.seed
+    rec = part.simulate(env, fs=fs, rng=np.random.default_rng(seed))
+    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
+    print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
+          f"truth {', '.join(rec.truth)})")
+    return 0
+
+
+def _cmd_parts(args) -> int:
+    """List the built-in parts with their datasheet figures, sources and the notes on what was assumed."""
+    from gyrobench.sim import parts
+
+    def fmt(v, unit: str) -> str:
+        return "-" if v is None else f"{v:g} {unit}"
+
+    for d in parts.datasheets():
+        noise = (fmt(d.arw, "deg/sqrt(h)") if d.arw is not None
+                 else f"{fmt(d.noise_density, 'deg/s/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
+        print(f"{d.name}: {d.manufacturer} {d.model} [{d.technology}, {d.grade}]")
+        print(f"    range {fmt(d.range_dps, 'deg/s')}; bias instability {fmt(d.bias_instability_dph, 'deg/h')}; "
+              f"noise {noise}; bias repeatability {fmt(d.bias_repeatability, 'deg/h')}; "
+              f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
+              f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
+              f"resolution {fmt(d.resolution, 'deg/s')}")
+        print(f"    source: {d.source}")
+        if d.notes:
+            print(f"    notes: {d.notes}")
+    return 0
+
+
+def _cmd_simulate(args) -> int:
+    if args.target == "device":
+        return _simulate_device(args)
+    if args.part is not None:
+        raise BadInput(f"simulate {args.target}: a second positional ({args.part!r}) is taken "
+                        "by 'simulate device PART' only")
+    if extra := given(args, _DEVICE_FLAGS):
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate device' only")
+    if args.target == "noise":
+        return _simulate_noise(args)
+    return _simulate_scenario(args)
+
+
+def add_parsers(sub) -> None:
+    """Add ``simulate`` and ``parts`` to the subparsers ``sub``."""
+    s = sub.add_parser("simulate", help="simulate a noise record or every recording of a scenario",
+                       description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
+                                   "'simulate device PART' simulates a datasheet part in a rate/temperature profile; "
+                                   "'simulate SCENARIO' writes every recording of a scenario (HDF5 with truth).")
+    s.add_argument("target", help="'noise', 'device' or a scenario name (see 'gyrobench list')")
+    s.add_argument("part", nargs="?", help="device: a part (see 'gyrobench parts') or a FILE.toml of its datasheet")
+    # noise-only flags default to None so that giving one to a scenario (or the reverse) can be refused
+    s.add_argument("--Q", type=nonneg_float("--Q"), help="noise: quantization [arcsec] (default 0)")
+    s.add_argument("--N", type=nonneg_float("--N"), help="noise: angle random walk [deg/sqrt(h)] (default 0)")
+    s.add_argument("--B", type=nonneg_float("--B"), help="noise: bias instability [deg/h] (default 0)")
+    s.add_argument("--K", type=nonneg_float("--K"), help="noise: rate random walk [deg/h/sqrt(h)] (default 0)")
+    s.add_argument("--R", type=nonneg_float("--R"), help="noise: rate ramp [deg/h^2] (default 0)")
+    s.add_argument("--fs", type=positive_float("--fs"), help="noise: sample rate [Hz] (default 100)")
+    s.add_argument("--duration", type=duration, help="noise: record length > 0: 10h, 30min, 600s")
+    s.add_argument("--seed", type=seed, help="random seed (default 0)")
+    s.add_argument("-o", "--output", help="noise: output file, .h5 or .csv")
+    s.add_argument("--out", help="scenario: output folder")
+    s.add_argument("--config", help="scenario: TOML file overriding the scenario's parameters")
+    s.add_argument("--chunk", type=positive_int("--chunk"), help=argparse.SUPPRESS)
+    s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
+    s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
+    s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "
+                   "[time_s, value] knots) and duration_s")
+    s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=_cmd_simulate)
+
+    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures")
+    s.set_defaults(func=_cmd_parts)

@@ -60,8 +60,12 @@ demodulation is Leland 2005]::
     N_e = sqrt(S_n) / (|R| 2 m w X0),  R = 1 / (m (w_y^2 - w^2) + j c_y w)   pick-off ARW
     N   = sqrt(N_B^2 + N_e^2),  one-sided rate PSD 2 N^2
 
-Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker``, clipped to
-+-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range).
+Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker + rrw``, clipped
+to +-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range). flicker and rrw
+are the IEEE 952 bias-instability (1/f over :data:`FLICKER_BAND_HZ`) and rate-random-walk terms
+of :class:`gyrobench.sim.noise.NoiseModel`. The defaults are a high-range part's, cited
+(:data:`NOISE_FIGURES`): N = 0.25 deg/sqrt(s) (Brownian plus pick-off), B = 37.6 deg/h, K = 0,
+20-bit word (LSB below the sample noise at every fs > 0.001 Hz: the noise dithers it).
 
 Open-loop read-out (``readout="open_loop"``): no rebalance force; the sense mass moves,
 B = R F_ext at low rates, and the rate channel is the demodulated pick-off envelope
@@ -137,8 +141,13 @@ from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
+    "ADEV_MIN_PER_B",
     "BOLTZMANN",
+    "DEFAULT_PICKOFF_NOISE",
+    "DatasheetFigure",
+    "FLICKER_BAND_HZ",
     "LIMIT_SIGMAS",
+    "NOISE_FIGURES",
     "EPSILON_0",
     "MemsResonator",
     "MemsResonatorSpec",
@@ -180,6 +189,68 @@ def _real(owner: str, name: str, v: object) -> float:
 #: typical specification-table metrics "often reflect one standard deviation")
 LIMIT_SIGMAS = 3.0
 
+
+
+@dataclass(frozen=True, slots=True)
+class DatasheetFigure:
+    """One printed datasheet figure behind a default: its value and unit as printed, and where.
+
+    ``value`` is in ``unit`` (field units, exactly as the source prints them); ``source`` names
+    the document, its revision and the copy read; ``reading`` says how the default uses it.
+    """
+
+    value: float
+    unit: str
+    source: str
+    reading: str
+
+
+#: ADEV minimum of a flicker (bias-instability) term over its coefficient B: sqrt(2 ln 2 / pi)
+#: = 0.6643 (IEEE Std 952-1997 Annex C; docs/physics.md 1.2). Analog Devices' "in-run bias
+#: stability" / "null bias stability" is the ADEV minimum (EngineerZone note DOC-16082: "In run
+#: bias stability is the lowest point of the Allan Variance"), so B = figure / 0.6643.
+ADEV_MIN_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+#: the cited figures the default noise and output word are set from (docs/physics.md 5.1)
+NOISE_FIGURES: dict[str, DatasheetFigure] = {
+    "rate_noise_density": DatasheetFigure(
+        0.25, "deg/s/sqrt(Hz)",
+        "ADXRS649 data sheet Rev. A (Analog Devices; +-20000 deg/s, extendable to +-50000 deg/s), "
+        "rate noise density, as quoted in electronics.stackexchange.com question 284679 "
+        "('Gyroscope noise density'); the sheet's front page read at manualmachine.com "
+        "(datasheet/adxrs649/8430216)",
+        "ARW N = 0.25 deg/sqrt(s) = 15 deg/sqrt(h): Analog Devices' density is the IEEE N "
+        "(their ADXRS646 prints 0.01 deg/sqrt(s) ARW beside 0.01 deg/s/sqrt(Hz)); the default "
+        "pick-off noise makes up what the Brownian floor (0.33 deg/sqrt(h)) leaves",
+    ),
+    "null_bias_stability": DatasheetFigure(
+        25.0, "deg/h",
+        "ADXRS450 data sheet Rev. C (Analog Devices 2011-2013; +-300 deg/s), front page "
+        "'Excellent 25 deg/hour null offset stability' (copy at pdfslide.us); the ADXRS453 "
+        "Rev. B prints 16 deg/h, the ADXRS646 12 deg/h (typical)",
+        "the ADEV minimum; B = 25 / 0.6643 = 37.6 deg/h. The upper end of the 12-25 deg/h these "
+        "+-250..300 deg/s parts print, because a high-range part is not more stable than they are",
+    ),
+    "output_word": DatasheetFigure(
+        16.0, "bit over +-300 deg/s",
+        "ADXRS453 data sheet Rev. B (Analog Devices 2011), front page 'SPI digital output with "
+        "16-bit data-word', '+-300 deg/s angular rate sensing' (copy at pdf.datasheet.directory)",
+        "an LSB of at most 600/2^16 = 0.0092 deg/s; the default word is 20 bits over the "
+        "+-4000 deg/s output range, LSB 0.0076 deg/s: below the sample noise N sqrt(fs) at "
+        "every fs > 0.001 Hz",
+    ),
+}
+
+#: band of the default 1/f (bias-instability) term [Hz]: :class:`~gyrobench.sim.noise.NoiseModel`'s
+#: (f_low, f_high) with f_high capped at fs/2 when generated; the ADEV is flat within +-1 %
+#: for 3.5/fs <= tau <= 0.014/f_low = 3.9 h
+FLICKER_BAND_HZ: tuple[float, float] = (1e-6, math.inf)
+
+#: default front-end (pick-off) displacement noise [m/sqrt(Hz)]: with the default resonator's
+#: Brownian ARW it gives N = NOISE_FIGURES["rate_noise_density"] (0.25 deg/sqrt(s)), to the
+#: 4 digits stored (test): sqrt(N^2 - N_B^2) |R| 2 m w X0 = 6.751e-12 m/sqrt(Hz)
+DEFAULT_PICKOFF_NOISE = 6.751e-12
+
 #: fields of MemsResonator that must be > 0
 _POSITIVE = (
     "mass", "drive_frequency", "drive_q", "sense_q", "drive_amplitude", "electrode_area",
@@ -189,7 +260,7 @@ _POSITIVE = (
 #: the sense read-outs (MemsResonator.readout)
 READOUTS = ("force_rebalance", "open_loop")
 #: fields of MemsResonator that must be >= 0
-_NON_NEGATIVE = ("pickoff_noise", "bias_instability", "bias_repeatability",
+_NON_NEGATIVE = ("pickoff_noise", "bias_instability", "rate_random_walk", "bias_repeatability",
                  "scale_factor_repeatability")
 
 
@@ -202,8 +273,10 @@ class MemsResonator:
     5 um drive amplitude (the docs/physics.md 5.1 example scaled to a lower-Q high-range part),
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
-    50 Hz rebalance loop, 16-bit output over +-4000 deg/s. An ASSUMED design, not a
-    particular part (docs/physics.md 5.1 says what each value is sized for).
+    40 Hz rebalance loop, 20-bit output over +-4000 deg/s. An ASSUMED design, not a
+    particular part (docs/physics.md 5.1 says what each value is sized for). Its noise is a
+    high-range part's, CITED (:data:`NOISE_FIGURES`): white rate noise 0.25 deg/s/sqrt(Hz)
+    (ADXRS649), bias instability from a 25 deg/h ADEV floor (ADXRS450), no rate random walk.
 
     Parameters
     ----------
@@ -235,10 +308,16 @@ class MemsResonator:
         Drive amplitude-loop bandwidth [Hz], > 0 (full integration only).
     pickoff_noise : float
         sqrt(S_n), one-sided displacement-equivalent front-end noise density [m/sqrt(Hz)], >= 0.
+        Default :data:`DEFAULT_PICKOFF_NOISE` (6.751e-12): the high-range part's white rate
+        noise N = 0.25 deg/sqrt(s) of :data:`NOISE_FIGURES` with the Brownian floor.
     output_range : float
         R, output full scale [rad/s], > 0.
     output_bits : int or None
-        Output word length; q = 2 R / 2^bits (None: not quantized).
+        Output word length; q = 2 R / 2^bits (None: not quantized). Default 20: LSB 0.0076
+        deg/s over +-4000 deg/s, at or below the ADXRS453's 16-bit word over +-300 deg/s
+        (:data:`NOISE_FIGURES`), below the sample noise N sqrt(fs) at every fs > 0.001 Hz, so
+        the noise dithers the quantizer: its error is then uniform on +-q/2, white, variance
+        q^2/12 per sample (an ARW of q/sqrt(12 fs): 6.9e-4 deg/sqrt(s) at 10 Hz, 0.3 % of N).
     output_cubic : float
         a3, output-referred odd cubic of the rebalance path [-]: + a3 Omega^3 / R^2.
     forcer_area_gradient : float
@@ -258,7 +337,14 @@ class MemsResonator:
         nominal open-loop knee 4630 deg/s, beside the rebalance authority 4710 deg/s; a design
         choice (6 % of the 2 um gap).
     bias_instability : float
-        B of an electronic 1/f term added to the output [rad/s] (IEEE 952), >= 0.
+        B of an electronic 1/f term added to the output [rad/s] (IEEE 952: PSD B^2/(2 pi f) over
+        :data:`FLICKER_BAND_HZ`, ADEV floor 0.6643 B), >= 0. Default 25/0.6643 deg/h = 37.6
+        deg/h: the ADXRS450's 25 deg/h null offset stability read as the ADEV minimum
+        (:data:`NOISE_FIGURES`).
+    rate_random_walk : float
+        K of a rate random walk added to the output [rad/s/sqrt(s)] (IEEE 952: AVAR K^2 tau/3),
+        >= 0. Default 0: none of the datasheets read (ADXRS649, ADXRS450, ADXRS453, ADXRS646)
+        prints a rate random walk, and a figure that could not be read is not used.
     reference_temperature : float
         T0 [K], > 0.
     frequency_tc : float
@@ -310,14 +396,15 @@ class MemsResonator:
     dac_full_scale: float = 0.7
     loop_bandwidth: float = 40.0
     agc_bandwidth: float = 100.0
-    pickoff_noise: float = 1e-13
+    pickoff_noise: float = DEFAULT_PICKOFF_NOISE
     output_range: float = units.deg_per_s(4000.0)
-    output_bits: int | None = 16
+    output_bits: int | None = 20
     output_cubic: float = 0.0
     forcer_area_gradient: float = 2.5e4
     readout: str = "force_rebalance"
     pickoff_full_scale: float = 1.25e-7
-    bias_instability: float = 0.0
+    bias_instability: float = units.deg_per_h(25.0 / ADEV_MIN_PER_B)
+    rate_random_walk: float = 0.0
     reference_temperature: float = units.celsius(25.0)
     frequency_tc: float = -30e-6
     q_tc: float = 2e-3
@@ -1592,11 +1679,16 @@ def _finish(
     unit: MemsResonator, op: OperatingPoint, out_u: NDArray, out_q: NDArray, out_b: NDArray,
     fs: float, r_flick: np.random.Generator, flicker: bool, adc: bool, squeeze: bool,
 ) -> SlowFlowResult:
-    """Output map, turn-on bias and trim, the 1/f term and the ADC; the result."""
+    """Output map, turn-on bias and trim, the 1/f and rate-random-walk terms and the ADC.
+
+    The two low-frequency terms (``flicker``) are one :class:`~gyrobench.sim.noise.NoiseModel`
+    (its own child stream per term), run continuously through the columns in order.
+    """
     n, k = out_u.shape
     y = _output_map(unit, op, out_u) + unit.turn_on_bias - unit.bias_trim
-    if flicker and unit.bias_instability > 0:
-        nm = NoiseModel(bias_instability=unit.bias_instability)
+    if flicker and (unit.bias_instability > 0 or unit.rate_random_walk > 0):
+        nm = NoiseModel(bias_instability=unit.bias_instability,
+                        rate_random_walk=unit.rate_random_walk, flicker_band=FLICKER_BAND_HZ)
         y = y + nm.generate(n * k, fs, rng=r_flick).reshape(k, n).T
     if adc:
         y = _adc(unit, y)
@@ -1727,11 +1819,12 @@ class MemsResonatorSpec:
         noise_density_dps_rthz: float = 0.01,
         noise_density_convention: str,
         bias_instability_dph: float = 0.0,
+        rate_random_walk_dph_rth: float = 0.0,
         nonlinearity_pct_fs: float = 0.0,
         bias_repeatability_dps: float = 0.0,
         scale_factor_repeatability_ppm: float = 0.0,
         repeatability_convention: str = "1-sigma",
-        output_bits: int | None = 16,
+        output_bits: int | None = 20,
         nominal: MemsResonator | None = None,
     ) -> MemsResonatorSpec:
         """A population from datasheet figures (field units); the resonator stays ``nominal``.
@@ -1750,7 +1843,10 @@ class MemsResonatorSpec:
             datasheets differ). The pick-off noise is set so that sqrt(N_B^2 + N_e^2) = N;
             ValueError if the Brownian floor N_B already exceeds it.
         bias_instability_dph : float
-            IEEE 952 bias instability B [deg/h] (electronic 1/f term).
+            IEEE 952 bias instability B [deg/h] (electronic 1/f term; a datasheet's ADEV
+            minimum is 0.6643 B, :data:`ADEV_MIN_PER_B`).
+        rate_random_walk_dph_rth : float
+            IEEE 952 rate random walk K [deg/h/sqrt(h)].
         nonlinearity_pct_fs : float
             Scale-factor nonlinearity [% FS] below the knee: sets the output cubic a3 so the
             IEEE K_n of a noise-free 21-point +-range table is this value.
@@ -1760,7 +1856,7 @@ class MemsResonatorSpec:
             "1-sigma": the two figures are standard deviations (a "typical" entry);
             "limit": they are +- / max limits, read as :data:`LIMIT_SIGMAS` sigma.
         output_bits : int or None
-            Output word length.
+            Output word length (default 20, as :class:`MemsResonator`).
         nominal : MemsResonator, optional
             The resonator design (default the module's default design).
         """
@@ -1813,6 +1909,7 @@ class MemsResonatorSpec:
             pickoff_full_scale=y_fs if op.open_loop else base.pickoff_full_scale,
             output_cubic=a3,
             bias_instability=units.deg_per_h(bias_instability_dph),
+            rate_random_walk=units.deg_per_h_per_sqrt_h(rate_random_walk_dph_rth),
             bias_repeatability=units.deg_per_s(bias_repeatability_dps) / rep_div,
             scale_factor_repeatability=units.ppm(scale_factor_repeatability_ppm) / rep_div,
         )

@@ -228,7 +228,10 @@ def test_no_step_at_zero_rate_noise_free():
 
 
 def test_plus_minus_tenth_deg_per_s_reads_within_the_noise(rng):
-    unit = MemsResonator(quadrature_coupling=1e-4, phase_error=0.01)  # with noise and 16-bit ADC
+    # with noise and a 16-bit ADC; the earlier quiet front end and no 1/f term, so the bound
+    # (white noise of the means plus the dither bias) stays tight and complete
+    unit = MemsResonator(quadrature_coupling=1e-4, phase_error=0.01, output_bits=16,
+                         pickoff_noise=1e-13, bias_instability=0.0)
     fs, dur = 200.0, 20.0
     w = units.deg_per_s(0.1)
     res = simulate(unit, np.tile([w, -w, 0.0], (int(dur * fs), 1)), fs=fs, rng=rng)
@@ -646,7 +649,9 @@ def test_open_loop_noise_psd_closed_form_at_zero_frequency_and_its_peak():
     """S(0) = 2 SF^2 (N_B^2 + N_e^2) (theta = 0, T0); the Brownian part peaks near the split."""
     from gyrobench.sim.mems_resonator import open_loop_noise_psd
 
-    unit = _open()
+    # a quiet front end (the default's pick-off noise, sized for a high-range part's 0.25
+    # deg/sqrt(s), is 45x the Brownian floor and would bury the peak this test looks at)
+    unit = _open(pickoff_noise=1e-13)
     sf = low_rate_scale_factor(unit)
     n2 = brownian_arw(unit) ** 2 + electronic_arw(unit) ** 2
     assert open_loop_noise_psd(unit, 0.0) == pytest.approx(2 * sf**2 * n2, rel=1e-12)
@@ -671,7 +676,9 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
     )
     from scipy import stats
 
-    unit = _open(quadrature_coupling=1e-4, phase_error=0.02)
+    # a quiet front end, so the Brownian peak this test resolves stands out (the default
+    # pick-off noise is sized for a high-range part and is white)
+    unit = _open(quadrature_coupling=1e-4, phase_error=0.02, pickoff_noise=1e-13)
     fs, n, cols, n_seg = 3000.0, 180, 32, 200
     res = simulate(unit, np.zeros(((n_seg + 1) * n, cols)), fs=fs, rng=rng, adc=False,
                    flicker=False)

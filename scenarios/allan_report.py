@@ -136,6 +136,7 @@ class ChannelResult:
     temperature: Any = None
     nonstationary: bool = False
     segments: list = field(default_factory=list)  # (start_s, stop_s, ChannelResult) of --segments auto
+    pooled: Any = None  # --segments auto: one NoiseFit over the quiet stretches' pooled curve (pool_curves)
 
 
 def _stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
@@ -252,7 +253,38 @@ def analyse(
         result.segments = _segment_fits(channel, data, fs, stat, taus=taus, kind=kind, terms=terms,
                                         tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth,
                                         bandwidth_bias=bandwidth_bias)
+        result.pooled = _pooled_fit(result.segments, bandwidth_bias=bandwidth_bias, **options)
     return result
+
+
+def _pooled_fit(segments: list, **fit_options):
+    """``--segments auto``: one fit over the quiet stretches' EDF-weighted pooled Allan variance
+    (:func:`pool_curves`), None with fewer than two fitted stretches or no common taus to fit.
+
+    An open term's bound is raised to the largest value a stretch identifies (as
+    :func:`floor_bounds` does with a record's halves and quarters), saying so in its note.
+    """
+    from dataclasses import replace as _replace
+
+    from gyrobench.analysis.allan import fit_noise, pool_curves
+
+    fitted = [sub for _, _, sub in segments if sub.fit is not None]
+    if len(fitted) < 2:
+        return None
+    try:
+        pooled = fit_noise(pool_curves([sub.fit.curve for sub in fitted]), **fit_options)
+    except ValueError:  # too few common taus for the terms
+        return None
+    coefficients = dict(pooled.coefficients)
+    for name, c in pooled.coefficients.items():
+        if c.identifiable:
+            continue
+        best = max((sub.fit.coefficients[name].value for sub in fitted if name in sub.fit.coefficients
+                    and sub.fit.coefficients[name].identifiable), default=None)
+        if best is not None and best > c.upper_bound:
+            coefficients[name] = _replace(c, upper_bound=best, bound_note=(
+                f"bound raised {best / c.upper_bound:.3g}x to the value identified over a quiet stretch"))
+    return _replace(pooled, coefficients=coefficients)
 
 
 def _segment_fits(channel, data, fs: float, stat, **options) -> list:
@@ -358,6 +390,10 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
              "fit": None if sub.fit is None else fit_json(sub.fit, q, sub.nonstationary)}
             for a, b, sub in res.segments
         ]
+    if res.pooled is not None:
+        out["pooled"] = {"segments": len([s for s in res.segments if s[2].fit is not None]),
+                         "n_samples": int(res.pooled.curve.n_samples),
+                         "fit": fit_json(res.pooled, q, False)}
     out["warnings"] = list(res.warnings)
     if res.temperature is not None:
         tf = res.temperature
@@ -561,6 +597,22 @@ def _segment_lines(res: ChannelResult) -> list[str]:
                 parts.append(f"{name} {v:.4g} [{lo:.4g}, {hi:.4g}] {field_unit(name, q)}")
         flag = "; itself not stationary" if sub.nonstationary else ""
         out.append(f"  {a:g}-{b:g} s: " + ("; ".join(parts) or "no identifiable term") + flag)
+    f = res.pooled
+    if f is not None:
+        q = res.channel.quantity
+        parts = []
+        for name, c in f.coefficients.items():
+            if c.identifiable:
+                v, lo, hi = (field_value(name, x, q) for x in (c.value, *c.ci95))
+                parts.append(f"{name} {v:.4g} [{lo:.4g}, {hi:.4g}] {field_unit(name, q)}")
+            else:
+                parts.append(f"{name} < {field_value(name, c.upper_bound, q):.3g} {field_unit(name, q)} (n/i)")
+        p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
+        out.append(
+            f"POOLED {res.channel.label}: one fit over the stretches' EDF-weighted Allan variance "
+            f"({f.curve.n_samples} samples, taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s, "
+            f"chi2/dof = {f.chi2_per_dof:.3g}, p = {p}): " + "; ".join(parts)
+        )
     return out
 
 

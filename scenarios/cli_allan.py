@@ -180,7 +180,8 @@ def add_parser(sub) -> None:
                         f"standard error (default {BANDWIDTH_BIAS:g})")
     s.add_argument("--segments", choices=("auto",),
                    help="auto: on a channel with motion or steps, also fit each quiet stretch between them on "
-                        "its own (SEGMENTS lines, JSON 'segments')")
+                        "its own (SEGMENTS lines, JSON 'segments') and all of them in one pooled fit (POOLED line, "
+                        "JSON 'pooled')")
     s.add_argument("--accept-nonstationary", action="store_true",
                    help="exit 0 also when motion or steps are found (default: exit status 5)")
     s.add_argument("--json", action="store_true", help="print the curve and fit as JSON")

@@ -43,8 +43,10 @@ def allan_figure(
         Computed from a rate in rad/s (``quantity="rate"``, drawn in deg/h) or an
         acceleration in m/s^2 (``"accel"``, drawn in ug).
     fit : analysis.allan.NoiseFit, optional
-        Joint fit: the model is drawn as a thick line, identifiable terms as dotted
-        asymptotes labelled with their values, non-identifiable terms as their 95 % upper
+        Joint fit: the model is drawn as a thick line over the fitted taus (dashed where it
+        is extrapolated over the taus left out), identifiable terms as dotted asymptotes
+        labelled with their values and with what the line plots (e.g. "line 0.664 B": the
+        bias-instability floor sits at 0.664 B), non-identifiable terms as their 95 % upper
         bound (thin dash-dot, "<"), the taus left out of the fit shaded, and a lower panel
         shows the normalised residuals (data - model) / sd of each point (sd from the fit's
         point covariance; excluded points use the curve's own edf).
@@ -93,16 +95,26 @@ def allan_figure(
                 fontsize=7,
                 color="tab:red",
             )
+        # the model over the fitted taus; dashed where it is extrapolated (taus left out of the fit)
+        f_lo, f_hi = (fit_tau[used][0], fit_tau[used][-1]) if used is not None else (tau[0], tau[-1])
+        inner = (tt >= f_lo * (1 - 1e-9)) & (tt <= f_hi * (1 + 1e-9))
+        t_in = np.concatenate([[f_lo], tt[inner], [f_hi]])
         ax.loglog(
-            tt,
-            np.sqrt(fit.avar(tt)) * k,
+            t_in,
+            np.sqrt(fit.avar(t_in)) * k,
             color="tab:cyan",
             lw=2.4,
             alpha=0.85,
             label="fitted model"
             + (f" (MISFIT, chi2/dof {fit.chi2_per_dof:.3g})" if fit.misfit else ""),
         )
+        for side in (tt[tt < f_lo], tt[tt > f_hi]):
+            if side.size:
+                edge = f_lo if side[0] < f_lo else f_hi
+                t_out = np.sort(np.concatenate([side, [edge]]))
+                ax.loglog(t_out, np.sqrt(fit.avar(t_out)) * k, "--", color="tab:cyan", lw=1.2, alpha=0.85)
         for name, c in fit.coefficients.items():
+            what = _asymptote_text(name, float(c.power))
             if c.identifiable and c.value:
                 v, unit = _field(name, c.value, quantity)
                 ax.loglog(
@@ -111,7 +123,7 @@ def allan_figure(
                     ":",
                     color=_TERM_STYLE[name],
                     lw=1.4,
-                    label=f"{name} = {v:.3g} {unit}",
+                    label=f"{name} = {v:.3g} {unit}; line {what}",
                 )
             else:
                 from gyrobench.analysis.allan import coefficient_to_avar
@@ -125,7 +137,7 @@ def allan_figure(
                     color=_TERM_STYLE[name],
                     lw=0.7,
                     alpha=0.6,
-                    label=f"{name} < {v:.3g} {unit} (95 %)",
+                    label=f"{name} < {v:.3g} {unit} (95 %); line {what}",
                 )
         ax.set_ylim((lo * k).min() / 3, (hi * k).max() * 3)
         # residual panel: (A - model) / sd_A
@@ -163,6 +175,17 @@ def allan_figure(
     if title:
         ax.set_title(title, fontsize=9)
     return fig
+
+
+def _asymptote_text(name: str, power: float) -> str:
+    """What a term's line plots: its ADEV sqrt(C(1) tau^p) for the coefficient 1, e.g. "0.664 B" for
+    bias instability (AVAR = (2 ln 2 / pi) B^2) or "N tau^-0.5" (IEEE Std 952-1997 Annex C)."""
+    from gyrobench.analysis.allan import coefficient_to_avar
+
+    fac = float(np.sqrt(coefficient_to_avar(name, 1.0)))
+    head = name if abs(fac - 1.0) < 5e-4 else f"{fac:.3g} {name}"
+    half = power / 2.0
+    return head if half == 0 else f"{head} tau^{half:g}"
 
 
 def _field(name: str, value: float, quantity: str) -> tuple[float, str]:

@@ -423,7 +423,8 @@ def _fit_core(
 
     var0 = 2.0 * a**2 / np.asarray(curve.edf, dtype=float)[used]  # first pass: the curve's own edf
     c, v, var, it = _reweight(x, a, var0, max_iter, point_covariance)
-    cov = _sandwich(x, var, v)
+    bread = _sandwich_bread(x, var)
+    cov = _sandwich(x, var, v, bread)
 
     resid = (a - x @ c) / np.sqrt(np.diag(v))
     chi2, dof, expected, p_value = _goodness(a - x @ c, v, x, var, c > 0)
@@ -434,7 +435,7 @@ def _fit_core(
     coefficients = _coefficients(terms, x, c, se)
     for j, name in enumerate(terms):
         if not coefficients[name].identifiable and TERM[name].random:
-            se_u = _bound_se(j, c, se[j], x, var, point_covariance, inflation)
+            se_u = _bound_se(j, c, se[j], x, var, point_covariance, inflation, bread)
             bound = avar_to_coefficient(name, c[j] + _Z95_ONE_SIDED * se_u)
             coefficients[name] = replace(coefficients[name], upper_bound=max(bound, coefficients[name].upper_bound))
     return NoiseFit(
@@ -493,6 +494,7 @@ def _bound_se(
     var: NDArray[np.float64],
     point_covariance: Callable[[NDArray[np.float64]], NDArray[np.float64]],
     inflation: float,
+    bread: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None,
 ) -> float:
     """Standard error of C_j if the truth were its one-sided 95 % upper bound u (test inversion).
 
@@ -513,7 +515,7 @@ def _bound_se(
     for _ in range(30):
         c_h = c.copy()
         c_h[j] = max(c[j], u)
-        cov_h = _sandwich(x, var, point_covariance(c_h))
+        cov_h = _sandwich(x, var, point_covariance(c_h), bread)
         se_new = math.sqrt(max(float(cov_h[j, j]), 0.0)) * inflation
         u_new = c[j] + _Z95_ONE_SIDED * max(se_new, se_j)
         if u_new > 1e3 * start:
@@ -526,18 +528,32 @@ def _bound_se(
     return se_u
 
 
-def _sandwich(x: NDArray[np.float64], var: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+def _sandwich(
+    x: NDArray[np.float64],
+    var: NDArray[np.float64],
+    v: NDArray[np.float64],
+    bread: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> NDArray[np.float64]:
     """Covariance of the weighted LS estimate: (X'WX)^-1 X'W V W X (X'WX)^-1.
 
     W = diag(1/var), V the modelled covariance of the AVAR points (correlated across tau);
-    computed on column-scaled X for conditioning.
+    computed on column-scaled X for conditioning. ``bread``: :func:`_sandwich_bread` of the
+    same ``x`` and ``var``, when several V share them (the same numbers, computed once).
     """
+    xs, b, scale = _sandwich_bread(x, var) if bread is None else bread
+    meat = xs.T @ v @ xs
+    return (b @ meat @ b) / np.outer(scale, scale)
+
+
+def _sandwich_bread(
+    x: NDArray[np.float64], var: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The V-free parts of :func:`_sandwich`: W X / scale, (X'WX / scale scale')^+ and the column scale."""
     xw = x / var[:, None]
     scale = np.sqrt(np.einsum("ij,ij->j", x, xw))
     scale[scale == 0] = 1.0
     bread = np.linalg.pinv((x / scale).T @ (xw / scale), rcond=1e-13)
-    meat = (xw / scale).T @ v @ (xw / scale)
-    return (bread @ meat @ bread) / np.outer(scale, scale)
+    return xw / scale, bread, scale
 
 
 def _coefficients(

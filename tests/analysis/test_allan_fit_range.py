@@ -229,3 +229,38 @@ def test_quantization_needs_two_dominated_taus():
     two = _coefficients(("Q", "N"), x, np.array([3.0, 1.0]), se)  # Q > N at tau = 1 and 2
     assert not one["Q"].identifiable and one["N"].identifiable
     assert two["Q"].identifiable and two["N"].identifiable
+
+
+def test_pooled_curve_intervals_cover_at_their_level():
+    """pool_curves: three independent white-noise stretches (unit variance, 4096, 2048 and 3000
+    samples), 300 times; AVAR(m) = 1/m. At each common tau the pooled 68.3 % interval covers the
+    truth at a rate within the binomial bounds at two-sided 1e-6 (Bonferroni over the taus), and
+    the pooled curve keeps only the taus all three hold."""
+    from gyrobench.analysis.allan import allan_deviation, pool_curves
+    from scipy.stats import binom
+
+    rng = np.random.default_rng(48)
+    reps = 300
+    hits = None
+    for _ in range(reps):
+        curves = [allan_deviation(rng.standard_normal(n), 1.0) for n in (4096, 2048, 3000)]
+        c = pool_curves(curves)
+        truth = np.sqrt(1.0 / c.m)
+        h = (c.low <= truth) & (truth <= c.high)
+        hits = h.astype(int) if hits is None else hits + h
+    short = allan_deviation(np.zeros(2048) + rng.standard_normal(2048), 1.0)
+    assert np.array_equal(c.m, short.m)
+    p = 1e-6 / c.m.size
+    lo, hi = binom.ppf(p / 2, reps, c.confidence), binom.isf(p / 2, reps, c.confidence)
+    assert np.all((lo <= hits) & (hits <= hi)), (hits, lo, hi)
+
+
+def test_pool_curves_refuses_mixed_rates():
+    from gyrobench.analysis.allan import allan_deviation, pool_curves
+
+    a = allan_deviation(np.random.default_rng(1).standard_normal(512), 1.0)
+    b = allan_deviation(np.random.default_rng(2).standard_normal(512), 2.0)
+    with pytest.raises(ValueError, match=r"curves must share one fs; got \[1.0, 2.0\]"):
+        pool_curves([a, b])
+    with pytest.raises(TypeError, match="curves must be a non-empty sequence of AllanCurve"):
+        pool_curves([])

@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # the verb imports analysis and sim only when it runs (``gyro
     from gyrobench.sim.parts import Part
     from gyrobench.sim.recording import Recording
 
-__all__ = ["TwinResult", "add_parser", "make_twin", "nearest_part", "noise_model_from_fit"]
+__all__ = ["TwinResult", "add_parser", "gauss_markov_term", "make_twin", "nearest_part", "noise_model_from_fit"]
 
 _FIELDS = {"Q": "quantization", "N": "angle_random_walk", "B": "bias_instability", "K": "rate_random_walk",
            "R": "rate_ramp"}
@@ -76,6 +76,46 @@ def noise_model_from_fit(fit: NoiseFit) -> NoiseModel:
                       rate_random_walk=c["K"], rate_ramp=c["R"])
 
 
+def gauss_markov_term(fit: NoiseFit, *, level: float = 0.05) -> tuple[NDArray[np.float64], float, float] | None:
+    """A first-order Gauss-Markov term added to the fitted model where the curve needs one, or None.
+
+    Only for a misfit (``fit.misfit``: the five power laws do not follow the fitted points).
+    The model A(tau) = sum_n C_n tau^n + sigma^2 g(tau/Tc)/(tau/Tc)^2
+    (:func:`gyrobench.sim.noise.gm_avar`, docs/physics.md 1.2) is fitted to the fitted points
+    by non-negative least squares in (C_n, sigma^2) for each Tc on a log grid over the fitted
+    taus, each point weighted by its chi-square standard error A_fit sqrt(2/edf) (diagonal:
+    the points' correlation is ignored, so the test below is approximate). The term is kept
+    when the weighted residual sum drops by more than the chi2(2) quantile at 1 - ``level``
+    (two added parameters). Returns (C_n in the order Q, N, B, K, R, sigma [rad/s], Tc [s]).
+    """
+    from gyrobench.sim.noise import gm_avar
+    from scipy.optimize import nnls
+    from scipy.stats import chi2
+
+    if not fit.misfit:
+        return None
+    used = fit.used
+    tau = np.asarray(fit.curve.tau, dtype=float)[used]
+    a = np.asarray(fit.curve.deviation, dtype=float)[used] ** 2
+    nu = np.asarray(fit.curve.edf, dtype=float)[used]
+    if len(tau) < 8:
+        return None
+    powers = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
+    w = 1.0 / (np.maximum(fit.avar(tau), 1e-300) * np.sqrt(2.0 / nu))
+    base = np.column_stack([tau ** p for p in powers.values()])
+    _, r0 = nnls(base * w[:, None], a * w)
+    best: tuple[float, NDArray[np.float64], float] | None = None
+    for tc in np.geomspace(tau[0], tau[-1], 48):
+        x = np.column_stack([base, gm_avar(tau, 1.0, float(tc))])
+        coef, r = nnls(x * w[:, None], a * w)
+        if coef[-1] > 0 and (best is None or r < best[0]):
+            best = (float(r), coef, float(tc))
+    if best is None or r0**2 - best[0] ** 2 <= chi2.ppf(1 - level, 2):
+        return None
+    _, coef, tc = best
+    return coef[:5], float(np.sqrt(coef[5])), tc
+
+
 def nearest_part(fit: NoiseFit, technology: str) -> Part:
     """The built-in part of ``technology`` whose (N, B) are nearest the fit's in log distance.
 
@@ -113,11 +153,14 @@ def _fit_recording(model, n: int, fs: float, rng, *, source: str, fit_meta: dict
 
 
 def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator, source: str = "",
-              part: str | None = None, nearest: str | None = None, family_alpha: float = 0.05) -> TwinResult:
+              part: str | None = None, nearest: str | None = None, family_alpha: float = 0.05,
+              gauss_markov: bool = True) -> TwinResult:
     """Fit ``rate`` [rad/s] at ``fs`` [Hz], simulate its twin from ``rng`` and compare (module docstring).
 
     ``part`` (a built-in name or .toml) or ``nearest`` (a technology) replaces the fitted model
-    by a part's datasheet model (:class:`gyrobench.sim.parts.Part`, a static record).
+    by a part's datasheet model (:class:`gyrobench.sim.parts.Part`, a static record). With
+    ``gauss_markov`` a misfitting five-term model gains a Gauss-Markov term when the curve
+    needs one (:func:`gauss_markov_term`).
     """
     from gyrobench.analysis.allan import allan_deviation, fit_noise
     from gyrobench.analysis.twin import compare_twin
@@ -137,9 +180,21 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
         label = p.name
     else:
         model = noise_model_from_fit(fit)
+        label = "fit"
+        gm = gauss_markov_term(fit) if gauss_markov else None
+        if gm is not None:
+            from gyrobench.analysis.allan import avar_to_coefficient
+            from gyrobench.sim.noise import GaussMarkov, NoiseModel
+
+            c = {k: avar_to_coefficient(k, float(v)) for k, v in zip(_FIELDS, gm[0], strict=True)}
+            model = NoiseModel(quantization=c["Q"], angle_random_walk=c["N"], bias_instability=c["B"],
+                               rate_random_walk=c["K"], rate_ramp=c["R"],
+                               gauss_markov=(GaussMarkov(sigma=gm[1], correlation_time=gm[2]),))
+            label = "fit + Gauss-Markov"
         rec = _fit_recording(model, n, fs, rng, source=source, fit_meta=fit_meta)
         coeffs = {k: float(getattr(model, f)) for k, f in _FIELDS.items()}
-        label = "fit"
+        if gm is not None:
+            coeffs.update(gm_sigma=gm[1], gm_correlation_time=gm[2])
     twin_curve = allan_deviation(rec["output"], fs, kind=fit.curve.kind)
     cmp = compare_twin(fit.curve, twin_curve, taus=fit.tau_used, family_alpha=family_alpha)
     return TwinResult(fit=fit, model=label, coefficients=coeffs, recording=rec, comparison=cmp)

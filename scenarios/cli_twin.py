@@ -207,6 +207,9 @@ def _table(res: TwinResult, label: str) -> list[str]:
     dph = 1.0 / units.deg_per_h(1.0)
     lines = [f"twin of {label}: model {res.model}; {res.recording.n_samples} samples at {res.recording.fs:g} Hz",
              f"rule: {c.rule}",
+             *([f"Gauss-Markov term (the five power laws misfit): sigma {res.coefficients['gm_sigma'] * dph:.4g} "
+                f"deg/h, Tc {res.coefficients['gm_correlation_time']:.4g} s"]
+               if "gm_sigma" in res.coefficients else []),
              f"{'tau [s]':>10} {'real ADEV':>11} {'real 95% interval':>23} {'twin ADEV':>11} {'twin/real':>9} "
              f"{'band':>15} {'in real95':>9} {'pass':>5}  [deg/h]"]
     for i in range(c.n_taus):

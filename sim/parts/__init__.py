@@ -31,6 +31,7 @@ from gyrobench.sim.parts._part import (
     Part,
     PartUnit,
 )
+from gyrobench.sim.parts._physics import rlg_spec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -50,6 +51,7 @@ __all__ = [
     "names",
     "load_toml",
     "datasheets",
+    "rlg_spec",
 ]
 
 _BY_NAME = {d.name: d for d in CATALOGUE}

@@ -44,9 +44,11 @@ several parameters it does not publish, so the solve fixes one combination, not 
   (:func:`gyrobench.sim.mems_resonator.brownian_arw`) and pick-off N_e
   (:func:`gyrobench.sim.mems_resonator.electronic_arw`): mass, drive amplitude, frequency,
   Q and pick-off noise are not on a datasheet; the model's 1/f term is its own assumption.
-* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`): lock-in
-  rate, scale factor and dither peak rate are not on the sheets read; B (the flicker of the
-  discharge and backscatter) has no closed form in the model either.
+* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`): with the
+  model's default cavity (K) and dither (Omega_D) the sheet's ARW fixes the lock-in rate
+  Omega_L, which :func:`gyrobench.sim.parts.rlg_spec` solves for (B is the model's flicker
+  term, set to the sheet's): an RLG part also runs on the RLG model through
+  ``RlgSensor(rlg_spec(part.datasheet))``, and its record meets the sheet (test).
 
 A part therefore keeps N and B as IEEE 952 terms whose values are the sheet's, which is
 what a user comparing the part with its datasheet needs; a user who knows the physical
@@ -99,8 +101,9 @@ PHYSICS_MAPPING = {
             "coil length and diameter (not on a datasheet); B has no physics term"),
     "MEMS": ("gyrobench.sim.mems_resonator.brownian_arw", "N^2 = N_B^2 + N_e^2: mass, drive amplitude and "
              "frequency, Q, pick-off noise (not on a datasheet); the 1/f term is the model's assumption"),
-    "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): lock-in rate, scale factor, dither "
-            "peak rate (not on the sheets read); B has no closed form"),
+    "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): solved for the lock-in rate with the "
+            "model's default cavity and dither (rlg_spec; K and Omega_D are not on the sheets read), B the model's "
+            "flicker term"),
 }
 """Per technology: the physics model's ARW closed form (a dotted name) and why a part keeps N and B as
 IEEE terms (module docstring)."""

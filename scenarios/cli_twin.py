@@ -2,7 +2,7 @@
 
 ::
 
-    gyrobench twin REAL.csv --column gyro_z [--fs HZ] [--units deg/s] -o twin.h5 [--seed S]
+    gyrobench twin REAL.csv --column gyro_z [--fs HZ] [--units deg/s] -o twin.h5|twin.csv [--seed S]
                    [--part NAME | --nearest MEMS|FOG|RLG] [--alpha 0.05] [--json] [--plot twin.png]
 
 The real record's noise is fitted (:func:`gyrobench.analysis.allan.fit_noise`, the five IEEE
@@ -274,6 +274,8 @@ def _cmd_twin(args) -> int:
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
     if args.part is not None and args.nearest is not None:
         raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
+    if Path(args.out).suffix.lower() not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.out!r}")
     check_output(args.out, what="-o", create_parents=False)
     if args.plot:
         check_output(args.plot, what="--plot", create_parents=False)
@@ -295,7 +297,12 @@ def _cmd_twin(args) -> int:
     _check_allan_input(rate, log.fs, ch.label, "overlapping")
     res = make_twin(rate, log.fs, rng=np.random.default_rng(args.seed), source=f"{path.name}:{ch.label}",
                     part=args.part, nearest=args.nearest, family_alpha=args.alpha)
-    save_hdf5(Path(args.out), res.recording)
+    if Path(args.out).suffix.lower() == ".csv":
+        from gyrobench.sim.recording import to_csv
+
+        to_csv(Path(args.out), res.recording)
+    else:
+        save_hdf5(Path(args.out), res.recording)
     label = f"{path.name}:{ch.label}"
     if args.plot:
         _plot(res, label, Path(args.plot))
@@ -325,7 +332,8 @@ def add_parser(sub) -> None:
     s.add_argument("--column", help="the rate column (CSV name or index; HDF5 channel, default 'rate')")
     s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the column, e.g. deg/s, deg/h, rad/s (default: from the header)")
-    s.add_argument("-o", "--out", required=True, help="write the twin recording here (HDF5)")
+    s.add_argument("-o", "--out", required=True, help="write the twin recording here (.h5 HDF5 or .csv, with its "
+                                                      "truth columns)")
     s.add_argument("--seed", type=seed, default=0, help="seed of the twin's noise (default 0)")
     s.add_argument("--part", help="use this built-in part's (or .toml part's) datasheet model instead of the fit")
     s.add_argument("--nearest", choices=("MEMS", "FOG", "RLG"),

@@ -107,6 +107,10 @@ def test_cli_twin_writes_the_twin_table_json_and_plot(tmp_path, capsys):
     doc = json.loads(text)
     assert code == 0 and doc["passed"] and doc["family_alpha"] == 0.01 and len(doc["taus"]) >= 8
     assert all(t["inside"] for t in doc["taus"])
+    csv = tmp_path / "twin.csv"
+    code, _, err = run(["twin", RECORDS[0], "--column", "gyro_z_dps", "--fs", "1", "-o", csv], capsys)
+    assert code == 0, err
+    assert csv.read_text().count("\n") > 10_000
 
 
 def test_cli_twin_exit_1_when_the_twin_does_not_match(tmp_path, capsys):
@@ -119,6 +123,7 @@ def test_cli_twin_exit_1_when_the_twin_does_not_match(tmp_path, capsys):
     (["--part", "stim300", "--nearest", "MEMS"], "not both"),
     (["--alpha", "1.5"], r"--alpha must be in \(0, 1\)"),
     (["--part", "nope"], "unknown part 'nope'"),
+    (["-o", "twin.txt"], "-o must end in .h5, .hdf5 or .csv"),
 ])
 def test_cli_twin_bad_input_is_one_line(tmp_path, capsys, extra, match):
     code, _, err = run(["twin", RECORDS[0], "--column", "gyro_x_dps", "--fs", "1", "-o", tmp_path / "t.h5", *extra],

@@ -24,16 +24,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
 from gyrobench.scenarios.cli_common import BadInput, positive_float, seed
-from numpy.typing import NDArray
 
-if TYPE_CHECKING:  # the verb imports analysis and sim only when it runs (``gyrobench --help`` stays light)
+if TYPE_CHECKING:  # the verb imports numpy, analysis and sim only when it runs (``--help`` stays light)
+    import numpy as np
     from gyrobench.analysis.allan import NoiseFit
     from gyrobench.analysis.twin import TwinComparison
     from gyrobench.sim.noise import NoiseModel
     from gyrobench.sim.parts import Part
     from gyrobench.sim.recording import Recording
+    from numpy.typing import NDArray
 
 __all__ = ["TwinResult", "add_parser", "gauss_markov_term", "make_twin", "nearest_part", "noise_model_from_fit"]
 
@@ -88,6 +88,7 @@ def gauss_markov_term(fit: NoiseFit, *, level: float = 0.05) -> tuple[NDArray[np
     when the weighted residual sum drops by more than the chi2(2) quantile at 1 - ``level``
     (two added parameters). Returns (C_n in the order Q, N, B, K, R, sigma [rad/s], Tc [s]).
     """
+    import numpy as np
     from gyrobench.sim.noise import gm_avar
     from scipy.optimize import nnls
     from scipy.stats import chi2
@@ -139,6 +140,7 @@ def nearest_part(fit: NoiseFit, technology: str) -> Part:
 
 
 def _fit_recording(model, n: int, fs: float, rng, *, source: str, fit_meta: dict):
+    import numpy as np
     from gyrobench.sim.recording import Channel, Recording
 
     comps = model.components(n, fs, rng=rng)
@@ -162,6 +164,7 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
     ``gauss_markov`` a misfitting five-term model gains a Gauss-Markov term when the curve
     needs one (:func:`gauss_markov_term`).
     """
+    import numpy as np
     from gyrobench.analysis.allan import allan_deviation, fit_noise
     from gyrobench.analysis.twin import compare_twin
     from gyrobench.sim import parts as parts_mod
@@ -238,6 +241,7 @@ def _json(res: TwinResult, label: str) -> dict:
 
 def _plot(res: TwinResult, label: str, target: Path) -> None:
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -265,6 +269,7 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
 
 
 def _cmd_twin(args) -> int:
+    import numpy as np
     from gyrobench.scenarios.cli_allan import _check_allan_input, _read_hdf5
     from gyrobench.scenarios.outputs import check_output
     from gyrobench.sim.recording import save_hdf5
@@ -274,9 +279,9 @@ def _cmd_twin(args) -> int:
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
     if args.part is not None and args.nearest is not None:
         raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
-    if Path(args.out).suffix.lower() not in (".h5", ".hdf5", ".csv"):
-        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.out!r}")
-    check_output(args.out, what="-o", create_parents=False)
+    if Path(args.output).suffix.lower() not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.output!r}")
+    check_output(args.output, what="-o", create_parents=False)
     if args.plot:
         check_output(args.plot, what="--plot", create_parents=False)
     columns = [args.column] if args.column is not None else None
@@ -297,12 +302,12 @@ def _cmd_twin(args) -> int:
     _check_allan_input(rate, log.fs, ch.label, "overlapping")
     res = make_twin(rate, log.fs, rng=np.random.default_rng(args.seed), source=f"{path.name}:{ch.label}",
                     part=args.part, nearest=args.nearest, family_alpha=args.alpha)
-    if Path(args.out).suffix.lower() == ".csv":
+    if Path(args.output).suffix.lower() == ".csv":
         from gyrobench.sim.recording import to_csv
 
-        to_csv(Path(args.out), res.recording)
+        to_csv(Path(args.output), res.recording)
     else:
-        save_hdf5(Path(args.out), res.recording)
+        save_hdf5(Path(args.output), res.recording)
     label = f"{path.name}:{ch.label}"
     if args.plot:
         _plot(res, label, Path(args.plot))
@@ -310,7 +315,7 @@ def _cmd_twin(args) -> int:
         print(json.dumps(_json(res, label)))
     else:
         print("\n".join(_table(res, label)))
-        print(f"wrote {args.out}" + (f" and {args.plot}" if args.plot else ""))
+        print(f"wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
     return 0 if res.comparison.passed else 1
 
 
@@ -332,7 +337,7 @@ def add_parser(sub) -> None:
     s.add_argument("--column", help="the rate column (CSV name or index; HDF5 channel, default 'rate')")
     s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the column, e.g. deg/s, deg/h, rad/s (default: from the header)")
-    s.add_argument("-o", "--out", required=True, help="write the twin recording here (.h5 HDF5 or .csv, with its "
+    s.add_argument("-o", "--output", required=True, help="write the twin recording here (.h5 HDF5 or .csv, with its "
                                                       "truth columns)")
     s.add_argument("--seed", type=seed, default=0, help="seed of the twin's noise (default 0)")
     s.add_argument("--part", help="use this built-in part's (or .toml part's) datasheet model instead of the fit")

@@ -63,13 +63,14 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("list", help="list the registered scenarios")
     s.set_defaults(func=_cmd_list)
 
-    from gyrobench.scenarios import cli_allan, cli_reproduce, cli_simulate
+    from gyrobench.scenarios import cli_allan, cli_reproduce, cli_simulate, cli_twin
     from gyrobench.scenarios.bench import cli as bench_cli
 
     cli_simulate.add_parsers(sub)
     cli_allan.add_parser(sub)
     cli_reproduce.add_parser(sub)
     bench_cli.add_parser(sub)
+    cli_twin.add_parser(sub)
     return p
 
 

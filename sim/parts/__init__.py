@@ -25,11 +25,13 @@ from gyrobench.sim.parts._part import (
     ADEV_MIN_PER_B,
     ERROR_COMPONENTS,
     GRADES,
+    PHYSICS_MAPPING,
     TECHNOLOGIES,
     Datasheet,
     Part,
     PartUnit,
 )
+from gyrobench.sim.parts._physics import rlg_spec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -40,6 +42,7 @@ __all__ = [
     "ADEV_MIN_PER_B",
     "ERROR_COMPONENTS",
     "GRADES",
+    "PHYSICS_MAPPING",
     "TECHNOLOGIES",
     "Datasheet",
     "Part",
@@ -48,6 +51,7 @@ __all__ = [
     "names",
     "load_toml",
     "datasheets",
+    "rlg_spec",
 ]
 
 _BY_NAME = {d.name: d for d in CATALOGUE}

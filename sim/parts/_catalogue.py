@@ -160,4 +160,82 @@ CATALOGUE: tuple[Datasheet, ...] = (
             "0.006 (deg/s)/(m/s^2) for a DC gravity input; resolution: 1600 LSB/(deg/s) in 20-bit mode"
         ),
     ),
+    Datasheet(
+        name="adis16495-1",
+        manufacturer="Analog Devices",
+        model="ADIS16495-1",
+        technology="MEMS",
+        grade="tactical",
+        source=(
+            "ADIS16495 data sheet Rev. C (Analog Devices, 2017-2020), Features list "
+            "(read from the copy at pdf.datasheet.live, ADIS16495-3BMLZ)"
+        ),
+        range_dps=125.0,
+        bias_instability_dph=0.8,
+        arw=0.09,
+        notes=(
+            "the -1 range option (+-125 deg/s) is the one the 0.8 deg/h in-run bias stability and 0.09 "
+            "deg/sqrt(h) ARW are quoted for; ADI defines in-run bias stability as the Allan-deviation minimum; "
+            "repeatability, temperature coefficients and resolution were not in the part read: left unset"
+        ),
+    ),
+    Datasheet(
+        name="dsp-1760",
+        manufacturer="KVH Industries (now EMCORE)",
+        model="DSP-1760 (single axis)",
+        technology="FOG",
+        grade="tactical",
+        source=(
+            "KVH/EMCORE DSP-1760 data sheet (EMCORE DS_DSP1760, 2024; revision not shown in the quotes), figures "
+            "as quoted in github.com/tim-balloon/TIMflight issue 77 (ARW <= 0.012 deg/sqrt(h), i.e. <= 0.7 "
+            "deg/h/sqrt(Hz)) and in the NCLT dataset sensor notes (bias instability 0.05 deg/h typical, "
+            "+-490 deg/s)"
+        ),
+        range_dps=490.0,
+        bias_instability_dph=0.05,
+        arw=0.012,
+        notes=(
+            "ARW 0.012 deg/sqrt(h) is the sheet's maximum, bias instability 0.05 deg/h its typical value; "
+            "KVH states both from the Allan variance (ADEV minimum); scale factor, temperature and "
+            "g-sensitivity figures were not in the quoting sources: left unset"
+        ),
+    ),
+    Datasheet(
+        name="astrix-120",
+        manufacturer="Airbus Defence and Space",
+        model="Astrix 120 (FOG 120 channel)",
+        technology="FOG",
+        grade="navigation",
+        source=(
+            "Airbus Defence and Space product page 'Astrix 120 fiber optic gyro' "
+            "(space-airbusds.com, equipements/astrix-120-fiber-optic-gyro; no document revision)"
+        ),
+        bias_instability_dph=0.01,
+        arw=0.002,
+        scale_factor_repeatability=100.0,
+        notes=(
+            "bias stability 0.01 deg/h read as the ADEV minimum; scale factor 100 ppm taken as the 1 sigma "
+            "scale-factor error; range, temperature coefficients and resolution not given: left unset"
+        ),
+    ),
+    Datasheet(
+        name="astrix-200",
+        manufacturer="Airbus Defence and Space",
+        model="Astrix 200 (FOG 200 channel)",
+        technology="FOG",
+        grade="navigation",
+        source=(
+            "Airbus Defence and Space product page 'Astrix 200 fiber optic gyro' "
+            "(space-airbusds.com, equipements/astrix-200-fiber-optic-gyro-1j8; no document revision)"
+        ),
+        bias_instability_dph=0.002,
+        arw=0.0002,
+        scale_factor_repeatability=20.0,
+        notes=(
+            "bias stability 0.002 deg/h read as the ADEV minimum; the page's ARW unit lost its root sign in the "
+            "copy read ('0,0002 deg/'): read as deg/sqrt(h), the unit the same vendor's Astrix 120 page prints "
+            "for the same line; scale factor 20 ppm taken as the 1 sigma scale-factor error; a satellite IMU "
+            "beyond navigation grade (the closest grade here)"
+        ),
+    ),
 )

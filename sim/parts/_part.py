@@ -27,6 +27,32 @@ Output: y = omega + b0 + b_T + e_K omega + g_s f + n_IEEE, then clipped and roun
 term is a truth channel and their sum is y - omega up to float64 rounding. The technology's
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
 fix the error budget directly, not the physical parameters behind it.
+
+Mapping onto the physics models (why N and B stay IEEE terms)
+-------------------------------------------------------------
+Each technology's physics model sets the ARW from physical parameters by a closed form
+(:data:`PHYSICS_MAPPING` names it). A datasheet gives one number, the ARW, for a product of
+several parameters it does not publish, so the solve fixes one combination, not a device:
+
+* FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`), S_phi the
+  one-sided phase-noise PSD of the :class:`gyrobench.sim.fog_optics.OpticalBudget` (shot,
+  excess RIN 2/dnu_eff, detector and amplifier noise: source power, spectral width, losses)
+  and SF0 = 2 pi L D / (lambda c) the Sagnac scale factor (coil length L, diameter D). A
+  sheet gives neither the power nor the coil, and the bias instability of a FOG (source and
+  electronics flicker, polarisation) has no physics term in the model.
+* MEMS: N^2 = N_B^2 + N_e^2, Brownian N_B = sqrt(k_B T c_y)/(m w X0)
+  (:func:`gyrobench.sim.mems_resonator.brownian_arw`) and pick-off N_e
+  (:func:`gyrobench.sim.mems_resonator.electronic_arw`): mass, drive amplitude, frequency,
+  Q and pick-off noise are not on a datasheet; the model's 1/f term is its own assumption.
+* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`): with the
+  model's default cavity (K) and dither (Omega_D) the sheet's ARW fixes the lock-in rate
+  Omega_L, which :func:`gyrobench.sim.parts.rlg_spec` solves for (B is the model's flicker
+  term, set to the sheet's): an RLG part also runs on the RLG model through
+  ``RlgSensor(rlg_spec(part.datasheet))``, and its record meets the sheet (test).
+
+A part therefore keeps N and B as IEEE 952 terms whose values are the sheet's, which is
+what a user comparing the part with its datasheet needs; a user who knows the physical
+parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
 """
 
 from __future__ import annotations
@@ -42,7 +68,16 @@ from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.sensor import Environment
 from numpy.typing import NDArray
 
-__all__ = ["Datasheet", "Part", "PartUnit", "ERROR_COMPONENTS", "TECHNOLOGIES", "GRADES", "ADEV_MIN_PER_B"]
+__all__ = [
+    "Datasheet",
+    "Part",
+    "PartUnit",
+    "ERROR_COMPONENTS",
+    "TECHNOLOGIES",
+    "GRADES",
+    "ADEV_MIN_PER_B",
+    "PHYSICS_MAPPING",
+]
 
 ADEV_MIN_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)
 """Allan deviation minimum of flicker rate noise per IEEE coefficient B: sqrt(2 ln2/pi) = 0.664."""
@@ -60,6 +95,18 @@ ERROR_COMPONENTS = (
     "quantization",
 )
 """Truth channels of a part's record, in order; their sum is ``output - true_rate``."""
+
+PHYSICS_MAPPING = {
+    "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: source power, spectral width, losses, "
+            "coil length and diameter (not on a datasheet); B has no physics term"),
+    "MEMS": ("gyrobench.sim.mems_resonator.brownian_arw", "N^2 = N_B^2 + N_e^2: mass, drive amplitude and "
+             "frequency, Q, pick-off noise (not on a datasheet); the 1/f term is the model's assumption"),
+    "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): solved for the lock-in rate with the "
+            "model's default cavity and dither (rlg_spec; K and Omega_D are not on the sheets read), B the model's "
+            "flicker term"),
+}
+"""Per technology: the physics model's ARW closed form (a dotted name) and why a part keeps N and B as
+IEEE terms (module docstring)."""
 
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 

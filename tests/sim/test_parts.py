@@ -149,3 +149,54 @@ def test_a_unit_is_one_draw_of_the_population():
     rec = units_[0].simulate(Environment(1.0, true_rate=0.1), fs=10.0, rng=rng)
     assert np.all(rec["truth/turn_on_bias"] == units_[0].turn_on_bias)
     assert np.allclose(rec["truth/scale_factor_error"], units_[0].scale_factor_error * 0.1, rtol=1e-12)
+
+
+def test_every_technology_names_its_physics_arw_solve():
+    # the mapping names a closed form that exists (a renamed function would leave the docs wrong)
+    import importlib
+
+    assert set(parts.PHYSICS_MAPPING) == set(parts.TECHNOLOGIES)
+    for tech, (dotted, why) in parts.PHYSICS_MAPPING.items():
+        mod, _, attr = dotted.rpartition(".")
+        try:
+            obj = importlib.import_module(mod)
+        except ModuleNotFoundError:  # a method: module.Class.method
+            mod, _, cls = mod.rpartition(".")
+            obj = getattr(importlib.import_module(mod), cls)
+        assert callable(getattr(obj, attr)), (tech, dotted)
+        assert "N" in why and "not on" in why
+
+
+RLG = [n for n in NAMES if parts.get(n).datasheet.technology == "RLG"]
+Z_RLG = float(norm.ppf(1 - 0.01 / (2 * 2 * len(RLG))))
+
+
+@pytest.mark.parametrize("name", RLG)
+def test_an_rlg_part_on_the_rlg_model_meets_its_datasheet(name):
+    # the sheet's ARW solved for the lock-in rate (sim/parts/_physics.py); the record comes from
+    # the RLG model's dither random walk, counting and flicker, and its fit must give the sheet's
+    # N and B back within Z_RLG standard errors (1 % family-wise over 2 x len(RLG) checks); the
+    # record is 300 crossover times long as in test_simulated_part_meets_its_datasheet
+    from gyrobench.sim.sensor import RlgSensor
+
+    d = parts.get(name).datasheet
+    spec = parts.rlg_spec(d)
+    assert spec.lock_in_rate > 0 and spec.lock_in_spread == 0
+    n_true, b_true = d.angle_random_walk(), d.bias_instability()
+    dur = 300 * (n_true / (parts.ADEV_MIN_PER_B * b_true)) ** 2
+    fs = min(200.0, 3e5 / dur)
+    rng = np.random.default_rng(20261127)
+    rec = RlgSensor(spec).realize(rng).simulate(Environment(dur), fs=fs, rng=rng)
+    fit = fit_noise(rec["rate"], fs, terms=("Q", "N", "B", "K"))
+    assert not fit.misfit
+    for key, truth in (("N", n_true), ("B", b_true)):
+        c = fit.coefficients[key]
+        se = (c.ci95[1] - c.ci95[0]) / (2 * 1.96)
+        assert c.value is not None and abs(c.value - truth) <= Z_RLG * se, (key, c.value, truth, se)
+
+
+def test_rlg_spec_refuses_other_technologies():
+    with pytest.raises(ValueError, match="needs an RLG part"):
+        parts.rlg_spec(parts.get("stim300").datasheet)
+    with pytest.raises(TypeError, match="must be a Datasheet"):
+        parts.rlg_spec("hg1700")

@@ -15,7 +15,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["UNCOMPENSATED", "Uncompensated", "mems_piecewise"]
+__all__ = [
+    "UNCOMPENSATED",
+    "IfogSegmentRBF",
+    "Uncompensated",
+    "mems_piecewise",
+]
 
 #: the uncompensated reference as a ``"module:attr"`` compensator
 UNCOMPENSATED = "gyrobench.scenarios.bench.references:Uncompensated"
@@ -55,3 +60,51 @@ def mems_piecewise(X: NDArray[np.float64], y: NDArray[np.float64]):
 
     c = resolve_scenario("mems_scale_factor").Config()  # through the registry, not the path
     return PiecewisePolynomial(orders=tuple(c.orders), join_width=c.join_width, alpha=c.piecewise_alpha).fit(X, y)
+
+
+class IfogSegmentRBF:
+    """The ifog_thermal paper's method: a newrb RBF network on the temperature features
+    (T [degC], dT/dt [degC/s], T x dT/dt [degC^2/s]) predicting the drift [deg/h], its spread and
+    neuron count chosen by leave-one-segment-out CV over the identification run's segments.
+
+    ``fit(X, y, groups)`` runs :func:`gyrobench.analysis.compensation.rbf_selection.select_rbf`
+    on the scenario's default grids (``Config().rbf_spread_grid`` x ``rbf_neuron_grid``, goal
+    ``rbf_goal_deg_h2``, band ``rbf_cv_tolerance``) with ``groups`` as the folds (the task's
+    ``groups_train``: settle, heat + hold, cool + hold), then refits
+    :class:`~gyrobench.analysis.compensation.rbf.RBFNetwork` (``normalize="minmax"``) on all
+    rows with the chosen settings, as the paper's reproduction does on its training set. It
+    fits the bench's target (output - true rate), not the paper's Q (output - its mean): the
+    bench scores against the truth. No parameters: the settings are the scenario's.
+    """
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        return {}
+
+    def set_params(self, **params: Any) -> IfogSegmentRBF:
+        if params:
+            raise ValueError(f"IfogSegmentRBF takes no parameters; got {sorted(params)}")
+        return self
+
+    def fit(
+        self, X: NDArray[np.float64], y: NDArray[np.float64], groups: NDArray[np.int_] | None = None
+    ) -> IfogSegmentRBF:
+        from gyrobench.analysis.compensation.rbf import RBFNetwork
+        from gyrobench.analysis.compensation.rbf_selection import select_rbf
+        from gyrobench.scenarios.bench.scoring import resolve_scenario
+
+        if groups is None:
+            raise ValueError("IfogSegmentRBF.fit needs groups (the training rows' segments) for its CV; got None")
+        c = resolve_scenario("ifog_thermal").Config()  # through the registry, not the path
+        sel = select_rbf(
+            X, y, groups, spreads=c.rbf_spread_grid, neurons=c.rbf_neuron_grid, goal=c.rbf_goal_deg_h2,
+            tolerance=c.rbf_cv_tolerance,
+        )
+        self.selection_ = sel
+        self.network_ = RBFNetwork(
+            spread=sel.spread, goal=c.rbf_goal_deg_h2, max_neurons=sel.max_neurons, normalize="minmax"
+        ).fit(X, y)
+        return self
+
+    def predict(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(self.network_.predict(X), dtype=float)
+

@@ -96,6 +96,8 @@ SCENARIO_SCORES: dict[str, ScenarioScores] = {
             ),
         ),
         units={"mse": "(deg/h)^2", "rms": "deg/h"},
+        paper=f"{_REF}:fog_vibration_rbf",
+        paper_label="RBF on frequency bins (paper)",
     ),
     "rlg_thermal": ScenarioScores(
         primary=(

@@ -172,6 +172,14 @@ class CompensationTask:
     ``scorer(compensated, run) -> dict`` must be a module-level function (so it
     pickles to worker processes); scores are named ``"<run.label>/<key>"`` by the
     bench, and averaged over runs as ``"mean/<key>"``.
+
+    ``groups_train`` (optional, shape ``(n,)``, integers): a group label per training row,
+    e.g. the thermal segment of the chamber program a row was logged in, for methods that
+    select their settings by leave-one-group-out cross-validation. The bench passes it the
+    scikit-learn way, as ``fit(X, y, groups=groups_train)``, only to a compensator whose
+    ``fit`` (or fit function) names a ``groups`` parameter, or to a scikit-learn search
+    (``GridSearchCV`` and the like, which route it to their ``cv`` splitter); every other
+    compensator gets ``fit(X, y)`` as before. None: the task has no groups.
     """
 
     scenario: str
@@ -182,6 +190,7 @@ class CompensationTask:
     target: str = "error"
     unit: str = ""
     scorer: Callable[[NDArray[np.float64], HeldOutRun], Mapping[str, float]] = mse_scores
+    groups_train: NDArray[np.int_] | None = None
 
     def __post_init__(self) -> None:
         if self.target not in ("error", "rate"):
@@ -189,6 +198,14 @@ class CompensationTask:
         if self.X_train.ndim != 2 or self.X_train.shape[1] != len(self.feature_names):
             raise ValueError(
                 f"CompensationTask.X_train must have shape (n, {len(self.feature_names)}); got {self.X_train.shape}"
+            )
+        g = self.groups_train
+        if g is not None and (
+            np.ndim(g) != 1 or len(g) != len(self.X_train) or not np.issubdtype(np.asarray(g).dtype, np.integer)
+        ):
+            raise ValueError(
+                f"CompensationTask.groups_train must be None or {len(self.X_train)} integer labels (one per "
+                f"training row); got shape {np.shape(g)}, dtype {np.asarray(g).dtype}"
             )
 
     def compensate(self, prediction: NDArray[np.float64], run: HeldOutRun) -> NDArray[np.float64]:

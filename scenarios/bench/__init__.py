@@ -27,6 +27,13 @@ Compensators
 The prediction on a held-out run's ``X`` is turned into the compensated output by
 the task (``target="error"``: output - prediction; ``"rate"``: prediction).
 
+Groups: a task may label its training rows (``CompensationTask.groups_train``; ifog_thermal
+labels each row with its segment of the identification run: 0 settle, 1 heat + hold,
+2 cool + hold). The bench passes them the scikit-learn way, ``fit(X, y, groups=...)``, only to
+an estimator whose ``fit`` names a ``groups`` parameter, to a fit function ``f(X, y, groups)``
+and to a scikit-learn search (``GridSearchCV(..., cv=LeaveOneGroupOut())`` selects by leave
+one segment out); every other compensator is fitted with ``fit(X, y)`` as before.
+
 Determinism: the same (scenario, config, compensator, seed) always gives the same
 scores, bit for bit, whatever executor runs it: every seed runs with the BLAS and
 OpenMP thread pools limited to one thread (threadpoolctl, a scikit-learn

@@ -26,6 +26,7 @@ __all__ = [
     "CompensatorError",
     "CompensatorImportError",
     "FailedSeedsError",
+    "accepts_groups",
     "compensator_failed",
     "compensator_label",
     "fit_compensator",
@@ -216,15 +217,18 @@ def fit_compensator(
     seed: int,
     *,
     label: str,
+    groups: NDArray[np.int_] | None = None,
 ) -> Callable:
     """Fit a fresh copy of ``compensator`` and return ``predict(X) -> ndarray``.
 
-    Any exception raised by the user's code (instantiation, cloning, fit, the fit
+    ``groups`` (the task's ``groups_train``, one label per row of ``X``) is passed as
+    ``groups=`` only to a compensator that takes it (:func:`accepts_groups`); others are
+    fitted as ``fit(X, y)``. Any exception raised by the user's code (instantiation, cloning, fit, the fit
     function) becomes a :class:`CompensatorError` naming ``label`` and ``seed``; a
     fit function returning something that cannot predict is a ``TypeError``.
     """
     try:
-        predictor = _fit_user_code(compensator, X, y, seed)
+        predictor = _fit_user_code(compensator, X, y, seed, groups)
     except Exception as exc:
         raise compensator_failed(label, seed, "fit", exc) from exc
     if callable(getattr(predictor, "predict", None)):
@@ -238,8 +242,31 @@ def fit_compensator(
     )
 
 
+def accepts_groups(fit: Any) -> bool:
+    """Whether the bench passes a task's training groups to ``fit`` (an estimator's bound ``fit``
+    or a fit function): when its signature names a ``groups`` parameter, or it is the ``fit`` of
+    a scikit-learn hyper-parameter search (``GridSearchCV``, ``RandomizedSearchCV``, ...), which
+    routes ``groups`` to its ``cv`` splitter (e.g. ``LeaveOneGroupOut``) through ``**params``."""
+    try:
+        from sklearn.model_selection._search import BaseSearchCV
+    except ImportError:  # pragma: no cover - scikit-learn is a dependency
+        BaseSearchCV = ()  # noqa: N806
+    if isinstance(getattr(fit, "__self__", None), BaseSearchCV):
+        return True
+    try:
+        params = inspect.signature(fit).parameters
+    except (TypeError, ValueError):  # builtins without a signature
+        return False
+    p = params.get("groups")
+    return p is not None and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+
+
 def _fit_user_code(
-    compensator: Any, X: NDArray[np.float64], y: NDArray[np.float64], seed: int
+    compensator: Any,
+    X: NDArray[np.float64],
+    y: NDArray[np.float64],
+    seed: int,
+    groups: NDArray[np.int_] | None = None,
 ) -> Any:
     """The user's code in :func:`fit_compensator`: the fitted estimator's predict, or what a fit
     function returned."""
@@ -261,14 +288,17 @@ def _fit_user_code(
                 est.set_params(**seeded)
         else:
             est = copy.deepcopy(compensator)
-        fitted = est.fit(X, y)
+        fit_kw = {"groups": groups} if groups is not None and accepts_groups(est.fit) else {}
+        fitted = est.fit(X, y, **fit_kw)
         return (est if fitted is None else fitted).predict
-    kwargs = {}
+    kwargs: dict[str, Any] = {}
     try:
         if "random_state" in inspect.signature(compensator).parameters:
             kwargs["random_state"] = rs
     except (TypeError, ValueError):  # builtins without a signature
         pass
+    if groups is not None and accepts_groups(compensator):
+        kwargs["groups"] = groups
     return compensator(X, y, **kwargs)
 
 

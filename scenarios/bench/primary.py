@@ -83,6 +83,8 @@ SCENARIO_SCORES: dict[str, ScenarioScores] = {
             ),
         ),
         units={"mse": "(deg/h)^2", "rms": "deg/h"},
+        paper=f"{_REF}:IfogSegmentRBF",
+        paper_label="RBF, leave-one-segment-out (paper)",
     ),
     "fog_vibration": ScenarioScores(
         primary=(
@@ -94,6 +96,8 @@ SCENARIO_SCORES: dict[str, ScenarioScores] = {
             ),
         ),
         units={"mse": "(deg/h)^2", "rms": "deg/h"},
+        paper=f"{_REF}:fog_vibration_rbf",
+        paper_label="RBF on frequency bins (paper)",
     ),
     "rlg_thermal": ScenarioScores(
         primary=(

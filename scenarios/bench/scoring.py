@@ -39,6 +39,7 @@ __all__ = [
     "score_job",
     "score_or_failure",
     "score_seed",
+    "score_task",
 ]
 
 #: default per-seed time limit [s] of a campaign (``bench --seed-timeout``)
@@ -211,19 +212,29 @@ def score_or_failure(
     if label is None:
         label = compensator_label(comp, compensator, short=True)
     with threadpool_limits(limits=1):
-        task = module.compensation_task(config, seed)
-        # the uncompensated reference scores the raw output: nothing to fit or predict
-        raw = comp is Uncompensated or isinstance(comp, Uncompensated)
-        predict = None if raw else fit_compensator(comp, task.X_train, task.y_train, seed, label=label)
-        scores: dict[str, float] = {}
-        per_key: dict[str, list[float]] = {}
-        for run in task.heldout:
-            run_scores, failure = _score_run(task, run, predict, seed, label)
-            for k, v in run_scores.items():
-                scores[f"{run.label}/{k}"] = v
-                per_key.setdefault(k, []).append(v)
-            if failure is not None:
-                return dict(sorted(scores.items())), failure
+        return score_task(module.compensation_task(config, seed), comp, seed, label)
+
+
+def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict[str, float], str | None]:
+    """Fit a resolved ``compensator`` on a built ``task`` (a :class:`~gyrobench.scenarios.base.
+    CompensationTask`) and score every held-out run: the scores and why the seed failed, or None
+    (:func:`score_or_failure` builds the task and calls this; several compensators can be scored
+    on one task this way). ``seed`` seeds the compensator; ``label`` names it in errors."""
+    # the uncompensated reference scores the raw output: nothing to fit or predict
+    raw = compensator is Uncompensated or isinstance(compensator, Uncompensated)
+    groups = getattr(task, "groups_train", None)
+    predict = (
+        None if raw else fit_compensator(compensator, task.X_train, task.y_train, seed, label=label, groups=groups)
+    )
+    scores: dict[str, float] = {}
+    per_key: dict[str, list[float]] = {}
+    for run in task.heldout:
+        run_scores, failure = _score_run(task, run, predict, seed, label)
+        for k, v in run_scores.items():
+            scores[f"{run.label}/{k}"] = v
+            per_key.setdefault(k, []).append(v)
+        if failure is not None:
+            return dict(sorted(scores.items())), failure
     for k, vals in per_key.items():
         scores[f"mean/{k}"] = math.fsum(vals) / len(vals)
     return dict(sorted(scores.items())), None

@@ -222,13 +222,15 @@ SCALED = "tests.scenarios.test_bench_power:five_percent_scale_error"
 
 #: scenario -> (the compensator of the baseline, a clearly worse one, --min-change, baseline seeds).
 #: On mems_scale_factor least squares is not reliably better than no compensation (the held-out
-#: runs' scale factor differs from the fitting runs'), and on fog_vibration it is 35x worse than
-#: none (issue filed in the report): there the uncompensated output is the baseline.
+#: runs' scale factor differs from the fitting runs'): there the uncompensated output is the
+#: baseline. On fog_vibration a straight line in (frequency, acceleration) cannot follow the
+#: resonant vibration bias (worse than none on 9 of seeds 0-9): the baseline is the paper's RBF
+#: on frequency bins, 3.8x-20x better than no compensation on each of seeds 0-9.
 GATE_CASES = {
     "ifog_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
     "rlg_thermal": (LS, bench.UNCOMPENSATED, 0.2, 16),
     "mems_scale_factor": (bench.UNCOMPENSATED, SCALED, 2.0, 16),
-    "fog_vibration": (bench.UNCOMPENSATED, LS, 1.0, 10),
+    "fog_vibration": (SCENARIO_SCORES["fog_vibration"].paper, bench.UNCOMPENSATED, 1.0, 10),
 }
 
 

@@ -227,6 +227,11 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     """Training = identification run 1; held out = identification run 2 and every validation run.
 
     The bench's task (unchanged by issue 13): the whole runs, target output - truth.
+    ``groups_train``: each training row's segment of the identification run
+    (:func:`identification_segments`: 0 settle, 1 heat + hold, 2 cool + hold, from the chamber
+    program's knots, known before any data), the folds of the paper's leave-one-segment-out
+    selection of the RBF's spread and neuron count. The bench passes them only to compensators
+    whose ``fit`` takes ``groups`` (:mod:`gyrobench.scenarios.bench`).
     """
     runs = [prepare(r, config) for r in simulate(config, seed)]
     train = runs[0]
@@ -242,4 +247,5 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
         target="error",
         unit="deg/h",
         scorer=score_mse,
+        groups_train=identification_segments(config, train.t_h),
     )

@@ -1,0 +1,223 @@
+"""Reading real IMU logs (CSV) for ``gyrobench allan``: columns, units, time base, segments.
+
+Formats recognised (see :func:`read_csv_log`):
+
+* plain CSV from any gyro: ``#`` comment lines, an optional header row, ``.gz`` allowed;
+  separator ``,``, ``;`` or tab (detected from the header or the first data row); a UTF-8
+  byte-order mark (Excel's "CSV UTF-8") and quoted header cells are accepted; decimal
+  commas ("0,5;1,2", detected with ``;`` or tab separators, or ``decimal=","``); a header
+  that names a column twice is refused;
+* EuRoC / ASL (``imu0/data.csv``): header ``#timestamp [ns],w_RS_S_x [rad s^-1],...,
+  a_RS_S_x [m s^-2],...`` (the header is a ``#`` line);
+* Kalibr IMU CSV: ``timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z``
+  (timestamp in ns, omega in rad/s, alpha = acceleration in m/s^2: Kalibr's naming);
+* ROS ``rostopic echo -p`` of sensor_msgs/Imu: ``%time,field.header.seq,field.header.stamp,
+  field.header.frame_id,...,field.angular_velocity.x,...,field.linear_acceleration.x,...``
+  (times in ns, SI values; text columns such as the frame_id are read only when named, and
+  ``all_axes`` skips the orientation and covariance fields).
+
+Time column: its unit comes from the header (``[s]``, ``(ms)``, ``_us``, ``[ns]``) or, when
+there is none, from the magnitude: timestamps above 1e8 are taken as Unix epoch times and
+their unit is chosen from the order of magnitude of the first one (1e9 s, 1e12 ms,
+1e15 us, 1e18 ns around the present), with a note saying so.
+Columns without a unit get the unit of their format's convention (Kalibr/ROS/EuRoC: rad/s
+and m/s^2) or must be given one (``--units``).
+
+Everything returned is SI: rate in rad/s, acceleration in m/s^2, time in s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from gyrobench.scenarios.logs._body import _parse_plain as _parse_plain  # (tests/analysis/test_allan_fast_paths.py)
+from gyrobench.scenarios.logs._body import _parse_rows, _read_text
+from gyrobench.scenarios.logs._layout import (
+    _DELIM_NAMES,
+    _check_unique_names,
+    _decimal_comma,
+    _Header,
+    _header_of,
+    _index_of,
+    _selected_columns,
+    _sniff,
+)
+from gyrobench.scenarios.logs._names import (
+    _RATE_ALIASES,
+    ACCEL_UNITS,
+    GAP_FACTOR,
+    MIN_ROWS,
+    TIME_UNITS,
+    split_header,
+    time_column,
+    unit_of,
+)
+from gyrobench.scenarios.logs._time import _check_time_base, _segment, _time_base
+from numpy.typing import NDArray
+
+__all__ = [
+    "Channel",
+    "Log",
+    "read_csv_log",
+    "ACCEL_UNITS",
+    "TIME_UNITS",
+    "GAP_FACTOR",
+    "MIN_ROWS",
+    "unit_of",
+    "split_header",
+    "time_column",
+]
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One analysed column: name, quantity ("rate" or "accel"), SI data and where its unit came from."""
+
+    label: str
+    quantity: str
+    data: NDArray[np.float64]
+    unit: str
+
+
+@dataclass
+class Log:
+    """Columns read from a log, all sampled at ``fs`` [Hz]; ``notes`` are for the report."""
+
+    path: Path
+    fs: float
+    channels: list[Channel]
+    notes: list[str] = field(default_factory=list)
+    temperature: NDArray[np.float64] | None = None
+    fmt: str = "csv"
+    t0: float = 0.0
+
+
+
+# ----------------------------------------------------------------------------- the reader
+def read_csv_log(
+    path: Path,
+    columns: list[str] | None = None,
+    fs: float | None = None,
+    unit: str | None = None,
+    *,
+    all_axes: bool = False,
+    start: float | None = None,
+    stop: float | None = None,
+    temperature: str | None = None,
+    decimal: str | None = None,
+) -> Log:
+    """Read rate/acceleration columns of a CSV IMU log.
+
+    Parameters
+    ----------
+    path : Path
+        .csv or .csv.gz.
+    columns : list of str, optional
+        Column names or 0-based indices (``--column``, repeatable). None: the only data
+        column, or with ``all_axes`` every gyro and accelerometer column.
+    fs : float, optional
+        Sample rate [Hz]; required without a time column; with one, it must agree.
+    unit : str, optional
+        Unit of the named columns when the header has none (a rate unit of
+        gyrobench.sim.units.RATE_UNITS or an acceleration unit of :data:`ACCEL_UNITS`).
+    all_axes : bool
+        Analyse every gyro (and accelerometer) column the header names.
+    start, stop : float, optional
+        Segment [s from the first sample] to keep.
+    temperature : str, optional
+        Name of a temperature column [degC] to return alongside.
+    decimal : {".", ","}, optional
+        Decimal mark of the numbers (``--decimal``); None: detected (a decimal comma when the
+        first row of numbers reads as numbers only with "," as the decimal mark, separated
+        by ";" or tabs), with a note saying so.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file (and line and column where it applies).
+
+    Notes
+    -----
+    The steps, each a function: the layout (:func:`_sniff`: first data row, separator,
+    header), the columns (:func:`_header_of`, :func:`_selected_columns`), the time base
+    check (:func:`_check_time_base`), the parsing (:func:`_parse_rows`), the time column
+    (:func:`_time_base`: unit, uniform steps, fs) and the channels (:func:`_channel`).
+    """
+    lines = _read_text(path).splitlines()
+    comma = _decimal_comma(lines, decimal)
+    layout = _sniff(path, lines, comma)
+    if comma:  # the data rows with decimal points (header lines keep their text)
+        lines = lines[: layout.first_data] + [ln.replace(",", ".") for ln in lines[layout.first_data :]]
+    hdr = _header_of(layout)
+    _check_unique_names(path, hdr)
+    idxs = _selected_columns(path, hdr, columns, all_axes)
+    temp_idx = _index_of(path, hdr, temperature) if temperature is not None else None
+    _check_time_base(path, hdr, fs)
+
+    usecols = sorted({*idxs, *(i for i in (hdr.time_idx, temp_idx) if i is not None)})
+    pos = {c: k for k, c in enumerate(usecols)}
+    data = _parse_rows(path, lines, layout.first_data, layout.delim, layout.ncols, hdr.names, usecols)
+    rows = data.shape[0]
+    if rows < MIN_ROWS:
+        raise ValueError(
+            f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
+            f"{MIN_ROWS} (and many more for an Allan analysis)"
+        )
+    notes: list[str] = []
+    if comma and decimal is None:
+        notes.append(
+            f"decimal comma detected: numbers such as '0,5' separated by {_DELIM_NAMES[layout.delim]} read as 0.5 "
+            f"(give --decimal . if the file means otherwise)"
+        )
+    t0 = 0.0
+    if hdr.time_idx is not None:
+        fs, t0 = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes)
+    if fs is None:  # pragma: no cover - excluded above (no time column or no time unit without --fs)
+        raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
+    a, b = _segment(rows, float(fs), start, stop)
+    if (a, b) != (0, rows):
+        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
+    chans = [_channel(hdr, i, unit, data[a:b, pos[i]]) for i in idxs]
+    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
+    return Log(
+        path=path,
+        fs=float(fs),
+        channels=chans,
+        notes=notes,
+        temperature=temp,
+        fmt=hdr.fmt,
+        t0=t0 + a / fs,
+    )
+
+
+
+# ----------------------------------------------------------------------------- channels
+def _channel(hdr: _Header, i: int, unit: str | None, x: NDArray[np.float64]) -> Channel:
+    """Column ``i`` as a Channel in SI, its unit from ``--units``, the header, the name or the format."""
+    label = hdr.names[i] if hdr.names else f"column {i}"
+    q, u = unit_of(hdr.names[i], hdr.units[i], hdr.fmt) if hdr.names else (None, None)
+    if unit is not None:
+        u = _RATE_ALIASES.get(unit, unit)
+        q = "accel" if u in ACCEL_UNITS else "rate"
+    if u is None:
+        from gyrobench.sim import units
+
+        raise ValueError(
+            f"the unit of column {label!r} is unknown: give --units "
+            f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
+        )
+    return Channel(label=label, quantity=q or "rate", data=_to_si(x, q or "rate", u), unit=u)
+
+
+def _to_si(x: NDArray[np.float64], quantity: str, unit: str) -> NDArray[np.float64]:
+    if quantity == "accel":
+        if unit not in ACCEL_UNITS:
+            raise ValueError(
+                f"acceleration unit must be one of {sorted(ACCEL_UNITS)}; got {unit!r}"
+            )
+        return x * ACCEL_UNITS[unit]
+    from gyrobench.sim import units
+
+    return np.asarray(units.rate_to_si(np.ascontiguousarray(x), unit), dtype=float)

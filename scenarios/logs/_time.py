@@ -1,0 +1,153 @@
+"""The time column of a CSV log: its unit, uniform steps, the sample rate and the --start/--stop segment."""
+
+from __future__ import annotations
+
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+from gyrobench.scenarios.logs._layout import _Header, _Layout
+from gyrobench.scenarios.logs._names import _SI_FORMATS, GAP_FACTOR, MIN_ROWS, TIME_UNITS
+from numpy.typing import NDArray
+
+
+# ----------------------------------------------------------------------------- time column
+def _check_time_base(path: Path, hdr: _Header, fs: float | None) -> None:
+    """Without --fs the log needs a time column with a time unit."""
+    if fs is None and hdr.time_idx is None:
+        raise ValueError(
+            f"{str(path)!r} has no time column (a header such as 'time [s]'): give --fs (sample rate in Hz)"
+        )
+    if fs is None and hdr.time_scale is None:
+        raise ValueError(
+            f"the time column {(hdr.header or hdr.names)[hdr.time_idx or 0]!r} of {str(path)!r} has no time unit "
+            f"({'|'.join(TIME_UNITS)}): give --fs (sample rate in Hz)"
+        )
+
+
+def _time_unit(
+    t_first: float, raw_step: float, tname: str, hdr: _Header
+) -> tuple[float | None, str | None]:
+    """Seconds per unit of the time column and a note on how it was chosen (None: stated in the header)."""
+    time_scale = hdr.time_scale
+    if hdr.time_stated or time_scale is None:
+        return time_scale, None
+    time_scale, note = _time_scale_from_magnitude(t_first, tname)
+    if note is None and hdr.fmt in _SI_FORMATS:  # Kalibr, ROS and EuRoC write nanoseconds
+        time_scale, note = (
+            1e-9,
+            f"time column {tname!r} read in ns (the {hdr.fmt} format's unit)",
+        )
+    elif note is None and raw_step >= 1.0:
+        note = (
+            f"time column {tname!r} has no unit and steps of {raw_step:.6g}: read as "
+            f"seconds; give the unit in the header (e.g. 'time [ns]') if it is not"
+        )
+    return time_scale, note
+
+
+def _time_base(
+    path: Path,
+    lines: list[str],
+    layout: _Layout,
+    hdr: _Header,
+    t: NDArray[np.float64],
+    fs: float | None,
+    notes: list[str],
+) -> tuple[float | None, float]:
+    """The sample rate [Hz] and the first time [s] from the time column ``t`` (checked uniform).
+
+    The rate is 1 / the median step; a given ``fs`` must agree with it to 1 %. How the time
+    unit was chosen, when the header does not state it, is appended to ``notes``.
+    """
+    assert hdr.time_idx is not None
+    t_first = float(t[0])
+    if abs(t_first) > 2.0**53:  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
+        t = _exact_time(lines, layout.first_data, layout.delim, hdr.time_idx, t)
+    tname = hdr.header[hdr.time_idx] if hdr.header else str(hdr.time_idx)
+    raw_step = float(np.median(np.diff(t)))  # in the column's own unit
+    time_scale, note = _time_unit(t_first, raw_step, tname, hdr)
+    if note:
+        notes.append(note)
+    _check_uniform(path, t, tname)
+    step = raw_step * (time_scale or 1.0)
+    if fs is None:
+        fs = 1.0 / step
+    elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
+        raise ValueError(
+            f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
+            f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
+        )
+    return fs, t_first * (time_scale or 1.0)
+
+
+
+
+def _exact_time(
+    lines: list[str], first: int, delim: str, idx: int, t: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Integer timestamps re-read as int64, relative to the first (exact steps); ``t - t[0]`` otherwise."""
+    try:
+        ti = np.loadtxt(
+            io.StringIO("\n".join(lines[first:])),
+            delimiter=delim,
+            comments="#",
+            usecols=[idx],
+            dtype=np.int64,
+            quotechar='"',
+            ndmin=1,
+        )
+    except (ValueError, OverflowError):
+        return t - t[0]
+    return (ti - ti[0]).astype(np.float64)
+
+
+def _time_scale_from_magnitude(first: float, name: str) -> tuple[float, str | None]:
+    """Unit of a time column without one: Unix epoch times by the magnitude of the first, else seconds."""
+    t0 = abs(first)
+    if t0 < 1e8:
+        return 1.0, None
+    # 1e8 s = 1973; the present is ~1.7e9 s, ~1.7e12 ms, ~1.7e15 us, ~1.7e18 ns
+    for scale, unit in ((1e-9, "ns"), (1e-6, "us"), (1e-3, "ms"), (1.0, "s")):
+        if 1e8 <= t0 * scale < 1e11:
+            return scale, (
+                f"time column {name!r} has no unit; its values ({t0:.4g}) are Unix epoch times in "
+                f"{unit} by their magnitude"
+            )
+    return 1.0, None
+
+
+def _check_uniform(path: Path, t: NDArray[np.float64], tname: str) -> None:
+    dt = np.diff(t)
+    bad = np.flatnonzero(~(dt > 0))
+    if len(bad):
+        i = int(bad[0])
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
+            f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}"
+        )
+    step = float(np.median(dt))
+    gaps = np.flatnonzero(dt > GAP_FACTOR * step)
+    if len(gaps):
+        i = int(gaps[0])
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} has a gap before data row {i + 2}: step {dt[i]:.6g} "
+            f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / step:.3g} x the median step {step:.6g} "
+            f"({len(gaps)} such gap{'s' if len(gaps) > 1 else ''}); Allan analysis needs uniform sampling: "
+            f"analyse the segments separately"
+        )
+
+
+def _segment(rows: int, fs: float, start: float | None, stop: float | None) -> tuple[int, int]:
+    """Sample range of the --start/--stop segment [s from the first sample]."""
+    for name, v in (("--start", start), ("--stop", stop)):
+        if v is not None and not (math.isfinite(v) and v >= 0):
+            raise ValueError(f"{name} must be a finite time >= 0 s; got {v!r}")
+    a = 0 if start is None else int(math.ceil(start * fs - 1e-9))
+    b = rows if stop is None else min(rows, int(math.floor(stop * fs + 1e-9)))
+    if b - a < MIN_ROWS:
+        raise ValueError(
+            f"--start/--stop keep {max(b - a, 0)} samples of the {rows / fs:g} s record; need at least {MIN_ROWS}"
+        )
+    return a, b

@@ -48,6 +48,32 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
     return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
 
 
+def _analyse_pieces(ch, log, args):
+    """``--gaps split``: the gap-aware overlapping Allan deviation of ``ch`` over ``log.pieces`` and its fit.
+
+    The stationarity check runs on the longest piece (a step across a gap is not motion).
+    """
+    import numpy as np
+    from gyrobench.analysis.allan import allan_deviation_gaps, bandwidth_range, fit_noise, fit_range
+    from gyrobench.scenarios import allan_report as rep
+
+    if args.kind != "overlapping" or args.taus == "all":
+        raise BadInput(f"--gaps split computes the overlapping Allan deviation at octave or decade taus; got --kind "
+                       f"{args.kind} --taus {args.taus}: give --gaps fill for the other statistics")
+    pieces = [ch.data[a:b] for a, b in log.pieces]
+    curve = allan_deviation_gaps(pieces, log.fs, taus=args.taus)
+    if len(curve.tau) < len(args.terms):
+        raise BadInput(f"{ch.label}: the pieces between the gaps give {len(curve.tau)} Allan deviation point(s); the "
+                       f"{'/'.join(args.terms)} fit needs at least {len(args.terms)}: use fewer --terms")
+    longest = pieces[int(np.argmax([len(p) for p in pieces]))]
+    warn, moving, _ = rep._stationarity(longest, log.fs, curve, ch.label)
+    fit = fit_noise(curve, terms=args.terms, tau_min=args.tau_min, tau_max=args.tau_max, bandwidth=args.bandwidth,
+                    bandwidth_bias=args.bandwidth_bias)
+    fr = fit_range(curve, n_terms=len(args.terms)) if args.tau_min == "auto" else None
+    bw = bandwidth_range(curve, args.bandwidth, bias=args.bandwidth_bias) if args.bandwidth is not None else None
+    return rep.ChannelResult(ch, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, nonstationary=moving)
+
+
 def _terms_arg(text: str) -> tuple[str, ...]:
     from gyrobench.analysis.allan import TERMS
 
@@ -96,7 +122,7 @@ def _cmd_allan(args) -> int:
         from gyrobench.scenarios.logs import read_csv_log
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
-                           stop=args.stop, temperature=args.temperature, decimal=args.decimal)
+                           stop=args.stop, temperature=args.temperature, decimal=args.decimal, gaps=args.gaps)
     if args.bandwidth is None and args.bandwidth_bias != BANDWIDTH_BIAS:
         raise BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
@@ -106,6 +132,9 @@ def _cmd_allan(args) -> int:
     for ch in log.channels:
         rep.check_finite(ch)
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
+        if log.pieces is not None:
+            results.append(_analyse_pieces(ch, log, args))
+            continue
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
                                    bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
@@ -155,6 +184,10 @@ def add_parser(sub) -> None:
                    help="CSV: analyse from this time [s after the first sample]")
     s.add_argument("--stop", type=nonneg_float("--stop"),
                    help="CSV: analyse up to this time [s after the first sample]")
+    s.add_argument("--gaps", choices=("refuse", "fill", "split"), default="refuse",
+                   help="CSV: missing samples in the time column: refuse (default, naming the first gap), fill "
+                        "(linear interpolation; the count is reported) or split (the Allan variance over each "
+                        "contiguous piece, pooled per tau)")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
     s.add_argument("--decimal", choices=(".", ","),

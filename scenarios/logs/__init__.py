@@ -54,7 +54,16 @@ from gyrobench.scenarios.logs._names import (
     time_column,
     unit_of,
 )
-from gyrobench.scenarios.logs._time import _check_time_base, _segment, _time_base
+from gyrobench.scenarios.logs._time import (
+    GAP_CHOICES,
+    UNIFORM_TOLERANCE,
+    TimeGrid,
+    _check_time_base,
+    _fill,
+    _pieces,
+    _segment,
+    _time_base,
+)
 from numpy.typing import NDArray
 
 __all__ = [
@@ -65,6 +74,8 @@ __all__ = [
     "TIME_UNITS",
     "GAP_FACTOR",
     "MIN_ROWS",
+    "GAP_CHOICES",
+    "UNIFORM_TOLERANCE",
     "unit_of",
     "split_header",
     "time_column",
@@ -92,6 +103,8 @@ class Log:
     temperature: NDArray[np.float64] | None = None
     fmt: str = "csv"
     t0: float = 0.0
+    #: ``--gaps split``: sample ranges [a, b) of the channels' contiguous pieces (None: no gap)
+    pieces: tuple[tuple[int, int], ...] | None = None
 
 
 
@@ -107,6 +120,7 @@ def read_csv_log(
     stop: float | None = None,
     temperature: str | None = None,
     decimal: str | None = None,
+    gaps: str = "refuse",
 ) -> Log:
     """Read rate/acceleration columns of a CSV IMU log.
 
@@ -132,6 +146,12 @@ def read_csv_log(
         Decimal mark of the numbers (``--decimal``); None: detected (a decimal comma when the
         first row of numbers reads as numbers only with "," as the decimal mark, separated
         by ";" or tabs), with a note saying so.
+    gaps : {"refuse", "fill", "split"}
+        Missing samples in the time column (``--gaps``): refused in one line naming the first
+        gap (default); filled by linear interpolation between the neighbouring samples (the
+        count in ``notes``); or kept as gaps, ``Log.pieces`` giving the contiguous runs for the
+        gap-aware Allan variance (:func:`gyrobench.analysis.allan.allan_deviation_gaps`).
+        ``--start/--stop`` count time on the grid, gaps included.
 
     Raises
     ------
@@ -171,16 +191,25 @@ def read_csv_log(
             f"decimal comma detected: numbers such as '0,5' separated by {_DELIM_NAMES[layout.delim]} read as 0.5 "
             f"(give --decimal . if the file means otherwise)"
         )
-    t0 = 0.0
+    t0, grid = 0.0, None
     if hdr.time_idx is not None:
-        fs, t0 = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes)
+        fs, t0, grid = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes, gaps)
     if fs is None:  # pragma: no cover - excluded above (no time column or no time unit without --fs)
         raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
-    a, b = _segment(rows, float(fs), start, stop)
-    if (a, b) != (0, rows):
-        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {rows / fs:g} s (--start/--stop)")
-    chans = [_channel(hdr, i, unit, data[a:b, pos[i]]) for i in idxs]
-    temp = np.array(data[a:b, pos[temp_idx]]) if temp_idx is not None else None
+    data, index = _apply_gaps(data, grid, gaps, notes)
+    n_grid = int(index[-1]) + 1
+    a, b = _segment(n_grid, float(fs), start, stop)
+    if (a, b) != (0, n_grid):
+        notes.append(f"segment {a / fs:g} s to {b / fs:g} s of {n_grid / fs:g} s (--start/--stop)")
+    keep = slice(*np.searchsorted(index, [a, b]))
+    data, index = data[keep], index[keep]
+    runs = _pieces(index)
+    pieces = runs if len(runs) > 1 else None
+    if pieces is not None and temp_idx is not None:
+        raise ValueError("--temperature is not available with --gaps split: give --gaps fill, or analyse a segment "
+                         "without gaps (--start/--stop)")
+    chans = [_channel(hdr, i, unit, data[:, pos[i]]) for i in idxs]
+    temp = np.array(data[:, pos[temp_idx]]) if temp_idx is not None else None
     return Log(
         path=path,
         fs=float(fs),
@@ -189,7 +218,25 @@ def read_csv_log(
         temperature=temp,
         fmt=hdr.fmt,
         t0=t0 + a / fs,
+        pieces=pieces,
     )
+
+
+def _apply_gaps(
+    data: NDArray[np.float64], grid: TimeGrid | None, gaps: str, notes: list[str]
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The rows with the gaps filled (``fill``) or kept (``split``), and each row's sample number on the grid."""
+    if grid is None or not len(grid.gaps):
+        return data, np.arange(data.shape[0], dtype=np.int64)
+    n_miss, n_gaps = int(grid.missing.sum()), len(grid.gaps)
+    where = f"{n_gaps} gap{'s' if n_gaps > 1 else ''}, the first after data row {int(grid.gaps[0]) + 1}"
+    if gaps == "fill":
+        notes.append(f"--gaps fill: {n_miss} missing sample{'s' if n_miss > 1 else ''} in {where} filled by linear "
+                     f"interpolation ({n_miss / grid.n_grid:.3g} of the record)")
+        return _fill(data, grid), np.arange(grid.n_grid, dtype=np.int64)
+    notes.append(f"--gaps split: {n_miss} missing sample{'s' if n_miss > 1 else ''} in {where}; the Allan variance "
+                 f"pools the {n_gaps + 1} contiguous pieces")
+    return data, grid.index
 
 
 

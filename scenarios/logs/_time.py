@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +48,25 @@ def _time_unit(
     return time_scale, note
 
 
+@dataclass(frozen=True)
+class TimeGrid:
+    """Where each row of a log sits on its uniform time grid, and the gaps between rows.
+
+    ``index[k]`` is row k's sample number on the grid t0 + j step (consecutive rows differ by
+    1 except across a gap); ``gaps`` holds the rows after which ``missing`` samples are absent.
+    """
+
+    step: float
+    index: NDArray[np.int64]
+    gaps: NDArray[np.int64]
+    missing: NDArray[np.int64]
+
+    @property
+    def n_grid(self) -> int:
+        """Samples of the record with its gaps filled."""
+        return int(self.index[-1]) + 1
+
+
 def _time_base(
     path: Path,
     lines: list[str],
@@ -55,11 +75,13 @@ def _time_base(
     t: NDArray[np.float64],
     fs: float | None,
     notes: list[str],
-) -> tuple[float | None, float]:
-    """The sample rate [Hz] and the first time [s] from the time column ``t`` (checked uniform).
+    gaps: str = "refuse",
+) -> tuple[float | None, float, TimeGrid]:
+    """The sample rate [Hz], the first time [s] and the grid (:func:`_check_uniform`) of the time column ``t``.
 
-    The rate is 1 / the median step; a given ``fs`` must agree with it to 1 %. How the time
-    unit was chosen, when the header does not state it, is appended to ``notes``.
+    The rate is 1 / the grid step (the time from the first to the last row over the samples
+    between them, gaps counted); a given ``fs`` must agree with it to 1 %. How the time unit
+    was chosen, when the header does not state it, is appended to ``notes``.
     """
     assert hdr.time_idx is not None
     t_first = float(t[0])
@@ -70,18 +92,16 @@ def _time_base(
     time_scale, note = _time_unit(t_first, raw_step, tname, hdr)
     if note:
         notes.append(note)
-    _check_uniform(path, t, tname)
-    step = raw_step * (time_scale or 1.0)
+    grid = _check_uniform(path, t, tname, gaps)
+    step = grid.step * (time_scale or 1.0)
     if fs is None:
         fs = 1.0 / step
     elif time_scale is not None and abs(fs * step - 1.0) > 0.01:
         raise ValueError(
-            f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose median "
+            f"--fs {fs:g} Hz disagrees with the time column {tname!r} of {str(path)!r}, whose "
             f"step gives {1.0 / step:.6g} Hz; drop --fs or fix the time unit"
         )
-    return fs, t_first * (time_scale or 1.0)
-
-
+    return fs, t_first * (time_scale or 1.0), grid
 
 
 def _exact_time(
@@ -118,7 +138,23 @@ def _time_scale_from_magnitude(first: float, name: str) -> tuple[float, str | No
     return 1.0, None
 
 
-def _check_uniform(path: Path, t: NDArray[np.float64], tname: str) -> None:
+#: a sample may sit at most this fraction of a step from its place t0 + j step on the uniform grid
+UNIFORM_TOLERANCE = 0.5
+#: --gaps choices: refuse (default), fill (linear interpolation), split (the Allan variance per piece)
+GAP_CHOICES = ("refuse", "fill", "split")
+
+
+def _check_uniform(path: Path, t: NDArray[np.float64], tname: str, gaps: str = "refuse") -> TimeGrid:
+    """The uniform grid of the time column ``t``, every step checked; a gap refused unless ``gaps`` allows it.
+
+    A step over :data:`GAP_FACTOR` x the median step is a gap of round(step / median) - 1
+    missing samples. Every row k must then lie within :data:`UNIFORM_TOLERANCE` of a step of
+    its place t_0 + j_k step, the step being (t_last - t_0) / j_last: jitter of the time stamps
+    passes, a clock that runs at another rate for some steps (every third step a tenth of the
+    others) or a gap that is not a whole number of steps does not.
+    """
+    if gaps not in GAP_CHOICES:
+        raise ValueError(f"--gaps must be one of {'|'.join(GAP_CHOICES)}; got {gaps!r}")
     dt = np.diff(t)
     bad = np.flatnonzero(~(dt > 0))
     if len(bad):
@@ -127,16 +163,48 @@ def _check_uniform(path: Path, t: NDArray[np.float64], tname: str) -> None:
             f"time column {tname!r} of {str(path)!r} must increase strictly: data row {i + 2} "
             f"has {t[i + 1]:.12g} after {t[i]:.12g} in row {i + 1}"
         )
-    step = float(np.median(dt))
-    gaps = np.flatnonzero(dt > GAP_FACTOR * step)
-    if len(gaps):
-        i = int(gaps[0])
+    median = float(np.median(dt))
+    gap_rows = np.flatnonzero(dt > GAP_FACTOR * median)
+    if len(gap_rows) and gaps == "refuse":
+        i = int(gap_rows[0])
         raise ValueError(
             f"time column {tname!r} of {str(path)!r} has a gap before data row {i + 2}: step {dt[i]:.6g} "
-            f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / step:.3g} x the median step {step:.6g} "
-            f"({len(gaps)} such gap{'s' if len(gaps) > 1 else ''}); Allan analysis needs uniform sampling: "
-            f"analyse the segments separately"
+            f"({t[i]:.12g} -> {t[i + 1]:.12g}) is {dt[i] / median:.3g} x the median step {median:.6g} "
+            f"({len(gap_rows)} such gap{'s' if len(gap_rows) > 1 else ''}); Allan analysis needs uniform sampling: "
+            f"give --gaps fill (linear interpolation) or --gaps split (the Allan variance over each contiguous "
+            f"piece), or analyse the segments separately"
         )
+    missing = np.rint(dt[gap_rows] / median).astype(np.int64) - 1
+    jumps = np.ones(dt.size, dtype=np.int64)
+    jumps[gap_rows] += missing
+    index = np.zeros(t.size, dtype=np.int64)
+    np.cumsum(jumps, out=index[1:])
+    step = float(t[-1] - t[0]) / float(index[-1])
+    off = np.abs((t - t[0]) - index * step)
+    k = int(np.argmax(off))
+    if not off[k] <= UNIFORM_TOLERANCE * step:
+        raise ValueError(
+            f"time column {tname!r} of {str(path)!r} is not uniform: data row {k + 1} ({t[k]:.12g}) lies "
+            f"{off[k] / step:.3g} of a step from its place on the grid of step {step:.6g} (the tolerance is "
+            f"{UNIFORM_TOLERANCE:g} step; the median step is {median:.6g}): Allan analysis needs uniform sampling"
+        )
+    return TimeGrid(step=step, index=index, gaps=gap_rows, missing=missing)
+
+
+def _fill(data: NDArray[np.float64], grid: TimeGrid) -> NDArray[np.float64]:
+    """The rows of ``data`` on the whole grid, each missing sample linearly interpolated between its neighbours."""
+    j = np.arange(grid.n_grid, dtype=float)
+    out = np.empty((grid.n_grid, data.shape[1]))
+    for c in range(data.shape[1]):
+        out[:, c] = np.interp(j, grid.index.astype(float), data[:, c])
+    return out
+
+
+def _pieces(index: NDArray[np.int64]) -> tuple[tuple[int, int], ...]:
+    """Row ranges [a, b) of the contiguous runs of the grid indices ``index``."""
+    breaks = np.flatnonzero(np.diff(index) > 1) + 1
+    edges = [0, *breaks.tolist(), int(index.size)]
+    return tuple((edges[i], edges[i + 1]) for i in range(len(edges) - 1))
 
 
 def _segment(rows: int, fs: float, start: float | None, stop: float | None) -> tuple[int, int]:

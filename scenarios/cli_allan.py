@@ -24,12 +24,15 @@ def read_csv(path: Path, column: str | None, fs: float | None, unit: str | None)
     return ch.data, log.fs, ch.label
 
 
-def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
+def _read_hdf5(path: Path, name: str | None, columns: list[str] | None, start: float | None = None,
+               stop: float | None = None):
+    """The named channels (default 'rate') of a gyrobench HDF5 recording, in SI, between ``start`` and ``stop``
+    [s after the first sample]; only those samples are read."""
     import numpy as np
     from gyrobench.scenarios.logs import Channel, Log
     from gyrobench.sim.recording import load_hdf5
 
-    rec = load_hdf5(path, name)
+    rec = load_hdf5(path, name, start=start, stop=stop)
     chans = []
     wanted: list[str | None] = list(columns) if columns else ["rate" if "rate" in rec.channels else None]
     for ch in wanted:
@@ -45,7 +48,10 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
             except ValueError as exc:  # name the file and the channel, not only the unit
                 raise BadInput(f"{str(path)!r}: channel {rec.name}/{ch}: {exc}") from None
         chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
-    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
+    notes = []
+    if start is not None or stop is not None:
+        notes.append(f"segment {start or 0.0:g} s to {(start or 0.0) + rec.n_samples / rec.fs:g} s (--start/--stop)")
+    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5", t0=rec.t0, notes=notes)
 
 
 def _analyse_pieces(ch, log, args):
@@ -117,7 +123,9 @@ def _cmd_allan(args) -> int:
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
             raise BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
-        log = _read_hdf5(path, args.recording, columns)
+        if args.gaps != "refuse":
+            raise BadInput("--gaps applies to CSV input; an HDF5 recording is uniformly sampled")
+        log = _read_hdf5(path, args.recording, columns, args.start, args.stop)
     else:
         from gyrobench.scenarios.logs import read_csv_log
 
@@ -181,9 +189,9 @@ def add_parser(sub) -> None:
     s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
                                    "(default: from the header '[unit]' or the format)")
     s.add_argument("--start", type=nonneg_float("--start"),
-                   help="CSV: analyse from this time [s after the first sample]")
+                   help="analyse from this time [s after the first sample]")
     s.add_argument("--stop", type=nonneg_float("--stop"),
-                   help="CSV: analyse up to this time [s after the first sample]")
+                   help="analyse up to this time [s after the first sample]")
     s.add_argument("--gaps", choices=("refuse", "fill", "split"), default="refuse",
                    help="CSV: missing samples in the time column: refuse (default, naming the first gap), fill "
                         "(linear interpolation; the count is reported) or split (the Allan variance over each "

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from gyrobench.scenarios.logs._body import _body_of, _head_lines, _parse_rows, _read_text
 from gyrobench.scenarios.logs._body import _parse_plain as _parse_plain  # (tests/analysis/test_allan_fast_paths.py)
-from gyrobench.scenarios.logs._body import _parse_rows, _read_text
 from gyrobench.scenarios.logs._layout import (
     _DELIM_NAMES,
     _check_unique_names,
@@ -41,6 +41,7 @@ from gyrobench.scenarios.logs._layout import (
     _Header,
     _header_of,
     _index_of,
+    _Layout,
     _selected_columns,
     _sniff,
 )
@@ -165,11 +166,14 @@ def read_csv_log(
     check (:func:`_check_time_base`), the parsing (:func:`_parse_rows`), the time column
     (:func:`_time_base`: unit, uniform steps, fs) and the channels (:func:`_channel`).
     """
-    lines = _read_text(path).splitlines()
-    comma = _decimal_comma(lines, decimal)
-    layout = _sniff(path, lines, comma)
+    text = _read_text(path)
+    head, complete = _head_lines(text)
+    comma = _decimal_comma(head, decimal)
+    layout = _sniff(path, head, comma) if complete else _sniff_long_head(path, text, head, comma)
+    body = _body_of(text, head, layout.first_data)
+    del text
     if comma:  # the data rows with decimal points (header lines keep their text)
-        lines = lines[: layout.first_data] + [ln.replace(",", ".") for ln in lines[layout.first_data :]]
+        body = body.replace(",", ".")
     hdr = _header_of(layout)
     _check_unique_names(path, hdr)
     idxs = _selected_columns(path, hdr, columns, all_axes)
@@ -178,7 +182,7 @@ def read_csv_log(
 
     usecols = sorted({*idxs, *(i for i in (hdr.time_idx, temp_idx) if i is not None)})
     pos = {c: k for k, c in enumerate(usecols)}
-    data = _parse_rows(path, lines, layout.first_data, layout.delim, layout.ncols, hdr.names, usecols)
+    data = _parse_rows(path, body, layout.first_data, layout.delim, layout.ncols, hdr.names, usecols)
     rows = data.shape[0]
     if rows < MIN_ROWS:
         raise ValueError(
@@ -193,7 +197,7 @@ def read_csv_log(
         )
     t0, grid = 0.0, None
     if hdr.time_idx is not None:
-        fs, t0, grid = _time_base(path, lines, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes, gaps)
+        fs, t0, grid = _time_base(path, body, layout, hdr, data[:, pos[hdr.time_idx]], fs, notes, gaps)
     if fs is None:  # pragma: no cover - excluded above (no time column or no time unit without --fs)
         raise ValueError(f"{str(path)!r}: give --fs (sample rate in Hz)")
     data, index = _apply_gaps(data, grid, gaps, notes)
@@ -220,6 +224,14 @@ def read_csv_log(
         t0=t0 + a / fs,
         pieces=pieces,
     )
+
+
+def _sniff_long_head(path: Path, text: str, head: list[str], comma: bool) -> _Layout:
+    """:func:`_sniff` on the first lines, or on all of them when no data row is among the first."""
+    try:
+        return _sniff(path, head, comma)
+    except ValueError:
+        return _sniff(path, text.split("\n"), comma)
 
 
 def _apply_gaps(

@@ -69,7 +69,7 @@ class TimeGrid:
 
 def _time_base(
     path: Path,
-    lines: list[str],
+    body: str,
     layout: _Layout,
     hdr: _Header,
     t: NDArray[np.float64],
@@ -86,7 +86,7 @@ def _time_base(
     assert hdr.time_idx is not None
     t_first = float(t[0])
     if abs(t_first) > 2.0**53:  # integer epoch ns (ROS, Kalibr, EuRoC): float64 keeps 256 ns steps only
-        t = _exact_time(lines, layout.first_data, layout.delim, hdr.time_idx, t)
+        t = _exact_time(body, layout.delim, hdr.time_idx, t)
     tname = hdr.header[hdr.time_idx] if hdr.header else str(hdr.time_idx)
     raw_step = float(np.median(np.diff(t)))  # in the column's own unit
     time_scale, note = _time_unit(t_first, raw_step, tname, hdr)
@@ -104,13 +104,11 @@ def _time_base(
     return fs, t_first * (time_scale or 1.0), grid
 
 
-def _exact_time(
-    lines: list[str], first: int, delim: str, idx: int, t: NDArray[np.float64]
-) -> NDArray[np.float64]:
+def _exact_time(body: str, delim: str, idx: int, t: NDArray[np.float64]) -> NDArray[np.float64]:
     """Integer timestamps re-read as int64, relative to the first (exact steps); ``t - t[0]`` otherwise."""
     try:
         ti = np.loadtxt(
-            io.StringIO("\n".join(lines[first:])),
+            io.StringIO(body),
             delimiter=delim,
             comments="#",
             usecols=[idx],

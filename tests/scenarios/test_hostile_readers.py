@@ -149,3 +149,38 @@ def test_recordings_are_checked_finite_before_they_are_written(tmp_path, bad):
             w.append(rate=np.zeros(100))
             w.append(rate=y)
     assert not (tmp_path / "s.h5").exists()
+
+
+# ----------------------------------------------------------------------------- CSV and gzip memory
+def test_csv_over_the_memory_limit_is_refused_before_it_is_read(tmp_path, capsys, monkeypatch):
+    """A 12 MB CSV with a 20 MB limit: the estimate (text copies and parsed cells) is refused in one line."""
+    p = tmp_path / "big.csv"
+    rows = "0.001,0.002\n" * 1_000_000
+    p.write_text("time [s],gyro [rad/s]\n" + rows)
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "20M")
+    code, _, err = run(["allan", p], capsys)
+    assert_one_line_error(code, err, f"reading {str(p)!r} (12 MB of text) needs about")
+    assert "GYROBENCH_MEMORY_LIMIT=20M" in err
+
+
+def test_gzip_bomb_is_refused_while_it_is_decompressed(tmp_path, capsys, monkeypatch):
+    """200 MB of text in a ~0.2 MB .gz: refused after decompressing a few MB, never holding more than the limit."""
+    import gzip
+    import tracemalloc
+
+    p = tmp_path / "bomb.csv.gz"
+    block = ("0,0\n" * 250_000).encode()  # 1 MB
+    with gzip.open(p, "wb", compresslevel=9) as fh:
+        fh.write(b"time [s],gyro [rad/s]\n")
+        for _ in range(200):
+            fh.write(block)
+    assert p.stat().st_size < 1e6
+    monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "50M")
+    tracemalloc.start()
+    try:
+        code, _, err = run(["allan", p], capsys)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert_one_line_error(code, err, f"reading {str(p)!r} (more than ")
+    assert peak < 50e6

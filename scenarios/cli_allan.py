@@ -186,8 +186,10 @@ def add_parser(sub) -> None:
     s.add_argument("--all-axes", action="store_true", help="CSV: every gyro and accelerometer column")
     s.add_argument("--recording", help="HDF5: recording name when the file holds several")
     s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
-    s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
-                                   "(default: from the header '[unit]' or the format)")
+    s.add_argument("--units", help="CSV: unit per column kind, e.g. gyro=deg/s,accel=g, or one unit (deg/s, deg/h, "
+                                   "rad/s, m/s^2, g) for the columns of its kind; a column's kind comes from its "
+                                   "name or header (gyro, omega, acc, ax ...), and one reading gravity is never "
+                                   "taken as a gyro (default: from the header '[unit]' or the format)")
     s.add_argument("--start", type=nonneg_float("--start"),
                    help="analyse from this time [s after the first sample]")
     s.add_argument("--stop", type=nonneg_float("--stop"),

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 from gyrobench.scenarios.logs._body import _body_of, _head_lines, _parse_rows, _read_text
 from gyrobench.scenarios.logs._body import _parse_plain as _parse_plain  # (tests/analysis/test_allan_fast_paths.py)
+from gyrobench.scenarios.logs._kinds import gravity_like, kind_by_name, parse_units
 from gyrobench.scenarios.logs._layout import (
     _DELIM_NAMES,
     _check_unique_names,
@@ -46,7 +47,6 @@ from gyrobench.scenarios.logs._layout import (
     _sniff,
 )
 from gyrobench.scenarios.logs._names import (
-    _RATE_ALIASES,
     ACCEL_UNITS,
     GAP_FACTOR,
     MIN_ROWS,
@@ -135,10 +135,15 @@ def read_csv_log(
     fs : float, optional
         Sample rate [Hz]; required without a time column; with one, it must agree.
     unit : str, optional
-        Unit of the named columns when the header has none (a rate unit of
-        gyrobench.sim.units.RATE_UNITS or an acceleration unit of :data:`ACCEL_UNITS`).
+        ``--units``: one unit (a rate unit of gyrobench.sim.units.RATE_UNITS or an acceleration
+        unit of :data:`ACCEL_UNITS`), applied to the columns of its kind (and to columns of no
+        kind, refused if they read gravity), or units per kind, ``gyro=deg/s,accel=g``. A
+        column's kind comes from its header unit, name suffix or name (``gyro``, ``omega``,
+        ``acc``, ``ax`` ...); it overrides the header's unit of that kind.
     all_axes : bool
-        Analyse every gyro (and accelerometer) column the header names.
+        Analyse every gyro (and accelerometer) column the header names, and every column of
+        no kind whose name ends in an axis letter (``x``, ``imu.z``): it needs a unit from
+        ``--units`` or is refused naming it, never dropped; other columns are listed in a note.
     start, stop : float, optional
         Segment [s from the first sample] to keep.
     temperature : str, optional
@@ -212,7 +217,8 @@ def read_csv_log(
     if pieces is not None and temp_idx is not None:
         raise ValueError("--temperature is not available with --gaps split: give --gaps fill, or analyse a segment "
                          "without gaps (--start/--stop)")
-    chans = [_channel(hdr, i, unit, data[:, pos[i]]) for i in idxs]
+    given = parse_units(unit)
+    chans = [_channel(hdr, i, given, data[:, pos[i]]) for i in idxs]
     temp = np.array(data[:, pos[temp_idx]]) if temp_idx is not None else None
     return Log(
         path=path,
@@ -253,19 +259,41 @@ def _apply_gaps(
 
 
 # ----------------------------------------------------------------------------- channels
-def _channel(hdr: _Header, i: int, unit: str | None, x: NDArray[np.float64]) -> Channel:
-    """Column ``i`` as a Channel in SI, its unit from ``--units``, the header, the name or the format."""
-    label = hdr.names[i] if hdr.names else f"column {i}"
-    q, u = unit_of(hdr.names[i], hdr.units[i], hdr.fmt) if hdr.names else (None, None)
-    if unit is not None:
-        u = _RATE_ALIASES.get(unit, unit)
-        q = "accel" if u in ACCEL_UNITS else "rate"
-    if u is None:
-        from gyrobench.sim import units
+def _channel(hdr: _Header, i: int, given: dict[str, str], x: NDArray[np.float64]) -> Channel:
+    """Column ``i`` as a Channel in SI: its kind (gyro "rate" or "accel") from its header unit, its name
+    suffix, its name or its format, else from ``--units``; its unit from ``--units`` for that kind, the
+    header, the name suffix or the format.
 
+    A column whose kind only a bare ``--units`` rate unit gives is refused when it reads gravity
+    (:func:`gravity_like`): an accelerometer axis is never analysed as a gyro.
+    """
+    from gyrobench.sim import units
+
+    label = hdr.names[i] if hdr.names else f"column {i}"
+    name = hdr.names[i] if hdr.names else ""
+    q, u = unit_of(name, hdr.units[i], hdr.fmt) if hdr.names else (None, None)
+    q = q or kind_by_name(name)
+    kinds = [k for k in ("rate", "accel") if k in given]
+    if q is None and len(kinds) == 2:
+        raise ValueError(
+            f"column {label!r} has no kind (its name and header say neither gyro nor accelerometer), so --units "
+            f"gyro=...,accel=... cannot tell which applies: give its unit in the header (e.g. '{label} [deg/s]') "
+            f"or analyse it alone with one unit"
+        )
+    typed_by_units = q is None and len(kinds) == 1
+    q = q or (kinds[0] if kinds else None)
+    if q in given:
+        u = given[q]
+    if u is None:
         raise ValueError(
             f"the unit of column {label!r} is unknown: give --units "
-            f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))})"
+            f"({'|'.join(list(units.RATE_UNITS) + list(ACCEL_UNITS))}, or gyro=UNIT,accel=UNIT)"
+        )
+    if typed_by_units and q == "rate" and "bare" in given and (g := gravity_like(x)) is not None:
+        raise ValueError(
+            f"column {label!r} reads {float(np.mean(x)):.4g} on average with little scatter: gravity on an "
+            f"accelerometer axis in {g}, not a gyro at rest; give the kinds (e.g. --units gyro={u},accel={g}, "
+            f"with kinds in the column names), or --units gyro={u} if it is a gyro"
         )
     return Channel(label=label, quantity=q or "rate", data=_to_si(x, q or "rate", u), unit=u)
 

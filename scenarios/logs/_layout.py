@@ -6,8 +6,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gyrobench.scenarios.logs._names import (
-    _ACCEL_NAME,
-    _GYRO_NAME,
     _NOT_AXIS_NAME,
     MIN_ROWS,
     _cells,
@@ -230,13 +228,15 @@ def _selected_columns(path: Path, hdr: _Header, columns: list[str] | None, all_a
         if dup:
             raise ValueError(f"--column names column {dup[0]} of {str(path)!r} twice")
     elif all_axes:
+        from gyrobench.scenarios.logs._kinds import axis_like, kind_by_name
+
         idxs = [
             i
             for i, nm in enumerate(names)
             if i != time_idx
             and not _NOT_AXIS_NAME.search(nm)
-            and unit_of(nm, hdr.units[i], hdr.fmt)[0] is not None
-            and (_GYRO_NAME.search(nm) or _ACCEL_NAME.search(nm) or hdr.units[i])
+            and (unit_of(nm, hdr.units[i], hdr.fmt)[0] is not None or kind_by_name(nm) is not None
+                 or (hdr.fmt == "csv" and axis_like(nm)))
         ]
         if not idxs:
             raise ValueError(

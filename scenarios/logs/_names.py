@@ -53,9 +53,10 @@ _RATE_ALIASES = {
 #: column-name patterns of gyro (rate) and accelerometer columns, for the all-axes mode
 _GYRO_NAME = re.compile(r"(^w_|^omega|gyro|angular_velocity|^g[xyz]$|^w[xyz]$|rate)", re.IGNORECASE)
 _ACCEL_NAME = re.compile(r"(^a_|^alpha_|acc|linear_acceleration|^a[xyz]$)", re.IGNORECASE)
-#: names that are not a measured axis although they match the patterns above (the covariance
-#: fields of ROS sensor_msgs/Imu, e.g. ``field.angular_velocity_covariance0``)
-_NOT_AXIS_NAME = re.compile(r"covariance", re.IGNORECASE)
+#: names that are not a measured gyro or accelerometer axis although they match the patterns above or end
+#: in an axis letter (the covariance and orientation fields of ROS sensor_msgs/Imu, e.g.
+#: ``field.angular_velocity_covariance0``; quaternions, magnetometer axes, temperatures)
+_NOT_AXIS_NAME = re.compile(r"covariance|orientation|quat|^mag|_mag|temp", re.IGNORECASE)
 #: name suffixes that carry a unit (``gyro_x_dps``, ``accel_x_g``)
 _SUFFIX_UNIT = {
     "dps": "deg/s",

@@ -28,7 +28,7 @@ Everything returned is SI: rate in rad/s, acceleration in m/s^2, time in s.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +51,8 @@ from gyrobench.scenarios.logs._names import (
     GAP_FACTOR,
     MIN_ROWS,
     TIME_UNITS,
+    _cells,
+    _is_number,
     split_header,
     time_column,
     unit_of,
@@ -61,6 +63,7 @@ from gyrobench.scenarios.logs._time import (
     TimeGrid,
     _check_time_base,
     _fill,
+    _iso_times,
     _pieces,
     _segment,
     _time_base,
@@ -185,16 +188,28 @@ def read_csv_log(
     temp_idx = _index_of(path, hdr, temperature) if temperature is not None else None
     _check_time_base(path, hdr, fs)
 
-    usecols = sorted({*idxs, *(i for i in (hdr.time_idx, temp_idx) if i is not None)})
+    iso = hdr.time_idx is not None and not _is_number(_first_cell(body, layout.delim, hdr.time_idx))
+    numeric = (i for i in (hdr.time_idx, temp_idx) if i is not None and not (iso and i == hdr.time_idx))
+    usecols = sorted({*idxs, *numeric})
     pos = {c: k for k, c in enumerate(usecols)}
     data = _parse_rows(path, body, layout.first_data, layout.delim, layout.ncols, hdr.names, usecols)
+    notes: list[str] = []
+    iso_t0 = 0.0
+    if iso:  # the time column holds text: ISO-8601 date-times, or refused saying what it holds
+        assert hdr.time_idx is not None
+        tname = hdr.header[hdr.time_idx] if hdr.header else str(hdr.time_idx)
+        t_iso, iso_t0 = _iso_times(path, body, layout.delim, hdr.time_idx, layout.first_data, tname, notes)
+        if len(t_iso) != data.shape[0]:  # pragma: no cover - both skip the same blank and comment lines
+            raise ValueError(f"{str(path)!r}: {len(t_iso)} times for {data.shape[0]} data rows")
+        pos[hdr.time_idx] = data.shape[1]
+        data = np.column_stack([data, t_iso])
+        hdr = replace(hdr, time_scale=1.0, time_stated=True)
     rows = data.shape[0]
     if rows < MIN_ROWS:
         raise ValueError(
             f"CSV {str(path)!r} has {rows} data row{'s' if rows != 1 else ''}; need at least "
             f"{MIN_ROWS} (and many more for an Allan analysis)"
         )
-    notes: list[str] = []
     if comma and decimal is None:
         notes.append(
             f"decimal comma detected: numbers such as '0,5' separated by {_DELIM_NAMES[layout.delim]} read as 0.5 "
@@ -220,6 +235,7 @@ def read_csv_log(
     given = parse_units(unit)
     chans = [_channel(hdr, i, given, data[:, pos[i]]) for i in idxs]
     temp = np.array(data[:, pos[temp_idx]]) if temp_idx is not None else None
+    t0 += iso_t0
     return Log(
         path=path,
         fs=float(fs),
@@ -230,6 +246,12 @@ def read_csv_log(
         t0=t0 + a / fs,
         pieces=pieces,
     )
+
+
+def _first_cell(body: str, delim: str, idx: int) -> str:
+    """Cell ``idx`` of the first data row (the first line of ``body``)."""
+    cells = _cells(body[: body.find("\n")] if "\n" in body else body, delim)
+    return cells[idx] if idx < len(cells) else ""
 
 
 def _sniff_long_head(path: Path, text: str, head: list[str], comma: bool) -> _Layout:

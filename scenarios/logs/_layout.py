@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gyrobench.scenarios.logs._names import (
+    _ISO,
     _NOT_AXIS_NAME,
     MIN_ROWS,
     _cells,
@@ -38,6 +39,7 @@ def _sniff(path: Path, lines: list[str], comma: bool = False) -> _Layout:
     """
     first_data, candidates = _first_data_row(lines, comma)
     if first_data is None:
+        _refuse_text_times(path, lines)
         raise ValueError(f"CSV {str(path)!r} has 0 data rows; need at least {MIN_ROWS}")
     first = _decimal_point(lines[first_data].strip(), comma)
     delim = _sniff_delimiter(first)
@@ -48,6 +50,23 @@ def _sniff(path: Path, lines: list[str], comma: bool = False) -> _Layout:
             f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}"
         )
     return _Layout(first_data=first_data, delim=delim, ncols=ncols, header=header)
+
+
+def _refuse_text_times(path: Path, lines: list[str]) -> None:
+    """A file with no data row whose time column holds text after its header: say so, naming the cell."""
+    rows = [(i, ln.strip()) for i, ln in enumerate(lines[:_DECIMAL_SNIFF_LINES]) if ln.strip()]
+    for (_, head), (j, row) in zip(rows, rows[1:], strict=False):
+        delim = _sniff_delimiter(head)
+        names = [split_header(c)[0] for c in _cells(head.lstrip("#"), delim)]
+        idx = time_column(names, [None] * len(names))[0]
+        cells = _cells(row, delim)
+        cell = cells[idx] if idx is not None and len(cells) == len(names) else "0"
+        if not (_is_number(cell) or _is_number(cell.replace(",", ".")) or _ISO.match(cell)):
+            raise ValueError(
+                f"time column {names[idx or 0]!r} of {str(path)!r} line {j + 1}: {cell!r} is neither a number nor "
+                f"an ISO-8601 date-time (YYYY-MM-DDThh:mm:ss[.fff][Z]); convert the times to seconds or "
+                f"to ISO-8601"
+            )
 
 
 def _first_data_row(lines: list[str], comma: bool = False) -> tuple[int | None, list[str]]:
@@ -70,8 +89,8 @@ def _first_data_row(lines: list[str], comma: bool = False) -> tuple[int | None, 
             continue
         line = _decimal_point(s, comma)
         cells = _cells(line, _sniff_delimiter(line))
-        numbers = sum(1 for c in cells if c != "" and _is_number(c))
-        texts = sum(1 for c in cells if c != "" and not _is_number(c))
+        numbers = sum(1 for c in cells if c != "" and (_is_number(c) or _ISO.match(c) is not None))
+        texts = sum(1 for c in cells if c != "" and not (_is_number(c) or _ISO.match(c) is not None))
         if numbers and not texts:
             return i, candidates
         if header is not None and len(header) == len(cells) > 1 and numbers > texts and numbers >= 2:

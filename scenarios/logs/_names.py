@@ -75,6 +75,11 @@ _SI_FORMATS = ("euroc", "kalibr", "ros")
 
 
 # ----------------------------------------------------------------------------- header parsing
+#: an ISO-8601 date-time as loggers write it: date, "T" or space, hh:mm[:ss[.fff]], optional Z or UTC offset
+_ISO = re.compile(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}(:\d{2}([.,]\d+)?)?(Z|[+-]\d{2}:?\d{2})?$")
+
+
+
 def split_header(cell: str) -> tuple[str, str | None]:
     """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses."""
     cell = cell.strip()

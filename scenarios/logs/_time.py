@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 from gyrobench.scenarios.logs._layout import _Header, _Layout
-from gyrobench.scenarios.logs._names import _SI_FORMATS, GAP_FACTOR, MIN_ROWS, TIME_UNITS
+from gyrobench.scenarios.logs._names import _ISO, _SI_FORMATS, GAP_FACTOR, MIN_ROWS, TIME_UNITS
 from numpy.typing import NDArray
 
 
@@ -119,6 +119,44 @@ def _exact_time(body: str, delim: str, idx: int, t: NDArray[np.float64]) -> NDAr
     except (ValueError, OverflowError):
         return t - t[0]
     return (ti - ti[0]).astype(np.float64)
+
+
+def _iso_times(
+    path: Path, body: str, delim: str, idx: int, first: int, tname: str, notes: list[str]
+) -> tuple[NDArray[np.float64], float]:
+    """An ISO-8601 time column read as seconds after its first time (exact to the ns), and that time [s, Unix].
+
+    Times without an offset or with "Z" are read as UTC; a UTC offset is refused (a log whose
+    offset changes, at a daylight-saving switch, would jump by an hour), as is a cell that is
+    not an ISO-8601 date-time, each naming its line.
+    """
+    cells: list[str] = []
+    lines: list[int] = []
+    for j, ln in enumerate(body.rstrip("\n").split("\n")):
+        s = ln.strip()
+        if s and not s.startswith("#"):
+            parts = s.split(delim)
+            cells.append(parts[idx].strip().strip('"') if idx < len(parts) else "")
+            lines.append(first + j + 1)
+    for cell, line in zip(cells, lines, strict=True):
+        m = _ISO.match(cell)
+        if m is None:
+            raise ValueError(
+                f"time column {tname!r} of {str(path)!r} line {line}: {cell!r} is neither a number nor an ISO-8601 "
+                f"date-time (YYYY-MM-DDThh:mm:ss[.fff][Z]); convert the times to seconds or to ISO-8601"
+            )
+        if m.group(3) not in (None, "Z"):
+            raise ValueError(
+                f"time column {tname!r} of {str(path)!r} line {line}: {cell!r} has a UTC offset; ISO-8601 times "
+                f"are read only in UTC ('Z' or no offset): convert them to UTC or to seconds"
+            )
+    clean = [c.rstrip("Z").replace(",", ".") for c in cells]
+    try:
+        ns = np.array(clean, dtype="datetime64[ns]").astype(np.int64)
+    except ValueError as exc:  # e.g. month 13: the pattern matched, the calendar did not
+        raise ValueError(f"time column {tname!r} of {str(path)!r}: {exc}; convert the times to seconds") from None
+    notes.append(f"time column {tname!r} read as ISO-8601 UTC date-times from {cells[0]}")
+    return (ns - ns[0]).astype(np.float64) * 1e-9, float(ns[0]) * 1e-9
 
 
 def _time_scale_from_magnitude(first: float, name: str) -> tuple[float, str | None]:

@@ -63,6 +63,8 @@ def _analyse_pieces(ch, log, args):
     from gyrobench.analysis.allan import allan_deviation_gaps, bandwidth_range, fit_noise, fit_range
     from gyrobench.scenarios import allan_report as rep
 
+    if args.segments is not None:
+        raise BadInput("--segments auto is not available with --gaps split (the record has gaps): give --gaps fill")
     if args.kind != "overlapping" or args.taus == "all":
         raise BadInput(f"--gaps split computes the overlapping Allan deviation at octave or decade taus; got --kind "
                        f"{args.kind} --taus {args.taus}: give --gaps fill for the other statistics")

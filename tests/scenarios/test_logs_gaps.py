@@ -101,7 +101,12 @@ def test_split_start_stop_count_time_on_the_grid(dropped):
     assert whole.pieces is None and len(whole.channels[0].data) == 100_000
 
 
-def test_split_refuses_the_statistics_it_does_not_compute(dropped, capsys):
+@pytest.mark.parametrize(
+    ("extra", "match"),
+    [(["--kind", "modified"], "--gaps split computes the overlapping Allan deviation"),
+     (["--segments", "auto"], "--segments auto is not available with --gaps split")],
+)
+def test_split_refuses_what_it_does_not_compute(dropped, capsys, extra, match):
     p, _ = dropped
-    code, _, err = run(["allan", p, "--gaps", "split", "--kind", "modified"], capsys)
-    assert_one_line_error(code, err, "--gaps split computes the overlapping Allan deviation")
+    code, _, err = run(["allan", p, "--gaps", "split", *extra], capsys)
+    assert_one_line_error(code, err, match)

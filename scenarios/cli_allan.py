@@ -24,12 +24,15 @@ def read_csv(path: Path, column: str | None, fs: float | None, unit: str | None)
     return ch.data, log.fs, ch.label
 
 
-def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
+def _read_hdf5(path: Path, name: str | None, columns: list[str] | None, start: float | None = None,
+               stop: float | None = None):
+    """The named channels (default 'rate') of a gyrobench HDF5 recording, in SI, between ``start`` and ``stop``
+    [s after the first sample]; only those samples are read."""
     import numpy as np
     from gyrobench.scenarios.logs import Channel, Log
     from gyrobench.sim.recording import load_hdf5
 
-    rec = load_hdf5(path, name)
+    rec = load_hdf5(path, name, start=start, stop=stop)
     chans = []
     wanted: list[str | None] = list(columns) if columns else ["rate" if "rate" in rec.channels else None]
     for ch in wanted:
@@ -45,7 +48,38 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None):
             except ValueError as exc:  # name the file and the channel, not only the unit
                 raise BadInput(f"{str(path)!r}: channel {rec.name}/{ch}: {exc}") from None
         chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
-    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5")
+    notes = []
+    if start is not None or stop is not None:
+        notes.append(f"segment {start or 0.0:g} s to {(start or 0.0) + rec.n_samples / rec.fs:g} s (--start/--stop)")
+    return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5", t0=rec.t0, notes=notes)
+
+
+def _analyse_pieces(ch, log, args):
+    """``--gaps split``: the gap-aware overlapping Allan deviation of ``ch`` over ``log.pieces`` and its fit.
+
+    The stationarity check runs on the longest piece (a step across a gap is not motion).
+    """
+    import numpy as np
+    from gyrobench.analysis.allan import allan_deviation_gaps, bandwidth_range, fit_noise, fit_range
+    from gyrobench.scenarios import allan_report as rep
+
+    if args.segments is not None:
+        raise BadInput("--segments auto is not available with --gaps split (the record has gaps): give --gaps fill")
+    if args.kind != "overlapping" or args.taus == "all":
+        raise BadInput(f"--gaps split computes the overlapping Allan deviation at octave or decade taus; got --kind "
+                       f"{args.kind} --taus {args.taus}: give --gaps fill for the other statistics")
+    pieces = [ch.data[a:b] for a, b in log.pieces]
+    curve = allan_deviation_gaps(pieces, log.fs, taus=args.taus)
+    if len(curve.tau) < len(args.terms):
+        raise BadInput(f"{ch.label}: the pieces between the gaps give {len(curve.tau)} Allan deviation point(s); the "
+                       f"{'/'.join(args.terms)} fit needs at least {len(args.terms)}: use fewer --terms")
+    longest = pieces[int(np.argmax([len(p) for p in pieces]))]
+    warn, moving, _ = rep._stationarity(longest, log.fs, curve, ch.label)
+    fit = fit_noise(curve, terms=args.terms, tau_min=args.tau_min, tau_max=args.tau_max, bandwidth=args.bandwidth,
+                    bandwidth_bias=args.bandwidth_bias)
+    fr = fit_range(curve, n_terms=len(args.terms)) if args.tau_min == "auto" else None
+    bw = bandwidth_range(curve, args.bandwidth, bias=args.bandwidth_bias) if args.bandwidth is not None else None
+    return rep.ChannelResult(ch, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, nonstationary=moving)
 
 
 def _terms_arg(text: str) -> tuple[str, ...]:
@@ -91,12 +125,14 @@ def _cmd_allan(args) -> int:
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
             raise BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
-        log = _read_hdf5(path, args.recording, columns)
+        if args.gaps != "refuse":
+            raise BadInput("--gaps applies to CSV input; an HDF5 recording is uniformly sampled")
+        log = _read_hdf5(path, args.recording, columns, args.start, args.stop)
     else:
         from gyrobench.scenarios.logs import read_csv_log
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
-                           stop=args.stop, temperature=args.temperature, decimal=args.decimal)
+                           stop=args.stop, temperature=args.temperature, decimal=args.decimal, gaps=args.gaps)
     if args.bandwidth is None and args.bandwidth_bias != BANDWIDTH_BIAS:
         raise BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
@@ -106,6 +142,9 @@ def _cmd_allan(args) -> int:
     for ch in log.channels:
         rep.check_finite(ch)
         _check_allan_input(ch.data, log.fs, ch.label, args.kind)  # magnitudes that overflow, memory
+        if log.pieces is not None:
+            results.append(_analyse_pieces(ch, log, args))
+            continue
         results.append(rep.analyse(ch, log.fs, taus=args.taus, kind=args.kind, terms=args.terms,
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
                                    bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
@@ -149,12 +188,18 @@ def add_parser(sub) -> None:
     s.add_argument("--all-axes", action="store_true", help="CSV: every gyro and accelerometer column")
     s.add_argument("--recording", help="HDF5: recording name when the file holds several")
     s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
-    s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
-                                   "(default: from the header '[unit]' or the format)")
+    s.add_argument("--units", help="CSV: unit per column kind, e.g. gyro=deg/s,accel=g, or one unit (deg/s, deg/h, "
+                                   "rad/s, m/s^2, g) for the columns of its kind; a column's kind comes from its "
+                                   "name or header (gyro, omega, acc, ax ...), and one reading gravity is never "
+                                   "taken as a gyro (default: from the header '[unit]' or the format)")
     s.add_argument("--start", type=nonneg_float("--start"),
-                   help="CSV: analyse from this time [s after the first sample]")
+                   help="analyse from this time [s after the first sample]")
     s.add_argument("--stop", type=nonneg_float("--stop"),
-                   help="CSV: analyse up to this time [s after the first sample]")
+                   help="analyse up to this time [s after the first sample]")
+    s.add_argument("--gaps", choices=("refuse", "fill", "split"), default="refuse",
+                   help="CSV: missing samples in the time column: refuse (default, naming the first gap), fill "
+                        "(linear interpolation; the count is reported) or split (the Allan variance over each "
+                        "contiguous piece, pooled per tau)")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
     s.add_argument("--decimal", choices=(".", ","),

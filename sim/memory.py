@@ -36,6 +36,7 @@ __all__ = [
     "format_bytes",
     "series_bytes",
     "allan_bytes",
+    "csv_read_bytes",
     "scenario_bytes",
     "check_scenario",
 ]
@@ -183,6 +184,21 @@ ALLAN_WORK_ARRAYS = {"overlapping": 3, "standard": 3, "modified": 5, "hadamard":
 def allan_bytes(n_samples: float, kind: str = "overlapping") -> float:
     """Estimated peak bytes of an Allan analysis of ``n_samples`` samples, input included."""
     return series_bytes(n_samples, 1 + ALLAN_WORK_ARRAYS.get(kind, 6))
+
+
+#: copies of a CSV's text a read holds at its peak (gyrobench.scenarios.logs: the bytes read, the
+#: decoded text, the data rows' text, and their lines or their one-line copy for the parser), and the
+#: float64 arrays per parsed cell (the result and numpy.loadtxt's growing buffer). Measured on a 93 MB,
+#: 1e6-row, 7-column CSV: 354 MB peak (tracemalloc) against the 482 MB this estimates.
+CSV_TEXT_COPIES = 4
+CSV_CELL_ARRAYS = 2
+
+
+def csv_read_bytes(n_bytes: float, cells_per_byte: float) -> float:
+    """Estimated peak bytes of reading a CSV of ``n_bytes`` bytes of text holding ``cells_per_byte``
+    cells per byte (separators and line ends per byte of a sample of it):
+    ``CSV_TEXT_COPIES n_bytes + CSV_CELL_ARRAYS 8 cells_per_byte n_bytes``."""
+    return float(n_bytes) * (CSV_TEXT_COPIES + CSV_CELL_ARRAYS * SAMPLE_BYTES * float(cells_per_byte))
 
 
 def scenario_bytes(module, config) -> float | None:

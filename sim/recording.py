@@ -53,6 +53,7 @@ __all__ = [
     "temp_name",
     "ensure_free_space",
     "check_magnitude",
+    "check_finite_samples",
     "save_hdf5",
     "load_hdf5",
     "list_hdf5",
@@ -634,13 +635,46 @@ def _mark_root(h5) -> None:
     h5.attrs["gyrobench_version"] = package_version()
 
 
+def check_finite_samples(data: NDArray, what: str, *, offset: int = 0) -> None:
+    """Refuse non-finite samples before they are written (a file ``allan`` would refuse), in one line.
+
+    ``offset`` is the record's index of ``data[0]`` when ``data`` is one chunk of it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the first non-finite sample, its index and how many there are.
+    """
+    v = np.asarray(data)
+    if v.dtype.kind not in "fc":
+        return
+    step = 1 << 20  # blockwise: no record-sized boolean temporary
+    for a in range(0, v.size, step):
+        finite = np.isfinite(v[a : a + step])
+        if not finite.all():
+            i = a + int(np.flatnonzero(~finite)[0])
+            total = int(v.size - np.count_nonzero(np.isfinite(v)))
+            many = "s" if total > 1 else ""
+            raise ValueError(
+                f"{what} has {v[i].item()!r} at sample {offset + i} ({total} non-finite sample{many}"
+                f"{' in this block' if offset else ''}); "
+                "a recording is written only with finite samples: check the configuration's values and units"
+            )
+
+
+def _check_recording_finite(rec: Recording) -> None:
+    for sub, chans in (("channels", rec.channels), ("truth", rec.truth)):
+        for k, c in chans.items():
+            check_finite_samples(c.data, f"recording {rec.name!r}: {sub}/{k}")
+
+
 def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) -> Path:
     """Write one or several recordings to an HDF5 file, atomically.
 
     Raises
     ------
     ValueError
-        If two recordings share a name.
+        If two recordings share a name, or a sample is not finite (nothing is written).
     AtomicWriteError
         If the data would not fit on the disk (checked before writing) or the
         write fails; ``path`` is then left as it was.
@@ -649,6 +683,8 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
     names = [r.name for r in recs]
     if len(set(names)) != len(names):
         raise ValueError(f"recording names must be unique within a file; got {names}")
+    for r in recs:
+        _check_recording_finite(r)
     ensure_free_space(path, sum(r.nbytes for r in recs))
     with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
         _mark_root(h5)
@@ -673,11 +709,15 @@ def _open_checked(path: str | os.PathLike):
         fmt = fmt.decode(errors="replace")
     if not isinstance(fmt, str):
         fmt = _short_repr(fmt)
-    if fmt != FORMAT or "recordings" not in h5:
+    link = h5.get("recordings", getlink=True) if fmt == FORMAT else None
+    if fmt != FORMAT or link is None:
         h5.close()
         raise RecordingFormatError(
             f"{str(p)!r} is an HDF5 file but not a gyrobench recording (root attribute format={fmt!r})"
         )
+    if not isinstance(link, h5py.HardLink):
+        h5.close()
+        raise RecordingFormatError(_link_message(f"{str(p)!r}: /recordings", link))
     return h5
 
 
@@ -702,6 +742,10 @@ class _NameError(KeyError):
 
 class _ChoiceError(ValueError):
     """Several recordings in the file and none named."""
+
+
+class _RangeError(ValueError):
+    """``start``/``stop`` out of range: the caller's values, not the file's fault."""
 
 
 def _attr(grp, key: str, kind: type, where: str):
@@ -768,6 +812,7 @@ def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
     g = grp[sub]
     if not isinstance(g, h5py.Group):
         raise RecordingFormatError(f"{where}/{sub} must be a group; got a {type(g).__name__}")
+    _check_stored_once(g, f"{where}: {sub}")
     for k in g:
         lk = g.get(k, getlink=True)
         if isinstance(lk, (h5py.ExternalLink, h5py.SoftLink)):
@@ -775,8 +820,47 @@ def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
         ds = g[k]
         if not isinstance(ds, h5py.Dataset):
             raise RecordingFormatError(f"{where}/{sub}/{k} must be a dataset; got a group")
+        _check_stored_once(ds, f"{where}: {sub}/{k}")
+        _check_storage(ds, f"{where}: {sub}/{k}")
         out[k] = ds
     return out
+
+
+def _check_stored_once(obj: Any, name: str) -> None:
+    """Refuse an object reachable under several names (HDF5 hard links): one array read as two channels."""
+    import h5py
+
+    rc = h5py.h5o.get_info(obj.id).rc
+    if rc != 1:
+        raise RecordingFormatError(
+            f"{name} is stored under {rc} names in the file (HDF5 hard links); each group and dataset of a "
+            "recording must be stored once"
+        )
+
+
+def _check_storage(ds: Any, name: str) -> None:
+    """Refuse a dataset whose samples are not all in the file: external raw storage, a virtual dataset, or
+    chunks never written (they would read as the fill value)."""
+    plist = ds.id.get_create_plist()
+    if plist.get_external_count() > 0:
+        ext = plist.get_external(0)[0]
+        raise RecordingFormatError(
+            f"{name} keeps its samples in the external file {ext.decode(errors='replace')!r} (HDF5 external "
+            "storage); a recording must hold its own data: copy the data into the file"
+        )
+    if ds.is_virtual:
+        raise RecordingFormatError(
+            f"{name} is an HDF5 virtual dataset (its samples live in other datasets or files); a recording "
+            "must hold its own data: copy the data into the file"
+        )
+    if ds.chunks is not None and ds.size and plist.get_nfilters() > 0:  # unfiltered: the storage size tells
+        expected = math.prod(-(-n // c) for n, c in zip(ds.shape, ds.chunks, strict=True))
+        written = ds.id.get_num_chunks()
+        if written < expected:
+            raise RecordingFormatError(
+                f"{name} claims {ds.size} samples in {expected} chunks but {written} of them are written (the "
+                "rest would read as the fill value): truncated or forged file"
+            )
 
 
 def _link_message(name: str, lk: Any) -> str:
@@ -788,14 +872,21 @@ def _link_message(name: str, lk: Any) -> str:
     return f"{name} is an HDF5 soft link to {lk.path!r}; links are refused in a recording"
 
 
-def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
+def load_hdf5(
+    path: str | os.PathLike, name: str | None = None, *, start: float | None = None, stop: float | None = None
+) -> Recording:
     """Read one recording (``name``, or the only one) and check it is complete.
 
     Everything is checked before any sample is read: the attributes ``fs``, ``t0``
     (finite real numbers), ``n_samples`` (an integer) and ``metadata`` (JSON text);
     every channel must be a real (float or integer) 1-D dataset of ``n_samples``
-    values, stored in the file itself (external and soft links are refused), and all
-    of them together must fit in memory (:func:`gyrobench.sim.memory.check_memory`).
+    values, stored in the file itself (external, soft and duplicate hard links at every
+    level, external raw storage, virtual datasets and unwritten chunks are refused), and all
+    of them together must fit in memory (:func:`gyrobench.sim.memory.check_memory`: the
+    samples read, their float64 copies and the largest chunk decompressed).
+
+    ``start`` and ``stop`` [s after the first sample] read only the samples in between
+    (``t0`` moves to the first one read).
 
     Raises
     ------
@@ -807,6 +898,7 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
     KeyError
         If ``name`` is not in the file.
     """
+    import h5py
     from gyrobench.sim import memory
 
     with _open_checked(path) as h5:
@@ -818,8 +910,15 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
                 name = next(iter(recs))
             if name not in recs:
                 raise _NameError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
-            grp = recs[name]
             where = f"{str(path)!r}: recording {name!r}"
+            _check_stored_once(recs, f"{str(path)!r}: /recordings")
+            link = recs.get(name, getlink=True)
+            if not isinstance(link, h5py.HardLink):
+                raise RecordingFormatError(_link_message(where, link))
+            grp = recs[name]
+            if not isinstance(grp, h5py.Group):
+                raise RecordingFormatError(f"{where} must be a group; got a {type(grp).__name__}")
+            _check_stored_once(grp, where)
             fs = _attr(grp, "fs", float, where)
             if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
                 raise RecordingFormatError(
@@ -858,23 +957,24 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
                             f"{where}: {sub}/{k} claims {n} samples ({_fmt_bytes(ds.nbytes)}) but "
                             f"the file stores {_fmt_bytes(stored)} of them: truncated or forged file"
                         )
+            a, b = _sample_range(n, fs, start, stop, where)
             n_series = sum(len(d) for d in sets.values())
             memory.check_memory(
-                memory.series_bytes(n, n_series),
-                f"reading {where} ({n_series} channels of {n} samples)",
-                hint="read fewer samples (split the file) or use a machine with more memory",
+                _read_bytes([ds for d in sets.values() for ds in d.values()], b - a),
+                f"reading {where} ({n_series} channels of {b - a} samples)",
+                hint="read fewer samples (--start/--stop, or split the file) or use a machine with more memory",
             )
             out: dict[str, dict[str, Channel]] = {}
             for sub, dss in sets.items():
                 out[sub] = {}
                 for k, ds in dss.items():
-                    data = ds[()].astype(float, copy=False)
+                    data = ds[a:b].astype(float, copy=False)
                     out[sub][k] = Channel(
                         data,
                         _text_attr(ds.attrs, "unit", f"{where}: {sub}/{k}"),
                         _free_text(ds.attrs.get("description", "")),
                     )
-        except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError):
+        except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError, _RangeError):
             raise
         except (KeyError, ValueError) as exc:
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is incomplete ({exc})") from None
@@ -883,9 +983,39 @@ def load_hdf5(path: str | os.PathLike, name: str | None = None) -> Recording:
                 f"{str(path)!r}: recording {name!r} cannot be read ({' '.join(str(exc).split())})"
             ) from None
         try:
-            return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0, metadata=meta, name=name)
+            return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0 + a / fs, metadata=meta,
+                             name=name)
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
+
+
+def _sample_range(n: int, fs: float, start: float | None, stop: float | None, where: str) -> tuple[int, int]:
+    """Samples [a, b) between ``start`` and ``stop`` [s after the first sample]; at least 2 of them."""
+    for flag, v in (("--start", start), ("--stop", stop)):
+        if v is not None and not (math.isfinite(v) and v >= 0):
+            raise _RangeError(f"{flag} must be a finite time >= 0 s; got {v!r}")
+    a = 0 if start is None else min(n, int(math.ceil(start * fs - 1e-9)))
+    b = n if stop is None else min(n, int(math.floor(stop * fs + 1e-9)))
+    if (start is not None or stop is not None) and b - a < 2:
+        raise _RangeError(
+            f"--start/--stop keep {max(b - a, 0)} samples of the {n / fs:g} s of {where}; need at least 2"
+        )
+    return a, max(a, b)
+
+
+def _read_bytes(datasets: list[Any], n: int) -> float:
+    """Peak bytes of reading ``n`` samples of each dataset as float64: the samples as stored, their float64
+    copy when stored otherwise, and the largest chunk decompressed at once."""
+    from gyrobench.sim import memory
+
+    total = memory.series_bytes(n, len(datasets))
+    chunk = 0.0
+    for ds in datasets:
+        if ds.dtype != np.float64:
+            total += float(n) * ds.dtype.itemsize
+        if ds.chunks is not None:
+            chunk = max(chunk, float(math.prod(ds.chunks)) * ds.dtype.itemsize)
+    return total + chunk
 
 
 class HDF5StreamWriter:
@@ -969,6 +1099,8 @@ class HDF5StreamWriter:
         lengths = {len(v) for v in given.values()}
         if len(lengths) != 1:
             raise ValueError(f"append: all channels must have the same length; got {lengths}")
+        for (sub, k), v in given.items():
+            check_finite_samples(v, f"recording {self.name!r}: {sub}/{k}", offset=self._n)
         m = lengths.pop()
         for key, v in given.items():
             ds = self._ds[key]
@@ -990,7 +1122,9 @@ class HDF5StreamWriter:
 
 
 def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
-    """Export a recording to CSV (``time [s]`` then ``name [unit]`` columns), atomically."""
+    """Export a recording to CSV (``time [s]`` then ``name [unit]`` columns), atomically; every sample must be
+    finite (ValueError otherwise, nothing written)."""
+    _check_recording_finite(rec)
     cols = [("time", "s", rec.time)]
     cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]
     if include_truth:

@@ -54,6 +54,7 @@ from __future__ import annotations
 from gyrobench.analysis.allan._covariance import QUANTIZATION_KURTOSIS
 from gyrobench.analysis.allan._curve import allan_deviation, identify_noise
 from gyrobench.analysis.allan._fit import MISFIT_P, fit_noise
+from gyrobench.analysis.allan._gaps import allan_deviation_gaps as allan_deviation_gaps  # records with gaps
 from gyrobench.analysis.allan._kinds import _FIT_KINDS as _FIT_KINDS  # (allan_report pins its copy to it)
 from gyrobench.analysis.allan._kinds import KINDS
 from gyrobench.analysis.allan._readoff import slope_readoff

@@ -151,3 +151,36 @@ def test_duplicate_header_names_are_refused_naming_them(tmp_path, capsys, rng, h
         read_csv_log(p, ["1"], None, "deg/s")
     code, _, err = run(["allan", p, "--column", "1", "--units", "deg/s"], capsys)
     assert_one_line_error(code, err, f"names {named} more than once: rename the duplicates")
+
+
+# ----------------------------------------------------------------------------- ISO-8601 time columns
+def _iso_csv(path, rng, fmt, n=3000):
+    t = np.datetime64("2024-03-01T10:00:00.000", "ns") + np.arange(n) * np.timedelta64(5, "ms")
+    rate = rng.standard_normal(n)
+    rows = (fmt(str(ti)[:23]) + f",{float(v)!r}" for ti, v in zip(t, rate, strict=True))
+    path.write_text("time,gyro [deg/s]\n" + "\n".join(rows))
+    return rate
+
+
+@pytest.mark.parametrize("fmt", [lambda s: s + "Z", lambda s: s, lambda s: s.replace("T", " ")])
+def test_iso_8601_time_column_is_read_in_utc(tmp_path, rng, fmt):
+    p = tmp_path / "iso.csv"
+    rate = _iso_csv(p, rng, fmt)
+    log = read_csv_log(p, None, None, None)
+    assert log.fs == pytest.approx(FS, rel=1e-12)
+    assert log.t0 == pytest.approx(1_709_287_200.0, abs=1e-6)  # 2024-03-01T10:00:00Z
+    np.testing.assert_allclose(log.channels[0].data, np.deg2rad(rate), rtol=1e-14)
+    assert any("ISO-8601 UTC" in n for n in log.notes)
+
+
+@pytest.mark.parametrize(
+    ("fmt", "match"),
+    [(lambda s: s + "+01:00", "has a UTC offset; ISO-8601 times are read only in UTC"),
+     (lambda s: s[8:10] + "/" + s[5:7] + "/" + s[:4] + " " + s[11:], "is neither a number nor an ISO-8601 date-time")],
+)
+def test_other_text_times_are_refused_saying_which(tmp_path, capsys, rng, fmt, match):
+    p = tmp_path / "t.csv"
+    _iso_csv(p, rng, fmt)
+    code, _, err = run(["allan", p], capsys)
+    assert_one_line_error(code, err, match)
+    assert "line 2" in err

@@ -37,9 +37,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import Check, Part, run_parts
 
-__all__ = ["checks", "FALSE_ALARM"]
+__all__ = ["checks", "parts", "FALSE_ALARM"]
 
 #: false-alarm rate of each statistical check
 FALSE_ALARM = 1e-6
@@ -611,18 +611,23 @@ def _optical_budget(rng: np.random.Generator) -> list[Check]:
     return [_shot(ob, lam, r_shot), _rin(ob, lam, r_rin), _johnson(ob)]
 
 
-def checks(rng: np.random.Generator) -> list[Check]:
-    """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
+def parts(rng: np.random.Generator) -> list[Part]:
+    """The checks in ten independent parts (statistical ones draw from children of ``rng``)."""
     r = rng.spawn(6)  # the budget's stream last: the other checks keep their streams
     return [
-        *_optical_budget(r[5]),
-        _arw_reduced(r[0]),
-        _arw_full(r[1]),
-        *_loop_response(),
-        *_resets(r[2]),
-        *_strain_kernel(),
-        *_strain_exact_kernel(),
-        *_vibration_chain(r[3]),
-        _random_vibration(r[4]),
-        _rectification(),
+        Part("optical_budget", _optical_budget, (r[5],)),
+        Part("arw_reduced", _arw_reduced, (r[0],)),
+        Part("arw_full", _arw_full, (r[1],)),
+        Part("loop_response", _loop_response),
+        Part("resets", _resets, (r[2],)),
+        Part("strain_kernel", _strain_kernel),
+        Part("strain_exact_kernel", _strain_exact_kernel),
+        Part("vibration_chain", _vibration_chain, (r[3],)),
+        Part("random_vibration", _random_vibration, (r[4],)),
+        Part("rectification", _rectification),
     ]
+
+
+def checks(rng: np.random.Generator) -> list[Check]:
+    """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
+    return run_parts(parts(rng))

@@ -44,7 +44,7 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import Check, Part, run_parts
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
@@ -64,7 +64,7 @@ from gyrobench.sim.mems_resonator import (
 from numpy.typing import NDArray
 
 __all__ = [
-    "checks", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds",
+    "checks", "parts", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds",
     "f_ratio_bounds", "full_noise_spectrum", "slow_noise_spectrum", "periodogram_band_stats",
     "open_loop_noise_checks",
 ]
@@ -679,9 +679,14 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
     ]
 
 
-def checks(rng: np.random.Generator) -> list[Check]:
-    """Run the MEMS resonator checks (a minute or two; three short full integrations)."""
+def parts(rng: np.random.Generator) -> list[Part]:
+    """The checks in seven independent parts, each with its own child of ``rng``."""
     r = rng.spawn(7)
-    return [_arw_check(r[0]), *_full_checks(r[1]), _noise_vs_full(r[2]), _continuity(r[3]),
-            *_open_loop_checks(r[4]), _open_loop_response_check(r[5]),
-            *open_loop_noise_checks(r[6])]
+    funcs = (_arw_check, _full_checks, _noise_vs_full, _continuity, _open_loop_checks,
+             _open_loop_response_check, open_loop_noise_checks)
+    return [Part(f.__name__.strip("_"), f, (ri,)) for f, ri in zip(funcs, r, strict=True)]
+
+
+def checks(rng: np.random.Generator) -> list[Check]:
+    """Run the MEMS resonator checks (tens of seconds; four short full integrations)."""
+    return run_parts(parts(rng))

@@ -38,10 +38,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import number_where as _num
 from gyrobench.sim.coil2d import WINDING_PATTERNS, winding_sequence  # their home: the (r, z) coil
 from gyrobench.sim.fiber_strain import elasto_optic_factor  # its home: the strain kernels
 from numpy.typing import ArrayLike, NDArray
@@ -61,10 +62,7 @@ __all__ = [
 ]
 
 
-def _num(owner: str, name: str, v, cond: str, unit: str, ok) -> float:
-    if isinstance(v, bool) or not isinstance(v, Real) or not math.isfinite(v) or not ok(float(v)):
-        raise ValueError(f"{owner}.{name} must be {cond} {unit}; got {v!r}")
-    return float(v)
+
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

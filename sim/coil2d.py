@@ -54,10 +54,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import number_where as _num
 from gyrobench.sim.fiber_strain import elasto_optic_factor
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
@@ -90,10 +91,7 @@ __all__ = [
 ]
 
 
-def _num(owner: str, name: str, v, cond: str, unit: str, ok) -> float:
-    if isinstance(v, bool) or not isinstance(v, Real) or not math.isfinite(v) or not ok(float(v)):
-        raise ValueError(f"{owner}.{name} must be {cond} {unit}; got {v!r}")
-    return float(v)
+
 
 
 #: winding name -> the repeating A/B layer sequence (inner -> outer); helical has none.

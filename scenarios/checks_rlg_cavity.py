@@ -68,7 +68,7 @@ def _hand_r_net(u: CavityRLG, strain: float, plc: float) -> complex:
 
 
 #: lock-in check: record per sample [s] (one angle increment each) and samples
-LOCK_IN_TAU = 1000.0
+LOCK_IN_TAU = 10000.0
 LOCK_IN_SAMPLES = 40000
 
 

@@ -58,4 +58,4 @@ def test_a_wrong_lock_in_in_the_model_fails_the_lock_in_check(monkeypatch, facto
     real = rlg_cavity.lock_in_from_backscatter
     monkeypatch.setattr(rlg_cavity, "lock_in_from_backscatter", lambda *a, **k: factor * real(*a, **k))
     c = m._check_lock_in(u, r_lock)
-    assert c.tolerance < 0.08 and not c.passed, (c.rel_error, c.tolerance)
+    assert c.tolerance < 0.03 and not c.passed, (c.rel_error, c.tolerance)

@@ -9,6 +9,13 @@ module listed in :data:`CHECK_MODULES` defines
     fast form), drawing every random number from ``rng`` (a
     :class:`numpy.random.Generator`).
 
+and may define
+
+``parts(rng) -> list[Part]``
+    the same checks as independent pieces with their streams already drawn from ``rng``
+    (``checks(rng)`` is then :func:`run_parts` of them): :func:`collect` runs the pieces one
+    by one, or side by side on an executor, and reports each as it finishes.
+
 The ``physics_checks`` scenario runs them all and reports each check's id, formula,
 expected and simulated values, relative error and tolerance with its derivation.
 """
@@ -17,13 +24,14 @@ from __future__ import annotations
 
 import importlib
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-__all__ = ["CHECK_MODULES", "Check", "collect"]
+__all__ = ["CHECK_MODULES", "Check", "Part", "run_parts", "collect"]
 
 #: modules defining ``checks(rng) -> list[Check]``, in report order (append new ones at the
 #: end: :func:`collect` gives each module its own child stream in this order, so an added
@@ -109,9 +117,49 @@ class Check:
         }
 
 
+@dataclass(frozen=True, slots=True)
+class Part:
+    """One independent piece of a check module: ``func(*args)`` returns a Check or a list.
+
+    ``func`` is a module-level function and ``args`` picklable (a part may run on a worker
+    process); ``label`` names it in the progress bar.
+    """
+
+    label: str
+    func: Callable[..., Any]
+    args: tuple[Any, ...] = ()
+
+    def run(self) -> list[Check]:
+        """The part's checks, as a list."""
+        out = self.func(*self.args)
+        return [out] if isinstance(out, Check) else list(out)
+
+
+def run_parts(parts: Sequence[Part]) -> list[Check]:
+    """Every part's checks, in order (what a module's ``checks(rng)`` returns)."""
+    return [c for p in parts for c in p.run()]
+
+
+def _run_part(part: Part) -> list[Check]:
+    """Module level, so it pickles to a worker process."""
+    return part.run()
+
+
 def _module_checks(name: str, rng: np.random.Generator) -> list[Check]:
     """One module's checks (module level, so it pickles to a worker process)."""
     return list(importlib.import_module(name).checks(rng))
+
+
+def _plan(rng: np.random.Generator, modules: tuple[str, ...]) -> list[tuple[str, Part]]:
+    """(module, part) in report order: one child stream per module, split by its ``parts``."""
+    out: list[tuple[str, Part]] = []
+    for name, child in zip(modules, rng.spawn(len(modules)), strict=True):
+        mod = importlib.import_module(name)
+        if hasattr(mod, "parts"):
+            out.extend((name, p) for p in mod.parts(child))
+        else:
+            out.append((name, Part(name.rsplit(".", 1)[-1], _module_checks, (name, child))))
+    return out
 
 
 def collect(
@@ -119,32 +167,43 @@ def collect(
     modules: tuple[str, ...] = CHECK_MODULES,
     *,
     executor: Executor | None = None,
-    on_module_done: Callable[[str, list[Check]], None] | None = None,
+    on_plan: Callable[[int], None] | None = None,
+    on_part_done: Callable[[str, list[Check]], None] | None = None,
 ) -> list[Check]:
-    """Run every check module's ``checks`` with its own child stream of ``rng``.
+    """Run every check module's checks with its own child stream of ``rng``.
 
     Each module gets one spawned child generator, in the order of ``modules``, so adding a
     module at the end changes no earlier module's numbers, and the results are the same
-    whether the modules run here or on ``executor`` (e.g. a process pool), in any order.
-    ``on_module_done(name, checks)`` is called as each module finishes (in completion order
-    on an executor), e.g. to move a progress bar.
+    whether the modules run here or on ``executor`` (e.g. a process pool), in any order. A
+    module with ``parts`` is run part by part (its parts draw from its child stream exactly as
+    its ``checks`` does). ``on_plan(n)`` is called first with the number of parts;
+    ``on_part_done(label, checks)`` as each part finishes (in completion order on an
+    executor), e.g. to move a progress bar; the label is the module's short name, with the
+    part's after a dot for a module with parts.
     """
-    children = rng.spawn(len(modules))
+    plan = _plan(rng, modules)
+    if on_plan is not None:
+        on_plan(len(plan))
+
+    def label(name: str, part: Part) -> str:
+        short = name.rsplit(".", 1)[-1]
+        return short if part.label == short else f"{short}.{part.label}"
+
     if executor is None:
-        per_module = []
-        for n, c in zip(modules, children, strict=True):
-            per_module.append(_module_checks(n, c))
-            if on_module_done is not None:
-                on_module_done(n, per_module[-1])
+        per_part = []
+        for n, p in plan:
+            per_part.append(p.run())
+            if on_part_done is not None:
+                on_part_done(label(n, p), per_part[-1])
     else:
         from concurrent.futures import as_completed
 
-        futures = {executor.submit(_module_checks, n, c): n for n, c in zip(modules, children, strict=True)}
-        if on_module_done is not None:
+        futures = {executor.submit(_run_part, p): label(n, p) for n, p in plan}
+        if on_part_done is not None:
             for f in as_completed(futures):
-                on_module_done(futures[f], f.result())
-        per_module = [f.result() for f in futures]
-    out: list[Check] = [c for checks in per_module for c in checks]
+                on_part_done(futures[f], f.result())
+        per_part = [f.result() for f in futures]
+    out: list[Check] = [c for checks in per_part for c in checks]
     ids = [c.id for c in out]
     dup = sorted({i for i in ids if ids.count(i) > 1})
     if dup:

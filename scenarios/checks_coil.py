@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from gyrobench.scenarios.checks import Check
 from gyrobench.sim import coil2d, units
-from gyrobench.sim.coil import winding_sequence
+from gyrobench.sim.coil2d import winding_sequence
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
 

@@ -1,6 +1,7 @@
-"""Closed-form check of the FOG model's Sagnac scale factor (:mod:`gyrobench.sim.fog`).
+"""Closed-form check of the FOG's Sagnac scale factor (:mod:`gyrobench.sim.fog2d`, the FOG on the
+(r, z) coil that paper 003 runs; its closed loop :mod:`gyrobench.sim.fog_loop`).
 
-- Sagnac scale factor of the default unit, ``FOGSpec().scale_factor``, against a second
+- Sagnac scale factor of a unit of the default ``FOG2DSpec``, ``unit.scale_factor``, against a second
   derivation that does not use the model's formula: the transit times of the two beams
   round N = L/(pi D) turns of a loop of radius R = D/2 rotating at Omega, seen in the
   inertial frame (the co-rotating beam chases its moving start point: t_cw = L/(c - R Omega),
@@ -28,12 +29,12 @@ _EPS = float(np.finfo(float).eps)
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Sagnac scale factor (deterministic; ``rng`` unused)."""
-    from gyrobench.sim.fog import FOGSpec
+    """Sagnac scale factor of one unit drawn with ``rng`` (its coil's L and D)."""
+    from gyrobench.sim.fog2d import FOG2DSpec
     from scipy import constants
 
-    spec = FOGSpec()
-    c = spec.coil
+    unit = FOG2DSpec().realize(rng=rng)
+    c = unit.fog.loop
     omega, radius = 1e-3, c.diameter / 2  # [rad/s], [m]
     dt_transit = 2 * c.length * radius * omega / (constants.c**2 - (radius * omega) ** 2)
     sf = 2 * math.pi * constants.c * dt_transit / c.wavelength / omega
@@ -44,7 +45,7 @@ def checks(rng: np.random.Generator) -> list[Check]:
             f"(inertial-frame transit times, Post 1967) [s]; L = {c.length:g} m, "
             f"D = {c.diameter:g} m, lambda = {c.wavelength:g} m, Omega = {omega:g} rad/s",
             expected=sf,
-            simulated=spec.scale_factor,
+            simulated=unit.scale_factor,
             tolerance=16 * _EPS,
             derivation="float64 rounding: about 10 operations, <= 16 eps; the transit-time form "
             "differs from 2 pi L D/(lambda c) by (R Omega/c)^2 ~ 3e-26 (negligible)",

@@ -1,6 +1,10 @@
 """Closed-form checks of the closed-loop FOG (:mod:`gyrobench.sim.fog_loop`, ``fog_optics``,
 ``fiber_strain``).
 
+- The optical budget's current-noise terms, each against something outside the code: shot
+  noise 2 q i against a photocurrent of Poisson photo-electron counts, excess RIN 2/dnu against
+  the measured intensity noise of simulated polarised thermal light (Goodman 1985), the
+  feedback resistor's 4 k T/R against a textbook's printed Johnson-noise example.
 - ARW of the optical budget, N = sqrt(S_phi/2)/SF (shot + excess RIN + thermal; Lefevre
   sec. 5.3), against the reduced record (1 s angle increments, chi-square with one degree of
   freedom per block) and against the full-rate loop (block sums of M transits whose exact
@@ -33,9 +37,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import Check, Part, run_parts
 
-__all__ = ["checks", "FALSE_ALARM"]
+__all__ = ["checks", "parts", "FALSE_ALARM"]
 
 #: false-alarm rate of each statistical check
 FALSE_ALARM = 1e-6
@@ -489,53 +493,141 @@ def _rectification() -> Check:
     )
 
 
-def _optical_budget() -> list[Check]:
-    """The budget's per-current computation against its closed form, at two bias phases."""
+#: shot-noise check: photocurrent samples and their rate [Hz]
+_SHOT_SAMPLES, _SHOT_FS = 2**20, 1e6
+#: excess-RIN check: thermal-light samples, spectral width in units of the sample rate, and the
+#: fraction of that width whose periodogram bins are averaged
+_RIN_SAMPLES, _RIN_WIDTH, _RIN_LOW = 2**20, 0.05, 0.1
+
+
+def _shot(ob, lam: float, rng: np.random.Generator) -> Check:
+    """Schottky's 2 q i against a photocurrent of Poisson photo-electron counts."""
+    from gyrobench.sim.units import ELEMENTARY_CHARGE
+    from scipy import stats
+
+    phi = math.pi / 2
+    ib = ob.bias_current(phi)
+    counts = rng.poisson(ib / (ELEMENTARY_CHARGE * _SHOT_FS), _SHOT_SAMPLES)
+    current = ELEMENTARY_CHARGE * _SHOT_FS * counts  # [A], the mean current over each sample
+    measured = 2.0 * float(current.var(ddof=1)) / _SHOT_FS  # one-sided white PSD [A^2/Hz]
+    dof = _SHOT_SAMPLES - 1
+    lo, hi = stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof) / dof
+    return Check(
+        id="fog.optical_budget_shot",
+        formula="shot-noise current PSD at phi_b = pi/2: the budget's 2 q i_b against a "
+        "photocurrent of Poisson photo-electron counts at the rate i_b/q (Schottky 1918; "
+        "q from CODATA 2018) [A^2/Hz]",
+        expected=ob.current_psd(phi, lam)["shot"],
+        simulated=measured,
+        tolerance=float(max(1 - lo, hi - 1)),
+        derivation=f"sample variance of {_SHOT_SAMPLES} independent {1e6 / _SHOT_FS:g}-us "
+        f"current samples: chi2({dof})/{dof} band at {FALSE_ALARM:g} two-sided",
+    )
+
+
+def _thermal_light_intensity(rng: np.random.Generator, n: int, width: float) -> np.ndarray:
+    """Intensity |E|^2 of polarised thermal light: a circular complex Gaussian field with a
+    rectangular spectrum of ``width`` (in units of the sample rate), n samples at rate 1."""
+    f = np.fft.fftfreq(n)
+    spec = np.where(np.abs(f) < width / 2, rng.standard_normal(n) + 1j * rng.standard_normal(n), 0)
+    return np.abs(np.fft.ifft(spec)) ** 2
+
+
+def _rin(ob, lam: float, rng: np.random.Generator) -> Check:
+    """The budget's excess RIN against the measured intensity noise of simulated thermal light.
+
+    Polarised thermal light (Goodman, Statistical Optics, 1985, sec. 9.2-9.3) has intensity
+    autocovariance <I>^2 |g(tau)|^2: for a rectangular optical spectrum of width dnu the
+    intensity PSD is the spectrum's autoconvolution, a triangle, one-sided
+    S_I(f) = 2 <I>^2 (1 - f/dnu)/dnu for f < dnu. The measured RIN x dnu is the mean over
+    the periodogram bins below dnu/10 of 2 |X_k|^2 / (n <I>^2) / (1 - f_k/dnu), each bin an
+    exponential variable (2 dof); the budget's dimensionless RIN x dnu_eff (rectangular:
+    width_factor 1) is then set beside it, in the budget's units through its own dnu_eff.
+    """
+    from scipy import stats
+
+    if ob.width_factor != 1.0 or not ob.polarized:
+        raise ValueError("the RIN check simulates polarised light with a rectangular spectrum")
+    phi = math.pi / 2
+    n = _RIN_SAMPLES
+    i = _thermal_light_intensity(rng, n, _RIN_WIDTH)
+    k = np.arange(1, int(n * _RIN_WIDTH * _RIN_LOW) + 1)
+    f = k / n
+    p = 2.0 * np.abs(np.fft.rfft(i - i.mean())[k]) ** 2 / (n * i.mean() ** 2)
+    measured_times_width = float(np.mean(p / (1.0 - f / _RIN_WIDTH))) * _RIN_WIDTH
+    dnu = ob.effective_bandwidth(lam)
+    ib = ob.bias_current(phi)
+    expected = ob.current_psd(phi, lam)["rin"]
+    dof = 2 * k.size
+    lo, hi = stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof) / dof
+    # <I> estimated from the record itself: relative error ~ sqrt(1/(n width)), squared twice
+    mean_err = 2 * _z() / math.sqrt(n * _RIN_WIDTH)
+    return Check(
+        id="fog.optical_budget_rin",
+        formula="excess-RIN current PSD at phi_b = pi/2: the budget's i_b^2 x 2/dnu_eff against "
+        "i_b^2 x (measured RIN x dnu of simulated polarised thermal light) / dnu_eff, "
+        f"dnu_eff = c dlambda/lambda^2 = {dnu:.4g} Hz (Goodman 1985, sec. 9.2) [A^2/Hz]",
+        expected=expected,
+        simulated=ib**2 * measured_times_width / dnu,
+        tolerance=float(max(1 - lo, hi - 1)) + mean_err,
+        derivation=f"mean of {k.size} periodogram bins below dnu/10 (each 2 dof, divided by the "
+        f"triangle 1 - f/dnu): chi2({dof})/{dof} band at {FALSE_ALARM:g} two-sided, plus "
+        f"2 z/sqrt(n dnu) = {mean_err:.2g} for <I> estimated from the same {n} samples; the "
+        "other convention (1/dnu) is 50 % away",
+    )
+
+
+def _johnson(ob) -> Check:
+    """The budget's thermal term against a textbook's printed Johnson-noise example."""
+    # Horowitz & Hill, The Art of Electronics, 3rd ed. (2015), sec. 8.1.1: "a 10k resistor at
+    # room temperature has an rms open-circuit noise voltage of 1.3 uV, measured with a
+    # bandwidth of 10 kHz": 4 k T = v^2/(R B) [J]
+    v, r, b = 1.3e-6, 1e4, 1e4
+    printed = v**2 / (r * b) / ob.feedback_resistance  # 4 k T / R_f [A^2/Hz]
+    model = ob.current_psd(math.pi / 2, 1550e-9)["thermal"] - ob.amplifier_current_noise**2
+    # the printed 1.3 is rounded (+-0.05: +-7.7 % squared); "room temperature" 290-300 K
+    # against the budget's temperature (up to 300/290 - 1 = 3.4 %)
+    tol = (1.35 / 1.3) ** 2 - 1 + abs(ob.temperature / 295.0 - 1) + 295.0 / 290.0 - 1
+    return Check(
+        id="fog.optical_budget_johnson",
+        formula="feedback-resistor current noise 4 k_B T/R_f against Horowitz & Hill's printed "
+        "1.3 uV rms for 10 kOhm in 10 kHz at room temperature, scaled to R_f "
+        f"= {ob.feedback_resistance:g} Ohm [A^2/Hz]",
+        expected=printed,
+        simulated=model,
+        tolerance=tol,
+        derivation=f"the printed value's rounding (1.3 +- 0.05, squared: {(1.35 / 1.3) ** 2 - 1:.1%}) "
+        f"plus room temperature 290-300 K against the budget's {ob.temperature:g} K",
+    )
+
+
+def _optical_budget(rng: np.random.Generator) -> list[Check]:
+    """The budget's three current-noise terms against a simulation or a printed value each."""
     from gyrobench.sim.fog_loop import ClosedLoopFOG
-    from gyrobench.sim.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT
 
     unit = ClosedLoopFOG(modes=())
     ob, lam = unit.optics, unit.loop.wavelength
-    i0 = ob.responsivity * ob.source_power * 10.0 ** (-ob.loss_db / 10.0)
-    dnu = ob.width_factor * SPEED_OF_LIGHT * ob.spectral_width / lam**2 / (
-        1.0 if ob.polarized else 0.5
-    )
-    s_th = 4.0 * BOLTZMANN * ob.temperature / ob.feedback_resistance + ob.amplifier_current_noise**2
-    out = []
-    for phi in (math.pi / 2, 3 * math.pi / 4):
-        closed = (
-            2.0 * ELEMENTARY_CHARGE / (i0 * math.sin(phi / 2) ** 2)
-            + 2.0 / (math.tan(phi / 2) ** 2 * dnu)
-            + s_th / ((i0 / 2) ** 2 * math.sin(phi) ** 2)
-        )
-        out.append(
-            Check(
-                id=f"fog.optical_budget_closed_form_{round(math.degrees(phi))}deg",
-                formula="S_phi = 2q/(i0 sin^2(phi_b/2)) + 2 cot^2(phi_b/2)/dnu_eff + "
-                "S_th/((i0/2)^2 sin^2 phi_b), i0 = R P 10^(-loss/10), dnu_eff = k_w c dlambda/"
-                "lambda^2 (x2 unpolarised), S_th = 4 k_B T/R_f + i_n^2 [rad^2/Hz]",
-                expected=closed,
-                simulated=ob.phase_psd(phi, lam)["total"],
-                tolerance=1e-12,
-                derivation="the closed form written out from the constants against "
-                "OpticalBudget's per-current PSDs over the squared slope: equal to rounding",
-            )
-        )
-    return out
+    r_shot, r_rin = rng.spawn(2)
+    return [_shot(ob, lam, r_shot), _rin(ob, lam, r_rin), _johnson(ob)]
+
+
+def parts(rng: np.random.Generator) -> list[Part]:
+    """The checks in ten independent parts (statistical ones draw from children of ``rng``)."""
+    r = rng.spawn(6)  # the budget's stream last: the other checks keep their streams
+    return [
+        Part("optical_budget", _optical_budget, (r[5],)),
+        Part("arw_reduced", _arw_reduced, (r[0],)),
+        Part("arw_full", _arw_full, (r[1],)),
+        Part("loop_response", _loop_response),
+        Part("resets", _resets, (r[2],)),
+        Part("strain_kernel", _strain_kernel),
+        Part("strain_exact_kernel", _strain_exact_kernel),
+        Part("vibration_chain", _vibration_chain, (r[3],)),
+        Part("random_vibration", _random_vibration, (r[4],)),
+        Part("rectification", _rectification),
+    ]
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
     """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
-    r = rng.spawn(5)
-    return [
-        *_optical_budget(),
-        _arw_reduced(r[0]),
-        _arw_full(r[1]),
-        *_loop_response(),
-        *_resets(r[2]),
-        *_strain_kernel(),
-        *_strain_exact_kernel(),
-        *_vibration_chain(r[3]),
-        _random_vibration(r[4]),
-        _rectification(),
-    ]
+    return run_parts(parts(rng))

@@ -24,9 +24,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import Check, Part, run_parts
 
-__all__ = ["checks", "FALSE_ALARM"]
+__all__ = ["checks", "parts", "FALSE_ALARM"]
 
 FALSE_ALARM = 1e-6
 _K = 1e5  # scale factor [counts/rad]
@@ -107,6 +107,11 @@ def _dither(rng: np.random.Generator) -> Check:
     )
 
 
+def parts(rng: np.random.Generator) -> list[Part]:
+    """Adler mean beat frequency (two rates) and the dither random walk (``rng``), apart."""
+    return [Part("adler_1.1", _adler, (1.1,)), Part("adler_2", _adler, (2.0,)), Part("dither", _dither, (rng,))]
+
+
 def checks(rng: np.random.Generator) -> list[Check]:
     """Adler mean beat frequency (two rates) and the dither random walk (~3 s)."""
-    return [_adler(1.1), _adler(2.0), _dither(rng)]
+    return run_parts(parts(rng))

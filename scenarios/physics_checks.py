@@ -54,29 +54,34 @@ def simulate(config: Config, seed: int) -> list:
 def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = False) -> list[Check]:
     """Every check of ``config.modules``, drawing from ``numpy.random.default_rng(seed)``.
 
-    ``workers`` > 0 runs the modules on that many local processes (the same numbers: each
-    module draws from its own child stream). ``progress`` shows a tqdm bar on stderr that
-    moves as each check module finishes, with its passed/total.
+    ``workers`` > 0 runs the modules' parts on that many local processes (the same numbers:
+    each module draws from its own child stream, split among its parts as its ``checks``
+    splits it). ``progress`` shows a tqdm bar on stderr that moves as each part (a module, or
+    one check or group of a module with ``parts``) finishes, with its passed/total.
     """
     rng = np.random.default_rng(seed)
     bar = None
+    planned: Callable[[int], None] | None = None
     done: Callable[[str, list[Check]], None] | None = None
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(config.modules), desc=NAME, unit="module", leave=False, mininterval=0)
+        bar = tqdm(total=len(config.modules), desc=NAME, unit="part", leave=False, mininterval=0)
+
+        def planned(n: int) -> None:
+            bar.reset(total=n)
 
         def done(name: str, checks: list[Check]) -> None:
-            bar.set_postfix_str(f"{name.rsplit('.', 1)[-1]}: {sum(c.passed for c in checks)}/{len(checks)} passed")
+            bar.set_postfix_str(f"{name}: {sum(c.passed for c in checks)}/{len(checks)} passed")
             bar.update(1)
 
     try:
-        if workers <= 0 or len(config.modules) < 2:
-            return collect(rng, config.modules, on_module_done=done)
+        if workers <= 1:  # a pool of one only adds its start-up
+            return collect(rng, config.modules, on_plan=planned, on_part_done=done)
         from concurrent.futures import ProcessPoolExecutor
 
-        with ProcessPoolExecutor(max_workers=min(workers, len(config.modules))) as pool:
-            return collect(rng, config.modules, executor=pool, on_module_done=done)
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            return collect(rng, config.modules, executor=pool, on_plan=planned, on_part_done=done)
     finally:
         if bar is not None:
             bar.close()

@@ -34,6 +34,8 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
 from gyrobench.sim._validate import check_rng as _check_rng
+from gyrobench.sim._validate import positive_field as _pos
+from gyrobench.sim._validate import real_field as _num
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
 from numpy.typing import ArrayLike, NDArray
@@ -46,35 +48,6 @@ DITHER_LOCK_IN_MARGIN = 10.0
 
 
 # ============================================================================ validation
-def _num(owner: str, name: str, v: object) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{owner}.{name} must be finite; got {v!r}")
-    return v
-
-
-def _pos(owner: str, name: str, v: object, unit: str) -> float:
-    x = _num(owner, name, v)
-    if x <= 0:
-        raise ValueError(f"{owner}.{name} must be > 0 {unit}; got {v!r}")
-    return x
-
-
-def _nonneg(owner: str, name: str, v: object, unit: str) -> float:
-    x = _num(owner, name, v)
-    if x < 0:
-        raise ValueError(f"{owner}.{name} must be >= 0 {unit}; got {v!r}")
-    return x
-
-
-def _nonneg_fields(owner: str, obj: object, names: tuple[str, ...], unit: str) -> None:
-    """Check that each named attribute of ``obj`` is a finite real >= 0 (``unit``: message)."""
-    for name in names:
-        _nonneg(owner, name, getattr(obj, name), unit)
-
-
 def _require_dither_margin(dither: Dither, lock_in: float, what: str, context: str = "") -> None:
     """Refuse a dither whose peak rate at -3 sigma of its jitter is below the margin x lock-in.
 

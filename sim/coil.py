@@ -38,10 +38,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 from gyrobench.sim import units
+from gyrobench.sim._validate import number_where as _num
+from gyrobench.sim.coil2d import WINDING_PATTERNS, winding_sequence  # their home: the (r, z) coil
+from gyrobench.sim.fiber_strain import elasto_optic_factor  # its home: the strain kernels
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
@@ -58,50 +61,8 @@ __all__ = [
     "segment_weight",
 ]
 
-#: winding name -> the repeating A/B layer sequence (inner -> outer); helical has none.
-WINDING_PATTERNS: dict[str, str | None] = {
-    "helical": None,
-    "dipolar": "AB",
-    "quadrupolar": "ABBA",
-    "octupolar": "ABBABAAB",
-}
 
 
-def _num(owner: str, name: str, v, cond: str, unit: str, ok) -> float:
-    if isinstance(v, bool) or not isinstance(v, Real) or not math.isfinite(v) or not ok(float(v)):
-        raise ValueError(f"{owner}.{name} must be {cond} {unit}; got {v!r}")
-    return float(v)
-
-
-def winding_sequence(pattern: str, layers: int) -> str | None:
-    """The A/B sequence of ``layers`` layers (inner -> outer), or None for helical.
-
-    Raises
-    ------
-    ValueError
-        Unknown pattern, or a layer count that is not a multiple of the pattern's period
-        (dipolar 2, quadrupolar 4, octupolar 8).
-    """
-    if pattern not in WINDING_PATTERNS:
-        raise ValueError(
-            f"winding pattern must be one of {sorted(WINDING_PATTERNS)}; got {pattern!r}"
-        )
-    if isinstance(layers, bool) or not isinstance(layers, Integral) or layers < 1:
-        raise ValueError(f"coil layers must be an integer >= 1; got {layers!r}")
-    period = WINDING_PATTERNS[pattern]
-    if period is None:
-        return None
-    if layers % len(period):
-        raise ValueError(
-            f"{pattern} winding needs a layer count that is a multiple of {len(period)} "
-            f"(pattern {period}); got {layers} layers"
-        )
-    return period * (layers // len(period))
-
-
-def elasto_optic_factor(n: float, p11: float, p12: float, poisson: float) -> float:
-    """xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: phase change per unit axial strain over n (docs/physics.md 3.5)."""
-    return 1.0 - 0.5 * n * n * (p12 - poisson * (p11 + p12))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

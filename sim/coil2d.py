@@ -54,15 +54,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 from gyrobench.sim import units
-from gyrobench.sim.coil import elasto_optic_factor, winding_sequence
+from gyrobench.sim._validate import number_where as _num
+from gyrobench.sim.fiber_strain import elasto_optic_factor
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
 
 __all__ = [
+    "WINDING_PATTERNS",
+    "winding_sequence",
     "Material",
     "SILICA",
     "SILICA_CTE_SLOPE_BOUNDS",
@@ -88,10 +91,42 @@ __all__ = [
 ]
 
 
-def _num(owner: str, name: str, v, cond: str, unit: str, ok) -> float:
-    if isinstance(v, bool) or not isinstance(v, Real) or not math.isfinite(v) or not ok(float(v)):
-        raise ValueError(f"{owner}.{name} must be {cond} {unit}; got {v!r}")
-    return float(v)
+
+
+
+#: winding name -> the repeating A/B layer sequence (inner -> outer); helical has none.
+WINDING_PATTERNS: dict[str, str | None] = {
+    "helical": None,
+    "dipolar": "AB",
+    "quadrupolar": "ABBA",
+    "octupolar": "ABBABAAB",
+}
+
+
+def winding_sequence(pattern: str, layers: int) -> str | None:
+    """The A/B sequence of ``layers`` layers (inner -> outer), or None for helical.
+
+    Raises
+    ------
+    ValueError
+        Unknown pattern, or a layer count that is not a multiple of the pattern's period
+        (dipolar 2, quadrupolar 4, octupolar 8).
+    """
+    if pattern not in WINDING_PATTERNS:
+        raise ValueError(
+            f"winding pattern must be one of {sorted(WINDING_PATTERNS)}; got {pattern!r}"
+        )
+    if isinstance(layers, bool) or not isinstance(layers, Integral) or layers < 1:
+        raise ValueError(f"coil layers must be an integer >= 1; got {layers!r}")
+    period = WINDING_PATTERNS[pattern]
+    if period is None:
+        return None
+    if layers % len(period):
+        raise ValueError(
+            f"{pattern} winding needs a layer count that is a multiple of {len(period)} "
+            f"(pattern {period}); got {layers} layers"
+        )
+    return period * (layers // len(period))
 
 
 # ======================================================================================
@@ -897,7 +932,7 @@ def _layer_pieces(spec: Coil2DSpec, j: int, up: bool, imp: Imperfections):
 def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> FibreMap:
     """Map every turn (and crossover, lead) of the winding to (r, z, s, ds).
 
-    Symmetric patterns (:data:`gyrobench.sim.coil.WINDING_PATTERNS`): both halves start at
+    Symmetric patterns (:data:`WINDING_PATTERNS`): both halves start at
     the fibre midpoint on the spool at the bottom flange; each half reverses its traverse
     direction at every one of its own layers (so a half's next layer starts where its last
     ended); a crossover of ``crossover_turns`` turns joins successive layers of a half at

@@ -62,7 +62,6 @@ from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
-from gyrobench.sim.coil import elasto_optic_factor
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
@@ -76,6 +75,11 @@ __all__ = [
     "linear_kernel",
     "StrainMode",
 ]
+
+
+def elasto_optic_factor(n: float, p11: float, p12: float, poisson: float) -> float:
+    """xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: phase change per unit axial strain over n (docs/physics.md 3.5)."""
+    return 1.0 - 0.5 * n * n * (p12 - poisson * (p11 + p12))
 
 
 #: xi = 1 - (n^2/2)[p12 - nu (p11 + p12)] for fused silica at n = 1.444 (p11 = 0.121,

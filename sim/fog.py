@@ -43,6 +43,8 @@ import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim.coil import CoilSpec, CoilThermalModel, Winding, shupe_terms
 from gyrobench.sim.environment import PiecewiseLinear
+from gyrobench.sim.fog2d import TemperatureSensorSpec  # its home: the FOG on the (r, z) coil
+from gyrobench.sim.fog_loop import sagnac_scale_factor  # its home: the closed-loop FOG
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
@@ -51,69 +53,9 @@ from numpy.typing import NDArray
 __all__ = ["SPEED_OF_LIGHT", "TemperatureSensorSpec", "FOGSpec", "FOGUnit", "sagnac_scale_factor"]
 
 
-_SENSOR_LOCATIONS = ("outer", "inner", "mean", "spool", "housing")
-
-
-def sagnac_scale_factor(length: float, diameter: float, wavelength: float) -> float:
-    """Optical scale factor SF = 2 pi L D / (lambda c) [s]: Delta phi = SF * Omega (docs/physics.md 3.1).
-
-    >>> round(sagnac_scale_factor(1000.0, 0.1, 1550e-9), 3)
-    1.352
-    """
-    for name, v in (("length", length), ("diameter", diameter), ("wavelength", wavelength)):
-        if not (isinstance(v, Real) and math.isfinite(v) and v > 0):
-            raise ValueError(f"{name} must be a finite number > 0 m; got {v!r}")
-    return 2 * math.pi * length * diameter / (wavelength * SPEED_OF_LIGHT)
-
-
 def _default_noise() -> NoiseModel:
     # navigation-grade FOG (0.01 deg/h class): ARW 0.001 deg/sqrt(h), B 0.003 deg/h, bias 0.05 deg/h
     return NoiseModel.from_datasheet(angle_random_walk=0.001, bias_instability=0.003, bias=0.05)
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class TemperatureSensorSpec:
-    """The logged coil temperature sensor (PT1000 + ADC in paper 003).
-
-    Parameters
-    ----------
-    location : {"outer", "inner", "mean", "spool", "housing"}
-        Outer or inner fibre layer, mean of all layers, spool, or housing.
-    noise : float
-        White noise rms per sample [K].
-    resolution : float
-        Quantization step [K] (0 = none). 18-bit ADC over ~100 K: ~0.4 mK.
-    bias : float
-        Constant offset [K].
-    """
-
-    location: str = "outer"
-    noise: float = 0.003
-    resolution: float = 0.001
-    bias: float = 0.0
-
-    def __post_init__(self) -> None:
-        if self.location not in _SENSOR_LOCATIONS:
-            raise ValueError(
-                f"TemperatureSensorSpec.location must be one of {_SENSOR_LOCATIONS}; got {self.location!r}"
-            )
-        for name in ("noise", "resolution"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(float(v)) and float(v) >= 0):
-                raise ValueError(
-                    f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}"
-                )
-        if not (isinstance(self.bias, Real) and math.isfinite(self.bias)):
-            raise ValueError(f"TemperatureSensorSpec.bias must be finite [K]; got {self.bias!r}")
-
-    def read(
-        self, true_temperature: NDArray[np.float64], *, rng: np.random.Generator
-    ) -> NDArray[np.float64]:
-        """Logged value: quantize(T + bias + noise) [K]."""
-        y = true_temperature + self.bias + self.noise * rng.standard_normal(len(true_temperature))
-        if self.resolution > 0:
-            y = np.round(y / self.resolution) * self.resolution
-        return y
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -42,14 +42,61 @@ from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
 from gyrobench.sim.earth import HARBIN
 from gyrobench.sim.environment import PiecewiseLinear
-from gyrobench.sim.fog import TemperatureSensorSpec
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
 from numpy.typing import NDArray
 
-__all__ = ["FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
+__all__ = ["TemperatureSensorSpec", "FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
+
+
+_SENSOR_LOCATIONS = ("outer", "inner", "mean", "spool", "housing")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class TemperatureSensorSpec:
+    """The logged coil temperature sensor (PT1000 + ADC in paper 003).
+
+    Parameters
+    ----------
+    location : {"outer", "inner", "mean", "spool", "housing"}
+        Outer or inner fibre layer, mean of all layers, spool, or housing.
+    noise : float
+        White noise rms per sample [K].
+    resolution : float
+        Quantization step [K] (0 = none). 18-bit ADC over ~100 K: ~0.4 mK.
+    bias : float
+        Constant offset [K].
+    """
+
+    location: str = "outer"
+    noise: float = 0.003
+    resolution: float = 0.001
+    bias: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.location not in _SENSOR_LOCATIONS:
+            raise ValueError(
+                f"TemperatureSensorSpec.location must be one of {_SENSOR_LOCATIONS}; got {self.location!r}"
+            )
+        for name in ("noise", "resolution"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(float(v)) and float(v) >= 0):
+                raise ValueError(
+                    f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}"
+                )
+        if not (isinstance(self.bias, Real) and math.isfinite(self.bias)):
+            raise ValueError(f"TemperatureSensorSpec.bias must be finite [K]; got {self.bias!r}")
+
+    def read(
+        self, true_temperature: NDArray[np.float64], *, rng: np.random.Generator
+    ) -> NDArray[np.float64]:
+        """Logged value: quantize(T + bias + noise) [K]."""
+        y = true_temperature + self.bias + self.noise * rng.standard_normal(len(true_temperature))
+        if self.resolution > 0:
+            y = np.round(y / self.resolution) * self.resolution
+        return y
 
 
 def _default_noise() -> NoiseModel:

@@ -55,7 +55,6 @@ from numbers import Integral, Real
 import numpy as np
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
-from gyrobench.sim.fog import sagnac_scale_factor
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording, package_version
@@ -63,6 +62,7 @@ from gyrobench.sim.shaker import ShakerSignal
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
+    "sagnac_scale_factor",
     "LoopSpec",
     "LoopRun",
     "run_loop",
@@ -72,6 +72,18 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
+
+
+def sagnac_scale_factor(length: float, diameter: float, wavelength: float) -> float:
+    """Optical scale factor SF = 2 pi L D / (lambda c) [s]: Delta phi = SF * Omega (docs/physics.md 3.1).
+
+    >>> round(sagnac_scale_factor(1000.0, 0.1, 1550e-9), 3)
+    1.352
+    """
+    for name, v in (("length", length), ("diameter", diameter), ("wavelength", wavelength)):
+        if not (isinstance(v, Real) and math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite number > 0 m; got {v!r}")
+    return 2 * math.pi * length * diameter / (wavelength * SPEED_OF_LIGHT)
 
 
 def _real(
@@ -158,7 +170,7 @@ class LoopSpec:
     # ----------------------------------------------------------------- optics
     @property
     def scale_factor(self) -> float:
-        """SF0 = 2 pi L D / (lambda c) [s] (sim.fog.sagnac_scale_factor)."""
+        """SF0 = 2 pi L D / (lambda c) [s] (:func:`sagnac_scale_factor`)."""
         return sagnac_scale_factor(self.length, self.diameter, self.wavelength)
 
     @property

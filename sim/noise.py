@@ -117,6 +117,7 @@ from typing import Any
 import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim._validate import check_fs as _check_fs
+from gyrobench.sim._validate import nonneg_coefficient
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
 
@@ -182,18 +183,6 @@ def _executor():
 
         _EXECUTOR = ThreadPoolExecutor(max_workers=1, thread_name_prefix="sim-noise-draws")
     return _EXECUTOR
-
-
-def _check_nonneg(owner: str, name: str, v: float) -> None:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
-        raise TypeError(f"{owner}.{name} must be a real number; got {v!r}")
-    if not (math.isfinite(v) and v >= 0.0):
-        raise ValueError(f"{owner}.{name} must be finite and >= 0; got {v!r}")
-    if v > _MAX_COEFFICIENT:
-        raise ValueError(
-            f"{owner}.{name} must be <= {_MAX_COEFFICIENT:g} (SI; no gyro comes near it, and the "
-            f"variances square it); got {v!r}"
-        )
 
 
 #: largest noise coefficient accepted [SI]: its square and the variances built from it stay
@@ -362,8 +351,8 @@ class GaussMarkov:
     correlation_time: float
 
     def __post_init__(self) -> None:
-        _check_nonneg("GaussMarkov", "sigma", self.sigma)
-        _check_nonneg("GaussMarkov", "correlation_time", self.correlation_time)
+        nonneg_coefficient("GaussMarkov", "sigma", self.sigma, _MAX_COEFFICIENT)
+        nonneg_coefficient("GaussMarkov", "correlation_time", self.correlation_time, _MAX_COEFFICIENT)
         if self.correlation_time == 0:
             raise ValueError(
                 f"GaussMarkov.correlation_time must be > 0 s; got {self.correlation_time!r}"
@@ -398,8 +387,8 @@ class Sinusoid:
     phase: float = 0.0
 
     def __post_init__(self) -> None:
-        _check_nonneg("Sinusoid", "amplitude", self.amplitude)
-        _check_nonneg("Sinusoid", "frequency", self.frequency)
+        nonneg_coefficient("Sinusoid", "amplitude", self.amplitude, _MAX_COEFFICIENT)
+        nonneg_coefficient("Sinusoid", "frequency", self.frequency, _MAX_COEFFICIENT)
         if self.frequency == 0:
             raise ValueError(f"Sinusoid.frequency must be > 0 Hz; got {self.frequency!r}")
         if isinstance(self.phase, bool) or not isinstance(
@@ -830,7 +819,7 @@ class NoiseModel:
                 "rate_random_walk",
                 "rate_ramp",
             ):
-                _check_nonneg("NoiseModel", f.name, getattr(self, f.name))
+                nonneg_coefficient("NoiseModel", f.name, getattr(self, f.name), _MAX_COEFFICIENT)
         band = self.flicker_band
         if not isinstance(band, tuple) or len(band) != 2:
             raise TypeError(
@@ -906,7 +895,7 @@ class NoiseModel:
             ("rate_random_walk", rate_random_walk),
             ("rate_ramp", rate_ramp),
         ):
-            _check_nonneg("NoiseModel.from_datasheet", name, v)
+            nonneg_coefficient("NoiseModel.from_datasheet", name, v, _MAX_COEFFICIENT)
         return cls(
             quantization=units.arcsec(quantization),
             angle_random_walk=units.deg_per_sqrt_h(angle_random_walk),

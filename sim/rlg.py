@@ -56,8 +56,6 @@ from gyrobench.sim._rlg_common import (
     _chamber_samples,
     _check_rng,
     _finish_run,
-    _nonneg,
-    _nonneg_fields,
     _num,
     _pos,
     _require_dither_margin,
@@ -66,6 +64,8 @@ from gyrobench.sim._rlg_common import (
     _Terms,
     _Wording,
 )
+from gyrobench.sim._validate import nonneg_field as _nonneg
+from gyrobench.sim._validate import nonneg_fields as _nonneg_fields
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.recording import Channel, Recording
 from numpy.typing import ArrayLike, NDArray

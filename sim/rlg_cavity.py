@@ -59,8 +59,6 @@ from gyrobench.sim._rlg_common import (
     _chamber_samples,
     _check_rng,
     _finish_run,
-    _nonneg,
-    _nonneg_fields,
     _num,
     _pos,
     _require_dither_margin,
@@ -69,6 +67,8 @@ from gyrobench.sim._rlg_common import (
     _Terms,
     _Wording,
 )
+from gyrobench.sim._validate import nonneg_field as _nonneg
+from gyrobench.sim._validate import nonneg_fields as _nonneg_fields
 from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.rlg import (
     HENE_WAVELENGTH,

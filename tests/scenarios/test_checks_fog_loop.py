@@ -5,8 +5,9 @@ from gyrobench.scenarios import checks_fog_loop
 from gyrobench.scenarios.checks import collect
 
 IDS = [
-    "fog.optical_budget_closed_form_90deg",
-    "fog.optical_budget_closed_form_135deg",
+    "fog.optical_budget_shot",
+    "fog.optical_budget_rin",
+    "fog.optical_budget_johnson",
     "fog.loop_arw_optical_budget",
     "fog.loop_full_arw_optical_budget",
     "fog.loop_frequency_response",
@@ -48,3 +49,22 @@ def test_exact_kernel_improves_the_agreement_with_the_full_loop():
     miss_small = float(re.search(r"misses by ([0-9.e+-]+) of", ex.derivation).group(1))
     miss_exact = (ex.simulated - ex.expected) / ex.expected
     assert miss_exact < miss_small / 100
+
+
+def test_a_wrong_optical_budget_fails_its_checks(monkeypatch):
+    """Each budget term off by the classic convention slips (RIN 1/dnu instead of 2/dnu, shot
+    q i instead of 2 q i, Johnson 2 k T/R instead of 4 k T/R) fails its own check, not the others."""
+    from gyrobench.sim.fog_optics import OpticalBudget
+
+    real = OpticalBudget.current_psd
+    for term in ("shot", "rin", "thermal"):
+        def halved(self, bias_phase, wavelength, term=term):
+            out = dict(real(self, bias_phase, wavelength))
+            out[term] = out[term] / 2
+            return out
+
+        monkeypatch.setattr(OpticalBudget, "current_psd", halved)
+        res = {c.id: c.passed for c in checks_fog_loop._optical_budget(np.random.default_rng(1))}
+        name = {"shot": "shot", "rin": "rin", "thermal": "johnson"}[term]
+        assert res == {f"fog.optical_budget_{n}": n != name for n in ("shot", "rin", "johnson")}, term
+    monkeypatch.setattr(OpticalBudget, "current_psd", real)

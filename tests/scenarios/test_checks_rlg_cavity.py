@@ -43,3 +43,19 @@ def test_hand_r_net_matches_model():
     g = u.geometry
     r = complex(u.backscatter.net(3e-6, 0.3e-6, perimeter=g.perimeter, wavelength=g.wavelength))
     assert m._hand_r_net(u, 3e-6, 0.3e-6) == pytest.approx(r, rel=1e-9)
+
+
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_wrong_lock_in_in_the_model_fails_the_lock_in_check(monkeypatch, factor):
+    """The check reads the lock-in off the simulated counts: a model whose lock-in is 10 % off
+    (the closed form untouched) is caught."""
+    from gyrobench.sim import rlg_cavity
+    from gyrobench.sim.rlg_cavity import CavityRLGSpec
+
+    r_unit, _, _, r_lock = np.random.default_rng(1).spawn(4)
+    u = CavityRLGSpec().realize(rng=r_unit, label="check unit")
+    assert m._check_lock_in(u, np.random.default_rng(5)).passed
+    real = rlg_cavity.lock_in_from_backscatter
+    monkeypatch.setattr(rlg_cavity, "lock_in_from_backscatter", lambda *a, **k: factor * real(*a, **k))
+    c = m._check_lock_in(u, r_lock)
+    assert c.tolerance < 0.03 and not c.passed, (c.rel_error, c.tolerance)

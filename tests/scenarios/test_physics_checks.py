@@ -134,11 +134,26 @@ def test_checks_on_worker_processes_equal_checks_in_process():
     assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]
 
 
-def test_progress_bar_moves_per_module_and_changes_no_number(capsys):
-    """The bar reports each module as it finishes; the checks are those of a run without it."""
-    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_coil"))
+def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
+    """The bar reports each module, or each part of a module with parts, as it finishes; the
+    checks are those of a run without it, and those of the modules' own ``checks``."""
+    cfg = physics_checks.Config(
+        modules=("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_rlg", "gyrobench.scenarios.checks_coil")
+    )
     plain = physics_checks.run_checks(cfg, 3)
     shown = physics_checks.run_checks(cfg, 3, progress=True)
     assert [c.as_dict() for c in shown] == [c.as_dict() for c in plain]
     err = capsys.readouterr().err
-    assert "checks_fog: 1/1 passed" in err and "checks_coil: 10/10 passed" in err and "1/2" in err
+    assert "checks_fog: 1/1 passed" in err and "checks_coil: 10/10 passed" in err
+    assert "checks_rlg.adler_1.1: 1/1 passed" in err and "checks_rlg.dither: 1/1 passed" in err
+    assert "1/5" in err and "4/5" in err  # fog, three rlg parts, coil
+    children = np.random.default_rng(3).spawn(3)
+    assert [c.simulated for c in checks_rlg.checks(children[1])] == [c.simulated for c in plain[1:4]]
+
+
+def test_parts_on_workers_equal_parts_in_process():
+    """A module split in parts gives the same numbers on a pool as in process."""
+    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_rlg",))
+    here = physics_checks.run_checks(cfg, 4)
+    pooled = physics_checks.run_checks(cfg, 4, workers=2)
+    assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]

@@ -68,3 +68,25 @@ def test_fused_silica_heat_capacity_differs_from_makeitfrom_by_the_stated_amount
     assert coil2d.SILICA.volumetric_heat_capacity == pytest.approx(model_rho * model_cp, rel=1e-12)
     assert abs(model_rho - source_rho) <= 50.0  # half a unit of the printed 0.1 g/cm^3
     assert model_cp / source_cp - 1 == pytest.approx(-0.0236, abs=5e-4)  # the stated disagreement
+
+
+def test_si_defining_constants_are_the_printed_exact_values():
+    """The SI Brochure, 9th ed. (BIPM 2019), Table 1 prints the defining constants exactly:
+    c = 299 792 458 m/s, e = 1.602 176 634 x 10^-19 C, k = 1.380 649 x 10^-23 J/K. They set the
+    Sagnac scale factor, the shot noise and the Johnson noise of every optical model."""
+    from gyrobench.sim import fog_optics, rlg_cavity, units
+
+    assert units.SPEED_OF_LIGHT == 299_792_458.0  # m/s
+    assert units.ELEMENTARY_CHARGE == 1.602176634e-19  # C
+    assert units.BOLTZMANN == 1.380649e-23  # J/K
+    # the optical models use these, not a copy
+    assert fog_optics.SPEED_OF_LIGHT is units.SPEED_OF_LIGHT
+    assert rlg_cavity.SPEED_OF_LIGHT == units.SPEED_OF_LIGHT
+
+
+def test_hene_wavelength_is_the_printed_red_line():
+    """The He-Ne laser's red line, the Ne I 3s2-2p4 transition at 632.816 nm in air (NIST Atomic
+    Spectra Database); the model's 632.8 nm is that value at the model's printed digit."""
+    from gyrobench.sim.rlg import HENE_WAVELENGTH
+
+    assert HENE_WAVELENGTH * 1e9 == pytest.approx(632.816, abs=_half_ulp(1))  # nm

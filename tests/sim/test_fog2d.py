@@ -1,4 +1,4 @@
-"""Tests of sim.fog2d: the FOG on the (r, z) coil keeps sim.fog's recording layout."""
+"""Tests of sim.fog2d: the FOG on the (r, z) coil records with the layout of every FOG recording."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from gyrobench.sim import coil2d, units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
-from gyrobench.sim.fog import TemperatureSensorSpec, sagnac_scale_factor
-from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit
+from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit, TemperatureSensorSpec
+from gyrobench.sim.fog_loop import sagnac_scale_factor
 
 PROFILE = thermal_profile(
     units.celsius(-10.0),

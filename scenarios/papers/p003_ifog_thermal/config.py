@@ -15,8 +15,7 @@ import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2DSpec
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
-from gyrobench.sim.fog import TemperatureSensorSpec
-from gyrobench.sim.fog2d import FOG2DSpec
+from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
 

@@ -150,8 +150,9 @@ class Datasheet:
     source : str
         The datasheet (title, document number, revision) the figures come from, and where
         they were read if not from the document itself.
-    bias_instability_dph : float
-        In-run bias stability: the Allan-deviation minimum [deg/h], > 0.
+    bias_instability_dph : float, optional
+        In-run bias stability: the Allan-deviation minimum [deg/h], > 0 when given. None: the
+        sheet prints none (high-range parts often do not); no 1/f term is drawn, B = 0.
     bias_instability_is_b : bool
         True when the sheet quotes the IEEE coefficient B itself (ADEV minimum / 0.664, as
         Murata does) rather than the ADEV minimum. Default False.
@@ -189,7 +190,7 @@ class Datasheet:
     technology: str
     grade: str
     source: str
-    bias_instability_dph: float
+    bias_instability_dph: float | None = None
     bias_instability_is_b: bool = False
     range_dps: float | None = None
     arw: float | None = None
@@ -218,8 +219,8 @@ class Datasheet:
             raise TypeError(f"Datasheet.bias_instability_is_b must be a bool; got {self.bias_instability_is_b!r}")
         if self.noise_density_sided not in ("one", "two"):
             raise ValueError(f"Datasheet.noise_density_sided must be 'one' or 'two'; got {self.noise_density_sided!r}")
-        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h", optional=False)
-        if self.bias_instability_dph <= 0:
+        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h")
+        if self.bias_instability_dph is not None and self.bias_instability_dph <= 0:
             raise ValueError(f"Datasheet.bias_instability_dph must be > 0 [deg/h]; got {self.bias_instability_dph!r}")
         for f in fields(self):
             if f.name in _OPTIONAL:
@@ -240,7 +241,12 @@ class Datasheet:
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
     def bias_instability(self) -> float:
-        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``)."""
+        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``).
+
+        0 when the sheet gives no bias instability (no 1/f term is drawn).
+        """
+        if self.bias_instability_dph is None:
+            return 0.0
         b = units.deg_per_h(self.bias_instability_dph)
         return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
 

@@ -28,31 +28,24 @@ term is a truth channel and their sum is y - omega up to float64 rounding. The t
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
 fix the error budget directly, not the physical parameters behind it.
 
-Mapping onto the physics models (why N and B stay IEEE terms)
--------------------------------------------------------------
-Each technology's physics model sets the ARW from physical parameters by a closed form
-(:data:`PHYSICS_MAPPING` names it). A datasheet gives one number, the ARW, for a product of
-several parameters it does not publish, so the solve fixes one combination, not a device:
+Mapping onto the physics models
+-------------------------------
+The part's own record keeps N and B as IEEE 952 terms whose values are the sheet's, which is
+what a user comparing the part with its datasheet needs. The same sheet also maps onto its
+technology's physics model by a documented solve (:mod:`gyrobench.sim.parts._physics`,
+:data:`PHYSICS_MAPPING`): every physical parameter at the model's default design (an
+assumption: no sheet read publishes them) and ONE parameter solved for the sheet's ARW, the
+bias instability the model's 1/f term at the sheet's B:
 
-* FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`), S_phi the
-  one-sided phase-noise PSD of the :class:`gyrobench.sim.fog_optics.OpticalBudget` (shot,
-  excess RIN 2/dnu_eff, detector and amplifier noise: source power, spectral width, losses)
-  and SF0 = 2 pi L D / (lambda c) the Sagnac scale factor (coil length L, diameter D). A
-  sheet gives neither the power nor the coil, and the bias instability of a FOG (source and
-  electronics flicker, polarisation) has no physics term in the model.
-* MEMS: N^2 = N_B^2 + N_e^2, Brownian N_B = sqrt(k_B T c_y)/(m w X0)
-  (:func:`gyrobench.sim.mems_resonator.brownian_arw`) and pick-off N_e
-  (:func:`gyrobench.sim.mems_resonator.electronic_arw`): mass, drive amplitude, frequency,
-  Q and pick-off noise are not on a datasheet; the model's 1/f term is its own assumption.
-* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`): with the
-  model's default cavity (K) and dither (Omega_D) the sheet's ARW fixes the lock-in rate
-  Omega_L, which :func:`gyrobench.sim.parts.rlg_spec` solves for (B is the model's flicker
-  term, set to the sheet's): an RLG part also runs on the RLG model through
-  ``RlgSensor(rlg_spec(part.datasheet))``, and its record meets the sheet (test).
+* FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`) solved for the
+  source power (:func:`gyrobench.sim.parts.fog_spec`, ``FogSensor(fog_spec(sheet))``).
+* MEMS: N^2 = N_B^2 + N_e^2 (:func:`gyrobench.sim.mems_resonator.electronic_arw`) solved for
+  the pick-off noise (:func:`gyrobench.sim.parts.mems_spec`, ``MemsSensor(mems_spec(sheet))``).
+* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`) solved for the
+  lock-in rate (:func:`gyrobench.sim.parts.rlg_spec`, ``RlgSensor(rlg_spec(sheet))``).
 
-A part therefore keeps N and B as IEEE 952 terms whose values are the sheet's, which is
-what a user comparing the part with its datasheet needs; a user who knows the physical
-parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
+Records of those physics devices meet the sheet's N and B (tests); a user who knows the
+physical parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
 """
 
 from __future__ import annotations
@@ -97,16 +90,18 @@ ERROR_COMPONENTS = (
 """Truth channels of a part's record, in order; their sum is ``output - true_rate``."""
 
 PHYSICS_MAPPING = {
-    "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: source power, spectral width, losses, "
-            "coil length and diameter (not on a datasheet); B has no physics term"),
-    "MEMS": ("gyrobench.sim.mems_resonator.brownian_arw", "N^2 = N_B^2 + N_e^2: mass, drive amplitude and "
-             "frequency, Q, pick-off noise (not on a datasheet); the 1/f term is the model's assumption"),
+    "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: solved for the source power with the "
+            "default coil, source width, losses and detector (fog_spec; those are not on the sheets read), B the "
+            "loop's additive 1/f term"),
+    "MEMS": ("gyrobench.sim.mems_resonator.electronic_arw", "N^2 = N_B^2 + N_e^2: solved for the pick-off noise "
+             "with the default resonator's mass, drive, Q and split (mems_spec; those are not on the sheets read), "
+             "B the model's 1/f term"),
     "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): solved for the lock-in rate with the "
             "model's default cavity and dither (rlg_spec; K and Omega_D are not on the sheets read), B the model's "
             "flicker term"),
 }
-"""Per technology: the physics model's ARW closed form (a dotted name) and why a part keeps N and B as
-IEEE terms (module docstring)."""
+"""Per technology: the physics model's ARW closed form (a dotted name) and the parameter solved for the
+sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physics`)."""
 
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 

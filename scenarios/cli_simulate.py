@@ -308,6 +308,7 @@ def _cmd_parts(args) -> int:
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
         print(f"    source: {d.source}")
+        print(f"    physics model: {parts.physics_summary(d)}")
         if d.notes:
             print(f"    notes: {d.notes}")
     return 0
@@ -354,5 +355,5 @@ def add_parsers(sub) -> None:
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 
-    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures")
+    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures and physics mapping")
     s.set_defaults(func=_cmd_parts)

@@ -33,7 +33,7 @@ from gyrobench.sim.parts._part import (
     Part,
     PartUnit,
 )
-from gyrobench.sim.parts._physics import fog_spec, mems_spec, rlg_spec
+from gyrobench.sim.parts._physics import fog_spec, mems_spec, physics_summary, rlg_spec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -56,6 +56,7 @@ __all__ = [
     "rlg_spec",
     "fog_spec",
     "mems_spec",
+    "physics_summary",
 ]
 
 _BY_NAME = {d.name: d for d in CATALOGUE}

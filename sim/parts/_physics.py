@@ -5,7 +5,8 @@ datasheet gives one number for it, so each mapping fixes every parameter at the 
 DEFAULT DESIGN (an assumption: the sheets read publish none of them) and solves ONE named
 parameter for the sheet's N. The bias instability is the model's flicker (1/f) term at the
 sheet's B (:meth:`Datasheet.bias_instability`; none when the sheet gives none). What the
-sheet does not give is left out, not invented.
+sheet does not give is left out, not invented. :func:`physics_summary` says in one line what
+a part maps to, or why it does not (``gyrobench parts``).
 
 RLG (:func:`rlg_spec`), the lock-in rate
     The statistical RLG model (:mod:`gyrobench.sim.rlg`) sets N by dithering through lock-in,
@@ -44,7 +45,9 @@ MEMS (:func:`mems_spec`), the pick-off (front-end) noise
     (mass, drive, Q, split: a +-3600 deg/s design) N_B is fixed and the sheet's N fixes the
     pick-off noise sqrt(S_n) = sqrt(N^2 - N_B^2) |R| 2 m w X0
     (:meth:`~gyrobench.sim.mems_resonator.MemsResonatorSpec.from_datasheet`, which performs this
-    solve); a sheet below the Brownian floor is refused there. Range: the sheet's (the output
+    solve); a sheet at or below the Brownian floor (0.327 deg/sqrt(h) for the default design, a
+    light high-range resonator: most tactical and industrial sheets are below it) would need a
+    heavier or larger-amplitude resonator, which one figure cannot choose (ValueError). Range: the sheet's (the output
     full scale 10/9 of it, the rebalance authority 1.3 x; the default +-3600 deg/s when the
     sheet gives none); the output word is the model's 20 bits over that full scale, not the
     sheet's resolution. Turn-on bias and scale-factor repeatability: the sheet's (1 sigma, 0
@@ -60,12 +63,12 @@ from dataclasses import replace
 from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2D
 from gyrobench.sim.fog2d import FOG2DSpec
-from gyrobench.sim.mems_resonator import MemsResonatorSpec
+from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec, brownian_arw
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.parts._part import Datasheet
 from gyrobench.sim.rlg import RLGSpec, ThermalBias
 
-__all__ = ["rlg_spec", "fog_spec", "mems_spec"]
+__all__ = ["rlg_spec", "fog_spec", "mems_spec", "physics_summary"]
 
 
 def _check(datasheet: object, technology: str, caller: str) -> Datasheet:
@@ -147,6 +150,13 @@ def mems_spec(datasheet: Datasheet) -> MemsResonatorSpec:
         The part is not a MEMS gyro, or its ARW is below the default resonator's Brownian floor.
     """
     datasheet = _check(datasheet, "MEMS", "mems_spec")
+    floor = brownian_arw(MemsResonator())
+    if not datasheet.angle_random_walk() > floor:
+        raise ValueError(
+            f"{datasheet.name!r}: ARW {units.to_deg_per_s(datasheet.angle_random_walk()) * 60.0:.3g} deg/sqrt(h) is "
+            f"not above the Brownian floor {units.to_deg_per_s(floor) * 60.0:.3g} deg/sqrt(h) of the default MEMS "
+            "resonator"
+        )
     try:
         spec = MemsResonatorSpec.from_datasheet(
             range_dps=datasheet.range_dps or 3600.0,
@@ -163,3 +173,24 @@ def mems_spec(datasheet: Datasheet) -> MemsResonatorSpec:
         spec, mass_spread=0.0, frequency_spread=0.0, split_spread=0.0, q_spread=0.0, gap_spread=0.0,
         quadrature_spread=0.0, damping_coupling_spread=0.0, phase_error_spread=0.0, phase_tc_spread=0.0,
     )
+
+
+def physics_summary(datasheet: Datasheet) -> str:
+    """One line: the physics parameter the sheet's ARW solves for and its value, or why it cannot.
+
+    E.g. ``"fog_spec: source power 0.0367 mW (default FOG2D design otherwise)"``, or
+    ``"not mapped: ..."`` with the solve's refusal (module docstring).
+    """
+    if not isinstance(datasheet, Datasheet):
+        raise TypeError(f"datasheet must be a Datasheet; got {type(datasheet).__name__}")
+    try:
+        if datasheet.technology == "FOG":
+            p = fog_spec(datasheet).optics.source_power
+            return f"fog_spec: source power {p * 1e3:.4g} mW (default FOG2D design otherwise)"
+        if datasheet.technology == "MEMS":
+            x = mems_spec(datasheet).nominal.pickoff_noise
+            return f"mems_spec: pick-off noise {x:.4g} m/sqrt(Hz) (default resonator otherwise)"
+        w = rlg_spec(datasheet).lock_in_rate
+        return f"rlg_spec: lock-in rate {units.to_deg_per_s(w):.4g} deg/s (default cavity and dither otherwise)"
+    except ValueError as exc:
+        return f"not mapped: {exc}"

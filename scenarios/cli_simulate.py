@@ -300,12 +300,15 @@ def _cmd_parts(args) -> int:
         noise = (fmt(d.arw, "deg/sqrt(h)") if d.arw is not None
                  else f"{fmt(d.noise_density, 'deg/s/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
         print(f"{d.name}: {d.manufacturer} {d.model} [{d.technology}, {d.grade}]")
-        print(f"    range {fmt(d.range_dps, 'deg/s')}; bias instability {fmt(d.bias_instability_dph, 'deg/h')}; "
+        b = ("not on the sheet (no 1/f term drawn)" if d.bias_instability_dph is None
+             else fmt(d.bias_instability_dph, "deg/h"))
+        print(f"    range {fmt(d.range_dps, 'deg/s')}; bias instability {b}; "
               f"noise {noise}; bias repeatability {fmt(d.bias_repeatability, 'deg/h')}; "
               f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
         print(f"    source: {d.source}")
+        print(f"    physics model: {parts.physics_summary(d)}")
         if d.notes:
             print(f"    notes: {d.notes}")
     return 0
@@ -352,5 +355,5 @@ def add_parsers(sub) -> None:
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 
-    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures")
+    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures and physics mapping")
     s.set_defaults(func=_cmd_parts)

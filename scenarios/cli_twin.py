@@ -131,7 +131,8 @@ def nearest_part(fit: NoiseFit, technology: str) -> Part:
         return v if v > 0 else max(fit.coefficients[key].upper_bound, 1e-300)
 
     n_fit, b_fit = level("N"), level("B")
-    cands = [d for d in parts.datasheets() if d.technology == technology]
+    # a part without a bias-instability figure has B = 0: no log distance, not a candidate
+    cands = [d for d in parts.datasheets() if d.technology == technology and d.bias_instability_dph is not None]
     if not cands:
         raise BadInput(f"--nearest must be one of {parts.TECHNOLOGIES}; got {technology!r}")
     best = min(cands, key=lambda d: math.hypot(math.log(d.angle_random_walk() / n_fit),

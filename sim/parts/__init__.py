@@ -10,7 +10,9 @@ Three lines from a part to a file::
 :func:`load_toml` reads a user's part from a TOML file with the :class:`Datasheet` fields
 (one table, or top-level keys). The solve from figures to models is in
 :mod:`gyrobench.sim.parts._part` (see :class:`Part`); the figures and their sources in
-:mod:`gyrobench.sim.parts._catalogue`.
+:mod:`gyrobench.sim.parts._catalogue`. :func:`rlg_spec`, :func:`fog_spec` and :func:`mems_spec` map a
+part onto its technology's physics model (one parameter solved for the sheet's ARW,
+:mod:`gyrobench.sim.parts._physics`).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from gyrobench.sim.parts._part import (
     Part,
     PartUnit,
 )
-from gyrobench.sim.parts._physics import rlg_spec
+from gyrobench.sim.parts._physics import fog_spec, mems_spec, physics_summary, rlg_spec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -52,6 +54,9 @@ __all__ = [
     "load_toml",
     "datasheets",
     "rlg_spec",
+    "fog_spec",
+    "mems_spec",
+    "physics_summary",
 ]
 
 _BY_NAME = {d.name: d for d in CATALOGUE}

@@ -28,31 +28,24 @@ term is a truth channel and their sum is y - omega up to float64 rounding. The t
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
 fix the error budget directly, not the physical parameters behind it.
 
-Mapping onto the physics models (why N and B stay IEEE terms)
--------------------------------------------------------------
-Each technology's physics model sets the ARW from physical parameters by a closed form
-(:data:`PHYSICS_MAPPING` names it). A datasheet gives one number, the ARW, for a product of
-several parameters it does not publish, so the solve fixes one combination, not a device:
+Mapping onto the physics models
+-------------------------------
+The part's own record keeps N and B as IEEE 952 terms whose values are the sheet's, which is
+what a user comparing the part with its datasheet needs. The same sheet also maps onto its
+technology's physics model by a documented solve (:mod:`gyrobench.sim.parts._physics`,
+:data:`PHYSICS_MAPPING`): every physical parameter at the model's default design (an
+assumption: no sheet read publishes them) and ONE parameter solved for the sheet's ARW, the
+bias instability the model's 1/f term at the sheet's B:
 
-* FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`), S_phi the
-  one-sided phase-noise PSD of the :class:`gyrobench.sim.fog_optics.OpticalBudget` (shot,
-  excess RIN 2/dnu_eff, detector and amplifier noise: source power, spectral width, losses)
-  and SF0 = 2 pi L D / (lambda c) the Sagnac scale factor (coil length L, diameter D). A
-  sheet gives neither the power nor the coil, and the bias instability of a FOG (source and
-  electronics flicker, polarisation) has no physics term in the model.
-* MEMS: N^2 = N_B^2 + N_e^2, Brownian N_B = sqrt(k_B T c_y)/(m w X0)
-  (:func:`gyrobench.sim.mems_resonator.brownian_arw`) and pick-off N_e
-  (:func:`gyrobench.sim.mems_resonator.electronic_arw`): mass, drive amplitude, frequency,
-  Q and pick-off noise are not on a datasheet; the model's 1/f term is its own assumption.
-* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`): with the
-  model's default cavity (K) and dither (Omega_D) the sheet's ARW fixes the lock-in rate
-  Omega_L, which :func:`gyrobench.sim.parts.rlg_spec` solves for (B is the model's flicker
-  term, set to the sheet's): an RLG part also runs on the RLG model through
-  ``RlgSensor(rlg_spec(part.datasheet))``, and its record meets the sheet (test).
+* FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`) solved for the
+  source power (:func:`gyrobench.sim.parts.fog_spec`, ``FogSensor(fog_spec(sheet))``).
+* MEMS: N^2 = N_B^2 + N_e^2 (:func:`gyrobench.sim.mems_resonator.electronic_arw`) solved for
+  the pick-off noise (:func:`gyrobench.sim.parts.mems_spec`, ``MemsSensor(mems_spec(sheet))``).
+* RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`) solved for the
+  lock-in rate (:func:`gyrobench.sim.parts.rlg_spec`, ``RlgSensor(rlg_spec(sheet))``).
 
-A part therefore keeps N and B as IEEE 952 terms whose values are the sheet's, which is
-what a user comparing the part with its datasheet needs; a user who knows the physical
-parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
+Records of those physics devices meet the sheet's N and B (tests); a user who knows the
+physical parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
 """
 
 from __future__ import annotations
@@ -97,16 +90,18 @@ ERROR_COMPONENTS = (
 """Truth channels of a part's record, in order; their sum is ``output - true_rate``."""
 
 PHYSICS_MAPPING = {
-    "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: source power, spectral width, losses, "
-            "coil length and diameter (not on a datasheet); B has no physics term"),
-    "MEMS": ("gyrobench.sim.mems_resonator.brownian_arw", "N^2 = N_B^2 + N_e^2: mass, drive amplitude and "
-             "frequency, Q, pick-off noise (not on a datasheet); the 1/f term is the model's assumption"),
+    "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: solved for the source power with the "
+            "default coil, source width, losses and detector (fog_spec; those are not on the sheets read), B the "
+            "loop's additive 1/f term"),
+    "MEMS": ("gyrobench.sim.mems_resonator.electronic_arw", "N^2 = N_B^2 + N_e^2: solved for the pick-off noise "
+             "with the default resonator's mass, drive, Q and split (mems_spec; those are not on the sheets read), "
+             "B the model's 1/f term"),
     "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): solved for the lock-in rate with the "
             "model's default cavity and dither (rlg_spec; K and Omega_D are not on the sheets read), B the model's "
             "flicker term"),
 }
-"""Per technology: the physics model's ARW closed form (a dotted name) and why a part keeps N and B as
-IEEE terms (module docstring)."""
+"""Per technology: the physics model's ARW closed form (a dotted name) and the parameter solved for the
+sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physics`)."""
 
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 
@@ -150,8 +145,9 @@ class Datasheet:
     source : str
         The datasheet (title, document number, revision) the figures come from, and where
         they were read if not from the document itself.
-    bias_instability_dph : float
-        In-run bias stability: the Allan-deviation minimum [deg/h], > 0.
+    bias_instability_dph : float, optional
+        In-run bias stability: the Allan-deviation minimum [deg/h], > 0 when given. None: the
+        sheet prints none (high-range parts often do not); no 1/f term is drawn, B = 0.
     bias_instability_is_b : bool
         True when the sheet quotes the IEEE coefficient B itself (ADEV minimum / 0.664, as
         Murata does) rather than the ADEV minimum. Default False.
@@ -189,7 +185,7 @@ class Datasheet:
     technology: str
     grade: str
     source: str
-    bias_instability_dph: float
+    bias_instability_dph: float | None = None
     bias_instability_is_b: bool = False
     range_dps: float | None = None
     arw: float | None = None
@@ -218,8 +214,8 @@ class Datasheet:
             raise TypeError(f"Datasheet.bias_instability_is_b must be a bool; got {self.bias_instability_is_b!r}")
         if self.noise_density_sided not in ("one", "two"):
             raise ValueError(f"Datasheet.noise_density_sided must be 'one' or 'two'; got {self.noise_density_sided!r}")
-        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h", optional=False)
-        if self.bias_instability_dph <= 0:
+        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h")
+        if self.bias_instability_dph is not None and self.bias_instability_dph <= 0:
             raise ValueError(f"Datasheet.bias_instability_dph must be > 0 [deg/h]; got {self.bias_instability_dph!r}")
         for f in fields(self):
             if f.name in _OPTIONAL:
@@ -240,7 +236,12 @@ class Datasheet:
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
     def bias_instability(self) -> float:
-        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``)."""
+        """IEEE coefficient B [rad/s] = ADEV minimum / 0.664 (or the figure itself, ``bias_instability_is_b``).
+
+        0 when the sheet gives no bias instability (no 1/f term is drawn).
+        """
+        if self.bias_instability_dph is None:
+            return 0.0
         b = units.deg_per_h(self.bias_instability_dph)
         return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
 

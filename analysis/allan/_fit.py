@@ -382,10 +382,10 @@ def _drop_misfitting_first_points(
     than the chi2(1) quantile at the smaller of the misfit level and :data:`DROP_P` (the point is
     an outlier of the model there).
     """
-    from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
+    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
 
     level = min(misfit_p, DROP_P)
-    gain = float(special.chdtri(1, level)) if level > 0 else math.inf
+    gain = float(chi2_isf(level, 1.0)) if level > 0 else math.inf
     used = fit.used
     while fit.misfit and int(used.sum()) > len(terms) + 1:
         trial = used.copy()

@@ -64,6 +64,7 @@ def fit_noise(
     bandwidth: float | None = None,
     bandwidth_bias: float = BANDWIDTH_BIAS,
     quantization_kurtosis: float = QUANTIZATION_KURTOSIS,
+    nonstationary: bool = False,
 ) -> NoiseFit:
     """Joint weighted non-negative least-squares fit of the IEEE 952 terms to an Allan variance.
 
@@ -101,6 +102,11 @@ def fit_noise(
         covariance of an overlapping curve: -6/5 (default) for a uniform quantizer's error
         (angle or pulse output), 0 for Gaussian white angle noise (e.g. a Q term that is
         not quantization).
+    nonstationary : bool
+        The record was flagged non-stationary (motion or steps). With ``tau_min="auto"`` the
+        concave short-tau region is then not excluded (:func:`fit_range`: motion makes the
+        same shape as a filter) and misfitting first points are not dropped: the motion's
+        points stay in the fit so that its misfit shows.
 
     Returns
     -------
@@ -229,11 +235,11 @@ def fit_noise(
         raise ValueError(
             "rate is constant (zero variance): Allan deviation is 0 at every tau; nothing to fit"
         )
-    limit = _lower_limit(curve, tau_min, len(terms), bandwidth, bandwidth_bias)
+    limit = _lower_limit(curve, tau_min, len(terms), bandwidth, bandwidth_bias, nonstationary)
     used = _used_points(curve, limit, tau_max, terms)
     nu_all, rho_all = _point_model(curve, terms, qk)
     fit, _ = _fit_core(curve, terms, used, nu_all, rho_all, max_iter, misfit_p)
-    if isinstance(tau_min, str):  # "auto"
+    if isinstance(tau_min, str) and not nonstationary:  # "auto" (on motion, dropping would hide the misfit)
         fit = _drop_misfitting_first_points(fit, curve, terms, nu_all, rho_all, max_iter, misfit_p)
     return replace(fit, range_rule=limit.rule, range_reason=limit.reason)
 
@@ -287,7 +293,12 @@ class _LowerLimit:
 
 
 def _lower_limit(
-    curve: AllanCurve, tau_min: Any, n_terms: int, bandwidth: float | None, bandwidth_bias: float
+    curve: AllanCurve,
+    tau_min: Any,
+    n_terms: int,
+    bandwidth: float | None,
+    bandwidth_bias: float,
+    nonstationary: bool = False,
 ) -> _LowerLimit:
     """tau_min of the fit: the user's number, the data's (``"auto"``, :func:`fit_range`) or the bandwidth's.
 
@@ -297,7 +308,7 @@ def _lower_limit(
     if isinstance(tau_min, str):
         if tau_min != "auto":
             raise ValueError(f"tau_min must be a number [s], 'auto' or None; got {tau_min!r}")
-        found = fit_range(curve, n_terms=n_terms)
+        found = fit_range(curve, n_terms=n_terms, nonstationary=nonstationary)
         tau_min, rule, reason = found.tau_min, ("data" if found.tau_min is not None else ""), found.reason
     if bandwidth is not None:
         limit = bandwidth_range(curve, bandwidth, bias=bandwidth_bias)

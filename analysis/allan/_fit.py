@@ -309,7 +309,10 @@ def _lower_limit(
         if tau_min != "auto":
             raise ValueError(f"tau_min must be a number [s], 'auto' or None; got {tau_min!r}")
         found = fit_range(curve, n_terms=n_terms, nonstationary=nonstationary)
-        tau_min, rule, reason = found.tau_min, ("data" if found.tau_min is not None else ""), found.reason
+        rule = "data" if found.tau_min is not None else ""
+        if nonstationary and found.reason.startswith("short taus kept"):
+            rule = "nonstationary"  # the concave region was found and kept: the motion's, not a filter's
+        tau_min, reason = found.tau_min, found.reason
     if bandwidth is not None:
         limit = bandwidth_range(curve, bandwidth, bias=bandwidth_bias)
         current = _check_tau_limit("tau_min", tau_min)

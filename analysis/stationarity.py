@@ -128,7 +128,7 @@ def stationarity_check(
     mix; a difference beyond z = Phi^-1(1 - p/2) of that (Gaussian, same p) is flagged.
     Heavier tails than Gaussian (e.g. flicker) raise the false-alarm rate.
     """
-    from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
+    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
 
     y = np.asarray(rate, dtype=float)
     w = int(round(window * fs))
@@ -139,9 +139,9 @@ def stationarity_check(
     means = blocks.mean(axis=1)
     var = blocks.var(axis=1, ddof=1)
     nu = window_variance_dof(blocks)
-    med = float(np.median(var)) / (float(special.chdtri(nu, 0.5)) / nu)
+    med = float(np.median(var)) / (float(chi2_isf(0.5, nu)) / nu)
     p = false_alarm / (2 * k - 1)
-    limit = NON_WHITE_MARGIN * float(special.chdtri(nu, p)) / nu
+    limit = NON_WHITE_MARGIN * float(chi2_isf(p, nu)) / nu
     motion = (
         [
             (i * window, (i + 1) * window, float(var[i] / med))

@@ -239,10 +239,10 @@ def analyse(
             f"deviation point(s) at taus={taus!r} (up to {fit_curve.tau[-1]:.3g} s); the "
             f"{'/'.join(terms)} fit needs at least {len(terms)}: use a longer record or fewer --terms"
         )
-    fr = fit_range(fit_curve, n_terms=len(terms)) if tau_min == "auto" else None
+    fr = fit_range(fit_curve, n_terms=len(terms), nonstationary=moving) if tau_min == "auto" else None
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
     options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
-    fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, **options)
+    fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, nonstationary=moving, **options)
     # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
     fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
     result = ChannelResult(
@@ -489,10 +489,6 @@ def _excluded_text(res: ChannelResult, excl: int) -> str:
     if f.range_rule == "bandwidth" and res.bandwidth_range is not None:
         n = res.bandwidth_range.excluded
         what = "by --bandwidth: " + res.bandwidth_range.reason.split(": there ")[-1]
-    elif f.range_rule == "data" and res.fit_range is not None and res.nonstationary:
-        # motion and steps bend the curve too: the exclusion is not evidence of a filter here (issue 30)
-        n, what = res.fit_range.excluded, "concave: the log-log curve bends down there, which no sum of the IEEE "
-        what += "power laws can do; a filter or the motion/steps of this non-stationary record"
     elif f.range_rule == "data" and res.fit_range is not None:
         n, what = res.fit_range.excluded, "filter-shaped: the log-log curve bends down there, which no sum of the "
         what += "IEEE power laws can do"
@@ -553,6 +549,8 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             f"{f'; {excl} short tau(s) excluded' + why if excl else ''}; chi2/dof = {f.chi2_per_dof:.3g}, "
             f"p = {p}"
         )
+        if res.nonstationary and res.fit_range is not None and res.fit_range.reason.startswith("short taus kept"):
+            out.append(f"{res.channel.label}: {res.fit_range.reason}")  # which --tau-min auto rule applied
     if all(res.fit is None for res in results):
         return out
     multi = len(results) > 1

@@ -31,11 +31,11 @@ def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDAr
 
 def _bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
     """Chi-square bounds (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised)."""
-    from scipy import special  # chi2.ppf(q, nu) = 2 gammaincinv(nu/2, q), as scipy.stats computes it
+    from gyrobench.analysis.allan._chi2 import chi2_isf, chi2_ppf  # numpy only: no scipy.special import
 
     p = (1.0 - confidence) / 2.0
-    lo = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, 1.0 - p)))
-    hi = dev * np.sqrt(edf / (2.0 * special.gammaincinv(edf / 2.0, p)))
+    lo = dev * np.sqrt(edf / chi2_isf(p, edf))
+    hi = dev * np.sqrt(edf / chi2_ppf(p, edf))
     return lo, hi
 
 

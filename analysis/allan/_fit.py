@@ -64,6 +64,7 @@ def fit_noise(
     bandwidth: float | None = None,
     bandwidth_bias: float = BANDWIDTH_BIAS,
     quantization_kurtosis: float = QUANTIZATION_KURTOSIS,
+    nonstationary: bool = False,
 ) -> NoiseFit:
     """Joint weighted non-negative least-squares fit of the IEEE 952 terms to an Allan variance.
 
@@ -101,6 +102,11 @@ def fit_noise(
         covariance of an overlapping curve: -6/5 (default) for a uniform quantizer's error
         (angle or pulse output), 0 for Gaussian white angle noise (e.g. a Q term that is
         not quantization).
+    nonstationary : bool
+        The record was flagged non-stationary (motion or steps). With ``tau_min="auto"`` the
+        concave short-tau region is then not excluded (:func:`fit_range`: motion makes the
+        same shape as a filter) and misfitting first points are not dropped: the motion's
+        points stay in the fit so that its misfit shows.
 
     Returns
     -------
@@ -229,11 +235,11 @@ def fit_noise(
         raise ValueError(
             "rate is constant (zero variance): Allan deviation is 0 at every tau; nothing to fit"
         )
-    limit = _lower_limit(curve, tau_min, len(terms), bandwidth, bandwidth_bias)
+    limit = _lower_limit(curve, tau_min, len(terms), bandwidth, bandwidth_bias, nonstationary)
     used = _used_points(curve, limit, tau_max, terms)
     nu_all, rho_all = _point_model(curve, terms, qk)
     fit, _ = _fit_core(curve, terms, used, nu_all, rho_all, max_iter, misfit_p)
-    if isinstance(tau_min, str):  # "auto"
+    if isinstance(tau_min, str) and not nonstationary:  # "auto" (on motion, dropping would hide the misfit)
         fit = _drop_misfitting_first_points(fit, curve, terms, nu_all, rho_all, max_iter, misfit_p)
     return replace(fit, range_rule=limit.rule, range_reason=limit.reason)
 
@@ -287,7 +293,12 @@ class _LowerLimit:
 
 
 def _lower_limit(
-    curve: AllanCurve, tau_min: Any, n_terms: int, bandwidth: float | None, bandwidth_bias: float
+    curve: AllanCurve,
+    tau_min: Any,
+    n_terms: int,
+    bandwidth: float | None,
+    bandwidth_bias: float,
+    nonstationary: bool = False,
 ) -> _LowerLimit:
     """tau_min of the fit: the user's number, the data's (``"auto"``, :func:`fit_range`) or the bandwidth's.
 
@@ -297,8 +308,11 @@ def _lower_limit(
     if isinstance(tau_min, str):
         if tau_min != "auto":
             raise ValueError(f"tau_min must be a number [s], 'auto' or None; got {tau_min!r}")
-        found = fit_range(curve, n_terms=n_terms)
-        tau_min, rule, reason = found.tau_min, ("data" if found.tau_min is not None else ""), found.reason
+        found = fit_range(curve, n_terms=n_terms, nonstationary=nonstationary)
+        rule = "data" if found.tau_min is not None else ""
+        if nonstationary and found.reason.startswith("short taus kept"):
+            rule = "nonstationary"  # the concave region was found and kept: the motion's, not a filter's
+        tau_min, reason = found.tau_min, found.reason
     if bandwidth is not None:
         limit = bandwidth_range(curve, bandwidth, bias=bandwidth_bias)
         current = _check_tau_limit("tau_min", tau_min)
@@ -382,10 +396,10 @@ def _drop_misfitting_first_points(
     than the chi2(1) quantile at the smaller of the misfit level and :data:`DROP_P` (the point is
     an outlier of the model there).
     """
-    from scipy import special  # chi2.isf(p, nu) = chdtri(nu, p), as scipy.stats computes it
+    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
 
     level = min(misfit_p, DROP_P)
-    gain = float(special.chdtri(1, level)) if level > 0 else math.inf
+    gain = float(chi2_isf(level, 1.0)) if level > 0 else math.inf
     used = fit.used
     while fit.misfit and int(used.sum()) > len(terms) + 1:
         trial = used.copy()

@@ -10,9 +10,9 @@ Anal. 53 (2009) 853-856.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
+from gyrobench.analysis.allan._chi2 import chi2_sf, ncx2_sf
 from numpy.typing import NDArray
 
 
@@ -37,8 +37,6 @@ def _goodness(
     dof = r.size - int(np.count_nonzero(kept))
     if dof <= 0:
         return float("nan"), 0, float("nan"), float("nan")
-    from scipy import special  # chi2.sf = chdtrc; ncx2.cdf = chndtr (as scipy.stats computes them)
-
     d = np.sqrt(np.diag(v))
     z = r / d
     chi2 = float(z @ z)
@@ -50,10 +48,10 @@ def _goodness(
     s = m @ v @ m.T
     lam = np.clip(np.linalg.eigvalsh((s + s.T) / 2.0), 0.0, None)
     c1, c2, c3, c4 = (float(np.sum(lam**k)) for k in (1, 2, 3, 4))
-    return chi2, dof, c1, _ltz_sf(chi2, c1, c2, c3, c4, special)
+    return chi2, dof, c1, _ltz_sf(chi2, c1, c2, c3, c4)
 
 
-def _ltz_sf(q: float, c1: float, c2: float, c3: float, c4: float, special: Any) -> float:
+def _ltz_sf(q: float, c1: float, c2: float, c3: float, c4: float) -> float:
     """P(Q >= q) for Q = sum lambda_k chi2_1 from its cumulant sums c_k = sum lambda^k (Liu-Tang-Zhang 2009)."""
     if c2 <= 0.0:
         return float("nan")
@@ -68,6 +66,6 @@ def _ltz_sf(q: float, c1: float, c2: float, c3: float, c4: float, special: Any) 
     if t <= 0.0:  # below the support of the matched chi-square (a small chi2): no evidence of misfit
         return 1.0
     if delta > 0.0:
-        return float(max(1.0 - special.chndtr(t, ell, delta), 0.0))
-    return float(special.chdtrc(ell, t))
+        return ncx2_sf(t, ell, delta)
+    return float(chi2_sf(t, ell))
 

@@ -162,7 +162,9 @@ class NoiseFit:
     range_rule : str
         What set the shortest fitted tau: "user" (a number given as ``tau_min``), "data"
         (the filter-shaped region :func:`fit_range` found, ``tau_min="auto"``), "bandwidth"
-        (the stated sensor bandwidth, :func:`bandwidth_range`), or "" (no lower limit). When
+        (the stated sensor bandwidth, :func:`bandwidth_range`), "nonstationary" (``tau_min="auto"``
+        on a record flagged non-stationary: the concave short-tau region is kept, as motion makes
+        it too), or "" (no lower limit). When
         several apply the largest tau_min wins and is named here. ``tau_min="auto"`` may then
         drop further misfitting first points (see :func:`fit_noise`).
     range_reason : str

@@ -13,7 +13,9 @@ from gyrobench.analysis.allan._terms import TERMS
 from numpy.typing import ArrayLike, NDArray
 
 
-def fit_range(curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = len(TERMS)) -> FitRange:
+def fit_range(
+    curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = len(TERMS), nonstationary: bool = False
+) -> FitRange:
     """Find the filter-shaped short-tau region of an Allan deviation curve from the data.
 
     Parameters
@@ -25,6 +27,10 @@ def fit_range(curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = le
         over the tested triples of points).
     n_terms : int
         Points to keep at least (the fit needs as many as it has terms).
+    nonstationary : bool
+        The record was flagged non-stationary (motion or steps, :mod:`gyrobench.analysis.stationarity`).
+        Motion bends the curve too, so the concave region is then not excluded (Notes) and the
+        reason says so.
 
     Returns
     -------
@@ -47,6 +53,17 @@ def fit_range(curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = le
     curve's own edf). The correlation of neighbouring points (positive) is ignored: it
     makes this variance an overestimate, so the test is conservative. Concave when
     d < -z sd with z the one-sided normal quantile of ``false_alarm`` / (number of triples).
+
+    On a non-stationary record the concave region may be the motion's (issue 30: a 1 Hz tag
+    record with handling lost its 1-64 s octaves, where no filter acts), and its shape does not
+    tell the two apart: a low-pass makes a bump under the white-noise line (the ADEV of a
+    smooth output rises as tau^+1 into the filter's time scale), motion a bump of the same
+    shape above it, whose falling edge (tau^-1, bounded bursts) the Q term then extrapolates
+    over it. A rule on the first octave's slope (> -1/2, a roll-off toward Nyquist) was
+    tried and kept the drop on a simulated 1 Hz handling record (slope +0.16: the motion
+    dominates from 1 s). So on a non-stationary record nothing is excluded here: the short
+    taus are fitted and the misfit shows; a known filter is excluded with ``bandwidth`` or
+    ``tau_min`` given as a number.
     """
     if not isinstance(curve, AllanCurve):
         raise TypeError(f"curve must be an AllanCurve; got {type(curve).__name__}")
@@ -72,6 +89,16 @@ def fit_range(curve: AllanCurve, *, false_alarm: float = 1e-3, n_terms: int = le
     if concave.size == 0:
         return FitRange(tau_min=None, excluded=0, reason="no filter-shaped (concave) short-tau region")
     j = int(concave[-1]) + 1
+    if nonstationary:
+        return FitRange(
+            tau_min=None,
+            excluded=0,
+            reason=(
+                f"short taus kept (non-stationary record): the curve bends down below tau = {tau[j]:.3g} s, which "
+                f"a filter or the record's motion/steps can make; not taken as a filter's here, so those points "
+                f"are fitted and a misfit shows (give --bandwidth or --tau-min for a known filter)"
+            ),
+        )
     return FitRange(
         tau_min=float(tau[j]),
         excluded=j,

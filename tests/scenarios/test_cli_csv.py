@@ -448,19 +448,41 @@ def test_quiet_stretches_split_at_motion_and_steps():
         quiet_stretches(rep, 1505, 10.0, min_windows=2)
 
 
-def test_short_tau_exclusion_of_a_nonstationary_record_is_not_called_filter_shaped(rng):
-    """Issue 30: motion and steps bend the curve too; a flagged record's excluded taus are not blamed on a filter."""
-    from dataclasses import replace
+def _handled_1hz_record(seed: int) -> np.ndarray:
+    """27.8 h at 1 Hz: white noise 0.01 rad/s and, every 7000 s, 60-400 s of handling (a 20-sample moving
+    average of 2 rad/s white noise, dominating the curve from 1 s) followed by a re-mounting bias step."""
+    rng = np.random.default_rng(seed)
+    n = 100_000
+    y = 0.01 * rng.standard_normal(n)
+    for start in range(3000, n - 2000, 7000):
+        length = int(rng.integers(60, 400))
+        y[start : start + length] += 2.0 * np.convolve(rng.standard_normal(length + 19), np.ones(20) / 20, "valid")
+        y[start + length :] += rng.normal(0.0, 0.02)
+    return y
 
+
+def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(rng):
+    """Issue 30 item 1: a 1 Hz record with handling bends down at short tau like a filtered one; flagged
+    non-stationary, its short taus stay in the fit (whose misfit then shows, p < 1e-6) and the report says
+    which rule applied. A filtered quiet record still has its first octaves dropped as filter-shaped."""
+    from gyrobench.analysis.allan import allan_deviation, fit_range
     from gyrobench.scenarios import allan_report as rep
     from gyrobench.scenarios.logs import Channel
 
     n = 200_000
     y = 0.01 * np.convolve(rng.standard_normal(n + 15), np.ones(16) / 16, mode="valid")  # a 16-sample filter
     res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 100.0)
+    assert not res.nonstationary
     assert res.fit.range_rule == "data" and res.fit_range.excluded > 0
-    excl = res.fit_range.excluded
-    quiet, moving = replace(res, nonstationary=False), replace(res, nonstationary=True)
-    assert "filter-shaped" in rep._excluded_text(quiet, excl)
-    text = rep._excluded_text(moving, excl)
-    assert "filter-shaped" not in text and "non-stationary" in text, text
+    assert "filter-shaped" in rep._excluded_text(res, res.fit_range.excluded)
+
+    y = _handled_1hz_record(48)
+    assert fit_range(allan_deviation(y, 1.0)).excluded >= 3  # the unflagged rule drops the motion's octaves
+    res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 1.0)
+    assert res.nonstationary
+    assert res.fit_range.excluded == 0 and res.fit.range_rule == "nonstationary"
+    assert res.fit.tau_used[0] == res.fit.curve.tau[0]
+    assert res.fit.misfit and res.fit.p_value < 1e-6
+    assert res.fit.range_reason.startswith("short taus kept (non-stationary record)")
+    text = rep.log_text(type("Log", (), {"path": "r.csv", "fs": 1.0, "notes": []})(), [res])
+    assert any(ln.startswith("gyro: short taus kept (non-stationary record)") for ln in text), text

@@ -297,3 +297,18 @@ def test_coating_elastic_values_do_not_enter():
         assert np.array_equal(spec.beta(r, T), other.beta(r, T))
     hot = dataclasses.replace(spec, coating=dataclasses.replace(spec.coating, conductivity=0.4))
     assert hot.pack().k_r != spec.pack().k_r
+
+
+def test_a_program_ending_between_grid_points_is_run_to_its_end():
+    """A chamber program ending off the step grid (7210 s at dt = 60 s) is run to its end by one
+    shorter last step, exact like the others under the first-order hold: its end state equals a
+    run whose grid holds the end (dt = 10 s) to rounding, for a program linear between knots on
+    both grids."""
+    unit = Coil2D(spec=Coil2DSpec(grid_pack_r=4, grid_pack_z=4))
+    tk = np.array([0.0, 1200.0, 4200.0, 7210.0])
+    vk = np.array([263.15, 263.15, 313.15, 313.15])
+    a = unit.run(tk, vk, dt=60.0)
+    b = unit.run(tk, vk, dt=10.0)
+    assert a.t[-1] == 7210.0 and b.t[-1] == 7210.0
+    np.testing.assert_allclose(a.total[-1], b.total[-1], rtol=0, atol=1e-9 * np.abs(b.total).max())
+    np.testing.assert_allclose(a.total[:-1], b.total[:-1:6], rtol=0, atol=1e-9 * np.abs(b.total).max())

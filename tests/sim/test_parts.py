@@ -286,7 +286,7 @@ def test_a_fog_part_on_the_fog_model_meets_its_datasheet(name):
     # the sheet's ARW solved for the source power (sim/parts/_physics.py); the record is the
     # closed-loop FOG2D model's (optical budget noise through the loop, the sheet's B as its
     # additive 1/f term, a drawn coil), static at a constant chamber; 300 crossover times long
-    # (rounded up to the thermal step: the coil's thermal run needs chamber knots on its grid),
+    # (rounded up to the thermal step),
     # 3e5 samples, and its fit must give the sheet's N and B back within Z_PHYS standard errors
     from gyrobench.sim.sensor import FogSensor
 

@@ -36,6 +36,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_rlg_cavity",
     "gyrobench.scenarios.checks_fog_loop",
     "gyrobench.scenarios.checks_coil",
+    "gyrobench.scenarios.checks_mount_coning",
 )
 
 

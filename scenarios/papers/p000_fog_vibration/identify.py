@@ -55,6 +55,7 @@ __all__ = [
     "identify",
     "required_record_s",
     "sigma_10s",
+    "swept_bias_record_s",
 ]
 
 #: crossover taus a record must span to identify the term that dominates beyond the crossover
@@ -127,6 +128,40 @@ def required_record_s(term: str, i: IdentificationInputs) -> float:
     """Record length [s] that identifies ``term`` in a phase: :data:`RECORD_CROSSOVERS` x
     :func:`crossover_tau_s` (the record's ADEV, to T/4, then reaches 25 crossover taus)."""
     return RECORD_CROSSOVERS * crossover_tau_s(term, i)
+
+
+def swept_bias_record_s(
+    i: IdentificationInputs,
+    mount: MountConing,
+    *,
+    sweep_start_hz: float,
+    sweep_end_hz: float,
+    vibration_s: float,
+    static_s: float,
+    fs: float = 10.0,
+) -> float:
+    """Record length [s] at which a linear sweep's rectified bias stops hiding B in the whole record.
+
+    The swept bias b(t) = ``mount.mean_rate(f(t), A)`` (quasi-static: the sweep is slow against the
+    modes' decay) is a deterministic hump inside the record (two static phases of ``static_s``
+    around the sweep); its overlapping Allan variance at a fixed tau falls as 1/T as static record
+    is added. B must dominate at tau* = RECORD_CROSSOVERS/4 crossover taus (where a record of
+    :func:`required_record_s` ends), so the record needs
+    T = T0 (sigma_b(tau*) / (0.664 B))^2, T0 = 2 static_s + vibration_s. ``fs`` [Hz] samples b(t)
+    (it varies over seconds).
+    """
+    import numpy as np
+    from gyrobench.analysis.allan import allan_deviation
+
+    t0 = 2.0 * static_s + vibration_s
+    t = np.arange(int(round(t0 * fs))) / fs
+    on = (t >= static_s) & (t < static_s + vibration_s)
+    f = sweep_start_hz + (sweep_end_hz - sweep_start_hz) * (t[on] - static_s) / vibration_s
+    b = np.zeros(t.size)
+    b[on] = units.to_deg_per_h(mount.mean_rate(f, units.g(i.acceleration_g)))
+    tau = round(RECORD_CROSSOVERS / 4.0 * crossover_tau_s("B", i) * fs) / fs
+    sigma = float(allan_deviation(b, fs, taus=[tau]).deviation[0])
+    return t0 * (sigma / (_FLICKER * i.B_deg_h)) ** 2
 
 
 def identify(i: IdentificationInputs) -> Identification:

@@ -407,8 +407,9 @@ DEVIATIONS: tuple[Deviation, ...] = (
         what="phase durations",
         paper_says="not stated (figure 1 shows three phases of unstated length)",
         we_do="long static phases around the vibration phase (Config.static_before_s, static_after_s)",
-        reason="B of the static phases must be identifiable for 'B rises in phase 2' to be testable; "
-        "the variant uses short static phases",
+        reason="B of the static phases must be identifiable for Table 1's B claims: a phase needs about "
+        "RECORD_CROSSOVERS crossover taus of N and B (identify.required_record_s); the variant uses "
+        "static phases shorter than that",
         variant="static_200s",
     ),
     Deviation(

@@ -53,18 +53,20 @@ Choices the paper does not state (also listed in :data:`DEVIATIONS`)
 * Acceleration 2 g peak. The gyro (:class:`FogSpec`) is the closed-loop FOG of
   :mod:`gyrobench.sim.fog_loop` (1 km, 10 cm coil, square-wave modulation, serrodyne and
   V_2pi loops; ARW 0.0013 deg/sqrt(h) from its optical budget), with additive IEEE-952
-  terms of the same (navigation) grade, Q 0.01 arcsec, B 0.01 deg/h, K 0.003 deg/h/sqrt(h),
-  R 0.001 deg/h^2 (assumed; :mod:`.identify`): Q dominates the 400 Hz ADEV below 0.05 s, N
-  up to 143 s, B beyond (so B needs ~38 min per phase); K and R need ~235 h and ~150 h per
-  phase: their claims are not testable by design. Its vibration error comes from mechanics:
+  terms of an intermediate grade, Q 0.01 arcsec, B 0.05 deg/h, K 0.003 deg/h/sqrt(h),
+  R 0.001 deg/h^2 (assumed, B chosen so that the static phases identify it; :mod:`.identify`):
+  Q dominates the 400 Hz ADEV below 0.05 s, N up to 5.7 s, B beyond (B needs ~9.5 min per
+  phase: the 600 s static phases identify it, the 300 s vibration phase does not); K and R
+  need ~37,000 h and ~4,700 h per phase: their claims are not testable by design. Its
+  vibration error comes from mechanics:
   three structural modes (coil 1.2 kHz, pigtail 300 Hz, fixture rocking 900 Hz;
   sim.fog_loop's assumed defaults) give a strain-rate nonreciprocity through the (L - 2z)
   kernel (a zero-mean tone, a few deg/h rms at 2 g), a rocking true rate and a rectified
   bias from loss modulation times the loop residual (~2e-4 deg/h at 500 Hz); and two rocking
   modes of the mount (400 and 460 Hz, Q 10) cone, a DC rate between them
   (:mod:`gyrobench.sim.mount_coning`): the device's vibration bias, identified in
-  :mod:`.identify` from fig. 3's band and fig. 7's visible offset (0.26 deg/h at 500 Hz and 2
-  g, 10 x the predicted scatter of 10-s means; up to 3.2 deg/h near 408 Hz). The paper's
+  :mod:`.identify` from fig. 3's band and fig. 7's visible offset (0.42 deg/h at 500 Hz and 2
+  g, 10 x the predicted scatter of 10-s means; up to 5.1 deg/h near 408 Hz). The paper's
   model w = wn + b0 + br + noise with wn the Earth's rate at Nanjing (32.06 N, sense axis
   horizontal, azimuth north assumed: 12.7 deg/h). Each seed draws its own unit: mode
   frequencies +-5 % and couplings (mount compliances too) x exp(0.3 N(0,1)) (assumed spreads).

@@ -39,7 +39,7 @@ class FogSpec:
     ``mount``: the two rocking modes of the gyro's mount whose coning rectifies vibration into a
     DC rate (:mod:`gyrobench.sim.mount_coning`; identified in :mod:`.identify`; None: no mount
     modes, the earlier device). Additive IEEE-952 terms (what the optics do not produce;
-    navigation grade, :mod:`.identify`):
+    intermediate grade, B chosen so the static phases identify it, :mod:`.identify`):
     ``Q_arcsec`` readout quantization, ``B_deg_h`` bias instability, ``K_deg_h_sqrt_h`` rate
     random walk, ``R_deg_h2`` rate ramp. Site: ``latitude_deg`` (paper 000's lab, Southeast
     University, Nanjing: :data:`gyrobench.sim.earth.PAPER_SITES`), sense axis horizontal as

@@ -28,6 +28,7 @@ from .pipeline import (
     edges_and_offsets,
     fit_bias_models,
     phase_table,
+    shortest_tau_rise,
     split_band_coefficients,
 )
 from .results import (
@@ -112,7 +113,14 @@ def experiment(config: Config, seed: int) -> UnitResult:
     offsets = edges_and_offsets(sig, fixed, config)
     return UnitResult(
         seed=int(seed),
-        quantities=unit_quantities(phases, decomposition, compensation, scores, offsets),
+        quantities=unit_quantities(
+            phases,
+            decomposition,
+            compensation,
+            scores,
+            offsets,
+            shortest_tau_rise=shortest_tau_rise(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s),
+        ),
         phases=phases,
         decomposition=decomposition,
         compensation=compensation,

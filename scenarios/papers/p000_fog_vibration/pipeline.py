@@ -14,6 +14,7 @@ from functools import partial
 from typing import Any
 
 import numpy as np
+from gyrobench.analysis.allan import allan_deviation
 from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
 from gyrobench.analysis.metrics import segment_noise_fits
 from gyrobench.analysis.sweep import bin_means
@@ -40,6 +41,7 @@ __all__ = [
     "fit_bias_models",
     "phase_table",
     "predict_on",
+    "shortest_tau_rise",
     "split_band_coefficients",
 ]
 
@@ -86,6 +88,31 @@ def phase_table(
         k: Coefficients.from_mapping(coefficients_json(f.fit)) for k, f in segment_noise_fits(rate, fs, segs).items()
     }
     return PhaseTable(phase1=fits["1"], phase2=fits["2"], phase3=fits["3"])
+
+
+def shortest_tau_rise(
+    rate: NDArray[np.float64], fs: float, bounds: Sequence[tuple[float, float]], *, guard_s: float = 0.0
+) -> float:
+    """Table 1's rise as the vibration phase's record shows it: ADEV at tau = 1/fs, phase 2 over the static phases.
+
+    What a vibration phase's Allan table measures (paper 000 fits the raw record): the sine
+    vibration reaches the output as tones aliased into its band; a tone of amplitude A0 at f has
+    sigma(tau) = A0 sin^2(pi f tau) / (pi f tau) (IEEE Std 952-1997, Annex C, sinusoidal noise), a 1/tau envelope the
+    IEEE fit reads as quantization Q, and zero at tau = k/f, so the octave taus beyond the
+    aliased tone's period see only the static noise; the rectified bias is constant within the
+    phase and adds no Allan variance. The rise is therefore found where Q dominates the static
+    phases, at the shortest cluster time. Returns phase 2's lower 95 % bound over the larger
+    upper 95 % bound of phases 1 and 3 at tau = 1/fs (> 1: phase 2 is higher at 95 %); the
+    phases are cut as in :func:`phase_table`. ``rate`` in any unit (the ratio is unitless).
+    """
+    if len(bounds) != 3:
+        raise ValueError(f"shortest_tau_rise needs 3 phases (static, vibration, static); got {len(bounds)}")
+    curves = []
+    for i, (t0, t1) in enumerate(bounds, start=1):
+        a, b = int(round((t0 + (guard_s if i > 1 else 0.0)) * fs)), int(round(t1 * fs))
+        curves.append(allan_deviation(rate[a:b], fs, taus=[1.0 / fs], confidence=0.95))
+    static_high = max(float(curves[0].high[0]), float(curves[2].high[0]))
+    return float(curves[1].low[0]) / max(static_high, 1e-300)
 
 
 def _near_edges(on: np.ndarray, fs: float, width_s: float) -> np.ndarray:

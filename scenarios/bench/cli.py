@@ -16,8 +16,8 @@ seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): ex
 "could not score", never "got worse". A compensator whose prediction or scores are not
 finite (NaN, inf) or complex on some seeds, that calls ``sys.exit`` or ``os._exit``, crashes
 (a segfault), or runs past ``--seed-timeout`` (default 600 s) makes those seeds *failed*
-(with a local pool each seed runs in its own process; with ``--workers 0`` in this one,
-where ``SystemExit`` and the time limit are caught but ``os._exit`` and a segfault are not):
+(without ``--scheduler`` each seed runs in its own forked process, also with ``--workers 0``,
+which runs them one at a time):
 they are recorded in the
 database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
 is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
@@ -106,7 +106,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--workers",
         type=int,
         default=None,
-        help="local worker processes (default: usable CPUs; 0 = run in this process)",
+        help="local worker processes (default: usable CPUs; 0 = one seed at a time, each in its own forked "
+        "process: the compensator need not pickle)",
     )
     p.add_argument(
         "--seed-timeout",

@@ -38,6 +38,15 @@ def _cmd_reproduce(args) -> int:
         raise BadInput(f"--max-units goes with --units auto; got --units {args.units}")
     else:
         start_units, max_units = args.units, None
+    from gyrobench.scenarios.units import check_run_size
+
+    try:  # O(1), before any seed list exists
+        check_run_size(max_units or start_units, args.seed, what="--max-units" if max_units else "--units",
+                       seed_name="--seed")
+        if args.deviations:
+            check_run_size(args.deviations, args.seed, what="--deviations", seed_name="--seed")
+    except ValueError as exc:
+        raise BadInput(str(exc)) from None
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
     check_output(args.out, what="--out", kind="report")  # before any work

@@ -62,6 +62,12 @@ def _tau_min_arg(text: str):
     return "auto" if text == "auto" else positive_float("--tau-min")(text)
 
 
+#: the smallest largest-sample size ``allan`` analyses: the fit squares deviations and sums their
+#: powers of tau; records of N(0, 1e-70) still fit exactly (N to 4 digits), 1e-90 fails in the
+#: NNLS and 1e-180 underflowed to a ZeroDivisionError (issue 32): 1e-60 keeps a 1e10 margin
+MIN_MAGNITUDE = 1e-60
+
+
 def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
     """Refuse, before the analysis, a sample rate outside any gyro's (the fit's tau**-2 .. tau**2
     terms overflow far outside it), samples too large to square and a run that needs more memory
@@ -73,6 +79,13 @@ def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
         raise BadInput(f"the sample rate of {label} must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
                         f"(no gyro samples outside it); got {fs:g} Hz")
     check_magnitude(rate, label)
+    import numpy as np
+
+    peak = float(np.max(np.abs(rate))) if len(rate) else 0.0
+    if 0.0 < peak < MIN_MAGNITUDE:  # the fit's squared deviations underflow (1e-180 ended in ZeroDivisionError)
+        raise BadInput(f"the samples of {label} are at most {peak:.3g} in size, too small to analyse in float64 "
+                       f"(the fit squares deviations of them; it needs samples above {MIN_MAGNITUDE:g}): "
+                       "check its unit and scale")
     memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
                         f"({len(rate)} samples)", hint="analyse a shorter segment")
 

@@ -129,4 +129,6 @@ def read_toml(path: str, flag: str) -> dict:
         raise BadInput(f"{flag}: file {path!r} does not exist") from None
     except tomllib.TOMLDecodeError as exc:
         raise BadInput(f"{flag}: {path!r} is not valid TOML: {one_line(exc)}") from None
+    except RecursionError:  # arrays or tables nested thousands deep
+        raise BadInput(f"{flag}: {path!r} nests arrays or tables too deeply to read") from None
 

@@ -336,6 +336,31 @@ CASES = {
         2,
         "config file 'big.toml': Config.fog.duration_h must be (0, 10000] h; got 1e+308",
     ),
+    # tiny valid data and deeply nested JSON/TOML: one line, exit 2, never 4 "this is a bug" (issue 32)
+    "allan-samples-of-1e-180": (
+        {"tiny.csv": lambda p: _write(p, "time [s],rate [rad/s]\n" + "".join(
+            f"{i / 100!r},{math.sin(i * 0.7) * 1e-180!r}\n" for i in range(2000)))},
+        ["allan", "tiny.csv"],
+        2,
+        "too small to analyse in float64",
+    ),
+    "simulate-noise-tiny-coefficient": (
+        {}, ["simulate", "noise", "--N", "1e-170", "--duration", "100s", "-o", "o.h5"], 2,
+        "too small for 'gyrobench allan'",
+    ),
+    "bench-baseline-nested-100000-deep": (
+        {"deep.json": lambda p: _write(p, "[" * 100000 + "]" * 100000)},
+        ["bench", TOY, "--compensator", f"{TOY}:good", "--seeds", "0:12", "--workers", "0", "--baseline", "deep.json",
+         "--db", "c.db", "-q"],
+        2,
+        "baseline 'deep.json' is not a gyrobench baseline file: it nests values too deeply",
+    ),
+    "device-profile-nested-50000-deep": (
+        {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
+        ["simulate", "device", "STIM300", "--profile", "deep.toml", "--duration", "10s", "-o", "o.h5"],
+        2,
+        "--profile: 'deep.toml' nests arrays or tables too deeply to read",
+    ),
     "toml-deeply-nested": (
         {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
         ["simulate", "static_noise", "--config", "deep.toml", "--out", "o"],

@@ -6,7 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
-from gyrobench.scenarios.cli_common import BadInput, nonneg_float, positive_float
+from gyrobench.scenarios.cli_common import MAX_FLAG_VALUE, BadInput, nonneg_float, positive_float
 
 __all__ = ["add_parser", "read_csv"]
 
@@ -59,7 +59,7 @@ def _terms_arg(text: str) -> tuple[str, ...]:
 
 
 def _tau_min_arg(text: str):
-    return "auto" if text == "auto" else positive_float("--tau-min")(text)
+    return "auto" if text == "auto" else positive_float("--tau-min", MAX_FLAG_VALUE)(text)
 
 
 #: the smallest largest-sample size ``allan`` analyses: the fit squares deviations and sums their
@@ -164,9 +164,9 @@ def add_parser(sub) -> None:
     s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the named columns, e.g. deg/s, deg/h, rad/s, m/s^2, g "
                                    "(default: from the header '[unit]' or the format)")
-    s.add_argument("--start", type=nonneg_float("--start"),
+    s.add_argument("--start", type=nonneg_float("--start", MAX_FLAG_VALUE),
                    help="CSV: analyse from this time [s after the first sample]")
-    s.add_argument("--stop", type=nonneg_float("--stop"),
+    s.add_argument("--stop", type=nonneg_float("--stop", MAX_FLAG_VALUE),
                    help="CSV: analyse up to this time [s after the first sample]")
     s.add_argument("--temperature", help="CSV: temperature column [degC]; its explained part (c_T (T - Tbar) + "
                                          "c_dT dT/dt, least squares) is removed before the analysis")
@@ -183,7 +183,7 @@ def add_parser(sub) -> None:
                    help="terms to fit, e.g. N,B,K (default Q,N,B,K,R)")
     s.add_argument("--tau-min", type=_tau_min_arg, default="auto",
                    help="shortest tau to fit [s], or 'auto' (default: above the filter-shaped short-tau region)")
-    s.add_argument("--tau-max", type=positive_float("--tau-max"), help="longest tau to fit [s]")
+    s.add_argument("--tau-max", type=positive_float("--tau-max", MAX_FLAG_VALUE), help="longest tau to fit [s]")
     s.add_argument("--bandwidth", type=positive_float("--bandwidth"), metavar="HZ",
                    help="the sensor's bandwidth [Hz], 0 < HZ < fs/2: taus its low-pass still biases are not fitted "
                         "(with --tau-min the larger limit wins; the output names the rule that set it)")

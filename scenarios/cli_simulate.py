@@ -49,7 +49,7 @@ def _simulate_noise(args) -> int:
     import numpy as np
     from gyrobench.scenarios.cli_allan import MIN_MAGNITUDE
     from gyrobench.scenarios.outputs import check_output
-    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim import memory
     from gyrobench.sim.noise import NoiseModel
     from gyrobench.sim.recording import (
@@ -84,6 +84,10 @@ def _simulate_noise(args) -> int:
                        f"'gyrobench allan' infers from its 12-digit time column could fall outside); got {fs:g} Hz")
     datasheet = {"Q_arcsec": args.Q or 0.0, "N_deg_sqrt_h": args.N or 0.0, "B_deg_h": args.B or 0.0,
                  "K_deg_h_sqrt_h": args.K or 0.0, "R_deg_h2": args.R or 0.0}
+    for (key, value), flag in zip(datasheet.items(), ("--Q", "--N", "--B", "--K", "--R"), strict=True):
+        rng = GradeSpec.RANGES[key]  # the same documented ranges as a static_noise grade's coefficients
+        if not rng.contains(value):
+            raise BadInput(f"{flag} must be {rng.text()} (any gyro grade's); got {value:g}")
     if not any(datasheet.values()):  # an all-zero record: 'gyrobench allan' refuses it (zero variance)
         raise BadInput("simulate noise needs at least one noise coefficient > 0 (--Q, --N, --B, --K or --R)")
     model = NoiseModel.from_datasheet(

@@ -46,6 +46,7 @@ import os
 from typing import Any
 
 from gyrobench.scenarios import exits
+from gyrobench.scenarios.cli_common import MAX_WORKERS, ranged
 
 __all__ = ["add_parser", "run", "scheduler_executor"]
 
@@ -85,7 +86,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--min-change",
-        type=float,
+        type=ranged("--min-change", 0.0, 10.0, low_open=True, unit="(fraction of the mean)"),
         default=0.2,
         metavar="FRACTION",
         help="the smallest change of a primary score --seeds auto must detect, as a fraction of "
@@ -104,14 +105,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--workers",
-        type=int,
+        type=ranged("--workers", 0, MAX_WORKERS, integer=True, unit="processes"),
         default=None,
         help="local worker processes (default: usable CPUs; 0 = one seed at a time, each in its own forked "
         "process: the compensator need not pickle)",
     )
     p.add_argument(
         "--seed-timeout",
-        type=float,
+        type=ranged("--seed-timeout", 0.0, 1e6, low_open=True, unit="s"),
         default=None,
         metavar="SECONDS",
         help="per-seed time limit; a seed past it is failed (exit 3) and retried by a rerun (default 600)",
@@ -139,7 +140,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--alpha",
-        type=float,
+        type=ranged("--alpha", 0.0, 1.0, low_open=True, high_open=True),
         default=0.05,
         help="family-wise significance level of the comparison (default 0.05)",
     )

@@ -407,13 +407,13 @@ CASES = {
         {},
         ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"],
         2,
-        "angle_random_walk must be <= 1e+100 (SI; no gyro comes near it",
+        "--N must be [0, 10000] deg/sqrt(h) (any gyro grade's); got 1e+300",
     ),
     "rate-ramp-1e300": (
         {},
         ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"],
         2,
-        "rate_ramp must be <= 1e+100 (SI; no gyro comes near it",
+        "--R must be [0, 1e+08] deg/h^2 (any gyro grade's); got 1e+300",
     ),
     "scenario-200h-at-1kHz-memory": (
         {"long.toml": lambda p: _write(p, "[fog]\nduration_h = 200\nfs_hz = 1000\n")},

@@ -6,7 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
-from gyrobench.scenarios.cli_common import BadInput, nonneg_float, positive_float
+from gyrobench.scenarios.cli_common import MAX_FLAG_VALUE, BadInput, nonneg_float, positive_float
 
 __all__ = ["add_parser", "read_csv"]
 
@@ -93,7 +93,13 @@ def _terms_arg(text: str) -> tuple[str, ...]:
 
 
 def _tau_min_arg(text: str):
-    return "auto" if text == "auto" else positive_float("--tau-min")(text)
+    return "auto" if text == "auto" else positive_float("--tau-min", MAX_FLAG_VALUE)(text)
+
+
+#: the smallest largest-sample size ``allan`` analyses: the fit squares deviations and sums their
+#: powers of tau; records of N(0, 1e-70) still fit exactly (N to 4 digits), 1e-90 fails in the
+#: NNLS and 1e-180 underflowed to a ZeroDivisionError (issue 32): 1e-60 keeps a 1e10 margin
+MIN_MAGNITUDE = 1e-60
 
 
 def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
@@ -107,6 +113,13 @@ def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
         raise BadInput(f"the sample rate of {label} must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
                         f"(no gyro samples outside it); got {fs:g} Hz")
     check_magnitude(rate, label)
+    import numpy as np
+
+    peak = float(np.max(np.abs(rate))) if len(rate) else 0.0
+    if 0.0 < peak < MIN_MAGNITUDE:  # the fit's squared deviations underflow (1e-180 ended in ZeroDivisionError)
+        raise BadInput(f"the samples of {label} are at most {peak:.3g} in size, too small to analyse in float64 "
+                       f"(the fit squares deviations of them; it needs samples above {MIN_MAGNITUDE:g}): "
+                       "check its unit and scale")
     memory.check_memory(memory.allan_bytes(len(rate), kind), f"the {kind} Allan analysis of {label} "
                         f"({len(rate)} samples)", hint="analyse a shorter segment")
 
@@ -192,9 +205,9 @@ def add_parser(sub) -> None:
                                    "rad/s, m/s^2, g) for the columns of its kind; a column's kind comes from its "
                                    "name or header (gyro, omega, acc, ax ...), and one reading gravity is never "
                                    "taken as a gyro (default: from the header '[unit]' or the format)")
-    s.add_argument("--start", type=nonneg_float("--start"),
+    s.add_argument("--start", type=nonneg_float("--start", MAX_FLAG_VALUE),
                    help="analyse from this time [s after the first sample]")
-    s.add_argument("--stop", type=nonneg_float("--stop"),
+    s.add_argument("--stop", type=nonneg_float("--stop", MAX_FLAG_VALUE),
                    help="analyse up to this time [s after the first sample]")
     s.add_argument("--gaps", choices=("refuse", "fill", "split"), default="refuse",
                    help="CSV: missing samples in the time column: refuse (default, naming the first gap), fill "
@@ -215,7 +228,7 @@ def add_parser(sub) -> None:
                    help="terms to fit, e.g. N,B,K (default Q,N,B,K,R)")
     s.add_argument("--tau-min", type=_tau_min_arg, default="auto",
                    help="shortest tau to fit [s], or 'auto' (default: above the filter-shaped short-tau region)")
-    s.add_argument("--tau-max", type=positive_float("--tau-max"), help="longest tau to fit [s]")
+    s.add_argument("--tau-max", type=positive_float("--tau-max", MAX_FLAG_VALUE), help="longest tau to fit [s]")
     s.add_argument("--bandwidth", type=positive_float("--bandwidth"), metavar="HZ",
                    help="the sensor's bandwidth [Hz], 0 < HZ < fs/2: taus its low-pass still biases are not fitted "
                         "(with --tau-min the larger limit wins; the output names the rule that set it)")

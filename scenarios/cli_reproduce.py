@@ -6,7 +6,7 @@ import shlex
 import time
 from pathlib import Path
 
-from gyrobench.scenarios.cli_common import BadInput, closing, positive_int, seed, units_or_auto
+from gyrobench.scenarios.cli_common import MAX_WORKERS, BadInput, closing, positive_int, ranged, seed, units_or_auto
 
 __all__ = ["AUTO_START_UNITS", "DEVIATION_UNITS", "MAX_UNITS", "add_parser"]
 
@@ -38,6 +38,15 @@ def _cmd_reproduce(args) -> int:
         raise BadInput(f"--max-units goes with --units auto; got --units {args.units}")
     else:
         start_units, max_units = args.units, None
+    from gyrobench.scenarios.units import check_run_size
+
+    try:  # O(1), before any seed list exists
+        check_run_size(max_units or start_units, args.seed, what="--max-units" if max_units else "--units",
+                       seed_name="--seed")
+        if args.deviations:
+            check_run_size(args.deviations, args.seed, what="--deviations", seed_name="--seed")
+    except ValueError as exc:
+        raise BadInput(str(exc)) from None
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
     configs = [registry.load_config(m, args.config) for m in mods]
     check_output(args.out, what="--out", kind="report")  # before any work
@@ -116,7 +125,7 @@ def add_parser(sub) -> None:
     s.add_argument("--units", type=units_or_auto, default=20,
                    help="paper scenarios: units simulated, seeds SEED..SEED+N-1 (default 20; 1 = quick look; "
                    "'auto': 20, then batches of 10 while a claim's interval straddles 50 %%, up to --max-units)")
-    s.add_argument("--workers", type=int, default=None,
+    s.add_argument("--workers", type=ranged("--workers", 0, MAX_WORKERS, integer=True, unit="processes"), default=None,
                    help="local worker processes for the units (default: usable CPUs; 0 = in this process)")
     s.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed scheduler address; units run there")
     s.add_argument("--db", help="SQLite file keeping every finished unit, so a rerun resumes "

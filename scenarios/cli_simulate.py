@@ -29,6 +29,12 @@ _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs"
 _SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
 
 
+#: how far inside FS_RANGE_HZ a CSV record's rate must lie: 'allan' infers the rate from the time
+#: column, printed to 12 significant digits, so the rate it reads differs from --fs by up to about
+#: (samples x 1e-12) relative; 1e-6 covers a million rows at the range's edges
+CSV_FS_MARGIN = 1e-6
+
+
 def _simulate_noise(args) -> int:
     """Stream one noise record to ``-o FILE.h5|.csv``.
 
@@ -41,11 +47,13 @@ def _simulate_noise(args) -> int:
     K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
     """
     import numpy as np
+    from gyrobench.scenarios.cli_allan import MIN_MAGNITUDE
     from gyrobench.scenarios.outputs import check_output
-    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim import memory
     from gyrobench.sim.noise import NoiseModel
     from gyrobench.sim.recording import (
+        FS_RANGE_HZ,
         HDF5StreamWriter,
         atomic_path,
         check_magnitude,
@@ -67,8 +75,21 @@ def _simulate_noise(args) -> int:
     if args.duration is None:
         raise BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
     fs = 100.0 if args.fs is None else args.fs
+    lo, hi = FS_RANGE_HZ
+    if not lo <= fs <= hi:  # 'gyrobench allan' refuses any other rate: never written
+        raise BadInput(f"--fs must be in [{lo:g}, {hi:g}] Hz (the sample rates 'gyrobench allan' reads; no gyro "
+                       f"samples outside it); got {fs:g} Hz")
+    if suffix == ".csv" and not lo * (1 + CSV_FS_MARGIN) <= fs <= hi * (1 - CSV_FS_MARGIN):
+        raise BadInput(f"--fs must be inside [{lo:g}, {hi:g}] Hz by a relative {CSV_FS_MARGIN:g} for a CSV (the rate "
+                       f"'gyrobench allan' infers from its 12-digit time column could fall outside); got {fs:g} Hz")
     datasheet = {"Q_arcsec": args.Q or 0.0, "N_deg_sqrt_h": args.N or 0.0, "B_deg_h": args.B or 0.0,
                  "K_deg_h_sqrt_h": args.K or 0.0, "R_deg_h2": args.R or 0.0}
+    for (key, value), flag in zip(datasheet.items(), ("--Q", "--N", "--B", "--K", "--R"), strict=True):
+        rng = GradeSpec.RANGES[key]  # the same documented ranges as a static_noise grade's coefficients
+        if not rng.contains(value):
+            raise BadInput(f"{flag} must be {rng.text()} (any gyro grade's); got {value:g}")
+    if not any(datasheet.values()):  # an all-zero record: 'gyrobench allan' refuses it (zero variance)
+        raise BadInput("simulate noise needs at least one noise coefficient > 0 (--Q, --N, --B, --K or --R)")
     model = NoiseModel.from_datasheet(
         quantization=datasheet["Q_arcsec"], angle_random_walk=datasheet["N_deg_sqrt_h"],
         bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
@@ -102,6 +123,21 @@ def _simulate_noise(args) -> int:
                            "rate_ramp_rad_per_s2": model.rate_ramp},
     }
     too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
+    peak = [0.0]
+
+    def checked(y):
+        """One chunk, refused if too large to analyse; the record's largest sample kept for the end."""
+        check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+        peak[0] = max(peak[0], float(np.max(np.abs(y))) if len(y) else 0.0)
+        return y
+
+    def check_not_tiny() -> None:
+        """Refuse (before the file is committed) a record 'gyrobench allan' would refuse as too small."""
+        if peak[0] < MIN_MAGNITUDE:
+            raise BadInput(f"simulate noise: the record's samples are at most {peak[0]:.3g} rad/s, too small for "
+                           f"'gyrobench allan' (it needs samples above {MIN_MAGNITUDE:g}): the noise coefficients "
+                           "--Q/--N/--B/--K/--R are far too small for any gyro")
+
     bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
     with closing(bar):
         if suffix == ".csv":
@@ -109,19 +145,19 @@ def _simulate_noise(args) -> int:
                 fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
                 fh.write("time [s],rate [rad/s]\n")
                 k = 0
-                for y in stream.chunks(n, chunk):
-                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+                for y in map(checked, stream.chunks(n, chunk)):
                     t = (k + np.arange(len(y))) / fs
                     np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
                     k += len(y)
                     bar.update(len(y))
+                check_not_tiny()
         else:
             with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
                                   expected_samples=n) as w:
-                for y in stream.chunks(n, chunk):
-                    check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+                for y in map(checked, stream.chunks(n, chunk)):
                     w.append(rate=y)
                     bar.update(len(y))
+                check_not_tiny()
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
     return 0
 

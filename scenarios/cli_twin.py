@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gyrobench.scenarios.cli_common import BadInput, positive_float, seed
+from gyrobench.scenarios.cli_common import MAX_FLAG_VALUE, BadInput, positive_float, seed
 
 if TYPE_CHECKING:  # the verb imports numpy, analysis and sim only when it runs (``--help`` stays light)
     import numpy as np
@@ -336,7 +336,8 @@ def add_parser(sub) -> None:
                               "2 bad input")
     s.add_argument("file", help="real static record: CSV (.csv, .csv.gz) or gyrobench HDF5")
     s.add_argument("--column", help="the rate column (CSV name or index; HDF5 channel, default 'rate')")
-    s.add_argument("--fs", type=positive_float("--fs"), help="CSV without a time column: sample rate [Hz]")
+    s.add_argument("--fs", type=positive_float("--fs", MAX_FLAG_VALUE),
+                   help="CSV without a time column: sample rate [Hz]")
     s.add_argument("--units", help="CSV: unit of the column, e.g. deg/s, deg/h, rad/s (default: from the header)")
     s.add_argument("-o", "--output", required=True, help="write the twin recording here (.h5 HDF5 or .csv, with its "
                                                       "truth columns)")

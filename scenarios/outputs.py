@@ -91,7 +91,7 @@ def _foreign_files(p: Path) -> list[str] | None:
         manifest = json.loads((p / REPORT_MARKER).read_text(encoding="utf-8"))["files"]
         if not isinstance(manifest, dict):
             raise TypeError
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):  # unreadable: nothing counts as ours
         manifest = {}
     foreign = []
     for rel, full in sorted(files.items()):

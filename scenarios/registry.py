@@ -165,11 +165,27 @@ def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     return value
 
 
+def _check_range(owner: str, config_type: type, key: str, value: Any) -> None:
+    """Refuse ``value`` of field ``key`` outside its documented range (:class:`~gyrobench.scenarios.base.FieldRange`,
+    the config class's ``RANGES``), before the configuration is built: a value out of range never
+    reaches the config's own checks or a model."""
+    from gyrobench.scenarios.base import field_range, range_error
+
+    rng = field_range(config_type, key)
+    if rng is None:
+        return
+    for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
+        if v is not None and not rng.contains(v):
+            raise range_error(owner, f"{key}[{i}]" if isinstance(value, tuple) else key, rng, v)
+
+
 def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -> Any:
     """Return ``config`` with ``values`` replaced, validated field by field.
 
     Unknown keys raise ``ValueError`` naming the valid ones; wrong types raise
-    ``TypeError``; the config's own ``__post_init__`` checks the values.
+    ``TypeError``; a value outside its field's documented range
+    (:class:`~gyrobench.scenarios.base.FieldRange`) raises ``ValueError`` naming the range
+    and unit; then the config's own ``__post_init__`` checks the values together.
     """
     owner = owner or type(config).__name__
     hints = typing.get_type_hints(type(config))
@@ -185,6 +201,7 @@ def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -
             changes[k] = override(current[k], v, owner=f"{owner}.{k}")
         else:
             changes[k] = _coerce(owner, k, v, hint)
+            _check_range(owner, type(config), k, changes[k])
     try:
         return dataclasses.replace(config, **changes)
     except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:

@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.scenarios.allan_report import TERMS, coefficient_table, coefficients_json
-from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
+from gyrobench.scenarios.base import FieldRange, FigureSpec, Headline, Outcome, Table, check_ranges
 from gyrobench.scenarios.figures import allan_figure
 from gyrobench.sim import units
 from gyrobench.sim.noise import NoiseModel
@@ -51,7 +52,21 @@ class GradeSpec:
     fs_hz: float = 100.0
     duration_h: float = 1.0
 
+    #: every numeric field's documented range, in its field unit (:class:`~gyrobench.scenarios.base.FieldRange`):
+    #: noise coefficients of any gyro grade (up to a consumer MEMS part's and past it), rates and durations one
+    #: record can hold (the memory estimate refuses a long record at a high rate first)
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "Q_arcsec": FieldRange(0.0, 1e4, "arcsec", "quantization of any gyro grade"),
+        "N_deg_sqrt_h": FieldRange(0.0, 1e4, "deg/sqrt(h)", "angle random walk of any gyro grade"),
+        "B_deg_h": FieldRange(0.0, 1e5, "deg/h", "bias instability of any gyro grade"),
+        "K_deg_h_sqrt_h": FieldRange(0.0, 1e6, "deg/h/sqrt(h)", "rate random walk of any gyro grade"),
+        "R_deg_h2": FieldRange(0.0, 1e8, "deg/h^2", "rate ramp of any gyro grade"),
+        "fs_hz": FieldRange(1e-3, 1e6, "Hz", "a gyro's output rate"),
+        "duration_h": FieldRange(0.0, 1e4, "h", "one record", low_open=True),
+    }
+
     def __post_init__(self) -> None:
+        check_ranges(self)  # every number inside its documented range first (one line naming it)
         # errors name this config's fields (a TOML user never sees NoiseModel's names)
         for term, name in _FIELDS.items():
             v, unit = getattr(self, name), units.COEFFICIENT_FIELD_UNITS[term][0]

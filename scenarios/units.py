@@ -51,7 +51,10 @@ from gyrobench.scenarios.papers.contract import quantities_of
 
 __all__ = [
     "DEFAULT_DB",
+    "MAX_SEED",
+    "MAX_UNITS",
     "UnitRun",
+    "check_run_size",
     "check_unit_memory",
     "concurrent_units",
     "default_db",
@@ -63,6 +66,17 @@ __all__ = [
 
 #: default resume store (in the current directory) when no db is given
 DEFAULT_DB = "gyrobench-units.sqlite"
+
+#: the most units one run simulates (``reproduce --units/--max-units/--deviations``, ``n_units``):
+#: a claim's pass fraction over 10,000 units has a 95 % interval of at most +-1 percentage point,
+#: finer than any claim is stated to; every unit's result is held in memory for the claims and the
+#: report, and the fastest paper's unit takes about 0.9 s of CPU (stop 13), so 10,000 units are
+#: already hours. Checked in O(1) before any seed list is built (``--units 10000000`` grew without
+#: bound before).
+MAX_UNITS = 10_000
+
+#: the largest seed a unit may have: seeds are stored as SQLite's signed 64-bit INTEGER
+MAX_SEED = 2**63 - 1
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS unit_runs (
@@ -192,11 +206,27 @@ def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
         raise ValueError(f"db {str(db)!r}: stored unit (seed {seed}) refused: {exc}") from None
 
 
-def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
+def check_run_size(n_units: Any, seed: Any = 0, *, what: str = "n_units", seed_name: str = "seed") -> None:
+    """Refuse, in O(1) and in one line, a run of ``n_units`` units from ``seed`` that is not an
+    integer in ``[1, MAX_UNITS]`` or whose seeds pass :data:`MAX_SEED` (``what`` and ``seed_name``
+    name them in the message, e.g. ``"--units"``)."""
     if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
-        raise ValueError(f"n_units must be an integer >= 1; got {n_units!r}")
+        raise ValueError(f"{what} must be an integer >= 1; got {n_units!r}")
+    if n_units > MAX_UNITS:
+        shown = f"an integer of {len(str(n_units))} digits" if n_units > 10**30 else str(n_units)
+        raise ValueError(
+            f"{what} must be at most {MAX_UNITS} units (a claim's interval is then within +-1 point; "
+            f"every unit's result is held in memory); got {shown}"
+        )
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ValueError(f"seed must be an integer >= 0; got {seed!r}")
+        raise ValueError(f"{seed_name} must be an integer >= 0; got {seed!r}")
+    if seed > MAX_SEED - n_units + 1:
+        shown = f"an integer of {len(str(seed))} digits" if seed > 10**30 else str(seed)
+        raise ValueError(f"{seed_name} + units - 1 must be at most {MAX_SEED} (a 64-bit seed); got {shown}")
+
+
+def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
+    check_run_size(n_units, seed)
     check_pool(executor, workers)
 
 

@@ -191,6 +191,8 @@ def load_baseline(path: str | os.PathLike) -> Campaign:
             scores=dict(sorted(scores.items())),
             db=str(p),
         )
+    except RecursionError:  # JSON nested thousands deep (a baseline is a flat table of scores)
+        raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: it nests values too deeply") from None
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
 

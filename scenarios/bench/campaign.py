@@ -134,7 +134,7 @@ def run_campaign(
         Registered name, importable module path or module with ``compensation_task``.
     compensator : estimator, estimator class, fit function or "module:attr"
         See the module docstring. It must pickle (module-level functions and
-        classes do; lambdas do not) unless ``workers=0``.
+        classes do; lambdas do not) unless ``workers=0`` (forked, nothing is pickled in).
     seeds : iterable of int or str
         Distinct seeds >= 0, or the text forms of :func:`parse_seeds`.
     config : scenario Config, optional
@@ -145,7 +145,9 @@ def run_campaign(
         shut down by this function.
     workers : int, optional
         Size of the local process pool when ``executor`` is None (default: the
-        usable CPUs). ``0`` runs the seeds one after another in this process.
+        usable CPUs). ``0`` runs the seeds one after another, each in its own forked
+        process (the compensator need not pickle; its results and exceptions do), so an
+        ``os._exit`` or a crash in it fails that seed only.
     db : path
         SQLite file holding every finished seed (created if absent, in an
         existing folder: folders are not created).
@@ -285,8 +287,10 @@ def _compute(
     workers: int | None,
     progress: bool,
 ) -> None:
-    """Score the seeds of ``todo`` in this process (``workers=0``) or on a pool, recording each,
-    with a progress bar over all ``total`` seeds."""
+    """Score the seeds of ``todo`` one at a time (``workers=0``) or on a pool, recording each,
+    with a progress bar over all ``total`` seeds. Without an ``executor`` every seed runs in its
+    own forked process (:func:`_run_contained`), also with ``workers=0``: an ``os._exit`` or a
+    segfault in the compensator ends that process only, never the campaign."""
     from tqdm import tqdm
 
     bar = tqdm(
@@ -298,23 +302,12 @@ def _compute(
         dynamic_ncols=True,
     )
     try:
-        if executor is None and workers == 0:
-            _run_here(plan, todo, recorder, bar)
+        if executor is None and workers == 0:  # one seed at a time, each in its own forked process
+            _run_contained(plan, todo, recorder, bar, workers=1)
         else:
             _run_on_pool(plan, todo, recorder, bar, executor=executor, workers=workers)
     finally:
         bar.close()
-
-
-def _run_here(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any) -> None:
-    """Score the seeds one after another in this process."""
-    for seed in todo:
-        try:
-            result = score_job(plan.module.__name__, plan.compensator, seed, plan.config, plan.short, plan.seed_timeout)
-        except Exception as exc:
-            _raise_seed_error(exc, seed, plan, recorder)
-        recorder(*result)
-        bar.update(1)
 
 
 def _run_on_pool(

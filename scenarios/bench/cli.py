@@ -16,8 +16,8 @@ seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): ex
 "could not score", never "got worse". A compensator whose prediction or scores are not
 finite (NaN, inf) or complex on some seeds, that calls ``sys.exit`` or ``os._exit``, crashes
 (a segfault), or runs past ``--seed-timeout`` (default 600 s) makes those seeds *failed*
-(with a local pool each seed runs in its own process; with ``--workers 0`` in this one,
-where ``SystemExit`` and the time limit are caught but ``os._exit`` and a segfault are not):
+(without ``--scheduler`` each seed runs in its own forked process, also with ``--workers 0``,
+which runs them one at a time):
 they are recorded in the
 database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
 is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
@@ -46,6 +46,7 @@ import os
 from typing import Any
 
 from gyrobench.scenarios import exits
+from gyrobench.scenarios.cli_common import MAX_WORKERS, ranged
 
 __all__ = ["add_parser", "run", "scheduler_executor"]
 
@@ -85,7 +86,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--min-change",
-        type=float,
+        type=ranged("--min-change", 0.0, 10.0, low_open=True, unit="(fraction of the mean)"),
         default=0.2,
         metavar="FRACTION",
         help="the smallest change of a primary score --seeds auto must detect, as a fraction of "
@@ -104,13 +105,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--workers",
-        type=int,
+        type=ranged("--workers", 0, MAX_WORKERS, integer=True, unit="processes"),
         default=None,
-        help="local worker processes (default: usable CPUs; 0 = run in this process)",
+        help="local worker processes (default: usable CPUs; 0 = one seed at a time, each in its own forked "
+        "process: the compensator need not pickle)",
     )
     p.add_argument(
         "--seed-timeout",
-        type=float,
+        type=ranged("--seed-timeout", 0.0, 1e6, low_open=True, unit="s"),
         default=None,
         metavar="SECONDS",
         help="per-seed time limit; a seed past it is failed (exit 3) and retried by a rerun (default 600)",
@@ -138,7 +140,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--alpha",
-        type=float,
+        type=ranged("--alpha", 0.0, 1.0, low_open=True, high_open=True),
         default=0.05,
         help="family-wise significance level of the comparison (default 0.05)",
     )

@@ -100,14 +100,41 @@ def _contained_child(conn: Any, parent_pid: int, fn: Any, args: tuple) -> None:
         try:
             msg: tuple[str, Any] = ("ok", fn(*args))
         except BaseException as exc:  # noqa: BLE001 - sent to the parent, which re-raises it
-            msg = ("err", exc)
+            msg = ("err", _cause_chain(exc))
         try:
             conn.send(msg)
         except Exception as exc:  # noqa: BLE001 - an exception that does not pickle
-            conn.send(("err", RuntimeError(f"{type(msg[1]).__name__}: {msg[1]} ({exc})")))
+            first = msg[1][0] if msg[0] == "err" else msg[1]
+            conn.send(("err", [RuntimeError(f"{type(first).__name__}: {first} ({exc})")]))
         conn.close()
     finally:
         os._exit(0)
+
+
+def _cause_chain(exc: BaseException) -> list[BaseException]:
+    """``exc`` and its ``__cause__`` chain as a list (pickling an exception drops its cause; the
+    parent links them again, :func:`_relink`), each one that does not pickle cut off."""
+    chain: list[BaseException] = []
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen and len(chain) < 16:
+        seen.add(id(e))
+        try:
+            pickle.dumps(e)
+        except Exception as why:  # noqa: BLE001 - an exception that does not pickle ends the chain
+            if not chain:
+                chain.append(RuntimeError(f"{type(e).__name__}: {e} (it does not pickle: {why})"))
+            break
+        chain.append(e)
+        e = e.__cause__
+    return chain
+
+
+def _relink(chain: list[BaseException]) -> BaseException:
+    """The first exception of ``chain`` with each next one as its ``__cause__`` again."""
+    for outer, inner in zip(chain[:-1], chain[1:], strict=True):
+        outer.__cause__ = inner
+    return chain[0]
 
 
 def death_reason(exitcode: int | None) -> str:
@@ -162,6 +189,8 @@ def contained_map(
                 if recv in ready:
                     try:
                         kind, value = recv.recv()
+                        if kind == "err":
+                            value = _relink(value)
                     except (EOFError, OSError):
                         proc.join(timeout=5.0)
                         kind, value = "died", death_reason(proc.exitcode)

@@ -248,14 +248,24 @@ def test_campaign_killed_with_sigkill_resumes_with_nothing_lost_or_recomputed(
         assert camp.scores[s] == bench.score_seed(toy, toy.good, s, toy.Config(work=work))
 
 
+def _count_call(path: Path) -> int:
+    """Append one line to ``path`` and return how many calls were counted before (a file, not a
+    variable: with ``workers=0`` every seed runs in its own forked process)."""
+    with open(path, "a+") as fh:
+        fh.seek(0)
+        n = len(fh.read().splitlines())
+        fh.write("call\n")
+    return n
+
+
 def test_failing_seed_keeps_finished_seeds(tmp_path):
+    calls = tmp_path / "calls.txt"
+
     def fit(X, y):
-        if len(fit.calls) == 3:
+        if _count_call(calls) == 3:
             raise RuntimeError("boom")
-        fit.calls.append(1)
         return LinearRegression().fit(X, y)
 
-    fit.calls = []
     db = tmp_path / "f.db"
     with pytest.raises(bench.CompensatorError) as info:
         bench.run_campaign(toy, fit, range(6), workers=0, db=db, progress=False)
@@ -372,11 +382,10 @@ def test_cli_crashing_compensator_exits_2_with_one_line(tmp_path):
 
 def _campaign_with_a_concurrent_writer(db: Path, payload: str):
     """Run seeds 0, 1 in-process; while seed 1 is fitted, 'another process' stores seed 1."""
-    calls = []
+    calls = db.with_suffix(".calls")
 
     def fit(X, y):
-        calls.append(1)
-        if len(calls) == 2:
+        if _count_call(calls) == 1:
             with sqlite3.connect(db) as other:
                 (cid,) = other.execute("SELECT campaign_id FROM campaigns").fetchone()
                 other.execute(

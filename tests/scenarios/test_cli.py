@@ -369,7 +369,7 @@ def test_bad_config_negative_coefficient_names_the_config_field(tmp_path, capsys
     cfg = tmp_path / "c.toml"
     cfg.write_text("[fog]\nN_deg_sqrt_h = -1.0\n")
     code, _, err = run(["simulate", "static_noise", "--out", tmp_path / "o", "--config", cfg], capsys)
-    assert_one_line_error(code, err, "GradeSpec.N_deg_sqrt_h must be finite and >= 0 deg/sqrt(h); got -1.0")
+    assert_one_line_error(code, err, "Config.fog.N_deg_sqrt_h must be [0, 10000] deg/sqrt(h); got -1.0")
     assert not (tmp_path / "o").exists()
 
 

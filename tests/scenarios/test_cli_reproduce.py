@@ -101,7 +101,7 @@ def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys)
     "argv, match",
     [
         (["--units", "0"], "--units (or 'auto') must be an integer > 0; got '0'"),
-        (["--workers", "-1"], "--workers must be an integer >= 0; got -1"),
+        (["--workers", "-1"], "--workers must be an integer in [0, 1024] processes; got '-1'"),
         (
             ["--workers", "1", "--scheduler", "tcp://127.0.0.1:1"],
             "give either --workers or --scheduler, not both",

@@ -326,7 +326,7 @@ CASES = {
     ),
     "duration-x-fs-overflows": (
         {},
-        ["simulate", "noise", "--duration", "1e300h", "--fs", "1e300", "-o", "x.h5"],
+        ["simulate", "noise", "--N", "0.1", "--duration", "1e300h", "--fs", "1e15", "-o", "x.h5"],
         2,
         "gives inf samples; a record holds at most 2**62",
     ),
@@ -334,8 +334,32 @@ CASES = {
         {"big.toml": lambda p: _write(p, "[fog]\nduration_h = 1e308\n")},
         ["simulate", "static_noise", "--config", "big.toml", "--out", "o"],
         2,
-        "config file 'big.toml': Config.fog: a value is out of range "
-        "(Config.fog.duration_h = 1e+308)",
+        "config file 'big.toml': Config.fog.duration_h must be (0, 10000] h; got 1e+308",
+    ),
+    # tiny valid data and deeply nested JSON/TOML: one line, exit 2, never 4 "this is a bug" (issue 32)
+    "allan-samples-of-1e-180": (
+        {"tiny.csv": lambda p: _write(p, "time [s],rate [rad/s]\n" + "".join(
+            f"{i / 100!r},{math.sin(i * 0.7) * 1e-180!r}\n" for i in range(2000)))},
+        ["allan", "tiny.csv"],
+        2,
+        "too small to analyse in float64",
+    ),
+    "simulate-noise-tiny-coefficient": (
+        {}, ["simulate", "noise", "--N", "1e-170", "--duration", "100s", "-o", "o.h5"], 2,
+        "too small for 'gyrobench allan'",
+    ),
+    "bench-baseline-nested-100000-deep": (
+        {"deep.json": lambda p: _write(p, "[" * 100000 + "]" * 100000)},
+        ["bench", TOY, "--compensator", f"{TOY}:good", "--seeds", "0:12", "--workers", "0", "--baseline", "deep.json",
+         "--db", "c.db", "-q"],
+        2,
+        "baseline 'deep.json' is not a gyrobench baseline file: it nests values too deeply",
+    ),
+    "device-profile-nested-50000-deep": (
+        {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
+        ["simulate", "device", "STIM300", "--profile", "deep.toml", "--duration", "10s", "-o", "o.h5"],
+        2,
+        "--profile: 'deep.toml' nests arrays or tables too deeply to read",
     ),
     "toml-deeply-nested": (
         {"deep.toml": lambda p: _write(p, "a = " + "[" * 50000 + "]" * 50000 + "\n")},
@@ -383,13 +407,13 @@ CASES = {
         {},
         ["simulate", "noise", "--N", "1e300", "--duration", "1h", "-o", "n.h5", "-q"],
         2,
-        "angle_random_walk must be <= 1e+100 (SI; no gyro comes near it",
+        "--N must be [0, 10000] deg/sqrt(h) (any gyro grade's); got 1e+300",
     ),
     "rate-ramp-1e300": (
         {},
         ["simulate", "noise", "--R", "1e300", "--duration", "1h", "-o", "n.csv", "-q"],
         2,
-        "rate_ramp must be <= 1e+100 (SI; no gyro comes near it",
+        "--R must be [0, 1e+08] deg/h^2 (any gyro grade's); got 1e+300",
     ),
     "scenario-200h-at-1kHz-memory": (
         {"long.toml": lambda p: _write(p, "[fog]\nduration_h = 200\nfs_hz = 1000\n")},
@@ -397,6 +421,29 @@ CASES = {
         2,
         "scenario static_noise with config file 'long.toml' needs about 51.9 GB of memory, "
         "more than the limit of 1 GB (GYROBENCH_MEMORY_LIMIT=1G)",
+    ),
+    # run sizes, refused in O(1) before any seed list or unit exists (issue 32)
+    "reproduce-units-1e7": (
+        {}, ["reproduce", "rlg_thermal", "--units", "10000000", "--out", "o", "-q"], 2,
+        "--units must be at most 10000 units",
+    ),
+    "reproduce-units-huge-integer": (
+        {}, ["reproduce", "rlg_thermal", "--units", str(10**400), "--out", "o", "-q"], 2,
+        "--units must be at most 10000 units (a claim's interval is then within +-1 point; every unit's result "
+        "is held in memory); got an integer of 401 digits",
+    ),
+    "reproduce-max-units-huge": (
+        {}, ["reproduce", "rlg_thermal", "--units", "auto", "--max-units", "20000", "--out", "o", "-q"], 2,
+        "--max-units must be at most 10000 units",
+    ),
+    "reproduce-seed-past-64-bit": (
+        {}, ["reproduce", "rlg_thermal", "--seed", str(2**63 - 1), "--units", "2", "--out", "o", "-q"], 2,
+        "--seed + units - 1 must be at most 9223372036854775807",
+    ),
+    "ifog-validation-runs-2e7": (
+        {"runs.toml": lambda p: _write(p, "validation1_runs = 20000000\n")},
+        ["reproduce", "ifog_thermal", "--config", "runs.toml", "--out", "o", "-q"], 2,
+        "Config.validation1_runs must be an integer in [1, 1000] runs; got 20000000",
     ),
 }
 
@@ -1109,3 +1156,23 @@ def test_hdf5_channel_with_unknown_unit_names_file_and_channel(tmp_path, capsys)
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1, err
     assert "u.h5" in err[0] and "channel r/rate" in err[0] and "furlong/s" in err[0], err
+
+
+def test_the_ifog_memory_estimate_is_o1_in_the_run_counts():
+    """The estimate multiplies each kind of run's duration by its count: 2e7 runs (past the
+    documented range, set behind the config's back) are estimated as fast as 5; listing every
+    run took 165 s and 3.8 GB (issue 32). The 1 s bound is ~1000x the measured 0.3 ms."""
+    import dataclasses
+    import time
+
+    from gyrobench.scenarios.papers.p003_ifog_thermal import config as ifog_config
+    from gyrobench.scenarios.papers.p003_ifog_thermal import runs
+
+    small = dataclasses.replace(ifog_config.Config(), validation1_runs=5)
+    huge = dataclasses.replace(ifog_config.Config(), validation1_runs=5)
+    object.__setattr__(huge, "validation1_runs", 2 * 10**7)
+    t0 = time.monotonic()
+    est = runs.memory_estimate(huge)
+    assert time.monotonic() - t0 < 1.0
+    per_run = (runs.memory_estimate(dataclasses.replace(small, validation1_runs=6)) - runs.memory_estimate(small))
+    assert est == pytest.approx(runs.memory_estimate(small) + (2 * 10**7 - 5) * per_run, rel=1e-9)

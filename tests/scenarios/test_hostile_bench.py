@@ -398,9 +398,11 @@ def test_cli_seed_timeout_is_checked(tmp_path, capsys):
     for bad in ("0", "-1", "nan", "inf"):
         argv = ["bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:complex_pred",
                 "--seed-timeout", bad, "-q"]
-        assert main(argv) == 2
+        with pytest.raises(SystemExit) as info:  # refused by the flag's parser, naming it
+            main(argv)
+        assert info.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
-        assert len(err) == 1 and "seed_timeout must be a finite number of seconds > 0" in err[0], err
+        assert len(err) == 1 and "--seed-timeout must be a finite number in (0, 1e+06] s" in err[0], err
 
 
 # ----------------------------------------------------------------------------- process hygiene
@@ -507,8 +509,34 @@ def segfault_in_predict(X, y):
         ("segfault_in_predict", "seed 0: the compensator's process killed by SIGSEGV"),
     ],
 )
-def test_cli_a_compensator_that_ends_its_process_fails_the_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words):
-    _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, workers="1")
+@pytest.mark.parametrize("workers", ["0", "1"])
+def test_cli_a_compensator_that_ends_its_process_fails_the_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words,
+                                                                       workers):
+    """Also with ``--workers 0``: every seed runs in its own forked process, so neither the
+    compensator's ``os._exit`` nor its segfault can end the campaign."""
+    _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, workers=workers)
+
+
+def test_workers_0_runs_an_unpicklable_closure_and_survives_os_exit_on_every_seed(tmp_path):
+    """``workers=0`` forks (nothing pickled in): a closure compensator still runs, and a seed
+    whose compensator ends its process is failed while the other seeds score."""
+    import os
+
+    end_process = [False]
+
+    def fit(X, y):  # a closure: it does not pickle
+        if end_process[0]:
+            os._exit(5)
+        return lambda Z: np.zeros(len(Z))
+
+    camp = bench.run_campaign(toy_scenario, fit, range(2), config=FAST, workers=0, db=tmp_path / "c.db",
+                              progress=False)
+    assert camp.failed == {} and len(camp.ok_seeds) == 2
+    end_process[0] = True
+    camp = bench.run_campaign(toy_scenario, fit, [5, 6], config=FAST, workers=0, db=tmp_path / "d.db",
+                              progress=False)
+    assert sorted(camp.failed) == [5, 6]
+    assert all("exited with code 5" in r for r in camp.failed.values()), camp.failed
 
 
 @pytest.mark.slow

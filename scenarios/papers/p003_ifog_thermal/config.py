@@ -9,9 +9,12 @@ for the protocol it encodes.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import ClassVar
 
 import numpy as np
+from gyrobench.scenarios.base import FieldRange, check_ranges
 from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2DSpec
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
@@ -161,7 +164,55 @@ class Config:
     point_length_m: float = 10.0
     point_rate_degC_per_min: float = 1.0
 
+    #: every numeric field's documented range, in its field unit (:class:`~gyrobench.scenarios.base.FieldRange`;
+    #: refused in one line outside it). Chamber: a climatic chamber's span and ramp rates; durations: what one
+    #: unit's records can hold (the memory estimate refuses a long run at a high rate first); the build: a
+    #: navigation FOG's coil and source; counts: what one unit runs in minutes, not weeks.
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "start_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "low_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "high_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "identification_rate_degC_per_min": FieldRange(0.0, 20.0, "degC/min", "chamber ramp rate", low_open=True),
+        "identification_settle_h": FieldRange(0.0, 1000.0, "h", "one unit's record", low_open=True),
+        "identification_hold_h": FieldRange(0.0, 1000.0, "h", "one unit's record", low_open=True),
+        "validation_soak_h": FieldRange(0.0, 1000.0, "h", "one unit's record", low_open=True),
+        "validation1_runs": FieldRange(1, 1000, "runs", "runs one unit holds", integer=True),
+        "validation1_rate_degC_per_h": FieldRange(0.0, 1200.0, "degC/h", "chamber ramp rate", low_open=True),
+        "validation2_runs": FieldRange(1, 1000, "runs", "runs one unit holds", integer=True),
+        "validation2_rate_degC_per_min": FieldRange(0.0, 20.0, "degC/min", "chamber ramp rate", low_open=True),
+        "validation2_true_rate_deg_h": FieldRange(-3.6e6, 3.6e6, "deg/h", "a rate table's +-1000 deg/s"),
+        "layers": FieldRange(1, 1000, "layers", "a wound coil's layer count", integer=True),
+        "fibre_length_m": FieldRange(0.0, 2e4, "m", "a FOG coil's fibre (km class)", low_open=True),
+        "lead_difference_rms_m": FieldRange(0.0, 100.0, "m", "lead asymmetry, well under the coil length"),
+        "housing_time_constant_min": FieldRange(0.0, 1e4, "min", "thermal lag of a housing", low_open=True),
+        "housing_lag_run_rms": FieldRange(0.0, 0.5, "1", "relative run-to-run spread"),
+        "modulation_depth_pi": FieldRange(0.0, 1.0, "pi rad", "biasing modulation depth", low_open=True,
+                                          high_open=True),
+        "bias_instability_deg_h": FieldRange(0.0, 1000.0, "deg/h", "any gyro grade"),
+        "bias_deg_h": FieldRange(-1e4, 1e4, "deg/h", "any gyro grade"),
+        "diameter_tempco_ppm_per_K": FieldRange(-1000.0, 1000.0, "ppm/K", "any spool material"),
+        "wavelength_tempco_ppm_per_K": FieldRange(-1000.0, 1000.0, "ppm/K", "any broadband source"),
+        "sense_azimuth_deg": FieldRange(-360.0, 360.0, "deg", "one turn either way"),
+        "sensor_noise_K": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
+        "sensor_resolution_K": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
+        "thermal_step_s": FieldRange(0.01, 3600.0, "s", "thermal solver step"),
+        "fs_hz": FieldRange(1e-3, 1e4, "Hz", "FOG logging rate"),
+        "analysis_block_s": FieldRange(0.0, 1e5, "s", "averaging block", low_open=True),
+        "derivative_window_s": FieldRange(0.0, 1e5, "s", "dT/dt window", low_open=True),
+        "rbf_spread": FieldRange(0.0, 1e6, "1", "RBF spread, normalized input units", low_open=True),
+        "rbf_goal_deg_h2": FieldRange(0.0, 1e6, "(deg/h)^2", "newrb goal"),
+        "rbf_max_neurons": FieldRange(1, 10000, "neurons", "newrb network size", integer=True),
+        "rbf_spread_grid": FieldRange(0.0, 1e6, "1", "RBF spread, normalized input units", low_open=True),
+        "rbf_neuron_grid": FieldRange(1, 10000, "neurons", "newrb network size", integer=True),
+        "rbf_cv_tolerance": FieldRange(0.0, 10.0, "1", "relative CV tolerance"),
+        "curve_bin_degC": FieldRange(0.0, 100.0, "degC", "temperature bin", low_open=True),
+        "point_z_fraction": FieldRange(0.0, 1.0, "1", "fraction of the coil length"),
+        "point_length_m": FieldRange(0.0, 2e4, "m", "heated stretch, within a coil", low_open=True),
+        "point_rate_degC_per_min": FieldRange(0.0, 20.0, "degC/min", "heating rate", low_open=True),
+    }
+
     def __post_init__(self) -> None:
+        check_ranges(self)  # every number inside its documented range first (one line naming it)
         if not self.low_degC < self.high_degC:
             raise ValueError(
                 f"Config.low_degC must be < high_degC; got {self.low_degC!r} and {self.high_degC!r}"

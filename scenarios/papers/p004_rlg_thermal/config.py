@@ -10,10 +10,12 @@ edge: degC, minutes, deg/h, arcsec, mA, uA, ppm/K (1e-6/K); :meth:`Config.spec` 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+from gyrobench.scenarios.base import FieldRange, check_ranges
 from gyrobench.sim import units
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry, Dither, TemperatureSensor
@@ -78,7 +80,56 @@ class Config:
     sensor_resolution_k: float = 0.01
     sensor_offset_spread_k: float = 0.2
 
+    #: every numeric field's documented range, in its field unit (:class:`~gyrobench.scenarios.base.FieldRange`;
+    #: refused in one line outside it): a climatic chamber's span and rates, what one unit's records can hold,
+    #: a ring-laser gyro's sizes. The memory estimate refuses a long record at a high rate first.
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "start_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "high_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "constant_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "ramp_c_per_min": FieldRange(0.0, 20.0, "degC/min", "chamber ramp rate", low_open=True),
+        "power_on_soak_min": FieldRange(0.0, 60000.0, "min", "one unit's record (1000 h)", low_open=True),
+        "high_soak_min": FieldRange(0.0, 60000.0, "min", "one unit's record (1000 h)", low_open=True),
+        "end_soak_min": FieldRange(0.0, 60000.0, "min", "one unit's record (1000 h)", low_open=True),
+        "block_s": FieldRange(0.0, 100000.0, "s", "averaging block", low_open=True),
+        "fs_hz": FieldRange(0.001, 10000.0, "Hz", "RLG logging rate"),
+        "derivative_window_s": FieldRange(0.0, 100000.0, "s", "dT/dt window", low_open=True),
+        "p_enter": FieldRange(0.0, 1.0, "1", "a p-value", low_open=True, high_open=True),
+        "p_remove": FieldRange(0.0, 1.0, "1", "a p-value", low_open=True, high_open=True),
+        "triangle_side_m": FieldRange(0.01, 10.0, "m", "a ring-laser cavity"),
+        "dither_hz": FieldRange(1.0, 10000.0, "Hz", "body dither"),
+        "dither_arcsec": FieldRange(0.0, 3600.0, "arcsec", "body dither amplitude", low_open=True),
+        "dither_jitter": FieldRange(0.0, 1.0, "1", "relative amplitude jitter"),
+        "backscatter_sigma": FieldRange(0.0, 0.001, "1", "relative backscatter amplitude"),
+        "walk_phase_std_rad": FieldRange(0.0, 10.0, "rad", "backscatter phase walk"),
+        "dissipative": FieldRange(0.0, 1.0, "1", "null shift per unit lock-in"),
+        "cte_bound_ppm_per_k": FieldRange(0.0, 100.0, "ppm/K", "block expansion"),
+        "plc_travel_min_wavelengths": FieldRange(1.0, 100.0, "wavelengths", "PLC travel, over one wavelength",
+                                                 low_open=True),
+        "plc_travel_max_wavelengths": FieldRange(1.0, 100.0, "wavelengths", "PLC travel, over one wavelength",
+                                                 low_open=True),
+        "leg_current_ma": FieldRange(0.0, 100.0, "mA", "a HeNe discharge leg", low_open=True),
+        "langmuir_deg_h_per_ma": FieldRange(0.0, 1000.0, "deg/h/mA", "Langmuir flow coefficient"),
+        "imbalance_repeatability_ua": FieldRange(0.0, 10000.0, "uA", "leg current imbalance"),
+        "tcr_mismatch_ppm_per_k": FieldRange(0.0, 10000.0, "ppm/K", "resistor tempco mismatch"),
+        "gas_rise_k": FieldRange(0.0, 1000.0, "K", "gas temperature rise"),
+        "gas_rise_repeatability": FieldRange(0.0, 1.0, "1", "relative spread"),
+        "mount_asymmetry": FieldRange(0.0, 1.0, "1", "relative"),
+        "thermal_spread": FieldRange(0.0, 1.0, "1", "relative"),
+        "bias_instability_deg_h": FieldRange(0.0, 1000.0, "deg/h", "any gyro grade"),
+        "bias_repeatability_deg_h": FieldRange(0.0, 1000.0, "deg/h", "any gyro grade"),
+        "sensor_noise_k": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
+        "sensor_resolution_k": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
+        "sensor_offset_spread_k": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
+    }
+
     def __post_init__(self) -> None:
+        check_ranges(self)  # every number inside its documented range first (one line naming it)
+        if not self.plc_travel_min_wavelengths <= self.plc_travel_max_wavelengths:
+            raise ValueError(
+                "Config.plc_travel_min_wavelengths must be <= plc_travel_max_wavelengths; got "
+                f"{self.plc_travel_min_wavelengths!r} > {self.plc_travel_max_wavelengths!r}"
+            )
         if not self.high_c > self.start_c:
             raise ValueError(
                 f"Config.high_c must be > start_c [degC]; got {self.high_c!r} <= {self.start_c!r}"

@@ -48,7 +48,7 @@ def ranged(name: str, low: float, high: float, *, low_open: bool = False, high_o
            integer: bool = False, unit: str = ""):
     """argparse type: a finite number (or integer) in the documented range ``[low, high]`` (each end
     open if asked) in ``unit``, errors naming the flag and the range in one line."""
-    from gyrobench.scenarios.base import FieldRange
+    from gyrobench.scenarios.ranges import FieldRange
 
     rng = FieldRange(low, high, unit, low_open=low_open, high_open=high_open, integer=integer)
 

@@ -45,6 +45,7 @@ def test_gyrobench_names_are_lazy_and_versioned():
     subprocess.run([sys.executable, "-c", code], check=True, env=_env(), cwd="/")
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_user_project_with_sim_analysis_scenarios_packages_runs_its_own_pytest(tmp_path):
     proj = tmp_path / "userproj"
     for pkg in ("sim", "analysis", "scenarios"):

@@ -231,6 +231,7 @@ def test_quantization_needs_two_dominated_taus():
     assert two["Q"].identifiable and two["N"].identifiable
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_pooled_curve_intervals_cover_at_their_level():
     """pool_curves: three independent white-noise stretches (unit variance, 4096, 2048 and 3000
     samples), 300 times; AVAR(m) = 1/m. At each common tau the pooled 68.3 % interval covers the

@@ -59,6 +59,7 @@ def check(tmp_path_factory):
     return run
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_wrong_calls_are_type_errors(check):
     lines = check(
         """

@@ -267,6 +267,7 @@ def _sandwich(x, w, v):
     return bread @ (xw.T @ v @ xw) @ bread
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_adis16405_unrestricted_fit_is_flagged(adis_fits):
     """The filter-bent first octaves make the all-tau fit a misfit on every record, widened, never tight."""
     if next(iter(adis_fits.values()))[0].fs != 100.0:

@@ -87,6 +87,7 @@ def test_estimator_class_is_instantiated():
 
 
 # ----------------------------------------------------------------------------- campaigns
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_campaign_same_numbers_on_1_and_2_workers_and_in_process(tmp_path):
     seeds = range(20)
     c2 = bench.run_campaign(toy, toy.good, seeds, workers=2, db=tmp_path / "w2.db", progress=False)
@@ -556,6 +557,7 @@ def good_and_bad(tmp_path_factory):
     return good, bad
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
     good, bad = good_and_bad
     base = bench.save_baseline(tmp_path / "good.json", good)
@@ -707,6 +709,7 @@ def _cli(argv):
     return args.func(args)
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_baseline_then_regression_exit_codes(tmp_path, capsys):
     db, base = str(tmp_path / "c.db"), str(tmp_path / "good.json")
     common = ["--seeds", "0:12", "--workers", "0", "--db", db, "--quiet"]
@@ -894,6 +897,7 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
 
 
 # ----------------------------------------------------------------------------- a real scenario
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     """Two seeds of the RLG thermal scenario (~2 s each) with a plain scikit-learn Ridge."""
     import gyrobench.scenarios.papers.p004_rlg_thermal as rlg

@@ -69,6 +69,7 @@ def test_failed_seeds_found_by_the_comparison_alone_exit_3(tmp_path, capsys, goo
 
 
 @pytest.mark.parametrize("comp", ["good", "degraded"])
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_failed_never_comes_with_exit_0(tmp_path, capsys, good_baseline, comp):
     argv = ["--compensator", f"{TOY}:{comp}", "--baseline", str(good_baseline), "--db", str(tmp_path / "c.db")]
     code, out, err = _bench(argv, capsys)

@@ -69,6 +69,7 @@ def test_names_that_change_with_the_seed_are_left_out_and_the_means_are_paired(u
     assert "not held by every seed" in result.format()
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_with_unit_named_runs_exits_0_unchanged_and_1_on_a_regression(unit_labels, tmp_path, capsys):
     base = str(tmp_path / "good.json")
     common = ["--seeds", "0:12", "--workers", "0", "--quiet"]
@@ -84,6 +85,7 @@ def test_cli_with_unit_named_runs_exits_0_unchanged_and_1_on_a_regression(unit_l
     assert "REGRESSION" in out and "FAILED" not in out
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_rlg_thermal_unchanged_compensator_passes_against_its_own_baseline(tmp_path, capsys):
     """rlg_thermal names its held-out run after the unit: 3 seeds, the same compensator, exit 0.
 

@@ -173,6 +173,7 @@ def test_cli_refuses_an_underpowered_comparison_in_one_line(tmp_path, capsys, to
     assert out.splitlines()[0].startswith("WARNING: underpowered:") and "cannot fail" in out.splitlines()[0]
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_seeds_auto_from_the_baseline_catches_the_degraded_compensator(tmp_path, capsys, toy_baseline):
     argv = ["--compensator", f"{TOY}:degraded", "--baseline", str(toy_baseline), "--seeds", "auto"]
     code, out, err = _bench([*argv, "--db", str(tmp_path / "c.db")], capsys)
@@ -186,6 +187,7 @@ def test_cli_seeds_auto_from_the_baseline_catches_the_degraded_compensator(tmp_p
     assert code == exits.BAD_INPUT and len(err) == 1 and "the baseline holds only 16 seeds" in err[0]
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_prints_units_and_the_uncompensated_reference(tmp_path, capsys, toy_baseline):
     argv = ["--compensator", f"{TOY}:good", "--baseline", str(toy_baseline), "--db", str(tmp_path / "c.db")]
     code, out, err = _bench(argv, capsys)

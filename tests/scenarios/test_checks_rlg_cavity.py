@@ -13,6 +13,7 @@ def results() -> list[Check]:
     return collect(np.random.default_rng(2026), ("gyrobench.scenarios.checks_rlg_cavity",))
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_ids_and_records(results):
     ids = [c.id for c in results]
     assert ids == [

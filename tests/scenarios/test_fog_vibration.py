@@ -373,6 +373,7 @@ def test_identification_reruns_to_its_frozen_result():
         assert ident.required_record_s(t, ident.INPUTS) > 100 * sc.Config().static_before_s
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_predicted_scatter_of_10s_means_matches_a_static_record():
     """sigma_10 of identify.py against the simulated static phase 1 of seed 1 (60 blocks of 10 s):
     the sample std of K = 60 means has relative standard error ~ 1/sqrt(2 (K - 1)) = 9 %; flicker

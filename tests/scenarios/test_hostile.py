@@ -906,6 +906,7 @@ def _exit_0_finite_or_exit_2_one_line(code, out, err):
     ),
     value=_ATTR_VALUES,
 )
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_fuzz_hdf5_attributes_exit_0_finite_or_2_one_line(tmp_path, capsys, slot, value):
     path = tmp_path / "fuzz.h5"
     _fuzzed_recording(path, *slot, value)

@@ -46,6 +46,7 @@ def _package_dir(module) -> Path:
     return Path(module.__file__).parent
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_package_satisfies_the_protocol(paper):
     module, config, _ = paper
     assert isinstance(module, PaperScenario)
@@ -103,6 +104,7 @@ def test_claims_judged_from_the_units_quantities(paper):
         assert res.holds == int(testable and claim.comparator.holds(q)), claim.id
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_report_builds_from_results_alone(paper):
     module, config, unit = paper
     claims = evaluate(module.claims_for(config), [unit.quantities])

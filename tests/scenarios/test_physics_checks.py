@@ -134,6 +134,7 @@ def test_checks_on_worker_processes_equal_checks_in_process():
     assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
     """The bar reports each module, or each part of a module with parts, as it finishes; the
     checks are those of a run without it, and those of the modules' own ``checks``."""
@@ -151,6 +152,7 @@ def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
     assert [c.simulated for c in checks_rlg.checks(children[1])] == [c.simulated for c in plain[1:4]]
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_parts_on_workers_equal_parts_in_process():
     """A module split in parts gives the same numbers on a pool as in process."""
     cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_rlg",))

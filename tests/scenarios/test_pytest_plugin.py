@@ -67,6 +67,7 @@ def test_missing_baseline_fails_with_instructions(user_suite: pytest.Pytester):
     result.stdout.fnmatch_lines(["*baselines/toy.json* does not exist*--gyrobench-save-baselines*"])
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_save_then_assert_no_regression(user_suite: pytest.Pytester):
     saved = user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines")
     saved.assert_outcomes(passed=1)
@@ -140,6 +141,7 @@ def test_auto(gyrobench_bench):
 """
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_underpowered_fails_before_computing_or_warns_in_the_report(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
 ):

@@ -56,6 +56,7 @@ def test_chamber_program_matches_paper():
 
 
 # ----------------------------------------------------------------------------- claims
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_selection_quantities_follow_the_selected_set(three_units):
     """The three selection quantities are the set relations of the selected terms to the paper's."""
     for u in three_units:

@@ -200,6 +200,7 @@ def test_segmented_solver_equals_the_step_loop():
 
 
 # ------------------------------------------------------------------ full integration (short)
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_full_integration_agrees_with_the_slow_flow():
     """RK4 with the carrier (16 steps per period) vs the slow flow, below and beyond the knee.
 

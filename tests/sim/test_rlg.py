@@ -203,6 +203,7 @@ def _adler_vs_statistical(rng, *, k, lock_in, dither, n_cyc, r):
     assert abs(err.mean()) / math.sqrt(s2 / r) < stats.norm.ppf(1 - 0.0005)
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_dither_random_walk_matches_statistical_mode(rng):
     """Adler integration with randomized dither vs N = Omega_L/sqrt(2 pi K Omega_D).
 

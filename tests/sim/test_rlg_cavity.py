@@ -107,6 +107,7 @@ def test_network_steady_state_and_step():
     np.testing.assert_allclose(t[:, 0], 300.0)
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_network_matches_fine_euler():
     """Exact FOH recursion vs a fine explicit Euler integration of the same ODE on a ramp."""
     th = rc.CavityThermal(g_mount_a=0.1, g_mount_b=0.25)

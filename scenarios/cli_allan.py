@@ -74,7 +74,7 @@ def _analyse_pieces(ch, log, args):
         raise BadInput(f"{ch.label}: the pieces between the gaps give {len(curve.tau)} Allan deviation point(s); the "
                        f"{'/'.join(args.terms)} fit needs at least {len(args.terms)}: use fewer --terms")
     longest = pieces[int(np.argmax([len(p) for p in pieces]))]
-    warn, moving, _ = rep._stationarity(longest, log.fs, curve, ch.label)
+    warn, moving, _ = rep.stationarity(longest, log.fs, curve, ch.label)
     fit = fit_noise(curve, terms=args.terms, tau_min=args.tau_min, tau_max=args.tau_max, bandwidth=args.bandwidth,
                     bandwidth_bias=args.bandwidth_bias)
     fr = fit_range(curve, n_terms=len(args.terms)) if args.tau_min == "auto" else None
@@ -126,6 +126,7 @@ def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
 
 def _cmd_allan(args) -> int:
     from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios import allan_text as txt
     from gyrobench.scenarios.outputs import check_output
 
     path = Path(args.file)
@@ -165,19 +166,19 @@ def _cmd_allan(args) -> int:
     if args.kalibr:
         from gyrobench.sim.recording import atomic_path
 
-        text = rep.kalibr_yaml(log, results)
+        text = txt.kalibr_yaml(log, results)
         with atomic_path(Path(args.kalibr)) as tmp:
             Path(tmp).write_text(text)
     if args.json:
-        print(json.dumps(rep.log_json(log, results)))
+        print(json.dumps(txt.log_json(log, results)))
     else:
-        print("\n".join(rep.log_text(log, results)))
+        print("\n".join(txt.log_text(log, results)))
     if args.plot:
         from gyrobench.scenarios.figures import allan_figure
         from gyrobench.sim.recording import atomic_path
 
-        for plot, res in rep.plot_paths(Path(args.plot), results):  # one file per channel
-            fig = allan_figure(res.curve, res.fit, title=rep.plot_title(log, res), quantity=res.channel.quantity)
+        for plot, res in txt.plot_paths(Path(args.plot), results):  # one file per channel
+            fig = allan_figure(res.curve, res.fit, title=txt.plot_title(log, res), quantity=res.channel.quantity)
             with atomic_path(plot) as tmp:
                 fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
             if not args.json:

@@ -399,11 +399,12 @@ def test_plot_writes_every_channel_with_its_warnings(tmp_path, capsys, rng):
         assert (tmp_path / name).stat().st_size > 0 and f"wrote {tmp_path / name}" in out
     assert not png.exists()
     from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios import allan_text as txt
     from gyrobench.scenarios.logs import read_csv_log
 
     log = read_csv_log(p, ["gy"], None, None)
     res = rep.analyse(log.channels[0], log.fs)
-    title = rep.plot_title(log, res)
+    title = txt.plot_title(log, res)
     assert "NOT STATIONARY" in title and "step(s)" in title, title
 
 
@@ -467,6 +468,7 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     which rule applied. A filtered quiet record still has its first octaves dropped as filter-shaped."""
     from gyrobench.analysis.allan import allan_deviation, fit_range
     from gyrobench.scenarios import allan_report as rep
+    from gyrobench.scenarios import allan_text as txt
     from gyrobench.scenarios.logs import Channel
 
     n = 200_000
@@ -474,7 +476,7 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 100.0)
     assert not res.nonstationary
     assert res.fit.range_rule == "data" and res.fit_range.excluded > 0
-    assert "filter-shaped" in rep._excluded_text(res, res.fit_range.excluded)
+    assert "filter-shaped" in txt._excluded_text(res, res.fit_range.excluded)
 
     y = _handled_1hz_record(48)
     assert fit_range(allan_deviation(y, 1.0)).excluded >= 3  # the unflagged rule drops the motion's octaves
@@ -484,5 +486,5 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     assert res.fit.tau_used[0] == res.fit.curve.tau[0]
     assert res.fit.misfit and res.fit.p_value < 1e-6
     assert res.fit.range_reason.startswith("short taus kept (non-stationary record)")
-    text = rep.log_text(type("Log", (), {"path": "r.csv", "fs": 1.0, "notes": []})(), [res])
+    text = txt.log_text(type("Log", (), {"path": "r.csv", "fs": 1.0, "notes": []})(), [res])
     assert any(ln.startswith("gyro: short taus kept (non-stationary record)") for ln in text), text

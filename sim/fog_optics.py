@@ -120,6 +120,16 @@ class OpticalBudget:
         Preamplifier temperature [K].
     """
 
+    source_power: float = 10e-3
+    spectral_width: float = 30e-9
+    width_factor: float = 1.0
+    polarized: bool = True
+    loss_db: float = 20.0
+    responsivity: float = 0.9
+    feedback_resistance: float = 1e5
+    amplifier_current_noise: float = 1e-12
+    temperature: float = 300.0
+
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "source_power": FieldRange(0, 1e3, "W", "sources are mW; 1 kW admits stress budgets", low_open=True),
         "spectral_width": FieldRange(0, 1e-6, "m", "FWHM of a broadband source: < 1 um", low_open=True),
@@ -130,16 +140,6 @@ class OpticalBudget:
         "amplifier_current_noise": FieldRange(0, 1e-6, "A/sqrt(Hz)", "preamplifier input current noise, >= 0"),
         "temperature": FieldRange(0, 1000, "K", "preamplifier temperature", low_open=True),
     }
-
-    source_power: float = 10e-3
-    spectral_width: float = 30e-9
-    width_factor: float = 1.0
-    polarized: bool = True
-    loss_db: float = 20.0
-    responsivity: float = 0.9
-    feedback_resistance: float = 1e5
-    amplifier_current_noise: float = 1e-12
-    temperature: float = 300.0
 
     def __post_init__(self) -> None:
         o = "OpticalBudget"

@@ -384,6 +384,42 @@ class MemsResonator:
         b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
     """
 
+    mass: float = 2e-9
+    drive_frequency: float = 15e3
+    mode_split: float = 500.0
+    drive_q: float = 2000.0
+    sense_q: float = 100.0
+    drive_amplitude: float = 5e-6
+    quadrature_coupling: float = 0.0
+    damping_coupling: float = 0.0
+    phase_error: float = 0.0
+    electrode_area: float = 1e-8
+    electrode_gap: float = 2e-6
+    bias_voltage: float = 5.0
+    dac_full_scale: float = 0.7
+    loop_bandwidth: float = 40.0
+    agc_bandwidth: float = 100.0
+    pickoff_noise: float = DEFAULT_PICKOFF_NOISE
+    output_range: float = units.deg_per_s(4000.0)
+    output_bits: int | None = 20
+    output_cubic: float = 0.0
+    forcer_area_gradient: float = 2.5e4
+    readout: str = "force_rebalance"
+    pickoff_full_scale: float = 1.25e-7
+    bias_instability: float = units.deg_per_h(25.0 / ADEV_MIN_PER_B)
+    rate_random_walk: float = 0.0
+    reference_temperature: float = units.celsius(25.0)
+    frequency_tc: float = -30e-6
+    q_tc: float = 2e-3
+    gain_tc: float = 50e-6
+    phase_tc: float = 1e-5
+    scale_factor_trim: float = 1.0
+    bias_trim: float = 0.0
+    bias_repeatability: float = units.deg_per_s(0.1)
+    scale_factor_repeatability: float = 1e-3
+    turn_on_bias: float = 0.0
+    turn_on_scale_factor: float = 0.0
+
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
         "drive_frequency": FieldRange(0, 1e6, "Hz", "MEMS drive resonances are kHz to 100s of kHz", low_open=True),
@@ -420,42 +456,6 @@ class MemsResonator:
         "turn_on_bias": FieldRange(-1e3, 1e3, "rad/s", "this power-on's bias (power_on draws it)"),
         "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
     }
-
-    mass: float = 2e-9
-    drive_frequency: float = 15e3
-    mode_split: float = 500.0
-    drive_q: float = 2000.0
-    sense_q: float = 100.0
-    drive_amplitude: float = 5e-6
-    quadrature_coupling: float = 0.0
-    damping_coupling: float = 0.0
-    phase_error: float = 0.0
-    electrode_area: float = 1e-8
-    electrode_gap: float = 2e-6
-    bias_voltage: float = 5.0
-    dac_full_scale: float = 0.7
-    loop_bandwidth: float = 40.0
-    agc_bandwidth: float = 100.0
-    pickoff_noise: float = DEFAULT_PICKOFF_NOISE
-    output_range: float = units.deg_per_s(4000.0)
-    output_bits: int | None = 20
-    output_cubic: float = 0.0
-    forcer_area_gradient: float = 2.5e4
-    readout: str = "force_rebalance"
-    pickoff_full_scale: float = 1.25e-7
-    bias_instability: float = units.deg_per_h(25.0 / ADEV_MIN_PER_B)
-    rate_random_walk: float = 0.0
-    reference_temperature: float = units.celsius(25.0)
-    frequency_tc: float = -30e-6
-    q_tc: float = 2e-3
-    gain_tc: float = 50e-6
-    phase_tc: float = 1e-5
-    scale_factor_trim: float = 1.0
-    bias_trim: float = 0.0
-    bias_repeatability: float = units.deg_per_s(0.1)
-    scale_factor_repeatability: float = 1e-3
-    turn_on_bias: float = 0.0
-    turn_on_scale_factor: float = 0.0
 
     def __post_init__(self) -> None:
         if self.readout not in READOUTS:
@@ -1796,18 +1796,6 @@ class MemsResonatorSpec:
         Trim each drawn unit's scale factor to 1 and bias to 0 at T0 (factory calibration).
     """
 
-    RANGES: ClassVar[Mapping[str, FieldRange]] = {
-        "mass_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; m (1 + s z) stays > 0 to 2 sigma"),
-        "frequency_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; f_x (1 + s z) stays > 0 to 2 sigma"),
-        "split_spread": FieldRange(0, 1e4, "Hz", "1-sigma of the mode split"),
-        "q_spread": FieldRange(0, 3, "1", "1-sigma of ln Q (lognormal)"),
-        "gap_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; g (1 + s z) stays > 0 to 2 sigma"),
-        "quadrature_spread": FieldRange(0, 0.1, "1", "1-sigma of k_yx/k_x"),
-        "damping_coupling_spread": FieldRange(0, 0.1, "1", "1-sigma of c_yx/c_y"),
-        "phase_error_spread": FieldRange(0, 1, "rad", "1-sigma of theta_e (the draw is clipped to +-1.5 rad)"),
-        "phase_tc_spread": FieldRange(0, 0.1, "rad/K", "1-sigma of the phase tempco"),
-    }
-
     nominal: MemsResonator = field(default_factory=MemsResonator)
     mass_spread: float = 0.01
     frequency_spread: float = 0.02
@@ -1819,6 +1807,18 @@ class MemsResonatorSpec:
     phase_error_spread: float = 5e-3
     phase_tc_spread: float = 1e-5
     factory_trim: bool = True
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "mass_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; m (1 + s z) stays > 0 to 2 sigma"),
+        "frequency_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; f_x (1 + s z) stays > 0 to 2 sigma"),
+        "split_spread": FieldRange(0, 1e4, "Hz", "1-sigma of the mode split"),
+        "q_spread": FieldRange(0, 3, "1", "1-sigma of ln Q (lognormal)"),
+        "gap_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; g (1 + s z) stays > 0 to 2 sigma"),
+        "quadrature_spread": FieldRange(0, 0.1, "1", "1-sigma of k_yx/k_x"),
+        "damping_coupling_spread": FieldRange(0, 0.1, "1", "1-sigma of c_yx/c_y"),
+        "phase_error_spread": FieldRange(0, 1, "rad", "1-sigma of theta_e (the draw is clipped to +-1.5 rad)"),
+        "phase_tc_spread": FieldRange(0, 0.1, "rad/K", "1-sigma of the phase tempco"),
+    }
 
     def __post_init__(self) -> None:
         if not isinstance(self.nominal, MemsResonator):

@@ -53,15 +53,15 @@ def _check(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fa
 class RockingMode:
     """One rocking mode of the mount (SI): ``frequency`` [Hz], ``quality`` [-], ``compliance`` [rad/(m/s^2)]."""
 
+    frequency: float
+    quality: float
+    compliance: float
+
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "frequency": FieldRange(0, 1e5, "Hz", "a mount's rocking mode: tens of Hz to kHz", low_open=True),
         "quality": FieldRange(0, 1e6, "1", "mode quality factor, > 0", low_open=True),
         "compliance": FieldRange(0, 1, "rad/(m/s^2)", "rocking angle per acceleration"),
     }
-
-    frequency: float
-    quality: float
-    compliance: float
 
     def __post_init__(self) -> None:
         _check("RockingMode", "frequency", self.frequency, "Hz")

@@ -30,6 +30,10 @@ from gyrobench.scenarios.cli import main
 #: the hostile values every numeric field is fed
 BAD_VALUES = (math.nan, math.inf, -math.inf, -1, 0, 1e308, 10**400)
 
+#: registered scenarios whose config.py states no RANGES: none since papers 000 and 001 state theirs
+#: (kept, empty, for test_fuzz_random, which draws only from scenarios with ranges)
+WITHOUT_RANGES: frozenset[str] = frozenset()
+
 NUMERIC = (int, float)
 
 

@@ -48,15 +48,17 @@ checked numerically there).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from numbers import Integral, Real
+from typing import ClassVar
 
 import numpy as np
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.ranges import FieldRange
 from gyrobench.sim.recording import Channel, Recording, package_version
 from gyrobench.sim.shaker import ShakerSignal
 from numpy.typing import ArrayLike, NDArray
@@ -140,6 +142,18 @@ class LoopSpec:
     gain_loop_gain: float = 0.02
     modulator_gain_error: float = 0.0
     reset_blanking: bool = False
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "length": FieldRange(0, 1e5, "m", "fibre coils are 0.1-10 km; 100 km bounds the transit time", low_open=True),
+        "diameter": FieldRange(0, 10, "m", "mean coil diameter; a coil is centimetres to a metre", low_open=True),
+        "wavelength": FieldRange(2e-7, 1e-5, "m", "optical sources through fibre: UV to mid-IR"),
+        "group_index": FieldRange(1, 5, "1", "n_g > 1 (__post_init__); silica ~1.47", low_open=True),
+        "bias_phase": FieldRange(0, math.pi, "rad", "modulation depth in (0, pi) (__post_init__)", True, True),
+        "loop_gain": FieldRange(0, 2, "1", "stable for g < 2 (delay 1) or < 1 (delay 2; __post_init__)", True, True),
+        "delay": FieldRange(1, 2, "transits", "the loop model holds a 1- or 2-transit delay", integer=True),
+        "gain_loop_gain": FieldRange(0, 1, "1", "V_2pi loop integrator gain in (0, 1) (__post_init__)", True, True),
+        "modulator_gain_error": FieldRange(-0.5, 0.5, "1", "G_m - 1 within +-50 % (__post_init__)", True, True),
+    }
 
     def __post_init__(self) -> None:
         o = "LoopSpec"

@@ -59,9 +59,12 @@ N = 1.32e-3 deg/sqrt(h) at phi_b = pi/2 (RIN dominated; 9.4e-4 with the former 1
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from numbers import Real
+from typing import ClassVar
 
+from gyrobench.sim.ranges import FieldRange
 from gyrobench.sim.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT  # exact SI, re-exported
 
 __all__ = [
@@ -126,6 +129,17 @@ class OpticalBudget:
     feedback_resistance: float = 1e5
     amplifier_current_noise: float = 1e-12
     temperature: float = 300.0
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "source_power": FieldRange(0, 1e3, "W", "sources are mW; 1 kW admits stress budgets", low_open=True),
+        "spectral_width": FieldRange(0, 1e-6, "m", "FWHM of a broadband source: < 1 um", low_open=True),
+        "width_factor": FieldRange(0, 10, "1", "noise/FWHM width ratio: 1 rectangular, 1.505 Gaussian", low_open=True),
+        "loss_db": FieldRange(0, 100, "dB", "source-to-detector loss; > 100 dB leaves no light"),
+        "responsivity": FieldRange(0, 2, "A/W", "photodiode; quantum limit 1.25 A/W at 1550 nm", low_open=True),
+        "feedback_resistance": FieldRange(0, 1e12, "Ohm", "transimpedance resistor", low_open=True),
+        "amplifier_current_noise": FieldRange(0, 1e-6, "A/sqrt(Hz)", "preamplifier input current noise, >= 0"),
+        "temperature": FieldRange(0, 1000, "K", "preamplifier temperature", low_open=True),
+    }
 
     def __post_init__(self) -> None:
         o = "OpticalBudget"

@@ -130,13 +130,16 @@ docs/physics.md 5.1.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
+from typing import ClassVar
 
 import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim._validate import check_rng as _check_rng
 from gyrobench.sim._validate import real_number
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.ranges import FieldRange
 from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 from numpy.typing import ArrayLike, NDArray
 
@@ -416,6 +419,43 @@ class MemsResonator:
     scale_factor_repeatability: float = 1e-3
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
+        "drive_frequency": FieldRange(0, 1e6, "Hz", "MEMS drive resonances are kHz to 100s of kHz", low_open=True),
+        "mode_split": FieldRange(-1e5, 1e5, "Hz", "f_y - f_x; __post_init__ keeps f_y > 0"),
+        "drive_q": FieldRange(0, 1e7, "1", "air-damped ~10 to vacuum-sealed ~1e6", low_open=True),
+        "sense_q": FieldRange(0, 1e7, "1", "air-damped ~10 to vacuum-sealed ~1e6", low_open=True),
+        "drive_amplitude": FieldRange(0, 1e-3, "m", "AGC set point: um, well under a mm structure", low_open=True),
+        "quadrature_coupling": FieldRange(-1, 1, "1", "k_yx/k_x, a small relative stiffness"),
+        "damping_coupling": FieldRange(-1, 1, "1", "c_yx/c_y, a small relative damping"),
+        "phase_error": FieldRange(-math.pi / 2, math.pi / 2, "rad", "|theta_e| < pi/2 (__post_init__)", True, True),
+        "electrode_area": FieldRange(0, 1e-4, "m^2", "plate area of a MEMS electrode (< 1 cm^2)", low_open=True),
+        "electrode_gap": FieldRange(0, 1e-3, "m", "capacitive gap: um", low_open=True),
+        "bias_voltage": FieldRange(0, 1000, "V", "electrode bias: volts to tens of V", low_open=True),
+        "dac_full_scale": FieldRange(0, 1000, "V", "rebalance carrier limit", low_open=True),
+        "loop_bandwidth": FieldRange(0, 1e5, "Hz", "rebalance loop bandwidth", low_open=True),
+        "agc_bandwidth": FieldRange(0, 1e5, "Hz", "drive amplitude loop bandwidth", low_open=True),
+        "pickoff_noise": FieldRange(0, 1e-6, "m/sqrt(Hz)", "displacement-equivalent front-end noise, >= 0"),
+        "output_range": FieldRange(0, 1e4, "rad/s", "output full scale (1e4 rad/s = 573 000 deg/s)", low_open=True),
+        "output_bits": FieldRange(2, 64, "bits", "output word length (None: not quantized)", integer=True),
+        "output_cubic": FieldRange(-10, 10, "1", "odd cubic a3 of the output, relative to full scale"),
+        "forcer_area_gradient": FieldRange(-1e8, 1e8, "1/m", "1/overlap: |eps_A| = 1e8 1/m is a 10 nm overlap"),
+        "pickoff_full_scale": FieldRange(0, 1e-3, "m", "largest sense envelope the front end passes", low_open=True),
+        "bias_instability": FieldRange(0, 10, "rad/s", "B of the 1/f term (10 rad/s = 2e6 deg/h), >= 0"),
+        "rate_random_walk": FieldRange(0, 10, "rad/s/sqrt(s)", "K of the rate random walk, >= 0"),
+        "reference_temperature": FieldRange(0, 1000, "K", "trim temperature T0", low_open=True),
+        "frequency_tc": FieldRange(-0.01, 0.01, "1/K", "silicon's is -30 ppm/K; 1 %/K bounds any material"),
+        "q_tc": FieldRange(-0.1, 0.1, "1/K", "relative tempco of 1/Q; a few 1e-3 /K measured"),
+        "gain_tc": FieldRange(-0.1, 0.1, "1/K", "relative tempco of the rebalance gain"),
+        "phase_tc": FieldRange(-0.1, 0.1, "rad/K", "phase-error tempco"),
+        "scale_factor_trim": FieldRange(0, 10, "1", "factory scale-factor trim near 1, > 0", low_open=True),
+        "bias_trim": FieldRange(-1e3, 1e3, "rad/s", "factory bias trim; untrimmed quadrature biases are ~10 rad/s"),
+        "bias_repeatability": FieldRange(0, 100, "rad/s", "1-sigma turn-on bias, >= 0"),
+        "scale_factor_repeatability": FieldRange(0, 0.3, "1", "1-sigma turn-on SF error; e_on > -1"),
+        "turn_on_bias": FieldRange(-1e3, 1e3, "rad/s", "this power-on's bias (power_on draws it)"),
+        "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
+    }
 
     def __post_init__(self) -> None:
         if self.readout not in READOUTS:
@@ -1767,6 +1807,18 @@ class MemsResonatorSpec:
     phase_error_spread: float = 5e-3
     phase_tc_spread: float = 1e-5
     factory_trim: bool = True
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "mass_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; m (1 + s z) stays > 0 to 2 sigma"),
+        "frequency_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; f_x (1 + s z) stays > 0 to 2 sigma"),
+        "split_spread": FieldRange(0, 1e4, "Hz", "1-sigma of the mode split"),
+        "q_spread": FieldRange(0, 3, "1", "1-sigma of ln Q (lognormal)"),
+        "gap_spread": FieldRange(0, 0.5, "1", "relative 1-sigma; g (1 + s z) stays > 0 to 2 sigma"),
+        "quadrature_spread": FieldRange(0, 0.1, "1", "1-sigma of k_yx/k_x"),
+        "damping_coupling_spread": FieldRange(0, 0.1, "1", "1-sigma of c_yx/c_y"),
+        "phase_error_spread": FieldRange(0, 1, "rad", "1-sigma of theta_e (the draw is clipped to +-1.5 rad)"),
+        "phase_tc_spread": FieldRange(0, 0.1, "rad/K", "1-sigma of the phase tempco"),
+    }
 
     def __post_init__(self) -> None:
         if not isinstance(self.nominal, MemsResonator):

@@ -29,10 +29,13 @@ modes or f far from both). No mode is assumed here: the caller gives them
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from numbers import Real
+from typing import ClassVar
 
 import numpy as np
+from gyrobench.sim.ranges import FieldRange
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["MountConing", "RockingMode"]
@@ -53,6 +56,12 @@ class RockingMode:
     frequency: float
     quality: float
     compliance: float
+
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "frequency": FieldRange(0, 1e5, "Hz", "a mount's rocking mode: tens of Hz to kHz", low_open=True),
+        "quality": FieldRange(0, 1e6, "1", "mode quality factor, > 0", low_open=True),
+        "compliance": FieldRange(0, 1, "rad/(m/s^2)", "rocking angle per acceleration"),
+    }
 
     def __post_init__(self) -> None:
         _check("RockingMode", "frequency", self.frequency, "Hz")

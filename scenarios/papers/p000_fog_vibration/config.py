@@ -7,10 +7,12 @@ in the package docstring and in :data:`~.claims.DEVIATIONS`.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
+from gyrobench.scenarios.base import FieldRange, check_ranges
 from gyrobench.sim import units
 from gyrobench.sim.earth import NANJING
 from gyrobench.sim.fiber_strain import StrainMode
@@ -67,6 +69,20 @@ class FogSpec:
     physics_rate_hz: float = 3200.0
     output_rate_hz: float = 400.0
 
+    #: documented ranges (issue 32); the loop, optics and mount state theirs in :mod:`gyrobench.sim`
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "Q_arcsec": FieldRange(0, 1000, "arcsec", "readout quantization; a FOG's is < 1 arcsec"),
+        "B_deg_h": FieldRange(0, 1e4, "deg/h", "bias instability, navigation (0.001) to rate grade (1000)"),
+        "K_deg_h_sqrt_h": FieldRange(0, 1e4, "deg/h/sqrt(h)", "rate random walk, >= 0"),
+        "R_deg_h2": FieldRange(0, 1e5, "deg/h^2", "rate ramp, >= 0"),
+        "latitude_deg": FieldRange(-90, 90, "deg", "geographic latitude"),
+        "azimuth_deg": FieldRange(-360, 360, "deg", "sense-axis azimuth from north toward east"),
+        "mode_frequency_spread": FieldRange(0, 0.3, "1", "relative 1-sigma; draws clipped to 0.5-1.5x", high_open=True),
+        "coupling_spread": FieldRange(0, 2, "1", "1-sigma of the log coupling factor", high_open=True),
+        "physics_rate_hz": FieldRange(0, 1e5, "Hz", "shaker sampling, >= 4x the vibration", low_open=True),
+        "output_rate_hz": FieldRange(0, 5e4, "Hz", "output rate = physics_rate_hz / even n", low_open=True),
+    }
+
     def __post_init__(self) -> None:
         for name, hi in (("mode_frequency_spread", 0.3), ("coupling_spread", 2.0)):
             v = getattr(self, name)
@@ -79,6 +95,7 @@ class FogSpec:
                 f"{self.output_rate_hz!r} Hz; got {self.physics_rate_hz!r} Hz"
             )
         self.unit(self.modes)  # the SI model validates every value
+        check_ranges(self)  # after the checks above, whose messages tests and users rely on
 
     def noise(self) -> NoiseModel:
         return NoiseModel.from_datasheet(
@@ -175,6 +192,34 @@ class Config:
     bench_rate_hz: float = 2.0
     split_fit_range: bool = True
 
+    #: documented ranges (issue 32): physical (the shaker, the wavelet) or practical (one run)
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "acceleration_g": FieldRange(0, 100, "g", "sine amplitude; 0 is the control, shakers reach ~100 g"),
+        "sweep_start_hz": FieldRange(0, 2e4, "Hz", "shaker band; also <= fog.physics_rate_hz / 4", low_open=True),
+        "sweep_end_hz": FieldRange(0, 2e4, "Hz", "shaker band; also <= fog.physics_rate_hz / 4", low_open=True),
+        "fixed_hz": FieldRange(0, 2e4, "Hz", "shaker band; also <= fog.physics_rate_hz / 4", low_open=True),
+        "static_before_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),
+        "vibration_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),
+        "static_after_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),
+        "max_displacement_mm": FieldRange(0, 1000, "mm", "shaker stroke limit (25.4 mm p-p is typical)", low_open=True),
+        "ramp_time_s": FieldRange(0, 3600, "s", "shaker amplitude ramp"),
+        "control_error": FieldRange(0, 1, "1", "relative amplitude error of the shaker controller"),
+        "control_time_s": FieldRange(0, 86400, "s", "controller interval", low_open=True),
+        "guard_s": FieldRange(0, 43200, "s", "excluded phase edges; also < shortest phase / 2"),
+        "level": FieldRange(1, 30, "levels", "wavelet depth; records hold >= 7 x 2^level", integer=True),
+        "bias_level": FieldRange(1, 30, "levels", "approximation taken as the bias; also <= level", integer=True),
+        "train_level": FieldRange(1, 30, "levels", "bias models' training level; <= level", integer=True),
+        "bin_width_hz": FieldRange(0, 1e4, "Hz", "frequency bin of the bias tables", low_open=True),
+        "train_edge_s": FieldRange(0, 3600, "s", "excluded ends of the training record", low_open=True),
+        "rbf_spread_hz": FieldRange(0, 1e5, "Hz", "RBF width in the frequency input", low_open=True),
+        "rbf_goal_deg_h2": FieldRange(0, 1e6, "(deg/h)^2", "newrb's mean-square-error goal"),
+        "rbf_max_neurons": FieldRange(1, 1e4, "neurons", "RBF size cap (None: no cap)", integer=True),
+        "ls_order": FieldRange(1, 12, "1", "least-squares polynomial order (__post_init__)", integer=True),
+        "edge_window_s": FieldRange(0, 43200, "s", "edge windows; also < guard_s", low_open=True),
+        "offset_block_s": FieldRange(0, 86400, "s", "block length of the offset estimate", low_open=True),
+        "bench_rate_hz": FieldRange(0, 5e4, "Hz", "rate the bench target is decimated to", low_open=True),
+    }
+
     def __post_init__(self) -> None:
         def pos(name: str, unit: str) -> None:
             v = getattr(self, name)
@@ -255,6 +300,7 @@ class Config:
                 f"Config.level = {self.level} needs records of >= {n_min} samples; got {int(n_tot)} "
                 f"(lengthen the phases or lower the level)"
             )
+        check_ranges(self)  # after the checks above, whose messages tests and users rely on
 
     # -------------------------------------------------------------- profiles
     def _common(self) -> dict[str, Any]:

@@ -10,9 +10,12 @@ names; the device population is SI (:class:`gyrobench.sim.mems_resonator.MemsRes
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
+from gyrobench.scenarios.base import FieldRange, check_ranges
 from gyrobench.sim.mems_resonator import MemsResonatorSpec
 
 __all__ = [
@@ -113,6 +116,27 @@ class Config:
     timing_repeats: int = 50
     dense_step_dps: float = 10.0
 
+    #: documented ranges (issue 32); the device population states its own in
+    #: :class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` (SI)
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "rates_dps": FieldRange(-36000, 36000, "deg/s", "table rates; 10x the paper's +-3600 deg/s"),
+        "average_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),
+        "settle_s": FieldRange(0, 3600, "s", "discarded settling part of a dwell"),
+        "fs_hz": FieldRange(0, 1e5, "Hz", "output sample rate", low_open=True),
+        "ambient_c": FieldRange(-55, 125, "degC", "die temperature, the military operating range"),
+        "ambient_spread_c": FieldRange(0, 50, "degC", "run-to-run 1-sigma of the die temperature"),
+        "n_fit_runs": FieldRange(1, 1000, "runs", "power-ons fitted on, per unit", integer=True),
+        "n_heldout_runs": FieldRange(1, 1000, "runs", "power-ons scored only, per unit", integer=True),
+        "orders": FieldRange(0, 20, "1", "piecewise polynomial orders", integer=True),
+        "join_width": FieldRange(0, 0.5, "1", "Hermite join width / output span (__post_init__)", True, True),
+        "piecewise_alpha": FieldRange(0, 1e6, "1", "curvature penalty on scaled units, >= 0"),
+        "poly_degree": FieldRange(0, 20, "1", "degree of both polynomial stages (21 table points)", integer=True),
+        "hidden_units": FieldRange(1, 1000, "units", "hidden units of the network", integer=True),
+        "mlp_epochs": FieldRange(1, 1e6, "epochs", "trainbr epochs", integer=True),
+        "timing_repeats": FieldRange(1, 1e5, "repeats", "repeats of the timing (median reported)", integer=True),
+        "dense_step_dps": FieldRange(0, 7200, "deg/s", "step of the dense held-out sweep", low_open=True),
+    }
+
     def __post_init__(self) -> None:
         if not isinstance(self.gyro, MemsResonatorSpec):
             raise TypeError(
@@ -164,3 +188,4 @@ class Config:
             raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
         if not 0 < self.join_width < 0.5:
             raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")
+        check_ranges(self)  # after the checks above, whose messages tests and users rely on

@@ -104,6 +104,7 @@ def test_random_flag_values_end_in_success_or_one_line(flag, text, tmp_path_fact
     base = {
         "simulate": ["simulate", "noise", "--N", "0.1", "--B", "0.5", "--fs", "10", "--duration", "100s", "-o", "o.h5"],
         "allan": ["allan", "r.csv"],
+        "twin": ["twin", "r.csv", "-o", "t.h5"],
         "reproduce": ["reproduce", "toy_paper", "--units", "2", "--out", "taken", "-q"],
         "bench": ["bench", "tests.scenarios.toy_scenario", "--compensator", "tests.scenarios.toy_scenario:good",
                   "--seeds", "0:2", "--no-references", "--allow-underpowered", "--db", "c.db", "-q"],

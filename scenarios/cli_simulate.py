@@ -103,8 +103,10 @@ def _simulate_noise(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
-    if suffix == ".csv":  # a row "%.12g,%.17g\n" is at most about 42 characters (HDF5StreamWriter checks its own)
-        ensure_free_space(out, 42 * n)
+    # the disk is checked here, before the progress bar draws, so a refusal is the one line on stderr: a CSV row
+    # "%.12g,%.17g\n" is at most about 42 characters, an HDF5 sample 8 bytes (the one float64 channel
+    # HDF5StreamWriter allocates, which checks the same again when it opens)
+    ensure_free_space(out, (42 if suffix == ".csv" else 8) * n)
     seed = 0 if args.seed is None else args.seed
     chunk = args.chunk or 1 << 20
     # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)

@@ -568,3 +568,19 @@ def test_cli_edge_copies_of_analysis_constants_agree():
     bw = next(a for a in sub.choices["allan"]._actions if "--bandwidth-bias" in a.option_strings)
     assert bw.default == allan.BANDWIDTH_BIAS
     assert logs.ACCEL_UNITS["g"] == units.G0 and logs.TIME_UNITS["h"] == units.HOUR
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".csv"])
+def test_simulate_noise_too_big_for_the_disk_is_one_line_before_any_progress(tmp_path, capsys, suffix):
+    """Found by the random flag fuzzer: an HDF5 record larger than the free disk was refused by the
+    stream writer after the progress bar had drawn (three lines on stderr); the disk is now checked
+    first, for both formats."""
+    import shutil
+
+    free = shutil.disk_usage(tmp_path).free
+    seconds = 2 * free / 8 / 10  # at 10 Hz, twice the free bytes at 8 bytes a sample
+    code = main(["simulate", "noise", "--N", "0.1", "--fs", "10", "--duration", f"{seconds:.0f}s",
+                 "-o", str(tmp_path / f"o{suffix}")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "free" in err[0], err
+    assert list(tmp_path.iterdir()) == []

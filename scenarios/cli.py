@@ -56,7 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
                epilog="exit status: 0 ok; 1 bench: significant regression; 2 bad input (one line on "
                        "stderr); 3 bench: the compensator failed on some seeds (non-finite output); "
                        "4 internal failure (a worker died, non-deterministic runs, a bug); "
-                       "130 interrupted. GYROBENCH_TRACEBACK=1 prints the traceback of an error.")
+                       "130 interrupted; 141 the output pipe closed (| head); 143 terminated. "
+                       "GYROBENCH_TRACEBACK=1 prints the traceback of an error.")
     p.add_argument("--version", action="version", version=f"gyrobench {_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
 
@@ -161,6 +162,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("gyrobench: interrupted", file=sys.stderr)
         return exits.INTERRUPTED
+    except BrokenPipeError:  # stdout's reader left (``| head``): stop quietly, as a shell tool does
+        _silence_stdout()
+        return exits.PIPE_CLOSED
     except Exception as exc:
         code, msg = _error_status(exc)
         if exits.traceback_wanted():
@@ -175,6 +179,17 @@ def main(argv: list[str] | None = None) -> int:
         return code
     finally:
         restore()
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null, so the interpreter's final flush of a closed pipe raises nothing."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout is not a file (a test's capture): nothing to flush
+        pass
 
 
 def _raise_on_sigterm() -> typing.Callable[[], None]:

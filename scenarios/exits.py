@@ -40,6 +40,7 @@ __all__ = [
     "NONSTATIONARY",
     "INTERRUPTED",
     "TERMINATED",
+    "PIPE_CLOSED",
     "Terminated",
     "TRACEBACK_ENV",
     "InternalError",
@@ -54,6 +55,7 @@ INTERNAL = 4
 NONSTATIONARY = 5
 INTERRUPTED = 130
 TERMINATED = 143  # 128 + SIGTERM, as a shell reports a process killed by it
+PIPE_CLOSED = 141  # 128 + SIGPIPE: the reader of stdout went away (``| head``); nothing is printed
 
 #: environment variable: when set (to anything but "" or "0"), errors print their traceback
 TRACEBACK_ENV = "GYROBENCH_TRACEBACK"

@@ -584,3 +584,18 @@ def test_simulate_noise_too_big_for_the_disk_is_one_line_before_any_progress(tmp
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "free" in err[0], err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_closed_output_pipe_ends_quietly_with_141(monkeypatch, capsys):
+    """``gyrobench parts | head -1``: the reader leaves, the next write raises BrokenPipeError; the verb
+    stops with 141 (128 + SIGPIPE, as a shell reports it) and prints nothing (it printed
+    'gyrobench: error: [Errno 32] Broken pipe' and exited 2)."""
+    import io
+
+    class ClosedPipe(io.StringIO):
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr("sys.stdout", ClosedPipe())
+    assert main(["parts"]) == 141
+    assert capsys.readouterr().err == ""

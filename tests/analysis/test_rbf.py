@@ -192,6 +192,7 @@ def test_streaming_short_record_is_an_error(rng):
 
 @settings(max_examples=25, deadline=None)
 @given(cuts=st.lists(st.integers(1, 899), max_size=12, unique=True))
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_streaming_equals_batch_for_random_partitions(cuts):
     """Property: any block partition of the record gives the batch result (to rounding)."""
     rng = np.random.default_rng(5)

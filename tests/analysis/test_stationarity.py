@@ -29,6 +29,7 @@ def test_stationary_record_is_not_flagged():
     assert rep.stationary, (rep.motion[:3], rep.steps[:3])
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_false_alarm_rate_of_white_noise_within_its_binomial_bound():
     """White noise, 400 records of 64 windows: the any-flag rate at false_alarm = 0.05 (the
     documented probability of any flag, Bonferroni over the motion and step tests) stays
@@ -104,6 +105,7 @@ def test_temperature_input_checks():
     "name",
     ["moving_average_16", "first_order_fs_over_20", "butterworth4_fs_over_40", "butterworth8_near_nyquist"],
 )
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_filtered_white_noise_trips_at_most_the_stated_false_alarm_rate(name):
     """Issue 30: a sensor's low-pass filter is not motion. Filtered white noise, 200 records of
     64 windows of 128 samples, each checked against its own ADEV at the window as the report

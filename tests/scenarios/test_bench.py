@@ -570,6 +570,7 @@ def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
     assert "REGRESSION" in res.format()
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_identical_compensator_is_not_flagged(good_and_bad, tmp_path):
     good, _ = good_and_bad
     again = bench.run_campaign(

@@ -46,6 +46,7 @@ def test_a_comparison_without_a_common_score_exits_3_in_one_line(tmp_path, capsy
     assert len(err) == 1 and err[0].startswith("gyrobench: error: baseline and campaign have no score in common")
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_failed_seeds_found_by_the_comparison_alone_exit_3(tmp_path, capsys, good_baseline, monkeypatch):
     """A comparison whose candidate has a non-finite score the campaign did not record as failed
     (a campaign read back from an older file): the table says FAILED, so the exit is 3."""

@@ -398,6 +398,7 @@ def _assert_error_is_last(err: str, message: str) -> None:
 
 
 @pytest.mark.parametrize("target", ["noise.h5", "noise.csv", "static_noise"])
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_failed_write_is_one_line_and_exit_2(tmp_path, target):
     # before: "gyrobench: error: ... '.a.h5.xxxx.tmp' ..." then a segfault (exit 139), or a traceback then 139
     import subprocess

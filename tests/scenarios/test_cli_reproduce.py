@@ -86,6 +86,7 @@ def test_reproduce_resumes_from_the_db(toy_registered, tmp_path, capsys, monkeyp
     assert not (tmp_path / "a" / "units.sqlite").exists()
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys):
     cfg_free = ["--units", "2", "--workers", "0", "-q"]
     code, out, err = run(

@@ -45,6 +45,7 @@ def test_registered():
 
 
 # ---------------------------------------------------------------- claims, experiment, report
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_claims_cover_the_paper_and_every_quantity(small_units):
     ids = [c.id for c in sc.CLAIMS]
     assert len(ids) == len(set(ids))

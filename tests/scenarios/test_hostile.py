@@ -127,6 +127,7 @@ def good_baseline(tmp_path_factory):
 
 
 @pytest.mark.parametrize("comp", ["nan_pred", "inf_pred"])
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_baseline_with_failed_seeds_exits_3_naming_the_seeds(
     tmp_path, capsys, good_baseline, comp
 ):
@@ -151,6 +152,7 @@ def test_cli_baseline_with_failed_seeds_exits_3_naming_the_seeds(
     assert "FAILED: compensator" in out  # the comparison table says so too
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_cli_some_failed_seeds_fail_the_gate_and_name_them(tmp_path, capsys, good_baseline):
     argv = [
         "bench",
@@ -621,6 +623,7 @@ def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monk
 
 
 # ----------------------------------------------------------------------------- 4. temp files
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path):
     import os
     import signal

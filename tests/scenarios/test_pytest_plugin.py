@@ -82,6 +82,7 @@ def test_save_then_assert_no_regression(user_suite: pytest.Pytester):
     assert "test_good FAILED" not in result.stdout.str()
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_workers_option_runs_in_processes(user_suite: pytest.Pytester):
     user_suite.runpytest(*FAST, "-k", "test_good", "--gyrobench-save-baselines").assert_outcomes(
         passed=1

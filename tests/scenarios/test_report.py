@@ -83,6 +83,7 @@ _FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no
 
 
 @pytest.mark.skipif(_chromium() is None, reason="Chromium not installed (.ci/run installs Debian's chromium)")
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_report_renders_in_a_browser(tmp_path):
     index = write_report([_outcome("alpha"), _outcome("beta")], tmp_path / "rep")
     exe = _chromium()

@@ -83,6 +83,7 @@ def test_only_the_identified_claims_are_calibrated():
             assert c.precondition is sc.THERMAL_PRECONDITION, c.id
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_identification_reruns_to_the_stored_constant():
     """identify() on the default Config gives the stored IDENTIFIED, which Config uses."""
     from gyrobench.scenarios.papers.p004_rlg_thermal import identify as ident
@@ -121,6 +122,7 @@ def test_variants_are_the_deviations_and_refuse_unknown_names():
         sc.variant_config(c, "nope")
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_thermal_share_larger_under_the_program_than_under_the_control(three_units):
     """The chamber program drives the thermal bias: each unit's share of the 100-s means' variance
     explained by it falls at constant chamber temperature (same gyro and draws)."""

@@ -163,6 +163,7 @@ def test_linear_fast_path_equals_the_clamped_loop():
     np.testing.assert_allclose(b1, b2, rtol=0, atol=1e-9 * np.max(np.abs(b2)))
 
 
+@pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_segmented_solver_equals_the_step_loop():
     """The saturated-segment solver takes the loop's steps: equal to rounding.
 

@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.analysis.allan import AllanCurve
+from gyrobench.analysis.allan import AllanCurve, deviation_bounds
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["TwinComparison", "compare_twin", "FAMILY_ALPHA"]
@@ -82,7 +82,11 @@ class TwinComparison:
     inside_real95: NDArray[np.bool_]
     family_alpha: float
     per_tau_alpha: float
-    passed: bool
+
+    @property
+    def passed(self) -> bool:
+        """The pass rule: the ratio lies in its band at every compared tau."""
+        return bool(np.all(self.inside))
 
     @property
     def n_taus(self) -> int:
@@ -152,7 +156,7 @@ def compare_twin(
     >>> compare_twin(a, b).passed
     True
     """
-    from scipy.stats import chi2, f
+    from scipy.stats import f
 
     real = _check_curve("real", real)
     twin = _check_curve("twin", twin)
@@ -184,8 +188,7 @@ def compare_twin(
     hi = np.sqrt(f.ppf(1 - a / 2, nu_t, nu_r))
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(r_dev > 0, t_dev / r_dev, math.inf)
-    real_lo = r_dev * np.sqrt(nu_r / chi2.ppf(0.975, nu_r))
-    real_hi = r_dev * np.sqrt(nu_r / chi2.ppf(0.025, nu_r))
+    real_lo, real_hi = deviation_bounds(r_dev, nu_r, 0.95)
     inside = (ratio >= lo) & (ratio <= hi)
     return TwinComparison(
         tau=np.asarray(real.tau, dtype=float)[i],
@@ -202,5 +205,4 @@ def compare_twin(
         inside_real95=(t_dev >= real_lo) & (t_dev <= real_hi),
         family_alpha=float(family_alpha),
         per_tau_alpha=a,
-        passed=bool(np.all(inside)),
     )

@@ -52,7 +52,7 @@ docs/physics.md section 1.
 from __future__ import annotations
 
 from gyrobench.analysis.allan._covariance import QUANTIZATION_KURTOSIS
-from gyrobench.analysis.allan._curve import allan_deviation, identify_noise
+from gyrobench.analysis.allan._curve import allan_deviation, deviation_bounds, identify_noise
 from gyrobench.analysis.allan._fit import MISFIT_P, fit_noise
 from gyrobench.analysis.allan._gaps import allan_deviation_gaps as allan_deviation_gaps  # records with gaps
 from gyrobench.analysis.allan._kinds import _FIT_KINDS as _FIT_KINDS  # (allan_report pins its copy to it)
@@ -86,6 +86,7 @@ __all__ = [
     "fit_noise",
     "MISFIT_P",
     "floor_bounds",
+    "deviation_bounds",
     "pool_curves",
     "identify_noise",
     "slope_readoff",

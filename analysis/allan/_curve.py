@@ -29,8 +29,10 @@ def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDAr
 
 
 
-def _bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
-    """Chi-square bounds (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised)."""
+def deviation_bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
+    """(low, high): two-sided ``confidence`` bounds of Allan-family deviations ``dev`` with ``edf``
+    equivalent degrees of freedom, from the chi-square law (NIST SP 1065 eq. 45;
+    allantools.ci.confidence_interval, vectorised)."""
     from gyrobench.analysis.allan._chi2 import chi2_isf, chi2_ppf  # numpy only: no scipy.special import
 
     p = (1.0 - confidence) / 2.0
@@ -183,7 +185,7 @@ def allan_deviation(
         al = _given_alpha(stat, alpha, ms)
     assert al is not None  # identified above, or given as alpha
     edf = _edf(kind, al, ms, n)
-    low, high = _bounds(dev, edf, float(confidence))
+    low, high = deviation_bounds(dev, edf, float(confidence))
     return AllanCurve(
         tau=ms / fs,
         deviation=dev,

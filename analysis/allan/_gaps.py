@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 import numpy as np
 from gyrobench.analysis.allan._checks import _check_fs, _check_rate
-from gyrobench.analysis.allan._curve import _bounds, _check_confidence
+from gyrobench.analysis.allan._curve import _check_confidence, deviation_bounds
 from gyrobench.analysis.allan._kinds import _edf
 from gyrobench.analysis.allan._noise_id import _identify
 from gyrobench.analysis.allan._octave import _phase
@@ -110,7 +110,7 @@ def allan_deviation_gaps(
             edf[i] += 1.0
     avar = sums / (2.0 * ms.astype(float) ** 2 * terms)
     dev = np.sqrt(avar)
-    low, high = _bounds(dev, edf, float(confidence))
+    low, high = deviation_bounds(dev, edf, float(confidence))
     return AllanCurve(
         tau=ms / fs,
         deviation=dev,

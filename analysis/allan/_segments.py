@@ -121,7 +121,7 @@ def pool_curves(curves: Sequence[AllanCurve]) -> AllanCurve:
     overestimate where m approaches a stretch's length (a few % at m = n_shortest / 8), and
     the correlation between taus is that of one record (the stretches' end effects differ).
     """
-    from gyrobench.analysis.allan._curve import _bounds
+    from gyrobench.analysis.allan._curve import deviation_bounds
 
     curves = list(curves)
     if not curves or not all(isinstance(c, AllanCurve) for c in curves):
@@ -151,7 +151,7 @@ def pool_curves(curves: Sequence[AllanCurve]) -> AllanCurve:
         n_terms += c.n_terms[idx]
     dev = np.sqrt(wsum / wtot)
     edf = wtot**2 / vsum
-    lo, hi = _bounds(dev, edf, first.confidence)
+    lo, hi = deviation_bounds(dev, edf, first.confidence)
     return AllanCurve(
         tau=ms / first.fs,
         deviation=dev,

@@ -65,7 +65,7 @@ def test_bounds_match_scipy_stats(rng):
     dev = rng.uniform(0.5, 2.0, 50)
     edf = np.concatenate([rng.uniform(0.3, 10.0, 25), rng.uniform(10.0, 1e6, 25)])
     for conf in (0.683, 0.95):
-        lo, hi = _curve._bounds(dev, edf, conf)
+        lo, hi = _curve.deviation_bounds(dev, edf, conf)
         p = (1.0 - conf) / 2.0
         # 1e-12: the quantiles' stated accuracy (both are iterative solutions, not the same arithmetic)
         np.testing.assert_allclose(lo, dev * np.sqrt(edf / stats.chi2.isf(p, edf)), rtol=1e-12)

@@ -14,7 +14,7 @@ import math
 import os
 import types
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -394,16 +394,18 @@ def compare(
         )
     gates = gates_of(cand.scenario, names, primary, directions, error=ComparisonError)
     dirs = {**directions_of(gates), **(directions or {})}
-    paired = [_paired(name, base, cand, seeds, dirs) for name in names]
     gated = {g.name for g in gates}
+    paired = [
+        _paired(name, base, cand, seeds, dirs, primary=name in gated, unit=score_unit(cand.scenario, name))
+        for name in names
+    ]
     adjusted = np.empty(len(paired))
     for group in (True, False):  # Holm over the primary scores; the secondary among themselves
-        idx = [i for i, p in enumerate(paired) if (p.name in gated) == group]
+        idx = [i for i, (p, _) in enumerate(paired) if p.primary == group]
         if idx:
-            adjusted[idx] = holm(np.array([paired[i].p_value for i in idx]))
+            adjusted[idx] = holm(np.array([paired[i][0].p_value for i in idx]))
     out = tuple(
-        _judged(p, float(pa), alpha, primary=p.name in gated, unit=score_unit(cand.scenario, p.name))
-        for p, pa in zip(paired, adjusted, strict=True)
+        _judged(p, sign, float(pa), alpha) for (p, sign), pa in zip(paired, adjusted, strict=True)
     )
     out = tuple(sorted(out, key=lambda s: not s.primary))
     refs = tuple(
@@ -507,32 +509,25 @@ def _failed_seeds(
     return cand_failed, base_failed
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
-class _Paired:
-    """One score's paired test before the correction: :class:`ScoreComparison`'s fields but the
-    adjusted p and the status, and the sign of ``W+ - W-``."""
-
-    name: str
-    direction: int
-    n: int
-    baseline_mean: float
-    candidate_mean: float
-    effect: float
-    relative: float
-    p_value: float
-    sign: float
-
-
 def _paired(
-    name: str, base: Campaign, cand: Campaign, seeds: Sequence[int], directions: Mapping[str, int] | None
-) -> _Paired:
-    """The signed-rank test, means and Hodges-Lehmann shift of score ``name`` over ``seeds``."""
+    name: str,
+    base: Campaign,
+    cand: Campaign,
+    seeds: Sequence[int],
+    directions: Mapping[str, int] | None,
+    *,
+    primary: bool,
+    unit: str,
+) -> tuple[ScoreComparison, float]:
+    """The signed-rank test, means and Hodges-Lehmann shift of score ``name`` over ``seeds``, as a
+    comparison not yet corrected for multiplicity (``p_adjusted`` = ``p_value``, status
+    "unchanged"), and the sign of ``W+ - W-``."""
     b, c = base.values(name, seeds), cand.values(name, seeds)
     d = c - b
     p, sign = signed_rank(d)
     bm = float(np.mean(b)) if b.size else math.nan
     cm = float(np.mean(c)) if c.size else math.nan
-    return _Paired(
+    comparison = ScoreComparison(
         name=name,
         direction=score_direction(name, directions),
         n=int(d.size),
@@ -541,34 +536,25 @@ def _paired(
         effect=hodges_lehmann(d) if d.size else math.nan,
         relative=(cm - bm) / abs(bm) if bm != 0 and math.isfinite(bm) else math.nan,
         p_value=p,
-        sign=sign,
-    )
-
-
-def _judged(p: _Paired, p_adjusted: float, alpha: float, *, primary: bool, unit: str) -> ScoreComparison:
-    """The score's status at ``alpha`` after Holm's correction: "improved" or "regressed" by the
-    sign of the shift and the score's direction, "changed" when the direction is unknown."""
-    if p_adjusted < alpha and p.sign != 0:
-        if p.direction == 0:
-            status = "changed"
-        else:
-            status = "improved" if p.sign * p.direction > 0 else "regressed"
-    else:
-        status = "unchanged"
-    return ScoreComparison(
-        name=p.name,
-        direction=p.direction,
-        n=p.n,
-        baseline_mean=p.baseline_mean,
-        candidate_mean=p.candidate_mean,
-        effect=p.effect,
-        relative=p.relative,
-        p_value=p.p_value,
-        p_adjusted=p_adjusted,
-        status=status,
+        p_adjusted=p,
+        status="unchanged",
         primary=primary,
         unit=unit,
     )
+    return comparison, sign
+
+
+def _judged(s: ScoreComparison, sign: float, p_adjusted: float, alpha: float) -> ScoreComparison:
+    """The score's status at ``alpha`` after Holm's correction: "improved" or "regressed" by the
+    sign of the shift and the score's direction, "changed" when the direction is unknown."""
+    if p_adjusted < alpha and sign != 0:
+        if s.direction == 0:
+            status = "changed"
+        else:
+            status = "improved" if sign * s.direction > 0 else "regressed"
+    else:
+        status = "unchanged"
+    return replace(s, p_adjusted=p_adjusted, status=status)
 
 
 def _note(scores: Sequence[ScoreComparison], dropped: Sequence[int], *, same_config: bool, alpha: float) -> str:

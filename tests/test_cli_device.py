@@ -92,10 +92,10 @@ def test_simulate_device_bad_input_is_one_line_exit_2(argv, needle, tmp_path, mo
 
 
 def test_parts_names_each_part_s_physics_solve_or_why_not(capsys):
-    # one 'physics model:' line per part: the solved parameter, or the solve's refusal
+    # one 'physics model:' line per part: the solved parameters (every built-in part maps)
     assert main(["parts"]) == 0
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.strip().startswith("physics model:")]
     assert len(lines) == len(parts.names())
     text = "\n".join(lines)
     assert "fog_spec: source power" in text and "mems_spec: pick-off noise" in text and "rlg_spec: lock-in" in text
-    assert "Brownian floor" in text and "RIN floor" in text
+    assert "fog_spec: coil L" in text and "mems_spec: proof mass" in text and "not mapped" not in text

@@ -41,8 +41,10 @@ FOG (:func:`fog_spec`), the source power, and the coil below the default coil's 
     added fibre adds its loss (:data:`FIBRE_LOSS_DB_PER_M`, 1 dB/km, to the budget's 20 dB).
     L grows first at the default diameter up to :data:`FOG_LENGTH_MAX` (5 km), then D at 5 km
     up to :data:`FOG_DIAMETER_MAX` (0.2 m); the coil is rewound with the default pack's
-    pitches (40 layers, radii shifted by (D - D0)/2, the turns per layer and the height grown
-    to the smallest integer reaching L D), and P is solved again on it (<= 15 mW). Beyond
+    pitches (40 layers, radii shifted by (D - D0)/2, the height growing with the turns per
+    layer): at the default D the fewest turns reaching L D, at the length limit the most turns
+    keeping L <= 5 km with D grown in 0.1 mm steps until L D is reached, so neither limit is
+    passed by the integer turns; P is then solved again on that coil (<= 15 mW). Beyond
     5 km x 0.2 m = 1000 m^2 (N below about 1.3e-4 deg/sqrt(h)) the part is refused with the
     L D it would need (ValueError). No sheet read gives its coil: astrix-200 (2e-4
     deg/sqrt(h)) maps to L 5.0 km, D 0.134 m, P 12.6 mW, an ASSUMED design.
@@ -183,31 +185,62 @@ def rlg_spec(datasheet: Datasheet) -> RLGSpec:
     )
 
 
-def _wound_coil(base: Coil2DSpec, length: float, diameter: float) -> Coil2DSpec:
-    """``base`` rewound to at least ``length`` [m] of fibre at mean diameter ``diameter`` [m].
+def _rewound(base: Coil2DSpec, shift: float, turns: int) -> Coil2DSpec:
+    """``base`` with every radius (bore, inner, outer) moved by ``shift`` [m] and ``turns`` turns per layer.
 
-    The pack's cross-section pitch is kept: every radius (bore, inner, outer) moves by
-    (D - D0)/2, the layer count stays, and the turns per layer N grow with the height at the
-    default axial pitch H0/N0; N is the smallest integer whose wound L D reaches
-    ``length * diameter``.
+    The layer count and the axial pitch H0/N0 stay (the height grows with the turns): the pack's
+    cross-section pitches are the default's.
+    """
+    return replace(
+        base,
+        bore_radius=base.bore_radius + shift,
+        inner_radius=base.inner_radius + shift,
+        outer_radius=base.outer_radius + shift,
+        turns_per_layer=turns,
+        height=base.height / base.turns_per_layer * turns,
+    )
+
+
+def _wound_coil(base: Coil2DSpec, product: float) -> Coil2DSpec | None:
+    """The coil whose wound L D reaches ``product`` [m^2]: L first, at the default D, up to
+    FOG_LENGTH_MAX, then D at the most turns that keep L <= FOG_LENGTH_MAX; None beyond
+    FOG_DIAMETER_MAX.
+
+    The turns per layer are integers, so L D lands at or just above ``product``; at the length
+    limit the diameter grows in 0.1 mm steps until the wound L D reaches it.
     """
     fibre0 = Coil2D(spec=base).fibre()
-    shift = 0.5 * (diameter - fibre0.diameter)
-    pitch = base.height / base.turns_per_layer
-    turns = max(2, math.floor(base.turns_per_layer * length / fibre0.length * fibre0.diameter / diameter))
-    while True:
-        coil = replace(
-            base,
-            bore_radius=base.bore_radius + shift,
-            inner_radius=base.inner_radius + shift,
-            outer_radius=base.outer_radius + shift,
-            turns_per_layer=turns,
-            height=pitch * turns,
-        )
-        fibre = Coil2D(spec=coil).fibre()
-        if fibre.length * fibre.diameter >= length * diameter:
-            return coil
+
+    def wound(shift: float, turns: int) -> tuple[Coil2DSpec, float, float]:
+        coil = _rewound(base, shift, turns)
+        f = Coil2D(spec=coil).fibre()
+        return coil, f.length, f.diameter
+
+    turns = max(2, math.floor(base.turns_per_layer * product / (fibre0.length * fibre0.diameter)))
+    coil, length, diameter = wound(0.0, turns)
+    while length * diameter < product:
         turns += 1
+        coil, length, diameter = wound(0.0, turns)
+    if length <= FOG_LENGTH_MAX:
+        return coil
+    shift = max(0.0, 0.5 * (product / FOG_LENGTH_MAX - fibre0.diameter))
+    while True:
+        turns = max(2, math.floor(base.turns_per_layer * FOG_LENGTH_MAX / fibre0.length
+                                  * fibre0.diameter / (fibre0.diameter + 2.0 * shift)))
+        coil, length, diameter = wound(shift, turns)
+        while length > FOG_LENGTH_MAX:
+            turns -= 1
+            coil, length, diameter = wound(shift, turns)
+        while True:
+            nxt, n_length, n_diameter = wound(shift, turns + 1)
+            if n_length > FOG_LENGTH_MAX:
+                break
+            coil, length, diameter, turns = nxt, n_length, n_diameter, turns + 1
+        if diameter > FOG_DIAMETER_MAX:
+            return None
+        if length * diameter >= product:
+            return coil
+        shift += 1e-4
 
 
 def _fog_coil(datasheet: Datasheet, base: FOG2DSpec) -> tuple[Coil2DSpec, OpticalBudget]:
@@ -221,7 +254,6 @@ def _fog_coil(datasheet: Datasheet, base: FOG2DSpec) -> tuple[Coil2DSpec, Optica
     n = datasheet.angle_random_walk()
     fibre0 = Coil2D(spec=base.coil).fibre()
     coil = base.coil
-    length, diameter = fibre0.length, fibre0.diameter
     for _ in range(50):
         fibre = Coil2D(spec=coil).fibre()
         optics = replace(
@@ -233,16 +265,14 @@ def _fog_coil(datasheet: Datasheet, base: FOG2DSpec) -> tuple[Coil2DSpec, Optica
         if arw <= n:
             return coil, optics
         product = fibre.length * fibre.diameter * arw / n
-        length, diameter = product / fibre0.diameter, fibre0.diameter
-        if length > FOG_LENGTH_MAX:
-            length, diameter = FOG_LENGTH_MAX, product / FOG_LENGTH_MAX
-        if diameter > FOG_DIAMETER_MAX:
+        wound = _wound_coil(base.coil, product)
+        if wound is None:
             raise ValueError(
                 f"{datasheet.name!r}: ARW {units.to_deg_per_s(n) * 60.0:.3g} deg/sqrt(h) needs a coil "
-                f"L D = {product:.4g} m^2 at the {FOG_POWER_MAX * 1e3:g} mW source cap, beyond "
-                f"{FOG_LENGTH_MAX / 1e3:g} km x {FOG_DIAMETER_MAX:g} m = {FOG_LENGTH_MAX * FOG_DIAMETER_MAX:g} m^2"
+                f"L D = {product:.5g} m^2 at the {FOG_POWER_MAX * 1e3:g} mW source cap, beyond the "
+                f"{FOG_LENGTH_MAX / 1e3:g} km x {FOG_DIAMETER_MAX:g} m coil limit"
             )
-        coil = _wound_coil(base.coil, length, diameter)
+        coil = wound
     raise RuntimeError(f"{datasheet.name!r}: the coil solve did not settle in 50 passes")  # pragma: no cover
 
 

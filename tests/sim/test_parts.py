@@ -338,7 +338,7 @@ def test_the_fog_and_mems_solves_refuse_what_the_physical_ranges_cannot_reach():
     # beyond the coil (5 km x 0.2 m at the 15 mW source cap) and the proof mass (5 mg) ranges no
     # design gives the sheet's ARW: refused in one line naming the part, the need and the limit
     base = dict(manufacturer="m", model="x", grade="navigation", source="s", bias_instability_dph=0.01)
-    with pytest.raises(ValueError, match=r"'f'.*needs a coil L D = .* m\^2 .* beyond 5 km x 0.2 m") as e:
+    with pytest.raises(ValueError, match=r"'f'.*needs a coil L D = .* m\^2 .* beyond the 5 km x 0.2 m coil limit") as e:
         parts.fog_spec(parts.Datasheet(name="f", technology="FOG", arw=1e-4, **base))
     assert "\n" not in str(e.value)
     with pytest.raises(ValueError, match=r"'m'.*needs a proof mass .* mg .*above the 5 mg limit"):
@@ -421,3 +421,19 @@ def test_the_fog_solve_lowers_the_source_power_with_the_sheet_noise():
     assert loop.arw(s.optics) == pytest.approx(math.radians(0.012 / 60.0), rel=1e-9)
     assert s.noise.bias_instability == pytest.approx(math.radians(0.05 / 3600.0) / parts.ADEV_MIN_PER_B, rel=1e-12)
     assert s.noise.angle_random_walk == 0.0
+
+
+@pytest.mark.parametrize("arw", [1.2e-3, 5e-4, 1.4e-4, 1.34e-4])
+def test_the_fog_coil_solve_stays_inside_its_ranges_up_to_their_limit(arw):
+    # L grows at the default D up to 5 km, then D at the most turns that keep L <= 5 km; the
+    # integer turns never carry L or D past their limits, and the sheet's N is met exactly
+    from gyrobench.sim.coil2d import Coil2D
+
+    d = parts.Datasheet(name="f", manufacturer="m", model="x", technology="FOG", grade="navigation", source="s",
+                        bias_instability_dph=0.01, arw=arw)
+    s = parts.fog_spec(d)
+    fibre = Coil2D(spec=s.coil).fibre()
+    assert fibre.length <= parts.FOG_LENGTH_MAX and fibre.diameter <= parts.FOG_DIAMETER_MAX
+    assert s.optics.source_power <= parts.FOG_POWER_MAX
+    loop = s.loop_spec(length=fibre.length, diameter=fibre.diameter)
+    assert loop.arw(s.optics) == pytest.approx(d.angle_random_walk(), rel=1e-9)

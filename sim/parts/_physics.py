@@ -387,8 +387,9 @@ def physics_summary(datasheet: Datasheet) -> str:
             if nom.mass == MemsResonator().mass:
                 return f"mems_spec: pick-off noise {nom.pickoff_noise:.4g} m/sqrt(Hz) (default resonator otherwise)"
             return (
-                f"mems_spec: proof mass {nom.mass * 1e6:.4g} mg, pick-off noise {nom.pickoff_noise:.4g} m/sqrt(Hz), "
-                f"rebalance limit {nom.dac_full_scale:.3g} V (default resonator otherwise)"
+                f"mems_spec: proof mass {nom.mass * 1e6:.4g} mg (electrode area in proportion), pick-off noise "
+                f"{nom.pickoff_noise:.4g} m/sqrt(Hz), rebalance limit {nom.dac_full_scale:.3g} V (default resonator "
+                "otherwise)"
             )
         w = rlg_spec(datasheet).lock_in_rate
         return f"rlg_spec: lock-in rate {units.to_deg_per_s(w):.4g} deg/s (default cavity and dither otherwise)"

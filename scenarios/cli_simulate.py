@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import typing
@@ -235,15 +236,156 @@ def _profile_value(v, key: str, path: str, convert):
     if isinstance(v, (int, float)) and not isinstance(v, bool):
         return float(convert(np.array([float(v)]))[0])
     if isinstance(v, list) and v and all(isinstance(k, list) and len(k) == 2 for k in v):
-        arr = np.asarray(v, dtype=float)
-        return PiecewiseLinear(arr[:, 0], convert(arr[:, 1]))
+        try:
+            arr = np.asarray(v, dtype=float)
+            return PiecewiseLinear(arr[:, 0], convert(arr[:, 1]))
+        except (TypeError, ValueError) as exc:
+            raise BadInput(f"--profile {path!r}: {key}: {one_line(exc)}") from None
     raise BadInput(f"--profile {path!r}: {key} must be a number or a list of [time_s, value] pairs; got {v!r}")
 
 
+#: the keys of a profile file: top-level values and the [earth] and [shaker] tables
+_PROFILE_KEYS = ("duration_s", "rate_dps", "temperature_c", "specific_force_g", "earth", "shaker")
+_EARTH_KEYS = ("latitude_deg", "heading_deg", "elevation_deg")
+#: [shaker] keys per kind (besides kind, start_s, duration_s and max_displacement_mm)
+_SHAKER_KEYS = {
+    "sine": ("frequency_hz", "acceleration_g", "ramp_s"),
+    "sweep": ("f_start_hz", "f_end_hz", "acceleration_g", "spacing", "ramp_s"),
+    "random": ("psd",),
+}
+#: the shaker is sampled at >= this many times its highest frequency, then averaged over each output interval
+_SHAKER_OVERSAMPLING = 4.0
+
+
+def _table(data: dict, name: str, allowed: typing.Iterable[str], path: str) -> dict:
+    tbl = data[name]
+    if not isinstance(tbl, dict):
+        raise BadInput(f"--profile {path!r}: {name} must be a table [{name}]; got {tbl!r}")
+    if unknown := sorted(set(tbl) - set(allowed)):
+        raise BadInput(f"--profile {path!r}: [{name}] unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    return tbl
+
+
+def _number(tbl: dict, table: str, key: str, path: str, unit: str, *, default: float | None = None,
+            lo: float | None = None, hi: float | None = None, positive: bool = False) -> float:
+    """A finite number from a profile table, inside [lo, hi] (and > 0 when ``positive``), or its default."""
+    if key not in tbl:
+        if default is None:
+            raise BadInput(f"--profile {path!r}: [{table}] needs {key} [{unit}]")
+        return default
+    v = tbl[key]
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be a finite number [{unit}]; got {v!r}")
+    if positive and not v > 0:
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be > 0 {unit}; got {v!r}")
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be in [{lo:g}, {hi:g}] {unit}; got {v!r}")
+    return float(v)
+
+
+def _profile_earth(data: dict, path: str) -> float:
+    """The Earth's rate about the sense axis [rad/s] from the profile's [earth] table.
+
+    Omega_E (cos(lat) cos(e) cos(heading) + sin(lat) sin(e)) (:func:`gyrobench.sim.earth.sensed_earth_rate`):
+    ``latitude_deg`` (required, [-90, 90]), ``heading_deg`` the sense axis' azimuth from north toward
+    east (default 0: north), ``elevation_deg`` above the horizontal ([-90, 90], default 0).
+    """
+    from gyrobench.sim.earth import sensed_earth_rate
+
+    tbl = _table(data, "earth", _EARTH_KEYS, path)
+    lat = _number(tbl, "earth", "latitude_deg", path, "deg", lo=-90.0, hi=90.0)
+    heading = _number(tbl, "earth", "heading_deg", path, "deg", default=0.0)
+    elevation = _number(tbl, "earth", "elevation_deg", path, "deg", default=0.0, lo=-90.0, hi=90.0)
+    return float(sensed_earth_rate(math.radians(lat), azimuth=math.radians(heading),
+                                   elevation=math.radians(elevation)))
+
+
+def _profile_shaker(data: dict, path: str) -> tuple[float, typing.Any]:
+    """(start [s], the vibration profile) of the profile's [shaker] table (SI inside).
+
+    ``kind`` "sine" (:class:`~gyrobench.sim.shaker.FixedSine`: frequency_hz, acceleration_g),
+    "sweep" (:class:`~gyrobench.sim.shaker.SineSweep`: f_start_hz, f_end_hz, acceleration_g,
+    spacing "log" or "linear") or "random" (:class:`~gyrobench.sim.shaker.RandomVibration`: psd, a
+    list of [frequency_hz, g^2/Hz] breakpoints); ``duration_s`` of the vibration, ``start_s``
+    (default 0: the record is static before and after it), optional ``max_displacement_mm``
+    (the shaker's stroke limit, peak) and, for sine and sweep, ``ramp_s`` (soft start and stop).
+    """
+    from gyrobench.sim import units
+    from gyrobench.sim.shaker import FixedSine, RandomVibration, SineSweep
+
+    raw = data["shaker"]
+    kind = raw.get("kind") if isinstance(raw, dict) else None
+    if kind not in _SHAKER_KEYS:
+        raise BadInput(f"--profile {path!r}: shaker.kind must be one of {sorted(_SHAKER_KEYS)}; got {kind!r}")
+    common = ("kind", "start_s", "duration_s", "max_displacement_mm")
+    tbl = _table(data, "shaker", common + _SHAKER_KEYS[kind], path)
+    start = _number(tbl, "shaker", "start_s", path, "s", default=0.0, lo=0.0, hi=math.inf)
+    dur = _number(tbl, "shaker", "duration_s", path, "s", positive=True)
+    d_max = (None if "max_displacement_mm" not in tbl
+             else _number(tbl, "shaker", "max_displacement_mm", path, "mm", positive=True) * 1e-3)
+    try:
+        if kind == "random":
+            psd = tbl.get("psd")
+            pairs: list = psd if isinstance(psd, list) else []
+            if len(pairs) < 2 or not all(
+                isinstance(k, list) and len(k) == 2
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in k) for k in pairs
+            ):
+                raise BadInput(f"--profile {path!r}: shaker.psd must be >= 2 [frequency_hz, g^2/Hz] pairs; "
+                               f"got {psd!r}")
+            return start, RandomVibration(breakpoints=tuple((float(f), float(g)) for f, g in pairs), duration=dur,
+                                          max_displacement=d_max)
+        acc = units.g(_number(tbl, "shaker", "acceleration_g", path, "g", lo=0.0, hi=math.inf))
+        ramp = _number(tbl, "shaker", "ramp_s", path, "s", default=0.0, lo=0.0, hi=dur / 2)
+        if kind == "sine":
+            f = _number(tbl, "shaker", "frequency_hz", path, "Hz", positive=True)
+            return start, FixedSine(frequency=f, duration=dur, acceleration=acc, max_displacement=d_max,
+                                    ramp_time=ramp)
+        spacing = tbl.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise BadInput(f"--profile {path!r}: shaker.spacing must be 'log' or 'linear'; got {spacing!r}")
+        return start, SineSweep(
+            f_start=_number(tbl, "shaker", "f_start_hz", path, "Hz", positive=True),
+            f_end=_number(tbl, "shaker", "f_end_hz", path, "Hz", positive=True),
+            duration=dur, acceleration=acc, spacing=spacing, max_displacement=d_max, ramp_time=ramp,
+        )
+    except (TypeError, ValueError) as exc:
+        raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
+
+
+def _shaker_force(vibration, start: float, duration: float, fs: float, *, rng, path: str) -> typing.Any:
+    """The shaker's specific force along the sense axis [m/s^2], one mean per output interval.
+
+    The vibration is sampled at fs_in = m fs, m the smallest integer with m fs >= 4 f_max
+    (:data:`_SHAKER_OVERSAMPLING`: twice the Nyquist rate of its highest frequency), and each
+    output sample k gets the mean of its m samples (the output integrates over its interval:
+    a vibration above fs/2 is attenuated by that mean, not aliased at full level). It starts
+    at output sample round(start fs) and lasts round(vibration duration x fs) samples; the
+    record is static (0) elsewhere.
+    """
+    import numpy as np
+    from gyrobench.sim import memory
+
+    n = int(math.floor(duration * fs + 1e-9))
+    k0 = int(round(start * fs))
+    n_vib = int(round(vibration.duration * fs))
+    if k0 + n_vib > n or n_vib < 1:
+        raise BadInput(f"--profile {path!r}: shaker.start_s + shaker.duration_s = {start + vibration.duration:g} s "
+                       f"must lie inside the record (0, {duration:g}] s and hold >= 1 sample at {fs:g} Hz")
+    m = max(1, math.ceil(_SHAKER_OVERSAMPLING * vibration.max_frequency / fs))
+    memory.check_memory(memory.series_bytes(n_vib * m, 4), "the shaker profile", hint="shorten shaker.duration_s")
+    vib = dataclasses.replace(vibration, duration=n_vib / fs)
+    acc = vib.sample(m * fs, rng=rng).acceleration
+    out = np.zeros(n)
+    out[k0:k0 + n_vib] = acc[: n_vib * m].reshape(n_vib, m).mean(axis=1)
+    return out
+
+
 def _device_environment(args, part):
-    """(Environment, fs) from --profile or --rate-csv/--temperature-csv, --duration and --fs."""
+    """(Environment, fs, what the profile's tables added) from --profile or --rate-csv/--temperature-csv."""
 
     import numpy as np
+    from gyrobench.sim.environment import PiecewiseLinear
     from gyrobench.sim.sensor import Environment
 
     if args.profile is not None and (args.rate_csv is not None or args.temperature_csv is not None):
@@ -254,20 +396,28 @@ def _device_environment(args, part):
     rate: typing.Any = 0.0
     temp: typing.Any = None
     force: typing.Any = 0.0
+    earth = None
+    shaker = None
     duration = args.duration
     if args.profile is not None:
-        data = read_toml(args.profile, "--profile")
-        allowed = {"duration_s", "rate_dps", "temperature_c", "specific_force_g"}
-        if unknown := sorted(set(data) - allowed):
-            raise BadInput(f"--profile {args.profile!r}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+        path = args.profile
+        data = read_toml(path, "--profile")
+        if unknown := sorted(set(data) - set(_PROFILE_KEYS)):
+            raise BadInput(f"--profile {path!r}: unknown key(s) {unknown}; allowed: {sorted(_PROFILE_KEYS)}")
         if "rate_dps" in data:
-            rate = _profile_value(data["rate_dps"], "rate_dps", args.profile, dps)
+            rate = _profile_value(data["rate_dps"], "rate_dps", path, dps)
         if "temperature_c" in data:
-            temp = _profile_value(data["temperature_c"], "temperature_c", args.profile, kelvin)
+            temp = _profile_value(data["temperature_c"], "temperature_c", path, kelvin)
         if "specific_force_g" in data:
-            force = _profile_value(data["specific_force_g"], "specific_force_g", args.profile, g0)
+            force = _profile_value(data["specific_force_g"], "specific_force_g", path, g0)
+        if "earth" in data:
+            earth = _profile_earth(data, path)
+            rate = (rate + earth if not isinstance(rate, PiecewiseLinear)
+                    else PiecewiseLinear(rate.times, rate.values + earth))
+        if "shaker" in data:
+            shaker = _profile_shaker(data, path)
         if duration is None and "duration_s" in data:
-            duration = float(data["duration_s"])
+            duration = _number(data, "profile", "duration_s", path, "s", positive=True)
     else:
         if args.rate_csv is not None:
             rate, span = _profile_from_csv(args.rate_csv, "--rate-csv", dps)
@@ -280,11 +430,24 @@ def _device_environment(args, part):
     fs = args.fs if args.fs is not None else (part.datasheet.output_rate or 100.0)
     if not (math.isfinite(duration * fs) and duration * fs < 2**31):
         raise BadInput(f"--duration x --fs = {duration:g} s x {fs:g} Hz is too many samples for one record in memory")
+    added: dict[str, typing.Any] = {}
+    if earth is not None:
+        added["earth_rate_rad_s"] = earth
+    if shaker is not None:
+        start, vibration = shaker
+        seed = 0 if args.seed is None else args.seed
+        # the shaker's own stream: a child of the seed, so the part's noise is the same with or without it
+        rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+        vib = _shaker_force(vibration, start, duration, fs, rng=rng, path=args.profile)
+        n = len(vib)
+        base = force((np.arange(n) + 0.5) / fs) if isinstance(force, PiecewiseLinear) else np.full(n, force)
+        force = base + vib
+        added["shaker"] = {"kind": type(vibration).__name__, "start_s": start, "duration_s": vibration.duration,
+                           "max_frequency_hz": vibration.max_frequency}
     try:
-        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs, added
     except (TypeError, ValueError) as exc:
         raise BadInput(f"simulate device: {one_line(exc)}") from None
-
 
 
 def _simulate_device(args) -> int:
@@ -312,7 +475,7 @@ def _simulate_device(args) -> int:
     if suffix not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
     check_output(out, what="-o", kind="file")
-    env, fs = _device_environment(args, part)
+    env, fs, added = _device_environment(args, part)
     n = env.n_samples(fs)
     if n < MIN_SAMPLES:
         raise BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
@@ -321,6 +484,8 @@ def _simulate_device(args) -> int:
     memory.check_memory(memory.series_bytes(n, 20), "simulate device", hint="shorten --duration or lower --fs")
     seed = 0 if args.seed is None else args.seed
     rec = part.simulate(env, fs=fs, rng=np.random.default_rng(seed))
+    if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
+        rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
     path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
     print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
           f"truth {', '.join(rec.truth)})")
@@ -389,7 +554,9 @@ def add_parsers(sub) -> None:
     s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
     s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
     s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "
-                   "[time_s, value] knots) and duration_s")
+                   "[time_s, value] knots), duration_s, and the tables [earth] (latitude_deg, heading_deg, "
+                   "elevation_deg: the Earth's rate added to the rate) and [shaker] (kind = sine, sweep or random: "
+                   "vibration added to the specific force)")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 

@@ -92,10 +92,132 @@ def test_simulate_device_bad_input_is_one_line_exit_2(argv, needle, tmp_path, mo
 
 
 def test_parts_names_each_part_s_physics_solve_or_why_not(capsys):
-    # one 'physics model:' line per part: the solved parameter, or the solve's refusal
+    # one 'physics model:' line per part: the solved parameters (every built-in part maps)
     assert main(["parts"]) == 0
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.strip().startswith("physics model:")]
     assert len(lines) == len(parts.names())
     text = "\n".join(lines)
     assert "fog_spec: source power" in text and "mems_spec: pick-off noise" in text and "rlg_spec: lock-in" in text
-    assert "Brownian floor" in text and "RIN floor" in text
+    assert "fog_spec: coil L" in text and "mems_spec: proof mass" in text and "not mapped" not in text
+
+
+# ------------------------------------------------------------------ profile [earth] and [shaker] tables
+def _device(tmp_path, part: str, profile: str, *extra: str):
+    (tmp_path / "p.toml").write_text(profile)
+    out = tmp_path / "r.h5"
+    rc = main(["simulate", "device", part, "--profile", str(tmp_path / "p.toml"), "-o", str(out), "-q", *extra])
+    return rc, out
+
+
+@pytest.mark.parametrize(
+    ("table", "expect"),
+    [
+        # closed forms of the sensed Earth rate (sim/earth.py): horizontal north Omega cos(lat),
+        # vertical up Omega sin(lat), horizontal east 0
+        ("latitude_deg = 45.8", lambda lat: math.cos(lat)),
+        ("latitude_deg = 45.8\nheading_deg = 90", lambda lat: 0.0),
+        ("latitude_deg = -30\nelevation_deg = 90", lambda lat: math.sin(lat)),
+    ],
+)
+def test_profile_earth_rate_is_added_to_the_table_rate(tmp_path, table, expect):
+    from gyrobench.sim.earth import EARTH_RATE
+
+    lat = math.radians(float(table.split("\n")[0].split("=")[1]))
+    rc, out = _device(tmp_path, "hg1700", f"duration_s = 10\nrate_dps = [[0, 0], [10, 1]]\n[earth]\n{table}\n",
+                      "--fs", "10")
+    assert rc == 0
+    rec = load_hdf5(out)
+    earth = EARTH_RATE * expect(lat)
+    table_rate = np.radians(rec.time / 10.0)
+    assert np.allclose(rec["truth/true_rate"], table_rate + earth, rtol=0, atol=1e-15)
+    assert rec.metadata["profile"]["earth_rate_rad_s"] == pytest.approx(earth, rel=1e-12, abs=1e-20)
+    resid, tol = _sum_residual(rec)
+    assert resid <= tol
+
+
+def test_profile_shaker_sine_is_placed_in_its_window_on_top_of_the_static_force(tmp_path):
+    # 5 Hz at 100 Hz output: 4 f_max <= fs, one shaker sample per output sample (m = 1), so the
+    # record holds 1 g + a sin(2 pi f j/fs) from sample round(start fs) for duration fs samples
+    from gyrobench.sim.units import G0
+
+    rc, out = _device(tmp_path, "stim300", "duration_s = 10\nspecific_force_g = 1\n[shaker]\nkind = \"sine\"\n"
+                      "start_s = 2\nduration_s = 4\nfrequency_hz = 5\nacceleration_g = 0.5\n", "--fs", "100")
+    assert rc == 0
+    rec = load_hdf5(out)
+    f = rec["truth/specific_force"]
+    j = np.arange(400)
+    assert np.allclose(f[200:600], G0 + 0.5 * G0 * np.sin(2 * np.pi * 5 * j / 100), rtol=0, atol=1e-12)
+    assert np.all(f[:200] == G0) and np.all(f[600:] == G0)
+    # stim300's sheet g-sensitivity (1 deg/h/g) turns it into its error term
+    assert np.allclose(rec["truth/g_sensitivity"], math.radians(1 / 3600) / G0 * f, rtol=1e-12, atol=0)
+    resid, tol = _sum_residual(rec)
+    assert resid <= tol
+    assert rec.metadata["profile"]["shaker"]["kind"] == "FixedSine"
+
+
+def test_profile_shaker_above_the_output_rate_is_averaged_over_each_interval_not_aliased(tmp_path):
+    # random vibration in 200-400 Hz at a 50 Hz output: each output sample is the mean over its
+    # 20 ms interval, whose response |sinc(f/fs)| is <= 1/(pi f/fs) = 0.080 at 200 Hz, so the
+    # record's rms is under 0.08 x grms (0.2 allows the finite record's spread); a point sampler
+    # would alias the full grms into the band
+    from gyrobench.sim.shaker import grms
+    from gyrobench.sim.units import G0
+
+    psd = [[200, 0.04], [400, 0.04]]
+    rc, out = _device(tmp_path, "stim300", f"duration_s = 60\n[shaker]\nkind = \"random\"\nduration_s = 60\n"
+                      f"psd = {psd}\n", "--fs", "50")
+    assert rc == 0
+    f = load_hdf5(out)["truth/specific_force"]
+    assert 0 < np.std(f) < 0.2 * grms(psd) * G0
+
+
+def test_profile_shaker_draws_from_its_own_stream(tmp_path):
+    # the part's noise is the same with and without a shaker (one child stream per effect), and a
+    # sweep's random draw (here none: an ideal controller) does not move it
+    base = "duration_s = 20\n"
+    shaker = "[shaker]\nkind = \"sweep\"\nduration_s = 10\nf_start_hz = 1\nf_end_hz = 20\nacceleration_g = 2\n"
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    rc_a, out_a = _device(tmp_path / "a", "stim300", base, "--fs", "100", "--seed", "7")
+    rc_b, out_b = _device(tmp_path / "b", "stim300", base + shaker, "--fs", "100", "--seed", "7")
+    assert rc_a == rc_b == 0
+    a, b = load_hdf5(out_a), load_hdf5(out_b)
+    assert np.array_equal(a["truth/ieee_noise"], b["truth/ieee_noise"])
+    assert np.any(b["truth/specific_force"] != 0) and np.all(a["truth/specific_force"] == 0)
+
+
+@pytest.mark.parametrize(
+    ("profile", "needle"),
+    [
+        ("duration_s = 10\nearth = 3\n", "earth must be a table [earth]; got 3"),
+        ("duration_s = 10\n[earth]\nlat = 40\n", "[earth] unknown key(s) ['lat']"),
+        ("duration_s = 10\n[earth]\nheading_deg = 0\n", "[earth] needs latitude_deg [deg]"),
+        ("duration_s = 10\n[earth]\nlatitude_deg = 95\n", "earth.latitude_deg must be in [-90, 90] deg; got 95"),
+        ("duration_s = 10\n[earth]\nlatitude_deg = 40\nheading_deg = 'n'\n",
+         "earth.heading_deg must be a finite number [deg]; got 'n'"),
+        ("duration_s = 'x'\n", "profile.duration_s must be a finite number [s]; got 'x'"),
+        ("duration_s = 10\n[shaker]\nkind = 'bump'\n", "shaker.kind must be one of ['random', 'sine', 'sweep']"),
+        ("duration_s = 10\n[shaker]\nkind = 'sine'\nduration_s = 5\nacceleration_g = 1\n",
+         "[shaker] needs frequency_hz [Hz]"),
+        ("duration_s = 10\n[shaker]\nkind = 'sine'\nduration_s = 5\nacceleration_g = 1\nfrequency_hz = -1\n",
+         "shaker.frequency_hz must be > 0 Hz; got -1"),
+        ("duration_s = 10\n[shaker]\nkind = 'sine'\nduration_s = 5\nacceleration_g = 1\nfrequency_hz = 5\n"
+         "psd = [[1, 1], [2, 1]]\n", "[shaker] unknown key(s) ['psd']"),
+        ("duration_s = 10\n[shaker]\nkind = 'sine'\nduration_s = 5\nacceleration_g = 1\nfrequency_hz = 5\n"
+         "ramp_s = 3\n", "shaker.ramp_s must be in [0, 2.5] s; got 3"),
+        ("duration_s = 10\n[shaker]\nkind = 'sweep'\nduration_s = 5\nacceleration_g = 1\nf_start_hz = 1\n"
+         "f_end_hz = 9\nspacing = 'cubic'\n", "shaker.spacing must be 'log' or 'linear'; got 'cubic'"),
+        ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[20]]\n",
+         "shaker.psd must be >= 2 [frequency_hz, g^2/Hz] pairs"),
+        ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[80, 0.01], [20, 0.01]]\n",
+         "[shaker] breakpoint frequencies must be > 0 Hz and strictly increasing"),
+        ("duration_s = 10\n[shaker]\nkind = 'sine'\nstart_s = 8\nduration_s = 5\nacceleration_g = 1\n"
+         "frequency_hz = 5\n", "shaker.start_s + shaker.duration_s = 13 s must lie inside the record (0, 10] s"),
+        ("duration_s = 10\nrate_dps = [[0, 0], [0, 1]]\n", "rate_dps: profile times must be strictly increasing"),
+    ],
+)
+def test_profile_tables_refuse_bad_input_in_one_line_exit_2(tmp_path, capsys, profile, needle):
+    rc, _ = _device(tmp_path, "stim300", profile, "--fs", "100")
+    assert rc == 2
+    err = capsys.readouterr().err.strip()
+    assert needle in err and "\n" not in err and "p.toml" in err, err

@@ -11,8 +11,9 @@ Three lines from a part to a file::
 (one table, or top-level keys). The solve from figures to models is in
 :mod:`gyrobench.sim.parts._part` (see :class:`Part`); the figures and their sources in
 :mod:`gyrobench.sim.parts._catalogue`. :func:`rlg_spec`, :func:`fog_spec` and :func:`mems_spec` map a
-part onto its technology's physics model (one parameter solved for the sheet's ARW,
-:mod:`gyrobench.sim.parts._physics`).
+part onto its technology's physics model (the source power, the pick-off noise or the lock-in
+rate solved for the sheet's ARW; below the default design's floor the FOG coil or the MEMS proof
+mass too, inside the stated physical ranges: :mod:`gyrobench.sim.parts._physics`).
 """
 
 from __future__ import annotations
@@ -33,7 +34,18 @@ from gyrobench.sim.parts._part import (
     Part,
     PartUnit,
 )
-from gyrobench.sim.parts._physics import fog_spec, mems_spec, physics_summary, rlg_spec
+from gyrobench.sim.parts._physics import (
+    BROWNIAN_SHARE,
+    FIBRE_LOSS_DB_PER_M,
+    FOG_DIAMETER_MAX,
+    FOG_LENGTH_MAX,
+    FOG_POWER_MAX,
+    MEMS_MASS_MAX,
+    fog_spec,
+    mems_spec,
+    physics_summary,
+    rlg_spec,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -57,6 +69,12 @@ __all__ = [
     "fog_spec",
     "mems_spec",
     "physics_summary",
+    "FOG_POWER_MAX",
+    "FOG_LENGTH_MAX",
+    "FOG_DIAMETER_MAX",
+    "FIBRE_LOSS_DB_PER_M",
+    "MEMS_MASS_MAX",
+    "BROWNIAN_SHARE",
 ]
 
 _BY_NAME = {d.name: d for d in CATALOGUE}

@@ -34,13 +34,16 @@ The part's own record keeps N and B as IEEE 952 terms whose values are the sheet
 what a user comparing the part with its datasheet needs. The same sheet also maps onto its
 technology's physics model by a documented solve (:mod:`gyrobench.sim.parts._physics`,
 :data:`PHYSICS_MAPPING`): every physical parameter at the model's default design (an
-assumption: no sheet read publishes them) and ONE parameter solved for the sheet's ARW, the
-bias instability the model's 1/f term at the sheet's B:
+assumption: no sheet read publishes them) and ONE parameter solved for the sheet's ARW (a
+second one first where the sheet is below the default design's floor), the bias instability
+the model's 1/f term at the sheet's B:
 
 * FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`) solved for the
-  source power (:func:`gyrobench.sim.parts.fog_spec`, ``FogSensor(fog_spec(sheet))``).
+  source power, and the coil's L D below the default coil's reach
+  (:func:`gyrobench.sim.parts.fog_spec`, ``FogSensor(fog_spec(sheet))``).
 * MEMS: N^2 = N_B^2 + N_e^2 (:func:`gyrobench.sim.mems_resonator.electronic_arw`) solved for
-  the pick-off noise (:func:`gyrobench.sim.parts.mems_spec`, ``MemsSensor(mems_spec(sheet))``).
+  the pick-off noise, and the proof mass below the default Brownian floor
+  (:func:`gyrobench.sim.parts.mems_spec`, ``MemsSensor(mems_spec(sheet))``).
 * RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`) solved for the
   lock-in rate (:func:`gyrobench.sim.parts.rlg_spec`, ``RlgSensor(rlg_spec(sheet))``).
 
@@ -91,16 +94,18 @@ ERROR_COMPONENTS = (
 
 PHYSICS_MAPPING = {
     "FOG": ("gyrobench.sim.fog_loop.LoopSpec.arw", "N = sqrt(S_phi/2)/SF0: solved for the source power with the "
-            "default coil, source width, losses and detector (fog_spec; those are not on the sheets read), B the "
-            "loop's additive 1/f term"),
+            "default coil, source width, losses and detector (fog_spec; those are not on the sheets read); below "
+            "the default coil's reach the power is capped at 15 mW and the coil's L D solved (L <= 5 km, "
+            "D <= 0.2 m), B the loop's additive 1/f term"),
     "MEMS": ("gyrobench.sim.mems_resonator.electronic_arw", "N^2 = N_B^2 + N_e^2: solved for the pick-off noise "
-             "with the default resonator's mass, drive, Q and split (mems_spec; those are not on the sheets read), "
-             "B the model's 1/f term"),
+             "with the default resonator's mass, drive, Q and split (mems_spec; those are not on the sheets read); "
+             "below the default Brownian floor the proof mass is solved for N_B = N/sqrt 2 (m <= 5 mg), B the "
+             "model's 1/f term"),
     "RLG": ("gyrobench.sim.rlg.dither_arw", "N = Omega_L/sqrt(2 pi K Omega_D): solved for the lock-in rate with the "
             "model's default cavity and dither (rlg_spec; K and Omega_D are not on the sheets read), B the model's "
             "flicker term"),
 }
-"""Per technology: the physics model's ARW closed form (a dotted name) and the parameter solved for the
+"""Per technology: the physics model's ARW closed form (a dotted name) and the parameters solved for the
 sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physics`)."""
 
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures

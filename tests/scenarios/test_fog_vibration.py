@@ -189,6 +189,40 @@ def test_shown_ratio_and_value_ratio_documented_cases():
     assert overlap(ident, bound) is None
 
 
+def test_fit_ratio_reads_the_fits_point_values_as_a_table_does():
+    """fit_ratio: the point values whether or not identified; 0 printed on both sides reads as equal (1), a
+    zero denominator under a positive numerator as a huge ratio, a missing point value as untestable."""
+    from gyrobench.scenarios.papers.p000_fog_vibration.results import fit_ratio
+
+    def fv(v):
+        return dataclasses.replace(_coef(None, 0.0, 1.0), fit_value=v)
+
+    assert fit_ratio(fv(3.0), fv(1.5)) == pytest.approx(2.0)
+    assert fit_ratio(fv(0.0), fv(0.0)) == 1.0
+    assert fit_ratio(fv(2.0), fv(0.0)) > 1e299
+    assert fit_ratio(fv(0.0), fv(2.0)) == 0.0
+    assert fit_ratio(_coef(None, 0.0, 1.0), fv(1.0)) is None
+
+
+def test_tone_free_octave_is_where_the_aliased_dwell_tones_have_zero_allan_variance():
+    """tone_free_m against the ADEV of the tones themselves: a 500 Hz and a 1 kHz sine on a 3.2 kHz grid,
+    integrated and dumped at 400 Hz (tones aliased to 100 and 200 Hz), have zero overlapping ADEV (to
+    rounding, 1e-12 of the tone's) at m = tone_free_m = 4 and beyond, and not at m = 2; a signal band
+    below the tones (a6: 1.6 Hz) carries none of them (m = 1)."""
+    from gyrobench.analysis.allan import allan_deviation
+    from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import tone_free_m
+
+    fs, m_fast = 400.0, 8
+    t = np.arange(int(40 * fs) * m_fast) / (fs * m_fast)
+    x = (np.sin(2 * np.pi * 500.0 * t + 0.3) + 0.5 * np.sin(2 * np.pi * 1000.0 * t + 1.1)).reshape(-1, m_fast).mean(1)
+    m = tone_free_m(500.0, fs)
+    assert m == 4
+    dev = allan_deviation(x, fs, taus=np.array([m / 2, m, 2 * m, 4 * m]) / fs).deviation
+    assert dev[0] > 0.1 and np.all(dev[1:] < 1e-12)
+    assert tone_free_m(500.0, fs, band_hz=fs / 2**7) == 1
+    assert tone_free_m(400.0, fs) == 1  # aliased to 0 Hz: constant over each output interval
+
+
 # ---------------------------------------------------------------- closed forms
 def _true_bias_curve():
     """A resonant bias curve for the RBF tests (two Lorentzian peaks, tens of deg/h): a test

@@ -221,6 +221,12 @@ def test_tone_free_octave_is_where_the_aliased_dwell_tones_have_zero_allan_varia
     assert dev[0] > 0.1 and np.all(dev[1:] < 1e-12)
     assert tone_free_m(500.0, fs, band_hz=fs / 2**7) == 1
     assert tone_free_m(400.0, fs) == 1  # aliased to 0 Hz: constant over each output interval
+    # a record too short for five octaves from the tone-free m keeps the full range (no error)
+    from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import split_band_coefficients
+
+    short = np.random.default_rng(3).standard_normal(4000)
+    assert split_band_coefficients(short, fs, 4, n_min_m=256).N.tau_min_s == 1.0 / fs
+    assert split_band_coefficients(short, fs, 4, n_min_m=4).N.tau_min_s == 4.0 / fs
 
 
 # ---------------------------------------------------------------- closed forms

@@ -89,19 +89,18 @@ def split_band_coefficients(
     read as a spurious R); the low-frequency terms are read where A_j is faithful, the
     high-frequency terms where they live. ``n_min_m`` (:func:`tone_free_m`) starts N's fit where a
     sine drive's aliased tones leave no Allan variance: N is read from the white-noise region, as
-    the IEEE 952 read-off does, not from points the tones make a misfit of (1: the full range).
+    the IEEE 952 read-off does, not from points the tones make a misfit of (1, or fewer than five
+    octaves from there: the full range).
     Each entry carries its ``tau_min_s`` and the fit's point value ``fit_value`` (set also for a
     term the record does not identify).
     """
     y = np.asarray(rate_rad_s, dtype=float)
     octaves = [2**k for k in range(64) if 2**k <= y.size // 4]
     curve = allan_deviation(y, fs, taus=np.array(octaves, dtype=float) / fs)
-    fits = {
-        "Q": fit_noise(curve),
-        "N": fit_noise(curve, tau_min=n_min_m / fs) if n_min_m > 1 else None,
-        "low": _fit(y, fs, min_m=min_m),
-    }
-    fits["N"] = fits["N"] or fits["Q"]
+    if sum(m >= n_min_m for m in octaves) < len(TERMS):  # too few tone-free octaves for the fit: full range
+        n_min_m = 1
+    fits = {"Q": fit_noise(curve), "low": _fit(y, fs, min_m=min_m)}
+    fits["N"] = fit_noise(curve, tau_min=n_min_m / fs) if n_min_m > 1 else fits["Q"]
     tables = {k: coefficients_json(f) for k, f in fits.items()}
     out = {}
     for t in TERMS:

@@ -22,7 +22,7 @@ from gyrobench.sim.mount_coning import MountConing, RockingMode
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
 
-from .identify import IDENTIFIED, INPUTS
+from .identify import IDENTIFIED, INPUTS, mount_factors
 
 __all__ = ["Config", "FogSpec", "split_level_m"]
 
@@ -64,8 +64,8 @@ class FogSpec:
     R_deg_h2: float = INPUTS.R_deg_h2
     latitude_deg: float = units.to_deg(NANJING.latitude)
     azimuth_deg: float = 0.0
-    mode_frequency_spread: float = 0.05
-    coupling_spread: float = 0.3
+    mode_frequency_spread: float = INPUTS.frequency_spread
+    coupling_spread: float = INPUTS.compliance_spread
     physics_rate_hz: float = 3200.0
     output_rate_hz: float = 400.0
 
@@ -139,8 +139,7 @@ class FogSpec:
         and compliance x exp(``coupling_spread`` N(0, 1)) (None without a mount)."""
         if self.mount is None:
             return None
-        fs = np.clip(1.0 + self.mode_frequency_spread * rng.standard_normal(2), 0.5, 1.5)
-        cs = np.exp(self.coupling_spread * rng.standard_normal(2))
+        fs, cs = mount_factors(rng, self.mode_frequency_spread, self.coupling_spread)
 
         def one(m: RockingMode, i: int) -> RockingMode:
             return replace(m, frequency=m.frequency * float(fs[i]), compliance=m.compliance * float(cs[i]))

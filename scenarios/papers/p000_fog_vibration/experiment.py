@@ -30,6 +30,7 @@ from .pipeline import (
     phase_table,
     shortest_tau_rise,
     split_band_coefficients,
+    tone_free_m,
 )
 from .results import (
     CompensationTable,
@@ -106,7 +107,15 @@ def experiment(config: Config, seed: int) -> UnitResult:
     dec_f = decompose(units.to_deg_per_h(fixed["rate"]), fs, wavelet=config.wavelet, level=config.level)
     sig = compensated(fixed, dec_f, bm, config)
     m = split_level_m(config)
-    table3 = {k: split_band_coefficients(units.deg_per_h(v), fs, m) for k, v in sig.items()}
+    # N of Table 3 where the dwell's aliased tones leave no variance: the raw record carries them, the
+    # a_j-based columns (denoised, compensated) carry nothing above fs / 2^(j+1)
+    band = {k: fs / 2.0 if k == "original" else fs / 2 ** (config.bias_level + 1) for k in sig}
+    table3 = {
+        k: split_band_coefficients(
+            units.deg_per_h(v), fs, m, n_min_m=tone_free_m(config.fixed_hz, fs, band_hz=band[k])
+        )
+        for k, v in sig.items()
+    }
     compensation = CompensationTable(
         original=table3["original"], denoised=table3["denoised"], rbf=table3["rbf"], ls=table3["ls"]
     )

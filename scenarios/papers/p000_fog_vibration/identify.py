@@ -16,9 +16,10 @@ do not have, so only their stated shape is used):
   4 h. This is an intermediate-grade FOG (the same B as :mod:`gyrobench.scenarios.static_noise`'s
   FOG grade, with a better ARW from the 1 km coil). Q dominates the 400 Hz output below
   tau = 3 Q^2/N^2 (0.05 s), N up to the crossover (5.7 s), B beyond; K and R only beyond
-  :func:`crossover_tau_s` (hundreds of hours), so no record of minutes identifies them: those
-  claims are not testable by design and :func:`required_record_s` gives the record they need
-  (the same 100 crossover taus, counted past the B floor).
+  :func:`crossover_tau_s` (hundreds of hours), so no record of minutes identifies them:
+  :func:`required_record_s` gives the record they need (the same 100 crossover taus, counted past
+  the B floor); Table 1's K and R claims are not testable by design, and the method claims on R are
+  judged on the fit's point values, as the paper's tables print them (:mod:`.claims`).
 * Fig. 3 and Sec. 3: the vibration-phase bias offset sits at high vibration frequencies,
   "about 300-500 Hz". The paper's introduction names the paths: coil stress, pigtail vibration
   and structural resonance. We take the structural one: two rocking modes of the gyro's mount
@@ -27,11 +28,28 @@ do not have, so only their stated shape is used):
   band's reading (the modes at ``f_low`` and ``f_high`` span the upper part of 300-500 Hz:
   calibrated from the figure's band), Q = 10 each (a bolted fixture; assumed).
 * Fig. 7: after denoising, the vibration-phase offset stands clear of the record's fluctuation:
-  the compliances (equal for both modes) are set so that the mean coning rate at the 500 Hz
-  dwell and the paper-unstated 2 g equals ``visibility`` x sigma_10, the predicted standard
-  deviation of 10-s means of the static record (white N and flicker B: sqrt(N^2/10 s +
-  (0.664 B)^2)); ``visibility`` = 10 is our reading of "clearly" (assumed; the paper prints no
-  offset value).
+  the compliance (one nominal value for both modes) is set so that the mean coning rate at the
+  500 Hz dwell and the paper-unstated 2 g equals ``visibility`` x sigma_10 on the MEDIAN unit of
+  the population (the paper shows one unit: we read it as a typical one, not as the nominal
+  parameter set, whose bias is not the typical bias because the bias is a nonlinear function of
+  the drawn mode frequencies). The population is the unit-to-unit law of
+  :meth:`~.config.FogSpec.draw_mount` (:func:`mount_factors`: each mode's frequency
+  x (1 + ``frequency_spread`` N(0, 1)), its compliance x exp(``compliance_spread`` N(0, 1))),
+  drawn ``population_draws`` times from ``population_seed``. sigma_10 is the expected standard
+  deviation of the ``scatter_blocks`` 10-s means of the steady static phase 1, which is what the
+  method claims' precondition measures (:func:`sigma_10s`: white N and flicker B, the flicker
+  part with Barnes' bias function B1, since the spread of N block means of flicker noise exceeds
+  the two-sample Allan deviation). ``visibility`` = 10 is our reading of "clearly" (assumed; the
+  paper prints no offset value).
+
+Why the median unit and the block-mean scatter (issue 26's follow-up): the earlier identification
+set the NOMINAL unit's bias to 10 x the Allan deviation at 10 s (0.042 deg/h); the precondition
+measures the standard deviation of 59 block means, 1.5 x that for this budget, and the bias at the
+dwell, which sits above both modes on their response tail, falls steeply for the units whose modes
+are drawn low or close together. With both corrected the share of the population whose bias
+exceeds 3 x sigma_10 is :attr:`Identification.share_above_margin` (a closed-form prediction over
+the drawn mounts; the run measures it on its units). The spreads are not changed: they are
+assumed (no source) and no spread is tuned to raise that share.
 
 :data:`IDENTIFIED` is the result, frozen with its inputs; ``tests/scenarios/test_fog_vibration.py``
 re-runs :func:`identify` on them. The claims it calibrates (fig. 3's band, fig. 7's offset) are
@@ -43,6 +61,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim.mount_coning import MountConing, RockingMode
 
@@ -51,8 +70,10 @@ __all__ = [
     "Identification",
     "IdentificationInputs",
     "RECORD_CROSSOVERS",
+    "block_mean_bias",
     "crossover_tau_s",
     "identify",
+    "mount_factors",
     "required_record_s",
     "sigma_10s",
     "swept_bias_record_s",
@@ -82,6 +103,12 @@ class IdentificationInputs:
     acceleration_g: float
     visibility: float
     block_s: float
+    scatter_blocks: int  # 10-s blocks of the steady static phase 1 (600 s less the 5 s guard at each end)
+    frequency_spread: float  # FogSpec.mode_frequency_spread (assumed)
+    compliance_spread: float  # FogSpec.coupling_spread (assumed)
+    population_draws: int
+    population_seed: int
+    margin: float  # the method claims' precondition (claims.PRECONDITION_MARGIN)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -91,7 +118,9 @@ class Identification:
     inputs: IdentificationInputs
     compliance_rad_per_m_s2: float
     sigma_10s_deg_h: float
-    dwell_bias_deg_h: float
+    dwell_bias_deg_h: float  # the median unit's |bias| at the dwell = visibility x sigma_10
+    nominal_dwell_bias_deg_h: float  # the nominal (undrawn) mount's |bias| at the dwell
+    share_above_margin: float  # share of the drawn population with |bias| > margin x sigma_10
 
     def mount(self) -> MountConing:
         i = self.inputs
@@ -102,10 +131,60 @@ class Identification:
         )
 
 
-def sigma_10s(arw_deg_sqrt_h: float, B_deg_h: float, block_s: float) -> float:
-    """Predicted std of ``block_s`` means [deg/h]: sqrt(N^2/T + (0.664 B)^2) (N in deg/h/sqrt(Hz))."""
+def block_mean_bias(n_blocks: int) -> float:
+    """Barnes' bias function B1(N, mu = 0) = N ln N / (2 (N - 1) ln 2) of flicker frequency noise.
+
+    The expected sample variance of N consecutive block means over the two-sample (Allan)
+    variance at the block length, for flicker (1/f) rate noise (J. A. Barnes, "Tables of bias
+    functions, B1 and B2, for variances based on finite samples of processes with power law
+    spectral densities", NBS Technical Note 375, 1969; NIST SP 1065, sec. 5.15); 1 for white
+    rate noise at any N. 3.0 for N = 59.
+    """
+    if isinstance(n_blocks, bool) or not isinstance(n_blocks, int) or n_blocks < 2:
+        raise ValueError(f"n_blocks must be an integer >= 2; got {n_blocks!r}")
+    n = float(n_blocks)
+    return n * math.log(n) / (2.0 * (n - 1.0) * math.log(2.0))
+
+
+def sigma_10s(arw_deg_sqrt_h: float, B_deg_h: float, block_s: float, n_blocks: int) -> float:
+    """Expected standard deviation of ``n_blocks`` consecutive ``block_s`` means [deg/h].
+
+    sqrt(N^2/T + B1(n) (0.664 B)^2) with N in deg/h/sqrt(Hz), T = ``block_s`` and B1
+    :func:`block_mean_bias` (white rate noise: N^2/T for any n; flicker: its Allan variance
+    (0.664 B)^2 at T times B1). K and R of the budget add < 0.2 % over 590 s and are left out.
+    """
     n = arw_deg_sqrt_h * 60.0  # deg/sqrt(h) -> deg/h/sqrt(Hz)
-    return math.sqrt(n**2 / block_s + (_FLICKER * B_deg_h) ** 2)
+    return math.sqrt(n**2 / block_s + block_mean_bias(n_blocks) * (_FLICKER * B_deg_h) ** 2)
+
+
+def mount_factors(
+    rng: np.random.Generator, frequency_spread: float, compliance_spread: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """One drawn mount's factors on the nominal modes (x, y): frequencies x clip(1 + s N(0, 1), 0.5, 1.5),
+    compliances x exp(sigma N(0, 1)); the unit-to-unit law of :meth:`~.config.FogSpec.draw_mount`."""
+    fs = np.clip(1.0 + frequency_spread * rng.standard_normal(2), 0.5, 1.5)
+    cs = np.exp(compliance_spread * rng.standard_normal(2))
+    return fs, cs
+
+
+def _population_per_c2(i: IdentificationInputs) -> np.ndarray:
+    """|mean coning rate| [deg/h] at the dwell of ``population_draws`` drawn mounts whose nominal
+    compliance is 1 rad/(m/s^2) (the rate scales as the nominal compliance squared)."""
+    rng = np.random.default_rng(i.population_seed)
+    draws = [mount_factors(rng, i.frequency_spread, i.compliance_spread) for _ in range(i.population_draws)]
+    fs = np.array([d[0] for d in draws])
+    cs = np.array([d[1] for d in draws])
+    x = RockingMode(frequency=i.f_low_hz, quality=i.quality, compliance=1.0)
+    y = RockingMode(frequency=i.f_high_hz, quality=i.quality, compliance=1.0)
+
+    def resp(f0: np.ndarray, c: np.ndarray, q: float) -> np.ndarray:
+        return c * f0**2 / (f0**2 - i.dwell_hz**2 + 1j * i.dwell_hz * f0 / q)
+
+    hx = resp(x.frequency * fs[:, 0], cs[:, 0], x.quality)
+    hy = resp(y.frequency * fs[:, 1], cs[:, 1], y.quality)
+    a = units.g(i.acceleration_g)
+    rate = 0.5 * a**2 * 2.0 * math.pi * i.dwell_hz * np.imag(hx * np.conj(hy))  # MountConing.mean_rate
+    return np.abs(units.to_deg_per_h(rate))
 
 
 def crossover_tau_s(term: str, i: IdentificationInputs) -> float:
@@ -165,18 +244,26 @@ def swept_bias_record_s(
 
 
 def identify(i: IdentificationInputs) -> Identification:
-    """Compliance of the two mount modes such that the mean coning rate at the dwell equals
-    ``visibility`` x sigma_10 (module docstring); the rate scales as the compliance squared."""
-    unit_mount = MountConing(
-        x=RockingMode(frequency=i.f_low_hz, quality=i.quality, compliance=1.0),
-        y=RockingMode(frequency=i.f_high_hz, quality=i.quality, compliance=1.0),
-    )
-    a = units.g(i.acceleration_g)
-    per_c2 = abs(float(units.to_deg_per_h(unit_mount.mean_rate(i.dwell_hz, a))))
-    s10 = sigma_10s(i.arw_deg_sqrt_h, i.B_deg_h, i.block_s)
+    """Nominal compliance of the two mount modes such that the MEDIAN drawn unit's mean coning rate at
+    the dwell equals ``visibility`` x sigma_10 (module docstring); the rate scales as the compliance
+    squared, so c = sqrt(target / median(|rate| per unit compliance^2))."""
+    s10 = sigma_10s(i.arw_deg_sqrt_h, i.B_deg_h, i.block_s, i.scatter_blocks)
     target = i.visibility * s10
-    c = math.sqrt(target / per_c2)
-    return Identification(inputs=i, compliance_rad_per_m_s2=c, sigma_10s_deg_h=s10, dwell_bias_deg_h=target)
+    pop = _population_per_c2(i)
+    c = math.sqrt(target / float(np.median(pop)))
+    nominal = MountConing(
+        x=RockingMode(frequency=i.f_low_hz, quality=i.quality, compliance=c),
+        y=RockingMode(frequency=i.f_high_hz, quality=i.quality, compliance=c),
+    )
+    nominal_bias = float(units.to_deg_per_h(nominal.mean_rate(i.dwell_hz, units.g(i.acceleration_g))))
+    return Identification(
+        inputs=i,
+        compliance_rad_per_m_s2=c,
+        sigma_10s_deg_h=s10,
+        dwell_bias_deg_h=target,
+        nominal_dwell_bias_deg_h=abs(nominal_bias),
+        share_above_margin=float(np.mean(pop * c**2 > i.margin * s10)),
+    )
 
 
 #: the identification's inputs (module docstring: which are read from the paper, which assumed)
@@ -193,12 +280,20 @@ INPUTS = IdentificationInputs(
     acceleration_g=2.0,
     visibility=10.0,
     block_s=10.0,
+    scatter_blocks=59,
+    frequency_spread=0.05,
+    compliance_spread=0.3,
+    population_draws=20001,
+    population_seed=26,
+    margin=3.0,
 )
 
 #: :func:`identify` on :data:`INPUTS`, frozen (re-run by the tests)
 IDENTIFIED = Identification(
     inputs=INPUTS,
-    compliance_rad_per_m_s2=1.1360833738686835e-06,
-    sigma_10s_deg_h=0.041638215915326945,
-    dwell_bias_deg_h=0.4163821591532695,
+    compliance_rad_per_m_s2=1.4180765003732615e-06,
+    sigma_10s_deg_h=0.06270015208362435,
+    dwell_bias_deg_h=0.6270015208362435,
+    nominal_dwell_bias_deg_h=0.6487405205227015,
+    share_above_margin=0.8062596870156492,
 )

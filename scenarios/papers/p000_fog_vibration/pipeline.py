@@ -14,7 +14,7 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from gyrobench.analysis.allan import allan_deviation
+from gyrobench.analysis.allan import allan_deviation, avar_to_coefficient, fit_noise
 from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
 from gyrobench.analysis.metrics import segment_noise_fits
 from gyrobench.analysis.sweep import bin_means
@@ -43,6 +43,7 @@ __all__ = [
     "predict_on",
     "shortest_tau_rise",
     "split_band_coefficients",
+    "tone_free_m",
 ]
 
 
@@ -53,20 +54,61 @@ def _fit(rate_rad_s: NDArray[np.float64], fs: float, *, min_m: int = 1) -> Any:
     )["record"].fit
 
 
-def split_band_coefficients(rate_rad_s: NDArray[np.float64], fs: float, min_m: int) -> Coefficients:
-    """Q and N from the fit on the full tau range, B, K and R from the fit on tau >= min_m/fs (field units).
+def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max_m: int = 2**20) -> int:
+    """Smallest octave cluster size m [samples] at which the drive's tones leave no Allan variance.
+
+    A sine drive at f reaches an integrate-and-dump output at ``fs`` as tones at f and 2f (the
+    strain and rocking tones, the coning and rectification harmonic), each aliased to
+    f_a = |f_k - fs round(f_k / fs)|; a tone's ADEV A sin^2(pi f_a tau) / (pi f_a tau) (IEEE Std
+    952-1997, C.1) vanishes at tau = k / f_a, i.e. where m f_a / fs is a whole number. Returns the
+    smallest m = 1, 2, 4, ... <= ``max_m`` where that holds for every f_a the signal carries: nonzero
+    (a tone aliased to 0 Hz is a constant over each output interval) and below ``band_hz`` [Hz]
+    (default fs/2; a wavelet approximation a_j carries nothing above fs/2^(j+1)). 1 when no tone is
+    carried or no octave is tone-free (the fit keeps the full range). 4 for 500 Hz at 400 Hz (tones
+    at 100 and 200 Hz); 1 for a6 of that record (band 1.6 Hz).
+    """
+    top = fs / 2.0 if band_hz is None else band_hz
+    aliased = [abs(f - fs * round(f / fs)) for f in (drive_hz, 2.0 * drive_hz)]
+    aliased = [a for a in aliased if 1e-9 * fs < a <= top]
+    m = 1
+    while m <= max_m:
+        if all(abs(m * a / fs - round(m * a / fs)) < 1e-9 for a in aliased):
+            return m
+        m *= 2
+    return 1
+
+
+def split_band_coefficients(
+    rate_rad_s: NDArray[np.float64], fs: float, min_m: int, *, n_min_m: int = 1
+) -> Coefficients:
+    """Q from the fit on the full tau range, N from the fit on tau >= ``n_min_m``/fs, B, K and R from the
+    fit on tau >= min_m/fs (field units).
 
     Used for wavelet-processed signals and what they are compared with: an approximation
     A_j has no content above fs/2^(j+1), so its short-tau ADEV measures the filter (slope +1,
     read as a spurious R); the low-frequency terms are read where A_j is faithful, the
-    high-frequency terms where they live. Each entry carries its ``tau_min_s``.
+    high-frequency terms where they live. ``n_min_m`` (:func:`tone_free_m`) starts N's fit where a
+    sine drive's aliased tones leave no Allan variance: N is read from the white-noise region, as
+    the IEEE 952 read-off does, not from points the tones make a misfit of (1, or fewer than five
+    octaves from there: the full range).
+    Each entry carries its ``tau_min_s`` and the fit's point value ``fit_value`` (set also for a
+    term the record does not identify).
     """
-    full = coefficients_json(_fit(rate_rad_s, fs))
-    low = coefficients_json(_fit(rate_rad_s, fs, min_m=min_m))
+    y = np.asarray(rate_rad_s, dtype=float)
+    octaves = [2**k for k in range(64) if 2**k <= y.size // 4]
+    curve = allan_deviation(y, fs, taus=np.array(octaves, dtype=float) / fs)
+    if sum(m >= n_min_m for m in octaves) < len(TERMS):  # too few tone-free octaves for the fit: full range
+        n_min_m = 1
+    fits = {"Q": fit_noise(curve), "low": _fit(y, fs, min_m=min_m)}
+    fits["N"] = fit_noise(curve, tau_min=n_min_m / fs) if n_min_m > 1 else fits["Q"]
+    tables = {k: coefficients_json(f) for k, f in fits.items()}
     out = {}
     for t in TERMS:
-        d = dict(full[t] if t in ("Q", "N") else low[t])
-        d["tau_min_s"] = 1.0 / fs if t in ("Q", "N") else min_m / fs
+        k = t if t in ("Q", "N") else "low"
+        d = dict(tables[k][t])
+        d["tau_min_s"] = {"Q": 1, "N": n_min_m}.get(t, min_m) / fs
+        # the fit's point value whether or not the term is identifiable (what a table of the fit prints)
+        d["fit_value"] = units.coefficient_to_field(t, avar_to_coefficient(t, fits[k].avar_coefficients[t]))
         out[t] = d
     return Coefficients.from_mapping(out)
 

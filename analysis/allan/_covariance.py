@@ -313,8 +313,11 @@ def _finite_record_delta_cached(
     big = _n_terms("overlapping", n, ms).astype(float)
     bi, bj = big[ii] / k, big[jj] / k
     # the distinct kernel pairs (a, b), (a, a), (b, b); their lag covariances once each
-    keys = np.concatenate([np.stack([a, b], 1), np.stack([a, a], 1), np.stack([b, b], 1)])
-    uk, inv = np.unique(keys, axis=0, return_inverse=True)
+    # (a pair (a, b) encoded as a * base + b: np.unique over rows (axis=0) cost ~0.5 ms here)
+    base = int(max(int(a.max()), int(b.max()))) + 1
+    codes = np.concatenate([a * base + b, a * base + a, b * base + b])
+    uc, inv = np.unique(codes, return_inverse=True)
+    uk = np.stack([uc // base, uc % base], axis=1)
     inv = inv.reshape(-1)
     r, h = _lag_covariances(ua, uk[:, 0], uk[:, 1], _FIN_GRID)  # (keys, T, grid)
     p = ii.size

@@ -25,6 +25,7 @@ from gyrobench.analysis.allan._covariance import (
     _quantization_kurtosis_rho,
     _ramp_cross_sd,
     _rho_blocks,
+    _stack_rho,
 )
 from gyrobench.analysis.allan._curve import allan_deviation
 from gyrobench.analysis.allan._goodness import _goodness
@@ -429,7 +430,9 @@ def _fit_core(
     ms = curve.m[used]
     nu = nu_all[used]  # edf of each point for each term's noise type, nu[i, j]
     sel = np.ix_(used, used)
-    rho = {k: r[sel] for k, r in rho_all.items()}
+    rho_sel = {k: r[sel] for k, r in rho_all.items()}
+    stacked = _stack_rho(rho_sel, len(terms))
+    rho = rho_sel if stacked is None else stacked
     noise = np.array([TERM[t].random for t in terms])  # the ramp is deterministic (see _ramp_cross_sd)
 
     def point_covariance(c: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -485,7 +488,7 @@ def _reweight(
     v = np.diag(var)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 - the count is returned
-        c_new = _wnnls(x, a, var)
+        c_new = _wnnls(x, a, var, passive=c > 0 if it > 1 else None)
         done = np.allclose(c_new, c, rtol=1e-9, atol=0.0)
         c = c_new
         v_new = point_covariance(c)

@@ -116,6 +116,21 @@ def test_enumerated_nnls_matches_scipy(seed):
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.parametrize("seed", range(40))
+def test_nnls_passive_guess_gives_the_same_minimiser(seed):
+    """A guessed positive set (right, wrong, empty or full) never changes the NNLS answer, only its cost."""
+    g = np.random.default_rng(seed)
+    rows, k = int(g.integers(6, 40)), int(g.integers(1, 6))
+    a = g.standard_normal((rows, k)) * np.exp(g.uniform(-3, 3, k))
+    a /= np.linalg.norm(a, axis=0)
+    b = g.standard_normal(rows)
+    cold = _nnls._nnls_enumerate(a, b)
+    for guess in (cold > 0, g.random(k) < 0.5, np.zeros(k, dtype=bool), np.ones(k, dtype=bool)):
+        got = _nnls._nnls_enumerate(a, b, guess)
+        assert np.array_equal(got == 0, cold == 0)
+        np.testing.assert_allclose(got, cold, rtol=1e-12, atol=1e-15)
+
+
 def test_plain_rows_parse_like_loadtxt(rng):
     x = rng.standard_normal((500, 3)) * np.array([1e-9, 1.0, 1e6])
     body = "\n".join(",".join(f"{v:.17g}" for v in row) for row in x)

@@ -10,6 +10,7 @@ misfitting first points are dropped (:func:`_drop_misfitting_first_points`).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -397,10 +398,8 @@ def _drop_misfitting_first_points(
     than the chi2(1) quantile at the smaller of the misfit level and :data:`DROP_P` (the point is
     an outlier of the model there).
     """
-    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
-
     level = min(misfit_p, DROP_P)
-    gain = float(chi2_isf(level, 1.0)) if level > 0 else math.inf
+    gain = _chi2_1_isf(level) if level > 0 else math.inf
     used = fit.used
     while fit.misfit and int(used.sum()) > len(terms) + 1:
         trial = used.copy()
@@ -410,6 +409,14 @@ def _drop_misfitting_first_points(
             break
         used, fit = trial, fit2
     return fit
+
+
+@functools.lru_cache(maxsize=8)
+def _chi2_1_isf(level: float) -> float:
+    """The chi2(1) quantile exceeded with probability ``level`` (once per level and process: ~3 ms each)."""
+    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
+
+    return float(chi2_isf(level, 1.0))
 
 
 def _fit_core(

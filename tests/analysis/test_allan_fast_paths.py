@@ -142,7 +142,11 @@ def test_plain_rows_parse_like_loadtxt(rng):
 
 @pytest.mark.parametrize(
     "body",
-    ["1,2\n3,", "1,2\n3,x", "1,,2\n3,4", "1,2\n\n3,4", "1 2,3\n4,5", "1,2\n3,4e"],
+    [
+        "1,2\n3,", "1,2\n3,x", "1,,2\n3,4", "1,2\n\n3,4", "1 2,3\n4,5", "1,2\n3,4e",
+        # a cell split by whitespace and an empty cell elsewhere: the token count would add up
+        "1 2,3\n,5", "1\t2,3\n4,", ",1\n2 3", "1,2\n3,4 5\n,6",
+    ],
 )
 def test_plain_rows_refuse_what_loadtxt_would_refuse(body):
     n_rows = body.count("\n") + 1

@@ -313,8 +313,8 @@ def _edf(kind: str, alpha: NDArray[np.int64], ms: NDArray[np.int64], n: int) -> 
             for a in np.unique(alpha):
                 sel = alpha == a
                 out[sel] = stat.edf_many(int(a), ms[sel], n)
-        for i in np.flatnonzero(~(np.isfinite(out) & (out > 0))):
-            out[i] = _edf_one(kind, int(alpha[i]), int(ms[i]), n)
+        for j in np.flatnonzero(~(np.isfinite(out) & (out > 0))):
+            out[j] = _edf_one(kind, int(alpha[j]), int(ms[j]), n)
         return out
     cache: dict[tuple[int, int], float] = {}
     for i, (a, m) in enumerate(zip(alpha, ms, strict=True)):

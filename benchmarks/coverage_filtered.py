@@ -10,7 +10,8 @@ Measured (2026-11-27, 200 seeds 1000-1199): no filter 195/200 covered (97.5 %), 
 median N / truth 0.999; moving average 143/200 (71.5 %), 86 misfits, median 0.947 (the kept short
 taus still carry the filter's deficit 3 c / (2 tau), which biases N low beyond its widened
 interval). With ``bandwidth=2.77`` the rule keeps 5 octaves (20-330 s) for 5 terms: nothing is
-identifiable (measured on 100 seeds).
+identifiable (measured on 100 seeds). Re-measured 2026-11-27 after the speed work of issue 30:
+the same counts (195/200 and 143/200, 86 misfits).
 
 Run: ``python benchmarks/coverage_filtered.py [--seeds 200] [--bandwidth HZ]``.
 """

@@ -244,7 +244,7 @@ def analyse(
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
     options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
     fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, nonstationary=moving, **options)
-    # an open term's bound never below what a half or a quarter of the record identifies (issue 30)
+    # an open term's bound never below what a half, quarter or eighth of the record identifies (issue 30)
     fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
     result = ChannelResult(
         channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,
@@ -263,7 +263,7 @@ def _pooled_fit(segments: list, **fit_options):
     (:func:`pool_curves`), None with fewer than two fitted stretches or no common taus to fit.
 
     An open term's bound is raised to the largest value a stretch identifies (as
-    :func:`floor_bounds` does with a record's halves and quarters), saying so in its note.
+    :func:`floor_bounds` does with a record's halves, quarters and eighths), saying so in its note.
     """
     from dataclasses import replace as _replace
 

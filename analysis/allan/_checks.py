@@ -25,7 +25,9 @@ def _check_rate(rate: ArrayLike) -> NDArray[np.float64]:
     if not (np.issubdtype(y.dtype, np.floating) or np.issubdtype(y.dtype, np.integer)):
         raise TypeError(f"rate must hold real numbers; got dtype {y.dtype}")
     y = np.asarray(y, dtype=np.float64)
-    step = 1 << 20  # blockwise: no N-sized boolean temporaries
+    if math.isfinite(float(np.sum(y))):  # a nan or inf anywhere makes the sum non-finite
+        return y
+    step = 1 << 20  # blockwise: no N-sized boolean temporaries (and exact where a finite sum overflowed)
     for a in range(0, y.size, step):
         finite = np.isfinite(y[a : a + step])
         if not finite.all():

@@ -33,11 +33,16 @@ def deviation_bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confide
     """(low, high): two-sided ``confidence`` bounds of Allan-family deviations ``dev`` with ``edf``
     equivalent degrees of freedom, from the chi-square law (NIST SP 1065 eq. 45;
     allantools.ci.confidence_interval, vectorised)."""
-    from gyrobench.analysis.allan._chi2 import chi2_isf, chi2_ppf  # numpy only: no scipy.special import
+    from gyrobench.analysis.allan._chi2 import gammaincinv_pq  # numpy only: no scipy.special import
 
     p = (1.0 - confidence) / 2.0
-    lo = dev * np.sqrt(edf / chi2_isf(p, edf))
-    hi = dev * np.sqrt(edf / chi2_ppf(p, edf))
+    edf = np.asarray(edf, dtype=float)
+    # both quantiles in one solve: chi2_isf(p, edf) (upper tail) then chi2_ppf(p, edf)
+    half = np.concatenate((edf.ravel(), edf.ravel())) / 2.0
+    upper = np.repeat([True, False], edf.size)
+    q = 2.0 * gammaincinv_pq(half, p, upper=upper)
+    lo = dev * np.sqrt(edf / q[: edf.size].reshape(edf.shape))
+    hi = dev * np.sqrt(edf / q[edf.size :].reshape(edf.shape))
     return lo, hi
 
 

@@ -10,6 +10,7 @@ misfitting first points are dropped (:func:`_drop_misfitting_first_points`).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -25,6 +26,7 @@ from gyrobench.analysis.allan._covariance import (
     _quantization_kurtosis_rho,
     _ramp_cross_sd,
     _rho_blocks,
+    _stack_rho,
 )
 from gyrobench.analysis.allan._curve import allan_deviation
 from gyrobench.analysis.allan._goodness import _goodness
@@ -396,10 +398,8 @@ def _drop_misfitting_first_points(
     than the chi2(1) quantile at the smaller of the misfit level and :data:`DROP_P` (the point is
     an outlier of the model there).
     """
-    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
-
     level = min(misfit_p, DROP_P)
-    gain = float(chi2_isf(level, 1.0)) if level > 0 else math.inf
+    gain = _chi2_1_isf(level) if level > 0 else math.inf
     used = fit.used
     while fit.misfit and int(used.sum()) > len(terms) + 1:
         trial = used.copy()
@@ -409,6 +409,14 @@ def _drop_misfitting_first_points(
             break
         used, fit = trial, fit2
     return fit
+
+
+@functools.lru_cache(maxsize=8)
+def _chi2_1_isf(level: float) -> float:
+    """The chi2(1) quantile exceeded with probability ``level`` (once per level and process: ~3 ms each)."""
+    from gyrobench.analysis.allan._chi2 import chi2_isf  # numpy only: no scipy.special import
+
+    return float(chi2_isf(level, 1.0))
 
 
 def _fit_core(
@@ -429,7 +437,9 @@ def _fit_core(
     ms = curve.m[used]
     nu = nu_all[used]  # edf of each point for each term's noise type, nu[i, j]
     sel = np.ix_(used, used)
-    rho = {k: r[sel] for k, r in rho_all.items()}
+    rho_sel = {k: r[sel] for k, r in rho_all.items()}
+    stacked = _stack_rho(rho_sel, len(terms))
+    rho = rho_sel if stacked is None else stacked
     noise = np.array([TERM[t].random for t in terms])  # the ramp is deterministic (see _ramp_cross_sd)
 
     def point_covariance(c: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -485,7 +495,7 @@ def _reweight(
     v = np.diag(var)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 - the count is returned
-        c_new = _wnnls(x, a, var)
+        c_new = _wnnls(x, a, var, passive=c > 0 if it > 1 else None)
         done = np.allclose(c_new, c, rtol=1e-9, atol=0.0)
         c = c_new
         v_new = point_covariance(c)

@@ -30,6 +30,19 @@ _FUSE_BLOCK = 1 << 17
 _RESIDUE_MIN = 1 << 18
 
 
+def _fuse_block(n: int) -> int:
+    """Values of k per block of the fused passes for n samples: about n/16, from 2^15 to _FUSE_BLOCK.
+
+    The block buffers are fresh memory on every call, and on a virtual machine each page's first
+    touch costs ~1-3 us: two 1 MB buffers (the 2^17 block) were ~500 page faults, more than the
+    halo's recomputation saves on a short record (a 2e5-sample curve measured 4000 faults and
+    ~16 ms CPU with 2^17-value blocks, ~930 faults and ~11 ms with 2^15, on a fresh process;
+    1e6 samples ran best at 2^16). Long records keep 2^17 (halo overhead 3 %).
+    """
+    top = 1 << max(n - 1, 1).bit_length()  # the power of two >= n
+    return min(_FUSE_BLOCK, max(1 << 15, top >> 4))
+
+
 def _phase(y: NDArray[np.float64]) -> NDArray[np.float64]:
     """Integrated rate x_k = sum_{i<k} (y_i - mean y), x_0 = 0, in units of rate*sample (N + 1 points).
 
@@ -89,7 +102,7 @@ def _first_pass(
 ) -> list[float]:
     """The first octaves m = 1, 2, .., M/2 (``levels``) for k in [lo, hi), in one pass over ``y``.
 
-    Block by block (_FUSE_BLOCK values of k plus a halo of M - 1 samples, in cache):
+    Block by block (:func:`_fuse_block` values of k plus a halo of M - 1 samples, in cache):
     S_1 = y - mean, then per level sum D_m[k]^2 (where ``sums``), the block means
     ``ids[m][j] = S_m[j m]`` that fall in the block, and S_2m[k] = S_m[k] + S_m[k+m] into
     the other buffer. Every S_m value is the same sum, in the same order, as the one-octave
@@ -99,11 +112,12 @@ def _first_pass(
     n = y.size
     big = 2 * levels[-1]  # M
     halo = big - 1  # S_M[k] and every D_m[k], m <= M/2, read y[k .. k + M - 1]
-    cur = np.empty(min(_FUSE_BLOCK, hi - lo) + halo)
+    blk = _fuse_block(n)
+    cur = np.empty(min(blk, hi - lo) + halo)
     nxt = np.empty_like(cur)
     acc = [0.0] * len(levels)
-    for a in range(lo, hi, _FUSE_BLOCK):
-        b = min(hi, a + _FUSE_BLOCK)
+    for a in range(lo, hi, blk):
+        b = min(hi, a + blk)
         size = min(n, b + halo) - a  # u[i] = S_m[a + i] for i < size
         u, v = cur, nxt
         np.subtract(y[a : a + size], mean, out=u[:size])
@@ -155,7 +169,8 @@ def _later_pass(
     runs, hi, tail = job
     n = s_arr.size
     acc = [0.0] * g
-    width = min(_FUSE_BLOCK, max(b - a for a, b in runs))
+    blk = _fuse_block(n)
+    width = min(blk, max(b - a for a, b in runs))
     d = np.empty(width)
     tree = [[np.empty(width) for _ in range(1 << (g - lv))] for lv in range(1, g)]
 
@@ -167,8 +182,8 @@ def _later_pass(
         return np.concatenate((s_arr[p:hi], tail[: p + c - hi]))
 
     for r0, r1 in runs:
-        for a in range(r0, r1, _FUSE_BLOCK):
-            b = min(r1, a + _FUSE_BLOCK)
+        for a in range(r0, r1, blk):
+            b = min(r1, a + blk)
             ends = [min(b, n + 1 - 2 * (m << lv)) - a for lv in range(g)]  # D terms per level
             # T_l[i] is needed for k < a + ends[l + bit_length(i) - 1] (i = 0 like i = 1)
             need = [
@@ -391,14 +406,18 @@ def _octave_overlapping(
         finish(levels, _map(lambda r: fn(*r), segs))
         for k in levels:
             if identify and k in want:
-                alpha[k] = _noise_id_blocks(ids[k] / k, 2) if k in ids else None
+                if k in ids:
+                    ids[k] /= k  # the block means (in place: ids is ours, and n-sized temporaries fault)
+                    alpha[k] = _noise_id_blocks(ids[k], 2, overwrite=True)
+                else:
+                    alpha[k] = None
 
         if streamed:
             accs, ids_late = _later_streamed(y, mean, m, top, want, identify, ssq)
             later = sorted(accs)
             finish(later, [[accs[k] for k in later]])
             for k, z in ids_late.items():
-                alpha[k] = _noise_id_blocks(z / k, 2) if z is not None else None
+                alpha[k] = _noise_id_blocks(z / k, 2, overwrite=True) if z is not None else None
             m = 2 * top  # done
         while m <= top:
             assert s_arr is not None  # allocated by the first pass whenever m <= top
@@ -415,7 +434,7 @@ def _octave_overlapping(
                     z = s_arr[: nb * mm : m].reshape(nb, 1 << lv)  # S_m[j mm + i m]
                     while z.shape[1] > 1:  # the pass's sum tree: S_mm[j mm], bit for bit
                         z = z[:, 0::2] + z[:, 1::2]
-                    alpha[mm] = _noise_id_blocks(z[:, 0] / mm, 2)
+                    alpha[mm] = _noise_id_blocks(z[:, 0] / mm, 2, overwrite=True)
             sums = [mm in want for mm in levels]
             fn = partial(_later_pass, s_arr, m, g, sums, (m << g) <= top, ssq)
             finish(levels, _map(fn, _later_jobs(s_arr, m, g, n + 1 - 2 * m)))

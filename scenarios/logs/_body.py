@@ -84,16 +84,29 @@ def _read_gzip(path: Path) -> bytearray:
 
 
 def _head_lines(text: str) -> tuple[list[str], bool]:
-    """The first :data:`HEAD_LINES` lines of ``text`` and whether they are all of it."""
-    parts = text.split("\n", HEAD_LINES)
-    if len(parts) <= HEAD_LINES:
-        return parts, True
-    return parts[:HEAD_LINES], False
+    """The first :data:`HEAD_LINES` lines of ``text`` and whether they are all of it.
+
+    As ``text.split("\n", HEAD_LINES)`` without making its last part, the rest of the text
+    (a copy of the whole body: ~30 ms on a 28 MB file, as much again in fresh pages).
+    """
+    pos = -1
+    for _ in range(HEAD_LINES):
+        pos = text.find("\n", pos + 1)
+        if pos < 0:
+            return text.split("\n"), True
+    return text[:pos].split("\n"), False
 
 
 def _body_of(text: str, head: list[str], first: int) -> str:
-    """The text from line ``first`` (0-based, within ``head``) on."""
-    return text[sum(len(ln) + 1 for ln in head[:first]) :]
+    """The text from line ``first`` (0-based, within ``head``) on, without its trailing line ends.
+
+    One slice: the trailing "\n" are left out of it rather than stripped from a copy.
+    """
+    start = sum(len(ln) + 1 for ln in head[:first])
+    end = len(text)
+    while end > start and text[end - 1] == "\n":
+        end -= 1
+    return text[start:end]
 
 
 def _parse_plain(body: str, delim: str, n_rows: int, ncols: int) -> NDArray | None:

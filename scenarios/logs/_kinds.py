@@ -78,7 +78,7 @@ def axis_like(name: str) -> bool:
 def gravity_like(x: NDArray[np.float64]) -> str | None:
     """The unit in which the column reads 1 g ("m/s^2" or "g") when its mean is within :data:`GRAVITY_TOLERANCE`
     of it and its scatter is below that tolerance (a static accelerometer axis along gravity), else None."""
-    if x.size == 0:
+    if x.size == 0 or not np.isfinite(np.sum(x)):  # a non-finite sample is refused later, naming it
         return None
     mean = abs(float(np.mean(x)))
     spread = float(np.std(x))

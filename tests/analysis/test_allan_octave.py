@@ -57,9 +57,9 @@ def _fast(y: np.ndarray, ms: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[i
     seen: list[np.ndarray] = []
     real = _octave._noise_id_blocks
 
-    def spy(z, dmax):
+    def spy(z, dmax, **kw):
         seen.append(np.array(z))
-        return real(z, dmax)
+        return real(z, dmax, **kw)
 
     _octave._noise_id_blocks = spy
     try:

@@ -435,7 +435,7 @@ def test_adis16405_halves_intervals_overlap(source):
 def test_adis16405_open_bounds_not_below_other_segments():
     """No upper bound of the whole record's fit below what another stretch of it shows (issue 30).
 
-    :func:`floor_bounds` raises an open term's bound to the values its halves and quarters
+    :func:`floor_bounds` raises an open term's bound to the values its halves, quarters and eighths
     identify; here stretches it did not fit (the thirds, the first and last 2000 s) are fitted
     alike, and wherever they identify a term the whole record leaves open, the bound must not
     sit below that stretch's 95 % interval (bound >= its lower end: the data of the stretch

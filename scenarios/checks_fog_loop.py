@@ -43,6 +43,11 @@ __all__ = ["checks", "parts", "FALSE_ALARM"]
 
 #: false-alarm rate of each statistical check
 FALSE_ALARM = 1e-6
+#: outside references of the checks
+LEFEVRE = "H. C. Lefevre, The Fiber-Optic Gyroscope, 2nd ed. (Artech House, 2014)"
+ARDITTY = "H. J. Arditty, H. C. Lefevre, 'Sagnac effect in fiber gyroscopes', Opt. Lett. 6(8) 401 (1981)"
+STRAIN = (LEFEVRE + ", sec. 3.2 (time-varying perturbations, the (L - 2z) weighting); D. M. Shupe, Appl. Opt. "
+          "19(5) 654 (1980); elasto-optic factor: Bertholds & Dandliker, J. Lightwave Technol. 6(1) 17 (1988)")
 
 
 def _z() -> float:
@@ -67,6 +72,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
     tol = max(math.sqrt(hi) - 1, 1 - math.sqrt(lo))
     return Check(
         id="fog.loop_arw_optical_budget",
+        reference=LEFEVRE + ", sec. 5.3 (shot, excess-RIN and thermal noise of the detected signal)",
         formula="N = sqrt(S_phi/2)/SF, S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu "
         "+ S_th/((i0/2)^2 sin^2 phi_b) [rad/sqrt(s)]; reduced record 600 s at 400 Hz",
         expected=unit.arw,
@@ -98,6 +104,7 @@ def _arw_full(rng: np.random.Generator) -> Check:
     hi = stats.chi2.isf(FALSE_ALARM / 2, dof) / dof
     return Check(
         id="fog.loop_full_arw_optical_budget",
+        reference=LEFEVRE + ", sec. 5.3; second method: the full-rate loop's block sums against the reduced record",
         formula="var(block angle of M transits) = N^2 tau v(M), v(M) = sum_{|l|<M} (M-|l|) "
         "r_h(l); full-rate loop, M = 64, detector noise from the budget",
         expected=spec.arw(optics),
@@ -130,6 +137,7 @@ def _loop_response() -> list[Check]:
     return [
         Check(
             id="fog.loop_frequency_response",
+            reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="|H(e^{j w tau})|, H = G/(1+G), G = g z^-1 (1+z^-1)/2/(1-z^-1); g = 0.1, "
             "f = 3 kHz",
             expected=abs(h),
@@ -141,6 +149,7 @@ def _loop_response() -> list[Check]:
         ),
         Check(
             id="fog.loop_step_response",
+            reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="-delta_k = (h * phi)_k for a phase step phi = 1e-3 rad; largest deviation "
             "of the full loop from the linear H over 4096 transits, relative to the step",
             expected=amp,
@@ -177,6 +186,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.loop_reset_count",
+            reference=LEFEVRE + ", ch. 6 (digital phase ramp and its 2 pi resets)",
             formula="number of 2 pi resets = accumulated ramp phase / (2 pi) (+-1); noisy record, "
             f"Omega = {om} rad/s, {len(run.delta)} transits",
             expected=accumulated,
@@ -187,6 +197,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_reset_rate",
+            reference=LEFEVRE + ", ch. 6 (one reset per angle quantum n_g lambda / D); " + ARDITTY,
             formula="resets = Omega T / (angle quantum), quantum = 2 pi tau/SF = n_g lambda/D",
             expected=expected_rate,
             simulated=count,
@@ -203,6 +214,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_v2pi_scale_factor",
+            reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with the V_2pi loop on and a 2 % modulator gain error = 1",
             expected=1.0,
             simulated=float(rv.rate[-200:].mean() / om),
@@ -212,6 +224,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_blanked_reset_scale_factor",
+            reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with reset samples blanked = 1/(1 + eps), eps = 0.02",
             expected=1.0 / (1.0 + eps),
             simulated=float(rb.rate[200:].mean() / om),
@@ -251,6 +264,7 @@ def _strain_kernel() -> list[Check]:
     return [
         Check(
             id="fog.strain_uniform_zero",
+            reference=STRAIN,
             formula="dphi = (k0 n xi n_g/c) w eps0 int_0^L (L - 2z) dz = 0 for uniform strain; "
             "exact two-crossing-time integral, 500 Hz, L = 1 km; relative to the "
             "uncancelled integral of |L - 2z|",
@@ -263,6 +277,7 @@ def _strain_kernel() -> list[Check]:
         ),
         Check(
             id="fog.strain_mode_linear",
+            reference=STRAIN,
             formula="dphi amplitude = (k0 n xi n_g/c) w eps0 W, W = int (z/L)(L - 2z) dz = "
             "-L^2/6 (psi = z/L), 500 Hz",
             expected=pre * length**2 / 6,
@@ -330,6 +345,7 @@ def _strain_exact_kernel() -> list[Check]:
     return [
         Check(
             id="fog.strain_kernel_exact",
+            reference=STRAIN + "; second method: Simpson quadrature of the two-crossing-time integral",
             formula="dphi phasor = k0 n xi (jw/v) e^{-jw tau/2} W(w) eps0, W(w) = "
             "-L^2 (sin x - x cos x)/(2 x^3), x = w tau/2 (psi = z/L), 500 Hz, vs the "
             "two-crossing-time integral; |difference| / |phasor|",
@@ -342,6 +358,7 @@ def _strain_exact_kernel() -> list[Check]:
         ),
         Check(
             id="fog.strain_reduced_vs_full_loop",
+            reference=STRAIN + "; second method: the full-rate loop (" + LEFEVRE + ", ch. 6)",
             formula="reduced form with the exact strain kernel vs the full-rate loop driven by "
             "the exact strain phase (psi = z/L, 500 Hz, 1e-3 rad/s); largest output "
             "difference / amplitude",
@@ -398,6 +415,7 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.vibration_strain_tone",
+            reference=STRAIN,
             formula="tone = K kappa W w a |H_k(f)| |H(f)| sinc(f/fs), K = n_g n xi/(L D); "
             "150 Hz, 2 g, mode 300 Hz Q 30; reduced record at 400 Hz",
             expected=float(cf),
@@ -408,6 +426,10 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.vibration_reduced_vs_full_loop",
+            reference=(
+                "second method: the full-rate loop, transit by transit (" + LEFEVRE +
+                ", ch. 6), against the reduced form"
+            ),
             formula="reduced form (H, integrate-and-dump sinc, block centres) vs the full-rate "
             "loop for a 500 Hz rate tone of 1e-3 rad/s; largest output difference / amplitude",
             expected=amp,
@@ -445,6 +467,10 @@ def _random_vibration(rng: np.random.Generator) -> Check:
     y = rec["truth/strain_nonreciprocity"]
     return Check(
         id="fog.vibration_random_psd_variance",
+        reference=(
+            "J. S. Bendat, A. G. Piersol, Random Data: Analysis and Measurement Procedures (Wiley): "
+            "mean-square estimate of a Gaussian process, nu = 2 B_e T; NAVMAT P-9492 (1979) spectrum; " + STRAIN
+        ),
         formula="var(strain error samples) = int |G(f)|^2 S_a(f) df, G = K kappa jw H_k(f) "
         "e^{-jw tau/2} W(w) H(e^{jw tau}) sinc(f/fs) summed over modes; NAVMAT P-9492 "
         f"random vibration ({rv.grms:.2f} grms, 20-2000 Hz), 60 s at fs = 100 Hz (aliased)",
@@ -482,6 +508,10 @@ def _rectification() -> Check:
     closed = float(np.real(m0 * np.exp(1j * th) * np.conj(p_res))) / (2 * spec.scale_factor)
     return Check(
         id="fog.vibration_rectification_full_loop",
+        reference=(
+            "second method: the full nonlinear loop (" + LEFEVRE +
+            ", ch. 6) with a loss modulation, against the mean of the product of two tones"
+        ),
         formula="bias = m phi_res cos(theta)/(2 SF) = Re(M conj(P))/(2 SF), P = SF Omega_v "
         "(1 - H(f)): full nonlinear loop with loss modulation m = 1e-2 at 500 Hz, rate tone "
         "0.05 rad/s",
@@ -514,6 +544,7 @@ def _shot(ob, lam: float, rng: np.random.Generator) -> Check:
     lo, hi = stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof) / dof
     return Check(
         id="fog.optical_budget_shot",
+        reference="W. Schottky, Ann. Phys. 362(23) 541 (1918): shot noise 2 q i; q from CODATA 2018",
         formula="shot-noise current PSD at phi_b = pi/2: the budget's 2 q i_b against a "
         "photocurrent of Poisson photo-electron counts at the rate i_b/q (Schottky 1918; "
         "q from CODATA 2018) [A^2/Hz]",
@@ -564,6 +595,10 @@ def _rin(ob, lam: float, rng: np.random.Generator) -> Check:
     mean_err = 2 * _z() / math.sqrt(n * _RIN_WIDTH)
     return Check(
         id="fog.optical_budget_rin",
+        reference=(
+            "J. W. Goodman, Statistical Optics (Wiley, 1985), sec. 9.2-9.3: intensity fluctuations of "
+            "polarized thermal light"
+        ),
         formula="excess-RIN current PSD at phi_b = pi/2: the budget's i_b^2 x 2/dnu_eff against "
         "i_b^2 x (measured RIN x dnu of simulated polarised thermal light) / dnu_eff, "
         f"dnu_eff = c dlambda/lambda^2 = {dnu:.4g} Hz (Goodman 1985, sec. 9.2) [A^2/Hz]",
@@ -590,6 +625,10 @@ def _johnson(ob) -> Check:
     tol = (1.35 / 1.3) ** 2 - 1 + abs(ob.temperature / 295.0 - 1) + 295.0 / 290.0 - 1
     return Check(
         id="fog.optical_budget_johnson",
+        reference=(
+            "P. Horowitz, W. Hill, The Art of Electronics, 3rd ed. (Cambridge Univ. Press, 2015), sec. "
+            "8.1.1: Johnson noise of 10 kOhm"
+        ),
         formula="feedback-resistor current noise 4 k_B T/R_f against Horowitz & Hill's printed "
         "1.3 uV rms for 10 kOhm in 10 kHz at room temperature, scaled to R_f "
         f"= {ob.feedback_resistance:g} Ohm [A^2/Hz]",

@@ -86,6 +86,15 @@ OPEN_RATES_DPS = (0.0, 500.0, 2000.0, 6000.0)
 RESPONSE_FREQS_HZ = (20.0, 200.0, 500.0, 800.0)
 RESPONSE_FS = 1e5
 
+#: outside references of the checks (docstring of :mod:`gyrobench.sim.mems_resonator`)
+LELAND = "R. P. Leland, 'Mechanical-thermal noise in MEMS gyroscopes', IEEE Sensors J. 5(3) 493 (2005)"
+ACAR_SHKEL = "C. Acar, A. Shkel, MEMS Vibratory Gyroscopes (Springer, 2009), ch. 2"
+SAUKOSKI = ("M. Saukoski, System and circuit design for a capacitive MEMS gyroscope, Helsinki Univ. of "
+            "Technology doctoral thesis (2008), ch. 2-3")
+KAAJAKARI = "V. Kaajakari, Practical MEMS (Small Gear Publishing, 2009), ch. 6-7"
+SECOND_FULL = ("second method: fixed-step RK4 of the full rotating-frame equations of motion with the "
+               "carrier (" + ACAR_SHKEL + ")")
+
 
 def rk4_tolerance(unit: MemsResonator, steps_per_cycle: int = STEPS_PER_CYCLE) -> float:
     """3 (w dt)^4 / 120: RK4's relative frequency error, carried by three observables."""
@@ -155,6 +164,7 @@ def _arw_check(rng: np.random.Generator) -> Check:
     tol = max(1 - math.sqrt(lo), math.sqrt(hi) - 1) + bias
     return Check(
         id="mems.brownian_arw",
+        reference=LELAND,
         formula="N_B = sqrt(k_B T c_y) / (m w X0) = sqrt(k_B T w_y/(m Q_y)) / (w X0) [rad/sqrt(s)]",
         expected=brownian_arw(unit),
         simulated=n_hat,
@@ -193,6 +203,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.low_rate_scale_factor",
+            reference=SECOND_FULL + "; closed form (force rebalance, demodulation phase): " + SAUKOSKI,
             formula="SF = s_trim (w/w0) (G0/G) cos(theta) [-] (full integration, 0 and 1000 deg/s)",
             expected=sf_closed,
             simulated=float(sf_full),
@@ -201,6 +212,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.quadrature_rejection",
+            reference=SECOND_FULL + "; closed form (quadrature through the demodulation phase error): " + SAUKOSKI,
             formula="Omega_hat(0) = SF (c_yx/(2m) - Omega_q tan(theta)) [rad/s]; error / Omega_q",
             expected=zro,
             simulated=float(full[0]),
@@ -210,6 +222,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.rate_authority",
+            reference=SECOND_FULL + "; closed form (the feedback force range bounds the input range): " + SAUKOSKI,
             formula=(
                 "saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 "
                 "(onset SF Omega_max + Omega_hat(0)) [rad/s]"
@@ -221,6 +234,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.drive_amplitude",
+            reference=SECOND_FULL + "; drive amplitude control: " + SAUKOSKI,
             formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 10 ms, all rates)",
             expected=unit.drive_amplitude,
             simulated=float(np.mean(x_full)),
@@ -229,6 +243,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.sense_envelope_saturated",
+            reference=SECOND_FULL + " against the averaged slow flow",
             formula=(
                 "complex sense envelope B at 6000 deg/s (rebalance saturated), "
                 "|B_full - B_slow| / |B_slow| [m]"
@@ -242,6 +257,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.g_sensitivity",
+            reference=SECOND_FULL + "; closed form (parallel-plate electrostatic spring): " + KAAJAKARI,
             formula=(
                 "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), "
                 "k_e = 2 eps0 A V_b^2/g^3 "
@@ -256,6 +272,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.slow_flow_vs_full",
+            reference=SECOND_FULL + " against the averaged slow flow",
             formula="max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s) [-]",
             expected=float(slow[i]),
             simulated=float(full[i]),
@@ -324,6 +341,10 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     tol = max(1 - lo, hi - 1) + settle
     return Check(
         id="mems.slow_flow_noise_vs_full",
+        reference=(
+            SECOND_FULL + " against the slow flow; Satterthwaite, Biometrics Bull. 2(6) 110 (1946) for the "
+            "equivalent dof"
+        ),
         formula=(
             f"mean square of {NVF_BLOCKS} consecutive {NVF_BLOCK * 1e3:g}-ms output means per "
             f"independent case after {NVF_SETTLE * 1e3:g} ms, Brownian + pick-off noise, closed "
@@ -359,6 +380,10 @@ def _continuity(rng: np.random.Generator) -> Check:
     tol = (z * sd + dither_bias) / (sf * w)
     return Check(
         id="mems.zero_rate_continuity",
+        reference=(
+            "B. Widrow, I. Kollar, Quantization Noise (Cambridge Univ. Press, 2008): mean of a "
+            "quantizer with Gaussian dither; " + LELAND
+        ),
         formula="(Omega_hat(+0.1 deg/s) - Omega_hat(-0.1 deg/s))/2 = SF x 0.1 deg/s [rad/s]",
         expected=sf * w,
         simulated=half,
@@ -398,6 +423,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_scale_factor",
+            reference=SECOND_FULL + "; closed form (open-loop sense response through the receptance): " + ACAR_SHKEL,
             formula="SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c} [-] (full integration, "
                     "0 and 500 deg/s)",
             expected=low_rate_scale_factor(unit, temp),
@@ -407,6 +433,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_slow_vs_full",
+            reference=SECOND_FULL + " against the averaged slow flow, open loop",
             formula="open loop: max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s)"
                     " [-] (0-6000 deg/s, through the pick-off full-scale knee)",
             expected=float(slow[i]),
@@ -446,6 +473,10 @@ def _open_loop_response_check(rng: np.random.Generator) -> Check:
     _, f_w, e_w, t_w, _ = worst
     return Check(
         id="mems.open_loop_frequency_response",
+        reference=(
+            "second method: the exact-discretised slow flow (C. F. Van Loan, IEEE Trans. Autom. "
+            "Control 23(3) 395 (1978)) driven by sinusoidal rates against the closed-form response; " + ACAR_SHKEL
+        ),
         formula=("H(f) = [c_+ G(jW) + conj(c_- G(-jW))]/2 / Re c_0, G(s) = -p/(s - p), "
                  "c_+- ~ -j m X0 (2 w +- W) w_c R; worst of "
                  f"{', '.join(f'{x:g}' for x in RESPONSE_FREQS_HZ)} Hz, |H_sim - H| / |H| [-]"),

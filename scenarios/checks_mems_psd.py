@@ -47,6 +47,14 @@ NOISE_STEPS_PER_CYCLE = 16
 #: c_y/(2m) ~ 490 /s, so the aliased lags carry e^-660 of the variance (nothing in float64).
 _PSD_GRID = 2**12
 _PSD_ALIASES = 200
+#: outside references of the two noise-spectrum checks
+_REFERENCE = (
+    "second method: fixed-step RK4 of the full equations with the carrier against the slow flow, each "
+    "against its closed-form spectrum; Brownian force 4 k_B T c: R. P. Leland, IEEE Sensors J. 5(3) 493 "
+    "(2005); periodogram statistics: D. B. Percival, A. T. Walden, Spectral Analysis for Physical "
+    "Applications (Cambridge Univ. Press, 1993); equivalent dof: F. E. Satterthwaite, Biometrics Bull. "
+    "2(6) 110 (1946)"
+)
 
 
 def _dirichlet(x: NDArray, n_dec: int, dt: float) -> NDArray:
@@ -249,6 +257,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_noise_vs_full",
+            reference=_REFERENCE,
             formula=(
                 f"open loop, Brownian + pick-off noise: output PSD over 0-{NOISE_BAND:g} Hz, "
                 "full integration vs slow flow x rho [(rad/s)^2/Hz] "
@@ -267,6 +276,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_noise_psd_vs_full",
+            reference=_REFERENCE,
             formula=(
                 f"open loop: output PSD in {m} bands of {NOISE_BAND:g} Hz from {NOISE_BAND:g} Hz to "
                 "Nyquist (through the sense-mode peak near the mode split), full vs slow flow "

@@ -58,6 +58,10 @@ def _adler(ratio: float) -> Check:
     tol = 100.0 * (x**5 / 120.0 / (2 * math.pi) + n_steps * float(np.finfo(float).eps))
     return Check(
         id=f"rlg.adler_beat_{ratio:g}x_lock_in",
+        reference=(
+            "R. Adler, 'A study of locking phenomena in oscillators', Proc. IRE 34(6) 351 (1946); F. "
+            "Aronowitz, 'The laser gyro', in Laser Applications vol. 1 (Academic Press, 1971)"
+        ),
         formula=f"f_b = K sqrt(Omega^2 - Omega_L^2) [Hz]; K = {_K:g} /rad, Omega_L = "
         f"{_LOCK_IN_DEG_S} deg/s, "
         f"Omega = {ratio:g} Omega_L",
@@ -97,6 +101,10 @@ def _dither(rng: np.random.Generator) -> Check:
     tol = float(max(1 - lo, hi - 1))
     return Check(
         id="rlg.dither_random_walk",
+        reference=(
+            "J. E. Killpatrick, 'The laser gyro', IEEE Spectrum 4(10) (1967): random walk of a "
+            "randomly dithered ring laser gyro"
+        ),
         formula="Var(angle error after T) = N^2 T, N^2 = Omega_L^2 (1 + sigma_a^2) / (2 pi K "
         "Omega_D) [rad^2]; "
         f"400 Hz x 20 counts, sigma_a = {jitter}, T = {duration:g} s",

@@ -56,6 +56,11 @@ FALSE_ALARM = 1e-6
 Z_FALSE_ALARM = 4.8916
 #: latitude of the Earth-rate check (Beijing, docs/physics.md 8) [rad]
 LATITUDE = math.radians(39.9)
+#: outside references of the checks
+CHOW = "W. W. Chow et al., 'The ring laser gyro', Rev. Mod. Phys. 57(1) 61 (1985)"
+ARONOWITZ = "F. Aronowitz, 'The laser gyro', in Laser Applications vol. 1 (Academic Press, 1971)"
+KILLPATRICK = "J. E. Killpatrick, 'The laser gyro', IEEE Spectrum 4(10) (1967): randomized dither"
+SIEGMAN = "A. E. Siegman, Lasers (University Science Books, 1986)"
 
 
 def _hand_r_net(u: CavityRLG, strain: float, plc: float) -> complex:
@@ -118,6 +123,7 @@ def _check_lock_in(u: CavityRLG, rng: np.random.Generator) -> Check:
     tol = float(max(1 - math.sqrt(lo), math.sqrt(hi) - 1)) + quant / 2 + spread
     return Check(
         id="rlg_cavity.lock_in_backscatter",
+        reference=CHOW + "; " + ARONOWITZ + " (lock-in from the net backscatter amplitude)",
         formula="Omega_L = c lambda |sum_i r_i exp(j(2 k s_i + theta_i))| / (8 pi A) [rad/s] "
         "against the lock-in the simulated counts carry: sqrt((var(angle increment) - q^2/6)/tau) "
         f"/ n_unit, tau = {LOCK_IN_TAU:g} s",
@@ -173,6 +179,10 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
     return [
         Check(
             id="rlg_cavity.mode_hop_spacing",
+            reference=(
+                SIEGMAN + " (a ring resonates at P = n lambda) with P(T) = P0 (1 + alpha dT); alpha: SCHOTT Zerodur "
+                "datasheet (expansion classes)"
+            ),
             formula="Delta T_hop = lambda / (P alpha) [K]",
             expected=expect_sp,
             simulated=float(spacing),
@@ -186,6 +196,10 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
         ),
         Check(
             id="rlg_cavity.mode_hop_hysteresis",
+            reference=(
+                SIEGMAN + " (a ring resonates at P = n lambda): a path-length control of travel S re-acquires one "
+                "wavelength away"
+            ),
             formula="T_hop,heating - T_hop,cooling = (S - lambda) / (P alpha) [K]",
             expected=expect_h,
             simulated=float(np.mean(pairs)),
@@ -228,6 +242,7 @@ def _check_dead_band() -> Check:
     finite = 1.0 / (2.0 * (k * band * obs) ** 2)
     return Check(
         id="rlg_cavity.dead_band_width",
+        reference=CHOW + " (dithered lock-in: the dead band scales with |J_0| of the dither amplitude); " + ARONOWITZ,
         formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
         expected=band,
         simulated=edge,
@@ -256,6 +271,7 @@ def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
     n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
     return Check(
         id="rlg_cavity.no_dead_band_with_swing_dither",
+        reference=KILLPATRICK + "; " + CHOW,
         formula="mean output rate = input rate (no dead band), input = Omega_L |J_0(beta_D)| / 2",
         expected=omega,
         simulated=float(np.mean(rate)),
@@ -315,6 +331,7 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
     rel_sd = math.sqrt((kurt - 1.0 + 2.0 / (m - 1)) / m)
     return Check(
         id="rlg_cavity.dither_random_walk",
+        reference=KILLPATRICK + "; " + CHOW,
         formula=(
             "var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))"
         ),

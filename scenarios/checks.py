@@ -46,6 +46,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_coil",
     "gyrobench.scenarios.checks_mems_nonlinear",
     "gyrobench.scenarios.checks_mount_coning",
+    "gyrobench.scenarios.checks_fog_strain",
 )
 
 

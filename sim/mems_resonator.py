@@ -137,7 +137,7 @@ from typing import ClassVar
 import numpy as np
 from gyrobench.sim import units
 from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import real_number
+from gyrobench.sim._validate import real_field
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.ranges import FieldRange
 from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
@@ -179,10 +179,6 @@ __all__ = [
 
 #: vacuum permittivity [F/m] (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
-
-
-def _real(owner: str, name: str, v: object) -> float:
-    return real_number(f"{owner}.{name}", v)
 
 
 #: sigmas a datasheet's +- (or max) limit is read as: the convention of this module's cited
@@ -465,7 +461,7 @@ class MemsResonator:
         for f in fields(self):
             if f.name in ("output_bits", "readout"):
                 continue
-            v = _real("MemsResonator", f.name, getattr(self, f.name))
+            v = real_field("MemsResonator", f.name, getattr(self, f.name))
             if f.name in _POSITIVE and not v > 0:
                 raise ValueError(f"MemsResonator.{f.name} must be > 0; got {v!r}")
             if f.name in _NON_NEGATIVE and not v >= 0:
@@ -597,9 +593,9 @@ def operating_point(
     """
     if not isinstance(unit, MemsResonator):
         raise TypeError(f"unit must be a MemsResonator; got {type(unit).__name__}")
-    f_d = _real("operating_point", "drive_specific_force", drive_specific_force)
+    f_d = real_field("operating_point", "drive_specific_force", drive_specific_force)
     t0 = unit.reference_temperature
-    t = t0 if temperature is None else _real("operating_point", "temperature", temperature)
+    t = t0 if temperature is None else real_field("operating_point", "temperature", temperature)
     if not t > 0:
         raise ValueError(f"temperature must be > 0 K; got {t!r}")
     dt = t - t0
@@ -856,7 +852,7 @@ def zero_rate_output(
     (dk_yx/df) f / (2 m w) (``specific_force`` f [m/s^2] along the sense axis).
     """
     op = operating_point(unit, temperature)
-    f = _real("zero_rate_output", "specific_force", specific_force)
+    f = real_field("zero_rate_output", "specific_force", specific_force)
     u = _static_channels(op, np.zeros(1), np.zeros(1), f)[0]
     return _output_map(unit, op, np.array([u.real]))[0] + unit.turn_on_bias - unit.bias_trim
 
@@ -1049,8 +1045,8 @@ def simulate_full(
     f_d = np.broadcast_to(f_d, w0.shape).copy()
     if not (isinstance(steps_per_cycle, (int, np.integer)) and steps_per_cycle >= 16):
         raise ValueError(f"steps_per_cycle must be an integer >= 16; got {steps_per_cycle!r}")
-    duration = _real("simulate_full", "duration", duration)
-    fs = _real("simulate_full", "fs", fs)
+    duration = real_field("simulate_full", "duration", duration)
+    fs = real_field("simulate_full", "fs", fs)
     if not (duration > 0 and fs > 0):
         raise ValueError(f"duration and fs must be > 0; got {duration!r} s and {fs!r} Hz")
     if initial not in ("equilibrium", "rest"):
@@ -1734,7 +1730,7 @@ def simulate(
     reference, equal to rounding in a test).
     """
     _check_rng(rng)
-    fs = _real("simulate", "fs", fs)
+    fs = real_field("simulate", "fs", fs)
     if not fs > 0:
         raise ValueError(f"fs must be > 0 Hz; got {fs!r}")
     w = np.asarray(rate, dtype=float)
@@ -1900,7 +1896,7 @@ class MemsResonatorSpec:
         for f in fields(self):
             if f.name in ("nominal", "factory_trim"):
                 continue
-            v = _real("MemsResonatorSpec", f.name, getattr(self, f.name))
+            v = real_field("MemsResonatorSpec", f.name, getattr(self, f.name))
             if not v >= 0:
                 raise ValueError(f"MemsResonatorSpec.{f.name} must be >= 0; got {v!r}")
 
@@ -1995,7 +1991,7 @@ class MemsResonatorSpec:
                 f"got {noise_density_convention!r}"
             )
         base = MemsResonator() if nominal is None else nominal
-        rng_ = _real("from_datasheet", "range_dps", range_dps)
+        rng_ = real_field("from_datasheet", "range_dps", range_dps)
         if not rng_ > 0 or not range_margin > 0:
             raise ValueError(
                 f"range_dps and range_margin must be > 0; got {range_dps!r}, {range_margin!r}"

@@ -1199,6 +1199,7 @@ def simulate_full(
     out_bm = np.empty((n_out, k), complex)
     t = 0.0
     zero = np.zeros(k)
+    sig3 = np.array([sig_fx, sig_fy, sig_n])[:, None]
     for j in range(n_out):
         acc_ui = np.zeros(k)
         acc_uq = np.zeros(k)
@@ -1207,11 +1208,11 @@ def simulate_full(
         # e^{-jwt} = x/X_hat + j x'/(w X_hat), and a real times a complex is exact part by part
         acc_b = np.zeros((2, k))
         acc_bm = np.zeros((2, k))
-        if noise:
-            z3 = rng.standard_normal((n_dec, 3, k))
+        if noise:  # scaled once per output sample (the same products as scaling each step)
+            z3 = rng.standard_normal((n_dec, 3, k)) * sig3
         for i in range(n_dec):
             if noise:
-                fx, fy, nn = sig_fx * z3[i, 0], sig_fy * z3[i, 1], sig_n * z3[i, 2]
+                fx, fy, nn = z3[i, 0], z3[i, 1], z3[i, 2]
             else:
                 fx = fy = nn = zero
             k1 = deriv(t, s, fx, fy, nn)

@@ -1141,8 +1141,10 @@ def simulate_full(
         else:
             ffb = ffb_open
         # a_x = ((I_agc + Kp e - c_x) x' - k_x x - k_yx y - c_yx y' + 2 m Omega y' + m Omega^2 x
-        #        + m Omega' y + k_e eps_A y^2/2 - m f_d + f_x) / m, in that order
-        ax = ia + kp_a * e
+        #        + m Omega' y + k_e eps_A y^2/2 - m f_d + f_x) / m, in that order, written in place
+        # into its row of ``out`` (a + b = b + a exactly in floating point)
+        ax = np.multiply(kp_a, e, out=out[1])
+        ax += ia
         ax -= cx
         ax *= vx
         ax -= kx * x
@@ -1160,7 +1162,8 @@ def simulate_full(
         ax /= m
         # a_y = (F_fb - c_y y' - k_y y - k_yx x - c_yx x' - 2 m Omega x' + m Omega^2 y - m Omega' x
         #        - m f + k_e eps_A x y + f_y) / m, in that order
-        ay = ffb - cy * vy
+        ay = np.multiply(cy, vy, out=out[3])
+        np.subtract(ffb, ay, out=ay)
         ay -= ky * y
         ay -= kyx * x
         ay -= cyx * vx
@@ -1174,16 +1177,18 @@ def simulate_full(
         if noise:
             ay += fy
         ay /= m
-        out[0], out[1], out[2], out[3] = vx, ax, vy, ay
-        out[4] = ki_a * e
+        out[0], out[2] = vx, vy
+        np.multiply(ki_a, e, out=out[4])
         if closed:
             # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
             ym = y + n if noise else y
             pr, pi_ = ym * c_ref, -ym * s_ref
-            out[5] = kcr * pr - kci * pi_
-            out[6] = kcr * pi_ + kci * pr
+            np.multiply(kcr, pr, out=out[5])
+            out[5] -= kci * pi_
+            np.multiply(kcr, pi_, out=out[6])
+            out[6] += kci * pr
         else:  # no rebalance: the commands stay 0
-            out[5] = out[6] = 0.0
+            out[5:] = 0.0
         return out
 
     def clamp(u_i: NDArray, u_q: NDArray) -> tuple[NDArray, NDArray]:

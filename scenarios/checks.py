@@ -46,6 +46,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_coil",
     "gyrobench.scenarios.checks_mems_nonlinear",
     "gyrobench.scenarios.checks_mount_coning",
+    "gyrobench.scenarios.checks_fog_strain",
 )
 
 
@@ -69,6 +70,11 @@ class Check:
         Where the tolerance comes from: the estimator's degrees of freedom and the
         false-alarm rate for a statistical check, the discretisation order for a
         numerical one, rounding for an exact one.
+    reference : str
+        Where ``expected`` comes from outside the code: a book, paper, standard or datasheet
+        (with the chapter, section or equation where one is printed), or, for a check whose
+        point is that two methods agree, ``"second method: ..."`` naming the independent
+        method and its source. Never only a module of this package.
     scale : float, optional
         The magnitude the error is measured against when ``expected`` is 0 (or when
         the natural reference is another quantity, e.g. the uncancelled term for a
@@ -81,9 +87,12 @@ class Check:
     simulated: float
     tolerance: float
     derivation: str
+    reference: str
     scale: float | None = None
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.reference, str) and self.reference.strip()):
+            raise ValueError(f"check {self.id!r}: reference must be a non-empty string; got {self.reference!r}")
         if not (math.isfinite(self.tolerance) and self.tolerance > 0):
             raise ValueError(f"check {self.id!r}: tolerance must be finite and > 0; got {self.tolerance!r}")
         reference = abs(self.expected) if self.scale is None else abs(self.scale)
@@ -105,7 +114,8 @@ class Check:
         return bool(self.rel_error <= self.tolerance)
 
     def as_dict(self) -> dict[str, object]:
-        """The results.json form: id, formula, expected, simulated, rel_error, tolerance, passed."""
+        """The results.json form: id, formula, expected, simulated, rel_error, tolerance, its
+        derivation, reference, passed."""
         return {
             "id": self.id,
             "formula": self.formula,
@@ -114,6 +124,7 @@ class Check:
             "rel_error": self.rel_error,
             "tolerance": self.tolerance,
             "tolerance_derivation": self.derivation,
+            "reference": self.reference,
             "passed": self.passed,
         }
 

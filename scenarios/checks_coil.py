@@ -38,6 +38,11 @@ from gyrobench.sim.coil2d import winding_sequence
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
 
+#: outside references of the checks
+SHUPE = ("D. M. Shupe, 'Thermally induced nonreciprocity in the fiber-optic interferometer', "
+         "Appl. Opt. 19(5) 654 (1980)")
+MOHR = "F. Mohr, J. Lightwave Technol. 14(1) 27 (1996)"
+
 _EPS = np.finfo(float).eps
 
 
@@ -90,6 +95,10 @@ def _conduction_check() -> Check:
     richardson = abs(fine - coarse) / (3**2 - 1)
     return Check(
         id="coil.conduction_finite_cylinder",
+        reference=(
+            "H. S. Carslaw, J. C. Jaeger, Conduction of Heat in Solids, 2nd ed. (Oxford, 1959): "
+            "product of the infinite-cylinder and slab solutions"
+        ),
         formula="theta = [sum 2/(b J1(b)) J0(b r/a) e^(-b^2 Fo_r)] x [sum 4(-1)^m/((2m+1)pi) "
         "cos((2m+1)pi z/2h) e^(-((2m+1)pi/2)^2 Fo_z)]; a 10 mm, h 5 mm, k_r 0.27, k_z 0.40 "
         "W/(m K), rho c 1.7e6 J/(m^3 K), t 30 s, at the cell next to the centre",
@@ -112,6 +121,7 @@ def _uniform_check() -> Check:
     scale = float(np.sum(np.abs(w)))
     return Check(
         id="coil.zero_uniform",
+        reference=SHUPE,
         formula="sum_i ds_i (L - 2 s_i) = Int_0^L (L - 2z) dz = 0 [m^2] (uniform Tdot, any "
         "winding)",
         expected=0.0,
@@ -160,6 +170,7 @@ def _quadrupole_check() -> Check:
     scale = float(np.sum(np.abs(fm.weights * G * fm.z)))
     return Check(
         id="coil.quadrupole_axial_gradient",
+        reference=SHUPE + "; " + MOHR,
         formula="sum_layers -sigma_s sigma_z G p (2 pi r_j)^2 N (N^2 - 1)/6 [m^3 K/s per m], "
         "ideal ABBA, 40 layers x 80 turns, G = 1 K/s/m, through the node map W = P^T w",
         expected=expected,
@@ -210,6 +221,7 @@ def _radial_shupe_checks() -> list[Check]:
         checks.append(
             Check(
                 id=f"coil.shupe_radial_{winding}",
+                reference=SHUPE + "; " + MOHR,
                 formula="sum_j (+-) G r_j Lambda_j (L - 2 s_mid,j), Lambda_j = 2 pi r_j N "
                 f"[m^3 K/s per (K/s/m)]; {winding}, 40 layers x 80 turns, Tdot = G r, G = 1 K/s/m, "
                 "through the node map W = P^T w (Shupe weighting, Appl. Opt. 19 (1980) 654)",
@@ -224,6 +236,7 @@ def _radial_shupe_checks() -> list[Check]:
     checks.append(
         Check(
             id="coil.shupe_radial_cancellation_ratio",
+            reference=SHUPE + "; " + MOHR,
             formula="Shupe integral helical / quadrupolar under Tdot = G r, (r, z) coil, closed "
             "forms layer by layer",
             expected=hcf / qcf,
@@ -259,6 +272,10 @@ def _strain_checks() -> list[Check]:
     return [
         Check(
             id="coil.potted_cylinder_strain",
+            reference=(
+                "S. Timoshenko, J. N. Goodier, Theory of Elasticity, 2nd ed. (McGraw-Hill, 1951): "
+                "thick-walled and compound cylinders (Lame)"
+            ),
             formula="eps_theta(r) = alpha_p + p b^2/(E_p (c^2 - b^2)) [(1 - nu_p) + (1 + nu_p) "
             "c^2/r^2] "
             f"per K at the pack mid-radius ({common}; Timoshenko & Goodier)",
@@ -269,6 +286,10 @@ def _strain_checks() -> list[Check]:
         ),
         Check(
             id="coil.potted_cylinder_pressure",
+            reference=(
+                "S. Timoshenko, J. N. Goodier, Theory of Elasticity, 2nd ed. (McGraw-Hill, 1951): "
+                "thick-walled and compound cylinders (Lame)"
+            ),
             formula="p = (alpha_s - alpha_p) / ([(b^2 + a^2)/(b^2 - a^2) - nu_s]/E_s + "
             f"[(c^2 + b^2)/(c^2 - b^2) + nu_p]/E_p) per K ({common})",
             expected=float(p_cf),
@@ -294,6 +315,10 @@ def _modal_check() -> Check:
         x = Phi @ x + q0 * u[k] + q1 * u[k + 1]
     return Check(
         id="coil.modal_vs_expm",
+        reference=(
+            "second method: the matrix exponential of the augmented system (C. F. Van Loan, IEEE "
+            "Trans. Autom. Control 23(3) 395 (1978)) against modal first-order-hold stepping"
+        ),
         formula="housing temperature after a 50 K chamber ramp: modal FOH recursion vs "
         "expm of the augmented [[A dt, b dt, 0], [0, 0, 1], [0, 0, 0]] (Van Loan 1978) [K]",
         expected=float(x[-1]),
@@ -322,6 +347,7 @@ def _origin_check() -> Check:
     ]
     return Check(
         id="coil.drift_temperature_origin",
+        reference=SHUPE + " (the drift depends on temperature rates and differences only, not on the scale's origin)",
         formula="Omega_E(t_ref = 15 degC) - Omega_E(t_ref = 0 K) = 0 [rad/s] (only the Tdot / T x dT split "
         "moves; -10 -> 40 degC in 1 h)",
         expected=0.0,

@@ -41,6 +41,10 @@ def checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.sagnac_scale_factor",
+            reference=(
+                "E. J. Post, 'Sagnac effect', Rev. Mod. Phys. 39(2) 475 (1967): inertial-frame transit "
+                "times; c from CODATA 2018"
+            ),
             formula="SF = 2 pi c (t_cw - t_ccw)/(lambda Omega), t_cw,ccw = L/(c -+ R Omega) "
             f"(inertial-frame transit times, Post 1967) [s]; L = {c.length:g} m, "
             f"D = {c.diameter:g} m, lambda = {c.wavelength:g} m, Omega = {omega:g} rad/s",

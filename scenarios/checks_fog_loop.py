@@ -15,12 +15,9 @@
 - 2 pi resets: the count over a record equals the accumulated ramp phase / 2 pi (within one
   reset), i.e. the angle / angle quantum; the V_2pi loop removes a 2 % modulator gain error
   from the scale factor, blanked reset samples leave -eps/(1 + eps).
-- Vibration nonreciprocity: the two-crossing-time integral of a harmonic strain along the
-  fibre (no small-tau approximation) against the closed form
-  (k0 n xi n_g / c) w eps0 int psi (L - 2z) dz: 0 for uniform strain, -L^2/6 for psi = z/L;
-  the exact kernel e^{-jw tau/2} W(w) (phasor, amplitude and phase) against the same
-  integral; the reduced form with that kernel against the full loop driven by the exact
-  strain phase (the small-tau kernel's error is reported beside it).
+- The strain kernel of :mod:`gyrobench.sim.fiber_strain` itself (two-crossing-time integral,
+  exact kernel, reduced form against the full loop) is checked in
+  :mod:`gyrobench.scenarios.checks_fog_strain`.
 - Random (PSD) vibration: the mean square of the strain error samples against
   int |G(f)|^2 S_a(f) df through modes, exact kernel, loop and integrate-and-dump (aliasing
   changes the PSD, not the variance), chi-square band with nu = 2 B_e T.
@@ -39,10 +36,15 @@ import math
 import numpy as np
 from gyrobench.scenarios.checks import Check, Part, run_parts
 
-__all__ = ["checks", "parts", "FALSE_ALARM"]
+__all__ = ["checks", "parts", "FALSE_ALARM", "LEFEVRE", "STRAIN"]
 
 #: false-alarm rate of each statistical check
 FALSE_ALARM = 1e-6
+#: outside references of the checks
+LEFEVRE = "H. C. Lefevre, The Fiber-Optic Gyroscope, 2nd ed. (Artech House, 2014)"
+ARDITTY = "H. J. Arditty, H. C. Lefevre, 'Sagnac effect in fiber gyroscopes', Opt. Lett. 6(8) 401 (1981)"
+STRAIN = (LEFEVRE + ", sec. 3.2 (time-varying perturbations, the (L - 2z) weighting); D. M. Shupe, Appl. Opt. "
+          "19(5) 654 (1980); elasto-optic factor: Bertholds & Dandliker, J. Lightwave Technol. 6(1) 17 (1988)")
 
 
 def _z() -> float:
@@ -67,6 +69,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
     tol = max(math.sqrt(hi) - 1, 1 - math.sqrt(lo))
     return Check(
         id="fog.loop_arw_optical_budget",
+        reference=LEFEVRE + ", sec. 5.3 (shot, excess-RIN and thermal noise of the detected signal)",
         formula="N = sqrt(S_phi/2)/SF, S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu "
         "+ S_th/((i0/2)^2 sin^2 phi_b) [rad/sqrt(s)]; reduced record 600 s at 400 Hz",
         expected=unit.arw,
@@ -98,6 +101,7 @@ def _arw_full(rng: np.random.Generator) -> Check:
     hi = stats.chi2.isf(FALSE_ALARM / 2, dof) / dof
     return Check(
         id="fog.loop_full_arw_optical_budget",
+        reference=LEFEVRE + ", sec. 5.3; second method: the full-rate loop's block sums against the reduced record",
         formula="var(block angle of M transits) = N^2 tau v(M), v(M) = sum_{|l|<M} (M-|l|) "
         "r_h(l); full-rate loop, M = 64, detector noise from the budget",
         expected=spec.arw(optics),
@@ -130,6 +134,7 @@ def _loop_response() -> list[Check]:
     return [
         Check(
             id="fog.loop_frequency_response",
+            reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="|H(e^{j w tau})|, H = G/(1+G), G = g z^-1 (1+z^-1)/2/(1-z^-1); g = 0.1, "
             "f = 3 kHz",
             expected=abs(h),
@@ -141,6 +146,7 @@ def _loop_response() -> list[Check]:
         ),
         Check(
             id="fog.loop_step_response",
+            reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="-delta_k = (h * phi)_k for a phase step phi = 1e-3 rad; largest deviation "
             "of the full loop from the linear H over 4096 transits, relative to the step",
             expected=amp,
@@ -177,6 +183,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.loop_reset_count",
+            reference=LEFEVRE + ", ch. 6 (digital phase ramp and its 2 pi resets)",
             formula="number of 2 pi resets = accumulated ramp phase / (2 pi) (+-1); noisy record, "
             f"Omega = {om} rad/s, {len(run.delta)} transits",
             expected=accumulated,
@@ -187,6 +194,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_reset_rate",
+            reference=LEFEVRE + ", ch. 6 (one reset per angle quantum n_g lambda / D); " + ARDITTY,
             formula="resets = Omega T / (angle quantum), quantum = 2 pi tau/SF = n_g lambda/D",
             expected=expected_rate,
             simulated=count,
@@ -203,6 +211,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_v2pi_scale_factor",
+            reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with the V_2pi loop on and a 2 % modulator gain error = 1",
             expected=1.0,
             simulated=float(rv.rate[-200:].mean() / om),
@@ -212,147 +221,12 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_blanked_reset_scale_factor",
+            reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with reset samples blanked = 1/(1 + eps), eps = 0.02",
             expected=1.0 / (1.0 + eps),
             simulated=float(rb.rate[200:].mean() / om),
             tolerance=1e-9,
             derivation="noise-free, linear after lock: float64 rounding of the block sums",
-        ),
-    ]
-
-
-def _strain_kernel() -> list[Check]:
-    from gyrobench.sim.fiber_strain import ELASTO_OPTIC_FACTOR, exact_strain_phase
-    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
-
-    length, lam, ng, n = 1000.0, 1550e-9, 1.468, 1.46
-    f, eps0 = 500.0, 1e-6
-    w = 2 * np.pi * f
-    k0 = 2 * np.pi / lam
-    pre = k0 * n * ELASTO_OPTIC_FACTOR * ng / SPEED_OF_LIGHT * w * eps0
-    t = np.linspace(0, 1 / f, 64, endpoint=False)
-
-    def amp(psi):
-        y = exact_strain_phase(
-            lambda z, tt: eps0 * psi(z) * np.cos(w * tt),
-            t,
-            length=length,
-            wavelength=lam,
-            group_index=ng,
-            index=n,
-        )
-        basis = np.column_stack([np.sin(w * t), np.cos(w * t)])
-        c, *_ = np.linalg.lstsq(basis, y, rcond=None)
-        return math.hypot(*c)
-
-    tau = ng * length / SPEED_OF_LIGHT
-    small_tau = (w * tau / 2) ** 2 / 6  # sin x = x (1 - x^2/6), |x| <= w tau/2
-    uncancelled = pre * length**2 / 2  # int |L - 2z| dz: every contribution with one sign
-    return [
-        Check(
-            id="fog.strain_uniform_zero",
-            formula="dphi = (k0 n xi n_g/c) w eps0 int_0^L (L - 2z) dz = 0 for uniform strain; "
-            "exact two-crossing-time integral, 500 Hz, L = 1 km; relative to the "
-            "uncancelled integral of |L - 2z|",
-            expected=0.0,
-            simulated=amp(lambda z: np.ones_like(z)),
-            tolerance=1e-9,
-            scale=uncancelled,
-            derivation="Simpson on 4001 points integrates the odd kernel to rounding; 1e-9 "
-            "covers float64 cancellation of terms of size k0 n xi eps0 L",
-        ),
-        Check(
-            id="fog.strain_mode_linear",
-            formula="dphi amplitude = (k0 n xi n_g/c) w eps0 W, W = int (z/L)(L - 2z) dz = "
-            "-L^2/6 (psi = z/L), 500 Hz",
-            expected=pre * length**2 / 6,
-            simulated=amp(lambda z: z / length),
-            tolerance=small_tau + 1e-8,
-            derivation=f"small-tau kernel error (w tau/2)^2/6 = {small_tau:.2g} plus Simpson "
-            "(h^4 error on a smooth integrand) and fit rounding 1e-8",
-        ),
-    ]
-
-
-def _strain_exact_kernel() -> list[Check]:
-    from gyrobench.sim.fiber_strain import (
-        ELASTO_OPTIC_FACTOR,
-        exact_strain_phase,
-        linear_kernel,
-        strain_rate_coefficient,
-    )
-    from gyrobench.sim.fog_loop import LoopSpec, loop_average, run_loop
-    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
-
-    spec = LoopSpec(gain_loop=False)
-    length, lam, ng, n = spec.length, spec.wavelength, spec.group_index, 1.444
-    # (1) closed-form exact kernel vs the numerical two-crossing-time integral, psi = z/L
-    f, eps0 = 500.0, 1e-6
-    w = 2 * np.pi * f
-    t = np.linspace(0, 1 / f, 64, endpoint=False)
-    y = exact_strain_phase(
-        lambda z, tt: eps0 * (z / length) * np.cos(w * tt),
-        t,
-        length=length,
-        wavelength=lam,
-        group_index=ng,
-        index=n,
-    )
-    basis = np.column_stack([np.cos(w * t), -np.sin(w * t)])  # Re(P e^{jwt}) = Re P cos - Im P sin
-    c, *_ = np.linalg.lstsq(basis, y, rcond=None)
-    k0 = 2 * np.pi / lam
-    p_cf = complex(
-        k0 * n * ELASTO_OPTIC_FACTOR * 1j * w * ng / SPEED_OF_LIGHT * linear_kernel(length, f, ng)
-    ) * eps0
-    # (2) reduced form (exact kernel) vs the full loop driven by the exact phase
-    m, n_out, kp = 512, 100, 16
-    fo = 1 / (m * spec.transit_time)
-    fv = round(500.0 * n_out / fo) * fo / n_out
-    wv = 2 * np.pi * fv
-    kk = strain_rate_coefficient(length, spec.diameter, ng, n)
-    amp = 1e-3  # rad/s rate-equivalent
-    ph_ex = complex(kk * 1j * wv * linear_kernel(length, fv, ng))
-    ph_st = kk * 1j * wv * (-(length**2) / 6)  # small-tau kernel: W, no delay
-    e0 = amp / abs(ph_ex)
-
-    def rate(p: complex, tt: np.ndarray) -> np.ndarray:
-        return np.real(p * e0 * np.exp(1j * wv * tt))
-
-    tn = np.arange(n_out * kp) / (kp * fo)
-    red_ex = loop_average(np.fft.rfft(rate(ph_ex, tn)), len(tn), kp * fo, fo, spec)
-    red_st = loop_average(np.fft.rfft(rate(ph_st, tn)), len(tn), kp * fo, fo, spec)
-    tk = (np.arange(n_out * m) + 0.5) * spec.transit_time
-    full = run_loop(spec, spec.scale_factor * rate(ph_ex, tk), samples_per_output=m).rate
-    err_ex = float(np.max(np.abs(full[2:] - red_ex[2:])))
-    err_st = float(np.max(np.abs(full[2:] - red_st[2:])))
-    mid = (wv * spec.transit_time) ** 2 / 24
-    half = wv * spec.transit_time / 2
-    return [
-        Check(
-            id="fog.strain_kernel_exact",
-            formula="dphi phasor = k0 n xi (jw/v) e^{-jw tau/2} W(w) eps0, W(w) = "
-            "-L^2 (sin x - x cos x)/(2 x^3), x = w tau/2 (psi = z/L), 500 Hz, vs the "
-            "two-crossing-time integral; |difference| / |phasor|",
-            expected=abs(p_cf),
-            simulated=abs(p_cf) + abs(complex(c[0], c[1]) - p_cf),
-            tolerance=1e-9,
-            derivation="Simpson on 4001 points: the integrand's 4th derivative ~ (w/v)^4 makes "
-            "its error < 1e-20; rounding of two O(1) cosines that cancel to O(w tau) = 0.015: "
-            "~1e-13; 1e-9 covers both and the fit",
-        ),
-        Check(
-            id="fog.strain_reduced_vs_full_loop",
-            formula="reduced form with the exact strain kernel vs the full-rate loop driven by "
-            "the exact strain phase (psi = z/L, 500 Hz, 1e-3 rad/s); largest output "
-            "difference / amplitude",
-            expected=amp,
-            simulated=amp + err_ex,
-            tolerance=2 * mid + 1e-6,
-            derivation=f"midpoint-rule error (w tau)^2/24 = {mid:.2g}, twice, + 1e-6 for the "
-            f"start transient and rounding (as fog.vibration_reduced_vs_full_loop). The "
-            f"small-tau kernel (W, no delay) misses by {err_st / amp:.2g} of the amplitude "
-            f"(half-transit delay w tau/2 = {half:.2g}, amplitude (w tau/2)^2/10 = "
-            f"{half**2 / 10:.2g})",
         ),
     ]
 
@@ -398,6 +272,7 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.vibration_strain_tone",
+            reference=STRAIN,
             formula="tone = K kappa W w a |H_k(f)| |H(f)| sinc(f/fs), K = n_g n xi/(L D); "
             "150 Hz, 2 g, mode 300 Hz Q 30; reduced record at 400 Hz",
             expected=float(cf),
@@ -408,6 +283,10 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.vibration_reduced_vs_full_loop",
+            reference=(
+                "second method: the full-rate loop, transit by transit (" + LEFEVRE +
+                ", ch. 6), against the reduced form"
+            ),
             formula="reduced form (H, integrate-and-dump sinc, block centres) vs the full-rate "
             "loop for a 500 Hz rate tone of 1e-3 rad/s; largest output difference / amplitude",
             expected=amp,
@@ -445,6 +324,10 @@ def _random_vibration(rng: np.random.Generator) -> Check:
     y = rec["truth/strain_nonreciprocity"]
     return Check(
         id="fog.vibration_random_psd_variance",
+        reference=(
+            "J. S. Bendat, A. G. Piersol, Random Data: Analysis and Measurement Procedures (Wiley): "
+            "mean-square estimate of a Gaussian process, nu = 2 B_e T; NAVMAT P-9492 (1979) spectrum; " + STRAIN
+        ),
         formula="var(strain error samples) = int |G(f)|^2 S_a(f) df, G = K kappa jw H_k(f) "
         "e^{-jw tau/2} W(w) H(e^{jw tau}) sinc(f/fs) summed over modes; NAVMAT P-9492 "
         f"random vibration ({rv.grms:.2f} grms, 20-2000 Hz), 60 s at fs = 100 Hz (aliased)",
@@ -482,6 +365,10 @@ def _rectification() -> Check:
     closed = float(np.real(m0 * np.exp(1j * th) * np.conj(p_res))) / (2 * spec.scale_factor)
     return Check(
         id="fog.vibration_rectification_full_loop",
+        reference=(
+            "second method: the full nonlinear loop (" + LEFEVRE +
+            ", ch. 6) with a loss modulation, against the mean of the product of two tones"
+        ),
         formula="bias = m phi_res cos(theta)/(2 SF) = Re(M conj(P))/(2 SF), P = SF Omega_v "
         "(1 - H(f)): full nonlinear loop with loss modulation m = 1e-2 at 500 Hz, rate tone "
         "0.05 rad/s",
@@ -514,6 +401,7 @@ def _shot(ob, lam: float, rng: np.random.Generator) -> Check:
     lo, hi = stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof) / dof
     return Check(
         id="fog.optical_budget_shot",
+        reference="W. Schottky, Ann. Phys. 362(23) 541 (1918): shot noise 2 q i; q from CODATA 2018",
         formula="shot-noise current PSD at phi_b = pi/2: the budget's 2 q i_b against a "
         "photocurrent of Poisson photo-electron counts at the rate i_b/q (Schottky 1918; "
         "q from CODATA 2018) [A^2/Hz]",
@@ -564,6 +452,10 @@ def _rin(ob, lam: float, rng: np.random.Generator) -> Check:
     mean_err = 2 * _z() / math.sqrt(n * _RIN_WIDTH)
     return Check(
         id="fog.optical_budget_rin",
+        reference=(
+            "J. W. Goodman, Statistical Optics (Wiley, 1985), sec. 9.2-9.3: intensity fluctuations of "
+            "polarized thermal light"
+        ),
         formula="excess-RIN current PSD at phi_b = pi/2: the budget's i_b^2 x 2/dnu_eff against "
         "i_b^2 x (measured RIN x dnu of simulated polarised thermal light) / dnu_eff, "
         f"dnu_eff = c dlambda/lambda^2 = {dnu:.4g} Hz (Goodman 1985, sec. 9.2) [A^2/Hz]",
@@ -590,6 +482,10 @@ def _johnson(ob) -> Check:
     tol = (1.35 / 1.3) ** 2 - 1 + abs(ob.temperature / 295.0 - 1) + 295.0 / 290.0 - 1
     return Check(
         id="fog.optical_budget_johnson",
+        reference=(
+            "P. Horowitz, W. Hill, The Art of Electronics, 3rd ed. (Cambridge Univ. Press, 2015), sec. "
+            "8.1.1: Johnson noise of 10 kOhm"
+        ),
         formula="feedback-resistor current noise 4 k_B T/R_f against Horowitz & Hill's printed "
         "1.3 uV rms for 10 kOhm in 10 kHz at room temperature, scaled to R_f "
         f"= {ob.feedback_resistance:g} Ohm [A^2/Hz]",
@@ -612,7 +508,7 @@ def _optical_budget(rng: np.random.Generator) -> list[Check]:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in ten independent parts (statistical ones draw from children of ``rng``)."""
+    """The checks in eight independent parts (statistical ones draw from children of ``rng``)."""
     r = rng.spawn(6)  # the budget's stream last: the other checks keep their streams
     return [
         Part("optical_budget", _optical_budget, (r[5],)),
@@ -620,8 +516,6 @@ def parts(rng: np.random.Generator) -> list[Part]:
         Part("arw_full", _arw_full, (r[1],)),
         Part("loop_response", _loop_response),
         Part("resets", _resets, (r[2],)),
-        Part("strain_kernel", _strain_kernel),
-        Part("strain_exact_kernel", _strain_exact_kernel),
         Part("vibration_chain", _vibration_chain, (r[3],)),
         Part("random_vibration", _random_vibration, (r[4],)),
         Part("rectification", _rectification),

@@ -68,8 +68,10 @@ __all__ = ["checks", "parts", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance",
 FALSE_ALARM = 1e-6
 #: RK4 steps per drive period of the full integrations
 STEPS_PER_CYCLE = 20
-#: full-integration record [s] and the settling part discarded [s]
-FULL_DURATION = 0.05
+#: full-integration record [s] and the settling part discarded [s]: noise-free, so the 2 ms kept
+#: (two output samples) need no length for averaging (the 10 ms kept before changed no check by
+#: more than a tenth of its tolerance)
+FULL_DURATION = 0.042
 FULL_SETTLE = 0.04
 #: rates of the noise-free full integration [deg/s]
 FULL_RATES_DPS = (0.0, 100.0, 1000.0, 3000.0, 6000.0)
@@ -85,6 +87,15 @@ OPEN_RATES_DPS = (0.0, 500.0, 2000.0, 6000.0)
 #: sinusoidal-rate frequencies of the open-loop response check [Hz] and its sample rate [Hz]
 RESPONSE_FREQS_HZ = (20.0, 200.0, 500.0, 800.0)
 RESPONSE_FS = 1e5
+
+#: outside references of the checks (docstring of :mod:`gyrobench.sim.mems_resonator`)
+LELAND = "R. P. Leland, 'Mechanical-thermal noise in MEMS gyroscopes', IEEE Sensors J. 5(3) 493 (2005)"
+ACAR_SHKEL = "C. Acar, A. Shkel, MEMS Vibratory Gyroscopes (Springer, 2009), ch. 2"
+SAUKOSKI = ("M. Saukoski, System and circuit design for a capacitive MEMS gyroscope, Helsinki Univ. of "
+            "Technology doctoral thesis (2008), ch. 2-3")
+KAAJAKARI = "V. Kaajakari, Practical MEMS (Small Gear Publishing, 2009), ch. 6-7"
+SECOND_FULL = ("second method: fixed-step RK4 of the full rotating-frame equations of motion with the "
+               "carrier (" + ACAR_SHKEL + ")")
 
 
 def rk4_tolerance(unit: MemsResonator, steps_per_cycle: int = STEPS_PER_CYCLE) -> float:
@@ -137,7 +148,9 @@ def _slow_noise_free(unit: MemsResonator, rates, temperature: float, rng: np.ran
 
 def _arw_check(rng: np.random.Generator) -> Check:
     unit = replace(check_unit(), pickoff_noise=0.0)
-    fs, cols, dur, block = 200.0, 32, 250.0, 1.0
+    # each output sample is the exact interval mean of the rate command (the slow flow carries its
+    # integral J), so a 1-s block mean is the same at any fs: 20 Hz costs a tenth of 200 Hz
+    fs, cols, dur, block = 20.0, 32, 250.0, 1.0
     n = int(dur * fs)
     res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     m = int(block * fs)
@@ -153,6 +166,7 @@ def _arw_check(rng: np.random.Generator) -> Check:
     tol = max(1 - math.sqrt(lo), math.sqrt(hi) - 1) + bias
     return Check(
         id="mems.brownian_arw",
+        reference=LELAND,
         formula="N_B = sqrt(k_B T c_y) / (m w X0) = sqrt(k_B T w_y/(m Q_y)) / (w X0) [rad/sqrt(s)]",
         expected=brownian_arw(unit),
         simulated=n_hat,
@@ -191,6 +205,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.low_rate_scale_factor",
+            reference=SECOND_FULL + "; closed form (force rebalance, demodulation phase): " + SAUKOSKI,
             formula="SF = s_trim (w/w0) (G0/G) cos(theta) [-] (full integration, 0 and 1000 deg/s)",
             expected=sf_closed,
             simulated=float(sf_full),
@@ -199,6 +214,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.quadrature_rejection",
+            reference=SECOND_FULL + "; closed form (quadrature through the demodulation phase error): " + SAUKOSKI,
             formula="Omega_hat(0) = SF (c_yx/(2m) - Omega_q tan(theta)) [rad/s]; error / Omega_q",
             expected=zro,
             simulated=float(full[0]),
@@ -208,6 +224,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.rate_authority",
+            reference=SECOND_FULL + "; closed form (the feedback force range bounds the input range): " + SAUKOSKI,
             formula=(
                 "saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 "
                 "(onset SF Omega_max + Omega_hat(0)) [rad/s]"
@@ -219,7 +236,8 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.drive_amplitude",
-            formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 10 ms, all rates)",
+            reference=SECOND_FULL + "; drive amplitude control: " + SAUKOSKI,
+            formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 2 ms, all rates)",
             expected=unit.drive_amplitude,
             simulated=float(np.mean(x_full)),
             tolerance=tol,
@@ -227,6 +245,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.sense_envelope_saturated",
+            reference=SECOND_FULL + " against the averaged slow flow",
             formula=(
                 "complex sense envelope B at 6000 deg/s (rebalance saturated), "
                 "|B_full - B_slow| / |B_slow| [m]"
@@ -240,6 +259,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.g_sensitivity",
+            reference=SECOND_FULL + "; closed form (parallel-plate electrostatic spring): " + KAAJAKARI,
             formula=(
                 "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), "
                 "k_e = 2 eps0 A V_b^2/g^3 "
@@ -254,6 +274,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.slow_flow_vs_full",
+            reference=SECOND_FULL + " against the averaged slow flow",
             formula="max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s) [-]",
             expected=float(slow[i]),
             simulated=float(full[i]),
@@ -264,55 +285,82 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     ]
 
 
-#: closed-loop noise check: independent cases of each model, settling dropped [s], the
-#: averaging block [s], full-integration cases, slow-flow cases
-NVF_SETTLE = 0.015
-NVF_BLOCK = 0.01
-NVF_FULL_CASES = 1200
-NVF_SLOW_CASES = 65536
+#: closed-loop noise check: settling dropped [s], the averaging block [s] and blocks per case,
+#: RK4 steps per drive period, full-integration cases, slow-flow cases
+NVF_SETTLE = 0.01
+NVF_BLOCK = 0.002
+NVF_BLOCKS = 8
+NVF_STEPS_PER_CYCLE = 16
+NVF_FULL_CASES = 900
+NVF_SLOW_CASES = 16384
+
+
+def _block_covariance(b: np.ndarray) -> np.ndarray:
+    """Covariance of the block means b (blocks, cases) about their known zero mean."""
+    return (b @ b.T) / b.shape[1]
 
 
 def _noise_vs_full(rng: np.random.Generator) -> Check:
-    """Variance of one 10-ms output mean per independent case, full integration vs slow flow.
+    """Mean square of NVF_BLOCKS consecutive 2-ms output means per independent case, full
+    integration vs slow flow, F-test on Satterthwaite's equivalent degrees of freedom.
 
-    Every case starts at the noise-free equilibrium and is settled for NVF_SETTLE = 15 ms
-    (3.5 time constants of the slowest loop pole), then one NVF_BLOCK mean is taken: the block
-    means are independent across cases, so the variance about the known mean has exactly
-    ``cases`` degrees of freedom (consecutive blocks of one long record are correlated by the
-    loop). 1200 x 25 ms of full integration gives tighter bounds than 256 x 4 correlated
-    20-ms blocks of 100 ms did, in a third of the RK4 steps.
+    Every case starts at the noise-free equilibrium and is settled for NVF_SETTLE = 10 ms
+    (2.4 time constants of the slowest loop pole, variance deficit e^{-2 |Re s|min t} < 0.009,
+    added to the tolerance), then NVF_BLOCKS block means are taken. The blocks of one case are
+    correlated by the loop; their covariance C (NVF_BLOCKS x NVF_BLOCKS) is measured on the
+    slow flow's NVF_SLOW_CASES independent cases (under the null hypothesis that the models
+    agree it is the full integration's too), and the mean square over the blocks of one case
+    has the equivalent dof (tr C)^2 / sum C_jl^2 (Gaussian: var of a quadratic form
+    2 tr(C^2)). Eight 2-ms blocks give about 3.7 dof per 26-ms case, against 1 dof per 25-ms
+    case of the previous design (one 10-ms mean per case): 900 cases at 16 RK4 steps per
+    period bound the variance ratio to +-0.13 (was +-0.23 with 1200 cases at 20 steps, 1.6
+    times the RK4 work), so a 10 % error in the noise amplitude (21 % in variance) is caught
+    (tests/scenarios/test_checks_catch_errors.py). The 2-ms block's sinc^2 null at 500 Hz sits
+    on the mode split, where the slow flow's first-order envelope departs from the full
+    equations (mems.open_loop_noise_psd_vs_full).
     """
+    from scipy import stats
+
     unit = check_unit()
     r_full, r_slow = rng.spawn(2)
     fs = 1000.0
     n_set, m = int(round(NVF_SETTLE * fs)), int(round(NVF_BLOCK * fs))
+    n_rec = m * NVF_BLOCKS
     mu = zero_rate_output(unit)
-    full = simulate_full(unit, np.zeros(NVF_FULL_CASES), duration=NVF_SETTLE + NVF_BLOCK, fs=fs,
-                         rng=r_full, steps_per_cycle=STEPS_PER_CYCLE, adc=False)
-    bf = full.output[n_set:n_set + m].mean(axis=0) - mu
-    slow = simulate(unit, np.zeros((n_set + m, NVF_SLOW_CASES)), fs=fs, rng=r_slow, adc=False,
+    full = simulate_full(unit, np.zeros(NVF_FULL_CASES), duration=(n_set + n_rec) / fs, fs=fs,
+                         rng=r_full, steps_per_cycle=NVF_STEPS_PER_CYCLE, adc=False)
+    bf = full.output[n_set:n_set + n_rec].reshape(NVF_BLOCKS, m, -1).mean(axis=1) - mu
+    slow = simulate(unit, np.zeros((n_set + n_rec, NVF_SLOW_CASES)), fs=fs, rng=r_slow, adc=False,
                     flicker=False)
-    bs = slow.output[n_set:].mean(axis=0) - mu
+    bs = slow.output[n_set:].reshape(NVF_BLOCKS, m, -1).mean(axis=1) - mu
     var_full, var_slow = float(np.mean(bf**2)), float(np.mean(bs**2))
-    lo, hi = variance_ratio_bounds(bf.size)
-    z = 4.89  # two-sided standard-normal quantile at FALSE_ALARM
-    sd_slow = math.sqrt(2.0 / bs.size)
+    c = _block_covariance(bs)
+    per_case = float(np.trace(c) ** 2 / np.sum(c**2))
+    dof_f, dof_s = per_case * NVF_FULL_CASES, per_case * NVF_SLOW_CASES
+    lo, hi = (float(q) for q in stats.f.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof_f, dof_s))
     # variance still missing after the settling: at most e^{-2 |Re s|min t_settle}
     settle = math.exp(-2.0 * float(np.min(-operating_point(unit).loop_poles.real)) * NVF_SETTLE)
-    tol = max(1 - lo, hi - 1) + z * sd_slow + settle
+    tol = max(1 - lo, hi - 1) + settle
     return Check(
         id="mems.slow_flow_noise_vs_full",
+        reference=(
+            SECOND_FULL + " against the slow flow; Satterthwaite, Biometrics Bull. 2(6) 110 (1946) for the "
+            "equivalent dof"
+        ),
         formula=(
-            f"var of one {NVF_BLOCK * 1e3:g}-ms output mean per independent case after "
-            f"{NVF_SETTLE * 1e3:g} ms, Brownian + pick-off noise, full vs slow flow [(rad/s)^2]"
+            f"mean square of {NVF_BLOCKS} consecutive {NVF_BLOCK * 1e3:g}-ms output means per "
+            f"independent case after {NVF_SETTLE * 1e3:g} ms, Brownian + pick-off noise, closed "
+            "loop, full vs slow flow [(rad/s)^2]"
         ),
         expected=var_slow,
         simulated=var_full,
         tolerance=tol,
         derivation=(
-            f"chi-square bounds of the full integration's {bf.size} independent block means at "
-            f"{FALSE_ALARM:g} two-sided, plus {z} sqrt(2/{bs.size}) for the slow-flow reference, "
-            f"plus the settling deficit bound e^(-2 |Re s|min t) = {settle:.1g}"
+            f"F({dof_f:.0f}, {dof_s:.0f}) bounds at {FALSE_ALARM:g} two-sided: {NVF_FULL_CASES} "
+            f"full-integration cases ({NVF_STEPS_PER_CYCLE} RK4 steps per period) and "
+            f"{NVF_SLOW_CASES} slow-flow cases, {per_case:.2f} equivalent dof per case "
+            "(tr C)^2/sum C^2 from the slow flow's block covariance C; plus the settling deficit "
+            f"bound e^(-2 |Re s|min t) = {settle:.1g}"
         ),
     )
 
@@ -334,6 +382,10 @@ def _continuity(rng: np.random.Generator) -> Check:
     tol = (z * sd + dither_bias) / (sf * w)
     return Check(
         id="mems.zero_rate_continuity",
+        reference=(
+            "B. Widrow, I. Kollar, Quantization Noise (Cambridge Univ. Press, 2008): mean of a "
+            "quantizer with Gaussian dither; " + LELAND
+        ),
         formula="(Omega_hat(+0.1 deg/s) - Omega_hat(-0.1 deg/s))/2 = SF x 0.1 deg/s [rad/s]",
         expected=sf * w,
         simulated=half,
@@ -373,6 +425,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_scale_factor",
+            reference=SECOND_FULL + "; closed form (open-loop sense response through the receptance): " + ACAR_SHKEL,
             formula="SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c} [-] (full integration, "
                     "0 and 500 deg/s)",
             expected=low_rate_scale_factor(unit, temp),
@@ -382,6 +435,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_slow_vs_full",
+            reference=SECOND_FULL + " against the averaged slow flow, open loop",
             formula="open loop: max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s)"
                     " [-] (0-6000 deg/s, through the pick-off full-scale knee)",
             expected=float(slow[i]),
@@ -421,6 +475,10 @@ def _open_loop_response_check(rng: np.random.Generator) -> Check:
     _, f_w, e_w, t_w, _ = worst
     return Check(
         id="mems.open_loop_frequency_response",
+        reference=(
+            "second method: the exact-discretised slow flow (C. F. Van Loan, IEEE Trans. Autom. "
+            "Control 23(3) 395 (1978)) driven by sinusoidal rates against the closed-form response; " + ACAR_SHKEL
+        ),
         formula=("H(f) = [c_+ G(jW) + conj(c_- G(-jW))]/2 / Re c_0, G(s) = -p/(s - p), "
                  "c_+- ~ -j m X0 (2 w +- W) w_c R; worst of "
                  f"{', '.join(f'{x:g}' for x in RESPONSE_FREQS_HZ)} Hz, |H_sim - H| / |H| [-]"),

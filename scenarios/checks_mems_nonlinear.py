@@ -45,6 +45,10 @@ _EPS = float(np.finfo(float).eps)
 #: cubic stiffness of the check's Duffing sense beam [N/m^3]: puts its critical rate near
 #: 3000 deg/s for the default resonator (a check value, not a default of any device)
 _K3 = 1.6e9
+#: outside references of the checks
+_NAYFEH = "A. H. Nayfeh, D. T. Mook, Nonlinear Oscillations (Wiley, 1979), ch. 4"
+_RAPP = ("C. Rapp (1991), as eq. 4.45 of F. M. Ghannouchi, O. Hammi, M. Helaoui, Behavioral Modeling and "
+         "Predistortion of Wideband Wireless Transmitters (Wiley, 2015)")
 
 
 def duffing_check_sense() -> DuffingSense:
@@ -73,6 +77,7 @@ def _small_signal() -> Check:
     tol = 2.0 * trunc + 8.0 * _EPS
     return Check(
         id="mems.nonlinear_small_signal_scale_factor",
+        reference=_NAYFEH + "; " + _RAPP,
         formula="d/dOmega rapp(Omega_d v(Omega/Omega_d)) at 0 = 1 [-]",
         expected=1.0,
         simulated=slope,
@@ -104,6 +109,7 @@ def _cubic() -> Check:
     rnd = 5.0 * _EPS / (x2**2 * abs(a3))
     return Check(
         id="mems.nonlinear_cubic_coefficient",
+        reference=_NAYFEH + " (harmonic balance, first-order perturbation)",
         formula="a3 = -(3/4) k3 (2 m w X0)^2 / (m (w_y^2 - w^2))^3 [s^2/rad^2] (harmonic balance, 1st order)",
         expected=a3,
         simulated=simulated,
@@ -133,6 +139,7 @@ def _monotone() -> Check:
     tol = (deriv(top - h) - expected) / expected + 8.0 * _EPS * top / (h * expected)
     return Check(
         id="mems.nonlinear_monotone_3600",
+        reference=_RAPP,
         formula="min secant slope over +-3600 deg/s = (1 + |x/Omega_s|^(2p))^(-1-1/(2p)) at 3600 deg/s > 0",
         expected=expected,
         simulated=float(np.min(slopes)),
@@ -167,6 +174,11 @@ def _no_clip() -> Check:
     auth = units.to_deg_per_s(mr.rate_authority(unit))
     return Check(
         id="mems.nonlinear_no_clip_3600",
+        reference=(
+            "M. Saukoski, System and circuit design for a capacitive MEMS gyroscope, Helsinki Univ. of "
+            "Technology doctoral thesis (2008), ch. 2-3 (the feedback force range bounds the input " "range); " +
+            _RAPP
+        ),
         formula="Omega_out(+-3600 deg/s) = rapp(SF Omega + ZRO) (no rebalance clamp, no ADC clip) [rad/s]",
         expected=float(expected[worst]),
         simulated=float(got[worst]),

@@ -79,6 +79,11 @@ def _rectified(f: float) -> Check:
     tol = 1e3 * np.finfo(float).eps * math.log2(n) * scale / abs(expected)
     return Check(
         id=f"mount_coning.rectified_bias_{f:g}hz",
+        reference=(
+            "R. E. Goodman, A. R. Robinson, J. Appl. Mech. 25, 210 (1958); P. G. Savage, J. Guid. "
+            "Control Dyn. 21(1) 19 (1998), eq. 49; W. T. Thomson, M. D. Dahleh, Theory of Vibration "
+            "with Applications, 5th ed. (1998), eqs. 3.1-3, 3.1-4"
+        ),
         formula=f"mean Omega_z = (1/2) w a_x a_y sin(psi_y - psi_x), a_k, psi_k of a base-excited "
         f"oscillator (modes {_F_X:g}/{_F_Y:g} Hz, Q {_Q:g}); time-domain rate of a {f:g} Hz, 2 g sine, "
         f"{_T:g} s at {_FS:g} Hz [rad/s]",
@@ -111,6 +116,10 @@ def _q_half_power() -> Check:
     # the half-power roots to 1e-12 Hz: both far inside 1e-8
     return Check(
         id="mount_coning.q_half_power_width",
+        reference=(
+            "W. T. Thomson, M. D. Dahleh, Theory of Vibration with Applications, 5th ed. (1998), sec. "
+            "3.2 (half-power points)"
+        ),
         formula=f"Q = 1/(2 zeta), (f2^2 - f1^2)/f0^2 = 4 zeta sqrt(1 - zeta^2) at the half-power points of "
         f"|theta/a|^2 (mode {_F_X:g} Hz; f0/(f2 - f1) = {_F_X / (f2 - f1):.4f}, O(1/Q^2) biased)",
         expected=_Q,

@@ -31,6 +31,11 @@ __all__ = ["checks", "FALSE_ALARM"]
 
 #: false-alarm rate of each statistical check
 FALSE_ALARM = 1e-6
+#: where every noise check's closed form and its degrees of freedom come from
+_REFERENCE = (
+    "IEEE Std 952-1997, Annex C (Allan variance of each noise term); equivalent dof: Greenhall's "
+    "algorithm as in W. J. Riley, Handbook of Frequency Stability Analysis, NIST SP 1065 (2008), sec. 5.3"
+)
 _FS = 100.0
 _N = 1 << 18
 #: term -> (datasheet keyword, value, samples per cluster m, power-law alpha for the edf, formula)
@@ -113,6 +118,7 @@ def checks(rng: np.random.Generator) -> list[Check]:
         out.append(
             Check(
                 id=f"noise.avar_{term}",
+                reference=_REFERENCE,
                 formula=f"{formula}; tau = {tau:g} s at fs = {_FS:g} Hz",
                 expected=_theory(term, model, float(t[0])),
                 simulated=float(adev[0]) ** 2,

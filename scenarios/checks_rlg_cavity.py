@@ -11,16 +11,22 @@
 * ``rlg_cavity.mode_hop_hysteresis``: heating minus cooling temperature of the same mode
   transition against (S - lambda) / (P alpha).
 * ``rlg_cavity.dead_band_width``: edge of the locked band of an unrandomized dithered gyro
-  near zero input (Adler integration) against Omega_L |J_0(beta_D)|.
-* ``rlg_cavity.dither_random_walk``: angle-error variance after 25 dither cycles with the
-  Earth's rate present (Adler integration, swing-randomized dither, 800 realizations) against
-  the statistical model's N^2 T. The Adler integration's cost is set by its time steps, not
-  by the realizations it carries side by side, so short records with many realizations are
-  cheap: 25 x 800 runs in a third of the time of 100 x 400, and its tolerance (sample
-  variance, z sqrt((kurtosis - 1)/M)) is tighter (0.25 vs 0.34 at seed 0).
+  near zero input (Adler integration, 120 observed cycles: the half-slip resolution term of the
+  tolerance is 0.031, a 10 % error in the band is still 3 tolerances out) against
+  Omega_L |J_0(beta_D)|.
+* ``rlg_cavity.dither_random_walk``: angle-error variance after 5 dither cycles with the
+  Earth's rate present (Adler integration, swing-randomized dither, 3200 realizations) against
+  the statistical model's N^2 T. The Adler integration's cost is set by its time steps more
+  than by the realizations it carries side by side, so short records with many realizations
+  are cheap: 5 x 3200 runs in 60 % of the time of 25 x 800 and its tolerance (sample
+  variance, z sqrt((kurtosis - 1)/M)) is half as wide (0.12 vs 0.25), so a 10 % error in the
+  lock-in (21 % in the variance) is caught; the random walk is already linear in T after 5
+  cycles (10 crossings: 3 x 16000 realizations agree with N^2 T to -1.5 +- 0.6 %).
 * ``rlg_cavity.no_dead_band_with_swing_dither``: at half the fixed-amplitude dead band, the
   swing-randomized gyro's mean output equals the input (the statistical mode has no dead band);
-  63 cycles x 400 realizations (the standard error N/sqrt(T M) of 250 x 100, at 40 % of the cost).
+  7 cycles x 2000 realizations: standard error N/sqrt(T M) 1.4 times that of 63 x 400 at a
+  third of the cost; the band (0.045) still puts a 10 % error in the output 6 standard errors
+  out (tests/scenarios/test_checks_catch_errors.py).
 """
 
 from __future__ import annotations
@@ -51,6 +57,11 @@ FALSE_ALARM = 1e-6
 Z_FALSE_ALARM = 4.8916
 #: latitude of the Earth-rate check (Beijing, docs/physics.md 8) [rad]
 LATITUDE = math.radians(39.9)
+#: outside references of the checks
+CHOW = "W. W. Chow et al., 'The ring laser gyro', Rev. Mod. Phys. 57(1) 61 (1985)"
+ARONOWITZ = "F. Aronowitz, 'The laser gyro', in Laser Applications vol. 1 (Academic Press, 1971)"
+KILLPATRICK = "J. E. Killpatrick, 'The laser gyro', IEEE Spectrum 4(10) (1967): randomized dither"
+SIEGMAN = "A. E. Siegman, Lasers (University Science Books, 1986)"
 
 
 def _hand_r_net(u: CavityRLG, strain: float, plc: float) -> complex:
@@ -113,6 +124,7 @@ def _check_lock_in(u: CavityRLG, rng: np.random.Generator) -> Check:
     tol = float(max(1 - math.sqrt(lo), math.sqrt(hi) - 1)) + quant / 2 + spread
     return Check(
         id="rlg_cavity.lock_in_backscatter",
+        reference=CHOW + "; " + ARONOWITZ + " (lock-in from the net backscatter amplitude)",
         formula="Omega_L = c lambda |sum_i r_i exp(j(2 k s_i + theta_i))| / (8 pi A) [rad/s] "
         "against the lock-in the simulated counts carry: sqrt((var(angle increment) - q^2/6)/tau) "
         f"/ n_unit, tau = {LOCK_IN_TAU:g} s",
@@ -168,6 +180,10 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
     return [
         Check(
             id="rlg_cavity.mode_hop_spacing",
+            reference=(
+                SIEGMAN + " (a ring resonates at P = n lambda) with P(T) = P0 (1 + alpha dT); alpha: SCHOTT Zerodur "
+                "datasheet (expansion classes)"
+            ),
             formula="Delta T_hop = lambda / (P alpha) [K]",
             expected=expect_sp,
             simulated=float(spacing),
@@ -181,6 +197,10 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
         ),
         Check(
             id="rlg_cavity.mode_hop_hysteresis",
+            reference=(
+                SIEGMAN + " (a ring resonates at P = n lambda): a path-length control of travel S re-acquires one "
+                "wavelength away"
+            ),
             formula="T_hop,heating - T_hop,cooling = (S - lambda) / (P alpha) [K]",
             expected=expect_h,
             simulated=float(np.mean(pairs)),
@@ -203,7 +223,7 @@ def _check_dead_band() -> Check:
     band = wl * abs(float(j0(beta)))
     step = 0.0025
     grid = band * (0.97 + step * np.arange(25))
-    n_cyc, skip = 250, 50
+    n_cyc, skip = 150, 30
 
     def rate(t: float) -> np.ndarray:
         return grid + od * math.cos(w * t)
@@ -215,11 +235,15 @@ def _check_dead_band() -> Check:
     )
     slips = (psi[-1] - psi[skip]) / (2.0 * math.pi)
     unlocked = np.flatnonzero(np.abs(slips) >= 0.5)
-    edge = float(0.5 * (grid[unlocked[0]] + grid[unlocked[0] - 1])) if unlocked.size else math.nan
+    # an edge outside the grid (every input slips, or none does) is no edge: NaN fails the check
+    # (grid[-1] must not stand in for the input below the first one)
+    edge = (float(0.5 * (grid[unlocked[0]] + grid[unlocked[0] - 1]))
+            if unlocked.size and unlocked[0] > 0 else math.nan)
     obs = (n_cyc - skip) / fd
     finite = 1.0 / (2.0 * (k * band * obs) ** 2)
     return Check(
         id="rlg_cavity.dead_band_width",
+        reference=CHOW + " (dithered lock-in: the dead band scales with |J_0| of the dither amplitude); " + ARONOWITZ,
         formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
         expected=band,
         simulated=edge,
@@ -241,13 +265,14 @@ def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
     # phase jitter per swing sigma beta_D = 6 rad (the default gyro: 0.1 x 5.9e3 rad); at
     # sigma = 0.1 here (2 rad) a residual compression of ~4 % (5 standard errors) remains
     k, wl, fd, beta, sigma = 1000.0, 0.01, 50.0, 20.0, 0.3
-    m, n_cyc = 400, 63
+    m, n_cyc = 2000, 7
     omega = 0.5 * wl * abs(float(j0(beta)))  # half the fixed-amplitude dead band
     dith, dur, angle = _swing_adler_angles(k, wl, fd, beta, sigma, m, n_cyc, omega, rng)
     rate = angle / dur
     n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
     return Check(
         id="rlg_cavity.no_dead_band_with_swing_dither",
+        reference=KILLPATRICK + "; " + CHOW,
         formula="mean output rate = input rate (no dead band), input = Omega_L |J_0(beta_D)| / 2",
         expected=omega,
         simulated=float(np.mean(rate)),
@@ -296,7 +321,7 @@ def _swing_adler_angles(
 
 def _check_random_walk(rng: np.random.Generator) -> Check:
     k, wl, fd, beta, sigma = 1000.0, 0.05, 50.0, 30.0, 0.1
-    m, n_cyc = 800, 25
+    m, n_cyc = 3200, 5
     earth = units.EARTH_RATE * math.cos(LATITUDE)
     dith, dur, angle = _swing_adler_angles(k, wl, fd, beta, sigma, m, n_cyc, earth, rng)
     err = angle - earth * dur
@@ -307,6 +332,7 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
     rel_sd = math.sqrt((kurt - 1.0 + 2.0 / (m - 1)) / m)
     return Check(
         id="rlg_cavity.dither_random_walk",
+        reference=KILLPATRICK + "; " + CHOW,
         formula=(
             "var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))"
         ),

@@ -99,6 +99,7 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
             c.tolerance,
             "yes" if c.passed else "NO",
             c.derivation,
+            c.reference,
         ]
         for c in checks
     ]
@@ -115,11 +116,14 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
             "tolerance",
             "passed",
             "tolerance from",
+            "expected value from",
         ],
         rows,
         note="rel. error = |simulated - expected| / reference (|expected|, or the stated scale "
         "for a cancellation); "
-        "statistical tolerances are chi-square bands at the stated false-alarm rate.",
+        "statistical tolerances are chi-square bands at the stated false-alarm rate; "
+        "'expected value from' is the outside source of the closed form (book, paper, standard, "
+        "datasheet) or the independent second method it is compared with.",
     )
     return Outcome(
         scenario=NAME,

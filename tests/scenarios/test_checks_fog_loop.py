@@ -1,4 +1,4 @@
-"""The closed-loop FOG check module (not yet in CHECK_MODULES: the lead wires it)."""
+"""The closed-loop FOG check modules (checks_fog_loop; checks_fog_strain, split from it)."""
 
 import numpy as np
 import pytest
@@ -17,10 +17,6 @@ IDS = [
     "fog.loop_reset_rate",
     "fog.loop_v2pi_scale_factor",
     "fog.loop_blanked_reset_scale_factor",
-    "fog.strain_uniform_zero",
-    "fog.strain_mode_linear",
-    "fog.strain_kernel_exact",
-    "fog.strain_reduced_vs_full_loop",
     "fog.vibration_strain_tone",
     "fog.vibration_reduced_vs_full_loop",
     "fog.vibration_random_psd_variance",
@@ -36,6 +32,17 @@ def test_every_check_passes_with_a_derivation():
     assert all(c.derivation and c.tolerance < 0.2 for c in out)
 
 
+STRAIN_IDS = ["fog.strain_uniform_zero", "fog.strain_mode_linear", "fog.strain_kernel_exact",
+              "fog.strain_reduced_vs_full_loop"]
+
+
+def test_the_strain_kernel_checks_pass_in_their_own_module():
+    out = collect(np.random.default_rng(0), ("gyrobench.scenarios.checks_fog_strain",))
+    assert [c.id for c in out] == STRAIN_IDS
+    failed = [c.as_dict() for c in out if not c.passed]
+    assert not failed, failed
+
+
 @pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_seeded_checks_are_reproducible():
     a = checks_fog_loop.checks(np.random.default_rng(5))
@@ -47,7 +54,9 @@ def test_exact_kernel_improves_the_agreement_with_the_full_loop():
     # the derivation reports the small-tau kernel's miss; the exact kernel must beat it by far
     import re
 
-    (ex,) = [c for c in checks_fog_loop._strain_exact_kernel() if "full_loop" in c.id]
+    from gyrobench.scenarios import checks_fog_strain
+
+    (ex,) = [c for c in checks_fog_strain._strain_exact_kernel() if "full_loop" in c.id]
     miss_small = float(re.search(r"misses by ([0-9.e+-]+) of", ex.derivation).group(1))
     miss_exact = (ex.simulated - ex.expected) / ex.expected
     assert miss_exact < miss_small / 100

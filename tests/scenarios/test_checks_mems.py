@@ -26,7 +26,7 @@ EXPECTED_IDS = {
 }
 
 
-@pytest.mark.slow  # about 40 s on an idle core: four full RK4 integrations with the carrier
+@pytest.mark.slow  # about 10 s on an idle core: four full RK4 integrations with the carrier
 def test_every_mems_check_passes():
     out = checks(np.random.default_rng(20261123))
     assert all(isinstance(c, Check) for c in out)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -21,7 +22,8 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
     ids = [c["id"] for c in outcome.results["checks"]]
     # each check module contributes its ids, in CHECK_MODULES order
     assert [m.rsplit(".", 1)[1].removeprefix("checks_") for m in CHECK_MODULES] == [
-        "noise", "fog", "rlg", "mems", "rlg_cavity", "fog_loop", "coil", "mems_nonlinear", "mount_coning"
+        "noise", "fog", "rlg", "mems", "rlg_cavity", "fog_loop", "coil", "mems_nonlinear", "mount_coning",
+        "fog_strain",
     ]
     assert ids[:9] == [
         "noise.avar_Q",
@@ -46,11 +48,37 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
             "simulated",
             "rel_error",
             "tolerance",
+            "reference",
             "passed",
         } <= set(c)
         assert c["rel_error"] <= c["tolerance"] and c["tolerance_derivation"]
     n = len(ids)
     assert f"| closed-form checks passed | {n}/{n} | {n}/{n} | yes |" in (tmp_path / "report.md").read_text()
+
+
+#: a published source carries its year; a bare module path or the project's own docs are not one
+_YEAR = re.compile(r"\b(1[89]\d\d|20\d\d)\b")
+_INTERNAL_ONLY = re.compile(r"[\s\w.:/()-]*(gyrobench|docs/physics\.md|sim\.|scenarios\.)[\s\w.:/()-]*")
+
+
+@pytest.mark.slow  # shares the module fixture: every registered check, run once
+def test_every_check_cites_an_outside_reference(outcome):
+    """Issue 23 item 5: each check names where its expected value comes from outside the code."""
+    checks = outcome.results["checks"]
+    assert len(checks) >= 63
+    missing = [c["id"] for c in checks if not c["reference"].strip()]
+    internal = [c["id"] for c in checks if _INTERNAL_ONLY.fullmatch(c["reference"])]
+    undated = [c["id"] for c in checks if not _YEAR.search(c["reference"])]
+    assert not missing and not internal and not undated, (missing, internal, undated)
+    second = [c for c in checks if c["reference"].startswith("second method:")]
+    assert all(len(c["reference"]) > len("second method: ") + 20 for c in second)
+
+
+def test_a_check_without_a_reference_is_refused():
+    from gyrobench.scenarios.checks import Check
+
+    with pytest.raises(ValueError, match="reference must be a non-empty string"):
+        Check(id="x.y", formula="a = b", expected=1.0, simulated=1.0, tolerance=0.1, derivation="d", reference=" ")
 
 
 def test_registered_last_and_part_of_all():

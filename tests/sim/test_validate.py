@@ -46,3 +46,14 @@ def test_nonneg_coefficient_refuses_kind_sign_and_overflowing_size():
         v.nonneg_coefficient("NoiseModel", "N", -1, 1e100)
     with pytest.raises(ValueError, match=r"^NoiseModel\.N must be <= 1e\+100 \(SI; "):
         v.nonneg_coefficient("NoiseModel", "N", 1e101, 1e100)
+
+
+def test_mems_resonator_uses_the_shared_field_validator_with_its_message():
+    """Issue 23 item 5 leftovers: mems_resonator's private _real moved here as real_field."""
+    from gyrobench.sim import mems_resonator as mr
+
+    assert not hasattr(mr, "_real")
+    with pytest.raises(TypeError, match=r"^simulate_full\.duration must be a real number; got 'x'$"):
+        mr.simulate_full(mr.MemsResonator(), 0.0, duration="x", rng=np.random.default_rng(0))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"^operating_point\.temperature must be finite; got nan$"):
+        mr.operating_point(mr.MemsResonator(), float("nan"))

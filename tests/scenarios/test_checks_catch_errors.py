@@ -1,0 +1,94 @@
+"""The checks shortened for speed (issue 23 item 5) still catch a 10 % error in the model.
+
+Each test runs one check as the physics_checks scenario does, with the model (not the closed
+form) made 10 % wrong, and expects the check to fail; the unperturbed check passing is in the
+modules' own tests. Fixed seeds: every case is deterministic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from gyrobench.scenarios import checks_mems, checks_mems_psd, checks_rlg, checks_rlg_cavity
+
+
+def _noisier(simulate_full, factor: float):
+    """simulate_full whose output noise PSD is ``factor`` times the model's (deviations scaled)."""
+
+    def wrapped(*a, **k):
+        res = simulate_full(*a, **k)
+        mean = res.output.mean()
+        return replace(res, output=mean + math.sqrt(factor) * (res.output - mean))
+
+    return wrapped
+
+
+@pytest.mark.slow  # two open-loop noise integrations (~4 s each)
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_psd_error_fails_the_open_loop_noise_checks(monkeypatch, factor):
+    monkeypatch.setattr(checks_mems_psd, "simulate_full", _noisier(checks_mems_psd.simulate_full, factor))
+    out = checks_mems_psd.open_loop_noise_checks(np.random.default_rng(0))
+    assert [c.id for c in out if c.passed] == []
+
+
+@pytest.mark.slow  # one closed-loop noise integration (~3 s)
+@pytest.mark.parametrize("factor", [0.9**2, 1.1**2])
+def test_a_10_percent_noise_amplitude_error_fails_the_closed_loop_noise_check(monkeypatch, factor):
+    zro = checks_mems.zero_rate_output(checks_mems.check_unit())
+    real = checks_mems.simulate_full
+
+    def wrapped(*a, **k):
+        res = real(*a, **k)
+        return replace(res, output=zro + math.sqrt(factor) * (res.output - zro))
+
+    monkeypatch.setattr(checks_mems, "simulate_full", wrapped)
+    assert not checks_mems._noise_vs_full(np.random.default_rng(0)).passed
+
+
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_arw_error_fails_the_brownian_arw_check(monkeypatch, factor):
+    real = checks_mems.brownian_arw
+    assert checks_mems._arw_check(np.random.default_rng(0)).passed
+    monkeypatch.setattr(checks_mems, "brownian_arw", lambda *a, **k: factor * real(*a, **k))
+    assert not checks_mems._arw_check(np.random.default_rng(0)).passed
+
+
+def _lock_in_off(module, monkeypatch, factor: float) -> None:
+    """``module.integrate_adler`` with the lock-in rate ``factor`` times the one it is given."""
+    real = module.integrate_adler
+    monkeypatch.setattr(module, "integrate_adler",
+                        lambda *a, lock_in_rate, **k: real(*a, lock_in_rate=factor * lock_in_rate, **k))
+
+
+@pytest.mark.slow  # Adler integrations of 3000 realizations (~1.5 s each)
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_lock_in_error_fails_the_rlg_dither_check(monkeypatch, factor):
+    from gyrobench.sim import rlg
+
+    assert checks_rlg._dither(np.random.default_rng(0)).passed
+    _lock_in_off(rlg, monkeypatch, factor)  # checks_rlg calls rlg.integrate_adler
+    assert not checks_rlg._dither(np.random.default_rng(0)).passed
+
+
+@pytest.mark.slow  # Adler integrations (~1 s each)
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_lock_in_error_fails_the_cavity_random_walk_and_dead_band(monkeypatch, factor):
+    _lock_in_off(checks_rlg_cavity, monkeypatch, factor)
+    assert not checks_rlg_cavity._check_random_walk(np.random.default_rng(0)).passed
+    assert not checks_rlg_cavity._check_dead_band().passed
+
+
+@pytest.mark.slow  # Adler integration of 2000 realizations (~1 s each)
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_rate_error_fails_the_no_dead_band_check(monkeypatch, factor):
+    """The gyro integrates its constant input 10 % off: the mean output no longer equals it."""
+    real = checks_rlg_cavity._swing_adler_angles
+
+    def wrong_input(k, wl, fd, beta, sigma, m, n_cyc, rate, rng):
+        return real(k, wl, fd, beta, sigma, m, n_cyc, factor * rate, rng)
+
+    monkeypatch.setattr(checks_rlg_cavity, "_swing_adler_angles", wrong_input)
+    assert not checks_rlg_cavity._check_randomized_dead_band(np.random.default_rng(0)).passed

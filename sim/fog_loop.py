@@ -40,9 +40,9 @@ References
 ----------
 H. C. Lefevre, The Fiber-Optic Gyroscope, 2nd ed. (Artech House, 2014), ch. 3 (reciprocity,
 proper frequency, square-wave biasing) and ch. 6 (closed-loop, digital phase ramp, 2 pi reset
-and V_2pi control); Arditty & Lefevre, "Closed-loop fiber gyroscope with a phase ramp",
-Opt. Lett. 6(8) 401 (1981). docs/physics.md 3.8 (the formulas above, derived and
-checked numerically there).
+and V_2pi control); H. J. Arditty & H. C. Lefevre, "Sagnac effect in fiber gyroscopes",
+Opt. Lett. 6(8) 401 (1981) (the Sagnac phase, independent of the fibre's index).
+docs/physics.md 3.8 (the formulas above, derived and checked numerically there).
 """
 
 from __future__ import annotations

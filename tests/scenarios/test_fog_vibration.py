@@ -190,15 +190,16 @@ def test_shown_ratio_and_value_ratio_documented_cases():
 
 
 def test_fit_ratio_reads_the_fits_point_values_as_a_table_does():
-    """fit_ratio: the point values whether or not identified; 0 printed on both sides reads as equal (1), a
-    zero denominator under a positive numerator as a huge ratio, a missing point value as untestable."""
+    """fit_ratio: the point values whether or not identified; 0 printed on both sides (no term found in
+    either signal) as untestable, not as equal (which would pass every "keeps" claim on such a unit), a zero
+    denominator under a positive numerator as a huge ratio, a missing point value as untestable."""
     from gyrobench.scenarios.papers.p000_fog_vibration.results import fit_ratio
 
     def fv(v):
         return dataclasses.replace(_coef(None, 0.0, 1.0), fit_value=v)
 
     assert fit_ratio(fv(3.0), fv(1.5)) == pytest.approx(2.0)
-    assert fit_ratio(fv(0.0), fv(0.0)) == 1.0
+    assert fit_ratio(fv(0.0), fv(0.0)) is None
     assert fit_ratio(fv(2.0), fv(0.0)) > 1e299
     assert fit_ratio(fv(0.0), fv(2.0)) == 0.0
     assert fit_ratio(_coef(None, 0.0, 1.0), fv(1.0)) is None

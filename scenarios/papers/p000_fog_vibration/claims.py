@@ -102,7 +102,8 @@ def _size(seconds: float) -> str:
 _AS_THE_PAPER_FITS = (
     "; judged as the paper's table computes it: the ratio of the five-term least-squares fit's point values "
     "(printed whether or not the record identifies the term; 'much / clearly lower' = ratio > 2, the complement "
-    "of 'keeps', the paper's table giving no uncertainty), kept apart from our identifiability statement: "
+    "of 'keeps', the paper's table giving no uncertainty; a unit whose fit prints 0 on both sides cannot test "
+    "the claim), kept apart from our identifiability statement: "
 )
 
 

@@ -561,3 +561,25 @@ def test_swept_bias_record_length_is_a_property_of_the_sweep_not_of_the_static_p
     assert a > 100 * 1500.0  # far beyond the default records: Table 2's B claims are not testable by design
     flat = replace(m, x=replace(m.x, compliance=0.0))
     assert ident.swept_bias_record_s(ident.INPUTS, flat, static_s=600.0, **kw) == 0.0
+
+
+def test_identification_inputs_are_the_configs_and_the_devices_own_values():
+    """The constants identify.py copies are pinned to their sources: the dwell, level, block length and
+    block count of the precondition's scatter (steady phase 1 = static_before_s less a guard at each end,
+    whole blocks; pipeline.edges_and_offsets), the precondition's margin, the mount's unit-to-unit law, the
+    additive terms, and the ARW of the FOG's own optical budget (LoopSpec.arw) to the 11 digits it is typed
+    with. A config default changed without re-identifying the device fails here."""
+    from gyrobench.scenarios.papers.p000_fog_vibration import identify as ident
+    from gyrobench.scenarios.papers.p000_fog_vibration.claims import PRECONDITION_MARGIN
+
+    i, c = ident.INPUTS, sc.Config()
+    assert (i.dwell_hz, i.acceleration_g, i.block_s) == (c.fixed_hz, c.acceleration_g, c.offset_block_s)
+    assert i.scatter_blocks == int((c.static_before_s - 2.0 * c.guard_s) // c.offset_block_s)
+    assert i.margin == PRECONDITION_MARGIN
+    f = c.fog
+    assert (i.frequency_spread, i.compliance_spread) == (f.mode_frequency_spread, f.coupling_spread)
+    terms = ("Q_arcsec", "B_deg_h", "K_deg_h_sqrt_h", "R_deg_h2")
+    assert [getattr(i, t) for t in terms] == [getattr(f, t) for t in terms]
+    arw = units.to_deg_per_s(f.loop.arw(f.optics)) * 60.0  # rad/sqrt(s) -> deg/sqrt(h)
+    assert arw == pytest.approx(i.arw_deg_sqrt_h, rel=1e-9)
+    assert f.mount == ident.IDENTIFIED.mount()

@@ -39,8 +39,8 @@ PRECONDITION_MARGIN = 3.0
 
 #: every method claim of paper 000 presupposes a vibration bias the record can show
 VIBRATION_BIAS_SHOWS = Precondition(
-    text="the true vibration bias of the 500 Hz record exceeds 3 sigma of the scatter of 10-s means of "
-    "static phase 1",
+    text=f"the true vibration bias of the 500 Hz record exceeds {PRECONDITION_MARGIN:g} sigma of the scatter of "
+    "10-s means of static phase 1",
     quantity="pre_vibration_bias_over_scatter",
     comparator=above(PRECONDITION_MARGIN),
 )

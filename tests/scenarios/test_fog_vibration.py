@@ -91,6 +91,13 @@ def test_control_is_the_same_units_without_vibration(small_units):
     u = sc.experiment(cc, 3)
     assert u.offsets.true_bias_steady == 0.0
     assert set(u.quantities) == set(small_units[0].quantities)
+    # every Table 3 coefficient is read over the same taus as the vibrated unit's (N's tone-free range too:
+    # the rule depends on fixed_hz, not on whether the table moves), so a claim compares like with like
+    vib = small_units[0].compensation
+    for col in ("original", "denoised", "rbf", "ls"):
+        for t in ("Q", "N", "B", "K", "R"):
+            assert getattr(getattr(u.compensation, col), t).tau_min_s == getattr(getattr(vib, col), t).tau_min_s, col
+    assert u.compensation.original.N.tau_min_s == 4.0 / SMALL.fog.output_rate_hz  # 500 Hz at 400 Hz: m = 4
 
 
 def test_every_named_variant_builds_a_different_valid_config():

@@ -11,6 +11,7 @@ import dataclasses
 import json
 import math
 import pickle
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -229,6 +230,14 @@ def test_tone_free_octave_is_where_the_aliased_dwell_tones_have_zero_allan_varia
     assert dev[0] > 0.1 and np.all(dev[1:] < 1e-12)
     assert tone_free_m(500.0, fs, band_hz=fs / 2**7) == 1
     assert tone_free_m(400.0, fs) == 1  # aliased to 0 Hz: constant over each output interval
+    for kw, needle in (
+        (dict(drive_hz=-1.0, fs=fs), "drive_hz must be finite and >= 0 Hz; got -1.0"),
+        (dict(drive_hz=500.0, fs=0.0), "fs must be finite and > 0 Hz; got 0.0"),
+        (dict(drive_hz=500.0, fs=fs, band_hz=float("nan")), "band_hz must be finite and > 0 Hz; got nan"),
+        (dict(drive_hz=500.0, fs=fs, max_m=0), "max_m must be an integer >= 1; got 0"),
+    ):
+        with pytest.raises(ValueError, match=re.escape(needle)):
+            tone_free_m(**kw)
     # a record too short for five octaves from the tone-free m keeps the full range (no error)
     from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import split_band_coefficients
 

@@ -72,12 +72,15 @@ def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max
     ValueError
         ``drive_hz`` < 0, ``fs`` or ``band_hz`` not > 0 (finite), or ``max_m`` not an integer >= 1.
     """
-    for name, v, op in (("drive_hz", drive_hz, ">="), ("fs", fs, ">"), ("band_hz", band_hz, ">")):
-        if v is None and name == "band_hz":
-            continue
-        ok = not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v)
-        if not ok or (v < 0 if op == ">=" else v <= 0):
-            raise ValueError(f"tone_free_m: {name} must be finite and {op} 0 Hz; got {v!r}")
+
+    def bad(v: float, zero_ok: bool) -> bool:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            return True
+        return v < 0 if zero_ok else v <= 0
+
+    for name, v, zero_ok in (("drive_hz", drive_hz, True), ("fs", fs, False), ("band_hz", band_hz, False)):
+        if v is not None and bad(v, zero_ok):
+            raise ValueError(f"tone_free_m: {name} must be finite and {'>=' if zero_ok else '>'} 0 Hz; got {v!r}")
     if isinstance(max_m, bool) or not isinstance(max_m, int) or max_m < 1:
         raise ValueError(f"tone_free_m: max_m must be an integer >= 1; got {max_m!r}")
     top = fs / 2.0 if band_hz is None else band_hz

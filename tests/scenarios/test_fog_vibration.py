@@ -599,3 +599,28 @@ def test_identification_inputs_are_the_configs_and_the_devices_own_values():
     arw = units.to_deg_per_s(f.loop.arw(f.optics)) * 60.0  # rad/sqrt(s) -> deg/sqrt(h)
     assert arw == pytest.approx(i.arw_deg_sqrt_h, rel=1e-9)
     assert f.mount == ident.IDENTIFIED.mount()
+
+
+def test_read_tone_free_the_vibration_phase_keeps_the_static_white_noise():
+    """The deviation 'Table 3's N fit range' says Table 1 keeps the full range because, read from the taus the
+    dwell's tones leave alone (pipeline.tone_free_m), the vibration phase's N does not rise: the device's white
+    noise is unchanged and the tones carry the rise. Checked on one unit: the 95 % intervals of phase 1's and
+    phase 2's tone-free N overlap (each interval misses its truth with 5 %; two disjoint ones from one N would
+    need both to miss), and the full-range fit of phase 2 is the misfit that leaves N open. Resolution on this
+    56-s phase: white noise added to phase 2 so that its N rises 22 % makes the intervals disjoint (5 of 5
+    draws), 12 % does not."""
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+    from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import _phase_index, tone_free_m
+
+    _, fixed = sc.simulate(SMALL, 3)
+    idx, steady = _phase_index(fixed, SMALL)
+    fs = fixed.fs
+    m = tone_free_m(SMALL.fixed_hz, fs)
+    ci, misfit = [], []
+    for p in (0, 1):
+        y = np.asarray(fixed["rate"])[steady & (idx == p)]
+        curve = allan_deviation(y, fs, taus=np.array([2**k for k in range(30) if 2**k <= y.size // 4], float) / fs)
+        ci.append(fit_noise(curve, tau_min=m / fs).coefficients["N"].ci95)
+        misfit.append(fit_noise(curve).misfit)
+    assert ci[0][0] <= ci[1][1] and ci[1][0] <= ci[0][1], ci
+    assert misfit == [False, True]

@@ -99,6 +99,9 @@ def test_parts_names_each_part_s_physics_solve_or_why_not(capsys):
     text = "\n".join(lines)
     assert "fog_spec: source power" in text and "mems_spec: pick-off noise" in text and "rlg_spec: lock-in" in text
     assert "fog_spec: coil L" in text and "mems_spec: proof mass" in text and "not mapped" not in text
+    # a second solved parameter is an assumed design, and the line says so
+    assert all("ASSUMED design" in ln for ln in lines if "fog_spec: coil L" in ln)
+    assert all("ASSUMED split" in ln for ln in lines if "mems_spec: proof mass" in ln)
 
 
 # ------------------------------------------------------------------ profile [earth] and [shaker] tables

@@ -380,16 +380,19 @@ def physics_summary(datasheet: Datasheet) -> str:
             fibre = Coil2D(spec=fog.coil).fibre()
             return (
                 f"fog_spec: coil L {fibre.length / 1e3:.4g} km x D {fibre.diameter:.4g} m, source power "
-                f"{p * 1e3:.4g} mW, loss {fog.optics.loss_db:.4g} dB (default FOG2D design otherwise)"
+                f"{p * 1e3:.4g} mW, loss {fog.optics.loss_db:.4g} dB (an ASSUMED design: the sheet gives no coil, "
+                f"solved at the {FOG_POWER_MAX * 1e3:g} mW source cap, L <= {FOG_LENGTH_MAX / 1e3:g} km first; "
+                "default FOG2D design otherwise)"
             )
         if datasheet.technology == "MEMS":
             nom = mems_spec(datasheet).nominal
             if nom.mass == MemsResonator().mass:
                 return f"mems_spec: pick-off noise {nom.pickoff_noise:.4g} m/sqrt(Hz) (default resonator otherwise)"
             return (
-                f"mems_spec: proof mass {nom.mass * 1e6:.4g} mg (electrode area in proportion), pick-off noise "
-                f"{nom.pickoff_noise:.4g} m/sqrt(Hz), rebalance limit {nom.dac_full_scale:.3g} V (default resonator "
-                "otherwise)"
+                f"mems_spec: proof mass {nom.mass * 1e6:.4g} mg (electrode area in proportion; solved for Brownian "
+                f"noise = {BROWNIAN_SHARE:.3g} x the sheet's ARW, an ASSUMED split the sheet does not give), pick-off "
+                f"noise {nom.pickoff_noise:.4g} m/sqrt(Hz), rebalance limit {nom.dac_full_scale:.3g} V (default "
+                "resonator otherwise)"
             )
         w = rlg_spec(datasheet).lock_in_rate
         return f"rlg_spec: lock-in rate {units.to_deg_per_s(w):.4g} deg/s (default cavity and dither otherwise)"

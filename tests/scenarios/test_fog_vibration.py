@@ -11,6 +11,7 @@ import dataclasses
 import json
 import math
 import pickle
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -91,6 +92,13 @@ def test_control_is_the_same_units_without_vibration(small_units):
     u = sc.experiment(cc, 3)
     assert u.offsets.true_bias_steady == 0.0
     assert set(u.quantities) == set(small_units[0].quantities)
+    # every Table 3 coefficient is read over the same taus as the vibrated unit's (N's tone-free range too:
+    # the rule depends on fixed_hz, not on whether the table moves), so a claim compares like with like
+    vib = small_units[0].compensation
+    for col in ("original", "denoised", "rbf", "ls"):
+        for t in ("Q", "N", "B", "K", "R"):
+            assert getattr(getattr(u.compensation, col), t).tau_min_s == getattr(getattr(vib, col), t).tau_min_s, col
+    assert u.compensation.original.N.tau_min_s == 4.0 / SMALL.fog.output_rate_hz  # 500 Hz at 400 Hz: m = 4
 
 
 def test_every_named_variant_builds_a_different_valid_config():
@@ -190,15 +198,16 @@ def test_shown_ratio_and_value_ratio_documented_cases():
 
 
 def test_fit_ratio_reads_the_fits_point_values_as_a_table_does():
-    """fit_ratio: the point values whether or not identified; 0 printed on both sides reads as equal (1), a
-    zero denominator under a positive numerator as a huge ratio, a missing point value as untestable."""
+    """fit_ratio: the point values whether or not identified; 0 printed on both sides (no term found in
+    either signal) as untestable, not as equal (which would pass every "keeps" claim on such a unit), a zero
+    denominator under a positive numerator as a huge ratio, a missing point value as untestable."""
     from gyrobench.scenarios.papers.p000_fog_vibration.results import fit_ratio
 
     def fv(v):
         return dataclasses.replace(_coef(None, 0.0, 1.0), fit_value=v)
 
     assert fit_ratio(fv(3.0), fv(1.5)) == pytest.approx(2.0)
-    assert fit_ratio(fv(0.0), fv(0.0)) == 1.0
+    assert fit_ratio(fv(0.0), fv(0.0)) is None
     assert fit_ratio(fv(2.0), fv(0.0)) > 1e299
     assert fit_ratio(fv(0.0), fv(2.0)) == 0.0
     assert fit_ratio(_coef(None, 0.0, 1.0), fv(1.0)) is None
@@ -221,6 +230,14 @@ def test_tone_free_octave_is_where_the_aliased_dwell_tones_have_zero_allan_varia
     assert dev[0] > 0.1 and np.all(dev[1:] < 1e-12)
     assert tone_free_m(500.0, fs, band_hz=fs / 2**7) == 1
     assert tone_free_m(400.0, fs) == 1  # aliased to 0 Hz: constant over each output interval
+    for kw, needle in (
+        (dict(drive_hz=-1.0, fs=fs), "drive_hz must be finite and >= 0 Hz; got -1.0"),
+        (dict(drive_hz=500.0, fs=0.0), "fs must be finite and > 0 Hz; got 0.0"),
+        (dict(drive_hz=500.0, fs=fs, band_hz=float("nan")), "band_hz must be finite and > 0 Hz; got nan"),
+        (dict(drive_hz=500.0, fs=fs, max_m=0), "max_m must be an integer >= 1; got 0"),
+    ):
+        with pytest.raises(ValueError, match=re.escape(needle)):
+            tone_free_m(**kw)
     # a record too short for five octaves from the tone-free m keeps the full range (no error)
     from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import split_band_coefficients
 
@@ -560,3 +577,50 @@ def test_swept_bias_record_length_is_a_property_of_the_sweep_not_of_the_static_p
     assert a > 100 * 1500.0  # far beyond the default records: Table 2's B claims are not testable by design
     flat = replace(m, x=replace(m.x, compliance=0.0))
     assert ident.swept_bias_record_s(ident.INPUTS, flat, static_s=600.0, **kw) == 0.0
+
+
+def test_identification_inputs_are_the_configs_and_the_devices_own_values():
+    """The constants identify.py copies are pinned to their sources: the dwell, level, block length and
+    block count of the precondition's scatter (steady phase 1 = static_before_s less a guard at each end,
+    whole blocks; pipeline.edges_and_offsets), the precondition's margin, the mount's unit-to-unit law, the
+    additive terms, and the ARW of the FOG's own optical budget (LoopSpec.arw) to the 11 digits it is typed
+    with. A config default changed without re-identifying the device fails here."""
+    from gyrobench.scenarios.papers.p000_fog_vibration import identify as ident
+    from gyrobench.scenarios.papers.p000_fog_vibration.claims import PRECONDITION_MARGIN
+
+    i, c = ident.INPUTS, sc.Config()
+    assert (i.dwell_hz, i.acceleration_g, i.block_s) == (c.fixed_hz, c.acceleration_g, c.offset_block_s)
+    assert i.scatter_blocks == int((c.static_before_s - 2.0 * c.guard_s) // c.offset_block_s)
+    assert i.margin == PRECONDITION_MARGIN
+    f = c.fog
+    assert (i.frequency_spread, i.compliance_spread) == (f.mode_frequency_spread, f.coupling_spread)
+    terms = ("Q_arcsec", "B_deg_h", "K_deg_h_sqrt_h", "R_deg_h2")
+    assert [getattr(i, t) for t in terms] == [getattr(f, t) for t in terms]
+    arw = units.to_deg_per_s(f.loop.arw(f.optics)) * 60.0  # rad/sqrt(s) -> deg/sqrt(h)
+    assert arw == pytest.approx(i.arw_deg_sqrt_h, rel=1e-9)
+    assert f.mount == ident.IDENTIFIED.mount()
+
+
+def test_read_tone_free_the_vibration_phase_keeps_the_static_white_noise():
+    """The deviation 'Table 3's N fit range' says Table 1 keeps the full range because, read from the taus the
+    dwell's tones leave alone (pipeline.tone_free_m), the vibration phase's N does not rise: the device's white
+    noise is unchanged and the tones carry the rise. Checked on one unit: the 95 % intervals of phase 1's and
+    phase 2's tone-free N overlap (each interval misses its truth with 5 %; two disjoint ones from one N would
+    need both to miss), and the full-range fit of phase 2 is the misfit that leaves N open. Resolution on this
+    56-s phase: white noise added to phase 2 so that its N rises 22 % makes the intervals disjoint (5 of 5
+    draws), 12 % does not."""
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+    from gyrobench.scenarios.papers.p000_fog_vibration.pipeline import _phase_index, tone_free_m
+
+    _, fixed = sc.simulate(SMALL, 3)
+    idx, steady = _phase_index(fixed, SMALL)
+    fs = fixed.fs
+    m = tone_free_m(SMALL.fixed_hz, fs)
+    ci, misfit = [], []
+    for p in (0, 1):
+        y = np.asarray(fixed["rate"])[steady & (idx == p)]
+        curve = allan_deviation(y, fs, taus=np.array([2**k for k in range(30) if 2**k <= y.size // 4], float) / fs)
+        ci.append(fit_noise(curve, tau_min=m / fs).coefficients["N"].ci95)
+        misfit.append(fit_noise(curve).misfit)
+    assert ci[0][0] <= ci[1][1] and ci[1][0] <= ci[0][1], ci
+    assert misfit == [False, True]

@@ -163,7 +163,10 @@ class Config:
     ``acceleration_g`` 0 is the control (:func:`~.variants.control_config`: the shaker's
     controller still switches and logs its frequency, the table does not move).
     ``split_fit_range``: B, K, R of wavelet-processed signals from tau >= 2^(bias_level+1)/fs
-    (True) or from the full tau range (False, a labelled variant).
+    (True) or from the full tau range (False, a labelled variant). ``n_tone_free``: N of Table 3's
+    columns from the octave taus where the dwell's aliased tones leave no Allan variance
+    (:func:`~.pipeline.tone_free_m`; True) or from the full tau range (False, a labelled variant);
+    the control runs the same rule (its ``fixed_hz`` is the vibrated units').
     """
 
     fog: FogSpec = field(default_factory=FogSpec)
@@ -195,6 +198,7 @@ class Config:
     offset_block_s: float = 10.0
     bench_rate_hz: float = 2.0
     split_fit_range: bool = True
+    n_tone_free: bool = True
 
     #: documented ranges (issue 32): physical (the shaker, the wavelet) or practical (one run)
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
@@ -237,8 +241,9 @@ class Config:
         a = self.acceleration_g
         if isinstance(a, bool) or not isinstance(a, (int, float)) or not (math.isfinite(a) and a >= 0):
             raise ValueError(f"Config.acceleration_g must be finite and >= 0 g (0: the control); got {a!r}")
-        if not isinstance(self.split_fit_range, bool):
-            raise TypeError(f"Config.split_fit_range must be a bool; got {self.split_fit_range!r}")
+        for flag in ("split_fit_range", "n_tone_free"):
+            if not isinstance(getattr(self, flag), bool):
+                raise TypeError(f"Config.{flag} must be a bool; got {getattr(self, flag)!r}")
         for name, unit in (
             ("sweep_start_hz", "Hz"),
             ("sweep_end_hz", "Hz"),

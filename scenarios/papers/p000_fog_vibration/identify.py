@@ -172,19 +172,17 @@ def _population_per_c2(i: IdentificationInputs) -> np.ndarray:
     compliance is 1 rad/(m/s^2) (the rate scales as the nominal compliance squared)."""
     rng = np.random.default_rng(i.population_seed)
     draws = [mount_factors(rng, i.frequency_spread, i.compliance_spread) for _ in range(i.population_draws)]
-    fs = np.array([d[0] for d in draws])
-    cs = np.array([d[1] for d in draws])
-    x = RockingMode(frequency=i.f_low_hz, quality=i.quality, compliance=1.0)
-    y = RockingMode(frequency=i.f_high_hz, quality=i.quality, compliance=1.0)
-
-    def resp(f0: np.ndarray, c: np.ndarray, q: float) -> np.ndarray:
-        return c * f0**2 / (f0**2 - i.dwell_hz**2 + 1j * i.dwell_hz * f0 / q)
-
-    hx = resp(x.frequency * fs[:, 0], cs[:, 0], x.quality)
-    hy = resp(y.frequency * fs[:, 1], cs[:, 1], y.quality)
     a = units.g(i.acceleration_g)
-    rate = 0.5 * a**2 * 2.0 * math.pi * i.dwell_hz * np.imag(hx * np.conj(hy))  # MountConing.mean_rate
-    return np.abs(units.to_deg_per_h(rate))
+    rate = [
+        float(
+            MountConing(
+                x=RockingMode(frequency=i.f_low_hz * float(f[0]), quality=i.quality, compliance=float(c[0])),
+                y=RockingMode(frequency=i.f_high_hz * float(f[1]), quality=i.quality, compliance=float(c[1])),
+            ).mean_rate(i.dwell_hz, a)
+        )
+        for f, c in draws
+    ]  # the model's own mean rate, not a retyped formula
+    return np.abs(units.to_deg_per_h(np.asarray(rate)))
 
 
 def crossover_tau_s(term: str, i: IdentificationInputs) -> float:

@@ -66,7 +66,23 @@ def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max
     (default fs/2; a wavelet approximation a_j carries nothing above fs/2^(j+1)). 1 when no tone is
     carried or no octave is tone-free (the fit keeps the full range). 4 for 500 Hz at 400 Hz (tones
     at 100 and 200 Hz); 1 for a6 of that record (band 1.6 Hz).
+
+    Raises
+    ------
+    ValueError
+        ``drive_hz`` < 0, ``fs`` or ``band_hz`` not > 0 (finite), or ``max_m`` not an integer >= 1.
     """
+
+    def bad(v: float, zero_ok: bool) -> bool:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            return True
+        return v < 0 if zero_ok else v <= 0
+
+    for name, v, zero_ok in (("drive_hz", drive_hz, True), ("fs", fs, False), ("band_hz", band_hz, False)):
+        if v is not None and bad(v, zero_ok):
+            raise ValueError(f"tone_free_m: {name} must be finite and {'>=' if zero_ok else '>'} 0 Hz; got {v!r}")
+    if isinstance(max_m, bool) or not isinstance(max_m, int) or max_m < 1:
+        raise ValueError(f"tone_free_m: max_m must be an integer >= 1; got {max_m!r}")
     top = fs / 2.0 if band_hz is None else band_hz
     aliased = [abs(f - fs * round(f / fs)) for f in (drive_hz, 2.0 * drive_hz)]
     aliased = [a for a in aliased if 1e-9 * fs < a <= top]

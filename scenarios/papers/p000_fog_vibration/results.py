@@ -23,9 +23,12 @@ How a unit's quantity tests a claim
   and on B of the sweep record, which the swept bias hides): the ratio of the five-term fit's
   point values (``fit_value``), the numbers a table of that fit prints. The paper's tables carry
   no uncertainty, so "much / clearly lower" is read as a ratio above 2, the complement of "keeps"
-  (within a factor 2 of 1). Where the non-negative fit prints 0 on both sides the table shows
-  equal values (ratio 1); a zero denominator under a positive numerator gives num / 1e-300. The
-  control tells whether the analysis alone makes such a claim hold (an identity).
+  (within a factor 2 of 1). Where the non-negative fit prints 0 on both sides the fit found the
+  term in neither signal: there is no ratio to read, and the unit cannot test the claim (None;
+  reading it as "equal", ratio 1, would pass every "keeps" claim on such a unit whatever the
+  signals are). A zero denominator under a positive numerator gives num / 1e-300 (the table
+  shows a term on one side only). The control tells whether the analysis alone makes such a
+  claim hold (an identity).
 * Q "rises in phase 2" (Table 1): phase 2's lower 95 % ADEV bound at tau = 1/fs over the
   larger static upper bound (:func:`~.pipeline.shortest_tau_rise`, whose docstring says why the
   vibration phase's rise is found there and not in a fitted Q).
@@ -357,12 +360,13 @@ def value_ratio(num: Coefficient, den: Coefficient) -> float | None:
 
 def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
     """num / den of the fit's point values (``fit_value``; module docstring), as a table of the fit
-    reads: 1 when both are 0 (equal printed values), num / 1e-300 when only den is 0; None when
-    either is not set. Judged > 2 for "higher" and within a factor 2 of 1 for "keeps"."""
+    reads: num / 1e-300 when only den is 0; None when either is not set or both are 0 (the fit
+    finds the term in neither signal: no ratio, so the unit cannot test a "keeps" or a "lower"
+    claim). Judged > 2 for "higher" and within a factor 2 of 1 for "keeps"."""
     if num.fit_value is None or den.fit_value is None:
         return None
     if num.fit_value <= 0 and den.fit_value <= 0:
-        return 1.0
+        return None
     return float(num.fit_value / max(den.fit_value, 1e-300))
 
 

@@ -35,6 +35,7 @@ VARIANTS: dict[str, Callable[[Config], Config]] = {
     "rbf_centres_ols": lambda c: replace(c, rbf_centres="ols"),
     "train_a6": lambda c: replace(c, train_level=6),
     "fit_full_tau": lambda c: replace(c, split_fit_range=False),
+    "n_full_tau": lambda c: replace(c, n_tone_free=False),
     "guard_1s": lambda c: replace(c, guard_s=1.0, edge_window_s=0.5),
     "azimuth_east": lambda c: replace(c, fog=replace(c.fog, azimuth_deg=90.0)),
     "acceleration_1g": lambda c: replace(c, acceleration_g=1.0),

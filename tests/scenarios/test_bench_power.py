@@ -90,7 +90,7 @@ def test_declared_primary_scores_are_what_the_scenario_scores(scenario):
 
 
 @pytest.mark.slow
-def test_fog_vibration_primary_scores_are_what_it_scores():
+def test_fog_vibration_primary_scores_are_what_it_scores(shared_tasks):
     scores = bench.score_seed("fog_vibration", bench.Uncompensated(), 0)
     assert all(math.isfinite(scores[p.name]) for p in SCENARIO_SCORES["fog_vibration"].primary)
 

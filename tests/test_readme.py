@@ -86,11 +86,22 @@ def _console_argv(line: str) -> list[str]:
     return argv
 
 
+def _console_lines_run_by_the_bench_readme_tests() -> set[str]:
+    """The console lines tests/scenarios/test_bench_readme.py runs from a project folder, with
+    the exit codes and output they must give: the bench section's first two console blocks."""
+    from tests.scenarios.test_bench_readme import _blocks as bench_blocks
+
+    return {ln.strip() for block in bench_blocks("console")[:2] for ln in block.splitlines() if ln.strip()}
+
+
 @pytest.mark.slow
 def test_readme_example_project_runs_as_written(tmp_path):
     """The README's bench project: its files, its Python script and every console line, run
     from the project folder exactly as written (the shell bench finds mylab from the current
-    folder; the pytest plugin finds it from the rootdir)."""
+    folder; the pytest plugin finds it from the rootdir). The bench section's console lines
+    are run, with their exit codes and messages checked, by tests/scenarios/test_bench_readme.py
+    (same project files, same commands); running them here again cost ~110 s of the slow tier
+    for a weaker check (exit 0 or 1), so this runs every other console line."""
     (tmp_path / "mylab").mkdir()
     (tmp_path / "mylab" / "__init__.py").write_text("")
     for path, code in _file_blocks().items():
@@ -104,15 +115,18 @@ def test_readme_example_project_runs_as_written(tmp_path):
     r = run([sys.executable, "run_mine.py"])
     assert r.returncode == 0, r.stderr[-3000:]
     assert (tmp_path / "mine.sqlite").exists()
+    assert "mean/rms" in r.stdout, r.stdout[-3000:]  # the summary of every score
     lines = [ln for block in _blocks("console") for ln in block.splitlines() if ln.strip()]
+    elsewhere = _console_lines_run_by_the_bench_readme_tests()
+    assert elsewhere and elsewhere <= {ln.strip() for ln in lines}  # they are README lines
     for line in lines:
+        if line.strip() in elsewhere:
+            continue
         r = run(_console_argv(line))
         # 'changed' against the baseline may regress (exit 1, as the README says); all else is 0
         allowed = (0, 1) if "--baseline" in line else (0,)
         assert r.returncode in allowed, f"{line!r} exited {r.returncode}: {r.stderr[-3000:]}"
         assert "Traceback" not in r.stderr, r.stderr[-3000:]
-    assert (tmp_path / "good.json").exists()
-    assert (tmp_path / "tests" / "baselines" / "ifog.json").exists()
 
 
 @pytest.mark.slow

@@ -104,11 +104,12 @@ def test_rlg_thermal_unchanged_compensator_passes_against_its_own_baseline(tmp_p
 
 
 @pytest.mark.slow
-def test_rlg_thermal_regression_exits_1(tmp_path, capsys):
+def test_rlg_thermal_regression_exits_1(tmp_path, capsys, shared_tasks):
     """No thermal compensation (DummyRegressor) against LinearRegression on 8 seeds: the held-out
     improvement falls from ~24 % to 0 on every seed, i.e. the primary score (held-out bias
     stability) rises on every seed. With the one primary score the smallest attainable p is
     2 / 2**8 = 0.0078 < 0.05, so 8 seeds can show it."""
+    shared_tasks("rlg_thermal", range(8))  # two runs and the references over these seeds (conftest)
     base = str(tmp_path / "b.json")
     common = ["--seeds", "0:8", "--workers", "0", "-q"]
     good = ["--compensator", "sklearn.linear_model:LinearRegression"]

@@ -90,7 +90,7 @@ def test_declared_primary_scores_are_what_the_scenario_scores(scenario):
 
 
 @pytest.mark.slow
-def test_fog_vibration_primary_scores_are_what_it_scores():
+def test_fog_vibration_primary_scores_are_what_it_scores(shared_tasks):
     scores = bench.score_seed("fog_vibration", bench.Uncompensated(), 0)
     assert all(math.isfinite(scores[p.name]) for p in SCENARIO_SCORES["fog_vibration"].primary)
 
@@ -238,12 +238,13 @@ GATE_CASES = {
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scenario", sorted(SCENARIO_SCORES))
-def test_every_scenario_unchanged_passes_and_a_worse_one_fails(scenario, tmp_path, capsys):
+def test_every_scenario_unchanged_passes_and_a_worse_one_fails(scenario, tmp_path, capsys, shared_tasks):
     """Over every bench scenario: a compensator against its own baseline exits 0 on 3 seeds
     (allowed underpowered, with the warning first); a clearly worse one exits 1 on the baseline's
     seeds. (On the identified devices --seeds auto asks more seeds than these baselines hold for
     a 20 % change, e.g. 101 on rlg_thermal, and refuses in one line; its choice is tested on the toy.)"""
     good, worse, _min_change, n_base = GATE_CASES[scenario]
+    shared_tasks(scenario, range(n_base))  # three runs over these seeds: one simulation each (conftest)
     base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
     common = ["--workers", "0", "-q", "--db", db, "--no-references"]
     argv = ["bench", scenario, "--compensator", good, *common, "--seeds", f"0:{n_base}", "--save-baseline", base]
@@ -290,7 +291,8 @@ rlg_x1_only = _t1_only()
 
 
 @pytest.mark.slow
-def test_rlg_thermal_partial_regression_exits_1(tmp_path, capsys):
+def test_rlg_thermal_partial_regression_exits_1(tmp_path, capsys, shared_tasks):
+    shared_tasks("rlg_thermal", range(16))  # two runs and the references over these seeds (conftest)
     base, db = str(tmp_path / "b.json"), str(tmp_path / "c.db")
     common = ["--workers", "0", "-q", "--db", db]
     assert main(["bench", "rlg_thermal", "--compensator", LS, *common, "--seeds", "0:16", "--save-baseline", base]) == 0

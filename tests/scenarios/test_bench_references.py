@@ -121,7 +121,7 @@ def test_ifog_and_fog_vibration_name_the_papers_method():
 
 
 @pytest.mark.slow
-def test_ifog_paper_rbf_clearly_beats_the_identity_on_most_seeds():
+def test_ifog_paper_rbf_clearly_beats_the_identity_on_most_seeds(shared_tasks):
     """8 seeds; k = 7 of 8 by the sign test at 0.05; better by at least the
     bench's default minimal detectable change, 20 % (``--min-change``). Measured on seeds 0-11:
     the paper's RBF 0.074-0.083 deg/h, the identity 0.11-0.55 deg/h (1.5x-7.5x the RBF's)."""
@@ -137,7 +137,8 @@ def test_ifog_paper_rbf_clearly_beats_the_identity_on_most_seeds():
 
 
 @pytest.mark.slow
-def test_ifog_cli_prints_the_papers_method_beside_the_users(tmp_path, capsys):
+def test_ifog_cli_prints_the_papers_method_beside_the_users(tmp_path, capsys, shared_tasks):
+    shared_tasks("ifog_thermal", range(6))  # the run and its two reference columns (conftest)
     argv = ["bench", "ifog_thermal", "--compensator", "sklearn.linear_model:LinearRegression", "--seeds", "0:6",
             "--workers", "0", "-q", "--db", str(tmp_path / "c.db")]
     assert main(argv) == 0
@@ -155,7 +156,7 @@ def test_fog_paper_model_predicts_zero_with_the_shaker_off_and_clips_the_frequen
 
 
 @pytest.mark.slow
-def test_fog_vibration_identity_is_clearly_worse_than_the_papers_rbf_on_most_seeds():
+def test_fog_vibration_identity_is_clearly_worse_than_the_papers_rbf_on_most_seeds(shared_tasks):
     """Issue 26 item 5. 6 seeds, k = 6 of 6 by the sign test at 0.05; "clearly": by a factor of 2
     (each seed builds its task once, ~15-60 s). Measured on seeds 0-9: the paper's RBF
     0.025-0.056 deg/h, the identity 0.17-0.59 deg/h mean RMS over the two held-out records."""

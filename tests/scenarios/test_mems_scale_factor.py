@@ -492,7 +492,7 @@ def test_identified_device_is_monotone_through_the_table():
 
 
 @pytest.mark.slow
-def test_bench_separates_no_correction_from_the_papers_fit():
+def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
     """On the identified device the bench is meaningful: an identity compensator (the raw output)
     scores a held-out K_n more than twice the paper's piecewise fit's on most units.
 

@@ -64,6 +64,17 @@ def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d:
     return (z0**2 + (1.0 - float(j_top) / big_m) * zj**2 + mid) / (z0**2 * big_m)
 
 
+def _gh_lags(m: int, n_phase: int, d: int, overlapping: bool) -> tuple[float, float, float, float]:
+    """Greenhall & Riley's (S, M, J, r = M/S) for averaging factor m over n_phase phase points.
+
+    PTTI 2003, eq. (10)'s sum limits: S = m (overlapped) or 1, M = 1 + floor(S (N - (1 + m d)) / m),
+    J = min(M, (d + 1) S).
+    """
+    s = float(m) if overlapping else 1.0
+    big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
+    return s, big_m, min(big_m, (d + 1) * s), big_m / s
+
+
 def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) -> float:
     """Equivalent degrees of freedom of an unmodified Allan (d = 2) or Hadamard (d = 3) variance.
 
@@ -77,10 +88,7 @@ def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) 
     """
     if not alpha + 2 * d > 1:
         raise ValueError(f"alpha + 2 d must be > 1; got alpha = {alpha}, d = {d}")
-    s = float(m) if overlapping else 1.0
-    big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
-    j_top = min(big_m, (d + 1) * s)
-    r = big_m / s
+    s, big_m, j_top, r = _gh_lags(m, n_phase, d, overlapping)
     if alpha <= 0:
         if j_top <= _GH_JMAX:
             f = float(m) if m * (d + 1) <= _GH_JMAX else math.inf
@@ -174,10 +182,7 @@ def _edf_greenhall_many(
     req: list[tuple[int, float, float, float, float]] = []  # (index, J, M, S, F)
     for i, m_ in enumerate(ms):
         m = int(m_)
-        s = float(m) if overlapping else 1.0
-        big_m = 1.0 + math.floor(s * (n_phase - (1.0 + m * d)) / m)
-        j_top = min(big_m, (d + 1) * s)
-        r = big_m / s
+        s, big_m, j_top, r = _gh_lags(m, n_phase, d, overlapping)
         if alpha <= 0:
             if j_top <= _GH_JMAX:
                 req.append((i, j_top, big_m, s, float(m) if m * (d + 1) <= _GH_JMAX else math.inf))

@@ -234,7 +234,8 @@ def _adis_records(source: str) -> tuple[list[np.ndarray], float]:
     return [_read_gyro(folder / f"adis16405_imu{k}_100Hz.csv.gz") for k in range(1, 7)], 100.0
 
 
-@pytest.fixture(scope="module", params=["excerpt_1hz", "full_100hz"])
+# the 100 Hz records' fits are ~8 s of set-up: slow tier (the 1 Hz excerpt keeps the default tier's check)
+@pytest.fixture(scope="module", params=["excerpt_1hz", pytest.param("full_100hz", marks=pytest.mark.slow)])
 def adis_fits(request):
     """(curve, unrestricted fit, auto-range fit) for each of the 6 records x 3 gyro axes.
 

@@ -437,3 +437,21 @@ def test_the_fog_coil_solve_stays_inside_its_ranges_up_to_their_limit(arw):
     assert s.optics.source_power <= parts.FOG_POWER_MAX
     loop = s.loop_spec(length=fibre.length, diameter=fibre.diameter)
     assert loop.arw(s.optics) == pytest.approx(d.angle_random_walk(), rel=1e-9)
+
+
+def test_physics_solve_limits_are_their_sources_printed_values():
+    """The bounds of the coil and proof-mass solves, pinned to what their sources print (with
+    units): the Er superfluorescent source of the default optics, 15 mW (from 70 mW of pump,
+    sim.fog_optics' cited source); 1 dB/km, the upper end of the 0.5-1 dB/km the default budget
+    states; coils "as long as 5 km"; the assumed 0.2 m coil inside Astrix 200's 300 mm core; a
+    silicon proof mass filling a 5 mm x 5 mm x 100 um device layer (2329 kg/m^3) rounded down."""
+    from gyrobench.sim import fog_optics
+
+    assert parts.FOG_POWER_MAX == pytest.approx(15e-3, rel=1e-12)  # W
+    assert "15 mW" in (fog_optics.__doc__ or "")
+    assert parts.FIBRE_LOSS_DB_PER_M == pytest.approx(1.0 / 1000.0, rel=1e-12)  # dB/m = 1 dB/km
+    assert parts.FOG_LENGTH_MAX == pytest.approx(5000.0, rel=1e-12)  # m
+    assert parts.FOG_DIAMETER_MAX < 0.3  # m, inside the 300 mm core
+    silicon_mass = 2329.0 * 5e-3 * 5e-3 * 100e-6  # kg
+    assert 0.8 * silicon_mass < parts.MEMS_MASS_MAX <= silicon_mass
+    assert parts.BROWNIAN_SHARE == pytest.approx(1.0 / math.sqrt(2.0), rel=1e-15)  # N_B = N_e

@@ -148,10 +148,15 @@ def lowpass_avar_bias(tau: ArrayLike, bandwidth: float, *, fs: float | None = No
     """
     tau = _positive_tau(tau)
     bw = _check_bandwidth(bandwidth, fs)
-    t_corr = 1.0 / (2.0 * math.pi * bw)
-    t = t_corr if fs is None else 1.0 / (float(fs) * math.sinh(2.0 * math.pi * bw / float(fs)))
-    x = tau / t_corr
-    return (t / (2.0 * tau)) * (3.0 - 4.0 * np.exp(-x) + np.exp(-2.0 * x))
+    # written as (T / T') (3 - 4 e^-x + e^-2x) / (2 x), x = tau / T', with expm1 so that a corner
+    # frequency near the smallest float (T' overflowing to inf) gives the limit b -> 1, not inf * 0
+    w = 2.0 * math.pi * bw
+    u = 0.0 if fs is None else w / float(fs)
+    ratio = 1.0 if u < 1e-8 else u / math.sinh(u)  # T / T' = u / sinh(u), 1 - u^2/6 below 1e-8
+    x = tau * w
+    with np.errstate(invalid="ignore", divide="ignore"):
+        g = (-4.0 * np.expm1(-x) + np.expm1(-2.0 * x)) / (2.0 * x)
+    return ratio * np.where(x > 0.0, g, 1.0)
 
 
 #: this fraction of the point's standard error (see :func:`bandwidth_range`)

@@ -176,3 +176,14 @@ def test_bad_bandwidth_is_refused_in_one_line(bw, exc, match):
     with pytest.raises(exc) as info:
         fit_noise(curve, bandwidth=bw)
     assert match in str(info.value) and "\n" not in str(info.value)
+
+
+def test_a_vanishing_bandwidth_gives_the_series_limit_not_inf_times_zero():
+    # 3 - 4 e^-x + e^-2x = 2x - 2x^3/3 + O(x^4), so b = 1 - x^2/3 for x = 2 pi f_c tau << 1; at the
+    # smallest float T' = 1/(2 pi f_c) overflows to inf, which once made b = inf * 0 = nan
+    tau = np.array([0.1, 1.0, 10.0, 100.0])
+    x = 2 * np.pi * 1e-9 * tau
+    np.testing.assert_allclose(lowpass_avar_bias(tau, 1e-9), 1 - x**2 / 3, rtol=1e-12)
+    np.testing.assert_allclose(lowpass_avar_bias(tau, 1e-9, fs=10.0), 1 - x**2 / 3, rtol=1e-12)
+    assert np.array_equal(lowpass_avar_bias(tau, 5e-324), np.ones(4))
+    assert np.array_equal(lowpass_avar_bias(tau, 5e-324, fs=10.0), np.ones(4))

@@ -74,6 +74,7 @@ def cheap_commands(tmp_path, monkeypatch):
     return {
         "simulate": ["simulate", "noise", "--N", "0.1", "--B", "0.5", "--fs", "10", "--duration", "100s", "-o", "o.h5"],
         "allan": ["allan", str(csv)],
+        "twin": ["twin", str(csv), "-o", "t.h5"],
         "reproduce": ["reproduce", "toy_paper", "--units", "2", "--out", "taken", "-q"],
         "bench": ["bench", "tests.scenarios.toy_scenario", "--compensator", "tests.scenarios.toy_scenario:good",
                   "--seeds", "0:2", "--no-references", "--allow-underpowered", "--db", "c.db", "-q"],
@@ -109,4 +110,28 @@ def test_every_numeric_flag_refuses_absurd_values_in_one_line_or_documents_them(
             wrong.append(f"{value[:12]}: not refused naming {flag} (exit {code}): {err[:2]}")
         elif accepted and named:
             wrong.append(f"{value[:12]}: documented as valid but refused: {err}")
+    assert not wrong, f"{verb} {flag}:\n" + "\n".join(wrong)
+
+
+#: values at the bottom of the float range: accepted by a "> 0" flag, they must still end in success or
+#: one line (the random fuzzer of the slow tier found ``allan --bandwidth=5e-324`` computing inf * 0)
+TINY_VALUES = ("5e-324", "1e-180", "-0.0")
+
+
+@pytest.mark.parametrize("verb, flag", numeric_flags())
+def test_every_numeric_flag_takes_the_smallest_floats_without_an_internal_failure(verb, flag, cheap_commands,
+                                                                                   capsys):
+    if verb not in cheap_commands:
+        pytest.skip(f"no cheap command for {verb}: its parsing is checked above")
+    wrong = []
+    for value in TINY_VALUES:
+        try:
+            code = main([*cheap_commands[verb], f"{flag}={value}"])
+        except SystemExit as exc:
+            code = exc.code
+        err = capsys.readouterr().err.strip().splitlines()
+        if code not in (0, 1, 3, 5, 2) or any("Traceback" in line for line in err):
+            wrong.append(f"{value}: exit {code}: {err[-3:]}")
+        elif code == 2 and not (len(err) == 1 and err[0].startswith("gyrobench: error:")):
+            wrong.append(f"{value}: exit 2 in more than one line: {err[:3]}")
     assert not wrong, f"{verb} {flag}:\n" + "\n".join(wrong)

@@ -277,24 +277,48 @@ def _finite_record_delta(
 
 
 def _count_weighted(
-    xt: NDArray[np.float64],
+    r: NDArray[np.float64],
     key: NDArray[np.int64],
     h: NDArray[np.int64],
     big_m1: NDArray[np.float64],
     big_m2: NDArray[np.float64],
 ) -> NDArray[np.float64]:
-    """out[p, q] = sum_h xt[key[p], h, q] c_p(h), c_p the :func:`_overlap_counts` of p.
+    """out[p, t, s] = sum_h c_p(h) R[key[p], h, t] R[key[p], h, s], c_p the :func:`_overlap_counts` of p.
 
-    One (pairs of that key) x grid x q product per distinct key (BLAS), instead of gathering
-    a (pairs, q, grid) copy of xt.
+    Where both records are at least half the lag grid long (M_1, M_2 >= grid/2: no count is
+    clipped at 0), c(h) = min(M_1, M_2 - h) - max(0, -h) is piecewise linear in h with one
+    break at D = M_2 - M_1:
+
+        c(h) = M_1 [h <= D] + M_2 [h > D] - h [h > D] + h [h < 0],
+
+    so the sum is M_1 S_1 + M_2 S_2 + S_3 with S_w = sum_h w(h) R_t R_s evaluated once per
+    distinct (key, floor(D)), not per pair: octave taus have one D per key, so the many pairs
+    cost a few (T x grid) @ (grid x T) products. Shorter records (a pair's last octaves scaled
+    down) take the counts written out. A test checks both against the explicit sum.
     """
-    c = _overlap_counts(big_m1, big_m2, h)
-    out = np.empty((key.size, xt.shape[2]))
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    cuts = np.flatnonzero(np.diff(ks)) + 1
-    for grp in np.split(order, cuts):
-        out[grp] = c[grp] @ xt[key[grp[0]]]
+    big_m1 = np.asarray(big_m1, dtype=float)
+    big_m2 = np.asarray(big_m2, dtype=float)
+    out = np.empty((key.size, r.shape[2], r.shape[2]))
+    long = np.minimum(big_m1, big_m2) >= h.size // 2
+    if np.any(long):
+        d = np.floor(big_m2[long] - big_m1[long]).astype(np.int64)
+        lo = int(d.min())
+        span = int(d.max()) - lo + 1
+        codes, back = np.unique(key[long] * span + (d - lo), return_inverse=True)  # (key, D) as one integer
+        hs = h[None, :]
+        after = hs > (codes % span + lo)[:, None]  # (combos, grid)
+        weights = np.stack([~after, after, np.where(after, -hs, 0) + np.where(hs < 0, hs, 0)]).astype(float)
+        rk = r[codes // span]  # (combos, grid, T)
+        sums = np.matmul((rk[None] * weights[:, :, :, None]).transpose(0, 1, 3, 2), rk[None])  # (3, combos, T, T)
+        back = back.reshape(-1)
+        out[long] = (
+            big_m1[long, None, None] * sums[0][back] + big_m2[long, None, None] * sums[1][back] + sums[2][back]
+        )
+    short = np.flatnonzero(~long)
+    if short.size:
+        rs = r[key[short]]
+        counts = _overlap_counts(big_m1[short], big_m2[short], h)
+        out[short] = np.matmul((rs * counts[:, :, None]).transpose(0, 2, 1), rs)
     return out
 
 
@@ -319,17 +343,14 @@ def _finite_record_delta_cached(
     uc, inv = np.unique(codes, return_inverse=True)
     uk = np.stack([uc // base, uc % base], axis=1)
     inv = inv.reshape(-1)
-    r, h = _lag_covariances(ua, uk[:, 0], uk[:, 1], _FIN_GRID)  # (keys, T, grid)
+    r, h = _lag_covariances(ua, uk[:, 0], uk[:, 1], _FIN_GRID)  # (keys, grid, T)
     p = ii.size
     cross, d1, d2 = inv[:p], inv[p : 2 * p], inv[2 * p :]
-    nt = len(ua)
-    xt = (r[:, :, :, None] * r[:, :, None, :]).reshape(uk.shape[0], r.shape[1], nt * nt)
-    fin = _count_weighted(xt, cross, h, bi, bj).reshape(p, nt, nt)  # xt[u, h, (t, s)] = R^t R^s
-    xd = r * r
-    v1 = _count_weighted(xd, d1, h, bi, bi)
-    v2 = _count_weighted(xd, d2, h, bj, bj)
-    zf = xt.sum(axis=1).reshape(-1, nt, nt)
-    zd = xd.sum(axis=1)
+    fin = _count_weighted(r, cross, h, bi, bj)  # (pairs, T, T): t at m_i, s at m_j
+    v1 = np.diagonal(_count_weighted(r, d1, h, bi, bi), axis1=1, axis2=2)
+    v2 = np.diagonal(_count_weighted(r, d2, h, bj, bj), axis1=1, axis2=2)
+    zf = np.matmul(r.transpose(0, 2, 1), r)  # the n -> infinity limit: every count 1
+    zd = np.diagonal(zf, axis1=1, axis2=2)
     rho_fin = fin / np.sqrt(v1[:, :, None] * v2[:, None, :])
     rho_inf = zf[cross] / np.sqrt(zd[d1][:, :, None] * zd[d2][:, None, :])
     delta = rho_fin - rho_inf  # (pairs, T, T): t at m_i, s at m_j

@@ -207,3 +207,23 @@ def test_gaussian_quantization_kurtosis_gives_the_gaussian_fit(rng):
         allan.fit_noise(curve, quantization_kurtosis=-3.0)
     with pytest.raises(TypeError, match="quantization_kurtosis must be a number"):
         allan.fit_noise(curve, quantization_kurtosis="uniform")
+
+
+def test_count_weighted_sums_by_pieces_equal_the_counts_written_out():
+    # the fit sums c_p(h) R_t R_s over the lag grid as M_1 S_1 + M_2 S_2 + S_3 with one S per (key, D)
+    # (the counts are piecewise linear in h once both records are >= grid/2 long); here against the
+    # counts of _overlap_counts summed term by term, for records around that length, either sign of
+    # D = M_2 - M_1, integer and fractional M (scaled pairs), several pairs per key
+    rng = np.random.default_rng(7)
+    grid = 64
+    h = np.arange(grid)
+    h = np.where(h < grid // 2, h, h - grid)
+    r = rng.standard_normal((5, grid, 3))
+    key = rng.integers(0, 5, 400)
+    b1 = rng.choice([rng.uniform(1, 40), 31.0, 32.0, 32.5, 1e6], 400) + rng.integers(0, 3, 400) * 7.5
+    b2 = np.maximum(b1 + rng.choice([-40.0, -3.0, -0.5, 0.0, 2.0, 2.25, 40.0], 400), 1.0)
+    got = _covariance._count_weighted(r, key, h, b1, b2)
+    c = _covariance._overlap_counts(b1, b2, h)
+    want = np.einsum("ph,pht,phs->pts", c, r[key], r[key])
+    assert np.any(np.minimum(b1, b2) < grid // 2) and np.any(np.minimum(b1, b2) >= grid // 2)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())

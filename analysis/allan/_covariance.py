@@ -221,11 +221,14 @@ def _lag_covariances(
     zm = np.exp(-2j * np.pi * np.outer(mu, f))
     w = -((1.0 - zm) ** 2) / (1.0 - z1)
     p = w[inv[: len(m1)]] * np.conj(w[inv[len(m1):]])
-    s = np.stack([_rate_psd_shape(int(a), np.minimum(f, 1.0 - f)) for a in alphas], axis=1)
     h = np.arange(grid)
     h = np.where(h < grid // 2, h, h - grid)
-    r = np.fft.ifft(p[:, :, None] * s[None, :, :], axis=1) * np.exp(1j * np.pi * h / grid)[:, None]
-    return np.ascontiguousarray(r.real), h
+    shift = np.exp(1j * np.pi * h / grid)
+    fold = np.minimum(f, 1.0 - f)
+    r = np.empty((p.shape[0], grid, len(alphas)))
+    for t, a in enumerate(alphas):  # one noise type at a time: (pairs, grid) arrays stay in cache
+        r[:, :, t] = (np.fft.ifft(p * _rate_psd_shape(int(a), fold), axis=1) * shift).real
+    return r, h
 
 
 def _overlap_counts(
@@ -422,22 +425,81 @@ def _ramp_cross_sd(
     """
     if "R" not in terms:
         return np.zeros(tau.size)
-    cd = dict(zip(terms, c, strict=True))
-    if cd["R"] <= 0:
-        return np.zeros(tau.size)
+    basis, scale = _ramp_basis(terms, tau, ms, n, kind)
+    return _ramp_from_basis(basis, scale, c, terms.index("R"))
+
+
+def _ramp_basis(
+    terms: Sequence[str], tau: NDArray[np.float64], ms: NDArray[np.int64], n: int, kind: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The parts of :func:`_ramp_cross_sd` that do not depend on C: sd = sqrt(C_R) scale sqrt(basis @ C).
+
+    basis[i, t]: the variance of the window-average difference per unit C_t (0 for R and
+    for terms not fitted); scale = sqrt(2) tau (tau / L), from d_r = sqrt(2 C_R) tau.
+    """
     fc = STATISTICS[kind].fit
     if fc is None:
         raise ValueError(f"kind must be a statistic the noise fit accepts; got {kind!r}")
     m = ms.astype(float)
-    lag = fc.lag(n, m, tau)
-    lag = np.maximum(lag, tau)
-    v = np.zeros(tau.size)
-    v += cd.get("Q", 0.0) * (4.0 / 3.0) / tau**2 / (m if fc.q_per_m else 1.0)
-    v += cd.get("N", 0.0) * fc.n_factor / tau
-    v += cd.get("B", 0.0) / math.log(2.0) * np.maximum(np.log(lag / tau) + fc.flicker_end_c, 0.0)
-    v += 3.0 * cd.get("K", 0.0) * (lag - fc.k_offset * tau)
-    d_r = np.sqrt(2.0 * cd["R"]) * tau
-    return d_r * (tau / lag) * np.sqrt(np.maximum(v, 0.0))
+    lag = np.maximum(fc.lag(n, m, tau), tau)
+    per_term = {
+        "Q": (4.0 / 3.0) / tau**2 / (m if fc.q_per_m else 1.0),
+        "N": fc.n_factor / tau,
+        "B": np.maximum(np.log(lag / tau) + fc.flicker_end_c, 0.0) / math.log(2.0),
+        "K": 3.0 * (lag - fc.k_offset * tau),
+    }
+    basis = np.zeros((tau.size, len(terms)))
+    for j, t in enumerate(terms):
+        if t in per_term:
+            basis[:, j] = per_term[t]
+    return basis, math.sqrt(2.0) * tau * (tau / lag)
+
+
+def _ramp_from_basis(
+    basis: NDArray[np.float64], scale: NDArray[np.float64], c: NDArray[np.float64], r_index: int
+) -> NDArray[np.float64]:
+    """:func:`_ramp_cross_sd` from its :func:`_ramp_basis` (0 where C_R <= 0)."""
+    if not c[r_index] > 0:
+        return np.zeros(scale.size)
+    return math.sqrt(c[r_index]) * scale * np.sqrt(np.maximum(basis @ c, 0.0))
+
+
+class PointCovarianceModel:
+    """V(C) of :func:`_point_covariance` with everything that does not depend on C computed once.
+
+    V(C) = sum_{t,s} C_t C_s G_ts + s(C) s(C)', G_ts(i, j) = rho_ts(i, j) u_t(i) u_s(j) with u_t =
+    tau^p_t sqrt(2 / nu_t) for the random terms (0 for the ramp) and s the ramp cross term of
+    :func:`_ramp_cross_sd` (``ramp`` = its :func:`_ramp_basis` and the index of R, or None).
+    The fit evaluates V some 30 times per record on the same points; each call is then one
+    (k^2) x (n^2) product. A test checks it against :func:`_point_covariance`.
+    """
+
+    def __init__(
+        self,
+        x: NDArray[np.float64],
+        nu: NDArray[np.float64],
+        rho: dict[tuple[int, int], NDArray[np.float64]] | NDArray[np.float64],
+        noise: NDArray[np.bool_],
+        ramp: tuple[NDArray[np.float64], NDArray[np.float64], int] | None,
+    ) -> None:
+        n, k = x.shape
+        u = x * np.sqrt(2.0 / nu) * noise[None, :]
+        if isinstance(rho, np.ndarray):
+            blocks = rho
+        else:
+            blocks = np.zeros((k, k, n, n))
+            for (t, s), r in rho.items():
+                blocks[t, s] = r
+        self._gram = (blocks * u.T[:, None, :, None] * u.T[None, :, None, :]).reshape(k * k, n * n)
+        self._n = n
+        self._ramp = ramp
+
+    def __call__(self, c: NDArray[np.float64]) -> NDArray[np.float64]:
+        out = (np.outer(c, c).reshape(-1) @ self._gram).reshape(self._n, self._n)
+        if self._ramp is not None:
+            cross = _ramp_from_basis(*self._ramp[:2], c, self._ramp[2])
+            out += np.outer(cross, cross)
+        return out
 
 
 def _point_covariance(

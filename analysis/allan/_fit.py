@@ -21,10 +21,10 @@ from gyrobench.analysis.allan._blas import _single_blas
 from gyrobench.analysis.allan._checks import _check_tau_limit
 from gyrobench.analysis.allan._covariance import (
     QUANTIZATION_KURTOSIS,
+    PointCovarianceModel,
     _finite_record_delta,
-    _point_covariance,
     _quantization_kurtosis_rho,
-    _ramp_cross_sd,
+    _ramp_basis,
     _rho_blocks,
     _stack_rho,
 )
@@ -442,8 +442,8 @@ def _fit_core(
     rho = rho_sel if stacked is None else stacked
     noise = np.array([TERM[t].random for t in terms])  # the ramp is deterministic (see _ramp_cross_sd)
 
-    def point_covariance(c: NDArray[np.float64]) -> NDArray[np.float64]:
-        return _point_covariance(x, c, nu, rho, noise, _ramp_cross_sd(terms, c, tau, ms, curve.n_samples, curve.kind))
+    ramp = (*_ramp_basis(terms, tau, ms, curve.n_samples, curve.kind), terms.index("R")) if "R" in terms else None
+    point_covariance = PointCovarianceModel(x, nu, rho, noise, ramp)
 
     var0 = 2.0 * a**2 / np.asarray(curve.edf, dtype=float)[used]  # first pass: the curve's own edf
     c, v, var, it = _reweight(x, a, var0, max_iter, point_covariance)

@@ -227,3 +227,28 @@ def test_count_weighted_sums_by_pieces_equal_the_counts_written_out():
     want = np.einsum("ph,pht,phs->pts", c, r[key], r[key])
     assert np.any(np.minimum(b1, b2) < grid // 2) and np.any(np.minimum(b1, b2) >= grid // 2)
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+def test_the_precomputed_point_covariance_equals_the_term_by_term_one():
+    # the fit evaluates V(C) ~30 times through PointCovarianceModel (one product with C C');
+    # here against _point_covariance + _ramp_cross_sd evaluated from scratch, with and without R
+    # and with a zero C_R (no ramp cross term)
+    from gyrobench.analysis.allan._fit import _ALPHA, _POWER
+
+    rng = np.random.default_rng(3)
+    ms = 2 ** np.arange(12)
+    tau = ms / 100.0
+    n = 200_000
+    for terms in (("Q", "N", "B", "K", "R"), ("N", "B", "K")):
+        alphas = [_ALPHA[t] for t in terms]
+        rho = _covariance._rho_blocks(alphas, ms)
+        x = tau[:, None] ** np.array([_POWER[t] for t in terms])[None, :]
+        nu = rng.uniform(2.0, 50.0, x.shape)
+        noise = np.array([t != "R" for t in terms])
+        ramp = (*_covariance._ramp_basis(terms, tau, ms, n, "overlapping"), terms.index("R")) if "R" in terms else None
+        model = _covariance.PointCovarianceModel(x, nu, rho, noise, ramp)
+        for c in (rng.uniform(0.0, 1.0, len(terms)), np.r_[rng.uniform(0.0, 1.0, len(terms) - 1), 0.0]):
+            want = _covariance._point_covariance(
+                x, c, nu, rho, noise, _covariance._ramp_cross_sd(terms, c, tau, ms, n, "overlapping")
+            )
+            np.testing.assert_allclose(model(c), want, rtol=1e-12, atol=1e-14 * np.abs(want).max())

@@ -189,6 +189,23 @@ def test_profile_shaker_draws_from_its_own_stream(tmp_path):
     assert np.any(b["truth/specific_force"] != 0) and np.all(a["truth/specific_force"] == 0)
 
 
+def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path):
+    # the CLI only parses [shaker]: its specific force is the static part plus
+    # sim.shaker.interval_mean_acceleration drawn from the seed's first child stream, bit for bit
+    from gyrobench.sim.shaker import RandomVibration, interval_mean_acceleration
+    from gyrobench.sim.units import G0
+
+    rc, out = _device(tmp_path, "stim300", "duration_s = 30\nspecific_force_g = 1\n[shaker]\nkind = \"random\"\n"
+                      "start_s = 3\nduration_s = 25\nmax_displacement_mm = 3\n"
+                      "psd = [[20, 0.01], [80, 0.04], [350, 0.04], [2000, 0.007]]\n", "--fs", "333", "--seed", "11")
+    assert rc == 0
+    vib = RandomVibration(breakpoints=((20, 0.01), (80, 0.04), (350, 0.04), (2000, 0.007)), duration=25.0,
+                          max_displacement=3e-3)
+    rng = np.random.default_rng(np.random.SeedSequence(11).spawn(1)[0])
+    expect = G0 + interval_mean_acceleration(vib, duration=30.0, fs=333.0, start=3.0, rng=rng)
+    assert np.array_equal(load_hdf5(out)["truth/specific_force"], expect)
+
+
 @pytest.mark.parametrize(
     ("profile", "needle"),
     [

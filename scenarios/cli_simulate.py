@@ -253,8 +253,6 @@ _SHAKER_KEYS = {
     "sweep": ("f_start_hz", "f_end_hz", "acceleration_g", "spacing", "ramp_s"),
     "random": ("psd",),
 }
-#: the shaker is sampled at >= this many times its highest frequency, then averaged over each output interval
-_SHAKER_OVERSAMPLING = 4.0
 
 
 def _table(data: dict, name: str, allowed: typing.Iterable[str], path: str) -> dict:
@@ -354,31 +352,18 @@ def _profile_shaker(data: dict, path: str) -> tuple[float, typing.Any]:
 
 
 def _shaker_force(vibration, start: float, duration: float, fs: float, *, rng, path: str) -> typing.Any:
-    """The shaker's specific force along the sense axis [m/s^2], one mean per output interval.
+    """The shaker's specific force [m/s^2], one mean per output interval
+    (:func:`gyrobench.sim.shaker.interval_mean_acceleration`), its errors in the profile's words."""
+    from gyrobench.sim.shaker import interval_mean_acceleration
 
-    The vibration is sampled at fs_in = m fs, m the smallest integer with m fs >= 4 f_max
-    (:data:`_SHAKER_OVERSAMPLING`: twice the Nyquist rate of its highest frequency), and each
-    output sample k gets the mean of its m samples (the output integrates over its interval:
-    a vibration above fs/2 is attenuated by that mean, not aliased at full level). It starts
-    at output sample round(start fs) and lasts round(vibration duration x fs) samples; the
-    record is static (0) elsewhere.
-    """
-    import numpy as np
-    from gyrobench.sim import memory
-
-    n = int(math.floor(duration * fs + 1e-9))
-    k0 = int(round(start * fs))
-    n_vib = int(round(vibration.duration * fs))
-    if k0 + n_vib > n or n_vib < 1:
+    if round(start * fs) + round(vibration.duration * fs) > math.floor(duration * fs + 1e-9) \
+            or round(vibration.duration * fs) < 1:
         raise BadInput(f"--profile {path!r}: shaker.start_s + shaker.duration_s = {start + vibration.duration:g} s "
                        f"must lie inside the record (0, {duration:g}] s and hold >= 1 sample at {fs:g} Hz")
-    m = max(1, math.ceil(_SHAKER_OVERSAMPLING * vibration.max_frequency / fs))
-    memory.check_memory(memory.series_bytes(n_vib * m, 4), "the shaker profile", hint="shorten shaker.duration_s")
-    vib = dataclasses.replace(vibration, duration=n_vib / fs)
-    acc = vib.sample(m * fs, rng=rng).acceleration
-    out = np.zeros(n)
-    out[k0:k0 + n_vib] = acc[: n_vib * m].reshape(n_vib, m).mean(axis=1)
-    return out
+    try:
+        return interval_mean_acceleration(vibration, duration=duration, fs=fs, rng=rng, start=start)
+    except ValueError as exc:
+        raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
 
 
 def _device_environment(args, part):

@@ -9,7 +9,10 @@ Everything is SI: time [s], frequency [Hz], acceleration [m/s^2], displacement [
 * :class:`RandomVibration` -- Gaussian random vibration from a PSD in g^2/Hz
   (breakpoints with log-log interpolation, as test standards write them),
   with the low-frequency shaping a displacement-limited shaker applies;
-* :class:`Phased` -- a record static -> vibration -> static.
+* :class:`Phased` -- a record static -> vibration -> static;
+* :func:`interval_mean_acceleration` -- a profile as one sensor input per output
+  sample (the mean over each output interval), placed in a longer record: what
+  ``Environment.specific_force`` takes.
 
 Every profile samples to a :class:`ShakerSignal` (acceleration time series plus
 the instantaneous frequency and envelope a shaker controller logs) with
@@ -43,11 +46,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from gyrobench.sim import units
+from gyrobench.sim import memory, units
 from gyrobench.sim._validate import check_fs as _check_fs
 from gyrobench.sim._validate import check_rng as _check_rng
 from gyrobench.sim._validate import real_number
@@ -60,6 +63,8 @@ __all__ = [
     "FixedSine",
     "RandomVibration",
     "Phased",
+    "OVERSAMPLING",
+    "interval_mean_acceleration",
     "psd_from_breakpoints",
     "grms",
     "sweep_phase",
@@ -574,3 +579,114 @@ class Phased:
             pad(vib.on, False),
             float(t0),
         )
+
+
+# --------------------------------------------------------------------------- output-rate input
+#: :func:`interval_mean_acceleration` samples a profile at >= this many times its highest
+#: frequency (twice the Nyquist rate) before averaging over each output interval
+OVERSAMPLING = 4.0
+
+
+def interval_mean_acceleration(
+    vibration: SineSweep | FixedSine | RandomVibration,
+    *,
+    duration: float,
+    fs: float,
+    rng: np.random.Generator,
+    start: float = 0.0,
+) -> NDArray[np.float64]:
+    """The shaker's acceleration as one mean per output interval of a record [m/s^2].
+
+    The array a sensor model takes as its specific-force input
+    (:class:`gyrobench.sim.sensor.Environment` ``specific_force``: one value per output
+    sample, floor(duration fs) of them); add a static part (1 g with the axis up) to it.
+
+    Parameters
+    ----------
+    vibration : SineSweep, FixedSine or RandomVibration
+        What the shaker plays; its ``duration`` [s] is rounded to whole output intervals
+        (Notes).
+    duration : float
+        Length of the whole record [s], > 0.
+    fs : float
+        Output sample rate of the record [Hz], > 0.
+    rng : numpy.random.Generator
+        The shaker's own stream (random vibration's phases, a sine controller's error).
+    start : float
+        Time of the vibration's start in the record [s], >= 0 (default 0). The record is
+        static (0 m/s^2) before and after the vibration.
+
+    Returns
+    -------
+    ndarray
+        a_k [m/s^2], k = 0 .. floor(duration fs) - 1: the mean acceleration over the output
+        interval [k/fs, (k + 1)/fs).
+
+    Raises
+    ------
+    TypeError
+        If ``vibration`` is not one of the three profiles or ``rng`` not a Generator.
+    ValueError
+        If ``duration``, ``fs`` or ``start`` is out of range, if the vibration does not lie
+        inside the record with >= 1 output sample, or if the oversampled vibration would not
+        fit in memory (:class:`gyrobench.sim.memory.MemoryLimitError`).
+
+    Notes
+    -----
+    With n = floor(duration fs), k0 = round(start fs), n_v = round(T_v fs) (T_v the
+    vibration's duration) and m = max(1, ceil(:data:`OVERSAMPLING` f_max / fs)), the profile is
+    sampled at m fs over [0, n_v/fs) (its duration set to n_v/fs, so the window holds whole
+    output intervals) and
+
+        a_k = (1/m) sum_{j=0}^{m-1} a_v((k - k0)/fs + j/(m fs))   for k0 <= k < k0 + n_v,
+        a_k = 0                                                    otherwise.
+
+    The mean is what an integrating output (each sample the increment over its interval)
+    sees: a tone A cos(2 pi f t + phi) becomes A |H(f)| cos(2 pi f k/fs + phi + arg H(f)) with
+
+        H(f) = (1/m) sum_j exp(i 2 pi f j/(m fs))
+             = exp(i pi f (m - 1)/(m fs)) sin(pi f/fs) / (m sin(pi f/(m fs))),
+
+    which tends to sinc(f/fs) as m grows and is 0 at the multiples of fs: a vibration above
+    fs/2 still folds into the output band, but attenuated by |H| (<= 1/(pi f/fs) for
+    f >= fs/2 in the limit), not at its full level as a point sampler would fold it.
+
+    References
+    ----------
+    docs/physics.md sections 3.8 (the integrate-and-dump output average sinc(f/fs)) and 4
+    (the shaker); Oppenheim & Schafer, Discrete-Time Signal Processing, 3rd ed., ch. 2 (the
+    frequency response of the moving-average system).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrobench.sim import units
+    >>> dwell = FixedSine(frequency=5.0, duration=4.0, acceleration=units.g(0.5))
+    >>> a = interval_mean_acceleration(dwell, duration=10.0, fs=100.0, start=2.0, rng=np.random.default_rng(0))
+    >>> len(a), bool(np.all(a[:200] == 0) and np.all(a[600:] == 0)), round(float(a[205]), 6)
+    (1000, True, 4.903325)
+    """
+    if not isinstance(vibration, (SineSweep, FixedSine, RandomVibration)):
+        raise TypeError(
+            f"vibration must be a SineSweep, FixedSine or RandomVibration; got {type(vibration).__name__}"
+        )
+    duration = _real("interval_mean_acceleration", "duration", duration, "s", positive=True)
+    fs = _check_fs(fs)
+    rng = _check_rng(rng)
+    start = _real("interval_mean_acceleration", "start", start, "s", nonneg=True)
+    n = int(math.floor(duration * fs + 1e-9))
+    k0 = int(round(start * fs))
+    n_vib = int(round(vibration.duration * fs))
+    if k0 + n_vib > n or n_vib < 1:
+        raise ValueError(
+            f"start + vibration.duration = {start + vibration.duration:g} s must lie inside the record "
+            f"(0, {duration:g}] s and hold >= 1 output sample at {fs:g} Hz"
+        )
+    m = max(1, math.ceil(OVERSAMPLING * vibration.max_frequency / fs))
+    memory.check_memory(memory.series_bytes(n_vib * m, 4), f"the shaker's vibration sampled at {m * fs:g} Hz",
+                        hint="shorten the vibration")
+    vib = replace(vibration, duration=n_vib / fs)
+    acc = vib.sample(m * fs, rng=rng).acceleration
+    out = np.zeros(n)
+    out[k0:k0 + n_vib] = acc[: n_vib * m].reshape(n_vib, m).mean(axis=1)
+    return out

@@ -159,19 +159,49 @@ def test_profile_shaker_sine_is_placed_in_its_window_on_top_of_the_static_force(
 
 
 def test_profile_shaker_above_the_output_rate_is_averaged_over_each_interval_not_aliased(tmp_path):
-    # random vibration in 200-400 Hz at a 50 Hz output: each output sample is the mean over its
-    # 20 ms interval, whose response |sinc(f/fs)| is <= 1/(pi f/fs) = 0.080 at 200 Hz, so the
-    # record's rms is under 0.08 x grms (0.2 allows the finite record's spread); a point sampler
-    # would alias the full grms into the band
-    from gyrobench.sim.shaker import grms
+    # Random vibration, flat G = 0.04 g^2/Hz on [200, 400] Hz (grms = 2.83 g), at a 50 Hz output. Each
+    # output sample is the mean of m = ceil(4 x 400/50) = 32 shaker samples, whose gain at f is the m-point
+    # moving average's |H(f)| = |sin(pi f/fs) / (m sin(pi f/(m fs)))| (0 at multiples of fs: no mean), so the
+    # record's rms is sigma = g0 sqrt(Int_200^400 G |H(f)|^2 df) = 0.118 g = 0.042 grms; a point sampler
+    # would fold the full grms into the band (23.9 sigma).
+    # Spread: the record's variance over T = 60 s estimates sigma^2 with normalised variance <= 1/(B_s T)
+    # (Bendat & Piersol, Random Data, 4th ed., ch. 8: the random error of a mean-square estimate; equality
+    # for Gaussian lines, while the synthesis's lines of fixed amplitude and random phase only lower it:
+    # exactly, nu = 2332 here), B_s = (Int P df)^2 / Int P^2 df the statistical bandwidth of the folded output
+    # PSD P on [0, fs/2] (each output frequency fo collects the band's lines at j fs +- fo). So
+    # sigma_hat^2/sigma^2 ~ chi2_nu/nu with nu = 2 B_s T = 2005 (B_s = 16.7 Hz of the 25 Hz band; removing
+    # the sample mean costs 1 of them), and at a false-alarm rate of 1e-6 two-sided sigma_hat/sigma lies in
+    # [0.924, 1.078]. The former bound, std < 0.2 grms (= 4.8 sigma), could not see a factor sqrt(2) in
+    # grms; this one can (asserted below; checked by hand: A_k = sqrt(G df) or sqrt(4 G df) fail).
+    from gyrobench.sim.shaker import OVERSAMPLING, grms
     from gyrobench.sim.units import G0
+    from scipy import stats
 
     psd = [[200, 0.04], [400, 0.04]]
+    fs, t_rec, g_psd = 50.0, 60.0, 0.04
+    m = math.ceil(OVERSAMPLING * 400 / fs)
+
+    def band_power(f):  # G0^2 G(f) |H(f)|^2 [(m/s^2)^2/Hz], 0 outside the band
+        x = np.pi * f / fs
+        inside = (f >= 200) & (f <= 400)
+        return np.where(inside, G0**2 * g_psd * (np.sin(x) / (m * np.sin(x / m))) ** 2, 0.0)
+
+    f = np.linspace(200, 400, 400_001)
+    sigma = math.sqrt(np.trapezoid(band_power(f), f))
+    fo = np.linspace(0, fs / 2, 50_001)
+    folded = sum(band_power(j * fs + s * fo) for j in range(1, 9) for s in (-1, 1))
+    b_s = np.trapezoid(folded, fo) ** 2 / np.trapezoid(folded**2, fo)
+    nu = 2 * b_s * t_rec
+    lo, hi = np.sqrt(stats.chi2.ppf([0.5e-6, 1 - 0.5e-6], nu) / nu)
+    assert math.isclose(np.trapezoid(folded, fo), sigma**2, rel_tol=1e-6)  # folding keeps the power
+    assert hi < math.sqrt(2) and lo > 1 / math.sqrt(2)  # the test can see a factor sqrt(2) in grms
+    assert grms(psd) * G0 > 20 * hi * sigma  # ... and a point sampler
+
     rc, out = _device(tmp_path, "stim300", f"duration_s = 60\n[shaker]\nkind = \"random\"\nduration_s = 60\n"
                       f"psd = {psd}\n", "--fs", "50")
     assert rc == 0
-    f = load_hdf5(out)["truth/specific_force"]
-    assert 0 < np.std(f) < 0.2 * grms(psd) * G0
+    force = load_hdf5(out)["truth/specific_force"]
+    assert lo * sigma <= np.std(force) <= hi * sigma, (np.std(force) / sigma, lo, hi)
 
 
 def test_profile_shaker_draws_from_its_own_stream(tmp_path):
@@ -187,6 +217,23 @@ def test_profile_shaker_draws_from_its_own_stream(tmp_path):
     a, b = load_hdf5(out_a), load_hdf5(out_b)
     assert np.array_equal(a["truth/ieee_noise"], b["truth/ieee_noise"])
     assert np.any(b["truth/specific_force"] != 0) and np.all(a["truth/specific_force"] == 0)
+
+
+def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path):
+    # the CLI only parses [shaker]: its specific force is the static part plus
+    # sim.shaker.interval_mean_acceleration drawn from the seed's first child stream, bit for bit
+    from gyrobench.sim.shaker import RandomVibration, interval_mean_acceleration
+    from gyrobench.sim.units import G0
+
+    rc, out = _device(tmp_path, "stim300", "duration_s = 30\nspecific_force_g = 1\n[shaker]\nkind = \"random\"\n"
+                      "start_s = 3\nduration_s = 25\nmax_displacement_mm = 3\n"
+                      "psd = [[20, 0.01], [80, 0.04], [350, 0.04], [2000, 0.007]]\n", "--fs", "333", "--seed", "11")
+    assert rc == 0
+    vib = RandomVibration(breakpoints=((20, 0.01), (80, 0.04), (350, 0.04), (2000, 0.007)), duration=25.0,
+                          max_displacement=3e-3)
+    rng = np.random.default_rng(np.random.SeedSequence(11).spawn(1)[0])
+    expect = G0 + interval_mean_acceleration(vib, duration=30.0, fs=333.0, start=3.0, rng=rng)
+    assert np.array_equal(load_hdf5(out)["truth/specific_force"], expect)
 
 
 @pytest.mark.parametrize(

@@ -485,7 +485,21 @@ def _finite(v: Any, claim_id: str) -> float | None:
             f"got {type(v).__name__} {v!r}"
         )
     f = float(v)
-    return f if math.isfinite(f) else None
+    return None if math.isnan(f) else f
+
+
+def _percentile(v: np.ndarray, q: float) -> float:
+    """np.percentile's linear interpolation, with +-inf ends kept (numpy gives inf - inf = NaN)."""
+    s = np.sort(v)
+    h = (len(s) - 1) * q / 100.0
+    i = int(math.floor(h))
+    j = min(i + 1, len(s) - 1)
+    a, b = float(s[i]), float(s[j])
+    if h == i or a == b:
+        return a
+    if math.isinf(a) or math.isinf(b):
+        return a if math.isinf(a) else b
+    return float(np.percentile(v, q))
 
 
 def finite_median(values: Iterable[Any]) -> float:
@@ -533,7 +547,7 @@ def evaluate(
                 testable=len(values),
                 holds=len(values) - len(misses),
                 median=float(np.median(arr)) if values else None,
-                spread=(float(np.percentile(arr, 25)), float(np.percentile(arr, 75))) if values else None,
+                spread=(_percentile(arr, 25), _percentile(arr, 75)) if values else None,
                 precondition_absent=absent,
                 misses_below=misses.count("below"),
                 misses_above=misses.count("above"),

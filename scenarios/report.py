@@ -64,6 +64,8 @@ def _jsonable(o: Any) -> Any:
         return _jsonable(o.tolist())
     if isinstance(o, np.generic):
         return _jsonable(o.item())
+    if isinstance(o, float) and math.isinf(o):
+        return "inf" if o > 0 else "-inf"
     if isinstance(o, float) and not math.isfinite(o):
         return None
     if isinstance(o, (str, int, float, bool)) or o is None:

@@ -172,13 +172,13 @@ def test_evaluate_counts_testable_units_and_skips_none_nan_missing():
         {"q": 3.9},
     ]
     (r,) = evaluate([c], units)
-    assert (r.units, r.testable, r.holds) == (8, 4, 3)  # 2.0, 1.0, 3.9 hold; 5.0 fails
-    assert r.pass_rate == 0.75
-    assert r.interval95 == cl.wilson_interval(3, 4)
-    assert r.median == pytest.approx(np.median([2.0, 5.0, 1.0, 3.9]))
-    assert r.spread == pytest.approx(
-        (np.percentile([2, 5, 1, 3.9], 25), np.percentile([2, 5, 1, 3.9], 75))
-    )
+    # inf is a value (a ratio over a zero denominator: the quantity is there on one side only), so it
+    # is judged (and fails "< 4" here); None, NaN and a missing key cannot test the claim
+    assert (r.units, r.testable, r.holds) == (8, 5, 3)  # 2.0, 1.0, 3.9 hold; 5.0 and inf fail
+    assert r.pass_rate == 0.6
+    assert r.interval95 == cl.wilson_interval(3, 5)
+    assert r.median == pytest.approx(np.median([2.0, 5.0, 1.0, 3.9, math.inf]))
+    assert r.spread == pytest.approx((np.percentile([2, 5, 1, 3.9, 1e300], 25), 5.0))
     assert r.verdict == "undecided"
 
 
@@ -328,3 +328,13 @@ def test_tally_counts_each_status_once():
     assert (n.method, n.reproduced, n.calibrated, n.contradicted, n.extension, n.extension_reproduced) == (
         3, 1, 1, 1, 1, 1)
     assert tally(res) + tally(res) == tally(res + res)
+
+
+def test_spread_keeps_infinite_ends_where_numpy_gives_nan():
+    # np.percentile interpolates inf - inf = NaN; a quartile at or next to an infinite value is that value
+    assert cl._percentile(np.array([1.0, 2.0, 3.0, math.inf]), 75) == math.inf
+    assert cl._percentile(np.array([-math.inf, 1.0, 2.0]), 25) == -math.inf
+    assert cl._percentile(np.array([1.0, 2.0, math.inf, math.inf]), 75) == math.inf
+    assert cl._percentile(np.array([1.0, 2.0, 3.0, 4.0, math.inf]), 25) == pytest.approx(2.0)
+    v = np.array([3.0, 1.0, 4.0, 1.5, 9.0])
+    assert cl._percentile(v, 25) == pytest.approx(np.percentile(v, 25))

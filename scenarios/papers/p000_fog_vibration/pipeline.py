@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from .config import Config, split_level_m
 from .device import true_bias_at_bins
-from .results import BiasModelScores, Coefficients, Decomposition, Offsets, PhaseTable
+from .results import BiasModelScores, Coefficients, Decomposition, Offsets, PhaseTable, zero_safe_ratio
 
 __all__ = [
     "BiasModels",
@@ -170,7 +170,7 @@ def shortest_tau_rise(
         a, b = int(round((t0 + (guard_s if i > 1 else 0.0)) * fs)), int(round(t1 * fs))
         curves.append(allan_deviation(rate[a:b], fs, taus=[1.0 / fs], confidence=0.95))
     static_high = max(float(curves[0].high[0]), float(curves[2].high[0]))
-    return float(curves[1].low[0]) / max(static_high, 1e-300)
+    return zero_safe_ratio(float(curves[1].low[0]), static_high)
 
 
 def _near_edges(on: np.ndarray, fs: float, width_s: float) -> np.ndarray:

@@ -26,9 +26,9 @@ How a unit's quantity tests a claim
   (within a factor 2 of 1). Where the non-negative fit prints 0 on both sides the fit found the
   term in neither signal: there is no ratio to read, and the unit cannot test the claim (None;
   reading it as "equal", ratio 1, would pass every "keeps" claim on such a unit whatever the
-  signals are). A zero denominator under a positive numerator gives num / 1e-300 (the table
-  shows a term on one side only). The control tells whether the analysis alone makes such a
-  claim hold (an identity).
+  signals are). A zero denominator under a positive numerator gives +inf (the table shows a
+  term on one side only: 'lower' holds, 'keeps' fails). The control tells whether the analysis
+  alone makes such a claim hold (an identity).
 * Q "rises in phase 2" (Table 1): phase 2's lower 95 % ADEV bound at tau = 1/fs over the
   larger static upper bound (:func:`~.pipeline.shortest_tau_rise`, whose docstring says why the
   vibration phase's rise is found there and not in a fitted Q).
@@ -321,6 +321,13 @@ class UnitResult:
 
 
 # ------------------------------------------------------------------------------ quantity rules
+def zero_safe_ratio(num: float, den: float) -> float:
+    """num / den of two non-negative numbers: +inf when only den is 0, 0 when both are."""
+    if den > 0:
+        return float(num / den)
+    return math.inf if num > 0 else 0.0
+
+
 def shown_ratio(big: Coefficient, small: Coefficient) -> float | None:
     """Evidence that ``big`` > ``small`` (module docstring).
 
@@ -329,7 +336,7 @@ def shown_ratio(big: Coefficient, small: Coefficient) -> float | None:
     small's lower 95 % bound: big.high / small.low < 1), else None.
     """
     if big.value is not None:
-        return float(big.low / max(small.high, 1e-300))
+        return zero_safe_ratio(big.low, small.high)
     if small.value is not None and big.high < small.low:
         return float(big.high / small.low)
     return None
@@ -347,7 +354,7 @@ def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> floa
     if num.value is None and den.value is not None and num.high < den.low / factor:
         return float(num.high / den.low)
     if den.value is None and num.value is not None and num.low > factor * den.high:
-        return float(num.low / max(den.high, 1e-300))
+        return zero_safe_ratio(num.low, den.high)
     return None
 
 
@@ -360,14 +367,14 @@ def value_ratio(num: Coefficient, den: Coefficient) -> float | None:
 
 def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
     """num / den of the fit's point values (``fit_value``; module docstring), as a table of the fit
-    reads: num / 1e-300 when only den is 0; None when either is not set or both are 0 (the fit
+    reads: +inf when only den is 0; None when either is not set or both are 0 (the fit
     finds the term in neither signal: no ratio, so the unit cannot test a "keeps" or a "lower"
     claim). Judged > 2 for "higher" and within a factor 2 of 1 for "keeps"."""
     if num.fit_value is None or den.fit_value is None:
         return None
     if num.fit_value <= 0 and den.fit_value <= 0:
         return None
-    return float(num.fit_value / max(den.fit_value, 1e-300))
+    return zero_safe_ratio(num.fit_value, den.fit_value)
 
 
 def overlap(a: Coefficient, b: Coefficient) -> float | None:
@@ -424,11 +431,11 @@ def unit_quantities(
         q[f"t3_{t}_denoised_over_ls"] = shown_ratio(cd[t], cl[t])
         q[f"t3_{t}_ls_over_rbf"] = shown_ratio(cl[t], cr[t])
     q["fig3_peak_bias_frequency"] = scores.peak_bias_frequency_hz
-    q["fig6_mse_ls_over_rbf_target"] = scores.ls_vs_target / max(scores.rbf_vs_target, 1e-300)
-    q["fig6_mse_ls_over_rbf_truth"] = scores.ls_vs_truth / max(scores.rbf_vs_truth, 1e-300)
+    q["fig6_mse_ls_over_rbf_target"] = zero_safe_ratio(scores.ls_vs_target, scores.rbf_vs_target)
+    q["fig6_mse_ls_over_rbf_truth"] = zero_safe_ratio(scores.ls_vs_truth, scores.rbf_vs_truth)
     q["fig7_offset_over_scatter"] = abs(offsets.offset_denoised) / offsets.static_scatter
     q["fig8_edge_spike_ratio"] = offsets.edge_spike_ratio
-    q["fig8_rbf_offset_over_denoised"] = abs(offsets.offset_rbf) / max(abs(offsets.offset_denoised), 1e-300)
+    q["fig8_rbf_offset_over_denoised"] = zero_safe_ratio(abs(offsets.offset_rbf), abs(offsets.offset_denoised))
     # the method claims' precondition: the simulator's true vibration bias over the 10-s scatter
     q["pre_vibration_bias_over_scatter"] = abs(offsets.true_bias_steady) / offsets.static_scatter
-    return {k: (float(v) if v is not None and math.isfinite(v) else None) for k, v in q.items()}
+    return {k: (float(v) if v is not None and not math.isnan(v) else None) for k, v in q.items()}

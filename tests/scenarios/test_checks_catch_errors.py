@@ -92,3 +92,12 @@ def test_a_10_percent_rate_error_fails_the_no_dead_band_check(monkeypatch, facto
 
     monkeypatch.setattr(checks_rlg_cavity, "_swing_adler_angles", wrong_input)
     assert not checks_rlg_cavity._check_randomized_dead_band(np.random.default_rng(0)).passed
+
+
+@pytest.mark.parametrize("factor", [0.99, 1.01])
+def test_a_1_percent_lock_in_error_fails_the_dead_band_check(monkeypatch, factor):
+    """The one-period-map edge resolves the band to its 1 % grid: a 1 % lock-in error moves it a cell."""
+    assert checks_rlg_cavity._check_dead_band().passed
+    _lock_in_off(checks_rlg_cavity, monkeypatch, factor)
+    out = checks_rlg_cavity._check_dead_band()
+    assert not out.passed and out.rel_error == pytest.approx(0.01, rel=1e-9)

@@ -1117,23 +1117,38 @@ def simulate_full(
     # Both modes at once: rows (x, y) of a (2, k) block, the other mode's state as the reversed
     # view. Subtracting b is adding -b and (-c) b = -(c b) exactly in IEEE arithmetic, so a
     # coefficient column with a sign per row ([c, -c]) gives bit for bit the two scalar
-    # expressions below, evaluated in the same order.
-    sign = np.array([[1.0], [-1.0]])
-    k_own = np.array([[kx], [ky]])
-    k_nl = np.array([[half_ke], [ke_eps]])  # k_e eps_A y^2/2 on the drive, k_e eps_A x y on the sense
-    gz_cross = np.array([[-gzi], [gzi]])
-    kc_cross = np.array([[-kci], [kci]])
-    if not has_al:
+    # expressions below, evaluated in the same order. Every coefficient is a full array of the
+    # operand's shape: numpy multiplies two equal-shape arrays with less overhead than a Python
+    # float or a broadcast column, and the products are the same (one rounding each).
+    def full(*rows: float) -> NDArray:
+        return np.repeat(np.array(rows, dtype=float)[:, None], k, axis=1)
+
+    sign = full(1.0, -1.0)
+    k_own = full(kx, ky)
+    k_nl = full(half_ke, ke_eps)  # k_e eps_A y^2/2 on the drive, k_e eps_A x y on the sense
+    k_yx, c_yx, m2 = full(kyx, kyx), full(cyx, cyx), full(m, m)
+    gz_r, gz_cross = full(gzr, gzr), full(-gzi, gzi)
+    kc_r, kc_cross = full(kcr, kcr), full(-kci, kci)
+    kp_a1, cx1, cy1, x01, ki_a1, inv_wx1 = (full(v)[0] for v in (kp_a, cx, cy, x0, ki_a, inv_wx))
+    if has_al:
+        ma2 = ma * sign
+    else:
         om_c = w0 + al * 0.0
-        cen_c = m * om_c * om_c
+        cen_c = np.broadcast_to(m * om_c * om_c, (2, k)).copy()
         tmo_c = (two_m * om_c) * sign
     xv = np.empty((2, k))  # x, x'/w_x
     sq = np.empty((2, k))
     xh = np.empty(k)
+    e = np.empty(k)
+    tmp_buf = np.empty((2, k))
+    z_buf = np.empty((2, k))
+    r = np.empty((2, k))
+    p = np.empty((2, k))
 
     def deriv(t: float, s: NDArray, f2: NDArray, n: NDArray) -> NDArray:
         x, y, vx, vy, ia = s[0], s[1], s[2], s[3], s[4]
         pos, pos_r, vel_r, u = s[0:2], s[1::-1], s[3:1:-1], s[5:7]
+        z, tmp = z_buf, tmp_buf  # scratch (local names: updated in place below)
         if has_al:
             om = w0 + al * t
             cen = m * om * om
@@ -1141,54 +1156,56 @@ def simulate_full(
         else:
             cen, tmo = cen_c, tmo_c
         xv[0] = x
-        np.multiply(vx, inv_wx, out=xv[1])  # x'/w_x
+        np.multiply(vx, inv_wx1, out=xv[1])  # x'/w_x
         np.multiply(xv, xv, out=sq)
         np.add(sq[0], sq[1], out=xh)
         np.sqrt(xh, out=xh)
-        e = x0 - xh
+        np.subtract(x01, xh, out=e)
         out = np.empty_like(s)
         acc = out[2:4]
         # a_x = ((I_agc + Kp e - c_x) x' - k_x x - k_yx y - c_yx y' + 2 m Omega y' + m Omega^2 x
         #        + m Omega' y + k_e eps_A y^2/2 - m f_d + f_x) / m
         # a_y = (F_fb - c_y y' - k_y y - k_yx x - c_yx x' - 2 m Omega x' + m Omega^2 y - m Omega' x
         #        - m f + k_e eps_A x y + f_y) / m, each in that order (row 0 and row 1 of acc)
-        ax = np.multiply(kp_a, e, out=acc[0])
+        ax = np.multiply(kp_a1, e, out=acc[0])
         ax += ia
-        ax -= cx
+        ax -= cx1
         ax *= vx
-        ay = np.multiply(cy, vy, out=acc[1])
+        ay = np.multiply(cy1, vy, out=acc[1])
         if closed:
             # reference [cos wt, sin wt] = [x, -v_n]/X_hat; r holds [cos wt, -sin wt]
-            r = xv / xh
+            np.divide(xv, xh, out=r)
             # F_fb = Re{z e^{jwt}} = z_r cos - z_i sin, z = gz u
-            z = gzr * u
-            z += gz_cross * u[::-1]
+            np.multiply(gz_r, u, out=z)
+            z += np.multiply(gz_cross, u[::-1], out=tmp)
             z *= r
-            np.subtract(np.add(z[0], z[1]), ay, out=ay)
+            np.subtract(np.add(z[0], z[1], out=xh), ay, out=ay)
         else:
-            np.subtract(0.0, ay, out=ay)
-        acc -= k_own * pos
-        acc -= kyx * pos_r
-        acc -= cyx * vel_r
-        acc += tmo * vel_r
-        acc += cen * pos
+            np.negative(ay, out=ay)  # 0 - a_y: no rebalance force
+        acc -= np.multiply(k_own, pos, out=tmp)
+        acc -= np.multiply(k_yx, pos_r, out=tmp)
+        acc -= np.multiply(c_yx, vel_r, out=tmp)
+        acc += np.multiply(tmo, vel_r, out=tmp)
+        acc += np.multiply(cen, pos, out=tmp)
         if has_al:
-            acc += (ma * sign) * pos_r
+            acc += np.multiply(ma2, pos_r, out=tmp)
         if has_f:
             ay -= mf
-        acc += (k_nl * pos_r) * y
+        np.multiply(k_nl, pos_r, out=tmp)
+        tmp *= y
+        acc += tmp
         if has_fd:
             ax -= mfd
         if noise:
             acc += f2
-        acc /= m
+        acc /= m2
         out[0:2] = s[2:4]
-        np.multiply(ki_a, e, out=out[4])
+        np.multiply(ki_a1, e, out=out[4])
         if closed:
             # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
-            p = (y + n if noise else y) * r  # [pr, pi]
-            du = np.multiply(kcr, p, out=out[5:7])
-            du += kc_cross * p[::-1]
+            np.multiply(np.add(y, n, out=e) if noise else y, r, out=p)  # [pr, pi]
+            du = np.multiply(kc_r, p, out=out[5:7])
+            du += np.multiply(kc_cross, p[::-1], out=tmp)
         else:  # no rebalance: the commands stay 0
             out[5:] = 0.0
         return out

@@ -101,3 +101,23 @@ def test_a_1_percent_lock_in_error_fails_the_dead_band_check(monkeypatch, factor
     _lock_in_off(checks_rlg_cavity, monkeypatch, factor)
     out = checks_rlg_cavity._check_dead_band()
     assert not out.passed and out.rel_error == pytest.approx(0.01, rel=1e-9)
+
+
+def _fog_resets_with(monkeypatch, change) -> dict:
+    """checks_fog_loop._resets with every loop spec passed through ``change``."""
+    from gyrobench.scenarios import checks_fog_loop
+    from gyrobench.sim import fog_loop
+
+    real = fog_loop.run_loop
+    monkeypatch.setattr(fog_loop, "run_loop", lambda spec, *a, **k: real(change(spec), *a, **k))
+    return {c.id: c.passed for c in checks_fog_loop._resets(np.random.default_rng(0))}
+
+
+def test_the_shortened_fog_scale_factor_records_still_catch_errors(monkeypatch):
+    """400 outputs (was 1200): no V_2pi control fails the gain-loop check; a modulator gain error
+    10 % larger than specified fails the blanked-reset check (the gain loop absorbs it: passes)."""
+    off = _fog_resets_with(monkeypatch, lambda s: replace(s, gain_loop=False))
+    assert not off["fog.loop_v2pi_scale_factor"]
+    monkeypatch.undo()
+    wrong = _fog_resets_with(monkeypatch, lambda s: replace(s, modulator_gain_error=1.1 * s.modulator_gain_error))
+    assert not wrong["fog.loop_blanked_reset_scale_factor"] and wrong["fog.loop_v2pi_scale_factor"]

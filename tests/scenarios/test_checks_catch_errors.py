@@ -121,3 +121,18 @@ def test_the_shortened_fog_scale_factor_records_still_catch_errors(monkeypatch):
     monkeypatch.undo()
     wrong = _fog_resets_with(monkeypatch, lambda s: replace(s, modulator_gain_error=1.1 * s.modulator_gain_error))
     assert not wrong["fog.loop_blanked_reset_scale_factor"] and wrong["fog.loop_v2pi_scale_factor"]
+
+
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, factor):
+    """The slow flow's noise at 4 Hz made 10 % too small or too large (21 % in variance) fails."""
+    assert checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+    zro = checks_mems.zero_rate_output(checks_mems.check_unit())
+    real = checks_mems.simulate
+
+    def wrapped(*a, **k):
+        res = real(*a, **k)
+        return replace(res, output=zro + factor * (res.output - zro))
+
+    monkeypatch.setattr(checks_mems, "simulate", wrapped)
+    assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed

@@ -136,3 +136,30 @@ def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, f
 
     monkeypatch.setattr(checks_mems, "simulate", wrapped)
     assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+
+
+@pytest.mark.slow  # five noise-free full integrations (~1 s each)
+@pytest.mark.parametrize(
+    ("change", "caught"),
+    [
+        ("rate", {"mems.low_rate_scale_factor", "mems.sense_envelope_saturated", "mems.slow_flow_vs_full"}),
+        ("mass", {"mems.rate_authority", "mems.g_sensitivity", "mems.slow_flow_vs_full"}),
+        ("drive_amplitude", {"mems.rate_authority", "mems.drive_amplitude", "mems.slow_flow_vs_full"}),
+        ("quadrature_coupling", {"mems.quadrature_rejection", "mems.slow_flow_vs_full"}),
+        ("phase_error", {"mems.quadrature_rejection", "mems.g_sensitivity", "mems.slow_flow_vs_full"}),
+    ],
+)
+def test_a_10_percent_error_in_the_full_model_fails_the_noise_free_checks(monkeypatch, change, caught):
+    """At 16 RK4 steps per period (tolerance 6e-4) each noise-free full-integration check still
+    fails when the quantity it measures is 10 % off in the full model (the rate it integrates,
+    or one parameter of the unit it is given), and every check is caught by one of the changes."""
+    real = checks_mems.simulate_full
+
+    def wrong(unit, rate, **k):
+        if change == "rate":
+            return real(unit, 1.1 * np.asarray(rate), **k)
+        return real(replace(unit, **{change: 1.1 * getattr(unit, change)}), rate, **k)
+
+    monkeypatch.setattr(checks_mems, "simulate_full", wrong)
+    failed = {c.id for c in checks_mems._full_checks(np.random.default_rng(1)) if not c.passed}
+    assert caught <= failed

@@ -323,9 +323,9 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     (tests/scenarios/test_checks_catch_errors.py). A full case costs ~55 slow-flow cases and
     the band's variance goes as 1/N_full + 1/N_slow, so the cheapest split has N_slow/N_full
     ~ sqrt(55) ~ 7: 960 + 8192 give a slightly narrower band than the 900 + 16384 used before
-    (1/N_full + 1/N_slow 1.164e-3 vs 1.172e-3) at less cost. The 2-ms block's sinc^2 null at 500 Hz sits
-    on the mode split, where the slow flow's first-order envelope departs from the full
-    equations (mems.open_loop_noise_psd_vs_full).
+    (1/N_full + 1/N_slow 1.164e-3 vs 1.172e-3) at less cost. The 2-ms block's sinc^2 null at
+    500 Hz sits on the mode split, where the slow flow's first-order envelope departs from the
+    full equations (mems.open_loop_noise_psd_vs_full).
     """
     from scipy import stats
 

@@ -1234,42 +1234,46 @@ def simulate_full(
     t = 0.0
     zero = np.zeros((3, k))
     sig3 = np.array([sig_fx, sig_fy, sig_n])[:, None]
-    # the states after each step of one output interval; the read-outs are computed from them
-    # at once and summed in step order (the same sums, term by term, as accumulating per step)
-    hist = np.empty((n_dec, 7, k))
-    terms = np.empty((n_dec, 7, k))  # u_i, u_q, X_hat, 2 y e^{-jwt} (re, im), with pick-off noise (re, im)
+    # the states after each step of (a chunk of) one output interval; the read-outs are computed
+    # from them at once and summed in step order (the same sums, term by term, as accumulating
+    # per step). Chunks of at most 2^18 / k steps bound the two buffers to ~30 MB at any k.
+    chunk = max(1, min(n_dec, 2**18 // k))
+    hist = np.empty((chunk, 7, k))
+    terms = np.empty((chunk, 7, k))  # u_i, u_q, X_hat, 2 y e^{-jwt} (re, im), with pick-off noise (re, im)
+    n_terms = 5 if closed else 7
     for j in range(n_out):
         if noise:  # scaled once per output sample (the same products as scaling each step)
             z3 = rng.standard_normal((n_dec, 3, k)) * sig3
-        for i in range(n_dec):
-            zi = z3[i] if noise else zero
-            f2, nn = zi[0:2], zi[2]
-            k1 = deriv(t, s, f2, nn)
-            k2 = deriv(t + dt / 2, s + (dt / 2) * k1, f2, nn)
-            k3 = deriv(t + dt / 2, s + (dt / 2) * k2, f2, nn)
-            k4 = deriv(t + dt, s + dt * k3, f2, nn)
-            s = s + (dt / 6) * (k1 + 2 * k2 + 2 * k3 + k4)
-            t += dt
-            if closed:
-                clamp(s)
-            hist[i] = s
-        terms[:, 0:2] = hist[:, 5:7]
-        xa = np.sqrt(hist[:, 0] ** 2 + (hist[:, 2] / wx) ** 2, out=terms[:, 2])
-        # e^{-jwt} = x/X_hat + j x'/(w X_hat), a real times a complex exact part by part;
-        # j x'/(w X_hat) as numpy divides a complex by a real: times the reciprocal
-        ref_r, ref_i = hist[:, 0] / xa, hist[:, 2] * (1.0 / (wx * xa))
-        c2 = 2.0 * hist[:, 1]
-        np.multiply(c2, ref_r, out=terms[:, 3])
-        np.multiply(c2, ref_i, out=terms[:, 4])
-        n_terms = 5
-        if not closed:  # the pick-off, with its noise
-            cm = 2.0 * (hist[:, 1] + z3[:, 2]) if noise else c2
-            np.multiply(cm, ref_r, out=terms[:, 5])
-            np.multiply(cm, ref_i, out=terms[:, 6])
-            n_terms = 7
         acc = np.zeros((n_terms, k))
-        for i in range(n_dec):
-            acc += terms[i, :n_terms]
+        for c0 in range(0, n_dec, chunk):
+            nc = min(chunk, n_dec - c0)
+            for i in range(nc):
+                zi = z3[c0 + i] if noise else zero
+                f2, nn = zi[0:2], zi[2]
+                k1 = deriv(t, s, f2, nn)
+                k2 = deriv(t + dt / 2, s + (dt / 2) * k1, f2, nn)
+                k3 = deriv(t + dt / 2, s + (dt / 2) * k2, f2, nn)
+                k4 = deriv(t + dt, s + dt * k3, f2, nn)
+                s = s + (dt / 6) * (k1 + 2 * k2 + 2 * k3 + k4)
+                t += dt
+                if closed:
+                    clamp(s)
+                hist[i] = s
+            h, tm = hist[:nc], terms[:nc]
+            tm[:, 0:2] = h[:, 5:7]
+            xa = np.sqrt(h[:, 0] ** 2 + (h[:, 2] / wx) ** 2, out=tm[:, 2])
+            # e^{-jwt} = x/X_hat + j x'/(w X_hat), a real times a complex exact part by part;
+            # j x'/(w X_hat) as numpy divides a complex by a real: times the reciprocal
+            ref_r, ref_i = h[:, 0] / xa, h[:, 2] * (1.0 / (wx * xa))
+            c2 = 2.0 * h[:, 1]
+            np.multiply(c2, ref_r, out=tm[:, 3])
+            np.multiply(c2, ref_i, out=tm[:, 4])
+            if not closed:  # the pick-off, with its noise
+                cm = 2.0 * (h[:, 1] + z3[c0:c0 + nc, 2]) if noise else c2
+                np.multiply(cm, ref_r, out=tm[:, 5])
+                np.multiply(cm, ref_i, out=tm[:, 6])
+            for i in range(nc):
+                acc += tm[i, :n_terms]
         out_ui[j], out_uq[j] = acc[0] / n_dec, acc[1] / n_dec
         out_xa[j] = acc[2] / n_dec
         out_b[j].real, out_b[j].imag = acc[3:5]

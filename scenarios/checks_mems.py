@@ -30,6 +30,8 @@
 * ``mems.open_loop_noise_psd_vs_full``: the same in 250-Hz bands to Nyquist, through the
   sense-mode peak; both against the closed-form ratio rho of the two models' spectra
   (:func:`full_noise_spectrum`, :func:`slow_noise_spectrum`), F-test on the equivalent dof.
+* ``mems.low_output_rate_noise``: the slow flow's output variance at 4 Hz, far below the loop
+  (the exact discretisation's sub-step doubling), vs (SF N)^2 fs, chi-square bounds.
 
 Tolerances: numerical ones from RK4 (relative frequency error (w dt)^4/120 per observable
 that carries the numerical oscillator's frequency: Coriolis force, AGC amplitude estimate,
@@ -66,8 +68,11 @@ __all__ = ["checks", "parts", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance",
 
 #: two-sided false-alarm rate of every statistical check
 FALSE_ALARM = 1e-6
-#: RK4 steps per drive period of the full integrations
-STEPS_PER_CYCLE = 20
+#: RK4 steps per drive period of the noise-free closed-loop integration (the least
+#: simulate_full takes): its tolerance 3 (w dt)^4/120 = 6.0e-4 (2.4e-4 at the 20 used before,
+#: for a quarter more time); every error it bounds but the slow flow's own moved with it as
+#: h^4, the largest staying at 0.57 of it, and a 10 % model error is still 170 tolerances out
+STEPS_PER_CYCLE = 16
 #: full-integration record [s] and the settling part discarded [s]: noise-free, so the 2 ms kept
 #: (two output samples) need no length for averaging (the 10 ms kept before changed no check by
 #: more than a tenth of its tolerance)
@@ -291,8 +296,8 @@ NVF_SETTLE = 0.01
 NVF_BLOCK = 0.002
 NVF_BLOCKS = 8
 NVF_STEPS_PER_CYCLE = 16
-NVF_FULL_CASES = 900
-NVF_SLOW_CASES = 16384
+NVF_FULL_CASES = 960
+NVF_SLOW_CASES = 8192
 
 
 def _block_covariance(b: np.ndarray) -> np.ndarray:
@@ -312,12 +317,15 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     agree it is the full integration's too), and the mean square over the blocks of one case
     has the equivalent dof (tr C)^2 / sum C_jl^2 (Gaussian: var of a quadratic form
     2 tr(C^2)). Eight 2-ms blocks give about 3.7 dof per 26-ms case, against 1 dof per 25-ms
-    case of the previous design (one 10-ms mean per case): 900 cases at 16 RK4 steps per
+    case of an earlier design (one 10-ms mean per case): 960 cases at 16 RK4 steps per
     period bound the variance ratio to +-0.13 (was +-0.23 with 1200 cases at 20 steps, 1.6
     times the RK4 work), so a 10 % error in the noise amplitude (21 % in variance) is caught
-    (tests/scenarios/test_checks_catch_errors.py). The 2-ms block's sinc^2 null at 500 Hz sits
-    on the mode split, where the slow flow's first-order envelope departs from the full
-    equations (mems.open_loop_noise_psd_vs_full).
+    (tests/scenarios/test_checks_catch_errors.py). A full case costs ~55 slow-flow cases and
+    the band's variance goes as 1/N_full + 1/N_slow, so the cheapest split has N_slow/N_full
+    ~ sqrt(55) ~ 7: 960 + 8192 give a slightly narrower band than the 900 + 16384 used before
+    (1/N_full + 1/N_slow 1.164e-3 vs 1.172e-3) at less cost. The 2-ms block's sinc^2 null at
+    500 Hz sits on the mode split, where the slow flow's first-order envelope departs from the
+    full equations (mems.open_loop_noise_psd_vs_full).
     """
     from scipy import stats
 
@@ -493,13 +501,65 @@ def _open_loop_response_check(rng: np.random.Generator) -> Check:
     )
 
 
+#: low-output-rate noise check: output rate [Hz] (-Re(pole)/fs ~ 60-120 for the check unit,
+#: where the exact discretisation needs the Van Loan sub-steps and doubling), columns, samples
+LOW_FS = 4.0
+LOW_COLS, LOW_SAMPLES = 256, 250
+
+
+def _low_rate_noise(rng: np.random.Generator) -> Check:
+    """Output noise of the slow flow at LOW_FS (far below the loop) vs the closed form N^2 fs.
+
+    Each output sample is the interval mean of the rate-equivalent white noise, one-sided PSD
+    2 N^2 with N = hypot(N_B, N_e) input-referred, so its variance is (SF N)^2 fs. Known mean
+    (the zero-rate output): the mean square of the LOW_COLS x LOW_SAMPLES samples has
+    chi-square bounds on that many dof (adjacent interval means are correlated only through the
+    loop's settling, O(fs/|Re s|)); the loop's finite bandwidth takes at most 2 fs/|Re s|min of
+    the variance (a deficit), added to the tolerance. The exact discretisation at -Re(s) h ~ 60
+    lost Q_d to rounding before the sub-step doubling (48x the closed form at 8 Hz).
+    """
+    from scipy import stats
+
+    unit = check_unit()
+    fs = LOW_FS
+    res = simulate(unit, np.zeros((LOW_SAMPLES, LOW_COLS)), fs=fs, rng=rng, adc=False, flicker=False)
+    x = res.output - zero_rate_output(unit)
+    sf = low_rate_scale_factor(unit)
+    n_tot = math.hypot(brownian_arw(unit), electronic_arw(unit))
+    dof = x.size
+    lo, hi = (float(q) / dof for q in stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof))
+    pole = float(np.min(-operating_point(unit).loop_poles.real))
+    bias = 2.0 * fs / pole
+    return Check(
+        id="mems.low_output_rate_noise",
+        reference=(
+            LELAND + " (N_B); IEEE Std 952-1997, Annex C (angle random walk: the tau-mean of white rate "
+            "noise has variance N^2/tau); exact discretisation: C. F. Van Loan, IEEE Trans. Autom. "
+            "Control 23(3) 395 (1978)"
+        ),
+        formula=(
+            f"variance of the output samples at fs = {fs:g} Hz (closed loop, Brownian + pick-off noise) "
+            "= (SF N)^2 fs, N = hypot(N_B, N_e) [(rad/s)^2]"
+        ),
+        expected=(sf * n_tot) ** 2 * fs,
+        simulated=float(np.mean(x**2)),
+        tolerance=max(1.0 - lo, hi - 1.0) + bias,
+        derivation=(
+            f"mean square of {dof} samples about the known zero-rate output: chi-square({dof}) bounds at "
+            f"{FALSE_ALARM:g} two-sided, the wider side, plus the loop-bandwidth deficit bound "
+            f"2 fs/|Re s|min = {bias:.2g} (|Re s|min/fs = {pole / fs:.0f})"
+        ),
+    )
+
+
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in seven independent parts, each with its own child of ``rng``."""
+    """The checks in eight independent parts, each with its own child of ``rng`` (the eighth
+    added last: the first seven children are those of ``rng.spawn(7)``)."""
     from gyrobench.scenarios.checks_mems_psd import open_loop_noise_checks  # it imports this module
 
-    r = rng.spawn(7)
+    r = rng.spawn(8)
     funcs = (_arw_check, _full_checks, _noise_vs_full, _continuity, _open_loop_checks,
-             _open_loop_response_check, open_loop_noise_checks)
+             _open_loop_response_check, open_loop_noise_checks, _low_rate_noise)
     return [Part(f.__name__.strip("_"), f, (ri,)) for f, ri in zip(funcs, r, strict=True)]
 
 

@@ -11,9 +11,11 @@
 * ``rlg_cavity.mode_hop_hysteresis``: heating minus cooling temperature of the same mode
   transition against (S - lambda) / (P alpha).
 * ``rlg_cavity.dead_band_width``: edge of the locked band of an unrandomized dithered gyro
-  near zero input (Adler integration, 120 observed cycles: the half-slip resolution term of the
-  tolerance is 0.031, a 10 % error in the band is still 3 tolerances out) against
-  Omega_L |J_0(beta_D)|.
+  near zero input against Omega_L |J_0(beta_D)|: inputs 0.885-1.115 x the band in 1 % steps,
+  each locked when the one-period map of the Adler integration has a fixed point (128 start
+  phases side by side over one dither period, 0.06 s; 150 periods of one phase per input took
+  0.85 s and left a half-slip resolution term of 0.031 in the tolerance, now 0.005); a 1 %
+  error in the lock-in is caught (a 10 % one lands 10 % off, inside the grid).
 * ``rlg_cavity.dither_random_walk``: angle-error variance after 5 dither cycles with the
   Earth's rate present (Adler integration, swing-randomized dither, 3200 realizations) against
   the statistical model's N^2 T. The Adler integration's cost is set by its time steps more
@@ -213,7 +215,26 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
     ]
 
 
+#: dead-band check: inputs from DB_LOW band in DB_STEP steps (the closed form sits mid-cell), and
+#: the start phases of the one-period map on [0, 2 pi)
+DB_LOW, DB_STEP, DB_INPUTS = 0.885, 0.01, 24
+DB_PHASES = 128
+
+
 def _check_dead_band() -> Check:
+    """The locked band of a fixed-amplitude dithered gyro from the one-period map of the Adler
+    equation.
+
+    The dither is periodic, so one dither period of the RK4 integration is a map P of the beat
+    phase, a lift of an orientation-preserving circle map (P(psi + 2 pi) = P(psi) + 2 pi). By
+    Poincare's theorem its rotation number (the mean slips per period) is 0 exactly when
+    D(psi) = P(psi) - psi has a zero, i.e. when the gyro is locked: so each input is integrated
+    over one period from DB_PHASES start phases side by side (instead of one phase over many
+    periods, which sees a slow slip just above the edge only after a long time) and is locked
+    when min D <= 0 <= max D. The sampled minimum exceeds the true one by at most
+    max|D''| delta^2/8 (delta = 2 pi/DB_PHASES), which can make the last locked input look
+    unlocked: the edge estimate then moves down by at most that over dmin D/dOmega.
+    """
     from scipy.special import j0
 
     k, wl, fd, beta = 1000.0, 0.01, 50.0, 20.0
@@ -221,40 +242,47 @@ def _check_dead_band() -> Check:
     w = 2.0 * math.pi * fd
     od = w * theta
     band = wl * abs(float(j0(beta)))
-    step = 0.0025
-    grid = band * (0.97 + step * np.arange(25))
-    n_cyc, skip = 150, 30
+    grid = band * (DB_LOW + DB_STEP * np.arange(DB_INPUTS))
+    col = grid[:, None]
 
     def rate(t: float) -> np.ndarray:
-        return grid + od * math.cos(w * t)
+        return col + od * math.cos(w * t)
 
     n_per = int(math.ceil(16.0 * k * od * 1.05 / fd))
+    phases = 2.0 * math.pi * np.arange(DB_PHASES) / DB_PHASES
     psi = integrate_adler(
-        rate, n_cyc / fd, scale_factor=k, lock_in_rate=wl, dt=1.0 / (fd * n_per),
-        psi0=np.zeros(len(grid)), sample_every=n_per,
+        rate, 1.0 / fd, scale_factor=k, lock_in_rate=wl, dt=1.0 / (fd * n_per),
+        psi0=np.broadcast_to(phases, (DB_INPUTS, DB_PHASES)), sample_every=n_per,
     )
-    slips = (psi[-1] - psi[skip]) / (2.0 * math.pi)
-    unlocked = np.flatnonzero(np.abs(slips) >= 0.5)
+    d = psi[-1] - psi[0]  # D(psi) per input (rows) and start phase (columns)
+    d_min = d.min(axis=1)
+    locked = (d_min <= 0.0) & (d.max(axis=1) >= 0.0)
+    unlocked = np.flatnonzero(~locked)
     # an edge outside the grid (every input slips, or none does) is no edge: NaN fails the check
-    # (grid[-1] must not stand in for the input below the first one)
     edge = (float(0.5 * (grid[unlocked[0]] + grid[unlocked[0] - 1]))
             if unlocked.size and unlocked[0] > 0 else math.nan)
-    obs = (n_cyc - skip) / fd
-    finite = 1.0 / (2.0 * (k * band * obs) ** 2)
+    # sampling bound: max |D''| delta^2 / 8 (D'' from second differences), over the smallest
+    # slope of min D against the input between neighbouring inputs
+    delta = 2.0 * math.pi / DB_PHASES
+    d2 = float(np.max(np.abs(np.roll(d, 1, axis=1) - 2.0 * d + np.roll(d, -1, axis=1)))) / delta**2
+    slope = float(np.min(np.diff(d_min) / np.diff(grid)))
+    sampling = d2 * delta**2 / 8.0 / slope / band if slope > 0 else math.inf
     return Check(
         id="rlg_cavity.dead_band_width",
         reference=CHOW + " (dithered lock-in: the dead band scales with |J_0| of the dither amplitude); " + ARONOWITZ,
         formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
         expected=band,
         simulated=edge,
-        tolerance=step / 2.0 + finite,
+        tolerance=DB_STEP / 2.0 + sampling,
         derivation=(
             f"Adler RK4, K = {k:g}/rad, Omega_L = {wl} rad/s, f_d = {fd:g} Hz, beta_D = {beta:g}, "
-            f"inputs on a grid of {step:.2%} of the band; edge = midpoint between the last locked "
-            f"and first slipping input over {n_cyc - skip} cycles: half the grid step plus the "
-            "smallest detectable excess, half a slip in the observation time T, "
-            "(Omega - w)/w = 1/(2 (K w T)^2). First-order (Jacobi-Anger) averaging is what is "
-            "tested, so its own error is not in the tolerance"
+            f"{DB_INPUTS} inputs {DB_LOW:g}-{DB_LOW + DB_STEP * (DB_INPUTS - 1):g} x the band in "
+            f"steps of {DB_STEP:.0%} (the closed form mid-cell); an input is locked when the "
+            f"one-period map's phase advance P(psi) - psi has a zero over {DB_PHASES} start "
+            "phases (Poincare: rotation number 0); edge = midpoint between the last locked and "
+            "first slipping input: half the grid step plus the phase-sampling bound "
+            f"max|D''| delta^2/8 / (dmin D/dOmega) = {sampling:.1g} of the band. First-order "
+            "(Jacobi-Anger) averaging is what is tested, so its own error is not in the tolerance"
         ),
     )
 

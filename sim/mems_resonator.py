@@ -1090,10 +1090,11 @@ def simulate_full(
         b = op.receptance * (f_ext + gz * (ui + 1j * uq))
     else:
         ui, uq, b = np.zeros(k), np.zeros(k), np.zeros(k, complex)
-    # state rows: x, vx, y, vy, I_agc, u_i, u_q
+    # state rows: x, y, vx, vy, I_agc, u_i, u_q (positions, then velocities: the two modes'
+    # equations are evaluated side by side on the (2, k) blocks, one array operation for both)
     s = np.empty((7, k))
-    s[0], s[1] = x0 + x_static, 0.0
-    s[2], s[3] = b.real + y_static, (1j * wx * b).real
+    s[0], s[2] = x0 + x_static, 0.0
+    s[1], s[3] = b.real + y_static, (1j * wx * b).real
     # I_agc at the discrete equilibrium: c_x plus the RK4 amplitude decay of the harmonic
     # oscillator, |R| = 1 - (w dt)^6/144 per step, which the AGC must make up
     s[4] = cx + 2.0 * m * (wx * dt) ** 6 / (144.0 * dt)
@@ -1113,89 +1114,117 @@ def simulate_full(
     # With no angular acceleration Omega(t) = w0 + al t is w0 + al 0 for every t (al t = +-0).
     has_al, has_f, has_fd = bool(np.any(al)), bool(np.any(mf)), bool(np.any(mfd))
     closed = not op.open_loop
-    if not has_al:
-        om_c = w0 + al * 0.0
-        cen_c = m * om_c * om_c
-        tmo_c = two_m * om_c
-    ffb_open = np.zeros(k)
+    # Both modes at once: rows (x, y) of a (2, k) block, the other mode's state as the reversed
+    # view. Subtracting b is adding -b and (-c) b = -(c b) exactly in IEEE arithmetic, so a
+    # coefficient column with a sign per row ([c, -c]) gives bit for bit the two scalar
+    # expressions below, evaluated in the same order. Every coefficient is a full array of the
+    # operand's shape: numpy multiplies two equal-shape arrays with less overhead than a Python
+    # float or a broadcast column, and the products are the same (one rounding each).
+    def full(*rows: float) -> NDArray:
+        return np.repeat(np.array(rows, dtype=float)[:, None], k, axis=1)
 
-    def deriv(t: float, s: NDArray, fx: NDArray, fy: NDArray, n: NDArray) -> NDArray:
-        x, vx, y, vy, ia, u_i, u_q = s
+    sign = full(1.0, -1.0)
+    k_own = full(kx, ky)
+    k_nl = full(half_ke, ke_eps)  # k_e eps_A y^2/2 on the drive, k_e eps_A x y on the sense
+    k_yx, c_yx, m2 = full(kyx, kyx), full(cyx, cyx), full(m, m)
+    gz_r, gz_cross = full(gzr, gzr), full(-gzi, gzi)
+    kc_r, kc_cross = full(kcr, kcr), full(-kci, kci)
+    kp_a1, cx1, cy1, x01, ki_a1, inv_wx1 = (full(v)[0] for v in (kp_a, cx, cy, x0, ki_a, inv_wx))
+    if has_al:
+        ma2 = ma * sign
+    else:
+        om_c = w0 + al * 0.0
+        cen_c = np.broadcast_to(m * om_c * om_c, (2, k)).copy()
+        tmo_c = (two_m * om_c) * sign
+    xv = np.empty((2, k))  # x, x'/w_x
+    sq = np.empty((2, k))
+    xh = np.empty(k)
+    e = np.empty(k)
+    tmp_buf = np.empty((2, k))
+    z_buf = np.empty((2, k))
+    r = np.empty((2, k))
+    p = np.empty((2, k))
+
+    def deriv(t: float, s: NDArray, f2: NDArray, n: NDArray) -> NDArray:
+        x, y, vx, vy, ia = s[0], s[1], s[2], s[3], s[4]
+        pos, pos_r, vel_r, u = s[0:2], s[1::-1], s[3:1:-1], s[5:7]
+        z, tmp = z_buf, tmp_buf  # scratch (local names: updated in place below)
         if has_al:
             om = w0 + al * t
             cen = m * om * om
-            tmo = two_m * om
+            tmo = (two_m * om) * sign
         else:
             cen, tmo = cen_c, tmo_c
-        v_n = vx * inv_wx
-        xh = np.sqrt(x * x + v_n * v_n)
-        e = x0 - xh
+        xv[0] = x
+        np.multiply(vx, inv_wx1, out=xv[1])  # x'/w_x
+        np.multiply(xv, xv, out=sq)
+        np.add(sq[0], sq[1], out=xh)
+        np.sqrt(xh, out=xh)
+        np.subtract(x01, xh, out=e)
         out = np.empty_like(s)
-        if closed:
-            c_ref = x / xh
-            s_ref = -v_n / xh
-            # F_fb = Re{z e^{jwt}}, z = gz u
-            zr = gzr * u_i - gzi * u_q
-            zi = gzr * u_q + gzi * u_i
-            ffb = zr * c_ref - zi * s_ref
-        else:
-            ffb = ffb_open
+        acc = out[2:4]
         # a_x = ((I_agc + Kp e - c_x) x' - k_x x - k_yx y - c_yx y' + 2 m Omega y' + m Omega^2 x
-        #        + m Omega' y + k_e eps_A y^2/2 - m f_d + f_x) / m, in that order, written in place
-        # into its row of ``out`` (a + b = b + a exactly in floating point)
-        ax = np.multiply(kp_a, e, out=out[1])
+        #        + m Omega' y + k_e eps_A y^2/2 - m f_d + f_x) / m
+        # a_y = (F_fb - c_y y' - k_y y - k_yx x - c_yx x' - 2 m Omega x' + m Omega^2 y - m Omega' x
+        #        - m f + k_e eps_A x y + f_y) / m, each in that order (row 0 and row 1 of acc)
+        ax = np.multiply(kp_a1, e, out=acc[0])
         ax += ia
-        ax -= cx
+        ax -= cx1
         ax *= vx
-        ax -= kx * x
-        ax -= kyx * y
-        ax -= cyx * vy
-        ax += tmo * vy
-        ax += cen * x
+        ay = np.multiply(cy1, vy, out=acc[1])
+        if closed:
+            # reference [cos wt, sin wt] = [x, -v_n]/X_hat; r holds [cos wt, -sin wt]
+            np.divide(xv, xh, out=r)
+            # F_fb = Re{z e^{jwt}} = z_r cos - z_i sin, z = gz u
+            np.multiply(gz_r, u, out=z)
+            z += np.multiply(gz_cross, u[::-1], out=tmp)
+            z *= r
+            np.subtract(np.add(z[0], z[1], out=xh), ay, out=ay)
+        else:
+            np.negative(ay, out=ay)  # 0 - a_y: no rebalance force
+        acc -= np.multiply(k_own, pos, out=tmp)
+        acc -= np.multiply(k_yx, pos_r, out=tmp)
+        acc -= np.multiply(c_yx, vel_r, out=tmp)
+        acc += np.multiply(tmo, vel_r, out=tmp)
+        acc += np.multiply(cen, pos, out=tmp)
         if has_al:
-            ax += ma * y
-        ax += half_ke * y * y
+            acc += np.multiply(ma2, pos_r, out=tmp)
+        if has_f:
+            ay -= mf
+        np.multiply(k_nl, pos_r, out=tmp)
+        tmp *= y
+        acc += tmp
         if has_fd:
             ax -= mfd
         if noise:
-            ax += fx
-        ax /= m
-        # a_y = (F_fb - c_y y' - k_y y - k_yx x - c_yx x' - 2 m Omega x' + m Omega^2 y - m Omega' x
-        #        - m f + k_e eps_A x y + f_y) / m, in that order
-        ay = np.multiply(cy, vy, out=out[3])
-        np.subtract(ffb, ay, out=ay)
-        ay -= ky * y
-        ay -= kyx * x
-        ay -= cyx * vx
-        ay -= tmo * vx
-        ay += cen * y
-        if has_al:
-            ay -= ma * x
-        if has_f:
-            ay -= mf
-        ay += ke_eps * x * y
-        if noise:
-            ay += fy
-        ay /= m
-        out[0], out[2] = vx, vy
-        np.multiply(ki_a, e, out=out[4])
+            acc += f2
+        acc /= m2
+        out[0:2] = s[2:4]
+        np.multiply(ki_a1, e, out=out[4])
         if closed:
             # u' = kappa_c 2 (y + n) (c_ref - j s_ref)
-            ym = y + n if noise else y
-            pr, pi_ = ym * c_ref, -ym * s_ref
-            np.multiply(kcr, pr, out=out[5])
-            out[5] -= kci * pi_
-            np.multiply(kcr, pi_, out=out[6])
-            out[6] += kci * pr
+            np.multiply(np.add(y, n, out=e) if noise else y, r, out=p)  # [pr, pi]
+            du = np.multiply(kc_r, p, out=out[5:7])
+            du += np.multiply(kc_cross, p[::-1], out=tmp)
         else:  # no rebalance: the commands stay 0
             out[5:] = 0.0
         return out
 
-    def clamp(u_i: NDArray, u_q: NDArray) -> tuple[NDArray, NDArray]:
-        """:func:`_clamp` without the mask (min/max: the same values as np.clip, less overhead)."""
-        u_q = np.minimum(np.maximum(u_q, -op.v_max), op.v_max)
-        lim = np.sqrt(np.maximum(op.v_max * op.v_max - u_q * u_q, 0.0))
-        return np.minimum(np.maximum(u_i, -lim), lim), u_q
+    v_max = op.v_max
+    lim = np.empty(k)
+
+    def clamp(s: NDArray) -> None:
+        """:func:`_clamp` of rows u_i, u_q of s in place, without the mask (min/max: the same
+        values as np.clip, less overhead)."""
+        u_i, u_q = s[5], s[6]
+        np.maximum(u_q, -v_max, out=u_q)
+        np.minimum(u_q, v_max, out=u_q)
+        np.multiply(u_q, u_q, out=lim)
+        np.subtract(v_max * v_max, lim, out=lim)
+        np.maximum(lim, 0.0, out=lim)
+        np.sqrt(lim, out=lim)
+        np.maximum(u_i, -lim, out=u_i)
+        np.minimum(u_i, lim, out=u_i)
 
     out_ui = np.empty((n_out, k))
     out_uq = np.empty((n_out, k))
@@ -1203,50 +1232,57 @@ def simulate_full(
     out_b = np.empty((n_out, k), complex)
     out_bm = np.empty((n_out, k), complex)
     t = 0.0
-    zero = np.zeros(k)
+    zero = np.zeros((3, k))
     sig3 = np.array([sig_fx, sig_fy, sig_n])[:, None]
+    # the states after each step of (a chunk of) one output interval; the read-outs are computed
+    # from them at once and summed in step order (the same sums, term by term, as accumulating
+    # per step). Chunks of at most 2^18 / k steps bound the two buffers to ~30 MB at any k.
+    chunk = max(1, min(n_dec, 2**18 // k))
+    hist = np.empty((chunk, 7, k))
+    terms = np.empty((chunk, 7, k))  # u_i, u_q, X_hat, 2 y e^{-jwt} (re, im), with pick-off noise (re, im)
+    n_terms = 5 if closed else 7
     for j in range(n_out):
-        acc_ui = np.zeros(k)
-        acc_uq = np.zeros(k)
-        acc_xa = np.zeros(k)
-        # 2 y e^{-jwt} and the pick-off's (with its noise), real and imaginary parts apart:
-        # e^{-jwt} = x/X_hat + j x'/(w X_hat), and a real times a complex is exact part by part
-        acc_b = np.zeros((2, k))
-        acc_bm = np.zeros((2, k))
         if noise:  # scaled once per output sample (the same products as scaling each step)
             z3 = rng.standard_normal((n_dec, 3, k)) * sig3
-        for i in range(n_dec):
-            if noise:
-                fx, fy, nn = z3[i, 0], z3[i, 1], z3[i, 2]
-            else:
-                fx = fy = nn = zero
-            k1 = deriv(t, s, fx, fy, nn)
-            k2 = deriv(t + dt / 2, s + (dt / 2) * k1, fx, fy, nn)
-            k3 = deriv(t + dt / 2, s + (dt / 2) * k2, fx, fy, nn)
-            k4 = deriv(t + dt, s + dt * k3, fx, fy, nn)
-            s = s + (dt / 6) * (k1 + 2 * k2 + 2 * k3 + k4)
-            t += dt
-            if closed:
-                s[5], s[6] = clamp(s[5], s[6])
-            xh = np.sqrt(s[0] ** 2 + (s[1] / wx) ** 2)
-            acc_ui += s[5]
-            acc_uq += s[6]
-            acc_xa += xh
+        acc = np.zeros((n_terms, k))
+        for c0 in range(0, n_dec, chunk):
+            nc = min(chunk, n_dec - c0)
+            for i in range(nc):
+                zi = z3[c0 + i] if noise else zero
+                f2, nn = zi[0:2], zi[2]
+                k1 = deriv(t, s, f2, nn)
+                k2 = deriv(t + dt / 2, s + (dt / 2) * k1, f2, nn)
+                k3 = deriv(t + dt / 2, s + (dt / 2) * k2, f2, nn)
+                k4 = deriv(t + dt, s + dt * k3, f2, nn)
+                s = s + (dt / 6) * (k1 + 2 * k2 + 2 * k3 + k4)
+                t += dt
+                if closed:
+                    clamp(s)
+                hist[i] = s
+            h, tm = hist[:nc], terms[:nc]
+            tm[:, 0:2] = h[:, 5:7]
+            xa = np.sqrt(h[:, 0] ** 2 + (h[:, 2] / wx) ** 2, out=tm[:, 2])
+            # e^{-jwt} = x/X_hat + j x'/(w X_hat), a real times a complex exact part by part;
             # j x'/(w X_hat) as numpy divides a complex by a real: times the reciprocal
-            ref_r, ref_i = s[0] / xh, s[1] * (1.0 / (wx * xh))
-            c2 = 2.0 * s[2]
-            acc_b[0] += c2 * ref_r
-            acc_b[1] += c2 * ref_i
-            if not closed:
-                cm = 2.0 * (s[2] + nn) if noise else c2
-                acc_bm[0] += cm * ref_r
-                acc_bm[1] += cm * ref_i
-        out_ui[j], out_uq[j] = acc_ui / n_dec, acc_uq / n_dec
-        out_xa[j] = acc_xa / n_dec
-        out_b[j].real, out_b[j].imag = acc_b
+            ref_r, ref_i = h[:, 0] / xa, h[:, 2] * (1.0 / (wx * xa))
+            c2 = 2.0 * h[:, 1]
+            np.multiply(c2, ref_r, out=tm[:, 3])
+            np.multiply(c2, ref_i, out=tm[:, 4])
+            if not closed:  # the pick-off, with its noise
+                cm = 2.0 * (h[:, 1] + z3[c0:c0 + nc, 2]) if noise else c2
+                np.multiply(cm, ref_r, out=tm[:, 5])
+                np.multiply(cm, ref_i, out=tm[:, 6])
+            for i in range(nc):
+                acc += tm[i, :n_terms]
+        out_ui[j], out_uq[j] = acc[0] / n_dec, acc[1] / n_dec
+        out_xa[j] = acc[2] / n_dec
+        out_b[j].real, out_b[j].imag = acc[3:5]
         out_b[j] /= n_dec
-        out_bm[j].real, out_bm[j].imag = acc_bm
-        out_bm[j] /= n_dec
+        if closed:
+            out_bm[j] = 0.0
+        else:
+            out_bm[j].real, out_bm[j].imag = acc[5:7]
+            out_bm[j] /= n_dec
     if op.open_loop:  # read-out: the demodulated pick-off, limited by the front end
         ch = _readout_weight(op) * _limit(out_bm, op.y_fs)
         out_ui, out_uq = ch.real, ch.imag

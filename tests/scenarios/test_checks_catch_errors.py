@@ -92,3 +92,74 @@ def test_a_10_percent_rate_error_fails_the_no_dead_band_check(monkeypatch, facto
 
     monkeypatch.setattr(checks_rlg_cavity, "_swing_adler_angles", wrong_input)
     assert not checks_rlg_cavity._check_randomized_dead_band(np.random.default_rng(0)).passed
+
+
+@pytest.mark.parametrize("factor", [0.99, 1.01])
+def test_a_1_percent_lock_in_error_fails_the_dead_band_check(monkeypatch, factor):
+    """The one-period-map edge resolves the band to its 1 % grid: a 1 % lock-in error moves it a cell."""
+    assert checks_rlg_cavity._check_dead_band().passed
+    _lock_in_off(checks_rlg_cavity, monkeypatch, factor)
+    out = checks_rlg_cavity._check_dead_band()
+    assert not out.passed and out.rel_error == pytest.approx(0.01, rel=1e-9)
+
+
+def _fog_resets_with(monkeypatch, change) -> dict:
+    """checks_fog_loop._resets with every loop spec passed through ``change``."""
+    from gyrobench.scenarios import checks_fog_loop
+    from gyrobench.sim import fog_loop
+
+    real = fog_loop.run_loop
+    monkeypatch.setattr(fog_loop, "run_loop", lambda spec, *a, **k: real(change(spec), *a, **k))
+    return {c.id: c.passed for c in checks_fog_loop._resets(np.random.default_rng(0))}
+
+
+def test_the_shortened_fog_scale_factor_records_still_catch_errors(monkeypatch):
+    """400 outputs (was 1200): no V_2pi control fails the gain-loop check; a modulator gain error
+    10 % larger than specified fails the blanked-reset check (the gain loop absorbs it: passes)."""
+    off = _fog_resets_with(monkeypatch, lambda s: replace(s, gain_loop=False))
+    assert not off["fog.loop_v2pi_scale_factor"]
+    monkeypatch.undo()
+    wrong = _fog_resets_with(monkeypatch, lambda s: replace(s, modulator_gain_error=1.1 * s.modulator_gain_error))
+    assert not wrong["fog.loop_blanked_reset_scale_factor"] and wrong["fog.loop_v2pi_scale_factor"]
+
+
+@pytest.mark.parametrize("factor", [0.9, 1.1])
+def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, factor):
+    """The slow flow's noise at 4 Hz made 10 % too small or too large (21 % in variance) fails."""
+    assert checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+    zro = checks_mems.zero_rate_output(checks_mems.check_unit())
+    real = checks_mems.simulate
+
+    def wrapped(*a, **k):
+        res = real(*a, **k)
+        return replace(res, output=zro + factor * (res.output - zro))
+
+    monkeypatch.setattr(checks_mems, "simulate", wrapped)
+    assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+
+
+@pytest.mark.slow  # five noise-free full integrations (~1 s each)
+@pytest.mark.parametrize(
+    ("change", "caught"),
+    [
+        ("rate", {"mems.low_rate_scale_factor", "mems.sense_envelope_saturated", "mems.slow_flow_vs_full"}),
+        ("mass", {"mems.rate_authority", "mems.g_sensitivity", "mems.slow_flow_vs_full"}),
+        ("drive_amplitude", {"mems.rate_authority", "mems.drive_amplitude", "mems.slow_flow_vs_full"}),
+        ("quadrature_coupling", {"mems.quadrature_rejection", "mems.slow_flow_vs_full"}),
+        ("phase_error", {"mems.quadrature_rejection", "mems.g_sensitivity", "mems.slow_flow_vs_full"}),
+    ],
+)
+def test_a_10_percent_error_in_the_full_model_fails_the_noise_free_checks(monkeypatch, change, caught):
+    """At 16 RK4 steps per period (tolerance 6e-4) each noise-free full-integration check still
+    fails when the quantity it measures is 10 % off in the full model (the rate it integrates,
+    or one parameter of the unit it is given), and every check is caught by one of the changes."""
+    real = checks_mems.simulate_full
+
+    def wrong(unit, rate, **k):
+        if change == "rate":
+            return real(unit, 1.1 * np.asarray(rate), **k)
+        return real(replace(unit, **{change: 1.1 * getattr(unit, change)}), rate, **k)
+
+    monkeypatch.setattr(checks_mems, "simulate_full", wrong)
+    failed = {c.id for c in checks_mems._full_checks(np.random.default_rng(1)) if not c.passed}
+    assert caught <= failed

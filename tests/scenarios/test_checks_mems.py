@@ -23,6 +23,7 @@ EXPECTED_IDS = {
     "mems.open_loop_frequency_response",
     "mems.open_loop_noise_vs_full",
     "mems.open_loop_noise_psd_vs_full",
+    "mems.low_output_rate_noise",
 }
 
 

@@ -258,9 +258,15 @@ def _check_dead_band() -> Check:
     d_min = d.min(axis=1)
     locked = (d_min <= 0.0) & (d.max(axis=1) >= 0.0)
     unlocked = np.flatnonzero(~locked)
-    # an edge outside the grid (every input slips, or none does) is no edge: NaN fails the check
-    edge = (float(0.5 * (grid[unlocked[0]] + grid[unlocked[0] - 1]))
-            if unlocked.size and unlocked[0] > 0 else math.nan)
+    # an edge outside the grid (every input slips, or none does) is no edge: NaN fails the check.
+    # Inside the cell [last locked, first slipping] the edge is where min D crosses 0 (linear
+    # interpolation: min D is smooth in the input through the saddle-node), never outside the cell
+    edge = math.nan
+    if unlocked.size and unlocked[0] > 0:
+        i = int(unlocked[0])
+        lo, hi = float(d_min[i - 1]), float(d_min[i])
+        frac = -lo / (hi - lo) if lo <= 0.0 < hi else 0.5
+        edge = float(grid[i - 1] + frac * (grid[i] - grid[i - 1]))
     # sampling bound: max |D''| delta^2 / 8 (D'' from second differences), over the smallest
     # slope of min D against the input between neighbouring inputs
     delta = 2.0 * math.pi / DB_PHASES
@@ -279,8 +285,9 @@ def _check_dead_band() -> Check:
             f"{DB_INPUTS} inputs {DB_LOW:g}-{DB_LOW + DB_STEP * (DB_INPUTS - 1):g} x the band in "
             f"steps of {DB_STEP:.0%} (the closed form mid-cell); an input is locked when the "
             f"one-period map's phase advance P(psi) - psi has a zero over {DB_PHASES} start "
-            "phases (Poincare: rotation number 0); edge = midpoint between the last locked and "
-            "first slipping input: half the grid step plus the phase-sampling bound "
+            "phases (Poincare: rotation number 0); edge = the zero of min P(psi) - psi interpolated "
+            "between the last locked and first slipping input, so within their cell: half the grid "
+            "step plus the phase-sampling bound "
             f"max|D''| delta^2/8 / (dmin D/dOmega) = {sampling:.1g} of the band. First-order "
             "(Jacobi-Anger) averaging is what is tested, so its own error is not in the tolerance"
         ),

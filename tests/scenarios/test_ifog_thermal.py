@@ -541,3 +541,20 @@ def test_identification_refuses_a_bad_bracket():
         sc.identify_lead_asymmetry(SMALL, n_units=1, bracket_m=(0.0, 0.01))
     with pytest.raises(ValueError, match="lead_rms_m must be"):
         sc.identify.median_peak_drift(SMALL, -1.0, n_units=1, first_seed=0)
+
+
+def test_drift_to_noise_without_noise_is_inf_with_drift_and_zero_without():
+    # a noise-free record (output = truth + drift): 0/0 once gave inf, which claims.evaluate now judges
+    # as a value, so a unit with neither drift nor noise "showed" the drift precondition
+    from gyrobench.scenarios.papers.p003_ifog_thermal.pipeline import drift_to_noise_val1
+
+    t = np.arange(6.0)
+
+    def run(drift):
+        return sc_runs.Run(name="val1_0", t_h=t, T=t, output=drift.copy(), truth=np.zeros(6), drift=drift, fs=1.0,
+                           reference=0.0, scored=np.ones(6, bool))
+
+    assert drift_to_noise_val1({"val1_0": run(np.zeros(6))}) == 0.0
+    assert not sc.claims.DRIFT_ABOVE_NOISE.present(drift_to_noise_val1({"val1_0": run(np.zeros(6))}))
+    assert drift_to_noise_val1({"val1_0": run(t * 0.5)}) == math.inf
+    assert sc.claims.DRIFT_ABOVE_NOISE.present(drift_to_noise_val1({"val1_0": run(t * 0.5)}))

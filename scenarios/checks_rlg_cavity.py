@@ -268,11 +268,16 @@ def _check_dead_band() -> Check:
         frac = -lo / (hi - lo) if lo <= 0.0 < hi else 0.5
         edge = float(grid[i - 1] + frac * (grid[i] - grid[i - 1]))
     # sampling bound: max |D''| delta^2 / 8 (D'' from second differences), over the smallest
-    # slope of min D against the input between neighbouring inputs
+    # slope of min D against the input between neighbouring inputs. min D rises with the input
+    # (a larger input advances P(psi) at every psi); where it does not, the model is wrong and the
+    # bound has no premise: the edge is NaN, a failed check (an infinite tolerance, as before, made
+    # Check raise, so physics_checks stopped with an internal error instead of reporting the failure)
     delta = 2.0 * math.pi / DB_PHASES
     d2 = float(np.max(np.abs(np.roll(d, 1, axis=1) - 2.0 * d + np.roll(d, -1, axis=1)))) / delta**2
     slope = float(np.min(np.diff(d_min) / np.diff(grid)))
-    sampling = d2 * delta**2 / 8.0 / slope / band if slope > 0 else math.inf
+    sampling = d2 * delta**2 / 8.0 / slope / band if slope > 0 else 0.0
+    if not slope > 0:
+        edge = math.nan
     return Check(
         id="rlg_cavity.dead_band_width",
         reference=CHOW + " (dithered lock-in: the dead band scales with |J_0| of the dither amplitude); " + ARONOWITZ,

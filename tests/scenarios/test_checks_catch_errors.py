@@ -167,3 +167,22 @@ def test_a_10_percent_error_in_the_full_model_fails_the_noise_free_checks(monkey
     monkeypatch.setattr(checks_mems, "simulate_full", wrong)
     failed = {c.id for c in checks_mems._full_checks(np.random.default_rng(1)) if not c.passed}
     assert caught <= failed
+
+
+def test_a_locked_band_that_is_not_monotone_in_the_input_fails_the_dead_band_check(monkeypatch):
+    """Two locked inputs far below the edge answered in swapped order (min P(psi) - psi no longer rising
+    with the input): the edge itself is unmoved, but the sampling bound's premise is gone. Its
+    tolerance was then infinite, which Check refuses: physics_checks stopped with a ValueError
+    instead of reporting a failed check."""
+    base = checks_rlg_cavity._check_dead_band()
+    real = checks_rlg_cavity.integrate_adler
+
+    def swapped(*a, **k):
+        psi = real(*a, **k).copy()
+        psi[:, [0, 1]] = psi[:, [1, 0]]  # rows 0 and 1: inputs 0.885 and 0.895 of the band, both locked
+        return psi
+
+    monkeypatch.setattr(checks_rlg_cavity, "integrate_adler", swapped)
+    out = checks_rlg_cavity._check_dead_band()
+    assert base.passed and math.isnan(out.simulated) and math.isfinite(out.tolerance)
+    assert not out.passed

@@ -126,7 +126,7 @@ class Comparator:
     hi: float = math.inf
 
     def holds(self, q: float) -> bool:
-        """Whether quantity ``q`` (finite) satisfies the comparator."""
+        """Whether quantity ``q`` (a number; +-inf is judged as a value) satisfies the comparator."""
         if self.kind == "is_true":
             return bool(q == 1.0)
         if self.kind == "above":
@@ -136,7 +136,7 @@ class Comparator:
         return bool(self.lo <= q <= self.hi)
 
     def miss(self, q: float) -> str | None:
-        """For a finite ``q`` the comparator rejects: ``"below"`` or ``"above"`` its band
+        """For a ``q`` (not NaN) the comparator rejects: ``"below"`` or ``"above"`` its band
         (``"false"`` for a yes/no claim); None when it holds."""
         if self.holds(q):
             return None
@@ -202,7 +202,7 @@ class Precondition:
     quantity : str
         Key of the unit's ``quantities`` the comparator reads (e.g. the bias-to-scatter ratio).
     comparator : Comparator
-        Present when the comparator holds on the unit's (finite) value.
+        Present when the comparator holds on the unit's value (not None or NaN; +-inf is a value).
     """
 
     text: str
@@ -472,7 +472,10 @@ def verdict(holds: int, testable: int) -> str:
 
 
 def _finite(v: Any, claim_id: str) -> float | None:
-    """The quantity as a finite float, None when the unit cannot test the claim (None, NaN, inf).
+    """The quantity as a float, None when the unit cannot test the claim (None, NaN).
+
+    +-inf is a value, judged like any other (a ratio over a zero denominator: the quantity is
+    there on one side only).
 
     Anything but a number (a string, a list) is a bug in the scenario's ``experiment``,
     not an untestable unit: TypeError.
@@ -519,7 +522,7 @@ def evaluate(
 ) -> list[ClaimResult]:
     """Judge every claim over the units' ``quantities`` mappings (and over the control's).
 
-    A unit whose quantity is missing, None or non-finite cannot test that claim; a unit
+    A unit whose quantity is missing, None or NaN cannot test that claim (+-inf is judged); a unit
     that lacks the claim's precondition is counted in ``precondition_absent`` and cannot
     test it either. A quantity that is not a number raises TypeError (a bug in the
     experiment). The spread is the interquartile range (25th and 75th percentiles) of the

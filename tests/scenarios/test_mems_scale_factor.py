@@ -509,3 +509,19 @@ def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
         fitted = task.scorer(pw.predict(run.X), run)["nonlinearity_pct"]
         wins += identity > 2.0 * fitted
     assert wins == 8
+
+
+def test_run_spread_ratio_of_identical_runs_without_nonlinearity_is_untestable_not_inf():
+    # 0/0 (noise-free identical runs of a linear unit) gave inf, which claims.evaluate now judges as a
+    # value: the device claim "the runs' curves are alike" (< 0.1) then failed on runs that are identical.
+    # NaN: the unit cannot test it (as inf did before inf was judged)
+    from types import SimpleNamespace
+
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.experiment import _run_spread_ratio
+
+    def raw(kn, std):
+        return SimpleNamespace(raw_kn_pct=kn, table1_dps=np.array([-1.0, 0.0, 2.0]), run_std_dps=np.array(std))
+
+    assert math.isnan(_run_spread_ratio(raw(0.0, [0.0, 0.0])))
+    assert _run_spread_ratio(raw(0.0, [0.0, 1e-3])) == math.inf
+    assert _run_spread_ratio(raw(50.0, [0.0, 0.1])) == pytest.approx(0.1)  # 0.1 / (0.5 x 2)

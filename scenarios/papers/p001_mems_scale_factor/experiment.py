@@ -254,9 +254,15 @@ def _flag(values: Mapping[str, float], holds: bool) -> float | None:
 
 def _run_spread_ratio(raw: RawAnalysis) -> float:
     """Largest run-to-run standard deviation of the output at a table rate, over the amplitude
-    of the nonlinearity (K_n F_m, F_m = max |Table 1|) [-]: small when the runs' curves are alike."""
+    of the nonlinearity (K_n F_m, F_m = max |Table 1|) [-]: small when the runs' curves are alike;
+    inf when only the amplitude is 0 (judged: the runs differ by more than a nonlinearity there is
+    not), NaN when both are 0 (no nonlinearity to compare the runs with: the unit cannot test the
+    claim; inf there would fail it on identical runs)."""
     amplitude = raw.raw_kn_pct / 100.0 * float(np.max(np.abs(raw.table1_dps)))
-    return float(np.max(raw.run_std_dps)) / amplitude if amplitude > 0 else math.inf
+    spread = float(np.max(raw.run_std_dps))
+    if amplitude > 0:
+        return spread / amplitude
+    return math.inf if spread > 0 else math.nan
 
 
 def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str, float | None]:

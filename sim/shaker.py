@@ -628,8 +628,8 @@ def interval_mean_acceleration(
         If ``vibration`` is not one of the three profiles or ``rng`` not a Generator.
     ValueError
         If ``duration``, ``fs`` or ``start`` is out of range, if the vibration does not lie
-        inside the record with >= 1 output sample, or if the oversampled vibration would not
-        fit in memory (:class:`gyrobench.sim.memory.MemoryLimitError`).
+        inside the record with >= 1 output sample, or if the record or the oversampled vibration
+        would not fit in memory (:class:`gyrobench.sim.memory.MemoryLimitError`).
 
     Notes
     -----
@@ -674,10 +674,16 @@ def interval_mean_acceleration(
     fs = _check_fs(fs)
     rng = _check_rng(rng)
     start = _real("interval_mean_acceleration", "start", start, "s", nonneg=True)
-    n = int(math.floor(duration * fs + 1e-9))
-    k0 = int(round(start * fs))
-    n_vib = int(round(vibration.duration * fs))
-    if k0 + n_vib > n or n_vib < 1:
+    # the output record first, in floats (duration fs may overflow to inf: refused, not an OverflowError)
+    memory.check_memory(memory.series_bytes(duration * fs), f"the shaker record of {duration * fs:.3g} output samples",
+                        hint="shorten the record or lower the sample rate")
+    if start + vibration.duration > duration + 2.0 / fs:  # outside whatever the roundings: refused before
+        n_vib = 0  # start fs can overflow (k0 + n_vib >= (start + T_v) fs - 1 > n)
+    else:
+        n = int(math.floor(duration * fs + 1e-9))
+        k0 = int(round(start * fs))
+        n_vib = int(round(vibration.duration * fs))
+    if n_vib < 1 or k0 + n_vib > n:
         raise ValueError(
             f"start + vibration.duration = {start + vibration.duration:g} s must lie inside the record "
             f"(0, {duration:g}] s and hold >= 1 output sample at {fs:g} Hz"

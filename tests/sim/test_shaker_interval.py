@@ -99,3 +99,20 @@ def test_memory_is_checked_before_the_oversampled_vibration_is_drawn(monkeypatch
     monkeypatch.setenv(LIMIT_ENV, "10k")
     with pytest.raises(MemoryLimitError, match="the shaker's vibration sampled at 100 Hz needs about"):
         interval_mean_acceleration(_SINE, duration=10.0, fs=100.0, rng=np.random.default_rng(0))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "needle"),
+    [
+        # duration x fs overflows to inf: once an OverflowError from int(floor(inf))
+        ({"duration": 1e200, "fs": 1e200}, MemoryLimitError, "the shaker record of inf output samples needs about"),
+        # start x fs overflows: once an OverflowError from round(inf)
+        ({"start": 1e308}, ValueError, "must lie inside the record (0, 10] s"),
+        # a record of 1e15 output samples: once numpy's MemoryError after the vibration was drawn
+        ({"duration": 1e9, "fs": 1e6}, MemoryLimitError, "the shaker record of 1e+15 output samples needs about"),
+    ],
+)
+def test_huge_records_are_refused_in_one_line(kwargs, exc, needle):
+    args = {"duration": 10.0, "fs": 100.0, "rng": np.random.default_rng(0), **kwargs}
+    with pytest.raises(exc, match=re.escape(needle)):
+        interval_mean_acceleration(_SINE, **args)

@@ -338,3 +338,17 @@ def test_spread_keeps_infinite_ends_where_numpy_gives_nan():
     assert cl._percentile(np.array([1.0, 2.0, 3.0, 4.0, math.inf]), 25) == pytest.approx(2.0)
     v = np.array([3.0, 1.0, 4.0, 1.5, 9.0])
     assert cl._percentile(v, 25) == pytest.approx(np.percentile(v, 25))
+
+
+def test_an_infinite_median_survives_results_json_into_the_readme_table():
+    # report._jsonable writes +-inf as the strings "inf"/"-inf" (JSON has no infinity); readme_table
+    # reads the claims back from results.json and must print them as inf, not fail or show n/a
+    import json
+
+    from gyrobench.scenarios import readme_table, report
+
+    (r,) = evaluate([_claim(comparator=above(1.0))], [{"q": math.inf}, {"q": math.inf}, {"q": 3.0}])
+    doc = json.loads(json.dumps(report._jsonable(r.as_dict()), allow_nan=False))
+    assert doc["median"] == "inf" and doc["spread"] == ["inf", "inf"]  # 3 + 0.5 (inf - 3) at the 25th
+    row = readme_table._row(doc)
+    assert "inf [inf, inf]" in row and "3/3" in row

@@ -356,7 +356,9 @@ def _shaker_force(vibration, start: float, duration: float, fs: float, *, rng, p
     (:func:`gyrobench.sim.shaker.interval_mean_acceleration`), its errors in the profile's words."""
     from gyrobench.sim.shaker import interval_mean_acceleration
 
-    if round(start * fs) + round(vibration.duration * fs) > math.floor(duration * fs + 1e-9) \
+    # the float comparison first: it refuses a start_s whose start_s x fs overflows before round() sees it
+    if start + vibration.duration > duration + 2.0 / fs \
+            or round(start * fs) + round(vibration.duration * fs) > math.floor(duration * fs + 1e-9) \
             or round(vibration.duration * fs) < 1:
         raise BadInput(f"--profile {path!r}: shaker.start_s + shaker.duration_s = {start + vibration.duration:g} s "
                        f"must lie inside the record (0, {duration:g}] s and hold >= 1 sample at {fs:g} Hz")

@@ -28,7 +28,7 @@ import os
 from pathlib import Path
 
 import numpy as np
-from gyrobench.analysis.allan import Coefficient, allan_deviation, fit_noise, floor_bounds
+from gyrobench.analysis.allan import halves_agreement
 
 ROOT = Path(__file__).resolve().parents[1]
 EXCERPTS = ROOT / "tests" / "data" / "adis16405_1hz"
@@ -40,29 +40,14 @@ def _read(path: Path) -> np.ndarray:
         return np.loadtxt((ln for ln in fh if ln[:1] not in ("#", "g")), delimiter=",", ndmin=2)
 
 
-def _interval(c: Coefficient) -> tuple[float, float]:
-    return c.ci95 if c.identifiable else (0.0, c.upper_bound)
-
-
 def _pairs(records: list[np.ndarray], fs: float, floor: bool) -> tuple[int, list[tuple]]:
     """Term pairs of the halves of every channel, and the ones whose intervals do not overlap."""
     pairs, apart = 0, []
     for k, data in enumerate(records, start=1):
         for col in range(data.shape[1]):
-            y = data[:, col]
-            h = y.size // 2
-            fits = []
-            for part in (y[:h], y[h:]):
-                fit = fit_noise(allan_deviation(part, fs), tau_min="auto")
-                fits.append(floor_bounds(fit, part, fs, tau_min="auto") if floor else fit)
-            for name, a in fits[0].coefficients.items():
-                b = fits[1].coefficients[name]
-                if not (a.identifiable or b.identifiable):
-                    continue
-                pairs += 1
-                (lo_a, hi_a), (lo_b, hi_b) = _interval(a), _interval(b)
-                if not (lo_a <= hi_b and lo_b <= hi_a):
-                    apart.append((k, col, name, (lo_a, hi_a), (lo_b, hi_b)))
+            found = halves_agreement(data[:, col], fs, floor=floor, tau_min="auto")
+            pairs += len(found)
+            apart += [(k, col, p.term, p.first, p.second) for p in found if not p.overlap]
     return pairs, apart
 
 

@@ -59,7 +59,7 @@ from gyrobench.analysis.allan._kinds import _FIT_KINDS as _FIT_KINDS  # (allan_r
 from gyrobench.analysis.allan._kinds import KINDS
 from gyrobench.analysis.allan._readoff import slope_readoff
 from gyrobench.analysis.allan._results import AllanCurve, Coefficient, FitRange, NoiseFit
-from gyrobench.analysis.allan._segments import floor_bounds, pool_curves
+from gyrobench.analysis.allan._segments import HalvesPair, floor_bounds, halves_agreement, pool_curves
 from gyrobench.analysis.allan._taus import TAU_CHOICES
 from gyrobench.analysis.allan._terms import _POWER as _POWER  # (read by tests/analysis/test_validation.py)
 from gyrobench.analysis.allan._terms import FLICKER_FLOOR as FLICKER_FLOOR
@@ -76,6 +76,7 @@ __all__ = [
     "AllanCurve",
     "Coefficient",
     "FitRange",
+    "HalvesPair",
     "NoiseFit",
     "fit_range",
     "bandwidth_range",
@@ -86,6 +87,7 @@ __all__ = [
     "fit_noise",
     "MISFIT_P",
     "floor_bounds",
+    "halves_agreement",
     "deviation_bounds",
     "pool_curves",
     "identify_noise",

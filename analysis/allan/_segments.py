@@ -14,18 +14,22 @@ and no half or quarter identifies R.
 
 :func:`pool_curves` pools the curves of separate stretches of one record (the quiet stretches
 between handling, issue 30 item 1) into one EDF-weighted curve for one fit.
+
+:func:`halves_agreement` asks the converse of a real record: do the 95 % intervals of its two
+halves overlap, term by term (the coverage check of issue 30 on real data)?
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from gyrobench.analysis.allan._curve import allan_deviation
+from gyrobench.analysis.allan._fit import fit_noise
 from gyrobench.analysis.allan._kinds import STATISTICS, _edf
-from gyrobench.analysis.allan._results import AllanCurve, NoiseFit
+from gyrobench.analysis.allan._results import AllanCurve, Coefficient, NoiseFit
 from numpy.typing import ArrayLike
 
 #: the sub-segments fitted by default: the halves, quarters and eighths of the record. Over the
@@ -193,3 +197,62 @@ def pool_curves(curves: Sequence[AllanCurve]) -> AllanCurve:
         n_samples=int(sum(c.n_samples for c in curves)),
         alpha=None,
     )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HalvesPair:
+    """One term of the two halves of a record (:func:`halves_agreement`).
+
+    ``first`` and ``second``: each half's 95 % interval of the coefficient, or [0, its one-sided
+    95 % bound] where that half leaves the term open (coefficient units). ``overlap``: the two
+    intervals share a point.
+    """
+
+    term: str
+    first: tuple[float, float]
+    second: tuple[float, float]
+    overlap: bool
+
+
+def _interval_or_bound(c: Coefficient) -> tuple[float, float]:
+    return (float(c.ci95[0]), float(c.ci95[1])) if c.identifiable else (0.0, float(c.upper_bound))
+
+
+def halves_agreement(rate: ArrayLike, fs: float, *, floor: bool = False, **fit_options: Any) -> list[HalvesPair]:
+    """Each term that either half of ``rate`` identifies, with both halves' 95 % intervals.
+
+    The record is split at n // 2 and each half fitted with :func:`fit_noise` (``fit_options``,
+    e.g. ``tau_min="auto"`` as ``gyrobench allan`` does), then, when ``floor``, with
+    :func:`floor_bounds` on that half as the CLI applies it. Consistent 95 % intervals of two
+    independent halves overlap far more often than 95 % of the time, so a share of pairs
+    that do not overlap well above 5 % says the intervals are too narrow for the record.
+
+    Parameters
+    ----------
+    rate : array_like, shape (n,)
+        Rate samples [any unit], one every 1/fs.
+    fs : float
+        Sample rate [Hz], > 0.
+    floor : bool
+        Apply :func:`floor_bounds` to each half's fit.
+
+    Returns
+    -------
+    list of HalvesPair
+        In the fit's term order; terms open in both halves are left out.
+    """
+    y = np.asarray(rate, dtype=float)
+    h = y.size // 2
+    fits = []
+    for part in (y[:h], y[h:]):
+        fit = fit_noise(allan_deviation(part, fs), **fit_options)
+        fits.append(floor_bounds(fit, part, fs, **fit_options) if floor else fit)
+    out = []
+    for name, a in fits[0].coefficients.items():
+        b = fits[1].coefficients[name]
+        if not (a.identifiable or b.identifiable):
+            continue
+        (lo_a, hi_a), (lo_b, hi_b) = _interval_or_bound(a), _interval_or_bound(b)
+        out.append(HalvesPair(term=name, first=(lo_a, hi_a), second=(lo_b, hi_b),
+                              overlap=lo_a <= hi_b and lo_b <= hi_a))
+    return out

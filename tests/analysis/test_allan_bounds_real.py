@@ -44,3 +44,18 @@ def test_open_bounds_are_not_below_a_sub_segment_estimate():
                         compared += 1
                         assert c.upper_bound >= s.value, (axis, t, parts, i, c.upper_bound, s.value)
     assert compared >= 2  # K on x from the halves, R on z from an eighth
+
+
+def test_halves_agreement_flags_halves_of_different_noise_and_not_of_the_same():
+    # white rate noise of sd 1 then 3 (N differs 3x: intervals of a few % cannot overlap); and one
+    # stationary record whose halves' N intervals must overlap (two 95 % intervals of the same N
+    # miss each other with probability far below 1e-3 at these edfs)
+    from gyrobench.analysis.allan import halves_agreement
+
+    rng = np.random.default_rng(11)
+    n = 20_000
+    step = np.concatenate([rng.standard_normal(n), 3.0 * rng.standard_normal(n)])
+    same = rng.standard_normal(2 * n)
+    by_term = {p.term: p for p in halves_agreement(step, 10.0, terms=("N",))}
+    assert not by_term["N"].overlap and by_term["N"].second[0] > 2.0 * by_term["N"].first[1]
+    assert all(p.overlap for p in halves_agreement(same, 10.0, terms=("N",)))

@@ -102,13 +102,18 @@ def test_bounds_match_scipy_stats(rng):
         np.testing.assert_allclose(hi, dev * np.sqrt(edf / stats.chi2.ppf(p, edf)), rtol=1e-12)
 
 
-@pytest.mark.parametrize("seed", range(40))
-def test_enumerated_nnls_matches_scipy(seed):
-    g = np.random.default_rng(seed)
+def _nnls_problem(g: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """A random NNLS problem: 6-39 rows, 1-5 unit-norm columns of scales spread over e^+-3."""
     rows, k = int(g.integers(6, 40)), int(g.integers(1, 6))
     a = g.standard_normal((rows, k)) * np.exp(g.uniform(-3, 3, k))
     a /= np.linalg.norm(a, axis=0)
-    b = g.standard_normal(rows)
+    return a, g.standard_normal(rows)
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_enumerated_nnls_matches_scipy(seed):
+    g = np.random.default_rng(seed)
+    a, b = _nnls_problem(g)
     got = _nnls._nnls_enumerate(a, b)
     want, _ = optimize.nnls(a, b)
     assert np.all(got >= 0)
@@ -120,11 +125,9 @@ def test_enumerated_nnls_matches_scipy(seed):
 def test_nnls_passive_guess_gives_the_same_minimiser(seed):
     """A guessed positive set (right, wrong, empty or full) never changes the NNLS answer, only its cost."""
     g = np.random.default_rng(seed)
-    rows, k = int(g.integers(6, 40)), int(g.integers(1, 6))
-    a = g.standard_normal((rows, k)) * np.exp(g.uniform(-3, 3, k))
-    a /= np.linalg.norm(a, axis=0)
-    b = g.standard_normal(rows)
+    a, b = _nnls_problem(g)
     cold = _nnls._nnls_enumerate(a, b)
+    k = a.shape[1]
     for guess in (cold > 0, g.random(k) < 0.5, np.zeros(k, dtype=bool), np.ones(k, dtype=bool)):
         got = _nnls._nnls_enumerate(a, b, guess)
         assert np.array_equal(got == 0, cold == 0)

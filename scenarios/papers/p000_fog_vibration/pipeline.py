@@ -47,13 +47,6 @@ __all__ = [
 ]
 
 
-def _fit(rate_rad_s: NDArray[np.float64], fs: float, *, min_m: int = 1) -> Any:
-    """Joint IEEE fit on the overlapping ADEV at octave taus m = min_m, 2 min_m, ... <= n/4."""
-    return segment_noise_fits(
-        rate_rad_s, fs, {"record": np.ones(len(rate_rad_s), dtype=bool)}, min_m=min_m
-    )["record"].fit
-
-
 def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max_m: int = 2**20) -> int:
     """Smallest octave cluster size m [samples] at which the drive's tones leave no Allan variance.
 
@@ -115,7 +108,9 @@ def split_band_coefficients(
     curve = allan_deviation(y, fs, taus=np.array(octaves, dtype=float) / fs)
     if sum(m >= n_min_m for m in octaves) < len(TERMS):  # too few tone-free octaves for the fit: full range
         n_min_m = 1
-    fits = {"Q": fit_noise(curve), "low": _fit(y, fs, min_m=min_m)}
+    # one curve for the three fits: each fits the octave points from its own tau_min
+    fits = {"Q": fit_noise(curve)}
+    fits["low"] = fit_noise(curve, tau_min=min_m / fs) if min_m > 1 else fits["Q"]
     fits["N"] = fit_noise(curve, tau_min=n_min_m / fs) if n_min_m > 1 else fits["Q"]
     tables = {k: coefficients_json(f) for k, f in fits.items()}
     out = {}

@@ -38,32 +38,6 @@ def _gh_sw(t: NDArray[np.float64], alpha: int) -> NDArray[np.float64]:
     return t ** (3 - alpha) * np.log(a, out=np.zeros_like(a), where=a > 0.0)
 
 
-def _gh_sx(t: NDArray[np.float64], f: float, alpha: int) -> NDArray[np.float64]:
-    """Eq. (8): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2)."""
-    if math.isinf(f):
-        return _gh_sw(t, alpha + 2)
-    w = _gh_sw(np.stack((t, t - 1.0 / f, t + 1.0 / f)), alpha)
-    return f**2 * (2.0 * w[0] - w[1] - w[2])
-
-
-def _gh_sz(t: NDArray[np.float64], f: float, alpha: int, d: int) -> NDArray[np.float64]:
-    """Eq. (9): the kernel after the d-th difference, sum_k (-1)^k C(2d, d+k) s_x(t + k)."""
-    sx = _gh_sx(t[None, :] + np.arange(-d, d + 1, dtype=float)[:, None], f, alpha)  # row d + k: t + k
-    out = math.comb(2 * d, d) * sx[d]
-    for k in range(1, d + 1):
-        out = out + (-1) ** k * math.comb(2 * d, d + k) * (sx[d - k] + sx[d + k])
-    return out
-
-
-def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
-    """Eq. (10): sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2, over sz(0)^2 M."""
-    j = np.arange(1, int(j_top), dtype=float)
-    z0 = float(_gh_sz(np.array([0.0]), f, alpha, d)[0])
-    zj = float(_gh_sz(np.array([float(j_top) / s]), f, alpha, d)[0])
-    mid = float(np.sum(2.0 * (1.0 - j / big_m) * _gh_sz(j / s, f, alpha, d) ** 2))
-    return (z0**2 + (1.0 - float(j_top) / big_m) * zj**2 + mid) / (z0**2 * big_m)
-
-
 def _gh_lags(m: int, n_phase: int, d: int, overlapping: bool) -> tuple[float, float, float, float]:
     """Greenhall & Riley's (S, M, J, r = M/S) for averaging factor m over n_phase phase points.
 
@@ -88,29 +62,40 @@ def _edf_greenhall(alpha: int, d: int, m: int, n_phase: int, overlapping: bool) 
     """
     if not alpha + 2 * d > 1:
         raise ValueError(f"alpha + 2 d must be > 1; got alpha = {alpha}, d = {d}")
+    if alpha != 1:  # one case logic for one m and many (:func:`_edf_greenhall_many`)
+        with np.errstate(divide="ignore", invalid="ignore"):  # a record too short for m: nan, as allantools
+            v = float(_edf_greenhall_many(alpha, d, np.array([m], dtype=np.int64), n_phase, overlapping)[0])
+        if math.isnan(v):
+            r = _gh_lags(m, n_phase, d, overlapping)[3]
+            if alpha == 2 and math.ceil(r) <= d:
+                raise NotImplementedError(f"no Greenhall edf for alpha = 2 with r = {r} <= d = {d}")
+            raise ZeroDivisionError(f"no Greenhall edf: {n_phase} phase points are too few for m = {m}")
+        return v
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v = _edf_flicker_pm(d, m, n_phase, overlapping)
+    if not math.isfinite(v):
+        raise ZeroDivisionError(f"no Greenhall edf: {n_phase} phase points are too few for m = {m}")
+    return v
+
+
+def _edf_flicker_pm(d: int, m: int, n_phase: int, overlapping: bool) -> float:
+    """The alpha = +1 (flicker PM) case of :func:`_edf_greenhall`: Table 3's (b0, b1) normalisation."""
     s, big_m, j_top, r = _gh_lags(m, n_phase, d, overlapping)
-    if alpha <= 0:
-        if j_top <= _GH_JMAX:
-            f = float(m) if m * (d + 1) <= _GH_JMAX else math.inf
-            return 1.0 / _gh_basic_sum(j_top, big_m, s, f, alpha, d)
-        if r > d + 1:
-            a0, a1 = _GH_TABLE2[alpha][d - 1]  # type: ignore[misc]
-            return 1.0 / ((1.0 / r) * (a0 - a1 / r))
-        return 1.0 / _gh_basic_sum(_GH_JMAX, _GH_JMAX, _GH_JMAX / r, math.inf, alpha, d)
-    if alpha == 1:
-        b0, b1 = _GH_TABLE3[d - 1]
-        if j_top <= _GH_JMAX:
-            return 1.0 / _gh_basic_sum(j_top, big_m, s, float(m), 1, d)
-        if r > d + 1:
-            a0, a1 = _GH_TABLE2[1][d - 1]  # type: ignore[misc]
-            return 1.0 / ((1.0 / ((b0 + b1 * math.log(m)) ** 2 * r)) * (a0 - a1 / r))
-        mp = _GH_JMAX / r
-        z0 = float(_gh_sz(np.array([0.0]), mp, 1, d)[0])
-        return 1.0 / (_gh_basic_sum(_GH_JMAX, _GH_JMAX, mp, mp, 1, d) * z0**2 / (b0 + b1 * math.log(m)) ** 2)
-    if math.ceil(r) <= d:
-        raise NotImplementedError(f"no Greenhall edf for alpha = 2 with r = {r} <= d = {d}")
-    a0 = math.comb(4 * d, 2 * d) / math.comb(2 * d, d) ** 2
-    return 1.0 / ((1.0 / big_m) * (a0 - (d / 2.0) / r))
+    b0, b1 = _GH_TABLE3[d - 1]
+    if j_top <= _GH_JMAX:
+        return 1.0 / _gh_basic_sum(j_top, big_m, s, float(m), 1, d)
+    if r > d + 1:
+        a0, a1 = _GH_TABLE2[1][d - 1]  # type: ignore[misc]
+        return 1.0 / ((1.0 / ((b0 + b1 * math.log(m)) ** 2 * r)) * (a0 - a1 / r))
+    mp = _GH_JMAX / r
+    z0 = float(_gh_sz_many(np.array([0.0]), np.array([mp]), 1, d, False)[0])
+    return 1.0 / (_gh_basic_sum(_GH_JMAX, _GH_JMAX, mp, mp, 1, d) * z0**2 / (b0 + b1 * math.log(m)) ** 2)
+
+
+def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
+    """Eq. (10) for one (J, M, S, F): :func:`_gh_basic_sums` of one request."""
+    one = [np.array([float(v)]) for v in (j_top, big_m, s, f)]
+    return float(_gh_basic_sums(*one, alpha, d)[0])
 
 
 def _gh_basic_sums(
@@ -121,11 +106,11 @@ def _gh_basic_sums(
     alpha: int,
     d: int,
 ) -> NDArray[np.float64]:
-    """:func:`_gh_basic_sum` of several (J, M, S, F) at one (alpha, d), in one evaluation of the kernel.
+    """Eq. (10), sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2 over sz(0)^2 M,
+    for several (J, M, S, F) at one (alpha, d), in one evaluation of the kernel.
 
     The kernel values sz(0), sz(J/S) and sz(j/S), j < J, of every request are evaluated in one
-    array (grouped by whether F is infinite: :func:`_gh_sx` takes F as a number), and the
-    sums over j are segment sums: the same terms as the scalar form, added in another order.
+    array (grouped by whether F is infinite) and the sums over j are segment sums.
     """
     out = np.empty(j_top.size)
     for inf_group in (False, True):
@@ -152,7 +137,8 @@ def _gh_basic_sums(
 def _gh_sz_many(
     t: NDArray[np.float64], f: NDArray[np.float64], alpha: int, d: int, f_infinite: bool
 ) -> NDArray[np.float64]:
-    """:func:`_gh_sz` with one F per t (all infinite when ``f_infinite``)."""
+    """Eqs. (8)-(9): the kernel after the F-sample averaging (F = inf: s_w at alpha + 2) and the d-th
+    difference, sum_k (-1)^k C(2d, d+k) s_x(t + k), with one F per t (all infinite when ``f_infinite``)."""
     tk = t[None, :] + np.arange(-d, d + 1, dtype=float)[:, None]  # row d + k: t + k
     if f_infinite:
         sx = _gh_sw(tk, alpha + 2)
@@ -171,10 +157,10 @@ def _edf_greenhall_many(
 ) -> NDArray[np.float64]:
     """:func:`_edf_greenhall` at every m of ``ms`` (one alpha), with the exact sums evaluated together.
 
-    Same cases and arithmetic as the scalar function; where it raises (alpha = +2 with
-    ceil(r) <= d, or alpha + 2 d <= 1) the entry is nan, and alpha = +1 (flicker PM) is left
-    to the scalar function (nan here too), so that the caller falls back exactly as before.
-    A test checks it against the scalar function (and so allantools) to 1e-13.
+    The case logic of :func:`_edf_greenhall` for alpha != +1 (which calls this with one m); nan
+    where the paper gives no value (alpha = +2 with ceil(r) <= d, or alpha + 2 d <= 1), and
+    alpha = +1 (flicker PM) is left to the scalar function (nan here too), so that the caller
+    falls back. A test checks both against allantools.ci.edf_greenhall to 1e-12.
     """
     out = np.full(ms.size, np.nan)
     if not alpha + 2 * d > 1 or alpha == 1:

@@ -12,10 +12,9 @@
     gyrobench reproduce SCENARIO [SCENARIO ...] --out DIR
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
 
-Exit status (:mod:`gyrobench.scenarios.exits`): 0 on success, 1 when ``bench`` finds
-a significant regression, 2 on bad input, 3 when ``bench``'s compensator failed on
-some seeds, 4 on an internal failure, 130 when interrupted. Every error is one
-readable line on stderr, no traceback (``GYROBENCH_TRACEBACK=1`` shows it).
+Exit status: the codes of :mod:`gyrobench.scenarios.exits`, listed in ``gyrobench --help``
+(built from them). Every error is one readable line on stderr, no traceback
+(``GYROBENCH_TRACEBACK=1`` shows it).
 """
 
 from __future__ import annotations
@@ -27,6 +26,7 @@ import typing
 import warnings
 from pathlib import Path
 
+from gyrobench.scenarios import exits
 from gyrobench.scenarios.cli_common import Parser, one_line
 
 __all__ = ["main"]
@@ -53,11 +53,14 @@ def _cmd_list(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     p = Parser(prog="gyrobench", description="Gyroscope simulator and test bench.",
-               epilog="exit status: 0 ok; 1 bench: significant regression; 2 bad input (one line on "
-                       "stderr); 3 bench: the compensator failed on some seeds (non-finite output); "
-                       "4 internal failure (a worker died, non-deterministic runs, a bug); "
-                       "130 interrupted; 141 the output pipe closed (| head); 143 terminated. "
-                       "GYROBENCH_TRACEBACK=1 prints the traceback of an error.")
+               epilog=f"exit status: {exits.OK} ok; {exits.REGRESSION} bench: significant regression; "
+                       f"{exits.BAD_INPUT} bad input (one line on stderr); {exits.FAILED_SEEDS} bench: the "
+                       "compensator failed on some seeds, or a --baseline comparison could not be made; "
+                       f"{exits.INTERNAL} internal failure (a worker died, non-deterministic runs, a bug); "
+                       f"{exits.NONSTATIONARY} allan: a channel is not stationary (motion or steps; "
+                       f"--accept-nonstationary exits {exits.OK}); {exits.INTERRUPTED} interrupted; "
+                       f"{exits.PIPE_CLOSED} the output pipe closed (| head); {exits.TERMINATED} terminated. "
+                       f"{exits.TRACEBACK_ENV}=1 prints the traceback of an error.")
     p.add_argument("--version", action="version", version=f"gyrobench {_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
 

@@ -600,3 +600,16 @@ def test_a_closed_output_pipe_ends_quietly_with_141(monkeypatch, capsys):
     monkeypatch.setattr("sys.stdout", ClosedPipe())
     assert main(["parts"]) == 141
     assert capsys.readouterr().err == ""
+
+
+def test_help_lists_every_exit_status():
+    # the epilog is built from gyrobench.scenarios.exits: a new code shows up in --help (5, allan's
+    # non-stationary verdict, was missing from the hand-written list)
+    from gyrobench.scenarios import exits
+    from gyrobench.scenarios.cli import build_parser
+
+    epilog = " ".join(build_parser().epilog.split())
+    codes = [getattr(exits, n) for n in exits.__all__ if isinstance(getattr(exits, n), int)]
+    assert len(codes) >= 9
+    for code in codes:
+        assert f" {code} " in f" {epilog} ", code

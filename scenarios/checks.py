@@ -47,6 +47,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks_mems_nonlinear",
     "gyrobench.scenarios.checks_mount_coning",
     "gyrobench.scenarios.checks_fog_strain",
+    "gyrobench.scenarios.checks_shaker",
 )
 
 

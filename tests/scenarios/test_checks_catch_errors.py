@@ -186,3 +186,29 @@ def test_a_locked_band_that_is_not_monotone_in_the_input_fails_the_dead_band_che
     out = checks_rlg_cavity._check_dead_band()
     assert base.passed and math.isnan(out.simulated) and math.isfinite(out.tolerance)
     assert not out.passed
+
+
+def test_the_shaker_gain_check_catches_a_point_sampler_and_a_10_percent_level(monkeypatch):
+    """shaker.interval_mean_gain: a shaker input sampled at the output instants (no interval mean: the
+    137 Hz tone kept at its full level) and a profile 10 % above its stated level both fail."""
+    from gyrobench.scenarios import checks_shaker
+    from gyrobench.sim import shaker
+
+    assert checks_shaker.checks(np.random.default_rng(0))[0].passed
+    real = shaker.FixedSine.sample
+    monkeypatch.setattr(shaker.FixedSine, "sample", lambda self, fs, **kw: replace(
+        real(self, fs, **kw), acceleration=1.1 * real(self, fs, **kw).acceleration))
+    assert not checks_shaker.checks(np.random.default_rng(0))[0].passed
+    monkeypatch.undo()
+    real_mean = shaker.interval_mean_acceleration
+
+    def point_sampler(vib, *, duration, fs, rng, start=0.0):  # each output the profile at its interval's start
+        out = real_mean(vib, duration=duration, fs=fs, rng=rng, start=start)
+        k0, n = round(start * fs), round(vib.duration * fs)
+        t = np.arange(n) / fs
+        out[k0:k0 + n] = vib.acceleration * np.sin(2 * np.pi * vib.frequency * t + vib.phase)
+        return out
+
+    monkeypatch.setattr(shaker, "interval_mean_acceleration", point_sampler)
+    out = checks_shaker.checks(np.random.default_rng(0))[0]
+    assert not out.passed and out.simulated > 4.0 * out.expected

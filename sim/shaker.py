@@ -64,6 +64,7 @@ __all__ = [
     "RandomVibration",
     "Phased",
     "OVERSAMPLING",
+    "ShakerWindowError",
     "interval_mean_acceleration",
     "psd_from_breakpoints",
     "grms",
@@ -587,6 +588,21 @@ class Phased:
 OVERSAMPLING = 4.0
 
 
+class ShakerWindowError(ValueError):
+    """The vibration does not lie inside the record (:func:`interval_mean_acceleration`).
+
+    ``start`` and ``end`` [s] of the vibration, the record's ``duration`` [s] and output rate
+    ``fs`` [Hz] are kept, so a caller can name them in its own words.
+    """
+
+    def __init__(self, start: float, end: float, duration: float, fs: float) -> None:
+        self.start, self.end, self.duration, self.fs = start, end, duration, fs
+        super().__init__(
+            f"start + vibration.duration = {end:g} s must lie inside the record (0, {duration:g}] s and hold "
+            f">= 1 output sample at {fs:g} Hz"
+        )
+
+
 def interval_mean_acceleration(
     vibration: SineSweep | FixedSine | RandomVibration,
     *,
@@ -628,8 +644,9 @@ def interval_mean_acceleration(
         If ``vibration`` is not one of the three profiles or ``rng`` not a Generator.
     ValueError
         If ``duration``, ``fs`` or ``start`` is out of range, if the vibration does not lie
-        inside the record with >= 1 output sample, or if the record or the oversampled vibration
-        would not fit in memory (:class:`gyrobench.sim.memory.MemoryLimitError`).
+        inside the record with >= 1 output sample (:class:`ShakerWindowError`), or if the record
+        or the oversampled vibration would not fit in memory
+        (:class:`gyrobench.sim.memory.MemoryLimitError`).
 
     Notes
     -----
@@ -684,10 +701,7 @@ def interval_mean_acceleration(
         k0 = int(round(start * fs))
         n_vib = int(round(vibration.duration * fs))
     if n_vib < 1 or k0 + n_vib > n:
-        raise ValueError(
-            f"start + vibration.duration = {start + vibration.duration:g} s must lie inside the record "
-            f"(0, {duration:g}] s and hold >= 1 output sample at {fs:g} Hz"
-        )
+        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
     m = max(1, math.ceil(OVERSAMPLING * vibration.max_frequency / fs))
     memory.check_memory(memory.series_bytes(n_vib * m, 4), f"the shaker's vibration sampled at {m * fs:g} Hz",
                         hint="shorten the vibration")

@@ -166,11 +166,11 @@ def _pq(
     """
     lp = _log_prefactor(a, x, rest)
     use_series = (x < a + 1.0) | (x < a + 2.0 * np.sqrt(a))
-    p = np.empty_like(x)
-    q = np.empty_like(x)
     if np.all(use_series):
         p = np.minimum(np.exp(lp) * _series(a, x), 1.0)
         return p, 1.0 - p, lp
+    p = np.empty_like(x)
+    q = np.empty_like(x)
     use_cf = ~use_series
     if np.any(use_series):
         ps = np.exp(lp[use_series]) * _series(a[use_series], x[use_series])
@@ -223,7 +223,9 @@ def _start(
     The second start is tried only on lower tails, where it is finite (elsewhere the choice
     was Wilson-Hilferty's in any case).
     """
-    z = np.array([NormalDist().inv_cdf(float(min(max(t, 1e-300), 0.5))) for t in target])
+    # one normal quantile per distinct tail (a curve's bounds ask for two), not per entry
+    tails, which = np.unique(target, return_inverse=True)
+    z = np.array([NormalDist().inv_cdf(float(min(max(t, 1e-300), 0.5))) for t in tails])[which.reshape(-1)]
     z = np.where(want_upper, -z, z)
     c = 1.0 / (9.0 * a)
     wh = a * np.maximum(1.0 - c + z * np.sqrt(c), 1e-3) ** 3

@@ -94,8 +94,8 @@ def _edf_flicker_pm(d: int, m: int, n_phase: int, overlapping: bool) -> float:
 
 def _gh_basic_sum(j_top: float, big_m: float, s: float, f: float, alpha: int, d: int) -> float:
     """Eq. (10) for one (J, M, S, F): :func:`_gh_basic_sums` of one request."""
-    one = [np.array([float(v)]) for v in (j_top, big_m, s, f)]
-    return float(_gh_basic_sums(*one, alpha, d)[0])
+    jt, bm, ss, ff = (np.array([float(v)]) for v in (j_top, big_m, s, f))
+    return float(_gh_basic_sums(jt, bm, ss, ff, alpha, d)[0])
 
 
 def _gh_basic_sums(

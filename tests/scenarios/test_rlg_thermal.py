@@ -38,7 +38,7 @@ def outcome(three_units) -> Outcome:
 
 def test_registered_and_paper_shape():
     assert registry.get("rlg_thermal") is sc
-    assert sc.PAPER == "004"  # key into scenarios.papers.PAPERS (filled by the lead)
+    assert sc.PAPER == "004" and sc.SOURCE.key == "004"
     assert "seed" not in sc.TITLE.lower()
     assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 

@@ -12,11 +12,13 @@ a statistical check: each states its false-alarm rate).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
+from gyrobench.base.ranges import Constraint, FieldChoice, validate
 from gyrobench.scenarios.base import Headline, Outcome, Table
 from gyrobench.scenarios.checks.core import CHECK_MODULES, Check, collect
 
@@ -35,17 +37,21 @@ class Config:
 
     modules: tuple[str, ...] = CHECK_MODULES
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.modules, tuple) or not all(isinstance(m, str) for m in self.modules):
-            raise TypeError(f"Config.modules must be a tuple of module names; got {self.modules!r}")
-        if not self.modules:
-            raise ValueError("Config.modules must name at least one check module; got ()")
-        unknown = [m for m in self.modules if m not in CHECK_MODULES]
-        if unknown:  # a config never imports by a name it chose: only the fixed registry (issue 32)
-            raise ValueError(
-                f"Config.modules must be among the check modules {', '.join(CHECK_MODULES)}; got {unknown[0]!r}"
-            )
+    #: the declared spec: a config never imports by a name it chose, only the fixed registry
+    RANGES: ClassVar[Mapping[str, FieldChoice]] = {
+        "modules": FieldChoice(CHECK_MODULES, "the check modules that run"),
+    }
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "modules is a non-empty tuple",
+            lambda c: isinstance(c.modules, tuple) and len(c.modules) > 0,
+            lambda c: f"modules must name at least one check module; got {c.modules!r}",
+        ),
+    )
 
+    def __post_init__(self) -> None:
+        validate(self)  # the declared spec and constraint above
 
 def simulate(config: Config, seed: int) -> list:
     """The checks keep no recordings (each simulates short records internally)."""

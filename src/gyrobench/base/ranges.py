@@ -209,8 +209,8 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
     spec and annotation: a ``bool`` field takes a bool, a dataclass-typed field an instance of it, a
     ``Literal`` field one of its values, a
     :class:`FieldChoice` field one of its choices, a :class:`FieldRange` field a finite number in
-    range (an integer when it says so; a tuple element by element; None passes: an optional
-    field left unset).
+    range (an integer when it says so; None passes: an optional field left unset); a tuple is
+    checked element by element.
 
     Raises
     ------
@@ -227,17 +227,16 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
     if isinstance(kind, tuple) and value not in kind:
         raise ValueError(f"{owner}.{name} must be one of {list(kind)}; got {value!r}")
     spec = field_spec(config_type, name)
-    if isinstance(spec, FieldChoice):
-        if not spec.contains(value):
-            raise ValueError(f"{owner}.{name} must be {spec.text()}; got {value!r}")
-    elif isinstance(spec, FieldRange):
-        values = value if isinstance(value, tuple) else (value,)
-        for i, v in enumerate(values):
-            if v is None:
-                continue
-            key = f"{name}[{i}]" if isinstance(value, tuple) else name
-            if not spec.contains(v) or (spec.integer and not isinstance(v, int)):
-                raise range_error(owner, key, spec, v)
+    if spec is None:
+        return
+    values = value if isinstance(value, tuple) else (value,)
+    for i, v in enumerate(values):
+        key = f"{name}[{i}]" if isinstance(value, tuple) else name
+        if isinstance(spec, FieldChoice):
+            if not spec.contains(v):
+                raise ValueError(f"{owner}.{key} must be {spec.text()}; got {v!r}")
+        elif v is not None and (not spec.contains(v) or (spec.integer and not isinstance(v, int))):
+            raise range_error(owner, key, spec, v)
 
 
 def validate(config: Any) -> None:

@@ -37,7 +37,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import FieldRange, validate
 
 __all__ = ["MountConing", "RockingMode"]
 
@@ -65,9 +65,7 @@ class RockingMode:
     }
 
     def __post_init__(self) -> None:
-        _check("RockingMode", "frequency", self.frequency, "Hz")
-        _check("RockingMode", "quality", self.quality, "-")
-        _check("RockingMode", "compliance", self.compliance, "rad/(m/s^2)", allow_zero=True)
+        validate(self)  # the declared specs above
 
     def response(self, f: ArrayLike) -> NDArray[np.complex128]:
         """theta / a at frequency ``f`` [Hz]: c f0^2 / (f0^2 - f^2 + j f f0/Q) [rad/(m/s^2)]."""

@@ -28,6 +28,7 @@ import dataclasses
 import math
 import typing
 from collections.abc import Callable
+from numbers import Integral, Real
 from dataclasses import dataclass
 from typing import Any
 
@@ -80,10 +81,10 @@ class FieldRange:
     integer: bool = False
 
     def contains(self, value: float) -> bool:
-        """True when ``value`` is a finite number inside the range."""
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        """True when ``value`` is a finite real number (numpy's too, never a bool) inside the range."""
+        if isinstance(value, bool) or not isinstance(value, Real):
             return False
-        if isinstance(value, int) and abs(value) > 2**63 - 1:  # never converted to float (10**400)
+        if isinstance(value, Integral) and abs(int(value)) > 2**63 - 1:  # never converted to float (10**400)
             return False
         v = float(value)
         if not math.isfinite(v):
@@ -93,10 +94,18 @@ class FieldRange:
         return above and below
 
     def text(self) -> str:
-        """The range as a user reads it: ``"(0, 1e+05] m"``."""
+        """The range as a user reads it: ``"(0, 1e+05] m"``, ``"> 0 Hz"`` (no upper bound),
+        ``"a finite number [K]"`` (no bound)."""
+        kind = "an integer " if self.integer else ""
+        lo_inf, hi_inf = math.isinf(self.low), math.isinf(self.high)
+        if lo_inf and hi_inf:
+            return f"an integer [{self.unit}]" if self.integer else f"a finite number [{self.unit}]"
+        if hi_inf:
+            return f"{kind}{'>' if self.low_open else '>='} {self.low:g} {self.unit}".rstrip()
+        if lo_inf:
+            return f"{kind}{'<' if self.high_open else '<='} {self.high:g} {self.unit}".rstrip()
         lo, hi = ("(" if self.low_open else "["), (")" if self.high_open else "]")
-        kind = "an integer in " if self.integer else ""
-        return f"{kind}{lo}{self.low:g}, {self.high:g}{hi} {self.unit}".rstrip()
+        return f"{kind + 'in ' if kind else ''}{lo}{self.low:g}, {self.high:g}{hi} {self.unit}".rstrip()
 
 
 @dataclass(frozen=True, slots=True)
@@ -215,7 +224,8 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
     Raises
     ------
     TypeError
-        A ``bool`` or dataclass-typed field given anything else.
+        A ``bool`` or dataclass-typed field given anything else, a numeric field given a
+        non-number.
     ValueError
         Naming ``owner.name``, the constraint with its unit, and the value.
     """
@@ -235,8 +245,11 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
         if isinstance(spec, FieldChoice):
             if not spec.contains(v):
                 raise ValueError(f"{owner}.{key} must be {spec.text()}; got {v!r}")
-        elif v is not None and (not spec.contains(v) or (spec.integer and not isinstance(v, int))):
-            raise range_error(owner, key, spec, v)
+        elif v is not None:
+            if isinstance(v, bool) or not isinstance(v, Real):
+                raise TypeError(f"{owner}.{key} must be a real number [{spec.unit}]; got {v!r}")
+            if not spec.contains(v) or (spec.integer and not isinstance(v, Integral)):
+                raise range_error(owner, key, spec, v)
 
 
 def validate(config: Any) -> None:
@@ -277,5 +290,5 @@ def check_ranges(config: Any) -> None:
             if v is None:
                 continue
             key = f"{name}[{i}]" if isinstance(value, tuple) else name
-            if not rng.contains(v) or (rng.integer and not isinstance(v, int)):
+            if not rng.contains(v) or (rng.integer and not isinstance(v, Integral)):
                 raise range_error(cls.__name__, key, rng, v)

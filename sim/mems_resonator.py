@@ -131,14 +131,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.units import BOLTZMANN  # exact SI, re-exported
 from gyrobench.base.validate import check_rng as _check_rng
 from gyrobench.base.validate import real_field
@@ -417,7 +417,7 @@ class MemsResonator:
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
 
-    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
         "drive_frequency": FieldRange(0, 1e6, "Hz", "MEMS drive resonances are kHz to 100s of kHz", low_open=True),
         "mode_split": FieldRange(-1e5, 1e5, "Hz", "f_y - f_x; __post_init__ keeps f_y > 0"),
@@ -452,45 +452,20 @@ class MemsResonator:
         "scale_factor_repeatability": FieldRange(0, 0.3, "1", "1-sigma turn-on SF error; e_on > -1"),
         "turn_on_bias": FieldRange(-1e3, 1e3, "rad/s", "this power-on's bias (power_on draws it)"),
         "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
+        "readout": FieldChoice(READOUTS, "force rebalance (closed loop) or open loop"),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "drive_frequency + mode_split > 0",
+            lambda c: c.drive_frequency + c.mode_split > 0,
+            lambda c: f"mode_split must keep f_y = f_x + split > 0 Hz; got {c.mode_split!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.readout not in READOUTS:
-            raise ValueError(
-                f"MemsResonator.readout must be one of {READOUTS}; got {self.readout!r}"
-            )
-        for f in fields(self):
-            if f.name in ("output_bits", "readout"):
-                continue
-            v = real_field("MemsResonator", f.name, getattr(self, f.name))
-            if f.name in _POSITIVE and not v > 0:
-                raise ValueError(f"MemsResonator.{f.name} must be > 0; got {v!r}")
-            if f.name in _NON_NEGATIVE and not v >= 0:
-                raise ValueError(f"MemsResonator.{f.name} must be >= 0; got {v!r}")
-        b = self.output_bits
-        if b is not None and (isinstance(b, bool) or not isinstance(b, (int, np.integer)) or b < 2):
-            raise ValueError(
-                f"MemsResonator.output_bits must be an integer >= 2 or None; got {b!r}"
-            )
-        if not self.drive_frequency + self.mode_split > 0:
-            raise ValueError(
-                "MemsResonator.mode_split must keep f_y = f_x + split > 0 Hz; "
-                f"got {self.mode_split!r}"
-            )
-        if not self.scale_factor_trim > 0:
-            raise ValueError(
-                f"MemsResonator.scale_factor_trim must be > 0; got {self.scale_factor_trim!r}"
-            )
-        if not self.turn_on_scale_factor > -1:
-            raise ValueError(
-                "MemsResonator.turn_on_scale_factor must be > -1; "
-                f"got {self.turn_on_scale_factor!r}"
-            )
-        if not abs(self.phase_error) < math.pi / 2:
-            raise ValueError(
-                "MemsResonator.phase_error must satisfy |theta| < pi/2 rad; "
-                f"got {self.phase_error!r}"
-            )
+        validate(self)  # the declared specs and constraints above
 
     @property
     def resolution(self) -> float:
@@ -1945,17 +1920,7 @@ class MemsResonatorSpec:
     }
 
     def __post_init__(self) -> None:
-        if not isinstance(self.nominal, MemsResonator):
-            raise TypeError(
-                "MemsResonatorSpec.nominal must be a MemsResonator; "
-                f"got {type(self.nominal).__name__}"
-            )
-        for f in fields(self):
-            if f.name in ("nominal", "factory_trim"):
-                continue
-            v = real_field("MemsResonatorSpec", f.name, getattr(self, f.name))
-            if not v >= 0:
-                raise ValueError(f"MemsResonatorSpec.{f.name} must be >= 0; got {v!r}")
+        validate(self)  # the declared specs above; nominal must be a MemsResonator
 
     def realize(self, *, rng: np.random.Generator) -> MemsResonator:
         """Draw one unit of the population (physical parameters, then the factory trim).

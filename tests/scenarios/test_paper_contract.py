@@ -17,10 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from gyrobench.scenarios import registry
+from gyrobench.scenarios import papers, registry
 from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import Claim, Deviation, evaluate
-from gyrobench.scenarios import papers
 from gyrobench.scenarios.papers.contract import PACKAGE_MODULES, PaperScenario, UnitResult
 
 PAPER_SCENARIOS = [n for n in registry.available() if registry.describe(n).paper is not None]

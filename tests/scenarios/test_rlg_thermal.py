@@ -267,7 +267,7 @@ def test_simulate_recordings():
 
 # ----------------------------------------------------------------------------- bad input
 def test_bad_config_temperatures():
-    with pytest.raises(ValueError, match=r"Config.high_c must be > start_c"):
+    with pytest.raises(ValueError, match=r"Config.start_c must be < high_c \[degC\]; got -40.0 and -50.0"):
         sc.Config(high_c=-50.0)
 
 

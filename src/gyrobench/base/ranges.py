@@ -28,8 +28,8 @@ import dataclasses
 import math
 import typing
 from collections.abc import Callable
-from numbers import Integral, Real
 from dataclasses import dataclass
+from numbers import Integral, Real
 from typing import Any
 
 __all__ = [

@@ -114,6 +114,9 @@ class Config:
         )
     )
 
+    def __post_init__(self) -> None:
+        validate(self)  # fog and mems must be GradeSpecs
+
 
 def _grades(config: Config) -> dict[str, GradeSpec]:
     return {"fog": config.fog, "mems": config.mems}

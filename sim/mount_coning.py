@@ -82,6 +82,9 @@ class MountConing:
     x: RockingMode
     y: RockingMode
 
+    def __post_init__(self) -> None:
+        validate(self)  # x and y must be RockingModes
+
     def mean_rate(self, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
         """Mean coning rate about z [rad/s] under a sine of frequency ``f`` [Hz] and amplitude ``a``
         [m/s^2]: (1/2) a^2 (2 pi f) Im(X conj(Y)) (module docstring)."""

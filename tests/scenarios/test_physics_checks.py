@@ -153,7 +153,7 @@ def test_collect_refuses_duplicate_ids():
 def test_config_refuses_bad_modules():
     with pytest.raises(ValueError, match="at least one check module"):
         physics_checks.Config(modules=())
-    with pytest.raises(ValueError, match=r"Config.modules\[1\] must be one of \('gyrobench.scenarios.checks.noise'.*got 3"):
+    with pytest.raises(ValueError, match=r"Config.modules\[1\] must be one of \('gyrobench.scenarios.checks.noise'.*"):
         physics_checks.Config(modules=(CHECK_MODULES[0], 3))
 
 

@@ -75,7 +75,7 @@ def discover() -> tuple[DiscoveredPaper, ...]:
         for info in sorted(pkgutil.iter_modules(list(__path__)), key=lambda m: m.name):
             if not info.ispkg:
                 continue
-            spec = info.module_finder.find_spec(info.name, None)  # type: ignore[call-arg]
+            spec = info.module_finder.find_spec(info.name, None)
             if spec is None or not spec.origin:
                 continue
             paper = _read(f"{__name__}.{info.name}", Path(spec.origin))

@@ -80,7 +80,7 @@ class FieldRange:
     high_open: bool = False
     integer: bool = False
 
-    def contains(self, value: float) -> bool:
+    def contains(self, value: object) -> bool:
         """True when ``value`` is a finite real number (numpy's too, never a bool) inside the range."""
         if isinstance(value, bool) or not isinstance(value, Real):
             return False

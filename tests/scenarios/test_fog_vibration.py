@@ -374,7 +374,7 @@ def test_level_too_deep_for_the_record_rejected():
 def test_bias_and_train_levels_above_decomposition_depth_rejected():
     with pytest.raises(ValueError, match=r"Config.bias_level must be <= level \[levels\]; got 11 and 10"):
         sc.Config(bias_level=11)
-    with pytest.raises(ValueError, match=r"Config.train_level must be in \[1, level=10\]; got 0"):
+    with pytest.raises(ValueError, match=r"Config.train_level must be an integer in \[1, 30\] levels; got 0"):
         sc.Config(train_level=0)
 
 

@@ -244,7 +244,8 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
         key = f"{name}[{i}]" if isinstance(value, tuple) else name
         if isinstance(spec, FieldChoice):
             if not spec.contains(v):
-                raise ValueError(f"{owner}.{key} must be {spec.text()}; got {v!r}")
+                why = f" ({spec.why})" if spec.why else ""
+                raise ValueError(f"{owner}.{key} must be {spec.text()}{why}; got {v!r}")
         elif v is not None:
             if isinstance(v, bool) or not isinstance(v, Real):
                 raise TypeError(f"{owner}.{key} must be a real number [{spec.unit}]; got {v!r}")

@@ -45,14 +45,16 @@ and the discharge-current balance set at each start) is drawn in each ``simulate
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange, validate
 from gyrobench.base.validate import nonneg_field as _nonneg
 from gyrobench.base.validate import nonneg_fields as _nonneg_fields
 from gyrobench.io.recording import Channel, Recording
@@ -339,14 +341,14 @@ class Dither:
     amplitude: float
     amplitude_jitter: float = 0.1
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "frequency": FieldRange(0, math.inf, "Hz", "body dither frequency", low_open=True),
+        "amplitude": FieldRange(0, math.inf, "rad", "dither angle amplitude (peak)", low_open=True),
+        "amplitude_jitter": FieldRange(0, 0.3, "1", "relative amplitude jitter between cycles"),
+    }
+
     def __post_init__(self) -> None:
-        _pos("Dither", "frequency", self.frequency, "Hz")
-        _pos("Dither", "amplitude", self.amplitude, "rad")
-        j = _nonneg("Dither", "amplitude_jitter", self.amplitude_jitter, "(relative)")
-        if j > 0.3:
-            raise ValueError(
-                f"Dither.amplitude_jitter must be <= 0.3 (relative); got {self.amplitude_jitter!r}"
-            )
+        validate(self)  # the declared specs above
 
     @property
     def peak_rate(self) -> float:

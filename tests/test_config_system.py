@@ -3,7 +3,8 @@
 The configuration classes are every scenario's ``Config`` with every dataclass reachable from it
 (nested fields and tuples of dataclasses: the FOG loop, optics, strain modes and mount of paper
 000, the MEMS population of paper 001, ...), and the profiles and parts a user builds directly
-(shaker profiles, thermal program segments, datasheets and parts). For each:
+(shaker profiles, thermal program segments, datasheets and parts) and the device specs the paper
+configs build (the 2-D FOG and its temperature sensor, the RLG's dither). For each:
 
 * its ``__post_init__`` calls :func:`gyrobench.base.ranges.validate` and has no hand-written check
   left (no ``raise``, ``if``, loop or ``assert`` of its own; what it builds after validating, the
@@ -28,11 +29,17 @@ import pytest
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, field_spec
 from gyrobench.scenarios import registry
 from gyrobench.sim.environment import Ramp, Soak
+from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec
 from gyrobench.sim.parts import Datasheet, Part
+from gyrobench.sim.rlg import Dither
 from gyrobench.sim.shaker import FixedSine, Phased, RandomVibration, SineSweep
 
-#: classes a user builds directly, beside the ones reachable from a scenario's Config
-PROFILES_AND_PARTS = (SineSweep, FixedSine, RandomVibration, Phased, Ramp, Soak, Datasheet, Part)
+#: classes a user builds directly, beside the ones reachable from a scenario's Config: profiles, parts and
+#: the device specs the paper configs build
+PROFILES_AND_PARTS = (
+    SineSweep, FixedSine, RandomVibration, Phased, Ramp, Soak, Datasheet, Part, FOG2DSpec, TemperatureSensorSpec,
+    Dither,
+)
 
 
 def _reachable(obj: typing.Any, out: dict[type, None]) -> None:

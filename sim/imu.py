@@ -38,9 +38,10 @@ from numpy.typing import NDArray
 from gyrobench.base import units
 from gyrobench.base.validate import check_fs, check_rng, nonneg_field, real_field
 from gyrobench.io.recording import Channel, Recording, package_version
+from gyrobench.sim.earth import Site
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import Environment, Sensor, SensorUnit
-from gyrobench.sim.trajectory import Increments, Motion, Site, increments
+from gyrobench.sim.trajectory import Increments, Motion, increments
 
 __all__ = ["AXES", "AccelerometerSpec", "TriadSpec", "TriadUnit", "ImuRecord", "sensitivity_matrix"]
 
@@ -255,7 +256,8 @@ class TriadSpec:
         check_rng(rng)
         r_g = rng.spawn(3)
         r_align, r_acc = rng.spawn(2)
-        gyros = tuple(spec.realize(rng=r) for spec, r in zip(self.gyros, r_g, strict=True))
+        gx, gy, gz = (spec.realize(rng=r) for spec, r in zip(self.gyros, r_g, strict=True))
+        gyros = (gx, gy, gz)
         ra, rb = r_align.spawn(2)
         c_g = self.gyro_matrix if self.gyro_matrix is not None else sensitivity_matrix(
             misalignment=self.misalignment, cross_axis=self.cross_axis, rng=ra)

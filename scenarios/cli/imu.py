@@ -70,14 +70,15 @@ def load_trajectory(path: str):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.trajectory.Site`,
+        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.earth.Site`,
         :class:`~gyrobench.sim.imu.AccelerometerSpec` or None).
     """
     import numpy as np
 
     from gyrobench.base import units
+    from gyrobench.sim.earth import Site
     from gyrobench.sim.imu import AccelerometerSpec
-    from gyrobench.sim.trajectory import SegmentedMotion, Site, segments_from_table
+    from gyrobench.sim.trajectory import SegmentedMotion, segments_from_table
 
     data = read_toml(path, "--trajectory")
     if unknown := sorted(set(data) - {"site", "initial", "motion", "accelerometer"}):
@@ -130,12 +131,13 @@ def load_trajectory_csv(path: str, latitude_deg: float):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.trajectory.Site`, None).
+        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.earth.Site`, None).
     """
     import numpy as np
 
     from gyrobench.base import memory, units
-    from gyrobench.sim.trajectory import SampledMotion, Site
+    from gyrobench.sim.earth import Site
+    from gyrobench.sim.trajectory import SampledMotion
 
     p = Path(path)
     if not p.is_file():

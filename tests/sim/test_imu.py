@@ -10,8 +10,9 @@ from scipy.stats import norm
 
 from gyrobench.analysis.allan import fit_noise
 from gyrobench.sim import parts
+from gyrobench.sim.earth import Site
 from gyrobench.sim.imu import AccelerometerSpec, TriadSpec, sensitivity_matrix
-from gyrobench.sim.trajectory import Segment, SegmentedMotion, Site
+from gyrobench.sim.trajectory import Segment, SegmentedMotion
 
 PART = parts.get("adxrs646")
 ACCEL = AccelerometerSpec.from_datasheet(vrw_m_s_sqrt_h=0.05, bias_instability_ug=20.0, bias_repeatability_mg=2.0,

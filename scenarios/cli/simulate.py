@@ -18,6 +18,7 @@ from gyrobench.scenarios.cli.common import (
     one_line,
     positive_float,
     positive_int,
+    ranged,
     read_toml,
     seed,
 )
@@ -503,7 +504,7 @@ def _cmd_parts(args) -> int:
 
 
 _IMU_FLAGS = {"trajectory": "--trajectory", "misalignment": "--misalignment", "cross_axis": "--cross-axis",
-              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments"}
+              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments", "latitude": "--latitude"}
 
 
 def _cmd_simulate(args) -> int:
@@ -563,6 +564,8 @@ def add_parsers(sub) -> None:
                    help="imu: 1-sigma misalignment of each axis pair [mrad] (default 0)")
     s.add_argument("--cross-axis", type=nonneg_float("--cross-axis", 10.0),
                    help="imu: 1-sigma cross-axis sensitivity [%%] (default 0)")
+    s.add_argument("--latitude", type=ranged("--latitude", -89.9, 89.9, unit="deg"),
+                   help="imu: the site's latitude [deg] for a CSV trajectory (default 0)")
     s.add_argument("--increments", action="store_true", help="imu: write angle and velocity increments, not rates")
     s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
     s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")

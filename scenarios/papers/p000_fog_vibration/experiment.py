@@ -8,6 +8,7 @@ records, 2 the RBF centres' order, 3 the drawn unit.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import asdict
 
 import numpy as np
@@ -70,25 +71,36 @@ def memory_estimate(config: Config) -> float:
     return 1.2 * float(config.fog.physics_rate_hz) * (80.0 * t_total + 300.0 * float(config.vibration_s))
 
 
-def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
-    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static).
-
-    The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
-    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
+def _records(config: Config, seed: int, record_seed: int | None = None) -> Iterator[Recording]:
+    """The unit's two records, one at a time: (a) the sweep, then (b) the fixed dwell."""
     r_sweep, r_fixed = np.random.default_rng(seed if record_seed is None else record_seed).spawn(2)
     fog, mount = draw_unit(config, seed), draw_mount(config, seed)
-    recs = []
     for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):
         rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}", mount)
         meta = dict(rec.metadata)
         meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
         meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
-        recs.append(
-            Recording(
-                fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name
-            )
-        )
-    return recs
+        yield Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name)
+
+
+def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
+    """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static).
+
+    The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
+    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
+    return list(_records(config, seed, record_seed))
+
+
+#: what :func:`experiment` reads of each record (channels; truth without its ``truth/`` prefix)
+_USED = {"sweep": (("rate", "shaker_frequency", "shaker_on"), ()),
+         "fixed": (("rate", "shaker_frequency", "shaker_on"), ("vibration_bias",))}
+
+
+def _slim(rec: Recording, key: str) -> Recording:
+    """``rec`` holding only what :func:`experiment` reads: the same arrays, the rest released."""
+    chans, truth = _USED[key]
+    return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans},
+                     truth={k: rec.truth[k] for k in truth}, t0=rec.t0, metadata=rec.metadata, name=rec.name)
 
 
 def experiment(config: Config, seed: int) -> UnitResult:
@@ -98,7 +110,9 @@ def experiment(config: Config, seed: int) -> UnitResult:
     cannot test it), the coefficient tables, the bias-model scores, the offsets and what the
     report's figures draw (downsampled traces and the fixed-frequency record).
     """
-    sweep, fixed = simulate(config, seed)
+    records = _records(config, seed)
+    sweep = _slim(next(records), "sweep")  # the sweep's other channels are released before the dwell runs
+    fixed = _slim(next(records), "fixed")
     rng_centres = np.random.default_rng(seed).spawn(3)[2]  # simulate() uses children 0 and 1
     fs = fixed.fs
     phases = phase_table(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)

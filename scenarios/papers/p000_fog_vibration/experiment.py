@@ -45,7 +45,13 @@ from .results import (
     unit_quantities,
 )
 
-__all__ = ["experiment", "memory_estimate", "simulate"]
+__all__ = ["REPORT_UNITS", "SLIM_FIELDS", "experiment", "memory_estimate", "simulate"]
+
+#: the report's figures draw the first unit only (:func:`gyrobench.scenarios.units.run_paper`)
+REPORT_UNITS = 1
+#: the fields only the report's figures read: stored emptied for every other unit (the whole
+#: fixed-frequency record, 2.4 MB a unit, is most of a unit's result)
+SLIM_FIELDS = ("figures",)
 
 
 def memory_estimate(config: Config) -> float:

@@ -283,3 +283,28 @@ def test_a_store_of_the_previous_format_is_refused_in_one_line(tmp_path, capsys,
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "older gyrobench" in err[0], err
     assert db.read_bytes() == before
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's mallopt")
+def test_keep_freed_memory_takes_on_glibc_and_changes_no_value(tmp_path):
+    """The allocator setting is accepted (glibc) and idempotent; units computed in a process that has
+    it equal, bit for bit, those of a process where it is never applied (another store)."""
+    code = (
+        "import pickle, sys\n"
+        "from gyrobench.scenarios import units\n"
+        "from tests.scenarios import toy_paper as toy\n"
+        "if sys.argv[1] == 'off':\n"
+        "    ok, units.keep_freed_memory = False, lambda: False\n"
+        "else:\n"
+        "    ok = units.keep_freed_memory() and units.keep_freed_memory()\n"
+        "r = units.run_units(toy, toy.Config(), n_units=3, workers=0, db=sys.argv[2])\n"
+        "sys.stdout.buffer.write(pickle.dumps((ok, [x['trace'].tobytes() for x in r.results])))\n"
+    )
+    out = {}
+    for mode in ("on", "off"):
+        env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
+        res = subprocess.run([sys.executable, "-c", code, mode, str(tmp_path / f"{mode}.db")], capture_output=True,
+                             env=env, check=True)
+        out[mode] = pickle.loads(res.stdout)
+    assert out["on"][0] is True
+    assert out["on"][1] == out["off"][1]

@@ -7,7 +7,8 @@ shared machine wall time includes waiting for a core, CPU time does not, though 
 still slows CPU work through shared caches and memory bandwidth):
 
 * each paper's unit (``experiment(Config(), seed)``, seeds 1..``--units``, each in a fresh
-  subprocess with one BLAS thread, as the runner's workers): median CPU and peak RSS increase
+  subprocess with one BLAS thread and ``units.keep_freed_memory``, as the runner's workers):
+  median CPU and peak RSS increase
   (``ru_maxrss`` minus the RSS after the imports); target <= 2 s CPU;
 * the five-term noise record (Q, N, B, K, R of ``bench_noise.py``, one-shot ``generate``,
   draw thread off) against ``Generator.standard_normal`` of as many float64 samples: CPU rate
@@ -47,6 +48,8 @@ _UNIT = """
 import importlib, json, resource, sys, time
 import numpy, scipy.signal, scipy.optimize, sklearn.neural_network
 from threadpoolctl import threadpool_limits
+from gyrobench.scenarios import units
+units.keep_freed_memory()  # as the runner's workers run a unit
 mod = importlib.import_module("gyrobench.scenarios.papers." + sys.argv[1])
 cfg = mod.Config()
 rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

@@ -48,7 +48,7 @@ _UNIT = """
 import importlib, json, resource, sys, time
 import numpy, scipy.signal, scipy.optimize, sklearn.neural_network
 from threadpoolctl import threadpool_limits
-from gyrobench.scenarios import units
+from gyrobench.scenarios.runner import units
 units.keep_freed_memory()  # as the runner's workers run a unit
 mod = importlib.import_module("gyrobench.scenarios.papers." + sys.argv[1])
 cfg = mod.Config()
@@ -103,6 +103,7 @@ def units(n_units: int) -> list[tuple[str, str, str, str]]:
 
 def noise(repeat: int) -> list[tuple[str, str, str, str]]:
     from bench_noise import FIVE
+
     from gyrobench.sim import noise as nz
     from gyrobench.sim.noise import NoiseModel
 
@@ -145,6 +146,7 @@ def _data(n: int, folder: str) -> str:
 def allan(sizes: list[int], repeat: int, folder: str, big: bool) -> list[tuple[str, str, str, str]]:
     import allantools
     from bench_allan import nnls_fit
+
     from gyrobench.analysis.allan import allan_deviation, fit_noise
 
     rows = []
@@ -191,9 +193,10 @@ def allan(sizes: list[int], repeat: int, folder: str, big: bool) -> list[tuple[s
 def store(reproduce: bool, folder: str) -> list[tuple[str, str, str, str]]:
     import importlib
 
-    from gyrobench.scenarios import units as runner
-    from gyrobench.scenarios.bench import codec
     from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.runner import codec
+    from gyrobench.scenarios.runner import units as runner
 
     rows, total = [], 0.0
     for name in PAPERS:

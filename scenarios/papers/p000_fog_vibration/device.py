@@ -10,12 +10,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
-from gyrobench.sim.recording import Channel, Recording
+from gyrobench.sim.sensor import Environment, with_metadata
 from gyrobench.sim.shaker import Phased, SineSweep
-from numpy.typing import ArrayLike, NDArray
 
 from .config import Config
 
@@ -132,7 +134,7 @@ def record_on_table(
     freq = np.where(on > 0.5, np.nan_to_num(sh.frequency[centre], nan=0.0), 0.0)
     amplitude = sh.amplitude[centre]
     coning = np.zeros(n) if mount is None else _block_mean_coning(mount, sh.acceleration, n, m, spec.physics_rate_hz)
-    rec = fog.simulate(prof.duration, fs_out, rng=r_fog, shaker=sh, name=name)
+    rec = with_metadata(fog.simulate(Environment(prof.duration, vibration=sh), fs=fs_out, rng=r_fog), name=name)
     del sh
     if rec.n_samples != n:
         raise RuntimeError(f"record_on_table: the FOG record has {rec.n_samples} samples, expected {n}")

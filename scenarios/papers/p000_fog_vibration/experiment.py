@@ -12,13 +12,14 @@ from collections.abc import Iterator
 from dataclasses import asdict
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
-from gyrobench.sim import units
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
-from gyrobench.sim.recording import Recording
 from gyrobench.sim.shaker import Phased
-from numpy.typing import NDArray
 
 from . import NAME
 from .config import Config, split_level_m
@@ -50,7 +51,7 @@ from .results import (
 
 __all__ = ["REPORT_UNITS", "SLIM_FIELDS", "experiment", "memory_estimate", "simulate"]
 
-#: the report's figures draw the first unit only (:func:`gyrobench.scenarios.units.run_paper`)
+#: the report's figures draw the first unit only (:func:`gyrobench.scenarios.runner.units.run_paper`)
 REPORT_UNITS = 1
 #: the fields only the report's figures read: stored emptied for every other unit (the whole
 #: fixed-frequency record, 2.4 MB a unit, is most of a unit's result)
@@ -61,7 +62,7 @@ def memory_estimate(config: Config) -> float:
     """Peak memory of one unit's :func:`simulate` or :func:`experiment` [bytes], before allocating.
 
     Per unit (one worker process); the runner multiplies it by the units it runs at once
-    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``T`` the record length
+    (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``T`` the record length
     (static + vibration + static) [s], ``T_v`` the vibration phase [s] and ``f_p`` the shaker
     grid rate ``fog.physics_rate_hz`` [Hz], for the unit's two records (swept and fixed sine)::
 

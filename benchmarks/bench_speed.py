@@ -216,7 +216,7 @@ def store(reproduce: bool, folder: str) -> list[tuple[str, str, str, str]]:
         out = os.path.join(folder, "rep")
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
-        cli = "import sys; from gyrobench.scenarios.cli import main; sys.exit(main(sys.argv[1:]))"
+        cli = "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main(sys.argv[1:]))"
         subprocess.run([sys.executable, "-c", cli, "reproduce", "--all", "--out", out, "-q"],
                        check=True, capture_output=True)
         wall = time.perf_counter() - t0

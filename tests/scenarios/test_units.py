@@ -292,7 +292,7 @@ def test_keep_freed_memory_takes_on_glibc_and_changes_no_value(tmp_path):
     it equal, bit for bit, those of a process where it is never applied (another store)."""
     code = (
         "import pickle, sys\n"
-        "from gyrobench.scenarios import units\n"
+        "from gyrobench.scenarios.runner import units\n"
         "from tests.scenarios import toy_paper as toy\n"
         "if sys.argv[1] == 'off':\n"
         "    ok, units.keep_freed_memory = False, lambda: False\n"

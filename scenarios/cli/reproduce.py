@@ -92,7 +92,8 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
                 if units.is_paper_scenario(mod):
                     outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=start_units, executor=executor,
                                                     workers=workers, db=db, progress=not args.quiet,
-                                                    deviation_units=args.deviations or 0, max_units=max_units))
+                                                    deviation_units=args.deviations or 0, max_units=max_units,
+                                                    keep_units=args.keep_units))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
         ok = True
@@ -135,5 +136,8 @@ def add_parser(sub) -> None:
     s.add_argument("--deviations", nargs="?", const=DEVIATION_UNITS, type=positive_int("--deviations"),
                    metavar="N", help="also run each deviation's config variant (the paper's protocol) over the "
                    f"first N units (default {DEVIATION_UNITS}) and report every claim's measured change")
+    s.add_argument("--keep-units", action="store_true",
+                   help="store every unit's whole result in --db (default: what the claims and the report read, "
+                   "the figures' data of the units the report draws only)")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.set_defaults(func=_cmd_reproduce)

@@ -14,7 +14,9 @@ and ``format_version``. Plain float64 datasets and string attributes, so
 MATLAB's ``h5read(file, '/recordings/x/channels/rate')`` and ``h5readatt``
 read them directly.
 
-CSV: a header line of ``name [unit]`` columns, first column ``time [s]``.
+CSV: a comment line naming gyrobench (:func:`gyrobench.base.safety.comment_marker`, the marker
+that lets a later run replace the file), then a header line of ``name [unit]`` columns, first
+column ``time [s]``.
 
 Writes are atomic: data go to a temporary file in the destination folder,
 which is renamed over the target only when complete (``os.replace``). The
@@ -1129,7 +1131,10 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]
     if include_truth:
         cols += [(f"truth/{k}", c.unit, c.data) for k, c in rec.truth.items()]
-    header = ",".join(f"{k} [{u}]" for k, u, _ in cols)
+    from gyrobench.base.safety import comment_marker
+
+    # the first line is gyrobench's marker (gyrobench.base.safety): a later run may replace this file
+    header = comment_marker(f"recording {rec.name!r}") + "\n" + ",".join(f"{k} [{u}]" for k, u, _ in cols)
     ensure_free_space(path, 25 * len(cols) * rec.n_samples)  # "%.17g," is at most 25 characters
     data = np.column_stack([c for _, _, c in cols])
     with atomic_path(path) as tmp:

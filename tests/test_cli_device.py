@@ -59,8 +59,8 @@ def test_simulate_device_profile_toml_to_csv(tmp_path):
     out = tmp_path / "m.csv"
     assert main(["simulate", "device", "mti-1", "--profile", str(tmp_path / "p.toml"), "--fs", "50",
                  "-o", str(out), "-q"]) == 0
-    data = np.loadtxt(out, delimiter=",", skiprows=1)
-    header = out.read_text().splitlines()[0].split(",")
+    data = np.loadtxt(out, delimiter=",", skiprows=2)
+    header = out.read_text().splitlines()[1].split(",")
     col = {h.split(" [")[0]: i for i, h in enumerate(header)}
     err = data[:, col["output"]] - data[:, col["truth/true_rate"]]
     comps = sum(data[:, col["truth/" + k]] for k in parts.ERROR_COMPONENTS)

@@ -1,0 +1,1 @@
+"""The base layer: helpers that import nothing else of gyrobench."""

@@ -1,6 +1,11 @@
 """Fixtures shared by every test package."""
 
+import hashlib
+import os
+import sqlite3
+import stat
 import zlib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,3 +23,100 @@ from hypothesis import settings as _hypothesis_settings  # noqa: E402
 
 _hypothesis_settings.register_profile("gyrobench", derandomize=True, database=None)
 _hypothesis_settings.load_profile("gyrobench")
+
+
+# ----------------------------------------------------------------------------- the user's files
+class UserFiles:
+    """User files planted where a command reads or could write, and the check that none changed.
+
+    :meth:`plant` writes a file (bytes, or a foreign file of a format: ``"hdf5"``, ``"sqlite"``),
+    :meth:`keep` records a file the test made (an input), :meth:`around` plants the neighbours
+    of an output (the same name with other suffixes, a backup, a hidden sibling, a file in the
+    same folder). :meth:`verify` (run when the test ends) fails the test if any recorded file
+    is gone, is no longer a regular file, or has other bytes.
+    """
+
+    #: suffixes planted beside an output (:meth:`around`)
+    NEIGHBOUR_SUFFIXES = (".h5", ".csv", ".json", ".yaml", ".png", ".sqlite", ".py", ".toml")
+
+    def __init__(self, root: Path) -> None:
+        self.root = root
+        self._kept: dict[Path, tuple[str, int]] = {}
+
+    @staticmethod
+    def _digest(p: Path) -> tuple[str, int]:
+        st = os.stat(p)
+        return hashlib.sha256(p.read_bytes()).hexdigest(), st.st_ino
+
+    def keep(self, *paths: "str | os.PathLike") -> None:
+        """Record existing files: each must still hold its bytes when the test ends."""
+        for p in map(Path, paths):
+            self._kept[p] = self._digest(p)
+
+    def plant(self, path: "str | os.PathLike", data: "bytes | str" = b"", *, kind: str = "bytes") -> Path:
+        """Write a user file at ``path`` (its folders made) and record it; returns the path."""
+        p = Path(path)
+        if not p.is_absolute():
+            p = self.root / p
+        p.parent.mkdir(parents=True, exist_ok=True)
+        if kind == "hdf5":  # a foreign HDF5 file: no gyrobench marker
+            import h5py
+
+            with h5py.File(p, "w") as h5:
+                h5["data"] = list(range(8))
+                h5.attrs["owner"] = "user"
+        elif kind == "sqlite":  # a foreign SQLite database
+            conn = sqlite3.connect(p)
+            conn.execute("CREATE TABLE notes (line TEXT)")
+            conn.execute("INSERT INTO notes VALUES ('mine')")
+            conn.commit()
+            conn.close()
+        else:
+            p.write_bytes(data.encode() if isinstance(data, str) else (data or f"user file {p.name}\n".encode()))
+        self.keep(p)
+        return p
+
+    def around(self, *outputs: "str | os.PathLike") -> list[Path]:
+        """Plant user files beside each output (other suffixes, ``NAME.bak``, ``.NAME.swp``), never at it."""
+        planted = []
+        for out in map(Path, outputs):
+            names = [out.with_suffix(s) for s in self.NEIGHBOUR_SUFFIXES if s != out.suffix.lower()]
+            names += [out.with_name(out.name + ".bak"), out.with_name(f".{out.name}.swp"),
+                      out.with_name(f"{out.stem}_notes.txt")]
+            for n in names:
+                if not n.exists() and not n.is_symlink():
+                    planted.append(self.plant(n))
+        return planted
+
+    def verify(self) -> None:
+        """Fail if any recorded file was removed, replaced by another kind of entry or changed."""
+        changed = []
+        for p, (digest, _) in self._kept.items():
+            try:
+                st = os.stat(p)
+            except OSError:
+                changed.append(f"{p} is gone")
+                continue
+            if not stat.S_ISREG(st.st_mode):
+                changed.append(f"{p} is no longer a regular file")
+            elif self._digest(p)[0] != digest:
+                changed.append(f"{p} has other bytes")
+        if changed:
+            pytest.fail("a user's file changed: " + "; ".join(changed), pytrace=False)
+
+
+@pytest.fixture
+def user_files(tmp_path: Path):
+    """:class:`UserFiles` in ``tmp_path/user``: a foreign HDF5, SQLite, JSON, YAML, CSV and PNG file and a
+    folder of notes planted first; the test fails if any file it recorded changes."""
+    files = UserFiles(tmp_path)
+    user = tmp_path / "user"
+    files.plant(user / "foreign.h5", kind="hdf5")
+    files.plant(user / "foreign.sqlite", kind="sqlite")
+    files.plant(user / "notes.json", '{"format": "mine", "notes": [1, 2]}\n')
+    files.plant(user / "notes.yaml", "notes: mine\n")
+    files.plant(user / "real.csv", "time [s],gyro [deg/s]\n0,0.1\n0.01,0.2\n")
+    files.plant(user / "plot.png", b"\x89PNG\r\n\x1a\n not gyrobench's")
+    files.plant(user / "folder" / "keep.txt", "mine\n")
+    yield files
+    files.verify()

@@ -31,13 +31,10 @@ class UserFiles:
 
     :meth:`plant` writes a file (bytes, or a foreign file of a format: ``"hdf5"``, ``"sqlite"``),
     :meth:`keep` records a file the test made (an input), :meth:`around` plants the neighbours
-    of an output (the same name with other suffixes, a backup, a hidden sibling, a file in the
-    same folder). :meth:`verify` (run when the test ends) fails the test if any recorded file
-    is gone, is no longer a regular file, or has other bytes.
+    of an output. :meth:`watch` does both for every command, from the inputs and outputs it
+    names to the output rule. :meth:`verify` (run when the test ends) fails the test if any
+    recorded file is gone, is no longer a regular file, or has other bytes.
     """
-
-    #: suffixes planted beside an output (:meth:`around`)
-    NEIGHBOUR_SUFFIXES = (".h5", ".csv", ".json", ".yaml", ".png", ".sqlite", ".py", ".toml")
 
     def __init__(self, root: Path) -> None:
         self.root = root
@@ -76,17 +73,60 @@ class UserFiles:
         self.keep(p)
         return p
 
+    def neighbours(self, out: Path) -> list[Path]:
+        """The user files planted beside output ``out``, by names no command writes and no listing of its
+        suffix finds (``NAME.user``, ``NAME.bak``, ``STEM_notes.txt``)."""
+        return [out.with_name(out.name + ".user"), out.with_name(out.name + ".bak"),
+                out.with_name(f"{out.stem}_notes.txt")]
+
     def around(self, *outputs: "str | os.PathLike") -> list[Path]:
-        """Plant user files beside each output (other suffixes, ``NAME.bak``, ``.NAME.swp``), never at it."""
+        """Plant user files beside each output (:meth:`neighbours`) inside the test's folder, never at it."""
         planted = []
         for out in map(Path, outputs):
-            names = [out.with_suffix(s) for s in self.NEIGHBOUR_SUFFIXES if s != out.suffix.lower()]
-            names += [out.with_name(out.name + ".bak"), out.with_name(f".{out.name}.swp"),
-                      out.with_name(f"{out.stem}_notes.txt")]
-            for n in names:
-                if not n.exists() and not n.is_symlink():
+            for n in self.neighbours(out):
+                if self._inside(n) and not n.exists() and not n.is_symlink() and n.parent.is_dir():
                     planted.append(self.plant(n))
         return planted
+
+    def _inside(self, p: Path) -> bool:
+        return os.path.realpath(p).startswith(os.path.realpath(self.root) + os.sep)
+
+    def planted_names(self, folder: "str | os.PathLike") -> set[str]:
+        """The names of the entries of ``folder`` this fixture planted (to leave out of a listing)."""
+        f = os.path.realpath(folder)
+        names = {Path(p).name for p in self._kept if os.path.realpath(Path(p).parent) == f}
+        if f == os.path.realpath(self.root):
+            names.add("user")
+        return names
+
+    def written(self, folder: "str | os.PathLike") -> list[Path]:
+        """The entries of ``folder`` (sorted) that the fixture did not plant: what the commands made."""
+        skip = self.planted_names(folder)
+        return sorted(p for p in Path(folder).iterdir() if p.name not in skip)
+
+    def watch(self, check):
+        """Wrap :func:`gyrobench.base.safety.check_outputs`: each command's inputs and the existing targets it
+        may not replace are recorded, and user files are planted beside its outputs, before it checks them."""
+        from gyrobench.base import safety
+
+        def watching(outputs, inputs=(), *, force=False, tables=()):
+            inputs = list(inputs)
+            for _, p in inputs:
+                if p is not None and Path(p).is_file():
+                    self.keep(p)
+            for o in outputs:
+                p = Path(o.path)
+                if p.is_file() and o.kind == "file" and not force and not safety.written_by_gyrobench(p):
+                    self.keep(p)
+                if o.kind == "database" and p.is_file():
+                    try:
+                        safety.check_database(p, o.flag, tables)
+                    except ValueError:
+                        self.keep(p)
+            self.around(*(Path(o.path) for o in outputs))
+            return check(outputs, inputs, force=force, tables=tables)
+
+        return watching
 
     def verify(self) -> None:
         """Fail if any recorded file was removed, replaced by another kind of entry or changed."""
@@ -106,10 +146,14 @@ class UserFiles:
 
 
 @pytest.fixture
-def user_files(tmp_path: Path):
-    """:class:`UserFiles` in ``tmp_path/user``: a foreign HDF5, SQLite, JSON, YAML, CSV and PNG file and a
-    folder of notes planted first; the test fails if any file it recorded changes."""
+def user_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """:class:`UserFiles`: a foreign HDF5, SQLite, JSON, YAML, CSV and PNG file and a folder of notes
+    planted in ``tmp_path/user``; every command's inputs recorded, and user files planted beside its
+    outputs, when it checks them (:meth:`UserFiles.watch`); the test fails if any recorded file changes."""
+    from gyrobench.base import safety
+
     files = UserFiles(tmp_path)
+    monkeypatch.setattr(safety, "check_outputs", files.watch(safety.check_outputs))
     user = tmp_path / "user"
     files.plant(user / "foreign.h5", kind="hdf5")
     files.plant(user / "foreign.sqlite", kind="sqlite")

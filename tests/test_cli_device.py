@@ -11,6 +11,9 @@ from gyrobench.scenarios.cli import main
 from gyrobench.sim import parts
 from gyrobench.sim.recording import load_hdf5
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 EPS = np.finfo(float).eps
 
 

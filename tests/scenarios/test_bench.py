@@ -28,6 +28,9 @@ from sklearn.linear_model import LinearRegression
 
 from tests.scenarios import toy_scenario as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 ROOT = Path(__file__).resolve().parents[2]
 TOY = "tests.scenarios.toy_scenario"
 
@@ -541,12 +544,12 @@ def test_score_direction_override():
     assert bench.score_direction("mean/scale_factor", {"scale_factor": -1}) == -1
 
 
-def test_baseline_round_trip_is_exact_and_atomic(tmp_path):
+def test_baseline_round_trip_is_exact_and_atomic(tmp_path, user_files):
     c = bench.run_campaign(toy, toy.good, range(5), workers=0, db=tmp_path / "c.db", progress=False)
     path = bench.save_baseline(tmp_path / "b.json", c)
     back = bench.load_baseline(path)
     assert back.scores == c.scores and back.campaign_id == c.campaign_id
-    assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
+    assert [p.name for p in user_files.written(tmp_path) if p.suffix == ".tmp"] == []
 
 
 @pytest.fixture(scope="module")

@@ -13,6 +13,9 @@ from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 
 from tests.scenarios import toy_scenario as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TOY = "tests.scenarios.toy_scenario"
 
 

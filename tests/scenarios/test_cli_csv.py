@@ -12,6 +12,9 @@ from gyrobench.sim import units
 
 from tests.scenarios.test_cli import assert_one_line_error, run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 
 @pytest.fixture
 def rate(rng):

@@ -15,6 +15,9 @@ from gyrobench.scenarios.cli_twin import make_twin, noise_model_from_fit
 from gyrobench.sim import parts
 from gyrobench.sim.recording import load_hdf5
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 DATA = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz"
 RECORDS = sorted(DATA.glob("adis16405_imu*_1Hz.csv.gz"))
 AXES = ("gyro_x_dps", "gyro_y_dps", "gyro_z_dps")

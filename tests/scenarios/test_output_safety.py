@@ -13,11 +13,10 @@ import sqlite3
 
 import numpy as np
 import pytest
-from gyrobench.base import safety
 from gyrobench.scenarios import bench
 from gyrobench.scenarios.bench import store
-from gyrobench.scenarios.cli import main
 
+from gyrobench.base import safety
 from tests.scenarios import toy_scenario as toy
 from tests.scenarios.test_cli import assert_one_line_error, run
 

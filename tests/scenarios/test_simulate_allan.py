@@ -14,6 +14,9 @@ from gyrobench.sim.recording import FS_RANGE_HZ
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 #: samples per record: enough for an Allan fit's five octave taus, small enough to be quick
 N_SAMPLES = 1000
 

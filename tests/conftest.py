@@ -39,6 +39,8 @@ class UserFiles:
     def __init__(self, root: Path) -> None:
         self.root = root
         self._kept: dict[Path, tuple[str, int]] = {}
+        #: what the running command read or may not replace, verified when it ends (:meth:`command`)
+        self._command: dict[Path, tuple[str, int]] = {}
 
     @staticmethod
     def _digest(p: Path) -> tuple[str, int]:
@@ -113,25 +115,55 @@ class UserFiles:
             inputs = list(inputs)
             for _, p in inputs:
                 if p is not None and Path(p).is_file():
-                    self.keep(p)
+                    self._command[Path(p)] = self._digest(Path(p))
             for o in outputs:
                 p = Path(o.path)
                 if p.is_file() and o.kind == "file" and not force and not safety.written_by_gyrobench(p):
-                    self.keep(p)
+                    self._command[p] = self._digest(p)
                 if o.kind == "database" and p.is_file():
                     try:
                         safety.check_database(p, o.flag, tables)
                     except ValueError:
-                        self.keep(p)
+                        self._command[p] = self._digest(p)
             self.around(*(Path(o.path) for o in outputs))
             return check(outputs, inputs, force=force, tables=tables)
 
         return watching
 
-    def verify(self) -> None:
+    def command(self, build_parser):
+        """Wrap the command line's ``build_parser`` so that each verb, when it ends (however it ends),
+        verifies what it read or was not allowed to replace (recorded by :meth:`watch`)."""
+        import functools
+
+        def verified(func):
+            @functools.wraps(func)
+            def run(args):
+                try:
+                    return func(args)
+                finally:
+                    kept, self._command = self._command, {}
+                    self.verify(kept)
+
+            return run
+
+        def build():
+            parser = build_parser()
+            parse = parser.parse_args
+
+            def parse_args(*a, **kw):
+                args = parse(*a, **kw)
+                args.func = verified(args.func)
+                return args
+
+            parser.parse_args = parse_args
+            return parser
+
+        return build
+
+    def verify(self, kept: "dict[Path, tuple[str, int]] | None" = None) -> None:
         """Fail if any recorded file was removed, replaced by another kind of entry or changed."""
         changed = []
-        for p, (digest, _) in self._kept.items():
+        for p, (digest, _) in (self._kept if kept is None else kept).items():
             try:
                 st = os.stat(p)
             except OSError:
@@ -150,10 +182,13 @@ def user_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     """:class:`UserFiles`: a foreign HDF5, SQLite, JSON, YAML, CSV and PNG file and a folder of notes
     planted in ``tmp_path/user``; every command's inputs recorded, and user files planted beside its
     outputs, when it checks them (:meth:`UserFiles.watch`); the test fails if any recorded file changes."""
+    from gyrobench.scenarios import cli
+
     from gyrobench.base import safety
 
     files = UserFiles(tmp_path)
     monkeypatch.setattr(safety, "check_outputs", files.watch(safety.check_outputs))
+    monkeypatch.setattr(cli, "build_parser", files.command(cli.build_parser))
     user = tmp_path / "user"
     files.plant(user / "foreign.h5", kind="hdf5")
     files.plant(user / "foreign.sqlite", kind="sqlite")
@@ -164,3 +199,4 @@ def user_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     files.plant(user / "folder" / "keep.txt", "mine\n")
     yield files
     files.verify()
+    files.verify(files._command)  # a library call that checked its outputs outside a command

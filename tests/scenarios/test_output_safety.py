@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from gyrobench.scenarios import bench
 from gyrobench.scenarios.bench import store
+from gyrobench.scenarios.cli import main
 
 from gyrobench.base import safety
 from tests.scenarios import toy_scenario as toy
@@ -217,3 +218,27 @@ def test_an_input_that_is_not_a_regular_file_is_named(kind, tmp_path, capsys):
 def test_a_missing_input_is_not_found(tmp_path, capsys):
     code, _, err = run(["allan", tmp_path / "nope.csv"], capsys)
     assert_one_line_error(code, err, "recording file not found")
+
+
+# ----------------------------------------------------------------------------- the fixture itself
+def test_the_fixture_fails_a_command_that_replaces_its_input(tmp_path, monkeypatch, user_files):
+    """With the rule broken (no output is ever an input, every file is taken for gyrobench's) a command
+    writes over its input through a link to its folder; the fixture's check at the command's end fails
+    the test."""
+    rates = tmp_path / "data" / "r.csv"
+    rates.parent.mkdir()
+    rates.write_text("time [s],rate [deg/s]\n0,0\n10,1\n20,1\n")
+    (tmp_path / "alias").symlink_to(rates.parent, target_is_directory=True)
+    monkeypatch.setattr(safety, "same_file", lambda a, b: None)
+    monkeypatch.setattr(safety, "written_by_gyrobench", lambda p: True)
+    with pytest.raises(pytest.fail.Exception, match=r"a user's file changed: .*r\.csv has other bytes"):
+        main(["simulate", "device", "stim300", "--rate-csv", str(rates), "-o", str(tmp_path / "alias" / "r.csv"),
+              "-q"])
+
+
+def test_the_fixture_fails_a_test_whose_planted_file_changed(tmp_path, user_files):
+    planted = user_files.plant(tmp_path / "mine.txt", "mine\n")
+    planted.write_text("changed\n")
+    with pytest.raises(pytest.fail.Exception, match="mine.txt has other bytes"):
+        user_files.verify()
+    planted.write_text("mine\n")  # put back, so the fixture's own check at the end passes

@@ -921,6 +921,7 @@ def load_hdf5(
             if not isinstance(grp, h5py.Group):
                 raise RecordingFormatError(f"{where} must be a group; got a {type(grp).__name__}")
             _check_stored_once(grp, where)
+            _check_attribute_memory(path, recs, where)  # before any attribute's text is read
             fs = _attr(grp, "fs", float, where)
             if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
                 raise RecordingFormatError(
@@ -989,6 +990,42 @@ def load_hdf5(
                              name=name)
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
+
+
+#: peak bytes of reading a text attribute per byte stored: HDF5's copy, the bytes, the str and the
+#: JSON objects parsed from it (a 60 MB metadata attribute peaked at 371 MB: about 6)
+ATTRIBUTE_COPIES = 6
+#: attributes of at most this many bytes in all are read without a memory check
+_SMALL_ATTRIBUTES = 1 << 20
+
+
+def _check_attribute_memory(path: str | os.PathLike, recs: Any, where: str) -> None:
+    """Count the recording's attributes against the memory limit before any is read.
+
+    A variable-length string attribute's size is not stored where it can be asked for, but it
+    lives in the file: the file's bytes outside the recordings' datasets bound everything the
+    attributes can hold. Reading them costs about :data:`ATTRIBUTE_COPIES` times that
+    (:func:`gyrobench.sim.memory.check_memory`); a bound under 1 MB is not checked.
+    """
+    import h5py
+    from gyrobench.sim import memory
+
+    data = 0
+    for name in recs:
+        grp = recs.get(name, getlink=True)
+        if not isinstance(grp, h5py.HardLink) or not isinstance(recs[name], h5py.Group):
+            continue
+        for sub in ("channels", "truth"):
+            g = recs[name].get(sub)
+            if isinstance(g, h5py.Group):
+                data += sum(int(ds.id.get_storage_size()) for ds in g.values() if isinstance(ds, h5py.Dataset))
+    bound = max(os.path.getsize(path) - data, 0)
+    if bound > _SMALL_ATTRIBUTES:
+        memory.check_memory(
+            ATTRIBUTE_COPIES * bound,
+            f"reading the attributes of {where} (up to {_fmt_bytes(bound)} of the file is not sample data)",
+            hint="the file holds far more than a recording's metadata: rewrite it without the extra attributes",
+        )
 
 
 def _sample_range(n: int, fs: float, start: float | None, stop: float | None, where: str) -> tuple[int, int]:

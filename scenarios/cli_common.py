@@ -14,8 +14,10 @@ __all__ = ["FORCE_HELP", "MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "BadIn
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2
-        self.exit(2, f"gyrobench: error: {message} (see '{self.prog} --help')\n")
+    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2, control characters escaped
+        from gyrobench.base.safety import escape_controls
+
+        self.exit(2, f"gyrobench: error: {escape_controls(one_line(message))} (see '{self.prog} --help')\n")
 
 
 class BadInput(ValueError):

@@ -1010,15 +1010,20 @@ def _check_attribute_memory(path: str | os.PathLike, recs: Any, where: str) -> N
     import h5py
     from gyrobench.sim import memory
 
+    def hard(group: Any, key: str) -> Any:  # the object a hard link names, else None (links are refused later)
+        return group[key] if isinstance(group.get(key, getlink=True), h5py.HardLink) else None
+
     data = 0
-    for name in recs:
-        grp = recs.get(name, getlink=True)
-        if not isinstance(grp, h5py.HardLink) or not isinstance(recs[name], h5py.Group):
-            continue
-        for sub in ("channels", "truth"):
-            g = recs[name].get(sub)
-            if isinstance(g, h5py.Group):
-                data += sum(int(ds.id.get_storage_size()) for ds in g.values() if isinstance(ds, h5py.Dataset))
+    try:
+        for name in recs:
+            rec = hard(recs, name)
+            for sub in ("channels", "truth") if isinstance(rec, h5py.Group) else ():
+                g = hard(rec, sub)
+                for k in g if isinstance(g, h5py.Group) else ():
+                    ds = hard(g, k)
+                    data += int(ds.id.get_storage_size()) if isinstance(ds, h5py.Dataset) else 0
+    except Exception:  # a malformed file: the whole file bounds its attributes (its faults are named later)
+        data = 0
     bound = max(os.path.getsize(path) - data, 0)
     if bound > _SMALL_ATTRIBUTES:
         memory.check_memory(

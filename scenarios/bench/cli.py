@@ -211,7 +211,7 @@ def run(args: argparse.Namespace) -> int:
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
     module = bench.resolve_scenario(args.scenario)
-    for flag, given in (("--config", args.config), ("--baseline", args.baseline)):  # a FIFO or a device never ends
+    for flag, given in (("--config", args.config), ("baseline file", args.baseline)):  # a FIFO or device never ends
         if given:
             input_file(given, flag)
     config = registry.load_config(module, args.config) if args.config else module.Config()

@@ -701,7 +701,7 @@ def test_compare_without_common_seeds():
 def test_db_that_is_not_sqlite(tmp_path):
     p = tmp_path / "x.db"
     p.write_text("not a database " * 100)
-    with pytest.raises(ValueError, match="is not a usable SQLite database"):
+    with pytest.raises(ValueError, match="is not an SQLite database"):
         bench.run_campaign(toy, toy.good, [1], workers=0, db=p, progress=False)
 
 

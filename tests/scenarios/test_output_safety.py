@@ -242,3 +242,61 @@ def test_the_fixture_fails_a_test_whose_planted_file_changed(tmp_path, user_file
     with pytest.raises(pytest.fail.Exception, match="mine.txt has other bytes"):
         user_files.verify()
     planted.write_text("mine\n")  # put back, so the fixture's own check at the end passes
+
+
+# ----------------------------------------------------------------------------- the rule's parts
+def _recording(path):
+    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+
+    rec = Recording(fs=10.0, channels={"rate": Channel(np.zeros(100), "rad/s")}, name="r")
+    return save_hdf5(path, rec)
+
+
+def test_markers_are_recognised_per_format(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, _ = plt.subplots()
+    fig.savefig(tmp_path / "ours.png", metadata=safety.PNG_METADATA)
+    fig.savefig(tmp_path / "theirs.png")  # matplotlib's own Software chunk
+    plt.close(fig)
+    _recording(tmp_path / "ours.h5")
+    (tmp_path / "ours.csv").write_text(safety.comment_marker("recording 'r'") + "\ntime [s],rate [rad/s]\n")
+    (tmp_path / "ours.yaml").write_text("# Kalibr IMU noise parameters written by gyrobench allan\n")
+    (tmp_path / "ours.json").write_text('{\n "format": "gyrobench-baseline"}\n')
+    (tmp_path / "theirs.json").write_text('{"notes": 1, "format": "gyrobench-baseline"}\n')  # not the first key
+    (tmp_path / "theirs.csv").write_text("time,rate\n# gyrobench\n")
+    (tmp_path / "theirs.h5").write_text("text named .h5\n")
+    (tmp_path / "empty.h5").write_bytes(b"")
+    for name in ("ours.png", "ours.h5", "ours.csv", "ours.yaml", "ours.json"):
+        assert safety.written_by_gyrobench(tmp_path / name), name
+    for name in ("theirs.png", "theirs.json", "theirs.csv", "theirs.h5", "empty.h5"):
+        assert not safety.written_by_gyrobench(tmp_path / name), name
+
+
+def test_same_file_names_how(tmp_path):
+    a = tmp_path / "a.csv"
+    a.write_text("x\n")
+    (tmp_path / "s").mkdir()
+    (tmp_path / "l.csv").symlink_to(a)
+    os.link(a, tmp_path / "h.csv")
+    assert safety.same_file(a, tmp_path / "s" / ".." / "a.csv") == "the same path"
+    assert "symbolic link" in safety.same_file(tmp_path / "l.csv", a)
+    assert safety.same_file(tmp_path / "h.csv", a) == "a hard link of it"
+    assert safety.same_file(tmp_path / "b.csv", a) is None
+
+
+def test_a_folder_of_gyrobench_files_without_a_marker_is_written_into(tmp_path):
+    """A folder filled before folders were marked holds only gyrobench's files: it may be written into;
+    one user file among them makes it foreign."""
+    folder = tmp_path / "sim" / "static_noise"
+    folder.mkdir(parents=True)
+    _recording(folder / "static_mems.h5")
+    out = safety.Output(folder, "--out", kind="folder")
+    safety.check_outputs([out])
+    (folder / "notes.txt").write_text("mine\n")
+    with pytest.raises(safety.OutputRefused, match="is a folder gyrobench did not make"):
+        safety.check_outputs([out])
+    safety.check_outputs([out], force=True)

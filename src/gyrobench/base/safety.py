@@ -25,8 +25,8 @@ Every verb names its inputs and its outputs and calls :func:`check_outputs` befo
 3. **Suffixes match the verb**: each output names the suffixes it takes (``--save-baseline``
    ``.json``, ``--kalibr`` ``.yaml``, ``-o`` ``.h5`` or ``.csv``, ``--plot`` ``.png``).
 4. **Folders**: files are written only into a folder gyrobench made (it holds
-   :data:`FOLDER_MARKER`, written by :func:`mark_folder`), an empty one or a new one (or
-   any folder with ``force``). A report folder replaced as a whole (``kind="report"``) must
+   :data:`FOLDER_MARKER`, written by :func:`mark_folder`, or only files gyrobench wrote), an
+   empty one or a new one (or any folder with ``force``). A report folder replaced as a whole (``kind="report"``) must
    be new, empty or an earlier report whose manifest (:data:`REPORT_MARKER`) names every
    file it holds unchanged; with ``force`` an earlier report whose files were edited or
    added to may be replaced, a folder without a manifest never.
@@ -525,13 +525,20 @@ def _check_folder(o: Output, p: Path, force: bool) -> None:
                 names = sorted(os.listdir(p))
             except OSError as exc:
                 raise OutputRefused(f"{o.flag} {text!r} cannot be listed ({exc.strerror or exc})") from None
-            if names and FOLDER_MARKER not in names and not force:
+            if names and FOLDER_MARKER not in names and not force and not _all_ours(p, names):
                 raise OutputRefused(
                     f"{o.flag} {text!r} is a folder gyrobench did not make (it holds {_listed(names)} and no "
                     f"{FOLDER_MARKER} file): files are written only into a new or empty folder or one gyrobench "
                     "made; give another folder, or --force to write into it"
                 )
     _check_receiver(o, p, p.parent if o.kind == "report" or not p.exists() else p)
+
+
+def _all_ours(folder: Path, names: list[str]) -> bool:
+    """Whether every entry of ``folder`` is a regular file gyrobench wrote (a folder it filled before it
+    marked its folders)."""
+    return all((folder / n).is_file() and not (folder / n).is_symlink() and written_by_gyrobench(folder / n)
+               for n in names)
 
 
 def _check_text(o: Output) -> Path:

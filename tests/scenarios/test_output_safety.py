@@ -35,7 +35,7 @@ def _real_csv(path, n=3000, seed=1):
 
 
 def _noise(path, capsys, *extra):
-    return run(["simulate", "noise", "--N", "0.1", "--fs", "100", "--duration", "120s", "-q", "-o", path, *extra],
+    return run(["simulate", "noise", "--N", "0.1", "--fs", "100", "--duration", "30s", "-q", "-o", path, *extra],
                capsys)
 
 
@@ -44,8 +44,8 @@ def shared_db(tmp_path_factory):
     """A results database holding the stored seeds of two campaigns (two compensators of the toy)."""
     d = tmp_path_factory.mktemp("shared")
     db = d / "shared.db"
-    bench.run_campaign(toy, toy.good, range(8), workers=0, db=db, progress=False)
-    bench.run_campaign(toy, toy.fit_least_squares, range(8), workers=0, db=db, progress=False)
+    bench.run_campaign(toy, toy.good, range(2), workers=0, db=db, progress=False)
+    bench.run_campaign(toy, toy.fit_least_squares, range(2), workers=0, db=db, progress=False)
     return db
 
 
@@ -108,7 +108,7 @@ def test_row6_simulate_scenario_into_a_users_folder_is_refused(tmp_path, capsys,
 # ----------------------------------------------------------------------------- the rest of the family
 def test_baseline_given_as_save_baseline_is_refused(tmp_path, capsys, user_files):
     base = tmp_path / "x.json"
-    camp = bench.run_campaign(toy, toy.good, range(8), workers=0, db=tmp_path / "a.db", progress=False)
+    camp = bench.run_campaign(toy, toy.good, range(2), workers=0, db=tmp_path / "a.db", progress=False)
     bench.save_baseline(base, camp)
     user_files.keep(base)
     code, _, err = run(["bench", TOY, "--compensator", f"{TOY}:good", "--workers", "0", "-q", "--allow-underpowered",

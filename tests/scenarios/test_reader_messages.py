@@ -28,6 +28,7 @@ def _small_memory(monkeypatch):
     monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", "100M")
 
 
+@pytest.mark.slow  # 60 MB files: seconds of the default tier; CI runs it
 def test_a_60_mb_line_is_one_line(tmp_path, capsys, monkeypatch):
     p = tmp_path / "long.csv"
     p.write_text("time [s],gyro [deg/s]\n" + "1" * 60_000_000 + ",2\n" + ROWS)
@@ -71,6 +72,7 @@ def _big_attribute(path: Path) -> Path:
     return path
 
 
+@pytest.mark.slow  # 60 MB files: seconds of the default tier; CI runs it
 def test_a_60_mb_hdf5_attribute_is_refused_within_the_memory_limit(tmp_path):
     """The peak memory of the refusal (the process's maximum resident size) stays under the 100 MB limit."""
     big = _big_attribute(tmp_path / "big.h5")

@@ -8,9 +8,10 @@ import contextlib
 import math
 import typing
 
-__all__ = ["FORCE_HELP", "MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "BadInput", "Parser", "add_force",
-           "check_outputs", "closing", "duration", "given", "input_file", "nonneg_float", "one_line", "positive_float",
-           "positive_int", "ranged", "read_toml", "seed", "units_or_auto"]
+__all__ = ["FORCE_HELP", "MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "TOML_DEPTH", "BadInput", "Parser",
+           "add_force", "bounded_recursion", "check_outputs", "closing", "duration", "given", "input_file",
+           "nonneg_float", "one_line", "positive_float", "positive_int", "ranged", "read_toml", "seed",
+           "units_or_auto"]
 
 
 class Parser(argparse.ArgumentParser):
@@ -193,6 +194,28 @@ def input_file(path, what: str):
     return safety.check_input(path, what)
 
 
+#: frames a TOML reader may use above its caller: files nested deeper are refused, whatever recursion limit
+#: the interpreter was given (a raised limit would let the reader exhaust the C stack instead)
+TOML_DEPTH = 1000
+
+
+@contextlib.contextmanager
+def bounded_recursion(frames: int = TOML_DEPTH):
+    """Hold the recursion limit at the current depth + ``frames`` (never above the current limit) for the
+    block, so a recursive reader fails with RecursionError at a known depth."""
+    import sys
+
+    depth, f = 0, sys._getframe()
+    while f is not None:
+        depth, f = depth + 1, f.f_back
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(min(old, depth + frames))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)
+
+
 def read_toml(path: str, flag: str) -> dict:
     import sys
 
@@ -202,7 +225,7 @@ def read_toml(path: str, flag: str) -> dict:
         import tomli as tomllib
     input_file(path, flag)  # a FIFO or /dev/zero would never end
     try:
-        with open(path, "rb") as fh:
+        with open(path, "rb") as fh, bounded_recursion():
             return tomllib.load(fh)
     except FileNotFoundError:
         raise BadInput(f"{flag}: file {path!r} does not exist") from None

@@ -12,6 +12,7 @@ from pathlib import Path
 from gyrobench.scenarios.cli_common import (
     BadInput,
     add_force,
+    bounded_recursion,
     check_outputs,
     closing,
     duration,
@@ -498,7 +499,8 @@ def load_part(name: str, what: str):
     if name.lower().endswith(".toml"):
         input_file(name, what)
     try:
-        return parts.get(name)
+        with bounded_recursion():
+            return parts.get(name)
     except ValueError as exc:
         raise BadInput(one_line(exc)) from None
     except RecursionError:  # arrays or tables nested thousands deep

@@ -182,9 +182,8 @@ def user_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     """:class:`UserFiles`: a foreign HDF5, SQLite, JSON, YAML, CSV and PNG file and a folder of notes
     planted in ``tmp_path/user``; every command's inputs recorded, and user files planted beside its
     outputs, when it checks them (:meth:`UserFiles.watch`); the test fails if any recorded file changes."""
-    from gyrobench.scenarios import cli
-
     from gyrobench.base import safety
+    from gyrobench.scenarios.cli import main as cli
 
     files = UserFiles(tmp_path)
     monkeypatch.setattr(safety, "check_outputs", files.watch(safety.check_outputs))

@@ -7,8 +7,8 @@ import json
 from collections import Counter
 
 import pytest
-from gyrobench.scenarios import registry
 
+from gyrobench.scenarios import registry
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 # every test runs among planted user files and fails if one changes (tests/conftest.py)

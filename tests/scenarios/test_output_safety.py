@@ -13,11 +13,11 @@ import sqlite3
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench
-from gyrobench.scenarios.bench import store
-from gyrobench.scenarios.cli import main
 
 from gyrobench.base import safety
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.runner import store
 from tests.scenarios import toy_scenario as toy
 from tests.scenarios.test_cli import assert_one_line_error, run
 
@@ -246,7 +246,7 @@ def test_the_fixture_fails_a_test_whose_planted_file_changed(tmp_path, user_file
 
 # ----------------------------------------------------------------------------- the rule's parts
 def _recording(path):
-    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+    from gyrobench.io.recording import Channel, Recording, save_hdf5
 
     rec = Recording(fs=10.0, channels={"rate": Channel(np.zeros(100), "rad/s")}, name="r")
     return save_hdf5(path, rec)

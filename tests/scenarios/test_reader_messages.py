@@ -13,9 +13,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-from gyrobench.scenarios import outputs, report
-from gyrobench.sim.recording import AtomicWriteError
 
+from gyrobench.base.atomic import AtomicWriteError
+from gyrobench.scenarios.reports import outputs, report
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 pytestmark = pytest.mark.usefixtures("user_files")

@@ -204,8 +204,10 @@ def bounded_recursion(frames: int = TOML_DEPTH):
     """Hold the recursion limit at the current depth + ``frames`` (never above the current limit) for the
     block, so a recursive reader fails with RecursionError at a known depth."""
     import sys
+    import types
 
-    depth, f = 0, sys._getframe()
+    depth = 0
+    f: types.FrameType | None = sys._getframe()
     while f is not None:
         depth, f = depth + 1, f.f_back
     old = sys.getrecursionlimit()

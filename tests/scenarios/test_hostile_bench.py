@@ -21,6 +21,9 @@ from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.runner import codec, units
 from tests.scenarios import toy_paper as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TOY_CONFIG = toy.Config(n_samples=50)
 
 

@@ -34,7 +34,7 @@ Fast (closed forms and one short noise-free slow-flow call): about 0.1 s.
 from __future__ import annotations
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import CONSISTENCY, Check
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim import units
 from gyrobench.sim.mems_nonlinear import DuffingSense, RateTransfer
@@ -77,6 +77,7 @@ def _small_signal() -> Check:
     tol = 2.0 * trunc + 8.0 * _EPS
     return Check(
         id="mems.nonlinear_small_signal_scale_factor",
+        kind=CONSISTENCY,
         reference=_NAYFEH + "; " + _RAPP,
         formula="d/dOmega rapp(Omega_d v(Omega/Omega_d)) at 0 = 1 [-]",
         expected=1.0,
@@ -109,6 +110,7 @@ def _cubic() -> Check:
     rnd = 5.0 * _EPS / (x2**2 * abs(a3))
     return Check(
         id="mems.nonlinear_cubic_coefficient",
+        kind=CONSISTENCY,
         reference=_NAYFEH + " (harmonic balance, first-order perturbation)",
         formula="a3 = -(3/4) k3 (2 m w X0)^2 / (m (w_y^2 - w^2))^3 [s^2/rad^2] (harmonic balance, 1st order)",
         expected=a3,
@@ -139,6 +141,7 @@ def _monotone() -> Check:
     tol = (deriv(top - h) - expected) / expected + 8.0 * _EPS * top / (h * expected)
     return Check(
         id="mems.nonlinear_monotone_3600",
+        kind=CONSISTENCY,
         reference=_RAPP,
         formula="min secant slope over +-3600 deg/s = (1 + |x/Omega_s|^(2p))^(-1-1/(2p)) at 3600 deg/s > 0",
         expected=expected,
@@ -174,6 +177,7 @@ def _no_clip() -> Check:
     auth = units.to_deg_per_s(mr.rate_authority(unit))
     return Check(
         id="mems.nonlinear_no_clip_3600",
+        kind=CONSISTENCY,
         reference=(
             "M. Saukoski, System and circuit design for a capacitive MEMS gyroscope, Helsinki Univ. of "
             "Technology doctoral thesis (2008), ch. 2-3 (the feedback force range bounds the input " "range); " +

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import SECOND_METHOD, Check
 from gyrobench.scenarios.checks_mems import FALSE_ALARM, open_loop_unit
 from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import (
@@ -263,6 +263,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_noise_vs_full",
+            kind=SECOND_METHOD,
             reference=_REFERENCE,
             formula=(
                 f"open loop, Brownian + pick-off noise: output PSD over 0-{NOISE_BAND:g} Hz, "
@@ -282,6 +283,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_noise_psd_vs_full",
+            kind=SECOND_METHOD,
             reference=_REFERENCE,
             formula=(
                 f"open loop: output PSD in {m} bands of {NOISE_BAND:g} Hz from {NOISE_BAND:g} Hz to "

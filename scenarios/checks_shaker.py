@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.scenarios.checks import Check
+from gyrobench.scenarios.checks import CLOSED_FORM, Check
 
 __all__ = ["checks"]
 
@@ -44,6 +44,7 @@ def _interval_gain(rng: np.random.Generator) -> Check:
     phase_span = 2 * np.pi * _F * _DWELL
     return Check(
         id="shaker.interval_mean_gain",
+        kind=CLOSED_FORM,
         reference="A. V. Oppenheim, R. W. Schafer, Discrete-Time Signal Processing, 3rd ed. (2010), sec. 2.6 "
         "(the moving-average system's frequency response, a geometric series)",
         formula=f"fitted output amplitude of a {_F:g} Hz tone at a {_FS:g} Hz output = A |H(f)|, "

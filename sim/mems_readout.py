@@ -94,8 +94,8 @@ EPSILON_0 = 8.8541878128e-12
 
 #: Gauss-Legendre nodes and weights on [-1, 1] for the smooth parts of the harmonic integrals
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
-#: samples per chunk of :meth:`SenseChain.envelope` (32 nodes each: 16 MB of float64 per array)
-_CHUNK = 1 << 16
+#: samples per chunk of :meth:`SenseChain.envelope` (32 nodes each: 4 MB of float64 per array)
+_CHUNK = 1 << 14
 
 #: where each manufacturing tolerance of :class:`SenseChainSpec` comes from
 TOLERANCE_SOURCES: dict[str, str] = {

@@ -82,10 +82,11 @@ from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
 import numpy as np
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import real_field
-from gyrobench.sim.ranges import FieldRange, check_ranges
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import FieldRange, check_ranges
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import real_field
 
 __all__ = ["EPSILON_0", "SenseChain", "SenseChainSpec", "TOLERANCE_SOURCES"]
 

@@ -28,7 +28,7 @@ with complex mode responses X = theta_x/A, Y = theta_y/A its mean is
 
 a DC rate (rectified; plus a zero-mean tone at 2f). Checked against the exact rotation
 kinematics (products of rotation matrices, no small-angle expansion) in
-:mod:`gyrobench.scenarios.checks_mount_coning`. It is largest between the two modes'
+:mod:`gyrobench.scenarios.checks.mount_coning`. It is largest between the two modes'
 frequencies, where their phases differ most, and vanishes when both respond in phase (equal
 modes or f far from both). No mode is assumed here: the caller gives them
 (:class:`MountConing`; paper 000 identifies them in
@@ -44,8 +44,9 @@ from numbers import Real
 from typing import ClassVar
 
 import numpy as np
-from gyrobench.sim.ranges import FieldRange
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import FieldRange
 
 __all__ = ["FRAMES", "MountConing", "RockingMode"]
 

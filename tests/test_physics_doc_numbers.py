@@ -40,7 +40,7 @@ def test_interval_mean_gain_quoted_for_the_shaker_check_is_the_codes():
 
 
 def test_source_spectrum_shape_and_arw_quoted_are_the_codes():
-    from gyrobench.sim import units
+    from gyrobench.base import units
     from gyrobench.sim.fog_loop import LoopSpec
     from gyrobench.sim.fog_optics import OpticalBudget
 

@@ -1,11 +1,12 @@
-"""scenarios/checks_mems_nonlinear.py: the stiffening and read-out checks pass, declare their kinds, and can fail."""
+"""scenarios/checks/mems_nonlinear.py: the stiffening and read-out checks pass, declare their kinds, and can fail."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_mems_nonlinear as cmn
-from gyrobench.scenarios.checks import CHECK_MODULES, Check
+
+from gyrobench.scenarios.checks import mems_nonlinear as cmn
+from gyrobench.scenarios.checks.core import CHECK_MODULES, Check
 
 EXPECTED = {
     "mems.sense_stiffening_full_ode": "second method",
@@ -25,7 +26,7 @@ def test_every_check_passes_and_is_registered(out):
     assert {c.id: c.kind for c in out} == EXPECTED
     failed = [(c.id, c.rel_error, c.tolerance) for c in out if not c.passed]
     assert not failed, failed
-    assert "gyrobench.scenarios.checks_mems_nonlinear" in CHECK_MODULES
+    assert "gyrobench.scenarios.checks.mems_nonlinear" in CHECK_MODULES
 
 
 def test_the_stiffening_check_fails_when_the_harmonic_balance_drops_the_cubic_term(monkeypatch):

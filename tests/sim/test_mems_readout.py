@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_readout import EPSILON_0, SenseChain, SenseChainSpec
 
@@ -91,11 +92,11 @@ def test_open_loop_output_goes_through_the_chain():
     unit = mr.factory_trim(mr.MemsResonator(readout="open_loop", sense_chain=chain))
     op = mr.operating_point(unit)
     w = math.radians(3000.0)
-    res = mr.simulate(unit, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
+    res = mr.slow_flow(unit, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
                       flicker=False)
     static = mr._output_map(unit, op, mr._static_channels(op, np.array([w]), np.zeros(1)).real)[0]
     assert float(res.output[-1]) == pytest.approx(float(static), rel=1e-9)
     ideal = mr.factory_trim(mr.MemsResonator(readout="open_loop"))
-    lin = mr.simulate(ideal, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
+    lin = mr.slow_flow(ideal, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
                       flicker=False)
     assert float(res.output[-1]) < 0.95 * float(lin.output[-1])  # the rail bends it

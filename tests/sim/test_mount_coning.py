@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.sim.mount_coning import MountConing, RockingMode
 
 MOUNT = MountConing(
@@ -73,7 +74,7 @@ def test_body_frame_is_the_default_and_the_space_frame_is_its_opposite():
 def test_exact_kinematics_gives_the_body_frame_sign():
     """Rotation matrices (checks_mount_coning.exact_body_rate) agree with the body-frame model
     and differ from the space-frame one by a relative 2: the kinematics fix the sign."""
-    from gyrobench.scenarios.checks_mount_coning import exact_body_rate
+    from gyrobench.scenarios.checks.mount_coning import exact_body_rate
 
     exact = exact_body_rate(430.0, 19.6, n=4000)
     assert float(MOUNT.mean_rate(430.0, 19.6)) == pytest.approx(exact, rel=1e-5)  # (2 pi/4000)^2/6 = 4e-7

@@ -31,9 +31,10 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+
 from gyrobench.analysis.scale_factor import fit_scale_factor
+from gyrobench.base import units
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim import units
 from gyrobench.sim.mems_nonlinear import RateTransfer
 from gyrobench.sim.mems_readout import SenseChain, SenseChainSpec
 

@@ -265,7 +265,7 @@ class RockingMotion:
 
     At rest otherwise; the sensed specific force is gravity rotating in the body y-z plane,
     whose increments over whole periods have a closed form in Bessel functions (the sculling
-    check of :mod:`gyrobench.scenarios.checks`).
+    check of tests/sim/test_trajectory.py).
 
     Parameters
     ----------

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from gyrobench.scenarios.cli.common import BadInput, one_line, read_toml
+from gyrobench.scenarios.cli.common import BadInput, check_outputs, input_file, one_line, read_toml
 
 __all__ = ["simulate_imu", "load_trajectory", "load_trajectory_csv", "CSV_HEADER"]
 
@@ -166,9 +166,9 @@ def simulate_imu(args) -> int:
     import numpy as np
 
     from gyrobench.base import memory
+    from gyrobench.base.safety import Output
     from gyrobench.io.imu_formats import kalibr_imu_yaml, write_euroc
     from gyrobench.io.recording import save_hdf5, to_csv
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.sim import parts
     from gyrobench.sim.imu import AccelerometerSpec, TriadSpec
 
@@ -178,10 +178,9 @@ def simulate_imu(args) -> int:
         raise BadInput("simulate imu needs --trajectory FILE.toml (a motion definition)")
     if args.output is None:
         raise BadInput("simulate imu needs -o FILE.h5 or FILE.csv")
-    try:
-        part = parts.get(args.part)
-    except ValueError as exc:
-        raise BadInput(one_line(exc)) from None
+    from gyrobench.scenarios.cli.simulate import load_part
+
+    part = load_part(args.part, "PART")  # a missing, non-regular or too deeply nested part file: one line
     out = Path(args.output)
     if out.suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
@@ -194,11 +193,11 @@ def simulate_imu(args) -> int:
         if not str(args.kalibr).lower().endswith(".yaml"):
             raise BadInput(f"--kalibr must end in .yaml; got {args.kalibr!r}")
         outs.append((Path(args.kalibr), "--kalibr"))
-    resolved = [p.resolve() for p, _ in outs] + [Path(args.trajectory).resolve()]
-    if len(set(resolved)) != len(resolved):
-        raise BadInput("simulate imu: -o, --euroc, --kalibr and --trajectory must be four different files")
-    for p, flag in outs:
-        check_output(p, what=flag, kind="file")
+    # the output rule (gyrobench.base.safety): no output is the trajectory, the part file or another output;
+    # an existing file is replaced only if gyrobench wrote it (or with --force)
+    part_file = args.part if str(args.part).lower().endswith(".toml") else None
+    input_file(args.trajectory, "--trajectory")
+    check_outputs(args, [Output(p, flag) for p, flag in outs], [("--trajectory", args.trajectory), ("PART", part_file)])
     if str(args.trajectory).lower().endswith(".csv"):
         lat = 0.0 if args.latitude is None else args.latitude
         motion, site, accel = load_trajectory_csv(args.trajectory, lat)

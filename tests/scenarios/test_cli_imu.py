@@ -15,6 +15,9 @@ from gyrobench.sim import parts
 
 from .test_cli import run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TRAJECTORY = """
 [site]
 latitude_deg = 45.0

@@ -16,6 +16,7 @@ from typing import ClassVar
 import numpy as np
 
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
+from gyrobench.sim.mems_readout import SenseChainSpec
 from gyrobench.sim.mems_resonator import MemsResonatorSpec
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "PAPER_ORDER",
     "PAPER_RAW_KN",
     "PAPER_TIME_MS",
+    "OPEN_LOOP_VARIANTS",
     "VARIANTS",
     "default_rates",
 ]
@@ -43,8 +45,11 @@ PAPER_TIME_MS = {"piecewise": 0.247, "two_stage_poly": 0.755, "bayes_bp": 37.8}
 PAPER_ORDER = ("piecewise", "bayes_bp", "two_stage_poly")
 #: the paper's raw K_n (section 3) [-]
 PAPER_RAW_KN = 0.1571
-#: the devices Config.variant selects ("identified": the paper's prototype, identify.py)
-VARIANTS = ("identified", "design", "calibrated")
+#: the devices Config.variant selects ("identified": the paper's prototype, identify.py;
+#: "rapp": the phenomenological fitted curve, labelled)
+VARIANTS = ("identified", "design", "calibrated", "readout_design", "rapp")
+#: the variants read out open loop through the physical sense chain (device.py)
+OPEN_LOOP_VARIANTS = ("identified", "readout_design")
 #: rebalance DAC full scale v_max [V] of the "calibrated" variant: CALIBRATED by
 #: :func:`~gyrobench.scenarios.papers.p001_mems_scale_factor.device.calibrated_v_max`
 #: (default spec, units 0-19) so that the median noise-free raw K_n on the paper's 21 rates
@@ -65,11 +70,18 @@ class Config:
     ----------
     gyro : MemsResonatorSpec
         The population the units are drawn from (SI; default the plausible design).
-    variant : {"identified", "design", "calibrated"}
-        "identified" (default): ``gyro`` read out through the front-end compression identified
-        from the paper's device reports (``identify.IDENTIFIED``, CALIBRATED); "design":
-        ``gyro`` as given (linear through the table); "calibrated": ``gyro`` with its nominal rebalance DAC
-        full scale set to :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %).
+    readout : SenseChainSpec
+        The open-loop sense chains the units are read out through (SI; the device family of
+        the open-loop variants: nominal chain, manufacturing tolerances and each field's range,
+        :mod:`gyrobench.sim.mems_readout`).
+    variant : {"identified", "design", "calibrated", "readout_design", "rapp"}
+        "identified" (default): ``gyro`` read out open loop through ``readout`` with the
+        feedback capacitor identified from the paper's raw K_n (``identify.IDENTIFIED``,
+        CALIBRATED); "readout_design": the same chain at its design values (nothing from the
+        paper); "design": ``gyro`` as given (force rebalance, linear through the table);
+        "calibrated": ``gyro`` with its nominal rebalance DAC full scale set to
+        :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %); "rapp": the rebalanced
+        ``gyro`` through a fitted amplifier curve (PHENOMENOLOGICAL, ``identify.RAPP_IDENTIFIED``).
     rates_dps : tuple of float
         Table rates in test order [deg/s], strictly monotonic.
     average_s, settle_s : float
@@ -98,6 +110,7 @@ class Config:
     """
 
     gyro: MemsResonatorSpec = field(default_factory=MemsResonatorSpec)
+    readout: SenseChainSpec = field(default_factory=SenseChainSpec)
     variant: str = "identified"
     rates_dps: tuple[float, ...] = field(default_factory=default_rates)
     average_s: float = 60.0

@@ -78,15 +78,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobench.base.ranges import FieldRange, check_ranges
+from gyrobench.base.ranges import FieldRange, validate
 from gyrobench.base.validate import check_rng as _check_rng
-from gyrobench.base.validate import real_field
 
 __all__ = ["EPSILON_0", "SenseChain", "SenseChainSpec", "TOLERANCE_SOURCES"]
 
@@ -171,12 +170,7 @@ class SenseChain:
     }
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            real_field("SenseChain", f.name, getattr(self, f.name))
-        check_ranges(self)
-        for name in ("gap", "sense_area", "carrier", "feedback_capacitance", "rail"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"SenseChain.{name} must be > 0; got {getattr(self, name)!r}")
+        validate(self)  # the declared ranges above (every lower bound of a size is > 0)
 
     # ------------------------------------------------------------------ pieces
     @property
@@ -299,11 +293,7 @@ class SenseChainSpec:
     }
 
     def __post_init__(self) -> None:
-        if not isinstance(self.nominal, SenseChain):
-            raise TypeError(f"SenseChainSpec.nominal must be a SenseChain; got {type(self.nominal).__name__}")
-        for name in _SPREADS:
-            real_field("SenseChainSpec", name, getattr(self, name))
-        check_ranges(self)
+        validate(self)  # the spreads' ranges; nominal must be a SenseChain (its annotation)
 
     def realize(self, *, rng: np.random.Generator) -> SenseChain:
         """One unit's chain: five standard normals (gap, C_f, rail, bias, k3, in that order), clipped to +-3."""

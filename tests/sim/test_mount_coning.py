@@ -67,7 +67,7 @@ def test_body_frame_is_the_default_and_the_space_frame_is_its_opposite():
     assert MOUNT.frame == "body"
     f = np.array([300.0, 430.0, 500.0])
     np.testing.assert_array_equal(space.mean_rate(f, 19.6), -MOUNT.mean_rate(f, 19.6))
-    with pytest.raises(ValueError, match=r"MountConing.frame must be one of \('body', 'space'\); got 'table'"):
+    with pytest.raises(ValueError, match=r"MountConing.frame must be one of \('body', 'space'\) .*; got 'table'"):
         MountConing(x=MOUNT.x, y=MOUNT.y, frame="table")
 
 

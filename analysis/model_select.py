@@ -1,0 +1,418 @@
+"""Model terms beyond Q/N/B/K/R chosen by the data: Gauss-Markov, sinusoid, the sensor's own low-pass.
+
+:func:`select_model` starts from an IEEE 952 fit (:func:`gyrobench.analysis.allan.fit_noise`)
+and asks, by a stated test, whether the Allan variance needs
+
+* a first-order Gauss-Markov process (sigma [u], correlation time Tc [s]), AVAR
+  sigma^2 g(r) / r^2, r = tau / Tc, g(r) = 2 r - 3 + 4 e^-r - e^-2r (IEEE Std 952-1997 Annex C,
+  exponentially correlated noise; docs/physics.md 1.2);
+* a sinusoid (amplitude A [u], period P [s]), the phase-averaged AVAR of its samples
+  A^2 sin^4(pi tau / P) / (m sin(pi / (P fs)))^2, m = tau fs (IEEE Std 952-1997 Annex C.7
+  in continuous time, A^2 (sin^2(pi f0 tau) / (pi f0 tau))^2);
+* the sensor's own low-pass on the white rate noise: a digital Butterworth of order n and
+  corner f_c applied once or forward and backward (``scipy.signal.filtfilt``), whose AVAR on
+  white noise N^2 is exact from the filter's autocovariance (:func:`filter_shape`); it
+  replaces the N column N^2 / tau by N^2 g_f(tau) / tau, so the filter-bent short taus are
+  fitted, not thrown away.
+
+Criterion (forward selection, each step a likelihood-ratio test): on the fitted points, the
+generalised least squares (NNLS) of the IEEE columns plus a candidate's column (its time
+scale on a log grid, its amplitude by NNLS) with the base fit's modelled covariance V of the
+Allan points (:attr:`gyrobench.analysis.allan.NoiseFit.point_covariance`, correlated across
+tau) gives chi2 = r' V^-1 r. A family is added when its drop D = chi2_before - chi2_after
+exceeds the chi-square quantile with 2 degrees of freedom (amplitude and time scale) at
+``level`` (default 0.001); the larger drop goes first, then the other family is tried once
+more. The time-scale grid and V's modelled correlations (too high, see ``fit_noise``) make the
+law of D heavier than chi2(2): the false-alarm rate on records that follow the five-term model
+is measured by benchmarks/model_select_false_alarm.py (200 seeds; the figure is in the README).
+The low-pass is tested on the points the range rule excluded plus the fitted ones, against
+the five terms on those points, with diagonal weights var_i = 2 A_model(tau_i)^2 / edf_i
+(V is modelled on the fitted points only) scaled by s = chi2_expected / dof of the base fit.
+The amplitudes' intervals are conditional on the chosen time scale: (X' V^-1 X)^-1.
+
+Reference for the approach (the generalised method of wavelet moments does the same on the
+wavelet variance with a Wavelet Information Criterion): S. Guerrier et al., "Wavelet-variance-
+based estimation for composite stochastic processes", JASA 108 (2013) 1021-1030.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from gyrobench.analysis.allan import NoiseFit
+from numpy.typing import NDArray
+
+__all__ = ["ExtraTerm", "ModelChoice", "filter_shape", "gm_shape", "select_model", "sine_shape"]
+
+#: the level of each forward step's test (a false alarm per family on a five-term record)
+LEVEL = 0.001
+_POWERS = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
+#: filter orders and passes tried when the low-pass is identified from the data
+FILTER_ORDERS = (1, 2, 4)
+FILTER_PASSES = (1, 2)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ExtraTerm:
+    """One term beyond the IEEE five, with its parameters in SI.
+
+    Attributes
+    ----------
+    kind : {"gauss_markov", "sinusoid", "lowpass"}
+    params : dict of str to float
+        gauss_markov: ``sigma`` [u], ``tc`` [s]; sinusoid: ``amplitude`` [u], ``period`` [s];
+        lowpass: ``corner`` [Hz], ``order``, ``passes`` (1 or 2: forward/backward).
+    interval : tuple of float
+        95 % interval of the amplitude parameter (sigma or amplitude; for the low-pass the
+        N of the filtered fit), conditional on the time scale.
+    drop : float
+        The criterion's scaled chi2 drop D when it was added.
+    given : bool
+        True for a low-pass given by the user (not chosen).
+    """
+
+    kind: str
+    params: dict[str, float]
+    interval: tuple[float, float]
+    drop: float
+    given: bool = False
+
+    def describe(self, rate_unit: float = 1.0, unit: str = "u") -> str:
+        """One line, amplitudes divided by ``rate_unit`` and labelled ``unit``."""
+        p = self.params
+        if self.kind == "gauss_markov":
+            return (f"Gauss-Markov sigma {p['sigma'] / rate_unit:.4g} [{self.interval[0] / rate_unit:.3g}, "
+                    f"{self.interval[1] / rate_unit:.3g}] {unit}, Tc {p['tc']:.4g} s")
+        if self.kind == "sinusoid":
+            return (f"sinusoid amplitude {p['amplitude'] / rate_unit:.4g} [{self.interval[0] / rate_unit:.3g}, "
+                    f"{self.interval[1] / rate_unit:.3g}] {unit}, period {p['period']:.4g} s")
+        return (f"low-pass: Butterworth order {int(p['order'])}, corner {p['corner']:.4g} Hz, "
+                f"{'forward and backward' if int(p['passes']) == 2 else 'one pass'}")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ModelChoice:
+    """Result of :func:`select_model`.
+
+    Attributes
+    ----------
+    extra : tuple of ExtraTerm
+        The chosen terms (empty: the five IEEE terms suffice).
+    avar_coefficients : dict of str to float
+        C_n of the IEEE terms in the chosen model (on the fitted points).
+    chi2, dof, scale : float
+        The chosen model's GLS chi2 on the fitted points, its degrees of freedom, and the
+        scale s used by the low-pass test's diagonal chi2.
+    p_value : float
+        P(chi2(dof) >= chi2) of the GLS chi2 (approximate: V's correlations are modelled too
+        high, so this p runs low); small means the chosen model still misfits.
+    drops : dict of str to float
+        Every family's best chi2 drop D at the first step (for the report).
+    threshold : float
+        The chi-square(2) quantile the drops were compared with.
+    criterion : str
+        The rule in one line.
+    """
+
+    extra: tuple[ExtraTerm, ...]
+    avar_coefficients: dict[str, float]
+    chi2: float
+    dof: int
+    scale: float
+    p_value: float
+    drops: dict[str, float] = field(default_factory=dict)
+    threshold: float = float("nan")
+    criterion: str = ""
+
+    @property
+    def misfit(self) -> bool:
+        """The chosen model misfits at the level of the criterion."""
+        return bool(self.dof > 0 and self.p_value < LEVEL)
+
+    def term(self, kind: str) -> ExtraTerm | None:
+        """The chosen term of ``kind``, or None."""
+        return next((t for t in self.extra if t.kind == kind), None)
+
+
+def gm_shape(tau: NDArray[np.float64], tc: float) -> NDArray[np.float64]:
+    """AVAR of a unit-variance first-order Gauss-Markov process, g(r) / r^2, r = tau / Tc (no cancellation)."""
+    r = np.asarray(tau, dtype=float) / tc
+    out = np.empty_like(r)
+    small = r < 0.5
+    rs = r[small]
+    acc = np.zeros_like(rs)
+    term = rs**3 / 6.0
+    for k in range(3, 24):  # g(r) = sum_k>=3 (-1)^k (4 - 2^k) r^k / k!
+        acc += (-1) ** k * (4.0 - 2.0**k) * term
+        term = term * rs / (k + 1)
+    out[small] = acc
+    rl = r[~small]
+    out[~small] = 2.0 * rl + 4.0 * np.expm1(-rl) - np.expm1(-2.0 * rl)
+    return out / r**2
+
+
+def sine_shape(tau: NDArray[np.float64], period: float, fs: float) -> NDArray[np.float64]:
+    """Phase-averaged AVAR of the samples of a unit-amplitude sine of ``period``: sin^4(pi tau/P) / (m sin(pi/(P fs)))^2."""
+    tau = np.asarray(tau, dtype=float)
+    m = tau * fs
+    sx = math.sin(math.pi / (period * fs))
+    return np.sin(np.pi * tau / period) ** 4 / (m * sx) ** 2
+
+
+@functools.lru_cache(maxsize=512)
+def _filter_acov(order: int, corner_frac: float, passes: int, n_fft: int = 1 << 15) -> NDArray[np.float64]:
+    """Autocovariance r_k (r_0 ... ) of unit white noise through the digital Butterworth, |H|^(2 passes)."""
+    from scipy.signal import butter, sosfreqz
+
+    sos = butter(order, corner_frac, output="sos")  # corner as a fraction of Nyquist
+    _, h = sosfreqz(sos, worN=n_fft // 2 + 1, whole=False)
+    p = np.abs(h) ** (2 * passes)
+    return np.fft.irfft(p, n=n_fft)[: n_fft // 2]
+
+
+def filter_shape(m: NDArray[np.int64], order: int, corner: float, fs: float, passes: int = 1) -> NDArray[np.float64]:
+    """g_f(m) = AVAR(m) / (sigma^2 / m) of white noise of variance sigma^2 through a Butterworth low-pass.
+
+    Parameters
+    ----------
+    m : array of int
+        Averaging factors (tau = m / fs).
+    order : int
+        Butterworth order n (``scipy.signal.butter``).
+    corner : float
+        -3 dB frequency of one pass [Hz], 0 < corner < fs / 2.
+    fs : float
+        Sample rate [Hz].
+    passes : {1, 2}
+        1: the filter once; 2: forward and backward (zero phase, |H|^4).
+
+    Notes
+    -----
+    With r_k the output autocovariance (the inverse DFT of |H|^(2 passes) on 2^15 points,
+    sigma = 1, r summing to |H(0)|^2 = 1) the variance of a sum of m samples is
+    D(m) = sum_{|k|<m} (m - |k|) r_k and the overlapping AVAR expectation is
+    (4 D(m) - D(2m)) / (2 m^2) (docs/physics.md 1.7, as in
+    :func:`gyrobench.analysis.allan.lowpass_avar_bias`); beyond the 2^14 stored lags
+    D(m) = m - sum |k| r_k, exact once r has died out.
+    """
+    acov = _filter_acov(int(order), float(corner / (fs / 2.0)), int(passes))
+    k = np.arange(acov.size, dtype=float)
+    two_sided = np.concatenate([[acov[0]], 2.0 * acov[1:]])
+    c0 = np.cumsum(two_sided)  # sum_{|k| <= K} r_k
+    c1 = np.cumsum(k * two_sided)  # sum_{|k| <= K} |k| r_k
+
+    def d(mm: NDArray[np.float64]) -> NDArray[np.float64]:
+        idx = np.minimum(mm.astype(np.int64) - 1, acov.size - 1)
+        return mm * c0[idx] - c1[idx]
+
+    mf = np.asarray(m, dtype=float)
+    return (4.0 * d(mf) - d(2.0 * mf)) / (2.0 * mf)
+
+
+def _wls(x: NDArray[np.float64], a: NDArray[np.float64], nu: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, NDArray[np.float64]]:
+    """NNLS with weights 1/var, var = 2 A_model^2 / nu, reweighted twice from the data's own weights."""
+    from scipy.optimize import nnls
+
+    var = 2.0 * a**2 / nu
+    c = np.zeros(x.shape[1])
+    for _ in range(3):
+        sw = 1.0 / np.sqrt(var)
+        xw = x * sw[:, None]
+        sc = np.linalg.norm(xw, axis=0)
+        sc[sc == 0] = 1.0
+        cs, _ = nnls(xw / sc, a * sw, maxiter=100 * x.shape[1])
+        c = cs / sc
+        model = x @ c
+        var = np.where(model > 0, 2.0 * model**2 / nu, var)
+    r = a - x @ c
+    return c, float(np.sum(r**2 / var)), var
+
+
+def _gls(x: NDArray[np.float64], a: NDArray[np.float64], li: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
+    """argmin_{C >= 0} (a - X C)' V^-1 (a - X C) with li = L^-1, V = L L'; returns C and the minimum."""
+    from scipy.optimize import nnls
+
+    xw, aw = li @ x, li @ a
+    sc = np.linalg.norm(xw, axis=0)
+    sc[sc == 0] = 1.0
+    cs, rn = nnls(xw / sc, aw, maxiter=100 * x.shape[1])
+    return cs / sc, float(rn**2)
+
+
+def _gls_cov(x: NDArray[np.float64], li: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.float64]:
+    keep = c > 0
+    out = np.zeros((x.shape[1], x.shape[1]))
+    if keep.any():
+        xw = li @ x[:, keep]
+        out[np.ix_(keep, keep)] = np.linalg.pinv(xw.T @ xw)
+    return out
+
+
+def _cov(x: NDArray[np.float64], var: NDArray[np.float64], c: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
+    keep = c > 0
+    out = np.zeros((x.shape[1], x.shape[1]))
+    if keep.any():
+        xk = x[:, keep]
+        info = xk.T @ (xk / var[:, None])
+        out[np.ix_(keep, keep)] = np.linalg.pinv(info) * scale
+    return out
+
+
+def _interval(c: float, var_c: float) -> tuple[float, float]:
+    se = math.sqrt(max(var_c, 0.0))
+    return math.sqrt(max(c - 1.96 * se, 0.0)), math.sqrt(max(c + 1.96 * se, 0.0))
+
+
+def select_model(
+    fit: NoiseFit,
+    *,
+    level: float = LEVEL,
+    families: tuple[str, ...] = ("gauss_markov", "sinusoid", "lowpass"),
+    lowpass: tuple[int, float, int] | None = None,
+) -> ModelChoice:
+    """Choose the extra terms a fitted Allan variance needs (module docstring for the criterion).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The IEEE 952 fit (overlapping or standard Allan variance).
+    level : float
+        Level of each forward step's test, in (0, 1).
+    families : tuple of str
+        Families to try, of "gauss_markov", "sinusoid", "lowpass".
+    lowpass : (order, corner [Hz], passes), optional
+        A known low-pass: evaluated on the excluded plus fitted points, not chosen.
+
+    Returns
+    -------
+    ModelChoice
+    """
+    from scipy.stats import chi2 as chi2_dist
+
+    if not (0.0 < level < 1.0):
+        raise ValueError(f"level must be in (0, 1); got {level!r}")
+    curve = fit.curve
+    names = tuple(fit.avar_coefficients)
+    tau_all = np.asarray(curve.tau, dtype=float)
+    a_all = np.asarray(curve.variance, dtype=float)
+    nu_all = np.maximum(np.asarray(curve.edf, dtype=float), 1.0)
+    used = np.asarray(fit.used, dtype=bool)
+    tau, a, nu = tau_all[used], a_all[used], nu_all[used]
+    base = np.column_stack([tau ** _POWERS[t] for t in names])
+    scale = fit.chi2_expected / fit.dof if fit.dof > 0 and math.isfinite(fit.chi2_expected) else 1.0
+    scale = max(scale, 1e-3)
+    threshold = float(chi2_dist.isf(level, 2))
+    v = np.asarray(fit.point_covariance, dtype=float)
+    try:
+        li = np.linalg.inv(np.linalg.cholesky(v + np.eye(v.shape[0]) * 1e-12 * float(np.trace(v)) / v.shape[0]))
+    except np.linalg.LinAlgError:
+        li = np.diag(1.0 / np.sqrt(np.maximum(np.diag(v), 1e-300)))
+    _, chi0 = _gls(base, a, li)
+    columns: list[NDArray[np.float64]] = []
+    extra: list[ExtraTerm] = []
+    drops: dict[str, float] = {}
+    chi_cur = chi0
+    n_pts = tau.size
+    t_rec = curve.n_samples / curve.fs
+    candidates = [f for f in families if f in ("gauss_markov", "sinusoid")]
+    for step in range(len(candidates)):
+        if n_pts < len(names) + len(columns) + 3:
+            break
+        tried = {fam: _family_best(fam, tau, a, li, np.column_stack([base, *columns]), curve.fs, t_rec)
+                 for fam in candidates if not any(e.kind == fam for e in extra)}
+        found = {fam: b for fam, b in tried.items() if b is not None}
+        if step == 0:
+            drops = {fam: chi_cur - b[0] if b is not None else 0.0 for fam, b in tried.items()}
+        if not found:
+            break
+        fam = min(found, key=lambda f: found[f][0])
+        chi, s_par, c, col = found[fam]
+        drop = chi_cur - chi
+        if not drop > threshold:
+            break
+        x = np.column_stack([base, *columns, col])
+        cov = _gls_cov(x, li, c)
+        amp = float(c[-1])
+        lo, hi = _interval(amp, float(cov[-1, -1]))
+        params = {"sigma": math.sqrt(amp), "tc": s_par} if fam == "gauss_markov" else {"amplitude": math.sqrt(amp),
+                                                                                        "period": s_par}
+        extra.append(ExtraTerm(kind=fam, params=params, interval=(lo, hi), drop=float(drop)))
+        columns.append(col)
+        chi_cur = chi
+    xf = np.column_stack([base, *columns])
+    cf, chif = _gls(xf, a, li)
+    dof = max(n_pts - int(np.sum(cf > 0)), 0)
+    p = float(chi2_dist.sf(chif, dof)) if dof > 0 else float("nan")
+    lp = None
+    if "lowpass" in families or lowpass is not None:
+        lp = _lowpass(fit, names, tau_all, a_all, nu_all, used, scale, threshold, lowpass)
+        if lp is not None:
+            extra.append(lp)
+    return ModelChoice(
+        extra=tuple(extra),
+        avar_coefficients={t: float(v) for t, v in zip(names, cf[: len(names)], strict=True)},
+        chi2=chif, dof=dof, scale=scale, p_value=p, drops=drops, threshold=threshold,
+        criterion=(f"forward selection: a Gauss-Markov or sinusoid term is added when its GLS chi2 drop (the fit's "
+                   f"correlated point covariance) exceeds {threshold:.3g}, the chi2(2) quantile at level {level:g}"),
+    )
+
+
+def _grid(fam: str, tau: NDArray[np.float64], fs: float, t_rec: float) -> NDArray[np.float64]:
+    """Time scales tried: Tc over the fitted taus (40), or periods from 2 tau_1 to 1.5 x the record (48)."""
+    if fam == "gauss_markov":
+        return np.geomspace(tau[0], tau[-1], 40)
+    return np.geomspace(max(2.0 * tau[0], 4.0 / fs), 1.5 * t_rec, 48)
+
+
+def _family_best(fam: str, tau, a, li, x0, fs: float, t_rec: float):
+    """(chi2, time scale, C, column) of the family's best time scale with a positive amplitude, or None."""
+    best = None
+    for s_par in _grid(fam, tau, fs, t_rec):
+        col = gm_shape(tau, s_par) if fam == "gauss_markov" else sine_shape(tau, s_par, fs)
+        c, chi = _gls(np.column_stack([x0, col]), a, li)
+        if c[-1] > 0 and (best is None or chi < best[0]):
+            best = (chi, float(s_par), c, col)
+    return best
+
+
+def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, threshold: float,
+             given: tuple[int, float, int] | None) -> ExtraTerm | None:
+    """The low-pass term on the excluded + fitted points: chosen on a grid, or the given one evaluated."""
+    if "N" not in names:
+        return None
+    last = int(np.flatnonzero(used)[-1])
+    first = 0
+    if fit.range_rule == "user":
+        first = int(np.flatnonzero(used)[0])
+    sel = np.zeros(tau_all.size, dtype=bool)
+    sel[first : last + 1] = True
+    if given is None and sel.sum() <= used.sum():
+        return None  # nothing was excluded: no bend to identify
+    tau, a, nu = tau_all[sel], a_all[sel], nu_all[sel]
+    fs = fit.curve.fs
+    m = np.rint(tau * fs).astype(np.int64)
+    base = np.column_stack([tau ** _POWERS[t] for t in names])
+    jn = names.index("N")
+    _, chi0, _ = _wls(base, a, nu)
+    trials = ([given] if given is not None else
+              [(o, fc, p) for o in FILTER_ORDERS for p in FILTER_PASSES for fc in np.geomspace(0.01 * fs, 0.45 * fs, 28)])
+    best = None
+    for order, fc, passes in trials:
+        x = base.copy()
+        x[:, jn] = x[:, jn] * filter_shape(m, int(order), float(fc), fs, int(passes))
+        c, chi, var = _wls(x, a, nu)
+        if best is None or chi < best[0]:
+            best = (chi, (int(order), float(fc), int(passes)), c, var, x)
+    assert best is not None
+    chi, (order, fc, passes), c, var, x = best
+    drop = (chi0 - chi) / scale
+    if given is None and not drop > threshold:
+        return None
+    cov = _cov(x, var, c, scale)
+    lo, hi = _interval(float(c[jn]), float(cov[jn, jn]))
+    return ExtraTerm(kind="lowpass", params={"corner": fc, "order": float(order), "passes": float(passes),
+                                             "N": math.sqrt(max(float(c[jn]), 0.0))},
+                     interval=(lo, hi), drop=float(drop), given=given is not None)

@@ -389,11 +389,12 @@ def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, t
         first = int(np.flatnonzero(used)[0])
     sel = np.zeros(tau_all.size, dtype=bool)
     sel[first : last + 1] = True
-    if given is None and sel.sum() <= used.sum():
-        return None  # nothing was excluded: no bend to identify
+    if given is None and (fit.range_rule != "data" or sel.sum() <= used.sum()):
+        return None  # no filter-shaped region was excluded: no bend to identify
     tau, a, nu = tau_all[sel], a_all[sel], nu_all[sel]
     fs = fit.curve.fs
     m = np.rint(tau * fs).astype(np.int64)
+    # the filter's shape is cached per (order, corner): a fresh corner costs one FFT of 2^15 points
     base = np.column_stack([tau ** _POWERS[t] for t in names])
     jn = names.index("N")
     _, chi0, _ = _wls(base, a, nu)
@@ -407,6 +408,25 @@ def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, t
         if best is None or chi < best[0]:
             best = (chi, (int(order), float(fc), int(passes)), c, var, x)
     assert best is not None
+    if given is None:  # refine the corner between its grid neighbours (bounded scalar minimisation in log f_c)
+        from scipy.optimize import minimize_scalar
+
+        o0, f0, p0 = best[1]
+        step = (0.45 / 0.01) ** (1.0 / 27.0)
+
+        def chi_at(log_fc: float) -> float:
+            xx = base.copy()
+            xx[:, jn] = xx[:, jn] * filter_shape(m, o0, math.exp(log_fc), fs, p0)
+            return _wls(xx, a, nu)[1]
+
+        hi_fc = min(math.log(f0 * step), math.log(0.45 * fs))
+        r = minimize_scalar(chi_at, bounds=(math.log(f0 / step), hi_fc), method="bounded",
+                            options={"xatol": 1e-4})
+        if r.fun < best[0]:
+            x = base.copy()
+            x[:, jn] = x[:, jn] * filter_shape(m, o0, math.exp(r.x), fs, p0)
+            c, chi, var = _wls(x, a, nu)
+            best = (chi, (o0, float(math.exp(r.x)), p0), c, var, x)
     chi, (order, fc, passes), c, var, x = best
     drop = (chi0 - chi) / scale
     if given is None and not drop > threshold:

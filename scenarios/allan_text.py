@@ -10,7 +10,7 @@ from typing import Any
 from gyrobench.scenarios.allan_report import ChannelResult, _floor, field_unit, field_value
 from gyrobench.sim import units
 
-__all__ = ["channel_json", "curve_json", "fit_json", "kalibr_yaml", "log_json", "log_text", "nonstationary_line",
+__all__ = ["analysis_json", "channel_json", "curve_json", "deviation_lines", "model_lines", "fit_json", "kalibr_yaml", "log_json", "log_text", "nonstationary_line",
            "plot_paths", "plot_title"]
 
 
@@ -81,6 +81,7 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
+    out.update(analysis_json(res))
     if res.segments:
         out["segments"] = [
             {"start_s": a, "stop_s": b, "nonstationary": bool(sub.nonstationary),
@@ -103,6 +104,44 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
             "se_T": tf.se_temperature,
             "se_dT": tf.se_rate,
             "explained": tf.explained,
+        }
+    return out
+
+
+def analysis_json(res: ChannelResult) -> dict[str, Any]:
+    """``basis`` (what was fitted), ``quiet`` (the quiet stretches and what was left out) and ``model``
+    (terms beyond Q/N/B/K/R, SI)."""
+    import math
+
+    ra = res.analysis
+    if ra is None:
+        return {}
+    fs = float(res.curve.fs)
+    out: dict[str, Any] = {"basis": ra.basis}
+    q = ra.quiet
+    if q is not None and ra.basis == "quiet stretches":
+        sp = q.spread
+        out["quiet"] = {
+            "stretches": len(q.stretches),
+            "excluded_samples": int(q.n_excluded),
+            "excluded_s": [[a / fs, b / fs] for a, b in q.excluded],
+            "bridged_from_tau": float(q.curve.tau[q.bridged][0]) if q.bridged.any() else None,
+            "spread": [{"tau": float(sp.tau[i]), "stretches": int(sp.n_stretches[i]),
+                        "low": None if not math.isfinite(sp.low[i]) else float(sp.low[i]),
+                        "high": None if not math.isfinite(sp.high[i]) else float(sp.high[i]),
+                        "bartlett_p": None if not math.isfinite(sp.p_value[i]) else float(sp.p_value[i])}
+                       for i in range(len(sp.tau))],
+        }
+    m = ra.model
+    if m is not None:
+        out["model"] = {
+            "criterion": m.criterion,
+            "terms": [{"kind": t.kind, "params_si": dict(t.params), "interval95_si": list(t.interval),
+                       "chi2_drop": t.drop, "given": t.given} for t in m.extra],
+            "first_step_drops": dict(m.drops),
+            "threshold": m.threshold,
+            "p_value": None if not math.isfinite(m.p_value) else m.p_value,
+            "misfit": m.misfit,
         }
     return out
 
@@ -172,12 +211,78 @@ def plot_title(log, res: ChannelResult) -> str:
     return "\n".join(lines)
 
 
+def _basis(res: ChannelResult) -> str:
+    ra = res.analysis
+    return "whole record" if ra is None else ra.basis
+
+
 def nonstationary_line(res: ChannelResult) -> str:
     """The report's first line for a channel with motion or steps."""
+    if _basis(res) == "quiet stretches":
+        return (
+            f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fit is of "
+            f"its quiet stretches (QUIET line below)"
+        )
     return (
         f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fitted "
         f"terms describe them as noise: analyse a quiet stretch (--start/--stop)"
     )
+
+
+def _rate_scale(quantity: str) -> tuple[float, str]:
+    """SI per field unit of a rate-like value: deg/h for a gyro, ug for an accelerometer."""
+    if quantity == "accel":
+        return 9.80665e-6, "ug"
+    return float(units.deg_per_h(1.0)), "deg/h"
+
+
+def model_lines(res: ChannelResult) -> list[str]:
+    """The QUIET line (what was left out) and the MODEL lines (terms chosen beyond Q/N/B/K/R)."""
+    ra = res.analysis
+    if ra is None:
+        return []
+    out = []
+    label = res.channel.label
+    if ra.basis == "quiet stretches" and ra.quiet is not None:
+        out.append(f"QUIET {label}: {ra.quiet.describe(res.curve.fs)}")
+    m = ra.model
+    if m is None:
+        return out
+    k, unit = _rate_scale(res.channel.quantity)
+    for term in m.extra:
+        line = f"MODEL {label}: {term.describe(k, unit)}"
+        if term.kind == "lowpass":
+            n = term.params.get("N", 0.0)
+            nf = field_value("N", n, res.channel.quantity)
+            lo, hi = (field_value("N", v, res.channel.quantity) for v in term.interval)
+            line += (f" ({'given' if term.given else 'identified'}; the bent short taus fitted with it: N "
+                     f"{nf:.4g} [{lo:.4g}, {hi:.4g}] {field_unit('N', res.channel.quantity)})")
+        else:
+            line += f" (chosen: chi2 drop {term.drop:.3g} > {m.threshold:.3g})"
+        out.append(line)
+    if not any(t.kind != "lowpass" for t in m.extra):
+        best = max(m.drops.items(), key=lambda kv: kv[1], default=None)
+        if best is not None:
+            out.append(f"MODEL {label}: no Gauss-Markov or sinusoid term needed (largest chi2 drop {best[1]:.3g} "
+                       f"for {best[0].replace('_', '-')}, < {m.threshold:.3g})")
+    if m.misfit:
+        out.append(f"MISFIT {label}: the chosen model still misfits the fitted Allan variance (GLS p = "
+                   f"{m.p_value:.2g}): a term of another kind (or motion) is in the record")
+    return out
+
+
+def deviation_lines(res: ChannelResult) -> list[str]:
+    """The Allan deviation at each tau, with its confidence interval, in field units."""
+    c = res.curve
+    k, unit = _rate_scale(res.channel.quantity)
+    conf = f"{c.confidence:.1%}".replace(".0%", "%")
+    out = [f"{res.channel.label}: {c.kind} deviation [{unit}] (tau [s]: value [{conf} interval])"]
+    row = []
+    for i in range(len(c.tau)):
+        row.append(f"{c.tau[i]:.4g}: {c.deviation[i] / k:.4g} [{c.low[i] / k:.3g}, {c.high[i] / k:.3g}]")
+    for j in range(0, len(row), 4):
+        out.append("  " + ";  ".join(row[j : j + 4]))
+    return out
 
 
 def _excluded_text(res: ChannelResult, excl: int) -> str:
@@ -274,14 +379,19 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                     + unit
                 )
     for res in results:
+        out += model_lines(res)
+    for res in results:
         out += _segment_lines(res)
+    for res in results:
+        out += deviation_lines(res)
     return out
 
 
 def _segment_lines(res: ChannelResult) -> list[str]:
     """``--segments auto``: one line per quiet stretch of a non-stationary channel (its terms, in field units)."""
     if not res.nonstationary or not res.segments:
-        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit"] if res.nonstationary else []
+        asked = res.nonstationary and res.segments_asked
+        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit on its own"] if asked else []
     out = [f"SEGMENTS {res.channel.label}: {len(res.segments)} quiet stretch(es) fitted on their own"]
     for a, b, sub in res.segments:
         q = sub.channel.quantity
@@ -304,7 +414,7 @@ def _segment_lines(res: ChannelResult) -> list[str]:
                 parts.append(f"{name} < {field_value(name, c.upper_bound, q):.3g} {field_unit(name, q)} (n/i)")
         p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
         out.append(
-            f"POOLED {res.channel.label}: one fit over the stretches' EDF-weighted Allan variance "
+            f"POOLED {res.channel.label}: one fit over the stretches' Allan variance pooled per tau "
             f"({f.curve.n_samples} samples, taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s, "
             f"chi2/dof = {f.chi2_per_dof:.3g}, p = {p}): " + "; ".join(parts)
         )

@@ -481,7 +481,11 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     y = _handled_1hz_record(48)
     assert fit_range(allan_deviation(y, 1.0)).excluded >= 3  # the unflagged rule drops the motion's octaves
     res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 1.0)
-    assert res.nonstationary
+    # by default the quiet stretches are fitted: without the handling nothing is filter-shaped
+    assert res.nonstationary and res.analysis.basis == "quiet stretches"
+    assert res.fit_range.excluded == 0 and res.fit.tau_used[0] == res.fit.curve.tau[0]
+    res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 1.0, quiet=False)
+    assert res.nonstationary and res.analysis.basis == "whole record (motion kept)"
     assert res.fit_range.excluded == 0 and res.fit.range_rule == "nonstationary"
     assert res.fit.tau_used[0] == res.fit.curve.tau[0]
     assert res.fit.misfit and res.fit.p_value < 1e-6

@@ -155,7 +155,7 @@ def gm_shape(tau: NDArray[np.float64], tc: float) -> NDArray[np.float64]:
 
 
 def sine_shape(tau: NDArray[np.float64], period: float, fs: float) -> NDArray[np.float64]:
-    """Phase-averaged AVAR of the samples of a unit-amplitude sine of ``period``: sin^4(pi tau/P) / (m sin(pi/(P fs)))^2."""
+    """Phase-averaged AVAR of the samples of a unit sine of ``period``: sin^4(pi tau/P) / (m sin(pi/(P fs)))^2."""
     tau = np.asarray(tau, dtype=float)
     m = tau * fs
     sx = math.sin(math.pi / (period * fs))
@@ -212,7 +212,9 @@ def filter_shape(m: NDArray[np.int64], order: int, corner: float, fs: float, pas
     return (4.0 * d(mf) - d(2.0 * mf)) / (2.0 * mf)
 
 
-def _wls(x: NDArray[np.float64], a: NDArray[np.float64], nu: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, NDArray[np.float64]]:
+def _wls(
+    x: NDArray[np.float64], a: NDArray[np.float64], nu: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], float, NDArray[np.float64]]:
     """NNLS with weights 1/var, var = 2 A_model^2 / nu, reweighted twice from the data's own weights."""
     from scipy.optimize import nnls
 
@@ -300,7 +302,7 @@ def select_model(
     a_all = np.asarray(curve.variance, dtype=float)
     nu_all = np.maximum(np.asarray(curve.edf, dtype=float), 1.0)
     used = np.asarray(fit.used, dtype=bool)
-    tau, a, nu = tau_all[used], a_all[used], nu_all[used]
+    tau, a = tau_all[used], a_all[used]
     base = np.column_stack([tau ** _POWERS[t] for t in names])
     scale = fit.chi2_expected / fit.dof if fit.dof > 0 and math.isfinite(fit.chi2_expected) else 1.0
     scale = max(scale, 1e-3)
@@ -399,7 +401,8 @@ def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, t
     jn = names.index("N")
     _, chi0, _ = _wls(base, a, nu)
     trials = ([given] if given is not None else
-              [(o, fc, p) for o in FILTER_ORDERS for p in FILTER_PASSES for fc in np.geomspace(0.01 * fs, 0.45 * fs, 28)])
+              [(o, fc, p) for o in FILTER_ORDERS for p in FILTER_PASSES
+               for fc in np.geomspace(0.01 * fs, 0.45 * fs, 28)])
     best = None
     for order, fc, passes in trials:
         x = base.copy()

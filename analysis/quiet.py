@@ -106,7 +106,8 @@ class QuietCurve:
         """One line: what was left out and where the curve comes from."""
         n = self.curve.n_samples
         worst = self.spread.worst()
-        spread = "" if worst is None else f"; stretches' spread: smallest Bartlett p = {worst[1]:.2g} at {worst[0]:.3g} s"
+        spread = ("" if worst is None
+                  else f"; stretches' spread: smallest Bartlett p = {worst[1]:.2g} at {worst[0]:.3g} s")
         tb = self.curve.tau[self.bridged]
         bridge = f"; taus >= {tb[0]:.3g} s from the record with those samples bridged" if tb.size else ""
         return (f"quiet stretches: {len(self.stretches)} pooled per tau, {self.n_excluded} of {n} samples "

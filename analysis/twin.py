@@ -29,7 +29,8 @@ import numpy as np
 from gyrobench.analysis.allan import AllanCurve, deviation_bounds
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["TwinComparison", "SampleComparison", "compare_samples", "sample_variance_edf", "compare_twin", "FAMILY_ALPHA", "MAX_RATIO"]
+__all__ = ["TwinComparison", "SampleComparison", "compare_samples", "sample_variance_edf", "compare_twin",
+           "FAMILY_ALPHA", "MAX_RATIO"]
 
 FAMILY_ALPHA = 0.05
 """Default family-wise false-alarm rate of the pass rule (a perfect twin fails at most this often)."""

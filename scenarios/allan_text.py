@@ -10,8 +10,8 @@ from typing import Any
 from gyrobench.scenarios.allan_report import ChannelResult, _floor, field_unit, field_value
 from gyrobench.sim import units
 
-__all__ = ["analysis_json", "channel_json", "curve_json", "deviation_lines", "model_lines", "fit_json", "kalibr_yaml", "log_json", "log_text", "nonstationary_line",
-           "plot_paths", "plot_title"]
+__all__ = ["analysis_json", "channel_json", "curve_json", "deviation_lines", "filter_yaml", "fit_json", "kalibr_yaml",
+           "log_json", "log_text", "model_lines", "nonstationary_line", "plot_paths", "plot_title"]
 
 
 def _si_unit(quantity: str) -> str:
@@ -486,3 +486,69 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
             "--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted"
         )
     return "\n".join(lines + body + [f"update_rate: {log.fs:g}  # [Hz]", ""])
+
+
+# ----------------------------------------------------------------------------- filter process noise
+def filter_yaml(log, results: list[ChannelResult], *, overbound: bool = False) -> str:
+    """The fitted model as a navigation filter's process noise (:func:`gyrobench.analysis.filter_model.filter_model`).
+
+    Sections: ``gyrobench`` (every key carries its unit: each axis's white and random-walk
+    densities, B as a Gauss-Markov state and as a random-walk equivalent, the inflation),
+    ``kalibr`` (imu.yaml) and ``openvins`` (kalibr_imu_chain.yaml ``imu0``), whose key names
+    the tools fix, with the unit in a comment on every line, and ``ros`` (the diagonal of
+    ``sensor_msgs/Imu`` covariances: the per-sample white-noise variance N^2 fs). Kalibr,
+    OpenVINS and ROS take one value per sensor: the largest over the axes.
+    """
+    from gyrobench.analysis.filter_model import filter_model
+
+    lines = [f"# gyrobench filter process noise from {log.path.name} ({log.fs:g} Hz)",
+             "# conversions: white density = N; random-walk density = K; B as Gauss-Markov sigma = 0.664 B / 0.6174,",
+             "# Tc = tau_B / 1.8926 (its ADEV peaks at the B plateau at tau_B),",
+             "# or as random walk 0.664 B sqrt(3 / tau_B)"]
+    if overbound:
+        lines.append("# overbounded: every density scaled by the smallest k putting the model ADEV on or above the "
+                     "data's upper 95 % bound at every tau")
+    moving = [r.channel.label for r in results if r.nonstationary]
+    if moving:
+        lines.append("# not stationary as a whole (fitted from the quiet stretches where possible): "
+                     + ", ".join(moving))
+    per: dict[str, list] = {"rate": [], "accel": []}
+    lines.append("gyrobench:")
+    for r in results:
+        if r.fit is None:
+            continue
+        fm = filter_model(r.fit, overbound=overbound)
+        q = r.channel.quantity
+        per[q].append(fm)
+        u = "m_per_s2" if q == "accel" else "rad_per_s"
+        u2 = "m_per_s3" if q == "accel" else "rad_per_s2"
+        key = "".join(ch if ch.isalnum() else "_" for ch in r.channel.label).strip("_")
+        lines += [f"  {key}:",
+                  f"    white_density_{u}_per_sqrt_hz: {fm.white_density:.6e}",
+                  f"    white_variance_per_sample_{u}_squared: {fm.white_variance_per_sample:.6e}",
+                  f"    random_walk_density_{u2}_per_sqrt_hz: {fm.random_walk_density:.6e}",
+                  f"    bias_gauss_markov_sigma_{u}: {fm.gm_sigma:.6e}",
+                  f"    bias_gauss_markov_time_constant_s: {fm.gm_tc:.6g}",
+                  f"    bias_random_walk_equivalent_{u2}_per_sqrt_hz: {fm.rw_equivalent_density:.6e}",
+                  f"    bias_tau_s: {fm.tau_b:.6g}",
+                  f"    inflation_factor_1: {fm.inflation:.4g}",
+                  f"    upper_bounds_not_identified: [{', '.join(fm.bounds)}]"]
+    if not per["rate"] and not per["accel"]:
+        raise ValueError("--filter-model needs a fitted gyro or accelerometer channel; none was fitted")
+    tool = []
+    for q, pre, unit_w, unit_rw in (("rate", "gyroscope", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"),
+                                    ("accel", "accelerometer", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)")):
+        if per[q]:
+            w = max(f.white_density for f in per[q])
+            rw = max(max(f.random_walk_density, f.rw_equivalent_density) for f in per[q])
+            tool += [f"  {pre}_noise_density: {w:.6e}  # [{unit_w}]",
+                     f"  {pre}_random_walk: {rw:.6e}  # [{unit_rw}] max of K and B's random-walk equivalent"]
+    lines += ["kalibr:", *tool, f"  update_rate: {log.fs:g}  # [Hz]"]
+    lines += ["openvins:", *tool, f"  update_rate: {log.fs:g}  # [Hz]"]
+    lines.append("ros:")
+    for q, name, unit in (("rate", "angular_velocity_covariance", "rad^2/s^2"),
+                          ("accel", "linear_acceleration_covariance", "m^2/s^4")):
+        if per[q]:
+            d = max(f.white_variance_per_sample for f in per[q])
+            lines.append(f"  {name}: [{d:.6e}, 0.0, 0.0, 0.0, {d:.6e}, 0.0, 0.0, 0.0, {d:.6e}]  # [{unit}] row-major")
+    return "\n".join(lines) + "\n"

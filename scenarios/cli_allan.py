@@ -132,7 +132,8 @@ def _cmd_allan(args) -> int:
     path = Path(args.file)
     if not path.is_file():
         raise FileNotFoundError(f"recording file not found: {str(path)!r}")
-    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # before any work
+    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr),
+                         ("--filter-model", args.filter_model)):  # before any work
         if target:
             check_output(target, what=flag, create_parents=False)
     columns = args.column or None
@@ -168,6 +169,12 @@ def _cmd_allan(args) -> int:
 
         text = txt.kalibr_yaml(log, results)
         with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
+    if args.filter_model:
+        from gyrobench.sim.recording import atomic_path
+
+        text = txt.filter_yaml(log, results, overbound=args.overbound)
+        with atomic_path(Path(args.filter_model)) as tmp:
             Path(tmp).write_text(text)
     if args.json:
         print(json.dumps(txt.log_json(log, results)))
@@ -248,4 +255,11 @@ def add_parser(sub) -> None:
                                   "FILE_<channel>.png")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
                                     "from N and K, largest over the axes)")
+    s.add_argument("--filter-model", metavar="FILE",
+                   help="write the fitted model as a filter's process noise (YAML: white and random-walk densities, "
+                        "B as Gauss-Markov and random-walk equivalent, Kalibr, OpenVINS and ROS conventions, units "
+                        "in every key)")
+    s.add_argument("--overbound", action="store_true",
+                   help="with --filter-model: scale the model to lie on or above the data's upper 95 %% bound at "
+                        "every tau")
     s.set_defaults(func=_cmd_allan)

@@ -340,7 +340,8 @@ def _table(res: TwinResult, label: str) -> list[str]:
     sp = res.samples
     if sp is not None:
         lines.append(f"samples [deg/h]: real mean {sp.real_mean * dph:.5g}, sd {sp.real_std * dph:.4g}, range "
-                     f"[{sp.real_range[0] * dph:.4g}, {sp.real_range[1] * dph:.4g}]; twin mean {sp.twin_mean * dph:.5g}, "
+                     f"[{sp.real_range[0] * dph:.4g}, {sp.real_range[1] * dph:.4g}]; "
+                     f"twin mean {sp.twin_mean * dph:.5g}, "
                      f"sd {sp.twin_std * dph:.4g}, range [{sp.twin_range[0] * dph:.4g}, {sp.twin_range[1] * dph:.4g}]; "
                      f"sd ratio {sp.std_ratio:.3f} in [{sp.band[0]:.3f}, {sp.band[1]:.3f}]: "
                      f"{'ok' if sp.passed else 'FAIL'}")

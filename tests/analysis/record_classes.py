@@ -66,7 +66,8 @@ def phone_record(
     hit = rng.choice(k, size=n_bumps, replace=False)
     t = np.arange(w) / fs
     for i in hit:
-        y[i * w : (i + 1) * w] += math.radians(bump_dps) * np.exp(-t / 0.3) * np.cos(2 * math.pi * 3.7 * t + rng.uniform(0, 2 * math.pi))
+        phase = rng.uniform(0, 2 * math.pi)
+        y[i * w : (i + 1) * w] += math.radians(bump_dps) * np.exp(-t / 0.3) * np.cos(2 * math.pi * 3.7 * t + phase)
     truth = {"N": n_dsh * DEG_SQRT_H, "B": b_dph * DEG_H, "bias": bias_dph * DEG_H, "corner_hz": corner_hz,
              "order": float(order), "bumps": float(n_bumps)}
     return y, fs, truth

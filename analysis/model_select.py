@@ -19,14 +19,17 @@ Criterion (forward selection, each step a likelihood-ratio test): on the fitted 
 generalised least squares (NNLS) of the IEEE columns plus a candidate's column (its time
 scale on a log grid, its amplitude by NNLS) with the base fit's modelled covariance V of the
 Allan points (:attr:`gyrobench.analysis.allan.NoiseFit.point_covariance`, correlated across
-tau) gives chi2 = r' V^-1 r. A family is added when its drop D = chi2_before - chi2_after
-exceeds the chi-square quantile with 2 degrees of freedom (amplitude and time scale) at
-``level`` (default 0.001); the larger drop goes first, then the other family is tried once
-more. The time-scale grid and V's modelled correlations (too high, see ``fit_noise``) make the
-law of D heavier than chi2(2): the false-alarm rate on records that follow the five-term model
-is measured by benchmarks/model_select_false_alarm.py (200 seeds; the figure is in the README).
+tau) gives chi2 = r' V^-1 r. At a fixed time scale a family is linear in its amplitude, so
+the drop D = chi2_before - chi2_after is chi2(1) when the term is absent (V as modelled, the
+amplitude away from its bound 0); over the G time scales of the grid (G = :data:`GRID`) the
+largest drop is compared with the chi2(1) quantile at ``level`` / G (Bonferroni: a family
+false-alarm rate of at most ``level``, default 0.01, and at most 1 - (1 - level)^2 for the
+two families). The larger drop goes first, then the other family is tried once more. V's
+modelled correlations are too high (see ``fit_noise``), so the bound is checked by simulation:
+benchmarks/model_select_false_alarm.py (200 records of the five-term model).
 The low-pass is tested on the points the range rule excluded plus the fitted ones, against
-the five terms on those points, with diagonal weights var_i = 2 A_model(tau_i)^2 / edf_i
+the five terms on those points (Bonferroni over its grid of orders, passes and corners),
+with diagonal weights var_i = 2 A_model(tau_i)^2 / edf_i
 (V is modelled on the fitted points only) scaled by s = chi2_expected / dof of the base fit.
 The amplitudes' intervals are conditional on the chosen time scale: (X' V^-1 X)^-1.
 
@@ -48,7 +51,10 @@ from numpy.typing import NDArray
 __all__ = ["ExtraTerm", "ModelChoice", "filter_shape", "gm_shape", "select_model", "sine_shape"]
 
 #: the level of each forward step's test (a false alarm per family on a five-term record)
-LEVEL = 0.001
+LEVEL = 0.01
+#: time scales tried per family (the Bonferroni count of the criterion): 40 Gauss-Markov
+#: correlation times, 48 sinusoid periods; the larger is used for both
+GRID = 48
 _POWERS = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
 #: filter orders and passes tried when the low-pass is identified from the data
 FILTER_ORDERS = (1, 2, 4)
@@ -112,7 +118,7 @@ class ModelChoice:
     drops : dict of str to float
         Every family's best chi2 drop D at the first step (for the report).
     threshold : float
-        The chi-square(2) quantile the drops were compared with.
+        The chi-square(1) quantile at level / GRID the drops were compared with.
     criterion : str
         The rule in one line.
     """
@@ -306,7 +312,7 @@ def select_model(
     base = np.column_stack([tau ** _POWERS[t] for t in names])
     scale = fit.chi2_expected / fit.dof if fit.dof > 0 and math.isfinite(fit.chi2_expected) else 1.0
     scale = max(scale, 1e-3)
-    threshold = float(chi2_dist.isf(level, 2))
+    threshold = float(chi2_dist.isf(level / GRID, 1))
     v = np.asarray(fit.point_covariance, dtype=float)
     try:
         li = np.linalg.inv(np.linalg.cholesky(v + np.eye(v.shape[0]) * 1e-12 * float(np.trace(v)) / v.shape[0]))
@@ -350,7 +356,9 @@ def select_model(
     p = float(chi2_dist.sf(chif, dof)) if dof > 0 else float("nan")
     lp = None
     if "lowpass" in families or lowpass is not None:
-        lp = _lowpass(fit, names, tau_all, a_all, nu_all, used, scale, threshold, lowpass)
+        n_lp = len(FILTER_ORDERS) * len(FILTER_PASSES) * 28
+        lp = _lowpass(fit, names, tau_all, a_all, nu_all, used, scale, float(chi2_dist.isf(level / n_lp, 1)),
+                      lowpass)
         if lp is not None:
             extra.append(lp)
     return ModelChoice(
@@ -358,7 +366,8 @@ def select_model(
         avar_coefficients={t: float(v) for t, v in zip(names, cf[: len(names)], strict=True)},
         chi2=chif, dof=dof, scale=scale, p_value=p, drops=drops, threshold=threshold,
         criterion=(f"forward selection: a Gauss-Markov or sinusoid term is added when its GLS chi2 drop (the fit's "
-                   f"correlated point covariance) exceeds {threshold:.3g}, the chi2(2) quantile at level {level:g}"),
+                   f"correlated point covariance) exceeds {threshold:.3g}, the chi2(1) quantile at level {level:g} / "
+                   f"{GRID} time scales (Bonferroni)"),
     )
 
 

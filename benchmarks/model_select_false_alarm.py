@@ -3,8 +3,8 @@
 Each seed simulates 2 h at 10 Hz of N 0.3 deg/sqrt(h), B 3 deg/h and K 3 deg/h/sqrt(h) (no
 Gauss-Markov process, no sinusoid, no filter) and runs the shared analysis
 (:func:`gyrobench.analysis.record.analyse_record`); a false alarm is any Gauss-Markov or
-sinusoid term chosen. The nominal level is that of one forward step per family,
-1 - (1 - LEVEL)^2 for the two families. Prints the count, the rate and its exact (Clopper-Pearson)
+sinusoid term chosen. The nominal bound is that of the Bonferroni rule for the two families,
+1 - (1 - LEVEL)^2. Prints the count, the rate and its exact (Clopper-Pearson)
 95 % interval.
 
     python benchmarks/model_select_false_alarm.py [SEEDS]
@@ -39,7 +39,7 @@ def main(seeds: int = 200) -> None:
     hi = beta.ppf(0.975, alarms + 1, seeds - alarms)
     nominal = 1 - (1 - LEVEL) ** 2
     print(f"{alarms}/{seeds} records got a Gauss-Markov or sinusoid term: rate {alarms / seeds:.3g} "
-          f"[{lo:.3g}, {hi:.3g}] (95 %), nominal {nominal:.3g}; {time.process_time() - t0:.1f} s CPU")
+          f"[{lo:.3g}, {hi:.3g}] (95 %), nominal bound {nominal:.3g}; {time.process_time() - t0:.1f} s CPU")
 
 
 if __name__ == "__main__":

@@ -356,8 +356,9 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
     if all(res.fit is None for res in results):
         return out
     multi = len(results) > 1
+    width = max(18, *(len(r.channel.label) + 1 for r in results))  # full names: ROS axes differ only at the end
     head = (
-        f"{'channel':<18}" if multi else ""
+        f"{'channel':<{width}}" if multi else ""
     ) + f"{'term':<5}{'value':>14}  {'95 % interval':<28}unit"
     out.append(head)
     for res in results:
@@ -365,7 +366,7 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             continue
         q = res.channel.quantity
         for name, c in res.fit.coefficients.items():
-            pre = f"{res.channel.label[:17]:<18}" if multi else ""
+            pre = f"{res.channel.label:<{width}}" if multi else ""
             unit = field_unit(name, q)
             if not c.identifiable:
                 hi = field_value(name, c.upper_bound, q)

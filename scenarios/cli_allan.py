@@ -124,6 +124,40 @@ def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
                         f"({len(rate)} samples)", hint="analyse a shorter segment")
 
 
+def _temperature_columns(path: Path) -> list[str]:
+    """Header cells of a CSV that name a temperature ("temp" in the name), from its first non-comment line."""
+    import gzip
+    import re
+
+    try:
+        opener = gzip.open if path.suffix.lower() == ".gz" else open
+        with opener(path, "rt", errors="replace") as fh:
+            for _, line in zip(range(50), fh):
+                if line.strip() and not line.lstrip().startswith(("#", "%")):
+                    cells = [c.strip().strip('"') for c in re.split(r"[,;\t]", line)]
+                    return [c for c in cells if re.search("temp", c, re.IGNORECASE)]
+    except OSError:
+        return []
+    return []
+
+
+def _temperature_hints(path: Path, args, results) -> None:
+    """A warning on each channel with an identified rate ramp R when the file has a temperature column
+    that --temperature did not name: a thermal drift reads as R."""
+    if args.temperature is not None or path.suffix.lower() in (".h5", ".hdf5"):
+        return
+    cols = None
+    for res in results:
+        c = res.fit.coefficients.get("R") if res.fit is not None else None
+        if c is None or not c.identifiable:
+            continue
+        cols = _temperature_columns(path) if cols is None else cols
+        if cols:
+            res.warnings.append(f"{res.channel.label}: a rate ramp R is identified and {path.name} has a temperature "
+                                f"column ({', '.join(repr(x) for x in cols)}): a thermal drift reads as R; try "
+                                f"--temperature {cols[0].split('[')[0].strip()!r}")
+
+
 def _cmd_allan(args) -> int:
     from gyrobench.scenarios import allan_report as rep
     from gyrobench.scenarios import allan_text as txt
@@ -164,6 +198,13 @@ def _cmd_allan(args) -> int:
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
                                    bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
                                    segments=args.segments))
+    _temperature_hints(path, args, results)
+    if any(n.startswith("--gaps fill:") for n in log.notes):
+        for res in results:
+            res.warnings.append(
+                f"{res.channel.label}: the filled samples are interpolated, not measured: a straight line across a "
+                "gap removes its noise and adds a ramp-like error at taus near the gap's length (B, K and R are "
+                "biased); --gaps split analyses the contiguous pieces instead (pooled per tau)")
     if args.kalibr:
         from gyrobench.sim.recording import atomic_path
 

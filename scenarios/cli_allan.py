@@ -132,7 +132,7 @@ def _temperature_columns(path: Path) -> list[str]:
     try:
         opener = gzip.open if path.suffix.lower() == ".gz" else open
         with opener(path, "rt", errors="replace") as fh:
-            for _, line in zip(range(50), fh):
+            for _, line in zip(range(50), fh, strict=False):
                 if line.strip() and not line.lstrip().startswith(("#", "%")):
                     cells = [c.strip().strip('"') for c in re.split(r"[,;\t]", line)]
                     return [c for c in cells if re.search("temp", c, re.IGNORECASE)]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+
 from tests.scenarios.test_cli import run
 
 FS = 100.0

@@ -164,11 +164,11 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
             continue
         x = _phase(y)
         nu = _white_edf(ms[ok], y.size)
-        for i, v in zip(ok, nu, strict=True):
-            m = int(ms[i])
-            a = _second_difference_sum(x, m) / (2.0 * m**2 * (y.size + 1 - 2 * m))
-            if a > 0:
-                vals[i].append(a)
+        for i, v in zip(ok.tolist(), nu.tolist(), strict=True):
+            mi = int(ms[i])
+            est = _second_difference_sum(x, mi) / (2.0 * mi**2 * (y.size + 1 - 2 * mi))
+            if est > 0:
+                vals[i].append(est)
                 nus[i].append(float(v))
     count = np.array([len(v) for v in vals], dtype=np.int64)
     lo = np.full(k_tau, np.nan)
@@ -177,12 +177,12 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
     for i in range(k_tau):
         if count[i] < 2:
             continue
-        a, nu = np.asarray(vals[i]), np.asarray(nus[i])
-        lo[i], hi[i] = math.sqrt(a.min()), math.sqrt(a.max())
-        nt = nu.sum()
-        ap = float(nu @ a) / nt
-        m_stat = nt * math.log(ap) - float(nu @ np.log(a))
-        c = 1.0 + (float(np.sum(1.0 / nu)) - 1.0 / nt) / (3.0 * (count[i] - 1))
+        av, nv = np.asarray(vals[i]), np.asarray(nus[i])
+        lo[i], hi[i] = math.sqrt(float(av.min())), math.sqrt(float(av.max()))
+        nt = float(nv.sum())
+        ap = float(nv @ av) / nt
+        m_stat = nt * math.log(ap) - float(nv @ np.log(av))
+        c = 1.0 + (float(np.sum(1.0 / nv)) - 1.0 / nt) / (3.0 * (count[i] - 1))
         p[i] = float(chi2.sf(max(m_stat / c, 0.0), count[i] - 1))
     return StretchSpread(tau=np.asarray(curve.tau, dtype=float), n_stretches=count, low=lo, high=hi, p_value=p)
 

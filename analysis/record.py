@@ -196,7 +196,7 @@ def analyse_record(
             qc = quiet_curve(y, fs, stat, taus="decade" if taus == "decade" else "octave")
             if qc is not None and len(qc.curve.tau) >= len(terms) + 2:
                 fit_curve, basis, fit_nonstationary = qc.curve, "quiet stretches", False
-    options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
+    options: dict[str, Any] = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
     fr = fit_range(fit_curve, n_terms=len(terms), nonstationary=fit_nonstationary) if tau_min == "auto" else None
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
     fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, nonstationary=fit_nonstationary, **options)

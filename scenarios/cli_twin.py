@@ -185,12 +185,16 @@ def _fitted_model(ra: RecordAnalysis, rate: NDArray[np.float64], gauss_markov: b
     from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
 
     fit = ra.fit
+    assert fit is not None  # make_twin refuses a record without a fit
     m = ra.model
     cn = dict(fit.avar_coefficients) if m is None or not m.extra else {**fit.avar_coefficients, **m.avar_coefficients}
     c = {k: avar_to_coefficient(k, float(cn.get(k, 0.0))) for k in _FIELDS}
     spans = ra.fitted_stretches
     bias = float(np.mean(rate if spans is None else np.concatenate([rate[a:b] for a, b in spans])))
-    gm, sines, lowpass, names = (), (), None, []
+    gm: tuple[GaussMarkov, ...] = ()
+    sines: tuple[Sinusoid, ...] = ()
+    lowpass: tuple[int, float, int] | None = None
+    names: list[str] = []
     coeffs = dict(c)
     if m is not None:
         g = m.term("gauss_markov") if gauss_markov else None
@@ -264,6 +268,8 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
             "the record is not stationary (motion or steps) and its quiet stretches hold too few taus for a fit: "
             "no twin is built (analyse a quiet stretch with gyrobench allan --start/--stop)")
     fit = ra.fit
+    if fit is None:
+        raise ValueError(f"no noise fit for this record: {ra.no_fit}")
     fit_meta = {k: {"value": c.value, "ci95": list(c.ci95), "identifiable": c.identifiable}
                 for k, c in fit.coefficients.items()}
     samples = None
@@ -283,7 +289,7 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
             comps.setdefault("bias", np.full(n, model.bias))
         rec = _twin_recording(comps, n, fs, source=source, fit_meta=fit_meta, datasheet=model.to_datasheet())
         out = np.asarray(rec["output"], dtype=float)
-    if ra.basis == "quiet stretches" and ra.stationarity is not None:
+    if ra.basis == "quiet stretches" and ra.stationarity is not None and ra.quiet is not None:
         qt = quiet_curve(out, fs, ra.stationarity)
         twin_curve = qt.curve if qt is not None else None
         real_samples = np.concatenate([rate[a:b] for a, b in ra.quiet.stretches])

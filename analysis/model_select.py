@@ -70,10 +70,11 @@ class ExtraTerm:
     kind : {"gauss_markov", "sinusoid", "lowpass"}
     params : dict of str to float
         gauss_markov: ``sigma`` [u], ``tc`` [s]; sinusoid: ``amplitude`` [u], ``period`` [s];
-        lowpass: ``corner`` [Hz], ``order``, ``passes`` (1 or 2: forward/backward).
+        lowpass: ``corner`` [Hz], ``order``, ``passes`` (1 or 2: forward/backward), the model's
+        ``N`` it acts on, and ``C_Q``, the quantization AVAR coefficient refitted with it.
     interval : tuple of float
-        95 % interval of the amplitude parameter (sigma or amplitude; for the low-pass the
-        N of the filtered fit), conditional on the time scale.
+        95 % interval of the amplitude parameter (sigma or amplitude, conditional on the time
+        scale; for the low-pass that of N).
     drop : float
         The criterion's scaled chi2 drop D when it was added.
     given : bool
@@ -250,6 +251,18 @@ def _gls(x: NDArray[np.float64], a: NDArray[np.float64], li: NDArray[np.float64]
     return cs / sc, float(rn**2)
 
 
+def _diag_nnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float64]) -> NDArray[np.float64]:
+    """argmin_{C >= 0} sum_i (a_i - x_i C)^2 / var_i."""
+    from scipy.optimize import nnls
+
+    sw = 1.0 / np.sqrt(var)
+    xw = x * sw[:, None]
+    sc = np.linalg.norm(xw, axis=0)
+    sc[sc == 0] = 1.0
+    cs, _ = nnls(xw / sc, a * sw, maxiter=100 * x.shape[1])
+    return cs / sc
+
+
 def _gls_cov(x: NDArray[np.float64], li: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.float64]:
     keep = c > 0
     out = np.zeros((x.shape[1], x.shape[1]))
@@ -351,14 +364,24 @@ def select_model(
         columns.append(col)
         chi_cur = chi
     xf = np.column_stack([base, *columns])
-    cf, chif = _gls(xf, a, li)
-    dof = max(n_pts - int(np.sum(cf > 0)), 0)
+    cg, chif = _gls(xf, a, li)
+    dof = max(n_pts - int(np.sum(cg > 0)), 0)
+    # the chosen model's coefficients: weighted NNLS with the points' own variances diag(V), as fit_noise
+    # weights (the GLS solution follows V's too-high correlations into the near-null directions)
+    cf = _diag_nnls(xf, a, np.maximum(np.diag(v), 1e-300)) if extra else np.array(
+        [fit.avar_coefficients[t] for t in names])
+    if extra:  # the extra amplitudes, refitted alike
+        for j, e in enumerate(extra):
+            amp = float(cf[len(names) + j])
+            key = "sigma" if e.kind == "gauss_markov" else "amplitude"
+            extra[j] = ExtraTerm(kind=e.kind, params={**e.params, key: math.sqrt(max(amp, 0.0))},
+                                 interval=e.interval, drop=e.drop)
     p = float(chi2_dist.sf(chif, dof)) if dof > 0 else float("nan")
     lp = None
     if "lowpass" in families or lowpass is not None:
         n_lp = len(FILTER_ORDERS) * len(FILTER_PASSES) * 28
-        lp = _lowpass(fit, names, tau_all, a_all, nu_all, used, scale, float(chi2_dist.isf(level / n_lp, 1)),
-                      lowpass)
+        lp = _lowpass(fit, names, cf, tau_all, a_all, nu_all, used, scale, float(chi2_dist.isf(level / n_lp, 1)),
+                      lowpass, tuple(extra))
         if lp is not None:
             extra.append(lp)
     return ModelChoice(
@@ -389,9 +412,18 @@ def _family_best(fam: str, tau, a, li, x0, fs: float, t_rec: float):
     return best
 
 
-def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, threshold: float,
-             given: tuple[int, float, int] | None) -> ExtraTerm | None:
-    """The low-pass term on the excluded + fitted points: chosen on a grid, or the given one evaluated."""
+def _lowpass(fit: NoiseFit, names, coef: NDArray[np.float64], tau_all, a_all, nu_all, used, scale: float,
+             threshold: float, given: tuple[int, float, int] | None,
+             others: tuple[ExtraTerm, ...] = ()) -> ExtraTerm | None:
+    """The low-pass term on the excluded + fitted points: chosen on a grid, or the given one evaluated.
+
+    The chosen model's coefficients ``coef`` (in the order of ``names``) and ``others`` (its
+    Gauss-Markov and sinusoid terms) are held but for N, refitted within its 95 % interval from
+    the fitted taus, and the quantization coefficient C_Q (noise added after the filter, at the
+    bent taus), refitted >= 0 (bounded least squares, ``scipy.optimize.lsq_linear``). So the
+    filter explains the bend, and a feature of the short taus that it cannot (a tone above the
+    fitted range) does not pull N outside what the fitted taus allow.
+    """
     if "N" not in names:
         return None
     last = int(np.flatnonzero(used)[-1])
@@ -405,46 +437,63 @@ def _lowpass(fit: NoiseFit, names, tau_all, a_all, nu_all, used, scale: float, t
     tau, a, nu = tau_all[sel], a_all[sel], nu_all[sel]
     fs = fit.curve.fs
     m = np.rint(tau * fs).astype(np.int64)
-    # the filter's shape is cached per (order, corner): a fresh corner costs one FFT of 2^15 points
-    base = np.column_stack([tau ** _POWERS[t] for t in names])
     jn = names.index("N")
-    _, chi0, _ = _wls(base, a, nu)
+    held = np.zeros(tau.size)
+    for j, t in enumerate(names):
+        if t not in ("N", "Q"):
+            held = held + coef[j] * tau ** _POWERS[t]
+    for e in others:
+        held = held + (e.params["sigma"] ** 2 * gm_shape(tau, e.params["tc"]) if e.kind == "gauss_markov"
+                       else e.params["amplitude"] ** 2 * sine_shape(tau, e.params["period"], fs))
+    from scipy.optimize import lsq_linear
+
+    q_col = tau**-2.0 if "Q" in names else np.zeros(tau.size)
+    c_n = fit.coefficients.get("N")
+    # N may move within its 95 % interval from the fitted taus (as an AVAR coefficient), no further
+    n_lo, n_hi = (coef[jn], coef[jn]) if c_n is None else (float(c_n.ci95[0]) ** 2, float(c_n.ci95[1]) ** 2)
+    n_lo, n_hi = min(n_lo, coef[jn]), max(n_hi, coef[jn] * (1 + 1e-12))
+
+    def chi_of(g: NDArray[np.float64]) -> tuple[float, float, float]:
+        x = np.column_stack([g / tau, q_col])
+        var = 2.0 * a**2 / nu
+        sol = np.array([coef[jn], 0.0])
+        for _ in range(3):
+            sw = 1.0 / np.sqrt(var)
+            xs = x * sw[:, None]
+            sc = np.where(np.linalg.norm(xs, axis=0) > 0, np.linalg.norm(xs, axis=0), 1.0)
+            res = lsq_linear(xs / sc, (a - held) * sw, bounds=([n_lo * sc[0], 0.0], [n_hi * sc[0], np.inf]))
+            sol = res.x / sc
+            model = held + x @ sol
+            var = np.where(model > 0, 2.0 * model**2 / nu, var)
+        r = a - held - x @ sol
+        return float(np.sum(r**2 / var)), float(sol[1]), float(sol[0])
+
+    chi0 = chi_of(np.ones(tau.size))[0]
     trials = ([given] if given is not None else
               [(o, fc, p) for o in FILTER_ORDERS for p in FILTER_PASSES
                for fc in np.geomspace(0.01 * fs, 0.45 * fs, 28)])
     best = None
     for order, fc, passes in trials:
-        x = base.copy()
-        x[:, jn] = x[:, jn] * filter_shape(m, int(order), float(fc), fs, int(passes))
-        c, chi, var = _wls(x, a, nu)
+        chi, cq, cn = chi_of(filter_shape(m, int(order), float(fc), fs, int(passes)))
         if best is None or chi < best[0]:
-            best = (chi, (int(order), float(fc), int(passes)), c, var, x)
+            best = (chi, (int(order), float(fc), int(passes)), cq, cn)
     assert best is not None
     if given is None:  # refine the corner between its grid neighbours (bounded scalar minimisation in log f_c)
         from scipy.optimize import minimize_scalar
 
         o0, f0, p0 = best[1]
         step = (0.45 / 0.01) ** (1.0 / 27.0)
-
-        def chi_at(log_fc: float) -> float:
-            xx = base.copy()
-            xx[:, jn] = xx[:, jn] * filter_shape(m, o0, math.exp(log_fc), fs, p0)
-            return _wls(xx, a, nu)[1]
-
         hi_fc = min(math.log(f0 * step), math.log(0.45 * fs))
-        r = minimize_scalar(chi_at, bounds=(math.log(f0 / step), hi_fc), method="bounded",
-                            options={"xatol": 1e-4})
+        r = minimize_scalar(lambda lf: chi_of(filter_shape(m, o0, math.exp(lf), fs, p0))[0],
+                            bounds=(math.log(f0 / step), hi_fc), method="bounded", options={"xatol": 1e-4})
         if r.fun < best[0]:
-            x = base.copy()
-            x[:, jn] = x[:, jn] * filter_shape(m, o0, math.exp(r.x), fs, p0)
-            c, chi, var = _wls(x, a, nu)
-            best = (chi, (o0, float(math.exp(r.x)), p0), c, var, x)
-    chi, (order, fc, passes), c, var, x = best
+            chi, cq, cn = chi_of(filter_shape(m, o0, math.exp(r.x), fs, p0))
+            best = (chi, (o0, float(math.exp(r.x)), p0), cq, cn)
+    chi, (order, fc, passes), cq, cn = best
     drop = (chi0 - chi) / scale
     if given is None and not drop > threshold:
         return None
-    cov = _cov(x, var, c, scale)
-    lo, hi = _interval(float(c[jn]), float(cov[jn, jn]))
+    interval = (0.0, 0.0) if c_n is None else (float(c_n.ci95[0]), float(c_n.ci95[1]))
     return ExtraTerm(kind="lowpass", params={"corner": fc, "order": float(order), "passes": float(passes),
-                                             "N": math.sqrt(max(float(c[jn]), 0.0))},
-                     interval=(lo, hi), drop=float(drop), given=given is not None)
+                                             "N": math.sqrt(max(cn, 0.0)), "C_Q": cq},
+                     interval=interval, drop=float(drop), given=given is not None)

@@ -197,20 +197,25 @@ def _fitted_model(ra: RecordAnalysis, rate: NDArray[np.float64], gauss_markov: b
     names: list[str] = []
     coeffs = dict(c)
     if m is not None:
+        amp: dict[str, float] = {}
         g = m.term("gauss_markov") if gauss_markov else None
         if g is not None:
-            gm = (GaussMarkov(sigma=g.params["sigma"], correlation_time=g.params["tc"]),)
-            coeffs.update(gm_sigma=g.params["sigma"], gm_correlation_time=g.params["tc"])
+            sig = amp.get("amp_gauss_markov", g.params["sigma"])  # refitted with the low-pass over the bent taus
+            gm = (GaussMarkov(sigma=sig, correlation_time=g.params["tc"]),)
+            coeffs.update(gm_sigma=sig, gm_correlation_time=g.params["tc"])
             names.append("Gauss-Markov")
         sn = m.term("sinusoid")
         if sn is not None:
-            sines = (Sinusoid(amplitude=sn.params["amplitude"], frequency=1.0 / sn.params["period"]),)
-            coeffs.update(sine_amplitude=sn.params["amplitude"], sine_period=sn.params["period"])
+            amp_s = amp.get("amp_sinusoid", sn.params["amplitude"])
+            sines = (Sinusoid(amplitude=amp_s, frequency=1.0 / sn.params["period"]),)
+            coeffs.update(sine_amplitude=amp_s, sine_period=sn.params["period"])
             names.append("sinusoid")
         lp = m.term("lowpass")
         if lp is not None:
             lowpass = (int(lp.params["order"]), float(lp.params["corner"]), int(lp.params["passes"]))
             c["N"] = coeffs["N"] = float(lp.params["N"])
+            if "C_Q" in lp.params:  # quantization after the filter, fitted with it over the bent taus
+                c["Q"] = coeffs["Q"] = avar_to_coefficient("Q", float(lp.params["C_Q"]))
             coeffs.update(lowpass_order=lowpass[0], lowpass_corner=lowpass[1], lowpass_passes=lowpass[2])
             names.append("low-pass")
     coeffs["bias"] = bias

@@ -12,7 +12,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, run_loop
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.shaker import FixedSine, Phased, SineSweep

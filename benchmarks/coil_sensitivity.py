@@ -20,7 +20,8 @@ import dataclasses
 import time
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.coil2d import (
     SILICA_CTE_SLOPE_BOUNDS,
     Coil2D,

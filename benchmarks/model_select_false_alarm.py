@@ -19,7 +19,7 @@ import time
 import numpy as np
 from gyrobench.analysis.model_select import LEVEL
 from gyrobench.analysis.record import analyse_record
-from gyrobench.sim import units
+from gyrobench.base import units
 from gyrobench.sim.noise import NoiseModel
 from scipy.stats import beta
 

@@ -33,12 +33,13 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import positive_field as _pos
-from gyrobench.sim._validate import real_field as _num
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording, package_version
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import positive_field as _pos
+from gyrobench.base.validate import real_field as _num
+from gyrobench.io.recording import Channel, Recording, package_version
+from gyrobench.sim.noise import NoiseModel
 
 if TYPE_CHECKING:
     from gyrobench.sim.rlg import CavityGeometry, Dither, TemperatureSensor

@@ -57,11 +57,12 @@ from functools import cached_property
 from numbers import Integral
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import number_where as _num
-from gyrobench.sim.fiber_strain import elasto_optic_factor
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg
+
+from gyrobench.base import units
+from gyrobench.base.validate import number_where as _num
+from gyrobench.sim.fiber_strain import elasto_optic_factor
 
 __all__ = [
     "WINDING_PATTERNS",

@@ -38,15 +38,16 @@ from functools import cached_property
 from numbers import Real
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import NDArray
+
+from gyrobench.base import units
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
 from gyrobench.sim.earth import HARBIN
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording
-from numpy.typing import NDArray
 
 __all__ = ["TemperatureSensorSpec", "FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
 

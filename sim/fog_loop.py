@@ -54,14 +54,15 @@ from numbers import Integral, Real
 from typing import ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import FieldRange
+from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.ranges import FieldRange
-from gyrobench.sim.recording import Channel, Recording, package_version
 from gyrobench.sim.shaker import ShakerSignal
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "sagnac_scale_factor",

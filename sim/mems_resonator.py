@@ -98,7 +98,7 @@ Two integrators of the same equations
   at the output rate, exact discretisation of the linear part (matrix exponential; Van Loan
   for the noise) with the output the exact average of u_I over each output interval. The
   rebalance clamp is applied at the step ends. Validated against :func:`simulate_full` in
-  tests and in :mod:`gyrobench.scenarios.checks_mems`.
+  tests and in :mod:`gyrobench.scenarios.checks.mems`.
 
 Slow flow (x = Re{A e^{jwt}}, y = Re{B e^{jwt}}, A = X0; "improved" form, docs/physics.md 5.1)::
 
@@ -135,13 +135,14 @@ from dataclasses import dataclass, field, fields, replace
 from typing import ClassVar
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import real_field
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.ranges import FieldRange
-from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange
+from gyrobench.base.units import BOLTZMANN  # exact SI, re-exported
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import real_field
+from gyrobench.sim.noise import NoiseModel
 
 __all__ = [
     "ADEV_MIN_PER_B",

@@ -43,7 +43,7 @@ The long-record output (:meth:`CavityRLG.simulate`) is the statistical mode of
 time-varying Omega_L, then pulse counting with the dither stripped), run by the same code
 (the private ``gyrobench.sim._rlg_common``, shared by both models). Its validity against the
 full Adler equation (>= 100 dither cycles with the Earth's rate present) and the dead band of
-an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks_rlg_cavity`.
+an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks.rlg_cavity`.
 """
 
 from __future__ import annotations
@@ -53,7 +53,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.base.units import SPEED_OF_LIGHT  # exact SI, re-exported
+from gyrobench.base.validate import nonneg_field as _nonneg
+from gyrobench.base.validate import nonneg_fields as _nonneg_fields
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
     _CavityScale,
     _chamber_samples,
@@ -67,9 +73,6 @@ from gyrobench.sim._rlg_common import (
     _Terms,
     _Wording,
 )
-from gyrobench.sim._validate import nonneg_field as _nonneg
-from gyrobench.sim._validate import nonneg_fields as _nonneg_fields
-from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.rlg import (
     HENE_WAVELENGTH,
     CavityGeometry,
@@ -80,8 +83,6 @@ from gyrobench.sim.rlg import (
     _first_order_foh,
     _lognormal,
 )
-from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "SPEED_OF_LIGHT",
@@ -674,7 +675,7 @@ class CavityRLG(_CavityScale):
         N_j = Omega_L,j sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) (:func:`swing_dither_arw`, the
         dither redrawing its swing at every extreme, :class:`SwingDither`, with the lock-in of
         the sample; checked against the Adler equation in
-        :mod:`gyrobench.scenarios.checks_rlg_cavity`),
+        :mod:`gyrobench.scenarios.checks.rlg_cavity`),
         K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
         (PLC holds the path at the mode, the area follows the block); counts and dither
         stripping as in :mod:`gyrobench.sim.rlg`.

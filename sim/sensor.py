@@ -31,14 +31,15 @@ from numbers import Real
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+from numpy.typing import NDArray
+
+from gyrobench.base.validate import check_fs, check_rng, positive_number
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim._validate import check_fs, check_rng, positive_number
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit
-from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.rlg import RLGSpec, RLGUnit
 from gyrobench.sim.rlg_cavity import CavityRLG, CavityRLGSpec
-from numpy.typing import NDArray
 
 __all__ = [
     "Environment",

@@ -57,12 +57,13 @@ import math
 from dataclasses import dataclass, fields
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import check_fs, check_rng
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording
-from gyrobench.sim.sensor import Environment
 from numpy.typing import NDArray
+
+from gyrobench.base import units
+from gyrobench.base.validate import check_fs, check_rng
+from gyrobench.io.recording import Channel, Recording
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import Environment
 
 __all__ = [
     "Datasheet",

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.sim import units
+from gyrobench.base import units
 from gyrobench.sim.noise import NoiseModel
 
 DEG_H = units.deg_per_h(1.0)  # rad/s per deg/h

@@ -16,7 +16,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.rbf import RBFNetwork
+from gyrobench.base import units
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import CompensationTask, Outcome
 from gyrobench.scenarios.claims import evaluate
@@ -28,7 +30,6 @@ from gyrobench.scenarios.papers.p000_fog_vibration.results import (
     shown_ratio,
     value_ratio,
 )
-from gyrobench.sim import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 
 SMALL = sc.Config(

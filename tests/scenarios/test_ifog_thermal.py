@@ -13,12 +13,14 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
+from gyrobench.base import units
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.claims import evaluate
 from gyrobench.scenarios.papers import p003_ifog_thermal as sc
 from gyrobench.scenarios.papers.p003_ifog_thermal import config as sc_config
 from gyrobench.scenarios.papers.p003_ifog_thermal import runs as sc_runs
-from gyrobench.sim import coil2d, units
+from gyrobench.sim import coil2d
 
 SMALL = sc.Config(
     identification_settle_h=0.5,

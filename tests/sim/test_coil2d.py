@@ -7,8 +7,10 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_coil
-from gyrobench.sim import coil2d, units
+
+from gyrobench.base import units
+from gyrobench.scenarios.checks import coil as checks_coil
+from gyrobench.sim import coil2d
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, Imperfections, fibre_map
 
 

@@ -19,6 +19,7 @@ Sources read for this test (public pages):
 from __future__ import annotations
 
 import pytest
+
 from gyrobench.sim import coil2d
 
 
@@ -74,7 +75,8 @@ def test_si_defining_constants_are_the_printed_exact_values():
     """The SI Brochure, 9th ed. (BIPM 2019), Table 1 prints the defining constants exactly:
     c = 299 792 458 m/s, e = 1.602 176 634 x 10^-19 C, k = 1.380 649 x 10^-23 J/K. They set the
     Sagnac scale factor, the shot noise and the Johnson noise of every optical model."""
-    from gyrobench.sim import fog_optics, rlg_cavity, units
+    from gyrobench.base import units
+    from gyrobench.sim import fog_optics, rlg_cavity
 
     assert units.SPEED_OF_LIGHT == 299_792_458.0  # m/s
     assert units.ELEMENTARY_CHARGE == 1.602176634e-19  # C

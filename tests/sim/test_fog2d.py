@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.sim import coil2d, units
+
+from gyrobench.base import units
+from gyrobench.sim import coil2d
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit, TemperatureSensorSpec
 from gyrobench.sim.fog_loop import sagnac_scale_factor

@@ -6,7 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy.integrate import quad
+
+from gyrobench.base import units
 from gyrobench.sim.fiber_strain import (
     StrainMode,
     linear_kernel,
@@ -15,7 +17,6 @@ from gyrobench.sim.fiber_strain import (
 )
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, gain_error_scale_factor
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget
-from scipy.integrate import quad
 
 L, NG = 1000.0, 1.468
 
@@ -132,8 +133,9 @@ def test_uniform_strain_rate_cancels_exactly(f):
 def test_random_vibration_record_variance_matches_the_closed_form(rng, term, channel):
     # a second configuration besides the physics check: output 400 Hz (little aliasing),
     # 30 s of a flat 20-1500 Hz PSD; chi-square band with nu = 2 B_e T at 1e-6 two-sided
-    from gyrobench.sim.shaker import RandomVibration
     from scipy import stats
+
+    from gyrobench.sim.shaker import RandomVibration
 
     unit = ClosedLoopFOG()
     rv = RandomVibration(breakpoints=((20.0, 0.02), (1500.0, 0.02)), duration=30.0)

@@ -4,13 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy import stats
+
+from gyrobench.base import units
 from gyrobench.sim.earth import sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, loop_average, run_loop
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.shaker import FixedSine
-from scipy import stats
 
 ALPHA = 1e-6  # false-alarm rate of every statistical bound below
 Z = stats.norm.isf(ALPHA / 2)  # two-sided normal quantile (5.33)

@@ -14,8 +14,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
+from gyrobench.base import units
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import NOISE_FIGURES, MemsResonator, MemsResonatorSpec
 
 Z_1E6 = 4.8916  # two-sided standard-normal quantile at a false-alarm rate of 1e-6

@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
     MemsResonator,
@@ -526,8 +527,9 @@ def test_default_population_g_sensitivity_size():
     (dk_yx/df) g / (2 m w); the chi-square bounds of an rms of 400 draws at 1e-6 (the other
     drawn parameters move m, w, k_y by a few % -> 10 % allowance).
     """
-    from gyrobench.sim.mems_resonator import electrostatic_cross_stiffness, g_sensitivity
     from scipy import stats
+
+    from gyrobench.sim.mems_resonator import electrostatic_cross_stiffness, g_sensitivity
 
     spec = MemsResonatorSpec(nominal=_quiet())
     rng = np.random.default_rng(11)
@@ -705,12 +707,9 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
     closed form sampled at fs (aliasing, interval mean, rectangular-window leakage), band by
     band from 17 Hz to Nyquist; chi-square bounds with the closed-form equivalent dof at
     1e-6 two-sided, Bonferroni over the 15 bands."""
-    from gyrobench.scenarios.checks_mems_psd import (
-        _PSD_GRID,
-        periodogram_band_stats,
-        slow_noise_spectrum,
-    )
     from scipy import stats
+
+    from gyrobench.scenarios.checks.mems_psd import _PSD_GRID, periodogram_band_stats, slow_noise_spectrum
 
     # a quiet front end, so the Brownian peak this test resolves stands out (the default
     # pick-off noise is sized for a high-range part and is white)
@@ -738,7 +737,7 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
 def test_open_loop_noise_psd_full_integration_agrees_with_the_slow_flow():
     """The physics check: full-integration output noise PSD vs the slow flow's, band by band
     (0-250 Hz level; 5 bands to Nyquist through the sense-mode peak), F bounds at 1e-6."""
-    from gyrobench.scenarios.checks_mems_psd import open_loop_noise_checks
+    from gyrobench.scenarios.checks.mems_psd import open_loop_noise_checks
 
     out = open_loop_noise_checks(np.random.default_rng(16))
     assert [c.id for c in out] == ["mems.open_loop_noise_vs_full",
@@ -749,7 +748,7 @@ def test_open_loop_noise_psd_full_integration_agrees_with_the_slow_flow():
 def test_full_and_slow_noise_spectra_differ_by_the_first_order_envelope():
     """Closed forms: E_full/E_slow -> sinc^2(f_y dt) (the held noise force) at low frequency
     and falls by O(f/f_x) toward the mode split (first-order envelope, 2w image)."""
-    from gyrobench.scenarios.checks_mems_psd import full_noise_spectrum, slow_noise_spectrum
+    from gyrobench.scenarios.checks.mems_psd import full_noise_spectrum, slow_noise_spectrum
 
     unit = dataclasses.replace(_open(), pickoff_noise=0.0)
     fs, spc = 3000.0, 20

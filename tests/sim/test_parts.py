@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.analysis.allan import fit_noise
-from gyrobench.sim import parts
-from gyrobench.sim.recording import load_hdf5, save_hdf5
-from gyrobench.sim.sensor import Environment
 from scipy.stats import norm
+
+from gyrobench.analysis.allan import fit_noise
+from gyrobench.io.recording import load_hdf5, save_hdf5
+from gyrobench.sim import parts
+from gyrobench.sim.sensor import Environment
 
 EPS = np.finfo(float).eps
 NAMES = parts.names()
@@ -239,7 +240,7 @@ def test_bias_instability_is_optional_but_positive_when_given():
 
 
 def test_parts_listing_says_when_no_bias_instability_is_drawn(capsys):
-    from gyrobench.scenarios.cli_simulate import _cmd_parts
+    from gyrobench.scenarios.cli.simulate import _cmd_parts
 
     assert _cmd_parts(None) == 0
     out = capsys.readouterr().out

@@ -9,9 +9,11 @@ from dataclasses import replace
 import allantools
 import numpy as np
 import pytest
-from gyrobench.sim import rlg, units
-from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from scipy import stats
+
+from gyrobench.base import units
+from gyrobench.sim import rlg
+from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 
 LAMBDA = rlg.HENE_WAVELENGTH
 

@@ -7,8 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
+from gyrobench.base import units
 from gyrobench.sim import rlg_cavity as rc
-from gyrobench.sim import units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry
 

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec

@@ -8,12 +8,13 @@ and :meth:`~.config.Config.fixed`.
 from __future__ import annotations
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
-from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.shaker import Phased, SineSweep
-from numpy.typing import ArrayLike, NDArray
 
 from .config import Config
 

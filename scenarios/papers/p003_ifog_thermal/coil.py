@@ -9,7 +9,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.coil2d import WINDING_PATTERNS, Coil2D, heated_stretch
 from gyrobench.sim.fog2d import FOG2DUnit
 

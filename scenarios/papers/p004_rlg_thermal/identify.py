@@ -33,10 +33,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from gyrobench.analysis.features import block_means
-from gyrobench.sim import units
 from numpy.typing import NDArray
 from scipy.optimize import brentq
+
+from gyrobench.analysis.features import block_means
+from gyrobench.base import units
 
 from .claims import PAPER_ADJ_R2
 from .config import Config

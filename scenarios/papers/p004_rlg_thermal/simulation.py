@@ -12,12 +12,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.features import block_means
 from gyrobench.analysis.thermal_regression import two_sensor_blocks
-from gyrobench.sim import units
-from gyrobench.sim.recording import Recording
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
 from gyrobench.sim.rlg_cavity import CavityRLG
-from numpy.typing import NDArray
 
 from . import NAME
 from .config import Config
@@ -60,7 +61,7 @@ def memory_estimate(config: Config) -> float:
     """Peak memory of one unit's :func:`simulate` or ``experiment`` [bytes], before allocating.
 
     Per unit (one worker process); the runner multiplies it by the units it runs at once
-    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``N = 2 duration(chamber())
+    (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``N = 2 duration(chamber())
     fs_hz`` samples in the unit's two chamber runs::
 
         bytes = 1.1 x (232 N + 20e6)

@@ -28,6 +28,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from gyrobench.analysis.allan import NoiseFit, deviation_bounds
 
 __all__ = ["FilterModel", "filter_model", "GM_PEAK_TAU", "GM_PEAK_ADEV"]

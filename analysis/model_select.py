@@ -45,8 +45,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from gyrobench.analysis.allan import NoiseFit
 from numpy.typing import NDArray
+
+from gyrobench.analysis.allan import NoiseFit
 
 __all__ = ["ExtraTerm", "ModelChoice", "filter_shape", "gm_shape", "select_model", "sine_shape"]
 

@@ -27,9 +27,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan import AllanCurve, allan_deviation, allan_deviation_gaps, deviation_bounds
 from gyrobench.analysis.stationarity import StationarityReport, quiet_stretches
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["BRIDGE_BIAS", "QuietCurve", "StretchSpread", "quiet_curve"]
 
@@ -150,9 +151,10 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
     M = nu ln A_p - sum nu_j ln A_j over C = 1 + (sum 1/nu_j - 1/nu) / (3 (k - 1)) is
     chi2(k - 1) when the pieces share sigma^2.
     """
+    from scipy.stats import chi2
+
     from gyrobench.analysis.allan._gaps import _second_difference_sum
     from gyrobench.analysis.allan._octave import _phase
-    from scipy.stats import chi2
 
     ms = curve.m
     k_tau = ms.size

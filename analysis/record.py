@@ -26,10 +26,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan import TERMS, AllanCurve, FitRange, NoiseFit
 from gyrobench.analysis.quiet import QuietCurve
 from gyrobench.analysis.stationarity import StationarityReport
-from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from gyrobench.analysis.model_select import ModelChoice

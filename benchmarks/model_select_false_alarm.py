@@ -17,11 +17,12 @@ import sys
 import time
 
 import numpy as np
+from scipy.stats import beta
+
 from gyrobench.analysis.model_select import LEVEL
 from gyrobench.analysis.record import analyse_record
 from gyrobench.base import units
 from gyrobench.sim.noise import NoiseModel
-from scipy.stats import beta
 
 
 def main(seeds: int = 200) -> None:

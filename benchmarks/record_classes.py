@@ -15,8 +15,8 @@ import math
 import sys
 
 import numpy as np
-from gyrobench.analysis.record import analyse_record
 
+from gyrobench.analysis.record import analyse_record
 from tests.analysis.record_classes import hvac_record, phone_record
 
 DPH = math.radians(1.0) / 3600.0

@@ -184,6 +184,7 @@ def _fitted_model(ra: RecordAnalysis, rate: NDArray[np.float64], gauss_markov: b
     fitted samples' mean as the constant bias.
     """
     import numpy as np
+
     from gyrobench.analysis.allan import avar_to_coefficient
     from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
 
@@ -261,6 +262,7 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
         The record is not stationary and its quiet stretches could not be analysed.
     """
     import numpy as np
+
     from gyrobench.analysis.allan import allan_deviation
     from gyrobench.analysis.quiet import quiet_curve
     from gyrobench.analysis.record import analyse_record, octave_subset
@@ -319,6 +321,7 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
 
 def _twin_recording(comps: dict, n: int, fs: float, *, source: str, fit_meta: dict, datasheet: dict):
     import numpy as np
+
     from gyrobench.io.recording import Channel, Recording
 
     out = np.sum(list(comps.values()), axis=0) if comps else np.zeros(n)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+
 from gyrobench.analysis.allan import deviation_bounds, fit_noise
 from gyrobench.analysis.filter_model import GM_PEAK_ADEV, GM_PEAK_TAU, filter_model
 from gyrobench.sim.noise import GaussMarkov, NoiseModel

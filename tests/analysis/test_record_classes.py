@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.analysis.record import analyse_record
 
+from gyrobench.analysis.record import analyse_record
 from tests.analysis.record_classes import hvac_record, motion_record, phone_record
 
 

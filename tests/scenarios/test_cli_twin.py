@@ -182,7 +182,6 @@ def test_phone_class_twin_needs_its_filter_and_its_n():
     short taus."""
     from gyrobench.analysis.quiet import quiet_curve
     from gyrobench.analysis.twin import compare_twin
-
     from tests.analysis.record_classes import phone_record
 
     y, fs, _ = phone_record(np.random.default_rng(1))
@@ -237,7 +236,6 @@ def test_twin_of_a_real_100hz_record_with_a_filter_bend_matches_at_every_octave_
     in its sample spread (family-wise false-alarm rate 0.05; the z axis, with a 20 Hz tone the model has no
     term for, is left out). The same twin with N x 2, or without its filter, fails."""
     from gyrobench.analysis.record import octave_subset
-
     from tests.analysis.conftest import VALIDATION
 
     path = VALIDATION / "smac_imudata_adis16405" / "adis16405_imu1_100Hz.csv.gz"

@@ -220,12 +220,23 @@ def filter_shape(m: NDArray[np.int64], order: int, corner: float, fs: float, pas
     return (4.0 * d(mf) - d(2.0 * mf)) / (2.0 * mf)
 
 
+def _nnls(a: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
+    """argmin_{c >= 0} ||a c - b|| and the residual norm: Lawson-Hanson (numpy) up to 6 columns, else scipy."""
+    from gyrobench.analysis.allan._nnls import _NNLS_ENUM, _nnls_enumerate
+
+    if a.shape[1] <= _NNLS_ENUM:
+        c = _nnls_enumerate(a, b)
+    else:  # two extra terms on the five: rare, scipy's solver
+        from scipy.optimize import nnls
+
+        c, _ = nnls(a, b, maxiter=100 * a.shape[1])
+    return c, float(np.linalg.norm(a @ c - b))
+
+
 def _wls(
     x: NDArray[np.float64], a: NDArray[np.float64], nu: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], float, NDArray[np.float64]]:
     """NNLS with weights 1/var, var = 2 A_model^2 / nu, reweighted twice from the data's own weights."""
-    from scipy.optimize import nnls
-
     var = 2.0 * a**2 / nu
     c = np.zeros(x.shape[1])
     for _ in range(3):
@@ -233,7 +244,7 @@ def _wls(
         xw = x * sw[:, None]
         sc = np.linalg.norm(xw, axis=0)
         sc[sc == 0] = 1.0
-        cs, _ = nnls(xw / sc, a * sw, maxiter=100 * x.shape[1])
+        cs, _ = _nnls(xw / sc, a * sw)
         c = cs / sc
         model = x @ c
         var = np.where(model > 0, 2.0 * model**2 / nu, var)
@@ -243,24 +254,20 @@ def _wls(
 
 def _gls(x: NDArray[np.float64], a: NDArray[np.float64], li: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
     """argmin_{C >= 0} (a - X C)' V^-1 (a - X C) with li = L^-1, V = L L'; returns C and the minimum."""
-    from scipy.optimize import nnls
-
     xw, aw = li @ x, li @ a
     sc = np.linalg.norm(xw, axis=0)
     sc[sc == 0] = 1.0
-    cs, rn = nnls(xw / sc, aw, maxiter=100 * x.shape[1])
+    cs, rn = _nnls(xw / sc, aw)
     return cs / sc, float(rn**2)
 
 
 def _diag_nnls(x: NDArray[np.float64], a: NDArray[np.float64], var: NDArray[np.float64]) -> NDArray[np.float64]:
     """argmin_{C >= 0} sum_i (a_i - x_i C)^2 / var_i."""
-    from scipy.optimize import nnls
-
     sw = 1.0 / np.sqrt(var)
     xw = x * sw[:, None]
     sc = np.linalg.norm(xw, axis=0)
     sc[sc == 0] = 1.0
-    cs, _ = nnls(xw / sc, a * sw, maxiter=100 * x.shape[1])
+    cs, _ = _nnls(xw / sc, a * sw)
     return cs / sc
 
 
@@ -312,7 +319,7 @@ def select_model(
     -------
     ModelChoice
     """
-    from scipy.stats import chi2 as chi2_dist
+    from gyrobench.analysis.allan._chi2 import chi2_isf, chi2_sf  # numpy only: no scipy.stats import
 
     if not (0.0 < level < 1.0):
         raise ValueError(f"level must be in (0, 1); got {level!r}")
@@ -326,7 +333,7 @@ def select_model(
     base = np.column_stack([tau ** _POWERS[t] for t in names])
     scale = fit.chi2_expected / fit.dof if fit.dof > 0 and math.isfinite(fit.chi2_expected) else 1.0
     scale = max(scale, 1e-3)
-    threshold = float(chi2_dist.isf(level / GRID, 1))
+    threshold = float(chi2_isf(level / GRID, 1.0))
     v = np.asarray(fit.point_covariance, dtype=float)
     try:
         li = np.linalg.inv(np.linalg.cholesky(v + np.eye(v.shape[0]) * 1e-12 * float(np.trace(v)) / v.shape[0]))
@@ -377,11 +384,11 @@ def select_model(
             key = "sigma" if e.kind == "gauss_markov" else "amplitude"
             extra[j] = ExtraTerm(kind=e.kind, params={**e.params, key: math.sqrt(max(amp, 0.0))},
                                  interval=e.interval, drop=e.drop)
-    p = float(chi2_dist.sf(chif, dof)) if dof > 0 else float("nan")
+    p = float(chi2_sf(chif, float(dof))) if dof > 0 else float("nan")
     lp = None
     if "lowpass" in families or lowpass is not None:
         n_lp = len(FILTER_ORDERS) * len(FILTER_PASSES) * 28
-        lp = _lowpass(fit, names, cf, tau_all, a_all, nu_all, used, scale, float(chi2_dist.isf(level / n_lp, 1)),
+        lp = _lowpass(fit, names, cf, tau_all, a_all, nu_all, used, scale, float(chi2_isf(level / n_lp, 1.0)),
                       lowpass, tuple(extra))
         if lp is not None:
             extra.append(lp)

@@ -151,7 +151,7 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
     M = nu ln A_p - sum nu_j ln A_j over C = 1 + (sum 1/nu_j - 1/nu) / (3 (k - 1)) is
     chi2(k - 1) when the pieces share sigma^2.
     """
-    from scipy.stats import chi2
+    from gyrobench.analysis.allan._chi2 import chi2_sf  # numpy only: no scipy.stats import
 
     from gyrobench.analysis.allan._gaps import _second_difference_sum
     from gyrobench.analysis.allan._octave import _phase
@@ -185,7 +185,7 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
         ap = float(nv @ av) / nt
         m_stat = nt * math.log(ap) - float(nv @ np.log(av))
         c = 1.0 + (float(np.sum(1.0 / nv)) - 1.0 / nt) / (3.0 * (count[i] - 1))
-        p[i] = float(chi2.sf(max(m_stat / c, 0.0), count[i] - 1))
+        p[i] = float(chi2_sf(max(m_stat / c, 0.0), float(count[i] - 1)))
     return StretchSpread(tau=np.asarray(curve.tau, dtype=float), n_stretches=count, low=lo, high=hi, p_value=p)
 
 

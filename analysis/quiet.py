@@ -152,7 +152,6 @@ def _spread(pieces: list[NDArray[np.float64]], curve: AllanCurve) -> StretchSpre
     chi2(k - 1) when the pieces share sigma^2.
     """
     from gyrobench.analysis.allan._chi2 import chi2_sf  # numpy only: no scipy.stats import
-
     from gyrobench.analysis.allan._gaps import _second_difference_sum
     from gyrobench.analysis.allan._octave import _phase
 

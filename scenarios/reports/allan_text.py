@@ -20,7 +20,8 @@ def _si_unit(quantity: str) -> str:
 
 def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
     """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
-    ``nonstationary`` (motion or steps in the record: the terms describe them too)."""
+    ``nonstationary`` (motion or steps in what was fitted: the terms describe them too; False for
+    a fit of the quiet stretches)."""
     import math
 
     terms = {}
@@ -76,7 +77,7 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
         "quantity": q,
         "curve": curve_json(res.curve, q),
         "adev_floor": {"value": floor, "unit": _si_unit(q), "tau": tau},
-        "fit": None if res.fit is None else fit_json(res.fit, q, res.nonstationary),
+        "fit": None if res.fit is None else fit_json(res.fit, q, _motion_fitted(res)),
         "nonstationary": bool(res.nonstationary),
     }
     if res.no_fit:
@@ -195,12 +196,19 @@ def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelRes
 _TITLE_WIDTH = 110
 
 
+def _motion_fitted(res: ChannelResult) -> bool:
+    """The channel moves and its fit includes the motion (not a fit of its quiet stretches)."""
+    return bool(res.nonstationary and _basis(res) != "quiet stretches")
+
+
 def plot_title(log, res: ChannelResult) -> str:
     """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
     n = len(res.channel.data)
     lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
     if res.nonstationary:
-        lines.append("NOT STATIONARY (motion or steps): the terms describe them too")
+        lines.append("NOT STATIONARY (motion or steps): " + ("the fit is of the quiet stretches"
+                                                             if not _motion_fitted(res) else
+                                                             "the terms describe them too"))
     f = res.fit
     if f is not None and f.misfit:
         lines.append(
@@ -444,9 +452,12 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
         f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
         "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
     ]
-    moving = [r.channel.label for r in results if r.nonstationary]
+    moving = [r.channel.label for r in results if _motion_fitted(r)]
     if moving:
         lines.append(f"# WARNING not stationary (motion or steps; the values describe them too): {', '.join(moving)}")
+    quiet = [r.channel.label for r in results if r.nonstationary and not _motion_fitted(r)]
+    if quiet:
+        lines.append(f"# not stationary as a whole; fitted from the quiet stretches: {', '.join(quiet)}")
     keys = {
         ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
         ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),

@@ -74,8 +74,9 @@ class ExtraTerm:
         lowpass: ``corner`` [Hz], ``order``, ``passes`` (1 or 2: forward/backward), the model's
         ``N`` it acts on, and ``C_Q``, the quantization AVAR coefficient refitted with it.
     interval : tuple of float
-        95 % interval of the amplitude parameter (sigma or amplitude, conditional on the time
-        scale; for the low-pass that of N).
+        95 % interval of the amplitude parameter (sigma or amplitude): the GLS standard error of
+        its square, conditional on the time scale, about the refitted value; for the low-pass
+        that of N.
     drop : float
         The criterion's scaled chi2 drop D when it was added.
     given : bool
@@ -382,8 +383,9 @@ def select_model(
         for j, e in enumerate(extra):
             amp = float(cf[len(names) + j])
             key = "sigma" if e.kind == "gauss_markov" else "amplitude"
+            se = (e.interval[1] ** 2 - e.params[key] ** 2) / 1.96  # the GLS standard error of the squared amplitude
             extra[j] = ExtraTerm(kind=e.kind, params={**e.params, key: math.sqrt(max(amp, 0.0))},
-                                 interval=e.interval, drop=e.drop)
+                                 interval=_interval(amp, se**2), drop=e.drop)
     p = float(chi2_sf(chif, float(dof))) if dof > 0 else float("nan")
     lp = None
     if "lowpass" in families or lowpass is not None:

@@ -145,9 +145,17 @@ def _check_allan_outputs(args, path: Path) -> None:
     from gyrobench.base.safety import Output
 
     outs = [Output(Path(args.plot), "--plot", suffixes=PLOT_SUFFIXES, create_parents=False)] if args.plot else []
-    if args.kalibr:
-        outs.append(Output(Path(args.kalibr), "--kalibr", suffixes=KALIBR_SUFFIXES, create_parents=False))
+    outs += _yaml_outputs(args)
     check_outputs(args, outs, [("FILE", path)])
+
+
+def _yaml_outputs(args) -> list:
+    """--kalibr and --filter-model as outputs of the rule (YAML files)."""
+    from gyrobench.base.safety import Output
+
+    return [Output(Path(target), flag, suffixes=KALIBR_SUFFIXES, create_parents=False)
+            for flag, target in (("--kalibr", args.kalibr), ("--filter-model", getattr(args, "filter_model", None)))
+            if target]
 
 
 def _check_plot_files(args, path: Path, log) -> list[Path]:
@@ -164,10 +172,42 @@ def _check_plot_files(args, path: Path, log) -> list[Path]:
     plots = [p for p, _ in txt.plot_paths(Path(args.plot), named)]  # type: ignore[arg-type]
     if len(plots) > 1:
         outs = [Output(p, "--plot", suffixes=PLOT_SUFFIXES, create_parents=False) for p in plots]
-        if args.kalibr:
-            outs.append(Output(Path(args.kalibr), "--kalibr", suffixes=KALIBR_SUFFIXES, create_parents=False))
-        check_outputs(args, outs, [("FILE", path)])
+        check_outputs(args, outs + _yaml_outputs(args), [("FILE", path)])
     return plots
+
+
+def _temperature_columns(path: Path) -> list[str]:
+    """Header cells of a CSV that name a temperature ("temp" in the name), from its first non-comment line."""
+    import gzip
+    import re
+
+    try:
+        opener = gzip.open if path.suffix.lower() == ".gz" else open
+        with opener(path, "rt", errors="replace") as fh:
+            for _, line in zip(range(50), fh, strict=False):
+                if line.strip() and not line.lstrip().startswith(("#", "%")):
+                    cells = [c.strip().strip('"') for c in re.split(r"[,;\t]", line)]
+                    return [c for c in cells if re.search("temp", c, re.IGNORECASE)]
+    except OSError:
+        return []
+    return []
+
+
+def _temperature_hints(path: Path, args, results) -> None:
+    """A warning on each channel with an identified rate ramp R when the file has a temperature column
+    that --temperature did not name: a thermal drift reads as R."""
+    if args.temperature is not None or path.suffix.lower() in (".h5", ".hdf5"):
+        return
+    cols = None
+    for res in results:
+        c = res.fit.coefficients.get("R") if res.fit is not None else None
+        if c is None or not c.identifiable:
+            continue
+        cols = _temperature_columns(path) if cols is None else cols
+        if cols:
+            res.warnings.append(f"{res.channel.label}: a rate ramp R is identified and {path.name} has a temperature "
+                                f"column ({', '.join(repr(x) for x in cols)}): a thermal drift reads as R; try "
+                                f"--temperature {cols[0].split('[')[0].strip()!r}")
 
 
 def _cmd_allan(args) -> int:
@@ -205,11 +245,24 @@ def _cmd_allan(args) -> int:
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
                                    bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
                                    segments=args.segments))
+    _temperature_hints(path, args, results)
+    if any(n.startswith("--gaps fill:") for n in log.notes):
+        for res in results:
+            res.warnings.append(
+                f"{res.channel.label}: the filled samples are interpolated, not measured: a straight line across a "
+                "gap removes its noise and adds a ramp-like error at taus near the gap's length (B, K and R are "
+                "biased); --gaps split analyses the contiguous pieces instead (pooled per tau)")
     if args.kalibr:
         from gyrobench.base.atomic import atomic_path
 
         text = txt.kalibr_yaml(log, results)
         with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
+    if args.filter_model:
+        from gyrobench.base.atomic import atomic_path
+
+        text = txt.filter_yaml(log, results, overbound=args.overbound)
+        with atomic_path(Path(args.filter_model)) as tmp:
             Path(tmp).write_text(text)
     if args.json:
         print(json.dumps(txt.log_json(log, results)))
@@ -291,5 +344,12 @@ def add_parser(sub) -> None:
                                   "FILE_<channel>.png")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
                                     "from N and K, largest over the axes)")
+    s.add_argument("--filter-model", metavar="FILE",
+                   help="write the fitted model as a filter's process noise (YAML: white and random-walk densities, "
+                        "B as Gauss-Markov and random-walk equivalent, Kalibr, OpenVINS and ROS conventions, units "
+                        "in every key)")
+    s.add_argument("--overbound", action="store_true",
+                   help="with --filter-model: scale the model to lie on or above the data's upper 95 %% bound at "
+                        "every tau")
     add_force(s)
     s.set_defaults(func=_cmd_allan)

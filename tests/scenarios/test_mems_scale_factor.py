@@ -454,7 +454,7 @@ def test_calibrated_v_max_reproduces_the_constant():
 @pytest.mark.slow
 def test_deviation_effects_measures_every_variant(unit0):
     """The function behind the DEVIATIONS' numbers: its default row is the experiment's."""
-    names = ("default", "piecewise_alpha_0", "join_width_0.02", "join_width_0.10")
+    names = ("default", "piecewise_alpha_0", "join_centred_0.02", "join_centred_0.05")
     d = deviation_effects(seeds=(0,), names=names)
     assert set(d) == set(names) and set(names) <= set(variants(ms.Config()))
     for k in ms.METHOD_LABELS:
@@ -462,7 +462,7 @@ def test_deviation_effects_measures_every_variant(unit0):
         assert d["default"][f"kn_dense_pct.{k}"] == unit0.methods[k].kn_dense_pct
     assert d["default"]["floor_pct"] == unit0.floor_pct or math.isnan(unit0.floor_pct)
     # common random numbers: the piecewise-only variants leave the other methods unchanged
-    for name in ("piecewise_alpha_0", "join_width_0.02", "join_width_0.10"):
+    for name in ("piecewise_alpha_0", "join_centred_0.02", "join_centred_0.05"):
         assert d[name]["kn_heldout_pct.bayes_bp"] == d["default"]["kn_heldout_pct.bayes_bp"]
 
 
@@ -502,7 +502,7 @@ def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
     wins = 0
     for seed in range(8):
         task = ms.compensation_task(cfg, seed)
-        pw = PiecewisePolynomial(orders=cfg.orders, join_width=cfg.join_width, alpha=cfg.piecewise_alpha)
+        pw = PiecewisePolynomial(orders=cfg.orders, join=cfg.join, join_width=cfg.join_width, alpha=cfg.piecewise_alpha)
         pw.fit(task.X_train, task.y_train)
         run = task.heldout[0]
         identity = task.scorer(run.output, run)["nonlinearity_pct"]

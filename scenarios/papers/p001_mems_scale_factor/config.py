@@ -83,8 +83,12 @@ class Config:
         Power-ons the compensators are fitted on; power-ons kept for scoring only (per unit).
     orders : tuple of int
         Piecewise orders (negative high, low, positive high rates).
+    join : {"overlap", "centred"}
+        The piecewise fit's Hermite join (:class:`~gyrobench.analysis.compensation.polynomial.
+        PiecewisePolynomial`): "overlap" (the paper's: over the overlap of the two fits' data at
+        the breakpoint rate) or "centred" (``join_width`` of the output span centred on it).
     join_width : float
-        Hermite join width as a fraction of the output span.
+        Width of a "centred" join as a fraction of the output span.
     piecewise_alpha : float
         Curvature penalty of the piecewise segments (scaled units).
     poly_degree : int
@@ -108,6 +112,7 @@ class Config:
     n_fit_runs: int = 3
     n_heldout_runs: int = 1
     orders: tuple[int, int, int] = (9, 1, 9)
+    join: str = "overlap"
     join_width: float = 0.05
     piecewise_alpha: float = 1e-6
     poly_degree: int = 9
@@ -186,6 +191,8 @@ class Config:
             isinstance(o, bool) or not isinstance(o, int) or o < 0 for o in self.orders
         ):
             raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
+        if self.join not in ("overlap", "centred"):
+            raise ValueError(f"Config.join must be 'overlap' or 'centred'; got {self.join!r}")
         if not 0 < self.join_width < 0.5:
             raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")
         check_ranges(self)  # after the checks above, whose messages tests and users rely on

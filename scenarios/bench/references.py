@@ -62,7 +62,9 @@ def mems_piecewise(X: NDArray[np.float64], y: NDArray[np.float64]):
     from gyrobench.scenarios.bench.scoring import resolve_scenario
 
     c = resolve_scenario("mems_scale_factor").Config()  # through the registry, not the path
-    return PiecewisePolynomial(orders=tuple(c.orders), join=c.join, join_width=c.join_width, alpha=c.piecewise_alpha).fit(X, y)
+    return PiecewisePolynomial(
+        orders=tuple(c.orders), join=c.join, join_width=c.join_width, alpha=c.piecewise_alpha
+    ).fit(X, y)
 
 
 class IfogSegmentRBF:

@@ -12,9 +12,10 @@ bound. A broken variant (the level-2 approximation) keeps 2^-2 of the noise and 
 Bias fits (against vibration frequency, 1-500 Hz bins). LS 4th order on a bias that is a
 4th-order polynomial: the fit's error against the truth is the projection of the bins' noise
 on a 5-dimensional space, so its sum of squares over sigma_b^2 is chi^2_5 exactly; the bound is
-its ALPHA upper quantile over the n bins. The random-centre RBF (spread 1.2 Hz as the paper, goal = MSE target) on a bias with a
-resonance a 4th-order polynomial cannot follow: the RBF meets its goal at a size below the
-number of bins, the LS fit's residual is far above the noise floor (known by construction).
+its ALPHA upper quantile over the n bins. The random-centre RBF (spread 12 Hz, the half width
+of the resonance; goal twice the bins' noise variance) on a bias with a resonance a 4th-order
+polynomial cannot follow: the RBF meets its goal with fewer centres than bins and its error
+against the truth is below the goal, while the LS fit's error is above its noise floor.
 """
 
 from __future__ import annotations

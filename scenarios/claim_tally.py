@@ -20,11 +20,14 @@ class ClaimTally:
 
     Method claims: ``reproduced`` counts only emergent ones (a calibrated claim holds by
     construction and is counted in ``calibrated``); the other statuses count every method
-    claim. Extensions (ours) are counted apart.
+    claim (``identity``: "no different from the control" or "below the control"). Extensions (ours) are counted apart.
+    ``device_calibrated`` counts the device claims that are calibrated (an input was set from
+    them), which ``calibrated`` (method claims only) does not.
     """
 
     device: int = 0
     device_matched: int = 0
+    device_calibrated: int = 0
     method: int = 0
     reproduced: int = 0
     contradicted: int = 0
@@ -45,7 +48,8 @@ class ClaimTally:
 _METHOD_FIELD = {
     "contradicted": "contradicted",
     "not reproducible on this device": "not_reproducible",
-    "identity of the analysis": "identity",
+    "no different from the control": "identity",
+    "below the control": "identity",
     "undecided": "undecided",
     "not testable": "not_testable",
 }
@@ -64,6 +68,8 @@ def tally(results: Sequence[ClaimResult]) -> ClaimTally:
             add("device")
             if status == "device matched":
                 add("device_matched")
+            if r.claim.kind == "calibrated":
+                add("device_calibrated")
         elif role == "extension":
             add("extension")
             if status == "reproduced":

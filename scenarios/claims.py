@@ -53,10 +53,14 @@ precondition is absent on most units is "not reproducible on this device".
 
 A paper scenario also runs a **control population**: the same seeds with the paper's effect
 switched off. Each claim is judged on the control too (without its precondition: the point
-is what the analysis gives when there is nothing to find); a method claim that holds on the
-units while its control pass-rate interval overlaps the units' is an **identity of the
-analysis**, flagged and not counted as reproduced. :attr:`ClaimResult.status` gives the
-final word.
+is what the analysis gives when there is nothing to find). The rule is two-sided: a method or
+extension claim whose pass rates on the units and on the control are not distinguishable by
+Fisher's exact test (two-sided, at :data:`CONTROL_ALPHA`) is **no different from the
+control** (when it holds or is undecided on the units); one that passes significantly *less*
+often on the units than on the control is **below the control**, whatever its verdict; only a
+claim that holds on the units *and* passes there significantly more often than on the control
+counts as reproduced, and a claim failing on the units and on the control stays contradicted.
+:attr:`ClaimResult.status` gives the final word.
 """
 
 from __future__ import annotations
@@ -70,6 +74,7 @@ import numpy as np
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
 
 __all__ = [
+    "CONTROL_ALPHA",
     "PROVISIONAL_MARGIN",
     "ROLES",
     "STATUSES",
@@ -83,6 +88,7 @@ __all__ = [
     "Precondition",
     "deviation_effect",
     "above",
+    "control_test",
     "below",
     "evaluate",
     "finite_median",
@@ -100,6 +106,9 @@ _Z95 = 1.959963984540054
 #: a verdict whose 95 % interval ends within this of 50 % is provisional
 PROVISIONAL_MARGIN = 0.05
 
+#: false-alarm rate of the two-sided Fisher exact test of "the units pass as often as the control"
+CONTROL_ALPHA = 0.05
+
 #: a claim's role (see the module docstring)
 ROLES = ("device", "method", "extension")
 Role = Literal["device", "method", "extension"]
@@ -110,7 +119,8 @@ STATUSES = (
     "device not matched",
     "reproduced",
     "contradicted",
-    "identity of the analysis",
+    "no different from the control",
+    "below the control",
     "not reproducible on this device",
     "undecided",
     "not testable",
@@ -370,13 +380,30 @@ class ClaimResult:
         )
 
     @property
+    def control_p_value(self) -> float | None:
+        """Two-sided Fisher exact p-value of the units' and the control's pass counts (:func:`control_test`);
+        None without a control or a unit or control unit that could test the claim."""
+        if self.control is None or not self.control.testable or not self.testable:
+            return None
+        return control_test(self.holds, self.testable, self.control.holds, self.control.testable)
+
+    @property
     def identity(self) -> bool:
-        """Holds on the units and about as often on the control (overlapping 95 % intervals)."""
-        if self.verdict != "holds for most units" or self.control is None or not self.control.testable:
+        """The units' pass rate is not significantly above the control's (Fisher's exact test,
+        two-sided, at :data:`CONTROL_ALPHA`): no different from it, or below it. A claim that
+        fails on the units is flagged only when it is significantly below the control (a
+        contradiction on the units stands when the control fails it too). False without a
+        control that could test the claim."""
+        p = self.control_p_value
+        if p is None:
             return False
-        lo, hi = self.interval95 or (0.0, 1.0)
-        clo, chi = self.control.interval95 or (0.0, 1.0)
-        return clo <= hi and lo <= chi
+        if self.verdict == "fails for most units":  # a contradiction stands unless the control holds more
+            return p < CONTROL_ALPHA and not self._above_control()
+        return p >= CONTROL_ALPHA or not self._above_control()
+
+    def _above_control(self) -> bool:
+        c = self.control
+        return c is not None and self.holds * c.testable > c.holds * self.testable
 
     @property
     def precondition_mostly_absent(self) -> bool:
@@ -392,7 +419,9 @@ class ClaimResult:
         if self.precondition_mostly_absent:
             return "not reproducible on this device"
         if self.identity:
-            return "identity of the analysis"
+            p = self.control_p_value
+            below = p is not None and p < CONTROL_ALPHA and not self._above_control()
+            return "below the control" if below else "no different from the control"
         return {"holds for most units": "reproduced", "fails for most units": "contradicted"}.get(v, v)
 
     @property
@@ -435,6 +464,9 @@ class ClaimResult:
             "misses": {"below": self.misses_below, "above": self.misses_above, "direction": self.miss_direction},
             "identity": self.identity,
             "control": None if self.control is None else self.control.as_dict(),
+            "control_test": None if self.control_p_value is None else {
+                "test": "Fisher exact, two-sided", "alpha": CONTROL_ALPHA, "p_value": self.control_p_value,
+                "no_different": self.identity},
         }
 
 
@@ -457,6 +489,21 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     lo = 0.0 if k == 0 else max(0.0, centre - half)
     hi = 1.0 if k == n else min(1.0, centre + half)
     return lo, hi
+
+
+def control_test(holds: int, testable: int, control_holds: int, control_testable: int) -> float:
+    """Two-sided p-value of Fisher's exact test that the units and the control pass equally often.
+
+    The 2 x 2 table [[holds, testable - holds], [control_holds, control_testable - control_holds]]
+    (``scipy.stats.fisher_exact``, conditional on the margins; Fisher, Statistical Methods for
+    Research Workers (1934) sec. 21.02); 1.0 when either row is empty.
+    """
+    if testable <= 0 or control_testable <= 0:
+        return 1.0
+    from scipy.stats import fisher_exact
+
+    table = [[holds, testable - holds], [control_holds, control_testable - control_holds]]
+    return float(fisher_exact(table, alternative="two-sided").pvalue)
 
 
 def verdict(holds: int, testable: int) -> str:

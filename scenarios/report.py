@@ -182,7 +182,7 @@ def status_text(r: Any) -> str:
     """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
     status = r.status
     word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
-                                        "identity of the analysis") else status
+                                        "no different from the control", "below the control") else status
     if r.claim.kind == "calibrated" and r.claim.role == "method" and status == "reproduced":
         word = "CALIBRATED (not counted)"
     notes = []
@@ -192,6 +192,9 @@ def status_text(r: Any) -> str:
         notes.append(f"misses {r.miss_direction}")
     if status == "not reproducible on this device":
         notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    if status in ("no different from the control", "below the control") and r.control is not None:
+        notes.append(f"units {r.holds}/{r.testable}, control {r.control.holds}/{r.control.testable}, "
+                     f"Fisher p = {r.control_p_value:.2g}")
     return word + (f" ({'; '.join(notes)})" if notes else "")
 
 
@@ -225,7 +228,7 @@ def tally_text(n: Any) -> str:
     ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
     return (
         f"{dev}method claims: {n.reproduced} reproduced, {n.contradicted} CONTRADICTED, "
-        f"{n.not_reproducible} not reproducible on this device, {n.identity} identities of the analysis, "
+        f"{n.not_reproducible} not reproducible on this device, {n.identity} no different from (or below) the control, "
         f"{n.undecided} undecided, {n.not_testable} not testable, {n.calibrated} calibrated (not counted){ext}"
     )
 
@@ -241,8 +244,10 @@ def _claims_table(o: Outcome) -> Table:
         "entirely above (holds) or below (fails) 50 %; it is provisional when the interval ends within 5 points "
         "of 50 %. Device claims are what the simulated device was matched to; method claims are the paper's "
         "results on it, judged only on units that show the effect (the precondition); 'control' is the same "
-        "claim on the same seeds with the paper's effect switched off, and a claim holding there about as "
-        "often is an identity of the analysis, not a finding. A calibrated claim (an input was set from the "
+        "claim on the same seeds with the paper's effect switched off, and a claim whose pass rate there is not "
+        "distinguishable from the units' (Fisher's exact test, two-sided, 5 %) is no different from the "
+        "control (unless it fails on both: contradicted), and one passing significantly less often on the "
+        "units is below the control: neither is a finding. A calibrated claim (an input was set from the "
         "paper's number) is not counted as reproduced."
     )
     return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
@@ -276,8 +281,8 @@ def _mark_verdicts(text: str) -> str:
     import re
 
     for word, cls in (("REPRODUCED", "yes"), ("DEVICE MATCHED", "yes"), ("CONTRADICTED", "no"),
-                      ("DEVICE NOT MATCHED", "no"), ("IDENTITY OF THE ANALYSIS", "cal"),
-                      ("CALIBRATED (not counted)", "cal")):
+                      ("DEVICE NOT MATCHED", "no"), ("NO DIFFERENT FROM THE CONTROL", "cal"),
+                      ("BELOW THE CONTROL", "cal"), ("CALIBRATED (not counted)", "cal")):
         text = re.sub(rf"<td(?: class='txt')?>({re.escape(word)}(?: \([^<]*\))?)</td>", rf"<td class='{cls}'>\1</td>",
                       text)
     return text
@@ -322,22 +327,24 @@ _LOAD_CHECK = (
 
 def tally_table(outcomes: Sequence[Outcome]) -> Table:
     """The status of every paper's claims in one table (the report's first screen)."""
-    cols = ["scenario", "paper", "units", "device matched", "method: reproduced", "CONTRADICTED",
-            "not reproducible on this device", "identity of the analysis", "undecided", "not testable",
-            "calibrated (not counted)", "extensions: hold / all"]
+    cols = ["scenario", "paper", "units", "device matched", "device calibrated", "method: reproduced",
+            "CONTRADICTED", "not reproducible on this device", "no different from / below the control", "undecided",
+            "not testable", "method calibrated (not counted)", "extensions: hold / all"]
     rows: list[list[Any]] = []
     for o in outcomes:
         if not (o.claims or o.deviations):
             continue
         n = claim_tally(o.claims)
         papers = ", ".join(sorted({c.claim.paper for c in o.claims})) or "-"
-        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}", n.reproduced, n.contradicted,
+        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}",
+                     f"{n.device_calibrated} / {n.device}", n.reproduced, n.contradicted,
                      n.not_reproducible, n.identity, n.undecided, n.not_testable, n.calibrated,
                      f"{n.extension_reproduced} / {n.extension}"])
     return Table(
         "Claims at a glance", cols, rows,
-        note="Per paper: how many device claims the simulated device matches, and the paper's method claims by "
-        "status. Each paper's section gives every claim with its interval, precondition and control.",
+        note="Per paper: how many device claims the simulated device matches and how many of them are "
+        "calibrated (an input of the device was set from them: matched by construction), and the paper's method "
+        "claims by status. Each paper's section gives every claim with its interval, precondition and control.",
     )
 
 

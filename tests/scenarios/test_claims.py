@@ -267,12 +267,31 @@ def test_control_overlap_makes_an_identity_and_separation_a_finding():
     c = Claim(id="x.i", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true())
     units = _units([1.0] * 20)
     (same,) = evaluate([c], units, _units([1.0] * 17 + [0.0] * 3))
-    assert same.verdict == "holds for most units" and same.identity and same.status == "identity of the analysis"
+    # 20/20 vs 17/20: Fisher's exact two-sided p = 0.23 (hypergeometric, margins 37 / 3)
+    assert same.verdict == "holds for most units" and same.identity and same.status == "no different from the control"
+    assert same.control_p_value == pytest.approx(0.2307692307, rel=1e-6)
     (apart,) = evaluate([c], units, _units([0.0] * 20))
     assert not apart.identity and apart.status == "reproduced"
     # without a control nothing is flagged
     (alone,) = evaluate([c], units)
     assert alone.control is None and alone.status == "reproduced"
+
+
+def test_the_identity_rule_is_two_sided():
+    """An undecided claim the control holds about as often, and any claim the control holds
+    significantly more often, is flagged; a claim failing on both stays contradicted."""
+    c = Claim(id="x.t", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true())
+    (fails_alike,) = evaluate([c], _units([0.0] * 18 + [1.0] * 2), _units([0.0] * 17 + [1.0] * 3))
+    assert fails_alike.verdict == "fails for most units" and fails_alike.status == "contradicted"
+    (undecided_alike,) = evaluate([c], _units([0.0] * 10 + [1.0] * 10), _units([0.0] * 9 + [1.0] * 11))
+    assert undecided_alike.status == "no different from the control"
+    (below,) = evaluate([c], _units([0.0] * 12 + [1.0] * 8), _units([1.0] * 20))
+    assert below.verdict == "undecided" and below.status == "below the control"
+    (fails_apart,) = evaluate([c], _units([0.0] * 20), _units([1.0] * 20))
+    assert fails_apart.status == "below the control"
+    # a claim that holds on 15/20 units and on 3/20 controls (p = 1.4e-4) is a finding
+    (found,) = evaluate([c], _units([1.0] * 15 + [0.0] * 5), _units([1.0] * 3 + [0.0] * 17))
+    assert found.control_p_value < 1e-3 and found.status == "reproduced"
 
 
 def test_the_control_ignores_the_precondition():

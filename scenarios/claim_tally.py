@@ -22,7 +22,9 @@ class ClaimTally:
     construction and is counted in ``calibrated``); the other statuses count every method
     claim (``identity``: "no different from the control" or "below the control"). Extensions (ours) are counted apart.
     ``device_calibrated`` counts the device claims that are calibrated (an input was set from
-    them), which ``calibrated`` (method claims only) does not.
+    them), which ``calibrated`` (method claims only) does not. A claim with ``same_effect_as``
+    (another quantity of the effect its group's lead shows) is not counted by status: it is in
+    ``same_effect`` only.
     """
 
     device: int = 0
@@ -38,6 +40,7 @@ class ClaimTally:
     calibrated: int = 0
     extension: int = 0
     extension_reproduced: int = 0
+    same_effect: int = 0
 
     def __add__(self, other: ClaimTally) -> ClaimTally:
         from dataclasses import fields
@@ -64,6 +67,9 @@ def tally(results: Sequence[ClaimResult]) -> ClaimTally:
 
     for r in results:
         role, status = r.claim.role, r.status
+        if r.claim.same_effect_as is not None:
+            add("same_effect")
+            continue
         if role == "device":
             add("device")
             if status == "device matched":

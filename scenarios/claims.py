@@ -213,15 +213,29 @@ class Precondition:
         Key of the unit's ``quantities`` the comparator reads (e.g. the bias-to-scatter ratio).
     comparator : Comparator
         Present when the comparator holds on the unit's value (not None or NaN; +-inf is a value).
+    also : tuple of Precondition
+        Further conditions the unit must meet as well (each on its own quantity).
     """
 
     text: str
     quantity: str
     comparator: Comparator
+    also: tuple[Precondition, ...] = ()
 
     def present(self, q: float | None) -> bool:
-        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not)."""
+        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not);
+        the ``also`` conditions are not looked at (see :meth:`present_in`)."""
         return q is not None and self.comparator.holds(q)
+
+    def present_in(self, unit: Mapping[str, Any], claim_id: str = "") -> bool:
+        """Whether the unit's quantities meet this condition and every one of ``also``."""
+        return self.present(_finite(unit.get(self.quantity), claim_id)) and all(
+            p.present_in(unit, claim_id) for p in self.also
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"text": self.text, "quantity": self.quantity, "comparator": self.comparator.text(),
+                "also": [p.as_dict() for p in self.also]}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -256,6 +270,10 @@ class Claim:
         See the module docstring. Default ``"method"``.
     precondition : Precondition, optional
         For a method or extension claim: when a unit can judge it.
+    same_effect_as : str, optional
+        The id of the claim that shows the same effect of the simulation (e.g. two quantities
+        of one offset): the claim is judged and shown but counted once, with that claim (the
+        group's lead), in the tally.
     """
 
     id: str
@@ -270,8 +288,11 @@ class Claim:
     calibrated_input: str | None = None
     role: Role = "method"
     precondition: Precondition | None = None
+    same_effect_as: str | None = None
 
     def __post_init__(self) -> None:
+        if self.same_effect_as is not None and self.same_effect_as == self.id:
+            raise ValueError(f"claim {self.id!r}: same_effect_as names another claim; got its own id")
         if self.role not in ROLES:
             raise ValueError(f"claim {self.id!r}: role must be one of {ROLES}; got {self.role!r}")
         if self.role == "device" and self.precondition is not None:
@@ -458,11 +479,11 @@ class ClaimResult:
             "role": c.role,
             "status": self.status,
             "provisional": self.provisional,
-            "precondition": None if pre is None else {
-                "text": pre.text, "quantity": pre.quantity, "comparator": pre.comparator.text()},
+            "precondition": None if pre is None else pre.as_dict(),
             "precondition_absent": self.precondition_absent,
             "misses": {"below": self.misses_below, "above": self.misses_above, "direction": self.miss_direction},
             "identity": self.identity,
+            "same_effect_as": c.same_effect_as,
             "control": None if self.control is None else self.control.as_dict(),
             "control_test": None if self.control_p_value is None else {
                 "test": "Fisher exact, two-sided", "alpha": CONTROL_ALPHA, "p_value": self.control_p_value,
@@ -581,9 +602,7 @@ def evaluate(
         values, absent = [], 0
         for u in units:
             v = _finite(u.get(c.quantity), c.id)
-            if c.precondition is not None and not c.precondition.present(
-                _finite(u.get(c.precondition.quantity), c.id)
-            ):
+            if c.precondition is not None and not c.precondition.present_in(u, c.id):
                 absent += 1
                 continue
             if v is not None:

@@ -95,6 +95,8 @@ def _row(c: dict[str, Any]) -> str:
     control = c.get("control")
     if control:
         notes.append(f"control {control['holds']}/{control['testable']}")
+    if c.get("same_effect_as"):
+        notes.append(f"same effect as {c['same_effect_as']}: counted once")
     if notes:
         status += f" ({'; '.join(notes)})"
     role = c.get("role", "method") + (" (calibrated)" if c["kind"] == "calibrated" else "")
@@ -119,6 +121,7 @@ def _tally_row(doc: dict[str, Any]) -> str:
     def count(role: str, *statuses: str, kind: str | None = None) -> int:
         return sum(
             c.get("role", "method") == role and c.get("status") in statuses and (kind is None or c["kind"] == kind)
+            and not c.get("same_effect_as")
             for c in claims
         )
 

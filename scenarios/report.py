@@ -192,6 +192,8 @@ def status_text(r: Any) -> str:
         notes.append(f"misses {r.miss_direction}")
     if status == "not reproducible on this device":
         notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    if r.claim.same_effect_as:
+        notes.append(f"same effect as {r.claim.same_effect_as}: counted once")
     if status in ("no different from the control", "below the control") and r.control is not None:
         notes.append(f"units {r.holds}/{r.testable}, control {r.control.holds}/{r.control.testable}, "
                      f"Fisher p = {r.control_p_value:.2g}")
@@ -226,6 +228,7 @@ def tally_text(n: Any) -> str:
     """One line: device matched, method claims by status, extensions."""
     dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
     ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
+    ext += f"; {n.same_effect} claim(s) counted with the claim showing the same effect" if n.same_effect else ""
     return (
         f"{dev}method claims: {n.reproduced} reproduced, {n.contradicted} CONTRADICTED, "
         f"{n.not_reproducible} not reproducible on this device, {n.identity} no different from (or below) the control, "

@@ -371,3 +371,29 @@ def test_an_infinite_median_survives_results_json_into_the_readme_table():
     assert doc["median"] == "inf" and doc["spread"] == ["inf", "inf"]  # 3 + 0.5 (inf - 3) at the 25th
     row = readme_table._row(doc)
     assert "inf [inf, inf]" in row and "3/3" in row
+
+
+def test_a_precondition_with_also_needs_every_condition():
+    pre = Precondition(text="share", quantity="s", comparator=above(0.5),
+                       also=(Precondition(text="r2", quantity="r", comparator=above(0.9)),))
+    c = Claim(id="x.a", paper="004", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true(),
+              precondition=pre)
+    units = [{"q": 1.0, "s": 0.9, "r": 0.95}, {"q": 1.0, "s": 0.9, "r": 0.5}, {"q": 1.0, "s": 0.1, "r": 0.99},
+             {"q": 1.0, "s": 0.9, "r": None}]
+    (r,) = evaluate([c], units)
+    assert (r.testable, r.precondition_absent) == (1, 3)
+    assert r.as_dict()["precondition"]["also"][0]["quantity"] == "r"
+
+
+def test_claims_sharing_one_effect_are_counted_once():
+    lead = Claim(id="x.lead", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+                 comparator=is_true())
+    again = Claim(id="x.again", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+                  comparator=is_true(), same_effect_as="x.lead")
+    res = evaluate([lead, again], _units([1.0] * 20))
+    assert [r.status for r in res] == ["reproduced", "reproduced"]
+    n = tally(res)
+    assert (n.method, n.reproduced, n.same_effect) == (1, 1, 1)
+    with pytest.raises(ValueError, match="same_effect_as names another claim"):
+        Claim(id="x.self", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+              comparator=is_true(), same_effect_as="x.self")

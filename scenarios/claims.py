@@ -65,6 +65,7 @@ counts as reproduced, and a claim failing on the units and on the control stays 
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -72,6 +73,7 @@ from typing import Any, Literal
 
 import numpy as np
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
+from numpy.typing import NDArray
 
 __all__ = [
     "CONTROL_ALPHA",
@@ -95,6 +97,8 @@ __all__ = [
     "tally",
     "in_range",
     "is_true",
+    "sequential_error",
+    "sequential_z",
     "verdict",
     "wilson_interval",
     "within_factor",
@@ -373,6 +377,7 @@ class ClaimResult:
     misses_below: int = 0
     misses_above: int = 0
     control: ControlResult | None = None
+    z: float = _Z95
 
     @property
     def pass_rate(self) -> float | None:
@@ -381,13 +386,14 @@ class ClaimResult:
 
     @property
     def interval95(self) -> tuple[float, float] | None:
-        """95 % Wilson score interval of the pass rate."""
-        return wilson_interval(self.holds, self.testable) if self.testable else None
+        """Wilson score interval of the pass rate: 95 % at a fixed unit count; with ``--units auto``
+        the group-sequential one (``z`` from :func:`sequential_z`)."""
+        return wilson_interval(self.holds, self.testable, self.z) if self.testable else None
 
     @property
     def verdict(self) -> str:
         """``"holds for most units"``, ``"fails for most units"``, ``"undecided"``, ``"not testable"``."""
-        return verdict(self.holds, self.testable)
+        return verdict(self.holds, self.testable, self.z)
 
     @property
     def provisional(self) -> bool:
@@ -473,6 +479,7 @@ class ClaimResult:
             "holds": self.holds,
             "pass_rate": self.pass_rate,
             "interval95": list(self.interval95) if self.interval95 else None,
+            "interval_z": self.z,
             "median": self.median,
             "spread": list(self.spread) if self.spread else None,
             "verdict": self.verdict,
@@ -527,16 +534,72 @@ def control_test(holds: int, testable: int, control_holds: int, control_testable
     return float(fisher_exact(table, alternative="two-sided").pvalue)
 
 
-def verdict(holds: int, testable: int) -> str:
-    """The summary's word for a pass count (see the module docstring)."""
+def verdict(holds: int, testable: int, z: float = _Z95) -> str:
+    """The summary's word for a pass count (see the module docstring); ``z`` of the Wilson interval."""
     if testable == 0:
         return "not testable"
-    lo, hi = wilson_interval(holds, testable)
+    lo, hi = wilson_interval(holds, testable, z)
     if lo > 0.5:
         return "holds for most units"
     if hi < 0.5:
         return "fails for most units"
     return "undecided"
+
+
+def _decided(k: NDArray[np.int_], n: int, z: float) -> NDArray[np.bool_]:
+    """Whether the Wilson interval (``z``) of k of n excludes 50 % (vectorized :func:`verdict`)."""
+    p = k / n
+    denom = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return (centre - half > 0.5) | (centre + half < 0.5)
+
+
+def sequential_error(looks: Sequence[int], z: float) -> float:
+    """Exact probability that a claim whose true pass rate is 50 % is decided (holds or fails) at any
+    of the ``looks`` (unit counts, increasing) when each look judges it by the Wilson interval at ``z``.
+
+    Dynamic programming over the binomial count of the units seen: the paths still undecided after
+    each look are convolved with the next batch's Binomial(n_{k+1} - n_k, 1/2) and the mass that
+    crosses the boundary is summed (the group-sequential crossing probability; Jennison & Turnbull,
+    Group Sequential Methods (2000) sec. 19.2, for a binomial response).
+    """
+    from scipy.stats import binom
+
+    alive = np.array([1.0])
+    prev, crossed = 0, 0.0
+    for n in looks:
+        step = binom.pmf(np.arange(n - prev + 1), n - prev, 0.5)
+        alive = np.convolve(alive, step)
+        dec = _decided(np.arange(n + 1), n, z)
+        crossed += float(alive[dec].sum())
+        alive = np.where(dec, 0.0, alive)
+        prev = n
+    return crossed
+
+
+@functools.lru_cache(maxsize=32)
+def sequential_z(looks: tuple[int, ...], alpha: float = 0.05) -> float:
+    """The constant Wilson z (a Pocock-type boundary) that keeps :func:`sequential_error` at or below
+    ``alpha`` over ``looks``: the smallest such z to 1e-4 (bisection on [1.5, 6]; the error is a
+    step function of z, non-increasing). One look: at or below 1.96 where the binomial's
+    discreteness already keeps the error below alpha.
+
+    Pocock, Biometrika 64, 191 (1977): one critical value at every look of a group-sequential test;
+    here chosen from the exact binomial crossing probability instead of the normal approximation.
+    """
+    if not looks or any(b <= a for a, b in zip(looks[:-1], looks[1:], strict=False)) or looks[0] < 1:
+        raise ValueError(f"looks must be increasing unit counts >= 1; got {looks!r}")
+    lo, hi = 1.5, 6.0
+    if sequential_error(looks, hi) > alpha:
+        raise ValueError(f"no Wilson z <= {hi} keeps the error at or below alpha = {alpha!r} over looks {looks!r}")
+    while hi - lo > 1e-4:
+        mid = 0.5 * (lo + hi)
+        if sequential_error(looks, mid) <= alpha:
+            hi = mid
+        else:
+            lo = mid
+    return hi
 
 
 def _finite(v: Any, claim_id: str) -> float | None:
@@ -587,6 +650,8 @@ def evaluate(
     claims: Sequence[Claim],
     units: Sequence[Mapping[str, Any]],
     control: Sequence[Mapping[str, Any]] | None = None,
+    *,
+    z: float = _Z95,
 ) -> list[ClaimResult]:
     """Judge every claim over the units' ``quantities`` mappings (and over the control's).
 
@@ -595,7 +660,8 @@ def evaluate(
     test it either. A quantity that is not a number raises TypeError (a bug in the
     experiment). The spread is the interquartile range (25th and 75th percentiles) of the
     testable units' quantities. ``control`` (the same seeds with the paper's effect switched
-    off) is judged without the precondition.
+    off) is judged without the precondition. ``z``: of the verdict's Wilson interval (1.96 for a
+    fixed number of units; :func:`sequential_z` when units are added until claims are decided).
     """
     out = []
     for c in claims:
@@ -621,6 +687,7 @@ def evaluate(
                 misses_below=misses.count("below"),
                 misses_above=misses.count("above"),
                 control=None if control is None else _judge_control(c, control),
+                z=z,
             )
         )
     return out

@@ -236,6 +236,16 @@ def tally_text(n: Any) -> str:
     )
 
 
+def _sequential_note(o: Outcome) -> str:
+    """With ``--units auto``: the looks and the group-sequential z every verdict was judged at."""
+    seq = o.results.get("sequential") if isinstance(o.results, dict) else None
+    if not seq:
+        return ""
+    return (f" Units were added until claims were decided (looks at {', '.join(map(str, seq['looks']))} units); "
+            f"every verdict uses the Wilson interval at z = {seq['z']:.3f} instead of 1.96, so that a claim whose "
+            f"true pass rate is 50 % is decided with probability {100 * seq['error_at_50_percent']:.1f} % (<= 5 %).")
+
+
 def _claims_table(o: Outcome) -> Table:
     if o.units > 1:
         over = (f"Judged over {o.units} units (seeds {o.seed} to {o.seed + o.units - 1}; each unit has its own "
@@ -243,7 +253,8 @@ def _claims_table(o: Outcome) -> Table:
     else:
         over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
     note = (
-        f"{over} {tally_text(claim_tally(o.claims))}. A verdict needs the 95 % Wilson interval of the pass rate "
+        f"{over} {tally_text(claim_tally(o.claims))}.{_sequential_note(o)} A verdict needs the 95 % Wilson "
+        "interval of the pass rate "
         "entirely above (holds) or below (fails) 50 %; it is provisional when the interval ends within 5 points "
         "of 50 %. Device claims are what the simulated device was matched to; method claims are the paper's "
         "results on it, judged only on units that show the effect (the precondition); 'control' is the same "

@@ -474,6 +474,7 @@ class ClaimResult:
             "paper_value": c.paper_value,
             "unit": c.unit,
             "comparator": c.comparator.text(c.unit),
+            "quantity": c.quantity,
             "units": self.units,
             "testable": self.testable,
             "holds": self.holds,

@@ -470,6 +470,9 @@ def run_paper(
             "rule": "Wilson interval at a constant z over the planned looks (Pocock-type), z chosen from the exact "
                     "binomial crossing probability at a true pass rate of 50 %",
         }
+    outcome.results["unit_quantities"] = _per_unit(run)
+    if control is not None:
+        outcome.results["control_quantities"] = _per_unit(control)
     outcome.results["unit_run"] = {
         "n": n_units,
         "seeds": list(run.seeds),
@@ -526,6 +529,11 @@ def measure_deviations(
 
 #: units added per batch by ``reproduce --units auto``
 AUTO_BATCH = 10
+
+
+def _per_unit(run: UnitRun) -> list[dict[str, Any]]:
+    """Every unit's claim quantities with its seed (what results.json lets a referee recount from)."""
+    return [{"seed": int(s), **quantities_of(u)} for s, u in zip(run.seeds, run.results, strict=True)]
 
 
 def auto_looks(start: int, max_units: int) -> tuple[int, ...]:

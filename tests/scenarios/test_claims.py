@@ -397,3 +397,16 @@ def test_claims_sharing_one_effect_are_counted_once():
     with pytest.raises(ValueError, match="same_effect_as names another claim"):
         Claim(id="x.self", paper="000", where="s", statement="t", kind="emergent", quantity="q",
               comparator=is_true(), same_effect_as="x.self")
+
+
+def test_a_deviation_that_moves_a_median_is_a_change_at_the_same_pass_count():
+    from gyrobench.scenarios.claims import deviation_effect
+
+    c = Claim(id="x.d", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=below(1.0))
+    ours = evaluate([c], _units([2.0] * 10))
+    theirs = evaluate([c], _units([60.0] * 10))  # still failing 0/10, the median 30x higher
+    e = deviation_effect("v", ours, theirs)
+    assert [x[0] for x in e.changed] == ["x.d"] and "median 2 -> 60" in e.text()
+    assert e.as_dict()["changes"][0]["median_variant"] == 60.0
+    same = deviation_effect("v", ours, evaluate([c], _units([3.0] * 10)))  # 1.5x: not a change
+    assert not same.changed and "no claim's pass count changes" in same.text()

@@ -154,8 +154,9 @@ def _summary_rows(outcomes: Sequence[Outcome]) -> list[list[str]]:
 _SUMMARY_COLUMNS = ["scenario", "quantity", "reproduced", "paper / target", "conclusion holds", "note"]
 
 #: the claims table of a paper, in the scenario's section
-_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "role", "paper", "criterion",
-                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control", "status"]
+#: status second: the verdict stays on screen however wide the statement and the numbers are
+_CLAIM_COLUMNS = ["claim", "status", "paper's statement", "where", "role", "paper", "criterion",
+                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control"]
 
 
 def _paper_heading(outcome: Outcome) -> str:
@@ -213,8 +214,8 @@ def _claim_row(r: Any) -> list[str]:
     counts = f"{r.holds} / {r.testable}" + (f" ({r.precondition_absent} lack the precondition)"
                                             if r.precondition_absent else "")
     control = "-" if r.control is None else f"{r.control.holds} / {r.control.testable}"
-    return [c.id, c.where, c.statement, role, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
-            counts, rate, control, status_text(r)]
+    return [c.id, status_text(r), c.statement, c.where, role, _num(c.paper_value, c.unit),
+            c.comparator.text(c.unit), ours, counts, rate, control]
 
 
 def claim_tally(claims: Sequence[Any]) -> Any:
@@ -302,17 +303,18 @@ def _mark_verdicts(text: str) -> str:
     return text
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1360px;margin:2em auto;
 padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.85em;display:block;overflow-x:auto}
 th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
 th{background:#eef}
 td:first-child,th:first-child{text-align:left}
 .note{font-size:0.85em;color:#555;max-width:900px}
-figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(33.3% - 1em);margin-right:0.5em}
+figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(50% - 1em);margin-right:0.5em}
 details.fold>summary h3{display:inline}
-table.claims td:nth-child(3){min-width:26em}
-table.claims td:nth-child(2),table.claims td:nth-child(6){min-width:8em}
+table.claims{display:table;table-layout:fixed;width:100%;overflow-wrap:anywhere}
+table.claims th:nth-child(1){width:9%}table.claims th:nth-child(2){width:13%}
+table.claims th:nth-child(3){width:26%}table.claims td:nth-child(2){text-align:left}
 figure img{max-width:100%;border:1px solid #ddd}
 nav ol{font-size:0.9em;columns:2}
 nav details{display:inline;margin-left:0.5em;font-size:0.9em}
@@ -417,10 +419,12 @@ def _link_scenarios(text: str, outcomes: Sequence[Outcome]) -> str:
     return text
 
 
-def _figure_html(caption: str, png: bytes) -> str:
+def _figure_html(caption: str, png: bytes, href: str) -> str:
+    """An embedded figure that opens at full size (the PNG file beside the page, ``href``) on click."""
     b64 = base64.b64encode(png).decode("ascii")
     return (
-        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'>"
+        f"<figure><a href='{html.escape(href)}' target='_blank' title='open at full size'>"
+        f"<img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'></a>"
         f"<figcaption>{html.escape(caption)}</figcaption></figure>"
     )
 
@@ -464,7 +468,7 @@ def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list
         with atomic_path(sdir / f"{f.name}.png") as tmp:
             tmp.write_bytes(png)
         smd += [f"![{f.caption}]({o.scenario}/{f.name}.png)", "", f"*{f.caption}*", ""]
-        h.append(_figure_html(f.caption, png))
+        h.append(_figure_html(f.caption, png, f"{o.scenario}/{f.name}.png"))
     if o.figures:
         h.append("</div>")
     smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]

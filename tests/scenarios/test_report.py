@@ -202,21 +202,23 @@ def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     assert "| paper | 001 | 20 | 1 / 1 | 1 / 1 | 0 | 1 | 1 | 2 | 0 | 0 | 0 | 0 / 0 |" in summary
     assert "| p.a |" not in summary
     section = md.split("\n## paper title", 1)[1]
-    assert "| p.a | Table 2 | K_n is about 15.71 %. | device (calibrated) | 15.71 % |" in section
+    assert "| p.a | DEVICE MATCHED | K_n is about 15.71 %. | Table 2 | device (calibrated) | 15.71 % |" in section
     assert "| p.b |" in section and "| 0 / 20 |" in section and "CONTRADICTED (misses below)" in section
-    assert "| p.c |" in section and ("| 20 / 20 | 100 % [84, 100] % | 17 / 20 | NO DIFFERENT FROM THE CONTROL "
-                                      "(units 20/20, control 17/20, Fisher p = 0.23) |") in section
+    assert ("| p.c | NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23) |" in section
+            and "| 20 / 20 | 100 % [84, 100] % | 17 / 20 |" in section)
     assert "| 3 / 3 (17 lack the precondition) |" in section
     assert "not reproducible on this device (absent on 17/20: the unit has a knee)" in section
     assert "Deviations from the paper's protocol" in section and "ratio 426x -> 18x on unit 0" in section
     assert "paper 001 (no entry in scenarios.papers)" in section
-    assert md.count("| p.a | Table 2 |") == 1
+    assert md.count("| p.a | DEVICE MATCHED |") == 1
     assert "seeds 3 to 22 (20 units)" in md
     html = index.read_text()
     assert "<td class='no'>CONTRADICTED (misses below)</td>" in html
     assert "<td class='yes'>DEVICE MATCHED</td>" in html
     assert "<td class='cal'>NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23)</td>" in html
     assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
+    # the figures open at full size: each embedded image links to its PNG file beside the page
+    assert html.count("target='_blank' title='open at full size'>") == html.count("<figure>") >= 2
 
 
 def test_contents_links_resolve_and_the_tally_comes_first(tmp_path):

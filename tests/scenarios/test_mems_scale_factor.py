@@ -114,7 +114,7 @@ def test_claim_roles_and_preconditions():
     only on a unit whose raw K_n shows the paper's effect."""
     roles = {c.id: c.role for c in ms.CLAIMS}
     assert {k for k, r in roles.items() if r == "device"} == {
-        "001.raw_kn", "001.low_rate_kn", "001.run_similarity"
+        "001.raw_kn", "001.low_rate_kn", "001.run_similarity", "001.local_features"
     }
     assert {k for k, r in roles.items() if r == "extension"} == {
         "001.kn_dense.piecewise", "001.kn_dense.two_stage_poly", "001.kn_dense.bayes_bp", "001.order_dense"

@@ -46,6 +46,7 @@ __all__ = [
     "compensation_task",
     "experiment",
     "hermite_error_ratio",
+    "local_features_ratio",
     "nonlinearity_scorer",
     "quantities",
     "raw_analysis",
@@ -267,6 +268,28 @@ def hermite_error_ratio(model: Any, held: Sequence[Any], config: Config) -> floa
     return float(max(joined) / max(bare))
 
 
+def local_features_ratio(
+    config: Config, rates: NDArray[np.float64], fit_means: NDArray[np.float64], piecewise: MethodScore
+) -> float:
+    """The paper's premise that the data have several significant local features, which one fitting
+    function describes poorly [-]: the in-sample K_n of one ``poly_degree`` polynomial fitted to the
+    pooled fitting runs, over the piecewise fit's in-sample K_n. NaN when either cannot be fitted."""
+    from gyrobench.analysis.compensation.polynomial import PolynomialRegressor
+
+    X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
+    try:
+        one = PolynomialRegressor(degree=config.poly_degree).fit(X, y)
+    except ValueError:
+        return math.nan
+    kn_one = _mean_kn(rates, [one.predict(m[:, None]) for m in fit_means])
+    kn_pw = piecewise.kn_fit_pct
+    return kn_one / kn_pw if math.isfinite(kn_pw) and kn_pw > 0 else math.nan
+
+
+def _none_if_nan(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
 def _eval_times_ms(models: Mapping[str, Any], x: NDArray[np.float64], repeats: int) -> dict[str, float]:
     """Median wall time [ms] of each model compensating the 21-point table ``x`` (this machine)."""
     out = {}
@@ -368,7 +391,10 @@ def experiment(config: Config, seed: int) -> UnitResult:
     return UnitResult(
         seed=seed,
         variant=config.variant,
-        quantities=quantities(raw, methods, hermite_error_ratio(pw, runs[nf:], config)),
+        quantities={
+            **quantities(raw, methods, hermite_error_ratio(pw, runs[nf:], config)),
+            "local_features_ratio": _none_if_nan(local_features_ratio(config, rates, fit_means, methods["piecewise"])),
+        },
         rates_dps=rates,
         fit_means_dps=fit_means,
         held_means_dps=held_means,

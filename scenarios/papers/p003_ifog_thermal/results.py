@@ -7,6 +7,7 @@ traces are float32 arrays of 100-s block means (the report's figures).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -227,6 +228,8 @@ class UnitResult:
     point_heating: PointHeating
     windings: tuple[WindingPeak, ...]
     traces: Traces
+    #: rms(estimated - true drift) / std(true drift), median over the validation-1 runs [-]
+    val1_drift_estimate_error: float = math.nan
 
     @property
     def quantities(self) -> dict[str, float | None]:
@@ -236,6 +239,7 @@ class UnitResult:
             "drift_peak_val1_deg_h": self.drift_peak_val1_deg_h,
             "val1_drift_to_noise": self.val1_drift_to_noise,
             "txdt_unabsorbed": self.txdt_unabsorbed,
+            "val1_drift_estimate_error": self.val1_drift_estimate_error,
             **self.paper.quantities.as_dict(),
         }
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from gyrobench.scenarios.claims import sequential_error, sequential_z, verdict
-from gyrobench.scenarios.units import auto_looks
+from gyrobench.scenarios.runner.units import auto_looks
 from scipy.stats import binom
 
 LOOKS = auto_looks(20, 60)  # the default --units auto schedule: 20, 30, 40, 50, 60
@@ -28,7 +28,7 @@ def _simulated_error(z: float, p: float = 0.5, seed: int = 20261201) -> int:
 
 
 def test_the_schedule_is_the_cli_default():
-    from gyrobench.scenarios.cli_reproduce import AUTO_START_UNITS, MAX_UNITS
+    from gyrobench.scenarios.cli.reproduce import AUTO_START_UNITS, MAX_UNITS
 
     assert auto_looks(AUTO_START_UNITS, MAX_UNITS) == LOOKS == (20, 30, 40, 50, 60)
 

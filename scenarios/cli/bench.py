@@ -1,0 +1,270 @@
+"""The ``bench`` verb of the ``gyrobench`` command line.
+
+::
+
+    gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
+        [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
+        [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
+        [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
+        [--seed-timeout SECONDS]
+
+Exit status of :func:`run` (see :mod:`gyrobench.scenarios.cli.exits`): 0 on success, 1 when
+the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
+``ValueError``, ``TypeError`` or ``FileNotFoundError`` with a one-line message (the
+command line wrapper prints it and exits 2). So does a compensator that raises on a
+seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means
+"could not score", never "got worse". A compensator whose prediction or scores are not
+finite (NaN, inf) or complex on some seeds, that calls ``sys.exit`` or ``os._exit``, crashes
+(a segfault), or runs past ``--seed-timeout`` (default 600 s) makes those seeds *failed*
+(without ``--scheduler`` each seed runs in its own forked process, also with ``--workers 0``,
+which runs them one at a time):
+they are recorded in the
+database, left out of the summary, and :class:`~gyrobench.scenarios.bench.FailedSeedsError`
+is raised after the summary (and the comparison) are printed, naming the seeds: exit 3,
+whatever the comparison says, and no baseline is written. A comparison that cannot be made
+once the campaign has run (no seed or no score can be paired:
+:class:`~gyrobench.scenarios.bench.ComparisonError`) also exits 3. A timed-out seed is not
+stored (a rerun retries it). A worker process killed by SIGKILL (the OOM killer),
+or another run of the same campaign on the same database that got other scores, raises
+:class:`~gyrobench.scenarios.cli.exits.InternalError`: exit 4. With ``GYROBENCH_TRACEBACK=1``
+in the environment the traceback is printed on stderr first.
+
+Everything that can be checked without computing is checked before the campaign
+starts, including the gate's power (:func:`gyrobench.scenarios.bench.gate.plan_power`: a
+comparison, or a baseline written, whose seeds cannot reach ``--alpha`` with the scenario's
+primary scores is refused in one line naming the seeds needed, exit 2, unless
+``--allow-underpowered``, which prints a WARNING as the first line): the scenario,
+configuration, compensator, seeds, the ``--baseline`` file
+(readable, of the same scenario, sharing seeds with ``--seeds``) and the
+``--save-baseline`` path (not a folder; its folder exists: it is never created).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from typing import Any
+
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.cli.common import MAX_WORKERS, ranged
+
+__all__ = ["add_parser", "run", "scheduler_executor"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the ``bench`` sub-command to ``subparsers``; its ``func`` default is :func:`run`."""
+    p = subparsers.add_parser(
+        "bench",
+        help="score a compensator on a scenario over many seeds; compare with a baseline",
+        description=(
+            "Fit and score a compensator on every seed of a scenario's compensation task; "
+            "print each "
+            "score's mean with a 95 % confidence interval. Finished seeds are kept in --db, so an "
+            "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a "
+            "score is "
+            "significantly worse on a primary score (paired two-sided Wilcoxon signed-rank test, Holm-adjusted "
+            "over the scenario's primary scores; the others are reported, not gated). A comparison whose seeds "
+            "cannot reach --alpha is refused before computing (exit 2) unless --allow-underpowered."
+        ),
+    )
+    p.add_argument(
+        "scenario",
+        help="scenario name with a compensation stage (see 'gyrobench list', marked [bench])",
+    )
+    p.add_argument(
+        "--compensator",
+        required=True,
+        metavar="MODULE:ATTR",
+        help="a scikit-learn estimator (instance or class) or a fit function f(X, y) -> predict, "
+        "as 'package.module:attr'",
+    )
+    p.add_argument(
+        "--seeds",
+        default=None,
+        help="'START:STOP' (half-open), '1,5,9', or 'auto': the count that detects a --min-change "
+        "of the primary scores (from the --baseline's spread) (default: the --baseline's seeds, else 0:20)",
+    )
+    p.add_argument(
+        "--min-change",
+        type=ranged("--min-change", 0.0, 10.0, low_open=True, unit="(fraction of the mean)"),
+        default=0.2,
+        metavar="FRACTION",
+        help="the smallest change of a primary score --seeds auto must detect, as a fraction of "
+        "the baseline's mean (default 0.2 = 20 %%, with power 0.8)",
+    )
+    p.add_argument(
+        "--allow-underpowered",
+        action="store_true",
+        help="run a comparison whose seeds cannot reach --alpha (refused otherwise, exit 2); "
+        "a WARNING line comes first",
+    )
+    p.add_argument(
+        "--no-references",
+        action="store_true",
+        help="do not score the uncompensated output and the paper's method beside the compensator",
+    )
+    p.add_argument(
+        "--workers",
+        type=ranged("--workers", 0, MAX_WORKERS, integer=True, unit="processes"),
+        default=None,
+        help="local worker processes (default: usable CPUs; 0 = one seed at a time, each in its own forked "
+        "process: the compensator need not pickle)",
+    )
+    p.add_argument(
+        "--seed-timeout",
+        type=ranged("--seed-timeout", 0.0, 1e6, low_open=True, unit="s"),
+        default=None,
+        metavar="SECONDS",
+        help="per-seed time limit; a seed past it is failed (exit 3) and retried by a rerun (default 600)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address (e.g. tcp://host:8786); seeds run on that cluster",
+    )
+    p.add_argument(
+        "--db",
+        default=None,
+        help="SQLite file keeping every finished seed (default gyrobench-bench.sqlite)",
+    )
+    p.add_argument("--config", metavar="FILE.toml", help="override the scenario's configuration")
+    p.add_argument(
+        "--save-baseline",
+        metavar="FILE.json",
+        help="write this campaign's per-seed scores as a baseline",
+    )
+    p.add_argument(
+        "--baseline",
+        metavar="FILE.json",
+        help="compare with a stored baseline; exit 1 on a significant regression",
+    )
+    p.add_argument(
+        "--alpha",
+        type=ranged("--alpha", 0.0, 1.0, low_open=True, high_open=True),
+        default=0.05,
+        help="family-wise significance level of the comparison (default 0.05)",
+    )
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+    return p
+
+
+def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
+    """(executor, closer) for ``args.scheduler`` (a dask.distributed address); (None, None) for the
+    local process pool. Shared by ``gyrobench bench`` and ``gyrobench reproduce``."""
+    if not args.scheduler:
+        return None, None
+    if args.workers is not None:
+        raise ValueError("give either --workers or --scheduler, not both")
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError(
+            "--scheduler needs dask.distributed: pip install 'gyrobench[distributed]'"
+        ) from None
+    try:
+        client = Client(args.scheduler, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"--scheduler: cannot connect to {args.scheduler!r}: {exc}") from None
+    return client.get_executor(), client.close
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
+    from gyrobench.scenarios import bench, registry
+
+    # 'mylab.models:mine' is found from the current folder first, as 'python -m' would
+    # (worker processes inherit sys.path)
+    bench.prepend_import_path(os.getcwd())
+
+    auto = args.seeds is not None and args.seeds.strip().lower() == "auto"
+    seeds = "auto" if auto else bench.parse_seeds(args.seeds) if args.seeds is not None else None
+    if args.workers is not None and args.workers < 0:
+        raise ValueError(f"--workers must be >= 0; got {args.workers}")
+    seed_timeout = bench.check_seed_timeout(
+        bench.DEFAULT_SEED_TIMEOUT_S if args.seed_timeout is None else args.seed_timeout
+    )
+    if not 0 < args.alpha < 1:
+        raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
+    module = bench.resolve_scenario(args.scenario)
+    config = registry.load_config(module, args.config) if args.config else module.Config()
+    bench.resolve_compensator(args.compensator)  # fail before connecting or computing
+    # read and check the baseline first: a bad or mismatched file fails before any computing
+    baseline = bench.load_baseline(args.baseline) if args.baseline else None
+    if baseline is not None:
+        bench.check_baseline_matches(
+            baseline, module, None if auto else seeds, what=f"--baseline {args.baseline!r}", seeds_what="--seeds"
+        )
+    # power before the run: a gate that can never fire is refused here, before any computing
+    plan = bench.plan_power(
+        getattr(module, "NAME", module.__name__),
+        seeds,
+        baseline=baseline,
+        alpha=args.alpha,
+        gate=baseline is not None or bool(args.save_baseline),
+        allow_underpowered=args.allow_underpowered,
+        min_change=args.min_change,
+    )
+    seeds = plan.seeds
+    if args.save_baseline:
+        bench.check_baseline_path(args.save_baseline, what="--save-baseline")
+    db = args.db if args.db is not None else bench.DEFAULT_DB
+    bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
+    for line in (plan.warning, plan.auto):
+        if line:
+            print(line, flush=True)
+    executor, close = scheduler_executor(args)
+    try:
+        campaign = bench.run_campaign(
+            module,
+            args.compensator,
+            seeds,
+            config=config,
+            executor=executor,
+            workers=args.workers,
+            db=db,
+            progress=not args.quiet,
+            seed_timeout=seed_timeout,
+        )
+        references = (
+            {}
+            if args.no_references
+            else bench.reference_campaigns(module, seeds, config=config, executor=executor, workers=args.workers, db=db)
+        )
+    except bench.CompensatorError as exc:
+        if exits.traceback_wanted():
+            raise  # the command line prints exc.traceback_text (the worker's traceback)
+        raise exc.with_context(f"set {bench.TRACEBACK_ENV}=1 for its traceback") from exc
+    finally:
+        if close is not None:
+            close()
+    print(bench.format_summary(campaign, references))
+    result = (
+        bench.compare(baseline, campaign, alpha=args.alpha, references=references)
+        if baseline is not None
+        else None
+    )
+    if result is not None:
+        print(result.format())
+    # the comparison may find failed seeds the campaign did not record (a non-finite score read
+    # back); either way "FAILED" is never followed by exit 0
+    if campaign.failed:
+        failure, failed = campaign.failure_text(), sorted(campaign.failed)
+    elif result is not None and result.failed_seeds:
+        failure, failed = result.failure, list(result.failed_seeds)
+    else:
+        failure, failed = "", []
+    if failure:
+        what = []
+        if args.save_baseline:
+            what.append(f"--save-baseline {args.save_baseline!r} not written")
+        if result is not None:
+            what.append(f"the comparison with --baseline {args.baseline!r} fails")
+        raise bench.FailedSeedsError(failure + "".join(f"; {w}" for w in what), seeds=failed)
+    if args.save_baseline:
+        path = bench.save_baseline(args.save_baseline, campaign, alpha=args.alpha)
+        print(f"baseline written to {path}")
+    if result is not None:
+        return exits.REGRESSION if result.regressions else exits.OK
+    return exits.OK
+

@@ -72,9 +72,9 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
-from numpy.typing import NDArray
 
 __all__ = [
     "CONTROL_ALPHA",

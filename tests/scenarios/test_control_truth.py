@@ -12,6 +12,7 @@ means).
 from __future__ import annotations
 
 import numpy as np
+
 from gyrobench.analysis.scale_factor import fit_scale_factor
 
 CONTROL_FRACTION = 0.01

@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.stats import binom
+
 from gyrobench.scenarios.claims import sequential_error, sequential_z, verdict
 from gyrobench.scenarios.runner.units import auto_looks
-from scipy.stats import binom
 
 LOOKS = auto_looks(20, 60)  # the default --units auto schedule: 20, 30, 40, 50, 60
 ALPHA = 1e-3  # false-alarm rate of the simulation checks

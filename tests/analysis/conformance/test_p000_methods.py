@@ -21,9 +21,10 @@ against the truth is below the goal, while the LS fit's error is above its noise
 from __future__ import annotations
 
 import numpy as np
+from scipy.stats import chi2
+
 from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
 from gyrobench.analysis.wavelet import decompose
-from scipy.stats import chi2
 
 ALPHA = 1e-3
 SIGMA = 1.0

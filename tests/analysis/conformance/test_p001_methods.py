@@ -22,12 +22,13 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
+from scipy.stats import norm
+
 from gyrobench.analysis import scale_factor
 from gyrobench.analysis.compensation.bayes_mlp import BayesianRegularizedMLP
 from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial, TwoStagePolynomial
 from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor
-from scipy.optimize import brentq
-from scipy.stats import norm
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 ALPHA = 1e-3  # false-alarm rate of every bound below

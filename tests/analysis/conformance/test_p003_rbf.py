@@ -18,8 +18,9 @@ improved model beats the traditional one only where the traditional one cannot a
 from __future__ import annotations
 
 import numpy as np
-from gyrobench.analysis.compensation.rbf import RBFNetwork
 from scipy.stats import chi2
+
+from gyrobench.analysis.compensation.rbf import RBFNetwork
 
 ALPHA = 1e-3
 SIGMA = 0.002  # drift noise [deg/h]

@@ -18,9 +18,10 @@ independent value q0 to lie in the observed count's Clopper-Pearson interval at 
 from __future__ import annotations
 
 import numpy as np
+from scipy.stats import beta, binom
+
 from gyrobench.analysis.compensation import stepwise
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
-from scipy.stats import beta, binom
 
 ALPHA = 1e-3
 N_BLOCKS, N_TRIALS, P_ENTER = 100, 120, 0.05

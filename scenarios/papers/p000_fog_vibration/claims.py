@@ -368,6 +368,9 @@ def _table3_claims() -> list[Claim]:
     return out
 
 
+_A6_WHERE = "Sec. 3 (the sixth-level approximation as the bias signal)"
+
+
 def _figure_claims() -> list[Claim]:
     return [
         _c(
@@ -399,27 +402,12 @@ def _figure_claims() -> list[Claim]:
             above(3.0),
             role="extension",
         ),
-        _c(
-            "a6_removes_noise",
-            "Sec. 3 (the sixth-level approximation as the bias signal)",
-            "the sixth-level approximation removes most of the noise (on the 500 Hz record, against the "
-            "simulator's truth: the share of the fast noise (optical, quantization, angle random walk) left in "
-            "a6 < 0.5)",
-            "t2_a6_noise_left",
-            below(0.5),
-            unit="-",
-            role="extension",
-        ),
-        _c(
-            "a6_keeps_signal",
-            "Sec. 3 (the sixth-level approximation as the bias signal)",
-            "... while keeping the true signal (on 1-s means, the share of the true signal's variance, everything "
-            "but the fast noise, that a6 loses or distorts < 0.1)",
-            "t2_a6_signal_lost",
-            below(0.1),
-            unit="-",
-            role="extension",
-        ),
+        _c("a6_removes_noise", _A6_WHERE, "the sixth-level approximation removes most of the noise (500 Hz record, "
+           "against the truth: the share of the fast noise (optical, quantization, ARW) left in a6 < 0.5)",
+           "t2_a6_noise_left", below(0.5), unit="-", role="extension"),
+        _c("a6_keeps_signal", _A6_WHERE, "... while keeping the true signal (on 1-s means, the share of the true "
+           "signal's variance, all but the fast noise, that a6 loses or distorts < 0.1)",
+           "t2_a6_signal_lost", below(0.1), unit="-", role="extension"),
         _c(
             "fig7_offset_remains",
             "Sec. 4, fig. 7",

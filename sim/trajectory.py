@@ -15,9 +15,10 @@ v^n(t) and acceleration a^n(t) = dv^n/dt [m/s, m/s^2]. What an ideal IMU senses 
 (Titterton & Weston, Strapdown Inertial Navigation Technology, 2nd ed. (2004), eqs. 3.38 and
 3.53 with the plumb-bob gravity of 3.89), with the WGS84 Earth rate Omega_E, radii R_M, R_N and
 Somigliana's normal gravity gamma(phi) less the free-air gradient 3.086e-6 /s^2 x h
-(NIMA TR8350.2, 3rd ed. (2000), eq. 4-1 and sec. 4.3). Stated simplification: phi and h are
-held at the start point's (a record's change of latitude, |v_N| t / R_M, changes omega_ie by
-Omega_E |dphi|, 1e-7 of it per 0.6 m north; the tool does not integrate position).
+(NIMA TR8350.2, 3rd ed. (2000), eq. 4-1 and sec. 4.3; :class:`gyrobench.sim.earth.Site`).
+Stated simplification: phi and h are held at the start point's (a record's change of latitude,
+|v_N| t / R_M, changes omega_ie by Omega_E |dphi|, 1e-7 of it per 0.6 m north; the tool does
+not integrate position).
 
 An IMU delivers increments: dtheta_k = integral over [t_k, t_k + T] of omega_ib^b and
 dv_k = integral of f^b (T = 1/fs), and a rate output is dtheta_k / T. :func:`increments` forms
@@ -41,63 +42,26 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
 from gyrobench.base.memory import check_memory
-from gyrobench.base.validate import check_fs, positive_number, real_number
+from gyrobench.base.validate import check_fs, positive_number
+from gyrobench.sim.earth import Site
 
 __all__ = [
-    "EARTH_RATE",
-    "WGS84_A",
-    "WGS84_E2",
     "GAUSS_NODES",
-    "Site",
     "Motion",
     "Segment",
     "SegmentedMotion",
     "ConingMotion",
     "RockingMotion",
+    "SampledMotion",
     "Increments",
     "increments",
-    "normal_gravity",
     "rotation_matrix",
     "segments_from_table",
 ]
 
-#: WGS84 Earth rotation rate Omega_E [rad/s] (NIMA TR8350.2, table 3.1)
-EARTH_RATE = 7.292115e-5
-#: WGS84 semi-major axis [m] and first eccentricity squared (NIMA TR8350.2, tables 3.1 and 3.3)
-WGS84_A = 6378137.0
-WGS84_E2 = 6.69437999014e-3
-#: Somigliana's constants: equatorial normal gravity [m/s^2] and k (NIMA TR8350.2, table 3.4)
-_GAMMA_E = 9.7803253359
-_SOMIGLIANA_K = 1.931852652458e-3
-#: free-air gradient of normal gravity [1/s^2] (NIMA TR8350.2, sec. 4.3, first order in h)
-_FREE_AIR = 3.086e-6
 #: Gauss-Legendre nodes per sample interval (module docstring)
 GAUSS_NODES = 8
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_NODES)
-
-
-def normal_gravity(latitude: float, height: float = 0.0) -> float:
-    """gamma(phi, h) = gamma_e (1 + k sin^2 phi) / sqrt(1 - e^2 sin^2 phi) - 3.086e-6 h [m/s^2].
-
-    Parameters
-    ----------
-    latitude : float
-        Geodetic latitude phi [rad].
-    height : float
-        Height above the ellipsoid h [m].
-
-    Returns
-    -------
-    float
-        WGS84 normal gravity (NIMA TR8350.2 eq. 4-1, free-air term of sec. 4.3).
-
-    Examples
-    --------
-    >>> round(normal_gravity(0.0), 7), round(normal_gravity(math.pi / 2), 7)
-    (9.7803253, 9.8321849)
-    """
-    s2 = math.sin(latitude) ** 2
-    return _GAMMA_E * (1 + _SOMIGLIANA_K * s2) / math.sqrt(1 - WGS84_E2 * s2) - _FREE_AIR * height
 
 
 def rotation_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
@@ -126,59 +90,6 @@ def rotation_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
     k[..., 2, 0], k[..., 2, 1] = -a[..., 1], a[..., 0]
     eye = np.broadcast_to(np.eye(3), k.shape)
     return eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Site:
-    """Where the motion starts: latitude, height (held over the record; module docstring).
-
-    Parameters
-    ----------
-    latitude : float
-        Geodetic latitude phi [rad], |phi| < pi/2.
-    height : float
-        Height above the WGS84 ellipsoid [m], within -1e4..1e5 m.
-    earth_rotation : bool
-        False switches the Earth's rate and the Coriolis and transport terms off (a
-        non-rotating Earth), for tests and for users who want body motion alone.
-    """
-
-    latitude: float = 0.0
-    height: float = 0.0
-    earth_rotation: bool = True
-
-    def __post_init__(self) -> None:
-        lat = real_number("Site.latitude", self.latitude, "rad")
-        if not abs(lat) < math.pi / 2:
-            raise ValueError(f"Site.latitude must satisfy |phi| < pi/2 rad; got {self.latitude!r}")
-        h = real_number("Site.height", self.height, "m")
-        if not -1e4 <= h <= 1e5:
-            raise ValueError(f"Site.height must be within -1e4..1e5 m; got {self.height!r}")
-
-    @property
-    def gravity(self) -> float:
-        """gamma(phi, h) [m/s^2] (:func:`normal_gravity`)."""
-        return normal_gravity(self.latitude, self.height)
-
-    @property
-    def earth_rate_n(self) -> NDArray[np.float64]:
-        """omega_ie^n = Omega_E [cos phi, 0, -sin phi] [rad/s] (zero without Earth rotation)."""
-        if not self.earth_rotation:
-            return np.zeros(3)
-        return EARTH_RATE * np.array([math.cos(self.latitude), 0.0, -math.sin(self.latitude)])
-
-    def transport_rate_n(self, v_n: NDArray[np.float64]) -> NDArray[np.float64]:
-        """omega_en^n for velocities ``v_n`` of shape (..., 3) [m/s] -> [rad/s]."""
-        if not self.earth_rotation:
-            return np.zeros_like(v_n)
-        s2 = math.sin(self.latitude) ** 2
-        r_n = WGS84_A / math.sqrt(1 - WGS84_E2 * s2) + self.height
-        r_m = WGS84_A * (1 - WGS84_E2) / (1 - WGS84_E2 * s2) ** 1.5 + self.height
-        out = np.empty_like(v_n)
-        out[..., 0] = v_n[..., 1] / r_n
-        out[..., 1] = -v_n[..., 0] / r_m
-        out[..., 2] = -v_n[..., 1] * math.tan(self.latitude) / r_n
-        return out
 
 
 @runtime_checkable
@@ -354,7 +265,7 @@ class RockingMotion:
 
     At rest otherwise; the sensed specific force is gravity rotating in the body y-z plane,
     whose increments over whole periods have a closed form in Bessel functions (the sculling
-    check of :mod:`gyrobench.scenarios.checks`).
+    check of tests/sim/test_trajectory.py).
 
     Parameters
     ----------
@@ -388,6 +299,89 @@ class RockingMotion:
         rate = np.stack([self.amplitude * w * np.cos(w * t), np.zeros_like(t), np.zeros_like(t)], axis=-1)
         zeros = np.zeros((len(t), 3))
         return rotation_matrix(rotvec), rate, zeros, zeros
+
+
+@dataclass(frozen=True, slots=True)
+class SampledMotion:
+    """A trajectory from samples: time, attitude quaternion and velocity (e.g. a CSV from a
+    navigation solution or a motion-capture system).
+
+    Between the samples the quaternion's four components and the velocity's three are cubic
+    splines (not-a-knot; scipy.interpolate.CubicSpline), the quaternion renormalised; the body
+    rate is omega_nb^b = 2 vec(q* (x) dq/dt) / |q|^2 and a^n = dv^n/dt from the same splines
+    (Savage, Strapdown Analytics (2000), eq. 3.2.4-3). The samples' own accuracy bounds the
+    result: the splines are exact for motions whose quaternion and velocity are cubic in t, and
+    their error elsewhere falls as the sample interval to the fourth power.
+
+    Parameters
+    ----------
+    times : array_like, shape (m,)
+        Sample times [s], strictly increasing, from 0 (m >= 4).
+    quaternions : array_like, shape (m, 4)
+        q_nb as (w, x, y, z) (scalar first; body to NED), any sign convention continuous in
+        time (a sign flip between samples is undone).
+    velocities : array_like, shape (m, 3)
+        v^n in north, east, down [m/s].
+    """
+
+    times: NDArray[np.float64]
+    quaternions: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    _q: object = field(init=False, repr=False)
+    _v: object = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        from scipy.interpolate import CubicSpline
+
+        t = np.asarray(self.times, dtype=float)
+        q = np.array(self.quaternions, dtype=float)
+        v = np.asarray(self.velocities, dtype=float)
+        if t.ndim != 1 or len(t) < 4 or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0) or t[0] != 0.0:
+            raise ValueError("SampledMotion.times must be >= 4 finite, strictly increasing times [s] from 0")
+        if q.shape != (len(t), 4) or v.shape != (len(t), 3) or not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+            raise ValueError(f"SampledMotion.quaternions must be ({len(t)}, 4) and velocities ({len(t)}, 3), finite; "
+                             f"got {q.shape} and {v.shape}")
+        norm = np.linalg.norm(q, axis=1)
+        if np.any(np.abs(norm - 1) > 1e-3):
+            raise ValueError(f"SampledMotion.quaternions must be unit quaternions (|q| within 1e-3 of 1); "
+                             f"got |q| from {norm.min():.6g} to {norm.max():.6g}")
+        q /= norm[:, None]
+        flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0, -1.0, 1.0))
+        q[1:] *= flips[:, None]
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "quaternions", q)
+        object.__setattr__(self, "velocities", v)
+        object.__setattr__(self, "_q", CubicSpline(t, q, axis=0))
+        object.__setattr__(self, "_v", CubicSpline(t, v, axis=0))
+
+    @property
+    def duration(self) -> float:
+        """The last sample's time [s]."""
+        return float(self.times[-1])
+
+    def breakpoints(self) -> NDArray[np.float64]:
+        """The sample times inside the record (where the splines' third derivatives jump)."""
+        return self.times[1:-1].copy()
+
+    def state(self, t):
+        """(C_nb, omega_nb^b, v^n, a^n) at ``t`` [s] from the splines (class docstring)."""
+        t = np.asarray(t, dtype=float)
+        q = self._q(t)  # type: ignore[operator]
+        dq = self._q(t, 1)  # type: ignore[operator]
+        n2 = np.sum(q * q, axis=1)
+        w, x, y, z = (q[:, i] for i in range(4))
+        dw, dx, dy, dz = (dq[:, i] for i in range(4))
+        # 2 vec(conj(q) (x) dq) / |q|^2
+        rate = 2 * np.stack([w * dx - x * dw - y * dz + z * dy,
+                             w * dy + x * dz - y * dw - z * dx,
+                             w * dz - x * dy + y * dx - z * dw], axis=-1) / n2[:, None]
+        qn = q / np.sqrt(n2)[:, None]
+        w, x, y, z = (qn[:, i] for i in range(4))
+        c = np.empty((len(t), 3, 3))
+        c[:, 0, 0], c[:, 0, 1], c[:, 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
+        c[:, 1, 0], c[:, 1, 1], c[:, 1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
+        c[:, 2, 0], c[:, 2, 1], c[:, 2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+        return c, rate, self._v(t), self._v(t, 1)  # type: ignore[operator]
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,6 +19,12 @@ The trajectory file (TOML, field units; every key optional but one ``[[motion]]`
     [accelerometer]             # a datasheet-level accelerometer (AccelerometerSpec.from_datasheet keys);
     vrw_m_s_sqrt_h = 0.05       # without this table the accelerometers are ideal
     bias_instability_ug = 20.0
+
+or a CSV of samples (a navigation solution or motion capture) with the header
+``time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps``: time from 0 [s], the body-to-NED attitude quaternion
+(scalar first) and the NED velocity [m/s], splined between the rows
+(:class:`gyrobench.sim.trajectory.SampledMotion`); its site is ``--latitude`` (default 0) at sea
+level, and its accelerometers are ideal.
 """
 
 from __future__ import annotations
@@ -26,12 +32,15 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from gyrobench.scenarios.cli.common import BadInput, one_line, read_toml
+from gyrobench.scenarios.cli.common import BadInput, check_outputs, input_file, one_line, read_toml
 
-__all__ = ["simulate_imu", "load_trajectory"]
+__all__ = ["simulate_imu", "load_trajectory", "load_trajectory_csv", "CSV_HEADER"]
+
+#: the header line of a sampled trajectory CSV
+CSV_HEADER = "time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps"
 
 _ACCEL_KEYS = ("bias_repeatability_mg", "scale_factor_repeatability_ppm", "vrw_m_s_sqrt_h", "bias_instability_ug",
-               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "resolution_mg")
+               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "bandwidth_hz", "resolution_mg")
 
 
 def _table(data: dict, name: str, keys: tuple[str, ...], path: str) -> dict:
@@ -61,14 +70,15 @@ def load_trajectory(path: str):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.trajectory.Site`,
+        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.earth.Site`,
         :class:`~gyrobench.sim.imu.AccelerometerSpec` or None).
     """
     import numpy as np
 
     from gyrobench.base import units
+    from gyrobench.sim.earth import Site
     from gyrobench.sim.imu import AccelerometerSpec
-    from gyrobench.sim.trajectory import SegmentedMotion, Site, segments_from_table
+    from gyrobench.sim.trajectory import SegmentedMotion, segments_from_table
 
     data = read_toml(path, "--trajectory")
     if unknown := sorted(set(data) - {"site", "initial", "motion", "accelerometer"}):
@@ -101,11 +111,54 @@ def load_trajectory(path: str):
     if acc_t is not None:
         acc_t = _table(data, "accelerometer", _ACCEL_KEYS, path)
         try:
-            accel = AccelerometerSpec.from_datasheet(**{k: _number(acc_t, k, "accelerometer", 0.0, 1e9, 0.0)
-                                                        for k in acc_t})
+            accel = AccelerometerSpec.from_datasheet(**{
+                k: _number(acc_t, k, "accelerometer", -1e9 if "tempco" in k else 0.0, 1e9, 0.0) for k in acc_t})
         except (TypeError, ValueError) as exc:
             raise BadInput(f"{path}: {one_line(exc)}") from None
     return motion, site, accel
+
+
+def load_trajectory_csv(path: str, latitude_deg: float):
+    """(motion, site, None) from a sampled trajectory CSV (module docstring).
+
+    Parameters
+    ----------
+    path : str
+        The CSV file, its first line :data:`CSV_HEADER`.
+    latitude_deg : float
+        The site's latitude [deg].
+
+    Returns
+    -------
+    tuple
+        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.earth.Site`, None).
+    """
+    import numpy as np
+
+    from gyrobench.base import memory, units
+    from gyrobench.sim.earth import Site
+    from gyrobench.sim.trajectory import SampledMotion
+
+    p = Path(path)
+    if not p.is_file():
+        raise BadInput(f"--trajectory {path!r}: not a regular file")
+    size = p.stat().st_size
+    memory.check_memory(memory.csv_read_bytes(size, 8 / 20), f"reading --trajectory {path!r}")
+    with open(p, encoding="utf-8", errors="replace") as fh:
+        head = fh.readline(4096).strip()
+    if head.replace(" ", "") != CSV_HEADER:
+        raise BadInput(f"--trajectory {path!r}: the first line must be {CSV_HEADER!r}; got {head[:80]!r}")
+    try:
+        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2)
+    except ValueError as exc:
+        raise BadInput(f"--trajectory {path!r}: {one_line(exc)}") from None
+    if data.shape[1] != 8:
+        raise BadInput(f"--trajectory {path!r}: rows must have 8 numbers; got {data.shape[1]}")
+    try:
+        motion = SampledMotion(data[:, 0], data[:, 1:5], data[:, 5:8])
+    except ValueError as exc:
+        raise BadInput(f"--trajectory {path!r}: {one_line(exc)}") from None
+    return motion, Site(latitude=units.deg(latitude_deg)), None
 
 
 def simulate_imu(args) -> int:
@@ -113,9 +166,9 @@ def simulate_imu(args) -> int:
     import numpy as np
 
     from gyrobench.base import memory
+    from gyrobench.base.safety import Output
     from gyrobench.io.imu_formats import kalibr_imu_yaml, write_euroc
     from gyrobench.io.recording import save_hdf5, to_csv
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.sim import parts
     from gyrobench.sim.imu import AccelerometerSpec, TriadSpec
 
@@ -125,10 +178,9 @@ def simulate_imu(args) -> int:
         raise BadInput("simulate imu needs --trajectory FILE.toml (a motion definition)")
     if args.output is None:
         raise BadInput("simulate imu needs -o FILE.h5 or FILE.csv")
-    try:
-        part = parts.get(args.part)
-    except ValueError as exc:
-        raise BadInput(one_line(exc)) from None
+    from gyrobench.scenarios.cli.simulate import load_part
+
+    part = load_part(args.part, "PART")  # a missing, non-regular or too deeply nested part file: one line
     out = Path(args.output)
     if out.suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
@@ -141,12 +193,18 @@ def simulate_imu(args) -> int:
         if not str(args.kalibr).lower().endswith(".yaml"):
             raise BadInput(f"--kalibr must end in .yaml; got {args.kalibr!r}")
         outs.append((Path(args.kalibr), "--kalibr"))
-    resolved = [p.resolve() for p, _ in outs] + [Path(args.trajectory).resolve()]
-    if len(set(resolved)) != len(resolved):
-        raise BadInput("simulate imu: -o, --euroc, --kalibr and --trajectory must be four different files")
-    for p, flag in outs:
-        check_output(p, what=flag, kind="file")
-    motion, site, accel = load_trajectory(args.trajectory)
+    # the output rule (gyrobench.base.safety): no output is the trajectory, the part file or another output;
+    # an existing file is replaced only if gyrobench wrote it (or with --force)
+    part_file = args.part if str(args.part).lower().endswith(".toml") else None
+    input_file(args.trajectory, "--trajectory")
+    check_outputs(args, [Output(p, flag) for p, flag in outs], [("--trajectory", args.trajectory), ("PART", part_file)])
+    if str(args.trajectory).lower().endswith(".csv"):
+        lat = 0.0 if args.latitude is None else args.latitude
+        motion, site, accel = load_trajectory_csv(args.trajectory, lat)
+    else:
+        if args.latitude is not None:
+            raise BadInput("simulate imu: --latitude applies to a CSV trajectory; a TOML one states [site]")
+        motion, site, accel = load_trajectory(args.trajectory)
     fs = 100.0 if args.fs is None else float(args.fs)
     n = int(math.floor(motion.duration * fs + 1e-9))
     if n < 2:

@@ -24,7 +24,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gyrobench.scenarios.cli.common import MAX_FLAG_VALUE, BadInput, positive_float, seed
+from gyrobench.scenarios.cli.common import (
+    MAX_FLAG_VALUE,
+    BadInput,
+    add_force,
+    check_outputs,
+    input_file,
+    positive_float,
+    seed,
+)
 
 if TYPE_CHECKING:  # the verb imports numpy, analysis and sim only when it runs (``--help`` stays light)
     import numpy as np
@@ -253,6 +261,7 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
 
     from gyrobench.base import units
     from gyrobench.base.atomic import atomic_path
+    from gyrobench.base.safety import PNG_METADATA
 
     c = res.comparison
     dph = 1.0 / units.deg_per_h(1.0)
@@ -270,8 +279,23 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     with atomic_path(target) as tmp:
-        fig.savefig(tmp, format=(target.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+        fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight", metadata=PNG_METADATA)
     plt.close(fig)
+
+
+def _check_twin_outputs(args, path: Path) -> None:
+    """-o and --plot through the output rule (gyrobench.base.safety): never the record or the --part file."""
+    from gyrobench.base.safety import Output
+
+    part = args.part if args.part is not None and args.part.lower().endswith(".toml") else None
+    if args.part is not None:  # read once here: a missing, foreign or too deeply nested part fails before the fit
+        from gyrobench.scenarios.cli.simulate import load_part
+
+        load_part(args.part, "--part")
+    outs = [Output(Path(args.output), "-o", suffixes=(".h5", ".hdf5", ".csv"), create_parents=False)]
+    if args.plot:
+        outs.append(Output(Path(args.plot), "--plot", suffixes=(".png",), create_parents=False))
+    check_outputs(args, outs, [("FILE", path), ("--part", part)])
 
 
 def _cmd_twin(args) -> int:
@@ -279,18 +303,13 @@ def _cmd_twin(args) -> int:
 
     from gyrobench.io.recording import save_hdf5
     from gyrobench.scenarios.cli.allan import _check_allan_input, _read_hdf5
-    from gyrobench.scenarios.reports.outputs import check_output
 
-    path = Path(args.file)
-    if not path.is_file():
-        raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    path = input_file(args.file, "recording file")  # not found, a folder, a FIFO, a device: one line
     if args.part is not None and args.nearest is not None:
         raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
     if Path(args.output).suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.output!r}")
-    check_output(args.output, what="-o", create_parents=False)
-    if args.plot:
-        check_output(args.plot, what="--plot", create_parents=False)
+    _check_twin_outputs(args, path)  # before any work
     columns = [args.column] if args.column is not None else None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -356,4 +375,5 @@ def add_parser(sub) -> None:
                         "(default 0.05)")
     s.add_argument("--json", action="store_true", help="print the per-tau comparison as JSON")
     s.add_argument("--plot", help="write the overlaid ADEV figure (PNG)")
+    add_force(s)
     s.set_defaults(func=_cmd_twin)

@@ -12,6 +12,9 @@ from gyrobench.base import units
 from gyrobench.scenarios.cli.allan import read_csv as _read_csv
 from tests.scenarios.test_cli import assert_one_line_error, run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 
 @pytest.fixture
 def rate(rng):

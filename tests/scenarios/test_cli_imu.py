@@ -15,6 +15,9 @@ from gyrobench.sim import parts
 
 from .test_cli import run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TRAJECTORY = """
 [site]
 latitude_deg = 45.0
@@ -117,3 +120,31 @@ def test_imu_flags_are_refused_by_the_other_targets(tmp_path, capsys):
                         "--trajectory", "x.toml"], capsys)
     assert code == 2 and "--trajectory apply to 'simulate imu' only" in err
     assert main is not None
+
+
+def test_a_csv_trajectory_of_quaternions_and_velocities(tmp_path, capsys):
+    """A 90 deg turn sampled at 100 Hz as quaternions: the record's true z rate integrates to the
+    turn plus the Earth's rate about the down axis over the record (-Omega sin(phi) t)."""
+    from scipy.spatial.transform import Rotation
+
+    from gyrobench.sim.earth import EARTH_RATE
+
+    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    yaw = np.radians(10.0) * np.clip(t - 5.0, 0.0, 9.0)
+    q = Rotation.from_euler("z", yaw[:, None]).as_quat()[:, [3, 0, 1, 2]]
+    p = tmp_path / "traj.csv"
+    rows = ["time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps"]
+    rows += [",".join(f"{x:.17g}" for x in r) for r in np.column_stack([t, q, np.zeros((len(t), 3))])]
+    p.write_text("\n".join(rows) + "\n")
+    code, _, err = run(["simulate", "imu", "adxrs646", "--trajectory", p, "-o", tmp_path / "c.h5",
+                        "--latitude", "45"], capsys)
+    assert code == 0, err
+    rec = load_hdf5(tmp_path / "c.h5")
+    turn = np.sum(rec["truth/gyro_z.true"]) / rec.fs
+    earth = -EARTH_RATE * np.sin(np.radians(45.0)) * 20.0
+    # the spline smooths the two kinks of the sampled yaw, each within one sample interval: the
+    # turn it integrates is the sampled one up to (rate step x h^2), 1.7e-5 rad x 2
+    assert turn == pytest.approx(np.pi / 2 + earth, abs=4e-5)
+    code, _, err = run(["simulate", "imu", "adxrs646", "--trajectory", p, "-o", tmp_path / "d.h5",
+                        "--latitude", "95"], capsys)
+    assert code == 2

@@ -16,6 +16,9 @@ from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.cli.twin import make_twin, noise_model_from_fit
 from gyrobench.sim import parts
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 DATA = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz"
 RECORDS = sorted(DATA.glob("adis16405_imu*_1Hz.csv.gz"))
 AXES = ("gyro_x_dps", "gyro_y_dps", "gyro_z_dps")

@@ -114,7 +114,7 @@ from .bench import compensation_task  # noqa: E402
 from .claims import CLAIMS, DEVIATIONS, VIBRATION_BIAS_SHOWS, claims_for  # noqa: E402
 from .config import Config, FogSpec  # noqa: E402
 from .device import draw_mount, draw_unit, steady_mount_bias, steady_vibration_bias  # noqa: E402
-from .experiment import experiment, memory_estimate, simulate  # noqa: E402
+from .experiment import REPORT_UNITS, SLIM_FIELDS, experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 from .results import TERMS, UnitResult  # noqa: E402
 from .variants import VARIANTS, control_config, variant_config  # noqa: E402
@@ -124,6 +124,8 @@ __all__ = [
     "DEVIATIONS",
     "NAME",
     "PAPER",
+    "REPORT_UNITS",
+    "SLIM_FIELDS",
     "TERMS",
     "TITLE",
     "Config",

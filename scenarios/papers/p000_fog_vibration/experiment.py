@@ -8,6 +8,7 @@ records, 2 the RBF centres' order, 3 the drawn unit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from dataclasses import asdict
 
@@ -112,14 +113,16 @@ def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[
 
 #: what :func:`experiment` reads of each record (channels; truth without its ``truth/`` prefix)
 _USED = {"sweep": (("rate", "shaker_frequency", "shaker_on"), ()),
-         "fixed": (("rate", "shaker_frequency", "shaker_on"), ("vibration_bias",))}
+         "fixed": (("rate", "shaker_frequency", "shaker_on"),
+                   ("vibration_bias", "optical_noise", "ieee_quantization", "ieee_angle_random_walk"))}
 
 
 def _slim(rec: Recording, key: str) -> Recording:
     """``rec`` holding only what :func:`experiment` reads: the same arrays, the rest released."""
     chans, truth = _USED[key]
     return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans},
-                     truth={k: rec.truth[k] for k in truth}, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+                     truth={k: rec.truth[k] for k in truth if k in rec.truth}, t0=rec.t0, metadata=rec.metadata,
+                     name=rec.name)
 
 
 def experiment(config: Config, seed: int) -> UnitResult:
@@ -190,7 +193,10 @@ def denoising_against_truth(fixed: Recording, dec: MultiscaleDecomposition, conf
     of 1-s means, the offset steps and the drift stay). Both over the whole record.
     """
     fs, j = fixed.fs, config.bias_level
-    n = sum(units.to_deg_per_h(fixed.truth[k].data) for k in _FAST_NOISE if k in fixed.truth)
+    present = [k for k in _FAST_NOISE if k in fixed.truth]
+    if not present:  # no fast noise in the record: nothing to remove
+        return {"t2_a6_noise_left": math.nan, "t2_a6_signal_lost": math.nan}
+    n = sum(units.to_deg_per_h(fixed.truth[k].data) for k in present)
     s = units.to_deg_per_h(fixed["rate"]) - n
     a_n = decompose(n, fs, wavelet=config.wavelet, level=config.level).approx(j)
     k = max(1, int(round(fs)))

@@ -53,24 +53,31 @@ precondition is absent on most units is "not reproducible on this device".
 
 A paper scenario also runs a **control population**: the same seeds with the paper's effect
 switched off. Each claim is judged on the control too (without its precondition: the point
-is what the analysis gives when there is nothing to find); a method claim that holds on the
-units while its control pass-rate interval overlaps the units' is an **identity of the
-analysis**, flagged and not counted as reproduced. :attr:`ClaimResult.status` gives the
-final word.
+is what the analysis gives when there is nothing to find). The rule is two-sided: a method or
+extension claim whose pass rates on the units and on the control are not distinguishable by
+Fisher's exact test (two-sided, at :data:`CONTROL_ALPHA`) is **no different from the
+control** (when it holds or is undecided on the units); one that passes significantly *less*
+often on the units than on the control is **below the control**, whatever its verdict; only a
+claim that holds on the units *and* passes there significantly more often than on the control
+counts as reproduced, and a claim failing on the units and on the control stays contradicted.
+:attr:`ClaimResult.status` gives the final word.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
 
 __all__ = [
+    "CONTROL_ALPHA",
     "PROVISIONAL_MARGIN",
     "ROLES",
     "STATUSES",
@@ -84,12 +91,15 @@ __all__ = [
     "Precondition",
     "deviation_effect",
     "above",
+    "control_test",
     "below",
     "evaluate",
     "finite_median",
     "tally",
     "in_range",
     "is_true",
+    "sequential_error",
+    "sequential_z",
     "verdict",
     "wilson_interval",
     "within_factor",
@@ -101,6 +111,9 @@ _Z95 = 1.959963984540054
 #: a verdict whose 95 % interval ends within this of 50 % is provisional
 PROVISIONAL_MARGIN = 0.05
 
+#: false-alarm rate of the two-sided Fisher exact test of "the units pass as often as the control"
+CONTROL_ALPHA = 0.05
+
 #: a claim's role (see the module docstring)
 ROLES = ("device", "method", "extension")
 Role = Literal["device", "method", "extension"]
@@ -111,7 +124,8 @@ STATUSES = (
     "device not matched",
     "reproduced",
     "contradicted",
-    "identity of the analysis",
+    "no different from the control",
+    "below the control",
     "not reproducible on this device",
     "undecided",
     "not testable",
@@ -204,15 +218,29 @@ class Precondition:
         Key of the unit's ``quantities`` the comparator reads (e.g. the bias-to-scatter ratio).
     comparator : Comparator
         Present when the comparator holds on the unit's value (not None or NaN; +-inf is a value).
+    also : tuple of Precondition
+        Further conditions the unit must meet as well (each on its own quantity).
     """
 
     text: str
     quantity: str
     comparator: Comparator
+    also: tuple[Precondition, ...] = ()
 
     def present(self, q: float | None) -> bool:
-        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not)."""
+        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not);
+        the ``also`` conditions are not looked at (see :meth:`present_in`)."""
         return q is not None and self.comparator.holds(q)
+
+    def present_in(self, unit: Mapping[str, Any], claim_id: str = "") -> bool:
+        """Whether the unit's quantities meet this condition and every one of ``also``."""
+        return self.present(_finite(unit.get(self.quantity), claim_id)) and all(
+            p.present_in(unit, claim_id) for p in self.also
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"text": self.text, "quantity": self.quantity, "comparator": self.comparator.text(),
+                "also": [p.as_dict() for p in self.also]}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -247,6 +275,10 @@ class Claim:
         See the module docstring. Default ``"method"``.
     precondition : Precondition, optional
         For a method or extension claim: when a unit can judge it.
+    same_effect_as : str, optional
+        The id of the claim that shows the same effect of the simulation (e.g. two quantities
+        of one offset): the claim is judged and shown but counted once, with that claim (the
+        group's lead), in the tally.
     """
 
     id: str
@@ -261,8 +293,11 @@ class Claim:
     calibrated_input: str | None = None
     role: Role = "method"
     precondition: Precondition | None = None
+    same_effect_as: str | None = None
 
     def __post_init__(self) -> None:
+        if self.same_effect_as is not None and self.same_effect_as == self.id:
+            raise ValueError(f"claim {self.id!r}: same_effect_as names another claim; got its own id")
         if self.role not in ROLES:
             raise ValueError(f"claim {self.id!r}: role must be one of {ROLES}; got {self.role!r}")
         if self.role == "device" and self.precondition is not None:
@@ -343,6 +378,7 @@ class ClaimResult:
     misses_below: int = 0
     misses_above: int = 0
     control: ControlResult | None = None
+    z: float = _Z95
 
     @property
     def pass_rate(self) -> float | None:
@@ -351,13 +387,14 @@ class ClaimResult:
 
     @property
     def interval95(self) -> tuple[float, float] | None:
-        """95 % Wilson score interval of the pass rate."""
-        return wilson_interval(self.holds, self.testable) if self.testable else None
+        """Wilson score interval of the pass rate: 95 % at a fixed unit count; with ``--units auto``
+        the group-sequential one (``z`` from :func:`sequential_z`)."""
+        return wilson_interval(self.holds, self.testable, self.z) if self.testable else None
 
     @property
     def verdict(self) -> str:
         """``"holds for most units"``, ``"fails for most units"``, ``"undecided"``, ``"not testable"``."""
-        return verdict(self.holds, self.testable)
+        return verdict(self.holds, self.testable, self.z)
 
     @property
     def provisional(self) -> bool:
@@ -371,13 +408,30 @@ class ClaimResult:
         )
 
     @property
+    def control_p_value(self) -> float | None:
+        """Two-sided Fisher exact p-value of the units' and the control's pass counts (:func:`control_test`);
+        None without a control or a unit or control unit that could test the claim."""
+        if self.control is None or not self.control.testable or not self.testable:
+            return None
+        return control_test(self.holds, self.testable, self.control.holds, self.control.testable)
+
+    @property
     def identity(self) -> bool:
-        """Holds on the units and about as often on the control (overlapping 95 % intervals)."""
-        if self.verdict != "holds for most units" or self.control is None or not self.control.testable:
+        """The units' pass rate is not significantly above the control's (Fisher's exact test,
+        two-sided, at :data:`CONTROL_ALPHA`): no different from it, or below it. A claim that
+        fails on the units is flagged only when it is significantly below the control (a
+        contradiction on the units stands when the control fails it too). False without a
+        control that could test the claim."""
+        p = self.control_p_value
+        if p is None:
             return False
-        lo, hi = self.interval95 or (0.0, 1.0)
-        clo, chi = self.control.interval95 or (0.0, 1.0)
-        return clo <= hi and lo <= chi
+        if self.verdict == "fails for most units":  # a contradiction stands unless the control holds more
+            return p < CONTROL_ALPHA and not self._above_control()
+        return p >= CONTROL_ALPHA or not self._above_control()
+
+    def _above_control(self) -> bool:
+        c = self.control
+        return c is not None and self.holds * c.testable > c.holds * self.testable
 
     @property
     def precondition_mostly_absent(self) -> bool:
@@ -393,7 +447,9 @@ class ClaimResult:
         if self.precondition_mostly_absent:
             return "not reproducible on this device"
         if self.identity:
-            return "identity of the analysis"
+            p = self.control_p_value
+            below = p is not None and p < CONTROL_ALPHA and not self._above_control()
+            return "below the control" if below else "no different from the control"
         return {"holds for most units": "reproduced", "fails for most units": "contradicted"}.get(v, v)
 
     @property
@@ -419,23 +475,28 @@ class ClaimResult:
             "paper_value": c.paper_value,
             "unit": c.unit,
             "comparator": c.comparator.text(c.unit),
+            "quantity": c.quantity,
             "units": self.units,
             "testable": self.testable,
             "holds": self.holds,
             "pass_rate": self.pass_rate,
             "interval95": list(self.interval95) if self.interval95 else None,
+            "interval_z": self.z,
             "median": self.median,
             "spread": list(self.spread) if self.spread else None,
             "verdict": self.verdict,
             "role": c.role,
             "status": self.status,
             "provisional": self.provisional,
-            "precondition": None if pre is None else {
-                "text": pre.text, "quantity": pre.quantity, "comparator": pre.comparator.text()},
+            "precondition": None if pre is None else pre.as_dict(),
             "precondition_absent": self.precondition_absent,
             "misses": {"below": self.misses_below, "above": self.misses_above, "direction": self.miss_direction},
             "identity": self.identity,
+            "same_effect_as": c.same_effect_as,
             "control": None if self.control is None else self.control.as_dict(),
+            "control_test": None if self.control_p_value is None else {
+                "test": "Fisher exact, two-sided", "alpha": CONTROL_ALPHA, "p_value": self.control_p_value,
+                "no_different": self.identity},
         }
 
 
@@ -460,16 +521,87 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     return lo, hi
 
 
-def verdict(holds: int, testable: int) -> str:
-    """The summary's word for a pass count (see the module docstring)."""
+def control_test(holds: int, testable: int, control_holds: int, control_testable: int) -> float:
+    """Two-sided p-value of Fisher's exact test that the units and the control pass equally often.
+
+    The 2 x 2 table [[holds, testable - holds], [control_holds, control_testable - control_holds]]
+    (``scipy.stats.fisher_exact``, conditional on the margins; Fisher, Statistical Methods for
+    Research Workers (1934) sec. 21.02); 1.0 when either row is empty.
+    """
+    if testable <= 0 or control_testable <= 0:
+        return 1.0
+    from scipy.stats import fisher_exact
+
+    table = [[holds, testable - holds], [control_holds, control_testable - control_holds]]
+    return float(fisher_exact(table, alternative="two-sided").pvalue)
+
+
+def verdict(holds: int, testable: int, z: float = _Z95) -> str:
+    """The summary's word for a pass count (see the module docstring); ``z`` of the Wilson interval."""
     if testable == 0:
         return "not testable"
-    lo, hi = wilson_interval(holds, testable)
+    lo, hi = wilson_interval(holds, testable, z)
     if lo > 0.5:
         return "holds for most units"
     if hi < 0.5:
         return "fails for most units"
     return "undecided"
+
+
+def _decided(k: NDArray[np.int_], n: int, z: float) -> NDArray[np.bool_]:
+    """Whether the Wilson interval (``z``) of k of n excludes 50 % (vectorized :func:`verdict`)."""
+    p = k / n
+    denom = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return (centre - half > 0.5) | (centre + half < 0.5)
+
+
+def sequential_error(looks: Sequence[int], z: float) -> float:
+    """Exact probability that a claim whose true pass rate is 50 % is decided (holds or fails) at any
+    of the ``looks`` (unit counts, increasing) when each look judges it by the Wilson interval at ``z``.
+
+    Dynamic programming over the binomial count of the units seen: the paths still undecided after
+    each look are convolved with the next batch's Binomial(n_{k+1} - n_k, 1/2) and the mass that
+    crosses the boundary is summed (the group-sequential crossing probability; Jennison & Turnbull,
+    Group Sequential Methods (2000) sec. 19.2, for a binomial response).
+    """
+    from scipy.stats import binom
+
+    alive = np.array([1.0])
+    prev, crossed = 0, 0.0
+    for n in looks:
+        step = binom.pmf(np.arange(n - prev + 1), n - prev, 0.5)
+        alive = np.convolve(alive, step)
+        dec = _decided(np.arange(n + 1), n, z)
+        crossed += float(alive[dec].sum())
+        alive = np.where(dec, 0.0, alive)
+        prev = n
+    return crossed
+
+
+@functools.lru_cache(maxsize=32)
+def sequential_z(looks: tuple[int, ...], alpha: float = 0.05) -> float:
+    """The constant Wilson z (a Pocock-type boundary) that keeps :func:`sequential_error` at or below
+    ``alpha`` over ``looks``: the smallest such z to 1e-4 (bisection on [1.5, 6]; the error is a
+    step function of z, non-increasing). One look: at or below 1.96 where the binomial's
+    discreteness already keeps the error below alpha.
+
+    Pocock, Biometrika 64, 191 (1977): one critical value at every look of a group-sequential test;
+    here chosen from the exact binomial crossing probability instead of the normal approximation.
+    """
+    if not looks or any(b <= a for a, b in zip(looks[:-1], looks[1:], strict=False)) or looks[0] < 1:
+        raise ValueError(f"looks must be increasing unit counts >= 1; got {looks!r}")
+    lo, hi = 1.5, 6.0
+    if sequential_error(looks, hi) > alpha:
+        raise ValueError(f"no Wilson z <= {hi} keeps the error at or below alpha = {alpha!r} over looks {looks!r}")
+    while hi - lo > 1e-4:
+        mid = 0.5 * (lo + hi)
+        if sequential_error(looks, mid) <= alpha:
+            hi = mid
+        else:
+            lo = mid
+    return hi
 
 
 def _finite(v: Any, claim_id: str) -> float | None:
@@ -520,6 +652,8 @@ def evaluate(
     claims: Sequence[Claim],
     units: Sequence[Mapping[str, Any]],
     control: Sequence[Mapping[str, Any]] | None = None,
+    *,
+    z: float = _Z95,
 ) -> list[ClaimResult]:
     """Judge every claim over the units' ``quantities`` mappings (and over the control's).
 
@@ -528,16 +662,15 @@ def evaluate(
     test it either. A quantity that is not a number raises TypeError (a bug in the
     experiment). The spread is the interquartile range (25th and 75th percentiles) of the
     testable units' quantities. ``control`` (the same seeds with the paper's effect switched
-    off) is judged without the precondition.
+    off) is judged without the precondition. ``z``: of the verdict's Wilson interval (1.96 for a
+    fixed number of units; :func:`sequential_z` when units are added until claims are decided).
     """
     out = []
     for c in claims:
         values, absent = [], 0
         for u in units:
             v = _finite(u.get(c.quantity), c.id)
-            if c.precondition is not None and not c.precondition.present(
-                _finite(u.get(c.precondition.quantity), c.id)
-            ):
+            if c.precondition is not None and not c.precondition.present_in(u, c.id):
                 absent += 1
                 continue
             if v is not None:
@@ -556,6 +689,7 @@ def evaluate(
                 misses_below=misses.count("below"),
                 misses_above=misses.count("above"),
                 control=None if control is None else _judge_control(c, control),
+                z=z,
             )
         )
     return out

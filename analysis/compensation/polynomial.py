@@ -230,16 +230,32 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
 
     Input x (the gyro output), target y (the table rate). The x axis is split at
     breakpoints b_1 < ... < b_m into segments, each fitted with its own polynomial
-    order on the samples with x in [b_left - h, b_right + h] (h = half the join
-    width, so neighbouring fits overlap over each join). Over a join [b - h, b + h]
-    the prediction is the cubic Hermite curve
+    order. Over a join [x0, x1] around each breakpoint the prediction is the cubic
+    Hermite curve
 
-        H(x) = h00(t) y0 + h10(t) w m0 + h01(t) y1 + h11(t) w m1,  t = (x - x0)/w, w = 2h,
-        y0 = P_L(x0), m0 = P_L'(x0), y1 = P_R(x1), m1 = P_R'(x1),  x0 = b - h, x1 = b + h,
+        H(x) = h00(t) y0 + h10(t) w m0 + h01(t) y1 + h11(t) w m1,  t = (x - x0)/w, w = x1 - x0,
+        y0 = P_L(x0), m0 = P_L'(x0), y1 = P_R(x1), m1 = P_R'(x1),
 
     (h00 = 2t^3 - 3t^2 + 1, h10 = t^3 - 2t^2 + t, h01 = -2t^3 + 3t^2, h11 = t^3 - t^2;
     what ``scipy.interpolate.CubicHermiteSpline([x0, x1], [y0, y1], [m0, m1])``
-    evaluates), so the whole curve is C1.
+    evaluates), so the whole curve is C1 where the join has a width.
+
+    Two joins (``join``):
+
+    * ``"overlap"`` (default; the paper's section 2.2.2, steps 1-3): a breakpoint is a table
+      point (a distinct target value r_b, the breakpoint b = the mean input at r_b); the
+      samples at r_b belong to both neighbouring segments (the paper's shared point
+      i = q), every other sample to the segment its input lies in; the Hermite curve spans
+      the overlap of the two fits' own data, [x0, x1] = [min, max] of the inputs at r_b,
+      so it bridges the two fits only where both were fitted. An overlap of zero width
+      (one sample, or identical inputs at r_b) has no join: the segments switch at b.
+      Step 2's weighting of the first fit's end point in the second fit is not applied:
+      each segment is fitted on its own samples only.
+    * ``"centred"``: a join of ``join_width`` x the input span centred on b; each
+      segment is fitted on the samples with x in [b_left - h, b_right + h] (h = half the
+      join width). Not the paper's join: where a breakpoint's neighbour table point is
+      inside the join, the end values come from a high-order segment between its table
+      points, where it is unconstrained.
 
     With more than one input feature, feature 0 is the switching variable: the
     segments and joins are defined on it, each segment is an additive polynomial
@@ -260,9 +276,13 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         found. If the search cannot run (fewer than 3 distinct y) or a breakpoint
         cannot split x (see :meth:`fit`), fewer segments are fitted and a
         ``UserWarning`` says why. A tuple: breakpoints in input (x) units,
-        strictly increasing.
+        strictly increasing; with ``join="overlap"`` each is taken to the table point
+        (distinct target) of the sample whose input is nearest to it.
+    join : {"overlap", "centred"}
+        The Hermite join (see above).
     join_width : float
-        Width of each Hermite join as a fraction of the input span, in (0, 0.5).
+        Width of each ``"centred"`` join as a fraction of the input span, in (0, 0.5);
+        unused by ``"overlap"``.
     run_length : int
         Passed to the breakpoint search (3 in the paper).
     alpha : float
@@ -276,21 +296,31 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
     breakpoints_ : tuple of float
         Breakpoints in x units.
     breakpoint_rates_ : tuple of float
-        Breakpoints in target units (heuristic mode; else empty).
+        Breakpoints in target units (heuristic mode, or explicit breakpoints with the
+        overlap join; else empty).
     search_ : BreakpointSearch or None
         The heuristic's result and trace.
     orders_ : tuple of int
         Orders of the segments actually fitted.
     segments_ : list of PolynomialRegressor
     joins_ : list of tuple of float
-        (x0, x1) of each Hermite join.
+        (x0, x1) of each Hermite join (x0 == x1: no join).
+    half_join_ : float
+        Largest half width of the joins [x units].
     """
 
     def __init__(
-        self, orders=(9, 1, 9), breakpoints="heuristic", join_width=0.05, run_length=3, alpha=1e-6
+        self,
+        orders=(9, 1, 9),
+        breakpoints="heuristic",
+        join="overlap",
+        join_width=0.05,
+        run_length=3,
+        alpha=1e-6,
     ):
         self.orders = orders
         self.breakpoints = breakpoints
+        self.join = join
         self.join_width = join_width
         self.run_length = run_length
         self.alpha = alpha
@@ -325,6 +355,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
                 raise ValueError(
                     f"{owner}.orders must have len(breakpoints) + 1 = {b.size + 1} entries; got {len(orders)}"
                 )
+        if self.join not in ("overlap", "centred"):
+            raise ValueError(f"{owner}.join must be 'overlap' or 'centred'; got {self.join!r}")
         w = self.join_width
         if isinstance(w, bool) or not isinstance(w, Real) or not (0 < float(w) < 0.5):
             raise ValueError(
@@ -338,8 +370,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         Raises
         ------
         ValueError
-            For a given breakpoint outside the data (by the half join width) or
-            closer than the join width to another, or a segment with fewer
+            For a given breakpoint outside the data (centred join: by the half join
+            width), joins that touch or overlap each other, or a segment with fewer
             distinct inputs than its order + 1.
 
         Warns
@@ -347,8 +379,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         UserWarning
             Heuristic mode on data that are not a rate table of an increasing
             gyro: fewer than 3 distinct targets, or found breakpoints whose mean
-            outputs do not increase, lie within a half join of the data's ends or
-            closer than a join; such breakpoints are dropped.
+            outputs do not increase, lie outside the data (centred: within a half
+            join of its ends) or whose joins overlap; such breakpoints are dropped.
         """
         orders, wfrac, alpha = self._check_params()
         X, y = validate_data(self, X, y, y_numeric=True)
@@ -356,30 +388,44 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         y = np.asarray(y, dtype=float)
         x = X[:, 0]
         lo, hi = float(x.min()), float(x.max())
-        h = 0.5 * wfrac * (hi - lo)
-        self.half_join_ = h
+        h = 0.5 * wfrac * (hi - lo) if self.join == "centred" else 0.0
         self.search_: BreakpointSearch | None = None
         if isinstance(self.breakpoints, str):
             self._heuristic(x, y, orders, lo, hi, h)
         else:
-            self.breakpoints_: tuple[float, ...] = tuple(float(b) for b in self.breakpoints)
-            self.breakpoint_rates_: tuple[float, ...] = ()
+            given = tuple(float(b) for b in self.breakpoints)
+            for b in given:
+                if not lo + h < b < hi - h:
+                    raise ValueError(
+                        f"breakpoint {b!r} must lie inside the data ({lo!r}, {hi!r})"
+                        + (f" by more than the half join width {h!r}" if h else "")
+                    )
+            if self.join == "overlap":
+                rates = tuple(float(y[int(np.argmin(np.abs(x - b)))]) for b in given)
+                self.breakpoint_rates_: tuple[float, ...] = rates
+                self.breakpoints_: tuple[float, ...] = tuple(float(x[y == r].mean()) for r in rates)
+            else:
+                self.breakpoint_rates_, self.breakpoints_ = (), given
             self.orders_ = orders
-        edges = [-np.inf, *self.breakpoints_, np.inf]
-        for i, b in enumerate(self.breakpoints_):
-            if not (lo + h < b < hi - h):
+        self.joins_ = self._joins(x, y, h)
+        for i, (b, (x0, x1)) in enumerate(zip(self.breakpoints_, self.joins_, strict=True)):
+            if not (lo + h < b < hi - h) or (h == 0 and not lo < x0 <= x1 < hi):
                 raise ValueError(
-                    f"breakpoint {b!r} must lie inside the data ({lo!r}, {hi!r}) by more than the half join width {h!r}"
+                    f"breakpoint {b!r} (join {x0!r} to {x1!r}) must lie inside the data ({lo!r}, {hi!r})"
+                    + (f" by more than the half join width {h!r}" if h else "")
                 )
-            if i and b - self.breakpoints_[i - 1] <= 2 * h:
+            if i and not self.joins_[i - 1][1] < x0:
                 raise ValueError(
-                    f"breakpoints {self.breakpoints_[i - 1]!r} and {b!r} are closer than the join width {2 * h!r}"
+                    f"the joins at breakpoints {self.breakpoints_[i - 1]!r} and {b!r} touch or overlap"
+                    f" ({self.joins_[i - 1]!r}, {(x0, x1)!r})"
                 )
+        self.half_join_ = max([0.5 * (x1 - x0) for x0, x1 in self.joins_], default=h)
         self.segments_ = []
         for i, order in enumerate(self.orders_):
-            sel = (x >= edges[i] - h) & (x <= edges[i + 1] + h)
+            sel = self._segment_samples(i, x, y, h)
             distinct = np.unique(x[sel]).size
             if distinct < order + 1:
+                edges = [-np.inf, *self.breakpoints_, np.inf]
                 raise ValueError(
                     f"segment {i} (x from {edges[i]!r} to {edges[i + 1]!r}): order {order} needs at least "
                     f"{order + 1} distinct inputs; got {distinct} sample(s) with distinct inputs"
@@ -387,7 +433,6 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             self.segments_.append(
                 PolynomialRegressor(degree=order, alpha=alpha).fit(X[sel], y[sel])
             )
-        self.joins_ = [(b - h, b + h) for b in self.breakpoints_]
         self._join_ends: list[tuple[float, float, float, float]] | None = None
         if X.shape[1] == 1:  # the end values and slopes are constants: evaluate them once
             self._join_ends = [
@@ -395,16 +440,34 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             ]
         return self
 
+    def _joins(self, x: NDArray, y: NDArray, h: float) -> list[tuple[float, float]]:
+        """(x0, x1) of each join: the inputs' range at the breakpoint rate, or b -+ h (centred)."""
+        if self.join == "centred":
+            return [(b - h, b + h) for b in self.breakpoints_]
+        return [(float(x[y == r].min()), float(x[y == r].max())) for r in self.breakpoint_rates_]
+
+    def _segment_samples(self, i: int, x: NDArray, y: NDArray, h: float) -> NDArray[np.bool_]:
+        """The samples segment i is fitted on (see the class docstring for each join)."""
+        edges = [-np.inf, *self.breakpoints_, np.inf]
+        if self.join == "centred":
+            return (x >= edges[i] - h) & (x <= edges[i + 1] + h)
+        sel = np.searchsorted(np.asarray(self.breakpoints_, dtype=float), x, side="right") == i
+        for k in (i - 1, i):  # the breakpoint table points at the segment's two ends
+            if 0 <= k < len(self.breakpoint_rates_):
+                sel |= y == self.breakpoint_rates_[k]
+        return sel
+
     def _heuristic(
         self, x: NDArray, y: NDArray, orders: tuple[int, ...], lo: float, hi: float, h: float
     ) -> None:
         """Breakpoints by the paper's search on the table (distinct y, mean x at each).
 
         Where the search cannot run (fewer than 3 distinct targets) or a breakpoint
-        it finds cannot split x (the outputs at the two breakpoints do not increase,
-        or one lies within a half join of the data's ends), the data are not a rate
-        table of an increasing gyro: the model falls back to fewer segments and
-        warns (legal input, degraded model), as for any regression data.
+        it finds cannot split x (the outputs at the two breakpoints do not increase
+        or their joins overlap, or one lies outside the data: centred, within a half
+        join of its ends), the data are not a rate table of an increasing gyro: the
+        model falls back to fewer segments and warns (legal input, degraded model),
+        as for any regression data.
         """
         rates, inv = np.unique(y, return_inverse=True)
         if rates.size < 3:
@@ -418,19 +481,26 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             return
         xm = np.bincount(inv, weights=x) / np.bincount(inv)
         self.search_ = breakpoint_search(rates, xm, run_length=self.run_length)
-        found = []  # (x, rate, side)
-        if self.search_.negative is not None:
-            found.append((float(xm[rates == self.search_.negative][0]), self.search_.negative, 0))
-        if self.search_.positive is not None:
-            found.append((float(xm[rates == self.search_.positive][0]), self.search_.positive, 2))
-        usable = [f for f in found if lo + h < f[0] < hi - h]
-        if len(usable) == 2 and not usable[1][0] - usable[0][0] > 2 * h:
-            usable = []  # not increasing in x, or closer than a join
+        found = []  # (x, rate, side, x0, x1)
+        for rate, side in ((self.search_.negative, 0), (self.search_.positive, 2)):
+            if rate is not None:
+                b = float(xm[rates == rate][0])
+                span = (b - h, b + h) if self.join == "centred" else (
+                    float(x[y == rate].min()), float(x[y == rate].max())
+                )
+                found.append((b, rate, side, *span))
+        if h > 0:
+            usable = [f for f in found if lo + h < f[0] < hi - h]
+        else:
+            usable = [f for f in found if lo < f[3] and f[4] < hi]
+        if len(usable) == 2 and not usable[0][4] < usable[1][3]:
+            usable = []  # not increasing in x, or the joins overlap
         if len(usable) < len(found):
             warnings.warn(
                 f"{type(self).__name__}: breakpoints at x = {[f[0] for f in found]} (rates "
                 f"{[f[1] for f in found]}) cannot split the inputs (they must increase, lie inside "
-                f"({lo!r}, {hi!r}) by more than {h!r} and be more than {2 * h!r} apart); "
+                f"({lo!r}, {hi!r})" + (f" by more than {h!r}" if h else "")
+                + " and have joins that do not overlap); "
                 f"using {[f[0] for f in usable]}",
                 UserWarning,
                 stacklevel=3,
@@ -481,7 +551,8 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             + (t3 - t2) * w * m1
         )
 
-    def _piecewise(self, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
+    def _segments_only(self, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
+        """Each segment on its own side of the breakpoints (no join)."""
         x = X[:, 0]
         seg = np.searchsorted(np.asarray(self.breakpoints_, dtype=float), x, side="right")
         out = np.empty(x.size)
@@ -489,9 +560,14 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
             m = seg == i
             if m.any():
                 out[m] = model._eval_derivative(X[m]) if deriv else model._eval(X[m])
+        return out
+
+    def _piecewise(self, X: NDArray[np.float64], deriv: bool) -> NDArray[np.float64]:
+        x = X[:, 0]
+        out = self._segments_only(X, deriv)
         for i, (x0, x1) in enumerate(self.joins_):
             m = (x >= x0) & (x <= x1)
-            if m.any():
+            if x1 > x0 and m.any():
                 out[m] = self._hermite(i, X[m], deriv)
         return out
 
@@ -499,6 +575,16 @@ class PiecewisePolynomial(RegressorMixin, BaseEstimator):
         """Piecewise prediction with Hermite joins, shape (n_samples,)."""
         check_is_fitted(self, "segments_")
         return self._piecewise(
+            np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=False
+        )
+
+    def predict_unjoined(self, X: ArrayLike) -> NDArray[np.float64]:
+        """The segments alone, each on its side of the breakpoints (no Hermite join), shape (n_samples,).
+
+        The curve before the continuity processing (the paper's fig. 4 compares the two).
+        """
+        check_is_fitted(self, "segments_")
+        return self._segments_only(
             np.asarray(validate_data(self, X, reset=False), dtype=float), deriv=False
         )
 

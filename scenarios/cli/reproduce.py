@@ -150,7 +150,8 @@ def add_parser(sub) -> None:
                    help=f"with --units auto: the most units a claim may use (default {MAX_UNITS})")
     s.add_argument("--units", type=units_or_auto, default=20,
                    help="paper scenarios: units simulated, seeds SEED..SEED+N-1 (default 20; 1 = quick look; "
-                   "'auto': 20, then batches of 10 while a claim's interval straddles 50 %%, up to --max-units)")
+                   "'auto': 20, then batches of 10 while a claim's interval straddles 50 %%, up to --max-units, every "
+                   "look judged at a group-sequential z that keeps the chance of deciding a 50 %% claim at 5 %%)")
     s.add_argument("--workers", type=ranged("--workers", 0, MAX_WORKERS, integer=True, unit="processes"), default=None,
                    help="local worker processes for the units (default: usable CPUs; 0 = in this process)")
     s.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed scheduler address; units run there")

@@ -81,7 +81,8 @@ def _row(c: dict[str, Any]) -> str:
     status = c.get("status", c["verdict"])
     if c["kind"] == "calibrated" and c.get("role", "method") == "method" and status == "reproduced":
         status = "*calibrated, not counted*"
-    elif status in ("reproduced", "contradicted", "device matched", "device not matched", "identity of the analysis"):
+    elif status in ("reproduced", "contradicted", "device matched", "device not matched",
+                    "no different from the control", "below the control"):
         status = f"**{status}**"
     notes = []
     if c.get("provisional"):
@@ -94,6 +95,8 @@ def _row(c: dict[str, Any]) -> str:
     control = c.get("control")
     if control:
         notes.append(f"control {control['holds']}/{control['testable']}")
+    if c.get("same_effect_as"):
+        notes.append(f"same effect as {c['same_effect_as']}: counted once")
     if notes:
         status += f" ({'; '.join(notes)})"
     role = c.get("role", "method") + (" (calibrated)" if c["kind"] == "calibrated" else "")
@@ -118,6 +121,7 @@ def _tally_row(doc: dict[str, Any]) -> str:
     def count(role: str, *statuses: str, kind: str | None = None) -> int:
         return sum(
             c.get("role", "method") == role and c.get("status") in statuses and (kind is None or c["kind"] == kind)
+            and not c.get("same_effect_as")
             for c in claims
         )
 
@@ -127,10 +131,11 @@ def _tally_row(doc: dict[str, Any]) -> str:
         _paper(doc["claims"][0]["paper"]) if claims else doc.get("scenario", ""),
         str(doc.get("units", "")),
         f"{count('device', 'device matched')} / {device}",
+        f"{sum(c.get('role') == 'device' and c['kind'] == 'calibrated' for c in claims)} / {device}",
         str(count("method", "reproduced", kind="emergent")),
         str(count("method", "contradicted")),
         str(count("method", "not reproducible on this device")),
-        str(count("method", "identity of the analysis")),
+        str(count("method", "no different from the control", "below the control")),
         str(count("method", "undecided")),
         str(count("method", "not testable")),
         str(count("method", "reproduced", kind="calibrated")),
@@ -150,13 +155,16 @@ def format_table(docs: Sequence[dict[str, Any]]) -> str:
             "(each unit its own noise and drawn parameters). Device claims are what the simulated device "
             "was matched to; method claims are what the paper's method achieves on it, judged only on units "
             "that show the effect, and against a control (the same seeds with the effect switched off): a claim "
-            "that holds there about as often is an identity of the analysis, not a finding. \"holds on\" is k/n "
+            "whose pass rate there is not distinguishable from the units' (Fisher's exact test, two-sided, 5 %) "
+            "is no different from the control (below it when the units pass significantly less often; a claim "
+            "failing on both stays contradicted), not a finding. \"holds on\" is k/n "
             "with the 95 % Wilson interval of the pass rate; a verdict needs that interval entirely above or below "
             "50 %, and is provisional within 5 points of it. Calibrated claims are shown but not counted.",
             "",
-            "| paper | units | device matched | method: reproduced | contradicted | not reproducible on this "
-            "device | identity | undecided | not testable | calibrated | extensions: hold / all |",
-            "|---|---|---|---|---|---|---|---|---|---|---|",
+            "| paper | units | device matched | device calibrated | method: reproduced | contradicted | not "
+            "reproducible on this device | no different from / below the control | undecided | not testable | method "
+            "calibrated | extensions: hold / all |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         lines += [_tally_row(d) for d in papers]
         lines += [

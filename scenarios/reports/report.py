@@ -161,8 +161,9 @@ def _summary_rows(outcomes: Sequence[Outcome]) -> list[list[str]]:
 _SUMMARY_COLUMNS = ["scenario", "quantity", "reproduced", "paper / target", "conclusion holds", "note"]
 
 #: the claims table of a paper, in the scenario's section
-_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "role", "paper", "criterion",
-                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control", "status"]
+#: status second: the verdict stays on screen however wide the statement and the numbers are
+_CLAIM_COLUMNS = ["claim", "status", "paper's statement", "where", "role", "paper", "criterion",
+                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control"]
 
 
 def _paper_heading(outcome: Outcome) -> str:
@@ -189,7 +190,7 @@ def status_text(r: Any) -> str:
     """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
     status = r.status
     word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
-                                        "identity of the analysis") else status
+                                        "no different from the control", "below the control") else status
     if r.claim.kind == "calibrated" and r.claim.role == "method" and status == "reproduced":
         word = "CALIBRATED (not counted)"
     notes = []
@@ -199,6 +200,11 @@ def status_text(r: Any) -> str:
         notes.append(f"misses {r.miss_direction}")
     if status == "not reproducible on this device":
         notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    if r.claim.same_effect_as:
+        notes.append(f"same effect as {r.claim.same_effect_as}: counted once")
+    if status in ("no different from the control", "below the control") and r.control is not None:
+        notes.append(f"units {r.holds}/{r.testable}, control {r.control.holds}/{r.control.testable}, "
+                     f"Fisher p = {r.control_p_value:.2g}")
     return word + (f" ({'; '.join(notes)})" if notes else "")
 
 
@@ -215,8 +221,8 @@ def _claim_row(r: Any) -> list[str]:
     counts = f"{r.holds} / {r.testable}" + (f" ({r.precondition_absent} lack the precondition)"
                                             if r.precondition_absent else "")
     control = "-" if r.control is None else f"{r.control.holds} / {r.control.testable}"
-    return [c.id, c.where, c.statement, role, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
-            counts, rate, control, status_text(r)]
+    return [c.id, status_text(r), c.statement, c.where, role, _num(c.paper_value, c.unit),
+            c.comparator.text(c.unit), ours, counts, rate, control]
 
 
 def claim_tally(claims: Sequence[Any]) -> Any:
@@ -230,11 +236,22 @@ def tally_text(n: Any) -> str:
     """One line: device matched, method claims by status, extensions."""
     dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
     ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
+    ext += f"; {n.same_effect} claim(s) counted with the claim showing the same effect" if n.same_effect else ""
     return (
         f"{dev}method claims: {n.reproduced} reproduced, {n.contradicted} CONTRADICTED, "
-        f"{n.not_reproducible} not reproducible on this device, {n.identity} identities of the analysis, "
+        f"{n.not_reproducible} not reproducible on this device, {n.identity} no different from (or below) the control, "
         f"{n.undecided} undecided, {n.not_testable} not testable, {n.calibrated} calibrated (not counted){ext}"
     )
+
+
+def _sequential_note(o: Outcome) -> str:
+    """With ``--units auto``: the looks and the group-sequential z every verdict was judged at."""
+    seq = o.results.get("sequential") if isinstance(o.results, dict) else None
+    if not seq:
+        return ""
+    return (f" Units were added until claims were decided (looks at {', '.join(map(str, seq['looks']))} units); "
+            f"every verdict uses the Wilson interval at z = {seq['z']:.3f} instead of 1.96, so that a claim whose "
+            f"true pass rate is 50 % is decided with probability {100 * seq['error_at_50_percent']:.1f} % (<= 5 %).")
 
 
 def _claims_table(o: Outcome) -> Table:
@@ -244,12 +261,15 @@ def _claims_table(o: Outcome) -> Table:
     else:
         over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
     note = (
-        f"{over} {tally_text(claim_tally(o.claims))}. A verdict needs the 95 % Wilson interval of the pass rate "
+        f"{over} {tally_text(claim_tally(o.claims))}.{_sequential_note(o)} A verdict needs the 95 % Wilson "
+        "interval of the pass rate "
         "entirely above (holds) or below (fails) 50 %; it is provisional when the interval ends within 5 points "
         "of 50 %. Device claims are what the simulated device was matched to; method claims are the paper's "
         "results on it, judged only on units that show the effect (the precondition); 'control' is the same "
-        "claim on the same seeds with the paper's effect switched off, and a claim holding there about as "
-        "often is an identity of the analysis, not a finding. A calibrated claim (an input was set from the "
+        "claim on the same seeds with the paper's effect switched off, and a claim whose pass rate there is not "
+        "distinguishable from the units' (Fisher's exact test, two-sided, 5 %) is no different from the "
+        "control (unless it fails on both: contradicted), and one passing significantly less often on the "
+        "units is below the control: neither is a finding. A calibrated claim (an input was set from the "
         "paper's number) is not counted as reproduced."
     )
     return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
@@ -283,24 +303,25 @@ def _mark_verdicts(text: str) -> str:
     import re
 
     for word, cls in (("REPRODUCED", "yes"), ("DEVICE MATCHED", "yes"), ("CONTRADICTED", "no"),
-                      ("DEVICE NOT MATCHED", "no"), ("IDENTITY OF THE ANALYSIS", "cal"),
-                      ("CALIBRATED (not counted)", "cal")):
+                      ("DEVICE NOT MATCHED", "no"), ("NO DIFFERENT FROM THE CONTROL", "cal"),
+                      ("BELOW THE CONTROL", "cal"), ("CALIBRATED (not counted)", "cal")):
         text = re.sub(rf"<td(?: class='txt')?>({re.escape(word)}(?: \([^<]*\))?)</td>", rf"<td class='{cls}'>\1</td>",
                       text)
     return text
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1360px;margin:2em auto;
 padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.85em;display:block;overflow-x:auto}
 th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
 th{background:#eef}
 td:first-child,th:first-child{text-align:left}
 .note{font-size:0.85em;color:#555;max-width:900px}
-figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(33.3% - 1em);margin-right:0.5em}
+figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(50% - 1em);margin-right:0.5em}
 details.fold>summary h3{display:inline}
-table.claims td:nth-child(3){min-width:26em}
-table.claims td:nth-child(2),table.claims td:nth-child(6){min-width:8em}
+table.claims{display:table;table-layout:fixed;width:100%;overflow-wrap:anywhere}
+table.claims th:nth-child(1){width:9%}table.claims th:nth-child(2){width:13%}
+table.claims th:nth-child(3){width:26%}table.claims td:nth-child(2){text-align:left}
 figure img{max-width:100%;border:1px solid #ddd}
 nav ol{font-size:0.9em;columns:2}
 nav details{display:inline;margin-left:0.5em;font-size:0.9em}
@@ -329,22 +350,24 @@ _LOAD_CHECK = (
 
 def tally_table(outcomes: Sequence[Outcome]) -> Table:
     """The status of every paper's claims in one table (the report's first screen)."""
-    cols = ["scenario", "paper", "units", "device matched", "method: reproduced", "CONTRADICTED",
-            "not reproducible on this device", "identity of the analysis", "undecided", "not testable",
-            "calibrated (not counted)", "extensions: hold / all"]
+    cols = ["scenario", "paper", "units", "device matched", "device calibrated", "method: reproduced",
+            "CONTRADICTED", "not reproducible on this device", "no different from / below the control", "undecided",
+            "not testable", "method calibrated (not counted)", "extensions: hold / all"]
     rows: list[list[Any]] = []
     for o in outcomes:
         if not (o.claims or o.deviations):
             continue
         n = claim_tally(o.claims)
         papers = ", ".join(sorted({c.claim.paper for c in o.claims})) or "-"
-        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}", n.reproduced, n.contradicted,
+        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}",
+                     f"{n.device_calibrated} / {n.device}", n.reproduced, n.contradicted,
                      n.not_reproducible, n.identity, n.undecided, n.not_testable, n.calibrated,
                      f"{n.extension_reproduced} / {n.extension}"])
     return Table(
         "Claims at a glance", cols, rows,
-        note="Per paper: how many device claims the simulated device matches, and the paper's method claims by "
-        "status. Each paper's section gives every claim with its interval, precondition and control.",
+        note="Per paper: how many device claims the simulated device matches and how many of them are "
+        "calibrated (an input of the device was set from them: matched by construction), and the paper's method "
+        "claims by status. Each paper's section gives every claim with its interval, precondition and control.",
     )
 
 
@@ -403,10 +426,12 @@ def _link_scenarios(text: str, outcomes: Sequence[Outcome]) -> str:
     return text
 
 
-def _figure_html(caption: str, png: bytes) -> str:
+def _figure_html(caption: str, png: bytes, href: str) -> str:
+    """An embedded figure that opens at full size (the PNG file beside the page, ``href``) on click."""
     b64 = base64.b64encode(png).decode("ascii")
     return (
-        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'>"
+        f"<figure><a href='{html.escape(href)}' target='_blank' title='open at full size'>"
+        f"<img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'></a>"
         f"<figcaption>{html.escape(caption)}</figcaption></figure>"
     )
 
@@ -450,7 +475,7 @@ def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list
         with atomic_path(sdir / f"{f.name}.png") as tmp:
             tmp.write_bytes(png)
         smd += [f"![{f.caption}]({o.scenario}/{f.name}.png)", "", f"*{f.caption}*", ""]
-        h.append(_figure_html(f.caption, png))
+        h.append(_figure_html(f.caption, png, f"{o.scenario}/{f.name}.png"))
     if o.figures:
         h.append("</div>")
     smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]

@@ -55,6 +55,7 @@ from typing import Any
 import numpy as np
 
 from gyrobench.scenarios.base import Outcome, check_pool
+from gyrobench.scenarios.claims import sequential_error, sequential_z
 from gyrobench.scenarios.papers.contract import quantities_of
 
 __all__ = [
@@ -533,9 +534,14 @@ def run_paper(
     measured change of every claim's pass count.
 
     With ``max_units`` (``reproduce --units auto``), units are added in batches of
-    :data:`AUTO_BATCH` while any claim's 95 % interval still straddles 50 %, up to
-    ``max_units``; each claim is judged over the units it needed (its ``units`` field): a claim
-    keeps the units that decided it, an open one gets every batch.
+    :data:`AUTO_BATCH` while any claim's interval still straddles 50 %, up to ``max_units``;
+    each claim is judged over the units it needed (its ``units`` field): a claim keeps the units
+    that decided it, an open one gets every batch. Every look judges by the Wilson interval at
+    the group-sequential z of :func:`gyrobench.scenarios.claims.sequential_z` for the planned looks
+    (n_units, n_units + AUTO_BATCH, ..., max_units), so that a claim whose true pass rate is 50 %
+    is decided at some look with probability at most 5 % (a Pocock-type boundary on the exact
+    binomial crossing probability; 1.96 at every look would decide it 12 % of the time over 20,
+    30, ..., 60 units). ``results["sequential"]`` records the looks and z.
 
     Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
     ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
@@ -551,12 +557,14 @@ def run_paper(
     kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
     claim_list = module_claims(module, config)
     used = dict.fromkeys((c.id for c in claim_list), n_units)
+    looks = auto_looks(n_units, max_units) if max_units is not None else (n_units,)
+    z = sequential_z(looks) if max_units is not None else None
     report_units = None if keep_units else getattr(module, "REPORT_UNITS", None)
     others = None if keep_units else 0
     while True:
         run = run_units(module, config, n_units=n_units, whole=report_units, **kw)
         control = _run_control(module, config, n_units=n_units, whole=others, **kw)
-        claims = _judge(claim_list, used, run, control)
+        claims = _judge(claim_list, used, run, control, z)
         open_ids = [r.claim.id for r in claims if r.verdict == "undecided"]
         if max_units is None or not open_ids or n_units >= max_units:
             break
@@ -577,6 +585,15 @@ def run_paper(
             module, config, run.results[:deviation_units], seed=seed, executor=executor, workers=workers, db=db,
             progress=progress, whole=others,
         )
+    if z is not None:
+        outcome.results["sequential"] = {
+            "looks": list(looks), "z": z, "alpha": 0.05, "error_at_50_percent": sequential_error(looks, z),
+            "rule": "Wilson interval at a constant z over the planned looks (Pocock-type), z chosen from the exact "
+                    "binomial crossing probability at a true pass rate of 50 %",
+        }
+    outcome.results["unit_quantities"] = _per_unit(run)
+    if control is not None:
+        outcome.results["control_quantities"] = _per_unit(control)
     outcome.results["unit_run"] = {
         "n": n_units,
         "seeds": list(run.seeds),
@@ -636,8 +653,22 @@ def measure_deviations(
 AUTO_BATCH = 10
 
 
-def _judge(claims: Sequence[Any], used: Mapping[str, int], run: UnitRun, control: UnitRun | None) -> list[Any]:
-    """Each claim judged over its first ``used[claim.id]`` units (and as many control units)."""
+def _per_unit(run: UnitRun) -> list[dict[str, Any]]:
+    """Every unit's claim quantities with its seed (what results.json lets a referee recount from)."""
+    return [{"seed": int(s), **quantities_of(u)} for s, u in zip(run.seeds, run.results, strict=True)]
+
+
+def auto_looks(start: int, max_units: int) -> tuple[int, ...]:
+    """The unit counts ``--units auto`` may judge at: start, start + AUTO_BATCH, ..., max_units."""
+    looks = list(range(start, max_units, AUTO_BATCH)) + [max_units]
+    return tuple(sorted(set(looks)))
+
+
+def _judge(
+    claims: Sequence[Any], used: Mapping[str, int], run: UnitRun, control: UnitRun | None, z: float | None = None
+) -> list[Any]:
+    """Each claim judged over its first ``used[claim.id]`` units (and as many control units); ``z`` of the
+    verdict's Wilson interval (None: the fixed-count 1.96)."""
     from gyrobench.scenarios.claims import evaluate
 
     units = [quantities_of(u) for u in run.results]
@@ -645,7 +676,8 @@ def _judge(claims: Sequence[Any], used: Mapping[str, int], run: UnitRun, control
     out = []
     for c in claims:
         n = used[c.id]
-        out += evaluate([c], units[:n], None if ctrl is None else ctrl[:n])
+        extra = {} if z is None else {"z": z}
+        out += evaluate([c], units[:n], None if ctrl is None else ctrl[:n], **extra)
     return out
 
 

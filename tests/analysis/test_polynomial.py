@@ -105,7 +105,7 @@ def test_hermite_joins_are_c1():
     y = np.where(x < -1, -1 - (x + 1) ** 3, np.where(x > 1, 1 + (x - 1) ** 2, x)) + 0.01 * np.cos(
         5 * x
     )
-    m = PiecewisePolynomial(orders=(3, 1, 3), breakpoints=(-1.0, 1.0), alpha=0.0).fit(x[:, None], y)
+    m = PiecewisePolynomial(orders=(3, 1, 3), breakpoints=(-1.0, 1.0), join="centred", alpha=0.0).fit(x[:, None], y)
     for i, (x0, x1) in enumerate(m.joins_):
         left, right = m.segments_[i], m.segments_[i + 1]
         a, b = np.array([[x0]]), np.array([[x1]])
@@ -120,7 +120,7 @@ def test_hermite_join_equals_scipy_cubic_hermite_spline():
 
     x = np.linspace(-3.0, 3.0, 61)
     y = np.where(x > 0.5, 0.5 + np.tanh(x - 0.5), x)
-    m = PiecewisePolynomial(orders=(1, 5), breakpoints=(0.5,), alpha=0.0).fit(x[:, None], y)
+    m = PiecewisePolynomial(orders=(1, 5), breakpoints=(0.5,), join="centred", alpha=0.0).fit(x[:, None], y)
     (x0, x1), (left, right) = m.joins_[0], m.segments_
     ref = CubicHermiteSpline(
         [x0, x1],
@@ -137,7 +137,7 @@ def test_hermite_join_equals_scipy_cubic_hermite_spline():
 def test_piecewise_with_two_features_is_c1_in_feature_0(rng):
     X = np.column_stack([rng.uniform(-2, 2, 300), rng.uniform(-1, 1, 300)])
     y = np.where(X[:, 0] > 0, X[:, 0] ** 2, -X[:, 0]) + 0.5 * X[:, 1]
-    m = PiecewisePolynomial(orders=(1, 2), breakpoints=(0.0,), alpha=0.0).fit(X, y)
+    m = PiecewisePolynomial(orders=(1, 2), breakpoints=(0.0,), join="centred", alpha=0.0).fit(X, y)
     x0, x1 = m.joins_[0]
     for z in (-0.5, 0.3):
         a, b = np.array([[x0, z]]), np.array([[x1, z]])

@@ -268,12 +268,31 @@ def test_control_overlap_makes_an_identity_and_separation_a_finding():
     c = Claim(id="x.i", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true())
     units = _units([1.0] * 20)
     (same,) = evaluate([c], units, _units([1.0] * 17 + [0.0] * 3))
-    assert same.verdict == "holds for most units" and same.identity and same.status == "identity of the analysis"
+    # 20/20 vs 17/20: Fisher's exact two-sided p = 0.23 (hypergeometric, margins 37 / 3)
+    assert same.verdict == "holds for most units" and same.identity and same.status == "no different from the control"
+    assert same.control_p_value == pytest.approx(0.2307692307, rel=1e-6)
     (apart,) = evaluate([c], units, _units([0.0] * 20))
     assert not apart.identity and apart.status == "reproduced"
     # without a control nothing is flagged
     (alone,) = evaluate([c], units)
     assert alone.control is None and alone.status == "reproduced"
+
+
+def test_the_identity_rule_is_two_sided():
+    """An undecided claim the control holds about as often, and any claim the control holds
+    significantly more often, is flagged; a claim failing on both stays contradicted."""
+    c = Claim(id="x.t", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true())
+    (fails_alike,) = evaluate([c], _units([0.0] * 18 + [1.0] * 2), _units([0.0] * 17 + [1.0] * 3))
+    assert fails_alike.verdict == "fails for most units" and fails_alike.status == "contradicted"
+    (undecided_alike,) = evaluate([c], _units([0.0] * 10 + [1.0] * 10), _units([0.0] * 9 + [1.0] * 11))
+    assert undecided_alike.status == "no different from the control"
+    (below,) = evaluate([c], _units([0.0] * 12 + [1.0] * 8), _units([1.0] * 20))
+    assert below.verdict == "undecided" and below.status == "below the control"
+    (fails_apart,) = evaluate([c], _units([0.0] * 20), _units([1.0] * 20))
+    assert fails_apart.status == "below the control"
+    # a claim that holds on 15/20 units and on 3/20 controls (p = 1.4e-4) is a finding
+    (found,) = evaluate([c], _units([1.0] * 15 + [0.0] * 5), _units([1.0] * 3 + [0.0] * 17))
+    assert found.control_p_value < 1e-3 and found.status == "reproduced"
 
 
 def test_the_control_ignores_the_precondition():
@@ -353,3 +372,42 @@ def test_an_infinite_median_survives_results_json_into_the_readme_table():
     assert doc["median"] == "inf" and doc["spread"] == ["inf", "inf"]  # 3 + 0.5 (inf - 3) at the 25th
     row = readme_table._row(doc)
     assert "inf [inf, inf]" in row and "3/3" in row
+
+
+def test_a_precondition_with_also_needs_every_condition():
+    pre = Precondition(text="share", quantity="s", comparator=above(0.5),
+                       also=(Precondition(text="r2", quantity="r", comparator=above(0.9)),))
+    c = Claim(id="x.a", paper="004", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true(),
+              precondition=pre)
+    units = [{"q": 1.0, "s": 0.9, "r": 0.95}, {"q": 1.0, "s": 0.9, "r": 0.5}, {"q": 1.0, "s": 0.1, "r": 0.99},
+             {"q": 1.0, "s": 0.9, "r": None}]
+    (r,) = evaluate([c], units)
+    assert (r.testable, r.precondition_absent) == (1, 3)
+    assert r.as_dict()["precondition"]["also"][0]["quantity"] == "r"
+
+
+def test_claims_sharing_one_effect_are_counted_once():
+    lead = Claim(id="x.lead", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+                 comparator=is_true())
+    again = Claim(id="x.again", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+                  comparator=is_true(), same_effect_as="x.lead")
+    res = evaluate([lead, again], _units([1.0] * 20))
+    assert [r.status for r in res] == ["reproduced", "reproduced"]
+    n = tally(res)
+    assert (n.method, n.reproduced, n.same_effect) == (1, 1, 1)
+    with pytest.raises(ValueError, match="same_effect_as names another claim"):
+        Claim(id="x.self", paper="000", where="s", statement="t", kind="emergent", quantity="q",
+              comparator=is_true(), same_effect_as="x.self")
+
+
+def test_a_deviation_that_moves_a_median_is_a_change_at_the_same_pass_count():
+    from gyrobench.scenarios.claims import deviation_effect
+
+    c = Claim(id="x.d", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=below(1.0))
+    ours = evaluate([c], _units([2.0] * 10))
+    theirs = evaluate([c], _units([60.0] * 10))  # still failing 0/10, the median 30x higher
+    e = deviation_effect("v", ours, theirs)
+    assert [x[0] for x in e.changed] == ["x.d"] and "median 2 -> 60" in e.text()
+    assert e.as_dict()["changes"][0]["median_variant"] == 60.0
+    same = deviation_effect("v", ours, evaluate([c], _units([3.0] * 10)))  # 1.5x: not a change
+    assert not same.changed and "no claim's pass count changes" in same.text()

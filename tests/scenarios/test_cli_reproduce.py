@@ -168,12 +168,16 @@ def test_units_auto_adds_units_only_for_open_claims(toy_registered, tmp_path, ca
     doc = json.loads((tmp_path / "a" / "toy_paper" / "results.json").read_text())
     used = {c["id"]: c["units"] for c in doc["claims"]}
     assert doc["units"] == max(used.values()) and set(used.values()) <= {20, 30, 40}
-    # recompute from the units themselves: each claim stops at the first batch that decides it
-    from gyrobench.scenarios.claims import evaluate
+    # recompute from the units themselves: each claim stops at the first batch that decides it, judged at
+    # the group-sequential z of the looks 20, 30, 40
+    from gyrobench.scenarios.claims import evaluate, sequential_z
 
+    z = sequential_z((20, 30, 40))
+    assert doc["sequential"]["looks"] == [20, 30, 40] and doc["sequential"]["z"] == z
+    assert doc["sequential"]["error_at_50_percent"] <= 0.05 and z > 1.96
     qs = [toy.experiment(toy.Config(), s)["quantities"] for s in range(40)]
     for claim in toy.CLAIMS:
-        verdicts = {n: evaluate([claim], qs[:n])[0].verdict for n in (20, 30, 40)}
+        verdicts = {n: evaluate([claim], qs[:n], z=z)[0].verdict for n in (20, 30, 40)}
         first = next((n for n in (20, 30) if verdicts[n] != "undecided"), 40)
         assert used[claim.id] == first, (claim.id, verdicts)
     assert run(["reproduce", "toy_paper", "--units", "5", "--max-units", "9", "--out", tmp_path / "b", "-q"],

@@ -58,7 +58,8 @@ def test_claim_roles_and_preconditions():
     for cid in ("003.val1_every_run", "003.val1_order", "003.val2_lowest", "003.val2_order"):
         c = by_id[cid]
         assert (c.role, c.kind) == ("method", "emergent")
-        assert c.precondition is not None and c.precondition.quantity == "val1_drift_to_noise"
+        want = "txdt_unabsorbed" if cid == "003.val2_lowest" else "val1_drift_to_noise"
+        assert c.precondition is not None and c.precondition.quantity == want
     assert sc.claims_for(SMALL) == sc.CLAIMS
 
 
@@ -250,7 +251,7 @@ def test_heat_cool_average_needs_overlap():
 def test_temperature_curves_variant_runs():
     u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
     assert u.paper.training_rows < 30
-    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | {"val1_drift_to_noise"}
+    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | {"val1_drift_to_noise", "txdt_unabsorbed"}
 
 
 # ------------------------------------------------------------------ closed forms

@@ -116,7 +116,7 @@ def test_claim_roles_and_preconditions():
     only on a unit whose raw K_n shows the paper's effect."""
     roles = {c.id: c.role for c in ms.CLAIMS}
     assert {k for k, r in roles.items() if r == "device"} == {
-        "001.raw_kn", "001.low_rate_kn", "001.run_similarity"
+        "001.raw_kn", "001.low_rate_kn", "001.run_similarity", "001.local_features"
     }
     assert {k for k, r in roles.items() if r == "extension"} == {
         "001.kn_dense.piecewise", "001.kn_dense.two_stage_poly", "001.kn_dense.bayes_bp", "001.order_dense"
@@ -464,7 +464,7 @@ def test_calibrated_v_max_reproduces_the_constant():
 @pytest.mark.slow
 def test_deviation_effects_measures_every_variant(unit0):
     """The function behind the DEVIATIONS' numbers: its default row is the experiment's."""
-    names = ("default", "piecewise_alpha_0", "join_width_0.02", "join_width_0.10")
+    names = ("default", "piecewise_alpha_0", "join_centred_0.02", "join_centred_0.05")
     d = deviation_effects(seeds=(0,), names=names)
     assert set(d) == set(names) and set(names) <= set(variants(ms.Config()))
     for k in ms.METHOD_LABELS:
@@ -472,7 +472,7 @@ def test_deviation_effects_measures_every_variant(unit0):
         assert d["default"][f"kn_dense_pct.{k}"] == unit0.methods[k].kn_dense_pct
     assert d["default"]["floor_pct"] == unit0.floor_pct or math.isnan(unit0.floor_pct)
     # common random numbers: the piecewise-only variants leave the other methods unchanged
-    for name in ("piecewise_alpha_0", "join_width_0.02", "join_width_0.10"):
+    for name in ("piecewise_alpha_0", "join_centred_0.02", "join_centred_0.05"):
         assert d[name]["kn_heldout_pct.bayes_bp"] == d["default"]["kn_heldout_pct.bayes_bp"]
 
 
@@ -506,7 +506,7 @@ def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
     wins = 0
     for seed in range(8):
         task = ms.compensation_task(cfg, seed)
-        pw = PiecewisePolynomial(orders=cfg.orders, join_width=cfg.join_width, alpha=cfg.piecewise_alpha)
+        pw = PiecewisePolynomial(orders=cfg.orders, join=cfg.join, join_width=cfg.join_width, alpha=cfg.piecewise_alpha)
         pw.fit(task.X_train, task.y_train)
         run = task.heldout[0]
         identity = task.scorer(run.output, run)["nonlinearity_pct"]

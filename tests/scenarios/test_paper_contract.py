@@ -100,7 +100,7 @@ def test_claims_judged_from_the_units_quantities(paper):
     for claim, res in zip(claims, results, strict=True):
         q = unit.quantities[claim.quantity]
         pre = claim.precondition
-        shows = pre is None or pre.present(unit.quantities.get(pre.quantity))
+        shows = pre is None or pre.present_in(unit.quantities)
         testable = q is not None and math.isfinite(q) and shows
         assert res.testable == int(testable), claim.id
         assert res.holds == int(testable and claim.comparator.holds(q)), claim.id

@@ -35,8 +35,8 @@ def test_table_rows_are_the_claims(report, capsys):
     def n(status, kind=None):
         return sum(c["status"] == status and kind in (None, c["kind"]) for c in claims)
 
-    assert tally == (f"| toy | 6 | 0 / 0 | {n('reproduced', 'emergent')} | {n('contradicted')} | 0 "
-                     f"| {n('identity of the analysis')} "
+    assert tally == (f"| toy | 6 | 0 / 0 | 0 / 0 | {n('reproduced', 'emergent')} | {n('contradicted')} | 0 "
+                     f"| {n('no different from the control') + n('below the control')} "
                      f"| {n('undecided')} | 0 | {n('reproduced', 'calibrated')} | 0 / 0 |")
 
 

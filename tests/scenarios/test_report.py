@@ -159,7 +159,7 @@ def _paper_outcome():
               quantity="c", comparator=is_true()),
     )
     units = [{"a": 15.0 + i, "b": 2.0 + i % 3, "c": 1.0, "knee": float(i < 3)} for i in range(20)]
-    control = [{"a": 1.0, "b": 1.0, "c": float(i % 4 != 0), "knee": 0.0} for i in range(20)]
+    control = [{"a": 1.0, "b": 1.0, "c": float(i % 7 != 0), "knee": 0.0} for i in range(20)]
     o = _outcome("paper")
     o.headlines = []
     o.claims = evaluate(claims, units, control)
@@ -175,10 +175,11 @@ def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     monkeypatch.setattr(papers, "sources", dict)  # a paper without an entry is named by its key
     o = _paper_outcome()
     n = claim_tally(o.claims)
-    # p.a device matched; p.b contradicted; p.c and p.e hold on the control too (15/20): identities;
-    # p.d lacks its precondition on 17 of 20 units
-    assert (n.device, n.device_matched, n.method, n.reproduced, n.contradicted, n.identity, n.not_reproducible) == (
-        1, 1, 4, 0, 1, 2, 1)
+    # p.a device matched; p.b fails on the units and on the control alike (0/20, 0/20): contradicted;
+    # p.c, p.e hold on the control about as often (17/20 vs 20/20, Fisher p = 0.23): no different from
+    # the control; p.d lacks its precondition on 17 of 20 units
+    assert (n.device, n.device_matched, n.device_calibrated, n.method, n.reproduced, n.contradicted, n.identity,
+            n.not_reproducible) == (1, 1, 1, 4, 0, 1, 2, 1)
     index = write_report([o, _outcome("beta")], tmp_path)
     doc = json.loads((tmp_path / "paper" / "results.json").read_text())
     assert doc["units"] == 20 and [c["id"] for c in doc["claims"]] == ["p.a", "p.b", "p.c", "p.d", "p.e"]
@@ -189,7 +190,7 @@ def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     b = doc["claims"][1]
     assert b["holds"] == 0 and b["interval95"][1] < 0.5 and b["status"] == "contradicted"
     assert b["misses"] == {"below": 20, "above": 0, "direction": "below"}
-    assert doc["claims"][2]["control"]["holds"] == 15 and doc["claims"][2]["status"] == "identity of the analysis"
+    assert doc["claims"][2]["control"]["holds"] == 17 and doc["claims"][2]["status"] == "no different from the control"
     assert doc["claims"][3]["precondition_absent"] == 17
     assert doc["claims"][3]["precondition"]["text"] == "the unit has a knee"
     assert doc["deviations"][0]["effect"] == "ratio 426x -> 18x on unit 0"
@@ -199,23 +200,26 @@ def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     summary = md.split("## Summary", 1)[1].split("\n## paper title", 1)[0]
     # the summary tallies the claims; the claims table stands once, in the paper's own section
     assert "**Claims at a glance**" in summary
-    assert "| paper | 001 | 20 | 1 / 1 | 0 | 1 | 1 | 2 | 0 | 0 | 0 | 0 / 0 |" in summary
+    assert "| paper | 001 | 20 | 1 / 1 | 1 / 1 | 0 | 1 | 1 | 2 | 0 | 0 | 0 | 0 / 0 |" in summary
     assert "| p.a |" not in summary
     section = md.split("\n## paper title", 1)[1]
-    assert "| p.a | Table 2 | K_n is about 15.71 %. | device (calibrated) | 15.71 % |" in section
+    assert "| p.a | DEVICE MATCHED | K_n is about 15.71 %. | Table 2 | device (calibrated) | 15.71 % |" in section
     assert "| p.b |" in section and "| 0 / 20 |" in section and "CONTRADICTED (misses below)" in section
-    assert "| p.c |" in section and "| 20 / 20 | 100 % [84, 100] % | 15 / 20 | IDENTITY OF THE ANALYSIS |" in section
+    assert ("| p.c | NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23) |" in section
+            and "| 20 / 20 | 100 % [84, 100] % | 17 / 20 |" in section)
     assert "| 3 / 3 (17 lack the precondition) |" in section
     assert "not reproducible on this device (absent on 17/20: the unit has a knee)" in section
     assert "Deviations from the paper's protocol" in section and "ratio 426x -> 18x on unit 0" in section
     assert "paper 001 (no entry in scenarios.papers)" in section
-    assert md.count("| p.a | Table 2 |") == 1
+    assert md.count("| p.a | DEVICE MATCHED |") == 1
     assert "seeds 3 to 22 (20 units)" in md
     html = index.read_text()
     assert "<td class='no'>CONTRADICTED (misses below)</td>" in html
     assert "<td class='yes'>DEVICE MATCHED</td>" in html
-    assert "<td class='cal'>IDENTITY OF THE ANALYSIS</td>" in html
+    assert "<td class='cal'>NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23)</td>" in html
     assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
+    # the figures open at full size: each embedded image links to its PNG file beside the page
+    assert html.count("target='_blank' title='open at full size'>") == html.count("<figure>") >= 2
 
 
 def test_contents_links_resolve_and_the_tally_comes_first(tmp_path):

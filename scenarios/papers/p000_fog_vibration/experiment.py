@@ -8,6 +8,7 @@ records, 2 the RBF centres' order, 3 the drawn unit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from dataclasses import asdict
 
@@ -112,14 +113,16 @@ def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[
 
 #: what :func:`experiment` reads of each record (channels; truth without its ``truth/`` prefix)
 _USED = {"sweep": (("rate", "shaker_frequency", "shaker_on"), ()),
-         "fixed": (("rate", "shaker_frequency", "shaker_on"), ("vibration_bias",))}
+         "fixed": (("rate", "shaker_frequency", "shaker_on"),
+                   ("vibration_bias", "optical_noise", "ieee_quantization", "ieee_angle_random_walk"))}
 
 
 def _slim(rec: Recording, key: str) -> Recording:
     """``rec`` holding only what :func:`experiment` reads: the same arrays, the rest released."""
     chans, truth = _USED[key]
     return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans},
-                     truth={k: rec.truth[k] for k in truth}, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+                     truth={k: rec.truth[k] for k in truth if k in rec.truth}, t0=rec.t0, metadata=rec.metadata,
+                     name=rec.name)
 
 
 def experiment(config: Config, seed: int) -> UnitResult:
@@ -152,16 +155,18 @@ def experiment(config: Config, seed: int) -> UnitResult:
         original=table3["original"], denoised=table3["denoised"], rbf=table3["rbf"], ls=table3["ls"]
     )
     offsets = edges_and_offsets(sig, fixed, config)
+    quantities = unit_quantities(
+        phases,
+        decomposition,
+        compensation,
+        scores,
+        offsets,
+        shortest_tau_rise=shortest_tau_rise(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s),
+    )
+    quantities.update(denoising_against_truth(fixed, dec_f, config))
     return UnitResult(
         seed=int(seed),
-        quantities=unit_quantities(
-            phases,
-            decomposition,
-            compensation,
-            scores,
-            offsets,
-            shortest_tau_rise=shortest_tau_rise(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s),
-        ),
+        quantities=quantities,
         phases=phases,
         decomposition=decomposition,
         compensation=compensation,
@@ -169,6 +174,37 @@ def experiment(config: Config, seed: int) -> UnitResult:
         offsets=offsets,
         figures=_figure_data(sweep, fixed, dec_s, sig, bm, config),
     )
+
+
+#: the fast noise of the output: the loop's optical noise and the IEEE-952 quantization and angle
+#: random walk terms (truth channels); the rest of the output is the true signal
+_FAST_NOISE = ("optical_noise", "ieee_quantization", "ieee_angle_random_walk")
+
+
+def denoising_against_truth(fixed: Recording, dec: MultiscaleDecomposition, config: Config) -> dict[str, float]:
+    """How the a_j approximation of the 500 Hz record splits it, against the simulator's truth [-].
+
+    n = the fast noise (:data:`_FAST_NOISE`), s = output - n (the true signal: rates, biases, drift,
+    the vibration error) [deg/h]; a_j is linear, so a_j(output) = a_j(s) + a_j(n).
+    ``t2_a6_noise_left``: var(a_j(n)) / var(n), the share of the fast noise left in a_j;
+    ``t2_a6_signal_lost``: on 1-s means (the time scale of the bias signal; a_j keeps what lies below
+    fs / 2^(j+1), 3.1 Hz at the default), mean((a_j(s) - s)^2) / var(s), the share of the true
+    signal's variance a_j loses or distorts there (the vibration error's aliased tones average out
+    of 1-s means, the offset steps and the drift stay). Both over the whole record.
+    """
+    fs, j = fixed.fs, config.bias_level
+    present = [k for k in _FAST_NOISE if k in fixed.truth]
+    if not present:  # no fast noise in the record: nothing to remove
+        return {"t2_a6_noise_left": math.nan, "t2_a6_signal_lost": math.nan}
+    n = sum(units.to_deg_per_h(fixed.truth[k].data) for k in present)
+    s = units.to_deg_per_h(fixed["rate"]) - n
+    a_n = decompose(n, fs, wavelet=config.wavelet, level=config.level).approx(j)
+    k = max(1, int(round(fs)))
+    s1, a1 = block_means(s, k), block_means(dec.approx(j) - a_n, k)
+    return {
+        "t2_a6_noise_left": float(np.var(a_n) / np.var(n)),
+        "t2_a6_signal_lost": float(np.mean((a1 - s1) ** 2) / np.var(s1)),
+    }
 
 
 def _f32(x: object) -> NDArray[np.float32]:

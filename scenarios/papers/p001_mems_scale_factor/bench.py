@@ -38,10 +38,12 @@ BENCH_SCORES = ScenarioScores(
 
 def mems_piecewise(X: NDArray[np.float64], y: NDArray[np.float64]) -> Any:
     """The mems_scale_factor paper's method: the heuristic piecewise polynomial regression with
-    the scenario's default settings (``Config().orders``, ``join_width``, ``piecewise_alpha``),
+    the scenario's default settings (``Config().orders``, ``join``, ``join_width``, ``piecewise_alpha``),
     fitted to map the mean outputs [deg/s] to the table rates [deg/s], as the paper's
     reproduction fits it on the pooled fitting runs."""
     from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
 
     c = Config()
-    return PiecewisePolynomial(orders=tuple(c.orders), join_width=c.join_width, alpha=c.piecewise_alpha).fit(X, y)
+    return PiecewisePolynomial(
+        orders=tuple(c.orders), join=c.join, join_width=c.join_width, alpha=c.piecewise_alpha
+    ).fit(X, y)

@@ -95,8 +95,12 @@ class Config:
         Power-ons the compensators are fitted on; power-ons kept for scoring only (per unit).
     orders : tuple of int
         Piecewise orders (negative high, low, positive high rates).
+    join : {"overlap", "centred"}
+        The piecewise fit's Hermite join (:class:`~gyrobench.analysis.compensation.polynomial.
+        PiecewisePolynomial`): "overlap" (the paper's: over the overlap of the two fits' data at
+        the breakpoint rate) or "centred" (``join_width`` of the output span centred on it).
     join_width : float
-        Hermite join width as a fraction of the output span.
+        Width of a "centred" join as a fraction of the output span.
     piecewise_alpha : float
         Curvature penalty of the piecewise segments (scaled units).
     poly_degree : int
@@ -121,6 +125,7 @@ class Config:
     n_fit_runs: int = 3
     n_heldout_runs: int = 1
     orders: tuple[int, int, int] = (9, 1, 9)
+    join: str = "overlap"
     join_width: float = 0.05
     piecewise_alpha: float = 1e-6
     poly_degree: int = 9
@@ -149,6 +154,7 @@ class Config:
         "timing_repeats": FieldRange(1, 1e5, "repeats", "repeats of the timing (median reported)", integer=True),
         "dense_step_dps": FieldRange(0, 7200, "deg/s", "step of the dense held-out sweep", low_open=True),
         "variant": FieldChoice(VARIANTS, "the device variant"),
+        "join": FieldChoice(("overlap", "centred"), "the piecewise fit's Hermite join"),
     }
 
     #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)

@@ -27,8 +27,8 @@ def variants(config: Config) -> dict[str, Config]:
             gyro=replace(config.gyro, nominal=replace(nom, scale_factor_repeatability=0.0)),
         ),
         "piecewise_alpha_0": replace(config, piecewise_alpha=0.0),
-        "join_width_0.02": replace(config, join_width=0.02),
-        "join_width_0.10": replace(config, join_width=0.10),
+        "join_centred_0.05": replace(config, join="centred", join_width=0.05),
+        "join_centred_0.02": replace(config, join="centred", join_width=0.02),
         "mlp_epochs_200": replace(config, mlp_epochs=200),
         "average_120s": replace(config, average_s=120.0),
     }

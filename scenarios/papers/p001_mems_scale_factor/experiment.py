@@ -46,6 +46,8 @@ from .results import DeviceSummary, Join, MethodScore, MlpFit, RawAnalysis, Unit
 __all__ = [
     "compensation_task",
     "experiment",
+    "hermite_error_ratio",
+    "local_features_ratio",
     "nonlinearity_scorer",
     "quantities",
     "raw_analysis",
@@ -66,7 +68,10 @@ def _estimators(config: Config, seed: int) -> dict[str, Any]:
 
     return {
         "piecewise": PiecewisePolynomial(
-            orders=tuple(config.orders), join_width=config.join_width, alpha=config.piecewise_alpha
+            orders=tuple(config.orders),
+            join=config.join,
+            join_width=config.join_width,
+            alpha=config.piecewise_alpha,
         ),
         "two_stage_poly": TwoStagePolynomial(
             degree=config.poly_degree, second_degree=config.poly_degree
@@ -204,13 +209,16 @@ def _continuity(model: Any, fit_means: NDArray[np.float64], rates: NDArray[np.fl
     """Curves of the piecewise fit around each breakpoint, with and without the Hermite join."""
     X, y = fit_means.reshape(-1), np.tile(rates, len(fit_means))
     out = []
+    step = float(np.median(np.abs(np.diff(fit_means.mean(axis=0)))))  # output spacing of the rates
     for k, (b, br) in enumerate(zip(model.breakpoints_, model.breakpoint_rates_, strict=True)):
-        h = model.half_join_
-        xs = np.linspace(b - 4 * h, b + 4 * h, 200)
-        m = np.abs(X - b) < 4 * h
+        x0, x1 = model.joins_[k]
+        h = 0.5 * (x1 - x0)
+        half = max(4 * h, 0.5 * step)
+        xs = np.linspace(b - half, b + half, 200)
+        m = np.abs(X - b) < half
         out.append(
             Join(
-                breakpoint=float(b),
+                breakpoint=float(0.5 * (x0 + x1)),
                 rate_dps=float(br),
                 half_join=float(h),
                 x=xs,
@@ -222,6 +230,65 @@ def _continuity(model: Any, fit_means: NDArray[np.float64], rates: NDArray[np.fl
             )
         )
     return tuple(out)
+
+
+#: half width of the band of table rates around a breakpoint swept for the join's error [deg/s]
+#: (one table step) and the rate step of that sweep [deg/s]
+JOIN_SWEEP_DPS, JOIN_SWEEP_STEP_DPS = 360.0, 0.25
+
+
+def hermite_error_ratio(model: Any, held: Sequence[Any], config: Config) -> float:
+    """The Hermite join's effect near the breakpoints (paper fig. 4) on the held-out power-ons.
+
+    On each held-out power-on's noise-free static output, swept every
+    :data:`JOIN_SWEEP_STEP_DPS` over +-:data:`JOIN_SWEEP_DPS` around each breakpoint rate, the
+    largest |compensated - true rate| of the joined curve over the outputs inside the joins,
+    divided by the same for the segments alone (switching at the breakpoints,
+    ``PiecewisePolynomial.predict_unjoined``) [-]: <= 1 when the continuity processing does
+    not increase the error near the breakpoints. NaN without a fitted model, a join of
+    non-zero width or a swept output inside one.
+    """
+    if model is None or not any(x1 > x0 for x0, x1 in model.joins_):
+        return math.nan
+    lo, hi = min(config.rates_dps), max(config.rates_dps)
+    offsets = np.arange(-JOIN_SWEEP_DPS, JOIN_SWEEP_DPS + 0.5 * JOIN_SWEEP_STEP_DPS, JOIN_SWEEP_STEP_DPS)
+    rates = np.concatenate([np.clip(br + offsets, lo, hi) for br in model.breakpoint_rates_])
+    inside = np.zeros(0, dtype=bool)
+    joined, bare = [], []
+    for r in held:
+        out = static_output(r.unit, rates, r.temperature, rate_transfer(config))
+        inside = np.zeros(out.size, dtype=bool)
+        for x0, x1 in model.joins_:
+            inside |= (out >= x0) & (out <= x1) & (x1 > x0)
+        if inside.any():
+            xs = out[inside][:, None]
+            joined.append(np.max(np.abs(model.predict(xs) - rates[inside])))
+            bare.append(np.max(np.abs(model.predict_unjoined(xs) - rates[inside])))
+    if not bare or max(bare) == 0:
+        return math.nan
+    return float(max(joined) / max(bare))
+
+
+def local_features_ratio(
+    config: Config, rates: NDArray[np.float64], fit_means: NDArray[np.float64], piecewise: MethodScore
+) -> float:
+    """The paper's premise that the data have several significant local features, which one fitting
+    function describes poorly [-]: the in-sample K_n of one ``poly_degree`` polynomial fitted to the
+    pooled fitting runs, over the piecewise fit's in-sample K_n. NaN when either cannot be fitted."""
+    from gyrobench.analysis.compensation.polynomial import PolynomialRegressor
+
+    X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
+    try:
+        one = PolynomialRegressor(degree=config.poly_degree).fit(X, y)
+    except ValueError:
+        return math.nan
+    kn_one = _mean_kn(rates, [one.predict(m[:, None]) for m in fit_means])
+    kn_pw = piecewise.kn_fit_pct
+    return kn_one / kn_pw if math.isfinite(kn_pw) and kn_pw > 0 else math.nan
+
+
+def _none_if_nan(x: float) -> float | None:
+    return x if math.isfinite(x) else None
 
 
 def _eval_times_ms(models: Mapping[str, Any], x: NDArray[np.float64], repeats: int) -> dict[str, float]:
@@ -266,8 +333,13 @@ def _run_spread_ratio(raw: RawAnalysis) -> float:
     return math.inf if spread > 0 else math.nan
 
 
-def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str, float | None]:
-    """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0."""
+def quantities(
+    raw: RawAnalysis, methods: Mapping[str, MethodScore], hermite_ratio: float = math.nan
+) -> dict[str, float | None]:
+    """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0.
+
+    ``hermite_ratio``: :func:`hermite_error_ratio` of the piecewise fit (NaN: untestable).
+    """
     held = {k: m.kn_heldout_pct for k, m in methods.items()}
     dense = {k: m.kn_dense_pct for k, m in methods.items()}
     rms = {k: m.rms_heldout_pct for k, m in methods.items()}
@@ -289,6 +361,7 @@ def quantities(raw: RawAnalysis, methods: Mapping[str, MethodScore]) -> dict[str
     for key in methods:
         q[f"kn_dense_pct.{key}"] = dense[key]
     q["order_as_paper_dense"] = _flag(dense, _before(PAPER_ORDER, dense))
+    q["hermite_error_ratio"] = hermite_ratio if math.isfinite(hermite_ratio) else None
     return q
 
 
@@ -319,7 +392,10 @@ def experiment(config: Config, seed: int) -> UnitResult:
     return UnitResult(
         seed=seed,
         variant=config.variant,
-        quantities=quantities(raw, methods),
+        quantities={
+            **quantities(raw, methods, hermite_error_ratio(pw, runs[nf:], config)),
+            "local_features_ratio": _none_if_nan(local_features_ratio(config, rates, fit_means, methods["piecewise"])),
+        },
         rates_dps=rates,
         fit_means_dps=fit_means,
         held_means_dps=held_means,

@@ -13,6 +13,7 @@ import numpy as np
 from .coil import point_heating_result, winding_comparison
 from .config import Config
 from .pipeline import (
+    drift_estimate_error_val1,
     drift_peak_val1,
     drift_to_noise_val1,
     fit_protocol,
@@ -48,6 +49,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
         txdt_point_max_deg_h=float(np.max(np.abs(point.product))),
         drift_peak_val1_deg_h=drift_peak_val1(runs),
         val1_drift_to_noise=drift_to_noise_val1(runs),
+        val1_drift_estimate_error=drift_estimate_error_val1(runs, paper.comp_imp),
         paper=protocol_result(paper, s_paper),
         diagnostic_truth_target=protocol_result(truth, s_truth),
         deployment_json=paper.improved.to_json(),

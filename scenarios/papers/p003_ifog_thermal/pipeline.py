@@ -284,6 +284,26 @@ def drift_to_noise_val1(runs: Mapping[str, Run]) -> float:
     return math.inf if sd_drift > 0 else 0.0
 
 
+def drift_estimate_error_val1(runs: Mapping[str, Run], comp_imp: Mapping[str, NDArray[np.float64]]) -> float:
+    """How accurately the improved network estimates the drift (paper figs. 6-8), against the truth [-].
+
+    Per validation-1 run, on its scored samples with each series' own mean removed: the estimated
+    drift output - compensated output against the true coil drift, rms(estimate - truth) /
+    std(truth); the median over the runs. NaN where no run has drift.
+    """
+    out = []
+    for n, r in runs.items():
+        if not n.startswith("val1"):
+            continue
+        est = (r.output - comp_imp[n])[r.scored]
+        true = r.drift[r.scored]
+        sd = float(np.std(true))
+        if sd > 0:
+            e = (est - est.mean()) - (true - true.mean())
+            out.append(float(np.sqrt(np.mean(e**2))) / sd)
+    return float(np.median(out)) if out else math.nan
+
+
 def protocol_result(fit: Fitted, s: Scores) -> ProtocolResult:
     """The typed summary of one protocol: selections, network sizes, training mean, ERR, quantities."""
     return ProtocolResult(

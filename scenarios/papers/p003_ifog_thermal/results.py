@@ -7,6 +7,7 @@ traces are float32 arrays of 100-s block means (the report's figures).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -228,6 +229,8 @@ class UnitResult:
     point_heating: PointHeating
     windings: tuple[WindingPeak, ...]
     traces: Traces
+    #: rms(estimated - true drift) / std(true drift), median over the validation-1 runs [-]
+    val1_drift_estimate_error: float = math.nan
 
     @property
     def quantities(self) -> dict[str, float | None]:
@@ -236,6 +239,16 @@ class UnitResult:
             "txdt_point_max_deg_h": self.txdt_point_max_deg_h,
             "drift_peak_val1_deg_h": self.drift_peak_val1_deg_h,
             "val1_drift_to_noise": self.val1_drift_to_noise,
+            "txdt_unabsorbed": self.txdt_unabsorbed,
+            "val1_drift_estimate_error": self.val1_drift_estimate_error,
             **self.paper.quantities.as_dict(),
         }
+
+    @property
+    def txdt_unabsorbed(self) -> float:
+        """The part of the true drift the (T, dT) model cannot absorb, on validation 2 [-]: with both
+        networks trained on the true drift (``diagnostic_truth_target``), the traditional (T, dT)
+        network's mean ERR over the improved (T, dT, T x dT) network's, minus 1."""
+        v2 = self.diagnostic_truth_target.scores.val2
+        return float(np.mean([d.traditional for d in v2]) / np.mean([d.improved for d in v2]) - 1.0)
 

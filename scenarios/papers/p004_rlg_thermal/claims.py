@@ -55,11 +55,20 @@ _IDENTIFIED_ETA = (
 )
 
 #: the method claims' precondition: the unit's temperature field has a large effect on its output
+TRUTH_R2_MIN = 0.9
 THERMAL_PRECONDITION = Precondition(
     text="the true thermal bias explains at least half the variance of the fitting run's 100-s means "
-    "(var(thermal) / var(output - true rate))",
+    "(var(thermal) / var(output - true rate)), and the eleven candidate regressors, regressed on that true "
+    f"thermal bias, explain more than {TRUTH_R2_MIN:g} of it (R^2)",
     quantity="thermal_share",
     comparator=above(0.5),
+    also=(
+        Precondition(
+            text=f"the candidates regressed on the true thermal bias: R^2 > {TRUTH_R2_MIN:g}",
+            quantity="truth_r2",
+            comparator=above(TRUTH_R2_MIN),
+        ),
+    ),
 )
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
+\nimport numpy as np
 
 from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldRange, ordered, validate
@@ -20,7 +21,14 @@ from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profi
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry, Dither, TemperatureSensor
 from gyrobench.sim.rlg_cavity import CavityRLGSpec, Discharge
 
-__all__ = ["VARIANTS", "Config", "control_config", "variant_config"]
+__all__ = [
+    "CONTROL_PREWARM_TAUS",
+    "VARIANTS",
+    "Config",
+    "control_config",
+    "slowest_thermal_tau_s",
+    "variant_config",
+]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -43,6 +51,9 @@ class Config:
     #: the control (:func:`control_config`): the chamber held at this temperature [degC] for the
     #: program's duration instead of running it; None runs the program
     constant_c: float | None = None
+    #: minutes the gyro runs at the first chamber temperature before the record starts (its
+    #: warm-up transient dropped; the control's: :func:`control_config`); 0 records from turn-on
+    prewarm_min: float = 0.0
     #: score the before/after ratio on the fitting run itself (in-sample) instead of the held-out run
     score_in_sample: bool = False
     block_s: float = 100.0
@@ -86,6 +97,7 @@ class Config:
         "start_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
         "high_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
         "constant_c": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
+        "prewarm_min": FieldRange(0.0, 6000.0, "min", "powered before the record (control warm-up)"),
         "ramp_c_per_min": FieldRange(0.0, 20.0, "degC/min", "chamber ramp rate", low_open=True),
         "power_on_soak_min": FieldRange(0.0, 60000.0, "min", "one unit's record (1000 h)", low_open=True),
         "high_soak_min": FieldRange(0.0, 60000.0, "min", "one unit's record (1000 h)", low_open=True),
@@ -177,14 +189,24 @@ class Config:
         """Chamber program [K]: soak at start (gyro on), ramp up, soak, [ramp down, soak].
 
         With ``constant_c`` set (the control): the chamber held at ``constant_c`` for the
-        program's duration.
+        program's duration. ``prewarm_min`` > 0 prepends a soak of that length at the first
+        temperature (the part :func:`~.simulation.runs` drops, :meth:`prewarm_blocks` blocks).
         """
         program = self._program()
+        start = units.celsius(self.start_c if self.constant_c is None else self.constant_c)
+        pre = [Soak(duration=self.prewarm_blocks() * self.block_s)] if self.prewarm_min > 0 else []
         if self.constant_c is None:
-            return program
-        return thermal_profile(units.celsius(self.constant_c), [Soak(duration=float(program.duration))])
+            return thermal_profile(start, pre + self._steps()) if pre else program
+        return thermal_profile(start, pre + [Soak(duration=float(program.duration))])
+
+    def prewarm_blocks(self) -> int:
+        """Whole 100-s blocks covering ``prewarm_min`` (rounded up)."""
+        return int(np.ceil(self.prewarm_min * units.MINUTE / self.block_s - 1e-9))
 
     def _program(self) -> PiecewiseLinear:
+        return thermal_profile(units.celsius(self.start_c), self._steps())
+
+    def _steps(self) -> list[Ramp | Soak]:
         rate = self.ramp_c_per_min / units.MINUTE
         steps: list[Ramp | Soak] = [
             Soak(duration=self.power_on_soak_min * units.MINUTE),
@@ -196,18 +218,32 @@ class Config:
                 Ramp(target=units.celsius(self.start_c), rate=rate),
                 Soak(duration=self.end_soak_min * units.MINUTE),
             ]
-        return thermal_profile(units.celsius(self.start_c), steps)
+        return steps
 
 
 #: the control's constant chamber temperature [degC] (room temperature, the mechanisms' T_ref)
 CONTROL_CHAMBER_C = 25.0
 
 
+#: the control's pre-warm in slowest thermal time constants of the gyro's node network: the
+#: warm-up transient left at the record's start is e^-10 = 4.5e-5 of its amplitude
+CONTROL_PREWARM_TAUS = 10.0
+
+
+def slowest_thermal_tau_s(config: Config) -> float:
+    """Slowest time constant of the gyro's three-node thermal network [s]: -1 / the eigenvalue
+    of :meth:`gyrobench.sim.rlg_cavity.CavityThermal.matrices` nearest zero."""
+    m, _ = config.spec().thermal.matrices()
+    return float(-1.0 / np.max(np.linalg.eigvals(m).real))
+
+
 def control_config(config: Config) -> Config:
     """The control population's protocol: the same gyros and runs with the chamber held at
-    :data:`CONTROL_CHAMBER_C` for the program's duration (no thermal program; the gyro's own
-    warm-up remains)."""
-    return replace(config, constant_c=CONTROL_CHAMBER_C)
+    :data:`CONTROL_CHAMBER_C` for the program's duration (no thermal program) and the gyro
+    powered :data:`CONTROL_PREWARM_TAUS` slowest thermal time constants before the record, so
+    that its own warm-up is switched off too (the record starts at the powered equilibrium)."""
+    pre_min = CONTROL_PREWARM_TAUS * slowest_thermal_tau_s(config) / units.MINUTE
+    return replace(config, constant_c=CONTROL_CHAMBER_C, prewarm_min=float(pre_min))
 
 
 def _variants(config: Config) -> dict[str, dict[str, Any]]:

@@ -33,6 +33,7 @@ __all__ = [
     "bias_stability_scores",
     "has_kinds",
     "thermal_share",
+    "truth_r2",
     "simulate",
     "memory_estimate",
 ]
@@ -63,8 +64,23 @@ def thermal_share(fit: Blocks) -> float | None:
     return float(np.var(fit.thermal, ddof=1) / err) if err > 0 else None
 
 
+def truth_r2(fit: Blocks) -> float | None:
+    """R^2 of the eleven candidate regressors x1..x11 regressed (least squares, with intercept) on the
+    fitting run's *true* thermal bias (100-s means) [-]: how much of the effect the paper's model
+    can represent at all. None when the true thermal bias does not vary."""
+    y = fit.thermal - fit.thermal.mean()
+    tss = float(y @ y)
+    if not tss > 0:
+        return None
+    A = np.column_stack([np.ones(len(y)), fit.X])
+    beta, *_ = np.linalg.lstsq(A, fit.thermal, rcond=None)
+    r = fit.thermal - A @ beta
+    return float(1.0 - (r @ r) / tss)
+
+
 def _quantities(
-    config: Config, model: StepwiseTable, stab: Stability, hops: HopEffect, share: float | None
+    config: Config, model: StepwiseTable, stab: Stability, hops: HopEffect, share: float | None,
+    r2_truth: float | None = None,
 ) -> dict[str, float | None]:
     """One number per claim quantity (booleans as 1.0 / 0.0)."""
     sel = set(model.selected)
@@ -75,6 +91,7 @@ def _quantities(
     )
     return {
         "thermal_share": share,
+        "truth_r2": r2_truth,
         "keeps_paper_terms": float(set(PAPER_SELECTED) <= sel),
         "drops_other_terms": float(not (sel & set(PAPER_DROPPED))),
         "selects_paper_set": float(sel == set(PAPER_SELECTED)),
@@ -163,7 +180,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
     hops = _hop_effect(fit, held, model, stab, model_nh, stab_nh)
     return UnitResult(
         seed=int(seed),
-        quantities=_quantities(config, model, stab, hops, thermal_share(fit)),
+        quantities=_quantities(config, model, stab, hops, thermal_share(fit), truth_r2(fit)),
         model=model,
         stability=stab,
         hops=hops,

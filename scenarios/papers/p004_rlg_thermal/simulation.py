@@ -9,7 +9,7 @@ logged T1/T2), with the truth the experiment scores against.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -139,14 +139,30 @@ def _blocks(rec: Recording, config: Config) -> Blocks:
     )
 
 
+def _drop_prewarm(b: Blocks, n: int) -> Blocks:
+    """``b`` without its first ``n`` blocks (the pre-warm), block times from the record's start."""
+    if n == 0:
+        return b
+    kw = {f.name: getattr(b, f.name) for f in fields(b)}
+    for k in ("X", "output", "truth", "thermal", "t1", "t2", "chamber", "mode", "lock_in"):
+        kw[k] = kw[k][n:]
+    kw["t_h"] = b.t_h[n:] - b.t_h[n] + b.t_h[0]
+    return Blocks(**kw)
+
+
 def runs(config: Config, seed: int, *, mode_hops: bool = True) -> tuple[CavityRLG, Blocks, Blocks]:
     """The unit's gyro and its fitting and held-out runs as 100-s blocks.
 
     ``mode_hops=False``: the same gyro and draws with a PLC of unlimited travel (no hops).
+    With ``Config.prewarm_min`` > 0 the first ``Config.prewarm_blocks()`` blocks (the gyro
+    powered at the first chamber temperature) are dropped; the regressors' derivative windows
+    at the record's start see the pre-warm part. Mode hops during it stay in ``hops_up``,
+    ``hops_down``.
     """
     gyro, streams = unit_and_streams(config, seed)
     prof = config.chamber()
     env = Environment(prof.duration, temperature=prof)
     run_gyro = replace(gyro, mode_hops=mode_hops)
-    fit, held = (_blocks(run_gyro.simulate(env, fs=config.fs_hz, rng=r), config) for r in streams)
+    n = config.prewarm_blocks()
+    fit, held = (_drop_prewarm(_blocks(run_gyro.simulate(env, fs=config.fs_hz, rng=r), config), n) for r in streams)
     return gyro, fit, held

@@ -13,7 +13,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
-\nimport numpy as np
+
+import numpy as np
 
 from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldRange, ordered, validate

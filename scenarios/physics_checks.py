@@ -41,7 +41,7 @@ class Config:
         if not self.modules:
             raise ValueError("Config.modules must name at least one check module; got ()")
         unknown = [m for m in self.modules if m not in CHECK_MODULES]
-        if unknown:  # a config never imports by a name it chose: only the fixed registry (issue 32)
+        if unknown:  # a config never imports by a name it chose: only the fixed registry
             raise ValueError(
                 f"Config.modules must be among the check modules {', '.join(CHECK_MODULES)}; got {unknown[0]!r}"
             )

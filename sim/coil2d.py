@@ -820,9 +820,9 @@ class Coil2DSpec:
         T_ref [1/K] (``t_ref`` None: the spec's ``t_ref``). The drift (n/(L D)) [Tdot . W0 +
         (T - T_ref) . Q Tdot] is then the same for every T_ref, in any temperature unit or
         origin; only its split between the Tdot and the T x Tdot terms moves with T_ref
-        (the Tdot term by beta_1 (T_ref' - T_ref) . Tdot). Until issue 27 beta_0 was beta_T at
-        t_ref itself, 0.2-0.9 % above the chord at 15 degC (the chord's curvature error), which
-        made the sum depend on T_ref at that order.
+        (the Tdot term by beta_1 (T_ref' - T_ref) . Tdot). beta_0 is the chord, not beta_T at
+        t_ref itself: that is 0.2-0.9 % above the chord at 15 degC (the chord's curvature
+        error) and would make the sum depend on T_ref at that order.
         """
         t0 = self.t_ref if t_ref is None else float(t_ref)
         lo = self.beta(r, self.t_lo, bonded=bonded)

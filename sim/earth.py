@@ -87,8 +87,8 @@ BEIJING = Site(
     "39.9 N, approximate (+-0.1 deg)",
 )
 #: Nanjing (paper 000: Southeast University, postcode 210096, printed in its affiliation line;
-#: Sipailou campus ~32.06 N, approximate +-0.05 deg). Issue 17 assumed Beijing for 000; the
-#: paper's Chinese text says Nanjing.
+#: Sipailou campus ~32.06 N, approximate +-0.05 deg). The paper's Chinese text says Nanjing,
+#: not Beijing.
 NANJING = Site(
     name="Nanjing",
     latitude=units.deg(32.06),

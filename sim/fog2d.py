@@ -150,9 +150,9 @@ class FOG2DSpec:
         ``"outer"``: the sensor is on the outer potting surface).
     diameter_tempco : float or None
         alpha_D [1/K]; None (default): the coil's own hoop expansion
-        (:func:`coil_diameter_tempco` of the drawn coil at its t_ref). Changed with issue 17:
-        the law is the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding
-        radius), no longer (1 + alpha_f dT)(1 + alpha_D dT) with the glass expansion alpha_f.
+        (:func:`coil_diameter_tempco` of the drawn coil at its t_ref). The scale-factor law is
+        the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding radius; the glass
+        expansion alpha_f does not enter separately, docs/design-notes.md).
     wavelength_tempco : float
         (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; ASSUMED).
     scale_factor_ref_temperature : float

@@ -1,4 +1,4 @@
-"""Upper bounds that the record's own sub-segments cannot contradict (issue 30, item 2).
+"""Upper bounds that the record's own sub-segments cannot contradict.
 
 A term the whole record cannot identify gets a one-sided 95 % bound. On real records that
 bound sat below what a part of the same record identifies (ADIS16405 accelerometers at 100 Hz:
@@ -13,10 +13,10 @@ identifies R = 2.9e-6 [1.3e-6, 3.9e-6] rad/s^2 where the whole record's bound wa
 and no half or quarter identifies R.
 
 :func:`pool_curves` pools the curves of separate stretches of one record (the quiet stretches
-between handling, issue 30 item 1) into one EDF-weighted curve for one fit.
+between handling) into one EDF-weighted curve for one fit.
 
 :func:`halves_agreement` asks the converse of a real record: do the 95 % intervals of its two
-halves overlap, term by term (the coverage check of issue 30 on real data)?
+halves overlap, term by term (a coverage check on real data)?
 """
 
 from __future__ import annotations

@@ -245,7 +245,7 @@ def analyse(
     bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
     options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
     fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, nonstationary=moving, **options)
-    # an open term's bound never below what a half, quarter or eighth of the record identifies (issue 30)
+    # an open term's bound never below what a half, quarter or eighth of the record identifies
     fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
     result = ChannelResult(
         channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,

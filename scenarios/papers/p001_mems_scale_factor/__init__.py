@@ -15,9 +15,9 @@ Three devices (``Config.variant``):
   low-rate K_n 1e-3; CALIBRATED). The control population (:func:`control_config`) is the
   same units under ``"design"`` (linear scale factor).
 * ``"design"``: the spec as given, by default the plausible +-3600 deg/s design
-  (v_max = 0.7 V, authority about 1.1-1.4x the range). The default because issue 16 asks
-  for a plausible design not solved for the paper's number: nothing in it is set from paper
-  001, so every claim is emergent (it was the default before issue 25). Its knee lies
+  (v_max = 0.7 V, authority about 1.1-1.4x the range). The default because it is
+  a plausible design not solved for the paper's number: nothing in it is set from paper
+  001, so every claim is emergent. Its knee lies
   beyond the table, so its raw K_n is the noise of the dwell means (ppm), not the paper's 15.71 %: a finding, reported.
 * ``"calibrated"``: the same population with the rebalance DAC full scale v_max set to
   :data:`CALIBRATED_V_MAX_V`, CALIBRATED (:func:`calibrated_v_max`) so that the median

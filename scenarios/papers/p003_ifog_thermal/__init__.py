@@ -68,8 +68,8 @@ streaming compensation equal to batch; the exported a1/a2 network evaluated in s
 precision as on the paper's TMS320F28335 (``deployment_float32``); the Table 1 /
 figure 2 point-heating T x dT term; peak drift of the four winding patterns.
 
-Claims, control and identification (issues 24, 27)
---------------------------------------------------
+Claims, control and identification
+----------------------------------
 The drift level (0.15 deg/h per 10 degC) is a ``device`` claim: the one calibrated
 parameter, the lead-asymmetry spread, is identified from it (:mod:`.identify`, frozen in
 ``IDENTIFIED``). The Table 1 T x dT term is a device claim from material data, reported

@@ -305,7 +305,8 @@ def check(packages: Iterable[str] = PACKAGES) -> list[Failure]:
     Returns
     -------
     list of Failure
-        Every failure, each public object checked once (under the first name it is found).
+        Every failure, each public object checked once and named where it is defined
+        (``module.qualname``), whichever public module exports it.
     """
     seen: set[int] = set()
     fails: list[Failure] = []
@@ -315,7 +316,9 @@ def check(packages: Iterable[str] = PACKAGES) -> list[Failure]:
                 if id(obj) in seen:
                     continue
                 seen.add(id(obj))
-                fails.extend(check_object(f"{module.__name__}.{name}", obj))
+                home = getattr(obj, "__module__", "") or ""
+                where = f"{home}.{obj.__qualname__}" if home.startswith("gyrobench") else f"{module.__name__}.{name}"
+                fails.extend(check_object(where, obj))
     return fails
 
 

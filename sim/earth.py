@@ -115,10 +115,23 @@ def _angle(name: str, v: ArrayLike) -> NDArray[np.float64]:
 
 
 def earth_rate_components(latitude: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """(north, up) components of the Earth's rate at a geodetic latitude [rad] -> [rad/s].
+    """Compute the north and up components of the Earth's rate at a latitude.
 
-    north = Omega_E cos(phi), up = Omega_E sin(phi); the east component is 0.
+    north = Omega_E cos(phi), up = Omega_E sin(phi); the east component is 0
+    (Omega_E = :data:`EARTH_RATE`, the sidereal rate).
 
+    Parameters
+    ----------
+    latitude : array_like
+        Geodetic latitude phi [rad].
+
+    Returns
+    -------
+    north, up : ndarray
+        The components [rad/s].
+
+    Examples
+    --------
     >>> n, u = earth_rate_components(0.0)
     >>> float(n) == EARTH_RATE, float(u)
     (True, 0.0)

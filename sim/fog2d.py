@@ -117,6 +117,18 @@ def coil_diameter_tempco(coil: Coil2DSpec | Coil2D, temperature: float | None = 
     averaged over the fibre pieces in the pack with their lengths as weights (an ideal
     winding when a spec is given). It is the relative change of the winding radius, hence of
     the mean diameter D and of the wound length L (turns fixed): SF ~ L D changes by 2 alpha_D.
+
+    Parameters
+    ----------
+    coil : Coil2DSpec or Coil2D
+        A coil spec (an ideal winding) or a drawn coil.
+    temperature : float, optional
+        Temperature at which the strain rate is taken [K]; None: the coil's t_ref.
+
+    Returns
+    -------
+    float
+        alpha_D [1/K].
     """
     if not isinstance(coil, (Coil2D, Coil2DSpec)):
         raise TypeError(f"coil must be a Coil2DSpec or Coil2D; got {type(coil).__name__}")
@@ -231,7 +243,15 @@ class FOG2DSpec:
 
 @dataclass(frozen=True, kw_only=True)
 class FOG2DUnit:
-    """One FOG: its spec, its drawn coil, and the closed loop on that coil (:attr:`fog`)."""
+    """One FOG: its spec, its drawn coil, and the closed loop on that coil (:attr:`fog`).
+
+    Parameters
+    ----------
+    spec : FOG2DSpec
+        The population the unit was drawn from.
+    coil : Coil2D
+        Its drawn coil.
+    """
 
     spec: FOG2DSpec
     coil: Coil2D

@@ -89,7 +89,22 @@ def _pos(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fals
 
 
 def arw_from_phase_psd(phase_psd: float, scale_factor: float) -> float:
-    """N = sqrt(S_phi/2)/SF [rad/sqrt(s)] from a one-sided phase PSD [rad^2/Hz] and SF [s]."""
+    """Convert a white phase-noise PSD into the angle random walk it causes.
+
+    N = sqrt(S_phi / 2) / SF.
+
+    Parameters
+    ----------
+    phase_psd : float
+        One-sided PSD of the Sagnac phase noise S_phi [rad^2/Hz].
+    scale_factor : float
+        Sagnac scale factor SF = phase per rate [s].
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
+    """
     return math.sqrt(phase_psd / 2.0) / scale_factor
 
 

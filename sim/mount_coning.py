@@ -52,7 +52,17 @@ def _check(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fa
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RockingMode:
-    """One rocking mode of the mount (SI): ``frequency`` [Hz], ``quality`` [-], ``compliance`` [rad/(m/s^2)]."""
+    """One rocking mode of the mount (SI): ``frequency`` [Hz], ``quality`` [-], ``compliance`` [rad/(m/s^2)].
+
+    Parameters
+    ----------
+    frequency : float
+        Resonance frequency [Hz], > 0.
+    quality : float
+        Quality factor [-], > 0.
+    compliance : float
+        Quasi-static tilt per unit acceleration [rad/(m/s^2)], >= 0.
+    """
 
     frequency: float
     quality: float
@@ -78,7 +88,13 @@ class RockingMode:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MountConing:
-    """Two rocking modes, about x and about y (both perpendicular to the sense axis z)."""
+    """Two rocking modes, about x and about y (both perpendicular to the sense axis z).
+
+    Parameters
+    ----------
+    x, y : RockingMode
+        The rocking modes about x and about y.
+    """
 
     x: RockingMode
     y: RockingMode

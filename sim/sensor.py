@@ -213,7 +213,13 @@ def _with_meta(rec: Recording, **extra: object) -> Recording:
 
 @dataclass(frozen=True, slots=True)
 class FogSensor:
-    """Closed-loop FOG on the (r, z) coil (:class:`gyrobench.sim.fog2d.FOG2DSpec`) as a :class:`Sensor`."""
+    """Closed-loop FOG on the (r, z) coil (:class:`gyrobench.sim.fog2d.FOG2DSpec`) as a :class:`Sensor`.
+
+    Parameters
+    ----------
+    spec : FOG2DSpec
+        The FOG population.
+    """
 
     spec: FOG2DSpec
 
@@ -234,6 +240,11 @@ class FogSensorUnit:
     a :class:`PiecewiseLinear`, or an array (sampled at fs, linear between the sample
     centres); None holds the spec's scale-factor reference temperature. The model has no
     g-sensitive term: ``specific_force`` does not act (metadata ``ignored_inputs``).
+
+    Parameters
+    ----------
+    unit : FOG2DUnit
+        The drawn unit.
     """
 
     unit: FOG2DUnit
@@ -325,6 +336,19 @@ class MemsSensorUnit:
     transient at a block start (settling ~ a few 1/(loop bandwidth), ms) and the 1/f
     term's memory across blocks are lost, so choose blocks long against both the loop's
     settling and the thermal time constant's resolution needed.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The drawn resonator.
+    temperature_block : float
+        Length of a block at one temperature when the temperature varies [s].
+    noise : bool
+        Simulate the noise sources (False: noise-free).
+    adc : bool
+        Quantize the output with the unit's ADC.
+    flicker : bool
+        Include the 1/f (bias-instability) term.
     """
 
     unit: mr.MemsResonator
@@ -399,7 +423,13 @@ class MemsSensorUnit:
 
 @dataclass(frozen=True, slots=True)
 class RlgSensor:
-    """RLG population, either :class:`gyrobench.sim.rlg.RLGSpec` or :class:`gyrobench.sim.rlg_cavity.CavityRLGSpec`."""
+    """RLG population, either :class:`gyrobench.sim.rlg.RLGSpec` or :class:`gyrobench.sim.rlg_cavity.CavityRLGSpec`.
+
+    Parameters
+    ----------
+    spec : RLGSpec or CavityRLGSpec
+        The RLG population.
+    """
 
     spec: RLGSpec | CavityRLGSpec
 
@@ -419,6 +449,11 @@ class RlgSensorUnit:
     The environment's temperature is the chamber air [K] (None: 293.15 K held); an array is
     held over each sample interval. The models have no g-sensitive term: ``specific_force``
     does not act (metadata ``ignored_inputs``).
+
+    Parameters
+    ----------
+    unit : RLGUnit or CavityRLG
+        The drawn unit.
     """
 
     unit: RLGUnit | CavityRLG

@@ -107,6 +107,20 @@ WINDING_PATTERNS: dict[str, str | None] = {
 def winding_sequence(pattern: str, layers: int) -> str | None:
     """The A/B sequence of ``layers`` layers (inner -> outer), or None for helical.
 
+    Parameters
+    ----------
+    pattern : str
+        A key of :data:`WINDING_PATTERNS` (``"helical"``, ``"dipolar"``, ``"quadrupolar"``,
+        ``"octupolar"``).
+    layers : int
+        Number of layers.
+
+    Returns
+    -------
+    str or None
+        One letter per layer, ``"A"`` or ``"B"`` (the half of the fibre it belongs to); None for
+        a helical winding.
+
     Raises
     ------
     ValueError
@@ -243,7 +257,18 @@ NIST_6061_EXPANSION = (-4.1277e2, -3.0389e-1, 8.7696e-3, -9.9821e-6)
 
 
 def nist_6061_alpha(T: float) -> float:
-    """alpha(T) [1/K] of 6061-T6 from NIST's cryogenic linear-expansion fit (4-300 K)."""
+    """alpha(T) [1/K] of 6061-T6 from NIST's cryogenic linear-expansion fit (4-300 K).
+
+    Parameters
+    ----------
+    T : float
+        Temperature [K], 4-300 K (the fit's range).
+
+    Returns
+    -------
+    float
+        alpha(T) [1/K].
+    """
     _, b, c, d = NIST_6061_EXPANSION
     return (b + 2.0 * c * T + 3.0 * d * T * T) * 1e-5
 
@@ -297,6 +322,18 @@ def silica_dn_dT(T: ArrayLike, wavelength: float = 1550e-9) -> NDArray[np.float6
 
     >>> round(float(silica_dn_dT(293.15)) * 1e6, 2)
     8.16
+
+    Parameters
+    ----------
+    T : array_like
+        Temperature [K], 30-330 K.
+    wavelength : float
+        Vacuum wavelength [m].
+
+    Returns
+    -------
+    ndarray
+        dn/dT [1/K].
     """
     T = np.asarray(T, dtype=float)
     _num(
@@ -321,6 +358,20 @@ def maxwell_conductivity(k_f: float, k_m: float, phi: float) -> float:
 
     k_T = k_m [(k_f + k_m) + phi (k_f - k_m)] / [(k_f + k_m) - phi (k_f - k_m)]
     (Maxwell's dilute-cylinder form, as applied by McCartney; docs/physics.md 3.7).
+
+    Parameters
+    ----------
+    k_f : float
+        Conductivity of the cylinders (fibres) [W/(m K)].
+    k_m : float
+        Conductivity of the matrix [W/(m K)].
+    phi : float
+        Volume fraction of the cylinders [-].
+
+    Returns
+    -------
+    float
+        k_T [W/(m K)].
     """
     _num("maxwell_conductivity", "phi", phi, "in [0, 1)", "", lambda v: 0 <= v < 1)
     return k_m * ((k_f + k_m) + phi * (k_f - k_m)) / ((k_f + k_m) - phi * (k_f - k_m))
@@ -333,6 +384,19 @@ class PackProperties:
     ``k_r``, ``k_z`` [W/(m K)], ``rho_c`` [J/(m^3 K)], ``E_t``, ``E_r`` [Pa], ``nu_tr`` (strain
     in r per strain in t under hoop stress) [-], ``alpha_t``, ``alpha_r`` [1/K] (at the
     temperature the properties were evaluated at).
+
+    Attributes
+    ----------
+    k_r, k_z : float
+        Radial and axial conductivity [W/(m K)].
+    rho_c : float
+        Volumetric heat capacity [J/(m^3 K)].
+    E_t, E_r : float
+        Hoop (fibre direction) and radial Young's modulus [Pa].
+    nu_tr : float
+        Strain in r per strain in t under hoop stress [-].
+    alpha_t, alpha_r : float
+        Hoop and radial expansion coefficients [1/K].
     """
 
     k_r: float
@@ -365,6 +429,15 @@ def pack_properties(
         (cladding diameter / coated diameter)^2 [-].
     interlayer_fraction : float
         Resin-rich interlayer thickness over the layer pitch t_l/p [-] (radial only).
+    T : float
+        Temperature at which the constituents' properties are taken [K].
+    glass, coating, matrix : Material
+        The fibre's glass and coating and the potting matrix.
+
+    Returns
+    -------
+    PackProperties
+        The effective properties at ``T``.
 
     Notes
     -----
@@ -425,6 +498,32 @@ def composite_cylinder_strain(
     (Lekhnitskii; docs/physics.md 3.7) with Gamma = alpha for an isotropic pack. Four
     conditions: sigma_r(bore) = 0, sigma_r(outer) = 0, u and sigma_r continuous at inner.
     Returns eps_theta = u/r at ``r`` and p = -sigma_r(inner) (positive = compression).
+
+    Parameters
+    ----------
+    r : array_like
+        Radii in the pack where the hoop strain is wanted [m].
+    bore : float
+        Inner radius of the spool [m].
+    inner : float
+        Outer radius of the spool = inner radius of the pack [m].
+    outer : float
+        Outer radius of the pack [m].
+    spool_E : float
+        Young's modulus of the spool [Pa].
+    spool_nu : float
+        Poisson's ratio of the spool [-].
+    spool_alpha : float
+        Expansion coefficient of the spool [1/K].
+    pack : PackProperties
+        The pack's effective properties.
+
+    Returns
+    -------
+    eps_theta : ndarray
+        d eps_theta/dT at ``r`` [1/K].
+    pressure : float
+        Interface pressure per kelvin [Pa/K] (positive = compression).
     """
     r = np.asarray(r, dtype=float)
     if not (0 < bore < inner < outer):
@@ -487,6 +586,19 @@ class Grid:
     ``K`` (m, m) conductance matrix [W/K] of the interior links; ``cap`` (m,) [J/K];
     ``g_face`` dict side -> (m,) conductance from each cell centre to that outer face [W/K]
     (zero for cells not on the side; "inner" is zero when the grid starts at r = 0).
+
+    Attributes
+    ----------
+    r_faces : ndarray, shape (nr + 1,)
+        Radial cell faces [m].
+    z_faces : ndarray, shape (nz + 1,)
+        Axial cell faces [m].
+    K : ndarray, shape (m, m)
+        Conductance matrix of the interior links [W/K].
+    cap : ndarray, shape (m,)
+        Heat capacity of each cell [J/K].
+    g_face : dict of str to ndarray
+        Side -> conductance from each cell centre to that outer face [W/K].
     """
 
     r_faces: NDArray[np.float64]
@@ -543,6 +655,22 @@ def fv_grid(
     radial half-cell resistance ln(r_face / r_c) / (2 pi k_r dz), axial (dz/2) / (k_z pi
     (r2^2 - r1^2)), links in series (harmonic mean across a material interface). Second order
     in space for smooth fields.
+
+    Parameters
+    ----------
+    r_faces : array_like, shape (nr + 1,)
+        Radial cell faces [m].
+    z_faces : array_like, shape (nz + 1,)
+        Axial cell faces [m].
+    k_r, k_z : array_like, shape (nr, nz)
+        Radial and axial conductivity of each cell [W/(m K)].
+    rho_c : array_like, shape (nr, nz)
+        Volumetric heat capacity of each cell [J/(m^3 K)].
+
+    Returns
+    -------
+    Grid
+        The conductances and capacities.
     """
     rf = np.asarray(r_faces, dtype=float)
     zf = np.asarray(z_faces, dtype=float)
@@ -596,6 +724,22 @@ def first_order_hold(A: NDArray[np.float64], b: NDArray[np.float64], dt: float):
     From expm of the augmented matrix [[A dt, b dt, 0], [0, 0, 1], [0, 0, 0]] (Van Loan
     1978): Phi = E11, Gamma0 = E12, Gamma1 = E13; u(t_k + tau) = u_k + (u_{k+1} - u_k) tau/dt
     gives q0 = Gamma0 - Gamma1, q1 = Gamma1.
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        System matrix of dx/dt = A x + b u [1/s].
+    b : ndarray, shape (m,)
+        Input vector [unit of x per unit of u per s].
+    dt : float
+        Step [s].
+
+    Returns
+    -------
+    Phi : ndarray, shape (m, m)
+        State transition matrix.
+    q0, q1 : ndarray, shape (m,)
+        Input weights of u_k and u_{k+1}.
     """
     m = len(b)
     M = np.zeros((m + 2, m + 2))
@@ -904,6 +1048,23 @@ class FibreMap:
     ``bonded`` is False for the leads (free fibre); ``layer`` is -1 for leads and
     crossovers. ``length`` L = sum ds; ``diameter`` D = sum_{turns} ds 2 r / L (Sagnac:
     L D = sum of 2 x enclosed area over the turns).
+
+    Attributes
+    ----------
+    r, z : ndarray
+        Radius and axial position of each piece [m].
+    s : ndarray
+        Fibre coordinate of each piece from port A [m].
+    ds : ndarray
+        Length of each piece [m].
+    bonded : ndarray of bool
+        False for the leads (free fibre).
+    layer : ndarray of int
+        Layer of each piece; -1 for leads and crossovers.
+    length : float
+        L [m].
+    diameter : float
+        D [m].
     """
 
     r: NDArray[np.float64]
@@ -940,6 +1101,18 @@ def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> F
     the flange, at the mean radius of the two layers. Half A runs from the midpoint toward
     port A (s decreasing), half B toward port B. Helical: one fibre, layer after layer,
     alternating direction. Leads: at the top outer corner, in the skin.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's drawing.
+    imperfections : Imperfections, optional
+        Drawn departures from it; None: the ideal winding.
+
+    Returns
+    -------
+    FibreMap
+        The fibre's pieces.
     """
     imp = Imperfections.none(spec.layers) if imperfections is None else imperfections
     if len(imp.turn_errors) != spec.layers or len(imp.radius_errors) != spec.layers:
@@ -1026,6 +1199,21 @@ class ThermalRun:
     T x dT term from the material temperature dependences); ``dt`` [s] the step used and
     ``convergence`` the max |Omega(dt) - Omega(dt/2)| / max |Omega(dt/2)| of the check (0 when
     every chamber knot lies on the step grid: the first-order hold is then exact at the samples).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times [s].
+    chamber, housing, sensor, coil_mean : ndarray, shape (n,)
+        Chamber, housing, logged-sensor and mean coil temperature [K].
+    shupe : ndarray, shape (n,)
+        The Tdot rate error [rad/s].
+    product : ndarray, shape (n,)
+        The T x dT rate error [rad/s].
+    dt : float
+        Thermal step used [s].
+    convergence : float
+        Step-halving check [-].
     """
 
     t: NDArray[np.float64]
@@ -1052,6 +1240,13 @@ class Coil2D:
     T_housing] [K]:  C dx/dt = -K x + e_h G_ch T_chamber. Boundary links (series with the
     half cell): outer, top and bore faces and the bottom of pack/skin through the gas gap
     h_gap; the spool's bottom face through the mount contact h_c; housing to chamber G_ch.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's drawing and materials.
+    imperfections : Imperfections, optional
+        The unit's drawn departures from the drawing; None: the ideal coil.
     """
 
     spec: Coil2DSpec = field(default_factory=Coil2DSpec)
@@ -1348,6 +1543,32 @@ def heated_stretch(
     dz = alpha_T L0 T with T in degC, puts the reference length at 0 degC, and its T x dT
     regressor has T in degC. ``radius`` None: free fibre (dn/dT + n alpha_f); a radius: fibre
     bonded in the pack at that radius.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's materials.
+    T : array_like
+        Temperature of the stretch [K].
+    rate : float
+        Its heating rate Tdot [K/s].
+    fibre_length : float
+        Fibre length L [m].
+    diameter : float
+        Mean coil diameter D [m].
+    z_center : float
+        Centre z_c of the stretch along the fibre [m].
+    seg_length : float
+        Length l of the stretch [m].
+    radius : float, optional
+        Radius at which the fibre is bonded in the pack [m]; None: free fibre.
+    t_ref : float
+        Reference temperature T_ref [K].
+
+    Returns
+    -------
+    Omega_Tdot, Omega_TxdT : ndarray
+        The two rate errors [rad/s].
     """
     T = np.asarray(T, dtype=float)
     r = np.array([spec.inner_radius if radius is None else radius])

@@ -21,6 +21,19 @@ class ClaimTally:
     Method claims: ``reproduced`` counts only emergent ones (a calibrated claim holds by
     construction and is counted in ``calibrated``); the other statuses count every method
     claim. Extensions (ours) are counted apart.
+
+    Attributes
+    ----------
+    device, device_matched : int
+        Device claims, and those matched.
+    method : int
+        Method claims.
+    reproduced, contradicted, not_reproducible, identity, undecided, not_testable : int
+        Method claims by status (``reproduced``: emergent ones only).
+    calibrated : int
+        Calibrated method claims that hold.
+    extension, extension_reproduced : int
+        Our extensions, and those that hold.
     """
 
     device: int = 0
@@ -52,7 +65,18 @@ _METHOD_FIELD = {
 
 
 def tally(results: Sequence[ClaimResult]) -> ClaimTally:
-    """Count judged claims by role and :attr:`ClaimResult.status`."""
+    """Count judged claims by role and :attr:`ClaimResult.status`.
+
+    Parameters
+    ----------
+    results : sequence of ClaimResult
+        A paper's judged claims.
+
+    Returns
+    -------
+    ClaimTally
+        The counts.
+    """
     n: dict[str, int] = {}
 
     def add(key: str) -> None:
@@ -79,11 +103,20 @@ def tally(results: Sequence[ClaimResult]) -> ClaimTally:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DeviationEffect:
-    """A deviation's effect, measured by the run: every claim's pass count with our protocol and
-    with the paper's (the deviation's config variant), over the same ``units`` seeds.
+    """A deviation's effect, measured by the run over the same units under both protocols.
 
-    ``changes`` holds ``(claim id, holds, testable, holds under the variant, testable under the
-    variant)`` for every claim.
+    Every claim's pass count with our protocol and with the paper's (the deviation's config
+    variant), over the same ``units`` seeds.
+
+    Attributes
+    ----------
+    variant : str
+        The deviation's config variant.
+    units : int
+        Units run under both.
+    changes : tuple of (str, int, int, int, int)
+        ``(claim id, holds, testable, holds under the variant, testable under the variant)`` for
+        every claim.
     """
 
     variant: str
@@ -117,7 +150,22 @@ class DeviationEffect:
 def deviation_effect(
     variant: str, ours: Sequence[ClaimResult], theirs: Sequence[ClaimResult]
 ) -> DeviationEffect:
-    """Pair the claims judged on the same units under our protocol (``ours``) and the variant's."""
+    """Pair the claims judged on the same units under our protocol (``ours``) and the variant's.
+
+    Parameters
+    ----------
+    variant : str
+        The deviation's config variant.
+    ours : sequence of ClaimResult
+        The claims judged under our protocol.
+    theirs : sequence of ClaimResult
+        The same claims judged under the variant, on the same units.
+
+    Returns
+    -------
+    DeviationEffect
+        Every claim's pass counts under both.
+    """
     by_id = {r.claim.id: r for r in theirs}
     changes = tuple(
         (r.claim.id, r.holds, r.testable, by_id[r.claim.id].holds, by_id[r.claim.id].testable)

@@ -31,7 +31,13 @@ __all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Config:
-    """Which check modules run (default: all of :data:`CHECK_MODULES`, in order)."""
+    """Which check modules run (default: all of :data:`CHECK_MODULES`, in order).
+
+    Attributes
+    ----------
+    modules : tuple of str
+        Dotted names of the check modules, among :data:`CHECK_MODULES`.
+    """
 
     modules: tuple[str, ...] = CHECK_MODULES
 
@@ -48,7 +54,20 @@ class Config:
 
 
 def simulate(config: Config, seed: int) -> list:
-    """The checks keep no recordings (each simulates short records internally)."""
+    """The checks keep no recordings (each simulates short records internally).
+
+    Parameters
+    ----------
+    config : Config
+        Which check modules run.
+    seed : int
+        Seed of ``numpy.random.default_rng``, split among the modules.
+
+    Returns
+    -------
+    list
+        Empty.
+    """
     return []
 
 
@@ -59,6 +78,22 @@ def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = 
     each module draws from its own child stream, split among its parts as its ``checks``
     splits it). ``progress`` shows a tqdm bar on stderr that moves as each part (a module, or
     one check or group of a module with ``parts``) finishes, with its passed/total.
+
+    Parameters
+    ----------
+    config : Config
+        Which check modules run.
+    seed : int
+        Seed of ``numpy.random.default_rng``, split among the modules.
+    workers : int
+        Local worker processes (0: in this process).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of Check
+        Every check, in the modules' order, with its value, tolerance and verdict.
     """
     rng = np.random.default_rng(seed)
     bar = None
@@ -89,7 +124,24 @@ def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = 
 
 
 def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
-    """The checks as a table, a headline (passed / all) and ``results["checks"]``."""
+    """The checks as a table, a headline (passed / all) and ``results["checks"]``.
+
+    Parameters
+    ----------
+    config : Config
+        Which check modules run.
+    seed : int
+        Seed of ``numpy.random.default_rng``, split among the modules.
+    checks : list of Check
+        The checks run.
+    runtime_s : float
+        Their wall time [s].
+
+    Returns
+    -------
+    Outcome
+        The report's table, headline and results.
+    """
     rows = [
         [
             c.id,
@@ -151,7 +203,22 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
 
 
 def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
-    """Run every check and build the report."""
+    """Run every check and build the report.
+
+    Parameters
+    ----------
+    config : Config
+        Which check modules run.
+    seed : int
+        Seed of ``numpy.random.default_rng``, split among the modules.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    Outcome
+        As :func:`report`.
+    """
     import os
 
     t0 = time.perf_counter()

@@ -38,6 +38,16 @@ def coefficients_json(fit) -> dict[str, dict[str, Any]]:
     ``low``/``high`` are the 95 % interval; ``low68``/``high68`` the 68 % one.
     ``value`` is None when the term is not identifiable from the record; then
     ``high`` holds the 95 % upper bound and ``low`` is 0.
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The fit.
+
+    Returns
+    -------
+    dict
+        Term -> its description.
     """
     out = {}
     for name in TERMS:
@@ -75,7 +85,22 @@ def _interval_text(d: dict[str, Any]) -> tuple[str, str]:
 
 
 def coefficient_table(fit, *, title: str, truth: dict[str, float] | None = None) -> Table:
-    """A report table of the fitted coefficients (and the true values, when known)."""
+    """A report table of the fitted coefficients (and the true values, when known).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The fit.
+    title : str
+        The table's title.
+    truth : dict of str to float, optional
+        True coefficients [SI] by term.
+
+    Returns
+    -------
+    Table
+        One row per term, in field units.
+    """
     js = coefficients_json(fit)
     cols = ["term", "unit", "fitted", "95 % interval"] + (["true", "true inside"] if truth else [])
     rows = []
@@ -125,7 +150,33 @@ def field_unit(name: str, quantity: str = "rate") -> str:
 
 @dataclass
 class ChannelResult:
-    """Curve and fit (None for kinds without a fit) of one channel, with why there is no fit."""
+    """Curve and fit (None for kinds without a fit) of one channel, with why there is no fit.
+
+    Attributes
+    ----------
+    channel : Channel
+        The channel analysed (:class:`gyrobench.io.logs.Channel`).
+    curve : AllanCurve
+        Its deviation (SI).
+    fit : NoiseFit or None
+        The noise fit; None for the kinds without one, or when it could not be made.
+    no_fit : str or None
+        Why there is no fit.
+    fit_range : FitRange or None
+        The short-tau limit the data set (``tau_min="auto"``).
+    bandwidth_range : FitRange or None
+        The limit a stated sensor bandwidth set.
+    warnings : list of str
+        Warnings for the report.
+    temperature : TemperatureFit or None
+        The temperature part removed first (``--temperature``).
+    nonstationary : bool
+        Motion or steps were found.
+    segments : list of (float, float, ChannelResult)
+        ``--segments auto``: each quiet stretch's start [s], stop [s] and result.
+    pooled : NoiseFit or None
+        ``--segments auto``: one fit over the stretches' pooled curve.
+    """
 
     channel: Any
     curve: Any
@@ -141,9 +192,31 @@ class ChannelResult:
 
 
 def stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
-    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows,
-    whether motion or steps were found (the record is then flagged non-stationary) and the
-    :class:`StationarityReport` (None when no tau qualifies)."""
+    """Test a channel for motion and steps.
+
+    Windows are the curve's tau nearest 1 s that gives >= 32 windows; the record is flagged
+    non-stationary when motion or steps are found.
+
+    Parameters
+    ----------
+    data : ndarray
+        The channel's samples.
+    fs : float
+        Sample rate [Hz].
+    curve : AllanCurve
+        The channel's curve (its ADEV sets the step test's scale).
+    label : str
+        The channel named in the warnings.
+
+    Returns
+    -------
+    warnings : list of str
+        The motion and step warnings.
+    flagged : bool
+        Motion or steps were found.
+    report : StationarityReport or None
+        The test's report (None when no tau qualifies).
+    """
     import numpy as np
 
     from gyrobench.analysis.stationarity import stationarity_check
@@ -188,6 +261,36 @@ def analyse(
 
     With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
     grows as the square of the number of taus, and neighbouring m carry no new information).
+
+    Parameters
+    ----------
+    channel : Channel
+        The channel (SI data).
+    fs : float
+        Sample rate [Hz].
+    taus : {"octave", "decade", "all"}
+        The taus of the curve.
+    kind : str
+        The deviation's kind (:data:`gyrobench.analysis.allan.KINDS`).
+    terms : tuple of str
+        Terms to fit.
+    tau_min : float or "auto" or None
+        Shortest fitted tau [s] (:func:`gyrobench.analysis.allan.fit_noise`).
+    tau_max : float, optional
+        Longest fitted tau [s].
+    temperature : array_like, optional
+        Temperature samples [degC], one per rate sample, whose part is removed first.
+    bandwidth : float, optional
+        The sensor's stated bandwidth [Hz].
+    bandwidth_bias : float
+        Bias allowed by the bandwidth rule, in point standard errors.
+    segments : {"auto"}, optional
+        Fit each quiet stretch, and one pooled fit over them.
+
+    Returns
+    -------
+    ChannelResult
+        The curve, the fit and the warnings.
     """
     from gyrobench.analysis.allan import (
         AllanCurve,

@@ -19,8 +19,25 @@ def _si_unit(quantity: str) -> str:
 
 
 def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
-    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
-    ``nonstationary`` (motion or steps in the record: the terms describe them too)."""
+    """Describe a noise fit for the ``--json`` document.
+
+    Per term its value and intervals in field units, the taus used, chi2/dof and p, and
+    ``nonstationary`` (motion or steps in the record: the terms describe them too).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The fit.
+    quantity : {"rate", "accel"}
+        What the channel measures (sets the field units).
+    nonstationary : bool
+        The record was flagged non-stationary.
+
+    Returns
+    -------
+    dict
+        The fit's description.
+    """
     import math
 
     terms = {}
@@ -56,6 +73,21 @@ def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[s
 
 
 def curve_json(curve, quantity: str = "rate") -> dict[str, Any]:
+    """Describe an Allan curve for the ``--json`` document.
+
+    Parameters
+    ----------
+    curve : AllanCurve
+        The curve (SI).
+    quantity : {"rate", "accel"}
+        What the channel measures (sets the SI unit named).
+
+    Returns
+    -------
+    dict
+        ``kind``, ``unit``, ``confidence`` and, per tau, ``tau`` [s], ``deviation``, ``low``,
+        ``high`` (the interval) and ``count`` (terms of the estimate).
+    """
     return {
         "kind": curve.kind,
         "unit": _si_unit(quantity),
@@ -69,6 +101,19 @@ def curve_json(curve, quantity: str = "rate") -> dict[str, Any]:
 
 
 def channel_json(res: ChannelResult) -> dict[str, Any]:
+    """Describe one analysed channel for the ``--json`` document.
+
+    Parameters
+    ----------
+    res : ChannelResult
+        The channel's curve, fit and warnings.
+
+    Returns
+    -------
+    dict
+        The channel's label and quantity, its curve (:func:`curve_json`), its fit
+        (:func:`fit_json`, when there is one), the ADEV floor and its tau, and its warnings.
+    """
     q = res.channel.quantity
     floor, tau = _floor(res.curve)
     out: dict[str, Any] = {
@@ -113,6 +158,18 @@ def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
     For the gyro channels the five coefficients also stand at the top level of each channel
     entry (``"N": {"value", "low", "high", "unit"}``) as before; with one channel the
     document is that channel's entry plus ``file``, ``fs``, ``notes``.
+
+    Parameters
+    ----------
+    log : Log
+        The record read (:class:`gyrobench.io.logs.Log`).
+    results : list of ChannelResult
+        One per analysed channel.
+
+    Returns
+    -------
+    dict
+        The document.
     """
     chans = []
     for res in results:
@@ -140,7 +197,20 @@ def _temp_units(quantity: str) -> tuple[float, str]:
 
 
 def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelResult]]:
-    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``."""
+    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``.
+
+    Parameters
+    ----------
+    plot : str or Path
+        The ``--plot`` path.
+    results : list of ChannelResult
+        One per analysed channel.
+
+    Returns
+    -------
+    list of (Path, ChannelResult)
+        Each channel's figure path.
+    """
     import re
 
     if len(results) == 1:
@@ -157,7 +227,20 @@ _TITLE_WIDTH = 110
 
 
 def plot_title(log, res: ChannelResult) -> str:
-    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
+    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings).
+
+    Parameters
+    ----------
+    log : Log
+        The record read.
+    res : ChannelResult
+        The channel.
+
+    Returns
+    -------
+    str
+        The title (several lines).
+    """
     n = len(res.channel.data)
     lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
     if res.nonstationary:
@@ -173,7 +256,18 @@ def plot_title(log, res: ChannelResult) -> str:
 
 
 def nonstationary_line(res: ChannelResult) -> str:
-    """The report's first line for a channel with motion or steps."""
+    """The report's first line for a channel with motion or steps.
+
+    Parameters
+    ----------
+    res : ChannelResult
+        The channel.
+
+    Returns
+    -------
+    str
+        The line, starting ``NONSTATIONARY``.
+    """
     return (
         f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fitted "
         f"terms describe them as noise: analyse a quiet stretch (--start/--stop)"
@@ -201,7 +295,20 @@ def _excluded_text(res: ChannelResult, excl: int) -> str:
 
 
 def log_text(log, results: list[ChannelResult]) -> list[str]:
-    """The printed report: misfits first, then the record, the notes and one table of every channel."""
+    """The printed report: misfits first, then the record, the notes and one table of every channel.
+
+    Parameters
+    ----------
+    log : Log
+        The record read (:class:`gyrobench.io.logs.Log`).
+    results : list of ChannelResult
+        One per analysed channel.
+
+    Returns
+    -------
+    list of str
+        The report's lines.
+    """
     import numpy as np
 
     out = [nonstationary_line(res) for res in results if res.nonstationary]
@@ -327,6 +434,18 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
     Kalibr takes one value per sensor: the largest over the axes (conservative). A term not
     identifiable on an axis contributes its 95 % upper bound, and the file says so in a
     comment. Bias instability has no place in Kalibr's model and is given as a comment.
+
+    Parameters
+    ----------
+    log : Log
+        The record read (:class:`gyrobench.io.logs.Log`).
+    results : list of ChannelResult
+        One per analysed channel.
+
+    Returns
+    -------
+    str
+        The YAML text.
     """
     lines = [
         "# Kalibr IMU noise parameters written by gyrobench allan",

@@ -68,7 +68,18 @@ def _files(folder: Path) -> dict[str, Path]:
 
 
 def report_manifest(folder: str | os.PathLike) -> dict[str, str]:
-    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest it writes)."""
+    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest it writes).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A report folder.
+
+    Returns
+    -------
+    dict of str to str
+        Relative path -> SHA-256 hex digest.
+    """
     return {rel: _sha256(p) for rel, p in sorted(_files(Path(folder)).items()) if rel != REPORT_MARKER}
 
 
@@ -129,6 +140,11 @@ def check_output(
     suffixes : sequence of str, optional
         Accepted file suffixes (lower case, with the dot).
 
+    Returns
+    -------
+    Path
+        ``path``.
+
     Raises
     ------
     IsADirectoryError
@@ -186,12 +202,26 @@ def check_output(
 def write_report_as_a_set(
     outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = ""
 ) -> Path:
-    """:func:`gyrobench.scenarios.reports.report.write_report` into a new folder swapped in for
-    ``out_dir`` when complete (:func:`gyrobench.base.atomic.atomic_folder`); returns the
-    path of ``index.html`` in ``out_dir``.
+    """Write a report into a new folder that replaces the output folder when complete.
 
-    A failed or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never
-    mixes two runs' files. Call :func:`check_output` (``kind="report"``) before the work.
+    :func:`gyrobench.scenarios.reports.report.write_report` writes into a new folder swapped
+    in for ``out_dir`` when complete (:func:`gyrobench.base.atomic.atomic_folder`). A failed
+    or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never mixes two
+    runs' files. Call :func:`check_output` (``kind="report"``) before the work.
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes.
+    out_dir : str or os.PathLike
+        The report folder.
+    command : str
+        The command line that made the report, shown on its page.
+
+    Returns
+    -------
+    Path
+        ``out_dir/index.html``.
     """
     import json
 
@@ -211,11 +241,23 @@ def write_report_as_a_set(
 
 @contextlib.contextmanager
 def output_lock(path: str | os.PathLike, *, what: str) -> Iterator[None]:
-    """Hold an exclusive lock on output ``path`` for the block, so two gyrobench processes never
-    write one output at once; the second is refused in one line.
+    """Hold an exclusive lock on an output for the block.
 
-    The lock is ``fcntl.flock`` on ``.<name>.gyrobench-lock`` beside ``path`` (released by
+    Two gyrobench processes never write one output at once; the second is refused in one
+    line. The lock is ``fcntl.flock`` on ``.<name>.gyrobench-lock`` beside ``path`` (released by
     the kernel when the process ends, however it ends).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output.
+    what : str
+        How the user named it, for the message.
+
+    Yields
+    ------
+    None
+        While the lock is held.
 
     Raises
     ------

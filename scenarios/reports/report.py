@@ -38,7 +38,18 @@ __all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "
 
 
 def fmt(x: Any) -> str:
-    """Format a table cell: 4 significant digits for floats, text as is, None as 'n/a'."""
+    """Format a table cell: 4 significant digits for floats, text as is, None as 'n/a'.
+
+    Parameters
+    ----------
+    x : object
+        The cell.
+
+    Returns
+    -------
+    str
+        The text.
+    """
     if x is None:
         return "n/a"
     if isinstance(x, bool):
@@ -82,6 +93,16 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
     A paper scenario's document also holds ``units`` (how many were simulated),
     ``claims`` (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict` each) and
     ``deviations`` (the paper's protocol departures).
+
+    Parameters
+    ----------
+    outcome : Outcome
+        A scenario's outcome.
+
+    Returns
+    -------
+    dict
+        The document.
     """
     doc: dict[str, Any] = {
         "scenario": outcome.scenario,
@@ -180,7 +201,18 @@ def _num(x: float | None, unit: str = "") -> str:
 
 
 def status_text(r: Any) -> str:
-    """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
+    """A judged claim's status for a table: upper case, with provisional and the direction of a miss.
+
+    Parameters
+    ----------
+    r : ClaimResult
+        A judged claim.
+
+    Returns
+    -------
+    str
+        The status.
+    """
     status = r.status
     word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
                                         "identity of the analysis") else status
@@ -214,14 +246,36 @@ def _claim_row(r: Any) -> list[str]:
 
 
 def claim_tally(claims: Sequence[Any]) -> Any:
-    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims."""
+    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims.
+
+    Parameters
+    ----------
+    claims : sequence of ClaimResult
+        Judged claims.
+
+    Returns
+    -------
+    ClaimTally
+        The counts.
+    """
     from gyrobench.scenarios.claims import tally
 
     return tally(claims)
 
 
 def tally_text(n: Any) -> str:
-    """One line: device matched, method claims by status, extensions."""
+    """One line: device matched, method claims by status, extensions.
+
+    Parameters
+    ----------
+    n : ClaimTally
+        The counts.
+
+    Returns
+    -------
+    str
+        The line.
+    """
     dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
     ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
     return (
@@ -322,7 +376,18 @@ _LOAD_CHECK = (
 
 
 def tally_table(outcomes: Sequence[Outcome]) -> Table:
-    """The status of every paper's claims in one table (the report's first screen)."""
+    """The status of every paper's claims in one table (the report's first screen).
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes (those with claims are tallied).
+
+    Returns
+    -------
+    Table
+        One row per paper.
+    """
     cols = ["scenario", "paper", "units", "device matched", "method: reproduced", "CONTRADICTED",
             "not reproducible on this device", "identity of the analysis", "undecided", "not testable",
             "calibrated (not counted)", "extensions: hold / all"]
@@ -458,6 +523,20 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
     The page reads like a paper's supplement: a contents list with anchors, the tally of
     verdicts and the headline numbers on top, then each scenario once (claims, deviations,
     its tables, its figures side by side, its configuration folded).
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes.
+    out_dir : str or Path
+        The folder to write into.
+    command : str
+        The command line that made the report, shown on its page.
+
+    Returns
+    -------
+    Path
+        ``out_dir/index.html``.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

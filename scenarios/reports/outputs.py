@@ -216,7 +216,7 @@ def write_report_as_a_set(
     out_dir : str or os.PathLike
         The report folder.
     command : str
-        The command line that made the report, shown on its page.
+        The command line that made the report, recorded in it.
 
     Returns
     -------

@@ -531,7 +531,7 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
     out_dir : str or Path
         The folder to write into.
     command : str
-        The command line that made the report, shown on its page.
+        The command line that made the report, recorded in it.
 
     Returns
     -------

@@ -106,13 +106,40 @@ def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
 
 
 def is_paper_scenario(module: types.ModuleType) -> bool:
-    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``)."""
+    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``).
+
+    Parameters
+    ----------
+    module : module
+        A scenario module.
+
+    Returns
+    -------
+    bool
+        True when it defines ``experiment`` and ``CLAIMS``.
+    """
     return callable(getattr(module, "experiment", None)) and hasattr(module, "CLAIMS")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class UnitRun:
-    """The units' results in seed order, and how many were computed or read back."""
+    """The units' results in seed order, and how many were computed or read back.
+
+    Attributes
+    ----------
+    run_id : str
+        The run's id (:func:`run_id`).
+    seeds : tuple of int
+        The units' seeds.
+    results : tuple of dict
+        Each unit's result, in seed order.
+    elapsed_s : tuple of float
+        Each unit's compute time [s] (as stored when it was computed).
+    computed, reused : int
+        Units computed in this call, and read back from the store.
+    db : str
+        The SQLite store.
+    """
 
     run_id: str
     seeds: tuple[int, ...]
@@ -124,7 +151,22 @@ class UnitRun:
 
 
 def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
-    """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
+    """(16-hex run id, its JSON identity) of ``module`` with ``config``.
+
+    Parameters
+    ----------
+    module : module
+        A scenario module.
+    config : object
+        Its Config.
+
+    Returns
+    -------
+    run_id : str
+        16 hex digits identifying the code and configuration.
+    identity : str
+        The JSON text the id is the hash of.
+    """
     from gyrobench.scenarios.bench.identity import scenario_identity
     from gyrobench.scenarios.runner.codec import SCHEMA
 
@@ -134,8 +176,20 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
 
 
 def concurrent_units(n_units: int, workers: int | None) -> int:
-    """How many units a local run holds in memory at once: one per worker process, at most
-    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs)."""
+    """Count the units a local run holds in memory at once.
+
+    Parameters
+    ----------
+    n_units : int
+        Units of the run.
+    workers : int or None
+        Local worker processes (0: in this process, one at a time; None: the usable CPUs).
+
+    Returns
+    -------
+    int
+        One per worker process, at most ``n_units``.
+    """
     from gyrobench.scenarios.runner.executors import default_workers
 
     if workers == 0:
@@ -153,6 +207,17 @@ def check_unit_memory(
     once on this machine (:func:`concurrent_units`); a remote executor's workers hold their
     units in their own memory, so its callers do not call this.
     :func:`gyrobench.scenarios.registry.load_config` has already checked one unit.
+
+    Parameters
+    ----------
+    module : module
+        The scenario (its ``memory_estimate``).
+    config : object
+        Its Config.
+    concurrent : int
+        Units held in memory at once (:func:`concurrent_units`).
+    source : str
+        Where the configuration came from, for the message.
 
     Raises
     ------
@@ -207,9 +272,24 @@ def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
 
 
 def check_run_size(n_units: Any, seed: Any = 0, *, what: str = "n_units", seed_name: str = "seed") -> None:
-    """Refuse, in O(1) and in one line, a run of ``n_units`` units from ``seed`` that is not an
-    integer in ``[1, MAX_UNITS]`` or whose seeds pass :data:`MAX_SEED` (``what`` and ``seed_name``
-    name them in the message, e.g. ``"--units"``)."""
+    """Refuse, in O(1) and in one line, a run size or first seed out of range.
+
+    Parameters
+    ----------
+    n_units : object
+        Units of the run: an integer in ``[1, MAX_UNITS]``.
+    seed : object
+        First seed: the seeds ``seed .. seed + n_units - 1`` must not pass :data:`MAX_SEED`.
+    what : str
+        Name of ``n_units`` in the message (e.g. ``"--units"``).
+    seed_name : str
+        Name of ``seed`` in the message.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter, the range and the value.
+    """
     if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
         raise ValueError(f"{what} must be an integer >= 1; got {n_units!r}")
     if n_units > MAX_UNITS:
@@ -343,6 +423,11 @@ def run_units(
     ValueError, TypeError
         Bad arguments, or a module without the paper-scenario shape. An exception in a
         unit is re-raised with a note naming the seed, after the finished units are committed.
+
+    Returns
+    -------
+    UnitRun
+        The units' results in seed order, with how many were computed and read back.
     """
     _check_args(n_units, seed, workers, executor)
     if not is_paper_scenario(module):
@@ -422,11 +507,37 @@ def run_paper(
     ``max_units``; each claim is judged over the units it needed (its ``units`` field): a claim
     keeps the units that decided it, an open one gets every batch.
 
-    Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
-    ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
-    per-unit runtimes, how many were computed and read back) set. The report writer
-    puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
-    deviations into results.json.
+    Parameters
+    ----------
+    module : module
+        A paper scenario (:func:`is_paper_scenario`).
+    config : object
+        Its Config.
+    seed : int
+        The first unit's seed (>= 0).
+    n_units : int
+        How many units (>= 1).
+    executor : concurrent.futures.Executor, optional
+        Where units run (as :func:`run_units`).
+    workers : int, optional
+        Local process pool size; ``0`` runs in this process.
+    db : str or os.PathLike
+        SQLite resume store.
+    progress : bool
+        A tqdm bar on stderr.
+    deviation_units : int
+        Units each deviation's variant runs over (0: none).
+    max_units : int, optional
+        With ``--units auto``: the most units a claim may use.
+
+    Returns
+    -------
+    Outcome
+        The module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
+        ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]``
+        (seeds, per-unit runtimes, how many were computed and read back) set. The report
+        writer puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and
+        the deviations into results.json.
     """
     t0 = time.perf_counter()
     kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
@@ -541,6 +652,16 @@ def default_db(out_dir: str | os.PathLike) -> Path:
 
     Beside, not inside: the report folder is replaced as a whole by each new report
     (:func:`gyrobench.scenarios.reports.outputs.write_report_as_a_set`), the store must survive it.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The report folder.
+
+    Returns
+    -------
+    Path
+        ``<out_dir>.units.sqlite``.
     """
     out = Path(out_dir)
     return out.with_name(out.name + ".units.sqlite")

@@ -54,7 +54,7 @@ def floor_bounds(
         Sample rate [Hz].
     parts : sequence of int
         Split the record into k equal consecutive segments for each k (>= 2) and fit each.
-    **fit_options
+    **fit_options : dict
         Options of :func:`fit_noise` for the segments (the whole record's ``terms``,
         ``tau_min``, ... should be passed: the segments are fitted alike).
 
@@ -207,6 +207,15 @@ class HalvesPair:
     ``first`` and ``second``: each half's 95 % interval of the coefficient, or [0, its one-sided
     95 % bound] where that half leaves the term open (coefficient units). ``overlap``: the two
     intervals share a point.
+
+    Attributes
+    ----------
+    term : str
+        The term (``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``).
+    first, second : tuple of (float, float)
+        Each half's interval [coefficient units].
+    overlap : bool
+        The two intervals share a point.
     """
 
     term: str
@@ -236,6 +245,8 @@ def halves_agreement(rate: ArrayLike, fs: float, *, floor: bool = False, **fit_o
         Sample rate [Hz], > 0.
     floor : bool
         Apply :func:`floor_bounds` to each half's fit.
+    **fit_options : dict
+        Options of :func:`fit_noise` for both halves.
 
     Returns
     -------

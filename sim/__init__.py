@@ -12,14 +12,20 @@ environment, earth, shaker
 sensor, parts
     the device interface (a spec, a drawn unit, ``simulate(environment, fs=, rng=)``) and the
     built-in datasheet parts.
-fog_loop, fog_optics, fog2d, coil2d, fiber_strain, mount_coning
-    the closed-loop interferometric FOG, its optical noise budget, its coil in (r, z) (heat
-    flow, strain, Shupe and T x dT), strain along the fibre under vibration, mount coning.
+fog_loop, fog_optics, fog2d, fiber_strain, mount_coning
+    the closed-loop interferometric FOG, its optical noise budget, the FOG on its coil in
+    (r, z), strain along the fibre under vibration, mount coning.
+coil2d, coil_materials, coil_pack, coil_heat, coil_winding
+    the fibre coil: its materials, the pack as a composite, heat conduction in (r, z), the
+    winding; the Shupe and T x dT rate errors.
 mems_resonator, mems_nonlinear
     the vibratory MEMS gyro from resonator physics; a smooth scale-factor nonlinearity.
 rlg, rlg_cavity
     the dithered ring laser gyro; its cavity model (backscatter, path-length control, mode
     hops, Langmuir flow).
+trajectory, imu
+    rigid-body motion of an IMU block on the Earth; a three-axis IMU (gyro and accelerometer
+    triads) driven by it.
 """
 
 from __future__ import annotations
@@ -50,9 +56,6 @@ _LAZY: dict[str, str] = {
     "Environment": "gyrobench.sim.sensor",
     "Sensor": "gyrobench.sim.sensor",
     "SensorUnit": "gyrobench.sim.sensor",
-    "FogSensor": "gyrobench.sim.sensor",
-    "MemsSensor": "gyrobench.sim.sensor",
-    "RlgSensor": "gyrobench.sim.sensor",
     "LoopSpec": "gyrobench.sim.fog_loop",
     "ClosedLoopFOG": "gyrobench.sim.fog_loop",
     "sagnac_scale_factor": "gyrobench.sim.fog_loop",
@@ -89,9 +92,6 @@ __all__ = [
     "Environment",
     "Sensor",
     "SensorUnit",
-    "FogSensor",
-    "MemsSensor",
-    "RlgSensor",
     "LoopSpec",
     "ClosedLoopFOG",
     "sagnac_scale_factor",
@@ -135,9 +135,6 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.sim.rlg_cavity import CavityRLG as CavityRLG
     from gyrobench.sim.rlg_cavity import CavityRLGSpec as CavityRLGSpec
     from gyrobench.sim.sensor import Environment as Environment
-    from gyrobench.sim.sensor import FogSensor as FogSensor
-    from gyrobench.sim.sensor import MemsSensor as MemsSensor
-    from gyrobench.sim.sensor import RlgSensor as RlgSensor
     from gyrobench.sim.sensor import Sensor as Sensor
     from gyrobench.sim.sensor import SensorUnit as SensorUnit
     from gyrobench.sim.shaker import FixedSine as FixedSine

@@ -62,6 +62,7 @@ from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, check_call, with_metadata
 from gyrobench.sim.shaker import ShakerSignal
 
 __all__ = [
@@ -847,7 +848,49 @@ class ClosedLoopFOG:
         g = self.vibration_transfer(f, fs, term)
         return float(np.trapezoid(np.abs(g) ** 2 * np.asarray(accel_psd(f), dtype=float), f))
 
-    def simulate(
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """A record at output rate ``fs`` [Hz] over ``environment.duration`` (reduced form; class Notes).
+
+        Parameters
+        ----------
+        environment : Environment
+            ``true_rate``: table rate about the sense axis [rad/s] (the Earth's rate is added);
+            ``temperature``: the unit's temperature [K], which both the coil's winding
+            diameter (alpha_D) and the source's mean wavelength (alpha_lambda) follow (None:
+            the reference temperature, no scale-factor change); ``vibration``: the shaker run
+            (its sample rate an even multiple of ``fs``, covering the record from t = 0). The
+            loop-only model has no static g-sensitivity: a set ``specific_force`` is listed in
+            the metadata's ``ignored_inputs``.
+        fs : float
+            Output rate [Hz], at most 1/(100 tau).
+        rng : numpy.random.Generator
+            Two child streams: optical noise, IEEE-952 terms.
+
+        Returns
+        -------
+        Recording
+            Channel ``rate`` [rad/s] (and the shaker's logged frequency and amplitude with a
+            vibration); truth ``true_rate`` and the terms named in the metadata's
+            ``error_components``, which sum to ``rate - true_rate``.
+        """
+        fs = check_call(environment, fs, rng)
+        temp = environment.profile("temperature", fs)
+        rec = self._record(
+            environment.duration,
+            fs,
+            rng=rng,
+            true_rate=environment.profile("true_rate", fs) or 0.0,
+            shaker=environment.vibration,
+            coil_temperature=temp,
+            source_temperature=temp,
+        )
+        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
+        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+        return with_metadata(
+            rec, ignored_inputs=environment.ignored("specific_force"), error_components=list(FOG_ERROR_COMPONENTS)
+        )
+
+    def _record(
         self,
         duration: float,
         fs: float,
@@ -868,7 +911,7 @@ class ClosedLoopFOG:
         name: str = "fog_loop",
         metadata: dict | None = None,
     ) -> Recording:
-        """A record at output rate ``fs`` [Hz] of ``duration`` [s] (reduced form; class Notes).
+        """The reduced-form record with every input explicit (:meth:`simulate`; used by :mod:`gyrobench.sim.fog2d`).
 
         Parameters
         ----------

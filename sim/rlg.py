@@ -718,7 +718,7 @@ class RLGUnit(_CavityScale):
         """True housing and cavity temperatures [K] for chamber samples [K] at ``fs`` [Hz]."""
         return two_node_temperatures(np.asarray(chamber, dtype=float), fs, self.thermal)
 
-    def simulate(
+    def _record(
         self,
         chamber: Callable[[NDArray[np.float64]], NDArray[np.float64]],
         duration: float,

@@ -35,8 +35,8 @@ import numpy as np
 
 from gyrobench.base import units
 from gyrobench.scenarios.checks.core import Check
-from gyrobench.sim import coil2d
-from gyrobench.sim.coil2d import winding_sequence
+from gyrobench.sim import coil2d, coil_heat, coil_pack, coil_winding
+from gyrobench.sim.coil_winding import winding_sequence
 
 __all__ = ["checks", "finite_cylinder_analytic", "finite_cylinder_fv"]
 
@@ -74,7 +74,7 @@ def finite_cylinder_fv(nr: int, nz: int, t: float, i: int, *, a, h, k_r, k_z, rh
     Surfaces (outer, top, bottom) held at 0 through their half cells, initial 1; solved
     exactly in time by the symmetric eigen-decomposition (no time-step error).
     """
-    g = coil2d.fv_grid(np.linspace(0, a, nr + 1), np.linspace(-h, h, nz + 1), k_r, k_z, rho_c)
+    g = coil_heat.fv_grid(np.linspace(0, a, nr + 1), np.linspace(-h, h, nz + 1), k_r, k_z, rho_c)
     Kd = g.K + np.diag(g.g_face["outer"] + g.g_face["top"] + g.g_face["bottom"])
     ci = 1 / np.sqrt(g.cap)
     mu, V = np.linalg.eigh(ci[:, None] * Kd * ci[None, :])
@@ -117,7 +117,7 @@ def _conduction_check() -> Check:
 def _uniform_check() -> Check:
     spec = dataclasses.replace(coil2d.Coil2DSpec(), winding="quadrupolar")
     unit = coil2d.Coil2D(
-        spec=spec, imperfections=coil2d.Imperfections.draw(spec, rng=np.random.default_rng(1))
+        spec=spec, imperfections=coil_winding.Imperfections.draw(spec, rng=np.random.default_rng(1))
     )
     w = unit.fibre().weights
     scale = float(np.sum(np.abs(w)))
@@ -254,11 +254,11 @@ def _strain_checks() -> list[Check]:
     a, b, c = 0.035, 0.0472, 0.0528
     Es, nus, als = 69e9, 0.33, 23.1e-6
     Ep, nup, alp = 5e9, 0.3, 50e-6
-    pack = coil2d.PackProperties(
+    pack = coil_pack.PackProperties(
         k_r=1, k_z=1, rho_c=1, E_t=Ep, E_r=Ep, nu_tr=nup, alpha_t=alp, alpha_r=alp
     )
     r = np.array([b, 0.5 * (b + c), c])
-    eps, p = coil2d.composite_cylinder_strain(
+    eps, p = coil_pack.composite_cylinder_strain(
         r, bore=a, inner=b, outer=c, spool_E=Es, spool_nu=nus, spool_alpha=als, pack=pack
     )
     p_cf = (als - alp) / (
@@ -310,7 +310,7 @@ def _modal_check() -> Check:
     run = unit.run(tk, vk, dt=dt)
     K, cap, g_in, _ = unit.network()
     A, bvec = -K / cap[:, None], g_in / cap
-    Phi, q0, q1 = coil2d.first_order_hold(A, bvec, dt)
+    Phi, q0, q1 = coil_heat.first_order_hold(A, bvec, dt)
     u = run.chamber
     x = np.linalg.solve(A, -bvec * u[0])
     for k in range(len(u) - 1):
@@ -340,7 +340,7 @@ def _origin_check() -> Check:
     unchanged but for rounding.
     """
     spec = dataclasses.replace(coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4), lead_difference_rms=1.0)
-    imp = coil2d.Imperfections.draw(spec, rng=np.random.default_rng(3))
+    imp = coil_winding.Imperfections.draw(spec, rng=np.random.default_rng(3))
     times = np.array([0.0, 3600.0, 7200.0])
     values = units.celsius(np.array([-10.0, 40.0, 40.0]))
     runs = [

@@ -36,6 +36,7 @@ import math
 import numpy as np
 
 from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.sim.sensor import Environment
 
 __all__ = ["checks", "parts", "FALSE_ALARM", "LEFEVRE", "STRAIN"]
 
@@ -60,7 +61,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
     from gyrobench.sim.fog_loop import ClosedLoopFOG
 
     unit = ClosedLoopFOG(modes=())
-    rec = unit.simulate(600.0, 400.0, rng=rng)
+    rec = unit.simulate(Environment(600.0), fs=400.0, rng=rng)
     noise = rec["rate"] - rec["truth/rate"]
     ang = noise.reshape(-1, 400).sum(axis=1) / 400.0
     n = len(ang)
@@ -250,7 +251,7 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
     unit = ClosedLoopFOG(modes=(mode,))
     fs, f, a0 = 400.0, 150.0, units.g(2.0)
     sh = FixedSine(frequency=f, duration=10.0, acceleration=a0).sample(8 * fs, rng=rng)
-    rec = unit.simulate(10.0, fs, rng=rng, shaker=sh)
+    rec = unit.simulate(Environment(10.0, vibration=sh), fs=fs, rng=rng)
     y = rec["truth/strain_nonreciprocity"]
     t = rec.time + 0.5 / fs
     basis = np.column_stack([np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t)])
@@ -330,7 +331,7 @@ def _random_vibration(rng: np.random.Generator) -> Check:
     lo = stats.chi2.ppf(FALSE_ALARM / 2, nu) / nu
     hi = stats.chi2.isf(FALSE_ALARM / 2, nu) / nu
     sh = rv.sample(fs * m, rng=rng)
-    rec = unit.simulate(dur, fs, rng=rng, shaker=sh)
+    rec = unit.simulate(Environment(dur, vibration=sh), fs=fs, rng=rng)
     y = rec["truth/strain_nonreciprocity"]
     return Check(
         id="fog.vibration_random_psd_variance",

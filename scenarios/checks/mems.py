@@ -59,8 +59,8 @@ from gyrobench.sim.mems_resonator import (
     operating_point,
     quadrature_rate,
     saturated_output,
-    simulate,
     simulate_full,
+    slow_flow,
     zero_rate_output,
 )
 
@@ -159,7 +159,7 @@ def _full_noise_free(unit: MemsResonator, temperature: float, rng: np.random.Gen
 
 
 def _slow_noise_free(unit: MemsResonator, rates, temperature: float, rng: np.random.Generator):
-    res = simulate(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=rng, temperature=temperature,
+    res = slow_flow(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=rng, temperature=temperature,
                    noise=False, adc=False, flicker=False)
     return res.output[-1], res.sense_envelope[-1]
 
@@ -170,7 +170,7 @@ def _arw_check(rng: np.random.Generator) -> Check:
     # integral J), so a 1-s block mean is the same at any fs: 20 Hz costs a tenth of 200 Hz
     fs, cols, dur, block = 20.0, 32, 250.0, 1.0
     n = int(dur * fs)
-    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     m = int(block * fs)
     means = res.output.reshape(n // m, m, cols).mean(axis=1)
     sf = low_rate_scale_factor(unit)
@@ -351,7 +351,7 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     full = simulate_full(unit, np.zeros(NVF_FULL_CASES), duration=(n_set + n_rec) / fs, fs=fs,
                          rng=r_full, steps_per_cycle=NVF_STEPS_PER_CYCLE, adc=False)
     bf = full.output[n_set:n_set + n_rec].reshape(NVF_BLOCKS, m, -1).mean(axis=1) - mu
-    slow = simulate(unit, np.zeros((n_set + n_rec, NVF_SLOW_CASES)), fs=fs, rng=r_slow, adc=False,
+    slow = slow_flow(unit, np.zeros((n_set + n_rec, NVF_SLOW_CASES)), fs=fs, rng=r_slow, adc=False,
                     flicker=False)
     bs = slow.output[n_set:].reshape(NVF_BLOCKS, m, -1).mean(axis=1) - mu
     var_full, var_slow = float(np.mean(bf**2)), float(np.mean(bs**2))
@@ -391,7 +391,7 @@ def _continuity(rng: np.random.Generator) -> Check:
     fs, dur = 200.0, 20.0
     w = units.deg_per_s(0.1)
     n = int(dur * fs)
-    res = simulate(unit, np.tile([w, -w], (n, 1)), fs=fs, rng=rng, flicker=False)
+    res = slow_flow(unit, np.tile([w, -w], (n, 1)), fs=fs, rng=rng, flicker=False)
     half = float(res.output[:, 0].mean() - res.output[:, 1].mean()) / 2.0
     sf = low_rate_scale_factor(unit)
     n_tot = math.hypot(brownian_arw(unit), electronic_arw(unit))
@@ -480,7 +480,7 @@ def _open_loop_response_check(rng: np.random.Generator) -> Check:
         per = int(round(fs / f))
         nset, nrec = int(0.05 * fs), per * max(1, int(round(0.05 * f)))
         t = np.arange(nset + nrec) * h
-        res = simulate(unit, amp * np.cos(2 * np.pi * f * t), fs=fs, rng=rng, noise=False,
+        res = slow_flow(unit, amp * np.cos(2 * np.pi * f * t), fs=fs, rng=rng, noise=False,
                        adc=False, flicker=False)
         y, tt = res.output[nset:] - zro, t[nset:]
         a = np.stack([np.cos(2 * np.pi * f * tt), -np.sin(2 * np.pi * f * tt)], axis=1)
@@ -535,7 +535,7 @@ def _low_rate_noise(rng: np.random.Generator) -> Check:
 
     unit = check_unit()
     fs = LOW_FS
-    res = simulate(unit, np.zeros((LOW_SAMPLES, LOW_COLS)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((LOW_SAMPLES, LOW_COLS)), fs=fs, rng=rng, adc=False, flicker=False)
     x = res.output - zero_rate_output(unit)
     sf = low_rate_scale_factor(unit)
     n_tot = math.hypot(brownian_arw(unit), electronic_arw(unit))

@@ -161,7 +161,7 @@ def _no_clip() -> Check:
     unit = min(drawn, key=mr.rate_authority)
     top = units.deg_per_s(3600.0)
     rates = np.array([top, -top])
-    res = mr.simulate(unit, np.tile(rates, (20, 1)), fs=200.0, rng=np.random.default_rng(0),
+    res = mr.slow_flow(unit, np.tile(rates, (20, 1)), fs=200.0, rng=np.random.default_rng(0),
                       noise=False, flicker=False, adc=True)
     t = _identified()
     got = t(res.output[-1])

@@ -20,8 +20,8 @@ from gyrobench.sim.mems_resonator import (
     MemsResonator,
     low_rate_scale_factor,
     operating_point,
-    simulate,
     simulate_full,
+    slow_flow,
 )
 
 __all__ = ["f_ratio_bounds", "full_noise_spectrum", "open_loop_noise_checks", "periodogram_band_stats",
@@ -221,7 +221,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
                          fs=fs, rng=r_full, steps_per_cycle=NOISE_STEPS_PER_CYCLE, adc=False)
     x_full = full.output[n_set:n_set + n]
     n_seg = int(round(NOISE_SLOW_DURATION * fs)) // n
-    slow = simulate(unit, np.zeros(((n_seg + 1) * n, NOISE_SLOW_COLS)), fs=fs, rng=r_slow,
+    slow = slow_flow(unit, np.zeros(((n_seg + 1) * n, NOISE_SLOW_COLS)), fs=fs, rng=r_slow,
                     adc=False, flicker=False)
     # the first segment of each column is settling (envelope time constant 2 ms << 30 ms)
     x_slow = (slow.output[n:].reshape(n_seg, n, NOISE_SLOW_COLS).transpose(1, 0, 2)

@@ -51,6 +51,7 @@ from gyrobench.sim.rlg_cavity import (
     SwingDither,
     swing_dither_arw,
 )
+from gyrobench.sim.sensor import Environment
 
 __all__ = ["checks", "parts"]
 
@@ -104,7 +105,7 @@ def _check_lock_in(u: CavityRLG, rng: np.random.Generator) -> Check:
     g, q = quiet.geometry, quiet.pulse_weight
     t_chamber = quiet.reference_temperature + 12.0
     fs = 1.0 / LOCK_IN_TAU
-    rec = quiet.simulate(lambda t: np.full(np.shape(t), t_chamber), LOCK_IN_SAMPLES / fs, fs, rng=rng)
+    rec = quiet.simulate(Environment(LOCK_IN_SAMPLES / fs, temperature=t_chamber), fs=fs, rng=rng)
     keep = slice(LOCK_IN_SAMPLES // 10, None)  # the warm-up (hours) dropped
     inc = rec.channels["rate"].data[keep] / fs  # angle increments [rad]
     var = float(np.var(inc, ddof=1))

@@ -144,13 +144,13 @@ def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, f
     """The slow flow's noise at 4 Hz made 10 % too small or too large (21 % in variance) fails."""
     assert checks_mems._low_rate_noise(np.random.default_rng(0)).passed
     zro = checks_mems.zero_rate_output(checks_mems.check_unit())
-    real = checks_mems.simulate
+    real = checks_mems.slow_flow
 
     def wrapped(*a, **k):
         res = real(*a, **k)
         return replace(res, output=zro + factor * (res.output - zro))
 
-    monkeypatch.setattr(checks_mems, "simulate", wrapped)
+    monkeypatch.setattr(checks_mems, "slow_flow", wrapped)
     assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed
 
 

@@ -174,6 +174,7 @@ def test_report_never_simulates(small_units, monkeypatch):
         raise AssertionError("the report must not simulate")
 
     monkeypatch.setattr(ClosedLoopFOG, "simulate", no_simulation)
+    monkeypatch.setattr(ClosedLoopFOG, "_record", no_simulation)
     out = sc.report(SMALL, small_units, claims)
     assert len(out.figures) == 6
     assert json.dumps(out.results) == json.dumps(normal.results)

@@ -117,11 +117,11 @@ def test_a_wrong_model_fails_the_noise_checks(monkeypatch):
 
 def test_a_wrong_winding_fails_the_shupe_checks(monkeypatch):
     """A (r, z) coil that winds 'quadrupolar' coils dipolar (AB instead of ABBA) is caught."""
-    from gyrobench.sim import coil2d
+    from gyrobench.sim import coil_winding
 
-    real = coil2d.winding_sequence
+    real = coil_winding.winding_sequence
     monkeypatch.setattr(
-        coil2d, "winding_sequence", lambda p, m: real("dipolar" if p == "quadrupolar" else p, m)
+        coil_winding, "winding_sequence", lambda p, m: real("dipolar" if p == "quadrupolar" else p, m)
     )
     res = {c.id: c.passed for c in checks_coil.checks(np.random.default_rng(0))}
     assert not res["coil.shupe_radial_quadrupolar"] and not res["coil.shupe_radial_cancellation_ratio"]

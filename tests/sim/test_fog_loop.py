@@ -9,6 +9,7 @@ from scipy import signal
 from gyrobench.base import units
 from gyrobench.sim.fog_loop import LoopSpec, gain_error_scale_factor, run_loop
 from gyrobench.sim.fog_optics import OpticalBudget
+from gyrobench.sim.sensor import Environment
 
 EPS = float(np.finfo(float).eps)
 
@@ -132,7 +133,7 @@ def test_reduced_unit_uses_the_gain_error_scale_factor(rng):
     loop = LoopSpec(modulator_gain_error=0.02, gain_loop=False)
     unit = ClosedLoopFOG(loop=loop, modes=(), optics=OpticalBudget(source_power=1e3))
     om = 1.0
-    rec = unit.simulate(1.0, 400.0, rng=rng, true_rate=om)
+    rec = unit.simulate(Environment(1.0, true_rate=om), fs=400.0, rng=rng)
     true = om + unit.earth_rate
     expected = true * (gain_error_scale_factor(loop.scale_factor * true, 0.02) - 1)
     np.testing.assert_allclose(rec["truth/scale_factor_error"], expected, rtol=1e-12)

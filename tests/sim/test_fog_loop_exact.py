@@ -17,6 +17,7 @@ from gyrobench.sim.fiber_strain import (
 )
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, gain_error_scale_factor
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget
+from gyrobench.sim.sensor import Environment
 
 L, NG = 1000.0, 1.468
 
@@ -97,8 +98,7 @@ def test_nonreciprocal_input_passes_the_loop_unscaled(rng):
     def nr(t):
         return 1e-6 * np.sin(2 * np.pi * t / 50.0)
 
-    rec = unit.simulate(
-        100.0, 10.0, rng=rng, true_rate=1e-3, coil_temperature=313.15, nonreciprocal_rate=nr
+    rec = unit._record(100.0, 10.0, rng=rng, true_rate=1e-3, coil_temperature=313.15, nonreciprocal_rate=nr
     )
     t = rec.time + 0.05
     np.testing.assert_allclose(rec["truth/nonreciprocal"], nr(t), rtol=0, atol=1e-20)
@@ -114,7 +114,7 @@ def test_nonreciprocal_input_shares_the_gain_error_ratio(rng):
     unit = ClosedLoopFOG(
         modes=(), loop=LoopSpec(gain_loop=False, modulator_gain_error=eps, reset_blanking=True)
     )
-    rec = unit.simulate(10.0, 10.0, rng=rng, nonreciprocal_rate=1e-5)
+    rec = unit._record(10.0, 10.0, rng=rng, nonreciprocal_rate=1e-5)
     r_g = float(gain_error_scale_factor(0.0, eps, reset_blanking=True)[()])
     slow = unit.earth_rate
     got = rec["rate"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
@@ -149,7 +149,7 @@ def test_random_vibration_record_variance_matches_the_closed_form(rng, term, cha
     fo, sy = unit.vibration_error_psd(psd, fs, 1500.0, term=term)
     nu = 2.0 * 30.0 * np.trapezoid(sy, fo) ** 2 / np.trapezoid(sy**2, fo)
     sh = rv.sample(8 * fs, rng=rng)
-    y = unit.simulate(30.0, fs, rng=rng, shaker=sh)[f"truth/{channel}"]
+    y = unit.simulate(Environment(30.0, vibration=sh), fs=fs, rng=rng)[f"truth/{channel}"]
     ratio = float(np.mean(y**2)) / var
     lo, hi = stats.chi2.ppf(5e-7, nu) / nu, stats.chi2.isf(5e-7, nu) / nu
     assert lo < ratio < hi

@@ -73,7 +73,7 @@ def static_output(
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     col = np.broadcast_to(w, (200, w.size))
-    res = mr.simulate(
+    res = mr.slow_flow(
         unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
         noise=False, adc=False, flicker=False,
     )

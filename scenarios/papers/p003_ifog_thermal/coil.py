@@ -11,7 +11,8 @@ from dataclasses import replace
 import numpy as np
 
 from gyrobench.base import units
-from gyrobench.sim.coil2d import WINDING_PATTERNS, Coil2D, heated_stretch
+from gyrobench.sim.coil2d import Coil2D, heated_stretch
+from gyrobench.sim.coil_winding import WINDING_PATTERNS
 from gyrobench.sim.fog2d import FOG2DUnit
 
 from .config import Config

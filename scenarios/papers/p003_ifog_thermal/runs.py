@@ -21,6 +21,7 @@ from gyrobench.io.recording import Recording
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DUnit
+from gyrobench.sim.sensor import Environment, with_metadata
 
 from .config import FEATURES_IMPROVED, NAME, Config
 
@@ -75,20 +76,16 @@ def simulate(config: Config, seed: int) -> list[Recording]:
         rng_setup, rng_fog = rng.spawn(2)
         # run-to-run mounting/airflow: the housing lag differs a little between chamber runs
         factor = max(0.5, 1.0 + config.housing_lag_run_rms * rng_setup.standard_normal())
+        run_unit = replace(unit, chamber_scale=1.0 / factor)
+        env = Environment(prof.duration, temperature=prof, true_rate=rate)
         recs.append(
-            unit.simulate(
-                prof,
-                fs=config.fs_hz,
-                rng=rng_fog,
-                true_rate=rate,
-                chamber_scale=1.0 / factor,
+            with_metadata(
+                run_unit.simulate(env, fs=config.fs_hz, rng=rng_fog),
                 name=name,
-                metadata={
-                    "scenario": NAME,
-                    "seed": seed,
-                    "run": name,
-                    "housing_time_constant_s": config.housing_time_constant_min * _MIN * factor,
-                },
+                scenario=NAME,
+                seed=seed,
+                run=name,
+                housing_time_constant_s=config.housing_time_constant_min * _MIN * factor,
             )
         )
     return recs

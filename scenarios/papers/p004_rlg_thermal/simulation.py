@@ -9,7 +9,7 @@ logged T1/T2), with the truth the experiment scores against.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -19,6 +19,7 @@ from gyrobench.analysis.thermal_regression import two_sensor_blocks
 from gyrobench.base import units
 from gyrobench.io.recording import Recording
 from gyrobench.sim.rlg_cavity import CavityRLG
+from gyrobench.sim.sensor import Environment, with_metadata
 
 from . import NAME
 from .config import Config
@@ -41,7 +42,8 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     prof = config.chamber()
     recs = []
     for kind, r in zip(("fit", "heldout"), streams, strict=True):
-        rec = gyro.simulate(prof, prof.duration, config.fs_hz, rng=r, name=f"unit{seed}_{kind}")
+        env = Environment(prof.duration, temperature=prof)
+        rec = with_metadata(gyro.simulate(env, fs=config.fs_hz, rng=r), name=f"unit{seed}_{kind}")
         meta = dict(rec.metadata)
         meta.update({"scenario": NAME, "seed": seed, "unit": seed, "run": kind})
         recs.append(
@@ -144,8 +146,7 @@ def runs(config: Config, seed: int, *, mode_hops: bool = True) -> tuple[CavityRL
     """
     gyro, streams = unit_and_streams(config, seed)
     prof = config.chamber()
-    fit, held = (
-        _blocks(gyro.simulate(prof, prof.duration, config.fs_hz, rng=r, mode_hops=mode_hops), config)
-        for r in streams
-    )
+    env = Environment(prof.duration, temperature=prof)
+    run_gyro = replace(gyro, mode_hops=mode_hops)
+    fit, held = (_blocks(run_gyro.simulate(env, fs=config.fs_hz, rng=r), config) for r in streams)
     return gyro, fit, held

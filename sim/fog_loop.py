@@ -1021,10 +1021,14 @@ class ClosedLoopFOG:
         channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
         if shaker is not None:
             m = int(round(shaker.fs / fs))
-            freq = shaker.frequency[: n * m].reshape(n, m)[:, m // 2]  # at the block centre
+            centre = slice(m // 2, n * m, m)  # the block centres
+            freq = shaker.frequency[centre]
+            defined = np.isfinite(freq)
             channels["vibration_frequency"] = Channel(
-                freq, "Hz", "shaker drive frequency (controller log; NaN when off)"
+                np.where(defined, freq, 0.0), "Hz", "shaker drive frequency (controller log; 0 where none is defined: "
+                "off, or random vibration)"
             )
+            channels["vibration_on"] = Channel(shaker.on[centre].astype(np.float64), "1", "1 while the shaker drives")
             channels["vibration_amplitude"] = Channel(
                 shaker.amplitude[: n * m].reshape(n, m)[:, m // 2],
                 "m/s^2",

@@ -54,6 +54,7 @@ __all__ = [
     "SegmentedMotion",
     "ConingMotion",
     "RockingMotion",
+    "SampledMotion",
     "Increments",
     "increments",
     "normal_gravity",
@@ -388,6 +389,89 @@ class RockingMotion:
         rate = np.stack([self.amplitude * w * np.cos(w * t), np.zeros_like(t), np.zeros_like(t)], axis=-1)
         zeros = np.zeros((len(t), 3))
         return rotation_matrix(rotvec), rate, zeros, zeros
+
+
+@dataclass(frozen=True, slots=True)
+class SampledMotion:
+    """A trajectory from samples: time, attitude quaternion and velocity (e.g. a CSV from a
+    navigation solution or a motion-capture system).
+
+    Between the samples the quaternion's four components and the velocity's three are cubic
+    splines (not-a-knot; scipy.interpolate.CubicSpline), the quaternion renormalised; the body
+    rate is omega_nb^b = 2 vec(q* (x) dq/dt) / |q|^2 and a^n = dv^n/dt from the same splines
+    (Savage, Strapdown Analytics (2000), eq. 3.2.4-3). The samples' own accuracy bounds the
+    result: the splines are exact for motions whose quaternion and velocity are cubic in t, and
+    their error elsewhere falls as the sample interval to the fourth power.
+
+    Parameters
+    ----------
+    times : array_like, shape (m,)
+        Sample times [s], strictly increasing, from 0 (m >= 4).
+    quaternions : array_like, shape (m, 4)
+        q_nb as (w, x, y, z) (scalar first; body to NED), any sign convention continuous in
+        time (a sign flip between samples is undone).
+    velocities : array_like, shape (m, 3)
+        v^n in north, east, down [m/s].
+    """
+
+    times: NDArray[np.float64]
+    quaternions: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    _q: object = field(init=False, repr=False)
+    _v: object = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        from scipy.interpolate import CubicSpline
+
+        t = np.asarray(self.times, dtype=float)
+        q = np.array(self.quaternions, dtype=float)
+        v = np.asarray(self.velocities, dtype=float)
+        if t.ndim != 1 or len(t) < 4 or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0) or t[0] != 0.0:
+            raise ValueError("SampledMotion.times must be >= 4 finite, strictly increasing times [s] from 0")
+        if q.shape != (len(t), 4) or v.shape != (len(t), 3) or not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+            raise ValueError(f"SampledMotion.quaternions must be ({len(t)}, 4) and velocities ({len(t)}, 3), finite; "
+                             f"got {q.shape} and {v.shape}")
+        norm = np.linalg.norm(q, axis=1)
+        if np.any(np.abs(norm - 1) > 1e-3):
+            raise ValueError(f"SampledMotion.quaternions must be unit quaternions (|q| within 1e-3 of 1); "
+                             f"got |q| from {norm.min():.6g} to {norm.max():.6g}")
+        q /= norm[:, None]
+        flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0, -1.0, 1.0))
+        q[1:] *= flips[:, None]
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "quaternions", q)
+        object.__setattr__(self, "velocities", v)
+        object.__setattr__(self, "_q", CubicSpline(t, q, axis=0))
+        object.__setattr__(self, "_v", CubicSpline(t, v, axis=0))
+
+    @property
+    def duration(self) -> float:
+        """The last sample's time [s]."""
+        return float(self.times[-1])
+
+    def breakpoints(self) -> NDArray[np.float64]:
+        """The sample times inside the record (where the splines' third derivatives jump)."""
+        return self.times[1:-1].copy()
+
+    def state(self, t):
+        """(C_nb, omega_nb^b, v^n, a^n) at ``t`` [s] from the splines (class docstring)."""
+        t = np.asarray(t, dtype=float)
+        q = self._q(t)  # type: ignore[operator]
+        dq = self._q(t, 1)  # type: ignore[operator]
+        n2 = np.sum(q * q, axis=1)
+        w, x, y, z = (q[:, i] for i in range(4))
+        dw, dx, dy, dz = (dq[:, i] for i in range(4))
+        # 2 vec(conj(q) (x) dq) / |q|^2
+        rate = 2 * np.stack([w * dx - x * dw - y * dz + z * dy,
+                             w * dy + x * dz - y * dw - z * dx,
+                             w * dz - x * dy + y * dx - z * dw], axis=-1) / n2[:, None]
+        qn = q / np.sqrt(n2)[:, None]
+        w, x, y, z = (qn[:, i] for i in range(4))
+        c = np.empty((len(t), 3, 3))
+        c[:, 0, 0], c[:, 0, 1], c[:, 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
+        c[:, 1, 0], c[:, 1, 1], c[:, 1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
+        c[:, 2, 0], c[:, 2, 1], c[:, 2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+        return c, rate, self._v(t), self._v(t, 1)  # type: ignore[operator]
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,6 +18,7 @@ from gyrobench.scenarios.cli.common import (
     one_line,
     positive_float,
     positive_int,
+    ranged,
     read_toml,
     seed,
 )
@@ -502,7 +503,21 @@ def _cmd_parts(args) -> int:
     return 0
 
 
+_IMU_FLAGS = {"trajectory": "--trajectory", "misalignment": "--misalignment", "cross_axis": "--cross-axis",
+              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments", "latitude": "--latitude"}
+
+
 def _cmd_simulate(args) -> int:
+    if args.target == "imu":
+        from gyrobench.scenarios.cli.imu import simulate_imu
+
+        bad = [f for f in given(args, {**_NOISE_FLAGS, **_SCENARIO_FLAGS, **_DEVICE_FLAGS})
+               if f not in ("--fs", "-o/--output")]
+        if bad:
+            raise BadInput(f"simulate imu: {', '.join(bad)} do not apply to 'simulate imu'")
+        return simulate_imu(args)
+    if extra := [f for f in given(args, _IMU_FLAGS) if f != "--increments" or args.increments]:
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate imu' only")
     if args.target == "device":
         return _simulate_device(args)
     if args.part is not None:
@@ -520,8 +535,9 @@ def add_parsers(sub) -> None:
     s = sub.add_parser("simulate", help="simulate a noise record or every recording of a scenario",
                        description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
                                    "'simulate device PART' simulates a datasheet part in a rate/temperature profile; "
+                                   "'simulate imu PART --trajectory FILE.toml' a triad of the part on a moving block; "
                                    "'simulate SCENARIO' writes every recording of a scenario (HDF5 with truth).")
-    s.add_argument("target", help="'noise', 'device' or a scenario name (see 'gyrobench list')")
+    s.add_argument("target", help="'noise', 'device', 'imu' or a scenario name (see 'gyrobench list')")
     s.add_argument("part", nargs="?", help="device: a part (see 'gyrobench parts') or a FILE.toml of its datasheet")
     # noise-only flags default to None so that giving one to a scenario (or the reverse) can be refused
     s.add_argument("--Q", type=nonneg_float("--Q"), help="noise: quantization [arcsec] (default 0)")
@@ -542,6 +558,17 @@ def add_parsers(sub) -> None:
                    "[time_s, value] knots), duration_s, and the tables [earth] (latitude_deg, heading_deg, "
                    "elevation_deg: the Earth's rate added to the rate) and [shaker] (kind = sine, sweep or random: "
                    "vibration added to the specific force)")
+    s.add_argument("--trajectory", help="imu: TOML motion definition ([site], [initial], [[motion]] segments of "
+                   "constant body rate and NED acceleration, [accelerometer]; see gyrobench.scenarios.cli.imu)")
+    s.add_argument("--misalignment", type=nonneg_float("--misalignment", 100.0),
+                   help="imu: 1-sigma misalignment of each axis pair [mrad] (default 0)")
+    s.add_argument("--cross-axis", type=nonneg_float("--cross-axis", 10.0),
+                   help="imu: 1-sigma cross-axis sensitivity [%%] (default 0)")
+    s.add_argument("--latitude", type=ranged("--latitude", -89.9, 89.9, unit="deg"),
+                   help="imu: the site's latitude [deg] for a CSV trajectory (default 0)")
+    s.add_argument("--increments", action="store_true", help="imu: write angle and velocity increments, not rates")
+    s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
+    s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_simulate)
 

@@ -393,8 +393,9 @@ class RockingMotion:
 
 @dataclass(frozen=True, slots=True)
 class SampledMotion:
-    """A trajectory from samples: time, attitude quaternion and velocity (e.g. a CSV from a
-    navigation solution or a motion-capture system).
+    """A trajectory from samples: time, attitude quaternion and velocity.
+
+    The samples come e.g. from a CSV of a navigation solution or a motion-capture system.
 
     Between the samples the quaternion's four components and the velocity's three are cubic
     splines (not-a-knot; scipy.interpolate.CubicSpline), the quaternion renormalised; the body

@@ -120,7 +120,15 @@ STATUSES = (
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comparator:
-    """How a unit's quantity is judged against the paper. Build with the functions below."""
+    """How a unit's quantity is judged against the paper. Build with the functions below.
+
+    Attributes
+    ----------
+    kind : {"within_factor", "in_range", "above", "below", "is_true"}
+        The rule.
+    lo, hi : float
+        The band's ends (in the claim quantity's unit).
+    """
 
     kind: Literal["within_factor", "in_range", "above", "below", "is_true"]
     lo: float = -math.inf
@@ -162,7 +170,20 @@ class Comparator:
 
 
 def within_factor(value: float, factor: float = 2.0) -> Comparator:
-    """Two-sided: ``value / factor <= q <= value * factor`` (``value`` > 0, ``factor`` > 1)."""
+    """Two-sided: ``value / factor <= q <= value * factor`` (``value`` > 0, ``factor`` > 1).
+
+    Parameters
+    ----------
+    value : float
+        The paper's value, > 0.
+    factor : float
+        The factor, > 1.
+
+    Returns
+    -------
+    Comparator
+        The comparator.
+    """
     if not (math.isfinite(value) and value > 0):
         raise ValueError(f"within_factor value must be finite and > 0; got {value!r}")
     if not (math.isfinite(factor) and factor > 1):
@@ -171,24 +192,63 @@ def within_factor(value: float, factor: float = 2.0) -> Comparator:
 
 
 def in_range(lo: float, hi: float) -> Comparator:
-    """Two-sided band ``lo <= q <= hi``."""
+    """Two-sided band ``lo <= q <= hi``.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The band's ends.
+
+    Returns
+    -------
+    Comparator
+        The comparator.
+    """
     if not lo < hi:
         raise ValueError(f"in_range needs lo < hi; got lo={lo!r}, hi={hi!r}")
     return Comparator(kind="in_range", lo=lo, hi=hi)
 
 
 def above(x: float) -> Comparator:
-    """One-sided: ``q > x``."""
+    """One-sided: ``q > x``.
+
+    Parameters
+    ----------
+    x : float
+        The threshold.
+
+    Returns
+    -------
+    Comparator
+        The comparator.
+    """
     return Comparator(kind="above", lo=float(x))
 
 
 def below(x: float) -> Comparator:
-    """One-sided: ``q < x``."""
+    """One-sided: ``q < x``.
+
+    Parameters
+    ----------
+    x : float
+        The threshold.
+
+    Returns
+    -------
+    Comparator
+        The comparator.
+    """
     return Comparator(kind="below", hi=float(x))
 
 
 def is_true() -> Comparator:
-    """Per-unit yes/no: the quantity is 1.0 when the statement holds, 0.0 when it fails."""
+    """Per-unit yes/no: the quantity is 1.0 when the statement holds, 0.0 when it fails.
+
+    Returns
+    -------
+    Comparator
+        The comparator.
+    """
     return Comparator(kind="is_true")
 
 
@@ -287,6 +347,23 @@ class Deviation:
     it over the units and the report prints the measured change of every claim's pass count.
     ``effect`` is legacy free text; new deviations leave it empty so that no number in a
     deviation is hand-written.
+
+    Attributes
+    ----------
+    paper : str
+        The paper's key.
+    what : str
+        What departs.
+    paper_says : str
+        The paper's protocol.
+    we_do : str
+        Ours.
+    reason : str
+        Why.
+    effect : str
+        Legacy free text (empty for new deviations).
+    variant : str or None
+        The config variant that runs the paper's protocol.
     """
 
     paper: str
@@ -300,7 +377,17 @@ class Deviation:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ControlResult:
-    """A claim judged on the control units (the paper's effect switched off; no precondition)."""
+    """A claim judged on the control units (the paper's effect switched off; no precondition).
+
+    Attributes
+    ----------
+    units : int
+        Control units judged.
+    testable : int
+        Those that could test the claim.
+    holds : int
+        Those on which it holds.
+    """
 
     units: int
     testable: int
@@ -331,6 +418,27 @@ class ClaimResult:
     ``precondition_absent`` units lacked the claim's precondition (they are not in
     ``testable``); ``misses_below`` / ``misses_above`` count the testable units whose quantity
     fell below / above the comparator's band; ``control`` is the claim on the control units.
+
+    Attributes
+    ----------
+    claim : Claim
+        The claim.
+    units : int
+        Units judged.
+    testable : int
+        Units that could test it.
+    holds : int
+        Testable units on which it holds.
+    median : float or None
+        Median of the testable units' quantities (None: none testable).
+    spread : tuple of (float, float) or None
+        Their interquartile range.
+    precondition_absent : int
+        Units lacking the precondition.
+    misses_below, misses_above : int
+        Testable units below / above the comparator's band.
+    control : ControlResult or None
+        The claim on the control units.
     """
 
     claim: Claim
@@ -445,6 +553,20 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     ``(p + z^2/2n -+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n)``, ``p = k/n``
     (Wilson, J. Am. Stat. Assoc. 22, 209 (1927); Brown, Cai & DasGupta, Stat. Sci. 16,
     101 (2001), eq. 4).
+
+    Parameters
+    ----------
+    k : int
+        Successes.
+    n : int
+        Trials.
+    z : float
+        Normal quantile of the two-sided level (default 1.96: 95 %).
+
+    Returns
+    -------
+    lo, hi : float
+        The interval's ends in [0, 1].
     """
     if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n > 0):
         raise ValueError(f"n must be an integer > 0; got {n!r}")
@@ -461,7 +583,20 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
 
 
 def verdict(holds: int, testable: int) -> str:
-    """The summary's word for a pass count (see the module docstring)."""
+    """The summary's word for a pass count (see the module docstring).
+
+    Parameters
+    ----------
+    holds : int
+        Units on which the claim holds.
+    testable : int
+        Units that could test it.
+
+    Returns
+    -------
+    str
+        ``"holds for most units"``, ``"fails for most units"``, ``"undecided"`` or ``"not testable"``.
+    """
     if testable == 0:
         return "not testable"
     lo, hi = wilson_interval(holds, testable)
@@ -511,6 +646,16 @@ def finite_median(values: Iterable[Any]) -> float:
 
     The one median the scenario reports use for per-unit figures, so an untestable unit
     (None or NaN) never turns a reported median into NaN or an error.
+
+    Parameters
+    ----------
+    values : iterable
+        Numbers, None or NaN.
+
+    Returns
+    -------
+    float
+        The median.
     """
     v = [float(x) for x in values if x is not None and math.isfinite(float(x))]
     return float(np.median(v)) if v else math.nan
@@ -529,6 +674,20 @@ def evaluate(
     experiment). The spread is the interquartile range (25th and 75th percentiles) of the
     testable units' quantities. ``control`` (the same seeds with the paper's effect switched
     off) is judged without the precondition.
+
+    Parameters
+    ----------
+    claims : sequence of Claim
+        The claims.
+    units : sequence of mapping
+        Each unit's ``quantities``.
+    control : sequence of mapping, optional
+        The control units' ``quantities``.
+
+    Returns
+    -------
+    list of ClaimResult
+        One per claim, in order.
     """
     out = []
     for c in claims:

@@ -57,6 +57,8 @@ class Campaign:
         computed before it failed, possibly non-finite).
     computed, reused : int
         Seeds computed by this call / read back from the database.
+    db : str
+        The SQLite file holding the campaign's seeds.
     failed : mapping
         seed -> why it failed (a non-finite prediction or score), for the failed seeds.
         Summaries leave them out; :func:`compare` and :func:`save_baseline` refuse them.

@@ -193,7 +193,18 @@ def _no_clip() -> Check:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The four nonlinear-mechanism checks (deterministic: ``rng`` is not drawn from)."""
+    """The four nonlinear-mechanism checks (deterministic: ``rng`` is not drawn from).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     return [_small_signal(), _cubic(), _monotone(), _no_clip()]

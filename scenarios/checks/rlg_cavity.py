@@ -392,7 +392,18 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in five independent parts (streams drawn here, in a fixed order)."""
+    """The checks in five independent parts (streams drawn here, in a fixed order).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     r_unit, r_rw, r_db, r_lock = rng.spawn(4)  # r_lock last: the others keep their streams
     u = CavityRLGSpec().realize(rng=r_unit, label="check unit")
     # a block at 0.8 x the class-2 bound: several hops in the -40..+65 degC cycle
@@ -407,5 +418,16 @@ def parts(rng: np.random.Generator) -> list[Part]:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The cavity RLG's closed-form checks (see module docstring)."""
+    """The cavity RLG's closed-form checks (see module docstring).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

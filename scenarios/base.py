@@ -261,7 +261,7 @@ class CompensationTask:
     scikit-learn way, as ``fit(X, y, groups=groups_train)``, only to a compensator whose
     ``fit`` (or fit function) names a ``groups`` parameter, or to a scikit-learn search
     (``GridSearchCV`` and the like, which route it to their ``cv`` splitter); every other
-    compensator gets ``fit(X, y)`` as before. None: the task has no groups.
+    compensator gets ``fit(X, y)``. None: the task has no groups.
 
     Attributes
     ----------

@@ -22,11 +22,10 @@ of the composite-cylinder d eps_theta/dT of :meth:`Coil2DSpec.hoop_strain_rate` 
 the winding radius and the wound fibre length both follow the hoop strain, so SF ~ L D
 ~ D^2).
 
-Recording layout as before (channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
+Recording layout: channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
 ``rate``, ``thermal_drift`` = ``shupe`` + ``txdt_product``, ``scale_factor_error``,
-``noise`` = optical + IEEE-952, the temperatures) plus the loop's own truth channels, so
-scenarios need not change their analysis. The logged sensor sits on the outer potting
-surface at the unit's drawn axial position.
+``noise`` = optical + IEEE-952, the temperatures, plus the loop's own truth channels. The
+logged sensor sits on the outer potting surface at the unit's drawn axial position.
 """
 
 from __future__ import annotations

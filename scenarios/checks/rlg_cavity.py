@@ -272,8 +272,8 @@ def _check_dead_band() -> Check:
     # sampling bound: max |D''| delta^2 / 8 (D'' from second differences), over the smallest
     # slope of min D against the input between neighbouring inputs. min D rises with the input
     # (a larger input advances P(psi) at every psi); where it does not, the model is wrong and the
-    # bound has no premise: the edge is NaN, a failed check (an infinite tolerance, as before, made
-    # Check raise, so physics_checks stopped with an internal error instead of reporting the failure)
+    # bound has no premise: the edge is NaN, a failed check (an infinite tolerance would make Check
+    # raise, and physics_checks would stop with an internal error instead of reporting the failure)
     delta = 2.0 * math.pi / DB_PHASES
     d2 = float(np.max(np.abs(np.roll(d, 1, axis=1) - 2.0 * d + np.roll(d, -1, axis=1)))) / delta**2
     slope = float(np.min(np.diff(d_min) / np.diff(grid)))

@@ -156,7 +156,7 @@ def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
     """The ``--json`` document: file, rate, notes and one entry per channel.
 
     For the gyro channels the five coefficients also stand at the top level of each channel
-    entry (``"N": {"value", "low", "high", "unit"}``) as before; with one channel the
+    entry (``"N": {"value", "low", "high", "unit"}``); with one channel the
     document is that channel's entry plus ``file``, ``fs``, ``notes``.
 
     Parameters

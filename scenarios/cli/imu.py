@@ -40,7 +40,7 @@ __all__ = ["simulate_imu", "load_trajectory", "load_trajectory_csv", "CSV_HEADER
 CSV_HEADER = "time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps"
 
 _ACCEL_KEYS = ("bias_repeatability_mg", "scale_factor_repeatability_ppm", "vrw_m_s_sqrt_h", "bias_instability_ug",
-               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "resolution_mg")
+               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "bandwidth_hz", "resolution_mg")
 
 
 def _table(data: dict, name: str, keys: tuple[str, ...], path: str) -> dict:
@@ -70,14 +70,15 @@ def load_trajectory(path: str):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.trajectory.Site`,
+        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.earth.Site`,
         :class:`~gyrobench.sim.imu.AccelerometerSpec` or None).
     """
     import numpy as np
 
     from gyrobench.base import units
+    from gyrobench.sim.earth import Site
     from gyrobench.sim.imu import AccelerometerSpec
-    from gyrobench.sim.trajectory import SegmentedMotion, Site, segments_from_table
+    from gyrobench.sim.trajectory import SegmentedMotion, segments_from_table
 
     data = read_toml(path, "--trajectory")
     if unknown := sorted(set(data) - {"site", "initial", "motion", "accelerometer"}):
@@ -110,8 +111,8 @@ def load_trajectory(path: str):
     if acc_t is not None:
         acc_t = _table(data, "accelerometer", _ACCEL_KEYS, path)
         try:
-            accel = AccelerometerSpec.from_datasheet(**{k: _number(acc_t, k, "accelerometer", 0.0, 1e9, 0.0)
-                                                        for k in acc_t})
+            accel = AccelerometerSpec.from_datasheet(**{
+                k: _number(acc_t, k, "accelerometer", -1e9 if "tempco" in k else 0.0, 1e9, 0.0) for k in acc_t})
         except (TypeError, ValueError) as exc:
             raise BadInput(f"{path}: {one_line(exc)}") from None
     return motion, site, accel
@@ -130,12 +131,13 @@ def load_trajectory_csv(path: str, latitude_deg: float):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.trajectory.Site`, None).
+        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.earth.Site`, None).
     """
     import numpy as np
 
     from gyrobench.base import memory, units
-    from gyrobench.sim.trajectory import SampledMotion, Site
+    from gyrobench.sim.earth import Site
+    from gyrobench.sim.trajectory import SampledMotion
 
     p = Path(path)
     if not p.is_file():

@@ -124,7 +124,7 @@ def test_a_csv_trajectory_of_quaternions_and_velocities(tmp_path, capsys):
     turn plus the Earth's rate about the down axis over the record (-Omega sin(phi) t)."""
     from scipy.spatial.transform import Rotation
 
-    from gyrobench.sim.trajectory import EARTH_RATE
+    from gyrobench.sim.earth import EARTH_RATE
 
     t = np.arange(0.0, 20.0 + 1e-9, 0.01)
     yaw = np.radians(10.0) * np.clip(t - 5.0, 0.0, 9.0)

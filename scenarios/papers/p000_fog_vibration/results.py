@@ -83,23 +83,6 @@ class Coefficient:
     (Tables 2 and 3), is the five-term least-squares fit's point value whether or not the record
     identifies the term: the number a table of the fit prints, as the paper's tables do (0 where
     the non-negative fit drops the term).
-
-    Attributes
-    ----------
-    value : float or None
-        The coefficient [``unit``] (None: not identifiable).
-    low, high : float
-        Its 95 % interval [``unit``].
-    low68, high68 : float or None
-        Its 68 % interval (None when not identifiable).
-    unit : str
-        The field unit.
-    identifiable : bool
-        The record identifies the term.
-    tau_min_s : float or None
-        Shortest cluster time of the fit [s].
-    fit_value : float or None
-        The five-term fit's point value [``unit``].
     """
 
     value: float | None
@@ -137,13 +120,7 @@ class Coefficient:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Coefficients:
-    """The five coefficients of one signal (one column of Tables 1-3).
-
-    Attributes
-    ----------
-    Q, N, B, K, R : Coefficient
-        The five terms.
-    """
+    """The five coefficients of one signal (one column of Tables 1-3)."""
 
     Q: Coefficient
     N: Coefficient
@@ -167,13 +144,7 @@ class Coefficients:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class PhaseTable:
-    """Table 1: the fixed-frequency record's phases (1 static, 2 vibration, 3 static).
-
-    Attributes
-    ----------
-    phase1, phase2, phase3 : Coefficients
-        Static, vibration, static.
-    """
+    """Table 1: the fixed-frequency record's phases (1 static, 2 vibration, 3 static)."""
 
     phase1: Coefficients
     phase2: Coefficients
@@ -186,17 +157,7 @@ class PhaseTable:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Decomposition:
-    """Table 2: the sweep record, its a_j bias part and its d1..d_j drift + noise part.
-
-    Attributes
-    ----------
-    original : Coefficients
-        The sweep record.
-    bias : Coefficients
-        Its a_j bias part.
-    drift_noise : Coefficients
-        Its d1..d_j drift + noise part.
-    """
+    """Table 2: the sweep record, its a_j bias part and its d1..d_j drift + noise part."""
 
     original: Coefficients
     bias: Coefficients
@@ -208,13 +169,7 @@ class Decomposition:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CompensationTable:
-    """Table 3: the fixed-frequency record original, denoised, RBF- and LS-compensated.
-
-    Attributes
-    ----------
-    original, denoised, rbf, ls : Coefficients
-        The fixed-frequency record at each stage.
-    """
+    """Table 3: the fixed-frequency record original, denoised, RBF- and LS-compensated."""
 
     original: Coefficients
     denoised: Coefficients
@@ -227,25 +182,7 @@ class CompensationTable:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BiasModelScores:
-    """The bias models' MSE [(deg/h)^2] against their a7 targets and the true bias, and the bins.
-
-    Attributes
-    ----------
-    rbf_vs_target, ls_vs_target : float
-        MSE of each model against its a7 targets [(deg/h)^2].
-    rbf_vs_truth, ls_vs_truth : float
-        MSE of each model against the true bias [(deg/h)^2].
-    target_vs_truth : float
-        MSE of the targets against the true bias [(deg/h)^2].
-    rbf_neurons : int
-        Neurons of the RBF network.
-    n_bins : int
-        Frequency bins trained on.
-    training_range_hz : tuple of (float, float)
-        Frequency range of the training bins [Hz].
-    peak_bias_frequency_hz, true_peak_bias_frequency_hz : float
-        Frequency of the largest fitted and true bias [Hz].
-    """
+    """The bias models' MSE [(deg/h)^2] against their a7 targets and the true bias, and the bins."""
 
     rbf_vs_target: float
     ls_vs_target: float
@@ -276,22 +213,7 @@ class BiasModelScores:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Offsets:
-    """Figures 7-8 in numbers [deg/h] (spike ratio dimensionless); NaN where not measurable.
-
-    Attributes
-    ----------
-    offset_denoised, offset_rbf, offset_ls : float
-        Mean over the steady vibration phase minus mean over the steady phase 1 of the
-        denoised and of each compensated signal [deg/h].
-    static_scatter : float
-        Standard deviation of the block means of the original's steady phase 1 [deg/h].
-    edge_spike_ratio : float
-        Edge-spike ratio of the RBF-compensated record [-].
-    residual_vs_truth_rbf, residual_vs_truth_ls : float
-        Mean of (model bias - true vibration bias) over the steady vibration [deg/h].
-    true_bias_steady : float
-        Mean true vibration bias over the steady vibration [deg/h].
-    """
+    """Figures 7-8 in numbers [deg/h] (spike ratio dimensionless); NaN where not measurable."""
 
     offset_denoised: float
     offset_rbf: float
@@ -318,15 +240,7 @@ class Offsets:
 # ------------------------------------------------------------------------------ figure traces (float32)
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RecordTraces:
-    """Figure 1: block means [deg/h] of both records at times ``t`` [s].
-
-    Attributes
-    ----------
-    t : ndarray
-        Block times [s].
-    sweep, fixed : ndarray
-        Block means of the two records [deg/h].
-    """
+    """Figure 1: block means [deg/h] of both records at times ``t`` [s]."""
 
     t: F32
     sweep: F32
@@ -335,17 +249,7 @@ class RecordTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MultiscaleTraces:
-    """Figure 3: the sweep's deepest approximation and each detail's rms envelope [deg/h].
-
-    Attributes
-    ----------
-    t : ndarray
-        Times [s].
-    a : ndarray
-        The deepest approximation [deg/h].
-    d_rms : ndarray, shape (level, n)
-        Each detail's rms envelope [deg/h]; row i is detail i + 1.
-    """
+    """Figure 3: the sweep's deepest approximation and each detail's rms envelope [deg/h]."""
 
     t: F32
     a: F32
@@ -354,17 +258,7 @@ class MultiscaleTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SplitTraces:
-    """Figure 4: approximations (block means at ``t_mean``) and details (samples at ``t_sample``).
-
-    Attributes
-    ----------
-    t_mean, t_sample : ndarray
-        Times of the block means and of the samples [s].
-    a_train, a_bias : ndarray
-        Approximations (block means) [deg/h].
-    d_j, d1, d : ndarray
-        Details (samples) [deg/h].
-    """
+    """Figure 4: approximations (block means at ``t_mean``) and details (samples at ``t_sample``)."""
 
     t_mean: F32
     t_sample: F32
@@ -377,17 +271,7 @@ class SplitTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ModelTraces:
-    """Figure 6: training bins, true bias there, and both models on the grid ``ff`` [Hz, deg/h].
-
-    Attributes
-    ----------
-    f_bins, y_bins, truth_bins : ndarray
-        Training bins [Hz], their targets and the true bias there [deg/h].
-    ff : ndarray
-        The frequency grid [Hz].
-    rbf, ls : ndarray
-        Both models on the grid [deg/h].
-    """
+    """Figure 6: training bins, true bias there, and both models on the grid ``ff`` [Hz, deg/h]."""
 
     f_bins: F32
     y_bins: F32
@@ -399,15 +283,7 @@ class ModelTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CompensationTraces:
-    """Figures 7-8: every k-th sample [deg/h] of the fixed record at each stage.
-
-    Attributes
-    ----------
-    t : ndarray
-        Times [s].
-    original, denoised, rbf, ls : ndarray
-        Every k-th sample at each stage [deg/h].
-    """
+    """Figures 7-8: every k-th sample [deg/h] of the fixed record at each stage."""
 
     t: F32
     original: F32
@@ -418,25 +294,8 @@ class CompensationTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class FigureData:
-    """Everything the report's figures draw (float32).
-
-    Attributes
-    ----------
-    records : RecordTraces
-        Figure 1.
-    multiscale : MultiscaleTraces
-        Figure 3.
-    split : SplitTraces
-        Figure 4.
-    models : ModelTraces
-        Figure 6.
-    compensation : CompensationTraces
-        Figures 7-8.
-    fixed_rate : ndarray
-        The whole fixed-frequency record [deg/h] at ``fs``, for figure 2's spectrum and wavelet map.
-    fs : float
-        Its sample rate [Hz].
-    """
+    """Everything the report's figures draw (float32; ``fixed_rate`` is the whole fixed-frequency
+    record [deg/h] at ``fs`` [Hz], for figure 2's spectrum and wavelet map)."""
 
     records: RecordTraces
     multiscale: MultiscaleTraces
@@ -449,29 +308,8 @@ class FigureData:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class UnitResult:
-    """One simulated unit through paper 000's analysis.
-
-    It satisfies :class:`gyrobench.scenarios.papers.contract.UnitResult`.
-
-    Attributes
-    ----------
-    seed : int
-        The unit's seed.
-    quantities : mapping of str to float or None
-        One number per claim (:func:`unit_quantities`).
-    phases : PhaseTable
-        Table 1.
-    decomposition : Decomposition
-        Table 2.
-    compensation : CompensationTable
-        Table 3.
-    bias_models : BiasModelScores
-        The bias models' scores.
-    offsets : Offsets
-        Figures 7-8 in numbers.
-    figures : FigureData
-        What the figures draw.
-    """
+    """One simulated unit through paper 000's analysis (satisfies
+    :class:`gyrobench.scenarios.papers.contract.UnitResult`)."""
 
     seed: int
     quantities: Mapping[str, float | None]
@@ -497,16 +335,6 @@ def shown_ratio(big: Coefficient, small: Coefficient) -> float | None:
     big identified: big's lower 95 % bound over small's upper 95 % bound (> 1 shows big > small).
     big only a bound: the unit decides only when the data show the reverse (big's bound below
     small's lower 95 % bound: big.high / small.low < 1), else None.
-
-    Parameters
-    ----------
-    big, small : Coefficient
-        The two coefficients.
-
-    Returns
-    -------
-    float or None
-        The ratio, or None when the unit cannot decide.
     """
     if big.value is not None:
         return zero_safe_ratio(big.low, small.high)
@@ -521,18 +349,6 @@ def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> floa
     Both identified: the ratio of the values. One side only a bound: the unit decides only
     when the bound already puts the ratio outside the window (num.high / den.low < 1/factor,
     or num.low / den.high > factor; that bounding ratio is returned), else None.
-
-    Parameters
-    ----------
-    num, den : Coefficient
-        The two coefficients.
-    factor : float
-        The claim's window around 1.
-
-    Returns
-    -------
-    float or None
-        The ratio, or None when the unit cannot decide.
     """
     if num.value is not None and den.value is not None:
         return float(num.value / den.value) if den.value > 0 else None
@@ -544,41 +360,17 @@ def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> floa
 
 
 def value_ratio(num: Coefficient, den: Coefficient) -> float | None:
-    """num / den of the point values; None unless both are identified.
-
-    Parameters
-    ----------
-    num, den : Coefficient
-        The two coefficients.
-
-    Returns
-    -------
-    float or None
-        The ratio of the values.
-    """
+    """num / den of the point values; None unless both are identified."""
     if num.value is None or den.value is None or den.value <= 0:
         return None
     return float(num.value / den.value)
 
 
 def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
-    """Compute num / den of the fit's point values, as a table of the fit reads.
-
-    The point values are ``fit_value`` (module docstring): +inf when only den is 0; None when
-    either is not set or both are 0 (the fit finds the term in neither signal: no ratio, so the
-    unit cannot test a "keeps" or a "lower" claim). Judged > 2 for "higher" and within a factor 2
-    of 1 for "keeps".
-
-    Parameters
-    ----------
-    num, den : Coefficient
-        The two coefficients.
-
-    Returns
-    -------
-    float or None
-        The ratio.
-    """
+    """num / den of the fit's point values (``fit_value``; module docstring), as a table of the fit
+    reads: +inf when only den is 0; None when either is not set or both are 0 (the fit
+    finds the term in neither signal: no ratio, so the unit cannot test a "keeps" or a "lower"
+    claim). Judged > 2 for "higher" and within a factor 2 of 1 for "keeps"."""
     if num.fit_value is None or den.fit_value is None:
         return None
     if num.fit_value <= 0 and den.fit_value <= 0:
@@ -587,18 +379,7 @@ def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
 
 
 def overlap(a: Coefficient, b: Coefficient) -> float | None:
-    """1.0 when the 95 % intervals of two identified coefficients overlap, 0.0 when not, None if a bound.
-
-    Parameters
-    ----------
-    a, b : Coefficient
-        The two coefficients.
-
-    Returns
-    -------
-    float or None
-        1.0, 0.0 or None.
-    """
+    """1.0 when the 95 % intervals of two identified coefficients overlap, 0.0 when not, None if a bound."""
     if a.value is None or b.value is None:
         return None
     return 1.0 if (a.low <= b.high and b.low <= a.high) else 0.0
@@ -613,30 +394,10 @@ def unit_quantities(
     *,
     shortest_tau_rise: float | None = None,
 ) -> dict[str, float | None]:
-    """Compute one number per claim quantity of a unit.
+    """One number per claim quantity (module docstring: how a unit's quantity tests a claim).
 
-    How a unit's quantity tests a claim: the module docstring.
-
-    Parameters
-    ----------
-    phases : PhaseTable
-        Table 1.
-    decomposition : Decomposition
-        Table 2.
-    compensation : CompensationTable
-        Table 3.
-    scores : BiasModelScores
-        The bias models' scores.
-    offsets : Offsets
-        Figures 7-8 in numbers.
-    shortest_tau_rise : float, optional
-        Table 1's rise at tau = 1/fs (:func:`~.pipeline.shortest_tau_rise`; None: not measured).
-
-    Returns
-    -------
-    dict of str to float or None
-        Claim quantity -> its value (None where the unit cannot test it).
-    """
+    ``shortest_tau_rise``: Table 1's rise at tau = 1/fs
+    (:func:`~.pipeline.shortest_tau_rise`; None: not measured)."""
     p1, p2, p3 = phases.phase1, phases.phase2, phases.phase3
     o, b, dn = decomposition.original, decomposition.bias, decomposition.drift_noise
     co, cd, cr, cl = compensation.original, compensation.denoised, compensation.rbf, compensation.ls

@@ -66,6 +66,20 @@ def smoothed_derivative(x: ArrayLike, fs: float, *, window_s: float) -> NDArray[
 def block_means(x: ArrayLike, fs: float, *, block_s: float) -> NDArray[np.float64]:
     """Means of consecutive non-overlapping blocks of ``block_s`` seconds (the incomplete tail is dropped).
 
+    Parameters
+    ----------
+    x : array_like
+        The record (any unit).
+    fs : float
+        Sample rate [Hz].
+    block_s : float
+        Block length [s] (rounded to whole samples).
+
+    Returns
+    -------
+    ndarray
+        One mean per complete block, in the unit of ``x``.
+
     Raises
     ------
     ValueError

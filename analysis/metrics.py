@@ -33,18 +33,49 @@ def _pair(estimate: ArrayLike, truth: ArrayLike | None) -> NDArray[np.float64]:
 
 
 def mse(estimate: ArrayLike, truth: ArrayLike | None = None) -> float:
-    """Mean squared error of ``estimate - truth`` (or of ``estimate`` when truth is None)."""
+    """Mean squared error of ``estimate - truth`` (or of ``estimate`` when truth is None).
+
+    Parameters
+    ----------
+    estimate : array_like
+        The estimate (any unit u).
+    truth : array_like, optional
+        The true values [u]; None: zero.
+
+    Returns
+    -------
+    float
+        mean((estimate - truth)^2) [u^2].
+    """
     e = _pair(estimate, truth)
     return float(np.mean(e**2))
 
 
 def rms(estimate: ArrayLike, truth: ArrayLike | None = None) -> float:
-    """Root mean square of ``estimate - truth``."""
+    """Root mean square of ``estimate - truth``.
+
+    Parameters
+    ----------
+    estimate : array_like
+        The estimate (any unit u).
+    truth : array_like, optional
+        The true values [u]; None: zero.
+
+    Returns
+    -------
+    float
+        sqrt(mean((estimate - truth)^2)) [u].
+    """
     return math.sqrt(mse(estimate, truth))
 
 
 def bias_stability(rate: ArrayLike, fs: float, *, block_s: float = 100.0) -> float:
     """Bias stability: sample standard deviation (1 sigma, n - 1) of ``block_s`` block means.
+
+    Returns
+    -------
+    float
+        B_s in the unit of ``rate``.
 
     Parameters
     ----------
@@ -74,7 +105,20 @@ def bias_stability(rate: ArrayLike, fs: float, *, block_s: float = 100.0) -> flo
 
 
 def improvement_pct(before: float, after: float) -> float:
-    """Relative reduction (before - after)/before in percent."""
+    """Relative reduction (before - after)/before in percent.
+
+    Parameters
+    ----------
+    before : float
+        The error before compensation (any unit).
+    after : float
+        The error after, in the same unit.
+
+    Returns
+    -------
+    float
+        100 (before - after)/before [%].
+    """
     if not before > 0:
         raise ValueError(f"before must be > 0; got {before!r}")
     return 100.0 * (before - after) / before

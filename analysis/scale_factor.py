@@ -50,6 +50,20 @@ def check_rate_table(
 ) -> tuple[NDArray, NDArray]:
     """Validate a rate table: 1-D, equal length, >= ``min_points``, finite, strictly monotonic rates.
 
+    Parameters
+    ----------
+    rates : array_like
+        Table rates.
+    outputs : array_like
+        Mean output at each rate.
+    min_points : int
+        Fewest points accepted.
+
+    Returns
+    -------
+    rates, outputs : ndarray
+        The two arrays as float64.
+
     Raises
     ------
     ValueError
@@ -170,6 +184,18 @@ def asymmetry(rates: ArrayLike, outputs: ArrayLike) -> float:
     """Scale-factor asymmetry K_a = |K+ - K-| / ((K+ + K-)/2) [-].
 
     K+ is the LS scale factor over W >= 0 and K- over W <= 0 (each needs >= 2 rates).
+
+    Parameters
+    ----------
+    rates : array_like
+        Table rates W (any rate unit).
+    outputs : array_like
+        Mean gyro output at each rate.
+
+    Returns
+    -------
+    float
+        K_a [-].
     """
     w, f = check_rate_table(rates, outputs)
     pos, neg = w >= 0, w <= 0
@@ -190,6 +216,23 @@ class SearchStep:
     interval's K_n [-]; ``abs_diff`` = |K_n(k) - K_n(k-1)|; ``diff2`` =
     abs_diff(k) - abs_diff(k-1); ``counter`` the run of positive ``diff2`` (NaN
     where not yet defined).
+
+    Attributes
+    ----------
+    side : int
+        +1 for the positive rates, -1 for the negative.
+    end_rate : float
+        End of the interval [0, end_rate] (the table's rate unit).
+    n_points : int
+        Table points in the interval.
+    nonlinearity : float
+        K_n of the interval [-].
+    abs_diff : float
+        |K_n(k) - K_n(k-1)| [-].
+    diff2 : float
+        abs_diff(k) - abs_diff(k-1) [-].
+    counter : int
+        Run of positive ``diff2``.
     """
 
     side: int
@@ -203,7 +246,15 @@ class SearchStep:
 
 @dataclass(frozen=True, slots=True)
 class BreakpointSearch:
-    """Result of :func:`breakpoint_search`: breakpoints (None where none was found) and the trace."""
+    """Result of :func:`breakpoint_search`: breakpoints (None where none was found) and the trace.
+
+    Attributes
+    ----------
+    negative, positive : float or None
+        Breakpoint rate on each side (None where none was found).
+    trace : tuple of SearchStep
+        Every step of the search.
+    """
 
     negative: float | None
     positive: float | None

@@ -98,6 +98,11 @@ def stationarity_check(
 ) -> StationarityReport:
     """Flag motion (variance bursts) and steps (jumps of the window mean) in a static record.
 
+    Returns
+    -------
+    StationarityReport
+        The windows flagged for motion and the window boundaries flagged as steps.
+
     Parameters
     ----------
     rate : array_like

@@ -88,7 +88,20 @@ def _check_mode(mode: str) -> str:
 
 
 def max_level(n: int, wavelet="db4") -> int:
-    """Deepest level without boundary effects for ``n`` samples: ``pywt.dwt_max_level(n, filter_length)``."""
+    """Deepest level without boundary effects for ``n`` samples: ``pywt.dwt_max_level(n, filter_length)``.
+
+    Parameters
+    ----------
+    n : int
+        Record length [samples].
+    wavelet : str or pywt.Wavelet
+        Discrete wavelet (default Daubechies 4).
+
+    Returns
+    -------
+    int
+        The level.
+    """
     return int(pywt.dwt_max_level(int(n), _discrete_wavelet(wavelet).dec_len))
 
 
@@ -274,10 +287,19 @@ def cwt_map(
     frequencies : array_like, optional
         Pseudo-frequencies [Hz] in (0, fs/2]; default ``n_frequencies`` log-spaced
         from ``f_min`` (default 20 fs/len(x)) to fs/2.
+    n_frequencies : int
+        Number of default frequencies.
+    f_min : float, optional
+        Lowest default frequency [Hz].
     wavelet : str
         Continuous wavelet (``pywt.wavelist(kind='continuous')``); default complex Morlet.
     time_block : int, optional
         Samples per output column (default: about 600 columns).
+
+    Returns
+    -------
+    TimeFrequencyMap
+        Block-centre times [s], pseudo-frequencies [Hz] and the block-mean |W| [unit of x].
 
     Notes
     -----
@@ -313,6 +335,13 @@ def cwt_map(
 
 def amplitude_spectrum(x: ArrayLike, fs: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """One-sided FFT amplitude spectrum of the mean-removed record.
+
+    Parameters
+    ----------
+    x : array_like
+        The record (any unit).
+    fs : float
+        Sample rate [Hz].
 
     Returns
     -------

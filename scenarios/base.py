@@ -97,7 +97,17 @@ class Table:
 
 @dataclass(frozen=True)
 class FigureSpec:
-    """A figure of the report: ``name`` (file stem), caption, and the matplotlib Figure."""
+    """A figure of the report: ``name`` (file stem), caption, and the matplotlib Figure.
+
+    Attributes
+    ----------
+    name : str
+        File stem of the figure in the report.
+    caption : str
+        Its caption.
+    figure : matplotlib.figure.Figure
+        The figure.
+    """
 
     name: str
     caption: str
@@ -110,6 +120,19 @@ class Headline:
 
     ``holds`` says whether the paper's conclusion holds in the simulation (None when
     the number has no pass/fail meaning).
+
+    Attributes
+    ----------
+    quantity : str
+        What is compared.
+    reproduced : str
+        Our value, formatted with its unit.
+    target : str
+        The paper's value, formatted.
+    holds : bool or None
+        Whether the paper's conclusion holds here.
+    note : str
+        A remark for the table.
     """
 
     quantity: str
@@ -121,7 +144,39 @@ class Headline:
 
 @dataclass
 class Outcome:
-    """What ``run`` returns: machine-readable results, tables, figures, headline numbers."""
+    """What ``run`` returns: machine-readable results, tables, figures, headline numbers.
+
+    Attributes
+    ----------
+    scenario : str
+        The scenario's registry name.
+    title : str
+        Its one-line title.
+    seed : int
+        The seed (of the first unit, for a paper).
+    config : object
+        The configuration run.
+    results : dict
+        Machine-readable results (written to results.json).
+    tables : list of Table
+        The report's tables.
+    figures : list of FigureSpec
+        The report's figures.
+    headlines : list of Headline
+        The summary's headline numbers.
+    conclusion : str
+        One paragraph for the report.
+    runtime_s : float
+        Wall time of the run [s].
+    claims : list of ClaimResult
+        The paper's judged claims (papers only).
+    deviations : list of Deviation
+        Its protocol deviations (papers only).
+    units : int
+        Units the claims were judged over.
+    deviation_effects : list of DeviationEffect
+        Measured effects of the deviations (``reproduce --deviations``).
+    """
 
     scenario: str
     title: str
@@ -166,7 +221,20 @@ class HeldOutRun:
 
 
 def mse_scores(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
-    """Default scorer: mean squared and RMS error of the compensated output against truth."""
+    """Default scorer: mean squared and RMS error of the compensated output against truth.
+
+    Parameters
+    ----------
+    compensated : ndarray
+        The compensated output of one held-out run (the run's unit).
+    run : HeldOutRun
+        The run, with its truth.
+
+    Returns
+    -------
+    dict of str to float
+        ``{"mse": ..., "rms": ...}`` in the run's unit squared and the run's unit.
+    """
     err = np.asarray(compensated, float) - run.truth
     mse = float(np.mean(err**2))
     return {"mse": mse, "rms": math.sqrt(mse)}
@@ -193,7 +261,28 @@ class CompensationTask:
     scikit-learn way, as ``fit(X, y, groups=groups_train)``, only to a compensator whose
     ``fit`` (or fit function) names a ``groups`` parameter, or to a scikit-learn search
     (``GridSearchCV`` and the like, which route it to their ``cv`` splitter); every other
-    compensator gets ``fit(X, y)`` as before. None: the task has no groups.
+    compensator gets ``fit(X, y)``. None: the task has no groups.
+
+    Attributes
+    ----------
+    scenario : str
+        The scenario's registry name.
+    feature_names : tuple of str
+        Names of the columns of ``X_train`` (and of each held-out run's features).
+    X_train : ndarray, shape (n, n_features)
+        Training features.
+    y_train : ndarray, shape (n,)
+        Training target (in ``unit``).
+    heldout : tuple of HeldOutRun
+        The held-out runs, with truth.
+    target : {"error", "rate"}
+        How a prediction is used (above).
+    unit : str
+        Unit of the target and of the compensated output.
+    scorer : callable
+        ``scorer(compensated, run) -> dict`` of scores (module-level, so it pickles).
+    groups_train : ndarray of int, optional
+        Group label per training row (above).
     """
 
     scenario: str

@@ -47,6 +47,13 @@ DEFAULT_SEEDS = tuple(range(20))
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
+    """Register the plugin's command-line options with pytest.
+
+    Parameters
+    ----------
+    parser : pytest.Parser
+        pytest's option parser; the options go to the group ``gyrobench``.
+    """
     group = parser.getgroup("gyrobench", "gyrobench compensator regression tests")
     group.addoption(
         "--gyrobench-save-baselines",
@@ -64,7 +71,19 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 class GyrobenchBench:
-    """What the ``gyrobench_bench`` fixture gives a test."""
+    """What the ``gyrobench_bench`` fixture gives a test.
+
+    Parameters
+    ----------
+    root : Path
+        Folder that relative baseline paths are read from (the test file's folder).
+    db : Path
+        SQLite file of the campaigns' finished seeds.
+    save : bool
+        Write the baselines instead of comparing (``--gyrobench-save-baselines``).
+    workers : int
+        Worker processes for the seeds.
+    """
 
     def __init__(self, *, root: Path, db: Path, save: bool, workers: int) -> None:
         self.root = root

@@ -42,7 +42,27 @@ MIN_SAMPLES = 4 * 2 ** (len(TERMS) - 1)
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GradeSpec:
-    """A datasheet noise budget in field units."""
+    """A datasheet noise budget in field units.
+
+    Attributes
+    ----------
+    label : str
+        Name of the grade in the report.
+    Q_arcsec : float
+        Quantization Q [arcsec].
+    N_deg_sqrt_h : float
+        Angle random walk N [deg/sqrt(h)].
+    B_deg_h : float
+        Bias instability B [deg/h].
+    K_deg_h_sqrt_h : float
+        Rate random walk K [deg/h/sqrt(h)].
+    R_deg_h2 : float
+        Rate ramp R [deg/h^2].
+    fs_hz : float
+        Sample rate [Hz].
+    duration_h : float
+        Record length [h].
+    """
 
     label: str = "grade"
     Q_arcsec: float = 0.0
@@ -99,7 +119,13 @@ class GradeSpec:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Config:
-    """Two grades, typical datasheet budgets (tactical FOG, industrial MEMS)."""
+    """Two grades, typical datasheet budgets (tactical FOG, industrial MEMS).
+
+    Attributes
+    ----------
+    fog, mems : GradeSpec
+        The two noise budgets.
+    """
 
     fog: GradeSpec = field(
         default_factory=lambda: GradeSpec(
@@ -123,7 +149,20 @@ def _grades(config: Config) -> dict[str, GradeSpec]:
 
 
 def simulate(config: Config, seed: int) -> list[Recording]:
-    """One static record per grade: output rate [rad/s], truth = zero true rate + each noise term."""
+    """One static record per grade: output rate [rad/s], truth = zero true rate + each noise term.
+
+    Parameters
+    ----------
+    config : Config
+        The scenario's configuration.
+    seed : int
+        Seed of the record's random streams.
+
+    Returns
+    -------
+    list of Recording
+        One per grade.
+    """
     children = np.random.default_rng(seed).spawn(2)
     recs = []
     for (key, spec), rng in zip(_grades(config).items(), children, strict=True):
@@ -149,7 +188,22 @@ def simulate(config: Config, seed: int) -> list[Recording]:
 
 
 def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
-    """Simulate both grades, fit, and compare each fitted coefficient with its true value."""
+    """Simulate both grades, fit, and compare each fitted coefficient with its true value.
+
+    Parameters
+    ----------
+    config : Config
+        The scenario's configuration.
+    seed : int
+        Seed of the record's random streams.
+    progress : bool
+        Show progress bars.
+
+    Returns
+    -------
+    Outcome
+        Tables, figures and each coefficient's fitted and true value.
+    """
     t_start = time.perf_counter()
     recs = simulate(config, seed)
     tables: list[Table] = []
@@ -215,6 +269,16 @@ def memory_estimate(config: Config) -> float:
     Measured: 8.09 series (peak RSS increase, 7.2e6 samples: 2 h at 1 kHz) for both
     simulate and run; 9 is that rounded up. Computed in floats, so an absurd duration
     gives a huge (or infinite) estimate, never an overflow.
+
+    Parameters
+    ----------
+    config : Config
+        The scenario's configuration.
+
+    Returns
+    -------
+    float
+        The estimate [bytes].
     """
     from gyrobench.base import memory
 

@@ -284,9 +284,9 @@ class Coil2DSpec:
         T_ref [1/K] (``t_ref`` None: the spec's ``t_ref``). The drift (n/(L D)) [Tdot . W0 +
         (T - T_ref) . Q Tdot] is then the same for every T_ref, in any temperature unit or
         origin; only its split between the Tdot and the T x Tdot terms moves with T_ref
-        (the Tdot term by beta_1 (T_ref' - T_ref) . Tdot). Until issue 27 beta_0 was beta_T at
-        t_ref itself, 0.2-0.9 % above the chord at 15 degC (the chord's curvature error), which
-        made the sum depend on T_ref at that order.
+        (the Tdot term by beta_1 (T_ref' - T_ref) . Tdot). beta_0 is the chord, not beta_T at
+        t_ref itself: that is 0.2-0.9 % above the chord at 15 degC (the chord's curvature
+        error) and would make the sum depend on T_ref at that order.
         """
         t0 = self.t_ref if t_ref is None else float(t_ref)
         lo = self.beta(r, self.t_lo, bonded=bonded)
@@ -332,6 +332,21 @@ class ThermalRun:
     T x dT term from the material temperature dependences); ``dt`` [s] the step used and
     ``convergence`` the max |Omega(dt) - Omega(dt/2)| / max |Omega(dt/2)| of the check (0 when
     every chamber knot lies on the step grid: the first-order hold is then exact at the samples).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times [s].
+    chamber, housing, sensor, coil_mean : ndarray, shape (n,)
+        Chamber, housing, logged-sensor and mean coil temperature [K].
+    shupe : ndarray, shape (n,)
+        The Tdot rate error [rad/s].
+    product : ndarray, shape (n,)
+        The T x dT rate error [rad/s].
+    dt : float
+        Thermal step used [s].
+    convergence : float
+        Step-halving check [-].
     """
 
     t: NDArray[np.float64]
@@ -358,6 +373,13 @@ class Coil2D:
     T_housing] [K]:  C dx/dt = -K x + e_h G_ch T_chamber. Boundary links (series with the
     half cell): outer, top and bore faces and the bottom of pack/skin through the gas gap
     h_gap; the spool's bottom face through the mount contact h_c; housing to chamber G_ch.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's drawing and materials.
+    imperfections : Imperfections, optional
+        The unit's drawn departures from the drawing; None: the ideal coil.
     """
 
     spec: Coil2DSpec = field(default_factory=Coil2DSpec)
@@ -621,6 +643,32 @@ def heated_stretch(
     dz = alpha_T L0 T with T in degC, puts the reference length at 0 degC, and its T x dT
     regressor has T in degC. ``radius`` None: free fibre (dn/dT + n alpha_f); a radius: fibre
     bonded in the pack at that radius.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's materials.
+    T : array_like
+        Temperature of the stretch [K].
+    rate : float
+        Its heating rate Tdot [K/s].
+    fibre_length : float
+        Fibre length L [m].
+    diameter : float
+        Mean coil diameter D [m].
+    z_center : float
+        Centre z_c of the stretch along the fibre [m].
+    seg_length : float
+        Length l of the stretch [m].
+    radius : float, optional
+        Radius at which the fibre is bonded in the pack [m]; None: free fibre.
+    t_ref : float
+        Reference temperature T_ref [K].
+
+    Returns
+    -------
+    Omega_Tdot, Omega_TxdT : ndarray
+        The two rate errors [rad/s].
     """
     T = np.asarray(T, dtype=float)
     r = np.array([spec.inner_radius if radius is None else radius])

@@ -33,6 +33,19 @@ class Grid:
     ``K`` (m, m) conductance matrix [W/K] of the interior links; ``cap`` (m,) [J/K];
     ``g_face`` dict side -> (m,) conductance from each cell centre to that outer face [W/K]
     (zero for cells not on the side; "inner" is zero when the grid starts at r = 0).
+
+    Attributes
+    ----------
+    r_faces : ndarray, shape (nr + 1,)
+        Radial cell faces [m].
+    z_faces : ndarray, shape (nz + 1,)
+        Axial cell faces [m].
+    K : ndarray, shape (m, m)
+        Conductance matrix of the interior links [W/K].
+    cap : ndarray, shape (m,)
+        Heat capacity of each cell [J/K].
+    g_face : dict of str to ndarray
+        Side -> conductance from each cell centre to that outer face [W/K].
     """
 
     r_faces: NDArray[np.float64]
@@ -89,6 +102,22 @@ def fv_grid(
     radial half-cell resistance ln(r_face / r_c) / (2 pi k_r dz), axial (dz/2) / (k_z pi
     (r2^2 - r1^2)), links in series (harmonic mean across a material interface). Second order
     in space for smooth fields.
+
+    Parameters
+    ----------
+    r_faces : array_like, shape (nr + 1,)
+        Radial cell faces [m].
+    z_faces : array_like, shape (nz + 1,)
+        Axial cell faces [m].
+    k_r, k_z : array_like, shape (nr, nz)
+        Radial and axial conductivity of each cell [W/(m K)].
+    rho_c : array_like, shape (nr, nz)
+        Volumetric heat capacity of each cell [J/(m^3 K)].
+
+    Returns
+    -------
+    Grid
+        The conductances and capacities.
     """
     rf = np.asarray(r_faces, dtype=float)
     zf = np.asarray(z_faces, dtype=float)
@@ -142,6 +171,22 @@ def first_order_hold(A: NDArray[np.float64], b: NDArray[np.float64], dt: float):
     From expm of the augmented matrix [[A dt, b dt, 0], [0, 0, 1], [0, 0, 0]] (Van Loan
     1978): Phi = E11, Gamma0 = E12, Gamma1 = E13; u(t_k + tau) = u_k + (u_{k+1} - u_k) tau/dt
     gives q0 = Gamma0 - Gamma1, q1 = Gamma1.
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        System matrix of dx/dt = A x + b u [1/s].
+    b : ndarray, shape (m,)
+        Input vector [unit of x per unit of u per s].
+    dt : float
+        Step [s].
+
+    Returns
+    -------
+    Phi : ndarray, shape (m, m)
+        State transition matrix.
+    q0, q1 : ndarray, shape (m,)
+        Input weights of u_k and u_{k+1}.
     """
     m = len(b)
     M = np.zeros((m + 2, m + 2))

@@ -145,7 +145,18 @@ NIST_6061_EXPANSION = (-4.1277e2, -3.0389e-1, 8.7696e-3, -9.9821e-6)
 
 
 def nist_6061_alpha(T: float) -> float:
-    """alpha(T) [1/K] of 6061-T6 from NIST's cryogenic linear-expansion fit (4-300 K)."""
+    """alpha(T) [1/K] of 6061-T6 from NIST's cryogenic linear-expansion fit (4-300 K).
+
+    Parameters
+    ----------
+    T : float
+        Temperature [K], 4-300 K (the fit's range).
+
+    Returns
+    -------
+    float
+        alpha(T) [1/K].
+    """
     _, b, c, d = NIST_6061_EXPANSION
     return (b + 2.0 * c * T + 3.0 * d * T * T) * 1e-5
 
@@ -199,6 +210,18 @@ def silica_dn_dT(T: ArrayLike, wavelength: float = 1550e-9) -> NDArray[np.float6
 
     >>> round(float(silica_dn_dT(293.15)) * 1e6, 2)
     8.16
+
+    Parameters
+    ----------
+    T : array_like
+        Temperature [K], 30-330 K.
+    wavelength : float
+        Vacuum wavelength [m].
+
+    Returns
+    -------
+    ndarray
+        dn/dT [1/K].
     """
     T = np.asarray(T, dtype=float)
     _num(

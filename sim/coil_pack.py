@@ -34,6 +34,20 @@ def maxwell_conductivity(k_f: float, k_m: float, phi: float) -> float:
 
     k_T = k_m [(k_f + k_m) + phi (k_f - k_m)] / [(k_f + k_m) - phi (k_f - k_m)]
     (Maxwell's dilute-cylinder form, as applied by McCartney; docs/physics.md 3.7).
+
+    Parameters
+    ----------
+    k_f : float
+        Conductivity of the cylinders (fibres) [W/(m K)].
+    k_m : float
+        Conductivity of the matrix [W/(m K)].
+    phi : float
+        Volume fraction of the cylinders [-].
+
+    Returns
+    -------
+    float
+        k_T [W/(m K)].
     """
     _num("maxwell_conductivity", "phi", phi, "in [0, 1)", "", lambda v: 0 <= v < 1)
     return k_m * ((k_f + k_m) + phi * (k_f - k_m)) / ((k_f + k_m) - phi * (k_f - k_m))
@@ -46,6 +60,19 @@ class PackProperties:
     ``k_r``, ``k_z`` [W/(m K)], ``rho_c`` [J/(m^3 K)], ``E_t``, ``E_r`` [Pa], ``nu_tr`` (strain
     in r per strain in t under hoop stress) [-], ``alpha_t``, ``alpha_r`` [1/K] (at the
     temperature the properties were evaluated at).
+
+    Attributes
+    ----------
+    k_r, k_z : float
+        Radial and axial conductivity [W/(m K)].
+    rho_c : float
+        Volumetric heat capacity [J/(m^3 K)].
+    E_t, E_r : float
+        Hoop (fibre direction) and radial Young's modulus [Pa].
+    nu_tr : float
+        Strain in r per strain in t under hoop stress [-].
+    alpha_t, alpha_r : float
+        Hoop and radial expansion coefficients [1/K].
     """
 
     k_r: float
@@ -78,6 +105,15 @@ def pack_properties(
         (cladding diameter / coated diameter)^2 [-].
     interlayer_fraction : float
         Resin-rich interlayer thickness over the layer pitch t_l/p [-] (radial only).
+    T : float
+        Temperature at which the constituents' properties are taken [K].
+    glass, coating, matrix : Material
+        The fibre's glass and coating and the potting matrix.
+
+    Returns
+    -------
+    PackProperties
+        The effective properties at ``T``.
 
     Notes
     -----
@@ -138,6 +174,32 @@ def composite_cylinder_strain(
     (Lekhnitskii; docs/physics.md 3.7) with Gamma = alpha for an isotropic pack. Four
     conditions: sigma_r(bore) = 0, sigma_r(outer) = 0, u and sigma_r continuous at inner.
     Returns eps_theta = u/r at ``r`` and p = -sigma_r(inner) (positive = compression).
+
+    Parameters
+    ----------
+    r : array_like
+        Radii in the pack where the hoop strain is wanted [m].
+    bore : float
+        Inner radius of the spool [m].
+    inner : float
+        Outer radius of the spool = inner radius of the pack [m].
+    outer : float
+        Outer radius of the pack [m].
+    spool_E : float
+        Young's modulus of the spool [Pa].
+    spool_nu : float
+        Poisson's ratio of the spool [-].
+    spool_alpha : float
+        Expansion coefficient of the spool [1/K].
+    pack : PackProperties
+        The pack's effective properties.
+
+    Returns
+    -------
+    eps_theta : ndarray
+        d eps_theta/dT at ``r`` [1/K].
+    pressure : float
+        Interface pressure per kelvin [Pa/K] (positive = compression).
     """
     r = np.asarray(r, dtype=float)
     if not (0 < bore < inner < outer):

@@ -36,6 +36,20 @@ WINDING_PATTERNS: dict[str, str | None] = {
 def winding_sequence(pattern: str, layers: int) -> str | None:
     """The A/B sequence of ``layers`` layers (inner -> outer), or None for helical.
 
+    Parameters
+    ----------
+    pattern : str
+        A key of :data:`WINDING_PATTERNS` (``"helical"``, ``"dipolar"``, ``"quadrupolar"``,
+        ``"octupolar"``).
+    layers : int
+        Number of layers.
+
+    Returns
+    -------
+    str or None
+        One letter per layer, ``"A"`` or ``"B"`` (the half of the fibre it belongs to); None for
+        a helical winding.
+
     Raises
     ------
     ValueError
@@ -112,6 +126,23 @@ class FibreMap:
     ``bonded`` is False for the leads (free fibre); ``layer`` is -1 for leads and
     crossovers. ``length`` L = sum ds; ``diameter`` D = sum_{turns} ds 2 r / L (Sagnac:
     L D = sum of 2 x enclosed area over the turns).
+
+    Attributes
+    ----------
+    r, z : ndarray
+        Radius and axial position of each piece [m].
+    s : ndarray
+        Fibre coordinate of each piece from port A [m].
+    ds : ndarray
+        Length of each piece [m].
+    bonded : ndarray of bool
+        False for the leads (free fibre).
+    layer : ndarray of int
+        Layer of each piece; -1 for leads and crossovers.
+    length : float
+        L [m].
+    diameter : float
+        D [m].
     """
 
     r: NDArray[np.float64]
@@ -148,6 +179,18 @@ def fibre_map(spec: Coil2DSpec, imperfections: Imperfections | None = None) -> F
     the flange, at the mean radius of the two layers. Half A runs from the midpoint toward
     port A (s decreasing), half B toward port B. Helical: one fibre, layer after layer,
     alternating direction. Leads: at the top outer corner, in the skin.
+
+    Parameters
+    ----------
+    spec : Coil2DSpec
+        The coil's drawing.
+    imperfections : Imperfections, optional
+        Drawn departures from it; None: the ideal winding.
+
+    Returns
+    -------
+    FibreMap
+        The fibre's pieces.
     """
     imp = Imperfections.none(spec.layers) if imperfections is None else imperfections
     if len(imp.turn_errors) != spec.layers or len(imp.radius_errors) != spec.layers:

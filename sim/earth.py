@@ -173,8 +173,8 @@ BEIJING = Site(
     "39.9 N, approximate (+-0.1 deg)",
 )
 #: Nanjing (paper 000: Southeast University, postcode 210096, printed in its affiliation line;
-#: Sipailou campus ~32.06 N, approximate +-0.05 deg). Issue 17 assumed Beijing for 000; the
-#: paper's Chinese text says Nanjing.
+#: Sipailou campus ~32.06 N, approximate +-0.05 deg). The paper's Chinese text says Nanjing,
+#: not Beijing.
 NANJING = Site(
     name="Nanjing",
     latitude=units.deg(32.06),
@@ -201,10 +201,23 @@ def _angle(name: str, v: ArrayLike) -> NDArray[np.float64]:
 
 
 def earth_rate_components(latitude: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """(north, up) components of the Earth's rate at a geodetic latitude [rad] -> [rad/s].
+    """Compute the north and up components of the Earth's rate at a latitude.
 
-    north = Omega_E cos(phi), up = Omega_E sin(phi); the east component is 0.
+    north = Omega_E cos(phi), up = Omega_E sin(phi); the east component is 0
+    (Omega_E = :data:`EARTH_RATE`, the sidereal rate).
 
+    Parameters
+    ----------
+    latitude : array_like
+        Geodetic latitude phi [rad].
+
+    Returns
+    -------
+    north, up : ndarray
+        The components [rad/s].
+
+    Examples
+    --------
     >>> n, u = earth_rate_components(0.0)
     >>> float(n) == EARTH_RATE, float(u)
     (True, 0.0)

@@ -138,7 +138,17 @@ class PiecewiseLinear:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Ramp:
-    """Chamber ramp to ``target`` [K] at ``rate`` [K/s] (sign taken from the direction) or over ``duration`` [s]."""
+    """Chamber ramp to ``target`` [K] at ``rate`` [K/s] (sign taken from the direction) or over ``duration`` [s].
+
+    Parameters
+    ----------
+    target : float
+        Temperature at the end of the ramp [K].
+    rate : float, optional
+        Ramp rate [K/s], > 0; its sign is taken from the direction. Give ``rate`` or ``duration``.
+    duration : float, optional
+        Ramp duration [s], > 0.
+    """
 
     target: float
     rate: float | None = None
@@ -169,7 +179,13 @@ class Ramp:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Soak:
-    """Hold the current temperature for ``duration`` [s]."""
+    """Hold the current temperature for ``duration`` [s].
+
+    Parameters
+    ----------
+    duration : float
+        Hold time [s], > 0.
+    """
 
     duration: float
 
@@ -183,6 +199,11 @@ class Soak:
 
 def thermal_profile(start: float, steps: Sequence[Ramp | Soak], *, t0: float = 0.0) -> PiecewiseLinear:
     """A chamber program: start at ``start`` [K] and run ramps and soaks in order.
+
+    Returns
+    -------
+    PiecewiseLinear
+        Chamber temperature [K] against time [s], from ``t0`` to the end of the last step.
 
     Parameters
     ----------
@@ -256,6 +277,11 @@ def rate_steps(
     t0: float = 0.0,
 ) -> RateSteps:
     """A rate table stepping through ``rates`` [rad/s] with acceleration-limited transitions.
+
+    Returns
+    -------
+    RateSteps
+        The rate profile [rad/s] against time [s] with the dwell windows to average.
 
     Parameters
     ----------

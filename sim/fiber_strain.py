@@ -81,7 +81,25 @@ __all__ = [
 
 
 def elasto_optic_factor(n: float, p11: float, p12: float, poisson: float) -> float:
-    """xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: phase change per unit axial strain over n (docs/physics.md 3.5)."""
+    """Compute the elasto-optic factor of a fibre under axial strain.
+
+    xi = 1 - (n^2/2) [p12 - nu (p11 + p12)]: the phase change per unit axial strain, over n
+    (docs/physics.md 3.5; Butter and Hocker, Appl. Opt. 17(18) 2867 (1978)).
+
+    Parameters
+    ----------
+    n : float
+        Refractive index of the core [-].
+    p11, p12 : float
+        Pockels strain-optic coefficients [-].
+    poisson : float
+        Poisson's ratio nu of the fibre [-].
+
+    Returns
+    -------
+    float
+        xi [-].
+    """
     return 1.0 - 0.5 * n * n * (p12 - poisson * (p11 + p12))
 
 
@@ -91,7 +109,24 @@ ELASTO_OPTIC_FACTOR = elasto_optic_factor(1.444, 0.121, 0.270, 0.17)
 
 
 def segment_weight(z0: float, length: float, fibre_length: float) -> float:
-    """W = int_{z0}^{z0+l} (L - 2z) dz = l (L - 2 z0 - l) [m^2] for a uniformly strained segment."""
+    """Compute the Shupe-type weight of a uniformly strained fibre segment.
+
+    W = int_{z0}^{z0+l} (L - 2z) dz = l (L - 2 z0 - l).
+
+    Parameters
+    ----------
+    z0 : float
+        Start of the segment along the fibre [m].
+    length : float
+        Segment length l [m].
+    fibre_length : float
+        Fibre length L [m].
+
+    Returns
+    -------
+    float
+        W [m^2].
+    """
     if not (0.0 <= z0 and length > 0 and z0 + length <= fibre_length * (1 + 1e-12)):
         raise ValueError(
             f"segment [z0, z0 + length] must lie in [0, {fibre_length!r}] m; got z0={z0!r}, "
@@ -106,7 +141,24 @@ def shape_weight(
     *,
     n: int = 200001,
 ) -> float:
-    """W = int_0^L psi(z) (L - 2z) dz [m^2] (composite Simpson rule on n points, n odd)."""
+    """Compute the Shupe-type weight of a strain shape along the fibre.
+
+    W = int_0^L psi(z) (L - 2z) dz (composite Simpson rule on n points, n odd).
+
+    Parameters
+    ----------
+    shape : callable
+        psi(z) [-], evaluated on an array of positions z [m].
+    fibre_length : float
+        Fibre length L [m].
+    n : int
+        Number of Simpson points (odd).
+
+    Returns
+    -------
+    float
+        W [m^2].
+    """
     from scipy.integrate import simpson
 
     if n < 3 or n % 2 == 0:
@@ -122,7 +174,28 @@ def strain_rate_coefficient(
     index: float = 1.444,
     xi: float = ELASTO_OPTIC_FACTOR,
 ) -> float:
-    """K = n_g n xi / (L D) [1/m^2]: Omega_eps = K int eps_dot (L - 2z) dz."""
+    """Compute the coefficient from strain rate to apparent rotation rate.
+
+    K = n_g n xi / (L D), so that Omega_eps = K int eps_dot(z) (L - 2z) dz (docs/physics.md 4.1).
+
+    Parameters
+    ----------
+    length : float
+        Fibre length L [m].
+    diameter : float
+        Mean coil diameter D [m].
+    group_index : float
+        Group index n_g of the guided mode [-].
+    index : float
+        Effective phase index n [-].
+    xi : float
+        Elasto-optic factor [-] (:func:`elasto_optic_factor`; the default is silica's).
+
+    Returns
+    -------
+    float
+        K [1/m^2].
+    """
     return group_index * index * xi / (length * diameter)
 
 
@@ -137,11 +210,36 @@ def exact_strain_phase(
     xi: float = ELASTO_OPTIC_FACTOR,
     nz: int = 4001,
 ) -> NDArray[np.float64]:
-    """Phase difference [rad] by the two-crossing-time integral, no small-tau approximation.
+    """Compute the nonreciprocal phase of a strain field by the two-crossing-time integral.
 
     dphi(t) = k0 n xi int_0^L [eps(z, t - z/v) - eps(z, t - (L - z)/v)] dz (Simpson in z),
     with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row) (the wave entered
     at L minus the wave entered at 0: small-tau limit +(k0 n xi/v) int eps_dot (L - 2z) dz).
+    No small-transit-time approximation.
+
+    Parameters
+    ----------
+    strain : callable
+        eps(z, t) [-] on broadcast arrays of position [m] and time [s].
+    t : array_like
+        Times [s].
+    length : float
+        Fibre length L [m].
+    wavelength : float
+        Source wavelength in vacuum [m] (k0 = 2 pi / wavelength).
+    group_index : float
+        Group index n_g [-] (v = c / n_g).
+    index : float
+        Effective phase index n [-].
+    xi : float
+        Elasto-optic factor [-].
+    nz : int
+        Simpson points along the fibre (odd).
+
+    Returns
+    -------
+    ndarray
+        dphi(t) [rad].
     """
     from scipy.integrate import simpson
 
@@ -170,10 +268,29 @@ def _half_transit(f: ArrayLike, fibre_length: float, group_index: float) -> NDAr
 def segment_kernel(
     z0: float, length: float, fibre_length: float, f: ArrayLike, group_index: float
 ) -> NDArray[np.complex128]:
-    """Exact weight e^{-jw tau/2} W(w) [m^2] of a uniform strain over [z0, z0 + l] at ``f`` [Hz].
+    """Compute the frequency-dependent weight of a uniform strain over a fibre segment.
 
+    The exact weight e^{-jw tau/2} W(w) at frequency f, with
     W(w) = (cos(a (L - 2 z1)) - cos(a (L - 2 z0)))/(2 a^2), z1 = z0 + l, a = pi f n_g/c;
     -> l (L - 2 z0 - l) (:func:`segment_weight`) as f -> 0 (evaluated by a series there).
+
+    Parameters
+    ----------
+    z0 : float
+        Start of the segment [m].
+    length : float
+        Segment length l [m].
+    fibre_length : float
+        Fibre length L [m].
+    f : array_like
+        Frequencies [Hz].
+    group_index : float
+        Group index n_g [-].
+
+    Returns
+    -------
+    ndarray of complex
+        The weight [m^2] at each frequency.
     """
     w0 = segment_weight(z0, length, fibre_length)
     a = _wavenumber(f, group_index)
@@ -188,11 +305,26 @@ def segment_kernel(
 
 
 def linear_kernel(fibre_length: float, f: ArrayLike, group_index: float) -> NDArray[np.complex128]:
-    """Exact weight e^{-jw tau/2} W(w) [m^2] of the shape psi = z/L at ``f`` [Hz].
+    """Compute the frequency-dependent weight of a strain growing linearly along the fibre.
 
-    W(w) = -L^2 (sin x - x cos x)/(2 x^3), x = a L; below x = 0.1 its series
+    The exact weight e^{-jw tau/2} W(w) of the shape psi = z/L at frequency f:
+    W(w) = -L^2 (sin x - x cos x)/(2 x^3), x = a L, a = pi f n_g/c; below x = 0.1 its series
     -L^2/6 (1 - x^2/10 + x^4/280) (next term x^6/15120 < 1e-10 there; the closed form would
     lose digits to cancellation).
+
+    Parameters
+    ----------
+    fibre_length : float
+        Fibre length L [m].
+    f : array_like
+        Frequencies [Hz].
+    group_index : float
+        Group index n_g [-].
+
+    Returns
+    -------
+    ndarray of complex
+        The weight [m^2] at each frequency.
     """
     L = fibre_length
     x = _wavenumber(f, group_index) * L

@@ -22,11 +22,10 @@ of the composite-cylinder d eps_theta/dT of :meth:`Coil2DSpec.hoop_strain_rate` 
 the winding radius and the wound fibre length both follow the hoop strain, so SF ~ L D
 ~ D^2).
 
-Recording layout as before (channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
+Recording layout: channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
 ``rate``, ``thermal_drift`` = ``shupe`` + ``txdt_product``, ``scale_factor_error``,
-``noise`` = optical + IEEE-952, the temperatures) plus the loop's own truth channels, so
-scenarios need not change their analysis. The logged sensor sits on the outer potting
-surface at the unit's drawn axial position.
+``noise`` = optical + IEEE-952, the temperatures, plus the loop's own truth channels. The
+logged sensor sits on the outer potting surface at the unit's drawn axial position.
 """
 
 from __future__ import annotations
@@ -116,6 +115,18 @@ def coil_diameter_tempco(coil: Coil2DSpec | Coil2D, temperature: float | None = 
     averaged over the fibre pieces in the pack with their lengths as weights (an ideal
     winding when a spec is given). It is the relative change of the winding radius, hence of
     the mean diameter D and of the wound length L (turns fixed): SF ~ L D changes by 2 alpha_D.
+
+    Parameters
+    ----------
+    coil : Coil2DSpec or Coil2D
+        A coil spec (an ideal winding) or a drawn coil.
+    temperature : float, optional
+        Temperature at which the strain rate is taken [K]; None: the coil's t_ref.
+
+    Returns
+    -------
+    float
+        alpha_D [1/K].
     """
     if not isinstance(coil, (Coil2D, Coil2DSpec)):
         raise TypeError(f"coil must be a Coil2DSpec or Coil2D; got {type(coil).__name__}")
@@ -149,9 +160,9 @@ class FOG2DSpec:
         ``"outer"``: the sensor is on the outer potting surface).
     diameter_tempco : float or None
         alpha_D [1/K]; None (default): the coil's own hoop expansion
-        (:func:`coil_diameter_tempco` of the drawn coil at its t_ref). Changed with issue 17:
-        the law is the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding
-        radius), no longer (1 + alpha_f dT)(1 + alpha_D dT) with the glass expansion alpha_f.
+        (:func:`coil_diameter_tempco` of the drawn coil at its t_ref). The scale-factor law is
+        the loop's (1 + alpha_D dT)^2 (SF ~ L D, both following the winding radius; the glass
+        expansion alpha_f does not enter separately, docs/design-notes.md).
     wavelength_tempco : float
         (1/lambda) dlambda/dT of the source [1/K] (4 ppm/K; ASSUMED).
     scale_factor_ref_temperature : float

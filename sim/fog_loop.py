@@ -79,8 +79,27 @@ _TWO_PI = 2.0 * math.pi
 
 
 def sagnac_scale_factor(length: float, diameter: float, wavelength: float) -> float:
-    """Optical scale factor SF = 2 pi L D / (lambda c) [s]: Delta phi = SF * Omega (docs/physics.md 3.1).
+    """Compute the optical Sagnac scale factor of a fibre coil.
 
+    SF = 2 pi L D / (lambda c), so that the Sagnac phase is Delta phi = SF Omega
+    (docs/physics.md 3.1; H. C. Lefevre, *The Fiber-Optic Gyroscope*, ch. 2).
+
+    Parameters
+    ----------
+    length : float
+        Fibre length L [m].
+    diameter : float
+        Mean coil diameter D [m].
+    wavelength : float
+        Mean source wavelength lambda in vacuum [m].
+
+    Returns
+    -------
+    float
+        SF [s] (rad of phase per rad/s of rate).
+
+    Examples
+    --------
     >>> round(sagnac_scale_factor(1000.0, 0.1, 1550e-9), 3)
     1.352
     """
@@ -304,6 +323,15 @@ def gain_error_scale_factor(
         Sagnac phase phi_s [rad], |phi_s| < pi.
     eps : float
         Modulator gain error G - 1 [-].
+    reset_blanking : bool
+        Reset transits blanked from the demodulation: the ratio is then 1/(1 + eps).
+    iterations : int
+        Fixed-point iterations of the null condition.
+
+    Returns
+    -------
+    ndarray
+        The ratio -delta/phi_s [-] per phase (its first-order limit at phi_s = 0).
     """
     phi = np.asarray(phase, dtype=float)
     if reset_blanking:
@@ -375,6 +403,11 @@ def run_loop(
     intensity : array, shape (n,), optional
         Relative detected-power modulation m_k per transit [-] (loss modulation, e.g. pigtail
         microbending): I_k = (1 + m_k)(1 + cos(...)) + n_k.
+
+    Returns
+    -------
+    LoopRun
+        The output rate samples at 1/(M tau) and the loop's per-transit state.
     """
     phi = np.asarray(phase, dtype=float)
     if phi.ndim != 1 or not np.all(np.isfinite(phi)):
@@ -518,6 +551,26 @@ def loop_average(
     t_j = (j + 1/2) T_o: exact for the periodic band-limited record. ``fs_phys`` must be an
     even integer multiple of ``fs``. ``weight``: that product sinc(f T_o) H on the rfft grid,
     when the caller already has it (several signals of one record); ``loop`` is then unused.
+
+    Parameters
+    ----------
+    spectrum : ndarray of complex
+        rfft of the physics-rate signal (``n_phys`` samples).
+    n_phys : int
+        Samples of the physics-rate record.
+    fs_phys : float
+        Physics rate [Hz], an even integer multiple of ``fs``.
+    fs : float
+        Output rate [Hz].
+    loop : LoopSpec or None
+        The loop whose H is applied; None: no loop.
+    weight : ndarray of complex, optional
+        sinc(f T_o) H on the rfft grid, precomputed.
+
+    Returns
+    -------
+    ndarray
+        The output-rate samples (n_phys fs / fs_phys of them), in the signal's unit.
     """
     m = int(round(fs_phys / fs))
     if m < 2 or m % 2 or abs(m * fs - fs_phys) > 1e-9 * fs_phys or n_phys % m:

@@ -29,9 +29,9 @@ Mandel's formula; unpolarised light halves the excess term); the variance of the
 over T is then q<i>/T + <i>^2/(dnu_eff T), and a white one-sided PSD S1 gives S1/(2T): S_shot =
 2 q <i> (Schottky) and S_rin = 2 <i>^2 / dnu_eff. The "RIN = 1/dnu" often quoted for FOGs
 (Lefevre, The Fiber-Optic Gyroscope, sec. 5.3.3; Burns, Moeller, Chen, J. Lightwave Technol.
-1(1) 98 (1983)) is this with depolarised light or a two-sided PSD; this module used it for
-polarised light until issue 26 (ARW x sqrt((2 r + 1)/(r + 1)) = 1.40 at the default RIN/shot
-r = 37.5). tests/sim/test_fog_optics_rin.py checks 2/dnu_eff on simulated thermal light.
+1(1) 98 (1983)) is this with depolarised light or a two-sided PSD; applied to polarised light
+it understates the ARW by sqrt((2 r + 1)/(r + 1)) = 1.40 at the default RIN/shot r = 37.5.
+tests/sim/test_fog_optics_rin.py checks 2/dnu_eff on simulated thermal light.
 k_w (``width_factor``) converts
 the FWHM to the effective width (int S)^2 / int S^2: 1 for a rectangular spectrum, 1.505 for a
 Gaussian (derived: sqrt(pi/(2 ln 2)) * ... = 1.5054). Shot noise: Schottky formula. Thermal:
@@ -53,7 +53,7 @@ Defaults (the worked example of docs/physics.md 3.8), each with where it comes f
 - R_f = 100 kOhm, i_n = 1 pA/sqrt(Hz), 300 K: ASSUMED transimpedance design values; the
   thermal current PSD is 0.2 % of the RIN term at phi_b = pi/2 (docs/physics.md 3.8).
 
-N = 1.32e-3 deg/sqrt(h) at phi_b = pi/2 (RIN dominated; 9.4e-4 with the former 1/dnu_eff).
+N = 1.32e-3 deg/sqrt(h) at phi_b = pi/2 (RIN dominated; 9.4e-4 with RIN = 1/dnu_eff).
 """
 
 from __future__ import annotations
@@ -89,7 +89,22 @@ def _pos(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fals
 
 
 def arw_from_phase_psd(phase_psd: float, scale_factor: float) -> float:
-    """N = sqrt(S_phi/2)/SF [rad/sqrt(s)] from a one-sided phase PSD [rad^2/Hz] and SF [s]."""
+    """Convert a white phase-noise PSD into the angle random walk it causes.
+
+    N = sqrt(S_phi / 2) / SF.
+
+    Parameters
+    ----------
+    phase_psd : float
+        One-sided PSD of the Sagnac phase noise S_phi [rad^2/Hz].
+    scale_factor : float
+        Sagnac scale factor SF = phase per rate [s].
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
+    """
     return math.sqrt(phase_psd / 2.0) / scale_factor
 
 

@@ -229,6 +229,20 @@ def gm_avar(tau: ArrayLike, sigma: float, tc: float) -> NDArray[np.float64]:
     sigma^2 g(r)/r^2, r = tau/Tc, g(r) = 2r - 3 + 4e^{-r} - e^{-2r}; equal to
     docs/physics.md 1.2 (qc Tc)^2/tau [1 - Tc/(2tau)(3 - 4e^{-r} + e^{-2r})] with
     qc^2 = 2 sigma^2/Tc, evaluated without cancellation at small r.
+
+    Parameters
+    ----------
+    tau : array_like
+        Cluster times [s].
+    sigma : float
+        Standard deviation of the process [rad/s].
+    tc : float
+        Correlation time Tc [s].
+
+    Returns
+    -------
+    ndarray
+        sigma^2(tau) [rad^2/s^2].
     """
     r = np.asarray(tau, dtype=float) / tc
     return sigma**2 * _g_series(r) / r**2
@@ -321,6 +335,11 @@ def flicker_avar(tau: ArrayLike, b: float, f_low: float, f_high: float) -> NDArr
     f_high tau >> 1 this tends to (2 ln 2/pi) B^2 = 0.4413 B^2; for tau << 1/f_high
     (f_low = 0) to pi B^2 f_high^2 tau^2. This is the IEEE reference curve; the
     generator realises the smooth-edged pole sum of :meth:`NoiseModel.flicker_poles`.
+
+    Returns
+    -------
+    ndarray
+        sigma^2(tau) [rad^2/s^2].
     """
     tau = np.asarray(tau, dtype=float)
     return (2.0 * b**2 / np.pi) * (
@@ -1023,6 +1042,17 @@ class NoiseStream:
     bit for bit: every process draws sequentially from its own child stream,
     every recursion (random walk, AR(1)/ARMA filters) carries its state, and the
     decimated flicker levels keep the coarse knots they still need.
+
+    Parameters
+    ----------
+    model : NoiseModel
+        The noise terms.
+    fs : float
+        Sample rate [Hz].
+    rng : numpy.random.Generator
+        The stream's generator (each process gets its own child stream).
+    t0 : float
+        Time of the first sample [s].
     """
 
     def __init__(

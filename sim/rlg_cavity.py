@@ -496,7 +496,7 @@ class SwingDither:
     independent swings. :class:`gyrobench.sim.rlg.DitherRealization` instead changes the
     amplitude where the angle crosses zero, which repeats the crossing phases within a
     cycle: at low input rate its random walk is ~1/3 of the formula after 100 cycles
-    (issue 19; docs/physics.md 6.6: "randomisation must change the swing between
+    (docs/physics.md 6.6: "randomisation must change the swing between
     successive crossings"). Random walk of this dither (stationary phase, 2 f_d independent
     crossings per second): N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)]
     (E[2/(a_{k-1} + a_k)] = 1 + sigma^2/2 to second order).

@@ -204,6 +204,20 @@ RLG_ERROR_COMPONENTS = ("turn_on_bias", "thermal_bias", "flicker_rrw", "dither_r
 def check_call(environment: object, fs: object, rng: object) -> float:
     """Check the arguments every ``simulate(environment, *, fs, rng)`` takes; returns ``fs`` [Hz].
 
+    Parameters
+    ----------
+    environment : object
+        The environment (an :class:`Environment`).
+    fs : object
+        The output rate [Hz].
+    rng : object
+        The random generator (a :class:`numpy.random.Generator`).
+
+    Returns
+    -------
+    float
+        ``fs`` [Hz].
+
     Raises
     ------
     TypeError
@@ -218,7 +232,22 @@ def check_call(environment: object, fs: object, rng: object) -> float:
 
 
 def with_metadata(rec: Recording, *, name: str | None = None, **extra: object) -> Recording:
-    """``rec`` with ``extra`` added to its metadata (and renamed to ``name`` when given)."""
+    """``rec`` with ``extra`` added to its metadata (and renamed to ``name`` when given).
+
+    Parameters
+    ----------
+    rec : Recording
+        The recording.
+    name : str, optional
+        Its new name.
+    **extra : object
+        Metadata entries to add.
+
+    Returns
+    -------
+    Recording
+        A new recording (``rec`` is not changed).
+    """
     return Recording(
         fs=rec.fs,
         channels=rec.channels,
@@ -230,7 +259,18 @@ def with_metadata(rec: Recording, *, name: str | None = None, **extra: object) -
 
 
 def held(value: float) -> Profile:
-    """The constant profile t -> ``value`` (vectorised)."""
+    """The constant profile t -> ``value`` (vectorised).
+
+    Parameters
+    ----------
+    value : float
+        The value (SI).
+
+    Returns
+    -------
+    callable
+        t -> an array of ``value`` shaped like t.
+    """
     const = float(value)
 
     def _held(t: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -245,6 +285,20 @@ def chamber_program(environment: Environment, fs: float, default: float) -> Piec
     A number (or None: ``default``) is held; a :class:`PiecewiseLinear` is taken as it is;
     an array is linear between its sample centres (held before the first and after the last);
     any other callable is sampled at the sample centres the same way.
+
+    Parameters
+    ----------
+    environment : Environment
+        The environment.
+    fs : float
+        The output rate [Hz] (the sample centres of an array or callable).
+    default : float
+        Temperature held when the environment gives none [K].
+
+    Returns
+    -------
+    PiecewiseLinear
+        Temperature [K] against time [s].
     """
     v = environment.temperature
     if isinstance(v, PiecewiseLinear):

@@ -137,6 +137,22 @@ def sweep_frequency(t: ArrayLike, f_start: float, f_end: float, duration: float,
     """Instantaneous frequency [Hz] of a sweep at times ``t`` [s] from its start.
 
     log: f(t) = f1 (f2/f1)^(t/Ts); linear: f(t) = f1 + (f2 - f1) t/Ts.
+
+    Parameters
+    ----------
+    t : array_like
+        Time from the sweep's start [s].
+    f_start, f_end : float
+        Start and end frequency f1, f2 [Hz].
+    duration : float
+        Sweep time Ts [s].
+    spacing : {"log", "linear"}
+        Logarithmic or linear sweep.
+
+    Returns
+    -------
+    ndarray
+        f(t) [Hz].
     """
     t = np.asarray(t, dtype=float)
     if spacing == "log":
@@ -149,6 +165,22 @@ def sweep_phase(t: ArrayLike, f_start: float, f_end: float, duration: float, spa
 
     log: 2 pi f1 Ts/ln(f2/f1) ((f2/f1)^(t/Ts) - 1); linear: 2 pi (f1 t + (f2 - f1) t^2/(2 Ts)).
     A log sweep with f2 = f1 degenerates to 2 pi f1 t.
+
+    Parameters
+    ----------
+    t : array_like
+        Time from the sweep's start [s].
+    f_start, f_end : float
+        Start and end frequency f1, f2 [Hz].
+    duration : float
+        Sweep time Ts [s].
+    spacing : {"log", "linear"}
+        Logarithmic or linear sweep.
+
+    Returns
+    -------
+    ndarray
+        phi(t) [rad].
     """
     t = np.asarray(t, dtype=float)
     if spacing == "log":
@@ -329,8 +361,14 @@ class FixedSine:
         [s], > 0.
     acceleration : float
         Amplitude (peak) [m/s^2], >= 0.
-    max_displacement, ramp_time, control_error, control_time
-        As :class:`SineSweep`.
+    max_displacement : float or None
+        Shaker stroke limit [m, peak]; None = unlimited (as :class:`SineSweep`).
+    ramp_time : float
+        Raised-cosine soft start and stop [s], <= duration/2.
+    control_error : float
+        Fractional rms amplitude error of the controller [-], >= 0.
+    control_time : float
+        Correlation time of the controller error [s], > 0.
     phase : float
         Initial phase [rad].
 
@@ -393,6 +431,18 @@ def psd_from_breakpoints(
     Straight lines on log-log axes between breakpoints (a slope of m dB/oct is
     G ~ f^(m/3.0103)); 0 outside [f_first, f_last].
 
+    Parameters
+    ----------
+    breakpoints : sequence of (float, float)
+        (f_i [Hz], G_i [g^2/Hz]) in increasing frequency.
+    f : array_like
+        Frequencies [Hz].
+
+    Returns
+    -------
+    ndarray
+        G(f) [g^2/Hz].
+
     Examples
     --------
     >>> nav = [(20, 0.01), (80, 0.04), (350, 0.04), (2000, 0.007)]
@@ -417,6 +467,16 @@ def grms(breakpoints: Sequence[tuple[float, float]]) -> float:
     """Overall rms acceleration [g] of a breakpoint PSD: sqrt(Int G df), exact per log-log segment.
 
     On a segment G = G1 (f/f1)^s: Int = G1 f1/(s+1) ((f2/f1)^(s+1) - 1), or G1 f1 ln(f2/f1) for s = -1.
+
+    Parameters
+    ----------
+    breakpoints : sequence of (float, float)
+        (f_i [Hz], G_i [g^2/Hz]) in increasing frequency.
+
+    Returns
+    -------
+    float
+        The rms acceleration [g].
 
     Examples
     --------
@@ -616,6 +676,15 @@ class ShakerWindowError(ValueError):
 
     ``start`` and ``end`` [s] of the vibration, the record's ``duration`` [s] and output rate
     ``fs`` [Hz] are kept, so a caller can name them in its own words.
+
+    Parameters
+    ----------
+    start, end : float
+        Start and end of the vibration [s].
+    duration : float
+        The record's duration [s].
+    fs : float
+        The record's output rate [Hz].
     """
 
     def __init__(self, start: float, end: float, duration: float, fs: float) -> None:

@@ -303,8 +303,9 @@ class RockingMotion:
 
 @dataclass(frozen=True, slots=True)
 class SampledMotion:
-    """A trajectory from samples: time, attitude quaternion and velocity (e.g. a CSV from a
-    navigation solution or a motion-capture system).
+    """A trajectory from samples: time, attitude quaternion and velocity.
+
+    The samples come e.g. from a CSV of a navigation solution or a motion-capture system.
 
     Between the samples the quaternion's four components and the velocity's three are cubic
     splines (not-a-knot; scipy.interpolate.CubicSpline), the quaternion renormalised; the body
@@ -500,6 +501,16 @@ def segments_from_table(rows: Sequence[dict]) -> tuple[Segment, ...]:
 
     Each row takes ``duration_s``, ``rate_dps`` (3 numbers, body x, y, z [deg/s]) and
     ``acceleration_mps2`` (3 numbers, north, east, down [m/s^2]); the last two default to 0.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        The ``[[motion]]`` tables.
+
+    Returns
+    -------
+    tuple of Segment
+        The segments, in order.
     """
     out = []
     for i, row in enumerate(rows):

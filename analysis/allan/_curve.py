@@ -31,9 +31,25 @@ def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDAr
 
 
 def deviation_bounds(dev: NDArray[np.float64], edf: NDArray[np.float64], confidence: float):
-    """(low, high): two-sided ``confidence`` bounds of Allan-family deviations ``dev`` with ``edf``
-    equivalent degrees of freedom, from the chi-square law (NIST SP 1065 eq. 45;
-    allantools.ci.confidence_interval, vectorised)."""
+    """Compute two-sided confidence bounds of Allan-family deviations from the chi-square law.
+
+    [dev sqrt(edf / chi2_{1-p/2}(edf)), dev sqrt(edf / chi2_{p/2}(edf))], p = 1 - confidence
+    (NIST SP 1065 eq. 45; allantools.ci.confidence_interval, vectorised).
+
+    Parameters
+    ----------
+    dev : ndarray
+        The deviations [any unit].
+    edf : ndarray
+        Their equivalent degrees of freedom.
+    confidence : float
+        Two-sided confidence level in (0, 1), e.g. 0.683 or 0.95.
+
+    Returns
+    -------
+    low, high : ndarray
+        The bounds, in the unit of ``dev``.
+    """
     from gyrobench.analysis.allan._chi2 import gammaincinv_pq  # numpy only: no scipy.special import
 
     p = (1.0 - confidence) / 2.0

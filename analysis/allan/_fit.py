@@ -46,11 +46,10 @@ _Z95_ONE_SIDED = _NORMAL.inv_cdf(0.95)  # 1.645
 #: default level of the misfit test: below it the fit is a misfit and its intervals are widened
 MISFIT_P = 0.05
 #: level of the chi2(1) test that drops a misfitting first point with ``tau_min="auto"``
-#: (a choice of fit range, kept as strict as before the misfit level moved to 0.05)
+#: (a choice of fit range, stricter than the misfit level :data:`MISFIT_P`)
 DROP_P = 1e-3
-#: fitted taus a term must dominate to be identifiable, where one is not enough (issue 30: on a
-#: 100 Hz ADIS16405 accelerometer a Q term "identified" from a bump at the first fitted tau
-#: pushed the velocity random walk's bound below its value on a sub-segment of the same record)
+#: fitted taus a term must dominate to be identifiable, where one is not enough (a one-octave
+#: bump at the first fitted tau is not quantization; docs/design-notes.md, "The noise fit")
 _MIN_DOMINANT = {"Q": 2}
 
 
@@ -91,8 +90,7 @@ def fit_noise(
     misfit_p : float
         Level of the goodness-of-fit test (default :data:`MISFIT_P` = 0.05): a fit with p-value
         below it is a misfit (``NoiseFit.misfit``), and its standard errors are multiplied by
-        sqrt(chi2/E[chi2]). (Until issue 30 the default was 1e-3: on real records fits at
-        p = 0.003-0.03 kept intervals that the halves of the same record contradicted.)
+        sqrt(chi2/E[chi2]) (the choice of 0.05 is explained in docs/design-notes.md).
     bandwidth : float, optional
         The sensor's bandwidth [Hz] (0 < bandwidth < fs/2), when known: taus where its
         low-pass still biases the white-noise points are not fitted (:func:`bandwidth_range`,
@@ -118,117 +116,65 @@ def fit_noise(
 
     Notes
     -----
-    Model (docs/physics.md 1.5): AVAR(tau) = sum_n C_n tau^n with C_-2 = 3 Q^2, C_-1 = N^2,
-    C_0 = (2 ln2/pi) B^2 (the flicker plateau, reached for tau > ~1.6/f_high), C_1 = K^2/3,
-    C_2 = R^2/2. Each AVAR point A_i is treated as (sigma_i^2/nu_i) chi2(nu_i) with
-    variance 2 sigma_i^2 / nu_i, where sigma_i^2 is the *fitted* curve (not the noisy A_i:
-    weighting by the data itself biases the fit low) and nu_i the edf of the estimate for
-    the noise type that dominates the fitted curve at tau_i (alpha +2 Q, 0 N, -1 B, -2 K
-    and R; Greenhall edf as in :func:`allan_deviation`). The weighted problem
-    min || W^1/2 (X C - A) ||, C >= 0, is solved by Lawson-Hanson active-set NNLS
-    (:func:`_nnls_enumerate`, equal to scipy.optimize.nnls to rounding) on column-scaled X,
-    starting from the weights of the curve's own estimate, and reweighted until stable.
+    Model (IEEE Std 952-1997 Annex C; docs/physics.md 1.5):
 
-    Uncertainty (the point of the method; checked by benchmarks/coverage_fit.py): the
-    AVAR points are strongly correlated across tau (e.g. 0.4-0.5 between any two octaves
-    for quantization noise, 0.5 between neighbouring octaves for white rate, 0.9 for RRW),
-    and at a crossover two noise types share each point. So the covariance V of the points
-    is modelled from the fitted model: V_ij = sum_{t,s} rho_ts(i, j) sd_t(i) sd_s(j), with
-    sd_t(i) = C_t tau_i^p_t sqrt(2 / nu_t(i)) (Greenhall edf of term t's noise type at m_i,
-    which includes the short-record edge effects) and rho_ts(i, j) the correlation of term
-    t's noise in A_i with term s's noise in A_j for Gaussian noise, from the frequency-domain
-    form of Cov(A_i, A_j) (see ``_rho_blocks``), for the overlapping kind corrected for the
-    finite record (``_finite_record_delta``: the exact lag-sum form of 2 tr(A_i S A_j S) with
-    the counts of overlapping term pairs, minus its n >> m limit; it lowers e.g. the RRW
-    correlation of the last two octaves of a 4 h record from 0.89 to 0.82) and, for the
-    quantization term, by the fourth cumulant of uniform angle quantization
-    (``_quantization_kurtosis_rho``: Q-dominated points have 0.69x the Gaussian variance and
-    correlations ~0.1, not ~0.4). The weights are 1/V_ii; the covariance of
-    the estimate is the sandwich (X'WX)^-1 X'W V W X (X'WX)^-1, over all fitted terms
-    (including any the NNLS set to 0, so a bound stays honest). Intervals on C_n are
+        AVAR(tau) = sum_{n=-2..2} C_n tau^n,
+        C_-2 = 3 Q^2, C_-1 = N^2, C_0 = (2 ln 2/pi) B^2, C_1 = K^2/3, C_2 = R^2/2
+
+    (the flicker plateau C_0 holds for tau > ~1.6/f_high). Each point A_i is treated as
+    (sigma_i^2/nu_i) chi2(nu_i), with sigma_i^2 the *fitted* curve (weighting by the noisy A_i
+    biases the fit low) and nu_i the Greenhall edf of each term's noise type at m_i. The
+    problem min || W^1/2 (X C - A) ||, C >= 0, is solved by Lawson-Hanson active-set NNLS on
+    column-scaled X, starting from the weights of the curve's own estimate, and reweighted
+    until the C_n change by less than 1e-9 relative.
+
+    Point covariance (docs/physics.md 1.6):
+    V_ij = sum_{t,s} rho_ts(i, j) sd_t(i) sd_s(j), sd_t(i) = C_t tau_i^p_t sqrt(2 / nu_t(i)),
+    with rho_ts the Gaussian correlation of term t's noise in A_i with term s's in A_j from
+    the frequency-domain form of Cov(A_i, A_j), corrected on an overlapping curve for the
+    finite record and, for Q, for the fourth cumulant of uniform quantization
+    (``quantization_kurtosis``). The deterministic ramp adds no chi-square variance of its
+    own, only its cross term with the noise (a rank-one term of V). The weights are 1/V_ii;
+    the covariance of the estimate is the sandwich (X'WX)^-1 X'W V W X (X'WX)^-1 over all
+    fitted terms (including any the NNLS set to 0). Intervals on C_n are
     C_n +- z sqrt(Cov_nn) (z = 1 and 1.96), clipped at 0 and mapped to the coefficient by the
-    monotone C -> sqrt(C / scale), which keeps their coverage.
-    Goodness of fit: chi2 = sum_i r_i^2 / V_ii, r = A - X C over the fitted points, each
-    residual standardised by its modelled variance; dof = fitted points - terms kept (C_n > 0).
-    Its law if the model holds: with H the hat matrix of the weighted fit over the kept terms,
-    z = D^-1 (I - H) A (D^2 = diag V) has covariance S = D^-1 (I - H) V (I - H)' D^-1, so chi2
-    = sum_k lambda_k chi2_1 (lambda the eigenvalues of S; mean ``chi2_expected`` = trace S, about
-    0.45 dof on the five-term model: the residuals are strongly correlated), and p = P(chi2 >=
-    observed) is read from the 4-cumulant approximation of Liu, Tang and Zhang (2009).
-    Why not r' V^-1 r against chi2(dof), as before: the modelled variances V_ii match the
-    scatter of the points over seeds to ~2 %, but the modelled correlations were too high
-    (measured over 400 seeds of coverage_fit.py's model at 4 h: neighbouring octaves at
-    the long-tau end 0.93 modelled vs 0.88 measured, 0.77 vs 0.65 two octaves apart, 0.40 vs
-    0.26 for the first two octaves; the asymptotic n >> m correlation model ignores the
-    record's ends, which the Greenhall variances include). V^-1 then amplifies the residuals
-    along the near-null directions of V (differences of neighbouring points), and that
-    statistic ran at 1.34 dof on average with a variance 6.7x its nominal one: false alarms
-    at p < 1e-2 on 10.2 % of records that follow the model and at p < 1e-3 on 4.3 %
-    (1000 seeds, 4 h at 10 Hz; 95 % intervals 8.4-12.2 % and 3.1-5.8 %). The AVAR points'
-    skewness (chi-square with few edf at long tau) was not the cause: a log-domain
-    version of r' V^-1 r was as far off. Standardised by their own variances, the residuals
-    depend on the modelled correlations only through the weights lambda, smoothly: measured
-    (benchmarks/misfit_false_alarm.py, 1000 seeds each, exact binomial 95 % intervals):
-    4 h at 10 Hz p < 1e-2 on 0.90 % (0.41-1.70 %), p < 1e-3 on 0.20 % (0.02-0.72 %), the same
-    with ``tau_min="auto"``; 20 h at 10 Hz 0.90 % (0.41-1.70 %) and 0.30 % (0.06-0.87 %);
-    1 h at 10 Hz 0.30 % (0.06-0.87 %) and 0/1000 (0-0.37 %), i.e. slightly conservative on
-    short records (with the finite-record and quantization corrections of V; before them:
-    0.80/0.20 %, 0.80/0.30 %, 0.30/0 %). The former statistic, on the corrected V: 2.8 % and
-    1.2 % at 1 h, 5.4 % and 2.8 % at 4 h, 10.0 % and 4.2 % at 20 h (3.7/1.8, 10.2/4.3 and
-    17.5/8.7 % on the uncorrected V): V is closer but its near-null directions are still off.
-    tests/analysis/test_allan_misfit_calibration.py checks the rate at p < 0.1 and 0.01. The
-    Liu-Tang-Zhang tail is exact for equal lambda and within 0.5-11 % of p down to p = 1e-3
-    for the uneven ones tested (a test checks it against Monte Carlo). On a misfit (p <
-    ``misfit_p``) every standard error is multiplied by the Birge ratio sqrt(chi2 /
-    chi2_expected) (as the Particle Data Group scales errors of inconsistent measurements), so
-    no interval stays tight on data the model does not describe; identifiability is then judged
-    on the widened intervals.
+    monotone C -> sqrt(C / scale).
+
+    Goodness of fit: chi2 = sum_i r_i^2 / V_ii over the fitted points (r = A - X C), with
+    dof = fitted points - terms kept. With H the hat matrix of the weighted fit over the kept
+    terms and D^2 = diag V, z = D^-1 (I - H) A has covariance S = D^-1 (I - H) V (I - H)' D^-1,
+    so chi2 = sum_k lambda_k chi2_1 (lambda the eigenvalues of S, mean ``chi2_expected`` =
+    trace S), and p = P(chi2 >= observed) is read from the four-cumulant approximation of
+    Liu, Tang and Zhang (2009). On a misfit (p < ``misfit_p``) every standard error is
+    multiplied by the Birge ratio sqrt(chi2 / chi2_expected).
+
     A term is *identifiable* when it is the largest term of the fitted curve at one fitted
-    tau at least (two for Q: a one-octave bump at the first fitted tau is not quantization)
-    and its 95 % interval excludes 0; otherwise ``value`` is None and ``upper_bound`` is a
-    one-sided 95 % bound coefficient(u), u = C_n + 1.645 se_n(u) with se_n(u) the standard
-    error when the point covariance is modelled with C_n = u (``_bound_se``, a test
-    inversion; the plain C_n + 1.645 sqrt(Cov_nn) models none of the term's own noise when
-    the NNLS set C_n near 0: with it, the 95 % intervals of the ADIS16405 records' halves
-    missed each other on 10 of 90 term pairs at misfit level 0.05, with the inversion on 5).
-    :func:`floor_bounds` further raises it to what a sub-segment of the record identifies.
+    tau at least (two for Q) and its 95 % interval excludes 0; otherwise ``value`` is None and
+    ``upper_bound`` is the one-sided 95 % bound coefficient(u), u = C_n + 1.645 se_n(u), with
+    se_n(u) the standard error when the point covariance is modelled with C_n = u (a test
+    inversion). :func:`floor_bounds` further raises it to what a sub-segment of the record
+    identifies.
 
-    Assumptions: Gaussian noise, except quantization (uniform angle error); independent
-    terms; the five power laws only (a
-    Gauss-Markov bump or a sinusoid is absorbed into the nearest terms, and an anti-alias
-    filter that bends the first octaves biases Q/N); bias instability on its plateau at the
-    fitted taus (tau > ~1.6/f_high, i.e. above ~3 samples when the flicker band reaches
-    fs/2). The ramp is deterministic: it adds no chi-square variance of its own, only the
-    cross term d_r mean(e) with the noise (``_ramp_cross_sd``; a rank-one term of V).
-    Before commit 5994ca9 it was given random-walk-rate variance instead, which overstated the
-    variance of the longest-tau points up to 2.6x (measured over 200 seeds) and K's
-    standard error by 10 % (K 68 % coverage 75.5 %).
+    Assumptions: Gaussian noise except quantization (uniform angle error); independent terms;
+    the five power laws only (a Gauss-Markov bump or a sinusoid is absorbed into the nearest
+    terms, and a filter that bends the first octaves biases Q and N); bias instability on its
+    plateau at the fitted taus.
 
-    Measured coverage (benchmarks/coverage_fit.py, 200 seeds, 20 h at 10 Hz, each term in
-    charge of about a decade of tau; binomial standard error 1.5 % at 95 %, 3.3 % at 68 %):
+    Why this statistic and these defaults, and the measured false-alarm rates and interval
+    coverage (benchmarks/coverage_fit.py, benchmarks/misfit_false_alarm.py): docs/design-notes.md,
+    "The noise fit".
 
-    ====  ==========  =====  =====
-    term  identified  95 %   68 %
-    ====  ==========  =====  =====
-    Q     200/200     93.5   68.0
-    N     200/200     95.0   75.5
-    B     200/200     95.0   69.0
-    K     200/200     95.5   68.0
-    R     108/200     99.1   74.1   (given identified; 93.5 % of all seeds at 95 %)
-    ====  ==========  =====  =====
-
-    (Before the finite-record and quantization corrections: Q 96.0/73.0, N 95.5/76.5,
-    B 95.0/69.0, K 95.5/69.0, R 99.1/73.8.) Std over the seeds of (C - C_true)/se: Q 1.01
-    (0.91 before: the Gaussian model overstated the variance of the quantization points by
-    1/0.69), B 1.00, K 1.01 (1.00 and 1.01 before: the finite-record correction moves the
-    long-tau correlations, but K's and B's errors were already right), N 0.90 (0.90 before,
-    kurtosis 3.8): N's 68 % interval still over-covers and neither correction explains it.
-    It comes with the flicker term: the same model without B (fitting Q, N, K, R) gives N
-    sd 1.01 and 68 % coverage 68.5 %; without Q (fitting N, B, K, R) sd 0.93 and a mean
-    standardised error of +0.47 (200 seeds each). Not resolved: V's B terms use pure 1/f
-    noise on its plateau, while the simulated flicker is a sum of first-order poles. R, when
-    identified, is biased high (median 1.15x truth): it is identified only on seeds whose
-    estimate is high.
+    References
+    ----------
+    .. [1] IEEE Std 952-1997, Annex C (the five terms and their Allan variance).
+    .. [2] C. A. Greenhall and W. J. Riley, "Uncertainty of stability variances based on finite
+       differences", Proc. 35th PTTI (2003) (equivalent degrees of freedom).
+    .. [3] C. L. Lawson and R. J. Hanson, *Solving Least Squares Problems*, 1974, ch. 23 (NNLS).
+    .. [4] H. Liu, Y. Tang and H. H. Zhang, "A new chi-square approximation to the distribution
+       of non-negative definite quadratic forms in non-central normal variables",
+       Comput. Stat. Data Anal. 53 (2009) 853-856.
+    .. [5] Particle Data Group, Review of Particle Physics, Introduction, "Unconstrained
+       averaging" (the scale factor S of inconsistent measurements, the Birge ratio).
     """
     curve = _curve_of(curve_or_rate, fs)
     terms = _check_terms(terms)

@@ -1,4 +1,4 @@
-"""Upper bounds that the record's own sub-segments cannot contradict (issue 30, item 2).
+"""Upper bounds that the record's own sub-segments cannot contradict.
 
 A term the whole record cannot identify gets a one-sided 95 % bound. On real records that
 bound sat below what a part of the same record identifies (ADIS16405 accelerometers at 100 Hz:
@@ -13,10 +13,10 @@ identifies R = 2.9e-6 [1.3e-6, 3.9e-6] rad/s^2 where the whole record's bound wa
 and no half or quarter identifies R.
 
 :func:`pool_curves` pools the curves of separate stretches of one record (the quiet stretches
-between handling, issue 30 item 1) into one EDF-weighted curve for one fit.
+between handling) into one EDF-weighted curve for one fit.
 
 :func:`halves_agreement` asks the converse of a real record: do the 95 % intervals of its two
-halves overlap, term by term (the coverage check of issue 30 on real data)?
+halves overlap, term by term (a coverage check on real data)?
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def floor_bounds(
         Sample rate [Hz].
     parts : sequence of int
         Split the record into k equal consecutive segments for each k (>= 2) and fit each.
-    **fit_options
+    **fit_options : dict
         Options of :func:`fit_noise` for the segments (the whole record's ``terms``,
         ``tau_min``, ... should be passed: the segments are fitted alike).
 
@@ -207,6 +207,15 @@ class HalvesPair:
     ``first`` and ``second``: each half's 95 % interval of the coefficient, or [0, its one-sided
     95 % bound] where that half leaves the term open (coefficient units). ``overlap``: the two
     intervals share a point.
+
+    Attributes
+    ----------
+    term : str
+        The term (``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``).
+    first, second : tuple of (float, float)
+        Each half's interval [coefficient units].
+    overlap : bool
+        The two intervals share a point.
     """
 
     term: str
@@ -236,6 +245,8 @@ def halves_agreement(rate: ArrayLike, fs: float, *, floor: bool = False, **fit_o
         Sample rate [Hz], > 0.
     floor : bool
         Apply :func:`floor_bounds` to each half's fit.
+    **fit_options : dict
+        Options of :func:`fit_noise` for both halves.
 
     Returns
     -------

@@ -76,10 +76,41 @@ FLICKER_FLOOR = math.sqrt(_FLICKER)
 
 
 def coefficient_to_avar(name: str, value: float) -> float:
-    """C_n = scale * value**2 for term ``name`` (3 Q^2, N^2, 0.4413 B^2, K^2/3, R^2/2)."""
+    """Convert an IEEE-952 coefficient into its Allan-variance coefficient.
+
+    C_n = scale value^2 for term ``name``: 3 Q^2, N^2, (2 ln 2/pi) B^2 = 0.4413 B^2, K^2/3,
+    R^2/2 (IEEE Std 952-1997 Annex C).
+
+    Parameters
+    ----------
+    name : str
+        ``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``.
+    value : float
+        The coefficient [Q: u s, N: u s^0.5, B: u, K: u s^-0.5, R: u s^-1 for a rate in u].
+
+    Returns
+    -------
+    float
+        C_n [u^2 s^-n] of AVAR(tau) = sum_n C_n tau^n.
+    """
     return _SCALE[name] * value * value
 
 
 def avar_to_coefficient(name: str, c: float) -> float:
-    """Inverse of :func:`coefficient_to_avar`; negative ``c`` maps to 0."""
+    """Convert an Allan-variance coefficient into the IEEE-952 coefficient.
+
+    The inverse of :func:`coefficient_to_avar`; a negative ``c`` maps to 0.
+
+    Parameters
+    ----------
+    name : str
+        ``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``.
+    c : float
+        C_n [u^2 s^-n].
+
+    Returns
+    -------
+    float
+        The coefficient, sqrt(max(c, 0) / scale).
+    """
     return math.sqrt(max(c, 0.0) / _SCALE[name])

@@ -55,8 +55,8 @@ def fit_range(
     makes this variance an overestimate, so the test is conservative. Concave when
     d < -z sd with z the one-sided normal quantile of ``false_alarm`` / (number of triples).
 
-    On a non-stationary record the concave region may be the motion's (issue 30: a 1 Hz tag
-    record with handling lost its 1-64 s octaves, where no filter acts), and its shape does not
+    On a non-stationary record the concave region may be the motion's (a 1 Hz tag record with
+    handling would lose its 1-64 s octaves, where no filter acts), and its shape does not
     tell the two apart: a low-pass makes a bump under the white-noise line (the ADEV of a
     smooth output rises as tau^+1 into the filter's time scale), motion a bump of the same
     shape above it, whose falling edge (tau^-1, bounded bursts) the Q term then extrapolates

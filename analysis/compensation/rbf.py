@@ -447,8 +447,12 @@ class StreamingCompensator:
     ----------
     model : fitted regressor
         E.g. :class:`RBFNetwork` or ``RBFNetwork.from_json(...)`` on the DSP side.
-    fs, window_s, product
-        As in :func:`batch_compensate`.
+    fs : float
+        Sample rate [Hz] (as in :func:`batch_compensate`).
+    window_s : float
+        Derivative smoothing window [s] of :func:`gyrobench.analysis.features.thermal_features`.
+    product : bool
+        Include T x dT/dt (improved model) or not (traditional model).
     """
 
     def __init__(

@@ -80,6 +80,22 @@ def prefix_predictions(
     longer fit; its output layer [b2, LW] is the least-squares solution on those centres,
     ``min || [1, radbas(||z - c_j|| b)] w - y_fit ||``, ``b = sqrt(-ln 0.5) / spread``
     (MATLAB newrb's radbas bias). ``net`` must be fitted (one output).
+
+    Parameters
+    ----------
+    net : RBFNetwork
+        A fitted network (one output).
+    X_fit, y_fit : array_like
+        The data the output layers are solved on.
+    X_new : array_like
+        Where to predict.
+    counts : iterable of int
+        The neuron counts k (each <= the network's neurons).
+
+    Returns
+    -------
+    dict of int to ndarray
+        k -> the k-neuron network's predictions on ``X_new``.
     """
     y_arr = np.asarray(y_fit, dtype=float)
     Z = (np.asarray(X_fit, float) - net.x_offset_) * net.x_gain_

@@ -32,7 +32,7 @@ labels each row with its segment of the identification run: 0 settle, 1 heat + h
 2 cool + hold). The bench passes them the scikit-learn way, ``fit(X, y, groups=...)``, only to
 an estimator whose ``fit`` names a ``groups`` parameter, to a fit function ``f(X, y, groups)``
 and to a scikit-learn search (``GridSearchCV(..., cv=LeaveOneGroupOut())`` selects by leave
-one segment out); every other compensator is fitted with ``fit(X, y)`` as before.
+one segment out); every other compensator is fitted with ``fit(X, y)``.
 
 Determinism: the same (scenario, config, compensator, seed) always gives the same
 scores, bit for bit, whatever executor runs it: every seed runs with the BLAS and

@@ -57,6 +57,8 @@ class Campaign:
         computed before it failed, possibly non-finite).
     computed, reused : int
         Seeds computed by this call / read back from the database.
+    db : str
+        The SQLite file holding the campaign's seeds.
     failed : mapping
         seed -> why it failed (a non-finite prediction or score), for the failed seeds.
         Summaries leave them out; :func:`compare` and :func:`save_baseline` refuse them.
@@ -366,7 +368,7 @@ def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: A
     a compensator that ends its process (``os._exit``, a segfault) or hangs past the seed time
     limit (plus a grace of :data:`_KILL_GRACE_S`, for code the in-process limit cannot interrupt)
     fails that seed with the reason; a process killed by SIGKILL (the OOM killer) is an internal
-    failure, as before."""
+    failure."""
     hard = None if plan.seed_timeout is None else plan.seed_timeout + _KILL_GRACE_S
     jobs = [
         (s, (plan.module.__name__, plan.compensator, s, plan.config, plan.short, plan.seed_timeout)) for s in todo

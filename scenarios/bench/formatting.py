@@ -16,15 +16,29 @@ __all__ = ["format_comparison", "format_summary"]
 
 
 def format_summary(campaign: Campaign, references: Mapping[str, Campaign] | None = None) -> str:
-    """A plain-text table of every score's unit, mean, 95 % CI, how the CI was computed, and n;
-    with ``references`` (label -> campaign of a reference compensator on the same seeds: the
-    uncompensated output, the paper's method), each reference's mean in a column beside.
+    """Format a campaign's scores as a plain-text table.
+
+    Every score's unit, mean, 95 % CI, how the CI was computed, and n; with ``references``
+    (label -> campaign of a reference compensator on the same seeds: the uncompensated
+    output, the paper's method), each reference's mean in a column beside.
 
     The header states the interval methods (see :func:`~gyrobench.scenarios.bench.statistics.summarize`): Student t for
     scores of either sign; for scores non-negative by nature (mse, rms, std,
     stability, ...) the lognormal (modified Cox) interval for the mean, which is
     always > 0 (or the t interval clipped at 0 when a value is exactly 0). Primary
     scores (the gated ones, :mod:`~gyrobench.scenarios.bench.primary`) come first.
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The campaign (:func:`~gyrobench.scenarios.bench.run_campaign`).
+    references : mapping of str to Campaign, optional
+        Reference campaigns on the same seeds, by label.
+
+    Returns
+    -------
+    str
+        The table, with a header line.
     """
     from gyrobench.scenarios.bench.primary import gated_scores, score_unit
 
@@ -81,8 +95,21 @@ def format_summary(campaign: Campaign, references: Mapping[str, Campaign] | None
 
 
 def format_comparison(comparison: Comparison) -> str:
-    """Plain text: the test and correction, one line per score (primary first, with units and
-    the references' means), then the verdict on the primary scores."""
+    """Format a baseline comparison as plain text.
+
+    The test and correction, one line per score (primary first, with units and the references'
+    means), then the verdict on the primary scores.
+
+    Parameters
+    ----------
+    comparison : Comparison
+        The comparison (:func:`~gyrobench.scenarios.bench.compare`).
+
+    Returns
+    -------
+    str
+        The text, one line per score.
+    """
     refs = {r.label: r.means for r in comparison.references}
     n_primary = len(comparison.primary)
     lines = [

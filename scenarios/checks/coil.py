@@ -371,7 +371,18 @@ def _origin_check() -> Check:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """All coil checks (deterministic; ``rng`` unused but required by the collector)."""
+    """All coil checks (deterministic; ``rng`` unused but required by the collector).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     return [

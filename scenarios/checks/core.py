@@ -183,6 +183,15 @@ class Part:
 
     ``func`` is a module-level function and ``args`` picklable (a part may run on a worker
     process); ``label`` names it in the progress bar.
+
+    Attributes
+    ----------
+    label : str
+        The part's name in the progress bar.
+    func : callable
+        A module-level function returning a Check or a list of them.
+    args : tuple
+        Its (picklable) arguments.
     """
 
     label: str

@@ -30,7 +30,18 @@ _EPS = float(np.finfo(float).eps)
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Sagnac scale factor of one unit drawn with ``rng`` (its coil's L and D)."""
+    """Sagnac scale factor of one unit drawn with ``rng`` (its coil's L and D).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     from scipy import constants
 
     from gyrobench.sim.fog2d import FOG2DSpec

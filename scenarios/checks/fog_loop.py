@@ -535,7 +535,18 @@ def _optical_budget(rng: np.random.Generator) -> list[Check]:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in eight independent parts (statistical ones draw from children of ``rng``)."""
+    """The checks in eight independent parts (statistical ones draw from children of ``rng``).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     r = rng.spawn(6)  # the budget's stream last: the other checks keep their streams
     return [
         Part("optical_budget", _optical_budget, (r[5],)),
@@ -550,5 +561,16 @@ def parts(rng: np.random.Generator) -> list[Part]:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Closed-loop FOG checks (statistical ones draw from children of ``rng``)."""
+    """Closed-loop FOG checks (statistical ones draw from children of ``rng``).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

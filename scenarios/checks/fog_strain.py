@@ -171,12 +171,34 @@ def _strain_exact_kernel() -> list[Check]:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The two deterministic groups (``rng`` unused but required by the collector)."""
+    """The two deterministic groups (``rng`` unused but required by the collector).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     return [Part("strain_kernel", _strain_kernel), Part("strain_exact_kernel", _strain_exact_kernel)]
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The strain-kernel checks (deterministic)."""
+    """The strain-kernel checks (deterministic).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

@@ -580,8 +580,21 @@ def _low_rate_noise(rng: np.random.Generator) -> Check:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in eight independent parts, each with its own child of ``rng`` (the eighth
-    added last: the first seven children are those of ``rng.spawn(7)``)."""
+    """Split the MEMS checks into eight independent parts.
+
+    Each part has its own child of ``rng`` (the eighth added last: the first seven children are
+    those of ``rng.spawn(7)``).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     from gyrobench.scenarios.checks.mems_psd import open_loop_noise_checks  # it imports this module
 
     r = rng.spawn(8)
@@ -591,5 +604,16 @@ def parts(rng: np.random.Generator) -> list[Part]:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Run the MEMS resonator checks (tens of seconds; four short full integrations)."""
+    """Run the MEMS resonator checks (tens of seconds; four short full integrations).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

@@ -161,6 +161,18 @@ def _q_half_power() -> Check:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The rectified bias at and off resonance and Q from the half-power width (deterministic;
-    ``rng`` is unused, the collector's contract)."""
+    """Check the rectified bias at and off resonance and Q from the half-power width.
+
+    Deterministic: ``rng`` is unused (the collector's contract).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return [*(_rectified(f) for f in (50.0, _F_X, 430.0, _F_Y, 2000.0)), _q_half_power()]

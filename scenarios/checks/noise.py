@@ -103,7 +103,18 @@ def _tolerance(term: str, m: int, alpha: int | None) -> tuple[float, str]:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """One AVAR check per IEEE-952 term (2^18 samples at 100 Hz each, ~0.1 s per term)."""
+    """One AVAR check per IEEE-952 term (2^18 samples at 100 Hz each, ~0.1 s per term).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     import allantools
 
     from gyrobench.sim.noise import NoiseModel

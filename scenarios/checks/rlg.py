@@ -124,10 +124,32 @@ def _dither(rng: np.random.Generator) -> Check:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """Adler mean beat frequency (two rates) and the dither random walk (``rng``), apart."""
+    """Adler mean beat frequency (two rates) and the dither random walk (``rng``), apart.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     return [Part("adler_1.1", _adler, (1.1,)), Part("adler_2", _adler, (2.0,)), Part("dither", _dither, (rng,))]
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """Adler mean beat frequency (two rates) and the dither random walk (~3 s)."""
+    """Adler mean beat frequency (two rates) and the dither random walk (~3 s).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

@@ -275,8 +275,8 @@ def _check_dead_band() -> Check:
     # sampling bound: max |D''| delta^2 / 8 (D'' from second differences), over the smallest
     # slope of min D against the input between neighbouring inputs. min D rises with the input
     # (a larger input advances P(psi) at every psi); where it does not, the model is wrong and the
-    # bound has no premise: the edge is NaN, a failed check (an infinite tolerance, as before, made
-    # Check raise, so physics_checks stopped with an internal error instead of reporting the failure)
+    # bound has no premise: the edge is NaN, a failed check (an infinite tolerance would make Check
+    # raise, and physics_checks would stop with an internal error instead of reporting the failure)
     delta = 2.0 * math.pi / DB_PHASES
     d2 = float(np.max(np.abs(np.roll(d, 1, axis=1) - 2.0 * d + np.roll(d, -1, axis=1)))) / delta**2
     slope = float(np.min(np.diff(d_min) / np.diff(grid)))
@@ -398,7 +398,18 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
 
 
 def parts(rng: np.random.Generator) -> list[Part]:
-    """The checks in five independent parts (streams drawn here, in a fixed order)."""
+    """The checks in five independent parts (streams drawn here, in a fixed order).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Part
+        Independent parts, each with its own arguments (children of ``rng`` where it draws).
+    """
     r_unit, r_rw, r_db, r_lock = rng.spawn(4)  # r_lock last: the others keep their streams
     u = CavityRLGSpec().realize(rng=r_unit, label="check unit")
     # a block at 0.8 x the class-2 bound: several hops in the -40..+65 degC cycle
@@ -413,5 +424,16 @@ def parts(rng: np.random.Generator) -> list[Part]:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The cavity RLG's closed-form checks (see module docstring)."""
+    """The cavity RLG's closed-form checks (see module docstring).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return run_parts(parts(rng))

@@ -61,5 +61,16 @@ def _interval_gain(rng: np.random.Generator) -> Check:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The interval-mean gain of a tone above the output rate (``rng``: the shaker's stream)."""
+    """The interval-mean gain of a tone above the output rate (``rng``: the shaker's stream).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The module's stream (the collector's contract; a deterministic module does not draw from it).
+
+    Returns
+    -------
+    list of Check
+        The module's checks.
+    """
     return [_interval_gain(rng)]

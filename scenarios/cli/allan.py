@@ -108,14 +108,14 @@ def _tau_min_arg(text: str):
 
 #: the smallest largest-sample size ``allan`` analyses: the fit squares deviations and sums their
 #: powers of tau; records of N(0, 1e-70) still fit exactly (N to 4 digits), 1e-90 fails in the
-#: NNLS and 1e-180 underflowed to a ZeroDivisionError (issue 32): 1e-60 keeps a 1e10 margin
+#: NNLS and 1e-180 underflowed to a ZeroDivisionError: 1e-60 keeps a 1e10 margin
 MIN_MAGNITUDE = 1e-60
 
 
 def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
     """Refuse, before the analysis, a sample rate outside any gyro's (the fit's tau**-2 .. tau**2
     terms overflow far outside it), samples too large to square and a run that needs more memory
-    than is available (issue 15)."""
+    than is available."""
     from gyrobench.base import memory
     from gyrobench.io.recording import FS_RANGE_HZ, check_magnitude
 

@@ -162,7 +162,18 @@ def load_trajectory_csv(path: str, latitude_deg: float):
 
 
 def simulate_imu(args) -> int:
-    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr files)."""
+    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr files).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``simulate`` arguments.
+
+    Returns
+    -------
+    int
+        The exit status (0).
+    """
     import numpy as np
 
     from gyrobench.base import memory

@@ -53,6 +53,15 @@ def allan_figure(
         point covariance; excluded points use the curve's own edf).
     true_avar : callable tau -> AVAR [SI^2], optional
         The closed-form curve of a simulated model, drawn dashed.
+    title : str
+        Figure title.
+    quantity : {"rate", "accel"}
+        What the curve was computed from (sets the plotted unit).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (Agg backend).
     """
     k, yunit = (
         (1.0 / 9.80665e-6, "ug") if quantity == "accel" else (units.to_deg_per_h(1.0), "deg/h")

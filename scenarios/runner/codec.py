@@ -111,6 +111,17 @@ def _encode(value: Any, path: str) -> Any:
 def dumps(value: Any) -> str:
     """``value`` as a JSON document of this codec's schema (:data:`SCHEMA`).
 
+    Parameters
+    ----------
+    value : object
+        A unit's result: frozen dataclasses of the gyrobench package, numpy arrays and
+        scalars, and containers of them (the module docstring lists the nodes).
+
+    Returns
+    -------
+    str
+        The JSON document.
+
     Raises
     ------
     CodecError
@@ -256,6 +267,16 @@ def _decode_dataclass(body: Any, path: str, depth: int) -> Any:
 def loads(text: str | bytes) -> Any:
     """The value stored by :func:`dumps` or :func:`dumps_compressed`; never unpickles, imports only
     ``gyrobench`` modules.
+
+    Parameters
+    ----------
+    text : str or bytes
+        A document written by :func:`dumps`.
+
+    Returns
+    -------
+    object
+        The stored value.
 
     Raises
     ------

@@ -35,16 +35,38 @@ def _die_with_parent(parent_pid: int) -> None:
 
 
 def local_pool(workers: int | None) -> cf.ProcessPoolExecutor:
-    """A local process pool of ``workers`` (default :func:`default_workers`) whose workers die
-    with this process (:func:`_die_with_parent`), even when it is SIGKILLed."""
+    """Start a local process pool whose workers die with this process.
+
+    The workers die with this process (:func:`_die_with_parent`), even when it is SIGKILLed.
+
+    Parameters
+    ----------
+    workers : int or None
+        Pool size (None: :func:`default_workers`).
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
+        The pool.
+    """
     return cf.ProcessPoolExecutor(
         max_workers=workers or default_workers(), initializer=_die_with_parent, initargs=(os.getpid(),)
     )
 
 
 def stop_pool(ex: cf.Executor, *, kill: bool) -> None:
-    """Shut a local pool down: wait for its workers, or with ``kill`` (Ctrl-C, SIGTERM, an
-    error) SIGKILL them first, so a stuck compensator cannot hold the campaign."""
+    """Shut a local pool down.
+
+    Wait for its workers, or with ``kill`` (Ctrl-C, SIGTERM, an error) SIGKILL them first, so
+    a stuck compensator cannot hold the campaign.
+
+    Parameters
+    ----------
+    ex : concurrent.futures.Executor
+        The pool.
+    kill : bool
+        SIGKILL the workers first.
+    """
     if kill:
         procs = list((getattr(ex, "_processes", None) or {}).values())
         for p in procs:
@@ -59,8 +81,13 @@ def stop_pool(ex: cf.Executor, *, kill: bool) -> None:
 
 
 def default_workers() -> int:
-    """The usable CPUs of this process (its affinity mask), at least 1: the default size of a
-    local process pool."""
+    """Count the usable CPUs of this process (its affinity mask).
+
+    Returns
+    -------
+    int
+        At least 1: the default size of a local process pool.
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
@@ -68,13 +95,28 @@ def default_workers() -> int:
 
 
 def add_note(exc: BaseException, text: str) -> None:
-    """Add ``text`` to ``exc``'s notes (shown under its traceback; Python >= 3.11, else nothing)."""
+    """Add ``text`` to ``exc``'s notes (shown under its traceback; Python >= 3.11, else nothing).
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception.
+    text : str
+        The note.
+    """
     if hasattr(exc, "add_note"):  # Python >= 3.11
         exc.add_note(text)
 
 
 def check_picklable(compensator: Any, config: Any) -> None:
     """Check the compensator and the configuration pickle, before they are sent to workers.
+
+    Parameters
+    ----------
+    compensator : object
+        The compensator sent to the workers.
+    config : object
+        The scenario's configuration.
 
     Raises
     ------
@@ -138,7 +180,18 @@ def _relink(chain: list[BaseException]) -> BaseException:
 
 
 def death_reason(exitcode: int | None) -> str:
-    """Why a job's process ended without a result, in words (``exitcode`` as multiprocessing gives it)."""
+    """Why a job's process ended without a result, in words (``exitcode`` as multiprocessing gives it).
+
+    Parameters
+    ----------
+    exitcode : int or None
+        The process's exit code (negative: the signal that ended it).
+
+    Returns
+    -------
+    str
+        ``"killed by SIGSEGV"`` (a signal) or ``"exited with code 3 (...)"``.
+    """
     if exitcode is not None and exitcode < 0:
         try:
             name = signal.Signals(-exitcode).name
@@ -151,14 +204,32 @@ def death_reason(exitcode: int | None) -> str:
 def contained_map(
     fn: Any, jobs: Any, *, workers: int | None, hard_timeout: float | None = None
 ) -> Any:
-    """Run ``fn(*args)`` for each ``(key, args)`` of ``jobs``, each in its own forked process, at
-    most ``workers`` at once; yield ``(key, kind, value)`` as each ends: ``"ok"`` and the result,
-    ``"err"`` and the exception it raised, or ``"died"`` and why its process ended without one
-    (:func:`death_reason`; ``"timed out after N s"`` past ``hard_timeout``, the process killed).
+    """Run jobs each in its own forked process and yield their outcomes as they end.
 
     A job that calls ``os._exit``, segfaults or hangs in C code ends only its own process. Every
     process dies with this one (:func:`_die_with_parent`); leaving the generator early (an error,
     Ctrl-C, SIGTERM) SIGKILLs the running ones.
+
+    Parameters
+    ----------
+    fn : callable
+        The job's function, called as ``fn(*args)``.
+    jobs : iterable of (key, tuple)
+        The jobs.
+    workers : int or None
+        Processes at once (None or 0: :func:`default_workers`).
+    hard_timeout : float, optional
+        Wall time after which a job's process is killed [s].
+
+    Yields
+    ------
+    key : object
+        The job's key.
+    kind : {"ok", "err", "died"}
+        How it ended.
+    value : object
+        The result, the exception it raised, or why its process ended without one
+        (:func:`death_reason`; ``"timed out after N s"`` past ``hard_timeout``).
     """
     import multiprocessing as mp
     import time

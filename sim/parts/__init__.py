@@ -81,17 +81,40 @@ _BY_NAME = {d.name: d for d in CATALOGUE}
 
 
 def names() -> list[str]:
-    """Keys of the built-in parts, in catalogue order."""
+    """Keys of the built-in parts, in catalogue order.
+
+    Returns
+    -------
+    list of str
+        The keys.
+    """
     return [d.name for d in CATALOGUE]
 
 
 def datasheets() -> tuple[Datasheet, ...]:
-    """The built-in parts' datasheets."""
+    """The built-in parts' datasheets.
+
+    Returns
+    -------
+    tuple of Datasheet
+        One per built-in part, in catalogue order.
+    """
     return CATALOGUE
 
 
 def get(name: str) -> Part:
-    """The built-in part ``name`` (case-insensitive), or a part read from a ``.toml`` path."""
+    """The built-in part ``name`` (case-insensitive), or a part read from a ``.toml`` path.
+
+    Parameters
+    ----------
+    name : str
+        A key of :func:`names` (case-insensitive) or the path of a ``.toml`` part file.
+
+    Returns
+    -------
+    Part
+        The part.
+    """
     if not isinstance(name, str):
         raise TypeError(f"part name must be a str; got {type(name).__name__}")
     if name.lower().endswith(".toml"):
@@ -107,6 +130,16 @@ def load_toml(path: str | os.PathLike) -> Part:
 
     The fields may be top-level keys or the single table ``[part]``. Errors are one line
     naming the file and the key.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TOML file.
+
+    Returns
+    -------
+    Part
+        The part.
     """
     p = Path(path)
     try:

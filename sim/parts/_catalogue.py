@@ -188,7 +188,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
         grade="tactical",
         source=(
             "KVH/EMCORE DSP-1760 data sheet (EMCORE DS_DSP1760, 2024; revision not shown in the quotes), figures "
-            "as quoted in github.com/tim-balloon/TIMflight issue 77 (ARW <= 0.012 deg/sqrt(h), i.e. <= 0.7 "
+            "as quoted in github.com/tim-balloon/TIMflight/issues/77 (ARW <= 0.012 deg/sqrt(h), i.e. <= 0.7 "
             "deg/h/sqrt(Hz)) and in the NCLT dataset sensor notes (bias instability 0.05 deg/h typical, "
             "+-490 deg/s)"
         ),

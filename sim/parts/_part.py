@@ -258,7 +258,15 @@ class Datasheet:
 
 @dataclass(frozen=True, slots=True)
 class Part:
-    """A part's population: draws units whose errors follow its datasheet (module docstring)."""
+    """A part's population: draws units whose errors follow its datasheet (module docstring).
+
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The datasheet figures the units follow.
+    reference_temperature : float
+        Temperature at which the sheet's figures hold [K] (default 25 degC).
+    """
 
     datasheet: Datasheet
     reference_temperature: float = _T_REF

@@ -159,6 +159,16 @@ def _check(datasheet: object, technology: str, caller: str) -> Datasheet:
 def rlg_spec(datasheet: Datasheet) -> RLGSpec:
     """The :class:`RLGSpec` of an RLG part: lock-in rate from the sheet's ARW (module docstring).
 
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's datasheet.
+
+    Returns
+    -------
+    RLGSpec
+        The RLG model with the solved lock-in rate; the default design otherwise.
+
     Raises
     ------
     TypeError
@@ -292,6 +302,16 @@ def fog_spec(datasheet: Datasheet) -> FOG2DSpec:
     sheet is at or near the default coil's RIN floor) the power is capped there and the
     coil's L D is solved, then the power again on the wound coil (module docstring).
 
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's datasheet.
+
+    Returns
+    -------
+    FOG2DSpec
+        The FOG model with the solved source power (and coil); the default design otherwise.
+
     Raises
     ------
     TypeError
@@ -322,6 +342,16 @@ def mems_spec(datasheet: Datasheet) -> MemsResonatorSpec:
 
     A sheet at or below the default resonator's Brownian floor gets the proof mass that puts
     the floor at BROWNIAN_SHARE x N (module docstring); the pick-off noise gives the rest.
+
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's datasheet.
+
+    Returns
+    -------
+    MemsResonatorSpec
+        The resonator with the solved pick-off noise (and proof mass); the default design otherwise.
 
     Raises
     ------
@@ -370,6 +400,16 @@ def physics_summary(datasheet: Datasheet) -> str:
 
     E.g. ``"fog_spec: source power 0.0367 mW (default FOG2D design otherwise)"``, or
     ``"not mapped: ..."`` with the solve's refusal (module docstring).
+
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's datasheet.
+
+    Returns
+    -------
+    str
+        The one line.
     """
     if not isinstance(datasheet, Datasheet):
         raise TypeError(f"datasheet must be a Datasheet; got {type(datasheet).__name__}")

@@ -59,3 +59,44 @@ def test_refusals(tmp_path, capsys):
     assert "holds no <scenario>/results.json" in capsys.readouterr().err
     with pytest.raises(ValueError, match="marker lines"):
         readme_table.splice("no markers", "t")
+
+
+def test_summary_is_the_tally_without_the_claim_rows(report, tmp_path):
+    docs = readme_table.load_report(report)
+    table, summary = readme_table.format_table(docs), readme_table.format_summary(docs)
+    (tally,) = [r for r in summary.splitlines() if r.startswith("| toy |")]
+    assert tally in table and "| claim |" not in summary and "| claim |" in table
+    readme, results = tmp_path / "README.md", tmp_path / "results.md"
+    for f in (readme, results):
+        f.write_text(f"head\n{readme_table.BEGIN}\nold\n{readme_table.END}\ntail\n")
+    assert readme_table.main([str(report), "--splice", str(results), "--summary", str(readme)]) == 0
+    assert readme.read_text() == f"head\n{readme_table.BEGIN}\n{summary}{readme_table.END}\ntail\n"
+    assert results.read_text() == f"head\n{readme_table.BEGIN}\n{table}{readme_table.END}\ntail\n"
+
+
+def test_a_file_without_markers_leaves_both_files_untouched(report, tmp_path):
+    readme, results = tmp_path / "README.md", tmp_path / "results.md"
+    results.write_text(f"{readme_table.BEGIN}\nold\n{readme_table.END}\n")
+    readme.write_text("no markers\n")
+    assert readme_table.main([str(report), "--splice", str(results), "--summary", str(readme)]) == 2
+    assert results.read_text() == f"{readme_table.BEGIN}\nold\n{readme_table.END}\n"
+
+
+def test_readme_summary_and_docs_results_come_from_the_same_report():
+    """README.md holds the summary, docs/results.md the full table, both generated from one report:
+    the README's tally rows are the docs' tally rows, and only the docs hold the claim rows."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+
+    def marked(path):
+        text = path.read_text(encoding="utf-8")
+        assert text.count(readme_table.BEGIN) == 1 and text.count(readme_table.END) == 1, path
+        return text.split(readme_table.BEGIN, 1)[1].split(readme_table.END, 1)[0]
+
+    summary, table = marked(root / "README.md"), marked(root / "docs" / "results.md")
+    assert "| claim |" not in summary and "| claim |" in table
+    tally = [r for r in summary.splitlines() if r.startswith("| ") and not r.startswith("| paper |")]
+    assert tally and all(r in table.splitlines() for r in tally)
+    checks = [r for r in summary.splitlines() if r.startswith("Closed-form checks")]
+    assert checks and checks[0] in table

@@ -455,7 +455,7 @@ DEVIATIONS: tuple[Deviation, ...] = (
         "mechanics: strain along the fibre through the (L - 2z) kernel, fixture rocking, loss "
         "modulation times the loop residual, and the coning of two rocking modes of the mount "
         "(sim.mount_coning) identified from fig. 3's band and fig. 7's visible offset (identify.py)",
-        reason="issues 17 and 26: the vibration error must follow from the device's physics and be at "
+        reason="the vibration error must follow from the device's physics and be at "
         "the paper's level; the variant removes the mount (the earlier device)",
         variant="no_mount",
     ),

@@ -69,7 +69,7 @@ class FogSpec:
     physics_rate_hz: float = 3200.0
     output_rate_hz: float = 400.0
 
-    #: documented ranges (issue 32); the loop, optics and mount state theirs in :mod:`gyrobench.sim`
+    #: documented ranges; the loop, optics and mount state theirs in :mod:`gyrobench.sim`
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "Q_arcsec": FieldRange(0, 1000, "arcsec", "readout quantization; a FOG's is < 1 arcsec"),
         "B_deg_h": FieldRange(0, 1e4, "deg/h", "bias instability, navigation (0.001) to rate grade (1000)"),
@@ -211,7 +211,7 @@ class Config:
     split_fit_range: bool = True
     n_tone_free: bool = True
 
-    #: documented ranges (issue 32): physical (the shaker, the wavelet) or practical (one run)
+    #: documented ranges: physical (the shaker, the wavelet) or practical (one run)
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "acceleration_g": FieldRange(0, 100, "g", "sine amplitude; 0 is the control, shakers reach ~100 g"),
         "sweep_start_hz": _SHAKER_HZ,

@@ -1,4 +1,4 @@
-"""Paper 000's device, identified from what the paper reports about it (issue 26).
+"""Paper 000's device, identified from what the paper reports about it.
 
 What the paper reports about its gyro (the Chinese text; Table 1 and the figures are images we
 do not have, so only their stated shape is used):
@@ -42,11 +42,11 @@ do not have, so only their stated shape is used):
   the two-sample Allan deviation). ``visibility`` = 10 is our reading of "clearly" (assumed; the
   paper prints no offset value).
 
-Why the median unit and the block-mean scatter (issue 26's follow-up): the earlier identification
-set the NOMINAL unit's bias to 10 x the Allan deviation at 10 s (0.042 deg/h); the precondition
-measures the standard deviation of 59 block means, 1.5 x that for this budget, and the bias at the
-dwell, which sits above both modes on their response tail, falls steeply for the units whose modes
-are drawn low or close together. With both corrected the share of the population whose bias
+Why the median unit and the block-mean scatter: setting the NOMINAL unit's bias to 10 x the
+Allan deviation at 10 s (0.042 deg/h) would miss twice: the precondition measures the standard
+deviation of 59 block means, 1.5 x that for this budget, and the bias at the dwell, which sits
+above both modes on their response tail, falls steeply for the units whose modes are drawn low
+or close together. With both taken into account the share of the population whose bias
 exceeds 3 x sigma_10 is :attr:`Identification.share_above_margin` (a closed-form prediction over
 the drawn mounts; the run measures it on its units). The spreads are not changed: they are
 assumed (no source) and no spread is tuned to raise that share.

@@ -134,7 +134,7 @@ class Config:
     timing_repeats: int = 50
     dense_step_dps: float = 10.0
 
-    #: documented ranges (issue 32); the device population states its own in
+    #: documented ranges; the device population states its own in
     #: :class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` (SI)
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "rates_dps": FieldRange(-36000, 36000, "deg/s", "table rates; 10x the paper's +-3600 deg/s"),

@@ -3,7 +3,7 @@
 Each :class:`~gyrobench.scenarios.claims.Claim` reads one key of
 :attr:`.results.UnitResult.quantities`; the shared runner judges them over the units
 (:func:`gyrobench.scenarios.claims.evaluate`), on the control too (:mod:`.variants`).
-Roles (issue 24): the drift level and the Table 1 T x dT term describe the paper's device
+Roles: the drift level and the Table 1 T x dT term describe the paper's device
 (``device``; the drift level is what :mod:`.identify` matches); the four validation claims
 are the paper's ``method`` claims, judged on units whose validation-1 drift stands above
 their noise (:data:`DRIFT_ABOVE_NOISE`). :data:`DEVIATIONS` state where the reproduction
@@ -150,7 +150,7 @@ CLAIMS: tuple[Claim, ...] = (
     ),
 )
 
-# No number in a deviation is hand-written (issue 24): each deviation with a ``variant`` is
+# No number in a deviation is hand-written: each deviation with a ``variant`` is
 # measured by `gyrobench reproduce ifog_thermal --deviations` (the variant run over the units,
 # every claim's pass count beside ours); ``effect`` stays empty.
 DEVIATIONS: tuple[Deviation, ...] = (
@@ -182,7 +182,7 @@ DEVIATIONS: tuple[Deviation, ...] = (
         we_do="the closed loop's SF(T)/SF0 = (1 + alpha_D dT_coil)^2/(1 + alpha_lambda "
         "dT_housing), uncompensated; alpha_D the coil's own hoop expansion on its aluminium "
         "spool (composite-cylinder model), alpha_lambda assumed (Config)",
-        reason="one FOG model for every scenario (issue 17); alpha_D from the same coil "
+        reason="one FOG model for every scenario; alpha_D from the same coil "
         "mechanics that makes the Shupe drift, nothing chosen for the claims",
         variant="sf_tempco_low",
     ),

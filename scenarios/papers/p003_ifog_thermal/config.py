@@ -63,7 +63,7 @@ class Config:
     Chamber protocols, FOG build, logging and analysis rates, RBF settings, and the
     conditions of the paper's Table 1 / figure 2 point-heating simulation.
 
-    The coil (``gyrobench.sim.coil2d.Coil2DSpec`` defaults; issue 18): every material
+    The coil (``gyrobench.sim.coil2d.Coil2DSpec`` defaults): every material
     constant has a cited source or a stated value there; the T x dT term comes from the
     Leviton-Frey dn/dT(T) of silica and the expansion slopes of silica, epoxy and aluminium
     (nothing is set for it). One input is CALIBRATED to the paper: ``lead_difference_rms_m``
@@ -73,7 +73,7 @@ class Config:
     (the paper's level for a 10 degC change). ``housing_time_constant_min`` sets the chamber-housing conductance
     (C_h / tau_h); ``fibre_length_m`` sets the turns per layer (round(L / (2 pi sum r_j))).
 
-    The FOG (issue 17): the same closed-loop unit as paper 000
+    The FOG: the same closed-loop unit as paper 000
     (``gyrobench.sim.fog_loop.ClosedLoopFOG``, built on the drawn coil by
     ``gyrobench.sim.fog2d``), with this paper's parameter set: the loop on the coil's own
     L (~1012 m) and D (~0.099 m) at 1550 nm, loop gain 0.1 (f_3dB ~3.6 kHz), the default

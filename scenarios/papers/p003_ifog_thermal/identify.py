@@ -1,4 +1,4 @@
-"""Paper 003's coil identified from the paper's device-level report (issue 27 item 3).
+"""Paper 003's coil identified from the paper's device-level report.
 
 The paper (Sec. 0, citing its ref. [4]) reports the device level: "for a +-0.01 deg/h FOG a
 10 degC change of the coil temperature gives a 0.15 deg/h temperature drift". The (r, z) coil

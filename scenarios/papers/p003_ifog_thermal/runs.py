@@ -110,7 +110,7 @@ def memory_estimate(config: Config) -> float:
     (steps x nodes) arrays of the modal thermal solution of one run (~5 measured, doubled for
     the convergence check at dt / 2 when the chamber knots are off the step grid). 10 MB the
     rest; 1.1 the margin. MEASURED (peak RSS increase, one BLAS thread;
-    tests/scenarios/test_memory_estimates.py; on the closed-loop FOG, issue 17): 55 MB at the
+    tests/scenarios/test_memory_estimates.py; on the closed-loop FOG): 55 MB at the
     default (N = 2.5e5, m = 1470), 419 MB at fs_hz = 10, 132 MB with validation1_runs = 20
     and identification_hold_h = 8 (N = 7.2e5, m = 3630), 117 MB at thermal_step_s = 2
     (m = 14700, on the grid: ~5 arrays), 84 MB at thermal_step_s = 7 (m = 4200, off the
@@ -229,7 +229,7 @@ def score_mse(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, fl
 def compensation_task(config: Config, seed: int) -> CompensationTask:
     """Training = identification run 1; held out = identification run 2 and every validation run.
 
-    The bench's task (unchanged by issue 13): the whole runs, target output - truth.
+    The bench's task: the whole runs, target output - truth.
     ``groups_train``: each training row's segment of the identification run
     (:func:`identification_segments`: 0 settle, 1 heat + hold, 2 cool + hold, from the chamber
     program's knots, known before any data), the folds of the paper's leave-one-segment-out

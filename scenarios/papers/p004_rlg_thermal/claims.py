@@ -217,7 +217,7 @@ CLAIMS: tuple[Claim, ...] = (
     ),
     _claim(
         "mode_hops_lower_adj_r2",
-        "not in the paper (bench question, issue 19): Sec. 3 fit under PLC mode hops",
+        "not in the paper (bench question): Sec. 3 fit under PLC mode hops",
         "Mode hops make the stepwise fit worse: per unit whose fitting run hops, 1 - adjusted "
         "R^2 with hops exceeds that of the same gyro and draws with a PLC of unlimited travel "
         "(ratio > 1). The paper does not mention mode hops.",
@@ -230,7 +230,7 @@ CLAIMS: tuple[Claim, ...] = (
     ),
     _claim(
         "mode_hops_lower_improvement",
-        "not in the paper (bench question, issue 19): Sec. 4 improvement under PLC mode hops",
+        "not in the paper (bench question): Sec. 4 improvement under PLC mode hops",
         "Mode hops cost held-out improvement: per unit whose runs hop, the held-out before/after "
         "ratio without hops (PLC of unlimited travel, same draws) over the ratio with hops "
         "exceeds 1. The paper does not mention mode hops.",
@@ -253,7 +253,7 @@ DEVIATIONS: tuple[Deviation, ...] = (
         paper_says="three real dithered RLGs (type, lock-in, discharge and block data not given)",
         we_do="cavity-model gyros (sim.rlg_cavity): every mechanism size cited or a stated "
         "assumption, none set from a paper-004 number but the identified sizes of identify.py",
-        reason="issue 19: the thermal bias must come from mechanisms, so what stepwise selects "
+        reason="the thermal bias must come from mechanisms, so what stepwise selects "
         "and how well it fits are results; the variant reads the Langmuir coefficient per uA "
         "instead of per mA as printed",
         variant="langmuir_per_ua",

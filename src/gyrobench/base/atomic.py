@@ -106,8 +106,22 @@ def ensure_free_space(path: str | os.PathLike, nbytes: int) -> None:
 
 
 def temp_name(path: Path, kind: str = "tmp") -> Path:
-    """``.NAME.<pid>.<8 hex>.<kind>`` beside ``path``: the owning process id is in the name, so a
-    later run can tell a dead writer's leftovers (:func:`remove_stale_temps`) from a live one's."""
+    """Name a temporary file or folder beside a target.
+
+    Parameters
+    ----------
+    path : Path
+        The target.
+    kind : str
+        The suffix: ``"tmp"`` (a file being written), ``"tmpdir"`` (a folder being filled) or
+        ``"old"`` (a folder being replaced).
+
+    Returns
+    -------
+    Path
+        ``.NAME.<pid>.<8 hex>.<kind>`` beside ``path``: the owning process id is in the name, so a
+        later run can tell a dead writer's leftovers (:func:`remove_stale_temps`) from a live one's.
+    """
     return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.{kind}")
 
 
@@ -147,7 +161,7 @@ def _owner_alive(pid: int, since: float) -> bool:
 
 
 def remove_stale_temps(path: str | os.PathLike) -> list[Path]:
-    """Remove the temporary files and folders that dead processes left for target ``path``.
+    """Remove the temporary files and folders that dead processes left for a target.
 
     Leftovers are named ``.NAME.<pid>.<hex>.tmp`` (a file being written),
     ``.NAME.<pid>.<hex>.tmpdir`` (a folder being filled) and ``.NAME.<pid>.<hex>.old`` (a
@@ -156,7 +170,15 @@ def remove_stale_temps(path: str | os.PathLike) -> list[Path]:
     left alone. If a ``.old`` folder is left and the target is missing (a kill between the
     two renames of a folder swap), it is renamed back instead of removed.
 
-    Returns the paths removed (or restored).
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The target file or folder.
+
+    Returns
+    -------
+    list of Path
+        The paths removed (or restored).
     """
     import re
 
@@ -214,12 +236,22 @@ def _create_temp(path: Path) -> Path:
 
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path beside ``path``; rename it onto ``path`` only on success.
+    """Write a file atomically: a temporary path that is renamed onto the target on success.
 
     An exception (or a kill) inside the block leaves ``path`` untouched and the
     temporary file removed (or, after a kill, a ``.NAME.<pid>.<hex>.tmp`` file that
     never looks like the result, and that the next write to ``path`` removes once that
     process is gone). The result has mode ``0o666 & ~umask``, as any new file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The target file; its parent folders are created.
+
+    Yields
+    ------
+    Path
+        The temporary path to write, beside ``path``.
 
     Raises
     ------
@@ -245,7 +277,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
 @contextlib.contextmanager
 def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a new, empty folder beside ``path``; on success it replaces ``path`` as a whole.
+    """Fill a folder atomically: a new folder that replaces the target as a whole on success.
 
     The files of a run are written into ``.NAME.<pid>.<hex>.tmpdir``; only when the block
     finishes is that folder renamed to ``path`` (a previous ``path`` is first renamed to
@@ -254,6 +286,16 @@ def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
     leaves ``path`` as it was. After a kill, the next call removes the dead run's folders
     (:func:`remove_stale_temps`; an ``.old`` folder whose target went missing between the
     two renames is renamed back).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The target folder.
+
+    Yields
+    ------
+    Path
+        The new, empty folder to fill, beside ``path``.
 
     Raises
     ------

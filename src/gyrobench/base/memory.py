@@ -54,7 +54,18 @@ class MemoryLimitError(ValueError):
 
 
 def format_bytes(n: float) -> str:
-    """``5.76e9`` -> ``"5.76 GB"`` (decimal units, as ``free -h --si``); inf -> ``"inf B"``."""
+    """Format a byte count in decimal units.
+
+    Parameters
+    ----------
+    n : float
+        A number of bytes.
+
+    Returns
+    -------
+    str
+        E.g. ``5.76e9`` -> ``"5.76 GB"`` (decimal units, as ``free -h --si``); inf -> ``"inf B"``.
+    """
     if not math.isfinite(n):
         return f"{n} B"
     if abs(n) < 1000:
@@ -115,14 +126,28 @@ def _parse_size(text: str) -> int:
 
 
 def available_memory() -> int | None:
-    """Bytes that can be allocated without swapping (MemAvailable, capped by the cgroup);
-    None if it cannot be told."""
+    """Measure the memory that can be allocated without swapping.
+
+    Returns
+    -------
+    int or None
+        MemAvailable of ``/proc/meminfo``, capped by the cgroup's limit [bytes]; None if neither
+        can be read.
+    """
     values = [v for v in (_meminfo_available(), _cgroup_available()) if v is not None]
     return min(values) if values else None
 
 
 def memory_limit() -> tuple[float, str]:
-    """(limit [bytes], how it was set): ``MARGIN`` x available, capped by ``LIMIT_ENV``."""
+    """Return the memory limit that :func:`check_memory` applies.
+
+    Returns
+    -------
+    tuple of (float, str)
+        The limit [bytes] (:data:`MARGIN` x :func:`available_memory`, lowered by the environment
+        variable :data:`LIMIT_ENV` when it is set; inf when neither is known) and how it was set,
+        in words, for messages.
+    """
     avail = available_memory()
     limit, how = math.inf, "memory available: unknown"
     if avail is not None:
@@ -169,8 +194,20 @@ def check_memory(nbytes: float, what: str, *, hint: str = "") -> float:
 
 
 def series_bytes(n_samples: float, n_series: float = 1) -> float:
-    """Bytes of ``n_series`` float64 series of ``n_samples`` samples each (a float: never
-    overflows)."""
+    """Estimate the bytes of float64 series.
+
+    Parameters
+    ----------
+    n_samples : float
+        Samples per series.
+    n_series : float
+        Number of series.
+
+    Returns
+    -------
+    float
+        ``8 n_samples n_series`` [bytes] (a float: never overflows).
+    """
     return float(n_samples) * float(n_series) * SAMPLE_BYTES
 
 
@@ -182,7 +219,20 @@ ALLAN_WORK_ARRAYS = {"overlapping": 3, "standard": 3, "modified": 5, "hadamard":
 
 
 def allan_bytes(n_samples: float, kind: str = "overlapping") -> float:
-    """Estimated peak bytes of an Allan analysis of ``n_samples`` samples, input included."""
+    """Estimate the peak bytes of an Allan analysis, its input included.
+
+    Parameters
+    ----------
+    n_samples : float
+        Samples of the record.
+    kind : str
+        The deviation's kind (a key of :data:`ALLAN_WORK_ARRAYS`; another counts 6 work arrays).
+
+    Returns
+    -------
+    float
+        ``8 n_samples (1 + work arrays)`` [bytes].
+    """
     return series_bytes(n_samples, 1 + ALLAN_WORK_ARRAYS.get(kind, 6))
 
 
@@ -195,26 +245,63 @@ CSV_CELL_ARRAYS = 2
 
 
 def csv_read_bytes(n_bytes: float, cells_per_byte: float) -> float:
-    """Estimated peak bytes of reading a CSV of ``n_bytes`` bytes of text holding ``cells_per_byte``
-    cells per byte (separators and line ends per byte of a sample of it):
-    ``CSV_TEXT_COPIES n_bytes + CSV_CELL_ARRAYS 8 cells_per_byte n_bytes``."""
+    """Estimate the peak bytes of reading a CSV file.
+
+    Parameters
+    ----------
+    n_bytes : float
+        Size of the CSV text [bytes].
+    cells_per_byte : float
+        Cells per byte of text (separators and line ends per byte of a sample of it).
+
+    Returns
+    -------
+    float
+        ``CSV_TEXT_COPIES n_bytes + CSV_CELL_ARRAYS 8 cells_per_byte n_bytes`` [bytes].
+    """
     return float(n_bytes) * (CSV_TEXT_COPIES + CSV_CELL_ARRAYS * SAMPLE_BYTES * float(cells_per_byte))
 
 
 def scenario_bytes(module, config) -> float | None:
-    """Estimated peak memory of a scenario's ``simulate`` / ``run`` for ``config`` [bytes].
+    """Return a scenario's own estimate of its peak memory.
 
-    A scenario module states its own estimate as a module-level function
-    ``memory_estimate(config) -> float`` (its recordings and their analysis); None when
-    it does not define one (the run is then not checked).
+    A scenario module states its estimate as a module-level function
+    ``memory_estimate(config) -> float`` (its recordings and their analysis).
+
+    Parameters
+    ----------
+    module : module
+        The scenario module.
+    config : object
+        Its configuration.
+
+    Returns
+    -------
+    float or None
+        The estimate [bytes]; None when the module defines no ``memory_estimate`` (the run is
+        then not checked).
     """
     fn = getattr(module, "memory_estimate", None)
     return float(fn(config)) if callable(fn) else None
 
 
 def check_scenario(module, config, what: str) -> None:
-    """:func:`check_memory` for a scenario's run, when it states an estimate
-    (:func:`scenario_bytes`)."""
+    """Refuse a scenario run whose stated memory estimate exceeds the limit.
+
+    Parameters
+    ----------
+    module : module
+        The scenario module (:func:`scenario_bytes`).
+    config : object
+        Its configuration.
+    what : str
+        What the run is, named in the message.
+
+    Raises
+    ------
+    MemoryLimitError
+        As :func:`check_memory`, when the module states an estimate above the limit.
+    """
     est = scenario_bytes(module, config)
     if est is not None:
         check_memory(est, what, hint="shorten the records or lower the sample rate in --config")

@@ -58,110 +58,341 @@ def _scale(x, k):
 
 # --- angle -------------------------------------------------------------------
 def deg(x):
-    """Degrees -> rad."""
+    """Convert an angle from degrees to radians.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle [deg].
+
+    Returns
+    -------
+    float or ndarray
+        Angle [rad]: x pi/180.
+    """
     return _scale(x, DEG)
 
 
 def to_deg(x):
-    """rad -> degrees."""
+    """Convert an angle from radians to degrees.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle [rad].
+
+    Returns
+    -------
+    float or ndarray
+        Angle [deg]: x 180/pi.
+    """
     return _scale(x, 1.0 / DEG)
 
 
 def arcsec(x):
-    """Arcseconds -> rad."""
+    """Convert an angle from arcseconds to radians.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle [arcsec].
+
+    Returns
+    -------
+    float or ndarray
+        Angle [rad]: x pi/(180 * 3600) (1 arcsec = 4.8481e-6 rad).
+    """
     return _scale(x, ARCSEC)
 
 
 def to_arcsec(x):
-    """rad -> arcseconds."""
+    """Convert an angle from radians to arcseconds.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle [rad].
+
+    Returns
+    -------
+    float or ndarray
+        Angle [arcsec]: x 180 * 3600/pi.
+    """
     return _scale(x, 1.0 / ARCSEC)
 
 
 # --- rate --------------------------------------------------------------------
 def deg_per_s(x):
-    """deg/s -> rad/s."""
+    """Convert a rate from deg/s to rad/s.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate [deg/s].
+
+    Returns
+    -------
+    float or ndarray
+        Rate [rad/s]: x pi/180.
+    """
     return _scale(x, DEG)
 
 
 def to_deg_per_s(x):
-    """rad/s -> deg/s."""
+    """Convert a rate from rad/s to deg/s.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate [rad/s].
+
+    Returns
+    -------
+    float or ndarray
+        Rate [deg/s]: x 180/pi.
+    """
     return _scale(x, 1.0 / DEG)
 
 
 def deg_per_h(x):
-    """deg/h -> rad/s (1 deg/h = 4.8481e-6 rad/s)."""
+    """Convert a rate from deg/h to rad/s.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate [deg/h].
+
+    Returns
+    -------
+    float or ndarray
+        Rate [rad/s]: x pi/(180 * 3600) (1 deg/h = 4.8481e-6 rad/s).
+    """
     return _scale(x, DEG / HOUR)
 
 
 def to_deg_per_h(x):
-    """rad/s -> deg/h."""
+    """Convert a rate from rad/s to deg/h.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate [rad/s].
+
+    Returns
+    -------
+    float or ndarray
+        Rate [deg/h]: x 180 * 3600/pi.
+    """
     return _scale(x, HOUR / DEG)
 
 
 # --- noise coefficients (IEEE 952) ---------------------------------------------
 def deg_per_sqrt_h(x):
-    """Angle random walk deg/sqrt(h) -> rad/sqrt(s) (1 deg/sqrt(h) = 2.9089e-4 rad/sqrt(s))."""
+    """Convert an angle random walk from deg/sqrt(h) to rad/sqrt(s).
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle random walk N [deg/sqrt(h)].
+
+    Returns
+    -------
+    float or ndarray
+        N [rad/sqrt(s)]: x (pi/180)/sqrt(3600) (1 deg/sqrt(h) = 2.9089e-4 rad/sqrt(s)).
+    """
     return _scale(x, DEG / _SQRT_HOUR)
 
 
 def to_deg_per_sqrt_h(x):
-    """Angle random walk rad/sqrt(s) -> deg/sqrt(h)."""
+    """Convert an angle random walk from rad/sqrt(s) to deg/sqrt(h).
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Angle random walk N [rad/sqrt(s)].
+
+    Returns
+    -------
+    float or ndarray
+        N [deg/sqrt(h)]: x sqrt(3600) (180/pi).
+    """
     return _scale(x, _SQRT_HOUR / DEG)
 
 
 def deg_per_h_per_sqrt_h(x):
-    """Rate random walk deg/h/sqrt(h) -> rad/s/sqrt(s) (1 unit = 8.0802e-8 rad/s^1.5)."""
+    """Convert a rate random walk from deg/h/sqrt(h) to rad/s/sqrt(s).
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate random walk K [deg/h/sqrt(h)].
+
+    Returns
+    -------
+    float or ndarray
+        K [rad/s/sqrt(s)]: x (pi/180)/3600^1.5 (1 deg/h/sqrt(h) = 8.0802e-8 rad/s^1.5).
+    """
     return _scale(x, DEG / HOUR / _SQRT_HOUR)
 
 
 def to_deg_per_h_per_sqrt_h(x):
-    """Rate random walk rad/s/sqrt(s) -> deg/h/sqrt(h)."""
+    """Convert a rate random walk from rad/s/sqrt(s) to deg/h/sqrt(h).
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate random walk K [rad/s/sqrt(s)].
+
+    Returns
+    -------
+    float or ndarray
+        K [deg/h/sqrt(h)]: x 3600^1.5 (180/pi).
+    """
     return _scale(x, HOUR * _SQRT_HOUR / DEG)
 
 
 def deg_per_h2(x):
-    """Rate ramp deg/h^2 -> rad/s^2 (1 deg/h^2 = 1.3467e-9 rad/s^2)."""
+    """Convert a rate ramp from deg/h^2 to rad/s^2.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate ramp R [deg/h^2].
+
+    Returns
+    -------
+    float or ndarray
+        R [rad/s^2]: x (pi/180)/3600^2 (1 deg/h^2 = 1.3467e-9 rad/s^2).
+    """
     return _scale(x, DEG / HOUR**2)
 
 
 def to_deg_per_h2(x):
-    """Rate ramp rad/s^2 -> deg/h^2."""
+    """Convert a rate ramp from rad/s^2 to deg/h^2.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate ramp R [rad/s^2].
+
+    Returns
+    -------
+    float or ndarray
+        R [deg/h^2]: x 3600^2 (180/pi).
+    """
     return _scale(x, HOUR**2 / DEG)
 
 
 def deg_per_s_per_sqrt_hz(x):
-    """Noise density deg/s/sqrt(Hz) (IEEE two-sided, = ADEV at 1 s) -> rad/sqrt(s)."""
+    """Convert a rate noise density from deg/s/sqrt(Hz) to rad/sqrt(s).
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Noise density [deg/s/sqrt(Hz)], the IEEE two-sided convention, equal to the Allan deviation at 1 s.
+
+    Returns
+    -------
+    float or ndarray
+        Angle random walk N [rad/sqrt(s)]: x pi/180.
+    """
     return _scale(x, DEG)
 
 
 # --- temperature, acceleration, ratios ------------------------------------------
 def celsius(x):
-    """degC -> K."""
+    """Convert a temperature from degrees Celsius to kelvin.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Temperature [degC].
+
+    Returns
+    -------
+    float or ndarray
+        Temperature [K]: x + 273.15.
+    """
     return np.add(x, ZERO_CELSIUS) if isinstance(x, np.ndarray) else x + ZERO_CELSIUS
 
 
 def to_celsius(x):
-    """K -> degC."""
+    """Convert a temperature from kelvin to degrees Celsius.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Temperature [K].
+
+    Returns
+    -------
+    float or ndarray
+        Temperature [degC]: x - 273.15.
+    """
     return np.subtract(x, ZERO_CELSIUS) if isinstance(x, np.ndarray) else x - ZERO_CELSIUS
 
 
 def g(x):
-    """Acceleration in standard g -> m/s^2."""
+    """Convert an acceleration from standard gravity to m/s^2.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Acceleration [g].
+
+    Returns
+    -------
+    float or ndarray
+        Acceleration [m/s^2]: x 9.80665 (standard gravity, CGPM 1901).
+    """
     return _scale(x, G0)
 
 
 def to_g(x):
-    """m/s^2 -> standard g."""
+    """Convert an acceleration from m/s^2 to standard gravity.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Acceleration [m/s^2].
+
+    Returns
+    -------
+    float or ndarray
+        Acceleration [g]: x / 9.80665.
+    """
     return _scale(x, 1.0 / G0)
 
 
 def ppm(x):
-    """Parts per million -> ratio."""
+    """Convert parts per million to a ratio.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Ratio [ppm].
+
+    Returns
+    -------
+    float or ndarray
+        Ratio [-]: x 1e-6.
+    """
     return _scale(x, 1e-6)
 
 
 def to_ppm(x):
-    """Ratio -> parts per million."""
+    """Convert a ratio to parts per million.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Ratio [-].
+
+    Returns
+    -------
+    float or ndarray
+        Ratio [ppm]: x 1e6.
+    """
     return _scale(x, 1e6)
 
 
@@ -176,7 +407,19 @@ RATE_UNITS: dict[str, float] = {
 
 
 def rate_to_si(x, unit: str):
-    """Convert a rate from a named unit (see ``RATE_UNITS``) to rad/s.
+    """Convert a rate from a named unit to rad/s.
+
+    Parameters
+    ----------
+    x : float or ndarray
+        Rate in ``unit``.
+    unit : str
+        One of :data:`RATE_UNITS` (``"rad/s"``, ``"deg/s"``, ``"deg/h"``, ``"mrad/s"``, ``"urad/s"``).
+
+    Returns
+    -------
+    float or ndarray
+        Rate [rad/s].
 
     Raises
     ------
@@ -198,6 +441,16 @@ _DURATION_FACTOR = {"h": HOUR, "hr": HOUR, "min": MINUTE, "m": MINUTE, "s": 1.0,
 
 def parse_duration(text: str) -> float:
     """Parse a duration such as ``"10h"``, ``"30min"``, ``"600s"`` or ``"600"`` into seconds.
+
+    Parameters
+    ----------
+    text : str
+        A positive number with an optional unit h (or hr), min (or m), s or ms; no unit means s.
+
+    Returns
+    -------
+    float
+        The duration [s].
 
     Raises
     ------
@@ -235,8 +488,29 @@ def coefficient_to_field(name: str, value: float) -> float: ...
 @typing.overload
 def coefficient_to_field(name: str, value: None) -> None: ...
 def coefficient_to_field(name: str, value: float | None) -> float | None:
-    """An IEEE-952 coefficient (Q, N, B, K, R) from SI to its field unit; ``None`` passes through.
+    """Convert an IEEE-952 coefficient from SI to its field unit.
 
+    Parameters
+    ----------
+    name : str
+        ``"Q"`` [rad -> arcsec], ``"N"`` [rad/sqrt(s) -> deg/sqrt(h)], ``"B"`` [rad/s -> deg/h],
+        ``"K"`` [rad/s/sqrt(s) -> deg/h/sqrt(h)] or ``"R"`` [rad/s^2 -> deg/h^2]
+        (:data:`COEFFICIENT_FIELD_UNITS`).
+    value : float or None
+        The coefficient in SI; None passes through.
+
+    Returns
+    -------
+    float or None
+        The coefficient in its field unit.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not one of the five coefficients.
+
+    Examples
+    --------
     >>> round(coefficient_to_field("N", deg_per_sqrt_h(0.01)), 12)
     0.01
     """

@@ -8,3 +8,61 @@ recording
 logs
     readers of real IMU logs (EuRoC, Kalibr, ROS CSV, plain CSV) into arrays with units.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+#: public name -> the submodule that defines it (imported on first access, so importing
+#: this package costs nothing until a name is used)
+_LAZY: dict[str, str] = {
+    "Recording": "gyrobench.io.recording",
+    "Channel": "gyrobench.io.recording",
+    "RecordingFormatError": "gyrobench.io.recording",
+    "save_hdf5": "gyrobench.io.recording",
+    "load_hdf5": "gyrobench.io.recording",
+    "list_hdf5": "gyrobench.io.recording",
+    "to_csv": "gyrobench.io.recording",
+    "HDF5StreamWriter": "gyrobench.io.recording",
+    "Log": "gyrobench.io.logs",
+    "read_csv_log": "gyrobench.io.logs",
+}
+
+__all__ = [
+    "Recording",
+    "Channel",
+    "RecordingFormatError",
+    "save_hdf5",
+    "load_hdf5",
+    "list_hdf5",
+    "to_csv",
+    "HDF5StreamWriter",
+    "Log",
+    "read_csv_log",
+]
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
+    from gyrobench.io.logs import Log as Log
+    from gyrobench.io.logs import read_csv_log as read_csv_log
+    from gyrobench.io.recording import Channel as Channel
+    from gyrobench.io.recording import HDF5StreamWriter as HDF5StreamWriter
+    from gyrobench.io.recording import Recording as Recording
+    from gyrobench.io.recording import RecordingFormatError as RecordingFormatError
+    from gyrobench.io.recording import list_hdf5 as list_hdf5
+    from gyrobench.io.recording import load_hdf5 as load_hdf5
+    from gyrobench.io.recording import save_hdf5 as save_hdf5
+    from gyrobench.io.recording import to_csv as to_csv
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

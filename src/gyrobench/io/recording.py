@@ -82,6 +82,17 @@ def check_magnitude(
 
     ``n_total`` is the length of the whole record when ``values`` is one chunk of it.
 
+    Parameters
+    ----------
+    values : ndarray
+        The samples (or one chunk of them).
+    what : str
+        What they are, for the message (a file and column).
+    n_total : int, optional
+        Length of the whole record when ``values`` is a chunk.
+    hint : str
+        What to do, for the message.
+
     Raises
     ------
     ValueError
@@ -373,6 +384,15 @@ def check_finite_samples(data: NDArray, what: str, *, offset: int = 0) -> None:
 
     ``offset`` is the record's index of ``data[0]`` when ``data`` is one chunk of it.
 
+    Parameters
+    ----------
+    data : ndarray
+        The samples (or one chunk of them).
+    what : str
+        What they are, for the message.
+    offset : int
+        Record index of ``data[0]``.
+
     Raises
     ------
     ValueError
@@ -403,6 +423,18 @@ def _check_recording_finite(rec: Recording) -> None:
 
 def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) -> Path:
     """Write one or several recordings to an HDF5 file, atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The HDF5 file (replaced if it exists).
+    recordings : Recording or list of Recording
+        The recordings, each stored under ``/recordings/<name>``.
+
+    Returns
+    -------
+    Path
+        ``path``.
 
     Raises
     ------
@@ -455,7 +487,18 @@ def _open_checked(path: str | os.PathLike):
 
 
 def list_hdf5(path: str | os.PathLike) -> list[str]:
-    """Names of the recordings in a gyrobench HDF5 file."""
+    """Names of the recordings in a gyrobench HDF5 file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A gyrobench HDF5 file.
+
+    Returns
+    -------
+    list of str
+        The recordings' names.
+    """
     with _open_checked(path) as h5:
         return list(h5["recordings"].keys())
 
@@ -620,6 +663,20 @@ def load_hdf5(
 
     ``start`` and ``stop`` [s after the first sample] read only the samples in between
     (``t0`` moves to the first one read).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A gyrobench HDF5 file.
+    name : str, optional
+        The recording (None: the file must hold exactly one).
+    start, stop : float, optional
+        Read only the samples from ``start`` to ``stop`` [s after the first sample].
+
+    Returns
+    -------
+    Recording
+        The recording (float64 channels, SI).
 
     Raises
     ------
@@ -804,6 +861,27 @@ class HDF5StreamWriter:
     on entry, before anything is written (:func:`ensure_free_space`); a write
     that fails later raises :class:`AtomicWriteError` and leaves no file.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The HDF5 file.
+    name : str
+        The recording's name.
+    fs : float
+        Sample rate [Hz].
+    channels : mapping of str to str
+        Channel name -> unit.
+    truth : mapping of str to str, optional
+        Truth channel name -> unit.
+    t0 : float
+        Time of the first sample [s].
+    metadata : mapping, optional
+        JSON-serialisable metadata.
+    chunk : int
+        HDF5 chunk length [samples].
+    expected_samples : int, optional
+        Samples to be written, for the free-space check on entry.
+
     Examples
     --------
     >>> import numpy as np, tempfile, os
@@ -899,8 +977,29 @@ class HDF5StreamWriter:
 
 
 def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
-    """Export a recording to CSV (``time [s]`` then ``name [unit]`` columns), atomically; every sample must be
-    finite (ValueError otherwise, nothing written)."""
+    """Export a recording to CSV, atomically.
+
+    The columns are ``time [s]`` then ``name [unit]`` for each channel (and truth channel).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file (replaced if it exists).
+    rec : Recording
+        The recording.
+    include_truth : bool
+        Also write the truth channels (``truth/<name> [unit]``).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If a sample is not finite (nothing is written).
+    """
     _check_recording_finite(rec)
     cols = [("time", "s", rec.time)]
     cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]

@@ -89,7 +89,19 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Channel:
-    """One analysed column: name, quantity ("rate" or "accel"), SI data and where its unit came from."""
+    """One analysed column: name, quantity ("rate" or "accel"), SI data and where its unit came from.
+
+    Attributes
+    ----------
+    label : str
+        The column's name.
+    quantity : {"rate", "accel"}
+        What it measures.
+    data : ndarray
+        The samples in SI [rad/s or m/s^2].
+    unit : str
+        Where the column's unit came from (the header, ``--units``, ...).
+    """
 
     label: str
     quantity: str
@@ -99,7 +111,27 @@ class Channel:
 
 @dataclass
 class Log:
-    """Columns read from a log, all sampled at ``fs`` [Hz]; ``notes`` are for the report."""
+    """Columns read from a log, all sampled at ``fs`` [Hz]; ``notes`` are for the report.
+
+    Attributes
+    ----------
+    path : Path
+        The file read.
+    fs : float
+        Sample rate [Hz].
+    channels : list of Channel
+        The columns analysed, in SI.
+    notes : list of str
+        What the reader did or assumed, for the report.
+    temperature : ndarray, optional
+        The ``--temperature`` column [degC], one value per sample.
+    fmt : str
+        The file's format: ``"csv"``, ``"euroc"``, ``"ros"``, ``"kalibr"`` or ``"hdf5"``.
+    t0 : float
+        Time of the first sample [s].
+    pieces : tuple of (int, int), optional
+        ``--gaps split``: sample ranges [a, b) of the contiguous pieces (None: no gap).
+    """
 
     path: Path
     fs: float
@@ -162,6 +194,11 @@ def read_csv_log(
         count in ``notes``); or kept as gaps, ``Log.pieces`` giving the contiguous runs for the
         gap-aware Allan variance (:func:`gyrobench.analysis.allan.allan_deviation_gaps`).
         ``--start/--stop`` count time on the grid, gaps included.
+
+    Returns
+    -------
+    Log
+        The channels in SI, the sample rate and the reader's notes.
 
     Raises
     ------

@@ -81,7 +81,20 @@ _ISO = re.compile(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}(:\d{2}([.,]\d+)?)?(Z|[+-]\
 
 
 def split_header(cell: str) -> tuple[str, str | None]:
-    """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses."""
+    """``"gyro [deg/s]"`` or ``"Time (s)"`` -> (name, unit); the unit may itself hold parentheses.
+
+    Parameters
+    ----------
+    cell : str
+        A header cell.
+
+    Returns
+    -------
+    name : str
+        The column's name.
+    unit : str or None
+        The unit in brackets or parentheses (None: none stated).
+    """
     cell = cell.strip()
     close = cell[-1:] if cell[-1:] in ")]" else None
     if close is None:
@@ -98,7 +111,24 @@ def split_header(cell: str) -> tuple[str, str | None]:
 def time_column(
     names: list[str], hdr_units: list[str | None]
 ) -> tuple[int | None, float | None, bool]:
-    """Index of the time column, its unit in s (None: not a time unit) and whether the unit was stated."""
+    """Index of the time column, its unit in s (None: not a time unit) and whether the unit was stated.
+
+    Parameters
+    ----------
+    names : list of str
+        The columns' names.
+    hdr_units : list of str or None
+        The units their headers state.
+
+    Returns
+    -------
+    index : int or None
+        The time column (None: no time column).
+    seconds : float or None
+        Its unit in s (None: not a time unit).
+    stated : bool
+        Whether the unit was stated.
+    """
     for i, nm in enumerate(names):
         m = _TIME_NAME.match(nm.strip())
         if m:
@@ -110,7 +140,24 @@ def time_column(
 
 
 def unit_of(name: str, hdr_unit: str | None, fmt: str) -> tuple[str | None, str | None]:
-    """(quantity, unit) of a data column from its header unit, its name suffix or its format."""
+    """(quantity, unit) of a data column from its header unit, its name suffix or its format.
+
+    Parameters
+    ----------
+    name : str
+        The column's name.
+    hdr_unit : str or None
+        The unit its header states.
+    fmt : str
+        The log's format (an export whose columns have a known unit).
+
+    Returns
+    -------
+    quantity : {"rate", "accel"} or None
+        The column's kind (None: not known).
+    unit : str or None
+        Its unit (None: not known).
+    """
     from gyrobench.base import units
 
     unit = hdr_unit

@@ -32,6 +32,8 @@ HEAVY = ("numpy", "scipy", "sklearn", "matplotlib", "h5py")
 PAPER_CONTRACT = {
     "NAME", "TITLE", "PAPER", "Config", "CLAIMS", "DEVIATIONS", "UnitResult", "experiment", "claims_for",
     "report", "simulate", "memory_estimate", "compensation_task", "control_config", "variant_config", "VARIANTS",
+    # the paper's source record and bench scores (one folder), and what its unit store keeps whole
+    "SOURCE", "BENCH_SCORES", "REPORT_UNITS", "SLIM_FIELDS",
 }
 
 

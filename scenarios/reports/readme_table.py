@@ -1,15 +1,18 @@
-"""The README's "Reproduced results" table, generated from a report's results.json files.
+"""The reproduced-results table (docs/results.md) and its summary (README.md), generated from a
+report's results.json files.
 
 ::
 
-    python -m gyrobench.scenarios.reports.readme_table gyrobench-report            # print the markdown
-    python -m gyrobench.scenarios.reports.readme_table gyrobench-report --splice README.md
+    python -m gyrobench.scenarios.reports.readme_table gyrobench-report            # print the table
+    python -m gyrobench.scenarios.reports.readme_table gyrobench-report --splice docs/results.md --summary README.md
 
 The table is built from the same ``claims`` lists the report's summary shows (see
-:func:`gyrobench.scenarios.claims.ClaimResult.as_dict`), one row per claim, so the README
-and the report can never disagree. ``--splice FILE`` replaces only the text between
-the lines ``<!-- reproduced-results:begin -->`` and ``<!-- reproduced-results:end -->``
-of FILE (refused when the markers are missing); nothing else of the file is touched.
+:func:`gyrobench.scenarios.claims.ClaimResult.as_dict`), one row per claim, so the docs and
+the report can never disagree; the summary is the table's first part (one tally row per
+paper and the physics checks' count). ``--splice FILE`` writes the full table and
+``--summary FILE`` the summary, each replacing only the text between the lines
+``<!-- reproduced-results:begin -->`` and ``<!-- reproduced-results:end -->`` of FILE
+(refused when the markers are missing); nothing else of the file is touched.
 """
 
 from __future__ import annotations
@@ -21,14 +24,24 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["BEGIN", "END", "format_table", "load_report", "main", "splice"]
+__all__ = ["BEGIN", "END", "format_summary", "format_table", "load_report", "main", "splice"]
 
 BEGIN = "<!-- reproduced-results:begin -->"
 END = "<!-- reproduced-results:end -->"
 
 
 def load_report(folder: str | Path) -> list[dict[str, Any]]:
-    """Every ``<scenario>/results.json`` under ``folder``, in the registry's order.
+    """Read every ``<scenario>/results.json`` of a report folder.
+
+    Parameters
+    ----------
+    folder : str or Path
+        A report folder written by ``gyrobench reproduce``.
+
+    Returns
+    -------
+    list of dict
+        The results documents, in the registry's order.
 
     Raises
     ------
@@ -44,7 +57,7 @@ def load_report(folder: str | Path) -> list[dict[str, Any]]:
             f"report folder {str(root)!r} holds no <scenario>/results.json; "
             "run 'gyrobench reproduce --all --out DIR' first"
         )
-    order = {n: i for i, n in enumerate(registry.table())}
+    order = {n: i for i, n in enumerate(registry.SCENARIOS)}
     return sorted(
         docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", ""))
     )
@@ -145,12 +158,62 @@ def _tally_row(doc: dict[str, Any]) -> str:
 
 
 def format_table(docs: Sequence[dict[str, Any]]) -> str:
-    """The markdown: a line on the units, the claims table, the tally, the physics checks."""
+    """The full markdown table of a report: the tally, every claim's row, the physics checks.
+
+    Parameters
+    ----------
+    docs : sequence of dict
+        The report's results.json documents (:func:`load_report`).
+
+    Returns
+    -------
+    str
+        Markdown: a paragraph on how claims are judged, one tally row per paper, one row per
+        claim, and a line on the closed-form physics checks.
+
+    Raises
+    ------
+    ValueError
+        If the report holds no paper claims and no physics checks.
+    """
+    return _markdown(docs, rows=True)
+
+
+def format_summary(docs: Sequence[dict[str, Any]]) -> str:
+    """The summary of a report for the README: the tally per paper and the physics checks.
+
+    Parameters
+    ----------
+    docs : sequence of dict
+        The report's results.json documents (:func:`load_report`).
+
+    Returns
+    -------
+    str
+        Markdown: a line on how many units, one tally row per paper (as in :func:`format_table`)
+        and the line on the physics checks; not the one-row-per-claim table.
+
+    Raises
+    ------
+    ValueError
+        If the report holds no paper claims and no physics checks.
+    """
+    return _markdown(docs, rows=False)
+
+
+def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
     papers = [d for d in docs if d.get("claims")]
     lines = []
     if papers:
         n = sorted({d["units"] for d in papers})
-        lines += [
+        if not rows:
+            lines += [
+                f"The claims of each paper by role and status, judged over {', '.join(map(str, n))} simulated "
+                "unit(s) per paper and a control (the same seeds with the effect switched off); calibrated "
+                "claims are shown but not counted.",
+                "",
+            ]
+        lines += [] if not rows else [
             f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) per paper "
             "(each unit its own noise and drawn parameters). Device claims are what the simulated device "
             "was matched to; method claims are what the paper's method achieves on it, judged only on units "
@@ -161,18 +224,21 @@ def format_table(docs: Sequence[dict[str, Any]]) -> str:
             "with the 95 % Wilson interval of the pass rate; a verdict needs that interval entirely above or below "
             "50 %, and is provisional within 5 points of it. Calibrated claims are shown but not counted.",
             "",
+        ]
+        lines += [
             "| paper | units | device matched | device calibrated | method: reproduced | contradicted | not "
             "reproducible on this device | no different from / below the control | undecided | not testable | method "
             "calibrated | extensions: hold / all |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         lines += [_tally_row(d) for d in papers]
-        lines += [
-            "",
-            "| paper | where | claim | role | paper | criterion | ours: median [IQR] | holds on | status |",
-            "|---|---|---|---|---|---|---|---|---|",
-        ]
-        lines += [_row(c) for d in papers for c in d["claims"]]
+        if rows:
+            lines += [
+                "",
+                "| paper | where | claim | role | paper | criterion | ours: median [IQR] | holds on | status |",
+                "|---|---|---|---|---|---|---|---|---|",
+            ]
+            lines += [_row(c) for d in papers for c in d["claims"]]
     checks = [c for d in docs for c in d.get("checks", [])]
     if checks:
         failed = [c["id"] for c in checks if not c["passed"]]
@@ -190,7 +256,25 @@ def format_table(docs: Sequence[dict[str, Any]]) -> str:
 
 
 def splice(text: str, table: str) -> str:
-    """``text`` with the lines between :data:`BEGIN` and :data:`END` replaced by ``table``."""
+    """Replace the marked section of a text.
+
+    Parameters
+    ----------
+    text : str
+        A file's text holding the lines :data:`BEGIN` and :data:`END`, once each, in that order.
+    table : str
+        The new text between them.
+
+    Returns
+    -------
+    str
+        ``text`` with the lines between :data:`BEGIN` and :data:`END` replaced by ``table``.
+
+    Raises
+    ------
+    ValueError
+        If the markers are missing, repeated or out of order.
+    """
     if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
         raise ValueError(f"the file must hold the marker lines {BEGIN!r} then {END!r}, once each")
     head, rest = text.split(BEGIN, 1)
@@ -199,21 +283,42 @@ def splice(text: str, table: str) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Print the table of a report, or splice it and its summary into files.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Command-line arguments (``sys.argv[1:]`` when None).
+
+    Returns
+    -------
+    int
+        0 on success, 2 when the report or a file's markers are missing.
+    """
     p = argparse.ArgumentParser(
         prog="python -m gyrobench.scenarios.reports.readme_table", description=__doc__.split("\n")[0]
     )
     p.add_argument("report", help="report folder written by 'gyrobench reproduce'")
     p.add_argument(
-        "--splice", metavar="FILE", help="replace the marked section of FILE (e.g. README.md)"
+        "--splice", metavar="FILE", help="write the full table into the marked section of FILE (docs/results.md)"
+    )
+    p.add_argument(
+        "--summary", metavar="FILE", help="write the summary into the marked section of FILE (README.md)"
     )
     args = p.parse_args(argv)
     try:
-        table = format_table(load_report(args.report))
-        if args.splice:
-            path = Path(args.splice)
-            path.write_text(splice(path.read_text(encoding="utf-8"), table), encoding="utf-8")
+        docs = load_report(args.report)
+        table = format_table(docs)
+        writes = [(args.splice, table), (args.summary, format_summary(docs) if args.summary else "")]
+        updates = []
+        for name, text in writes:
+            if name:
+                path = Path(name)
+                updates.append((path, splice(path.read_text(encoding="utf-8"), text)))
+        for path, text in updates:  # both files checked before either is written
+            path.write_text(text, encoding="utf-8")
             print(f"updated {path}")
-        else:
+        if not updates:
             sys.stdout.write(table)
     except (ValueError, FileNotFoundError) as exc:
         print(f"readme_table: error: {exc}", file=sys.stderr)

@@ -137,8 +137,6 @@ from .results import TERMS, UnitResult  # noqa: E402
 from .variants import VARIANTS, control_config, variant_config  # noqa: E402
 
 __all__ = [
-    "fog_vibration_rbf",
-    "FogVibrationBias",
     "BENCH_SCORES",
     "SOURCE",
     "CLAIMS",
@@ -147,23 +145,16 @@ __all__ = [
     "PAPER",
     "REPORT_UNITS",
     "SLIM_FIELDS",
-    "TERMS",
     "TITLE",
     "Config",
-    "FogSpec",
     "UnitResult",
-    "VIBRATION_BIAS_SHOWS",
     "VARIANTS",
     "claims_for",
     "compensation_task",
     "control_config",
-    "draw_mount",
-    "draw_unit",
     "experiment",
     "memory_estimate",
     "report",
     "simulate",
-    "steady_mount_bias",
-    "steady_vibration_bias",
     "variant_config",
 ]

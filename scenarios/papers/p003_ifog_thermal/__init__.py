@@ -68,8 +68,8 @@ streaming compensation equal to batch; the exported a1/a2 network evaluated in s
 precision as on the paper's TMS320F28335 (``deployment_float32``); the Table 1 /
 figure 2 point-heating T x dT term; peak drift of the four winding patterns.
 
-Claims, control and identification (issues 24, 27)
---------------------------------------------------
+Claims, control and identification
+----------------------------------
 The drift level (0.15 deg/h per 10 degC) is a ``device`` claim: the one calibrated
 parameter, the lead-asymmetry spread, is identified from it (:mod:`.identify`, frozen in
 ``IDENTIFIED``). The Table 1 T x dT term is a device claim from material data, reported
@@ -147,43 +147,22 @@ SOURCE = Paper(
 )
 
 __all__ = [
-    "IfogSegmentRBF",
     "BENCH_SCORES",
     "SOURCE",
     "CLAIMS",
     "DEVIATIONS",
-    "FEATURES_IMPROVED",
-    "FEATURES_TRADITIONAL",
-    "IDENTIFIED",
-    "IDENTIFICATION_SEGMENTS",
     "NAME",
     "PAPER",
-    "RBFSelection",
-    "Run",
     "TITLE",
-    "TrainingSet",
     "UnitResult",
     "VARIANTS",
     "Config",
     "claims_for",
     "compensation_task",
     "control_config",
-    "deployment_float32",
-    "err",
     "experiment",
-    "fit_models",
-    "heat_cool_average",
-    "identification_segments",
-    "identify_lead_asymmetry",
     "memory_estimate",
-    "point_heating",
-    "prepare",
-    "record_mask",
     "report",
-    "score_mse",
-    "select_rbf",
     "simulate",
-    "training_set",
     "variant_config",
-    "winding_comparison",
 ]

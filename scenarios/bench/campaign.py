@@ -11,6 +11,7 @@ computes only the others.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import dataclasses
 import math
 import os
@@ -23,15 +24,26 @@ from typing import Any, NoReturn
 import numpy as np
 from gyrobench.scenarios import exits
 from gyrobench.scenarios.base import check_pool
-from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, stop_pool
-from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
+from gyrobench.scenarios.bench.compensators import (
+    CompensatorError,
+    CompensatorImportError,
+    FailedSeedsError,
+    compensator_label,
+    resolve_compensator,
+)
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, default_workers, stop_pool
+from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
+from gyrobench.scenarios.bench.sandbox import DEFAULT_MEMORY_BYTES, ChildStatus, Zygote, ZygoteError, kill_group
 from gyrobench.scenarios.bench.scoring import (
+    CHILD_DIED,
     DEFAULT_SEED_TIMEOUT_S,
+    MEMORY_FAILURE,
     TIMEOUT_FAILURE,
     check_seed_timeout,
     resolve_scenario,
     score_job,
+    score_job_remote,
+    score_sandboxed,
 )
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
@@ -125,6 +137,8 @@ def run_campaign(
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = True,
     seed_timeout: float | None = DEFAULT_SEED_TIMEOUT_S,
+    seed_memory: int | None = DEFAULT_MEMORY_BYTES,
+    sandbox: bool = True,
 ) -> Campaign:
     """Score ``compensator`` on ``scenario`` for every seed, resuming from ``db``.
 
@@ -156,7 +170,19 @@ def run_campaign(
     seed_timeout : float or None
         Per-seed time limit [s] (default :data:`DEFAULT_SEED_TIMEOUT_S`, 600 s; None: none).
         A seed past it, or whose compensator calls ``sys.exit`` or predicts complex values,
-        is failed with that reason (a timed-out seed is not stored: a rerun retries it).
+        is failed with that reason (a timed-out seed is not stored: a rerun retries it). The
+        limit is kept by this process, which kills the compensator's process group; it covers
+        the compensator's import too.
+    seed_memory : int or None
+        Address-space cap [bytes] of the compensator's process per seed (``RLIMIT_AS``, default
+        :data:`~gyrobench.scenarios.bench.sandbox.DEFAULT_MEMORY_BYTES`, 4 GiB; None: none). A
+        seed past it fails (not stored: a rerun retries it).
+    sandbox : bool
+        True (the default): the compensator runs in its own process, which receives only the
+        training data and the held-out features (:mod:`~gyrobench.scenarios.bench.sandbox`);
+        scores are computed outside it and a score below the noise floor fails the seed
+        (:mod:`~gyrobench.scenarios.bench.floor`). False runs it in the scoring process: only
+        for trusted code (the bench's own references).
 
     Returns
     -------
@@ -175,23 +201,67 @@ def run_campaign(
         after the seeds already finished are committed.
     """
     module = resolve_scenario(scenario)
-    comp = resolve_compensator(compensator)
+    # a "module:attr" string is imported only in the compensator's own process (the sandbox)
+    comp = compensator if sandbox and isinstance(compensator, str) else resolve_compensator(compensator)
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
     if config is None:
         config = module.Config()
     check_pool(executor, workers)
     seed_timeout = check_seed_timeout(seed_timeout)
-    plan = _Plan(
-        module=module,
-        compensator=comp,
-        config=config,
-        campaign_id=campaign_id(module, comp, config),
-        label=compensator_label(comp, compensator),
-        short=compensator_label(comp, compensator, short=True),
-        name=getattr(module, "NAME", module.__name__),
-        db=str(db),
-        seed_timeout=seed_timeout,
-    )
+    seed_memory = check_seed_memory(seed_memory)
+    zygote = _start_zygote(comp, seed_timeout, seed_memory, seeds) if sandbox else None
+    try:
+        ident = zygote.identity if zygote is not None else compensator_identity(comp)
+        plan = _Plan(
+            module=module,
+            compensator=comp,
+            config=config,
+            campaign_id=campaign_id_of(module, config, ident),
+            label=compensator_label(comp, compensator),
+            short=compensator_label(comp, compensator, short=True),
+            name=getattr(module, "NAME", module.__name__),
+            db=str(db),
+            seed_timeout=seed_timeout,
+            seed_memory=seed_memory,
+            zygote=zygote,
+        )
+        return _run_plan(plan, seeds, ident, executor=executor, workers=workers, progress=progress)
+    finally:
+        if zygote is not None:
+            zygote.close()
+
+
+def _start_zygote(comp: Any, seed_timeout: float | None, seed_memory: int | None, seeds: Sequence[int]) -> Zygote:
+    """The compensator's process (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`); its import
+    failing, exiting or hanging is one error naming it."""
+    label = comp if isinstance(comp, str) else compensator_label(comp, comp, short=True)
+    try:
+        return Zygote(comp, memory=seed_memory, timeout=seed_timeout)
+    except ZygoteError as exc:
+        if exc.kind in ("raised", "exited"):
+            raise CompensatorImportError(f"compensator {label}: {exc}", traceback_text=exc.traceback_text) from None
+        raise FailedSeedsError(
+            f"compensator {label} failed on all {len(seeds)} seeds (seeds {seed_text(list(seeds))}): {exc}",
+            seeds=list(seeds),
+        ) from None
+
+
+def check_seed_memory(value: Any) -> int | None:
+    """``value`` as a per-seed memory cap in bytes: an integer >= 256 MiB, or None (no cap)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 2**28:
+        raise ValueError(f"seed_memory must be a number of bytes >= 268435456 (256 MiB), or None; got {value!r}")
+    return int(value)
+
+
+def _run_plan(
+    plan: _Plan, seeds: Sequence[int], ident: str, *, executor: cf.Executor | None, workers: int | None,
+    progress: bool,
+) -> Campaign:
+    """Open the store, read back the finished seeds, compute the others."""
+    module, config, db = plan.module, plan.config, plan.db
+    del module
     conn = connect_db(db)
     try:
         session = start_session(
@@ -201,7 +271,7 @@ def run_campaign(
             scenario=plan.name,
             compensator=plan.label,
             config=repr(config),
-            identity=compensator_identity(comp),
+            identity=ident,
         )
         recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed)
         todo = [s for s in seeds if s not in session.done]
@@ -237,6 +307,8 @@ class _Plan:
     name: str
     db: str
     seed_timeout: float | None = None
+    seed_memory: int | None = None
+    zygote: Zygote | None = None
 
 
 class _Recorder:
@@ -256,7 +328,7 @@ class _Recorder:
         self.failed: dict[int, str] = dict(failed)
 
     def __call__(self, seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
-        if failure is not None and failure.startswith(TIMEOUT_FAILURE):  # not stored: a rerun retries it
+        if failure is not None and failure.startswith((TIMEOUT_FAILURE, MEMORY_FAILURE)):  # a rerun retries it
             self.done[seed], self.failed[seed] = dict(scores), failure
             return
         stored, failure = record_seed(
@@ -302,7 +374,10 @@ def _compute(
         dynamic_ncols=True,
     )
     try:
-        if executor is None and workers == 0:  # one seed at a time, each in its own forked process
+        if plan.zygote is not None and executor is None:  # the compensator in its own process per seed
+            _check_memory(plan, todo, workers)
+            _run_sandboxed(plan, todo, recorder, bar, workers=1 if workers == 0 else workers)
+        elif executor is None and workers == 0:  # one seed at a time, each in its own forked process
             _run_contained(plan, todo, recorder, bar, workers=1)
         else:
             _run_on_pool(plan, todo, recorder, bar, executor=executor, workers=workers)
@@ -323,15 +398,8 @@ def _run_on_pool(
     in memory first), recording each as it finishes."""
     check_picklable(plan.compensator, plan.config)
     own = executor is None
-    if own:  # every local worker holds one seed's task in memory at once
-        from gyrobench.scenarios import units
-
-        units.check_unit_memory(
-            plan.module,
-            plan.config,
-            concurrent=units.concurrent_units(len(todo), workers),
-            source="its configuration (bench seeds)",
-        )
+    if own:
+        _check_memory(plan, todo, workers)
     if executor is None:
         _run_contained(plan, todo, recorder, bar, workers=workers)
         return
@@ -339,18 +407,25 @@ def _run_on_pool(
     futures: dict[cf.Future, int] = {}
     ok = False
     try:
-        futures = {
-            ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
-                      plan.seed_timeout): s
-            for s in todo
-        }
+        if plan.zygote is not None:  # each job starts its own sandbox where it runs
+            futures = {
+                ex.submit(score_job_remote, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
+                          plan.seed_timeout, plan.seed_memory): s
+                for s in todo
+            }
+        else:
+            futures = {
+                ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
+                          plan.seed_timeout): s
+                for s in todo
+            }
         for fut in cf.as_completed(futures):
             seed = futures[fut]
             try:
                 result = fut.result()
             except Exception as exc:
                 _raise_seed_error(exc, seed, plan, recorder)
-            recorder(*result)
+            recorder(*result[:4])
             bar.update(1)
         ok = True
     finally:
@@ -390,6 +465,106 @@ def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: A
 
 #: seconds past the seed time limit after which a seed's process is killed from outside
 _KILL_GRACE_S = 30.0
+
+
+def _check_memory(plan: _Plan, todo: Sequence[int], workers: int | None) -> None:
+    """Every local worker holds one seed's task in memory at once: check it fits."""
+    from gyrobench.scenarios import units
+
+    units.check_unit_memory(
+        plan.module,
+        plan.config,
+        concurrent=units.concurrent_units(len(todo), workers or None),
+        source="its configuration (bench seeds)",
+    )
+
+
+def _run_sandboxed(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any, *, workers: int | None) -> None:
+    """Score each seed in a forked scoring process of this one, talking to a child of the
+    compensator's zygote (:mod:`~gyrobench.scenarios.bench.sandbox`), at most ``workers`` seeds at
+    once. This process keeps every deadline: at a seed's end, and at its deadline, it SIGKILLs
+    the child's process group (and, at the deadline, the scoring process)."""
+    import multiprocessing as mp
+    import time
+    from multiprocessing.connection import wait
+
+    from gyrobench.scenarios.bench.executors import _contained_child, _relink, death_reason
+
+    assert plan.zygote is not None
+    zygote = plan.zygote
+    ctx = mp.get_context("fork")
+    pending = list(reversed(todo))
+    limit = max(1, workers or default_workers())
+    running: dict[Any, tuple[int, Any, int, float]] = {}  # result pipe -> (seed, scorer, child pid, start)
+    try:
+        while pending or running:
+            while pending and len(running) < limit:
+                seed = pending.pop()
+                pid, sock = zygote.fork()
+                recv, send = ctx.Pipe(duplex=False)
+                args = (plan.module.__name__, seed, plan.config, plan.short, sock.fileno(), plan.seed_memory)
+                proc = ctx.Process(target=_contained_child, args=(send, os.getpid(), score_sandboxed, args), daemon=True)
+                proc.start()
+                send.close()
+                sock.close()
+                running[recv] = (seed, proc, pid, time.monotonic())
+            timeout = None
+            if plan.seed_timeout is not None:
+                oldest = min(start for *_, start in running.values())
+                timeout = max(0.0, oldest + plan.seed_timeout - time.monotonic())
+            ready = wait(list(running), timeout=timeout)
+            now = time.monotonic()
+            for recv in list(running):
+                seed, proc, pid, start = running[recv]
+                if recv in ready:
+                    try:
+                        kind, value = recv.recv()
+                        if kind == "err":
+                            value = _relink(value)
+                    except (EOFError, OSError):
+                        proc.join(timeout=5.0)
+                        kind, value = "died", death_reason(proc.exitcode)
+                elif plan.seed_timeout is not None and now - start >= plan.seed_timeout:
+                    proc.kill()
+                    kind, value = "timeout", None
+                else:
+                    continue
+                del running[recv]
+                recv.close()
+                status = zygote.end_child(pid)  # the child's whole process group, also on success
+                proc.join(timeout=5.0)
+                _record_sandboxed(plan, recorder, seed, kind, value, status)
+                bar.update(1)
+    finally:
+        for seed, proc, pid, _start in running.values():
+            kill_group(pid)
+            with contextlib.suppress(Exception):
+                proc.kill()
+        for recv, (seed, proc, pid, _start) in running.items():
+            with contextlib.suppress(Exception):
+                proc.join(timeout=2.0)
+                recv.close()
+            with contextlib.suppress(Exception):
+                zygote.end_child(pid)
+
+
+def _record_sandboxed(plan: _Plan, recorder: _Recorder, seed: int, kind: str, value: Any, status: ChildStatus) -> None:
+    """Record one sandboxed seed's outcome (or raise what the compensator's failure means)."""
+    if kind == "ok":
+        seed_, scores, elapsed, failure, _reads = value
+        if failure == CHILD_DIED:
+            failure = f"the compensator's process {status.reason()}"
+        recorder(seed_, scores, elapsed, failure)
+    elif kind == "err":
+        _raise_seed_error(value, seed, plan, recorder)
+    elif kind == "timeout":
+        recorder(seed, {}, 0.0, f"{TIMEOUT_FAILURE} of {plan.seed_timeout:g} s (--seed-timeout; the compensator's "
+                                "process group was killed)")
+    else:
+        raise exits.InternalError(
+            f"the scoring process of seed {seed} of {plan.name} {value} (killed, or out of memory: see 'dmesg'); "
+            f"{recorder.kept()}"
+        )
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

@@ -241,7 +241,8 @@ def reference_campaigns(
     for label, comp in refs.items():
         try:
             out[label] = run_campaign(
-                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
+                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False,
+                sandbox=False, **kw
             )
         except (CompensatorError, TypeError) as exc:  # a reference that cannot run never fails the run
             warnings.warn(f"reference {label} ({comp}) not shown: {exc}", stacklevel=2)

@@ -11,7 +11,6 @@ computes only the others.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import contextlib
 import dataclasses
 import math
 import os
@@ -31,11 +30,17 @@ from gyrobench.scenarios.bench.compensators import (
     compensator_label,
     resolve_compensator,
 )
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, default_workers, stop_pool
+from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
-from gyrobench.scenarios.bench.sandbox import DEFAULT_MEMORY_BYTES, ChildStatus, Zygote, ZygoteError, kill_group
+from gyrobench.scenarios.bench.sandbox import (
+    DEFAULT_MEMORY_BYTES,
+    Zygote,
+    ZygoteError,
+    reads_fingerprint,
+    shared_zygote,
+)
+from gyrobench.scenarios.bench.sandboxed import CampaignReads, run_sandboxed
 from gyrobench.scenarios.bench.scoring import (
-    CHILD_DIED,
     DEFAULT_SEED_TIMEOUT_S,
     MEMORY_FAILURE,
     TIMEOUT_FAILURE,
@@ -43,11 +48,16 @@ from gyrobench.scenarios.bench.scoring import (
     resolve_scenario,
     score_job,
     score_job_remote,
-    score_sandboxed,
 )
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
-from gyrobench.scenarios.bench.store import DEFAULT_DB, connect_db, record_seed, start_session
+from gyrobench.scenarios.bench.store import (
+    DEFAULT_DB,
+    campaign_generation,
+    connect_db,
+    record_seed,
+    start_session,
+)
 from numpy.typing import NDArray
 
 __all__ = ["Campaign", "run_campaign"]
@@ -227,17 +237,27 @@ def run_campaign(
         )
         return _run_plan(plan, seeds, ident, executor=executor, workers=workers, progress=progress)
     finally:
-        if zygote is not None:
+        if zygote is not None and not zygote.shared:
             zygote.close()
+
+
+#: the shortest time limit [s] on importing the compensator (the per-seed limit, but never less:
+#: a fresh interpreter importing numpy and scikit-learn takes seconds on a loaded machine)
+IMPORT_TIMEOUT_FLOOR_S = 30.0
 
 
 def _start_zygote(comp: Any, seed_timeout: float | None, seed_memory: int | None, seeds: Sequence[int]) -> Zygote:
     """The compensator's process (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`); its import
     failing, exiting or hanging is one error naming it."""
     label = comp if isinstance(comp, str) else compensator_label(comp, comp, short=True)
+    timeout = None if seed_timeout is None else max(seed_timeout, IMPORT_TIMEOUT_FLOOR_S)
     try:
-        return Zygote(comp, memory=seed_memory, timeout=seed_timeout)
+        return shared_zygote(comp, memory=seed_memory, timeout=timeout)
     except ZygoteError as exc:
+        if exc.kind == "bad":
+            raise ValueError(str(exc)) from None
+        if exc.kind == "named":
+            raise CompensatorImportError(str(exc), traceback_text=exc.traceback_text) from None
         if exc.kind in ("raised", "exited"):
             raise CompensatorImportError(f"compensator {label}: {exc}", traceback_text=exc.traceback_text) from None
         raise FailedSeedsError(
@@ -260,10 +280,15 @@ def _run_plan(
     progress: bool,
 ) -> Campaign:
     """Open the store, read back the finished seeds, compute the others."""
-    module, config, db = plan.module, plan.config, plan.db
-    del module
+    config, db = plan.config, plan.db
     conn = connect_db(db)
     try:
+        reads = None
+        if plan.zygote is not None:  # what the compensator read is part of the campaign's identity
+            cid, names = campaign_generation(conn, plan.campaign_id, reads_fingerprint)
+            reads = CampaignReads(conn, cid, plan.campaign_id, names)
+            reads.add(plan.zygote.import_reads)
+            plan = dataclasses.replace(plan, campaign_id=cid)
         session = start_session(
             conn,
             plan.campaign_id,
@@ -273,10 +298,13 @@ def _run_plan(
             config=repr(config),
             identity=ident,
         )
-        recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed)
+        recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed, reads)
         todo = [s for s in seeds if s not in session.done]
         if todo:
             _compute(plan, todo, recorder, total=len(seeds), executor=executor, workers=workers, progress=progress)
+        if reads is not None:
+            reads.save()
+            reads.warn_unseen(plan.short)
         return Campaign(
             campaign_id=plan.campaign_id,
             scenario=plan.name,
@@ -322,10 +350,18 @@ class _Recorder:
         session_id: int,
         done: Mapping[int, Mapping[str, float]],
         failed: Mapping[int, str],
+        reads: CampaignReads | None = None,
     ) -> None:
         self.conn, self.plan, self.session_id = conn, plan, session_id
         self.done: dict[int, Mapping[str, float]] = dict(done)
         self.failed: dict[int, str] = dict(failed)
+        self.reads = reads
+
+    def add_reads(self, names: Mapping[str, Any] | None) -> None:
+        """A seed's reads, stored at once when they add a name (a kill loses none)."""
+        if self.reads is not None:
+            self.reads.add(names)
+            self.reads.save()
 
     def __call__(self, seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
         if failure is not None and failure.startswith((TIMEOUT_FAILURE, MEMORY_FAILURE)):  # a rerun retries it
@@ -376,7 +412,7 @@ def _compute(
     try:
         if plan.zygote is not None and executor is None:  # the compensator in its own process per seed
             _check_memory(plan, todo, workers)
-            _run_sandboxed(plan, todo, recorder, bar, workers=1 if workers == 0 else workers)
+            run_sandboxed(plan, todo, recorder, bar, workers=1 if workers == 0 else workers, on_error=_raise_seed_error)
         elif executor is None and workers == 0:  # one seed at a time, each in its own forked process
             _run_contained(plan, todo, recorder, bar, workers=1)
         else:
@@ -425,6 +461,8 @@ def _run_on_pool(
                 result = fut.result()
             except Exception as exc:
                 _raise_seed_error(exc, seed, plan, recorder)
+            if len(result) > 4:
+                recorder.add_reads(result[4])
             recorder(*result[:4])
             bar.update(1)
         ok = True
@@ -477,94 +515,6 @@ def _check_memory(plan: _Plan, todo: Sequence[int], workers: int | None) -> None
         concurrent=units.concurrent_units(len(todo), workers or None),
         source="its configuration (bench seeds)",
     )
-
-
-def _run_sandboxed(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any, *, workers: int | None) -> None:
-    """Score each seed in a forked scoring process of this one, talking to a child of the
-    compensator's zygote (:mod:`~gyrobench.scenarios.bench.sandbox`), at most ``workers`` seeds at
-    once. This process keeps every deadline: at a seed's end, and at its deadline, it SIGKILLs
-    the child's process group (and, at the deadline, the scoring process)."""
-    import multiprocessing as mp
-    import time
-    from multiprocessing.connection import wait
-
-    from gyrobench.scenarios.bench.executors import _contained_child, _relink, death_reason
-
-    assert plan.zygote is not None
-    zygote = plan.zygote
-    ctx = mp.get_context("fork")
-    pending = list(reversed(todo))
-    limit = max(1, workers or default_workers())
-    running: dict[Any, tuple[int, Any, int, float]] = {}  # result pipe -> (seed, scorer, child pid, start)
-    try:
-        while pending or running:
-            while pending and len(running) < limit:
-                seed = pending.pop()
-                pid, sock = zygote.fork()
-                recv, send = ctx.Pipe(duplex=False)
-                args = (plan.module.__name__, seed, plan.config, plan.short, sock.fileno(), plan.seed_memory)
-                proc = ctx.Process(target=_contained_child, args=(send, os.getpid(), score_sandboxed, args), daemon=True)
-                proc.start()
-                send.close()
-                sock.close()
-                running[recv] = (seed, proc, pid, time.monotonic())
-            timeout = None
-            if plan.seed_timeout is not None:
-                oldest = min(start for *_, start in running.values())
-                timeout = max(0.0, oldest + plan.seed_timeout - time.monotonic())
-            ready = wait(list(running), timeout=timeout)
-            now = time.monotonic()
-            for recv in list(running):
-                seed, proc, pid, start = running[recv]
-                if recv in ready:
-                    try:
-                        kind, value = recv.recv()
-                        if kind == "err":
-                            value = _relink(value)
-                    except (EOFError, OSError):
-                        proc.join(timeout=5.0)
-                        kind, value = "died", death_reason(proc.exitcode)
-                elif plan.seed_timeout is not None and now - start >= plan.seed_timeout:
-                    proc.kill()
-                    kind, value = "timeout", None
-                else:
-                    continue
-                del running[recv]
-                recv.close()
-                status = zygote.end_child(pid)  # the child's whole process group, also on success
-                proc.join(timeout=5.0)
-                _record_sandboxed(plan, recorder, seed, kind, value, status)
-                bar.update(1)
-    finally:
-        for seed, proc, pid, _start in running.values():
-            kill_group(pid)
-            with contextlib.suppress(Exception):
-                proc.kill()
-        for recv, (seed, proc, pid, _start) in running.items():
-            with contextlib.suppress(Exception):
-                proc.join(timeout=2.0)
-                recv.close()
-            with contextlib.suppress(Exception):
-                zygote.end_child(pid)
-
-
-def _record_sandboxed(plan: _Plan, recorder: _Recorder, seed: int, kind: str, value: Any, status: ChildStatus) -> None:
-    """Record one sandboxed seed's outcome (or raise what the compensator's failure means)."""
-    if kind == "ok":
-        seed_, scores, elapsed, failure, _reads = value
-        if failure == CHILD_DIED:
-            failure = f"the compensator's process {status.reason()}"
-        recorder(seed_, scores, elapsed, failure)
-    elif kind == "err":
-        _raise_seed_error(value, seed, plan, recorder)
-    elif kind == "timeout":
-        recorder(seed, {}, 0.0, f"{TIMEOUT_FAILURE} of {plan.seed_timeout:g} s (--seed-timeout; the compensator's "
-                                "process group was killed)")
-    else:
-        raise exits.InternalError(
-            f"the scoring process of seed {seed} of {plan.name} {value} (killed, or out of memory: see 'dmesg'); "
-            f"{recorder.kept()}"
-        )
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

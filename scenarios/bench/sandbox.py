@@ -41,8 +41,15 @@ reading (``open`` events; module sources are covered by the module list), every 
 variable read through ``os.environ`` (``os.getenv`` included) and the modules in
 ``sys.modules`` after ``fit``/``predict`` that lie outside the standard library; files and
 user modules are fingerprinted by content, site-packages modules by path, size and
-modification time (:func:`reads_fingerprint`). Network connections, subprocesses and
-``ctypes`` loads are noted by name (what they read is not seen).
+modification time (:func:`reads_fingerprint`). Network connections and subprocesses are noted
+by kind (what they read is not seen); a file opened or a variable read by C code (a C
+extension's own ``fopen`` or ``getenv``) is not seen at all.
+
+Reuse. :func:`shared_zygote` keeps the last :data:`SHARED_ZYGOTES` zygotes of this process
+(campaigns of one compensator in a test suite start one interpreter, not one each) and
+reuses one only while everything it read while importing (modules, files, environment
+variables) is unchanged; each child takes the environment and working folder of the
+campaign that forks it.
 """
 
 from __future__ import annotations
@@ -62,6 +69,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from gyrobench.scenarios.bench.sandbox_child import MAX_HEADER, _die_with_parent, _zygote_start, reads_fingerprint
+
 __all__ = [
     "DEFAULT_MEMORY_BYTES",
     "MAX_HEADER",
@@ -76,35 +85,22 @@ __all__ = [
     "kill_group",
     "reads_fingerprint",
     "recv_json",
+    "shared_zygote",
 ]
 
 #: default per-seed address-space cap of the compensator's process [bytes] (4 GiB; ``bench
 #: --seed-memory``). The zygote with numpy and scikit-learn imported maps about 1 GiB.
 DEFAULT_MEMORY_BYTES = 4 * 1024**3
 
-#: largest JSON header accepted from a child [bytes] (a traceback fits)
-MAX_HEADER = 1 << 20
-
-#: prctl option: the signal a process gets when its parent dies (linux/prctl.h)
-_PR_SET_PDEATHSIG = 1
-
-#: audit events whose reads the identity cannot see (named in the campaign's warning)
-_UNSEEN_EVENTS = {
-    "socket.connect": "network connections",
-    "subprocess.Popen": "subprocesses",
-    "os.system": "subprocesses",
-    "os.exec": "subprocesses",
-    "os.posix_spawn": "subprocesses",
-    "ctypes.dlopen": "ctypes libraries",
-    "urllib.Request": "URLs",
-}
 
 
 class ZygoteError(Exception):
     """The compensator's process could not be made ready: its import raised, exited or hung.
 
-    ``kind`` is ``"raised"``, ``"exited"``, ``"hung"`` or ``"died"``; ``traceback_text`` holds
-    the import's traceback when it raised.
+    ``kind`` is ``"raised"``, ``"exited"``, ``"hung"`` or ``"died"``, or ``"named"`` (the user's
+    module raised, the message names it) and ``"bad"`` (not importable or not a compensator: the
+    message is :func:`~gyrobench.scenarios.bench.compensators.resolve_compensator`'s);
+    ``traceback_text`` holds the import's traceback when it raised.
     """
 
     def __init__(self, message: str, *, kind: str, traceback_text: str = "") -> None:
@@ -116,11 +112,10 @@ class ZygoteError(Exception):
 class RemoteError(Exception):
     """The compensator raised in its child; ``remote_type`` is the exception's class name."""
 
-    def __init__(self, message: str, *, remote_type: str, traceback_text: str = "", memory: bool = False) -> None:
+    def __init__(self, message: str, *, remote_type: str, traceback_text: str = "") -> None:
         super().__init__(message)
         self.remote_type = remote_type
         self.traceback_text = traceback_text
-        self.memory = memory
 
 
 class RemoteExit(SystemExit):
@@ -153,8 +148,6 @@ def recv_json(conn: Any, maxlength: int = MAX_HEADER) -> dict[str, Any]:
     return obj
 
 
-def _send_json(conn: Any, obj: Mapping[str, Any]) -> None:
-    conn.send_bytes(json.dumps(obj, default=str).encode("utf-8"))
 
 
 def _str(obj: Mapping[str, Any], key: str, limit: int = 20000) -> str:
@@ -189,12 +182,11 @@ class RemoteCompensator:
                 raise ChildDied("the seed's deadline passed", timeout=self.timeout or 0.0)
         ans = recv_json(self.conn)
         kind = ans["kind"]
-        if kind == "error" and _str(ans, "type", 200) == "MemoryError":
+        if kind == "error" and ans.get("memory") is True:
             raise MemoryExceeded(_str(ans, "message"))
         if kind == "error":
             raise RemoteError(
                 _str(ans, "message"), remote_type=_str(ans, "type", 200), traceback_text=_str(ans, "traceback"),
-                memory=_str(ans, "type", 200) == "MemoryError",
             )
         if kind == "exit":
             raise RemoteExit(ans.get("code") if isinstance(ans.get("code"), (int, str, type(None))) else None)
@@ -202,7 +194,10 @@ class RemoteCompensator:
 
     def fit(self, X: Any, y: Any, groups: Any, random_state: int) -> None:
         """Send the training data; return when the child has fitted."""
-        ans = self._request({"op": "fit", "X": X, "y": y, "groups": groups, "random_state": int(random_state)})
+        ans = self._request({
+            "op": "fit", "X": X, "y": y, "groups": groups, "random_state": int(random_state),
+            "environ": dict(os.environ), "cwd": os.getcwd(),
+        })
         if ans["kind"] != "fitted":
             raise ChildDied(f"an unexpected answer {ans['kind'][:40]!r} to fit")
 
@@ -240,305 +235,6 @@ class RemoteCompensator:
             return {}
         reads = ans.get("reads")
         return reads if ans["kind"] == "reads" and isinstance(reads, dict) else {}
-
-
-# ----------------------------------------------------------------------------- reads
-class _Reads:
-    """What this process read: files opened for reading, environment variables, unseen kinds."""
-
-    def __init__(self) -> None:
-        self.files: set[str] = set()
-        self.env: set[str] = set()
-        self.env_all = False
-        self.unseen: set[str] = set()
-        self.active = True
-
-
-_READS = _Reads()
-
-
-def _audit(event: str, args: tuple) -> None:
-    if not _READS.active:
-        return
-    if event == "open":
-        try:
-            path, mode, flags = args[0], args[1], args[2]
-        except (IndexError, TypeError):
-            return
-        if isinstance(path, int) or path is None:
-            return
-        if isinstance(mode, str):
-            reading = not any(c in mode for c in "wax+")
-        else:
-            reading = isinstance(flags, int) and (flags & os.O_ACCMODE) == os.O_RDONLY
-        if reading:
-            p = os.fsdecode(path)
-            if not p.endswith((".py", ".pyc", ".so", ".pth", ".pyd")) and not p.startswith(("/proc/", "/sys/", "/dev/")):
-                _READS.files.add(os.path.abspath(p))
-    elif event in _UNSEEN_EVENTS:
-        _READS.unseen.add(_UNSEEN_EVENTS[event])
-
-
-def _install_recorders() -> None:
-    """The audit hook (files opened, unseen kinds) and a recording ``os.environ``."""
-    sys.addaudithook(_audit)
-    base = type(os.environ)
-
-    class _RecordingEnviron(base):  # type: ignore[misc, valid-type]
-        def __getitem__(self, key: Any) -> Any:
-            if _READS.active:
-                _READS.env.add(str(key))
-            return super().__getitem__(key)
-
-        def __iter__(self) -> Any:
-            if _READS.active:
-                _READS.env_all = True
-            return super().__iter__()
-
-    os.environ.__class__ = _RecordingEnviron
-
-
-def _is_stdlib(path: str) -> bool:
-    import sysconfig
-
-    for key in ("stdlib", "platstdlib"):
-        root = sysconfig.get_paths().get(key)
-        if root and path.startswith(root.rstrip("/") + "/") and "site-packages" not in path:
-            return True
-    return False
-
-
-def _module_files() -> dict[str, str]:
-    """module name -> file of every loaded module outside the standard library."""
-    out = {}
-    for name, mod in list(sys.modules.items()):
-        path = getattr(mod, "__file__", None)
-        if isinstance(path, str) and path and not _is_stdlib(path):
-            out[name] = path
-    return out
-
-
-def _reads_names() -> dict[str, Any]:
-    """This process's reads, by name (the fingerprints are taken by :func:`reads_fingerprint`)."""
-    return {
-        "modules": _module_files(),
-        "files": sorted(_READS.files),
-        "env": sorted(_READS.env),
-        "env_all": _READS.env_all,
-        "unseen": sorted(_READS.unseen),
-    }
-
-
-def _file_fingerprint(path: str, *, content: bool) -> str:
-    try:
-        if not content:
-            st = os.stat(path)
-            return f"size {st.st_size} mtime {st.st_mtime_ns}"
-        h = hashlib.sha256()
-        with open(path, "rb") as f:  # noqa: PTH123 - a raw read of any file
-            for block in iter(lambda: f.read(1 << 20), b""):
-                h.update(block)
-        return h.hexdigest()[:32]
-    except OSError:
-        return "unreadable"
-
-
-def reads_fingerprint(names: Mapping[str, Any], environ: Mapping[str, str] | None = None) -> dict[str, str]:
-    """``"kind:name" -> fingerprint`` of every read named in ``names`` (:func:`_reads_names`),
-    taken now: user modules and files by the SHA-256 of their content, site-packages modules by
-    path, size and modification time, environment variables by the SHA-256 of their value
-    (``"unset"``), and the whole environment when it was iterated."""
-    env = os.environ if environ is None else environ
-    out: dict[str, str] = {}
-    for name, path in sorted(dict(names.get("modules") or {}).items()):
-        third = "site-packages" in path or "dist-packages" in path
-        out[f"module:{name}"] = f"{path} " + _file_fingerprint(path, content=not third)
-    for path in names.get("files") or ():
-        out[f"file:{path}"] = _file_fingerprint(path, content=True)
-    keys = sorted(env) if names.get("env_all") else names.get("env") or ()
-    for key in keys:
-        v = env.get(key)
-        out[f"env:{key}"] = "unset" if v is None else hashlib.sha256(v.encode("utf-8", "surrogateescape")).hexdigest()[:16]
-    return out
-
-
-# ----------------------------------------------------------------------------- child side
-def _die_with_parent() -> None:
-    if sys.platform.startswith("linux"):
-        import ctypes
-
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
-
-
-def _error_message(exc: BaseException, stage: str) -> dict[str, Any]:
-    import traceback
-
-    if isinstance(exc, SystemExit):
-        code = exc.code if isinstance(exc.code, (int, str, type(None))) else repr(exc.code)
-        return {"kind": "exit", "stage": stage, "code": code}
-    try:
-        text = "".join(traceback.format_exception(exc))
-    except BaseException:  # noqa: BLE001 - an exception whose formatting raises
-        text = ""
-    try:
-        message = str(exc)
-    except BaseException:  # noqa: BLE001
-        message = "(its message cannot be shown)"
-    return {"kind": "error", "stage": stage, "type": type(exc).__name__, "message": message, "traceback": text}
-
-
-def _serve_seed(conn: Any, compensator: Any) -> None:
-    """One child: fit, predict on request, report the reads, exit."""
-    import numpy as np
-    from gyrobench.scenarios.bench.compensators import fit_user_code, predictor_of
-
-    predict = None
-    while True:
-        try:
-            msg = conn.recv()
-        except (EOFError, OSError):
-            return
-        op = msg.get("op") if isinstance(msg, dict) else None
-        if op == "fit":
-            try:
-                predict = predictor_of(
-                    compensator, fit_user_code(compensator, msg["X"], msg["y"], msg["random_state"], msg["groups"])
-                )
-                reply: dict[str, Any] = {"kind": "fitted"}
-            except BaseException as exc:  # noqa: BLE001 - everything the user's code raises is reported
-                reply = _error_message(exc, "fit")
-            _send_json(conn, reply)
-        elif op == "predict" and predict is not None:
-            try:
-                raw = predict(msg["X"])
-                if np.iscomplexobj(raw):
-                    _send_json(conn, {"kind": "complex", "dtype": str(np.asarray(raw).dtype)})
-                    continue
-                pred = np.ascontiguousarray(np.asarray(raw, dtype=float), dtype="<f8")
-            except BaseException as exc:  # noqa: BLE001
-                _send_json(conn, _error_message(exc, "predict"))
-                continue
-            _send_json(conn, {"kind": "pred", "shape": list(pred.shape)})
-            conn.send_bytes(pred.tobytes())
-        elif op == "end":
-            _READS.active = False
-            _send_json(conn, {"kind": "reads", "reads": _reads_names()})
-            return
-        else:
-            return
-
-
-def _child_main(sock: socket.socket, compensator: Any, memory: int | None) -> None:
-    """A forked child of the zygote: own session, memory cap, serve one seed, ``os._exit``."""
-    from multiprocessing.connection import Connection
-
-    code = 0
-    try:
-        os.setsid()
-        _die_with_parent()
-        if memory is not None:
-            import resource
-
-            resource.setrlimit(resource.RLIMIT_AS, (int(memory), int(memory)))
-        _serve_seed(Connection(sock.detach()), compensator)
-    except BaseException:  # noqa: BLE001 - nothing the user's code raises leaves this process
-        code = 1
-    finally:
-        with contextlib.suppress(BaseException):
-            sys.stdout.flush()
-            sys.stderr.flush()
-        os._exit(code)
-
-
-def _recv_ctrl(ctrl: socket.socket) -> tuple[bytes, list[int]]:
-    msg, fds, _flags, _addr = socket.recv_fds(ctrl, 4096, 4)
-    return msg, list(fds)
-
-
-def _zygote_loop(ctrl: socket.socket, compensator: Any, memory: int | None) -> None:
-    """Serve the campaign's requests: ``fork`` (with one socket), ``reap PID``, ``quit``."""
-    while True:
-        try:
-            msg, fds = _recv_ctrl(ctrl)
-        except OSError:
-            return
-        if not msg or msg == b"quit":
-            return
-        if msg == b"fork" and len(fds) == 1:
-            sock = socket.socket(fileno=fds[0])
-            pid = os.fork()
-            if pid == 0:
-                ctrl.close()
-                _child_main(sock, compensator, memory)
-            sock.close()
-            ctrl.sendall(json.dumps({"pid": pid}).encode())
-        elif msg.startswith(b"reap "):
-            for fd in fds:
-                os.close(fd)
-            status: dict[str, Any] = {"exit": None, "signal": None}
-            try:
-                _, st = os.waitpid(int(msg[5:]), 0)
-                if os.WIFSIGNALED(st):
-                    status["signal"] = os.WTERMSIG(st)
-                else:
-                    status["exit"] = os.waitstatus_to_exitcode(st)
-            except (ChildProcessError, ValueError):
-                pass
-            ctrl.sendall(json.dumps(status).encode())
-        else:
-            for fd in fds:
-                os.close(fd)
-
-
-def _ready(ctrl: socket.socket, compensator: Any, given: Any) -> None:
-    from gyrobench.scenarios.bench.identity import compensator_identity
-
-    ctrl.sendall(json.dumps({"kind": "ready", "identity": compensator_identity(compensator)}).encode())
-    del given
-
-
-def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
-    """The zygote: import the compensator (recording its reads), say ready, serve."""
-    from gyrobench.scenarios.bench.compensators import resolve_compensator
-
-    _install_recorders()
-    try:
-        from threadpoolctl import threadpool_limits
-
-        threadpool_limits(limits=1)  # the same summation order on every executor (see the package doc)
-        if "object" in init:
-            given = init["object"]
-        else:
-            given = init["spec"] if init.get("spec") is not None else pickle.loads(init["pickled"])
-        compensator = resolve_compensator(given)
-        _ready(ctrl, compensator, given)
-    except BaseException as exc:  # noqa: BLE001 - the import's failure, in one message
-        msg = _error_message(exc, "import")
-        msg["kind"] = "import_" + msg["kind"]
-        with contextlib.suppress(OSError):
-            ctrl.sendall(json.dumps(msg, default=str).encode())
-        return
-    _zygote_loop(ctrl, compensator, init.get("memory"))
-
-
-def zygote_main(fd: int) -> None:
-    """Entry point of the exec'd zygote (``python -c``): the init message is on stdin."""
-    code = 0
-    try:
-        _die_with_parent()
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        init = pickle.loads(sys.stdin.buffer.read())
-        sys.path[:] = list(init["sys_path"])
-        os.chdir(init["cwd"])
-        _zygote_start(socket.socket(fileno=fd), init)
-    except BaseException:  # noqa: BLE001
-        code = 1
-    finally:
-        with contextlib.suppress(BaseException):
-            sys.stdout.flush()
-            sys.stderr.flush()
-        os._exit(code)
 
 
 # ----------------------------------------------------------------------------- campaign side
@@ -579,9 +275,9 @@ class ChildStatus:
                 name = signal.Signals(self.signal).name
             except ValueError:
                 name = f"signal {self.signal}"
-            return f"was killed by {name}"
+            return f"killed by {name}"
         if self.exit is not None:
-            return f"exited with code {self.exit} (os._exit, or an exit outside Python's reach)"
+            return f"exited with code {self.exit} (os._exit or sys.exit outside Python's reach)"
         return "ended without a result"
 
 
@@ -600,6 +296,9 @@ class Zygote:
         self.memory = memory
         self.pid = 0
         self.forked = False
+        self.shared = False
+        self.import_reads: dict[str, Any] = {}
+        self.import_fingerprint: dict[str, str] = {}
         parent, child = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         self.ctrl = parent
         self._proc: subprocess.Popen | None = None
@@ -629,7 +328,7 @@ class Zygote:
         self.identity = self._wait_ready(timeout)
 
     def _start_exec(self, child: socket.socket, init: Mapping[str, Any], wfd: int) -> None:
-        code = f"from gyrobench.scenarios.bench.sandbox import zygote_main; zygote_main({child.fileno()})"
+        code = f"from gyrobench.scenarios.bench.sandbox_child import zygote_main; zygote_main({child.fileno()})"
         self._proc = subprocess.Popen(  # noqa: S603 - this interpreter, a fixed command
             [sys.executable, "-c", code],
             stdin=subprocess.PIPE,
@@ -675,7 +374,7 @@ class Zygote:
             self.close()
             raise ZygoteError(
                 f"importing the compensator did not finish within {timeout:g} s (the per-seed time limit, "
-                "--seed-timeout); its process was killed",
+                "--seed-timeout, and at least 30 s); its process was killed",
                 kind="hung",
             )
         try:
@@ -685,11 +384,17 @@ class Zygote:
             msg = {}
         kind = msg.get("kind") if isinstance(msg, dict) else None
         if kind == "ready" and isinstance(msg.get("identity"), str):
+            names = msg.get("reads")
+            self.import_reads = names if isinstance(names, dict) else {}
+            self.import_fingerprint = reads_fingerprint(self.import_reads)
             return str(msg["identity"])
         self.close()
+        if kind in ("import_named", "import_bad"):
+            raise ZygoteError(_str(msg, "message"), kind=kind[7:], traceback_text=_str(msg, "traceback"))
         if kind == "import_error":
             raise ZygoteError(
-                f"importing it raised {_str(msg, 'type', 200)}: {' '.join(_str(msg, 'message').split()) or '(no message)'}",
+                f"importing it raised {_str(msg, 'type', 200)}: "
+                f"{' '.join(_str(msg, 'message').split()) or '(no message)'}",
                 kind="raised",
                 traceback_text=_str(msg, "traceback"),
             )
@@ -763,3 +468,48 @@ class Zygote:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+# ----------------------------------------------------------------------------- reuse
+#: how many zygotes :func:`shared_zygote` keeps alive in one process
+SHARED_ZYGOTES = 2
+
+_SHARED: dict[tuple, Zygote] = {}
+
+
+def _close_shared() -> None:
+    for z in list(_SHARED.values()):
+        with contextlib.suppress(Exception):
+            z.close()
+    _SHARED.clear()
+
+
+def shared_zygote(given: Any, *, memory: int | None, timeout: float | None) -> Zygote:
+    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one
+    (kept when it was exec'd; a forked one, for an object that does not pickle, is not kept:
+    close it after use, ``zygote.shared`` is False)."""
+    import atexit
+
+    if isinstance(given, str):
+        what: Any = given
+    else:
+        try:
+            what = hashlib.sha256(pickle.dumps(given)).hexdigest()
+        except Exception:  # noqa: BLE001 - does not pickle: a forked zygote, never kept
+            return Zygote(given, memory=memory, timeout=timeout)
+    key = (what, tuple(sys.path), os.getcwd(), memory)
+    z = _SHARED.pop(key, None)
+    if z is not None:
+        if z._alive() and reads_fingerprint(z.import_reads) == z.import_fingerprint:
+            _SHARED[key] = z  # most recently used last
+            return z
+        z.close()
+    z = Zygote(given, memory=memory, timeout=timeout)
+    if not _SHARED:
+        atexit.register(_close_shared)
+    z.shared = True
+    _SHARED[key] = z
+    while len(_SHARED) > SHARED_ZYGOTES:
+        old = next(iter(_SHARED))
+        _SHARED.pop(old).close()
+    return z

@@ -357,7 +357,6 @@ def _floor(module: types.ModuleType, config: Any, seed: int, scores: dict[str, f
     """The noise-floor verdict of a finished seed (:func:`~gyrobench.scenarios.bench.floor.floor_failure`),
     on the seed's task rebuilt (the trusted path scores in one process)."""
     from gyrobench.scenarios.bench.floor import floor_failure
-
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1):
@@ -409,7 +408,8 @@ def score_sandboxed(
         cap = "" if memory is None else f" of {memory / 1024**3:g} GiB"
         scores, failure = {}, f"{MEMORY_FAILURE}{cap} (--seed-memory): it raised MemoryError"
     except ChildDied as exc:
-        scores, failure = {}, (f"{TIMEOUT_FAILURE} of {exc.timeout:g} s (--seed-timeout)" if exc.timeout else CHILD_DIED)
+        timed_out = f"{TIMEOUT_FAILURE} of {exc.timeout:g} s (--seed-timeout)" if exc.timeout else None
+        scores, failure = {}, timed_out or CHILD_DIED
     return seed, scores, time.perf_counter() - t0, failure, reads
 
 

@@ -310,7 +310,12 @@ class Zygote:
                     pickled = pickle.dumps(given)
                 except Exception:  # noqa: BLE001 - not picklable: fork instead
                     pickled = None
+            import tempfile
+
+            fd, self._ready_file = tempfile.mkstemp(prefix="gyrobench-ready-", suffix=".json")
+            os.close(fd)
             init = {
+                "ready_file": self._ready_file,
                 "spec": given if isinstance(given, str) else None,
                 "pickled": pickled,
                 "sys_path": list(sys.path),
@@ -359,7 +364,7 @@ class Zygote:
                 self.ctrl.close()
                 os.dup2(wfd, 1)
                 os.dup2(wfd, 2)
-                _zygote_start(child, {"object": given, "memory": self.memory})
+                _zygote_start(child, {"object": given, "memory": self.memory, "ready_file": self._ready_file})
             except BaseException:  # noqa: BLE001
                 code = 1
             finally:
@@ -372,6 +377,8 @@ class Zygote:
         ready, _, _ = select.select([self.ctrl], [], [], timeout)
         if not ready:
             self.close()
+            with contextlib.suppress(OSError):
+                os.unlink(self._ready_file)
             raise ZygoteError(
                 f"importing the compensator did not finish within {timeout:g} s (the per-seed time limit, "
                 "--seed-timeout, and at least 30 s); its process was killed",
@@ -383,8 +390,13 @@ class Zygote:
         except (OSError, ValueError):
             msg = {}
         kind = msg.get("kind") if isinstance(msg, dict) else None
+        names = None
+        with contextlib.suppress(OSError, ValueError):
+            with open(self._ready_file, encoding="utf-8") as f:  # noqa: PTH123
+                names = json.load(f)
+        with contextlib.suppress(OSError):
+            os.unlink(self._ready_file)
         if kind == "ready" and isinstance(msg.get("identity"), str):
-            names = msg.get("reads")
             self.import_reads = names if isinstance(names, dict) else {}
             self.import_fingerprint = reads_fingerprint(self.import_reads)
             return str(msg["identity"])

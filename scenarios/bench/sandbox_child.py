@@ -99,30 +99,40 @@ def _install_recorders() -> None:
     os.environ.__class__ = _RecordingEnviron
 
 
+_STDLIB_ROOTS: tuple[str, ...] | None = None
+
+
 def _is_stdlib(path: str) -> bool:
-    import sysconfig
+    global _STDLIB_ROOTS
+    if _STDLIB_ROOTS is None:
+        import sysconfig
 
-    for key in ("stdlib", "platstdlib"):
-        root = sysconfig.get_paths().get(key)
-        if root and path.startswith(root.rstrip("/") + "/") and "site-packages" not in path:
-            return True
-    return False
+        paths = sysconfig.get_paths()
+        _STDLIB_ROOTS = tuple({paths[k].rstrip("/") + "/" for k in ("stdlib", "platstdlib") if paths.get(k)})
+    return path.startswith(_STDLIB_ROOTS) and "site-packages" not in path
 
 
-def _module_files() -> dict[str, str]:
-    """module name -> file of every loaded module outside the standard library."""
+#: the modules loaded when the zygote said it was ready (a child reports only the others)
+_BASE_MODULES: set[str] = set()
+
+
+def _module_files(skip: set[str] | frozenset[str] = frozenset()) -> dict[str, str]:
+    """module name -> file of every loaded module outside the standard library (but ``skip``)."""
     out = {}
     for name, mod in list(sys.modules.items()):
+        if name in skip:
+            continue
         path = getattr(mod, "__file__", None)
         if isinstance(path, str) and path and not _is_stdlib(path):
             out[name] = path
     return out
 
 
-def reads_names() -> dict[str, Any]:
-    """This process's reads, by name (the fingerprints are taken by :func:`reads_fingerprint`)."""
+def reads_names(*, since_ready: bool = False) -> dict[str, Any]:
+    """This process's reads, by name (the fingerprints are taken by :func:`reads_fingerprint`);
+    ``since_ready``: only the modules loaded after the zygote was ready (the campaign has the rest)."""
     return {
-        "modules": _module_files(),
+        "modules": _module_files(_BASE_MODULES if since_ready else frozenset()),
         "files": sorted(_READS.files),
         "env": sorted(_READS.env),
         "env_all": _READS.env_all,
@@ -245,7 +255,7 @@ def _serve_seed(conn: Any, compensator: Any) -> None:
             conn.send_bytes(pred.tobytes())
         elif op == "end":
             _READS.active = False
-            _send_json(conn, {"kind": "reads", "reads": reads_names()})
+            _send_json(conn, {"kind": "reads", "reads": reads_names(since_ready=True)})
             return
         else:
             return
@@ -313,15 +323,19 @@ def _zygote_loop(ctrl: socket.socket, compensator: Any, memory: int | None) -> N
                 os.close(fd)
 
 
-def _ready(ctrl: socket.socket, compensator: Any, given: Any) -> None:
+def _ready(ctrl: socket.socket, compensator: Any, ready_file: str) -> None:
+    """Say ready: the compensator's identity on the control socket, the import's reads (too long
+    for one datagram) in ``ready_file``, which the campaign made for it."""
     from gyrobench.scenarios.bench.identity import compensator_identity
 
     ident = compensator_identity(compensator)
     _READS.active = False  # the bench's own reading of the modules is not the compensator's
     names = reads_names()
+    _BASE_MODULES.update(names["modules"])
+    with open(ready_file, "w", encoding="utf-8") as f:  # noqa: PTH123
+        json.dump(names, f)
     _READS.active = True
-    ctrl.sendall(json.dumps({"kind": "ready", "identity": ident, "reads": names}).encode())
-    del given
+    ctrl.sendall(json.dumps({"kind": "ready", "identity": ident}).encode())
 
 
 def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
@@ -338,7 +352,7 @@ def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
         else:
             given = init["spec"] if init.get("spec") is not None else pickle.loads(init["pickled"])
         compensator = resolve_compensator(given)
-        _ready(ctrl, compensator, given)
+        _ready(ctrl, compensator, init["ready_file"])
     except CompensatorImportError as exc:  # the user's module raised while importing: named by resolve
         with contextlib.suppress(OSError):
             msg = {"kind": "import_named", "message": str(exc), "traceback": exc.traceback_text}

@@ -36,7 +36,7 @@ import numpy as np
 TARGETS = (0.0, 0.002, 0.01, 0.02, 0.04, 0.06, 0.08, 0.10, 0.15, 0.20)
 #: degradation factors searched for each target: prediction scaled by (1 - lam) toward the raw
 #: output; negative lam overshoots (whichever branch first reaches the target is used)
-LAMS = tuple(sorted({0.0, *np.round(np.geomspace(1e-4, 1.0, 70), 6), *(-np.round(np.geomspace(1e-4, 1.0, 70), 6))}))
+LAMS = tuple(sorted({0.0, *np.round(np.geomspace(1e-4, 1.0, 36), 6), *(-np.round(np.geomspace(1e-4, 1.0, 36), 6))}))
 
 
 def _base(name: str) -> Any:
@@ -92,7 +92,10 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
     module = bench.resolve_scenario(name)
     comp = _base(name)
     t0, c0 = time.perf_counter(), time.process_time()
-    per_seed = {s: _seed_scores(module, comp, s) for s in range(n_seeds)}
+    per_seed = {}
+    for s in range(n_seeds):
+        per_seed[s] = _seed_scores(module, comp, s)
+        print(f"  {name}: seed {s} scored", file=sys.stderr, flush=True)
     took, cpu = time.perf_counter() - t0, time.process_time() - c0
     by_lam = {lam: {s: per_seed[s][lam] for s in per_seed} for lam in LAMS}
     names = list(by_lam[0.0][0])

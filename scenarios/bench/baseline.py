@@ -394,23 +394,21 @@ def compare(
     method over the primary scores alone, which keeps the probability of any false
     "regressed" or "improved" among them at most ``alpha``; the secondary scores (each
     held-out run, the other means) are Holm-adjusted among themselves and reported,
-    never gated. A significant score
-    is "improved" or "regressed" by the sign of the signed-rank statistic
-    (``W+ - W-``) and the score's direction; the reported effect is the
-    Hodges-Lehmann shift. With n nonzero differences the smallest attainable
+    never gated. A significant score is "improved" or "regressed" by the sign of the signed-rank
+    statistic (``W+ - W-``) and the score's direction; the reported effect is the Hodges-Lehmann
+    shift. With n nonzero differences the smallest attainable
     two-sided p is 2 / 2**n, times the number of primary scores under Holm (a note
     says when n is too small to ever reach significance; the command line refuses such a
     run before computing, :func:`~gyrobench.scenarios.bench.power.check_power`).
 
     The margin enters the test itself: for a score whose shift is worse, the signed-rank test
-    runs on ``d_s + direction * min_change * |b_s|`` (lower-is-better: ``c_s - (1 + min_change)
-    b_s``), which is centred on zero when the candidate is worse by exactly the margin; "regressed"
-    needs that test significant, with the shift beyond the margin (a one-sided test at alpha/2 of
-    "worse by more than the margin"). A better shift is tested the same way against ``1 -
-    min_change``. A change of 0.2 % with a 1 % margin is "unchanged" even on every seed.
-    ``detectable`` holds, per primary score, the relative change the compared seeds detect with
-    power 0.8 given the spread of the observed relative differences
-    (:func:`~gyrobench.scenarios.bench.margin.observed_detectable`).
+    runs on ``d_s + direction * min_change * |b_s|`` (lower-is-better: ``c_s - (1 + min_change) b_s``),
+    centred on zero when the candidate is worse by exactly the margin; "regressed" needs that test
+    significant, with the shift beyond the margin (one-sided at alpha/2: "worse by more than the
+    margin"). A better shift is tested the same way against ``1 - min_change``. A change of 0.2 %
+    with a 1 % margin is "unchanged" even on every seed. ``detectable`` holds, per primary score,
+    the relative change the compared seeds detect with power 0.8 from the spread of the observed
+    relative differences (:func:`~gyrobench.scenarios.bench.margin.observed_detectable`).
     """
     if not (isinstance(min_change, (int, float)) and 0 <= min_change < 10):
         raise ValueError(f"min_change must be in [0, 10) (a fraction of the baseline's score); got {min_change!r}")

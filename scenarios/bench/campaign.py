@@ -260,8 +260,10 @@ def _start_zygote(comp: Any, seed_timeout: float | None, seed_memory: int | None
             raise CompensatorImportError(str(exc), traceback_text=exc.traceback_text) from None
         if exc.kind in ("raised", "exited"):
             raise CompensatorImportError(f"compensator {label}: {exc}", traceback_text=exc.traceback_text) from None
+        limit = f" (the per-seed time limit, --seed-timeout, and at least {IMPORT_TIMEOUT_FLOOR_S:g} s)"
         raise FailedSeedsError(
-            f"compensator {label} failed on all {len(seeds)} seeds (seeds {seed_text(list(seeds))}): {exc}",
+            f"compensator {label} failed on all {len(seeds)} seeds (seeds {seed_text(list(seeds))}): {exc}"
+            + (limit if exc.kind == "hung" else ""),
             seeds=list(seeds),
         ) from None
 

@@ -380,23 +380,24 @@ class Zygote:
             with contextlib.suppress(OSError):
                 os.unlink(self._ready_file)
             raise ZygoteError(
-                f"importing the compensator did not finish within {timeout:g} s (the per-seed time limit, "
-                "--seed-timeout, and at least 30 s); its process was killed",
+                f"importing the compensator did not finish within {timeout:g} s; its process was killed",
                 kind="hung",
             )
         try:
             raw = self.ctrl.recv(MAX_HEADER)
-            msg = json.loads(raw.decode("utf-8")) if raw else {}
+            head = json.loads(raw.decode("utf-8")) if raw else {}
         except (OSError, ValueError):
-            msg = {}
-        kind = msg.get("kind") if isinstance(msg, dict) else None
-        names = None
+            head = {}
+        doc: Any = None
         with contextlib.suppress(OSError, ValueError):
             with open(self._ready_file, encoding="utf-8") as f:  # noqa: PTH123
-                names = json.load(f)
+                doc = json.load(f)
         with contextlib.suppress(OSError):
             os.unlink(self._ready_file)
+        msg = doc if isinstance(doc, dict) and isinstance(head, dict) and doc.get("kind") == head.get("kind") else {}
+        kind = msg.get("kind")
         if kind == "ready" and isinstance(msg.get("identity"), str):
+            names = msg.get("reads")
             self.import_reads = names if isinstance(names, dict) else {}
             self.import_fingerprint = reads_fingerprint(self.import_reads)
             return str(msg["identity"])

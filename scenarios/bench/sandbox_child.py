@@ -324,18 +324,25 @@ def _zygote_loop(ctrl: socket.socket, compensator: Any, memory: int | None) -> N
 
 
 def _ready(ctrl: socket.socket, compensator: Any, ready_file: str) -> None:
-    """Say ready: the compensator's identity on the control socket, the import's reads (too long
-    for one datagram) in ``ready_file``, which the campaign made for it."""
+    """Say ready on the control socket; the compensator's identity and the import's reads (too
+    long for one datagram) go to ``ready_file``, which the campaign made for it."""
     from gyrobench.scenarios.bench.identity import compensator_identity
 
     ident = compensator_identity(compensator)
     _READS.active = False  # the bench's own reading of the modules is not the compensator's
     names = reads_names()
     _BASE_MODULES.update(names["modules"])
-    with open(ready_file, "w", encoding="utf-8") as f:  # noqa: PTH123
-        json.dump(names, f)
+    _report(ctrl, ready_file, {"kind": "ready", "identity": ident, "reads": names})
     _READS.active = True
-    ctrl.sendall(json.dumps({"kind": "ready", "identity": ident}).encode())
+
+
+def _report(ctrl: socket.socket, ready_file: str, doc: Mapping[str, Any]) -> None:
+    """The zygote's answer to its start: ``doc`` in ``ready_file`` (a traceback or the module list
+    can exceed one datagram), its kind on the control socket."""
+    with contextlib.suppress(OSError):
+        with open(ready_file, "w", encoding="utf-8") as f:  # noqa: PTH123
+            json.dump(doc, f, default=str)
+        ctrl.sendall(json.dumps({"kind": doc["kind"]}).encode())
 
 
 def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
@@ -354,19 +361,16 @@ def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
         compensator = resolve_compensator(given)
         _ready(ctrl, compensator, init["ready_file"])
     except CompensatorImportError as exc:  # the user's module raised while importing: named by resolve
-        with contextlib.suppress(OSError):
-            msg = {"kind": "import_named", "message": str(exc), "traceback": exc.traceback_text}
-            ctrl.sendall(json.dumps(msg).encode())
+        doc = {"kind": "import_named", "message": str(exc), "traceback": exc.traceback_text}
+        _report(ctrl, init["ready_file"], doc)
         return
     except (ValueError, TypeError) as exc:  # not importable, no such attribute, not a compensator
-        with contextlib.suppress(OSError):
-            ctrl.sendall(json.dumps({"kind": "import_bad", "message": str(exc)}).encode())
+        _report(ctrl, init["ready_file"], {"kind": "import_bad", "message": str(exc)})
         return
     except BaseException as exc:  # noqa: BLE001 - the import's failure, in one message
         msg = _error_message(exc, "import")
         msg["kind"] = "import_" + msg["kind"]
-        with contextlib.suppress(OSError):
-            ctrl.sendall(json.dumps(msg, default=str).encode())
+        _report(ctrl, init["ready_file"], msg)
         return
     _zygote_loop(ctrl, compensator, init.get("memory"))
 

@@ -5,11 +5,14 @@
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
-        [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
-        [--seed-timeout SECONDS]
+        [--seeds auto] [--min-change 0.05] [--allow-underpowered] [--no-references]
+        [--seed-timeout SECONDS] [--seed-memory GIB]
 
 Exit status of :func:`run` (see :mod:`gyrobench.scenarios.exits`): 0 on success, 1 when
-the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
+the campaign is significantly worse than ``--baseline`` on some primary score by more than the
+equivalence margin ``--min-change``. The compensator runs in its own processes
+(:mod:`gyrobench.scenarios.bench.sandbox`): its module is never imported here, and nothing it
+does (an exit, a signal, ``KeyboardInterrupt`` at import) becomes this process's status. Bad input raises
 ``ValueError``, ``TypeError`` or ``FileNotFoundError`` with a one-line message (the
 command line wrapper prints it and exits 2). So does a compensator that raises on a
 seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means

@@ -334,9 +334,7 @@ def score_job(
     try:
         with _time_limit(seed_timeout):
             module = importlib.import_module(module_name)
-            scores, failure = score_or_failure(module, compensator, seed, config, label)
-            if failure is None and not (compensator is Uncompensated or isinstance(compensator, Uncompensated)):
-                failure = _floor(module, config, seed, scores)
+            scores, failure = _score_with_floor(module, compensator, seed, config, label)
     except SystemExit as exc:
         scores, failure = {}, f"the compensator called sys.exit({exc.code!r}); a compensator must return or raise"
     except _SeedTimeout:
@@ -353,15 +351,24 @@ CHILD_DIED = "the compensator's process ended without a result"
 MEMORY_FAILURE = "exceeded the per-seed memory cap"
 
 
-def _floor(module: types.ModuleType, config: Any, seed: int, scores: dict[str, float]) -> str | None:
-    """The noise-floor verdict of a finished seed (:func:`~gyrobench.scenarios.bench.floor.floor_failure`),
-    on the seed's task rebuilt (the trusted path scores in one process)."""
+def _score_with_floor(
+    module: types.ModuleType, compensator: Any, seed: int, config: Any, label: str | None
+) -> tuple[dict[str, float], str | None]:
+    """:func:`score_or_failure` on one task, then its noise-floor verdict
+    (:func:`~gyrobench.scenarios.bench.floor.floor_failure`; not for the uncompensated output)."""
     from gyrobench.scenarios.bench.floor import floor_failure
     from threadpoolctl import threadpool_limits
 
+    comp = resolve_compensator(compensator)
+    (seed,) = check_seeds([seed])
+    config = module.Config() if config is None else config
+    label = compensator_label(comp, compensator, short=True) if label is None else label
     with threadpool_limits(limits=1):
         task = module.compensation_task(config, seed)
-    return floor_failure(getattr(module, "NAME", module.__name__), task, scores)
+        scores, failure = score_task(task, comp, seed, label)
+        if failure is None and not (comp is Uncompensated or isinstance(comp, Uncompensated)):
+            failure = floor_failure(getattr(module, "NAME", module.__name__), task, scores)
+    return scores, failure
 
 
 def score_remote(task: Any, remote: RemoteCompensator, seed: int, label: str) -> tuple[dict[str, float], str | None]:

@@ -8,9 +8,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan import TERMS, NoiseFit, allan_deviation, fit_noise
 from gyrobench.analysis.features import _check_fs, block_means
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["mse", "rms", "bias_stability", "improvement_pct", "SegmentFit", "segment_noise_fits"]
 

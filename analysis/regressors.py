@@ -33,8 +33,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.analysis.features import smoothed_derivative
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.analysis.features import smoothed_derivative
 
 __all__ = ["REGRESSOR_NAMES", "REGRESSOR_LABELS", "two_sensor_regressors"]
 

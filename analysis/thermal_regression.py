@@ -34,11 +34,12 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from sklearn.utils.validation import check_is_fitted
+
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.analysis.features import block_means
 from gyrobench.analysis.regressors import two_sensor_regressors
-from numpy.typing import ArrayLike, NDArray
-from sklearn.utils.validation import check_is_fitted
 
 __all__ = [
     "TwoSensorBlocks",

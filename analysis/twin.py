@@ -26,8 +26,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.analysis.allan import AllanCurve, deviation_bounds
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.analysis.allan import AllanCurve, deviation_bounds
 
 __all__ = ["TwinComparison", "compare_twin", "FAMILY_ALPHA"]
 

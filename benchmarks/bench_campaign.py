@@ -41,10 +41,11 @@ from pathlib import Path
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import numpy as np  # noqa: E402
-from gyrobench.scenarios import bench  # noqa: E402
 from sklearn.linear_model import Ridge  # noqa: E402
 from sklearn.pipeline import make_pipeline  # noqa: E402
 from sklearn.preprocessing import StandardScaler  # noqa: E402
+
+from gyrobench.scenarios import bench  # noqa: E402
 
 COMPENSATOR = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
 

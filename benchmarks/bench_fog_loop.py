@@ -12,9 +12,11 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, run_loop
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import Environment
 from gyrobench.sim.shaker import FixedSine, Phased, SineSweep
 
 
@@ -36,7 +38,7 @@ def main() -> None:
         w0, c0 = time.perf_counter(), time.process_time()
         sh = ph.sample(3200.0, rng=rng)
         w1, c1 = time.perf_counter(), time.process_time()
-        rec = unit.simulate(ph.duration, 400.0, rng=rng, shaker=sh)
+        rec = unit.simulate(Environment(ph.duration, vibration=sh), fs=400.0, rng=rng)
         w2, c2 = time.perf_counter(), time.process_time()
         print(
             f"{label}: {rec.n_samples} samples; shaker {w1 - w0:.2f} s wall / {c1 - c0:.2f} s CPU; "

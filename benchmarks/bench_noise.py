@@ -10,7 +10,7 @@ Prints (never asserts):
   samples/s of wall clock and per CPU-second, best of several repeats;
 * the time per term (each term alone, streaming), to show where the time goes;
 * the peak resident memory (ru_maxrss of a fresh subprocess) while streaming 1e8
-  samples of the five-term model to HDF5 with ``gyrobench.sim.recording.HDF5StreamWriter``.
+  samples of the five-term model to HDF5 with ``gyrobench.io.recording.HDF5StreamWriter``.
 """
 
 from __future__ import annotations
@@ -124,8 +124,8 @@ def bench_speed(n: int, repeats: int) -> None:
 
 def hdf5_child(n: int, path: str) -> None:
     """Run in a fresh process: stream n samples to HDF5, print ru_maxrss."""
+    from gyrobench.io.recording import HDF5StreamWriter
     from gyrobench.sim.noise import NoiseModel
-    from gyrobench.sim.recording import HDF5StreamWriter
 
     model = NoiseModel.from_datasheet(**FIVE)
     stream = model.stream(FS, rng=np.random.default_rng(2))

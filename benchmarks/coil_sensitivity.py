@@ -20,14 +20,11 @@ import dataclasses
 import time
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim.coil2d import (
-    SILICA_CTE_SLOPE_BOUNDS,
-    Coil2D,
-    Coil2DSpec,
-    Imperfections,
-    heated_stretch,
-)
+
+from gyrobench.base import units
+from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, heated_stretch
+from gyrobench.sim.coil_materials import SILICA_CTE_SLOPE_BOUNDS
+from gyrobench.sim.coil_winding import Imperfections
 
 _HOUR = 3600.0
 

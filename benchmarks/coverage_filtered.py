@@ -29,8 +29,9 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios.allan_report import stationarity
+from gyrobench.scenarios.reports.allan import stationarity
 
 FS, N_SAMPLES, N_TRUE, K_TRUE = 100.0, 200_000, 1e-3, 3e-5
 

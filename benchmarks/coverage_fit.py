@@ -27,6 +27,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+
 from gyrobench.analysis.allan import TERMS, fit_noise
 from gyrobench.sim.noise import NoiseModel
 

@@ -28,6 +28,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+
 from gyrobench.analysis.allan import halves_agreement
 
 ROOT = Path(__file__).resolve().parents[1]

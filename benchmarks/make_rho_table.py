@@ -22,6 +22,7 @@ import os
 import textwrap
 
 import numpy as np
+
 from gyrobench.analysis.allan import _covariance as cov
 
 OUT = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "analysis", "allan", "_rho_table.py")

@@ -20,8 +20,9 @@ import time
 from dataclasses import replace
 
 import numpy as np
+
 from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor
-from gyrobench.sim import units
+from gyrobench.base import units
 from gyrobench.sim.mems_resonator import (
     MemsResonator,
     MemsResonatorSpec,

@@ -32,8 +32,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 def one(job: tuple[int, float, float, str]) -> tuple[float, float]:
     """(p-value of fit_noise, p-value of the former r' V^-1 r ~ chi2(dof) statistic) of one seed."""
     from coverage_fit import model
-    from gyrobench.analysis.allan import allan_deviation, fit_noise
     from scipy import special
+
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
 
     seed, fs, hours, tau_min = job
     n = int(round(hours * 3600 * fs))

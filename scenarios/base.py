@@ -25,7 +25,7 @@ defines, instead of ``run``:
 ``report(config, units, claims) -> Outcome``
     tables and figures from the units' results (formatting only).
 
-:func:`gyrobench.scenarios.units.run_paper` runs the units (resumable, on local processes
+:func:`gyrobench.scenarios.runner.units.run_paper` runs the units (resumable, on local processes
 or a dask.distributed cluster), judges the claims over them and calls ``report``. Other
 scenarios (``static_noise``, ``physics_checks``) define
 
@@ -49,8 +49,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from gyrobench.scenarios.ranges import FieldRange, check_ranges, field_range, range_error
 from numpy.typing import NDArray
+
+from gyrobench.base.ranges import FieldRange, check_ranges, field_range, range_error
 
 __all__ = [
     "Table",

@@ -67,6 +67,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
+
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
 
 __all__ = [

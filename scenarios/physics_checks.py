@@ -1,7 +1,7 @@
 """Closed-form checks of every sensor model, in the report.
 
-Runs :func:`gyrobench.scenarios.checks.collect` over the check modules
-(:data:`gyrobench.scenarios.checks.CHECK_MODULES`: noise AVAR per IEEE-952 term,
+Runs :func:`gyrobench.scenarios.checks.core.collect` over the check modules
+(:data:`gyrobench.scenarios.checks.core.CHECK_MODULES`: noise AVAR per IEEE-952 term,
 Sagnac scale factor, Shupe cancellation, Adler beat frequency, dither random walk,
 and whatever the sensor modules add) and reports each check: its formula, the
 closed form's value, the model's value, the relative error, and the tolerance with
@@ -16,8 +16,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
 from gyrobench.scenarios.base import Headline, Outcome, Table
-from gyrobench.scenarios.checks import CHECK_MODULES, Check, collect
+from gyrobench.scenarios.checks.core import CHECK_MODULES, Check, collect
 
 NAME = "physics_checks"
 TITLE = (

@@ -222,7 +222,7 @@ def load_config(module: ModuleType, path: str | Path | None) -> Any:
     Every error is a ``ValueError`` or ``TypeError`` naming the file (not TOML, not UTF-8,
     nested deeper than :data:`MAX_CONFIG_DEPTH`, an unknown or mistyped parameter, a value
     so large the configuration's checks overflow), or
-    :class:`gyrobench.sim.memory.MemoryLimitError` when the scenario states a memory
+    :class:`gyrobench.base.memory.MemoryLimitError` when the scenario states a memory
     estimate (``memory_estimate(config)``) above the limit.
     """
     config = module.Config()
@@ -265,9 +265,9 @@ def load_config(module: ModuleType, path: str | Path | None) -> Any:
 
 
 def _check_memory(module: ModuleType, config: Any, path: Path | None) -> Any:
-    """``config``, if the scenario's run fits in memory (gyrobench.sim.memory.check_scenario):
+    """``config``, if the scenario's run fits in memory (gyrobench.base.memory.check_scenario):
     every verb reads its configuration here, before any work."""
-    from gyrobench.sim import memory
+    from gyrobench.base import memory
 
     name = getattr(module, "NAME", module.__name__)
     source = f"config file {str(path)!r}" if path else "its default configuration"

@@ -18,13 +18,14 @@ from dataclasses import asdict, dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios.allan_report import TERMS, coefficient_table, coefficients_json
+from gyrobench.base import units
+from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.scenarios.base import FieldRange, FigureSpec, Headline, Outcome, Table, check_ranges
-from gyrobench.scenarios.figures import allan_figure
-from gyrobench.sim import units
+from gyrobench.scenarios.reports.allan import TERMS, coefficient_table, coefficients_json
+from gyrobench.scenarios.reports.figures import allan_figure
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording, package_version
 
 NAME = "static_noise"
 TITLE = "Static noise records: fitted IEEE-952 coefficients against the truth (FOG and MEMS grade)"
@@ -216,7 +217,7 @@ def memory_estimate(config: Config) -> float:
     simulate and run; 9 is that rounded up. Computed in floats, so an absurd duration
     gives a huge (or infinite) estimate, never an overflow.
     """
-    from gyrobench.sim import memory
+    from gyrobench.base import memory
 
     n = sum(float(s.duration_h) * units.HOUR * float(s.fs_hz) for s in _grades(config).values())
     return memory.series_bytes(n, 9)

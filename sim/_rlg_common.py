@@ -33,12 +33,14 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import positive_field as _pos
-from gyrobench.sim._validate import real_field as _num
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording, package_version
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import positive_field as _pos
+from gyrobench.base.validate import real_field as _num
+from gyrobench.io.recording import Channel, Recording, package_version
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import RLG_ERROR_COMPONENTS, Environment, check_call, held, with_metadata
 
 if TYPE_CHECKING:
     from gyrobench.sim.rlg import CavityGeometry, Dither, TemperatureSensor
@@ -105,6 +107,50 @@ class _CavityScale:
     def pulse_weight(self) -> float:
         """q = 1/K [rad/count]."""
         return self.geometry.pulse_weight
+
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """One record at ``fs`` [Hz] from the statistical mode; the gyro is switched on at t = 0.
+
+        Parameters
+        ----------
+        environment : Environment
+            ``temperature``: the chamber air [K] (None: :data:`DEFAULT_CHAMBER` held; an array
+            is held over each sample interval); ``true_rate`` [rad/s] about the sense axis. The
+            models have no g-sensitive or vibration term: a set ``specific_force`` or
+            ``vibration`` is listed in the metadata's ``ignored_inputs``.
+        fs : float
+            Count sampling rate [Hz], at most f_d / 4.
+        rng : numpy.random.Generator
+            The record's streams.
+
+        Returns
+        -------
+        Recording
+            Channels ``rate`` [rad/s], ``counts``, ``dither_angle``, ``T1`` (housing) and ``T2``
+            (cavity) [K]; truth ``true_rate``, the terms named in the metadata's
+            ``error_components`` (summing to ``rate - true_rate``) and the model's states.
+        """
+        fs = check_call(environment, fs, rng)
+        rate = environment.profile("true_rate", fs) or 0.0
+        rec = self._record(chamber_of(environment, fs), environment.duration, fs, rng=rng, rate=rate)
+        rec, components = self._with_model_terms(rec)
+        ignored = environment.ignored("specific_force", "vibration")
+        return with_metadata(rec, ignored_inputs=ignored, error_components=components)
+
+    def _record(
+        self,
+        chamber: Callable[[NDArray[np.float64]], NDArray[np.float64]],
+        duration: float,
+        fs: float,
+        *,
+        rng: np.random.Generator,
+        rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
+    ) -> Recording:
+        raise NotImplementedError  # each model's statistical mode
+
+    def _with_model_terms(self, rec: Recording) -> tuple[Recording, list[str]]:
+        """The record with any model-specific truth terms, and the components that close it."""
+        return rec, list(RLG_ERROR_COMPONENTS)
 
 
 # ============================================================================ statistical mode
@@ -276,3 +322,21 @@ def _finish_run(
         metadata={**terms.metadata, "version": package_version()},
         name=name,
     )
+
+
+#: chamber air temperature [K] an RLG record holds when its environment gives none (20 degC)
+DEFAULT_CHAMBER = 293.15
+
+
+def chamber_of(environment: Environment, fs: float) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    """The environment's temperature as the chamber-air profile t -> K an RLG model takes.
+
+    A number is held; None holds :data:`DEFAULT_CHAMBER`; an array is held over each sample
+    interval; a callable is taken as it is.
+    """
+    temp = environment.profile("temperature", fs)
+    if temp is None:
+        return held(DEFAULT_CHAMBER)
+    if isinstance(temp, float):
+        return held(temp)
+    return temp

@@ -30,8 +30,9 @@ from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
-from gyrobench.sim import units
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
 
 __all__ = [
     "EARTH_RATE",
@@ -147,7 +148,7 @@ def sensed_earth_rate(
     ndarray
         Omega_E (cos(phi) cos(e) cos(psi) + sin(phi) sin(e)) [rad/s].
 
-    >>> from gyrobench.sim import units
+    >>> from gyrobench.base import units
     >>> round(units.to_deg_per_h(float(sensed_earth_rate(units.deg(45.8)))), 3)
     10.486
     """

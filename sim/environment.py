@@ -178,7 +178,7 @@ def thermal_profile(start: float, steps: Sequence[Ramp | Soak], *, t0: float = 0
 
     Examples
     --------
-    >>> from gyrobench.sim import units
+    >>> from gyrobench.base import units
     >>> p = thermal_profile(units.celsius(-10.0), [Soak(duration=3600.0),
     ...     Ramp(target=units.celsius(40.0), rate=10.0 / 3600.0)])
     >>> p.duration / 3600.0, round(float(units.to_celsius(p(p.times[-1]))), 9)

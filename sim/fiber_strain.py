@@ -140,8 +140,9 @@ def exact_strain_phase(
     with ``strain(z, t)`` evaluated on broadcast arrays (z column, t row) (the wave entered
     at L minus the wave entered at 0: small-tau limit +(k0 n xi/v) int eps_dot (L - 2z) dz).
     """
-    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
     from scipy.integrate import simpson
+
+    from gyrobench.sim.fog_optics import SPEED_OF_LIGHT
 
     v = SPEED_OF_LIGHT / group_index
     k0 = 2.0 * math.pi / wavelength

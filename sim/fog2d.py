@@ -38,15 +38,18 @@ from functools import cached_property
 from numbers import Real
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import NDArray
+
+from gyrobench.base import units
+from gyrobench.base.validate import positive_number
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
 from gyrobench.sim.earth import HARBIN
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording
-from numpy.typing import NDArray
+from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, chamber_program, check_call, with_metadata
 
 __all__ = ["TemperatureSensorSpec", "FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
 
@@ -230,10 +233,26 @@ class FOG2DSpec:
 
 @dataclass(frozen=True, kw_only=True)
 class FOG2DUnit:
-    """One FOG: its spec, its drawn coil, and the closed loop on that coil (:attr:`fog`)."""
+    """One FOG: its spec, its drawn coil, and the closed loop on that coil (:attr:`fog`).
+
+    Parameters
+    ----------
+    spec : FOG2DSpec
+        The design the unit was drawn from.
+    coil : Coil2D
+        The drawn coil (winding, defects, materials).
+    chamber_scale : float
+        Factor on the chamber-housing conductance for this run's mounting and airflow [-]
+        (:meth:`Coil2D.network`); 1 by default. A run-to-run variation is
+        ``dataclasses.replace(unit, chamber_scale=...)``.
+    """
 
     spec: FOG2DSpec
     coil: Coil2D
+    chamber_scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        positive_number("FOG2DUnit.chamber_scale", self.chamber_scale, "")
 
     @cached_property
     def fog(self) -> ClosedLoopFOG:
@@ -274,41 +293,65 @@ class FOG2DUnit:
             chamber.times, chamber.values, dt=self.spec.thermal_step, chamber_scale=chamber_scale
         )
 
-    def simulate(
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """One chamber run logged at ``fs`` [Hz] through the unit's closed loop (:attr:`fog`).
+
+        Parameters
+        ----------
+        environment : Environment
+            ``duration`` [s]; ``temperature``, the chamber program [K] (a number or None: the
+            spec's scale-factor reference temperature, held; a :class:`PiecewiseLinear`; an
+            array or callable, linear between the sample centres), run through the coil's
+            (r, z) heat flow (:meth:`thermal_response`, with the unit's ``chamber_scale``);
+            ``true_rate``, the table rate [rad/s] (the sense axis' Earth component is added
+            by the loop). The model has no g-sensitive or vibration term: ``specific_force``
+            and ``vibration`` are listed in the metadata's ``ignored_inputs`` when set.
+        fs : float
+            Output rate [Hz].
+        rng : numpy.random.Generator
+            Two children: the loop (optical and IEEE-952 noise) and the temperature sensor.
+
+        Returns
+        -------
+        Recording
+            Channels ``rate`` [rad/s] and ``coil_temperature`` [K] (the logged sensor); truth
+            ``true_rate`` and the loop's and coil's terms (metadata ``error_components`` names
+            those summing to ``rate - true_rate``). Samples are block means over 1/fs at the
+            block centres (k + 1/2)/fs, where the temperatures are also taken.
+        """
+        fs = check_call(environment, fs, rng)
+        chamber = chamber_program(environment, fs, self.spec.scale_factor_ref_temperature)
+        if chamber.times[0] != 0.0 or chamber.times[-1] < environment.duration:
+            raise ValueError(
+                "Environment.temperature as a chamber program must span the record [0, duration] = "
+                f"[0, {environment.duration!r}] s; got [{float(chamber.times[0])!r}, {float(chamber.times[-1])!r}] s"
+            )
+        rec = self._chamber_run(chamber, environment.duration, fs, rng, environment.profile("true_rate", fs))
+        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
+        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+        return with_metadata(
+            rec,
+            ignored_inputs=environment.ignored("specific_force", "vibration"),
+            error_components=list(FOG_ERROR_COMPONENTS),
+        )
+
+    def _chamber_run(
         self,
         chamber: PiecewiseLinear,
-        *,
+        duration: float,
         fs: float,
         rng: np.random.Generator,
-        true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
-        chamber_scale: float = 1.0,
-        name: str = "fog2d_thermal",
-        metadata: dict | None = None,
+        true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None,
     ) -> Recording:
-        """One chamber run logged at ``fs`` [Hz] through :meth:`ClosedLoopFOG.simulate`.
-
-        ``true_rate`` is the table rate [rad/s] (the sense axis' Earth component is added by
-        the loop). Samples are block means over 1/fs (output) at the block centres
-        t0 + (k + 1/2)/fs, where the temperatures are also taken. ``rng``: two children, the
-        loop (optical and IEEE-952 noise) and the sensor noise.
-        """
-        if isinstance(fs, bool) or not isinstance(fs, Real) or not (math.isfinite(fs) and fs > 0):
-            raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
-        if not isinstance(rng, np.random.Generator):
-            raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
-        if not (callable(true_rate) or (isinstance(true_rate, Real) and math.isfinite(true_rate))):
-            raise ValueError(
-                f"true_rate must be a finite number [rad/s] or a callable; got {true_rate!r}"
-            )
-        run = self.thermal_response(chamber, chamber_scale=chamber_scale)
+        true_rate = 0.0 if true_rate is None else true_rate
+        run = self.thermal_response(chamber, chamber_scale=self.chamber_scale)
         t0 = float(run.t[0])
-        duration = float(run.t[-1] - run.t[0])
 
         def interp(y: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
             return lambda t: np.interp(t, run.t, y)
 
         rng_fog, rng_sensor = rng.spawn(2)
-        rec = self.fog.simulate(
+        rec = self.fog._record(
             duration,
             float(fs),
             rng=rng_fog,
@@ -317,8 +360,6 @@ class FOG2DUnit:
             source_temperature=interp(run.housing),
             nonreciprocal_rate=interp(run.shupe + run.product),
             t0=t0,
-            name=name,
-            metadata=metadata,
         )
         n = len(rec["rate"])
         t = t0 + (np.arange(n) + 0.5) / fs
@@ -363,5 +404,5 @@ class FOG2DUnit:
             "wavelength_tempco_per_K": self.fog.wavelength_tempco,
         }
         return Recording(
-            fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name=name
+            fs=float(fs), channels=channels, truth=truth, t0=t0, metadata=meta, name="fog2d"
         )

@@ -54,14 +54,16 @@ from numbers import Integral, Real
 from typing import ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import FieldRange
+from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.ranges import FieldRange
-from gyrobench.sim.recording import Channel, Recording, package_version
+from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, check_call, with_metadata
 from gyrobench.sim.shaker import ShakerSignal
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "sagnac_scale_factor",
@@ -793,7 +795,49 @@ class ClosedLoopFOG:
         g = self.vibration_transfer(f, fs, term)
         return float(np.trapezoid(np.abs(g) ** 2 * np.asarray(accel_psd(f), dtype=float), f))
 
-    def simulate(
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """A record at output rate ``fs`` [Hz] over ``environment.duration`` (reduced form; class Notes).
+
+        Parameters
+        ----------
+        environment : Environment
+            ``true_rate``: table rate about the sense axis [rad/s] (the Earth's rate is added);
+            ``temperature``: the unit's temperature [K], which both the coil's winding
+            diameter (alpha_D) and the source's mean wavelength (alpha_lambda) follow (None:
+            the reference temperature, no scale-factor change); ``vibration``: the shaker run
+            (its sample rate an even multiple of ``fs``, covering the record from t = 0). The
+            loop-only model has no static g-sensitivity: a set ``specific_force`` is listed in
+            the metadata's ``ignored_inputs``.
+        fs : float
+            Output rate [Hz], at most 1/(100 tau).
+        rng : numpy.random.Generator
+            Two child streams: optical noise, IEEE-952 terms.
+
+        Returns
+        -------
+        Recording
+            Channel ``rate`` [rad/s] (and the shaker's logged frequency and amplitude with a
+            vibration); truth ``true_rate`` and the terms named in the metadata's
+            ``error_components``, which sum to ``rate - true_rate``.
+        """
+        fs = check_call(environment, fs, rng)
+        temp = environment.profile("temperature", fs)
+        rec = self._record(
+            environment.duration,
+            fs,
+            rng=rng,
+            true_rate=environment.profile("true_rate", fs) or 0.0,
+            shaker=environment.vibration,
+            coil_temperature=temp,
+            source_temperature=temp,
+        )
+        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
+        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+        return with_metadata(
+            rec, ignored_inputs=environment.ignored("specific_force"), error_components=list(FOG_ERROR_COMPONENTS)
+        )
+
+    def _record(
         self,
         duration: float,
         fs: float,
@@ -814,7 +858,7 @@ class ClosedLoopFOG:
         name: str = "fog_loop",
         metadata: dict | None = None,
     ) -> Recording:
-        """A record at output rate ``fs`` [Hz] of ``duration`` [s] (reduced form; class Notes).
+        """The reduced-form record with every input explicit (:meth:`simulate`; used by :mod:`gyrobench.sim.fog2d`).
 
         Parameters
         ----------
@@ -924,10 +968,14 @@ class ClosedLoopFOG:
         channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
         if shaker is not None:
             m = int(round(shaker.fs / fs))
-            freq = shaker.frequency[: n * m].reshape(n, m)[:, m // 2]  # at the block centre
+            centre = slice(m // 2, n * m, m)  # the block centres
+            freq = shaker.frequency[centre]
+            defined = np.isfinite(freq)
             channels["vibration_frequency"] = Channel(
-                freq, "Hz", "shaker drive frequency (controller log; NaN when off)"
+                np.where(defined, freq, 0.0), "Hz", "shaker drive frequency (controller log; 0 where none is defined: "
+                "off, or random vibration)"
             )
+            channels["vibration_on"] = Channel(shaker.on[centre].astype(np.float64), "1", "1 while the shaker drives")
             channels["vibration_amplitude"] = Channel(
                 shaker.amplitude[: n * m].reshape(n, m)[:, m // 2],
                 "m/s^2",

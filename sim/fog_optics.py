@@ -64,8 +64,8 @@ from dataclasses import dataclass
 from numbers import Real
 from typing import ClassVar
 
-from gyrobench.sim.ranges import FieldRange
-from gyrobench.sim.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT  # exact SI, re-exported
+from gyrobench.base.ranges import FieldRange
+from gyrobench.base.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT  # exact SI, re-exported
 
 __all__ = [
     "ELEMENTARY_CHARGE",

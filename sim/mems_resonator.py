@@ -87,18 +87,18 @@ through the phase error, dOmega_hat/df = -SF tan(theta) dk_yx/df/(2 m w)
 f_d shifts x statically, x_s = -m f_d/k_x, and changes k_y by -k_e eps_A x_s (about 1e-5 of
 k_y - m w^2 per g: an open-loop SF change of -12.4 ppm/g, none in force rebalance;
 :func:`drive_axis_sensitivity`, ``drive_specific_force`` of :func:`operating_point`,
-:func:`simulate`, :func:`simulate_full`).
+:func:`slow_flow`, :func:`simulate_full`).
 
 Two integrators of the same equations
 -------------------------------------
 * :func:`simulate_full`: the equations above with the carrier, a fixed-step RK4 vectorised over
   independent cases (short records; the Brownian and pick-off noises are held over a step,
   variance S/(2 dt) per step for one-sided S).
-* :func:`simulate`: the demodulated slow flow (complex envelopes, drive held at X0 by the AGC)
+* :func:`slow_flow`: the demodulated slow flow (complex envelopes, drive held at X0 by the AGC)
   at the output rate, exact discretisation of the linear part (matrix exponential; Van Loan
   for the noise) with the output the exact average of u_I over each output interval. The
   rebalance clamp is applied at the step ends. Validated against :func:`simulate_full` in
-  tests and in :mod:`gyrobench.scenarios.checks_mems`.
+  tests and in :mod:`gyrobench.scenarios.checks.mems`.
 
 Slow flow (x = Re{A e^{jwt}}, y = Re{B e^{jwt}}, A = X0; "improved" form, docs/physics.md 5.1)::
 
@@ -135,13 +135,16 @@ from dataclasses import dataclass, field, fields, replace
 from typing import ClassVar
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import real_field
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.ranges import FieldRange
-from gyrobench.sim.units import BOLTZMANN  # exact SI, re-exported
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange
+from gyrobench.base.units import BOLTZMANN  # exact SI, re-exported
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import real_field
+from gyrobench.io.recording import Channel, Recording
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import Environment, check_call
 
 __all__ = [
     "ADEV_MIN_PER_B",
@@ -172,10 +175,16 @@ __all__ = [
     "FullResult",
     "simulate_full",
     "SlowFlowResult",
-    "simulate",
+    "slow_flow",
+    "TEMPERATURE_BLOCK",
     "rate_table",
     "factory_trim",
 ]
+
+#: length [s] of the blocks over which :meth:`MemsResonator.simulate` holds a varying
+#: temperature at its block mean (long against the loop's settling, ms, and short against
+#: a chamber's thermal time constants, minutes)
+TEMPERATURE_BLOCK = 1.0
 
 #: vacuum permittivity [F/m] (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
@@ -511,6 +520,77 @@ class MemsResonator:
             self, turn_on_bias=self.bias_repeatability * float(z_b), turn_on_scale_factor=e_on
         )
 
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
+        """One record at ``fs`` [Hz] from the slow flow (:func:`slow_flow`), noise and ADC on.
+
+        Parameters
+        ----------
+        environment : Environment
+            ``true_rate`` [rad/s] and ``specific_force`` [m/s^2] along the sense axis, taken at
+            the sample centres and held over each output interval (the slow flow's
+            zero-order hold); ``temperature`` [K] of the die (None: the unit's T0). A constant
+            temperature runs the record in one call. A varying one is quasi-static: the
+            record is cut into blocks of :data:`TEMPERATURE_BLOCK` seconds, each simulated at
+            its mean temperature from the noise-free equilibrium of its first rate, with its
+            own child stream of ``rng``; the loop's transient at a block start (a few loop
+            time constants, ms) and the 1/f term's memory across blocks are lost. The model
+            has no vibration input: a set ``vibration`` is listed in ``ignored_inputs``.
+        fs : float
+            Output rate [Hz].
+        rng : numpy.random.Generator
+            The slow flow's streams (one child per temperature block).
+
+        Returns
+        -------
+        Recording
+            Channels ``rate`` [rad/s] and ``temperature`` [K]; truth ``true_rate``,
+            ``temperature`` and ``specific_force``. The slow flow does not split its output
+            into terms: ``error_components`` is empty.
+        """
+        fs = check_call(environment, fs, rng)
+        n = environment.n_samples(fs)
+        if n < 2:
+            raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
+        rate = environment.sampled("true_rate", fs)
+        force = environment.sampled("specific_force", fs)
+        temp = environment.sampled("temperature", fs, default=self.reference_temperature)
+        out = np.empty(n)
+        if np.all(temp == temp[0]):
+            out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
+            blocks = 1
+        else:
+            m = max(2, int(round(TEMPERATURE_BLOCK * fs)))
+            starts = list(range(0, n, m))
+            if n - starts[-1] < 2 and len(starts) > 1:  # a last block of one sample joins the one before
+                starts.pop()
+            stops = starts[1:] + [n]
+            for (a, b), child in zip(zip(starts, stops, strict=True), rng.spawn(len(starts)), strict=True):
+                res = slow_flow(
+                    self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b]
+                )
+                out[a:b] = res.output
+            blocks = len(starts)
+        return Recording(
+            fs=fs,
+            channels={
+                "rate": Channel(out, "rad/s", "gyro output"),
+                "temperature": Channel(temp, "K", "die temperature (as driven)"),
+            },
+            truth={
+                "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
+                "temperature": Channel(temp, "K", "die temperature"),
+                "specific_force": Channel(force, "m/s^2", "specific force along the sense axis"),
+            },
+            t0=0.5 / fs,
+            metadata={
+                "model": "gyrobench.sim.mems_resonator.MemsResonator (slow flow)",
+                "temperature_blocks": blocks,
+                "ignored_inputs": environment.ignored("vibration"),
+                "error_components": [],
+            },
+            name="mems",
+        )
+
 
 @dataclass(frozen=True, slots=True)
 class OperatingPoint:
@@ -774,7 +854,7 @@ def open_loop_response(
 ) -> NDArray[np.complex128]:
     """Open-loop rate-to-output frequency response relative to DC, H(f)/H(0) [-] (complex).
 
-    The sense envelope obeys B' = p (B - R F) (:func:`simulate`), so a force component
+    The sense envelope obeys B' = p (B - R F) (:func:`slow_flow`), so a force component
     e^{j W t} reaches B through G(jW) = -p/(jW - p). A real rate cos(W t) applies the Coriolis
     and the angular-acceleration (Euler) forces, F = -j 2 m w X0 Omega - m X0 Omega', i.e.
     F_+- = -j m X0 (2 w +- W) on e^{+-j W t}; the output Re{w_c B} is Re{H e^{j W t}} with
@@ -802,7 +882,7 @@ def open_loop_noise_psd(
 ) -> NDArray[np.float64]:
     """One-sided PSD of the open-loop output noise [(rad/s)^2/Hz] (slow flow, continuous time).
 
-    The envelope noises of :func:`simulate` (force f~ and pick-off n~: independent real and
+    The envelope noises of :func:`slow_flow` (force f~ and pick-off n~: independent real and
     imaginary parts, each of two-sided intensity S_F = 4 k_B T c_y [N^2/Hz] resp.
     S_n [m^2/Hz]) reach the output K Re{w_c (B + n~)}, K = k_out (1 + e_on),
     through B = G R f~, G(s) = -p/(s - p). The real part of a circular process keeps the mean of
@@ -1682,9 +1762,9 @@ def _run_segmented(
 def _run_clamped(
     s: NDArray, d: NDArray, z: NDArray | None, disc: _Discrete, sat: _Discrete, v: float
 ) -> tuple[NDArray, NDArray, NDArray]:
-    """The slow flow step by step with the rebalance DAC clamp (see :func:`simulate`).
+    """The slow flow step by step with the rebalance DAC clamp (see :func:`slow_flow`).
 
-    The reference of :func:`_run_segmented` (which :func:`simulate` uses).
+    The reference of :func:`_run_segmented` (which :func:`slow_flow` uses).
     """
     n, k = d.shape[0], d.shape[1]
     phi_t, gam_t, chol_t = disc.phi.T, disc.gam.T, disc.chol.T
@@ -1716,7 +1796,7 @@ def _run_clamped(
 
 @dataclass(frozen=True, slots=True)
 class SlowFlowResult:
-    """Output of :func:`simulate`; arrays of the rate's shape.
+    """Output of :func:`slow_flow`; arrays of the rate's shape.
 
     ``output`` [rad/s] the gyro output (after ADC when requested), ``u_i``, ``u_q`` [V] the
     interval-mean rebalance commands (u_q: end-of-interval value; open loop: the rate and
@@ -1731,7 +1811,7 @@ class SlowFlowResult:
     sense_envelope: NDArray[np.complex128]
 
 
-def simulate(
+def slow_flow(
     unit: MemsResonator,
     rate: ArrayLike,
     *,
@@ -1786,7 +1866,7 @@ def simulate(
     reference, equal to rounding in a test).
     """
     _check_rng(rng)
-    fs = real_field("simulate", "fs", fs)
+    fs = real_field("slow_flow", "fs", fs)
     if not fs > 0:
         raise ValueError(f"fs must be > 0 Hz; got {fs!r}")
     w = np.asarray(rate, dtype=float)
@@ -1888,7 +1968,7 @@ def rate_table(
             f"got {average_s!r}, {settle_s!r}"
         )
     col = np.broadcast_to(w, (n_settle + n_avg, w.size))
-    res = simulate(unit, col, fs=fs, rng=rng, temperature=temperature)
+    res = slow_flow(unit, col, fs=fs, rng=rng, temperature=temperature)
     return res.output[n_settle:].mean(axis=0)
 
 

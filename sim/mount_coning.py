@@ -35,8 +35,9 @@ from numbers import Real
 from typing import ClassVar
 
 import numpy as np
-from gyrobench.sim.ranges import FieldRange
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import FieldRange
 
 __all__ = ["MountConing", "RockingMode"]
 

@@ -1,6 +1,6 @@
 """IEEE Std 952 rate-noise model: closed-form Allan variance and fast, chunkable generation.
 
-All parameters are in SI (see :mod:`gyrobench.sim.units`); field units enter only through
+All parameters are in SI (see :mod:`gyrobench.base.units`); field units enter only through
 :meth:`NoiseModel.from_datasheet`.
 
 The model is a sum of independent processes, each generated from its own child
@@ -115,11 +115,12 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import check_fs as _check_fs
-from gyrobench.sim._validate import nonneg_coefficient
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
+
+from gyrobench.base import units
+from gyrobench.base.validate import check_fs as _check_fs
+from gyrobench.base.validate import nonneg_coefficient
 
 __all__ = [
     "GaussMarkov",
@@ -764,7 +765,7 @@ class _Flicker:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class NoiseModel:
-    """IEEE Std 952 rate-noise model; every field in SI (see :mod:`gyrobench.sim.units`).
+    """IEEE Std 952 rate-noise model; every field in SI (see :mod:`gyrobench.base.units`).
 
     Parameters
     ----------

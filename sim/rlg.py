@@ -49,7 +49,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+from scipy import signal
+
+from gyrobench.base import units
+from gyrobench.base.validate import nonneg_field as _nonneg
+from gyrobench.base.validate import nonneg_fields as _nonneg_fields
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
     DITHER_LOCK_IN_MARGIN,
     _CavityScale,
@@ -64,12 +70,7 @@ from gyrobench.sim._rlg_common import (
     _Terms,
     _Wording,
 )
-from gyrobench.sim._validate import nonneg_field as _nonneg
-from gyrobench.sim._validate import nonneg_fields as _nonneg_fields
 from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording
-from numpy.typing import ArrayLike, NDArray
-from scipy import signal
 
 __all__ = [
     "HENE_WAVELENGTH",
@@ -717,7 +718,7 @@ class RLGUnit(_CavityScale):
         """True housing and cavity temperatures [K] for chamber samples [K] at ``fs`` [Hz]."""
         return two_node_temperatures(np.asarray(chamber, dtype=float), fs, self.thermal)
 
-    def simulate(
+    def _record(
         self,
         chamber: Callable[[NDArray[np.float64]], NDArray[np.float64]],
         duration: float,

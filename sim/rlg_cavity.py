@@ -43,7 +43,7 @@ The long-record output (:meth:`CavityRLG.simulate`) is the statistical mode of
 time-varying Omega_L, then pulse counting with the dither stripped), run by the same code
 (the private ``gyrobench.sim._rlg_common``, shared by both models). Its validity against the
 full Adler equation (>= 100 dither cycles with the Earth's rate present) and the dead band of
-an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks_rlg_cavity`.
+an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks.rlg_cavity`.
 """
 
 from __future__ import annotations
@@ -53,7 +53,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.base.units import SPEED_OF_LIGHT  # exact SI, re-exported
+from gyrobench.base.validate import nonneg_field as _nonneg
+from gyrobench.base.validate import nonneg_fields as _nonneg_fields
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
     _CavityScale,
     _chamber_samples,
@@ -67,9 +73,6 @@ from gyrobench.sim._rlg_common import (
     _Terms,
     _Wording,
 )
-from gyrobench.sim._validate import nonneg_field as _nonneg
-from gyrobench.sim._validate import nonneg_fields as _nonneg_fields
-from gyrobench.sim.recording import Channel, Recording
 from gyrobench.sim.rlg import (
     HENE_WAVELENGTH,
     CavityGeometry,
@@ -80,8 +83,7 @@ from gyrobench.sim.rlg import (
     _first_order_foh,
     _lognormal,
 )
-from gyrobench.sim.units import SPEED_OF_LIGHT  # exact SI, re-exported
-from numpy.typing import ArrayLike, NDArray
+from gyrobench.sim.sensor import RLG_ERROR_COMPONENTS
 
 __all__ = [
     "SPEED_OF_LIGHT",
@@ -535,6 +537,9 @@ class CavityRLG(_CavityScale):
     reference_temperature : float
         T_ref [K] of the block's length and the PLC's rest position.
     label : str
+        The unit's name in records.
+    mode_hops : bool
+        False runs the counterfactual PLC of unlimited travel (same draws): no mode hops.
     """
 
     geometry: CavityGeometry
@@ -554,6 +559,7 @@ class CavityRLG(_CavityScale):
     sensor_cavity: TemperatureSensor = field(default_factory=TemperatureSensor)
     reference_temperature: float = units.celsius(25.0)
     label: str = "RLG"
+    mode_hops: bool = True
 
     def __post_init__(self) -> None:
         _num("CavityRLG", "cte", self.cte)
@@ -649,7 +655,22 @@ class CavityRLG(_CavityScale):
             "bias_backscatter": self.backscatter.null_shift(st["r_net"], st["lock_in"]),
         }
 
-    def simulate(
+    def _with_model_terms(self, rec: Recording) -> tuple[Recording, list[str]]:
+        """The cavity's scale-factor error as a truth term, beside the shared components."""
+        tr = rec.truth
+        drive = sum(tr[k].data for k in ("true_rate", "turn_on_bias", "thermal_bias", "flicker_rrw"))
+        truth = {
+            **tr,
+            "scale_factor_error": Channel(
+                (tr["scale_factor_ratio"].data - 1.0) * drive,
+                "rad/s",
+                "(K/K_ref - 1) x (true rate + turn-on, thermal and flicker bias)",
+            ),
+        }
+        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
+        return rec, [*RLG_ERROR_COMPONENTS, "scale_factor_error"]
+
+    def _record(
         self,
         chamber: Callable[[NDArray[np.float64]], NDArray[np.float64]],
         duration: float,
@@ -658,7 +679,7 @@ class CavityRLG(_CavityScale):
         rng: np.random.Generator,
         rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] = 0.0,
         name: str = "rlg",
-        mode_hops: bool = True,
+        mode_hops: bool | None = None,
     ) -> Recording:
         """Statistical mode over a thermal run: pulse counts at ``fs`` (gyro on at t = 0).
 
@@ -666,7 +687,8 @@ class CavityRLG(_CavityScale):
         (``rate``, ``counts``, ``dither_angle``, ``T1`` housing, ``T2`` cavity). Truth adds the
         node temperatures, ``lock_in_rate``, ``mode`` (PLC mode index), ``plc`` [m],
         ``bias_langmuir``, ``bias_backscatter`` and ``scale_factor_ratio``.
-        ``mode_hops=False`` runs the counterfactual PLC of unlimited travel (same draws).
+        ``mode_hops``: None takes the unit's own; False runs the counterfactual PLC of
+        unlimited travel (same draws).
 
         Notes
         -----
@@ -674,7 +696,7 @@ class CavityRLG(_CavityScale):
         N_j = Omega_L,j sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) (:func:`swing_dither_arw`, the
         dither redrawing its swing at every extreme, :class:`SwingDither`, with the lock-in of
         the sample; checked against the Adler equation in
-        :mod:`gyrobench.scenarios.checks_rlg_cavity`),
+        :mod:`gyrobench.scenarios.checks.rlg_cavity`),
         K_j = 4 A (1 + e_j)^2 / (lambda (P + n_j lambda))
         (PLC holds the path at the mode, the area follows the block); counts and dither
         stripping as in :mod:`gyrobench.sim.rlg`.
@@ -683,7 +705,7 @@ class CavityRLG(_CavityScale):
         tch = run.chamber
         nodes = self.thermal.temperatures(tch, run.fs)
         on = self.turn_on(run.turn_on_rng, 0.5 * (nodes[1, 0] + nodes[2, 0]))
-        mech = self.thermal_bias(nodes, on, mode_hops=mode_hops)
+        mech = self.thermal_bias(nodes, on, mode_hops=self.mode_hops if mode_hops is None else mode_hops)
         mid = {k: 0.5 * (mech[k][1:] + mech[k][:-1]) for k in ("bias_langmuir", "bias_backscatter")}
         thermal = mid["bias_langmuir"] + mid["bias_backscatter"]
         lock = 0.5 * (mech["lock_in"][1:] + mech["lock_in"][:-1])

@@ -1,25 +1,27 @@
-"""One interface over the device models: a :class:`Sensor` spec draws a unit, a unit simulates.
+"""The one device interface: a spec draws a unit, a unit simulates a record in an environment.
 
-Every technology the scenarios use is reachable through the same two calls::
+Every device model (:class:`gyrobench.sim.fog2d.FOG2DSpec` and its
+:class:`~gyrobench.sim.fog2d.FOG2DUnit`, :class:`gyrobench.sim.fog_loop.ClosedLoopFOG`,
+:class:`gyrobench.sim.mems_resonator.MemsResonatorSpec` and its
+:class:`~gyrobench.sim.mems_resonator.MemsResonator`, :class:`gyrobench.sim.rlg.RLGSpec`,
+:class:`gyrobench.sim.rlg_cavity.CavityRLGSpec`, and the datasheet parts of
+:mod:`gyrobench.sim.parts`) answers the same two calls::
 
-    unit = sensor.realize(rng)                      # one unit of the production population
-    rec = unit.simulate(environment, fs=fs, rng=rng)  # one record (:class:`Recording`)
+    unit = spec.realize(rng=rng)                      # one unit of the production population
+    rec = unit.simulate(environment, fs=fs, rng=rng)  # one record (Recording)
 
 with the inputs in one :class:`Environment` under the same names for every device:
-``true_rate`` [rad/s] about the sense axis, ``temperature`` [K] (the chamber / ambient the
-unit sits in), ``specific_force`` [m/s^2] along the sense axis. Each may be a number, a
-profile (a callable of time [s], e.g. :class:`gyrobench.sim.environment.PiecewiseLinear`)
-or a 1-D array sampled at the output rate (one value per output sample). SI throughout.
+``true_rate`` [rad/s] about the sense axis, ``temperature`` [K] (the chamber or ambient the
+unit sits in), ``specific_force`` [m/s^2] along the sense axis and ``vibration`` (a shaker run,
+:class:`gyrobench.sim.shaker.ShakerSignal`). Each of the first three may be a number, a profile
+(a callable of time [s], e.g. :class:`gyrobench.sim.environment.PiecewiseLinear`) or a 1-D
+array sampled at the output rate (one value per output sample). SI throughout.
 
-This module is an additive layer: the adapters call the models' own ``realize`` and
-``simulate`` unchanged (:mod:`gyrobench.sim.fog2d`, :mod:`gyrobench.sim.mems_resonator`,
-:mod:`gyrobench.sim.rlg`, :mod:`gyrobench.sim.rlg_cavity`), whose equations, units and
-references are stated in their docstrings and in docs/physics.md (3.8-3.9 FOG, 5.1 MEMS,
-6 RLG). Every record's truth holds ``true_rate`` [rad/s]; a model that does not respond to
-an input (the FOG and RLG models have no g-sensitive term) states so in the record's
-metadata (``ignored_inputs``). Where the model keeps its error components, the metadata
-``error_components`` names the truth channels whose sum is ``rate - true_rate`` (empty for
-the MEMS slow flow, which does not split its output).
+Every record's truth holds ``true_rate`` [rad/s]. A model that does not respond to an input
+names it in the record's metadata (``ignored_inputs``); where the model keeps its error
+components, the metadata ``error_components`` names the truth channels whose sum is
+``rate - true_rate``. The models' equations, units and references are in their own docstrings
+and in docs/physics.md.
 """
 
 from __future__ import annotations
@@ -31,26 +33,22 @@ from numbers import Real
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim._validate import check_fs, check_rng, positive_number
-from gyrobench.sim.environment import PiecewiseLinear
-from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit
-from gyrobench.sim.recording import Channel, Recording
-from gyrobench.sim.rlg import RLGSpec, RLGUnit
-from gyrobench.sim.rlg_cavity import CavityRLG, CavityRLGSpec
 from numpy.typing import NDArray
+
+from gyrobench.base.validate import check_fs, check_rng, positive_number
+from gyrobench.io.recording import Recording
+from gyrobench.sim.environment import PiecewiseLinear
+from gyrobench.sim.shaker import ShakerSignal
 
 __all__ = [
     "Environment",
     "Profile",
     "SensorUnit",
     "Sensor",
-    "FogSensor",
-    "FogSensorUnit",
-    "MemsSensor",
-    "MemsSensorUnit",
-    "RlgSensor",
-    "RlgSensorUnit",
+    "check_call",
+    "chamber_program",
+    "held",
+    "with_metadata",
     "FOG_ERROR_COMPONENTS",
     "RLG_ERROR_COMPONENTS",
 ]
@@ -94,6 +92,9 @@ class Environment:
         Chamber / ambient temperature [K]; None: the model's reference temperature.
     specific_force : float, callable or ndarray
         Specific force along the sense axis [m/s^2] (+9.8 at rest with the axis up). Default 0.
+    vibration : ShakerSignal or None
+        A shaker run (table acceleration at the shaker's own sample rate, covering the record
+        from t = 0), for the models with a vibration response; None: no vibration.
 
     Notes
     -----
@@ -105,12 +106,17 @@ class Environment:
     true_rate: Input = 0.0
     temperature: Input | None = None
     specific_force: Input = 0.0
+    vibration: ShakerSignal | None = None
 
     def __post_init__(self) -> None:
         positive_number("Environment.duration", self.duration, "s")
         _check_input("true_rate", self.true_rate, "rad/s")
         _check_input("temperature", self.temperature, "K", optional=True)
         _check_input("specific_force", self.specific_force, "m/s^2")
+        if self.vibration is not None and not isinstance(self.vibration, ShakerSignal):
+            raise TypeError(
+                f"Environment.vibration must be a sim.shaker.ShakerSignal or None; got {type(self.vibration).__name__}"
+            )
 
     def n_samples(self, fs: float) -> int:
         """Samples of a record at ``fs`` [Hz]: floor(duration fs)."""
@@ -153,8 +159,13 @@ class Environment:
         return v
 
     def is_zero(self, name: str) -> bool:
+        """True when input ``name`` is the number 0 (or None: no such input acts)."""
         v = getattr(self, name)
-        return isinstance(v, Real) and float(v) == 0.0
+        return v is None or (isinstance(v, Real) and float(v) == 0.0)
+
+    def ignored(self, *names: str) -> list[str]:
+        """The inputs among ``names`` that are set (not zero or None): a model lists those it ignores."""
+        return [name for name in names if not self.is_zero(name)]
 
 
 @runtime_checkable
@@ -170,7 +181,7 @@ class SensorUnit(Protocol):
 class Sensor(Protocol):
     """A production population of one design: draws units."""
 
-    def realize(self, rng: np.random.Generator) -> SensorUnit:
+    def realize(self, *, rng: np.random.Generator) -> SensorUnit:
         """Draw one unit."""
         ...
 
@@ -190,276 +201,58 @@ RLG_ERROR_COMPONENTS = ("turn_on_bias", "thermal_bias", "flicker_rrw", "dither_r
 """Truth channels of an RLG record whose sum is output - true_rate (the cavity model adds ``scale_factor_error``)."""
 
 
-def _check_common(fs: float, rng: object) -> float:
+def check_call(environment: object, fs: object, rng: object) -> float:
+    """Check the arguments every ``simulate(environment, *, fs, rng)`` takes; returns ``fs`` [Hz].
+
+    Raises
+    ------
+    TypeError
+        ``environment`` is not an :class:`Environment` or ``rng`` not a Generator.
+    ValueError
+        ``fs`` is not a finite number > 0 Hz.
+    """
+    if not isinstance(environment, Environment):
+        raise TypeError(f"environment must be a gyrobench.sim.sensor.Environment; got {type(environment).__name__}")
     check_rng(rng)
     return check_fs(fs)
 
 
-def _with_meta(rec: Recording, **extra: object) -> Recording:
+def with_metadata(rec: Recording, *, name: str | None = None, **extra: object) -> Recording:
+    """``rec`` with ``extra`` added to its metadata (and renamed to ``name`` when given)."""
     return Recording(
         fs=rec.fs,
         channels=rec.channels,
         truth=rec.truth,
         t0=rec.t0,
         metadata={**rec.metadata, **extra},
-        name=rec.name,
+        name=rec.name if name is None else name,
     )
 
 
-# ---------------------------------------------------------------------------------------------
-# FOG: closed loop on the (r, z) coil
+def held(value: float) -> Profile:
+    """The constant profile t -> ``value`` (vectorised)."""
+    const = float(value)
+
+    def _held(t: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.full(np.shape(t), const)
+
+    return _held
 
 
-@dataclass(frozen=True, slots=True)
-class FogSensor:
-    """Closed-loop FOG on the (r, z) coil (:class:`gyrobench.sim.fog2d.FOG2DSpec`) as a :class:`Sensor`."""
+def chamber_program(environment: Environment, fs: float, default: float) -> PiecewiseLinear:
+    """The environment's temperature as a chamber program over [0, duration] [K].
 
-    spec: FOG2DSpec
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.spec, FOG2DSpec):
-            raise TypeError(f"FogSensor.spec must be a FOG2DSpec; got {type(self.spec).__name__}")
-
-    def realize(self, rng: np.random.Generator) -> FogSensorUnit:
-        """Draw one coil (:meth:`FOG2DSpec.realize`)."""
-        return FogSensorUnit(self.spec.realize(rng=rng))
-
-
-@dataclass(frozen=True, slots=True)
-class FogSensorUnit:
-    """One FOG2D unit behind :class:`SensorUnit` (:meth:`gyrobench.sim.fog2d.FOG2DUnit.simulate`).
-
-    The environment's temperature is the chamber program: a number (held over the record),
-    a :class:`PiecewiseLinear`, or an array (sampled at fs, linear between the sample
-    centres); None holds the spec's scale-factor reference temperature. The model has no
-    g-sensitive term: ``specific_force`` does not act (metadata ``ignored_inputs``).
+    A number (or None: ``default``) is held; a :class:`PiecewiseLinear` is taken as it is;
+    an array is linear between its sample centres (held before the first and after the last);
+    any other callable is sampled at the sample centres the same way.
     """
-
-    unit: FOG2DUnit
-
-    def _chamber(self, env: Environment, fs: float) -> PiecewiseLinear:
-        v = env.temperature
-        if isinstance(v, PiecewiseLinear):
-            return v
-        if v is None or isinstance(v, Real):
-            temp = self.unit.spec.scale_factor_ref_temperature if v is None else float(v)
-            return PiecewiseLinear(np.array([0.0, env.duration]), np.array([temp, temp]))
-        if isinstance(v, np.ndarray):
-            temps = env.sampled("temperature", fs)
-            centres = (np.arange(len(temps)) + 0.5) / fs
-            knots = np.concatenate(([0.0], centres, [env.duration])).astype(np.float64)
-            return PiecewiseLinear(knots, np.concatenate(([temps[0]], temps, [temps[-1]])).astype(np.float64))
-        raise TypeError(
-            "Environment.temperature for the FOG must be a number, a PiecewiseLinear or an array; "
-            f"got {type(v).__name__}"
-        )
-
-    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
-        """One chamber run over ``environment.duration`` at ``fs`` [Hz] (class docstring)."""
-        fs = _check_common(fs, rng)
-        if not isinstance(environment, Environment):
-            raise TypeError(f"environment must be an Environment; got {type(environment).__name__}")
-        rec = self.unit.simulate(
-            self._chamber(environment, fs),
-            fs=fs,
-            rng=rng,
-            true_rate=environment.profile("true_rate", fs),  # type: ignore[arg-type]
-        )
-        ignored = [] if environment.is_zero("specific_force") else ["specific_force"]
-        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
-        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
-        return _with_meta(rec, ignored_inputs=ignored, error_components=list(FOG_ERROR_COMPONENTS))
-
-
-# ---------------------------------------------------------------------------------------------
-# MEMS: vibratory gyro from resonator physics
-
-
-@dataclass(frozen=True, slots=True)
-class MemsSensor:
-    """Resonator-physics MEMS population (:class:`gyrobench.sim.mems_resonator.MemsResonatorSpec`).
-
-    Parameters
-    ----------
-    spec : MemsResonatorSpec
-    temperature_block : float
-        Length [s] of the blocks over which a varying temperature is held at its block mean
-        (:class:`MemsSensorUnit`). Default 1 s.
-    noise, adc, flicker : bool
-        As :func:`gyrobench.sim.mems_resonator.simulate`.
-    """
-
-    spec: mr.MemsResonatorSpec
-    temperature_block: float = 1.0
-    noise: bool = True
-    adc: bool = True
-    flicker: bool = True
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.spec, mr.MemsResonatorSpec):
-            raise TypeError(f"MemsSensor.spec must be a MemsResonatorSpec; got {type(self.spec).__name__}")
-        positive_number("MemsSensor.temperature_block", self.temperature_block, "s")
-
-    def realize(self, rng: np.random.Generator) -> MemsSensorUnit:
-        """Draw one unit (:meth:`MemsResonatorSpec.realize`)."""
-        return MemsSensorUnit(
-            self.spec.realize(rng=rng),
-            temperature_block=float(self.temperature_block),
-            noise=self.noise,
-            adc=self.adc,
-            flicker=self.flicker,
-        )
-
-
-@dataclass(frozen=True, slots=True)
-class MemsSensorUnit:
-    """One MEMS resonator unit behind :class:`SensorUnit` (slow flow, :func:`mems_resonator.simulate`).
-
-    Inputs are taken at the sample centres and held over each output interval (the slow
-    flow's zero-order hold). A constant temperature (number or None: the unit's T0) runs the
-    record in one call. A varying temperature (array or callable) is quasi-static: the
-    record is cut into blocks of ``temperature_block`` seconds, each simulated at its mean
-    temperature from the noise-free equilibrium of its first rate, with its own child
-    stream of ``rng``. Exact when the temperature is constant over a block; the loop's
-    transient at a block start (settling ~ a few 1/(loop bandwidth), ms) and the 1/f
-    term's memory across blocks are lost, so choose blocks long against both the loop's
-    settling and the thermal time constant's resolution needed.
-    """
-
-    unit: mr.MemsResonator
-    temperature_block: float = 1.0
-    noise: bool = True
-    adc: bool = True
-    flicker: bool = True
-
-    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
-        """One record at ``fs`` [Hz]: channel ``rate`` [rad/s].
-
-        Truth: ``true_rate`` [rad/s], ``temperature`` [K], ``specific_force`` [m/s^2].
-        """
-        fs = _check_common(fs, rng)
-        if not isinstance(environment, Environment):
-            raise TypeError(f"environment must be an Environment; got {type(environment).__name__}")
-        n = environment.n_samples(fs)
-        if n < 2:
-            raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
-        rate = environment.sampled("true_rate", fs)
-        force = environment.sampled("specific_force", fs)
-        temp = environment.sampled("temperature", fs, default=self.unit.reference_temperature)
-        out = np.empty(n)
-        kw = dict(noise=self.noise, adc=self.adc, flicker=self.flicker)
-        if np.all(temp == temp[0]):
-            res = mr.simulate(self.unit, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force, **kw)
-            out[:] = res.output
-            blocks = 1
-        else:
-            m = max(2, int(round(self.temperature_block * fs)))
-            starts = list(range(0, n, m))
-            if n - starts[-1] < 2 and len(starts) > 1:  # a last block of one sample joins the one before
-                starts.pop()
-            stops = starts[1:] + [n]
-            for (a, b), child in zip(zip(starts, stops, strict=True), rng.spawn(len(starts)), strict=True):
-                res = mr.simulate(
-                    self.unit,
-                    rate[a:b],
-                    fs=fs,
-                    rng=child,
-                    temperature=float(np.mean(temp[a:b])),
-                    specific_force=force[a:b],
-                    **kw,
-                )
-                out[a:b] = res.output
-            blocks = len(starts)
-        return Recording(
-            fs=fs,
-            channels={
-                "rate": Channel(out, "rad/s", "gyro output"),
-                "temperature": Channel(temp, "K", "die temperature (as driven)"),
-            },
-            truth={
-                "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
-                "temperature": Channel(temp, "K", "die temperature"),
-                "specific_force": Channel(force, "m/s^2", "specific force along the sense axis"),
-            },
-            t0=0.5 / fs,
-            metadata={
-                "model": "gyrobench.sim.sensor.MemsSensorUnit -> gyrobench.sim.mems_resonator.simulate",
-                "temperature_blocks": blocks,
-                "ignored_inputs": [],
-                "error_components": [],
-            },
-            name="mems",
-        )
-
-
-# ---------------------------------------------------------------------------------------------
-# RLG: statistical (rlg) and cavity (rlg_cavity) models
-
-
-@dataclass(frozen=True, slots=True)
-class RlgSensor:
-    """RLG population, either :class:`gyrobench.sim.rlg.RLGSpec` or :class:`gyrobench.sim.rlg_cavity.CavityRLGSpec`."""
-
-    spec: RLGSpec | CavityRLGSpec
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.spec, (RLGSpec, CavityRLGSpec)):
-            raise TypeError(f"RlgSensor.spec must be an RLGSpec or CavityRLGSpec; got {type(self.spec).__name__}")
-
-    def realize(self, rng: np.random.Generator) -> RlgSensorUnit:
-        """Draw one unit (the spec's ``realize``)."""
-        return RlgSensorUnit(self.spec.realize(rng=rng))
-
-
-@dataclass(frozen=True, slots=True)
-class RlgSensorUnit:
-    """One RLG unit behind :class:`SensorUnit` (its ``simulate``: gyro switched on at t = 0).
-
-    The environment's temperature is the chamber air [K] (None: 293.15 K held); an array is
-    held over each sample interval. The models have no g-sensitive term: ``specific_force``
-    does not act (metadata ``ignored_inputs``).
-    """
-
-    unit: RLGUnit | CavityRLG
-
-    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
-        """One record at ``fs`` [Hz] (truth ``true_rate`` and the model's components)."""
-        fs = _check_common(fs, rng)
-        if not isinstance(environment, Environment):
-            raise TypeError(f"environment must be an Environment; got {type(environment).__name__}")
-        temp = environment.profile("temperature", fs)
-        if temp is None:
-            temp = 293.15
-        chamber: Profile
-        if isinstance(temp, float):
-            const = temp
-
-            def _held(t: NDArray[np.float64]) -> NDArray[np.float64]:
-                return np.full(np.shape(t), const)
-
-            chamber = _held
-        else:
-            chamber = temp
-        rec = self.unit.simulate(
-            chamber,
-            environment.duration,
-            fs,
-            rng=rng,
-            rate=environment.profile("true_rate", fs),  # type: ignore[arg-type]
-        )
-        ignored = [] if environment.is_zero("specific_force") else ["specific_force"]
-        if "scale_factor_ratio" not in rec.truth:
-            return _with_meta(rec, ignored_inputs=ignored, error_components=list(RLG_ERROR_COMPONENTS))
-        tr = rec.truth
-        drive = sum(tr[k].data for k in ("true_rate", "turn_on_bias", "thermal_bias", "flicker_rrw"))
-        sf_err = (tr["scale_factor_ratio"].data - 1.0) * drive
-        truth = {
-            **tr,
-            "scale_factor_error": Channel(
-                sf_err, "rad/s", "(K/K_ref - 1) x (true rate + turn-on, thermal and flicker bias)"
-            ),
-        }
-        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
-        return _with_meta(
-            rec, ignored_inputs=ignored, error_components=[*RLG_ERROR_COMPONENTS, "scale_factor_error"]
-        )
+    v = environment.temperature
+    if isinstance(v, PiecewiseLinear):
+        return v
+    if v is None or isinstance(v, Real):
+        temp = float(default if v is None else v)
+        return PiecewiseLinear(np.array([0.0, environment.duration]), np.array([temp, temp]))
+    temps = environment.sampled("temperature", fs)
+    centres = (np.arange(len(temps)) + 0.5) / fs
+    knots = np.concatenate(([0.0], centres, [environment.duration])).astype(np.float64)
+    return PiecewiseLinear(knots, np.concatenate(([temps[0]], temps, [temps[-1]])).astype(np.float64))

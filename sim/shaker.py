@@ -50,11 +50,12 @@ from dataclasses import dataclass, field, replace
 from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from gyrobench.sim import memory, units
-from gyrobench.sim._validate import check_fs as _check_fs
-from gyrobench.sim._validate import check_rng as _check_rng
-from gyrobench.sim._validate import real_number
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import memory, units
+from gyrobench.base.validate import check_fs as _check_fs
+from gyrobench.base.validate import check_rng as _check_rng
+from gyrobench.base.validate import real_number
 
 __all__ = [
     "ShakerSignal",
@@ -202,7 +203,7 @@ class SineSweep:
     duration : float
         Sweep time Ts [s], > 0.
     acceleration : float
-        Acceleration amplitude (peak) [m/s^2], >= 0; see :func:`gyrobench.sim.units.g`.
+        Acceleration amplitude (peak) [m/s^2], >= 0; see :func:`gyrobench.base.units.g`.
     spacing : {"log", "linear"}
         Logarithmic (constant octaves per minute) or linear sweep.
     max_displacement : float or None
@@ -225,7 +226,7 @@ class SineSweep:
     Examples
     --------
     >>> import numpy as np
-    >>> from gyrobench.sim import units
+    >>> from gyrobench.base import units
     >>> s = SineSweep(f_start=1.0, f_end=500.0, duration=600.0, acceleration=units.g(2.0))
     >>> round(s.octaves_per_minute, 3)
     0.897
@@ -646,7 +647,7 @@ def interval_mean_acceleration(
         If ``duration``, ``fs`` or ``start`` is out of range, if the vibration does not lie
         inside the record with >= 1 output sample (:class:`ShakerWindowError`), or if the record
         or the oversampled vibration would not fit in memory
-        (:class:`gyrobench.sim.memory.MemoryLimitError`).
+        (:class:`gyrobench.base.memory.MemoryLimitError`).
 
     Notes
     -----
@@ -677,7 +678,7 @@ def interval_mean_acceleration(
     Examples
     --------
     >>> import numpy as np
-    >>> from gyrobench.sim import units
+    >>> from gyrobench.base import units
     >>> dwell = FixedSine(frequency=5.0, duration=4.0, acceleration=units.g(0.5))
     >>> a = interval_mean_acceleration(dwell, duration=10.0, fs=100.0, start=2.0, rng=np.random.default_rng(0))
     >>> len(a), bool(np.all(a[:200] == 0) and np.all(a[600:] == 0)), round(float(a[205]), 6)

@@ -7,9 +7,10 @@ import math
 import h5py
 import numpy as np
 import pytest
-from gyrobench.scenarios.cli import main
+
+from gyrobench.io.recording import load_hdf5
+from gyrobench.scenarios.cli.main import main
 from gyrobench.sim import parts
-from gyrobench.sim.recording import load_hdf5
 
 EPS = np.finfo(float).eps
 
@@ -141,7 +142,7 @@ def test_profile_earth_rate_is_added_to_the_table_rate(tmp_path, table, expect):
 def test_profile_shaker_sine_is_placed_in_its_window_on_top_of_the_static_force(tmp_path):
     # 5 Hz at 100 Hz output: 4 f_max <= fs, one shaker sample per output sample (m = 1), so the
     # record holds 1 g + a sin(2 pi f j/fs) from sample round(start fs) for duration fs samples
-    from gyrobench.sim.units import G0
+    from gyrobench.base.units import G0
 
     rc, out = _device(tmp_path, "stim300", "duration_s = 10\nspecific_force_g = 1\n[shaker]\nkind = \"sine\"\n"
                       "start_s = 2\nduration_s = 4\nfrequency_hz = 5\nacceleration_g = 0.5\n", "--fs", "100")
@@ -173,9 +174,10 @@ def test_profile_shaker_above_the_output_rate_is_averaged_over_each_interval_not
     # the sample mean costs 1 of them), and at a false-alarm rate of 1e-6 two-sided sigma_hat/sigma lies in
     # [0.924, 1.078]. The former bound, std < 0.2 grms (= 4.8 sigma), could not see a factor sqrt(2) in
     # grms; this one can (asserted below; checked by hand: A_k = sqrt(G df) or sqrt(4 G df) fail).
-    from gyrobench.sim.shaker import OVERSAMPLING, grms
-    from gyrobench.sim.units import G0
     from scipy import stats
+
+    from gyrobench.base.units import G0
+    from gyrobench.sim.shaker import OVERSAMPLING, grms
 
     psd = [[200, 0.04], [400, 0.04]]
     fs, t_rec, g_psd = 50.0, 60.0, 0.04
@@ -222,8 +224,8 @@ def test_profile_shaker_draws_from_its_own_stream(tmp_path):
 def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path):
     # the CLI only parses [shaker]: its specific force is the static part plus
     # sim.shaker.interval_mean_acceleration drawn from the seed's first child stream, bit for bit
+    from gyrobench.base.units import G0
     from gyrobench.sim.shaker import RandomVibration, interval_mean_acceleration
-    from gyrobench.sim.units import G0
 
     rc, out = _device(tmp_path, "stim300", "duration_s = 30\nspecific_force_g = 1\n[shaker]\nkind = \"random\"\n"
                       "start_s = 3\nduration_s = 25\nmax_displacement_mm = 3\n"

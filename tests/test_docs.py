@@ -20,7 +20,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "physics.md"
 TEXT = DOC.read_text(encoding="utf-8")
-PACKAGES = ("sim", "analysis", "scenarios", "scenarios.papers")
+PACKAGES = ("base", "io", "sim", "analysis", "scenarios", "scenarios.papers", "scenarios.cli", "scenarios.checks")
 #: outside packages the text may name (resolved by import like ours)
 EXTERNAL = ("numpy", "scipy", "sklearn", "pywt", "allantools")
 
@@ -46,7 +46,7 @@ def test_no_outside_documents_or_issue_numbers():
 def _check_id_patterns() -> list[re.Pattern[str]]:
     """Every check id the check modules define, as literal ids or f-string patterns."""
     out = []
-    for path in (ROOT / "scenarios").glob("checks_*.py"):
+    for path in (ROOT / "scenarios" / "checks").glob("*.py"):
         for m in re.finditer(r'\bid=(f?)"([a-z_0-9]+\.(?:[a-z0-9_]|\{[^}]*\})+)"', path.read_text(encoding="utf-8")):
             text = re.escape(m.group(2)) if not m.group(1) else re.sub(
                 r"\\\{[^}]*\\\}", "[a-z0-9_.]+", re.escape(m.group(2)))

@@ -7,9 +7,10 @@ import doctest
 import importlib
 import pkgutil
 
+import pytest
+
 import gyrobench.analysis
 import gyrobench.sim
-import pytest
 
 
 def _modules() -> list[str]:

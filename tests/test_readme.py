@@ -29,7 +29,7 @@ def test_readme_starts_with_install_and_test_commands():
 
 
 def test_every_cli_verb_is_in_the_readme():
-    from gyrobench.scenarios.cli import build_parser
+    from gyrobench.scenarios.cli.main import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
@@ -40,7 +40,7 @@ def test_every_cli_verb_is_in_the_readme():
 
 def test_every_cli_flag_is_in_the_readme():
     """Each long option of the top level and of every verb appears in the README."""
-    from gyrobench.scenarios.cli import build_parser
+    from gyrobench.scenarios.cli.main import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")

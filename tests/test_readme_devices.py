@@ -46,7 +46,7 @@ def _error_sum_matches(path: Path) -> None:
         errors = [v for h, v in cols.items() if h.startswith("truth/") and h.endswith("[rad/s]")
                   and h != "truth/true_rate [rad/s]"]
     else:
-        from gyrobench.sim.recording import load_hdf5
+        from gyrobench.io.recording import load_hdf5
 
         rec = load_hdf5(path)
         out, true = rec["output"], rec["truth/true_rate"]

@@ -15,7 +15,7 @@ R     rate ramp                   u/s       R^2 tau^2 / 2
 ====  ==========================  ========  =====================
 
 (so rate in rad/s gives Q in rad, N in rad/sqrt(s), B in rad/s, K in rad/s/sqrt(s),
-R in rad/s^2; conversion to field units happens at the edges, see :mod:`gyrobench.sim.units`).
+R in rad/s^2; conversion to field units happens at the edges, see :mod:`gyrobench.base.units`).
 
 Three layers:
 

@@ -17,8 +17,9 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import Any, ParamSpec, TypeVar
 
 import numpy as np
-from gyrobench.analysis.allan._results import AllanCurve
 from numpy.typing import NDArray
+
+from gyrobench.analysis.allan._results import AllanCurve
 
 #: the chunk of each dot product: OpenBLAS threads ddot above 10000 elements, which costs far
 #: more than it gains here

@@ -14,9 +14,10 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan._blas import _GEMM_SINGLE, _one_blas_thread
 from gyrobench.analysis.allan._kinds import STATISTICS, _n_terms
-from numpy.typing import NDArray
 
 #: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
 #: keeping their ratio (the correlation of power-law noise depends on m_j/m_i only, for large m)

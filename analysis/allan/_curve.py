@@ -5,6 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan._blas import _single_blas
 from gyrobench.analysis.allan._checks import _check_fs, _check_rate
 from gyrobench.analysis.allan._kinds import STATISTICS, Statistic, _check_kind, _edf
@@ -12,7 +14,6 @@ from gyrobench.analysis.allan._noise_id import _identify
 from gyrobench.analysis.allan._octave import _deviation_overlapping, _octave_overlapping, _phase
 from gyrobench.analysis.allan._results import AllanCurve
 from gyrobench.analysis.allan._taus import _resolve_m
-from numpy.typing import ArrayLike, NDArray
 
 
 def _deviation_allantools(kind: str, y: NDArray[np.float64], fs: float, ms: NDArray[np.int64]) -> NDArray[np.float64]:

@@ -17,6 +17,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan._blas import _single_blas
 from gyrobench.analysis.allan._checks import _check_tau_limit
 from gyrobench.analysis.allan._covariance import (
@@ -35,7 +37,6 @@ from gyrobench.analysis.allan._nnls import _wnnls
 from gyrobench.analysis.allan._results import _NORMAL, AllanCurve, Coefficient, NoiseFit
 from gyrobench.analysis.allan._terms import _ALPHA, _POWER, TERM, TERMS, avar_to_coefficient
 from gyrobench.analysis.allan._window import BANDWIDTH_BIAS, bandwidth_range, fit_range
-from numpy.typing import ArrayLike, NDArray
 
 _ONE_SIGMA = math.erf(1.0 / math.sqrt(2.0))  # 0.682689...
 _Z68 = _NORMAL.inv_cdf(0.5 + _ONE_SIGMA / 2.0)  # 1.0

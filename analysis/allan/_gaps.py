@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan._checks import _check_fs, _check_rate
 from gyrobench.analysis.allan._curve import _check_confidence, deviation_bounds
 from gyrobench.analysis.allan._kinds import _edf
@@ -12,7 +14,6 @@ from gyrobench.analysis.allan._noise_id import _identify
 from gyrobench.analysis.allan._octave import _phase
 from gyrobench.analysis.allan._results import AllanCurve
 from gyrobench.analysis.allan._taus import _resolve_m
-from numpy.typing import ArrayLike, NDArray
 
 
 def allan_deviation_gaps(

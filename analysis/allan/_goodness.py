@@ -12,8 +12,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from gyrobench.analysis.allan._chi2 import chi2_sf, ncx2_sf
 from numpy.typing import NDArray
+
+from gyrobench.analysis.allan._chi2 import chi2_sf, ncx2_sf
 
 
 def _goodness(

@@ -23,8 +23,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gyrobench.analysis.allan._edf import _edf_greenhall, _edf_greenhall_many, _edf_stein
 from numpy.typing import NDArray
+
+from gyrobench.analysis.allan._edf import _edf_greenhall, _edf_greenhall_many, _edf_stein
 
 __all__ = ["KINDS", "STATISTICS", "FitConstants", "Statistic"]
 

@@ -9,9 +9,10 @@ autocorrelation", EFTF 2004; allantools.ci.autocorr_noise_id.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan._blas import _dot
 from gyrobench.analysis.allan._kinds import STATISTICS
-from numpy.typing import NDArray
 
 #: noise identification uses at most this many block averages (see ``identify_noise``)
 _NOISE_ID_MAX = 1 << 16

@@ -14,10 +14,11 @@ from collections.abc import Callable
 from functools import partial
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan import _blas
 from gyrobench.analysis.allan._blas import _dot_self, _map, _one_blas_thread, _segments, _sumsq
 from gyrobench.analysis.allan._noise_id import _NOISE_ID_MAX, _NOISE_ID_MIN, _noise_id_blocks
-from numpy.typing import NDArray
 
 #: block size of the overlapping estimator (fits in L2 cache)
 _BLOCK = 1 << 16

@@ -11,9 +11,10 @@ import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan._results import AllanCurve
 from gyrobench.analysis.allan._terms import _POWER, _SCALE, FLICKER_FLOOR, TERMS
-from numpy.typing import NDArray
 
 #: tau [s] at which each single-term asymptote equals its coefficient (IEEE 952 C.1):
 #: scale tau^power = 1, i.e. sqrt(3), 1, 3, sqrt(2) for Q, N, K, R

@@ -7,10 +7,11 @@ from dataclasses import dataclass, field
 from statistics import NormalDist
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan._checks import _positive_tau
 from gyrobench.analysis.allan._kinds import KINDS
 from gyrobench.analysis.allan._terms import _POWER, avar_to_coefficient
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["AllanCurve", "Coefficient", "FitRange", "NoiseFit"]
 

@@ -26,11 +26,12 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
+
 from gyrobench.analysis.allan._curve import allan_deviation
 from gyrobench.analysis.allan._fit import fit_noise
 from gyrobench.analysis.allan._kinds import STATISTICS, _edf
 from gyrobench.analysis.allan._results import AllanCurve, Coefficient, NoiseFit
-from numpy.typing import ArrayLike
 
 #: the sub-segments fitted by default: the halves, quarters and eighths of the record. Over the
 #: 18 axes of the six ADIS16405 1 Hz excerpts (tests/data) sixteenths raise no bound beyond what

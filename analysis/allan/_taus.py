@@ -7,9 +7,10 @@ import os
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan._kinds import STATISTICS
 from gyrobench.analysis.allan._octave import _BLOCK
-from numpy.typing import NDArray
 
 #: automatic tau lists
 TAU_CHOICES = ("octave", "decade", "all")

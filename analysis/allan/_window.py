@@ -6,11 +6,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from gyrobench.analysis.allan._checks import _check_bandwidth, _positive_tau
 from gyrobench.analysis.allan._kinds import STATISTICS, _edf
 from gyrobench.analysis.allan._results import _NORMAL, AllanCurve, FitRange
 from gyrobench.analysis.allan._terms import TERMS
-from numpy.typing import ArrayLike, NDArray
 
 
 def fit_range(

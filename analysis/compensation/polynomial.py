@@ -22,11 +22,12 @@ import warnings
 from numbers import Integral, Real
 
 import numpy as np
-from gyrobench.analysis.scale_factor import BreakpointSearch, breakpoint_search
 from numpy.polynomial import legendre as L
 from numpy.typing import ArrayLike, NDArray
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
+
+from gyrobench.analysis.scale_factor import BreakpointSearch, breakpoint_search
 
 __all__ = ["PolynomialRegressor", "TwoStagePolynomial", "PiecewisePolynomial"]
 

@@ -42,12 +42,13 @@ from numbers import Integral, Real
 from typing import Any
 
 import numpy as np
-from gyrobench.analysis.features import thermal_features
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import solve_triangular
 from scipy.spatial.distance import cdist
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
+
+from gyrobench.analysis.features import thermal_features
 
 __all__ = ["RBFNetwork", "StreamingCompensator", "batch_compensate", "RADBAS_B"]
 

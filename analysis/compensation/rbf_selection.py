@@ -19,8 +19,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gyrobench.analysis.compensation.rbf import RADBAS_B, RBFNetwork
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.analysis.compensation.rbf import RADBAS_B, RBFNetwork
 
 __all__ = ["RBFSelection", "prefix_predictions", "select_rbf"]
 

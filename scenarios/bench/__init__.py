@@ -82,8 +82,8 @@ Modules
 on local processes, what the compensator read), :mod:`~gyrobench.scenarios.bench.floor` (the
 noise floor), :mod:`~gyrobench.scenarios.bench.margin` (the gate's equivalence margin),
 :mod:`~gyrobench.scenarios.bench.identity` (campaign id),
-:mod:`~gyrobench.scenarios.bench.store` (the SQLite store, shared with the units runner),
-:mod:`~gyrobench.scenarios.bench.executors` (local pools, shared with the units runner),
+:mod:`~gyrobench.scenarios.runner.store` (the SQLite store, shared with the units runner),
+:mod:`~gyrobench.scenarios.runner.executors` (local pools, shared with the units runner),
 :mod:`~gyrobench.scenarios.bench.statistics` (intervals, paired test, correction),
 :mod:`~gyrobench.scenarios.bench.campaign` (:func:`run_campaign`),
 :mod:`~gyrobench.scenarios.bench.baseline` (save, load, compare),
@@ -92,7 +92,7 @@ noise floor), :mod:`~gyrobench.scenarios.bench.margin` (the gate's equivalence m
 :mod:`~gyrobench.scenarios.bench.gate` (the power check before a run),
 :mod:`~gyrobench.scenarios.bench.references` (the uncompensated reference, papers' methods),
 :mod:`~gyrobench.scenarios.bench.formatting` (text tables) and
-:mod:`~gyrobench.scenarios.bench.cli` (the ``gyrobench bench`` verb). Every public name is
+:mod:`~gyrobench.scenarios.cli.bench` (the ``gyrobench bench`` verb). Every public name is
 importable from this package; the package loads its modules on first use, so the
 command line's parser does not import numpy.
 """
@@ -126,7 +126,7 @@ _LAZY: dict[str, str] = {
     "BASELINE_FORMAT": "gyrobench.scenarios.bench.baseline",
     "BASELINE_VERSION": "gyrobench.scenarios.bench.baseline",
     "BYTES_PER_SEED": "gyrobench.scenarios.bench.seeds",
-    "DEFAULT_DB": "gyrobench.scenarios.bench.store",
+    "DEFAULT_DB": "gyrobench.scenarios.runner.store",
     "HIGHER_IS_BETTER_TOKENS": "gyrobench.scenarios.bench.statistics",
     "LOWER_IS_BETTER_TOKENS": "gyrobench.scenarios.bench.statistics",
     "MAX_SEED": "gyrobench.scenarios.bench.seeds",
@@ -146,7 +146,7 @@ _LAZY: dict[str, str] = {
     "check_baseline_path": "gyrobench.scenarios.bench.baseline",
     "compare": "gyrobench.scenarios.bench.baseline",
     "compensator_identity": "gyrobench.scenarios.bench.identity",
-    "connect_db": "gyrobench.scenarios.bench.store",
+    "connect_db": "gyrobench.scenarios.runner.store",
     "format_summary": "gyrobench.scenarios.bench.formatting",
     "load_baseline": "gyrobench.scenarios.bench.baseline",
     "parse_seeds": "gyrobench.scenarios.bench.seeds",
@@ -273,7 +273,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         score_direction,
         score_is_nonnegative,
     )
-    from gyrobench.scenarios.bench.store import DEFAULT_DB, connect_db
+    from gyrobench.scenarios.runner.store import DEFAULT_DB, connect_db
 
 
 def __getattr__(name: str) -> Any:

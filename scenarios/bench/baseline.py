@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+
 from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.compensators import FailedSeedsError
 from gyrobench.scenarios.bench.gate import gates_of, power_doc
@@ -33,7 +34,7 @@ from gyrobench.scenarios.bench.primary import directions_of, score_unit
 from gyrobench.scenarios.bench.scoring import resolve_scenario
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction
-from gyrobench.scenarios.bench.store import check_output_file
+from gyrobench.scenarios.runner.store import check_output_file
 
 __all__ = [
     "BASELINE_FORMAT",
@@ -127,7 +128,8 @@ def save_baseline(
         If ``path`` is a folder or its folder does not exist (folders are never
         created).
     """
-    from gyrobench.sim.recording import atomic_path, package_version
+    from gyrobench.base.atomic import atomic_path
+    from gyrobench.io.recording import package_version
 
     if not isinstance(campaign, Campaign):
         raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
@@ -213,7 +215,7 @@ class ComparisonError(ValueError):
     the baseline has no finite score on the shared seeds.
 
     Raised by :func:`compare` once the campaign has run; the command line exits
-    :data:`gyrobench.scenarios.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
+    :data:`gyrobench.scenarios.cli.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
     does not pass. (What can be checked before the campaign, a baseline of another scenario or
     sharing no seed with ``--seeds``, is refused first as bad input, exit 2.)
     """
@@ -259,7 +261,7 @@ class Comparison:
 
     ``failed_seeds`` non-empty means the candidate failed on those seeds (a non-finite
     prediction or score): the comparison then fails whatever the scores say (``passed`` is
-    False; the command line exits :data:`gyrobench.scenarios.exits.FAILED_SEEDS`), and
+    False; the command line exits :data:`gyrobench.scenarios.cli.exits.FAILED_SEEDS`), and
     ``failure`` says so in one line. The paired test runs on the other seeds.
 
     ``missing`` names the scores held by only one campaign, ``unpaired`` those that some

@@ -2,7 +2,7 @@
 
 :func:`run_campaign` scores many seeds on any :class:`concurrent.futures.Executor` (local
 processes by default; ``distributed.Client(address).get_executor()`` for a dask cluster).
-Only the calling process writes the database (:mod:`gyrobench.scenarios.bench.store`):
+Only the calling process writes the database (:mod:`gyrobench.scenarios.runner.store`):
 one transaction per finished seed. Running the same campaign again (same
 :func:`~gyrobench.scenarios.bench.identity.campaign_id`) reads the seeds already stored and
 computes only the others.
@@ -21,7 +21,8 @@ from dataclasses import dataclass
 from typing import Any, NoReturn
 
 import numpy as np
-from gyrobench.scenarios import exits
+from numpy.typing import NDArray
+
 from gyrobench.scenarios.base import check_pool
 from gyrobench.scenarios.bench.compensators import (
     CompensatorError,
@@ -30,7 +31,7 @@ from gyrobench.scenarios.bench.compensators import (
     compensator_label,
     resolve_compensator,
 )
-from gyrobench.scenarios.bench.executors import add_note, check_picklable, contained_map, stop_pool
+from gyrobench.scenarios.runner.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
 from gyrobench.scenarios.bench.sandbox import (
     DEFAULT_MEMORY_BYTES,
@@ -51,13 +52,7 @@ from gyrobench.scenarios.bench.scoring import (
 )
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
-from gyrobench.scenarios.bench.store import (
-    DEFAULT_DB,
-    campaign_generation,
-    connect_db,
-    record_seed,
-    start_session,
-)
+from gyrobench.scenarios.runner.store import DEFAULT_DB, campaign_generation, connect_db, record_seed, start_session
 from numpy.typing import NDArray
 
 __all__ = ["Campaign", "run_campaign"]
@@ -476,7 +471,7 @@ def _run_on_pool(
 
 
 def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: Any, *, workers: int | None) -> None:
-    """Score each seed in its own local process (:func:`~gyrobench.scenarios.bench.executors.contained_map`):
+    """Score each seed in its own local process (:func:`~gyrobench.scenarios.runner.executors.contained_map`):
     a compensator that ends its process (``os._exit``, a segfault) or hangs past the seed time
     limit (plus a grace of :data:`_KILL_GRACE_S`, for code the in-process limit cannot interrupt)
     fails that seed with the reason; a process killed by SIGKILL (the OOM killer) is an internal
@@ -509,7 +504,7 @@ _KILL_GRACE_S = 30.0
 
 def _check_memory(plan: _Plan, todo: Sequence[int], workers: int | None) -> None:
     """Every local worker holds one seed's task in memory at once: check it fits."""
-    from gyrobench.scenarios import units
+    from gyrobench.scenarios.runner import units
 
     units.check_unit_memory(
         plan.module,

@@ -18,8 +18,9 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
-from gyrobench.scenarios import exits
 from numpy.typing import NDArray
+
+from gyrobench.scenarios.cli import exits
 
 __all__ = [
     "TRACEBACK_ENV",

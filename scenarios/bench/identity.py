@@ -7,7 +7,7 @@ and of the compensator (its class or function and its full state: ``get_params``
 has them, else its attributes, else its pickled bytes; the source of the module defining it
 with its import closure: every module it imports, transitively, that lies outside the
 standard library and site-packages, so a helper module beside it is hashed too). :func:`scenario_identity` is the
-scenario half, shared with the units runner (:mod:`gyrobench.scenarios.units`).
+scenario half, shared with the units runner (:mod:`gyrobench.scenarios.runner.units`).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from gyrobench.scenarios.bench.compensators import resolve_compensator
 from gyrobench.scenarios.bench.scoring import resolve_scenario
 
@@ -191,7 +192,8 @@ def module_hash(module_name: str | None) -> str:
 def versions() -> str:
     import scipy
     import sklearn
-    from gyrobench.sim.recording import package_version
+
+    from gyrobench.io.recording import package_version
 
     return (
         f"gyrobench {package_version()} numpy {np.__version__} scipy {scipy.__version__} "

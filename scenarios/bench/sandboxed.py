@@ -3,7 +3,7 @@
 :func:`run_sandboxed` runs a campaign's seeds, each in a scoring process forked from the
 campaign's, talking to its own child of the compensator's zygote
 (:mod:`~gyrobench.scenarios.bench.sandbox`); :class:`CampaignReads` merges what the children
-read and stores it with its fingerprints (:func:`~gyrobench.scenarios.bench.store.record_reads`).
+read and stores it with its fingerprints (:func:`~gyrobench.scenarios.runner.store.record_reads`).
 """
 
 from __future__ import annotations
@@ -15,18 +15,18 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from gyrobench.scenarios import exits
-from gyrobench.scenarios.bench.executors import default_workers
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.runner.executors import default_workers
 from gyrobench.scenarios.bench.sandbox import ChildStatus, kill_group, reads_fingerprint
 from gyrobench.scenarios.bench.scoring import CHILD_DIED, TIMEOUT_FAILURE, score_sandboxed
-from gyrobench.scenarios.bench.store import record_reads
+from gyrobench.scenarios.runner.store import record_reads
 
 __all__ = ["CampaignReads", "run_sandboxed"]
 
 
 class CampaignReads:
     """What a campaign's compensator read (module, file and environment names, merged over its
-    seeds), stored with its fingerprints (:func:`~gyrobench.scenarios.bench.store.record_reads`)
+    seeds), stored with its fingerprints (:func:`~gyrobench.scenarios.runner.store.record_reads`)
     whenever a seed adds a name, so a rerun finds the campaign only while they are unchanged."""
 
     def __init__(self, conn: sqlite3.Connection, campaign_id: str, static_id: str, names: Mapping[str, Any]) -> None:
@@ -80,7 +80,7 @@ def run_sandboxed(
     import time
     from multiprocessing.connection import wait
 
-    from gyrobench.scenarios.bench.executors import _contained_child, _relink, death_reason
+    from gyrobench.scenarios.runner.executors import _contained_child, _relink, death_reason
 
     assert plan.zygote is not None
     zygote = plan.zygote

@@ -19,6 +19,8 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.scenarios.bench.compensators import (
     CompensatorError,
     compensator_failed,
@@ -29,7 +31,6 @@ from gyrobench.scenarios.bench.compensators import (
 from gyrobench.scenarios.bench.references import Uncompensated
 from gyrobench.scenarios.bench.sandbox import ChildDied, MemoryExceeded, RemoteCompensator, Zygote, ZygoteError
 from gyrobench.scenarios.bench.seeds import check_seeds
-from numpy.typing import NDArray
 
 __all__ = [
     "DEFAULT_SEED_TIMEOUT_S",

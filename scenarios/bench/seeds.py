@@ -54,7 +54,7 @@ def parse_seeds(text: str) -> tuple[int, ...]:
 #: most seeds one campaign may hold. The bound is what the calling process holds at once:
 #: every seed is a submitted future (~1 kB) and a row of scores read back (~1-2 kB for the
 #: scenarios' 10-40 scores), so 10**6 seeds take about 2-3 GB, checked against the memory
-#: limit too (gyrobench.sim.memory); at ~0.5 s per seed it is also ~6 CPU-days of work.
+#: limit too (gyrobench.base.memory); at ~0.5 s per seed it is also ~6 CPU-days of work.
 MAX_SEEDS = 10**6
 #: largest seed: the database stores seeds as SQLite INTEGER (signed 64-bit)
 MAX_SEED = 2**63 - 1
@@ -68,7 +68,7 @@ def _check_count(n: int, *, what: Any) -> None:
             f"seeds must number at most {MAX_SEEDS} per campaign (each is a future and a row of "
             f"scores held by this process); got {n} in {what!r}: split the campaign"
         )
-    from gyrobench.sim import memory
+    from gyrobench.base import memory
 
     memory.check_memory(
         n * BYTES_PER_SEED, f"a campaign of {n} seeds", hint="use fewer seeds per campaign"

@@ -40,12 +40,12 @@ the model's 1/f term at the sheet's B:
 
 * FOG: N = sqrt(S_phi/2) / SF0 (:meth:`gyrobench.sim.fog_loop.LoopSpec.arw`) solved for the
   source power, and the coil's L D below the default coil's reach
-  (:func:`gyrobench.sim.parts.fog_spec`, ``FogSensor(fog_spec(sheet))``).
+  (:func:`gyrobench.sim.parts.fog_spec`, ``fog_spec(sheet).realize(rng=rng)``).
 * MEMS: N^2 = N_B^2 + N_e^2 (:func:`gyrobench.sim.mems_resonator.electronic_arw`) solved for
   the pick-off noise, and the proof mass below the default Brownian floor
-  (:func:`gyrobench.sim.parts.mems_spec`, ``MemsSensor(mems_spec(sheet))``).
+  (:func:`gyrobench.sim.parts.mems_spec`, ``mems_spec(sheet).realize(rng=rng)``).
 * RLG: N = Omega_L / sqrt(2 pi K Omega_D) (:func:`gyrobench.sim.rlg.dither_arw`) solved for the
-  lock-in rate (:func:`gyrobench.sim.parts.rlg_spec`, ``RlgSensor(rlg_spec(sheet))``).
+  lock-in rate (:func:`gyrobench.sim.parts.rlg_spec`, ``rlg_spec(sheet).realize(rng=rng)``).
 
 Records of those physics devices meet the sheet's N and B (tests); a user who knows the
 physical parameters builds the physics device through :mod:`gyrobench.sim.sensor` instead.
@@ -57,12 +57,13 @@ import math
 from dataclasses import dataclass, fields
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim._validate import check_fs, check_rng
-from gyrobench.sim.noise import NoiseModel
-from gyrobench.sim.recording import Channel, Recording
-from gyrobench.sim.sensor import Environment
 from numpy.typing import NDArray
+
+from gyrobench.base import units
+from gyrobench.base.validate import check_fs, check_rng
+from gyrobench.io.recording import Channel, Recording
+from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.sensor import Environment
 
 __all__ = [
     "Datasheet",

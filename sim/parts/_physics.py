@@ -98,7 +98,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from gyrobench.sim import units
+from gyrobench.base import units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec
 from gyrobench.sim.fog2d import FOG2DSpec
 from gyrobench.sim.fog_optics import OpticalBudget

@@ -32,9 +32,9 @@ __version__ = "0.5.0"
 #: public name -> module that defines it (imported on first access)
 _LAZY: dict[str, str] = {
     "NoiseModel": "gyrobench.sim.noise",
-    "Recording": "gyrobench.sim.recording",
-    "load_hdf5": "gyrobench.sim.recording",
-    "save_hdf5": "gyrobench.sim.recording",
+    "Recording": "gyrobench.io.recording",
+    "load_hdf5": "gyrobench.io.recording",
+    "save_hdf5": "gyrobench.io.recording",
     "allan_deviation": "gyrobench.analysis.allan",
     "fit_noise": "gyrobench.analysis.allan",
     "run_campaign": "gyrobench.scenarios.bench",
@@ -46,12 +46,12 @@ __all__ = ["__version__", *_LAZY]
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.analysis.allan import allan_deviation as allan_deviation
     from gyrobench.analysis.allan import fit_noise as fit_noise
+    from gyrobench.io.recording import Recording as Recording
+    from gyrobench.io.recording import load_hdf5 as load_hdf5
+    from gyrobench.io.recording import save_hdf5 as save_hdf5
     from gyrobench.scenarios.bench import format_summary as format_summary
     from gyrobench.scenarios.bench import run_campaign as run_campaign
     from gyrobench.sim.noise import NoiseModel as NoiseModel
-    from gyrobench.sim.recording import Recording as Recording
-    from gyrobench.sim.recording import load_hdf5 as load_hdf5
-    from gyrobench.sim.recording import save_hdf5 as save_hdf5
 
 
 def __getattr__(name: str) -> Any:

@@ -9,6 +9,8 @@ import allantools
 import numpy as np
 import pytest
 from allantools import ci as atci
+from scipy import stats
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import (
     KINDS,
@@ -25,7 +27,6 @@ from gyrobench.analysis.allan import (
     slope_readoff,
 )
 from gyrobench.sim.noise import NoiseModel
-from scipy import stats
 
 ALLANTOOLS = {
     "overlapping": allantools.oadev,

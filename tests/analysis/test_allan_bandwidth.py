@@ -18,6 +18,8 @@ import math
 
 import numpy as np
 import pytest
+from scipy import signal, stats
+
 from gyrobench.analysis.allan import (
     BANDWIDTH_BIAS,
     _kinds,
@@ -26,7 +28,6 @@ from gyrobench.analysis.allan import (
     fit_noise,
     lowpass_avar_bias,
 )
-from scipy import signal, stats
 
 FS = 100.0
 F_C = 1.0  # Hz

@@ -1,7 +1,7 @@
 """On a real record, no open term's upper bound sits below what a sub-segment of it identifies (issue 30 item 2).
 
 The record is the ADIS16405 imu2 1 Hz excerpt in tests/data (static, 10000 s, 3 gyro axes). Each
-axis goes through the CLI's analysis (:func:`gyrobench.scenarios.allan_report.analyse`: the fit
+axis goes through the CLI's analysis (:func:`gyrobench.scenarios.reports.allan.analyse`: the fit
 and :func:`floor_bounds`); the record is then split independently here into halves, thirds,
 quarters and eighths (thirds are not among floor_bounds' splits) and each part fitted with
 ``fit_noise`` alone. Wherever a part identifies a term the whole record leaves open, the whole record's one-
@@ -19,9 +19,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios import allan_report as rep
-from gyrobench.scenarios.logs import Channel
+from gyrobench.io.logs import Channel
+from gyrobench.scenarios.reports import allan as rep
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz" / "adis16405_imu2_1Hz.csv.gz"
 FS = 1.0

@@ -14,8 +14,9 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
-from gyrobench.analysis.allan import _chi2
 from scipy import special
+
+from gyrobench.analysis.allan import _chi2
 
 #: probabilities the callers use (0.025, 0.5, 1e-3 ... 1e-6 levels) and the extreme tails
 PROBS = np.array([1e-300, 1e-100, 1e-12, 1e-6, 1e-3, 0.025, 0.1587, 0.3, 0.5, 0.7, 0.975, 1 - 1e-6, 1 - 1e-12])

@@ -12,10 +12,11 @@ import warnings
 import numpy as np
 import pytest
 from allantools import ci as atci
+from scipy import optimize, stats
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import _covariance, _curve, _edf, _nnls, _octave
-from gyrobench.scenarios import logs
-from scipy import optimize, stats
+from gyrobench.io import logs
 
 N_PHASE = [50, 101, 1000, 4097, 100_001, 1_000_001, 100_000_001]
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import _covariance
 

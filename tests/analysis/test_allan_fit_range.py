@@ -13,6 +13,7 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.allan import (
     FitRange,
     allan_deviation,
@@ -157,8 +158,9 @@ def test_chi2_is_the_standardised_residual_norm_with_its_exact_law(filtered_curv
 def test_quadratic_form_tail(lam):
     """The Liu-Tang-Zhang tail: exact for equal weights (chi2_k); elsewhere measured within 0.5-11 % of p
     down to p = 1e-3 (one dominant weight is the hardest case), checked to 15 % + the Monte Carlo error."""
-    from gyrobench.analysis.allan import _goodness
     from scipy import stats
+
+    from gyrobench.analysis.allan import _goodness
 
     lam = np.array(lam)
     c = [float(np.sum(lam**k)) for k in (1, 2, 3, 4)]
@@ -237,8 +239,9 @@ def test_pooled_curve_intervals_cover_at_their_level():
     samples), 300 times; AVAR(m) = 1/m. At each common tau the pooled 68.3 % interval covers the
     truth at a rate within the binomial bounds at two-sided 1e-6 (Bonferroni over the taus), and
     the pooled curve keeps only the taus all three hold."""
-    from gyrobench.analysis.allan import allan_deviation, pool_curves
     from scipy.stats import binom
+
+    from gyrobench.analysis.allan import allan_deviation, pool_curves
 
     rng = np.random.default_rng(48)
     reps = 300

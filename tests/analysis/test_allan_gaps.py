@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.allan import allan_deviation, allan_deviation_gaps
 
 FS = 50.0

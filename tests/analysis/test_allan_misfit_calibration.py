@@ -18,9 +18,10 @@ import math
 
 import numpy as np
 import pytest
+from scipy import stats
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.sim.noise import NoiseModel
-from scipy import stats
 
 SEEDS = 600
 FS, HOURS = 10.0, 2.0

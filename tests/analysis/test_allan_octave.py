@@ -15,10 +15,11 @@ import math
 import allantools
 import numpy as np
 import pytest
+from threadpoolctl import threadpool_info
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import _blas, _noise_id, _octave, _taus, allan_deviation
 from gyrobench.sim.noise import NoiseModel
-from threadpoolctl import threadpool_info
 
 #: white + quantization + flicker + random-walk rate, each in charge of some octaves
 MODEL = NoiseModel(

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import _covariance
 from gyrobench.analysis.allan import _rho_table as tab

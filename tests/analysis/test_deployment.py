@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.rbf import RBFNetwork
 from gyrobench.analysis.deployment import deployment_float32
 

@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 import pytest
+from scipy import stats
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.analysis.metrics import SegmentFit, segment_noise_fits
-from scipy import stats
 
 #: two-sided false-alarm rate of the statistical bounds
 ALARM = 1e-6

@@ -6,14 +6,15 @@ import zlib
 
 import numpy as np
 import pytest
+from numpy.polynomial import Polynomial
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
 from gyrobench.analysis.compensation.polynomial import (
     PiecewisePolynomial,
     PolynomialRegressor,
     TwoStagePolynomial,
 )
 from gyrobench.analysis.scale_factor import fit_scale_factor
-from numpy.polynomial import Polynomial
-from sklearn.utils.estimator_checks import parametrize_with_checks
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 

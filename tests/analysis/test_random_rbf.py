@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.analysis.compensation.random_rbf import RADBAS_B, RandomCentreRBF
 from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from gyrobench.analysis.compensation.random_rbf import RADBAS_B, RandomCentreRBF
 
 
 @parametrize_with_checks([RandomCentreRBF(random_state=0), RandomCentreRBF(spread=3.0, goal=0.01, random_state=1)])

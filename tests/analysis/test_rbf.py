@@ -7,10 +7,11 @@ import zlib
 
 import numpy as np
 import pytest
-from gyrobench.analysis.compensation.rbf import RADBAS_B, RBFNetwork, StreamingCompensator, batch_compensate
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from gyrobench.analysis.compensation.rbf import RADBAS_B, RBFNetwork, StreamingCompensator, batch_compensate
 
 
 @pytest.fixture

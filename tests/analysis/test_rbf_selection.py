@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.rbf import RBFNetwork
 from gyrobench.analysis.compensation.rbf_selection import prefix_predictions, select_rbf
 

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from gyrobench.analysis.scale_factor import (
     asymmetry,
     breakpoint_search,
@@ -13,8 +16,6 @@ from gyrobench.analysis.scale_factor import (
     range_nonlinearity,
     repeatability_floor,
 )
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 GRID = np.arange(3600.0, -3601.0, -360.0)
 

@@ -7,6 +7,7 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.allan import allan_deviation
 from gyrobench.analysis.stationarity import remove_temperature, stationarity_check
 

@@ -6,9 +6,10 @@ import zlib
 
 import numpy as np
 import pytest
-from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from scipy import stats
 from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 
 
 @pytest.fixture

@@ -6,6 +6,9 @@ import math
 
 import numpy as np
 import pytest
+from scipy import stats
+from sklearn.exceptions import NotFittedError
+
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.analysis.metrics import bias_stability
 from gyrobench.analysis.thermal_regression import (
@@ -15,8 +18,6 @@ from gyrobench.analysis.thermal_regression import (
     stepwise_table,
     two_sensor_blocks,
 )
-from scipy import stats
-from sklearn.exceptions import NotFittedError
 
 
 # ----------------------------------------------------------------------------- two_sensor_blocks

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.stats import binom
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.analysis.twin import FAMILY_ALPHA, compare_twin
 from gyrobench.sim.noise import NoiseModel
-from scipy.stats import binom
 
 
 def _white(seed, n=4096, scale=1.0):

@@ -24,6 +24,7 @@ from statistics import NormalDist
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis import allan
 from gyrobench.analysis.allan import AllanCurve, allan_deviation, fit_noise, slope_readoff
 

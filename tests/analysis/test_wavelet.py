@@ -6,6 +6,7 @@ import zlib
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map, decompose, max_level
 
 

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+
 from gyrobench.scenarios.bench.scoring import bench_scenarios, resolve_scenario
 
 #: (scenario module name, config, seed) -> its task, built once per session

@@ -5,9 +5,10 @@ from __future__ import annotations
 import re
 
 import numpy as np
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios.figures import allan_figure
-from gyrobench.sim import units
+from gyrobench.base import units
+from gyrobench.scenarios.reports.figures import allan_figure
 
 
 def _figure():

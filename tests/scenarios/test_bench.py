@@ -1,4 +1,4 @@
-"""Tests of the scenarios/bench/ package and its command line (scenarios/bench/cli.py) on the
+"""Tests of the scenarios/bench/ package and its command line (scenarios/cli/bench.py) on the
 toy scenario (ms per seed), and one campaign on a real scenario (rlg_thermal, ~0.5 s per seed)."""
 
 from __future__ import annotations
@@ -20,12 +20,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, registry
-from gyrobench.scenarios.bench import cli as bench_cli
-from gyrobench.scenarios.bench import compensators, identity, statistics, store
 from sklearn.ensemble import RandomForestRegressor
 from sklearn.linear_model import LinearRegression
 
+from gyrobench.scenarios import bench, registry
+from gyrobench.scenarios.bench import compensators, identity, statistics
+from gyrobench.scenarios.cli import bench as bench_cli
+from gyrobench.scenarios.runner import store
 from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -883,7 +884,7 @@ def test_baseline_from_a_newer_format_is_refused(tmp_path):
 
 
 def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
-    from gyrobench.scenarios.cli import main
+    from gyrobench.scenarios.cli.main import main
 
     base = _other_scenario_baseline(tmp_path / "b.json")
     common = ["bench", TOY, "--compensator", f"{TOY}:good", "--quiet", "--workers", "0"]
@@ -902,12 +903,13 @@ def test_console_bad_paths_exit_2_with_one_line(tmp_path, capsys):
 @pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_campaign_on_a_real_scenario_rlg_thermal(tmp_path):
     """Two seeds of the RLG thermal scenario (~2 s each) with a plain scikit-learn Ridge."""
-    import gyrobench.scenarios.papers.p004_rlg_thermal as rlg
     from sklearn.compose import ColumnTransformer
     from sklearn.dummy import DummyRegressor
     from sklearn.linear_model import Ridge
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
+
+    import gyrobench.scenarios.papers.p004_rlg_thermal as rlg
 
     good = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
     # the degraded compensator predicts a constant (no compensation). (A static T1/T2-only

@@ -7,10 +7,11 @@ import json
 import math
 
 import pytest
-from gyrobench.scenarios import bench, exits
-from gyrobench.scenarios.cli import main
-from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 from tests.scenarios import toy_scenario as toy
 
 TOY = "tests.scenarios.toy_scenario"

@@ -18,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, exits
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli import exits
 
 from tests.scenarios import toy_scenario as toy
 

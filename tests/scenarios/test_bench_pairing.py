@@ -13,8 +13,9 @@ import re
 import textwrap
 
 import pytest
+
 from gyrobench.scenarios import bench
-from gyrobench.scenarios.bench import cli as bench_cli
+from gyrobench.scenarios.cli import bench as bench_cli
 
 TOY = "tests.scenarios.toy_scenario"
 

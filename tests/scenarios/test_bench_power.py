@@ -13,13 +13,14 @@ import re
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, exits
+from scipy import stats
+
+from gyrobench.scenarios import bench
 from gyrobench.scenarios.bench import power
 from gyrobench.scenarios.bench.gate import plan_power
 from gyrobench.scenarios.bench.primary import SCENARIO_SCORES
-from gyrobench.scenarios.cli import main
-from scipy import stats
-
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.cli.main import main
 from tests.scenarios import toy_scenario as toy
 
 TOY = "tests.scenarios.toy_scenario"

@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from gyrobench.scenarios.bench.gate import plan_power
 from gyrobench.scenarios.bench.power import min_attainable_p
 
@@ -110,7 +111,7 @@ def test_readme_pytest_example_fails_with_the_worse_compensator(tmp_path):
 def test_every_bench_flag_is_in_the_section_or_the_rest_of_the_readme():
     """tests/test_readme.py checks README.md for every flag once the section is merged; this
     checks now that the section (with the rest of README.md) names every ``bench`` option."""
-    from gyrobench.scenarios.cli import build_parser
+    from gyrobench.scenarios.cli.main import build_parser
 
     readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     sub = next(a for a in build_parser()._actions if a.__class__.__name__ == "_SubParsersAction")

@@ -13,16 +13,17 @@ import re
 
 import numpy as np
 import pytest
+from scipy import stats
+from sklearn.linear_model import LinearRegression
+from sklearn.model_selection import GridSearchCV, LeaveOneGroupOut
+
 from gyrobench.scenarios import bench
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 from gyrobench.scenarios.bench.compensators import accepts_groups, fit_compensator
 from gyrobench.scenarios.bench.primary import SCENARIO_SCORES
 from gyrobench.scenarios.bench.references import FogVibrationBias, IfogSegmentRBF, fog_vibration_rbf
 from gyrobench.scenarios.bench.scoring import resolve_scenario, score_task
-from gyrobench.scenarios.cli import main
-from scipy import stats
-from sklearn.linear_model import LinearRegression
-from sklearn.model_selection import GridSearchCV, LeaveOneGroupOut
+from gyrobench.scenarios.cli.main import main
 
 
 def _sign_test_count(n: int, alpha: float = 0.05) -> int:

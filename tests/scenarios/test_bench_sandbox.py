@@ -27,7 +27,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, exits
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli import exits
 from sklearn.linear_model import LinearRegression
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
@@ -422,7 +423,7 @@ def test_a_forged_row_with_a_recomputed_unkeyed_checksum_is_not_served(tmp_path)
     import json
     import sqlite3
 
-    from gyrobench.scenarios.bench import store
+    from gyrobench.scenarios.runner import store
 
     db = tmp_path / "f.db"
     a = bench.run_campaign(toy, f"{HERE}:HONEST", range(2), workers=0, db=db, progress=False)

@@ -12,7 +12,19 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_mems, checks_mems_psd, checks_rlg, checks_rlg_cavity
+
+from gyrobench.scenarios.checks import (
+    mems as checks_mems,
+)
+from gyrobench.scenarios.checks import (
+    mems_psd as checks_mems_psd,
+)
+from gyrobench.scenarios.checks import (
+    rlg as checks_rlg,
+)
+from gyrobench.scenarios.checks import (
+    rlg_cavity as checks_rlg_cavity,
+)
 
 
 def _noisier(simulate_full, factor: float):
@@ -109,7 +121,7 @@ def test_a_1_percent_lock_in_error_fails_the_dead_band_check(monkeypatch, factor
 
 def _fog_resets_with(monkeypatch, change) -> dict:
     """checks_fog_loop._resets with every loop spec passed through ``change``."""
-    from gyrobench.scenarios import checks_fog_loop
+    from gyrobench.scenarios.checks import fog_loop as checks_fog_loop
     from gyrobench.sim import fog_loop
 
     real = fog_loop.run_loop
@@ -132,13 +144,13 @@ def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, f
     """The slow flow's noise at 4 Hz made 10 % too small or too large (21 % in variance) fails."""
     assert checks_mems._low_rate_noise(np.random.default_rng(0)).passed
     zro = checks_mems.zero_rate_output(checks_mems.check_unit())
-    real = checks_mems.simulate
+    real = checks_mems.slow_flow
 
     def wrapped(*a, **k):
         res = real(*a, **k)
         return replace(res, output=zro + factor * (res.output - zro))
 
-    monkeypatch.setattr(checks_mems, "simulate", wrapped)
+    monkeypatch.setattr(checks_mems, "slow_flow", wrapped)
     assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed
 
 
@@ -191,7 +203,7 @@ def test_a_locked_band_that_is_not_monotone_in_the_input_fails_the_dead_band_che
 def test_the_shaker_gain_check_catches_a_point_sampler_and_a_10_percent_level(monkeypatch):
     """shaker.interval_mean_gain: a shaker input sampled at the output instants (no interval mean: the
     137 Hz tone kept at its full level) and a profile 10 % above its stated level both fail."""
-    from gyrobench.scenarios import checks_shaker
+    from gyrobench.scenarios.checks import shaker as checks_shaker
     from gyrobench.sim import shaker
 
     assert checks_shaker.checks(np.random.default_rng(0))[0].passed

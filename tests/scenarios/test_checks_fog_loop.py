@@ -2,8 +2,9 @@
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_fog_loop
-from gyrobench.scenarios.checks import collect
+
+from gyrobench.scenarios.checks import fog_loop as checks_fog_loop
+from gyrobench.scenarios.checks.core import collect
 
 IDS = [
     "fog.optical_budget_shot",
@@ -25,7 +26,7 @@ IDS = [
 
 
 def test_every_check_passes_with_a_derivation():
-    out = collect(np.random.default_rng(0), ("gyrobench.scenarios.checks_fog_loop",))
+    out = collect(np.random.default_rng(0), ("gyrobench.scenarios.checks.fog_loop",))
     assert [c.id for c in out] == IDS
     failed = [c.as_dict() for c in out if not c.passed]
     assert not failed, failed
@@ -37,7 +38,7 @@ STRAIN_IDS = ["fog.strain_uniform_zero", "fog.strain_mode_linear", "fog.strain_k
 
 
 def test_the_strain_kernel_checks_pass_in_their_own_module():
-    out = collect(np.random.default_rng(0), ("gyrobench.scenarios.checks_fog_strain",))
+    out = collect(np.random.default_rng(0), ("gyrobench.scenarios.checks.fog_strain",))
     assert [c.id for c in out] == STRAIN_IDS
     failed = [c.as_dict() for c in out if not c.passed]
     assert not failed, failed
@@ -54,7 +55,7 @@ def test_exact_kernel_improves_the_agreement_with_the_full_loop():
     # the derivation reports the small-tau kernel's miss; the exact kernel must beat it by far
     import re
 
-    from gyrobench.scenarios import checks_fog_strain
+    from gyrobench.scenarios.checks import fog_strain as checks_fog_strain
 
     (ex,) = [c for c in checks_fog_strain._strain_exact_kernel() if "full_loop" in c.id]
     miss_small = float(re.search(r"misses by ([0-9.e+-]+) of", ex.derivation).group(1))

@@ -1,11 +1,12 @@
-"""scenarios/checks_mems.py: every MEMS resonator check passes with its derived tolerance."""
+"""scenarios/checks/mems.py: every MEMS resonator check passes with its derived tolerance."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.scenarios.checks import Check
-from gyrobench.scenarios.checks_mems import checks
+
+from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.mems import checks
 
 EXPECTED_IDS = {
     "mems.brownian_arw",

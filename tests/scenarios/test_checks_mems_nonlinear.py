@@ -1,11 +1,12 @@
-"""scenarios/checks_mems_nonlinear.py: the nonlinear mechanism's closed-form checks pass, fast, and can fail."""
+"""scenarios/checks/mems_nonlinear.py: the nonlinear mechanism's closed-form checks pass, fast, and can fail."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_mems_nonlinear as cmn
-from gyrobench.scenarios.checks import CHECK_MODULES, Check
+
+from gyrobench.scenarios.checks import mems_nonlinear as cmn
+from gyrobench.scenarios.checks.core import CHECK_MODULES, Check
 
 EXPECTED_IDS = [
     "mems.nonlinear_small_signal_scale_factor",
@@ -21,7 +22,7 @@ def test_every_check_passes_and_is_registered():
     assert [c.id for c in out] == EXPECTED_IDS
     failed = [(c.id, c.rel_error, c.tolerance) for c in out if not c.passed]
     assert not failed, failed
-    assert "gyrobench.scenarios.checks_mems_nonlinear" in CHECK_MODULES
+    assert "gyrobench.scenarios.checks.mems_nonlinear" in CHECK_MODULES
 
 
 def test_no_clip_check_fails_on_a_device_that_clips_inside_the_range(monkeypatch):

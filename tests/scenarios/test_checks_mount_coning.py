@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_mount_coning
+
+from gyrobench.scenarios.checks import mount_coning as checks_mount_coning
 from gyrobench.sim import mount_coning
 
 

@@ -1,16 +1,17 @@
-"""scenarios/checks_rlg_cavity.py: every check passes with its derived tolerance."""
+"""scenarios/checks/rlg_cavity.py: every check passes with its derived tolerance."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_rlg_cavity as m
-from gyrobench.scenarios.checks import Check, collect
+
+from gyrobench.scenarios.checks import rlg_cavity as m
+from gyrobench.scenarios.checks.core import Check, collect
 
 
 @pytest.fixture(scope="module")
 def results() -> list[Check]:
-    return collect(np.random.default_rng(2026), ("gyrobench.scenarios.checks_rlg_cavity",))
+    return collect(np.random.default_rng(2026), ("gyrobench.scenarios.checks.rlg_cavity",))
 
 
 @pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.scenarios import claims as cl
 from gyrobench.scenarios.claims import (
     Claim,
@@ -345,7 +346,7 @@ def test_an_infinite_median_survives_results_json_into_the_readme_table():
     # reads the claims back from results.json and must print them as inf, not fail or show n/a
     import json
 
-    from gyrobench.scenarios import readme_table, report
+    from gyrobench.scenarios.reports import readme_table, report
 
     (r,) = evaluate([_claim(comparator=above(1.0))], [{"q": math.inf}, {"q": math.inf}, {"q": 3.0}])
     doc = json.loads(json.dumps(report._jsonable(r.as_dict()), allow_nan=False))

@@ -6,10 +6,10 @@ import warnings
 
 import numpy as np
 import pytest
-from gyrobench.analysis.allan import allan_deviation, fit_noise
-from gyrobench.scenarios.cli_allan import read_csv as _read_csv
-from gyrobench.sim import units
 
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+from gyrobench.base import units
+from gyrobench.scenarios.cli.allan import read_csv as _read_csv
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 
@@ -131,7 +131,7 @@ def test_euroc_header_ns_timestamps_and_all_axes(tmp_path, capsys, rng):
             "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n")
     p.write_text(head + "\n".join(f"{ti}," + ",".join(f"{v:.9g}" for v in row)
                                   for ti, row in zip(t, data, strict=True)) + "\n")
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
 
     log = read_csv_log(p, None, None, None, all_axes=True)
     assert log.fs == pytest.approx(200.0, rel=1e-12) and log.fmt == "euroc"
@@ -146,7 +146,7 @@ def test_euroc_header_ns_timestamps_and_all_axes(tmp_path, capsys, rng):
 
 
 def test_kalibr_and_ros_exports(tmp_path, rng):
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
 
     data = _log_rows(rng)
     t = 1_600_000_000_000_000_000 + np.arange(len(data)) * 10_000_000
@@ -172,7 +172,7 @@ def test_kalibr_and_ros_exports(tmp_path, rng):
 
 @pytest.mark.parametrize(("unit", "scale"), [("s", 1.0), ("ms", 1e3), ("us", 1e6), ("ns", 1e9)])
 def test_time_units_from_the_header(tmp_path, rng, unit, scale):
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
 
     rate = rng.standard_normal(500)
     p = tmp_path / "g.csv"
@@ -196,7 +196,7 @@ def test_epoch_ns_without_unit_is_not_read_as_seconds(tmp_path, capsys, rng):
     [(",", True, False), (";", False, False), ("\t", False, False), (",", False, True), (";", True, True)],
 )
 def test_bom_quotes_and_separators(tmp_path, rng, sep, bom, quote):
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
 
     rate = rng.standard_normal(300)
     q = '"' if quote else ""
@@ -253,7 +253,7 @@ def test_repeated_column_gives_one_table(tmp_path, capsys, rng):
 
 
 def test_start_stop_segment(tmp_path, rng):
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
 
     rate = rng.standard_normal(1000)
     p = tmp_path / "g.csv"
@@ -371,7 +371,7 @@ def test_kalibr_yaml_holds_n_and_k_in_si(tmp_path, capsys, rng):
 
 def test_allan_figure_has_band_model_bounds_shading_and_residuals(rng):
     from gyrobench.analysis.allan import fit_noise as fit_
-    from gyrobench.scenarios.figures import allan_figure
+    from gyrobench.scenarios.reports.figures import allan_figure
 
     c = allan_deviation(units.deg_per_s(0.01 * rng.standard_normal(100_000)), 100.0)
     fit = fit_(c, tau_min=0.04)
@@ -398,9 +398,9 @@ def test_plot_writes_every_channel_with_its_warnings(tmp_path, capsys, rng):
     for name in ("adev_gx.png", "adev_gy.png"):
         assert (tmp_path / name).stat().st_size > 0 and f"wrote {tmp_path / name}" in out
     assert not png.exists()
-    from gyrobench.scenarios import allan_report as rep
-    from gyrobench.scenarios import allan_text as txt
-    from gyrobench.scenarios.logs import read_csv_log
+    from gyrobench.io.logs import read_csv_log
+    from gyrobench.scenarios.reports import allan as rep
+    from gyrobench.scenarios.reports import allan_text as txt
 
     log = read_csv_log(p, ["gy"], None, None)
     res = rep.analyse(log.channels[0], log.fs)
@@ -467,9 +467,9 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     non-stationary, its short taus stay in the fit (whose misfit then shows, p < 1e-6) and the report says
     which rule applied. A filtered quiet record still has its first octaves dropped as filter-shaped."""
     from gyrobench.analysis.allan import allan_deviation, fit_range
-    from gyrobench.scenarios import allan_report as rep
-    from gyrobench.scenarios import allan_text as txt
-    from gyrobench.scenarios.logs import Channel
+    from gyrobench.io.logs import Channel
+    from gyrobench.scenarios.reports import allan as rep
+    from gyrobench.scenarios.reports import allan_text as txt
 
     n = 200_000
     y = 0.01 * np.convolve(rng.standard_normal(n + 15), np.ones(16) / 16, mode="valid")  # a 16-sample filter

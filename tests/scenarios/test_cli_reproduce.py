@@ -7,8 +7,8 @@ import json
 from collections import Counter
 
 import pytest
-from gyrobench.scenarios import registry
 
+from gyrobench.scenarios import registry
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 

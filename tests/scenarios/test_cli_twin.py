@@ -1,4 +1,4 @@
-"""Tests of ``gyrobench twin`` (scenarios/cli_twin.py): real ADIS16405 records, a wrong twin, the CLI."""
+"""Tests of ``gyrobench twin`` (scenarios/cli/twin.py): real ADIS16405 records, a wrong twin, the CLI."""
 
 from __future__ import annotations
 
@@ -8,12 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.analysis.twin import compare_twin
-from gyrobench.scenarios.cli import main
-from gyrobench.scenarios.cli_twin import make_twin, noise_model_from_fit
+from gyrobench.io.recording import load_hdf5
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.cli.twin import make_twin, noise_model_from_fit
 from gyrobench.sim import parts
-from gyrobench.sim.recording import load_hdf5
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "adis16405_1hz"
 RECORDS = sorted(DATA.glob("adis16405_imu*_1Hz.csv.gz"))
@@ -143,8 +144,9 @@ S = 200
 
 @pytest.mark.slow
 def test_fitted_twin_false_alarm_rate_over_seeds():
-    from gyrobench.sim.noise import NoiseModel
     from scipy.stats import binom
+
+    from gyrobench.sim.noise import NoiseModel
 
     truth = NoiseModel(angle_random_walk=1e-3, bias_instability=1e-4, rate_random_walk=2e-6)
     fails = 0

@@ -23,9 +23,10 @@ import time
 import typing
 
 import pytest
+
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import FieldRange, field_range
-from gyrobench.scenarios.cli import main
+from gyrobench.scenarios.cli.main import main
 
 #: the hostile values every numeric field is fed
 BAD_VALUES = (math.nan, math.inf, -math.inf, -1, 0, 1e308, 10**400)

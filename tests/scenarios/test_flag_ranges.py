@@ -14,8 +14,9 @@ import math
 import time
 
 import pytest
+
 from gyrobench.scenarios import registry
-from gyrobench.scenarios.cli import build_parser, main
+from gyrobench.scenarios.cli.main import build_parser, main
 
 BAD_VALUES = ("nan", "inf", "-inf", "-1", "0", "1e308", str(10**400))
 

@@ -16,7 +16,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.rbf import RBFNetwork
+from gyrobench.base import units
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import CompensationTask, Outcome
 from gyrobench.scenarios.claims import evaluate
@@ -28,7 +30,6 @@ from gyrobench.scenarios.papers.p000_fog_vibration.results import (
     shown_ratio,
     value_ratio,
 )
-from gyrobench.sim import units
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 
 SMALL = sc.Config(
@@ -173,6 +174,7 @@ def test_report_never_simulates(small_units, monkeypatch):
         raise AssertionError("the report must not simulate")
 
     monkeypatch.setattr(ClosedLoopFOG, "simulate", no_simulation)
+    monkeypatch.setattr(ClosedLoopFOG, "_record", no_simulation)
     out = sc.report(SMALL, small_units, claims)
     assert len(out.figures) == 6
     assert json.dumps(out.results) == json.dumps(normal.results)

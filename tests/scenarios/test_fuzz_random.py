@@ -19,12 +19,12 @@ import time
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import registry
-from gyrobench.scenarios.base import field_range
-from gyrobench.scenarios.cli import main
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from gyrobench.scenarios import registry
+from gyrobench.scenarios.base import field_range
+from gyrobench.scenarios.cli.main import main
 from tests.scenarios.test_config_ranges import WITHOUT_RANGES, numeric_fields
 from tests.scenarios.test_flag_ranges import numeric_flags
 

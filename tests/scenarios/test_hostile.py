@@ -1,6 +1,6 @@
 """Hostile input: every case of issue 15 gives one line and a documented exit status.
 
-Exit statuses (gyrobench.scenarios.exits): 0 ok, 1 regression, 2 bad input, 3 failed seeds,
+Exit statuses (gyrobench.scenarios.cli.exits): 0 ok, 1 regression, 2 bad input, 3 failed seeds,
 4 internal failure. "One line" means stderr holds exactly one line, starting
 ``gyrobench: error:``, and no traceback (unless GYROBENCH_TRACEBACK=1).
 """
@@ -14,11 +14,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench, exits
-from gyrobench.scenarios.cli import main
-from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 from sklearn.linear_model import LinearRegression
 
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 from tests.scenarios import toy_scenario as toy
 
 TOY = "tests.scenarios.toy_scenario"
@@ -563,7 +564,7 @@ def test_unexpected_error_is_internal_with_one_line(capsys, monkeypatch):
 
 # ----------------------------------------------------------------------------- 3. memory
 def test_memory_limit_is_read_from_meminfo_with_a_margin(monkeypatch):
-    from gyrobench.sim import memory
+    from gyrobench.base import memory
 
     monkeypatch.delenv(memory.LIMIT_ENV, raising=False)
     avail = memory.available_memory()
@@ -588,8 +589,8 @@ def test_memory_limit_is_read_from_meminfo_with_a_margin(monkeypatch):
 
 
 def test_hdf5_read_refused_above_the_memory_limit(tmp_path, monkeypatch):
-    from gyrobench.sim import memory
-    from gyrobench.sim.recording import Channel, Recording, load_hdf5, save_hdf5
+    from gyrobench.base import memory
+    from gyrobench.io.recording import Channel, Recording, load_hdf5, save_hdf5
 
     rec = Recording(fs=10.0, channels={"rate": Channel(np.zeros(50_000), "rad/s")})
     path = save_hdf5(tmp_path / "r.h5", rec)
@@ -605,8 +606,8 @@ def test_hdf5_read_refused_above_the_memory_limit(tmp_path, monkeypatch):
 
 
 def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monkeypatch, tmp_path):
+    from gyrobench.base import memory
     from gyrobench.scenarios import registry, static_noise
-    from gyrobench.sim import memory
 
     monkeypatch.setenv(memory.LIMIT_ENV, "1G")
     est = static_noise.memory_estimate(static_noise.Config())
@@ -679,7 +680,7 @@ def test_reused_pid_of_a_younger_process_does_not_protect_a_stale_temp(tmp_path)
     import os
     import time
 
-    from gyrobench.sim.recording import remove_stale_temps
+    from gyrobench.base.atomic import remove_stale_temps
 
     target = tmp_path / "r.csv"
     stale = tmp_path / f".r.csv.{os.getppid()}.00000000.tmp"  # the parent pid is alive...
@@ -755,7 +756,7 @@ def test_outputs_are_checked_before_any_work(case, tmp_path, capsys, monkeypatch
     ],
 )
 def test_check_output_refuses(tmp_path, kind, make, exc, match):
-    from gyrobench.scenarios.outputs import check_output
+    from gyrobench.scenarios.reports.outputs import check_output
 
     out = tmp_path / "out"
     if make == "file":
@@ -770,7 +771,7 @@ def test_check_output_refuses(tmp_path, kind, make, exc, match):
 
 
 def test_check_output_accepts(tmp_path):
-    from gyrobench.scenarios.outputs import REPORT_MARKER, check_output, report_manifest
+    from gyrobench.scenarios.reports.outputs import REPORT_MARKER, check_output, report_manifest
 
     assert check_output(tmp_path / "new" / "deeper" / "x.png", what="--plot") == (
         tmp_path / "new" / "deeper" / "x.png"
@@ -786,7 +787,7 @@ def test_check_output_accepts(tmp_path):
 
 
 def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch):
-    from gyrobench.scenarios import outputs, report
+    from gyrobench.scenarios.reports import outputs, report
 
     out = tmp_path / "rep"
 
@@ -814,7 +815,7 @@ def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch):
 
 
 def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
-    from gyrobench.sim.recording import atomic_folder
+    from gyrobench.base.atomic import atomic_folder
 
     out = tmp_path / "rep"
     dead = 2**22 + 12345  # above the default pid_max of 4194304: no such process
@@ -1015,7 +1016,7 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
     )
     assert "Traceback" not in "\n".join(err)
     if code == 0:
-        from gyrobench.sim.recording import load_hdf5
+        from gyrobench.io.recording import load_hdf5
 
         for f in sorted((out / "static_noise").glob("*.h5")):
             rec = load_hdf5(f)
@@ -1028,7 +1029,7 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
 @pytest.mark.parametrize("intrusion", ["user_file", "edited", "no_manifest", "link", "old_index_only"])
 def test_a_report_folder_holding_what_no_report_wrote_is_never_replaced(tmp_path, intrusion):
     """The user's file beside an old report survives: the next report is refused in one line."""
-    from gyrobench.scenarios import outputs
+    from gyrobench.scenarios.reports import outputs
 
     out = tmp_path / "rep"
     (out / "s").mkdir(parents=True)
@@ -1051,7 +1052,7 @@ def test_a_report_folder_holding_what_no_report_wrote_is_never_replaced(tmp_path
 
 
 def test_a_symlinked_report_folder_is_refused(tmp_path):
-    from gyrobench.scenarios import outputs
+    from gyrobench.scenarios.reports import outputs
 
     (tmp_path / "real").mkdir()
     (tmp_path / "link").symlink_to(tmp_path / "real")
@@ -1060,8 +1061,8 @@ def test_a_symlinked_report_folder_is_refused(tmp_path):
 
 
 def test_two_writers_to_one_output_the_second_is_refused(tmp_path, capsys):
-    from gyrobench.scenarios import outputs
-    from gyrobench.scenarios.cli import main
+    from gyrobench.scenarios.cli.main import main
+    from gyrobench.scenarios.reports import outputs
 
     with outputs.output_lock(tmp_path / "rep", what="--out"):
         code = main(["reproduce", "static_noise", "--out", str(tmp_path / "rep"), "-q"])
@@ -1073,7 +1074,8 @@ def test_two_writers_to_one_output_the_second_is_refused(tmp_path, capsys):
 
 
 def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
-    from gyrobench.scenarios import outputs, registry, static_noise
+    from gyrobench.scenarios import registry, static_noise
+    from gyrobench.scenarios.reports import outputs
 
     cfg = registry.override(
         static_noise.Config(), {"fog": {"duration_h": 0.01}, "mems": {"duration_h": 0.01}}
@@ -1093,7 +1095,7 @@ def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
 
 
 def _noise_h5(tmp_path: Path, scale: float = 1.0) -> Path:
-    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+    from gyrobench.io.recording import Channel, Recording, save_hdf5
 
     rate = np.random.default_rng(11).standard_normal(4096) * 1e-4 * scale
     return save_hdf5(
@@ -1151,8 +1153,9 @@ def test_allan_csv_with_a_sample_rate_outside_any_gyros_is_one_line(tmp_path, ca
 
 def test_hdf5_channel_with_unknown_unit_names_file_and_channel(tmp_path, capsys):
     import numpy as np
-    from gyrobench.scenarios.cli import main
-    from gyrobench.sim.recording import Channel, Recording, save_hdf5
+
+    from gyrobench.io.recording import Channel, Recording, save_hdf5
+    from gyrobench.scenarios.cli.main import main
 
     rec = Recording(name="r", fs=100.0, channels={"rate": Channel(np.zeros(1000), "furlong/s", "x")})
     p = save_hdf5(tmp_path / "u.h5", rec)

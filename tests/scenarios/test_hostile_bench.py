@@ -14,10 +14,10 @@ import sqlite3
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import registry, units
-from gyrobench.scenarios.bench import codec
-from gyrobench.scenarios.cli import main
 
+from gyrobench.scenarios import registry
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.runner import codec, units
 from tests.scenarios import toy_paper as toy
 
 TOY_CONFIG = toy.Config(n_samples=50)
@@ -102,13 +102,13 @@ def _doc(value) -> str:
         (json.dumps({"schema": "other", "value": 1}), "not of schema"),
         (_doc({"$dc": {"type": "os:system", "fields": {}}}), "outside the gyrobench package"),
         (_doc({"$dc": {"type": "subprocess:Popen", "fields": {"args": "true"}}}), "outside the gyrobench"),
-        (_doc({"$dc": {"type": "gyrobench.scenarios.cli:main", "fields": {}}}), "not a frozen dataclass"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.cli.main:main", "fields": {}}}), "not a frozen dataclass"),
         (_doc({"$dc": {"type": "gyrobench.scenarios.base:Outcome", "fields": {}}}), "not a frozen dataclass"),
-        (_doc({"$dc": {"type": "gyrobench.scenarios.bench.codec:np", "fields": {}}}), "not a frozen dataclass"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.runner.codec:np", "fields": {}}}), "not a frozen dataclass"),
         (_doc({"$dc": {"type": "gyrobench.nothere:X", "fields": {}}}), "no module"),
-        (_doc({"$dc": {"type": "gyrobench.scenarios.units:__builtins__", "fields": {}}}), "not a frozen"),
-        (_doc({"$dc": {"type": "gyrobench.scenarios.units:UnitRun", "fields": {"x": 1}}}), "has fields"),
-        (_doc({"$dc": {"type": "gyrobench.scenarios.units:UnitRun.__init__", "fields": {}}}), "not a frozen"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.runner.units:__builtins__", "fields": {}}}), "not a frozen"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.runner.units:UnitRun", "fields": {"x": 1}}}), "has fields"),
+        (_doc({"$dc": {"type": "gyrobench.scenarios.runner.units:UnitRun.__init__", "fields": {}}}), "not a frozen"),
         (_doc({"$reduce": ["os.system", ["echo pwned"]]}), "unknown tag"),
         (_doc({"$nd": {"dtype": "|O", "shape": [1], "data": "AAAAAAAAAAA="}}), "not a numeric numpy dtype"),
         (_doc({"$nd": {"dtype": "<f8", "shape": [10**9, 10**9], "data": ""}}), "exceeds the limit"),
@@ -201,7 +201,7 @@ def test_physics_checks_config_imports_nothing_outside_its_registry(tmp_path, ca
     import sys
 
     from gyrobench.scenarios import physics_checks
-    from gyrobench.scenarios.checks import CHECK_MODULES
+    from gyrobench.scenarios.checks.core import CHECK_MODULES
 
     monkeypatch.delitem(sys.modules, "this", raising=False)
     with pytest.raises(ValueError, match="must be among the check modules") as info:
@@ -220,7 +220,6 @@ def test_physics_checks_config_imports_nothing_outside_its_registry(tmp_path, ca
 # ----------------------------------------------------------------------------- identity
 from gyrobench.scenarios import bench  # noqa: E402
 from gyrobench.scenarios.bench import identity  # noqa: E402
-
 from tests.scenarios import toy_scenario  # noqa: E402
 
 FAST = toy_scenario.Config(n_samples=60)
@@ -439,7 +438,7 @@ def _stuck_campaign(tmp_path, workers: int):
     from pathlib import Path
 
     root = Path(__file__).resolve().parents[2]
-    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main())",
             "bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:hangs_in_fit",
             "--seeds", "0:4", "--workers", str(workers), "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
     proc = subprocess.Popen(argv, cwd=root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -548,7 +547,7 @@ def test_reproduce_workers_die_within_seconds_of_a_sigkilled_parent(tmp_path):
     import sys
     import time
 
-    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main())",
             "reproduce", "rlg_thermal", "--units", "8", "--workers", "2", "--out", str(tmp_path / "rep"), "-q"]
     proc = subprocess.Popen(argv, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60

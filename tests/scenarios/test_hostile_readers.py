@@ -9,8 +9,8 @@ import math
 import h5py
 import numpy as np
 import pytest
-from gyrobench.sim.recording import Channel, HDF5StreamWriter, Recording, load_hdf5, save_hdf5, to_csv
 
+from gyrobench.io.recording import Channel, HDF5StreamWriter, Recording, load_hdf5, save_hdf5, to_csv
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 N = 4000

@@ -13,12 +13,14 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
+from gyrobench.base import units
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.claims import evaluate
 from gyrobench.scenarios.papers import p003_ifog_thermal as sc
 from gyrobench.scenarios.papers.p003_ifog_thermal import config as sc_config
 from gyrobench.scenarios.papers.p003_ifog_thermal import runs as sc_runs
-from gyrobench.sim import coil2d, units
+from gyrobench.sim import coil2d, coil_materials, coil_winding
 
 SMALL = sc.Config(
     identification_settle_h=0.5,
@@ -264,7 +266,7 @@ def test_point_heating_closed_form():
     spec = cfg.coil_spec()
     lo, hi = units.celsius(-10.0), units.celsius(40.0)
     b = (
-        coil2d.silica_dn_dT(hi) - coil2d.silica_dn_dT(lo)
+        coil_materials.silica_dn_dT(hi) - coil_materials.silica_dn_dT(lo)
     ) / 50.0 + spec.index * spec.glass.cte_slope
     tdot = cfg.point_rate_degC_per_min / 60.0
     exact = spec.index * float(b) * 40.0 * tdot * 10.0 * (1000.0 - 500.0) / (1000.0 * 0.1)
@@ -468,7 +470,7 @@ _ROUNDING = 1e-12
 
 def test_coil_drift_is_the_same_for_any_temperature_origin():
     spec = replace(coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4), lead_difference_rms=1.0)
-    imp = coil2d.Imperfections.draw(spec, rng=np.random.default_rng(3))
+    imp = coil_winding.Imperfections.draw(spec, rng=np.random.default_rng(3))
     prof = replace(SMALL, identification_settle_h=0.2).identification_profile()
     runs = {}
     for name, t_ref in (("15 degC", units.celsius(15.0)), ("0 degC", units.ZERO_CELSIUS), ("kelvin", 0.0),

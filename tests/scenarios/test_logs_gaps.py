@@ -4,9 +4,9 @@ import json
 
 import numpy as np
 import pytest
-from gyrobench.analysis.allan import allan_deviation
-from gyrobench.scenarios.logs import UNIFORM_TOLERANCE, read_csv_log
 
+from gyrobench.analysis.allan import allan_deviation
+from gyrobench.io.logs import UNIFORM_TOLERANCE, read_csv_log
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 FS = 100.0

@@ -4,10 +4,10 @@ import json
 
 import numpy as np
 import pytest
-from gyrobench.scenarios.logs import read_csv_log
-from gyrobench.scenarios.logs._kinds import parse_units
-from gyrobench.sim import units
 
+from gyrobench.base import units
+from gyrobench.io.logs import read_csv_log
+from gyrobench.io.logs._kinds import parse_units
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 FS = 100.0

@@ -4,8 +4,8 @@ import json
 
 import numpy as np
 import pytest
-from gyrobench.scenarios.logs import read_csv_log
 
+from gyrobench.io.logs import read_csv_log
 from tests.scenarios.test_cli import assert_one_line_error, run
 
 FS = 200.0

@@ -17,8 +17,9 @@ import sys
 import textwrap
 
 import pytest
+
 from gyrobench.scenarios import registry
-from gyrobench.scenarios.cli import main
+from gyrobench.scenarios.cli.main import main
 
 #: an estimate may exceed the measured peak by at most this factor (each formula states its
 #: margin; this bounds how pessimistic it may be, so a feasible run is not refused)
@@ -188,9 +189,9 @@ def test_absurd_config_is_refused_in_one_line_before_allocating(
 
 
 def test_units_at_once_multiply_the_per_unit_estimate(tmp_path, capsys, monkeypatch):
-    from gyrobench.scenarios import units
+    from gyrobench.base import memory
     from gyrobench.scenarios.papers import p004_rlg_thermal as rlg_thermal
-    from gyrobench.sim import memory
+    from gyrobench.scenarios.runner import units
 
     est = rlg_thermal.memory_estimate(rlg_thermal.Config())  # ~250 MB
     monkeypatch.setenv(memory.LIMIT_ENV, str(int(1.5 * est)))
@@ -218,9 +219,9 @@ def test_units_at_once_multiply_the_per_unit_estimate(tmp_path, capsys, monkeypa
 def test_bench_workers_multiply_the_per_seed_estimate(tmp_path, monkeypatch):
     """A campaign on its own local pool refuses, before any seed starts, more seeds at once
     than fit: the same one check as reproduce (units.check_unit_memory)."""
+    from gyrobench.base.memory import MemoryLimitError
     from gyrobench.scenarios import bench
     from gyrobench.scenarios.papers import p004_rlg_thermal as rlg_thermal
-    from gyrobench.sim.memory import MemoryLimitError
 
     est = rlg_thermal.memory_estimate(rlg_thermal.Config())
     monkeypatch.setenv("GYROBENCH_MEMORY_LIMIT", str(int(1.5 * est / 0.8)))

@@ -16,8 +16,10 @@ import pickle
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
 from gyrobench.analysis.scale_factor import fit_scale_factor
+from gyrobench.base import units
 from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import evaluate
 from gyrobench.scenarios.papers import p001_mems_scale_factor as ms
@@ -25,7 +27,6 @@ from gyrobench.scenarios.papers.p001_mems_scale_factor.effects import deviation_
 from gyrobench.scenarios.papers.p001_mems_scale_factor.rate_table import dense_rates
 from gyrobench.scenarios.papers.p001_mems_scale_factor.results import MethodScore, RawAnalysis, UnitResult
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim import units
 from gyrobench.sim.mems_resonator import MemsResonator
 
 # the package's modules named like its functions (experiment, report): reach them by name

@@ -16,6 +16,7 @@ import math
 from pathlib import Path
 
 import pytest
+
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import Claim, Deviation, evaluate

@@ -7,9 +7,13 @@ import re
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_coil, checks_noise, checks_rlg, physics_checks, registry
-from gyrobench.scenarios.checks import CHECK_MODULES, collect
-from gyrobench.scenarios.report import write_report
+
+from gyrobench.scenarios import physics_checks, registry
+from gyrobench.scenarios.checks import coil as checks_coil
+from gyrobench.scenarios.checks import noise as checks_noise
+from gyrobench.scenarios.checks import rlg as checks_rlg
+from gyrobench.scenarios.checks.core import CHECK_MODULES, collect
+from gyrobench.scenarios.reports.report import write_report
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +79,7 @@ def test_every_check_cites_an_outside_reference(outcome):
 
 
 def test_a_check_without_a_reference_is_refused():
-    from gyrobench.scenarios.checks import Check
+    from gyrobench.scenarios.checks.core import Check
 
     with pytest.raises(ValueError, match="reference must be a non-empty string"):
         Check(id="x.y", formula="a = b", expected=1.0, simulated=1.0, tolerance=0.1, derivation="d", reference=" ")
@@ -113,11 +117,11 @@ def test_a_wrong_model_fails_the_noise_checks(monkeypatch):
 
 def test_a_wrong_winding_fails_the_shupe_checks(monkeypatch):
     """A (r, z) coil that winds 'quadrupolar' coils dipolar (AB instead of ABBA) is caught."""
-    from gyrobench.sim import coil2d
+    from gyrobench.sim import coil_winding
 
-    real = coil2d.winding_sequence
+    real = coil_winding.winding_sequence
     monkeypatch.setattr(
-        coil2d, "winding_sequence", lambda p, m: real("dipolar" if p == "quadrupolar" else p, m)
+        coil_winding, "winding_sequence", lambda p, m: real("dipolar" if p == "quadrupolar" else p, m)
     )
     res = {c.id: c.passed for c in checks_coil.checks(np.random.default_rng(0))}
     assert not res["coil.shupe_radial_quadrupolar"] and not res["coil.shupe_radial_cancellation_ratio"]
@@ -142,7 +146,7 @@ def test_collect_refuses_duplicate_ids():
     with pytest.raises(ValueError, match="check ids must be unique"):
         collect(
             np.random.default_rng(0),
-            ("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_fog"),
+            ("gyrobench.scenarios.checks.fog", "gyrobench.scenarios.checks.fog"),
         )
 
 
@@ -167,7 +171,7 @@ def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
     """The bar reports each module, or each part of a module with parts, as it finishes; the
     checks are those of a run without it, and those of the modules' own ``checks``."""
     cfg = physics_checks.Config(
-        modules=("gyrobench.scenarios.checks_fog", "gyrobench.scenarios.checks_rlg", "gyrobench.scenarios.checks_coil")
+        modules=("gyrobench.scenarios.checks.fog", "gyrobench.scenarios.checks.rlg", "gyrobench.scenarios.checks.coil")
     )
     plain = physics_checks.run_checks(cfg, 3)
     shown = physics_checks.run_checks(cfg, 3, progress=True)
@@ -183,7 +187,7 @@ def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
 @pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
 def test_parts_on_workers_equal_parts_in_process():
     """A module split in parts gives the same numbers on a pool as in process."""
-    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks_rlg",))
+    cfg = physics_checks.Config(modules=("gyrobench.scenarios.checks.rlg",))
     here = physics_checks.run_checks(cfg, 4)
     pooled = physics_checks.run_checks(cfg, 4, workers=2)
     assert [(c.id, c.simulated) for c in here] == [(c.id, c.simulated) for c in pooled]

@@ -5,14 +5,14 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-# Inner runs are in-process: pytester drops modules first imported inside them, and numpy's
-# extension modules cannot load twice in a process, so import what the inner tests use here.
-import gyrobench.scenarios.bench  # noqa: F401
 import pytest
 import scipy.stats  # noqa: F401
 import threadpoolctl  # noqa: F401
 import tqdm  # noqa: F401
 
+# Inner runs are in-process: pytester drops modules first imported inside them, and numpy's
+# extension modules cannot load twice in a process, so import what the inner tests use here.
+import gyrobench.scenarios.bench  # noqa: F401
 from tests.scenarios import toy_scenario  # noqa: F401
 
 pytest_plugins = ["pytester"]

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import pytest
-from gyrobench.scenarios import readme_table, registry
-from gyrobench.scenarios.cli import main
+
+from gyrobench.scenarios import registry
+from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.reports import readme_table
 
 
 @pytest.fixture

@@ -4,6 +4,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import pytest
+
 from gyrobench.scenarios import registry
 
 

@@ -8,10 +8,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from matplotlib.figure import Figure
+
 from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
 from gyrobench.scenarios.claims import Claim, Deviation, Precondition, above, evaluate, is_true, within_factor
-from gyrobench.scenarios.report import claim_tally, fmt, write_report
-from matplotlib.figure import Figure
+from gyrobench.scenarios.reports.report import claim_tally, fmt, write_report
 
 
 @dataclass(frozen=True)
@@ -119,7 +120,7 @@ def test_real_report_renders_in_a_browser(tmp_path):
     each: the report has the same sections, tables and figures as with the default 20 (which took
     ~160 s of the slow tier here); what 20 units add is claims' statistics, not rendering, and
     the CI's main job writes that full report anyway."""
-    from gyrobench.scenarios.cli import main
+    from gyrobench.scenarios.cli.main import main
 
     out = tmp_path / "rep"
     assert main(["reproduce", "mems_scale_factor", "rlg_thermal", "--units", "3", "-q", "--out", str(out)]) == 0
@@ -245,7 +246,7 @@ def test_paper_heading_cites_the_paper(monkeypatch, tmp_path):
 def test_results_keys_may_not_overwrite_the_runners_fields():
     from gyrobench.scenarios.base import Outcome
     from gyrobench.scenarios.claims import Deviation
-    from gyrobench.scenarios.report import outcome_json
+    from gyrobench.scenarios.reports.report import outcome_json
 
     o = Outcome(scenario="x", title="t", seed=0, config=None, results={"units": [1, 2]})
     o.claims, o.units = [], 3

@@ -13,15 +13,16 @@ import pickle
 
 import numpy as np
 import pytest
+
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.analysis.regressors import REGRESSOR_LABELS
+from gyrobench.base import units
 from gyrobench.scenarios import registry
 from gyrobench.scenarios.base import CompensationTask, Outcome
 from gyrobench.scenarios.claims import evaluate
 from gyrobench.scenarios.papers import p004_rlg_thermal as sc
 from gyrobench.scenarios.papers.p004_rlg_thermal.experiment import has_kinds
 from gyrobench.scenarios.papers.p004_rlg_thermal.report import _cross_unit_ratios
-from gyrobench.sim import units
 
 
 @pytest.fixture(scope="module")

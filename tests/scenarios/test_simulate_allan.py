@@ -9,10 +9,11 @@ ordinary and huge coefficients, and both file kinds; the slow tier draws them at
 from __future__ import annotations
 
 import pytest
-from gyrobench.scenarios.cli import main
-from gyrobench.sim.recording import FS_RANGE_HZ
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+
+from gyrobench.io.recording import FS_RANGE_HZ
+from gyrobench.scenarios.cli.main import main
 
 #: samples per record: enough for an Allan fit's five octave taus, small enough to be quick
 N_SAMPLES = 1000

@@ -1,4 +1,4 @@
-"""Tests of scenarios/units.py (the shared runner of paper scenarios) on a toy paper scenario."""
+"""Tests of scenarios/runner/units.py (the shared runner of paper scenarios) on a toy paper scenario."""
 
 from __future__ import annotations
 
@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import units
-from gyrobench.scenarios.claims import evaluate
 
+from gyrobench.scenarios.claims import evaluate
+from gyrobench.scenarios.runner import units
 from tests.scenarios import toy_paper as toy
 from tests.scenarios import toy_scenario
 
@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[2]
 _KILL_SCRIPT = """
 import sys
 sys.path.insert(0, {root!r})
-from gyrobench.scenarios import units
+from gyrobench.scenarios.runner import units
 from tests.scenarios import toy_paper as toy
 units.run_units(toy, toy.Config(sleep_s=0.05), n_units={n}, workers=2, db={db!r})
 """
@@ -186,8 +186,9 @@ def test_dask_localcluster_equals_local(tmp_path, monkeypatch):
     """Units on a dask.distributed cluster (the --scheduler path) give the local run's results."""
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
+
     from gyrobench.scenarios import registry
-    from gyrobench.scenarios.cli import main
+    from gyrobench.scenarios.cli.main import main
 
     ref = units.run_paper(toy, toy.Config(), n_units=6, workers=0, db=tmp_path / "ref.db")
     monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
@@ -211,7 +212,7 @@ def test_dask_localcluster_equals_local(tmp_path, monkeypatch):
 def test_a_config_variant_can_mark_a_claim_calibrated():
     """The runner judges claims_for(config) when a scenario defines it (paper 001's v_max variant)."""
     from gyrobench.scenarios.papers import p001_mems_scale_factor as ms
-    from gyrobench.scenarios.units import module_claims
+    from gyrobench.scenarios.runner.units import module_claims
 
     default = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="design"))}
     variant = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="calibrated"))}

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
 from gyrobench.scenarios.base import Outcome, Table
 from gyrobench.scenarios.claims import Claim, ClaimResult, Deviation, below, is_true, within_factor
 

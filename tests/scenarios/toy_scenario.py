@@ -21,11 +21,12 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 from sklearn.compose import ColumnTransformer
 from sklearn.linear_model import LinearRegression
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
+
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 
 NAME = "toy"
 TITLE = "Toy thermal bias (bench tests only)"

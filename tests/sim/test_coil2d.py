@@ -7,26 +7,29 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import checks_coil
-from gyrobench.sim import coil2d, units
-from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, Imperfections, fibre_map
+
+from gyrobench.base import units
+from gyrobench.scenarios.checks import coil as checks_coil
+from gyrobench.sim import coil_materials, coil_pack
+from gyrobench.sim.coil2d import Coil2D, Coil2DSpec
+from gyrobench.sim.coil_winding import Imperfections, fibre_map
 
 
 def test_silica_dn_dT_matches_published_value():
     # Leviton-Frey Sellmeier at 293 K, 1.55 um: 8.16e-6 /K (Corning 7980)
-    assert float(coil2d.silica_dn_dT(293.0)) == pytest.approx(8.16e-6, abs=0.01e-6)
+    assert float(coil_materials.silica_dn_dT(293.0)) == pytest.approx(8.16e-6, abs=0.01e-6)
     # its slope over -10..40 degC is ~2e-8 /K^2 (docs/physics.md 3.7: 2.0-2.3e-8)
-    s = (coil2d.silica_dn_dT(313.15) - coil2d.silica_dn_dT(263.15)) / 50.0
+    s = (coil_materials.silica_dn_dT(313.15) - coil_materials.silica_dn_dT(263.15)) / 50.0
     assert 1.8e-8 < float(s) < 2.4e-8
     with pytest.raises(ValueError, match="temperature"):
-        coil2d.silica_dn_dT(400.0)
+        coil_materials.silica_dn_dT(400.0)
 
 
 def test_maxwell_limits():
-    assert coil2d.maxwell_conductivity(1.38, 0.2, 0.0) == pytest.approx(0.2)
-    assert coil2d.maxwell_conductivity(0.2, 0.2, 0.7) == pytest.approx(0.2)
+    assert coil_pack.maxwell_conductivity(1.38, 0.2, 0.0) == pytest.approx(0.2)
+    assert coil_pack.maxwell_conductivity(0.2, 0.2, 0.7) == pytest.approx(0.2)
     with pytest.raises(ValueError, match="phi"):
-        coil2d.maxwell_conductivity(1.0, 0.2, 1.0)
+        coil_pack.maxwell_conductivity(1.0, 0.2, 1.0)
 
 
 def test_fibre_length_per_layer_proportional_to_radius():
@@ -66,8 +69,8 @@ def test_quadrupole_cancels_radial_gradient_better_than_helical():
 
 def test_composite_cylinder_equal_properties_is_free_expansion():
     a = 23e-6
-    pack = coil2d.PackProperties(1, 1, 1, E_t=70e9, E_r=70e9, nu_tr=0.33, alpha_t=a, alpha_r=a)
-    eps, p = coil2d.composite_cylinder_strain(
+    pack = coil_pack.PackProperties(1, 1, 1, E_t=70e9, E_r=70e9, nu_tr=0.33, alpha_t=a, alpha_r=a)
+    eps, p = coil_pack.composite_cylinder_strain(
         np.array([0.048, 0.052]),
         bore=0.035,
         inner=0.0472,
@@ -162,7 +165,7 @@ def test_txdt_uses_material_slopes_not_a_constant():
         coating=dataclasses.replace(spec.coating, cte_slope=0.0),
     )
     _, b1_flat = flat.beta_coefficients(r)
-    dn = (coil2d.silica_dn_dT(spec.t_hi) - coil2d.silica_dn_dT(spec.t_lo)) / (spec.t_hi - spec.t_lo)
+    dn = (coil_materials.silica_dn_dT(spec.t_hi) - coil_materials.silica_dn_dT(spec.t_lo)) / (spec.t_hi - spec.t_lo)
     assert float(b1_flat[0]) == pytest.approx(float(dn), rel=1e-9)
     assert float(b1[0]) > float(b1_flat[0])
     assert units.ZERO_CELSIUS < spec.t_ref
@@ -210,7 +213,7 @@ def test_orthotropic_composite_cylinder_satisfies_its_equations():
     Es, nus, als = spec.spool.youngs_modulus, spec.spool.poisson, float(spec.spool.alpha(293.15))
 
     def u(r):
-        eps, _ = coil2d.composite_cylinder_strain(
+        eps, _ = coil_pack.composite_cylinder_strain(
             np.atleast_1d(r),
             bore=a,
             inner=b,
@@ -231,7 +234,7 @@ def test_orthotropic_composite_cylinder_satisfies_its_equations():
         er, et = du - pack.alpha_r, u(r) / r - pack.alpha_t
         return C[0, 0] * er + C[0, 1] * et, C[0, 1] * er + C[1, 1] * et
 
-    _, p = coil2d.composite_cylinder_strain(
+    _, p = coil_pack.composite_cylinder_strain(
         np.array([b]),
         bore=a,
         inner=b,
@@ -260,7 +263,7 @@ def test_aluminium_expansion_follows_its_two_cited_sources():
     """ALUMINIUM's alpha(T_REF) is the derivative of NIST's 6061-T6 expansion fit (checked here
     by a central difference of the fit itself), and its slope carries it to the Aluminum
     Association's mean 23.6e-6 /K over 20-100 degC at that range's midpoint (60 degC)."""
-    a, b, c, d = coil2d.NIST_6061_EXPANSION
+    a, b, c, d = coil_materials.NIST_6061_EXPANSION
 
     def strain(T):
         return (a + b * T + c * T**2 + d * T**3) * 1e-5
@@ -268,16 +271,16 @@ def test_aluminium_expansion_follows_its_two_cited_sources():
     h = 0.01
     fd = (strain(293.15 + h) - strain(293.15 - h)) / (2 * h)
     # central-difference truncation of a cubic: d 1e-5 h^2 exactly; rounding ~1e-17
-    assert abs(coil2d.ALUMINIUM.cte - fd) < abs(d) * 1e-5 * h * h + 1e-16
-    assert abs(float(coil2d.ALUMINIUM.alpha(333.15)) - 23.6e-6) < 1e-15
+    assert abs(coil_materials.ALUMINIUM.cte - fd) < abs(d) * 1e-5 * h * h + 1e-16
+    assert abs(float(coil_materials.ALUMINIUM.alpha(333.15)) - 23.6e-6) < 1e-15
 
 
 def test_silica_expansion_slope_lies_within_its_verified_bound():
     """alpha(300 K) is Crystran's 0.55e-6 /K, and the (unverified) Hahn & Kirby slope lies
     between 0 and the secant from the minimum-length temperature (~193 K, Souder & Hidnert)."""
-    lo, hi = coil2d.SILICA_CTE_SLOPE_BOUNDS
-    assert lo <= coil2d.SILICA.cte_slope <= hi
-    assert abs(float(coil2d.SILICA.alpha(300.0)) - 0.55e-6) < 1e-18
+    lo, hi = coil_materials.SILICA_CTE_SLOPE_BOUNDS
+    assert lo <= coil_materials.SILICA.cte_slope <= hi
+    assert abs(float(coil_materials.SILICA.alpha(300.0)) - 0.55e-6) < 1e-18
     assert abs(hi - 0.55e-6 / (300.0 - 193.15)) < 1e-18
 
 

@@ -19,7 +19,8 @@ Sources read for this test (public pages):
 from __future__ import annotations
 
 import pytest
-from gyrobench.sim import coil2d
+
+from gyrobench.sim import coil_materials
 
 
 def _half_ulp(decimals: int) -> float:
@@ -29,20 +30,20 @@ def _half_ulp(decimals: int) -> float:
 
 def test_aluminium_6061_expansion_fit_is_nists_printed_one():
     """NIST 6061-T6 expansion fit: a -4.1277E2, b -3.0389E-1, c 8.7696E-3, d -9.9821E-6 (x1e-5)."""
-    assert coil2d.NIST_6061_EXPANSION == (-4.1277e2, -3.0389e-1, 8.7696e-3, -9.9821e-6)
+    assert coil_materials.NIST_6061_EXPANSION == (-4.1277e2, -3.0389e-1, 8.7696e-3, -9.9821e-6)
     # alpha = d/dT of the fit; at 293 K NIST's fit gives 22.6e-6 /K (fit error 4 %)
-    alpha = coil2d.nist_6061_alpha(293.15)
+    alpha = coil_materials.nist_6061_alpha(293.15)
     assert alpha == pytest.approx(22.64e-6, abs=0.01e-6)
-    assert coil2d.ALUMINIUM.cte == pytest.approx(alpha, rel=1e-12)
+    assert coil_materials.ALUMINIUM.cte == pytest.approx(alpha, rel=1e-12)
 
 
 @pytest.mark.parametrize(
     ("name", "model", "printed", "decimals"),
     [
-        ("Young's modulus [GPa]", coil2d.SILICA.youngs_modulus / 1e9, 73.0, 0),
-        ("Poisson's ratio [-]", coil2d.SILICA.poisson, 0.17, 2),
-        ("thermal conductivity [W/(m K)]", coil2d.SILICA.conductivity, 1.4, 1),
-        ("thermal expansion at 20 degC [um/(m K)]", coil2d.SILICA.cte * 1e6, 0.5, 1),
+        ("Young's modulus [GPa]", coil_materials.SILICA.youngs_modulus / 1e9, 73.0, 0),
+        ("Poisson's ratio [-]", coil_materials.SILICA.poisson, 0.17, 2),
+        ("thermal conductivity [W/(m K)]", coil_materials.SILICA.conductivity, 1.4, 1),
+        ("thermal expansion at 20 degC [um/(m K)]", coil_materials.SILICA.cte * 1e6, 0.5, 1),
     ],
 )
 def test_fused_silica_agrees_with_makeitfrom_printed_values(name, model, printed, decimals):
@@ -65,7 +66,7 @@ def test_fused_silica_heat_capacity_differs_from_makeitfrom_by_the_stated_amount
     """
     source_cp, source_rho = 720.0, 2.2e3  # J/(kg K), kg/m^3 (2.2 g/cm^3)
     model_rho, model_cp = 2203.0, 703.0  # Crystran, as the model states them
-    assert coil2d.SILICA.volumetric_heat_capacity == pytest.approx(model_rho * model_cp, rel=1e-12)
+    assert coil_materials.SILICA.volumetric_heat_capacity == pytest.approx(model_rho * model_cp, rel=1e-12)
     assert abs(model_rho - source_rho) <= 50.0  # half a unit of the printed 0.1 g/cm^3
     assert model_cp / source_cp - 1 == pytest.approx(-0.0236, abs=5e-4)  # the stated disagreement
 
@@ -74,7 +75,8 @@ def test_si_defining_constants_are_the_printed_exact_values():
     """The SI Brochure, 9th ed. (BIPM 2019), Table 1 prints the defining constants exactly:
     c = 299 792 458 m/s, e = 1.602 176 634 x 10^-19 C, k = 1.380 649 x 10^-23 J/K. They set the
     Sagnac scale factor, the shot noise and the Johnson noise of every optical model."""
-    from gyrobench.sim import fog_optics, rlg_cavity, units
+    from gyrobench.base import units
+    from gyrobench.sim import fog_optics, rlg_cavity
 
     assert units.SPEED_OF_LIGHT == 299_792_458.0  # m/s
     assert units.ELEMENTARY_CHARGE == 1.602176634e-19  # C

@@ -4,7 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import earth, units
+
+from gyrobench.base import units
+from gyrobench.sim import earth
 
 EPS = float(np.finfo(float).eps)
 

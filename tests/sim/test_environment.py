@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, rate_steps, thermal_profile
 
 

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.sim.fiber_strain import (
     ELASTO_OPTIC_FACTOR,
     StrainMode,

@@ -2,23 +2,29 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
-from gyrobench.sim import coil2d, units
+
+from gyrobench.base import units
+from gyrobench.sim import coil2d
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit, TemperatureSensorSpec
 from gyrobench.sim.fog_loop import sagnac_scale_factor
+from gyrobench.sim.sensor import Environment
 
 PROFILE = thermal_profile(
     units.celsius(-10.0),
     [Soak(duration=1800.0), Ramp(target=units.celsius(40.0), rate=1 / 60), Soak(duration=1800.0)],
 )
 SPEC = FOG2DSpec(coil=coil2d.Coil2DSpec(grid_pack_r=4, grid_pack_z=4))
+ENV = Environment(PROFILE.duration, temperature=PROFILE)
 
 
 def test_recording_layout_and_sum():
     unit = SPEC.realize(rng=np.random.default_rng(0))
-    rec = unit.simulate(PROFILE, fs=0.1, rng=np.random.default_rng(1))
+    rec = unit.simulate(ENV, fs=0.1, rng=np.random.default_rng(1))
     for ch in (
         "rate",
         "coil_temperature",
@@ -49,11 +55,9 @@ def test_scale_factor_uses_the_mapped_fibre():
 
 
 def test_deterministic_in_seed():
-    a = SPEC.realize(rng=np.random.default_rng(4)).simulate(
-        PROFILE, fs=0.1, rng=np.random.default_rng(5)
+    a = SPEC.realize(rng=np.random.default_rng(4)).simulate(ENV, fs=0.1, rng=np.random.default_rng(5)
     )
-    b = SPEC.realize(rng=np.random.default_rng(4)).simulate(
-        PROFILE, fs=0.1, rng=np.random.default_rng(5)
+    b = SPEC.realize(rng=np.random.default_rng(4)).simulate(ENV, fs=0.1, rng=np.random.default_rng(5)
     )
     np.testing.assert_array_equal(a["rate"], b["rate"])
     np.testing.assert_array_equal(a["coil_temperature"], b["coil_temperature"])
@@ -66,9 +70,9 @@ def test_bad_input():
         FOG2DSpec(thermal_step=0.0)
     unit = FOG2DUnit(spec=SPEC, coil=coil2d.Coil2D(spec=SPEC.coil))
     with pytest.raises(ValueError, match="fs"):
-        unit.simulate(PROFILE, fs=0.0, rng=np.random.default_rng(0))
+        unit.simulate(ENV, fs=0.0, rng=np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng"):
-        unit.simulate(PROFILE, fs=1.0, rng=3)
+        unit.simulate(ENV, fs=1.0, rng=3)
     with pytest.raises(TypeError, match="PiecewiseLinear"):
         unit.thermal_response([0, 1])
 
@@ -81,7 +85,8 @@ def test_the_output_is_the_closed_loop_fogs():
     assert isinstance(unit.fog, ClosedLoopFOG)
     fm = unit.coil.fibre()
     assert unit.fog.loop.length == fm.length and unit.fog.loop.diameter == fm.diameter
-    rec = unit.simulate(PROFILE, fs=0.1, rng=np.random.default_rng(3), true_rate=1e-3)
+    rec = unit.simulate(replace(ENV, true_rate=1e-3), fs=0.1, rng=np.random.default_rng(3)
+    )
     run = unit.thermal_response(PROFILE)
     t = rec.time + 5.0  # block centres
     np.testing.assert_allclose(

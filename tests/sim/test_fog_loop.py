@@ -4,10 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy import signal
+
+from gyrobench.base import units
 from gyrobench.sim.fog_loop import LoopSpec, gain_error_scale_factor, run_loop
 from gyrobench.sim.fog_optics import OpticalBudget
-from scipy import signal
+from gyrobench.sim.sensor import Environment
 
 EPS = float(np.finfo(float).eps)
 
@@ -131,7 +133,7 @@ def test_reduced_unit_uses_the_gain_error_scale_factor(rng):
     loop = LoopSpec(modulator_gain_error=0.02, gain_loop=False)
     unit = ClosedLoopFOG(loop=loop, modes=(), optics=OpticalBudget(source_power=1e3))
     om = 1.0
-    rec = unit.simulate(1.0, 400.0, rng=rng, true_rate=om)
+    rec = unit.simulate(Environment(1.0, true_rate=om), fs=400.0, rng=rng)
     true = om + unit.earth_rate
     expected = true * (gain_error_scale_factor(loop.scale_factor * true, 0.02) - 1)
     np.testing.assert_allclose(rec["truth/scale_factor_error"], expected, rtol=1e-12)
@@ -140,8 +142,9 @@ def test_reduced_unit_uses_the_gain_error_scale_factor(rng):
 def test_vibration_span_is_widened_to_a_5_smooth_transform_length():
     """The vibration span is padded to a block count whose sample count factors into 2, 3, 5 (a
     prime-sized FFT is ~10x slower); it never shrinks and never exceeds the record."""
-    from gyrobench.sim.fog_loop import _smooth_blocks
     from scipy.fft import next_fast_len
+
+    from gyrobench.sim.fog_loop import _smooth_blocks
 
     k = _smooth_blocks(120766, 8, 600000)
     assert k >= 120766 and next_fast_len(k * 8, real=True) == k * 8
@@ -152,7 +155,7 @@ def test_default_budget_arw_is_the_documented_worked_example():
     """docs/physics.md 3.8's worked example, N = sqrt(S_phi/2)/SF with S_phi from the budget
     (its terms checked in checks_fog_loop: fog.optical_budget_*), is 1.323e-3 deg/sqrt(h) at
     phi_b = pi/2, RIN-limited with RIN/shot = 75.0 (one-sided polarised RIN 2/dnu_eff, issue 26)."""
-    from gyrobench.scenarios.checks_fog_loop import _optical_budget
+    from gyrobench.scenarios.checks.fog_loop import _optical_budget
     from gyrobench.sim.fog_loop import ClosedLoopFOG
 
     for c in _optical_budget(np.random.default_rng(0)):

@@ -6,7 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy.integrate import quad
+
+from gyrobench.base import units
 from gyrobench.sim.fiber_strain import (
     StrainMode,
     linear_kernel,
@@ -15,7 +17,7 @@ from gyrobench.sim.fiber_strain import (
 )
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, gain_error_scale_factor
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget
-from scipy.integrate import quad
+from gyrobench.sim.sensor import Environment
 
 L, NG = 1000.0, 1.468
 
@@ -96,8 +98,7 @@ def test_nonreciprocal_input_passes_the_loop_unscaled(rng):
     def nr(t):
         return 1e-6 * np.sin(2 * np.pi * t / 50.0)
 
-    rec = unit.simulate(
-        100.0, 10.0, rng=rng, true_rate=1e-3, coil_temperature=313.15, nonreciprocal_rate=nr
+    rec = unit._record(100.0, 10.0, rng=rng, true_rate=1e-3, coil_temperature=313.15, nonreciprocal_rate=nr
     )
     t = rec.time + 0.05
     np.testing.assert_allclose(rec["truth/nonreciprocal"], nr(t), rtol=0, atol=1e-20)
@@ -113,7 +114,7 @@ def test_nonreciprocal_input_shares_the_gain_error_ratio(rng):
     unit = ClosedLoopFOG(
         modes=(), loop=LoopSpec(gain_loop=False, modulator_gain_error=eps, reset_blanking=True)
     )
-    rec = unit.simulate(10.0, 10.0, rng=rng, nonreciprocal_rate=1e-5)
+    rec = unit._record(10.0, 10.0, rng=rng, nonreciprocal_rate=1e-5)
     r_g = float(gain_error_scale_factor(0.0, eps, reset_blanking=True)[()])
     slow = unit.earth_rate
     got = rec["rate"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
@@ -132,8 +133,9 @@ def test_uniform_strain_rate_cancels_exactly(f):
 def test_random_vibration_record_variance_matches_the_closed_form(rng, term, channel):
     # a second configuration besides the physics check: output 400 Hz (little aliasing),
     # 30 s of a flat 20-1500 Hz PSD; chi-square band with nu = 2 B_e T at 1e-6 two-sided
-    from gyrobench.sim.shaker import RandomVibration
     from scipy import stats
+
+    from gyrobench.sim.shaker import RandomVibration
 
     unit = ClosedLoopFOG()
     rv = RandomVibration(breakpoints=((20.0, 0.02), (1500.0, 0.02)), duration=30.0)
@@ -147,7 +149,7 @@ def test_random_vibration_record_variance_matches_the_closed_form(rng, term, cha
     fo, sy = unit.vibration_error_psd(psd, fs, 1500.0, term=term)
     nu = 2.0 * 30.0 * np.trapezoid(sy, fo) ** 2 / np.trapezoid(sy**2, fo)
     sh = rv.sample(8 * fs, rng=rng)
-    y = unit.simulate(30.0, fs, rng=rng, shaker=sh)[f"truth/{channel}"]
+    y = unit.simulate(Environment(30.0, vibration=sh), fs=fs, rng=rng)[f"truth/{channel}"]
     ratio = float(np.mean(y**2)) / var
     lo, hi = stats.chi2.ppf(5e-7, nu) / nu, stats.chi2.isf(5e-7, nu) / nu
     assert lo < ratio < hi

@@ -16,8 +16,9 @@ import math
 
 import numpy as np
 import pytest
+
+from gyrobench.base.units import SPEED_OF_LIGHT
 from gyrobench.sim.fog_optics import OpticalBudget
-from gyrobench.sim.units import SPEED_OF_LIGHT
 
 
 def _thermal_intensity(rng: np.random.Generator, n: int, dnu: float, modes: int) -> np.ndarray:

@@ -8,9 +8,10 @@ import zlib
 
 import numpy as np
 import pytest
+from scipy import stats
+
 from gyrobench.sim.fog2d import TemperatureSensorSpec
 from gyrobench.sim.fog_loop import sagnac_scale_factor
-from scipy import stats
 
 
 @pytest.fixture

@@ -4,13 +4,15 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy import stats
+
+from gyrobench.base import units
 from gyrobench.sim.earth import sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec, loop_average, run_loop
 from gyrobench.sim.fog_optics import OpticalBudget
+from gyrobench.sim.sensor import Environment
 from gyrobench.sim.shaker import FixedSine
-from scipy import stats
 
 ALPHA = 1e-6  # false-alarm rate of every statistical bound below
 Z = stats.norm.isf(ALPHA / 2)  # two-sided normal quantile (5.33)
@@ -23,7 +25,7 @@ def _chi2_bounds(dof: float) -> tuple[float, float]:
 def test_reduced_arw_matches_optical_budget(rng):
     unit = ClosedLoopFOG(modes=())
     fs, dur = 400.0, 900.0
-    rec = unit.simulate(dur, fs, rng=rng)
+    rec = unit.simulate(Environment(dur), fs=fs, rng=rng)
     noise = rec["rate"] - rec["truth/rate"]
     np.testing.assert_allclose(noise, rec["truth/optical_noise"], rtol=0, atol=1e-20)
     # 1 s angle increments: var = N^2 * 1 s (1 - c/(400 M)), c/(400 M) ~ 4e-5 (neglected)
@@ -125,7 +127,7 @@ def test_strain_tone_follows_closed_form(rng):
     k = unit.strain_coefficient()
     for f in (1.0, 37.5, 150.0, 300.0, 500.0):
         sh = FixedSine(frequency=f, duration=dur, acceleration=a0).sample(kp * fs, rng=rng)
-        rec = unit.simulate(dur, fs, rng=rng, shaker=sh)
+        rec = unit.simulate(Environment(dur, vibration=sh), fs=fs, rng=rng)
         y = rec["truth/strain_nonreciprocity"]
         w = 2 * np.pi * f
         cf = k * mode.strain * mode.weight * w * a0 * abs(mode.response(f)[()])
@@ -142,7 +144,7 @@ def test_strain_tone_follows_closed_form(rng):
 def test_one_hz_two_g_error_below_0p1_deg_h(rng):
     unit = ClosedLoopFOG()
     sh = FixedSine(frequency=1.0, duration=20.0, acceleration=units.g(2.0)).sample(3200.0, rng=rng)
-    rec = unit.simulate(20.0, 400.0, rng=rng, shaker=sh)
+    rec = unit.simulate(Environment(20.0, vibration=sh), fs=400.0, rng=rng)
     err = rec["truth/strain_nonreciprocity"] + rec["truth/rectification"] + rec["truth/loop_error"]
     assert units.to_deg_per_h(np.max(np.abs(err))) < 0.1
     # nothing else: output - true rate - optical noise is that error
@@ -155,7 +157,7 @@ def test_earth_rate_and_scale_factor_tempco(rng):
     assert unit.earth_rate == float(sensed_earth_rate(unit.latitude))
     om = units.deg_per_s(10.0)
     tc = lambda t: unit.reference_temperature + 0.01 * t  # noqa: E731
-    rec = unit.simulate(100.0, 100.0, rng=rng, true_rate=om, coil_temperature=tc)
+    rec = unit._record(100.0, 100.0, rng=rng, true_rate=om, coil_temperature=tc)
     true = om + unit.earth_rate
     np.testing.assert_allclose(rec["truth/rate"], true, rtol=1e-15)
     expected = true * unit.scale_factor_ratio(tc(rec.time + 0.005), unit.reference_temperature)
@@ -177,9 +179,9 @@ def test_bad_inputs():
         sh = FixedSine(frequency=10.0, duration=1.0, acceleration=1.0).sample(
             1000.0, rng=np.random.default_rng(0)
         )
-        unit.simulate(1.0, 400.0, rng=np.random.default_rng(0), shaker=sh)
+        unit.simulate(Environment(1.0, vibration=sh), fs=400.0, rng=np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng must be"):
-        ClosedLoopFOG().simulate(1.0, 400.0, rng=None)
+        ClosedLoopFOG().simulate(Environment(1.0), fs=400.0, rng=None)
 
 
 def test_rectification_matches_full_loop_with_loss_modulation():
@@ -225,7 +227,7 @@ def test_vibration_span_equals_whole_record_transform(rng):
         static_after=6.0,
     )
     sh = ph.sample(kp * fs, rng=rng)
-    rec = unit.simulate(ph.duration, fs, rng=rng, shaker=sh)
+    rec = unit.simulate(Environment(ph.duration, vibration=sh), fs=fs, rng=rng)
     f = np.fft.rfftfreq(len(sh.acceleration), 1 / sh.fs)
     big_a = np.fft.rfft(sh.acceleration)
     whole = loop_average(
@@ -243,7 +245,7 @@ def test_truth_parts_sum_to_the_output(rng):
         noise=NoiseModel.from_datasheet(bias_instability=0.003, rate_random_walk=0.0005, bias=0.05)
     )
     sh = FixedSine(frequency=290.0, duration=5.0, acceleration=units.g(2.0)).sample(3200.0, rng=rng)
-    rec = unit.simulate(5.0, 400.0, rng=rng, true_rate=0.01, shaker=sh)
+    rec = unit.simulate(Environment(5.0, true_rate=0.01, vibration=sh), fs=400.0, rng=rng)
     parts = [
         "rate",
         "scale_factor_error",
@@ -274,7 +276,7 @@ def test_integrate_and_dump_has_no_dc_error_at_multiples_of_the_output_rate(rng)
     sh = FixedSine(frequency=2 * fs, duration=5.0, acceleration=units.g(2.0)).sample(
         8 * fs, rng=rng
     )
-    rec = unit.simulate(5.0, fs, rng=rng, shaker=sh)
+    rec = unit.simulate(Environment(5.0, vibration=sh), fs=fs, rng=rng)
     peak = mode.rocking * 2 * np.pi * 2 * fs * units.g(2.0) * abs(mode.response(2 * fs)[()])
     assert np.max(np.abs(rec["truth/rocking_rate"])) < 1e-9 * peak
     assert np.max(np.abs(rec["truth/loop_error"])) < 1e-9 * peak

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.sim.mems_nonlinear import DuffingSense, RateTransfer, duffing_normalized, rapp, rapp_inverse
 
 DEG = math.pi / 180.0

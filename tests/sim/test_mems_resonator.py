@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
     MemsResonator,
@@ -25,8 +26,8 @@ from gyrobench.sim.mems_resonator import (
     rate_authority,
     rate_table,
     saturated_output,
-    simulate,
     simulate_full,
+    slow_flow,
     zero_rate_output,
 )
 
@@ -41,7 +42,7 @@ def _quiet(**kw) -> MemsResonator:
 
 
 def _settled(unit, rates, temperature=None):
-    res = simulate(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
+    res = slow_flow(unit, np.tile(rates, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
                    temperature=temperature, noise=False, adc=False, flicker=False)
     return res.output[-1]
 
@@ -236,7 +237,7 @@ def test_plus_minus_tenth_deg_per_s_reads_within_the_noise(rng):
                          pickoff_noise=1e-13, bias_instability=0.0)
     fs, dur = 200.0, 20.0
     w = units.deg_per_s(0.1)
-    res = simulate(unit, np.tile([w, -w, 0.0], (int(dur * fs), 1)), fs=fs, rng=rng)
+    res = slow_flow(unit, np.tile([w, -w, 0.0], (int(dur * fs), 1)), fs=fs, rng=rng)
     zro = zero_rate_output(unit)
     sf = low_rate_scale_factor(unit)
     n = math.hypot(brownian_arw(unit), electronic_arw(unit)) * sf
@@ -252,7 +253,7 @@ def test_slow_flow_noise_level_matches_the_closed_form(rng):
     unit = _quiet(quadrature_coupling=1e-4)
     fs, cols, dur, block = 200.0, 16, 100.0, 1.0
     n = int(dur * fs)
-    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     m = int(block * fs)
     means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
     n_hat = math.sqrt(np.mean(means**2) * block)
@@ -274,7 +275,7 @@ def test_noise_level_holds_at_output_rates_far_below_the_loop(fs, rng):
     Van Loan product alone gave 48x (8 Hz) to ~9000x (2 Hz) the closed form."""
     unit = _quiet(quadrature_coupling=1e-4)
     cols, n = 16, 1000
-    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     means = res.output - zero_rate_output(unit)
     n_hat = math.sqrt(np.mean(means**2) / fs)
     n_cf = math.hypot(brownian_arw(unit), electronic_arw(unit))
@@ -302,7 +303,7 @@ def test_brownian_arw_scales_with_mass_q_temperature_amplitude_frequency(kw, rng
     unit = _quiet(pickoff_noise=0.0, **kw)
     fs, cols, dur, block = 200.0, 16, 100.0, 1.0
     n = int(dur * fs)
-    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     m = int(block * fs)
     means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
     n_hat = math.sqrt(np.mean(means**2) * block) / low_rate_scale_factor(unit)
@@ -320,7 +321,7 @@ def test_brownian_arw_scales_with_mass_q_temperature_amplitude_frequency(kw, rng
 
 def test_quantization_and_range(rng):
     unit = MemsResonator(pickoff_noise=0.0)
-    res = simulate(unit, np.full(50, 2.0 * unit.output_range), fs=200.0, rng=rng)
+    res = slow_flow(unit, np.full(50, 2.0 * unit.output_range), fs=200.0, rng=rng)
     q = unit.resolution
     assert np.all(np.abs(res.output) <= unit.output_range)
     np.testing.assert_allclose(res.output / q, np.round(res.output / q), atol=1e-9)
@@ -330,8 +331,8 @@ def test_quantization_and_range(rng):
 def test_seed_gives_bit_identical_output():
     unit = MemsResonator(bias_instability=units.deg_per_h(20.0))
     w = np.linspace(0, 1, 300)
-    a = simulate(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
-    b = simulate(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
+    a = slow_flow(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
+    b = slow_flow(unit, w, fs=200.0, rng=np.random.default_rng(7)).output
     assert np.array_equal(a, b) and a.shape == (300,)
 
 
@@ -459,7 +460,7 @@ def test_wrong_kinds_raise_type_error():
     with pytest.raises(TypeError, match="mass must be a real number"):
         MemsResonator(mass="2e-9")
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
-        simulate(MemsResonator(), [0.0], fs=200.0, rng=1)
+        slow_flow(MemsResonator(), [0.0], fs=200.0, rng=1)
     with pytest.raises(TypeError, match="nominal must be a MemsResonator"):
         MemsResonatorSpec(nominal=1)
 
@@ -471,9 +472,9 @@ def test_unstable_loop_is_refused():
 
 def test_bad_rate_input():
     with pytest.raises(ValueError, match="rate must be a finite"):
-        simulate(MemsResonator(), [0.0, np.nan], fs=200.0, rng=np.random.default_rng(0))
+        slow_flow(MemsResonator(), [0.0, np.nan], fs=200.0, rng=np.random.default_rng(0))
     with pytest.raises(ValueError, match="fs must be > 0"):
-        simulate(MemsResonator(), [0.0], fs=0.0, rng=np.random.default_rng(0))
+        slow_flow(MemsResonator(), [0.0], fs=0.0, rng=np.random.default_rng(0))
     with pytest.raises(ValueError, match="steps_per_cycle"):
         simulate_full(MemsResonator(), [0.0], duration=0.01, rng=np.random.default_rng(0),
                       steps_per_cycle=4)
@@ -512,7 +513,7 @@ def test_g_sensitivity_is_the_quadrature_leak_of_the_cross_stiffness(theta):
     assert gs == pytest.approx(expected, rel=1e-9, abs=1e-18)
     # the slow flow with a specific-force profile: +-5 g and 0 at zero rate
     f = np.array([5 * G0, -5 * G0, 0.0])
-    res = simulate(unit, np.zeros((40, 3)), fs=1000.0, rng=np.random.default_rng(0),
+    res = slow_flow(unit, np.zeros((40, 3)), fs=1000.0, rng=np.random.default_rng(0),
                    noise=False, adc=False, flicker=False, specific_force=np.tile(f, (40, 1)))
     zro = zero_rate_output(unit)
     np.testing.assert_allclose(res.output[-1], zro + gs * f, rtol=0,
@@ -526,8 +527,9 @@ def test_default_population_g_sensitivity_size():
     (dk_yx/df) g / (2 m w); the chi-square bounds of an rms of 400 draws at 1e-6 (the other
     drawn parameters move m, w, k_y by a few % -> 10 % allowance).
     """
-    from gyrobench.sim.mems_resonator import electrostatic_cross_stiffness, g_sensitivity
     from scipy import stats
+
+    from gyrobench.sim.mems_resonator import electrostatic_cross_stiffness, g_sensitivity
 
     spec = MemsResonatorSpec(nominal=_quiet())
     rng = np.random.default_rng(11)
@@ -543,7 +545,7 @@ def test_default_population_g_sensitivity_size():
 
 def test_bad_specific_force_shape():
     with pytest.raises(ValueError, match="specific_force must broadcast"):
-        simulate(MemsResonator(), np.zeros((10, 2)), fs=200.0, rng=np.random.default_rng(0),
+        slow_flow(MemsResonator(), np.zeros((10, 2)), fs=200.0, rng=np.random.default_rng(0),
                  specific_force=np.zeros(3))
 
 
@@ -605,7 +607,7 @@ def test_open_loop_frequency_response_closed_form():
         per = int(round(fs / f))
         nset, nrec = int(0.05 * fs), per * max(1, int(round(0.05 * f)))
         t = np.arange(nset + nrec) * h
-        res = simulate(unit, amp * np.cos(2 * np.pi * f * t), fs=fs, rng=np.random.default_rng(0),
+        res = slow_flow(unit, amp * np.cos(2 * np.pi * f * t), fs=fs, rng=np.random.default_rng(0),
                        noise=False, adc=False, flicker=False)
         y, tt = res.output[nset:] - zero_rate_output(unit), t[nset:]
         a = np.stack([np.cos(2 * np.pi * f * tt), -np.sin(2 * np.pi * f * tt)], axis=1)
@@ -644,7 +646,7 @@ def test_open_loop_noise_level_matches_the_force_rebalance_closed_form(rng):
     unit = _open(quadrature_coupling=1e-4)
     fs, cols, dur, block = 200.0, 16, 100.0, 1.0
     n = int(dur * fs)
-    res = simulate(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
+    res = slow_flow(unit, np.zeros((n, cols)), fs=fs, rng=rng, adc=False, flicker=False)
     m = int(block * fs)
     means = res.output.reshape(n // m, m, cols).mean(axis=1) - zero_rate_output(unit)
     n_hat = math.sqrt(np.mean(means**2) * block) / low_rate_scale_factor(unit)
@@ -705,18 +707,15 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
     closed form sampled at fs (aliasing, interval mean, rectangular-window leakage), band by
     band from 17 Hz to Nyquist; chi-square bounds with the closed-form equivalent dof at
     1e-6 two-sided, Bonferroni over the 15 bands."""
-    from gyrobench.scenarios.checks_mems_psd import (
-        _PSD_GRID,
-        periodogram_band_stats,
-        slow_noise_spectrum,
-    )
     from scipy import stats
+
+    from gyrobench.scenarios.checks.mems_psd import _PSD_GRID, periodogram_band_stats, slow_noise_spectrum
 
     # a quiet front end, so the Brownian peak this test resolves stands out (the default
     # pick-off noise is sized for a high-range part and is white)
     unit = _open(quadrature_coupling=1e-4, phase_error=0.02, pickoff_noise=1e-13)
     fs, n, cols, n_seg = 3000.0, 180, 32, 200
-    res = simulate(unit, np.zeros(((n_seg + 1) * n, cols)), fs=fs, rng=rng, adc=False,
+    res = slow_flow(unit, np.zeros(((n_seg + 1) * n, cols)), fs=fs, rng=rng, adc=False,
                    flicker=False)
     x = res.output[n:].reshape(n_seg, n, cols).transpose(1, 0, 2).reshape(n, n_seg * cols)
     p = 2 * np.abs(np.fft.rfft(x - x.mean(axis=0), axis=0)) ** 2 / (fs * n)
@@ -738,7 +737,7 @@ def test_slow_flow_open_loop_noise_psd_matches_its_closed_form(rng):
 def test_open_loop_noise_psd_full_integration_agrees_with_the_slow_flow():
     """The physics check: full-integration output noise PSD vs the slow flow's, band by band
     (0-250 Hz level; 5 bands to Nyquist through the sense-mode peak), F bounds at 1e-6."""
-    from gyrobench.scenarios.checks_mems_psd import open_loop_noise_checks
+    from gyrobench.scenarios.checks.mems_psd import open_loop_noise_checks
 
     out = open_loop_noise_checks(np.random.default_rng(16))
     assert [c.id for c in out] == ["mems.open_loop_noise_vs_full",
@@ -749,7 +748,7 @@ def test_open_loop_noise_psd_full_integration_agrees_with_the_slow_flow():
 def test_full_and_slow_noise_spectra_differ_by_the_first_order_envelope():
     """Closed forms: E_full/E_slow -> sinc^2(f_y dt) (the held noise force) at low frequency
     and falls by O(f/f_x) toward the mode split (first-order envelope, 2w image)."""
-    from gyrobench.scenarios.checks_mems_psd import full_noise_spectrum, slow_noise_spectrum
+    from gyrobench.scenarios.checks.mems_psd import full_noise_spectrum, slow_noise_spectrum
 
     unit = dataclasses.replace(_open(), pickoff_noise=0.0)
     fs, spc = 3000.0, 20
@@ -795,7 +794,7 @@ def test_slow_flow_settles_on_the_drive_axis_scale_factor(g_d):
     unit = _open(quadrature_coupling=1e-4, phase_error=0.01)
     f_d = g_d * 9.80665
     w = units.deg_per_s(np.array([0.0, 500.0]))
-    res = simulate(unit, np.tile(w, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
+    res = slow_flow(unit, np.tile(w, (40, 1)), fs=1000.0, rng=np.random.default_rng(0),
                    noise=False, adc=False, flicker=False, drive_specific_force=f_d)
     sf = (res.output[-1, 1] - res.output[-1, 0]) / w[1]
     assert sf == pytest.approx(low_rate_scale_factor(unit, drive_specific_force=f_d), rel=1e-9)

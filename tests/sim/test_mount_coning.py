@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+
 from gyrobench.sim.mount_coning import MountConing, RockingMode
 
 MOUNT = MountConing(

@@ -16,11 +16,12 @@ import math
 import allantools
 import numpy as np
 import pytest
-from gyrobench.sim import noise as nz
-from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid, ar1_avar, flicker_avar, gm_avar
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize, stats
+
+from gyrobench.sim import noise as nz
+from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid, ar1_avar, flicker_avar, gm_avar
 
 ALPHA = 1e-3
 PLATEAU = 2.0 * math.log(2.0) / math.pi  # flicker AVAR / B^2

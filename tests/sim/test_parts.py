@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.analysis.allan import fit_noise
-from gyrobench.sim import parts
-from gyrobench.sim.recording import load_hdf5, save_hdf5
-from gyrobench.sim.sensor import Environment
 from scipy.stats import norm
+
+from gyrobench.analysis.allan import fit_noise
+from gyrobench.io.recording import load_hdf5, save_hdf5
+from gyrobench.sim import parts
+from gyrobench.sim.sensor import Environment
 
 EPS = np.finfo(float).eps
 NAMES = parts.names()
@@ -184,7 +185,6 @@ def test_an_rlg_part_on_the_rlg_model_meets_its_datasheet(name):
     # the RLG model's dither random walk, counting and flicker, and its fit must give the sheet's
     # N and B back within Z_RLG standard errors (1 % family-wise over 2 x len(RLG) checks); the
     # record is 300 crossover times long as in test_simulated_part_meets_its_datasheet
-    from gyrobench.sim.sensor import RlgSensor
 
     d = parts.get(name).datasheet
     spec = parts.rlg_spec(d)
@@ -193,7 +193,7 @@ def test_an_rlg_part_on_the_rlg_model_meets_its_datasheet(name):
     dur = 300 * (n_true / (parts.ADEV_MIN_PER_B * b_true)) ** 2
     fs = min(200.0, 3e5 / dur)
     rng = np.random.default_rng(20261127)
-    rec = RlgSensor(spec).realize(rng).simulate(Environment(dur), fs=fs, rng=rng)
+    rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
     fit = fit_noise(rec["rate"], fs, terms=("Q", "N", "B", "K"))
     assert not fit.misfit
     for key, truth in (("N", n_true), ("B", b_true)):
@@ -239,7 +239,7 @@ def test_bias_instability_is_optional_but_positive_when_given():
 
 
 def test_parts_listing_says_when_no_bias_instability_is_drawn(capsys):
-    from gyrobench.scenarios.cli_simulate import _cmd_parts
+    from gyrobench.scenarios.cli.simulate import _cmd_parts
 
     assert _cmd_parts(None) == 0
     out = capsys.readouterr().out
@@ -294,7 +294,6 @@ def test_a_fog_part_on_the_fog_model_meets_its_datasheet(name):
     # additive 1/f term, a drawn coil), static at a constant chamber; 300 crossover times long
     # (rounded up to the thermal step),
     # 3e5 samples, and its fit must give the sheet's N and B back within Z_PHYS standard errors
-    from gyrobench.sim.sensor import FogSensor
 
     d = parts.get(name).datasheet
     spec = parts.fog_spec(d)
@@ -303,7 +302,7 @@ def test_a_fog_part_on_the_fog_model_meets_its_datasheet(name):
     dur = step * math.ceil(300 * (n_true / (parts.ADEV_MIN_PER_B * b_true)) ** 2 / step)
     fs = 3e5 / dur
     rng = np.random.default_rng(20261127)
-    rec = FogSensor(spec).realize(rng).simulate(Environment(dur), fs=fs, rng=rng)
+    rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
     _fit_back(rec["rate"], fs, n_true, b_true)
 
 
@@ -318,7 +317,6 @@ def test_a_mems_part_on_the_resonator_model_meets_its_datasheet(name):
     # taus (lowpass_avar_bias); the fit starts at the first octave tau where that deficit is
     # <= 1 % (0.8 s), half a percent of N at most, under its standard error at these lengths
     from gyrobench.analysis.allan import lowpass_avar_bias
-    from gyrobench.sim.sensor import MemsSensor
 
     d = parts.get(name).datasheet
     spec = parts.mems_spec(d)
@@ -329,7 +327,7 @@ def test_a_mems_part_on_the_resonator_model_meets_its_datasheet(name):
     taus = 2.0 ** np.arange(20) / fs
     tau_min = float(taus[np.argmax(lowpass_avar_bias(taus, spec.nominal.loop_bandwidth) <= 0.01)])
     rng = np.random.default_rng(20261127)
-    rec = MemsSensor(spec).realize(rng).simulate(Environment(dur), fs=fs, rng=rng)
+    rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
     n_expected = math.hypot(n_true, spec.nominal.resolution / math.sqrt(12 * fs))
     _fit_back(rec["rate"], fs, n_expected, b_true, tau_min=tau_min)
 

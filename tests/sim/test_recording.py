@@ -6,13 +6,13 @@ import os
 import h5py
 import numpy as np
 import pytest
-from gyrobench.sim.recording import (
-    AtomicWriteError,
+
+from gyrobench.base.atomic import AtomicWriteError, atomic_path
+from gyrobench.io.recording import (
     Channel,
     HDF5StreamWriter,
     Recording,
     RecordingFormatError,
-    atomic_path,
     list_hdf5,
     load_hdf5,
     save_hdf5,
@@ -94,7 +94,7 @@ def test_interrupted_stream_leaves_no_file(tmp_path):
 def test_interrupted_save_keeps_previous_file(tmp_path, monkeypatch):
     target = tmp_path / "r.h5"
     save_hdf5(target, _rec(name="old"))
-    import gyrobench.sim.recording as recording
+    import gyrobench.io.recording as recording
 
     def broken(h5, rec):
         raise OSError("disk full")
@@ -192,7 +192,8 @@ def test_channel_must_be_1d():
 _FSIZE_SCRIPT = r"""
 import resource, sys
 import numpy as np
-from gyrobench.sim.recording import AtomicWriteError, HDF5StreamWriter, Recording, Channel, save_hdf5
+from gyrobench.base.atomic import AtomicWriteError
+from gyrobench.io.recording import HDF5StreamWriter, Recording, Channel, save_hdf5
 
 resource.setrlimit(resource.RLIMIT_FSIZE, (1_000_000, 1_000_000))
 target = sys.argv[1]
@@ -263,9 +264,9 @@ def test_write_error_in_block_names_the_target(tmp_path):
 def test_record_larger_than_free_space_is_refused_before_writing(tmp_path, monkeypatch):
     import shutil
 
-    import gyrobench.sim.recording as recording
+    import gyrobench.base.atomic as atomic
 
-    monkeypatch.setattr(recording.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 4000, 4000))
+    monkeypatch.setattr(atomic.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 4000, 4000))
     assert _rec(n=1000).nbytes == 4 * 1000 * 8
     with pytest.raises(AtomicWriteError, match=r"needs about 32 kB but .* has 4 kB free"):
         save_hdf5(tmp_path / "r.h5", _rec(n=1000))  # (2 channels + 2 truth) x 1000 x 8 B
@@ -285,7 +286,7 @@ def test_stream_writer_rejects_bad_chunk(tmp_path):
 def test_free_space_of_a_pseudo_file_system_is_not_a_limit(tmp_path, monkeypatch):
     import shutil
 
-    from gyrobench.sim.recording import ensure_free_space
+    from gyrobench.base.atomic import ensure_free_space
 
     monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(0, 0, 0))  # as /proc reports
     ensure_free_space(tmp_path / "x.h5", 10**6)  # no refusal: the write itself will say what is wrong

@@ -9,9 +9,12 @@ from dataclasses import replace
 import allantools
 import numpy as np
 import pytest
-from gyrobench.sim import rlg, units
-from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from scipy import stats
+
+from gyrobench.base import units
+from gyrobench.sim import rlg
+from gyrobench.sim.environment import Ramp, Soak, thermal_profile
+from gyrobench.sim.sensor import Environment
 
 LAMBDA = rlg.HENE_WAVELENGTH
 
@@ -237,7 +240,7 @@ def test_statistical_mode_arw_value_physics_md():
 # ------------------------------------------------------------------ pulse counting (statistical mode)
 def _run_quiet(u, rng, duration, fs):
     prof = thermal_profile(units.celsius(20.0), [Soak(duration=duration)])
-    return u.simulate(prof, duration, fs, rng=rng)
+    return u.simulate(Environment(duration, temperature=prof), fs=fs, rng=rng)
 
 
 def test_counted_angle_within_one_pulse_of_true_angle(rng):
@@ -306,7 +309,7 @@ def test_bad_sample_rate_above_dither_quarter(rng):
 
 def test_rng_must_be_generator():
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
-        _quiet_unit().simulate(lambda t: t * 0 + 293.0, 10.0, 10.0, rng=1)
+        _quiet_unit().simulate(Environment(10.0, temperature=293.0), fs=10.0, rng=1)
 
 
 # ------------------------------------------------------------------ thermal model (closed form)
@@ -410,8 +413,8 @@ def test_simulate_reproducible_and_thermal_bias_in_truth(rng):
         units.celsius(-40.0),
         [Soak(duration=600.0), Ramp(target=units.celsius(-20.0), rate=1 / 180)],
     )
-    r1 = u.simulate(prof, prof.duration, 10.0, rng=np.random.default_rng(5))
-    r2 = u.simulate(prof, prof.duration, 10.0, rng=np.random.default_rng(5))
+    r1 = u.simulate(Environment(prof.duration, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
+    r2 = u.simulate(Environment(prof.duration, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
     np.testing.assert_array_equal(r1["rate"], r2["rate"])
     mech = sum(
         r1[f"truth/{k}"]

@@ -7,10 +7,12 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
+from gyrobench.base import units
 from gyrobench.sim import rlg_cavity as rc
-from gyrobench.sim import units
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry
+from gyrobench.sim.sensor import Environment
 
 LAM = HENE_WAVELENGTH
 
@@ -236,8 +238,8 @@ def test_simulate_truth_adds_up_and_is_deterministic():
     spec = rc.CavityRLGSpec()
     u = spec.realize(rng=np.random.default_rng(3))
     prof = _cycle_profile()
-    a = u.simulate(prof, 7200.0, 10.0, rng=np.random.default_rng(5))
-    b = u.simulate(prof, 7200.0, 10.0, rng=np.random.default_rng(5))
+    a = u.simulate(Environment(7200.0, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
+    b = u.simulate(Environment(7200.0, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
     np.testing.assert_array_equal(a["rate"], b["rate"])
     tr = a.truth
     parts = ("bias_langmuir", "bias_backscatter")
@@ -267,9 +269,9 @@ def test_bad_input_refused():
         rc.Backscatter(amplitudes=(1e-6,), phases=(0.0,), positions=(0.0,))
     u = rc.CavityRLGSpec().realize(rng=np.random.default_rng(0))
     with pytest.raises(ValueError, match="fs must be <="):
-        u.simulate(_cycle_profile(), 10.0, 200.0, rng=np.random.default_rng(0))
+        u.simulate(Environment(10.0, temperature=_cycle_profile()), fs=200.0, rng=np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng"):
-        u.simulate(_cycle_profile(), 10.0, 10.0, rng=0)  # type: ignore[arg-type]
+        u.simulate(Environment(10.0, temperature=_cycle_profile()), fs=10.0, rng=0)  # type: ignore[arg-type]
 
 
 def test_dither_margin_refused_just_below_and_accepted_just_above():
@@ -310,8 +312,10 @@ def test_counterfactual_without_hops_differs_only_by_the_hops():
         if x.hop_spacing < 30
     )
     prof = _cycle_profile()
-    a = u.simulate(prof, prof.duration, 1.0, rng=np.random.default_rng(9))
-    b = u.simulate(prof, prof.duration, 1.0, rng=np.random.default_rng(9), mode_hops=False)
+    a = u.simulate(Environment(prof.duration, temperature=prof), fs=1.0, rng=np.random.default_rng(9))
+    b = replace(u, mode_hops=False).simulate(
+        Environment(prof.duration, temperature=prof), fs=1.0, rng=np.random.default_rng(9)
+    )
     assert np.count_nonzero(np.diff(a["truth/mode"])) >= 3
     assert np.count_nonzero(np.diff(b["truth/mode"])) == 0
     np.testing.assert_array_equal(a["truth/bias_langmuir"], b["truth/bias_langmuir"])

@@ -16,8 +16,9 @@ stay STATED ASSUMPTIONS in :mod:`gyrobench.sim.rlg_cavity` (eta identified for p
 """
 
 import pytest
+
+from gyrobench.base import units
 from gyrobench.sim import rlg_cavity as rc
-from gyrobench.sim import units
 
 #: 1 deg/h in rad/s, from the definition (pi/180 rad per 3600 s), not from gyrobench.sim.units
 _DEG_H = 3.141592653589793 / 180.0 / 3600.0

@@ -1,118 +1,180 @@
-"""Tests of sim/sensor.py: every device model through the one Sensor interface."""
+"""The one device interface, checked over every device (as scikit-learn's test_common runs over
+every estimator): each device model and each built-in datasheet part draws a unit with
+``realize(rng=...)`` and simulates with ``simulate(environment, *, fs, rng) -> Recording``."""
 
 from __future__ import annotations
 
+import inspect
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
+
+from gyrobench.io.recording import Recording
 from gyrobench.sim import mems_resonator as mr
+from gyrobench.sim import parts
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec
+from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.rlg import RLGSpec
 from gyrobench.sim.rlg_cavity import CavityRLGSpec
-from gyrobench.sim.sensor import (
-    Environment,
-    FogSensor,
-    MemsSensor,
-    RlgSensor,
-    Sensor,
-    SensorUnit,
-)
+from gyrobench.sim.sensor import Environment, Sensor, SensorUnit
 
 EPS = np.finfo(float).eps
 
-# (id, sensor factory, fs [Hz], duration [s]): short records at each model's usual output rate
-DEVICES = [
-    ("fog2d", lambda: FogSensor(FOG2DSpec()), 10.0, 20.0),
-    ("mems_resonator", lambda: MemsSensor(mr.MemsResonatorSpec()), 200.0, 1.0),
-    ("rlg", lambda: RlgSensor(RLGSpec()), 10.0, 20.0),
-    ("rlg_cavity", lambda: RlgSensor(CavityRLGSpec()), 10.0, 20.0),
+
+@dataclass(frozen=True)
+class Device:
+    """One device of the common checks: how to draw a unit, and a record length that suits it."""
+
+    name: str
+    draw: Callable[[np.random.Generator], SensorUnit]
+    spec: Sensor | None
+    fs: float
+    duration: float
+    uses: frozenset[str]  # the inputs the model responds to
+
+
+def _spec_device(name, spec, fs, duration, uses):
+    return Device(name, lambda rng: spec.realize(rng=rng), spec, fs, duration, frozenset(uses))
+
+
+MODELS = [
+    _spec_device("fog2d", FOG2DSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
+    Device("fog_loop", lambda rng: ClosedLoopFOG(), None, 400.0, 2.0,
+           frozenset({"true_rate", "temperature", "vibration"})),
+    _spec_device("mems_resonator", mr.MemsResonatorSpec(), 200.0, 1.0, {"true_rate", "temperature", "specific_force"}),
+    _spec_device("rlg", RLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
+    _spec_device("rlg_cavity", CavityRLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
 ]
+PARTS = [
+    _spec_device(f"part:{name}", parts.get(name), 100.0, 2.0, {"true_rate", "temperature", "specific_force"})
+    for name in parts.names()
+]
+DEVICES = MODELS + PARTS
+IDS = [d.name for d in DEVICES]
 
 
-def _environment(duration: float, fs: float) -> Environment:
-    n = int(math.floor(duration * fs))
+def _output(rec: Recording) -> np.ndarray:
+    return rec["output"] if "output" in rec.channels else rec["rate"]
+
+
+def _environment(device: Device) -> Environment:
+    n = int(math.floor(device.duration * device.fs))
     return Environment(
-        duration,
-        true_rate=PiecewiseLinear(np.array([0.0, duration]), np.array([0.0, 0.02])),  # ramp to 0.02 rad/s
+        device.duration,
+        true_rate=PiecewiseLinear(np.array([0.0, device.duration]), np.array([0.0, 0.02])),  # ramp to 0.02 rad/s
         temperature=np.linspace(293.15, 298.15, n),  # an array sampled at fs: every model must take it
         specific_force=9.80665,
     )
 
 
-@pytest.mark.parametrize(("name", "make", "fs", "duration"), DEVICES, ids=[d[0] for d in DEVICES])
-def test_every_device_through_the_protocol(name, make, fs, duration):
-    sensor = make()
-    assert isinstance(sensor, Sensor)
-    rng = np.random.default_rng(20261127)
-    unit = sensor.realize(rng)
-    assert isinstance(unit, SensorUnit)
-    env = _environment(duration, fs)
-    rec = unit.simulate(env, fs=fs, rng=rng)
+def _record(device: Device, seed: int = 20261201, env: Environment | None = None) -> Recording:
+    rng = np.random.default_rng(seed)
+    unit = device.draw(rng)
+    return unit.simulate(env or _environment(device), fs=device.fs, rng=rng)
 
-    n = int(math.floor(duration * fs))
-    assert rec.fs == fs
-    assert rec.n_samples == n
-    out = rec["rate"]
+
+@pytest.mark.parametrize("device", DEVICES, ids=IDS)
+def test_the_interface_is_the_same_for_every_device(device):
+    unit = device.draw(np.random.default_rng(0))
+    assert isinstance(unit, SensorUnit)
+    if device.spec is not None:
+        assert isinstance(device.spec, Sensor)
+        assert "rng" in inspect.signature(device.spec.realize).parameters
+    sig = inspect.signature(unit.simulate)
+    params = list(sig.parameters.values())
+    assert [p.name for p in params] == ["environment", "fs", "rng"], sig
+    assert params[0].kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    assert [p.kind for p in params[1:]] == [inspect.Parameter.KEYWORD_ONLY] * 2, sig
+
+
+@pytest.mark.parametrize("device", DEVICES, ids=IDS)
+def test_a_record_has_its_length_its_truth_and_closes(device):
+    rec = _record(device)
+    n = int(math.floor(device.duration * device.fs))
+    assert rec.fs == device.fs and rec.n_samples == n
+    out = _output(rec)
     assert np.all(np.isfinite(out))
     true = rec["truth/true_rate"]
-    assert len(true) == n
-    # the table ramp reaches the truth (the FOG adds the Earth's rate, constant): its rise
-    # over the record is the ramp's over the sample span, (n - 1)/fs x 0.02/duration
-    rise = (true[-1] - true[0]) / ((n - 1) / fs * 0.02 / duration)
+    # the table ramp reaches the truth (the FOGs add the Earth's rate, constant): its rise over
+    # the record is the ramp's over the sample span, (n - 1)/fs x 0.02/duration
+    rise = (true[-1] - true[0]) / ((n - 1) / device.fs * 0.02 / device.duration)
     assert abs(rise - 1.0) < 1e-9, rise
+    comps = rec.metadata.get("error_components")
+    assert isinstance(comps, list)
+    if device.name == "mems_resonator":
+        assert comps == []  # the slow flow does not split its output into terms
+        return
+    assert comps, "a model that keeps its components must name them"
+    terms = [rec["truth/" + k] for k in comps]
+    # an identity up to float64 rounding: a sum of len(terms) + 2 numbers each rounded at eps
+    # relative to the largest magnitude in play (the RLG's cumulative angle differenced:
+    # |theta| fs); a factor 16 for the model's intermediate operations
+    scale = max(np.max(np.abs(p)) for p in (out, true, *terms))
+    if device.name.startswith("rlg"):
+        scale = max(scale, float(np.sum(np.abs(true))) + np.max(np.abs(out)) * n)
+    tol = 16 * (len(terms) + 2) * EPS * scale
+    resid = out - true - np.sum(terms, axis=0)
+    assert np.max(np.abs(resid)) <= tol, (np.max(np.abs(resid)), tol)
+    assert np.max(np.abs(np.sum(terms, axis=0))) > 1e3 * tol  # not closing trivially
 
-    comps = rec.metadata["error_components"]
-    if name == "mems_resonator":
-        assert comps == []  # the slow flow does not split its output
-    else:
-        assert comps, "a model that keeps components must name them"
-        parts = [rec["truth/" + k] for k in comps]
-        # an identity up to float64 rounding: a sum of len(parts) + 2 terms each rounded at
-        # eps relative to the largest magnitude in play (the RLG's cumulative angle
-        # differenced: |theta| fs); a factor 16 for the model's intermediate operations
-        scale = max(np.max(np.abs(p)) for p in (out, true, *parts))
-        if name.startswith("rlg"):
-            scale = max(scale, float(np.sum(np.abs(true))) + np.max(np.abs(out)) * n)
-        tol = 16 * (len(parts) + 2) * EPS * scale
-        resid = out - true - np.sum(parts, axis=0)
-        assert np.max(np.abs(resid)) <= tol, (np.max(np.abs(resid)), tol)
-        # and the components are not all zero (the identity would hold trivially)
-        assert np.max(np.abs(np.sum(parts, axis=0))) > 1e3 * tol
 
-    # g-sensitivity: the FOG and RLG models have none and say so
-    expected_ignored = [] if name == "mems_resonator" else ["specific_force"]
-    assert rec.metadata["ignored_inputs"] == expected_ignored
+@pytest.mark.parametrize("device", DEVICES, ids=IDS)
+def test_a_seed_gives_the_same_bits_and_another_seed_other_bits(device):
+    a, b, c = _record(device, 7), _record(device, 7), _record(device, 8)
+    np.testing.assert_array_equal(_output(a), _output(b))
+    assert not np.array_equal(_output(a), _output(c))
+
+
+@pytest.mark.parametrize("device", MODELS, ids=[d.name for d in MODELS])
+def test_a_model_names_the_inputs_it_ignores(device):
+    rec = _record(device)
+    expected = sorted({"specific_force"} - device.uses)
+    assert sorted(rec.metadata["ignored_inputs"]) == expected
+    quiet = _record(device, env=Environment(device.duration))
+    assert quiet.metadata["ignored_inputs"] == []
+
+
+@pytest.mark.parametrize("device", DEVICES, ids=IDS)
+def test_bad_calls_are_refused_in_one_line(device):
+    unit = device.draw(np.random.default_rng(0))
+    env = Environment(device.duration)
+    with pytest.raises(TypeError, match=r"environment must be a gyrobench.sim.sensor.Environment; got float|"
+                       r"environment must be an Environment; got float"):
+        unit.simulate(1.0, fs=device.fs, rng=np.random.default_rng(0))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"fs must be a finite number > 0 Hz; got 0.0"):
+        unit.simulate(env, fs=0.0, rng=np.random.default_rng(0))
+    with pytest.raises(TypeError, match=r"rng must be a numpy.random.Generator; got int"):
+        unit.simulate(env, fs=device.fs, rng=0)  # type: ignore[arg-type]
 
 
 def test_mems_temperature_array_reaches_the_physics():
-    """A temperature step given as an array: each half equals a scalar-temperature run.
+    """A temperature step given as an array: each block equals a slow flow at that temperature.
 
-    Noise, ADC and 1/f off, so the slow flow is deterministic: a block at constant
-    temperature must equal :func:`mems_resonator.simulate` at that temperature started from
-    the equilibrium of its first rate (the documented block rule) to rounding, and the two
-    temperatures must give outputs that differ (else the equality would not show the
+    The record's blocks (:data:`mems_resonator.TEMPERATURE_BLOCK`) each run the slow flow at the
+    block's mean temperature from the equilibrium of its first rate; with the block's child
+    stream the block must equal :func:`mems_resonator.slow_flow` run alone to the last bit, and
+    the two temperatures must give outputs that differ (else the equality would not show the
     temperature was used).
     """
     fs, duration = 1000.0, 2.0
     n = int(duration * fs)
-    sensor = MemsSensor(mr.MemsResonatorSpec(), temperature_block=1.0, noise=False, adc=False, flicker=False)
-    unit = sensor.realize(np.random.default_rng(3))
+    unit = mr.MemsResonatorSpec().realize(rng=np.random.default_rng(3))
     t_a, t_b = 293.15, 343.15
     temp = np.where(np.arange(n) < n // 2, t_a, t_b)
     rate = 0.5  # rad/s
     rec = unit.simulate(Environment(duration, true_rate=rate, temperature=temp), fs=fs, rng=np.random.default_rng(4))
     assert rec.metadata["temperature_blocks"] == 2
     out = rec["rate"]
-    for sl, temp_k in ((slice(0, n // 2), t_a), (slice(n // 2, n), t_b)):
-        ref = mr.simulate(
-            unit.unit, np.full(n // 2, rate), fs=fs, rng=np.random.default_rng(0), temperature=temp_k,
-            noise=False, adc=False, flicker=False,
-        ).output
-        np.testing.assert_allclose(out[sl], ref, rtol=1e-12, atol=0)
-    # settled outputs of the two temperatures differ by far more than rounding
-    assert abs(out[n // 2 - 1] - out[-1]) > 1e-9 * rate
+    children = np.random.default_rng(4).spawn(2)
+    for sl, temp_k, child in ((slice(0, n // 2), t_a, children[0]), (slice(n // 2, n), t_b, children[1])):
+        ref = mr.slow_flow(unit, np.full(n // 2, rate), fs=fs, rng=child, temperature=temp_k,
+                           specific_force=np.zeros(n // 2)).output
+        np.testing.assert_array_equal(out[sl], ref)
+    assert abs(np.mean(out[: n // 2]) - np.mean(out[n // 2 :])) > 1e-6 * rate
 
 
 def test_constant_inputs_and_profiles_agree_with_arrays():
@@ -139,6 +201,7 @@ def test_constant_inputs_and_profiles_agree_with_arrays():
             ValueError,
             r"Environment.specific_force must be a finite 1-D array",
         ),
+        ({"duration": 1.0, "vibration": 3.0}, TypeError, r"Environment.vibration must be a sim.shaker.ShakerSignal"),
     ],
 )
 def test_environment_bad_input(kwargs, err, match):
@@ -146,28 +209,23 @@ def test_environment_bad_input(kwargs, err, match):
         Environment(**kwargs)
 
 
-def test_array_of_wrong_length_and_bad_fs_rng():
+def test_array_of_wrong_length():
     env = Environment(1.0, temperature=np.full(5, 300.0))
     with pytest.raises(ValueError, match=r"Environment.temperature as an array must have .* = 10 samples; got 5"):
         env.sampled("temperature", 10.0)
-    unit = MemsSensor(mr.MemsResonatorSpec()).realize(np.random.default_rng(0))
-    with pytest.raises(ValueError, match=r"fs must be a finite number > 0 Hz; got 0.0"):
-        unit.simulate(Environment(1.0), fs=0.0, rng=np.random.default_rng(0))
-    with pytest.raises(TypeError, match=r"rng must be a numpy.random.Generator; got int"):
-        unit.simulate(Environment(1.0), fs=10.0, rng=0)  # type: ignore[arg-type]
-    with pytest.raises(ValueError, match=r"MemsSensor.temperature_block must be a finite number > 0 s; got 0"):
-        MemsSensor(mr.MemsResonatorSpec(), temperature_block=0)
-    with pytest.raises(TypeError, match=r"RlgSensor.spec must be an RLGSpec or CavityRLGSpec; got FOG2DSpec"):
-        RlgSensor(FOG2DSpec())  # type: ignore[arg-type]
+
+
+def test_a_chamber_program_must_span_the_record():
+    unit = FOG2DSpec().realize(rng=np.random.default_rng(0))
+    short = PiecewiseLinear(np.array([0.0, 10.0]), np.array([300.0, 300.0]))
+    with pytest.raises(ValueError, match=r"must span the record \[0, duration\] = \[0, 20.0\] s; got \[0.0, 10.0\] s"):
+        unit.simulate(Environment(20.0, temperature=short), fs=10.0, rng=np.random.default_rng(1))
 
 
 def test_static_fog_runs_for_any_duration():
     """A constant chamber off the thermal step grid (610 s, 20 s steps) is exact under the first-order
-    hold: the run is accepted and its thermal drift is rounding (< 1e-18 rad/s), where the relative
-    convergence check once refused it ("did not converge")."""
-    from gyrobench.sim.fog2d import FOG2DSpec
-
-    unit = FogSensor(FOG2DSpec()).realize(np.random.default_rng(0))
+    hold: the run is accepted and its thermal drift is rounding (< 1e-18 rad/s)."""
+    unit = FOG2DSpec().realize(rng=np.random.default_rng(0))
     rec = unit.simulate(Environment(610.0), fs=10.0, rng=np.random.default_rng(1))
     assert rec.n_samples == 6100  # the whole 610 s, not the 600 s of whole thermal steps
     assert np.max(np.abs(rec["truth/thermal_drift"])) < 1e-18

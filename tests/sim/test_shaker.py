@@ -7,7 +7,9 @@ import zlib
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+from scipy import stats
+
+from gyrobench.base import units
 from gyrobench.sim.shaker import (
     FixedSine,
     Phased,
@@ -18,7 +20,6 @@ from gyrobench.sim.shaker import (
     sweep_frequency,
     sweep_phase,
 )
-from scipy import stats
 
 G = units.g(1.0)
 NAVMAT = [(20.0, 0.01), (80.0, 0.04), (350.0, 0.04), (2000.0, 0.007)]

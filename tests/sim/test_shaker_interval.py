@@ -7,8 +7,9 @@ import re
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
-from gyrobench.sim.memory import LIMIT_ENV, MemoryLimitError
+
+from gyrobench.base import units
+from gyrobench.base.memory import LIMIT_ENV, MemoryLimitError
 from gyrobench.sim.shaker import (
     OVERSAMPLING,
     FixedSine,

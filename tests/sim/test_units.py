@@ -4,7 +4,8 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import units
+
+from gyrobench.base import units
 
 
 @pytest.mark.parametrize(

@@ -1,4 +1,4 @@
-"""sim/_validate.py: one line naming the parameter, the constraint and the value, per helper."""
+"""src/gyrobench/base/validate.py: one line naming the parameter, the constraint and the value, per helper."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ import math
 
 import numpy as np
 import pytest
-from gyrobench.sim import _validate as v
+
+from gyrobench.base import validate as v
 
 
 def test_field_helpers_name_owner_field_constraint_and_value():

@@ -8,11 +8,12 @@ sweep and fixed-frequency records (block means, see :func:`compensation_task`).
 from __future__ import annotations
 
 import numpy as np
-from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
-from gyrobench.scenarios.base import CompensationTask, HeldOutRun, mse_scores
-from gyrobench.sim import units
-from gyrobench.sim.recording import Recording
 from numpy.typing import NDArray
+
+from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
+from gyrobench.scenarios.base import CompensationTask, HeldOutRun, mse_scores
 
 from . import NAME
 from .config import Config

@@ -12,8 +12,9 @@ from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar, Literal
 
 import numpy as np
+
+from gyrobench.base import units
 from gyrobench.scenarios.base import FieldRange, check_ranges
-from gyrobench.sim import units
 from gyrobench.sim.earth import NANJING
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec

@@ -8,12 +8,14 @@ and :meth:`~.config.Config.fixed`.
 from __future__ import annotations
 
 import numpy as np
-from gyrobench.sim import units
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base import units
+from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
-from gyrobench.sim.recording import Channel, Recording
+from gyrobench.sim.sensor import Environment, with_metadata
 from gyrobench.sim.shaker import Phased, SineSweep
-from numpy.typing import ArrayLike, NDArray
 
 from .config import Config
 
@@ -82,7 +84,9 @@ def record_on_table(
     r_shaker, r_fog = rng.spawn(2)
     spec = config.fog
     sh = prof.sample(spec.physics_rate_hz, rng=r_shaker)
-    rec = fog.simulate(prof.duration, spec.output_rate_hz, rng=r_fog, shaker=sh, name=name)
+    rec = with_metadata(
+        fog.simulate(Environment(prof.duration, vibration=sh), fs=spec.output_rate_hz, rng=r_fog), name=name
+    )
     n, m = rec.n_samples, int(round(spec.physics_rate_hz / spec.output_rate_hz))
     centre = np.arange(n) * m + m // 2
     on = sh.on[centre].astype(float)

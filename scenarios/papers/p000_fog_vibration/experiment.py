@@ -11,10 +11,11 @@ from __future__ import annotations
 from dataclasses import asdict
 
 import numpy as np
-from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
-from gyrobench.sim import units
-from gyrobench.sim.recording import Recording
 from numpy.typing import NDArray
+
+from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
 
 from . import NAME
 from .config import Config, split_level_m
@@ -51,7 +52,7 @@ def memory_estimate(config: Config) -> float:
     """Peak memory of one unit's :func:`simulate` or :func:`experiment` [bytes], before allocating.
 
     Per unit (one worker process); the runner multiplies it by the units it runs at once
-    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``T`` the record length
+    (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``T`` the record length
     (static + vibration + static) [s], ``T_v`` the vibration phase [s] and ``f_p`` the shaker
     grid rate ``fog.physics_rate_hz`` [Hz], for the unit's two records (swept and fixed sine)::
 

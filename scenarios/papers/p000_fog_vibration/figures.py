@@ -42,8 +42,9 @@ def fig_records(d: RecordTraces, config: Config) -> Any:
 
 def fig_spectrum_cwt(rate_deg_h: NDArray[np.float32], fs: float) -> Any:
     """Figure 2: FFT amplitude spectrum and continuous-wavelet map of a record [deg/h] at ``fs`` [Hz]."""
-    from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map
     from matplotlib.figure import Figure
+
+    from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map
 
     y = np.asarray(rate_deg_h, dtype=float)
     f, a = amplitude_spectrum(y, fs)

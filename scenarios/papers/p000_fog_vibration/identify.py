@@ -62,7 +62,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 from gyrobench.sim.mount_coning import MountConing, RockingMode
 
 __all__ = [
@@ -228,6 +229,7 @@ def swept_bias_record_s(
     (it varies over seconds).
     """
     import numpy as np
+
     from gyrobench.analysis.allan import allan_deviation
 
     t0 = 2.0 * static_s + vibration_s

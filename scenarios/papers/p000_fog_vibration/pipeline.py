@@ -14,17 +14,18 @@ from functools import partial
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.allan import allan_deviation, avar_to_coefficient, fit_noise
 from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
 from gyrobench.analysis.metrics import segment_noise_fits
 from gyrobench.analysis.sweep import bin_means
 from gyrobench.analysis.wavelet import MultiscaleDecomposition
-from gyrobench.scenarios.allan_report import TERMS, coefficients_json
-from gyrobench.sim import units
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
+from gyrobench.scenarios.reports.allan import TERMS, coefficients_json
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
-from gyrobench.sim.recording import Recording
-from numpy.typing import NDArray
 
 from .config import Config, split_level_m
 from .device import true_bias_at_bins

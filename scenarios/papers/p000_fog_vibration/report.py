@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
 from gyrobench.scenarios.base import FigureSpec, Outcome, Table
 from gyrobench.scenarios.claims import ClaimResult, finite_median
 

@@ -2,7 +2,7 @@
 
 :class:`UnitResult` is what :func:`~.experiment.experiment` returns for one unit and all
 that :mod:`.claims` and :mod:`.report` read. Coefficients are in field units
-(:data:`gyrobench.sim.units.COEFFICIENT_FIELD_UNITS`), frequencies in Hz, rates in deg/h.
+(:data:`gyrobench.base.units.COEFFICIENT_FIELD_UNITS`), frequencies in Hz, rates in deg/h.
 
 How a unit's quantity tests a claim
 -----------------------------------
@@ -42,8 +42,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gyrobench.scenarios.allan_report import TERMS
 from numpy.typing import NDArray
+
+from gyrobench.scenarios.reports.allan import TERMS
 
 __all__ = [
     "TERMS",
@@ -96,7 +97,7 @@ class Coefficient:
 
     @classmethod
     def from_mapping(cls, d: Mapping[str, Any]) -> Coefficient:
-        """From :func:`gyrobench.scenarios.allan_report.coefficients_json`'s entry of one term."""
+        """From :func:`gyrobench.scenarios.reports.allan.coefficients_json`'s entry of one term."""
         return cls(**d)
 
     def as_dict(self) -> dict[str, Any]:

@@ -365,7 +365,8 @@ def claims_for(config: Config) -> tuple[Claim, ...]:
     "calibrated": every claim calibrated, because v_max places the knee of the device, so it
     feeds the raw table every claim is computed from (raw K_n, the breakpoints, and each
     compensator's training data and improvement ratio): under the calibrated variant no
-    paper-001 claim is reproduced. The shared runner judges these (:func:`gyrobench.scenarios.units.module_claims`).
+    paper-001 claim is reproduced. The shared runner judges these
+    (:func:`gyrobench.scenarios.runner.units.module_claims`).
     """
     if config.variant == "identified":
         fixed = {"001.raw_kn", "001.low_rate_kn"}

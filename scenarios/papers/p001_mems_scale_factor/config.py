@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
+
 from gyrobench.scenarios.base import FieldRange, check_ranges
 from gyrobench.sim.mems_resonator import MemsResonatorSpec
 

@@ -12,12 +12,13 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.scale_factor import fit_scale_factor
+from gyrobench.base import units
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim import units
 from gyrobench.sim.mems_nonlinear import RateTransfer
 from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec
-from numpy.typing import NDArray
 
 from .config import CALIBRATED_V_MAX_V, PAPER_RAW_KN, Config, default_rates
 
@@ -72,7 +73,7 @@ def static_output(
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     col = np.broadcast_to(w, (200, w.size))
-    res = mr.simulate(
+    res = mr.slow_flow(
         unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
         noise=False, adc=False, flicker=False,
     )

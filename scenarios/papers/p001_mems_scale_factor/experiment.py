@@ -25,15 +25,16 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.scale_factor import (
     breakpoint_search,
     fit_scale_factor,
     range_nonlinearity,
     repeatability_floor,
 )
+from gyrobench.base import units
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
-from gyrobench.sim import units
-from numpy.typing import NDArray
 
 from . import NAME
 from .config import PAPER_ORDER, PAPER_RAW_KN, Config

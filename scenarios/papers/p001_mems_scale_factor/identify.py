@@ -26,6 +26,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from gyrobench.analysis.scale_factor import fit_scale_factor, range_nonlinearity
 from gyrobench.sim.mems_nonlinear import RateTransfer
 

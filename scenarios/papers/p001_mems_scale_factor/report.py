@@ -13,6 +13,7 @@ from dataclasses import fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.scenarios.base import FigureSpec, Outcome, Table
 from gyrobench.scenarios.claims import ClaimResult, finite_median

@@ -11,8 +11,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.analysis.scale_factor import SearchStep
 from numpy.typing import NDArray
+
+from gyrobench.analysis.scale_factor import SearchStep
 
 __all__ = ["DeviceSummary", "Join", "MethodScore", "MlpFit", "RawAnalysis", "Trace", "UnitResult"]
 

@@ -9,8 +9,10 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from gyrobench.sim import units
-from gyrobench.sim.coil2d import WINDING_PATTERNS, Coil2D, heated_stretch
+
+from gyrobench.base import units
+from gyrobench.sim.coil2d import Coil2D, heated_stretch
+from gyrobench.sim.coil_winding import WINDING_PATTERNS
 from gyrobench.sim.fog2d import FOG2DUnit
 
 from .config import Config

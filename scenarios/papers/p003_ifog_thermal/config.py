@@ -14,8 +14,9 @@ from dataclasses import dataclass, replace
 from typing import ClassVar
 
 import numpy as np
+
+from gyrobench.base import units
 from gyrobench.scenarios.base import FieldRange, check_ranges
-from gyrobench.sim import units
 from gyrobench.sim.coil2d import Coil2DSpec
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec

@@ -27,7 +27,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from gyrobench.sim import units
+
+from gyrobench.base import units
 
 from .config import Config
 

@@ -15,10 +15,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.compensation.rbf import RBFNetwork, StreamingCompensator, batch_compensate
 from gyrobench.analysis.compensation.rbf_selection import RBFSelection, select_rbf
 from gyrobench.analysis.deployment import deployment_float32
-from numpy.typing import NDArray
 
 from .config import TARGETS, Config
 from .results import (

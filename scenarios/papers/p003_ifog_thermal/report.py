@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+
 from gyrobench.analysis.compensation.rbf_selection import RBFSelection
 from gyrobench.scenarios.base import FigureSpec, Outcome, Table
 from gyrobench.scenarios.claims import ClaimResult, finite_median

@@ -11,8 +11,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gyrobench.analysis.compensation.rbf_selection import RBFSelection
 from numpy.typing import NDArray
+
+from gyrobench.analysis.compensation.rbf_selection import RBFSelection
 
 __all__ = [
     "Float32Check",

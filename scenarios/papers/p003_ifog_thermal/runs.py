@@ -13,13 +13,15 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.features import block_means, thermal_features
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
-from gyrobench.sim import units
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DUnit
-from gyrobench.sim.recording import Recording
-from numpy.typing import NDArray
+from gyrobench.sim.sensor import Environment, with_metadata
 
 from .config import FEATURES_IMPROVED, NAME, Config
 
@@ -74,20 +76,16 @@ def simulate(config: Config, seed: int) -> list[Recording]:
         rng_setup, rng_fog = rng.spawn(2)
         # run-to-run mounting/airflow: the housing lag differs a little between chamber runs
         factor = max(0.5, 1.0 + config.housing_lag_run_rms * rng_setup.standard_normal())
+        run_unit = replace(unit, chamber_scale=1.0 / factor)
+        env = Environment(prof.duration, temperature=prof, true_rate=rate)
         recs.append(
-            unit.simulate(
-                prof,
-                fs=config.fs_hz,
-                rng=rng_fog,
-                true_rate=rate,
-                chamber_scale=1.0 / factor,
+            with_metadata(
+                run_unit.simulate(env, fs=config.fs_hz, rng=rng_fog),
                 name=name,
-                metadata={
-                    "scenario": NAME,
-                    "seed": seed,
-                    "run": name,
-                    "housing_time_constant_s": config.housing_time_constant_min * _MIN * factor,
-                },
+                scenario=NAME,
+                seed=seed,
+                run=name,
+                housing_time_constant_s=config.housing_time_constant_min * _MIN * factor,
             )
         )
     return recs
@@ -97,7 +95,7 @@ def memory_estimate(config: Config) -> float:
     """Peak memory of one unit's ``experiment`` or :func:`simulate` [bytes], before allocating.
 
     Per unit (one worker process); the runner multiplies it by the units it runs at once
-    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``N = sum_runs duration fs_hz``
+    (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``N = sum_runs duration fs_hz``
     samples in all the unit's chamber runs (:func:`chamber_runs`), ``m = max_runs duration /
     thermal_step_s`` thermal steps in the longest run and ``g`` thermal nodes of the coil
     grid (``(grid_spool + grid_pack_r + 1)(grid_pack_z + 2) + 1``, 121 by default)::

@@ -15,8 +15,9 @@ from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
+
+from gyrobench.base import units
 from gyrobench.scenarios.base import FieldRange, check_ranges
-from gyrobench.sim import units
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry, Dither, TemperatureSensor
 from gyrobench.sim.rlg_cavity import CavityRLGSpec, Discharge

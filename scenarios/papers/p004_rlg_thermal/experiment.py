@@ -13,12 +13,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.compensation.stepwise import StepwiseRegression
 from gyrobench.analysis.metrics import bias_stability, improvement_pct
 from gyrobench.analysis.regressors import REGRESSOR_LABELS, REGRESSOR_NAMES
 from gyrobench.analysis.thermal_regression import StepwiseTable, block_bias_stability, stepwise_table
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
-from numpy.typing import NDArray
 
 from . import NAME
 from .claims import PAPER_DROPPED, PAPER_SELECTED

@@ -33,10 +33,12 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from gyrobench.analysis.features import block_means
-from gyrobench.sim import units
 from numpy.typing import NDArray
 from scipy.optimize import brentq
+
+from gyrobench.analysis.features import block_means
+from gyrobench.base import units
+from gyrobench.sim.sensor import Environment
 
 from .claims import PAPER_ADJ_R2
 from .config import Config
@@ -84,7 +86,7 @@ def thermal_parts(
     """The unit's fitting run as 100-s means [deg/h]: Langmuir part, null-shift part, the rest."""
     gyro, (r_fit, _) = unit_and_streams(config, seed)
     prof = config.chamber()
-    rec = gyro.simulate(prof, prof.duration, config.fs_hz, rng=r_fit)
+    rec = gyro.simulate(Environment(prof.duration, temperature=prof), fs=config.fs_hz, rng=r_fit)
 
     def bm(name: str) -> NDArray[np.float64]:
         return block_means(units.to_deg_per_h(rec[name]), rec.fs, block_s=config.block_s)

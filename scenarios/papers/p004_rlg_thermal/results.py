@@ -10,8 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from gyrobench.analysis.thermal_regression import StepwiseTable
 from numpy.typing import NDArray
+
+from gyrobench.analysis.thermal_regression import StepwiseTable
 
 __all__ = ["Stability", "HopEffect", "GyroDraw", "FitTraces", "HeldoutTraces", "UnitResult"]
 

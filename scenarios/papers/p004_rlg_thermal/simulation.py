@@ -9,15 +9,17 @@ logged T1/T2), with the truth the experiment scores against.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import NDArray
+
 from gyrobench.analysis.features import block_means
 from gyrobench.analysis.thermal_regression import two_sensor_blocks
-from gyrobench.sim import units
-from gyrobench.sim.recording import Recording
+from gyrobench.base import units
+from gyrobench.io.recording import Recording
 from gyrobench.sim.rlg_cavity import CavityRLG
-from numpy.typing import NDArray
+from gyrobench.sim.sensor import Environment, with_metadata
 
 from . import NAME
 from .config import Config
@@ -40,7 +42,8 @@ def simulate(config: Config, seed: int) -> list[Recording]:
     prof = config.chamber()
     recs = []
     for kind, r in zip(("fit", "heldout"), streams, strict=True):
-        rec = gyro.simulate(prof, prof.duration, config.fs_hz, rng=r, name=f"unit{seed}_{kind}")
+        env = Environment(prof.duration, temperature=prof)
+        rec = with_metadata(gyro.simulate(env, fs=config.fs_hz, rng=r), name=f"unit{seed}_{kind}")
         meta = dict(rec.metadata)
         meta.update({"scenario": NAME, "seed": seed, "unit": seed, "run": kind})
         recs.append(
@@ -60,7 +63,7 @@ def memory_estimate(config: Config) -> float:
     """Peak memory of one unit's :func:`simulate` or ``experiment`` [bytes], before allocating.
 
     Per unit (one worker process); the runner multiplies it by the units it runs at once
-    (:func:`gyrobench.scenarios.units.check_unit_memory`). With ``N = 2 duration(chamber())
+    (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``N = 2 duration(chamber())
     fs_hz`` samples in the unit's two chamber runs::
 
         bytes = 1.1 x (232 N + 20e6)
@@ -143,8 +146,7 @@ def runs(config: Config, seed: int, *, mode_hops: bool = True) -> tuple[CavityRL
     """
     gyro, streams = unit_and_streams(config, seed)
     prof = config.chamber()
-    fit, held = (
-        _blocks(gyro.simulate(prof, prof.duration, config.fs_hz, rng=r, mode_hops=mode_hops), config)
-        for r in streams
-    )
+    env = Environment(prof.duration, temperature=prof)
+    run_gyro = replace(gyro, mode_hops=mode_hops)
+    fit, held = (_blocks(run_gyro.simulate(env, fs=config.fs_hz, rng=r), config) for r in streams)
     return gyro, fit, held

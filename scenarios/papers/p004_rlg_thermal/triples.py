@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+
 from gyrobench.scenarios.claims import verdict, wilson_interval
 
 from .claims import CLAIMS, THERMAL_PRECONDITION

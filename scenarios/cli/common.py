@@ -1,0 +1,177 @@
+"""What every ``gyrobench`` verb shares: the one-line parser, the bad-input error, argparse value types
+with messages naming the flag, a progress bar that leaves nothing behind on an error, and the TOML reader."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import typing
+
+__all__ = ["MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "BadInput", "Parser", "closing", "duration", "given",
+           "nonneg_float", "one_line", "positive_float", "positive_int", "ranged", "read_toml", "seed", "units_or_auto"]
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2
+        self.exit(2, f"gyrobench: error: {message} (see '{self.prog} --help')\n")
+
+
+class BadInput(ValueError):
+    """Bad input found by a verb: one line, exit 2."""
+
+
+@contextlib.contextmanager
+def closing(bar):
+    """Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
+    last thing on the terminal (a bar left open redraws itself after the error)."""
+    try:
+        yield bar
+    except BaseException:
+        bar.leave = False
+        raise
+    finally:
+        bar.close()
+
+
+
+#: the largest time [s] or tau [s] flag (``allan --start/--stop/--tau-min/--tau-max``): 3e7 years, far
+#: past any record, and far below where float64 arithmetic on it overflows
+MAX_FLAG_VALUE = 1e15
+#: the largest integer flag (a seed, a count): a signed 64-bit integer, as the stores keep them
+MAX_FLAG_INT = 2**63 - 1
+#: the most local worker processes a verb starts (``--workers``): far past any machine's cores
+MAX_WORKERS = 1024
+
+
+def ranged(name: str, low: float, high: float, *, low_open: bool = False, high_open: bool = False,
+           integer: bool = False, unit: str = ""):
+    """argparse type: a finite number (or integer) in the documented range ``[low, high]`` (each end
+    open if asked) in ``unit``, errors naming the flag and the range in one line."""
+    from gyrobench.base.ranges import FieldRange
+
+    rng = FieldRange(low, high, unit, low_open=low_open, high_open=high_open, integer=integer)
+
+    def conv(text: str) -> float | int:
+        try:
+            v: float | int = int(text) if integer else float(text)
+        except ValueError:
+            v = math.nan
+        if not rng.contains(v):
+            kind = "" if integer else "a finite number in "
+            raise argparse.ArgumentTypeError(f"{name} must be {kind}{rng.text()}; got {_int_text(text)!r}")
+        return v
+
+    return conv
+
+
+def float_arg(name: str, *, allow_zero: bool, high: float | None = None):
+    """argparse type: a finite float > 0 (or >= 0 with ``allow_zero``), at most ``high`` if given,
+    errors naming the flag."""
+    bound = ">= 0" if allow_zero else "> 0"
+
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number; got {text[:40]!r}") from None
+        if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+            raise argparse.ArgumentTypeError(f"{name} must be a finite number {bound}; got {text[:40]!r}")
+        if high is not None and v > high:
+            raise argparse.ArgumentTypeError(f"{name} must be at most {high:g}; got {text[:40]!r}")
+        return v
+
+    return conv
+
+
+def positive_float(name: str, high: float | None = None):
+    return float_arg(name, allow_zero=False, high=high)
+
+
+def nonneg_float(name: str, high: float | None = None):
+    return float_arg(name, allow_zero=True, high=high)
+
+
+def duration(text: str) -> float:
+    from gyrobench.base.units import parse_duration
+
+    if text.strip().startswith("-"):
+        raise argparse.ArgumentTypeError(f"--duration must be > 0 s; got {text!r}")
+    try:
+        value = parse_duration(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"--{exc}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"--duration must be a finite number of seconds; got {text!r}")
+    return value
+
+
+def _int_text(text: str) -> str:
+    return text if len(text) <= 40 else f"an integer of {len(text)} digits"
+
+
+def positive_int(name: str):
+    """argparse type: an integer > 0, errors naming the flag (a size is bounded where it is used:
+    ``reproduce --units`` by :data:`gyrobench.scenarios.runner.units.MAX_UNITS`)."""
+
+    def conv(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {_int_text(text)!r}") from None
+        if v <= 0:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer > 0; got {text!r}")
+        return v
+
+    return conv
+
+
+def units_or_auto(text: str) -> int | str:
+    """``--units``: a positive integer, or ``auto``."""
+    return "auto" if text == "auto" else positive_int("--units (or 'auto')")(text)
+
+
+
+
+def given(args, flags: dict[str, str]) -> list[str]:
+    return [flag for dest, flag in flags.items() if getattr(args, dest, None) is not None]
+
+
+
+def seed(text: str) -> int:
+    """argparse type of ``--seed``: an integer in [0, :data:`MAX_FLAG_INT`] (64-bit, as stored)."""
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer >= 0; got {_int_text(text)!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"--seed must be an integer >= 0; got {text!r}")
+    if v > MAX_FLAG_INT:
+        raise argparse.ArgumentTypeError(f"--seed must be at most {MAX_FLAG_INT} (64-bit); got {_int_text(text)!r}")
+    return v
+
+
+
+def one_line(text: object) -> str:
+    """``text`` on one line (a message from a library may hold newlines)."""
+    return " ".join(str(text).split())
+
+
+
+def read_toml(path: str, flag: str) -> dict:
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise BadInput(f"{flag}: file {path!r} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise BadInput(f"{flag}: {path!r} is not valid TOML: {one_line(exc)}") from None
+    except RecursionError:  # arrays or tables nested thousands deep
+        raise BadInput(f"{flag}: {path!r} nests arrays or tables too deeply to read") from None
+

@@ -1,0 +1,576 @@
+"""``gyrobench simulate`` (noise, a scenario's recordings, a datasheet part in a profile) and ``gyrobench parts``."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import typing
+from pathlib import Path
+
+from gyrobench.scenarios.cli.common import (
+    BadInput,
+    closing,
+    duration,
+    given,
+    nonneg_float,
+    one_line,
+    positive_float,
+    positive_int,
+    ranged,
+    read_toml,
+    seed,
+)
+
+__all__ = ["add_parsers"]
+
+#: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
+_NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
+_SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
+
+
+#: how far inside FS_RANGE_HZ a CSV record's rate must lie: 'allan' infers the rate from the time
+#: column, printed to 12 significant digits, so the rate it reads differs from --fs by up to about
+#: (samples x 1e-12) relative; 1e-6 covers a million rows at the range's edges
+CSV_FS_MARGIN = 1e-6
+
+
+def _simulate_noise(args) -> int:
+    """Stream one noise record to ``-o FILE.h5|.csv``.
+
+    The record is static: the true rate is 0 rad/s and every sample of channel
+    ``rate`` is error. The HDF5 ``truth`` group is therefore left empty rather
+    than doubling the file with a zero channel or with each noise term (use
+    ``simulate static_noise`` for records with per-term truth); instead the
+    metadata states ``truth.true_rate_rad_s = 0`` and holds the generating
+    model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
+    K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
+    """
+    import numpy as np
+    from tqdm import tqdm
+
+    from gyrobench.base import memory
+    from gyrobench.base.atomic import atomic_path, ensure_free_space
+    from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, package_version
+    from gyrobench.scenarios.cli.allan import MIN_MAGNITUDE
+    from gyrobench.scenarios.reports.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
+    from gyrobench.sim.noise import NoiseModel
+
+    if extra := given(args, _SCENARIO_FLAGS):
+        raise BadInput(f"simulate noise: {', '.join(extra)} apply to 'simulate SCENARIO'; "
+                        "a noise record is written to the one file named by -o")
+    if args.output is None:
+        raise BadInput("simulate noise needs -o FILE.h5 or FILE.csv")
+    out = Path(args.output)
+    suffix = "".join(out.suffixes[-1:]).lower()
+    if suffix not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
+    if args.duration is None:
+        raise BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
+    fs = 100.0 if args.fs is None else args.fs
+    lo, hi = FS_RANGE_HZ
+    if not lo <= fs <= hi:  # 'gyrobench allan' refuses any other rate: never written
+        raise BadInput(f"--fs must be in [{lo:g}, {hi:g}] Hz (the sample rates 'gyrobench allan' reads; no gyro "
+                       f"samples outside it); got {fs:g} Hz")
+    if suffix == ".csv" and not lo * (1 + CSV_FS_MARGIN) <= fs <= hi * (1 - CSV_FS_MARGIN):
+        raise BadInput(f"--fs must be inside [{lo:g}, {hi:g}] Hz by a relative {CSV_FS_MARGIN:g} for a CSV (the rate "
+                       f"'gyrobench allan' infers from its 12-digit time column could fall outside); got {fs:g} Hz")
+    datasheet = {"Q_arcsec": args.Q or 0.0, "N_deg_sqrt_h": args.N or 0.0, "B_deg_h": args.B or 0.0,
+                 "K_deg_h_sqrt_h": args.K or 0.0, "R_deg_h2": args.R or 0.0}
+    for (key, value), flag in zip(datasheet.items(), ("--Q", "--N", "--B", "--K", "--R"), strict=True):
+        rng = GradeSpec.RANGES[key]  # the same documented ranges as a static_noise grade's coefficients
+        if not rng.contains(value):
+            raise BadInput(f"{flag} must be {rng.text()} (any gyro grade's); got {value:g}")
+    if not any(datasheet.values()):  # an all-zero record: 'gyrobench allan' refuses it (zero variance)
+        raise BadInput("simulate noise needs at least one noise coefficient > 0 (--Q, --N, --B, --K or --R)")
+    model = NoiseModel.from_datasheet(
+        quantization=datasheet["Q_arcsec"], angle_random_walk=datasheet["N_deg_sqrt_h"],
+        bias_instability=datasheet["B_deg_h"], rate_random_walk=datasheet["K_deg_h_sqrt_h"],
+        rate_ramp=datasheet["R_deg_h2"],
+    )
+    n_float = args.duration * fs
+    if not n_float < 2.0**62:  # inf or beyond any disk: said here, not as an OverflowError
+        raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n_float:.3g} samples; "
+                        "a record holds at most 2**62 (and must fit on the disk)")
+    n = int(round(n_float))
+    if n < MIN_SAMPLES:
+        raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
+                        f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
+    # the disk is checked here, before the progress bar draws, so a refusal is the one line on stderr: a CSV row
+    # "%.12g,%.17g\n" is at most about 42 characters, an HDF5 sample 8 bytes (the one float64 channel
+    # HDF5StreamWriter allocates, which checks the same again when it opens)
+    ensure_free_space(out, (42 if suffix == ".csv" else 8) * n)
+    seed = 0 if args.seed is None else args.seed
+    chunk = args.chunk or 1 << 20
+    # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)
+    memory.check_memory(memory.series_bytes(min(chunk, n), 12), f"simulate noise (chunks of {min(chunk, n)} samples)",
+                        hint="lower --chunk")
+    stream = model.stream(fs, rng=np.random.default_rng(seed))
+    meta = {
+        "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
+        "truth": {"true_rate_rad_s": 0.0,
+                  "note": "static record: the true rate is 0 rad/s, every sample of 'rate' is error; "
+                          "the noise terms are not stored separately"},
+        "noise_model_si": {"quantization_rad": model.quantization,
+                           "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
+                           "bias_instability_rad_per_s": model.bias_instability,
+                           "rate_random_walk_rad_per_s_sqrt_s": model.rate_random_walk,
+                           "rate_ramp_rad_per_s2": model.rate_ramp},
+    }
+    too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
+    peak = [0.0]
+
+    def checked(y):
+        """One chunk, refused if too large to analyse; the record's largest sample kept for the end."""
+        check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
+        peak[0] = max(peak[0], float(np.max(np.abs(y))) if len(y) else 0.0)
+        return y
+
+    def check_not_tiny() -> None:
+        """Refuse (before the file is committed) a record 'gyrobench allan' would refuse as too small."""
+        if peak[0] < MIN_MAGNITUDE:
+            raise BadInput(f"simulate noise: the record's samples are at most {peak[0]:.3g} rad/s, too small for "
+                           f"'gyrobench allan' (it needs samples above {MIN_MAGNITUDE:g}): the noise coefficients "
+                           "--Q/--N/--B/--K/--R are far too small for any gyro")
+
+    bar = tqdm(total=n, unit="sa", unit_scale=True, disable=n < 5 * chunk or args.quiet, desc="simulate")
+    with closing(bar):
+        if suffix == ".csv":
+            with atomic_path(out) as tmp, open(tmp, "w") as fh:
+                fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
+                fh.write("time [s],rate [rad/s]\n")
+                k = 0
+                for y in map(checked, stream.chunks(n, chunk)):
+                    t = (k + np.arange(len(y))) / fs
+                    np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
+                    k += len(y)
+                    bar.update(len(y))
+                check_not_tiny()
+        else:
+            with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
+                                  expected_samples=n) as w:
+                for y in map(checked, stream.chunks(n, chunk)):
+                    w.append(rate=y)
+                    bar.update(len(y))
+                check_not_tiny()
+    print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
+    return 0
+
+
+def _simulate_scenario(args) -> int:
+    from gyrobench.base.atomic import ensure_free_space
+    from gyrobench.io.recording import save_hdf5
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.reports.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+
+    if extra := given(args, _NOISE_FLAGS):
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate noise' only; "
+                        f"set a scenario's parameters with --config FILE.toml")
+    mod = registry.get(args.target)
+    config = registry.load_config(mod, args.config)
+    if args.out is None:
+        raise BadInput(f"simulate {args.target} needs --out DIR")
+    check_output(Path(args.out) / mod.NAME, what="--out", kind="folder")
+    seed = 0 if args.seed is None else args.seed
+    recs = mod.simulate(config, seed)
+    for r in recs:  # check them all before writing any
+        if r.n_samples < MIN_SAMPLES:
+            raise BadInput(
+                f"simulate {args.target}: recording {r.name!r} would have {r.n_samples} samples "
+                f"({r.n_samples / r.fs:.3g} s at {r.fs:g} Hz); a record needs at least {MIN_SAMPLES}: "
+                f"lengthen it in the config"
+            )
+    out = Path(args.out) / mod.NAME
+    ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
+    for r in recs:
+        path = save_hdf5(out / f"{r.name}.h5", r)
+        print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
+              f"truth {', '.join(r.truth)})")
+    return 0
+
+
+# ----------------------------------------------------------------------------- device and parts
+#: flags of 'simulate device' only (dest -> flag)
+_DEVICE_FLAGS = {"rate_csv": "--rate-csv", "temperature_csv": "--temperature-csv", "profile": "--profile"}
+
+
+def _profile_from_csv(path: str, flag: str, convert) -> tuple[typing.Any, float]:
+    """A (time [s], value) CSV as a PiecewiseLinear in SI, and its last time [s].
+
+    The file has a header row and two columns: time [s] (strictly increasing) and the value
+    in the flag's field unit (``--rate-csv`` deg/s, ``--temperature-csv`` degC).
+    """
+    import numpy as np
+
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    p = Path(path)
+    if not p.is_file():
+        raise BadInput(f"{flag}: file {path!r} does not exist")
+    try:
+        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2, dtype=float)
+    except ValueError as exc:
+        raise BadInput(f"{flag}: {path!r} is not a CSV of numbers under one header row: {one_line(exc)}") from None
+    if data.shape[1] != 2 or data.shape[0] < 2:
+        raise BadInput(f"{flag}: {path!r} must hold >= 2 rows of two columns (time [s], value); got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise BadInput(f"{flag}: {path!r} holds NaN or inf")
+    t = data[:, 0]
+    if not np.all(np.diff(t) > 0):
+        raise BadInput(f"{flag}: {path!r}: the time column must increase strictly")
+    return PiecewiseLinear(t - t[0], convert(data[:, 1])), float(t[-1] - t[0])
+
+
+def _profile_value(v, key: str, path: str, convert):
+    """A profile TOML value: a number or a list of [time_s, value] knots (linear between them)."""
+    import numpy as np
+
+    from gyrobench.sim.environment import PiecewiseLinear
+
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(convert(np.array([float(v)]))[0])
+    if isinstance(v, list) and v and all(isinstance(k, list) and len(k) == 2 for k in v):
+        try:
+            arr = np.asarray(v, dtype=float)
+            return PiecewiseLinear(arr[:, 0], convert(arr[:, 1]))
+        except (TypeError, ValueError) as exc:
+            raise BadInput(f"--profile {path!r}: {key}: {one_line(exc)}") from None
+    raise BadInput(f"--profile {path!r}: {key} must be a number or a list of [time_s, value] pairs; got {v!r}")
+
+
+#: the keys of a profile file: top-level values and the [earth] and [shaker] tables
+_PROFILE_KEYS = ("duration_s", "rate_dps", "temperature_c", "specific_force_g", "earth", "shaker")
+_EARTH_KEYS = ("latitude_deg", "heading_deg", "elevation_deg")
+#: [shaker] keys per kind (besides kind, start_s, duration_s and max_displacement_mm)
+_SHAKER_KEYS = {
+    "sine": ("frequency_hz", "acceleration_g", "ramp_s"),
+    "sweep": ("f_start_hz", "f_end_hz", "acceleration_g", "spacing", "ramp_s"),
+    "random": ("psd",),
+}
+
+
+def _table(data: dict, name: str, allowed: typing.Iterable[str], path: str) -> dict:
+    tbl = data[name]
+    if not isinstance(tbl, dict):
+        raise BadInput(f"--profile {path!r}: {name} must be a table [{name}]; got {tbl!r}")
+    if unknown := sorted(set(tbl) - set(allowed)):
+        raise BadInput(f"--profile {path!r}: [{name}] unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    return tbl
+
+
+def _number(tbl: dict, table: str, key: str, path: str, unit: str, *, default: float | None = None,
+            lo: float | None = None, hi: float | None = None, positive: bool = False) -> float:
+    """A finite number from a profile table, inside [lo, hi] (and > 0 when ``positive``), or its default."""
+    if key not in tbl:
+        if default is None:
+            raise BadInput(f"--profile {path!r}: [{table}] needs {key} [{unit}]")
+        return default
+    v = tbl[key]
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be a finite number [{unit}]; got {v!r}")
+    if positive and not v > 0:
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be > 0 {unit}; got {v!r}")
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise BadInput(f"--profile {path!r}: {table}.{key} must be in [{lo:g}, {hi:g}] {unit}; got {v!r}")
+    return float(v)
+
+
+def _profile_earth(data: dict, path: str) -> float:
+    """The Earth's rate about the sense axis [rad/s] from the profile's [earth] table.
+
+    Omega_E (cos(lat) cos(e) cos(heading) + sin(lat) sin(e)) (:func:`gyrobench.sim.earth.sensed_earth_rate`):
+    ``latitude_deg`` (required, [-90, 90]), ``heading_deg`` the sense axis' azimuth from north toward
+    east (default 0: north), ``elevation_deg`` above the horizontal ([-90, 90], default 0).
+    """
+    from gyrobench.sim.earth import sensed_earth_rate
+
+    tbl = _table(data, "earth", _EARTH_KEYS, path)
+    lat = _number(tbl, "earth", "latitude_deg", path, "deg", lo=-90.0, hi=90.0)
+    heading = _number(tbl, "earth", "heading_deg", path, "deg", default=0.0)
+    elevation = _number(tbl, "earth", "elevation_deg", path, "deg", default=0.0, lo=-90.0, hi=90.0)
+    return float(sensed_earth_rate(math.radians(lat), azimuth=math.radians(heading),
+                                   elevation=math.radians(elevation)))
+
+
+def _profile_shaker(data: dict, path: str) -> tuple[float, typing.Any]:
+    """(start [s], the vibration profile) of the profile's [shaker] table (SI inside).
+
+    ``kind`` "sine" (:class:`~gyrobench.sim.shaker.FixedSine`: frequency_hz, acceleration_g),
+    "sweep" (:class:`~gyrobench.sim.shaker.SineSweep`: f_start_hz, f_end_hz, acceleration_g,
+    spacing "log" or "linear") or "random" (:class:`~gyrobench.sim.shaker.RandomVibration`: psd, a
+    list of [frequency_hz, g^2/Hz] breakpoints); ``duration_s`` of the vibration, ``start_s``
+    (default 0: the record is static before and after it), optional ``max_displacement_mm``
+    (the shaker's stroke limit, peak) and, for sine and sweep, ``ramp_s`` (soft start and stop).
+    """
+    from gyrobench.base import units
+    from gyrobench.sim.shaker import FixedSine, RandomVibration, SineSweep
+
+    raw = data["shaker"]
+    kind = raw.get("kind") if isinstance(raw, dict) else None
+    if kind not in _SHAKER_KEYS:
+        raise BadInput(f"--profile {path!r}: shaker.kind must be one of {sorted(_SHAKER_KEYS)}; got {kind!r}")
+    common = ("kind", "start_s", "duration_s", "max_displacement_mm")
+    tbl = _table(data, "shaker", common + _SHAKER_KEYS[kind], path)
+    start = _number(tbl, "shaker", "start_s", path, "s", default=0.0, lo=0.0, hi=math.inf)
+    dur = _number(tbl, "shaker", "duration_s", path, "s", positive=True)
+    d_max = (None if "max_displacement_mm" not in tbl
+             else _number(tbl, "shaker", "max_displacement_mm", path, "mm", positive=True) * 1e-3)
+    try:
+        if kind == "random":
+            psd = tbl.get("psd")
+            pairs: list = psd if isinstance(psd, list) else []
+            if len(pairs) < 2 or not all(
+                isinstance(k, list) and len(k) == 2
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in k) for k in pairs
+            ):
+                raise BadInput(f"--profile {path!r}: shaker.psd must be >= 2 [frequency_hz, g^2/Hz] pairs; "
+                               f"got {psd!r}")
+            return start, RandomVibration(breakpoints=tuple((float(f), float(g)) for f, g in pairs), duration=dur,
+                                          max_displacement=d_max)
+        acc = units.g(_number(tbl, "shaker", "acceleration_g", path, "g", lo=0.0, hi=math.inf))
+        ramp = _number(tbl, "shaker", "ramp_s", path, "s", default=0.0, lo=0.0, hi=dur / 2)
+        if kind == "sine":
+            f = _number(tbl, "shaker", "frequency_hz", path, "Hz", positive=True)
+            return start, FixedSine(frequency=f, duration=dur, acceleration=acc, max_displacement=d_max,
+                                    ramp_time=ramp)
+        spacing = tbl.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise BadInput(f"--profile {path!r}: shaker.spacing must be 'log' or 'linear'; got {spacing!r}")
+        return start, SineSweep(
+            f_start=_number(tbl, "shaker", "f_start_hz", path, "Hz", positive=True),
+            f_end=_number(tbl, "shaker", "f_end_hz", path, "Hz", positive=True),
+            duration=dur, acceleration=acc, spacing=spacing, max_displacement=d_max, ramp_time=ramp,
+        )
+    except (TypeError, ValueError) as exc:
+        raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
+
+
+def _shaker_force(vibration, start: float, duration: float, fs: float, *, rng, path: str) -> typing.Any:
+    """The shaker's specific force [m/s^2], one mean per output interval
+    (:func:`gyrobench.sim.shaker.interval_mean_acceleration`), its errors in the profile's words."""
+    from gyrobench.sim.shaker import ShakerWindowError, interval_mean_acceleration
+
+    try:
+        return interval_mean_acceleration(vibration, duration=duration, fs=fs, rng=rng, start=start)
+    except ShakerWindowError as exc:
+        raise BadInput(f"--profile {path!r}: shaker.start_s + shaker.duration_s = {exc.end:g} s must lie inside the "
+                       f"record (0, {exc.duration:g}] s and hold >= 1 sample at {exc.fs:g} Hz") from None
+    except ValueError as exc:
+        raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
+
+
+def _device_environment(args, part):
+    """(Environment, fs, what the profile's tables added) from --profile or --rate-csv/--temperature-csv."""
+
+    import numpy as np
+
+    from gyrobench.sim.environment import PiecewiseLinear
+    from gyrobench.sim.sensor import Environment
+
+    if args.profile is not None and (args.rate_csv is not None or args.temperature_csv is not None):
+        raise BadInput("simulate device: give --profile or --rate-csv/--temperature-csv, not both")
+    dps = np.radians
+    kelvin = lambda c: np.asarray(c, dtype=float) + 273.15  # noqa: E731
+    g0 = lambda g: np.asarray(g, dtype=float) * 9.80665  # noqa: E731
+    rate: typing.Any = 0.0
+    temp: typing.Any = None
+    force: typing.Any = 0.0
+    earth = None
+    shaker = None
+    duration = args.duration
+    if args.profile is not None:
+        path = args.profile
+        data = read_toml(path, "--profile")
+        if unknown := sorted(set(data) - set(_PROFILE_KEYS)):
+            raise BadInput(f"--profile {path!r}: unknown key(s) {unknown}; allowed: {sorted(_PROFILE_KEYS)}")
+        if "rate_dps" in data:
+            rate = _profile_value(data["rate_dps"], "rate_dps", path, dps)
+        if "temperature_c" in data:
+            temp = _profile_value(data["temperature_c"], "temperature_c", path, kelvin)
+        if "specific_force_g" in data:
+            force = _profile_value(data["specific_force_g"], "specific_force_g", path, g0)
+        if "earth" in data:
+            earth = _profile_earth(data, path)
+            rate = (rate + earth if not isinstance(rate, PiecewiseLinear)
+                    else PiecewiseLinear(rate.times, rate.values + earth))
+        if "shaker" in data:
+            shaker = _profile_shaker(data, path)
+        if duration is None and "duration_s" in data:
+            duration = _number(data, "profile", "duration_s", path, "s", positive=True)
+    else:
+        if args.rate_csv is not None:
+            rate, span = _profile_from_csv(args.rate_csv, "--rate-csv", dps)
+            duration = span if duration is None else duration
+        if args.temperature_csv is not None:
+            temp, span = _profile_from_csv(args.temperature_csv, "--temperature-csv", kelvin)
+            duration = span if duration is None else duration
+    if duration is None:
+        raise BadInput("simulate device needs --duration (or a profile's duration_s, or a CSV's time span)")
+    fs = args.fs if args.fs is not None else (part.datasheet.output_rate or 100.0)
+    if not (math.isfinite(duration * fs) and duration * fs < 2**31):
+        raise BadInput(f"--duration x --fs = {duration:g} s x {fs:g} Hz is too many samples for one record in memory")
+    added: dict[str, typing.Any] = {}
+    if earth is not None:
+        added["earth_rate_rad_s"] = earth
+    if shaker is not None:
+        start, vibration = shaker
+        seed = 0 if args.seed is None else args.seed
+        # the shaker's own stream: a child of the seed, so the part's noise is the same with or without it
+        rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+        vib = _shaker_force(vibration, start, duration, fs, rng=rng, path=args.profile)
+        n = len(vib)
+        base = force((np.arange(n) + 0.5) / fs) if isinstance(force, PiecewiseLinear) else np.full(n, force)
+        force = base + vib
+        added["shaker"] = {"kind": type(vibration).__name__, "start_s": start, "duration_s": vibration.duration,
+                           "max_frequency_hz": vibration.max_frequency}
+    try:
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs, added
+    except (TypeError, ValueError) as exc:
+        raise BadInput(f"simulate device: {one_line(exc)}") from None
+
+
+def _simulate_device(args) -> int:
+    """One record of a part (built-in name or FILE.toml) in a rate/temperature profile -> -o FILE.h5|.csv."""
+    import numpy as np
+
+    from gyrobench.base import memory
+    from gyrobench.io.recording import save_hdf5, to_csv
+    from gyrobench.scenarios.reports.outputs import check_output
+    from gyrobench.scenarios.static_noise import MIN_SAMPLES
+    from gyrobench.sim import parts
+
+    if extra := [f for f in given(args, _NOISE_FLAGS) if f not in ("--fs", "--duration", "-o/--output")]:
+        raise BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate noise' only")
+    if extra := given(args, _SCENARIO_FLAGS):
+        raise BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate SCENARIO' only")
+    if args.part is None:
+        raise BadInput(f"simulate device needs a PART: one of {', '.join(parts.names())}, or a FILE.toml")
+    try:
+        part = parts.get(args.part)
+    except ValueError as exc:
+        raise BadInput(one_line(exc)) from None
+    if args.output is None:
+        raise BadInput("simulate device needs -o FILE.h5 or FILE.csv")
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    if suffix not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
+    check_output(out, what="-o", kind="file")
+    env, fs, added = _device_environment(args, part)
+    n = env.n_samples(fs)
+    if n < MIN_SAMPLES:
+        raise BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
+                        f"a record needs at least {MIN_SAMPLES}")
+    # output, true rate, 7 error components, temperature, force, plus the model's temporaries
+    memory.check_memory(memory.series_bytes(n, 20), "simulate device", hint="shorten --duration or lower --fs")
+    seed = 0 if args.seed is None else args.seed
+    rec = part.simulate(env, fs=fs, rng=np.random.default_rng(seed))
+    if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
+        rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
+    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
+    print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
+          f"truth {', '.join(rec.truth)})")
+    return 0
+
+
+def _cmd_parts(args) -> int:
+    """List the built-in parts with their datasheet figures, sources and the notes on what was assumed."""
+    from gyrobench.sim import parts
+
+    def fmt(v, unit: str) -> str:
+        return "-" if v is None else f"{v:g} {unit}"
+
+    for d in parts.datasheets():
+        noise = (fmt(d.arw, "deg/sqrt(h)") if d.arw is not None
+                 else f"{fmt(d.noise_density, 'deg/s/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
+        print(f"{d.name}: {d.manufacturer} {d.model} [{d.technology}, {d.grade}]")
+        b = ("not on the sheet (no 1/f term drawn)" if d.bias_instability_dph is None
+             else fmt(d.bias_instability_dph, "deg/h"))
+        print(f"    range {fmt(d.range_dps, 'deg/s')}; bias instability {b}; "
+              f"noise {noise}; bias repeatability {fmt(d.bias_repeatability, 'deg/h')}; "
+              f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
+              f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
+              f"resolution {fmt(d.resolution, 'deg/s')}")
+        print(f"    source: {d.source}")
+        print(f"    physics model: {parts.physics_summary(d)}")
+        if d.notes:
+            print(f"    notes: {d.notes}")
+    return 0
+
+
+_IMU_FLAGS = {"trajectory": "--trajectory", "misalignment": "--misalignment", "cross_axis": "--cross-axis",
+              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments", "latitude": "--latitude"}
+
+
+def _cmd_simulate(args) -> int:
+    if args.target == "imu":
+        from gyrobench.scenarios.cli.imu import simulate_imu
+
+        bad = [f for f in given(args, {**_NOISE_FLAGS, **_SCENARIO_FLAGS, **_DEVICE_FLAGS})
+               if f not in ("--fs", "-o/--output")]
+        if bad:
+            raise BadInput(f"simulate imu: {', '.join(bad)} do not apply to 'simulate imu'")
+        return simulate_imu(args)
+    if extra := [f for f in given(args, _IMU_FLAGS) if f != "--increments" or args.increments]:
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate imu' only")
+    if args.target == "device":
+        return _simulate_device(args)
+    if args.part is not None:
+        raise BadInput(f"simulate {args.target}: a second positional ({args.part!r}) is taken "
+                        "by 'simulate device PART' only")
+    if extra := given(args, _DEVICE_FLAGS):
+        raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate device' only")
+    if args.target == "noise":
+        return _simulate_noise(args)
+    return _simulate_scenario(args)
+
+
+def add_parsers(sub) -> None:
+    """Add ``simulate`` and ``parts`` to the subparsers ``sub``."""
+    s = sub.add_parser("simulate", help="simulate a noise record or every recording of a scenario",
+                       description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
+                                   "'simulate device PART' simulates a datasheet part in a rate/temperature profile; "
+                                   "'simulate imu PART --trajectory FILE.toml' a triad of the part on a moving block; "
+                                   "'simulate SCENARIO' writes every recording of a scenario (HDF5 with truth).")
+    s.add_argument("target", help="'noise', 'device', 'imu' or a scenario name (see 'gyrobench list')")
+    s.add_argument("part", nargs="?", help="device: a part (see 'gyrobench parts') or a FILE.toml of its datasheet")
+    # noise-only flags default to None so that giving one to a scenario (or the reverse) can be refused
+    s.add_argument("--Q", type=nonneg_float("--Q"), help="noise: quantization [arcsec] (default 0)")
+    s.add_argument("--N", type=nonneg_float("--N"), help="noise: angle random walk [deg/sqrt(h)] (default 0)")
+    s.add_argument("--B", type=nonneg_float("--B"), help="noise: bias instability [deg/h] (default 0)")
+    s.add_argument("--K", type=nonneg_float("--K"), help="noise: rate random walk [deg/h/sqrt(h)] (default 0)")
+    s.add_argument("--R", type=nonneg_float("--R"), help="noise: rate ramp [deg/h^2] (default 0)")
+    s.add_argument("--fs", type=positive_float("--fs"), help="noise: sample rate [Hz] (default 100)")
+    s.add_argument("--duration", type=duration, help="noise: record length > 0: 10h, 30min, 600s")
+    s.add_argument("--seed", type=seed, help="random seed (default 0)")
+    s.add_argument("-o", "--output", help="noise: output file, .h5 or .csv")
+    s.add_argument("--out", help="scenario: output folder")
+    s.add_argument("--config", help="scenario: TOML file overriding the scenario's parameters")
+    s.add_argument("--chunk", type=positive_int("--chunk"), help=argparse.SUPPRESS)
+    s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
+    s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
+    s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "
+                   "[time_s, value] knots), duration_s, and the tables [earth] (latitude_deg, heading_deg, "
+                   "elevation_deg: the Earth's rate added to the rate) and [shaker] (kind = sine, sweep or random: "
+                   "vibration added to the specific force)")
+    s.add_argument("--trajectory", help="imu: TOML motion definition ([site], [initial], [[motion]] segments of "
+                   "constant body rate and NED acceleration, [accelerometer]; see gyrobench.scenarios.cli.imu)")
+    s.add_argument("--misalignment", type=nonneg_float("--misalignment", 100.0),
+                   help="imu: 1-sigma misalignment of each axis pair [mrad] (default 0)")
+    s.add_argument("--cross-axis", type=nonneg_float("--cross-axis", 10.0),
+                   help="imu: 1-sigma cross-axis sensitivity [%%] (default 0)")
+    s.add_argument("--latitude", type=ranged("--latitude", -89.9, 89.9, unit="deg"),
+                   help="imu: the site's latitude [deg] for a CSV trajectory (default 0)")
+    s.add_argument("--increments", action="store_true", help="imu: write angle and velocity increments, not rates")
+    s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
+    s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")
+    s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=_cmd_simulate)
+
+    s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures and physics mapping")
+    s.set_defaults(func=_cmd_parts)

@@ -1,0 +1,359 @@
+"""``gyrobench twin``: a digital twin of a real static gyro record, and whether its Allan deviation matches.
+
+::
+
+    gyrobench twin REAL.csv --column gyro_z [--fs HZ] [--units deg/s] -o twin.h5|twin.csv [--seed S]
+                   [--part NAME | --nearest MEMS|FOG|RLG] [--alpha 0.05] [--json] [--plot twin.png]
+
+The real record's noise is fitted (:func:`gyrobench.analysis.allan.fit_noise`, the five IEEE
+952 terms, ``tau_min="auto"``); the fitted Allan-variance model sum_n C_n tau^n becomes a
+:class:`gyrobench.sim.noise.NoiseModel` (each C_n to its coefficient, Q, N, B, K, R), or with
+``--part`` / ``--nearest`` a built-in part's model is used instead; a record of the same
+length and rate is simulated and the two curves are compared at the fitted taus by
+:func:`gyrobench.analysis.twin.compare_twin`: the pass rule is an F test of the two
+independent Allan-variance estimates per tau with Sidak's correction, a family-wise
+false-alarm rate of ``--alpha`` (a perfect twin fails at most that often). The twin
+lives here, not in ``sim`` or ``analysis``: it needs both, which never import each other.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from gyrobench.scenarios.cli.common import MAX_FLAG_VALUE, BadInput, positive_float, seed
+
+if TYPE_CHECKING:  # the verb imports numpy, analysis and sim only when it runs (``--help`` stays light)
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from gyrobench.analysis.allan import NoiseFit
+    from gyrobench.analysis.twin import TwinComparison
+    from gyrobench.io.recording import Recording
+    from gyrobench.sim.noise import NoiseModel
+    from gyrobench.sim.parts import Part
+
+__all__ = ["TwinResult", "add_parser", "gauss_markov_term", "make_twin", "nearest_part", "noise_model_from_fit"]
+
+_FIELDS = {"Q": "quantization", "N": "angle_random_walk", "B": "bias_instability", "K": "rate_random_walk",
+           "R": "rate_ramp"}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class TwinResult:
+    """A twin and its comparison with the real record.
+
+    Attributes
+    ----------
+    fit : NoiseFit
+        The real record's noise fit (rad/s in, SI coefficients).
+    model : str
+        "fit" (the fitted model) or the name of the built-in part used.
+    coefficients : dict of str to float
+        The twin's IEEE coefficients [SI: Q rad, N rad/sqrt(s), B rad/s, K rad/s/sqrt(s), R rad/s^2].
+    recording : Recording
+        The twin: channel ``output`` [rad/s], truth ``true_rate`` (0) and its noise terms.
+    comparison : TwinComparison
+        Per-tau test at the fitted taus.
+    """
+
+    fit: NoiseFit
+    model: str
+    coefficients: dict[str, float]
+    recording: Recording
+    comparison: TwinComparison
+
+
+def noise_model_from_fit(fit: NoiseFit) -> NoiseModel:
+    """The :class:`NoiseModel` whose Allan variance is the fit's model sum_n C_n tau^n (C_n -> Q, N, B, K, R)."""
+    from gyrobench.analysis.allan import avar_to_coefficient
+    from gyrobench.sim.noise import NoiseModel
+
+    c = {k: avar_to_coefficient(k, fit.avar_coefficients.get(k, 0.0)) for k in _FIELDS}
+    return NoiseModel(quantization=c["Q"], angle_random_walk=c["N"], bias_instability=c["B"],
+                      rate_random_walk=c["K"], rate_ramp=c["R"])
+
+
+def gauss_markov_term(fit: NoiseFit, *, level: float = 0.05) -> tuple[NDArray[np.float64], float, float] | None:
+    """A first-order Gauss-Markov term added to the fitted model where the curve needs one, or None.
+
+    Only for a misfit (``fit.misfit``: the five power laws do not follow the fitted points).
+    The model A(tau) = sum_n C_n tau^n + sigma^2 g(tau/Tc)/(tau/Tc)^2
+    (:func:`gyrobench.sim.noise.gm_avar`, docs/physics.md 1.2) is fitted to the fitted points
+    by non-negative least squares in (C_n, sigma^2) for each Tc on a log grid over the fitted
+    taus, each point weighted by its chi-square standard error A_fit sqrt(2/edf) (diagonal:
+    the points' correlation is ignored, so the test below is approximate). The term is kept
+    when the weighted residual sum drops by more than the chi2(2) quantile at 1 - ``level``
+    (two added parameters). Returns (C_n in the order Q, N, B, K, R, sigma [rad/s], Tc [s]).
+    """
+    import numpy as np
+    from scipy.optimize import nnls
+    from scipy.stats import chi2
+
+    from gyrobench.sim.noise import gm_avar
+
+    if not fit.misfit:
+        return None
+    used = fit.used
+    tau = np.asarray(fit.curve.tau, dtype=float)[used]
+    a = np.asarray(fit.curve.deviation, dtype=float)[used] ** 2
+    nu = np.asarray(fit.curve.edf, dtype=float)[used]
+    if len(tau) < 8:
+        return None
+    powers = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
+    w = 1.0 / (np.maximum(fit.avar(tau), 1e-300) * np.sqrt(2.0 / nu))
+    base = np.column_stack([tau ** p for p in powers.values()])
+    _, r0 = nnls(base * w[:, None], a * w)
+    best: tuple[float, NDArray[np.float64], float] | None = None
+    for tc in np.geomspace(tau[0], tau[-1], 48):
+        x = np.column_stack([base, gm_avar(tau, 1.0, float(tc))])
+        coef, r = nnls(x * w[:, None], a * w)
+        if coef[-1] > 0 and (best is None or r < best[0]):
+            best = (float(r), coef, float(tc))
+    if best is None or r0**2 - best[0] ** 2 <= chi2.ppf(1 - level, 2):
+        return None
+    _, coef, tc = best
+    return coef[:5], float(np.sqrt(coef[5])), tc
+
+
+def nearest_part(fit: NoiseFit, technology: str) -> Part:
+    """The built-in part of ``technology`` whose (N, B) are nearest the fit's in log distance.
+
+    The distance is sqrt(ln(N_part/N_fit)^2 + ln(B_part/B_fit)^2) with the fit's model
+    coefficients (a term the fit set to 0 is taken at its 95 % upper bound).
+    """
+    from gyrobench.analysis.allan import avar_to_coefficient
+    from gyrobench.sim import parts
+
+    def level(key: str) -> float:
+        v = avar_to_coefficient(key, fit.avar_coefficients.get(key, 0.0))
+        return v if v > 0 else max(fit.coefficients[key].upper_bound, 1e-300)
+
+    n_fit, b_fit = level("N"), level("B")
+    # a part without a bias-instability figure has B = 0: no log distance, not a candidate
+    cands = [d for d in parts.datasheets() if d.technology == technology and d.bias_instability_dph is not None]
+    if not cands:
+        raise BadInput(f"--nearest must be one of {parts.TECHNOLOGIES}; got {technology!r}")
+    best = min(cands, key=lambda d: math.hypot(math.log(d.angle_random_walk() / n_fit),
+                                               math.log(d.bias_instability() / b_fit)))
+    return parts.get(best.name)
+
+
+def _fit_recording(model, n: int, fs: float, rng, *, source: str, fit_meta: dict):
+    import numpy as np
+
+    from gyrobench.io.recording import Channel, Recording
+
+    comps = model.components(n, fs, rng=rng)
+    out = np.sum(list(comps.values()), axis=0) if comps else np.zeros(n)
+    truth = {"true_rate": Channel(np.zeros(n), "rad/s", "input rate (static record)")}
+    truth.update({k: Channel(v, "rad/s", f"IEEE 952 term {k}") for k, v in comps.items()})
+    return Recording(fs=fs, channels={"output": Channel(out, "rad/s", "twin output")}, truth=truth, t0=0.5 / fs,
+                     metadata={"model": "gyrobench twin (fitted NoiseModel)", "source": source,
+                               "noise_model": model.to_datasheet(), "fit": fit_meta,
+                               "error_components": list(comps), "ignored_inputs": []},
+                     name="twin")
+
+
+def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator, source: str = "",
+              part: str | None = None, nearest: str | None = None, family_alpha: float = 0.05,
+              gauss_markov: bool = True) -> TwinResult:
+    """Fit ``rate`` [rad/s] at ``fs`` [Hz], simulate its twin from ``rng`` and compare (module docstring).
+
+    ``part`` (a built-in name or .toml) or ``nearest`` (a technology) replaces the fitted model
+    by a part's datasheet model (:class:`gyrobench.sim.parts.Part`, a static record). With
+    ``gauss_markov`` a misfitting five-term model gains a Gauss-Markov term when the curve
+    needs one (:func:`gauss_markov_term`).
+    """
+    import numpy as np
+
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+    from gyrobench.analysis.twin import compare_twin
+    from gyrobench.sim import parts as parts_mod
+    from gyrobench.sim.sensor import Environment
+
+    rate = np.asarray(rate, dtype=float)
+    n = len(rate)
+    fit = fit_noise(rate, fs, tau_min="auto")
+    fit_meta = {k: {"value": c.value, "ci95": list(c.ci95), "identifiable": c.identifiable}
+                for k, c in fit.coefficients.items()}
+    if part is not None or nearest is not None:
+        p = parts_mod.get(part) if part is not None else nearest_part(fit, str(nearest))
+        rec = p.simulate(Environment(n / fs), fs=fs, rng=rng)
+        nm = p.datasheet.noise_model()
+        coeffs = {k: float(getattr(nm, f)) for k, f in _FIELDS.items()}
+        label = p.name
+    else:
+        model = noise_model_from_fit(fit)
+        label = "fit"
+        gm = gauss_markov_term(fit) if gauss_markov else None
+        if gm is not None:
+            from gyrobench.analysis.allan import avar_to_coefficient
+            from gyrobench.sim.noise import GaussMarkov, NoiseModel
+
+            c = {k: avar_to_coefficient(k, float(v)) for k, v in zip(_FIELDS, gm[0], strict=True)}
+            model = NoiseModel(quantization=c["Q"], angle_random_walk=c["N"], bias_instability=c["B"],
+                               rate_random_walk=c["K"], rate_ramp=c["R"],
+                               gauss_markov=(GaussMarkov(sigma=gm[1], correlation_time=gm[2]),))
+            label = "fit + Gauss-Markov"
+        rec = _fit_recording(model, n, fs, rng, source=source, fit_meta=fit_meta)
+        coeffs = {k: float(getattr(model, f)) for k, f in _FIELDS.items()}
+        if gm is not None:
+            coeffs.update(gm_sigma=gm[1], gm_correlation_time=gm[2])
+    twin_curve = allan_deviation(rec["output"], fs, kind=fit.curve.kind)
+    cmp = compare_twin(fit.curve, twin_curve, taus=fit.tau_used, family_alpha=family_alpha)
+    return TwinResult(fit=fit, model=label, coefficients=coeffs, recording=rec, comparison=cmp)
+
+
+def _table(res: TwinResult, label: str) -> list[str]:
+    from gyrobench.base import units
+
+    c = res.comparison
+    dph = 1.0 / units.deg_per_h(1.0)
+    lines = [f"twin of {label}: model {res.model}; {res.recording.n_samples} samples at {res.recording.fs:g} Hz",
+             f"rule: {c.rule}",
+             *([f"Gauss-Markov term (the five power laws misfit): sigma {res.coefficients['gm_sigma'] * dph:.4g} "
+                f"deg/h, Tc {res.coefficients['gm_correlation_time']:.4g} s"]
+               if "gm_sigma" in res.coefficients else []),
+             f"{'tau [s]':>10} {'real ADEV':>11} {'real 95% interval':>23} {'twin ADEV':>11} {'twin/real':>9} "
+             f"{'band':>15} {'in real95':>9} {'pass':>5}  [deg/h]"]
+    for i in range(c.n_taus):
+        lines.append(f"{c.tau[i]:>10.4g} {c.real[i] * dph:>11.4g} "
+                     f"[{c.real_low95[i] * dph:>10.4g}, {c.real_high95[i] * dph:>10.4g}] {c.twin[i] * dph:>11.4g} "
+                     f"{c.ratio[i]:>9.3f} [{c.ratio_low[i]:.3f}, {c.ratio_high[i]:.3f}] "
+                     f"{'yes' if c.inside_real95[i] else 'no':>9} {'ok' if c.inside[i] else 'FAIL':>5}")
+    verdict = "MATCHES" if c.passed else "DOES NOT MATCH"
+    lines.append(f"twin {verdict}: {int(c.inside.sum())}/{c.n_taus} fitted taus inside the band; "
+                 f"{int(c.inside_real95.sum())}/{c.n_taus} inside the real curve's own 95 % interval (informative)")
+    return lines
+
+
+def _json(res: TwinResult, label: str) -> dict:
+    c = res.comparison
+    return {"source": label, "model": res.model, "fs": res.recording.fs, "n_samples": res.recording.n_samples,
+            "coefficients_si": res.coefficients, "rule": c.rule, "family_alpha": c.family_alpha,
+            "per_tau_alpha": c.per_tau_alpha, "passed": c.passed,
+            "taus": [{"tau": float(c.tau[i]), "real": float(c.real[i]), "real_low95": float(c.real_low95[i]),
+                      "real_high95": float(c.real_high95[i]), "twin": float(c.twin[i]), "ratio": float(c.ratio[i]),
+                      "ratio_low": float(c.ratio_low[i]), "ratio_high": float(c.ratio_high[i]),
+                      "edf_real": float(c.edf_real[i]), "edf_twin": float(c.edf_twin[i]),
+                      "inside": bool(c.inside[i]), "inside_real95": bool(c.inside_real95[i])}
+                     for i in range(c.n_taus)]}
+
+
+def _plot(res: TwinResult, label: str, target: Path) -> None:
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gyrobench.base import units
+    from gyrobench.base.atomic import atomic_path
+
+    c = res.comparison
+    dph = 1.0 / units.deg_per_h(1.0)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.fill_between(c.tau, c.real_low95 * dph, c.real_high95 * dph, alpha=0.25, label="real 95 % interval")
+    ax.loglog(c.tau, c.real * dph, "o-", label="real")
+    ax.loglog(c.tau, c.twin * dph, "s--", label=f"twin ({res.model})")
+    bad = ~c.inside
+    if np.any(bad):
+        ax.loglog(c.tau[bad], c.twin[bad] * dph, "rx", ms=10, label="outside the F band")
+    ax.set_xlabel("tau [s]")
+    ax.set_ylabel("Allan deviation [deg/h]")
+    ax.set_title(f"twin of {label}: {'matches' if c.passed else 'does not match'} "
+                 f"(family-wise alpha {c.family_alpha:g})", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    with atomic_path(target) as tmp:
+        fig.savefig(tmp, format=(target.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+
+def _cmd_twin(args) -> int:
+    import numpy as np
+
+    from gyrobench.io.recording import save_hdf5
+    from gyrobench.scenarios.cli.allan import _check_allan_input, _read_hdf5
+    from gyrobench.scenarios.reports.outputs import check_output
+
+    path = Path(args.file)
+    if not path.is_file():
+        raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    if args.part is not None and args.nearest is not None:
+        raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
+    if Path(args.output).suffix.lower() not in (".h5", ".hdf5", ".csv"):
+        raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.output!r}")
+    check_output(args.output, what="-o", create_parents=False)
+    if args.plot:
+        check_output(args.plot, what="--plot", create_parents=False)
+    columns = [args.column] if args.column is not None else None
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        if args.fs is not None or args.units is not None:
+            raise BadInput("--fs and --units apply to CSV input; an HDF5 recording carries its own")
+        log = _read_hdf5(path, None, columns)
+    else:
+        from gyrobench.io.logs import read_csv_log
+
+        log = read_csv_log(path, columns, args.fs, args.units)
+    ch = log.channels[0]
+    if ch.quantity != "rate":
+        raise BadInput(f"--column must name a rate column; {ch.label!r} is {ch.quantity}")
+    rate = np.asarray(ch.data, dtype=float)
+    if not np.all(np.isfinite(rate)):
+        raise BadInput(f"{ch.label!r} holds non-finite samples; the twin needs a complete record")
+    _check_allan_input(rate, log.fs, ch.label, "overlapping")
+    res = make_twin(rate, log.fs, rng=np.random.default_rng(args.seed), source=f"{path.name}:{ch.label}",
+                    part=args.part, nearest=args.nearest, family_alpha=args.alpha)
+    if Path(args.output).suffix.lower() == ".csv":
+        from gyrobench.io.recording import to_csv
+
+        to_csv(Path(args.output), res.recording)
+    else:
+        save_hdf5(Path(args.output), res.recording)
+    label = f"{path.name}:{ch.label}"
+    if args.plot:
+        _plot(res, label, Path(args.plot))
+    if args.json:
+        print(json.dumps(_json(res, label)))
+    else:
+        print("\n".join(_table(res, label)))
+        print(f"wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
+    return 0 if res.comparison.passed else 1
+
+
+def _alpha_arg(text: str) -> float:
+    import argparse
+
+    v = positive_float("--alpha")(text)
+    if not v < 1:
+        raise argparse.ArgumentTypeError(f"--alpha must be in (0, 1); got {text!r}")
+    return v
+
+
+def add_parser(sub) -> None:
+    """Add ``twin`` to the subparsers ``sub``."""
+    s = sub.add_parser("twin", help="digital twin of a real static record: fit, simulate, compare Allan deviations",
+                       epilog="exit status: 0 the twin matches; 1 it does not (some fitted tau outside the band); "
+                              "2 bad input")
+    s.add_argument("file", help="real static record: CSV (.csv, .csv.gz) or gyrobench HDF5")
+    s.add_argument("--column", help="the rate column (CSV name or index; HDF5 channel, default 'rate')")
+    s.add_argument("--fs", type=positive_float("--fs", MAX_FLAG_VALUE),
+                   help="CSV without a time column: sample rate [Hz]")
+    s.add_argument("--units", help="CSV: unit of the column, e.g. deg/s, deg/h, rad/s (default: from the header)")
+    s.add_argument("-o", "--output", required=True, help="write the twin recording here (.h5 HDF5 or .csv, with its "
+                                                      "truth columns)")
+    s.add_argument("--seed", type=seed, default=0, help="seed of the twin's noise (default 0)")
+    s.add_argument("--part", help="use this built-in part's (or .toml part's) datasheet model instead of the fit")
+    s.add_argument("--nearest", choices=("MEMS", "FOG", "RLG"),
+                   help="use the built-in part of this technology nearest the fit in (N, B)")
+    s.add_argument("--alpha", type=_alpha_arg, default=0.05,
+                   help="family-wise false-alarm rate of the pass rule: a perfect twin fails at most this often "
+                        "(default 0.05)")
+    s.add_argument("--json", action="store_true", help="print the per-tau comparison as JSON")
+    s.add_argument("--plot", help="write the overlaid ADEV figure (PNG)")
+    s.set_defaults(func=_cmd_twin)

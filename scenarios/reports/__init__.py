@@ -1,0 +1,1 @@
+"""Reports: the paper reports (Markdown, HTML, figures), the Allan report, the README table, output folders."""

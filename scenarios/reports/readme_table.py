@@ -1,0 +1,217 @@
+"""The README's "Reproduced results" table, generated from a report's results.json files.
+
+::
+
+    python -m gyrobench.scenarios.reports.readme_table gyrobench-report            # print the markdown
+    python -m gyrobench.scenarios.reports.readme_table gyrobench-report --splice README.md
+
+The table is built from the same ``claims`` lists the report's summary shows (see
+:func:`gyrobench.scenarios.claims.ClaimResult.as_dict`), one row per claim, so the README
+and the report can never disagree. ``--splice FILE`` replaces only the text between
+the lines ``<!-- reproduced-results:begin -->`` and ``<!-- reproduced-results:end -->``
+of FILE (refused when the markers are missing); nothing else of the file is touched.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+__all__ = ["BEGIN", "END", "format_table", "load_report", "main", "splice"]
+
+BEGIN = "<!-- reproduced-results:begin -->"
+END = "<!-- reproduced-results:end -->"
+
+
+def load_report(folder: str | Path) -> list[dict[str, Any]]:
+    """Every ``<scenario>/results.json`` under ``folder``, in the registry's order.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``folder`` holds no results.json.
+    """
+    from gyrobench.scenarios import registry
+
+    root = Path(folder)
+    docs = [json.loads(p.read_text()) for p in sorted(root.glob("*/results.json"))]
+    if not docs:
+        raise FileNotFoundError(
+            f"report folder {str(root)!r} holds no <scenario>/results.json; "
+            "run 'gyrobench reproduce --all --out DIR' first"
+        )
+    order = {n: i for i, n in enumerate(registry.SCENARIOS)}
+    return sorted(
+        docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", ""))
+    )
+
+
+def _fmt(x: float | None) -> str:
+    from gyrobench.scenarios.reports.report import fmt
+
+    return "n/a" if x is None else fmt(float(x))
+
+
+def _paper(key: str) -> str:
+    from gyrobench.scenarios import papers
+
+    try:
+        return f"{key} {papers.citation(key, short=True)}"
+    except KeyError:
+        return key
+
+
+def _row(c: dict[str, Any]) -> str:
+    unit = f" {c['unit']}" if c.get("unit") else ""
+    paper_value = "-" if c["paper_value"] is None else f"{_fmt(c['paper_value'])}{unit}"
+    ours = (
+        "n/a"
+        if c["median"] is None
+        else f"{_fmt(c['median'])}{unit} [{_fmt(c['spread'][0])}, {_fmt(c['spread'][1])}]"
+    )
+    if c["testable"]:
+        lo, hi = c["interval95"]
+        holds = f"{c['holds']}/{c['testable']} ({100 * lo:.0f}-{100 * hi:.0f} %)"
+    else:
+        holds = f"0/0 of {c['units']}"
+    status = c.get("status", c["verdict"])
+    if c["kind"] == "calibrated" and c.get("role", "method") == "method" and status == "reproduced":
+        status = "*calibrated, not counted*"
+    elif status in ("reproduced", "contradicted", "device matched", "device not matched", "identity of the analysis"):
+        status = f"**{status}**"
+    notes = []
+    if c.get("provisional"):
+        notes.append("provisional")
+    direction = (c.get("misses") or {}).get("direction")
+    if c.get("status") in ("contradicted", "device not matched") and direction:
+        notes.append(f"misses {direction}")
+    if c.get("precondition_absent"):
+        notes.append(f"{c['precondition_absent']} unit(s) lack the precondition")
+    control = c.get("control")
+    if control:
+        notes.append(f"control {control['holds']}/{control['testable']}")
+    if notes:
+        status += f" ({'; '.join(notes)})"
+    role = c.get("role", "method") + (" (calibrated)" if c["kind"] == "calibrated" else "")
+    cells = [
+        _paper(c["paper"]),
+        c["where"],
+        c["statement"],
+        role,
+        paper_value,
+        c["comparator"],
+        ours,
+        holds,
+        status,
+    ]
+    return "| " + " | ".join(s.replace("|", "\\|") for s in cells) + " |"
+
+
+def _tally_row(doc: dict[str, Any]) -> str:
+    """One paper's claims counted by role and status (from its results.json claims)."""
+    claims = doc["claims"]
+
+    def count(role: str, *statuses: str, kind: str | None = None) -> int:
+        return sum(
+            c.get("role", "method") == role and c.get("status") in statuses and (kind is None or c["kind"] == kind)
+            for c in claims
+        )
+
+    device = sum(c.get("role") == "device" for c in claims)
+    ext = sum(c.get("role") == "extension" for c in claims)
+    cells = [
+        _paper(doc["claims"][0]["paper"]) if claims else doc.get("scenario", ""),
+        str(doc.get("units", "")),
+        f"{count('device', 'device matched')} / {device}",
+        str(count("method", "reproduced", kind="emergent")),
+        str(count("method", "contradicted")),
+        str(count("method", "not reproducible on this device")),
+        str(count("method", "identity of the analysis")),
+        str(count("method", "undecided")),
+        str(count("method", "not testable")),
+        str(count("method", "reproduced", kind="calibrated")),
+        f"{count('extension', 'reproduced')} / {ext}",
+    ]
+    return "| " + " | ".join(cells) + " |"
+
+
+def format_table(docs: Sequence[dict[str, Any]]) -> str:
+    """The markdown: a line on the units, the claims table, the tally, the physics checks."""
+    papers = [d for d in docs if d.get("claims")]
+    lines = []
+    if papers:
+        n = sorted({d["units"] for d in papers})
+        lines += [
+            f"Every claim of the papers, judged over {', '.join(map(str, n))} simulated unit(s) per paper "
+            "(each unit its own noise and drawn parameters). Device claims are what the simulated device "
+            "was matched to; method claims are what the paper's method achieves on it, judged only on units "
+            "that show the effect, and against a control (the same seeds with the effect switched off): a claim "
+            "that holds there about as often is an identity of the analysis, not a finding. \"holds on\" is k/n "
+            "with the 95 % Wilson interval of the pass rate; a verdict needs that interval entirely above or below "
+            "50 %, and is provisional within 5 points of it. Calibrated claims are shown but not counted.",
+            "",
+            "| paper | units | device matched | method: reproduced | contradicted | not reproducible on this "
+            "device | identity | undecided | not testable | calibrated | extensions: hold / all |",
+            "|---|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        lines += [_tally_row(d) for d in papers]
+        lines += [
+            "",
+            "| paper | where | claim | role | paper | criterion | ours: median [IQR] | holds on | status |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
+        lines += [_row(c) for d in papers for c in d["claims"]]
+    checks = [c for d in docs for c in d.get("checks", [])]
+    if checks:
+        failed = [c["id"] for c in checks if not c["passed"]]
+        lines += [
+            "",
+            "Closed-form checks of the sensor models (`physics_checks`): "
+            f"{len(checks) - len(failed)} of "
+            f"{len(checks)} pass" + (f"; FAILED: {', '.join(failed)}." if failed else "."),
+        ]
+    if not lines:
+        raise ValueError(
+            "the report holds no paper claims and no physics checks: nothing to tabulate"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def splice(text: str, table: str) -> str:
+    """``text`` with the lines between :data:`BEGIN` and :data:`END` replaced by ``table``."""
+    if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
+        raise ValueError(f"the file must hold the marker lines {BEGIN!r} then {END!r}, once each")
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    return f"{head}{BEGIN}\n{table}{END}{tail}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = argparse.ArgumentParser(
+        prog="python -m gyrobench.scenarios.reports.readme_table", description=__doc__.split("\n")[0]
+    )
+    p.add_argument("report", help="report folder written by 'gyrobench reproduce'")
+    p.add_argument(
+        "--splice", metavar="FILE", help="replace the marked section of FILE (e.g. README.md)"
+    )
+    args = p.parse_args(argv)
+    try:
+        table = format_table(load_report(args.report))
+        if args.splice:
+            path = Path(args.splice)
+            path.write_text(splice(path.read_text(encoding="utf-8"), table), encoding="utf-8")
+            print(f"updated {path}")
+        else:
+            sys.stdout.write(table)
+    except (ValueError, FileNotFoundError) as exc:
+        print(f"readme_table: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

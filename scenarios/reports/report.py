@@ -1,0 +1,501 @@
+"""Reports: each scenario's tables, figures and results.json, and one summary page.
+
+Layout written by :func:`write_report` under ``out_dir``::
+
+    index.html                 self-contained page (figures embedded as base64 PNG)
+    report.md                  the same content in Markdown (figures linked)
+    <scenario>/results.json    machine-readable results of that scenario
+    <scenario>/report.md       that scenario's tables
+    <scenario>/<figure>.png    its figures
+
+Every file is written to a temporary name and renamed when complete. Every
+report states seed, package version and the full configuration.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import datetime as _dt
+import html
+import io
+import json
+import math
+import platform
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+from gyrobench.base.atomic import atomic_path
+from gyrobench.io.recording import package_version  # noqa: E402
+from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
+
+__all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "tally_text", "write_report"]
+
+
+def fmt(x: Any) -> str:
+    """Format a table cell: 4 significant digits for floats, text as is, None as 'n/a'."""
+    if x is None:
+        return "n/a"
+    if isinstance(x, bool):
+        return "yes" if x else "no"
+    if isinstance(x, float):
+        if math.isnan(x):
+            return "n/a"
+        if x == 0 or 1e-3 <= abs(x) < 1e5:
+            return f"{x:.4g}"
+        return f"{x:.3e}"
+    return str(x)
+
+
+def _jsonable(o: Any) -> Any:
+    import numpy as np
+
+    if dataclasses.is_dataclass(o) and not isinstance(o, type):
+        return {f.name: _jsonable(getattr(o, f.name)) for f in dataclasses.fields(o)}
+    if isinstance(o, dict):
+        return {str(k): _jsonable(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_jsonable(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return _jsonable(o.tolist())
+    if isinstance(o, np.generic):
+        return _jsonable(o.item())
+    if isinstance(o, float) and math.isinf(o):
+        return "inf" if o > 0 else "-inf"
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    if isinstance(o, (str, int, float, bool)) or o is None:
+        return o
+    if isinstance(o, Path):
+        return str(o)
+    return repr(o)
+
+
+def outcome_json(outcome: Outcome) -> dict[str, Any]:
+    """The results.json document of one outcome: results plus seed, version, config, runtime.
+
+    A paper scenario's document also holds ``units`` (how many were simulated),
+    ``claims`` (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict` each) and
+    ``deviations`` (the paper's protocol departures).
+    """
+    doc: dict[str, Any] = {
+        "scenario": outcome.scenario,
+        "title": outcome.title,
+        "seed": outcome.seed,
+        "gyrobench_version": package_version(),
+        "runtime_s": outcome.runtime_s,
+        "config": outcome.config,
+        "headlines": [dataclasses.asdict(h) for h in outcome.headlines],
+    }
+    if outcome.claims or outcome.deviations:
+        doc["units"] = outcome.units
+        doc["claims"] = [c.as_dict() for c in outcome.claims]
+        doc["deviations"] = [dataclasses.asdict(d) for d in outcome.deviations]
+        if outcome.deviation_effects:
+            doc["deviation_effects"] = [e.as_dict() for e in outcome.deviation_effects]
+    clash = sorted(set(doc) & set(outcome.results))
+    if clash:  # a scenario's own numbers must not overwrite the runner's (e.g. the unit count)
+        raise ValueError(
+            f"scenario {outcome.scenario!r}: results keys {clash} are reserved in results.json"
+        )
+    doc.update(outcome.results)
+    return _jsonable(doc)
+
+
+def _write_text(path: Path, text: str) -> None:
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def _png_bytes(fig) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
+    return buf.getvalue()
+
+
+def _md_table(t: Table) -> str:
+    lines = [f"**{t.title}**", "", "| " + " | ".join(t.columns) + " |", "|" + "---|" * len(t.columns)]
+    lines += ["| " + " | ".join(fmt(c) for c in row) + " |" for row in t.rows]
+    if t.note:
+        lines += ["", t.note]
+    return "\n".join(lines) + "\n"
+
+
+def _td(cell: Any) -> str:
+    """A table cell; prose (a string longer than a number or a short word) reads left-aligned."""
+    text = fmt(cell)
+    cls = " class='txt'" if isinstance(cell, str) and len(text) > 12 else ""
+    return f"<td{cls}>{html.escape(text)}</td>"
+
+
+def _html_table(t: Table) -> str:
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in t.columns)
+    body = "".join("<tr>" + "".join(_td(c) for c in row) + "</tr>" for row in t.rows)
+    note = f"<p class='note'>{html.escape(t.note)}</p>" if t.note else ""
+    return f"<h3>{html.escape(t.title)}</h3><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{note}"
+
+
+def _holds(h: Headline) -> str:
+    return {True: "yes", False: "NO", None: "-"}[h.holds]
+
+
+def _summary_rows(outcomes: Sequence[Outcome]) -> list[list[str]]:
+    rows = []
+    for o in outcomes:
+        for h in o.headlines:
+            rows.append([o.scenario, h.quantity, h.reproduced, h.target, _holds(h), h.note])
+    return rows
+
+
+_SUMMARY_COLUMNS = ["scenario", "quantity", "reproduced", "paper / target", "conclusion holds", "note"]
+
+#: the claims table of a paper, in the scenario's section
+_CLAIM_COLUMNS = ["claim", "where", "paper's statement", "role", "paper", "criterion",
+                  "ours: median [IQR]", "holds / testable", "pass rate [95 % CI]", "control", "status"]
+
+
+def _paper_heading(outcome: Outcome) -> str:
+    """The paper's citation (:func:`gyrobench.scenarios.papers.citation`) for a paper scenario."""
+    from gyrobench.scenarios import papers
+
+    keys = sorted({c.claim.paper for c in outcome.claims} | {d.paper for d in outcome.deviations})
+    out = []
+    for k in keys:
+        try:
+            out.append(papers.citation(k))
+        except KeyError:
+            out.append(f"paper {k} (no entry in scenarios.papers)")
+    return "; ".join(out)
+
+
+def _num(x: float | None, unit: str = "") -> str:
+    if x is None:
+        return "n/a"
+    return f"{fmt(float(x))}{' ' + unit if unit else ''}"
+
+
+def status_text(r: Any) -> str:
+    """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
+    status = r.status
+    word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
+                                        "identity of the analysis") else status
+    if r.claim.kind == "calibrated" and r.claim.role == "method" and status == "reproduced":
+        word = "CALIBRATED (not counted)"
+    notes = []
+    if r.provisional:
+        notes.append("provisional")
+    if status in ("contradicted", "device not matched") and r.miss_direction:
+        notes.append(f"misses {r.miss_direction}")
+    if status == "not reproducible on this device":
+        notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    return word + (f" ({'; '.join(notes)})" if notes else "")
+
+
+def _claim_row(r: Any) -> list[str]:
+    """One claims-table row from a :class:`~gyrobench.scenarios.claims.ClaimResult`."""
+    c = r.claim
+    role = c.role + (" (calibrated)" if c.kind == "calibrated" else "")
+    ours = "n/a" if r.median is None else f"{_num(r.median, c.unit)} [{fmt(r.spread[0])}, {fmt(r.spread[1])}]"
+    if r.testable:
+        lo, hi = r.interval95
+        rate = f"{100 * r.pass_rate:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] %"
+    else:
+        rate = "n/a"
+    counts = f"{r.holds} / {r.testable}" + (f" ({r.precondition_absent} lack the precondition)"
+                                            if r.precondition_absent else "")
+    control = "-" if r.control is None else f"{r.control.holds} / {r.control.testable}"
+    return [c.id, c.where, c.statement, role, _num(c.paper_value, c.unit), c.comparator.text(c.unit), ours,
+            counts, rate, control, status_text(r)]
+
+
+def claim_tally(claims: Sequence[Any]) -> Any:
+    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims."""
+    from gyrobench.scenarios.claims import tally
+
+    return tally(claims)
+
+
+def tally_text(n: Any) -> str:
+    """One line: device matched, method claims by status, extensions."""
+    dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
+    ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
+    return (
+        f"{dev}method claims: {n.reproduced} reproduced, {n.contradicted} CONTRADICTED, "
+        f"{n.not_reproducible} not reproducible on this device, {n.identity} identities of the analysis, "
+        f"{n.undecided} undecided, {n.not_testable} not testable, {n.calibrated} calibrated (not counted){ext}"
+    )
+
+
+def _claims_table(o: Outcome) -> Table:
+    if o.units > 1:
+        over = (f"Judged over {o.units} units (seeds {o.seed} to {o.seed + o.units - 1}; each unit has its own "
+                "noise and drawn parameters).")
+    else:
+        over = f"One unit (seed {o.seed}): a quick look; no verdict can be reached on one unit."
+    note = (
+        f"{over} {tally_text(claim_tally(o.claims))}. A verdict needs the 95 % Wilson interval of the pass rate "
+        "entirely above (holds) or below (fails) 50 %; it is provisional when the interval ends within 5 points "
+        "of 50 %. Device claims are what the simulated device was matched to; method claims are the paper's "
+        "results on it, judged only on units that show the effect (the precondition); 'control' is the same "
+        "claim on the same seeds with the paper's effect switched off, and a claim holding there about as "
+        "often is an identity of the analysis, not a finding. A calibrated claim (an input was set from the "
+        "paper's number) is not counted as reproduced."
+    )
+    return Table(f"Claims of {_paper_heading(o)}", _CLAIM_COLUMNS, [_claim_row(r) for r in o.claims], note=note)
+
+
+def deviation_effect_text(d: Any, effects: Sequence[Any]) -> str:
+    """The measured-effect cell of a deviation: this run's measurement, or why there is none."""
+    by_variant = {e.variant: e for e in effects}
+    variant = getattr(d, "variant", None)
+    if variant and variant in by_variant:
+        return f"variant '{variant}' {by_variant[variant].text()}"
+    legacy = f" An earlier run's note: {d.effect}" if d.effect else ""
+    if not variant:
+        return "no config variant: not measurable by a run." + legacy
+    return f"not measured in this run (gyrobench reproduce --deviations runs variant '{variant}')." + legacy
+
+
+def _deviations_table(o: Outcome) -> Table:
+    rows = [[d.what, d.paper_says, d.we_do, d.reason, deviation_effect_text(d, o.deviation_effects)]
+            for d in o.deviations]
+    return Table(
+        "Deviations from the paper's protocol",
+        ["what", "the paper", "this simulation", "why", "measured effect on the claims"],
+        rows,
+        note="" if rows else "No departure from a protocol the paper states.",
+    )
+
+
+def _mark_verdicts(text: str) -> str:
+    """Colour the status cells of an HTML claims table (failures as prominent as successes)."""
+    import re
+
+    for word, cls in (("REPRODUCED", "yes"), ("DEVICE MATCHED", "yes"), ("CONTRADICTED", "no"),
+                      ("DEVICE NOT MATCHED", "no"), ("IDENTITY OF THE ANALYSIS", "cal"),
+                      ("CALIBRATED (not counted)", "cal")):
+        text = re.sub(rf"<td(?: class='txt')?>({re.escape(word)}(?: \([^<]*\))?)</td>", rf"<td class='{cls}'>\1</td>",
+                      text)
+    return text
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1500px;margin:2em auto;
+padding:0 1em;color:#222}
+table{border-collapse:collapse;margin:0.5em 0 1em 0;font-size:0.85em;display:block;overflow-x:auto}
+th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
+th{background:#eef}
+td:first-child,th:first-child{text-align:left}
+.note{font-size:0.85em;color:#555;max-width:900px}
+figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(33.3% - 1em);margin-right:0.5em}
+details.fold>summary h3{display:inline}
+table.claims td:nth-child(3){min-width:26em}
+table.claims td:nth-child(2),table.claims td:nth-child(6){min-width:8em}
+figure img{max-width:100%;border:1px solid #ddd}
+nav ol{font-size:0.9em;columns:2}
+nav details{display:inline;margin-left:0.5em;font-size:0.9em}
+nav details ol{columns:1}
+a.top{font-size:0.9em;margin-left:1em}
+figcaption{font-size:0.85em;color:#444}
+.no{color:#b00;font-weight:bold}
+.yes{color:#070;font-weight:bold}
+.cal{color:#a60;font-weight:bold;font-style:italic}
+td:nth-child(3){text-align:left}
+td.txt{text-align:left;min-width:9em}
+.meta{font-size:0.8em;color:#666}
+pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
+"""
+
+
+#: marks on <body> how many figures the browser decoded (read by the report's browser test)
+_LOAD_CHECK = (
+    "<script>window.addEventListener('load',function(){var im=document.images,ok=0;"
+    "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0)ok++;}"
+    "document.body.setAttribute('data-figures-loaded',ok);"
+    "document.body.setAttribute('data-figures-total',im.length);"
+    "document.body.setAttribute('data-page-height',document.documentElement.scrollHeight);});</script>"
+)
+
+
+def tally_table(outcomes: Sequence[Outcome]) -> Table:
+    """The status of every paper's claims in one table (the report's first screen)."""
+    cols = ["scenario", "paper", "units", "device matched", "method: reproduced", "CONTRADICTED",
+            "not reproducible on this device", "identity of the analysis", "undecided", "not testable",
+            "calibrated (not counted)", "extensions: hold / all"]
+    rows: list[list[Any]] = []
+    for o in outcomes:
+        if not (o.claims or o.deviations):
+            continue
+        n = claim_tally(o.claims)
+        papers = ", ".join(sorted({c.claim.paper for c in o.claims})) or "-"
+        rows.append([o.scenario, papers, o.units, f"{n.device_matched} / {n.device}", n.reproduced, n.contradicted,
+                     n.not_reproducible, n.identity, n.undecided, n.not_testable, n.calibrated,
+                     f"{n.extension_reproduced} / {n.extension}"])
+    return Table(
+        "Claims at a glance", cols, rows,
+        note="Per paper: how many device claims the simulated device matches, and the paper's method claims by "
+        "status. Each paper's section gives every claim with its interval, precondition and control.",
+    )
+
+
+def _anchor(*parts: str) -> str:
+    return "-".join(p.replace(" ", "-") for p in parts)
+
+
+def _scenario_tables(o: Outcome) -> list[tuple[Table, bool]]:
+    """(table, is_claims_or_deviations) in the order a scenario's section shows them."""
+    own = [(_claims_table(o), True), (_deviations_table(o), True)] if (o.claims or o.deviations) else []
+    return [*own, *((t, False) for t in o.tables)]
+
+
+def _contents(outcomes: Sequence[Outcome]) -> tuple[list[str], str]:
+    """The contents list, as Markdown lines and as an HTML <nav>."""
+    md = ["## Contents", "", "- [Summary](#summary)"]
+    h = ["<nav id='contents'><h2>Contents</h2><ol>", "<li><a href='#summary'>Summary</a></li>"]
+    for o in outcomes:
+        md.append(f"- [{o.title}](#{o.scenario})")
+        sub = [
+            f"<li><a href='#{_anchor(o.scenario, 't', str(i))}'>{html.escape(t.title)}</a></li>"
+            for i, (t, _) in enumerate(_scenario_tables(o))
+        ]
+        if o.figures:
+            sub.append(f"<li><a href='#{_anchor(o.scenario, 'figures')}'>Figures ({len(o.figures)})</a></li>")
+        h.append(
+            f"<li><a href='#{html.escape(o.scenario)}'>{html.escape(o.title)}</a>"
+            f"<details><summary>{len(sub)} parts</summary><ol>{''.join(sub)}</ol></details></li>"
+        )
+    h.append("</ol></nav>")
+    return md + [""], "".join(h)
+
+
+def _summary(outcomes: Sequence[Outcome]) -> tuple[list[str], list[str]]:
+    """The summary: the verdict tally and the headline numbers (each paper's tables stay in its section)."""
+    md = ["## Summary", ""]
+    h = ["<h2 id='summary'>Summary</h2>"]
+    tally = tally_table(outcomes)
+    if tally.rows:
+        md += [_md_table(tally)]
+        h.append(_link_scenarios(_html_table(tally), outcomes))
+    rows = _summary_rows(outcomes)
+    if rows:
+        summary = Table("Headline numbers beside their targets", _SUMMARY_COLUMNS, rows)
+        md += ["", _md_table(summary)]
+        h.append(_html_table(summary).replace("<td>NO</td>", "<td class='no'>NO</td>"))
+    return md, h
+
+
+def _link_scenarios(text: str, outcomes: Sequence[Outcome]) -> str:
+    """Make each scenario's name in a table's first column a link to its section."""
+    for o in outcomes:
+        name = html.escape(o.scenario)
+        for cell in ("<td>", "<td class='txt'>"):
+            text = text.replace(f"{cell}{name}</td>", f"{cell}<a href='#{name}'>{name}</a></td>", 1)
+    return text
+
+
+def _figure_html(caption: str, png: bytes) -> str:
+    b64 = base64.b64encode(png).decode("ascii")
+    return (
+        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{b64}'>"
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
+#: a table with more rows than this is folded under its title (one click opens it)
+FOLD_ROWS = 12
+
+
+def _section_table_html(t: Table, own: bool) -> str:
+    """A section's table: claims tables in full; deviations and long tables folded under their title."""
+    if own and t.title.startswith("Claims of "):
+        return _mark_verdicts(_html_table(t)).replace("<table>", "<table class='claims'>", 1)
+    if own or len(t.rows) > FOLD_ROWS:
+        body = _html_table(t).split("</h3>", 1)[1]
+        return (f"<details class='fold'><summary><h3>{html.escape(t.title)}</h3> ({len(t.rows)} rows)</summary>"
+                f"{body}</details>")
+    return _html_table(t)
+
+
+def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list[str]]:
+    """One scenario's section (Markdown lines, HTML parts); writes its figures' PNG files."""
+    seeds = f"seeds {o.seed} to {o.seed + o.units - 1} ({o.units} units)" if o.units > 1 else f"seed {o.seed}"
+    meta = f"{seeds}; runtime {fmt(o.runtime_s)} s"
+    if o.claims or o.deviations:
+        meta = f"{_paper_heading(o)}. {meta}"
+    smd = [f"## {o.title} (`{o.scenario}`)", "", meta, ""]
+    if o.conclusion:
+        smd += [o.conclusion, ""]
+    name = html.escape(o.scenario)
+    h = [f"<section><h2 id='{name}'>{html.escape(o.title)} (<code>{name}</code>)</h2>",
+         f"<p class='meta'>{html.escape(meta)} <a class='top' href='#contents'>contents</a></p>"]
+    if o.conclusion:
+        h.append(f"<p>{html.escape(o.conclusion)}</p>")
+    for i, (t, own) in enumerate(_scenario_tables(o)):
+        smd.append(_md_table(t))
+        h.append(f"<div id='{_anchor(o.scenario, 't', str(i))}'>{_section_table_html(t, own)}</div>")
+    if o.figures:
+        h.append(f"<h3 id='{_anchor(o.scenario, 'figures')}'>Figures</h3><div class='figs'>")
+    for f in o.figures:
+        png = _png_bytes(f.figure)
+        with atomic_path(sdir / f"{f.name}.png") as tmp:
+            tmp.write_bytes(png)
+        smd += [f"![{f.caption}]({o.scenario}/{f.name}.png)", "", f"*{f.caption}*", ""]
+        h.append(_figure_html(f.caption, png))
+    if o.figures:
+        h.append("</div>")
+    smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]
+    h.append(f"<details><summary>configuration</summary><pre>{html.escape(cfg)}</pre></details></section>")
+    return smd, h
+
+
+def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: str = "") -> Path:
+    """Write every outcome's files and the summary page; return the path of ``index.html``.
+
+    The page reads like a paper's supplement: a contents list with anchors, the tally of
+    verdicts and the headline numbers on top, then each scenario once (claims, deviations,
+    its tables, its figures side by side, its configuration folded).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    version = package_version()
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    machine = f"{platform.python_implementation()} {platform.python_version()} on {platform.machine()}"
+
+    md = ["# gyrobench report", "", f"gyrobench {version}; {stamp}; {machine}.", ""]
+    if command:
+        md += [f"Command: `{command}`", ""]
+    h = [
+        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+        "<title>gyrobench report</title>",
+        f"<style>{_CSS}</style></head><body>",
+        "<h1>gyrobench report</h1>",
+        f"<p class='meta'>gyrobench {html.escape(version)}; {stamp}; {html.escape(machine)}"
+        + (f"; command <code>{html.escape(command)}</code>" if command else "")
+        + "</p>",
+    ]
+    contents_md, contents_html = _contents(outcomes)
+    md += contents_md
+    h.append(contents_html)
+    summary_md, summary_html = _summary(outcomes)
+    md += summary_md
+    h += summary_html
+
+    for o in outcomes:
+        sdir = out / o.scenario
+        sdir.mkdir(parents=True, exist_ok=True)
+        doc = outcome_json(o)
+        _write_text(sdir / "results.json", json.dumps(doc, indent=2, sort_keys=False) + "\n")
+        smd, sh = _scenario_section(o, sdir, json.dumps(doc["config"], indent=1))
+        _write_text(sdir / "report.md", "\n".join(smd).replace(f"]({o.scenario}/", "]("))
+        md += smd
+        h += sh
+    h.append(_LOAD_CHECK)
+    h.append("</body></html>")
+    _write_text(out / "report.md", "\n".join(md))
+    index = out / "index.html"
+    _write_text(index, "\n".join(h))
+    return index

@@ -1,0 +1,546 @@
+"""The shared runner of a paper scenario: simulate N units, judge the claims, build the report.
+
+A paper scenario (see :mod:`gyrobench.scenarios.claims`) defines ``experiment(config,
+seed)`` (one unit through the whole pipeline, no formatting), ``CLAIMS``,
+``DEVIATIONS`` and ``report(config, units, claims)``. :func:`run_paper` does exactly::
+
+    seeds = range(seed, seed + n_units)
+    units = [module.experiment(config, s) for s in seeds]   # on the bench's executor, resumable
+    control = [module.experiment(module.control_config(config), s) for s in seeds]  # when it has one
+    claims = evaluate(module_claims(module, config), [quantities_of(u) for u in units],
+                      [quantities_of(u) for u in control])
+    outcome = module.report(config, units, claims)
+    outcome.claims, outcome.deviations, outcome.units = claims, list(module.DEVIATIONS), n
+
+Units run where the bench's seeds run (:mod:`gyrobench.scenarios.bench`): a local
+process pool (``workers``; ``0`` runs them in this process) or any
+:class:`concurrent.futures.Executor`, e.g. ``distributed.Client(addr).get_executor()``.
+Every unit runs with the BLAS/OpenMP pools limited to one thread, as the bench's
+seeds do, so a unit's result is bit-identical whatever the executor and worker count.
+
+Resumption: each finished unit's result is encoded as JSON with a schema
+(:mod:`gyrobench.scenarios.runner.codec`: typed frozen gyrobench dataclasses, tuples, numbers,
+strings and numeric arrays; never pickle, so a crafted store runs no code and is refused in one
+line) and committed to a SQLite file
+(one transaction per unit, WAL journal, ``synchronous=FULL``; the bench's
+connection), keyed by a run identity (the scenario module's source closure, the
+configuration, the gyrobench/numpy/scipy/scikit-learn versions) and the seed. A
+reproduction killed at any moment resumes and recomputes no finished unit;
+changing the code or the configuration starts afresh rather than mixing units.
+Every result, fresh or stored, is the one read back from the file, so a fresh run
+and a resumed one hand :func:`evaluate` the same objects.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import hashlib
+import importlib
+import json
+import os
+import sqlite3
+import time
+import types
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gyrobench.scenarios.base import Outcome, check_pool
+from gyrobench.scenarios.papers.contract import quantities_of
+
+__all__ = [
+    "DEFAULT_DB",
+    "MAX_SEED",
+    "MAX_UNITS",
+    "UnitRun",
+    "check_run_size",
+    "check_unit_memory",
+    "concurrent_units",
+    "default_db",
+    "is_paper_scenario",
+    "run_id",
+    "run_paper",
+    "run_units",
+]
+
+#: default resume store (in the current directory) when no db is given
+DEFAULT_DB = "gyrobench-units.sqlite"
+
+#: the most units one run simulates (``reproduce --units/--max-units/--deviations``, ``n_units``):
+#: a claim's pass fraction over 10,000 units has a 95 % interval of at most +-1 percentage point,
+#: finer than any claim is stated to; every unit's result is held in memory for the claims and the
+#: report, and the fastest paper's unit takes about 0.9 s of CPU (stop 13), so 10,000 units are
+#: already hours. Checked in O(1) before any seed list is built (``--units 10000000`` grew without
+#: bound before).
+MAX_UNITS = 10_000
+
+#: the largest seed a unit may have: seeds are stored as SQLite's signed 64-bit INTEGER
+MAX_SEED = 2**63 - 1
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS unit_runs (
+    run_id TEXT PRIMARY KEY,
+    scenario TEXT NOT NULL,
+    config TEXT NOT NULL,
+    identity TEXT NOT NULL,
+    created REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS unit_results (
+    run_id TEXT NOT NULL REFERENCES unit_runs(run_id),
+    seed INTEGER NOT NULL,
+    result BLOB NOT NULL,
+    elapsed_s REAL NOT NULL,
+    finished REAL NOT NULL,
+    PRIMARY KEY (run_id, seed)
+);
+"""
+
+
+def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
+    """The claims to judge for ``config``: ``module.claims_for(config)`` where a scenario
+    defines it (a config variant that sets an input from a paper number makes that claim
+    calibrated), else ``module.CLAIMS``."""
+    claims_for = getattr(module, "claims_for", None)
+    return tuple(claims_for(config)) if callable(claims_for) else tuple(module.CLAIMS)
+
+
+def is_paper_scenario(module: types.ModuleType) -> bool:
+    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``)."""
+    return callable(getattr(module, "experiment", None)) and hasattr(module, "CLAIMS")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class UnitRun:
+    """The units' results in seed order, and how many were computed or read back."""
+
+    run_id: str
+    seeds: tuple[int, ...]
+    results: tuple[dict[str, Any], ...]
+    elapsed_s: tuple[float, ...]
+    computed: int
+    reused: int
+    db: str
+
+
+def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
+    """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
+    from gyrobench.scenarios.bench.identity import scenario_identity
+    from gyrobench.scenarios.runner.codec import SCHEMA
+
+    ident = dict(scenario_identity(module, config), store_format=SCHEMA)  # old pickled stores never match
+    text = json.dumps(ident, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16], text
+
+
+def concurrent_units(n_units: int, workers: int | None) -> int:
+    """How many units a local run holds in memory at once: one per worker process, at most
+    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs)."""
+    from gyrobench.scenarios.runner.executors import default_workers
+
+    if workers == 0:
+        return 1
+    return max(1, min(int(n_units), workers or default_workers()))
+
+
+def check_unit_memory(
+    module: types.ModuleType, config: Any, *, concurrent: int, source: str = "its configuration"
+) -> None:
+    """Refuse, before any unit starts, a local run whose units do not fit in memory together.
+
+    A scenario's ``memory_estimate(config)`` is the peak of ONE unit (one ``experiment`` in
+    one worker process). This is the one place that multiplies it by the units running at
+    once on this machine (:func:`concurrent_units`); a remote executor's workers hold their
+    units in their own memory, so its callers do not call this.
+    :func:`gyrobench.scenarios.registry.load_config` has already checked one unit.
+
+    Raises
+    ------
+    gyrobench.base.memory.MemoryLimitError
+        One line: the scenario, ``source`` (e.g. ``"config file 'big.toml'"``), the units at
+        once, the estimate and the limit.
+    """
+    from gyrobench.base import memory
+
+    est = memory.scenario_bytes(module, config)
+    if est is None:
+        return
+    name = getattr(module, "NAME", module.__name__)
+    memory.check_memory(
+        est * concurrent,
+        f"scenario {name} with {source} ({concurrent} unit(s) at once, one per worker process, "
+        f"about {memory.format_bytes(est)} each)",
+        hint="lower --workers, or shorten the records or lower the sample rate in --config",
+    )
+
+
+def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, float]:
+    """Worker entry point: one unit's ``experiment`` result, encoded by the codec (module level: it
+    pickles to the worker; the result comes back as JSON text, never as a pickle of our own)."""
+    from threadpoolctl import threadpool_limits
+
+    t0 = time.perf_counter()
+    module = importlib.import_module(module_name)
+    with threadpool_limits(limits=1):
+        result = module.experiment(config, seed)
+    try:
+        quantities_of(result)
+    except TypeError:
+        raise TypeError(
+            f"{module_name}.experiment must return a UnitResult (a typed result with a 'quantities' "
+            f"mapping); got {type(result).__name__} for seed {seed}"
+        ) from None
+    from gyrobench.scenarios.runner import codec
+
+    return seed, codec.dumps(result).encode("utf-8"), time.perf_counter() - t0
+
+
+def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
+    """A stored unit result, decoded without running code (a one-line ValueError naming the db
+    and the seed if the row is not a result the codec wrote)."""
+    from gyrobench.scenarios.runner import codec
+
+    try:
+        return codec.loads(blob)
+    except codec.CodecError as exc:
+        raise ValueError(f"db {str(db)!r}: stored unit (seed {seed}) refused: {exc}") from None
+
+
+def check_run_size(n_units: Any, seed: Any = 0, *, what: str = "n_units", seed_name: str = "seed") -> None:
+    """Refuse, in O(1) and in one line, a run of ``n_units`` units from ``seed`` that is not an
+    integer in ``[1, MAX_UNITS]`` or whose seeds pass :data:`MAX_SEED` (``what`` and ``seed_name``
+    name them in the message, e.g. ``"--units"``)."""
+    if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
+        raise ValueError(f"{what} must be an integer >= 1; got {n_units!r}")
+    if n_units > MAX_UNITS:
+        shown = f"an integer of {len(str(n_units))} digits" if n_units > 10**30 else str(n_units)
+        raise ValueError(
+            f"{what} must be at most {MAX_UNITS} units (a claim's interval is then within +-1 point; "
+            f"every unit's result is held in memory); got {shown}"
+        )
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"{seed_name} must be an integer >= 0; got {seed!r}")
+    if seed > MAX_SEED - n_units + 1:
+        shown = f"an integer of {len(str(seed))} digits" if seed > 10**30 else str(seed)
+        raise ValueError(f"{seed_name} + units - 1 must be at most {MAX_SEED} (a 64-bit seed); got {shown}")
+
+
+def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
+    check_run_size(n_units, seed)
+    check_pool(executor, workers)
+
+
+def _open_store(
+    db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
+) -> sqlite3.Connection:
+    from gyrobench.scenarios.runner.store import connect_db
+
+    conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
+    try:
+        conn.execute("BEGIN IMMEDIATE")
+        conn.execute(
+            "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
+            (rid, name, repr(config), identity, time.time()),
+        )
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.close()
+        raise
+    return conn
+
+
+def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float) -> bytes:
+    """Commit one unit; return the stored blob (another process may have stored it first)."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        conn.execute(
+            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
+            (rid, seed, blob, elapsed, time.time()),
+        )
+    except sqlite3.IntegrityError:
+        conn.execute("ROLLBACK")
+        (blob,) = conn.execute(
+            "SELECT result FROM unit_results WHERE run_id = ? AND seed = ?", (rid, seed)
+        ).fetchone()
+        return bytes(blob)
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    conn.execute("COMMIT")
+    return blob
+
+
+def _execute(
+    module_name: str,
+    config: Any,
+    todo: Sequence[int],
+    record: Callable[[int, bytes, float], None],
+    *,
+    executor: cf.Executor | None,
+    workers: int | None,
+) -> None:
+    """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
+    from gyrobench.scenarios.runner.executors import add_note, check_picklable, local_pool, stop_pool
+
+    if executor is None and workers == 0:
+        for s in todo:
+            record(*_unit_job(module_name, config, s))
+        return
+    check_picklable(None, config)
+    own = executor is None
+    ex: cf.Executor = local_pool(workers) if executor is None else executor
+    futures: dict[cf.Future, int] = {}
+    ok = False
+    try:
+        futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}
+        for fut in cf.as_completed(futures):
+            try:
+                record(*fut.result())
+            except Exception as exc:
+                add_note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
+                raise
+        ok = True
+    finally:
+        for f in futures:
+            f.cancel()
+        if own:
+            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: running units are killed
+
+
+def run_units(
+    module: types.ModuleType,
+    config: Any,
+    *,
+    seed: int = 0,
+    n_units: int = 20,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = False,
+) -> UnitRun:
+    """``module.experiment(config, s)`` for ``s`` in ``range(seed, seed + n_units)``, resuming.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario (:func:`is_paper_scenario`), importable by name in the workers.
+    config : the module's Config
+    seed : int
+        The first unit's seed (>= 0).
+    n_units : int
+        How many units (>= 1).
+    executor : concurrent.futures.Executor, optional
+        Where units run (not shut down here). Excludes ``workers``.
+    workers : int, optional
+        Local process pool size (default: the usable CPUs); ``0`` runs in this process.
+    db : path
+        SQLite resume store (created if absent, in an existing folder).
+    progress : bool
+        A tqdm bar on stderr.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad arguments, or a module without the paper-scenario shape. An exception in a
+        unit is re-raised with a note naming the seed, after the finished units are committed.
+    """
+    _check_args(n_units, seed, workers, executor)
+    if not is_paper_scenario(module):
+        raise ValueError(
+            f"scenario {getattr(module, 'NAME', module.__name__)!r} is not a paper scenario "
+            "(it must define experiment and CLAIMS)"
+        )
+    seeds = tuple(range(seed, seed + n_units))
+    rid, identity = run_id(module, config)
+    name = getattr(module, "NAME", module.__name__)
+    conn = _open_store(db, rid, name, config, identity)
+    try:
+        blobs: dict[int, bytes] = {}
+        elapsed: dict[int, float] = {}
+        for s, blob, el in conn.execute(
+            "SELECT seed, result, elapsed_s FROM unit_results WHERE run_id = ?", (rid,)
+        ):
+            if s in seeds:
+                blobs[s], elapsed[s] = bytes(blob), float(el)
+        reused = len(blobs)
+        todo = [s for s in seeds if s not in blobs]
+        if executor is None and todo:  # our own local pool: its units share this machine
+            check_unit_memory(module, config, concurrent=concurrent_units(len(todo), workers))
+        from tqdm import tqdm
+
+        bar = tqdm(
+            total=n_units,
+            initial=reused,
+            disable=not progress or not todo,
+            desc=f"{name} units",
+            unit="unit",
+            dynamic_ncols=True,
+        )
+
+        def record(s: int, blob: bytes, el: float) -> None:
+            blobs[s], elapsed[s] = _store(conn, rid, s, blob, el), el
+            bar.update(1)
+
+        try:
+            _execute(module.__name__, config, todo, record, executor=executor, workers=workers)
+        finally:
+            bar.close()
+        return UnitRun(
+            run_id=rid,
+            seeds=seeds,
+            results=tuple(_decode(blobs[s], s, db) for s in seeds),
+            elapsed_s=tuple(elapsed[s] for s in seeds),
+            computed=len(todo),
+            reused=reused,
+            db=str(db),
+        )
+    finally:
+        conn.close()
+
+
+def run_paper(
+    module: types.ModuleType,
+    config: Any,
+    *,
+    seed: int = 0,
+    n_units: int = 20,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = DEFAULT_DB,
+    progress: bool = False,
+    deviation_units: int = 0,
+    max_units: int | None = None,
+) -> Outcome:
+    """Run the units (:func:`run_units`), judge :func:`module_claims` over them, build the report.
+
+    With ``deviation_units`` > 0, each deviation's config variant also runs over the first
+    that many units (:func:`measure_deviations`) and ``outcome.deviation_effects`` holds the
+    measured change of every claim's pass count.
+
+    With ``max_units`` (``reproduce --units auto``), units are added in batches of
+    :data:`AUTO_BATCH` while any claim's 95 % interval still straddles 50 %, up to
+    ``max_units``; each claim is judged over the units it needed (its ``units`` field): a claim
+    keeps the units that decided it, an open one gets every batch.
+
+    Returns the module's :class:`~gyrobench.scenarios.base.Outcome` with ``claims``,
+    ``deviations``, ``units`` and ``runtime_s`` filled, and ``results["unit_run"]`` (seeds,
+    per-unit runtimes, how many were computed and read back) set. The report writer
+    puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
+    deviations into results.json.
+    """
+    t0 = time.perf_counter()
+    kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
+    claim_list = module_claims(module, config)
+    used = dict.fromkeys((c.id for c in claim_list), n_units)
+    while True:
+        run = run_units(module, config, n_units=n_units, **kw)
+        control = _run_control(module, config, n_units=n_units, **kw)
+        claims = _judge(claim_list, used, run, control)
+        open_ids = [r.claim.id for r in claims if r.verdict == "undecided"]
+        if max_units is None or not open_ids or n_units >= max_units:
+            break
+        n_units = min(n_units + AUTO_BATCH, max_units)
+        used.update(dict.fromkeys(open_ids, n_units))  # decided claims keep the units that decided them
+    outcome = module.report(config, list(run.results), claims)
+    if not isinstance(outcome, Outcome):
+        raise TypeError(
+            f"{module.__name__}.report must return an Outcome; got {type(outcome).__name__}"
+        )
+    outcome.seed = seed
+    outcome.claims = list(claims)
+    outcome.deviations = list(getattr(module, "DEVIATIONS", ()))
+    outcome.units = n_units
+    outcome.runtime_s = time.perf_counter() - t0
+    if deviation_units:
+        outcome.deviation_effects = measure_deviations(
+            module, config, run.results[:deviation_units], seed=seed, executor=executor, workers=workers, db=db,
+            progress=progress,
+        )
+    outcome.results["unit_run"] = {
+        "n": n_units,
+        "seeds": list(run.seeds),
+        "computed": run.computed,
+        "reused": run.reused,
+        "unit_runtime_s": list(run.elapsed_s),
+        "run_id": run.run_id,
+    }
+    if control is not None:
+        outcome.results["control_run"] = {
+            "n": n_units,
+            "seeds": list(control.seeds),
+            "computed": control.computed,
+            "reused": control.reused,
+            "unit_runtime_s": list(control.elapsed_s),
+            "run_id": control.run_id,
+        }
+    return outcome
+
+
+def measure_deviations(
+    module: types.ModuleType,
+    config: Any,
+    units: Sequence[Any],
+    *,
+    seed: int,
+    executor: cf.Executor | None,
+    workers: int | None,
+    db: str | os.PathLike,
+    progress: bool,
+) -> list[Any]:
+    """Each deviation's effect: its config variant (``module.variant_config(config, name)``) run over
+    the seeds of ``units`` (our protocol's first units, already run), claims judged on both.
+
+    Deviations without a variant, or a scenario without ``variant_config``, measure nothing.
+    """
+    from gyrobench.scenarios.claims import deviation_effect, evaluate
+
+    make = getattr(module, "variant_config", None)
+    if not callable(make) or not units:
+        return []
+    claims = module_claims(module, config)
+    ours = evaluate(claims, [quantities_of(u) for u in units])
+    effects = []
+    for d in getattr(module, "DEVIATIONS", ()):
+        if not getattr(d, "variant", None):
+            continue
+        vrun = run_units(module, make(config, d.variant), seed=seed, n_units=len(units), executor=executor,
+                         workers=workers, db=db, progress=progress)
+        theirs = evaluate(claims, [quantities_of(u) for u in vrun.results])
+        effects.append(deviation_effect(d.variant, ours, theirs))
+    return effects
+
+
+#: units added per batch by ``reproduce --units auto``
+AUTO_BATCH = 10
+
+
+def _judge(claims: Sequence[Any], used: Mapping[str, int], run: UnitRun, control: UnitRun | None) -> list[Any]:
+    """Each claim judged over its first ``used[claim.id]`` units (and as many control units)."""
+    from gyrobench.scenarios.claims import evaluate
+
+    units = [quantities_of(u) for u in run.results]
+    ctrl = None if control is None else [quantities_of(u) for u in control.results]
+    out = []
+    for c in claims:
+        n = used[c.id]
+        out += evaluate([c], units[:n], None if ctrl is None else ctrl[:n])
+    return out
+
+
+def _run_control(module: types.ModuleType, config: Any, **kw: Any) -> UnitRun | None:
+    """The control population: the same seeds under ``module.control_config(config)`` (the paper's
+    effect switched off), on the same executor and store; None for a scenario without a control."""
+    make = getattr(module, "control_config", None)
+    if not callable(make):
+        return None
+    return run_units(module, make(config), **kw)
+
+
+def default_db(out_dir: str | os.PathLike) -> Path:
+    """The resume store beside a report folder: ``<out_dir>.units.sqlite``.
+
+    Beside, not inside: the report folder is replaced as a whole by each new report
+    (:func:`gyrobench.scenarios.reports.outputs.write_report_as_a_set`), the store must survive it.
+    """
+    out = Path(out_dir)
+    return out.with_name(out.name + ".units.sqlite")

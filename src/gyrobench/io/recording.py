@@ -1,0 +1,869 @@
+"""A gyro recording: sampled channels with units, the truth behind them, metadata.
+
+A :class:`Recording` is what a test logs (sensor output, internal temperatures,
+table rate) plus what only a simulator knows: every error component separately
+(``truth``). Channels are stored in SI; the unit string travels with the data.
+
+File forms
+----------
+HDF5 (h5py): one group per recording under ``/recordings/<name>``; datasets
+``channels/<ch>`` and ``truth/<ch>``, each with attributes ``unit`` and
+``description``; group attributes ``fs`` [Hz], ``t0`` [s], ``n_samples`` and
+``metadata`` (JSON text). The root carries ``format = "gyrobench-recording"``
+and ``format_version``. Plain float64 datasets and string attributes, so
+MATLAB's ``h5read(file, '/recordings/x/channels/rate')`` and ``h5readatt``
+read them directly.
+
+CSV: a header line of ``name [unit]`` columns, first column ``time [s]``.
+
+Writes are atomic: data go to a temporary file in the destination folder,
+which is renamed over the target only when complete (``os.replace``). The
+file gets the mode an ordinary ``open(path, "w")`` would give (``0o666`` less
+the umask). A failed write (disk full, file-size limit, I/O error) raises
+:class:`AtomicWriteError`, an ``OSError`` whose message names the target path,
+never the temporary file; the temporary file is removed and any previous file
+at the target is left as it was.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import json
+import math
+import os
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobench.base.atomic import _fmt_bytes, atomic_path, ensure_free_space
+
+__all__ = [
+    "Channel",
+    "Recording",
+    "RecordingFormatError",
+    "check_magnitude",
+    "check_finite_samples",
+    "save_hdf5",
+    "load_hdf5",
+    "list_hdf5",
+    "HDF5StreamWriter",
+    "to_csv",
+]
+
+FORMAT = "gyrobench-recording"
+FORMAT_VERSION = 1
+
+
+class RecordingFormatError(ValueError):
+    """A file is not a complete gyrobench recording."""
+
+
+#: |sample| above ``MAX_MAGNITUDE / sqrt(n)`` is refused by :func:`check_magnitude`
+MAX_MAGNITUDE = 1e100
+
+
+def check_magnitude(
+    values: NDArray[np.float64], what: str, *, n_total: int | None = None, hint: str = "check its unit and scale"
+) -> None:
+    """Refuse samples too large for the sums of squares an analysis forms.
+
+    An Allan variance sums ``n`` squared differences of block averages; with every
+    ``|y| <= M`` each term is at most ``4 M**2``, so the sum stays far below the float64
+    maximum (1.8e308) when ``M <= 1e100 / sqrt(n)`` (a margin of 1e100). No gyro's rate,
+    in any unit, comes near it: larger samples are a wrong unit or corrupt data, and
+    would otherwise end in overflow warnings and NaN. Non-finite samples are refused too.
+
+    ``n_total`` is the length of the whole record when ``values`` is one chunk of it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the first offending sample and the limit.
+    """
+    v = np.asarray(values)
+    n = max(int(v.size if n_total is None else n_total), 1)
+    limit = MAX_MAGNITUDE / math.sqrt(n)
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(~(np.abs(v) <= limit))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"{what} has {float(v.flat[i]):.6g} at sample {i} ({bad.size} sample"
+            f"{'s' if bad.size > 1 else ''} outside +-{limit:.3g}, the largest magnitude an "
+            f"analysis of {n} samples can square without overflow): {hint}"
+        )
+
+
+def package_version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("gyrobench")
+    except Exception:  # not installed (running from a source tree)
+        return "0+unknown"
+
+
+@dataclass(frozen=True, slots=True)
+class Channel:
+    """One sampled signal.
+
+    Parameters
+    ----------
+    data : ndarray
+        Samples, 1-D float64, in SI.
+    unit : str
+        SI unit of ``data`` (``"rad/s"``, ``"K"``, ``"m/s^2"``, ...).
+    description : str
+        Free text.
+    """
+
+    data: NDArray[np.float64]
+    unit: str
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        arr = np.asarray(self.data, dtype=float)
+        if arr.ndim != 1:
+            raise ValueError(f"Channel.data must be 1-D; got shape {arr.shape}")
+        object.__setattr__(self, "data", arr)
+        if not isinstance(self.unit, str):
+            raise TypeError(f"Channel.unit must be a str; got {self.unit!r}")
+
+
+def _as_channels(name: str, chans: Mapping[str, Channel]) -> dict[str, Channel]:
+    if not isinstance(chans, Mapping):
+        raise TypeError(f"Recording.{name} must be a mapping of name -> Channel; got {type(chans).__name__}")
+    out = {}
+    for k, v in chans.items():
+        if not isinstance(v, Channel):
+            raise TypeError(f"Recording.{name}[{k!r}] must be a Channel; got {type(v).__name__}")
+        out[str(k)] = v
+    return out
+
+
+@dataclass(frozen=True, slots=True)
+class Recording:
+    """Sampled output of one run of one gyro, with its truth.
+
+    Parameters
+    ----------
+    fs : float
+        Sample rate [Hz], > 0.
+    channels : mapping str -> Channel
+        What a real test logs (sensor output, temperatures, table rate).
+    truth : mapping str -> Channel
+        What only the simulator knows: the true rate and each error component.
+    t0 : float
+        Time of the first sample [s].
+    metadata : mapping
+        JSON-serialisable: spec, environment config, seed, package version.
+    name : str
+        Identifier, used as the HDF5 group name.
+    """
+
+    fs: float
+    channels: Mapping[str, Channel]
+    truth: Mapping[str, Channel] = field(default_factory=dict)
+    t0: float = 0.0
+    metadata: Mapping[str, Any] = field(default_factory=dict)
+    name: str = "recording"
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.fs, (int, float)) and math.isfinite(self.fs) and self.fs > 0):
+            raise ValueError(f"Recording.fs must be a finite number > 0 Hz; got {self.fs!r}")
+        chans = _as_channels("channels", self.channels)
+        truth = _as_channels("truth", self.truth)
+        if not chans:
+            raise ValueError("Recording.channels must hold at least one channel; got none")
+        lengths = {k: len(c.data) for k, c in {**chans, **{f"truth/{k}": v for k, v in truth.items()}}.items()}
+        if len(set(lengths.values())) > 1:
+            raise ValueError(f"Recording channels must all have the same length; got {lengths}")
+        if not self.name or "/" in self.name:
+            raise ValueError(f"Recording.name must be non-empty without '/'; got {self.name!r}")
+        object.__setattr__(self, "channels", chans)
+        object.__setattr__(self, "truth", truth)
+        object.__setattr__(self, "fs", float(self.fs))
+        json.dumps(dict(self.metadata), default=_json_default)  # fail early if not serialisable
+
+    @property
+    def n_samples(self) -> int:
+        return len(next(iter(self.channels.values())).data)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of sample data, channels and truth (about the size of its HDF5 file) [bytes]."""
+        return sum(c.data.nbytes for c in (*self.channels.values(), *self.truth.values()))
+
+    @property
+    def time(self) -> NDArray[np.float64]:
+        """Sample times [s]."""
+        return self.t0 + np.arange(self.n_samples) / self.fs
+
+    def __getitem__(self, key: str) -> NDArray[np.float64]:
+        if key in self.channels:
+            return self.channels[key].data
+        if key.startswith("truth/") and key[6:] in self.truth:
+            return self.truth[key[6:]].data
+        raise KeyError(
+            f"recording {self.name!r} has no channel {key!r}; channels: {sorted(self.channels)}, "
+            f"truth: {sorted('truth/' + k for k in self.truth)}"
+        )
+
+
+def _json_default(o: Any) -> Any:
+    import dataclasses
+
+    if dataclasses.is_dataclass(o) and not isinstance(o, type):
+        return {f.name: getattr(o, f.name) for f in dataclasses.fields(o)}
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, Path):
+        return str(o)
+    if isinstance(o, float) and not math.isfinite(o):
+        return repr(o)
+    raise TypeError(f"metadata value {o!r} of type {type(o).__name__} is not JSON-serialisable")
+
+
+def metadata_json(metadata: Mapping[str, Any]) -> str:
+    """Serialise metadata (dataclasses, numpy scalars, paths allowed) to JSON text."""
+    return json.dumps(dict(metadata), default=_json_default, sort_keys=True)
+
+
+class _GuardedFile:
+    """The binary file h5py's ``fileobj`` driver writes to; a failed write never reaches HDF5.
+
+    With h5py's default driver a failed write (disk full, ``ulimit -f``) leaves
+    dirty HDF5 caches that every later flush tries to write again: closing the
+    file fails, the file stays open, and HDF5's clean-up at interpreter exit
+    crashes the process (segfault, exit 139). An exception raised inside this
+    driver's callbacks is no better (h5py may meet it while freeing an object,
+    then crashes too). So the first ``OSError`` is only remembered in
+    :attr:`error`; from then on writes are accepted and dropped, HDF5 sees
+    success and closes cleanly, and the caller raises :attr:`error` at its next
+    check (:meth:`check`: after each block of writes and after closing).
+    """
+
+    def __init__(self, raw) -> None:
+        self._raw = raw
+        self.error: OSError | None = None
+        self._discard = False
+
+    def discard(self) -> None:
+        """Drop every later write (the file is going to be removed)."""
+        self._discard = True
+
+    def check(self) -> None:
+        """Raise the first write error, if any."""
+        if self.error is not None:
+            raise self.error
+
+    def _failed(self, exc: OSError) -> None:
+        self.error = self.error or exc
+        self._discard = True
+
+    def read(self, n: int = -1) -> bytes:
+        return self._raw.read(n)
+
+    def readinto(self, b) -> int:
+        return self._raw.readinto(b)
+
+    def seek(self, pos: int, whence: int = 0) -> int:
+        return self._raw.seek(pos, whence)
+
+    def tell(self) -> int:
+        return self._raw.tell()
+
+    def write(self, b) -> int:
+        view = memoryview(b).cast("B")
+        if not self._discard:
+            try:
+                done = 0
+                while done < len(view):  # an unbuffered write may be partial (e.g. just below ulimit -f)
+                    k = self._raw.write(view[done:])
+                    if not k:
+                        raise OSError(errno.EIO, "write returned no progress")
+                    done += k
+            except OSError as exc:
+                self._failed(exc)
+        return len(view)
+
+    def truncate(self, size: int | None = None) -> int:
+        if not self._discard:
+            try:
+                return self._raw.truncate(size)
+            except OSError as exc:
+                self._failed(exc)
+        return self.tell() if size is None else size
+
+    def flush(self) -> None:
+        pass  # unbuffered: nothing to flush; durability comes from sync()
+
+    def sync(self) -> None:
+        """Push the data to the disk (before the rename makes the file visible)."""
+        if not self._discard:
+            try:
+                os.fsync(self._raw.fileno())
+            except OSError as exc:
+                self._failed(exc)
+        self.check()
+
+
+@contextlib.contextmanager
+def _h5_create(tmp: Path) -> Iterator[tuple[Any, _GuardedFile]]:
+    """An h5py File writing into the (existing, empty) file ``tmp``, and its guard; closed on exit.
+
+    The caller calls ``guard.check()`` after each block of writes; on leaving,
+    the file is closed (writes discarded if anything failed, so HDF5 has
+    nothing left to flush at exit) and the first write error is raised
+    (``atomic_path`` then names the target path and removes ``tmp``).
+    """
+    import h5py
+
+    raw = open(tmp, "r+b", buffering=0)  # noqa: SIM115 (closed in finally, after the HDF5 file)
+    guard = _GuardedFile(raw)
+    try:
+        h5 = h5py.File(guard, "w")
+        try:
+            yield h5, guard
+            guard.check()
+            h5.close()
+            guard.sync()
+        except BaseException as exc:
+            guard.discard()
+            with contextlib.suppress(Exception):
+                h5.close()
+            if guard.error is not None and exc is not guard.error and isinstance(exc, Exception):
+                raise guard.error from None  # e.g. h5py reading back a dropped block: the cause is the write error
+            raise
+    finally:
+        raw.close()
+
+
+def _write_group(h5, rec: Recording) -> None:
+    grp = h5.require_group("recordings").create_group(rec.name)
+    grp.attrs["fs"] = rec.fs
+    grp.attrs["t0"] = rec.t0
+    grp.attrs["n_samples"] = rec.n_samples
+    grp.attrs["metadata"] = metadata_json(rec.metadata)
+    for sub, chans in (("channels", rec.channels), ("truth", rec.truth)):
+        g = grp.create_group(sub)
+        for k, c in chans.items():
+            ds = g.create_dataset(k, data=c.data, chunks=True if len(c.data) > 1 << 16 else None)
+            ds.attrs["unit"] = c.unit
+            ds.attrs["description"] = c.description
+
+
+def _mark_root(h5) -> None:
+    h5.attrs["format"] = FORMAT
+    h5.attrs["format_version"] = FORMAT_VERSION
+    h5.attrs["gyrobench_version"] = package_version()
+
+
+def check_finite_samples(data: NDArray, what: str, *, offset: int = 0) -> None:
+    """Refuse non-finite samples before they are written (a file ``allan`` would refuse), in one line.
+
+    ``offset`` is the record's index of ``data[0]`` when ``data`` is one chunk of it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the first non-finite sample, its index and how many there are.
+    """
+    v = np.asarray(data)
+    if v.dtype.kind not in "fc":
+        return
+    step = 1 << 20  # blockwise: no record-sized boolean temporary
+    for a in range(0, v.size, step):
+        finite = np.isfinite(v[a : a + step])
+        if not finite.all():
+            i = a + int(np.flatnonzero(~finite)[0])
+            total = int(v.size - np.count_nonzero(np.isfinite(v)))
+            many = "s" if total > 1 else ""
+            raise ValueError(
+                f"{what} has {v[i].item()!r} at sample {offset + i} ({total} non-finite sample{many}"
+                f"{' in this block' if offset else ''}); "
+                "a recording is written only with finite samples: check the configuration's values and units"
+            )
+
+
+def _check_recording_finite(rec: Recording) -> None:
+    for sub, chans in (("channels", rec.channels), ("truth", rec.truth)):
+        for k, c in chans.items():
+            check_finite_samples(c.data, f"recording {rec.name!r}: {sub}/{k}")
+
+
+def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) -> Path:
+    """Write one or several recordings to an HDF5 file, atomically.
+
+    Raises
+    ------
+    ValueError
+        If two recordings share a name, or a sample is not finite (nothing is written).
+    AtomicWriteError
+        If the data would not fit on the disk (checked before writing) or the
+        write fails; ``path`` is then left as it was.
+    """
+    recs = [recordings] if isinstance(recordings, Recording) else list(recordings)
+    names = [r.name for r in recs]
+    if len(set(names)) != len(names):
+        raise ValueError(f"recording names must be unique within a file; got {names}")
+    for r in recs:
+        _check_recording_finite(r)
+    ensure_free_space(path, sum(r.nbytes for r in recs))
+    with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
+        _mark_root(h5)
+        for r in recs:
+            _write_group(h5, r)
+            guard.check()
+    return Path(path)
+
+
+def _open_checked(path: str | os.PathLike):
+    import h5py
+
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"recording file not found: {str(p)!r}")
+    try:
+        h5 = h5py.File(p, "r")
+    except OSError as exc:
+        raise RecordingFormatError(f"{str(p)!r} is not a readable HDF5 file ({exc})") from None
+    fmt = h5.attrs.get("format")
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode(errors="replace")
+    if not isinstance(fmt, str):
+        fmt = _short_repr(fmt)
+    link = h5.get("recordings", getlink=True) if fmt == FORMAT else None
+    if fmt != FORMAT or link is None:
+        h5.close()
+        raise RecordingFormatError(
+            f"{str(p)!r} is an HDF5 file but not a gyrobench recording (root attribute format={fmt!r})"
+        )
+    if not isinstance(link, h5py.HardLink):
+        h5.close()
+        raise RecordingFormatError(_link_message(f"{str(p)!r}: /recordings", link))
+    return h5
+
+
+def list_hdf5(path: str | os.PathLike) -> list[str]:
+    """Names of the recordings in a gyrobench HDF5 file."""
+    with _open_checked(path) as h5:
+        return list(h5["recordings"].keys())
+
+
+#: sample rates a recording read from a file may have [Hz]: one sample per ~32 years to
+#: 1 PHz, beyond any gyro's data rate. The Allan fit itself was checked finite over
+#: 1e-12..1e40 Hz (its tau**-2 .. tau**2 terms overflow float64 near 1e83 Hz).
+FS_RANGE_HZ = (1e-9, 1e15)
+
+
+class _NameError(KeyError):
+    """No recording of that name (or several and none named): a KeyError with a plain message."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class _ChoiceError(ValueError):
+    """Several recordings in the file and none named."""
+
+
+class _RangeError(ValueError):
+    """``start``/``stop`` out of range: the caller's values, not the file's fault."""
+
+
+def _attr(grp, key: str, kind: type, where: str):
+    """Group attribute ``key`` as a finite float or an int, else RecordingFormatError naming it."""
+    if key not in grp.attrs:
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    raw = grp.attrs[key]
+    arr = np.asarray(raw)
+    if arr.size != 1 or arr.dtype.kind not in ("f", "i", "u") or arr.dtype == bool:
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a real number; got {_short_repr(raw)}"
+        )
+    v = float(arr.reshape(()))
+    if not math.isfinite(v) or (kind is int and v != int(v)):
+        raise RecordingFormatError(
+            f"{where}: attribute {key!r} must be a finite {'integer' if kind is int else 'number'}; "
+            f"got {_short_repr(raw)}"
+        )
+    return int(v) if kind is int else v
+
+
+def _short_repr(v: Any) -> str:
+    text = " ".join(repr(v).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _text_attr(attrs, key: str, where: str, default: str | None = None) -> str:
+    if key not in attrs:
+        if default is not None:
+            return default
+        raise RecordingFormatError(f"{where} has no attribute {key!r}: incomplete file?")
+    v = attrs[key]
+    if isinstance(v, bytes):
+        try:
+            return v.decode()
+        except UnicodeDecodeError:
+            raise RecordingFormatError(f"{where}: attribute {key!r} is not UTF-8 text") from None
+    if not isinstance(v, str):
+        raise RecordingFormatError(f"{where}: attribute {key!r} must be text; got {_short_repr(v)}")
+    return v
+
+
+def _free_text(v: Any) -> str:
+    """A free-text attribute (a description) as text, whatever another tool stored in it."""
+    if isinstance(v, bytes):
+        return v.decode(errors="replace")
+    return v if isinstance(v, str) else _short_repr(v)
+
+
+def _datasets(h5, grp, sub: str, where: str) -> dict[str, Any]:
+    """The datasets of ``grp[sub]``, refusing links that leave the file or do not resolve.
+
+    HDF5 external links would make a recording read another file without a word, and soft
+    links can loop: both are refused (gyrobench writes neither).
+    """
+    import h5py
+
+    link = grp.get(sub, getlink=True)
+    if link is None:
+        raise RecordingFormatError(f"{where} has no {sub!r} group: incomplete file?")
+    if isinstance(link, (h5py.ExternalLink, h5py.SoftLink)):
+        raise RecordingFormatError(_link_message(f"{where}: {sub}", link))
+    out = {}
+    g = grp[sub]
+    if not isinstance(g, h5py.Group):
+        raise RecordingFormatError(f"{where}/{sub} must be a group; got a {type(g).__name__}")
+    _check_stored_once(g, f"{where}: {sub}")
+    for k in g:
+        lk = g.get(k, getlink=True)
+        if isinstance(lk, (h5py.ExternalLink, h5py.SoftLink)):
+            raise RecordingFormatError(_link_message(f"{where}: {sub}/{k}", lk))
+        ds = g[k]
+        if not isinstance(ds, h5py.Dataset):
+            raise RecordingFormatError(f"{where}/{sub}/{k} must be a dataset; got a group")
+        _check_stored_once(ds, f"{where}: {sub}/{k}")
+        _check_storage(ds, f"{where}: {sub}/{k}")
+        out[k] = ds
+    return out
+
+
+def _check_stored_once(obj: Any, name: str) -> None:
+    """Refuse an object reachable under several names (HDF5 hard links): one array read as two channels."""
+    import h5py
+
+    rc = h5py.h5o.get_info(obj.id).rc
+    if rc != 1:
+        raise RecordingFormatError(
+            f"{name} is stored under {rc} names in the file (HDF5 hard links); each group and dataset of a "
+            "recording must be stored once"
+        )
+
+
+def _check_storage(ds: Any, name: str) -> None:
+    """Refuse a dataset whose samples are not all in the file: external raw storage, a virtual dataset, or
+    chunks never written (they would read as the fill value)."""
+    plist = ds.id.get_create_plist()
+    if plist.get_external_count() > 0:
+        ext = plist.get_external(0)[0]
+        raise RecordingFormatError(
+            f"{name} keeps its samples in the external file {ext.decode(errors='replace')!r} (HDF5 external "
+            "storage); a recording must hold its own data: copy the data into the file"
+        )
+    if ds.is_virtual:
+        raise RecordingFormatError(
+            f"{name} is an HDF5 virtual dataset (its samples live in other datasets or files); a recording "
+            "must hold its own data: copy the data into the file"
+        )
+    if ds.chunks is not None and ds.size and plist.get_nfilters() > 0:  # unfiltered: the storage size tells
+        expected = math.prod(-(-n // c) for n, c in zip(ds.shape, ds.chunks, strict=True))
+        written = ds.id.get_num_chunks()
+        if written < expected:
+            raise RecordingFormatError(
+                f"{name} claims {ds.size} samples in {expected} chunks but {written} of them are written (the "
+                "rest would read as the fill value): truncated or forged file"
+            )
+
+
+def _link_message(name: str, lk: Any) -> str:
+    import h5py
+
+    if isinstance(lk, h5py.ExternalLink):
+        return (f"{name} is an HDF5 external link to {lk.filename!r}:{lk.path}; external links are "
+                "refused (a recording must hold its own data): copy the data into the file")
+    return f"{name} is an HDF5 soft link to {lk.path!r}; links are refused in a recording"
+
+
+def load_hdf5(
+    path: str | os.PathLike, name: str | None = None, *, start: float | None = None, stop: float | None = None
+) -> Recording:
+    """Read one recording (``name``, or the only one) and check it is complete.
+
+    Everything is checked before any sample is read: the attributes ``fs``, ``t0``
+    (finite real numbers), ``n_samples`` (an integer) and ``metadata`` (JSON text);
+    every channel must be a real (float or integer) 1-D dataset of ``n_samples``
+    values, stored in the file itself (external, soft and duplicate hard links at every
+    level, external raw storage, virtual datasets and unwritten chunks are refused), and all
+    of them together must fit in memory (:func:`gyrobench.base.memory.check_memory`: the
+    samples read, their float64 copies and the largest chunk decompressed).
+
+    ``start`` and ``stop`` [s after the first sample] read only the samples in between
+    (``t0`` moves to the first one read).
+
+    Raises
+    ------
+    RecordingFormatError
+        For a foreign, truncated or malformed file (the message names the file and
+        the item), complex data, or links.
+    gyrobench.base.memory.MemoryLimitError
+        If the channels would not fit in memory.
+    KeyError
+        If ``name`` is not in the file.
+    """
+    import h5py
+
+    from gyrobench.base import memory
+
+    with _open_checked(path) as h5:
+        try:
+            recs = h5["recordings"]
+            if name is None:
+                if len(recs) != 1:
+                    raise _ChoiceError(f"{str(path)!r} holds {len(recs)} recordings {list(recs)}; name one")
+                name = next(iter(recs))
+            if name not in recs:
+                raise _NameError(f"{str(path)!r} has no recording {name!r}; it has {list(recs)}")
+            where = f"{str(path)!r}: recording {name!r}"
+            _check_stored_once(recs, f"{str(path)!r}: /recordings")
+            link = recs.get(name, getlink=True)
+            if not isinstance(link, h5py.HardLink):
+                raise RecordingFormatError(_link_message(where, link))
+            grp = recs[name]
+            if not isinstance(grp, h5py.Group):
+                raise RecordingFormatError(f"{where} must be a group; got a {type(grp).__name__}")
+            _check_stored_once(grp, where)
+            fs = _attr(grp, "fs", float, where)
+            if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
+                raise RecordingFormatError(
+                    f"{where}: attribute 'fs' must be in [{FS_RANGE_HZ[0]:g}, {FS_RANGE_HZ[1]:g}] Hz "
+                    f"(no gyro samples outside it); got {fs!r}"
+                )
+            t0 = _attr(grp, "t0", float, where)
+            n = _attr(grp, "n_samples", int, where)
+            meta_text = _text_attr(grp.attrs, "metadata", where)
+            try:
+                meta = json.loads(meta_text)
+            except (json.JSONDecodeError, RecursionError) as exc:
+                raise RecordingFormatError(f"{where}: attribute 'metadata' is not JSON ({exc})") from None
+            if not isinstance(meta, dict):
+                raise RecordingFormatError(
+                    f"{where}: attribute 'metadata' must be a JSON object; got {_short_repr(meta)}"
+                )
+            sets = {sub: _datasets(h5, grp, sub, where) for sub in ("channels", "truth")}
+            for sub, dss in sets.items():
+                for k, ds in dss.items():
+                    if ds.dtype.kind not in ("f", "i", "u"):
+                        kind = "complex" if ds.dtype.kind == "c" else str(ds.dtype)
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} holds {kind} data; a channel must be real "
+                            "(float or integer), it is never cast"
+                        )
+                    if ds.shape != (n,):
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} has shape {ds.shape}, expected ({n},) "
+                            "(attribute n_samples): truncated file?"
+                        )
+                    stored = ds.id.get_storage_size()
+                    if ds.id.get_create_plist().get_nfilters() == 0 and stored < ds.nbytes:
+                        # unfiltered data take their full size on disk: less means unwritten chunks
+                        raise RecordingFormatError(
+                            f"{where}: {sub}/{k} claims {n} samples ({_fmt_bytes(ds.nbytes)}) but "
+                            f"the file stores {_fmt_bytes(stored)} of them: truncated or forged file"
+                        )
+            a, b = _sample_range(n, fs, start, stop, where)
+            n_series = sum(len(d) for d in sets.values())
+            memory.check_memory(
+                _read_bytes([ds for d in sets.values() for ds in d.values()], b - a),
+                f"reading {where} ({n_series} channels of {b - a} samples)",
+                hint="read fewer samples (--start/--stop, or split the file) or use a machine with more memory",
+            )
+            out: dict[str, dict[str, Channel]] = {}
+            for sub, dss in sets.items():
+                out[sub] = {}
+                for k, ds in dss.items():
+                    data = ds[a:b].astype(float, copy=False)
+                    out[sub][k] = Channel(
+                        data,
+                        _text_attr(ds.attrs, "unit", f"{where}: {sub}/{k}"),
+                        _free_text(ds.attrs.get("description", "")),
+                    )
+        except (RecordingFormatError, memory.MemoryLimitError, _NameError, _ChoiceError, _RangeError):
+            raise
+        except (KeyError, ValueError) as exc:
+            raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is incomplete ({exc})") from None
+        except (OSError, RuntimeError, TypeError, RecursionError) as exc:  # h5py: link loops, bad objects
+            raise RecordingFormatError(
+                f"{str(path)!r}: recording {name!r} cannot be read ({' '.join(str(exc).split())})"
+            ) from None
+        try:
+            return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0 + a / fs, metadata=meta,
+                             name=name)
+        except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
+            raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
+
+
+def _sample_range(n: int, fs: float, start: float | None, stop: float | None, where: str) -> tuple[int, int]:
+    """Samples [a, b) between ``start`` and ``stop`` [s after the first sample]; at least 2 of them."""
+    for flag, v in (("--start", start), ("--stop", stop)):
+        if v is not None and not (math.isfinite(v) and v >= 0):
+            raise _RangeError(f"{flag} must be a finite time >= 0 s; got {v!r}")
+    a = 0 if start is None else min(n, int(math.ceil(start * fs - 1e-9)))
+    b = n if stop is None else min(n, int(math.floor(stop * fs + 1e-9)))
+    if (start is not None or stop is not None) and b - a < 2:
+        raise _RangeError(
+            f"--start/--stop keep {max(b - a, 0)} samples of the {n / fs:g} s of {where}; need at least 2"
+        )
+    return a, max(a, b)
+
+
+def _read_bytes(datasets: list[Any], n: int) -> float:
+    """Peak bytes of reading ``n`` samples of each dataset as float64: the samples as stored, their float64
+    copy when stored otherwise, and the largest chunk decompressed at once."""
+    from gyrobench.base import memory
+
+    total = memory.series_bytes(n, len(datasets))
+    chunk = 0.0
+    for ds in datasets:
+        if ds.dtype != np.float64:
+            total += float(n) * ds.dtype.itemsize
+        if ds.chunks is not None:
+            chunk = max(chunk, float(math.prod(ds.chunks)) * ds.dtype.itemsize)
+    return total + chunk
+
+
+class HDF5StreamWriter:
+    """Write a recording chunk by chunk, so a long record never sits in memory.
+
+    Use as a context manager; the file appears at ``path`` only after a clean
+    exit (atomic rename). Channels are declared up front. Given
+    ``expected_samples``, a record that would not fit on the disk is refused
+    on entry, before anything is written (:func:`ensure_free_space`); a write
+    that fails later raises :class:`AtomicWriteError` and leaves no file.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> p = os.path.join(tempfile.mkdtemp(), "x.h5")
+    >>> with HDF5StreamWriter(p, name="r", fs=10.0, channels={"rate": "rad/s"}) as w:
+    ...     w.append(rate=np.zeros(5)); w.append(rate=np.ones(5))
+    >>> load_hdf5(p).n_samples
+    10
+    """
+
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        *,
+        name: str,
+        fs: float,
+        channels: Mapping[str, str],
+        truth: Mapping[str, str] | None = None,
+        t0: float = 0.0,
+        metadata: Mapping[str, Any] | None = None,
+        chunk: int = 1 << 18,
+        expected_samples: int | None = None,
+    ) -> None:
+        if not (math.isfinite(fs) and fs > 0):
+            raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
+        if not (isinstance(chunk, int) and chunk > 0):
+            raise ValueError(f"chunk must be an integer > 0 samples; got {chunk!r}")
+        self.path = Path(path)
+        self.name, self.fs, self.t0 = name, float(fs), float(t0)
+        self._units = {"channels": dict(channels), "truth": dict(truth or {})}
+        self._meta = dict(metadata or {})
+        self._chunk = chunk
+        self._expected = expected_samples
+        self._n = 0
+        self._stack: contextlib.ExitStack | None = None
+
+    def __enter__(self) -> HDF5StreamWriter:
+        if self._expected is not None:
+            n_ds = len(self._units["channels"]) + len(self._units["truth"])
+            ensure_free_space(self.path, 8 * self._expected * n_ds)
+        with contextlib.ExitStack() as stack:  # a failure below closes and removes what was opened
+            tmp = stack.enter_context(atomic_path(self.path))
+            h5, self._guard = stack.enter_context(_h5_create(tmp))
+            _mark_root(h5)
+            grp = h5.require_group("recordings").create_group(self.name)
+            grp.attrs["fs"] = self.fs
+            grp.attrs["t0"] = self.t0
+            grp.attrs["metadata"] = metadata_json(self._meta)
+            self._ds = {}
+            for sub, units_ in self._units.items():
+                g = grp.create_group(sub)
+                for k, u in units_.items():
+                    ds = g.create_dataset(k, shape=(0,), maxshape=(None,), dtype="f8", chunks=(self._chunk,))
+                    ds.attrs["unit"] = u
+                    ds.attrs["description"] = ""
+                    self._ds[(sub, k)] = ds
+            self._grp = grp
+            self._stack = stack.pop_all()  # success: kept open until __exit__
+        return self
+
+    def append(self, *, truth: Mapping[str, NDArray] | None = None, **channels: NDArray) -> None:
+        """Append the next samples of every declared channel (and truth component)."""
+        given = {("channels", k): v for k, v in channels.items()}
+        given.update({("truth", k): v for k, v in (truth or {}).items()})
+        if set(given) != set(self._ds):
+            raise ValueError(
+                f"append must give every declared channel {sorted(k for _, k in self._ds)}; "
+                f"got {sorted(k for _, k in given)}"
+            )
+        lengths = {len(v) for v in given.values()}
+        if len(lengths) != 1:
+            raise ValueError(f"append: all channels must have the same length; got {lengths}")
+        for (sub, k), v in given.items():
+            check_finite_samples(v, f"recording {self.name!r}: {sub}/{k}", offset=self._n)
+        m = lengths.pop()
+        for key, v in given.items():
+            ds = self._ds[key]
+            ds.resize((self._n + m,))
+            ds[self._n :] = v
+        self._n += m
+        self._guard.check()
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        # the HDF5 file is closed (writes discarded on error) before atomic_path removes or renames it
+        stack, self._stack = self._stack, None
+        assert stack is not None  # set by __enter__; __exit__ runs once
+        self._ds = {}
+        if exc_type is not None:
+            return bool(stack.__exit__(exc_type, exc, tb))  # the file is removed, the target left as it was
+        with stack:  # an error setting the attribute reaches the contexts like one from the block
+            self._grp.attrs["n_samples"] = self._n
+        return False
+
+
+def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
+    """Export a recording to CSV (``time [s]`` then ``name [unit]`` columns), atomically; every sample must be
+    finite (ValueError otherwise, nothing written)."""
+    _check_recording_finite(rec)
+    cols = [("time", "s", rec.time)]
+    cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]
+    if include_truth:
+        cols += [(f"truth/{k}", c.unit, c.data) for k, c in rec.truth.items()]
+    header = ",".join(f"{k} [{u}]" for k, u, _ in cols)
+    ensure_free_space(path, 25 * len(cols) * rec.n_samples)  # "%.17g," is at most 25 characters
+    data = np.column_stack([c for _, _, c in cols])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, data, delimiter=",", header=header, comments="", fmt="%.17g")
+    return Path(path)

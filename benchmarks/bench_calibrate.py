@@ -54,9 +54,10 @@ def _base(name: str) -> Any:
 
 
 def _seed_scores(module: Any, comp: Any, seed: int) -> dict[float, dict[str, float]]:
+    from threadpoolctl import threadpool_limits
+
     from gyrobench.scenarios.bench.compensators import fit_compensator
     from gyrobench.scenarios.bench.scoring import score_predictions
-    from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1):
         task = module.compensation_task(module.Config(), seed)
@@ -79,8 +80,13 @@ def _seed_scores(module: Any, comp: Any, seed: int) -> dict[float, dict[str, flo
 
 
 def _campaign(name: str, scores: dict[int, dict[str, float]], label: str) -> Any:
+    """A campaign of the primary scores only (the gate reads nothing else)."""
     from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.primary import gated_scores
 
+    first = next(iter(scores.values()))
+    keep = {g.name for g in gated_scores(name, list(first))}
+    scores = {s: {k: v for k, v in sc.items() if k in keep} for s, sc in scores.items()}
     return bench.Campaign(campaign_id=label, scenario=name, compensator=label, config="", scores=scores)
 
 

@@ -31,7 +31,6 @@ from gyrobench.scenarios.bench.compensators import (
     compensator_label,
     resolve_compensator,
 )
-from gyrobench.scenarios.runner.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
 from gyrobench.scenarios.bench.sandbox import (
     DEFAULT_MEMORY_BYTES,
@@ -52,8 +51,9 @@ from gyrobench.scenarios.bench.scoring import (
 )
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
+from gyrobench.scenarios.cli import exits
+from gyrobench.scenarios.runner.executors import add_note, check_picklable, contained_map, stop_pool
 from gyrobench.scenarios.runner.store import DEFAULT_DB, campaign_generation, connect_db, record_seed, start_session
-from numpy.typing import NDArray
 
 __all__ = ["Campaign", "run_campaign"]
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
 from gyrobench.scenarios.bench.power import detectable_change, min_attainable_p, seeds_for_change
 from gyrobench.scenarios.bench.seeds import seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, signed_rank

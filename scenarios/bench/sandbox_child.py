@@ -222,6 +222,7 @@ def _adopt(environ: Any, cwd: Any) -> None:
 def _serve_seed(conn: Any, compensator: Any) -> None:
     """One child: fit, predict on request, report the reads, exit."""
     import numpy as np
+
     from gyrobench.scenarios.bench.compensators import fit_user_code, predictor_of
 
     predict = None

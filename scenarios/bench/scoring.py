@@ -357,8 +357,9 @@ def _score_with_floor(
 ) -> tuple[dict[str, float], str | None]:
     """:func:`score_or_failure` on one task, then its noise-floor verdict
     (:func:`~gyrobench.scenarios.bench.floor.floor_failure`; not for the uncompensated output)."""
-    from gyrobench.scenarios.bench.floor import floor_failure
     from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.bench.floor import floor_failure
 
     comp = resolve_compensator(compensator)
     (seed,) = check_seeds([seed])
@@ -396,8 +397,9 @@ def score_sandboxed(
     the noise floor. Returns (seed, scores, elapsed [s], failure or None, the child's reads)."""
     from multiprocessing.connection import Connection
 
-    from gyrobench.scenarios.bench.floor import floor_failure
     from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.bench.floor import floor_failure
 
     t0 = time.perf_counter()
     module = importlib.import_module(module_name)

@@ -231,9 +231,9 @@ def signed_rank(d: NDArray[np.float64]) -> tuple[float, float]:
     Zero differences are dropped (``zero_method="wilcox"``; exact null distribution for small
     n, ``scipy.stats.wilcoxon``). All differences zero (the same compensator: scores are
     deterministic) gives p = 1 and sign 0. With n nonzero differences the smallest attainable
-    p is 2 / 2**n. Tied ``|d|`` with n <= 50 get the exact distribution of ``W+`` over the
-    2**n sign flips of their midranks (:func:`_tied_exact_p`, what scipy's permutation method
-    computes, in microseconds instead of a second).
+    p is 2 / 2**n. For n <= 50 the exact distribution of ``W+`` over the 2**n sign flips of the
+    (mid)ranks is computed directly (:func:`_tied_exact_p`): the p of scipy's exact method without
+    ties and of its permutation method with ties, in microseconds instead of up to a second.
     """
     from scipy import stats
 
@@ -241,7 +241,7 @@ def signed_rank(d: NDArray[np.float64]) -> tuple[float, float]:
     if nz.size == 0:
         return 1.0, 0.0
     ranks = stats.rankdata(np.abs(nz))
-    if nz.size <= 50 and np.unique(ranks).size < ranks.size:
+    if nz.size <= 50:  # scipy's exact method (no ties) or permutation method (ties), computed directly
         p = _tied_exact_p(ranks, float(ranks[nz > 0].sum()))
     else:
         with warnings.catch_warnings():

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from gyrobench.scenarios import bench
 from gyrobench.scenarios.cli import exits
-
 from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]

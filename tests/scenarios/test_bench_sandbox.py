@@ -27,12 +27,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gyrobench.scenarios import bench
-from gyrobench.scenarios.cli import exits
 from sklearn.linear_model import LinearRegression
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
+from gyrobench.scenarios import bench
+from gyrobench.scenarios.cli import exits
 from tests.scenarios import toy_scenario as toy
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -22,13 +22,8 @@ import numpy as np
 from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.compensators import FailedSeedsError
 from gyrobench.scenarios.bench.gate import gates_of, power_doc
-from gyrobench.scenarios.bench.margin import (
-    DetectableChange,
-    comparison_note,
-    margin_test,
-    observed_detectable,
-    power_line,
-)
+from gyrobench.scenarios.bench.margin import DetectableChange, comparison_note, margin_test, observed_detectable
+from gyrobench.scenarios.bench.margin import power_line as _power_line
 from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
 from gyrobench.scenarios.bench.primary import directions_of, score_unit
 from gyrobench.scenarios.bench.scoring import resolve_scenario
@@ -292,7 +287,7 @@ class Comparison:
     @property
     def power_line(self) -> str:
         """What these seeds detect, in one line (:func:`~gyrobench.scenarios.bench.margin.power_line`)."""
-        return power_line(self.detectable, self.alpha, self.min_change)
+        return _power_line(self.detectable, self.alpha, self.min_change)
 
     @property
     def passed(self) -> bool:

@@ -310,6 +310,8 @@ class Zygote:
                     pickled = pickle.dumps(given)
                 except Exception:  # noqa: BLE001 - not picklable: fork instead
                     pickled = None
+                if pickled is not None and b"__main__" in pickled:  # defined in a script: a fresh
+                    pickled = None  # interpreter cannot import it by reference, fork instead
             import tempfile
 
             fd, self._ready_file = tempfile.mkstemp(prefix="gyrobench-ready-", suffix=".json")
@@ -507,9 +509,12 @@ def shared_zygote(given: Any, *, memory: int | None, timeout: float | None) -> Z
         what: Any = given
     else:
         try:
-            what = hashlib.sha256(pickle.dumps(given)).hexdigest()
+            raw = pickle.dumps(given)
         except Exception:  # noqa: BLE001 - does not pickle: a forked zygote, never kept
             return Zygote(given, memory=memory, timeout=timeout)
+        if b"__main__" in raw:  # a script's own object: forked too, never kept
+            return Zygote(given, memory=memory, timeout=timeout)
+        what = hashlib.sha256(raw).hexdigest()
     key = (what, tuple(sys.path), os.getcwd(), memory)
     z = _SHARED.pop(key, None)
     if z is not None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import sqlite3
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -147,6 +148,11 @@ def _record(
     """Record one seed's outcome (or raise what the compensator's failure means)."""
     if kind == "ok":
         seed_, scores, elapsed, failure, reads = value
+        if failure == CHILD_DIED and status.signal == signal.SIGKILL:  # the OOM killer, as for a worker
+            raise exits.InternalError(
+                f"a worker process died while scoring seed {seed} of {plan.name} (the compensator's process was "
+                f"killed by SIGKILL: killed, or out of memory: see 'dmesg'); {recorder.kept()}"
+            )
         if failure == CHILD_DIED:
             failure = f"the compensator's process {status.reason()}"
         recorder.add_reads(reads)

@@ -119,7 +119,7 @@ def _project(folder: Path) -> None:
 
 def _cli(folder: Path, *argv: str):
     env = {**os.environ, "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
-    cmd = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+    cmd = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main())",
            "bench", "ifog_thermal", "--db", str(folder / "b.db"), "--no-references", "-q", *argv]
     r = subprocess.run(cmd, cwd=folder, env=env, capture_output=True, text=True, timeout=1800)
     return r.returncode, r.stdout, r.stderr

@@ -170,18 +170,38 @@ def test_workers_0_runs_the_compensator_in_its_own_process_too(tmp_path, honest)
 
 
 def test_an_unpicklable_compensator_is_forked_and_still_holds_no_truth(tmp_path, honest):
-    """A closure does not pickle: its zygote is forked from the campaign's process (which holds
-    no task either)."""
-    seen = []
+    """A closure does not pickle: its zygote is forked from the calling process, so it holds what
+    that process holds (a task the caller built itself is within its reach; the command line
+    always imports "module:attr" in a fresh interpreter). Run from a fresh process that built no
+    task, the closure finds nothing."""
+    script = tmp_path / "closure.py"
+    script.write_text(textwrap.dedent(f"""
+        import json, sys
+        import numpy as np
+        from gyrobench.scenarios import bench
+        from tests.scenarios import toy_scenario as toy
+        from {HERE} import FrameCheat, _honest
 
-    def fit(X, y):
-        seen.append(1)  # in the child: the campaign's list stays empty
-        found = FrameCheat().find_truth(X)
-        model = _honest().fit(X, y)
-        return lambda Xn: found.get(np.ascontiguousarray(Xn).tobytes(), model.predict(Xn))
+        seen = []
 
-    camp = bench.run_campaign(toy, fit, SEEDS, workers=0, db=tmp_path / "c.db", progress=False)
-    assert camp.scores == honest.scores and seen == []
+        def make():
+            def fit(X, y):  # a closure: it does not pickle
+                seen.append(1)  # in the child: this list stays empty
+                found = FrameCheat().find_truth(X)
+                model = _honest().fit(X, y)
+                return lambda Xn: found.get(np.ascontiguousarray(Xn).tobytes(), model.predict(Xn))
+            return fit
+
+        camp = bench.run_campaign(toy, make(), range({len(SEEDS)}), workers=0, db={str(tmp_path / "c.db")!r},
+                                  progress=False)
+        print(json.dumps({{"scores": {{str(s): v for s, v in camp.scores.items()}}, "seen": seen}}))
+    """))
+    env = {**os.environ, "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
+    out = subprocess.run([sys.executable, str(script)], cwd=ROOT, env=env, capture_output=True, text=True,
+                         timeout=300, check=True).stdout
+    doc = __import__("json").loads(out.strip().splitlines()[-1])
+    assert doc["seen"] == []
+    assert {int(s): v for s, v in doc["scores"].items()} == dict(honest.scores)
 
 
 # ----------------------------------------------------------------------------- containment
@@ -192,7 +212,7 @@ def _write(folder: Path, name: str, body: str) -> None:
 def _cli(folder: Path, comp: str, *extra: str, timeout: float = 120.0):
     """``gyrobench bench`` in a subprocess from ``folder``, its output piped: (code, out, err, s)."""
     env = {**os.environ, "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
-    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli import main; sys.exit(main())",
+    argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main())",
             "bench", TOY, "--compensator", comp, "--seeds", "0:2", "--db", str(folder / "c.db"),
             "--no-references", "-q", *extra]
     t0 = time.monotonic()

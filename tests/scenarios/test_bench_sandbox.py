@@ -254,6 +254,7 @@ def test_a_forked_helper_is_killed_and_cannot_hold_the_pipes(tmp_path):
     _gone(pids)
 
 
+@pytest.mark.slow  # a gyrobench subprocess (seconds of the default tier's budget); CI runs it
 def test_a_fit_that_ignores_signals_is_killed_at_the_deadline(tmp_path):
     pids = tmp_path / "pids.txt"
     _write(tmp_path, "stubborn", f"""
@@ -296,6 +297,7 @@ def test_a_hanging_import_is_killed_at_the_deadline(tmp_path, monkeypatch):
     _gone(pids)
 
 
+@pytest.mark.slow  # a gyrobench subprocess (seconds of the default tier's budget); CI runs it
 def test_a_20_gb_allocation_fails_its_seed_under_the_memory_cap(tmp_path):
     _write(tmp_path, "hungry", """
         import numpy as np
@@ -309,6 +311,7 @@ def test_a_20_gb_allocation_fails_its_seed_under_the_memory_cap(tmp_path):
     assert "exceeded the per-seed memory cap of 4 GiB" in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.slow  # a gyrobench subprocess each (seconds of the default tier's budget); CI runs them
 @pytest.mark.parametrize(
     ("body", "words"),
     [
@@ -323,6 +326,7 @@ def test_an_exit_or_interrupt_at_import_is_bad_input_not_its_status(tmp_path, bo
     assert words in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.slow  # a gyrobench subprocess (seconds of the default tier's budget); CI runs it
 def test_a_base_exception_in_fit_is_a_compensator_error(tmp_path):
     _write(tmp_path, "base", """
         class Odd(BaseException):
@@ -336,6 +340,7 @@ def test_a_base_exception_in_fit_is_a_compensator_error(tmp_path):
     assert "(fit): Odd: not an Exception" in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.slow  # a gyrobench subprocess (seconds of the default tier's budget); CI runs it
 def test_the_memory_cap_is_stated_and_configurable(tmp_path):
     """``--seed-memory`` takes GiB; a cap below what a fit needs fails its seeds, named."""
     _write(tmp_path, "some", """
@@ -353,6 +358,7 @@ def test_the_memory_cap_is_stated_and_configurable(tmp_path):
     assert code == exits.OK, err
 
 
+@pytest.mark.slow  # a gyrobench subprocess (seconds of the default tier's budget); CI runs it
 def test_no_signal_of_the_compensator_reaches_gyrobench(tmp_path):
     """A compensator that sends SIGTERM to its whole process group fails its own seed only: its
     group is its own (in the compensator's process a SIGINT is a KeyboardInterrupt: exit 2)."""

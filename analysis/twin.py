@@ -30,10 +30,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.analysis.allan import AllanCurve, deviation_bounds
 
-__all__ = ["TwinComparison", "compare_twin", "FAMILY_ALPHA"]
+__all__ = ["TwinComparison", "SampleComparison", "compare_samples", "sample_variance_edf", "compare_twin",
+           "FAMILY_ALPHA", "MAX_RATIO"]
 
 FAMILY_ALPHA = 0.05
 """Default family-wise false-alarm rate of the pass rule (a perfect twin fails at most this often)."""
+MAX_RATIO = 10.0
+"""A twin whose ADEV differs from the real one by this factor or more at any compared tau never
+matches, whatever the F band allows there (at the last taus, with 1-2 edf, the band is wider
+than 10x; a perfect twin lies beyond 10x with probability ~1 % at 2 edf each, ~6 % at 1)."""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -83,10 +88,11 @@ class TwinComparison:
     inside_real95: NDArray[np.bool_]
     family_alpha: float
     per_tau_alpha: float
+    max_ratio: float = MAX_RATIO
 
     @property
     def passed(self) -> bool:
-        """The pass rule: the ratio lies in its band at every compared tau."""
+        """The pass rule: the ratio lies in its band (and within ``max_ratio``) at every compared tau."""
         return bool(np.all(self.inside))
 
     @property
@@ -97,9 +103,9 @@ class TwinComparison:
     @property
     def rule(self) -> str:
         """The pass rule in one line."""
-        return (f"pass when twin/real ADEV lies in its F(edf_twin, edf_real) band at all {self.n_taus} fitted taus; "
-                f"Sidak per-tau level {self.per_tau_alpha:.4g}, family-wise false-alarm rate "
-                f"<= {self.family_alpha:g} for a perfect twin")
+        return (f"pass when twin/real ADEV lies in its F(edf_twin, edf_real) band, and within {self.max_ratio:g}x, at "
+                f"all {self.n_taus} compared taus; Sidak per-tau level {self.per_tau_alpha:.4g}, family-wise "
+                f"false-alarm rate <= {self.family_alpha:g} for a perfect twin")
 
 
 def _check_curve(name: str, c: object) -> AllanCurve:
@@ -116,6 +122,8 @@ def compare_twin(
     *,
     taus: ArrayLike | None = None,
     family_alpha: float = FAMILY_ALPHA,
+    max_ratio: float = MAX_RATIO,
+    extra_tests: int = 0,
 ) -> TwinComparison:
     """Test a twin's Allan deviation against a real record's at a family-wise false-alarm rate.
 
@@ -130,6 +138,11 @@ def compare_twin(
     family_alpha : float
         Family-wise false-alarm rate in (0, 1): the largest probability that a perfect twin
         fails (default 0.05).
+    max_ratio : float
+        A ratio outside [1/max_ratio, max_ratio] fails at any tau (default :data:`MAX_RATIO`).
+    extra_tests : int
+        Further tests sharing the family's level (e.g. :func:`compare_samples`): the Sidak
+        level is taken over m + extra_tests.
 
     Returns
     -------
@@ -180,7 +193,7 @@ def compare_twin(
         idx.append(int(hit[0]))
     i = np.asarray(idx)
     m = len(i)
-    a = 1.0 - (1.0 - float(family_alpha)) ** (1.0 / m)
+    a = 1.0 - (1.0 - float(family_alpha)) ** (1.0 / (m + int(extra_tests)))
     nu_r = np.asarray(real.edf, dtype=float)[i]
     nu_t = np.asarray(twin.edf, dtype=float)[i]
     r_dev = np.asarray(real.deviation, dtype=float)[i]
@@ -190,7 +203,7 @@ def compare_twin(
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(r_dev > 0, t_dev / r_dev, math.inf)
     real_lo, real_hi = deviation_bounds(r_dev, nu_r, 0.95)
-    inside = (ratio >= lo) & (ratio <= hi)
+    inside = (ratio >= lo) & (ratio <= hi) & (ratio >= 1.0 / max_ratio) & (ratio <= max_ratio)
     return TwinComparison(
         tau=np.asarray(real.tau, dtype=float)[i],
         real=r_dev,
@@ -206,4 +219,90 @@ def compare_twin(
         inside_real95=(t_dev >= real_lo) & (t_dev <= real_hi),
         family_alpha=float(family_alpha),
         per_tau_alpha=a,
+        max_ratio=float(max_ratio),
     )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SampleComparison:
+    """The sample distributions of a real record and its twin (:func:`compare_samples`).
+
+    Attributes
+    ----------
+    real_mean, twin_mean, real_std, twin_std : float
+        Sample means and standard deviations [rate unit].
+    real_range, twin_range : tuple of float
+        (min, max) of the samples [rate unit].
+    std_ratio : float
+        twin_std / real_std.
+    band : tuple of float
+        The band of ``std_ratio`` for a perfect twin: sqrt of the F(edf, edf) quantiles at the
+        per-test level (two-sided).
+    edf : float
+        Degrees of freedom assigned to each sample variance.
+    passed : bool
+        ``std_ratio`` inside ``band``.
+    """
+
+    real_mean: float
+    twin_mean: float
+    real_std: float
+    twin_std: float
+    real_range: tuple[float, float]
+    twin_range: tuple[float, float]
+    std_ratio: float
+    band: tuple[float, float]
+    edf: float
+    passed: bool
+
+
+def compare_samples(real: ArrayLike, twin: ArrayLike, *, edf: float, level: float) -> SampleComparison:
+    """Compare the spread of a twin's samples with the real record's: F test of the two sample variances.
+
+    Parameters
+    ----------
+    real, twin : array_like
+        The samples [rate unit] (the same length).
+    edf : float
+        Degrees of freedom of each sample variance (> 0); the samples are correlated (filter,
+        flicker, random walk), so not n - 1: :func:`sample_variance_edf` of the real curve.
+    level : float
+        Two-sided level of the test in (0, 1) (the twin rule's per-tau level).
+
+    Returns
+    -------
+    SampleComparison
+        Means and ranges are reported, not tested (the twin carries the real mean as its bias).
+    """
+    from scipy.stats import f
+
+    r = np.asarray(real, dtype=float)
+    t = np.asarray(twin, dtype=float)
+    if not (edf > 0) or not (0.0 < level < 1.0):
+        raise ValueError(f"edf must be > 0 and level in (0, 1); got edf={edf!r}, level={level!r}")
+    rs, ts = float(np.std(r)), float(np.std(t))
+    ratio = ts / rs if rs > 0 else math.inf
+    lo = math.sqrt(float(f.ppf(level / 2, edf, edf)))
+    hi = math.sqrt(float(f.ppf(1 - level / 2, edf, edf)))
+    return SampleComparison(real_mean=float(np.mean(r)), twin_mean=float(np.mean(t)), real_std=rs, twin_std=ts,
+                            real_range=(float(r.min()), float(r.max())), twin_range=(float(t.min()), float(t.max())),
+                            std_ratio=ratio, band=(lo, hi), edf=float(edf), passed=bool(lo <= ratio <= hi))
+
+
+def sample_variance_edf(curve: AllanCurve) -> float:
+    """Satterthwaite degrees of freedom of a record's sample variance, from its octave Allan curve.
+
+    The sample variance of 2^J samples is the sum over the octave scales tau_j = 2^(j-1) / fs of
+    the Haar wavelet variances, each half the Allan variance at tau_j (the energy decomposition of
+    the Haar DWT: D. B. Percival and A. T. Walden, "Wavelet Methods for Time Series Analysis",
+    2000, sec. 4.3 and 8.1; AVAR = 2 x Haar wavelet variance). With c_j = AVAR(tau_j) / 2 and
+    nu_j the edf of that Allan point, the sum has nu = (sum c_j)^2 / sum (c_j^2 / nu_j)
+    (Satterthwaite 1946): long-tau wander (few edf) makes it small, fast noise large.
+    """
+    m = curve.m
+    octave = (m & (m - 1)) == 0
+    c = np.asarray(curve.variance, dtype=float)[octave] / 2.0
+    nu = np.maximum(np.asarray(curve.edf, dtype=float)[octave], 1e-9)
+    if c.size == 0 or not np.any(c > 0):
+        return 1.0
+    return float(c.sum() ** 2 / np.sum(c**2 / nu))

@@ -5,25 +5,29 @@ Runs :func:`gyrobench.scenarios.checks.core.collect` over the check modules
 Sagnac scale factor, Shupe cancellation, Adler beat frequency, dither random walk,
 and whatever the sensor modules add) and reports each check: its formula, the
 closed form's value, the model's value, the relative error, and the tolerance with
-its derivation. A failed check is a model bug (or a one-in-a-million false alarm of
-a statistical check: each states its false-alarm rate).
+its derivation, and the kind of its reference (closed form, second method, printed, or
+consistency: the code against its own formula, listed but not counted as validation), with the
+count of each kind. A failed check is a model bug (or a one-in-a-million false alarm of a
+statistical check: each states its false-alarm rate).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
+from gyrobench.base.ranges import Constraint, FieldChoice, validate
 from gyrobench.scenarios.base import Headline, Outcome, Table
-from gyrobench.scenarios.checks.core import CHECK_MODULES, Check, collect
+from gyrobench.scenarios.checks.core import CHECK_MODULES, KINDS, VALIDATION_KINDS, Check, collect, kind_counts
 
 NAME = "physics_checks"
 TITLE = (
-    "Closed-form checks of the sensor models (noise, FOG loop and coil, MEMS resonator, RLG): "
-    "simulated beside the equations"
+    "Physics checks of the sensor models (noise, FOG loop and coil, MEMS resonator, RLG): "
+    "simulated beside closed forms, second methods and printed numbers"
 )
 
 __all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
@@ -35,17 +39,21 @@ class Config:
 
     modules: tuple[str, ...] = CHECK_MODULES
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.modules, tuple) or not all(isinstance(m, str) for m in self.modules):
-            raise TypeError(f"Config.modules must be a tuple of module names; got {self.modules!r}")
-        if not self.modules:
-            raise ValueError("Config.modules must name at least one check module; got ()")
-        unknown = [m for m in self.modules if m not in CHECK_MODULES]
-        if unknown:  # a config never imports by a name it chose: only the fixed registry (issue 32)
-            raise ValueError(
-                f"Config.modules must be among the check modules {', '.join(CHECK_MODULES)}; got {unknown[0]!r}"
-            )
+    #: the declared spec: a config never imports by a name it chose, only the fixed registry
+    RANGES: ClassVar[Mapping[str, FieldChoice]] = {
+        "modules": FieldChoice(CHECK_MODULES, "the check modules that run"),
+    }
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "modules is a non-empty tuple",
+            lambda c: isinstance(c.modules, tuple) and len(c.modules) > 0,
+            lambda c: f"modules must name at least one check module; got {c.modules!r}",
+        ),
+    )
 
+    def __post_init__(self) -> None:
+        validate(self)  # the declared spec and constraint above
 
 def simulate(config: Config, seed: int) -> list:
     """The checks keep no recordings (each simulates short records internally)."""
@@ -93,6 +101,7 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
     rows = [
         [
             c.id,
+            c.kind,
             c.formula,
             c.expected,
             c.simulated,
@@ -106,10 +115,26 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
     ]
     failed = [c.id for c in checks if not c.passed]
     n_ok = len(checks) - len(failed)
+    counts = kind_counts(checks)
+    n_valid = sum(counts[k] for k in VALIDATION_KINDS)
+    counts_text = ", ".join(f"{counts[k]} {k}" for k in KINDS)
+    kinds_table = Table(
+        "Reference kinds: what each check's expected value comes from",
+        ["reference kind", "checks", "passed", "counted as validation"],
+        [
+            [k, counts[k], sum(c.passed for c in checks if c.kind == k), "yes" if k in VALIDATION_KINDS else "no"]
+            for k in KINDS
+        ],
+        note="closed form: an equation derived independently of the model's code; second method: full "
+        "integration, exact kinematics or a first-principles simulation; printed: a published number "
+        "(source in 'expected value from'); consistency: the code against its own formula reached by "
+        "another path, a regression guard and not validation.",
+    )
     table = Table(
-        "Closed-form checks: the model's value beside the equation's",
+        "Physics checks: the model's value beside its reference's",
         [
             "check",
+            "reference kind",
             "formula",
             "expected",
             "simulated",
@@ -131,19 +156,27 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
         title=TITLE,
         seed=seed,
         config=config,
-        results={"checks": [c.as_dict() for c in checks]},
-        tables=[table],
+        results={"checks": [c.as_dict() for c in checks], "kind_counts": counts},
+        tables=[kinds_table, table],
         headlines=[
             Headline(
-                "closed-form checks passed",
+                "physics checks passed",
                 f"{n_ok}/{len(checks)}",
                 f"{len(checks)}/{len(checks)}",
                 not failed,
                 "failed: " + ", ".join(failed) if failed else "every model matches its equations",
-            )
+            ),
+            Headline(
+                "checks with an outside reference (validation)",
+                f"{n_valid}/{len(checks)}",
+                "",
+                None,
+                counts_text,
+            ),
         ],
         conclusion=(
-            f"{n_ok} of {len(checks)} closed-form checks pass."
+            f"{n_ok} of {len(checks)} checks pass; by reference kind: {counts_text} "
+            f"({n_valid} count as validation, the {counts['consistency']} consistency checks do not)."
             + (f" FAILED: {', '.join(failed)}." if failed else "")
         ),
         runtime_s=runtime_s,

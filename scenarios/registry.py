@@ -22,34 +22,55 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-#: registry key -> module; order = order in ``reproduce --all`` and the report
+#: the scenarios that are not papers, by name -> module: ``static_noise`` runs first, every other
+#: entry after the papers (:func:`table`). Papers are not listed here: :func:`table` discovers
+#: them (:func:`gyrobench.scenarios.papers.discover`), so adding a paper is adding its folder.
 SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
-    "mems_scale_factor": "gyrobench.scenarios.papers.p001_mems_scale_factor",
-    "ifog_thermal": "gyrobench.scenarios.papers.p003_ifog_thermal",
-    "rlg_thermal": "gyrobench.scenarios.papers.p004_rlg_thermal",
-    "fog_vibration": "gyrobench.scenarios.papers.p000_fog_vibration",
     "physics_checks": "gyrobench.scenarios.physics_checks",
 }
 
-
-def available() -> list[str]:
-    """Registered scenario names whose module is present in this installation."""
-    return [n for n, mod in SCENARIOS.items() if importlib.util.find_spec(mod) is not None]
+#: the entries of :data:`SCENARIOS` that run before the papers
+_BEFORE_PAPERS = ("static_noise",)
 
 
-def get(name: str) -> ModuleType:
-    """Import and return the scenario module registered as ``name``.
+def table() -> dict[str, str]:
+    """Every scenario, name -> module, in the order of ``reproduce --all`` and the report:
+    ``static_noise``, the discovered papers (in folder order), then the rest of :data:`SCENARIOS`.
 
     Raises
     ------
     ValueError
-        If ``name`` is not a registered scenario.
+        If a discovered paper's ``NAME`` is also a registered scenario's name.
+    """
+    from gyrobench.scenarios import papers
+
+    out = {n: m for n, m in SCENARIOS.items() if n in _BEFORE_PAPERS}
+    for p in papers.discover():
+        if p.name in SCENARIOS:
+            raise ValueError(f"paper {p.module} is named {p.name!r}, as a registered scenario is")
+        out[p.name] = p.module
+    out.update((n, m) for n, m in SCENARIOS.items() if n not in out)
+    return out
+
+
+def available() -> list[str]:
+    """Scenario names whose module is present in this installation (:func:`table`'s order)."""
+    return [n for n, mod in table().items() if importlib.util.find_spec(mod) is not None]
+
+
+def get(name: str) -> ModuleType:
+    """Import and return the scenario module named ``name``.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a scenario.
     """
     names = available()
     if name not in names:
         raise ValueError(f"scenario must be one of {names}; got {name!r}")
-    return importlib.import_module(SCENARIOS[name])
+    return importlib.import_module(table()[name])
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -73,16 +94,17 @@ def describe(name: str) -> ScenarioInfo:
     Raises
     ------
     ValueError
-        If ``name`` is not a registered scenario, or its module does not set ``TITLE`` to a
+        If ``name`` is not a scenario, or its module does not set ``TITLE`` to a
         string literal.
     """
     import ast
 
-    if name not in SCENARIOS:
-        raise ValueError(f"scenario must be one of {list(SCENARIOS)}; got {name!r}")
-    spec = importlib.util.find_spec(SCENARIOS[name])
+    modules = table()
+    if name not in modules:
+        raise ValueError(f"scenario must be one of {list(modules)}; got {name!r}")
+    spec = importlib.util.find_spec(modules[name])
     if spec is None or not spec.origin:
-        raise ValueError(f"scenario {name!r}: module {SCENARIOS[name]!r} is not installed")
+        raise ValueError(f"scenario {name!r}: module {modules[name]!r} is not installed")
     tree = ast.parse(Path(spec.origin).read_bytes(), filename=spec.origin)
     constants: dict[str, Any] = {}
     bench = False
@@ -165,27 +187,23 @@ def _coerce(owner: str, key: str, value: Any, hint: Any) -> Any:
     return value
 
 
-def _check_range(owner: str, config_type: type, key: str, value: Any) -> None:
-    """Refuse ``value`` of field ``key`` outside its documented range (:class:`~gyrobench.scenarios.base.FieldRange`,
-    the config class's ``RANGES``), before the configuration is built: a value out of range never
-    reaches the config's own checks or a model."""
-    from gyrobench.scenarios.base import field_range, range_error
+def _check_field(owner: str, config_type: type, key: str, value: Any) -> None:
+    """Refuse ``value`` of field ``key`` by its declared spec (:func:`gyrobench.base.ranges.check_field`,
+    the one check a config's own ``validate`` runs too), before the configuration is built: a value
+    out of range never reaches the config's constraints or a model."""
+    from gyrobench.base.ranges import check_field
 
-    rng = field_range(config_type, key)
-    if rng is None:
-        return
-    for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
-        if v is not None and not rng.contains(v):
-            raise range_error(owner, f"{key}[{i}]" if isinstance(value, tuple) else key, rng, v)
+    check_field(owner, config_type, key, value)
 
 
 def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -> Any:
     """Return ``config`` with ``values`` replaced, validated field by field.
 
     Unknown keys raise ``ValueError`` naming the valid ones; wrong types raise
-    ``TypeError``; a value outside its field's documented range
-    (:class:`~gyrobench.scenarios.base.FieldRange`) raises ``ValueError`` naming the range
-    and unit; then the config's own ``__post_init__`` checks the values together.
+    ``TypeError``; a value outside its field's declared spec
+    (:class:`~gyrobench.base.ranges.FieldRange`, :class:`~gyrobench.base.ranges.FieldChoice`)
+    raises ``ValueError`` naming the range and unit; then the config's own ``__post_init__``
+    (:func:`~gyrobench.base.ranges.validate`) checks its declared constraints across fields.
     """
     owner = owner or type(config).__name__
     hints = typing.get_type_hints(type(config))
@@ -201,7 +219,7 @@ def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -
             changes[k] = override(current[k], v, owner=f"{owner}.{k}")
         else:
             changes[k] = _coerce(owner, k, v, hint)
-            _check_range(owner, type(config), k, changes[k])
+            _check_field(owner, type(config), k, changes[k])
     try:
         return dataclasses.replace(config, **changes)
     except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:

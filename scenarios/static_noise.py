@@ -11,7 +11,6 @@ below the bound.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
@@ -21,8 +20,9 @@ import numpy as np
 
 from gyrobench.analysis.allan import allan_deviation, fit_noise
 from gyrobench.base import units
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 from gyrobench.io.recording import Channel, Recording, package_version
-from gyrobench.scenarios.base import FieldRange, FigureSpec, Headline, Outcome, Table, check_ranges
+from gyrobench.scenarios.base import FigureSpec, Headline, Outcome, Table
 from gyrobench.scenarios.reports.allan import TERMS, coefficient_table, coefficients_json
 from gyrobench.scenarios.reports.figures import allan_figure
 from gyrobench.sim.noise import NoiseModel
@@ -66,22 +66,18 @@ class GradeSpec:
         "duration_h": FieldRange(0.0, 1e4, "h", "one record", low_open=True),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            f"duration_h x fs_hz >= {MIN_SAMPLES} samples",
+            lambda c: c.n_samples >= MIN_SAMPLES,
+            lambda c: f"duration_h x fs_hz must give >= {MIN_SAMPLES} samples (five octave taus for the fit); "
+            f"got {c.duration_h!r} h at {c.fs_hz!r} Hz = {c.n_samples}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        check_ranges(self)  # every number inside its documented range first (one line naming it)
-        # errors name this config's fields (a TOML user never sees NoiseModel's names)
-        for term, name in _FIELDS.items():
-            v, unit = getattr(self, name), units.COEFFICIENT_FIELD_UNITS[term][0]
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"GradeSpec.{name} must be finite and >= 0 {unit}; got {v!r}")
-        if not (self.fs_hz > 0 and np.isfinite(self.fs_hz)):
-            raise ValueError(f"GradeSpec.fs_hz must be > 0 Hz; got {self.fs_hz!r}")
-        if not (self.duration_h > 0 and np.isfinite(self.duration_h)):
-            raise ValueError(f"GradeSpec.duration_h must be > 0 h; got {self.duration_h!r}")
-        if self.n_samples < MIN_SAMPLES:
-            raise ValueError(
-                f"GradeSpec.duration_h x fs_hz must give >= {MIN_SAMPLES} samples (five octave "
-                f"taus for the fit); got {self.duration_h!r} h at {self.fs_hz!r} Hz = {self.n_samples}"
-            )
+        validate(self)  # the declared specs and constraints above
         self.model()
 
     def model(self) -> NoiseModel:
@@ -117,6 +113,9 @@ class Config:
             R_deg_h2=0.0, fs_hz=100.0, duration_h=2.0,
         )
     )
+
+    def __post_init__(self) -> None:
+        validate(self)  # fog and mems must be GradeSpecs
 
 
 def _grades(config: Config) -> dict[str, GradeSpec]:

@@ -43,29 +43,73 @@ __all__ = [
     "PAPER_SITES",
     "earth_rate_components",
     "sensed_earth_rate",
+    "normal_gravity",
+    "WGS84_A",
+    "WGS84_E2",
 ]
 
 #: nominal mean angular velocity of the Earth [rad/s] (IERS TN 36 Table 1.1; WGS 84)
 EARTH_RATE: float = units.EARTH_RATE
 
 
+#: WGS84 semi-major axis [m] and first eccentricity squared (NIMA TR8350.2, tables 3.1 and 3.3)
+WGS84_A = 6378137.0
+WGS84_E2 = 6.69437999014e-3
+#: Somigliana's constants: equatorial normal gravity [m/s^2] and k (NIMA TR8350.2, table 3.4)
+_GAMMA_E = 9.7803253359
+_SOMIGLIANA_K = 1.931852652458e-3
+#: free-air gradient of normal gravity [1/s^2] (NIMA TR8350.2, sec. 4.3, first order in h)
+_FREE_AIR = 3.086e-6
+
+
+def normal_gravity(latitude: float, height: float = 0.0) -> float:
+    """gamma(phi, h) = gamma_e (1 + k sin^2 phi) / sqrt(1 - e^2 sin^2 phi) - 3.086e-6 h [m/s^2].
+
+    Parameters
+    ----------
+    latitude : float
+        Geodetic latitude phi [rad].
+    height : float
+        Height above the ellipsoid h [m].
+
+    Returns
+    -------
+    float
+        WGS84 normal gravity (NIMA TR8350.2 eq. 4-1, free-air term of sec. 4.3).
+
+    Examples
+    --------
+    >>> round(normal_gravity(0.0), 7), round(normal_gravity(math.pi / 2), 7)
+    (9.7803253, 9.8321849)
+    """
+    s2 = math.sin(latitude) ** 2
+    return _GAMMA_E * (1 + _SOMIGLIANA_K * s2) / math.sqrt(1 - WGS84_E2 * s2) - _FREE_AIR * height
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Site:
-    """A laboratory location.
+    """A location on the Earth: a laboratory, or where an IMU's motion starts.
 
     Parameters
     ----------
     name : str
         Label.
     latitude : float
-        Geodetic latitude [rad], in [-pi/2, pi/2].
+        Geodetic latitude phi [rad], in [-pi/2, pi/2].
     source : str
         Where the latitude comes from.
+    height : float
+        Height above the WGS84 ellipsoid [m], within -1e4..1e5 m.
+    earth_rotation : bool
+        False switches the Earth's rate and the Coriolis and transport terms off (a
+        non-rotating Earth) in :mod:`gyrobench.sim.trajectory`.
     """
 
-    name: str
-    latitude: float
+    name: str = ""
+    latitude: float = 0.0
     source: str = ""
+    height: float = 0.0
+    earth_rotation: bool = True
 
     def __post_init__(self) -> None:
         v = self.latitude
@@ -75,6 +119,48 @@ class Site:
             or not (math.isfinite(v) and abs(v) <= math.pi / 2)
         ):
             raise ValueError(f"Site.latitude must be finite in [-pi/2, pi/2] rad; got {v!r}")
+        h = self.height
+        if isinstance(h, bool) or not isinstance(h, Real) or not (math.isfinite(h) and -1e4 <= h <= 1e5):
+            raise ValueError(f"Site.height must be within -1e4..1e5 m; got {h!r}")
+
+    @property
+    def gravity(self) -> float:
+        """gamma(phi, h) [m/s^2] (:func:`normal_gravity`)."""
+        return normal_gravity(self.latitude, self.height)
+
+    @property
+    def earth_rate_n(self) -> NDArray[np.float64]:
+        """omega_ie^n = Omega_E [cos phi, 0, -sin phi] in north, east, down [rad/s] (zero without rotation)."""
+        if not self.earth_rotation:
+            return np.zeros(3)
+        return EARTH_RATE * np.array([math.cos(self.latitude), 0.0, -math.sin(self.latitude)])
+
+    def transport_rate_n(self, v_n: NDArray[np.float64]) -> NDArray[np.float64]:
+        """omega_en^n = [v_E/(R_N + h), -v_N/(R_M + h), -v_E tan(phi)/(R_N + h)] for ``v_n`` (..., 3) [m/s].
+
+        Parameters
+        ----------
+        v_n : ndarray, shape (..., 3)
+            Velocity in north, east, down [m/s].
+
+        Returns
+        -------
+        ndarray, shape (..., 3)
+            The transport rate [rad/s] (Titterton & Weston 2004, eq. 3.55), with the WGS84
+            radii of curvature R_M, R_N at the site.
+        """
+        if not self.earth_rotation:
+            return np.zeros_like(v_n)
+        if abs(self.latitude) >= math.pi / 2 - 1e-9:
+            raise ValueError("the transport rate is not defined at a pole: Site.latitude must be inside +-pi/2")
+        s2 = math.sin(self.latitude) ** 2
+        r_n = WGS84_A / math.sqrt(1 - WGS84_E2 * s2) + self.height
+        r_m = WGS84_A * (1 - WGS84_E2) / (1 - WGS84_E2 * s2) ** 1.5 + self.height
+        out = np.empty_like(v_n)
+        out[..., 0] = v_n[..., 1] / r_n
+        out[..., 1] = -v_n[..., 0] / r_m
+        out[..., 2] = -v_n[..., 1] * math.tan(self.latitude) / r_n
+        return out
 
 
 #: Beijing (papers 001: BISTU, postcode 100101; 004: Beijing Institute of Automatic Control

@@ -19,11 +19,14 @@ Shaker profiles (sine sweeps, random vibration) live in :mod:`gyrobench.sim.shak
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 
 __all__ = ["PiecewiseLinear", "Ramp", "Soak", "thermal_profile", "RateSteps", "rate_steps"]
 
@@ -141,17 +144,27 @@ class Ramp:
     rate: float | None = None
     duration: float | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "target": FieldRange(-math.inf, math.inf, "K", "the temperature the ramp ends at"),
+        "rate": FieldRange(-math.inf, math.inf, "K/s", "ramp rate, either sign (None: given by duration)"),
+        "duration": FieldRange(0, math.inf, "s", "ramp time (None: given by rate)", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "exactly one of rate, duration",
+            lambda c: (c.rate is None) != (c.duration is None),
+            lambda c: f"rate [K/s] / duration [s]: give exactly one of rate or duration; got rate={c.rate!r}, "
+            f"duration={c.duration!r}",
+        ),
+        Constraint(
+            "rate != 0",
+            lambda c: c.rate != 0,
+            lambda c: f"rate must be > 0 K/s in magnitude; got {c.rate!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        _finite("Ramp.target", self.target)
-        if (self.rate is None) == (self.duration is None):
-            raise ValueError(
-                f"Ramp needs exactly one of rate [K/s] or duration [s]; got rate={self.rate!r}, "
-                f"duration={self.duration!r}"
-            )
-        if self.rate is not None:
-            _positive("Ramp.rate", abs(self.rate) if isinstance(self.rate, (int, float)) else self.rate, "K/s")
-        if self.duration is not None:
-            _positive("Ramp.duration", self.duration, "s")
+        validate(self)  # the declared specs and constraints above
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -160,8 +173,12 @@ class Soak:
 
     duration: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "duration": FieldRange(0, math.inf, "s", "time held at the last temperature", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        _positive("Soak.duration", self.duration, "s")
+        validate(self)  # the declared spec above
 
 
 def thermal_profile(start: float, steps: Sequence[Ramp | Soak], *, t0: float = 0.0) -> PiecewiseLinear:

@@ -57,12 +57,15 @@ Dandliker, J. Lightwave Technol. 6(1) 17 (1988) (strain sensitivity of optical f
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from numbers import Real
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 
 __all__ = [
     "ELASTO_OPTIC_FACTOR",
@@ -244,26 +247,26 @@ class StrainMode:
     loss: float = 0.0
     segment: tuple[float, float] | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "frequency": FieldRange(0, math.inf, "Hz", "the mode's resonance f_k", low_open=True),
+        "quality": FieldRange(0.5, math.inf, "1", "quality factor Q_k; > 0.5, an underdamped mode", low_open=True),
+        "strain": FieldRange(-math.inf, math.inf, "1/(m/s^2)", "fibre strain amplitude per modal acceleration"),
+        "weight": FieldRange(-math.inf, math.inf, "m^2", "the (L - 2z) weighted strain integral W_k"),
+        "rocking": FieldRange(-math.inf, math.inf, "rad/(m/s^2)", "sense-axis rotation per modal acceleration"),
+        "loss": FieldRange(-math.inf, math.inf, "1/(m/s^2)", "detected-power modulation per modal acceleration"),
+        "segment": FieldRange(0, math.inf, "m", "(z0, l): the uniformly strained stretch of fibre"),
+    }
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "segment is None or (z0, l) with l > 0",
+            lambda c: c.segment is None or (isinstance(c.segment, tuple) and len(c.segment) == 2 and c.segment[1] > 0),
+            lambda c: f"segment must be a (z0, l) tuple [m] with l > 0; got {c.segment!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        o = "StrainMode"
-        _real(o, "frequency", self.frequency, "Hz", positive=True)
-        if _real(o, "quality", self.quality, "-", positive=True) <= 0.5:
-            raise ValueError(f"StrainMode.quality must be > 0.5; got {self.quality!r}")
-        for name, unit in (
-            ("strain", "1/(m/s^2)"),
-            ("weight", "m^2"),
-            ("rocking", "rad/(m/s^2)"),
-            ("loss", "1/(m/s^2)"),
-        ):
-            _real(o, name, getattr(self, name), unit)
-        if self.segment is not None:
-            seg = self.segment
-            if not (isinstance(seg, tuple) and len(seg) == 2):
-                raise TypeError(f"StrainMode.segment must be a (z0, l) tuple [m]; got {seg!r}")
-            _real(o, "segment[0]", seg[0], "m")
-            _real(o, "segment[1]", seg[1], "m", positive=True)
-            if seg[0] < 0:
-                raise ValueError(f"StrainMode.segment z0 must be >= 0 m; got {seg[0]!r}")
+        validate(self)  # the declared specs and constraints above
 
     def kernel(
         self, f: ArrayLike, fibre_length: float, group_index: float

@@ -32,15 +32,16 @@ surface at the unit's drawn axial position.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from numbers import Real
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.validate import positive_number
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
@@ -78,19 +79,15 @@ class TemperatureSensorSpec:
     resolution: float = 0.001
     bias: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
+        "location": FieldChoice(_SENSOR_LOCATIONS, "where on the coil the sensor reads"),
+        "noise": FieldRange(0, math.inf, "K", "1-sigma white noise of a reading"),
+        "resolution": FieldRange(0, math.inf, "K", "quantization step of a reading (0: none)"),
+        "bias": FieldRange(-math.inf, math.inf, "K", "constant offset of the readings"),
+    }
+
     def __post_init__(self) -> None:
-        if self.location not in _SENSOR_LOCATIONS:
-            raise ValueError(
-                f"TemperatureSensorSpec.location must be one of {_SENSOR_LOCATIONS}; got {self.location!r}"
-            )
-        for name in ("noise", "resolution"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(float(v)) and float(v) >= 0):
-                raise ValueError(
-                    f"TemperatureSensorSpec.{name} must be a finite number >= 0 K; got {v!r}"
-                )
-        if not (isinstance(self.bias, Real) and math.isfinite(self.bias)):
-            raise ValueError(f"TemperatureSensorSpec.bias must be finite [K]; got {self.bias!r}")
+        validate(self)  # the declared specs above
 
     def read(
         self, true_temperature: NDArray[np.float64], *, rng: np.random.Generator
@@ -182,36 +179,31 @@ class FOG2DSpec:
     azimuth: float = math.pi / 2
     elevation: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        # bias_phase, loop_gain and the site angles: finite here, their ranges checked by the loop
+        # and the unit the spec builds
+        "bias_phase": FieldRange(-math.inf, math.inf, "rad", "modulation depth (LoopSpec checks (0, pi))"),
+        "loop_gain": FieldRange(-math.inf, math.inf, "1", "rate-loop gain (LoopSpec checks its stability)"),
+        "diameter_tempco": FieldRange(-1e-3, 1e-3, "1/K", "alpha_D (None: the coil's own)", True, True),
+        "wavelength_tempco": FieldRange(-1e-3, 1e-3, "1/K", "alpha_lambda of the source", True, True),
+        "scale_factor_ref_temperature": FieldRange(0, math.inf, "K", "where the scale factor is nominal",
+                                                   low_open=True),
+        "thermal_step": FieldRange(0, math.inf, "s", "thermal solver step", low_open=True),
+        "latitude": FieldRange(-math.inf, math.inf, "rad", "site latitude (ClosedLoopFOG checks it)"),
+        "azimuth": FieldRange(-math.inf, math.inf, "rad", "sense-axis azimuth from north"),
+        "elevation": FieldRange(-math.inf, math.inf, "rad", "sense-axis elevation (ClosedLoopFOG checks it)"),
+    }
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "sensor.location == 'outer'",
+            lambda c: c.sensor.location == "outer",
+            lambda c: f"sensor.location must be 'outer' (on the potting); got {c.sensor.location!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        for name, kind in (
-            ("coil", Coil2DSpec),
-            ("noise", NoiseModel),
-            ("optics", OpticalBudget),
-            ("sensor", TemperatureSensorSpec),
-        ):
-            if not isinstance(getattr(self, name), kind):
-                got = type(getattr(self, name)).__name__
-                raise TypeError(f"FOG2DSpec.{name} must be a {kind.__name__}; got {got}")
-        if self.sensor.location != "outer":
-            raise ValueError(
-                f"FOG2DSpec.sensor.location must be 'outer' (on the potting); got "
-                f"{self.sensor.location!r}"
-            )
-        for name in ("diameter_tempco", "wavelength_tempco"):
-            v = getattr(self, name)
-            if v is None and name == "diameter_tempco":
-                continue
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, Real)
-                or not (math.isfinite(float(v)) and abs(float(v)) < 1e-3)
-            ):
-                raise ValueError(
-                    f"FOG2DSpec.{name} must be finite with |value| < 1e-3 /K; got {v!r}"
-                )
-        v = self.thermal_step
-        if isinstance(v, bool) or not isinstance(v, Real) or not (math.isfinite(v) and v > 0):
-            raise ValueError(f"FOG2DSpec.thermal_step must be > 0 s; got {v!r}")
+        validate(self)  # the declared specs and constraints above
         # the loop validates bias_phase / loop_gain, the unit latitude / azimuth / elevation
         self.loop_spec(length=1000.0, diameter=0.1)
         ClosedLoopFOG(latitude=self.latitude, azimuth=self.azimuth, elevation=self.elevation)

@@ -56,7 +56,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import BEIJING, sensed_earth_rate
 from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_coefficient
@@ -157,31 +157,18 @@ class LoopSpec:
         "modulator_gain_error": FieldRange(-0.5, 0.5, "1", "G_m - 1 within +-50 % (__post_init__)", True, True),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "loop_gain gives a stable loop",
+            lambda c: c.stable,
+            lambda c: f"loop_gain must give a stable loop (delay {c.delay}: below "
+            f"~{2.0 if c.delay == 1 else 1.0:g}); got {c.loop_gain!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        o = "LoopSpec"
-        _real(o, "length", self.length, "m", 0.0)
-        _real(o, "diameter", self.diameter, "m", 0.0)
-        _real(o, "wavelength", self.wavelength, "m", 0.0)
-        _real(o, "group_index", self.group_index, "-", 1.0)
-        _real(o, "bias_phase", self.bias_phase, "rad", 0.0, math.pi)
-        _real(o, "gain_loop_gain", self.gain_loop_gain, "-", 0.0, 1.0)
-        _real(o, "modulator_gain_error", self.modulator_gain_error, "-", -0.5, 0.5)
-        if (
-            isinstance(self.delay, bool)
-            or not isinstance(self.delay, Integral)
-            or self.delay not in (1, 2)
-        ):
-            raise ValueError(f"LoopSpec.delay must be 1 or 2 transits; got {self.delay!r}")
-        gmax = 2.0 if self.delay == 1 else 1.0
-        _real(o, "loop_gain", self.loop_gain, "-", 0.0)
-        if not self.stable:
-            raise ValueError(
-                f"LoopSpec.loop_gain must give a stable loop (delay {self.delay}: "
-                f"below ~{gmax:g}); got {self.loop_gain!r}"
-            )
-        for name in ("gain_loop", "reset_blanking"):
-            if not isinstance(getattr(self, name), bool):
-                raise TypeError(f"LoopSpec.{name} must be a bool; got {getattr(self, name)!r}")
+        validate(self)  # the declared specs and constraints above
 
     # ----------------------------------------------------------------- optics
     @property

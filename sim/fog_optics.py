@@ -64,7 +64,7 @@ from dataclasses import dataclass
 from numbers import Real
 from typing import ClassVar
 
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import FieldRange, validate
 from gyrobench.base.units import BOLTZMANN, ELEMENTARY_CHARGE, SPEED_OF_LIGHT  # exact SI, re-exported
 
 __all__ = [
@@ -142,23 +142,7 @@ class OpticalBudget:
     }
 
     def __post_init__(self) -> None:
-        o = "OpticalBudget"
-        _pos(o, "source_power", self.source_power, "W")
-        _pos(o, "spectral_width", self.spectral_width, "m")
-        _pos(o, "width_factor", self.width_factor, "-")
-        _pos(o, "loss_db", self.loss_db, "dB", allow_zero=True)
-        _pos(o, "responsivity", self.responsivity, "A/W")
-        _pos(o, "feedback_resistance", self.feedback_resistance, "Ohm")
-        _pos(
-            o,
-            "amplifier_current_noise",
-            self.amplifier_current_noise,
-            "A/sqrt(Hz)",
-            allow_zero=True,
-        )
-        _pos(o, "temperature", self.temperature, "K")
-        if not isinstance(self.polarized, bool):
-            raise TypeError(f"OpticalBudget.polarized must be a bool; got {self.polarized!r}")
+        validate(self)  # the declared specs above
 
     @property
     def peak_current(self) -> float:

@@ -17,8 +17,8 @@ sensitivity along each axis [rad/s per (m/s^2)^2], device_i the gyro's own model
 with the block temperature (:meth:`gyrobench.sim.sensor.SensorUnit.simulate`: its noise, bias,
 scale factor and its own g-sensitivity to f^b_i), s_i and b_i the accelerometer's turn-on
 scale-factor error and bias, k_s and k_b its temperature coefficients, n_i its IEEE-952 noise
-(velocity random walk, bias instability, acceleration random walk), q its quantization and
-range. The accelerometers are at the datasheet level (no proof-mass model): their figures are
+(velocity random walk, bias instability, acceleration random walk), q its output low-pass,
+quantization and range. The accelerometers are at the datasheet level (no proof-mass model): their figures are
 what a sheet prints. Shared physics is shared: one block temperature, one motion (so a
 vibration reaches every axis coherently), one drawn block.
 
@@ -38,9 +38,10 @@ from numpy.typing import NDArray
 from gyrobench.base import units
 from gyrobench.base.validate import check_fs, check_rng, nonneg_field, real_field
 from gyrobench.io.recording import Channel, Recording, package_version
+from gyrobench.sim.earth import Site
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import Environment, Sensor, SensorUnit
-from gyrobench.sim.trajectory import Increments, Motion, Site, increments
+from gyrobench.sim.trajectory import Increments, Motion, increments
 
 __all__ = ["AXES", "AccelerometerSpec", "TriadSpec", "TriadUnit", "ImuRecord", "sensitivity_matrix"]
 
@@ -69,6 +70,10 @@ class AccelerometerSpec:
         Scale-factor temperature coefficient [1/K].
     range : float
         Full scale, +-range [m/s^2]; beyond it the output saturates (inf: none).
+    bandwidth : float
+        -3 dB corner of the output's first-order low-pass [Hz] (inf: none). Discretised
+        step-invariant at the output rate: y_k = a y_{k-1} + (1 - a) x_k, a = exp(-2 pi f_c / fs)
+        (exact for an input held over each sample), started at its steady state.
     resolution : float
         Output LSB [m/s^2] (0: not quantized).
     reference_temperature : float
@@ -83,6 +88,7 @@ class AccelerometerSpec:
     bias_tempco: float = 0.0
     scale_factor_tempco: float = 0.0
     range: float = math.inf
+    bandwidth: float = math.inf
     resolution: float = 0.0
     reference_temperature: float = units.celsius(25.0)
 
@@ -92,9 +98,10 @@ class AccelerometerSpec:
             nonneg_field("AccelerometerSpec", name, getattr(self, name), "SI")
         for name in ("bias_tempco", "scale_factor_tempco"):
             real_field("AccelerometerSpec", name, getattr(self, name))
-        r = self.range
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not r > 0:
-            raise ValueError(f"AccelerometerSpec.range must be > 0 m/s^2 (inf: no limit); got {r!r}")
+        for name, unit in (("range", "m/s^2"), ("bandwidth", "Hz")):
+            r = getattr(self, name)
+            if isinstance(r, bool) or not isinstance(r, (int, float)) or not r > 0:
+                raise ValueError(f"AccelerometerSpec.{name} must be > 0 {unit} (inf: no limit); got {r!r}")
         t = real_field("AccelerometerSpec", "reference_temperature", self.reference_temperature)
         if not t > 0:
             raise ValueError(f"AccelerometerSpec.reference_temperature must be > 0 K; got {t!r}")
@@ -110,6 +117,7 @@ class AccelerometerSpec:
         bias_tempco_mg_per_k: float = 0.0,
         scale_factor_tempco_ppm_per_k: float = 0.0,
         range_g: float = math.inf,
+        bandwidth_hz: float = math.inf,
         resolution_mg: float = 0.0,
     ) -> AccelerometerSpec:
         """A spec from a sheet's field units (mg, ppm, m/s/sqrt(h), ug, g = 9.80665 m/s^2).
@@ -124,8 +132,8 @@ class AccelerometerSpec:
             Bias instability [ug].
         bias_tempco_mg_per_k, scale_factor_tempco_ppm_per_k : float
             Temperature coefficients [mg/K], [ppm/K].
-        range_g, resolution_mg : float
-            Full scale [g] and LSB [mg].
+        range_g, bandwidth_hz, resolution_mg : float
+            Full scale [g], -3 dB bandwidth [Hz] and LSB [mg].
 
         Returns
         -------
@@ -140,8 +148,19 @@ class AccelerometerSpec:
             bias_tempco=bias_tempco_mg_per_k * 1e-3 * g,
             scale_factor_tempco=scale_factor_tempco_ppm_per_k * 1e-6,
             range=range_g * g,
+            bandwidth=bandwidth_hz,
             resolution=resolution_mg * 1e-3 * g,
         )
+
+    def low_pass(self, x: NDArray[np.float64], fs: float) -> NDArray[np.float64]:
+        """The output filter (``bandwidth``) applied to samples ``x`` at ``fs`` [Hz], from its steady state."""
+        if math.isinf(self.bandwidth):
+            return x
+        from scipy.signal import lfilter
+
+        a = math.exp(-2 * math.pi * self.bandwidth / fs)
+        y, _ = lfilter([1 - a], [1.0, -a], x, zi=[a * x[0]])
+        return np.asarray(y)
 
     def noise(self) -> NoiseModel:
         """The IEEE-952 terms as a noise model (VRW as N, B, acceleration random walk as K)."""
@@ -255,7 +274,8 @@ class TriadSpec:
         check_rng(rng)
         r_g = rng.spawn(3)
         r_align, r_acc = rng.spawn(2)
-        gyros = tuple(spec.realize(rng=r) for spec, r in zip(self.gyros, r_g, strict=True))
+        gx, gy, gz = (spec.realize(rng=r) for spec, r in zip(self.gyros, r_g, strict=True))
+        gyros = (gx, gy, gz)
         ra, rb = r_align.spawn(2)
         c_g = self.gyro_matrix if self.gyro_matrix is not None else sensitivity_matrix(
             misalignment=self.misalignment, cross_axis=self.cross_axis, rng=ra)
@@ -397,7 +417,8 @@ class TriadUnit:
                 sf = self.accel_scale_factor[i] + acc.scale_factor_tempco * d_t
                 bias = self.accel_bias[i] + acc.bias_tempco * d_t
                 noise = noise_gen.generate(n, fs, rng=r_noise[i])
-                ideal_out = (1 + sf) * f_sensed[:, i] + bias + noise
+                unfiltered = (1 + sf) * f_sensed[:, i] + bias + noise
+                ideal_out = acc.low_pass(unfiltered, fs)
                 out = np.clip(ideal_out, -acc.range, acc.range)
                 if acc.resolution > 0:
                     out = acc.resolution * np.round(out / acc.resolution)
@@ -407,6 +428,7 @@ class TriadUnit:
                     "scale_factor_error": Channel(sf * f_sensed[:, i], ms2, "(s + k_s dT) (C_a f^b)"),
                     "bias": Channel(np.full(n, bias), ms2, "turn-on bias + k_b dT"),
                     "noise": Channel(noise, ms2, "VRW, bias instability, acceleration random walk"),
+                    "filter": Channel(ideal_out - unfiltered, ms2, "the output low-pass's change"),
                     "output_rounding": Channel(out - ideal_out, ms2, "range limit and quantization"),
                 }
                 channels[ch] = Channel(out, ms2, f"accelerometer {axis} output")

@@ -1,8 +1,13 @@
-"""Smooth, compressive scale-factor nonlinearity of a high-range MEMS rate channel.
+"""Static rate transfers of a MEMS rate channel: the Duffing sense beam and a PHENOMENOLOGICAL amplifier curve.
 
-Two physical mechanisms a +-3600 deg/s vibratory gyro with an open-loop (not rebalanced)
-sense channel has, composed into one static, odd, strictly monotone, invertible rate transfer
-(docs/physics.md 5.2). SI inside: rates in rad/s.
+The read-out of a high-range part from its physics (the biased sense electrodes, the pick-off's
+1/(g - y), the front end's rail, with quadrature and manufacturing tolerances) is
+:mod:`gyrobench.sim.mems_readout`; paper 001's default device uses it. This module keeps two
+static, odd, strictly monotone, invertible rate transfers (docs/physics.md 5.2): the Duffing
+sense mode in rate units (its harmonic balance is checked against a full integration of its
+equation of motion, ``mems.sense_stiffening_full_ode``), and the Rapp amplifier curve, a FITTED
+phenomenological shape with no read-out behind it (paper 001's labelled variant ``"rapp"``).
+SI inside: rates in rad/s.
 
 1. **Sense-beam stiffening (Duffing).** The sense mode, driven off resonance by the Coriolis
    force of a drive motion x = X0 cos(w t) (mode split, w_y > w),
@@ -27,10 +32,11 @@ sense channel has, composed into one static, odd, strictly monotone, invertible 
    silicon microresonators", J. Microelectromech. Syst. 13(5):715-724, 2004 (spring
    nonlinearity of MEMS resonators); Acar & Shkel, *MEMS Vibratory Gyroscopes* (Springer
    2009), ch. 2 (open-loop sense response to the Coriolis force).
-2. **Front-end compression (Rapp).** The charge amplifier / demodulator chain approaching its
-   rails compresses smoothly; the memoryless Rapp characteristic of solid-state amplifiers
-   (C. Rapp, 1991; as given in Ghannouchi, Hammi & Helaoui, *Behavioral Modeling and
-   Predistortion of Wideband Wireless Transmitters*, Wiley 2015, eq. 4.45) in rate units:
+2. **Amplifier-curve compression (Rapp; phenomenological).** A smooth compression of the
+   shape of a solid-state amplifier's, with no sense chain behind it; the memoryless Rapp
+   characteristic of solid-state amplifiers (C. Rapp, 1991; as given in Ghannouchi, Hammi &
+   Helaoui, *Behavioral Modeling and Predistortion of Wideband Wireless Transmitters*, Wiley
+   2015, eq. 4.45) in rate units:
 
        y = x / (1 + |x / Omega_s|^(2p))^(1/(2p)),   |y| < Omega_s,
 

@@ -63,9 +63,10 @@ demodulation is Leland 2005]::
 Output: ``Omega_hat (1 + e_on) + a3 Omega_hat^3/R^2 + b_on - b_trim + flicker + rrw``, clipped
 to +-``output_range`` and rounded to 2 R / 2^bits (ADC quantization and range). flicker and rrw
 are the IEEE 952 bias-instability (1/f over :data:`FLICKER_BAND_HZ`) and rate-random-walk terms
-of :class:`gyrobench.sim.noise.NoiseModel`. The defaults are a high-range part's, cited
-(:data:`NOISE_FIGURES`): N = 0.25 deg/sqrt(s) (Brownian plus pick-off), B = 37.6 deg/h, K = 0,
-20-bit word (LSB below the sample noise at every fs > 0.001 Hz: the noise dithers it).
+of :class:`gyrobench.sim.noise.NoiseModel`. The defaults are one part's, cited
+(:data:`NOISE_FIGURES`, ADXRS646): N = 0.01 deg/sqrt(s) (Brownian plus pick-off), B = 18.06
+deg/h, K = 0; a 20-bit word (a design choice; LSB below the sample noise at every fs >= 1 Hz:
+the noise dithers it).
 
 Open-loop read-out (``readout="open_loop"``): no rebalance force; the sense mass moves,
 B = R F_ext at low rates, and the rate channel is the demodulated pick-off envelope
@@ -131,18 +132,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.units import BOLTZMANN  # exact SI, re-exported
 from gyrobench.base.validate import check_rng as _check_rng
 from gyrobench.base.validate import real_field
 from gyrobench.io.recording import Channel, Recording
+from gyrobench.sim.mems_readout import SenseChain
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import Environment, check_call
 
@@ -219,33 +221,24 @@ class DatasheetFigure:
 #: bias stability is the lowest point of the Allan Variance"), so B = figure / 0.6643.
 ADEV_MIN_PER_B = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
-#: the cited figures the default noise and output word are set from (docs/physics.md 5.1)
+#: the cited figures the default noise is set from (docs/physics.md 5.1): both from ONE part,
+#: the Analog Devices ADXRS646 (+-250 deg/s, extendable to +-450 deg/s), its data sheet's front
+#: page (copy at manualmachine.com, datasheet/adxrs646/8430208). A +-3600 deg/s design is not
+#: quieter than this part, so the default noise is an optimistic (lower) bound for the range.
 NOISE_FIGURES: dict[str, DatasheetFigure] = {
-    "rate_noise_density": DatasheetFigure(
-        0.25, "deg/s/sqrt(Hz)",
-        "ADXRS649 data sheet Rev. A (Analog Devices; +-20000 deg/s, extendable to +-50000 deg/s), "
-        "rate noise density, as quoted in electronics.stackexchange.com question 284679 "
-        "('Gyroscope noise density'); the sheet's front page read at manualmachine.com "
-        "(datasheet/adxrs649/8430216)",
-        "ARW N = 0.25 deg/sqrt(s) = 15 deg/sqrt(h): Analog Devices' density is the IEEE N "
-        "(their ADXRS646 prints 0.01 deg/sqrt(s) ARW beside 0.01 deg/s/sqrt(Hz)); the default "
-        "pick-off noise makes up what the Brownian floor (0.33 deg/sqrt(h)) leaves",
+    "angle_random_walk": DatasheetFigure(
+        0.01, "deg/sqrt(s)",
+        "ADXRS646 data sheet (Analog Devices), front page feature list: '0.01 deg/sqrt(sec) angle random "
+        "walk' (copy at manualmachine.com, datasheet/adxrs646/8430208)",
+        "ARW N = 0.01 deg/sqrt(s) = 0.6 deg/sqrt(h); the default pick-off noise makes up what the "
+        "Brownian floor (0.33 deg/sqrt(h)) leaves",
     ),
-    "null_bias_stability": DatasheetFigure(
-        25.0, "deg/h",
-        "ADXRS450 data sheet Rev. C (Analog Devices 2011-2013; +-300 deg/s), front page "
-        "'Excellent 25 deg/hour null offset stability' (copy at pdfslide.us); the ADXRS453 "
-        "Rev. B prints 16 deg/h, the ADXRS646 12 deg/h (typical)",
-        "the ADEV minimum; B = 25 / 0.6643 = 37.6 deg/h. The upper end of the 12-25 deg/h these "
-        "+-250..300 deg/s parts print, because a high-range part is not more stable than they are",
-    ),
-    "output_word": DatasheetFigure(
-        16.0, "bit over +-300 deg/s",
-        "ADXRS453 data sheet Rev. B (Analog Devices 2011), front page 'SPI digital output with "
-        "16-bit data-word', '+-300 deg/s angular rate sensing' (copy at pdf.datasheet.directory)",
-        "an LSB of at most 600/2^16 = 0.0092 deg/s; the default word is 20 bits over the "
-        "+-4000 deg/s output range, LSB 0.0076 deg/s: below the sample noise N sqrt(fs) at "
-        "every fs > 0.001 Hz",
+    "bias_drift": DatasheetFigure(
+        12.0, "deg/h",
+        "ADXRS646 data sheet (Analog Devices), front page general description: 'a low bias drift of "
+        "12 deg/hr (typical)' (same copy)",
+        "read as the ADEV minimum (Analog Devices EngineerZone note DOC-16082: in-run bias stability "
+        "is the lowest point of the Allan deviation); B = 12 / 0.6643 = 18.06 deg/h",
     ),
 }
 
@@ -255,9 +248,9 @@ NOISE_FIGURES: dict[str, DatasheetFigure] = {
 FLICKER_BAND_HZ: tuple[float, float] = (1e-6, math.inf)
 
 #: default front-end (pick-off) displacement noise [m/sqrt(Hz)]: with the default resonator's
-#: Brownian ARW it gives N = NOISE_FIGURES["rate_noise_density"] (0.25 deg/sqrt(s)), to the
-#: 4 digits stored (test): sqrt(N^2 - N_B^2) |R| 2 m w X0 = 6.751e-12 m/sqrt(Hz)
-DEFAULT_PICKOFF_NOISE = 6.751e-12
+#: Brownian ARW it gives N = NOISE_FIGURES["angle_random_walk"] (0.01 deg/sqrt(s)), to the
+#: 5 digits stored (test): sqrt(N^2 - N_B^2) |R| 2 m w X0 = 2.2658e-13 m/sqrt(Hz)
+DEFAULT_PICKOFF_NOISE = 2.2658e-13
 
 #: fields of MemsResonator that must be > 0
 _POSITIVE = (
@@ -282,9 +275,9 @@ class MemsResonator:
     parallel-plate rebalance electrodes 1e-8 m^2 at 2 um gap with 5 V bias, a 0.7 V DAC carrier
     limit (rate authority about 4700 deg/s: a 1.3x margin over the range, design choice),
     40 Hz rebalance loop, 20-bit output over +-4000 deg/s. An ASSUMED design, not a
-    particular part (docs/physics.md 5.1 says what each value is sized for). Its noise is a
-    high-range part's, CITED (:data:`NOISE_FIGURES`): white rate noise 0.25 deg/s/sqrt(Hz)
-    (ADXRS649), bias instability from a 25 deg/h ADEV floor (ADXRS450), no rate random walk.
+    particular part (docs/physics.md 5.1 says what each value is sized for). Its noise is ONE
+    cited part's (:data:`NOISE_FIGURES`, the ADXRS646 data sheet): ARW 0.01 deg/sqrt(s), bias
+    instability from its 12 deg/h bias drift read as the ADEV floor, no rate random walk.
 
     Parameters
     ----------
@@ -316,16 +309,17 @@ class MemsResonator:
         Drive amplitude-loop bandwidth [Hz], > 0 (full integration only).
     pickoff_noise : float
         sqrt(S_n), one-sided displacement-equivalent front-end noise density [m/sqrt(Hz)], >= 0.
-        Default :data:`DEFAULT_PICKOFF_NOISE` (6.751e-12): the high-range part's white rate
-        noise N = 0.25 deg/sqrt(s) of :data:`NOISE_FIGURES` with the Brownian floor.
+        Default :data:`DEFAULT_PICKOFF_NOISE` (2.2658e-13): the cited part's ARW
+        N = 0.01 deg/sqrt(s) of :data:`NOISE_FIGURES` with the Brownian floor.
     output_range : float
         R, output full scale [rad/s], > 0.
     output_bits : int or None
-        Output word length; q = 2 R / 2^bits (None: not quantized). Default 20: LSB 0.0076
-        deg/s over +-4000 deg/s, at or below the ADXRS453's 16-bit word over +-300 deg/s
-        (:data:`NOISE_FIGURES`), below the sample noise N sqrt(fs) at every fs > 0.001 Hz, so
+        Output word length; q = 2 R / 2^bits (None: not quantized). Default 20, a design
+        choice (the cited part's output is analog): LSB 0.0076 deg/s over +-4000 deg/s, below
+        the sample noise N sqrt(fs) at every fs >= 1 Hz (0.58 Hz with N = 0.01 deg/sqrt(s)), so
         the noise dithers the quantizer: its error is then uniform on +-q/2, white, variance
-        q^2/12 per sample (an ARW of q/sqrt(12 fs): 6.9e-4 deg/sqrt(s) at 10 Hz, 0.3 % of N).
+        q^2/12 per sample (an ARW of q/sqrt(12 fs): 6.9e-4 deg/sqrt(s) at 10 Hz, 6.9 % of N,
+        0.5 % of its variance).
     output_cubic : float
         a3, output-referred odd cubic of the rebalance path [-]: + a3 Omega^3 / R^2.
     forcer_area_gradient : float
@@ -343,16 +337,21 @@ class MemsResonator:
         Y_fs, largest sense envelope amplitude |B_m| the pick-off front end passes [m], > 0
         (open loop only: the envelope is limited to Y_fs, phase kept). Default 1.25e-7 m: the
         nominal open-loop knee 4630 deg/s, beside the rebalance authority 4710 deg/s; a design
-        choice (6 % of the 2 um gap).
+        choice (6 % of the 2 um gap). Not used when ``sense_chain`` is given.
+    sense_chain : SenseChain or None
+        Open loop only: the physical sense chain (:class:`gyrobench.sim.mems_readout.SenseChain`:
+        amplitude-dependent stiffness, the differential pick-off's 1/(g - y), the front end's
+        rail) applied to the demodulated envelope in place of the ideal limit Y_fs. None
+        (default): the ideal limit.
     bias_instability : float
         B of an electronic 1/f term added to the output [rad/s] (IEEE 952: PSD B^2/(2 pi f) over
-        :data:`FLICKER_BAND_HZ`, ADEV floor 0.6643 B), >= 0. Default 25/0.6643 deg/h = 37.6
-        deg/h: the ADXRS450's 25 deg/h null offset stability read as the ADEV minimum
+        :data:`FLICKER_BAND_HZ`, ADEV floor 0.6643 B), >= 0. Default 12/0.6643 deg/h = 18.06
+        deg/h: the ADXRS646's 12 deg/h bias drift read as the ADEV minimum
         (:data:`NOISE_FIGURES`).
     rate_random_walk : float
         K of a rate random walk added to the output [rad/s/sqrt(s)] (IEEE 952: AVAR K^2 tau/3),
-        >= 0. Default 0: none of the datasheets read (ADXRS649, ADXRS450, ADXRS453, ADXRS646)
-        prints a rate random walk, and a figure that could not be read is not used.
+        >= 0. Default 0: the cited part's front page prints no rate random walk, and a figure
+        that could not be read is not used.
     reference_temperature : float
         T0 [K], > 0.
     frequency_tc : float
@@ -411,7 +410,8 @@ class MemsResonator:
     forcer_area_gradient: float = 2.5e4
     readout: str = "force_rebalance"
     pickoff_full_scale: float = 1.25e-7
-    bias_instability: float = units.deg_per_h(25.0 / ADEV_MIN_PER_B)
+    sense_chain: SenseChain | None = None
+    bias_instability: float = units.deg_per_h(12.0 / ADEV_MIN_PER_B)
     rate_random_walk: float = 0.0
     reference_temperature: float = units.celsius(25.0)
     frequency_tc: float = -30e-6
@@ -425,7 +425,7 @@ class MemsResonator:
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
 
-    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
         "drive_frequency": FieldRange(0, 1e6, "Hz", "MEMS drive resonances are kHz to 100s of kHz", low_open=True),
         "mode_split": FieldRange(-1e5, 1e5, "Hz", "f_y - f_x; __post_init__ keeps f_y > 0"),
@@ -460,45 +460,26 @@ class MemsResonator:
         "scale_factor_repeatability": FieldRange(0, 0.3, "1", "1-sigma turn-on SF error; e_on > -1"),
         "turn_on_bias": FieldRange(-1e3, 1e3, "rad/s", "this power-on's bias (power_on draws it)"),
         "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
+        "readout": FieldChoice(READOUTS, "force rebalance (closed loop) or open loop"),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "drive_frequency + mode_split > 0",
+            lambda c: c.drive_frequency + c.mode_split > 0,
+            lambda c: f"mode_split must keep f_y = f_x + split > 0 Hz; got {c.mode_split!r}",
+        ),
+        Constraint(
+            "sense_chain only with readout open_loop",
+            lambda c: c.sense_chain is None or c.readout == "open_loop",
+            lambda c: "sense_chain needs readout 'open_loop' (a rebalanced mass does not move); "
+            f"got readout {c.readout!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.readout not in READOUTS:
-            raise ValueError(
-                f"MemsResonator.readout must be one of {READOUTS}; got {self.readout!r}"
-            )
-        for f in fields(self):
-            if f.name in ("output_bits", "readout"):
-                continue
-            v = real_field("MemsResonator", f.name, getattr(self, f.name))
-            if f.name in _POSITIVE and not v > 0:
-                raise ValueError(f"MemsResonator.{f.name} must be > 0; got {v!r}")
-            if f.name in _NON_NEGATIVE and not v >= 0:
-                raise ValueError(f"MemsResonator.{f.name} must be >= 0; got {v!r}")
-        b = self.output_bits
-        if b is not None and (isinstance(b, bool) or not isinstance(b, (int, np.integer)) or b < 2):
-            raise ValueError(
-                f"MemsResonator.output_bits must be an integer >= 2 or None; got {b!r}"
-            )
-        if not self.drive_frequency + self.mode_split > 0:
-            raise ValueError(
-                "MemsResonator.mode_split must keep f_y = f_x + split > 0 Hz; "
-                f"got {self.mode_split!r}"
-            )
-        if not self.scale_factor_trim > 0:
-            raise ValueError(
-                f"MemsResonator.scale_factor_trim must be > 0; got {self.scale_factor_trim!r}"
-            )
-        if not self.turn_on_scale_factor > -1:
-            raise ValueError(
-                "MemsResonator.turn_on_scale_factor must be > -1; "
-                f"got {self.turn_on_scale_factor!r}"
-            )
-        if not abs(self.phase_error) < math.pi / 2:
-            raise ValueError(
-                "MemsResonator.phase_error must satisfy |theta| < pi/2 rad; "
-                f"got {self.phase_error!r}"
-            )
+        validate(self)  # the declared specs and constraints above
 
     @property
     def resolution(self) -> float:
@@ -625,6 +606,7 @@ class OperatingPoint:
     r_design: complex = 0j
     open_loop: bool = False
     y_fs: float = math.inf
+    chain: SenseChain | None = None
 
     @property
     def receptance(self) -> complex:
@@ -711,6 +693,7 @@ def operating_point(
         temperature=t, k_out=k_out, kappa_c=complex(kappa_c), v_max=unit.dac_full_scale,
         kyx_g=kyx_g,
         r_design=complex(rc), open_loop=open_loop, y_fs=unit.pickoff_full_scale,
+        chain=unit.sense_chain,
     )
     roots = op.loop_poles
     if not open_loop and not np.all(roots.real < 0):
@@ -799,14 +782,21 @@ def _limit(b: NDArray, y_fs: float) -> NDArray:
     return b * np.minimum(1.0, y_fs / np.maximum(mag, 1e-300))
 
 
+def _front_end(op: OperatingPoint, b: NDArray) -> NDArray:
+    """The open-loop front end on the linear envelope ``b`` [m]: the unit's sense chain
+    (:meth:`SenseChain.envelope`) when it has one, else the ideal limit Y_fs."""
+    if op.chain is not None:
+        return op.chain.envelope(b, op.receptance)
+    return _limit(b, op.y_fs)
+
+
 def _static_channels(
     op: OperatingPoint, rate: NDArray, accel: NDArray, force: NDArray | float = 0.0
 ) -> NDArray:
     """Noise-free settled channels (complex; the real part is the rate channel), unclamped in
     force rebalance (the equilibrium command u [V]); open loop w_c sat(R F_ext) [N]."""
     if op.open_loop:
-        return _readout_weight(op) * _limit(op.receptance * _f_ext(op, rate, accel, force),
-                                            op.y_fs)
+        return _readout_weight(op) * _front_end(op, op.receptance * _f_ext(op, rate, accel, force))
     return _equilibrium_command(op, rate, accel, force)
 
 
@@ -1112,6 +1102,12 @@ def simulate_full(
     cos wt = x/X_hat, sin wt = -x'/(w_x X_hat).
     """
     _check_rng(rng)
+    if unit.sense_chain is not None:
+        raise ValueError(
+            "simulate_full integrates the linear sense mode; a unit with a sense_chain is integrated "
+            "through its chain in gyrobench.scenarios.checks.mems_nonlinear (full sense equation with the "
+            "carrier); use simulate, or replace(unit, sense_chain=None)"
+        )
     op = operating_point(unit, temperature)
     w0 = _as_cases("rate", rate)
     al = np.broadcast_to(_as_cases("rate_acceleration", rate_acceleration), w0.shape).copy()
@@ -1898,7 +1894,7 @@ def slow_flow(
         b0 = op.receptance * (d[0, :, 0] + 1j * d[0, :, 1])
         z = _draw_noise(r_noise, n, k) if noise else None
         mean_b, out_b = _run_open_loop(b0, d, z, ol)
-        ch = _readout_weight(op) * _limit(mean_b, op.y_fs)
+        ch = _readout_weight(op) * _front_end(op, mean_b)
         return _finish(unit, op, ch.real, ch.imag, out_b, fs, r_flick, flicker, adc, squeeze)
     disc = _slow_matrices(op, unit, 1.0 / fs, noise)
     # initial state: equilibrium at the first rate
@@ -2024,17 +2020,7 @@ class MemsResonatorSpec:
     }
 
     def __post_init__(self) -> None:
-        if not isinstance(self.nominal, MemsResonator):
-            raise TypeError(
-                "MemsResonatorSpec.nominal must be a MemsResonator; "
-                f"got {type(self.nominal).__name__}"
-            )
-        for f in fields(self):
-            if f.name in ("nominal", "factory_trim"):
-                continue
-            v = real_field("MemsResonatorSpec", f.name, getattr(self, f.name))
-            if not v >= 0:
-                raise ValueError(f"MemsResonatorSpec.{f.name} must be >= 0; got {v!r}")
+        validate(self)  # the declared specs above; nominal must be a MemsResonator
 
     def realize(self, *, rng: np.random.Generator) -> MemsResonator:
         """Draw one unit of the population (physical parameters, then the factory trim).

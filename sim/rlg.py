@@ -45,14 +45,16 @@ and the discharge-current balance set at each start) is drawn in each ``simulate
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange, validate
 from gyrobench.base.validate import nonneg_field as _nonneg
 from gyrobench.base.validate import nonneg_fields as _nonneg_fields
 from gyrobench.io.recording import Channel, Recording
@@ -85,6 +87,7 @@ __all__ = [
     "TwoNodeThermal",
     "two_node_temperatures",
     "ThermalBias",
+    "THERMAL_BIAS_CALIBRATED",
     "TemperatureSensor",
     "RLGSpec",
     "RLGUnit",
@@ -339,14 +342,14 @@ class Dither:
     amplitude: float
     amplitude_jitter: float = 0.1
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "frequency": FieldRange(0, math.inf, "Hz", "body dither frequency", low_open=True),
+        "amplitude": FieldRange(0, math.inf, "rad", "dither angle amplitude (peak)", low_open=True),
+        "amplitude_jitter": FieldRange(0, 0.3, "1", "relative amplitude jitter between cycles"),
+    }
+
     def __post_init__(self) -> None:
-        _pos("Dither", "frequency", self.frequency, "Hz")
-        _pos("Dither", "amplitude", self.amplitude, "rad")
-        j = _nonneg("Dither", "amplitude_jitter", self.amplitude_jitter, "(relative)")
-        if j > 0.3:
-            raise ValueError(
-                f"Dither.amplitude_jitter must be <= 0.3 (relative); got {self.amplitude_jitter!r}"
-            )
+        validate(self)  # the declared specs above
 
     @property
     def peak_rate(self) -> float:
@@ -526,10 +529,10 @@ class ThermalBias:
 
     Mechanisms after Aronowitz & Lim (IEEE J. Quantum Electron. 1979, Langmuir flow)
     and paper 004 (unequal discharge legs in a non-uniform temperature field);
-    sizes are not published -- the defaults are CALIBRATED to paper 004's ~65 % improvement:
-    tuned so that the raw variable-temperature bias stability is about 3x the compensated one
-    (docs/physics.md 6.4, 9). No paper scenario uses this model now (paper 004 runs on
-    :mod:`gyrobench.sim.rlg_cavity`); a claim judged on it would be calibrated.
+    sizes are not published: every default is 0; :data:`THERMAL_BIAS_CALIBRATED` is a set
+    CALIBRATED to paper 004's ~65 % improvement (docs/physics.md 6.4, 9). No paper scenario
+    uses this model (paper 004 runs on :mod:`gyrobench.sim.rlg_cavity`); a claim judged on it
+    would be calibrated.
     """
 
     cavity: float = 0.0
@@ -561,6 +564,23 @@ class ThermalBias:
         """Total thermal bias [rad/s]."""
         c = self.components(t1, t2, dt1)
         return np.asarray(sum(c.values()), dtype=np.float64)
+
+
+#: thermal-bias sizes CALIBRATED (not sourced) to paper 004's ~65 % improvement
+#: (docs/physics.md 6.4, 9): over a -40..+65 degC chamber cycle at 1 degC/3 min the raw 100-s
+#: bias stability (~0.06 deg/h) is about 4x the noise floor (~0.015 deg/h: dither random walk
+#: 0.002 deg/sqrt(h) -> 0.012 deg/h and count quantization 0.007 deg/h over 100 s), so the
+#: compensated value is ~1/3 of the raw one. Cavity 7.5e-4 deg/h/K and 4e-6 deg/h/K^2, gradient
+#: 6e-3 deg/h/K, flux 0.095 deg/h per K/min and 0.19 deg/h per (K/min)^2, gas coefficient
+#: 0.005/K. A labelled example set, not :class:`RLGSpec`'s default.
+THERMAL_BIAS_CALIBRATED = ThermalBias(
+    cavity=units.deg_per_h(7.5e-4),
+    cavity_quadratic=units.deg_per_h(4e-6),
+    gradient=units.deg_per_h(6e-3),
+    flux=units.deg_per_h(0.095) * units.MINUTE,
+    flux_quadratic=units.deg_per_h(0.19) * units.MINUTE**2,
+    gas_temperature_coefficient=0.005,
+)
 
 
 # ============================================================================ sensors
@@ -876,15 +896,11 @@ class RLGSpec:
     Defaults describe a high-precision mechanically dithered He-Ne RLG: triangle of
     side 0.14 m (pulse weight 1.61 arcsec), lock-in 0.05 deg/s, dither 400 Hz x 150
     arcsec (Omega_D ~ 105 deg/s) -> N ~ 0.002 deg/sqrt(h); flicker B 0.002 deg/h.
-    Thermal-bias sizes (cavity 7.5e-4 deg/h/K and 4e-6 deg/h/K^2, gradient 6e-3
-    deg/h/K, flux 0.095 deg/h per K/min and 0.19 deg/h per (K/min)^2, gas coefficient
-    0.005/K) are not published; they are CALIBRATED (docs/physics.md 9): tuned so that
-    over a -40..+65 degC chamber cycle at 1 degC/3 min the raw 100-s bias stability
-    (~0.06 deg/h) is about 4x the noise floor (~0.015 deg/h: dither random walk 0.002 deg/sqrt(h) -> 0.012 deg/h
-    and count quantization 0.007 deg/h over 100 s), so that the compensated value
-    is ~1/3 of the raw one as docs/physics.md 6.4 asks. Turn-on repeatability of the
-    gas-flow coefficients, 20 % (unverified), makes a model fitted on one turn-on
-    worse on the next, as paper 004's adjusted R^2 0.97 beside a 65 % improvement
+    No thermal-bias mechanism by default (``ThermalBias()``, every size 0): no source prints
+    their sizes. :data:`THERMAL_BIAS_CALIBRATED` is the set tuned to paper 004's ~65 %
+    improvement (CALIBRATED, not a source; pass it as ``thermal_bias`` to use it). Turn-on
+    repeatability of the gas-flow coefficients, 20 % (unverified), makes a model fitted on one
+    turn-on worse on the next, as paper 004's adjusted R^2 0.97 beside a 65 % improvement
     suggests. Spreads (one production batch, screened at acceptance): lock-in 10 %,
     mechanisms 15 %, thermal constants 10 %.
     """
@@ -896,16 +912,7 @@ class RLGSpec:
     bias_spread: float = units.deg_per_h(0.5)
     thermal: TwoNodeThermal = field(default_factory=TwoNodeThermal)
     thermal_spread: float = 0.1
-    thermal_bias: ThermalBias = field(
-        default_factory=lambda: ThermalBias(
-            cavity=units.deg_per_h(7.5e-4),
-            cavity_quadratic=units.deg_per_h(4e-6),
-            gradient=units.deg_per_h(6e-3),
-            flux=units.deg_per_h(0.095) * units.MINUTE,
-            flux_quadratic=units.deg_per_h(0.19) * units.MINUTE**2,
-            gas_temperature_coefficient=0.005,
-        )
-    )
+    thermal_bias: ThermalBias = field(default_factory=ThermalBias)
     mechanism_spread: float = 0.15
     bias_instability: float = units.deg_per_h(0.002)
     rate_random_walk: float = 0.0

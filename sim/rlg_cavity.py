@@ -56,6 +56,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange
 from gyrobench.base.units import SPEED_OF_LIGHT  # exact SI, re-exported
 from gyrobench.base.validate import nonneg_field as _nonneg
 from gyrobench.base.validate import nonneg_fields as _nonneg_fields
@@ -101,28 +102,75 @@ __all__ = [
     "Discharge",
     "CavityRLGSpec",
     "CavityRLG",
+    "CavityRLGFamily",
+    "CAVITY_RLG_FAMILY",
 ]
 
 #: ZERODUR expansion class 2 tolerance, |alpha(0..50 degC)| <= 0.10e-6 /K
 #: (SCHOTT, "Technical Details of ZERODUR", CTE classes; docs/physics.md 6.6)
 ZERODUR_CTE_CLASS_2 = 0.10e-6
-#: Langmuir-flow bias per unit of leg-current imbalance [rad/s per A]. Aronowitz & Lim,
-#: Opt. Eng. 18(4) 376 (1979), abstract: "a nullshift sensitivity of 0.0066 deg/hr/mamp of
-#: unbalance" (43.4 cm gyro) and 4.4 deg/h per cm/s of velocity unbalance. STATED
-#: ASSUMPTION, 1000x the printed value: we take 0.0066 deg/h per microampere; per mA the
-#: mechanism stays below 1e-4 deg/h for any plausible imbalance and the thermal bias would
-#: be the backscatter null shift alone (effect on paper 004 in its DEVIATIONS).
-LANGMUIR_COEFFICIENT = units.deg_per_h(0.0066) / 1e-6
 #: Langmuir-flow null shift per unit of leg-current imbalance as its source prints it
 #: [rad/s per A]: Aronowitz & Lim, "Dispersion and gas flow effects in the ring laser gyro",
 #: Opt. Eng. 18(4) 376 (1979), abstract: "A nullshift sensitivity of 0.0066 deg/hr/mamp of
 #: unbalance was found" (43.4 cm and 21.7 cm visible laser gyros). Pinned in
 #: tests/sim/test_rlg_sources.py.
 LANGMUIR_COEFFICIENT_PRINTED = units.deg_per_h(0.0066) / 1e-3
+#: the default Langmuir-flow coefficient k_LF of :class:`Discharge` [rad/s per A]: the printed
+#: value, :data:`LANGMUIR_COEFFICIENT_PRINTED` (0.0066 deg/h per mA)
+LANGMUIR_COEFFICIENT = LANGMUIR_COEFFICIENT_PRINTED
 #: Null shift per unit of gas-velocity unbalance [rad/s per (m/s)], same source: "the nullshift
 #: sensitivity to velocity flow to be 4.4 deg/hr/cm/sec of velocity unbalance". Not used by the
 #: model (it works in current imbalance); kept as the source's second printed figure.
 LANGMUIR_VELOCITY_SENSITIVITY = units.deg_per_h(4.4) / 1e-2
+
+
+@dataclass(frozen=True, slots=True)
+class CavityRLGFamily:
+    """The cavity RLG's mechanism sizes that no source prints, as ranges [SI] (the family a map sweeps).
+
+    Each field is a :class:`~gyrobench.base.ranges.FieldRange` in SI units; ``why`` states what
+    sets the bounds. These are family parameters, not defaults: a study picks a value inside
+    the range (paper 004 identifies ``dissipative`` to its gyro and says so), and
+    :class:`CavityRLGSpec` leaves the unsourced mechanism off (``dissipative = 0``) unless
+    asked. Sizes that do have a source are not here: the Langmuir coefficient
+    (:data:`LANGMUIR_COEFFICIENT_PRINTED`, Aronowitz & Lim 1979) and the block expansion
+    (:data:`ZERODUR_CTE_CLASS_2`, SCHOTT).
+
+    Attributes
+    ----------
+    dissipative : FieldRange
+        eta, backscatter null shift per unit lock-in (:class:`Backscatter`). The bounds follow
+        from the bias scale: variable-temperature bias 0.001 deg/h (navigation grade) to
+        ~1 deg/h (small tactical rings) over lock-in rates 0.01-0.1 deg/s (36-360 deg/h)
+        gives eta ~ 3e-6 .. 3e-2; the range is [1e-6, 3e-2] (STATED RANGE).
+    mount_asymmetry : FieldRange
+        Log-normal spread of each block mount's conductance (:class:`CavityThermal`): the
+        coupling that turns a housing temperature change into a block gradient A - B, which
+        the Langmuir term reads. [0, 0.5] (STATED RANGE: machined mounts of equal design).
+    gas_rise : FieldRange
+        Discharge gas temperature above its block node [K] (:class:`Discharge`): [10, 100] K
+        (STATED RANGE: a DC He-Ne capillary at ~1 mA runs tens of K above its wall).
+    tcr_mismatch_std : FieldRange
+        Std of the two current regulators' sense-resistor TCR difference [1/K]: [0, 25e-6]
+        (metal-film resistor TCR classes of 5-25 ppm/K).
+    imbalance_repeatability : FieldRange
+        Std of the leg-current imbalance set at turn-on [A]: [0, 1e-5] (up to 1.7 % of a
+        0.6 mA leg current; STATED RANGE).
+    walk_phase_std : FieldRange
+        Std of the PLC mirror's scatter-phase walk [rad per wavelength of travel]: [0, 3]
+        (STATED RANGE: up to about one half turn per wavelength).
+    """
+
+    dissipative: FieldRange = FieldRange(1e-6, 3e-2, "1", "variable-temperature bias / lock-in of He-Ne RLGs")
+    mount_asymmetry: FieldRange = FieldRange(0.0, 0.5, "1", "machined mounts of one design")
+    gas_rise: FieldRange = FieldRange(10.0, 100.0, "K", "DC He-Ne capillary above its wall")
+    tcr_mismatch_std: FieldRange = FieldRange(0.0, 25e-6, "1/K", "metal-film resistor TCR classes")
+    imbalance_repeatability: FieldRange = FieldRange(0.0, 1e-5, "A", "turn-on leg imbalance")
+    walk_phase_std: FieldRange = FieldRange(0.0, 3.0, "rad", "PLC mirror beam walk per wavelength")
+
+
+#: the cavity RLG's unsourced sizes as ranges (:class:`CavityRLGFamily`)
+CAVITY_RLG_FAMILY = CavityRLGFamily()
 
 
 # ============================================================================ backscatter
@@ -787,7 +835,9 @@ class CavityRLGSpec:
     walk_phase_std : float
         Std of gamma [rad per wavelength of PLC travel] (STATED ASSUMPTION, 1 rad).
     dissipative : float
-        Nominal eta (STATED ASSUMPTION 1e-4), log-normal spread ``dissipative_spread``.
+        Nominal eta, log-normal spread ``dissipative_spread``. No source prints it: default 0
+        (the backscatter null shift off); its range is :data:`CAVITY_RLG_FAMILY`
+        ``.dissipative`` and a study sets it (paper 004 identifies it to its gyro).
     cte_bound : float
         alpha is drawn uniform in [-cte_bound, +cte_bound]: a block of ZERODUR expansion class 2
         (|alpha| <= 0.10e-6 /K, :data:`ZERODUR_CTE_CLASS_2`).
@@ -811,7 +861,7 @@ class CavityRLGSpec:
     dither: Dither = field(default_factory=_default_dither)
     backscatter_sigma: float = 4.0e-7
     walk_phase_std: float = 1.0
-    dissipative: float = 1e-4
+    dissipative: float = 0.0
     dissipative_spread: float = 0.5
     cte_bound: float = ZERODUR_CTE_CLASS_2
     plc_travel: tuple[float, float] = (1.2 * HENE_WAVELENGTH, 1.8 * HENE_WAVELENGTH)

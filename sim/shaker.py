@@ -45,14 +45,15 @@ MIL-STD-810G Method 514.6; IEC 60068-2-6 (sine) and 60068-2-64 (random).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Literal, Protocol, runtime_checkable
+from typing import ClassVar, Literal, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import memory, units
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 from gyrobench.base.validate import check_fs as _check_fs
 from gyrobench.base.validate import check_rng as _check_rng
 from gyrobench.base.validate import real_number
@@ -192,6 +193,26 @@ def _taper(t: NDArray[np.float64], duration: float, ramp: float) -> NDArray[np.f
     return w
 
 
+_INF = math.inf
+#: the specs the shaker profiles share (:class:`~gyrobench.base.ranges.FieldRange`, SI); a profile
+#: states no upper bounds: the memory estimate refuses a run too long to hold
+_PROFILE_SPECS: dict[str, FieldRange] = {
+    "duration": FieldRange(0, _INF, "s", "length of the vibration phase", low_open=True),
+    "acceleration": FieldRange(0, _INF, "m/s^2", "acceleration amplitude (peak); 0: the table does not move"),
+    "max_displacement": FieldRange(0, _INF, "m", "shaker stroke limit (peak); None: unlimited", low_open=True),
+    "ramp_time": FieldRange(0, _INF, "s", "raised-cosine soft start and stop; 0: abrupt"),
+    "control_error": FieldRange(0, _INF, "-", "fractional rms amplitude error of the controller"),
+    "control_time": FieldRange(0, _INF, "s", "correlation time of the controller error", low_open=True),
+}
+
+#: the soft start and stop fit in the phase
+_RAMP_FITS = Constraint(
+    "2 ramp_time <= duration",
+    lambda c: 2 * c.ramp_time <= c.duration,
+    lambda c: f"ramp_time must be <= duration/2 = {c.duration / 2} s; got {c.ramp_time!r}",
+)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SineSweep:
     """A sine sweep from ``f_start`` to ``f_end`` at constant acceleration amplitude.
@@ -242,21 +263,15 @@ class SineSweep:
     control_error: float = 0.0
     control_time: float = 10.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "f_start": FieldRange(0, _INF, "Hz", "start frequency of the sweep", low_open=True),
+        "f_end": FieldRange(0, _INF, "Hz", "end frequency of the sweep (below f_start: downward)", low_open=True),
+        **_PROFILE_SPECS,
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (_RAMP_FITS,)
+
     def __post_init__(self) -> None:
-        o = "SineSweep"
-        _real(o, "f_start", self.f_start, "Hz", positive=True)
-        _real(o, "f_end", self.f_end, "Hz", positive=True)
-        _real(o, "duration", self.duration, "s", positive=True)
-        _real(o, "acceleration", self.acceleration, "m/s^2", nonneg=True)
-        if self.spacing not in ("log", "linear"):
-            raise ValueError(f"{o}.spacing must be one of ['log', 'linear']; got {self.spacing!r}")
-        if self.max_displacement is not None:
-            _real(o, "max_displacement", self.max_displacement, "m", positive=True)
-        _real(o, "ramp_time", self.ramp_time, "s", nonneg=True)
-        if 2 * self.ramp_time > self.duration:
-            raise ValueError(f"{o}.ramp_time must be <= duration/2 = {self.duration / 2} s; got {self.ramp_time!r}")
-        _real(o, "control_error", self.control_error, "-", nonneg=True)
-        _real(o, "control_time", self.control_time, "s", positive=True)
+        validate(self)  # the declared specs and constraints above
 
     @property
     def max_frequency(self) -> float:
@@ -333,19 +348,15 @@ class FixedSine:
     control_time: float = 10.0
     phase: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "frequency": FieldRange(0, _INF, "Hz", "the dwell's frequency", low_open=True),
+        **_PROFILE_SPECS,
+        "phase": FieldRange(-_INF, _INF, "rad", "initial phase of the sine"),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (_RAMP_FITS,)
+
     def __post_init__(self) -> None:
-        o = "FixedSine"
-        _real(o, "frequency", self.frequency, "Hz", positive=True)
-        _real(o, "duration", self.duration, "s", positive=True)
-        _real(o, "acceleration", self.acceleration, "m/s^2", nonneg=True)
-        if self.max_displacement is not None:
-            _real(o, "max_displacement", self.max_displacement, "m", positive=True)
-        _real(o, "ramp_time", self.ramp_time, "s", nonneg=True)
-        if 2 * self.ramp_time > self.duration:
-            raise ValueError(f"{o}.ramp_time must be <= duration/2 = {self.duration / 2} s; got {self.ramp_time!r}")
-        _real(o, "control_error", self.control_error, "-", nonneg=True)
-        _real(o, "control_time", self.control_time, "s", positive=True)
-        _real(o, "phase", self.phase, "rad")
+        validate(self)  # the declared specs and constraints above
 
     @property
     def max_frequency(self) -> float:
@@ -450,14 +461,16 @@ class RandomVibration:
     duration: float
     max_displacement: float | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "duration": _PROFILE_SPECS["duration"],
+        "max_displacement": _PROFILE_SPECS["max_displacement"],
+    }
+
     def __post_init__(self) -> None:
-        o = "RandomVibration"
         bp = tuple((float(f), float(g)) for f, g in self.breakpoints)
-        psd_from_breakpoints(bp, [bp[0][0]])
+        psd_from_breakpoints(bp, [bp[0][0]])  # the PSD's own checks (one line naming the breakpoint)
         object.__setattr__(self, "breakpoints", bp)
-        _real(o, "duration", self.duration, "s", positive=True)
-        if self.max_displacement is not None:
-            _real(o, "max_displacement", self.max_displacement, "m", positive=True)
+        validate(self)  # the declared specs above
 
     @property
     def max_frequency(self) -> float:
@@ -542,11 +555,20 @@ class Phased:
     static_before: float = 0.0
     static_after: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "static_before": FieldRange(0, _INF, "s", "static phase before the vibration"),
+        "static_after": FieldRange(0, _INF, "s", "static phase after the vibration"),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "vibration is a shaker profile",
+            lambda c: isinstance(c.vibration, VibrationProfile),
+            lambda c: f"vibration must be a shaker profile; got {type(c.vibration).__name__}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if not isinstance(self.vibration, VibrationProfile):
-            raise TypeError(f"Phased.vibration must be a shaker profile; got {type(self.vibration).__name__}")
-        _real("Phased", "static_before", self.static_before, "s", nonneg=True)
-        _real("Phased", "static_after", self.static_after, "s", nonneg=True)
+        validate(self)  # the declared specs and constraints above
 
     @property
     def duration(self) -> float:

@@ -15,9 +15,10 @@ v^n(t) and acceleration a^n(t) = dv^n/dt [m/s, m/s^2]. What an ideal IMU senses 
 (Titterton & Weston, Strapdown Inertial Navigation Technology, 2nd ed. (2004), eqs. 3.38 and
 3.53 with the plumb-bob gravity of 3.89), with the WGS84 Earth rate Omega_E, radii R_M, R_N and
 Somigliana's normal gravity gamma(phi) less the free-air gradient 3.086e-6 /s^2 x h
-(NIMA TR8350.2, 3rd ed. (2000), eq. 4-1 and sec. 4.3). Stated simplification: phi and h are
-held at the start point's (a record's change of latitude, |v_N| t / R_M, changes omega_ie by
-Omega_E |dphi|, 1e-7 of it per 0.6 m north; the tool does not integrate position).
+(NIMA TR8350.2, 3rd ed. (2000), eq. 4-1 and sec. 4.3; :class:`gyrobench.sim.earth.Site`).
+Stated simplification: phi and h are held at the start point's (a record's change of latitude,
+|v_N| t / R_M, changes omega_ie by Omega_E |dphi|, 1e-7 of it per 0.6 m north; the tool does
+not integrate position).
 
 An IMU delivers increments: dtheta_k = integral over [t_k, t_k + T] of omega_ib^b and
 dv_k = integral of f^b (T = 1/fs), and a rate output is dtheta_k / T. :func:`increments` forms
@@ -41,14 +42,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
 from gyrobench.base.memory import check_memory
-from gyrobench.base.validate import check_fs, positive_number, real_number
+from gyrobench.base.validate import check_fs, positive_number
+from gyrobench.sim.earth import Site
 
 __all__ = [
-    "EARTH_RATE",
-    "WGS84_A",
-    "WGS84_E2",
     "GAUSS_NODES",
-    "Site",
     "Motion",
     "Segment",
     "SegmentedMotion",
@@ -57,48 +55,13 @@ __all__ = [
     "SampledMotion",
     "Increments",
     "increments",
-    "normal_gravity",
     "rotation_matrix",
     "segments_from_table",
 ]
 
-#: WGS84 Earth rotation rate Omega_E [rad/s] (NIMA TR8350.2, table 3.1)
-EARTH_RATE = 7.292115e-5
-#: WGS84 semi-major axis [m] and first eccentricity squared (NIMA TR8350.2, tables 3.1 and 3.3)
-WGS84_A = 6378137.0
-WGS84_E2 = 6.69437999014e-3
-#: Somigliana's constants: equatorial normal gravity [m/s^2] and k (NIMA TR8350.2, table 3.4)
-_GAMMA_E = 9.7803253359
-_SOMIGLIANA_K = 1.931852652458e-3
-#: free-air gradient of normal gravity [1/s^2] (NIMA TR8350.2, sec. 4.3, first order in h)
-_FREE_AIR = 3.086e-6
 #: Gauss-Legendre nodes per sample interval (module docstring)
 GAUSS_NODES = 8
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_NODES)
-
-
-def normal_gravity(latitude: float, height: float = 0.0) -> float:
-    """gamma(phi, h) = gamma_e (1 + k sin^2 phi) / sqrt(1 - e^2 sin^2 phi) - 3.086e-6 h [m/s^2].
-
-    Parameters
-    ----------
-    latitude : float
-        Geodetic latitude phi [rad].
-    height : float
-        Height above the ellipsoid h [m].
-
-    Returns
-    -------
-    float
-        WGS84 normal gravity (NIMA TR8350.2 eq. 4-1, free-air term of sec. 4.3).
-
-    Examples
-    --------
-    >>> round(normal_gravity(0.0), 7), round(normal_gravity(math.pi / 2), 7)
-    (9.7803253, 9.8321849)
-    """
-    s2 = math.sin(latitude) ** 2
-    return _GAMMA_E * (1 + _SOMIGLIANA_K * s2) / math.sqrt(1 - WGS84_E2 * s2) - _FREE_AIR * height
 
 
 def rotation_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
@@ -127,59 +90,6 @@ def rotation_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
     k[..., 2, 0], k[..., 2, 1] = -a[..., 1], a[..., 0]
     eye = np.broadcast_to(np.eye(3), k.shape)
     return eye + s[..., None, None] * k + c[..., None, None] * (k @ k)
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Site:
-    """Where the motion starts: latitude, height (held over the record; module docstring).
-
-    Parameters
-    ----------
-    latitude : float
-        Geodetic latitude phi [rad], |phi| < pi/2.
-    height : float
-        Height above the WGS84 ellipsoid [m], within -1e4..1e5 m.
-    earth_rotation : bool
-        False switches the Earth's rate and the Coriolis and transport terms off (a
-        non-rotating Earth), for tests and for users who want body motion alone.
-    """
-
-    latitude: float = 0.0
-    height: float = 0.0
-    earth_rotation: bool = True
-
-    def __post_init__(self) -> None:
-        lat = real_number("Site.latitude", self.latitude, "rad")
-        if not abs(lat) < math.pi / 2:
-            raise ValueError(f"Site.latitude must satisfy |phi| < pi/2 rad; got {self.latitude!r}")
-        h = real_number("Site.height", self.height, "m")
-        if not -1e4 <= h <= 1e5:
-            raise ValueError(f"Site.height must be within -1e4..1e5 m; got {self.height!r}")
-
-    @property
-    def gravity(self) -> float:
-        """gamma(phi, h) [m/s^2] (:func:`normal_gravity`)."""
-        return normal_gravity(self.latitude, self.height)
-
-    @property
-    def earth_rate_n(self) -> NDArray[np.float64]:
-        """omega_ie^n = Omega_E [cos phi, 0, -sin phi] [rad/s] (zero without Earth rotation)."""
-        if not self.earth_rotation:
-            return np.zeros(3)
-        return EARTH_RATE * np.array([math.cos(self.latitude), 0.0, -math.sin(self.latitude)])
-
-    def transport_rate_n(self, v_n: NDArray[np.float64]) -> NDArray[np.float64]:
-        """omega_en^n for velocities ``v_n`` of shape (..., 3) [m/s] -> [rad/s]."""
-        if not self.earth_rotation:
-            return np.zeros_like(v_n)
-        s2 = math.sin(self.latitude) ** 2
-        r_n = WGS84_A / math.sqrt(1 - WGS84_E2 * s2) + self.height
-        r_m = WGS84_A * (1 - WGS84_E2) / (1 - WGS84_E2 * s2) ** 1.5 + self.height
-        out = np.empty_like(v_n)
-        out[..., 0] = v_n[..., 1] / r_n
-        out[..., 1] = -v_n[..., 0] / r_m
-        out[..., 2] = -v_n[..., 1] * math.tan(self.latitude) / r_n
-        return out
 
 
 @runtime_checkable
@@ -355,7 +265,7 @@ class RockingMotion:
 
     At rest otherwise; the sensed specific force is gravity rotating in the body y-z plane,
     whose increments over whole periods have a closed form in Bessel functions (the sculling
-    check of :mod:`gyrobench.scenarios.checks`).
+    check of tests/sim/test_trajectory.py).
 
     Parameters
     ----------

@@ -12,6 +12,9 @@ from gyrobench.io.recording import load_hdf5
 from gyrobench.scenarios.cli.main import main
 from gyrobench.sim import parts
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 EPS = np.finfo(float).eps
 
 
@@ -60,8 +63,8 @@ def test_simulate_device_profile_toml_to_csv(tmp_path):
     out = tmp_path / "m.csv"
     assert main(["simulate", "device", "mti-1", "--profile", str(tmp_path / "p.toml"), "--fs", "50",
                  "-o", str(out), "-q"]) == 0
-    data = np.loadtxt(out, delimiter=",", skiprows=1)
-    header = out.read_text().splitlines()[0].split(",")
+    data = np.loadtxt(out, delimiter=",", skiprows=2)
+    header = out.read_text().splitlines()[1].split(",")
     col = {h.split(" [")[0]: i for i, h in enumerate(header)}
     err = data[:, col["output"]] - data[:, col["truth/true_rate"]]
     comps = sum(data[:, col["truth/" + k]] for k in parts.ERROR_COMPONENTS)

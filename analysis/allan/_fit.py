@@ -360,7 +360,10 @@ def _point_model(
 ) -> tuple[NDArray[np.float64], dict[tuple[int, int], NDArray[np.float64]]]:
     """Edf nu[i, t] and correlations rho[(t, s)][i, j] of every curve point for every term's noise.
 
-    Over the whole curve (the fit slices them to its points). For a statistic with
+    Over the whole curve (the fit slices them to its points). A curve pooled over pieces
+    (``AllanCurve.edf_scale``) has each term's one-record edf scaled by the pieces' share at
+    that tau; its correlations are modelled as those of one record (an approximation: the pieces'
+    ends add independence). For a statistic with
     ``FitConstants.finite_record`` (the overlapping AVAR) the correlations get the exact
     finite-record correction and, for the Q term, the fourth cumulant of quantization ``qk``.
     """
@@ -369,6 +372,8 @@ def _point_model(
         [_edf(curve.kind, np.full(ms_all.size, _ALPHA[t], dtype=np.int64), ms_all, curve.n_samples) for t in terms],
         axis=1,
     )
+    if curve.edf_scale is not None:  # pooled pieces: each tau holds only the pieces long enough for it
+        nu_all = nu_all * np.asarray(curve.edf_scale, dtype=float)[:, None]
     rho_all = _rho_blocks([_ALPHA[t] for t in terms], ms_all)
     fc = STATISTICS[curve.kind].fit
     if fc is not None and fc.finite_record:  # the record's ends: exact finite-n correction of rho

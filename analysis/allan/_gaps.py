@@ -64,7 +64,9 @@ def allan_deviation_gaps(
     The edf is the sum of the pieces' Greenhall-Riley edfs (exact for independent pieces,
     a slight overstatement for pieces correlated across a short gap); alpha is identified
     on the longest piece (:func:`identify_noise`), carried to the taus it is too short for.
-    The per-piece phase recursion costs one pass over the piece per tau.
+    The per-piece phase recursion costs one pass over the piece per tau. ``edf_scale`` is the
+    pieces' white-noise edf over that of one record of n samples: the fit weights each tau by
+    what the pieces long enough for it hold.
 
     References
     ----------
@@ -96,6 +98,7 @@ def allan_deviation_gaps(
     ms, terms = ms[keep], terms[keep]
     sums = np.zeros(ms.size)
     edf = np.zeros(ms.size)
+    white = np.zeros(ms.size)  # the pieces' white-noise edf at each m (for the fit's edf_scale)
     longest = ys[int(np.argmax(lengths))]
     alpha = _alpha(longest, ms)
     for y in ys:
@@ -105,10 +108,12 @@ def allan_deviation_gaps(
             sums[i] += _second_difference_sum(x, int(ms[i]))
         if np.any(ok):
             edf[ok] += _edf("overlapping", alpha[ok], ms[ok], y.size)
+            white[ok] += _edf("overlapping", np.zeros(int(ok.sum()), dtype=np.int64), ms[ok], y.size)
         one = ms == y.size // 2  # exactly one term (n_j = 2m): its sum, 1 degree of freedom
         for i in np.flatnonzero(one & ~ok):
             sums[i] += _second_difference_sum(x, int(ms[i]))
             edf[i] += 1.0
+            white[i] += 1.0
     avar = sums / (2.0 * ms.astype(float) ** 2 * terms)
     dev = np.sqrt(avar)
     low, high = deviation_bounds(dev, edf, float(confidence))
@@ -124,6 +129,8 @@ def allan_deviation_gaps(
         fs=fs,
         n_samples=n,
         alpha=alpha,
+        edf_scale=None if len(ys) == 1 else np.minimum(white / _edf("overlapping", np.zeros(ms.size, dtype=np.int64),
+                                                                     ms, n), 1.0),
     )
 
 

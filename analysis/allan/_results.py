@@ -45,6 +45,12 @@ class AllanCurve:
         Number of rate samples the curve was computed from.
     alpha : ndarray or None
         Power-law noise exponent alpha (S_y ~ f^alpha) assumed at each tau for the edf.
+    edf_scale : ndarray or None
+        For a curve pooled over separate pieces of a record (gaps, or the quiet stretches
+        between motion): at each tau, the white-noise edf of the pieces that hold that tau over
+        the white-noise edf of one record of ``n_samples`` (<= 1). :func:`fit_noise` multiplies
+        each term's one-record edf by it, so a tau that only the long pieces reach is weighted
+        by what they hold. None: one contiguous record (a factor of 1).
     """
 
     tau: NDArray[np.float64]
@@ -58,6 +64,7 @@ class AllanCurve:
     fs: float
     n_samples: int
     alpha: NDArray[np.int64] | None = None
+    edf_scale: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -72,6 +79,8 @@ class AllanCurve:
                 raise ValueError(
                     f"AllanCurve.{name} must have the shape of tau {n}; got {np.shape(getattr(self, name))}"
                 )
+        if self.edf_scale is not None and np.shape(self.edf_scale) != n:
+            raise ValueError(f"AllanCurve.edf_scale must have the shape of tau {n}; got {np.shape(self.edf_scale)}")
 
     @property
     def variance(self) -> NDArray[np.float64]:

@@ -115,7 +115,7 @@ _LAZY: dict[str, str] = {
     "UNCOMPENSATED": "gyrobench.scenarios.bench.references",
     "score_unit": "gyrobench.scenarios.bench.primary",
     "gated_scores": "gyrobench.scenarios.bench.primary",
-    "SCENARIO_SCORES": "gyrobench.scenarios.bench.primary",
+    "declared_scores": "gyrobench.scenarios.bench.primary",
     "PrimaryScore": "gyrobench.scenarios.bench.primary",
     "seeds_needed": "gyrobench.scenarios.bench.power",
     "min_attainable_p": "gyrobench.scenarios.bench.power",
@@ -176,7 +176,7 @@ __all__ = [
     "UNCOMPENSATED",
     "score_unit",
     "gated_scores",
-    "SCENARIO_SCORES",
+    "declared_scores",
     "PrimaryScore",
     "seeds_needed",
     "min_attainable_p",
@@ -255,7 +255,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         min_attainable_p,
         seeds_needed,
     )
-    from gyrobench.scenarios.bench.primary import SCENARIO_SCORES, PrimaryScore, gated_scores, score_unit
+    from gyrobench.scenarios.bench.primary import PrimaryScore, declared_scores, gated_scores, score_unit
     from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
     from gyrobench.scenarios.bench.sandbox import DEFAULT_MEMORY_BYTES, Zygote
     from gyrobench.scenarios.bench.scoring import (

@@ -227,7 +227,7 @@ def reference_campaigns(
 ) -> dict[str, Campaign]:
     """label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
     output, :data:`~gyrobench.scenarios.bench.references.UNCOMPENSATED`) and the paper's method
-    when the scenario names one (:data:`~gyrobench.scenarios.bench.primary.SCENARIO_SCORES`).
+    when the scenario names one (its ``BENCH_SCORES``, :func:`~gyrobench.scenarios.bench.primary.scenario_scores`).
     Run into ``db`` like any campaign, so a second run reads them back. A reference whose
     compensator raises on a seed is left out with a warning (it never fails the user's run)."""
     from gyrobench.scenarios.bench.campaign import run_campaign
@@ -236,7 +236,7 @@ def reference_campaigns(
     from gyrobench.scenarios.bench.scoring import resolve_scenario
 
     module = resolve_scenario(module)
-    declared = scenario_scores(getattr(module, "NAME", module.__name__))
+    declared = scenario_scores(module)
     refs = {"uncompensated": UNCOMPENSATED}
     if declared is not None and declared.paper:
         refs[declared.paper_label or "paper"] = declared.paper

@@ -11,25 +11,28 @@ the others are *secondary*: tested and reported, never gated.
 Primary scores are ``mean/`` scores (the mean over the held-out runs), so they are held by
 every seed whatever the runs are called (rlg_thermal's run is named after the unit).
 
-A scenario not in :data:`SCENARIO_SCORES` (a user's own, or the tests' toy scenario) gates on
-every ``mean/`` score whose direction :func:`score_direction` knows.
+A scenario declares them as ``BENCH_SCORES`` (a :class:`ScenarioScores`) in its own module: a
+paper in its package (``papers/p<key>_<scenario>/bench.py``). A scenario that declares none (a
+user's own, or the tests' toy scenario) gates on every ``mean/`` score whose direction
+:func:`score_direction` knows.
 
-The table also names, per scenario, the *paper's method* as a bench compensator
-(``"module:attr"``, see :mod:`gyrobench.scenarios.bench.references`), printed beside the
-user's compensator with the uncompensated output.
+The declaration also names the *paper's method* as a bench compensator (``"module:attr"``,
+defined in the paper's package), printed beside the user's compensator with the uncompensated
+output (:mod:`gyrobench.scenarios.bench.references`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from types import ModuleType
 
 from gyrobench.scenarios.bench.statistics import score_direction
 
 __all__ = [
-    "SCENARIO_SCORES",
     "PrimaryScore",
     "ScenarioScores",
+    "declared_scores",
     "directions_of",
     "gated_scores",
     "primary_count",
@@ -69,77 +72,32 @@ class ScenarioScores:
     paper_label: str = ""
 
 
-_REF = "gyrobench.scenarios.bench.references"
+def scenario_scores(scenario: str | ModuleType) -> ScenarioScores | None:
+    """The declared scores of ``scenario`` (a name, a module path or a module): its module's
+    ``BENCH_SCORES``, or None if it declares none or has no compensation stage."""
+    from gyrobench.scenarios.bench.scoring import resolve_scenario
 
-#: bench scenario name -> its primary scores, score units and the paper's method
-SCENARIO_SCORES: dict[str, ScenarioScores] = {
-    "ifog_thermal": ScenarioScores(
-        primary=(
-            PrimaryScore(
-                name="mean/rms",
-                unit="deg/h",
-                direction=-1,
-                meaning="RMS error of the compensated output, mean over the held-out runs",
-            ),
-        ),
-        units={"mse": "(deg/h)^2", "rms": "deg/h"},
-        paper=f"{_REF}:IfogSegmentRBF",
-        paper_label="RBF, leave-one-segment-out (paper)",
-    ),
-    "fog_vibration": ScenarioScores(
-        primary=(
-            PrimaryScore(
-                name="mean/rms",
-                unit="deg/h",
-                direction=-1,
-                meaning="RMS error left by the vibration-bias model, mean over the held-out records",
-            ),
-        ),
-        units={"mse": "(deg/h)^2", "rms": "deg/h"},
-        paper=f"{_REF}:fog_vibration_rbf",
-        paper_label="RBF on frequency bins (paper)",
-    ),
-    "rlg_thermal": ScenarioScores(
-        primary=(
-            PrimaryScore(
-                name="mean/bias_stability_deg_h",
-                unit="deg/h",
-                direction=-1,
-                meaning="bias stability (100-s blocks) of the compensated held-out run",
-            ),
-        ),
-        units={"bias_stability_deg_h": "deg/h", "before_deg_h": "deg/h", "improvement_pct": "%"},
-        paper="sklearn.linear_model:LinearRegression",
-        paper_label="least squares on x1..x11 (paper)",
-    ),
-    "mems_scale_factor": ScenarioScores(
-        primary=(
-            PrimaryScore(
-                name="mean/nonlinearity_pct",
-                unit="%",
-                direction=-1,
-                meaning="scale-factor nonlinearity K_n of the compensated rate table",
-            ),
-            PrimaryScore(
-                name="mean/rms_dps",
-                unit="deg/s",
-                direction=-1,
-                meaning="RMS error of the compensated rate table",
-            ),
-        ),
-        units={"nonlinearity_pct": "%", "rms_dps": "deg/s"},
-        paper=f"{_REF}:mems_piecewise",
-        paper_label="piecewise polynomial (paper)",
-    ),
-}
+    try:
+        module = resolve_scenario(scenario)
+    except ValueError:
+        return None
+    declared = getattr(module, "BENCH_SCORES", None)
+    return declared if isinstance(declared, ScenarioScores) else None
 
 
-def scenario_scores(scenario: str) -> ScenarioScores | None:
-    """The declared scores of the scenario named ``scenario``, or None if it declares none."""
-    return SCENARIO_SCORES.get(scenario)
+def declared_scores() -> dict[str, ScenarioScores]:
+    """name -> declared scores of every scenario with a compensation stage that declares them."""
+    from gyrobench.scenarios.bench.scoring import bench_scenarios
+
+    out = {}
+    for name in bench_scenarios():
+        declared = scenario_scores(name)
+        if declared is not None:
+            out[name] = declared
+    return out
 
 
-def primary_count(scenario: str, names: Iterable[str] | None = None) -> int | None:
+def primary_count(scenario: str | ModuleType, names: Iterable[str] | None = None) -> int | None:
     """How many scores the gate tests for ``scenario``: its declared primary scores, else the
     directional ``mean/`` scores among ``names``; None if neither is known (no names given)."""
     declared = scenario_scores(scenario)
@@ -150,7 +108,7 @@ def primary_count(scenario: str, names: Iterable[str] | None = None) -> int | No
     return len(gated_scores(scenario, names))
 
 
-def gated_scores(scenario: str, names: Iterable[str]) -> tuple[PrimaryScore, ...]:
+def gated_scores(scenario: str | ModuleType, names: Iterable[str]) -> tuple[PrimaryScore, ...]:
     """The primary scores of ``scenario`` (declared, or every ``mean/`` score of ``names`` with
     a known direction when the scenario declares none)."""
     declared = scenario_scores(scenario)
@@ -164,7 +122,7 @@ def gated_scores(scenario: str, names: Iterable[str]) -> tuple[PrimaryScore, ...
     return tuple(out)
 
 
-def score_unit(scenario: str, name: str) -> str:
+def score_unit(scenario: str | ModuleType, name: str) -> str:
     """The unit of score ``name`` of ``scenario`` (``""`` when not known).
 
     Declared units first (by the name's last path component), then the suffix of the name:

@@ -107,7 +107,7 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
     if isinstance(scenario, types.ModuleType):
         module = scenario
     elif isinstance(scenario, str):
-        if scenario in registry.SCENARIOS or "." not in scenario:
+        if scenario in registry.table() or "." not in scenario:
             if scenario not in registry.available():
                 raise ValueError(
                     "scenario must be one of the scenarios with a compensation stage "

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from gyrobench.base import units
-from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, SECOND_METHOD, Check
 from gyrobench.sim import coil2d, coil_heat, coil_pack, coil_winding
 from gyrobench.sim.coil_winding import winding_sequence
 
@@ -97,6 +97,7 @@ def _conduction_check() -> Check:
     richardson = abs(fine - coarse) / (3**2 - 1)
     return Check(
         id="coil.conduction_finite_cylinder",
+        kind=CLOSED_FORM,
         reference=(
             "H. S. Carslaw, J. C. Jaeger, Conduction of Heat in Solids, 2nd ed. (Oxford, 1959): "
             "product of the infinite-cylinder and slab solutions"
@@ -123,6 +124,7 @@ def _uniform_check() -> Check:
     scale = float(np.sum(np.abs(w)))
     return Check(
         id="coil.zero_uniform",
+        kind=CLOSED_FORM,
         reference=SHUPE,
         formula="sum_i ds_i (L - 2 s_i) = Int_0^L (L - 2z) dz = 0 [m^2] (uniform Tdot, any "
         "winding)",
@@ -172,6 +174,7 @@ def _quadrupole_check() -> Check:
     scale = float(np.sum(np.abs(fm.weights * G * fm.z)))
     return Check(
         id="coil.quadrupole_axial_gradient",
+        kind=CLOSED_FORM,
         reference=SHUPE + "; " + MOHR,
         formula="sum_layers -sigma_s sigma_z G p (2 pi r_j)^2 N (N^2 - 1)/6 [m^3 K/s per m], "
         "ideal ABBA, 40 layers x 80 turns, G = 1 K/s/m, through the node map W = P^T w",
@@ -223,6 +226,7 @@ def _radial_shupe_checks() -> list[Check]:
         checks.append(
             Check(
                 id=f"coil.shupe_radial_{winding}",
+                kind=CLOSED_FORM,
                 reference=SHUPE + "; " + MOHR,
                 formula="sum_j (+-) G r_j Lambda_j (L - 2 s_mid,j), Lambda_j = 2 pi r_j N "
                 f"[m^3 K/s per (K/s/m)]; {winding}, 40 layers x 80 turns, Tdot = G r, G = 1 K/s/m, "
@@ -238,6 +242,7 @@ def _radial_shupe_checks() -> list[Check]:
     checks.append(
         Check(
             id="coil.shupe_radial_cancellation_ratio",
+            kind=CLOSED_FORM,
             reference=SHUPE + "; " + MOHR,
             formula="Shupe integral helical / quadrupolar under Tdot = G r, (r, z) coil, closed "
             "forms layer by layer",
@@ -274,6 +279,7 @@ def _strain_checks() -> list[Check]:
     return [
         Check(
             id="coil.potted_cylinder_strain",
+            kind=CLOSED_FORM,
             reference=(
                 "S. Timoshenko, J. N. Goodier, Theory of Elasticity, 2nd ed. (McGraw-Hill, 1951): "
                 "thick-walled and compound cylinders (Lame)"
@@ -288,6 +294,7 @@ def _strain_checks() -> list[Check]:
         ),
         Check(
             id="coil.potted_cylinder_pressure",
+            kind=CLOSED_FORM,
             reference=(
                 "S. Timoshenko, J. N. Goodier, Theory of Elasticity, 2nd ed. (McGraw-Hill, 1951): "
                 "thick-walled and compound cylinders (Lame)"
@@ -317,6 +324,7 @@ def _modal_check() -> Check:
         x = Phi @ x + q0 * u[k] + q1 * u[k + 1]
     return Check(
         id="coil.modal_vs_expm",
+        kind=SECOND_METHOD,
         reference=(
             "second method: the matrix exponential of the augmented system (C. F. Van Loan, IEEE "
             "Trans. Autom. Control 23(3) 395 (1978)) against modal first-order-hold stepping"
@@ -349,6 +357,7 @@ def _origin_check() -> Check:
     ]
     return Check(
         id="coil.drift_temperature_origin",
+        kind=CONSISTENCY,
         reference=SHUPE + " (the drift depends on temperature rates and differences only, not on the scale's origin)",
         formula="Omega_E(t_ref = 15 degC) - Omega_E(t_ref = 0 K) = 0 [rad/s] (only the Tdot / T x dT split "
         "moves; -10 -> 40 degC in 1 h)",

@@ -1,7 +1,10 @@
-"""Closed-form checks of the sensor models: the record type and the collector.
+"""Physics checks of the sensor models: the record type and the collector.
 
-Every physical model in :mod:`gyrobench.sim` has at least one closed-form check: a
-quantity the model simulates beside the value an equation gives for it. Each check
+Every physical model in :mod:`gyrobench.sim` has at least one check with a reference outside
+its code: a quantity the model simulates beside the value an independently derived closed
+form, a second method (full integration, exact kinematics) or a printed number gives for it.
+Each check declares its reference's kind (:data:`KINDS`); a check that compares the code with
+its own formula is kind ``"consistency"`` and is not counted as validation. Each check
 module listed in :data:`CHECK_MODULES` defines
 
 ``checks(rng) -> list[Check]``
@@ -31,7 +34,36 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CHECK_MODULES", "Check", "Part", "run_parts", "collect"]
+__all__ = [
+    "CHECK_MODULES",
+    "CLOSED_FORM",
+    "CONSISTENCY",
+    "KINDS",
+    "PRINTED",
+    "SECOND_METHOD",
+    "VALIDATION_KINDS",
+    "Check",
+    "Part",
+    "collect",
+    "kind_counts",
+    "run_parts",
+]
+
+#: reference kind: ``expected`` is a closed form derived independently of the model's code
+#: (a textbook or paper equation evaluated in the check, not the model's function)
+CLOSED_FORM = "closed form"
+#: reference kind: ``expected`` comes from a second, independent method (full integration of the
+#: equations the model reduces, exact kinematics, a process simulated from first principles)
+SECOND_METHOD = "second method"
+#: reference kind: ``expected`` is a published number, with its source in ``reference``
+PRINTED = "printed"
+#: reference kind: the check compares the code with its own formula (the same equations reached
+#: by another path of this package): a regression guard, NOT counted as validation
+CONSISTENCY = "consistency"
+#: every reference kind, in report order
+KINDS: tuple[str, ...] = (CLOSED_FORM, SECOND_METHOD, PRINTED, CONSISTENCY)
+#: the kinds that count as validation (an outside reference)
+VALIDATION_KINDS: tuple[str, ...] = (CLOSED_FORM, SECOND_METHOD, PRINTED)
 
 #: modules defining ``checks(rng) -> list[Check]``, in report order (append new ones at the
 #: end: :func:`collect` gives each module its own child stream in this order, so an added
@@ -76,6 +108,12 @@ class Check:
         (with the chapter, section or equation where one is printed), or, for a check whose
         point is that two methods agree, ``"second method: ..."`` naming the independent
         method and its source. Never only a module of this package.
+    kind : str
+        The reference's kind, one of :data:`KINDS`: ``"closed form"`` (derived independently
+        of the model's code), ``"second method"`` (full integration, exact kinematics, a
+        first-principles simulation), ``"printed"`` (a published number, its source in
+        ``reference``) or ``"consistency"`` (the code against its own formula reached by another
+        path: a regression guard, not validation; :data:`VALIDATION_KINDS` are the others).
     scale : float, optional
         The magnitude the error is measured against when ``expected`` is 0 (or when
         the natural reference is another quantity, e.g. the uncancelled term for a
@@ -89,9 +127,12 @@ class Check:
     tolerance: float
     derivation: str
     reference: str
+    kind: str
     scale: float | None = None
 
     def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"check {self.id!r}: kind must be one of {KINDS}; got {self.kind!r}")
         if not (isinstance(self.reference, str) and self.reference.strip()):
             raise ValueError(f"check {self.id!r}: reference must be a non-empty string; got {self.reference!r}")
         if not (math.isfinite(self.tolerance) and self.tolerance > 0):
@@ -110,15 +151,21 @@ class Check:
         return abs(self.simulated - self.expected) / reference
 
     @property
+    def validates(self) -> bool:
+        """True when the reference is outside the code (kind in :data:`VALIDATION_KINDS`)."""
+        return self.kind in VALIDATION_KINDS
+
+    @property
     def passed(self) -> bool:
         """True when the relative error is within the tolerance (a NaN never passes)."""
         return bool(self.rel_error <= self.tolerance)
 
     def as_dict(self) -> dict[str, object]:
-        """The results.json form: id, formula, expected, simulated, rel_error, tolerance, its
-        derivation, reference, passed."""
+        """The results.json form: id, kind, formula, expected, simulated, rel_error, tolerance,
+        its derivation, reference, passed."""
         return {
             "id": self.id,
+            "kind": self.kind,
             "formula": self.formula,
             "expected": self.expected,
             "simulated": self.simulated,
@@ -146,6 +193,11 @@ class Part:
         """The part's checks, as a list."""
         out = self.func(*self.args)
         return [out] if isinstance(out, Check) else list(out)
+
+
+def kind_counts(checks: Sequence[Check]) -> dict[str, int]:
+    """The number of checks of each reference kind, every kind of :data:`KINDS` in order."""
+    return {k: sum(c.kind == k for c in checks) for k in KINDS}
 
 
 def run_parts(parts: Sequence[Part]) -> list[Check]:

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.core import CLOSED_FORM, Check
 
 __all__ = ["checks"]
 
@@ -43,6 +43,7 @@ def checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.sagnac_scale_factor",
+            kind=CLOSED_FORM,
             reference=(
                 "E. J. Post, 'Sagnac effect', Rev. Mod. Phys. 39(2) 475 (1967): inertial-frame transit "
                 "times; c from CODATA 2018"

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, PRINTED, SECOND_METHOD, Check, Part, run_parts
 from gyrobench.sim.sensor import Environment
 
 __all__ = ["checks", "parts", "FALSE_ALARM", "LEFEVRE", "STRAIN"]
@@ -72,6 +72,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
     tol = max(math.sqrt(hi) - 1, 1 - math.sqrt(lo))
     return Check(
         id="fog.loop_arw_optical_budget",
+        kind=CONSISTENCY,
         reference=LEFEVRE + ", sec. 5.3 (shot, excess-RIN and thermal noise of the detected signal)",
         formula="N = sqrt(S_phi/2)/SF, S_phi = 2q/(i0 sin^2(phi_b/2)) + cot^2(phi_b/2)/dnu "
         "+ S_th/((i0/2)^2 sin^2 phi_b) [rad/sqrt(s)]; reduced record 600 s at 400 Hz",
@@ -105,6 +106,7 @@ def _arw_full(rng: np.random.Generator) -> Check:
     hi = stats.chi2.isf(FALSE_ALARM / 2, dof) / dof
     return Check(
         id="fog.loop_full_arw_optical_budget",
+        kind=SECOND_METHOD,
         reference=LEFEVRE + ", sec. 5.3; second method: the full-rate loop's block sums against the reduced record",
         formula="var(block angle of M transits) = N^2 tau v(M), v(M) = sum_{|l|<M} (M-|l|) "
         "r_h(l); full-rate loop, M = 64, detector noise from the budget",
@@ -139,6 +141,7 @@ def _loop_response() -> list[Check]:
     return [
         Check(
             id="fog.loop_frequency_response",
+            kind=CONSISTENCY,
             reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="|H(e^{j w tau})|, H = G/(1+G), G = g z^-1 (1+z^-1)/2/(1-z^-1); g = 0.1, "
             "f = 3 kHz",
@@ -151,6 +154,7 @@ def _loop_response() -> list[Check]:
         ),
         Check(
             id="fog.loop_step_response",
+            kind=CONSISTENCY,
             reference=LEFEVRE + ", ch. 6 (closed loop, digital phase ramp)",
             formula="-delta_k = (h * phi)_k for a phase step phi = 1e-3 rad; largest deviation "
             "of the full loop from the linear H over 4096 transits, relative to the step",
@@ -193,6 +197,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.loop_reset_count",
+            kind=CONSISTENCY,
             reference=LEFEVRE + ", ch. 6 (digital phase ramp and its 2 pi resets)",
             formula="number of 2 pi resets = accumulated ramp phase / (2 pi) (+-1); noisy record, "
             f"Omega = {om} rad/s, {len(run.delta)} transits",
@@ -204,6 +209,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_reset_rate",
+            kind=CLOSED_FORM,
             reference=LEFEVRE + ", ch. 6 (one reset per angle quantum n_g lambda / D); " + ARDITTY,
             formula="resets = Omega T / (angle quantum), quantum = 2 pi tau/SF = n_g lambda/D",
             expected=expected_rate,
@@ -221,6 +227,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_v2pi_scale_factor",
+            kind=CLOSED_FORM,
             reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with the V_2pi loop on and a 2 % modulator gain error = 1",
             expected=1.0,
@@ -231,6 +238,7 @@ def _resets(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.loop_blanked_reset_scale_factor",
+            kind=CLOSED_FORM,
             reference=LEFEVRE + ", ch. 6 (V_2pi control by the reset error)",
             formula="SF ratio with reset samples blanked = 1/(1 + eps), eps = 0.02",
             expected=1.0 / (1.0 + eps),
@@ -282,6 +290,7 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="fog.vibration_strain_tone",
+            kind=CONSISTENCY,
             reference=STRAIN,
             formula="tone = K kappa W w a |H_k(f)| |H(f)| sinc(f/fs), K = n_g n xi/(L D); "
             "150 Hz, 2 g, mode 300 Hz Q 30; reduced record at 400 Hz",
@@ -293,6 +302,7 @@ def _vibration_chain(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="fog.vibration_reduced_vs_full_loop",
+            kind=SECOND_METHOD,
             reference=(
                 "second method: the full-rate loop, transit by transit (" + LEFEVRE +
                 ", ch. 6), against the reduced form"
@@ -335,6 +345,7 @@ def _random_vibration(rng: np.random.Generator) -> Check:
     y = rec["truth/strain_nonreciprocity"]
     return Check(
         id="fog.vibration_random_psd_variance",
+        kind=CONSISTENCY,
         reference=(
             "J. S. Bendat, A. G. Piersol, Random Data: Analysis and Measurement Procedures (Wiley): "
             "mean-square estimate of a Gaussian process, nu = 2 B_e T; NAVMAT P-9492 (1979) spectrum; " + STRAIN
@@ -376,6 +387,7 @@ def _rectification() -> Check:
     closed = float(np.real(m0 * np.exp(1j * th) * np.conj(p_res))) / (2 * spec.scale_factor)
     return Check(
         id="fog.vibration_rectification_full_loop",
+        kind=SECOND_METHOD,
         reference=(
             "second method: the full nonlinear loop (" + LEFEVRE +
             ", ch. 6) with a loss modulation, against the mean of the product of two tones"
@@ -413,6 +425,7 @@ def _shot(ob, lam: float, rng: np.random.Generator) -> Check:
     lo, hi = stats.chi2.ppf([FALSE_ALARM / 2, 1 - FALSE_ALARM / 2], dof) / dof
     return Check(
         id="fog.optical_budget_shot",
+        kind=SECOND_METHOD,
         reference="W. Schottky, Ann. Phys. 362(23) 541 (1918): shot noise 2 q i; q from CODATA 2018",
         formula="shot-noise current PSD at phi_b = pi/2: the budget's 2 q i_b against a "
         "photocurrent of Poisson photo-electron counts at the rate i_b/q (Schottky 1918; "
@@ -464,6 +477,7 @@ def _rin(ob, lam: float, rng: np.random.Generator) -> Check:
     mean_err = 2 * _z() / math.sqrt(n * _RIN_WIDTH)
     return Check(
         id="fog.optical_budget_rin",
+        kind=SECOND_METHOD,
         reference=(
             "J. W. Goodman, Statistical Optics (Wiley, 1985), sec. 9.2-9.3: intensity fluctuations of "
             "polarized thermal light"
@@ -494,6 +508,7 @@ def _johnson(ob) -> Check:
     tol = (1.35 / 1.3) ** 2 - 1 + abs(ob.temperature / 295.0 - 1) + 295.0 / 290.0 - 1
     return Check(
         id="fog.optical_budget_johnson",
+        kind=PRINTED,
         reference=(
             "P. Horowitz, W. Hill, The Art of Electronics, 3rd ed. (Cambridge Univ. Press, 2015), sec. "
             "8.1.1: Johnson noise of 10 kOhm"

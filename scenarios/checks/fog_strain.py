@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.scenarios.checks.core import CLOSED_FORM, SECOND_METHOD, Check, Part, run_parts
 from gyrobench.scenarios.checks.fog_loop import LEFEVRE, STRAIN
 
 __all__ = ["checks", "parts"]
@@ -56,6 +56,7 @@ def _strain_kernel() -> list[Check]:
     return [
         Check(
             id="fog.strain_uniform_zero",
+            kind=CLOSED_FORM,
             reference=STRAIN,
             formula="dphi = (k0 n xi n_g/c) w eps0 int_0^L (L - 2z) dz = 0 for uniform strain; "
             "exact two-crossing-time integral, 500 Hz, L = 1 km; relative to the "
@@ -69,6 +70,7 @@ def _strain_kernel() -> list[Check]:
         ),
         Check(
             id="fog.strain_mode_linear",
+            kind=CLOSED_FORM,
             reference=STRAIN,
             formula="dphi amplitude = (k0 n xi n_g/c) w eps0 W, W = int (z/L)(L - 2z) dz = "
             "-L^2/6 (psi = z/L), 500 Hz",
@@ -137,6 +139,7 @@ def _strain_exact_kernel() -> list[Check]:
     return [
         Check(
             id="fog.strain_kernel_exact",
+            kind=CLOSED_FORM,
             reference=STRAIN + "; second method: Simpson quadrature of the two-crossing-time integral",
             formula="dphi phasor = k0 n xi (jw/v) e^{-jw tau/2} W(w) eps0, W(w) = "
             "-L^2 (sin x - x cos x)/(2 x^3), x = w tau/2 (psi = z/L), 500 Hz, vs the "
@@ -150,6 +153,7 @@ def _strain_exact_kernel() -> list[Check]:
         ),
         Check(
             id="fog.strain_reduced_vs_full_loop",
+            kind=SECOND_METHOD,
             reference=STRAIN + "; second method: the full-rate loop (" + LEFEVRE + ", ch. 6)",
             formula="reduced form with the exact strain kernel vs the full-rate loop driven by "
             "the exact strain phase (psi = z/L, 500 Hz, 1e-3 rad/s); largest output "

@@ -48,7 +48,7 @@ from dataclasses import replace
 import numpy as np
 
 from gyrobench.base import units
-from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, SECOND_METHOD, Check, Part, run_parts
 from gyrobench.sim.mems_resonator import (
     MemsResonator,
     brownian_arw,
@@ -184,6 +184,7 @@ def _arw_check(rng: np.random.Generator) -> Check:
     tol = max(1 - math.sqrt(lo), math.sqrt(hi) - 1) + bias
     return Check(
         id="mems.brownian_arw",
+        kind=CLOSED_FORM,
         reference=LELAND,
         formula="N_B = sqrt(k_B T c_y) / (m w X0) = sqrt(k_B T w_y/(m Q_y)) / (w X0) [rad/sqrt(s)]",
         expected=brownian_arw(unit),
@@ -223,6 +224,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.low_rate_scale_factor",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; closed form (force rebalance, demodulation phase): " + SAUKOSKI,
             formula="SF = s_trim (w/w0) (G0/G) cos(theta) [-] (full integration, 0 and 1000 deg/s)",
             expected=sf_closed,
@@ -232,6 +234,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.quadrature_rejection",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; closed form (quadrature through the demodulation phase error): " + SAUKOSKI,
             formula="Omega_hat(0) = SF (c_yx/(2m) - Omega_q tan(theta)) [rad/s]; error / Omega_q",
             expected=zro,
@@ -242,6 +245,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.rate_authority",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; closed form (the feedback force range bounds the input range): " + SAUKOSKI,
             formula=(
                 "saturated output at 6000 deg/s: |u| = v_max, Im{kappa_c B} = 0 "
@@ -254,6 +258,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.drive_amplitude",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; drive amplitude control: " + SAUKOSKI,
             formula="AGC holds the drive amplitude: mean X_hat = X0 [m] (last 2 ms, all rates)",
             expected=unit.drive_amplitude,
@@ -263,6 +268,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.sense_envelope_saturated",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + " against the averaged slow flow",
             formula=(
                 "complex sense envelope B at 6000 deg/s (rebalance saturated), "
@@ -277,6 +283,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.g_sensitivity",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; closed form (parallel-plate electrostatic spring): " + KAAJAKARI,
             formula=(
                 "dOmega_hat/df = -SF tan(theta) k_e eps_A (m/k_y) / (2 m w), "
@@ -292,6 +299,7 @@ def _full_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.slow_flow_vs_full",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + " against the averaged slow flow",
             formula="max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s) [-]",
             expected=float(slow[i]),
@@ -364,6 +372,7 @@ def _noise_vs_full(rng: np.random.Generator) -> Check:
     tol = max(1 - lo, hi - 1) + settle
     return Check(
         id="mems.slow_flow_noise_vs_full",
+        kind=SECOND_METHOD,
         reference=(
             SECOND_FULL + " against the slow flow; Satterthwaite, Biometrics Bull. 2(6) 110 (1946) for the "
             "equivalent dof"
@@ -403,6 +412,7 @@ def _continuity(rng: np.random.Generator) -> Check:
     tol = (z * sd + dither_bias) / (sf * w)
     return Check(
         id="mems.zero_rate_continuity",
+        kind=CONSISTENCY,
         reference=(
             "B. Widrow, I. Kollar, Quantization Noise (Cambridge Univ. Press, 2008): mean of a "
             "quantizer with Gaussian dither; " + LELAND
@@ -446,6 +456,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_scale_factor",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + "; closed form (open-loop sense response through the receptance): " + ACAR_SHKEL,
             formula="SF_ol = s_trim (w/w0) Re{e^{-j theta} R(T)/R_c} [-] (full integration, "
                     "0 and 500 deg/s)",
@@ -456,6 +467,7 @@ def _open_loop_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_slow_vs_full",
+            kind=SECOND_METHOD,
             reference=SECOND_FULL + " against the averaged slow flow, open loop",
             formula="open loop: max over rates |Omega_slow - Omega_full| / max(|Omega|, 100 deg/s)"
                     " [-] (0-6000 deg/s, through the pick-off full-scale knee)",
@@ -496,6 +508,7 @@ def _open_loop_response_check(rng: np.random.Generator) -> Check:
     _, f_w, e_w, t_w, _ = worst
     return Check(
         id="mems.open_loop_frequency_response",
+        kind=CONSISTENCY,
         reference=(
             "second method: the exact-discretised slow flow (C. F. Van Loan, IEEE Trans. Autom. "
             "Control 23(3) 395 (1978)) driven by sinusoidal rates against the closed-form response; " + ACAR_SHKEL
@@ -545,6 +558,7 @@ def _low_rate_noise(rng: np.random.Generator) -> Check:
     bias = 2.0 * fs / pole
     return Check(
         id="mems.low_output_rate_noise",
+        kind=CLOSED_FORM,
         reference=(
             LELAND + " (N_B); IEEE Std 952-1997, Annex C (angle random walk: the tau-mean of white rate "
             "noise has variance N^2/tau); exact discretisation: C. F. Van Loan, IEEE Trans. Autom. "

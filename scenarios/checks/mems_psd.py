@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
-from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.core import SECOND_METHOD, Check
 from gyrobench.scenarios.checks.mems import FALSE_ALARM, open_loop_unit
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
@@ -264,6 +264,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
     return [
         Check(
             id="mems.open_loop_noise_vs_full",
+            kind=SECOND_METHOD,
             reference=_REFERENCE,
             formula=(
                 f"open loop, Brownian + pick-off noise: output PSD over 0-{NOISE_BAND:g} Hz, "
@@ -283,6 +284,7 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
         ),
         Check(
             id="mems.open_loop_noise_psd_vs_full",
+            kind=SECOND_METHOD,
             reference=_REFERENCE,
             formula=(
                 f"open loop: output PSD in {m} bands of {NOISE_BAND:g} Hz from {NOISE_BAND:g} Hz to "

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.core import CLOSED_FORM, Check
 
 __all__ = ["checks", "FALSE_ALARM"]
 
@@ -120,6 +120,7 @@ def checks(rng: np.random.Generator) -> list[Check]:
         out.append(
             Check(
                 id=f"noise.avar_{term}",
+                kind=CLOSED_FORM,
                 reference=_REFERENCE,
                 formula=f"{formula}; tau = {tau:g} s at fs = {_FS:g} Hz",
                 expected=_theory(term, model, float(t[0])),

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.scenarios.checks.core import CLOSED_FORM, Check, Part, run_parts
 
 __all__ = ["checks", "parts", "FALSE_ALARM"]
 
@@ -60,6 +60,7 @@ def _adler(ratio: float) -> Check:
     tol = 100.0 * (x**5 / 120.0 / (2 * math.pi) + n_steps * float(np.finfo(float).eps))
     return Check(
         id=f"rlg.adler_beat_{ratio:g}x_lock_in",
+        kind=CLOSED_FORM,
         reference=(
             "R. Adler, 'A study of locking phenomena in oscillators', Proc. IRE 34(6) 351 (1946); F. "
             "Aronowitz, 'The laser gyro', in Laser Applications vol. 1 (Academic Press, 1971)"
@@ -105,6 +106,7 @@ def _dither(rng: np.random.Generator) -> Check:
     tol = float(max(1 - lo, hi - 1))
     return Check(
         id="rlg.dither_random_walk",
+        kind=CLOSED_FORM,
         reference=(
             "J. E. Killpatrick, 'The laser gyro', IEEE Spectrum 4(10) (1967): random walk of a "
             "randomly dithered ring laser gyro"

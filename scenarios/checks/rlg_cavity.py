@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
-from gyrobench.scenarios.checks.core import Check, Part, run_parts
+from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, Check, Part, run_parts
 from gyrobench.sim.environment import Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import Dither, integrate_adler
 from gyrobench.sim.rlg_cavity import (
@@ -128,6 +128,7 @@ def _check_lock_in(u: CavityRLG, rng: np.random.Generator) -> Check:
     tol = float(max(1 - math.sqrt(lo), math.sqrt(hi) - 1)) + quant / 2 + spread
     return Check(
         id="rlg_cavity.lock_in_backscatter",
+        kind=CONSISTENCY,
         reference=CHOW + "; " + ARONOWITZ + " (lock-in from the net backscatter amplitude)",
         formula="Omega_L = c lambda |sum_i r_i exp(j(2 k s_i + theta_i))| / (8 pi A) [rad/s] "
         "against the lock-in the simulated counts carry: sqrt((var(angle increment) - q^2/6)/tau) "
@@ -184,6 +185,7 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
     return [
         Check(
             id="rlg_cavity.mode_hop_spacing",
+            kind=CLOSED_FORM,
             reference=(
                 SIEGMAN + " (a ring resonates at P = n lambda) with P(T) = P0 (1 + alpha dT); alpha: SCHOTT Zerodur "
                 "datasheet (expansion classes)"
@@ -201,6 +203,7 @@ def _hop_checks(u: CavityRLG) -> list[Check]:
         ),
         Check(
             id="rlg_cavity.mode_hop_hysteresis",
+            kind=CLOSED_FORM,
             reference=(
                 SIEGMAN + " (a ring resonates at P = n lambda): a path-length control of travel S re-acquires one "
                 "wavelength away"
@@ -282,6 +285,7 @@ def _check_dead_band() -> Check:
         edge = math.nan
     return Check(
         id="rlg_cavity.dead_band_width",
+        kind=CLOSED_FORM,
         reference=CHOW + " (dithered lock-in: the dead band scales with |J_0| of the dither amplitude); " + ARONOWITZ,
         formula="dead band half-width = Omega_L |J_0(2 pi K theta_D)| [rad/s] (fixed dither)",
         expected=band,
@@ -314,6 +318,7 @@ def _check_randomized_dead_band(rng: np.random.Generator) -> Check:
     n_stat = swing_dither_arw(scale_factor=k, lock_in_rate=wl, dither=dith)
     return Check(
         id="rlg_cavity.no_dead_band_with_swing_dither",
+        kind=CLOSED_FORM,
         reference=KILLPATRICK + "; " + CHOW,
         formula="mean output rate = input rate (no dead band), input = Omega_L |J_0(beta_D)| / 2",
         expected=omega,
@@ -374,6 +379,7 @@ def _check_random_walk(rng: np.random.Generator) -> Check:
     rel_sd = math.sqrt((kurt - 1.0 + 2.0 / (m - 1)) / m)
     return Check(
         id="rlg_cavity.dither_random_walk",
+        kind=CLOSED_FORM,
         reference=KILLPATRICK + "; " + CHOW,
         formula=(
             "var(angle error after T) = N^2 T, N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D))"

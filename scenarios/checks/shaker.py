@@ -10,8 +10,8 @@
   sec. 2.6, the moving-average system). The check fits the output's amplitude at f (least
   squares on sin and cos of 2 pi f k/fs over the whole dwell, no formula of the model retyped)
   and compares it with A |H(f)| for a 137 Hz tone at a 50 Hz output (m = 11), where the output
-  folds the tone to 13 Hz at 0.197 of its level: a point sampler would keep it at 1, an
-  integrate-and-dump output at sinc(f/fs) = 0.197 in the limit of large m.
+  folds the tone to 13 Hz at |H| = 0.0940 of its level: a point sampler would keep it at 1, a
+  true integrate-and-dump output (m -> inf) at |sinc(f/fs)| = 0.0847.
 
 Deterministic: the tolerance is the rounding of phases up to 2 pi f T.
 """
@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from gyrobench.scenarios.checks.core import Check
+from gyrobench.scenarios.checks.core import CLOSED_FORM, Check
 
 __all__ = ["checks"]
 
@@ -45,10 +45,12 @@ def _interval_gain(rng: np.random.Generator) -> Check:
     phase_span = 2 * np.pi * _F * _DWELL
     return Check(
         id="shaker.interval_mean_gain",
+        kind=CLOSED_FORM,
         reference="A. V. Oppenheim, R. W. Schafer, Discrete-Time Signal Processing, 3rd ed. (2010), sec. 2.6 "
         "(the moving-average system's frequency response, a geometric series)",
         formula=f"fitted output amplitude of a {_F:g} Hz tone at a {_FS:g} Hz output = A |H(f)|, "
-        f"|H| = |sin(pi f/fs) / (m sin(pi f/(m fs)))|, m = {m} [m/s^2]",
+        f"|H| = |sin(pi f/fs) / (m sin(pi f/(m fs)))| = {gain:.4f}, m = {m} (|sinc(f/fs)| = "
+        f"{abs(np.sinc(_F / _FS)):.4f} for m -> inf) [m/s^2]",
         expected=_A * gain,
         simulated=float(math.hypot(*coef)),
         tolerance=1e-9,

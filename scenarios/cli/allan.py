@@ -6,7 +6,15 @@ import argparse
 import json
 from pathlib import Path
 
-from gyrobench.scenarios.cli.common import MAX_FLAG_VALUE, BadInput, nonneg_float, positive_float
+from gyrobench.scenarios.cli.common import (
+    MAX_FLAG_VALUE,
+    BadInput,
+    add_force,
+    check_outputs,
+    input_file,
+    nonneg_float,
+    positive_float,
+)
 
 __all__ = ["add_parser", "read_csv"]
 
@@ -126,17 +134,88 @@ def _check_allan_input(rate, fs: float, label: str, kind: str) -> None:
                         f"({len(rate)} samples)", hint="analyse a shorter segment")
 
 
+# ----------------------------------------------------------------------------- output safety
+#: the suffixes of allan's outputs
+PLOT_SUFFIXES = (".png",)
+KALIBR_SUFFIXES = (".yaml", ".yml")
+
+
+def _check_allan_outputs(args, path: Path) -> None:
+    """--plot and --kalibr through the output rule (gyrobench.base.safety), before anything is read."""
+    from gyrobench.base.safety import Output
+
+    outs = [Output(Path(args.plot), "--plot", suffixes=PLOT_SUFFIXES, create_parents=False)] if args.plot else []
+    outs += _yaml_outputs(args)
+    check_outputs(args, outs, [("FILE", path)])
+
+
+def _yaml_outputs(args) -> list:
+    """--kalibr and --filter-model as outputs of the rule (YAML files)."""
+    from gyrobench.base.safety import Output
+
+    return [Output(Path(target), flag, suffixes=KALIBR_SUFFIXES, create_parents=False)
+            for flag, target in (("--kalibr", args.kalibr), ("--filter-model", getattr(args, "filter_model", None)))
+            if target]
+
+
+def _check_plot_files(args, path: Path, log) -> list[Path]:
+    """The figure file of each channel of ``log`` (``FILE_<channel>.png`` for several), each through the
+    output rule before the analysis; [] without --plot."""
+    import types
+
+    from gyrobench.base.safety import Output
+    from gyrobench.scenarios.reports import allan_text as txt
+
+    if not args.plot:
+        return []
+    named = [types.SimpleNamespace(channel=ch) for ch in log.channels]  # plot_paths reads only the label
+    plots = [p for p, _ in txt.plot_paths(Path(args.plot), named)]  # type: ignore[arg-type]
+    if len(plots) > 1:
+        outs = [Output(p, "--plot", suffixes=PLOT_SUFFIXES, create_parents=False) for p in plots]
+        check_outputs(args, outs + _yaml_outputs(args), [("FILE", path)])
+    return plots
+
+
+def _temperature_columns(path: Path) -> list[str]:
+    """Header cells of a CSV that name a temperature ("temp" in the name), from its first non-comment line."""
+    import gzip
+    import re
+
+    try:
+        opener = gzip.open if path.suffix.lower() == ".gz" else open
+        with opener(path, "rt", errors="replace") as fh:
+            for _, line in zip(range(50), fh, strict=False):
+                if line.strip() and not line.lstrip().startswith(("#", "%")):
+                    cells = [c.strip().strip('"') for c in re.split(r"[,;\t]", line)]
+                    return [c for c in cells if re.search("temp", c, re.IGNORECASE)]
+    except OSError:
+        return []
+    return []
+
+
+def _temperature_hints(path: Path, args, results) -> None:
+    """A warning on each channel with an identified rate ramp R when the file has a temperature column
+    that --temperature did not name: a thermal drift reads as R."""
+    if args.temperature is not None or path.suffix.lower() in (".h5", ".hdf5"):
+        return
+    cols = None
+    for res in results:
+        c = res.fit.coefficients.get("R") if res.fit is not None else None
+        if c is None or not c.identifiable:
+            continue
+        cols = _temperature_columns(path) if cols is None else cols
+        if cols:
+            res.warnings.append(f"{res.channel.label}: a rate ramp R is identified and {path.name} has a temperature "
+                                f"column ({', '.join(repr(x) for x in cols)}): a thermal drift reads as R; try "
+                                f"--temperature {cols[0].split('[')[0].strip()!r}")
+
+
 def _cmd_allan(args) -> int:
     from gyrobench.scenarios.reports import allan as rep
     from gyrobench.scenarios.reports import allan_text as txt
-    from gyrobench.scenarios.reports.outputs import check_output
 
-    path = Path(args.file)
-    if not path.is_file():
-        raise FileNotFoundError(f"recording file not found: {str(path)!r}")
-    for flag, target in (("--plot", args.plot), ("--kalibr", args.kalibr)):  # before any work
-        if target:
-            check_output(target, what=flag, create_parents=False)
+    path = input_file(args.file, "recording file")  # not found, a folder, a FIFO, a device: one line
+    _check_allan_outputs(args, path)  # before any work
     columns = args.column or None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -149,6 +228,7 @@ def _cmd_allan(args) -> int:
 
         log = read_csv_log(path, columns, args.fs, args.units, all_axes=args.all_axes, start=args.start,
                            stop=args.stop, temperature=args.temperature, decimal=args.decimal, gaps=args.gaps)
+    plots = _check_plot_files(args, path, log)  # one figure per channel, each checked before the analysis
     if args.bandwidth is None and args.bandwidth_bias != BANDWIDTH_BIAS:
         raise BadInput("--bandwidth-bias applies with --bandwidth HZ")
     if args.bandwidth is not None and not args.bandwidth < log.fs / 2:
@@ -165,11 +245,24 @@ def _cmd_allan(args) -> int:
                                    tau_min=args.tau_min, tau_max=args.tau_max, temperature=log.temperature,
                                    bandwidth=args.bandwidth, bandwidth_bias=args.bandwidth_bias,
                                    segments=args.segments))
+    _temperature_hints(path, args, results)
+    if any(n.startswith("--gaps fill:") for n in log.notes):
+        for res in results:
+            res.warnings.append(
+                f"{res.channel.label}: the filled samples are interpolated, not measured: a straight line across a "
+                "gap removes its noise and adds a ramp-like error at taus near the gap's length (B, K and R are "
+                "biased); --gaps split analyses the contiguous pieces instead (pooled per tau)")
     if args.kalibr:
         from gyrobench.base.atomic import atomic_path
 
         text = txt.kalibr_yaml(log, results)
         with atomic_path(Path(args.kalibr)) as tmp:
+            Path(tmp).write_text(text)
+    if args.filter_model:
+        from gyrobench.base.atomic import atomic_path
+
+        text = txt.filter_yaml(log, results, overbound=args.overbound)
+        with atomic_path(Path(args.filter_model)) as tmp:
             Path(tmp).write_text(text)
     if args.json:
         print(json.dumps(txt.log_json(log, results)))
@@ -177,12 +270,13 @@ def _cmd_allan(args) -> int:
         print("\n".join(txt.log_text(log, results)))
     if args.plot:
         from gyrobench.base.atomic import atomic_path
+        from gyrobench.base.safety import PNG_METADATA
         from gyrobench.scenarios.reports.figures import allan_figure
 
-        for plot, res in txt.plot_paths(Path(args.plot), results):  # one file per channel
+        for plot, res in zip(plots, results, strict=True):  # one file per channel
             fig = allan_figure(res.curve, res.fit, title=txt.plot_title(log, res), quantity=res.channel.quantity)
             with atomic_path(plot) as tmp:
-                fig.savefig(tmp, format=(plot.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+                fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight", metadata=PNG_METADATA)
             if not args.json:
                 print(f"wrote {plot}")
     if any(r.nonstationary for r in results) and not args.accept_nonstationary:
@@ -250,4 +344,12 @@ def add_parser(sub) -> None:
                                   "FILE_<channel>.png")
     s.add_argument("--kalibr", help="write the Kalibr IMU noise file (imu.yaml: noise densities and random walks "
                                     "from N and K, largest over the axes)")
+    s.add_argument("--filter-model", metavar="FILE",
+                   help="write the fitted model as a filter's process noise (YAML: white and random-walk densities, "
+                        "B as Gauss-Markov and random-walk equivalent, Kalibr, OpenVINS and ROS conventions, units "
+                        "in every key)")
+    s.add_argument("--overbound", action="store_true",
+                   help="with --filter-model: scale the model to lie on or above the data's upper 95 %% bound at "
+                        "every tau")
+    add_force(s)
     s.set_defaults(func=_cmd_allan)

@@ -50,7 +50,7 @@ import os
 from typing import Any
 
 from gyrobench.scenarios.cli import exits
-from gyrobench.scenarios.cli.common import MAX_WORKERS, ranged
+from gyrobench.scenarios.cli.common import MAX_WORKERS, input_file, ranged
 
 __all__ = ["add_parser", "run", "scheduler_executor"]
 
@@ -151,8 +151,31 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     _add_trust_flags(p)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing --save-baseline file that gyrobench did not write (default: refused); "
+                        "never the --baseline or another input, never a foreign --db")
     p.set_defaults(func=run)
     return p
+
+
+def check_bench_outputs(args: argparse.Namespace, db: str) -> None:
+    """--save-baseline and --db through the output rule (:mod:`gyrobench.base.safety`): never the
+    --baseline, the --config or the compensator's source; a .json baseline; a database gyrobench
+    did not make refused before anything is written to it; folders are never created."""
+    import sys
+    from pathlib import Path
+
+    from gyrobench.base.safety import Output
+    from gyrobench.scenarios.cli.common import check_outputs
+
+    outs = []
+    if args.save_baseline:
+        outs.append(Output(Path(args.save_baseline), "--save-baseline", suffixes=(".json",), create_parents=False))
+    outs.append(Output(Path(db), "--db" if args.db is not None else "--db (default)", kind="database",
+                       create_parents=False))
+    module = sys.modules.get(str(args.compensator).partition(":")[0])
+    source = getattr(module, "__file__", None)
+    check_outputs(args, outs, [("--baseline", args.baseline), ("--config", args.config), ("--compensator", source)])
 
 
 def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
@@ -193,6 +216,9 @@ def run(args: argparse.Namespace) -> int:
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
     module = bench.resolve_scenario(args.scenario)
+    for flag, given in (("--config", args.config), ("baseline file", args.baseline)):  # a FIFO or device never ends
+        if given:
+            input_file(given, flag)
     config = registry.load_config(module, args.config) if args.config else module.Config()
     _check_compensator_spec(args.compensator)  # imported only in the compensator's own process
     # read and check the baseline first: a bad or mismatched file fails before any computing
@@ -212,10 +238,8 @@ def run(args: argparse.Namespace) -> int:
         min_change=_min_change(args),
     )
     seeds = plan.seeds
-    if args.save_baseline:
-        bench.check_baseline_path(args.save_baseline, what="--save-baseline")
     db = args.db if args.db is not None else bench.DEFAULT_DB
-    bench.check_baseline_path(db, what="--db")  # before connecting to a cluster
+    check_bench_outputs(args, db)  # before connecting to a cluster or computing
     for line in (plan.warning, plan.auto):
         if line:
             print(line, flush=True)

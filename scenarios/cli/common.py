@@ -8,13 +8,17 @@ import contextlib
 import math
 import typing
 
-__all__ = ["MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "BadInput", "Parser", "closing", "duration", "given",
-           "nonneg_float", "one_line", "positive_float", "positive_int", "ranged", "read_toml", "seed", "units_or_auto"]
+__all__ = ["FORCE_HELP", "MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "TOML_DEPTH", "BadInput", "Parser",
+           "add_force", "bounded_recursion", "check_outputs", "closing", "duration", "given", "input_file",
+           "nonneg_float", "one_line", "positive_float", "positive_int", "ranged", "read_toml", "seed",
+           "units_or_auto"]
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2
-        self.exit(2, f"gyrobench: error: {message} (see '{self.prog} --help')\n")
+    def error(self, message: str) -> typing.NoReturn:  # one line, exit 2, control characters escaped
+        from gyrobench.base.safety import escape_controls
+
+        self.exit(2, f"gyrobench: error: {escape_controls(one_line(message))} (see '{self.prog} --help')\n")
 
 
 class BadInput(ValueError):
@@ -158,6 +162,62 @@ def one_line(text: object) -> str:
 
 
 
+# ----------------------------------------------------------------------------- outputs and inputs
+#: the help of every writing verb's --force (gyrobench.base.safety states the rule)
+FORCE_HELP = ("replace existing output files that gyrobench did not write (default: refused); never an input of "
+              "the command, never a foreign --db, never a folder that is not a gyrobench report")
+
+
+def add_force(parser) -> None:
+    """Add ``--force`` (:data:`FORCE_HELP`) to a writing verb's parser."""
+    parser.add_argument("--force", action="store_true", help=FORCE_HELP)
+
+
+def check_outputs(args, outputs, inputs=()) -> None:
+    """Every output of a verb through the rule of :func:`gyrobench.base.safety.check_outputs`, before any
+    work; ``args.force`` is the verb's ``--force``; a database output is checked against gyrobench's tables."""
+    from gyrobench.base import safety
+
+    tables: tuple[str, ...] = ()
+    if any(o.kind == "database" for o in outputs):
+        from gyrobench.scenarios.runner.store import database_tables
+
+        tables = database_tables()
+    safety.check_outputs(outputs, inputs, force=bool(getattr(args, "force", False)), tables=tables)
+
+
+def input_file(path, what: str):
+    """``path`` as a Path if it is a readable regular file, else one line (not found, a folder, a FIFO, a
+    device: :func:`gyrobench.base.safety.check_input`)."""
+    from gyrobench.base import safety
+
+    return safety.check_input(path, what)
+
+
+#: frames a TOML reader may use above its caller: files nested deeper are refused, whatever recursion limit
+#: the interpreter was given (a raised limit would let the reader exhaust the C stack instead)
+TOML_DEPTH = 1000
+
+
+@contextlib.contextmanager
+def bounded_recursion(frames: int = TOML_DEPTH):
+    """Hold the recursion limit at the current depth + ``frames`` (never above the current limit) for the
+    block, so a recursive reader fails with RecursionError at a known depth."""
+    import sys
+    import types
+
+    depth = 0
+    f: types.FrameType | None = sys._getframe()
+    while f is not None:
+        depth, f = depth + 1, f.f_back
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(min(old, depth + frames))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)
+
+
 def read_toml(path: str, flag: str) -> dict:
     import sys
 
@@ -165,11 +225,14 @@ def read_toml(path: str, flag: str) -> dict:
         import tomllib
     else:  # pragma: no cover
         import tomli as tomllib
+    input_file(path, flag)  # a FIFO or /dev/zero would never end
     try:
-        with open(path, "rb") as fh:
+        with open(path, "rb") as fh, bounded_recursion():
             return tomllib.load(fh)
     except FileNotFoundError:
         raise BadInput(f"{flag}: file {path!r} does not exist") from None
+    except UnicodeDecodeError as exc:
+        raise BadInput(f"{flag}: {path!r} is not UTF-8 text: {one_line(exc)}") from None
     except tomllib.TOMLDecodeError as exc:
         raise BadInput(f"{flag}: {path!r} is not valid TOML: {one_line(exc)}") from None
     except RecursionError:  # arrays or tables nested thousands deep

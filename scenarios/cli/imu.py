@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from gyrobench.scenarios.cli.common import BadInput, one_line, read_toml
+from gyrobench.scenarios.cli.common import BadInput, check_outputs, input_file, one_line, read_toml
 
 __all__ = ["simulate_imu", "load_trajectory", "load_trajectory_csv", "CSV_HEADER"]
 
@@ -40,7 +40,7 @@ __all__ = ["simulate_imu", "load_trajectory", "load_trajectory_csv", "CSV_HEADER
 CSV_HEADER = "time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps"
 
 _ACCEL_KEYS = ("bias_repeatability_mg", "scale_factor_repeatability_ppm", "vrw_m_s_sqrt_h", "bias_instability_ug",
-               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "resolution_mg")
+               "bias_tempco_mg_per_k", "scale_factor_tempco_ppm_per_k", "range_g", "bandwidth_hz", "resolution_mg")
 
 
 def _table(data: dict, name: str, keys: tuple[str, ...], path: str) -> dict:
@@ -70,14 +70,15 @@ def load_trajectory(path: str):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.trajectory.Site`,
+        (:class:`~gyrobench.sim.trajectory.SegmentedMotion`, :class:`~gyrobench.sim.earth.Site`,
         :class:`~gyrobench.sim.imu.AccelerometerSpec` or None).
     """
     import numpy as np
 
     from gyrobench.base import units
+    from gyrobench.sim.earth import Site
     from gyrobench.sim.imu import AccelerometerSpec
-    from gyrobench.sim.trajectory import SegmentedMotion, Site, segments_from_table
+    from gyrobench.sim.trajectory import SegmentedMotion, segments_from_table
 
     data = read_toml(path, "--trajectory")
     if unknown := sorted(set(data) - {"site", "initial", "motion", "accelerometer"}):
@@ -110,8 +111,8 @@ def load_trajectory(path: str):
     if acc_t is not None:
         acc_t = _table(data, "accelerometer", _ACCEL_KEYS, path)
         try:
-            accel = AccelerometerSpec.from_datasheet(**{k: _number(acc_t, k, "accelerometer", 0.0, 1e9, 0.0)
-                                                        for k in acc_t})
+            accel = AccelerometerSpec.from_datasheet(**{
+                k: _number(acc_t, k, "accelerometer", -1e9 if "tempco" in k else 0.0, 1e9, 0.0) for k in acc_t})
         except (TypeError, ValueError) as exc:
             raise BadInput(f"{path}: {one_line(exc)}") from None
     return motion, site, accel
@@ -130,12 +131,13 @@ def load_trajectory_csv(path: str, latitude_deg: float):
     Returns
     -------
     tuple
-        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.trajectory.Site`, None).
+        (:class:`~gyrobench.sim.trajectory.SampledMotion`, :class:`~gyrobench.sim.earth.Site`, None).
     """
     import numpy as np
 
     from gyrobench.base import memory, units
-    from gyrobench.sim.trajectory import SampledMotion, Site
+    from gyrobench.sim.earth import Site
+    from gyrobench.sim.trajectory import SampledMotion
 
     p = Path(path)
     if not p.is_file():
@@ -164,9 +166,9 @@ def simulate_imu(args) -> int:
     import numpy as np
 
     from gyrobench.base import memory
+    from gyrobench.base.safety import Output
     from gyrobench.io.imu_formats import kalibr_imu_yaml, write_euroc
     from gyrobench.io.recording import save_hdf5, to_csv
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.sim import parts
     from gyrobench.sim.imu import AccelerometerSpec, TriadSpec
 
@@ -176,10 +178,9 @@ def simulate_imu(args) -> int:
         raise BadInput("simulate imu needs --trajectory FILE.toml (a motion definition)")
     if args.output is None:
         raise BadInput("simulate imu needs -o FILE.h5 or FILE.csv")
-    try:
-        part = parts.get(args.part)
-    except ValueError as exc:
-        raise BadInput(one_line(exc)) from None
+    from gyrobench.scenarios.cli.simulate import load_part
+
+    part = load_part(args.part, "PART")  # a missing, non-regular or too deeply nested part file: one line
     out = Path(args.output)
     if out.suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
@@ -192,11 +193,11 @@ def simulate_imu(args) -> int:
         if not str(args.kalibr).lower().endswith(".yaml"):
             raise BadInput(f"--kalibr must end in .yaml; got {args.kalibr!r}")
         outs.append((Path(args.kalibr), "--kalibr"))
-    resolved = [p.resolve() for p, _ in outs] + [Path(args.trajectory).resolve()]
-    if len(set(resolved)) != len(resolved):
-        raise BadInput("simulate imu: -o, --euroc, --kalibr and --trajectory must be four different files")
-    for p, flag in outs:
-        check_output(p, what=flag, kind="file")
+    # the output rule (gyrobench.base.safety): no output is the trajectory, the part file or another output;
+    # an existing file is replaced only if gyrobench wrote it (or with --force)
+    part_file = args.part if str(args.part).lower().endswith(".toml") else None
+    input_file(args.trajectory, "--trajectory")
+    check_outputs(args, [Output(p, flag) for p, flag in outs], [("--trajectory", args.trajectory), ("PART", part_file)])
     if str(args.trajectory).lower().endswith(".csv"):
         lat = 0.0 if args.latitude is None else args.latitude
         motion, site, accel = load_trajectory_csv(args.trajectory, lat)

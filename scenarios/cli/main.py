@@ -148,7 +148,9 @@ def _error_status(exc: BaseException) -> tuple[int, str]:
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
     """Warnings in one line each, without the source line Python prints under them."""
     where = Path(str(filename)).name
-    print(f"gyrobench: warning: {one_line(message)} ({category.__name__} in {where}:{lineno})",
+    from gyrobench.base.safety import escape_controls
+
+    print(f"gyrobench: warning: {escape_controls(one_line(message))} ({category.__name__} in {where}:{lineno})",
           file=sys.stderr if file is None else file)
 
 
@@ -159,6 +161,7 @@ def main(argv: list[str] | None = None) -> int:
     regression, 2 bad input, 3 failed seeds, 4 internal failure, 130 interrupted. Every
     error is one line on stderr; ``GYROBENCH_TRACEBACK=1`` prints the traceback first.
     """
+    from gyrobench.base.safety import escape_controls
     from gyrobench.scenarios.cli import exits
 
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -166,6 +169,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(_attach_negative_values(argv))
     args.argv = argv
     restore = _raise_on_sigterm()
+    stdout = sys.stdout
+    sys.stdout = _EscapedStream(stdout)  # text from files (a column name, a label) never drives the terminal
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
@@ -189,10 +194,29 @@ def main(argv: list[str] | None = None) -> int:
                 import traceback
 
                 traceback.print_exception(exc, file=sys.stderr)
-        print(f"gyrobench: error: {msg}", file=sys.stderr)
+        print(f"gyrobench: error: {escape_controls(msg)}", file=sys.stderr)
         return code
     finally:
+        if isinstance(sys.stdout, _EscapedStream):
+            sys.stdout = stdout
         restore()
+
+
+class _EscapedStream:
+    """A text stream whose writes have their control characters escaped
+    (:func:`gyrobench.base.safety.escape_controls`); everything else is the wrapped stream's."""
+
+    def __init__(self, stream: typing.Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        from gyrobench.base.safety import escape_controls
+
+        self._stream.write(escape_controls(text))
+        return len(text)
+
+    def __getattr__(self, name: str) -> typing.Any:
+        return getattr(self._stream, name)
 
 
 def _silence_stdout() -> None:

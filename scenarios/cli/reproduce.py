@@ -6,7 +6,17 @@ import shlex
 import time
 from pathlib import Path
 
-from gyrobench.scenarios.cli.common import MAX_WORKERS, BadInput, closing, positive_int, ranged, seed, units_or_auto
+from gyrobench.scenarios.cli.common import (
+    MAX_WORKERS,
+    BadInput,
+    check_outputs,
+    closing,
+    input_file,
+    positive_int,
+    ranged,
+    seed,
+    units_or_auto,
+)
 
 __all__ = ["AUTO_START_UNITS", "DEVIATION_UNITS", "MAX_UNITS", "add_parser"]
 
@@ -21,7 +31,7 @@ def _cmd_reproduce(args) -> int:
     """Run the scenarios; a paper scenario (``experiment`` + ``CLAIMS``) over ``--units`` units
     through the shared runner (:mod:`gyrobench.scenarios.runner.units`), any other by its ``run``."""
     from gyrobench.scenarios import registry
-    from gyrobench.scenarios.reports.outputs import check_output, output_lock
+    from gyrobench.scenarios.reports.outputs import output_lock
 
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
@@ -48,10 +58,24 @@ def _cmd_reproduce(args) -> int:
     except ValueError as exc:
         raise BadInput(str(exc)) from None
     mods = [registry.get(n) for n in names]  # fails fast on an unknown name
+    if args.config is not None:
+        input_file(args.config, "--config")
     configs = [registry.load_config(m, args.config) for m in mods]
-    check_output(args.out, what="--out", kind="report")  # before any work
+    _check_reproduce_outputs(args)  # before any work
     with output_lock(args.out, what="--out"):  # a second reproduce into the same --out is refused
         return _reproduce(args, mods, configs, start_units, max_units)
+
+
+def _check_reproduce_outputs(args) -> None:
+    """--out (a report folder, replaced as a whole) and --db (or its default beside --out) through the
+    output rule (gyrobench.base.safety): never the --config, a foreign folder or a foreign database."""
+    from gyrobench.base.safety import Output
+    from gyrobench.scenarios.runner import units
+
+    db = Path(args.db) if args.db else units.default_db(Path(args.out))
+    check_outputs(args, [Output(Path(args.out), "--out", kind="report"),
+                         Output(db, "--db" if args.db else "--db (default)", kind="database")],
+                  [("--config", args.config)])
 
 
 def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> int:
@@ -92,7 +116,8 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
                 if units.is_paper_scenario(mod):
                     outcomes.append(units.run_paper(mod, cfg, seed=args.seed, n_units=start_units, executor=executor,
                                                     workers=workers, db=db, progress=not args.quiet,
-                                                    deviation_units=args.deviations or 0, max_units=max_units))
+                                                    deviation_units=args.deviations or 0, max_units=max_units,
+                                                    keep_units=args.keep_units))
                 else:
                     outcomes.append(mod.run(cfg, args.seed, progress=not args.quiet))
         ok = True
@@ -135,5 +160,11 @@ def add_parser(sub) -> None:
     s.add_argument("--deviations", nargs="?", const=DEVIATION_UNITS, type=positive_int("--deviations"),
                    metavar="N", help="also run each deviation's config variant (the paper's protocol) over the "
                    f"first N units (default {DEVIATION_UNITS}) and report every claim's measured change")
+    s.add_argument("--keep-units", action="store_true",
+                   help="store every unit's whole result in --db (default: what the claims and the report read, "
+                   "the figures' data of the units the report draws only)")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
+    s.add_argument("--force", action="store_true",
+                   help="replace an earlier report in --out whose files were edited or added to (default: refused); "
+                        "never a folder that is not a gyrobench report, never a foreign --db")
     s.set_defaults(func=_cmd_reproduce)

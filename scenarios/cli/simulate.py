@@ -11,9 +11,13 @@ from pathlib import Path
 
 from gyrobench.scenarios.cli.common import (
     BadInput,
+    add_force,
+    bounded_recursion,
+    check_outputs,
     closing,
     duration,
     given,
+    input_file,
     nonneg_float,
     one_line,
     positive_float,
@@ -30,6 +34,9 @@ _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs"
                 "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
 _SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
 
+
+#: the suffixes of a record file (-o)
+_RECORD_SUFFIXES = (".h5", ".hdf5", ".csv")
 
 #: how far inside FS_RANGE_HZ a CSV record's rate must lie: 'allan' infers the rate from the time
 #: column, printed to 12 significant digits, so the rate it reads differs from --fs by up to about
@@ -53,9 +60,9 @@ def _simulate_noise(args) -> int:
 
     from gyrobench.base import memory
     from gyrobench.base.atomic import atomic_path, ensure_free_space
+    from gyrobench.base.safety import Output
     from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, package_version
     from gyrobench.scenarios.cli.allan import MIN_MAGNITUDE
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim.noise import NoiseModel
 
@@ -68,7 +75,7 @@ def _simulate_noise(args) -> int:
     suffix = "".join(out.suffixes[-1:]).lower()
     if suffix not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
-    check_output(out, what="-o", kind="file")
+    check_outputs(args, [Output(out, "-o", suffixes=_RECORD_SUFFIXES)])  # before any work
     if args.duration is None:
         raise BadInput("simulate noise needs --duration (e.g. 10h, 30min, 600s)")
     fs = 100.0 if args.fs is None else args.fs
@@ -163,19 +170,21 @@ def _simulate_noise(args) -> int:
 
 def _simulate_scenario(args) -> int:
     from gyrobench.base.atomic import ensure_free_space
+    from gyrobench.base.safety import Output, mark_folder
     from gyrobench.io.recording import save_hdf5
     from gyrobench.scenarios import registry
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
 
     if extra := given(args, _NOISE_FLAGS):
         raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate noise' only; "
                         f"set a scenario's parameters with --config FILE.toml")
     mod = registry.get(args.target)
+    inputs = [("--config", input_file(args.config, "--config") if args.config is not None else None)]
     config = registry.load_config(mod, args.config)
     if args.out is None:
         raise BadInput(f"simulate {args.target} needs --out DIR")
-    check_output(Path(args.out) / mod.NAME, what="--out", kind="folder")
+    folder = Output(Path(args.out) / mod.NAME, "--out", kind="folder")
+    check_outputs(args, [folder], inputs)  # before any work: a new or empty folder, or one gyrobench made
     seed = 0 if args.seed is None else args.seed
     recs = mod.simulate(config, seed)
     for r in recs:  # check them all before writing any
@@ -186,7 +195,10 @@ def _simulate_scenario(args) -> int:
                 f"lengthen it in the config"
             )
     out = Path(args.out) / mod.NAME
+    # each file, before any is written: never an input, never a file gyrobench did not write (without --force)
+    check_outputs(args, [Output(out / f"{r.name}.h5", "--out", suffixes=(".h5",)) for r in recs], inputs)
     ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
+    mark_folder(out)
     for r in recs:
         path = save_hdf5(out / f"{r.name}.h5", r)
         print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
@@ -209,12 +221,10 @@ def _profile_from_csv(path: str, flag: str, convert) -> tuple[typing.Any, float]
 
     from gyrobench.sim.environment import PiecewiseLinear
 
-    p = Path(path)
-    if not p.is_file():
-        raise BadInput(f"{flag}: file {path!r} does not exist")
+    p = input_file(path, flag)  # not found, a folder, a FIFO, a device: one line
     try:
         data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2, dtype=float)
-    except ValueError as exc:
+    except (ValueError, UnicodeDecodeError) as exc:
         raise BadInput(f"{flag}: {path!r} is not a CSV of numbers under one header row: {one_line(exc)}") from None
     if data.shape[1] != 2 or data.shape[0] < 2:
         raise BadInput(f"{flag}: {path!r} must hold >= 2 rows of two columns (time [s], value); got {data.shape}")
@@ -439,8 +449,8 @@ def _simulate_device(args) -> int:
     import numpy as np
 
     from gyrobench.base import memory
+    from gyrobench.base.safety import Output
     from gyrobench.io.recording import save_hdf5, to_csv
-    from gyrobench.scenarios.reports.outputs import check_output
     from gyrobench.scenarios.static_noise import MIN_SAMPLES
     from gyrobench.sim import parts
 
@@ -450,17 +460,19 @@ def _simulate_device(args) -> int:
         raise BadInput(f"simulate device: {', '.join(extra)} apply to 'simulate SCENARIO' only")
     if args.part is None:
         raise BadInput(f"simulate device needs a PART: one of {', '.join(parts.names())}, or a FILE.toml")
-    try:
-        part = parts.get(args.part)
-    except ValueError as exc:
-        raise BadInput(one_line(exc)) from None
+    part = load_part(args.part, "PART")
     if args.output is None:
         raise BadInput("simulate device needs -o FILE.h5 or FILE.csv")
     out = Path(args.output)
     suffix = out.suffix.lower()
     if suffix not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {str(out)!r}")
-    check_output(out, what="-o", kind="file")
+    inputs = [("PART", args.part if args.part.lower().endswith(".toml") else None),
+              *((flag, getattr(args, dest)) for dest, flag in _DEVICE_FLAGS.items())]
+    for flag, p in inputs:
+        if p is not None:
+            input_file(p, flag)
+    check_outputs(args, [Output(out, "-o", suffixes=_RECORD_SUFFIXES)], inputs)  # before any work
     env, fs, added = _device_environment(args, part)
     n = env.n_samples(fs)
     if n < MIN_SAMPLES:
@@ -476,6 +488,24 @@ def _simulate_device(args) -> int:
     print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
           f"truth {', '.join(rec.truth)})")
     return 0
+
+
+def load_part(name: str, what: str):
+    """The part ``name`` (built-in or a FILE.toml, :func:`gyrobench.sim.parts.get`) or one line naming ``what``:
+    a missing or non-regular file, bad TOML, or TOML nested too deeply to read."""
+    from gyrobench.sim import parts
+
+    if name.lower().endswith(".toml"):
+        input_file(name, what)
+    try:
+        with bounded_recursion():
+            return parts.get(name)
+    except ValueError as exc:
+        raise BadInput(one_line(exc)) from None
+    except RecursionError:  # arrays or tables nested thousands deep
+        raise BadInput(f"{what} {name!r} nests arrays or tables too deeply to read") from None
+    except UnicodeDecodeError as exc:
+        raise BadInput(f"{what} {name!r} is not UTF-8 text: {one_line(exc)}") from None
 
 
 def _cmd_parts(args) -> int:
@@ -570,6 +600,7 @@ def add_parsers(sub) -> None:
     s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
     s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    add_force(s)
     s.set_defaults(func=_cmd_simulate)
 
     s = sub.add_parser("parts", help="list the built-in gyro parts with their datasheet figures and physics mapping")

@@ -24,14 +24,23 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gyrobench.scenarios.cli.common import MAX_FLAG_VALUE, BadInput, positive_float, seed
+from gyrobench.scenarios.cli.common import (
+    MAX_FLAG_VALUE,
+    BadInput,
+    add_force,
+    check_outputs,
+    input_file,
+    positive_float,
+    seed,
+)
 
 if TYPE_CHECKING:  # the verb imports numpy, analysis and sim only when it runs (``--help`` stays light)
     import numpy as np
     from numpy.typing import NDArray
 
     from gyrobench.analysis.allan import NoiseFit
-    from gyrobench.analysis.twin import TwinComparison
+    from gyrobench.analysis.record import RecordAnalysis
+    from gyrobench.analysis.twin import SampleComparison, TwinComparison
     from gyrobench.io.recording import Recording
     from gyrobench.sim.noise import NoiseModel
     from gyrobench.sim.parts import Part
@@ -49,15 +58,21 @@ class TwinResult:
     Attributes
     ----------
     fit : NoiseFit
-        The real record's noise fit (rad/s in, SI coefficients).
+        The real record's noise fit (rad/s in, SI coefficients), from the shared analysis.
     model : str
-        "fit" (the fitted model) or the name of the built-in part used.
+        "fit" (the fitted model, with any chosen terms named) or the name of the built-in part used.
     coefficients : dict of str to float
-        The twin's IEEE coefficients [SI: Q rad, N rad/sqrt(s), B rad/s, K rad/s/sqrt(s), R rad/s^2].
+        The twin's IEEE coefficients [SI: Q rad, N rad/sqrt(s), B rad/s, K rad/s/sqrt(s), R rad/s^2],
+        and the extra terms' parameters (``gm_sigma``, ``gm_correlation_time``, ``sine_amplitude``,
+        ``sine_period``, ``lowpass_corner``, ``lowpass_order``, ``lowpass_passes``, ``bias``).
     recording : Recording
         The twin: channel ``output`` [rad/s], truth ``true_rate`` (0) and its noise terms.
     comparison : TwinComparison
-        Per-tau test at the fitted taus.
+        Per-tau test at every tau of the analysed curve.
+    samples : SampleComparison or None
+        The sample spread, range and mean against the real record's (None for a part's model).
+    analysis : RecordAnalysis
+        The shared analysis of the real record (verdict, basis, model choice).
     """
 
     fit: NoiseFit
@@ -65,6 +80,17 @@ class TwinResult:
     coefficients: dict[str, float]
     recording: Recording
     comparison: TwinComparison
+    samples: SampleComparison | None = None
+    analysis: RecordAnalysis | None = None
+
+    @property
+    def passed(self) -> bool:
+        """The Allan deviation matches at every compared tau and the sample spread matches."""
+        return self.comparison.passed and (self.samples is None or self.samples.passed)
+
+
+class NonStationaryRecord(Exception):
+    """The record is not stationary and its quiet stretches hold too few taus to build a twin from."""
 
 
 def noise_model_from_fit(fit: NoiseFit) -> NoiseModel:
@@ -158,54 +184,162 @@ def _fit_recording(model, n: int, fs: float, rng, *, source: str, fit_meta: dict
                      name="twin")
 
 
-def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator, source: str = "",
-              part: str | None = None, nearest: str | None = None, family_alpha: float = 0.05,
-              gauss_markov: bool = True) -> TwinResult:
-    """Fit ``rate`` [rad/s] at ``fs`` [Hz], simulate its twin from ``rng`` and compare (module docstring).
+def _fitted_model(ra: RecordAnalysis, rate: NDArray[np.float64], gauss_markov: bool):
+    """The twin's NoiseModel, its low-pass (order, corner, passes) or None, its label and coefficients.
 
-    ``part`` (a built-in name or .toml) or ``nearest`` (a technology) replaces the fitted model
-    by a part's datasheet model (:class:`gyrobench.sim.parts.Part`, a static record). With
-    ``gauss_markov`` a misfitting five-term model gains a Gauss-Markov term when the curve
-    needs one (:func:`gauss_markov_term`).
+    From the shared analysis: the IEEE terms of the chosen model, its Gauss-Markov and sinusoid
+    terms, its low-pass (white noise N through it; N from the fit over the bent taus), and the
+    fitted samples' mean as the constant bias.
     """
     import numpy as np
 
-    from gyrobench.analysis.allan import allan_deviation, fit_noise
-    from gyrobench.analysis.twin import compare_twin
+    from gyrobench.analysis.allan import avar_to_coefficient
+    from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
+
+    fit = ra.fit
+    assert fit is not None  # make_twin refuses a record without a fit
+    m = ra.model
+    cn = dict(fit.avar_coefficients) if m is None or not m.extra else {**fit.avar_coefficients, **m.avar_coefficients}
+    c = {k: avar_to_coefficient(k, float(cn.get(k, 0.0))) for k in _FIELDS}
+    spans = ra.fitted_stretches
+    bias = float(np.mean(rate if spans is None else np.concatenate([rate[a:b] for a, b in spans])))
+    gm: tuple[GaussMarkov, ...] = ()
+    sines: tuple[Sinusoid, ...] = ()
+    lowpass: tuple[int, float, int] | None = None
+    names: list[str] = []
+    coeffs = dict(c)
+    if m is not None:
+        amp: dict[str, float] = {}
+        g = m.term("gauss_markov") if gauss_markov else None
+        if g is not None:
+            sig = amp.get("amp_gauss_markov", g.params["sigma"])  # refitted with the low-pass over the bent taus
+            gm = (GaussMarkov(sigma=sig, correlation_time=g.params["tc"]),)
+            coeffs.update(gm_sigma=sig, gm_correlation_time=g.params["tc"])
+            names.append("Gauss-Markov")
+        sn = m.term("sinusoid")
+        if sn is not None:
+            amp_s = amp.get("amp_sinusoid", sn.params["amplitude"])
+            sines = (Sinusoid(amplitude=amp_s, frequency=1.0 / sn.params["period"]),)
+            coeffs.update(sine_amplitude=amp_s, sine_period=sn.params["period"])
+            names.append("sinusoid")
+        lp = m.term("lowpass")
+        if lp is not None:
+            lowpass = (int(lp.params["order"]), float(lp.params["corner"]), int(lp.params["passes"]))
+            c["N"] = coeffs["N"] = float(lp.params["N"])
+            if "C_Q" in lp.params:  # quantization after the filter, fitted with it over the bent taus
+                c["Q"] = coeffs["Q"] = avar_to_coefficient("Q", float(lp.params["C_Q"]))
+            coeffs.update(lowpass_order=lowpass[0], lowpass_corner=lowpass[1], lowpass_passes=lowpass[2])
+            names.append("low-pass")
+    coeffs["bias"] = bias
+    model = NoiseModel(quantization=c["Q"], angle_random_walk=0.0 if lowpass else c["N"], bias_instability=c["B"],
+                       rate_random_walk=c["K"], rate_ramp=c["R"], gauss_markov=gm, sinusoids=sines, bias=bias)
+    label = "fit" + "".join(f" + {n}" for n in names)
+    return model, lowpass, label, coeffs, c["N"]
+
+
+def _lowpassed_white(n: int, fs: float, n_coef: float, lowpass: tuple[int, float, int], rng) -> NDArray[np.float64]:
+    """White rate noise of N [rad/sqrt(s)] through the Butterworth (order, corner [Hz], passes)."""
+    import numpy as np
+    from scipy.signal import butter, sosfilt, sosfiltfilt
+
+    order, corner, passes = lowpass
+    sos = butter(order, corner / (fs / 2.0), output="sos")
+    pad = min(n, int(20 * fs / corner) + 1)  # settle the filter on a run-in, then drop it
+    w = rng.standard_normal(n + 2 * pad) * n_coef * math.sqrt(fs)
+    y = sosfiltfilt(sos, w) if passes == 2 else sosfilt(sos, w)
+    return np.asarray(y[pad : pad + n])
+
+
+def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator, source: str = "",
+              part: str | None = None, nearest: str | None = None, family_alpha: float = 0.05,
+              gauss_markov: bool = True, analysis: RecordAnalysis | None = None) -> TwinResult:
+    """Analyse ``rate`` [rad/s] at ``fs`` [Hz] as ``allan`` does, simulate its twin from ``rng`` and compare.
+
+    The analysis is :func:`gyrobench.analysis.record.analyse_record` (the verdict, the quiet
+    stretches of a non-stationary record, the fit range and the chosen terms), or ``analysis``
+    when given. The twin carries the chosen model: the IEEE terms, any Gauss-Markov, sinusoid and
+    low-pass terms and the constant bias. It is judged at every tau of the analysed curve (the
+    quiet stretches' curve, computed on the twin with the same windows left out, for a
+    non-stationary record), and its sample spread is compared too (:func:`compare_samples`).
+    ``part`` (a built-in name or .toml) or ``nearest`` (a technology) replaces the fitted model
+    by a part's datasheet model.
+
+    Raises
+    ------
+    NonStationaryRecord
+        The record is not stationary and its quiet stretches could not be analysed.
+    """
+    import numpy as np
+
+    from gyrobench.analysis.allan import allan_deviation
+    from gyrobench.analysis.quiet import quiet_curve
+    from gyrobench.analysis.record import analyse_record, octave_subset
+    from gyrobench.analysis.twin import compare_samples, compare_twin, sample_variance_edf
     from gyrobench.sim import parts as parts_mod
     from gyrobench.sim.sensor import Environment
 
     rate = np.asarray(rate, dtype=float)
     n = len(rate)
-    fit = fit_noise(rate, fs, tau_min="auto")
+    ra = analysis if analysis is not None else analyse_record(rate, fs)
+    if ra.nonstationary and ra.basis != "quiet stretches":
+        raise NonStationaryRecord(
+            "the record is not stationary (motion or steps) and its quiet stretches hold too few taus for a fit: "
+            "no twin is built (analyse a quiet stretch with gyrobench allan --start/--stop)")
+    fit = ra.fit
+    if fit is None:
+        raise ValueError(f"no noise fit for this record: {ra.no_fit}")
     fit_meta = {k: {"value": c.value, "ci95": list(c.ci95), "identifiable": c.identifiable}
                 for k, c in fit.coefficients.items()}
+    samples = None
     if part is not None or nearest is not None:
         p = parts_mod.get(part) if part is not None else nearest_part(fit, str(nearest))
         rec = p.simulate(Environment(n / fs), fs=fs, rng=rng)
         nm = p.datasheet.noise_model()
         coeffs = {k: float(getattr(nm, f)) for k, f in _FIELDS.items()}
         label = p.name
+        out = np.asarray(rec["output"], dtype=float)
     else:
-        model = noise_model_from_fit(fit)
-        label = "fit"
-        gm = gauss_markov_term(fit) if gauss_markov else None
-        if gm is not None:
-            from gyrobench.analysis.allan import avar_to_coefficient
-            from gyrobench.sim.noise import GaussMarkov, NoiseModel
+        model, lowpass, label, coeffs, n_coef = _fitted_model(ra, rate, gauss_markov)
+        comps = model.components(n, fs, rng=rng)
+        if lowpass is not None:
+            comps["angle_random_walk"] = _lowpassed_white(n, fs, n_coef, lowpass, rng)
+        if model.bias:
+            comps.setdefault("bias", np.full(n, model.bias))
+        rec = _twin_recording(comps, n, fs, source=source, fit_meta=fit_meta, datasheet=model.to_datasheet())
+        out = np.asarray(rec["output"], dtype=float)
+    if ra.basis == "quiet stretches" and ra.stationarity is not None and ra.quiet is not None:
+        qt = quiet_curve(out, fs, ra.stationarity)
+        twin_curve = qt.curve if qt is not None else None
+        real_samples = np.concatenate([rate[a:b] for a, b in ra.quiet.stretches])
+        twin_samples = np.concatenate([out[a:b] for a, b in ra.quiet.stretches])
+    else:
+        twin_curve = allan_deviation(out, fs, kind=fit.curve.kind, taus="octave")
+        twin_curve = octave_subset(twin_curve)
+        real_samples, twin_samples = rate, out
+    real_curve = ra.fit_curve
+    if twin_curve is None or twin_curve.tau.shape != real_curve.tau.shape:
+        raise NonStationaryRecord("the twin's quiet-stretch curve does not hold the real curve's taus")
+    cmp = compare_twin(real_curve, twin_curve, family_alpha=family_alpha, extra_tests=1)
+    if part is None and nearest is None:
+        samples = compare_samples(real_samples, twin_samples, edf=sample_variance_edf(real_curve),
+                                  level=cmp.per_tau_alpha)
+    return TwinResult(fit=fit, model=label, coefficients=coeffs, recording=rec, comparison=cmp, samples=samples,
+                      analysis=ra)
 
-            c = {k: avar_to_coefficient(k, float(v)) for k, v in zip(_FIELDS, gm[0], strict=True)}
-            model = NoiseModel(quantization=c["Q"], angle_random_walk=c["N"], bias_instability=c["B"],
-                               rate_random_walk=c["K"], rate_ramp=c["R"],
-                               gauss_markov=(GaussMarkov(sigma=gm[1], correlation_time=gm[2]),))
-            label = "fit + Gauss-Markov"
-        rec = _fit_recording(model, n, fs, rng, source=source, fit_meta=fit_meta)
-        coeffs = {k: float(getattr(model, f)) for k, f in _FIELDS.items()}
-        if gm is not None:
-            coeffs.update(gm_sigma=gm[1], gm_correlation_time=gm[2])
-    twin_curve = allan_deviation(rec["output"], fs, kind=fit.curve.kind)
-    cmp = compare_twin(fit.curve, twin_curve, taus=fit.tau_used, family_alpha=family_alpha)
-    return TwinResult(fit=fit, model=label, coefficients=coeffs, recording=rec, comparison=cmp)
+
+def _twin_recording(comps: dict, n: int, fs: float, *, source: str, fit_meta: dict, datasheet: dict):
+    import numpy as np
+
+    from gyrobench.io.recording import Channel, Recording
+
+    out = np.sum(list(comps.values()), axis=0) if comps else np.zeros(n)
+    truth = {"true_rate": Channel(np.zeros(n), "rad/s", "input rate (static record)")}
+    truth.update({k: Channel(np.asarray(v, dtype=float), "rad/s", f"twin term {k}") for k, v in comps.items()})
+    return Recording(fs=fs, channels={"output": Channel(out, "rad/s", "twin output")}, truth=truth, t0=0.5 / fs,
+                     metadata={"model": "gyrobench twin (fitted model)", "source": source,
+                               "noise_model": datasheet, "fit": fit_meta,
+                               "error_components": list(comps), "ignored_inputs": []},
+                     name="twin")
 
 
 def _table(res: TwinResult, label: str) -> list[str]:
@@ -213,7 +347,10 @@ def _table(res: TwinResult, label: str) -> list[str]:
 
     c = res.comparison
     dph = 1.0 / units.deg_per_h(1.0)
-    lines = [f"twin of {label}: model {res.model}; {res.recording.n_samples} samples at {res.recording.fs:g} Hz",
+    ra = res.analysis
+    basis = "" if ra is None or ra.basis == "whole record" else f" (built from the real record's {ra.basis})"
+    lines = [f"twin of {label}: model {res.model}{basis}; {res.recording.n_samples} samples at "
+             f"{res.recording.fs:g} Hz",
              f"rule: {c.rule}",
              *([f"Gauss-Markov term (the five power laws misfit): sigma {res.coefficients['gm_sigma'] * dph:.4g} "
                 f"deg/h, Tc {res.coefficients['gm_correlation_time']:.4g} s"]
@@ -225,17 +362,32 @@ def _table(res: TwinResult, label: str) -> list[str]:
                      f"[{c.real_low95[i] * dph:>10.4g}, {c.real_high95[i] * dph:>10.4g}] {c.twin[i] * dph:>11.4g} "
                      f"{c.ratio[i]:>9.3f} [{c.ratio_low[i]:.3f}, {c.ratio_high[i]:.3f}] "
                      f"{'yes' if c.inside_real95[i] else 'no':>9} {'ok' if c.inside[i] else 'FAIL':>5}")
-    verdict = "MATCHES" if c.passed else "DOES NOT MATCH"
-    lines.append(f"twin {verdict}: {int(c.inside.sum())}/{c.n_taus} fitted taus inside the band; "
+    sp = res.samples
+    if sp is not None:
+        lines.append(f"samples [deg/h]: real mean {sp.real_mean * dph:.5g}, sd {sp.real_std * dph:.4g}, range "
+                     f"[{sp.real_range[0] * dph:.4g}, {sp.real_range[1] * dph:.4g}]; "
+                     f"twin mean {sp.twin_mean * dph:.5g}, "
+                     f"sd {sp.twin_std * dph:.4g}, range [{sp.twin_range[0] * dph:.4g}, {sp.twin_range[1] * dph:.4g}]; "
+                     f"sd ratio {sp.std_ratio:.3f} in [{sp.band[0]:.3f}, {sp.band[1]:.3f}]: "
+                     f"{'ok' if sp.passed else 'FAIL'}")
+    verdict = "MATCHES" if res.passed else "DOES NOT MATCH"
+    lines.append(f"twin {verdict}: {int(c.inside.sum())}/{c.n_taus} octave taus inside the band"
+                 f"{'' if sp is None else ', sample spread ' + ('ok' if sp.passed else 'outside its band')}; "
                  f"{int(c.inside_real95.sum())}/{c.n_taus} inside the real curve's own 95 % interval (informative)")
     return lines
 
 
 def _json(res: TwinResult, label: str) -> dict:
     c = res.comparison
+    sp = res.samples
+    samples = None if sp is None else {
+        "real_mean": sp.real_mean, "twin_mean": sp.twin_mean, "real_std": sp.real_std, "twin_std": sp.twin_std,
+        "real_range": list(sp.real_range), "twin_range": list(sp.twin_range), "std_ratio": sp.std_ratio,
+        "band": list(sp.band), "edf": sp.edf, "passed": sp.passed, "unit": "rad/s"}
     return {"source": label, "model": res.model, "fs": res.recording.fs, "n_samples": res.recording.n_samples,
+            "basis": None if res.analysis is None else res.analysis.basis,
             "coefficients_si": res.coefficients, "rule": c.rule, "family_alpha": c.family_alpha,
-            "per_tau_alpha": c.per_tau_alpha, "passed": c.passed,
+            "per_tau_alpha": c.per_tau_alpha, "passed": res.passed, "adev_passed": c.passed, "samples": samples,
             "taus": [{"tau": float(c.tau[i]), "real": float(c.real[i]), "real_low95": float(c.real_low95[i]),
                       "real_high95": float(c.real_high95[i]), "twin": float(c.twin[i]), "ratio": float(c.ratio[i]),
                       "ratio_low": float(c.ratio_low[i]), "ratio_high": float(c.ratio_high[i]),
@@ -253,6 +405,7 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
 
     from gyrobench.base import units
     from gyrobench.base.atomic import atomic_path
+    from gyrobench.base.safety import PNG_METADATA
 
     c = res.comparison
     dph = 1.0 / units.deg_per_h(1.0)
@@ -265,13 +418,28 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
         ax.loglog(c.tau[bad], c.twin[bad] * dph, "rx", ms=10, label="outside the F band")
     ax.set_xlabel("tau [s]")
     ax.set_ylabel("Allan deviation [deg/h]")
-    ax.set_title(f"twin of {label}: {'matches' if c.passed else 'does not match'} "
+    ax.set_title(f"twin of {label}: {'matches' if res.passed else 'does not match'} "
                  f"(family-wise alpha {c.family_alpha:g})", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     with atomic_path(target) as tmp:
-        fig.savefig(tmp, format=(target.suffix.lstrip(".") or "png"), dpi=120, bbox_inches="tight")
+        fig.savefig(tmp, format="png", dpi=120, bbox_inches="tight", metadata=PNG_METADATA)
     plt.close(fig)
+
+
+def _check_twin_outputs(args, path: Path) -> None:
+    """-o and --plot through the output rule (gyrobench.base.safety): never the record or the --part file."""
+    from gyrobench.base.safety import Output
+
+    part = args.part if args.part is not None and args.part.lower().endswith(".toml") else None
+    if args.part is not None:  # read once here: a missing, foreign or too deeply nested part fails before the fit
+        from gyrobench.scenarios.cli.simulate import load_part
+
+        load_part(args.part, "--part")
+    outs = [Output(Path(args.output), "-o", suffixes=(".h5", ".hdf5", ".csv"), create_parents=False)]
+    if args.plot:
+        outs.append(Output(Path(args.plot), "--plot", suffixes=(".png",), create_parents=False))
+    check_outputs(args, outs, [("FILE", path), ("--part", part)])
 
 
 def _cmd_twin(args) -> int:
@@ -279,18 +447,13 @@ def _cmd_twin(args) -> int:
 
     from gyrobench.io.recording import save_hdf5
     from gyrobench.scenarios.cli.allan import _check_allan_input, _read_hdf5
-    from gyrobench.scenarios.reports.outputs import check_output
 
-    path = Path(args.file)
-    if not path.is_file():
-        raise FileNotFoundError(f"recording file not found: {str(path)!r}")
+    path = input_file(args.file, "recording file")  # not found, a folder, a FIFO, a device: one line
     if args.part is not None and args.nearest is not None:
         raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
     if Path(args.output).suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.output!r}")
-    check_output(args.output, what="-o", create_parents=False)
-    if args.plot:
-        check_output(args.plot, what="--plot", create_parents=False)
+    _check_twin_outputs(args, path)  # before any work
     columns = [args.column] if args.column is not None else None
     if path.suffix.lower() in (".h5", ".hdf5"):
         if args.fs is not None or args.units is not None:
@@ -307,8 +470,14 @@ def _cmd_twin(args) -> int:
     if not np.all(np.isfinite(rate)):
         raise BadInput(f"{ch.label!r} holds non-finite samples; the twin needs a complete record")
     _check_allan_input(rate, log.fs, ch.label, "overlapping")
-    res = make_twin(rate, log.fs, rng=np.random.default_rng(args.seed), source=f"{path.name}:{ch.label}",
-                    part=args.part, nearest=args.nearest, family_alpha=args.alpha)
+    from gyrobench.scenarios.cli import exits
+
+    try:
+        res = make_twin(rate, log.fs, rng=np.random.default_rng(args.seed), source=f"{path.name}:{ch.label}",
+                        part=args.part, nearest=args.nearest, family_alpha=args.alpha)
+    except NonStationaryRecord as exc:
+        print(f"NONSTATIONARY {path.name}:{ch.label}: {exc}")
+        return exits.NONSTATIONARY
     if Path(args.output).suffix.lower() == ".csv":
         from gyrobench.io.recording import to_csv
 
@@ -321,9 +490,15 @@ def _cmd_twin(args) -> int:
     if args.json:
         print(json.dumps(_json(res, label)))
     else:
-        print("\n".join(_table(res, label)))
+        lines = _table(res, label)
+        if res.analysis is not None and res.analysis.nonstationary:
+            lines.insert(0, f"NONSTATIONARY {label}: motion or steps in the record; the twin is of its quiet "
+                            "stretches, as gyrobench allan analyses them")
+        print("\n".join(lines))
         print(f"wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
-    return 0 if res.comparison.passed else 1
+    if res.analysis is not None and res.analysis.nonstationary and not args.accept_nonstationary:
+        return exits.NONSTATIONARY
+    return 0 if res.passed else 1
 
 
 def _alpha_arg(text: str) -> float:
@@ -338,8 +513,9 @@ def _alpha_arg(text: str) -> float:
 def add_parser(sub) -> None:
     """Add ``twin`` to the subparsers ``sub``."""
     s = sub.add_parser("twin", help="digital twin of a real static record: fit, simulate, compare Allan deviations",
-                       epilog="exit status: 0 the twin matches; 1 it does not (some fitted tau outside the band); "
-                              "2 bad input")
+                       epilog="exit status: 0 the twin matches; 1 it does not (some octave tau outside the band, "
+                              "or the sample spread); 2 bad input; 5 the record is not stationary (the twin is of "
+                              "its quiet stretches, or none is built; --accept-nonstationary exits 0/1)")
     s.add_argument("file", help="real static record: CSV (.csv, .csv.gz) or gyrobench HDF5")
     s.add_argument("--column", help="the rate column (CSV name or index; HDF5 channel, default 'rate')")
     s.add_argument("--fs", type=positive_float("--fs", MAX_FLAG_VALUE),
@@ -354,6 +530,10 @@ def add_parser(sub) -> None:
     s.add_argument("--alpha", type=_alpha_arg, default=0.05,
                    help="family-wise false-alarm rate of the pass rule: a perfect twin fails at most this often "
                         "(default 0.05)")
+    s.add_argument("--accept-nonstationary", action="store_true",
+                   help="exit 0/1 by the match also when the record has motion or steps (the twin is then of its "
+                        "quiet stretches; default: exit status 5, as allan)")
     s.add_argument("--json", action="store_true", help="print the per-tau comparison as JSON")
     s.add_argument("--plot", help="write the overlaid ADEV figure (PNG)")
+    add_force(s)
     s.set_defaults(func=_cmd_twin)

@@ -1,17 +1,23 @@
-"""The four source papers: who wrote them, their titles, where and when they appeared.
+"""The paper scenarios: one subpackage per paper, discovered, and the record of each source paper.
 
-Each paper scenario names its paper by key (``PAPER = "001"``); ``gyrobench list``,
-the report headers and the README cite them from here. Titles are given in the
-original Chinese with an English rendering; fields the seed texts do not give are
-``None`` and printed as "not given in the source text".
+A paper is one folder, ``p<key>_<scenario>/``, in this package's path: its package ``__init__``
+states the contract's literals (``NAME``, ``TITLE``, ``PAPER`` and ``SOURCE``, a :class:`Paper`)
+and re-exports the contract's functions (:mod:`gyrobench.scenarios.papers.contract`).
+:func:`discover` finds the folders with :mod:`pkgutil` over ``__path__`` and reads the literals
+with :mod:`ast`, so ``gyrobench list`` imports no paper (nor numpy). Titles are given in the
+original Chinese with an English rendering; fields the seed texts do not give are ``None`` and
+printed as "not given in the source text".
 """
 
 from __future__ import annotations
 
+import ast
+import pkgutil
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
-__all__ = ["PAPERS", "Paper", "citation"]
-
+__all__ = ["DiscoveredPaper", "Paper", "citation", "discover", "sources"]
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Paper:
@@ -31,75 +37,112 @@ class Paper:
     source_note: str = ""  # where a field came from when not from the seed text itself
 
 
-PAPERS: dict[str, Paper] = {
-    p.key: p
-    for p in (
-        Paper(
-            key="000",
-            authors="Fang Lin, Shen Chong, Chen Xiyuan",
-            authors_zh="方琳, 申冲, 陈熙源",
-            affiliation="Southeast University, Nanjing",
-            topic="FOG under linear vibration: Allan terms by phase, db4 wavelet multiscale "
-            "denoising and an RBF bias model against a 4th-order least-squares fit",
-            title_en=None,
-            title_zh=None,
-            journal=None,
-            year=None,
-            source_note="the seed text starts at the author line; its latest reference is from 2011",
-        ),
-        Paper(
-            key="001",
-            authors="Du Renjie, Su Zhong, Liu Ning, Li Ling",
-            authors_zh="杜仁杰, 苏中, 刘宁, 李羚",
-            affiliation="Beijing Information Science and Technology University, "
-            "Beijing Key Laboratory of High Dynamic Navigation Technology",
-            topic="high-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise "
-            "polynomial regression",
-            title_en="Research on the compensation of the scale-factor nonlinearity error of MEMS gyros",
-            title_zh="MEMS陀螺标度因数非线性误差补偿方法研究",
-            journal=None,
-            year=None,
-            source_note="the seed text has no title; the title is the one a public abstract "
-            "listing gives for this abstract (15.71 % -> 0.14 %, 0.247 ms); journal and year not found",
-        ),
-        Paper(
-            key="003",
-            authors="Cheng Jianhua, Qi Bing, Zhao Lin",
-            authors_zh="程建华, 齐兵, 赵琳",
-            affiliation="College of Automation, Harbin Engineering University, Harbin",
-            topic="IFOG temperature drift: RBF network with a T x dT product term, real-time "
-            "compensation on a DSP",
-            title_en="Design of compensation system for temperature drift errors of "
-            "interferometric fiber optical gyroscopes",
-            title_zh="干涉式光纤陀螺仪温漂误差补偿系统的设计",
-            journal="Systems Engineering and Electronics (系统工程与电子技术)",
-            year=2016,
-            volume_issue="38(6)",
-            doi="10.3969/j.issn.1001-506X.2016.06.25",
-            source_note="journal from the ISSN 1001-506X in the DOI the text prints; received "
-            "2015-04-20, online 2016-02-15",
-        ),
-        Paper(
-            key="004",
-            authors="Chen Jian, Liu Liying, Chen Junjun",
-            authors_zh="陈剑, 刘黎映, 陈军军",
-            affiliation="Naval Equipment Department pricing centre; Beijing Institute of "
-            "Automatic Control Equipment",
-            topic="dithered RLG variable-temperature bias (-40..+65 degC): stepwise multiple "
-            "linear regression on housing and cavity temperatures",
-            title_en=None,
-            title_zh=None,
-            journal=None,
-            year=None,
-            source_note="the seed text starts at the author line",
-        ),
+@dataclass(frozen=True, slots=True)
+class DiscoveredPaper:
+    """A paper package found in this package's path, as its ``__init__`` states it.
+
+    ``module`` is its dotted import path, ``origin`` its ``__init__.py``; ``bench`` says whether
+    it exports ``compensation_task`` (``gyrobench bench`` can score a compensator on it).
+    """
+
+    module: str
+    name: str
+    title: str
+    paper: str
+    source: Paper | None
+    bench: bool
+    origin: str
+
+
+#: discovered papers by the tuple of folders searched (the path a test extends is a new key)
+_FOUND: dict[tuple[str, ...], tuple[DiscoveredPaper, ...]] = {}
+
+
+def discover() -> tuple[DiscoveredPaper, ...]:
+    """Every paper package in this package's ``__path__``, in folder-name order.
+
+    A subpackage is a paper; its ``__init__`` is parsed, not imported.
+
+    Raises
+    ------
+    ValueError
+        If a subpackage does not set ``NAME``, ``TITLE`` and ``PAPER`` to string literals, or
+        two papers share a ``NAME``.
+    """
+    key = tuple(str(p) for p in __path__)
+    if key not in _FOUND:
+        found: dict[str, DiscoveredPaper] = {}
+        for info in sorted(pkgutil.iter_modules(list(__path__)), key=lambda m: m.name):
+            if not info.ispkg:
+                continue
+            spec = info.module_finder.find_spec(info.name, None)
+            if spec is None or not spec.origin:
+                continue
+            paper = _read(f"{__name__}.{info.name}", Path(spec.origin))
+            if paper.name in found:
+                raise ValueError(
+                    f"paper NAME {paper.name!r} is declared twice: {found[paper.name].origin} and {paper.origin}"
+                )
+            found[paper.name] = paper
+        _FOUND[key] = tuple(found.values())
+    return _FOUND[key]
+
+
+def _read(module: str, origin: Path) -> DiscoveredPaper:
+    """The contract literals of the paper package whose ``__init__`` is ``origin``."""
+    tree = ast.parse(origin.read_bytes(), filename=str(origin))
+    constants: dict[str, Any] = {}
+    source: Paper | None = None
+    bench = False
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+            target = node.targets[0].id
+            if target in ("NAME", "TITLE", "PAPER"):
+                try:
+                    constants[target] = ast.literal_eval(node.value)
+                except ValueError:
+                    pass
+            elif target == "SOURCE":
+                source = _paper_literal(node.value, origin)
+        elif isinstance(node, ast.FunctionDef) and node.name == "compensation_task":
+            bench = True
+        elif isinstance(node, ast.ImportFrom) and any(
+            (a.asname or a.name) == "compensation_task" for a in node.names
+        ):
+            bench = True
+    for name in ("NAME", "TITLE", "PAPER"):
+        if not isinstance(constants.get(name), str):
+            raise ValueError(f"paper package {module}: {name} must be a string literal in {origin}")
+    return DiscoveredPaper(
+        module, constants["NAME"], constants["TITLE"], constants["PAPER"], source, bench, str(origin)
     )
-}
+
+
+def _paper_literal(node: ast.expr, origin: Path) -> Paper:
+    """``Paper(key=..., ...)`` with literal keyword arguments, built without importing the package."""
+    if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "Paper"):
+        raise ValueError(f"{origin}: SOURCE must be a Paper(...) call with literal keyword arguments")
+    try:
+        kwargs = {k.arg: ast.literal_eval(k.value) for k in node.keywords if k.arg is not None}
+    except ValueError:
+        raise ValueError(f"{origin}: SOURCE's arguments must be literals") from None
+    return Paper(**kwargs)
+
+
+def sources() -> dict[str, Paper]:
+    """The source paper of every discovered paper package, by paper key."""
+    return {p.paper: p.source for p in discover() if p.source is not None}
 
 
 def citation(key: str, *, short: bool = False) -> str:
-    """``"Du et al."`` (short) or the full reference line, saying what the source text lacks."""
-    p = PAPERS[key]
+    """``"Du et al."`` (short) or the full reference line, saying what the source text lacks.
+
+    Raises
+    ------
+    KeyError
+        If no discovered paper package has the paper key ``key``.
+    """
+    p = sources()[key]
     first = p.authors.split(",")[0].split()[0]
     if short:
         return f"{first} et al." + (f" ({p.year})" if p.year else "")

@@ -1,7 +1,8 @@
 """The contract every paper scenario package meets: :class:`PaperScenario`.
 
-A paper is a package ``gyrobench.scenarios.papers.p<key>_<scenario>`` with four modules
-and a registry line in :mod:`gyrobench.scenarios.registry`:
+A paper is a package ``gyrobench.scenarios.papers.p<key>_<scenario>`` (one folder, discovered
+by :func:`gyrobench.scenarios.papers.discover`; nothing is registered elsewhere) with four
+modules:
 
 ``config.py``
     ``Config``: a frozen dataclass whose defaults are the paper's stated protocol (field
@@ -21,10 +22,13 @@ and a registry line in :mod:`gyrobench.scenarios.registry`:
     typed results and the judged claims only. It imports nothing from
     :mod:`gyrobench.sim`; it never re-runs a simulation.
 
-The package's ``__init__`` re-exports ``NAME``, ``TITLE``, ``PAPER``, ``Config`` and the
-functions above (and ``compensation_task`` when the paper has a compensation stage for
-``gyrobench bench``), so the package itself is a :class:`PaperScenario`. The contract
-test (``tests/scenarios/test_paper_contract.py``) runs over every registered paper.
+The package's ``__init__`` states ``NAME``, ``TITLE`` and ``PAPER`` as literals and ``SOURCE``
+(a :class:`gyrobench.scenarios.papers.Paper`), and re-exports ``Config`` and the functions
+above (and, when the paper has a compensation stage for ``gyrobench bench``,
+``compensation_task`` and ``BENCH_SCORES``, a
+:class:`gyrobench.scenarios.bench.primary.ScenarioScores`), so the package itself is a
+:class:`PaperScenario`. The contract test (``tests/scenarios/test_paper_contract.py``) runs
+over every discovered paper.
 """
 
 from __future__ import annotations

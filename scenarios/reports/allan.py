@@ -137,23 +137,20 @@ class ChannelResult:
     temperature: Any = None
     nonstationary: bool = False
     segments: list = field(default_factory=list)  # (start_s, stop_s, ChannelResult) of --segments auto
-    pooled: Any = None  # --segments auto: one NoiseFit over the quiet stretches' pooled curve (pool_curves)
+    pooled: Any = None  # --segments auto: the fit over the quiet stretches pooled per tau
+    analysis: Any = None  # the RecordAnalysis (gyrobench.analysis.record) behind the fit
+    segments_asked: bool = False  # --segments auto was given
 
 
 def stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
-    """Motion/step warnings on windows of the curve's tau nearest 1 s with >= 32 windows,
-    whether motion or steps were found (the record is then flagged non-stationary) and the
-    :class:`StationarityReport` (None when no tau qualifies)."""
-    import numpy as np
+    """Motion/step warnings (:func:`gyrobench.analysis.record.stationarity_verdict`), whether motion or
+    steps were found (the record is then flagged non-stationary) and the :class:`StationarityReport`
+    (None when no tau qualifies)."""
+    from gyrobench.analysis.record import stationarity_verdict
 
-    from gyrobench.analysis.stationarity import stationarity_check
-
-    n = len(data)
-    ok = (curve.m >= 8) & (n // np.maximum(curve.m, 1) >= 32)
-    if not np.any(ok):
+    rep = stationarity_verdict(data, fs, curve, label)
+    if rep is None:
         return [], False, None
-    i = int(np.flatnonzero(ok)[np.argmin(np.abs(np.log(curve.tau[ok])))])
-    rep = stationarity_check(data, fs, float(curve.deviation[i]), window=float(curve.tau[i]))
     return rep.warnings(label), bool(rep.tested and not rep.stationary), rep
 
 
@@ -183,20 +180,16 @@ def analyse(
     bandwidth: float | None = None,
     bandwidth_bias: float = 0.1,
     segments: str | None = None,
+    quiet: bool = True,
+    select: bool = True,
 ) -> ChannelResult:
     """Allan deviation of one channel (SI) and, for the Allan variance kinds, the noise fit.
 
-    With ``taus="all"`` the fit uses the octave taus among them (the fit's point covariance
-    grows as the square of the number of taus, and neighbouring m carry no new information).
+    The analysis is :func:`gyrobench.analysis.record.analyse_record` (the path ``twin`` and the
+    Python API share): on a non-stationary channel the quiet stretches are fitted (``quiet``).
+    With ``taus="all"`` the fit uses the octave taus among them.
     """
-    from gyrobench.analysis.allan import (
-        AllanCurve,
-        allan_deviation,
-        bandwidth_range,
-        fit_noise,
-        fit_range,
-        floor_bounds,
-    )
+    from gyrobench.analysis.record import analyse_record
 
     check_finite(channel)
     data, tfit = channel.data, None
@@ -204,58 +197,21 @@ def analyse(
         from gyrobench.analysis.stationarity import remove_temperature
 
         data, tfit = remove_temperature(channel.data, temperature, fs)
-    curve = allan_deviation(data, fs, taus=taus, kind=kind)
-    warn, moving, stat = stationarity(data, fs, curve, channel.label)
-    if kind not in FIT_KINDS:
-        return ChannelResult(
-            channel,
-            curve,
-            warnings=warn,
-            temperature=tfit,
-            nonstationary=moving,
-            no_fit=(
-                f"no noise fit for the {kind} deviation: the IEEE 952 term coefficients (3 Q^2/tau^2, N^2/tau, ...) "
-                f"are those of the Allan variance; the curve is exported"
-            ),
-        )
-    fit_curve = curve
-    if taus == "all":
-        m = curve.m
-        keep = (m & (m - 1)) == 0
-        fit_curve = AllanCurve(
-            tau=curve.tau[keep],
-            deviation=curve.deviation[keep],
-            low=curve.low[keep],
-            high=curve.high[keep],
-            n_terms=curve.n_terms[keep],
-            edf=curve.edf[keep],
-            kind=curve.kind,
-            confidence=curve.confidence,
-            fs=curve.fs,
-            n_samples=curve.n_samples,
-            alpha=None if curve.alpha is None else curve.alpha[keep],
-        )
-    if len(fit_curve.tau) < len(terms):
-        raise ValueError(
-            f"{channel.label}: {len(channel.data)} samples at {fs:g} Hz give {len(fit_curve.tau)} {curve.kind} Allan "
-            f"deviation point(s) at taus={taus!r} (up to {fit_curve.tau[-1]:.3g} s); the "
-            f"{'/'.join(terms)} fit needs at least {len(terms)}: use a longer record or fewer --terms"
-        )
-    fr = fit_range(fit_curve, n_terms=len(terms), nonstationary=moving) if tau_min == "auto" else None
-    bw = bandwidth_range(fit_curve, bandwidth, bias=bandwidth_bias) if bandwidth is not None else None
-    options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
-    fit = fit_noise(fit_curve, bandwidth_bias=bandwidth_bias, nonstationary=moving, **options)
-    # an open term's bound never below what a half, quarter or eighth of the record identifies (issue 30)
-    fit = floor_bounds(fit, data, fs, bandwidth_bias=bandwidth_bias, **options)
+    ra = analyse_record(data, fs, label=channel.label, taus=taus, kind=kind, terms=terms, tau_min=tau_min,
+                        tau_max=tau_max, bandwidth=bandwidth, bandwidth_bias=bandwidth_bias, quiet=quiet,
+                        select=select)
     result = ChannelResult(
-        channel, curve, fit=fit, fit_range=fr, bandwidth_range=bw, warnings=warn, temperature=tfit,
-        nonstationary=moving,
+        channel, ra.curve, fit=ra.fit, no_fit=ra.no_fit or None, fit_range=ra.fit_range,
+        bandwidth_range=ra.bandwidth_range, warnings=list(ra.warnings), temperature=tfit,
+        nonstationary=ra.nonstationary, analysis=ra, segments_asked=segments == "auto",
     )
-    if segments == "auto" and moving:
-        result.segments = _segment_fits(channel, data, fs, stat, taus=taus, kind=kind, terms=terms,
+    if segments == "auto" and ra.nonstationary and ra.fit is not None:
+        options = {"terms": terms, "tau_min": tau_min, "tau_max": tau_max, "bandwidth": bandwidth}
+        result.segments = _segment_fits(channel, data, fs, ra.stationarity, taus=taus, kind=kind, terms=terms,
                                         tau_min=tau_min, tau_max=tau_max, bandwidth=bandwidth,
                                         bandwidth_bias=bandwidth_bias)
-        result.pooled = _pooled_fit(result.segments, bandwidth_bias=bandwidth_bias, **options)
+        result.pooled = ra.fit if ra.basis == "quiet stretches" else _pooled_fit(
+            result.segments, bandwidth_bias=bandwidth_bias, **options)
     return result
 
 
@@ -305,7 +261,7 @@ def _segment_fits(channel, data, fs: float, stat, **options) -> list:
         if part is None:
             continue
         try:
-            res = analyse(part, fs, **options)
+            res = analyse(part, fs, quiet=False, select=False, **options)
         except ValueError:  # too short for the fit
             continue
         out.append((a / fs, b / fs, res))

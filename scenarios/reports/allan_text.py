@@ -10,8 +10,8 @@ from typing import Any
 from gyrobench.base import units
 from gyrobench.scenarios.reports.allan import ChannelResult, _floor, field_unit, field_value
 
-__all__ = ["channel_json", "curve_json", "fit_json", "kalibr_yaml", "log_json", "log_text", "nonstationary_line",
-           "plot_paths", "plot_title"]
+__all__ = ["analysis_json", "channel_json", "curve_json", "deviation_lines", "filter_yaml", "fit_json", "kalibr_yaml",
+           "log_json", "log_text", "model_lines", "nonstationary_line", "plot_paths", "plot_title"]
 
 
 def _si_unit(quantity: str) -> str:
@@ -20,7 +20,8 @@ def _si_unit(quantity: str) -> str:
 
 def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
     """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
-    ``nonstationary`` (motion or steps in the record: the terms describe them too)."""
+    ``nonstationary`` (motion or steps in what was fitted: the terms describe them too; False for
+    a fit of the quiet stretches)."""
     import math
 
     terms = {}
@@ -76,11 +77,12 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
         "quantity": q,
         "curve": curve_json(res.curve, q),
         "adev_floor": {"value": floor, "unit": _si_unit(q), "tau": tau},
-        "fit": None if res.fit is None else fit_json(res.fit, q, res.nonstationary),
+        "fit": None if res.fit is None else fit_json(res.fit, q, _motion_fitted(res)),
         "nonstationary": bool(res.nonstationary),
     }
     if res.no_fit:
         out["no_fit"] = res.no_fit
+    out.update(analysis_json(res))
     if res.segments:
         out["segments"] = [
             {"start_s": a, "stop_s": b, "nonstationary": bool(sub.nonstationary),
@@ -103,6 +105,44 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
             "se_T": tf.se_temperature,
             "se_dT": tf.se_rate,
             "explained": tf.explained,
+        }
+    return out
+
+
+def analysis_json(res: ChannelResult) -> dict[str, Any]:
+    """``basis`` (what was fitted), ``quiet`` (the quiet stretches and what was left out) and ``model``
+    (terms beyond Q/N/B/K/R, SI)."""
+    import math
+
+    ra = res.analysis
+    if ra is None:
+        return {}
+    fs = float(res.curve.fs)
+    out: dict[str, Any] = {"basis": ra.basis}
+    q = ra.quiet
+    if q is not None and ra.basis == "quiet stretches":
+        sp = q.spread
+        out["quiet"] = {
+            "stretches": len(q.stretches),
+            "excluded_samples": int(q.n_excluded),
+            "excluded_s": [[a / fs, b / fs] for a, b in q.excluded],
+            "bridged_from_tau": float(q.curve.tau[q.bridged][0]) if q.bridged.any() else None,
+            "spread": [{"tau": float(sp.tau[i]), "stretches": int(sp.n_stretches[i]),
+                        "low": None if not math.isfinite(sp.low[i]) else float(sp.low[i]),
+                        "high": None if not math.isfinite(sp.high[i]) else float(sp.high[i]),
+                        "bartlett_p": None if not math.isfinite(sp.p_value[i]) else float(sp.p_value[i])}
+                       for i in range(len(sp.tau))],
+        }
+    m = ra.model
+    if m is not None:
+        out["model"] = {
+            "criterion": m.criterion,
+            "terms": [{"kind": t.kind, "params_si": dict(t.params), "interval95_si": list(t.interval),
+                       "chi2_drop": t.drop, "given": t.given} for t in m.extra],
+            "first_step_drops": dict(m.drops),
+            "threshold": m.threshold,
+            "p_value": None if not math.isfinite(m.p_value) else m.p_value,
+            "misfit": m.misfit,
         }
     return out
 
@@ -156,12 +196,19 @@ def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelRes
 _TITLE_WIDTH = 110
 
 
+def _motion_fitted(res: ChannelResult) -> bool:
+    """The channel moves and its fit includes the motion (not a fit of its quiet stretches)."""
+    return bool(res.nonstationary and _basis(res) != "quiet stretches")
+
+
 def plot_title(log, res: ChannelResult) -> str:
     """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
     n = len(res.channel.data)
     lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
     if res.nonstationary:
-        lines.append("NOT STATIONARY (motion or steps): the terms describe them too")
+        lines.append("NOT STATIONARY (motion or steps): " + ("the fit is of the quiet stretches"
+                                                             if not _motion_fitted(res) else
+                                                             "the terms describe them too"))
     f = res.fit
     if f is not None and f.misfit:
         lines.append(
@@ -172,12 +219,78 @@ def plot_title(log, res: ChannelResult) -> str:
     return "\n".join(lines)
 
 
+def _basis(res: ChannelResult) -> str:
+    ra = res.analysis
+    return "whole record" if ra is None else ra.basis
+
+
 def nonstationary_line(res: ChannelResult) -> str:
     """The report's first line for a channel with motion or steps."""
+    if _basis(res) == "quiet stretches":
+        return (
+            f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fit is of "
+            f"its quiet stretches (QUIET line below)"
+        )
     return (
         f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fitted "
         f"terms describe them as noise: analyse a quiet stretch (--start/--stop)"
     )
+
+
+def _rate_scale(quantity: str) -> tuple[float, str]:
+    """SI per field unit of a rate-like value: deg/h for a gyro, ug for an accelerometer."""
+    if quantity == "accel":
+        return 9.80665e-6, "ug"
+    return float(units.deg_per_h(1.0)), "deg/h"
+
+
+def model_lines(res: ChannelResult) -> list[str]:
+    """The QUIET line (what was left out) and the MODEL lines (terms chosen beyond Q/N/B/K/R)."""
+    ra = res.analysis
+    if ra is None:
+        return []
+    out = []
+    label = res.channel.label
+    if ra.basis == "quiet stretches" and ra.quiet is not None:
+        out.append(f"QUIET {label}: {ra.quiet.describe(res.curve.fs)}")
+    m = ra.model
+    if m is None:
+        return out
+    k, unit = _rate_scale(res.channel.quantity)
+    for term in m.extra:
+        line = f"MODEL {label}: {term.describe(k, unit)}"
+        if term.kind == "lowpass":
+            n = term.params.get("N", 0.0)
+            nf = field_value("N", n, res.channel.quantity)
+            lo, hi = (field_value("N", v, res.channel.quantity) for v in term.interval)
+            line += (f" ({'given' if term.given else 'identified'}; the bent short taus fitted with it: N "
+                     f"{nf:.4g} [{lo:.4g}, {hi:.4g}] {field_unit('N', res.channel.quantity)})")
+        else:
+            line += f" (chosen: chi2 drop {term.drop:.3g} > {m.threshold:.3g})"
+        out.append(line)
+    if not any(t.kind != "lowpass" for t in m.extra):
+        best = max(m.drops.items(), key=lambda kv: kv[1], default=None)
+        if best is not None:
+            out.append(f"MODEL {label}: no Gauss-Markov or sinusoid term needed (largest chi2 drop {best[1]:.3g} "
+                       f"for {best[0].replace('_', '-')}, < {m.threshold:.3g})")
+    if m.misfit:
+        out.append(f"MISFIT {label}: the chosen model still misfits the fitted Allan variance (GLS p = "
+                   f"{m.p_value:.2g}): a term of another kind (or motion) is in the record")
+    return out
+
+
+def deviation_lines(res: ChannelResult) -> list[str]:
+    """The Allan deviation at each tau, with its confidence interval, in field units."""
+    c = res.curve
+    k, unit = _rate_scale(res.channel.quantity)
+    conf = f"{c.confidence:.1%}".replace(".0%", "%")
+    out = [f"{res.channel.label}: {c.kind} deviation [{unit}] (tau [s]: value [{conf} interval])"]
+    row = []
+    for i in range(len(c.tau)):
+        row.append(f"{c.tau[i]:.4g}: {c.deviation[i] / k:.4g} [{c.low[i] / k:.3g}, {c.high[i] / k:.3g}]")
+    for j in range(0, len(row), 4):
+        out.append("  " + ";  ".join(row[j : j + 4]))
+    return out
 
 
 def _excluded_text(res: ChannelResult, excl: int) -> str:
@@ -251,8 +364,9 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
     if all(res.fit is None for res in results):
         return out
     multi = len(results) > 1
+    width = max(18, *(len(r.channel.label) + 1 for r in results))  # full names: ROS axes differ only at the end
     head = (
-        f"{'channel':<18}" if multi else ""
+        f"{'channel':<{width}}" if multi else ""
     ) + f"{'term':<5}{'value':>14}  {'95 % interval':<28}unit"
     out.append(head)
     for res in results:
@@ -260,7 +374,7 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
             continue
         q = res.channel.quantity
         for name, c in res.fit.coefficients.items():
-            pre = f"{res.channel.label[:17]:<18}" if multi else ""
+            pre = f"{res.channel.label:<{width}}" if multi else ""
             unit = field_unit(name, q)
             if not c.identifiable:
                 hi = field_value(name, c.upper_bound, q)
@@ -274,14 +388,19 @@ def log_text(log, results: list[ChannelResult]) -> list[str]:
                     + unit
                 )
     for res in results:
+        out += model_lines(res)
+    for res in results:
         out += _segment_lines(res)
+    for res in results:
+        out += deviation_lines(res)
     return out
 
 
 def _segment_lines(res: ChannelResult) -> list[str]:
     """``--segments auto``: one line per quiet stretch of a non-stationary channel (its terms, in field units)."""
     if not res.nonstationary or not res.segments:
-        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit"] if res.nonstationary else []
+        asked = res.nonstationary and res.segments_asked
+        return [f"SEGMENTS {res.channel.label}: no quiet stretch long enough to fit on its own"] if asked else []
     out = [f"SEGMENTS {res.channel.label}: {len(res.segments)} quiet stretch(es) fitted on their own"]
     for a, b, sub in res.segments:
         q = sub.channel.quantity
@@ -304,7 +423,7 @@ def _segment_lines(res: ChannelResult) -> list[str]:
                 parts.append(f"{name} < {field_value(name, c.upper_bound, q):.3g} {field_unit(name, q)} (n/i)")
         p = "n/a" if f.dof == 0 else f"{f.p_value:.2g}"
         out.append(
-            f"POOLED {res.channel.label}: one fit over the stretches' EDF-weighted Allan variance "
+            f"POOLED {res.channel.label}: one fit over the stretches' Allan variance pooled per tau "
             f"({f.curve.n_samples} samples, taus {f.tau_used[0]:.3g}-{f.tau_used[-1]:.3g} s, "
             f"chi2/dof = {f.chi2_per_dof:.3g}, p = {p}): " + "; ".join(parts)
         )
@@ -333,9 +452,12 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
         f"# from {log.path.name}: {len(results[0].channel.data)} samples at {log.fs:g} Hz",
         "# densities are the IEEE 952 N and K of each axis (largest over the axes), continuous time",
     ]
-    moving = [r.channel.label for r in results if r.nonstationary]
+    moving = [r.channel.label for r in results if _motion_fitted(r)]
     if moving:
         lines.append(f"# WARNING not stationary (motion or steps; the values describe them too): {', '.join(moving)}")
+    quiet = [r.channel.label for r in results if r.nonstationary and not _motion_fitted(r)]
+    if quiet:
+        lines.append(f"# not stationary as a whole; fitted from the quiet stretches: {', '.join(quiet)}")
     keys = {
         ("rate", "N"): ("gyroscope_noise_density", "rad/s/sqrt(Hz)"),
         ("rate", "K"): ("gyroscope_random_walk", "rad/s^2/sqrt(Hz)"),
@@ -376,3 +498,69 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
             "--kalibr needs a fitted gyro or accelerometer channel (N and K terms); none was fitted"
         )
     return "\n".join(lines + body + [f"update_rate: {log.fs:g}  # [Hz]", ""])
+
+
+# ----------------------------------------------------------------------------- filter process noise
+def filter_yaml(log, results: list[ChannelResult], *, overbound: bool = False) -> str:
+    """The fitted model as a navigation filter's process noise (:func:`gyrobench.analysis.filter_model.filter_model`).
+
+    Sections: ``gyrobench`` (every key carries its unit: each axis's white and random-walk
+    densities, B as a Gauss-Markov state and as a random-walk equivalent, the inflation),
+    ``kalibr`` (imu.yaml) and ``openvins`` (kalibr_imu_chain.yaml ``imu0``), whose key names
+    the tools fix, with the unit in a comment on every line, and ``ros`` (the diagonal of
+    ``sensor_msgs/Imu`` covariances: the per-sample white-noise variance N^2 fs). Kalibr,
+    OpenVINS and ROS take one value per sensor: the largest over the axes.
+    """
+    from gyrobench.analysis.filter_model import filter_model
+
+    lines = [f"# gyrobench filter process noise from {log.path.name} ({log.fs:g} Hz)",
+             "# conversions: white density = N; random-walk density = K; B as Gauss-Markov sigma = 0.664 B / 0.6174,",
+             "# Tc = tau_B / 1.8926 (its ADEV peaks at the B plateau at tau_B),",
+             "# or as random walk 0.664 B sqrt(3 / tau_B)"]
+    if overbound:
+        lines.append("# overbounded: every density scaled by the smallest k putting the model ADEV on or above the "
+                     "data's upper 95 % bound at every tau")
+    moving = [r.channel.label for r in results if r.nonstationary]
+    if moving:
+        lines.append("# not stationary as a whole (fitted from the quiet stretches where possible): "
+                     + ", ".join(moving))
+    per: dict[str, list] = {"rate": [], "accel": []}
+    lines.append("gyrobench:")
+    for r in results:
+        if r.fit is None:
+            continue
+        fm = filter_model(r.fit, overbound=overbound)
+        q = r.channel.quantity
+        per[q].append(fm)
+        u = "m_per_s2" if q == "accel" else "rad_per_s"
+        u2 = "m_per_s3" if q == "accel" else "rad_per_s2"
+        key = "".join(ch if ch.isalnum() else "_" for ch in r.channel.label).strip("_")
+        lines += [f"  {key}:",
+                  f"    white_density_{u}_per_sqrt_hz: {fm.white_density:.6e}",
+                  f"    white_variance_per_sample_{u}_squared: {fm.white_variance_per_sample:.6e}",
+                  f"    random_walk_density_{u2}_per_sqrt_hz: {fm.random_walk_density:.6e}",
+                  f"    bias_gauss_markov_sigma_{u}: {fm.gm_sigma:.6e}",
+                  f"    bias_gauss_markov_time_constant_s: {fm.gm_tc:.6g}",
+                  f"    bias_random_walk_equivalent_{u2}_per_sqrt_hz: {fm.rw_equivalent_density:.6e}",
+                  f"    bias_tau_s: {fm.tau_b:.6g}",
+                  f"    inflation_factor_1: {fm.inflation:.4g}",
+                  f"    upper_bounds_not_identified: [{', '.join(fm.bounds)}]"]
+    if not per["rate"] and not per["accel"]:
+        raise ValueError("--filter-model needs a fitted gyro or accelerometer channel; none was fitted")
+    tool = []
+    for q, pre, unit_w, unit_rw in (("rate", "gyroscope", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"),
+                                    ("accel", "accelerometer", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)")):
+        if per[q]:
+            w = max(f.white_density for f in per[q])
+            rw = max(max(f.random_walk_density, f.rw_equivalent_density) for f in per[q])
+            tool += [f"  {pre}_noise_density: {w:.6e}  # [{unit_w}]",
+                     f"  {pre}_random_walk: {rw:.6e}  # [{unit_rw}] max of K and B's random-walk equivalent"]
+    lines += ["kalibr:", *tool, f"  update_rate: {log.fs:g}  # [Hz]"]
+    lines += ["openvins:", *tool, f"  update_rate: {log.fs:g}  # [Hz]"]
+    lines.append("ros:")
+    for q, name, unit in (("rate", "angular_velocity_covariance", "rad^2/s^2"),
+                          ("accel", "linear_acceleration_covariance", "m^2/s^4")):
+        if per[q]:
+            d = max(f.white_variance_per_sample for f in per[q])
+            lines.append(f"  {name}: [{d:.6e}, 0.0, 0.0, 0.0, {d:.6e}, 0.0, 0.0, 0.0, {d:.6e}]  # [{unit}] row-major")
+    return "\n".join(lines) + "\n"

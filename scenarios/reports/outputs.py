@@ -11,95 +11,19 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, Literal
+
+from gyrobench.base import safety as _safety
 
 __all__ = ["check_output", "output_lock", "report_manifest", "write_report_as_a_set", "REPORT_MARKER"]
 
 #: the manifest every report folder written by :func:`write_report_as_a_set` holds: JSON naming
 #: every file the report wrote with its SHA-256; the next report replaces the folder as a whole
 #: only while it holds nothing but those files, unchanged
-REPORT_MARKER = ".gyrobench-report"
-
-
-def _existing_ancestor(p: Path) -> Path:
-    a = p
-    while not a.exists() and not a.is_symlink() and a != a.parent:
-        a = a.parent
-    return a
-
-
-def _probe_writable(folder: Path, what: str, target: Path) -> None:
-    """Create and remove a file in ``folder``: the one test that answers "can I write here"
-    for root, read-only mounts, /proc and ACLs alike."""
-    from gyrobench.base.atomic import temp_name
-
-    probe = temp_name(folder / ".gyrobench-probe")
-    try:
-        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-    except OSError as exc:
-        raise PermissionError(
-            f"cannot write {str(target)!r} ({what}): the folder {str(folder)!r} does not "
-            f"accept new files ({exc.strerror or exc})"
-        ) from None
-    os.close(fd)
-    os.unlink(probe)
-
-
-def _sha256(path: Path) -> str:
-    import hashlib
-
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
-def _files(folder: Path) -> dict[str, Path]:
-    """Every entry below ``folder`` that is not a folder (links included), by relative POSIX path."""
-    out = {}
-    for root, dirs, names in os.walk(folder, followlinks=False):
-        for name in names + [d for d in dirs if os.path.islink(os.path.join(root, d))]:
-            full = Path(root) / name
-            out[full.relative_to(folder).as_posix()] = full
-    return out
-
-
-def report_manifest(folder: str | os.PathLike) -> dict[str, str]:
-    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest it writes)."""
-    return {rel: _sha256(p) for rel, p in sorted(_files(Path(folder)).items()) if rel != REPORT_MARKER}
-
-
-def _foreign_files(p: Path) -> list[str] | None:
-    """The files of folder ``p`` a gyrobench report did not write (None: ``p`` is not readable).
-
-    A folder may be replaced when it is empty, or when its manifest names every file it holds
-    with the same SHA-256: a file the user added or edited, a link, or a folder without a
-    manifest (anything else), is foreign.
-    """
-    import json
-
-    try:
-        files = _files(p)
-    except OSError:
-        return None
-    if not files:
-        return []
-    try:
-        manifest = json.loads((p / REPORT_MARKER).read_text(encoding="utf-8"))["files"]
-        if not isinstance(manifest, dict):
-            raise TypeError
-    except (OSError, ValueError, KeyError, TypeError, RecursionError):  # unreadable: nothing counts as ours
-        manifest = {}
-    foreign = []
-    for rel, full in sorted(files.items()):
-        if rel == REPORT_MARKER and manifest:
-            continue
-        if full.is_symlink() or not full.is_file() or manifest.get(rel) != _sha256(full):
-            foreign.append(rel)
-    return foreign
+REPORT_MARKER = _safety.REPORT_MARKER
+report_manifest = _safety.report_manifest
 
 
 def check_output(
@@ -109,8 +33,12 @@ def check_output(
     kind: Literal["file", "folder", "report"] = "file",
     create_parents: bool = True,
     suffixes: Sequence[str] | None = None,
+    inputs: Iterable[tuple[str, str | os.PathLike | None]] = (),
+    force: bool | None = None,
 ) -> Path:
     """Check, before any work, that ``path`` can be written as a ``kind``; return it as a Path.
+
+    One output through the rule of :mod:`gyrobench.base.safety` (:func:`~gyrobench.base.safety.check_outputs`).
 
     Parameters
     ----------
@@ -119,8 +47,8 @@ def check_output(
     what : str
         How the user named it, for the message (``"--out"``, ``"--plot"``, ``"-o"``).
     kind : {"file", "folder", "report"}
-        ``"file"``: a file (an existing file is replaced; a folder is refused).
-        ``"folder"``: a folder files are written into (created if missing).
+        ``"file"``: a file replaced atomically; ``"folder"``: a folder files are written
+        into (created if missing; an existing one must be empty or made by gyrobench);
         ``"report"``: a folder replaced as a whole (:func:`write_report_as_a_set`): if it
         exists it must be empty or an earlier gyrobench report, so a mistyped ``--out``
         (``.``, a home folder) can never be swapped away.
@@ -128,6 +56,11 @@ def check_output(
         Whether missing parent folders will be created (else they must exist).
     suffixes : sequence of str, optional
         Accepted file suffixes (lower case, with the dot).
+    inputs : iterable of (flag, path)
+        The command's inputs: the output may not be one of them.
+    force : bool, optional
+        ``--force`` of a command. None (a library call that writes where it is told): an
+        existing file is replaced whoever wrote it; a folder keeps the strict rule.
 
     Raises
     ------
@@ -140,47 +73,12 @@ def check_output(
     PermissionError
         The folder that would receive the output does not accept new files.
     ValueError
-        A wrong suffix, or a report folder that holds other files.
+        (:class:`~gyrobench.base.safety.OutputRefused`) A wrong suffix, an input, an existing
+        file gyrobench did not write, or a folder that holds other files.
     """
-    p = Path(path)
-    text = str(p)
-    if not text or text.strip() != text:
-        raise ValueError(f"{what} must be a path without surrounding spaces; got {text!r}")
-    if kind == "file":
-        if p.is_dir():
-            raise IsADirectoryError(f"{what} must be a file name; got the folder {text!r}")
-        if suffixes is not None and p.suffix.lower() not in suffixes:
-            raise ValueError(f"{what} must end in {', '.join(suffixes)}; got {text!r}")
-        if p.exists() and not p.is_file():
-            raise ValueError(f"{what} must be a regular file; got {text!r}")
-    else:
-        if p.exists() and not p.is_dir():
-            raise NotADirectoryError(f"{what} must be a folder; {text!r} is an existing file")
-        if p.is_symlink():
-            raise ValueError(f"{what} must not be a symbolic link (it would be replaced by a folder); got {text!r}")
-        foreign = _foreign_files(p) if kind == "report" and p.is_dir() else []
-        if foreign is None or foreign:
-            listed = foreign or []
-            shown = ", ".join(listed[:3]) + (f" and {len(listed) - 3} more" if len(listed) > 3 else "")
-            raise ValueError(
-                f"{what} {text!r} exists and is not a gyrobench report folder (a report replaces "
-                f"its folder as a whole, and this one holds files no report wrote: {shown or 'unreadable'}): "
-                "give a new folder or an earlier report's"
-            )
-    # the folder that receives the output (for "report": its parent, where the swap happens)
-    receiver = p.parent if kind in ("file", "report") or not p.exists() else p
-    base = _existing_ancestor(receiver)
-    if not base.is_dir():
-        raise NotADirectoryError(
-            f"cannot write {text!r} ({what}): {str(base)!r} is a file, not a folder"
-        )
-    if base != receiver and not create_parents:
-        raise FileNotFoundError(
-            f"{what} must be in an existing folder; the folder {str(receiver)!r} does not exist "
-            f"(create it first); got {text!r}"
-        )
-    _probe_writable(base, what, p)
-    return p
+    out = _safety.Output(Path(path), what, kind, None if suffixes is None else tuple(suffixes), create_parents)
+    replace_any = force if force is not None else kind == "file"
+    return _safety.check_outputs([out], inputs, force=replace_any)[0]
 
 
 def write_report_as_a_set(
@@ -200,13 +98,27 @@ def write_report_as_a_set(
 
     out = Path(out_dir)
     with atomic_folder(out) as tmp:
-        index = write_report(outcomes, tmp, command=command)
-        doc = {
-            "written_by": "gyrobench reproduce; replaced as a whole by the next report while it holds only these files",
-            "files": report_manifest(tmp),
-        }
-        (tmp / REPORT_MARKER).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        try:
+            index = write_report(outcomes, tmp, command=command)
+            doc = {
+                "written_by": "gyrobench reproduce; replaced as a whole by the next report while it holds only "
+                              "these files",
+                "files": report_manifest(tmp),
+            }
+            (tmp / REPORT_MARKER).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        except OSError as exc:  # a full disk: the message names the report's file, not the folder being filled
+            raise _in_target(exc, tmp, out) from exc
     return out / Path(index).relative_to(tmp)
+
+
+def _in_target(exc: OSError, tmp: Path, out: Path) -> OSError:
+    """``exc`` with every mention of the temporary folder ``tmp`` replaced by the target ``out``."""
+    from gyrobench.base.atomic import AtomicWriteError, _write_error
+
+    name = str(exc.filename).replace(str(tmp), str(out)) if exc.filename else str(out)
+    if not isinstance(exc, AtomicWriteError):
+        return _write_error(Path(name), exc)
+    return AtomicWriteError(exc.errno, str(exc.strerror).replace(str(tmp), str(out)), name)
 
 
 @contextlib.contextmanager

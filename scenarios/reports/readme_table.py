@@ -44,7 +44,7 @@ def load_report(folder: str | Path) -> list[dict[str, Any]]:
             f"report folder {str(root)!r} holds no <scenario>/results.json; "
             "run 'gyrobench reproduce --all --out DIR' first"
         )
-    order = {n: i for i, n in enumerate(registry.SCENARIOS)}
+    order = {n: i for i, n in enumerate(registry.table())}
     return sorted(
         docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", ""))
     )

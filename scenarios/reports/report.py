@@ -108,6 +108,12 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
 
 
 def _write_text(path: Path, text: str) -> None:
+    """Write a report file; in Markdown and HTML, control characters from configs and files are shown as
+    escapes (:func:`gyrobench.base.safety.escape_controls`; JSON escapes them itself)."""
+    from gyrobench.base.safety import escape_controls
+
+    if path.suffix in (".md", ".html"):
+        text = escape_controls(text)
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
 

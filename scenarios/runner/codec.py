@@ -27,6 +27,10 @@ dataclass, a missing or extra field, an object dtype) is refused with one
 :class:`CodecError` line naming the path inside the document. Decoding imports only modules
 of the ``gyrobench`` package itself and calls only a frozen dataclass's own constructor.
 Arrays round-trip bit-identically (dtype, byte order, shape, every byte, NaN payloads).
+
+A stored row is :func:`dumps_compressed`: the document zlib-compressed (level 6) after the
+magic :data:`COMPRESSED_MAGIC`; :func:`loads` reads it back (refusing a stream that would inflate
+beyond :data:`MAX_DOCUMENT_BYTES`, a crafted "zip bomb") as well as the plain text.
 """
 
 from __future__ import annotations
@@ -37,11 +41,12 @@ import importlib
 import json
 import math
 import re
+import zlib
 from typing import Any
 
 import numpy as np
 
-__all__ = ["SCHEMA", "CodecError", "dumps", "loads"]
+__all__ = ["COMPRESSED_MAGIC", "MAX_DOCUMENT_BYTES", "SCHEMA", "CodecError", "dumps", "dumps_compressed", "loads"]
 
 #: the schema tag of a stored document (bumped when the format changes)
 SCHEMA = "gyrobench.unit-result/1"
@@ -54,6 +59,10 @@ _NUMERIC_KINDS = frozenset("biufc")
 #: the largest array one node may declare (bytes), checked before its data is decoded
 MAX_ARRAY_BYTES = 1 << 31
 _MAX_DEPTH = 64
+#: the first bytes of a compressed document (:func:`dumps_compressed`)
+COMPRESSED_MAGIC = b"GBZ1"
+#: the largest document a compressed row may inflate to (bytes)
+MAX_DOCUMENT_BYTES = 1 << 31
 
 
 class CodecError(ValueError):
@@ -109,6 +118,25 @@ def dumps(value: Any) -> str:
     """
     return json.dumps({"schema": SCHEMA, "value": _encode(value, "result")}, allow_nan=False,
                       separators=(",", ":"))
+
+
+def dumps_compressed(value: Any) -> bytes:
+    """:func:`dumps` of ``value``, zlib-compressed (level 6) after :data:`COMPRESSED_MAGIC`."""
+    return COMPRESSED_MAGIC + zlib.compress(dumps(value).encode("utf-8"), 6)
+
+
+def _inflate(raw: bytes) -> bytes:
+    """The document inside a compressed row, or a one-line refusal (corrupt, or too large)."""
+    d = zlib.decompressobj()
+    try:
+        out = d.decompress(raw[len(COMPRESSED_MAGIC):], MAX_DOCUMENT_BYTES + 1)
+    except zlib.error as exc:
+        raise CodecError(f"stored result is not a valid compressed document ({exc}); refused") from None
+    if len(out) > MAX_DOCUMENT_BYTES:
+        raise CodecError(f"stored result inflates beyond {MAX_DOCUMENT_BYTES} bytes; refused")
+    if not d.eof:
+        raise CodecError("stored result is a truncated compressed document; refused")
+    return out
 
 
 def _class(name: Any, path: str) -> type:
@@ -226,7 +254,8 @@ def _decode_dataclass(body: Any, path: str, depth: int) -> Any:
 
 
 def loads(text: str | bytes) -> Any:
-    """The value stored by :func:`dumps`; never unpickles, imports only ``gyrobench`` modules.
+    """The value stored by :func:`dumps` or :func:`dumps_compressed`; never unpickles, imports only
+    ``gyrobench`` modules.
 
     Raises
     ------
@@ -235,6 +264,8 @@ def loads(text: str | bytes) -> Any:
     """
     if isinstance(text, (bytes, bytearray, memoryview)):
         raw = bytes(text)
+        if raw.startswith(COMPRESSED_MAGIC):
+            raw = _inflate(raw)
         if raw[:1] == b"\x80":
             raise CodecError("stored result is a pickle (an old or crafted store); refused, never unpickled")
         try:

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from gyrobench.base.safety import SQLITE_APPLICATION_ID
 from gyrobench.scenarios.cli import exits
 
 __all__ = [
@@ -49,7 +50,9 @@ __all__ = [
     "key_path",
     "record_reads",
     "Session",
+    "check_database",
     "check_output_file",
+    "database_tables",
     "connect_db",
     "dumps_scores",
     "loads_scores",
@@ -118,6 +121,7 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
     keyed = schema is None
     schema = SCHEMA if schema is None else schema
     p = check_output_file(path, what="db")
+    check_database(p, what="db")  # a foreign SQLite file is refused before anything is written to it
     try:
         # explicit BEGIN/COMMIT; the connection carries the database's checksum key
         conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None, factory=KeyedConnection)
@@ -129,6 +133,8 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
         if str(mode).lower() != "wal":
             raise ValueError(f"db {str(p)!r}: cannot switch to WAL journal mode (got {mode!r})")
         conn.execute("PRAGMA synchronous = FULL")
+        if not conn.execute("PRAGMA application_id").fetchone()[0]:  # the mark check_database recognises
+            conn.execute(f"PRAGMA application_id = {int(SQLITE_APPLICATION_ID)}")
         conn.executescript(schema)
     except sqlite3.OperationalError as exc:  # an unwritable folder or file, a read-only file system
         conn.close()
@@ -197,6 +203,23 @@ def db_key(db: str | os.PathLike) -> bytes:
             "to start again: without its key no stored seed can be verified)"
         )
     return key
+
+
+def database_tables() -> tuple[str, ...]:
+    """The tables of gyrobench's databases: the bench's (:data:`SCHEMA`) and the units runner's."""
+    import re
+
+    from gyrobench.scenarios.runner import units
+
+    return tuple(re.findall(r"CREATE TABLE IF NOT EXISTS (\w+)", SCHEMA + units._SCHEMA))
+
+
+def check_database(path: str | os.PathLike, *, what: str, force: bool = False) -> Path:
+    """Refuse, before anything is written, an existing ``path`` that is not a database gyrobench made
+    (:func:`gyrobench.base.safety.check_database`; ``force`` lets an empty file be used)."""
+    from gyrobench.base import safety
+
+    return safety.check_database(path, what, database_tables(), force=force)
 
 
 def dumps_scores(scores: Mapping[str, float]) -> str:

@@ -21,7 +21,7 @@ seeds do, so a unit's result is bit-identical whatever the executor and worker c
 Resumption: each finished unit's result is encoded as JSON with a schema
 (:mod:`gyrobench.scenarios.runner.codec`: typed frozen gyrobench dataclasses, tuples, numbers,
 strings and numeric arrays; never pickle, so a crafted store runs no code and is refused in one
-line) and committed to a SQLite file
+line), zlib-compressed, and committed to a SQLite file
 (one transaction per unit, WAL journal, ``synchronous=FULL``; the bench's
 connection), keyed by a run identity (the scenario module's source closure, the
 configuration, the gyrobench/numpy/scipy/scikit-learn versions) and the seed. A
@@ -29,11 +29,17 @@ reproduction killed at any moment resumes and recomputes no finished unit;
 changing the code or the configuration starts afresh rather than mixing units.
 Every result, fresh or stored, is the one read back from the file, so a fresh run
 and a resumed one hand :func:`evaluate` the same objects.
+
+The store keeps what the claims and the report read (:func:`run_paper`, :func:`slim_result`): a
+scenario's ``SLIM_FIELDS`` (data only its figures draw) are kept for the ``REPORT_UNITS`` units its
+report draws and emptied in the others; ``keep_units`` keeps every unit whole. A store written by
+an older gyrobench (another table layout) is refused in one line.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import hashlib
 import importlib
 import json
@@ -41,10 +47,12 @@ import os
 import sqlite3
 import time
 import types
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Container, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from gyrobench.scenarios.base import Outcome, check_pool
 from gyrobench.scenarios.papers.contract import quantities_of
@@ -62,6 +70,7 @@ __all__ = [
     "run_id",
     "run_paper",
     "run_units",
+    "slim_result",
 ]
 
 #: default resume store (in the current directory) when no db is given
@@ -92,9 +101,13 @@ CREATE TABLE IF NOT EXISTS unit_results (
     result BLOB NOT NULL,
     elapsed_s REAL NOT NULL,
     finished REAL NOT NULL,
+    full INTEGER NOT NULL,
     PRIMARY KEY (run_id, seed)
 );
 """
+
+#: the columns of a unit store this gyrobench writes; a store without them is an older format
+_COLUMNS = ("run_id", "seed", "result", "elapsed_s", "finished", "full")
 
 
 def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
@@ -174,10 +187,79 @@ def check_unit_memory(
     )
 
 
-def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, float]:
-    """Worker entry point: one unit's ``experiment`` result, encoded by the codec (module level: it
-    pickles to the worker; the result comes back as JSON text, never as a pickle of our own)."""
+def slim_result(module: types.ModuleType, result: Any) -> Any:
+    """``result`` with every array of the fields ``module.SLIM_FIELDS`` names emptied (same dtype and
+    number of dimensions, no elements): what a unit the report does not draw is stored as.
+
+    A scenario lists there the fields only its report's figures read, and in ``REPORT_UNITS`` how many
+    leading units of a run the report draws; the claims read ``quantities``, which is never slimmed.
+    A scenario without ``SLIM_FIELDS`` stores every unit whole.
+    """
+    names = tuple(getattr(module, "SLIM_FIELDS", ()))
+    if not names:
+        return result
+    if isinstance(result, Mapping):
+        return {**result, **{k: _emptied(result[k]) for k in names}}
+    return dataclasses.replace(result, **{k: _emptied(getattr(result, k)) for k in names})
+
+
+def _emptied(value: Any) -> Any:
+    """``value`` with each numpy array inside it (through frozen dataclasses, tuples, lists and dicts)
+    replaced by an empty array of its dtype and number of dimensions."""
+    if isinstance(value, np.ndarray):
+        return np.empty((0,) * value.ndim, dtype=value.dtype)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return dataclasses.replace(value, **{f.name: _emptied(getattr(value, f.name))
+                                             for f in dataclasses.fields(value) if f.init})
+    if isinstance(value, (list, tuple)):
+        return type(value)(_emptied(v) for v in value)
+    if isinstance(value, dict):
+        return {k: _emptied(v) for k, v in value.items()}
+    return value
+
+
+#: glibc mallopt parameters (malloc.h): M_TRIM_THRESHOLD, M_MMAP_THRESHOLD
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
+_MALLOC_TUNED = False
+
+
+def keep_freed_memory() -> bool:
+    """Let this process's C allocator reuse the memory of freed large arrays instead of returning it to
+    the system (glibc: arrays up to 1 GB from the heap, which is trimmed only above 2 GB free).
+
+    A unit allocates and frees arrays of tens of MB over and over (paper 000: about 0.7 GB of fresh
+    pages a unit); each fresh page is a page fault, which on this project's virtual machines cost as
+    much CPU as the arithmetic (paper 000: 180,000 faults and 0.6-1.0 s of system time a unit, 38,000
+    and 0.1-0.3 s with the memory kept; the peak RSS rises by 2-5 %). Values are unchanged: only
+    where the allocator takes memory from. Called once per process, by units run in this process or
+    a local process pool (not on a cluster's workers); True when the allocator took the setting
+    (glibc), False elsewhere.
+    """
+    global _MALLOC_TUNED
+    if _MALLOC_TUNED:
+        return True
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL("libc.so.6")
+        ok = bool(libc.mallopt(_M_MMAP_THRESHOLD, 1 << 30)) and bool(libc.mallopt(_M_TRIM_THRESHOLD, 1 << 31))
+    except (OSError, AttributeError):
+        return False
+    _MALLOC_TUNED = ok
+    return ok
+
+
+def _unit_job(
+    module_name: str, config: Any, seed: int, full: bool = True, own_worker: bool = False
+) -> tuple[int, bytes, float, bool]:
+    """Worker entry point: one unit's ``experiment`` result, encoded by the codec and compressed
+    (:func:`slim_result` unless ``full``). Module level: it pickles to the worker; the result comes back
+    as the stored bytes, never as a pickle of our own. ``own_worker``: this process or one of a local
+    process pool (:func:`keep_freed_memory` applies)."""
     from threadpoolctl import threadpool_limits
+
+    if own_worker:
+        keep_freed_memory()
 
     t0 = time.perf_counter()
     module = importlib.import_module(module_name)
@@ -192,7 +274,8 @@ def _unit_job(module_name: str, config: Any, seed: int) -> tuple[int, bytes, flo
         ) from None
     from gyrobench.scenarios.runner import codec
 
-    return seed, codec.dumps(result).encode("utf-8"), time.perf_counter() - t0
+    stored = result if full else slim_result(module, result)
+    return seed, codec.dumps_compressed(stored), time.perf_counter() - t0, full or stored is result
 
 
 def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
@@ -230,11 +313,35 @@ def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
     check_pool(executor, workers)
 
 
+def _check_layout(db: str | os.PathLike) -> None:
+    """Refuse, in one line and before anything is written, an existing unit store whose table has
+    another layout than :data:`_COLUMNS` (a store of an older gyrobench)."""
+    p = Path(db)
+    if not p.is_file() or p.stat().st_size == 0:
+        return
+    try:
+        conn = sqlite3.connect(f"{p.resolve().as_uri()}?mode=ro", uri=True)
+    except sqlite3.Error:
+        return  # connect_db names what is wrong with the file
+    try:
+        have = tuple(r[1] for r in conn.execute("PRAGMA table_info(unit_results)"))
+    except sqlite3.DatabaseError:
+        return
+    finally:
+        conn.close()
+    if have and have != _COLUMNS:
+        raise ValueError(
+            f"db {str(db)!r} is a unit store of an older gyrobench (columns {', '.join(have)}); "
+            "delete it (its units are recomputed) or give another --db"
+        )
+
+
 def _open_store(
     db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
 ) -> sqlite3.Connection:
     from gyrobench.scenarios.runner.store import connect_db
 
+    _check_layout(db)
     conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
     try:
         conn.execute("BEGIN IMMEDIATE")
@@ -249,33 +356,34 @@ def _open_store(
     return conn
 
 
-def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float) -> bytes:
-    """Commit one unit; return the stored blob (another process may have stored it first)."""
+def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float, full: bool) -> bytes:
+    """Commit one unit; return the stored blob (another process may have stored it first; a whole
+    result replaces a slim one, never the other way)."""
     conn.execute("BEGIN IMMEDIATE")
     try:
         conn.execute(
-            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
-            (rid, seed, blob, elapsed, time.time()),
+            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (run_id, seed) DO UPDATE SET "
+            "result = excluded.result, elapsed_s = excluded.elapsed_s, finished = excluded.finished, "
+            "full = excluded.full WHERE excluded.full > unit_results.full",
+            (rid, seed, blob, elapsed, time.time(), int(full)),
         )
-    except sqlite3.IntegrityError:
-        conn.execute("ROLLBACK")
-        (blob,) = conn.execute(
+        (stored,) = conn.execute(
             "SELECT result FROM unit_results WHERE run_id = ? AND seed = ?", (rid, seed)
         ).fetchone()
-        return bytes(blob)
     except BaseException:
         conn.execute("ROLLBACK")
         raise
     conn.execute("COMMIT")
-    return blob
+    return bytes(stored)
 
 
 def _execute(
     module_name: str,
     config: Any,
     todo: Sequence[int],
-    record: Callable[[int, bytes, float], None],
+    record: Callable[[int, bytes, float, bool], None],
     *,
+    full: Container[int],
     executor: cf.Executor | None,
     workers: int | None,
 ) -> None:
@@ -284,15 +392,16 @@ def _execute(
 
     if executor is None and workers == 0:
         for s in todo:
-            record(*_unit_job(module_name, config, s))
+            record(*_unit_job(module_name, config, s, s in full, True))
         return
     check_picklable(None, config)
     own = executor is None
     ex: cf.Executor = local_pool(workers) if executor is None else executor
+    local = isinstance(ex, cf.ProcessPoolExecutor)  # this machine's processes (not a cluster's workers)
     futures: dict[cf.Future, int] = {}
     ok = False
     try:
-        futures = {ex.submit(_unit_job, module_name, config, s): s for s in todo}
+        futures = {ex.submit(_unit_job, module_name, config, s, s in full, local): s for s in todo}
         for fut in cf.as_completed(futures):
             try:
                 record(*fut.result())
@@ -317,6 +426,7 @@ def run_units(
     workers: int | None = None,
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = False,
+    whole: int | None = None,
 ) -> UnitRun:
     """``module.experiment(config, s)`` for ``s`` in ``range(seed, seed + n_units)``, resuming.
 
@@ -337,6 +447,9 @@ def run_units(
         SQLite resume store (created if absent, in an existing folder).
     progress : bool
         A tqdm bar on stderr.
+    whole : int, optional
+        How many leading units are stored whole; the others as :func:`slim_result` (default: all
+        whole). A slim stored unit asked for whole is recomputed.
 
     Raises
     ------
@@ -357,10 +470,11 @@ def run_units(
     try:
         blobs: dict[int, bytes] = {}
         elapsed: dict[int, float] = {}
-        for s, blob, el in conn.execute(
-            "SELECT seed, result, elapsed_s FROM unit_results WHERE run_id = ?", (rid,)
+        full = set(seeds if whole is None else seeds[:whole])
+        for s, blob, el, is_full in conn.execute(
+            "SELECT seed, result, elapsed_s, full FROM unit_results WHERE run_id = ?", (rid,)
         ):
-            if s in seeds:
+            if s in seeds and (is_full or s not in full):
                 blobs[s], elapsed[s] = bytes(blob), float(el)
         reused = len(blobs)
         todo = [s for s in seeds if s not in blobs]
@@ -377,12 +491,12 @@ def run_units(
             dynamic_ncols=True,
         )
 
-        def record(s: int, blob: bytes, el: float) -> None:
-            blobs[s], elapsed[s] = _store(conn, rid, s, blob, el), el
+        def record(s: int, blob: bytes, el: float, is_full: bool) -> None:
+            blobs[s], elapsed[s] = _store(conn, rid, s, blob, el, is_full), el
             bar.update(1)
 
         try:
-            _execute(module.__name__, config, todo, record, executor=executor, workers=workers)
+            _execute(module.__name__, config, todo, record, executor=executor, workers=workers, full=full)
         finally:
             bar.close()
         return UnitRun(
@@ -410,6 +524,7 @@ def run_paper(
     progress: bool = False,
     deviation_units: int = 0,
     max_units: int | None = None,
+    keep_units: bool = False,
 ) -> Outcome:
     """Run the units (:func:`run_units`), judge :func:`module_claims` over them, build the report.
 
@@ -427,14 +542,20 @@ def run_paper(
     per-unit runtimes, how many were computed and read back) set. The report writer
     puts the claims (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict`) and the
     deviations into results.json.
+
+    The store keeps what the claims and the report read: the first ``module.REPORT_UNITS`` units
+    whole, the others, the control's and the deviations' as :func:`slim_result`; ``keep_units``
+    stores every unit whole.
     """
     t0 = time.perf_counter()
     kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
     claim_list = module_claims(module, config)
     used = dict.fromkeys((c.id for c in claim_list), n_units)
+    report_units = None if keep_units else getattr(module, "REPORT_UNITS", None)
+    others = None if keep_units else 0
     while True:
-        run = run_units(module, config, n_units=n_units, **kw)
-        control = _run_control(module, config, n_units=n_units, **kw)
+        run = run_units(module, config, n_units=n_units, whole=report_units, **kw)
+        control = _run_control(module, config, n_units=n_units, whole=others, **kw)
         claims = _judge(claim_list, used, run, control)
         open_ids = [r.claim.id for r in claims if r.verdict == "undecided"]
         if max_units is None or not open_ids or n_units >= max_units:
@@ -454,7 +575,7 @@ def run_paper(
     if deviation_units:
         outcome.deviation_effects = measure_deviations(
             module, config, run.results[:deviation_units], seed=seed, executor=executor, workers=workers, db=db,
-            progress=progress,
+            progress=progress, whole=others,
         )
     outcome.results["unit_run"] = {
         "n": n_units,
@@ -486,6 +607,7 @@ def measure_deviations(
     workers: int | None,
     db: str | os.PathLike,
     progress: bool,
+    whole: int | None = None,
 ) -> list[Any]:
     """Each deviation's effect: its config variant (``module.variant_config(config, name)``) run over
     the seeds of ``units`` (our protocol's first units, already run), claims judged on both.
@@ -504,7 +626,7 @@ def measure_deviations(
         if not getattr(d, "variant", None):
             continue
         vrun = run_units(module, make(config, d.variant), seed=seed, n_units=len(units), executor=executor,
-                         workers=workers, db=db, progress=progress)
+                         workers=workers, db=db, progress=progress, whole=whole)
         theirs = evaluate(claims, [quantities_of(u) for u in vrun.results])
         effects.append(deviation_effect(d.variant, ours, theirs))
     return effects

@@ -54,12 +54,15 @@ physical parameters builds the physics device through :mod:`gyrobench.sim.sensor
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.noise import NoiseModel
@@ -111,28 +114,9 @@ sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physic
 
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 
-_OPTIONAL = (
-    "range_dps",
-    "arw",
-    "noise_density",
-    "bias_repeatability",
-    "bias_tempco",
-    "scale_factor_repeatability",
-    "scale_factor_tempco",
-    "g_sensitivity",
-    "bandwidth",
-    "output_rate",
-    "resolution",
-)
-
-
-def _check_figure(name: str, v: object, unit: str, *, optional: bool = True) -> None:
-    if v is None and optional:
-        return
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise TypeError(f"Datasheet.{name} must be a number [{unit}]; got {v!r}")
-    if not (math.isfinite(float(v)) and float(v) >= 0.0):
-        raise ValueError(f"Datasheet.{name} must be finite and >= 0 [{unit}]; got {v!r}")
+_INF = math.inf
+#: the text fields a datasheet cannot leave empty
+_TEXT = ("name", "manufacturer", "model", "source")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -207,31 +191,43 @@ class Datasheet:
     resolution: float | None = None
     notes: str = ""
 
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
+        "technology": FieldChoice(TECHNOLOGIES, "the gyro's technology"),
+        "grade": FieldChoice(GRADES, "the gyro's grade"),
+        "bias_instability_dph": FieldRange(0, _INF, "deg/h", "in-run bias stability (ADEV minimum)", low_open=True),
+        "range_dps": FieldRange(0, _INF, "deg/s", "input range", low_open=True),
+        "arw": FieldRange(0, _INF, "deg/sqrt(h)", "angle random walk", low_open=True),
+        "noise_density": FieldRange(0, _INF, "deg/s/sqrt(Hz)", "rate noise density", low_open=True),
+        "noise_density_sided": FieldChoice(("one", "two"), "the PSD convention of noise_density"),
+        "bias_repeatability": FieldRange(0, _INF, "deg/h", "turn-on bias 1 sigma"),
+        "bias_tempco": FieldRange(0, _INF, "deg/h/K", "bias temperature coefficient"),
+        "scale_factor_repeatability": FieldRange(0, _INF, "ppm", "scale-factor error 1 sigma"),
+        "scale_factor_tempco": FieldRange(0, _INF, "ppm/K", "scale-factor temperature coefficient"),
+        "g_sensitivity": FieldRange(0, _INF, "deg/h/g", "linear-acceleration effect on the bias"),
+        "bandwidth": FieldRange(0, _INF, "Hz", "-3 dB bandwidth (recorded only)"),
+        "output_rate": FieldRange(0, _INF, "Hz", "default output data rate", low_open=True),
+        "resolution": FieldRange(0, _INF, "deg/s", "output resolution (LSB)", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "name, manufacturer, model and source are non-empty text",
+            lambda c: all(isinstance(getattr(c, k), str) and getattr(c, k).strip() for k in _TEXT),
+            lambda c: next(
+                f"{k} must be a non-empty string; got {getattr(c, k)!r}"
+                for k in _TEXT
+                if not (isinstance(getattr(c, k), str) and getattr(c, k).strip())
+            ),
+        ),
+        Constraint(
+            "arw or noise_density given",
+            lambda c: c.arw is not None or c.noise_density is not None,
+            lambda c: f"arw [deg/sqrt(h)] or noise_density [deg/s/sqrt(Hz)] must be given (part {c.name!r}); "
+            "got neither",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        for key in ("name", "manufacturer", "model", "source"):
-            v = getattr(self, key)
-            if not isinstance(v, str) or not v.strip():
-                raise ValueError(f"Datasheet.{key} must be a non-empty string; got {v!r}")
-        if self.technology not in TECHNOLOGIES:
-            raise ValueError(f"Datasheet.technology must be one of {TECHNOLOGIES}; got {self.technology!r}")
-        if self.grade not in GRADES:
-            raise ValueError(f"Datasheet.grade must be one of {GRADES}; got {self.grade!r}")
-        if not isinstance(self.bias_instability_is_b, bool):
-            raise TypeError(f"Datasheet.bias_instability_is_b must be a bool; got {self.bias_instability_is_b!r}")
-        if self.noise_density_sided not in ("one", "two"):
-            raise ValueError(f"Datasheet.noise_density_sided must be 'one' or 'two'; got {self.noise_density_sided!r}")
-        _check_figure("bias_instability_dph", self.bias_instability_dph, "deg/h")
-        if self.bias_instability_dph is not None and self.bias_instability_dph <= 0:
-            raise ValueError(f"Datasheet.bias_instability_dph must be > 0 [deg/h]; got {self.bias_instability_dph!r}")
-        for f in fields(self):
-            if f.name in _OPTIONAL:
-                _check_figure(f.name, getattr(self, f.name), f.metadata.get("unit", "datasheet unit"))
-        if self.arw is None and self.noise_density is None:
-            raise ValueError(f"Datasheet {self.name!r} needs arw [deg/sqrt(h)] or noise_density [deg/s/sqrt(Hz)]")
-        for key in ("range_dps", "output_rate", "resolution", "arw", "noise_density"):
-            v = getattr(self, key)
-            if v is not None and v <= 0:
-                raise ValueError(f"Datasheet.{key} must be > 0 when given; got {v!r}")
+        validate(self)  # the declared specs and constraints above
 
     # ------------------------------------------------------------------ the solve
     def angle_random_walk(self) -> float:
@@ -267,9 +263,12 @@ class Part:
     datasheet: Datasheet
     reference_temperature: float = _T_REF
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "reference_temperature": FieldRange(0, _INF, "K", "temperature of the datasheet figures", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        if not isinstance(self.datasheet, Datasheet):
-            raise TypeError(f"Part.datasheet must be a Datasheet; got {type(self.datasheet).__name__}")
+        validate(self)  # the declared spec above; the datasheet field must be a Datasheet
 
     @property
     def name(self) -> str:

@@ -17,8 +17,10 @@ RLG (:func:`rlg_spec`), the lock-in rate
     dither peak rate, j its amplitude jitter). With the default cavity and dither the sheet's
     N_s fixes Omega_L = N_s / sqrt((1 + j^2) / (2 pi K Omega_D)). The turn-on bias spread is
     the sheet's bias repeatability (0 when not given); no lock-in spread, no thermal
-    mechanisms (sizes 0). The count quantization of the default cavity (pulse weight 1.61
-    arcsec) adds the model's Q term.
+    mechanisms (sizes 0: no source prints them). The random walk of this statistical form is
+    the one validated against the full Adler equation of the cavity (checks
+    ``rlg.dither_random_walk``, ``rlg_cavity.dither_random_walk``). The count quantization of
+    the default cavity (pulse weight 1.61 arcsec) adds the model's Q term.
 
 FOG (:func:`fog_spec`), the source power, and the coil below the default coil's reach
     The closed-loop FOG on the (r, z) coil (:class:`gyrobench.sim.fog2d.FOG2DSpec`) has

@@ -5,8 +5,12 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from tests.scenarios.test_cli import run
+
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
 
 FS = 100.0
 

@@ -29,6 +29,9 @@ from gyrobench.scenarios.cli import bench as bench_cli
 from gyrobench.scenarios.runner import store
 from tests.scenarios import toy_scenario as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 ROOT = Path(__file__).resolve().parents[2]
 TOY = "tests.scenarios.toy_scenario"
 
@@ -542,12 +545,12 @@ def test_score_direction_override():
     assert bench.score_direction("mean/scale_factor", {"scale_factor": -1}) == -1
 
 
-def test_baseline_round_trip_is_exact_and_atomic(tmp_path):
+def test_baseline_round_trip_is_exact_and_atomic(tmp_path, user_files):
     c = bench.run_campaign(toy, toy.good, range(5), workers=0, db=tmp_path / "c.db", progress=False)
     path = bench.save_baseline(tmp_path / "b.json", c)
     back = bench.load_baseline(path)
     assert back.scores == c.scores and back.campaign_id == c.campaign_id
-    assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
+    assert [p.name for p in user_files.written(tmp_path) if p.suffix == ".tmp"] == []
 
 
 @pytest.fixture(scope="module")
@@ -700,7 +703,7 @@ def test_compare_without_common_seeds():
 def test_db_that_is_not_sqlite(tmp_path):
     p = tmp_path / "x.db"
     p.write_text("not a database " * 100)
-    with pytest.raises(ValueError, match="is not a usable SQLite database"):
+    with pytest.raises(ValueError, match="is not an SQLite database"):
         bench.run_campaign(toy, toy.good, [1], workers=0, db=p, progress=False)
 
 

@@ -14,6 +14,9 @@ from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 from tests.scenarios import toy_scenario as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TOY = "tests.scenarios.toy_scenario"
 
 

@@ -20,10 +20,14 @@ from sklearn.model_selection import GridSearchCV, LeaveOneGroupOut
 from gyrobench.scenarios import bench
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun
 from gyrobench.scenarios.bench.compensators import accepts_groups, fit_compensator
-from gyrobench.scenarios.bench.primary import SCENARIO_SCORES
-from gyrobench.scenarios.bench.references import FogVibrationBias, IfogSegmentRBF, fog_vibration_rbf
+from gyrobench.scenarios.bench.primary import declared_scores
 from gyrobench.scenarios.bench.scoring import resolve_scenario, score_task
 from gyrobench.scenarios.cli.main import main
+from gyrobench.scenarios.papers.p000_fog_vibration.bench import FogVibrationBias, fog_vibration_rbf
+from gyrobench.scenarios.papers.p003_ifog_thermal.bench import IfogSegmentRBF
+
+#: every bench scenario's declared scores (each paper's BENCH_SCORES, found through the registry)
+SCENARIO_SCORES = declared_scores()
 
 
 def _sign_test_count(n: int, alpha: float = 0.05) -> int:

@@ -1,4 +1,4 @@
-"""scenarios/checks/mems_nonlinear.py: the nonlinear mechanism's closed-form checks pass, fast, and can fail."""
+"""scenarios/checks/mems_nonlinear.py: the stiffening and read-out checks pass, declare their kinds, and can fail."""
 
 from __future__ import annotations
 
@@ -8,31 +8,46 @@ import pytest
 from gyrobench.scenarios.checks import mems_nonlinear as cmn
 from gyrobench.scenarios.checks.core import CHECK_MODULES, Check
 
-EXPECTED_IDS = [
-    "mems.nonlinear_small_signal_scale_factor",
-    "mems.nonlinear_cubic_coefficient",
-    "mems.nonlinear_monotone_3600",
-    "mems.nonlinear_no_clip_3600",
-]
+EXPECTED = {
+    "mems.sense_stiffening_full_ode": "second method",
+    "mems.readout_slow_vs_full_bend": "second method",
+    "mems.readout_pickoff_small_amplitude": "closed form",
+    "mems.nonlinear_cubic_coefficient": "consistency",
+}
 
 
-def test_every_check_passes_and_is_registered():
-    out = cmn.checks(np.random.default_rng(0))
+@pytest.fixture(scope="module")
+def out():
+    return cmn.checks(np.random.default_rng(0))
+
+
+def test_every_check_passes_and_is_registered(out):
     assert all(isinstance(c, Check) for c in out)
-    assert [c.id for c in out] == EXPECTED_IDS
+    assert {c.id: c.kind for c in out} == EXPECTED
     failed = [(c.id, c.rel_error, c.tolerance) for c in out if not c.passed]
     assert not failed, failed
     assert "gyrobench.scenarios.checks.mems_nonlinear" in CHECK_MODULES
 
 
-def test_no_clip_check_fails_on_a_device_that_clips_inside_the_range(monkeypatch):
-    """The check can fail: the rebalance DAC of the "calibrated" variant (v_max solved for 15.71 %)
-    clamps near 3000 deg/s, and its flat output is far outside the tolerance."""
-    from gyrobench.scenarios.papers.p001_mems_scale_factor import config as cfg
+def test_the_stiffening_check_fails_when_the_harmonic_balance_drops_the_cubic_term(monkeypatch):
+    """A model whose amplitude ignores k3 (the linear response) is far outside the tolerance at 2 Omega_d."""
+    from gyrobench.sim import mems_nonlinear
 
-    real = cfg.Config
-    monkeypatch.setattr(cfg, "Config", lambda: real(variant="calibrated"))
-    c = cmn._no_clip()
+    def linear(self, rate):
+        f = np.abs(self.coriolis_force(rate))
+        return np.sign(rate) * f / np.hypot(self.detuning_stiffness, self.damping * self.drive_omega)
+
+    monkeypatch.setattr(mems_nonlinear.DuffingSense, "amplitude", linear)
+    c = cmn._stiffening_ode()
+    assert not c.passed and c.rel_error > 10 * c.tolerance
+
+
+def test_the_readout_check_fails_on_a_chain_without_its_rail(monkeypatch):
+    """The slow flow with the rail's describing function replaced by 1 (no clipping) misses the bend."""
+    from gyrobench.sim import mems_readout
+
+    monkeypatch.setattr(mems_readout.SenseChain, "describing_gain", lambda self, a: np.ones_like(np.asarray(a)))
+    c = cmn._readout_bend()
     assert not c.passed and c.rel_error > 100 * c.tolerance
 
 

@@ -14,6 +14,9 @@ from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.reports.allan import TERMS
 from gyrobench.scenarios.static_noise import MIN_SAMPLES
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 VALIDATION = Path(__file__).resolve().parents[2].parent / "shared" / "validation"
 
 
@@ -205,14 +208,14 @@ def test_bad_nonpositive_fs(capsys, tmp_path):
     assert not (tmp_path / "x.h5").exists()
 
 
-def test_bad_negative_coefficient(capsys, tmp_path):
+def test_bad_negative_coefficient(capsys, tmp_path, user_files):
     code, _, err = run(["simulate", "noise", "--K", "-0.1", "--duration", "1s", "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, "--K must be a finite number >= 0; got '-0.1'")
-    assert list(tmp_path.iterdir()) == []  # nothing written, not even a temporary file
+    assert user_files.written(tmp_path) == []  # nothing written, not even a temporary file
     # a value argparse would not take for a number ("-1e-3"): refused by the same check, not "expected one argument"
     code, _, err = run(["simulate", "noise", "--N", "-1e-3", "--duration", "1s", "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, "--N must be a finite number >= 0; got '-1e-3'")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_bad_allan_fs_zero(tmp_path, capsys):
@@ -269,10 +272,10 @@ def test_bad_csv_without_named_column(tmp_path, capsys):
     assert_one_line_error(code, err, "--column 'gyro_z' is not in")
 
 
-def test_bad_unknown_scenario(tmp_path, capsys):
+def test_bad_unknown_scenario(tmp_path, capsys, user_files):
     code, _, err = run(["reproduce", "nope", "--out", tmp_path], capsys)
     assert_one_line_error(code, err, "scenario must be one of")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_bad_config_key(tmp_path, capsys):
@@ -289,19 +292,19 @@ def test_bad_duration(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("text", ["-5s", "-5", "-0.5h"])
-def test_bad_negative_duration(tmp_path, capsys, text):
+def test_bad_negative_duration(tmp_path, capsys, text, user_files):
     # before: argparse took "-5s" for an option and said "expected one argument"
     code, _, err = run(["simulate", "noise", "--N", "1", "--duration", text, "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, f"--duration must be > 0 s; got '{text}'")
     code, _, err = run(["simulate", "noise", "--N", "1", f"--duration={text}", "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, f"--duration must be > 0 s; got '{text}'")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
-def test_bad_too_short_noise_record(tmp_path, capsys):
+def test_bad_too_short_noise_record(tmp_path, capsys, user_files):
     code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "0.1s", "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, "--duration x --fs = 0.1 s x 100 Hz gives 10 samples; a record needs at least 64")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_min_samples_is_the_fewest_the_default_fit_takes(tmp_path, capsys):
@@ -342,19 +345,19 @@ def test_console_script_exit_code(tmp_path):
 
 
 # ----------------------------------------------------------------------------- flags that belong to the other form
-def test_bad_scenario_flags_for_noise(tmp_path, capsys):
+def test_bad_scenario_flags_for_noise(tmp_path, capsys, user_files):
     cfg = tmp_path / "c.toml"
     cfg.write_text("[fog]\nduration_h = 0.05\n")
     code, _, err = run(["simulate", "noise", "--N", "1", "--duration", "60s", "-o", tmp_path / "x.h5",
                         "--config", cfg, "--out", tmp_path / "D"], capsys)
     assert_one_line_error(code, err, "simulate noise: --out, --config apply to 'simulate SCENARIO'")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.toml"]
+    assert sorted(p.name for p in user_files.written(tmp_path)) == ["c.toml"]
 
 
-def test_bad_noise_flags_for_scenario(tmp_path, capsys):
+def test_bad_noise_flags_for_scenario(tmp_path, capsys, user_files):
     code, _, err = run(["simulate", "static_noise", "--fs", "10", "--N", "5", "--out", tmp_path / "D"], capsys)
     assert_one_line_error(code, err, "simulate static_noise: --N, --fs apply to 'simulate noise' only")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 # ----------------------------------------------------------------------------- config holes
@@ -425,7 +428,7 @@ def test_failed_write_is_one_line_and_exit_2(tmp_path, target):
     assert [p for p in out.rglob("*") if p.is_file()] == []  # no temporary file left, no half-written output
 
 
-def test_progress_bar_is_closed_on_error(tmp_path, capsys, monkeypatch):
+def test_progress_bar_is_closed_on_error(tmp_path, capsys, monkeypatch, user_files):
     # before: the bar stayed open and redrew itself after the error line
     from gyrobench.io.recording import HDF5StreamWriter
 
@@ -442,7 +445,7 @@ def test_progress_bar_is_closed_on_error(tmp_path, capsys, monkeypatch):
     assert code == 2 and len(calls) == 3
     assert "simulate:" in err  # the bar was on
     _assert_error_is_last(err, "gyrobench: error: injected failure while streaming")
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_unwritable_output_names_the_output_not_a_temp_file(tmp_path, capsys):
@@ -465,7 +468,7 @@ def test_output_mode_follows_umask(tmp_path, capsys):
     assert (tmp_path / "x.h5").stat().st_mode & 0o777 == 0o644  # before: 0600 whatever the umask
 
 
-def test_record_larger_than_free_space_is_refused(tmp_path, capsys, monkeypatch):
+def test_record_larger_than_free_space_is_refused(tmp_path, capsys, monkeypatch, user_files):
     import shutil
 
     monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**12, 10**12 - 10**6, 10**6))
@@ -473,7 +476,7 @@ def test_record_larger_than_free_space_is_refused(tmp_path, capsys, monkeypatch)
                         "-o", tmp_path / "x.h5"], capsys)
     assert_one_line_error(code, err, "the record needs about 28.8 MB but")
     assert "has 1 MB free" in err
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_noise_record_states_its_truth(noise_h5):
@@ -574,7 +577,7 @@ def test_cli_edge_copies_of_analysis_constants_agree():
 
 
 @pytest.mark.parametrize("suffix", [".h5", ".csv"])
-def test_simulate_noise_too_big_for_the_disk_is_one_line_before_any_progress(tmp_path, capsys, suffix):
+def test_simulate_noise_too_big_for_the_disk_is_one_line_before_any_progress(tmp_path, capsys, suffix, user_files):
     """Found by the random flag fuzzer: an HDF5 record larger than the free disk was refused by the
     stream writer after the progress bar had drawn (three lines on stderr); the disk is now checked
     first, for both formats."""
@@ -586,7 +589,7 @@ def test_simulate_noise_too_big_for_the_disk_is_one_line_before_any_progress(tmp
                  "-o", str(tmp_path / f"o{suffix}")])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "free" in err[0], err
-    assert list(tmp_path.iterdir()) == []
+    assert user_files.written(tmp_path) == []
 
 
 def test_a_closed_output_pipe_ends_quietly_with_141(monkeypatch, capsys):

@@ -12,6 +12,9 @@ from gyrobench.base import units
 from gyrobench.scenarios.cli.allan import read_csv as _read_csv
 from tests.scenarios.test_cli import assert_one_line_error, run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 
 @pytest.fixture
 def rate(rng):
@@ -329,8 +332,9 @@ def test_temperature_column_and_step_warning(tmp_path, capsys, rng):
     code, out, err = run(["allan", p, "--json", "--accept-nonstationary", "--kalibr", kalibr], capsys)
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["nonstationary"] is True and doc["fit"]["nonstationary"] is True
-    assert "# WARNING not stationary (motion or steps; the values describe them too): gyro" in kalibr.read_text()
+    # the record has a step; the fit is of the quiet stretches either side, which do not
+    assert doc["nonstationary"] is True and doc["fit"]["nonstationary"] is False and doc["basis"] == "quiet stretches"
+    assert "# not stationary as a whole; fitted from the quiet stretches: gyro" in kalibr.read_text()
 
 
 def test_quiet_record_is_not_flagged_nonstationary(tmp_path, capsys, rng):
@@ -481,7 +485,11 @@ def test_short_taus_of_a_moving_record_are_fitted_not_dropped_as_filter_shaped(r
     y = _handled_1hz_record(48)
     assert fit_range(allan_deviation(y, 1.0)).excluded >= 3  # the unflagged rule drops the motion's octaves
     res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 1.0)
-    assert res.nonstationary
+    # by default the quiet stretches are fitted: without the handling nothing is filter-shaped
+    assert res.nonstationary and res.analysis.basis == "quiet stretches"
+    assert res.fit_range.excluded == 0 and res.fit.tau_used[0] == res.fit.curve.tau[0]
+    res = rep.analyse(Channel(label="gyro", quantity="rate", data=y, unit="rad/s"), 1.0, quiet=False)
+    assert res.nonstationary and res.analysis.basis == "whole record (motion kept)"
     assert res.fit_range.excluded == 0 and res.fit.range_rule == "nonstationary"
     assert res.fit.tau_used[0] == res.fit.curve.tau[0]
     assert res.fit.misfit and res.fit.p_value < 1e-6

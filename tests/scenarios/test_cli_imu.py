@@ -15,6 +15,9 @@ from gyrobench.sim import parts
 
 from .test_cli import run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TRAJECTORY = """
 [site]
 latitude_deg = 45.0
@@ -124,7 +127,7 @@ def test_a_csv_trajectory_of_quaternions_and_velocities(tmp_path, capsys):
     turn plus the Earth's rate about the down axis over the record (-Omega sin(phi) t)."""
     from scipy.spatial.transform import Rotation
 
-    from gyrobench.sim.trajectory import EARTH_RATE
+    from gyrobench.sim.earth import EARTH_RATE
 
     t = np.arange(0.0, 20.0 + 1e-9, 0.01)
     yaw = np.radians(10.0) * np.clip(t - 5.0, 0.0, 9.0)

@@ -11,6 +11,9 @@ import pytest
 from gyrobench.scenarios import registry
 from tests.scenarios.test_cli import assert_one_line_error, run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 
 @pytest.fixture
 def toy_registered(monkeypatch):

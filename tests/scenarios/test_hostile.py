@@ -22,6 +22,9 @@ from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.pytest_plugin import GyrobenchBench
 from tests.scenarios import toy_scenario as toy
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 TOY = "tests.scenarios.toy_scenario"
 HERE = __name__
 FAST = toy.Config(n_samples=60)
@@ -625,7 +628,7 @@ def test_static_noise_estimate_is_checked_where_every_verb_reads_the_config(monk
 
 # ----------------------------------------------------------------------------- 4. temp files
 @pytest.mark.slow  # seconds of the default tier (issue 23: under 3 minutes); CI runs it
-def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path):
+def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path, user_files):
     import os
     import signal
     import subprocess
@@ -673,7 +676,7 @@ def test_sigkilled_simulate_leaves_a_pid_temp_that_the_next_run_removes(tmp_path
     code = main(["simulate", "noise", "--N", "0.01", "--duration", "60s", "-o", str(target), "-q"])
     assert code == 0
     assert not left.exists() and mine.exists() and other.exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["rec.h5", mine.name, other.name])
+    assert sorted(p.name for p in user_files.written(tmp_path)) == sorted(["rec.h5", mine.name, other.name])
 
 
 def test_reused_pid_of_a_younger_process_does_not_protect_a_stale_temp(tmp_path):
@@ -786,7 +789,7 @@ def test_check_output_accepts(tmp_path):
     assert list(tmp_path.glob("**/.gyrobench-probe*")) == []  # the write probe is removed
 
 
-def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch):
+def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch, user_files):
     from gyrobench.scenarios.reports import outputs, report
 
     out = tmp_path / "rep"
@@ -811,10 +814,10 @@ def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch):
         outputs.write_report_as_a_set(["d", "boom"], out, command="run 3")
     assert sorted(p.name for p in out.iterdir()) == [".gyrobench-report", "c", "index.html"]
     assert (out / "c" / "results.json").read_text() == "run 2"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]  # no temp folder left
+    assert sorted(p.name for p in user_files.written(tmp_path)) == ["rep"]  # no temp folder left
 
 
-def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
+def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path, user_files):
     from gyrobench.base.atomic import atomic_folder
 
     out = tmp_path / "rep"
@@ -828,7 +831,7 @@ def test_a_swap_killed_between_its_renames_is_undone_by_the_next_run(tmp_path):
         with atomic_folder(out):  # the leftovers are handled on entry
             raise RuntimeError("stop")
     assert (out / "index.html").read_text() == "previous"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+    assert sorted(p.name for p in user_files.written(tmp_path)) == ["rep"]
 
 
 # ----------------------------------------------------------------------------- 6. fuzzing
@@ -1073,7 +1076,7 @@ def test_two_writers_to_one_output_the_second_is_refused(tmp_path, capsys):
         pass
 
 
-def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
+def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path, user_files):
     from gyrobench.scenarios import registry, static_noise
     from gyrobench.scenarios.reports import outputs
 
@@ -1091,7 +1094,7 @@ def test_real_report_written_as_a_set_replaces_an_earlier_one(tmp_path):
     assert index == out / "index.html" and index.is_file()
     assert (out / "static_noise" / "results.json").is_file()
     assert not (out / "stale_scenario").exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+    assert sorted(p.name for p in user_files.written(tmp_path)) == ["report"]
 
 
 def _noise_h5(tmp_path: Path, scale: float = 1.0) -> Path:

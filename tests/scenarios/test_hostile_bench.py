@@ -11,6 +11,7 @@ import dataclasses
 import json
 import pickle
 import sqlite3
+import zlib
 
 import numpy as np
 import pytest
@@ -19,6 +20,9 @@ from gyrobench.scenarios import registry
 from gyrobench.scenarios.cli.main import main
 from gyrobench.scenarios.runner import codec, units
 from tests.scenarios import toy_paper as toy
+
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
 
 TOY_CONFIG = toy.Config(n_samples=50)
 
@@ -139,7 +143,7 @@ def _crafted_units_db(tmp_path, blob):
     db = tmp_path / "units.sqlite"
     rid, ident = units.run_id(toy, TOY_CONFIG)
     conn = units._open_store(db, rid, toy.NAME, TOY_CONFIG, ident)
-    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)", (rid, 0, blob, 0.1, 0.0))
+    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?, 1)", (rid, 0, blob, 0.1, 0.0))
     conn.close()
     return db
 
@@ -172,7 +176,7 @@ def test_crafted_units_db_through_reproduce_exits_2_with_one_line(tmp_path, caps
     db = tmp_path / "units.sqlite"
     rid, ident = units.run_id(module, config)
     conn = units._open_store(db, rid, module.NAME, config, ident)
-    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?)",
+    conn.execute("INSERT INTO unit_results VALUES (?, ?, ?, ?, ?, 1)",
                  (rid, 0, pickle.dumps(_Payload(str(marker))), 0.1, 0.0))
     conn.close()
     argv = ["reproduce", "toy_paper", "--units", "2", "--workers", "0", "--db", str(db),
@@ -191,7 +195,8 @@ def test_units_store_holds_json_and_resumes_identically(tmp_path):
     _same(list(first.results), list(again.results))
     with sqlite3.connect(db) as conn:
         blobs = [bytes(b) for (b,) in conn.execute("SELECT result FROM unit_results")]
-    assert blobs and all(json.loads(b)["schema"] == codec.SCHEMA for b in blobs)
+    assert blobs and all(b.startswith(codec.COMPRESSED_MAGIC) for b in blobs)
+    assert all(json.loads(zlib.decompress(b[len(codec.COMPRESSED_MAGIC):]))["schema"] == codec.SCHEMA for b in blobs)
 
 
 # ----------------------------------------------------------------------------- configs
@@ -204,7 +209,7 @@ def test_physics_checks_config_imports_nothing_outside_its_registry(tmp_path, ca
     from gyrobench.scenarios.checks.core import CHECK_MODULES
 
     monkeypatch.delitem(sys.modules, "this", raising=False)
-    with pytest.raises(ValueError, match="must be among the check modules") as info:
+    with pytest.raises(ValueError, match=r"Config.modules\[0\] must be one of \(.*; got .this.$") as info:
         physics_checks.Config(modules=("this",))
     assert all(m in str(info.value) for m in CHECK_MODULES) and "\n" not in str(info.value)
     cfg = tmp_path / "c.toml"
@@ -572,3 +577,18 @@ def _assert_failed_seed_exit_3(tmp_path, capsys, monkeypatch, comp, words, *, wo
     assert main(argv) == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("gyrobench: error:") and words in err[0], err
+
+
+def test_compressed_rows_round_trip_and_a_truncated_or_inflating_one_is_refused(monkeypatch):
+    value = {"x": np.arange(1000, dtype=np.float32), "q": (1.5, None)}
+    blob = codec.dumps_compressed(value)
+    assert blob.startswith(codec.COMPRESSED_MAGIC) and len(blob) < len(codec.dumps(value))
+    back = codec.loads(blob)
+    assert back["q"] == (1.5, None) and back["x"].tobytes() == value["x"].tobytes()
+    for bad, why in ((blob[:-10], "truncated"), (codec.COMPRESSED_MAGIC + b"not zlib", "not a valid compressed")):
+        with pytest.raises(codec.CodecError, match=why) as info:
+            codec.loads(bad)
+        assert "\n" not in str(info.value)
+    monkeypatch.setattr(codec, "MAX_DOCUMENT_BYTES", 1000)
+    with pytest.raises(codec.CodecError, match="inflates beyond 1000 bytes"):
+        codec.loads(codec.COMPRESSED_MAGIC + zlib.compress(b" " * 100_000))

@@ -13,6 +13,9 @@ import pytest
 from gyrobench.io.recording import Channel, HDF5StreamWriter, Recording, load_hdf5, save_hdf5, to_csv
 from tests.scenarios.test_cli import assert_one_line_error, run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 N = 4000
 
 

@@ -328,7 +328,12 @@ def test_bad_runs():
         ({"derivative_estimator": "finite"}, ValueError, r"derivative_estimator must be one of"),
         ({"thermal_program": 0}, TypeError, r"thermal_program must be a bool"),
         ({"rbf_spread": 0.0}, ValueError, r"rbf_spread must be \(0, 1e\+06\] 1; got 0.0"),
-        ({"rbf_spread_grid": ()}, ValueError, r"rbf_spread / rbf_spread_grid must be > 0"),
+        (
+            {"rbf_spread_grid": ()},
+            ValueError,
+            r"rbf_spread_grid must hold at least one spread > 0 \(normalized input units\) when rbf_spread is None; "
+            r"got \(\)",
+        ),
         (
             {"rbf_max_neurons": 0},
             ValueError,

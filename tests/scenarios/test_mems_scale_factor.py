@@ -105,9 +105,10 @@ def test_claims_are_well_formed(unit0):
     assert ms.claims_for(ms.Config(variant="design")) == ms.CLAIMS
     cal = ms.claims_for(ms.Config(variant="calibrated"))
     assert {c.id for c in cal if c.kind == "calibrated"} == {c.id for c in ms.CLAIMS}
-    # the identified device (default) sets raw and low-rate K_n: those two are calibrated
+    # the identified device (default) sets one number, the raw K_n: that claim is calibrated (the
+    # low-rate K_n is an output of the read-out chain)
     ident = ms.claims_for(ms.Config())
-    assert {c.id for c in ident if c.kind == "calibrated"} == {"001.raw_kn", "001.low_rate_kn"}
+    assert {c.id for c in ident if c.kind == "calibrated"} == {"001.raw_kn"}
 
 
 def test_claim_roles_and_preconditions():
@@ -126,17 +127,25 @@ def test_claim_roles_and_preconditions():
 
 
 def test_calibrated_inputs_name_the_current_device():
-    """The default device is the module's design (not the calibrated v_max) read out through the
-    identified transfer; the variants' calibrated inputs name the values they set. If either
-    changes, re-examine the claims' kinds."""
+    """The default device is the module's design (not the calibrated v_max) read out open loop
+    through the sense chain with the identified feedback capacitor, and no fitted curve; the
+    variants' calibrated inputs name the values they set. If either changes, re-examine the
+    claims' kinds."""
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.identify import RAPP_IDENTIFIED
+
     assert ms.Config().variant == "identified"
-    t = ms.rate_transfer(ms.Config())
-    assert math.isclose(math.degrees(t.rail_rate), ms.IDENTIFIED.rail_rate_dps)
-    assert f"{ms.IDENTIFIED.rail_rate_dps:.2f} deg/s" in ms.IDENTIFIED_INPUT
+    assert ms.rate_transfer(ms.Config()).is_linear  # no Rapp curve on the default device
+    spec = ms.device_spec(ms.Config())
+    assert spec.nominal.readout == "open_loop" and spec.chain is not None
+    assert spec.chain.nominal.feedback_capacitance == ms.IDENTIFIED.feedback_capacitance_f
+    assert ms.draw_unit(spec, 0).sense_chain is not None
+    assert f"{ms.IDENTIFIED.feedback_capacitance_f * 1e15:.4g} fF" in ms.IDENTIFIED_INPUT
+    t = ms.rate_transfer(ms.Config(variant="rapp"))  # the labelled phenomenological variant
+    assert math.isclose(math.degrees(t.rail_rate), RAPP_IDENTIFIED.rail_rate_dps)
     assert ms.rate_transfer(ms.Config(variant="design")).is_linear
     assert ms.rate_transfer(ms.Config(variant="calibrated")).is_linear
     assert ms.control_config(ms.Config()).variant == "design"
-    design = ms.device_spec(ms.Config())
+    design = ms.device_spec(ms.Config(variant="design"))
     assert design.nominal.dac_full_scale == MemsResonator().dac_full_scale
     assert design.nominal.dac_full_scale != ms.CALIBRATED_V_MAX_V
     cal = ms.device_spec(ms.Config(variant="calibrated"))
@@ -398,17 +407,17 @@ def test_one_fit_run_is_too_few_for_order_9():
         ({"rates_dps": (1.0, 0.0)}, "at least 3 finite rates"),
         ({"rates_dps": (0.0, 2.0, 1.0)}, "strictly monotonic"),
         ({"rates_dps": (2.0, 1.0, 1.0, 0.0)}, "strictly monotonic without duplicates"),
-        ({"rates_dps": (2.0, float("nan"), 0.0)}, "finite rates"),
-        ({"settle_s": -1.0}, "settle_s must be finite and >= 0"),
-        ({"average_s": 0.0}, "average_s must be > 0 s; got 0.0"),
+        ({"rates_dps": (2.0, float("nan"), 0.0)}, r"rates_dps\[1\] must be \[-36000, 36000\] deg/s; got nan"),
+        ({"settle_s": -1.0}, r"settle_s must be \[0, 3600\] s; got -1"),
+        ({"average_s": 0.0}, r"average_s must be \(0, 3.6e\+07\] s; got 0.0"),
         ({"average_s": 0.001}, "average_s must cover at least one sample"),
         ({"variant": "tuned"}, "variant must be one of"),
-        ({"fs_hz": 0.0}, "fs_hz must be > 0 Hz"),
-        ({"dense_step_dps": 0.0}, "dense_step_dps must be > 0 deg/s; got 0.0"),
-        ({"n_fit_runs": 0}, "n_fit_runs must be an integer >= 1"),
-        ({"timing_repeats": 0}, "timing_repeats must be an integer >= 1; got 0"),
+        ({"fs_hz": 0.0}, r"fs_hz must be \(0, 100000\] Hz; got 0"),
+        ({"dense_step_dps": 0.0}, r"dense_step_dps must be \(0, 7200\] deg/s; got 0.0"),
+        ({"n_fit_runs": 0}, r"n_fit_runs must be an integer in \[1, 1000\] runs; got 0"),
+        ({"timing_repeats": 0}, r"timing_repeats must be an integer in \[1, 100000\] repeats; got 0"),
         ({"orders": (9, 1)}, "orders must be three integers"),
-        ({"join_width": 0.7}, r"join_width must be in \(0, 0.5\)"),
+        ({"join_width": 0.7}, r"join_width must be \(0, 0.5\) 1; got 0.7"),
     ],
 )
 def test_config_rejects(kw, msg):
@@ -469,18 +478,12 @@ def test_deviation_effects_measures_every_variant(unit0):
 
 # ------------------------------------------------------------------ the identified device
 def test_identification_reproduces_the_stored_constant():
-    """IDENTIFIED is what identify_p001_device() solves for from its stored inputs (brentq xtol
-    1e-6 on each parameter: equal within a few xtol)."""
+    """IDENTIFIED is what identify_p001_device() solves for from its stored inputs (brentq on
+    log C_f, xtol and rtol 1e-12: equal to 1e-9 relative)."""
     ident = ms.IDENTIFIED
-    fresh = ms.identify_p001_device(
-        raw_kn=ident.raw_kn,
-        low_rate_kn=ident.low_rate_kn,
-        low_rate_limit_dps=ident.low_rate_limit_dps,
-        rates_dps=ident.rates_dps,
-    )
-    assert abs(fresh.rail_rate_dps - ident.rail_rate_dps) < 5e-6
-    assert abs(fresh.rail_order - ident.rail_order) < 5e-6
-    assert dataclasses.replace(fresh, rail_rate_dps=ident.rail_rate_dps, rail_order=ident.rail_order) == ident
+    fresh = ms.identify_p001_device(raw_kn=ident.raw_kn, rates_dps=ident.rates_dps)
+    assert fresh.feedback_capacitance_f == pytest.approx(ident.feedback_capacitance_f, rel=1e-9)
+    assert dataclasses.replace(fresh, feedback_capacitance_f=ident.feedback_capacitance_f) == ident
 
 
 def test_identified_device_is_monotone_through_the_table():

@@ -1,4 +1,4 @@
-"""The paper-scenario contract (gyrobench.scenarios.papers.contract), over every registered paper.
+"""The paper-scenario contract (gyrobench.scenarios.papers.contract), over every discovered paper.
 
 One unit of each paper is run once (module-scoped fixture, seed 0, the paper's default
 config) and checked for what every paper must do: a typed frozen result with one quantity
@@ -17,10 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from gyrobench.scenarios import registry
+from gyrobench.scenarios import papers, registry
 from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import Claim, Deviation, evaluate
-from gyrobench.scenarios.papers import PAPERS
 from gyrobench.scenarios.papers.contract import PACKAGE_MODULES, PaperScenario, UnitResult
 
 PAPER_SCENARIOS = [n for n in registry.available() if registry.describe(n).paper is not None]
@@ -29,10 +28,12 @@ PAPER_SCENARIOS = [n for n in registry.available() if registry.describe(n).paper
 MAX_MODULE_LINES = 600
 
 
-def test_every_paper_of_the_registry_is_a_paper_package():
-    assert len(PAPER_SCENARIOS) == len(PAPERS)
+def test_every_paper_of_the_registry_is_a_discovered_paper_package():
+    found = papers.discover()
+    assert [p.name for p in found] == PAPER_SCENARIOS
+    assert len(papers.sources()) == len(found)  # each states its source paper
     for name in PAPER_SCENARIOS:
-        assert registry.SCENARIOS[name].startswith("gyrobench.scenarios.papers.p"), name
+        assert registry.table()[name].startswith("gyrobench.scenarios.papers.p"), name
 
 
 @pytest.fixture(scope="module", params=PAPER_SCENARIOS)

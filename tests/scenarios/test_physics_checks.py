@@ -47,6 +47,7 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
     for c in doc["checks"]:
         assert {
             "id",
+            "kind",
             "formula",
             "expected",
             "simulated",
@@ -57,7 +58,7 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
         } <= set(c)
         assert c["rel_error"] <= c["tolerance"] and c["tolerance_derivation"]
     n = len(ids)
-    assert f"| closed-form checks passed | {n}/{n} | {n}/{n} | yes |" in (tmp_path / "report.md").read_text()
+    assert f"| physics checks passed | {n}/{n} | {n}/{n} | yes |" in (tmp_path / "report.md").read_text()
 
 
 #: a published source carries its year; a bare module path or the project's own docs are not one
@@ -82,7 +83,32 @@ def test_a_check_without_a_reference_is_refused():
     from gyrobench.scenarios.checks.core import Check
 
     with pytest.raises(ValueError, match="reference must be a non-empty string"):
-        Check(id="x.y", formula="a = b", expected=1.0, simulated=1.0, tolerance=0.1, derivation="d", reference=" ")
+        Check(id="x.y", formula="a = b", expected=1.0, simulated=1.0, tolerance=0.1, derivation="d", reference=" ",
+              kind="closed form")
+
+
+def test_a_check_without_a_known_reference_kind_is_refused():
+    from gyrobench.scenarios.checks.core import Check
+
+    with pytest.raises(ValueError, match="kind must be one of"):
+        Check(id="x.y", formula="a = b", expected=1.0, simulated=1.0, tolerance=0.1, derivation="d",
+              reference="A. Book (1999)", kind="validated")
+
+
+@pytest.mark.slow  # shares the module fixture: every registered check, run once
+def test_every_check_declares_a_reference_kind_and_the_report_counts_them(outcome, tmp_path):
+    from gyrobench.scenarios.checks.core import KINDS, VALIDATION_KINDS
+
+    checks = outcome.results["checks"]
+    assert all(c["kind"] in KINDS for c in checks), [c["id"] for c in checks if c["kind"] not in KINDS]
+    counts = outcome.results["kind_counts"]
+    assert list(counts) == list(KINDS) and sum(counts.values()) == len(checks)
+    for k in KINDS:
+        assert counts[k] == sum(c["kind"] == k for c in checks)
+    write_report([outcome], tmp_path)
+    md = (tmp_path / "report.md").read_text()
+    n_valid = sum(counts[k] for k in VALIDATION_KINDS)
+    assert f"| checks with an outside reference (validation) | {n_valid}/{len(checks)} |" in md
 
 
 def test_registered_last_and_part_of_all():
@@ -153,8 +179,8 @@ def test_collect_refuses_duplicate_ids():
 def test_config_refuses_bad_modules():
     with pytest.raises(ValueError, match="at least one check module"):
         physics_checks.Config(modules=())
-    with pytest.raises(TypeError, match="must be a tuple of module names"):
-        physics_checks.Config(modules=("a", 3))
+    with pytest.raises(ValueError, match=r"Config.modules\[1\] must be one of \('gyrobench.scenarios.checks.noise'.*"):
+        physics_checks.Config(modules=(CHECK_MODULES[0], 3))
 
 
 @pytest.mark.slow  # runs the check modules twice, in process and on workers (tens of seconds): slow tier

@@ -172,7 +172,7 @@ def _paper_outcome():
 def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     from gyrobench.scenarios import papers
 
-    monkeypatch.setattr(papers, "PAPERS", {})  # a paper without an entry is named by its key
+    monkeypatch.setattr(papers, "sources", dict)  # a paper without an entry is named by its key
     o = _paper_outcome()
     n = claim_tally(o.claims)
     # p.a device matched; p.b contradicted; p.c and p.e hold on the control too (15/20): identities;

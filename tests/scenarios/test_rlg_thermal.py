@@ -38,7 +38,7 @@ def outcome(three_units) -> Outcome:
 
 def test_registered_and_paper_shape():
     assert registry.get("rlg_thermal") is sc
-    assert sc.PAPER == "004"  # key into scenarios.papers.PAPERS (filled by the lead)
+    assert sc.PAPER == "004" and sc.SOURCE.key == "004"
     assert "seed" not in sc.TITLE.lower()
     assert not hasattr(sc, "run") and not hasattr(sc, "seed_summary")
 
@@ -267,7 +267,7 @@ def test_simulate_recordings():
 
 # ----------------------------------------------------------------------------- bad input
 def test_bad_config_temperatures():
-    with pytest.raises(ValueError, match=r"Config.high_c must be > start_c"):
+    with pytest.raises(ValueError, match=r"Config.start_c must be < high_c \[degC\]; got -40.0 and -50.0"):
         sc.Config(high_c=-50.0)
 
 

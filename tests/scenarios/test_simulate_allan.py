@@ -15,6 +15,9 @@ from hypothesis import strategies as st
 from gyrobench.io.recording import FS_RANGE_HZ
 from gyrobench.scenarios.cli.main import main
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 #: samples per record: enough for an Allan fit's five octave taus, small enough to be quick
 N_SAMPLES = 1000
 

@@ -11,6 +11,9 @@ from gyrobench.scenarios import registry
 
 from .test_cli import run
 
+# every test runs among planted user files and fails if one changes (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("user_files")
+
 #: physics_checks keeps no recordings (its simulate returns none; each check simulates internally)
 GENERATORS = [name for name in registry.available() if name != "physics_checks"]
 

@@ -218,3 +218,94 @@ def test_a_config_variant_can_mark_a_claim_calibrated():
     variant = {c.id: c.kind for c in module_claims(ms, ms.Config(variant="calibrated"))}
     assert default["001.raw_kn"] == "emergent" and variant["001.raw_kn"] == "calibrated"
     assert {k for k in default if default[k] != variant[k]} == set(default)  # every claim
+
+
+# ------------------------------------------------------------------ a small store
+def _stored(db) -> dict[tuple[str, int], tuple[bytes, int]]:
+    with sqlite3.connect(db) as conn:
+        rows = conn.execute("SELECT run_id, seed, result, full FROM unit_results")
+        return {(r, s): (bytes(b), f) for r, s, b, f in rows}
+
+
+def test_store_keeps_the_report_units_whole_and_the_rest_slim(tmp_path, monkeypatch):
+    """With SLIM_FIELDS and REPORT_UNITS = 1 the first unit of the main run is stored whole, the
+    others and every control unit with the slimmed field emptied; the claims are those of a run
+    that keeps every unit whole, and a run asking for whole units recomputes the slim ones."""
+    monkeypatch.setattr(toy, "SLIM_FIELDS", ("trace",), raising=False)
+    monkeypatch.setattr(toy, "REPORT_UNITS", 1, raising=False)
+    slim_db, whole_db = tmp_path / "slim.db", tmp_path / "whole.db"
+    o = units.run_paper(toy, toy.Config(), seed=3, n_units=4, workers=0, db=slim_db)
+    k = units.run_paper(toy, toy.Config(), seed=3, n_units=4, workers=0, db=whole_db, keep_units=True)
+    assert [c.as_dict() for c in o.claims] == [c.as_dict() for c in k.claims]
+    rid = o.results["unit_run"]["run_id"]
+    rows = _stored(slim_db)
+    assert {s: f for (r, s), (_, f) in rows.items() if r == rid} == {3: 1, 4: 0, 5: 0, 6: 0}
+    assert {f for (r, _), (_, f) in rows.items() if r != rid} == {0}  # the control's units
+    assert all(f == 1 for _, f in _stored(whole_db).values())
+    run = units.run_units(toy, toy.Config(), seed=3, n_units=4, workers=0, db=slim_db)
+    assert run.computed == 3 and run.reused == 1
+    assert all(r["trace"].shape == (20,) for r in run.results)
+    again = units.run_units(toy, toy.Config(), seed=3, n_units=4, workers=0, db=slim_db, whole=1)
+    assert again.computed == 0 and again.reused == 4  # a whole unit serves a slim request
+
+
+def test_slim_result_empties_arrays_and_keeps_the_quantities():
+    """The emptied field keeps its dtype and number of dimensions; nothing else changes."""
+    import types
+
+    mod = types.SimpleNamespace(SLIM_FIELDS=("trace",))
+    r = toy.experiment(toy.Config(), 1)
+    r["trace"] = {"a": np.ones((3, 4), np.float32), "b": (np.arange(5), 2.0)}
+    s = units.slim_result(mod, r)
+    assert s["quantities"] == r["quantities"]
+    assert s["trace"]["a"].shape == (0, 0) and s["trace"]["a"].dtype == np.float32
+    assert s["trace"]["b"][0].size == 0 and s["trace"]["b"][1] == 2.0
+    assert r["trace"]["a"].shape == (3, 4)  # the original is untouched
+
+
+def test_a_store_of_the_previous_format_is_refused_in_one_line(tmp_path, capsys, monkeypatch):
+    """A unit store whose table has the previous layout (no ``full`` column) is refused, by the
+    runner and by ``reproduce`` (exit 2, one line naming the file), and left as it was."""
+    db = tmp_path / "old.sqlite"
+    with sqlite3.connect(db) as conn:
+        conn.execute("CREATE TABLE unit_results (run_id TEXT NOT NULL, seed INTEGER NOT NULL, result BLOB NOT NULL, "
+                     "elapsed_s REAL NOT NULL, finished REAL NOT NULL, PRIMARY KEY (run_id, seed))")
+        conn.execute("INSERT INTO unit_results VALUES ('x', 0, x'00', 1.0, 0.0)")
+    before = db.read_bytes()
+    with pytest.raises(ValueError, match="older gyrobench") as info:
+        units.run_units(toy, toy.Config(), n_units=1, workers=0, db=db)
+    assert "\n" not in str(info.value) and str(db) in str(info.value)
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.cli.main import main
+
+    monkeypatch.setitem(registry.SCENARIOS, "toy_paper", "tests.scenarios.toy_paper")
+    assert main(["reproduce", "toy_paper", "--units", "1", "--workers", "0", "--db", str(db),
+                 "--out", str(tmp_path / "rep"), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "older gyrobench" in err[0], err
+    assert db.read_bytes() == before
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's mallopt")
+def test_keep_freed_memory_takes_on_glibc_and_changes_no_value(tmp_path):
+    """The allocator setting is accepted (glibc) and idempotent; units computed in a process that has
+    it equal, bit for bit, those of a process where it is never applied (another store)."""
+    code = (
+        "import pickle, sys\n"
+        "from gyrobench.scenarios.runner import units\n"
+        "from tests.scenarios import toy_paper as toy\n"
+        "if sys.argv[1] == 'off':\n"
+        "    ok, units.keep_freed_memory = False, lambda: False\n"
+        "else:\n"
+        "    ok = units.keep_freed_memory() and units.keep_freed_memory()\n"
+        "r = units.run_units(toy, toy.Config(), n_units=3, workers=0, db=sys.argv[2])\n"
+        "sys.stdout.buffer.write(pickle.dumps((ok, [x['trace'].tobytes() for x in r.results])))\n"
+    )
+    out = {}
+    for mode in ("on", "off"):
+        env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
+        res = subprocess.run([sys.executable, "-c", code, mode, str(tmp_path / f"{mode}.db")], capture_output=True,
+                             env=env, check=True)
+        out[mode] = pickle.loads(res.stdout)
+    assert out["on"][0] is True
+    assert out["on"][1] == out["off"][1]

@@ -39,9 +39,11 @@ def test_transfer_function_values():
 
 
 def test_unstable_gain_rejected():
-    with pytest.raises(ValueError, match="loop_gain must give a stable loop"):
+    with pytest.raises(ValueError, match=r"loop_gain must give a stable loop \(delay 2: below ~1\); got 1.5"):
+        LoopSpec(loop_gain=1.5, delay=2)
+    with pytest.raises(ValueError, match=r"LoopSpec.loop_gain must be \(0, 2\) 1; got 2.5"):
         LoopSpec(loop_gain=2.5)
-    with pytest.raises(ValueError, match="delay must be 1 or 2"):
+    with pytest.raises(ValueError, match=r"delay must be an integer in \[1, 2\] transits; got 3"):
         LoopSpec(delay=3)
 
 

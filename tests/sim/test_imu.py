@@ -10,8 +10,9 @@ from scipy.stats import norm
 
 from gyrobench.analysis.allan import fit_noise
 from gyrobench.sim import parts
+from gyrobench.sim.earth import Site
 from gyrobench.sim.imu import AccelerometerSpec, TriadSpec, sensitivity_matrix
-from gyrobench.sim.trajectory import Segment, SegmentedMotion, Site
+from gyrobench.sim.trajectory import Segment, SegmentedMotion
 
 PART = parts.get("adxrs646")
 ACCEL = AccelerometerSpec.from_datasheet(vrw_m_s_sqrt_h=0.05, bias_instability_ug=20.0, bias_repeatability_mg=2.0,
@@ -132,3 +133,21 @@ def test_bad_accelerometer_fields_are_refused():
         AccelerometerSpec(range=0.0)
     with pytest.raises(ValueError, match=r"AccelerometerSpec.velocity_random_walk"):
         AccelerometerSpec(velocity_random_walk=-1.0)
+
+
+def test_the_accelerometer_bandwidth_filters_white_noise_as_its_closed_form():
+    """White noise through y_k = a y_{k-1} + (1 - a) x_k has variance (1 - a)/(1 + a) of its input's.
+    The variance estimate of an AR(1) record of n samples has n (1 - a^2)/(1 + a^2) = n/6.4 degrees
+    of freedom at a = 0.855; the chi-square bounds are taken at n/7 (wider), 1e-6 false-alarm rate."""
+    from scipy.stats import chi2
+
+    fs, fc = 1000.0, 25.0
+    spec = AccelerometerSpec(bandwidth=fc)
+    x = np.random.default_rng(4).standard_normal(200_000)
+    y = spec.low_pass(x, fs)
+    a = math.exp(-2 * math.pi * fc / fs)
+    k = len(x) / 7
+    lo, hi = chi2.ppf(5e-7, k) / k, chi2.ppf(1 - 5e-7, k) / k
+    assert lo <= np.var(y) / ((1 - a) / (1 + a)) <= hi
+    step = spec.low_pass(np.r_[np.zeros(10), np.ones(200)], fs)
+    np.testing.assert_allclose(step[10 + 40 - 1], 1 - a**40, rtol=1e-12)  # the step response 1 - a^k

@@ -1,9 +1,9 @@
 """The default MEMS noise of sim/mems_resonator.py: cited levels, the output word, a record's Allan fit.
 
-The defaults are a high-range part's (issue 25 item 4): white rate noise from the ADXRS649's
-printed density, bias instability from the ADXRS450's printed null offset stability, no rate
-random walk (none of the sheets read prints one), a 20-bit word whose LSB is below the sample
-noise at every output rate, turn-on bias and scale-factor repeatability as cited in
+The defaults are one cited part's, the ADXRS646's: its printed angle random walk and its printed
+bias drift (read as the ADEV floor), no rate random walk (its front page prints none), a 20-bit
+word (a design choice) whose LSB is below the sample noise at every output rate >= 1 Hz,
+turn-on bias and scale-factor repeatability as cited in
 :class:`~gyrobench.sim.mems_resonator.MemsResonator`.
 """
 
@@ -28,32 +28,28 @@ def _n_total(unit: MemsResonator) -> float:
 
 
 # ------------------------------------------------------------------ the printed figures
-def test_cited_figures_are_the_printed_values_with_their_units():
-    assert (NOISE_FIGURES["rate_noise_density"].value, NOISE_FIGURES["rate_noise_density"].unit) == (
-        0.25, "deg/s/sqrt(Hz)")
-    assert (NOISE_FIGURES["null_bias_stability"].value, NOISE_FIGURES["null_bias_stability"].unit) == (
-        25.0, "deg/h")
-    assert (NOISE_FIGURES["output_word"].value, NOISE_FIGURES["output_word"].unit) == (
-        16.0, "bit over +-300 deg/s")
-    assert "ADXRS649" in NOISE_FIGURES["rate_noise_density"].source
-    assert "ADXRS450" in NOISE_FIGURES["null_bias_stability"].source
-    assert "ADXRS453" in NOISE_FIGURES["output_word"].source
+def test_cited_figures_are_one_parts_printed_values_with_their_units():
+    assert set(NOISE_FIGURES) == {"angle_random_walk", "bias_drift"}
+    assert (NOISE_FIGURES["angle_random_walk"].value, NOISE_FIGURES["angle_random_walk"].unit) == (
+        0.01, "deg/sqrt(s)")
+    assert (NOISE_FIGURES["bias_drift"].value, NOISE_FIGURES["bias_drift"].unit) == (12.0, "deg/h")
+    assert all("ADXRS646" in f.source for f in NOISE_FIGURES.values())  # one part for every figure
     # ADEV minimum of a flicker term over B: sqrt(2 ln2/pi), printed as 0.664 in IEEE 952
     assert mr.ADEV_MIN_PER_B == pytest.approx(0.6643, abs=5e-5)
 
 
-def test_default_white_noise_is_the_adxrs649_density():
-    """N = 0.25 deg/s/sqrt(Hz) (Analog Devices' density is the IEEE N) to the 4 digits stored."""
+def test_default_white_noise_is_the_adxrs646_arw():
+    """N = 0.01 deg/sqrt(s) to the 5 digits stored."""
     n = units.to_deg_per_s(_n_total(MemsResonator()))
-    # DEFAULT_PICKOFF_NOISE is stored to 4 digits: half a unit in the 4th is 7.4e-5 of it
-    assert n == pytest.approx(0.25, rel=0.5e-3 / 6.751)
-    assert units.to_deg_per_sqrt_h(_n_total(MemsResonator())) == pytest.approx(15.0, rel=1e-4)
+    # DEFAULT_PICKOFF_NOISE is stored to 5 digits: half a unit in the 5th is 2.2e-5 of it
+    assert n == pytest.approx(0.01, rel=0.5e-4 / 2.2658)
+    assert units.to_deg_per_sqrt_h(_n_total(MemsResonator())) == pytest.approx(0.6, rel=1e-4)
 
 
-def test_default_bias_instability_is_the_adxrs450_floor():
+def test_default_bias_instability_is_the_adxrs646_floor():
     b = MemsResonator().bias_instability
-    assert units.to_deg_per_h(b) == pytest.approx(25.0 / mr.ADEV_MIN_PER_B, rel=1e-12)
-    assert units.to_deg_per_h(mr.ADEV_MIN_PER_B * b) == pytest.approx(25.0, rel=1e-12)  # the ADEV floor
+    assert units.to_deg_per_h(b) == pytest.approx(12.0 / mr.ADEV_MIN_PER_B, rel=1e-12)
+    assert units.to_deg_per_h(mr.ADEV_MIN_PER_B * b) == pytest.approx(12.0, rel=1e-12)  # the ADEV floor
     assert MemsResonator().rate_random_walk == 0.0  # no sheet read prints one
     assert mr.FLICKER_BAND_HZ == (1e-6, math.inf)
 
@@ -66,14 +62,12 @@ def test_default_turn_on_errors_are_the_cited_values():
 
 
 def test_output_lsb_is_below_the_noise_at_every_output_rate():
-    """q = 2 R / 2^20 = 0.0076 deg/s, at most the ADXRS453's 16-bit step over +-300 deg/s, and
-    below the per-sample noise N sqrt(fs) down to fs = 0.001 Hz (every scenario samples faster)."""
+    """q = 2 R / 2^20 = 0.0076 deg/s, below the per-sample noise N sqrt(fs) down to fs = 1 Hz."""
     u = MemsResonator()
     q = units.to_deg_per_s(u.resolution)
     assert q == pytest.approx(8000.0 / 2**20, rel=1e-12)
-    assert q <= 600.0 / 2**16
     n = units.to_deg_per_s(_n_total(u)) * mr.low_rate_scale_factor(u)
-    assert q < n * math.sqrt(1e-3)
+    assert q < n * math.sqrt(1.0)
 
 
 def test_datasheet_constructor_passes_rate_random_walk_and_the_word():
@@ -117,9 +111,9 @@ def test_plus_minus_five_hundredths_deg_per_s_reads_within_10_percent_at_10_hz()
 
     The slow flow is linear and its noise additive, so two runs with the same seed differ only
     by the input and by the ADC's rounding: a paired half-difference isolates the response
-    (the sensor's own noise, 0.25 deg/sqrt(s) with a 25 deg/h floor, would take days of record
+    (the sensor's own noise, 0.01 deg/sqrt(s) with a 12 deg/h floor, would take a long record
     to average below 10 % of 0.05 deg/s, on any output word). The noise dithers the 20-bit
-    quantizer (sample noise 0.79 deg/s = 100 q): each rounding error is uniform on +-q/2 and
+    quantizer (sample noise 0.032 deg/s = 4.1 q): each rounding error is uniform on +-q/2 and
     independent, so the half-difference's error has sd q / sqrt(24 n); bound Z(1e-6) sd plus
     the dithered quantizer's bias bound (q/pi) exp(-2 pi^2 sigma^2/q^2). The bound is itself
     below 10 % of the input (asserted). The old default (16-bit word, pick-off noise 1e-13

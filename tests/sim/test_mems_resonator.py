@@ -443,11 +443,11 @@ def test_datasheet_nonlinearity_sets_the_cubic():
 @pytest.mark.parametrize(
     ("kw", "match"),
     [
-        (dict(mass=0.0), "mass must be > 0"),
-        (dict(sense_q=-1.0), "sense_q must be > 0"),
-        (dict(pickoff_noise=-1e-12), "pickoff_noise must be >= 0"),
-        (dict(output_bits=1), "output_bits must be an integer >= 2"),
-        (dict(phase_error=2.0), "phase_error must satisfy"),
+        (dict(mass=0.0), r"mass must be \(0, 0.001\] kg; got 0.0"),
+        (dict(sense_q=-1.0), r"sense_q must be \(0, 1e\+07\] 1; got -1.0"),
+        (dict(pickoff_noise=-1e-12), r"pickoff_noise must be \[0, 1e-06\] m/sqrt\(Hz\); got -1e-12"),
+        (dict(output_bits=1), r"output_bits must be an integer in \[2, 64\] bits; got 1"),
+        (dict(phase_error=2.0), r"phase_error must be \(-1.5708, 1.5708\) rad; got 2.0"),
         (dict(mode_split=-2e4), "mode_split must keep"),
     ],
 )

@@ -52,7 +52,7 @@ def test_mean_rate_changes_sign_with_the_mode_order_and_scales_with_a_squared():
 
 
 def test_bad_input_rejected():
-    with pytest.raises(ValueError, match=r"RockingMode.quality must be finite and > 0 -; got 0.0"):
+    with pytest.raises(ValueError, match=r"RockingMode.quality must be \(0, 1e\+06\] 1; got 0.0"):
         RockingMode(frequency=400.0, quality=0.0, compliance=1e-6)
     with pytest.raises(TypeError, match=r"RockingMode.frequency must be a real number \[Hz\]; got '4'"):
         RockingMode(frequency="4", quality=1.0, compliance=1e-6)  # type: ignore[arg-type]
@@ -60,3 +60,23 @@ def test_bad_input_rejected():
         MOUNT.rate(np.zeros((2, 2)), 1000.0)
     with pytest.raises(ValueError, match=r"MountConing.fs must be finite and > 0 Hz; got nan"):
         MOUNT.rate(np.zeros(4), math.nan)
+
+
+def test_body_frame_is_the_default_and_the_space_frame_is_its_opposite():
+    space = MountConing(x=MOUNT.x, y=MOUNT.y, frame="space")
+    assert MOUNT.frame == "body"
+    f = np.array([300.0, 430.0, 500.0])
+    np.testing.assert_array_equal(space.mean_rate(f, 19.6), -MOUNT.mean_rate(f, 19.6))
+    with pytest.raises(ValueError, match=r"MountConing.frame must be one of \('body', 'space'\) .*; got 'table'"):
+        MountConing(x=MOUNT.x, y=MOUNT.y, frame="table")
+
+
+def test_exact_kinematics_gives_the_body_frame_sign():
+    """Rotation matrices (checks_mount_coning.exact_body_rate) agree with the body-frame model
+    and differ from the space-frame one by a relative 2: the kinematics fix the sign."""
+    from gyrobench.scenarios.checks.mount_coning import exact_body_rate
+
+    exact = exact_body_rate(430.0, 19.6, n=4000)
+    assert float(MOUNT.mean_rate(430.0, 19.6)) == pytest.approx(exact, rel=1e-5)  # (2 pi/4000)^2/6 = 4e-7
+    space = MountConing(x=MOUNT.x, y=MOUNT.y, frame="space")
+    assert float(space.mean_rate(430.0, 19.6)) == pytest.approx(-exact, rel=1e-5)

@@ -380,7 +380,7 @@ def test_sensor_resolution_and_noise(rng):
 
 # ------------------------------------------------------------------ unit-to-unit variation
 def test_realize_is_reproducible_and_units_differ():
-    spec = rlg.RLGSpec()
+    spec = rlg.RLGSpec(thermal_bias=rlg.THERMAL_BIAS_CALIBRATED)
     a = spec.realize(rng=np.random.default_rng(7))
     b = spec.realize(rng=np.random.default_rng(7))
     c = spec.realize(rng=np.random.default_rng(8))
@@ -407,7 +407,7 @@ def test_realize_without_spread_gives_nominal():
 
 
 def test_simulate_reproducible_and_thermal_bias_in_truth(rng):
-    spec = rlg.RLGSpec()
+    spec = rlg.RLGSpec(thermal_bias=rlg.THERMAL_BIAS_CALIBRATED)
     u = spec.realize(rng=np.random.default_rng(3))
     prof = thermal_profile(
         units.celsius(-40.0),

@@ -9,10 +9,10 @@ Sources (printed values, not derived):
 
 No primary source with a printed number was found (searched: backscatter null shift per unit
 lock-in, gas-temperature and block-gradient null shift, discharge-current regulation against
-temperature) for the backscatter null-shift ratio eta, the gas temperature rise, the viscosity
-exponent of the mixture, the sense-resistor TCR mismatch or the leg imbalance at turn-on: those
-stay STATED ASSUMPTIONS in :mod:`gyrobench.sim.rlg_cavity` (eta identified for paper 004 in
-:mod:`gyrobench.scenarios.papers.p004_rlg_thermal.identify`) and have no test here.
+temperature) for the backscatter null-shift ratio eta, the gas temperature rise, the sense-resistor
+TCR mismatch, the mount asymmetry or the leg imbalance at turn-on: those are family parameters
+with stated ranges (:data:`gyrobench.sim.rlg_cavity.CAVITY_RLG_FAMILY`; eta identified for paper
+004 in :mod:`gyrobench.scenarios.papers.p004_rlg_thermal.identify`).
 """
 
 import pytest
@@ -34,14 +34,25 @@ def test_langmuir_velocity_sensitivity_is_aronowitz_lim_per_cm_s():
     assert per_cm_s == pytest.approx(4.4, rel=1e-12)
 
 
-def test_legacy_langmuir_reading_is_the_printed_value_per_microampere():
-    """The earlier default read the same 0.0066 per microampere: 1000x the printed value."""
-    assert rc.LANGMUIR_COEFFICIENT / rc.LANGMUIR_COEFFICIENT_PRINTED == pytest.approx(1000.0, rel=1e-12)
-
-
 def test_zerodur_class_2_bound_is_schott_value():
     assert rc.ZERODUR_CTE_CLASS_2 == pytest.approx(0.10e-6, rel=1e-12)  # 1/K
 
 
 def test_units_deg_per_h_agrees_with_the_definition():
     assert units.deg_per_h(1.0) == pytest.approx(_DEG_H, rel=1e-12)
+
+
+def test_cavity_default_langmuir_coefficient_is_the_printed_value_in_deg_h_per_ma():
+    """The model's default k_LF (Discharge, CavityRLGSpec) is 0.0066 deg/h per mA of leg imbalance."""
+    for k in (rc.LANGMUIR_COEFFICIENT, rc.Discharge().coefficient, rc.CavityRLGSpec().discharge.coefficient):
+        assert k * 1e-3 / _DEG_H == pytest.approx(0.0066, rel=1e-12)  # rad/s per A -> deg/h per mA
+
+
+def test_unsourced_cavity_sizes_are_family_ranges_and_the_default_leaves_the_null_shift_off():
+    fam = rc.CAVITY_RLG_FAMILY
+    spec = rc.CavityRLGSpec()
+    assert spec.dissipative == 0.0
+    assert fam.dissipative.contains(1.26e-3)  # paper 004's identified eta lies in the family
+    for name in ("mount_asymmetry", "tcr_mismatch_std", "imbalance_repeatability", "walk_phase_std"):
+        assert getattr(fam, name).contains(getattr(spec, name)), name
+    assert fam.gas_rise.contains(spec.discharge.gas_rise)

@@ -9,15 +9,13 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import j0
 
+from gyrobench.sim.earth import EARTH_RATE, Site, normal_gravity
 from gyrobench.sim.trajectory import (
-    EARTH_RATE,
     ConingMotion,
     RockingMotion,
     Segment,
     SegmentedMotion,
-    Site,
     increments,
-    normal_gravity,
     rotation_matrix,
     segments_from_table,
 )
@@ -153,8 +151,10 @@ def test_a_bad_motion_row_is_refused_in_one_line(row, match):
 
 
 def test_site_ranges():
-    with pytest.raises(ValueError, match=r"Site.latitude must satisfy \|phi\| < pi/2 rad; got 2.0"):
+    with pytest.raises(ValueError, match=r"Site.latitude must be finite in \[-pi/2, pi/2\] rad; got 2.0"):
         Site(latitude=2.0)
+    with pytest.raises(ValueError, match=r"the transport rate is not defined at a pole"):
+        Site(latitude=math.pi / 2).transport_rate_n(np.zeros((1, 3)))
     with pytest.raises(ValueError, match=r"Site.height must be within -1e4..1e5 m; got 1000000.0"):
         Site(height=1e6)
 

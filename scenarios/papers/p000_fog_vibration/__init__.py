@@ -104,26 +104,49 @@ same units at 0 g; :func:`variant_config`, each deviation's variant), ``report``
 (:func:`report`), ``bench`` (:func:`compensation_task`).
 """
 
+from gyrobench.scenarios.papers import Paper
+
 # literal assignments: the registry reads them with ast (gyrobench list imports nothing)
 NAME = "fog_vibration"
 TITLE = "FOG under linear vibration: Allan terms by phase, db4 wavelet bias split, RBF vs 4th-order LS bias model"
 PAPER = "000"
 
+#: the paper itself: gyrobench list and the reports read it with ast (nothing is imported)
+SOURCE = Paper(
+    key="000",
+    authors="Fang Lin, Shen Chong, Chen Xiyuan",
+    authors_zh="方琳, 申冲, 陈熙源",
+    affiliation="Southeast University, Nanjing",
+    topic="FOG under linear vibration: Allan terms by phase, db4 wavelet multiscale "
+    "denoising and an RBF bias model against a 4th-order least-squares fit",
+    title_en=None,
+    title_zh=None,
+    journal=None,
+    year=None,
+    source_note="the seed text starts at the author line; its latest reference is from 2011",
+)
+
 # the modules below read NAME, TITLE, PAPER from this package: they are imported after them
-from .bench import compensation_task  # noqa: E402
+from .bench import BENCH_SCORES, FogVibrationBias, compensation_task, fog_vibration_rbf  # noqa: E402
 from .claims import CLAIMS, DEVIATIONS, VIBRATION_BIAS_SHOWS, claims_for  # noqa: E402
 from .config import Config, FogSpec  # noqa: E402
 from .device import draw_mount, draw_unit, steady_mount_bias, steady_vibration_bias  # noqa: E402
-from .experiment import experiment, memory_estimate, simulate  # noqa: E402
+from .experiment import REPORT_UNITS, SLIM_FIELDS, experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 from .results import TERMS, UnitResult  # noqa: E402
 from .variants import VARIANTS, control_config, variant_config  # noqa: E402
 
 __all__ = [
+    "fog_vibration_rbf",
+    "FogVibrationBias",
+    "BENCH_SCORES",
+    "SOURCE",
     "CLAIMS",
     "DEVIATIONS",
     "NAME",
     "PAPER",
+    "REPORT_UNITS",
+    "SLIM_FIELDS",
     "TERMS",
     "TITLE",
     "Config",

@@ -7,6 +7,9 @@ sweep and fixed-frequency records (block means, see :func:`compensation_task`).
 
 from __future__ import annotations
 
+from functools import partial
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -14,13 +17,29 @@ from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
 from gyrobench.base import units
 from gyrobench.io.recording import Recording
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun, mse_scores
+from gyrobench.scenarios.bench.primary import PrimaryScore, ScenarioScores
 
 from . import NAME
 from .config import Config
 from .experiment import simulate
 from .pipeline import _near_edges, block_means
 
-__all__ = ["compensation_task"]
+__all__ = ["BENCH_SCORES", "FogVibrationBias", "compensation_task", "fog_vibration_rbf"]
+
+#: the primary scores, the score units and the paper's method
+BENCH_SCORES = ScenarioScores(
+    primary=(
+        PrimaryScore(
+            name="mean/rms",
+            unit="deg/h",
+            direction=-1,
+            meaning="RMS error left by the vibration-bias model, mean over the held-out records",
+        ),
+    ),
+    units={"mse": "(deg/h)^2", "rms": "deg/h"},
+    paper=f"{__name__}:fog_vibration_rbf",
+    paper_label="RBF on frequency bins (paper)",
+)
 
 
 def _bench_arrays(
@@ -76,3 +95,53 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
         unit="deg/h",
         scorer=mse_scores,
     )
+
+
+class FogVibrationBias:
+    """A fitted paper-000 bias model as a bench predictor: ``predict(X)`` with X = [frequency Hz,
+    acceleration g] is the model's bias [deg/h] at the frequency clipped to the training range
+    [``lo``, ``hi``] Hz while the shaker runs (acceleration > 0), 0 when it is off, as the paper
+    compensates (:func:`gyrobench.scenarios.papers.p000_fog_vibration.pipeline.predict_on`)."""
+
+    def __init__(self, model: Any, lo: float, hi: float) -> None:
+        self.model, self.lo, self.hi = model, lo, hi
+
+    def predict(self, X: NDArray[np.float64]) -> NDArray[np.float64]:
+        X = np.asarray(X, dtype=float)
+        out = np.zeros(len(X))
+        on = X[:, 1] > 0
+        if on.any():
+            out[on] = np.asarray(self.model(np.clip(X[on, 0], self.lo, self.hi)), dtype=float).reshape(-1)
+        return out
+
+
+def fog_vibration_rbf(
+    X: NDArray[np.float64], y: NDArray[np.float64], random_state: int | None = None
+) -> FogVibrationBias:
+    """The fog_vibration paper's method: an RBF network with randomly fixed centres of the bias
+    [deg/h] against the drive frequency [Hz], fitted to the means of the target in
+    ``Config().bin_width_hz`` frequency bins over the rows where the shaker runs (acceleration > 0),
+    spread ``rbf_spread_hz``, goal ``rbf_goal_deg_h2``, ``rbf_max_neurons``
+    (:class:`gyrobench.analysis.compensation.random_rbf.RandomCentreRBF`; the paper's Fig. 6
+    model, :func:`~gyrobench.scenarios.papers.p000_fog_vibration.pipeline.fit_bias_models`).
+    Predicts 0 while the shaker is off (:class:`FogVibrationBias`)."""
+    from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
+    from gyrobench.analysis.sweep import bin_means
+
+    c = Config()
+    X = np.asarray(X, dtype=float)
+    on = X[:, 1] > 0
+    if not on.any():
+        raise ValueError("fog_vibration_rbf needs training rows with the shaker on (acceleration > 0); got none")
+    lo, hi = min(c.sweep_start_hz, c.sweep_end_hz), max(c.sweep_start_hz, c.sweep_end_hz)
+    fb, yb = bin_means(X[on, 0], np.asarray(y, dtype=float)[on], lo=lo, hi=hi, width=c.bin_width_hz)
+    net = RandomCentreRBF(
+        spread=c.rbf_spread_hz, goal=c.rbf_goal_deg_h2, max_neurons=c.rbf_max_neurons, random_state=random_state
+    ).fit(fb[:, None], yb)
+    column = partial(_predict_column, net)
+    return FogVibrationBias(column, float(fb[0]), float(fb[-1]))
+
+
+def _predict_column(model: Any, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A fitted regressor of one input column on the 1-D input ``u``."""
+    return np.asarray(model.predict(np.asarray(u, dtype=float).reshape(-1, 1)), dtype=float)

@@ -6,7 +6,6 @@ in the package docstring and in :data:`~.claims.DEVIATIONS`.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar, Literal
@@ -14,7 +13,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from gyrobench.base import units
-from gyrobench.scenarios.base import FieldRange, check_ranges
+from gyrobench.base.ranges import Constraint, FieldRange, ordered, validate
 from gyrobench.sim.earth import NANJING
 from gyrobench.sim.fiber_strain import StrainMode
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
@@ -84,19 +83,19 @@ class FogSpec:
         "output_rate_hz": FieldRange(0, 5e4, "Hz", "output rate = physics_rate_hz / even n", low_open=True),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "physics_rate_hz = 2 n x output_rate_hz",
+            lambda c: (m := c.physics_rate_hz / c.output_rate_hz) >= 2 and abs(m - 2 * round(m / 2)) < 1e-9,
+            lambda c: "physics_rate_hz must be an even integer multiple of output_rate_hz = "
+            f"{c.output_rate_hz!r} Hz; got {c.physics_rate_hz!r} Hz",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        for name, hi in (("mode_frequency_spread", 0.3), ("coupling_spread", 2.0)):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < hi:
-                raise ValueError(f"FogSpec.{name} must be in [0, {hi}); got {v!r}")
-        m = self.physics_rate_hz / self.output_rate_hz
-        if not (self.output_rate_hz > 0 and m >= 2 and abs(m - 2 * round(m / 2)) < 1e-9):
-            raise ValueError(
-                f"FogSpec.physics_rate_hz must be an even integer multiple of output_rate_hz = "
-                f"{self.output_rate_hz!r} Hz; got {self.physics_rate_hz!r} Hz"
-            )
+        validate(self)  # the declared specs and constraints above
         self.unit(self.modes)  # the SI model validates every value
-        check_ranges(self)  # after the checks above, whose messages tests and users rely on
 
     def noise(self) -> NoiseModel:
         return NoiseModel.from_datasheet(
@@ -151,6 +150,17 @@ class FogSpec:
 #: ranges shared by several fields of :class:`Config`: a shaker frequency and a phase length
 _SHAKER_HZ = FieldRange(0, 2e4, "Hz", "shaker band; also <= fog.physics_rate_hz / 4", low_open=True)
 _PHASE_S = FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True)
+
+
+def _wavelet_samples(level: int) -> int:
+    """The shortest record a db4 decomposition to ``level`` takes: ``pywt.dwt_max_level`` needs
+    ``len >= (8 - 1) x 2^level``."""
+    return (8 - 1) * 2**level
+
+
+def _record_samples(c: Config) -> float:
+    """Samples in one record (static, vibration, static) at the FOG's output rate."""
+    return (c.static_before_s + c.vibration_s + c.static_after_s) * c.fog.output_rate_hz
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -229,88 +239,39 @@ class Config:
         "bench_rate_hz": FieldRange(0, 5e4, "Hz", "rate the bench target is decimated to", low_open=True),
     }
 
-    def __post_init__(self) -> None:
-        def pos(name: str, unit: str) -> None:
-            v = getattr(self, name)
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, (int, float))
-                or not (math.isfinite(v) and v > 0)
-            ):
-                raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "guard_s < shortest phase / 2",
+            lambda c: c.guard_s < min(c.static_before_s, c.vibration_s, c.static_after_s) / 2,
+            lambda c: "guard_s must be in [0, shortest phase/2) s = [0, "
+            f"{min(c.static_before_s, c.vibration_s, c.static_after_s) / 2!r}) s; got {c.guard_s!r}",
+        ),
+        ordered("bias_level", "level", strict=False, unit="levels"),
+        ordered("train_level", "level", strict=False, unit="levels"),
+        Constraint(
+            "edge_window_s < guard_s",
+            lambda c: c.edge_window_s < c.guard_s,
+            lambda c: f"edge_window_s must be < guard_s = {c.guard_s!r} s (edge windows and steady phases "
+            f"must not overlap); got {c.edge_window_s!r}",
+        ),
+        Constraint(
+            "max(sweep_start_hz, sweep_end_hz, fixed_hz) <= fog.physics_rate_hz / 4",
+            lambda c: max(c.sweep_start_hz, c.sweep_end_hz, c.fixed_hz) <= c.fog.physics_rate_hz / 4,
+            lambda c: f"fog.physics_rate_hz must be >= 4 x the highest vibration frequency "
+            f"({max(c.sweep_start_hz, c.sweep_end_hz, c.fixed_hz)!r} Hz) = "
+            f"{4 * max(c.sweep_start_hz, c.sweep_end_hz, c.fixed_hz)!r} Hz; got {c.fog.physics_rate_hz!r} Hz",
+        ),
+        Constraint(
+            "record samples >= 7 x 2^level",
+            lambda c: _record_samples(c) >= _wavelet_samples(c.level),
+            lambda c: f"level = {c.level} needs records of >= {_wavelet_samples(c.level)} samples; got "
+            f"{int(_record_samples(c))} (lengthen the phases or lower the level)",
+        ),
+    )
 
-        a = self.acceleration_g
-        if isinstance(a, bool) or not isinstance(a, (int, float)) or not (math.isfinite(a) and a >= 0):
-            raise ValueError(f"Config.acceleration_g must be finite and >= 0 g (0: the control); got {a!r}")
-        for flag in ("split_fit_range", "n_tone_free"):
-            if not isinstance(getattr(self, flag), bool):
-                raise TypeError(f"Config.{flag} must be a bool; got {getattr(self, flag)!r}")
-        for name, unit in (
-            ("sweep_start_hz", "Hz"),
-            ("sweep_end_hz", "Hz"),
-            ("fixed_hz", "Hz"),
-            ("static_before_s", "s"),
-            ("vibration_s", "s"),
-            ("static_after_s", "s"),
-            ("max_displacement_mm", "mm"),
-            ("control_time_s", "s"),
-            ("bin_width_hz", "Hz"),
-            ("train_edge_s", "s"),
-            ("rbf_spread_hz", "Hz"),
-            ("edge_window_s", "s"),
-            ("offset_block_s", "s"),
-            ("bench_rate_hz", "Hz"),
-        ):
-            pos(name, unit)
-        if (
-            not 0
-            <= self.guard_s
-            < min(self.static_before_s, self.vibration_s, self.static_after_s) / 2
-        ):
-            raise ValueError(
-                f"Config.guard_s must be in [0, shortest phase/2) s; got {self.guard_s!r}"
-            )
-        if not 1 <= self.bias_level <= self.level:
-            raise ValueError(
-                f"Config.bias_level must be in [1, level={self.level}]; got {self.bias_level!r}"
-            )
-        if not 1 <= self.train_level <= self.level:
-            raise ValueError(
-                f"Config.train_level must be in [1, level={self.level}]; got {self.train_level!r}"
-            )
-        if self.rbf_centres not in ("random", "ols"):
-            raise ValueError(
-                f"Config.rbf_centres must be 'random' or 'ols'; got {self.rbf_centres!r}"
-            )
-        if self.edge_window_s >= self.guard_s:
-            raise ValueError(
-                f"Config.edge_window_s must be < guard_s = {self.guard_s!r} s (edge windows and "
-                f"steady phases must not overlap); got {self.edge_window_s!r}"
-            )
-        if not 1 <= self.ls_order <= 12:
-            raise ValueError(f"Config.ls_order must be in [1, 12]; got {self.ls_order!r}")
-        if self.control_error < 0:
-            raise ValueError(f"Config.control_error must be >= 0; got {self.control_error!r}")
-        if self.rbf_goal_deg_h2 < 0:
-            raise ValueError(
-                f"Config.rbf_goal_deg_h2 must be >= 0 (deg/h)^2; got {self.rbf_goal_deg_h2!r}"
-            )
-        fmax = max(self.sweep_start_hz, self.sweep_end_hz, self.fixed_hz)
-        if fmax > self.fog.physics_rate_hz / 4:
-            raise ValueError(
-                f"Config: vibration up to {fmax!r} Hz needs fog.physics_rate_hz >= {4 * fmax!r} Hz; "
-                f"got {self.fog.physics_rate_hz!r} Hz"
-            )
-        n_min = (8 - 1) * 2**self.level  # db4: pywt.dwt_max_level needs len >= 7 * 2^level
-        n_tot = (
-            self.static_before_s + self.vibration_s + self.static_after_s
-        ) * self.fog.output_rate_hz
-        if n_tot < n_min:
-            raise ValueError(
-                f"Config.level = {self.level} needs records of >= {n_min} samples; got {int(n_tot)} "
-                f"(lengthen the phases or lower the level)"
-            )
-        check_ranges(self)  # after the checks above, whose messages tests and users rely on
+    def __post_init__(self) -> None:
+        validate(self)  # the declared specs and constraints above
 
     # -------------------------------------------------------------- profiles
     def _common(self) -> dict[str, Any]:

@@ -7,6 +7,8 @@ and :meth:`~.config.Config.fixed`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -22,6 +24,7 @@ from .config import Config
 __all__ = [
     "draw_mount",
     "draw_unit",
+    "padded_mount_rate",
     "record_on_table",
     "steady_mount_bias",
     "steady_vibration_bias",
@@ -68,6 +71,44 @@ def draw_mount(config: Config, seed: int) -> MountConing | None:
     return config.fog.draw_mount(np.random.default_rng(seed).spawn(5)[4])
 
 
+def padded_mount_rate(mount: MountConing, acceleration: NDArray[np.float64], fs: float) -> NDArray[np.float64]:
+    """:meth:`~gyrobench.sim.mount_coning.MountConing.rate` of a span that starts and ends at rest,
+    zero-padded to a length whose FFT is fast (:func:`scipy.fft.next_fast_len`, factors 2, 3, 5).
+
+    The span's own length may hold a large prime factor (961,618 = 2 x 7 x 68,687 at the default
+    dwell), where the transform is ~35x slower. The padding adds table rest after the span, so
+    the circular response differs from the unpadded one only by the modes' ring-down that wraps
+    around: with 30 ring-down times of rest at each end (the caller's pad) that is below e^-30
+    (1e-13) of the response, besides rounding. Returns the rate [rad/s] on the span's samples.
+    """
+    from scipy.fft import next_fast_len
+
+    n = len(acceleration)
+    padded = np.zeros(next_fast_len(n, real=True))
+    padded[:n] = acceleration
+    return mount.rate(padded, fs)[:n]
+
+
+def _block_mean_coning(
+    mount: MountConing, acceleration: NDArray[np.float64], n: int, m: int, fs: float
+) -> NDArray[np.float64]:
+    """The mount's coning rate [rad/s] on the shaker grid (``fs`` [Hz]), averaged over each of the ``n``
+    output intervals of ``m`` grid samples; computed only where the table moves, plus 30 ring-down
+    times (e^-30) each side, and held only over the output intervals that span touches."""
+    coning = np.zeros(n)
+    moving = np.flatnonzero(acceleration[: n * m])
+    if moving.size:
+        f_min = min(mount.x.frequency, mount.y.frequency)
+        q_max = max(mount.x.quality, mount.y.quality)
+        pad = int(np.ceil(30.0 * q_max / (np.pi * f_min) * fs))
+        j0, j1 = max(0, int(moving[0]) - pad), min(n * m, int(moving[-1]) + 1 + pad)
+        b0, b1 = j0 // m, -(-j1 // m)
+        fast = np.zeros((b1 - b0) * m)
+        fast[j0 - b0 * m : j1 - b0 * m] = padded_mount_rate(mount, acceleration[j0:j1], fs)
+        coning[b0:b1] = fast.reshape(-1, m).mean(axis=1)
+    return coning
+
+
 def record_on_table(
     fog: ClosedLoopFOG,
     prof: Phased,
@@ -83,33 +124,29 @@ def record_on_table(
     to the output and to the truth (``truth/coning_rate``, part of ``truth/vibration_bias``)."""
     r_shaker, r_fog = rng.spawn(2)
     spec = config.fog
+    fs_out = spec.output_rate_hz
+    n, m = int(math.floor(float(prof.duration) * fs_out + 1e-9)), int(round(spec.physics_rate_hz / fs_out))
+    # the shaker's grid-rate arrays live only while they are read: the controller log and the
+    # mount's coning first, then the FOG (whose output-rate record is then the only large array)
     sh = prof.sample(spec.physics_rate_hz, rng=r_shaker)
-    rec = with_metadata(
-        fog.simulate(Environment(prof.duration, vibration=sh), fs=spec.output_rate_hz, rng=r_fog), name=name
-    )
-    n, m = rec.n_samples, int(round(spec.physics_rate_hz / spec.output_rate_hz))
     centre = np.arange(n) * m + m // 2
     on = sh.on[centre].astype(float)
     freq = np.where(on > 0.5, np.nan_to_num(sh.frequency[centre], nan=0.0), 0.0)
+    amplitude = sh.amplitude[centre]
+    coning = np.zeros(n) if mount is None else _block_mean_coning(mount, sh.acceleration, n, m, spec.physics_rate_hz)
+    rec = with_metadata(fog.simulate(Environment(prof.duration, vibration=sh), fs=fs_out, rng=r_fog), name=name)
+    del sh
+    if rec.n_samples != n:
+        raise RuntimeError(f"record_on_table: the FOG record has {rec.n_samples} samples, expected {n}")
     tr = rec.truth
     vib_err = tr["strain_nonreciprocity"].data + tr["rectification"].data + tr["loop_error"].data
     channels = dict(rec.channels)
-    coning = np.zeros(n)
     if mount is not None:
-        fast = np.zeros(n * m)
-        moving = np.flatnonzero(sh.acceleration[: n * m])
-        if moving.size:  # transform only where the table moves, plus 30 ring-down times e^-30
-            f_min = min(mount.x.frequency, mount.y.frequency)
-            q_max = max(mount.x.quality, mount.y.quality)
-            pad = int(np.ceil(30.0 * q_max / (np.pi * f_min) * spec.physics_rate_hz))
-            j0, j1 = max(0, moving[0] - pad), min(n * m, moving[-1] + 1 + pad)
-            fast[j0:j1] = mount.rate(sh.acceleration[j0:j1], spec.physics_rate_hz)
-        coning = fast.reshape(n, m).mean(axis=1)
         out = channels["rate"]
         channels["rate"] = Channel(out.data + coning, out.unit, out.description + " (+ mount coning)")
         vib_err = vib_err + coning
     channels["shaker_frequency"] = Channel(freq, "Hz", "drive frequency (0 when off)")
-    channels["shaker_amplitude"] = Channel(sh.amplitude[centre], "m/s^2", "acceleration envelope")
+    channels["shaker_amplitude"] = Channel(amplitude, "m/s^2", "acceleration envelope")
     channels["shaker_on"] = Channel(on, "1", "1 while the shaker drives")
     truth = dict(tr)
     truth["coning_rate"] = Channel(coning, "rad/s", "mount coning rate about the sense axis (true rate)")

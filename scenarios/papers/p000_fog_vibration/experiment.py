@@ -8,6 +8,7 @@ records, 2 the RBF centres' order, 3 the drawn unit.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import asdict
 
 import numpy as np
@@ -16,6 +17,9 @@ from numpy.typing import NDArray
 from gyrobench.analysis.wavelet import MultiscaleDecomposition, decompose
 from gyrobench.base import units
 from gyrobench.io.recording import Recording
+from gyrobench.sim.fog_loop import ClosedLoopFOG
+from gyrobench.sim.mount_coning import MountConing
+from gyrobench.sim.shaker import Phased
 
 from . import NAME
 from .config import Config, split_level_m
@@ -45,7 +49,13 @@ from .results import (
     unit_quantities,
 )
 
-__all__ = ["experiment", "memory_estimate", "simulate"]
+__all__ = ["REPORT_UNITS", "SLIM_FIELDS", "experiment", "memory_estimate", "simulate"]
+
+#: the report's figures draw the first unit only (:func:`gyrobench.scenarios.runner.units.run_paper`)
+REPORT_UNITS = 1
+#: the fields only the report's figures read: stored emptied for every other unit (the whole
+#: fixed-frequency record, 2.4 MB a unit, is most of a unit's result)
+SLIM_FIELDS = ("figures",)
 
 
 def memory_estimate(config: Config) -> float:
@@ -56,19 +66,40 @@ def memory_estimate(config: Config) -> float:
     (static + vibration + static) [s], ``T_v`` the vibration phase [s] and ``f_p`` the shaker
     grid rate ``fog.physics_rate_hz`` [Hz], for the unit's two records (swept and fixed sine)::
 
-        bytes = 1.2 x f_p x (80 T + 300 T_v)
+        bytes = 1.2 x f_p x (80 T + 160 T_v)
 
     MEASURED (peak RSS increase of a forked child, one BLAS thread; the harness of
-    tests/scenarios/test_memory_estimates.py; 0.5.0, 2026-11-27): experiment 653 MB at the
-    default (T = 1500 s, T_v = 300 s, f_p = 3200 Hz), 1280 MB with T_v = 900 s, 1685 MB with
-    2400-s static phases; simulate 654, 1278, 1571 MB. A least-squares fit of the three gives
-    77 B per grid sample of the whole records and 298 B more per grid sample of vibration (the
-    vibration phase's mount and strain terms; 0.4.0 measured 125 B, and its formula fell 3 %
-    below the 900 s peak); the formula is 1.13-1.32 x the measured peaks, with 1.2 the margin.
+    tests/scenarios/test_memory_estimates.py; 2026-12-01): simulate 522 MB at the default
+    (T = 1500 s, T_v = 300 s, f_p = 3200 Hz), 964 MB with T_v = 900 s, 1395 MB with 2400-s static
+    phases; experiment 361, 737, 875 MB (it keeps of the sweep only the channels it reads while
+    the dwell runs; simulate returns both whole records). A least-squares fit of simulate's three
+    gives 78 B per grid sample of the whole records and 152 B more per grid sample of vibration
+    (the FOG's vibration transforms and the mount's coning on the vibration span); experiment's,
+    45 and 151 B. The formula is 1.24-1.26 x simulate's peaks and 1.6-2.0 x experiment's.
     Floats: never an overflow.
     """
     t_total = float(config.static_before_s) + float(config.vibration_s) + float(config.static_after_s)
-    return 1.2 * float(config.fog.physics_rate_hz) * (80.0 * t_total + 300.0 * float(config.vibration_s))
+    return 1.2 * float(config.fog.physics_rate_hz) * (80.0 * t_total + 160.0 * float(config.vibration_s))
+
+
+def _records(config: Config, seed: int, record_seed: int | None = None) -> Iterator[Recording]:
+    """The unit's two records, one at a time: (a) the sweep, then (b) the fixed dwell."""
+    r_sweep, r_fixed = np.random.default_rng(seed if record_seed is None else record_seed).spawn(2)
+    fog, mount = draw_unit(config, seed), draw_mount(config, seed)
+    for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):
+        yield _record(config, seed, key, prof, rng, fog, mount)  # no local keeps a yielded record alive
+
+
+def _record(
+    config: Config, seed: int, key: str, prof: Phased, rng: np.random.Generator, fog: ClosedLoopFOG,
+    mount: MountConing | None,
+) -> Recording:
+    """One record of the unit (``key`` "sweep" or "fixed"), with the scenario's metadata."""
+    rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}", mount)
+    meta = dict(rec.metadata)
+    meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
+    meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
+    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name)
 
 
 def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
@@ -76,20 +107,19 @@ def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[
 
     The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
     ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
-    r_sweep, r_fixed = np.random.default_rng(seed if record_seed is None else record_seed).spawn(2)
-    fog, mount = draw_unit(config, seed), draw_mount(config, seed)
-    recs = []
-    for key, prof, rng in (("sweep", config.sweep(), r_sweep), ("fixed", config.fixed(), r_fixed)):
-        rec, channels, truth = record_on_table(fog, prof, config, rng, f"fog_vibration_{key}", mount)
-        meta = dict(rec.metadata)
-        meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
-        meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
-        recs.append(
-            Recording(
-                fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name
-            )
-        )
-    return recs
+    return list(_records(config, seed, record_seed))
+
+
+#: what :func:`experiment` reads of each record (channels; truth without its ``truth/`` prefix)
+_USED = {"sweep": (("rate", "shaker_frequency", "shaker_on"), ()),
+         "fixed": (("rate", "shaker_frequency", "shaker_on"), ("vibration_bias",))}
+
+
+def _slim(rec: Recording, key: str) -> Recording:
+    """``rec`` holding only what :func:`experiment` reads: the same arrays, the rest released."""
+    chans, truth = _USED[key]
+    return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans},
+                     truth={k: rec.truth[k] for k in truth}, t0=rec.t0, metadata=rec.metadata, name=rec.name)
 
 
 def experiment(config: Config, seed: int) -> UnitResult:
@@ -99,7 +129,9 @@ def experiment(config: Config, seed: int) -> UnitResult:
     cannot test it), the coefficient tables, the bias-model scores, the offsets and what the
     report's figures draw (downsampled traces and the fixed-frequency record).
     """
-    sweep, fixed = simulate(config, seed)
+    records = _records(config, seed)
+    sweep = _slim(next(records), "sweep")  # the sweep's other channels are released before the dwell runs
+    fixed = _slim(next(records), "fixed")
     rng_centres = np.random.default_rng(seed).spawn(3)[2]  # simulate() uses children 0 and 1
     fs = fixed.fs
     phases = phase_table(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)

@@ -1,28 +1,26 @@
 """Paper 001: a +-3600 deg/s MEMS gyro on a rate table, scale-factor nonlinearity, compensation.
 
 Scenario ``mems_scale_factor``. The device (:mod:`gyrobench.sim.mems_resonator`): a lumped
-2-DOF Coriolis vibratory gyro with force rebalance whose high-range knee is the rebalance
-DAC's authority, Omega_max = sqrt(F_max^2 - F_q^2) / (2 m w X0), flat beyond it
-(docs/physics.md 5.1). Each unit (:func:`experiment`, one seed) is one unit drawn from a
+2-DOF Coriolis vibratory gyro; each unit (:func:`experiment`, one seed) is one unit drawn from a
 :class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` population, with its own power-ons
-(turn-on bias and scale-factor error, ambient temperature, noise).
+(turn-on bias and scale-factor error, ambient temperature, noise). The read-out
+(``Config.variant``, :mod:`.device`):
 
-Three devices (``Config.variant``):
-
-* ``"identified"`` (default): the design below read out through a smooth front-end
-  compression (:mod:`gyrobench.sim.mems_nonlinear`, Rapp) whose two parameters are
-  identified from what the paper reports about its prototype (``identify``: raw K_n 15.71 %,
-  low-rate K_n 1e-3; CALIBRATED). The control population (:func:`control_config`) is the
-  same units under ``"design"`` (linear scale factor).
-* ``"design"``: the spec as given, by default the plausible +-3600 deg/s design
-  (v_max = 0.7 V, authority about 1.1-1.4x the range). The default because issue 16 asks
-  for a plausible design not solved for the paper's number: nothing in it is set from paper
-  001, so every claim is emergent (it was the default before issue 25). Its knee lies
-  beyond the table, so its raw K_n is the noise of the dwell means (ppm), not the paper's 15.71 %: a finding, reported.
-* ``"calibrated"``: the same population with the rebalance DAC full scale v_max set to
-  :data:`CALIBRATED_V_MAX_V`, CALIBRATED (:func:`calibrated_v_max`) so that the median
-  noise-free raw K_n of units 0-19 is the paper's 15.71 %. Under it every claim is
-  calibrated (:func:`claims_for`); the knee then lies at about 2300-3200 deg/s.
+* ``"identified"`` (default): OPEN LOOP through the physical sense chain of
+  :mod:`gyrobench.sim.mems_readout` (sense-electrode softening, the pick-off's 1/(g - y), the
+  charge amplifier's rail, the output word; quadrature and manufacturing tolerances per unit,
+  ``Config.readout``), its feedback capacitor identified from the paper's raw K_n 15.71 %
+  (``identify``; CALIBRATED, the one number set). The control population
+  (:func:`control_config`) is the same units under ``"design"`` (linear scale factor).
+* ``"readout_design"``: the same chain at its design values (nothing from the paper).
+* ``"design"``: FORCE REBALANCE as given, the plausible +-3600 deg/s design (v_max = 0.7 V,
+  authority about 1.1-1.4x the range): linear through the table, raw K_n the noise of the
+  dwell means (ppm).
+* ``"calibrated"``: force rebalance with the DAC full scale v_max set to
+  :data:`CALIBRATED_V_MAX_V` (CALIBRATED: median noise-free raw K_n of units 0-19 = 15.71 %);
+  every claim calibrated (:func:`claims_for`).
+* ``"rapp"``: the rebalanced units through a fitted amplifier (Rapp) curve, PHENOMENOLOGICAL
+  (labelled; no read-out behind it).
 
 Modules: ``config`` (the protocol and the paper's printed values), ``device`` (the unit
 population, noise-free static output, the v_max calibration), ``rate_table`` (the runs,
@@ -35,10 +33,30 @@ real rate-table data live in :mod:`gyrobench.analysis.scale_factor` and
 
 from __future__ import annotations
 
+from gyrobench.scenarios.papers import Paper
+
 NAME = "mems_scale_factor"
 TITLE = "High-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise compensation"
 PAPER = "001"
 
+#: the paper itself: gyrobench list and the reports read it with ast (nothing is imported)
+SOURCE = Paper(
+    key="001",
+    authors="Du Renjie, Su Zhong, Liu Ning, Li Ling",
+    authors_zh="杜仁杰, 苏中, 刘宁, 李羚",
+    affiliation="Beijing Information Science and Technology University, "
+    "Beijing Key Laboratory of High Dynamic Navigation Technology",
+    topic="high-range MEMS gyro: scale-factor nonlinearity and heuristic piecewise "
+    "polynomial regression",
+    title_en="Research on the compensation of the scale-factor nonlinearity error of MEMS gyros",
+    title_zh="MEMS陀螺标度因数非线性误差补偿方法研究",
+    journal=None,
+    year=None,
+    source_note="the seed text has no title; the title is the one a public abstract "
+    "listing gives for this abstract (15.71 % -> 0.14 %, 0.247 ms); journal and year not found",
+)
+
+from .bench import BENCH_SCORES, mems_piecewise  # noqa: E402
 from .claims import CALIBRATED_INPUT, CLAIMS, DEVIATIONS, IDENTIFIED_INPUT, claims_for  # noqa: E402
 from .config import (  # noqa: E402
     CALIBRATED_V_MAX_V,
@@ -59,6 +77,9 @@ from .report import report  # noqa: E402
 from .results import UnitResult  # noqa: E402
 
 __all__ = [
+    "mems_piecewise",
+    "BENCH_SCORES",
+    "SOURCE",
     "CALIBRATED_INPUT",
     "CALIBRATED_V_MAX_V",
     "CLAIMS",

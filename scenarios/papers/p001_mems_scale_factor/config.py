@@ -9,14 +9,14 @@ names; the device population is SI (:class:`gyrobench.sim.mems_resonator.MemsRes
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
 
-from gyrobench.scenarios.base import FieldRange, check_ranges
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
+from gyrobench.sim.mems_readout import SenseChainSpec
 from gyrobench.sim.mems_resonator import MemsResonatorSpec
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
     "PAPER_ORDER",
     "PAPER_RAW_KN",
     "PAPER_TIME_MS",
+    "OPEN_LOOP_VARIANTS",
     "VARIANTS",
     "default_rates",
 ]
@@ -44,8 +45,11 @@ PAPER_TIME_MS = {"piecewise": 0.247, "two_stage_poly": 0.755, "bayes_bp": 37.8}
 PAPER_ORDER = ("piecewise", "bayes_bp", "two_stage_poly")
 #: the paper's raw K_n (section 3) [-]
 PAPER_RAW_KN = 0.1571
-#: the devices Config.variant selects ("identified": the paper's prototype, identify.py)
-VARIANTS = ("identified", "design", "calibrated")
+#: the devices Config.variant selects ("identified": the paper's prototype, identify.py;
+#: "rapp": the phenomenological fitted curve, labelled)
+VARIANTS = ("identified", "design", "calibrated", "readout_design", "rapp")
+#: the variants read out open loop through the physical sense chain (device.py)
+OPEN_LOOP_VARIANTS = ("identified", "readout_design")
 #: rebalance DAC full scale v_max [V] of the "calibrated" variant: CALIBRATED by
 #: :func:`~gyrobench.scenarios.papers.p001_mems_scale_factor.device.calibrated_v_max`
 #: (default spec, units 0-19) so that the median noise-free raw K_n on the paper's 21 rates
@@ -66,11 +70,18 @@ class Config:
     ----------
     gyro : MemsResonatorSpec
         The population the units are drawn from (SI; default the plausible design).
-    variant : {"identified", "design", "calibrated"}
-        "identified" (default): ``gyro`` read out through the front-end compression identified
-        from the paper's device reports (``identify.IDENTIFIED``, CALIBRATED); "design":
-        ``gyro`` as given (linear through the table); "calibrated": ``gyro`` with its nominal rebalance DAC
-        full scale set to :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %).
+    readout : SenseChainSpec
+        The open-loop sense chains the units are read out through (SI; the device family of
+        the open-loop variants: nominal chain, manufacturing tolerances and each field's range,
+        :mod:`gyrobench.sim.mems_readout`).
+    variant : {"identified", "design", "calibrated", "readout_design", "rapp"}
+        "identified" (default): ``gyro`` read out open loop through ``readout`` with the
+        feedback capacitor identified from the paper's raw K_n (``identify.IDENTIFIED``,
+        CALIBRATED); "readout_design": the same chain at its design values (nothing from the
+        paper); "design": ``gyro`` as given (force rebalance, linear through the table);
+        "calibrated": ``gyro`` with its nominal rebalance DAC full scale set to
+        :data:`CALIBRATED_V_MAX_V` (CALIBRATED to the paper's 15.71 %); "rapp": the rebalanced
+        ``gyro`` through a fitted amplifier curve (PHENOMENOLOGICAL, ``identify.RAPP_IDENTIFIED``).
     rates_dps : tuple of float
         Table rates in test order [deg/s], strictly monotonic.
     average_s, settle_s : float
@@ -99,6 +110,7 @@ class Config:
     """
 
     gyro: MemsResonatorSpec = field(default_factory=MemsResonatorSpec)
+    readout: SenseChainSpec = field(default_factory=SenseChainSpec)
     variant: str = "identified"
     rates_dps: tuple[float, ...] = field(default_factory=default_rates)
     average_s: float = 60.0
@@ -119,7 +131,7 @@ class Config:
 
     #: documented ranges (issue 32); the device population states its own in
     #: :class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` (SI)
-    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "rates_dps": FieldRange(-36000, 36000, "deg/s", "table rates; 10x the paper's +-3600 deg/s"),
         "average_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),
         "settle_s": FieldRange(0, 3600, "s", "discarded settling part of a dwell"),
@@ -136,57 +148,33 @@ class Config:
         "mlp_epochs": FieldRange(1, 1e6, "epochs", "trainbr epochs", integer=True),
         "timing_repeats": FieldRange(1, 1e5, "repeats", "repeats of the timing (median reported)", integer=True),
         "dense_step_dps": FieldRange(0, 7200, "deg/s", "step of the dense held-out sweep", low_open=True),
+        "variant": FieldChoice(VARIANTS, "the device variant"),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "len(rates_dps) >= 3",
+            lambda c: len(c.rates_dps) >= 3,
+            lambda c: f"rates_dps must hold at least 3 finite rates [deg/s]; got {c.rates_dps!r}",
+        ),
+        Constraint(
+            "rates_dps strictly monotonic",
+            lambda c: bool(np.all(np.diff(c.rates_dps) > 0) or np.all(np.diff(c.rates_dps) < 0)),
+            lambda c: f"rates_dps must be strictly monotonic without duplicates [deg/s]; got {c.rates_dps!r}",
+        ),
+        Constraint(
+            "average_s x fs_hz >= 1",
+            lambda c: int(round(c.average_s * c.fs_hz)) >= 1,
+            lambda c: f"average_s must cover at least one sample at fs_hz; got {c.average_s!r} s at "
+            f"{c.fs_hz!r} Hz",
+        ),
+        Constraint(
+            "len(orders) == 3",
+            lambda c: len(c.orders) == 3,
+            lambda c: f"orders must be three integers >= 0; got {c.orders!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if not isinstance(self.gyro, MemsResonatorSpec):
-            raise TypeError(
-                f"Config.gyro must be a MemsResonatorSpec; got {type(self.gyro).__name__}"
-            )
-        if self.variant not in VARIANTS:
-            raise ValueError(f"Config.variant must be one of {VARIANTS}; got {self.variant!r}")
-        r = np.asarray(self.rates_dps, dtype=float)
-        if r.ndim != 1 or r.size < 3 or not np.all(np.isfinite(r)):
-            raise ValueError(
-                "Config.rates_dps must hold at least 3 finite rates [deg/s]; "
-                f"got {self.rates_dps!r}"
-            )
-        d = np.diff(r)
-        if not (np.all(d > 0) or np.all(d < 0)):
-            raise ValueError(
-                "Config.rates_dps must be strictly monotonic without duplicates [deg/s]; "
-                f"got {self.rates_dps!r}"
-            )
-        for name, unit in (("average_s", "s"), ("fs_hz", "Hz"), ("dense_step_dps", "deg/s")):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"Config.{name} must be > 0 {unit}; got {v!r}")
-        for name in ("settle_s", "ambient_spread_c", "piecewise_alpha"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"Config.{name} must be finite and >= 0; got {v!r}")
-        if not (isinstance(self.ambient_c, (int, float)) and math.isfinite(self.ambient_c)):
-            raise ValueError(f"Config.ambient_c must be finite [degC]; got {self.ambient_c!r}")
-        if int(round(self.average_s * self.fs_hz)) < 1:
-            raise ValueError(
-                "Config.average_s must cover at least one sample at fs_hz; "
-                f"got {self.average_s!r} s at {self.fs_hz!r} Hz"
-            )
-        for name, lo in (
-            ("n_fit_runs", 1),
-            ("n_heldout_runs", 1),
-            ("poly_degree", 0),
-            ("hidden_units", 1),
-            ("mlp_epochs", 1),
-            ("timing_repeats", 1),
-        ):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
-                raise ValueError(f"Config.{name} must be an integer >= {lo}; got {v!r}")
-        if len(self.orders) != 3 or any(
-            isinstance(o, bool) or not isinstance(o, int) or o < 0 for o in self.orders
-        ):
-            raise ValueError(f"Config.orders must be three integers >= 0; got {self.orders!r}")
-        if not 0 < self.join_width < 0.5:
-            raise ValueError(f"Config.join_width must be in (0, 0.5); got {self.join_width!r}")
-        check_ranges(self)  # after the checks above, whose messages tests and users rely on
+        validate(self)  # the declared specs and constraints above

@@ -1,15 +1,30 @@
-"""Paper 001's device: units of the MEMS resonator population and their noise-free static output.
+"""Paper 001's device: units of the MEMS resonator population, their read-out, and their noise-free static output.
 
-The device (:mod:`gyrobench.sim.mems_resonator`): a lumped 2-DOF Coriolis vibratory gyro with
-force rebalance whose high-range knee is the rebalance DAC's authority,
-Omega_max = sqrt(F_max^2 - F_q^2) / (2 m w X0), flat beyond it (docs/physics.md 5.1). Unit
-``seed`` is drawn from the first child stream of ``numpy.random.default_rng(seed)``.
+The resonator (:mod:`gyrobench.sim.mems_resonator`): a lumped 2-DOF Coriolis vibratory gyro.
+``Config.variant`` selects the read-out (docs/physics.md 5.1, 5.2):
+
+* ``"identified"`` (default) and ``"readout_design"``: OPEN LOOP through the physical sense
+  chain of :mod:`gyrobench.sim.mems_readout` (the sense mode's amplitude-dependent stiffness,
+  the differential pick-off's 1/(g - y), the charge amplifier's rail), one chain per unit
+  drawn from ``Config.readout`` (:class:`~gyrobench.sim.mems_readout.SenseChainSpec`: the
+  manufacturing tolerances), and the output word's range as the ADC. "identified" sets the
+  nominal feedback capacitor to the one identified from the paper's raw K_n
+  (:data:`~.identify.IDENTIFIED`, CALIBRATED); "readout_design" keeps the design value.
+* ``"design"`` and ``"calibrated"``: FORCE REBALANCE, whose high-range knee is the rebalance
+  DAC's authority, Omega_max = sqrt(F_max^2 - F_q^2) / (2 m w X0), flat beyond it (the
+  closed loop holds y ~ 0, where the chain is linear); "calibrated" sets v_max from the
+  paper's raw K_n.
+* ``"rapp"``: PHENOMENOLOGICAL, labelled: the force-rebalanced unit's output through a fitted
+  two-parameter amplifier (Rapp) curve (:data:`~.identify.RAPP_IDENTIFIED`), not a read-out.
+
+Unit ``seed``'s resonator is drawn from the first child stream of
+``numpy.random.default_rng(seed)``, its chain from the third (the second is the runs').
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,42 +33,116 @@ from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.base import units
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_nonlinear import RateTransfer
+from gyrobench.sim.mems_readout import SenseChainSpec
 from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec
 
-from .config import CALIBRATED_V_MAX_V, PAPER_RAW_KN, Config, default_rates
+from .config import CALIBRATED_V_MAX_V, OPEN_LOOP_VARIANTS, PAPER_RAW_KN, Config, default_rates
 
-__all__ = ["calibrated_v_max", "device_spec", "draw_unit", "rate_authority_dps", "rate_transfer", "static_output"]
+__all__ = [
+    "DeviceSpec",
+    "calibrated_v_max",
+    "clip_onset_dps",
+    "device_spec",
+    "draw_unit",
+    "rate_authority_dps",
+    "rate_transfer",
+    "static_output",
+]
 
 
-def device_spec(config: Config) -> MemsResonatorSpec:
-    """The population of ``config.variant`` (the calibrated one has v_max = CALIBRATED_V_MAX_V)."""
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DeviceSpec:
+    """A variant's population: the resonators and, open loop, their sense chains (None: rebalanced)."""
+
+    resonator: MemsResonatorSpec
+    chain: SenseChainSpec | None = None
+
+    @property
+    def nominal(self) -> MemsResonator:
+        """The nominal resonator (with the read-out of the variant; the chain not attached)."""
+        return self.resonator.nominal
+
+
+def device_spec(config: Config) -> DeviceSpec:
+    """The population of ``config.variant`` (module docstring)."""
+    if config.variant in OPEN_LOOP_VARIANTS:
+        nom = replace(config.gyro.nominal, readout="open_loop")
+        chain = config.readout
+        if config.variant == "identified":
+            from .identify import identified_chain_spec
+
+            chain = identified_chain_spec(chain)
+        return DeviceSpec(resonator=replace(config.gyro, nominal=nom), chain=chain)
     if config.variant == "calibrated":
         nom = replace(config.gyro.nominal, dac_full_scale=CALIBRATED_V_MAX_V)
-        return replace(config.gyro, nominal=nom)
-    return config.gyro
+        return DeviceSpec(resonator=replace(config.gyro, nominal=nom))
+    return DeviceSpec(resonator=config.gyro)
 
 
 def rate_transfer(config: Config) -> RateTransfer:
-    """The static rate transfer of ``config.variant``'s read-out (identity but for "identified").
+    """The static rate transfer applied after the resonator: the identity but for "rapp".
 
-    "identified": the Rapp front-end compression of :data:`~.identify.IDENTIFIED` (CALIBRATED),
-    applied to the resonator's rate output (noise, bias and turn-on errors pass through it).
+    "rapp": the fitted Rapp curve of :data:`~.identify.RAPP_IDENTIFIED` (PHENOMENOLOGICAL,
+    CALIBRATED), applied to the resonator's rate output (noise, bias and turn-on errors pass
+    through it). Every other variant's nonlinearity is inside the unit (its read-out).
     """
-    if config.variant == "identified":
-        from .identify import IDENTIFIED, transfer_of
+    if config.variant == "rapp":
+        from .identify import transfer_of
 
-        return transfer_of(IDENTIFIED)
+        return transfer_of()
     return RateTransfer()
 
 
-def draw_unit(spec: MemsResonatorSpec, seed: int) -> MemsResonator:
-    """Unit ``seed`` of the population: realized from the first child of default_rng(seed)."""
-    r_unit, _ = np.random.default_rng(seed).spawn(2)
-    return spec.realize(rng=r_unit)
+def draw_unit(spec: DeviceSpec | MemsResonatorSpec, seed: int) -> MemsResonator:
+    """Unit ``seed``: the resonator realized from the first child of default_rng(seed), and, for
+    an open-loop population, its sense chain from the third (then factory-trimmed at T0)."""
+    res = spec.resonator if isinstance(spec, DeviceSpec) else spec
+    r_unit, _, r_chain = np.random.default_rng(seed).spawn(3)
+    unit = res.realize(rng=r_unit)
+    if isinstance(spec, DeviceSpec) and spec.chain is not None:
+        unit = replace(unit, sense_chain=spec.chain.realize(rng=r_chain))
+        if res.factory_trim:
+            unit = mr.factory_trim(unit)
+    return unit
+
+
+def clip_onset_dps(unit: MemsResonator) -> float:
+    """The positive rate [deg/s] at which an open-loop unit's front end reaches its rail (T0, noise-free).
+
+    The rate where the stiffened sense envelope |B| (quadrature included) reaches the clip
+    displacement y_c of :class:`~gyrobench.sim.mems_readout.SenseChain` (scipy brentq); inf when
+    it is not reached below 10^5 deg/s.
+    """
+    from scipy.optimize import brentq
+
+    chain = unit.sense_chain
+    if chain is None:
+        raise ValueError("clip_onset_dps needs an open-loop unit with a sense_chain")
+    op = mr.operating_point(unit)
+
+    def excess(dps: float) -> float:
+        b = op.receptance * mr._f_ext(op, np.array([units.deg_per_s(dps)]), np.zeros(1))
+        return float(np.abs(chain.stiffened_envelope(b, op.receptance))[0]) - chain.clip_displacement
+
+    if excess(0.0) >= 0:
+        return 0.0
+    hi = 1e5
+    while True:  # the largest rate below 1e5 deg/s whose sense amplitude has a stable root
+        try:
+            top = excess(hi)
+            break
+        except ValueError:
+            hi *= 0.5
+    if top < 0:
+        return float("inf")
+    return float(brentq(excess, 0.0, hi, xtol=1e-6))
 
 
 def rate_authority_dps(unit: MemsResonator) -> float:
-    """The unit's rate authority (the knee) at its reference temperature [deg/s]."""
+    """The unit's knee at its reference temperature [deg/s]: the rebalance authority, or, open
+    loop through a sense chain, the rate at which its front end reaches the rail."""
+    if unit.sense_chain is not None:
+        return clip_onset_dps(unit)
     return float(units.to_deg_per_s(mr.rate_authority(unit)))
 
 
@@ -100,7 +189,7 @@ def calibrated_v_max(
 
     base = MemsResonatorSpec() if spec is None else spec
     rates = np.asarray(default_rates() if rates_dps is None else rates_dps, dtype=float)
-    drawn = [draw_unit(base, s) for s in seeds]
+    drawn = [draw_unit(base, s) for s in seeds]  # the resonators only (rebalanced)
     t0 = base.nominal.reference_temperature
 
     def excess(v: float) -> float:

@@ -480,11 +480,16 @@ def _conclusion(
             "calibrated": ", CALIBRATED so the median noise-free raw K_n of units 0-19 is 15.71 %: "
             "it feeds the raw table every claim is computed from, so every claim is calibrated "
             "under this variant, none reproduced",
-            "identified": ", the plausible design read out through a smooth front-end "
-            "compression IDENTIFIED from the paper's raw K_n 15.71 % and low-rate K_n 1e-3 "
-            "(identify.py; those two device claims calibrated, the rest emergent)",
+            "identified": ", the plausible design read out open loop through the physical sense "
+            "chain (sim.mems_readout) whose front-end feedback capacitor is IDENTIFIED from the "
+            "paper's raw K_n 15.71 % (identify.py; that device claim calibrated, the rest emergent)",
+            "readout_design": ", the plausible design read out open loop through the physical sense "
+            "chain at its design values: nothing set from the paper, every claim emergent",
+            "rapp": ", the force-rebalanced design through a fitted amplifier (Rapp) curve: "
+            "PHENOMENOLOGICAL, not a read-out",
         }.get(config.variant, ", the plausible design: nothing set from the paper, every claim emergent")
-        + f"); rate authority (knee) {min(auth):.0f}-{max(auth):.0f} deg/s over the units, "
+        + f"); knee (rebalance authority, or open loop the rate at which the front end reaches its rail) "
+        f"{min(auth):.0f}-{max(auth):.0f} deg/s over the units, "
         f"turn-on scale-factor repeatability {sf_ppm:g} ppm (1 sigma). "
     )
     return (

@@ -98,7 +98,9 @@ from __future__ import annotations
 
 from gyrobench.analysis.compensation.rbf_selection import RBFSelection, select_rbf
 from gyrobench.analysis.deployment import deployment_float32
+from gyrobench.scenarios.papers import Paper
 
+from .bench import BENCH_SCORES, IfogSegmentRBF
 from .claims import CLAIMS, DEVIATIONS, claims_for
 from .coil import point_heating, winding_comparison
 from .config import FEATURES_IMPROVED, FEATURES_TRADITIONAL, Config
@@ -125,7 +127,29 @@ NAME = "ifog_thermal"
 TITLE = "IFOG thermal drift from Shupe coil physics; RBF compensation with a T x dT input"
 PAPER = "003"
 
+#: the paper itself: gyrobench list and the reports read it with ast (nothing is imported)
+SOURCE = Paper(
+    key="003",
+    authors="Cheng Jianhua, Qi Bing, Zhao Lin",
+    authors_zh="程建华, 齐兵, 赵琳",
+    affiliation="College of Automation, Harbin Engineering University, Harbin",
+    topic="IFOG temperature drift: RBF network with a T x dT product term, real-time "
+    "compensation on a DSP",
+    title_en="Design of compensation system for temperature drift errors of "
+    "interferometric fiber optical gyroscopes",
+    title_zh="干涉式光纤陀螺仪温漂误差补偿系统的设计",
+    journal="Systems Engineering and Electronics (系统工程与电子技术)",
+    year=2016,
+    volume_issue="38(6)",
+    doi="10.3969/j.issn.1001-506X.2016.06.25",
+    source_note="journal from the ISSN 1001-506X in the DOI the text prints; received "
+    "2015-04-20, online 2016-02-15",
+)
+
 __all__ = [
+    "IfogSegmentRBF",
+    "BENCH_SCORES",
+    "SOURCE",
     "CLAIMS",
     "DEVIATIONS",
     "FEATURES_IMPROVED",

@@ -45,6 +45,9 @@ CLAIMS: tuple[Claim, ...] = (
         statement="A stretch of the 1000-m coil at 0.25 L0 heated from -10 to 40 degC: the "
         "nonreciprocity caused by the T x dT term alone exceeds 0.2 deg/h at its maximum "
         "(here: a free fibre, the T x dT part about the reference its eq. 9 implies, 0 degC; the "
+        "split of the drift into its Tdot and T x dT parts depends on that reference, their sum "
+        "does not: about 15 degC the same drift has a smaller T x dT part, below 0.2 deg/h on the "
+        "default case (report Table 1, rows 'split at'), so the verdict is the 0 degC split's; the "
         "heated length and the rate are not printed and the term is linear in their product: "
         "the default case is one point, the unit result's sweep gives the value against both; "
         "the coefficient from Leviton-Frey dn/dT(T) and the silica expansion slope).",

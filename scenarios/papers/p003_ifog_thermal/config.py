@@ -16,7 +16,7 @@ from typing import ClassVar
 import numpy as np
 
 from gyrobench.base import units
-from gyrobench.scenarios.base import FieldRange, check_ranges
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, ordered, validate
 from gyrobench.sim.coil2d import Coil2DSpec
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec
@@ -169,7 +169,7 @@ class Config:
     #: refused in one line outside it). Chamber: a climatic chamber's span and ramp rates; durations: what one
     #: unit's records can hold (the memory estimate refuses a long run at a high rate first); the build: a
     #: navigation FOG's coil and source; counts: what one unit runs in minutes, not weeks.
-    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "start_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
         "low_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
         "high_degC": FieldRange(-70.0, 150.0, "degC", "climatic chamber span"),
@@ -206,104 +206,39 @@ class Config:
         "rbf_spread_grid": FieldRange(0.0, 1e6, "1", "RBF spread, normalized input units", low_open=True),
         "rbf_neuron_grid": FieldRange(1, 10000, "neurons", "newrb network size", integer=True),
         "rbf_cv_tolerance": FieldRange(0.0, 10.0, "1", "relative CV tolerance"),
+        "identification_average": FieldChoice(AVERAGES, "step 5's averaging"),
+        "derivative_estimator": FieldChoice(ESTIMATORS, "the dT/dt estimator of the features"),
         "curve_bin_degC": FieldRange(0.0, 100.0, "degC", "temperature bin", low_open=True),
         "point_z_fraction": FieldRange(0.0, 1.0, "1", "fraction of the coil length"),
         "point_length_m": FieldRange(0.0, 2e4, "m", "heated stretch, within a coil", low_open=True),
         "point_rate_degC_per_min": FieldRange(0.0, 20.0, "degC/min", "heating rate", low_open=True),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        ordered("low_degC", "high_degC"),
+        Constraint(
+            "rbf_spread is not None or rbf_spread_grid",
+            lambda c: c.rbf_spread is not None or len(c.rbf_spread_grid) > 0,
+            lambda c: "rbf_spread_grid must hold at least one spread > 0 (normalized input units) when "
+            f"rbf_spread is None; got {c.rbf_spread_grid!r}",
+        ),
+        Constraint(
+            "rbf_max_neurons is not None or rbf_neuron_grid",
+            lambda c: c.rbf_max_neurons is not None or len(c.rbf_neuron_grid) > 0,
+            lambda c: "rbf_neuron_grid must hold at least one integer >= 1 when rbf_max_neurons is None; "
+            f"got {c.rbf_neuron_grid!r}",
+        ),
+        Constraint(
+            "analysis_block_s x fs_hz >= 1",
+            lambda c: c.analysis_block_s * c.fs_hz >= 1,
+            lambda c: f"analysis_block_s must span at least one sample at fs_hz = {c.fs_hz} Hz; "
+            f"got {c.analysis_block_s!r} s",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        check_ranges(self)  # every number inside its documented range first (one line naming it)
-        if not self.low_degC < self.high_degC:
-            raise ValueError(
-                f"Config.low_degC must be < high_degC; got {self.low_degC!r} and {self.high_degC!r}"
-            )
-        for name in ("validation1_runs", "validation2_runs"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-                raise ValueError(f"Config.{name} must be an integer >= 1; got {v!r}")
-        if self.identification_average not in AVERAGES:
-            raise ValueError(
-                f"Config.identification_average must be one of {AVERAGES}; "
-                f"got {self.identification_average!r}"
-            )
-        if self.derivative_estimator not in ESTIMATORS:
-            raise ValueError(
-                f"Config.derivative_estimator must be one of {ESTIMATORS}; got {self.derivative_estimator!r}"
-            )
-        for name in ("record_cooldown", "score_final_soak", "thermal_program"):
-            if not isinstance(getattr(self, name), bool):
-                raise TypeError(f"Config.{name} must be a bool; got {getattr(self, name)!r}")
-        for name in (
-            "identification_rate_degC_per_min",
-            "validation1_rate_degC_per_h",
-            "validation2_rate_degC_per_min",
-            "identification_settle_h",
-            "identification_hold_h",
-            "validation_soak_h",
-            "fs_hz",
-            "analysis_block_s",
-            "derivative_window_s",
-            "point_length_m",
-            "point_rate_degC_per_min",
-            "curve_bin_degC",
-        ):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"Config.{name} must be > 0; got {v!r}")
-        if not (math.isfinite(self.housing_lag_run_rms) and 0 <= self.housing_lag_run_rms <= 0.5):
-            raise ValueError(
-                "Config.housing_lag_run_rms must be in [0, 0.5] (relative); "
-                f"got {self.housing_lag_run_rms!r}"
-            )
-        spreads = self.rbf_spread_grid if self.rbf_spread is None else (self.rbf_spread,)
-        if not spreads or not all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
-            for v in spreads
-        ):
-            raise ValueError(
-                "Config.rbf_spread / rbf_spread_grid must be > 0 (normalized input units); "
-                f"got {spreads!r}"
-            )
-        neurons = self.rbf_neuron_grid if self.rbf_max_neurons is None else (self.rbf_max_neurons,)
-        if not neurons or not all(
-            isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in neurons
-        ):
-            raise ValueError(
-                f"Config.rbf_max_neurons / rbf_neuron_grid must be integers >= 1; got {neurons!r}"
-            )
-        if not (math.isfinite(self.rbf_cv_tolerance) and self.rbf_cv_tolerance >= 0):
-            raise ValueError(
-                f"Config.rbf_cv_tolerance must be >= 0 (relative); got {self.rbf_cv_tolerance!r}"
-            )
-        if not 0 <= self.point_z_fraction <= 1:
-            raise ValueError(
-                f"Config.point_z_fraction must be in [0, 1] (of L0); got {self.point_z_fraction!r}"
-            )
-        if self.analysis_block_s * self.fs_hz < 1:
-            raise ValueError(
-                f"Config.analysis_block_s must span at least one sample at fs_hz = {self.fs_hz}; "
-                f"got {self.analysis_block_s!r} s"
-            )
-        v = self.modulation_depth_pi
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < 1:
-            raise ValueError(f"Config.modulation_depth_pi must be in (0, 1) (x pi rad); got {v!r}")
-        for name, bound in (
-            ("diameter_tempco_ppm_per_K", 1000.0),
-            ("wavelength_tempco_ppm_per_K", 1000.0),
-            ("sense_azimuth_deg", 360.0),
-        ):
-            v = getattr(self, name)
-            if v is None and name == "diameter_tempco_ppm_per_K":
-                continue
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, (int, float))
-                or not (math.isfinite(v) and abs(v) <= bound)
-            ):
-                raise ValueError(
-                    f"Config.{name} must be finite with |value| <= {bound:g}; got {v!r}"
-                )
+        validate(self)  # the declared specs and constraints above
         self.fog_spec()  # the sim layer validates the build (layers, winding, ...)
 
     # ----------------------------------------------------------------- builders

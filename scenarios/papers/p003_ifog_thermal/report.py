@@ -99,7 +99,8 @@ def _point_table(config: Config, u0: UnitResult) -> Table:
                 "(not printed)",
                 f"{p.b_free:.3g} (Leviton-Frey dn/dT(T) + n d(alpha)/dT)",
             ],
-            ["max T x dT term [deg/h], free fibre", "> 0.2", f"{u0.txdt_point_max_deg_h:.3f}"],
+            ["max T x dT term [deg/h], free fibre, about 0 degC (eq. 9's reference; the claim's)", "> 0.2",
+             f"{u0.txdt_point_max_deg_h:.3f}"],
             ["max T x dT term [deg/h], bonded in the pack", "(not in the paper)", f"{p.bonded_max:.3f}"],
         ]
         + [
@@ -113,7 +114,9 @@ def _point_table(config: Config, u0: UnitResult) -> Table:
         note="EMERGENT: the T x dT coefficient comes from material data (sim/coil2d.py), nothing "
         "was set for it. The heated length and rate are not printed (Table 1 did not survive "
         "extraction): the sweep rows give the claim's value against both. The split between the "
-        "Tdot and T x dT terms depends on the reference temperature, their sum does not.",
+        "Tdot and T x dT terms depends on the reference temperature, their sum does not: the claim "
+        "is judged about 0 degC, the reference the paper's eq. 9 implies; the 'split at' rows give "
+        "the T x dT part about the other references.",
     )
 
 

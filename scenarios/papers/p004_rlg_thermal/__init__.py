@@ -49,6 +49,8 @@ and :mod:`.figures` (from the typed results only). The methods a user applies to
 temperature logs live in :mod:`gyrobench.analysis.thermal_regression`.
 """
 
+from gyrobench.scenarios.papers import Paper
+
 NAME = "rlg_thermal"
 TITLE = (
     "RLG variable-temperature bias (-40..+65 degC): stepwise regression on housing and cavity "
@@ -56,7 +58,24 @@ TITLE = (
 )
 PAPER = "004"
 
+#: the paper itself: gyrobench list and the reports read it with ast (nothing is imported)
+SOURCE = Paper(
+    key="004",
+    authors="Chen Jian, Liu Liying, Chen Junjun",
+    authors_zh="陈剑, 刘黎映, 陈军军",
+    affiliation="Naval Equipment Department pricing centre; Beijing Institute of "
+    "Automatic Control Equipment",
+    topic="dithered RLG variable-temperature bias (-40..+65 degC): stepwise multiple "
+    "linear regression on housing and cavity temperatures",
+    title_en=None,
+    title_zh=None,
+    journal=None,
+    year=None,
+    source_note="the seed text starts at the author line",
+)
+
 # the constants above come first: the modules below import them from this package
+from .bench import BENCH_SCORES  # noqa: E402
 from .claims import (  # noqa: E402
     CLAIMS,
     DEVIATIONS,
@@ -74,6 +93,8 @@ from .results import UnitResult  # noqa: E402
 from .simulation import memory_estimate, simulate  # noqa: E402
 
 __all__ = [
+    "BENCH_SCORES",
+    "SOURCE",
     "NAME",
     "TITLE",
     "PAPER",

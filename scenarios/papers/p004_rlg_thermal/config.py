@@ -14,10 +14,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
-import numpy as np
-
 from gyrobench.base import units
-from gyrobench.scenarios.base import FieldRange, check_ranges
+from gyrobench.base.ranges import Constraint, FieldRange, ordered, validate
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.rlg import HENE_WAVELENGTH, CavityGeometry, Dither, TemperatureSensor
 from gyrobench.sim.rlg_cavity import CavityRLGSpec, Discharge
@@ -124,33 +122,19 @@ class Config:
         "sensor_offset_spread_k": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
     }
 
+    #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        ordered("plc_travel_min_wavelengths", "plc_travel_max_wavelengths", strict=False, unit="wavelengths"),
+        ordered("start_c", "high_c", unit="degC"),
+        Constraint(
+            "block_s x fs_hz is a whole number",
+            lambda c: c.fs_hz * c.block_s == round(c.fs_hz * c.block_s),
+            lambda c: f"block_s x fs_hz must be a whole number of samples; got {c.block_s!r} s x {c.fs_hz!r} Hz",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        check_ranges(self)  # every number inside its documented range first (one line naming it)
-        if not self.plc_travel_min_wavelengths <= self.plc_travel_max_wavelengths:
-            raise ValueError(
-                "Config.plc_travel_min_wavelengths must be <= plc_travel_max_wavelengths; got "
-                f"{self.plc_travel_min_wavelengths!r} > {self.plc_travel_max_wavelengths!r}"
-            )
-        if not self.high_c > self.start_c:
-            raise ValueError(
-                f"Config.high_c must be > start_c [degC]; got {self.high_c!r} <= {self.start_c!r}"
-            )
-        for flag in ("return_ramp", "score_in_sample"):
-            if not isinstance(getattr(self, flag), bool):
-                raise TypeError(f"Config.{flag} must be a bool; got {getattr(self, flag)!r}")
-        if self.constant_c is not None and not (
-            isinstance(self.constant_c, (int, float)) and np.isfinite(self.constant_c)
-        ):
-            raise ValueError(f"Config.constant_c must be a finite temperature [degC] or None; got {self.constant_c!r}")
-        for name in ("ramp_c_per_min", "block_s", "fs_hz", "derivative_window_s"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
-                raise ValueError(f"Config.{name} must be > 0; got {v!r}")
-        if self.fs_hz * self.block_s != round(self.fs_hz * self.block_s):
-            raise ValueError(
-                f"Config.block_s x fs_hz must be a whole number of samples; got {self.block_s!r} "
-                f"s x {self.fs_hz!r} Hz"
-            )
+        validate(self)  # the declared specs and constraints above
         self.spec()  # validates the gyro budget
 
     def spec(self) -> CavityRLGSpec:

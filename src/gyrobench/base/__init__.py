@@ -13,4 +13,7 @@ atomic
     atomic writes of files and folders.
 units
     named conversions between field units and SI.
+safety
+    the output rule every command applies: no output is an input, only gyrobench's own files are
+    replaced (or with --force), foreign folders and databases refused; inputs must be regular files.
 """

@@ -1,16 +1,49 @@
-"""Documented ranges of numeric configuration fields (:class:`FieldRange`) and the one-line
-refusal of a value outside them. Here in ``sim`` so the simulator's dataclasses that a scenario's
-configuration nests can state theirs (``sim`` never imports ``scenarios``); re-exported by
-:mod:`gyrobench.base.ranges`. Kept free of numpy so the command line's flag types can use
-it without importing anything heavy (``gyrobench --help`` imports only the standard library)."""
+"""The one config system: declared field specs and the validation derived from them.
+
+A frozen configuration dataclass (a paper's ``Config``, a profile, a part, a device family)
+declares, as class attributes,
+
+``RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]]``
+    one spec per field: a :class:`FieldRange` (valid range, unit, integer or not, and ``why``:
+    what the field is and what sets its bounds) for every numeric field, a
+    :class:`FieldChoice` for a text field that takes one of a few values;
+``CONSTRAINTS: ClassVar[tuple[Constraint, ...]]``
+    the cross-field constraints (``low_degC < high_degC``), each a named predicate with the
+    message that names the fields, the constraint, the unit and the values;
+
+and its ``__post_init__`` calls :func:`validate` (then builds whatever it delegates to, which
+validates itself). ``bool`` and ``Literal[...]`` fields are checked from their annotation. The
+configuration layer (:func:`gyrobench.scenarios.registry.override`, the TOML loaders and the
+command line's overrides) checks each value with :func:`check_field` before building, so a
+value gets the same one-line message wherever it is given. This is scikit-learn's
+``_parameter_constraints`` (a class-level mapping from parameter to constraint, checked by
+one function) for frozen dataclasses.
+
+Kept free of numpy so the command line's flag types can use it without importing anything
+heavy (``gyrobench --help`` imports only the standard library)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import typing
+from collections.abc import Callable
 from dataclasses import dataclass
+from numbers import Integral, Real
 from typing import Any
 
-__all__ = ["FieldRange", "check_ranges", "field_range", "range_error"]
+__all__ = [
+    "Constraint",
+    "FieldChoice",
+    "FieldRange",
+    "check_field",
+    "check_ranges",
+    "field_range",
+    "field_spec",
+    "ordered",
+    "range_error",
+    "validate",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,11 +80,11 @@ class FieldRange:
     high_open: bool = False
     integer: bool = False
 
-    def contains(self, value: float) -> bool:
-        """True when ``value`` is a finite number inside the range."""
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+    def contains(self, value: object) -> bool:
+        """True when ``value`` is a finite real number (numpy's too, never a bool) inside the range."""
+        if isinstance(value, bool) or not isinstance(value, Real):
             return False
-        if isinstance(value, int) and abs(value) > 2**63 - 1:  # never converted to float (10**400)
+        if isinstance(value, Integral) and abs(int(value)) > 2**63 - 1:  # never converted to float (10**400)
             return False
         v = float(value)
         if not math.isfinite(v):
@@ -61,17 +94,92 @@ class FieldRange:
         return above and below
 
     def text(self) -> str:
-        """The range as a user reads it: ``"(0, 1e+05] m"``."""
+        """The range as a user reads it: ``"(0, 1e+05] m"``, ``"> 0 Hz"`` (no upper bound),
+        ``"a finite number [K]"`` (no bound)."""
+        kind = "an integer " if self.integer else ""
+        lo_inf, hi_inf = math.isinf(self.low), math.isinf(self.high)
+        if lo_inf and hi_inf:
+            return f"an integer [{self.unit}]" if self.integer else f"a finite number [{self.unit}]"
+        if hi_inf:
+            return f"{kind}{'>' if self.low_open else '>='} {self.low:g} {self.unit}".rstrip()
+        if lo_inf:
+            return f"{kind}{'<' if self.high_open else '<='} {self.high:g} {self.unit}".rstrip()
         lo, hi = ("(" if self.low_open else "["), (")" if self.high_open else "]")
-        kind = "an integer in " if self.integer else ""
-        return f"{kind}{lo}{self.low:g}, {self.high:g}{hi} {self.unit}".rstrip()
+        return f"{kind + 'in ' if kind else ''}{lo}{self.low:g}, {self.high:g}{hi} {self.unit}".rstrip()
+
+
+@dataclass(frozen=True, slots=True)
+class FieldChoice:
+    """A text field's declared values: it takes one of ``choices``.
+
+    Parameters
+    ----------
+    choices : tuple of str
+        The values the field accepts.
+    why : str
+        What the field selects.
+    """
+
+    choices: tuple[str, ...]
+    why: str = ""
+
+    def contains(self, value: object) -> bool:
+        """True when ``value`` is one of the choices."""
+        return isinstance(value, str) and value in self.choices
+
+    def text(self) -> str:
+        """The choices as a user reads them: ``"one of ('a', 'b')"``."""
+        return f"one of {self.choices}"
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint:
+    """A declared constraint across fields: a named predicate and its one-line message.
+
+    Parameters
+    ----------
+    name : str
+        The constraint as a formula of field names (``"low_degC < high_degC"``).
+    holds : callable
+        ``holds(config) -> bool``; evaluated after every field passed its own spec.
+    message : callable
+        ``message(config) -> str``: the refusal after ``"<Class>."``, naming the field, the
+        constraint, the unit and the values (``"low_degC must be < high_degC; got 5 and 1"``).
+    """
+
+    name: str
+    holds: Callable[[Any], bool]
+    message: Callable[[Any], str]
+
+
+def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Constraint:
+    """The constraint ``low < high`` (``low <= high`` when not ``strict``) between two fields,
+    refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``."""
+    op = "<" if strict else "<="
+    where = f" [{unit}]" if unit else ""
+
+    def holds(c: Any) -> bool:
+        a, b = getattr(c, low), getattr(c, high)
+        return bool(a < b) if strict else bool(a <= b)
+
+    def message(c: Any) -> str:
+        return f"{low} must be {op} {high}{where}; got {getattr(c, low)!r} and {getattr(c, high)!r}"
+
+    return Constraint(f"{low} {op} {high}", holds, message)
+
+
+def field_spec(config_type: type, name: str) -> FieldRange | FieldChoice | None:
+    """The declared spec of field ``name`` of the dataclass ``config_type`` (its ``RANGES``
+    entry), or None when it declares none."""
+    specs = getattr(config_type, "RANGES", None) or {}
+    return specs.get(name)
 
 
 def field_range(config_type: type, name: str) -> FieldRange | None:
     """The documented :class:`FieldRange` of field ``name`` of the dataclass ``config_type`` (None
-    when it states none)."""
-    ranges = getattr(config_type, "RANGES", None) or {}
-    return ranges.get(name)
+    when it states none, or a :class:`FieldChoice`)."""
+    spec = field_spec(config_type, name)
+    return spec if isinstance(spec, FieldRange) else None
 
 
 def range_error(owner: str, name: str, rng: FieldRange, value: Any) -> ValueError:
@@ -80,6 +188,89 @@ def range_error(owner: str, name: str, rng: FieldRange, value: Any) -> ValueErro
         repr(value)
     )
     return ValueError(f"{owner}.{name} must be {rng.text()}; got {shown}")
+
+
+def _annotation_kinds(config_type: type) -> dict[str, Any]:
+    """field -> ``bool``, a dataclass type or a tuple of ``Literal`` values, from the dataclass's
+    annotations."""
+    cached = _KINDS.get(config_type)
+    if cached is None:
+        cached = {}
+        try:
+            hints = typing.get_type_hints(config_type)
+        except (NameError, TypeError):  # an annotation that cannot be resolved: no derived check
+            hints = {}
+        for f in dataclasses.fields(config_type):
+            hint = hints.get(f.name)
+            if hint is bool or (isinstance(hint, type) and dataclasses.is_dataclass(hint)):
+                cached[f.name] = hint
+            elif typing.get_origin(hint) is typing.Literal:
+                cached[f.name] = typing.get_args(hint)
+        _KINDS[config_type] = cached
+    return cached
+
+
+_KINDS: dict[type, dict[str, Any]] = {}
+
+
+def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
+    """Refuse ``value`` for field ``name`` of ``config_type`` in one line, by the field's declared
+    spec and annotation: a ``bool`` field takes a bool, a dataclass-typed field an instance of it, a
+    ``Literal`` field one of its values, a
+    :class:`FieldChoice` field one of its choices, a :class:`FieldRange` field a finite number in
+    range (an integer when it says so; None passes: an optional field left unset); a tuple is
+    checked element by element.
+
+    Raises
+    ------
+    TypeError
+        A ``bool`` or dataclass-typed field given anything else, a numeric field given a
+        non-number.
+    ValueError
+        Naming ``owner.name``, the constraint with its unit, and the value.
+    """
+    kind = _annotation_kinds(config_type).get(name)
+    if kind is bool and not isinstance(value, bool):
+        raise TypeError(f"{owner}.{name} must be a bool; got {value!r}")
+    if isinstance(kind, type) and kind is not bool and not isinstance(value, kind):
+        raise TypeError(f"{owner}.{name} must be a {kind.__name__}; got {type(value).__name__}")
+    if isinstance(kind, tuple) and value not in kind:
+        raise ValueError(f"{owner}.{name} must be one of {list(kind)}; got {value!r}")
+    spec = field_spec(config_type, name)
+    if spec is None:
+        return
+    values = value if isinstance(value, tuple) else (value,)
+    for i, v in enumerate(values):
+        key = f"{name}[{i}]" if isinstance(value, tuple) else name
+        if isinstance(spec, FieldChoice):
+            if not spec.contains(v):
+                why = f" ({spec.why})" if spec.why else ""
+                raise ValueError(f"{owner}.{key} must be {spec.text()}{why}; got {v!r}")
+        elif v is not None:
+            if isinstance(v, bool) or not isinstance(v, Real):
+                raise TypeError(f"{owner}.{key} must be a real number [{spec.unit}]; got {v!r}")
+            if not spec.contains(v) or (spec.integer and not isinstance(v, Integral)):
+                raise range_error(owner, key, spec, v)
+
+
+def validate(config: Any) -> None:
+    """Check the dataclass ``config`` against its declarations, in one line per refusal: every
+    field by :func:`check_field` (in declaration order), then every declared
+    :class:`Constraint` of its ``CONSTRAINTS`` (in order). A config's ``__post_init__`` calls
+    it; nothing else is hand-written there.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the class, the field, the constraint with its unit and the value.
+    """
+    cls = type(config)
+    owner = cls.__name__
+    for f in dataclasses.fields(cls):
+        check_field(owner, cls, f.name, getattr(config, f.name))
+    for c in getattr(cls, "CONSTRAINTS", ()):
+        if not c.holds(config):
+            raise ValueError(f"{owner}.{c.message(config)}")
 
 
 def check_ranges(config: Any) -> None:
@@ -100,5 +291,5 @@ def check_ranges(config: Any) -> None:
             if v is None:
                 continue
             key = f"{name}[{i}]" if isinstance(value, tuple) else name
-            if not rng.contains(v) or (rng.integer and not isinstance(v, int)):
+            if not rng.contains(v) or (rng.integer and not isinstance(v, Integral)):
                 raise range_error(cls.__name__, key, rng, v)

@@ -14,7 +14,9 @@ and ``format_version``. Plain float64 datasets and string attributes, so
 MATLAB's ``h5read(file, '/recordings/x/channels/rate')`` and ``h5readatt``
 read them directly.
 
-CSV: a header line of ``name [unit]`` columns, first column ``time [s]``.
+CSV: a comment line naming gyrobench (:func:`gyrobench.base.safety.comment_marker`, the marker
+that lets a later run replace the file), then a header line of ``name [unit]`` columns, first
+column ``time [s]``.
 
 Writes are atomic: data go to a temporary file in the destination folder,
 which is renamed over the target only when complete (``os.replace``). The
@@ -651,6 +653,7 @@ def load_hdf5(
             if not isinstance(grp, h5py.Group):
                 raise RecordingFormatError(f"{where} must be a group; got a {type(grp).__name__}")
             _check_stored_once(grp, where)
+            _check_attribute_memory(path, recs, where)  # before any attribute's text is read
             fs = _attr(grp, "fs", float, where)
             if not FS_RANGE_HZ[0] <= fs <= FS_RANGE_HZ[1]:
                 raise RecordingFormatError(
@@ -719,6 +722,48 @@ def load_hdf5(
                              name=name)
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
+
+
+#: peak bytes of reading a text attribute per byte stored: HDF5's copy, the bytes, the str and the
+#: JSON objects parsed from it (a 60 MB metadata attribute peaked at 371 MB: about 6)
+ATTRIBUTE_COPIES = 6
+#: attributes of at most this many bytes in all are read without a memory check
+_SMALL_ATTRIBUTES = 1 << 20
+
+
+def _check_attribute_memory(path: str | os.PathLike, recs: Any, where: str) -> None:
+    """Count the recording's attributes against the memory limit before any is read.
+
+    A variable-length string attribute's size is not stored where it can be asked for, but it
+    lives in the file: the file's bytes outside the recordings' datasets bound everything the
+    attributes can hold. Reading them costs about :data:`ATTRIBUTE_COPIES` times that
+    (:func:`gyrobench.base.memory.check_memory`); a bound under 1 MB is not checked.
+    """
+    import h5py
+
+    from gyrobench.base import memory
+
+    def hard(group: Any, key: str) -> Any:  # the object a hard link names, else None (links are refused later)
+        return group[key] if isinstance(group.get(key, getlink=True), h5py.HardLink) else None
+
+    data = 0
+    try:
+        for name in recs:
+            rec = hard(recs, name)
+            for sub in ("channels", "truth") if isinstance(rec, h5py.Group) else ():
+                g = hard(rec, sub)
+                for k in g if isinstance(g, h5py.Group) else ():
+                    ds = hard(g, k)
+                    data += int(ds.id.get_storage_size()) if isinstance(ds, h5py.Dataset) else 0
+    except Exception:  # a malformed file: the whole file bounds its attributes (its faults are named later)
+        data = 0
+    bound = max(os.path.getsize(path) - data, 0)
+    if bound > _SMALL_ATTRIBUTES:
+        memory.check_memory(
+            ATTRIBUTE_COPIES * bound,
+            f"reading the attributes of {where} (up to {_fmt_bytes(bound)} of the file is not sample data)",
+            hint="the file holds far more than a recording's metadata: rewrite it without the extra attributes",
+        )
 
 
 def _sample_range(n: int, fs: float, start: float | None, stop: float | None, where: str) -> tuple[int, int]:
@@ -861,7 +906,10 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]
     if include_truth:
         cols += [(f"truth/{k}", c.unit, c.data) for k, c in rec.truth.items()]
-    header = ",".join(f"{k} [{u}]" for k, u, _ in cols)
+    from gyrobench.base.safety import comment_marker
+
+    # the first line is gyrobench's marker (gyrobench.base.safety): a later run may replace this file
+    header = comment_marker(f"recording {rec.name!r}") + "\n" + ",".join(f"{k} [{u}]" for k, u, _ in cols)
     ensure_free_space(path, 25 * len(cols) * rec.n_samples)  # "%.17g," is at most 25 characters
     data = np.column_stack([c for _, _, c in cols])
     with atomic_path(path) as tmp:

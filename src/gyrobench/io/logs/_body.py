@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobench.io.logs._names import _cells, _is_number
+from gyrobench.io.logs._names import _cells, _is_number, not_a_number_cause
 
 # ----------------------------------------------------------------------------- file access
 #: bytes decompressed at a time from a .gz file, its size counted against the memory limit after each
@@ -35,6 +35,7 @@ def _read_text(path: Path) -> str:
         raise ValueError(
             f"{str(path)!r} is not a complete gzip file ({exc}); re-export or re-download it"
         ) from None
+    _check_line_length(path, raw)  # before the text and its lines are made
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -47,6 +48,40 @@ def _read_text(path: Path) -> str:
     if "\r" in text:
         text = text.replace("\r\n", "\n").replace("\r", "\n")
     return text
+
+
+#: longest line of a log [bytes]: thousands of columns fit; every cell stays below csv's field limit (131072)
+MAX_LINE_BYTES = 100_000
+#: bytes scanned at a time for line ends (:func:`_check_line_length`)
+_SCAN_BLOCK = 1 << 24
+
+
+def _longest_line(raw: bytes | bytearray) -> tuple[int, int]:
+    """(length [bytes], 1-based number) of the longest line of ``raw``, scanned in blocks (no list of lines)."""
+    a = np.frombuffer(raw, dtype=np.uint8)
+    best, best_line, prev, seen = 0, 1, -1, 0
+    for s in range(0, len(a), _SCAN_BLOCK):
+        nl = np.flatnonzero(a[s : s + _SCAN_BLOCK] == 10) + s
+        if nl.size:
+            lengths = np.diff(nl, prepend=prev) - 1
+            k = int(np.argmax(lengths))
+            if lengths[k] > best:
+                best, best_line = int(lengths[k]), seen + k + 1
+            seen += nl.size
+            prev = int(nl[-1])
+    if len(a) - prev - 1 > best:
+        best, best_line = len(a) - prev - 1, seen + 1
+    return best, best_line
+
+
+def _check_line_length(path: Path, raw: bytes | bytearray) -> None:
+    """Refuse a file with a line longer than :data:`MAX_LINE_BYTES`, in one line naming it."""
+    n, line = _longest_line(raw)
+    if n > MAX_LINE_BYTES:
+        raise ValueError(
+            f"{str(path)!r} line {line} has {n} bytes (a log's line has at most {MAX_LINE_BYTES}): not a CSV log "
+            "(a binary file, or line ends missing?)"
+        )
 
 
 def _cells_per_byte(sample: bytes) -> float:
@@ -203,6 +238,8 @@ def _refuse_first_bad_cell(
         for k in usecols:
             if k < len(cells) and not _is_number(cells[k]):
                 col = names[k] if k < len(names) else str(k)
+                why = not_a_number_cause(cells[k])
                 raise ValueError(
-                    f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k]!r} is not a number"
+                    f"{str(path)!r} line {first + j + 1}, column {col!r}: {cells[k][:40]!r} is not a number"
+                    + (f": {why}" if why else "")
                 )

@@ -13,6 +13,8 @@ from gyrobench.io.logs._names import (
     _format_of,
     _is_number,
     _sniff_delimiter,
+    not_a_number_cause,
+    space_separated,
     split_header,
     time_column,
     unit_of,
@@ -40,16 +42,51 @@ def _sniff(path: Path, lines: list[str], comma: bool = False) -> _Layout:
     first_data, candidates = _first_data_row(lines, comma)
     if first_data is None:
         _refuse_text_times(path, lines)
+        _refuse_lookalike_numbers(path, lines)
         raise ValueError(f"CSV {str(path)!r} has 0 data rows; need at least {MIN_ROWS}")
     first = _decimal_point(lines[first_data].strip(), comma)
     delim = _sniff_delimiter(first)
     ncols = len(_cells(first, delim))
     header = _header_row(candidates, delim, ncols)
+    _check_names(path, header, first_data)
     if header is not None and len(header) != ncols:
         raise ValueError(
             f"{str(path)!r} line {first_data + 1}: {ncols} cells, but the header names {len(header)}"
         )
     return _Layout(first_data=first_data, delim=delim, ncols=ncols, header=header)
+
+
+#: longest header cell (column name) [characters]: real logs name columns in tens of characters
+MAX_NAME_CHARS = 1000
+
+
+def _refuse_lookalike_numbers(path: Path, lines: list[str]) -> None:
+    """A file with no data row whose rows hold numbers in a form not read (space-separated columns, a
+    Unicode minus, hex floats, thousand separators): say which, naming the line and the cell."""
+    for i, raw in enumerate(lines[:_DECIMAL_SNIFF_LINES]):
+        s = raw.strip()
+        if not s or s.startswith("#"):
+            continue
+        if space_separated(s):
+            raise ValueError(
+                f"{str(path)!r} line {i + 1}: the columns are separated by spaces ({s[:40]!r}); gyrobench reads "
+                "',', ';' or tab separated columns: convert the spaces (e.g. tr -s ' ' ',' < in > out.csv)"
+            )
+        for delim in dict.fromkeys((_sniff_delimiter(s), ";", "\t", ",")):  # "1,234.5;2" splits on ';'
+            for cell in _cells(s, delim):
+                why = not_a_number_cause(cell)
+                if why:
+                    raise ValueError(f"{str(path)!r} line {i + 1}: {cell[:40]!r} is not a number: {why}")
+
+
+def _check_names(path: Path, header: list[str] | None, line: int) -> None:
+    """Refuse a header cell longer than :data:`MAX_NAME_CHARS`, in one line."""
+    for k, cell in enumerate(header or []):
+        if len(cell) > MAX_NAME_CHARS:
+            raise ValueError(
+                f"{str(path)!r} line {line}: the name of column {k} has {len(cell)} characters (at most "
+                f"{MAX_NAME_CHARS}): not a log's header"
+            )
 
 
 def _refuse_text_times(path: Path, lines: list[str]) -> None:
@@ -62,10 +99,11 @@ def _refuse_text_times(path: Path, lines: list[str]) -> None:
         cells = _cells(row, delim)
         cell = cells[idx] if idx is not None and len(cells) == len(names) else "0"
         if not (_is_number(cell) or _is_number(cell.replace(",", ".")) or _ISO.match(cell)):
+            why = not_a_number_cause(cell)
             raise ValueError(
-                f"time column {names[idx or 0]!r} of {str(path)!r} line {j + 1}: {cell!r} is neither a number nor "
-                f"an ISO-8601 date-time (YYYY-MM-DDThh:mm:ss[.fff][Z]); convert the times to seconds or "
-                f"to ISO-8601"
+                f"time column {names[idx or 0]!r} of {str(path)!r} line {j + 1}: {cell[:40]!r} is "
+                + (f"not a number: {why}" if why else "neither a number nor an ISO-8601 date-time "
+                   "(YYYY-MM-DDThh:mm:ss[.fff][Z]); convert the times to seconds or to ISO-8601")
             )
 
 

@@ -160,10 +160,43 @@ def _sniff_delimiter(line: str) -> str:
 
 
 def _cells(line: str, delim: str) -> list[str]:
-    return [
-        c.strip()
-        for c in next(csv.reader([line], delimiter=delim, quotechar='"', skipinitialspace=True))
-    ]
+    try:
+        return [
+            c.strip()
+            for c in next(csv.reader([line], delimiter=delim, quotechar='"', skipinitialspace=True))
+        ]
+    except csv.Error as exc:  # a cell past csv's field limit (the reader's line limit comes first)
+        raise ValueError(f"a line of {len(line)} characters cannot be split into cells ({exc})") from None
+
+
+#: characters that look like a minus sign but are not ASCII '-' (U+2212 minus, dashes, full-width)
+_MINUS_LOOKALIKES = "\u2212\u2010\u2011\u2012\u2013\u2014\ufe63\uff0d"
+_HEX_FLOAT = re.compile(r"^[+-]?0x[0-9a-f]*\.?[0-9a-f]*(p[+-]?\d+)?$", re.IGNORECASE)
+_GROUPED = re.compile(r"^[+-]?\d{1,3}(?:([,.'\u00a0\u202f ])\d{3})(?:\1\d{3})*(?:[.,]\d+)?$")
+
+
+def not_a_number_cause(cell: str) -> str:
+    """Why ``cell`` looks like a number but is not one (a Unicode minus, a hex float, thousand separators),
+    as a clause for a message; "" when it does not look like one."""
+    s = cell.strip().strip('"')
+    if any(c in s for c in _MINUS_LOOKALIKES) and _is_number(s.translate({ord(c): "-" for c in _MINUS_LOOKALIKES})):
+        ch = next(c for c in s if c in _MINUS_LOOKALIKES)
+        return (f"its minus sign is the Unicode character U+{ord(ch):04X}, not ASCII '-': replace it by '-' "
+                "(spreadsheets and word processors write it)")
+    if _HEX_FLOAT.match(s) and any(ch.isdigit() for ch in s):
+        return "hex floats (such as 0x1.8p+3) are not read: write the numbers in decimal"
+    if _GROUPED.match(s):
+        return ("thousand separators are not numbers: export the numbers without digit grouping "
+                "(1234.5, not 1,234.5)")
+    return ""
+
+
+def space_separated(line: str) -> bool:
+    """Whether ``line`` is numbers separated by spaces only (no ',', ';' or tab): a column layout not read."""
+    if any(d in line for d in ",;\t"):
+        return False
+    parts = line.split()
+    return len(parts) >= 2 and all(_is_number(p) for p in parts)
 
 
 def _is_number(text: str) -> bool:

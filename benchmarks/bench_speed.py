@@ -1,0 +1,260 @@
+"""Every speed target of the project side by side with its peer, in one run, as one markdown table.
+
+Run by hand: ``python benchmarks/bench_speed.py [--units 3] [--repeat 7] [--big] [--reproduce]``.
+Prints (never asserts) the date, the machine and its load average (before and after), then a
+table of CPU times (``time.process_time`` of the process doing the work, all its threads; on a
+shared machine wall time includes waiting for a core, CPU time does not, though a loaded machine
+still slows CPU work through shared caches and memory bandwidth):
+
+* each paper's unit (``experiment(Config(), seed)``, seeds 1..``--units``, each in a fresh
+  subprocess with one BLAS thread and ``units.keep_freed_memory``, as the runner's workers):
+  median CPU and peak RSS increase
+  (``ru_maxrss`` minus the RSS after the imports); target <= 2 s CPU;
+* the five-term noise record (Q, N, B, K, R of ``bench_noise.py``, one-shot ``generate``,
+  draw thread off) against ``Generator.standard_normal`` of as many float64 samples: CPU rate
+  and ratio; target >= 0.5x;
+* the overlapping ADEV (octave taus) + IEEE fit against ``allantools.oadev`` + the NNLS fit of
+  ``bench_allan.py`` at 2e5 and 1e6 samples: in process (median of ``--repeat`` warm calls) and
+  the first call of a fresh process; 1e8 with ``--big`` (fresh processes, peak RSS; needs ~4 GB
+  free); targets >= 1.5x (2e5, 1e6), >= 8x CPU at <= 1 GB (1e8);
+* the unit store: each paper's unit as stored (codec JSON, zlib; whole and slim) and what
+  ``reproduce --all`` stores (20 units whole or slim by the scenario's ``REPORT_UNITS`` and 20
+  control units slim, from those sizes); ``--reproduce`` runs ``gyrobench reproduce --all`` in a
+  temporary folder and reports its CPU (``RUSAGE_CHILDREN``) and the store's size; target < 20 MB.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+PAPERS = ("p000_fog_vibration", "p001_mems_scale_factor", "p003_ifog_thermal", "p004_rlg_thermal")
+FS = 100.0
+
+_UNIT = """
+import importlib, json, resource, sys, time
+import numpy, scipy.signal, scipy.optimize, sklearn.neural_network
+from threadpoolctl import threadpool_limits
+from gyrobench.scenarios.runner import units
+units.keep_freed_memory()  # as the runner's workers run a unit
+mod = importlib.import_module("gyrobench.scenarios.papers." + sys.argv[1])
+cfg = mod.Config()
+rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+with threadpool_limits(limits=1):
+    c = time.process_time()
+    mod.experiment(cfg, int(sys.argv[2]))
+    cpu = time.process_time() - c
+print(json.dumps({"cpu": cpu, "peak_mb": (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - rss0) / 1024}))
+"""
+
+_FIRST = """
+import json, sys, time, resource
+import numpy as np
+sys.path.insert(0, sys.argv[3])
+import allantools, scipy.optimize, scipy.stats
+from bench_allan import nnls_fit
+from gyrobench.analysis.allan import allan_deviation, fit_noise
+y = np.load(sys.argv[2])
+m = 2 ** np.arange(int(np.log2(y.size // 4)) + 1)
+rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+c = time.process_time()
+if sys.argv[1] == "gyrobench":
+    fit_noise(allan_deviation(y, 100.0))
+else:
+    t, d, _, _ = allantools.oadev(y, rate=100.0, data_type="freq", taus=m / 100.0)
+    nnls_fit(np.asarray(t), np.asarray(d) ** 2)
+cpu = time.process_time() - c
+print(json.dumps({"cpu": cpu, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def load() -> str:
+    return ", ".join(f"{x:.1f}" for x in os.getloadavg())
+
+
+def _json_run(args: list[str]) -> dict:
+    out = subprocess.run([sys.executable, *args], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def units(n_units: int) -> list[tuple[str, str, str, str]]:
+    rows = []
+    for name in PAPERS:
+        runs = [_json_run(["-c", _UNIT, name, str(s)]) for s in range(1, n_units + 1)]
+        cpu = statistics.median(r["cpu"] for r in runs)
+        peak = max(r["peak_mb"] for r in runs)
+        rows.append((f"{name} unit (median of seeds 1-{n_units}; max peak)", f"{cpu:.2f} s CPU, {peak:.0f} MB peak",
+                     "-", "<= 2 s CPU"))
+    return rows
+
+
+def noise(repeat: int) -> list[tuple[str, str, str, str]]:
+    from bench_noise import FIVE
+
+    from gyrobench.sim import noise as nz
+    from gyrobench.sim.noise import NoiseModel
+
+    nz._PREFETCH = False
+    n = 1 << 22
+    model = NoiseModel.from_datasheet(**FIVE)
+    g = np.random.default_rng(0)
+    out = np.empty(n)
+
+    def best(fn) -> float:
+        t = []
+        for _ in range(repeat):
+            c = time.process_time()
+            fn()
+            t.append(time.process_time() - c)
+        return min(t)
+
+    base = best(lambda: g.standard_normal(n, out=out))
+    ours = best(lambda: model.generate(n, FS, rng=np.random.default_rng(1)))
+    return [("five-term noise (Q, N, B, K, R), one-shot, 4.2 M samples (best of repeats)",
+             f"{n / ours / 1e6:.1f} M samples per CPU-s", f"standard_normal {n / base / 1e6:.1f} M per CPU-s: "
+             f"**{base / ours:.2f}x**", ">= 0.5x")]
+
+
+def _data(n: int, folder: str) -> str:
+    from coverage_fit import model
+
+    path = os.path.join(folder, f"allan_{n}.npy")
+    if not os.path.exists(path):
+        out = np.lib.format.open_memmap(path, mode="w+", dtype=np.float64, shape=(n,))
+        stream = model().stream(FS, rng=np.random.default_rng(20261121))
+        for a in range(0, n, 1 << 22):
+            b = min(n, a + (1 << 22))
+            out[a:b] = stream.take(b - a)
+        out.flush()
+        del out
+    return path
+
+
+def allan(sizes: list[int], repeat: int, folder: str, big: bool) -> list[tuple[str, str, str, str]]:
+    import allantools
+    from bench_allan import nnls_fit
+
+    from gyrobench.analysis.allan import allan_deviation, fit_noise
+
+    rows = []
+    for n in sizes:
+        path = _data(n, folder)
+        y = np.load(path)
+        m = 2 ** np.arange(int(np.log2(y.size // 4)) + 1)
+
+        def ours(y=y) -> None:
+            fit_noise(allan_deviation(y, FS))
+
+        def peer(y=y, m=m) -> None:
+            t, d, _, _ = allantools.oadev(y, rate=FS, data_type="freq", taus=m / FS)
+            nnls_fit(np.asarray(t), np.asarray(d) ** 2)
+
+        ours()
+        peer()
+        tg, tp = [], []
+        for i in range(repeat):
+            yy = y if i % 2 == 0 else y[::-1].copy()  # other data, same n: no per-record cache helps
+            for fn, acc in ((ours, tg), (peer, tp)):
+                c = time.process_time()
+                fn(yy)
+                acc.append(time.process_time() - c)
+        g, p = statistics.median(tg), statistics.median(tp)
+        rows.append((f"ADEV + fit, {n:.0e} samples, in process (median of {repeat})",
+                     f"{g * 1e3:.1f} ms CPU", f"allantools + NNLS {p * 1e3:.1f} ms: **{p / g:.2f}x**", ">= 1.5x"))
+        fg = [_json_run(["-c", _FIRST, "gyrobench", path, HERE])["cpu"] for _ in range(3)]
+        fp = [_json_run(["-c", _FIRST, "allantools", path, HERE])["cpu"] for _ in range(3)]
+        g, p = statistics.median(fg), statistics.median(fp)
+        rows.append((f"ADEV + fit, {n:.0e} samples, first call of a fresh process (median of 3)",
+                     f"{g * 1e3:.1f} ms CPU", f"{p * 1e3:.1f} ms: **{p / g:.2f}x**", ">= 1.5x"))
+    if big:
+        n = 100_000_000
+        path = _data(n, folder)
+        g = _json_run(["-c", _FIRST, "gyrobench", path, HERE])
+        p = _json_run(["-c", _FIRST, "allantools", path, HERE])
+        rows.append(("ADEV + fit, 1e8 samples, fresh process (peak RSS of the process)",
+                     f"{g['cpu']:.1f} s CPU, {g['peak_mb']:.0f} MB", f"{p['cpu']:.1f} s, {p['peak_mb']:.0f} MB: "
+                     f"**{p['cpu'] / g['cpu']:.2f}x**", ">= 8x CPU, <= 1 GB"))
+    return rows
+
+
+def store(reproduce: bool, folder: str) -> list[tuple[str, str, str, str]]:
+    import importlib
+
+    from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.runner import codec
+    from gyrobench.scenarios.runner import units as runner
+
+    rows, total = [], 0.0
+    for name in PAPERS:
+        mod = importlib.import_module(f"gyrobench.scenarios.papers.{name}")
+        with threadpool_limits(limits=1):
+            r = mod.experiment(mod.Config(), 1)
+        plain = len(codec.dumps(r))
+        whole = len(codec.dumps_compressed(r))
+        slim = len(codec.dumps_compressed(runner.slim_result(mod, r)))
+        k = min(20, getattr(mod, "REPORT_UNITS", 20))
+        total += k * whole + (20 - k) * slim + 20 * slim
+        rows.append((f"{name}: one unit as stored", f"{whole / 1e3:.0f} kB whole, {slim / 1e3:.0f} kB slim",
+                     f"{plain / 1e3:.0f} kB as the previous format's JSON", "-"))
+    rows.append(("unit store of `reproduce --all` (20 + 20 control units a paper, from the sizes above)",
+                 f"{total / 1e6:.1f} MB", "166 MB before", "< 20 MB"))
+    if reproduce:
+        out = os.path.join(folder, "rep")
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        cli = "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main(sys.argv[1:]))"
+        subprocess.run([sys.executable, "-c", cli, "reproduce", "--all", "--out", out, "-q"],
+                       check=True, capture_output=True)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+        size = os.path.getsize(out + ".units.sqlite")
+        rows.append(("`gyrobench reproduce --all`", f"{cpu:.0f} s CPU ({wall:.0f} s wall), store {size / 1e6:.1f} MB",
+                     "-", "< 5 min loaded, < 20 MB"))
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--units", type=int, default=3, help="seeds per paper's unit (default 3)")
+    ap.add_argument("--repeat", type=int, default=7, help="repeats of the in-process timings (default 7)")
+    ap.add_argument("--sizes", default="200000,1000000", help="record lengths of the Allan rows")
+    ap.add_argument("--big", action="store_true", help="also 1e8 samples (800 MB of data, ~4 GB peak for the peer)")
+    ap.add_argument("--reproduce", action="store_true", help="also run `gyrobench reproduce --all` (minutes)")
+    ap.add_argument("--data-dir", default=None, help="where the Allan records are kept (default a temporary folder)")
+    args = ap.parse_args(argv)
+    import numpy
+
+    load0 = load()
+    print(f"# gyrobench speed, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
+    print(f"nproc={os.cpu_count()} python={platform.python_version()} numpy={numpy.__version__}; "
+          f"load average (1, 5, 15 min) at the start: {load0}")
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = args.data_dir or tmp
+        rows = units(args.units)
+        rows += noise(args.repeat)
+        rows += allan([int(float(s)) for s in args.sizes.split(",")], args.repeat, folder, args.big)
+        rows += store(args.reproduce, tmp)
+    print("\n| what | gyrobench | peer (same run) | target |\n|---|---|---|---|")
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+    print(f"\nload average at the end: {load()} (CPU times; a loaded machine still slows them)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -50,16 +50,34 @@ from gyrobench.scenarios import bench  # noqa: E402
 COMPENSATOR = make_pipeline(StandardScaler(), Ridge(alpha=1e-3))
 
 
-def measure(scenario, config, seeds: range, workers: int, db: Path):
-    """(wall s, worker CPU s, campaign); worker CPU is the pool's children, reaped at shutdown."""
+def _zygote_cpu() -> float:
+    """CPU seconds of the kept compensator zygotes and of their reaped children (each seed's
+    compensator process), from /proc (the zygotes outlive a campaign, so RUSAGE_CHILDREN misses them)."""
+    from gyrobench.scenarios.bench import sandbox
+
+    tick = os.sysconf("SC_CLK_TCK")
+    total = 0.0
+    for z in list(sandbox._SHARED.values()):
+        try:
+            fields = Path(f"/proc/{z.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        total += sum(int(f) for f in fields[11:15]) / tick  # utime, stime, cutime, cstime
+    return total
+
+
+def measure(scenario, config, seeds: range, workers: int, db: Path, sandbox: bool = True):
+    """(wall s, CPU s of every process but this one, campaign): the scoring processes (reaped
+    children) and the compensator's processes (the zygote and its reaped children)."""
     c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    z0 = _zygote_cpu()
     t0 = time.perf_counter()
     camp = bench.run_campaign(
-        scenario, COMPENSATOR, seeds, config=config, workers=workers, db=db, progress=False
+        scenario, COMPENSATOR, seeds, config=config, workers=workers, db=db, progress=False, sandbox=sandbox
     )
     dt = time.perf_counter() - t0
     c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
+    cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime) + _zygote_cpu() - z0
     return dt, cpu, camp
 
 
@@ -97,6 +115,13 @@ def main(argv: list[str] | None = None) -> int:
         "--toy-work", type=int, default=None, help="toy scenario: SVDs per seed (CPU load)"
     )
     p.add_argument(
+        "--in-process",
+        dest="sandbox",
+        action="store_false",
+        help="run the compensator in the scoring process (sandbox=False, for trusted code): what the "
+        "compensator's own process costs is the difference",
+    )
+    p.add_argument(
         "--no-calibrate",
         dest="calibrate",
         action="store_false",
@@ -112,7 +137,8 @@ def main(argv: list[str] | None = None) -> int:
         config = dataclasses.replace(config, work=args.toy_work)
     counts = [int(w) for w in args.workers.split(",")]
     seeds = range(args.seeds)
-    print(f"scenario {getattr(module, 'NAME', module.__name__)}, compensator {COMPENSATOR!r}")
+    where = "in its own process (the sandbox)" if args.sandbox else "in the scoring process (--in-process)"
+    print(f"scenario {getattr(module, 'NAME', module.__name__)}, compensator {COMPENSATOR!r} {where}")
     print(f"{args.seeds} seeds per run, best of {args.repeats}; {os.cpu_count()} CPUs")
     results: dict[int, tuple[float, float]] = {}
     machine: dict[int, float] = {}
@@ -122,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in range(args.repeats):
             for w in counts:
                 load = os.getloadavg()[0]
-                dt, cpu, camp = measure(module, config, seeds, w, Path(tmp) / f"w{w}_r{r}.db")
+                dt, cpu, camp = measure(module, config, seeds, w, Path(tmp) / f"w{w}_r{r}.db", args.sandbox)
                 assert camp.computed == args.seeds
                 if reference is None:
                     reference = camp.scores

@@ -125,7 +125,7 @@ class GyrobenchBench:
         workers: int | None = None,
         directions: Mapping[str, int] | None = None,
         allow_underpowered: bool = False,
-        min_change: float = 0.2,
+        min_change: float | None = None,
     ):
         """Fail the test if ``compensator`` is significantly worse than ``baseline`` on a primary
         score (:mod:`gyrobench.scenarios.bench.primary`; the others are reported, not gated), or
@@ -156,8 +156,13 @@ class GyrobenchBench:
             Overrides for :func:`gyrobench.scenarios.bench.score_direction`.
         allow_underpowered : bool
             Run a comparison whose seeds cannot reach ``alpha`` (with a warning).
-        min_change : float
-            The relative change ``seeds="auto"`` must detect (0.2 = 20 %, power 0.8).
+        min_change : float, optional
+            The gate's equivalence margin, relative to the baseline's score (default
+            :data:`gyrobench.scenarios.bench.power.DEFAULT_MIN_CHANGE`, 5 %): a change within it
+            never fails the test; ``seeds="auto"`` sizes the run to detect twice it (power 0.8).
+            An underpowered comparison (its seeds detect more than twice the margin, from the
+            observed per-seed differences) warns with
+            :class:`~gyrobench.scenarios.bench.power.UnderpoweredWarning`.
 
         Returns
         -------
@@ -166,6 +171,9 @@ class GyrobenchBench:
         """
         __tracebackhide__ = True
         from gyrobench.scenarios import bench
+        from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
+
+        min_change = DEFAULT_MIN_CHANGE if min_change is None else min_change
 
         path = Path(baseline)
         relative = not path.is_absolute()
@@ -222,7 +230,7 @@ class GyrobenchBench:
             return None
         assert stored is not None  # a missing baseline failed above unless saving
         try:
-            result = bench.compare(stored, campaign, alpha=alpha, directions=directions)
+            result = bench.compare(stored, campaign, alpha=alpha, directions=directions, min_change=min_change)
         except bench.ComparisonError as exc:  # a gate that cannot compare does not pass
             pytest.fail(
                 f"{campaign.compensator} on {campaign.scenario} against {path.name}: {exc}",
@@ -238,13 +246,17 @@ class GyrobenchBench:
             refs = bench.reference_campaigns(
                 module, plan.seeds, config=config, workers=self.workers if workers is None else workers, db=self.db
             )
-            result = bench.compare(stored, campaign, alpha=alpha, directions=directions, references=refs)
+            result = bench.compare(
+                stored, campaign, alpha=alpha, directions=directions, references=refs, min_change=min_change
+            )
             pytest.fail(
                 (f"{plan.warning}\n" if plan.warning else "")
                 + f"{campaign.compensator} on {campaign.scenario} regressed against {path.name}:\n"
                 + result.format(),
                 pytrace=False,
             )
+        if result.power_line.startswith("WARNING"):
+            warnings.warn(bench.UnderpoweredWarning(f"{path.name}: {result.power_line}"), stacklevel=2)
         return result
 
 

@@ -27,6 +27,13 @@ Compensators
 The prediction on a held-out run's ``X`` is turned into the compensated output by
 the task (``target="error"``: output - prediction; ``"rate"``: prediction).
 
+Where the compensator runs: in a campaign, in its own process
+(:mod:`~gyrobench.scenarios.bench.sandbox`), which receives only the training data and the
+held-out features; the scores are computed outside it, and a score below the scenario's noise
+floor (:mod:`~gyrobench.scenarios.bench.floor`) fails the seed. :func:`score_seed` and
+:func:`~gyrobench.scenarios.bench.scoring.score_task` run it in the calling process, for code
+you trust (debugging a compensator, the bench's own references).
+
 Groups: a task may label its training rows (``CompensationTask.groups_train``; ifog_thermal
 labels each row with its segment of the identification run: 0 settle, 1 heat + hold,
 2 cool + hold). The bench passes them the scikit-learn way, ``fit(X, y, groups=...)``, only to
@@ -49,8 +56,10 @@ transaction per finished seed, WAL journal, ``synchronous=FULL``. A campaign is
 identified by a hash of the scenario (its configuration; the source of its
 module and of every module it imports, transitively, from its own package and
 from gyrobench.sim, analysis and scenarios; the gyrobench, numpy, scipy and scikit-learn
-versions) and of the compensator (its class or function and parameters; the
-source of the module defining it, with the same import closure for user code).
+versions), of the compensator (its class or function and parameters; the
+source of the module defining it, with the same import closure for user code) and of what
+the compensator read while it ran (the modules, files and environment variables its process
+recorded, :mod:`~gyrobench.scenarios.bench.sandbox`).
 Running the same campaign again reads the seeds already in the database and
 computes only the others, so a campaign killed at any
 moment (even SIGKILL) resumes where it stopped; changing the code or the
@@ -68,6 +77,10 @@ Modules
 :mod:`~gyrobench.scenarios.bench.seeds` (seed lists),
 :mod:`~gyrobench.scenarios.bench.compensators` (the user's compensator, fitting it),
 :mod:`~gyrobench.scenarios.bench.scoring` (one seed),
+:mod:`~gyrobench.scenarios.bench.sandbox` and :mod:`~gyrobench.scenarios.bench.sandbox_child`
+(the compensator's own processes), :mod:`~gyrobench.scenarios.bench.sandboxed` (sandboxed seeds
+on local processes, what the compensator read), :mod:`~gyrobench.scenarios.bench.floor` (the
+noise floor), :mod:`~gyrobench.scenarios.bench.margin` (the gate's equivalence margin),
 :mod:`~gyrobench.scenarios.bench.identity` (campaign id),
 :mod:`~gyrobench.scenarios.runner.store` (the SQLite store, shared with the units runner),
 :mod:`~gyrobench.scenarios.runner.executors` (local pools, shared with the units runner),
@@ -91,6 +104,11 @@ from typing import TYPE_CHECKING, Any
 
 #: public name -> module of this package that defines it (imported on first access)
 _LAZY: dict[str, str] = {
+    "DEFAULT_MEMORY_BYTES": "gyrobench.scenarios.bench.sandbox",
+    "Zygote": "gyrobench.scenarios.bench.sandbox",
+    "noise_floor": "gyrobench.scenarios.bench.floor",
+    "DetectableChange": "gyrobench.scenarios.bench.margin",
+    "DEFAULT_MIN_CHANGE": "gyrobench.scenarios.bench.power",
     "reference_campaigns": "gyrobench.scenarios.bench.gate",
     "UnderpoweredWarning": "gyrobench.scenarios.bench.power",
     "Uncompensated": "gyrobench.scenarios.bench.references",
@@ -145,6 +163,11 @@ _LAZY: dict[str, str] = {
 }
 
 __all__ = [
+    "DEFAULT_MEMORY_BYTES",
+    "Zygote",
+    "noise_floor",
+    "DetectableChange",
+    "DEFAULT_MIN_CHANGE",
     "check_seed_timeout",
     "DEFAULT_SEED_TIMEOUT_S",
     "reference_campaigns",
@@ -220,12 +243,21 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         prepend_import_path,
         resolve_compensator,
     )
+    from gyrobench.scenarios.bench.floor import noise_floor
     from gyrobench.scenarios.bench.formatting import format_summary
     from gyrobench.scenarios.bench.gate import PowerPlan, detectable, plan_power, reference_campaigns
     from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
-    from gyrobench.scenarios.bench.power import UnderpoweredError, UnderpoweredWarning, min_attainable_p, seeds_needed
+    from gyrobench.scenarios.bench.margin import DetectableChange
+    from gyrobench.scenarios.bench.power import (
+        DEFAULT_MIN_CHANGE,
+        UnderpoweredError,
+        UnderpoweredWarning,
+        min_attainable_p,
+        seeds_needed,
+    )
     from gyrobench.scenarios.bench.primary import PrimaryScore, declared_scores, gated_scores, score_unit
     from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
+    from gyrobench.scenarios.bench.sandbox import DEFAULT_MEMORY_BYTES, Zygote
     from gyrobench.scenarios.bench.scoring import (
         DEFAULT_SEED_TIMEOUT_S,
         check_seed_timeout,

@@ -22,11 +22,13 @@ import numpy as np
 from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.compensators import FailedSeedsError
 from gyrobench.scenarios.bench.gate import gates_of, power_doc
-from gyrobench.scenarios.bench.power import min_attainable_p
+from gyrobench.scenarios.bench.margin import DetectableChange, comparison_note, margin_test, observed_detectable
+from gyrobench.scenarios.bench.margin import power_line as _power_line
+from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
 from gyrobench.scenarios.bench.primary import directions_of, score_unit
 from gyrobench.scenarios.bench.scoring import resolve_scenario
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
-from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction, signed_rank
+from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction
 from gyrobench.scenarios.runner.store import check_output_file
 
 __all__ = [
@@ -34,6 +36,7 @@ __all__ = [
     "BASELINE_VERSION",
     "Comparison",
     "ComparisonError",
+    "DetectableChange",
     "ReferenceMeans",
     "ScoreComparison",
     "check_baseline_matches",
@@ -103,11 +106,14 @@ def _json_float(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
-def save_baseline(path: str | os.PathLike, campaign: Campaign, *, alpha: float = 0.05) -> Path:
+def save_baseline(
+    path: str | os.PathLike, campaign: Campaign, *, alpha: float = 0.05, min_change: float = DEFAULT_MIN_CHANGE
+) -> Path:
     """Write ``campaign``'s per-seed scores to a JSON baseline (atomically).
 
     The file also stores, under ``"power"``, what its seeds can detect on each primary score
-    at ``alpha`` (:func:`~gyrobench.scenarios.bench.gate.detectable`).
+    at ``alpha`` with the equivalence margin ``min_change``
+    (:func:`~gyrobench.scenarios.bench.gate.detectable`).
 
     Raises
     ------
@@ -151,7 +157,7 @@ def save_baseline(path: str | os.PathLike, campaign: Campaign, *, alpha: float =
             }
             for n, s in campaign.summary().items()
         },
-        "power": power_doc(campaign, alpha),
+        "power": power_doc(campaign, alpha, min_change),
     }
     text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
     with atomic_path(path) as tmp:
@@ -275,6 +281,13 @@ class Comparison:
     failure: str = ""
     correction: str = ""
     references: tuple[ReferenceMeans, ...] = ()
+    min_change: float = 0.0
+    detectable: tuple[DetectableChange, ...] = ()
+
+    @property
+    def power_line(self) -> str:
+        """What these seeds detect, in one line (:func:`~gyrobench.scenarios.bench.margin.power_line`)."""
+        return _power_line(self.detectable, self.alpha, self.min_change)
 
     @property
     def passed(self) -> bool:
@@ -316,6 +329,7 @@ def compare(
     directions: Mapping[str, int] | None = None,
     primary: Sequence[str] | None = None,
     references: Mapping[str, Campaign] | None = None,
+    min_change: float = DEFAULT_MIN_CHANGE,
 ) -> Comparison:
     """Compare a candidate campaign with a baseline, seed by seed.
 
@@ -332,6 +346,11 @@ def compare(
     references : mapping, optional
         Label -> campaign of a reference compensator on the same seeds (the uncompensated
         output, the paper's method): its means are reported beside the user's, never tested.
+    min_change : float
+        Equivalence margin, relative to the baseline's per-seed score (default
+        :data:`~gyrobench.scenarios.bench.power.DEFAULT_MIN_CHANGE`, 5 %): a change within it is
+        "unchanged" however significant; a change is "regressed" (or "improved") only when the
+        test finds it beyond the margin (see Notes). 0: the plain test of any change.
 
     Returns
     -------
@@ -372,14 +391,24 @@ def compare(
     method over the primary scores alone, which keeps the probability of any false
     "regressed" or "improved" among them at most ``alpha``; the secondary scores (each
     held-out run, the other means) are Holm-adjusted among themselves and reported,
-    never gated. A significant score
-    is "improved" or "regressed" by the sign of the signed-rank statistic
-    (``W+ - W-``) and the score's direction; the reported effect is the
-    Hodges-Lehmann shift. With n nonzero differences the smallest attainable
+    never gated. A significant score is "improved" or "regressed" by the sign of the signed-rank
+    statistic (``W+ - W-``) and the score's direction; the reported effect is the Hodges-Lehmann
+    shift. With n nonzero differences the smallest attainable
     two-sided p is 2 / 2**n, times the number of primary scores under Holm (a note
     says when n is too small to ever reach significance; the command line refuses such a
     run before computing, :func:`~gyrobench.scenarios.bench.power.check_power`).
+
+    The margin enters the test itself: for a score whose shift is worse, the signed-rank test
+    runs on ``d_s + direction * min_change * |b_s|`` (lower-is-better: ``c_s - (1 + min_change) b_s``),
+    centred on zero when the candidate is worse by exactly the margin; "regressed" needs that test
+    significant, with the shift beyond the margin (one-sided at alpha/2: "worse by more than the
+    margin"). A better shift is tested the same way against ``1 - min_change``. A change of 0.2 %
+    with a 1 % margin is "unchanged" even on every seed. ``detectable`` holds, per primary score,
+    the relative change the compared seeds detect with power 0.8 from the spread of the observed
+    relative differences (:func:`~gyrobench.scenarios.bench.margin.observed_detectable`).
     """
+    if not (isinstance(min_change, (int, float)) and 0 <= min_change < 10):
+        raise ValueError(f"min_change must be in [0, 10) (a fraction of the baseline's score); got {min_change!r}")
     if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
         raise ValueError(f"alpha must be in (0, 1); got {alpha!r}")
     base = baseline if isinstance(baseline, Campaign) else load_baseline(baseline)
@@ -398,7 +427,8 @@ def compare(
     dirs = {**directions_of(gates), **(directions or {})}
     gated = {g.name for g in gates}
     paired = [
-        _paired(name, base, cand, seeds, dirs, primary=name in gated, unit=score_unit(cand.scenario, name))
+        _paired(name, base, cand, seeds, dirs, primary=name in gated, unit=score_unit(cand.scenario, name),
+                margin=float(min_change))
         for name in names
     ]
     adjusted = np.empty(len(paired))
@@ -427,14 +457,20 @@ def compare(
             f"compared seeds (seeds {seed_text(failed_seeds)}; seed {first}: "
             f"{cand_failed[first]}): a campaign with a failed seed never passes the comparison"
         )
+    detect = observed_detectable(base, cand, seeds, [g.name for g in gates], alpha, float(min_change))
     return Comparison(
         scores=out,
         seeds=seeds,
         alpha=float(alpha),
-        test="two-sided Wilcoxon signed-rank on paired per-seed scores",
+        test=(
+            "two-sided Wilcoxon signed-rank on paired per-seed scores"
+            + (f", against an equivalence margin of {100 * min_change:g} % of the baseline" if min_change else "")
+        ),
+        min_change=float(min_change),
+        detectable=detect,
         missing=missing,
         unpaired=unpaired,
-        note=_note(out, dropped, same_config=base.config == cand.config, alpha=alpha),
+        note=comparison_note(out, dropped, same_config=base.config == cand.config, alpha=alpha),
         failed_seeds=failed_seeds,
         failure=failure,
         correction=(
@@ -520,18 +556,20 @@ def _paired(
     *,
     primary: bool,
     unit: str,
+    margin: float = 0.0,
 ) -> tuple[ScoreComparison, float]:
     """The signed-rank test, means and Hodges-Lehmann shift of score ``name`` over ``seeds``, as a
     comparison not yet corrected for multiplicity (``p_adjusted`` = ``p_value``, status
     "unchanged"), and the sign of ``W+ - W-``."""
     b, c = base.values(name, seeds), cand.values(name, seeds)
     d = c - b
-    p, sign = signed_rank(d)
+    direction = score_direction(name, directions)
+    p, sign = margin_test(d, b, direction, margin)
     bm = float(np.mean(b)) if b.size else math.nan
     cm = float(np.mean(c)) if c.size else math.nan
     comparison = ScoreComparison(
         name=name,
-        direction=score_direction(name, directions),
+        direction=direction,
         n=int(d.size),
         baseline_mean=bm,
         candidate_mean=cm,
@@ -557,24 +595,3 @@ def _judged(s: ScoreComparison, sign: float, p_adjusted: float, alpha: float) ->
     else:
         status = "unchanged"
     return replace(s, p_adjusted=p_adjusted, status=status)
-
-
-def _note(scores: Sequence[ScoreComparison], dropped: Sequence[int], *, same_config: bool, alpha: float) -> str:
-    """The comparison's caveats in one line: baseline seeds left out, different configurations,
-    too few seeds for any change to be significant."""
-    notes = []
-    if dropped:
-        notes.append(
-            f"baseline seeds {seed_text(dropped)} have non-finite scores and are not compared"
-        )
-    if not same_config:
-        notes.append("the two campaigns ran different scenario configurations")
-    gated = [s for s in scores if s.primary]
-    n_min = min(s.n for s in gated)
-    if min_attainable_p(n_min, len(gated)) >= alpha:
-        notes.append(
-            f"only {n_min} paired seeds: the smallest attainable Holm-adjusted p over the "
-            f"{len(gated)} primary score(s) is {min_attainable_p(n_min, len(gated)):.3g} >= alpha "
-            f"{alpha:g}, so no change can be significant; use more seeds"
-        )
-    return "; ".join(notes)

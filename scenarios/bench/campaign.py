@@ -24,20 +24,36 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.scenarios.base import check_pool
-from gyrobench.scenarios.bench.compensators import CompensatorError, compensator_label, resolve_compensator
-from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
+from gyrobench.scenarios.bench.compensators import (
+    CompensatorError,
+    CompensatorImportError,
+    FailedSeedsError,
+    compensator_label,
+    resolve_compensator,
+)
+from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
+from gyrobench.scenarios.bench.sandbox import (
+    DEFAULT_MEMORY_BYTES,
+    Zygote,
+    ZygoteError,
+    reads_fingerprint,
+    shared_zygote,
+)
+from gyrobench.scenarios.bench.sandboxed import CampaignReads, run_sandboxed
 from gyrobench.scenarios.bench.scoring import (
     DEFAULT_SEED_TIMEOUT_S,
+    MEMORY_FAILURE,
     TIMEOUT_FAILURE,
     check_seed_timeout,
     resolve_scenario,
     score_job,
+    score_job_remote,
 )
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
 from gyrobench.scenarios.cli import exits
 from gyrobench.scenarios.runner.executors import add_note, check_picklable, contained_map, stop_pool
-from gyrobench.scenarios.runner.store import DEFAULT_DB, connect_db, record_seed, start_session
+from gyrobench.scenarios.runner.store import DEFAULT_DB, campaign_generation, connect_db, record_seed, start_session
 
 __all__ = ["Campaign", "run_campaign"]
 
@@ -128,6 +144,8 @@ def run_campaign(
     db: str | os.PathLike = DEFAULT_DB,
     progress: bool = True,
     seed_timeout: float | None = DEFAULT_SEED_TIMEOUT_S,
+    seed_memory: int | None = DEFAULT_MEMORY_BYTES,
+    sandbox: bool = True,
 ) -> Campaign:
     """Score ``compensator`` on ``scenario`` for every seed, resuming from ``db``.
 
@@ -159,7 +177,19 @@ def run_campaign(
     seed_timeout : float or None
         Per-seed time limit [s] (default :data:`DEFAULT_SEED_TIMEOUT_S`, 600 s; None: none).
         A seed past it, or whose compensator calls ``sys.exit`` or predicts complex values,
-        is failed with that reason (a timed-out seed is not stored: a rerun retries it).
+        is failed with that reason (a timed-out seed is not stored: a rerun retries it). The
+        limit is kept by this process, which kills the compensator's process group; it covers
+        the compensator's import too.
+    seed_memory : int or None
+        Address-space cap [bytes] of the compensator's process per seed (``RLIMIT_AS``, default
+        :data:`~gyrobench.scenarios.bench.sandbox.DEFAULT_MEMORY_BYTES`, 4 GiB; None: none). A
+        seed past it fails (not stored: a rerun retries it).
+    sandbox : bool
+        True (the default): the compensator runs in its own process, which receives only the
+        training data and the held-out features (:mod:`~gyrobench.scenarios.bench.sandbox`);
+        scores are computed outside it and a score below the noise floor fails the seed
+        (:mod:`~gyrobench.scenarios.bench.floor`). False runs it in the scoring process: only
+        for trusted code (the bench's own references).
 
     Returns
     -------
@@ -178,25 +208,86 @@ def run_campaign(
         after the seeds already finished are committed.
     """
     module = resolve_scenario(scenario)
-    comp = resolve_compensator(compensator)
+    # a "module:attr" string is imported only in the compensator's own process (the sandbox)
+    comp = compensator if sandbox and isinstance(compensator, str) else resolve_compensator(compensator)
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
     if config is None:
         config = module.Config()
     check_pool(executor, workers)
     seed_timeout = check_seed_timeout(seed_timeout)
-    plan = _Plan(
-        module=module,
-        compensator=comp,
-        config=config,
-        campaign_id=campaign_id(module, comp, config),
-        label=compensator_label(comp, compensator),
-        short=compensator_label(comp, compensator, short=True),
-        name=getattr(module, "NAME", module.__name__),
-        db=str(db),
-        seed_timeout=seed_timeout,
-    )
+    seed_memory = check_seed_memory(seed_memory)
+    zygote = _start_zygote(comp, seed_timeout, seed_memory, seeds) if sandbox else None
+    try:
+        ident = zygote.identity if zygote is not None else compensator_identity(comp)
+        plan = _Plan(
+            module=module,
+            compensator=comp,
+            config=config,
+            campaign_id=campaign_id_of(module, config, ident),
+            label=compensator_label(comp, compensator),
+            short=compensator_label(comp, compensator, short=True),
+            name=getattr(module, "NAME", module.__name__),
+            db=str(db),
+            seed_timeout=seed_timeout,
+            seed_memory=seed_memory,
+            zygote=zygote,
+        )
+        return _run_plan(plan, seeds, ident, executor=executor, workers=workers, progress=progress)
+    finally:
+        if zygote is not None and not zygote.shared:
+            zygote.close()
+
+
+#: the shortest time limit [s] on importing the compensator (the per-seed limit, but never less:
+#: a fresh interpreter importing numpy and scikit-learn takes seconds on a loaded machine)
+IMPORT_TIMEOUT_FLOOR_S = 30.0
+
+
+def _start_zygote(comp: Any, seed_timeout: float | None, seed_memory: int | None, seeds: Sequence[int]) -> Zygote:
+    """The compensator's process (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`); its import
+    failing, exiting or hanging is one error naming it."""
+    label = comp if isinstance(comp, str) else compensator_label(comp, comp, short=True)
+    timeout = None if seed_timeout is None else max(seed_timeout, IMPORT_TIMEOUT_FLOOR_S)
+    try:
+        return shared_zygote(comp, memory=seed_memory, timeout=timeout)
+    except ZygoteError as exc:
+        if exc.kind == "bad":
+            raise ValueError(str(exc)) from None
+        if exc.kind == "named":
+            raise CompensatorImportError(str(exc), traceback_text=exc.traceback_text) from None
+        if exc.kind in ("raised", "exited"):
+            raise CompensatorImportError(f"compensator {label}: {exc}", traceback_text=exc.traceback_text) from None
+        limit = f" (the per-seed time limit, --seed-timeout, and at least {IMPORT_TIMEOUT_FLOOR_S:g} s)"
+        raise FailedSeedsError(
+            f"compensator {label} failed on all {len(seeds)} seeds (seeds {seed_text(list(seeds))}): {exc}"
+            + (limit if exc.kind == "hung" else ""),
+            seeds=list(seeds),
+        ) from None
+
+
+def check_seed_memory(value: Any) -> int | None:
+    """``value`` as a per-seed memory cap in bytes: an integer >= 256 MiB, or None (no cap)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 2**28:
+        raise ValueError(f"seed_memory must be a number of bytes >= 268435456 (256 MiB), or None; got {value!r}")
+    return int(value)
+
+
+def _run_plan(
+    plan: _Plan, seeds: Sequence[int], ident: str, *, executor: cf.Executor | None, workers: int | None,
+    progress: bool,
+) -> Campaign:
+    """Open the store, read back the finished seeds, compute the others."""
+    config, db = plan.config, plan.db
     conn = connect_db(db)
     try:
+        reads = None
+        if plan.zygote is not None:  # what the compensator read is part of the campaign's identity
+            cid, names = campaign_generation(conn, plan.campaign_id, reads_fingerprint)
+            reads = CampaignReads(conn, cid, plan.campaign_id, names)
+            reads.add(plan.zygote.import_reads)
+            plan = dataclasses.replace(plan, campaign_id=cid)
         session = start_session(
             conn,
             plan.campaign_id,
@@ -204,12 +295,15 @@ def run_campaign(
             scenario=plan.name,
             compensator=plan.label,
             config=repr(config),
-            identity=compensator_identity(comp),
+            identity=ident,
         )
-        recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed)
+        recorder = _Recorder(conn, plan, session.session_id, session.done, session.failed, reads)
         todo = [s for s in seeds if s not in session.done]
         if todo:
             _compute(plan, todo, recorder, total=len(seeds), executor=executor, workers=workers, progress=progress)
+        if reads is not None:
+            reads.save()
+            reads.warn_unseen(plan.short)
         return Campaign(
             campaign_id=plan.campaign_id,
             scenario=plan.name,
@@ -240,6 +334,8 @@ class _Plan:
     name: str
     db: str
     seed_timeout: float | None = None
+    seed_memory: int | None = None
+    zygote: Zygote | None = None
 
 
 class _Recorder:
@@ -253,13 +349,21 @@ class _Recorder:
         session_id: int,
         done: Mapping[int, Mapping[str, float]],
         failed: Mapping[int, str],
+        reads: CampaignReads | None = None,
     ) -> None:
         self.conn, self.plan, self.session_id = conn, plan, session_id
         self.done: dict[int, Mapping[str, float]] = dict(done)
         self.failed: dict[int, str] = dict(failed)
+        self.reads = reads
+
+    def add_reads(self, names: Mapping[str, Any] | None) -> None:
+        """A seed's reads, stored at once when they add a name (a kill loses none)."""
+        if self.reads is not None:
+            self.reads.add(names)
+            self.reads.save()
 
     def __call__(self, seed: int, scores: dict[str, float], elapsed: float, failure: str | None) -> None:
-        if failure is not None and failure.startswith(TIMEOUT_FAILURE):  # not stored: a rerun retries it
+        if failure is not None and failure.startswith((TIMEOUT_FAILURE, MEMORY_FAILURE)):  # a rerun retries it
             self.done[seed], self.failed[seed] = dict(scores), failure
             return
         stored, failure = record_seed(
@@ -305,7 +409,10 @@ def _compute(
         dynamic_ncols=True,
     )
     try:
-        if executor is None and workers == 0:  # one seed at a time, each in its own forked process
+        if plan.zygote is not None and executor is None:  # the compensator in its own process per seed
+            _check_memory(plan, todo, workers)
+            run_sandboxed(plan, todo, recorder, bar, workers=1 if workers == 0 else workers, on_error=_raise_seed_error)
+        elif executor is None and workers == 0:  # one seed at a time, each in its own forked process
             _run_contained(plan, todo, recorder, bar, workers=1)
         else:
             _run_on_pool(plan, todo, recorder, bar, executor=executor, workers=workers)
@@ -326,15 +433,8 @@ def _run_on_pool(
     in memory first), recording each as it finishes."""
     check_picklable(plan.compensator, plan.config)
     own = executor is None
-    if own:  # every local worker holds one seed's task in memory at once
-        from gyrobench.scenarios.runner import units
-
-        units.check_unit_memory(
-            plan.module,
-            plan.config,
-            concurrent=units.concurrent_units(len(todo), workers),
-            source="its configuration (bench seeds)",
-        )
+    if own:
+        _check_memory(plan, todo, workers)
     if executor is None:
         _run_contained(plan, todo, recorder, bar, workers=workers)
         return
@@ -342,18 +442,27 @@ def _run_on_pool(
     futures: dict[cf.Future, int] = {}
     ok = False
     try:
-        futures = {
-            ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
-                      plan.seed_timeout): s
-            for s in todo
-        }
+        if plan.zygote is not None:  # each job starts its own sandbox where it runs
+            futures = {
+                ex.submit(score_job_remote, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
+                          plan.seed_timeout, plan.seed_memory): s
+                for s in todo
+            }
+        else:
+            futures = {
+                ex.submit(score_job, plan.module.__name__, plan.compensator, s, plan.config, plan.short,
+                          plan.seed_timeout): s
+                for s in todo
+            }
         for fut in cf.as_completed(futures):
             seed = futures[fut]
             try:
                 result = fut.result()
             except Exception as exc:
                 _raise_seed_error(exc, seed, plan, recorder)
-            recorder(*result)
+            if len(result) > 4:
+                recorder.add_reads(result[4])
+            recorder(*result[:4])
             bar.update(1)
         ok = True
     finally:
@@ -393,6 +502,18 @@ def _run_contained(plan: _Plan, todo: Sequence[int], recorder: _Recorder, bar: A
 
 #: seconds past the seed time limit after which a seed's process is killed from outside
 _KILL_GRACE_S = 30.0
+
+
+def _check_memory(plan: _Plan, todo: Sequence[int], workers: int | None) -> None:
+    """Every local worker holds one seed's task in memory at once: check it fits."""
+    from gyrobench.scenarios.runner import units
+
+    units.check_unit_memory(
+        plan.module,
+        plan.config,
+        concurrent=units.concurrent_units(len(todo), workers or None),
+        source="its configuration (bench seeds)",
+    )
 
 
 def _raise_seed_error(exc: Exception, seed: int, plan: _Plan, recorder: _Recorder) -> NoReturn:

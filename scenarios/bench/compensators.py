@@ -31,6 +31,8 @@ __all__ = [
     "compensator_failed",
     "compensator_label",
     "fit_compensator",
+    "fit_user_code",
+    "predictor_of",
     "prepend_import_path",
     "resolve_compensator",
     "seed_int",
@@ -91,11 +93,11 @@ class CompensatorImportError(ValueError):
     command line prints with ``GYROBENCH_TRACEBACK=1``.
     """
 
-    def __init__(self, message: str, cause: BaseException) -> None:
+    def __init__(self, message: str, cause: BaseException | None = None, *, traceback_text: str = "") -> None:
         import traceback
 
         super().__init__(message)
-        self.traceback_text = "".join(traceback.format_exception(cause))
+        self.traceback_text = traceback_text or ("".join(traceback.format_exception(cause)) if cause else "")
 
 
 def _is_estimator(obj: Any) -> bool:
@@ -202,12 +204,15 @@ def compensator_failed(label: str, seed: int, stage: str, exc: BaseException) ->
     import traceback
 
     detail = " ".join(str(exc).split()) or "(no message)"
+    # an exception raised in the compensator's own process arrives as text: its class name and traceback
+    name = getattr(exc, "remote_type", None) or type(exc).__name__
+    text = getattr(exc, "traceback_text", None) or "".join(traceback.format_exception(exc))
     return CompensatorError(
-        f"compensator {label} failed on seed {seed} ({stage}): {type(exc).__name__}: {detail}",
+        f"compensator {label} failed on seed {seed} ({stage}): {name}: {detail}",
         compensator=label,
         seed=seed,
         stage=stage,
-        traceback_text="".join(traceback.format_exception(exc)),
+        traceback_text=text,
     )
 
 
@@ -229,17 +234,30 @@ def fit_compensator(
     fit function returning something that cannot predict is a ``TypeError``.
     """
     try:
-        predictor = _fit_user_code(compensator, X, y, seed, groups)
+        predictor = fit_user_code(compensator, X, y, seed_int(seed), groups)
     except Exception as exc:
         raise compensator_failed(label, seed, "fit", exc) from exc
+    try:
+        return predictor_of(compensator, predictor)
+    except TypeError as exc:
+        raise TypeError(f"{exc} (compensator {label}, seed {seed})") from None
+
+
+def predictor_of(compensator: Any, predictor: Any) -> Callable:
+    """The ``predict(X)`` of what fitting returned: its ``.predict``, or itself if callable.
+
+    Raises
+    ------
+    TypeError
+        If it can do neither (a fit function that returned a number).
+    """
     if callable(getattr(predictor, "predict", None)):
         return predictor.predict
     if callable(predictor):
         return predictor
     raise TypeError(
         f"fit function {getattr(compensator, '__qualname__', compensator)!r} must return "
-        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__} "
-        f"(compensator {label}, seed {seed})"
+        f"a callable predict(X) or an object with .predict(X); got {type(predictor).__name__}"
     )
 
 
@@ -262,16 +280,16 @@ def accepts_groups(fit: Any) -> bool:
     return p is not None and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
 
 
-def _fit_user_code(
+def fit_user_code(
     compensator: Any,
     X: NDArray[np.float64],
     y: NDArray[np.float64],
-    seed: int,
+    rs: int,
     groups: NDArray[np.int_] | None = None,
 ) -> Any:
-    """The user's code in :func:`fit_compensator`: the fitted estimator's predict, or what a fit
-    function returned."""
-    rs = seed_int(seed)
+    """The user's code in :func:`fit_compensator` (and in the sandbox's child): the fitted
+    estimator's predict, or what a fit function returned; ``rs`` is the ``random_state`` given
+    to every ``random_state`` left at None (:func:`seed_int` of the seed)."""
     if isinstance(compensator, type):
         compensator = compensator()
     if _is_estimator(compensator):

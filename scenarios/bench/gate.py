@@ -70,8 +70,10 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
     return out
 
 
-def power_doc(campaign: Campaign, alpha: float) -> dict:
-    """A baseline file's ``"power"`` section: what its seeds can detect (JSON-ready)."""
+def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_CHANGE) -> dict:
+    """A baseline file's ``"power"`` section: what its seeds can detect (JSON-ready); with the
+    equivalence margin ``min_change``, the relative change detected is the margin plus the
+    shift beyond it (``"relative_with_margin"``)."""
     found = detectable(campaign, alpha=alpha)
     m = max(1, len(found))
     n = len(campaign.ok_seeds)
@@ -83,6 +85,7 @@ def power_doc(campaign: Campaign, alpha: float) -> dict:
         "seeds": n,
         "min_attainable_p": min_attainable_p(n, m),
         "assumption": "per-seed paired differences as spread as this baseline's seed-to-seed values",
+        "margin": min_change,
         "detectable": {
             d.name: {
                 "unit": d.unit,
@@ -90,6 +93,7 @@ def power_doc(campaign: Campaign, alpha: float) -> dict:
                 "std": _json_float(d.std),
                 "change": _json_float(d.change),  # None: cannot detect any change
                 "relative": _json_float(d.relative),
+                "relative_with_margin": _json_float(min_change + d.relative),
             }
             for d in found
         },
@@ -241,7 +245,8 @@ def reference_campaigns(
     for label, comp in refs.items():
         try:
             out[label] = run_campaign(
-                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False, **kw
+                module, comp, seeds, config=config, executor=executor, workers=workers, progress=False,
+                sandbox=False, **kw
             )
         except (CompensatorError, TypeError) as exc:  # a reference that cannot run never fails the run
             warnings.warn(f"reference {label} ({comp}) not shown: {exc}", stacklevel=2)

@@ -32,6 +32,7 @@ from gyrobench.scenarios.bench.scoring import resolve_scenario
 __all__ = [
     "bench_source_hash",
     "campaign_id",
+    "campaign_id_of",
     "canonical",
     "compensator_identity",
     "file_hash",
@@ -310,9 +311,15 @@ def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any 
     module = resolve_scenario(scenario)
     if config is None:
         config = module.Config()
+    return campaign_id_of(module, config, compensator_identity(compensator))
+
+
+def campaign_id_of(module: types.ModuleType, config: Any, compensator_ident: str) -> str:
+    """:func:`campaign_id` from a compensator identity already computed (by the compensator's own
+    process, :mod:`~gyrobench.scenarios.bench.sandbox`, so this process never imports it)."""
     ident = {
         **scenario_identity(module, config),
         "bench_source": bench_source_hash(),
-        "compensator": json.loads(compensator_identity(compensator)),
+        "compensator": json.loads(compensator_ident),
     }
     return hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16]

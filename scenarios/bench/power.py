@@ -40,8 +40,9 @@ __all__ = [
     "spread",
 ]
 
-#: the minimal change ``--seeds auto`` must detect, relative to the baseline's mean (20 %)
-DEFAULT_MIN_CHANGE = 0.20
+#: the gate's equivalence margin (``--min-change``), relative to the baseline's score: a change
+#: within it is never a regression; ``--seeds auto`` sizes a campaign to detect twice it
+DEFAULT_MIN_CHANGE = 0.05
 #: the probability of detecting that change ``--seeds auto`` asks for
 DEFAULT_POWER = 0.80
 #: lower bound of the asymptotic relative efficiency of the signed-rank test to the paired t
@@ -220,8 +221,8 @@ def auto_seeds(
     min_change: float = DEFAULT_MIN_CHANGE,
     power: float = DEFAULT_POWER,
 ) -> AutoSeeds:
-    """``--seeds auto``: the seeds that detect a relative change ``min_change`` of every
-    primary score.
+    """``--seeds auto``: the seeds that detect a relative change of twice the margin
+    ``min_change`` (a shift of ``min_change`` beyond it) of every primary score.
 
     ``spreads`` maps each primary score to (mean, std over the baseline's seeds). The
     per-seed paired difference is assumed as spread as the baseline's seed-to-seed values
@@ -259,7 +260,8 @@ def auto_seeds(
     return AutoSeeds(
         n=n,
         reason=(
-            f"--seeds auto: {n} seeds detect a {100 * min_change:g} % change of {worst} ({how}; "
+            f"--seeds auto: {n} seeds detect a {200 * min_change:g} % change (twice the {100 * min_change:g} % "
+            f"margin) of {worst} ({how}; "
             "assuming per-seed differences as spread as the baseline's seeds)"
         ),
     )

@@ -29,6 +29,7 @@ from gyrobench.scenarios.bench.compensators import (
     resolve_compensator,
 )
 from gyrobench.scenarios.bench.references import Uncompensated
+from gyrobench.scenarios.bench.sandbox import ChildDied, MemoryExceeded, RemoteCompensator, Zygote, ZygoteError
 from gyrobench.scenarios.bench.seeds import check_seeds
 
 __all__ = [
@@ -39,6 +40,10 @@ __all__ = [
     "resolve_scenario",
     "score_job",
     "score_or_failure",
+    "score_predictions",
+    "score_remote",
+    "score_sandboxed",
+    "score_job_remote",
     "score_seed",
     "score_task",
 ]
@@ -227,6 +232,14 @@ def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict
     predict = (
         None if raw else fit_compensator(compensator, task.X_train, task.y_train, seed, label=label, groups=groups)
     )
+    return score_predictions(task, predict, seed, label)
+
+
+def score_predictions(
+    task: Any, predict: Callable | None, seed: int, label: str
+) -> tuple[dict[str, float], str | None]:
+    """Score every held-out run of ``task`` from ``predict(run.X)`` (None: the raw output), here,
+    with this process's numpy: the scores and why the seed failed, or None."""
     scores: dict[str, float] = {}
     per_key: dict[str, list[float]] = {}
     for run in task.heldout:
@@ -259,6 +272,8 @@ def _score_run(
             return {}, (f"the prediction on run {run.label} is complex ({np.asarray(raw).dtype}); "
                         "a compensator must predict real values")
         pred = np.asarray(raw, dtype=float)
+    except ChildDied:  # the compensator's process ended: a failed seed, not a raising compensator
+        raise
     except Exception as exc:
         raise compensator_failed(label, seed, stage, exc) from exc
     if pred.size != len(run.output):
@@ -319,11 +334,115 @@ def score_job(
     t0 = time.perf_counter()
     try:
         with _time_limit(seed_timeout):
-            scores, failure = score_or_failure(
-                importlib.import_module(module_name), compensator, seed, config, label
-            )
+            module = importlib.import_module(module_name)
+            scores, failure = _score_with_floor(module, compensator, seed, config, label)
     except SystemExit as exc:
         scores, failure = {}, f"the compensator called sys.exit({exc.code!r}); a compensator must return or raise"
     except _SeedTimeout:
         scores, failure = {}, f"{TIMEOUT_FAILURE} of {seed_timeout:g} s (--seed-timeout)"
     return seed, scores, time.perf_counter() - t0, failure
+
+
+#: a sandboxed seed whose compensator's process ended without answering (the campaign's
+#: process, which reaps it, replaces this with how it ended)
+CHILD_DIED = "the compensator's process ended without a result"
+
+#: how a seed failed by the per-seed memory cap starts (not stored: a rerun with a larger
+#: ``--seed-memory`` retries it)
+MEMORY_FAILURE = "exceeded the per-seed memory cap"
+
+
+def _score_with_floor(
+    module: types.ModuleType, compensator: Any, seed: int, config: Any, label: str | None
+) -> tuple[dict[str, float], str | None]:
+    """:func:`score_or_failure` on one task, then its noise-floor verdict
+    (:func:`~gyrobench.scenarios.bench.floor.floor_failure`; not for the uncompensated output)."""
+    from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.bench.floor import floor_failure
+
+    comp = resolve_compensator(compensator)
+    (seed,) = check_seeds([seed])
+    config = module.Config() if config is None else config
+    label = compensator_label(comp, compensator, short=True) if label is None else label
+    with threadpool_limits(limits=1):
+        task = module.compensation_task(config, seed)
+        scores, failure = score_task(task, comp, seed, label)
+        if failure is None and not (comp is Uncompensated or isinstance(comp, Uncompensated)):
+            failure = floor_failure(getattr(module, "NAME", module.__name__), task, scores)
+    return scores, failure
+
+
+def score_remote(task: Any, remote: RemoteCompensator, seed: int, label: str) -> tuple[dict[str, float], str | None]:
+    """Fit the compensator in its own process (``remote``) on ``task``'s training data only and
+    score its predictions here (:func:`score_predictions`)."""
+    from gyrobench.scenarios.bench.compensators import seed_int
+
+    groups = getattr(task, "groups_train", None)
+    try:
+        remote.fit(task.X_train, task.y_train, groups, seed_int(seed))
+    except ChildDied:
+        raise
+    except Exception as exc:
+        raise compensator_failed(label, seed, "fit", exc) from None
+    return score_predictions(task, remote.predict, seed, label)
+
+
+def score_sandboxed(
+    module_name: str, seed: int, config: Any, label: str, fd: int, memory: int | None = None,
+    deadline: float | None = None, seed_timeout: float | None = None,
+) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
+    """Scoring process of one sandboxed seed: build the task, talk to the compensator's child on
+    socket ``fd`` (:class:`~gyrobench.scenarios.bench.sandbox.RemoteCompensator`), score, check
+    the noise floor. Returns (seed, scores, elapsed [s], failure or None, the child's reads)."""
+    from multiprocessing.connection import Connection
+
+    from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.bench.floor import floor_failure
+
+    t0 = time.perf_counter()
+    module = importlib.import_module(module_name)
+    remote = RemoteCompensator(Connection(fd), deadline=deadline, timeout=seed_timeout)
+    reads: dict[str, Any] = {}
+    try:
+        with threadpool_limits(limits=1):
+            task = module.compensation_task(config, seed)
+            scores, failure = score_remote(task, remote, seed, label)
+            if failure is None:
+                failure = floor_failure(getattr(module, "NAME", module.__name__), task, scores)
+        reads = remote.finish()
+    except SystemExit as exc:
+        scores, failure = {}, f"the compensator called sys.exit({exc.code!r}); a compensator must return or raise"
+    except MemoryExceeded:
+        cap = "" if memory is None else f" of {memory / 1024**3:g} GiB"
+        scores, failure = {}, f"{MEMORY_FAILURE}{cap} (--seed-memory): it raised MemoryError"
+    except ChildDied as exc:
+        timed_out = f"{TIMEOUT_FAILURE} of {exc.timeout:g} s (--seed-timeout)" if exc.timeout else None
+        scores, failure = {}, timed_out or CHILD_DIED
+    return seed, scores, time.perf_counter() - t0, failure, reads
+
+
+def score_job_remote(
+    module_name: str, compensator: Any, seed: int, config: Any, label: str,
+    seed_timeout: float | None = None, memory: int | None = None,
+) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
+    """Worker entry point of a sandboxed seed on any executor (a dask worker): its own zygote
+    (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`) and child, the deadline kept here."""
+    t0 = time.perf_counter()
+    deadline = None if seed_timeout is None else time.monotonic() + seed_timeout
+    try:
+        zygote = Zygote(compensator, memory=memory, timeout=seed_timeout)
+    except ZygoteError as exc:
+        return seed, {}, time.perf_counter() - t0, f"the compensator could not be loaded: {exc}", {}
+    try:
+        pid, sock = zygote.fork()
+        try:
+            result = score_sandboxed(module_name, seed, config, label, sock.detach(), memory, deadline, seed_timeout)
+        finally:
+            status = zygote.end_child(pid)
+    finally:
+        zygote.close()
+    if result[3] == CHILD_DIED:
+        result = (*result[:3], f"the compensator's process {status.reason()}", result[4])
+    return result

@@ -5,11 +5,15 @@
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
-        [--seeds auto [--min-change 0.2]] [--allow-underpowered] [--no-references]
-        [--seed-timeout SECONDS]
+        [--seeds auto] [--min-change 0.05] [--allow-underpowered] [--no-references]
+        [--seed-timeout SECONDS] [--seed-memory GIB]
 
 Exit status of :func:`run` (see :mod:`gyrobench.scenarios.cli.exits`): 0 on success, 1 when
-the campaign is significantly worse than ``--baseline`` on some score. Bad input raises
+the campaign is significantly worse than ``--baseline`` on some primary score by more than the
+equivalence margin ``--min-change``. The compensator runs in its own processes
+(:mod:`gyrobench.scenarios.bench.sandbox`): its module is never imported here, and nothing it
+does (an exit, a signal, ``KeyboardInterrupt`` at import) becomes this process's status. Bad
+input raises
 ``ValueError``, ``TypeError`` or ``FileNotFoundError`` with a one-line message (the
 command line wrapper prints it and exits 2). So does a compensator that raises on a
 seed (:class:`gyrobench.scenarios.bench.CompensatorError`, a ``ValueError``): exit 2 means
@@ -87,10 +91,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--min-change",
         type=ranged("--min-change", 0.0, 10.0, low_open=True, unit="(fraction of the mean)"),
-        default=0.2,
+        default=None,
         metavar="FRACTION",
-        help="the smallest change of a primary score --seeds auto must detect, as a fraction of "
-        "the baseline's mean (default 0.2 = 20 %%, with power 0.8)",
+        help="equivalence margin of the gate, as a fraction of the baseline's score: a change within it is "
+        "never a regression, however significant; --seeds auto sizes the run to detect twice it with power "
+        "0.8 (default 0.05 = 5 %%)",
     )
     p.add_argument(
         "--allow-underpowered",
@@ -144,6 +149,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=0.05,
         help="family-wise significance level of the comparison (default 0.05)",
     )
+    _add_trust_flags(p)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.add_argument("--force", action="store_true",
                    help="replace an existing --save-baseline file that gyrobench did not write (default: refused); "
@@ -214,7 +220,7 @@ def run(args: argparse.Namespace) -> int:
         if given:
             input_file(given, flag)
     config = registry.load_config(module, args.config) if args.config else module.Config()
-    bench.resolve_compensator(args.compensator)  # fail before connecting or computing
+    _check_compensator_spec(args.compensator)  # imported only in the compensator's own process
     # read and check the baseline first: a bad or mismatched file fails before any computing
     baseline = bench.load_baseline(args.baseline) if args.baseline else None
     if baseline is not None:
@@ -229,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
         alpha=args.alpha,
         gate=baseline is not None or bool(args.save_baseline),
         allow_underpowered=args.allow_underpowered,
-        min_change=args.min_change,
+        min_change=_min_change(args),
     )
     seeds = plan.seeds
     db = args.db if args.db is not None else bench.DEFAULT_DB
@@ -249,6 +255,7 @@ def run(args: argparse.Namespace) -> int:
             db=db,
             progress=not args.quiet,
             seed_timeout=seed_timeout,
+            seed_memory=_seed_memory(args),
         )
         references = (
             {}
@@ -262,12 +269,15 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if close is not None:
             close()
-    print(bench.format_summary(campaign, references))
+    summary = bench.format_summary(campaign, references)
     result = (
-        bench.compare(baseline, campaign, alpha=args.alpha, references=references)
+        bench.compare(baseline, campaign, alpha=args.alpha, references=references, min_change=_min_change(args))
         if baseline is not None
         else None
     )
+    if result is not None and result.power_line:  # first, before the tables: a weak gate says so
+        print(result.power_line)
+    print(summary)
     if result is not None:
         print(result.format())
     # the comparison may find failed seeds the campaign did not record (a non-finite score read
@@ -286,9 +296,59 @@ def run(args: argparse.Namespace) -> int:
             what.append(f"the comparison with --baseline {args.baseline!r} fails")
         raise bench.FailedSeedsError(failure + "".join(f"; {w}" for w in what), seeds=failed)
     if args.save_baseline:
-        path = bench.save_baseline(args.save_baseline, campaign, alpha=args.alpha)
+        path = bench.save_baseline(args.save_baseline, campaign, alpha=args.alpha, min_change=_min_change(args))
         print(f"baseline written to {path}")
+        print(_baseline_power_line(campaign, args.alpha, _min_change(args)))
     if result is not None:
         return exits.REGRESSION if result.regressions else exits.OK
     return exits.OK
 
+
+
+# ----------------------------------------------------------------------------- trust flags
+#: default of ``--seed-memory`` [GiB]: the compensator's address-space cap per seed
+DEFAULT_SEED_MEMORY_GIB = 4.0
+
+
+def _add_trust_flags(p: argparse.ArgumentParser) -> None:
+    """The flags of the compensator's sandbox (:mod:`gyrobench.scenarios.bench.sandbox`)."""
+    p.add_argument(
+        "--seed-memory",
+        type=ranged("--seed-memory", 0.25, 1e6, unit="GiB"),
+        default=DEFAULT_SEED_MEMORY_GIB,
+        metavar="GIB",
+        help="address-space cap (RLIMIT_AS) of the compensator's process per seed; a seed past it fails "
+        "(exit 3) and is retried by a rerun (default 4)",
+    )
+
+
+def _seed_memory(args: argparse.Namespace) -> int:
+    return int(args.seed_memory * 1024**3)
+
+
+def _check_compensator_spec(spec: str) -> None:
+    """``spec`` reads as ``package.module:attr`` (its module is imported only in the compensator's
+    own process, so an exit or a hang at import never becomes this process's)."""
+    if spec.count(":") != 1 or not all(spec.split(":")):
+        raise ValueError(f"compensator must be 'package.module:attr'; got {spec!r}")
+
+
+def _min_change(args: argparse.Namespace) -> float:
+    from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
+
+    return DEFAULT_MIN_CHANGE if args.min_change is None else float(args.min_change)
+
+
+def _baseline_power_line(campaign: Any, alpha: float, margin: float) -> str:
+    """What a baseline's seeds detect, in one line (from its seed-to-seed spread: conservative)."""
+    from gyrobench.scenarios.bench import gate
+
+    parts = []
+    for d in gate.detectable(campaign, alpha=alpha):
+        rel = margin + d.relative
+        parts.append(f"{d.name} {100 * rel:.3g} %" if rel != float("inf") else f"{d.name} (none: too few seeds)")
+    return (
+        f"detectable change at {len(campaign.ok_seeds)} seeds (power 0.8, alpha {alpha:g}, margin {100 * margin:g} %, "
+        f"assuming per-seed differences as spread as the baseline's own scores, an upper bound; a comparison "
+        f"prints the figure from its observed differences): {', '.join(parts) or '(no primary score)'}"
+    )

@@ -6,11 +6,21 @@ units runner's, :mod:`gyrobench.scenarios.runner.units`). :func:`start_session` 
 :func:`record_seed` are the bench's reads and writes: a campaign's finished seeds are read
 back on a rerun, so a campaign killed at any moment (even SIGKILL) resumes where it stopped.
 
-Every stored seed carries a checksum (:func:`seed_checksum`: SHA-256 of the campaign id, the
-seed, the scores' text and the failure reason) in ``seed_checksums``, written in the same
-transaction. A resume verifies it: a row edited in the file (a score set to ``"nan"``), a
-corrupted one, or one written before checksums existed is deleted with a warning and its seed
-recomputed, never served and never silently dropped from the summary.
+Every stored seed carries a checksum (:func:`seed_checksum`: HMAC-SHA256, keyed with the
+database's own key, of the campaign id, the seed, the scores' text and the failure reason) in
+``seed_checksums``, written in the same transaction. The key is 32 random bytes in a file
+beside the database (``<db>.key``, mode 0600, created with it: :func:`db_key`). A resume
+verifies it: a row edited in the file (a score set to ``"nan"``), a corrupted one, one written
+before checksums existed, or a forged one whose checksum was recomputed without the key, is
+deleted with a warning and its seed recomputed, never served and never silently dropped from
+the summary. Whoever can read the key file (the same user, the compensator's own process) can
+still forge a row: the checksum guards against accidents and against edits by anyone without
+the key, not against the user's own code.
+
+What a campaign's compensator read (:mod:`~gyrobench.scenarios.bench.sandbox`: modules, files,
+environment variables) is kept per campaign in ``campaign_reads``, with its fingerprints;
+:func:`campaign_generation` picks, among the stored campaigns of one static identity, the one
+whose reads are unchanged, or starts a new one.
 """
 
 from __future__ import annotations
@@ -25,13 +35,20 @@ import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from gyrobench.base.safety import SQLITE_APPLICATION_ID
 from gyrobench.scenarios.cli import exits
 
 __all__ = [
     "DEFAULT_DB",
+    "KEY_BYTES",
     "SCHEMA",
+    "KeyedConnection",
+    "campaign_generation",
+    "db_key",
+    "key_path",
+    "record_reads",
     "Session",
     "check_database",
     "check_output_file",
@@ -77,6 +94,13 @@ CREATE TABLE IF NOT EXISTS seed_checksums (
     sha256 TEXT NOT NULL,
     PRIMARY KEY (campaign_id, seed)
 );
+CREATE TABLE IF NOT EXISTS campaign_reads (
+    campaign_id TEXT PRIMARY KEY,
+    static_id TEXT NOT NULL,
+    generation INTEGER NOT NULL,
+    names TEXT NOT NULL,
+    fingerprint TEXT NOT NULL
+);
 CREATE TABLE IF NOT EXISTS sessions (
     session_id INTEGER PRIMARY KEY AUTOINCREMENT,
     campaign_id TEXT NOT NULL REFERENCES campaigns(campaign_id),
@@ -94,11 +118,13 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
 
     Shared by the bench and :mod:`gyrobench.scenarios.runner.units` (each with its own schema).
     """
+    keyed = schema is None
     schema = SCHEMA if schema is None else schema
     p = check_output_file(path, what="db")
     check_database(p, what="db")  # a foreign SQLite file is refused before anything is written to it
     try:
-        conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None)  # explicit BEGIN/COMMIT
+        # explicit BEGIN/COMMIT; the connection carries the database's checksum key
+        conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None, factory=KeyedConnection)
     except sqlite3.Error as exc:
         raise ValueError(f"db {str(p)!r} cannot be opened: {exc}") from None
     try:
@@ -121,7 +147,62 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
     except sqlite3.DatabaseError as exc:
         conn.close()
         raise ValueError(f"db {str(p)!r} is not a usable SQLite database: {exc}") from None
+    if keyed:
+        try:
+            conn.key = db_key(p)
+        except ValueError:
+            conn.close()
+            raise
     return conn
+
+
+class KeyedConnection(sqlite3.Connection):
+    """A results database's connection with its checksum key (:func:`db_key`; ``b""``: unkeyed)."""
+
+    key: bytes = b""
+
+
+#: bytes of a database's checksum key
+KEY_BYTES = 32
+
+
+def key_path(db: str | os.PathLike) -> Path:
+    """The key file of database ``db``: ``<db>.key`` beside it."""
+    return Path(f"{os.fspath(db)}.key")
+
+
+def db_key(db: str | os.PathLike) -> bytes:
+    """The checksum key of database ``db``, created (32 random bytes, mode 0600, never
+    overwritten) if it has none.
+
+    Raises
+    ------
+    ValueError
+        If the key file cannot be read or created, or does not hold 32 bytes.
+    """
+    path = key_path(db)
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except FileExistsError:
+        pass
+    except OSError as exc:
+        raise ValueError(f"db key {str(path)!r} cannot be created: {exc.strerror}") from None
+    else:
+        try:
+            os.write(fd, os.urandom(KEY_BYTES))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+    try:
+        key = path.read_bytes()
+    except OSError as exc:
+        raise ValueError(f"db key {str(path)!r} cannot be read: {exc.strerror}") from None
+    if len(key) != KEY_BYTES:
+        raise ValueError(
+            f"db key {str(path)!r} must hold {KEY_BYTES} bytes; got {len(key)} (remove it and the database "
+            "to start again: without its key no stored seed can be verified)"
+        )
+    return key
 
 
 def database_tables() -> tuple[str, ...]:
@@ -157,10 +238,15 @@ def loads_scores(text: str) -> dict[str, float]:
     return {k: float(v) for k, v in json.loads(text).items()}
 
 
-def seed_checksum(campaign_id: str, seed: int, scores_text: str, failure: str | None) -> str:
-    """SHA-256 (hex) of one stored seed: campaign id, seed, scores text and failure reason."""
-    doc = json.dumps([campaign_id, int(seed), scores_text, failure], separators=(",", ":"))
-    return hashlib.sha256(doc.encode("utf-8")).hexdigest()
+def seed_checksum(campaign_id: str, seed: int, scores_text: str, failure: str | None, key: bytes = b"") -> str:
+    """Checksum (hex) of one stored seed: campaign id, seed, scores text and failure reason;
+    HMAC-SHA256 with ``key`` (the database's, :func:`db_key`), SHA-256 without one."""
+    import hmac
+
+    doc = json.dumps([campaign_id, int(seed), scores_text, failure], separators=(",", ":")).encode("utf-8")
+    if key:
+        return hmac.new(key, doc, hashlib.sha256).hexdigest()
+    return hashlib.sha256(doc).hexdigest()
 
 
 def _verified(conn: sqlite3.Connection, campaign_id: str, wanted: set[int]) -> tuple[dict, dict]:
@@ -173,7 +259,9 @@ def _verified(conn: sqlite3.Connection, campaign_id: str, wanted: set[int]) -> t
     for seed, text in conn.execute("SELECT seed, scores FROM seed_scores WHERE campaign_id = ?", (campaign_id,)):
         if seed not in wanted:
             continue
-        ok = isinstance(text, str) and sums.get(seed) == seed_checksum(campaign_id, seed, text, failures.get(seed))
+        ok = isinstance(text, str) and sums.get(seed) == seed_checksum(
+            campaign_id, seed, text, failures.get(seed), getattr(conn, "key", b"")
+        )
         try:
             scores = loads_scores(text) if ok else None
         except (ValueError, TypeError, AttributeError):
@@ -188,7 +276,7 @@ def _verified(conn: sqlite3.Connection, campaign_id: str, wanted: set[int]) -> t
     if bad:
         warnings.warn(
             f"campaign {campaign_id}: the stored scores of seed(s) {', '.join(map(str, sorted(bad)))} do not match "
-            "their checksum (edited, corrupted or stored by an older gyrobench); recomputing them",
+            "their checksum (edited, forged, corrupted or stored by an older gyrobench); recomputing them",
             RuntimeWarning,
             stacklevel=3,
         )
@@ -287,7 +375,7 @@ def record_seed(
             )
         conn.execute(
             "INSERT INTO seed_checksums (campaign_id, seed, sha256) VALUES (?, ?, ?)",
-            (campaign_id, seed, seed_checksum(campaign_id, seed, text, failure)),
+            (campaign_id, seed, seed_checksum(campaign_id, seed, text, failure, getattr(conn, "key", b""))),
         )
     except sqlite3.IntegrityError:
         conn.execute("ROLLBACK")
@@ -311,3 +399,53 @@ def record_seed(
     else:
         conn.execute("COMMIT")
     return loads_scores(text), failure
+
+
+# ----------------------------------------------------------------------------- what a campaign read
+def campaign_generation(
+    conn: sqlite3.Connection, static_id: str, fingerprint: Any
+) -> tuple[str, dict[str, Any]]:
+    """The campaign of ``static_id`` whose recorded reads still fingerprint the same (``fingerprint``
+    maps the stored read names to their fingerprints now), newest first; else a new one: its id
+    is ``static_id`` for the first, ``static_id`` hashed with its generation number after.
+    Returns (campaign id, the read names recorded for it, empty for a new one)."""
+    rows = conn.execute(
+        "SELECT campaign_id, generation, names, fingerprint FROM campaign_reads WHERE static_id = ? "
+        "ORDER BY generation DESC",
+        (static_id,),
+    ).fetchall()
+    for cid, _gen, names_text, stored in rows:
+        try:
+            names = json.loads(names_text)
+            if fingerprint(names) == json.loads(stored):
+                return str(cid), names
+        except (ValueError, TypeError):
+            continue
+    if not rows:
+        return static_id, {}
+    gen = 1 + max(int(r[1]) for r in rows)
+    return hashlib.sha256(f"{static_id}/{gen}".encode()).hexdigest()[:16], {}
+
+
+def record_reads(
+    conn: sqlite3.Connection, campaign_id: str, static_id: str, names: Mapping[str, Any], fingerprint: Mapping[str, str]
+) -> None:
+    """Store (or replace) what campaign ``campaign_id`` read, with its fingerprints, in one transaction."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        row = conn.execute("SELECT generation FROM campaign_reads WHERE campaign_id = ?", (campaign_id,)).fetchone()
+        if row is None:
+            (gen,) = conn.execute(
+                "SELECT COALESCE(MAX(generation) + 1, 0) FROM campaign_reads WHERE static_id = ?", (static_id,)
+            ).fetchone()
+        else:
+            gen = row[0]
+        conn.execute(
+            "INSERT OR REPLACE INTO campaign_reads VALUES (?, ?, ?, ?, ?)",
+            (campaign_id, static_id, int(gen), json.dumps(dict(names), sort_keys=True),
+             json.dumps(dict(fingerprint), sort_keys=True)),
+        )
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    conn.execute("COMMIT")

@@ -1,0 +1,190 @@
+"""Calibrate the bench's gate: detection and false-alarm rates for known regressions, per scenario.
+
+For every seed of a scenario the reference compensator (ifog_thermal: the README's Ridge
+pipeline; the others: the paper's method the bench prints) is fitted once, in this process,
+and its prediction on every held-out run is degraded by a known fraction ``lam`` of itself,
+toward the uncompensated output:
+
+    prediction_lam = (1 - lam) prediction + lam raw
+
+(``raw`` = 0 for an error target, the output for a rate target), which leaves ``lam`` of the
+compensated error in the output. Each ``lam`` is scored with the bench's own scoring
+(:func:`gyrobench.scenarios.bench.scoring.score_predictions`). The *true* change of a primary
+score is measured over all the seeds (mean of c_s / b_s - 1). Then, for random subsets of
+``--n`` seeds (the README's 12), the gate itself (:func:`gyrobench.scenarios.bench.compare`,
+with the margin ``--margin``) decides; the table gives, per ``lam``, the true change and the
+fraction of subsets the gate calls a regression (a false alarm when the true change is within
+the margin, a detection above it), beside what the baseline file claims its seeds detect
+(:func:`gyrobench.scenarios.bench.gate.detectable`, margin included) and what the comparison
+prints (:attr:`~gyrobench.scenarios.bench.Comparison.power_line`, its median over subsets).
+
+Run: ``python benchmarks/bench_calibrate.py [--scenarios ifog_thermal,rlg_thermal] [--seeds 40]
+[--n 12] [--draws 300] [--margin 0.05]`` (about 1-5 minutes of CPU per scenario at 40 seeds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+#: target true changes of the primary score (the gate's margin is --margin)
+TARGETS = (0.0, 0.002, 0.01, 0.02, 0.04, 0.06, 0.08, 0.10, 0.15, 0.20)
+#: degradation factors searched for each target: prediction scaled by (1 - lam) toward the raw
+#: output; negative lam overshoots (whichever branch first reaches the target is used)
+LAMS = tuple(sorted({0.0, *np.round(np.geomspace(1e-4, 1.0, 36), 6), *(-np.round(np.geomspace(1e-4, 1.0, 36), 6))}))
+
+
+def _base(name: str) -> Any:
+    from gyrobench.scenarios.bench.compensators import resolve_compensator
+    from gyrobench.scenarios.bench.primary import scenario_scores
+
+    if name == "ifog_thermal":
+        from sklearn.linear_model import Ridge
+        from sklearn.pipeline import make_pipeline
+        from sklearn.preprocessing import PolynomialFeatures, StandardScaler
+
+        return make_pipeline(StandardScaler(), PolynomialFeatures(2), Ridge(alpha=1e-3))
+    declared = scenario_scores(name)
+    return resolve_compensator(declared.paper)
+
+
+def _seed_scores(module: Any, comp: Any, seed: int) -> dict[float, dict[str, float]]:
+    from threadpoolctl import threadpool_limits
+
+    from gyrobench.scenarios.bench.compensators import fit_compensator
+    from gyrobench.scenarios.bench.scoring import score_predictions
+
+    with threadpool_limits(limits=1):
+        task = module.compensation_task(module.Config(), seed)
+        predict = fit_compensator(
+            comp, task.X_train, task.y_train, seed, label="base", groups=getattr(task, "groups_train", None)
+        )
+        preds = {id(run.X): np.asarray(predict(run.X), dtype=float).reshape(-1) for run in task.heldout}
+        raws = {id(run.X): (np.zeros(len(run.output)) if task.target == "error" else np.asarray(run.output, float))
+                for run in task.heldout}
+        out = {}
+        for lam in LAMS:
+            def degraded(X, lam=lam):
+                return (1 - lam) * preds[id(X)] + lam * raws[id(X)]
+
+            scores, failure = score_predictions(task, degraded, seed, "base")
+            if failure is not None:
+                raise RuntimeError(f"seed {seed} lam {lam}: {failure}")
+            out[lam] = scores
+    return out
+
+
+def _campaign(name: str, scores: dict[int, dict[str, float]], label: str) -> Any:
+    """A campaign of the primary scores only (the gate reads nothing else)."""
+    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench.primary import gated_scores
+
+    first = next(iter(scores.values()))
+    keep = {g.name for g in gated_scores(name, list(first))}
+    scores = {s: {k: v for k, v in sc.items() if k in keep} for s, sc in scores.items()}
+    return bench.Campaign(campaign_id=label, scenario=name, compensator=label, config="", scores=scores)
+
+
+def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha: float) -> list[dict]:
+    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench import gate
+    from gyrobench.scenarios.bench.primary import gated_scores
+
+    module = bench.resolve_scenario(name)
+    comp = _base(name)
+    t0, c0 = time.perf_counter(), time.process_time()
+    per_seed = {}
+    for s in range(n_seeds):
+        per_seed[s] = _seed_scores(module, comp, s)
+        print(f"  {name}: seed {s} scored", file=sys.stderr, flush=True)
+    took, cpu = time.perf_counter() - t0, time.process_time() - c0
+    by_lam = {lam: {s: per_seed[s][lam] for s in per_seed} for lam in LAMS}
+    names = list(by_lam[0.0][0])
+    gates = [g.name for g in gated_scores(name, names)]
+
+    def true_change(lam: float, seeds: Any = range(n_seeds)) -> dict[str, float]:
+        out = {}
+        for g in gates:
+            b = np.array([by_lam[0.0][s][g] for s in seeds])
+            c = np.array([by_lam[lam][s][g] for s in seeds])
+            out[g] = float(np.mean(c / b - 1))
+        return out
+
+    curve = {lam: max(true_change(lam).values()) for lam in LAMS}
+    rng = np.random.default_rng(20261201)
+    subsets = [sorted(rng.choice(n_seeds, size=n, replace=False).tolist()) for _ in range(draws)]
+    claims: dict[str, list[float]] = {}
+    for sub in subsets[:50]:
+        base = _campaign(name, {s: by_lam[0.0][s] for s in sub}, "base")
+        for d in gate.detectable(base, alpha=alpha):
+            claims.setdefault(d.name, []).append(margin + d.relative)
+    cases = [(t, _lam_for(curve, t), None) for t in TARGETS]
+    half = sorted(rng.choice(n_seeds, size=n_seeds // 2, replace=False).tolist())  # a partial regression
+    cases.append((0.19, _lam_for(curve, 0.38), half))
+    rows = []
+    for target, lam, only in cases:
+        cand_scores = {s: (by_lam[lam][s] if only is None or s in only else by_lam[0.0][s]) for s in range(n_seeds)}
+        true = {}
+        for g in gates:
+            b = np.array([by_lam[0.0][s][g] for s in range(n_seeds)])
+            c = np.array([cand_scores[s][g] for s in range(n_seeds)])
+            true[g] = float(np.mean(c / b - 1))
+        hits, printed = 0, []
+        for sub in subsets:
+            base = _campaign(name, {s: by_lam[0.0][s] for s in sub}, "base")
+            cand = _campaign(name, {s: cand_scores[s] for s in sub}, f"lam{lam}")
+            res = bench.compare(base, cand, alpha=alpha, min_change=margin)
+            hits += bool(res.regressions)
+            printed.append(max(d.change for d in res.detectable) if res.detectable else math.nan)
+        rows.append({
+            "scenario": name, "target": target, "lam": lam, "partial": only is not None, "true": true,
+            "rate": hits / draws,
+            "printed": float(np.nanmedian(printed)) if np.isfinite(printed).any() else math.inf,
+            "claimed": {k: float(np.median(v)) for k, v in claims.items()},
+            "seed_s": took / n_seeds, "seed_cpu_s": cpu / n_seeds,
+        })
+    return rows
+
+
+def _lam_for(curve: dict[float, float], target: float) -> float:
+    """The degradation whose true change is closest to ``target``, among the smallest ones."""
+    if target == 0:
+        return 0.0
+    best = min(curve, key=lambda lam: (abs(curve[lam] - target) > 0.15 * target + 5e-4, abs(lam)))
+    return best
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenarios", default="ifog_thermal,rlg_thermal,mems_scale_factor,fog_vibration")
+    ap.add_argument("--seeds", type=int, default=40, help="seeds simulated per scenario")
+    ap.add_argument("--n", type=int, default=12, help="seeds per comparison (the README's 12)")
+    ap.add_argument("--draws", type=int, default=300, help="random subsets of --n seeds")
+    ap.add_argument("--margin", type=float, default=0.05, help="the gate's --min-change")
+    ap.add_argument("--alpha", type=float, default=0.05)
+    args = ap.parse_args(argv)
+    print(f"gate calibration: {args.n} of {args.seeds} seeds per comparison, {args.draws} subsets, margin "
+          f"{100 * args.margin:g} %, alpha {args.alpha:g}")
+    print("| scenario | degraded by | true change of the primary score(s) | called a regression | "
+          "detectable (comparison prints, median) | detectable (baseline file claims) |")
+    print("|---|---|---|---|---|---|")
+    for name in args.scenarios.split(","):
+        rows = calibrate(name, args.seeds, args.n, args.draws, args.margin, args.alpha)
+        for r in rows:
+            true = ", ".join(f"{k.split('/')[-1]} {100 * v:+.2f} %" for k, v in r["true"].items())
+            claimed = ", ".join(f"{100 * v:.3g} %" for v in r["claimed"].values())
+            what = f"{100 * r['lam']:+.3g} %" + (" on half the seeds" if r["partial"] else "")
+            print(f"| {name} | {what} | {true} | {100 * r['rate']:.1f} % | "
+                  f"{100 * r['printed']:.3g} % | {claimed} |", flush=True)
+        print(f"({name}: {rows[0]['seed_s']:.2f} s wall, {rows[0]['seed_cpu_s']:.2f} s CPU per seed, in process)",
+              file=sys.stderr, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -23,15 +23,15 @@ import numpy as np
 
 from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor
 from gyrobench.base import units
+from gyrobench.sim.mems_population import MemsResonatorSpec
 from gyrobench.sim.mems_resonator import (
     MemsResonator,
-    MemsResonatorSpec,
     low_rate_scale_factor,
     rate_authority,
-    rate_table,
     saturated_output,
     zero_rate_output,
 )
+from gyrobench.sim.mems_slow_flow import rate_table
 
 RATES_DPS = np.arange(3600.0, -3601.0, -360.0)
 PAPER_KN = 0.1571

@@ -63,7 +63,7 @@ _LAZY: dict[str, str] = {
     "FOG2DUnit": "gyrobench.sim.fog2d",
     "Coil2DSpec": "gyrobench.sim.coil2d",
     "Coil2D": "gyrobench.sim.coil2d",
-    "MemsResonatorSpec": "gyrobench.sim.mems_resonator",
+    "MemsResonatorSpec": "gyrobench.sim.mems_population",
     "MemsResonator": "gyrobench.sim.mems_resonator",
     "RLGSpec": "gyrobench.sim.rlg",
     "RLGUnit": "gyrobench.sim.rlg",
@@ -124,8 +124,8 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.sim.fog_loop import ClosedLoopFOG as ClosedLoopFOG
     from gyrobench.sim.fog_loop import LoopSpec as LoopSpec
     from gyrobench.sim.fog_loop import sagnac_scale_factor as sagnac_scale_factor
+    from gyrobench.sim.mems_population import MemsResonatorSpec as MemsResonatorSpec
     from gyrobench.sim.mems_resonator import MemsResonator as MemsResonator
-    from gyrobench.sim.mems_resonator import MemsResonatorSpec as MemsResonatorSpec
     from gyrobench.sim.noise import GaussMarkov as GaussMarkov
     from gyrobench.sim.noise import NoiseModel as NoiseModel
     from gyrobench.sim.noise import NoiseStream as NoiseStream

@@ -2,7 +2,7 @@
 
 Every device model (:class:`gyrobench.sim.fog2d.FOG2DSpec` and its
 :class:`~gyrobench.sim.fog2d.FOG2DUnit`, :class:`gyrobench.sim.fog_loop.ClosedLoopFOG`,
-:class:`gyrobench.sim.mems_resonator.MemsResonatorSpec` and its
+:class:`gyrobench.sim.mems_population.MemsResonatorSpec` and its
 :class:`~gyrobench.sim.mems_resonator.MemsResonator`, :class:`gyrobench.sim.rlg.RLGSpec`,
 :class:`gyrobench.sim.rlg_cavity.CavityRLGSpec`, and the datasheet parts of
 :mod:`gyrobench.sim.parts`) answers the same two calls::

@@ -49,6 +49,7 @@ import numpy as np
 
 from gyrobench.base import units
 from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, SECOND_METHOD, Check, Part, run_parts
+from gyrobench.sim.mems_full import simulate_full
 from gyrobench.sim.mems_resonator import (
     MemsResonator,
     brownian_arw,
@@ -59,10 +60,9 @@ from gyrobench.sim.mems_resonator import (
     operating_point,
     quadrature_rate,
     saturated_output,
-    simulate_full,
-    slow_flow,
     zero_rate_output,
 )
+from gyrobench.sim.mems_slow_flow import slow_flow
 
 __all__ = ["checks", "parts", "FALSE_ALARM", "STEPS_PER_CYCLE", "rk4_tolerance", "variance_ratio_bounds",
            "open_loop_unit"]

@@ -11,7 +11,7 @@
   (:mod:`gyrobench.sim.mems_readout`: stiffening of the biased sense electrodes, the
   differential pick-off's 1/(g - y), the charge amplifier's rail) with a one-sigma quadrature:
   the slow flow's noise-free rate channel (harmonic balance and the describing function on the
-  envelope, :func:`gyrobench.sim.mems_resonator.slow_flow`'s path) against the full sense
+  envelope, :func:`gyrobench.sim.mems_slow_flow.slow_flow`'s path) against the full sense
   equation integrated with the carrier, m y'' + c y' + k_y y - (F_e(y) - k_e y) = Re{F_ext
   e^{jwt}}, the pick-off and rail applied to y(t) sample by sample and synchronously
   demodulated, at 1800, 2880 and 3600 deg/s (below, in and past the bend).
@@ -38,6 +38,7 @@ import numpy as np
 
 from gyrobench.base import units
 from gyrobench.scenarios.checks.core import CLOSED_FORM, CONSISTENCY, SECOND_METHOD, Check
+from gyrobench.sim import mems_population
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_nonlinear import DuffingSense, RateTransfer
 
@@ -175,7 +176,7 @@ def readout_check_unit() -> mr.MemsResonator:
     from gyrobench.sim.mems_readout import SenseChain
 
     nominal = mr.MemsResonator()
-    base = replace(nominal, sense_q=_Q_CHECK, quadrature_coupling=mr.MemsResonatorSpec().quadrature_spread)
+    base = replace(nominal, sense_q=_Q_CHECK, quadrature_coupling=mems_population.MemsResonatorSpec().quadrature_spread)
     ratio = abs(mr.operating_point(base).receptance) / abs(mr.operating_point(nominal).receptance)
     chain = replace(SenseChain(), feedback_capacitance=IDENTIFIED.feedback_capacitance_f * ratio)
     return nominal_open_loop_unit(chain, base)

@@ -15,14 +15,9 @@ from numpy.typing import NDArray
 from gyrobench.base import units
 from gyrobench.scenarios.checks.core import SECOND_METHOD, Check
 from gyrobench.scenarios.checks.mems import FALSE_ALARM, open_loop_unit
-from gyrobench.sim.mems_resonator import (
-    BOLTZMANN,
-    MemsResonator,
-    low_rate_scale_factor,
-    operating_point,
-    simulate_full,
-    slow_flow,
-)
+from gyrobench.sim.mems_full import simulate_full
+from gyrobench.sim.mems_resonator import BOLTZMANN, MemsResonator, low_rate_scale_factor, operating_point
+from gyrobench.sim.mems_slow_flow import slow_flow
 
 __all__ = ["f_ratio_bounds", "full_noise_spectrum", "open_loop_noise_checks", "periodogram_band_stats",
            "slow_noise_spectrum"]

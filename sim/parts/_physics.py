@@ -64,7 +64,7 @@ MEMS (:func:`mems_spec`), the pick-off (front-end) noise, and the proof mass bel
     (:func:`~gyrobench.sim.mems_resonator.electronic_arw`). With the default resonator
     (mass, drive, Q, split: a +-3600 deg/s design) N_B is fixed and the sheet's N fixes the
     pick-off noise sqrt(S_n) = sqrt(N^2 - N_B^2) |R| 2 m w X0
-    (:meth:`~gyrobench.sim.mems_resonator.MemsResonatorSpec.from_datasheet`, which performs this
+    (:meth:`~gyrobench.sim.mems_population.MemsResonatorSpec.from_datasheet`, which performs this
     solve); it exists only above the default Brownian floor, 0.327 deg/sqrt(h), a light
     high-range resonator (most tactical and industrial sheets are below it).
 
@@ -104,7 +104,8 @@ from gyrobench.base import units
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec
 from gyrobench.sim.fog2d import FOG2DSpec
 from gyrobench.sim.fog_optics import OpticalBudget
-from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec, brownian_arw
+from gyrobench.sim.mems_population import MemsResonatorSpec
+from gyrobench.sim.mems_resonator import MemsResonator, brownian_arw
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.parts._part import Datasheet
 from gyrobench.sim.rlg import RLGSpec, ThermalBias

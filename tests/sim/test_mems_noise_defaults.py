@@ -17,7 +17,9 @@ import pytest
 
 from gyrobench.base import units
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim.mems_resonator import NOISE_FIGURES, MemsResonator, MemsResonatorSpec
+from gyrobench.sim import mems_slow_flow
+from gyrobench.sim.mems_population import MemsResonatorSpec
+from gyrobench.sim.mems_resonator import NOISE_FIGURES, MemsResonator
 
 Z_1E6 = 4.8916  # two-sided standard-normal quantile at a false-alarm rate of 1e-6
 
@@ -89,7 +91,7 @@ def test_rate_random_walk_reaches_the_output(rng):
     unit = replace(MemsResonator(), bias_instability=0.0, rate_random_walk=k, output_bits=None)
     fs, tau, cols = 10.0, 100.0, 64
     m = int(tau * fs)
-    res = mr.slow_flow(unit, np.zeros((2 * m, cols)), fs=fs, rng=rng, noise=False, adc=False)
+    res = mems_slow_flow.slow_flow(unit, np.zeros((2 * m, cols)), fs=fs, rng=rng, noise=False, adc=False)
     means = res.output.reshape(2, m, cols).mean(axis=1)
     avar = 0.5 * np.mean((means[1] - means[0]) ** 2)
     theory = k**2 * tau / 3.0 * (1.0 + 0.5 / m**2)
@@ -101,8 +103,8 @@ def test_rate_random_walk_reaches_the_output(rng):
 def _paired_half_difference(unit: MemsResonator, rate: float, fs: float, dur: float, seed: int) -> float:
     """(mean out(+rate) - mean out(-rate)) / 2 from two runs with the same noise (same seed)."""
     n = int(round(dur * fs))
-    up = mr.slow_flow(unit, np.full(n, rate), fs=fs, rng=np.random.default_rng(seed)).output
-    down = mr.slow_flow(unit, np.full(n, -rate), fs=fs, rng=np.random.default_rng(seed)).output
+    up = mems_slow_flow.slow_flow(unit, np.full(n, rate), fs=fs, rng=np.random.default_rng(seed)).output
+    down = mems_slow_flow.slow_flow(unit, np.full(n, -rate), fs=fs, rng=np.random.default_rng(seed)).output
     return float(up.mean() - down.mean()) / 2.0
 
 
@@ -147,7 +149,7 @@ def test_default_static_record_at_10_hz_fits_n_and_shows_the_bias_instability_fl
     r_unit, r_sim = np.random.default_rng(20261127).spawn(2)
     unit = MemsResonatorSpec().realize(rng=r_unit)
     fs, dur = 10.0, 2e5
-    res = mr.slow_flow(unit, np.zeros(int(dur * fs)), fs=fs, rng=r_sim)
+    res = mems_slow_flow.slow_flow(unit, np.zeros(int(dur * fs)), fs=fs, rng=r_sim)
     fit = fit_noise(units.to_deg_per_s(res.output), fs, tau_min="auto", tau_max=14000.0)
     n_model = units.to_deg_per_s(_n_total(unit) * mr.low_rate_scale_factor(unit))
     b_model = units.to_deg_per_s(unit.bias_instability)

@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from gyrobench.sim import mems_full, mems_population, mems_slow_flow
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_readout import EPSILON_0, SenseChain, SenseChainSpec
 
@@ -83,20 +84,20 @@ def test_the_resonator_takes_a_chain_only_open_loop_and_full_integration_refuses
         mr.MemsResonator(sense_chain=SenseChain())
     unit = mr.MemsResonator(readout="open_loop", sense_chain=SenseChain())
     with pytest.raises(ValueError, match="simulate_full integrates the linear sense mode"):
-        mr.simulate_full(unit, 0.0, duration=1e-3, fs=1e3, rng=np.random.default_rng(0))
+        mems_full.simulate_full(unit, 0.0, duration=1e-3, fs=1e3, rng=np.random.default_rng(0))
 
 
 def test_open_loop_output_goes_through_the_chain():
     """The slow flow's noise-free output equals the static channel through the chain at 3000 deg/s."""
     chain = SenseChain(feedback_capacitance=2e-15)
-    unit = mr.factory_trim(mr.MemsResonator(readout="open_loop", sense_chain=chain))
+    unit = mems_population.factory_trim(mr.MemsResonator(readout="open_loop", sense_chain=chain))
     op = mr.operating_point(unit)
     w = math.radians(3000.0)
-    res = mr.slow_flow(unit, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
+    res = mems_slow_flow.slow_flow(unit, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
                       flicker=False)
     static = mr._output_map(unit, op, mr._static_channels(op, np.array([w]), np.zeros(1)).real)[0]
     assert float(res.output[-1]) == pytest.approx(float(static), rel=1e-9)
-    ideal = mr.factory_trim(mr.MemsResonator(readout="open_loop"))
-    lin = mr.slow_flow(ideal, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False, adc=False,
-                      flicker=False)
+    ideal = mems_population.factory_trim(mr.MemsResonator(readout="open_loop"))
+    lin = mems_slow_flow.slow_flow(ideal, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False,
+                                   adc=False, flicker=False)
     assert float(res.output[-1]) < 0.95 * float(lin.output[-1])  # the rail bends it

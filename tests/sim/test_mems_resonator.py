@@ -13,23 +13,22 @@ import numpy as np
 import pytest
 
 from gyrobench.base import units
+from gyrobench.sim import mems_slow_flow
+from gyrobench.sim.mems_full import simulate_full
+from gyrobench.sim.mems_population import MemsResonatorSpec, factory_trim
 from gyrobench.sim.mems_resonator import (
     BOLTZMANN,
     MemsResonator,
-    MemsResonatorSpec,
     brownian_arw,
     electronic_arw,
-    factory_trim,
     low_rate_scale_factor,
     operating_point,
     quadrature_rate,
     rate_authority,
-    rate_table,
     saturated_output,
-    simulate_full,
-    slow_flow,
     zero_rate_output,
 )
+from gyrobench.sim.mems_slow_flow import rate_table, slow_flow
 
 Z = 4.89  # two-sided normal quantile at a 1e-6 false-alarm rate
 
@@ -144,20 +143,19 @@ def test_output_saturates_beyond_the_authority():
 
 def test_linear_fast_path_equals_the_clamped_loop():
     """The all-steps eigenbasis recursion and the step-by-step loop agree below the DAC limit."""
-    from gyrobench.sim import mems_resonator as mr
 
     unit = _quiet(quadrature_coupling=1e-4, phase_error=0.01)
     op = operating_point(unit)
     n, k = 2000, 3
     w = np.tile(units.deg_per_s(np.array([-3000.0, 0.0, 2000.0])), (n, 1))
     w[n // 2:] *= 0.5  # a rate step inside the record
-    d = mr._fext(op, w, np.zeros_like(w))
-    disc = mr._slow_matrices(op, unit, 1 / 200.0, True)
-    sat = mr._slow_matrices(op, unit, 1 / 200.0, True, saturated=True)
-    z = mr._draw_noise(np.random.default_rng(2), n, k)
+    d = mems_slow_flow._fext(op, w, np.zeros_like(w))
+    disc = mems_slow_flow._slow_matrices(op, unit, 1 / 200.0, True)
+    sat = mems_slow_flow._slow_matrices(op, unit, 1 / 200.0, True, saturated=True)
+    z = mems_slow_flow._draw_noise(np.random.default_rng(2), n, k)
     s0 = np.zeros((k, 5))
-    u1, q1, b1, bad = mr._run_linear(s0, d, z, disc, op.v_max)
-    u2, q2, b2 = mr._run_clamped(s0, d, z, disc, sat, op.v_max)
+    u1, q1, b1, bad = mems_slow_flow._run_linear(s0, d, z, disc, op.v_max)
+    u2, q2, b2 = mems_slow_flow._run_clamped(s0, d, z, disc, sat, op.v_max)
     assert not np.any(bad)
     np.testing.assert_allclose(u1, u2, rtol=0, atol=1e-9 * op.v_max)
     np.testing.assert_allclose(q1, q2, rtol=0, atol=1e-9 * op.v_max)
@@ -184,17 +182,17 @@ def test_segmented_solver_equals_the_step_loop():
     w[n // 3:2 * n // 3, 1] = 0.5 * auth
     w[n // 2:, 5] = 2.0 * auth
     acc = np.gradient(w, axis=0) * fs
-    d = mr._fext(op, w, acc)
-    disc = mr._slow_matrices(op, unit, 1 / fs, True)
-    sat = mr._slow_matrices(op, unit, 1 / fs, True, saturated=True)
-    z = mr._draw_noise(np.random.default_rng(3), n, w.shape[1])
+    d = mems_slow_flow._fext(op, w, acc)
+    disc = mems_slow_flow._slow_matrices(op, unit, 1 / fs, True)
+    sat = mems_slow_flow._slow_matrices(op, unit, 1 / fs, True, saturated=True)
+    z = mems_slow_flow._draw_noise(np.random.default_rng(3), n, w.shape[1])
     u = mr._equilibrium_command(op, w[0], acc[0])
     ui, uq, _ = mr._clamp(u.real, u.imag, op.v_max)
     b = op.receptance * ((d[0, :, 0] + 1j * d[0, :, 1]) + 1j * op.gain
                          * np.exp(1j * op.theta) * (ui + 1j * uq))
     s0 = np.stack([b.real, b.imag, ui, uq, np.zeros(w.shape[1])], axis=1)
-    u1, q1, b1 = mr._run_clamped(s0, d, z, disc, sat, op.v_max)
-    u2, q2, b2 = mr._run_segmented(s0, d, z, disc, sat, op.v_max)
+    u1, q1, b1 = mems_slow_flow._run_clamped(s0, d, z, disc, sat, op.v_max)
+    u2, q2, b2 = mems_slow_flow._run_segmented(s0, d, z, disc, sat, op.v_max)
     assert np.all(np.abs(u1[n // 2:, 0]) > 0.9 * op.v_max)  # really saturated
     np.testing.assert_allclose(u2, u1, rtol=0, atol=1e-9 * op.v_max)
     np.testing.assert_allclose(q2, q1, rtol=0, atol=1e-9 * op.v_max)

@@ -13,8 +13,7 @@ import numpy as np
 import pytest
 
 from gyrobench.io.recording import Recording
-from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim import parts
+from gyrobench.sim import mems_population, mems_slow_flow, parts
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec
 from gyrobench.sim.fog_loop import ClosedLoopFOG
@@ -45,7 +44,8 @@ MODELS = [
     _spec_device("fog2d", FOG2DSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
     Device("fog_loop", lambda rng: ClosedLoopFOG(), None, 400.0, 2.0,
            frozenset({"true_rate", "temperature", "vibration"})),
-    _spec_device("mems_resonator", mr.MemsResonatorSpec(), 200.0, 1.0, {"true_rate", "temperature", "specific_force"}),
+    _spec_device("mems_resonator", mems_population.MemsResonatorSpec(), 200.0, 1.0,
+                 {"true_rate", "temperature", "specific_force"}),
     _spec_device("rlg", RLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
     _spec_device("rlg_cavity", CavityRLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
 ]
@@ -156,13 +156,13 @@ def test_mems_temperature_array_reaches_the_physics():
 
     The record's blocks (:data:`mems_resonator.TEMPERATURE_BLOCK`) each run the slow flow at the
     block's mean temperature from the equilibrium of its first rate; with the block's child
-    stream the block must equal :func:`mems_resonator.slow_flow` run alone to the last bit, and
+    stream the block must equal :func:`mems_slow_flow.slow_flow` run alone to the last bit, and
     the two temperatures must give outputs that differ (else the equality would not show the
     temperature was used).
     """
     fs, duration = 1000.0, 2.0
     n = int(duration * fs)
-    unit = mr.MemsResonatorSpec().realize(rng=np.random.default_rng(3))
+    unit = mems_population.MemsResonatorSpec().realize(rng=np.random.default_rng(3))
     t_a, t_b = 293.15, 343.15
     temp = np.where(np.arange(n) < n // 2, t_a, t_b)
     rate = 0.5  # rad/s
@@ -175,7 +175,7 @@ def test_mems_temperature_array_reaches_the_physics():
         # 343.15, and the slow flow's noise discretisation is not continuous in the temperature bit by bit)
         t_block = float(np.mean(temp[sl]))
         assert t_block == pytest.approx(temp_k, rel=1e-14)
-        ref = mr.slow_flow(unit, np.full(n // 2, rate), fs=fs, rng=child, temperature=t_block,
+        ref = mems_slow_flow.slow_flow(unit, np.full(n // 2, rate), fs=fs, rng=child, temperature=t_block,
                            specific_force=np.zeros(n // 2)).output
         np.testing.assert_array_equal(out[sl], ref)
     assert abs(np.mean(out[: n // 2]) - np.mean(out[n // 2 :])) > 1e-6 * rate

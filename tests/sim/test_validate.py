@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from gyrobench.base import validate as v
+from gyrobench.sim import mems_full
 
 
 def test_field_helpers_name_owner_field_constraint_and_value():
@@ -55,6 +56,6 @@ def test_mems_resonator_uses_the_shared_field_validator_with_its_message():
 
     assert not hasattr(mr, "_real")
     with pytest.raises(TypeError, match=r"^simulate_full\.duration must be a real number; got 'x'$"):
-        mr.simulate_full(mr.MemsResonator(), 0.0, duration="x", rng=np.random.default_rng(0))  # type: ignore[arg-type]
+        mems_full.simulate_full(mr.MemsResonator(), 0.0, duration="x", rng=np.random.default_rng(0))  # type: ignore[arg-type]
     with pytest.raises(ValueError, match=r"^operating_point\.temperature must be finite; got nan$"):
         mr.operating_point(mr.MemsResonator(), float("nan"))

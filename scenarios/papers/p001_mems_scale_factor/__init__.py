@@ -2,7 +2,7 @@
 
 Scenario ``mems_scale_factor``. The device (:mod:`gyrobench.sim.mems_resonator`): a lumped
 2-DOF Coriolis vibratory gyro; each unit (:func:`experiment`, one seed) is one unit drawn from a
-:class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` population, with its own power-ons
+:class:`~gyrobench.sim.mems_population.MemsResonatorSpec` population, with its own power-ons
 (turn-on bias and scale-factor error, ambient temperature, noise). The read-out
 (``Config.variant``, :mod:`.device`):
 

@@ -4,7 +4,7 @@ Defaults are the paper's protocol (section 3): 21 table rates, +3600 -> -3600 de
 360 deg/s steps, 200 Hz output averaged over 60 s of each settled dwell, several runs; the
 methods of section 4 (piecewise 9-1-9 with Hermite joins, two-stage 9th-order polynomial,
 Bayes-regularized BP network with 10 hidden units). Field units at this edge, in the field
-names; the device population is SI (:class:`gyrobench.sim.mems_resonator.MemsResonatorSpec`).
+names; the device population is SI (:class:`gyrobench.sim.mems_population.MemsResonatorSpec`).
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from typing import ClassVar
 import numpy as np
 
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
+from gyrobench.sim.mems_population import MemsResonatorSpec
 from gyrobench.sim.mems_readout import SenseChainSpec
-from gyrobench.sim.mems_resonator import MemsResonatorSpec
 
 __all__ = [
     "CALIBRATED_V_MAX_V",
@@ -135,7 +135,7 @@ class Config:
     dense_step_dps: float = 10.0
 
     #: documented ranges; the device population states its own in
-    #: :class:`~gyrobench.sim.mems_resonator.MemsResonatorSpec` (SI)
+    #: :class:`~gyrobench.sim.mems_population.MemsResonatorSpec` (SI)
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "rates_dps": FieldRange(-36000, 36000, "deg/s", "table rates; 10x the paper's +-3600 deg/s"),
         "average_s": FieldRange(0, 3.6e7, "s", "<= 1e4 h; the memory estimate refuses long runs", low_open=True),

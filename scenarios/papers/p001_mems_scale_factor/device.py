@@ -31,10 +31,12 @@ from numpy.typing import NDArray
 
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.base import units
+from gyrobench.sim import mems_population, mems_slow_flow
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_nonlinear import RateTransfer
+from gyrobench.sim.mems_population import MemsResonatorSpec
 from gyrobench.sim.mems_readout import SenseChainSpec
-from gyrobench.sim.mems_resonator import MemsResonator, MemsResonatorSpec
+from gyrobench.sim.mems_resonator import MemsResonator
 
 from .config import CALIBRATED_V_MAX_V, OPEN_LOOP_VARIANTS, PAPER_RAW_KN, Config, default_rates
 
@@ -102,7 +104,7 @@ def draw_unit(spec: DeviceSpec | MemsResonatorSpec, seed: int) -> MemsResonator:
     if isinstance(spec, DeviceSpec) and spec.chain is not None:
         unit = replace(unit, sense_chain=spec.chain.realize(rng=r_chain))
         if res.factory_trim:
-            unit = mr.factory_trim(unit)
+            unit = mems_population.factory_trim(unit)
     return unit
 
 
@@ -162,7 +164,7 @@ def static_output(
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     col = np.broadcast_to(w, (200, w.size))
-    res = mr.slow_flow(
+    res = mems_slow_flow.slow_flow(
         unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
         noise=False, adc=False, flicker=False,
     )

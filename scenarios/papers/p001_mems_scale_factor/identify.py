@@ -34,6 +34,7 @@ import numpy as np
 
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.base import units
+from gyrobench.sim import mems_population
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_nonlinear import RateTransfer
 from gyrobench.sim.mems_readout import SenseChain, SenseChainSpec
@@ -76,7 +77,7 @@ IDENTIFIED = Identification(
 def nominal_open_loop_unit(chain: SenseChain, resonator: mr.MemsResonator | None = None) -> mr.MemsResonator:
     """The nominal resonator read out open loop through ``chain``, factory-trimmed at T0."""
     base = mr.MemsResonator() if resonator is None else resonator
-    return mr.factory_trim(replace(base, readout="open_loop", sense_chain=chain))
+    return mems_population.factory_trim(replace(base, readout="open_loop", sense_chain=chain))
 
 
 def _nominal_kn(c_f: float, rates: np.ndarray, chain: SenseChain) -> float:

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.base import units
 from gyrobench.io.recording import Channel, Recording, package_version
-from gyrobench.sim import mems_resonator as mr
+from gyrobench.sim import mems_slow_flow
 from gyrobench.sim.mems_resonator import MemsResonator
 
 from . import NAME
@@ -64,7 +64,7 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
-        res = mr.slow_flow(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
+        res = mems_slow_flow.slow_flow(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
         out.append(Run(on, float(temp), transfer(res.output)))
     return out
 
@@ -151,7 +151,7 @@ def memory_estimate(config: Config) -> float:
     Per unit (one worker process); the runner multiplies it by the units it runs at once
     (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``n_run = (settle_s +
     average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
-    ``sim.mems_resonator.slow_flow``), ``N = n_run (n_fit_runs + n_heldout_runs)`` in all, and
+    ``sim.mems_slow_flow.slow_flow``), ``N = n_run (n_fit_runs + n_heldout_runs)`` in all, and
     ``n_dense = 200 (span(rates_dps) / dense_step_dps + 1)`` in one dense-sweep call
     (:func:`~.device.static_output`, 200 samples per rate)::
 

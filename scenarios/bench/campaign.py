@@ -208,6 +208,8 @@ def run_campaign(
         after the seeds already finished are committed.
     """
     module = resolve_scenario(scenario)
+    if _is_uncompensated(compensator):
+        sandbox = False  # the bench's own raw-output reference: it never predicts, so nothing runs sandboxed
     # a "module:attr" string is imported only in the compensator's own process (the sandbox)
     comp = compensator if sandbox and isinstance(compensator, str) else resolve_compensator(compensator)
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
@@ -241,6 +243,15 @@ def run_campaign(
 #: the shortest time limit [s] on importing the compensator (the per-seed limit, but never less:
 #: a fresh interpreter importing numpy and scikit-learn takes seconds on a loaded machine)
 IMPORT_TIMEOUT_FLOOR_S = 30.0
+
+
+def _is_uncompensated(compensator: object) -> bool:
+    """True for the bench's raw-output reference, by object or by its ``module:attr`` name."""
+    from gyrobench.scenarios.bench.references import Uncompensated
+
+    if isinstance(compensator, str):
+        return compensator.replace(" ", "") == "gyrobench.scenarios.bench.references:Uncompensated"
+    return compensator is Uncompensated or isinstance(compensator, Uncompensated)
 
 
 def _start_zygote(comp: Any, seed_timeout: float | None, seed_memory: int | None, seeds: Sequence[int]) -> Zygote:

@@ -117,6 +117,13 @@ class RemoteError(Exception):
         self.remote_type = remote_type
         self.traceback_text = traceback_text
 
+    def __reduce__(self):  # keyword-only fields: rebuilt by name when it crosses a process boundary
+        return (_remote_error, (str(self), self.remote_type, self.traceback_text))
+
+
+def _remote_error(message: str, remote_type: str, traceback_text: str) -> RemoteError:
+    return RemoteError(message, remote_type=remote_type, traceback_text=traceback_text)
+
 
 class RemoteExit(SystemExit):
     """The compensator called ``sys.exit`` in its child (re-raised in the scoring process)."""

@@ -122,6 +122,8 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
     schema = SCHEMA if schema is None else schema
     p = check_output_file(path, what="db")
     check_database(p, what="db")  # a foreign SQLite file is refused before anything is written to it
+    if not p.exists():
+        _create_database(p, schema)  # whole, marked and with its schema: a kill never leaves an empty file
     try:
         # explicit BEGIN/COMMIT; the connection carries the database's checksum key
         conn = sqlite3.connect(str(p), timeout=60.0, isolation_level=None, factory=KeyedConnection)
@@ -154,6 +156,23 @@ def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Co
             conn.close()
             raise
     return conn
+
+
+def _create_database(p: Path, schema: str) -> None:
+    """Create the database ``p`` atomically: its mark (``application_id``) and ``schema`` are written to a
+    temporary file beside it, which is renamed to ``p`` when complete."""
+    from gyrobench.base.atomic import atomic_path
+
+    try:
+        with atomic_path(p) as tmp:
+            conn = sqlite3.connect(str(tmp), isolation_level=None)
+            try:
+                conn.execute(f"PRAGMA application_id = {int(SQLITE_APPLICATION_ID)}")
+                conn.executescript(schema)
+            finally:
+                conn.close()
+    except (sqlite3.Error, OSError) as exc:
+        raise ValueError(f"db {str(p)!r} cannot be created: {exc}; give --db in a writable folder") from None
 
 
 class KeyedConnection(sqlite3.Connection):

@@ -93,12 +93,12 @@ def test_reproduce_resumes_from_the_db(toy_registered, tmp_path, capsys, monkeyp
 def test_reproduce_old_and_new_shapes_together(toy_registered, tmp_path, capsys):
     cfg_free = ["--units", "2", "--workers", "0", "-q"]
     code, out, err = run(
-        ["reproduce", "toy_paper", "static_noise", "--out", tmp_path, *cfg_free], capsys
+        ["reproduce", "toy_paper", "static_noise", "--out", tmp_path / "rep", *cfg_free], capsys
     )
     # static_noise at its default length takes a few seconds; it keeps its own run()
     assert code == 0, err
     assert "testable headline conclusions hold" in out and "2 unit(s)" in out
-    assert "claims" not in json.loads((tmp_path / "static_noise" / "results.json").read_text())
+    assert "claims" not in json.loads((tmp_path / "rep" / "static_noise" / "results.json").read_text())
 
 
 @pytest.mark.parametrize(

@@ -34,7 +34,7 @@ units.run_units(toy, toy.Config(sleep_s=0.05), n_units={n}, workers=2, db={db!r}
 
 def _rows(db: Path) -> int:
     try:
-        with sqlite3.connect(db, timeout=5) as conn:
+        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as conn:  # never creates the file
             return conn.execute("SELECT COUNT(*) FROM unit_results").fetchone()[0]
     except sqlite3.OperationalError:  # not created yet
         return 0

@@ -227,14 +227,13 @@ class Precondition:
     comparator: Comparator
     also: tuple[Precondition, ...] = ()
 
-    def present(self, q: float | None) -> bool:
-        """Whether a unit whose precondition quantity is ``q`` shows the effect (None: it does not);
-        the ``also`` conditions are not looked at (see :meth:`present_in`)."""
+    def _own_holds(self, q: float | None) -> bool:
+        """This condition alone on the value ``q`` (None: not met); never the whole precondition."""
         return q is not None and self.comparator.holds(q)
 
     def present_in(self, unit: Mapping[str, Any], claim_id: str = "") -> bool:
         """Whether the unit's quantities meet this condition and every one of ``also``."""
-        return self.present(_finite(unit.get(self.quantity), claim_id)) and all(
+        return self._own_holds(_finite(unit.get(self.quantity), claim_id)) and all(
             p.present_in(unit, claim_id) for p in self.also
         )
 

@@ -255,7 +255,7 @@ class GyrobenchBench:
                 + result.format(),
                 pytrace=False,
             )
-        if result.power_line.startswith("WARNING"):
+        if result.power_line.startswith("WARNING") and not plan.warning:  # one warning per gate
             warnings.warn(bench.UnderpoweredWarning(f"{path.name}: {result.power_line}"), stacklevel=2)
         return result
 

@@ -96,10 +96,7 @@ def power_line(detectable: Sequence[DetectableChange], alpha: float, margin: flo
     with ``WARNING: underpowered`` when that is more than twice the margin ("" without scores)."""
     if not detectable:
         return ""
-    parts = [
-        f"{d.name} {100 * d.change:.3g} %" if math.isfinite(d.change) else f"{d.name} (not estimable)"
-        for d in detectable
-    ]
+    parts = [_change_text(d, alpha) for d in detectable]
     weak = [d for d in detectable if d.underpowered]
     head = (
         f"detectable change at {detectable[0].n} seeds (power 0.8, alpha {alpha:g}, margin "
@@ -110,6 +107,15 @@ def power_line(detectable: Sequence[DetectableChange], alpha: float, margin: flo
     need = max(d.seeds_needed for d in weak)
     more = f"; about {need} seeds detect a change of {200 * margin:g} %" if need else ""
     return f"WARNING: underpowered: {head}: more than twice the margin{more}"
+
+
+def _change_text(d: DetectableChange, alpha: float) -> str:
+    """``name 12.3 %``, or why no change is detectable on that score."""
+    if math.isfinite(d.change):
+        return f"{d.name} {100 * d.change:.3g} %"
+    if d.n > 1 and math.isfinite(d.sigma):
+        return f"{d.name} (none: {d.n} seeds cannot reach alpha {alpha:g})"
+    return f"{d.name} (not estimable: {d.n} finite paired seed(s))"
 
 
 def comparison_note(scores: Sequence[Any], dropped: Sequence[int], *, same_config: bool, alpha: float) -> str:

@@ -93,7 +93,7 @@ def test_control_unit_has_no_drift_and_lacks_the_precondition(small_units):
     q = u.quantities
     # no thermal program: no coil drift at all (the nonreciprocity needs a changing temperature)
     assert q["drift_peak_val1_deg_h"] < 1e-9
-    assert not sc.claims.DRIFT_ABOVE_NOISE.present(q["val1_drift_to_noise"])
+    assert not sc.claims.DRIFT_ABOVE_NOISE.present_in(q)
     # the same seed with its thermal program shows the drift
     assert small_units[0].quantities["drift_peak_val1_deg_h"] > 1e3 * q["drift_peak_val1_deg_h"]
 
@@ -564,6 +564,7 @@ def test_drift_to_noise_without_noise_is_inf_with_drift_and_zero_without():
                            reference=0.0, scored=np.ones(6, bool))
 
     assert drift_to_noise_val1({"val1_0": run(np.zeros(6))}) == 0.0
-    assert not sc.claims.DRIFT_ABOVE_NOISE.present(drift_to_noise_val1({"val1_0": run(np.zeros(6))}))
+    drift = sc.claims.DRIFT_ABOVE_NOISE
+    assert not drift.present_in({"val1_drift_to_noise": drift_to_noise_val1({"val1_0": run(np.zeros(6))})})
     assert drift_to_noise_val1({"val1_0": run(t * 0.5)}) == math.inf
-    assert sc.claims.DRIFT_ABOVE_NOISE.present(drift_to_noise_val1({"val1_0": run(t * 0.5)}))
+    assert drift.present_in({"val1_drift_to_noise": drift_to_noise_val1({"val1_0": run(t * 0.5)})})

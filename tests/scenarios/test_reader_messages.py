@@ -77,7 +77,7 @@ def test_a_60_mb_hdf5_attribute_is_refused_within_the_memory_limit(tmp_path):
     """The peak memory of the refusal (the process's maximum resident size) stays under the 100 MB limit."""
     big = _big_attribute(tmp_path / "big.h5")
     # VmHWM: the peak resident size of this process image (ru_maxrss would carry the parent's over exec)
-    code = ("import re, sys\nfrom gyrobench.scenarios.cli import main\nc = main(['allan', sys.argv[1]])\n"
+    code = ("import re, sys\nfrom gyrobench.scenarios.cli.main import main\nc = main(['allan', sys.argv[1]])\n"
             "hwm = re.search(r'VmHWM:\\s+(\\d+)', open('/proc/self/status').read()).group(1)\n"
             "print(hwm, file=sys.stderr)\nsys.exit(c)\n")
     res = subprocess.run([sys.executable, "-c", code, str(big)], capture_output=True, text=True, timeout=120,

@@ -306,7 +306,7 @@ def test_twenty_units_every_claim_testable():
     us = [sc.experiment(sc.Config(), s) for s in range(20)]
     res = evaluate(sc.CLAIMS, [u.quantities for u in us])
     hop_ids = {"004.mode_hops_lower_adj_r2", "004.mode_hops_lower_improvement"}
-    present = [u for u in us if sc.THERMAL_PRECONDITION.present(u.quantities["thermal_share"])]
+    present = [u for u in us if sc.THERMAL_PRECONDITION.present_in(u.quantities)]  # both conditions
     empty = sum(not u.model.selected for u in present)  # significance F needs a selected term
     for r in res:
         if r.claim.id in hop_ids:
@@ -327,7 +327,7 @@ def test_triples_group_consecutive_units_and_judge_the_mean_improvement(three_un
 
     t = judge_triples(three_units)
     assert t.seeds == (0,)
-    present = all(sc.THERMAL_PRECONDITION.present(u.quantities["thermal_share"]) for u in three_units)
+    present = all(sc.THERMAL_PRECONDITION.present_in(u.quantities) for u in three_units)
     assert (t.testable, t.precondition_absent) == ((1, 0) if present else (0, 1))
     if present:
         gains = [1.0 - 1.0 / u.quantities["heldout_ratio"] for u in three_units]

@@ -148,6 +148,11 @@ def rate_authority_dps(unit: MemsResonator) -> float:
     return float(units.to_deg_per_s(mr.rate_authority(unit)))
 
 
+#: rates one slow-flow call of :func:`static_output` holds at once (200 samples each): its
+#: working set is bounded by ``200 STATIC_CHUNK`` samples whatever the sweep's length
+STATIC_CHUNK = 512
+
+
 def static_output(
     unit: MemsResonator,
     rates_dps: NDArray[np.float64],
@@ -163,12 +168,14 @@ def static_output(
     ``transfer`` (default none) is the read-out's static rate transfer (:func:`rate_transfer`).
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
-    col = np.broadcast_to(w, (200, w.size))
-    res = mems_slow_flow.slow_flow(
-        unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
-        noise=False, adc=False, flicker=False,
-    )
-    out = res.output[-20:].mean(axis=0)
+    out = np.empty(w.size)
+    for lo in range(0, w.size, STATIC_CHUNK):  # the columns are independent: a bounded block at a time
+        col = np.broadcast_to(w[lo : lo + STATIC_CHUNK], (200, min(STATIC_CHUNK, w.size - lo)))
+        res = mems_slow_flow.slow_flow(
+            unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
+            noise=False, adc=False, flicker=False,
+        )
+        out[lo : lo + STATIC_CHUNK] = res.output[-20:].mean(axis=0)
     if transfer is not None:
         out = transfer(out)
     return units.to_deg_per_s(out)

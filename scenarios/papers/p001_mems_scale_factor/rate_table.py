@@ -23,7 +23,7 @@ from gyrobench.sim.mems_resonator import MemsResonator
 
 from . import NAME
 from .config import Config
-from .device import device_spec, draw_unit, rate_authority_dps, rate_transfer
+from .device import STATIC_CHUNK, device_spec, draw_unit, rate_authority_dps, rate_transfer
 from .results import Trace
 
 __all__ = [
@@ -151,24 +151,21 @@ def memory_estimate(config: Config) -> float:
     Per unit (one worker process); the runner multiplies it by the units it runs at once
     (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``n_run = (settle_s +
     average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
-    ``sim.mems_slow_flow.slow_flow``), ``N = n_run (n_fit_runs + n_heldout_runs)`` in all, and
-    ``n_dense = 200 (span(rates_dps) / dense_step_dps + 1)`` in one dense-sweep call
-    (:func:`~.device.static_output`, 200 samples per rate)::
+    ``sim.mems_slow_flow.slow_flow``) and ``N = n_run (n_fit_runs + n_heldout_runs)`` in all::
 
-        bytes = 1.1 x (48 N + 376 max(n_run, n_dense) + 110e6)
+        bytes = 1.1 x (8 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
 
-    48 B = 6 float64 series held per sample of every run (outputs, recordings' channels),
-    376 B = 47 float64 working series of the slow-flow call running, 40 MB the rest (fits,
-    figure data; the constant 110e6 covers the sense chain's and the conformance claims' fixed
-    arrays, measured 264 MB at the default); 1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread;
-    tests/scenarios/test_memory_estimates.py): 160 MB at the default (N = 1.0e6), 514 MB at
-    average_s = 240 (N = 4.0e6), 314 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
-    1.0 GB at dense_step_dps = 0.5 (n_dense = 2.9e6); the formula is 1.2-1.4 x these.
+    8 B = the float64 output kept per sample of every run; 376 B = 47 float64 working series
+    of the slow-flow call running, a rate-table run or a block of :data:`~.device.STATIC_CHUNK`
+    rates of a noise-free sweep (:func:`~.device.static_output`: the dense sweep and the joins'
+    sweep are bounded by the block whatever their length); 20 MB the rest (fits, figure data);
+    1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread, simulate and experiment
+    alike; tests/scenarios/test_memory_estimates.py): 96 MB at the default (N = 1.0e6), 344 MB
+    at average_s = 240 (N = 4.0e6), 188 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
+    98 MB at dense_step_dps = 0.5; the formula is 1.4 x these.
     Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
     """
     n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
     n_run *= len(config.rates_dps)
-    span = float(max(config.rates_dps)) - float(min(config.rates_dps))
-    n_dense = 200.0 * (span / config.dense_step_dps + 1.0)
     n_all = n_run * (config.n_fit_runs + config.n_heldout_runs)
-    return 1.1 * (48.0 * n_all + 376.0 * max(n_run, n_dense) + 110e6)
+    return 1.1 * (8.0 * n_all + 376.0 * max(n_run, 200.0 * STATIC_CHUNK) + 20e6)

@@ -77,7 +77,7 @@ def _ratio(group: Sequence[UnitResult]) -> float | None:
     for u in group:
         q = u.quantities
         r = q.get("heldout_ratio")
-        if r is None or not np.isfinite(r) or not THERMAL_PRECONDITION.present(q.get("thermal_share")):
+        if r is None or not np.isfinite(r) or not THERMAL_PRECONDITION.present_in(q):
             return None
         pct.append(100.0 * (1.0 - 1.0 / r))
     mean = float(np.mean(pct))

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-__all__ = ["calibrated_count", "calibrated_text", "findings", "measured", "reason"]
+__all__ = ["calibrated_count", "calibrated_text", "findings", "measured", "reason", "short_statement"]
 
 #: statuses that are a failure or leave the claim open: each gets its measured reason
 FAILED = ("contradicted", "device not matched", "undecided", "not testable", "not reproducible on this device",
@@ -51,7 +51,7 @@ def measured(c: Mapping[str, Any]) -> str:
     if c.get("comparator") == "true for the unit":
         return passes
     paper = (f" vs the paper's {_with_unit(c['paper_value'], unit)}" if c.get("paper_value") is not None
-             else f" (criterion {c['comparator']})")
+             else f", criterion {c['comparator']}")
     return f"median {_with_unit(c['median'], unit)}{paper}; {passes}"
 
 
@@ -134,8 +134,44 @@ def calibrated_text(claims: Sequence[Mapping[str, Any]]) -> str:
             "construction and are not evidence.")
 
 
+#: a parenthesis of a claim's statement longer than this (a scoring note) is left out of a finding
+ASIDE_CHARS = 40
+
+
+def short_statement(statement: str) -> str:
+    """A claim's statement without its long parentheses (how it is scored, kept in the claims table).
+
+    Parameters
+    ----------
+    statement : str
+        The claim's statement.
+
+    Returns
+    -------
+    str
+        ``statement`` without the parentheses longer than :data:`ASIDE_CHARS` and its final full stop.
+    """
+    out, depth, start = [], 0, 0
+    spans: list[tuple[int, int]] = []
+    for i, ch in enumerate(statement):
+        if ch == "(":
+            if depth == 0:
+                start = i
+            depth += 1
+        elif ch == ")" and depth:
+            depth -= 1
+            if depth == 0 and i - start > ASIDE_CHARS:
+                spans.append((start, i + 1))
+    last = 0
+    for a, b in spans:
+        out.append(statement[last:a].rstrip())
+        last = b
+    out.append(statement[last:])
+    return "".join(out).strip().rstrip(".")
+
+
 def _quoted(c: Mapping[str, Any]) -> str:
-    return f"{c['where']}, \"{c['statement'].rstrip('.')}\""
+    return f"{c['where']}, \"{short_statement(c['statement'])}\""
 
 
 def _control(c: Mapping[str, Any]) -> str:
@@ -157,7 +193,8 @@ def findings(doc: Mapping[str, Any], name: str) -> str:
     -------
     str
         ``"- **name:** ..."``: the counted method claims reproduced and contradicted, each with
-        its measurement (:func:`measured`, :func:`reason`), and the count of the others by status.
+        its measurement (:func:`measured`, :func:`reason`), those not reproducible on this device
+        grouped by their reason, and the count of the others by status.
     """
     method = [c for c in doc["claims"] if c.get("role", "method") == "method" and not c.get("same_effect_as")]
     held = [c for c in method if c["status"] == "reproduced" and c["kind"] == "emergent"]
@@ -167,9 +204,16 @@ def findings(doc: Mapping[str, Any], name: str) -> str:
         parts.append("reproduced: " + "; ".join(f"{_quoted(c)} ({measured(c)}{_control(c)})" for c in held))
     if failed:
         parts.append("contradicted: " + "; ".join(f"{_quoted(c)} ({reason(c)})" for c in failed))
+    absent = [c for c in method if c["status"] == "not reproducible on this device"]
+    if absent:
+        by_reason: dict[str, list[str]] = {}
+        for c in absent:
+            by_reason.setdefault(reason(c), []).append(c["where"])
+        parts.append("not reproducible on this device: " + "; ".join(
+            f"{', '.join(dict.fromkeys(where))} ({why})" for why, where in by_reason.items()))
     others: dict[str, int] = {}
     for c in method:
-        if c not in held and c not in failed:
+        if c not in held and c not in failed and c not in absent:
             key = "calibrated" if c["status"] == "reproduced" else c["status"]
             others[key] = others.get(key, 0) + 1
     if others:

@@ -337,22 +337,24 @@ pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 
 
 #: marks on <body> what the browser laid out (read by the report's browser test): how many figures it
-#: decoded, the page's scroll width, the right edge of the claims tables' status column, the most a table
-#: overflows its box, and the smallest ratio of a figure's shown to its natural width
+#: decoded, the page's scroll width, the right edge of the claims tables' status column, the most a claims
+#: table and any open table overflow their box, and the smallest ratio of a figure's shown to its natural width
 _LOAD_CHECK = (
     "<script>window.addEventListener('load',function(){var im=document.images,ok=0,scale=1,b=document.body;"
     "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0){ok++;"
     "scale=Math.min(scale,im[i].getBoundingClientRect().width/im[i].naturalWidth);}}"
     "var right=0,over=0,cells=document.querySelectorAll('table.claims tr>:nth-child(2)');"
     "for(var j=0;j<cells.length;j++){right=Math.max(right,cells[j].getBoundingClientRect().right+window.scrollX);}"
-    "var tabs=document.querySelectorAll('table.claims');"
+    "var tabs=document.querySelectorAll('table.claims'),all=document.querySelectorAll('table'),any=0;"
     "for(var k=0;k<tabs.length;k++){over=Math.max(over,tabs[k].scrollWidth-tabs[k].clientWidth);}"
+    "for(var n=0;n<all.length;n++){any=Math.max(any,all[n].scrollWidth-all[n].clientWidth);}"
     "b.setAttribute('data-figures-loaded',ok);b.setAttribute('data-figures-total',im.length);"
     "b.setAttribute('data-page-height',document.documentElement.scrollHeight);"
     "b.setAttribute('data-scroll-width',document.scrollingElement.scrollWidth);"
     "b.setAttribute('data-viewport-width',window.innerWidth);"
     "b.setAttribute('data-claims-tables',tabs.length);"
     "b.setAttribute('data-status-right',Math.ceil(right));b.setAttribute('data-claims-overflow',over);"
+    "b.setAttribute('data-tables-overflow',any);"
     "b.setAttribute('data-figure-scale',scale.toFixed(3));});</script>"
 )
 

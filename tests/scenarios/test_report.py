@@ -286,7 +286,8 @@ def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_pa
     """All four papers' report (two units each: the tables have every claim and the figures are the
     default report's) at a 1400-px window: the page does not scroll sideways, no claims table overflows
     its box, the status column's right edge is on screen; figures are shown at their natural width
-    (or the page's, when wider) and each links to its own PNG beside the page."""
+    (or the page's, when wider) and each links to its own PNG beside the page. The same report's
+    results.json files let every claim's pass counts be recounted from their per-unit quantities."""
     import base64
 
     from gyrobench.scenarios.cli.main import main
@@ -299,6 +300,7 @@ def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_pa
     assert int(marks["claims-tables"]) == len(_PAPERS)
     assert int(marks["scroll-width"]) <= 1400, marks
     assert int(marks["claims-overflow"]) == 0, marks
+    assert int(marks["tables-overflow"]) == 0, marks  # nor the first screen's tally (open tables)
     assert 0 < int(marks["status-right"]) <= 1400, marks
     assert marks["figures-loaded"] == marks["figures-total"] != "0"
     assert float(marks["figure-scale"]) >= 0.9, marks  # no figure shrunk to a fraction of its size
@@ -308,3 +310,11 @@ def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_pa
     assert len(figures) == page.count("<figure>") == int(marks["figures-total"])
     for href, b64 in figures:  # the click target is the same figure, full size
         assert (out / href).read_bytes() == base64.b64decode(b64), href
+    from tests.scenarios.test_report_recount import _recount
+
+    for name in _PAPERS:  # every paper's claims recount from the per-unit quantities its results.json carries
+        doc = json.loads((out / name / "results.json").read_text())
+        for c in doc["claims"]:
+            assert _recount(c, doc["unit_quantities"])[:2] == (c["holds"], c["testable"]), (name, c["id"])
+            control = _recount(c, doc["control_quantities"], precondition=False)[:2]
+            assert control == (c["control"]["holds"], c["control"]["testable"]), (name, c["id"])

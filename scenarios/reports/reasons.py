@@ -27,7 +27,7 @@ def _fmt(x: Any) -> str:
 
 
 def _with_unit(x: Any, unit: str) -> str:
-    return _fmt(x) + (f" {unit}" if unit else "")
+    return _fmt(x) + (f" {unit}" if unit and unit != "-" else "")  # "-": a pure number
 
 
 def measured(c: Mapping[str, Any]) -> str:

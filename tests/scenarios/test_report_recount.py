@@ -134,7 +134,8 @@ def _mixed_outcome() -> Outcome:
 
 
 _MEASURED = re.compile(r'(?P<where>[^";]+), "(?P<statement>[^"]+)" \(median (?P<median>\S+) (?P<unit>\S+) vs the '
-                       r"paper's (?P<paper>\S+) \S+; (?P<holds>\d+) of (?P<testable>\d+) units pass")
+                       r"paper's (?P<paper>\S+) \S+, (?P<holds>\d+)/(?P<testable>\d+) units, control "
+                       r"(?P<ch>\d+)/(?P<ct>\d+)\)")
 
 
 def test_every_figure_of_the_findings_recounts_from_results_json(tmp_path, monkeypatch):
@@ -154,6 +155,7 @@ def test_every_figure_of_the_findings_recounts_from_results_json(tmp_path, monke
         c = by_statement[m["statement"]]
         holds, testable, median = _recount(c, doc["unit_quantities"])
         assert (int(m["holds"]), int(m["testable"])) == (holds, testable)
+        assert (int(m["ch"]), int(m["ct"])) == _recount(c, doc["control_quantities"], precondition=False)[:2]
         assert m["median"] == fmt(median) and m["paper"] == fmt(c["paper_value"]) and m["unit"] == c["unit"]
     assert "Not reproducible on this device: Sec. 4 (precondition absent on 17 of 20 units: truth R^2 at least 0.9)" in (
         bullet)

@@ -157,8 +157,8 @@ def test_every_figure_of_the_findings_recounts_from_results_json(tmp_path, monke
         assert (int(m["holds"]), int(m["testable"])) == (holds, testable)
         assert (int(m["ch"]), int(m["ct"])) == _recount(c, doc["control_quantities"], precondition=False)[:2]
         assert m["median"] == fmt(median) and m["paper"] == fmt(c["paper_value"]) and m["unit"] == c["unit"]
-    assert "Not reproducible on this device: Sec. 4 (precondition absent on 17 of 20 units: truth R^2 at least 0.9)" in (
-        bullet)
+    absent = "Not reproducible on this device: Sec. 4 (precondition absent on 17 of 20 units: truth R^2 at least 0.9)"
+    assert absent in bullet
     summary = readme_table.format_summary([doc])
     assert bullet in summary and "1 of 4 claims are calibrated (device 1)" in summary
     assert calibrated_count(doc["claims"])[:2] == (1, 4)

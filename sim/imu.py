@@ -29,7 +29,7 @@ sensed value along the nominal axis) and each error term, summing to ``output - 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -151,6 +151,11 @@ class AccelerometerSpec:
             bandwidth=bandwidth_hz,
             resolution=resolution_mg * 1e-3 * g,
         )
+
+    def to_metadata(self) -> dict[str, float | None]:
+        """The fields in SI as a JSON-ready dict (None for an unlimited range or bandwidth)."""
+        return {f.name: (None if math.isinf(getattr(self, f.name)) else float(getattr(self, f.name)))
+                for f in fields(self)}
 
     def low_pass(self, x: NDArray[np.float64], fs: float) -> NDArray[np.float64]:
         """The output filter (``bandwidth``) applied to samples ``x`` at ``fs`` [Hz], from its steady state."""
@@ -445,6 +450,7 @@ class TriadUnit:
             channels["temperature"] = Channel(np.full(n, float(temperature)), "K", "block temperature")
         meta = {
             "model": "gyrobench.sim.imu.TriadUnit",
+            "accelerometer": None if acc is None else acc.to_metadata(),
             "gyro_matrix": self.gyro_matrix.tolist(),
             "accel_matrix": self.accel_matrix.tolist(),
             "error_components": components,

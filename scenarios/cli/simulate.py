@@ -526,6 +526,16 @@ def _cmd_parts(args) -> int:
               f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
+        if d.has_accelerometer:
+            acc_noise = (fmt(d.accel_vrw_m_s_sqrt_h, "m/s/sqrt(h)") if d.accel_vrw_m_s_sqrt_h is not None
+                         else f"{fmt(d.accel_noise_density_ug, 'ug/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
+            print(f"    accelerometers: range {fmt(d.accel_range_g, 'g')}; bias instability "
+                  f"{fmt(d.accel_bias_instability_ug, 'ug')}; noise {acc_noise}; bias repeatability "
+                  f"{fmt(d.accel_bias_repeatability_mg, 'mg')}; scale factor "
+                  f"{fmt(d.accel_scale_factor_repeatability_ppm, 'ppm')}; bandwidth {fmt(d.accel_bandwidth_hz, 'Hz')}; "
+                  f"resolution {fmt(d.accel_resolution_mg, 'mg')}")
+        else:
+            print("    accelerometers: none on the sheet (a triad of this part has ideal accelerometers)")
         print(f"    source: {d.source}")
         print(f"    physics model: {parts.physics_summary(d)}")
         if d.notes:

@@ -31,6 +31,10 @@ own (:meth:`gyrobench.sim.parts.Part.accelerometer`, from its sheet's ``accel_*`
 ideal (a gyro-only part: the record's output is then the true specific force after the triad's
 misalignment). The record's metadata says which (``accelerometer_from``) and holds the spec in SI
 (``accelerometer``).
+
+Outputs besides ``-o``: ``--euroc`` (EuRoC/ASL ``data.csv``), ``--kalibr`` (Kalibr ``imu.yaml``)
+and ``--rosbag`` (a ROS 1 ``.bag`` or a ROS 2 bag folder of ``sensor_msgs/msg/Imu``, through the
+optional extra ``ros``: :mod:`gyrobench.io.rosbag`, :func:`write_bag`).
 """
 
 from __future__ import annotations
@@ -194,8 +198,50 @@ def choose_accelerometer(part, table):
                                  "has no [accelerometer] table)")
 
 
+def write_bag(path: str, rec, part, accel, *, increments: bool) -> None:
+    """Write the record's six channels as a ROS bag (:func:`gyrobench.io.rosbag.write_imu_bag`) and say so.
+
+    Stamps are the samples' times (the record's t0 + k/fs: each sample's interval centre); rates
+    from increments are the increments x fs. The covariances are the per-sample white-noise
+    variances of the spec: N^2 fs + q^2/12 for the gyros (N the part's ARW, q its LSB) and
+    VRW^2 fs + q^2/12 for the accelerometers, zeros ("unknown") for ideal accelerometers.
+
+    Parameters
+    ----------
+    path : str
+        ``NAME.bag`` (ROS 1) or a new folder (ROS 2).
+    rec : Recording
+        The triad's record.
+    part : gyrobench.sim.parts.Part
+        The gyro part (its ARW and LSB set the gyro covariance).
+    accel : AccelerometerSpec
+        The run's accelerometers.
+    increments : bool
+        Whether the record holds increments.
+    """
+    import numpy as np
+
+    from gyrobench.io.rosbag import bag_format, write_imu_bag
+
+    fs = rec.fs
+    names, scale = (("dtheta", "dv"), fs) if increments else (("gyro", "accel"), 1.0)
+    g = np.column_stack([rec[f"{names[0]}_{a}"] for a in "xyz"]) * scale
+    a = np.column_stack([rec[f"{names[1]}_{a}"] for a in "xyz"]) * scale
+    d = part.datasheet
+    q_g = math.radians(d.resolution or 0.0)
+    var_g = d.angle_random_walk() ** 2 * fs + q_g**2 / 12
+    var_a = accel.velocity_random_walk**2 * fs + accel.resolution**2 / 12
+    stamps = rec.t0 + np.arange(rec.n_samples) / fs
+    try:
+        out = write_imu_bag(path, g, a, stamps=stamps, gyro_variance=var_g, accel_variance=var_a or None)
+    except ValueError as exc:
+        raise BadInput(f"--rosbag {path!r}: {one_line(exc)}") from None
+    kind = "ROS 1 bag" if bag_format(out) == "ros1" else "ROS 2 bag folder"
+    print(f"wrote {out} ({kind}: {rec.n_samples} sensor_msgs/msg/Imu messages on /imu0)")
+
+
 def simulate_imu(args) -> int:
-    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr files).
+    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr, ROS bag files).
 
     Parameters
     ----------
@@ -237,6 +283,20 @@ def simulate_imu(args) -> int:
         if not str(args.kalibr).lower().endswith(".yaml"):
             raise BadInput(f"--kalibr must end in .yaml; got {args.kalibr!r}")
         outs.append((Path(args.kalibr), "--kalibr"))
+    if args.rosbag is not None:
+        from gyrobench.io.rosbag import bag_format, rosbags_available
+
+        if not rosbags_available():
+            raise BadInput("--rosbag needs the optional package rosbags: pip install 'gyrobench[ros]' "
+                           "(or pip install rosbags)")
+        bag = Path(args.rosbag)
+        if bag.exists() or bag.is_symlink():
+            raise BadInput(f"--rosbag {str(bag)!r} exists: a bag is written only to a new path (a bag carries no "
+                           "mark gyrobench could recognise it by); give a new path")
+        if bag_format(bag) == "ros2" and bag.suffix:
+            raise BadInput(f"--rosbag takes NAME.bag (ROS 1) or a folder name without a suffix (ROS 2); "
+                           f"got {str(bag)!r}")
+        outs.append((bag, "--rosbag"))
     # the output rule (gyrobench.base.safety): no output is the trajectory, the part file or another output;
     # an existing file is replaced only if gyrobench wrote it (or with --force)
     part_file = args.part if str(args.part).lower().endswith(".toml") else None
@@ -275,6 +335,8 @@ def simulate_imu(args) -> int:
         g = np.column_stack([rec[f"{names[0]}_{a}"] for a in "xyz"]) * scale
         a = np.column_stack([rec[f"{names[1]}_{a}"] for a in "xyz"]) * scale
         print(f"wrote {write_euroc(args.euroc, g, a, fs=fs)} (EuRoC/ASL imu0 CSV)")
+    if args.rosbag is not None:
+        write_bag(args.rosbag, rec, part, accel, increments=bool(args.increments))
     if args.kalibr is not None:
         from gyrobench.base.atomic import atomic_path
 

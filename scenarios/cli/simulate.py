@@ -544,7 +544,8 @@ def _cmd_parts(args) -> int:
 
 
 _IMU_FLAGS = {"trajectory": "--trajectory", "misalignment": "--misalignment", "cross_axis": "--cross-axis",
-              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments", "latitude": "--latitude"}
+              "euroc": "--euroc", "kalibr": "--kalibr", "rosbag": "--rosbag", "increments": "--increments",
+              "latitude": "--latitude"}
 
 
 def _cmd_simulate(args) -> int:
@@ -609,6 +610,8 @@ def add_parsers(sub) -> None:
     s.add_argument("--increments", action="store_true", help="imu: write angle and velocity increments, not rates")
     s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
     s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")
+    s.add_argument("--rosbag", help="imu: also write a ROS bag of sensor_msgs/msg/Imu on /imu0: NAME.bag is a ROS 1 "
+                   "bag, any other new path a ROS 2 bag folder (needs the extra: pip install 'gyrobench[ros]')")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_force(s)
     s.set_defaults(func=_cmd_simulate)

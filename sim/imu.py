@@ -129,7 +129,10 @@ class AccelerometerSpec:
         vrw_m_s_sqrt_h : float
             Velocity random walk [m/s/sqrt(h)].
         bias_instability_ug : float
-            Bias instability [ug].
+            Bias instability B [ug]: the IEEE coefficient (ADEV minimum / 0.664), as
+            :meth:`gyrobench.sim.noise.NoiseModel.from_datasheet` takes it. A part's sheet figure
+            (``accel_bias_instability_ug``, an ADEV minimum) goes through
+            :meth:`gyrobench.sim.parts.Part.accelerometer` instead.
         bias_tempco_mg_per_k, scale_factor_tempco_ppm_per_k : float
             Temperature coefficients [mg/K], [ppm/K].
         range_g, bandwidth_hz, resolution_mg : float

@@ -99,8 +99,9 @@ command line's parser does not import numpy.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from gyrobench.base.lazy import attach
 
 #: public name -> module of this package that defines it (imported on first access)
 _LAZY: dict[str, str] = {
@@ -276,14 +277,4 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.scenarios.runner.store import DEFAULT_DB, connect_db
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    # not cached in this package's globals: a caller that drops the submodules from sys.modules
-    # (pytest's pytester between inline runs) must get the classes of the modules it reimports
-    return getattr(importlib.import_module(module), name)
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = attach(__name__, _LAZY)

@@ -159,3 +159,20 @@ def test_a_quantized_parts_static_accelerometers_give_back_its_vrw_and_b():
     """OpenRTK330: a 0.5 mg LSB against 0.6 mg of per-sample noise at 50 Hz (its 50 Hz low-pass is
     negligible there, a = exp(-2 pi) = 0.002): the q^2/12 term is 6 % of N^2, 20 standard errors."""
     _static_fit_meets_the_sheet("openrtk330", 50.0)
+
+
+def test_a_part_whose_sheet_gives_b_but_no_vrw_gives_back_its_b():
+    """HG9900: flicker only (its source gives no VRW). 600 s at 20 Hz; each axis's B within Z3
+    standard errors, Z3 at 1 % over the 3 checks, two-sided."""
+    z3 = float(norm.ppf(1 - 0.01 / (2 * 3)))
+    part = parts.get("hg9900")
+    acc = part.accelerometer()
+    assert acc.velocity_random_walk == 0.0
+    unit = TriadSpec(gyros=(part, part, part), accelerometer=acc).realize(rng=np.random.default_rng(20261202))
+    rec = unit.simulate(SegmentedMotion((Segment(duration=600.0),)), fs=20.0, rng=np.random.default_rng(8),
+                        site=Site(latitude=0.5)).recording
+    for axis in "xyz":
+        fit = fit_noise(rec[f"accel_{axis}"], 20.0, terms=("N", "B", "K"), misfit_p=1e-4)
+        c = fit.coefficients["B"]
+        se = (c.ci95[1] - c.ci95[0]) / (2 * 1.96)
+        assert not fit.misfit and abs(c.value - acc.bias_instability) <= z3 * se, (axis, c.value, se)

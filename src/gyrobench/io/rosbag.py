@@ -87,8 +87,9 @@ def write_imu_bag(
     Parameters
     ----------
     path : path-like
-        ``NAME.bag`` (ROS 1) or a folder name (ROS 2). It must not exist; the bag is written
-        beside it under a temporary name and renamed onto it complete (or not at all).
+        ``NAME.bag`` (ROS 1) or a folder name (ROS 2). It must not exist; its parent folders
+        are created; the bag is written beside it under a temporary name and renamed onto it
+        complete (or not at all).
     gyro, accel : array_like, shape (n, 3)
         Body rates [rad/s] and specific forces [m/s^2] about and along x, y, z.
     stamps : array_like, shape (n,)
@@ -155,6 +156,7 @@ def write_imu_bag(
     ensure_free_space(target, 450 * len(g))  # one message takes 375-390 bytes with its index
     work = temp_name(target, "tmpdir")
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
         work.mkdir()
         inner = work / target.name
         writer = Ros1Writer(inner) if kind == "ros1" else Ros2Writer(inner, version=8)

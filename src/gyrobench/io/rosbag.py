@@ -47,7 +47,13 @@ class RosbagsMissing(ImportError):
 
 
 def rosbags_available() -> bool:
-    """Whether the optional ``rosbags`` package can be imported."""
+    """Whether the optional ``rosbags`` package can be imported.
+
+    Returns
+    -------
+    bool
+        True when its ROS 1, ROS 2 and type-system modules import.
+    """
     try:
         import rosbags.rosbag1  # noqa: F401
         import rosbags.rosbag2  # noqa: F401
@@ -58,7 +64,18 @@ def rosbags_available() -> bool:
 
 
 def bag_format(path: str | os.PathLike) -> Literal["ros1", "ros2"]:
-    """``"ros1"`` for a path ending ``.bag`` (a ROS 1 bag file), else ``"ros2"`` (a ROS 2 bag folder)."""
+    """The bag format a path names.
+
+    Parameters
+    ----------
+    path : path-like
+        The bag's path.
+
+    Returns
+    -------
+    {"ros1", "ros2"}
+        ``"ros1"`` for a path ending ``.bag`` (a ROS 1 bag file), else ``"ros2"`` (a ROS 2 bag folder).
+    """
     return "ros1" if Path(path).suffix.lower() == ".bag" else "ros2"
 
 

@@ -334,7 +334,7 @@ def simulate_imu(args) -> int:
         names = ("dtheta", "dv") if args.increments else ("gyro", "accel")
         g = np.column_stack([rec[f"{names[0]}_{a}"] for a in "xyz"]) * scale
         a = np.column_stack([rec[f"{names[1]}_{a}"] for a in "xyz"]) * scale
-        print(f"wrote {write_euroc(args.euroc, g, a, fs=fs)} (EuRoC/ASL imu0 CSV)")
+        print(f"wrote {write_euroc(args.euroc, g, a, fs=fs, t0=rec.t0)} (EuRoC/ASL imu0 CSV)")
     if args.rosbag is not None:
         write_bag(args.rosbag, rec, part, accel, increments=bool(args.increments))
     if args.kalibr is not None:

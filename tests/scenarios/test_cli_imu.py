@@ -55,6 +55,9 @@ def test_simulate_imu_writes_hdf5_euroc_and_kalibr(tmp_path, capsys):
     assert rows[0].startswith("#timestamp [ns],w_RS_S_x [rad s^-1]") and len(rows) == 1 + rec.n_samples
     np.testing.assert_allclose(np.array(rows[1].split(","), dtype=float)[1:4], [rec[f"gyro_{a}"][0] for a in "xyz"],
                                rtol=1e-15)
+    # stamped at the record's own sample times (interval centres, as the ROS bag is), to the ns
+    stamps = [int(r.split(",")[0]) for r in rows[1:3]]
+    assert stamps == [round((rec.t0 + k / rec.fs) * 1e9) for k in range(2)] and rec.t0 > 0
     assert yaml.read_text().startswith("# written by gyrobench\n")
 
 

@@ -271,7 +271,7 @@ def test_a_fit_that_ignores_signals_is_killed_at_the_deadline(tmp_path):
     """)
     code, out, err, took = _cli(tmp_path, "stubborn:fit", "--seed-timeout", "3", "--workers", "0")
     assert code == exits.FAILED_SEEDS, err
-    assert took < 40
+    assert took < 200  # not killed, the fit would sleep its 300 s; killed at 3 s, the run takes seconds
     assert "exceeded the per-seed time limit of 3 s" in err and len(err.splitlines()) == 1
     _gone(pids)
 

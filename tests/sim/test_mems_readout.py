@@ -101,3 +101,17 @@ def test_open_loop_output_goes_through_the_chain():
     lin = mems_slow_flow.slow_flow(ideal, np.full(50, w), fs=200.0, rng=np.random.default_rng(0), noise=False,
                                    adc=False, flicker=False)
     assert float(res.output[-1]) < 0.95 * float(lin.output[-1])  # the rail bends it
+
+
+def test_the_softening_closed_form_is_the_first_harmonic_of_the_electrode_force():
+    """dk(a) = -(F_e1(a)/a - k_e) with F_e1 the first harmonic of F_e(a cos t), integrated here
+    adaptively (scipy.integrate.quad, rtol 1e-13) at 10-99 % of the gap: equal to the
+    integration's accuracy (the a -> 0 end, where the quadrature itself cancels, is left out)."""
+    from scipy.integrate import quad
+
+    c = SenseChain(k3=0.0)
+    for frac in (0.1, 0.5, 0.9, 0.99):
+        a = frac * c.gap
+        fe1 = 4.0 / math.pi * quad(lambda t: float(c.electrode_force(a * math.cos(t))) * math.cos(t),
+                                   0.0, 0.5 * math.pi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
+        assert -float(c.stiffness_change(a)) == pytest.approx(fe1 / a - c.electrostatic_stiffness, rel=1e-11)

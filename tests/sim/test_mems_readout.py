@@ -112,6 +112,6 @@ def test_the_softening_closed_form_is_the_first_harmonic_of_the_electrode_force(
     c = SenseChain(k3=0.0)
     for frac in (0.1, 0.5, 0.9, 0.99):
         a = frac * c.gap
-        fe1 = 4.0 / math.pi * quad(lambda t: float(c.electrode_force(a * math.cos(t))) * math.cos(t),
+        fe1 = 4.0 / math.pi * quad(lambda t, a=a: float(c.electrode_force(a * math.cos(t))) * math.cos(t),
                                    0.0, 0.5 * math.pi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
         assert -float(c.stiffness_change(a)) == pytest.approx(fe1 / a - c.electrostatic_stiffness, rel=1e-11)

@@ -199,3 +199,27 @@ def user_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     yield files
     files.verify()
     files.verify(files._command)  # a library call that checked its outputs outside a command
+
+
+def _slow_tier_ids() -> tuple[frozenset[str], tuple[str, ...]]:
+    """The node ids tests/data/slow_tier.txt moves to the slow tier: exact ids, and the prefixes of
+    parametrised ids whose parameters ``--durations`` printed only in part."""
+    exact, prefixes = set(), []
+    for line in (Path(__file__).parent / "data" / "slow_tier.txt").read_text(encoding="utf-8").splitlines():
+        nid = line.split("  #", 1)[0].strip()
+        if not nid or nid.startswith("#"):
+            continue
+        if "[" in nid and not nid.endswith("]"):
+            prefixes.append(nid)
+        else:
+            exact.add(nid)
+    return frozenset(exact), tuple(prefixes)
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m 'not slow' deselects by marker
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Mark ``slow`` every test tests/data/slow_tier.txt lists (the default tier's heaviest end)."""
+    exact, prefixes = _slow_tier_ids()
+    for item in items:
+        if item.nodeid in exact or item.nodeid.startswith(prefixes):
+            item.add_marker(pytest.mark.slow)

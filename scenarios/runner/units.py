@@ -66,12 +66,17 @@ __all__ = [
     "check_run_size",
     "check_unit_memory",
     "concurrent_units",
+    "decode_unit",
     "default_db",
     "is_paper_scenario",
+    "open_store",
+    "register_run",
     "run_id",
     "run_paper",
     "run_units",
     "slim_result",
+    "store_unit",
+    "unit_job",
 ]
 
 #: default resume store (in the current directory) when no db is given
@@ -345,16 +350,21 @@ def _open_store(
     _check_layout(db)
     conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
     try:
-        conn.execute("BEGIN IMMEDIATE")
-        conn.execute(
-            "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
-            (rid, name, repr(config), identity, time.time()),
-        )
-        conn.execute("COMMIT")
+        register_run(conn, rid, name, config, identity)
     except BaseException:
         conn.close()
         raise
     return conn
+
+
+def register_run(conn: sqlite3.Connection, rid: str, name: str, config: Any, identity: str) -> None:
+    """Record the run ``rid`` (its scenario, config and identity) in an open unit store, once."""
+    conn.execute("BEGIN IMMEDIATE")
+    conn.execute(
+        "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
+        (rid, name, repr(config), identity, time.time()),
+    )
+    conn.execute("COMMIT")
 
 
 def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float, full: bool) -> bytes:
@@ -376,6 +386,14 @@ def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: 
         raise
     conn.execute("COMMIT")
     return bytes(stored)
+
+
+#: the runner's pieces other runners of units (a map's points, :mod:`gyrobench.scenarios.maps.run`)
+#: share, so their units are stored, encoded and run exactly as :func:`run_units` does
+unit_job = _unit_job
+open_store = _open_store
+store_unit = _store
+decode_unit = _decode
 
 
 def _execute(

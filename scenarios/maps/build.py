@@ -1,0 +1,84 @@
+"""A paper's map end to end: its family module's design, the units, the region and claims, the files.
+
+A paper that can be mapped has a ``family`` module beside its scenario module defining
+``FAMILY`` (:class:`~.family.Family`), ``MAP_CONSTRAINTS`` (:class:`~.region.Constraint`),
+``MAP_CLAIMS`` (the claims to map) and ``DESIGN_SEED``. :func:`map_paper` runs the map and
+:func:`write_map` writes ``map.json``, ``phase_diagrams.png`` and ``specification_curves.png``
+into a folder.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import importlib
+import json
+import os
+import types
+from dataclasses import dataclass
+from pathlib import Path
+
+from gyrobench.scenarios.runner import units as runner
+
+from .family import design
+from .region import MapResult, analyse
+from .run import MapUnits, run_map
+
+__all__ = ["Mapped", "family_module", "map_paper", "write_map"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Mapped:
+    """A map's result and how its units ran."""
+
+    result: MapResult
+    units: MapUnits
+
+
+def family_module(module: types.ModuleType) -> types.ModuleType | None:
+    """The paper's ``family`` module (None when the paper defines no family to map)."""
+    name = module.__name__ + ".family"
+    try:
+        return importlib.import_module(name)
+    except ModuleNotFoundError as exc:
+        if exc.name == name:
+            return None
+        raise
+
+
+def map_paper(
+    module: types.ModuleType,
+    *,
+    points: int,
+    units_per_point: int,
+    seed: int = 0,
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    db: str | os.PathLike = runner.DEFAULT_DB,
+    progress: bool = False,
+) -> Mapped:
+    """Map ``module`` over ``points`` design points of its family, ``units_per_point`` units each."""
+    fam = family_module(module)
+    if fam is None:
+        raise ValueError(f"scenario {getattr(module, 'NAME', module.__name__)!r} defines no device family to map")
+    d = design(fam.FAMILY, points, fam.DESIGN_SEED)
+    configs = [fam.FAMILY.config(v) for v in d.values]
+    run = run_map(module, configs, units_per_point=units_per_point, seed=seed, executor=executor,
+                  workers=workers, db=db, progress=progress)
+    result = analyse(fam.FAMILY, d, run.seeds, run.quantities, fam.MAP_CONSTRAINTS, fam.MAP_CLAIMS)
+    return Mapped(result=result, units=run)
+
+
+def write_map(mapped: Mapped, folder: Path, *, command: str = "") -> Path:
+    """Write ``map.json`` and the two PNGs into ``folder`` (created); return map.json's path."""
+    from .figures import phase_diagrams, specification_curves
+
+    folder.mkdir(parents=True, exist_ok=True)
+    doc = mapped.result.as_dict()
+    doc["command"] = command
+    doc["unit_run"] = {"computed": mapped.units.computed, "reused": mapped.units.reused,
+                       "unit_cpu_s": mapped.units.cpu_s, "run_ids": list(mapped.units.run_ids)}
+    path = folder / "map.json"
+    path.write_text(json.dumps(doc, indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    phase_diagrams(mapped.result, folder / "phase_diagrams.png")
+    specification_curves(mapped.result, folder / "specification_curves.png")
+    return path

@@ -81,7 +81,8 @@ def _run(args, mod, points: int, k: int) -> int:
     r = mapped.result
     counts = r.counts()
     print(f"{mod.NAME}: {len(r.design)} points x {k} units in {time.perf_counter() - t0:.1f} s "
-          f"({mapped.units.computed} computed, {mapped.units.reused} reused; units' CPU {mapped.units.cpu_s:.1f} s)")
+          f"({mapped.units.computed} computed, {mapped.units.reused} reused; "
+          f"units' run time summed {mapped.units.run_s:.1f} s)")
     print(f"  region: {region_finding(r)}")
     for c in r.constraints:
         print(f"  {c.id:<36} satisfied on {counts[c.id]} of {len(r.design)} points")

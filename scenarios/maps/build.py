@@ -1,9 +1,10 @@
 """A paper's map end to end: its family module's design, the units, the region and claims, the files.
 
-A paper that can be mapped has a ``family`` module beside its scenario module defining
-``FAMILY`` (:class:`~.family.Family`), ``MAP_CONSTRAINTS`` (:class:`~.region.Constraint`),
+A paper that can be mapped has a ``family`` module beside its scenario module (or the scenario
+module itself) defining ``FAMILY`` (:class:`~.family.Family`), ``MAP_CONSTRAINTS`` (:class:`~.region.Constraint`),
 ``MAP_CLAIMS`` (the claims to map) and ``DESIGN_SEED``. :func:`map_paper` runs the map and
-:func:`write_map` writes ``map.json``, ``phase_diagrams.png`` and ``specification_curves.png``
+:func:`write_map` writes ``map.json``, ``phase_diagrams.png``, ``specification_curves.png`` and
+``constraints.png``
 into a folder.
 """
 
@@ -35,7 +36,10 @@ class Mapped:
 
 
 def family_module(module: types.ModuleType) -> types.ModuleType | None:
-    """The paper's ``family`` module (None when the paper defines no family to map)."""
+    """The paper's ``family`` module, the scenario module itself when it defines ``FAMILY``, or None
+    when the paper defines no family to map."""
+    if hasattr(module, "FAMILY"):
+        return module
     name = module.__name__ + ".family"
     try:
         return importlib.import_module(name)
@@ -55,9 +59,12 @@ def map_paper(
     workers: int | None = None,
     db: str | os.PathLike = runner.DEFAULT_DB,
     progress: bool = False,
+    family: types.ModuleType | None = None,
 ) -> Mapped:
-    """Map ``module`` over ``points`` design points of its family, ``units_per_point`` units each."""
-    fam = family_module(module)
+    """Map ``module`` over ``points`` design points of its family (``family``, default
+    :func:`family_module`), ``units_per_point`` units each; the other arguments as in
+    :func:`~.run.run_map`."""
+    fam = family or family_module(module)
     if fam is None:
         raise ValueError(f"scenario {getattr(module, 'NAME', module.__name__)!r} defines no device family to map")
     d = design(fam.FAMILY, points, fam.DESIGN_SEED)
@@ -70,15 +77,16 @@ def map_paper(
 
 def write_map(mapped: Mapped, folder: Path, *, command: str = "") -> Path:
     """Write ``map.json`` and the two PNGs into ``folder`` (created); return map.json's path."""
-    from .figures import phase_diagrams, specification_curves
+    from .figures import constraint_maps, phase_diagrams, specification_curves
 
     folder.mkdir(parents=True, exist_ok=True)
     doc = mapped.result.as_dict()
     doc["command"] = command
     doc["unit_run"] = {"computed": mapped.units.computed, "reused": mapped.units.reused,
-                       "unit_cpu_s": mapped.units.cpu_s, "run_ids": list(mapped.units.run_ids)}
+                       "unit_wall_s_summed": mapped.units.run_s, "run_ids": list(mapped.units.run_ids)}
     path = folder / "map.json"
     path.write_text(json.dumps(doc, indent=1, allow_nan=False) + "\n", encoding="utf-8")
     phase_diagrams(mapped.result, folder / "phase_diagrams.png")
     specification_curves(mapped.result, folder / "specification_curves.png")
+    constraint_maps(mapped.result, folder / "constraints.png")
     return path

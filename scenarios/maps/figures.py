@@ -18,9 +18,9 @@ import numpy as np  # noqa: E402
 
 from gyrobench.base.safety import PNG_METADATA  # noqa: E402
 
-from .region import ClaimMap, MapResult  # noqa: E402
+from .region import ClaimMap, MapResult, Sensitivity  # noqa: E402
 
-__all__ = ["phase_diagrams", "specification_curves"]
+__all__ = ["constraint_maps", "phase_diagrams", "specification_curves"]
 
 
 def _grid(n: int) -> tuple[int, int]:
@@ -28,11 +28,20 @@ def _grid(n: int) -> tuple[int, int]:
     return math.ceil(n / cols), cols
 
 
+def _short(text: str, width: int = 58) -> str:
+    """``text`` cut to ``width`` characters (an ellipsis marks the cut)."""
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
 def _axes_of(result: MapResult, m: ClaimMap) -> tuple[int, int]:
     """Indices of the claim's two most sensitive parameters (the first two in family order when no
     parameter's rank correlation could be computed)."""
+    return _top_two(result, m.sensitivity)
+
+
+def _top_two(result: MapResult, sensitivity: tuple[Sensitivity, ...]) -> tuple[int, int]:
     names = result.family.names
-    ranked = [names.index(s.field) for s in m.sensitivity if s.rho is not None]
+    ranked = [names.index(s.field) for s in sensitivity if s.rho is not None]
     rest = [j for j in range(len(names)) if j not in ranked]
     order = ranked + rest
     return order[0], order[1] if len(order) > 1 else order[0]
@@ -43,7 +52,7 @@ def phase_diagrams(result: MapResult, path: Path) -> Path:
     points ringed in red, points that could not test the claim as grey crosses."""
     claims = result.claims
     rows, cols = _grid(len(claims))
-    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 4.4 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")
     region = set(result.region)
     params = result.family.parameters
     sc = None
@@ -65,12 +74,12 @@ def phase_diagrams(result: MapResult, path: Path) -> Path:
         rho = {s.field: s.rho for s in m.sensitivity}
         ra, rb = rho.get(params[a].field), rho.get(params[b].field)
         tag = ", ".join(f"rho={r:+.2f}" if r is not None else "rho n/a" for r in (ra, rb))
-        ax.set_title(f"{m.claim.id}\n{m.verdict_text()[:60]}\n(Spearman {tag})", fontsize=8.5)
+        ax.set_title(f"{m.claim.id}\n{_short(m.verdict_text())}\n(Spearman {tag})", fontsize=8.5)
         ax.grid(True, which="both", alpha=0.25)
     for ax in list(axes.flat)[len(claims):]:
         ax.set_visible(False)
     handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower right", fontsize=9)
+    fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=9)
     if sc is not None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="pass rate over the point's units")
     fig.suptitle(f"paper {result.family.paper}: method claims over the device family "
@@ -85,7 +94,7 @@ def specification_curves(result: MapResult, path: Path) -> Path:
     empty, said in the title), the claim's band shaded and the paper's value as a dashed line."""
     claims = result.claims
     rows, cols = _grid(len(claims))
-    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.8 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 3.9 * rows), squeeze=False, layout="constrained")
     region = list(result.region)
     which = region or list(range(len(result.design)))
     for ax, m in zip(axes.flat, claims, strict=False):
@@ -119,7 +128,45 @@ def specification_curves(result: MapResult, path: Path) -> Path:
     for ax in list(axes.flat)[len(claims):]:
         ax.set_visible(False)
     fig.suptitle(f"paper {result.family.paper}: specification curves (green: the point holds the claim)")
-    fig.tight_layout()
+    fig.savefig(path, dpi=90, metadata=PNG_METADATA)
+    plt.close(fig)
+    return path
+
+
+def constraint_maps(result: MapResult, path: Path) -> Path:
+    """One PNG: per reported device fact, every point's median quantity over the fact's two most
+    sensitive parameters; points satisfying the fact ringed in green, region points in red."""
+    cons = result.constraints
+    rows, cols = _grid(len(cons))
+    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")
+    params = result.family.parameters
+    region = set(result.region)
+    counts = result.counts()
+    for j, (ax, c) in enumerate(zip(axes.flat, cons, strict=False)):
+        sens = result.constraint_sensitivity(j)
+        a, b = _top_two(result, sens)
+        x = np.array([v[params[a].field] for v in result.design.values])
+        y = np.array([v[params[b].field] for v in result.design.values])
+        med = np.array([row[j] for row in result.constraint_medians])
+        ok = np.isfinite(med)
+        sc = ax.scatter(x[ok], y[ok], c=med[ok], cmap="plasma", s=70, edgecolors="none")
+        fig.colorbar(sc, ax=ax, label=f"median {c.quantity}")
+        sat = np.array([result.satisfied[i][j] for i in range(len(x))], bool)
+        ax.scatter(x[sat], y[sat], facecolors="none", edgecolors="green", s=150, linewidths=1.5, label="fact holds")
+        inr = np.array([i in region for i in range(len(x))], bool)
+        ax.scatter(x[inr], y[inr], facecolors="none", edgecolors="red", s=230, linewidths=1.5, label="region")
+        for jj, axis in ((a, "x"), (b, "y")):
+            if params[jj].scale == "log":
+                (ax.set_xscale if axis == "x" else ax.set_yscale)("log")
+        ax.set_xlabel(params[a].axis_label())
+        ax.set_ylabel(params[b].axis_label())
+        ax.set_title(f"{c.id}: needs {c.comparator.text()}\nholds on {counts[c.id]} of {len(x)} points",
+                     fontsize=8.5)
+        ax.grid(True, which="both", alpha=0.25)
+        ax.legend(fontsize=7, loc="best")
+    for ax in list(axes.flat)[len(cons):]:
+        ax.set_visible(False)
+    fig.suptitle(f"paper {result.family.paper}: the reported device facts over the family")
     fig.savefig(path, dpi=90, metadata=PNG_METADATA)
     plt.close(fig)
     return path

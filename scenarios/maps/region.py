@@ -20,7 +20,8 @@ could test the claim, with the exact (Clopper-Pearson) 95 % interval of k/n
 the comparator's :meth:`~gyrobench.scenarios.claims.Comparator.miss` of each failing region
 point's median quantity, counted ("below", "above" its band, or "false").
 
-**Sensitivity.** A structured Sobol design (:func:`scipy.stats.sobol_indices`) needs N (d + 2)
+**Sensitivity.** (Of each claim's pass rate, and of each constraint's point medians.) A structured
+Sobol design (:func:`scipy.stats.sobol_indices`) needs N (d + 2)
 evaluations; a map's budget is one unstructured design, so each parameter is ranked by the
 absolute Spearman rank correlation (:func:`scipy.stats.spearmanr`) of its value with the
 point's pass rate of the claim over all points that could test it (a rank measure: the same for
@@ -176,6 +177,10 @@ class MapResult:
         """Indices of the points satisfying every constraint."""
         return tuple(i for i, row in enumerate(self.satisfied) if all(row))
 
+    def constraint_sensitivity(self, j: int) -> tuple[Sensitivity, ...]:
+        """Every parameter's Spearman rank correlation with constraint ``j``'s point medians (finite ones)."""
+        return _sensitivity(self.family, self.design, [row[j] for row in self.constraint_medians])
+
     def counts(self) -> dict[str, int]:
         """Per constraint: the points satisfying it."""
         return {c.id: sum(row[j] for row in self.satisfied) for j, c in enumerate(self.constraints)}
@@ -214,7 +219,10 @@ class MapResult:
             },
             "constraints": [{"id": c.id, "fact": c.fact, "source": c.source, "quantity": c.quantity,
                              "comparator": c.comparator.text(), "kind": c.comparator.kind,
-                             "lo": _num(c.comparator.lo), "hi": _num(c.comparator.hi)} for c in self.constraints],
+                             "lo": _num(c.comparator.lo), "hi": _num(c.comparator.hi),
+                             "sensitivity": [{"field": s.field, "rho": s.rho, "p_value": s.p_value, "points": s.points}
+                                             for s in self.constraint_sensitivity(j)]}
+                            for j, c in enumerate(self.constraints)],
             "constraint_counts": self.counts(),
             "conflicts": [list(p) for p in conflicts(self)],
             "region": list(self.region),
@@ -334,7 +342,7 @@ def region_finding(result: MapResult) -> str:
     pairs = conflicts(result)
     parts = [f"No point of the family satisfies every reported device fact ({n} points)."]
     if never:
-        parts.append("Never satisfied on the family: " + ", ".join(never) + ".")
+        parts.append("Never satisfied on the family: " + "; ".join(_closest(result, c) for c in never) + ".")
     if pairs:
         parts.append("Conflicting (each holds somewhere, never together): "
                      + "; ".join(f"{a} and {b}" for a, b in pairs) + ".")
@@ -342,3 +350,19 @@ def region_finding(result: MapResult) -> str:
         parts.append("Every pair holds together somewhere; the facts conflict only jointly: "
                      + ", ".join(c.id for c in result.constraints) + ".")
     return " ".join(parts)
+
+
+def _closest(result: MapResult, cid: str) -> str:
+    """``"<id> (needs <band>; closest: <median> at point i)"``: the point whose median comes nearest the band."""
+    j = [c.id for c in result.constraints].index(cid)
+    c = result.constraints[j]
+    best, at = math.inf, None
+    for i, row in enumerate(result.constraint_medians):
+        v = row[j]
+        if math.isfinite(v):
+            gap = max(c.comparator.lo - v, v - c.comparator.hi, 0.0) if c.comparator.kind != "is_true" else 1.0 - v
+            if gap < best:
+                best, at = gap, i
+    if at is None:
+        return f"{cid} (needs {c.comparator.text()}; no point gives a finite {c.quantity})"
+    return f"{cid} (needs {c.comparator.text()}; closest: {result.constraint_medians[at][j]:.4g} at point {at})"

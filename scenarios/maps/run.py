@@ -61,8 +61,8 @@ class MapUnits:
         Each point's units' ``quantities`` mappings.
     computed, reused : int
         Units computed now and read back from the store.
-    cpu_s : float
-        Sum of the computed and stored units' run times [s] (each measured in its worker).
+    run_s : float
+        Sum of the units' wall-clock run times [s], each measured in its worker (not CPU time).
     """
 
     run_ids: tuple[str, ...]
@@ -70,7 +70,7 @@ class MapUnits:
     quantities: tuple[tuple[dict[str, Any], ...], ...]
     computed: int
     reused: int
-    cpu_s: float
+    run_s: float
 
 
 def run_map(
@@ -107,7 +107,7 @@ def run_map(
     runner.check_run_size(1, last, seed_name="the map's last unit seed")
     name = getattr(module, "NAME", module.__name__)
     seeds = tuple(tuple(unit_seed(seed, i, j) for j in range(units_per_point)) for i in range(len(configs)))
-    ids = [runner.run_id(module, c) for c in configs]
+    ids = runner.run_ids(module, configs)
     conn = runner.open_store(db, ids[0][0], name, configs[0], ids[0][1])
     try:
         for (rid, ident), c in zip(ids[1:], configs[1:], strict=True):
@@ -116,7 +116,8 @@ def run_map(
         elapsed: dict[tuple[int, int], float] = {}
         for i, (rid, _) in enumerate(ids):
             wanted = set(seeds[i])
-            for s, blob, el in conn.execute("SELECT seed, result, elapsed_s FROM unit_results WHERE run_id = ?", (rid,)):
+            rows = conn.execute("SELECT seed, result, elapsed_s FROM unit_results WHERE run_id = ?", (rid,))
+            for s, blob, el in rows:
                 if s in wanted:
                     blobs[i, s], elapsed[i, s] = bytes(blob), float(el)
         reused = len(blobs)
@@ -171,7 +172,7 @@ def run_map(
             quantities=quantities,
             computed=len(todo),
             reused=reused,
-            cpu_s=float(sum(elapsed.values())),
+            run_s=float(sum(elapsed.values())),
         )
     finally:
         conn.close()

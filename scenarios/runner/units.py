@@ -72,6 +72,7 @@ __all__ = [
     "open_store",
     "register_run",
     "run_id",
+    "run_ids",
     "run_paper",
     "run_units",
     "slim_result",
@@ -150,6 +151,21 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
     ident = dict(scenario_identity(module, config), store_format=SCHEMA)  # old pickled stores never match
     text = json.dumps(ident, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16], text
+
+
+def run_ids(module: types.ModuleType, configs: Sequence[Any]) -> list[tuple[str, str]]:
+    """:func:`run_id` of ``module`` with each of ``configs`` (the same ids), its source closure hashed once."""
+    from gyrobench.scenarios.bench.identity import canonical, scenario_identity
+    from gyrobench.scenarios.runner.codec import SCHEMA
+
+    if not configs:
+        return []
+    base = dict(scenario_identity(module, configs[0]), store_format=SCHEMA)
+    out = []
+    for c in configs:
+        text = json.dumps(dict(base, config=canonical(c)), sort_keys=True)
+        out.append((hashlib.sha256(text.encode()).hexdigest()[:16], text))
+    return out
 
 
 def concurrent_units(n_units: int, workers: int | None) -> int:

@@ -210,3 +210,53 @@ def test_map_cli_writes_map_json_and_pngs_into_a_report_folder(toy_map_registere
                           "--workers", "0", "-q", "--out", tmp_path / "r"], capsys)
     assert code == 0, err  # an earlier map's folder is replaced; its units come from the store
     assert "0 computed, 16 reused" in out
+
+
+@pytest.mark.slow  # a dask.distributed LocalCluster: several seconds
+def test_dask_localcluster_map_equals_the_local_map(tmp_path):
+    pytest.importorskip("distributed")
+    from distributed import Client, LocalCluster
+
+    ref = _map(tmp_path, points=4, k=2, workers=0, db_name="ref.db")
+    fam = types.SimpleNamespace(FAMILY=toy.FAMILY, DESIGN_SEED=toy.DESIGN_SEED, MAP_CLAIMS=toy.MAP_CLAIMS,
+                                MAP_CONSTRAINTS=toy.MAP_CONSTRAINTS)
+    with (
+        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        Client(cluster) as client,
+    ):
+        got = build.map_paper(toy, points=4, units_per_point=2, executor=client.get_executor(),
+                              db=tmp_path / "d.db", family=fam)
+    assert json.dumps(got.result.as_dict()) == json.dumps(ref.result.as_dict())
+
+
+def test_paper_004_family_is_its_config_fields_with_sources_and_its_device_facts():
+    from gyrobench.scenarios.papers.p004_rlg_thermal import CLAIMS, Config
+    from gyrobench.scenarios.papers.p004_rlg_thermal import family as f004
+    from gyrobench.scenarios.papers.p004_rlg_thermal.identify import IDENTIFIED
+
+    for p in f004.FAMILY.parameters:  # every range lies inside the Config's documented range
+        spec = Config.RANGES[p.field]
+        assert spec.contains(p.range.low) and spec.contains(p.range.high), p.field
+        assert p.range.unit == spec.unit, p.field
+    eta = next(p for p in f004.FAMILY.parameters if p.field == "dissipative")
+    assert eta.range.contains(IDENTIFIED.dissipative)  # the nominal device lies in the family
+    assert "ASSUMPTION" in eta.source
+    device = [c for c in CLAIMS if c.role == "device"]
+    assert [(c.id, c.quantity, c.comparator) for c in f004.MAP_CONSTRAINTS] == [
+        (c.id, c.quantity, c.comparator) for c in device]
+    assert f004.MAP_CLAIMS and all(c.role != "device" and c.precondition is not None for c in f004.MAP_CLAIMS)
+
+
+@pytest.mark.slow  # paper 004's real units (about 1 s of CPU each): a 4-point map through the CLI
+def test_paper_004_map_through_the_cli_recounts_from_map_json(tmp_path, capsys):
+    code, out, err = run(["reproduce", "rlg_thermal", "--map", "--points", "4", "--units-per-point", "1",
+                          "--workers", "0", "-q", "--out", tmp_path / "r"], capsys)
+    assert code == 0, err
+    folder = tmp_path / "r" / "rlg_thermal"
+    doc = json.loads((folder / "map.json").read_text())
+    reg, counts, verdicts = _recount(doc)
+    assert reg == doc["region"] and counts == doc["constraint_counts"]
+    for c in doc["claims"]:
+        assert (c["region_holds"], c["region_testable"]) == verdicts[c["id"]][:2]
+    for name in ("phase_diagrams.png", "specification_curves.png", "constraints.png"):
+        assert (folder / name).stat().st_size > 10_000

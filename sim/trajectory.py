@@ -96,7 +96,10 @@ def rotation_matrix(rotvec: ArrayLike) -> NDArray[np.float64]:
 class Motion(Protocol):
     """A trajectory: the block's attitude, body rate, velocity and acceleration at any time."""
 
-    duration: float
+    @property
+    def duration(self) -> float:
+        """Length [s] (read-only: the motions are frozen dataclasses)."""
+        ...
 
     def breakpoints(self) -> NDArray[np.float64]:
         """Times [s] in (0, duration) where the rate or acceleration may jump."""

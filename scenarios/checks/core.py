@@ -80,6 +80,7 @@ CHECK_MODULES: tuple[str, ...] = (
     "gyrobench.scenarios.checks.mount_coning",
     "gyrobench.scenarios.checks.fog_strain",
     "gyrobench.scenarios.checks.shaker",
+    "gyrobench.scenarios.checks.trajectory",
 )
 
 

@@ -27,7 +27,7 @@ def test_every_check_passes_and_is_reported(outcome, tmp_path):
     # each check module contributes its ids, in CHECK_MODULES order
     assert [m.rsplit(".", 1)[1].removeprefix("checks_") for m in CHECK_MODULES] == [
         "noise", "fog", "rlg", "mems", "rlg_cavity", "fog_loop", "coil", "mems_nonlinear", "mount_coning",
-        "fog_strain", "shaker",
+        "fog_strain", "shaker", "trajectory",
     ]
     assert ids[:9] == [
         "noise.avar_Q",

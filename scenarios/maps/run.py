@@ -122,8 +122,10 @@ def run_map(
                     blobs[i, s], elapsed[i, s] = bytes(blob), float(el)
         reused = len(blobs)
         todo = [(i, s) for i in range(len(configs)) for s in seeds[i] if (i, s) not in blobs]
-        if executor is None and todo:
-            runner.check_unit_memory(module, configs[0], concurrent=runner.concurrent_units(len(todo), workers))
+        if executor is None and todo:  # our own local pool: its units share this machine
+            at_once = runner.concurrent_units(len(todo), workers)
+            for i in sorted({i for i, _ in todo}):
+                runner.check_unit_memory(module, configs[i], concurrent=at_once)
         bar = tqdm(total=len(configs) * units_per_point, initial=reused, disable=not progress or not todo,
                    desc=f"{name} map units", unit="unit", dynamic_ncols=True)
 

@@ -260,3 +260,13 @@ def test_paper_004_map_through_the_cli_recounts_from_map_json(tmp_path, capsys):
         assert (c["region_holds"], c["region_testable"]) == verdicts[c["id"]][:2]
     for name in ("phase_diagrams.png", "specification_curves.png", "constraints.png"):
         assert (folder / name).stat().st_size > 10_000
+
+
+def test_map_cli_refuses_a_foreign_out_folder_and_leaves_it_alone(toy_map_registered, tmp_path, capsys):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    code, _, err = run(["reproduce", "toy_map_paper", "--map", "--points", "4", "--workers", "0", "-q",
+                        "--out", out], capsys)
+    assert_one_line_error(code, err, "--out")
+    assert [p.name for p in out.iterdir()] == ["notes.txt"] and (out / "notes.txt").read_text() == "mine"

@@ -16,7 +16,18 @@ DEFAULT_UNITS_PER_POINT = 3
 
 
 def cmd_map(args) -> int:
-    """Check the inputs, then map the one named paper into ``--out`` (a report folder, written as a set)."""
+    """Check the inputs, then map the one named paper into ``--out`` (a report folder, written as a set).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``reproduce``'s parsed arguments with ``--map``.
+
+    Returns
+    -------
+    int
+        The exit status (0).
+    """
     from gyrobench.scenarios import registry
     from gyrobench.scenarios.cli.reproduce import _check_reproduce_outputs
     from gyrobench.scenarios.maps.build import family_module

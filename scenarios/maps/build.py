@@ -29,15 +29,34 @@ __all__ = ["Mapped", "family_module", "map_paper", "write_map"]
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Mapped:
-    """A map's result and how its units ran."""
+    """A map's result and how its units ran.
+
+    Parameters
+    ----------
+    result : MapResult
+        The region and the claims over the family.
+    units : MapUnits
+        The units' seeds, quantities and counts.
+    """
 
     result: MapResult
     units: MapUnits
 
 
 def family_module(module: types.ModuleType) -> types.ModuleType | None:
-    """The paper's ``family`` module, the scenario module itself when it defines ``FAMILY``, or None
-    when the paper defines no family to map."""
+    """The module defining a paper's family.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario.
+
+    Returns
+    -------
+    module or None
+        ``module`` itself when it defines ``FAMILY``, else its ``family`` submodule; None when the
+        paper defines no family to map.
+    """
     if hasattr(module, "FAMILY"):
         return module
     name = module.__name__ + ".family"
@@ -61,9 +80,35 @@ def map_paper(
     progress: bool = False,
     family: types.ModuleType | None = None,
 ) -> Mapped:
-    """Map ``module`` over ``points`` design points of its family (``family``, default
-    :func:`family_module`), ``units_per_point`` units each; the other arguments as in
-    :func:`~.run.run_map`."""
+    """Map a paper over design points of its family.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario.
+    points : int
+        Design points (:func:`~.family.design`).
+    units_per_point : int
+        Units at each point.
+    seed : int
+        The map's first seed (:func:`~.run.unit_seed`).
+    executor : concurrent.futures.Executor, optional
+        Where units run (see :func:`~.run.run_map`).
+    workers : int, optional
+        Local process pool size; ``0`` runs in this process.
+    db : path
+        SQLite unit store.
+    progress : bool
+        A tqdm bar on stderr.
+    family : module, optional
+        Defines ``FAMILY``, ``MAP_CONSTRAINTS``, ``MAP_CLAIMS``, ``DESIGN_SEED`` (default
+        :func:`family_module`).
+
+    Returns
+    -------
+    Mapped
+        The map and how its units ran.
+    """
     fam = family or family_module(module)
     if fam is None:
         raise ValueError(f"scenario {getattr(module, 'NAME', module.__name__)!r} defines no device family to map")
@@ -76,7 +121,22 @@ def map_paper(
 
 
 def write_map(mapped: Mapped, folder: Path, *, command: str = "") -> Path:
-    """Write ``map.json`` and the two PNGs into ``folder`` (created); return map.json's path."""
+    """Write ``map.json`` and the three PNGs into a folder.
+
+    Parameters
+    ----------
+    mapped : Mapped
+        A map.
+    folder : Path
+        Created if absent.
+    command : str
+        The command line, recorded in map.json.
+
+    Returns
+    -------
+    Path
+        map.json's path.
+    """
     from .figures import constraint_maps, phase_diagrams, specification_curves
 
     folder.mkdir(parents=True, exist_ok=True)

@@ -83,7 +83,15 @@ class Parameter:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Fixed:
-    """A parameter the family keeps at the base configuration's value, with that value's source."""
+    """A parameter the family keeps at the base configuration's value, with that value's source.
+
+    Parameters
+    ----------
+    field : str
+        The paper ``Config`` field.
+    source : str
+        Where its value comes from, or the stated assumption.
+    """
 
     field: str
     source: str
@@ -177,7 +185,22 @@ class Design:
 
 
 def design(family: Family, n: int, seed: int) -> Design:
-    """``n`` space-filling points of ``family`` (see the module): Sobol for a power of two, else LHS."""
+    """Space-filling points of a family (see the module): Sobol for a power of two, else LHS.
+
+    Parameters
+    ----------
+    family : Family
+        The family whose open parameters the points set.
+    n : int
+        Points, in ``[2, MAX_POINTS]``.
+    seed : int
+        The scramble's seed.
+
+    Returns
+    -------
+    Design
+        The points' unit coordinates and values.
+    """
     if isinstance(n, bool) or not isinstance(n, int) or not 2 <= n <= MAX_POINTS:
         raise ValueError(f"points must be an integer in [2, {MAX_POINTS}]; got {n!r}")
     d = len(family.parameters)

@@ -48,8 +48,23 @@ def _top_two(result: MapResult, sensitivity: tuple[Sensitivity, ...]) -> tuple[i
 
 
 def phase_diagrams(result: MapResult, path: Path) -> Path:
-    """One PNG: per claim, every point's pass rate over its two most sensitive parameters; region
-    points ringed in red, points that could not test the claim as grey crosses."""
+    """Each claim's pass rate over its two most sensitive parameters, one PNG.
+
+    One PNG: per claim, every point's pass rate over its two most sensitive parameters; region
+    points ringed in red, points that could not test the claim as grey crosses.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+    path : Path
+        The PNG to write.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     claims = result.claims
     rows, cols = _grid(len(claims))
     fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")
@@ -90,8 +105,23 @@ def phase_diagrams(result: MapResult, path: Path) -> Path:
 
 
 def specification_curves(result: MapResult, path: Path) -> Path:
-    """One PNG: per claim, the region points' median quantities sorted (every point when the region is
-    empty, said in the title), the claim's band shaded and the paper's value as a dashed line."""
+    """Each claim's specification curve over the region points, one PNG.
+
+    One PNG: per claim, the region points' median quantities sorted (every point when the region is
+    empty, said in the title), the claim's band shaded and the paper's value as a dashed line.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+    path : Path
+        The PNG to write.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     claims = result.claims
     rows, cols = _grid(len(claims))
     fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 3.9 * rows), squeeze=False, layout="constrained")
@@ -134,8 +164,23 @@ def specification_curves(result: MapResult, path: Path) -> Path:
 
 
 def constraint_maps(result: MapResult, path: Path) -> Path:
-    """One PNG: per reported device fact, every point's median quantity over the fact's two most
-    sensitive parameters; points satisfying the fact ringed in green, region points in red."""
+    """Each reported device fact over its two most sensitive parameters, one PNG.
+
+    One PNG: per reported device fact, every point's median quantity over the fact's two most
+    sensitive parameters; points satisfying the fact ringed in green, region points in red.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+    path : Path
+        The PNG to write.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     cons = result.constraints
     rows, cols = _grid(len(cons))
     fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")

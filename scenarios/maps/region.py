@@ -89,7 +89,19 @@ class Constraint:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Sensitivity:
-    """One parameter's Spearman rank correlation with a claim's pass rate over the points."""
+    """One parameter's Spearman rank correlation with a claim's pass rate (or a fact's medians) over the points.
+
+    Parameters
+    ----------
+    field : str
+        The parameter's Config field.
+    rho : float or None
+        Spearman's rho (None: fewer than 3 points, or a constant response).
+    p_value : float or None
+        Its two-sided p-value (:func:`scipy.stats.spearmanr`).
+    points : int
+        Points the correlation is over.
+    """
 
     field: str
     rho: float | None
@@ -304,8 +316,28 @@ def analyse(
     constraints: Sequence[Constraint],
     claims: Sequence[Claim],
 ) -> MapResult:
-    """The map of ``claims`` over ``design``'s points, their ``units``' quantities, and the region of
-    ``constraints`` (see the module for every rule)."""
+    """The map of claims over a design's points and the region of the constraints (rules: the module).
+
+    Parameters
+    ----------
+    family : Family
+        The family the design covers.
+    design : Design
+        The points.
+    seeds : sequence of sequence of int
+        Each point's unit seeds.
+    units : sequence of sequence of mapping
+        Each point's units' ``quantities``.
+    constraints : sequence of Constraint
+        The paper's device facts (at least one).
+    claims : sequence of Claim
+        The claims to map.
+
+    Returns
+    -------
+    MapResult
+        The region, the counts and each claim over the family.
+    """
     if len(units) != len(design):
         raise ValueError(f"a map needs one list of units per point; got {len(units)} for {len(design)} points")
     if not constraints:
@@ -321,7 +353,18 @@ def analyse(
 
 
 def conflicts(result: MapResult) -> tuple[tuple[str, str], ...]:
-    """Pairs of constraints each satisfied on some point and never both on one point."""
+    """Pairs of constraints each satisfied on some point and never both on one point.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+
+    Returns
+    -------
+    tuple of (str, str)
+        The conflicting pairs' ids, in constraint order.
+    """
     ids = [c.id for c in result.constraints]
     sat = np.asarray(result.satisfied, bool).reshape(len(result.satisfied), len(ids))
     out = []
@@ -333,7 +376,19 @@ def conflicts(result: MapResult) -> tuple[tuple[str, str], ...]:
 
 
 def region_finding(result: MapResult) -> str:
-    """One paragraph: the region's size, or, when it is empty, which reported facts cannot hold together."""
+    """The region's size, or, when it is empty, which reported facts cannot hold together.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+
+    Returns
+    -------
+    str
+        One paragraph: never-satisfied facts with their closest point, conflicting pairs, or a
+        joint conflict.
+    """
     n, region = len(result.satisfied), result.region
     if region:
         return f"{len(region)} of {n} family points satisfy every reported device fact."

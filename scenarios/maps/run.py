@@ -8,8 +8,10 @@ Point ``i`` is the paper's ``Config`` at the design's i-th values; its unit ``j`
 so a unit's seed depends on its point and unit index only (never on the order units finish in,
 the worker count or the executor), and no map seed is one of the report's seeds (0 ...) or an
 identification's (900 ...). Each unit runs through the runner's worker entry point
-(:func:`gyrobench.scenarios.runner.units.unit_job`: BLAS pools limited to one thread, the result
-encoded by the codec), so a local pool (``workers``), this process (``workers=0``) or a Dask
+(``_unit_job`` of :mod:`gyrobench.scenarios.runner.units`: BLAS pools limited to one thread, the
+result encoded by the codec; the store's private helpers are used as they are, so a map's units are
+stored exactly as :func:`~gyrobench.scenarios.runner.units.run_units` stores them), so a local pool
+(``workers``), this process (``workers=0``) or a Dask
 executor give the same bits. Each finished unit is committed to the unit store under its point's
 run id (the scenario's source closure and that point's ``Config``), the store
 :func:`gyrobench.scenarios.runner.units.run_units` uses: a map killed at any moment resumes and
@@ -39,7 +41,22 @@ UNITS_PER_POINT_MAX = 1000
 
 
 def unit_seed(seed: int, point: int, unit: int) -> int:
-    """The seed of unit ``unit`` of point ``point`` in a map started at ``seed`` (see the module)."""
+    """The seed of one unit of one point of a map (see the module).
+
+    Parameters
+    ----------
+    seed : int
+        The map's first seed (``reproduce --seed``).
+    point : int
+        The point's index (>= 0).
+    unit : int
+        The unit's index at the point, in ``[0, UNITS_PER_POINT_MAX)``.
+
+    Returns
+    -------
+    int
+        ``seed + MAP_SEED_OFFSET + point * UNITS_PER_POINT_MAX + unit``.
+    """
     if not 0 <= unit < UNITS_PER_POINT_MAX:
         raise ValueError(f"units per point must be in [1, {UNITS_PER_POINT_MAX}]; got unit index {unit!r}")
     if point < 0:
@@ -86,10 +103,35 @@ def run_map(
 ) -> MapUnits:
     """Run ``units_per_point`` units of ``module`` at each of ``configs``, resuming from ``db``.
 
-    ``executor`` (not shut down here) or ``workers`` (a local pool of that size; 0: this process;
-    None: the usable CPUs) as in :func:`gyrobench.scenarios.runner.units.run_units`. An exception in
-    a unit is re-raised with a note naming the point and the seed, after the finished units are
-    committed.
+    Parameters
+    ----------
+    module : module
+        A paper scenario, importable by name in the workers.
+    configs : sequence of the module's Config
+        One configuration per point.
+    units_per_point : int
+        Units at each point, in ``[1, UNITS_PER_POINT_MAX]``.
+    seed : int
+        The map's first seed (:func:`unit_seed`).
+    executor : concurrent.futures.Executor, optional
+        Where units run (not shut down here). Excludes ``workers``.
+    workers : int, optional
+        Local process pool size (default: the usable CPUs); ``0`` runs in this process.
+    db : path
+        SQLite unit store (created if absent, in an existing folder).
+    progress : bool
+        A tqdm bar on stderr.
+
+    Returns
+    -------
+    MapUnits
+        Every point's seeds and quantities, in point then unit order.
+
+    Raises
+    ------
+    ValueError
+        Bad sizes or a module without the paper-scenario shape. An exception in a unit is
+        re-raised with a note naming the point and the seed, after the finished units are committed.
     """
     from tqdm import tqdm
 
@@ -108,7 +150,7 @@ def run_map(
     name = getattr(module, "NAME", module.__name__)
     seeds = tuple(tuple(unit_seed(seed, i, j) for j in range(units_per_point)) for i in range(len(configs)))
     ids = runner.run_ids(module, configs)
-    conn = runner.open_store(db, ids[0][0], name, configs[0], ids[0][1])
+    conn = runner._open_store(db, ids[0][0], name, configs[0], ids[0][1])
     try:
         for (rid, ident), c in zip(ids[1:], configs[1:], strict=True):
             runner.register_run(conn, rid, name, c, ident)
@@ -130,14 +172,14 @@ def run_map(
                    desc=f"{name} map units", unit="unit", dynamic_ncols=True)
 
         def record(i: int, s: int, blob: bytes, el: float, is_full: bool) -> None:
-            blobs[i, s] = runner.store_unit(conn, ids[i][0], s, blob, el, is_full)
+            blobs[i, s] = runner._store(conn, ids[i][0], s, blob, el, is_full)
             elapsed[i, s] = el
             bar.update(1)
 
         try:
             if executor is None and workers == 0:
                 for i, s in todo:
-                    record(i, *runner.unit_job(module.__name__, configs[i], s, False, True))
+                    record(i, *runner._unit_job(module.__name__, configs[i], s, False, True))
             elif todo:
                 for c in configs:
                     check_picklable(None, c)
@@ -147,7 +189,7 @@ def run_map(
                 futures: dict[cf.Future, tuple[int, int]] = {}
                 ok = False
                 try:
-                    futures = {ex.submit(runner.unit_job, module.__name__, configs[i], s, False, local): (i, s)
+                    futures = {ex.submit(runner._unit_job, module.__name__, configs[i], s, False, local): (i, s)
                                for i, s in todo}
                     for fut in cf.as_completed(futures):
                         i, s = futures[fut]
@@ -165,7 +207,7 @@ def run_map(
         finally:
             bar.close()
         quantities = tuple(
-            tuple(dict(quantities_of(runner.decode_unit(blobs[i, s], s, db))) for s in seeds[i])
+            tuple(dict(quantities_of(runner._decode(blobs[i, s], s, db))) for s in seeds[i])
             for i in range(len(configs))
         )
         return MapUnits(

@@ -66,18 +66,14 @@ __all__ = [
     "check_run_size",
     "check_unit_memory",
     "concurrent_units",
-    "decode_unit",
     "default_db",
     "is_paper_scenario",
-    "open_store",
     "register_run",
     "run_id",
     "run_ids",
     "run_paper",
     "run_units",
     "slim_result",
-    "store_unit",
-    "unit_job",
 ]
 
 #: default resume store (in the current directory) when no db is given
@@ -154,7 +150,20 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
 
 
 def run_ids(module: types.ModuleType, configs: Sequence[Any]) -> list[tuple[str, str]]:
-    """:func:`run_id` of ``module`` with each of ``configs`` (the same ids), its source closure hashed once."""
+    """The :func:`run_id` of ``module`` with each of ``configs``, its source closure hashed once.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario.
+    configs : sequence of the module's Config
+        The configurations.
+
+    Returns
+    -------
+    list of (str, str)
+        Each config's (16-hex run id, JSON identity), equal to :func:`run_id`'s.
+    """
     from gyrobench.scenarios.bench.identity import canonical, scenario_identity
     from gyrobench.scenarios.runner.codec import SCHEMA
 
@@ -374,7 +383,21 @@ def _open_store(
 
 
 def register_run(conn: sqlite3.Connection, rid: str, name: str, config: Any, identity: str) -> None:
-    """Record the run ``rid`` (its scenario, config and identity) in an open unit store, once."""
+    """Record a run in an open unit store, once (a second call for the same run id does nothing).
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The unit store (:func:`gyrobench.scenarios.runner.store.connect_db`).
+    rid : str
+        The run id (:func:`run_id`).
+    name : str
+        The scenario's name.
+    config : Any
+        The run's configuration (stored as its repr).
+    identity : str
+        The run's JSON identity (:func:`run_id`).
+    """
     conn.execute("BEGIN IMMEDIATE")
     conn.execute(
         "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
@@ -402,14 +425,6 @@ def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: 
         raise
     conn.execute("COMMIT")
     return bytes(stored)
-
-
-#: the runner's pieces other runners of units (a map's points, :mod:`gyrobench.scenarios.maps.run`)
-#: share, so their units are stored, encoded and run exactly as :func:`run_units` does
-unit_job = _unit_job
-open_store = _open_store
-store_unit = _store
-decode_unit = _decode
 
 
 def _execute(

@@ -98,6 +98,7 @@ def _run(args, mod, points: int, k: int) -> int:
     for c in r.constraints:
         print(f"  {c.id:<36} satisfied on {counts[c.id]} of {len(r.design)} points")
     for m in r.claims:
-        print(f"  {m.claim.id:<36} {m.verdict_text()}")
+        print(f"  {m.claim.id:<36} {m.verdict_text()} (whole family: holds on {m.family_k} of "
+              f"{m.family_n} points that could test it)")
     print(f"map: {out / path.relative_to(tmp)}")
     return 0

@@ -130,6 +130,9 @@ class ClaimMap:
         Failing region points by the side their median misses on.
     sensitivity : tuple of Sensitivity
         Every parameter, the largest |rho| first (None rho last, in parameter order).
+    family_k, family_n : int
+        The same count over every point of the family, region or not (what the claim does where
+        the paper's facts do not hold; no verdict about the paper's device).
     """
 
     claim: Claim
@@ -142,6 +145,8 @@ class ClaimMap:
     interval95: tuple[float, float] | None
     misses: dict[str, int]
     sensitivity: tuple[Sensitivity, ...]
+    family_k: int = 0
+    family_n: int = 0
 
     def pass_rates(self) -> tuple[float, ...]:
         """Each point's holds / testable (NaN where no unit could test the claim)."""
@@ -245,6 +250,7 @@ class MapResult:
                 "region_holds": m.region_k, "region_testable": m.region_n,
                 "interval95": None if m.interval95 is None else list(m.interval95),
                 "misses": m.misses, "verdict": m.verdict_text(),
+                "family_holds": m.family_k, "family_testable": m.family_n,
                 "sensitivity": [{"field": s.field, "rho": s.rho, "p_value": s.p_value, "points": s.points}
                                 for s in m.sensitivity],
             } for m in self.claims],
@@ -305,6 +311,7 @@ def _claim_map(claim: Claim, units: Sequence[Sequence[Mapping[str, Any]]], regio
         claim=claim, holds=holds, testable=testable, medians=medians, point_verdicts=verdicts,
         region_k=k, region_n=len(tested), interval95=clopper_pearson(k, len(tested)) if tested else None,
         misses=misses, sensitivity=_sensitivity(family, design, rates),
+        family_k=sum(v == "holds" for v in verdicts), family_n=sum(v != "not testable" for v in verdicts),
     )
 
 

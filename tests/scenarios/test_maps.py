@@ -132,7 +132,8 @@ def _recount(doc):
         ci = None
         if n:  # Clopper-Pearson from the beta quantiles
             ci = [0.0 if k == 0 else beta.ppf(0.025, k, n - k + 1), 1.0 if k == n else beta.ppf(0.975, k + 1, n - k)]
-        verdicts[c["id"]] = (k, n, ci)
+        everywhere = [p["claims"][c["id"]] for p in doc["points"] if p["claims"][c["id"]]["testable"] > 0]
+        verdicts[c["id"]] = (k, n, ci, sum(2 * g["holds"] > g["testable"] for g in everywhere), len(everywhere))
     return reg, counts, verdicts
 
 
@@ -144,8 +145,9 @@ def test_map_json_recomputed_independently(toy_map, tmp_path):
     assert reg == doc["region"] and counts == doc["constraint_counts"]
     assert [p["index"] for p in doc["points"] if p["in_region"]] == reg
     for c in doc["claims"]:
-        k, n, ci = verdicts[c["id"]]
+        k, n, ci, fk, fn = verdicts[c["id"]]
         assert (c["region_holds"], c["region_testable"]) == (k, n)
+        assert (c["family_holds"], c["family_testable"]) == (fk, fn)
         np.testing.assert_allclose(c["interval95"], ci, rtol=1e-9, atol=1e-12)
     assert (tmp_path / "out" / "phase_diagrams.png").stat().st_size > 10_000
     assert (tmp_path / "out" / "specification_curves.png").stat().st_size > 10_000

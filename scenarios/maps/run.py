@@ -16,7 +16,8 @@ executor give the same bits. Each finished unit is committed to the unit store u
 run id (the scenario's source closure and that point's ``Config``), the store
 :func:`gyrobench.scenarios.runner.units.run_units` uses: a map killed at any moment resumes and
 recomputes no finished unit. (A point's run id is the one ``reproduce`` gives the same config, but
-map seeds start at ``MAP_SEED_OFFSET``, so a map does not reuse a reproduction's units.) Units are stored slim (:func:`~gyrobench.scenarios.runner.units.slim_result`): the
+map seeds start at ``MAP_SEED_OFFSET``, so a map does not reuse a reproduction's units.) Units
+are stored slim (:func:`~gyrobench.scenarios.runner.units.slim_result`): the
 map reads only their ``quantities``.
 """
 

@@ -159,6 +159,11 @@ class Comparator:
             return "false"
         return "below" if q < self.lo or (self.kind == "above" and q <= self.lo) else "above"
 
+    def as_dict(self) -> dict[str, Any]:
+        """The comparator as data, for a referee to recount a pass: ``kind`` and the band ``lo``, ``hi``
+        (``"above"``: q > lo; ``"below"``: q < hi; ``"is_true"``: q == 1; otherwise lo <= q <= hi)."""
+        return {"kind": self.kind, "lo": self.lo, "hi": self.hi}
+
     def text(self, unit: str = "") -> str:
         """One phrase, e.g. ``"within 2x of 15.71 % (7.855 to 31.42)"``."""
         u = f" {unit}" if unit else ""
@@ -239,7 +244,7 @@ class Precondition:
 
     def as_dict(self) -> dict[str, Any]:
         return {"text": self.text, "quantity": self.quantity, "comparator": self.comparator.text(),
-                "also": [p.as_dict() for p in self.also]}
+                "criterion": self.comparator.as_dict(), "also": [p.as_dict() for p in self.also]}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -474,6 +479,7 @@ class ClaimResult:
             "paper_value": c.paper_value,
             "unit": c.unit,
             "comparator": c.comparator.text(c.unit),
+            "criterion": c.comparator.as_dict(),
             "quantity": c.quantity,
             "units": self.units,
             "testable": self.testable,

@@ -29,7 +29,7 @@ sensed value along the nominal axis) and each error term, summing to ``output - 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -129,7 +129,10 @@ class AccelerometerSpec:
         vrw_m_s_sqrt_h : float
             Velocity random walk [m/s/sqrt(h)].
         bias_instability_ug : float
-            Bias instability [ug].
+            Bias instability B [ug]: the IEEE coefficient (ADEV minimum / 0.664), as
+            :meth:`gyrobench.sim.noise.NoiseModel.from_datasheet` takes it. A part's sheet figure
+            (``accel_bias_instability_ug``, an ADEV minimum) goes through
+            :meth:`gyrobench.sim.parts.Part.accelerometer` instead.
         bias_tempco_mg_per_k, scale_factor_tempco_ppm_per_k : float
             Temperature coefficients [mg/K], [ppm/K].
         range_g, bandwidth_hz, resolution_mg : float
@@ -151,6 +154,11 @@ class AccelerometerSpec:
             bandwidth=bandwidth_hz,
             resolution=resolution_mg * 1e-3 * g,
         )
+
+    def to_metadata(self) -> dict[str, float | None]:
+        """The fields in SI as a JSON-ready dict (None for an unlimited range or bandwidth)."""
+        return {f.name: (None if math.isinf(getattr(self, f.name)) else float(getattr(self, f.name)))
+                for f in fields(self)}
 
     def low_pass(self, x: NDArray[np.float64], fs: float) -> NDArray[np.float64]:
         """The output filter (``bandwidth``) applied to samples ``x`` at ``fs`` [Hz], from its steady state."""
@@ -445,6 +453,7 @@ class TriadUnit:
             channels["temperature"] = Channel(np.full(n, float(temperature)), "K", "block temperature")
         meta = {
             "model": "gyrobench.sim.imu.TriadUnit",
+            "accelerometer": None if acc is None else acc.to_metadata(),
             "gyro_matrix": self.gyro_matrix.tolist(),
             "accel_matrix": self.accel_matrix.tolist(),
             "error_components": components,

@@ -17,18 +17,29 @@ The trajectory file (TOML, field units; every key optional but one ``[[motion]]`
     acceleration_mps2 = [0, 0, 0]
 
     [accelerometer]             # a datasheet-level accelerometer (AccelerometerSpec.from_datasheet keys);
-    vrw_m_s_sqrt_h = 0.05       # without this table the accelerometers are ideal
+    vrw_m_s_sqrt_h = 0.05       # it replaces the part's own accelerometer figures for this run
     bias_instability_ug = 20.0
 
 or a CSV of samples (a navigation solution or motion capture) with the header
 ``time_s,qw,qx,qy,qz,vn_mps,ve_mps,vd_mps``: time from 0 [s], the body-to-NED attitude quaternion
 (scalar first) and the NED velocity [m/s], splined between the rows
 (:class:`gyrobench.sim.trajectory.SampledMotion`); its site is ``--latitude`` (default 0) at sea
-level, and its accelerometers are ideal.
+level.
+
+The accelerometers: the trajectory's ``[accelerometer]`` table when it has one, else the part's
+own (:meth:`gyrobench.sim.parts.Part.accelerometer`, from its sheet's ``accel_*`` figures), else
+ideal (a gyro-only part: the record's output is then the true specific force after the triad's
+misalignment). The record's metadata says which (``accelerometer_from``) and holds the spec in SI
+(``accelerometer``).
+
+Outputs besides ``-o``: ``--euroc`` (EuRoC/ASL ``data.csv``), ``--kalibr`` (Kalibr ``imu.yaml``)
+and ``--rosbag`` (a ROS 1 ``.bag`` or a ROS 2 bag folder of ``sensor_msgs/msg/Imu``, through the
+optional extra ``ros``: :mod:`gyrobench.io.rosbag`, :func:`write_bag`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -161,8 +172,76 @@ def load_trajectory_csv(path: str, latitude_deg: float):
     return motion, Site(latitude=units.deg(latitude_deg)), None
 
 
+def choose_accelerometer(part, table):
+    """(spec, what it is) of the run's accelerometers: the trajectory's table, else the part's, else ideal.
+
+    Parameters
+    ----------
+    part : gyrobench.sim.parts.Part
+        The triad's part.
+    table : AccelerometerSpec or None
+        The trajectory's ``[accelerometer]`` table, if it has one.
+
+    Returns
+    -------
+    tuple
+        (:class:`~gyrobench.sim.imu.AccelerometerSpec`, a one-line description for the metadata).
+    """
+    from gyrobench.sim.imu import AccelerometerSpec
+
+    if table is not None:
+        return table, "the trajectory's [accelerometer] table"
+    own = part.accelerometer()
+    if own is not None:
+        return own, f"the part's datasheet ({part.name}: {part.datasheet.source})"
+    return AccelerometerSpec(), (f"ideal (the {part.name} sheet gives no accelerometer figures and the trajectory "
+                                 "has no [accelerometer] table)")
+
+
+def write_bag(path: str, rec, part, accel, *, increments: bool) -> None:
+    """Write the record's six channels as a ROS bag (:func:`gyrobench.io.rosbag.write_imu_bag`) and say so.
+
+    Stamps are the samples' times (the record's t0 + k/fs: each sample's interval centre); rates
+    from increments are the increments x fs. The covariances are the per-sample white-noise
+    variances of the spec: N^2 fs + q^2/12 for the gyros (N the part's ARW, q its LSB) and
+    VRW^2 fs + q^2/12 for the accelerometers, zeros ("unknown") for ideal accelerometers.
+
+    Parameters
+    ----------
+    path : str
+        ``NAME.bag`` (ROS 1) or a new folder (ROS 2).
+    rec : Recording
+        The triad's record.
+    part : gyrobench.sim.parts.Part
+        The gyro part (its ARW and LSB set the gyro covariance).
+    accel : AccelerometerSpec
+        The run's accelerometers.
+    increments : bool
+        Whether the record holds increments.
+    """
+    import numpy as np
+
+    from gyrobench.io.rosbag import bag_format, write_imu_bag
+
+    fs = rec.fs
+    names, scale = (("dtheta", "dv"), fs) if increments else (("gyro", "accel"), 1.0)
+    g = np.column_stack([rec[f"{names[0]}_{a}"] for a in "xyz"]) * scale
+    a = np.column_stack([rec[f"{names[1]}_{a}"] for a in "xyz"]) * scale
+    d = part.datasheet
+    q_g = math.radians(d.resolution or 0.0)
+    var_g = d.angle_random_walk() ** 2 * fs + q_g**2 / 12
+    var_a = accel.velocity_random_walk**2 * fs + accel.resolution**2 / 12
+    stamps = rec.t0 + np.arange(rec.n_samples) / fs
+    try:
+        out = write_imu_bag(path, g, a, stamps=stamps, gyro_variance=var_g, accel_variance=var_a or None)
+    except ValueError as exc:
+        raise BadInput(f"--rosbag {path!r}: {one_line(exc)}") from None
+    kind = "ROS 1 bag" if bag_format(out) == "ros1" else "ROS 2 bag folder"
+    print(f"wrote {out} ({kind}: {rec.n_samples} sensor_msgs/msg/Imu messages on /imu0)")
+
+
 def simulate_imu(args) -> int:
-    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr files).
+    """``simulate imu PART --trajectory FILE``: write the triad's record to -o (and EuRoC, Kalibr, ROS bag files).
 
     Parameters
     ----------
@@ -181,7 +260,7 @@ def simulate_imu(args) -> int:
     from gyrobench.io.imu_formats import kalibr_imu_yaml, write_euroc
     from gyrobench.io.recording import save_hdf5, to_csv
     from gyrobench.sim import parts
-    from gyrobench.sim.imu import AccelerometerSpec, TriadSpec
+    from gyrobench.sim.imu import TriadSpec
 
     if args.part is None:
         raise BadInput(f"simulate imu needs a PART: one of {', '.join(parts.names())}, or a FILE.toml")
@@ -204,6 +283,20 @@ def simulate_imu(args) -> int:
         if not str(args.kalibr).lower().endswith(".yaml"):
             raise BadInput(f"--kalibr must end in .yaml; got {args.kalibr!r}")
         outs.append((Path(args.kalibr), "--kalibr"))
+    if args.rosbag is not None:
+        from gyrobench.io.rosbag import bag_format, rosbags_available
+
+        if not rosbags_available():
+            raise BadInput("--rosbag needs the optional package rosbags: pip install 'gyrobench[ros]' "
+                           "(or pip install rosbags)")
+        bag = Path(args.rosbag)
+        if bag.exists() or bag.is_symlink():
+            raise BadInput(f"--rosbag {str(bag)!r} exists: a bag is written only to a new path (a bag carries no "
+                           "mark gyrobench could recognise it by); give a new path")
+        if bag_format(bag) == "ros2" and bag.suffix:
+            raise BadInput(f"--rosbag takes NAME.bag (ROS 1) or a folder name without a suffix (ROS 2); "
+                           f"got {str(bag)!r}")
+        outs.append((bag, "--rosbag"))
     # the output rule (gyrobench.base.safety): no output is the trajectory, the part file or another output;
     # an existing file is replaced only if gyrobench wrote it (or with --force)
     part_file = args.part if str(args.part).lower().endswith(".toml") else None
@@ -224,26 +317,31 @@ def simulate_imu(args) -> int:
     memory.check_memory(memory.series_bytes(n, 90), "simulate imu", hint="shorten the motion or lower --fs")
     mis = 0.0 if args.misalignment is None else args.misalignment * 1e-3
     cross = 0.0 if args.cross_axis is None else args.cross_axis * 1e-2
-    spec = TriadSpec(gyros=(part, part, part), accelerometer=accel or AccelerometerSpec(), misalignment=mis,
+    accel, accel_from = choose_accelerometer(part, accel)
+    spec = TriadSpec(gyros=(part, part, part), accelerometer=accel, misalignment=mis,
                      cross_axis=cross, accel_misalignment=mis, accel_cross_axis=cross)
     seed = 0 if args.seed is None else args.seed
     rng_unit, rng_run = np.random.default_rng(seed).spawn(2)
     result = spec.realize(rng=rng_unit).simulate(motion, fs=fs, rng=rng_run, site=site,
                                                   as_increments=bool(args.increments))
-    rec = result.recording
+    rec = dataclasses.replace(result.recording, metadata={**result.recording.metadata,
+                                                          "accelerometer_from": accel_from})
     path = to_csv(out, rec) if out.suffix.lower() == ".csv" else save_hdf5(out, rec)
-    print(f"wrote {path} ({n} samples at {fs:g} Hz of a {part.name} triad; channels {', '.join(rec.channels)})")
+    print(f"wrote {path} ({n} samples at {fs:g} Hz of a {part.name} triad; channels {', '.join(rec.channels)}; "
+          f"accelerometers: {accel_from})")
     if args.euroc is not None:
         scale = fs if args.increments else 1.0
         names = ("dtheta", "dv") if args.increments else ("gyro", "accel")
         g = np.column_stack([rec[f"{names[0]}_{a}"] for a in "xyz"]) * scale
         a = np.column_stack([rec[f"{names[1]}_{a}"] for a in "xyz"]) * scale
-        print(f"wrote {write_euroc(args.euroc, g, a, fs=fs)} (EuRoC/ASL imu0 CSV)")
+        print(f"wrote {write_euroc(args.euroc, g, a, fs=fs, t0=rec.t0)} (EuRoC/ASL imu0 CSV)")
+    if args.rosbag is not None:
+        write_bag(args.rosbag, rec, part, accel, increments=bool(args.increments))
     if args.kalibr is not None:
         from gyrobench.base.atomic import atomic_path
 
         d = part.datasheet
-        acc = spec.accelerometer or AccelerometerSpec()
+        acc = accel
         text = kalibr_imu_yaml(gyro_noise_density=d.angle_random_walk(), gyro_random_walk=0.0,
                                accel_noise_density=acc.velocity_random_walk,
                                accel_random_walk=acc.acceleration_random_walk, update_rate=fs)

@@ -526,6 +526,16 @@ def _cmd_parts(args) -> int:
               f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
+        if d.has_accelerometer:
+            acc_noise = (fmt(d.accel_vrw_m_s_sqrt_h, "m/s/sqrt(h)") if d.accel_vrw_m_s_sqrt_h is not None
+                         else f"{fmt(d.accel_noise_density_ug, 'ug/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
+            print(f"    accelerometers: range {fmt(d.accel_range_g, 'g')}; bias instability "
+                  f"{fmt(d.accel_bias_instability_ug, 'ug')}; noise {acc_noise}; bias repeatability "
+                  f"{fmt(d.accel_bias_repeatability_mg, 'mg')}; scale factor "
+                  f"{fmt(d.accel_scale_factor_repeatability_ppm, 'ppm')}; bandwidth {fmt(d.accel_bandwidth_hz, 'Hz')}; "
+                  f"resolution {fmt(d.accel_resolution_mg, 'mg')}")
+        else:
+            print("    accelerometers: none on the sheet (a triad of this part has ideal accelerometers)")
         print(f"    source: {d.source}")
         print(f"    physics model: {parts.physics_summary(d)}")
         if d.notes:
@@ -534,7 +544,8 @@ def _cmd_parts(args) -> int:
 
 
 _IMU_FLAGS = {"trajectory": "--trajectory", "misalignment": "--misalignment", "cross_axis": "--cross-axis",
-              "euroc": "--euroc", "kalibr": "--kalibr", "increments": "--increments", "latitude": "--latitude"}
+              "euroc": "--euroc", "kalibr": "--kalibr", "rosbag": "--rosbag", "increments": "--increments",
+              "latitude": "--latitude"}
 
 
 def _cmd_simulate(args) -> int:
@@ -599,6 +610,8 @@ def add_parsers(sub) -> None:
     s.add_argument("--increments", action="store_true", help="imu: write angle and velocity increments, not rates")
     s.add_argument("--euroc", help="imu: also write a EuRoC/ASL imu0 data.csv")
     s.add_argument("--kalibr", help="imu: also write a Kalibr imu.yaml from the part's and accelerometer's figures")
+    s.add_argument("--rosbag", help="imu: also write a ROS bag of sensor_msgs/msg/Imu on /imu0: NAME.bag is a ROS 1 "
+                   "bag, any other new path a ROS 2 bag folder (needs the extra: pip install 'gyrobench[ros]')")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     add_force(s)
     s.set_defaults(func=_cmd_simulate)

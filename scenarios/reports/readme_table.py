@@ -24,6 +24,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from gyrobench.scenarios.reports.reasons import calibrated_text, findings, reason
+
 __all__ = ["BEGIN", "END", "format_summary", "format_table", "load_report", "main", "splice"]
 
 BEGIN = "<!-- reproduced-results:begin -->"
@@ -57,7 +59,7 @@ def load_report(folder: str | Path) -> list[dict[str, Any]]:
             f"report folder {str(root)!r} holds no <scenario>/results.json; "
             "run 'gyrobench reproduce --all --out DIR' first"
         )
-    order = {n: i for i, n in enumerate(registry.SCENARIOS)}
+    order = {n: i for i, n in enumerate(registry.table())}
     return sorted(
         docs, key=lambda d: (order.get(d.get("scenario"), len(order)), d.get("scenario", ""))
     )
@@ -100,13 +102,13 @@ def _row(c: dict[str, Any]) -> str:
     notes = []
     if c.get("provisional"):
         notes.append("provisional")
-    direction = (c.get("misses") or {}).get("direction")
-    if c.get("status") in ("contradicted", "device not matched") and direction:
-        notes.append(f"misses {direction}")
-    if c.get("precondition_absent"):
+    why = reason(c)
+    if why:
+        notes.append(why)
+    if c.get("precondition_absent") and c.get("status") != "not reproducible on this device":
         notes.append(f"{c['precondition_absent']} unit(s) lack the precondition")
     control = c.get("control")
-    if control:
+    if control and c.get("status") not in ("no different from the control", "below the control"):
         notes.append(f"control {control['holds']}/{control['testable']}")
     if c.get("same_effect_as"):
         notes.append(f"same effect as {c['same_effect_as']}: counted once")
@@ -190,8 +192,9 @@ def format_summary(docs: Sequence[dict[str, Any]]) -> str:
     Returns
     -------
     str
-        Markdown: a line on how many units, one tally row per paper (as in :func:`format_table`)
-        and the line on the physics checks; not the one-row-per-claim table.
+        Markdown: a line on how many units, one tally row per paper (as in :func:`format_table`),
+        how many claims are calibrated, the line on the physics checks and one bullet of findings
+        per paper (:func:`gyrobench.scenarios.reports.reasons.findings`); not the one-row-per-claim table.
 
     Raises
     ------
@@ -232,6 +235,7 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         lines += [_tally_row(d) for d in papers]
+        lines += ["", calibrated_text([c for d in papers for c in d["claims"]])]
         if rows:
             lines += [
                 "",
@@ -248,6 +252,10 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
             f"{len(checks) - len(failed)} of "
             f"{len(checks)} pass" + (f"; FAILED: {', '.join(failed)}." if failed else "."),
         ]
+    if papers and not rows:
+        lines += ["", "In short (generated from each paper's results.json; the reasons claim by claim: "
+                  "[docs/results.md](docs/results.md)):", ""]
+        lines += [findings(d, _paper(d["claims"][0]["paper"])) for d in papers]
     if not lines:
         raise ValueError(
             "the report holds no paper claims and no physics checks: nothing to tabulate"

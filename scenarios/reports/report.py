@@ -33,6 +33,7 @@ matplotlib.use("Agg")
 from gyrobench.base.atomic import atomic_path
 from gyrobench.io.recording import package_version  # noqa: E402
 from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
+from gyrobench.scenarios.reports.reasons import calibrated_text, reason  # noqa: E402
 
 __all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "tally_text", "write_report"]
 
@@ -187,7 +188,8 @@ def _num(x: float | None, unit: str = "") -> str:
 
 
 def status_text(r: Any) -> str:
-    """A judged claim's status for a table: upper case, with provisional and the direction of a miss."""
+    """A judged claim's status for a table: upper case, with provisional and, for a claim that failed or
+    stays open, its measured reason (:func:`gyrobench.scenarios.reports.reasons.reason`)."""
     status = r.status
     word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
                                         "no different from the control", "below the control") else status
@@ -196,15 +198,11 @@ def status_text(r: Any) -> str:
     notes = []
     if r.provisional:
         notes.append("provisional")
-    if status in ("contradicted", "device not matched") and r.miss_direction:
-        notes.append(f"misses {r.miss_direction}")
-    if status == "not reproducible on this device":
-        notes.append(f"absent on {r.precondition_absent}/{r.units}: {r.claim.precondition.text}")
+    why = reason(r.as_dict())
+    if why:
+        notes.append(why)
     if r.claim.same_effect_as:
         notes.append(f"same effect as {r.claim.same_effect_as}: counted once")
-    if status in ("no different from the control", "below the control") and r.control is not None:
-        notes.append(f"units {r.holds}/{r.testable}, control {r.control.holds}/{r.control.testable}, "
-                     f"Fisher p = {r.control_p_value:.2g}")
     return word + (f" ({'; '.join(notes)})" if notes else "")
 
 
@@ -317,7 +315,7 @@ th,td{border:1px solid #bbb;padding:3px 8px;text-align:right}
 th{background:#eef}
 td:first-child,th:first-child{text-align:left}
 .note{font-size:0.85em;color:#555;max-width:900px}
-figure{margin:0.5em 0;display:inline-block;vertical-align:top;width:calc(50% - 1em);margin-right:0.5em}
+figure{margin:0.5em 0.5em 0.5em 0;display:inline-block;vertical-align:top;max-width:100%}
 details.fold>summary h3{display:inline}
 table.claims{display:table;table-layout:fixed;width:100%;overflow-wrap:anywhere}
 table.claims th:nth-child(1){width:9%}table.claims th:nth-child(2){width:13%}
@@ -338,13 +336,26 @@ pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:0.8em}
 """
 
 
-#: marks on <body> how many figures the browser decoded (read by the report's browser test)
+#: marks on <body> what the browser laid out (read by the report's browser test): how many figures it
+#: decoded, the page's scroll width, the right edge of the claims tables' status column, the most a claims
+#: table and any open table overflow their box, and the smallest ratio of a figure's shown to its natural width
 _LOAD_CHECK = (
-    "<script>window.addEventListener('load',function(){var im=document.images,ok=0;"
-    "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0)ok++;}"
-    "document.body.setAttribute('data-figures-loaded',ok);"
-    "document.body.setAttribute('data-figures-total',im.length);"
-    "document.body.setAttribute('data-page-height',document.documentElement.scrollHeight);});</script>"
+    "<script>window.addEventListener('load',function(){var im=document.images,ok=0,scale=1,b=document.body;"
+    "for(var i=0;i<im.length;i++){if(im[i].complete&&im[i].naturalWidth>0){ok++;"
+    "scale=Math.min(scale,im[i].getBoundingClientRect().width/im[i].naturalWidth);}}"
+    "var right=0,over=0,cells=document.querySelectorAll('table.claims tr>:nth-child(2)');"
+    "for(var j=0;j<cells.length;j++){right=Math.max(right,cells[j].getBoundingClientRect().right+window.scrollX);}"
+    "var tabs=document.querySelectorAll('table.claims'),all=document.querySelectorAll('table'),any=0;"
+    "for(var k=0;k<tabs.length;k++){over=Math.max(over,tabs[k].scrollWidth-tabs[k].clientWidth);}"
+    "for(var n=0;n<all.length;n++){any=Math.max(any,all[n].scrollWidth-all[n].clientWidth);}"
+    "b.setAttribute('data-figures-loaded',ok);b.setAttribute('data-figures-total',im.length);"
+    "b.setAttribute('data-page-height',document.documentElement.scrollHeight);"
+    "b.setAttribute('data-scroll-width',document.scrollingElement.scrollWidth);"
+    "b.setAttribute('data-viewport-width',window.innerWidth);"
+    "b.setAttribute('data-claims-tables',tabs.length);"
+    "b.setAttribute('data-status-right',Math.ceil(right));b.setAttribute('data-claims-overflow',over);"
+    "b.setAttribute('data-tables-overflow',any);"
+    "b.setAttribute('data-figure-scale',scale.toFixed(3));});</script>"
 )
 
 
@@ -406,6 +417,11 @@ def _summary(outcomes: Sequence[Outcome]) -> tuple[list[str], list[str]]:
     md = ["## Summary", ""]
     h = ["<h2 id='summary'>Summary</h2>"]
     tally = tally_table(outcomes)
+    claims = [r.as_dict() for o in outcomes for r in o.claims]
+    if claims:
+        line = calibrated_text(claims)
+        md += [f"**{line}**", ""]
+        h.append(f"<p class='calibrated'><strong>{html.escape(line)}</strong></p>")
     if tally.rows:
         md += [_md_table(tally)]
         h.append(_link_scenarios(_html_table(tally), outcomes))

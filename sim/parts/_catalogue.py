@@ -2,7 +2,9 @@
 
 Only parts whose angle random walk (or noise density) could be read from a public source
 are included, and, but for the high-range MEMS part (whose sheet prints none), their in-run
-bias stability; a figure the source does not give is left None, never filled in.
+bias stability; a figure the source does not give is left None, never filled in. Where the
+source also prints the IMU's accelerometers, their figures are the ``accel_*`` fields (read
+from the same source, and said so in ``notes``).
 ``source`` names the document and revision; where the figures were read from a page quoting
 the datasheet, that page is named too.
 """
@@ -15,7 +17,8 @@ __all__ = ["CATALOGUE"]
 
 _NAVTK = "NavToolkit (is4s.github.io/NavToolkit) ImuModel documentation, which quotes the sheet"
 
-_G0 = 9.80665  # m/s^2 per g
+_G0 = 9.80665  # m/s^2 per g (standard gravity, the g of every sheet's mg and ug)
+_FT = 0.3048  # m per international foot (NavToolkit's hg1700_model converts with it)
 
 CATALOGUE: tuple[Datasheet, ...] = (
     Datasheet(
@@ -30,11 +33,17 @@ CATALOGUE: tuple[Datasheet, ...] = (
         arw=0.15,
         scale_factor_repeatability=500.0,
         g_sensitivity=1.0,
+        accel_vrw_m_s_sqrt_h=0.06,
+        accel_bias_instability_ug=50.0,
+        accel_scale_factor_repeatability_ppm=300.0,
         notes=(
             "range: the sheet's non-linearity is given up to 400 deg/s; scale-factor 500 ppm is the sheet's "
             "accuracy, taken as the 1 sigma; bias range +-250 deg/h is a limit, not a repeatability, so "
             "no turn-on bias is drawn; Sensonor measures bias instability as the ADEV minimum over 18 h at "
-            "1000 Hz (sensonor.com FAQ)"
+            "1000 Hz (sensonor.com FAQ); accelerometers from the same NavToolkit model: VRW 0.06 m/s/sqrt(h), "
+            "bias 0.05 mg (its 1 h Gauss-Markov sigma, read as the in-run stability), scale factor 300 ppm "
+            "(1 sigma); its initial accelerometer bias sigma 0.75 mg is a filter's starting uncertainty, not "
+            "drawn (as its gyro one is not); range not given (the part comes in several g ranges): unset"
         ),
     ),
     Datasheet(
@@ -46,9 +55,14 @@ CATALOGUE: tuple[Datasheet, ...] = (
         source=f"Honeywell HG1700 IMU brochure N61-1619-000-001 (figures as quoted in {_NAVTK}, hg1700_model)",
         bias_instability_dph=1.0,
         arw=0.125,
+        accel_vrw_m_s_sqrt_h=0.065 * _FT,
+        accel_bias_instability_ug=1000.0,
         notes=(
             "range: not in the quoting page, left unset (no saturation); "
-            "gyro bias 1 deg/h (1 sigma) read as the in-run stability figure"
+            "gyro bias 1 deg/h (1 sigma) read as the in-run stability figure; accelerometers from the same "
+            "model: VRW 0.065 ft/s/sqrt(h) (0.0198 m/s/sqrt(h)), bias 9.81e-3 m/s^2 = 1 mg (1 sigma) read as "
+            "the in-run stability as the gyro's is; at that bias the white noise lies below the flicker floor "
+            "above about 1 ms (crossover (N/(0.664 B))^2 = 1.1 ms)"
         ),
     ),
     Datasheet(
@@ -61,9 +75,14 @@ CATALOGUE: tuple[Datasheet, ...] = (
         bias_instability_dph=0.0035,
         arw=0.002,
         scale_factor_repeatability=5.0,
+        accel_bias_instability_ug=25.0,
+        accel_scale_factor_repeatability_ppm=100.0,
         notes=(
             "ARW 0.002 deg/sqrt(h) is the brochure's maximum; gyro bias 0.0035 deg/h (1 sigma) read as the "
-            "in-run stability figure; range not in the quoting page, left unset"
+            "in-run stability figure; range not in the quoting page, left unset; accelerometers from the same "
+            "model: bias 25 ug (25 x 9.81e-6 m/s^2) read as the in-run stability, scale factor 100 ppm (1 sigma); "
+            "its accelerometer random walk 1e-12 m/s^(3/2) is a numerical placeholder, not a figure: no VRW is "
+            "drawn"
         ),
     ),
     Datasheet(
@@ -82,10 +101,19 @@ CATALOGUE: tuple[Datasheet, ...] = (
         scale_factor_repeatability=1000.0,
         bandwidth=50.0,
         resolution=0.02,
+        accel_range_g=8.0,
+        accel_bias_instability_ug=20.0,
+        accel_vrw_m_s_sqrt_h=0.05,
+        accel_scale_factor_repeatability_ppm=1000.0,
+        accel_bandwidth_hz=50.0,
+        accel_resolution_mg=0.5,
         notes=(
             "all figures are the page's limits (<): range > 400, bias instability < 6 deg/h (Allan curve, "
             "1 sigma), ARW < 0.3, resolution < 0.02 deg/s, scale-factor accuracy < 0.1 %, bandwidth 5-50 Hz "
-            "(the upper end taken)"
+            "(the upper end taken); the page's accelerometer table likewise: range > 8 g, bias instability "
+            "< 20 ug (Allan curve, 1 sigma), VRW < 0.05 m/s/sqrt(h), resolution < 0.5 mg, scale-factor accuracy "
+            "< 0.1 % (1000 ppm, taken as the 1 sigma), bandwidth 5-50 Hz (50 taken); its bias stability over "
+            "temperature < 5 mg (RMS over temperature) is not a coefficient per kelvin: unset"
         ),
     ),
     Datasheet(
@@ -115,9 +143,16 @@ CATALOGUE: tuple[Datasheet, ...] = (
         noise_density=0.007,
         noise_density_sided="two",
         bandwidth=255.0,
+        accel_range_g=16.0,
+        accel_bias_instability_ug=30.0,
+        accel_noise_density_ug=120.0,
+        accel_bandwidth_hz=324.0,
         notes=(
             "noise density 0.007 deg/s/sqrt(Hz); the table does not state the PSD convention: taken two-sided "
-            "(ARW = 60 x density, the convention of ADI and Xsens ARW figures)"
+            "(ARW = 60 x density, the convention of ADI and Xsens ARW figures); the same table's accelerometer "
+            "block: range +-16 g, zero-offset instability 0.03 mg (read as the ADEV minimum), noise density "
+            "120 ug/sqrt(Hz) (two-sided, as the gyro's), bandwidth 324 Hz on x and y (262 Hz on z: one "
+            "bandwidth per triad is modelled, the x/y one)"
         ),
     ),
     Datasheet(
@@ -132,7 +167,13 @@ CATALOGUE: tuple[Datasheet, ...] = (
         ),
         bias_instability_dph=10.0,
         arw=0.75,
-        notes="range not in the quoting source: left unset (no saturation)",
+        accel_vrw_m_s_sqrt_h=0.05,
+        accel_bias_instability_ug=2.0e-4 / _G0 * 1e6,
+        notes=(
+            "range not in the quoting source: left unset (no saturation); accelerometers from the same "
+            "profile (accel_low_accuracy): VRW 0.05 m/s/sqrt(h), bias instability 2.0e-4 m/s^2 (20.4 ug, "
+            "its 'b_drift', which gnss-ins-sim documents as the bias instability), its turn-on bias 0"
+        ),
     ),
     Datasheet(
         name="sch16t-k01",
@@ -142,8 +183,8 @@ CATALOGUE: tuple[Datasheet, ...] = (
         grade="industrial",
         source=(
             "Murata SCH16T-K01 data sheet, Doc.No. 11624 Rev. 2 (January 2024), Table 4 'Performance "
-            "specifications for gyroscope' (read from a public chunked copy, github.com/taylor-curran/"
-            "data-sheets-naive-chunking)"
+            "specifications for gyroscope' and Table 6 'Performance specifications for accelerometer' (read "
+            "from a public chunked copy, github.com/taylor-curran/data-sheets-naive-chunking)"
         ),
         range_dps=300.0,
         bias_instability_dph=0.5,
@@ -153,12 +194,24 @@ CATALOGUE: tuple[Datasheet, ...] = (
         bias_repeatability=0.6 / 3 * 3600.0,
         g_sensitivity=0.006 * _G0 * 3600.0,
         resolution=1.0 / 1600.0,
+        accel_range_g=80.0 / _G0,
+        accel_bias_instability_ug=0.20e-3 / _G0 * 1e6,
+        accel_vrw_m_s_sqrt_h=0.030,
+        accel_noise_density_ug=0.8e-3 / _G0 * 1e6,
+        accel_bias_repeatability_mg=0.14 / 3 / _G0 * 1e3,
+        accel_resolution_mg=1.0 / 3200.0 / _G0 * 1e3,
         notes=(
             "range: guaranteed +-300 deg/s at the lowest sensitivity; bias instability 0.5 deg/h is defined by "
             "the sheet as the Allan minimum / 0.664, i.e. B itself; ARW 0.015 deg/sqrt(h) is used (the sheet's "
             "noise density 0.0006 deg/s/sqrt(Hz) is recorded, not used); bias repeatability: offset +-0.6 deg/s "
             "at +-3 sigma over -40..110 degC, so 0.2 deg/s 1 sigma (it includes temperature); g-sensitivity "
-            "0.006 (deg/s)/(m/s^2) for a DC gravity input; resolution: 1600 LSB/(deg/s) in 20-bit mode"
+            "0.006 (deg/s)/(m/s^2) for a DC gravity input; resolution: 1600 LSB/(deg/s) in 20-bit mode; "
+            "accelerometers from Table 6 'Performance specifications for accelerometer' of the same sheet: "
+            "range +-80 m/s^2 at the lowest sensitivity, bias instability 0.20 mm/s^2 (the Allan minimum / "
+            "0.664, B itself, as the gyro's), VRW 30 (mm/s)/sqrt(h) (used; the noise density 0.8 "
+            "(mm/s^2)/sqrt(Hz) is recorded, not used), offset +-0.14 m/s^2 at +-3 sigma over -40..110 degC "
+            "(so 0.047 m/s^2 1 sigma), resolution 3200 LSB/(m/s^2) in 20-bit mode; the offset and sensitivity "
+            "drifts over temperature are half-ranges over a sweep, not coefficients per kelvin: unset"
         ),
     ),
     Datasheet(
@@ -174,10 +227,14 @@ CATALOGUE: tuple[Datasheet, ...] = (
         range_dps=125.0,
         bias_instability_dph=0.8,
         arw=0.09,
+        accel_range_g=8.0,
+        accel_bias_instability_ug=3.2,
         notes=(
             "the -1 range option (+-125 deg/s) is the one the 0.8 deg/h in-run bias stability and 0.09 "
             "deg/sqrt(h) ARW are quoted for; ADI defines in-run bias stability as the Allan-deviation minimum; "
-            "repeatability, temperature coefficients and resolution were not in the part read: left unset"
+            "repeatability, temperature coefficients and resolution were not in the part read: left unset; "
+            "accelerometers from the same Features list: +-8 g, 3.2 ug in-run bias stability; their VRW is not "
+            "in the part read: no white acceleration noise is drawn"
         ),
     ),
     Datasheet(
@@ -255,6 +312,9 @@ CATALOGUE: tuple[Datasheet, ...] = (
         noise_density=0.0028,
         noise_density_sided="two",
         resolution=0.140,
+        accel_range_g=16.0,
+        accel_noise_density_ug=60.0,
+        accel_resolution_mg=0.488,
         notes=(
             "the high-range part: its +-4000 deg/s option (the paper-001 class is +-3600); the quoted sheet "
             "figures print no bias instability, so none is drawn (no 1/f term) and the fit-back checks the "
@@ -262,7 +322,10 @@ CATALOGUE: tuple[Datasheet, ...] = (
             "0.168 deg/sqrt(h)); resolution: 140 mdps/LSB at +-4000 dps, so below an output rate of about "
             "(q/N)^2 = 2500 Hz the LSB exceeds the per-sample noise and the output is not dithered; output "
             "rate up to 7680 Hz (the maximum, no default stated: left unset); ST's own datasheet text was not "
-            "read first-hand"
+            "read first-hand; accelerometers from the same table: the +-16 g option (the high-range one), "
+            "0.488 mg/LSB at +-16 g, noise density 60 ug/sqrt(Hz) typical in high-performance mode (two-sided, as "
+            "the gyro's); no accelerometer bias instability quoted (no 1/f term); the page's own 'characterized "
+            "noise parameters' are Luxonis measurements without units, not the sheet's: not used"
         ),
     ),
 )

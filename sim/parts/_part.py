@@ -28,6 +28,18 @@ term is a truth channel and their sum is y - omega up to float64 rounding. The t
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
 fix the error budget directly, not the physical parameters behind it.
 
+Accelerometers
+--------------
+An IMU's sheet also prints its accelerometers: the ``accel_*`` fields, in the sheet's units
+(g, ug, mg, m/s/sqrt(h), ug/sqrt(Hz), ppm, Hz). :meth:`Part.accelerometer` maps them onto the
+datasheet-level :class:`gyrobench.sim.imu.AccelerometerSpec` in SI by the same rules as the
+gyro: VRW [m/s/sqrt(s)] = figure / 60, or from the noise density (two- or one-sided, as
+``noise_density_sided``); B = ADEV minimum / 0.664 unless ``bias_instability_is_b``; the
+turn-on bias and scale-factor error drawn from their 1 sigma figures; range, bandwidth and
+resolution as the output's limit, low-pass and LSB. A figure the sheet does not give leaves its
+term out. The accelerometers are not part of :meth:`PartUnit.simulate` (one gyro axis); a
+triad (:class:`gyrobench.sim.imu.TriadSpec`) carries them.
+
 Mapping onto the physics models
 -------------------------------
 The part's own record keeps N and B as IEEE 952 terms whose values are the sheet's, which is
@@ -65,6 +77,7 @@ from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Channel, Recording
+from gyrobench.sim.imu import AccelerometerSpec
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import Environment
 
@@ -165,8 +178,37 @@ class Datasheet:
         Default output data rate [Hz].
     resolution : float, optional
         Output resolution (LSB) [deg/s].
+    accel_range_g : float, optional
+        Accelerometer full scale, +-range [g] (the output saturates there); None: no saturation.
+    accel_bias_instability_ug : float, optional
+        Accelerometer in-run bias stability, the Allan-deviation minimum [ug] (the IEEE B itself
+        when ``bias_instability_is_b``: one sheet, one convention for both sensors).
+    accel_vrw_m_s_sqrt_h : float, optional
+        Accelerometer velocity random walk [m/s/sqrt(h)].
+    accel_noise_density_ug : float, optional
+        Accelerometer noise density [ug/sqrt(Hz)], of the sidedness ``noise_density_sided`` (used
+        when ``accel_vrw_m_s_sqrt_h`` is not given).
+    accel_bias_repeatability_mg : float, optional
+        Accelerometer turn-on bias 1 sigma [mg].
+    accel_bias_tempco_mg_per_k : float, optional
+        Accelerometer bias temperature coefficient [mg/K].
+    accel_scale_factor_repeatability_ppm : float, optional
+        Accelerometer scale-factor error 1 sigma [ppm].
+    accel_scale_factor_tempco_ppm_per_k : float, optional
+        Accelerometer scale-factor temperature coefficient [ppm/K].
+    accel_bandwidth_hz : float, optional
+        Accelerometer -3 dB bandwidth [Hz]: the output's first-order low-pass
+        (:class:`gyrobench.sim.imu.AccelerometerSpec`).
+    accel_resolution_mg : float, optional
+        Accelerometer output resolution (LSB) [mg].
     notes : str
         What was assumed where the source was silent.
+
+    Notes
+    -----
+    The ``accel_*`` figures are the part's accelerometers (an IMU's sheet): None where the sheet
+    gives none. A part with at least one of them builds its accelerometer triad with
+    :meth:`Part.accelerometer`; a gyro-only part has none.
     """
 
     name: str
@@ -189,6 +231,16 @@ class Datasheet:
     bandwidth: float | None = None
     output_rate: float | None = None
     resolution: float | None = None
+    accel_range_g: float | None = None
+    accel_bias_instability_ug: float | None = None
+    accel_vrw_m_s_sqrt_h: float | None = None
+    accel_noise_density_ug: float | None = None
+    accel_bias_repeatability_mg: float | None = None
+    accel_bias_tempco_mg_per_k: float | None = None
+    accel_scale_factor_repeatability_ppm: float | None = None
+    accel_scale_factor_tempco_ppm_per_k: float | None = None
+    accel_bandwidth_hz: float | None = None
+    accel_resolution_mg: float | None = None
     notes: str = ""
 
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
@@ -207,6 +259,18 @@ class Datasheet:
         "bandwidth": FieldRange(0, _INF, "Hz", "-3 dB bandwidth (recorded only)"),
         "output_rate": FieldRange(0, _INF, "Hz", "default output data rate", low_open=True),
         "resolution": FieldRange(0, _INF, "deg/s", "output resolution (LSB)", low_open=True),
+        "accel_range_g": FieldRange(0, _INF, "g", "accelerometer full scale", low_open=True),
+        "accel_bias_instability_ug": FieldRange(0, _INF, "ug", "accelerometer in-run bias stability (ADEV minimum)",
+                                                low_open=True),
+        "accel_vrw_m_s_sqrt_h": FieldRange(0, _INF, "m/s/sqrt(h)", "accelerometer velocity random walk"),
+        "accel_noise_density_ug": FieldRange(0, _INF, "ug/sqrt(Hz)", "accelerometer noise density"),
+        "accel_bias_repeatability_mg": FieldRange(0, _INF, "mg", "accelerometer turn-on bias 1 sigma"),
+        "accel_bias_tempco_mg_per_k": FieldRange(0, _INF, "mg/K", "accelerometer bias temperature coefficient"),
+        "accel_scale_factor_repeatability_ppm": FieldRange(0, _INF, "ppm", "accelerometer scale-factor error 1 sigma"),
+        "accel_scale_factor_tempco_ppm_per_k": FieldRange(0, _INF, "ppm/K",
+                                                          "accelerometer scale-factor temperature coefficient"),
+        "accel_bandwidth_hz": FieldRange(0, _INF, "Hz", "accelerometer -3 dB bandwidth", low_open=True),
+        "accel_resolution_mg": FieldRange(0, _INF, "mg", "accelerometer output resolution (LSB)", low_open=True),
     }
     CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
         Constraint(
@@ -251,6 +315,30 @@ class Datasheet:
         """The IEEE 952 model: N and B from the figures (module docstring), no Q, K or R."""
         return NoiseModel(angle_random_walk=self.angle_random_walk(), bias_instability=self.bias_instability())
 
+    @property
+    def has_accelerometer(self) -> bool:
+        """Whether the sheet gives any accelerometer figure (an ``accel_*`` field)."""
+        return any(getattr(self, f.name) is not None for f in fields(self) if f.name.startswith("accel_"))
+
+    def accel_velocity_random_walk(self) -> float:
+        """VRW [m/s/sqrt(s)]: the VRW figure / 60, or the noise density [ug/sqrt(Hz)] x 1e-6 g0 for a
+        two-sided density and / sqrt(2) more for a one-sided one (as :meth:`angle_random_walk`);
+        0 when the sheet gives neither (no white acceleration noise is drawn)."""
+        if self.accel_vrw_m_s_sqrt_h is not None:
+            return self.accel_vrw_m_s_sqrt_h / 60.0
+        if self.accel_noise_density_ug is None:
+            return 0.0
+        nd = self.accel_noise_density_ug * 1e-6 * units.G0
+        return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
+
+    def accel_bias_instability(self) -> float:
+        """Accelerometer IEEE coefficient B [m/s^2] = ADEV minimum / 0.664 (or the figure itself,
+        ``bias_instability_is_b``); 0 when the sheet gives none (no 1/f term is drawn)."""
+        if self.accel_bias_instability_ug is None:
+            return 0.0
+        b = self.accel_bias_instability_ug * 1e-6 * units.G0
+        return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
+
     def figures(self) -> dict[str, object]:
         """The datasheet fields as a flat dict (for listing and metadata)."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -281,6 +369,42 @@ class Part:
     @property
     def name(self) -> str:
         return self.datasheet.name
+
+    def accelerometer(self) -> AccelerometerSpec | None:
+        """The part's accelerometer design from its ``accel_*`` figures, in SI; None for a gyro-only sheet.
+
+        One figure sets one field of :class:`gyrobench.sim.imu.AccelerometerSpec` (g0 = 9.80665 m/s^2):
+        VRW and B as :meth:`Datasheet.accel_velocity_random_walk` and
+        :meth:`Datasheet.accel_bias_instability`; bias repeatability [mg] x 1e-3 g0; scale factor
+        [ppm] x 1e-6; tempcos [mg/K] x 1e-3 g0 and [ppm/K] x 1e-6; range [g] x g0; resolution [mg]
+        x 1e-3 g0; the bandwidth as is. A figure the sheet does not give leaves its term out (0, or
+        no limit for the range and bandwidth); the tempcos hold from this part's reference
+        temperature. No acceleration random walk: no sheet read prints one.
+
+        Returns
+        -------
+        AccelerometerSpec or None
+        """
+        ds = self.datasheet
+        if not ds.has_accelerometer:
+            return None
+        g = units.G0
+
+        def si(v: float | None, k: float, default: float = 0.0) -> float:
+            return default if v is None else v * k
+
+        return AccelerometerSpec(
+            bias_repeatability=si(ds.accel_bias_repeatability_mg, 1e-3 * g),
+            scale_factor_repeatability=si(ds.accel_scale_factor_repeatability_ppm, 1e-6),
+            velocity_random_walk=ds.accel_velocity_random_walk(),
+            bias_instability=ds.accel_bias_instability(),
+            bias_tempco=si(ds.accel_bias_tempco_mg_per_k, 1e-3 * g),
+            scale_factor_tempco=si(ds.accel_scale_factor_tempco_ppm_per_k, 1e-6),
+            range=si(ds.accel_range_g, g, _INF),
+            bandwidth=si(ds.accel_bandwidth_hz, 1.0, _INF),
+            resolution=si(ds.accel_resolution_mg, 1e-3 * g),
+            reference_temperature=self.reference_temperature,
+        )
 
     def realize(self, rng: np.random.Generator) -> PartUnit:
         """Draw one unit: turn-on bias and scale-factor error from their repeatabilities."""

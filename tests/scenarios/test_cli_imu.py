@@ -55,6 +55,9 @@ def test_simulate_imu_writes_hdf5_euroc_and_kalibr(tmp_path, capsys):
     assert rows[0].startswith("#timestamp [ns],w_RS_S_x [rad s^-1]") and len(rows) == 1 + rec.n_samples
     np.testing.assert_allclose(np.array(rows[1].split(","), dtype=float)[1:4], [rec[f"gyro_{a}"][0] for a in "xyz"],
                                rtol=1e-15)
+    # stamped at the record's own sample times (interval centres, as the ROS bag is), to the ns
+    stamps = [int(r.split(",")[0]) for r in rows[1:3]]
+    assert stamps == [round((rec.t0 + k / rec.fs) * 1e9) for k in range(2)] and rec.t0 > 0
     assert yaml.read_text().startswith("# written by gyrobench\n")
 
 
@@ -148,3 +151,46 @@ def test_a_csv_trajectory_of_quaternions_and_velocities(tmp_path, capsys):
     code, _, err = run(["simulate", "imu", "adxrs646", "--trajectory", p, "-o", tmp_path / "d.h5",
                         "--latitude", "95"], capsys)
     assert code == 2
+
+
+STATIC = "[site]\nlatitude_deg = 30.0\n\n[[motion]]\nduration_s = 5.0\n"
+
+
+def _static(tmp_path, extra=""):
+    p = tmp_path / "static.toml"
+    p.write_text(STATIC + extra)
+    return p
+
+
+def test_a_part_with_accelerometer_figures_uses_them_and_says_so(tmp_path, capsys):
+    code, out, err = run(["simulate", "imu", "stim300", "--trajectory", _static(tmp_path), "-o", tmp_path / "s.h5",
+                          "--seed", "2"], capsys)
+    assert code == 0, err
+    rec = load_hdf5(tmp_path / "s.h5")
+    assert rec.metadata["accelerometer_from"].startswith("the part's datasheet (stim300: ")
+    assert "accelerometers: the part's datasheet" in out
+    assert rec.metadata["accelerometer"] == parts.get("stim300").accelerometer().to_metadata()
+    noise = rec["truth/accel_z.noise"]
+    # white noise of the sheet's VRW at 100 Hz: per-sample sd N sqrt(fs) = 0.01 m/s^2 (the flicker adds little)
+    assert 0.005 < float(np.std(noise)) < 0.02
+
+
+def test_a_gyro_only_part_keeps_ideal_accelerometers(tmp_path, capsys):
+    code, _, err = run(["simulate", "imu", "adxrs646", "--trajectory", _static(tmp_path), "-o", tmp_path / "a.h5",
+                        "--misalignment", "1"], capsys)
+    assert code == 0, err
+    rec = load_hdf5(tmp_path / "a.h5")
+    assert rec.metadata["accelerometer_from"].startswith("ideal (the adxrs646 sheet gives no accelerometer figures")
+    for a in "xyz":  # ideal: the output is the true specific force after the triad's misalignment, no other term
+        ideal = rec[f"truth/accel_{a}.true"] + rec[f"truth/accel_{a}.misalignment"]
+        np.testing.assert_array_equal(rec[f"accel_{a}"], ideal)
+
+
+def test_the_trajectorys_accelerometer_table_replaces_the_parts(tmp_path, capsys):
+    traj = _static(tmp_path, "\n[accelerometer]\nvrw_m_s_sqrt_h = 0.5\n")
+    code, _, err = run(["simulate", "imu", "stim300", "--trajectory", traj, "-o", tmp_path / "t.h5"], capsys)
+    assert code == 0, err
+    rec = load_hdf5(tmp_path / "t.h5")
+    assert rec.metadata["accelerometer_from"] == "the trajectory's [accelerometer] table"
+    assert rec.metadata["accelerometer"]["velocity_random_walk"] == pytest.approx(0.5 / 60)
+    assert rec.metadata["accelerometer"]["bias_instability"] == 0.0

@@ -204,19 +204,22 @@ def test_paper_claims_in_their_section_and_results_json(tmp_path, monkeypatch):
     assert "| p.a |" not in summary
     section = md.split("\n## paper title", 1)[1]
     assert "| p.a | DEVICE MATCHED | K_n is about 15.71 %. | Table 2 | device (calibrated) | 15.71 % |" in section
-    assert "| p.b |" in section and "| 0 / 20 |" in section and "CONTRADICTED (misses below)" in section
-    assert ("| p.c | NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23) |" in section
+    assert "| p.b |" in section and "| 0 / 20 |" in section
+    assert "CONTRADICTED (median 3 x vs the paper's 10 x; 0 of 20 units pass, most misses below the band)" in section
+    assert ("| p.c | NO DIFFERENT FROM THE CONTROL (units 20/20 pass, control 17/20; Fisher p = 0.23) |" in section
             and "| 20 / 20 | 100 % [84, 100] % | 17 / 20 |" in section)
     assert "| 3 / 3 (17 lack the precondition) |" in section
-    assert "not reproducible on this device (absent on 17/20: the unit has a knee)" in section
+    assert "not reproducible on this device (precondition absent on 17 of 20 units: the unit has a knee)" in section
     assert "Deviations from the paper's protocol" in section and "ratio 426x -> 18x on unit 0" in section
     assert "paper 001 (no entry in scenarios.papers)" in section
     assert md.count("| p.a | DEVICE MATCHED |") == 1
     assert "seeds 3 to 22 (20 units)" in md
     html = index.read_text()
-    assert "<td class='no'>CONTRADICTED (misses below)</td>" in html
+    assert ("<td class='no'>CONTRADICTED (median 3 x vs the paper&#x27;s 10 x; 0 of 20 units pass, most misses "
+            "below the band)</td>") in html
     assert "<td class='yes'>DEVICE MATCHED</td>" in html
-    assert "<td class='cal'>NO DIFFERENT FROM THE CONTROL (units 20/20, control 17/20, Fisher p = 0.23)</td>" in html
+    assert ("<td class='cal'>NO DIFFERENT FROM THE CONTROL (units 20/20 pass, control 17/20; Fisher p = 0.23)"
+            "</td>") in html
     assert "| beta | K_n [%] | 0.14 | 0.14 | yes |" in md  # headline scenarios still summarised
     # the figures open at full size: each embedded image links to its PNG file beside the page
     assert html.count("target='_blank' title='open at full size'>") == html.count("<figure>") >= 2
@@ -259,3 +262,59 @@ def test_results_keys_may_not_overwrite_the_runners_fields():
     ]
     with pytest.raises(ValueError, match=r"scenario 'x': results keys \['units'\] are reserved"):
         outcome_json(o)
+
+
+_PAPERS = ("fog_vibration", "mems_scale_factor", "ifog_thermal", "rlg_thermal")
+
+
+def _layout(index, tmp_path, width=1400):
+    """The page's layout marks (see the report's load check) in Chromium at a ``width``-px window."""
+    dom = subprocess.run(
+        [_chromium(), *_FLAGS, f"--user-data-dir={tmp_path / 'profile'}", f"--window-size={width},900",
+         "--virtual-time-budget=20000", "--dump-dom", index.as_uri()],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    body = re.search(r"<body([^>]*)>", dom.stdout)
+    assert body, dom.stdout[:500]
+    return dict(re.findall(r'data-([a-z-]+)="([^"]*)"', body.group(1)))
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(_chromium() is None, reason="Chromium not installed (.ci/run installs Debian's chromium)")
+def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_path):
+    """All four papers' report (two units each: the tables have every claim and the figures are the
+    default report's) at a 1400-px window: the page does not scroll sideways, no claims table overflows
+    its box, the status column's right edge is on screen; figures are shown at their natural width
+    (or the page's, when wider) and each links to its own PNG beside the page. The same report's
+    results.json files let every claim's pass counts be recounted from their per-unit quantities."""
+    import base64
+
+    from gyrobench.scenarios.cli.main import main
+
+    out = tmp_path / "rep"
+    assert main(["reproduce", *_PAPERS, "--units", "2", "-q", "--out", str(out)]) == 0
+    index = out / "index.html"
+    marks = _layout(index, tmp_path)
+    assert marks["viewport-width"] == "1400"
+    assert int(marks["claims-tables"]) == len(_PAPERS)
+    assert int(marks["scroll-width"]) <= 1400, marks
+    assert int(marks["claims-overflow"]) == 0, marks
+    assert int(marks["tables-overflow"]) == 0, marks  # nor the first screen's tally (open tables)
+    assert 0 < int(marks["status-right"]) <= 1400, marks
+    assert marks["figures-loaded"] == marks["figures-total"] != "0"
+    assert float(marks["figure-scale"]) >= 0.9, marks  # no figure shrunk to a fraction of its size
+    page = index.read_text()
+    figures = re.findall(r"<figure><a href='([^']+)'[^>]*><img alt='[^']*' src='data:image/png;base64,([^']+)'>",
+                         page)
+    assert len(figures) == page.count("<figure>") == int(marks["figures-total"])
+    for href, b64 in figures:  # the click target is the same figure, full size
+        assert (out / href).read_bytes() == base64.b64decode(b64), href
+    from tests.scenarios.test_report_recount import _recount
+
+    for name in _PAPERS:  # every paper's claims recount from the per-unit quantities its results.json carries
+        doc = json.loads((out / name / "results.json").read_text())
+        for c in doc["claims"]:
+            assert _recount(c, doc["unit_quantities"])[:2] == (c["holds"], c["testable"]), (name, c["id"])
+            control = _recount(c, doc["control_quantities"], precondition=False)[:2]
+            assert control == (c["control"]["holds"], c["control"]["testable"]), (name, c["id"])

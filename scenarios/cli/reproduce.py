@@ -33,6 +33,12 @@ def _cmd_reproduce(args) -> int:
     from gyrobench.scenarios import registry
     from gyrobench.scenarios.reports.outputs import output_lock
 
+    if args.map:
+        from gyrobench.scenarios.cli.reproduce_map import cmd_map
+
+        return cmd_map(args)
+    if args.points is not None or args.units_per_point is not None:
+        raise BadInput("--points and --units-per-point go with --map")
     names = registry.available() if args.all else list(args.scenarios)
     if not names:
         raise BadInput("name at least one scenario or give --all (see 'gyrobench list')")
@@ -164,6 +170,13 @@ def add_parser(sub) -> None:
     s.add_argument("--keep-units", action="store_true",
                    help="store every unit's whole result in --db (default: what the claims and the report read, "
                    "the figures' data of the units the report draws only)")
+    s.add_argument("--map", action="store_true",
+                   help="one paper: map its device family (the paper-consistent region and every method claim "
+                        "over it) into OUT/NAME/map.json and PNGs")
+    s.add_argument("--points", type=ranged("--points", 2, 4096, integer=True, unit="points"), default=None,
+                   help="with --map: design points (a power of two gives a Sobol design; default 16)")
+    s.add_argument("--units-per-point", type=ranged("--units-per-point", 1, 1000, integer=True, unit="units"),
+                   default=None, help="with --map: units at each point (default 3)")
     s.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
     s.add_argument("--force", action="store_true",
                    help="replace an earlier report in --out whose files were edited or added to (default: refused); "

@@ -68,7 +68,9 @@ __all__ = [
     "concurrent_units",
     "default_db",
     "is_paper_scenario",
+    "register_run",
     "run_id",
+    "run_ids",
     "run_paper",
     "run_units",
     "slim_result",
@@ -145,6 +147,34 @@ def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
     ident = dict(scenario_identity(module, config), store_format=SCHEMA)  # old pickled stores never match
     text = json.dumps(ident, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16], text
+
+
+def run_ids(module: types.ModuleType, configs: Sequence[Any]) -> list[tuple[str, str]]:
+    """The :func:`run_id` of ``module`` with each of ``configs``, its source closure hashed once.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario.
+    configs : sequence of the module's Config
+        The configurations.
+
+    Returns
+    -------
+    list of (str, str)
+        Each config's (16-hex run id, JSON identity), equal to :func:`run_id`'s.
+    """
+    from gyrobench.scenarios.bench.identity import canonical, scenario_identity
+    from gyrobench.scenarios.runner.codec import SCHEMA
+
+    if not configs:
+        return []
+    base = dict(scenario_identity(module, configs[0]), store_format=SCHEMA)
+    out = []
+    for c in configs:
+        text = json.dumps(dict(base, config=canonical(c)), sort_keys=True)
+        out.append((hashlib.sha256(text.encode()).hexdigest()[:16], text))
+    return out
 
 
 def concurrent_units(n_units: int, workers: int | None) -> int:
@@ -345,16 +375,35 @@ def _open_store(
     _check_layout(db)
     conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
     try:
-        conn.execute("BEGIN IMMEDIATE")
-        conn.execute(
-            "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
-            (rid, name, repr(config), identity, time.time()),
-        )
-        conn.execute("COMMIT")
+        register_run(conn, rid, name, config, identity)
     except BaseException:
         conn.close()
         raise
     return conn
+
+
+def register_run(conn: sqlite3.Connection, rid: str, name: str, config: Any, identity: str) -> None:
+    """Record a run in an open unit store, once (a second call for the same run id does nothing).
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The unit store (:func:`gyrobench.scenarios.runner.store.connect_db`).
+    rid : str
+        The run id (:func:`run_id`).
+    name : str
+        The scenario's name.
+    config : Any
+        The run's configuration (stored as its repr).
+    identity : str
+        The run's JSON identity (:func:`run_id`).
+    """
+    conn.execute("BEGIN IMMEDIATE")
+    conn.execute(
+        "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
+        (rid, name, repr(config), identity, time.time()),
+    )
+    conn.execute("COMMIT")
 
 
 def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float, full: bool) -> bytes:

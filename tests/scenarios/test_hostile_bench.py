@@ -435,6 +435,13 @@ def _alive(pid: int) -> bool:
         return False
 
 
+def _default_sigint() -> None:
+    """In a child before exec: SIGINT back to its default disposition."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _stuck_campaign(tmp_path, workers: int):
     """A `gyrobench bench` process whose compensator never returns, once its workers run."""
     import subprocess
@@ -446,7 +453,10 @@ def _stuck_campaign(tmp_path, workers: int):
     argv = [sys.executable, "-c", "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main())",
             "bench", "tests.scenarios.toy_scenario", "--compensator", f"{__name__}:hangs_in_fit",
             "--seeds", "0:4", "--workers", str(workers), "--no-references", "--db", str(tmp_path / "c.db"), "-q"]
-    proc = subprocess.Popen(argv, cwd=root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # SIGINT at its default in the child whatever this process inherited: a background job (a CI
+    # script started with `&`) ignores SIGINT, and Python then installs no KeyboardInterrupt handler
+    proc = subprocess.Popen(argv, cwd=root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_default_sigint)
     deadline = time.monotonic() + 60
     kids: set[int] = set()
     while time.monotonic() < deadline and len(kids) < max(workers, 1):

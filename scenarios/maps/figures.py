@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from numpy.typing import NDArray  # noqa: E402
 
 from gyrobench.base.safety import PNG_METADATA  # noqa: E402
 
@@ -23,9 +25,34 @@ from .region import ClaimMap, MapResult, Sensitivity  # noqa: E402
 __all__ = ["constraint_maps", "phase_diagrams", "specification_curves"]
 
 
-def _grid(n: int) -> tuple[int, int]:
+def _panels(n: int, height: float) -> tuple[Any, Any]:
+    """A figure of ``n`` panels, three to a row, each 5.4 in wide and ``height`` in high."""
     cols = min(n, 3)
-    return math.ceil(n / cols), cols
+    rows = math.ceil(n / cols)
+    return plt.subplots(rows, cols, figsize=(5.4 * cols, height * rows), squeeze=False, layout="constrained")
+
+
+def _save(fig: Any, axes: Any, used: int, path: Path) -> Path:
+    """Hide the panels past ``used``, write the PNG with gyrobench's marker, close the figure."""
+    for ax in list(axes.flat)[used:]:
+        ax.set_visible(False)
+    fig.savefig(path, dpi=90, metadata=PNG_METADATA)
+    plt.close(fig)
+    return path
+
+
+def _parameter_axes(ax: Any, result: MapResult, a: int, b: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Every design point's values of parameters ``a`` (x) and ``b`` (y), the axes labelled and
+    logarithmic where the parameter is swept on a log scale."""
+    params = result.family.parameters
+    x = np.array([v[params[a].field] for v in result.design.values])
+    y = np.array([v[params[b].field] for v in result.design.values])
+    for j, axis in ((a, "x"), (b, "y")):
+        if params[j].scale == "log":
+            (ax.set_xscale if axis == "x" else ax.set_yscale)("log")
+    ax.set_xlabel(params[a].axis_label())
+    ax.set_ylabel(params[b].axis_label())
+    return x, y
 
 
 def _short(text: str, width: int = 58) -> str:
@@ -66,42 +93,31 @@ def phase_diagrams(result: MapResult, path: Path) -> Path:
         ``path``.
     """
     claims = result.claims
-    rows, cols = _grid(len(claims))
-    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")
+    fig, axes = _panels(len(claims), 4.6)
     region = set(result.region)
     params = result.family.parameters
     sc = None
     for ax, m in zip(axes.flat, claims, strict=False):
         a, b = _axes_of(result, m)
-        x = np.array([v[params[a].field] for v in result.design.values])
-        y = np.array([v[params[b].field] for v in result.design.values])
+        x, y = _parameter_axes(ax, result, a, b)
         rate = np.array(m.pass_rates())
         ok = np.isfinite(rate)
         sc = ax.scatter(x[ok], y[ok], c=rate[ok], cmap="viridis", vmin=0.0, vmax=1.0, s=70, edgecolors="none")
         ax.scatter(x[~ok], y[~ok], marker="x", color="0.6", s=40, label="not testable")
         inr = np.array([i in region for i in range(len(x))], bool)
         ax.scatter(x[inr], y[inr], facecolors="none", edgecolors="red", s=170, linewidths=1.6, label="region")
-        for j, axis in ((a, "x"), (b, "y")):
-            if params[j].scale == "log":
-                (ax.set_xscale if axis == "x" else ax.set_yscale)("log")
-        ax.set_xlabel(params[a].axis_label())
-        ax.set_ylabel(params[b].axis_label())
         rho = {s.field: s.rho for s in m.sensitivity}
         ra, rb = rho.get(params[a].field), rho.get(params[b].field)
         tag = ", ".join(f"rho={r:+.2f}" if r is not None else "rho n/a" for r in (ra, rb))
         ax.set_title(f"{m.claim.id}\n{_short(m.verdict_text())}\n(Spearman {tag})", fontsize=8.5)
         ax.grid(True, which="both", alpha=0.25)
-    for ax in list(axes.flat)[len(claims):]:
-        ax.set_visible(False)
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=9)
     if sc is not None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="pass rate over the point's units")
     fig.suptitle(f"paper {result.family.paper}: method claims over the device family "
                  f"({len(result.design)} points, {len(region)} in the region)")
-    fig.savefig(path, dpi=90, metadata=PNG_METADATA)
-    plt.close(fig)
-    return path
+    return _save(fig, axes, len(claims), path)
 
 
 def specification_curves(result: MapResult, path: Path) -> Path:
@@ -123,8 +139,7 @@ def specification_curves(result: MapResult, path: Path) -> Path:
         ``path``.
     """
     claims = result.claims
-    rows, cols = _grid(len(claims))
-    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 3.9 * rows), squeeze=False, layout="constrained")
+    fig, axes = _panels(len(claims), 3.9)
     region = list(result.region)
     which = region or list(range(len(result.design)))
     for ax, m in zip(axes.flat, claims, strict=False):
@@ -155,12 +170,8 @@ def specification_curves(result: MapResult, path: Path) -> Path:
         ax.set_title(f"{m.claim.id}: {where}", fontsize=8.5)
         ax.legend(fontsize=7, loc="best")
         ax.grid(True, alpha=0.25)
-    for ax in list(axes.flat)[len(claims):]:
-        ax.set_visible(False)
     fig.suptitle(f"paper {result.family.paper}: specification curves (green: the point holds the claim)")
-    fig.savefig(path, dpi=90, metadata=PNG_METADATA)
-    plt.close(fig)
-    return path
+    return _save(fig, axes, len(claims), path)
 
 
 def constraint_maps(result: MapResult, path: Path) -> Path:
@@ -182,16 +193,13 @@ def constraint_maps(result: MapResult, path: Path) -> Path:
         ``path``.
     """
     cons = result.constraints
-    rows, cols = _grid(len(cons))
-    fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 4.6 * rows), squeeze=False, layout="constrained")
-    params = result.family.parameters
+    fig, axes = _panels(len(cons), 4.6)
     region = set(result.region)
     counts = result.counts()
     for j, (ax, c) in enumerate(zip(axes.flat, cons, strict=False)):
         sens = result.constraint_sensitivity(j)
         a, b = _top_two(result, sens)
-        x = np.array([v[params[a].field] for v in result.design.values])
-        y = np.array([v[params[b].field] for v in result.design.values])
+        x, y = _parameter_axes(ax, result, a, b)
         med = np.array([row[j] for row in result.constraint_medians])
         ok = np.isfinite(med)
         sc = ax.scatter(x[ok], y[ok], c=med[ok], cmap="plasma", s=70, edgecolors="none")
@@ -200,18 +208,9 @@ def constraint_maps(result: MapResult, path: Path) -> Path:
         ax.scatter(x[sat], y[sat], facecolors="none", edgecolors="green", s=150, linewidths=1.5, label="fact holds")
         inr = np.array([i in region for i in range(len(x))], bool)
         ax.scatter(x[inr], y[inr], facecolors="none", edgecolors="red", s=230, linewidths=1.5, label="region")
-        for jj, axis in ((a, "x"), (b, "y")):
-            if params[jj].scale == "log":
-                (ax.set_xscale if axis == "x" else ax.set_yscale)("log")
-        ax.set_xlabel(params[a].axis_label())
-        ax.set_ylabel(params[b].axis_label())
         ax.set_title(f"{c.id}: needs {c.comparator.text()}\nholds on {counts[c.id]} of {len(x)} points",
                      fontsize=8.5)
         ax.grid(True, which="both", alpha=0.25)
         ax.legend(fontsize=7, loc="best")
-    for ax in list(axes.flat)[len(cons):]:
-        ax.set_visible(False)
     fig.suptitle(f"paper {result.family.paper}: the reported device facts over the family")
-    fig.savefig(path, dpi=90, metadata=PNG_METADATA)
-    plt.close(fig)
-    return path
+    return _save(fig, axes, len(cons), path)

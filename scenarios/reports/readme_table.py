@@ -299,7 +299,7 @@ def stability_text(docs: Sequence[dict[str, Any]], *, draws: int = 2000, seed: i
         f"+- {sd:.1f} of these {total} claims is expected to change ({100 * e / total:.0f} %), and "
         f"of {e2:.1f} +- {sd2:.1f} at {2 * n[-1]} units: the posterior predictive of each claim's "
         "counts (`gyrobench.scenarios.reports.stability`); `benchmarks/status_flips.py` measures it "
-        "between two seed sets."
+        "between two seed sets (docs/stability.md)."
     )
 
 

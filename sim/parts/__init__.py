@@ -34,6 +34,7 @@ from gyrobench.sim.parts._part import (
     Datasheet,
     Part,
     PartUnit,
+    oversampling,
 )
 from gyrobench.sim.parts._physics import (
     BROWNIAN_SHARE,
@@ -62,6 +63,7 @@ __all__ = [
     "Datasheet",
     "Part",
     "PartUnit",
+    "oversampling",
     "get",
     "names",
     "load_toml",

@@ -478,7 +478,7 @@ def _simulate_device(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
                         f"a record needs at least {MIN_SAMPLES}")
-    model = args.model or "physics"
+    model = args.model or part.datasheet.default_model
     # output, true rate, the error components, temperature, force, plus the model's temporaries, at the
     # part's internal rate (its output filter oversamples)
     k = parts.oversampling(part.datasheet, fs) if model == "budget" else 1
@@ -534,6 +534,9 @@ def _cmd_parts(args) -> int:
               f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
+        print(f"    bias tempco {fmt(d.bias_tempco, 'deg/h/K')}; scale-factor tempco "
+              f"{fmt(d.scale_factor_tempco, 'ppm/K')}; output rate {fmt(d.output_rate, 'Hz')}; rms noise "
+              f"{fmt(d.rms_noise, 'deg/s')}; figures: {d.source_kind} source")
         if d.has_accelerometer:
             acc_noise = (fmt(d.accel_vrw_m_s_sqrt_h, "m/s/sqrt(h)") if d.accel_vrw_m_s_sqrt_h is not None
                          else f"{fmt(d.accel_noise_density_ug, 'ug/sqrt(Hz)')} ({d.noise_density_sided}-sided)")

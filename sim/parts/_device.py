@@ -23,7 +23,8 @@ MEMS (:class:`gyrobench.sim.mems_resonator.MemsResonator`)
     d zero_rate_output / dT = c_T at the reference temperature (its bias there is the factory
     trim's). The scale factor SF(T) ~ (w/w0)(G0/G) cos theta follows the frequency and
     rebalance-gain tempcos: the sheet's k_T sets ``gain_tc`` so that d ln SF / dT = k_T. The
-    two tempcos (the scale factor's first: the bias is SF x Omega_b, so the bias solve comes last) by a secant solve on the noise-free closed forms
+    two tempcos (the scale factor's first: the bias is SF x Omega_b, so the bias solve comes
+    last) by a secant solve on the noise-free closed forms
     :func:`~gyrobench.sim.mems_resonator.zero_rate_output` and
     :func:`~gyrobench.sim.mems_resonator.low_rate_scale_factor` (central differences over
     +-1 K, to 1e-3 relative). A figure the sheet does not print leaves the default design's
@@ -44,7 +45,9 @@ RLG (:class:`gyrobench.sim.rlg.RLGUnit`)
     The chamber drives the two-node (housing, cavity) thermal model. The sheet's bias tempco,
     where printed, is the cavity coefficient k_c of :class:`~gyrobench.sim.rlg.ThermalBias`
     (the bias k_c (T2 - T_ref) once the cavity has followed the chamber), the other
-    mechanisms 0. No RLG sheet read prints one; the part then carries the one sized set of
+    mechanisms 0, T_ref the cavity's steady state in a 25 degC chamber (25 degC + H_1 + H_2, the
+    housing and discharge heating of :class:`~gyrobench.sim.rlg.TwoNodeThermal`): the sheet's
+    coefficient is per kelvin of the ambient. No RLG sheet read prints one; the part then carries the one sized set of
     RLG thermal mechanisms in the project, :data:`~gyrobench.sim.rlg.THERMAL_BIAS_CALIBRATED`
     (CALIBRATED to paper 004's device, an ASSUMED design as the FOG's default coil is). The
     sheet's g-sensitivity is added as for the FOG.
@@ -54,8 +57,10 @@ model's record runs at ``fs``; a bandwidth at or above 0.45 fs is not applied an
 says so), saturation at its range and rounding to its resolution, each a truth term, so the
 record's terms still sum to ``output - true_rate`` (``output_quantization`` where the model has
 its own ``quantization``, the RLG's count quantization). The MEMS slow flow does not split its
-output into terms: its error is the one term ``resonator`` (output - true rate - the sheet
-terms), named so in the metadata.
+output into terms: its thermal terms come from the closed forms (above) and the rest of its error
+is the one term ``resonator``. Every rad/s truth channel is one of the terms (the models' sub-terms
+and intermediate rates are not kept); the models' inputs and states (temperatures, specific
+force) stay in the truth, their logged channels beside ``output``.
 """
 
 from __future__ import annotations
@@ -113,8 +118,8 @@ def _mems_mapped(datasheet: Datasheet) -> MemsResonatorSpec:
         # g_s = SF tan(theta) (dk_yx/df)/(2 m w): linear in tan(theta) at the default plates
         target_g = units.deg_per_h(datasheet.g_sensitivity) / units.G0
         probe = 0.01
-        g1 = abs(g_sensitivity(replace(unit, phase_error=probe)))
-        if not g1 > 0.0:
+        g1 = g_sensitivity(replace(unit, phase_error=probe))  # signed: theta0 takes the sign giving +g_s
+        if not abs(g1) > 0.0:
             raise ValueError(f"{datasheet.name!r}: the resonator has no g-sensitive term to map the sheet's onto")
         theta = math.atan(math.tan(probe) * target_g / g1)
         if not abs(theta) < 0.5:
@@ -141,7 +146,8 @@ def _mems_mapped(datasheet: Datasheet) -> MemsResonatorSpec:
     return replace(spec, nominal=unit)
 
 
-def _mems_thermal(unit: MemsResonator, temp: NDArray[np.float64], omega: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+def _mems_thermal(unit: MemsResonator, temp: NDArray[np.float64],
+                  omega: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
     """The resonator's bias and scale-factor change from T0 along the record's temperature (module docstring)."""
     t0 = unit.reference_temperature
     lo, hi = float(np.min(temp)), float(np.max(temp))
@@ -153,7 +159,8 @@ def _mems_thermal(unit: MemsResonator, temp: NDArray[np.float64], omega: NDArray
     sf = np.array([low_rate_scale_factor(unit, t) / sf0 - 1.0 for t in grid])
     if len(grid) == 1:
         return {"bias_temperature": np.full_like(omega, bias[0]), "scale_factor_temperature": sf[0] * omega}
-    return {"bias_temperature": np.interp(temp, grid, bias), "scale_factor_temperature": np.interp(temp, grid, sf) * omega}
+    return {"bias_temperature": np.interp(temp, grid, bias),
+            "scale_factor_temperature": np.interp(temp, grid, sf) * omega}
 
 
 def physics_spec(datasheet: Datasheet) -> FOG2DSpec | MemsResonatorSpec | RLGSpec:
@@ -187,7 +194,11 @@ def physics_spec(datasheet: Datasheet) -> FOG2DSpec | MemsResonatorSpec | RLGSpe
         return fog
     rlg = rlg_spec(datasheet)
     if datasheet.bias_tempco:
-        thermal = ThermalBias(cavity=units.deg_per_h(datasheet.bias_tempco))
+        # referred to the cavity's steady state in a 25 degC chamber (the housing and discharge heating
+        # H_1 + H_2 above it): a powered unit at 25 degC has no thermal bias, and k_c dT once settled
+        th = rlg.thermal
+        thermal = ThermalBias(cavity=units.deg_per_h(datasheet.bias_tempco),
+                              reference_temperature=units.celsius(25.0) + th.heating_housing + th.heating_cavity)
     else:
         thermal = THERMAL_BIAS_CALIBRATED
     return replace(rlg, thermal_bias=thermal, mechanism_spread=0.0)
@@ -290,7 +301,10 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
     truth = {"true_rate": Channel(omega, "rad/s", "input rate about the sense axis (with the Earth's, as the "
                                                    "model adds it)")}
     truth.update({k: Channel(v, "rad/s", descr[k]) for k, v in comps.items()})
-    truth.update({k: c for k, c in rec.truth.items() if k not in truth and k != "rate"})
+    # the model's inputs and states (K, m/s^2, counts) stay; its rad/s sub-terms and intermediate rates
+    # (the FOG's shupe and txdt_product inside nonreciprocal, the table and Earth rates inside true_rate)
+    # do not: every rad/s truth channel is one of the terms that close the record
+    truth.update({k: c for k, c in rec.truth.items() if k not in truth and c.unit != "rad/s"})
     meta = {
         **rec.metadata,
         "model_kind": "physics",
@@ -304,4 +318,5 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
         "error_components": list(comps),
         "ignored_inputs": ignored,
     }
-    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=ds.name.replace("/", "_"))
+    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta,
+                     name=ds.name.replace("/", "_"))

@@ -22,11 +22,26 @@ The solve (one figure sets one parameter; SI inside)
 * g-sensitivity g_s [rad/s per m/s^2]: error g_s f(t), f the specific force along the axis.
 * Range: the output saturates at +-range (error: clipped - unclipped); no range given, no clipping.
 * Resolution q [rad/s]: the output is rounded to multiples of q (error: rounded - unrounded).
+* Bandwidth f_c [Hz] and output rate fs: the part's output filter, a causal Butterworth low-pass
+  of order ``filter_order`` (2 unless the sheet says; an ASSUMPTION: no sheet read states it,
+  noise bandwidth 1.11 f_c) at the internal rate k fs, k = ceil(8 f_c / fs) (at most 64), its
+  state settled on the first sample; each output sample is the mean of the filtered signal over
+  its interval (a decimating sensor's output). Every term goes through the same filter (it is
+  linear, so the terms still sum) and the filter's effect on the true rate is the term
+  ``bandwidth`` (filtered - true). White rate noise of one-sided density ND then has rms
+  ND sqrt(1.11 f_c) at the output (the sheets' "rms noise in the bandwidth"). No bandwidth on
+  the sheet: no filter, white noise to fs/2, as before any filter.
 
-Output: y = omega + b0 + b_T + e_K omega + g_s f + n_IEEE, then clipped and rounded; every
+Units, one convention per kind of field: rate biases in deg/h (bias instability, repeatability,
+offset, Gauss-Markov sigma, sine amplitude), their sensitivities in deg/h/K and deg/h/g; rate
+full scales in deg/s (range, resolution, rms noise) and the noise density in deg/s/sqrt(Hz); ARW
+deg/sqrt(h), K deg/h/sqrt(h), R deg/h^2, Q arcsec; relative errors ppm and ppm/K; Hz and s.
+
+Output: y = H[omega + b0 + b_T + e_K omega + g_s f + n_IEEE], then clipped and rounded; every
 term is a truth channel and their sum is y - omega up to float64 rounding. The technology's
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
-fix the error budget directly, not the physical parameters behind it.
+fix the error budget directly, not the physical parameters behind it; the physics path is
+:func:`gyrobench.sim.parts.simulate_part` (``model="physics"``, :mod:`gyrobench.sim.parts._device`).
 
 Accelerometers
 --------------
@@ -130,6 +145,9 @@ sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physic
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 
 _INF = math.inf
+#: the noise terms a fitted part may carry without a white-noise term
+_FIT_NOISE = ("bias_instability_dph", "rate_random_walk", "rate_ramp", "quantization", "gauss_markov_sigma",
+              "sine_amplitude")
 #: the text fields a datasheet cannot leave empty
 _TEXT = ("name", "manufacturer", "model", "source")
 
@@ -241,6 +259,8 @@ class Datasheet:
         states its filter's order; its noise bandwidth is 1.11 x the -3 dB bandwidth).
     rate_random_walk : float, optional
         K [deg/h/sqrt(h)] (IEEE 952).
+    rate_ramp : float, optional
+        R [deg/h^2] (IEEE 952).
     quantization : float, optional
         Angle quantization Q [arcsec] (IEEE 952).
     gauss_markov_sigma, gauss_markov_tau : float, optional
@@ -255,6 +275,10 @@ class Datasheet:
         "primary" (the figures were read from the maker's own document), "secondary" (from a
         page quoting it, named in ``source``), "fit" (fitted to a record by ``gyrobench twin``)
         or "user" (default: the user's own figures).
+    default_model : str
+        The model ``simulate device`` runs the part on unless ``--model`` says otherwise:
+        "physics" (default) or "budget" (a fitted part: its Q, K, R, Gauss-Markov, sine and
+        filter terms are budget terms, which the physics models do not carry).
     accel_range_g : float, optional
         Accelerometer full scale, +-range [g] (the output saturates there); None: no saturation.
     accel_bias_instability_ug : float, optional
@@ -311,6 +335,7 @@ class Datasheet:
     rms_noise: float | None = None
     filter_order: int = 2
     rate_random_walk: float | None = None
+    rate_ramp: float | None = None
     quantization: float | None = None
     gauss_markov_sigma: float | None = None
     gauss_markov_tau: float | None = None
@@ -318,6 +343,7 @@ class Datasheet:
     sine_frequency: float | None = None
     bias_offset: float | None = None
     source_kind: str = "user"
+    default_model: str = "physics"
     accel_range_g: float | None = None
     accel_bias_instability_ug: float | None = None
     accel_vrw_m_s_sqrt_h: float | None = None
@@ -351,6 +377,8 @@ class Datasheet:
         "rms_noise": FieldRange(0, 1e3, "deg/s", "output noise rms in the sheet's bandwidth", low_open=True),
         "filter_order": FieldRange(1, 8, "1", "Butterworth order of the output filter", integer=True),
         "rate_random_walk": FieldRange(0, 3.6e5, "deg/h/sqrt(h)", "rate random walk K"),
+        "rate_ramp": FieldRange(-3.6e6, 3.6e6, "deg/h^2", "rate ramp R"),
+        "default_model": FieldChoice(("physics", "budget"), "the model simulate device runs by default"),
         "quantization": FieldRange(0, 3.6e5, "arcsec", "angle quantization Q"),
         "gauss_markov_sigma": FieldRange(0, 3.6e6, "deg/h", "Gauss-Markov bias 1 sigma", low_open=True),
         "gauss_markov_tau": FieldRange(0, 1e9, "s", "Gauss-Markov correlation time", low_open=True),
@@ -382,8 +410,9 @@ class Datasheet:
             ),
         ),
         Constraint(
-            "arw or noise_density given",
-            lambda c: c.arw is not None or c.noise_density is not None,
+            "arw or noise_density given (or, for a fitted part, another noise term)",
+            lambda c: c.arw is not None or c.noise_density is not None or (
+                c.source_kind == "fit" and any(getattr(c, k) for k in _FIT_NOISE)),
             lambda c: f"arw [deg/sqrt(h)] or noise_density [deg/s/sqrt(Hz)] must be given (part {c.name!r}); "
             "got neither",
         ),
@@ -415,6 +444,8 @@ class Datasheet:
         """N [rad/sqrt(s)] (module docstring: from ARW, or from the noise density and its sidedness)."""
         if self.arw is not None:
             return units.deg_per_sqrt_h(self.arw)
+        if self.noise_density is None:  # a fitted part without white noise
+            return 0.0
         nd = math.radians(float(self.noise_density))  # type: ignore[arg-type]
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
@@ -430,7 +461,7 @@ class Datasheet:
 
     def noise_model(self) -> NoiseModel:
         """The IEEE 952 model: N and B from the figures (module docstring), Q, K, the Gauss-Markov and
-        sine terms where given (SI: Q [rad], K [rad/s/sqrt(s)], sigma [rad/s], amplitude [rad/s]); no R."""
+        sine terms where given (SI: Q [rad], K [rad/s/sqrt(s)], R [rad/s^2], sigma [rad/s], amplitude [rad/s])."""
         gm: tuple[GaussMarkov, ...] = ()
         if self.gauss_markov_sigma is not None and self.gauss_markov_tau is not None:
             gm = (GaussMarkov(sigma=units.deg_per_h(self.gauss_markov_sigma), correlation_time=self.gauss_markov_tau),)
@@ -442,6 +473,7 @@ class Datasheet:
             angle_random_walk=self.angle_random_walk(),
             bias_instability=self.bias_instability(),
             rate_random_walk=units.deg_per_h_per_sqrt_h(self.rate_random_walk or 0.0),
+            rate_ramp=units.deg_per_h2(self.rate_ramp or 0.0),
             gauss_markov=gm,
             sinusoids=sines,
         )
@@ -600,12 +632,15 @@ class PartUnit:
         if ds.bandwidth is not None:
             # the part's output filter on the oversampled signal, then its output sampling: every term
             # through the same causal filter (linear, so the terms still sum), the true rate's own
-            # filtering the "bandwidth" term; the output is the filter's sample at each output instant
+            # filtering the "bandwidth" term; each output sample the mean over its interval
             sos = output_filter(ds, fi)
-            pick = slice(k // 2, n * k, k)
-            filtered = {name: settled_filter(sos, v)[pick] for name, v in comps.items()}
-            omega_f = settled_filter(sos, omega)[pick]
-            omega, temp, force = omega[pick], temp[pick], force[pick]
+
+            def block(x: NDArray[np.float64]) -> NDArray[np.float64]:  # the mean over each output interval
+                return np.asarray(x.reshape(n, k).mean(axis=1))
+
+            filtered = {name: block(settled_filter(sos, v)) for name, v in comps.items()}
+            omega_f = block(settled_filter(sos, omega))
+            omega, temp, force = block(omega), block(temp), block(force)
             comps = {**filtered, "bandwidth": omega_f - omega}
         else:
             comps["bandwidth"] = np.zeros(n)
@@ -640,7 +675,7 @@ class PartUnit:
             fs=fs,
             channels={"output": Channel(out, "rad/s", f"{ds.manufacturer} {ds.model} output")},
             truth=truth,
-            t0=(k // 2 + 0.5) / fi,
+            t0=0.5 / fs,
             metadata={
                 "model": "gyrobench.sim.parts.PartUnit",
                 "model_kind": "budget",

@@ -474,7 +474,8 @@ def part_fields(res: TwinResult, fs: float, *, source: str, technology: str, nam
         f["filter_order"] = int(c["lowpass_order"])
     if c.get("bias"):
         f["bias_offset"] = float(units.to_deg_per_h(c["bias"]))
-    f["grade"] = _grade(float(f.get("bias_instability_dph", 0.0)))
+    b_dph = f.get("bias_instability_dph", 0.0)
+    f["grade"] = _grade(b_dph if isinstance(b_dph, float) else 0.0)
     ci = []
     for key, (field_name, conv) in _PART_FIELDS.items():
         co = res.fit.coefficients.get(key)
@@ -577,7 +578,7 @@ def _cmd_twin(args) -> int:
         fields = part_fields(res, log.fs, source=label, technology=args.technology or "MEMS", name=stem)
         from gyrobench.sim.parts import Datasheet
 
-        Datasheet(**fields)  # the part file is one simulate device reads back (its ranges, before writing)
+        Datasheet(**fields)  # type: ignore[arg-type]  # the part file simulate device reads back, checked first
         write_part_toml(Path(args.save_part), fields, f"twin {label}: a part fitted to the record")
     if args.plot:
         _plot(res, label, Path(args.plot))

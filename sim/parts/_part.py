@@ -446,7 +446,7 @@ class Datasheet:
             return units.deg_per_sqrt_h(self.arw)
         if self.noise_density is None:  # a fitted part without white noise
             return 0.0
-        nd = math.radians(float(self.noise_density))  # type: ignore[arg-type]
+        nd = math.radians(float(self.noise_density))
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
     def bias_instability(self) -> float:

@@ -24,8 +24,10 @@ The solve (one figure sets one parameter; SI inside)
 * Resolution q [rad/s]: the output is rounded to multiples of q (error: rounded - unrounded).
 * Bandwidth f_c [Hz] and output rate fs: the part's output filter, a causal Butterworth low-pass
   of order ``filter_order`` (2 unless the sheet says; an ASSUMPTION: no sheet read states it,
-  noise bandwidth 1.11 f_c) at the internal rate k fs, k = ceil(8 f_c / fs) (at most 64), its
-  state settled on the first sample; each output sample is the mean of the filtered signal over
+  noise bandwidth 1.11 f_c) at the internal rate k fs, k = ceil(8 f_c / fs) (at most 8: the
+  filter is simulated where f_c < fs; at or above the output rate it only shapes the noise within
+  each output interval, and is left out, said so in the metadata), its state settled on the first
+  sample; each output sample is the mean of the filtered signal over
   its interval (a decimating sensor's output). Every term goes through the same filter (it is
   linear, so the terms still sum) and the filter's effect on the true rate is the term
   ``bandwidth`` (filtered - true). White rate noise of one-sided density ND then has rms
@@ -155,15 +157,36 @@ _TEXT = ("name", "manufacturer", "model", "source")
 #: the output filter runs at least this many times its -3 dB bandwidth (the white noise it passes
 #: beyond that is 0.5 % of its power for the second-order default)
 FILTER_OVERSAMPLING = 8.0
-#: the most internal samples per output sample (a bandwidth far above the output rate)
-MAX_OVERSAMPLING = 64
+
+
+def filtered(datasheet: Datasheet, fs: float) -> bool:
+    """Whether the output filter is simulated at output rate ``fs`` [Hz]: the sheet gives a bandwidth below fs.
+
+    A bandwidth at or above the output rate only shapes the noise inside each output interval,
+    which the interval mean averages out (the filter's memory 1/(2 pi f_c) is below 1/(2 pi fs)):
+    such a record is simulated without the filter, and its metadata says so.
+    """
+    return datasheet.bandwidth is not None and datasheet.bandwidth < fs
 
 
 def oversampling(datasheet: Datasheet, fs: float) -> int:
-    """Internal samples per output sample: 1 without a bandwidth, else ceil(8 bandwidth / fs), at most 64."""
-    if datasheet.bandwidth is None:
+    """Internal samples per output sample: ceil(8 bandwidth / fs) (at most 8) where the filter is simulated, else 1.
+
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's sheet (its ``bandwidth``).
+    fs : float
+        Output rate [Hz].
+
+    Returns
+    -------
+    int
+        k >= 1; the internal rate is k fs.
+    """
+    if not filtered(datasheet, fs):
         return 1
-    return int(min(MAX_OVERSAMPLING, max(1, math.ceil(FILTER_OVERSAMPLING * datasheet.bandwidth / fs))))
+    return int(max(1, math.ceil(FILTER_OVERSAMPLING * float(datasheet.bandwidth) / fs)))  # type: ignore[arg-type]
 
 
 def output_filter(datasheet: Datasheet, fi: float) -> NDArray[np.float64]:
@@ -186,6 +209,9 @@ def filter_metadata(datasheet: Datasheet, fs: float) -> dict[str, object]:
     """What the record's output filter and sampling were (for the file's metadata)."""
     if datasheet.bandwidth is None:
         return {"applied": False, "why": "no bandwidth on the sheet: the noise is white to fs/2"}
+    if not filtered(datasheet, fs):
+        return {"applied": False, "why": f"the sheet's bandwidth {datasheet.bandwidth:g} Hz is not below the output "
+                                         f"rate {fs:g} Hz: each output sample is the interval mean, no filter"}
     k = oversampling(datasheet, fs)
     return {"applied": True, "kind": "butterworth", "order": datasheet.filter_order,
             "bandwidth_hz": datasheet.bandwidth, "internal_rate_hz": fs * k, "output_rate_hz": fs,
@@ -629,7 +655,7 @@ class PartUnit:
             "g_sensitivity": units.deg_per_h(ds.g_sensitivity or 0.0) / units.G0 * force,
             "ieee_noise": ds.noise_model().generate(n * k, fi, rng=rng),
         }
-        if ds.bandwidth is not None:
+        if filtered(ds, fs):
             # the part's output filter on the oversampled signal, then its output sampling: every term
             # through the same causal filter (linear, so the terms still sum), the true rate's own
             # filtering the "bandwidth" term; each output sample the mean over its interval
@@ -638,10 +664,10 @@ class PartUnit:
             def block(x: NDArray[np.float64]) -> NDArray[np.float64]:  # the mean over each output interval
                 return np.asarray(x.reshape(n, k).mean(axis=1))
 
-            filtered = {name: block(settled_filter(sos, v)) for name, v in comps.items()}
+            through = {name: block(settled_filter(sos, v)) for name, v in comps.items()}
             omega_f = block(settled_filter(sos, omega))
             omega, temp, force = block(omega), block(temp), block(force)
-            comps = {**filtered, "bandwidth": omega_f - omega}
+            comps = {**through, "bandwidth": omega_f - omega}
         else:
             comps["bandwidth"] = np.zeros(n)
         raw = omega + sum(comps.values())

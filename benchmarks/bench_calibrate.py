@@ -25,9 +25,11 @@ Run: ``python benchmarks/bench_calibrate.py [--scenarios ifog_thermal,rlg_therma
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -90,11 +92,19 @@ def _campaign(name: str, scores: dict[int, dict[str, float]], label: str) -> Any
     return bench.Campaign(campaign_id=label, scenario=name, compensator=label, config="", scores=scores)
 
 
-def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha: float) -> list[dict]:
+def _scored(
+    name: str, n_seeds: int, cache: Path | None
+) -> tuple[dict[int, dict[float, dict[str, float]]], float, float]:
+    """Per seed, per degradation: the scores (read from ``cache`` when it holds these seeds), and
+    the wall and CPU seconds per seed of computing them."""
     from gyrobench.scenarios import bench
-    from gyrobench.scenarios.bench import gate
-    from gyrobench.scenarios.bench.primary import gated_scores
 
+    path = cache / f"{name}.json" if cache is not None else None
+    if path is not None and path.exists():
+        doc = json.loads(path.read_text())
+        if doc["seeds"] >= n_seeds and [float(v) for v in doc["lams"]] == [float(v) for v in LAMS]:
+            per_seed = {int(s): {_lam(k): v for k, v in by.items()} for s, by in doc["scores"].items()}
+            return {s: per_seed[s] for s in range(n_seeds)}, doc["seed_s"], doc["seed_cpu_s"]
     module = bench.resolve_scenario(name)
     comp = _base(name)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -102,7 +112,28 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
     for s in range(n_seeds):
         per_seed[s] = _seed_scores(module, comp, s)
         print(f"  {name}: seed {s} scored", file=sys.stderr, flush=True)
-    took, cpu = time.perf_counter() - t0, time.process_time() - c0
+    took, cpu = (time.perf_counter() - t0) / n_seeds, (time.process_time() - c0) / n_seeds
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        doc = {"seeds": n_seeds, "lams": [float(v) for v in LAMS], "seed_s": took, "seed_cpu_s": cpu,
+               "scores": {str(s): {repr(float(k)): v for k, v in by.items()} for s, by in per_seed.items()}}
+        path.write_text(json.dumps(doc))
+    return per_seed, took, cpu
+
+
+def _lam(key: str) -> float:
+    """A degradation factor from its key in the cache (``"-0.5"``, or numpy's ``"np.float64(-0.5)"``)."""
+    return float(key.removeprefix("np.float64(").removesuffix(")"))
+
+
+def calibrate(
+    name: str, n_seeds: int, n: int, draws: int, margin: float, alpha: float, cache: Path | None = None
+) -> list[dict]:
+    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench import gate
+    from gyrobench.scenarios.bench.primary import gated_scores
+
+    per_seed, took, cpu = _scored(name, n_seeds, cache)
     by_lam = {lam: {s: per_seed[s][lam] for s in per_seed} for lam in LAMS}
     names = list(by_lam[0.0][0])
     gates = [g.name for g in gated_scores(name, names)]
@@ -146,7 +177,7 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
             "rate": hits / draws,
             "printed": float(np.nanmedian(printed)) if np.isfinite(printed).any() else math.inf,
             "claimed": {k: float(np.median(v)) for k, v in claims.items()},
-            "seed_s": took / n_seeds, "seed_cpu_s": cpu / n_seeds,
+            "seed_s": took, "seed_cpu_s": cpu,
         })
     return rows
 
@@ -167,6 +198,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--draws", type=int, default=300, help="random subsets of --n seeds")
     ap.add_argument("--margin", type=float, default=0.05, help="the gate's --min-change")
     ap.add_argument("--alpha", type=float, default=0.05)
+    ap.add_argument("--cache", type=Path, default=None,
+                    help="folder for the per-seed scores (reused by a later run with as many seeds)")
     args = ap.parse_args(argv)
     print(f"gate calibration: {args.n} of {args.seeds} seeds per comparison, {args.draws} subsets, margin "
           f"{100 * args.margin:g} %, alpha {args.alpha:g}")
@@ -174,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
           "detectable (comparison prints, median) | detectable (baseline file claims) |")
     print("|---|---|---|---|---|---|")
     for name in args.scenarios.split(","):
-        rows = calibrate(name, args.seeds, args.n, args.draws, args.margin, args.alpha)
+        rows = calibrate(name, args.seeds, args.n, args.draws, args.margin, args.alpha, args.cache)
         for r in rows:
             true = ", ".join(f"{k.split('/')[-1]} {100 * v:+.2f} %" for k, v in r["true"].items())
             claimed = ", ".join(f"{100 * v:.3g} %" for v in r["claimed"].values())

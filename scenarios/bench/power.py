@@ -232,7 +232,7 @@ def auto_seeds(
     m: int,
     alpha: float,
     *,
-    spreads: Mapping[str, tuple[float, float]] | None = None,
+    spreads: Mapping[str, tuple[float, float, float]] | None = None,
     units: Mapping[str, str] | None = None,
     min_change: float = DEFAULT_MIN_CHANGE,
     power: float = DEFAULT_POWER,

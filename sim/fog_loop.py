@@ -63,7 +63,7 @@ from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_c
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, check_call, with_metadata
-from gyrobench.sim.shaker import ShakerSignal
+from gyrobench.sim.shaker import ShakerSignal, moving_span
 
 __all__ = [
     "sagnac_scale_factor",
@@ -1070,14 +1070,14 @@ class ClosedLoopFOG:
         # Only the span where the table moves, plus a ring-down margin, is transformed: the
         # modes decay as exp(-pi f_k t / Q_k); 30 Q_k/(pi f_k) leaves e^-30 (1e-13) to wrap
         # around the circular transform. The rest of the record has no vibration term.
-        nz = np.flatnonzero(shaker.acceleration[: n * m])
+        span = moving_span(shaker.acceleration[: n * m])
         res = {k: np.zeros(n) for k in ("rock_true", "rock_out", "strain", "rect")}
-        if nz.size == 0:
+        if span is None:
             return res
         ring = max((30.0 * md.quality / (math.pi * md.frequency) for md in self.modes), default=0.0)
         pad = int(math.ceil(ring * fs)) + 2
-        j0 = max(0, int(nz[0]) // m - pad)
-        j1 = min(n, int(nz[-1]) // m + 1 + pad)
+        j0 = max(0, span[0] // m - pad)
+        j1 = min(n, span[1] // m + 1 + pad)
         # Widen the span to a 5-smooth transform length (a prime-sized FFT is ~10x slower);
         # the extra blocks hold table acceleration (zero outside the vibration), no new term.
         nb = _smooth_blocks(j1 - j0, m, n)

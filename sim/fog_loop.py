@@ -1083,6 +1083,8 @@ class ClosedLoopFOG:
         nb = _smooth_blocks(j1 - j0, m, n)
         j0 = max(0, min(j0, n - nb))
         j1 = min(n, j0 + nb)
+        # Arrays of the span's transform are reused in place and released once read (the same
+        # operations in the same order: the values do not change, the peak memory falls).
         a = shaker.acceleration[j0 * m : j1 * m]
         nn = len(a)
         f = np.fft.rfftfreq(nn, 1.0 / shaker.fs)
@@ -1091,19 +1093,32 @@ class ClosedLoopFOG:
         h = self.loop.transfer(f)
         sf0 = self.loop.scale_factor
         avg = np.sinc(f / fs)  # integrate-and-dump; with H once for every term of the record
+        del f
         w_loop, w_open = avg * h, avg.astype(np.complex128)
+        del avg
 
-        def out(x: NDArray[np.complex128], through_loop: bool = True) -> NDArray[np.float64]:
-            w = w_loop if through_loop else w_open
+        def out(x: NDArray[np.complex128], w: NDArray[np.complex128]) -> NDArray[np.float64]:
             return loop_average(x, nn, shaker.fs, fs, None, weight=w)
 
-        u_rock = spec["rocking"] * big_a
-        u_strain = spec["strain"] * big_a
-        res["rock_true"][j0:j1] = out(u_rock, through_loop=False)
-        res["rock_out"][j0:j1] = out(u_rock)
-        res["strain"][j0:j1] = out(u_strain)
+        u_rock = spec.pop("rocking")
+        u_rock *= big_a  # spec["rocking"] * big_a
+        u_strain = spec.pop("strain")
+        u_strain *= big_a
+        res["rock_true"][j0:j1] = out(u_rock, w_open)
+        del w_open
+        res["rock_out"][j0:j1] = out(u_rock, w_loop)
+        res["strain"][j0:j1] = out(u_strain, w_loop)
         if any(md.loss for md in self.modes):
-            phi_res = sf0 * np.fft.irfft((1.0 - h) * (u_rock + u_strain), nn)
-            loss = np.fft.irfft(spec["loss"] * big_a, nn)
-            res["rect"][j0:j1] = out(np.fft.rfft(loss * phi_res / sf0))
+            np.add(u_rock, u_strain, out=u_strain)  # u_rock + u_strain
+            del u_rock
+            np.subtract(1.0, h, out=h)  # 1 - H
+            h *= u_strain  # (1 - H) (u_rock + u_strain)
+            del u_strain
+            phi_res = sf0 * np.fft.irfft(h, nn)
+            del h
+            loss_spec = spec.pop("loss")
+            loss_spec *= big_a  # spec["loss"] * big_a
+            loss = np.fft.irfft(loss_spec, nn)
+            del loss_spec, big_a
+            res["rect"][j0:j1] = out(np.fft.rfft(loss * phi_res / sf0), w_loop)
         return res

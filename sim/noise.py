@@ -91,12 +91,14 @@ record. Values are otherwise exact: the level filters realise the spectral facto
 to ~1e-9 (second-order sections pairing slow with fast roots).
 
 Cost (``benchmarks/bench_noise.py``; CPU time per sample in units of one
-``standard_normal`` draw): Q 0.45 (one uniform draw), N 1.0, B 2.4 (one draw, four
-second-order sections, interpolation, 1/15 draw for the slow levels), K 1.35,
-R 0.15; the five-term model about 5.3 (0.19 x the plain-draw rate on one core).
-When a core is idle the next block's draws are made in a worker thread
-(``_PREFETCH``, never changing the values): measured 0.22 x the plain-draw rate
-in wall time on the 2-core machine (0.15 x without the thread).
+``standard_normal`` draw, one core): Q 0.35 (one uniform draw scaled in place, one
+difference), N 1.1 (one draw scaled in place), B 2.4 (one draw, four second-order sections,
+interpolation, 1/15 draw for the slow levels), K 1.5 (one draw, a cumulative sum), R 0.15;
+the five-term model about 5.5 (0.18 x the plain-draw rate). N, B and K each draw from their
+own child stream (so adding a term leaves the others' samples unchanged), which bounds any
+generator of these values below 1/3 of the plain-draw rate. When a core is idle the next
+block's draws are made in a worker thread (``_PREFETCH``, never changing the values): measured
+0.22 x the plain-draw rate in wall time on the 2-core machine (0.15 x without the thread).
 
 References
 ----------

@@ -90,6 +90,17 @@ def moving_span(acceleration: NDArray[np.float64]) -> tuple[int, int] | None:
 
     The same indices as ``np.flatnonzero(acceleration)[[0, -1]]`` without building the index
     array (a shaker grid holds millions of samples).
+
+    Parameters
+    ----------
+    acceleration : ndarray
+        Table acceleration samples [m/s^2] (any real array; only where it is nonzero matters).
+
+    Returns
+    -------
+    tuple of int or None
+        (first, last) index of a nonzero sample, both inclusive; None when every sample is zero
+        or there is none.
     """
     moving = np.asarray(acceleration) != 0
     if moving.size == 0:

@@ -9,6 +9,11 @@ Prints (never asserts):
   streaming in 1M chunks (``stream().chunks``) with and without the draw thread, in
   samples/s of wall clock and per CPU-second, best of several repeats;
 * the time per term (each term alone, streaming), to show where the time goes;
+* the floor of any numpy generator of the five terms that changed the values to save draws: one
+  uniform draw and its difference (Q), ONE Gaussian draw through one IIR filter for N and the
+  full-rate flicker poles together (the flicker's sections and one more), and one linear
+  interpolation from knots every 16 samples for everything slow (coarse flicker, K, R), each
+  piece at its least numpy cost (the pieces only, not a generator);
 * the peak resident memory (ru_maxrss of a fresh subprocess) while streaming 1e8
   samples of the five-term model to HDF5 with ``gyrobench.io.recording.HDF5StreamWriter``.
 """
@@ -122,6 +127,38 @@ def bench_speed(n: int, repeats: int) -> None:
     )
 
 
+def bench_floor(n: int, repeats: int) -> None:
+    from scipy import signal
+
+    from gyrobench.sim.noise import NoiseModel
+
+    blk = 1 << 16
+    sos = NoiseModel.from_datasheet(**FIVE).stream(FS, rng=np.random.default_rng(1))._flicker.fine.sos
+    sos = np.vstack([sos, [[1.0, 0.3, 0.0, 1.0, -0.5, 0.0]]])  # one more section: the white term's zero
+    r_u, r_g = np.random.default_rng(1), np.random.default_rng(2)
+    knots = np.random.default_rng(3).standard_normal(blk // 16 + 1)
+    w = np.arange(16) / 16
+
+    def floor() -> None:
+        total, zi, prev = np.empty(n), np.zeros((sos.shape[0], 2)), 0.0
+        for s in range(0, n, blk):
+            acc = total[s : s + blk]
+            e = r_u.random(blk)
+            e *= 3.0
+            acc[0] = e[0] - prev
+            np.subtract(e[1:], e[:-1], out=acc[1:])
+            prev = e[-1]
+            y, zi = signal.sosfilt(sos, r_g.standard_normal(blk), zi=zi)
+            acc += y
+            c = np.multiply.outer(knots[1:] - knots[:-1], w)
+            c += knots[:-1, None]
+            acc += c.reshape(-1)
+
+    g, buf = np.random.default_rng(0), np.empty(n)
+    base = best_rate(lambda: g.standard_normal(out=buf), n, repeats)
+    _line("floor of a one-Gaussian-draw generator (pieces)", best_rate(floor, n, repeats), base)
+
+
 def hdf5_child(n: int, path: str) -> None:
     """Run in a fresh process: stream n samples to HDF5, print ru_maxrss."""
     from gyrobench.io.recording import HDF5StreamWriter
@@ -174,6 +211,7 @@ def main() -> None:
     print(machine())
     n = int(a.n) >> 20 << 20
     bench_speed(n, a.repeats)
+    bench_floor(n, a.repeats)
     if not a.skip_hdf5:
         bench_hdf5(int(a.n_stream))
     print(f"after: loadavg={tuple(round(x, 2) for x in os.getloadavg())}")

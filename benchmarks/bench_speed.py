@@ -21,6 +21,12 @@ still slows CPU work through shared caches and memory bandwidth):
   ``reproduce --all`` stores (20 units whole or slim by the scenario's ``REPORT_UNITS`` and 20
   control units slim, from those sizes); ``--reproduce`` runs ``gyrobench reproduce --all`` in a
   temporary folder and reports its CPU (``RUSAGE_CHILDREN``) and the store's size; target < 20 MB.
+
+``--splice FILE`` also writes the block (date, machine, load, table) into FILE between the lines
+``<!-- bench_speed:begin -->`` and ``<!-- bench_speed:end -->`` (docs/performance.md holds them),
+replacing what was there; the rest of FILE is kept byte for byte and the file is replaced
+atomically. A FILE without exactly one pair of markers is refused in one line (exit 2) before
+anything is measured.
 """
 
 from __future__ import annotations
@@ -228,6 +234,40 @@ def store(reproduce: bool, folder: str) -> list[tuple[str, str, str, str]]:
     return rows
 
 
+BEGIN, END = "<!-- bench_speed:begin -->", "<!-- bench_speed:end -->"
+
+
+def _marker_span(text: str, path: str) -> tuple[int, int]:
+    """(start, end) of what lies between the markers of ``text``; ValueError naming ``path`` otherwise."""
+    if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
+        raise ValueError(f"{path}: needs exactly one line {BEGIN!r} followed by one line {END!r}")
+    return text.index(BEGIN) + len(BEGIN), text.index(END)
+
+
+def splice(path: str, block: str) -> None:
+    """Replace what lies between the markers of ``path`` by ``block`` (atomic: temporary file, rename)."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    a, b = _marker_span(text, path)
+    tmp = f"{path}.bench_speed.tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text[:a] + "\n" + block.strip("\n") + "\n" + text[b:])
+    os.replace(tmp, path)
+
+
+def block(rows: list[tuple[str, str, str, str]], started: str, load0: str, load1: str) -> str:
+    """The markdown block: date and machine, the load at the start and the end, the table."""
+    import numpy
+
+    lines = [f"Measured {started} UTC by `python benchmarks/bench_speed.py`: nproc={os.cpu_count()}, "
+             f"python {platform.python_version()}, numpy {numpy.__version__}; load average (1, 5, 15 min) "
+             f"{load0} at the start, {load1} at the end. CPU seconds of the process doing the work (a "
+             f"loaded machine still slows them through shared caches and memory bandwidth).", "",
+             "| what | gyrobench | peer (same run) | target |", "|---|---|---|---|"]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--units", type=int, default=3, help="seeds per paper's unit (default 3)")
@@ -236,23 +276,30 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--big", action="store_true", help="also 1e8 samples (800 MB of data, ~4 GB peak for the peer)")
     ap.add_argument("--reproduce", action="store_true", help="also run `gyrobench reproduce --all` (minutes)")
     ap.add_argument("--data-dir", default=None, help="where the Allan records are kept (default a temporary folder)")
+    ap.add_argument("--splice", metavar="FILE", default=None,
+                    help=f"also write the table into FILE between the lines {BEGIN} and {END}")
     args = ap.parse_args(argv)
-    import numpy
-
+    if args.splice is not None:
+        try:
+            with open(args.splice, encoding="utf-8") as f:
+                _marker_span(f.read(), args.splice)
+        except (OSError, ValueError) as exc:
+            print(f"bench_speed: --splice {exc}", file=sys.stderr)
+            return 2
     load0 = load()
-    print(f"# gyrobench speed, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    print(f"nproc={os.cpu_count()} python={platform.python_version()} numpy={numpy.__version__}; "
-          f"load average (1, 5, 15 min) at the start: {load0}")
+    started = f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M}"
+    print(f"# gyrobench speed, {started} UTC")
     with tempfile.TemporaryDirectory() as tmp:
         folder = args.data_dir or tmp
         rows = units(args.units)
         rows += noise(args.repeat)
         rows += allan([int(float(s)) for s in args.sizes.split(",")], args.repeat, folder, args.big)
         rows += store(args.reproduce, tmp)
-    print("\n| what | gyrobench | peer (same run) | target |\n|---|---|---|---|")
-    for r in rows:
-        print("| " + " | ".join(r) + " |")
-    print(f"\nload average at the end: {load()} (CPU times; a loaded machine still slows them)")
+    text = block(rows, started, load0, load())
+    print(text)
+    if args.splice is not None:
+        splice(args.splice, text)
+        print(f"spliced into {args.splice}")
     return 0
 
 

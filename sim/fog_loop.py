@@ -63,7 +63,7 @@ from gyrobench.sim.fiber_strain import StrainMode, segment_weight, strain_rate_c
 from gyrobench.sim.fog_optics import SPEED_OF_LIGHT, OpticalBudget, arw_from_phase_psd
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, check_call, with_metadata
-from gyrobench.sim.shaker import ShakerSignal
+from gyrobench.sim.shaker import ShakerSignal, moving_span
 
 __all__ = [
     "sagnac_scale_factor",
@@ -1070,19 +1070,21 @@ class ClosedLoopFOG:
         # Only the span where the table moves, plus a ring-down margin, is transformed: the
         # modes decay as exp(-pi f_k t / Q_k); 30 Q_k/(pi f_k) leaves e^-30 (1e-13) to wrap
         # around the circular transform. The rest of the record has no vibration term.
-        nz = np.flatnonzero(shaker.acceleration[: n * m])
+        span = moving_span(shaker.acceleration[: n * m])
         res = {k: np.zeros(n) for k in ("rock_true", "rock_out", "strain", "rect")}
-        if nz.size == 0:
+        if span is None:
             return res
         ring = max((30.0 * md.quality / (math.pi * md.frequency) for md in self.modes), default=0.0)
         pad = int(math.ceil(ring * fs)) + 2
-        j0 = max(0, int(nz[0]) // m - pad)
-        j1 = min(n, int(nz[-1]) // m + 1 + pad)
+        j0 = max(0, span[0] // m - pad)
+        j1 = min(n, span[1] // m + 1 + pad)
         # Widen the span to a 5-smooth transform length (a prime-sized FFT is ~10x slower);
         # the extra blocks hold table acceleration (zero outside the vibration), no new term.
         nb = _smooth_blocks(j1 - j0, m, n)
         j0 = max(0, min(j0, n - nb))
         j1 = min(n, j0 + nb)
+        # Arrays of the span's transform are reused in place and released once read (the same
+        # operations in the same order: the values do not change, the peak memory falls).
         a = shaker.acceleration[j0 * m : j1 * m]
         nn = len(a)
         f = np.fft.rfftfreq(nn, 1.0 / shaker.fs)
@@ -1091,19 +1093,32 @@ class ClosedLoopFOG:
         h = self.loop.transfer(f)
         sf0 = self.loop.scale_factor
         avg = np.sinc(f / fs)  # integrate-and-dump; with H once for every term of the record
+        del f
         w_loop, w_open = avg * h, avg.astype(np.complex128)
+        del avg
 
-        def out(x: NDArray[np.complex128], through_loop: bool = True) -> NDArray[np.float64]:
-            w = w_loop if through_loop else w_open
+        def out(x: NDArray[np.complex128], w: NDArray[np.complex128]) -> NDArray[np.float64]:
             return loop_average(x, nn, shaker.fs, fs, None, weight=w)
 
-        u_rock = spec["rocking"] * big_a
-        u_strain = spec["strain"] * big_a
-        res["rock_true"][j0:j1] = out(u_rock, through_loop=False)
-        res["rock_out"][j0:j1] = out(u_rock)
-        res["strain"][j0:j1] = out(u_strain)
+        u_rock = spec.pop("rocking")
+        u_rock *= big_a  # spec["rocking"] * big_a
+        u_strain = spec.pop("strain")
+        u_strain *= big_a
+        res["rock_true"][j0:j1] = out(u_rock, w_open)
+        del w_open
+        res["rock_out"][j0:j1] = out(u_rock, w_loop)
+        res["strain"][j0:j1] = out(u_strain, w_loop)
         if any(md.loss for md in self.modes):
-            phi_res = sf0 * np.fft.irfft((1.0 - h) * (u_rock + u_strain), nn)
-            loss = np.fft.irfft(spec["loss"] * big_a, nn)
-            res["rect"][j0:j1] = out(np.fft.rfft(loss * phi_res / sf0))
+            np.add(u_rock, u_strain, out=u_strain)  # u_rock + u_strain
+            del u_rock
+            np.subtract(1.0, h, out=h)  # 1 - H
+            h *= u_strain  # (1 - H) (u_rock + u_strain)
+            del u_strain
+            phi_res = sf0 * np.fft.irfft(h, nn)
+            del h
+            loss_spec = spec.pop("loss")
+            loss_spec *= big_a  # spec["loss"] * big_a
+            loss = np.fft.irfft(loss_spec, nn)
+            del loss_spec, big_a
+            res["rect"][j0:j1] = out(np.fft.rfft(loss * phi_res / sf0), w_loop)
         return res

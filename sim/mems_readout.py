@@ -227,8 +227,42 @@ class SenseChain:
         safe = np.maximum(a, 1e-300)
         yc = self.clip_displacement
         tc = np.arccos(np.clip(yc / safe, 0.0, 1.0))  # 0 when a <= y_c (no clipping)
-        v1 = self.rail * (4.0 / math.pi) * np.sin(tc) + _harmonic(self.frontend_output, safe, tc)
+        v1 = self.rail * (4.0 / math.pi) * np.sin(tc) + self._smooth_harmonic(safe, tc)
         return np.where(a > 0, v1 / (self.small_signal_gain * safe), 1.0)
+
+    def _smooth_harmonic(self, a: NDArray[np.float64], lo: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(4/pi) int_lo^{pi/2} frontend_output(a cos t) cos t dt, Gauss-Legendre (:func:`_harmonic`).
+
+        The same arithmetic as ``_harmonic(self.frontend_output, a, lo)``, element for element and in
+        the same order (so the same values), with the nodes' cosines computed once for the
+        unclipped amplitudes (lo = 0, the same nodes for all) and the integrand built in place.
+        """
+        a = np.asarray(a, dtype=float)
+        lo = np.asarray(lo, dtype=float)
+        if a.ndim != 1 or lo.shape != a.shape:
+            return _harmonic(self.frontend_output, a, lo)
+        hi = 0.5 * math.pi
+        half = 0.5 * (hi - lo)
+        cos_t = np.empty((a.size, _GL_X.size))
+        flat = lo == 0.0
+        cos_t[flat] = np.cos(0.0 + (0.5 * (hi - 0.0)) * (_GL_X + 1.0))
+        rest = ~flat
+        if np.any(rest):
+            cos_t[rest] = np.cos(lo[rest, None] + half[rest, None] * (_GL_X + 1.0))
+        vals = np.multiply(a[:, None], cos_t)  # y = a cos t
+        inner = np.add(self.gap, vals)
+        np.subtract(self.gap, vals, out=vals)
+        np.divide(1.0, vals, out=vals)
+        np.divide(1.0, inner, out=inner)
+        np.subtract(vals, inner, out=vals)  # 1/(g - y) - 1/(g + y)
+        del inner
+        vals = np.multiply(EPSILON_0 * self.sense_area, vals, out=vals)  # capacitance_difference
+        np.multiply(self.carrier, vals, out=vals)
+        np.divide(vals, self.feedback_capacitance, out=vals)
+        np.clip(vals, -self.rail, self.rail, out=vals)  # frontend_output
+        vals *= cos_t
+        vals *= _GL_W
+        return (4.0 / math.pi) * half * np.sum(vals, axis=-1)
 
     # ------------------------------------------------------------------ the chain
     def stiffened_envelope(self, linear: ArrayLike, receptance: complex) -> NDArray[np.complex128]:

@@ -91,12 +91,14 @@ record. Values are otherwise exact: the level filters realise the spectral facto
 to ~1e-9 (second-order sections pairing slow with fast roots).
 
 Cost (``benchmarks/bench_noise.py``; CPU time per sample in units of one
-``standard_normal`` draw): Q 0.45 (one uniform draw), N 1.0, B 2.4 (one draw, four
-second-order sections, interpolation, 1/15 draw for the slow levels), K 1.35,
-R 0.15; the five-term model about 5.3 (0.19 x the plain-draw rate on one core).
-When a core is idle the next block's draws are made in a worker thread
-(``_PREFETCH``, never changing the values): measured 0.22 x the plain-draw rate
-in wall time on the 2-core machine (0.15 x without the thread).
+``standard_normal`` draw, one core): Q 0.35 (one uniform draw scaled in place, one
+difference), N 1.1 (one draw scaled in place), B 2.4 (one draw, four second-order sections,
+interpolation, 1/15 draw for the slow levels), K 1.5 (one draw, a cumulative sum), R 0.15;
+the five-term model about 5.5 (0.18 x the plain-draw rate). N, B and K each draw from their
+own child stream (so adding a term leaves the others' samples unchanged), which bounds any
+generator of these values below 1/3 of the plain-draw rate. When a core is idle the next
+block's draws are made in a worker thread (``_PREFETCH``, never changing the values): measured
+0.22 x the plain-draw rate in wall time on the 2-core machine (0.15 x without the thread).
 
 References
 ----------
@@ -1035,6 +1037,18 @@ class NoiseModel:
         return self.stream(fs, rng=rng, t0=t0).take_components(n)
 
 
+def _scaled(draw: Callable[[int], NDArray[np.float64]], scale: float, n: int) -> NDArray[np.float64]:
+    """``n`` draws of ``draw`` times ``scale``, in place.
+
+    Bit for bit ``Generator.uniform(0, scale, n)`` for ``draw = Generator.random`` and
+    ``Generator.normal(0, scale, n)`` for ``draw = Generator.standard_normal``: numpy computes those
+    as ``0 + scale x`` from the same draws x (equal values; a -0.0 product would become +0.0).
+    """
+    x = draw(n)
+    x *= scale
+    return x
+
+
 class NoiseStream:
     """Chunked generator for a :class:`NoiseModel`; state carried between chunks.
 
@@ -1095,16 +1109,22 @@ class NoiseStream:
             self._gm.append([phi, gain, state])
         # full-rate random draws, in a fixed order; drawn block by block, possibly one block ahead
         # by a worker thread (numpy releases the GIL while filling), never changing their values
+        # (``_scaled`` draws exactly what Generator.uniform(0, c) and Generator.normal(0, c) return,
+        # in less time: the core arithmetic 0 + c x is the same)
         self._sources: list[tuple[str, Callable[[int], Any]]] = []
         q_scale = self._q_step * self.fs  # rate step per unit of uniform angle draw
         if m.quantization > 0:
-            self._sources.append(("q", functools.partial(children[_SLOT_QUANT].uniform, 0.0, q_scale)))
+            self._sources.append(("q", functools.partial(_scaled, children[_SLOT_QUANT].random, q_scale)))
         if m.angle_random_walk > 0:
-            self._sources.append(("arw", functools.partial(children[_SLOT_ARW].normal, 0.0, self._arw_gain)))
+            self._sources.append(
+                ("arw", functools.partial(_scaled, children[_SLOT_ARW].standard_normal, self._arw_gain))
+            )
         if self._flicker is not None and self._flicker.fine is not None:
             self._sources.append(("fl", self._flicker.fine.rng.standard_normal))
         if m.rate_random_walk > 0:
-            self._sources.append(("rrw", functools.partial(children[_SLOT_RRW].normal, 0.0, self._rrw_gain)))
+            self._sources.append(
+                ("rrw", functools.partial(_scaled, children[_SLOT_RRW].standard_normal, self._rrw_gain))
+            )
         for i in range(len(m.gauss_markov)):
             self._sources.append((f"gm{i}", children[_SLOT_GM0 + i].standard_normal))
 

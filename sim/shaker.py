@@ -60,6 +60,7 @@ from gyrobench.base.validate import real_number
 
 __all__ = [
     "ShakerSignal",
+    "moving_span",
     "VibrationProfile",
     "SineSweep",
     "FixedSine",
@@ -82,6 +83,32 @@ def _real(owner: str, name: str, v, unit: str, *, positive: bool = False, nonneg
     if nonneg and v < 0:
         raise ValueError(f"{owner}.{name} must be >= 0 {unit}; got {v!r}")
     return v
+
+
+def moving_span(acceleration: NDArray[np.float64]) -> tuple[int, int] | None:
+    """(first, last) index of the nonzero samples of ``acceleration``, None when all are zero.
+
+    The same indices as ``np.flatnonzero(acceleration)[[0, -1]]`` without building the index
+    array (a shaker grid holds millions of samples).
+
+    Parameters
+    ----------
+    acceleration : ndarray
+        Table acceleration samples [m/s^2] (any real array; only where it is nonzero matters).
+
+    Returns
+    -------
+    tuple of int or None
+        (first, last) index of a nonzero sample, both inclusive; None when every sample is zero
+        or there is none.
+    """
+    moving = np.asarray(acceleration) != 0
+    if moving.size == 0:
+        return None
+    first = int(np.argmax(moving))
+    if not moving[first]:
+        return None
+    return first, moving.size - 1 - int(np.argmax(moving[::-1]))
 
 
 @dataclass(frozen=True, slots=True)

@@ -10,7 +10,7 @@ import pytest
 
 from gyrobench.sim import mems_full, mems_population, mems_slow_flow
 from gyrobench.sim import mems_resonator as mr
-from gyrobench.sim.mems_readout import EPSILON_0, SenseChain, SenseChainSpec
+from gyrobench.sim.mems_readout import EPSILON_0, SenseChain, SenseChainSpec, _harmonic
 
 
 def test_clip_displacement_is_where_the_front_end_reaches_its_rail():
@@ -31,6 +31,21 @@ def test_describing_gain_is_one_at_small_amplitude_and_falls_past_the_rail():
     assert np.all(np.diff(g[past]) < 0)  # compression beyond the rail
     v1 = g * a  # the fundamental (per K_0) grows with the amplitude: the output stays monotone
     assert np.all(np.diff(v1) > 0)
+
+
+def test_describing_gain_is_the_generic_quadrature_bit_for_bit():
+    """The in-place quadrature of the describing gain is the generic Gauss-Legendre harmonic
+    (:func:`_harmonic` of ``frontend_output``) value for value, clipped and unclipped amplitudes
+    and a drawn unit's chain alike."""
+    rng = np.random.default_rng(3)
+    for ch in (SenseChain(), SenseChainSpec(k3_spread=0.1).realize(rng=rng)):
+        yc = ch.clip_displacement
+        a = np.concatenate([[0.0, yc], rng.uniform(0.0, 1.8 * yc, 3000)])
+        safe = np.maximum(a, 1e-300)
+        tc = np.arccos(np.clip(yc / safe, 0.0, 1.0))
+        v1 = ch.rail * (4.0 / math.pi) * np.sin(tc) + _harmonic(ch.frontend_output, safe, tc)
+        generic = np.where(a > 0, v1 / (ch.small_signal_gain * safe), 1.0)
+        assert ch.describing_gain(a).tobytes() == generic.tobytes()
 
 
 def test_far_past_the_rail_the_fundamental_tends_to_the_hard_limiters():

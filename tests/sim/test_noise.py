@@ -899,3 +899,12 @@ def test_forked_child_can_use_the_draw_thread(monkeypatch):
 def _gen_in_child(n):
     nz._PREFETCH = True
     return ALL_TERMS.generate(n, 100.0, rng=np.random.default_rng(33))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_scaled_draws_are_numpys_uniform_and_normal_bit_for_bit(seed):
+    """The stream's scaled draws equal Generator.uniform(0, c) and Generator.normal(0, c) exactly."""
+    n, c = 10_001, 3.7e-5
+    a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+    assert nz._scaled(a.random, c, n).tobytes() == b.uniform(0.0, c, n).tobytes()
+    assert nz._scaled(a.standard_normal, c, n).tobytes() == b.normal(0.0, c, n).tobytes()

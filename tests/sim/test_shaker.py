@@ -163,3 +163,15 @@ def test_psd_breakpoints_must_increase():
 def test_sample_requires_generator():
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
         FixedSine(frequency=5.0, duration=1.0, acceleration=G).sample(100.0, rng=1)
+
+
+def test_moving_span_is_the_first_and_last_nonzero_sample():
+    from gyrobench.sim.shaker import moving_span
+
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        a = np.where(rng.random(500) < 0.05, rng.standard_normal(500), 0.0)
+        nz = np.flatnonzero(a)
+        assert moving_span(a) == ((int(nz[0]), int(nz[-1])) if nz.size else None)
+    assert moving_span(np.zeros(7)) is None and moving_span(np.zeros(0)) is None
+    assert moving_span(np.array([0.0, -2.0])) == (1, 1)

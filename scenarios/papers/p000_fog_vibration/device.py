@@ -17,7 +17,7 @@ from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.fog_loop import ClosedLoopFOG
 from gyrobench.sim.mount_coning import MountConing
 from gyrobench.sim.sensor import Environment, with_metadata
-from gyrobench.sim.shaker import Phased, SineSweep
+from gyrobench.sim.shaker import Phased, SineSweep, moving_span
 
 from .config import Config
 
@@ -96,12 +96,12 @@ def _block_mean_coning(
     output intervals of ``m`` grid samples; computed only where the table moves, plus 30 ring-down
     times (e^-30) each side, and held only over the output intervals that span touches."""
     coning = np.zeros(n)
-    moving = np.flatnonzero(acceleration[: n * m])
-    if moving.size:
+    moving = moving_span(acceleration[: n * m])
+    if moving is not None:
         f_min = min(mount.x.frequency, mount.y.frequency)
         q_max = max(mount.x.quality, mount.y.quality)
         pad = int(np.ceil(30.0 * q_max / (np.pi * f_min) * fs))
-        j0, j1 = max(0, int(moving[0]) - pad), min(n * m, int(moving[-1]) + 1 + pad)
+        j0, j1 = max(0, moving[0] - pad), min(n * m, moving[1] + 1 + pad)
         b0, b1 = j0 // m, -(-j1 // m)
         fast = np.zeros((b1 - b0) * m)
         fast[j0 - b0 * m : j1 - b0 * m] = padded_mount_rate(mount, acceleration[j0:j1], fs)

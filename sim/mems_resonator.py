@@ -508,6 +508,9 @@ class MemsResonator:
             own child stream of ``rng``; the loop's transient at a block start (a few loop
             time constants, ms) and the 1/f term's memory across blocks are lost. The model
             has no vibration input: a set ``vibration`` is listed in ``ignored_inputs``.
+            ``true_rate`` as an (n, k) array runs k independent segments of n samples side
+            by side (one slow-flow call, each column from the noise-free equilibrium of its
+            first rate: a rate table's dwells), at a constant temperature.
         fs : float
             Output rate [Hz].
         rng : numpy.random.Generator
@@ -518,22 +521,38 @@ class MemsResonator:
         Recording
             Channels ``rate`` [rad/s] and ``temperature`` [K]; truth ``true_rate``,
             ``temperature`` and ``specific_force``. The slow flow does not split its output
-            into terms: ``error_components`` is empty.
+            into terms: ``error_components`` is empty. With k segments the channels hold
+            them one after another (column by column, n k samples) and the metadata's
+            ``segments`` is k (1 for one record).
+
+        Raises
+        ------
+        ValueError
+            Fewer than 2 samples, or segments with a varying temperature.
         """
         from gyrobench.sim.mems_slow_flow import slow_flow  # it imports this module
 
-        fs = check_call(environment, fs, rng)
+        fs = check_call(environment, fs, rng, columns=True)
         n = environment.n_samples(fs)
         if n < 2:
             raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
         rate = environment.sampled("true_rate", fs)
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
-        out = np.empty(n)
-        if np.all(temp == temp[0]):
+        k = environment.columns
+        if k > 1:
+            if not np.all(temp == temp[0]):
+                raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
+            columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
+            out, rate = columns.output.T.reshape(-1), rate.T.reshape(-1)
+            temp, force = np.full(n * k, temp[0]), np.tile(force, k)
+            blocks = 1
+        elif np.all(temp == temp[0]):
+            out = np.empty(n)
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
             blocks = 1
         else:
+            out = np.empty(n)
             m = max(2, int(round(TEMPERATURE_BLOCK * fs)))
             starts = list(range(0, n, m))
             if n - starts[-1] < 2 and len(starts) > 1:  # a last block of one sample joins the one before
@@ -560,6 +579,7 @@ class MemsResonator:
             metadata={
                 "model": "gyrobench.sim.mems_resonator.MemsResonator (slow flow)",
                 "temperature_blocks": blocks,
+                "segments": k,
                 "ignored_inputs": environment.ignored("vibration"),
                 "error_components": [],
             },

@@ -68,8 +68,13 @@ class FieldRange:
         The field's unit as a user writes it (``"m"``, ``"degC/min"``, ``"1"`` for a pure number).
     why : str
         What sets the bounds (shown by nothing; read by a maintainer and the meta-test's failures).
+    low_open, high_open : bool
+        The bound is exclusive.
     integer : bool
         The field holds an integer count.
+    infinite : bool
+        An infinite value is valid where its bound is infinite (``high = inf`` admits
+        ``inf``: "no limit", "off"); otherwise every value must be finite.
     """
 
     low: float
@@ -79,16 +84,31 @@ class FieldRange:
     low_open: bool = False
     high_open: bool = False
     integer: bool = False
+    infinite: bool = False
 
     def contains(self, value: object) -> bool:
-        """True when ``value`` is a finite real number (numpy's too, never a bool) inside the range."""
+        """Whether a value lies in the range.
+
+        Parameters
+        ----------
+        value : object
+            The candidate value.
+
+        Returns
+        -------
+        bool
+            True when ``value`` is a real number (numpy's too, never a bool) inside the range:
+            finite, or infinite at an infinite bound when ``infinite`` is set.
+        """
         if isinstance(value, bool) or not isinstance(value, Real):
             return False
         if isinstance(value, Integral) and abs(int(value)) > 2**63 - 1:  # never converted to float (10**400)
             return False
         v = float(value)
-        if not math.isfinite(v):
+        if math.isnan(v):
             return False
+        if math.isinf(v):
+            return self.infinite and v == (self.high if v > 0 else self.low)
         above = v > self.low if self.low_open else v >= self.low
         below = v < self.high if self.high_open else v <= self.high
         return above and below
@@ -96,6 +116,10 @@ class FieldRange:
     def text(self) -> str:
         """The range as a user reads it: ``"(0, 1e+05] m"``, ``"> 0 Hz"`` (no upper bound),
         ``"a finite number [K]"`` (no bound)."""
+        text = self._bounds()
+        return f"{text} or inf".rstrip() if self.infinite and math.isinf(self.high) else text
+
+    def _bounds(self) -> str:
         kind = "an integer " if self.integer else ""
         lo_inf, hi_inf = math.isinf(self.low), math.isinf(self.high)
         if lo_inf and hi_inf:
@@ -198,8 +222,8 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
         cached = {}
         try:
             hints = typing.get_type_hints(config_type)
-        except (NameError, TypeError):  # an annotation that cannot be resolved: no derived check
-            hints = {}
+        except (NameError, TypeError):  # a base's annotation does not resolve: field by field
+            hints = _field_hints(config_type)
         for f in dataclasses.fields(config_type):
             hint = hints.get(f.name)
             if hint is bool or (isinstance(hint, type) and dataclasses.is_dataclass(hint)):
@@ -211,6 +235,24 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
 
 
 _KINDS: dict[type, dict[str, Any]] = {}
+
+
+def _field_hints(config_type: type) -> dict[str, Any]:
+    """field -> its resolved annotation, each evaluated in the module of the class that declares
+    it (a field whose annotation does not resolve there is left out: no derived check)."""
+    import sys
+
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(config_type):
+        owner = next((c for c in config_type.__mro__ if f.name in c.__dict__.get("__annotations__", {})), config_type)
+        try:
+            out[f.name] = typing.get_type_hints(
+                type("_Field", (), {"__annotations__": {f.name: f.type}, "__module__": owner.__module__}),
+                globalns=vars(sys.modules[owner.__module__]),
+            )[f.name]
+        except (NameError, TypeError, KeyError):
+            continue
+    return out
 
 
 def check_field(owner: str, config_type: type, name: str, value: Any) -> None:

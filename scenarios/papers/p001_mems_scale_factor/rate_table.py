@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.base import units
 from gyrobench.io.recording import Channel, Recording, package_version
-from gyrobench.sim import mems_slow_flow
 from gyrobench.sim.mems_resonator import MemsResonator
+from gyrobench.sim.sensor import Environment
 
 from . import NAME
 from .config import Config
@@ -50,6 +50,26 @@ class Run:
 def simulate_runs(config: Config, seed: int) -> list[Run]:
     """Unit ``seed``'s runs: realize the unit, then per run its ambient, power-on and noise.
 
+    Each run goes through the device interface: ``unit.simulate(environment, fs=, rng=)``
+    (:meth:`gyrobench.sim.mems_resonator.MemsResonator.simulate`) with the table's rates as
+    the columns of an (n, k) ``true_rate``, one independent dwell per column at the run's
+    die temperature.
+
+    Parameters
+    ----------
+    config : Config
+        The paper's protocol and device.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    list of Run
+        The ``n_fit_runs`` fitting runs, then the held-out runs; each output (n, k) [rad/s],
+        one column per table rate.
+
+    Notes
+    -----
     The unit comes from the first child stream of ``numpy.random.default_rng(seed)``; each
     run has its own child of the second (ambient temperature, power-on, noise).
     """
@@ -57,15 +77,16 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
     _, r_runs = np.random.default_rng(seed).spawn(2)
     w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
     n = int(round(config.settle_s * config.fs_hz)) + int(round(config.average_s * config.fs_hz))
-    col = np.broadcast_to(w, (n, w.size))
+    col = np.ascontiguousarray(np.broadcast_to(w, (n, w.size)))
     transfer = rate_transfer(config)
     out = []
     for rr in r_runs.spawn(config.n_fit_runs + config.n_heldout_runs):
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
-        res = mems_slow_flow.slow_flow(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
-        out.append(Run(on, float(temp), transfer(res.output)))
+        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim)
+        dwells = np.ascontiguousarray(rec["rate"].reshape(w.size, n).T)  # the record holds dwell after dwell
+        out.append(Run(on, float(temp), transfer(dwells)))
     return out
 
 

@@ -177,8 +177,25 @@ class Constraint:
 
 
 def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Constraint:
-    """The constraint ``low < high`` (``low <= high`` when not ``strict``) between two fields,
-    refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``."""
+    """The declared constraint that one field is below another.
+
+    The constraint ``low < high`` (``low <= high`` when not ``strict``) between two fields,
+    refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``.
+
+    Parameters
+    ----------
+    low, high : str
+        The two fields' names.
+    strict : bool
+        ``low < high`` when True, ``low <= high`` when False.
+    unit : str
+        Their common unit, for the message ("" for none).
+
+    Returns
+    -------
+    Constraint
+        For a ``CONSTRAINTS`` tuple; refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``.
+    """
     op = "<" if strict else "<="
     where = f" [{unit}]" if unit else ""
 
@@ -193,21 +210,68 @@ def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Cons
 
 
 def field_spec(config_type: type, name: str) -> FieldRange | FieldChoice | None:
-    """The declared spec of field ``name`` of the dataclass ``config_type`` (its ``RANGES``
-    entry), or None when it declares none."""
+    """The declared spec of one field of a configuration class.
+
+    The declared spec of field ``name`` of the dataclass ``config_type`` (its ``RANGES``
+    entry), or None when it declares none.
+
+    Parameters
+    ----------
+    config_type : type
+        The dataclass.
+    name : str
+        The field's name.
+
+    Returns
+    -------
+    FieldRange, FieldChoice or None
+        Its ``RANGES`` entry; None when it declares none.
+    """
     specs = getattr(config_type, "RANGES", None) or {}
     return specs.get(name)
 
 
 def field_range(config_type: type, name: str) -> FieldRange | None:
-    """The documented :class:`FieldRange` of field ``name`` of the dataclass ``config_type`` (None
-    when it states none, or a :class:`FieldChoice`)."""
+    """The declared numeric range of one field of a configuration class.
+
+    The documented :class:`FieldRange` of field ``name`` of the dataclass ``config_type`` (None
+    when it states none, or a :class:`FieldChoice`).
+
+    Parameters
+    ----------
+    config_type : type
+        The dataclass.
+    name : str
+        The field's name.
+
+    Returns
+    -------
+    FieldRange or None
+        The field's :class:`FieldRange`; None when it declares none or a :class:`FieldChoice`.
+    """
     spec = field_spec(config_type, name)
     return spec if isinstance(spec, FieldRange) else None
 
 
 def range_error(owner: str, name: str, rng: FieldRange, value: Any) -> ValueError:
-    """The one-line error for ``value`` outside ``rng`` (a huge integer shown by its size only)."""
+    """The one-line error for ``value`` outside ``rng`` (a huge integer shown by its size only).
+
+    Parameters
+    ----------
+    owner : str
+        The class named in the message.
+    name : str
+        The field (``name[i]`` for an element of a tuple).
+    rng : FieldRange
+        The range the value left.
+    value : object
+        The refused value (an integer of more than 30 digits is shown by its size only).
+
+    Returns
+    -------
+    ValueError
+        ``"<owner>.<name> must be <range with unit>; got <value>"``, to be raised by the caller.
+    """
     shown = f"an integer of {len(str(abs(value)))} digits" if isinstance(value, int) and abs(value) > 10**30 else (
         repr(value)
     )
@@ -256,12 +320,25 @@ def _field_hints(config_type: type) -> dict[str, Any]:
 
 
 def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
-    """Refuse ``value`` for field ``name`` of ``config_type`` in one line, by the field's declared
+    """Refuse one field's value in one line, by the field's declared spec and annotation.
+
+    Refuse ``value`` for field ``name`` of ``config_type`` in one line, by the field's declared
     spec and annotation: a ``bool`` field takes a bool, a dataclass-typed field an instance of it, a
     ``Literal`` field one of its values, a
     :class:`FieldChoice` field one of its choices, a :class:`FieldRange` field a finite number in
     range (an integer when it says so; None passes: an optional field left unset); a tuple is
     checked element by element.
+
+    Parameters
+    ----------
+    owner : str
+        The class named in the message.
+    config_type : type
+        The dataclass that declares the field (its ``RANGES`` and annotations).
+    name : str
+        The field.
+    value : object
+        The value given for it.
 
     Raises
     ------
@@ -296,10 +373,17 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
 
 
 def validate(config: Any) -> None:
-    """Check the dataclass ``config`` against its declarations, in one line per refusal: every
+    """Check a configuration dataclass against its declared field specs and constraints.
+
+    Check the dataclass ``config`` against its declarations, in one line per refusal: every
     field by :func:`check_field` (in declaration order), then every declared
     :class:`Constraint` of its ``CONSTRAINTS`` (in order). A config's ``__post_init__`` calls
     it; nothing else is hand-written there.
+
+    Parameters
+    ----------
+    config : dataclass instance
+        The configuration (its class declares ``RANGES`` and, optionally, ``CONSTRAINTS``).
 
     Raises
     ------
@@ -316,9 +400,16 @@ def validate(config: Any) -> None:
 
 
 def check_ranges(config: Any) -> None:
-    """Refuse, in one line, any field of the dataclass ``config`` outside its documented range
+    """Refuse, in one line, any field of a dataclass outside its declared range.
+
+    Refuse, in one line, any field of the dataclass ``config`` outside its documented range
     (:class:`FieldRange`, the class attribute ``RANGES``). A None value (an optional field left
     unset) passes; a tuple is checked element by element.
+
+    Parameters
+    ----------
+    config : dataclass instance
+        The configuration whose class declares ``RANGES``.
 
     Raises
     ------

@@ -99,7 +99,22 @@ def duffing_normalized(u: ArrayLike) -> NDArray[np.float64]:
 
 
 def rapp(x: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
-    """Rapp compression ``x / (1 + |x/saturation|^(2 order))^(1/(2 order))`` (units of x)."""
+    """Rapp compression ``x / (1 + |x/saturation|^(2 order))^(1/(2 order))`` (units of x).
+
+    Parameters
+    ----------
+    x : array_like
+        Input (any unit).
+    saturation : float
+        Saturation level s (units of x), > 0; inf passes x unchanged.
+    order : float
+        Smoothness p [-], >= 1 (large p approaches a hard clip).
+
+    Returns
+    -------
+    ndarray
+        The compressed values, |rapp(x)| < s (units of x).
+    """
     _check_rapp(saturation, order)
     x = np.asarray(x, dtype=float)
     if math.isinf(saturation):
@@ -109,7 +124,22 @@ def rapp(x: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
 
 
 def rapp_inverse(y: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
-    """Inverse of :func:`rapp` for ``|y| < saturation``: ``y / (1 - |y/s|^(2p))^(1/(2p))``."""
+    """Inverse of :func:`rapp` for ``|y| < saturation``: ``y / (1 - |y/s|^(2p))^(1/(2p))``.
+
+    Parameters
+    ----------
+    y : array_like
+        Compressed values, |y| < saturation (units of the input).
+    saturation : float
+        Saturation level s, > 0.
+    order : float
+        Smoothness p [-], >= 1.
+
+    Returns
+    -------
+    ndarray
+        x with rapp(x) = y.
+    """
     _check_rapp(saturation, order)
     y = np.asarray(y, dtype=float)
     if math.isinf(saturation):
@@ -133,8 +163,8 @@ def _check_rapp(saturation: float, order: float) -> None:
 class DuffingSense:
     """An open-loop sense mode with cubic (hardening) stiffness, driven by the Coriolis force.
 
-    Parameters (SI)
-    ---------------
+    Parameters
+    ----------
     mass : float
         Modal (= Coriolis) mass m [kg].
     drive_omega, sense_omega : float

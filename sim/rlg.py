@@ -240,6 +240,20 @@ def beat_frequency(
 ) -> NDArray[np.float64]:
     """Mean beat frequency of the Adler equation at a constant input rate [Hz].
 
+    Parameters
+    ----------
+    rate : array_like
+        Input rate Omega [rad/s].
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+
+    Returns
+    -------
+    ndarray
+        f_beat [Hz], signed.
+
     Notes
     -----
     For d psi/dt = 2 pi K (Omega - Omega_L sin psi) and |Omega| > Omega_L the phase
@@ -332,6 +346,16 @@ def integrate_adler(
 def count_pulses(psi: ArrayLike) -> NDArray[np.float64]:
     """Pulses counted in each interval between successive phase samples.
 
+    Parameters
+    ----------
+    psi : array_like
+        Beat phase at successive samples [rad].
+
+    Returns
+    -------
+    ndarray
+        Signed pulse counts per interval (one fewer than the samples).
+
     Notes
     -----
     A counter advances by one at each 2 pi of beat phase: c_k = floor(psi_k / 2 pi);
@@ -397,7 +421,15 @@ class Dither:
 
 @dataclass(frozen=True, slots=True)
 class DitherRealization:
-    """One drawn dither history: ``factors[m]`` multiplies the amplitude of cycle m."""
+    """One drawn dither history: ``factors[m]`` multiplies the amplitude of cycle m.
+
+    Parameters
+    ----------
+    dither : Dither
+        The dither drawn.
+    factors : ndarray
+        Amplitude factor a_m of each cycle (per realization along the trailing axes) [-].
+    """
 
     dither: Dither
     factors: NDArray[np.float64]
@@ -435,6 +467,20 @@ class DitherRealization:
 
 def dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
     """Angle random walk left by dithering through lock-in [rad/sqrt(s)].
+
+    Parameters
+    ----------
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+    dither : Dither
+        The body dither (f_d, theta_D, amplitude jitter sigma).
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
 
     Notes
     -----
@@ -517,6 +563,20 @@ def two_node_temperatures(
     """Housing and cavity temperatures [K] at the samples of ``chamber`` [K], sampled at ``fs`` [Hz].
 
     See :class:`TwoNodeThermal` for the equations. The unit is powered at the first sample.
+
+    Parameters
+    ----------
+    chamber : ndarray
+        Chamber temperature at the samples [K], >= 2 samples.
+    fs : float
+        Sample rate [Hz].
+    thermal : TwoNodeThermal
+        The thermal model.
+
+    Returns
+    -------
+    tuple of ndarray
+        (T1, T2): housing and cavity temperatures [K] at the samples.
     """
     tc, h = _chamber_samples("two_node_temperatures", chamber, fs)
     t1 = _first_order_foh(tc + thermal.heating_housing, tc[0], thermal.tau_housing, h)
@@ -927,10 +987,18 @@ class RLGSpec:
         Nominal mechanism sizes; magnitudes vary by ``mechanism_spread`` (log-normal,
         relative); signs are those of the nominal (a design property: which discharge
         leg the incoming heat reaches first is fixed by the block layout).
+    lock_in_spread : float
+        Relative (log-normal) unit-to-unit spread of the lock-in rate [-].
+    thermal_spread : float
+        Relative (log-normal) spread of the thermal time constants and heating [-].
+    mechanism_spread : float
+        Relative (log-normal) spread of the thermal-bias mechanism sizes [-].
     bias_instability, rate_random_walk, bias_repeatability, flow_repeatability : float
         See :class:`RLGUnit`.
     sensor : TemperatureSensor
-        Noise and resolution of both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
+        Noise and resolution of both sensors.
+    sensor_offset_spread : float
+        Std of each sensor's drawn calibration offset [K].
 
     Notes
     -----

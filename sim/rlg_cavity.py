@@ -176,6 +176,20 @@ CAVITY_RLG_FAMILY = CavityRLGFamily()
 def lock_in_from_backscatter(r_net: ArrayLike, *, area: float, wavelength: float) -> NDArray:
     """Lock-in rate [rad/s] from the net complex backscatter amplitude per round trip.
 
+    Parameters
+    ----------
+    r_net : array_like
+        Net complex backscatter amplitude per round trip [-].
+    area : float
+        Enclosed area A [m^2], > 0.
+    wavelength : float
+        Laser wavelength lambda [m], > 0.
+
+    Returns
+    -------
+    ndarray
+        Omega_L [rad/s].
+
     Notes
     -----
     Omega_L = c lambda |r_net| / (8 pi A) (docs/physics.md 6.6 from the coupled-
@@ -312,6 +326,22 @@ def mode_index(
     n changes by the fewest whole steps that bring |n lambda - x| back to <= travel/2, and
     only when it is exceeded (hysteresis). Sequential in time (a play operator); loops only
     over the samples where the bound is exceeded.
+
+    Parameters
+    ----------
+    excursion : ndarray
+        Free-perimeter excursion x(t) [m].
+    wavelength : float
+        Laser wavelength lambda [m].
+    travel : float
+        PLC travel S [m of path].
+    n0 : int
+        Mode index at the first sample.
+
+    Returns
+    -------
+    ndarray of int
+        n(t) at each sample.
     """
     if not travel > wavelength:
         raise ValueError(
@@ -566,7 +596,22 @@ class SwingDither:
 
 
 def swing_dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
-    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`)."""
+    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`).
+
+    Parameters
+    ----------
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+    dither : Dither
+        The dither (f_d, theta_D, amplitude jitter sigma).
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
+    """
     k = _pos("swing_dither_arw", "scale_factor", scale_factor, "counts/rad")
     wl = _nonneg("swing_dither_arw", "lock_in_rate", lock_in_rate, "rad/s")
     s = dither.amplitude_jitter
@@ -601,7 +646,9 @@ class CavityRLG(_CavityScale):
     gas_rise_repeatability : float
         Relative std of the gas temperature rise at each turn-on.
     bias : float
-        Constant bias [rad/s]; ``bias_repeatability`` its turn-on std [rad/s].
+        Constant bias [rad/s].
+    bias_repeatability : float
+        Turn-on to turn-on std of the constant bias [rad/s].
     bias_instability, rate_random_walk : float
         Flicker B [rad/s] and K [rad/s/sqrt(s)] (IEEE 952).
     sensor_housing, sensor_cavity : TemperatureSensor
@@ -870,6 +917,8 @@ class CavityRLGSpec:
         Nominal eta, log-normal spread ``dissipative_spread``. No source prints it: default 0
         (the backscatter null shift off); its range is :data:`CAVITY_RLG_FAMILY`
         ``.dissipative`` and a study sets it (paper 004 identifies it to its gyro).
+    dissipative_spread : float
+        Log-normal unit-to-unit spread of eta [-].
     cte_bound : float
         alpha is drawn uniform in [-cte_bound, +cte_bound]: a block of ZERODUR expansion class 2
         (|alpha| <= 0.10e-6 /K, :data:`ZERODUR_CTE_CLASS_2`).
@@ -877,16 +926,28 @@ class CavityRLGSpec:
         PLC travel drawn uniform in this range [m of path]; default 1.2..1.8 wavelengths
         (STATED ASSUMPTION; must exceed one wavelength).
     thermal : CavityThermal
-        Nominal network; ``mount_asymmetry`` is the log-normal spread of each mount's
-        conductance (STATED ASSUMPTION 0.3), ``thermal_spread`` of the others (0.1).
+        Nominal network (spreads: ``mount_asymmetry``, STATED ASSUMPTION 0.3, and
+        ``thermal_spread``, 0.1).
+    thermal_spread : float
+        Relative (log-normal) spread of the network's capacities and the air conductance [-].
+    mount_asymmetry : float
+        Log-normal spread of each block mount's conductance [-].
     discharge : Discharge
-        Nominal discharge; ``tcr_mismatch_std`` [1/K] (STATED ASSUMPTION 5e-6/K: matched
-        metal-film sense resistors), ``imbalance_repeatability`` [A] (1e-6 A, 0.17 % of the leg
-        current, STATED ASSUMPTION), ``gas_rise_repeatability`` (0.1, STATED ASSUMPTION).
+        Nominal discharge.
+    tcr_mismatch_std : float
+        Std of the regulators' sense-resistor TCR difference [1/K] (STATED ASSUMPTION 5e-6/K:
+        matched metal-film sense resistors).
+    imbalance_repeatability : float
+        Std of the leg-current imbalance set at each turn-on [A] (1e-6 A, 0.17 % of the leg
+        current, STATED ASSUMPTION).
+    gas_rise_repeatability : float
+        Relative std of the gas temperature rise at each turn-on [-] (0.1, STATED ASSUMPTION).
     bias_spread, bias_repeatability, bias_instability, rate_random_walk : float
         [rad/s], [rad/s], [rad/s], [rad/s/sqrt(s)]; as :class:`gyrobench.sim.rlg.RLGSpec`.
     sensor : TemperatureSensor
-        Both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
+        Both sensors.
+    sensor_offset_spread : float
+        Std of each sensor's drawn calibration offset [K].
     """
 
     geometry: CavityGeometry = field(default_factory=_default_geometry)

@@ -245,7 +245,7 @@ def check_call(environment: object, fs: object, rng: object, *, columns: bool = 
     if environment.columns > 1 and not columns:
         raise ValueError(
             "Environment.true_rate must be 1-D for this model (it runs no independent segments); "
-            f"got shape {np.shape(environment.true_rate)}"
+            f"got shape {np.asarray(environment.true_rate).shape}"
         )
     return check_fs(fs)
 

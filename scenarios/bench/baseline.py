@@ -53,18 +53,6 @@ BASELINE_VERSION = 1
 def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
     """Check, before a campaign, that :func:`save_baseline` can write ``path``.
 
-    Parameters
-    ----------
-    path : path-like
-        The baseline file.
-    what : str
-        How the messages name it.
-
-    Returns
-    -------
-    Path
-        ``path`` as a Path.
-
     Raises
     ------
     IsADirectoryError
@@ -90,19 +78,6 @@ def check_baseline_matches(
     :func:`compare` needs the same scenario and at least one common seed; this
     refuses a mismatch before anything is computed. ``what`` and ``seeds_what`` name
     the baseline and the seeds in the messages (``"--baseline 'b.json'"``, ``"--seeds"``).
-
-    Parameters
-    ----------
-    baseline : Campaign
-        The baseline.
-    scenario : str or module
-        The scenario to run.
-    seeds : iterable of int, str or None
-        The seeds to run.
-    what : str
-        How the messages name the baseline.
-    seeds_what : str
-        How they name the seeds.
 
     Raises
     ------
@@ -139,22 +114,6 @@ def save_baseline(
     The file also stores, under ``"power"``, what its seeds can detect on each primary score
     at ``alpha`` with the equivalence margin ``min_change``
     (:func:`~gyrobench.scenarios.bench.gate.detectable`).
-
-    Parameters
-    ----------
-    path : path-like
-        The baseline file.
-    campaign : Campaign
-        The campaign.
-    alpha : float
-        Family-wise level of the stored power section.
-    min_change : float
-        The equivalence margin [-].
-
-    Returns
-    -------
-    Path
-        ``path`` as a Path.
 
     Raises
     ------
@@ -209,16 +168,6 @@ def save_baseline(
 def load_baseline(path: str | os.PathLike) -> Campaign:
     """Read a baseline written by :func:`save_baseline`.
 
-    Parameters
-    ----------
-    path : path-like
-        The baseline file.
-
-    Returns
-    -------
-    Campaign
-        The stored campaign.
-
     Raises
     ------
     FileNotFoundError
@@ -257,9 +206,7 @@ def load_baseline(path: str | os.PathLike) -> Campaign:
 
 
 class ComparisonError(ValueError):
-    """A campaign cannot be compared with the baseline.
-
-    A campaign cannot be compared with the baseline: no seed or no score can be paired, or
+    """A campaign cannot be compared with the baseline: no seed or no score can be paired, or
     the baseline has no finite score on the shared seeds.
 
     Raised by :func:`compare` once the campaign has run; the command line exits
@@ -277,31 +224,6 @@ class ScoreComparison:
     in the score's unit); ``relative`` = (mean candidate - mean baseline) / |mean baseline|.
     ``status`` is "improved", "regressed", "changed" (significant, direction unknown)
     or "unchanged".
-
-    Attributes
-    ----------
-    name : str
-        The score.
-    direction : int
-        -1 lower is better, +1 higher, 0 unknown.
-    n : int
-        Paired seeds.
-    baseline_mean, candidate_mean : float
-        Each campaign's mean.
-    effect : float
-        Hodges-Lehmann paired shift (candidate - baseline) [score unit].
-    relative : float
-        (candidate mean - baseline mean) / |baseline mean|.
-    p_value : float
-        The paired test's p-value.
-    p_adjusted : float
-        Holm-adjusted.
-    status : str
-        "improved", "regressed", "changed" or "unchanged".
-    primary : bool
-        A gated score.
-    unit : str
-        The score's unit.
     """
 
     name: str
@@ -320,20 +242,8 @@ class ScoreComparison:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ReferenceMeans:
-    """A reference compensator's mean of every compared score, printed beside the user's.
-
-    A reference compensator's mean of every compared score over the compared seeds: printed
-    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method.
-
-    Attributes
-    ----------
-    label : str
-        ``"uncompensated"`` or the paper's method.
-    compensator : str
-        The compensator's name.
-    means : mapping of str to float
-        Score -> mean over the compared seeds.
-    """
+    """A reference compensator's mean of every compared score over the compared seeds: printed
+    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method."""
 
     label: str
     compensator: str
@@ -358,35 +268,6 @@ class Comparison:
     reported, never failing the comparison. ``correction`` states the correction;
     ``references`` holds each reference compensator's (the uncompensated output, the paper's
     method) mean of every score over the compared seeds (:class:`ReferenceMeans`).
-
-    Attributes
-    ----------
-    scores : tuple of ScoreComparison
-        Every score compared.
-    seeds : tuple of int
-        The paired seeds.
-    alpha : float
-        Family-wise level.
-    test : str
-        The paired test used.
-    missing : tuple of str
-        Scores held by only one campaign.
-    unpaired : tuple of str
-        Scores some compared seed lacks.
-    note : str
-        The comparison's caveats, one line.
-    failed_seeds : tuple of int
-        Seeds the candidate failed on.
-    failure : str
-        Why the comparison fails on them, one line.
-    correction : str
-        The multiple-testing correction.
-    references : tuple of ReferenceMeans
-        The reference compensators' means.
-    min_change : float
-        The equivalence margin [-].
-    detectable : tuple of DetectableChange
-        What the seeds detect on each primary score.
     """
 
     scores: tuple[ScoreComparison, ...]

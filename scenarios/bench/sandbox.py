@@ -101,15 +101,6 @@ class ZygoteError(Exception):
     module raised, the message names it) and ``"bad"`` (not importable or not a compensator: the
     message is :func:`~gyrobench.scenarios.bench.compensators.resolve_compensator`'s);
     ``traceback_text`` holds the import's traceback when it raised.
-
-    Parameters
-    ----------
-    message : str
-        The one-line message.
-    kind : str
-        ``"raised"``, ``"exited"``, ``"hung"``, ``"died"`` or ``"named"``.
-    traceback_text : str
-        The import's traceback.
     """
 
     def __init__(self, message: str, *, kind: str, traceback_text: str = "") -> None:
@@ -119,17 +110,7 @@ class ZygoteError(Exception):
 
 
 class RemoteError(Exception):
-    """The compensator raised in its child; ``remote_type`` is the exception's class name.
-
-    Parameters
-    ----------
-    message : str
-        The one-line message.
-    remote_type : str
-        The exception's class name.
-    traceback_text : str
-        Its traceback in the child.
-    """
+    """The compensator raised in its child; ``remote_type`` is the exception's class name."""
 
     def __init__(self, message: str, *, remote_type: str, traceback_text: str = "") -> None:
         super().__init__(message)
@@ -149,18 +130,8 @@ class RemoteExit(SystemExit):
 
 
 class ChildDied(Exception):
-    """The child ended, or sent something unreadable, before answering.
-
-    The child ended (or sent something unreadable) before answering; ``timeout`` [s] is set
-    when it was the seed's deadline that passed.
-
-    Parameters
-    ----------
-    message : str
-        The one-line message.
-    timeout : float or None
-        The seed's deadline, when it passed [s].
-    """
+    """The child ended (or sent something unreadable) before answering; ``timeout`` [s] is set
+    when it was the seed's deadline that passed."""
 
     def __init__(self, message: str = "", *, timeout: float | None = None) -> None:
         super().__init__(message)
@@ -168,33 +139,12 @@ class ChildDied(Exception):
 
 
 class MemoryExceeded(ChildDied):
-    """The compensator raised ``MemoryError`` in its child (the per-seed memory cap).
-
-    Parameters
-    ----------
-    message : str
-        The one-line message.
-    timeout : float or None
-        The seed's deadline (unused here) [s].
-    """
+    """The compensator raised ``MemoryError`` in its child (the per-seed memory cap)."""
 
 
 # ----------------------------------------------------------------------------- wire format
 def recv_json(conn: Any, maxlength: int = MAX_HEADER) -> dict[str, Any]:
-    """One JSON object from a child, at most ``maxlength`` bytes (:class:`ChildDied` otherwise).
-
-    Parameters
-    ----------
-    conn : socket or Connection
-        The connection.
-    maxlength : int
-        The largest message [bytes].
-
-    Returns
-    -------
-    dict of str to object
-        The message.
-    """
+    """One JSON object from a child, at most ``maxlength`` bytes (:class:`ChildDied` otherwise)."""
     try:
         raw = conn.recv_bytes(maxlength)
         obj = json.loads(raw.decode("utf-8"))
@@ -218,15 +168,6 @@ class RemoteCompensator:
     Every answer is parsed strictly (:func:`recv_json`, raw float64 bytes of the announced
     shape). A child error is raised as :class:`RemoteError` (``MemoryError`` flagged), a
     ``sys.exit`` as :class:`RemoteExit`, a dead or garbled child as :class:`ChildDied`.
-
-    Parameters
-    ----------
-    conn : socket or Connection
-        The connection to the child.
-    deadline : float or None
-        The seed's deadline (monotonic clock) [s].
-    timeout : float or None
-        The per-seed time limit [s].
     """
 
     def __init__(self, conn: Any, *, deadline: float | None = None, timeout: float | None = None) -> None:
@@ -322,13 +263,7 @@ def _forward(fd: int) -> None:
 
 
 def kill_group(pid: int) -> None:
-    """SIGKILL process ``pid`` and its process group (a child is the leader of its own).
-
-    Parameters
-    ----------
-    pid : int
-        The process (a group leader).
-    """
+    """SIGKILL process ``pid`` and its process group (a child is the leader of its own)."""
     for kill in (os.killpg, os.kill):
         with contextlib.suppress(ProcessLookupError, PermissionError, OSError):
             kill(pid, signal.SIGKILL)
@@ -336,15 +271,7 @@ def kill_group(pid: int) -> None:
 
 @dataclass(frozen=True, slots=True)
 class ChildStatus:
-    """How a child ended: its exit code or the signal that killed it (both None: unknown).
-
-    Parameters
-    ----------
-    exit : int or None
-        The exit code.
-    signal : int or None
-        The signal that killed it.
-    """
+    """How a child ended: its exit code or the signal that killed it (both None: unknown)."""
 
     exit: int | None
     signal: int | None
@@ -370,15 +297,6 @@ class Zygote:
     to the zygote when it pickles, else the zygote is forked from this process (it then holds
     this process's memory: the seed list and the configuration, never a task).
     ``identity`` is the compensator's identity as the zygote computed it.
-
-    Parameters
-    ----------
-    given : object
-        The compensator as given (a ``"module:attr"`` string, a class, an instance or a function).
-    memory : int or None
-        Address-space cap of the zygote and its children [bytes] (None: none).
-    timeout : float or None
-        How long to wait for the zygote to be ready [s] (None: no limit).
     """
 
     def __init__(self, given: Any, *, memory: int | None = DEFAULT_MEMORY_BYTES, timeout: float | None = None) -> None:
@@ -589,26 +507,9 @@ def _close_shared() -> None:
 
 
 def shared_zygote(given: Any, *, memory: int | None, timeout: float | None) -> Zygote:
-    """A zygote for a compensator: a kept one whose reads are unchanged, else a new one.
-
-    A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one
+    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one
     (kept when it was exec'd; a forked one, for an object that does not pickle, is not kept:
-    close it after use, ``zygote.shared`` is False).
-
-    Parameters
-    ----------
-    given : object
-        The compensator as given.
-    memory : int or None
-        Address-space cap [bytes].
-    timeout : float or None
-        Readiness time limit [s].
-
-    Returns
-    -------
-    Zygote
-        The zygote.
-    """
+    close it after use, ``zygote.shared`` is False)."""
     import atexit
 
     if isinstance(given, str):

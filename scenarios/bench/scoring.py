@@ -61,18 +61,7 @@ class _SeedTimeout(BaseException):
 
 
 def check_seed_timeout(value: Any) -> float | None:
-    """``value`` as a per-seed time limit in seconds: a finite number > 0, or None (no limit).
-
-    Parameters
-    ----------
-    value : object
-        The limit given.
-
-    Returns
-    -------
-    float or None
-        The limit [s], or None.
-    """
+    """``value`` as a per-seed time limit in seconds: a finite number > 0, or None (no limit)."""
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
@@ -107,16 +96,6 @@ def _time_limit(seconds: float | None) -> Iterator[None]:
 
 def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
     """The scenario module for a registered name, an importable module path or a module.
-
-    Parameters
-    ----------
-    scenario : str or module
-        A registered name, an importable module path or a module.
-
-    Returns
-    -------
-    module
-        The scenario module.
 
     Raises
     ------
@@ -156,16 +135,8 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
 
 
 def bench_scenarios() -> list[str]:
-    """Registered scenarios with a compensation stage.
-
-    Registered scenarios with a compensation stage (:func:`gyrobench.scenarios.registry.describe`
-    reads their source: nothing is imported).
-
-    Returns
-    -------
-    list of str
-        Their names.
-    """
+    """Registered scenarios with a compensation stage (:func:`gyrobench.scenarios.registry.describe`
+    reads their source: nothing is imported)."""
     from gyrobench.scenarios import registry
 
     out = []
@@ -236,24 +207,6 @@ def score_or_failure(
     Returns the scores and, for a failed seed, why it failed (a non-finite prediction or
     score); else None. A seed fails at the first held-out run whose prediction or scores are
     not all finite; the runs after it are not scored.
-
-    Parameters
-    ----------
-    scenario : str or module
-        The scenario.
-    compensator : object
-        The compensator.
-    seed : int
-        The seed.
-    config : object
-        The scenario's Config (None: its default).
-    label : str or None
-        The compensator's label.
-
-    Returns
-    -------
-    tuple of (dict of str to float, str or None)
-        The scores and why the seed failed.
     """
     from threadpoolctl import threadpool_limits
 
@@ -269,29 +222,10 @@ def score_or_failure(
 
 
 def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict[str, float], str | None]:
-    """Fit a resolved compensator on a built task and score every held-out run.
-
-    Fit a resolved ``compensator`` on a built ``task`` (a :class:`~gyrobench.scenarios.base.
+    """Fit a resolved ``compensator`` on a built ``task`` (a :class:`~gyrobench.scenarios.base.
     CompensationTask`) and score every held-out run: the scores and why the seed failed, or None
     (:func:`score_or_failure` builds the task and calls this; several compensators can be scored
-    on one task this way). ``seed`` seeds the compensator; ``label`` names it in errors.
-
-    Parameters
-    ----------
-    task : CompensationTask
-        A built task.
-    compensator : object
-        A resolved compensator.
-    seed : int
-        The seed.
-    label : str
-        The compensator's label.
-
-    Returns
-    -------
-    tuple of (dict of str to float, str or None)
-        The scores and why the seed failed.
-    """
+    on one task this way). ``seed`` seeds the compensator; ``label`` names it in errors."""
     # the uncompensated reference scores the raw output: nothing to fit or predict
     raw = compensator is Uncompensated or isinstance(compensator, Uncompensated)
     groups = getattr(task, "groups_train", None)
@@ -304,27 +238,8 @@ def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict
 def score_predictions(
     task: Any, predict: Callable | None, seed: int, label: str
 ) -> tuple[dict[str, float], str | None]:
-    """Score every held-out run of a task from a predictor.
-
-    Score every held-out run of ``task`` from ``predict(run.X)`` (None: the raw output), here,
-    with this process's numpy: the scores and why the seed failed, or None.
-
-    Parameters
-    ----------
-    task : CompensationTask
-        The seed's task.
-    predict : callable or None
-        ``predict(X)`` (None: the raw output).
-    seed : int
-        The seed.
-    label : str
-        The compensator's label.
-
-    Returns
-    -------
-    tuple of (dict of str to float, str or None)
-        The scores and why the seed failed.
-    """
+    """Score every held-out run of ``task`` from ``predict(run.X)`` (None: the raw output), here,
+    with this process's numpy: the scores and why the seed failed, or None."""
     scores: dict[str, float] = {}
     per_key: dict[str, list[float]] = {}
     for run in task.heldout:
@@ -409,34 +324,12 @@ def score_job(
     label: str | None = None,
     seed_timeout: float | None = None,
 ) -> tuple[int, dict[str, float], float, str | None]:
-    """Worker entry point: score one seed.
-
-    Worker entry point (module level so it pickles by reference):
+    """Worker entry point (module level so it pickles by reference):
     (seed, scores, elapsed [s], failure or None).
 
     Contained: a compensator (or scenario) that calls ``sys.exit`` or runs past
     ``seed_timeout`` seconds makes the seed failed with that reason instead of ending or
     hanging the campaign (see :func:`_time_limit` for what the limit can interrupt).
-
-    Parameters
-    ----------
-    module_name : str
-        The scenario module.
-    compensator : object
-        The compensator.
-    seed : int
-        The seed.
-    config : object
-        The scenario's Config.
-    label : str or None
-        The compensator's label.
-    seed_timeout : float or None
-        Per-seed time limit [s].
-
-    Returns
-    -------
-    tuple of (int, dict of str to float, float, str or None)
-        (seed, scores, elapsed [s], failure or None).
     """
     t0 = time.perf_counter()
     try:
@@ -481,27 +374,8 @@ def _score_with_floor(
 
 
 def score_remote(task: Any, remote: RemoteCompensator, seed: int, label: str) -> tuple[dict[str, float], str | None]:
-    """Fit the compensator in its own process and score its predictions here.
-
-    Fit the compensator in its own process (``remote``) on ``task``'s training data only and
-    score its predictions here (:func:`score_predictions`).
-
-    Parameters
-    ----------
-    task : CompensationTask
-        The seed's task.
-    remote : RemoteCompensator
-        The compensator's child.
-    seed : int
-        The seed.
-    label : str
-        The compensator's label.
-
-    Returns
-    -------
-    tuple of (dict of str to float, str or None)
-        The scores and why the seed failed.
-    """
+    """Fit the compensator in its own process (``remote``) on ``task``'s training data only and
+    score its predictions here (:func:`score_predictions`)."""
     from gyrobench.scenarios.bench.compensators import seed_int
 
     groups = getattr(task, "groups_train", None)
@@ -518,36 +392,9 @@ def score_sandboxed(
     module_name: str, seed: int, config: Any, label: str, fd: int, memory: int | None = None,
     deadline: float | None = None, seed_timeout: float | None = None,
 ) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
-    """Scoring process of one sandboxed seed.
-
-    Scoring process of one sandboxed seed: build the task, talk to the compensator's child on
+    """Scoring process of one sandboxed seed: build the task, talk to the compensator's child on
     socket ``fd`` (:class:`~gyrobench.scenarios.bench.sandbox.RemoteCompensator`), score, check
-    the noise floor. Returns (seed, scores, elapsed [s], failure or None, the child's reads).
-
-    Parameters
-    ----------
-    module_name : str
-        The scenario module.
-    seed : int
-        The seed.
-    config : object
-        The scenario's Config.
-    label : str
-        The compensator's label.
-    fd : int
-        The socket to the compensator's child.
-    memory : int or None
-        Address-space cap [bytes].
-    deadline : float or None
-        The seed's deadline [s].
-    seed_timeout : float or None
-        Per-seed time limit [s].
-
-    Returns
-    -------
-    tuple of (int, dict, float, str or None, dict)
-        (seed, scores, elapsed [s], failure or None, the child's reads).
-    """
+    the noise floor. Returns (seed, scores, elapsed [s], failure or None, the child's reads)."""
     from multiprocessing.connection import Connection
 
     from threadpoolctl import threadpool_limits
@@ -580,33 +427,8 @@ def score_job_remote(
     module_name: str, compensator: Any, seed: int, config: Any, label: str,
     seed_timeout: float | None = None, memory: int | None = None,
 ) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
-    """Worker entry point of a sandboxed seed on any executor.
-
-    Worker entry point of a sandboxed seed on any executor (a dask worker): its own zygote
-    (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`) and child, the deadline kept here.
-
-    Parameters
-    ----------
-    module_name : str
-        The scenario module.
-    compensator : object
-        The compensator.
-    seed : int
-        The seed.
-    config : object
-        The scenario's Config.
-    label : str
-        The compensator's label.
-    seed_timeout : float or None
-        Per-seed time limit [s].
-    memory : int or None
-        Address-space cap [bytes].
-
-    Returns
-    -------
-    tuple of (int, dict, float, str or None, dict)
-        (seed, scores, elapsed [s], failure or None, the child's reads).
-    """
+    """Worker entry point of a sandboxed seed on any executor (a dask worker): its own zygote
+    (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`) and child, the deadline kept here."""
     t0 = time.perf_counter()
     deadline = None if seed_timeout is None else time.monotonic() + seed_timeout
     try:

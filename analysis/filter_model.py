@@ -101,7 +101,22 @@ def overbound_factor(fit: NoiseFit, confidence: float = 0.95) -> float:
 
 
 def filter_model(fit: NoiseFit, *, overbound: bool = False) -> FilterModel:
-    """The fit as process noise (module docstring); ``overbound`` scales it to overbound the data's 95 % bound."""
+    """The fit as process noise (module docstring); ``overbound`` scales it to overbound the data's 95 % bound.
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        An Allan-variance noise fit (:func:`gyrobench.analysis.allan.fit_noise`).
+    overbound : bool
+        Scale every density by :func:`overbound_factor` so the model's Allan deviation
+        overbounds the data's 95 % bound at every tau.
+
+    Returns
+    -------
+    FilterModel
+        White-noise density and per-sample variance, random-walk density, the Gauss-Markov
+        equivalent of the bias instability and its random-walk bound, in the fit's rate unit.
+    """
     fs = float(fit.curve.fs)
     n, n_b = _value(fit, "N")
     k, k_b = _value(fit, "K")

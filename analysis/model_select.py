@@ -147,7 +147,20 @@ class ModelChoice:
 
 
 def gm_shape(tau: NDArray[np.float64], tc: float) -> NDArray[np.float64]:
-    """AVAR of a unit-variance first-order Gauss-Markov process, g(r) / r^2, r = tau / Tc (no cancellation)."""
+    """AVAR of a unit-variance first-order Gauss-Markov process, g(r) / r^2, r = tau / Tc (no cancellation).
+
+    Parameters
+    ----------
+    tau : ndarray
+        Cluster times [s].
+    tc : float
+        Correlation time Tc [s], > 0.
+
+    Returns
+    -------
+    ndarray
+        AVAR(tau) / sigma^2 [-], with g(r) = 2 r + 4 (e^-r - 1) - (e^-2r - 1); a series for r < 0.5.
+    """
     r = np.asarray(tau, dtype=float) / tc
     out = np.empty_like(r)
     small = r < 0.5
@@ -164,7 +177,22 @@ def gm_shape(tau: NDArray[np.float64], tc: float) -> NDArray[np.float64]:
 
 
 def sine_shape(tau: NDArray[np.float64], period: float, fs: float) -> NDArray[np.float64]:
-    """Phase-averaged AVAR of the samples of a unit sine of ``period``: sin^4(pi tau/P) / (m sin(pi/(P fs)))^2."""
+    """Phase-averaged AVAR of the samples of a unit sine of ``period``: sin^4(pi tau/P) / (m sin(pi/(P fs)))^2.
+
+    Parameters
+    ----------
+    tau : ndarray
+        Cluster times [s], multiples of 1/fs.
+    period : float
+        The sine's period P [s].
+    fs : float
+        Sample rate [Hz].
+
+    Returns
+    -------
+    ndarray
+        AVAR(tau) / A^2 of a unit-amplitude sine [-], averaged over its phase.
+    """
     tau = np.asarray(tau, dtype=float)
     m = tau * fs
     sx = math.sin(math.pi / (period * fs))
@@ -197,6 +225,11 @@ def filter_shape(m: NDArray[np.int64], order: int, corner: float, fs: float, pas
         Sample rate [Hz].
     passes : {1, 2}
         1: the filter once; 2: forward and backward (zero phase, |H|^4).
+
+    Returns
+    -------
+    ndarray
+        g_f(m) at each averaging factor [-] (1 for an all-pass filter).
 
     Notes
     -----

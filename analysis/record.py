@@ -99,6 +99,22 @@ def stationarity_verdict(rate: ArrayLike, fs: float, curve: AllanCurve, label: s
     """The motion/step check on windows of the curve's tau nearest 1 s with >= 32 windows of >= 8 samples.
 
     None when no tau of the curve qualifies (the record is too short to test).
+
+    Parameters
+    ----------
+    rate : array_like
+        The rate record [any unit].
+    fs : float
+        Sample rate [Hz].
+    curve : AllanCurve
+        Its Allan curve (the window length is one of its taus).
+    label : str
+        The channel's name, for the warning lines.
+
+    Returns
+    -------
+    StationarityReport or None
+        The check's verdict; None when the record is too short to test.
     """
     from gyrobench.analysis.stationarity import stationarity_check
 
@@ -111,7 +127,18 @@ def stationarity_verdict(rate: ArrayLike, fs: float, curve: AllanCurve, label: s
 
 
 def octave_subset(curve: AllanCurve) -> AllanCurve:
-    """The points of ``curve`` at m = 2^k (the fit's point covariance grows as the square of the taus)."""
+    """The points of ``curve`` at m = 2^k (the fit's point covariance grows as the square of the taus).
+
+    Parameters
+    ----------
+    curve : AllanCurve
+        An Allan curve.
+
+    Returns
+    -------
+    AllanCurve
+        Its points at m = 2^k (``curve`` itself when they are all of that kind).
+    """
     m = curve.m
     keep = (m & (m - 1)) == 0
     if keep.all():
@@ -153,8 +180,17 @@ def analyse_record(
         Tau list of the curve (the fit uses the octave taus of "all").
     kind : str
         Statistic of the curve; only "overlapping" and "standard" are fitted.
-    terms, tau_min, tau_max, bandwidth, bandwidth_bias
-        As in :func:`gyrobench.analysis.allan.fit_noise`.
+    terms : tuple of str
+        The IEEE 952 terms fitted (``"Q"``, ``"N"``, ``"B"``, ``"K"``, ``"R"``), as in
+        :func:`gyrobench.analysis.allan.fit_noise`.
+    tau_min : float, "auto" or None
+        Shortest tau fitted [s] (as in ``fit_noise``).
+    tau_max : float or None
+        Longest tau fitted [s] (None: the curve's last).
+    bandwidth : float or None
+        The sensor's output bandwidth [Hz] (None: unknown; taus it biases are kept).
+    bandwidth_bias : float
+        Largest relative Allan-variance bias of the output filter a fitted tau may carry.
     quiet : bool
         On a non-stationary record fit its quiet stretches (default); False fits the whole
         record with its short taus kept.
@@ -168,6 +204,8 @@ def analyse_record(
     Returns
     -------
     RecordAnalysis
+        The curve, the stationarity verdict, the fit (None for a statistic that is not fitted)
+        and the selected model terms.
     """
     from gyrobench.analysis.allan import allan_deviation, bandwidth_range, fit_noise, fit_range, floor_bounds
     from gyrobench.analysis.quiet import quiet_curve

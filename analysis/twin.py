@@ -70,8 +70,10 @@ class TwinComparison:
         Family-wise false-alarm rate of the rule.
     per_tau_alpha : float
         Sidak level per tau, 1 - (1 - family_alpha)^(1/m).
+    max_ratio : float
+        A ratio outside [1/max_ratio, max_ratio] fails at any tau.
     passed : bool
-        ``inside`` at every compared tau.
+        ``inside`` at every compared tau (a property).
     """
 
     tau: NDArray[np.float64]
@@ -298,6 +300,16 @@ def sample_variance_edf(curve: AllanCurve) -> float:
     2000, sec. 4.3 and 8.1; AVAR = 2 x Haar wavelet variance). With c_j = AVAR(tau_j) / 2 and
     nu_j the edf of that Allan point, the sum has nu = (sum c_j)^2 / sum (c_j^2 / nu_j)
     (Satterthwaite 1946): long-tau wander (few edf) makes it small, fast noise large.
+
+    Parameters
+    ----------
+    curve : AllanCurve
+        The record's Allan curve (its octave points are used).
+
+    Returns
+    -------
+    float
+        nu, the Satterthwaite edf of the sample variance (1 when no octave point has variance).
     """
     m = curve.m
     octave = (m & (m - 1)) == 0

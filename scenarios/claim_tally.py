@@ -25,6 +25,37 @@ class ClaimTally:
     them), which ``calibrated`` (method claims only) does not. A claim with ``same_effect_as``
     (another quantity of the effect its group's lead shows) is not counted by status: it is in
     ``same_effect`` only.
+
+    Attributes
+    ----------
+    device : int
+        Device claims.
+    device_matched : int
+        Device claims that hold.
+    device_calibrated : int
+        Device claims that are calibrated (an input was set from them).
+    method : int
+        Method claims.
+    reproduced : int
+        Emergent method claims reproduced.
+    contradicted : int
+        Method claims contradicted.
+    not_reproducible : int
+        Method claims not reproducible on this device.
+    identity : int
+        Method claims no different from (or below) the control.
+    undecided : int
+        Method claims undecided.
+    not_testable : int
+        Method claims no unit could test.
+    calibrated : int
+        Calibrated method claims (they hold by construction).
+    extension : int
+        Extensions (ours).
+    extension_reproduced : int
+        Extensions that hold.
+    same_effect : int
+        Claims showing the same effect as their group's lead (not counted by status).
     """
 
     device: int = 0
@@ -59,7 +90,18 @@ _METHOD_FIELD = {
 
 
 def tally(results: Sequence[ClaimResult]) -> ClaimTally:
-    """Count judged claims by role and :attr:`ClaimResult.status`."""
+    """Count judged claims by role and :attr:`ClaimResult.status`.
+
+    Parameters
+    ----------
+    results : sequence of ClaimResult
+        Judged claims.
+
+    Returns
+    -------
+    ClaimTally
+        Their counts.
+    """
     n: dict[str, int] = {}
 
     def add(key: str) -> None:
@@ -91,12 +133,25 @@ def tally(results: Sequence[ClaimResult]) -> ClaimTally:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DeviationEffect:
-    """A deviation's effect, measured by the run: every claim's pass count and median quantity with our
+    """A deviation's effect measured by the run: every claim under our protocol and the paper's.
+
+    A deviation's effect, measured by the run: every claim's pass count and median quantity with our
     protocol and with the paper's (the deviation's config variant), over the same ``units`` seeds.
 
     ``changes`` holds ``(claim id, holds, testable, holds under the variant, testable under the
     variant)`` for every claim; ``medians`` ``(median, median under the variant)`` in the same
     order (None where no unit could test the claim).
+
+    Attributes
+    ----------
+    variant : str
+        The deviation's config variant.
+    units : int
+        The seeds both protocols ran.
+    changes : tuple of (str, int, int, int, int)
+        (claim id, holds, testable, holds under the variant, testable under the variant).
+    medians : tuple of (float or None, float or None)
+        (median, median under the variant), in the order of ``changes``.
     """
 
     variant: str
@@ -163,7 +218,22 @@ def _g(x: float | None) -> str:
 def deviation_effect(
     variant: str, ours: Sequence[ClaimResult], theirs: Sequence[ClaimResult]
 ) -> DeviationEffect:
-    """Pair the claims judged on the same units under our protocol (``ours``) and the variant's."""
+    """Pair the claims judged on the same units under our protocol (``ours``) and the variant's.
+
+    Parameters
+    ----------
+    variant : str
+        The deviation's config variant.
+    ours : sequence of ClaimResult
+        The claims judged under our protocol.
+    theirs : sequence of ClaimResult
+        The same claims judged under the variant, on the same units.
+
+    Returns
+    -------
+    DeviationEffect
+        The paired pass counts and medians (claims in both).
+    """
     by_id = {r.claim.id: r for r in theirs}
     paired = [r for r in ours if r.claim.id in by_id]
     changes = tuple(

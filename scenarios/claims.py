@@ -134,7 +134,15 @@ STATUSES = (
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comparator:
-    """How a unit's quantity is judged against the paper. Build with the functions below."""
+    """How a unit's quantity is judged against the paper. Build with the functions below.
+
+    Parameters
+    ----------
+    kind : {"within_factor", "in_range", "above", "below", "is_true"}
+        The kind of judgement.
+    lo, hi : float
+        The band's ends (-inf / inf where one-sided).
+    """
 
     kind: Literal["within_factor", "in_range", "above", "below", "is_true"]
     lo: float = -math.inf
@@ -181,7 +189,20 @@ class Comparator:
 
 
 def within_factor(value: float, factor: float = 2.0) -> Comparator:
-    """Two-sided: ``value / factor <= q <= value * factor`` (``value`` > 0, ``factor`` > 1)."""
+    """Two-sided: ``value / factor <= q <= value * factor`` (``value`` > 0, ``factor`` > 1).
+
+    Parameters
+    ----------
+    value : float
+        The paper's value, > 0.
+    factor : float
+        The factor, > 1.
+
+    Returns
+    -------
+    Comparator
+        Holds when ``value / factor <= q <= value * factor``.
+    """
     if not (math.isfinite(value) and value > 0):
         raise ValueError(f"within_factor value must be finite and > 0; got {value!r}")
     if not (math.isfinite(factor) and factor > 1):
@@ -190,24 +211,63 @@ def within_factor(value: float, factor: float = 2.0) -> Comparator:
 
 
 def in_range(lo: float, hi: float) -> Comparator:
-    """Two-sided band ``lo <= q <= hi``."""
+    """Two-sided band ``lo <= q <= hi``.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The band's ends, lo <= hi.
+
+    Returns
+    -------
+    Comparator
+        Holds when ``lo <= q <= hi``.
+    """
     if not lo < hi:
         raise ValueError(f"in_range needs lo < hi; got lo={lo!r}, hi={hi!r}")
     return Comparator(kind="in_range", lo=lo, hi=hi)
 
 
 def above(x: float) -> Comparator:
-    """One-sided: ``q > x``."""
+    """One-sided: ``q > x``.
+
+    Parameters
+    ----------
+    x : float
+        The threshold.
+
+    Returns
+    -------
+    Comparator
+        Holds when ``q > x``.
+    """
     return Comparator(kind="above", lo=float(x))
 
 
 def below(x: float) -> Comparator:
-    """One-sided: ``q < x``."""
+    """One-sided: ``q < x``.
+
+    Parameters
+    ----------
+    x : float
+        The threshold.
+
+    Returns
+    -------
+    Comparator
+        Holds when ``q < x``.
+    """
     return Comparator(kind="below", hi=float(x))
 
 
 def is_true() -> Comparator:
-    """Per-unit yes/no: the quantity is 1.0 when the statement holds, 0.0 when it fails."""
+    """Per-unit yes/no: the quantity is 1.0 when the statement holds, 0.0 when it fails.
+
+    Returns
+    -------
+    Comparator
+        Holds when the quantity is 1.0.
+    """
     return Comparator(kind="is_true")
 
 
@@ -326,6 +386,23 @@ class Deviation:
     it over the units and the report prints the measured change of every claim's pass count.
     ``effect`` is legacy free text; new deviations leave it empty so that no number in a
     deviation is hand-written.
+
+    Parameters
+    ----------
+    paper : str
+        The paper's key.
+    what : str
+        The protocol step concerned.
+    paper_says : str
+        What the paper states (or that it states nothing).
+    we_do : str
+        What the scenario does instead.
+    reason : str
+        Why.
+    effect : str
+        Free text; empty for new deviations (the measured change is reported instead).
+    variant : str or None
+        The config variant that runs the paper's protocol (None: none).
     """
 
     paper: str
@@ -339,7 +416,17 @@ class Deviation:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ControlResult:
-    """A claim judged on the control units (the paper's effect switched off; no precondition)."""
+    """A claim judged on the control units (the paper's effect switched off; no precondition).
+
+    Parameters
+    ----------
+    units : int
+        Control units run.
+    testable : int
+        Those that could test the claim.
+    holds : int
+        Those where it holds.
+    """
 
     units: int
     testable: int
@@ -370,6 +457,29 @@ class ClaimResult:
     ``precondition_absent`` units lacked the claim's precondition (they are not in
     ``testable``); ``misses_below`` / ``misses_above`` count the testable units whose quantity
     fell below / above the comparator's band; ``control`` is the claim on the control units.
+
+    Parameters
+    ----------
+    claim : Claim
+        The claim judged.
+    units : int
+        Units run.
+    testable : int
+        Units that could test it (quantity present, precondition met).
+    holds : int
+        Testable units where it holds.
+    median : float or None
+        Median of the testable units' quantity (None: none testable).
+    spread : tuple of float or None
+        Interquartile range (25th, 75th percentile) of that quantity.
+    precondition_absent : int
+        Units that lacked the claim's precondition.
+    misses_below, misses_above : int
+        Testable units whose quantity fell below / above the comparator's band.
+    control : ControlResult or None
+        The claim on the control units (None: no control run).
+    z : float
+        z of the Wilson interval the verdict uses.
     """
 
     claim: Claim
@@ -511,6 +621,20 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     ``(p + z^2/2n -+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n)``, ``p = k/n``
     (Wilson, J. Am. Stat. Assoc. 22, 209 (1927); Brown, Cai & DasGupta, Stat. Sci. 16,
     101 (2001), eq. 4).
+
+    Parameters
+    ----------
+    k : int
+        Successes.
+    n : int
+        Trials, >= 1.
+    z : float
+        Standard normal quantile of the two-sided level.
+
+    Returns
+    -------
+    tuple of float
+        (low, high) of the proportion.
     """
     if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n > 0):
         raise ValueError(f"n must be an integer > 0; got {n!r}")
@@ -533,6 +657,18 @@ def control_test(holds: int, testable: int, control_holds: int, control_testable
     The 2 x 2 table [[holds, testable - holds], [control_holds, control_testable - control_holds]]
     (``scipy.stats.fisher_exact``, conditional on the margins; Fisher, Statistical Methods for
     Research Workers (1934) sec. 21.02); 1.0 when either row is empty.
+
+    Parameters
+    ----------
+    holds, testable : int
+        The units' pass count and testable count.
+    control_holds, control_testable : int
+        The control's.
+
+    Returns
+    -------
+    float
+        The two-sided p-value.
     """
     if testable <= 0 or control_testable <= 0:
         return 1.0
@@ -543,7 +679,23 @@ def control_test(holds: int, testable: int, control_holds: int, control_testable
 
 
 def verdict(holds: int, testable: int, z: float = _Z95) -> str:
-    """The summary's word for a pass count (see the module docstring); ``z`` of the Wilson interval."""
+    """The summary's word for a pass count (see the module docstring); ``z`` of the Wilson interval.
+
+    Parameters
+    ----------
+    holds : int
+        Units where the claim holds.
+    testable : int
+        Units that could test it.
+    z : float
+        z of the Wilson interval.
+
+    Returns
+    -------
+    str
+        ``"holds for most units"``, ``"fails for most units"``, ``"undecided"``, or
+        ``"not testable"`` when no unit could test it.
+    """
     if testable == 0:
         return "not testable"
     lo, hi = wilson_interval(holds, testable, z)
@@ -564,13 +716,27 @@ def _decided(k: NDArray[np.int_], n: int, z: float) -> NDArray[np.bool_]:
 
 
 def sequential_error(looks: Sequence[int], z: float) -> float:
-    """Exact probability that a claim whose true pass rate is 50 % is decided (holds or fails) at any
+    """Exact chance that a claim of true pass rate 50 % is decided at any of several looks.
+
+    Exact probability that a claim whose true pass rate is 50 % is decided (holds or fails) at any
     of the ``looks`` (unit counts, increasing) when each look judges it by the Wilson interval at ``z``.
 
     Dynamic programming over the binomial count of the units seen: the paths still undecided after
     each look are convolved with the next batch's Binomial(n_{k+1} - n_k, 1/2) and the mass that
     crosses the boundary is summed (the group-sequential crossing probability; Jennison & Turnbull,
     Group Sequential Methods (2000) sec. 19.2, for a binomial response).
+
+    Parameters
+    ----------
+    looks : sequence of int
+        Unit counts at each look, increasing.
+    z : float
+        z of the Wilson interval each look judges by.
+
+    Returns
+    -------
+    float
+        The probability of deciding (holds or fails) at some look.
     """
     from scipy.stats import binom
 
@@ -649,6 +815,16 @@ def finite_median(values: Iterable[Any]) -> float:
 
     The one median the scenario reports use for per-unit figures, so an untestable unit
     (None or NaN) never turns a reported median into NaN or an error.
+
+    Parameters
+    ----------
+    values : iterable
+        Numbers, None or NaN.
+
+    Returns
+    -------
+    float
+        The median of the finite ones; NaN if none.
     """
     v = [float(x) for x in values if x is not None and math.isfinite(float(x))]
     return float(np.median(v)) if v else math.nan
@@ -670,6 +846,22 @@ def evaluate(
     testable units' quantities. ``control`` (the same seeds with the paper's effect switched
     off) is judged without the precondition. ``z``: of the verdict's Wilson interval (1.96 for a
     fixed number of units; :func:`sequential_z` when units are added until claims are decided).
+
+    Parameters
+    ----------
+    claims : sequence of Claim
+        The claims.
+    units : sequence of mapping
+        Each unit's ``quantities`` (claim quantity -> number or None).
+    control : sequence of mapping or None
+        The control units' quantities (None: no control).
+    z : float
+        z of the Wilson interval of the verdicts.
+
+    Returns
+    -------
+    list of ClaimResult
+        One per claim, in order.
     """
     out = []
     for c in claims:

@@ -35,7 +35,13 @@ __all__ = ["NAME", "TITLE", "Config", "simulate", "run_checks", "report", "run"]
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Config:
-    """Which check modules run (default: all of :data:`CHECK_MODULES`, in order)."""
+    """Which check modules run (default: all of :data:`CHECK_MODULES`, in order).
+
+    Parameters
+    ----------
+    modules : tuple of str
+        The check modules' dotted names.
+    """
 
     modules: tuple[str, ...] = CHECK_MODULES
 
@@ -56,7 +62,20 @@ class Config:
         validate(self)  # the declared spec and constraint above
 
 def simulate(config: Config, seed: int) -> list:
-    """The checks keep no recordings (each simulates short records internally)."""
+    """The checks keep no recordings (each simulates short records internally).
+
+    Parameters
+    ----------
+    config : Config
+        The checks run.
+    seed : int
+        Unused.
+
+    Returns
+    -------
+    list
+        Empty.
+    """
     return []
 
 
@@ -67,6 +86,22 @@ def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = 
     each module draws from its own child stream, split among its parts as its ``checks``
     splits it). ``progress`` shows a tqdm bar on stderr that moves as each part (a module, or
     one check or group of a module with ``parts``) finishes, with its passed/total.
+
+    Parameters
+    ----------
+    config : Config
+        The checks run.
+    seed : int
+        Seed of the generator split among the modules.
+    workers : int
+        Local processes (0: in this one).
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of Check
+        Every check.
     """
     rng = np.random.default_rng(seed)
     bar = None
@@ -97,7 +132,24 @@ def run_checks(config: Config, seed: int, *, workers: int = 0, progress: bool = 
 
 
 def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> Outcome:
-    """The checks as a table, a headline (passed / all) and ``results["checks"]``."""
+    """The checks as a table, a headline (passed / all) and ``results["checks"]``.
+
+    Parameters
+    ----------
+    config : Config
+        The checks run.
+    seed : int
+        Their seed.
+    checks : list of Check
+        Their results.
+    runtime_s : float
+        Run time [s].
+
+    Returns
+    -------
+    Outcome
+        The report's outcome.
+    """
     rows = [
         [
             c.id,
@@ -184,7 +236,22 @@ def report(config: Config, seed: int, checks: list[Check], runtime_s: float) -> 
 
 
 def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
-    """Run every check and build the report."""
+    """Run every check and build the report.
+
+    Parameters
+    ----------
+    config : Config
+        The checks run.
+    seed : int
+        Their seed.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    Outcome
+        The report's outcome.
+    """
     import os
 
     t0 = time.perf_counter()

@@ -35,8 +35,15 @@ _BEFORE_PAPERS = ("static_noise",)
 
 
 def table() -> dict[str, str]:
-    """Every scenario, name -> module, in the order of ``reproduce --all`` and the report:
+    """Every scenario, name -> module, in the order of ``reproduce --all`` and the report.
+
+    Every scenario, name -> module, in the order of ``reproduce --all`` and the report:
     ``static_noise``, the discovered papers (in folder order), then the rest of :data:`SCENARIOS`.
+
+    Returns
+    -------
+    dict of str to str
+        Scenario name -> its module's dotted name.
 
     Raises
     ------
@@ -55,12 +62,28 @@ def table() -> dict[str, str]:
 
 
 def available() -> list[str]:
-    """Scenario names whose module is present in this installation (:func:`table`'s order)."""
+    """Scenario names whose module is present in this installation (:func:`table`'s order).
+
+    Returns
+    -------
+    list of str
+        The names.
+    """
     return [n for n, mod in table().items() if importlib.util.find_spec(mod) is not None]
 
 
 def get(name: str) -> ModuleType:
     """Import and return the scenario module named ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A scenario name (:func:`available`).
+
+    Returns
+    -------
+    module
+        The scenario module.
 
     Raises
     ------
@@ -75,7 +98,19 @@ def get(name: str) -> ModuleType:
 
 @dataclasses.dataclass(frozen=True, slots=True)
 class ScenarioInfo:
-    """What ``gyrobench list`` shows of a scenario, read from its source without importing it."""
+    """What ``gyrobench list`` shows of a scenario, read from its source without importing it.
+
+    Parameters
+    ----------
+    name : str
+        The scenario's name.
+    title : str
+        Its ``TITLE``.
+    paper : str or None
+        Its paper key (None: not a paper scenario).
+    bench : bool
+        It has a ``compensation_task`` (``gyrobench bench`` runs it).
+    """
 
     name: str
     title: str
@@ -90,6 +125,16 @@ def describe(name: str) -> ScenarioInfo:
     (or, in a paper package's ``__init__``, ``from .x import compensation_task``)
     with :mod:`ast` keeps ``gyrobench list`` from importing every scenario (and with them
     numpy, scipy, scikit-learn and matplotlib).
+
+    Parameters
+    ----------
+    name : str
+        A scenario name.
+
+    Returns
+    -------
+    ScenarioInfo
+        What ``gyrobench list`` shows.
 
     Raises
     ------
@@ -204,6 +249,20 @@ def override(config: Any, values: dict[str, Any], *, owner: str | None = None) -
     (:class:`~gyrobench.base.ranges.FieldRange`, :class:`~gyrobench.base.ranges.FieldChoice`)
     raises ``ValueError`` naming the range and unit; then the config's own ``__post_init__``
     (:func:`~gyrobench.base.ranges.validate`) checks its declared constraints across fields.
+
+    Parameters
+    ----------
+    config : dataclass instance
+        A scenario's Config.
+    values : dict of str to object
+        Field -> new value.
+    owner : str or None
+        How the messages name the config (None: its class name).
+
+    Returns
+    -------
+    dataclass instance
+        ``config`` with ``values`` replaced.
     """
     owner = owner or type(config).__name__
     hints = typing.get_type_hints(type(config))
@@ -242,6 +301,18 @@ def load_config(module: ModuleType, path: str | Path | None) -> Any:
     so large the configuration's checks overflow), or
     :class:`gyrobench.base.memory.MemoryLimitError` when the scenario states a memory
     estimate (``memory_estimate(config)``) above the limit.
+
+    Parameters
+    ----------
+    module : module
+        The scenario.
+    path : str, Path or None
+        A TOML file (None: the defaults).
+
+    Returns
+    -------
+    dataclass instance
+        The scenario's Config.
     """
     config = module.Config()
     if path is None:

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gyrobench.base.ranges import Constraint
 from gyrobench.base.validate import check_rng as _check_rng
 from gyrobench.base.validate import positive_field as _pos
 from gyrobench.base.validate import real_field as _num
@@ -50,19 +51,47 @@ DITHER_LOCK_IN_MARGIN = 10.0
 
 
 # ============================================================================ validation
-def _require_dither_margin(dither: Dither, lock_in: float, what: str, context: str = "") -> None:
-    """Refuse a dither whose peak rate at -3 sigma of its jitter is below the margin x lock-in.
+def _dither_low_rate(dither: Dither) -> float:
+    """The dither peak rate at -3 sigma of its amplitude jitter [rad/s]."""
+    return dither.peak_rate * (1.0 - 3.0 * dither.amplitude_jitter)
 
-    Below it the gyro sits in lock-in for a large part of each cycle and the statistical
-    mode does not apply. ``what`` names the lock-in in the message, ``context`` is appended.
+
+def dither_margin(
+    lock_in: Callable[[Any], float], what: str, context: Callable[[Any], str] | None = None
+) -> Constraint:
+    """The declared constraint that a spec's dither clears its lock-in by the margin.
+
+    Below ``DITHER_LOCK_IN_MARGIN`` x lock-in at -3 sigma of the amplitude jitter the gyro
+    sits in lock-in for a large part of each cycle and the statistical mode does not apply.
+
+    Parameters
+    ----------
+    lock_in : callable
+        ``lock_in(spec) -> float``: the lock-in rate [rad/s] the dither must clear.
+    what : str
+        How the message names that lock-in (``"lock-in rate"``).
+    context : callable, optional
+        ``context(spec) -> str`` appended to the message (the dither or the scatter).
+
+    Returns
+    -------
+    Constraint
+        For the spec's ``CONSTRAINTS``; its message names the dither's low peak rate, the
+        margin, the lock-in and its value [rad/s].
     """
-    low = dither.peak_rate * (1.0 - 3.0 * dither.amplitude_jitter)
-    if low < DITHER_LOCK_IN_MARGIN * lock_in:
-        raise ValueError(
+
+    def holds(c: Any) -> bool:
+        return bool(_dither_low_rate(c.dither) >= DITHER_LOCK_IN_MARGIN * lock_in(c))
+
+    def message(c: Any) -> str:
+        tail = context(c) if context is not None else ""
+        return (
             f"dither amplitude too small for lock-in: peak dither rate at -3 sigma jitter "
-            f"{low!r} rad/s must be >= {DITHER_LOCK_IN_MARGIN:g} x {what} {lock_in!r} rad/s"
-            f"{context}"
+            f"{_dither_low_rate(c.dither)!r} rad/s must be >= {DITHER_LOCK_IN_MARGIN:g} x {what} "
+            f"{lock_in(c)!r} rad/s{tail}"
         )
+
+    return Constraint(f"dither peak rate at -3 sigma >= {DITHER_LOCK_IN_MARGIN:g} x {what}", holds, message)
 
 
 def _chamber_samples(

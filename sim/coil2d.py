@@ -52,19 +52,21 @@ J. N. Goodier, Theory of Elasticity (1951), compound cylinders; docs/physics.md 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from numbers import Integral
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, ordered, validate
 from gyrobench.base.validate import number_where as _num
 from gyrobench.sim.coil_heat import Grid, _modal_states, fv_grid
 from gyrobench.sim.coil_materials import ACRYLATE, ALUMINIUM, EPOXY, SILICA, T_REF, Material, silica_dn_dT
 from gyrobench.sim.coil_pack import PackProperties, composite_cylinder_strain, pack_properties
-from gyrobench.sim.coil_winding import FibreMap, Imperfections, fibre_map, winding_sequence
+from gyrobench.sim.coil_winding import WINDING_PATTERNS, FibreMap, Imperfections, fibre_map, winding_sequence
 from gyrobench.sim.fiber_strain import elasto_optic_factor
 
 __all__ = [
@@ -171,53 +173,47 @@ class Coil2DSpec:
     grid_pack_r: int = 8
     grid_pack_z: int = 8
 
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
+        "inner_radius": FieldRange(0, math.inf, "m", "inner radius of the fibre pack (> bore_radius)", low_open=True),
+        "outer_radius": FieldRange(0, math.inf, "m", "outer radius of the fibre pack (> inner_radius)", low_open=True),
+        "height": FieldRange(0, math.inf, "m", "axial height of the pack", low_open=True),
+        "layers": FieldRange(1, math.inf, "layers", "a multiple of the winding's period", integer=True),
+        "turns_per_layer": FieldRange(2, math.inf, "turns", "turns across one layer (>= 2 cells)", integer=True),
+        "winding": FieldChoice(tuple(WINDING_PATTERNS), "the layer pattern of the two fibre halves"),
+        "bore_radius": FieldRange(0, math.inf, "m", "radius of the spool's bore", low_open=True),
+        "skin": FieldRange(0, math.inf, "m", "thickness of the pack's skin cell", low_open=True),
+        "packing": FieldRange(0, 1, "1", "fibre packing fraction (coil_pack.pack_properties bounds it)"),
+        "glass_fraction": FieldRange(0, 1, "1", "glass share of a coated fibre's section"),
+        "interlayer_fraction": FieldRange(0, 1, "1", "interlayer share of the pack"),
+        "index": FieldRange(1, math.inf, "1", "fibre group index, >= 1"),
+        "p11": FieldRange(-math.inf, math.inf, "1", "Pockels elasto-optic coefficient p11 of silica"),
+        "p12": FieldRange(-math.inf, math.inf, "1", "Pockels elasto-optic coefficient p12 of silica"),
+        "wavelength": FieldRange(0, math.inf, "m", "source wavelength", low_open=True),
+        "crossover_turns": FieldRange(0, math.inf, "turns", "turns of each layer crossover, >= 0"),
+        "lead_length": FieldRange(0, math.inf, "m", "fibre lead length, >= 0"),
+        "lead_difference_rms": FieldRange(0, math.inf, "m", "rms length difference of the two leads, >= 0"),
+        "housing_heat_capacity": FieldRange(0, math.inf, "J/K", "housing heat capacity", low_open=True),
+        "chamber_conductance": FieldRange(0, math.inf, "W/K", "chamber-housing conductance", low_open=True),
+        "gap_coefficient": FieldRange(0, math.inf, "W/(m^2 K)", "spool-pack gap heat transfer", low_open=True),
+        "mount_coefficient": FieldRange(0, math.inf, "W/(m^2 K)", "spool mount heat transfer", low_open=True),
+        "t_ref": FieldRange(0, 1000, "K", "T0 of the expansion beta_T (0 K is the kelvin origin)"),
+        "t_lo": FieldRange(30, 330, "K", "low end of beta_1's secant range (< t_hi)", low_open=True),
+        "t_hi": FieldRange(30, 330, "K", "high end of beta_1's secant range (silica dn/dT fit)", low_open=True),
+        "grid_spool": FieldRange(2, math.inf, "cells", "cells across the spool", integer=True),
+        "grid_pack_r": FieldRange(2, math.inf, "cells", "cells across the pack radially", integer=True),
+        "grid_pack_z": FieldRange(2, math.inf, "cells", "cells across the pack axially", integer=True),
+    }
+    #: the radii nest and the secant range is ordered
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        ordered("bore_radius", "inner_radius", unit="m"),
+        ordered("inner_radius", "outer_radius", unit="m"),
+        ordered("t_lo", "t_hi", unit="K"),
+    )
+
     def __post_init__(self) -> None:
-        o = "Coil2DSpec"
-        _num(o, "bore_radius", self.bore_radius, "> 0", "m", lambda v: v > 0)
-        _num(
-            o,
-            "inner_radius",
-            self.inner_radius,
-            f"> bore_radius ({self.bore_radius!r})",
-            "m",
-            lambda v: v > self.bore_radius,
-        )
-        _num(
-            o,
-            "outer_radius",
-            self.outer_radius,
-            f"> inner_radius ({self.inner_radius!r})",
-            "m",
-            lambda v: v > self.inner_radius,
-        )
-        _num(o, "height", self.height, "> 0", "m", lambda v: v > 0)
-        _num(o, "skin", self.skin, "> 0", "m", lambda v: v > 0)
-        winding_sequence(self.winding, self.layers)
-        for name in ("turns_per_layer", "grid_spool", "grid_pack_r", "grid_pack_z"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, Integral) or v < 2:
-                raise ValueError(f"{o}.{name} must be an integer >= 2; got {v!r}")
-        for name in ("spool", "matrix", "coating", "glass"):
-            if not isinstance(getattr(self, name), Material):
-                raise TypeError(
-                    f"{o}.{name} must be a Material; got {type(getattr(self, name)).__name__}"
-                )
-        for name in ("index",):
-            _num(o, name, getattr(self, name), ">= 1", "", lambda v: v >= 1)
-        for name in ("crossover_turns", "lead_length", "lead_difference_rms"):
-            _num(o, name, getattr(self, name), ">= 0", "", lambda v: v >= 0)
-        for name in (
-            "housing_heat_capacity",
-            "chamber_conductance",
-            "gap_coefficient",
-            "mount_coefficient",
-            "wavelength",
-        ):
-            _num(o, name, getattr(self, name), "> 0", "(SI)", lambda v: v > 0)
-        _num(o, "t_lo", self.t_lo, f"< t_hi ({self.t_hi!r})", "K", lambda v: 30 < v < self.t_hi)
-        _num(o, "t_hi", self.t_hi, "<= 330", "K", lambda v: v <= 330)
-        _num(o, "t_ref", self.t_ref, "in [0, 1000]", "K", lambda v: 0 <= v <= 1000)
-        pack_properties(
+        validate(self)  # the declared specs and constraints above (and the four Materials' types)
+        winding_sequence(self.winding, self.layers)  # the layer count is a multiple of the pattern's period
+        pack_properties(  # the pack's fractions give a physical composite
             packing=self.packing,
             glass_fraction=self.glass_fraction,
             interlayer_fraction=self.interlayer_fraction,

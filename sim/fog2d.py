@@ -41,7 +41,6 @@ from numpy.typing import NDArray
 
 from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
-from gyrobench.base.validate import positive_number
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
 from gyrobench.sim.earth import HARBIN
@@ -254,8 +253,12 @@ class FOG2DUnit:
     coil: Coil2D
     chamber_scale: float = 1.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "chamber_scale": FieldRange(0, math.inf, "1", "factor on the chamber-housing conductance", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        positive_number("FOG2DUnit.chamber_scale", self.chamber_scale, "")
+        validate(self)  # the declared spec above (and the types of spec and coil)
 
     @cached_property
     def fog(self) -> ClosedLoopFOG:

@@ -600,6 +600,30 @@ def _profile(name: str, v, t: NDArray, default: float) -> NDArray[np.float64]:
     return out
 
 
+def _strain_modes(modes: object, loop: LoopSpec) -> None:
+    """Refuse modes that are not a tuple of :class:`StrainMode`, or a segment mode whose weight
+    does not fit the coil of ``loop`` (:meth:`StrainMode.kernel`).
+
+    Parameters
+    ----------
+    modes : object
+        The unit's structural modes.
+    loop : LoopSpec
+        The unit's loop (its fibre length and group index).
+
+    Raises
+    ------
+    TypeError
+        ``modes`` is not a tuple of StrainMode.
+    ValueError
+        A segment mode's weight differs from l (L - 2 z0 - l) for this coil.
+    """
+    if not isinstance(modes, tuple) or not all(isinstance(m, StrainMode) for m in modes):
+        raise TypeError(f"ClosedLoopFOG.modes must be a tuple of StrainMode; got {type(modes).__name__}")
+    for m in modes:
+        m.kernel(0.0, loop.length, loop.group_index)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ClosedLoopFOG:
     """One closed-loop IFOG unit in its reduced (output-rate) form, for long records.
@@ -676,31 +700,19 @@ class ClosedLoopFOG:
     azimuth: float = 0.0
     elevation: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "diameter_tempco": FieldRange(-1e-3, 1e-3, "1/K", "relative coil diameter tempco (silica ~0.5e-6)", True, True),
+        "wavelength_tempco": FieldRange(-1e-3, 1e-3, "1/K", "relative source wavelength tempco", True, True),
+        "reference_temperature": FieldRange(0, math.inf, "K", "T0 of the tempcos", low_open=True),
+        "index": FieldRange(1, math.inf, "1", "fibre phase index n, > 1", low_open=True),
+        "latitude": FieldRange(-math.pi / 2 - 1e-15, math.pi / 2 + 1e-15, "rad", "site latitude", True, True),
+        "azimuth": FieldRange(-1e3, 1e3, "rad", "sense-axis azimuth (any angle; bounded to stay finite)", True, True),
+        "elevation": FieldRange(-1e3, 1e3, "rad", "sense-axis elevation (any angle; bounded)", True, True),
+    }
+
     def __post_init__(self) -> None:
-        for name, kind in (("loop", LoopSpec), ("optics", OpticalBudget), ("noise", NoiseModel)):
-            if not isinstance(getattr(self, name), kind):
-                raise TypeError(
-                    f"ClosedLoopFOG.{name} must be a {kind.__name__}; "
-                    f"got {type(getattr(self, name)).__name__}"
-                )
-        if not all(isinstance(m, StrainMode) for m in self.modes):
-            raise TypeError("ClosedLoopFOG.modes must be a tuple of StrainMode")
-        for m in self.modes:  # a segment mode's weight must fit this coil
-            m.kernel(0.0, self.loop.length, self.loop.group_index)
-        for name in ("diameter_tempco", "wavelength_tempco"):
-            _real("ClosedLoopFOG", name, getattr(self, name), "1/K", -1e-3, 1e-3)
-        _real("ClosedLoopFOG", "reference_temperature", self.reference_temperature, "K", 0.0)
-        _real("ClosedLoopFOG", "index", self.index, "-", 1.0)
-        _real(
-            "ClosedLoopFOG",
-            "latitude",
-            self.latitude,
-            "rad",
-            -math.pi / 2 - 1e-15,
-            math.pi / 2 + 1e-15,
-        )
-        _real("ClosedLoopFOG", "azimuth", self.azimuth, "rad", -1e3, 1e3)
-        _real("ClosedLoopFOG", "elevation", self.elevation, "rad", -1e3, 1e3)
+        validate(self)  # the declared specs above (and the types of loop, optics and noise)
+        _strain_modes(self.modes, self.loop)  # each mode is a StrainMode that fits this coil
 
     @property
     def scale_factor(self) -> float:

@@ -29,14 +29,16 @@ sensed value along the nominal axis) and each error term, summing to ``output - 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
-from gyrobench.base.validate import check_fs, check_rng, nonneg_field, real_field
+from gyrobench.base.ranges import FieldRange, validate
+from gyrobench.base.validate import check_fs, check_rng, nonneg_field
 from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import Site
 from gyrobench.sim.noise import NoiseModel
@@ -92,19 +94,22 @@ class AccelerometerSpec:
     resolution: float = 0.0
     reference_temperature: float = units.celsius(25.0)
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "bias_repeatability": FieldRange(0, math.inf, "m/s^2", "turn-on bias, 1 sigma, >= 0"),
+        "scale_factor_repeatability": FieldRange(0, math.inf, "1", "turn-on scale-factor error, 1 sigma, >= 0"),
+        "velocity_random_walk": FieldRange(0, math.inf, "m/s/sqrt(s)", "white acceleration noise VRW, >= 0"),
+        "bias_instability": FieldRange(0, math.inf, "m/s^2", "flicker coefficient B (IEEE 952), >= 0"),
+        "acceleration_random_walk": FieldRange(0, math.inf, "m/s^2/sqrt(s)", "random walk of the bias, >= 0"),
+        "bias_tempco": FieldRange(-math.inf, math.inf, "m/s^2/K", "bias temperature coefficient, signed"),
+        "scale_factor_tempco": FieldRange(-math.inf, math.inf, "1/K", "scale-factor tempco, signed"),
+        "range": FieldRange(0, math.inf, "m/s^2", "full scale +-range; inf: no limit", True, infinite=True),
+        "bandwidth": FieldRange(0, math.inf, "Hz", "-3 dB corner of the output filter; inf: none", True, infinite=True),
+        "resolution": FieldRange(0, math.inf, "m/s^2", "output LSB; 0: not quantized"),
+        "reference_temperature": FieldRange(0, math.inf, "K", "where the tempcos are zero", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        for name in ("bias_repeatability", "scale_factor_repeatability", "velocity_random_walk",
-                     "bias_instability", "acceleration_random_walk", "resolution"):
-            nonneg_field("AccelerometerSpec", name, getattr(self, name), "SI")
-        for name in ("bias_tempco", "scale_factor_tempco"):
-            real_field("AccelerometerSpec", name, getattr(self, name))
-        for name, unit in (("range", "m/s^2"), ("bandwidth", "Hz")):
-            r = getattr(self, name)
-            if isinstance(r, bool) or not isinstance(r, (int, float)) or not r > 0:
-                raise ValueError(f"AccelerometerSpec.{name} must be > 0 {unit} (inf: no limit); got {r!r}")
-        t = real_field("AccelerometerSpec", "reference_temperature", self.reference_temperature)
-        if not t > 0:
-            raise ValueError(f"AccelerometerSpec.reference_temperature must be > 0 K; got {t!r}")
+        validate(self)  # the declared specs above
 
     @classmethod
     def from_datasheet(

@@ -39,6 +39,19 @@ class FullResult:
     ADC when ``adc=False``); ``u_i``, ``u_q`` [V] the rebalance commands; ``drive_amplitude``
     [m] the AGC's amplitude estimate; ``sense_envelope`` [m] the complex sense envelope
     <2 y e^{-j w t}> (demodulated without noise).
+
+    Attributes
+    ----------
+    fs : float
+        Output rate [Hz].
+    output : ndarray
+        Gyro output [rad/s], shape (n_out, n_cases) (before the ADC when ``adc=False``).
+    u_i, u_q : ndarray
+        In-phase and quadrature rebalance commands [V].
+    drive_amplitude : ndarray
+        The AGC's drive amplitude estimate [m].
+    sense_envelope : ndarray of complex
+        Complex sense envelope <2 y e^{-j w t}> [m], demodulated without noise.
     """
 
     fs: float

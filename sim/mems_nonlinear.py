@@ -52,10 +52,14 @@ switched off with an infinite critical rate.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 
 __all__ = [
     "DuffingSense",
@@ -95,7 +99,22 @@ def duffing_normalized(u: ArrayLike) -> NDArray[np.float64]:
 
 
 def rapp(x: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
-    """Rapp compression ``x / (1 + |x/saturation|^(2 order))^(1/(2 order))`` (units of x)."""
+    """Rapp compression ``x / (1 + |x/saturation|^(2 order))^(1/(2 order))`` (units of x).
+
+    Parameters
+    ----------
+    x : array_like
+        Input (any unit).
+    saturation : float
+        Saturation level s (units of x), > 0; inf passes x unchanged.
+    order : float
+        Smoothness p [-], >= 1 (large p approaches a hard clip).
+
+    Returns
+    -------
+    ndarray
+        The compressed values, |rapp(x)| < s (units of x).
+    """
     _check_rapp(saturation, order)
     x = np.asarray(x, dtype=float)
     if math.isinf(saturation):
@@ -105,7 +124,22 @@ def rapp(x: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
 
 
 def rapp_inverse(y: ArrayLike, saturation: float, order: float) -> NDArray[np.float64]:
-    """Inverse of :func:`rapp` for ``|y| < saturation``: ``y / (1 - |y/s|^(2p))^(1/(2p))``."""
+    """Inverse of :func:`rapp` for ``|y| < saturation``: ``y / (1 - |y/s|^(2p))^(1/(2p))``.
+
+    Parameters
+    ----------
+    y : array_like
+        Compressed values, |y| < saturation (units of the input).
+    saturation : float
+        Saturation level s, > 0.
+    order : float
+        Smoothness p [-], >= 1.
+
+    Returns
+    -------
+    ndarray
+        x with rapp(x) = y.
+    """
     _check_rapp(saturation, order)
     y = np.asarray(y, dtype=float)
     if math.isinf(saturation):
@@ -129,8 +163,8 @@ def _check_rapp(saturation: float, order: float) -> None:
 class DuffingSense:
     """An open-loop sense mode with cubic (hardening) stiffness, driven by the Coriolis force.
 
-    Parameters (SI)
-    ---------------
+    Parameters
+    ----------
     mass : float
         Modal (= Coriolis) mass m [kg].
     drive_omega, sense_omega : float
@@ -150,18 +184,25 @@ class DuffingSense:
     k3: float
     drive_amplitude: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "mass": FieldRange(0, math.inf, "kg", "modal (Coriolis) mass m", low_open=True),
+        "drive_omega": FieldRange(0, math.inf, "rad/s", "drive frequency w", low_open=True),
+        "sense_omega": FieldRange(0, math.inf, "rad/s", "sense natural frequency w_y (> w: constraint)", low_open=True),
+        "sense_q": FieldRange(0, math.inf, "1", "sense quality factor Q_y", low_open=True),
+        "k3": FieldRange(0, math.inf, "N/m^3", "cubic (hardening) stiffness, >= 0"),
+        "drive_amplitude": FieldRange(0, math.inf, "m", "drive amplitude X0", low_open=True),
+    }
+    #: the sense mode sits above the drive (a positive detuning stiffness)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "sense_omega > drive_omega",
+            lambda c: c.sense_omega > c.drive_omega,
+            lambda c: f"sense_omega must exceed drive_omega = {c.drive_omega!r} rad/s; got {c.sense_omega!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        for name in ("mass", "drive_omega", "sense_q", "drive_amplitude"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"DuffingSense.{name} must be finite and > 0; got {v!r}")
-        if not (math.isfinite(self.sense_omega) and self.sense_omega > self.drive_omega):
-            raise ValueError(
-                f"DuffingSense.sense_omega must exceed drive_omega = {self.drive_omega!r} rad/s; "
-                f"got {self.sense_omega!r}"
-            )
-        if not (math.isfinite(self.k3) and self.k3 >= 0):
-            raise ValueError(f"DuffingSense.k3 must be finite and >= 0 N/m^3; got {self.k3!r}")
+        validate(self)  # the declared specs and constraints above
 
     @property
     def detuning_stiffness(self) -> float:
@@ -229,12 +270,14 @@ class RateTransfer:
     rail_rate: float = math.inf
     rail_order: float = 2.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "duffing_rate": FieldRange(0, math.inf, "rad/s", "Duffing critical rate; inf: off", True, infinite=True),
+        "rail_rate": FieldRange(0, math.inf, "rad/s", "front-end saturation Omega_s; inf: off", True, infinite=True),
+        "rail_order": FieldRange(1, math.inf, "1", "Rapp smoothness p, >= 1"),
+    }
+
     def __post_init__(self) -> None:
-        for name in ("duffing_rate", "rail_rate"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and v > 0):
-                raise ValueError(f"RateTransfer.{name} must be > 0 rad/s (inf: off); got {v!r}")
-        _check_rapp(self.rail_rate, self.rail_order)
+        validate(self)  # the declared specs above
 
     @property
     def is_linear(self) -> bool:

@@ -230,6 +230,16 @@ def factory_trim(unit: MemsResonator) -> MemsResonator:
     """Trim the unit's scale factor to 1 and its bias to 0 at T0 (noise-free, before turn-on).
 
     s_trim = 1 / SF_untrimmed(T0), b_trim = the trimmed zero-rate output at T0.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        A drawn, untrimmed unit.
+
+    Returns
+    -------
+    MemsResonator
+        The unit with ``scale_factor_trim`` and ``bias_trim`` set at T0.
     """
     base = replace(unit, scale_factor_trim=1.0, bias_trim=0.0, turn_on_bias=0.0,
                    turn_on_scale_factor=0.0)

@@ -318,6 +318,21 @@ class SenseChainSpec:
     Each tolerance is a relative 1-sigma (normal, clipped to +-3 sigma) of one field of
     :class:`SenseChain`; the source of each is :data:`TOLERANCE_SOURCES`. The sense area,
     carrier and range stay at the nominal (set by layout and design, matched to ~0.1 %).
+
+    Parameters
+    ----------
+    nominal : SenseChain
+        The nominal chain (the design).
+    gap_spread : float
+        Relative 1-sigma of the electrode gap [-].
+    feedback_capacitance_spread : float
+        Relative 1-sigma of the charge amplifier's feedback capacitance [-].
+    rail_spread : float
+        Relative 1-sigma of the front end's output rail [-].
+    sense_bias_spread : float
+        Relative 1-sigma of the sense bias voltage [-].
+    k3_spread : float
+        Relative 1-sigma of the cubic stiffness [-].
     """
 
     nominal: SenseChain = field(default_factory=SenseChain)

@@ -199,6 +199,17 @@ class DatasheetFigure:
 
     ``value`` is in ``unit`` (field units, exactly as the source prints them); ``source`` names
     the document, its revision and the copy read; ``reading`` says how the default uses it.
+
+    Attributes
+    ----------
+    value : float
+        The figure as printed, in ``unit``.
+    unit : str
+        The printed unit (field units).
+    source : str
+        The document, its revision and the copy read.
+    reading : str
+        How the default uses the figure.
     """
 
     value: float
@@ -508,6 +519,9 @@ class MemsResonator:
             own child stream of ``rng``; the loop's transient at a block start (a few loop
             time constants, ms) and the 1/f term's memory across blocks are lost. The model
             has no vibration input: a set ``vibration`` is listed in ``ignored_inputs``.
+            ``true_rate`` as an (n, k) array runs k independent segments of n samples side
+            by side (one slow-flow call, each column from the noise-free equilibrium of its
+            first rate: a rate table's dwells), at a constant temperature.
         fs : float
             Output rate [Hz].
         rng : numpy.random.Generator
@@ -518,22 +532,38 @@ class MemsResonator:
         Recording
             Channels ``rate`` [rad/s] and ``temperature`` [K]; truth ``true_rate``,
             ``temperature`` and ``specific_force``. The slow flow does not split its output
-            into terms: ``error_components`` is empty.
+            into terms: ``error_components`` is empty. With k segments the channels hold
+            them one after another (column by column, n k samples) and the metadata's
+            ``segments`` is k (1 for one record).
+
+        Raises
+        ------
+        ValueError
+            Fewer than 2 samples, or segments with a varying temperature.
         """
         from gyrobench.sim.mems_slow_flow import slow_flow  # it imports this module
 
-        fs = check_call(environment, fs, rng)
+        fs = check_call(environment, fs, rng, columns=True)
         n = environment.n_samples(fs)
         if n < 2:
             raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
         rate = environment.sampled("true_rate", fs)
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
-        out = np.empty(n)
-        if np.all(temp == temp[0]):
+        k = environment.columns
+        if k > 1:
+            if not np.all(temp == temp[0]):
+                raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
+            columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
+            out, rate = columns.output.T.reshape(-1), rate.T.reshape(-1)
+            temp, force = np.full(n * k, temp[0]), np.tile(force, k)
+            blocks = 1
+        elif np.all(temp == temp[0]):
+            out = np.empty(n)
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
             blocks = 1
         else:
+            out = np.empty(n)
             m = max(2, int(round(TEMPERATURE_BLOCK * fs)))
             starts = list(range(0, n, m))
             if n - starts[-1] < 2 and len(starts) > 1:  # a last block of one sample joins the one before
@@ -560,6 +590,7 @@ class MemsResonator:
             metadata={
                 "model": "gyrobench.sim.mems_resonator.MemsResonator (slow flow)",
                 "temperature_blocks": blocks,
+                "segments": k,
                 "ignored_inputs": environment.ignored("vibration"),
                 "error_components": [],
             },
@@ -571,13 +602,45 @@ class MemsResonator:
 class OperatingPoint:
     """The unit's physical constants at one temperature (SI); see :func:`operating_point`.
 
-    Attributes: m [kg]; wx, wy [rad/s]; cx, cy [kg/s]; kx, ky, kyx [N/m]; cyx [kg/s]; x0 [m];
-    gain G [N/V]; theta [rad]; temperature [K]; k_out [rad/s per V] (output conversion,
-    fixed at T0); kappa_c (controller constant j 2 pi f_c / (R_c G_c), complex [V/(m s)]);
-    v_max [V]; r_design R_c [m/N] (the T0 receptance the controller and the open-loop
-    demodulator are designed with); open_loop (readout); y_fs [m] the pick-off full scale;
-    kyx_g = dk_yx/df [N/m per m/s^2] (specific force along the sense axis f:
-    the electrostatic cross-stiffness of the forcer plates, :func:`g_sensitivity`).
+    Every field in SI (below).
+
+    Attributes
+    ----------
+    m : float
+        Modal mass [kg].
+    wx, wy : float
+        Drive and sense natural frequencies [rad/s].
+    cx, cy : float
+        Drive and sense damping [kg/s].
+    kx, ky, kyx : float
+        Drive, sense and quadrature (cross) stiffness [N/m].
+    cyx : float
+        Cross damping [kg/s].
+    x0 : float
+        Drive amplitude [m].
+    gain : float
+        Forcer gain G [N/V].
+    theta : float
+        Phase error [rad].
+    temperature : float
+        Die temperature [K].
+    k_out : float
+        Output conversion [rad/s per V], fixed at T0.
+    kappa_c : complex
+        Controller constant j 2 pi f_c / (R_c G_c) [V/(m s)].
+    v_max : float
+        Rebalance command limit [V].
+    kyx_g : float
+        dk_yx/df [N/m per m/s^2], the electrostatic cross-stiffness per specific force along the
+        sense axis (:func:`g_sensitivity`).
+    r_design : complex
+        R_c [m/N], the T0 receptance the controller and the open-loop demodulator are designed with.
+    open_loop : bool
+        The readout is open loop.
+    y_fs : float
+        Pick-off full scale [m].
+    chain : SenseChain or None
+        The open-loop sense chain (None: the ideal pick-off).
     """
 
     m: float
@@ -646,6 +709,20 @@ def operating_point(
     k_y -> k_y + k_e eps_A m f_d / k_x [DERIVED] (w_y follows; c_y does not). The open-loop
     scale factor follows R (:func:`drive_axis_sensitivity`); force rebalance nulls the motion
     and keeps its scale factor. The full integration gets this from its own equations.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+    drive_specific_force : float
+        Constant specific force f_d along the drive axis [m/s^2].
+
+    Returns
+    -------
+    OperatingPoint
+        The unit's physical constants at that temperature.
     """
     if not isinstance(unit, MemsResonator):
         raise TypeError(f"unit must be a MemsResonator; got {type(unit).__name__}")
@@ -706,19 +783,57 @@ def brownian_arw(unit: MemsResonator, temperature: float | None = None) -> float
     Equivalently sqrt(k_B T w_y / (m Q_y)) / (w X0); -> sqrt(k_B T / (m Q_y X0^2 w)) when
     mode-matched. One-sided rate PSD 2 N_B^2. Leland (2005) (the in-phase demodulated channel
     carries half the band-pass noise power), docs/physics.md 5.1.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        N_B [rad/sqrt(s)].
     """
     op = operating_point(unit, temperature)
     return math.sqrt(BOLTZMANN * op.temperature * op.cy) / (op.m * op.wx * op.x0)
 
 
 def electronic_arw(unit: MemsResonator, temperature: float | None = None) -> float:
-    """Input-referred pick-off ARW N_e = sqrt(S_n) / (|R| 2 m w X0) [rad/sqrt(s)]."""
+    """Input-referred pick-off ARW N_e = sqrt(S_n) / (|R| 2 m w X0) [rad/sqrt(s)].
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        N_e [rad/sqrt(s)].
+    """
     op = operating_point(unit, temperature)
     return unit.pickoff_noise / (abs(op.receptance) * op.coriolis_gain)
 
 
 def quadrature_rate(unit: MemsResonator, temperature: float | None = None) -> float:
-    """Quadrature-equivalent rate Omega_q = k_yx / (2 m w) [rad/s] (docs/physics.md 5.1)."""
+    """Quadrature-equivalent rate Omega_q = k_yx / (2 m w) [rad/s] (docs/physics.md 5.1).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        Omega_q [rad/s].
+    """
     op = operating_point(unit, temperature)
     return op.kyx / (2.0 * op.m * op.wx)
 
@@ -735,6 +850,18 @@ def electrostatic_cross_stiffness(unit: MemsResonator, temperature: float | None
     displacement: a quadrature stiffness dk_yx = -k_e eps_A y_s = k_e eps_A m f / k_y
     [DERIVED; Kaajakari 2009 ch. 6-7 for the parallel-plate force and spring]. Quadrature
     reaches the rate output only through the phase error (:func:`g_sensitivity`).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        dk_yx/df [N/m per m/s^2].
     """
     return operating_point(unit, temperature).kyx_g
 
@@ -746,6 +873,18 @@ def g_sensitivity(unit: MemsResonator, temperature: float | None = None) -> floa
     :func:`zero_rate_output`); open loop: the same quadrature force read through
     Re{e^{-j theta} R/R_c} (:func:`zero_rate_output`). Exact for the linear model
     (from the noise-free equilibrium at f = 0 and 1 m/s^2).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        d Omega_hat / d f [rad/s per m/s^2].
     """
     return zero_rate_output(unit, temperature, specific_force=1.0) - zero_rate_output(
         unit, temperature
@@ -804,6 +943,20 @@ def low_rate_scale_factor(
     sense receptance R = 1/(m (w_y^2 - w^2) + j c_y w) at the drive frequency relative to its
     design value [DERIVED from B = R F_ext]: it follows the mode split and Q.
     ``drive_specific_force`` [m/s^2] along the drive axis: see :func:`operating_point`.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+    drive_specific_force : float
+        Constant specific force along the drive axis [m/s^2].
+
+    Returns
+    -------
+    float
+        SF [-].
     """
     op = operating_point(unit, temperature, drive_specific_force=drive_specific_force)
     if op.open_loop:
@@ -828,6 +981,18 @@ def drive_axis_sensitivity(unit: MemsResonator, temperature: float | None = None
     rebalance: 0 (the loop nulls the sense motion; only its loop poles move). Returned as the
     secant of the noise-free scale factor between f_d = 0 and 1 m/s^2 (the stiffness change
     is linear in f_d; the response's curvature leaves ~1e-5 relative).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        d ln SF / d f_d [1/(m/s^2)] (0 for force rebalance).
     """
     s0 = low_rate_scale_factor(unit, temperature)
     return low_rate_scale_factor(unit, temperature, drive_specific_force=1.0) / s0 - 1.0
@@ -845,6 +1010,20 @@ def open_loop_response(
     H = [c_+ G(jW) + conj(c_- G(-jW))]/2, c_+- = w_c R F_+- [DERIVED], returned divided by the
     DC gain Re{c_0}. |H| peaks near the mode split |Im p| and falls beyond it: the open-loop
     bandwidth is set by the split and the sense half-bandwidth w_y/(2 Q_y).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit (open-loop readout).
+    frequency : array_like
+        Rate frequencies f [Hz].
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    ndarray of complex
+        H(f)/H(0) [-] at each frequency.
     """
     op = operating_point(unit, temperature)
     f = np.asarray(frequency, dtype=float)
@@ -880,6 +1059,20 @@ def open_loop_noise_psd(
     mean; sampled at fs it becomes sum_k S(f + k fs) sinc^2((f + k fs)/fs). The full
     equations differ from it by O(f/f_x): the slow flow's first-order envelope and its ideal
     demodulator (docs/physics.md 5.1; ``mems.open_loop_noise_psd_vs_full``).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit (open-loop readout).
+    frequency : array_like
+        Frequencies f [Hz].
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    ndarray
+        S(f) [(rad/s)^2/Hz], one-sided.
     """
     op = operating_point(unit, temperature)
     if not op.open_loop:
@@ -914,6 +1107,20 @@ def zero_rate_output(
     Omega_b = c_yx / (2 m) (anisodamping, Coriolis phase), Omega_q sin(theta) the quadrature
     leaking through the phase error; Omega_q includes the specific-force part
     (dk_yx/df) f / (2 m w) (``specific_force`` f [m/s^2] along the sense axis).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+    specific_force : float
+        Constant specific force f along the sense axis [m/s^2].
+
+    Returns
+    -------
+    float
+        The output at zero rate [rad/s].
     """
     op = operating_point(unit, temperature)
     f = real_field("zero_rate_output", "specific_force", specific_force)
@@ -928,6 +1135,18 @@ def rate_authority(unit: MemsResonator, temperature: float | None = None) -> flo
     for theta = 0 this is sqrt(F_max^2 - F_q^2) / (2 m w X0) - Omega_b (docs/physics.md 5.1).
     Returns 0 if the quadrature alone uses up the authority. Open loop: the rate where the
     sense envelope |R F_ext| reaches the pick-off full scale Y_fs (the quadrature shares it).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        Omega_max [rad/s], >= 0.
     """
     op = operating_point(unit, temperature)
     # u is affine in Omega: u = u0 + u1 Omega; the clamp: |u_Q| <= v, |u_I| <= sqrt(v^2 - u_Q^2)
@@ -957,6 +1176,20 @@ def saturated_output(unit: MemsResonator, rate: float, temperature: float | None
     B = R (F_ext + j G e^{j theta} u), and the quadrature integrator settles where its input
     vanishes, Im{kappa_c B} = 0; solved for u_Q (scipy brentq). The plateau therefore drifts
     slightly with the rate (the uncancelled force rotates B).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    rate : float
+        Constant input rate [rad/s], beyond :func:`rate_authority`.
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    float
+        The saturated output [rad/s].
     """
     from scipy.optimize import brentq
 

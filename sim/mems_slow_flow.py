@@ -466,6 +466,18 @@ class SlowFlowResult:
     interval-mean rebalance commands (u_q: end-of-interval value; open loop: the rate and
     quadrature channels Re, Im{w_c sat(mean B_m)} [N]), ``sense_envelope`` [m] the complex
     sense envelope at the end of each interval.
+
+    Attributes
+    ----------
+    fs : float
+        Output rate [Hz].
+    output : ndarray
+        Gyro output [rad/s] (after the ADC when requested).
+    u_i, u_q : ndarray
+        Interval-mean rebalance commands [V] (u_q: end-of-interval value); open loop: the rate
+        and quadrature channels Re, Im{w_c sat(mean B_m)} [N].
+    sense_envelope : ndarray of complex
+        Complex sense envelope at the end of each interval [m].
     """
 
     fs: float
@@ -622,6 +634,28 @@ def rate_table(
     columns of one slow-flow call (the rebalance loop settles in ms, so a dwell's mean does not
     depend on the previous rate). The 1/f term runs continuously through the dwells in table
     order.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit, powered on as given.
+    rates : array_like
+        Table rates [rad/s], in table order.
+    rng : numpy.random.Generator
+        The run's streams.
+    fs : float
+        Output rate [Hz].
+    average_s : float
+        Averaged part of each dwell [s].
+    settle_s : float
+        Discarded start of each dwell [s].
+    temperature : float or None
+        Die temperature [K]; None: the unit's T0.
+
+    Returns
+    -------
+    ndarray
+        Mean output per table rate [rad/s].
     """
     w = _as_cases("rates", rates)
     n_settle = int(round(settle_s * fs))

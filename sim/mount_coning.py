@@ -64,7 +64,17 @@ def _check(owner: str, name: str, v: object, unit: str, *, allow_zero: bool = Fa
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RockingMode:
-    """One rocking mode of the mount (SI): ``frequency`` [Hz], ``quality`` [-], ``compliance`` [rad/(m/s^2)]."""
+    """One rocking mode of the mount (SI): ``frequency`` [Hz], ``quality`` [-], ``compliance`` [rad/(m/s^2)].
+
+    Parameters
+    ----------
+    frequency : float
+        Natural frequency [Hz].
+    quality : float
+        Quality factor [-].
+    compliance : float
+        Rocking angle per unit table acceleration [rad/(m/s^2)].
+    """
 
     frequency: float
     quality: float
@@ -93,6 +103,13 @@ class MountConing:
 
     ``frame``: ``"body"`` (default) gives the rate a gyro on the body reads, ``"space"`` the
     same rotation in table axes (the opposite sign; module docstring).
+
+    Parameters
+    ----------
+    x, y : RockingMode
+        The rocking modes about x and about y.
+    frame : {"body", "space"}
+        The axes the rate is given in.
     """
 
     x: RockingMode

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import numpy as np
@@ -54,9 +54,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from gyrobench.base import units
-from gyrobench.base.ranges import FieldRange, validate
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 from gyrobench.base.validate import nonneg_field as _nonneg
-from gyrobench.base.validate import nonneg_fields as _nonneg_fields
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
     DITHER_LOCK_IN_MARGIN,
@@ -66,11 +65,11 @@ from gyrobench.sim._rlg_common import (
     _finish_run,
     _num,
     _pos,
-    _require_dither_margin,
     _sensor_pair,
     _start_run,
     _Terms,
     _Wording,
+    dither_margin,
 )
 from gyrobench.sim.noise import NoiseModel
 
@@ -99,6 +98,37 @@ HENE_WAVELENGTH = 632.8e-9
 
 
 # ============================================================================ geometry
+def _polygon(vertices: object) -> tuple[tuple[float, float], ...]:
+    """The mirror positions as a tuple of float pairs, refused unless >= 3 finite (x, y) pairs.
+
+    Parameters
+    ----------
+    vertices : object
+        A sequence of (x, y) pairs [m].
+
+    Returns
+    -------
+    tuple of (float, float)
+        The pairs as floats, in path order.
+
+    Raises
+    ------
+    TypeError
+        ``vertices`` is not a sequence of pairs of numbers.
+    ValueError
+        Fewer than 3 pairs, a pair that is not two numbers, or a non-finite coordinate.
+    """
+    try:
+        v = np.asarray(vertices, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got {vertices!r}") from None
+    if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
+        raise ValueError(f"CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"CavityGeometry.vertices must be finite [m]; got {vertices!r}")
+    return tuple((float(x), float(y)) for x, y in v)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CavityGeometry:
     """Closed polygonal laser cavity in a plane; the beam path joins the mirrors in order.
@@ -136,26 +166,21 @@ class CavityGeometry:
     vertices: tuple[tuple[float, float], ...]
     wavelength: float = HENE_WAVELENGTH
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "wavelength": FieldRange(0, math.inf, "m", "laser wavelength (He-Ne 632.8 nm)", low_open=True),
+    }
+    #: the mirrors enclose an area (not collinear)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "area > 0 m^2",
+            lambda c: c.area > 1e-30,
+            lambda c: f"area must be > 0 m^2 (mirrors not collinear); got {c.area!r} m^2",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        try:
-            v = np.asarray(self.vertices, dtype=float)
-        except (TypeError, ValueError):
-            raise TypeError(
-                f"CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got {self.vertices!r}"
-            ) from None
-        if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
-            raise ValueError(
-                f"CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape {v.shape}"
-            )
-        if not np.all(np.isfinite(v)):
-            raise ValueError(f"CavityGeometry.vertices must be finite [m]; got {self.vertices!r}")
-        _pos("CavityGeometry", "wavelength", self.wavelength, "m")
-        object.__setattr__(self, "vertices", tuple((float(x), float(y)) for x, y in v))
-        area = self.area
-        if not area > 1e-30:
-            raise ValueError(
-                f"CavityGeometry area must be > 0 m^2 (mirrors not collinear); got {area!r} m^2"
-            )
+        object.__setattr__(self, "vertices", _polygon(self.vertices))  # the shape: >= 3 finite pairs
+        validate(self)  # the declared specs and constraints above
 
     @classmethod
     def triangle(cls, side: float, *, wavelength: float = HENE_WAVELENGTH) -> CavityGeometry:
@@ -214,6 +239,20 @@ def beat_frequency(
     rate: ArrayLike, *, scale_factor: float, lock_in_rate: float
 ) -> NDArray[np.float64]:
     """Mean beat frequency of the Adler equation at a constant input rate [Hz].
+
+    Parameters
+    ----------
+    rate : array_like
+        Input rate Omega [rad/s].
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+
+    Returns
+    -------
+    ndarray
+        f_beat [Hz], signed.
 
     Notes
     -----
@@ -307,6 +346,16 @@ def integrate_adler(
 def count_pulses(psi: ArrayLike) -> NDArray[np.float64]:
     """Pulses counted in each interval between successive phase samples.
 
+    Parameters
+    ----------
+    psi : array_like
+        Beat phase at successive samples [rad].
+
+    Returns
+    -------
+    ndarray
+        Signed pulse counts per interval (one fewer than the samples).
+
     Notes
     -----
     A counter advances by one at each 2 pi of beat phase: c_k = floor(psi_k / 2 pi);
@@ -372,7 +421,15 @@ class Dither:
 
 @dataclass(frozen=True, slots=True)
 class DitherRealization:
-    """One drawn dither history: ``factors[m]`` multiplies the amplitude of cycle m."""
+    """One drawn dither history: ``factors[m]`` multiplies the amplitude of cycle m.
+
+    Parameters
+    ----------
+    dither : Dither
+        The dither drawn.
+    factors : ndarray
+        Amplitude factor a_m of each cycle (per realization along the trailing axes) [-].
+    """
 
     dither: Dither
     factors: NDArray[np.float64]
@@ -410,6 +467,20 @@ class DitherRealization:
 
 def dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
     """Angle random walk left by dithering through lock-in [rad/sqrt(s)].
+
+    Parameters
+    ----------
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+    dither : Dither
+        The body dither (f_d, theta_D, amplitude jitter sigma).
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
 
     Notes
     -----
@@ -457,11 +528,15 @@ class TwoNodeThermal:
     heating_housing: float = 4.0
     heating_cavity: float = 1.5
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "tau_housing": FieldRange(0, math.inf, "s", "housing-to-chamber time constant tau_1", low_open=True),
+        "tau_cavity": FieldRange(0, math.inf, "s", "cavity-to-housing time constant tau_2", low_open=True),
+        "heating_housing": FieldRange(-math.inf, math.inf, "K", "steady self-heating H_1 of the housing"),
+        "heating_cavity": FieldRange(-math.inf, math.inf, "K", "steady self-heating H_2 of the cavity"),
+    }
+
     def __post_init__(self) -> None:
-        _pos("TwoNodeThermal", "tau_housing", self.tau_housing, "s")
-        _pos("TwoNodeThermal", "tau_cavity", self.tau_cavity, "s")
-        _num("TwoNodeThermal", "heating_housing", self.heating_housing)
-        _num("TwoNodeThermal", "heating_cavity", self.heating_cavity)
+        validate(self)  # the declared specs above
 
 
 def _first_order_foh(
@@ -488,6 +563,20 @@ def two_node_temperatures(
     """Housing and cavity temperatures [K] at the samples of ``chamber`` [K], sampled at ``fs`` [Hz].
 
     See :class:`TwoNodeThermal` for the equations. The unit is powered at the first sample.
+
+    Parameters
+    ----------
+    chamber : ndarray
+        Chamber temperature at the samples [K], >= 2 samples.
+    fs : float
+        Sample rate [Hz].
+    thermal : TwoNodeThermal
+        The thermal model.
+
+    Returns
+    -------
+    tuple of ndarray
+        (T1, T2): housing and cavity temperatures [K] at the samples.
     """
     tc, h = _chamber_samples("two_node_temperatures", chamber, fs)
     t1 = _first_order_foh(tc + thermal.heating_housing, tc[0], thermal.tau_housing, h)
@@ -543,9 +632,18 @@ class ThermalBias:
     gas_temperature_coefficient: float = 0.0
     reference_temperature: float = units.celsius(25.0)
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "cavity": FieldRange(-math.inf, math.inf, "rad/s/K", "cavity temperature coefficient k_c (signed)"),
+        "cavity_quadratic": FieldRange(-math.inf, math.inf, "rad/s/K^2", "its curvature k_cc (signed)"),
+        "gradient": FieldRange(-math.inf, math.inf, "rad/s/K", "housing-cavity gradient coefficient k_g (signed)"),
+        "flux": FieldRange(-math.inf, math.inf, "rad/s/(K/s)", "heat-flux coefficient k_f (signed)"),
+        "flux_quadratic": FieldRange(-math.inf, math.inf, "rad/s/(K/s)^2", "second-order flux k_ff (signed)"),
+        "gas_temperature_coefficient": FieldRange(-math.inf, math.inf, "1/K", "alpha of the Langmuir flow"),
+        "reference_temperature": FieldRange(-math.inf, math.inf, "K", "T_ref of the coefficients"),
+    }
+
     def __post_init__(self) -> None:
-        for f in fields(self):
-            _num("ThermalBias", f.name, getattr(self, f.name))
+        validate(self)  # the declared specs above
 
     def components(
         self, t1: ArrayLike, t2: ArrayLike, dt1: ArrayLike
@@ -606,10 +704,14 @@ class TemperatureSensor:
     noise: float = 0.02
     resolution: float = 0.01
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "offset": FieldRange(-math.inf, math.inf, "K", "calibration offset of this sensor (signed)"),
+        "noise": FieldRange(0, math.inf, "K", "white-noise std per sample, >= 0"),
+        "resolution": FieldRange(0, math.inf, "K", "LSB of the logged value; 0 for none"),
+    }
+
     def __post_init__(self) -> None:
-        _num("TemperatureSensor", "offset", self.offset)
-        _nonneg("TemperatureSensor", "noise", self.noise, "K")
-        _nonneg("TemperatureSensor", "resolution", self.resolution, "K")
+        validate(self)  # the declared specs above
 
     def measure(self, temperature: ArrayLike, *, rng: np.random.Generator) -> NDArray[np.float64]:
         """Logged values [K] of the true ``temperature`` [K]."""
@@ -686,32 +788,31 @@ class RLGUnit(_CavityScale):
     sensor_cavity: TemperatureSensor = field(default_factory=TemperatureSensor)
     label: str = "RLG"
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.geometry, CavityGeometry):
-            raise TypeError(
-                f"RLGUnit.geometry must be a CavityGeometry; got {type(self.geometry).__name__}"
-            )
-        if not isinstance(self.dither, Dither):
-            raise TypeError(f"RLGUnit.dither must be a Dither; got {type(self.dither).__name__}")
-        wl = _nonneg("RLGUnit", "lock_in_rate", self.lock_in_rate, "rad/s")
-        _num("RLGUnit", "bias", self.bias)
-        _nonneg_fields(
-            "RLGUnit",
-            self,
-            ("bias_instability", "rate_random_walk", "bias_repeatability", "flow_repeatability"),
-            "(SI)",
-        )
-        _require_dither_margin(
-            self.dither,
-            wl,
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "lock_in_rate": FieldRange(0, math.inf, "rad/s", "lock-in threshold Omega_L, >= 0"),
+        "bias": FieldRange(-math.inf, math.inf, "rad/s", "constant (turn-on mean) bias, signed"),
+        "bias_instability": FieldRange(0, math.inf, "rad/s", "flicker coefficient B (IEEE 952), >= 0"),
+        "rate_random_walk": FieldRange(0, math.inf, "rad/s/sqrt(s)", "rate random walk K, >= 0"),
+        "bias_repeatability": FieldRange(0, math.inf, "rad/s", "turn-on to turn-on bias std, >= 0"),
+        "flow_repeatability": FieldRange(0, math.inf, "1", "turn-on relative std of the gas-flow terms, >= 0"),
+    }
+    #: the dither must clear the lock-in (statistical mode) and span the pulse weight (quantization)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        dither_margin(
+            lambda c: c.lock_in_rate,
             "lock-in rate",
-            f" (dither amplitude {self.dither.amplitude!r} rad at {self.dither.frequency!r} Hz)",
-        )
-        if self.dither.amplitude < 10.0 * self.geometry.pulse_weight:
-            raise ValueError(
-                f"dither amplitude must be >= 10 pulse weights ({10 * self.geometry.pulse_weight!r} rad) "
-                f"to randomize the count quantization; got {self.dither.amplitude!r} rad"
-            )
+            lambda c: f" (dither amplitude {c.dither.amplitude!r} rad at {c.dither.frequency!r} Hz)",
+        ),
+        Constraint(
+            "dither amplitude >= 10 pulse weights",
+            lambda c: c.dither.amplitude >= 10.0 * c.geometry.pulse_weight,
+            lambda c: f"dither amplitude must be >= 10 pulse weights ({10 * c.geometry.pulse_weight!r} rad) "
+            f"to randomize the count quantization; got {c.dither.amplitude!r} rad",
+        ),
+    )
+
+    def __post_init__(self) -> None:
+        validate(self)  # the declared specs and constraints above
 
     # -------------------------------------------------------------- derived
     # scale_factor K [counts/rad] and pulse_weight q [rad/count]: from _CavityScale
@@ -886,10 +987,18 @@ class RLGSpec:
         Nominal mechanism sizes; magnitudes vary by ``mechanism_spread`` (log-normal,
         relative); signs are those of the nominal (a design property: which discharge
         leg the incoming heat reaches first is fixed by the block layout).
+    lock_in_spread : float
+        Relative (log-normal) unit-to-unit spread of the lock-in rate [-].
+    thermal_spread : float
+        Relative (log-normal) spread of the thermal time constants and heating [-].
+    mechanism_spread : float
+        Relative (log-normal) spread of the thermal-bias mechanism sizes [-].
     bias_instability, rate_random_walk, bias_repeatability, flow_repeatability : float
         See :class:`RLGUnit`.
     sensor : TemperatureSensor
-        Noise and resolution of both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
+        Noise and resolution of both sensors.
+    sensor_offset_spread : float
+        Std of each sensor's drawn calibration offset [K].
 
     Notes
     -----
@@ -921,25 +1030,22 @@ class RLGSpec:
     sensor: TemperatureSensor = field(default_factory=TemperatureSensor)
     sensor_offset_spread: float = 0.2
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "lock_in_rate": FieldRange(0, math.inf, "rad/s", "nominal lock-in threshold Omega_L, >= 0"),
+        "lock_in_spread": FieldRange(0, math.inf, "1", "relative (log-normal) unit spread of the lock-in"),
+        "bias_spread": FieldRange(0, math.inf, "rad/s", "std of a unit's constant bias"),
+        "thermal_spread": FieldRange(0, math.inf, "1", "relative unit spread of the thermal constants"),
+        "mechanism_spread": FieldRange(0, math.inf, "1", "relative (log-normal) spread of the mechanism sizes"),
+        "bias_instability": FieldRange(0, math.inf, "rad/s", "flicker coefficient B (IEEE 952), >= 0"),
+        "rate_random_walk": FieldRange(0, math.inf, "rad/s/sqrt(s)", "rate random walk K, >= 0"),
+        "bias_repeatability": FieldRange(0, math.inf, "rad/s", "turn-on to turn-on bias std, >= 0"),
+        "flow_repeatability": FieldRange(0, math.inf, "1", "turn-on relative std of the gas-flow terms, >= 0"),
+        "sensor_offset_spread": FieldRange(0, math.inf, "K", "std of the drawn sensor offsets"),
+    }
+
     def __post_init__(self) -> None:
-        _nonneg_fields(
-            "RLGSpec",
-            self,
-            (
-                "lock_in_spread",
-                "bias_spread",
-                "thermal_spread",
-                "mechanism_spread",
-                "bias_instability",
-                "rate_random_walk",
-                "bias_repeatability",
-                "flow_repeatability",
-                "sensor_offset_spread",
-            ),
-            "(SI or relative)",
-        )
-        # the nominal unit must itself be valid (dither vs lock-in, dither vs pulse weight)
-        self.nominal()
+        validate(self)  # the declared specs above
+        self.nominal()  # the nominal unit validates itself (dither vs lock-in and pulse weight)
 
     def nominal(self, label: str = "nominal") -> RLGUnit:
         """The unit at the nominal values (no spread)."""

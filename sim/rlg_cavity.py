@@ -49,30 +49,29 @@ an unrandomized dither are checked in :mod:`gyrobench.scenarios.checks.rlg_cavit
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import Constraint, FieldRange, validate
 from gyrobench.base.units import SPEED_OF_LIGHT  # exact SI, re-exported
 from gyrobench.base.validate import nonneg_field as _nonneg
-from gyrobench.base.validate import nonneg_fields as _nonneg_fields
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
     _CavityScale,
     _chamber_samples,
     _check_rng,
     _finish_run,
-    _num,
     _pos,
-    _require_dither_margin,
     _sensor_pair,
     _start_run,
     _Terms,
     _Wording,
+    dither_margin,
 )
 from gyrobench.sim.rlg import (
     HENE_WAVELENGTH,
@@ -177,6 +176,20 @@ CAVITY_RLG_FAMILY = CavityRLGFamily()
 def lock_in_from_backscatter(r_net: ArrayLike, *, area: float, wavelength: float) -> NDArray:
     """Lock-in rate [rad/s] from the net complex backscatter amplitude per round trip.
 
+    Parameters
+    ----------
+    r_net : array_like
+        Net complex backscatter amplitude per round trip [-].
+    area : float
+        Enclosed area A [m^2], > 0.
+    wavelength : float
+        Laser wavelength lambda [m], > 0.
+
+    Returns
+    -------
+    ndarray
+        Omega_L [rad/s].
+
     Notes
     -----
     Omega_L = c lambda |r_net| / (8 pi A) (docs/physics.md 6.6 from the coupled-
@@ -236,20 +249,26 @@ class Backscatter:
     dissipative: float = 0.0
     dissipative_phase: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "amplitudes": FieldRange(0, math.inf, "1", "|r_i|, field amplitude per reflection, >= 0"),
+        "phases": FieldRange(-math.inf, math.inf, "rad", "each mirror's scatter phase theta_i"),
+        "positions": FieldRange(0, 1, "1", "s_i / P from the PLC mirror, in [0, 1)", high_open=True),
+        "walk_phase": FieldRange(-math.inf, math.inf, "rad", "gamma, per wavelength of PLC travel"),
+        "dissipative": FieldRange(-math.inf, math.inf, "1", "eta, null shift per unit lock-in"),
+        "dissipative_phase": FieldRange(-math.inf, math.inf, "rad", "phi_d of the dissipative coupling"),
+    }
+    #: one amplitude, phase and position per mirror, and at least two mirrors
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "len(amplitudes) == len(phases) == len(positions) >= 2",
+            lambda c: len(c.amplitudes) >= 2 and len(c.phases) == len(c.positions) == len(c.amplitudes),
+            lambda c: "amplitudes, phases and positions must hold one value per mirror, >= 2 mirrors; "
+            f"got {len(c.amplitudes)}, {len(c.phases)}, {len(c.positions)}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        n = len(self.amplitudes)
-        if n < 2 or len(self.phases) != n or len(self.positions) != n:
-            raise ValueError(
-                f"Backscatter needs >= 2 mirrors with one amplitude, phase and position each; "
-                f"got {len(self.amplitudes)}, {len(self.phases)}, {len(self.positions)}"
-            )
-        for a in self.amplitudes:
-            _nonneg("Backscatter", "amplitudes", a, "(field ratio)")
-        for p in self.positions:
-            if not 0.0 <= _num("Backscatter", "positions", p) < 1.0:
-                raise ValueError(f"Backscatter.positions must be in [0, 1); got {self.positions!r}")
-        for name in ("walk_phase", "dissipative", "dissipative_phase"):
-            _num("Backscatter", name, getattr(self, name))
+        validate(self)  # the declared specs and constraints above
 
     def net(self, strain: ArrayLike, plc: ArrayLike, *, perimeter: float, wavelength: float):
         """r_net (complex) for block strain ``strain`` and PLC correction ``plc`` [m]."""
@@ -290,8 +309,13 @@ class PathLengthControl:
 
     travel: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "travel": FieldRange(0, math.inf, "m", "total PLC path correction S (> a wavelength)", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        _pos("PathLengthControl", "travel", self.travel, "m")
+        validate(self)  # the declared specs above
+
 
 
 def mode_index(
@@ -302,6 +326,22 @@ def mode_index(
     n changes by the fewest whole steps that bring |n lambda - x| back to <= travel/2, and
     only when it is exceeded (hysteresis). Sequential in time (a play operator); loops only
     over the samples where the bound is exceeded.
+
+    Parameters
+    ----------
+    excursion : ndarray
+        Free-perimeter excursion x(t) [m].
+    wavelength : float
+        Laser wavelength lambda [m].
+    travel : float
+        PLC travel S [m of path].
+    n0 : int
+        Mode index at the first sample.
+
+    Returns
+    -------
+    ndarray of int
+        n(t) at each sample.
     """
     if not travel > wavelength:
         raise ValueError(
@@ -369,11 +409,19 @@ class CavityThermal:
     p_housing: float = 5.0
     p_leg: float = 0.6
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "c_housing": FieldRange(0, math.inf, "J/K", "housing heat capacity C_H", low_open=True),
+        "c_block": FieldRange(0, math.inf, "J/K", "heat capacity C_b of each block half", low_open=True),
+        "g_air": FieldRange(0, math.inf, "W/K", "housing to chamber air conductance", low_open=True),
+        "g_mount_a": FieldRange(0, math.inf, "W/K", "housing to block side A through its mount", low_open=True),
+        "g_mount_b": FieldRange(0, math.inf, "W/K", "housing to block side B through its mount", low_open=True),
+        "g_block": FieldRange(0, math.inf, "W/K", "across the block, A to B", low_open=True),
+        "p_housing": FieldRange(0, math.inf, "W", "electronics power in the housing, >= 0"),
+        "p_leg": FieldRange(0, math.inf, "W", "discharge power per leg, >= 0"),
+    }
+
     def __post_init__(self) -> None:
-        for name in ("c_housing", "c_block", "g_air", "g_mount_a", "g_mount_b", "g_block"):
-            _pos("CavityThermal", name, getattr(self, name), "(W/K or J/K)")
-        _nonneg("CavityThermal", "p_housing", self.p_housing, "W")
-        _nonneg("CavityThermal", "p_leg", self.p_leg, "W")
+        validate(self)  # the declared specs above
 
     def matrices(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(M, B): d[T_H, T_A, T_B]/dt = M T + B [T_ch, 1]."""
@@ -453,12 +501,18 @@ class Discharge:
     coefficient: float = LANGMUIR_COEFFICIENT
     reference_temperature: float = units.celsius(25.0)
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "current": FieldRange(0, math.inf, "A", "regulated current per leg I_0", low_open=True),
+        "imbalance": FieldRange(-math.inf, math.inf, "A", "this turn-on's leg current difference, signed"),
+        "sense_tcr_mismatch": FieldRange(-math.inf, math.inf, "1/K", "sense-resistor TCR difference delta"),
+        "gas_rise": FieldRange(-math.inf, math.inf, "K", "gas temperature above its block node"),
+        "viscosity_exponent": FieldRange(-math.inf, math.inf, "1", "m of viscosity ~ T^m (helium ~0.7)"),
+        "coefficient": FieldRange(-math.inf, math.inf, "rad/s/A", "Langmuir-flow coefficient k_LF"),
+        "reference_temperature": FieldRange(0, math.inf, "K", "T_ref of the discharge", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        _pos("Discharge", "current", self.current, "A")
-        for name in ("imbalance", "sense_tcr_mismatch", "gas_rise", "viscosity_exponent"):
-            _num("Discharge", name, getattr(self, name))
-        _num("Discharge", "coefficient", self.coefficient)
-        _pos("Discharge", "reference_temperature", self.reference_temperature, "K")
+        validate(self)  # the declared specs above
 
     def bias(self, t_housing: ArrayLike, t_a: ArrayLike, t_b: ArrayLike) -> NDArray[np.float64]:
         """Omega_LF [rad/s] at node temperatures [K]."""
@@ -542,7 +596,22 @@ class SwingDither:
 
 
 def swing_dither_arw(*, scale_factor: float, lock_in_rate: float, dither: Dither) -> float:
-    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`)."""
+    """N = Omega_L sqrt((1 + sigma^2/2)/(2 pi K Omega_D)) [rad/sqrt(s)] (:class:`SwingDither`).
+
+    Parameters
+    ----------
+    scale_factor : float
+        K [counts/rad], > 0.
+    lock_in_rate : float
+        Omega_L [rad/s], >= 0.
+    dither : Dither
+        The dither (f_d, theta_D, amplitude jitter sigma).
+
+    Returns
+    -------
+    float
+        N [rad/sqrt(s)].
+    """
     k = _pos("swing_dither_arw", "scale_factor", scale_factor, "counts/rad")
     wl = _nonneg("swing_dither_arw", "lock_in_rate", lock_in_rate, "rad/s")
     s = dither.amplitude_jitter
@@ -577,7 +646,9 @@ class CavityRLG(_CavityScale):
     gas_rise_repeatability : float
         Relative std of the gas temperature rise at each turn-on.
     bias : float
-        Constant bias [rad/s]; ``bias_repeatability`` its turn-on std [rad/s].
+        Constant bias [rad/s].
+    bias_repeatability : float
+        Turn-on to turn-on std of the constant bias [rad/s].
     bias_instability, rate_random_walk : float
         Flicker B [rad/s] and K [rad/s/sqrt(s)] (IEEE 952).
     sensor_housing, sensor_cavity : TemperatureSensor
@@ -609,27 +680,28 @@ class CavityRLG(_CavityScale):
     label: str = "RLG"
     mode_hops: bool = True
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "cte": FieldRange(-math.inf, math.inf, "1/K", "the block's linear expansion coefficient alpha"),
+        "imbalance_repeatability": FieldRange(0, math.inf, "A", "turn-on std of the leg-current imbalance"),
+        "gas_rise_repeatability": FieldRange(0, math.inf, "1", "turn-on relative std of the gas rise"),
+        "bias": FieldRange(-math.inf, math.inf, "rad/s", "constant bias, signed"),
+        "bias_repeatability": FieldRange(0, math.inf, "rad/s", "turn-on std of the constant bias"),
+        "bias_instability": FieldRange(0, math.inf, "rad/s", "flicker coefficient B (IEEE 952), >= 0"),
+        "rate_random_walk": FieldRange(0, math.inf, "rad/s/sqrt(s)", "rate random walk K, >= 0"),
+        "reference_temperature": FieldRange(-math.inf, math.inf, "K", "T_ref of the block length and PLC rest"),
+    }
+    #: a hop lands back inside the PLC travel; the dither clears the largest possible lock-in
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "plc.travel > geometry.wavelength",
+            lambda c: c.plc.travel > c.geometry.wavelength,
+            lambda c: f"plc.travel must be > one wavelength {c.geometry.wavelength!r} m; got {c.plc.travel!r}",
+        ),
+        dither_margin(lambda c: c.max_lock_in_rate, "the largest possible lock-in"),
+    )
+
     def __post_init__(self) -> None:
-        _num("CavityRLG", "cte", self.cte)
-        _nonneg_fields(
-            "CavityRLG",
-            self,
-            (
-                "imbalance_repeatability",
-                "gas_rise_repeatability",
-                "bias_repeatability",
-                "bias_instability",
-                "rate_random_walk",
-            ),
-            "(SI)",
-        )
-        _num("CavityRLG", "bias", self.bias)
-        lam = self.geometry.wavelength
-        if not self.plc.travel > lam:
-            raise ValueError(
-                f"CavityRLG.plc.travel must be > one wavelength {lam!r} m; got {self.plc.travel!r}"
-            )
-        _require_dither_margin(self.dither, self.max_lock_in_rate, "the largest possible lock-in")
+        validate(self)  # the declared specs and constraints above
 
     # scale_factor K and pulse_weight q at T_ref, mode 0 [counts/rad, rad/count]: _CavityScale
 
@@ -817,6 +889,13 @@ def _rayleigh_amplitudes(rng: np.random.Generator, n: int, sigma: float) -> NDAr
     return sigma * np.sqrt(-2.0 * np.log1p(-rng.uniform(0.0, 1.0, n)))
 
 
+def _worst_lock_in(geometry: CavityGeometry, backscatter_sigma: float) -> float:
+    """The largest likely lock-in [rad/s]: every mirror's amplitude at the Rayleigh quantile of
+    exceedance 1e-6, all scattering in phase."""
+    amplitude = len(geometry.vertices) * backscatter_sigma * math.sqrt(2.0 * math.log(1e6))
+    return float(lock_in_from_backscatter(amplitude, area=geometry.area, wavelength=geometry.wavelength))
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CavityRLGSpec:
     """A cavity-model RLG budget (nominal values, SI) and the unit-to-unit spread of each.
@@ -838,6 +917,8 @@ class CavityRLGSpec:
         Nominal eta, log-normal spread ``dissipative_spread``. No source prints it: default 0
         (the backscatter null shift off); its range is :data:`CAVITY_RLG_FAMILY`
         ``.dissipative`` and a study sets it (paper 004 identifies it to its gyro).
+    dissipative_spread : float
+        Log-normal unit-to-unit spread of eta [-].
     cte_bound : float
         alpha is drawn uniform in [-cte_bound, +cte_bound]: a block of ZERODUR expansion class 2
         (|alpha| <= 0.10e-6 /K, :data:`ZERODUR_CTE_CLASS_2`).
@@ -845,16 +926,28 @@ class CavityRLGSpec:
         PLC travel drawn uniform in this range [m of path]; default 1.2..1.8 wavelengths
         (STATED ASSUMPTION; must exceed one wavelength).
     thermal : CavityThermal
-        Nominal network; ``mount_asymmetry`` is the log-normal spread of each mount's
-        conductance (STATED ASSUMPTION 0.3), ``thermal_spread`` of the others (0.1).
+        Nominal network (spreads: ``mount_asymmetry``, STATED ASSUMPTION 0.3, and
+        ``thermal_spread``, 0.1).
+    thermal_spread : float
+        Relative (log-normal) spread of the network's capacities and the air conductance [-].
+    mount_asymmetry : float
+        Log-normal spread of each block mount's conductance [-].
     discharge : Discharge
-        Nominal discharge; ``tcr_mismatch_std`` [1/K] (STATED ASSUMPTION 5e-6/K: matched
-        metal-film sense resistors), ``imbalance_repeatability`` [A] (1e-6 A, 0.17 % of the leg
-        current, STATED ASSUMPTION), ``gas_rise_repeatability`` (0.1, STATED ASSUMPTION).
+        Nominal discharge.
+    tcr_mismatch_std : float
+        Std of the regulators' sense-resistor TCR difference [1/K] (STATED ASSUMPTION 5e-6/K:
+        matched metal-film sense resistors).
+    imbalance_repeatability : float
+        Std of the leg-current imbalance set at each turn-on [A] (1e-6 A, 0.17 % of the leg
+        current, STATED ASSUMPTION).
+    gas_rise_repeatability : float
+        Relative std of the gas temperature rise at each turn-on [-] (0.1, STATED ASSUMPTION).
     bias_spread, bias_repeatability, bias_instability, rate_random_walk : float
         [rad/s], [rad/s], [rad/s], [rad/s/sqrt(s)]; as :class:`gyrobench.sim.rlg.RLGSpec`.
     sensor : TemperatureSensor
-        Both sensors; offsets drawn with std ``sensor_offset_spread`` [K].
+        Both sensors.
+    sensor_offset_spread : float
+        Std of each sensor's drawn calibration offset [K].
     """
 
     geometry: CavityGeometry = field(default_factory=_default_geometry)
@@ -879,48 +972,41 @@ class CavityRLGSpec:
     sensor: TemperatureSensor = field(default_factory=TemperatureSensor)
     sensor_offset_spread: float = 0.2
 
-    def __post_init__(self) -> None:
-        _nonneg_fields(
-            "CavityRLGSpec",
-            self,
-            (
-                "backscatter_sigma",
-                "walk_phase_std",
-                "dissipative",
-                "dissipative_spread",
-                "cte_bound",
-                "thermal_spread",
-                "mount_asymmetry",
-                "tcr_mismatch_std",
-                "imbalance_repeatability",
-                "gas_rise_repeatability",
-                "bias_spread",
-                "bias_repeatability",
-                "bias_instability",
-                "rate_random_walk",
-                "sensor_offset_spread",
-            ),
-            "(SI or relative)",
-        )
-        # every unit must be dithered well above its largest lock-in: bound the mirrors'
-        # amplitudes at the Rayleigh quantile of exceedance 1e-6, all scattering in phase
-        worst = lock_in_from_backscatter(
-            len(self.geometry.vertices) * self.backscatter_sigma * math.sqrt(2.0 * math.log(1e6)),
-            area=self.geometry.area,
-            wavelength=self.geometry.wavelength,
-        )
-        _require_dither_margin(
-            self.dither,
-            float(worst),
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "backscatter_sigma": FieldRange(0, math.inf, "1", "Rayleigh scale of each mirror's |r_i|, >= 0"),
+        "walk_phase_std": FieldRange(0, math.inf, "rad", "std of gamma per wavelength of PLC travel"),
+        "dissipative": FieldRange(0, math.inf, "1", "nominal eta (log-normal draw), >= 0"),
+        "dissipative_spread": FieldRange(0, math.inf, "1", "log-normal spread of eta"),
+        "cte_bound": FieldRange(0, math.inf, "1/K", "alpha drawn uniform in [-bound, +bound]"),
+        "plc_travel": FieldRange(0, math.inf, "m", "PLC travel range, drawn uniform (> one wavelength)", low_open=True),
+        "thermal_spread": FieldRange(0, math.inf, "1", "relative spread of the thermal network"),
+        "mount_asymmetry": FieldRange(0, math.inf, "1", "log-normal spread of each mount's conductance"),
+        "tcr_mismatch_std": FieldRange(0, math.inf, "1/K", "std of the sense-resistor TCR mismatch"),
+        "imbalance_repeatability": FieldRange(0, math.inf, "A", "turn-on std of the leg-current imbalance"),
+        "gas_rise_repeatability": FieldRange(0, math.inf, "1", "turn-on relative std of the gas rise"),
+        "bias_spread": FieldRange(0, math.inf, "rad/s", "std of a unit's constant bias"),
+        "bias_repeatability": FieldRange(0, math.inf, "rad/s", "turn-on std of the constant bias"),
+        "bias_instability": FieldRange(0, math.inf, "rad/s", "flicker coefficient B (IEEE 952), >= 0"),
+        "rate_random_walk": FieldRange(0, math.inf, "rad/s/sqrt(s)", "rate random walk K, >= 0"),
+        "sensor_offset_spread": FieldRange(0, math.inf, "K", "std of the drawn sensor offsets"),
+    }
+    #: every unit is dithered well above its largest likely lock-in; the PLC travel exceeds a
+    #: wavelength and is an ordered range
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        dither_margin(
+            lambda c: _worst_lock_in(c.geometry, c.backscatter_sigma),
             "the largest likely lock-in",
-            f" (backscatter_sigma {self.backscatter_sigma!r})",
-        )
-        lo, hi = self.plc_travel
-        if not self.geometry.wavelength < lo <= hi:
-            raise ValueError(
-                "CavityRLGSpec.plc_travel must satisfy wavelength < low <= high [m]; "
-                f"got {self.plc_travel!r}"
-            )
+            lambda c: f" (backscatter_sigma {c.backscatter_sigma!r})",
+        ),
+        Constraint(
+            "geometry.wavelength < plc_travel[0] <= plc_travel[1]",
+            lambda c: len(c.plc_travel) == 2 and c.geometry.wavelength < c.plc_travel[0] <= c.plc_travel[1],
+            lambda c: f"plc_travel must satisfy wavelength < low <= high [m]; got {c.plc_travel!r}",
+        ),
+    )
+
+    def __post_init__(self) -> None:
+        validate(self)  # the declared specs and constraints above
 
     def realize(self, *, rng: np.random.Generator, label: str = "RLG") -> CavityRLG:
         """Draw one unit (a child stream per group: optics, block, thermal, discharge, sensors)."""

@@ -59,7 +59,7 @@ Profile = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 Input = float | Profile | NDArray[np.float64]
 
 
-def _check_input(name: str, v: object, unit: str, *, optional: bool = False) -> None:
+def _check_input(name: str, v: object, unit: str, *, optional: bool = False, columns: bool = False) -> None:
     if v is None and optional:
         return
     if callable(v):
@@ -69,8 +69,9 @@ def _check_input(name: str, v: object, unit: str, *, optional: bool = False) -> 
             raise ValueError(f"Environment.{name} must be finite [{unit}]; got {v!r}")
         return
     if isinstance(v, np.ndarray):
-        if v.ndim != 1 or not np.all(np.isfinite(v)):
-            raise ValueError(f"Environment.{name} must be a finite 1-D array [{unit}]; got shape {v.shape}")
+        shape = "1-D or (n, k)" if columns else "1-D"
+        if v.ndim not in ((1, 2) if columns else (1,)) or v.size == 0 or not np.all(np.isfinite(v)):
+            raise ValueError(f"Environment.{name} must be a finite {shape} array [{unit}]; got shape {v.shape}")
         return
     raise TypeError(
         f"Environment.{name} must be a number, a callable of time or a 1-D array [{unit}]; got {type(v).__name__}"
@@ -100,6 +101,11 @@ class Environment:
     -----
     An array holds one value per output sample (length ``floor(duration * fs)``), taken at
     the sample centres t_k = (k + 1/2)/fs; a callable is evaluated where the model needs it.
+
+    ``true_rate`` may also be an (n, k) array: k independent segments of ``duration`` each, one
+    per column, run side by side from the same state (a rate table's dwells, each settled from
+    rest). Only a model that says so in its ``simulate`` takes it (:func:`check_call` with
+    ``columns=True``); its record holds the segments one after another, column by column.
     """
 
     duration: float
@@ -110,13 +116,19 @@ class Environment:
 
     def __post_init__(self) -> None:
         positive_number("Environment.duration", self.duration, "s")
-        _check_input("true_rate", self.true_rate, "rad/s")
+        _check_input("true_rate", self.true_rate, "rad/s", columns=True)
         _check_input("temperature", self.temperature, "K", optional=True)
         _check_input("specific_force", self.specific_force, "m/s^2")
         if self.vibration is not None and not isinstance(self.vibration, ShakerSignal):
             raise TypeError(
                 f"Environment.vibration must be a sim.shaker.ShakerSignal or None; got {type(self.vibration).__name__}"
             )
+
+    @property
+    def columns(self) -> int:
+        """The number k of independent segments: the columns of an (n, k) ``true_rate``, else 1."""
+        v = self.true_rate
+        return int(v.shape[1]) if isinstance(v, np.ndarray) and v.ndim == 2 else 1
 
     def n_samples(self, fs: float) -> int:
         """Samples of a record at ``fs`` [Hz]: floor(duration fs)."""
@@ -201,7 +213,7 @@ RLG_ERROR_COMPONENTS = ("turn_on_bias", "thermal_bias", "flicker_rrw", "dither_r
 """Truth channels of an RLG record whose sum is output - true_rate (the cavity model adds ``scale_factor_error``)."""
 
 
-def check_call(environment: object, fs: object, rng: object) -> float:
+def check_call(environment: object, fs: object, rng: object, *, columns: bool = False) -> float:
     """Check the arguments every ``simulate(environment, *, fs, rng)`` takes; returns ``fs`` [Hz].
 
     Parameters
@@ -212,6 +224,8 @@ def check_call(environment: object, fs: object, rng: object) -> float:
         The output rate [Hz].
     rng : object
         The random generator (a :class:`numpy.random.Generator`).
+    columns : bool
+        The calling model runs independent segments (an (n, k) ``true_rate``); False refuses them.
 
     Returns
     -------
@@ -223,11 +237,16 @@ def check_call(environment: object, fs: object, rng: object) -> float:
     TypeError
         ``environment`` is not an :class:`Environment` or ``rng`` not a Generator.
     ValueError
-        ``fs`` is not a finite number > 0 Hz.
+        ``fs`` is not a finite number > 0 Hz, or ``true_rate`` has columns the model does not run.
     """
     if not isinstance(environment, Environment):
         raise TypeError(f"environment must be a gyrobench.sim.sensor.Environment; got {type(environment).__name__}")
     check_rng(rng)
+    if environment.columns > 1 and not columns:
+        raise ValueError(
+            "Environment.true_rate must be 1-D for this model (it runs no independent segments); "
+            f"got shape {np.asarray(environment.true_rate).shape}"
+        )
     return check_fs(fs)
 
 

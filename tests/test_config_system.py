@@ -26,12 +26,17 @@ import typing
 
 import pytest
 
-from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, field_spec
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, _field_hints, field_spec
 from gyrobench.scenarios import registry
+from gyrobench.sim.coil2d import Coil2DSpec
 from gyrobench.sim.environment import Ramp, Soak
-from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec
+from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit, TemperatureSensorSpec
+from gyrobench.sim.fog_loop import ClosedLoopFOG
+from gyrobench.sim.imu import AccelerometerSpec
+from gyrobench.sim.mems_nonlinear import DuffingSense, RateTransfer
 from gyrobench.sim.parts import Datasheet, Part
-from gyrobench.sim.rlg import Dither
+from gyrobench.sim.rlg import CavityGeometry, Dither, RLGSpec, RLGUnit, TemperatureSensor, ThermalBias, TwoNodeThermal
+from gyrobench.sim.rlg_cavity import Backscatter, CavityRLG, CavityRLGSpec, CavityThermal, Discharge, PathLengthControl
 from gyrobench.sim.shaker import FixedSine, Phased, RandomVibration, SineSweep
 
 #: classes a user builds directly, beside the ones reachable from a scenario's Config: profiles, parts and
@@ -39,6 +44,12 @@ from gyrobench.sim.shaker import FixedSine, Phased, RandomVibration, SineSweep
 PROFILES_AND_PARTS = (
     SineSweep, FixedSine, RandomVibration, Phased, Ramp, Soak, Datasheet, Part, FOG2DSpec, TemperatureSensorSpec,
     Dither,
+)
+#: the sim device models and their specs (FOG, MEMS, RLG, accelerometer), built directly or by the parts
+SIM_SPECS = (
+    ClosedLoopFOG, Coil2DSpec, FOG2DUnit, DuffingSense, RateTransfer, AccelerometerSpec,
+    CavityGeometry, TwoNodeThermal, ThermalBias, TemperatureSensor, RLGUnit, RLGSpec,
+    Backscatter, PathLengthControl, CavityThermal, Discharge, CavityRLG, CavityRLGSpec,
 )
 
 
@@ -58,7 +69,7 @@ def config_classes() -> list[type]:
     out: dict[type, None] = {}
     for name in registry.available():
         _reachable(registry.get(name).Config(), out)
-    for cls in PROFILES_AND_PARTS:
+    for cls in PROFILES_AND_PARTS + SIM_SPECS:
         out[cls] = None
     return list(out)
 
@@ -106,6 +117,8 @@ def test_the_config_classes_include_every_paper_and_the_nested_sim_specs():
         "gyrobench.sim.mems_resonator.MemsResonator",
         "gyrobench.sim.fiber_strain.StrainMode",
         "gyrobench.sim.parts._part.Datasheet",
+        "gyrobench.sim.rlg_cavity.CavityRLGSpec",
+        "gyrobench.sim.fog_loop.ClosedLoopFOG",
     ):
         assert must in names, must
     assert len(CLASSES) >= 20
@@ -147,7 +160,10 @@ def _numeric(hint: typing.Any) -> bool:
 
 @pytest.mark.parametrize("cls", CLASSES, ids=_id)
 def test_every_numeric_field_has_a_spec_with_a_unit_and_a_doc(cls):
-    hints = typing.get_type_hints(cls)
+    try:
+        hints = typing.get_type_hints(cls)
+    except NameError:  # a base's annotation under TYPE_CHECKING (the RLG units' _CavityScale)
+        hints = _field_hints(cls)
     missing = []
     for f in dataclasses.fields(cls):
         spec = field_spec(cls, f.name)
@@ -180,3 +196,27 @@ def test_the_configuration_layer_and_the_class_give_the_same_message(name, value
         registry.override(config, values)
     assert str(direct.value) == str(layered.value)
     assert "\n" not in str(direct.value) and next(iter(values)) in str(direct.value)
+
+
+@pytest.mark.parametrize(
+    ("build", "phrase"),
+    [
+        (lambda: TemperatureSensor(noise=-0.1), "TemperatureSensor.noise must be >= 0 K; got -0.1"),
+        (lambda: Discharge(current=0.0), "Discharge.current must be > 0 A; got 0.0"),
+        (lambda: RateTransfer(rail_rate=-1.0), "RateTransfer.rail_rate must be > 0 rad/s or inf; got -1.0"),
+        (lambda: RateTransfer(rail_rate=float("nan")), "RateTransfer.rail_rate must be > 0 rad/s or inf; got nan"),
+        (lambda: AccelerometerSpec(range=0.0), "AccelerometerSpec.range must be > 0 m/s^2 or inf; got 0.0"),
+        (lambda: Coil2DSpec(t_lo=320.0), "Coil2DSpec.t_lo must be < t_hi [K]; got 320.0 and 313.15"),
+        (lambda: ClosedLoopFOG(index=1.0), "ClosedLoopFOG.index must be > 1 1; got 1.0"),
+    ],
+)
+def test_a_sim_spec_refuses_in_one_line_from_its_declaration(build, phrase):
+    with pytest.raises(ValueError) as err:
+        build()
+    assert str(err.value) == phrase
+
+
+def test_an_infinite_value_passes_only_where_the_range_admits_it():
+    assert RateTransfer(rail_rate=float("inf")).rail_rate == float("inf")
+    assert not FieldRange(0, float("inf"), "rad/s").contains(float("inf"))
+    assert not FieldRange(0, float("inf"), "rad/s", infinite=True).contains(float("-inf"))

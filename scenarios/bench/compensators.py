@@ -40,10 +40,18 @@ __all__ = [
 
 
 def prepend_import_path(folder: str | os.PathLike) -> None:
-    """Put ``folder`` first on ``sys.path`` (once), so ``"module:attr"`` compensators and
+    """Put a folder first on ``sys.path`` (once) for compensators and module-path scenarios.
+
+    Put ``folder`` first on ``sys.path`` (once), so ``"module:attr"`` compensators and
     module-path scenarios are found there before anywhere else, as ``python -m`` finds
     modules in the current folder. Worker processes inherit the path (``spawn`` and
-    ``forkserver`` pass ``sys.path`` to the child)."""
+    ``forkserver`` pass ``sys.path`` to the child).
+
+    Parameters
+    ----------
+    folder : path-like
+        The folder.
+    """
     import sys
 
     path = os.fspath(folder)
@@ -91,6 +99,15 @@ class CompensatorImportError(ValueError):
 
     Bad input (exit 2); ``traceback_text`` holds the import's traceback, which the
     command line prints with ``GYROBENCH_TRACEBACK=1``.
+
+    Parameters
+    ----------
+    message : str
+        The one-line message.
+    cause : BaseException or None
+        The import's exception.
+    traceback_text : str
+        The import's traceback.
     """
 
     def __init__(self, message: str, cause: BaseException | None = None, *, traceback_text: str = "") -> None:
@@ -108,6 +125,16 @@ def resolve_compensator(compensator: Any) -> Any:
     """Check ``compensator`` is one of the accepted forms (module docstring) and import strings.
 
     Returns the estimator instance, estimator class or fit function.
+
+    Parameters
+    ----------
+    compensator : object
+        An estimator instance or class, a fit function, or a ``"module:attr"`` string.
+
+    Returns
+    -------
+    object
+        The estimator instance, estimator class or fit function.
 
     Raises
     ------
@@ -130,7 +157,18 @@ def resolve_compensator(compensator: Any) -> Any:
 
 
 def seed_int(seed: int) -> int:
-    """An integer in [0, 2**32) derived from the campaign seed, for ``random_state``."""
+    """An integer in [0, 2**32) derived from the campaign seed, for ``random_state``.
+
+    Parameters
+    ----------
+    seed : int
+        The campaign seed.
+
+    Returns
+    -------
+    int
+        In [0, 2**32).
+    """
     return int(np.random.SeedSequence([int(seed), 0x62656E63]).generate_state(1)[0])
 
 
@@ -149,6 +187,8 @@ class CompensatorError(ValueError):
 
     Attributes
     ----------
+    message : str
+        The one-line message.
     compensator : str
         The compensator's label (``"module:attr"`` or its class name).
     seed : int or None
@@ -191,6 +231,13 @@ class FailedSeedsError(ValueError):
     """A campaign with failed seeds was to be saved as a baseline or compared (exit 3).
 
     ``seeds`` holds the failed seeds.
+
+    Parameters
+    ----------
+    message : str
+        The one-line message.
+    seeds : sequence of int
+        The failed seeds.
     """
 
     def __init__(self, message: str, *, seeds: Sequence[int] = ()) -> None:
@@ -199,8 +246,27 @@ class FailedSeedsError(ValueError):
 
 
 def compensator_failed(label: str, seed: int, stage: str, exc: BaseException) -> CompensatorError:
-    """The :class:`CompensatorError` for ``exc`` raised by the user's code on ``seed`` at ``stage``,
-    its traceback kept as text (raise it ``from exc``)."""
+    """The error for an exception the user's code raised on a seed.
+
+    The :class:`CompensatorError` for ``exc`` raised by the user's code on ``seed`` at ``stage``,
+    its traceback kept as text (raise it ``from exc``).
+
+    Parameters
+    ----------
+    label : str
+        The compensator's label.
+    seed : int
+        The seed.
+    stage : str
+        ``"fit"`` or ``"predict on run <label>"``.
+    exc : BaseException
+        What the user's code raised.
+
+    Returns
+    -------
+    CompensatorError
+        The error to raise.
+    """
     import traceback
 
     detail = " ".join(str(exc).split()) or "(no message)"
@@ -232,6 +298,26 @@ def fit_compensator(
     fitted as ``fit(X, y)``. Any exception raised by the user's code (instantiation, cloning, fit, the fit
     function) becomes a :class:`CompensatorError` naming ``label`` and ``seed``; a
     fit function returning something that cannot predict is a ``TypeError``.
+
+    Parameters
+    ----------
+    compensator : object
+        The resolved compensator.
+    X : ndarray
+        Training features.
+    y : ndarray
+        Training target.
+    seed : int
+        The campaign seed.
+    label : str
+        The compensator's label, for errors.
+    groups : ndarray of int or None
+        The task's training groups.
+
+    Returns
+    -------
+    callable
+        ``predict(X) -> ndarray``.
     """
     try:
         predictor = fit_user_code(compensator, X, y, seed_int(seed), groups)
@@ -245,6 +331,18 @@ def fit_compensator(
 
 def predictor_of(compensator: Any, predictor: Any) -> Callable:
     """The ``predict(X)`` of what fitting returned: its ``.predict``, or itself if callable.
+
+    Parameters
+    ----------
+    compensator : object
+        The resolved compensator, for the message.
+    predictor : object
+        What fitting returned.
+
+    Returns
+    -------
+    callable
+        ``predict(X)``.
 
     Raises
     ------
@@ -262,10 +360,23 @@ def predictor_of(compensator: Any, predictor: Any) -> Callable:
 
 
 def accepts_groups(fit: Any) -> bool:
-    """Whether the bench passes a task's training groups to ``fit`` (an estimator's bound ``fit``
+    """Whether the bench passes a task's training groups to a ``fit``.
+
+    Whether the bench passes a task's training groups to ``fit`` (an estimator's bound ``fit``
     or a fit function): when its signature names a ``groups`` parameter, or it is the ``fit`` of
     a scikit-learn hyper-parameter search (``GridSearchCV``, ``RandomizedSearchCV``, ...), which
-    routes ``groups`` to its ``cv`` splitter (e.g. ``LeaveOneGroupOut``) through ``**params``."""
+    routes ``groups`` to its ``cv`` splitter (e.g. ``LeaveOneGroupOut``) through ``**params``.
+
+    Parameters
+    ----------
+    fit : callable
+        A bound ``fit`` or a fit function.
+
+    Returns
+    -------
+    bool
+        True when it takes ``groups``.
+    """
     try:
         from sklearn.model_selection._search import BaseSearchCV
     except ImportError:  # pragma: no cover - scikit-learn is a dependency
@@ -287,9 +398,30 @@ def fit_user_code(
     rs: int,
     groups: NDArray[np.int_] | None = None,
 ) -> Any:
-    """The user's code in :func:`fit_compensator` (and in the sandbox's child): the fitted
+    """Run the user's fit on the training data.
+
+    The user's code in :func:`fit_compensator` (and in the sandbox's child): the fitted
     estimator's predict, or what a fit function returned; ``rs`` is the ``random_state`` given
-    to every ``random_state`` left at None (:func:`seed_int` of the seed)."""
+    to every ``random_state`` left at None (:func:`seed_int` of the seed).
+
+    Parameters
+    ----------
+    compensator : object
+        The resolved compensator.
+    X : ndarray
+        Training features.
+    y : ndarray
+        Training target.
+    rs : int
+        The ``random_state`` given.
+    groups : ndarray of int or None
+        The task's training groups.
+
+    Returns
+    -------
+    object
+        The fitted estimator, or what the fit function returned.
+    """
     if isinstance(compensator, type):
         compensator = compensator()
     if _is_estimator(compensator):
@@ -322,8 +454,25 @@ def fit_user_code(
 
 
 def compensator_label(comp: Any, given: Any, *, short: bool = False) -> str:
-    """How the db and messages name a compensator: the string it was given as, else
-    ``module:qualname`` of a class or function, else its repr (``short``: its class name)."""
+    """How the database and the messages name a compensator.
+
+    How the db and messages name a compensator: the string it was given as, else
+    ``module:qualname`` of a class or function, else its repr (``short``: its class name).
+
+    Parameters
+    ----------
+    comp : object
+        The resolved compensator.
+    given : object
+        What the user gave.
+    short : bool
+        The class name only.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     if isinstance(given, str):
         return given
     if isinstance(comp, type) or inspect.isroutine(comp):

@@ -43,7 +43,18 @@ _Z_SEED = 0x6E6F6973
 
 
 def white_noise_std(e: np.ndarray) -> float:
-    """Robust white-noise standard deviation of ``e`` from its second differences (module doc)."""
+    """Robust white-noise standard deviation of ``e`` from its second differences (module doc).
+
+    Parameters
+    ----------
+    e : ndarray
+        A residual.
+
+    Returns
+    -------
+    float
+        The white-noise standard deviation.
+    """
     d2 = np.diff(np.asarray(e, dtype=float), 2)
     return 1.4826 * float(np.median(np.abs(d2))) / math.sqrt(6.0)
 
@@ -61,7 +72,18 @@ def _floor_run(task: Any, run: Any) -> dict[str, float]:
 
 
 def noise_floor(task: Any) -> dict[str, float]:
-    """Every score's floor on ``task``: per run (``"<label>/<score>"``) and ``"mean/<score>"``."""
+    """Every score's floor on ``task``: per run (``"<label>/<score>"``) and ``"mean/<score>"``.
+
+    Parameters
+    ----------
+    task : CompensationTask
+        The seed's task.
+
+    Returns
+    -------
+    dict of str to float
+        Score name -> its floor.
+    """
     out: dict[str, float] = {}
     per_key: dict[str, list[float]] = {}
     for run in task.heldout:
@@ -74,8 +96,25 @@ def noise_floor(task: Any) -> dict[str, float]:
 
 
 def floor_failure(scenario: str, task: Any, scores: Mapping[str, float]) -> str | None:
-    """Why the seed's scores are implausible (a lower-is-better primary score below the noise
-    floor, :func:`noise_floor`), or None."""
+    """Why a seed's scores are implausible against the noise floor, or None.
+
+    Why the seed's scores are implausible (a lower-is-better primary score below the noise
+    floor, :func:`noise_floor`), or None.
+
+    Parameters
+    ----------
+    scenario : str
+        The scenario.
+    task : CompensationTask
+        The seed's task.
+    scores : mapping of str to float
+        The seed's scores.
+
+    Returns
+    -------
+    str or None
+        Why the scores are implausible, or None.
+    """
     from gyrobench.scenarios.bench.primary import gated_scores
 
     gates = [g for g in gated_scores(scenario, list(scores)) if g.direction < 0 and g.name in scores]

@@ -51,6 +51,20 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
     confidence bound of ``sigma``
     (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`); ``inf`` when ``n`` seeds cannot
     reach ``alpha`` at all.
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The baseline campaign.
+    alpha : float
+        Family-wise level.
+    power : float
+        Detection probability.
+
+    Returns
+    -------
+    list of Detectable
+        One per primary score.
     """
     names = campaign.score_names
     gates = [g for g in gated_scores(campaign.scenario, names) if g.name in names]
@@ -78,9 +92,26 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
 
 
 def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_CHANGE) -> dict:
-    """A baseline file's ``"power"`` section: what its seeds can detect (JSON-ready); with the
+    """A baseline file's ``"power"`` section: what its seeds can detect.
+
+    A baseline file's ``"power"`` section: what its seeds can detect (JSON-ready); with the
     equivalence margin ``min_change``, the relative change detected is the margin plus the
-    shift beyond it (``"relative_with_margin"``)."""
+    shift beyond it (``"relative_with_margin"``).
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The baseline campaign.
+    alpha : float
+        Family-wise level.
+    min_change : float
+        The equivalence margin [-].
+
+    Returns
+    -------
+    dict
+        The section.
+    """
     found = detectable(campaign, alpha=alpha)
     m = max(1, len(found))
     n = len(campaign.ok_seeds)
@@ -120,7 +151,26 @@ def gates_of(
     *,
     error: type[Exception] = ValueError,
 ) -> tuple[PrimaryScore, ...]:
-    """The primary scores to gate, all among the compared ``names`` (else ``error``, one line)."""
+    """The primary scores to gate, all among the compared ``names`` (else ``error``, one line).
+
+    Parameters
+    ----------
+    scenario : str
+        The scenario.
+    names : sequence of str
+        The compared scores' names.
+    primary : sequence of str or None
+        The primary scores asked for (None: the scenario's).
+    directions : mapping of str to int or None
+        Directions declared by name.
+    error : type
+        The exception raised for an unknown primary score.
+
+    Returns
+    -------
+    tuple of PrimaryScore
+        The gated scores.
+    """
     if primary is None:
         gates = gated_scores(scenario, names)
     else:
@@ -154,6 +204,17 @@ class PowerPlan:
     ``primary`` is the number of gated scores (None when not known before the run: a scenario
     that declares none, without a baseline); ``warning`` the underpowered warning (only with
     ``allow_underpowered``); ``auto`` the reason line of ``--seeds auto``.
+
+    Attributes
+    ----------
+    seeds : tuple of int
+        The seeds the run uses.
+    primary : int or None
+        The number of gated scores (None: not known before the run).
+    warning : str
+        The underpowered warning (only with ``allow_underpowered``).
+    auto : str
+        The reason line of ``--seeds auto``.
     """
 
     seeds: tuple[int, ...]
@@ -175,13 +236,41 @@ def plan_power(
     seeds_flag: str = "--seeds",
     allow_flag: str = "--allow-underpowered",
 ) -> PowerPlan:
-    """Settle the seeds of a run (``"auto"``, given, or the baseline's / ``default``) and check
+    """Settle the seeds of a run and check that its gate can fire with them.
+
+    Settle the seeds of a run (``"auto"``, given, or the baseline's / ``default``) and check
     that the gate can fire with them.
 
     ``gate``: the run compares with ``baseline`` or writes a baseline, so its seeds must be
     able to reach ``alpha`` with the scenario's primary scores
     (:func:`~gyrobench.scenarios.bench.power.check_power`; the paired seeds are those shared
     with ``baseline``).
+
+    Parameters
+    ----------
+    scenario : str
+        The scenario.
+    seeds : tuple of int, str or None
+        The seeds given, ``"auto"``, or None (the baseline's, else ``default``).
+    baseline : Campaign or None
+        The baseline compared with.
+    alpha : float
+        Family-wise level.
+    gate : bool
+        The run gates (a baseline comparison).
+    allow_underpowered : bool
+        Warn instead of refusing an underpowered gate.
+    min_change : float
+        The equivalence margin [-].
+    default : sequence of int
+        The seeds when none are given and there is no baseline.
+    seeds_flag, allow_flag : str
+        The flags named in the messages.
+
+    Returns
+    -------
+    PowerPlan
+        The seeds and what the gate can do.
 
     Raises
     ------
@@ -238,11 +327,34 @@ def reference_campaigns(
     module: Any, seeds: Sequence[int], *, config: Any = None, executor: Any = None, workers: int | None = None,
     db: Any = None,
 ) -> dict[str, Campaign]:
-    """label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
+    """The reference compensators' campaigns on the given seeds, by label.
+
+    label -> campaign of the reference compensators on ``seeds``: ``"uncompensated"`` (the raw
     output, :data:`~gyrobench.scenarios.bench.references.UNCOMPENSATED`) and the paper's method
     when the scenario names one (its ``BENCH_SCORES``, :func:`~gyrobench.scenarios.bench.primary.scenario_scores`).
     Run into ``db`` like any campaign, so a second run reads them back. A reference whose
-    compensator raises on a seed is left out with a warning (it never fails the user's run)."""
+    compensator raises on a seed is left out with a warning (it never fails the user's run).
+
+    Parameters
+    ----------
+    module : module
+        The scenario.
+    seeds : sequence of int
+        The seeds.
+    config : object
+        The scenario's Config (None: its default).
+    executor : concurrent.futures.Executor or None
+        Where the seeds run.
+    workers : int or None
+        Local worker processes.
+    db : path-like or None
+        The results database (None: none kept).
+
+    Returns
+    -------
+    dict of str to Campaign
+        ``"uncompensated"`` and, when the scenario names one, the paper's method.
+    """
     from gyrobench.scenarios.bench.campaign import run_campaign
     from gyrobench.scenarios.bench.primary import scenario_scores
     from gyrobench.scenarios.bench.references import UNCOMPENSATED

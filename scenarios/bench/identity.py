@@ -48,7 +48,18 @@ _OWN_PACKAGES = frozenset({"gyrobench"})
 
 
 def file_hash(path: str) -> str:
-    """First 16 hex digits of the SHA-256 of the file at ``path`` (``"unreadable"`` if it cannot be read)."""
+    """First 16 hex digits of the SHA-256 of the file at ``path`` (``"unreadable"`` if it cannot be read).
+
+    Parameters
+    ----------
+    path : str
+        The file.
+
+    Returns
+    -------
+    str
+        16 hex digits or ``"unreadable"``.
+    """
     try:
         return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
     except OSError:
@@ -61,6 +72,16 @@ def module_file(name: str) -> str | None:
     Parent packages are imported (their ``__init__`` files only: for gyrobench these are
     cheap) because a package's ``__path__`` is the only reliable way to its submodules when
     setuptools maps folders to packages (an editable install's finder).
+
+    Parameters
+    ----------
+    name : str
+        A dotted module name.
+
+    Returns
+    -------
+    str or None
+        Its source file (None: none found).
     """
     import importlib.util
     import sys
@@ -155,10 +176,23 @@ def _top_level_is_ours(top: str) -> bool:
 
 
 def source_closure(name: str) -> list[tuple[str, str]]:
-    """(module, file hash) for ``name`` and every module it imports, transitively, that is
+    """A module and every user or gyrobench module it imports, with their file hashes.
+
+    (module, file hash) for ``name`` and every module it imports, transitively, that is
     gyrobench's or the user's (:func:`_top_level_is_ours`: not in the standard library or
     site-packages); package ``__init__`` files included. Third-party and standard-library
-    modules are represented by their versions in the campaign identity instead."""
+    modules are represented by their versions in the campaign identity instead.
+
+    Parameters
+    ----------
+    name : str
+        A dotted module name.
+
+    Returns
+    -------
+    list of (str, str)
+        (module, file hash) pairs.
+    """
     seen: dict[str, str] = {}
     todo = [name]
     while todo:
@@ -177,8 +211,21 @@ def source_closure(name: str) -> list[tuple[str, str]]:
 
 
 def module_hash(module_name: str | None) -> str:
-    """Hash of a module's source: with its closure (:func:`source_closure`) for user and
-    gyrobench code, the file alone for third-party modules (their version is in the identity)."""
+    """Hash of a module's source and, for user and gyrobench code, its closure.
+
+    Hash of a module's source: with its closure (:func:`source_closure`) for user and
+    gyrobench code, the file alone for third-party modules (their version is in the identity).
+
+    Parameters
+    ----------
+    module_name : str or None
+        A dotted module name.
+
+    Returns
+    -------
+    str
+        Hex digest.
+    """
     if not module_name:
         return "none"
     path = module_file(module_name)
@@ -190,6 +237,13 @@ def module_hash(module_name: str | None) -> str:
 
 
 def versions() -> str:
+    """The versions of gyrobench, numpy, scipy and scikit-learn, as one string.
+
+    Returns
+    -------
+    str
+        The library versions.
+    """
     import scipy
     import sklearn
 
@@ -202,7 +256,20 @@ def versions() -> str:
 
 
 def canonical(obj: Any, depth: int = 0) -> Any:
-    """A JSON-able description of ``obj`` that is stable across processes and runs."""
+    """A JSON-able description of ``obj`` that is stable across processes and runs.
+
+    Parameters
+    ----------
+    obj : object
+        Any value.
+    depth : int
+        Recursion depth (deeper than 20 is cut).
+
+    Returns
+    -------
+    object
+        JSON-able.
+    """
     if depth > 20:
         return "..."
     if obj is None or isinstance(obj, (bool, int, str)):
@@ -281,16 +348,42 @@ def _state(obj: Any, depth: int) -> Any:
 
 
 def compensator_identity(compensator: Any) -> str:
-    """A stable JSON description of a compensator (class or function, parameters, source hash)."""
+    """A stable JSON description of a compensator (class or function, parameters, source hash).
+
+    Parameters
+    ----------
+    compensator : object
+        The compensator.
+
+    Returns
+    -------
+    str
+        JSON text.
+    """
     return json.dumps(
         canonical(resolve_compensator(compensator)), sort_keys=True, separators=(",", ":")
     )
 
 
 def scenario_identity(module: types.ModuleType, config: Any) -> dict[str, Any]:
-    """What identifies a scenario's results: its module name, the hash of its source closure
+    """What identifies a scenario's results, as a JSON-able dict.
+
+    What identifies a scenario's results: its module name, the hash of its source closure
     (:func:`module_hash`), the library versions (:func:`versions`) and its configuration
-    (:func:`canonical`), as a JSON-able dict."""
+    (:func:`canonical`), as a JSON-able dict.
+
+    Parameters
+    ----------
+    module : module
+        The scenario.
+    config : object
+        Its Config.
+
+    Returns
+    -------
+    dict of str to object
+        The identity.
+    """
     return {
         "scenario": module.__name__,
         "scenario_source": module_hash(module.__name__),
@@ -300,14 +393,35 @@ def scenario_identity(module: types.ModuleType, config: Any) -> dict[str, Any]:
 
 
 def bench_source_hash() -> str:
-    """Hash of the bench's own modules (every ``.py`` file of this package)."""
+    """Hash of the bench's own modules (every ``.py`` file of this package).
+
+    Returns
+    -------
+    str
+        Hex digest.
+    """
     folder = Path(__file__).parent
     parts = [(p.name, file_hash(str(p))) for p in sorted(folder.glob("*.py"))]
     return hashlib.sha256(json.dumps(parts).encode()).hexdigest()[:16]
 
 
 def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any = None) -> str:
-    """Hash of scenario (config, source closure, versions) and compensator (16 hex digits)."""
+    """Hash of scenario (config, source closure, versions) and compensator (16 hex digits).
+
+    Parameters
+    ----------
+    scenario : str or module
+        The scenario.
+    compensator : object
+        The compensator.
+    config : object
+        The scenario's Config (None: its default).
+
+    Returns
+    -------
+    str
+        16 hex digits.
+    """
     module = resolve_scenario(scenario)
     if config is None:
         config = module.Config()
@@ -315,8 +429,25 @@ def campaign_id(scenario: str | types.ModuleType, compensator: Any, config: Any 
 
 
 def campaign_id_of(module: types.ModuleType, config: Any, compensator_ident: str) -> str:
-    """:func:`campaign_id` from a compensator identity already computed (by the compensator's own
-    process, :mod:`~gyrobench.scenarios.bench.sandbox`, so this process never imports it)."""
+    """The campaign id from a compensator identity already computed.
+
+    :func:`campaign_id` from a compensator identity already computed (by the compensator's own
+    process, :mod:`~gyrobench.scenarios.bench.sandbox`, so this process never imports it).
+
+    Parameters
+    ----------
+    module : module
+        The scenario.
+    config : object
+        Its Config.
+    compensator_ident : str
+        The compensator's identity (:func:`compensator_identity`).
+
+    Returns
+    -------
+    str
+        16 hex digits.
+    """
     ident = {
         **scenario_identity(module, config),
         "bench_source": bench_source_hash(),

@@ -26,14 +26,33 @@ __all__ = ["DetectableChange", "comparison_note", "margin_test", "observed_detec
 
 
 def margin_test(d: np.ndarray, b: np.ndarray, direction: int, margin: float) -> tuple[float, float]:
-    """(two-sided p, sign) of the signed-rank test of the paired differences ``d`` against the
+    """The signed-rank test of paired differences against an equivalence margin.
+
+    (two-sided p, sign) of the signed-rank test of the paired differences ``d`` against the
     equivalence margin ``margin`` (relative to each seed's baseline ``|b|``).
 
     Without a direction or a margin, the plain test on ``d``. Otherwise the side the shift lies
     on is tested against the margin's edge: a worse shift on ``d + direction margin |b|`` (zero
     at a change of exactly the margin), a better one on ``d - direction margin |b|``; the sign
     is returned only when the test finds the change beyond the edge on that side (else 0: within
-    the margin, "unchanged" however significant)."""
+    the margin, "unchanged" however significant).
+
+    Parameters
+    ----------
+    d : ndarray
+        Paired differences.
+    b : ndarray
+        Each seed's baseline score.
+    direction : int
+        -1 or +1.
+    margin : float
+        The relative equivalence margin.
+
+    Returns
+    -------
+    tuple of float
+        (two-sided p, sign).
+    """
     if direction == 0 or margin <= 0 or d.size == 0:
         return signed_rank(d)
     tol = margin * np.abs(b)
@@ -54,6 +73,23 @@ class DetectableChange:
     (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`), from which ``change`` and
     ``seeds_needed`` (the seeds that detect twice the margin) are computed. ``underpowered``:
     ``change`` is more than twice the margin.
+
+    Attributes
+    ----------
+    name : str
+        The primary score.
+    n : int
+        Paired seeds.
+    sigma : float
+        Std of the relative per-seed differences [-].
+    sigma_upper : float
+        Its upper confidence bound [-].
+    change : float
+        The relative change detected with power 0.8 [-] (inf: cannot tell).
+    margin : float
+        The equivalence margin [-].
+    seeds_needed : int
+        Seeds that detect twice the margin.
     """
 
     name: str
@@ -72,12 +108,33 @@ class DetectableChange:
 def observed_detectable(
     base: Any, cand: Any, seeds: Sequence[int], gates: Sequence[str], alpha: float, margin: float
 ) -> tuple[DetectableChange, ...]:
-    """Per primary score: the relative change these seeds detect with power
+    """The relative change a comparison's seeds detect on each primary score.
+
+    Per primary score: the relative change these seeds detect with power
     :data:`~gyrobench.scenarios.bench.power.DEFAULT_POWER`, ``margin`` plus the shift beyond it
     :func:`~gyrobench.scenarios.bench.power.detectable_change` gives for the upper confidence
     bound (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`) of the standard deviation
     of the observed relative differences ``(c_s - b_s) / |b_s|``, and the seeds that detect a change
-    of twice the margin (:func:`~gyrobench.scenarios.bench.power.seeds_for_change`)."""
+    of twice the margin (:func:`~gyrobench.scenarios.bench.power.seeds_for_change`).
+
+    Parameters
+    ----------
+    base, cand : Campaign
+        The baseline and candidate campaigns.
+    seeds : sequence of int
+        The paired seeds.
+    gates : sequence of str
+        The primary scores.
+    alpha : float
+        Family-wise level.
+    margin : float
+        The equivalence margin.
+
+    Returns
+    -------
+    tuple of DetectableChange
+        One per primary score.
+    """
     out = []
     m = max(1, len(gates))
     for name in gates:
@@ -99,8 +156,25 @@ def observed_detectable(
 
 
 def power_line(detectable: Sequence[DetectableChange], alpha: float, margin: float) -> str:
-    """One line: the relative change a comparison's seeds detect on each primary score; it starts
-    with ``WARNING: underpowered`` when that is more than twice the margin ("" without scores)."""
+    """One line: the relative change a comparison's seeds detect on each primary score.
+
+    One line: the relative change a comparison's seeds detect on each primary score; it starts
+    with ``WARNING: underpowered`` when that is more than twice the margin ("" without scores).
+
+    Parameters
+    ----------
+    detectable : sequence of DetectableChange
+        Per primary score.
+    alpha : float
+        Family-wise level.
+    margin : float
+        The equivalence margin.
+
+    Returns
+    -------
+    str
+        One line.
+    """
     if not detectable:
         return ""
     parts = [_change_text(d, alpha) for d in detectable]
@@ -127,8 +201,27 @@ def _change_text(d: DetectableChange, alpha: float) -> str:
 
 
 def comparison_note(scores: Sequence[Any], dropped: Sequence[int], *, same_config: bool, alpha: float) -> str:
-    """The comparison's caveats in one line: baseline seeds left out, different configurations,
-    too few seeds for any change to be significant."""
+    """The comparison's caveats in one line.
+
+    The comparison's caveats in one line: baseline seeds left out, different configurations,
+    too few seeds for any change to be significant.
+
+    Parameters
+    ----------
+    scores : sequence of ScoreComparison
+        The scores compared.
+    dropped : sequence of int
+        Baseline seeds left out.
+    same_config : bool
+        Both campaigns ran one configuration.
+    alpha : float
+        Family-wise level.
+
+    Returns
+    -------
+    str
+        One line ("" when nothing to say).
+    """
     notes = []
     if dropped:
         notes.append(

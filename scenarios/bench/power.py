@@ -77,13 +77,38 @@ def min_attainable_p(n: int, m: int) -> float:
     ``min(1, m * 2 / 2**n)``: the exact null distribution gives the most extreme outcome (all
     ``n`` differences of one sign) probability ``2**-n`` per side, and Holm's first step
     multiplies the smallest p by ``m``.
+
+    Parameters
+    ----------
+    n : int
+        Paired seeds.
+    m : int
+        Primary scores.
+
+    Returns
+    -------
+    float
+        min(1, m 2 / 2^n).
     """
     _check_counts(n, m)
     return min(1.0, m * 2.0 / 2.0**n) if n < 1100 else 0.0
 
 
 def seeds_needed(m: int, alpha: float) -> int:
-    """Fewest paired seeds ``n`` with ``m * 2 / 2**n < alpha`` (the gate can fire at all)."""
+    """Fewest paired seeds ``n`` with ``m * 2 / 2**n < alpha`` (the gate can fire at all).
+
+    Parameters
+    ----------
+    m : int
+        Primary scores.
+    alpha : float
+        Family-wise level.
+
+    Returns
+    -------
+    int
+        The fewest seeds n.
+    """
     _check_counts(1, m)
     _check_alpha(alpha)
     n = 1
@@ -105,7 +130,22 @@ def _check_alpha(alpha: float) -> None:
 
 
 def power_statement(n: int, m: int, alpha: float) -> str:
-    """``"... smallest attainable p ... = 0.188 >= alpha 0.05"`` for ``n`` seeds, ``m`` scores."""
+    """``"... smallest attainable p ... = 0.188 >= alpha 0.05"`` for ``n`` seeds, ``m`` scores.
+
+    Parameters
+    ----------
+    n : int
+        Paired seeds.
+    m : int
+        Primary scores.
+    alpha : float
+        Family-wise level.
+
+    Returns
+    -------
+    str
+        The statement.
+    """
     p = min_attainable_p(n, m)
     return (
         f"with {n} paired seed(s) and {m} primary score(s) the smallest attainable p of the "
@@ -122,6 +162,24 @@ def check_power(
 
     Returns ``""`` when ``n`` seeds can reach ``alpha`` with ``m`` primary scores, else the
     one-line warning (``"WARNING: underpowered: ..."``) if ``allow_underpowered``.
+
+    Parameters
+    ----------
+    n : int
+        Paired seeds.
+    m : int
+        Primary scores.
+    alpha : float
+        Family-wise level.
+    allow_underpowered : bool
+        Warn instead of refusing.
+    seeds_flag, allow_flag : str
+        The flags named in the messages.
+
+    Returns
+    -------
+    str
+        ``""``, or the warning when allowed.
 
     Raises
     ------
@@ -164,6 +222,11 @@ def seeds_for_change(
     power : float
         Probability of detecting the shift.
 
+    Returns
+    -------
+    int
+        The seeds.
+
     Notes
     -----
     The paired t test needs ``n_t = ((z_{1-alpha/(2m)} + z_{power}) sigma / delta)**2`` seeds
@@ -192,8 +255,29 @@ def seeds_for_change(
 def detectable_change(
     sigma: float, n: int, m: int, alpha: float, *, power: float = DEFAULT_POWER
 ) -> float:
-    """The shift [score unit] ``n`` paired seeds detect with probability ``power`` (inverse of
-    :func:`seeds_for_change`); ``inf`` if ``n`` seeds cannot reach ``alpha`` at all."""
+    """The shift a number of paired seeds detects with a given power.
+
+    The shift [score unit] ``n`` paired seeds detect with probability ``power`` (inverse of
+    :func:`seeds_for_change`); ``inf`` if ``n`` seeds cannot reach ``alpha`` at all.
+
+    Parameters
+    ----------
+    sigma : float
+        Std of the paired differences [score unit].
+    n : int
+        Paired seeds.
+    m : int
+        Primary scores.
+    alpha : float
+        Family-wise level.
+    power : float
+        Detection probability.
+
+    Returns
+    -------
+    float
+        The shift [score unit].
+    """
     if min_attainable_p(n, m) >= alpha:
         return math.inf
     z = _normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power)
@@ -208,6 +292,23 @@ class Detectable:
     whose per-seed differences are as spread as ``std_upper`` (the :data:`SPREAD_CONFIDENCE`
     upper bound of the seed-to-seed ``std``, :func:`std_upper_bound`); ``relative`` is
     ``change / |mean|``; both ``inf`` when the seeds cannot reach ``alpha``.
+
+    Attributes
+    ----------
+    name : str
+        The primary score.
+    unit : str
+        Its unit.
+    mean : float
+        Its mean over the baseline's seeds.
+    std : float
+        Its seed-to-seed std.
+    n : int
+        Seeds.
+    change : float
+        The shift detected [unit].
+    relative : float
+        ``change`` over |mean|.
     """
 
     name: str
@@ -222,7 +323,15 @@ class Detectable:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AutoSeeds:
-    """The seed count ``--seeds auto`` chose and why (``reason``, one line)."""
+    """The seed count ``--seeds auto`` chose and why (``reason``, one line).
+
+    Attributes
+    ----------
+    n : int
+        The seed count.
+    reason : str
+        Why, one line.
+    """
 
     n: int
     reason: str
@@ -237,7 +346,9 @@ def auto_seeds(
     min_change: float = DEFAULT_MIN_CHANGE,
     power: float = DEFAULT_POWER,
 ) -> AutoSeeds:
-    """``--seeds auto``: the seeds that detect a relative change of twice the margin
+    """The seed count ``--seeds auto`` chooses.
+
+    ``--seeds auto``: the seeds that detect a relative change of twice the margin
     ``min_change`` (a shift of ``min_change`` beyond it) of every primary score.
 
     Parameters
@@ -312,7 +423,18 @@ def auto_seeds(
 
 
 def spread(values: Sequence[float] | np.ndarray) -> tuple[float, float]:
-    """(mean, sample std) of the finite ``values`` (std NaN for fewer than two)."""
+    """(mean, sample std) of the finite ``values`` (std NaN for fewer than two).
+
+    Parameters
+    ----------
+    values : sequence of float or ndarray
+        Values.
+
+    Returns
+    -------
+    tuple of float
+        (mean, sample std).
+    """
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v)]
     if v.size == 0:

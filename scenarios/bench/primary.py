@@ -46,6 +46,17 @@ class PrimaryScore:
     """One gated score: its name in the campaign, unit and which way is better.
 
     ``direction`` is -1 (lower is better) or +1 (higher is better).
+
+    Attributes
+    ----------
+    name : str
+        Its name in the campaign.
+    unit : str
+        Its unit.
+    direction : int
+        -1 (lower is better) or +1 (higher is better).
+    meaning : str
+        What it measures.
     """
 
     name: str
@@ -64,6 +75,17 @@ class ScenarioScores:
 
     ``units`` maps a score's last path component (``"mse"``) to its unit; ``paper`` is the
     paper's method as a ``"module:attr"`` compensator and ``paper_label`` its short name.
+
+    Attributes
+    ----------
+    primary : tuple of PrimaryScore
+        The gated scores.
+    units : mapping of str to str
+        A score's last path component -> its unit.
+    paper : str
+        The paper's method (``"module:attr"``).
+    paper_label : str
+        Its label.
     """
 
     primary: tuple[PrimaryScore, ...]
@@ -73,8 +95,21 @@ class ScenarioScores:
 
 
 def scenario_scores(scenario: str | ModuleType) -> ScenarioScores | None:
-    """The declared scores of ``scenario`` (a name, a module path or a module): its module's
-    ``BENCH_SCORES``, or None if it declares none or has no compensation stage."""
+    """The declared scores of a scenario.
+
+    The declared scores of ``scenario`` (a name, a module path or a module): its module's
+    ``BENCH_SCORES``, or None if it declares none or has no compensation stage.
+
+    Parameters
+    ----------
+    scenario : str or module
+        The scenario.
+
+    Returns
+    -------
+    ScenarioScores or None
+        Its ``BENCH_SCORES``.
+    """
     from gyrobench.scenarios.bench.scoring import resolve_scenario
 
     try:
@@ -86,7 +121,13 @@ def scenario_scores(scenario: str | ModuleType) -> ScenarioScores | None:
 
 
 def declared_scores() -> dict[str, ScenarioScores]:
-    """name -> declared scores of every scenario with a compensation stage that declares them."""
+    """name -> declared scores of every scenario with a compensation stage that declares them.
+
+    Returns
+    -------
+    dict of str to ScenarioScores
+        Scenario name -> its declared scores.
+    """
     from gyrobench.scenarios.bench.scoring import bench_scenarios
 
     out = {}
@@ -98,8 +139,23 @@ def declared_scores() -> dict[str, ScenarioScores]:
 
 
 def primary_count(scenario: str | ModuleType, names: Iterable[str] | None = None) -> int | None:
-    """How many scores the gate tests for ``scenario``: its declared primary scores, else the
-    directional ``mean/`` scores among ``names``; None if neither is known (no names given)."""
+    """How many scores the gate tests for a scenario.
+
+    How many scores the gate tests for ``scenario``: its declared primary scores, else the
+    directional ``mean/`` scores among ``names``; None if neither is known (no names given).
+
+    Parameters
+    ----------
+    scenario : str or module
+        The scenario.
+    names : iterable of str or None
+        The scores' names.
+
+    Returns
+    -------
+    int or None
+        The count (None: not known).
+    """
     declared = scenario_scores(scenario)
     if declared is not None:
         return len(declared.primary)
@@ -109,8 +165,23 @@ def primary_count(scenario: str | ModuleType, names: Iterable[str] | None = None
 
 
 def gated_scores(scenario: str | ModuleType, names: Iterable[str]) -> tuple[PrimaryScore, ...]:
-    """The primary scores of ``scenario`` (declared, or every ``mean/`` score of ``names`` with
-    a known direction when the scenario declares none)."""
+    """The primary scores of a scenario, declared or inferred from the score names.
+
+    The primary scores of ``scenario`` (declared, or every ``mean/`` score of ``names`` with
+    a known direction when the scenario declares none).
+
+    Parameters
+    ----------
+    scenario : str or module
+        The scenario.
+    names : iterable of str
+        The compared scores' names.
+
+    Returns
+    -------
+    tuple of PrimaryScore
+        The declared ones, or every ``mean/`` score with a known direction.
+    """
     declared = scenario_scores(scenario)
     if declared is not None:
         return declared.primary
@@ -127,6 +198,18 @@ def score_unit(scenario: str | ModuleType, name: str) -> str:
 
     Declared units first (by the name's last path component), then the suffix of the name:
     ``_pct`` is %, ``_deg_h`` deg/h, ``_dps`` deg/s.
+
+    Parameters
+    ----------
+    scenario : str or module
+        The scenario.
+    name : str
+        The score's name.
+
+    Returns
+    -------
+    str
+        Its unit (``""`` when not known).
     """
     key = name.rsplit("/", 1)[-1]
     declared = scenario_scores(scenario)
@@ -139,5 +222,16 @@ def score_unit(scenario: str | ModuleType, name: str) -> str:
 
 
 def directions_of(primary: Iterable[PrimaryScore]) -> Mapping[str, int]:
-    """``{name: direction}`` of the primary scores (the overrides :func:`compare` applies)."""
+    """``{name: direction}`` of the primary scores (the overrides :func:`compare` applies).
+
+    Parameters
+    ----------
+    primary : iterable of PrimaryScore
+        The primary scores.
+
+    Returns
+    -------
+    mapping of str to int
+        Name -> direction.
+    """
     return {p.name: p.direction for p in primary}

@@ -129,8 +129,21 @@ def _module_files(skip: set[str] | frozenset[str] = frozenset()) -> dict[str, st
 
 
 def reads_names(*, since_ready: bool = False) -> dict[str, Any]:
-    """This process's reads, by name (the fingerprints are taken by :func:`reads_fingerprint`);
-    ``since_ready``: only the modules loaded after the zygote was ready (the campaign has the rest)."""
+    """This process's reads, by name.
+
+    This process's reads, by name (the fingerprints are taken by :func:`reads_fingerprint`);
+    ``since_ready``: only the modules loaded after the zygote was ready (the campaign has the rest).
+
+    Parameters
+    ----------
+    since_ready : bool
+        Only the modules loaded after the zygote was ready.
+
+    Returns
+    -------
+    dict of str to object
+        The reads, by name.
+    """
     return {
         "modules": _module_files(_BASE_MODULES if since_ready else frozenset()),
         "files": sorted(_READS.files),
@@ -155,10 +168,25 @@ def _file_fingerprint(path: str, *, content: bool) -> str:
 
 
 def reads_fingerprint(names: Mapping[str, Any], environ: Mapping[str, str] | None = None) -> dict[str, str]:
-    """``"kind:name" -> fingerprint`` of every read named in ``names`` (:func:`reads_names`),
+    """The fingerprint of every read named, taken now.
+
+    ``"kind:name" -> fingerprint`` of every read named in ``names`` (:func:`reads_names`),
     taken now: user modules and files by the SHA-256 of their content, site-packages modules by
     path, size and modification time, environment variables by the SHA-256 of their value
-    (``"unset"``), and the whole environment when it was iterated."""
+    (``"unset"``), and the whole environment when it was iterated.
+
+    Parameters
+    ----------
+    names : mapping of str to object
+        The reads, by name (:func:`reads_names`).
+    environ : mapping of str to str or None
+        The environment (None: ``os.environ``).
+
+    Returns
+    -------
+    dict of str to str
+        ``"kind:name"`` -> fingerprint.
+    """
     env = os.environ if environ is None else environ
     out: dict[str, str] = {}
     for name, path in sorted(dict(names.get("modules") or {}).items()):
@@ -377,7 +405,13 @@ def _zygote_start(ctrl: socket.socket, init: Mapping[str, Any]) -> None:
 
 
 def zygote_main(fd: int) -> None:
-    """Entry point of the exec'd zygote (``python -c``): the init message is on stdin."""
+    """Entry point of the exec'd zygote (``python -c``): the init message is on stdin.
+
+    Parameters
+    ----------
+    fd : int
+        The socket's file descriptor.
+    """
     code = 0
     try:
         _die_with_parent()

@@ -26,9 +26,23 @@ __all__ = ["CampaignReads", "run_sandboxed"]
 
 
 class CampaignReads:
-    """What a campaign's compensator read (module, file and environment names, merged over its
+    """What a campaign's compensator read, stored with its fingerprints as seeds add names.
+
+    What a campaign's compensator read (module, file and environment names, merged over its
     seeds), stored with its fingerprints (:func:`~gyrobench.scenarios.runner.store.record_reads`)
-    whenever a seed adds a name, so a rerun finds the campaign only while they are unchanged."""
+    whenever a seed adds a name, so a rerun finds the campaign only while they are unchanged.
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The results database.
+    campaign_id : str
+        The campaign.
+    static_id : str
+        Its static id.
+    names : mapping of str to object
+        The reads already recorded.
+    """
 
     def __init__(self, conn: sqlite3.Connection, campaign_id: str, static_id: str, names: Mapping[str, Any]) -> None:
         self.conn, self.campaign_id, self.static_id = conn, campaign_id, static_id
@@ -71,12 +85,30 @@ class CampaignReads:
 def run_sandboxed(
     plan: Any, todo: Sequence[int], recorder: Any, bar: Any, *, workers: int | None, on_error: Callable
 ) -> None:
-    """Score each seed of ``plan`` (a campaign's plan) in a forked scoring process of this one,
+    """Score the seeds of a campaign's plan in sandboxed processes.
+
+    Score each seed of ``plan`` (a campaign's plan) in a forked scoring process of this one,
     talking to a child of the compensator's zygote (:mod:`~gyrobench.scenarios.bench.sandbox`), at
     most ``workers`` seeds at once. This process keeps every deadline: at a seed's end, and at its deadline, it SIGKILLs
     the child's process group (and, at the deadline, the scoring process). ``recorder`` records a
     seed's outcome and its reads; ``on_error(exc, seed, plan, recorder)`` raises what a seed's
-    scoring process raised."""
+    scoring process raised.
+
+    Parameters
+    ----------
+    plan : CampaignPlan
+        The campaign's plan.
+    todo : sequence of int
+        The seeds to score.
+    recorder : callable
+        Stores each finished seed.
+    bar : tqdm.tqdm or None
+        The progress bar.
+    workers : int or None
+        Seeds at once.
+    on_error : callable
+        Called with each seed's failure.
+    """
     import multiprocessing as mp
     import time
     from multiprocessing.connection import wait

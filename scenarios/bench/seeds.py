@@ -16,8 +16,20 @@ __all__ = ["BYTES_PER_SEED", "MAX_SEED", "MAX_SEEDS", "check_seeds", "parse_seed
 
 
 def parse_seeds(text: str) -> tuple[int, ...]:
-    """Parse a seed list: ``"0:100"`` (half-open range, like Python), ``"0:100:5"``,
+    """Parse a seed list: a range, a stepped range, a comma list or one seed.
+
+    Parse a seed list: ``"0:100"`` (half-open range, like Python), ``"0:100:5"``,
     ``"1,5,9"`` (a comma list) or ``"7"``.
+
+    Parameters
+    ----------
+    text : str
+        ``"0:100"`` (half-open), ``"0:100:5"``, ``"1,5,9"`` or ``"7"``.
+
+    Returns
+    -------
+    tuple of int
+        The seeds.
 
     Raises
     ------
@@ -76,8 +88,23 @@ def _check_count(n: int, *, what: Any) -> None:
 
 
 def check_seeds(seeds: Iterable[int], *, what: Any = None) -> tuple[int, ...]:
-    """``seeds`` as a tuple of Python ints, checked: integers in [0, MAX_SEED], distinct, at
-    least one and at most MAX_SEEDS (and their memory); ``what`` names them in errors."""
+    """Check a seed list and return it as Python ints.
+
+    ``seeds`` as a tuple of Python ints, checked: integers in [0, MAX_SEED], distinct, at
+    least one and at most MAX_SEEDS (and their memory); ``what`` names them in errors.
+
+    Parameters
+    ----------
+    seeds : iterable of int
+        The seeds.
+    what : object
+        How the messages name them.
+
+    Returns
+    -------
+    tuple of int
+        The seeds as Python ints.
+    """
     seeds = tuple(seeds)
     what = seeds if what is None else what
     _check_count(len(seeds), what=what if len(seeds) < 20 else f"{len(seeds)} seeds")
@@ -101,7 +128,20 @@ def check_seeds(seeds: Iterable[int], *, what: Any = None) -> tuple[int, ...]:
 
 
 def seed_text(seeds: Sequence[int], limit: int = 10) -> str:
-    """``"3:9"`` for a run of consecutive seeds, else a comma list of at most ``limit`` seeds."""
+    """``"3:9"`` for a run of consecutive seeds, else a comma list of at most ``limit`` seeds.
+
+    Parameters
+    ----------
+    seeds : sequence of int
+        The seeds.
+    limit : int
+        The most listed.
+
+    Returns
+    -------
+    str
+        The text.
+    """
     s = list(seeds)
     if len(s) > 1 and s == list(range(s[0], s[-1] + 1)):
         return f"{s[0]}:{s[-1] + 1}"

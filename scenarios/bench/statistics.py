@@ -58,6 +58,16 @@ def score_is_nonnegative(name: str) -> bool:
     Decided from the tokens of the name's last path component, as in
     :func:`score_direction`: True if one is in :data:`NONNEGATIVE_TOKENS` and none is
     in :data:`HIGHER_IS_BETTER_TOKENS` (improvements and reductions can be negative).
+
+    Parameters
+    ----------
+    name : str
+        The score's name.
+
+    Returns
+    -------
+    bool
+        True for a non-negative score.
     """
     tokens = _name_tokens(name)
     return bool(tokens & NONNEGATIVE_TOKENS) and not tokens & HIGHER_IS_BETTER_TOKENS
@@ -80,6 +90,18 @@ def score_direction(name: str, overrides: Mapping[str, int] | None = None) -> in
     A score of unknown direction is still tested, and reported as "changed", but
     never counts as a regression. ``overrides`` maps a full score name or a last
     component to -1/+1/0 and takes precedence.
+
+    Parameters
+    ----------
+    name : str
+        The score's name.
+    overrides : mapping of str to int or None
+        Directions declared by name.
+
+    Returns
+    -------
+    int
+        -1, +1 or 0.
     """
     key = name.rsplit("/", 1)[-1]
     if overrides:
@@ -103,6 +125,21 @@ class ScoreSummary:
 
     ``method`` says how the interval was computed: ``"t"``, ``"lognormal"`` or
     ``"t, clipped at 0"``.
+
+    Attributes
+    ----------
+    name : str
+        The score.
+    mean : float
+        Its mean over seeds.
+    low, high : float
+        The 95 % confidence interval.
+    std : float
+        Seed-to-seed standard deviation.
+    n : int
+        Seeds.
+    method : str
+        How the interval was computed.
     """
 
     name: str
@@ -116,6 +153,20 @@ class ScoreSummary:
 
 def summarize(name: str, values: NDArray[np.float64], level: float = 0.95) -> ScoreSummary:
     """Mean of the finite ``values`` and a ``level`` confidence interval for the mean.
+
+    Parameters
+    ----------
+    name : str
+        The score.
+    values : ndarray
+        Its per-seed values.
+    level : float
+        Confidence level.
+
+    Returns
+    -------
+    ScoreSummary
+        Mean and interval.
 
     Notes
     -----
@@ -182,12 +233,34 @@ def summarize(name: str, values: NDArray[np.float64], level: float = 0.95) -> Sc
 
 
 def order_scores(names: Iterable[str]) -> list[str]:
-    """``mean/*`` scores first, then the per-run ones, each alphabetically."""
+    """``mean/*`` scores first, then the per-run ones, each alphabetically.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Score names.
+
+    Returns
+    -------
+    list of str
+        In report order.
+    """
     return sorted(names, key=lambda s: (not s.startswith("mean/"), s))
 
 
 def holm(p: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Holm-Bonferroni step-down adjusted p-values (controls the family-wise error rate)."""
+    """Holm-Bonferroni step-down adjusted p-values (controls the family-wise error rate).
+
+    Parameters
+    ----------
+    p : ndarray
+        Raw p-values.
+
+    Returns
+    -------
+    ndarray
+        Adjusted p-values.
+    """
     m = p.size
     order = np.argsort(p, kind="stable")
     adj = np.empty(m)
@@ -205,6 +278,16 @@ def hodges_lehmann(d: NDArray[np.float64]) -> float:
     averages is found by bisection on its value (counting the averages below a trial value on
     the sorted differences, O(n log n) per step) to the last bit of the float64, without
     forming the n(n+1)/2 averages.
+
+    Parameters
+    ----------
+    d : ndarray
+        Paired differences.
+
+    Returns
+    -------
+    float
+        The estimate.
     """
     if d.size <= 3000:
         i, j = np.triu_indices(d.size)
@@ -257,7 +340,9 @@ def _tied_exact_p(ranks: NDArray[np.float64], w_plus: float) -> float:
 
 
 def signed_rank(d: NDArray[np.float64]) -> tuple[float, float]:
-    """(two-sided p-value, sign of ``W+ - W-``) of the Wilcoxon signed-rank test on the paired
+    """The Wilcoxon signed-rank test on paired differences.
+
+    (two-sided p-value, sign of ``W+ - W-``) of the Wilcoxon signed-rank test on the paired
     differences ``d``.
 
     Zero differences are dropped (``zero_method="wilcox"``; exact null distribution for small
@@ -266,6 +351,16 @@ def signed_rank(d: NDArray[np.float64]) -> tuple[float, float]:
     p is 2 / 2**n. For n <= 50 the exact distribution of ``W+`` over the 2**n sign flips of the
     (mid)ranks is computed directly (:func:`_tied_exact_p`): the p of scipy's exact method without
     ties and of its permutation method with ties, in microseconds instead of up to a second.
+
+    Parameters
+    ----------
+    d : ndarray
+        Paired differences.
+
+    Returns
+    -------
+    tuple of float
+        (two-sided p, sign).
     """
     from scipy import stats
 

@@ -55,6 +55,28 @@ def finite_cylinder_analytic(r, z, t, *, a, h, k_r, k_z, rho_c, terms: int = 80)
             x [sum_m 4 (-1)^m/((2m+1) pi) cos((2m+1) pi z/(2h)) exp(-((2m+1) pi/2)^2 Fo_z)],
     Fo_r = k_r t/(rho_c a^2), Fo_z = k_z t/(rho_c h^2) (separation of variables;
     Carslaw & Jaeger, Conduction of Heat in Solids (1959) sec. 7.3 and 3.3).
+
+    Parameters
+    ----------
+    r, z : float
+        Radius and height from the mid-plane of the point [m].
+    t : float
+        Time after the step [s].
+    a : float
+        Cylinder radius [m].
+    h : float
+        Half height [m].
+    k_r, k_z : float
+        Radial and axial conductivities [W/(m K)].
+    rho_c : float
+        Volumetric heat capacity [J/(m^3 K)].
+    terms : int
+        Terms of each series.
+
+    Returns
+    -------
+    float
+        theta [-].
     """
     from scipy import special
 
@@ -73,6 +95,28 @@ def finite_cylinder_fv(nr: int, nz: int, t: float, i: int, *, a, h, k_r, k_z, rh
 
     Surfaces (outer, top, bottom) held at 0 through their half cells, initial 1; solved
     exactly in time by the symmetric eigen-decomposition (no time-step error).
+
+    Parameters
+    ----------
+    nr, nz : int
+        Radial and axial cells (nz odd).
+    t : float
+        Time after the step [s].
+    i : int
+        The radial cell of the middle row.
+    a : float
+        Cylinder radius [m].
+    h : float
+        Half height [m].
+    k_r, k_z : float
+        Radial and axial conductivities [W/(m K)].
+    rho_c : float
+        Volumetric heat capacity [J/(m^3 K)].
+
+    Returns
+    -------
+    tuple of (float, float, float)
+        (theta [-], r [m], z [m]).
     """
     g = coil_heat.fv_grid(np.linspace(0, a, nr + 1), np.linspace(-h, h, nz + 1), k_r, k_z, rho_c)
     Kd = g.K + np.diag(g.g_face["outer"] + g.g_face["top"] + g.g_face["bottom"])

@@ -206,12 +206,34 @@ class Part:
 
 
 def kind_counts(checks: Sequence[Check]) -> dict[str, int]:
-    """The number of checks of each reference kind, every kind of :data:`KINDS` in order."""
+    """The number of checks of each reference kind, every kind of :data:`KINDS` in order.
+
+    Parameters
+    ----------
+    checks : sequence of Check
+        Checks.
+
+    Returns
+    -------
+    dict of str to int
+        Kind -> count.
+    """
     return {k: sum(c.kind == k for c in checks) for k in KINDS}
 
 
 def run_parts(parts: Sequence[Part]) -> list[Check]:
-    """Every part's checks, in order (what a module's ``checks(rng)`` returns)."""
+    """Every part's checks, in order (what a module's ``checks(rng)`` returns).
+
+    Parameters
+    ----------
+    parts : sequence of Part
+        A module's parts.
+
+    Returns
+    -------
+    list of Check
+        Their checks.
+    """
     return [c for p in parts for c in p.run()]
 
 
@@ -255,6 +277,24 @@ def collect(
     ``on_part_done(label, checks)`` as each part finishes (in completion order on an
     executor), e.g. to move a progress bar; the label is the module's short name, with the
     part's after a dot for a module with parts.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The stream split among the modules.
+    modules : tuple of str
+        The check modules, in order.
+    executor : concurrent.futures.Executor or None
+        Where the parts run (None: here).
+    on_plan : callable or None
+        Called with the number of parts before any runs.
+    on_part_done : callable or None
+        Called with (part name, its checks) as each part finishes.
+
+    Returns
+    -------
+    list of Check
+        Every check, in module order.
     """
     plan = _plan(rng, modules)
     if on_plan is not None:

@@ -117,13 +117,38 @@ def rk4_tolerance(unit: MemsResonator, steps_per_cycle: int = STEPS_PER_CYCLE) -
     1.5e-5 of their value at 48 steps) the model does not contain, 0.16 and 0.04 of this at 16
     steps. RK4's amplitude loss (w dt)^6/144 per step is outside it: the AGC's start value
     pre-compensates it and the loop absorbs it.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit integrated.
+    steps_per_cycle : int
+        RK4 steps per drive period.
+
+    Returns
+    -------
+    float
+        The relative tolerance [-].
     """
     wdt = 2.0 * math.pi / steps_per_cycle
     return 3.0 * wdt**4 / 120.0
 
 
 def variance_ratio_bounds(dof: float, false_alarm: float = FALSE_ALARM) -> tuple[float, float]:
-    """Two-sided chi-square bounds of s^2/sigma^2 with ``dof`` degrees of freedom."""
+    """Two-sided chi-square bounds of s^2/sigma^2 with ``dof`` degrees of freedom.
+
+    Parameters
+    ----------
+    dof : float
+        Degrees of freedom.
+    false_alarm : float
+        Two-sided false-alarm rate.
+
+    Returns
+    -------
+    tuple of float
+        (low, high) of s^2/sigma^2.
+    """
     from scipy import stats
 
     return (
@@ -430,7 +455,13 @@ def _continuity(rng: np.random.Generator) -> Check:
 
 
 def open_loop_unit() -> MemsResonator:
-    """:func:`check_unit` read out open loop."""
+    """:func:`check_unit` read out open loop.
+
+    Returns
+    -------
+    MemsResonator
+        The check unit with readout ``"open_loop"``.
+    """
     return replace(check_unit(), readout="open_loop")
 
 

@@ -60,8 +60,21 @@ _RK4 = ("second method: fixed-step RK4 of the full sense equation with the carri
 
 
 def duffing_check_sense(sense_q: float | None = None) -> DuffingSense:
-    """A Duffing sense mode with the default resonator's m, w, w_y, X0, k3 = 1.6e9 N/m^3 and Q_y
-    ``sense_q`` (default: the resonator's)."""
+    """A Duffing sense mode built from the default resonator with a stiff cubic term.
+
+    A Duffing sense mode with the default resonator's m, w, w_y, X0, k3 = 1.6e9 N/m^3 and Q_y
+    ``sense_q`` (default: the resonator's).
+
+    Parameters
+    ----------
+    sense_q : float or None
+        Q_y [-] (None: the resonator's).
+
+    Returns
+    -------
+    DuffingSense
+        m, w, w_y and X0 of the default resonator, k3 = 1.6e9 N/m^3.
+    """
     op = mr.operating_point(mr.MemsResonator())
     return DuffingSense(
         mass=op.m, drive_omega=op.wx, sense_omega=op.wy,
@@ -81,6 +94,34 @@ def integrate_sense(
     RK4 with :data:`_STEPS` steps per cycle for ``cycles`` cycles; the last ``demod_cycles``
     are projected, readout(y) sampled at :data:`_SUB` points per step on the cubic Hermite
     interpolant of (y, y') (O(h^4)), trapezoid rule over whole cycles.
+
+    Parameters
+    ----------
+    m : float
+        Mass [kg].
+    c : float
+        Damping [kg/s].
+    k : float
+        Linear stiffness [N/m].
+    w : float
+        Drive frequency [rad/s].
+    force : ndarray of complex
+        Force phasors F, one per case [N].
+    restoring : callable
+        ``restoring(y)``, the nonlinear restoring force [N].
+    linear : ndarray of complex
+        Starting phasors B, one per case [m].
+    cycles : int
+        Drive cycles integrated.
+    demod_cycles : int
+        The last cycles demodulated.
+    readout : callable or None
+        ``readout(y)`` demodulated (None: y).
+
+    Returns
+    -------
+    ndarray of complex
+        The fundamental of each case.
     """
     h = 2.0 * math.pi / w / _STEPS
     y = linear.real.astype(float).copy()
@@ -171,6 +212,11 @@ def readout_check_unit() -> mr.MemsResonator:
     The lower Q shrinks the receptance |R|; the feedback capacitor is scaled by the same ratio
     |R(Q_y = 10)| / |R(Q_y)| so that the rail is reached at about the same rates as on the
     identified unit (the check runs through the bend, not below it).
+
+    Returns
+    -------
+    MemsResonator
+        The unit.
     """
     from gyrobench.scenarios.papers.p001_mems_scale_factor.identify import IDENTIFIED, nominal_open_loop_unit
     from gyrobench.sim.mems_readout import SenseChain
@@ -296,7 +342,18 @@ def _cubic() -> Check:
 
 
 def checks(rng: np.random.Generator) -> list[Check]:
-    """The four checks (deterministic: ``rng`` is not drawn from)."""
+    """The four checks (deterministic: ``rng`` is not drawn from).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Unused (the module's stream, by the check modules' contract).
+
+    Returns
+    -------
+    list of Check
+        The checks.
+    """
     if not isinstance(rng, np.random.Generator):
         raise TypeError(f"rng must be a numpy.random.Generator; got {type(rng).__name__}")
     return [_stiffening_ode(), _readout_bend(), _pickoff_small(), _cubic()]

@@ -75,6 +75,20 @@ def slow_noise_spectrum(unit: MemsResonator, f: NDArray, fs: float) -> NDArray:
     :func:`~gyrobench.sim.mems_resonator.open_loop_noise_psd`:
     sum_k S_B(f + k fs) sinc^2((f + k fs)/fs) (Brownian) plus the white pick-off part, which
     stays white at its level (sum_k sinc^2 = 1). Halved: two-sided.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The open-loop unit.
+    f : ndarray
+        Frequencies [Hz].
+    fs : float
+        Output rate [Hz].
+
+    Returns
+    -------
+    ndarray
+        The two-sided PSD [(rad/s)^2/Hz].
     """
     from gyrobench.sim.mems_resonator import _open_loop_noise_parts
 
@@ -106,6 +120,22 @@ def full_noise_spectrum(
     interval, the same variance S_n fs per output sample). Drive-mode noise, the anisoelastic
     and electrostatic couplings are left out (their noise is below 1e-6 of the sense mode's).
     Exact at T0 (the drive at f_x); requires f_x/fs to be an integer.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The open-loop unit.
+    f : ndarray
+        Frequencies [Hz].
+    fs : float
+        Output rate [Hz].
+    steps_per_cycle : int
+        RK4 steps per drive period.
+
+    Returns
+    -------
+    ndarray
+        The two-sided PSD [(rad/s)^2/Hz].
     """
     from gyrobench.sim.mems_resonator import _open_loop_noise_parts, _readout_weight
 
@@ -148,6 +178,22 @@ def periodogram_band_stats(
     the equivalent degrees of freedom nu = 2 mean^2/var (Satterthwaite); ``bands`` lists the
     bin indices of each band. Exact for the rectangular window, leakage and correlated bins
     included.
+
+    Parameters
+    ----------
+    spectrum : ndarray
+        Two-sided PSD of the sampled process on the module's grid.
+    fs : float
+        Sample rate [Hz].
+    n : int
+        Samples per segment.
+    bands : list of ndarray
+        The periodogram bins of each band.
+
+    Returns
+    -------
+    tuple of ndarray
+        (expected band means, equivalent dof).
     """
     from scipy.linalg import toeplitz
 
@@ -175,7 +221,20 @@ def _band_periodogram(x: NDArray, fs: float, bands: list[NDArray]) -> NDArray:
 
 
 def f_ratio_bounds(dof_1: float, dof_2: float, false_alarm: float) -> tuple[float, float]:
-    """Two-sided bounds of (s_1^2/sigma_1^2)/(s_2^2/sigma_2^2) ~ F(dof_1, dof_2)."""
+    """Two-sided bounds of (s_1^2/sigma_1^2)/(s_2^2/sigma_2^2) ~ F(dof_1, dof_2).
+
+    Parameters
+    ----------
+    dof_1, dof_2 : float
+        Degrees of freedom of the two estimates.
+    false_alarm : float
+        Two-sided false-alarm rate.
+
+    Returns
+    -------
+    tuple of float
+        (low, high).
+    """
     from scipy import stats
 
     return (float(stats.f.ppf(false_alarm / 2, dof_1, dof_2)),
@@ -183,7 +242,9 @@ def f_ratio_bounds(dof_1: float, dof_2: float, false_alarm: float) -> tuple[floa
 
 
 def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
-    """Open-loop output noise PSD: full integration (Brownian forces on both modes, pick-off
+    """Open-loop output noise PSD: the full integration against the slow flow, band by band.
+
+    Open-loop output noise PSD: full integration (Brownian forces on both modes, pick-off
     noise) vs the slow flow, band by band, against the closed-form ratio of their spectra.
 
     The full integration runs NOISE_CASES independent cases for NOISE_SETTLE + NOISE_RECORD
@@ -207,6 +268,16 @@ def open_loop_noise_checks(rng: np.random.Generator) -> list[Check]:
     rho = E_full/E_slow (:func:`full_noise_spectrum` vs :func:`slow_noise_spectrum`: the slow
     flow's first-order envelope and ideal demodulator, the full's held noise force), and
     (P_full/P_slow)/rho ~ F(nu_full, nu_slow).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The cases' streams.
+
+    Returns
+    -------
+    list of Check
+        One check per band.
     """
     unit = open_loop_unit()
     fs = NOISE_FS

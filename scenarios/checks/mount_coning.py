@@ -65,6 +65,20 @@ def exact_body_rate(f: float, a: float, n: int = _N_KIN) -> float:
     C_k = exp([theta(t_k) x]) on ``n`` steps of one period; the mean is
     sum_k rotvec(C_k^T C_{k+1})_z / T. Exact kinematics but for the step: the rotation vector
     of each step is its body-rate integral to O(h^3), so the mean carries (w h)^2/6 relative.
+
+    Parameters
+    ----------
+    f : float
+        Coning frequency [Hz].
+    a : float
+        Half-angle amplitude [rad].
+    n : int
+        Steps per period.
+
+    Returns
+    -------
+    float
+        The mean body rate about z [rad/s].
     """
     from scipy.spatial.transform import Rotation
 

@@ -24,7 +24,24 @@ BANDWIDTH_BIAS = 0.1
 
 
 def read_csv(path: Path, column: str | None, fs: float | None, unit: str | None):
-    """One rate column of a CSV: (rate in rad/s, fs [Hz], column label); see scenarios.logs.read_csv_log."""
+    """One rate column of a CSV: (rate in rad/s, fs [Hz], column label); see scenarios.logs.read_csv_log.
+
+    Parameters
+    ----------
+    path : Path
+        The CSV file.
+    column : str or None
+        The rate column (None: the log reader's choice).
+    fs : float or None
+        Sample rate [Hz] (None: from the time column).
+    unit : str or None
+        The rate column's unit (None: from its header).
+
+    Returns
+    -------
+    tuple of (ndarray, float, str)
+        (rate [rad/s], fs [Hz], column label).
+    """
     from gyrobench.io.logs import read_csv_log
 
     log = read_csv_log(path, [column] if column is not None else None, fs, unit)
@@ -287,7 +304,13 @@ def _cmd_allan(args) -> int:
 
 
 def add_parser(sub) -> None:
-    """Add ``allan`` to the subparsers ``sub``."""
+    """Add ``allan`` to the subparsers ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``gyrobench`` command's subparsers.
+    """
     s = sub.add_parser("allan", help="Allan deviation and Q/N/B/K/R fit of a recording (HDF5 or CSV)",
                        epilog="exit status: 0 ok; 2 bad input; 5 a channel is not stationary (motion or steps: "
                               "the report is written, its first line says so; --accept-nonstationary exits 0)")

@@ -56,7 +56,18 @@ __all__ = ["add_parser", "run", "scheduler_executor"]
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
-    """Add the ``bench`` sub-command to ``subparsers``; its ``func`` default is :func:`run`."""
+    """Add the ``bench`` sub-command to ``subparsers``; its ``func`` default is :func:`run`.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``gyrobench`` command's subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The ``bench`` parser.
+    """
     p = subparsers.add_parser(
         "bench",
         help="score a compensator on a scenario over many seeds; compare with a baseline",
@@ -179,8 +190,21 @@ def check_bench_outputs(args: argparse.Namespace, db: str) -> None:
 
 
 def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
-    """(executor, closer) for ``args.scheduler`` (a dask.distributed address); (None, None) for the
-    local process pool. Shared by ``gyrobench bench`` and ``gyrobench reproduce``."""
+    """The executor for ``--scheduler`` and the call that closes it.
+
+    (executor, closer) for ``args.scheduler`` (a dask.distributed address); (None, None) for the
+    local process pool. Shared by ``gyrobench bench`` and ``gyrobench reproduce``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments with ``scheduler`` (a dask.distributed address or None).
+
+    Returns
+    -------
+    tuple
+        (executor, closer); (None, None) for the local process pool.
+    """
     if not args.scheduler:
         return None, None
     if args.workers is not None:
@@ -199,7 +223,18 @@ def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression)."""
+    """Run the campaign described by ``args``; return the exit status (0 ok, 1 regression).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``bench`` arguments.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 a significant regression.
+    """
     from gyrobench.scenarios import bench, registry
 
     # 'mylab.models:mine' is found from the current folder first, as 'python -m' would

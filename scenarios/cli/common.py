@@ -15,6 +15,7 @@ __all__ = ["FORCE_HELP", "MAX_FLAG_INT", "MAX_FLAG_VALUE", "MAX_WORKERS", "TOML_
 
 
 class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (control characters escaped) and exit 2."""
     def error(self, message: str) -> typing.NoReturn:  # one line, exit 2, control characters escaped
         from gyrobench.base.safety import escape_controls
 
@@ -27,8 +28,21 @@ class BadInput(ValueError):
 
 @contextlib.contextmanager
 def closing(bar):
-    """Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
-    last thing on the terminal (a bar left open redraws itself after the error)."""
+    """Close a tqdm progress bar on leaving the block, erasing it first on an error.
+
+    Close a tqdm ``bar`` on leaving; on an error erase it first, so the one-line error is the
+    last thing on the terminal (a bar left open redraws itself after the error).
+
+    Parameters
+    ----------
+    bar : tqdm.tqdm
+        The bar.
+
+    Yields
+    ------
+    tqdm.tqdm
+        ``bar``.
+    """
     try:
         yield bar
     except BaseException:
@@ -50,8 +64,29 @@ MAX_WORKERS = 1024
 
 def ranged(name: str, low: float, high: float, *, low_open: bool = False, high_open: bool = False,
            integer: bool = False, unit: str = ""):
-    """argparse type: a finite number (or integer) in the documented range ``[low, high]`` (each end
-    open if asked) in ``unit``, errors naming the flag and the range in one line."""
+    """argparse type: a finite number in a documented range, errors naming the flag and the range.
+
+    argparse type: a finite number (or integer) in the documented range ``[low, high]`` (each end
+    open if asked) in ``unit``, errors naming the flag and the range in one line.
+
+    Parameters
+    ----------
+    name : str
+        The flag, for the messages.
+    low, high : float
+        The range's bounds, in ``unit``.
+    low_open, high_open : bool
+        The bound is exclusive.
+    integer : bool
+        Accept integers only.
+    unit : str
+        The flag's unit, for the message.
+
+    Returns
+    -------
+    callable
+        ``text -> float`` (or int) for ``argparse``'s ``type``.
+    """
     from gyrobench.base.ranges import FieldRange
 
     rng = FieldRange(low, high, unit, low_open=low_open, high_open=high_open, integer=integer)
@@ -89,14 +124,59 @@ def float_arg(name: str, *, allow_zero: bool, high: float | None = None):
 
 
 def positive_float(name: str, high: float | None = None):
+    """argparse type: a finite number > 0 (at most ``high``), errors naming the flag.
+
+    Parameters
+    ----------
+    name : str
+        The flag, for the messages.
+    high : float or None
+        The largest value accepted (None: no bound).
+
+    Returns
+    -------
+    callable
+        ``text -> float`` for ``argparse``'s ``type``.
+    """
     return float_arg(name, allow_zero=False, high=high)
 
 
 def nonneg_float(name: str, high: float | None = None):
+    """argparse type: a finite number >= 0 (at most ``high``), errors naming the flag.
+
+    Parameters
+    ----------
+    name : str
+        The flag, for the messages.
+    high : float or None
+        The largest value accepted (None: no bound).
+
+    Returns
+    -------
+    callable
+        ``text -> float`` for ``argparse``'s ``type``.
+    """
     return float_arg(name, allow_zero=True, high=high)
 
 
 def duration(text: str) -> float:
+    """argparse type of ``--duration``: a finite duration > 0 [s], with or without a unit.
+
+    Parameters
+    ----------
+    text : str
+        The flag's text, seconds or a number with a unit (:func:`gyrobench.base.units.parse_duration`).
+
+    Returns
+    -------
+    float
+        The duration [s].
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        A negative, unparsable or infinite duration, in one line naming the flag.
+    """
     from gyrobench.base.units import parse_duration
 
     if text.strip().startswith("-"):
@@ -115,8 +195,21 @@ def _int_text(text: str) -> str:
 
 
 def positive_int(name: str):
-    """argparse type: an integer > 0, errors naming the flag (a size is bounded where it is used:
-    ``reproduce --units`` by :data:`gyrobench.scenarios.runner.units.MAX_UNITS`)."""
+    """argparse type: an integer > 0, errors naming the flag.
+
+    argparse type: an integer > 0, errors naming the flag (a size is bounded where it is used:
+    ``reproduce --units`` by :data:`gyrobench.scenarios.runner.units.MAX_UNITS`).
+
+    Parameters
+    ----------
+    name : str
+        The flag, for the messages.
+
+    Returns
+    -------
+    callable
+        ``text -> int`` for ``argparse``'s ``type``.
+    """
 
     def conv(text: str) -> int:
         try:
@@ -131,19 +224,55 @@ def positive_int(name: str):
 
 
 def units_or_auto(text: str) -> int | str:
-    """``--units``: a positive integer, or ``auto``."""
+    """``--units``: a positive integer, or ``auto``.
+
+    Parameters
+    ----------
+    text : str
+        The flag's text.
+
+    Returns
+    -------
+    int or str
+        The number of units, or ``"auto"``.
+    """
     return "auto" if text == "auto" else positive_int("--units (or 'auto')")(text)
 
 
 
 
 def given(args, flags: dict[str, str]) -> list[str]:
+    """The flags among ``flags`` that the user gave.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments.
+    flags : dict of str to str
+        Destination -> its flag (``{"fs": "--fs"}``).
+
+    Returns
+    -------
+    list of str
+        The flags whose value is not None, in the order of ``flags``.
+    """
     return [flag for dest, flag in flags.items() if getattr(args, dest, None) is not None]
 
 
 
 def seed(text: str) -> int:
-    """argparse type of ``--seed``: an integer in [0, :data:`MAX_FLAG_INT`] (64-bit, as stored)."""
+    """argparse type of ``--seed``: an integer in [0, :data:`MAX_FLAG_INT`] (64-bit, as stored).
+
+    Parameters
+    ----------
+    text : str
+        The flag's text.
+
+    Returns
+    -------
+    int
+        The seed.
+    """
     try:
         v = int(text)
     except ValueError:
@@ -157,7 +286,18 @@ def seed(text: str) -> int:
 
 
 def one_line(text: object) -> str:
-    """``text`` on one line (a message from a library may hold newlines)."""
+    """``text`` on one line (a message from a library may hold newlines).
+
+    Parameters
+    ----------
+    text : object
+        A message (its ``str``).
+
+    Returns
+    -------
+    str
+        The message with its newlines folded to spaces.
+    """
     return " ".join(str(text).split())
 
 
@@ -169,13 +309,31 @@ FORCE_HELP = ("replace existing output files that gyrobench did not write (defau
 
 
 def add_force(parser) -> None:
-    """Add ``--force`` (:data:`FORCE_HELP`) to a writing verb's parser."""
+    """Add ``--force`` (:data:`FORCE_HELP`) to a writing verb's parser.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        A writing verb's parser.
+    """
     parser.add_argument("--force", action="store_true", help=FORCE_HELP)
 
 
 def check_outputs(args, outputs, inputs=()) -> None:
-    """Every output of a verb through the rule of :func:`gyrobench.base.safety.check_outputs`, before any
-    work; ``args.force`` is the verb's ``--force``; a database output is checked against gyrobench's tables."""
+    """Check every output of a verb by the output rule before any work.
+
+    Every output of a verb through the rule of :func:`gyrobench.base.safety.check_outputs`, before any
+    work; ``args.force`` is the verb's ``--force``; a database output is checked against gyrobench's tables.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The verb's arguments (``args.force`` is its ``--force``).
+    outputs : sequence of Output
+        The verb's outputs (:func:`gyrobench.base.safety.check_outputs`).
+    inputs : iterable of (flag, path)
+        The verb's inputs, never to be overwritten.
+    """
     from gyrobench.base import safety
 
     tables: tuple[str, ...] = ()
@@ -187,8 +345,23 @@ def check_outputs(args, outputs, inputs=()) -> None:
 
 
 def input_file(path, what: str):
-    """``path`` as a Path if it is a readable regular file, else one line (not found, a folder, a FIFO, a
-    device: :func:`gyrobench.base.safety.check_input`)."""
+    """An input path checked to be a readable regular file.
+
+    ``path`` as a Path if it is a readable regular file, else one line (not found, a folder, a FIFO, a
+    device: :func:`gyrobench.base.safety.check_input`).
+
+    Parameters
+    ----------
+    path : path-like
+        The input.
+    what : str
+        How the user named it (a flag), for the message.
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path (else :class:`BadInput`, one line: not found, a folder, a FIFO, a device).
+    """
     from gyrobench.base import safety
 
     return safety.check_input(path, what)
@@ -201,8 +374,21 @@ TOML_DEPTH = 1000
 
 @contextlib.contextmanager
 def bounded_recursion(frames: int = TOML_DEPTH):
-    """Hold the recursion limit at the current depth + ``frames`` (never above the current limit) for the
-    block, so a recursive reader fails with RecursionError at a known depth."""
+    """Hold the recursion limit a known depth above the current one for a block.
+
+    Hold the recursion limit at the current depth + ``frames`` (never above the current limit) for the
+    block, so a recursive reader fails with RecursionError at a known depth.
+
+    Parameters
+    ----------
+    frames : int
+        Frames allowed above the current depth (never above the current limit).
+
+    Yields
+    ------
+    None
+        The block runs with the lowered limit; the old limit is restored on leaving.
+    """
     import sys
     import types
 
@@ -219,6 +405,25 @@ def bounded_recursion(frames: int = TOML_DEPTH):
 
 
 def read_toml(path: str, flag: str) -> dict:
+    """Read a TOML file given by a flag, refusing bad input in one line.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    flag : str
+        The flag that named it, for the messages.
+
+    Returns
+    -------
+    dict
+        The parsed document.
+
+    Raises
+    ------
+    BadInput
+        Not a readable regular file, not UTF-8, not valid TOML, or nested too deep.
+    """
     import sys
 
     if sys.version_info >= (3, 11):

@@ -62,8 +62,11 @@ TRACEBACK_ENV = "GYROBENCH_TRACEBACK"
 
 
 class Terminated(KeyboardInterrupt):
-    """Raised in the main thread by SIGTERM while a verb runs (exit 143). A KeyboardInterrupt, so
-    every cleanup that Ctrl-C runs (killing local workers, closing stores) runs for it too."""
+    """Raised in the main thread by SIGTERM while a verb runs (exit 143).
+
+    Raised in the main thread by SIGTERM while a verb runs (exit 143). A KeyboardInterrupt, so
+    every cleanup that Ctrl-C runs (killing local workers, closing stores) runs for it too.
+    """
 
 
 class InternalError(RuntimeError):
@@ -71,5 +74,11 @@ class InternalError(RuntimeError):
 
 
 def traceback_wanted() -> bool:
-    """Whether :data:`TRACEBACK_ENV` asks for tracebacks."""
+    """Whether :data:`TRACEBACK_ENV` asks for tracebacks.
+
+    Returns
+    -------
+    bool
+        True when the variable is set to anything but ``""`` or ``"0"``.
+    """
     return os.environ.get(TRACEBACK_ENV, "") not in ("", "0")

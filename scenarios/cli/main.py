@@ -160,6 +160,16 @@ def main(argv: list[str] | None = None) -> int:
     Exit statuses are listed in :mod:`gyrobench.scenarios.cli.exits`: 0 ok, 1 significant
     regression, 2 bad input, 3 failed seeds, 4 internal failure, 130 interrupted. Every
     error is one line on stderr; ``GYROBENCH_TRACEBACK=1`` prints the traceback first.
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The arguments (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status.
     """
     from gyrobench.base.safety import escape_controls
     from gyrobench.scenarios.cli import exits

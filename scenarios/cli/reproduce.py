@@ -146,7 +146,13 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
 
 
 def add_parser(sub) -> None:
-    """Add ``reproduce`` to the subparsers ``sub``."""
+    """Add ``reproduce`` to the subparsers ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``gyrobench`` command's subparsers.
+    """
     s = sub.add_parser("reproduce", help="run scenarios and write the report (Markdown, HTML, PNG, results.json)")
     s.add_argument("scenarios", nargs="*", help="scenario names (see 'gyrobench list')")
     s.add_argument("--all", action="store_true", help="every registered scenario")

@@ -585,7 +585,13 @@ def _cmd_simulate(args) -> int:
 
 
 def add_parsers(sub) -> None:
-    """Add ``simulate`` and ``parts`` to the subparsers ``sub``."""
+    """Add ``simulate`` and ``parts`` to the subparsers ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``gyrobench`` command's subparsers.
+    """
     s = sub.add_parser("simulate", help="simulate a noise record or every recording of a scenario",
                        description="'simulate noise' streams one record with the given IEEE-952 coefficients; "
                                    "'simulate device PART' simulates a datasheet part in a rate/temperature profile; "

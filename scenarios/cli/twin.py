@@ -96,7 +96,18 @@ class NonStationaryRecord(Exception):
 
 
 def noise_model_from_fit(fit: NoiseFit) -> NoiseModel:
-    """The :class:`NoiseModel` whose Allan variance is the fit's model sum_n C_n tau^n (C_n -> Q, N, B, K, R)."""
+    """The :class:`NoiseModel` whose Allan variance is the fit's model sum_n C_n tau^n (C_n -> Q, N, B, K, R).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        A noise fit.
+
+    Returns
+    -------
+    NoiseModel
+        Its IEEE 952 model (a term the fit set to 0 is 0).
+    """
     from gyrobench.analysis.allan import avar_to_coefficient
     from gyrobench.sim.noise import NoiseModel
 
@@ -116,6 +127,19 @@ def gauss_markov_term(fit: NoiseFit, *, level: float = 0.05) -> tuple[NDArray[np
     the points' correlation is ignored, so the test below is approximate). The term is kept
     when the weighted residual sum drops by more than the chi2(2) quantile at 1 - ``level``
     (two added parameters). Returns (C_n in the order Q, N, B, K, R, sigma [rad/s], Tc [s]).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The record's noise fit.
+    level : float
+        False-alarm rate of the test that keeps the term.
+
+    Returns
+    -------
+    tuple of (ndarray, float, float) or None
+        (the power-law coefficients C_n refitted with it, sigma^2, Tc [s]); None when the fit
+        needs no Gauss-Markov term.
     """
     import numpy as np
     from scipy.optimize import nnls
@@ -152,6 +176,18 @@ def nearest_part(fit: NoiseFit, technology: str) -> Part:
 
     The distance is sqrt(ln(N_part/N_fit)^2 + ln(B_part/B_fit)^2) with the fit's model
     coefficients (a term the fit set to 0 is taken at its 95 % upper bound).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The record's noise fit.
+    technology : str
+        The technology of the built-in parts considered.
+
+    Returns
+    -------
+    Part
+        The nearest part.
     """
     from gyrobench.analysis.allan import avar_to_coefficient
     from gyrobench.sim import parts
@@ -265,6 +301,32 @@ def make_twin(rate: NDArray[np.float64], fs: float, *, rng: np.random.Generator,
     non-stationary record), and its sample spread is compared too (:func:`compare_samples`).
     ``part`` (a built-in name or .toml) or ``nearest`` (a technology) replaces the fitted model
     by a part's datasheet model.
+
+    Parameters
+    ----------
+    rate : ndarray
+        The real record [rad/s].
+    fs : float
+        Its sample rate [Hz].
+    rng : numpy.random.Generator
+        The twin's stream.
+    source : str
+        The record's name, for the result.
+    part : str or None
+        A built-in part to compare with (its noise model simulated too).
+    nearest : str or None
+        A technology: compare with its built-in part nearest the fit (:func:`nearest_part`).
+    family_alpha : float
+        Family-wise false-alarm rate of the comparison.
+    gauss_markov : bool
+        Add a Gauss-Markov term where the fit needs one (:func:`gauss_markov_term`).
+    analysis : RecordAnalysis or None
+        The record's analysis, when already made.
+
+    Returns
+    -------
+    TwinResult
+        The analysis, the twin's model, its record and the comparisons.
 
     Raises
     ------
@@ -607,7 +669,13 @@ def _alpha_arg(text: str) -> float:
 
 
 def add_parser(sub) -> None:
-    """Add ``twin`` to the subparsers ``sub``."""
+    """Add ``twin`` to the subparsers ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``gyrobench`` command's subparsers.
+    """
     s = sub.add_parser("twin", help="digital twin of a real static record: fit, simulate, compare Allan deviations",
                        epilog="exit status: 0 the twin matches; 1 it does not (some octave tau outside the band, "
                               "or the sample spread); 2 bad input; 5 the record is not stationary (the twin is of "

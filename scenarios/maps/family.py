@@ -20,12 +20,12 @@ import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from scipy.stats import qmc
 
-from gyrobench.base.ranges import FieldRange
+from gyrobench.base.ranges import Constraint, FieldRange, field_range, validate
 
 __all__ = ["MAX_POINTS", "Design", "Family", "Fixed", "Parameter", "design"]
 
@@ -57,16 +57,28 @@ class Parameter:
     source: str
     label: str
 
+    #: ``range`` is a FieldRange and ``scale`` one of its Literal values (from the annotations);
+    #: what ties the fields together:
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "range.low < range.high, both finite",
+            lambda c: math.isfinite(c.range.low) and math.isfinite(c.range.high) and c.range.low < c.range.high,
+            lambda c: f"range of {c.field!r} needs finite low < high; got {c.range.low!r}, {c.range.high!r}",
+        ),
+        Constraint(
+            "scale 'log' needs range.low > 0",
+            lambda c: c.scale != "log" or c.range.low > 0,
+            lambda c: f"scale of {c.field!r}: a log scale needs range.low > 0; got {c.range.low!r}",
+        ),
+        Constraint(
+            "source is not blank",
+            lambda c: bool(c.source.strip()),
+            lambda c: f"source of {c.field!r} must give the range's source or the stated assumption; got {c.source!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        lo, hi = self.range.low, self.range.high
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise ValueError(f"parameter {self.field!r}: range needs finite low < high; got {lo!r}, {hi!r}")
-        if self.scale not in ("linear", "log"):
-            raise ValueError(f"parameter {self.field!r}: scale must be 'linear' or 'log'; got {self.scale!r}")
-        if self.scale == "log" and lo <= 0:
-            raise ValueError(f"parameter {self.field!r}: a log scale needs low > 0; got {lo!r}")
-        if not self.source.strip():
-            raise ValueError(f"parameter {self.field!r}: give the range's source or the stated assumption")
+        validate(self)  # the declared types and constraints above
 
     def value(self, u: float) -> float:
         """The parameter's value at unit coordinate ``u`` in [0, 1] (its scale, see the module)."""
@@ -96,6 +108,48 @@ class Fixed:
     field: str
     source: str
 
+    #: what ties the fields together (both are text: no range)
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "source is not blank",
+            lambda c: bool(c.source.strip()),
+            lambda c: f"source of {c.field!r} must give the value's source or the stated assumption; got {c.source!r}",
+        ),
+    )
+
+    def __post_init__(self) -> None:
+        validate(self)  # the declared constraint above
+
+
+def _names(family: Family) -> list[str]:
+    return [p.field for p in family.parameters] + [f.field for f in family.fixed]
+
+
+def _inside_declared(family: Family, p: Parameter) -> bool:
+    """Whether ``p``'s range lies inside the base Config's declared range of its field, in its unit."""
+    declared = field_range(type(family.base), p.field)
+    if declared is None:
+        return True
+    return p.range.unit == declared.unit and declared.contains(p.range.low) and declared.contains(p.range.high)
+
+
+def _outside_declared(family: Family) -> str:
+    p = next(p for p in family.parameters if not _inside_declared(family, p))
+    declared = field_range(type(family.base), p.field)
+    assert declared is not None
+    return (
+        f"parameters: {p.field} range [{p.range.low:g}, {p.range.high:g}] {p.range.unit} must lie in the "
+        f"Config's declared {declared.text()}"
+    )
+
+
+def _ends_are_configs(family: Family) -> None:
+    """Build the base Config at both ends of every parameter's range: its validation refuses an
+    end that is no valid configuration, in the Config's own one-line message."""
+    for p in family.parameters:
+        for end in (p.range.low, p.range.high):
+            dataclasses.replace(family.base, **{p.field: end})
+
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Family:
@@ -119,19 +173,37 @@ class Family:
     parameters: tuple[Parameter, ...]
     fixed: tuple[Fixed, ...] = ()
 
+    #: what ties the fields together; the Config's own declared ranges (``RANGES``) bound each
+    #: parameter's range
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "parameters is a non-empty tuple of Parameter, fixed a tuple of Fixed",
+            lambda c: bool(c.parameters) and all(isinstance(p, Parameter) for p in c.parameters)
+            and all(isinstance(f, Fixed) for f in c.fixed),
+            lambda c: f"parameters must be at least one Parameter and fixed Fixed entries (family of paper {c.paper}); "
+            f"got {len(c.parameters)} parameters",
+        ),
+        Constraint(
+            "each field listed once",
+            lambda c: len(set(_names(c))) == len(_names(c)),
+            lambda c: f"parameters: a field is listed twice in {_names(c)} (family of paper {c.paper})",
+        ),
+        Constraint(
+            "each field is a field of base",
+            lambda c: set(_names(c)) <= {f.name for f in dataclasses.fields(c.base)},
+            lambda c: f"parameters: {sorted(set(_names(c)) - {f.name for f in dataclasses.fields(c.base)})} is not a "
+            f"field of {type(c.base).__name__} (family of paper {c.paper})",
+        ),
+        Constraint(
+            "each parameter's range inside the Config's declared range, same unit",
+            lambda c: all(_inside_declared(c, p) for p in c.parameters),
+            _outside_declared,
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if not self.parameters:
-            raise ValueError(f"family of paper {self.paper}: give at least one open parameter")
-        names = [p.field for p in self.parameters] + [f.field for f in self.fixed]
-        if len(set(names)) != len(names):
-            raise ValueError(f"family of paper {self.paper}: a field is listed twice in {names}")
-        fields = {f.name for f in dataclasses.fields(self.base)}
-        for n in names:
-            if n not in fields:
-                raise ValueError(f"family of paper {self.paper}: {n!r} is not a field of {type(self.base).__name__}")
-        for p in self.parameters:  # both ends must be valid configurations
-            for end in (p.range.low, p.range.high):
-                dataclasses.replace(self.base, **{p.field: end})
+        validate(self)  # the declared constraints above
+        _ends_are_configs(self)  # both ends of every range build a valid Config (its own message)
 
     @property
     def names(self) -> tuple[str, ...]:

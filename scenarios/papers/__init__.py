@@ -21,7 +21,33 @@ __all__ = ["DiscoveredPaper", "Paper", "citation", "discover", "sources"]
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Paper:
-    """One source paper. ``None`` marks what the seed text does not give."""
+    """One source paper. ``None`` marks what the seed text does not give.
+
+    Attributes
+    ----------
+    key : str
+        The paper's key.
+    authors : str
+        Romanised, family name last as printed in the paper's English front matter.
+    authors_zh : str
+        As printed in Chinese.
+    affiliation : str
+        The authors' institution.
+    topic : str
+        What the paper does, in one line.
+    title_en, title_zh : str or None
+        The English and Chinese titles.
+    journal : str or None
+        The journal.
+    year : int or None
+        The year.
+    volume_issue : str or None
+        Volume and issue.
+    doi : str or None
+        The DOI.
+    source_note : str
+        Where a field came from when not from the seed text.
+    """
 
     key: str
     authors: str  # romanised, family name last as printed in the paper's English front matter
@@ -43,6 +69,23 @@ class DiscoveredPaper:
 
     ``module`` is its dotted import path, ``origin`` its ``__init__.py``; ``bench`` says whether
     it exports ``compensation_task`` (``gyrobench bench`` can score a compensator on it).
+
+    Attributes
+    ----------
+    module : str
+        Its dotted import path.
+    name : str
+        Its scenario name (``NAME``).
+    title : str
+        Its ``TITLE``.
+    paper : str
+        Its paper key (``PAPER``).
+    source : Paper or None
+        Its ``SOURCE`` (None: not stated).
+    bench : bool
+        It exports ``compensation_task``.
+    origin : str
+        Its ``__init__.py``.
     """
 
     module: str
@@ -62,6 +105,11 @@ def discover() -> tuple[DiscoveredPaper, ...]:
     """Every paper package in this package's ``__path__``, in folder-name order.
 
     A subpackage is a paper; its ``__init__`` is parsed, not imported.
+
+    Returns
+    -------
+    tuple of DiscoveredPaper
+        The papers, in folder-name order.
 
     Raises
     ------
@@ -130,12 +178,30 @@ def _paper_literal(node: ast.expr, origin: Path) -> Paper:
 
 
 def sources() -> dict[str, Paper]:
-    """The source paper of every discovered paper package, by paper key."""
+    """The source paper of every discovered paper package, by paper key.
+
+    Returns
+    -------
+    dict of str to Paper
+        Paper key -> source paper.
+    """
     return {p.paper: p.source for p in discover() if p.source is not None}
 
 
 def citation(key: str, *, short: bool = False) -> str:
     """``"Du et al."`` (short) or the full reference line, saying what the source text lacks.
+
+    Parameters
+    ----------
+    key : str
+        A paper key.
+    short : bool
+        The short form.
+
+    Returns
+    -------
+    str
+        The citation.
 
     Raises
     ------

@@ -83,6 +83,16 @@ class PaperScenario(Protocol):
 def quantities_of(unit: Any) -> Mapping[str, float | None]:
     """The per-claim quantities of a unit's result (typed result, or a legacy mapping).
 
+    Parameters
+    ----------
+    unit : object
+        A unit's result.
+
+    Returns
+    -------
+    mapping of str to float or None
+        Claim quantity -> number.
+
     Raises
     ------
     TypeError

@@ -33,11 +33,23 @@ def _field(name: str, v: float | None) -> float | None:
 
 
 def coefficients_json(fit) -> dict[str, dict[str, Any]]:
-    """``{"Q": {"value", "low", "high", "unit", ...}, ...}`` in field units.
+    """The fitted IEEE 952 coefficients as a JSON mapping, in field units.
+
+    ``{"Q": {"value", "low", "high", "unit", ...}, ...}`` in field units.
 
     ``low``/``high`` are the 95 % interval; ``low68``/``high68`` the 68 % one.
     ``value`` is None when the term is not identifiable from the record; then
     ``high`` holds the 95 % upper bound and ``low`` is 0.
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The noise fit.
+
+    Returns
+    -------
+    dict of str to dict
+        ``{"Q": {"value", "low", "high", "low68", "high68", "unit", ...}, ...}``.
     """
     out = {}
     for name in TERMS:
@@ -75,7 +87,22 @@ def _interval_text(d: dict[str, Any]) -> tuple[str, str]:
 
 
 def coefficient_table(fit, *, title: str, truth: dict[str, float] | None = None) -> Table:
-    """A report table of the fitted coefficients (and the true values, when known)."""
+    """A report table of the fitted coefficients (and the true values, when known).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The noise fit.
+    title : str
+        The table's title.
+    truth : dict of str to float or None
+        True coefficients (SI) of a simulated record, shown beside the fit.
+
+    Returns
+    -------
+    Table
+        One row per term.
+    """
     js = coefficients_json(fit)
     cols = ["term", "unit", "fitted", "95 % interval"] + (["true", "true inside"] if truth else [])
     rows = []
@@ -125,7 +152,37 @@ def field_unit(name: str, quantity: str = "rate") -> str:
 
 @dataclass
 class ChannelResult:
-    """Curve and fit (None for kinds without a fit) of one channel, with why there is no fit."""
+    """Curve and fit (None for kinds without a fit) of one channel, with why there is no fit.
+
+    Attributes
+    ----------
+    channel : LogChannel
+        The channel analysed.
+    curve : AllanCurve
+        Its deviation curve.
+    fit : NoiseFit or None
+        The noise fit (None for a kind without one).
+    no_fit : str or None
+        Why there is no fit.
+    fit_range : object
+        The fitted tau range and why.
+    bandwidth_range : object
+        The taus the output filter biases.
+    warnings : list of str
+        Warning lines.
+    temperature : object
+        The temperature channel's summary (None: none in the log).
+    nonstationary : bool
+        Motion or steps were found.
+    segments : list
+        ``(start_s, stop_s, ChannelResult)`` per segment of ``--segments auto``.
+    pooled : object
+        The fit over the pooled quiet stretches (``--segments auto``).
+    analysis : RecordAnalysis or None
+        The analysis behind the fit.
+    segments_asked : bool
+        ``--segments auto`` was given.
+    """
 
     channel: Any
     curve: Any
@@ -143,9 +200,28 @@ class ChannelResult:
 
 
 def stationarity(data, fs: float, curve, label: str) -> tuple[list[str], bool, Any]:
-    """Motion/step warnings (:func:`gyrobench.analysis.record.stationarity_verdict`), whether motion or
+    """The motion and step check of a channel and its warnings.
+
+    Motion/step warnings (:func:`gyrobench.analysis.record.stationarity_verdict`), whether motion or
     steps were found (the record is then flagged non-stationary) and the :class:`StationarityReport`
-    (None when no tau qualifies)."""
+    (None when no tau qualifies).
+
+    Parameters
+    ----------
+    data : array_like
+        The channel's samples.
+    fs : float
+        Sample rate [Hz].
+    curve : AllanCurve
+        Its Allan curve.
+    label : str
+        The channel's name, for the warnings.
+
+    Returns
+    -------
+    tuple of (list of str, bool, StationarityReport or None)
+        The warnings, whether motion or steps were found, and the report (None: too short to test).
+    """
     from gyrobench.analysis.record import stationarity_verdict
 
     rep = stationarity_verdict(data, fs, curve, label)
@@ -188,6 +264,40 @@ def analyse(
     The analysis is :func:`gyrobench.analysis.record.analyse_record` (the path ``twin`` and the
     Python API share): on a non-stationary channel the quiet stretches are fitted (``quiet``).
     With ``taus="all"`` the fit uses the octave taus among them.
+
+    Parameters
+    ----------
+    channel : LogChannel
+        The channel (samples in SI).
+    fs : float
+        Sample rate [Hz].
+    taus : {"octave", "decade", "all"}
+        Tau list of the curve.
+    kind : str
+        The deviation (only the Allan variance kinds are fitted).
+    terms : tuple of str
+        The IEEE 952 terms fitted.
+    tau_min : float, "auto" or None
+        Shortest tau fitted [s].
+    tau_max : float or None
+        Longest tau fitted [s].
+    temperature : LogChannel or None
+        The log's temperature channel, reported beside the fit.
+    bandwidth : float or None
+        The sensor's output bandwidth [Hz].
+    bandwidth_bias : float
+        Largest relative Allan-variance bias of the output filter a fitted tau may carry.
+    segments : str or None
+        ``"auto"``: also fit each stationary segment (``--segments auto``).
+    quiet : bool
+        On a non-stationary channel fit its quiet stretches.
+    select : bool
+        Choose extra model terms.
+
+    Returns
+    -------
+    ChannelResult
+        The curve, the fit (None for a kind without one) and the warnings.
     """
     from gyrobench.analysis.record import analyse_record
 

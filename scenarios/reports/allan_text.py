@@ -19,9 +19,26 @@ def _si_unit(quantity: str) -> str:
 
 
 def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[str, Any]:
-    """The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
+    """A noise fit as JSON: each term's value and intervals in field units, the taus and the misfit.
+
+    The fit: per term value/intervals in field units, the taus used, chi2/dof and p, and
     ``nonstationary`` (motion or steps in what was fitted: the terms describe them too; False for
-    a fit of the quiet stretches)."""
+    a fit of the quiet stretches).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+        The fit.
+    quantity : str
+        ``"rate"`` or the accelerometer's quantity, for the units.
+    nonstationary : bool
+        Motion or steps are in what was fitted (the terms describe them too).
+
+    Returns
+    -------
+    dict of str to object
+        The terms, taus used, chi2/dof and p, ``nonstationary``.
+    """
     import math
 
     terms = {}
@@ -57,6 +74,20 @@ def fit_json(fit, quantity: str = "rate", nonstationary: bool = False) -> dict[s
 
 
 def curve_json(curve, quantity: str = "rate") -> dict[str, Any]:
+    """An Allan curve as JSON, in field units.
+
+    Parameters
+    ----------
+    curve : AllanCurve
+        The curve.
+    quantity : str
+        ``"rate"`` (gyro, deg/h) or the accelerometer's quantity, for the units.
+
+    Returns
+    -------
+    dict of str to object
+        Taus, deviations and their intervals, edf and the statistic.
+    """
     return {
         "kind": curve.kind,
         "unit": _si_unit(quantity),
@@ -70,6 +101,18 @@ def curve_json(curve, quantity: str = "rate") -> dict[str, Any]:
 
 
 def channel_json(res: ChannelResult) -> dict[str, Any]:
+    """One channel's entry of the ``--json`` document.
+
+    Parameters
+    ----------
+    res : ChannelResult
+        The channel's result.
+
+    Returns
+    -------
+    dict of str to object
+        Its curve, fit (or why none), analysis, warnings and segments, in field units.
+    """
     q = res.channel.quantity
     floor, tau = _floor(res.curve)
     out: dict[str, Any] = {
@@ -110,8 +153,21 @@ def channel_json(res: ChannelResult) -> dict[str, Any]:
 
 
 def analysis_json(res: ChannelResult) -> dict[str, Any]:
-    """``basis`` (what was fitted), ``quiet`` (the quiet stretches and what was left out) and ``model``
-    (terms beyond Q/N/B/K/R, SI)."""
+    """What was fitted, as JSON: basis, quiet stretches and the model's extra terms.
+
+    ``basis`` (what was fitted), ``quiet`` (the quiet stretches and what was left out) and ``model``
+    (terms beyond Q/N/B/K/R, SI).
+
+    Parameters
+    ----------
+    res : ChannelResult
+        One channel's result.
+
+    Returns
+    -------
+    dict of str to object
+        ``basis``, ``quiet`` (the stretches and what was left out) and ``model`` (SI).
+    """
     import math
 
     ra = res.analysis
@@ -153,6 +209,18 @@ def log_json(log, results: list[ChannelResult]) -> dict[str, Any]:
     For the gyro channels the five coefficients also stand at the top level of each channel
     entry (``"N": {"value", "low", "high", "unit"}``) as before; with one channel the
     document is that channel's entry plus ``file``, ``fs``, ``notes``.
+
+    Parameters
+    ----------
+    log : ImuLog
+        The log analysed.
+    results : list of ChannelResult
+        Its channels' results.
+
+    Returns
+    -------
+    dict of str to object
+        The document.
     """
     chans = []
     for res in results:
@@ -180,7 +248,20 @@ def _temp_units(quantity: str) -> tuple[float, str]:
 
 
 def plot_paths(plot, results: list[ChannelResult]) -> list[tuple[Any, ChannelResult]]:
-    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``."""
+    """The figure file of each channel: ``plot`` itself for one channel, else ``<stem>_<channel><suffix>``.
+
+    Parameters
+    ----------
+    plot : Path
+        The ``--plot`` file.
+    results : list of ChannelResult
+        The channels' results.
+
+    Returns
+    -------
+    list of (Path, ChannelResult)
+        Each channel's figure file.
+    """
     import re
 
     if len(results) == 1:
@@ -202,7 +283,20 @@ def _motion_fitted(res: ChannelResult) -> bool:
 
 
 def plot_title(log, res: ChannelResult) -> str:
-    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings)."""
+    """The figure's title block: the record, then what the report warns of (non-stationary, misfit, warnings).
+
+    Parameters
+    ----------
+    log : ImuLog
+        The log analysed.
+    res : ChannelResult
+        The channel's result.
+
+    Returns
+    -------
+    str
+        The title text.
+    """
     n = len(res.channel.data)
     lines = [f"{log.path.name}: {res.channel.label}, {log.fs:g} Hz, {n / log.fs / 3600:.3g} h ({n} samples)"]
     if res.nonstationary:
@@ -225,7 +319,18 @@ def _basis(res: ChannelResult) -> str:
 
 
 def nonstationary_line(res: ChannelResult) -> str:
-    """The report's first line for a channel with motion or steps."""
+    """The report's first line for a channel with motion or steps.
+
+    Parameters
+    ----------
+    res : ChannelResult
+        One channel's result.
+
+    Returns
+    -------
+    str
+        The line.
+    """
     if _basis(res) == "quiet stretches":
         return (
             f"NONSTATIONARY {res.channel.label}: motion or steps in the record (WARNING lines below); the fit is of "
@@ -245,7 +350,18 @@ def _rate_scale(quantity: str) -> tuple[float, str]:
 
 
 def model_lines(res: ChannelResult) -> list[str]:
-    """The QUIET line (what was left out) and the MODEL lines (terms chosen beyond Q/N/B/K/R)."""
+    """The QUIET line (what was left out) and the MODEL lines (terms chosen beyond Q/N/B/K/R).
+
+    Parameters
+    ----------
+    res : ChannelResult
+        One channel's result.
+
+    Returns
+    -------
+    list of str
+        The QUIET and MODEL lines (empty when neither applies).
+    """
     ra = res.analysis
     if ra is None:
         return []
@@ -280,7 +396,18 @@ def model_lines(res: ChannelResult) -> list[str]:
 
 
 def deviation_lines(res: ChannelResult) -> list[str]:
-    """The Allan deviation at each tau, with its confidence interval, in field units."""
+    """The Allan deviation at each tau, with its confidence interval, in field units.
+
+    Parameters
+    ----------
+    res : ChannelResult
+        One channel's result.
+
+    Returns
+    -------
+    list of str
+        One line per tau.
+    """
     c = res.curve
     k, unit = _rate_scale(res.channel.quantity)
     conf = f"{c.confidence:.1%}".replace(".0%", "%")
@@ -314,7 +441,20 @@ def _excluded_text(res: ChannelResult, excl: int) -> str:
 
 
 def log_text(log, results: list[ChannelResult]) -> list[str]:
-    """The printed report: misfits first, then the record, the notes and one table of every channel."""
+    """The printed report: misfits first, then the record, the notes and one table of every channel.
+
+    Parameters
+    ----------
+    log : ImuLog
+        The log analysed.
+    results : list of ChannelResult
+        Its channels' results.
+
+    Returns
+    -------
+    list of str
+        The report's lines.
+    """
     import numpy as np
 
     out = [nonstationary_line(res) for res in results if res.nonstationary]
@@ -446,6 +586,18 @@ def kalibr_yaml(log, results: list[ChannelResult]) -> str:
     Kalibr takes one value per sensor: the largest over the axes (conservative). A term not
     identifiable on an axis contributes its 95 % upper bound, and the file says so in a
     comment. Bias instability has no place in Kalibr's model and is given as a comment.
+
+    Parameters
+    ----------
+    log : ImuLog
+        The log analysed.
+    results : list of ChannelResult
+        Its channels' results.
+
+    Returns
+    -------
+    str
+        The imu.yaml text.
     """
     lines = [
         "# Kalibr IMU noise parameters written by gyrobench allan",
@@ -510,6 +662,20 @@ def filter_yaml(log, results: list[ChannelResult], *, overbound: bool = False) -
     the tools fix, with the unit in a comment on every line, and ``ros`` (the diagonal of
     ``sensor_msgs/Imu`` covariances: the per-sample white-noise variance N^2 fs). Kalibr,
     OpenVINS and ROS take one value per sensor: the largest over the axes.
+
+    Parameters
+    ----------
+    log : ImuLog
+        The log analysed.
+    results : list of ChannelResult
+        Its channels' results.
+    overbound : bool
+        Scale the model to overbound the data's 95 % bound.
+
+    Returns
+    -------
+    str
+        The YAML text.
     """
     from gyrobench.analysis.filter_model import filter_model
 

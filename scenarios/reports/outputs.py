@@ -62,6 +62,11 @@ def check_output(
         ``--force`` of a command. None (a library call that writes where it is told): an
         existing file is replaced whoever wrote it; a folder keeps the strict rule.
 
+    Returns
+    -------
+    Path
+        ``path`` as a Path.
+
     Raises
     ------
     IsADirectoryError
@@ -84,12 +89,28 @@ def check_output(
 def write_report_as_a_set(
     outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = ""
 ) -> Path:
-    """:func:`gyrobench.scenarios.reports.report.write_report` into a new folder swapped in for
+    """Write a report into a new folder swapped in for ``out_dir`` when complete.
+
+    :func:`gyrobench.scenarios.reports.report.write_report` into a new folder swapped in for
     ``out_dir`` when complete (:func:`gyrobench.base.atomic.atomic_folder`); returns the
     path of ``index.html`` in ``out_dir``.
 
     A failed or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never
     mixes two runs' files. Call :func:`check_output` (``kind="report"``) before the work.
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes.
+    out_dir : path-like
+        The report folder.
+    command : str
+        The command line that made the report, shown in it.
+
+    Returns
+    -------
+    Path
+        ``out_dir / "index.html"``.
     """
     import json
 
@@ -123,11 +144,25 @@ def _in_target(exc: OSError, tmp: Path, out: Path) -> OSError:
 
 @contextlib.contextmanager
 def output_lock(path: str | os.PathLike, *, what: str) -> Iterator[None]:
-    """Hold an exclusive lock on output ``path`` for the block, so two gyrobench processes never
+    """Hold an exclusive lock on an output for the block.
+
+    Hold an exclusive lock on output ``path`` for the block, so two gyrobench processes never
     write one output at once; the second is refused in one line.
 
     The lock is ``fcntl.flock`` on ``.<name>.gyrobench-lock`` beside ``path`` (released by
     the kernel when the process ends, however it ends).
+
+    Parameters
+    ----------
+    path : path-like
+        The output.
+    what : str
+        How the user named it (a flag), for the refusal.
+
+    Yields
+    ------
+    None
+        The block runs holding the lock.
 
     Raises
     ------

@@ -39,7 +39,18 @@ __all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "
 
 
 def fmt(x: Any) -> str:
-    """Format a table cell: 4 significant digits for floats, text as is, None as 'n/a'."""
+    """Format a table cell: 4 significant digits for floats, text as is, None as 'n/a'.
+
+    Parameters
+    ----------
+    x : object
+        A cell's value.
+
+    Returns
+    -------
+    str
+        The cell's text.
+    """
     if x is None:
         return "n/a"
     if isinstance(x, bool):
@@ -83,6 +94,16 @@ def outcome_json(outcome: Outcome) -> dict[str, Any]:
     A paper scenario's document also holds ``units`` (how many were simulated),
     ``claims`` (:meth:`~gyrobench.scenarios.claims.ClaimResult.as_dict` each) and
     ``deviations`` (the paper's protocol departures).
+
+    Parameters
+    ----------
+    outcome : Outcome
+        One scenario's outcome.
+
+    Returns
+    -------
+    dict of str to object
+        The document.
     """
     doc: dict[str, Any] = {
         "scenario": outcome.scenario,
@@ -188,8 +209,21 @@ def _num(x: float | None, unit: str = "") -> str:
 
 
 def status_text(r: Any) -> str:
-    """A judged claim's status for a table: upper case, with provisional and, for a claim that failed or
-    stays open, its measured reason (:func:`gyrobench.scenarios.reports.reasons.reason`)."""
+    """A judged claim's status for a table, with its measured reason.
+
+    A judged claim's status for a table: upper case, with provisional and, for a claim that failed or
+    stays open, its measured reason (:func:`gyrobench.scenarios.reports.reasons.reason`).
+
+    Parameters
+    ----------
+    r : ClaimResult
+        The judged claim.
+
+    Returns
+    -------
+    str
+        Upper case, with "provisional" and, for a claim that failed or stays open, the reason.
+    """
     status = r.status
     word = status.upper() if status in ("reproduced", "contradicted", "device matched", "device not matched",
                                         "no different from the control", "below the control") else status
@@ -224,14 +258,36 @@ def _claim_row(r: Any) -> list[str]:
 
 
 def claim_tally(claims: Sequence[Any]) -> Any:
-    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims."""
+    """The :class:`~gyrobench.scenarios.claims.ClaimTally` of judged claims.
+
+    Parameters
+    ----------
+    claims : sequence of ClaimResult
+        Judged claims.
+
+    Returns
+    -------
+    ClaimTally
+        Their counts.
+    """
     from gyrobench.scenarios.claims import tally
 
     return tally(claims)
 
 
 def tally_text(n: Any) -> str:
-    """One line: device matched, method claims by status, extensions."""
+    """One line: device matched, method claims by status, extensions.
+
+    Parameters
+    ----------
+    n : ClaimTally
+        The counts.
+
+    Returns
+    -------
+    str
+        One line.
+    """
     dev = f"device matched on {n.device_matched} of {n.device} device claim(s); " if n.device else ""
     ext = f"; extensions (ours): {n.extension_reproduced} of {n.extension} hold" if n.extension else ""
     ext += f"; {n.same_effect} claim(s) counted with the claim showing the same effect" if n.same_effect else ""
@@ -360,7 +416,18 @@ _LOAD_CHECK = (
 
 
 def tally_table(outcomes: Sequence[Outcome]) -> Table:
-    """The status of every paper's claims in one table (the report's first screen)."""
+    """The status of every paper's claims in one table (the report's first screen).
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes.
+
+    Returns
+    -------
+    Table
+        One row per paper.
+    """
     cols = ["scenario", "paper", "units", "device matched", "device calibrated", "method: reproduced",
             "CONTRADICTED", "not reproducible on this device", "no different from / below the control", "undecided",
             "not testable", "method calibrated (not counted)", "extensions: hold / all"]
@@ -505,6 +572,20 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
     The page reads like a paper's supplement: a contents list with anchors, the tally of
     verdicts and the headline numbers on top, then each scenario once (claims, deviations,
     its tables, its figures side by side, its configuration folded).
+
+    Parameters
+    ----------
+    outcomes : sequence of Outcome
+        The scenarios' outcomes.
+    out_dir : str or Path
+        The report folder.
+    command : str
+        The command line that made the report, shown in it.
+
+    Returns
+    -------
+    Path
+        ``out_dir / "index.html"``.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

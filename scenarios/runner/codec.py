@@ -132,7 +132,18 @@ def dumps(value: Any) -> str:
 
 
 def dumps_compressed(value: Any) -> bytes:
-    """:func:`dumps` of ``value``, zlib-compressed (level 6) after :data:`COMPRESSED_MAGIC`."""
+    """:func:`dumps` of ``value``, zlib-compressed (level 6) after :data:`COMPRESSED_MAGIC`.
+
+    Parameters
+    ----------
+    value : object
+        A value :func:`dumps` can store.
+
+    Returns
+    -------
+    bytes
+        :data:`COMPRESSED_MAGIC` then the zlib-compressed document.
+    """
     return COMPRESSED_MAGIC + zlib.compress(dumps(value).encode("utf-8"), 6)
 
 
@@ -265,7 +276,9 @@ def _decode_dataclass(body: Any, path: str, depth: int) -> Any:
 
 
 def loads(text: str | bytes) -> Any:
-    """The value stored by :func:`dumps` or :func:`dumps_compressed`; never unpickles, imports only
+    """Read back a value stored by :func:`dumps` or :func:`dumps_compressed`.
+
+    The value stored by :func:`dumps` or :func:`dumps_compressed`; never unpickles, imports only
     ``gyrobench`` modules.
 
     Parameters

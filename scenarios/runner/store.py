@@ -113,10 +113,24 @@ CREATE TABLE IF NOT EXISTS sessions (
 
 
 def connect_db(path: str | os.PathLike, schema: str | None = None) -> sqlite3.Connection:
-    """Open (or create) a results database: WAL, synchronous=FULL, ``schema`` (default the
+    """Open (or create) a results database with its schema applied.
+
+    Open (or create) a results database: WAL, synchronous=FULL, ``schema`` (default the
     bench's) applied; bad paths and unwritable folders are one-line ValueErrors.
 
     Shared by the bench and :mod:`gyrobench.scenarios.runner.units` (each with its own schema).
+
+    Parameters
+    ----------
+    path : path-like
+        The database file.
+    schema : str or None
+        The SQL schema to apply (None: the bench's :data:`SCHEMA`).
+
+    Returns
+    -------
+    sqlite3.Connection
+        In WAL mode with synchronous=FULL.
     """
     keyed = schema is None
     schema = SCHEMA if schema is None else schema
@@ -186,13 +200,36 @@ KEY_BYTES = 32
 
 
 def key_path(db: str | os.PathLike) -> Path:
-    """The key file of database ``db``: ``<db>.key`` beside it."""
+    """The key file of database ``db``: ``<db>.key`` beside it.
+
+    Parameters
+    ----------
+    db : path-like
+        The database file.
+
+    Returns
+    -------
+    Path
+        ``<db>.key``.
+    """
     return Path(f"{os.fspath(db)}.key")
 
 
 def db_key(db: str | os.PathLike) -> bytes:
-    """The checksum key of database ``db``, created (32 random bytes, mode 0600, never
+    """The checksum key of a database, created if it has none.
+
+    The checksum key of database ``db``, created (32 random bytes, mode 0600, never
     overwritten) if it has none.
+
+    Parameters
+    ----------
+    db : path-like
+        The database file.
+
+    Returns
+    -------
+    bytes
+        The 32-byte key.
 
     Raises
     ------
@@ -225,7 +262,13 @@ def db_key(db: str | os.PathLike) -> bytes:
 
 
 def database_tables() -> tuple[str, ...]:
-    """The tables of gyrobench's databases: the bench's (:data:`SCHEMA`) and the units runner's."""
+    """The tables of gyrobench's databases: the bench's (:data:`SCHEMA`) and the units runner's.
+
+    Returns
+    -------
+    tuple of str
+        The table names.
+    """
     import re
 
     from gyrobench.scenarios.runner import units
@@ -234,8 +277,25 @@ def database_tables() -> tuple[str, ...]:
 
 
 def check_database(path: str | os.PathLike, *, what: str, force: bool = False) -> Path:
-    """Refuse, before anything is written, an existing ``path`` that is not a database gyrobench made
-    (:func:`gyrobench.base.safety.check_database`; ``force`` lets an empty file be used)."""
+    """Refuse an existing file that is not a database gyrobench made, before anything is written.
+
+    Refuse, before anything is written, an existing ``path`` that is not a database gyrobench made
+    (:func:`gyrobench.base.safety.check_database`; ``force`` lets an empty file be used).
+
+    Parameters
+    ----------
+    path : path-like
+        The database file.
+    what : str
+        How the user named it (a flag), for the message.
+    force : bool
+        Let an empty file be used.
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path.
+    """
     from gyrobench.base import safety
 
     return safety.check_database(path, what, database_tables(), force=force)
@@ -246,6 +306,16 @@ def dumps_scores(scores: Mapping[str, float]) -> str:
 
     JSON floats round-trip exactly (repr); NaN and inf are stored as strings so the text
     stays valid JSON (:func:`loads_scores` reads them back).
+
+    Parameters
+    ----------
+    scores : mapping of str to float
+        One seed's scores.
+
+    Returns
+    -------
+    str
+        JSON text, keys sorted, NaN and inf as strings.
     """
     return json.dumps(
         {k: (v if math.isfinite(v) else repr(v)) for k, v in scores.items()}, sort_keys=True
@@ -253,13 +323,45 @@ def dumps_scores(scores: Mapping[str, float]) -> str:
 
 
 def loads_scores(text: str) -> dict[str, float]:
-    """The scores stored by :func:`dumps_scores`, as floats."""
+    """The scores stored by :func:`dumps_scores`, as floats.
+
+    Parameters
+    ----------
+    text : str
+        JSON text written by :func:`dumps_scores`.
+
+    Returns
+    -------
+    dict of str to float
+        The scores.
+    """
     return {k: float(v) for k, v in json.loads(text).items()}
 
 
 def seed_checksum(campaign_id: str, seed: int, scores_text: str, failure: str | None, key: bytes = b"") -> str:
-    """Checksum (hex) of one stored seed: campaign id, seed, scores text and failure reason;
-    HMAC-SHA256 with ``key`` (the database's, :func:`db_key`), SHA-256 without one."""
+    """The checksum (hex) of one stored seed.
+
+    Checksum (hex) of one stored seed: campaign id, seed, scores text and failure reason;
+    HMAC-SHA256 with ``key`` (the database's, :func:`db_key`), SHA-256 without one.
+
+    Parameters
+    ----------
+    campaign_id : str
+        The campaign.
+    seed : int
+        The seed.
+    scores_text : str
+        Its scores as stored (:func:`dumps_scores`).
+    failure : str or None
+        Its failure reason.
+    key : bytes
+        The database's key (:func:`db_key`); empty: plain SHA-256.
+
+    Returns
+    -------
+    str
+        Hexadecimal HMAC-SHA256 (SHA-256 without a key).
+    """
     import hmac
 
     doc = json.dumps([campaign_id, int(seed), scores_text, failure], separators=(",", ":")).encode("utf-8")
@@ -303,11 +405,25 @@ def _verified(conn: sqlite3.Connection, campaign_id: str, wanted: set[int]) -> t
 
 
 def check_output_file(path: str | os.PathLike, *, what: str) -> Path:
-    """``path`` as a Path if it can be written as a file: not a folder, its folder exists
+    """Check that a path can be written as a file, without creating folders.
+
+    ``path`` as a Path if it can be written as a file: not a folder, its folder exists
     and accepts new files (:func:`gyrobench.scenarios.reports.outputs.check_output`).
 
     Missing folders are never created: a typo (or ``/nonexist/dir/b.json`` run as
     root) must not scatter folders over the file system.
+
+    Parameters
+    ----------
+    path : path-like
+        The output file.
+    what : str
+        How the user named it (a flag), for the message.
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path.
     """
     from gyrobench.scenarios.reports.outputs import check_output
 
@@ -320,6 +436,15 @@ class Session:
 
     ``done`` maps each requested seed found in the database to its scores (as stored);
     ``failed`` maps those of them that failed to why.
+
+    Parameters
+    ----------
+    session_id : int
+        The session's row id.
+    done : mapping of int to mapping of str to float
+        Each requested seed already stored -> its scores.
+    failed : mapping of int to str
+        The stored seeds that failed -> why.
     """
 
     session_id: int
@@ -337,8 +462,33 @@ def start_session(
     config: str,
     identity: str,
 ) -> Session:
-    """Register the campaign (once), read back its stored seeds among ``seeds`` and open a
-    session, in one transaction."""
+    """Register a campaign, read back its stored seeds and open a session, in one transaction.
+
+    Register the campaign (once), read back its stored seeds among ``seeds`` and open a
+    session, in one transaction.
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The open results database.
+    campaign_id : str
+        The campaign.
+    seeds : iterable of int
+        The seeds requested.
+    scenario : str
+        The scenario's name.
+    compensator : str
+        The compensator's ``"module:attr"`` name.
+    config : str
+        The configuration's JSON identity.
+    identity : str
+        The compensator's code identity.
+
+    Returns
+    -------
+    Session
+        The session and the requested seeds already stored.
+    """
     seeds = tuple(seeds)
     conn.execute("BEGIN IMMEDIATE")
     try:
@@ -371,12 +521,38 @@ def record_seed(
     *,
     db: str,
 ) -> tuple[dict[str, float], str | None]:
-    """Commit one finished seed; return its scores exactly as a resume reads them back, and
+    """Commit one finished seed and return it as a resume reads it back.
+
+    Commit one finished seed; return its scores exactly as a resume reads them back, and
     why it failed (None if it did not).
 
     Another process running the same campaign on the same file may have stored the seed
     meanwhile: scores are deterministic, so it must be the same, else
     :class:`~gyrobench.scenarios.cli.exits.InternalError` (``db`` names the file).
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The open results database.
+    campaign_id : str
+        The campaign.
+    session_id : int
+        The session that computed the seed.
+    seed : int
+        The seed.
+    scores : mapping of str to float
+        Its scores.
+    elapsed : float
+        Its run time [s].
+    failure : str or None
+        Why it failed (None: it did not).
+    db : str
+        The database's name, for the message.
+
+    Returns
+    -------
+    tuple of (dict of str to float, str or None)
+        The stored scores and failure reason.
     """
     text = dumps_scores(scores)
     conn.execute("BEGIN IMMEDIATE")
@@ -424,10 +600,27 @@ def record_seed(
 def campaign_generation(
     conn: sqlite3.Connection, static_id: str, fingerprint: Any
 ) -> tuple[str, dict[str, Any]]:
-    """The campaign of ``static_id`` whose recorded reads still fingerprint the same (``fingerprint``
+    """The campaign id a run of ``static_id`` continues, or a new generation's.
+
+    The campaign of ``static_id`` whose recorded reads still fingerprint the same (``fingerprint``
     maps the stored read names to their fingerprints now), newest first; else a new one: its id
     is ``static_id`` for the first, ``static_id`` hashed with its generation number after.
-    Returns (campaign id, the read names recorded for it, empty for a new one)."""
+    Returns (campaign id, the read names recorded for it, empty for a new one).
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The open results database.
+    static_id : str
+        The campaign's static id (scenario, compensator, config, identity).
+    fingerprint : callable or mapping
+        Maps the stored read names to their fingerprints now.
+
+    Returns
+    -------
+    tuple of (str, dict)
+        (campaign id, the read names recorded for it; empty for a new one).
+    """
     rows = conn.execute(
         "SELECT campaign_id, generation, names, fingerprint FROM campaign_reads WHERE static_id = ? "
         "ORDER BY generation DESC",
@@ -449,7 +642,21 @@ def campaign_generation(
 def record_reads(
     conn: sqlite3.Connection, campaign_id: str, static_id: str, names: Mapping[str, Any], fingerprint: Mapping[str, str]
 ) -> None:
-    """Store (or replace) what campaign ``campaign_id`` read, with its fingerprints, in one transaction."""
+    """Store (or replace) what campaign ``campaign_id`` read, with its fingerprints, in one transaction.
+
+    Parameters
+    ----------
+    conn : sqlite3.Connection
+        The open results database.
+    campaign_id : str
+        The campaign.
+    static_id : str
+        Its static id.
+    names : mapping of str to object
+        The read names and what each read.
+    fingerprint : mapping of str to str
+        Each read name's fingerprint.
+    """
     conn.execute("BEGIN IMMEDIATE")
     try:
         row = conn.execute("SELECT generation FROM campaign_reads WHERE campaign_id = ?", (campaign_id,)).fetchone()

@@ -122,13 +122,42 @@ def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
 
 
 def is_paper_scenario(module: types.ModuleType) -> bool:
-    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``)."""
+    """Whether ``module`` has the paper-scenario shape (``experiment`` and ``CLAIMS``).
+
+    Parameters
+    ----------
+    module : module
+        A scenario module.
+
+    Returns
+    -------
+    bool
+        True when it has ``experiment`` and ``CLAIMS``.
+    """
     return callable(getattr(module, "experiment", None)) and hasattr(module, "CLAIMS")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class UnitRun:
-    """The units' results in seed order, and how many were computed or read back."""
+    """The units' results in seed order, and how many were computed or read back.
+
+    Parameters
+    ----------
+    run_id : str
+        The run's 16-hex id (:func:`run_id`).
+    seeds : tuple of int
+        The units' seeds, in order.
+    results : tuple of dict
+        Each unit's result, in seed order.
+    elapsed_s : tuple of float
+        Each unit's run time [s].
+    computed : int
+        Units computed in this run.
+    reused : int
+        Units read back from the store.
+    db : str
+        The store's file.
+    """
 
     run_id: str
     seeds: tuple[int, ...]
@@ -140,7 +169,20 @@ class UnitRun:
 
 
 def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
-    """(16-hex run id, its JSON identity) of ``module`` with ``config``."""
+    """(16-hex run id, its JSON identity) of ``module`` with ``config``.
+
+    Parameters
+    ----------
+    module : module
+        The paper scenario.
+    config : object
+        Its Config.
+
+    Returns
+    -------
+    tuple of (str, str)
+        (16-hex run id, the JSON identity it hashes).
+    """
     from gyrobench.scenarios.bench.identity import scenario_identity
     from gyrobench.scenarios.runner.codec import SCHEMA
 
@@ -178,8 +220,23 @@ def run_ids(module: types.ModuleType, configs: Sequence[Any]) -> list[tuple[str,
 
 
 def concurrent_units(n_units: int, workers: int | None) -> int:
-    """How many units a local run holds in memory at once: one per worker process, at most
-    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs)."""
+    """How many units a local run holds in memory at once.
+
+    How many units a local run holds in memory at once: one per worker process, at most
+    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs).
+
+    Parameters
+    ----------
+    n_units : int
+        The units of the run.
+    workers : int or None
+        Worker processes (0: in this process; None: the usable CPUs).
+
+    Returns
+    -------
+    int
+        One per worker, at most ``n_units``.
+    """
     from gyrobench.scenarios.runner.executors import default_workers
 
     if workers == 0:
@@ -197,6 +254,17 @@ def check_unit_memory(
     once on this machine (:func:`concurrent_units`); a remote executor's workers hold their
     units in their own memory, so its callers do not call this.
     :func:`gyrobench.scenarios.registry.load_config` has already checked one unit.
+
+    Parameters
+    ----------
+    module : module
+        The paper scenario (its ``memory_estimate``).
+    config : object
+        The scenario's Config.
+    concurrent : int
+        Units running at once (:func:`concurrent_units`).
+    source : str
+        Where the configuration came from, for the message.
 
     Raises
     ------
@@ -219,12 +287,26 @@ def check_unit_memory(
 
 
 def slim_result(module: types.ModuleType, result: Any) -> Any:
-    """``result`` with every array of the fields ``module.SLIM_FIELDS`` names emptied (same dtype and
+    """A unit's result with the report-only arrays emptied.
+
+    ``result`` with every array of the fields ``module.SLIM_FIELDS`` names emptied (same dtype and
     number of dimensions, no elements): what a unit the report does not draw is stored as.
 
     A scenario lists there the fields only its report's figures read, and in ``REPORT_UNITS`` how many
     leading units of a run the report draws; the claims read ``quantities``, which is never slimmed.
     A scenario without ``SLIM_FIELDS`` stores every unit whole.
+
+    Parameters
+    ----------
+    module : module
+        The paper scenario (its ``SLIM_FIELDS``).
+    result : object
+        One unit's result.
+
+    Returns
+    -------
+    object
+        ``result`` with those fields' arrays emptied (same dtype and dimensions).
     """
     names = tuple(getattr(module, "SLIM_FIELDS", ()))
     if not names:
@@ -321,9 +403,23 @@ def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
 
 
 def check_run_size(n_units: Any, seed: Any = 0, *, what: str = "n_units", seed_name: str = "seed") -> None:
-    """Refuse, in O(1) and in one line, a run of ``n_units`` units from ``seed`` that is not an
+    """Refuse, in O(1) and one line, a run size or first seed out of range.
+
+    Refuse, in O(1) and in one line, a run of ``n_units`` units from ``seed`` that is not an
     integer in ``[1, MAX_UNITS]`` or whose seeds pass :data:`MAX_SEED` (``what`` and ``seed_name``
-    name them in the message, e.g. ``"--units"``)."""
+    name them in the message, e.g. ``"--units"``).
+
+    Parameters
+    ----------
+    n_units : object
+        The number of units, an integer in [1, MAX_UNITS].
+    seed : object
+        The first seed; the last, seed + n_units - 1, must be <= :data:`MAX_SEED`.
+    what : str
+        How the message names ``n_units`` (e.g. ``"--units"``).
+    seed_name : str
+        How the message names ``seed``.
+    """
     if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
         raise ValueError(f"{what} must be an integer >= 1; got {n_units!r}")
     if n_units > MAX_UNITS:
@@ -501,6 +597,11 @@ def run_units(
         How many leading units are stored whole; the others as :func:`slim_result` (default: all
         whole). A slim stored unit asked for whole is recomputed.
 
+    Returns
+    -------
+    UnitRun
+        The units' results in seed order, with how many were computed or read back.
+
     Raises
     ------
     ValueError, TypeError
@@ -601,6 +702,36 @@ def run_paper(
     The store keeps what the claims and the report read: the first ``module.REPORT_UNITS`` units
     whole, the others, the control's and the deviations' as :func:`slim_result`; ``keep_units``
     stores every unit whole.
+
+    Parameters
+    ----------
+    module : module
+        A paper scenario (:func:`is_paper_scenario`).
+    config : object
+        Its Config.
+    seed : int
+        The first unit's seed.
+    n_units : int
+        Units to run (the first look with ``max_units``).
+    executor : concurrent.futures.Executor, optional
+        Where the units run (a dask client's, for instance); None: local processes.
+    workers : int or None
+        Local worker processes (0: in this process; None: the usable CPUs).
+    db : path-like
+        The resume store.
+    progress : bool
+        Show a progress bar.
+    deviation_units : int
+        Units each deviation's variant runs over (0: none).
+    max_units : int or None
+        Add batches while a claim is undecided, up to this many units (None: one look).
+    keep_units : bool
+        Store every unit's whole result (else the slimmed ones, :func:`slim_result`).
+
+    Returns
+    -------
+    Outcome
+        The claims judged and the report built from the units.
     """
     t0 = time.perf_counter()
     kw: dict[str, Any] = dict(seed=seed, executor=executor, workers=workers, db=db, progress=progress)
@@ -744,6 +875,16 @@ def default_db(out_dir: str | os.PathLike) -> Path:
 
     Beside, not inside: the report folder is replaced as a whole by each new report
     (:func:`gyrobench.scenarios.reports.outputs.write_report_as_a_set`), the store must survive it.
+
+    Parameters
+    ----------
+    out_dir : path-like
+        The report folder.
+
+    Returns
+    -------
+    Path
+        ``<out_dir>.units.sqlite``.
     """
     out = Path(out_dir)
     return out.with_name(out.name + ".units.sqlite")

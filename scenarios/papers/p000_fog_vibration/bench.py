@@ -73,6 +73,18 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     with the true vibration bias removed (``truth/vibration_bias``: rectification, loop error,
     strain nonreciprocity and mount coning), so the default MSE score [(deg/h)^2] is the bias
     model's error alone: an identity (no compensation) scores the true bias.
+
+    Parameters
+    ----------
+    config : Config
+        The paper's configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    CompensationTask
+        The training and held-out runs of one unit.
     """
     sweep, _ = simulate(config, seed)
     x, _, _, bias, near = _bench_arrays(sweep, config)
@@ -98,10 +110,20 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
 
 
 class FogVibrationBias:
-    """A fitted paper-000 bias model as a bench predictor: ``predict(X)`` with X = [frequency Hz,
+    """A fitted paper-000 bias model as a bench predictor.
+
+    A fitted paper-000 bias model as a bench predictor: ``predict(X)`` with X = [frequency Hz,
     acceleration g] is the model's bias [deg/h] at the frequency clipped to the training range
     [``lo``, ``hi``] Hz while the shaker runs (acceleration > 0), 0 when it is off, as the paper
-    compensates (:func:`gyrobench.scenarios.papers.p000_fog_vibration.pipeline.predict_on`)."""
+    compensates (:func:`gyrobench.scenarios.papers.p000_fog_vibration.pipeline.predict_on`).
+
+    Parameters
+    ----------
+    model : callable
+        The fitted bias model, frequency [Hz] -> bias [deg/h].
+    lo, hi : float
+        The training frequency range [Hz] the input is clipped to.
+    """
 
     def __init__(self, model: Any, lo: float, hi: float) -> None:
         self.model, self.lo, self.hi = model, lo, hi
@@ -118,13 +140,30 @@ class FogVibrationBias:
 def fog_vibration_rbf(
     X: NDArray[np.float64], y: NDArray[np.float64], random_state: int | None = None
 ) -> FogVibrationBias:
-    """The fog_vibration paper's method: an RBF network with randomly fixed centres of the bias
+    """The paper's method as a bench compensator: an RBF network of the bias against frequency.
+
+    The fog_vibration paper's method: an RBF network with randomly fixed centres of the bias
     [deg/h] against the drive frequency [Hz], fitted to the means of the target in
     ``Config().bin_width_hz`` frequency bins over the rows where the shaker runs (acceleration > 0),
     spread ``rbf_spread_hz``, goal ``rbf_goal_deg_h2``, ``rbf_max_neurons``
     (:class:`gyrobench.analysis.compensation.random_rbf.RandomCentreRBF`; the paper's Fig. 6
     model, :func:`~gyrobench.scenarios.papers.p000_fog_vibration.pipeline.fit_bias_models`).
-    Predicts 0 while the shaker is off (:class:`FogVibrationBias`)."""
+    Predicts 0 while the shaker is off (:class:`FogVibrationBias`).
+
+    Parameters
+    ----------
+    X : ndarray
+        Rows of [frequency Hz, acceleration g].
+    y : ndarray
+        The target bias [deg/h].
+    random_state : int or None
+        Seed of the randomly fixed centres.
+
+    Returns
+    -------
+    FogVibrationBias
+        The fitted predictor.
+    """
     from gyrobench.analysis.compensation.random_rbf import RandomCentreRBF
     from gyrobench.analysis.sweep import bin_means
 

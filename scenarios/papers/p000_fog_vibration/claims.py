@@ -587,6 +587,14 @@ DEVIATIONS: tuple[Deviation, ...] = (
 
 
 def claims_for(config: Config) -> tuple[Claim, ...]:
-    """The claims judged for ``config``: :data:`CLAIMS` for every configuration (no variant of
-    this paper sets an input from a paper number, so none marks more claims calibrated)."""
+    """The claims judged for ``config``: :data:`CLAIMS` (no variant marks more claims calibrated).
+
+    Parameters
+    ----------
+    config : Config
+
+    Returns
+    -------
+    tuple of Claim
+    """
     return CLAIMS

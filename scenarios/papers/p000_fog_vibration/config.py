@@ -52,6 +52,37 @@ class FogSpec:
     each mode's frequency x (1 + ``mode_frequency_spread`` N(0, 1)), its strain, rocking and
     loss couplings x exp(``coupling_spread`` N(0, 1)) independently.
     ``physics_rate_hz`` is the shaker's sampling rate (an even multiple of ``output_rate_hz``).
+
+    Attributes
+    ----------
+    loop : LoopSpec
+        The closed loop (coil, modulation, gains).
+    optics : OpticalBudget
+        The optical budget (its ARW).
+    modes : tuple of StrainMode
+        The structural modes that strain the coil.
+    mount : MountConing or None
+        The mount's two rocking modes (None: no mount modes).
+    Q_arcsec : float
+        Readout quantization Q [arcsec].
+    B_deg_h : float
+        Bias instability B [deg/h].
+    K_deg_h_sqrt_h : float
+        Rate random walk K [deg/h/sqrt(h)].
+    R_deg_h2 : float
+        Rate ramp R [deg/h^2].
+    latitude_deg : float
+        Site latitude [deg].
+    azimuth_deg : float
+        Sense-axis azimuth from north toward east [deg].
+    mode_frequency_spread : float
+        Relative 1-sigma of each mode's frequency between units [-].
+    coupling_spread : float
+        1-sigma of each coupling's log factor between units [-].
+    physics_rate_hz : float
+        The shaker's sampling rate [Hz].
+    output_rate_hz : float
+        The gyro's output rate [Hz].
     """
 
     loop: LoopSpec = field(default_factory=LoopSpec)
@@ -178,6 +209,63 @@ class Config:
     columns from the octave taus where the dwell's aliased tones leave no Allan variance
     (:func:`~.pipeline.tone_free_m`; True) or from the full tau range (False, a labelled variant);
     the control runs the same rule (its ``fixed_hz`` is the vibrated units').
+
+    Attributes
+    ----------
+    fog : FogSpec
+        The gyro and its unit-to-unit spread.
+    acceleration_g : float
+        Sine table acceleration amplitude [g] (0: the control).
+    sweep_start_hz, sweep_end_hz : float
+        The sweep's start and end frequencies [Hz].
+    sweep_spacing : {"log", "linear"}
+        How the sweep's frequency moves between them.
+    fixed_hz : float
+        The fixed-frequency dwell's frequency [Hz].
+    static_before_s, vibration_s, static_after_s : float
+        The three phases of each record [s]: static, vibration, static.
+    max_displacement_mm : float
+        Shaker stroke limit [mm] (the acceleration is reduced below the frequency it caps).
+    ramp_time_s : float
+        Shaker amplitude ramp at each switch [s].
+    control_error : float
+        Relative amplitude error of the shaker's controller [-].
+    control_time_s : float
+        The controller's update interval [s].
+    guard_s : float
+        Cut after each phase's start so switching transients stay out of the steady phases [s].
+    wavelet : str
+        The multiscale decomposition's wavelet (a PyWavelets name).
+    level : int
+        Decomposition depth j.
+    bias_level : int
+        The approximation taken as the bias (Table 2, Table 3's denoising).
+    train_level : int
+        The approximation the bias models are trained on.
+    bin_width_hz : float
+        Frequency bin of the bias models' training tables [Hz].
+    train_edge_s : float
+        Excluded ends of the training record [s].
+    rbf_spread_hz : float
+        RBF width in the frequency input [Hz].
+    rbf_goal_deg_h2 : float
+        The RBF network's mean-square-error goal [(deg/h)^2].
+    rbf_max_neurons : int or None
+        RBF size cap (None: no cap).
+    rbf_centres : {"random", "ols"}
+        The RBF centres: randomly fixed (the paper) or newrb's orthogonal least squares.
+    ls_order : int
+        Order of the least-squares polynomial bias model.
+    edge_window_s : float
+        Half-width of the windows around the on/off edges scored for spikes [s].
+    offset_block_s : float
+        Block length of the offsets' scatter estimate [s].
+    bench_rate_hz : float
+        Rate the bench's samples are block means at [Hz].
+    split_fit_range : bool
+        B, K, R of wavelet-processed signals from tau >= 2^(bias_level+1)/fs (else the full range).
+    n_tone_free : bool
+        N of Table 3 from the taus the dwell's tones leave alone (else the full range).
     """
 
     fog: FogSpec = field(default_factory=FogSpec)
@@ -303,6 +391,19 @@ class Config:
 
 
 def split_level_m(config: Config) -> int:
-    """Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)
-    (1, the full tau range, when ``config.split_fit_range`` is False: the labelled variant)."""
+    """Smallest cluster size [samples] of the B, K, R fits of wavelet-processed signals.
+
+    Smallest cluster size [samples] for B, K, R of wavelet-processed signals: 2^(bias_level + 1)
+    (1, the full tau range, when ``config.split_fit_range`` is False: the labelled variant).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    int
+        2^(bias_level + 1), or 1 when ``config.split_fit_range`` is False.
+    """
     return 2 ** (config.bias_level + 1) if config.split_fit_range else 1

@@ -44,6 +44,20 @@ def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDA
     (L loss, S strain-rate, Rk rocking spectra per unit acceleration, H the loop); the strain
     and rocking tones themselves are zero-mean. Passes the loop and the output averaging with
     gain H(0) = sinc(0) = 1.
+
+    Parameters
+    ----------
+    fog : ClosedLoopFOG
+        The unit.
+    f : array_like
+        Frequencies [Hz].
+    a : array_like
+        Acceleration amplitudes [m/s^2].
+
+    Returns
+    -------
+    ndarray
+        The rectified bias [deg/h].
     """
     f = np.asarray(f, dtype=float)
     spec = fog.vibration_spectra(f)
@@ -54,25 +68,70 @@ def steady_vibration_bias(fog: ClosedLoopFOG, f: ArrayLike, a: ArrayLike) -> NDA
 
 
 def steady_mount_bias(mount: MountConing | None, f: ArrayLike, a: ArrayLike) -> NDArray[np.float64]:
-    """Mean coning rate of the mount [deg/h] under a sine ``a`` [m/s^2] at ``f`` [Hz]
-    (:meth:`~gyrobench.sim.mount_coning.MountConing.mean_rate`; 0 without a mount)."""
+    """Mean coning rate of the mount [deg/h] under a sine acceleration.
+
+    Mean coning rate of the mount [deg/h] under a sine ``a`` [m/s^2] at ``f`` [Hz]
+    (:meth:`~gyrobench.sim.mount_coning.MountConing.mean_rate`; 0 without a mount).
+
+    Parameters
+    ----------
+    mount : MountConing or None
+        The mount (None: 0).
+    f : array_like
+        Frequencies [Hz].
+    a : array_like
+        Acceleration amplitudes [m/s^2].
+
+    Returns
+    -------
+    ndarray
+        The mean rate [deg/h].
+    """
     if mount is None:
         return np.zeros(np.broadcast(np.asarray(f, float), np.asarray(a, float)).shape)
     return units.to_deg_per_h(mount.mean_rate(f, a))
 
 
 def draw_unit(config: Config, seed: int) -> ClosedLoopFOG:
-    """The FOG of unit ``seed`` (child 3 of the seed's generator; 0-2: records, centres)."""
+    """The FOG of unit ``seed`` (child 3 of the seed's generator; 0-2: records, centres).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    ClosedLoopFOG
+        The unit's gyro.
+    """
     return config.fog.draw(np.random.default_rng(seed).spawn(4)[3])
 
 
 def draw_mount(config: Config, seed: int) -> MountConing | None:
-    """The mount of unit ``seed`` (child 4 of the seed's generator)."""
+    """The mount of unit ``seed`` (child 4 of the seed's generator).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    MountConing or None
+        The unit's mount (None: the spec has none).
+    """
     return config.fog.draw_mount(np.random.default_rng(seed).spawn(5)[4])
 
 
 def padded_mount_rate(mount: MountConing, acceleration: NDArray[np.float64], fs: float) -> NDArray[np.float64]:
-    """:meth:`~gyrobench.sim.mount_coning.MountConing.rate` of a span that starts and ends at rest,
+    """The mount's coning rate over a span at rest at both ends, zero-padded for a fast FFT.
+
+    :meth:`~gyrobench.sim.mount_coning.MountConing.rate` of a span that starts and ends at rest,
     zero-padded to a length whose FFT is fast (:func:`scipy.fft.next_fast_len`, factors 2, 3, 5).
 
     The span's own length may hold a large prime factor (961,618 = 2 x 7 x 68,687 at the default
@@ -80,6 +139,20 @@ def padded_mount_rate(mount: MountConing, acceleration: NDArray[np.float64], fs:
     the circular response differs from the unpadded one only by the modes' ring-down that wraps
     around: with 30 ring-down times of rest at each end (the caller's pad) that is below e^-30
     (1e-13) of the response, besides rounding. Returns the rate [rad/s] on the span's samples.
+
+    Parameters
+    ----------
+    mount : MountConing
+        The mount.
+    acceleration : ndarray
+        Table acceleration over the span [m/s^2].
+    fs : float
+        Its sample rate [Hz].
+
+    Returns
+    -------
+    ndarray
+        The rate about the sense axis over the span [rad/s].
     """
     from scipy.fft import next_fast_len
 
@@ -121,7 +194,29 @@ def record_on_table(
 
     With a ``mount``, its coning rate (a true rate about the sense axis, computed on the shaker's
     grid and averaged over each output interval, as the integrate-and-dump output does) is added
-    to the output and to the truth (``truth/coning_rate``, part of ``truth/vibration_bias``)."""
+    to the output and to the truth (``truth/coning_rate``, part of ``truth/vibration_bias``).
+
+    Parameters
+    ----------
+    fog : ClosedLoopFOG
+        The unit.
+    prof : Phased
+        The shaker profile.
+    config : Config
+        The configuration.
+    rng : numpy.random.Generator
+        The record's stream.
+    name : str
+        The record's name.
+    mount : MountConing or None
+        The unit's mount.
+
+    Returns
+    -------
+    tuple of (Recording, dict, dict)
+        The simulated record, its output channels with the controller log added, and its truth
+        channels with the mount's coning rate and the vibration bias, at the output rate.
+    """
     r_shaker, r_fog = rng.spawn(2)
     spec = config.fog
     fs_out = spec.output_rate_hz
@@ -159,8 +254,27 @@ def record_on_table(
 def true_bias_at_bins(
     fb: np.ndarray, config: Config, fog: ClosedLoopFOG, mount: MountConing | None = None
 ) -> np.ndarray:
-    """The true steady vibration bias [deg/h] at sweep frequencies ``fb`` (steady amplitude there):
-    the loop's rectification plus the mount's coning."""
+    """The true steady vibration bias [deg/h] at sweep frequencies.
+
+    The true steady vibration bias [deg/h] at sweep frequencies ``fb`` (steady amplitude there):
+    the loop's rectification plus the mount's coning.
+
+    Parameters
+    ----------
+    fb : ndarray
+        Frequencies [Hz].
+    config : Config
+        The configuration (the sweep's amplitude there).
+    fog : ClosedLoopFOG
+        The unit.
+    mount : MountConing or None
+        Its mount.
+
+    Returns
+    -------
+    ndarray
+        The loop's rectification plus the mount's coning [deg/h].
+    """
     s = config.sweep().vibration
     assert isinstance(s, SineSweep)  # Config.sweep() builds the swept-sine profile
     t_of_f = (

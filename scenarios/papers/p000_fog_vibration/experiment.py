@@ -78,6 +78,16 @@ def memory_estimate(config: Config) -> float:
     (the FOG's vibration transforms and the mount's coning on the vibration span); experiment's,
     45 and 151 B. The formula is 1.24-1.26 x simulate's peaks and 1.6-2.0 x experiment's.
     Floats: never an overflow.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        Bytes.
     """
     t_total = float(config.static_before_s) + float(config.vibration_s) + float(config.static_after_s)
     return 1.2 * float(config.fog.physics_rate_hz) * (80.0 * t_total + 160.0 * float(config.vibration_s))
@@ -107,7 +117,22 @@ def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[
     """Record (a) the sweep and (b) the fixed dwell of one drawn FOG (static, vibration, static).
 
     The unit (its FOG and mount) is drawn from ``seed``; the records' noise and shaker from
-    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit."""
+    ``record_seed`` (default ``seed``): another record_seed is another run of the same unit.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+    record_seed : int or None
+        The records' seed (None: ``seed``).
+
+    Returns
+    -------
+    list of Recording
+        The sweep record and the fixed-dwell record.
+    """
     return list(_records(config, seed, record_seed))
 
 
@@ -131,6 +156,18 @@ def experiment(config: Config, seed: int) -> UnitResult:
     Returns the unit's ``quantities`` (one number per claim quantity, None where this unit
     cannot test it), the coefficient tables, the bias-model scores, the offsets and what the
     report's figures draw (downsampled traces and the fixed-frequency record).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    UnitResult
+        The unit's quantities, tables, scores and figure data.
     """
     records = _records(config, seed)
     sweep = _slim(next(records), "sweep")  # the sweep's other channels are released before the dwell runs

@@ -21,7 +21,20 @@ __all__ = [
 
 
 def fig_records(d: RecordTraces, config: Config) -> Any:
-    """Figure 1: both records (block means), static -> vibration -> static."""
+    """Figure 1: both records (block means), static -> vibration -> static.
+
+    Parameters
+    ----------
+    d : RecordTraces
+        The traces.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 5.0))
@@ -41,7 +54,20 @@ def fig_records(d: RecordTraces, config: Config) -> Any:
 
 
 def fig_spectrum_cwt(rate_deg_h: NDArray[np.float32], fs: float) -> Any:
-    """Figure 2: FFT amplitude spectrum and continuous-wavelet map of a record [deg/h] at ``fs`` [Hz]."""
+    """Figure 2: FFT amplitude spectrum and continuous-wavelet map of a record [deg/h] at ``fs`` [Hz].
+
+    Parameters
+    ----------
+    rate_deg_h : ndarray
+        The record [deg/h].
+    fs : float
+        Its sample rate [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     from gyrobench.analysis.wavelet import amplitude_spectrum, cwt_map
@@ -76,7 +102,20 @@ def fig_spectrum_cwt(rate_deg_h: NDArray[np.float32], fs: float) -> Any:
 
 
 def fig_multiscale(d: MultiscaleTraces, config: Config) -> Any:
-    """Figure 3: the sweep's deepest approximation and the rms envelope of each detail."""
+    """Figure 3: the sweep's deepest approximation and the rms envelope of each detail.
+
+    Parameters
+    ----------
+    d : MultiscaleTraces
+        The traces.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 8.0))
@@ -102,7 +141,20 @@ def fig_multiscale(d: MultiscaleTraces, config: Config) -> Any:
 
 
 def fig_split(d: SplitTraces, config: Config) -> Any:
-    """Figure 4: the approximations (bias) and reconstructed details of the sweep."""
+    """Figure 4: the approximations (bias) and reconstructed details of the sweep.
+
+    Parameters
+    ----------
+    d : SplitTraces
+        The traces.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 7.0))
@@ -130,7 +182,22 @@ def fig_split(d: SplitTraces, config: Config) -> Any:
 
 
 def fig_models(d: ModelTraces, neurons: int, config: Config) -> Any:
-    """Figure 6: the RBF and LS bias models against vibration frequency."""
+    """Figure 6: the RBF and LS bias models against vibration frequency.
+
+    Parameters
+    ----------
+    d : ModelTraces
+        The traces.
+    neurons : int
+        The RBF network's size, for the legend.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 4.8))
@@ -163,7 +230,20 @@ def fig_models(d: ModelTraces, neurons: int, config: Config) -> Any:
 
 
 def fig_compensation(d: CompensationTraces, config: Config) -> Any:
-    """Figures 7-8: denoising and bias compensation of the fixed-frequency record."""
+    """Figures 7-8: denoising and bias compensation of the fixed-frequency record.
+
+    Parameters
+    ----------
+    d : CompensationTraces
+        The traces.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 6.5))

@@ -90,7 +90,39 @@ _FLICKER = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class IdentificationInputs:
-    """What the identification starts from (field units as named)."""
+    """What the identification starts from (field units as named).
+
+    Attributes
+    ----------
+    arw_deg_sqrt_h : float
+        The optical budget's ARW [deg/sqrt(h)].
+    Q_arcsec, B_deg_h, K_deg_h_sqrt_h, R_deg_h2 : float
+        The additive IEEE 952 terms (FogSpec's).
+    f_low_hz, f_high_hz : float
+        The mount modes' frequencies [Hz].
+    quality : float
+        Their quality factor [-].
+    dwell_hz : float
+        The fixed dwell's frequency [Hz].
+    acceleration_g : float
+        Table acceleration amplitude [g].
+    visibility : float
+        The median unit's dwell bias in units of sigma_10 [-].
+    block_s : float
+        The scatter's block length [s].
+    scatter_blocks : int
+        Blocks of the steady static phase 1.
+    frequency_spread : float
+        FogSpec.mode_frequency_spread [-].
+    compliance_spread : float
+        FogSpec.coupling_spread [-].
+    population_draws : int
+        Drawn mounts of the population.
+    population_seed : int
+        Their seed.
+    margin : float
+        The method claims' precondition, in units of sigma_10 [-].
+    """
 
     arw_deg_sqrt_h: float  # the optical budget's ARW (sim.fog_loop defaults)
     Q_arcsec: float
@@ -114,7 +146,23 @@ class IdentificationInputs:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Identification:
-    """The identified mount (:class:`~gyrobench.sim.mount_coning.MountConing`) and what it gives."""
+    """The identified mount (:class:`~gyrobench.sim.mount_coning.MountConing`) and what it gives.
+
+    Attributes
+    ----------
+    inputs : IdentificationInputs
+        What the identification started from.
+    compliance_rad_per_m_s2 : float
+        The identified nominal compliance of both mount modes [rad/(m/s^2)].
+    sigma_10s_deg_h : float
+        Expected scatter of the static phase's 10-s means [deg/h].
+    dwell_bias_deg_h : float
+        The median drawn unit's |bias| at the dwell [deg/h].
+    nominal_dwell_bias_deg_h : float
+        The nominal (undrawn) mount's |bias| at the dwell [deg/h].
+    share_above_margin : float
+        Share of the drawn population with |bias| > margin x sigma_10 [-].
+    """
 
     inputs: IdentificationInputs
     compliance_rad_per_m_s2: float
@@ -140,6 +188,16 @@ def block_mean_bias(n_blocks: int) -> float:
     functions, B1 and B2, for variances based on finite samples of processes with power law
     spectral densities", NBS Technical Note 375, 1969; NIST SP 1065, sec. 5.15); 1 for white
     rate noise at any N. 3.0 for N = 59.
+
+    Parameters
+    ----------
+    n_blocks : int
+        N, the number of block means, >= 2.
+
+    Returns
+    -------
+    float
+        B1(N, 0) [-].
     """
     if isinstance(n_blocks, bool) or not isinstance(n_blocks, int) or n_blocks < 2:
         raise ValueError(f"n_blocks must be an integer >= 2; got {n_blocks!r}")
@@ -153,6 +211,22 @@ def sigma_10s(arw_deg_sqrt_h: float, B_deg_h: float, block_s: float, n_blocks: i
     sqrt(N^2/T + B1(n) (0.664 B)^2) with N in deg/h/sqrt(Hz), T = ``block_s`` and B1
     :func:`block_mean_bias` (white rate noise: N^2/T for any n; flicker: its Allan variance
     (0.664 B)^2 at T times B1). K and R of the budget add < 0.2 % over 590 s and are left out.
+
+    Parameters
+    ----------
+    arw_deg_sqrt_h : float
+        ARW [deg/sqrt(h)].
+    B_deg_h : float
+        Bias instability [deg/h].
+    block_s : float
+        Block length T [s].
+    n_blocks : int
+        Number of block means.
+
+    Returns
+    -------
+    float
+        The expected standard deviation [deg/h].
     """
     n = arw_deg_sqrt_h * 60.0  # deg/sqrt(h) -> deg/h/sqrt(Hz)
     return math.sqrt(n**2 / block_s + block_mean_bias(n_blocks) * (_FLICKER * B_deg_h) ** 2)
@@ -161,8 +235,25 @@ def sigma_10s(arw_deg_sqrt_h: float, B_deg_h: float, block_s: float, n_blocks: i
 def mount_factors(
     rng: np.random.Generator, frequency_spread: float, compliance_spread: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """One drawn mount's factors on the nominal modes (x, y): frequencies x clip(1 + s N(0, 1), 0.5, 1.5),
-    compliances x exp(sigma N(0, 1)); the unit-to-unit law of :meth:`~.config.FogSpec.draw_mount`."""
+    """One drawn mount's factors on the nominal modes (x, y).
+
+    One drawn mount's factors on the nominal modes (x, y): frequencies x clip(1 + s N(0, 1), 0.5, 1.5),
+    compliances x exp(sigma N(0, 1)); the unit-to-unit law of :meth:`~.config.FogSpec.draw_mount`.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The mount's stream.
+    frequency_spread : float
+        Relative 1-sigma s of the frequencies [-].
+    compliance_spread : float
+        1-sigma of the compliances' log factor [-].
+
+    Returns
+    -------
+    tuple of ndarray
+        (frequency factors clip(1 + s N(0, 1), 0.5, 1.5), compliance factors exp(sigma N(0, 1))).
+    """
     fs = np.clip(1.0 + frequency_spread * rng.standard_normal(2), 0.5, 1.5)
     cs = np.exp(compliance_spread * rng.standard_normal(2))
     return fs, cs
@@ -187,8 +278,23 @@ def _population_per_c2(i: IdentificationInputs) -> np.ndarray:
 
 
 def crossover_tau_s(term: str, i: IdentificationInputs) -> float:
-    """Tau [s] beyond which ``term`` dominates the ADEV: "B" over N (N/sqrt(tau) = 0.664 B), "K" or
-    "R" over the B floor (K sqrt(tau/3) = 0.664 B, R tau / sqrt(2) = 0.664 B; IEEE Std 952-1997, C.1)."""
+    """Tau [s] beyond which a noise term dominates the Allan deviation.
+
+    Tau [s] beyond which ``term`` dominates the ADEV: "B" over N (N/sqrt(tau) = 0.664 B), "K" or
+    "R" over the B floor (K sqrt(tau/3) = 0.664 B, R tau / sqrt(2) = 0.664 B; IEEE Std 952-1997, C.1).
+
+    Parameters
+    ----------
+    term : {"B", "K", "R"}
+        The term.
+    i : IdentificationInputs
+        The noise coefficients.
+
+    Returns
+    -------
+    float
+        The crossover tau [s].
+    """
     b = _FLICKER * units.deg_per_h(i.B_deg_h)
     if term == "B":  # N / sqrt(tau) = 0.664 B
         n = units.deg_per_h(i.arw_deg_sqrt_h * 60.0)  # deg/sqrt(h) -> deg/h/sqrt(Hz) -> rad/s/sqrt(Hz)
@@ -203,8 +309,23 @@ def crossover_tau_s(term: str, i: IdentificationInputs) -> float:
 
 
 def required_record_s(term: str, i: IdentificationInputs) -> float:
-    """Record length [s] that identifies ``term`` in a phase: :data:`RECORD_CROSSOVERS` x
-    :func:`crossover_tau_s` (the record's ADEV, to T/4, then reaches 25 crossover taus)."""
+    """Record length [s] that identifies a noise term in a phase.
+
+    Record length [s] that identifies ``term`` in a phase: :data:`RECORD_CROSSOVERS` x
+    :func:`crossover_tau_s` (the record's ADEV, to T/4, then reaches 25 crossover taus).
+
+    Parameters
+    ----------
+    term : {"B", "K", "R"}
+        The term.
+    i : IdentificationInputs
+        The noise coefficients.
+
+    Returns
+    -------
+    float
+        :data:`RECORD_CROSSOVERS` x :func:`crossover_tau_s` [s].
+    """
     return RECORD_CROSSOVERS * crossover_tau_s(term, i)
 
 
@@ -227,6 +348,26 @@ def swept_bias_record_s(
     :func:`required_record_s` ends), so the record needs
     T = T0 (sigma_b(tau*) / (0.664 B))^2, T0 = 2 static_s + vibration_s. ``fs`` [Hz] samples b(t)
     (it varies over seconds).
+
+    Parameters
+    ----------
+    i : IdentificationInputs
+        The noise coefficients.
+    mount : MountConing
+        The mount whose coning the sweep rectifies.
+    sweep_start_hz, sweep_end_hz : float
+        The sweep's band [Hz].
+    vibration_s : float
+        The sweep's duration [s].
+    static_s : float
+        Each static phase's duration [s].
+    fs : float
+        Rate of the evaluated bias [Hz].
+
+    Returns
+    -------
+    float
+        The record length [s].
     """
     import numpy as np
 
@@ -244,9 +385,22 @@ def swept_bias_record_s(
 
 
 def identify(i: IdentificationInputs) -> Identification:
-    """Nominal compliance of the two mount modes such that the MEDIAN drawn unit's mean coning rate at
+    """Identify the mount's nominal compliance from the paper's visible dwell bias.
+
+    Nominal compliance of the two mount modes such that the MEDIAN drawn unit's mean coning rate at
     the dwell equals ``visibility`` x sigma_10 (module docstring); the rate scales as the compliance
-    squared, so c = sqrt(target / median(|rate| per unit compliance^2))."""
+    squared, so c = sqrt(target / median(|rate| per unit compliance^2)).
+
+    Parameters
+    ----------
+    i : IdentificationInputs
+        What the identification starts from.
+
+    Returns
+    -------
+    Identification
+        The compliance and what it gives.
+    """
     s10 = sigma_10s(i.arw_deg_sqrt_h, i.B_deg_h, i.block_s, i.scatter_blocks)
     target = i.visibility * s10
     pop = _population_per_c2(i)

@@ -61,6 +61,22 @@ def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max
     carried or no octave is tone-free (the fit keeps the full range). 4 for 500 Hz at 400 Hz (tones
     at 100 and 200 Hz); 1 for a6 of that record (band 1.6 Hz).
 
+    Parameters
+    ----------
+    drive_hz : float
+        The drive frequency [Hz].
+    fs : float
+        The output rate [Hz].
+    band_hz : float or None
+        Half-width of each tone's band [Hz] (None: the module's).
+    max_m : int
+        The largest cluster size considered.
+
+    Returns
+    -------
+    int
+        m [samples].
+
     Raises
     ------
     ValueError
@@ -91,7 +107,9 @@ def tone_free_m(drive_hz: float, fs: float, *, band_hz: float | None = None, max
 def split_band_coefficients(
     rate_rad_s: NDArray[np.float64], fs: float, min_m: int, *, n_min_m: int = 1
 ) -> Coefficients:
-    """Q from the fit on the full tau range, N from the fit on tau >= ``n_min_m``/fs, B, K and R from the
+    """Allan coefficients with each term fitted on its own tau band.
+
+    Q from the fit on the full tau range, N from the fit on tau >= ``n_min_m``/fs, B, K and R from the
     fit on tau >= min_m/fs (field units).
 
     Used for wavelet-processed signals and what they are compared with: an approximation
@@ -103,6 +121,22 @@ def split_band_coefficients(
     octaves from there: the full range).
     Each entry carries its ``tau_min_s`` and the fit's point value ``fit_value`` (set also for a
     term the record does not identify).
+
+    Parameters
+    ----------
+    rate_rad_s : ndarray
+        The signal [rad/s].
+    fs : float
+        Its sample rate [Hz].
+    min_m : int
+        Shortest cluster size of the B, K, R fit [samples].
+    n_min_m : int
+        Shortest cluster size of the N fit [samples].
+
+    Returns
+    -------
+    Coefficients
+        Q from the full range, N from tau >= n_min_m/fs, B, K, R from tau >= min_m/fs.
     """
     y = np.asarray(rate_rad_s, dtype=float)
     octaves = [2**k for k in range(64) if 2**k <= y.size // 4]
@@ -132,6 +166,22 @@ def phase_table(
 
     ``guard_s`` is cut after each phase's start (except the first) so switching
     transients stay out of the steady phases.
+
+    Parameters
+    ----------
+    rate : ndarray
+        The rate record [rad/s].
+    fs : float
+        Its sample rate [Hz].
+    bounds : sequence of (float, float)
+        The three phases' [start, end) [s].
+    guard_s : float
+        Cut after each phase's start but the first [s].
+
+    Returns
+    -------
+    PhaseTable
+        Table 1.
     """
     if len(bounds) != 3:
         raise ValueError(f"phase_table needs 3 phases (static, vibration, static); got {len(bounds)}")
@@ -158,6 +208,22 @@ def shortest_tau_rise(
     phases, at the shortest cluster time. Returns phase 2's lower 95 % bound over the larger
     upper 95 % bound of phases 1 and 3 at tau = 1/fs (> 1: phase 2 is higher at 95 %); the
     phases are cut as in :func:`phase_table`. ``rate`` in any unit (the ratio is unitless).
+
+    Parameters
+    ----------
+    rate : ndarray
+        The rate record [rad/s].
+    fs : float
+        Its sample rate [Hz].
+    bounds : sequence of (float, float)
+        The three phases' [start, end) [s].
+    guard_s : float
+        Cut after each phase's start but the first [s].
+
+    Returns
+    -------
+    float
+        The vibration phase's ADEV at tau = 1/fs over the static phases' [-].
     """
     if len(bounds) != 3:
         raise ValueError(f"shortest_tau_rise needs 3 phases (static, vibration, static); got {len(bounds)}")
@@ -182,7 +248,24 @@ def _near_edges(on: np.ndarray, fs: float, width_s: float) -> np.ndarray:
 def predict_on(
     fn: Callable[[NDArray[np.float64]], Any], f: np.ndarray, on: np.ndarray, lo: float, hi: float
 ) -> np.ndarray:
-    """Model bias [deg/h] while ``on``, 0 otherwise; inputs clipped to the training range [lo, hi] Hz."""
+    """Model bias [deg/h] while ``on``, 0 otherwise; inputs clipped to the training range [lo, hi] Hz.
+
+    Parameters
+    ----------
+    fn : callable
+        The model, frequency [Hz] -> bias [deg/h].
+    f : ndarray
+        Drive frequency per sample [Hz].
+    on : ndarray of bool
+        Where the shaker runs.
+    lo, hi : float
+        The training range [Hz].
+
+    Returns
+    -------
+    ndarray
+        The bias [deg/h].
+    """
     out = np.zeros(len(f))
     if on.any():
         u, inv = np.unique(np.clip(f[on], lo, hi), return_inverse=True)
@@ -199,14 +282,45 @@ def _phase_mask(rec: Recording) -> tuple[np.ndarray, np.ndarray]:
 
 
 def block_means(x: np.ndarray, k: int) -> np.ndarray:
-    """Means of consecutive blocks of ``k`` samples (a partial last block is dropped)."""
+    """Means of consecutive blocks of ``k`` samples (a partial last block is dropped).
+
+    Parameters
+    ----------
+    x : ndarray
+        Samples.
+    k : int
+        Block length [samples].
+
+    Returns
+    -------
+    ndarray
+        The block means.
+    """
     n = len(x) // k * k
     return x[:n].reshape(-1, k).mean(axis=1)
 
 
 @dataclass(frozen=True)
 class BiasModels:
-    """The fitted bias-vs-frequency models and their training data (deg/h, Hz)."""
+    """The fitted bias-vs-frequency models and their training data (deg/h, Hz).
+
+    Attributes
+    ----------
+    f_bins : ndarray
+        Training bins' frequencies [Hz].
+    y_bins : ndarray
+        Their mean target bias [deg/h].
+    truth_bins : ndarray
+        The true bias there [deg/h].
+    rbf : callable
+        The RBF model, frequency [Hz] -> bias [deg/h].
+    rbf_neurons : int
+        Its size.
+    ls : numpy.polynomial.Polynomial
+        The least-squares polynomial model.
+    static_mean : float
+        Mean of the static phase [deg/h].
+    """
 
     f_bins: np.ndarray
     y_bins: np.ndarray
@@ -231,7 +345,28 @@ def fit_bias_models(
     rng: np.random.Generator,
     mount: MountConing | None = None,
 ) -> BiasModels:
-    """RBF and 4th-order LS models of the a_{train_level} bias [deg/h] against drive frequency [Hz] (a sweep)."""
+    """RBF and 4th-order LS models of the a_{train_level} bias [deg/h] against drive frequency [Hz] (a sweep).
+
+    Parameters
+    ----------
+    rec : Recording
+        The sweep record.
+    config : Config
+        The configuration.
+    dec : MultiscaleDecomposition
+        Its decomposition.
+    fog : ClosedLoopFOG
+        The unit (its true bias at the bins).
+    rng : numpy.random.Generator
+        The RBF centres' stream.
+    mount : MountConing or None
+        The unit's mount.
+
+    Returns
+    -------
+    BiasModels
+        The fitted models and their training data.
+    """
     fs = rec.fs
     bias = dec.approx(config.train_level)
     on, static1 = _phase_mask(rec)
@@ -265,7 +400,22 @@ def fit_bias_models(
 
 
 def decomposition_table(sweep: Recording, dec: MultiscaleDecomposition, config: Config) -> Decomposition:
-    """Allan coefficients of the sweep record, its a_j bias part and its d1..d_j drift + noise part."""
+    """Allan coefficients of the sweep record, its a_j bias part and its d1..d_j drift + noise part.
+
+    Parameters
+    ----------
+    sweep : Recording
+        The sweep record.
+    dec : MultiscaleDecomposition
+        Its decomposition.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Decomposition
+        Table 2.
+    """
     fs, j, m = sweep.fs, config.bias_level, split_level_m(config)
     return Decomposition(
         original=split_band_coefficients(sweep["rate"], fs, m),
@@ -275,7 +425,18 @@ def decomposition_table(sweep: Recording, dec: MultiscaleDecomposition, config: 
 
 
 def bias_model_scores(bm: BiasModels) -> BiasModelScores:
-    """MSE of each model against its training targets (the paper's measure) and against the true bias."""
+    """MSE of each model against its training targets (the paper's measure) and against the true bias.
+
+    Parameters
+    ----------
+    bm : BiasModels
+        The fitted models.
+
+    Returns
+    -------
+    BiasModelScores
+        Their MSEs.
+    """
     pr, pl = np.asarray(bm.rbf(bm.f_bins), float), bm.ls(bm.f_bins)
     return BiasModelScores(
         rbf_vs_target=float(np.mean((pr - bm.y_bins) ** 2)),
@@ -294,7 +455,24 @@ def bias_model_scores(bm: BiasModels) -> BiasModelScores:
 def compensated(
     fixed: Recording, dec: MultiscaleDecomposition, bm: BiasModels, config: Config
 ) -> dict[str, np.ndarray]:
-    """Original, denoised (a_j) and RBF-/LS-compensated 500 Hz record [deg/h]."""
+    """Original, denoised (a_j) and RBF-/LS-compensated 500 Hz record [deg/h].
+
+    Parameters
+    ----------
+    fixed : Recording
+        The fixed-frequency record.
+    dec : MultiscaleDecomposition
+        Its decomposition.
+    bm : BiasModels
+        The bias models.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``original``, ``denoised``, ``rbf``, ``ls`` [deg/h].
+    """
     on = fixed["shaker_on"] > 0.5
     den = dec.approx(config.bias_level)
     f = fixed["shaker_frequency"]
@@ -334,6 +512,24 @@ def edge_spike_ratio(
     in consecutive windows of the same length 2w of the steady vibration phase. Returns the
     smaller of the edges' ratios (> 1: every edge exceeds 95 % of equally long steady windows);
     NaN when the record has no edge or no full steady window.
+
+    Parameters
+    ----------
+    x : ndarray
+        A compensated record [deg/h].
+    on : ndarray of bool
+        Where the shaker runs.
+    idx : ndarray of int
+        Each sample's phase index.
+    steady : ndarray of bool
+        The steady samples of each phase.
+    w : int
+        Half-width of an edge window [samples].
+
+    Returns
+    -------
+    float
+        The largest edge deviation over the steady reference [-].
     """
     level = np.array(
         [
@@ -358,6 +554,20 @@ def edges_and_offsets(sig: Mapping[str, np.ndarray], fixed: Recording, config: C
     signal x [deg/h]; scatter = std of ``offset_block_s`` block means of the original's steady
     phase 1 [deg/h]; spike ratio: :func:`edge_spike_ratio` of the RBF-compensated record with
     half-window ``edge_window_s``.
+
+    Parameters
+    ----------
+    sig : mapping of str to ndarray
+        The compensated signals (:func:`compensated`).
+    fixed : Recording
+        The fixed-frequency record.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Offsets
+        The offsets, scatter and edge spikes.
     """
     idx, steady = _phase_index(fixed, config)
     s1, s2 = steady & (idx == 0), steady & (idx == 1)

@@ -255,7 +255,22 @@ def _conclusion(claims: Sequence[ClaimResult], units_: Sequence[UnitResult]) -> 
 
 
 def report(config: Config, units: Sequence[UnitResult], claims: Sequence[ClaimResult]) -> Outcome:
-    """Tables (first unit in detail, all units as medians) and figures (first unit); formats only."""
+    """Tables (first unit in detail, all units as medians) and figures (first unit); formats only.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration run.
+    units : sequence of UnitResult
+        The units' results.
+    claims : sequence of ClaimResult
+        The judged claims.
+
+    Returns
+    -------
+    Outcome
+        Tables, figures and results.
+    """
     if not units:
         raise ValueError("report needs at least one unit; got 0")
     u0 = units[0]

@@ -46,6 +46,8 @@ from numpy.typing import NDArray
 
 from gyrobench.scenarios.reports.allan import TERMS
 
+from .traces import CompensationTraces, FigureData, ModelTraces, MultiscaleTraces, RecordTraces, SplitTraces
+
 __all__ = [
     "TERMS",
     "BiasModelScores",
@@ -83,6 +85,23 @@ class Coefficient:
     (Tables 2 and 3), is the five-term least-squares fit's point value whether or not the record
     identifies the term: the number a table of the fit prints, as the paper's tables do (0 where
     the non-negative fit drops the term).
+
+    Attributes
+    ----------
+    value : float or None
+        The coefficient [unit] (None: not identifiable).
+    low, high : float
+        The 95 % interval [unit].
+    low68, high68 : float or None
+        The 68 % interval [unit].
+    unit : str
+        The field unit.
+    identifiable : bool
+        The record identifies the term.
+    tau_min_s : float or None
+        Shortest tau of the fit it comes from [s].
+    fit_value : float or None
+        The fit's point value, even where not identifiable [unit].
     """
 
     value: float | None
@@ -120,7 +139,13 @@ class Coefficient:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Coefficients:
-    """The five coefficients of one signal (one column of Tables 1-3)."""
+    """The five coefficients of one signal (one column of Tables 1-3).
+
+    Attributes
+    ----------
+    Q, N, B, K, R : Coefficient
+        The IEEE 952 terms.
+    """
 
     Q: Coefficient
     N: Coefficient
@@ -144,7 +169,13 @@ class Coefficients:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class PhaseTable:
-    """Table 1: the fixed-frequency record's phases (1 static, 2 vibration, 3 static)."""
+    """Table 1: the fixed-frequency record's phases (1 static, 2 vibration, 3 static).
+
+    Attributes
+    ----------
+    phase1, phase2, phase3 : Coefficients
+        Static, vibration, static.
+    """
 
     phase1: Coefficients
     phase2: Coefficients
@@ -157,7 +188,13 @@ class PhaseTable:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Decomposition:
-    """Table 2: the sweep record, its a_j bias part and its d1..d_j drift + noise part."""
+    """Table 2: the sweep record, its a_j bias part and its d1..d_j drift + noise part.
+
+    Attributes
+    ----------
+    original, bias, drift_noise : Coefficients
+        The sweep record, its bias part and its drift + noise part.
+    """
 
     original: Coefficients
     bias: Coefficients
@@ -169,7 +206,13 @@ class Decomposition:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CompensationTable:
-    """Table 3: the fixed-frequency record original, denoised, RBF- and LS-compensated."""
+    """Table 3: the fixed-frequency record original, denoised, RBF- and LS-compensated.
+
+    Attributes
+    ----------
+    original, denoised, rbf, ls : Coefficients
+        The record at each stage.
+    """
 
     original: Coefficients
     denoised: Coefficients
@@ -182,7 +225,27 @@ class CompensationTable:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BiasModelScores:
-    """The bias models' MSE [(deg/h)^2] against their a7 targets and the true bias, and the bins."""
+    """The bias models' MSE [(deg/h)^2] against their a7 targets and the true bias, and the bins.
+
+    Attributes
+    ----------
+    rbf_vs_target, ls_vs_target : float
+        Each model's MSE against its training targets [(deg/h)^2].
+    rbf_vs_truth, ls_vs_truth : float
+        Each model's MSE against the true bias [(deg/h)^2].
+    target_vs_truth : float
+        The targets' MSE against the true bias [(deg/h)^2].
+    rbf_neurons : int
+        The RBF network's size.
+    n_bins : int
+        Training bins.
+    training_range_hz : tuple of float
+        The training frequency range [Hz].
+    peak_bias_frequency_hz : float
+        Where the targets peak [Hz].
+    true_peak_bias_frequency_hz : float
+        Where the true bias peaks [Hz].
+    """
 
     rbf_vs_target: float
     ls_vs_target: float
@@ -213,7 +276,21 @@ class BiasModelScores:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Offsets:
-    """Figures 7-8 in numbers [deg/h] (spike ratio dimensionless); NaN where not measurable."""
+    """Figures 7-8 in numbers [deg/h] (spike ratio dimensionless); NaN where not measurable.
+
+    Attributes
+    ----------
+    offset_denoised, offset_rbf, offset_ls : float
+        Mean offset during vibration of each signal [deg/h].
+    static_scatter : float
+        Std of the static phase's block means [deg/h].
+    edge_spike_ratio : float
+        Edge spikes over the steady reference [-].
+    residual_vs_truth_rbf, residual_vs_truth_ls : float
+        Each compensation's residual against the true bias [deg/h].
+    true_bias_steady : float
+        The true steady bias of the dwell [deg/h].
+    """
 
     offset_denoised: float
     offset_rbf: float
@@ -239,77 +316,31 @@ class Offsets:
 
 # ------------------------------------------------------------------------------ figure traces (float32)
 @dataclass(frozen=True, slots=True, kw_only=True)
-class RecordTraces:
-    """Figure 1: block means [deg/h] of both records at times ``t`` [s]."""
-
-    t: F32
-    sweep: F32
-    fixed: F32
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class MultiscaleTraces:
-    """Figure 3: the sweep's deepest approximation and each detail's rms envelope [deg/h]."""
-
-    t: F32
-    a: F32
-    d_rms: F32  # shape (level, n): row i is detail i + 1
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class SplitTraces:
-    """Figure 4: approximations (block means at ``t_mean``) and details (samples at ``t_sample``)."""
-
-    t_mean: F32
-    t_sample: F32
-    a_train: F32
-    a_bias: F32
-    d_j: F32
-    d1: F32
-    d: F32
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class ModelTraces:
-    """Figure 6: training bins, true bias there, and both models on the grid ``ff`` [Hz, deg/h]."""
-
-    f_bins: F32
-    y_bins: F32
-    truth_bins: F32
-    ff: F32
-    rbf: F32
-    ls: F32
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class CompensationTraces:
-    """Figures 7-8: every k-th sample [deg/h] of the fixed record at each stage."""
-
-    t: F32
-    original: F32
-    denoised: F32
-    rbf: F32
-    ls: F32
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class FigureData:
-    """Everything the report's figures draw (float32; ``fixed_rate`` is the whole fixed-frequency
-    record [deg/h] at ``fs`` [Hz], for figure 2's spectrum and wavelet map)."""
-
-    records: RecordTraces
-    multiscale: MultiscaleTraces
-    split: SplitTraces
-    models: ModelTraces
-    compensation: CompensationTraces
-    fixed_rate: F32
-    fs: float
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
 class UnitResult:
-    """One simulated unit through paper 000's analysis (satisfies
-    :class:`gyrobench.scenarios.papers.contract.UnitResult`)."""
+    """One simulated unit through paper 000's analysis.
+
+    One simulated unit through paper 000's analysis (satisfies
+    :class:`gyrobench.scenarios.papers.contract.UnitResult`).
+
+    Attributes
+    ----------
+    seed : int
+        The unit's seed.
+    quantities : mapping of str to float or None
+        One number per claim quantity (None: this unit cannot test it).
+    phases : PhaseTable
+        Table 1.
+    decomposition : Decomposition
+        Table 2.
+    compensation : CompensationTable
+        Table 3.
+    bias_models : BiasModelScores
+        The bias models' scores.
+    offsets : Offsets
+        Figures 7-8 in numbers.
+    figures : FigureData
+        What the figures draw.
+    """
 
     seed: int
     quantities: Mapping[str, float | None]
@@ -335,6 +366,16 @@ def shown_ratio(big: Coefficient, small: Coefficient) -> float | None:
     big identified: big's lower 95 % bound over small's upper 95 % bound (> 1 shows big > small).
     big only a bound: the unit decides only when the data show the reverse (big's bound below
     small's lower 95 % bound: big.high / small.low < 1), else None.
+
+    Parameters
+    ----------
+    big, small : Coefficient
+        The coefficients.
+
+    Returns
+    -------
+    float or None
+        The evidence ratio (> 1 shows big > small), or None when the unit cannot decide.
     """
     if big.value is not None:
         return zero_safe_ratio(big.low, small.high)
@@ -349,6 +390,18 @@ def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> floa
     Both identified: the ratio of the values. One side only a bound: the unit decides only
     when the bound already puts the ratio outside the window (num.high / den.low < 1/factor,
     or num.low / den.high > factor; that bounding ratio is returned), else None.
+
+    Parameters
+    ----------
+    num, den : Coefficient
+        The coefficients.
+    factor : float
+        The "keeps" window's factor.
+
+    Returns
+    -------
+    float or None
+        The ratio, or None when the unit cannot decide.
     """
     if num.value is not None and den.value is not None:
         return float(num.value / den.value) if den.value > 0 else None
@@ -360,17 +413,41 @@ def keeps_ratio(num: Coefficient, den: Coefficient, factor: float = 2.0) -> floa
 
 
 def value_ratio(num: Coefficient, den: Coefficient) -> float | None:
-    """num / den of the point values; None unless both are identified."""
+    """num / den of the point values; None unless both are identified.
+
+    Parameters
+    ----------
+    num, den : Coefficient
+        The coefficients.
+
+    Returns
+    -------
+    float or None
+        num / den.
+    """
     if num.value is None or den.value is None or den.value <= 0:
         return None
     return float(num.value / den.value)
 
 
 def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
-    """num / den of the fit's point values (``fit_value``; module docstring), as a table of the fit
+    """The ratio of two coefficients' fit values, as a table of the fit reads.
+
+    num / den of the fit's point values (``fit_value``; module docstring), as a table of the fit
     reads: +inf when only den is 0; None when either is not set or both are 0 (the fit
     finds the term in neither signal: no ratio, so the unit cannot test a "keeps" or a "lower"
-    claim). Judged > 2 for "higher" and within a factor 2 of 1 for "keeps"."""
+    claim). Judged > 2 for "higher" and within a factor 2 of 1 for "keeps".
+
+    Parameters
+    ----------
+    num, den : Coefficient
+        The coefficients.
+
+    Returns
+    -------
+    float or None
+        num / den; +inf when only den is 0; None when either is unset or both are 0.
+    """
     if num.fit_value is None or den.fit_value is None:
         return None
     if num.fit_value <= 0 and den.fit_value <= 0:
@@ -379,7 +456,18 @@ def fit_ratio(num: Coefficient, den: Coefficient) -> float | None:
 
 
 def overlap(a: Coefficient, b: Coefficient) -> float | None:
-    """1.0 when the 95 % intervals of two identified coefficients overlap, 0.0 when not, None if a bound."""
+    """1.0 when the 95 % intervals of two identified coefficients overlap, 0.0 when not, None if a bound.
+
+    Parameters
+    ----------
+    a, b : Coefficient
+        The coefficients.
+
+    Returns
+    -------
+    float or None
+        1.0, 0.0, or None when either is only a bound.
+    """
     if a.value is None or b.value is None:
         return None
     return 1.0 if (a.low <= b.high and b.low <= a.high) else 0.0
@@ -397,7 +485,28 @@ def unit_quantities(
     """One number per claim quantity (module docstring: how a unit's quantity tests a claim).
 
     ``shortest_tau_rise``: Table 1's rise at tau = 1/fs
-    (:func:`~.pipeline.shortest_tau_rise`; None: not measured)."""
+    (:func:`~.pipeline.shortest_tau_rise`; None: not measured).
+
+    Parameters
+    ----------
+    phases : PhaseTable
+        Table 1.
+    decomposition : Decomposition
+        Table 2.
+    compensation : CompensationTable
+        Table 3.
+    scores : BiasModelScores
+        The bias models' scores.
+    offsets : Offsets
+        The offsets.
+    shortest_tau_rise : float or None
+        Table 1's rise at tau = 1/fs (None: not measured).
+
+    Returns
+    -------
+    dict of str to float or None
+        Claim quantity -> the unit's number.
+    """
     p1, p2, p3 = phases.phase1, phases.phase2, phases.phase3
     o, b, dn = decomposition.original, decomposition.bias, decomposition.drift_noise
     co, cd, cr, cl = compensation.original, compensation.denoised, compensation.rbf, compensation.ls

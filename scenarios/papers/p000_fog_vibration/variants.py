@@ -25,7 +25,18 @@ _GOAL_DEG_S_IN_DEG_H2 = 1e-4 * 3600.0**2
 
 
 def control_config(config: Config) -> Config:
-    """The same units with no vibration: ``acceleration_g = 0`` (everything else unchanged)."""
+    """The same units with no vibration: ``acceleration_g = 0`` (everything else unchanged).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Config
+        ``config`` with ``acceleration_g = 0``.
+    """
     return replace(config, acceleration_g=0.0)
 
 
@@ -48,7 +59,20 @@ VARIANTS: dict[str, Callable[[Config], Config]] = {
 
 
 def variant_config(config: Config, name: str) -> Config:
-    """``config`` with the deviation variant ``name`` applied (one of :data:`VARIANTS`)."""
+    """``config`` with the deviation variant ``name`` applied (one of :data:`VARIANTS`).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    name : str
+        A key of :data:`VARIANTS`.
+
+    Returns
+    -------
+    Config
+        The variant's configuration.
+    """
     if name not in VARIANTS:
         raise ValueError(f"variant must be one of {sorted(VARIANTS)}; got {name!r}")
     return VARIANTS[name](config)

@@ -37,10 +37,25 @@ BENCH_SCORES = ScenarioScores(
 
 
 def mems_piecewise(X: NDArray[np.float64], y: NDArray[np.float64]) -> Any:
-    """The mems_scale_factor paper's method: the heuristic piecewise polynomial regression with
+    """The paper's method as a bench compensator: the heuristic piecewise polynomial regression.
+
+    The mems_scale_factor paper's method: the heuristic piecewise polynomial regression with
     the scenario's default settings (``Config().orders``, ``join``, ``join_width``, ``piecewise_alpha``),
     fitted to map the mean outputs [deg/s] to the table rates [deg/s], as the paper's
-    reproduction fits it on the pooled fitting runs."""
+    reproduction fits it on the pooled fitting runs.
+
+    Parameters
+    ----------
+    X : ndarray
+        Mean outputs [deg/s], one column.
+    y : ndarray
+        Table rates [deg/s].
+
+    Returns
+    -------
+    PiecewisePolynomial
+        The fitted regression.
+    """
     from gyrobench.analysis.compensation.polynomial import PiecewisePolynomial
 
     c = Config()

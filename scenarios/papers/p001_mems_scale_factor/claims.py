@@ -413,6 +413,16 @@ def claims_for(config: Config) -> tuple[Claim, ...]:
     compensator's training data and improvement ratio): under the calibrated variant no
     paper-001 claim is reproduced. The shared runner judges these
     (:func:`gyrobench.scenarios.runner.units.module_claims`).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration (its ``variant``).
+
+    Returns
+    -------
+    tuple of Claim
+        :data:`CLAIMS`, each with its kind under the variant.
     """
     if config.variant == "identified":
         fixed = {"001.raw_kn"}

@@ -58,7 +58,13 @@ CALIBRATED_V_MAX_V = 0.44017
 
 
 def default_rates() -> tuple[float, ...]:
-    """The paper's 21 table rates, +3600 -> -3600 deg/s in 360 deg/s steps [deg/s]."""
+    """The paper's 21 table rates, +3600 -> -3600 deg/s in 360 deg/s steps [deg/s].
+
+    Returns
+    -------
+    tuple of float
+        The rates [deg/s].
+    """
     return tuple(float(r) for r in np.arange(3600.0, -3600.0 - 1.0, -360.0))
 
 

@@ -54,7 +54,15 @@ __all__ = [
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DeviceSpec:
-    """A variant's population: the resonators and, open loop, their sense chains (None: rebalanced)."""
+    """A variant's population: the resonators and, open loop, their sense chains (None: rebalanced).
+
+    Parameters
+    ----------
+    resonator : MemsResonatorSpec
+        The resonators' population.
+    chain : SenseChainSpec or None
+        Their sense chains' population (None: force rebalance).
+    """
 
     resonator: MemsResonatorSpec
     chain: SenseChainSpec | None = None
@@ -66,7 +74,18 @@ class DeviceSpec:
 
 
 def device_spec(config: Config) -> DeviceSpec:
-    """The population of ``config.variant`` (module docstring)."""
+    """The population of ``config.variant`` (module docstring).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    DeviceSpec
+        The variant's population.
+    """
     if config.variant in OPEN_LOOP_VARIANTS:
         nom = replace(config.gyro.nominal, readout="open_loop")
         chain = config.readout
@@ -87,6 +106,16 @@ def rate_transfer(config: Config) -> RateTransfer:
     "rapp": the fitted Rapp curve of :data:`~.identify.RAPP_IDENTIFIED` (PHENOMENOLOGICAL,
     CALIBRATED), applied to the resonator's rate output (noise, bias and turn-on errors pass
     through it). Every other variant's nonlinearity is inside the unit (its read-out).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    RateTransfer
+        The identity, or the fitted Rapp curve for the "rapp" variant.
     """
     if config.variant == "rapp":
         from .identify import transfer_of
@@ -96,8 +125,24 @@ def rate_transfer(config: Config) -> RateTransfer:
 
 
 def draw_unit(spec: DeviceSpec | MemsResonatorSpec, seed: int) -> MemsResonator:
-    """Unit ``seed``: the resonator realized from the first child of default_rng(seed), and, for
-    an open-loop population, its sense chain from the third (then factory-trimmed at T0)."""
+    """Draw unit ``seed`` of a population.
+
+    Unit ``seed``: the resonator realized from the first child of default_rng(seed), and, for
+    an open-loop population, its sense chain from the third (then factory-trimmed at T0).
+
+    Parameters
+    ----------
+    spec : DeviceSpec or MemsResonatorSpec
+        The population.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    MemsResonator
+        The resonator realized from the first child of default_rng(seed) and, open loop, its
+        sense chain from the third (then factory-trimmed at T0).
+    """
     res = spec.resonator if isinstance(spec, DeviceSpec) else spec
     r_unit, _, r_chain = np.random.default_rng(seed).spawn(3)
     unit = res.realize(rng=r_unit)
@@ -114,6 +159,16 @@ def clip_onset_dps(unit: MemsResonator) -> float:
     The rate where the stiffened sense envelope |B| (quadrature included) reaches the clip
     displacement y_c of :class:`~gyrobench.sim.mems_readout.SenseChain` (scipy brentq); inf when
     it is not reached below 10^5 deg/s.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        An open-loop unit.
+
+    Returns
+    -------
+    float
+        The rate [deg/s]; inf when the rail is never reached.
     """
     from scipy.optimize import brentq
 
@@ -141,8 +196,21 @@ def clip_onset_dps(unit: MemsResonator) -> float:
 
 
 def rate_authority_dps(unit: MemsResonator) -> float:
-    """The unit's knee at its reference temperature [deg/s]: the rebalance authority, or, open
-    loop through a sense chain, the rate at which its front end reaches the rail."""
+    """The unit's knee at its reference temperature [deg/s].
+
+    The unit's knee at its reference temperature [deg/s]: the rebalance authority, or, open
+    loop through a sense chain, the rate at which its front end reaches the rail.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+
+    Returns
+    -------
+    float
+        The rebalance authority or, open loop, the rate where the front end reaches its rail.
+    """
     if unit.sense_chain is not None:
         return clip_onset_dps(unit)
     return float(units.to_deg_per_s(mr.rate_authority(unit)))
@@ -166,6 +234,22 @@ def static_output(
     equilibrium; saturated ones settle within the loop's time constants (tens of ms). Equals
     SF Omega + ZRO below the authority and ``mems_resonator.saturated_output`` beyond it (test).
     ``transfer`` (default none) is the read-out's static rate transfer (:func:`rate_transfer`).
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        One power-on.
+    rates_dps : ndarray
+        Constant rates [deg/s].
+    temperature : float
+        Die temperature [K].
+    transfer : RateTransfer or None
+        The static transfer applied after the resonator (None: none).
+
+    Returns
+    -------
+    ndarray
+        The settled output per rate [deg/s].
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     out = np.empty(w.size)
@@ -193,6 +277,20 @@ def calibrated_v_max(
     on the paper's 21 rates. The draws do not depend on v_max, so the same units are
     evaluated at each trial value (scipy brentq between 0.3 and 1 x the nominal v_max).
     This is the CALIBRATION behind :data:`~.config.CALIBRATED_V_MAX_V`.
+
+    Parameters
+    ----------
+    spec : MemsResonatorSpec or None
+        The population (None: the default variant's).
+    seeds : sequence of int
+        The units the median is over.
+    rates_dps : sequence of float or None
+        The table rates [deg/s] (None: the paper's).
+
+    Returns
+    -------
+    float
+        v_max [V].
     """
     from scipy.optimize import brentq
 

@@ -15,7 +15,18 @@ __all__ = ["control_config", "deviation_effects", "variant_config", "variants"]
 
 
 def variants(config: Config) -> dict[str, Config]:
-    """The configurations :func:`deviation_effects` compares (name -> Config)."""
+    """The configurations :func:`deviation_effects` compares (name -> Config).
+
+    Parameters
+    ----------
+    config : Config
+        The base configuration.
+
+    Returns
+    -------
+    dict of str to Config
+        Name -> configuration.
+    """
     nom = config.gyro.nominal
     return {
         "default": config,
@@ -35,7 +46,20 @@ def variants(config: Config) -> dict[str, Config]:
 
 
 def variant_config(config: Config, name: str) -> Config:
-    """The config variant ``name`` of :func:`variants` (a ``Deviation.variant``: the paper's protocol)."""
+    """The config variant ``name`` of :func:`variants` (a ``Deviation.variant``: the paper's protocol).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    name : str
+        A key of :func:`variants`.
+
+    Returns
+    -------
+    Config
+        The variant's configuration.
+    """
     table = variants(config)
     if name not in table:
         raise ValueError(f"variant_config name must be one of {sorted(table)}; got {name!r}")
@@ -43,8 +67,21 @@ def variant_config(config: Config, name: str) -> Config:
 
 
 def control_config(config: Config) -> Config:
-    """The control population: the same units with a linear scale factor (no read-out
-    compression, the resonator design's force rebalance, linear through the table)."""
+    """The control population: the same units with a linear scale factor.
+
+    The control population: the same units with a linear scale factor (no read-out
+    compression, the resonator design's force rebalance, linear through the table).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Config
+        No read-out compression, the design's force rebalance, linear through the table.
+    """
     return replace(config, variant="design")
 
 
@@ -80,6 +117,20 @@ def deviation_effects(
     repeatability floor [%], the evaluation times [ms], and counts of units in the paper's
     order, with any breakpoint, split at +-1800. The quoted numbers were measured with
     ``deviation_effects()`` (seeds 0-19).
+
+    Parameters
+    ----------
+    config : Config or None
+        The base configuration (None: the default).
+    seeds : sequence of int
+        The units.
+    names : sequence of str or None
+        The variants measured (None: all of :func:`variants`).
+
+    Returns
+    -------
+    dict of str to dict of str to float
+        Variant -> measured figure -> median.
     """
     base = Config() if config is None else config
     configs = variants(base)

@@ -56,7 +56,20 @@ __all__ = [
 
 
 def nonlinearity_scorer(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
-    """K_n [%] of the compensated table against the table rates (IEEE), and the RMS error."""
+    """K_n [%] of the compensated table against the table rates (IEEE), and the RMS error.
+
+    Parameters
+    ----------
+    compensated : ndarray
+        The compensated rates of a held-out run [deg/s].
+    run : HeldOutRun
+        The run (its table rates).
+
+    Returns
+    -------
+    dict of str to float
+        ``"nonlinearity_pct"`` (K_n [%]) and ``"rms_dps"`` [deg/s].
+    """
     fit = fit_scale_factor(run.truth, np.asarray(compensated, dtype=float))
     err = np.asarray(compensated, dtype=float) - run.truth
     return {"nonlinearity_pct": fit.nonlinearity_pct, "rms_dps": float(np.sqrt(np.mean(err**2)))}
@@ -83,7 +96,20 @@ def _estimators(config: Config, seed: int) -> dict[str, Any]:
 
 
 def compensation_task(config: Config, seed: int) -> CompensationTask:
-    """Features = per-rate mean outputs [deg/s] of the fitting runs, target = table rate [deg/s]."""
+    """Features = per-rate mean outputs [deg/s] of the fitting runs, target = table rate [deg/s].
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    CompensationTask
+        The fitting runs' features and targets, and the held-out runs.
+    """
     rates = np.asarray(config.rates_dps, dtype=float)
     means = [run_means(config, run) for run in simulate_runs(config, seed)]
     fit = means[: config.n_fit_runs]
@@ -123,7 +149,22 @@ def _floor_kn(rates: NDArray[np.float64], fit_means: NDArray[np.float64], output
 def raw_analysis(
     rates: NDArray[np.float64], fit_means: NDArray[np.float64], held_means: NDArray[np.float64]
 ) -> RawAnalysis:
-    """Table 1 (mean of the fitting runs), raw K_n, the heuristic search (Table 2), low-rate K_n."""
+    """Table 1 (mean of the fitting runs), raw K_n, the heuristic search (Table 2), low-rate K_n.
+
+    Parameters
+    ----------
+    rates : ndarray
+        Table rates [deg/s].
+    fit_means : ndarray
+        The fitting runs' mean outputs [deg/s], one row per run.
+    held_means : ndarray
+        The held-out runs' [deg/s].
+
+    Returns
+    -------
+    RawAnalysis
+        Table 1, raw K_n, Table 2's search and the low-rate K_n.
+    """
     table1 = fit_means.mean(axis=0)
     fit1 = fit_scale_factor(rates, table1)
     search = breakpoint_search(rates, table1)
@@ -182,6 +223,26 @@ def score_method(
     """K_n [%] of one fitted compensator: in-sample, held-out table rates, dense held-out sweep.
 
     ``est`` None (the method could not be fitted): every number NaN (untestable).
+
+    Parameters
+    ----------
+    est : estimator or None
+        The fitted compensator (None: it could not be fitted).
+    rates : ndarray
+        Table rates [deg/s].
+    fit_means : ndarray
+        The fitting runs' mean outputs [deg/s].
+    held_means : ndarray
+        The held-out runs' [deg/s].
+    dense_rates_dps : ndarray
+        The dense sweep's rates [deg/s].
+    dense_outputs : ndarray
+        The held-out power-ons' noise-free outputs there [deg/s].
+
+    Returns
+    -------
+    MethodScore
+        The K_n figures [%].
     """
     if est is None:
         nan = math.nan
@@ -247,6 +308,21 @@ def hermite_error_ratio(model: Any, held: Sequence[Any], config: Config) -> floa
     ``PiecewisePolynomial.predict_unjoined``) [-]: <= 1 when the continuity processing does
     not increase the error near the breakpoints. NaN without a fitted model, a join of
     non-zero width or a swept output inside one.
+
+    Parameters
+    ----------
+    model : PiecewisePolynomial or None
+        The fitted piecewise model.
+    held : sequence of HeldOutRun
+        The held-out power-ons.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        The joined curve's largest error near the breakpoints over the segments' alone [-]; NaN
+        when untestable.
     """
     if model is None or not any(x1 > x0 for x0, x1 in model.joins_):
         return math.nan
@@ -272,9 +348,28 @@ def hermite_error_ratio(model: Any, held: Sequence[Any], config: Config) -> floa
 def local_features_ratio(
     config: Config, rates: NDArray[np.float64], fit_means: NDArray[np.float64], piecewise: MethodScore
 ) -> float:
-    """The paper's premise that the data have several significant local features, which one fitting
+    """The paper's premise that one fitting function describes the data poorly, as a ratio.
+
+    The paper's premise that the data have several significant local features, which one fitting
     function describes poorly [-]: the in-sample K_n of one ``poly_degree`` polynomial fitted to the
-    pooled fitting runs, over the piecewise fit's in-sample K_n. NaN when either cannot be fitted."""
+    pooled fitting runs, over the piecewise fit's in-sample K_n. NaN when either cannot be fitted.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration (its ``poly_degree``).
+    rates : ndarray
+        Table rates [deg/s].
+    fit_means : ndarray
+        The fitting runs' mean outputs [deg/s].
+    piecewise : MethodScore
+        The piecewise fit's scores.
+
+    Returns
+    -------
+    float
+        One polynomial's in-sample K_n over the piecewise fit's [-]; NaN when either cannot be fitted.
+    """
     from gyrobench.analysis.compensation.polynomial import PolynomialRegressor
 
     X, y = fit_means.reshape(-1)[:, None], np.tile(rates, len(fit_means))
@@ -339,6 +434,20 @@ def quantities(
     """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0.
 
     ``hermite_ratio``: :func:`hermite_error_ratio` of the piecewise fit (NaN: untestable).
+
+    Parameters
+    ----------
+    raw : RawAnalysis
+        Table 1, raw K_n and the breakpoint search.
+    methods : mapping of str to MethodScore
+        Each method's scores.
+    hermite_ratio : float
+        :func:`hermite_error_ratio` of the piecewise fit (NaN: untestable).
+
+    Returns
+    -------
+    dict of str to float or None
+        Claim quantity -> the unit's number.
     """
     held = {k: m.kn_heldout_pct for k, m in methods.items()}
     dense = {k: m.kn_dense_pct for k, m in methods.items()}
@@ -373,6 +482,18 @@ def experiment(config: Config, seed: int) -> UnitResult:
     per method the in-sample, held-out and dense-sweep K_n [%] and curves, the
     repeatability floor, the unit's rate authority, a 1 Hz trace of fitting run 0.
     Deterministic in (config, seed) except ``timing_ms`` and ``fit_time_ms`` (wall times).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    UnitResult
+        The unit's quantities and what the report draws.
     """
     runs = simulate_runs(config, seed)
     rates = np.asarray(config.rates_dps, dtype=float)

@@ -61,7 +61,17 @@ LOW_RATE_LIMIT_DPS = 1800.0
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Identification:
-    """Inputs and result of the identification: the raw K_n target, the rates [deg/s], C_f [F]."""
+    """Inputs and result of the identification: the raw K_n target, the rates [deg/s], C_f [F].
+
+    Attributes
+    ----------
+    raw_kn : float
+        The raw K_n target [-].
+    rates_dps : tuple of float
+        The table rates [deg/s].
+    feedback_capacitance_f : float
+        The identified C_f [F].
+    """
 
     raw_kn: float
     rates_dps: tuple[float, ...]
@@ -75,7 +85,20 @@ IDENTIFIED = Identification(
 
 
 def nominal_open_loop_unit(chain: SenseChain, resonator: mr.MemsResonator | None = None) -> mr.MemsResonator:
-    """The nominal resonator read out open loop through ``chain``, factory-trimmed at T0."""
+    """The nominal resonator read out open loop through ``chain``, factory-trimmed at T0.
+
+    Parameters
+    ----------
+    chain : SenseChain
+        The sense chain.
+    resonator : MemsResonator or None
+        The resonator (None: the default's).
+
+    Returns
+    -------
+    MemsResonator
+        The trimmed open-loop unit.
+    """
     base = mr.MemsResonator() if resonator is None else resonator
     return mems_population.factory_trim(replace(base, readout="open_loop", sense_chain=chain))
 
@@ -97,6 +120,20 @@ def identify_p001_device(
 
     K_n grows as C_f shrinks (the rail is reached at a smaller displacement); brentq on
     log C_f between 1 fF and 1 pF.
+
+    Parameters
+    ----------
+    raw_kn : float
+        The raw K_n target [-].
+    rates_dps : tuple of float or None
+        The table rates [deg/s] (None: the paper's).
+    chain : SenseChain or None
+        The nominal chain (None: the default's).
+
+    Returns
+    -------
+    Identification
+        The target and the identified C_f.
     """
     from scipy.optimize import brentq
 
@@ -116,7 +153,21 @@ def identified_chain_spec(spec: SenseChainSpec, ident: Identification | None = N
 # ------------------------------------------------------------------ the labelled phenomenological variant
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RappIdentification:
-    """The phenomenological Rapp curve of the ``"rapp"`` variant (field units: deg/s)."""
+    """The phenomenological Rapp curve of the ``"rapp"`` variant (field units: deg/s).
+
+    Attributes
+    ----------
+    raw_kn : float
+        The raw K_n target [-].
+    low_rate_kn : float
+        The low-rate K_n target [-].
+    low_rate_limit_dps : float
+        The low-rate span's limit [deg/s].
+    rail_rate_dps : float
+        The fitted saturation Omega_s [deg/s].
+    rail_order : float
+        The fitted smoothness p [-].
+    """
 
     raw_kn: float
     low_rate_kn: float
@@ -137,5 +188,16 @@ RAPP_IDENTIFIED = RappIdentification(
 
 
 def transfer_of(ident: RappIdentification = RAPP_IDENTIFIED) -> RateTransfer:
-    """The Rapp rate transfer (SI) of the ``"rapp"`` variant."""
+    """The Rapp rate transfer (SI) of the ``"rapp"`` variant.
+
+    Parameters
+    ----------
+    ident : RappIdentification
+        The identified curve.
+
+    Returns
+    -------
+    RateTransfer
+        Its transfer in rad/s.
+    """
     return RateTransfer(rail_rate=math.radians(ident.rail_rate_dps), rail_order=ident.rail_order)

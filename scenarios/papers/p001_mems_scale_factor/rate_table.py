@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.base import units
 from gyrobench.io.recording import Channel, Recording, package_version
-from gyrobench.sim import mems_slow_flow
 from gyrobench.sim.mems_resonator import MemsResonator
+from gyrobench.sim.sensor import Environment
 
 from . import NAME
 from .config import Config
@@ -40,7 +40,17 @@ __all__ = [
 
 @dataclass(frozen=True, slots=True)
 class Run:
-    """One rate-table run: the power-on, its die temperature [K], the output (n, k) [rad/s]."""
+    """One rate-table run: the power-on, its die temperature [K], the output (n, k) [rad/s].
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The power-on.
+    temperature : float
+        Its die temperature [K].
+    output : ndarray
+        Its output (n, k) [rad/s], one column per table rate.
+    """
 
     unit: MemsResonator
     temperature: float
@@ -50,6 +60,26 @@ class Run:
 def simulate_runs(config: Config, seed: int) -> list[Run]:
     """Unit ``seed``'s runs: realize the unit, then per run its ambient, power-on and noise.
 
+    Each run goes through the device interface: ``unit.simulate(environment, fs=, rng=)``
+    (:meth:`gyrobench.sim.mems_resonator.MemsResonator.simulate`) with the table's rates as
+    the columns of an (n, k) ``true_rate``, one independent dwell per column at the run's
+    die temperature.
+
+    Parameters
+    ----------
+    config : Config
+        The paper's protocol and device.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    list of Run
+        The ``n_fit_runs`` fitting runs, then the held-out runs; each output (n, k) [rad/s],
+        one column per table rate.
+
+    Notes
+    -----
     The unit comes from the first child stream of ``numpy.random.default_rng(seed)``; each
     run has its own child of the second (ambient temperature, power-on, noise).
     """
@@ -57,32 +87,70 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
     _, r_runs = np.random.default_rng(seed).spawn(2)
     w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
     n = int(round(config.settle_s * config.fs_hz)) + int(round(config.average_s * config.fs_hz))
-    col = np.broadcast_to(w, (n, w.size))
+    col = np.ascontiguousarray(np.broadcast_to(w, (n, w.size)))
     transfer = rate_transfer(config)
     out = []
     for rr in r_runs.spawn(config.n_fit_runs + config.n_heldout_runs):
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
-        res = mems_slow_flow.slow_flow(on, col, fs=config.fs_hz, rng=r_sim, temperature=temp)
-        out.append(Run(on, float(temp), transfer(res.output)))
+        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim)
+        dwells = np.ascontiguousarray(rec["rate"].reshape(w.size, n).T)  # the record holds dwell after dwell
+        out.append(Run(on, float(temp), transfer(dwells)))
     return out
 
 
 def run_means(config: Config, run: Run) -> NDArray[np.float64]:
-    """Mean output over each settled dwell [deg/s] (the paper's per-rate measured output)."""
+    """Mean output over each settled dwell [deg/s] (the paper's per-rate measured output).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    run : Run
+        A run.
+
+    Returns
+    -------
+    ndarray
+        One mean per table rate [deg/s].
+    """
     n_settle = int(round(config.settle_s * config.fs_hz))
     return units.to_deg_per_s(run.output[n_settle:].mean(axis=0))
 
 
 def dense_rates(config: Config) -> NDArray[np.float64]:
-    """The dense sweep's rates [deg/s]: every ``dense_step_dps`` across the table's span."""
+    """The dense sweep's rates [deg/s]: every ``dense_step_dps`` across the table's span.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    ndarray
+        The rates [deg/s].
+    """
     lo, hi = min(config.rates_dps), max(config.rates_dps)
     return np.arange(lo, hi + 0.5 * config.dense_step_dps, config.dense_step_dps)
 
 
 def trace(config: Config, run: Run) -> Trace:
-    """A 1 Hz trace of a run (dwells in table order) for the report's figure."""
+    """A 1 Hz trace of a run (dwells in table order) for the report's figure.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    run : Run
+        A run.
+
+    Returns
+    -------
+    Trace
+        The trace.
+    """
     n, k = run.output.shape
     step = max(1, int(round(config.fs_hz)))
     y = run.output.T.reshape(-1)[::step]
@@ -131,6 +199,18 @@ def simulate(config: Config, seed: int) -> list[Recording]:
 
     The unit is drawn from the first child stream of ``numpy.random.default_rng(seed)``; each
     run has its own child of the second (ambient temperature, power-on, noise).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    list of Recording
+        One record per run, dwell after dwell in table order.
     """
     return [
         _recording(
@@ -141,7 +221,18 @@ def simulate(config: Config, seed: int) -> list[Recording]:
 
 
 def rate_means(rec: Recording) -> NDArray[np.float64]:
-    """Mean output over each settled window of a record [deg/s] (``analysis.scale_factor.dwell_means``)."""
+    """Mean output over each settled window of a record [deg/s] (``analysis.scale_factor.dwell_means``).
+
+    Parameters
+    ----------
+    rec : Recording
+        A run's record (:func:`simulate`).
+
+    Returns
+    -------
+    ndarray
+        One mean per window [deg/s].
+    """
     return dwell_means(units.to_deg_per_s(rec["rate"]), rec.metadata["windows_samples"])
 
 
@@ -164,6 +255,16 @@ def memory_estimate(config: Config) -> float:
     at average_s = 240 (N = 4.0e6), 188 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
     98 MB at dense_step_dps = 0.5; the formula is 1.4 x these.
     Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        Bytes.
     """
     n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
     n_run *= len(config.rates_dps)

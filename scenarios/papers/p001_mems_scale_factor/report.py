@@ -509,7 +509,22 @@ def _conclusion(
 def report(
     config: Config, units: Sequence[UnitResult], claims: Sequence[ClaimResult]
 ) -> Outcome:
-    """Tables and figures from the units' results (detail from the first unit); no verdicts."""
+    """Tables and figures from the units' results (detail from the first unit); no verdicts.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration run.
+    units : sequence of UnitResult
+        The units' results.
+    claims : sequence of ClaimResult
+        The judged claims.
+
+    Returns
+    -------
+    Outcome
+        Tables, figures and results.
+    """
     if not units:
         raise ValueError("report needs at least one unit's experiment result; got none")
     return Outcome(

@@ -110,6 +110,21 @@ class Join:
     ``x`` is the gyro output [deg/s]; ``left``, ``right`` and ``joined`` the compensated rate of
     the two segments alone and of the joined model [deg/s]; ``data_x``, ``data_y`` the fitting
     points within 4 half-joins of the breakpoint (output, rate) [deg/s].
+
+    Attributes
+    ----------
+    breakpoint : float
+        The breakpoint, in gyro output [deg/s].
+    rate_dps : float
+        The table rate there [deg/s].
+    half_join : float
+        Half-width of the join [deg/s of output].
+    x : ndarray
+        Gyro outputs [deg/s].
+    left, right, joined : ndarray
+        The compensated rate of each segment alone and of the joined model [deg/s].
+    data_x, data_y : ndarray
+        The fitting points within 4 half-joins (output, rate) [deg/s].
     """
 
     breakpoint: float
@@ -125,7 +140,15 @@ class Join:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class MlpFit:
-    """The Bayes-regularized network's effective number of parameters and epochs run."""
+    """The Bayes-regularized network's effective number of parameters and epochs run.
+
+    Attributes
+    ----------
+    gamma : float
+        Effective number of parameters.
+    epochs_run : int
+        Training epochs run.
+    """
 
     gamma: float
     epochs_run: int
@@ -133,7 +156,17 @@ class MlpFit:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Trace:
-    """A 1 Hz trace of fitting run 0, dwells in table order (paper Fig. 2): time [s], rates [deg/s]."""
+    """A 1 Hz trace of fitting run 0, dwells in table order (paper Fig. 2): time [s], rates [deg/s].
+
+    Attributes
+    ----------
+    time_s : ndarray
+        Time [s].
+    table_dps : ndarray
+        Table rate [deg/s].
+    output_dps : ndarray
+        Gyro output [deg/s].
+    """
 
     time_s: NDArray[np.float64]
     table_dps: NDArray[np.float64]
@@ -142,7 +175,17 @@ class Trace:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DeviceSummary:
-    """What the report says of the device: v_max [V], turn-on SF repeatability [ppm], knee [deg/s]."""
+    """What the report says of the device: v_max [V], turn-on SF repeatability [ppm], knee [deg/s].
+
+    Attributes
+    ----------
+    dac_full_scale_v : float
+        v_max [V].
+    scale_factor_repeatability_ppm : float
+        Turn-on scale-factor repeatability [ppm].
+    rate_authority_dps : float
+        The knee [deg/s].
+    """
 
     dac_full_scale_v: float
     scale_factor_repeatability_ppm: float

@@ -31,7 +31,9 @@ BENCH_SCORES = ScenarioScores(
 
 
 class IfogSegmentRBF:
-    """The ifog_thermal paper's method: a newrb RBF network on the temperature features
+    """The ifog_thermal paper's method as a bench compensator: a newrb RBF network on (T, dT/dt, T x dT/dt).
+
+    The ifog_thermal paper's method: a newrb RBF network on the temperature features
     (T [degC], dT/dt [degC/s], T x dT/dt [degC^2/s]) predicting the drift [deg/h], its spread and
     neuron count chosen by leave-one-segment-out CV over the identification run's segments.
 

@@ -262,5 +262,16 @@ DEVIATIONS: tuple[Deviation, ...] = (
 
 
 def claims_for(config: Config) -> tuple[Claim, ...]:
-    """The claims judged for ``config``: :data:`CLAIMS` (no variant calibrates another claim)."""
+    """The claims judged for ``config``: :data:`CLAIMS` (no variant calibrates another claim).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    tuple of Claim
+        :data:`CLAIMS`.
+    """
     return CLAIMS

@@ -49,6 +49,20 @@ def point_heating(
     their sum (the same for any ``t_ref``). ``bonded=False``: a free
     fibre (dn/dT + n alpha_f, the paper's model); True: bonded in the pack at the radius
     of the layer that holds 0.25 L0 of an ideal winding.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    bonded : bool
+        Bonded in the pack (else a free fibre).
+    t_ref : float
+        Reference of the T x dT term [K].
+
+    Returns
+    -------
+    tuple of ndarray
+        (T [degC], Tdot term, T x dT term, their sum [deg/h]).
     """
     spec = config.coil_spec()
     L = config.fibre_length_m
@@ -73,7 +87,18 @@ def point_heating(
 
 
 def free_fibre_beta_slope(config: Config) -> float:
-    """d(beta_T)/dT [1/K^2] of a free fibre: the secant of beta_T over the coil spec's range."""
+    """d(beta_T)/dT [1/K^2] of a free fibre: the secant of beta_T over the coil spec's range.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration (its coil).
+
+    Returns
+    -------
+    float
+        d(beta_T)/dT [1/K^2].
+    """
     cs = config.coil_spec()
     r_any = np.array([cs.inner_radius])
     rise = cs.beta(r_any, cs.t_hi, bonded=False) - cs.beta(r_any, cs.t_lo, bonded=False)
@@ -86,6 +111,16 @@ def point_heating_sweep(config: Config) -> tuple[tuple[float, float, float], ...
     The quantities the paper's Table 1 leaves out (``SWEEP_LENGTHS_M`` x
     ``SWEEP_RATES_DEGC_PER_MIN``), each case run through :func:`point_heating` (free fibre,
     T_ref = 0 degC): the claim's value as a function of them, not one assumed case.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    tuple of (float, float, float)
+        (heated length [m], rate [degC/min], max |T x dT term| [deg/h]) per case.
     """
     out = []
     for length in SWEEP_LENGTHS_M:
@@ -96,9 +131,22 @@ def point_heating_sweep(config: Config) -> tuple[tuple[float, float, float], ...
 
 
 def point_heating_by_reference(config: Config) -> tuple[tuple[str, float, float], ...]:
-    """(reference, max |T x dT term|, max |Tdot term|) [deg/h] of the default case, split at
+    """The point-heating terms of the default case split at three temperature references.
+
+    (reference, max |T x dT term|, max |Tdot term|) [deg/h] of the default case, split at
     0 degC (the paper's eq. 9), at the coil model's t_ref and at 0 K: the sum is the same, the
-    split is not."""
+    split is not.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    tuple of (str, float, float)
+        (reference, max |T x dT term|, max |Tdot term|) [deg/h] at 0 degC, the coil's t_ref and 0 K.
+    """
     refs = (
         ("0 degC (eq. 9)", units.ZERO_CELSIUS),
         (f"{units.to_celsius(config.coil_spec().t_ref):g} degC (coil t_ref)", config.coil_spec().t_ref),
@@ -112,8 +160,21 @@ def point_heating_by_reference(config: Config) -> tuple[tuple[str, float, float]
 
 
 def point_heating_result(config: Config) -> PointHeating:
-    """:func:`point_heating` free and bonded, with the coil constants Table 1 prints, the sweep
-    over the quantities it leaves out and the split at three references."""
+    """Table 1 / figure 2's point heating, free and bonded, with the sweep and the split.
+
+    :func:`point_heating` free and bonded, with the coil constants Table 1 prints, the sweep
+    over the quantities it leaves out and the split at three references.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    PointHeating
+        The result.
+    """
     T_pt, sh_pt, prod_pt, tot_pt = point_heating(config)
     coil = config.coil_spec()
     return PointHeating(
@@ -131,7 +192,18 @@ def point_heating_result(config: Config) -> PointHeating:
 
 
 def winding_comparison(config: Config) -> tuple[WindingPeak, ...]:
-    """Peak coil drift [deg/h] of the identification run per ideal winding (no noise or defects)."""
+    """Peak coil drift [deg/h] of the identification run per ideal winding (no noise or defects).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    tuple of WindingPeak
+        One per winding.
+    """
     out = []
     prof = config.identification_profile()
     d = units.to_deg_per_h

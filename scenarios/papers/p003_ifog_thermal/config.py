@@ -104,6 +104,99 @@ class Config:
     ``derivative_estimator`` (``ESTIMATORS``): how dT/dt is taken from the logged temperature.
     ``thermal_program`` False is the control population (``control_config``): no thermal
     program, the chamber holds ``start_degC`` for each run's duration.
+
+    Attributes
+    ----------
+    start_degC : float
+        Chamber temperature at the start of every run [degC].
+    low_degC, high_degC : float
+        The identification program's low and high temperatures [degC].
+    identification_rate_degC_per_min : float
+        Identification ramp rate [degC/min].
+    identification_settle_h : float
+        Settle at the low temperature before the heating ramp [h].
+    identification_hold_h : float
+        Hold after each ramp [h].
+    validation_soak_h : float
+        Validation runs' soak [h].
+    validation1_runs : int
+        Validation-1 runs.
+    validation1_rate_degC_per_h : float
+        Validation-1 ramp rate [degC/h].
+    validation2_runs : int
+        Validation-2 runs.
+    validation2_rate_degC_per_min : float
+        Validation-2 ramp rate [degC/min].
+    validation2_true_rate_deg_h : float
+        The turntable rate of validation 2 [deg/h].
+    winding : str
+        The coil's winding pattern (``sim.coil_winding.WINDING_PATTERNS``).
+    layers : int
+        The coil's layers.
+    fibre_length_m : float
+        Fibre length [m] (sets the turns per layer).
+    lead_difference_rms_m : float
+        Spread of a unit's lead A - lead B length [m] (CALIBRATED).
+    housing_time_constant_min : float
+        Chamber-housing thermal time constant [min].
+    housing_lag_run_rms : float
+        Relative run-to-run spread of the housing's conductance [-].
+    modulation_depth_pi : float
+        Biasing modulation depth [pi rad].
+    bias_instability_deg_h : float
+        Added bias instability B [deg/h].
+    bias_deg_h : float
+        Added constant bias [deg/h].
+    diameter_tempco_ppm_per_K : float or None
+        Coil diameter tempco [ppm/K] (None: the coil's own hoop expansion).
+    wavelength_tempco_ppm_per_K : float
+        Source wavelength tempco [ppm/K].
+    sense_azimuth_deg : float
+        Sense-axis azimuth from north [deg].
+    sensor_location : str
+        Where the temperature sensor sits on the coil (``sim.fog2d.TemperatureSensorSpec``).
+    sensor_noise_K : float
+        The temperature sensor's white noise [K].
+    sensor_resolution_K : float
+        Its resolution [K].
+    thermal_step_s : float
+        The coil's thermal solver step [s].
+    fs_hz : float
+        FOG logging rate [Hz].
+    analysis_block_s : float
+        Averaging block of the analysis [s].
+    derivative_window_s : float
+        Window of the dT/dt estimate [s].
+    derivative_estimator : {"savgol", "central_difference"}
+        How dT/dt is taken from the logged temperature.
+    thermal_program : bool
+        Run the thermal programs (False: the control, the chamber holds ``start_degC``).
+    rbf_spread : float or None
+        RBF spread in normalized input units (None: chosen by cross-validation).
+    rbf_goal_deg_h2 : float
+        newrb's goal [(deg/h)^2].
+    rbf_max_neurons : int or None
+        Network size (None: chosen by cross-validation).
+    rbf_spread_grid : tuple of float
+        The spreads cross-validation tries.
+    rbf_neuron_grid : tuple of int
+        The sizes cross-validation tries.
+    rbf_cv_tolerance : float
+        Relative CV tolerance of the simplest-model rule [-].
+    record_cooldown : bool
+        Record the identification run from its start (else from reaching the low temperature).
+    identification_average : {"record_mean", "temperature_curves"}
+        How step 5 averages the identification records.
+    curve_bin_degC : float
+        Temperature bin of the "temperature_curves" average [degC].
+    score_final_soak : bool
+        Score the validation runs' final soak too.
+    point_z_fraction : float
+        Position of the heated stretch along the fibre [fraction of L].
+    point_length_m : float
+        Length of the heated stretch [m].
+    point_rate_degC_per_min : float
+        Its heating rate [degC/min].
     """
 
     # chamber protocols

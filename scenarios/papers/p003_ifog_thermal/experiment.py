@@ -36,6 +36,18 @@ def experiment(config: Config, seed: int) -> UnitResult:
     (``paper``), the labelled diagnostic with the truth target (``diagnostic_truth_target``),
     the exported network, the float32 deployment check, the streaming check, the
     point-heating curve, the winding comparison and downsampled traces for figures.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    UnitResult
+        The unit's quantities and details.
     """
     runs = {r.name: prepare(r, config) for r in simulate(config, seed)}
     paper = fit_protocol(config, runs, "paper")

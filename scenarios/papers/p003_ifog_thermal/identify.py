@@ -40,7 +40,25 @@ XTOL_M = 0.01
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Identification:
-    """The identified lead-asymmetry spread with the inputs that determine it."""
+    """The identified lead-asymmetry spread with the inputs that determine it.
+
+    Attributes
+    ----------
+    target_deg_h : float
+        The median peak drift aimed at [deg/h].
+    units : int
+        Coils drawn.
+    first_seed : int
+        Their first seed.
+    bracket_m : tuple of float
+        The bisection's bracket [m].
+    xtol_m : float
+        Its tolerance [m].
+    lead_difference_rms_m : float
+        The identified spread [m].
+    median_peak_deg_h : float
+        The median peak drift there [deg/h].
+    """
 
     target_deg_h: float  # the paper's drift level for a 10 degC change
     units: int  # drawn coils of the identification population
@@ -52,9 +70,28 @@ class Identification:
 
 
 def median_peak_drift(config: Config, lead_rms_m: float, *, n_units: int, first_seed: int) -> float:
-    """Median over drawn coils of the peak |coil drift| [deg/h] of the validation-1 program while
+    """Median peak coil drift [deg/h] of the validation-1 program over drawn coils.
+
+    Median over drawn coils of the peak |coil drift| [deg/h] of the validation-1 program while
     scored (soak and ramp), at lead-asymmetry spread ``lead_rms_m`` [m] (the coil alone: no loop,
-    no noise)."""
+    no noise).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    lead_rms_m : float
+        The lead-asymmetry spread [m].
+    n_units : int
+        Coils drawn.
+    first_seed : int
+        Their first seed.
+
+    Returns
+    -------
+    float
+        The median of each coil's peak |drift| while scored [deg/h].
+    """
     if not (np.isfinite(lead_rms_m) and lead_rms_m >= 0):
         raise ValueError(f"lead_rms_m must be finite and >= 0 (m); got {lead_rms_m!r}")
     if isinstance(n_units, bool) or not isinstance(n_units, int) or n_units < 1:
@@ -84,6 +121,26 @@ def identify_lead_asymmetry(
 
     The median peak grows with the spread (each coil's lead term scales with it); the bracket
     must contain the target (else ValueError naming it).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    target_deg_h : float
+        The median peak drift aimed at [deg/h].
+    n_units : int
+        Coils drawn.
+    first_seed : int
+        Their first seed.
+    bracket_m : tuple of float
+        The bracket of the spread [m].
+    xtol_m : float
+        The bisection's tolerance [m].
+
+    Returns
+    -------
+    Identification
+        The identified spread and its inputs.
     """
     lo, hi = bracket_m
 

@@ -64,6 +64,22 @@ def heat_cool_average(
     logged T); in every bin both records reach, each record's mean of every feature and of
     ``y`` is taken, and the two means are averaged. Returns (X, y, fold labels), one row
     per bin in rising T, folds = the lower, middle and upper third of the bins.
+
+    Parameters
+    ----------
+    X : ndarray
+        Features, ``X[:, 0]`` the temperature [degC].
+    y : ndarray
+        Target [deg/h].
+    segments : ndarray of int
+        Each row's segment.
+    bin_degC : float
+        Temperature bin [degC].
+
+    Returns
+    -------
+    tuple of (ndarray, ndarray, ndarray)
+        The averaged features, target and segments.
     """
     heat, cool = segments == 1, segments == 2
     lo = float(np.min(X[:, 0]))
@@ -83,7 +99,21 @@ def heat_cool_average(
 
 @dataclass(frozen=True, slots=True)
 class TrainingSet:
-    """What the networks are trained on: features (T, dT/dt, T x dT/dt), target, CV folds."""
+    """What the networks are trained on: features (T, dT/dt, T x dT/dt), target, CV folds.
+
+    Attributes
+    ----------
+    X : ndarray
+        Features (T [degC], dT/dt [degC/s], T x dT/dt).
+    y : ndarray
+        Target [deg/h].
+    segments : ndarray of int
+        Each row's segment (the CV folds).
+    mean_output_deg_h : float
+        The mean subtracted from the output [deg/h].
+    mean_T_degC : float
+        Mean temperature [degC].
+    """
 
     X: NDArray[np.float64]
     y: NDArray[np.float64]
@@ -100,6 +130,20 @@ def training_set(config: Config, run: Run, *, target: str = "paper") -> Training
     simulator's true rate. Features are computed on the whole run (the derivative needs
     the history), then cut to the record (:func:`record_mask`) and, for
     ``identification_average="temperature_curves"``, averaged (:func:`heat_cool_average`).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    run : Run
+        The identification run.
+    target : {"paper", "truth"}
+        The training target.
+
+    Returns
+    -------
+    TrainingSet
+        The training data.
     """
     if target not in TARGETS:
         raise ValueError(f"target must be one of {TARGETS}; got {target!r}")
@@ -114,7 +158,24 @@ def training_set(config: Config, run: Run, *, target: str = "paper") -> Training
 
 
 def select(config: Config, X: NDArray[np.float64], y: NDArray[np.float64], segments: NDArray[np.int_]) -> RBFSelection:
-    """:func:`select_rbf` over the Config grid (a fixed spread or neuron count pins that axis)."""
+    """:func:`select_rbf` over the Config grid (a fixed spread or neuron count pins that axis).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration (the grids and fixed settings).
+    X : ndarray
+        Features.
+    y : ndarray
+        Target [deg/h].
+    segments : ndarray of int
+        The CV folds.
+
+    Returns
+    -------
+    RBFSelection
+        The chosen spread and size.
+    """
     spreads = config.rbf_spread_grid if config.rbf_spread is None else (config.rbf_spread,)
     neurons = config.rbf_neuron_grid if config.rbf_max_neurons is None else (config.rbf_max_neurons,)
     return select_rbf(
@@ -131,6 +192,18 @@ def fit_models(config: Config, train: TrainingSet) -> tuple[RBFSelection, RBFSel
 
     Each model's spread and neuron count come from :func:`select_rbf` on ``train`` alone;
     the networks are then refitted on the whole training set with the chosen settings.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    train : TrainingSet
+        The training set.
+
+    Returns
+    -------
+    tuple of (RBFSelection, RBFSelection, RBFNetwork, RBFNetwork)
+        (selection improved, selection traditional, improved, traditional).
     """
     X_imp, X_trad, y = train.X, train.X[:, :2], train.y
     sel_imp = select(config, X_imp, y, train.segments)
@@ -141,7 +214,24 @@ def fit_models(config: Config, train: TrainingSet) -> tuple[RBFSelection, RBFSel
 
 
 def compensate(config: Config, model: RBFNetwork, r: Run, product: bool) -> NDArray[np.float64]:
-    """Compensated output d = output - model(T, dT[, T x dT]) over the whole run [deg/h]."""
+    """Compensated output d = output - model(T, dT[, T x dT]) over the whole run [deg/h].
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    model : RBFNetwork
+        The network.
+    r : Run
+        The run.
+    product : bool
+        The network takes the T x dT/dt feature.
+
+    Returns
+    -------
+    ndarray
+        d [deg/h].
+    """
     if config.derivative_estimator == "savgol":
         return batch_compensate(model, r.output, r.T, r.fs, window_s=config.derivative_window_s, product=product)
     return np.asarray(r.output, dtype=float) - np.asarray(model.predict(features(r, config, product=product)), float)
@@ -149,7 +239,19 @@ def compensate(config: Config, model: RBFNetwork, r: Run, product: bool) -> NDAr
 
 @dataclass(frozen=True, slots=True)
 class Fitted:
-    """One protocol's result: training set, selections, networks, compensated outputs."""
+    """One protocol's result: training set, selections, networks, compensated outputs.
+
+    Attributes
+    ----------
+    train : TrainingSet
+        The training set.
+    sel_imp, sel_trad : RBFSelection
+        The improved and traditional models' selections.
+    improved, traditional : RBFNetwork
+        The refitted networks.
+    comp_imp, comp_trad : dict of str to ndarray
+        Each network's compensated output per run [deg/h].
+    """
 
     train: TrainingSet
     sel_imp: RBFSelection
@@ -161,7 +263,22 @@ class Fitted:
 
 
 def fit_protocol(config: Config, runs: Mapping[str, Run], target: str) -> Fitted:
-    """Train on identification run 1 with ``target`` and compensate every other run."""
+    """Train on identification run 1 with ``target`` and compensate every other run.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    runs : mapping of str to Run
+        The unit's runs.
+    target : {"paper", "truth"}
+        The training target.
+
+    Returns
+    -------
+    Fitted
+        The protocol's result.
+    """
     train = training_set(config, runs["ident_1"], target=target)
     sel_imp, sel_trad, improved, traditional = fit_models(config, train)
     held = [r for name, r in runs.items() if name != "ident_1"]
@@ -177,7 +294,20 @@ def fit_protocol(config: Config, runs: Mapping[str, Run], target: str) -> Fitted
 
 
 def err(d: NDArray[np.float64], run: Run) -> float:
-    """The paper's ERR = MSE(d - a) [(deg/h)^2] over the scored samples (eq. 19, a = reference)."""
+    """The paper's ERR = MSE(d - a) [(deg/h)^2] over the scored samples (eq. 19, a = reference).
+
+    Parameters
+    ----------
+    d : ndarray
+        Compensated output [deg/h].
+    run : Run
+        The run (its reference and scored samples).
+
+    Returns
+    -------
+    float
+        ERR [(deg/h)^2].
+    """
     m = np.ones(len(run.t_h), bool) if run.scored is None else run.scored
     return float(np.mean((np.asarray(d, float)[m] - run.reference) ** 2))
 
@@ -185,7 +315,20 @@ def err(d: NDArray[np.float64], run: Run) -> float:
 def scores(
     runs: Mapping[str, Run], comp_imp: Mapping[str, NDArray[np.float64]], comp_trad: Mapping[str, NDArray[np.float64]]
 ) -> Scores:
-    """ERR [(deg/h)^2] of every held-out run: raw, traditional, improved (eqs. 19, 22-24)."""
+    """ERR [(deg/h)^2] of every held-out run: raw, traditional, improved (eqs. 19, 22-24).
+
+    Parameters
+    ----------
+    runs : mapping of str to Run
+        The unit's runs.
+    comp_imp, comp_trad : mapping of str to ndarray
+        The improved and traditional compensated outputs per run [deg/h].
+
+    Returns
+    -------
+    Scores
+        ERR of every held-out run.
+    """
 
     def row(r: Run) -> RunErr:
         return RunErr(raw=err(r.output, r), traditional=err(comp_trad[r.name], r), improved=err(comp_imp[r.name], r))
@@ -198,7 +341,22 @@ def scores(
 
 
 def float32_check(config: Config, runs: Mapping[str, Run], fit: Fitted) -> Float32Check:
-    """The exported networks in single precision (the DSP) against float64, every held-out run."""
+    """The exported networks in single precision (the DSP) against float64, every held-out run.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    runs : mapping of str to Run
+        The unit's runs.
+    fit : Fitted
+        The paper protocol's result.
+
+    Returns
+    -------
+    Float32Check
+        The single-precision comparison.
+    """
     docs = {p: json.loads(m.to_json()) for p, m in ((True, fit.improved), (False, fit.traditional))}
     c32: dict[bool, dict[str, NDArray[np.float64]]] = {True: {}, False: {}}
     for name, r in runs.items():
@@ -221,14 +379,46 @@ def float32_check(config: Config, runs: Mapping[str, Run], fit: Fitted) -> Float
 
 
 def streaming_deviation(config: Config, model: RBFNetwork, r: Run, batch: NDArray[np.float64]) -> float:
-    """Largest |streaming - batch| [deg/h]: the compensator fed 7-sample pieces, as a DSP would."""
+    """Largest |streaming - batch| [deg/h]: the compensator fed 7-sample pieces, as a DSP would.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    model : RBFNetwork
+        The network.
+    r : Run
+        A run.
+    batch : ndarray
+        The batch compensation of the run [deg/h].
+
+    Returns
+    -------
+    float
+        The largest deviation [deg/h].
+    """
     sc = StreamingCompensator(model, r.fs, window_s=config.derivative_window_s, product=True)
     pieces = [sc.push(r.output[i : i + 7], r.T[i : i + 7]) for i in range(0, len(r.output), 7)]
     return float(np.max(np.abs(np.concatenate(pieces + [sc.flush()]) - batch)))
 
 
 def traces(config: Config, runs: Mapping[str, Run], fit: Fitted) -> Traces:
-    """Downsampled (100-s blocks) traces of the unit for the report's figures [h, degC, deg/h]."""
+    """Downsampled (100-s blocks) traces of the unit for the report's figures [h, degC, deg/h].
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    runs : mapping of str to Run
+        The unit's runs.
+    fit : Fitted
+        The paper protocol's result.
+
+    Returns
+    -------
+    Traces
+        The figures' traces.
+    """
     r = runs["ident_2"]
     f32 = np.float32
     ident = IdentTrace(
@@ -256,17 +446,40 @@ def traces(config: Config, runs: Mapping[str, Run], fit: Fitted) -> Traces:
 
 
 def drift_peak_val1(runs: Mapping[str, Run]) -> float:
-    """Median over the validation-1 runs of the peak |true coil drift| while scored [deg/h]."""
+    """Median over the validation-1 runs of the peak |true coil drift| while scored [deg/h].
+
+    Parameters
+    ----------
+    runs : mapping of str to Run
+        The unit's runs.
+
+    Returns
+    -------
+    float
+        The median peak [deg/h].
+    """
     peaks = [float(np.max(np.abs(r.drift[r.scored]))) for n, r in runs.items() if n.startswith("val1")]
     return float(np.median(peaks))
 
 
 def drift_to_noise_val1(runs: Mapping[str, Run]) -> float:
-    """The validation-1 runs' thermal drift against their noise: std(true coil drift) over
+    """The validation-1 runs' thermal drift against their noise.
+
+    The validation-1 runs' thermal drift against their noise: std(true coil drift) over
     std(output - true rate - true coil drift), both over the scored samples of the five runs
     pooled, each run's own mean removed [x]; without noise inf, or 0 without drift either. Per-unit
     precondition of the validation claims: a compensator can only show its effect where the drift
     it removes stands above the noise.
+
+    Parameters
+    ----------
+    runs : mapping of str to Run
+        The unit's runs.
+
+    Returns
+    -------
+    float
+        std(true coil drift) / std(output - true rate - drift) [-]; inf without noise, 0 without either.
     """
     drift, noise = [], []
     for n, r in runs.items():
@@ -305,7 +518,20 @@ def drift_estimate_error_val1(runs: Mapping[str, Run], comp_imp: Mapping[str, ND
 
 
 def protocol_result(fit: Fitted, s: Scores) -> ProtocolResult:
-    """The typed summary of one protocol: selections, network sizes, training mean, ERR, quantities."""
+    """The typed summary of one protocol: selections, network sizes, training mean, ERR, quantities.
+
+    Parameters
+    ----------
+    fit : Fitted
+        The protocol's result.
+    s : Scores
+        Its ERR scores.
+
+    Returns
+    -------
+    ProtocolResult
+        The summary.
+    """
     return ProtocolResult(
         selection_improved=fit.sel_imp,
         selection_traditional=fit.sel_trad,

@@ -353,7 +353,18 @@ def _protocol_json(p: ProtocolResult) -> dict[str, Any]:
 
 
 def results_json(units: Sequence[UnitResult]) -> dict[str, Any]:
-    """JSON-able numbers behind the tables (results.json): per-unit summaries and unit 0's detail."""
+    """JSON-able numbers behind the tables (results.json): per-unit summaries and unit 0's detail.
+
+    Parameters
+    ----------
+    units : sequence of UnitResult
+        The units' results.
+
+    Returns
+    -------
+    dict of str to object
+        The document.
+    """
     u0 = units[0]
 
     def summary(u: UnitResult) -> dict[str, Any]:
@@ -427,6 +438,20 @@ def _conclusion(claims: Sequence[ClaimResult], units: Sequence[UnitResult]) -> s
 
 def report(config: Config, units: Sequence[UnitResult], claims: Sequence[ClaimResult]) -> Outcome:
     """Tables and figures from the units' results (population from all, detail from the first).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration run.
+    units : sequence of UnitResult
+        The units' results.
+    claims : sequence of ClaimResult
+        The judged claims.
+
+    Returns
+    -------
+    Outcome
+        Tables, figures and results.
 
     Raises
     ------

@@ -34,7 +34,13 @@ __all__ = [
 
 @dataclass(frozen=True, kw_only=True)
 class RunErr:
-    """The paper's ERR = MSE(d - a) [(deg/h)^2] of one held-out run (eqs. 19, 22-24)."""
+    """The paper's ERR = MSE(d - a) [(deg/h)^2] of one held-out run (eqs. 19, 22-24).
+
+    Attributes
+    ----------
+    raw, traditional, improved : float
+        ERR of the raw and each compensated output [(deg/h)^2].
+    """
 
     raw: float
     traditional: float
@@ -51,7 +57,17 @@ class RunErr:
 
 @dataclass(frozen=True, kw_only=True)
 class Scores:
-    """ERR of every held-out run: identification run 2, validation 1 and 2 runs in order."""
+    """ERR of every held-out run: identification run 2, validation 1 and 2 runs in order.
+
+    Attributes
+    ----------
+    ident_2 : RunErr
+        Identification run 2.
+    val1 : tuple of RunErr
+        The validation-1 runs.
+    val2 : tuple of RunErr
+        The validation-2 runs.
+    """
 
     ident_2: RunErr
     val1: tuple[RunErr, ...]
@@ -73,6 +89,15 @@ class ValidationQuantities:
     ``val1_every_run_lower``: 1.0 when the improved ERR is below the raw one in every
     validation-1 run, else 0.0; ``val2_improved_lowest``: 1.0 when the improved ERR is the
     lowest of the three in every validation-2 run.
+
+    Attributes
+    ----------
+    val1_ratio, val2_ratio : float
+        Mean raw ERR over mean improved ERR [-].
+    val1_every_run_lower : float
+        1.0 when the improved ERR is below the raw one in every validation-1 run.
+    val2_improved_lowest : float
+        1.0 when the improved ERR is the lowest in every validation-2 run.
     """
 
     val1_ratio: float
@@ -103,7 +128,23 @@ class ValidationQuantities:
 
 @dataclass(frozen=True, kw_only=True)
 class ProtocolResult:
-    """One training protocol (the paper's target Q, or the truth-target diagnostic) of a unit."""
+    """One training protocol (the paper's target Q, or the truth-target diagnostic) of a unit.
+
+    Attributes
+    ----------
+    selection_improved, selection_traditional : RBFSelection
+        Each model's selection.
+    n_neurons_improved, n_neurons_traditional : int
+        Each network's size.
+    training_mean_output_deg_h : float
+        The mean subtracted to form Q [deg/h] (0 for the truth target).
+    training_rows : int
+        Training rows.
+    scores : Scores
+        ERR of every held-out run.
+    quantities : ValidationQuantities
+        The validation quantities.
+    """
 
     selection_improved: RBFSelection
     selection_traditional: RBFSelection
@@ -117,7 +158,19 @@ class ProtocolResult:
 
 @dataclass(frozen=True, kw_only=True)
 class Float32Check:
-    """The exported networks evaluated in single precision (the paper's DSP) against float64."""
+    """The exported networks evaluated in single precision (the paper's DSP) against float64.
+
+    Attributes
+    ----------
+    max_abs_output_weight : float
+        Largest |LW| of the improved network.
+    max_abs_compensation_difference_deg_h : float
+        Largest |float32 - float64| compensation [deg/h].
+    max_relative_err_change : float
+        Largest |ERR32 - ERR64| / ERR64 over the held-out runs [-].
+    quantities : ValidationQuantities
+        The validation quantities re-scored in float32.
+    """
 
     max_abs_output_weight: float  # largest |LW| of the improved network
     max_abs_compensation_difference_deg_h: float
@@ -135,7 +188,31 @@ class Float32Check:
 
 @dataclass(frozen=True, kw_only=True)
 class PointHeating:
-    """Table 1 / figure 2: a heated fibre stretch, -10 -> 40 degC, and the coil constants printed."""
+    """Table 1 / figure 2: a heated fibre stretch, -10 -> 40 degC, and the coil constants printed.
+
+    Attributes
+    ----------
+    T_degC : ndarray
+        Stretch temperature [degC].
+    shupe : ndarray
+        The Tdot term, free fibre [deg/h].
+    product : ndarray
+        The T x dT term about 0 degC, free fibre [deg/h].
+    total : ndarray
+        Their sum [deg/h].
+    bonded_max : float
+        Max |T x dT term| of the stretch bonded in the pack [deg/h].
+    b_free : float
+        d(beta_T)/dT of a free fibre [1/K^2].
+    fibre_cte_per_K : float
+        The fibre glass's expansion coefficient at 20 degC [1/K].
+    wavelength_m : float
+        Source wavelength [m].
+    sweep : tuple of (float, float, float)
+        (heated length [m], rate [degC/min], max |T x dT| [deg/h]) over the sweep.
+    by_reference : tuple of (str, float, float)
+        (reference, max |T x dT|, max |Tdot term|) [deg/h] at 0 degC, t_ref, 0 K.
+    """
 
     T_degC: NDArray[np.float64]  # temperature of the heated stretch
     shupe: NDArray[np.float64]  # Tdot term, beta_T's chord at 0 degC [deg/h]
@@ -153,7 +230,17 @@ class PointHeating:
 
 @dataclass(frozen=True, kw_only=True)
 class WindingPeak:
-    """Peak coil drift [deg/h] of the identification run for one ideal winding, or why none."""
+    """Peak coil drift [deg/h] of the identification run for one ideal winding, or why none.
+
+    Attributes
+    ----------
+    winding : str
+        The winding pattern.
+    peak_total, peak_shupe, peak_product : float or None
+        Peak total, Tdot and T x dT drift [deg/h].
+    error : str or None
+        Why none (the layer count does not fit the pattern).
+    """
 
     winding: str
     peak_total: float | None = None
@@ -169,7 +256,21 @@ class WindingPeak:
 
 @dataclass(frozen=True, kw_only=True)
 class IdentTrace:
-    """Identification run 2 for figure 6 [h, degC, deg/h], float32."""
+    """Identification run 2 for figure 6 [h, degC, deg/h], float32.
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Time [h].
+    T : ndarray
+        Logged temperature [degC].
+    measured : ndarray
+        Output [deg/h].
+    true_drift_plus_bias : ndarray
+        True drift plus bias [deg/h].
+    estimate_improved, estimate_traditional : ndarray
+        Each network's drift estimate [deg/h].
+    """
 
     t_h: NDArray[np.float32]
     T: NDArray[np.float32]
@@ -181,7 +282,15 @@ class IdentTrace:
 
 @dataclass(frozen=True, kw_only=True)
 class Val1Trace:
-    """One validation-1 run for figure 7 [h, deg/h], float32."""
+    """One validation-1 run for figure 7 [h, deg/h], float32.
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Time [h].
+    raw, improved : ndarray
+        Raw and compensated output [deg/h].
+    """
 
     t_h: NDArray[np.float32]
     raw: NDArray[np.float32]
@@ -190,7 +299,17 @@ class Val1Trace:
 
 @dataclass(frozen=True, kw_only=True)
 class Val2Trace:
-    """Validation-2 run 1 for figure 8 [h, deg/h], float32; ``reference`` a [deg/h]."""
+    """Validation-2 run 1 for figure 8 [h, deg/h], float32; ``reference`` a [deg/h].
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Time [h].
+    raw, traditional, improved : ndarray
+        Raw and compensated outputs [deg/h].
+    reference : float
+        The reference a [deg/h].
+    """
 
     t_h: NDArray[np.float32]
     raw: NDArray[np.float32]
@@ -201,7 +320,17 @@ class Val2Trace:
 
 @dataclass(frozen=True, kw_only=True)
 class Traces:
-    """Downsampled traces of the unit for the report's figures."""
+    """Downsampled traces of the unit for the report's figures.
+
+    Attributes
+    ----------
+    ident_2 : IdentTrace
+        Figure 6.
+    val1 : tuple of Val1Trace
+        Figure 7.
+    val2 : Val2Trace
+        Figure 8.
+    """
 
     ident_2: IdentTrace
     val1: tuple[Val1Trace, ...]
@@ -215,6 +344,35 @@ class UnitResult:
     ``paper``: the paper's protocol (target Q = output - mean(output)); ``diagnostic_truth_target``:
     the same networks trained on output - truth (not possible for the paper);
     ``deployment_json``: the improved network exported (``RBFNetwork.to_json``).
+
+    Attributes
+    ----------
+    seed : int
+        The unit's seed.
+    txdt_point_max_deg_h : float
+        Max |T x dT term| of the point-heating case [deg/h].
+    drift_peak_val1_deg_h : float
+        Median peak |true coil drift| of the validation-1 runs [deg/h].
+    val1_drift_to_noise : float
+        std(true drift) / std(the rest of the error) over validation 1 [-].
+    paper : ProtocolResult
+        The paper's protocol (target Q = output - mean(output)).
+    diagnostic_truth_target : ProtocolResult
+        The same networks trained on output - truth (a labelled diagnostic).
+    deployment_json : str
+        The improved network exported (``RBFNetwork.to_json``).
+    float32 : Float32Check
+        The exported networks in single precision.
+    streaming_max_abs_deviation_deg_h : float
+        Largest |streaming - batch| compensation [deg/h].
+    point_heating : PointHeating
+        Table 1 / figure 2.
+    windings : tuple of WindingPeak
+        Peak coil drift per ideal winding.
+    traces : Traces
+        The figures' traces.
+    val1_drift_estimate_error : float
+        rms(estimated - true drift) / std(true drift), median over validation 1 [-].
     """
 
     seed: int

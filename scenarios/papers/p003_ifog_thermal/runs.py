@@ -49,7 +49,18 @@ IDENTIFICATION_SEGMENTS = ("settle", "heat + hold", "cool + hold")
 
 
 def chamber_runs(config: Config) -> list[tuple[str, PiecewiseLinear, float]]:
-    """(name, chamber profile, true rate [rad/s]) of every run, in order."""
+    """(name, chamber profile, true rate [rad/s]) of every run, in order.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    list of (str, PiecewiseLinear, float)
+        (name, chamber profile, true rate [rad/s]) per run.
+    """
     ident = config.identification_profile()
     v1 = config.validation_profile(config.validation1_rate_degC_per_h / _H)
     v2 = config.validation_profile(config.validation2_rate_degC_per_min / _MIN)
@@ -61,12 +72,38 @@ def chamber_runs(config: Config) -> list[tuple[str, PiecewiseLinear, float]]:
 
 
 def realize_unit(config: Config, rng: np.random.Generator) -> FOG2DUnit:
-    """One drawn FOG unit of the configured build."""
+    """One drawn FOG unit of the configured build.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    rng : numpy.random.Generator
+        The unit's stream.
+
+    Returns
+    -------
+    FOG2DUnit
+        The unit.
+    """
     return config.fog_spec().realize(rng=rng)
 
 
 def simulate(config: Config, seed: int) -> list[Recording]:
-    """All runs of the experiment with one FOG unit: 2 identification, validation 1 and 2 runs."""
+    """All runs of the experiment with one FOG unit: 2 identification, validation 1 and 2 runs.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    list of Recording
+        The runs, in order.
+    """
     root = np.random.default_rng(seed)
     rng_unit, rng_runs = root.spawn(2)
     unit = realize_unit(config, rng_unit)
@@ -117,6 +154,16 @@ def memory_estimate(config: Config) -> float:
     grid: ~9.3 arrays), simulate and experiment alike; the formula is 1.2-2.1 x these.
     Floats: never an overflow. O(1) in the run counts (the issue-32 ``validation1_runs = 2e7``
     took 165 s and 3.8 GB when it listed every run).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        Bytes.
     """
     # O(1) in the run counts: the runs of one kind share one chamber profile (chamber_runs), so
     # each kind's duration is computed once and multiplied by its count
@@ -132,7 +179,29 @@ def memory_estimate(config: Config) -> float:
 
 @dataclass(frozen=True, slots=True)
 class Run:
-    """One chamber run at the analysis rate (block means of the recording)."""
+    """One chamber run at the analysis rate (block means of the recording).
+
+    Attributes
+    ----------
+    name : str
+        The run's name.
+    t_h : ndarray
+        Block-centre times from the start [h].
+    T : ndarray
+        Logged coil temperature [degC].
+    output : ndarray
+        Output [deg/h].
+    truth : ndarray
+        The simulator's true rate [deg/h] (diagnostics only).
+    drift : ndarray
+        The true coil thermal drift [deg/h] (figures only).
+    fs : float
+        Analysis rate [Hz].
+    reference : float
+        The reference a [deg/h].
+    scored : ndarray of bool or None
+        The samples the paper records or scores.
+    """
 
     name: str
     t_h: NDArray[np.float64]  # block-centre times from the start of the run [h]
@@ -146,12 +215,38 @@ class Run:
 
 
 def reference_deg_h(config: Config, name: str) -> float:
-    """The paper's reference a [deg/h]: 0 (turntable pointing north), validation 2: eq. (24)."""
+    """The paper's reference a [deg/h]: 0 (turntable pointing north), validation 2: eq. (24).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    name : str
+        The run's name.
+
+    Returns
+    -------
+    float
+        a [deg/h].
+    """
     return float(config.validation2_true_rate_deg_h) if name.startswith("val2") else 0.0
 
 
 def prepare(rec: Recording, config: Config) -> Run:
-    """Block means of what the test logs (and of the truth) at the analysis rate."""
+    """Block means of what the test logs (and of the truth) at the analysis rate.
+
+    Parameters
+    ----------
+    rec : Recording
+        A run's record.
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Run
+        The run at the analysis rate.
+    """
     b = config.analysis_block_s
 
     def bm(x):
@@ -177,6 +272,20 @@ def features(run: Run, config: Config, *, product: bool = True) -> NDArray[np.fl
     dT/dt by ``config.derivative_estimator``: a Savitzky-Golay derivative over
     ``derivative_window_s`` (``gyrobench.analysis.features.thermal_features``) or the central
     difference of the analysis-rate samples.
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+    config : Config
+        The configuration (the derivative estimator).
+    product : bool
+        Include T x dT/dt.
+
+    Returns
+    -------
+    ndarray
+        One row per sample.
     """
     if config.derivative_estimator == "savgol":
         return thermal_features(run.T, run.fs, window_s=config.derivative_window_s, product=product)
@@ -191,6 +300,18 @@ def identification_segments(config: Config, t_h: NDArray[np.float64]) -> NDArray
     The boundaries are knots of the chamber program (``Config.identification_profile``),
     known before any data are seen: the end of the -10 degC settle and the end of the
     40 degC hold.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    t_h : ndarray
+        Times [h].
+
+    Returns
+    -------
+    ndarray of int
+        0, 1 or 2 per time.
     """
     knots_h = np.asarray(config.identification_profile().times, dtype=float) / _H
     knots_h = knots_h - knots_h[0]
@@ -203,6 +324,18 @@ def record_mask(config: Config, run: Run) -> NDArray[np.bool_]:
     Identification: from the chamber reaching -10 degC (experiment step 2), unless
     ``record_cooldown``. Validation: until the end of the heating ramp (validation step 2
     records the heating), unless ``score_final_soak``.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    run : Run
+        The run.
+
+    Returns
+    -------
+    ndarray of bool
+        Per sample.
     """
     if run.name.startswith("ident"):
         knots = config.identification_profile().times
@@ -220,7 +353,20 @@ def record_mask(config: Config, run: Run) -> NDArray[np.bool_]:
 
 
 def score_mse(compensated: NDArray[np.float64], run: HeldOutRun) -> dict[str, float]:
-    """MSE [(deg/h)^2] and RMS [deg/h] of compensated output against the true rate (the bench)."""
+    """MSE [(deg/h)^2] and RMS [deg/h] of compensated output against the true rate (the bench).
+
+    Parameters
+    ----------
+    compensated : ndarray
+        Compensated output of a held-out run [deg/h].
+    run : HeldOutRun
+        The run (its true rate).
+
+    Returns
+    -------
+    dict of str to float
+        MSE [(deg/h)^2] and RMS [deg/h].
+    """
     err = np.asarray(compensated, dtype=float) - run.truth
     m = float(np.mean(err**2))
     return {"mse": m, "rms": math.sqrt(m)}
@@ -235,6 +381,18 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     program's knots, known before any data), the folds of the paper's leave-one-segment-out
     selection of the RBF's spread and neuron count. The bench passes them only to compensators
     whose ``fit`` takes ``groups`` (:mod:`gyrobench.scenarios.bench`).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    CompensationTask
+        Training and held-out runs.
     """
     runs = [prepare(r, config) for r in simulate(config, seed)]
     train = runs[0]

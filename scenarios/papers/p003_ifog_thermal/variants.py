@@ -19,7 +19,18 @@ __all__ = ["VARIANTS", "control_config", "variant_config"]
 
 
 def control_config(config: Config) -> Config:
-    """The control: ``config`` without its thermal program (constant chamber temperature)."""
+    """The control: ``config`` without its thermal program (constant chamber temperature).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Config
+        ``config`` with ``thermal_program = False``.
+    """
     return replace(config, thermal_program=False)
 
 
@@ -45,7 +56,20 @@ VARIANTS: Mapping[str, Callable[[Config], Config]] = MappingProxyType(
 
 
 def variant_config(config: Config, name: str) -> Config:
-    """``config`` with the alternative protocol of the deviation whose ``variant`` is ``name``."""
+    """``config`` with the alternative protocol of the deviation whose ``variant`` is ``name``.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    name : str
+        A deviation's ``variant``.
+
+    Returns
+    -------
+    Config
+        The variant's configuration.
+    """
     if not isinstance(name, str) or name not in VARIANTS:
         raise ValueError(f"variant_config name must be one of {tuple(VARIANTS)}; got {name!r}")
     return VARIANTS[name](config)

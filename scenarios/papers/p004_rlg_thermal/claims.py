@@ -319,5 +319,16 @@ DEVIATIONS: tuple[Deviation, ...] = (
 
 
 def claims_for(config: Config) -> tuple[Claim, ...]:
-    """The claims judged for ``config``: every variant judges all of :data:`CLAIMS` (none is calibrated)."""
+    """The claims judged for ``config``: every variant judges all of :data:`CLAIMS` (none is calibrated).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    tuple of Claim
+        :data:`CLAIMS`.
+    """
     return CLAIMS

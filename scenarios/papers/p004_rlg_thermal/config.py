@@ -37,6 +37,81 @@ class Config:
     """The paper's protocol (chamber, averaging, stepwise thresholds) and the simulated gyro budget.
 
     Field units at this edge: degC, minutes, deg/h, arcsec, mA, uA, ppm/K (1e-6/K).
+
+    Attributes
+    ----------
+    start_c : float
+        Chamber temperature at power-on and at the end of the program [degC].
+    high_c : float
+        The program's high temperature [degC].
+    ramp_c_per_min : float
+        Ramp rate [degC/min].
+    power_on_soak_min : float
+        Soak after power-on [min].
+    high_soak_min : float
+        Soak at the high temperature [min].
+    end_soak_min : float
+        Soak after the return ramp [min].
+    return_ramp : bool
+        Ramp back to ``start_c`` and soak (else end at the high soak).
+    constant_c : float or None
+        Hold the chamber here for the program's duration (the control; None: the program).
+    prewarm_min : float
+        Minutes the gyro runs before the record starts (0: from turn-on) [min].
+    score_in_sample : bool
+        Score the before/after ratio on the fitting run (else the held-out run).
+    block_s : float
+        Averaging block [s].
+    fs_hz : float
+        Logging rate [Hz].
+    derivative_window_s : float
+        Window of the dT/dt estimates [s].
+    p_enter, p_remove : float
+        The stepwise regression's p-values to enter and to remove a term.
+    triangle_side_m : float
+        The cavity's side [m].
+    dither_hz : float
+        Body dither frequency [Hz].
+    dither_arcsec : float
+        Dither amplitude [arcsec].
+    dither_jitter : float
+        Relative dither amplitude jitter [-].
+    backscatter_sigma : float
+        Rayleigh scale of each mirror's backscatter [-].
+    walk_phase_std_rad : float
+        Std of the PLC mirror's scatter-phase walk [rad per wavelength].
+    dissipative : float
+        Null shift per unit lock-in eta [-].
+    cte_bound_ppm_per_k : float
+        Block expansion bound [ppm/K].
+    plc_travel_min_wavelengths, plc_travel_max_wavelengths : float
+        The PLC travel's range [wavelengths].
+    leg_current_ma : float
+        Discharge current per leg [mA].
+    langmuir_deg_h_per_ma : float
+        Langmuir flow coefficient [deg/h/mA].
+    imbalance_repeatability_ua : float
+        Turn-on std of the leg current imbalance [uA].
+    tcr_mismatch_ppm_per_k : float
+        Std of the sense resistors' tempco mismatch [ppm/K].
+    gas_rise_k : float
+        Gas temperature above its block node [K].
+    gas_rise_repeatability : float
+        Turn-on relative std of the gas rise [-].
+    mount_asymmetry : float
+        Log-normal spread of each mount's conductance [-].
+    thermal_spread : float
+        Relative spread of the thermal network [-].
+    bias_instability_deg_h : float
+        Flicker B [deg/h].
+    bias_repeatability_deg_h : float
+        Turn-on bias std [deg/h].
+    sensor_noise_k : float
+        Temperature sensors' white noise [K].
+    sensor_resolution_k : float
+        Their resolution [K].
+    sensor_offset_spread_k : float
+        Std of their drawn offsets [K].
     """
 
     # --- protocol (paper 004: range, rate, 100-s averaging, MATLAB stepwise defaults)
@@ -232,17 +307,43 @@ CONTROL_PREWARM_TAUS = 10.0
 
 
 def slowest_thermal_tau_s(config: Config) -> float:
-    """Slowest time constant of the gyro's three-node thermal network [s]: -1 / the eigenvalue
-    of :meth:`gyrobench.sim.rlg_cavity.CavityThermal.matrices` nearest zero."""
+    """Slowest time constant of the gyro's three-node thermal network [s].
+
+    Slowest time constant of the gyro's three-node thermal network [s]: -1 / the eigenvalue
+    of :meth:`gyrobench.sim.rlg_cavity.CavityThermal.matrices` nearest zero.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        -1 / the eigenvalue nearest zero [s].
+    """
     m, _ = config.spec().thermal.matrices()
     return float(-1.0 / np.max(np.linalg.eigvals(m).real))
 
 
 def control_config(config: Config) -> Config:
-    """The control population's protocol: the same gyros and runs with the chamber held at
+    """The control population's protocol: the chamber held, the gyro pre-warmed.
+
+    The control population's protocol: the same gyros and runs with the chamber held at
     :data:`CONTROL_CHAMBER_C` for the program's duration (no thermal program) and the gyro
     powered :data:`CONTROL_PREWARM_TAUS` slowest thermal time constants before the record, so
-    that its own warm-up is switched off too (the record starts at the powered equilibrium)."""
+    that its own warm-up is switched off too (the record starts at the powered equilibrium).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    Config
+        The same gyros and runs without the thermal program or the warm-up.
+    """
     pre_min = CONTROL_PREWARM_TAUS * slowest_thermal_tau_s(config) / units.MINUTE
     return replace(config, constant_c=CONTROL_CHAMBER_C, prewarm_min=float(pre_min))
 
@@ -263,7 +364,20 @@ VARIANTS = tuple(_variants(Config()))
 
 
 def variant_config(config: Config, name: str) -> Config:
-    """``config`` under the deviation variant ``name`` (one of :data:`VARIANTS`)."""
+    """``config`` under the deviation variant ``name`` (one of :data:`VARIANTS`).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    name : str
+        A key of :data:`VARIANTS`.
+
+    Returns
+    -------
+    Config
+        The variant's configuration.
+    """
     v = _variants(config)
     if name not in v:
         raise ValueError(f"variant_config name must be one of {VARIANTS}; got {name!r}")

@@ -46,6 +46,16 @@ def has_kinds(selected: Sequence[str]) -> bool:
     rate term. Gradient: x9-x11, or the cavity rate terms, since the cavity node's
     rate is driven by the housing-cavity difference, C_b dT2/dt = g_a (T1 - T2) + ...
     (sim.rlg_cavity.CavityThermal; x4, x6, x8 carry the gradient).
+
+    Parameters
+    ----------
+    selected : sequence of str
+        The selected regressors' names.
+
+    Returns
+    -------
+    bool
+        True when temperature, rate and gradient information are all used.
     """
     s = set(selected)
     temp = bool(s & {"x1", "x2", "x5", "x6", "x11"})
@@ -59,15 +69,38 @@ def thermal_share(fit: Blocks) -> float | None:
 
     var(thermal) / var(output - true rate), both over the run's 100-s means (n - 1); None
     when the output error does not vary.
+
+    Parameters
+    ----------
+    fit : Blocks
+        The fitting run.
+
+    Returns
+    -------
+    float or None
+        The share [-]; None when the output error does not vary.
     """
     err = np.var(fit.output - fit.truth, ddof=1)
     return float(np.var(fit.thermal, ddof=1) / err) if err > 0 else None
 
 
 def truth_r2(fit: Blocks) -> float | None:
-    """R^2 of the eleven candidate regressors x1..x11 regressed (least squares, with intercept) on the
+    """R^2 of the candidate regressors on the fitting run's true thermal bias.
+
+    R^2 of the eleven candidate regressors x1..x11 regressed (least squares, with intercept) on the
     fitting run's *true* thermal bias (100-s means) [-]: how much of the effect the paper's model
-    can represent at all. None when the true thermal bias does not vary."""
+    can represent at all. None when the true thermal bias does not vary.
+
+    Parameters
+    ----------
+    fit : Blocks
+        The fitting run.
+
+    Returns
+    -------
+    float or None
+        R^2 [-]; None when the true thermal bias does not vary.
+    """
     y = fit.thermal - fit.thermal.mean()
     tss = float(y @ y)
     if not tss > 0:
@@ -213,6 +246,18 @@ def bias_stability_scores(compensated: NDArray[np.float64], run: HeldOutRun) -> 
     """Scorer: bias stability (std of the 100-s means, n - 1) before and after compensation [deg/h].
 
     ``run.output`` and ``compensated`` are already 100-s block means, so each is one block.
+
+    Parameters
+    ----------
+    compensated : ndarray
+        Compensated 100-s means of a held-out run [deg/h].
+    run : HeldOutRun
+        The run.
+
+    Returns
+    -------
+    dict of str to float
+        Bias stability before and after [deg/h].
     """
     comp = np.asarray(compensated, float) - run.truth
     before = bias_stability(run.output - run.truth, 1.0, block_s=1.0)
@@ -232,6 +277,18 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
 
     Features: the eleven regressors x1..x11 (degC, degC/s); target: the output error
     [deg/h] (output minus true rate), as the paper compensates the bias.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    CompensationTask
+        The fitting run and the held-out run, as 100-s blocks.
     """
     _, fit, held = runs(config, seed)
     return CompensationTask(

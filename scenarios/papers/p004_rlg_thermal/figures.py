@@ -19,7 +19,18 @@ _MINUTE_S = 60.0  # the rates are drawn per minute
 
 
 def output_vs_temperature(units: Sequence[UnitResult]) -> Figure:
-    """Output and temperatures over the first unit's fitting run; output vs T1 for three units."""
+    """Output and temperatures over the first unit's fitting run; output vs T1 for three units.
+
+    Parameters
+    ----------
+    units : sequence of UnitResult
+        The units' results.
+
+    Returns
+    -------
+    Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(10.0, 4.2), layout="constrained")
@@ -47,7 +58,18 @@ def output_vs_temperature(units: Sequence[UnitResult]) -> Figure:
 
 
 def rate_and_gradient(u: UnitResult) -> Figure:
-    """Housing and cavity temperature rates and the housing-cavity gradient of a fitting run."""
+    """Housing and cavity temperature rates and the housing-cavity gradient of a fitting run.
+
+    Parameters
+    ----------
+    u : UnitResult
+        A unit's result.
+
+    Returns
+    -------
+    Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     f = u.fit
@@ -68,7 +90,18 @@ def rate_and_gradient(u: UnitResult) -> Figure:
 
 
 def before_after(units: Sequence[UnitResult]) -> Figure:
-    """Held-out bias before and after compensation, first three units."""
+    """Held-out bias before and after compensation, first three units.
+
+    Parameters
+    ----------
+    units : sequence of UnitResult
+        The units' results.
+
+    Returns
+    -------
+    Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     shown = units[:3]
@@ -88,7 +121,18 @@ def before_after(units: Sequence[UnitResult]) -> Figure:
 
 
 def population(rows: Sequence[Mapping[str, Any]]) -> Figure:
-    """Every unit's 1 - R^2 against its before/after ratios, with the in-sample identity and the paper."""
+    """Every unit's 1 - R^2 against its before/after ratios, with the in-sample identity and the paper.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        One row per unit (its R^2 and ratios).
+
+    Returns
+    -------
+    Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(7.0, 4.6), layout="constrained")
@@ -108,7 +152,18 @@ def population(rows: Sequence[Mapping[str, Any]]) -> Figure:
 
 
 def mode_hops(units: Sequence[UnitResult]) -> Figure:
-    """PLC mode index against the logged cavity temperature, first three units."""
+    """PLC mode index against the logged cavity temperature, first three units.
+
+    Parameters
+    ----------
+    units : sequence of UnitResult
+        The units' results.
+
+    Returns
+    -------
+    Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(7.0, 4.2), layout="constrained")

@@ -83,7 +83,20 @@ class Identification:
 def thermal_parts(
     config: Config, seed: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """The unit's fitting run as 100-s means [deg/h]: Langmuir part, null-shift part, the rest."""
+    """The unit's fitting run as 100-s means [deg/h]: Langmuir part, null-shift part, the rest.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    tuple of ndarray
+        (Langmuir part, null-shift part, the rest) [deg/h].
+    """
     gyro, (r_fit, _) = unit_and_streams(config, seed)
     prof = config.chamber()
     rec = gyro.simulate(Environment(prof.duration, temperature=prof), fs=config.fs_hz, rng=r_fit)
@@ -111,7 +124,22 @@ def _scale(lang: NDArray[np.float64], null: NDArray[np.float64], rest: NDArray[n
 def identify(
     config: Config | None = None, *, target: float = PAPER_ADJ_R2, seeds: tuple[int, ...] = IDENTIFICATION_SEEDS
 ) -> Identification:
-    """Run the identification (see the module docstring) on ``config`` (default :class:`Config`)."""
+    """Run the identification (see the module docstring) on ``config`` (default :class:`Config`).
+
+    Parameters
+    ----------
+    config : Config or None
+        The configuration (None: the default).
+    target : float
+        The adjusted R^2 aimed at.
+    seeds : tuple of int
+        The units identified on.
+
+    Returns
+    -------
+    Identification
+        The identified value and its inputs.
+    """
     if not 0.0 < target < 1.0:
         raise ValueError(f"identify target must be a share in (0, 1); got {target!r}")
     cfg = replace(config or Config(), dissipative=_ETA_0)

@@ -340,7 +340,22 @@ def _triples_text(t: TripleResult) -> str:
 
 
 def report(config: Config, units: Sequence[UnitResult], claims: Sequence[ClaimResult]) -> Outcome:
-    """Tables and figures of the units' results (details: the first three; populations: all)."""
+    """Tables and figures of the units' results (details: the first three; populations: all).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration run.
+    units : sequence of UnitResult
+        The units' results.
+    claims : sequence of ClaimResult
+        The judged claims.
+
+    Returns
+    -------
+    Outcome
+        Tables, figures and results.
+    """
     if not units:
         raise ValueError("units must hold at least one experiment result; got an empty sequence")
     cross = _cross_unit_ratios(units)

@@ -23,6 +23,15 @@ class Stability:
 
     ``heldout_floor_deg_h``: the held-out output minus the true thermal bias, what a perfect
     thermal model would leave (dither random walk, count quantization, flicker).
+
+    Attributes
+    ----------
+    fit_before_deg_h, fit_after_deg_h : float
+        The fitting run's bias stability before and after [deg/h].
+    heldout_before_deg_h, heldout_after_deg_h : float
+        The held-out run's [deg/h].
+    heldout_floor_deg_h : float
+        What a perfect thermal model would leave [deg/h].
     """
 
     fit_before_deg_h: float
@@ -54,6 +63,25 @@ class HopEffect:
     ``adj_r2_cost`` = (1 - adj. R^2 with hops) / (1 - adj. R^2 without), None when the
     fitting run does not hop; ``ratio_cost`` = held-out before/after without hops over with
     hops (> 1: the hops cost improvement), None when neither run hops.
+
+    Attributes
+    ----------
+    fit_hops, heldout_hops : int
+        Mode hops of each run.
+    fit_up_degc, fit_down_degc : tuple of float
+        Block temperature at the fitting run's heating and cooling hops [degC].
+    heldout_up_degc, heldout_down_degc : tuple of float
+        The held-out run's [degC].
+    adj_r2_nohop : float
+        Adjusted R^2 without hops.
+    heldout_ratio_nohop : float
+        Held-out before/after ratio without hops.
+    selected_nohop : tuple of str
+        The regressors selected without hops.
+    adj_r2_cost : float or None
+        (1 - adj. R^2 with hops) / (1 - adj. R^2 without).
+    ratio_cost : float or None
+        Held-out ratio without hops over with.
     """
 
     fit_hops: int
@@ -71,7 +99,21 @@ class HopEffect:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GyroDraw:
-    """What the unit drew from the population, and its fitting run's lock-in and thermal bias."""
+    """What the unit drew from the population, and its fitting run's lock-in and thermal bias.
+
+    Attributes
+    ----------
+    cte_ppm_per_k : float
+        The block's expansion [ppm/K].
+    hop_spacing_k : float
+        Temperature between mode hops [K].
+    hysteresis_k : float
+        Up/down hop hysteresis [K].
+    lock_in_min_deg_s, lock_in_max_deg_s : float
+        The fitting run's lock-in range [deg/s].
+    thermal_bias_std_deg_h : float
+        Std of the 100-s means of the true thermal bias [deg/h].
+    """
 
     cte_ppm_per_k: float
     hop_spacing_k: float
@@ -83,7 +125,25 @@ class GyroDraw:
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class FitTraces:
-    """The fitting run's block means the figures draw."""
+    """The fitting run's block means the figures draw.
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Block centres [h].
+    output : ndarray
+        Output [deg/h].
+    t1, t2 : ndarray
+        Logged housing and cavity temperatures [degC].
+    chamber : ndarray
+        Chamber [degC].
+    mode : ndarray
+        PLC mode index at each block's end.
+    dt1, dt2 : ndarray
+        x3 = dT1/dt and x4 = dT2/dt [degC/s].
+    gradient : ndarray
+        x9 = T1 - T2 [degC].
+    """
 
     t_h: NDArray[np.float64]  # block centre [h]
     output: NDArray[np.float64]  # output [deg/h]
@@ -98,7 +158,21 @@ class FitTraces:
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class HeldoutTraces:
-    """The held-out run's block means: regressors, output, truth and the compensated output."""
+    """The held-out run's block means: regressors, output, truth and the compensated output.
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Block centres [h].
+    X : ndarray
+        Regressors x1..x11.
+    output : ndarray
+        Output [deg/h].
+    truth : ndarray
+        True rate [deg/h].
+    compensated : ndarray
+        Compensated output [deg/h].
+    """
 
     t_h: NDArray[np.float64]  # block centre [h]
     X: NDArray[np.float64]  # (n, 11) regressors x1..x11 [degC, degC/s]

@@ -30,14 +30,40 @@ __all__ = ["Blocks", "memory_estimate", "runs", "simulate", "unit_and_streams"]
 def unit_and_streams(
     config: Config, seed: int
 ) -> tuple[CavityRLG, tuple[np.random.Generator, np.random.Generator]]:
-    """The gyro of unit ``seed`` and the streams of its two turn-ons (fit, held-out)."""
+    """The gyro of unit ``seed`` and the streams of its two turn-ons (fit, held-out).
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    tuple of (CavityRLG, (Generator, Generator))
+        The gyro and its two turn-ons' streams.
+    """
     r_unit, r_fit, r_held = np.random.default_rng(seed).spawn(3)
     gyro = config.spec().realize(rng=r_unit, label=f"unit {seed}")
     return gyro, (r_fit, r_held)
 
 
 def simulate(config: Config, seed: int) -> list[Recording]:
-    """The unit's two chamber runs (fit, held-out): pulse-count output, logged T1/T2, truth."""
+    """The unit's two chamber runs (fit, held-out): pulse-count output, logged T1/T2, truth.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+
+    Returns
+    -------
+    list of Recording
+        The fitting and held-out runs.
+    """
     gyro, streams = unit_and_streams(config, seed)
     prof = config.chamber()
     recs = []
@@ -77,6 +103,16 @@ def memory_estimate(config: Config) -> float:
     142 / 347 / 420 MB at the default (N = 9.0e5), fs_hz = 25 (N = 2.25e6) and
     ramp_c_per_min = 0.1 with high_soak_min = 240 (N = 2.88e6); the formula is 1.2-1.25 x
     simulate's and 1.7-1.8 x experiment's. Floats: never an overflow.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+
+    Returns
+    -------
+    float
+        Bytes.
     """
     n = 2.0 * float(config.chamber().duration) * float(config.fs_hz)
     return 1.1 * (232.0 * n + 20e6)
@@ -84,7 +120,31 @@ def memory_estimate(config: Config) -> float:
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class Blocks:
-    """One chamber run as 100-s block means (``Config.block_s``), with its truth."""
+    """One chamber run as 100-s block means (``Config.block_s``), with its truth.
+
+    Attributes
+    ----------
+    t_h : ndarray
+        Block centres [h].
+    X : ndarray
+        (n, 11) regressors x1..x11 on the logged T1, T2 [degC, degC/s].
+    output : ndarray
+        Mean output [deg/h].
+    truth : ndarray
+        Mean true rate [deg/h].
+    thermal : ndarray
+        Mean true thermal bias [deg/h].
+    t1, t2 : ndarray
+        Logged housing and cavity temperatures [degC].
+    chamber : ndarray
+        Chamber [degC].
+    mode : ndarray
+        PLC mode index at each block's end.
+    lock_in : ndarray
+        Mean lock-in rate [deg/s].
+    hops_up, hops_down : ndarray
+        Block temperature at heating and cooling hops [degC].
+    """
 
     t_h: NDArray[np.float64]  # block centre [h]
     X: NDArray[np.float64]  # (n, 11) regressors x1..x11 on the logged T1, T2 [degC, degC/s]
@@ -158,6 +218,20 @@ def runs(config: Config, seed: int, *, mode_hops: bool = True) -> tuple[CavityRL
     powered at the first chamber temperature) are dropped; the regressors' derivative windows
     at the record's start see the pre-warm part. Mode hops during it stay in ``hops_up``,
     ``hops_down``.
+
+    Parameters
+    ----------
+    config : Config
+        The configuration.
+    seed : int
+        The unit's seed.
+    mode_hops : bool
+        False: a PLC of unlimited travel (no hops), same draws.
+
+    Returns
+    -------
+    tuple of (CavityRLG, Blocks, Blocks)
+        The gyro, its fitting run and its held-out run.
     """
     gyro, streams = unit_and_streams(config, seed)
     prof = config.chamber()

@@ -33,6 +33,19 @@ class TripleResult:
 
     ``seeds`` are the triples' first seeds; ``ratios`` their before/after ratio from the mean
     improvement (None where the triple is not testable).
+
+    Attributes
+    ----------
+    seeds : tuple of int
+        The triples' first seeds.
+    ratios : tuple of float or None
+        Their before/after ratios (None: not testable).
+    testable : int
+        Testable triples.
+    holds : int
+        Those where the claim holds.
+    precondition_absent : int
+        Triples lacking the precondition.
     """
 
     seeds: tuple[int, ...]
@@ -85,7 +98,18 @@ def _ratio(group: Sequence[UnitResult]) -> float | None:
 
 
 def judge_triples(units: Sequence[UnitResult]) -> TripleResult:
-    """The 65 % claim over consecutive triples of ``units`` (in the order given)."""
+    """The 65 % claim over consecutive triples of ``units`` (in the order given).
+
+    Parameters
+    ----------
+    units : sequence of UnitResult
+        The units' results, in order.
+
+    Returns
+    -------
+    TripleResult
+        The claim over the triples.
+    """
     groups = [units[i : i + 3] for i in range(0, len(units) - len(units) % 3, 3)]
     ratios = tuple(_ratio(g) for g in groups)
     ok = [r for r in ratios if r is not None]

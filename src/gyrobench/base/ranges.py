@@ -68,8 +68,13 @@ class FieldRange:
         The field's unit as a user writes it (``"m"``, ``"degC/min"``, ``"1"`` for a pure number).
     why : str
         What sets the bounds (shown by nothing; read by a maintainer and the meta-test's failures).
+    low_open, high_open : bool
+        The bound is exclusive.
     integer : bool
         The field holds an integer count.
+    infinite : bool
+        An infinite value is valid where its bound is infinite (``high = inf`` admits
+        ``inf``: "no limit", "off"); otherwise every value must be finite.
     """
 
     low: float
@@ -79,16 +84,31 @@ class FieldRange:
     low_open: bool = False
     high_open: bool = False
     integer: bool = False
+    infinite: bool = False
 
     def contains(self, value: object) -> bool:
-        """True when ``value`` is a finite real number (numpy's too, never a bool) inside the range."""
+        """Whether a value lies in the range.
+
+        Parameters
+        ----------
+        value : object
+            The candidate value.
+
+        Returns
+        -------
+        bool
+            True when ``value`` is a real number (numpy's too, never a bool) inside the range:
+            finite, or infinite at an infinite bound when ``infinite`` is set.
+        """
         if isinstance(value, bool) or not isinstance(value, Real):
             return False
         if isinstance(value, Integral) and abs(int(value)) > 2**63 - 1:  # never converted to float (10**400)
             return False
         v = float(value)
-        if not math.isfinite(v):
+        if math.isnan(v):
             return False
+        if math.isinf(v):
+            return self.infinite and v == (self.high if v > 0 else self.low)
         above = v > self.low if self.low_open else v >= self.low
         below = v < self.high if self.high_open else v <= self.high
         return above and below
@@ -96,6 +116,10 @@ class FieldRange:
     def text(self) -> str:
         """The range as a user reads it: ``"(0, 1e+05] m"``, ``"> 0 Hz"`` (no upper bound),
         ``"a finite number [K]"`` (no bound)."""
+        text = self._bounds()
+        return f"{text} or inf".rstrip() if self.infinite and math.isinf(self.high) else text
+
+    def _bounds(self) -> str:
         kind = "an integer " if self.integer else ""
         lo_inf, hi_inf = math.isinf(self.low), math.isinf(self.high)
         if lo_inf and hi_inf:
@@ -153,8 +177,25 @@ class Constraint:
 
 
 def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Constraint:
-    """The constraint ``low < high`` (``low <= high`` when not ``strict``) between two fields,
-    refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``."""
+    """The declared constraint that one field is below another.
+
+    The constraint ``low < high`` (``low <= high`` when not ``strict``) between two fields,
+    refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``.
+
+    Parameters
+    ----------
+    low, high : str
+        The two fields' names.
+    strict : bool
+        ``low < high`` when True, ``low <= high`` when False.
+    unit : str
+        Their common unit, for the message ("" for none).
+
+    Returns
+    -------
+    Constraint
+        For a ``CONSTRAINTS`` tuple; refused as ``"<low> must be < <high> [unit]; got <a> and <b>"``.
+    """
     op = "<" if strict else "<="
     where = f" [{unit}]" if unit else ""
 
@@ -169,21 +210,68 @@ def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Cons
 
 
 def field_spec(config_type: type, name: str) -> FieldRange | FieldChoice | None:
-    """The declared spec of field ``name`` of the dataclass ``config_type`` (its ``RANGES``
-    entry), or None when it declares none."""
+    """The declared spec of one field of a configuration class.
+
+    The declared spec of field ``name`` of the dataclass ``config_type`` (its ``RANGES``
+    entry), or None when it declares none.
+
+    Parameters
+    ----------
+    config_type : type
+        The dataclass.
+    name : str
+        The field's name.
+
+    Returns
+    -------
+    FieldRange, FieldChoice or None
+        Its ``RANGES`` entry; None when it declares none.
+    """
     specs = getattr(config_type, "RANGES", None) or {}
     return specs.get(name)
 
 
 def field_range(config_type: type, name: str) -> FieldRange | None:
-    """The documented :class:`FieldRange` of field ``name`` of the dataclass ``config_type`` (None
-    when it states none, or a :class:`FieldChoice`)."""
+    """The declared numeric range of one field of a configuration class.
+
+    The documented :class:`FieldRange` of field ``name`` of the dataclass ``config_type`` (None
+    when it states none, or a :class:`FieldChoice`).
+
+    Parameters
+    ----------
+    config_type : type
+        The dataclass.
+    name : str
+        The field's name.
+
+    Returns
+    -------
+    FieldRange or None
+        The field's :class:`FieldRange`; None when it declares none or a :class:`FieldChoice`.
+    """
     spec = field_spec(config_type, name)
     return spec if isinstance(spec, FieldRange) else None
 
 
 def range_error(owner: str, name: str, rng: FieldRange, value: Any) -> ValueError:
-    """The one-line error for ``value`` outside ``rng`` (a huge integer shown by its size only)."""
+    """The one-line error for ``value`` outside ``rng`` (a huge integer shown by its size only).
+
+    Parameters
+    ----------
+    owner : str
+        The class named in the message.
+    name : str
+        The field (``name[i]`` for an element of a tuple).
+    rng : FieldRange
+        The range the value left.
+    value : object
+        The refused value (an integer of more than 30 digits is shown by its size only).
+
+    Returns
+    -------
+    ValueError
+        ``"<owner>.<name> must be <range with unit>; got <value>"``, to be raised by the caller.
+    """
     shown = f"an integer of {len(str(abs(value)))} digits" if isinstance(value, int) and abs(value) > 10**30 else (
         repr(value)
     )
@@ -198,8 +286,8 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
         cached = {}
         try:
             hints = typing.get_type_hints(config_type)
-        except (NameError, TypeError):  # an annotation that cannot be resolved: no derived check
-            hints = {}
+        except (NameError, TypeError):  # a base's annotation does not resolve: field by field
+            hints = _field_hints(config_type)
         for f in dataclasses.fields(config_type):
             hint = hints.get(f.name)
             if hint is bool or (isinstance(hint, type) and dataclasses.is_dataclass(hint)):
@@ -213,13 +301,44 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
 _KINDS: dict[type, dict[str, Any]] = {}
 
 
+def _field_hints(config_type: type) -> dict[str, Any]:
+    """field -> its resolved annotation, each evaluated in the module of the class that declares
+    it (a field whose annotation does not resolve there is left out: no derived check)."""
+    import sys
+
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(config_type):
+        owner = next((c for c in config_type.__mro__ if f.name in c.__dict__.get("__annotations__", {})), config_type)
+        try:
+            out[f.name] = typing.get_type_hints(
+                type("_Field", (), {"__annotations__": {f.name: f.type}, "__module__": owner.__module__}),
+                globalns=vars(sys.modules[owner.__module__]),
+            )[f.name]
+        except (NameError, TypeError, KeyError):
+            continue
+    return out
+
+
 def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
-    """Refuse ``value`` for field ``name`` of ``config_type`` in one line, by the field's declared
+    """Refuse one field's value in one line, by the field's declared spec and annotation.
+
+    Refuse ``value`` for field ``name`` of ``config_type`` in one line, by the field's declared
     spec and annotation: a ``bool`` field takes a bool, a dataclass-typed field an instance of it, a
     ``Literal`` field one of its values, a
     :class:`FieldChoice` field one of its choices, a :class:`FieldRange` field a finite number in
     range (an integer when it says so; None passes: an optional field left unset); a tuple is
     checked element by element.
+
+    Parameters
+    ----------
+    owner : str
+        The class named in the message.
+    config_type : type
+        The dataclass that declares the field (its ``RANGES`` and annotations).
+    name : str
+        The field.
+    value : object
+        The value given for it.
 
     Raises
     ------
@@ -254,10 +373,17 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
 
 
 def validate(config: Any) -> None:
-    """Check the dataclass ``config`` against its declarations, in one line per refusal: every
+    """Check a configuration dataclass against its declared field specs and constraints.
+
+    Check the dataclass ``config`` against its declarations, in one line per refusal: every
     field by :func:`check_field` (in declaration order), then every declared
     :class:`Constraint` of its ``CONSTRAINTS`` (in order). A config's ``__post_init__`` calls
     it; nothing else is hand-written there.
+
+    Parameters
+    ----------
+    config : dataclass instance
+        The configuration (its class declares ``RANGES`` and, optionally, ``CONSTRAINTS``).
 
     Raises
     ------
@@ -274,9 +400,16 @@ def validate(config: Any) -> None:
 
 
 def check_ranges(config: Any) -> None:
-    """Refuse, in one line, any field of the dataclass ``config`` outside its documented range
+    """Refuse, in one line, any field of a dataclass outside its declared range.
+
+    Refuse, in one line, any field of the dataclass ``config`` outside its documented range
     (:class:`FieldRange`, the class attribute ``RANGES``). A None value (an optional field left
     unset) passes; a tuple is checked element by element.
+
+    Parameters
+    ----------
+    config : dataclass instance
+        The configuration whose class declares ``RANGES``.
 
     Raises
     ------

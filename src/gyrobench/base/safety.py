@@ -141,6 +141,16 @@ def escape_controls(text: str) -> str:
     bidirectional overrides are replaced, so text from a file (a column name, a config label)
     can never move the cursor, ring the bell, retitle a terminal or reorder a report's text.
 
+    Parameters
+    ----------
+    text : str
+        Text from a file or a user.
+
+    Returns
+    -------
+    str
+        ``text`` with ESC as ``\\x1b``, BEL as ``\\x07`` and so on.
+
     Examples
     --------
     >>> escape_controls("gyro\\x1b[2Jz\\x07")
@@ -154,7 +164,18 @@ def escape_controls(text: str) -> str:
 
 
 def comment_marker(what: str) -> str:
-    """The first line gyrobench writes into a CSV, YAML or TOML file: ``# written by gyrobench <what>``."""
+    """The first line gyrobench writes into a CSV, YAML or TOML file: ``# written by gyrobench <what>``.
+
+    Parameters
+    ----------
+    what : str
+        What wrote the file (a command and its target); control characters are escaped.
+
+    Returns
+    -------
+    str
+        ``"# written by gyrobench <what>"``, one line.
+    """
     return f"# written by gyrobench {escape_controls(what).replace(chr(10), ' ')}".rstrip()
 
 
@@ -187,6 +208,11 @@ def check_input(path: str | os.PathLike, what: str) -> Path:
         The input.
     what : str
         How the user named it (``"recording file"``, ``"--profile"``).
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path.
 
     Raises
     ------
@@ -229,6 +255,16 @@ def same_file(a: str | os.PathLike, b: str | os.PathLike) -> str | None:
 
     Returns ``"the same path"``, ``"through a symbolic link or '..'"`` (equal real paths)
     or ``"a hard link of it"`` (the same device and inode under another name).
+
+    Parameters
+    ----------
+    a, b : path-like
+        The two paths.
+
+    Returns
+    -------
+    str or None
+        How they are the same file, or None when they are not.
     """
     pa, pb = Path(a), Path(b)
     if os.path.abspath(pa) == os.path.abspath(pb):
@@ -302,6 +338,16 @@ def written_by_gyrobench(path: str | os.PathLike) -> bool:
     """Whether the file at ``path`` carries gyrobench's marker for its suffix (module docstring).
 
     A file of another suffix, an unreadable one or an empty one is not gyrobench's.
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+
+    Returns
+    -------
+    bool
+        True when it carries gyrobench's marker for its suffix.
     """
     p = Path(path)
     fmt = _SUFFIX_FORMAT.get(p.suffix.lower())
@@ -328,7 +374,18 @@ def _sha256(path: Path) -> str:
 
 
 def folder_files(folder: str | os.PathLike) -> dict[str, Path]:
-    """Every entry below ``folder`` that is not a folder (links included), by relative POSIX path."""
+    """Every entry below ``folder`` that is not a folder (links included), by relative POSIX path.
+
+    Parameters
+    ----------
+    folder : path-like
+        The folder walked (symbolic links to folders are listed, not followed).
+
+    Returns
+    -------
+    dict of str to Path
+        Relative POSIX path -> the entry's path.
+    """
     folder = Path(folder)
     out = {}
     for root, dirs, names in os.walk(folder, followlinks=False):
@@ -339,7 +396,18 @@ def folder_files(folder: str | os.PathLike) -> dict[str, Path]:
 
 
 def report_manifest(folder: str | os.PathLike) -> dict[str, str]:
-    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest a report writes)."""
+    """``{relative path: sha256}`` of every regular file below ``folder`` (the manifest a report writes).
+
+    Parameters
+    ----------
+    folder : path-like
+        The report folder.
+
+    Returns
+    -------
+    dict of str to str
+        Relative POSIX path -> hexadecimal SHA-256 (the report's own marker left out).
+    """
     return {rel: _sha256(p) for rel, p in sorted(folder_files(folder).items()) if rel != REPORT_MARKER}
 
 
@@ -378,7 +446,18 @@ def _listed(names: list[str]) -> str:
 
 
 def mark_folder(path: str | os.PathLike) -> Path:
-    """Create folder ``path`` (and its parents) if missing and put :data:`FOLDER_MARKER` in it; return it."""
+    """Create folder ``path`` (and its parents) if missing and put :data:`FOLDER_MARKER` in it; return it.
+
+    Parameters
+    ----------
+    path : path-like
+        The folder (parents are created too).
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path, holding :data:`FOLDER_MARKER`.
+    """
     p = Path(path)
     p.mkdir(parents=True, exist_ok=True)
     marker = p / FOLDER_MARKER
@@ -410,6 +489,22 @@ def check_database(path: str | os.PathLike, flag: str, tables: Iterable[str], *,
     whose ``application_id`` is :data:`SQLITE_APPLICATION_ID`, or whose tables are all among
     ``tables`` (gyrobench's schema; SQLite's own ``sqlite_*`` tables aside). An empty file
     is replaced only with ``force``; a foreign SQLite file, or a file that is not SQLite, never.
+
+    Parameters
+    ----------
+    path : path-like
+        The database file.
+    flag : str
+        The command-line flag that named it, for the message.
+    tables : iterable of str
+        gyrobench's table names for this database.
+    force : bool
+        Replace an empty file.
+
+    Returns
+    -------
+    Path
+        ``path`` as a Path.
 
     Raises
     ------
@@ -569,6 +664,11 @@ def check_outputs(
         foreign database, never a folder without a report manifest).
     tables : iterable of str
         The table names of gyrobench's databases (for ``"database"`` outputs).
+
+    Returns
+    -------
+    list of Path
+        The outputs' paths, in the order given.
 
     Raises
     ------

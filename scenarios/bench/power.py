@@ -303,6 +303,8 @@ class Detectable:
         Its mean over the baseline's seeds.
     std : float
         Its seed-to-seed std.
+    std_upper : float
+        The upper confidence bound of ``std`` (:func:`std_upper_bound`).
     n : int
         Seeds.
     change : float

@@ -1,10 +1,13 @@
 """A paper's device family: the parameters the paper leaves open, with ranges and sources.
 
 A :class:`Family` is a frozen spec of the open parameters (:class:`Parameter`: a paper ``Config``
-field, its physical range as a :class:`~gyrobench.base.ranges.FieldRange` in the field's unit, a
+field, or a dotted path into its nested frozen dataclasses such as ``"fog.mount.x.frequency"``,
+its physical range as a :class:`~gyrobench.base.ranges.FieldRange` in the field's unit, a
 linear or logarithmic scale, and the source of the range or the stated assumption), the fixed
 parameters (:class:`Fixed`: the field and the source of its value) and the base configuration the
-points replace fields of. :meth:`Family.config` maps a point to the paper's ``Config``.
+points replace fields of. :meth:`Family.config` maps a point to the paper's ``Config``
+(a nested field by :func:`dataclasses.replace` at each level); :meth:`Family.nominal` is the
+point whose values are the base configuration's own, so ``config(nominal())`` is the base.
 
 :func:`design` places N points in the family with a space-filling design from
 :mod:`scipy.stats.qmc`: a scrambled Sobol sequence (Owen scrambling, the first N points of
@@ -27,7 +30,7 @@ from scipy.stats import qmc
 
 from gyrobench.base.ranges import FieldRange
 
-__all__ = ["MAX_POINTS", "Design", "Family", "Fixed", "Parameter", "design"]
+__all__ = ["MAX_POINTS", "Design", "Family", "Fixed", "Parameter", "design", "get_path", "replace_path"]
 
 #: the most points one design holds (a map's points are all held in memory with their units)
 MAX_POINTS = 4096
@@ -40,7 +43,8 @@ class Parameter:
     Attributes
     ----------
     field : str
-        The paper ``Config`` field it sets.
+        The paper ``Config`` field it sets, or a dotted path through nested frozen dataclasses
+        (``"readout.nominal.rail"``).
     range : FieldRange
         Its physical range in the field's unit (``range.unit``), both ends inclusive.
     scale : "linear" or "log"
@@ -88,7 +92,7 @@ class Fixed:
     Parameters
     ----------
     field : str
-        The paper ``Config`` field.
+        The paper ``Config`` field (or a dotted path, as :class:`Parameter`).
     source : str
         Where its value comes from, or the stated assumption.
     """
@@ -125,13 +129,11 @@ class Family:
         names = [p.field for p in self.parameters] + [f.field for f in self.fixed]
         if len(set(names)) != len(names):
             raise ValueError(f"family of paper {self.paper}: a field is listed twice in {names}")
-        fields = {f.name for f in dataclasses.fields(self.base)}
         for n in names:
-            if n not in fields:
-                raise ValueError(f"family of paper {self.paper}: {n!r} is not a field of {type(self.base).__name__}")
+            get_path(self.base, n, owner=f"family of paper {self.paper}")
         for p in self.parameters:  # both ends must be valid configurations
             for end in (p.range.low, p.range.high):
-                dataclasses.replace(self.base, **{p.field: end})
+                replace_path(self.base, p.field, end)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -146,7 +148,28 @@ class Family:
             v = values[p.field]
             if not p.range.contains(v):
                 raise ValueError(f"family of paper {self.paper}: {p.field} must be in {p.range.text()}; got {v!r}")
-        return dataclasses.replace(self.base, **{k: float(v) for k, v in values.items()})
+        out = self.base
+        for p in self.parameters:
+            out = replace_path(out, p.field, float(values[p.field]))
+        return out
+
+    def nominal(self) -> dict[str, float]:
+        """The base configuration's own values of the open parameters (``config(nominal())`` is ``base``).
+
+        Raises
+        ------
+        ValueError
+            When a base value lies outside its parameter's range (the nominal device must be a
+            point of the family).
+        """
+        out = {}
+        for p in self.parameters:
+            v = float(get_path(self.base, p.field))
+            if not p.range.contains(v):
+                raise ValueError(f"family of paper {self.paper}: the base value of {p.field} must be in "
+                                 f"{p.range.text()}; got {v!r}")
+            out[p.field] = v
+        return out
 
     def as_dict(self) -> dict[str, Any]:
         """The family as map.json lists it (ranges in field units, the fixed values from ``base``)."""
@@ -154,9 +177,45 @@ class Family:
             "paper": self.paper,
             "parameters": [{"field": p.field, "label": p.label, "low": p.range.low, "high": p.range.high,
                             "unit": p.range.unit, "scale": p.scale, "source": p.source} for p in self.parameters],
-            "fixed": [{"field": f.field, "value": getattr(self.base, f.field), "source": f.source}
+            "fixed": [{"field": f.field, "value": _json_value(get_path(self.base, f.field)), "source": f.source}
                       for f in self.fixed],
         }
+
+
+def get_path(obj: Any, path: str, *, owner: str = "") -> Any:
+    """The value at a dotted field path of nested dataclasses (``"fog.mount.x.frequency"``).
+
+    Raises
+    ------
+    ValueError
+        When a step of the path is not a field of the dataclass it is taken from.
+    """
+    cur = obj
+    for i, name in enumerate(path.split(".")):
+        if not dataclasses.is_dataclass(cur) or name not in {f.name for f in dataclasses.fields(cur)}:
+            lead = f"{owner}: " if owner else ""
+            if i == 0:
+                raise ValueError(f"{lead}{name!r} is not a field of {type(obj).__name__}")
+            where = ".".join(path.split(".")[:i])
+            raise ValueError(f"{lead}{path!r}: {name!r} is not a field of {where} ({type(cur).__name__})")
+        cur = getattr(cur, name)
+    return cur
+
+
+def replace_path(obj: Any, path: str, value: Any) -> Any:
+    """A copy of nested frozen dataclasses with the field at a dotted path replaced
+    (:func:`dataclasses.replace` at each level, so each level's own validation runs)."""
+    head, _, rest = path.partition(".")
+    if not rest:
+        return dataclasses.replace(obj, **{head: value})
+    return dataclasses.replace(obj, **{head: replace_path(getattr(obj, head), rest, value)})
+
+
+def _json_value(v: Any) -> Any:
+    """A fixed field's value for map.json: numbers and strings as they are, anything else by repr."""
+    if v is None or isinstance(v, (bool, int, float, str)):
+        return v
+    return repr(v)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -338,6 +338,10 @@ def quantities(
 ) -> dict[str, float | None]:
     """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0.
 
+    Beside them, for the device family's constraints (:mod:`.family`), where the heuristic
+    split each side: ``breakpoint_positive_dps`` and ``breakpoint_negative_dps`` [deg/s] (None
+    where it did not split that side).
+
     ``hermite_ratio``: :func:`hermite_error_ratio` of the piecewise fit (NaN: untestable).
     """
     held = {k: m.kn_heldout_pct for k, m in methods.items()}
@@ -349,6 +353,8 @@ def quantities(
         "raw_kn_ratio": raw.raw_kn_pct / (100.0 * PAPER_RAW_KN),
         "run_spread_ratio": _run_spread_ratio(raw),
         "breakpoints_at_1800": float(raw.breakpoints_dps == (-1800.0, 1800.0)),
+        "breakpoint_positive_dps": next((b for b in raw.breakpoints_dps if b > 0), None),
+        "breakpoint_negative_dps": next((b for b in raw.breakpoints_dps if b < 0), None),
         "low_rate_kn": raw.low_rate_kn_paper,
     }
     for key in methods:

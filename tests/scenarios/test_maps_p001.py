@@ -139,3 +139,25 @@ def test_a_tiny_map_through_the_cli_writes_map_json_that_recounts(tmp_path, caps
         assert (c["family_holds"], c["family_testable"]) == verdicts[c["id"]][3:]
     for p in doc["points"]:  # each point's breakpoint medians are what its unit reported
         assert set(p["constraint_medians"]) == {c.id for c in f001.MAP_CONSTRAINTS}
+
+
+def test_the_noise_free_table_is_the_slow_flows_settled_output():
+    """noise_free_table (static channels) against the slow flow run from equilibrium without noise
+    (device.static_output): the same table to 1e-6 deg/s at three points of the family."""
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.device import device_spec, static_output
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.identify import nominal_open_loop_unit
+
+    for u in (0.05, 0.5, 0.95):
+        cfg = f001.FAMILY.config({p.field: p.value(u) for p in f001.FAMILY.parameters})
+        spec = device_spec(cfg)
+        unit = nominal_open_loop_unit(spec.chain.nominal, spec.nominal)
+        slow = static_output(unit, np.asarray(cfg.rates_dps), unit.reference_temperature)
+        np.testing.assert_allclose(f001.noise_free_table(cfg), slow, rtol=0, atol=1e-6)
+
+
+def test_the_noise_free_breakpoint_scan_counts_every_point_once():
+    scan = f001.noise_free_breakpoints(16)
+    assert scan.points == 16 == sum(scan.splits.values())
+    assert scan.at_1800 == scan.splits.get("(-1800.0, 1800.0)", 0)
+    assert scan.k_n_facts == sum(scan.k_n_facts_splits.values()) <= 16
+    assert all(scan.splits[k] >= v for k, v in scan.k_n_facts_splits.items())

@@ -43,9 +43,19 @@ unit split it). The method claims mapped (:data:`MAP_CLAIMS`) are those judged w
 shows the effect (:data:`.claims.SHOWS_THE_EFFECT`). The breakpoint claim is among them: over
 the region, whose points already split at +-1800 by the median of their units, it holds nearly by
 construction, so its whole-family count is the informative one.
+
+:func:`noise_free_breakpoints` runs the heuristic on the noise-free table of each point's nominal
+unit over a large design (milliseconds a point): where the family's read-out splits without noise,
+and whether those points give the paper's raw and low-rate K_n, the mechanism behind the map's
+breakpoint counts.
 """
 
 from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
 
 from gyrobench.base.ranges import FieldRange
 from gyrobench.scenarios.claims import in_range
@@ -58,12 +68,15 @@ from .config import Config
 
 __all__ = [
     "BREAKPOINT_TOLERANCE_DPS",
+    "BreakpointScan",
     "DEFAULT_POINTS",
     "DEFAULT_UNITS_PER_POINT",
     "DESIGN_SEED",
     "FAMILY",
     "MAP_CLAIMS",
     "MAP_CONSTRAINTS",
+    "noise_free_breakpoints",
+    "noise_free_table",
 ]
 
 #: the design's scramble seed (:func:`gyrobench.scenarios.maps.family.design`)
@@ -203,3 +216,100 @@ MAP_CONSTRAINTS: tuple[Constraint, ...] = (
 
 #: the method (and extension) claims, judged where the unit shows the effect
 MAP_CLAIMS = tuple(c for c in CLAIMS if c.precondition is SHOWS_THE_EFFECT)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BreakpointScan:
+    """Where the heuristic splits the noise-free table of each point's nominal unit.
+
+    Attributes
+    ----------
+    points : int
+        Design points scanned.
+    splits : dict
+        ``"(negative, positive)"`` [deg/s] (``None`` where a side did not split) -> points.
+    at_1800 : int
+        Points split at both -1800 and +1800 deg/s.
+    one_side_1800 : int
+        Points split at exactly one of -1800 and +1800 deg/s.
+    k_n_facts : int
+        Points whose noise-free raw K_n and low-rate K_n satisfy the paper's facts
+        (:data:`MAP_CONSTRAINTS`' bands).
+    k_n_facts_splits : dict
+        The splits of those points, as ``splits``.
+    """
+
+    points: int
+    splits: dict[str, int]
+    at_1800: int
+    one_side_1800: int
+    k_n_facts: int
+    k_n_facts_splits: dict[str, int]
+
+
+def noise_free_table(config: Config) -> np.ndarray:
+    """The noise-free Table 1 [deg/s] of ``config``'s nominal unit on its table rates.
+
+    The point's nominal resonator (no unit-to-unit spread, so no quadrature) read out open loop
+    through its nominal chain (the identified C_f), factory-trimmed at T0, at T0: the static
+    channels of :mod:`gyrobench.sim.mems_resonator` (B = R F_ext through the chain), as
+    :mod:`.identify` solves C_f on. Noise, turn-on errors and the output word are left out.
+    """
+    from gyrobench.base import units
+    from gyrobench.sim import mems_resonator as mr
+
+    from .device import device_spec
+    from .identify import nominal_open_loop_unit
+
+    spec = device_spec(config)
+    unit = nominal_open_loop_unit(spec.chain.nominal, spec.nominal)
+    op = mr.operating_point(unit)
+    rates = np.asarray(config.rates_dps, dtype=float)
+    channels = mr._static_channels(op, units.deg_per_s(rates), np.zeros(rates.size))
+    return np.asarray(units.to_deg_per_s(mr._output_map(unit, op, channels.real)), dtype=float)
+
+
+def noise_free_breakpoints(points: int = 1024, seed: int = DESIGN_SEED + 1) -> BreakpointScan:
+    """The heuristic (:func:`gyrobench.analysis.scale_factor.breakpoint_search`) on the noise-free
+    table (:func:`noise_free_table`) of ``points`` design points of :data:`FAMILY`.
+
+    Parameters
+    ----------
+    points : int
+        Design points (:func:`gyrobench.scenarios.maps.family.design`; a power of two: Sobol).
+    seed : int
+        The design's seed (default: not the map's, so the scan is a second, larger sample).
+
+    Returns
+    -------
+    BreakpointScan
+        The splits, how many sit at +-1800 deg/s, and the splits of the points whose noise-free
+        raw and low-rate K_n satisfy the paper's facts.
+    """
+    from gyrobench.analysis.scale_factor import breakpoint_search, fit_scale_factor, range_nonlinearity
+    from gyrobench.scenarios.maps.family import design
+
+    from .identify import LOW_RATE_LIMIT_DPS
+
+    facts = {c.quantity: c for c in MAP_CONSTRAINTS}
+    splits: Counter[str] = Counter()
+    fitting: Counter[str] = Counter()
+    both = one = 0
+    for values in design(FAMILY, points, seed).values:
+        config = FAMILY.config(values)
+        rates = np.asarray(config.rates_dps, dtype=float)
+        table = noise_free_table(config)
+        found = breakpoint_search(rates, table)
+        key = f"({found.negative}, {found.positive})"
+        splits[key] += 1
+        hits = (found.negative == -_PAPER_BREAKPOINT_DPS) + (found.positive == _PAPER_BREAKPOINT_DPS)
+        both += hits == 2
+        one += hits == 1
+        raw = 100.0 * fit_scale_factor(rates, table).nonlinearity
+        low = range_nonlinearity(rates, table, -LOW_RATE_LIMIT_DPS, LOW_RATE_LIMIT_DPS)
+        if facts["raw_kn_pct"].holds(raw) and facts["low_rate_kn"].holds(low):
+            fitting[key] += 1
+    return BreakpointScan(
+        points=points, splits=dict(splits.most_common()), at_1800=int(both), one_side_1800=int(one),
+        k_n_facts=sum(fitting.values()), k_n_facts_splits=dict(fitting.most_common()),
+    )

@@ -14,7 +14,7 @@ point whose values are the base configuration's own, so ``config(nominal())`` is
 base 2; N a power of two keeps its balance properties) when N is a power of two, otherwise a
 scrambled Latin hypercube (McKay, Beckman & Conover 1979), both with a fixed seed. A unit
 coordinate u in [0, 1) maps to ``low + u (high - low)`` on a linear scale and to
-``low (high / low)**u`` on a logarithmic one.
+``low (high / low)**u`` on a logarithmic one, rounded to a parameter's ``step`` when it has one.
 """
 
 from __future__ import annotations
@@ -53,6 +53,9 @@ class Parameter:
         Where the range comes from: a cited value or a STATED ASSUMPTION (say which).
     label : str
         Axis label, e.g. ``"null-shift ratio eta"``.
+    step : float, optional
+        A grid the values are rounded to (the nearest multiple of ``step`` inside the range), for a
+        field that takes whole units (e.g. a record's phase in whole seconds); None: continuous.
     """
 
     field: str
@@ -60,6 +63,7 @@ class Parameter:
     scale: Literal["linear", "log"]
     source: str
     label: str
+    step: float | None = None
 
     def __post_init__(self) -> None:
         lo, hi = self.range.low, self.range.high
@@ -71,13 +75,17 @@ class Parameter:
             raise ValueError(f"parameter {self.field!r}: a log scale needs low > 0; got {lo!r}")
         if not self.source.strip():
             raise ValueError(f"parameter {self.field!r}: give the range's source or the stated assumption")
+        if self.step is not None and not (math.isfinite(self.step) and 0 < self.step <= hi - lo):
+            raise ValueError(f"parameter {self.field!r}: step must be in (0, high - low]; got {self.step!r}")
 
     def value(self, u: float) -> float:
         """The parameter's value at unit coordinate ``u`` in [0, 1] (its scale, see the module)."""
         lo, hi = self.range.low, self.range.high
-        if self.scale == "log":
-            return float(lo * (hi / lo) ** u)
-        return float(lo + u * (hi - lo))
+        v = lo * (hi / lo) ** u if self.scale == "log" else lo + u * (hi - lo)
+        if self.step is not None:  # the nearest grid value inside the range
+            v = min(max(round(v / self.step) * self.step, math.ceil(lo / self.step) * self.step),
+                    math.floor(hi / self.step) * self.step)
+        return float(v)
 
     def axis_label(self) -> str:
         """``"label [unit]"`` (no brackets for a pure number)."""
@@ -176,7 +184,8 @@ class Family:
         return {
             "paper": self.paper,
             "parameters": [{"field": p.field, "label": p.label, "low": p.range.low, "high": p.range.high,
-                            "unit": p.range.unit, "scale": p.scale, "source": p.source} for p in self.parameters],
+                            "unit": p.range.unit, "scale": p.scale, "step": p.step, "source": p.source}
+                           for p in self.parameters],
             "fixed": [{"field": f.field, "value": _json_value(get_path(self.base, f.field)), "source": f.source}
                       for f in self.fixed],
         }

@@ -110,3 +110,17 @@ def test_a_tiny_map_through_the_cli_writes_map_json_that_recounts(tmp_path, caps
     for c in doc["claims"]:
         assert (c["region_holds"], c["region_testable"]) == verdicts[c["id"]][:2]
         assert (c["family_holds"], c["family_testable"]) == verdicts[c["id"]][3:]
+
+
+def test_the_phases_are_whole_seconds_on_every_sample_grid():
+    """A phase off the output's sample grid ends between samples (the record holds floor(T fs) of them):
+    the family's phases take whole seconds, on the 400 Hz output's and the 3.2 kHz shaker's grid."""
+    d = design(f000.FAMILY, f000.DEFAULT_POINTS, f000.DESIGN_SEED)
+    fog = fv.Config().fog
+    for v in d.values:
+        for k in ("static_before_s", "vibration_s", "static_after_s"):
+            assert v[k] == round(v[k]) and f000.FAMILY.config(v)  # whole seconds, a valid config
+            assert (v[k] * fog.output_rate_hz).is_integer() and (v[k] * fog.physics_rate_hz).is_integer()
+    p = next(p for p in f000.FAMILY.parameters if p.field == "vibration_s")
+    assert (p.value(0.0), p.value(1.0), p.value(0.5)) == (150.0, 900.0, 525.0)
+    assert p.value(0.3331) == round(150.0 + 0.3331 * 750.0)  # the nearest whole second

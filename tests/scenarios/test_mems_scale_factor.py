@@ -289,11 +289,12 @@ def test_order_quantities(held, order, best, bp_ts):
 
 
 @pytest.mark.parametrize(("found", "neg", "pos"), [
-    ((-1080.0, 1440.0), -1080.0, 1440.0), ((720.0,), None, 720.0), ((-2160.0,), -2160.0, None), ((), None, None),
+    ((-1080.0, 1440.0), 720.0, 360.0), ((720.0,), None, 1080.0), ((-2160.0,), 360.0, None), ((), None, None),
+    ((-1800.0, 1800.0), 0.0, 0.0),
 ])
 def test_breakpoint_side_quantities(found, neg, pos):
     q = exp.quantities(_raw(found), {k: _score(0.1) for k in ("piecewise", "two_stage_poly", "bayes_bp")})
-    assert (q["breakpoint_negative_dps"], q["breakpoint_positive_dps"]) == (neg, pos)
+    assert (q["breakpoint_negative_miss_dps"], q["breakpoint_positive_miss_dps"]) == (neg, pos)
 
 
 def test_a_method_that_cannot_be_fitted_is_untestable():

@@ -82,7 +82,8 @@ _MODE_C = ("0.1x-10x the identified compliance (identify.IDENTIFIED, CALIBRATED 
            "the scatter on the median unit): the coning bias scales as c_x c_y, so the range spans biases "
            "from 1/100 to 100 times the identified one")
 _PHASE = ("STATED ASSUMPTION: the paper gives no durations; the default phases (300 s vibration, 600 s "
-          "static) from half to 900 s, a range across the record B needs to be identified in a phase "
+          "static) from half to 900 s in whole seconds (on every sample grid), a range across the record B needs "
+          "to be identified in a phase "
           f"({required_record_s('B', INPUTS) / 60.0:.1f} min, identify.required_record_s)")
 
 FAMILY = Family(
@@ -102,11 +103,11 @@ FAMILY = Family(
         Parameter(field="fog.mount.y.compliance", range=FieldRange(_C / 10.0, _C * 10.0, "rad/(m/s^2)"),
                   scale="log", source=_MODE_C, label="mount mode y compliance"),
         Parameter(field="static_before_s", range=FieldRange(300.0, 900.0, "s"), scale="linear",
-                  source=_PHASE, label="static phase 1"),
+                  source=_PHASE, label="static phase 1", step=1.0),
         Parameter(field="vibration_s", range=FieldRange(150.0, 900.0, "s"), scale="linear",
-                  source=_PHASE, label="vibration phase 2"),
+                  source=_PHASE, label="vibration phase 2", step=1.0),
         Parameter(field="static_after_s", range=FieldRange(300.0, 900.0, "s"), scale="linear",
-                  source=_PHASE, label="static phase 3"),
+                  source=_PHASE, label="static phase 3", step=1.0),
         Parameter(field="fog.B_deg_h", range=FieldRange(0.01, 0.5, "deg/h"), scale="log",
                   source="STATED ASSUMPTION: a FOG's bias instability from a navigation-grade 0.01 deg/h to a "
                   "tactical 0.5 deg/h (the default 0.05 deg/h is chosen so the static phases identify B, "

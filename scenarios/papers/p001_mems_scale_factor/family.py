@@ -35,11 +35,13 @@ constraint here, not a calibration. The nominal point (:meth:`Family.nominal
 
 The constraints (:data:`MAP_CONSTRAINTS`) are the paper's device facts: its four device claims
 (quantity and band of each claim in :data:`.claims.CLAIMS`, so the tolerance is the claim's) and
-the heuristic's breakpoints, one constraint per side: the median over a point's units of where
-the heuristic split that side (``breakpoint_positive_dps``, ``breakpoint_negative_dps``) within
-half a table step (180 deg/s) of +-1800 deg/s. The search returns table rates only, so the band
-holds exactly the split at +-1800. A side that did not split gives no value (NaN median when no
-unit split it). The method claims mapped (:data:`MAP_CLAIMS`) are those judged where the unit
+the heuristic's breakpoints, one constraint per side: the median over a point's units of how far
+from -1800 or +1800 deg/s the heuristic split that side (``breakpoint_negative_miss_dps``,
+``breakpoint_positive_miss_dps``) below a quarter table step (90 deg/s). The search returns table
+rates only, so a unit's miss is 0, 360, 720, ... deg/s, and the band holds a median of 0 and no
+other: the median of an even count of units (a unit that did not split that side gives no value)
+averages two misses, 180 deg/s or more unless both are 0 (a distance, not the position, so that
+1440 and 2160 do not average to 1800). No unit splitting that side gives a NaN median. The method claims mapped (:data:`MAP_CLAIMS`) are those judged where the unit
 shows the effect (:data:`.claims.SHOWS_THE_EFFECT`). The breakpoint claim is among them: over
 the region, whose points already split at +-1800 by the median of their units, it holds nearly by
 construction, so its whole-family count is the informative one.
@@ -58,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrobench.base.ranges import FieldRange
-from gyrobench.scenarios.claims import in_range
+from gyrobench.scenarios.claims import below
 from gyrobench.scenarios.maps.family import Family, Fixed, Parameter
 from gyrobench.scenarios.maps.region import Constraint
 from gyrobench.sim.mems_resonator import DEFAULT_PICKOFF_NOISE
@@ -84,8 +86,8 @@ DESIGN_SEED = 2001
 #: the default map: 32 Sobol points x 3 units (a unit costs about 3-4 s of CPU)
 DEFAULT_POINTS = 32
 DEFAULT_UNITS_PER_POINT = 3
-#: tolerance of the breakpoint facts: half the table's 360 deg/s step [deg/s]
-BREAKPOINT_TOLERANCE_DPS = 180.0
+#: tolerance of the breakpoint facts: a quarter of the table's 360 deg/s step [deg/s] (module docstring)
+BREAKPOINT_TOLERANCE_DPS = 90.0
 #: the paper's breakpoints (Table 2) [deg/s]
 _PAPER_BREAKPOINT_DPS = 1800.0
 
@@ -195,11 +197,11 @@ def _breakpoint(side: str, sign: float) -> Constraint:
     return Constraint(
         id=f"001.breakpoint_{side}",
         fact=f"the heuristic breakpoint search splits the {side} rates at {target:+.0f} deg/s (the median over "
-        f"the point's units of where it split that side within +-{tol:.0f} deg/s, half a table step, so "
-        "exactly the table rate; a side the heuristic does not split gives no value)",
+        f"the point's units of |breakpoint - ({target:+.0f})| below {tol:.0f} deg/s, a quarter table step, so "
+        "exactly that table rate; a unit that does not split the side gives no value)",
         source="Table 2",
-        quantity=f"breakpoint_{side}_dps",
-        comparator=in_range(min(target - tol, target + tol), max(target - tol, target + tol)),
+        quantity=f"breakpoint_{side}_miss_dps",
+        comparator=below(tol),
     )
 
 

@@ -73,7 +73,8 @@ def test_a_value_outside_a_range_is_one_line_naming_the_parameter_range_and_valu
     assert "\n" not in msg
     assert "readout.nominal.rail must be in [1, 3] V" in msg and "5.0" in msg
     with pytest.raises(ValueError, match=r"'rial' is not a field of readout.nominal \(SenseChain\)"):
-        dataclasses.replace(f001.FAMILY, fixed=(dataclasses.replace(f001.FAMILY.fixed[0], field="readout.nominal.rial"),))
+        bad = dataclasses.replace(f001.FAMILY.fixed[0], field="readout.nominal.rial")
+        dataclasses.replace(f001.FAMILY, fixed=(bad,))
 
 
 def test_constraints_are_the_device_claims_and_the_breakpoints_which_hold_exactly_the_table_rate():
@@ -99,10 +100,9 @@ def test_no_corner_of_the_family_reaches_pull_in_at_full_scale():
     the worst way (gap small, bias large, k3 either way) and the quadrature at 3 sigma, settles at
     the table's 3600 deg/s."""
     from gyrobench.base import units as u
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.identify import IDENTIFIED
     from gyrobench.sim import mems_resonator as mr
     from gyrobench.sim.mems_readout import SenseChain
-
-    from gyrobench.scenarios.papers.p001_mems_scale_factor.identify import IDENTIFIED
 
     spec = ms.Config().readout
     r = {p.field.rpartition(".")[2]: p.range for p in f001.FAMILY.parameters}

@@ -33,8 +33,9 @@ band of its device claim in :data:`.claims.CLAIMS` (the tolerance is the claim's
 :data:`KEPT_OUT`: Table 1's K and R facts (rise in phase 2, lower after) need records of about
 37,000 h (K) and 4,700 h (R) per phase at the default B, 1,500 h and 940 h at the family's lowest
 B (:func:`.identify.required_record_s`), out of reach of every record of the family (<= 900 s a
-phase), so they would empty the region for a reason of ours, not the paper's; and N's rise, which the fit of the vibration phase leaves open on this device
-(its vibration adds tones and a bias, no white noise: the claim's statement). Those five are
+phase), so they would empty the region for a reason of ours, not the paper's; and N's rise,
+which the fit of the vibration phase leaves open on this device (its vibration adds tones and a
+bias, no white noise: the claim's statement). Those five are
 mapped as claims instead (:data:`MAP_CLAIMS`), so the map shows on how many points each could be
 tested. Q, N and B "unchanged between phases 1 and 3" hold by the model's structure (the claims'
 calibrated input: phases 1 and 3 share one stationary noise process); they stay in as facts.

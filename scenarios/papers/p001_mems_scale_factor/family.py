@@ -41,8 +41,10 @@ from -1800 or +1800 deg/s the heuristic split that side (``breakpoint_negative_m
 rates only, so a unit's miss is 0, 360, 720, ... deg/s, and the band holds a median of 0 and no
 other: the median of an even count of units (a unit that did not split that side gives no value)
 averages two misses, 180 deg/s or more unless both are 0 (a distance, not the position, so that
-1440 and 2160 do not average to 1800). No unit splitting that side gives a NaN median. The method claims mapped (:data:`MAP_CLAIMS`) are those judged where the unit
-shows the effect (:data:`.claims.SHOWS_THE_EFFECT`). The breakpoint claim is among them: over
+1440 and 2160 do not average to 1800). No unit splitting that side gives a NaN median.
+
+The method claims mapped (:data:`MAP_CLAIMS`) are those judged where the unit shows the effect
+(:data:`.claims.SHOWS_THE_EFFECT`). The breakpoint claim is among them: over
 the region, whose points already split at +-1800 by the median of their units, it holds nearly by
 construction, so its whole-family count is the informative one.
 
@@ -264,6 +266,9 @@ def noise_free_table(config: Config) -> np.ndarray:
     from .identify import nominal_open_loop_unit
 
     spec = device_spec(config)
+    if spec.chain is None:
+        raise ValueError(f"noise_free_table needs an open-loop variant (identified, readout_design); "
+                         f"got {config.variant!r}")
     unit = nominal_open_loop_unit(spec.chain.nominal, spec.nominal)
     op = mr.operating_point(unit)
     rates = np.asarray(config.rates_dps, dtype=float)

@@ -194,6 +194,20 @@ class Family:
 def get_path(obj: Any, path: str, *, owner: str = "") -> Any:
     """The value at a dotted field path of nested dataclasses (``"fog.mount.x.frequency"``).
 
+    Parameters
+    ----------
+    obj : dataclass instance
+        Where the path starts.
+    path : str
+        Field names joined by dots.
+    owner : str
+        Named first in the error message.
+
+    Returns
+    -------
+    Any
+        The field's value.
+
     Raises
     ------
     ValueError
@@ -212,8 +226,24 @@ def get_path(obj: Any, path: str, *, owner: str = "") -> Any:
 
 
 def replace_path(obj: Any, path: str, value: Any) -> Any:
-    """A copy of nested frozen dataclasses with the field at a dotted path replaced
-    (:func:`dataclasses.replace` at each level, so each level's own validation runs)."""
+    """A copy of nested frozen dataclasses with the field at a dotted path replaced.
+
+    :func:`dataclasses.replace` at each level, so each level's own validation runs.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        Where the path starts.
+    path : str
+        Field names joined by dots.
+    value : Any
+        The field's new value.
+
+    Returns
+    -------
+    dataclass instance
+        ``obj`` with the field replaced (``obj`` itself unchanged).
+    """
     head, _, rest = path.partition(".")
     if not rest:
         return dataclasses.replace(obj, **{head: value})

@@ -258,6 +258,16 @@ def noise_free_table(config: Config) -> np.ndarray:
     through its nominal chain (the identified C_f), factory-trimmed at T0, at T0: the static
     channels of :mod:`gyrobench.sim.mems_resonator` (B = R F_ext through the chain), as
     :mod:`.identify` solves C_f on. Noise, turn-on errors and the output word are left out.
+
+    Parameters
+    ----------
+    config : Config
+        An open-loop variant (``"identified"`` or ``"readout_design"``).
+
+    Returns
+    -------
+    ndarray
+        The output at each of ``config.rates_dps`` [deg/s].
     """
     from gyrobench.base import units
     from gyrobench.sim import mems_resonator as mr
@@ -277,8 +287,9 @@ def noise_free_table(config: Config) -> np.ndarray:
 
 
 def noise_free_breakpoints(points: int = 1024, seed: int = DESIGN_SEED + 1) -> BreakpointScan:
-    """The heuristic (:func:`gyrobench.analysis.scale_factor.breakpoint_search`) on the noise-free
-    table (:func:`noise_free_table`) of ``points`` design points of :data:`FAMILY`.
+    """Where the heuristic splits the noise-free tables of ``points`` design points of :data:`FAMILY`.
+
+    :func:`gyrobench.analysis.scale_factor.breakpoint_search` on :func:`noise_free_table`.
 
     Parameters
     ----------

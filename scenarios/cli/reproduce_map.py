@@ -10,7 +10,8 @@ from gyrobench.scenarios.cli.common import BadInput
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_UNITS_PER_POINT", "cmd_map"]
 
-#: ``--map`` defaults: 16 Sobol points x 3 units
+#: ``--map`` defaults: 16 Sobol points x 3 units, unless the family module states its own
+#: ``DEFAULT_POINTS`` / ``DEFAULT_UNITS_PER_POINT``
 DEFAULT_POINTS = 16
 DEFAULT_UNITS_PER_POINT = 3
 
@@ -50,8 +51,9 @@ def cmd_map(args) -> int:
                     if units.is_paper_scenario(m := registry.get(n)) and family_module(m) is not None]
         raise BadInput(f"scenario {args.scenarios[0]!r} defines no device family to map; --map applies to "
                        f"{', '.join(mappable) or 'no scenario'}")
-    points = args.points or DEFAULT_POINTS
-    k = args.units_per_point or DEFAULT_UNITS_PER_POINT
+    fam = family_module(mod)  # a family may state its own default map (what a map of it costs)
+    points = args.points or getattr(fam, "DEFAULT_POINTS", DEFAULT_POINTS)
+    k = args.units_per_point or getattr(fam, "DEFAULT_UNITS_PER_POINT", DEFAULT_UNITS_PER_POINT)
     from gyrobench.scenarios.maps.run import unit_seed
 
     try:

@@ -1,17 +1,20 @@
 """A paper's device family: the parameters the paper leaves open, with ranges and sources.
 
 A :class:`Family` is a frozen spec of the open parameters (:class:`Parameter`: a paper ``Config``
-field, its physical range as a :class:`~gyrobench.base.ranges.FieldRange` in the field's unit, a
+field, or a dotted path into its nested frozen dataclasses such as ``"fog.mount.x.frequency"``,
+its physical range as a :class:`~gyrobench.base.ranges.FieldRange` in the field's unit, a
 linear or logarithmic scale, and the source of the range or the stated assumption), the fixed
 parameters (:class:`Fixed`: the field and the source of its value) and the base configuration the
-points replace fields of. :meth:`Family.config` maps a point to the paper's ``Config``.
+points replace fields of. :meth:`Family.config` maps a point to the paper's ``Config``
+(a nested field by :func:`dataclasses.replace` at each level); :meth:`Family.nominal` is the
+point whose values are the base configuration's own, so ``config(nominal())`` is the base.
 
 :func:`design` places N points in the family with a space-filling design from
 :mod:`scipy.stats.qmc`: a scrambled Sobol sequence (Owen scrambling, the first N points of
 base 2; N a power of two keeps its balance properties) when N is a power of two, otherwise a
 scrambled Latin hypercube (McKay, Beckman & Conover 1979), both with a fixed seed. A unit
 coordinate u in [0, 1) maps to ``low + u (high - low)`` on a linear scale and to
-``low (high / low)**u`` on a logarithmic one.
+``low (high / low)**u`` on a logarithmic one, rounded to a parameter's ``step`` when it has one.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from scipy.stats import qmc
 
 from gyrobench.base.ranges import Constraint, FieldRange, field_range, validate
 
-__all__ = ["MAX_POINTS", "Design", "Family", "Fixed", "Parameter", "design"]
+__all__ = ["MAX_POINTS", "Design", "Family", "Fixed", "Parameter", "design", "get_path", "replace_path"]
 
 #: the most points one design holds (a map's points are all held in memory with their units)
 MAX_POINTS = 4096
@@ -40,7 +43,8 @@ class Parameter:
     Attributes
     ----------
     field : str
-        The paper ``Config`` field it sets.
+        The paper ``Config`` field it sets, or a dotted path through nested frozen dataclasses
+        (``"readout.nominal.rail"``).
     range : FieldRange
         Its physical range in the field's unit (``range.unit``), both ends inclusive.
     scale : "linear" or "log"
@@ -49,6 +53,9 @@ class Parameter:
         Where the range comes from: a cited value or a STATED ASSUMPTION (say which).
     label : str
         Axis label, e.g. ``"null-shift ratio eta"``.
+    step : float, optional
+        A grid the values are rounded to (the nearest multiple of ``step`` inside the range), for a
+        field that takes whole units (e.g. a record's phase in whole seconds); None: continuous.
     """
 
     field: str
@@ -56,6 +63,7 @@ class Parameter:
     scale: Literal["linear", "log"]
     source: str
     label: str
+    step: float | None = None
 
     #: ``range`` is a FieldRange and ``scale`` one of its Literal values (from the annotations);
     #: what ties the fields together:
@@ -74,6 +82,10 @@ class Parameter:
             "source is not blank",
             lambda c: bool(c.source.strip()),
             lambda c: f"source of {c.field!r} must give the range's source or the stated assumption; got {c.source!r}",
+        ),        Constraint(
+            "step, when given, in (0, high - low]",
+            lambda c: c.step is None or (math.isfinite(c.step) and 0 < c.step <= c.range.high - c.range.low),
+            lambda c: f"step of {c.field!r} must be in (0, high - low]; got {c.step!r}",
         ),
     )
 
@@ -83,9 +95,11 @@ class Parameter:
     def value(self, u: float) -> float:
         """The parameter's value at unit coordinate ``u`` in [0, 1] (its scale, see the module)."""
         lo, hi = self.range.low, self.range.high
-        if self.scale == "log":
-            return float(lo * (hi / lo) ** u)
-        return float(lo + u * (hi - lo))
+        v = lo * (hi / lo) ** u if self.scale == "log" else lo + u * (hi - lo)
+        if self.step is not None:  # the nearest grid value inside the range
+            v = min(max(round(v / self.step) * self.step, math.ceil(lo / self.step) * self.step),
+                    math.floor(hi / self.step) * self.step)
+        return float(v)
 
     def axis_label(self) -> str:
         """``"label [unit]"`` (no brackets for a pure number)."""
@@ -100,7 +114,7 @@ class Fixed:
     Parameters
     ----------
     field : str
-        The paper ``Config`` field.
+        The paper ``Config`` field (or a dotted path, as :class:`Parameter`).
     source : str
         Where its value comes from, or the stated assumption.
     """
@@ -125,9 +139,32 @@ def _names(family: Family) -> list[str]:
     return [p.field for p in family.parameters] + [f.field for f in family.fixed]
 
 
+def _has_path(obj: Any, path: str) -> bool:
+    try:
+        get_path(obj, path)
+    except ValueError:
+        return False
+    return True
+
+
+def _path_error(obj: Any, path: str) -> str:
+    try:
+        get_path(obj, path)
+    except ValueError as exc:
+        return str(exc)
+    return ""
+
+
+def _declared(family: Family, path: str) -> FieldRange | None:
+    """The declared range of the field at ``path`` (a dotted path: in the dataclass that holds it)."""
+    head, _, last = path.rpartition(".")
+    holder = get_path(family.base, head) if head else family.base
+    return field_range(type(holder), last)
+
+
 def _inside_declared(family: Family, p: Parameter) -> bool:
     """Whether ``p``'s range lies inside the base Config's declared range of its field, in its unit."""
-    declared = field_range(type(family.base), p.field)
+    declared = _declared(family, p.field)
     if declared is None:
         return True
     return p.range.unit == declared.unit and declared.contains(p.range.low) and declared.contains(p.range.high)
@@ -135,7 +172,7 @@ def _inside_declared(family: Family, p: Parameter) -> bool:
 
 def _outside_declared(family: Family) -> str:
     p = next(p for p in family.parameters if not _inside_declared(family, p))
-    declared = field_range(type(family.base), p.field)
+    declared = _declared(family, p.field)
     assert declared is not None
     return (
         f"parameters: {p.field} range [{p.range.low:g}, {p.range.high:g}] {p.range.unit} must lie in the "
@@ -148,7 +185,7 @@ def _ends_are_configs(family: Family) -> None:
     end that is no valid configuration, in the Config's own one-line message."""
     for p in family.parameters:
         for end in (p.range.low, p.range.high):
-            dataclasses.replace(family.base, **{p.field: end})
+            replace_path(family.base, p.field, end)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -189,10 +226,10 @@ class Family:
             lambda c: f"parameters: a field is listed twice in {_names(c)} (family of paper {c.paper})",
         ),
         Constraint(
-            "each field is a field of base",
-            lambda c: set(_names(c)) <= {f.name for f in dataclasses.fields(c.base)},
-            lambda c: f"parameters: {sorted(set(_names(c)) - {f.name for f in dataclasses.fields(c.base)})} is not a "
-            f"field of {type(c.base).__name__} (family of paper {c.paper})",
+            "each field is a field (or a dotted path of fields) of base",
+            lambda c: all(_has_path(c.base, n) for n in _names(c)),
+            lambda c: f"parameters: {_path_error(c.base, next(n for n in _names(c) if not _has_path(c.base, n)))} "
+            f"(family of paper {c.paper})",
         ),
         Constraint(
             "each parameter's range inside the Config's declared range, same unit",
@@ -218,17 +255,105 @@ class Family:
             v = values[p.field]
             if not p.range.contains(v):
                 raise ValueError(f"family of paper {self.paper}: {p.field} must be in {p.range.text()}; got {v!r}")
-        return dataclasses.replace(self.base, **{k: float(v) for k, v in values.items()})
+        out = self.base
+        for p in self.parameters:
+            out = replace_path(out, p.field, float(values[p.field]))
+        return out
+
+    def nominal(self) -> dict[str, float]:
+        """The base configuration's own values of the open parameters (``config(nominal())`` is ``base``).
+
+        Raises
+        ------
+        ValueError
+            When a base value lies outside its parameter's range (the nominal device must be a
+            point of the family).
+        """
+        out = {}
+        for p in self.parameters:
+            v = float(get_path(self.base, p.field))
+            if not p.range.contains(v):
+                raise ValueError(f"family of paper {self.paper}: the base value of {p.field} must be in "
+                                 f"{p.range.text()}; got {v!r}")
+            out[p.field] = v
+        return out
 
     def as_dict(self) -> dict[str, Any]:
         """The family as map.json lists it (ranges in field units, the fixed values from ``base``)."""
         return {
             "paper": self.paper,
             "parameters": [{"field": p.field, "label": p.label, "low": p.range.low, "high": p.range.high,
-                            "unit": p.range.unit, "scale": p.scale, "source": p.source} for p in self.parameters],
-            "fixed": [{"field": f.field, "value": getattr(self.base, f.field), "source": f.source}
+                            "unit": p.range.unit, "scale": p.scale, "step": p.step, "source": p.source}
+                           for p in self.parameters],
+            "fixed": [{"field": f.field, "value": _json_value(get_path(self.base, f.field)), "source": f.source}
                       for f in self.fixed],
         }
+
+
+def get_path(obj: Any, path: str, *, owner: str = "") -> Any:
+    """The value at a dotted field path of nested dataclasses (``"fog.mount.x.frequency"``).
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        Where the path starts.
+    path : str
+        Field names joined by dots.
+    owner : str
+        Named first in the error message.
+
+    Returns
+    -------
+    Any
+        The field's value.
+
+    Raises
+    ------
+    ValueError
+        When a step of the path is not a field of the dataclass it is taken from.
+    """
+    cur = obj
+    for i, name in enumerate(path.split(".")):
+        if not dataclasses.is_dataclass(cur) or name not in {f.name for f in dataclasses.fields(cur)}:
+            lead = f"{owner}: " if owner else ""
+            if i == 0:
+                raise ValueError(f"{lead}{name!r} is not a field of {type(obj).__name__}")
+            where = ".".join(path.split(".")[:i])
+            raise ValueError(f"{lead}{path!r}: {name!r} is not a field of {where} ({type(cur).__name__})")
+        cur = getattr(cur, name)
+    return cur
+
+
+def replace_path(obj: Any, path: str, value: Any) -> Any:
+    """A copy of nested frozen dataclasses with the field at a dotted path replaced.
+
+    :func:`dataclasses.replace` at each level, so each level's own validation runs.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        Where the path starts.
+    path : str
+        Field names joined by dots.
+    value : Any
+        The field's new value.
+
+    Returns
+    -------
+    dataclass instance
+        ``obj`` with the field replaced (``obj`` itself unchanged).
+    """
+    head, _, rest = path.partition(".")
+    if not rest:
+        return dataclasses.replace(obj, **{head: value})
+    return dataclasses.replace(obj, **{head: replace_path(getattr(obj, head), rest, value)})
+
+
+def _json_value(v: Any) -> Any:
+    """A fixed field's value for map.json: numbers and strings as they are, anything else by repr."""
+    if v is None or isinstance(v, (bool, int, float, str)):
+        return v
+    return repr(v)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -193,7 +193,7 @@ def toy_map_registered(monkeypatch):
     (["reproduce", "toy_map_paper", "--map", "--points", "1"], "--points"),
     (["reproduce", "toy_map_paper", "--points", "8"], "go with --map"),
     (["reproduce", "toy_map_paper", "--map", "--deviations"], "--deviations does not apply"),
-    (["reproduce", "fog_vibration", "--map"], "defines no device family"),
+    (["reproduce", "static_noise", "--map"], "defines no device family"),
 ])
 def test_map_cli_bad_input_is_one_line_exit_2(toy_map_registered, tmp_path, capsys, argv, needle):
     code, out, err = run([*argv, "--out", tmp_path / "r"], capsys)

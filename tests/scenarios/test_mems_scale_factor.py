@@ -97,9 +97,12 @@ def test_claims_are_well_formed(unit0):
         if c.comparator.kind == "within_factor":
             assert c.paper_value is not None
             assert math.isclose(math.sqrt(c.comparator.lo * c.comparator.hi), c.paper_value)
-    # every produced quantity is some claim's (no orphan numbers in 'quantities')
+    # every produced quantity is some claim's or some device-family constraint's (no orphan numbers)
+    from gyrobench.scenarios.papers.p001_mems_scale_factor.family import MAP_CONSTRAINTS
+
     pre = {c.precondition.quantity for c in ms.CLAIMS if c.precondition is not None}
-    assert set(unit0.quantities) == {c.quantity for c in ms.CLAIMS} | pre
+    facts = {c.quantity for c in MAP_CONSTRAINTS}
+    assert set(unit0.quantities) == {c.quantity for c in ms.CLAIMS} | pre | facts
     # the design device sets nothing from the paper: no claim is calibrated
     assert {c.id for c in ms.CLAIMS if c.kind == "calibrated"} == set()
     assert ms.claims_for(ms.Config(variant="design")) == ms.CLAIMS
@@ -283,6 +286,15 @@ def test_order_quantities(held, order, best, bp_ts):
     assert q["order_as_paper_dense"] == order and q["piecewise_smallest_rms"] == best
     assert q["breakpoints_at_1800"] == 0.0
     assert exp.quantities(_raw((-1800.0, 1800.0)), methods)["breakpoints_at_1800"] == 1.0
+
+
+@pytest.mark.parametrize(("found", "neg", "pos"), [
+    ((-1080.0, 1440.0), 720.0, 360.0), ((720.0,), None, 1080.0), ((-2160.0,), 360.0, None), ((), None, None),
+    ((-1800.0, 1800.0), 0.0, 0.0),
+])
+def test_breakpoint_side_quantities(found, neg, pos):
+    q = exp.quantities(_raw(found), {k: _score(0.1) for k in ("piecewise", "two_stage_poly", "bayes_bp")})
+    assert (q["breakpoint_negative_miss_dps"], q["breakpoint_positive_miss_dps"]) == (neg, pos)
 
 
 def test_a_method_that_cannot_be_fitted_is_untestable():

@@ -428,10 +428,20 @@ def _run_spread_ratio(raw: RawAnalysis) -> float:
     return math.inf if spread > 0 else math.nan
 
 
+def _miss(breakpoints: Sequence[float], side: float) -> float | None:
+    """|b - side x LOW_RATE_LIMIT_DPS| [deg/s] of the breakpoint on ``side`` (+1 or -1); None without one."""
+    b = next((b for b in breakpoints if side * b > 0), None)
+    return None if b is None else abs(b - side * LOW_RATE_LIMIT_DPS)
+
+
 def quantities(
     raw: RawAnalysis, methods: Mapping[str, MethodScore], hermite_ratio: float = math.nan
 ) -> dict[str, float | None]:
     """One number per claim quantity (see ``claims.CLAIMS``); booleans as 1.0 / 0.0.
+
+    Beside them, for the device family's constraints (:mod:`.family`), how far from the paper's
+    breakpoint the heuristic split each side: ``breakpoint_positive_miss_dps`` and
+    ``breakpoint_negative_miss_dps`` = |b - (+-1800)| [deg/s] (None where it did not split that side).
 
     ``hermite_ratio``: :func:`hermite_error_ratio` of the piecewise fit (NaN: untestable).
 
@@ -458,6 +468,8 @@ def quantities(
         "raw_kn_ratio": raw.raw_kn_pct / (100.0 * PAPER_RAW_KN),
         "run_spread_ratio": _run_spread_ratio(raw),
         "breakpoints_at_1800": float(raw.breakpoints_dps == (-1800.0, 1800.0)),
+        "breakpoint_positive_miss_dps": _miss(raw.breakpoints_dps, 1.0),
+        "breakpoint_negative_miss_dps": _miss(raw.breakpoints_dps, -1.0),
         "low_rate_kn": raw.low_rate_kn_paper,
     }
     for key in methods:

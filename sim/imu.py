@@ -390,7 +390,7 @@ class TriadUnit:
             env = Environment(n / fs, true_rate=w_sensed[:, i] + g_term[:, i], temperature=temperature,
                               specific_force=f_true[:, i])
             rec = unit.simulate(env, fs=fs, rng=r)
-            out = rec["output"] if "output" in rec.channels else rec["rate"]
+            out = rec["output"]
             drive = rec["truth/true_rate"]
             ch = f"gyro_{axis}"
             channels[ch] = Channel(out, rs, f"gyro {axis} output")

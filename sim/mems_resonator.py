@@ -516,9 +516,13 @@ class MemsResonator:
         Returns
         -------
         Recording
-            Channels ``rate`` [rad/s] and ``temperature`` [K]; truth ``true_rate``,
-            ``temperature`` and ``specific_force``. The slow flow does not split its output
-            into terms: ``error_components`` is empty.
+            Channels ``output`` [rad/s] and ``temperature`` [K]; truth ``true_rate`` and the
+            two components of ``error_components``: ``deterministic_error``, the error of the
+            same slow flow run without noise (``noise=False, flicker=False``; the scale factor
+            and its nonlinearity, bias, quadrature, rails and ADC), and ``noise``, the record
+            minus that noise-free run (Brownian and pick-off noise and the 1/f term, through
+            the nonlinear read-out, with the ADC's rounding of them); inputs ``temperature``
+            and ``specific_force``. The noise-free run draws nothing from ``rng``.
         """
         from gyrobench.sim.mems_slow_flow import slow_flow  # it imports this module
 
@@ -530,8 +534,12 @@ class MemsResonator:
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
         out = np.empty(n)
+        calm = np.empty(n)  # the same run without noise: the deterministic part of the error
+        quiet = {"noise": False, "flicker": False}
         if np.all(temp == temp[0]):
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
+            calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
+                                specific_force=force, **quiet).output
             blocks = 1
         else:
             m = max(2, int(round(TEMPERATURE_BLOCK * fs)))
@@ -544,15 +552,23 @@ class MemsResonator:
                     self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b]
                 )
                 out[a:b] = res.output
+                calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
+                                      temperature=float(np.mean(temp[a:b])), specific_force=force[a:b], **quiet).output
             blocks = len(starts)
         return Recording(
             fs=fs,
             channels={
-                "rate": Channel(out, "rad/s", "gyro output"),
+                "output": Channel(out, "rad/s", "gyro output"),
                 "temperature": Channel(temp, "K", "die temperature (as driven)"),
             },
             truth={
                 "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
+                "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
+                                               "factor and nonlinearity, bias, quadrature, rails, ADC"),
+                "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off "
+                                 "and 1/f noise through the read-out"),
+            },
+            inputs={
                 "temperature": Channel(temp, "K", "die temperature"),
                 "specific_force": Channel(force, "m/s^2", "specific force along the sense axis"),
             },
@@ -561,7 +577,7 @@ class MemsResonator:
                 "model": "gyrobench.sim.mems_resonator.MemsResonator (slow flow)",
                 "temperature_blocks": blocks,
                 "ignored_inputs": environment.ignored("vibration"),
-                "error_components": [],
+                "error_components": ["deterministic_error", "noise"],
             },
             name="mems",
         )

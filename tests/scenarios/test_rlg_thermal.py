@@ -264,7 +264,7 @@ def test_simulate_recordings():
             d = np.asarray(r[ch]) - np.asarray(r[f"truth/{ch}"])
             assert abs(np.std(d) / sd - 1.0) <= z / math.sqrt(2 * len(d))
             assert abs(np.mean(d)) <= z * cfg.sensor_offset_spread_k
-    assert not np.array_equal(recs[0]["rate"], recs[1]["rate"])
+    assert not np.array_equal(recs[0]["output"], recs[1]["output"])
 
 
 # ----------------------------------------------------------------------------- bad input

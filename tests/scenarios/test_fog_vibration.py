@@ -291,7 +291,7 @@ def test_output_is_the_sum_of_its_truth_parts_and_earth_rate_is_the_closed_form(
     for rec in (sweep, fixed):
         np.testing.assert_allclose(rec["detail/earth_rate"], earth, rtol=1e-6)
         parts = (
-            "rate", "scale_factor_error", "loop_error", "strain_nonreciprocity", "rectification",
+            "true_rate", "scale_factor_error", "loop_error", "strain_nonreciprocity", "rectification",
             "optical_noise", "ieee_noise", "coning_rate",
         )  # fmt: skip
         total = sum(rec[f"truth/{k}"] for k in parts)

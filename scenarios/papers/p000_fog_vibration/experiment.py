@@ -101,7 +101,8 @@ def _record(
     meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
     meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
     meta["error_components"] = [*meta["error_components"], "coning_rate"]  # the mount's, added to the output
-    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name)
+    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name,
+                     inputs=rec.inputs, detail=rec.detail)
 
 
 def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:

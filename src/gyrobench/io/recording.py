@@ -45,7 +45,6 @@ import json
 import math
 import os
 import re
-import typing
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -363,8 +362,10 @@ class Recording:
         ImportError
             pandas is not installed.
         """
+        import importlib
+
         try:
-            import pandas as pd
+            pd = importlib.import_module("pandas")  # not a dependency: imported only here
         except ImportError:
             raise ImportError("Recording.to_dataframe needs pandas, which gyrobench does not depend on: "
                               "pip install pandas") from None
@@ -585,7 +586,7 @@ def _h5_create(tmp: Path) -> Iterator[tuple[Any, _GuardedFile]]:
 def _check_compression(compression: object) -> str | None:
     if compression not in COMPRESSIONS:
         raise ValueError(f"compression must be one of {list(COMPRESSIONS)}; got {compression!r}")
-    return typing.cast("str | None", compression)
+    return compression if compression is None else str(compression)
 
 
 def _write_group(h5, rec: Recording, *, compression: str | None = None) -> None:

@@ -52,6 +52,8 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None, start: f
         except KeyError as exc:
             raise BadInput(f"{str(path)!r}: {exc.args[0]}") from None
         data, unit = channel.data, channel.unit
+        if unit in ("rad", "m/s"):  # a triad's increments (simulate imu --increments): x fs is the mean rate
+            data, unit = data * rec.fs, {"rad": "rad/s", "m/s": "m/s^2"}[unit]
         quantity = "accel" if unit in ("m/s^2", "m/s/s") else "rate"
         if quantity == "rate" and unit != "rad/s":
             from gyrobench.base import units

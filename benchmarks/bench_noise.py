@@ -167,9 +167,9 @@ def hdf5_child(n: int, path: str) -> None:
     model = NoiseModel.from_datasheet(**FIVE)
     stream = model.stream(FS, rng=np.random.default_rng(2))
     t0 = time.perf_counter()
-    with HDF5StreamWriter(path, name="noise", fs=FS, channels={"rate": "rad/s"}) as w:
+    with HDF5StreamWriter(path, name="noise", fs=FS, channels={"output": "rad/s"}) as w:
         for y in stream.chunks(n, 1 << 20):
-            w.append(rate=y)
+            w.append(output=y)
     dt = time.perf_counter() - t0
     peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     print(f"{peak_kb} {dt} {os.path.getsize(path)}")

@@ -176,10 +176,11 @@ def simulate(config: Config, seed: int) -> list[Recording]:
         recs.append(
             Recording(
                 fs=spec.fs_hz,
-                channels={"rate": Channel(out, "rad/s", "gyro output")},
+                channels={"output": Channel(out, "rad/s", "gyro output")},
                 truth=truth,
                 metadata={
-                    "scenario": NAME, "grade": key, "spec": asdict(spec), "seed": seed, "version": package_version()
+                    "scenario": NAME, "grade": key, "spec": asdict(spec), "seed": seed, "version": package_version(),
+                    "error_components": list(comps),
                 },
                 name=f"static_{key}",
             )
@@ -211,7 +212,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     headlines: list[Headline] = []
     results: dict[str, Any] = {"grades": {}}
     for rec, (key, spec) in zip(recs, _grades(config).items(), strict=True):
-        curve = allan_deviation(rec["rate"], rec.fs, taus="octave")
+        curve = allan_deviation(rec["output"], rec.fs, taus="octave")
         fit = fit_noise(curve)
         truth = spec.truth()
         js = coefficients_json(fit)

@@ -155,9 +155,11 @@ class _CavityScale:
         Returns
         -------
         Recording
-            Channels ``rate`` [rad/s], ``counts``, ``dither_angle``, ``T1`` (housing) and ``T2``
-            (cavity) [K]; truth ``true_rate``, the terms named in the metadata's
-            ``error_components`` (summing to ``rate - true_rate``) and the model's states.
+            Channels ``output`` [rad/s], ``counts``, ``dither_angle``, ``T1`` (housing) and ``T2``
+            (cavity) [K]; truth ``true_rate`` and the terms named in the metadata's
+            ``error_components`` (summing to ``output - true_rate``); inputs: the model's
+            temperatures and states (mode index, path length, scale-factor ratio); detail: the
+            thermal bias's mechanisms and the lock-in rate.
         """
         fs = check_call(environment, fs, rng)
         rate = environment.profile("true_rate", fs) or 0.0
@@ -300,7 +302,7 @@ def _finish_run(
 ) -> Recording:
     """Count pulses driven by the input rate and the model's ``terms``; the recording.
 
-    Channels ``rate`` [rad/s] (dither stripped), ``counts``, ``dither_angle`` [rad], ``T1``,
+    Channels ``output`` [rad/s] (dither stripped), ``counts``, ``dither_angle`` [rad], ``T1``,
     ``T2`` [K] (sensors); truth ``true_rate``, the model's channels, ``turn_on_bias``,
     ``flicker_rrw``, ``dither_random_walk``, ``quantization`` [rad/s], then
     ``terms.truth_last``. Equations in the module docstring.
@@ -341,7 +343,7 @@ def _finish_run(
     return Recording(
         fs=fs,
         channels={
-            "rate": Channel(out, "rad/s", "dither-stripped gyro output"),
+            "output": Channel(out, "rad/s", "dither-stripped gyro output"),
             "counts": Channel(counts, "counts", "pulses per sample (dither included)"),
             "dither_angle": Channel(d[1:], "rad", wording.dither_angle),
             "T1": Channel(t1m, "K", wording.housing_sensor),

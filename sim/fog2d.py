@@ -22,9 +22,9 @@ of the composite-cylinder d eps_theta/dT of :meth:`Coil2DSpec.hoop_strain_rate` 
 the winding radius and the wound fibre length both follow the hoop strain, so SF ~ L D
 ~ D^2).
 
-Recording layout: channels ``rate`` [rad/s] and ``coil_temperature`` [K]; truth
-``rate``, ``thermal_drift`` = ``shupe`` + ``txdt_product``, ``scale_factor_error``,
-``noise`` = optical + IEEE-952, the temperatures, plus the loop's own truth channels. The
+Recording layout (docs/recording.md): channels ``output`` [rad/s] and ``coil_temperature`` [K];
+truth ``true_rate`` and the loop's error components; detail ``thermal_drift`` = ``shupe`` +
+``txdt_product`` and ``noise`` = optical + IEEE-952; inputs: the temperatures. The
 logged sensor sits on the outer potting surface at the unit's drawn axial position.
 """
 
@@ -320,9 +320,11 @@ class FOG2DUnit:
         Returns
         -------
         Recording
-            Channels ``rate`` [rad/s] and ``coil_temperature`` [K] (the logged sensor); truth
-            ``true_rate`` and the loop's and coil's terms (metadata ``error_components`` names
-            those summing to ``rate - true_rate``). Samples are block means over 1/fs at the
+            Channels ``output`` [rad/s] and ``coil_temperature`` [K] (the logged sensor); truth
+            ``true_rate`` and the loop's terms named by the metadata's ``error_components``
+            (summing to ``output - true_rate``); detail: the coil's thermal drift and its Shupe
+            and T x dT parts, the loop's sub-terms; inputs: the coil, housing, sensor and
+            chamber temperatures. Samples are block means over 1/fs at the
             block centres (k + 1/2)/fs, where the temperatures are also taken.
         """
         fs = check_call(environment, fs, rng)
@@ -333,8 +335,6 @@ class FOG2DUnit:
                 f"[0, {environment.duration!r}] s; got [{float(chamber.times[0])!r}, {float(chamber.times[-1])!r}] s"
             )
         rec = self._chamber_run(chamber, environment.duration, fs, rng, environment.profile("true_rate", fs))
-        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
-        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
         return with_metadata(
             rec,
             ignored_inputs=environment.ignored("specific_force", "vibration"),
@@ -367,7 +367,7 @@ class FOG2DUnit:
             nonreciprocal_rate=interp(run.shupe + run.product),
             t0=t0,
         )
-        n = len(rec["rate"])
+        n = len(rec["output"])
         t = t0 + (np.arange(n) + 0.5) / fs
         shupe, product = np.interp(t, run.t, run.shupe), np.interp(t, run.t, run.product)
         sensor_true = np.interp(t, run.t, run.sensor)
@@ -397,7 +397,7 @@ class FOG2DUnit:
             "chamber_temperature": Channel(np.interp(t, run.t, run.chamber), "K", "chamber"),
         }
         channels = {
-            "rate": rec.channels["rate"],
+            "output": rec.channels["output"],
             "coil_temperature": Channel(logged, "K", "coil temperature sensor (outer potting)"),
         }
         meta = {

@@ -868,9 +868,10 @@ class ClosedLoopFOG:
         Returns
         -------
         Recording
-            Channel ``rate`` [rad/s] (and the shaker's logged frequency and amplitude with a
+            Channel ``output`` [rad/s] (and the shaker's logged frequency and amplitude with a
             vibration); truth ``true_rate`` and the terms named in the metadata's
-            ``error_components``, which sum to ``rate - true_rate``.
+            ``error_components``, which sum to ``output - true_rate``; detail: the table, Earth
+            and rocking rates and the IEEE-952 terms ``ieee_<term>`` of ``ieee_noise``.
         """
         fs = check_call(environment, fs, rng)
         temp = environment.profile("temperature", fs)
@@ -883,8 +884,6 @@ class ClosedLoopFOG:
             coil_temperature=temp,
             source_temperature=temp,
         )
-        truth = {**rec.truth, "true_rate": rec.truth["rate"]}
-        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
         return with_metadata(
             rec, ignored_inputs=environment.ignored("specific_force"), error_components=list(FOG_ERROR_COMPONENTS)
         )
@@ -983,7 +982,7 @@ class ClosedLoopFOG:
         output = true + sf_err + loop_err + nonrec + strain + rect + optical + ieee
         rs = "rad/s"
         truth = {
-            "rate": Channel(
+            "true_rate": Channel(
                 true, rs, "true rate about the sense axis (table + Earth + rocking), block mean"
             ),
             "table_rate": Channel(omega_table, rs, "table rate"),
@@ -1017,7 +1016,7 @@ class ClosedLoopFOG:
                 for k, v in ieee_parts.items()
             },
         }
-        channels = {"rate": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
+        channels = {"output": Channel(output, rs, "FOG output: ramp angle increments / T_o")}
         if shaker is not None:
             m = int(round(shaker.fs / fs))
             centre = slice(m // 2, n * m, m)  # the block centres

@@ -367,7 +367,8 @@ class TriadUnit:
         temperature : float, optional
             Block temperature [K], shared by every axis (None: each device's reference).
         as_increments : bool
-            Channels as increments (``dtheta_*`` [rad], ``dv_*`` [m/s]) instead of rates.
+            Channels as increments (``dtheta_*`` [rad], ``dv_*`` [m/s]) instead of rates, and their
+            truth and components likewise (``truth/dtheta_x.true``, ...).
 
         Returns
         -------
@@ -395,7 +396,7 @@ class TriadUnit:
             env = Environment(n / fs, true_rate=w_sensed[:, i] + g_term[:, i], temperature=temperature,
                               specific_force=f_true[:, i])
             rec = unit.simulate(env, fs=fs, rng=r)
-            out = rec["output"] if "output" in rec.channels else rec["rate"]
+            out = rec["output"]
             drive = rec["truth/true_rate"]
             ch = f"gyro_{axis}"
             channels[ch] = Channel(out, rs, f"gyro {axis} output")
@@ -448,12 +449,18 @@ class TriadUnit:
                 for k, v in terms.items():
                     truth[f"{ch}.{k}"] = v
                 components[ch] = [f"{ch}.{k}" for k in terms if k != "true"]
-        if as_increments:
-            channels = {
-                (k.replace("gyro_", "dtheta_").replace("accel_", "dv_")): Channel(
-                    v.data / fs, "rad" if k.startswith("gyro") else "m/s", v.description + " x 1/fs (increment)")
-                for k, v in channels.items()
-            }
+        if as_increments:  # outputs, their truth and components as increments (x 1/fs): the sums still close
+
+            def inc(k: str) -> str:
+                return k.replace("gyro_", "dtheta_").replace("accel_", "dv_")
+
+            def as_inc(k: str, v: Channel) -> Channel:
+                return Channel(v.data / fs, "rad" if k.startswith("gyro") else "m/s",
+                               v.description + " x 1/fs (increment)")
+
+            channels = {inc(k): as_inc(k, v) for k, v in channels.items()}
+            truth = {inc(k): as_inc(k, v) for k, v in truth.items()}
+            components = {inc(k): [inc(c) for c in v] for k, v in components.items()}
         if temperature is not None:
             channels["temperature"] = Channel(np.full(n, float(temperature)), "K", "block temperature")
         meta = {

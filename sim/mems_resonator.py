@@ -530,11 +530,15 @@ class MemsResonator:
         Returns
         -------
         Recording
-            Channels ``rate`` [rad/s] and ``temperature`` [K]; truth ``true_rate``,
-            ``temperature`` and ``specific_force``. The slow flow does not split its output
-            into terms: ``error_components`` is empty. With k segments the channels hold
-            them one after another (column by column, n k samples) and the metadata's
-            ``segments`` is k (1 for one record).
+            Channels ``output`` [rad/s] and ``temperature`` [K]; truth ``true_rate`` and the
+            two components of ``error_components``: ``deterministic_error``, the error of the
+            same slow flow run without noise (``noise=False, flicker=False``; the scale factor
+            and its nonlinearity, bias, quadrature, rails and ADC), and ``noise``, the record
+            minus that noise-free run (Brownian and pick-off noise and the 1/f term, through
+            the nonlinear read-out, with the ADC's rounding of them); inputs ``temperature``
+            and ``specific_force``. The noise-free run draws nothing from ``rng``.
+            With k segments the channels hold them one after another (column by column, n k
+            samples) and the metadata's ``segments`` is k (1 for one record).
 
         Raises
         ------
@@ -550,20 +554,27 @@ class MemsResonator:
         rate = environment.sampled("true_rate", fs)
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
+        quiet = {"noise": False, "flicker": False}
         k = environment.columns
         if k > 1:
             if not np.all(temp == temp[0]):
                 raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
             columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
-            out, rate = columns.output.T.reshape(-1), rate.T.reshape(-1)
+            still = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
+                              specific_force=force[:, None], **quiet)
+            out, calm, rate = (a.T.reshape(-1) for a in (columns.output, still.output, rate))
             temp, force = np.full(n * k, temp[0]), np.tile(force, k)
             blocks = 1
         elif np.all(temp == temp[0]):
             out = np.empty(n)
+            calm = np.empty(n)  # the same run without noise: the deterministic part of the error
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
+            calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
+                                specific_force=force, **quiet).output
             blocks = 1
         else:
             out = np.empty(n)
+            calm = np.empty(n)
             m = max(2, int(round(TEMPERATURE_BLOCK * fs)))
             starts = list(range(0, n, m))
             if n - starts[-1] < 2 and len(starts) > 1:  # a last block of one sample joins the one before
@@ -574,15 +585,23 @@ class MemsResonator:
                     self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b]
                 )
                 out[a:b] = res.output
+                calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
+                                      temperature=float(np.mean(temp[a:b])), specific_force=force[a:b], **quiet).output
             blocks = len(starts)
         return Recording(
             fs=fs,
             channels={
-                "rate": Channel(out, "rad/s", "gyro output"),
+                "output": Channel(out, "rad/s", "gyro output"),
                 "temperature": Channel(temp, "K", "die temperature (as driven)"),
             },
             truth={
                 "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
+                "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
+                                               "factor and nonlinearity, bias, quadrature, rails, ADC"),
+                "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off "
+                                 "and 1/f noise through the read-out"),
+            },
+            inputs={
                 "temperature": Channel(temp, "K", "die temperature"),
                 "specific_force": Channel(force, "m/s^2", "specific force along the sense axis"),
             },
@@ -592,7 +611,7 @@ class MemsResonator:
                 "temperature_blocks": blocks,
                 "segments": k,
                 "ignored_inputs": environment.ignored("vibration"),
-                "error_components": [],
+                "error_components": ["deterministic_error", "noise"],
             },
             name="mems",
         )

@@ -869,7 +869,7 @@ class RLGUnit(_CavityScale):
         Returns
         -------
         Recording
-            channels ``rate`` [rad/s] (counts x q minus the dither-angle increment, times
+            channels ``output`` [rad/s] (counts x q minus the dither-angle increment, times
             fs), ``counts`` [counts per sample, dither included], ``dither_angle`` [rad],
             ``T1``, ``T2`` [K] (logged); truth ``true_rate``, ``T1``, ``T2``, ``thermal_bias``
             and each mechanism, ``turn_on_bias``, ``flicker_rrw``, ``dither_random_walk``,

@@ -787,8 +787,7 @@ class CavityRLG(_CavityScale):
                 "(K/K_ref - 1) x (true rate + turn-on, thermal and flicker bias)",
             ),
         }
-        rec = Recording(fs=rec.fs, channels=rec.channels, truth=truth, t0=rec.t0, metadata=rec.metadata, name=rec.name)
-        return rec, [*RLG_ERROR_COMPONENTS, "scale_factor_error"]
+        return replace(rec, truth=truth), [*RLG_ERROR_COMPONENTS, "scale_factor_error"]
 
     def _record(
         self,
@@ -804,7 +803,7 @@ class CavityRLG(_CavityScale):
         """Statistical mode over a thermal run: pulse counts at ``fs`` (gyro on at t = 0).
 
         Parameters and output channels as :meth:`gyrobench.sim.rlg.RLGUnit.simulate`
-        (``rate``, ``counts``, ``dither_angle``, ``T1`` housing, ``T2`` cavity). Truth adds the
+        (``output``, ``counts``, ``dither_angle``, ``T1`` housing, ``T2`` cavity). Truth adds the
         node temperatures, ``lock_in_rate``, ``mode`` (PLC mode index), ``plc`` [m],
         ``bias_langmuir``, ``bias_backscatter`` and ``scale_factor_ratio``.
         ``mode_hops``: None takes the unit's own; False runs the counterfactual PLC of

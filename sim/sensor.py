@@ -17,15 +17,17 @@ unit sits in), ``specific_force`` [m/s^2] along the sense axis and ``vibration``
 (a callable of time [s], e.g. :class:`gyrobench.sim.environment.PiecewiseLinear`) or a 1-D
 array sampled at the output rate (one value per output sample). SI throughout.
 
-Every record's truth holds ``true_rate`` [rad/s]. A model that does not respond to an input
-names it in the record's metadata (``ignored_inputs``); where the model keeps its error
-components, the metadata ``error_components`` names the truth channels whose sum is
-``rate - true_rate``. The models' equations, units and references are in their own docstrings
-and in docs/physics.md.
+Every record follows one schema (docs/recording.md): channel ``output`` [rad/s]; truth
+``true_rate`` [rad/s] and the error components that the metadata's ``error_components``
+names, whose sum is ``output - true_rate``; the environment and the model's state in
+``inputs``, other rates it computed in ``detail``. A model that does not respond to an input
+names it in the record's metadata (``ignored_inputs``). The models' equations, units and
+references are in their own docstrings and in docs/physics.md.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -267,14 +269,7 @@ def with_metadata(rec: Recording, *, name: str | None = None, **extra: object) -
     Recording
         A new recording (``rec`` is not changed).
     """
-    return Recording(
-        fs=rec.fs,
-        channels=rec.channels,
-        truth=rec.truth,
-        t0=rec.t0,
-        metadata={**rec.metadata, **extra},
-        name=rec.name if name is None else name,
-    )
+    return dataclasses.replace(rec, metadata={**rec.metadata, **extra}, name=rec.name if name is None else name)
 
 
 def held(value: float) -> Profile:

@@ -46,7 +46,7 @@ def test_simulate_device_from_csv_profiles_to_hdf5(tmp_path, capsys):
     t = rec.time
     expect = np.radians(np.interp(t, [0, 50, 100], [0, 10, -10]))
     assert np.allclose(rec["truth/true_rate"], expect, rtol=0, atol=1e-12)
-    assert np.allclose(rec["truth/temperature"], np.interp(t, [0, 100], [293.15, 313.15]), atol=1e-9)
+    assert np.allclose(rec["inputs/temperature"], np.interp(t, [0, 100], [293.15, 313.15]), atol=1e-9)
     resid, tol = _sum_residual(rec)
     assert resid <= tol
     with h5py.File(out) as f:  # units as attributes, readable without gyrobench
@@ -70,7 +70,7 @@ def test_simulate_device_profile_toml_to_csv(tmp_path):
     comps = sum(data[:, col["truth/" + k]] for k in parts.ERROR_COMPONENTS)
     # CSV holds %.17g: the identity survives to float64 rounding
     assert np.max(np.abs(err - comps)) <= 64 * EPS * np.max(np.abs(data[:, 1:10]))
-    assert np.allclose(data[:, col["truth/specific_force"]], 9.80665)
+    assert np.allclose(data[:, col["inputs/specific_force"]], 9.80665)
     g = parts.get("mti-1").datasheet.g_sensitivity
     assert g is None and np.all(data[:, col["truth/g_sensitivity"]] == 0)  # the sheet gives none
     assert math.isclose(data[-1, col["truth/true_rate"]], math.radians(5.0), rel_tol=1e-12)
@@ -153,7 +153,7 @@ def test_profile_shaker_sine_is_placed_in_its_window_on_top_of_the_static_force(
                       "start_s = 2\nduration_s = 4\nfrequency_hz = 5\nacceleration_g = 0.5\n", "--fs", "100")
     assert rc == 0
     rec = load_hdf5(out)
-    f = rec["truth/specific_force"]
+    f = rec["inputs/specific_force"]
     j = np.arange(400)
     assert np.allclose(f[200:600], G0 + 0.5 * G0 * np.sin(2 * np.pi * 5 * j / 100), rtol=0, atol=1e-12)
     assert np.all(f[:200] == G0) and np.all(f[600:] == G0)
@@ -207,7 +207,7 @@ def test_profile_shaker_above_the_output_rate_is_averaged_over_each_interval_not
     rc, out = _device(tmp_path, "stim300", f"duration_s = 60\n[shaker]\nkind = \"random\"\nduration_s = 60\n"
                       f"psd = {psd}\n", "--fs", "50")
     assert rc == 0
-    force = load_hdf5(out)["truth/specific_force"]
+    force = load_hdf5(out)["inputs/specific_force"]
     assert lo * sigma <= np.std(force) <= hi * sigma, (np.std(force) / sigma, lo, hi)
 
 
@@ -223,7 +223,7 @@ def test_profile_shaker_draws_from_its_own_stream(tmp_path):
     assert rc_a == rc_b == 0
     a, b = load_hdf5(out_a), load_hdf5(out_b)
     assert np.array_equal(a["truth/ieee_noise"], b["truth/ieee_noise"])
-    assert np.any(b["truth/specific_force"] != 0) and np.all(a["truth/specific_force"] == 0)
+    assert np.any(b["inputs/specific_force"] != 0) and np.all(a["inputs/specific_force"] == 0)
 
 
 def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path):
@@ -240,7 +240,7 @@ def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path)
                           max_displacement=3e-3)
     rng = np.random.default_rng(np.random.SeedSequence(11).spawn(1)[0])
     expect = G0 + interval_mean_acceleration(vib, duration=30.0, fs=333.0, start=3.0, rng=rng)
-    assert np.array_equal(load_hdf5(out)["truth/specific_force"], expect)
+    assert np.array_equal(load_hdf5(out)["inputs/specific_force"], expect)
 
 
 @pytest.mark.parametrize(

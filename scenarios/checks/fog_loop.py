@@ -62,7 +62,7 @@ def _arw_reduced(rng: np.random.Generator) -> Check:
 
     unit = ClosedLoopFOG(modes=())
     rec = unit.simulate(Environment(600.0), fs=400.0, rng=rng)
-    noise = rec["rate"] - rec["truth/rate"]
+    noise = rec["output"] - rec["truth/true_rate"]
     ang = noise.reshape(-1, 400).sum(axis=1) / 400.0
     n = len(ang)
     n2 = float(np.mean(ang**2))

@@ -107,14 +107,14 @@ def _check_lock_in(u: CavityRLG, rng: np.random.Generator) -> Check:
     fs = 1.0 / LOCK_IN_TAU
     rec = quiet.simulate(Environment(LOCK_IN_SAMPLES / fs, temperature=t_chamber), fs=fs, rng=rng)
     keep = slice(LOCK_IN_SAMPLES // 10, None)  # the warm-up (hours) dropped
-    inc = rec.channels["rate"].data[keep] / fs  # angle increments [rad]
+    inc = rec.channels["output"].data[keep] / fs  # angle increments [rad]
     var = float(np.var(inc, ddof=1))
     n_unit = swing_dither_arw(scale_factor=quiet.scale_factor, lock_in_rate=1.0, dither=quiet.dither)
     simulated = math.sqrt((var - q * q / 6.0) / LOCK_IN_TAU) / n_unit
     # closed form at each kept sample: strain from the logged block nodes, PLC at the mode
-    t_block = 0.5 * (rec.truth["T2"].data[keep] + rec.truth["T_block_b"].data[keep])
+    t_block = 0.5 * (rec.inputs["T2"].data[keep] + rec.inputs["T_block_b"].data[keep])
     strain = quiet.cte * (t_block - quiet.reference_temperature)
-    mode = rec.truth["mode"].data[keep]
+    mode = rec.inputs["mode"].data[keep]
     plc = mode * g.wavelength - g.perimeter * strain
     wl_hand = np.array([
         SPEED_OF_LIGHT * g.wavelength * abs(_hand_r_net(quiet, float(e), float(p))) / (8.0 * math.pi * g.area)

@@ -51,8 +51,8 @@ def read_csv(path: Path, column: str | None, fs: float | None, unit: str | None)
 
 def _read_hdf5(path: Path, name: str | None, columns: list[str] | None, start: float | None = None,
                stop: float | None = None):
-    """The named channels (default 'rate') of a gyrobench HDF5 recording, in SI, between ``start`` and ``stop``
-    [s after the first sample]; only those samples are read."""
+    """The named channels of a gyrobench HDF5 recording, in SI, between ``start`` and ``stop`` [s after the
+    first sample]; only those samples are read. Without names: its outputs (:func:`default_columns`)."""
     import numpy as np
 
     from gyrobench.io.logs import Channel, Log
@@ -60,24 +60,45 @@ def _read_hdf5(path: Path, name: str | None, columns: list[str] | None, start: f
 
     rec = load_hdf5(path, name, start=start, stop=stop)
     chans = []
-    wanted: list[str | None] = list(columns) if columns else ["rate" if "rate" in rec.channels else None]
+    wanted = list(columns) if columns else default_columns(rec)
+    if not wanted:
+        raise BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
     for ch in wanted:
-        if ch is None:
-            raise BadInput(f"name the channel with --column; {rec.name!r} has {sorted(rec.channels)}")
-        data = rec[ch]
-        unit = rec.channels[ch].unit if ch in rec.channels else rec.truth[ch.removeprefix("truth/")].unit
-        if unit != "rad/s":
+        try:
+            channel = rec.channel(ch)
+        except KeyError as exc:
+            raise BadInput(f"{str(path)!r}: {exc.args[0]}") from None
+        data, unit = channel.data, channel.unit
+        if unit in ("rad", "m/s"):  # a triad's increments (simulate imu --increments): x fs is the mean rate
+            data, unit = data * rec.fs, {"rad": "rad/s", "m/s": "m/s^2"}[unit]
+        quantity = "accel" if unit in ("m/s^2", "m/s/s") else "rate"
+        if quantity == "rate" and unit != "rad/s":
             from gyrobench.base import units
 
             try:
                 data = units.rate_to_si(data, unit)
             except ValueError as exc:  # name the file and the channel, not only the unit
                 raise BadInput(f"{str(path)!r}: channel {rec.name}/{ch}: {exc}") from None
-        chans.append(Channel(label=f"{rec.name}/{ch}", quantity="rate", data=np.asarray(data, dtype=float), unit=unit))
+        chans.append(Channel(label=f"{rec.name}/{ch}", quantity=quantity, data=np.asarray(data, dtype=float),
+                             unit=unit))
     notes = []
     if start is not None or stop is not None:
         notes.append(f"segment {start or 0.0:g} s to {(start or 0.0) + rec.n_samples / rec.fs:g} s (--start/--stop)")
     return Log(path=path, fs=rec.fs, channels=chans, fmt="hdf5", t0=rec.t0, notes=notes)
+
+
+def default_columns(rec) -> list[str]:
+    """The channels ``allan`` and ``twin`` read of a recording given no ``--column``: ``output`` (a file of
+    the first format's ``rate`` is read as ``output``), or a triad's outputs (the keys of the metadata's
+    ``error_components``), or the only channel; empty when none of these applies."""
+    from collections.abc import Mapping
+
+    if "output" in rec.channels:
+        return ["output"]
+    comps = rec.metadata.get("error_components")
+    if isinstance(comps, Mapping) and all(k in rec.channels for k in comps):
+        return list(comps)
+    return list(rec.channels) if len(rec.channels) == 1 else []
 
 
 def _analyse_pieces(ch, log, args):

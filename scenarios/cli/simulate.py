@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
 import typing
 from pathlib import Path
@@ -29,6 +28,9 @@ from gyrobench.scenarios.cli.common import (
 
 __all__ = ["add_parsers"]
 
+#: the noise terms of 'simulate noise', in the order of its --Q/--N/--B/--K/--R (NoiseModel's field names)
+_NOISE_TERMS = ("quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp")
+
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
                 "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
@@ -45,23 +47,22 @@ CSV_FS_MARGIN = 1e-6
 
 
 def _simulate_noise(args) -> int:
-    """Stream one noise record to ``-o FILE.h5|.csv``.
+    """Stream one noise record to ``-o FILE.h5|.csv`` in the recording schema (docs/recording.md).
 
-    The record is static: the true rate is 0 rad/s and every sample of channel
-    ``rate`` is error. The HDF5 ``truth`` group is therefore left empty rather
-    than doubling the file with a zero channel or with each noise term (use
-    ``simulate static_noise`` for records with per-term truth); instead the
-    metadata states ``truth.true_rate_rad_s = 0`` and holds the generating
-    model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
-    K [rad/s/sqrt(s)], R [rad/s^2]) besides the datasheet values and the seed.
+    The record is static: ``truth/true_rate`` is 0 rad/s and ``output`` is the sum of the noise
+    terms, each stored as ``truth/<term>`` (``quantization``, ``angle_random_walk``,
+    ``bias_instability``, ``rate_random_walk``, ``rate_ramp``: those with a coefficient > 0,
+    named in the metadata's ``error_components``). The metadata also holds the generating model
+    (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s], K [rad/s/sqrt(s)], R [rad/s^2]),
+    the datasheet values and the seed. ``--compress gzip|lzf`` compresses the HDF5 datasets.
     """
     import numpy as np
     from tqdm import tqdm
 
     from gyrobench.base import memory
     from gyrobench.base.atomic import atomic_path, ensure_free_space
-    from gyrobench.base.safety import Output
-    from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, package_version
+    from gyrobench.base.safety import Output, comment_marker
+    from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, metadata_json, package_version
     from gyrobench.scenarios.cli.allan import MIN_MAGNITUDE
     from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim.noise import NoiseModel
@@ -107,21 +108,21 @@ def _simulate_noise(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
+    terms = [name for name, v in zip(_NOISE_TERMS, datasheet.values(), strict=True) if v > 0]
+    n_series = 2 + len(terms)  # output, true rate, the terms
     # the disk is checked here, before the progress bar draws, so a refusal is the one line on stderr: a CSV row
-    # "%.12g,%.17g\n" is at most about 42 characters, an HDF5 sample 8 bytes (the one float64 channel
-    # HDF5StreamWriter allocates, which checks the same again when it opens)
-    ensure_free_space(out, (42 if suffix == ".csv" else 8) * n)
+    # "%.12g" then n_series times ",%.17g" is at most 16 + 25 n_series characters, an HDF5 sample 8 bytes per
+    # float64 series (what HDF5StreamWriter allocates, which checks the same again when it opens)
+    ensure_free_space(out, (16 + 25 * n_series if suffix == ".csv" else 8 * n_series) * n)
     seed = 0 if args.seed is None else args.seed
     chunk = args.chunk or 1 << 20
     # streamed: only one chunk is in memory (the five terms, their sum, the time column, copies)
-    memory.check_memory(memory.series_bytes(min(chunk, n), 12), f"simulate noise (chunks of {min(chunk, n)} samples)",
+    memory.check_memory(memory.series_bytes(min(chunk, n), 14), f"simulate noise (chunks of {min(chunk, n)} samples)",
                         hint="lower --chunk")
     stream = model.stream(fs, rng=np.random.default_rng(seed))
     meta = {
         "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
-        "truth": {"true_rate_rad_s": 0.0,
-                  "note": "static record: the true rate is 0 rad/s, every sample of 'rate' is error; "
-                          "the noise terms are not stored separately"},
+        "error_components": terms,
         "noise_model_si": {"quantization_rad": model.quantization,
                            "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
                            "bias_instability_rad_per_s": model.bias_instability,
@@ -131,11 +132,21 @@ def _simulate_noise(args) -> int:
     too_big = "the noise coefficients --Q/--N/--B/--K/--R are far too large for any gyro"
     peak = [0.0]
 
-    def checked(y):
-        """One chunk, refused if too large to analyse; the record's largest sample kept for the end."""
+    def checked(parts):
+        """One chunk (output, its terms), refused if too large to analyse; the largest sample kept for the end."""
+        y = np.zeros(len(next(iter(parts.values()))))
+        for v in parts.values():  # in NoiseStream.take's order: the same output bits
+            y += v
         check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
         peak[0] = max(peak[0], float(np.max(np.abs(y))) if len(y) else 0.0)
-        return y
+        return y, parts
+
+    def chunks():
+        left = n
+        while left > 0:
+            k = min(chunk, left)
+            yield checked(stream.take_components(k))
+            left -= k
 
     def check_not_tiny() -> None:
         """Refuse (before the file is committed) a record 'gyrobench allan' would refuse as too small."""
@@ -148,20 +159,23 @@ def _simulate_noise(args) -> int:
     with closing(bar):
         if suffix == ".csv":
             with atomic_path(out) as tmp, open(tmp, "w") as fh:
-                fh.write("# gyrobench simulate noise; " + json.dumps(meta) + "\n")
-                fh.write("time [s],rate [rad/s]\n")
+                fh.write(comment_marker(f"recording 'noise'; fs {fs!r} Hz; metadata {metadata_json(meta)}") + "\n")
+                fh.write(",".join(["time [s]", "output [rad/s]", "truth/true_rate [rad/s]",
+                                   *(f"truth/{k} [rad/s]" for k in terms)]) + "\n")
                 k = 0
-                for y in map(checked, stream.chunks(n, chunk)):
+                for y, parts in chunks():
                     t = (k + np.arange(len(y))) / fs
-                    np.savetxt(fh, np.column_stack([t, y]), delimiter=",", fmt=["%.12g", "%.17g"])
+                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *(parts[k] for k in terms)]),
+                               delimiter=",", fmt=["%.12g"] + ["%.17g"] * n_series)
                     k += len(y)
                     bar.update(len(y))
                 check_not_tiny()
         else:
-            with HDF5StreamWriter(out, name="noise", fs=fs, channels={"rate": "rad/s"}, metadata=meta,
-                                  expected_samples=n) as w:
-                for y in map(checked, stream.chunks(n, chunk)):
-                    w.append(rate=y)
+            with HDF5StreamWriter(out, name="noise", fs=fs, channels={"output": "rad/s"}, metadata=meta,
+                                  truth={"true_rate": "rad/s", **dict.fromkeys(terms, "rad/s")},
+                                  expected_samples=n, compression=args.compress) as w:
+                for y, parts in chunks():
+                    w.append(output=y, truth={"true_rate": np.zeros(len(y)), **{k: parts[k] for k in terms}})
                     bar.update(len(y))
                 check_not_tiny()
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
@@ -200,7 +214,7 @@ def _simulate_scenario(args) -> int:
     ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
     mark_folder(out)
     for r in recs:
-        path = save_hdf5(out / f"{r.name}.h5", r)
+        path = save_hdf5(out / f"{r.name}.h5", r, compression=args.compress)
         print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
               f"truth {', '.join(r.truth)})")
     return 0
@@ -491,7 +505,7 @@ def _simulate_device(args) -> int:
                        "datasheet budget)") from None
     if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
         rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
-    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
+    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec, compression=args.compress)
     ran = rec.metadata.get("device_model") if model == "physics" else rec.metadata.get("model")
     print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; model {model}: {ran}; channels "
           f"{', '.join(rec.channels)}; truth {', '.join(rec.truth)})")
@@ -612,6 +626,9 @@ def add_parsers(sub) -> None:
     s.add_argument("--out", help="scenario: output folder")
     s.add_argument("--config", help="scenario: TOML file overriding the scenario's parameters")
     s.add_argument("--chunk", type=positive_int("--chunk"), help=argparse.SUPPRESS)
+    s.add_argument("--compress", choices=("gzip", "lzf"),
+                   help="HDF5 output: compress every dataset (gzip: deflate, read by any HDF5 tool; lzf: faster, "
+                        "h5py's own filter); simulated noise barely shrinks, constant channels do")
     s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
     s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
     s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "

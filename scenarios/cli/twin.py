@@ -611,7 +611,8 @@ def _cmd_twin(args) -> int:
         from gyrobench.io.logs import read_csv_log
 
         log = read_csv_log(path, columns, args.fs, args.units)
-    ch = log.channels[0]
+    # without --column, a triad's first gyro (its outputs come in name order, accelerometers first)
+    ch = log.channels[0] if columns else next((c for c in log.channels if c.quantity == "rate"), log.channels[0])
     if ch.quantity != "rate":
         raise BadInput(f"--column must name a rate column; {ch.label!r} is {ch.quantity}")
     rate = np.asarray(ch.data, dtype=float)

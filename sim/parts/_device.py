@@ -254,7 +254,7 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
     """The physics record as a device record: the sheet's terms and output stage added, the terms closing."""
     ds = part.datasheet
     n = rec.n_samples
-    out = np.asarray(rec["rate"], dtype=float)
+    out = np.asarray(rec["output"], dtype=float)
     omega = np.asarray(rec["truth/true_rate"], dtype=float)
     names = list(rec.metadata.get("error_components") or [])
     comps: dict[str, NDArray[np.float64]] = {k: np.asarray(rec.truth[k].data, dtype=float) for k in names}

@@ -55,14 +55,14 @@ def test_list(capsys):
 
 def test_simulate_noise_hdf5_and_csv_agree(noise_h5, tmp_path, capsys):
     rec = load_hdf5(noise_h5)
-    assert rec.fs == 100.0 and rec.n_samples == 120_000 and rec.channels["rate"].unit == "rad/s"
+    assert rec.fs == 100.0 and rec.n_samples == 120_000 and rec.channels["output"].unit == "rad/s"
     assert rec.metadata["seed"] == 4
     csv = tmp_path / "rec.csv"
     code, _, _ = run(["simulate", "noise", "--N", "0.5", "--B", "2", "--Q", "1", "--fs", "100", "--duration", "1200s",
                       "--seed", "4", "-o", csv, "-q", "--chunk", "7777"], capsys)
     assert code == 0
     data = np.loadtxt(csv, delimiter=",", comments="#", skiprows=2)
-    np.testing.assert_array_equal(data[:, 1], rec["rate"])  # same seed, other chunking, exact
+    np.testing.assert_array_equal(data[:, 1], rec["output"])  # same seed, other chunking, exact
 
 
 def test_allan_json_on_hdf5(noise_h5, capsys):
@@ -76,7 +76,7 @@ def test_allan_json_on_hdf5(noise_h5, capsys):
     assert doc["N"]["unit"] == "deg/sqrt(h)" and doc["Q"]["unit"] == "arcsec"
     # plumbing: the CLI prints the library's fit in field units (coverage is tested in tests/analysis)
     rec = load_hdf5(noise_h5)
-    fit = fit_noise(allan_deviation(rec["rate"], rec.fs))
+    fit = fit_noise(allan_deviation(rec["output"], rec.fs))
     for name, d in doc.items():
         c = fit.coefficients[name]
         if c.identifiable:
@@ -475,15 +475,21 @@ def test_record_larger_than_free_space_is_refused(tmp_path, capsys, monkeypatch,
     monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**12, 10**12 - 10**6, 10**6))
     code, _, err = run(["simulate", "noise", "--N", "1", "--fs", "1000", "--duration", "1h",
                         "-o", tmp_path / "x.h5"], capsys)
-    assert_one_line_error(code, err, "the record needs about 28.8 MB but")
+    assert_one_line_error(code, err, "the record needs about 86.4 MB but")
     assert "has 1 MB free" in err
     assert user_files.written(tmp_path) == []
 
 
 def test_noise_record_states_its_truth(noise_h5):
     rec = load_hdf5(noise_h5)
-    assert rec.truth == {}  # no zero channel, no per-term copies: the metadata says what the truth is
-    assert rec.metadata["truth"]["true_rate_rad_s"] == 0.0
+    terms = rec.metadata["error_components"]
+    assert terms == ["quantization", "angle_random_walk", "bias_instability"]  # those of the flags given
+    assert sorted(rec.truth) == sorted(["true_rate", *terms])
+    assert not np.any(rec["truth/true_rate"])  # a static record
+    total = np.zeros(rec.n_samples)
+    for k in terms:  # summed in the generator's order: the output's own bits
+        total += rec[f"truth/{k}"]
+    np.testing.assert_array_equal(total, rec["output"])
     si = rec.metadata["noise_model_si"]
     assert si["angle_random_walk_rad_per_sqrt_s"] == pytest.approx(units.deg_per_sqrt_h(0.5), rel=1e-15)
     assert si["bias_instability_rad_per_s"] == pytest.approx(units.deg_per_h(2.0), rel=1e-15)

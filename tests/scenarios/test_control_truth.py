@@ -96,6 +96,6 @@ def test_p003_control_has_no_txdt_part():
     ctl = control_config(cfg)
     for seed in range(1):
         for u, c in zip(simulate(cfg, seed), simulate(ctl, seed), strict=True):
-            pu = np.asarray(u["truth/txdt_product"])
-            pc = np.asarray(c["truth/txdt_product"])
+            pu = np.asarray(u["detail/txdt_product"])
+            pc = np.asarray(c["detail/txdt_product"])
             assert np.sqrt(np.mean(pc**2)) < CONTROL_FRACTION * np.sqrt(np.mean(pu**2))

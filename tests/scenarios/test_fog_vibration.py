@@ -88,7 +88,7 @@ def test_control_is_the_same_units_without_vibration(small_units):
     cc = sc.control_config(SMALL)
     assert cc.acceleration_g == 0.0 and replace(cc, acceleration_g=SMALL.acceleration_g) == SMALL
     _, fixed = sc.simulate(cc, 3)
-    assert np.all(fixed["truth/vibration_bias"] == 0.0)
+    assert np.all(fixed["detail/vibration_bias"] == 0.0)
     assert np.any(fixed["shaker_on"] > 0.5)
     u = sc.experiment(cc, 3)
     assert u.offsets.true_bias_steady == 0.0
@@ -289,13 +289,13 @@ def test_output_is_the_sum_of_its_truth_parts_and_earth_rate_is_the_closed_form(
     lat, az = np.radians(SMALL.fog.latitude_deg), np.radians(SMALL.fog.azimuth_deg)
     earth = 7.2921150e-5 * np.cos(lat) * np.cos(az)  # horizontal axis: Omega_e cos(lat) cos(az)
     for rec in (sweep, fixed):
-        np.testing.assert_allclose(rec["truth/earth_rate"], earth, rtol=1e-6)
+        np.testing.assert_allclose(rec["detail/earth_rate"], earth, rtol=1e-6)
         parts = (
-            "rate", "scale_factor_error", "loop_error", "strain_nonreciprocity", "rectification",
+            "true_rate", "scale_factor_error", "loop_error", "strain_nonreciprocity", "rectification",
             "optical_noise", "ieee_noise", "coning_rate",
         )  # fmt: skip
         total = sum(rec[f"truth/{k}"] for k in parts)
-        np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
+        np.testing.assert_allclose(rec["output"], total, rtol=0, atol=1e-12 * np.max(np.abs(total)))
         assert rec.metadata["mode_frequencies_hz"] == [m.frequency for m in fog.modes]
 
 
@@ -340,7 +340,7 @@ def test_bench_task_truth_is_the_output_without_the_true_bias():
     for label, rec in zip(("sweep", "fixed"), held, strict=True):
         run = next(r for r in task.heldout if r.label == label)
         k = int(round(rec.fs / SMALL.bench_rate_hz))
-        true_bias = units.to_deg_per_h(rec["truth/vibration_bias"]).reshape(-1, k).mean(axis=1)
+        true_bias = units.to_deg_per_h(rec["detail/vibration_bias"]).reshape(-1, k).mean(axis=1)
         np.testing.assert_allclose(
             task.compensate(true_bias, run),
             run.truth,
@@ -620,7 +620,7 @@ def test_read_tone_free_the_vibration_phase_keeps_the_static_white_noise():
     m = tone_free_m(SMALL.fixed_hz, fs)
     ci, misfit = [], []
     for p in (0, 1):
-        y = np.asarray(fixed["rate"])[steady & (idx == p)]
+        y = np.asarray(fixed["output"])[steady & (idx == p)]
         curve = allan_deviation(y, fs, taus=np.array([2**k for k in range(30) if 2**k <= y.size // 4], float) / fs)
         ci.append(fit_noise(curve, tau_min=m / fs).coefficients["N"].ci95)
         misfit.append(fit_noise(curve).misfit)

@@ -1023,7 +1023,7 @@ def test_fuzz_toml_config_exit_0_finite_or_2_one_line(tmp_path, capsys, monkeypa
 
         for f in sorted((out / "static_noise").glob("*.h5")):
             rec = load_hdf5(f)
-            assert np.all(np.isfinite(rec["rate"]))
+            assert np.all(np.isfinite(rec["output"]))
     else:
         assert code == 2, err
         assert len(err) == 1 and err[0].startswith("gyrobench: error: "), err

@@ -300,7 +300,7 @@ def test_simulate_is_deterministic():
     b = sc.simulate(replace(SMALL, validation1_runs=1, validation2_runs=1), 11)
     assert [r.name for r in a] == ["ident_1", "ident_2", "val1_run1", "val2_run1"]
     for x, y in zip(a, b, strict=True):
-        np.testing.assert_array_equal(x["rate"], y["rate"])
+        np.testing.assert_array_equal(x["output"], y["output"])
 
 
 # ------------------------------------------------------------------ bad input

@@ -362,7 +362,7 @@ def test_simulate_records_the_table_and_its_dwells():
     n = int(round(5.5 * 50))
     for rec in recs:
         np.testing.assert_array_equal(rec["table_rate"], rec["truth/true_rate"])
-        assert rec["rate"].shape == (3 * n,)
+        assert rec["output"].shape == (3 * n,)
         np.testing.assert_array_equal(
             rec["table_rate"], units.deg_per_s(np.repeat([360.0, 0.0, -360.0], n))
         )
@@ -376,7 +376,7 @@ def test_simulate_records_the_table_and_its_dwells():
 
 def test_simulate_is_reproducible_and_runs_differ():
     a, b = ms.simulate(SMALL, 11), ms.simulate(SMALL, 11)
-    np.testing.assert_array_equal(a[0]["rate"], b[0]["rate"])
+    np.testing.assert_array_equal(a[0]["output"], b[0]["output"])
     for key in ("turn_on_bias_dps", "scale_factor_error_ppm", "die_temperature_c"):
         assert a[0].metadata[key] != a[1].metadata[key], key  # each run its own power-on
     c = ms.simulate(SMALL, 12)

@@ -250,7 +250,7 @@ def test_simulate_recordings():
     recs = sc.simulate(sc.Config(), 3)
     assert [r.name for r in recs] == ["unit3_fit", "unit3_heldout"]
     for r in recs:
-        assert {"rate", "counts", "T1", "T2"} <= set(r.channels)
+        assert {"output", "counts", "T1", "T2"} <= set(r.channels)
         assert "thermal_bias" in r.truth
         assert r.metadata["unit"] == 3
         # T1 and T2 are readings of the network's housing and block-A nodes: reading error =
@@ -261,10 +261,10 @@ def test_simulate_recordings():
         cfg, z = sc.Config(), norm.isf(0.5e-6)
         sd = math.hypot(cfg.sensor_noise_k, cfg.sensor_resolution_k / math.sqrt(12.0))
         for ch in ("T1", "T2"):
-            d = np.asarray(r[ch]) - np.asarray(r[f"truth/{ch}"])
+            d = np.asarray(r[ch]) - np.asarray(r[f"inputs/{ch}"])
             assert abs(np.std(d) / sd - 1.0) <= z / math.sqrt(2 * len(d))
             assert abs(np.mean(d)) <= z * cfg.sensor_offset_spread_k
-    assert not np.array_equal(recs[0]["rate"], recs[1]["rate"])
+    assert not np.array_equal(recs[0]["output"], recs[1]["output"])
 
 
 # ----------------------------------------------------------------------------- bad input

@@ -26,26 +26,26 @@ def test_recording_layout_and_sum():
     unit = SPEC.realize(rng=np.random.default_rng(0))
     rec = unit.simulate(ENV, fs=0.1, rng=np.random.default_rng(1))
     for ch in (
-        "rate",
+        "output",
         "coil_temperature",
-        "truth/rate",
-        "truth/thermal_drift",
-        "truth/shupe",
-        "truth/txdt_product",
-        "truth/noise",
+        "truth/true_rate",
+        "detail/thermal_drift",
+        "detail/shupe",
+        "detail/txdt_product",
+        "detail/noise",
         "truth/scale_factor_error",
     ):
-        assert len(rec[ch]) == len(rec["rate"])
+        assert len(rec[ch]) == len(rec["output"])
     np.testing.assert_allclose(
-        rec["truth/thermal_drift"], rec["truth/shupe"] + rec["truth/txdt_product"]
+        rec["detail/thermal_drift"], rec["detail/shupe"] + rec["detail/txdt_product"]
     )
     total = (
-        rec["truth/rate"]
+        rec["truth/true_rate"]
         + rec["truth/scale_factor_error"]
-        + rec["truth/thermal_drift"]
-        + rec["truth/noise"]
+        + rec["detail/thermal_drift"]
+        + rec["detail/noise"]
     )
-    np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-18)
+    np.testing.assert_allclose(rec["output"], total, rtol=0, atol=1e-18)
 
 
 def test_scale_factor_uses_the_mapped_fibre():
@@ -59,7 +59,7 @@ def test_deterministic_in_seed():
     )
     b = SPEC.realize(rng=np.random.default_rng(4)).simulate(ENV, fs=0.1, rng=np.random.default_rng(5)
     )
-    np.testing.assert_array_equal(a["rate"], b["rate"])
+    np.testing.assert_array_equal(a["output"], b["output"])
     np.testing.assert_array_equal(a["coil_temperature"], b["coil_temperature"])
 
 
@@ -90,15 +90,15 @@ def test_the_output_is_the_closed_loop_fogs():
     run = unit.thermal_response(PROFILE)
     t = rec.time + 5.0  # block centres
     np.testing.assert_allclose(
-        rec["truth/thermal_drift"], np.interp(t, run.t, run.shupe + run.product), atol=1e-20
+        rec["detail/thermal_drift"], np.interp(t, run.t, run.shupe + run.product), atol=1e-20
     )
-    np.testing.assert_array_equal(rec["truth/thermal_drift"], rec["truth/nonreciprocal"])
+    np.testing.assert_array_equal(rec["detail/thermal_drift"], rec["truth/nonreciprocal"])
     np.testing.assert_allclose(
-        rec["truth/noise"], rec["truth/optical_noise"] + rec["truth/ieee_noise"], atol=0
+        rec["detail/noise"], rec["truth/optical_noise"] + rec["truth/ieee_noise"], atol=0
     )
     # SF(T)/SF0 = (1 + alpha_D dT_coil)^2 / (1 + alpha_lambda dT_housing) at the true rate
-    dc = rec["truth/coil_mean_temperature"] - SPEC.scale_factor_ref_temperature
-    ds = rec["truth/housing_temperature"] - SPEC.scale_factor_ref_temperature
+    dc = rec["inputs/coil_mean_temperature"] - SPEC.scale_factor_ref_temperature
+    ds = rec["inputs/housing_temperature"] - SPEC.scale_factor_ref_temperature
     a_d, a_l = unit.fog.diameter_tempco, SPEC.wavelength_tempco
     ratio = (1 + a_d * dc) ** 2 / (1 + a_l * ds)
     np.testing.assert_allclose(

@@ -105,7 +105,7 @@ def test_nonreciprocal_input_passes_the_loop_unscaled(rng):
     slow = 1e-3 + unit.earth_rate
     r_t = unit.scale_factor_ratio(313.15, unit.reference_temperature)
     want = slow * r_t + nr(t)
-    got = rec["rate"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
+    got = rec["output"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-18)
 
 
@@ -117,7 +117,7 @@ def test_nonreciprocal_input_shares_the_gain_error_ratio(rng):
     rec = unit._record(10.0, 10.0, rng=rng, nonreciprocal_rate=1e-5)
     r_g = float(gain_error_scale_factor(0.0, eps, reset_blanking=True)[()])
     slow = unit.earth_rate
-    got = rec["rate"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
+    got = rec["output"] - rec["truth/optical_noise"] - rec["truth/ieee_noise"]
     np.testing.assert_allclose(got, (slow + 1e-5) * r_g, rtol=1e-12)
 
 

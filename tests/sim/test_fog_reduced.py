@@ -26,7 +26,7 @@ def test_reduced_arw_matches_optical_budget(rng):
     unit = ClosedLoopFOG(modes=())
     fs, dur = 400.0, 900.0
     rec = unit.simulate(Environment(dur), fs=fs, rng=rng)
-    noise = rec["rate"] - rec["truth/rate"]
+    noise = rec["output"] - rec["truth/true_rate"]
     np.testing.assert_allclose(noise, rec["truth/optical_noise"], rtol=0, atol=1e-20)
     # 1 s angle increments: var = N^2 * 1 s (1 - c/(400 M)), c/(400 M) ~ 4e-5 (neglected)
     ang = noise.reshape(-1, 400).sum(axis=1) / fs
@@ -148,7 +148,7 @@ def test_one_hz_two_g_error_below_0p1_deg_h(rng):
     err = rec["truth/strain_nonreciprocity"] + rec["truth/rectification"] + rec["truth/loop_error"]
     assert units.to_deg_per_h(np.max(np.abs(err))) < 0.1
     # nothing else: output - true rate - optical noise is that error
-    rest = rec["rate"] - rec["truth/rate"] - rec["truth/optical_noise"] - err
+    rest = rec["output"] - rec["truth/true_rate"] - rec["truth/optical_noise"] - err
     assert np.max(np.abs(rest)) < 1e-18
 
 
@@ -159,9 +159,9 @@ def test_earth_rate_and_scale_factor_tempco(rng):
     tc = lambda t: unit.reference_temperature + 0.01 * t  # noqa: E731
     rec = unit._record(100.0, 100.0, rng=rng, true_rate=om, coil_temperature=tc)
     true = om + unit.earth_rate
-    np.testing.assert_allclose(rec["truth/rate"], true, rtol=1e-15)
+    np.testing.assert_allclose(rec["truth/true_rate"], true, rtol=1e-15)
     expected = true * unit.scale_factor_ratio(tc(rec.time + 0.005), unit.reference_temperature)
-    np.testing.assert_allclose(rec["rate"] - rec["truth/optical_noise"], expected, rtol=1e-14)
+    np.testing.assert_allclose(rec["output"] - rec["truth/optical_noise"], expected, rtol=1e-14)
     # (1/SF) dSF/dT = 2 alpha_D - alpha_lambda
     dT = 1e-3
     d_coil = (
@@ -247,7 +247,7 @@ def test_truth_parts_sum_to_the_output(rng):
     sh = FixedSine(frequency=290.0, duration=5.0, acceleration=units.g(2.0)).sample(3200.0, rng=rng)
     rec = unit.simulate(Environment(5.0, true_rate=0.01, vibration=sh), fs=400.0, rng=rng)
     parts = [
-        "rate",
+        "true_rate",
         "scale_factor_error",
         "loop_error",
         "strain_nonreciprocity",
@@ -256,12 +256,12 @@ def test_truth_parts_sum_to_the_output(rng):
         "ieee_noise",
     ]
     total = sum(rec[f"truth/{p}"] for p in parts)
-    np.testing.assert_allclose(rec["rate"], total, rtol=0, atol=1e-15)
-    ieee = sum(rec[f"truth/ieee_{k}"] for k in ("bias_instability", "rate_random_walk", "bias"))
+    np.testing.assert_allclose(rec["output"], total, rtol=0, atol=1e-15)
+    ieee = sum(rec[f"detail/ieee_{k}"] for k in ("bias_instability", "rate_random_walk", "bias"))
     np.testing.assert_allclose(rec["truth/ieee_noise"], ieee, rtol=0, atol=1e-18)
     np.testing.assert_allclose(
-        rec["truth/rate"],
-        rec["truth/table_rate"] + rec["truth/earth_rate"] + rec["truth/rocking_rate"],
+        rec["truth/true_rate"],
+        rec["detail/table_rate"] + rec["detail/earth_rate"] + rec["detail/rocking_rate"],
         rtol=0,
         atol=1e-18,
     )
@@ -278,5 +278,5 @@ def test_integrate_and_dump_has_no_dc_error_at_multiples_of_the_output_rate(rng)
     )
     rec = unit.simulate(Environment(5.0, vibration=sh), fs=fs, rng=rng)
     peak = mode.rocking * 2 * np.pi * 2 * fs * units.g(2.0) * abs(mode.response(2 * fs)[()])
-    assert np.max(np.abs(rec["truth/rocking_rate"])) < 1e-9 * peak
+    assert np.max(np.abs(rec["detail/rocking_rate"])) < 1e-9 * peak
     assert np.max(np.abs(rec["truth/loop_error"])) < 1e-9 * peak

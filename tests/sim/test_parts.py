@@ -200,7 +200,7 @@ def test_an_rlg_part_on_the_rlg_model_meets_its_datasheet(name):
     fs = min(200.0, 3e5 / dur)
     rng = np.random.default_rng(20261127)
     rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
-    fit = fit_noise(rec["rate"], fs, terms=("Q", "N", "B", "K"))
+    fit = fit_noise(rec["output"], fs, terms=("Q", "N", "B", "K"))
     assert not fit.misfit
     for key, truth in (("N", n_true), ("B", b_true)):
         c = fit.coefficients[key]
@@ -312,7 +312,7 @@ def test_a_fog_part_on_the_fog_model_meets_its_datasheet(name):
     fs = 3e5 / dur
     rng = np.random.default_rng(20261127)
     rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
-    _fit_back(rec["rate"], fs, n_true, b_true)
+    _fit_back(rec["output"], fs, n_true, b_true)
 
 
 @pytest.mark.parametrize("name", MEMS_MAPPED)
@@ -338,7 +338,7 @@ def test_a_mems_part_on_the_resonator_model_meets_its_datasheet(name):
     rng = np.random.default_rng(20261127)
     rec = spec.realize(rng=rng).simulate(Environment(dur), fs=fs, rng=rng)
     n_expected = math.hypot(n_true, spec.nominal.resolution / math.sqrt(12 * fs))
-    _fit_back(rec["rate"], fs, n_expected, b_true, tau_min=tau_min)
+    _fit_back(rec["output"], fs, n_expected, b_true, tau_min=tau_min)
 
 
 def test_the_fog_and_mems_solves_refuse_what_the_physical_ranges_cannot_reach():

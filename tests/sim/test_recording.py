@@ -96,7 +96,7 @@ def test_interrupted_save_keeps_previous_file(tmp_path, monkeypatch):
     save_hdf5(target, _rec(name="old"))
     import gyrobench.io.recording as recording
 
-    def broken(h5, rec):
+    def broken(h5, rec, **_):
         raise OSError("disk full")
 
     monkeypatch.setattr(recording, "_write_group", broken)

@@ -251,11 +251,11 @@ def test_counted_angle_within_one_pulse_of_true_angle(rng):
         rec[f"truth/{k}"]
         for k in ("true_rate", "turn_on_bias", "thermal_bias", "flicker_rrw", "dither_random_walk")
     )
-    diff = np.cumsum(rec["rate"] - true_increment) / rec.fs
+    diff = np.cumsum(rec["output"] - true_increment) / rec.fs
     assert np.max(np.abs(diff)) < u.pulse_weight
     np.testing.assert_array_equal(rec["counts"], np.round(rec["counts"]))
     np.testing.assert_allclose(
-        rec["rate"] - true_increment, rec["truth/quantization"], rtol=0, atol=1e-12
+        rec["output"] - true_increment, rec["truth/quantization"], rtol=0, atol=1e-12
     )
 
 
@@ -269,7 +269,7 @@ def test_quantization_slope_with_dither(rng):
     u = _quiet_unit()
     fs = 100.0
     rec = _run_quiet(u, rng, 1500.0, fs)
-    y = rec["rate"]
+    y = rec["output"]
     m = np.array([1, 2, 4, 10])
     taus, dev, _, _ = allantools.oadev(y, rate=fs, data_type="freq", taus=m / fs)
     q, n = u.geometry.quantization, u.angle_random_walk
@@ -415,9 +415,9 @@ def test_simulate_reproducible_and_thermal_bias_in_truth(rng):
     )
     r1 = u.simulate(Environment(prof.duration, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
     r2 = u.simulate(Environment(prof.duration, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
-    np.testing.assert_array_equal(r1["rate"], r2["rate"])
+    np.testing.assert_array_equal(r1["output"], r2["output"])
     mech = sum(
-        r1[f"truth/{k}"]
+        r1[f"detail/{k}"]
         for k in ("bias_cavity_temperature", "bias_discharge_gradient", "bias_heat_flux")
     )
     np.testing.assert_allclose(mech, r1["truth/thermal_bias"], rtol=1e-12, atol=0)

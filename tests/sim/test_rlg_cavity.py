@@ -240,22 +240,21 @@ def test_simulate_truth_adds_up_and_is_deterministic():
     prof = _cycle_profile()
     a = u.simulate(Environment(7200.0, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
     b = u.simulate(Environment(7200.0, temperature=prof), fs=10.0, rng=np.random.default_rng(5))
-    np.testing.assert_array_equal(a["rate"], b["rate"])
-    tr = a.truth
+    np.testing.assert_array_equal(a["output"], b["output"])
     parts = ("bias_langmuir", "bias_backscatter")
     np.testing.assert_allclose(
-        np.asarray(a["truth/thermal_bias"]), sum(np.asarray(a[f"truth/{p}"]) for p in parts)
+        np.asarray(a["truth/thermal_bias"]), sum(np.asarray(a[f"detail/{p}"]) for p in parts)
     )
     # cumulative output angle = cumulative true angle + counting error (bounded by q + dither)
     q = u.pulse_weight
-    k = np.asarray(a["truth/scale_factor_ratio"])
+    k = np.asarray(a["inputs/scale_factor_ratio"])
     true = k * (
         np.asarray(a["truth/true_rate"]) + np.asarray(a["truth/turn_on_bias"])
         + np.asarray(a["truth/thermal_bias"]) + np.asarray(a["truth/flicker_rrw"])
     ) + np.asarray(a["truth/dither_random_walk"])
-    err = np.cumsum(np.asarray(a["rate"]) - true) / 10.0
+    err = np.cumsum(np.asarray(a["output"]) - true) / 10.0
     assert np.max(np.abs(err)) <= q + 1e-12
-    assert "T_block_b" in tr
+    assert "T_block_b" in a.inputs
 
 
 def test_bad_input_refused():
@@ -316,10 +315,10 @@ def test_counterfactual_without_hops_differs_only_by_the_hops():
     b = replace(u, mode_hops=False).simulate(
         Environment(prof.duration, temperature=prof), fs=1.0, rng=np.random.default_rng(9)
     )
-    assert np.count_nonzero(np.diff(a["truth/mode"])) >= 3
-    assert np.count_nonzero(np.diff(b["truth/mode"])) == 0
-    np.testing.assert_array_equal(a["truth/bias_langmuir"], b["truth/bias_langmuir"])
+    assert np.count_nonzero(np.diff(a["inputs/mode"])) >= 3
+    assert np.count_nonzero(np.diff(b["inputs/mode"])) == 0
+    np.testing.assert_array_equal(a["detail/bias_langmuir"], b["detail/bias_langmuir"])
     np.testing.assert_array_equal(a["truth/flicker_rrw"], b["truth/flicker_rrw"])
     # before the first hop the two runs are the same gyro
-    j = int(np.flatnonzero(np.diff(a["truth/mode"]))[0])
-    np.testing.assert_allclose(a["truth/lock_in_rate"][:j], b["truth/lock_in_rate"][:j], rtol=1e-12)
+    j = int(np.flatnonzero(np.diff(a["inputs/mode"]))[0])
+    np.testing.assert_allclose(a["detail/lock_in_rate"][:j], b["detail/lock_in_rate"][:j], rtol=1e-12)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from gyrobench.io.recording import Recording
+from gyrobench.io.recording import Recording, schema_problems
 from gyrobench.sim import mems_population, mems_slow_flow, parts
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog2d import FOG2DSpec
@@ -58,7 +58,7 @@ IDS = [d.name for d in DEVICES]
 
 
 def _output(rec: Recording) -> np.ndarray:
-    return rec["output"] if "output" in rec.channels else rec["rate"]
+    return rec["output"]
 
 
 def _environment(device: Device) -> Environment:
@@ -105,10 +105,8 @@ def test_a_record_has_its_length_its_truth_and_closes(device):
     assert abs(rise - 1.0) < 1e-9, rise
     comps = rec.metadata.get("error_components")
     assert isinstance(comps, list)
-    if device.name == "mems_resonator":
-        assert comps == []  # the slow flow does not split its output into terms
-        return
-    assert comps, "a model that keeps its components must name them"
+    assert comps, "every model names its components"
+    assert schema_problems(rec) == [], schema_problems(rec)
     terms = [rec["truth/" + k] for k in comps]
     # an identity up to float64 rounding: a sum of len(terms) + 2 numbers each rounded at eps
     # relative to the largest magnitude in play (the RLG's cumulative angle differenced:
@@ -168,7 +166,7 @@ def test_mems_temperature_array_reaches_the_physics():
     rate = 0.5  # rad/s
     rec = unit.simulate(Environment(duration, true_rate=rate, temperature=temp), fs=fs, rng=np.random.default_rng(4))
     assert rec.metadata["temperature_blocks"] == 2
-    out = rec["rate"]
+    out = rec["output"]
     children = np.random.default_rng(4).spawn(2)
     for sl, temp_k, child in ((slice(0, n // 2), t_a, children[0]), (slice(n // 2, n), t_b, children[1])):
         # the block's mean temperature, as the record takes it (np.mean of 1000 x 343.15 is 1 ulp below
@@ -232,4 +230,4 @@ def test_static_fog_runs_for_any_duration():
     unit = FOG2DSpec().realize(rng=np.random.default_rng(0))
     rec = unit.simulate(Environment(610.0), fs=10.0, rng=np.random.default_rng(1))
     assert rec.n_samples == 6100  # the whole 610 s, not the 600 s of whole thermal steps
-    assert np.max(np.abs(rec["truth/thermal_drift"])) < 1e-18
+    assert np.max(np.abs(rec["detail/thermal_drift"])) < 1e-18

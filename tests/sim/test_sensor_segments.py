@@ -30,7 +30,7 @@ def test_segments_are_the_columns_of_one_slow_flow_call_dwell_after_dwell():
                         rng=np.random.default_rng(7))
     direct = slow_flow(unit, col, fs=FS, rng=np.random.default_rng(7), temperature=temp).output
     assert rec.metadata["segments"] == 3
-    np.testing.assert_array_equal(rec["rate"], direct.T.reshape(-1))
+    np.testing.assert_array_equal(rec["output"], direct.T.reshape(-1))
     np.testing.assert_array_equal(rec.truth["true_rate"].data, col.T.reshape(-1))
 
 

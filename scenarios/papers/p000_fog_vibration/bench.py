@@ -49,11 +49,11 @@ def _bench_arrays(
     truth [deg/h], the a_{train_level} bias [deg/h]; and which blocks hold a sample within
     ``train_edge_s`` of a shaker on/off edge."""
     k = max(1, int(round(rec.fs / config.bench_rate_hz)))
-    y = units.to_deg_per_h(rec["rate"])
+    y = units.to_deg_per_h(rec["output"])
     if dec is None:
         dec = decompose(y, rec.fs, wavelet=config.wavelet, level=config.level)
     bias = dec.approx(config.train_level)
-    vb = units.to_deg_per_h(rec["truth/vibration_bias"])
+    vb = units.to_deg_per_h(rec["detail/vibration_bias"])
     f = block_means(rec["shaker_frequency"], k)
     a = block_means(units.to_g(rec["shaker_amplitude"]), k)
     near = block_means(_near_edges(rec["shaker_on"] > 0.5, rec.fs, config.train_edge_s).astype(float), k) > 0
@@ -70,7 +70,7 @@ def compensation_task(config: Config, seed: int) -> CompensationTask:
     approximation minus its phase-1 mean [deg/h], 0 on static blocks (no vibration error to
     learn); blocks within ``train_edge_s`` of a shaker on/off edge are left out of the
     training set, as the paper's models leave those samples out. Held-out truth: the output
-    with the true vibration bias removed (``truth/vibration_bias``: rectification, loop error,
+    with the true vibration bias removed (``detail/vibration_bias``: rectification, loop error,
     strain nonreciprocity and mount coning), so the default MSE score [(deg/h)^2] is the bias
     model's error alone: an identity (no compensation) scores the true bias.
 

@@ -194,7 +194,8 @@ def record_on_table(
 
     With a ``mount``, its coning rate (a true rate about the sense axis, computed on the shaker's
     grid and averaged over each output interval, as the integrate-and-dump output does) is added
-    to the output and to the truth (``truth/coning_rate``, part of ``truth/vibration_bias``).
+    to the output and, as an error component, to the truth (``truth/coning_rate``, zero without a
+    mount; part of ``detail/vibration_bias``).
 
     Parameters
     ----------
@@ -237,8 +238,8 @@ def record_on_table(
     vib_err = tr["strain_nonreciprocity"].data + tr["rectification"].data + tr["loop_error"].data
     channels = dict(rec.channels)
     if mount is not None:
-        out = channels["rate"]
-        channels["rate"] = Channel(out.data + coning, out.unit, out.description + " (+ mount coning)")
+        out = channels["output"]
+        channels["output"] = Channel(out.data + coning, out.unit, out.description + " (+ mount coning)")
         vib_err = vib_err + coning
     channels["shaker_frequency"] = Channel(freq, "Hz", "drive frequency (0 when off)")
     channels["shaker_amplitude"] = Channel(amplitude, "m/s^2", "acceleration envelope")

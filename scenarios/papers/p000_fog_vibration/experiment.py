@@ -110,7 +110,9 @@ def _record(
     meta = dict(rec.metadata)
     meta.update({"scenario": NAME, "record": key, "seed": seed, "config": asdict(config)})
     meta["mode_frequencies_hz"] = [md.frequency for md in fog.modes]
-    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name)
+    meta["error_components"] = [*meta["error_components"], "coning_rate"]  # the mount's, added to the output
+    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta, name=rec.name,
+                     inputs=rec.inputs, detail=rec.detail)
 
 
 def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[Recording]:
@@ -136,18 +138,24 @@ def simulate(config: Config, seed: int, record_seed: int | None = None) -> list[
     return list(_records(config, seed, record_seed))
 
 
-#: what :func:`experiment` reads of each record (channels; truth without its ``truth/`` prefix)
-_USED = {"sweep": (("rate", "shaker_frequency", "shaker_on"), ()),
-         "fixed": (("rate", "shaker_frequency", "shaker_on"),
-                   ("vibration_bias", "optical_noise", "ieee_quantization", "ieee_angle_random_walk"))}
+#: what :func:`experiment` reads of each record (channels; ``group/name`` of the other groups)
+_USED = {"sweep": (("output", "shaker_frequency", "shaker_on"), ()),
+         "fixed": (("output", "shaker_frequency", "shaker_on"),
+                   ("detail/vibration_bias", "truth/optical_noise", "detail/ieee_quantization",
+                    "detail/ieee_angle_random_walk"))}
 
 
 def _slim(rec: Recording, key: str) -> Recording:
     """``rec`` holding only what :func:`experiment` reads: the same arrays, the rest released."""
-    chans, truth = _USED[key]
-    return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans},
-                     truth={k: rec.truth[k] for k in truth if k in rec.truth}, t0=rec.t0, metadata=rec.metadata,
-                     name=rec.name)
+    chans, others = _USED[key]
+    held = rec.columns()
+    kept: dict[str, dict] = {"truth": {}, "inputs": {}, "detail": {}}
+    for path in others:
+        if path in held:
+            group, name = path.split("/", 1)
+            kept[group][name] = held[path]
+    return Recording(fs=rec.fs, channels={k: rec.channels[k] for k in chans}, t0=rec.t0, name=rec.name,
+                     metadata={k: v for k, v in rec.metadata.items() if k != "error_components"}, **kept)
 
 
 def experiment(config: Config, seed: int) -> UnitResult:
@@ -174,12 +182,12 @@ def experiment(config: Config, seed: int) -> UnitResult:
     fixed = _slim(next(records), "fixed")
     rng_centres = np.random.default_rng(seed).spawn(3)[2]  # simulate() uses children 0 and 1
     fs = fixed.fs
-    phases = phase_table(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)
-    dec_s = decompose(units.to_deg_per_h(sweep["rate"]), fs, wavelet=config.wavelet, level=config.level)
+    phases = phase_table(fixed["output"], fs, config.fixed().phase_bounds, guard_s=config.guard_s)
+    dec_s = decompose(units.to_deg_per_h(sweep["output"]), fs, wavelet=config.wavelet, level=config.level)
     decomposition = decomposition_table(sweep, dec_s, config)
     bm = fit_bias_models(sweep, config, dec_s, draw_unit(config, seed), rng=rng_centres, mount=draw_mount(config, seed))
     scores = bias_model_scores(bm)
-    dec_f = decompose(units.to_deg_per_h(fixed["rate"]), fs, wavelet=config.wavelet, level=config.level)
+    dec_f = decompose(units.to_deg_per_h(fixed["output"]), fs, wavelet=config.wavelet, level=config.level)
     sig = compensated(fixed, dec_f, bm, config)
     m = split_level_m(config)
     # N of Table 3 where the dwell's aliased tones leave no variance: the raw record carries them, the
@@ -198,7 +206,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
         compensation,
         scores,
         offsets,
-        shortest_tau_rise=shortest_tau_rise(fixed["rate"], fs, config.fixed().phase_bounds, guard_s=config.guard_s),
+        shortest_tau_rise=shortest_tau_rise(fixed["output"], fs, config.fixed().phase_bounds, guard_s=config.guard_s),
     )
     quantities.update(denoising_against_truth(fixed, dec_f, config))
     return UnitResult(
@@ -215,7 +223,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
 
 #: the fast noise of the output: the loop's optical noise and the IEEE-952 quantization and angle
 #: random walk terms (truth channels); the rest of the output is the true signal
-_FAST_NOISE = ("optical_noise", "ieee_quantization", "ieee_angle_random_walk")
+_FAST_NOISE = ("truth/optical_noise", "detail/ieee_quantization", "detail/ieee_angle_random_walk")
 
 
 def denoising_against_truth(fixed: Recording, dec: MultiscaleDecomposition, config: Config) -> dict[str, float]:
@@ -230,11 +238,12 @@ def denoising_against_truth(fixed: Recording, dec: MultiscaleDecomposition, conf
     of 1-s means, the offset steps and the drift stay). Both over the whole record.
     """
     fs, j = fixed.fs, config.bias_level
-    present = [k for k in _FAST_NOISE if k in fixed.truth]
+    held = fixed.columns()
+    present = [k for k in _FAST_NOISE if k in held]
     if not present:  # no fast noise in the record: nothing to remove
         return {"t2_a6_noise_left": math.nan, "t2_a6_signal_lost": math.nan}
-    n = sum(units.to_deg_per_h(fixed.truth[k].data) for k in present)
-    s = units.to_deg_per_h(fixed["rate"]) - n
+    n = sum(units.to_deg_per_h(held[k].data) for k in present)
+    s = units.to_deg_per_h(fixed["output"]) - n
     a_n = decompose(n, fs, wavelet=config.wavelet, level=config.level).approx(j)
     k = max(1, int(round(fs)))
     s1, a1 = block_means(s, k), block_means(dec.approx(j) - a_n, k)
@@ -268,7 +277,7 @@ def _figure_data(
     return FigureData(
         records=RecordTraces(
             t=_f32(block_means(fixed.time, k)),
-            sweep=_f32(block_means(units.to_deg_per_h(sweep["rate"]), k)),
+            sweep=_f32(block_means(units.to_deg_per_h(sweep["output"]), k)),
             fixed=_f32(block_means(sig["original"], k)),
         ),
         multiscale=MultiscaleTraces(

@@ -418,7 +418,7 @@ def decomposition_table(sweep: Recording, dec: MultiscaleDecomposition, config: 
     """
     fs, j, m = sweep.fs, config.bias_level, split_level_m(config)
     return Decomposition(
-        original=split_band_coefficients(sweep["rate"], fs, m),
+        original=split_band_coefficients(sweep["output"], fs, m),
         bias=split_band_coefficients(units.deg_per_h(dec.approx(j)), fs, m),
         drift_noise=split_band_coefficients(units.deg_per_h(dec.detail_sum(j)), fs, m),
     )
@@ -478,7 +478,7 @@ def compensated(
     f = fixed["shaker_frequency"]
     lo, hi = float(bm.f_bins[0]), float(bm.f_bins[-1])
     return {
-        "original": units.to_deg_per_h(fixed["rate"]),
+        "original": units.to_deg_per_h(fixed["output"]),
         "denoised": den,
         "rbf": den - predict_on(bm.rbf, f, on, lo, hi),
         "ls": den - predict_on(bm.ls, f, on, lo, hi),
@@ -586,7 +586,7 @@ def edges_and_offsets(sig: Mapping[str, np.ndarray], fixed: Recording, config: C
         steady,
         max(1, int(round(config.edge_window_s * fixed.fs))),
     )
-    vb = units.to_deg_per_h(fixed["truth/vibration_bias"])
+    vb = units.to_deg_per_h(fixed["detail/vibration_bias"])
     for k in (
         "rbf",
         "ls",

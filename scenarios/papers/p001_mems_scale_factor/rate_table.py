@@ -95,7 +95,7 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
         rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim)
-        dwells = np.ascontiguousarray(rec["rate"].reshape(w.size, n).T)  # the record holds dwell after dwell
+        dwells = np.ascontiguousarray(rec["output"].reshape(w.size, n).T)  # the record holds dwell after dwell
         out.append(Run(on, float(temp), transfer(dwells)))
     return out
 
@@ -163,20 +163,40 @@ def trace(config: Config, run: Run) -> Trace:
 
 
 def _recording(config: Config, run: Run, *, index: int, role: str, seed: int) -> Recording:
-    """A run as a record: the dwells one after another in table order."""
+    """A run as a record: the dwells one after another in table order.
+
+    The error splits in two components: ``deterministic_error``, the error of the same run of
+    the same power-on without noise (the slow flow with ``noise=False, flicker=False``, through
+    the same rate transfer: scale factor and its nonlinearity, bias, quadrature, rails, ADC),
+    and ``noise``, the record minus that noise-free run.
+    """
     n, k = run.output.shape
-    rate = np.repeat(units.deg_per_s(np.asarray(config.rates_dps, dtype=float)), n)
+    w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
+    rate = np.repeat(w, n)
     n_settle = int(round(config.settle_s * config.fs_hz))
     windows = [[j * n + n_settle, (j + 1) * n] for j in range(k)]
+    calm = rate_transfer(config)(mems_slow_flow.slow_flow(
+        run.unit, np.broadcast_to(w, (n, k)), fs=config.fs_hz, rng=np.random.default_rng(0),
+        temperature=run.temperature, noise=False, flicker=False,
+    ).output).T.reshape(-1)
+    out = run.output.T.reshape(-1)
     return Recording(
         fs=config.fs_hz,
         channels={
-            "rate": Channel(run.output.T.reshape(-1), "rad/s", "gyro output"),
+            "output": Channel(out, "rad/s", "gyro output"),
             "table_rate": Channel(rate, "rad/s", "rate-table rate"),
             "temperature": Channel(np.full(n * k, run.temperature), "K", "die temperature"),
         },
-        truth={"true_rate": Channel(rate.copy(), "rad/s", "table rate (truth)")},
+        truth={
+            "true_rate": Channel(rate.copy(), "rad/s", "table rate (truth)"),
+            "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free run's error: scale factor and "
+                                           "nonlinearity, bias, quadrature, rails, ADC"),
+            "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off and "
+                             "1/f noise through the read-out"),
+        },
+        inputs={"temperature": Channel(np.full(n * k, run.temperature), "K", "die temperature")},
         metadata={
+            "error_components": ["deterministic_error", "noise"],
             "scenario": NAME,
             "seed": seed,
             "run": index,
@@ -233,7 +253,7 @@ def rate_means(rec: Recording) -> NDArray[np.float64]:
     ndarray
         One mean per window [deg/s].
     """
-    return dwell_means(units.to_deg_per_s(rec["rate"]), rec.metadata["windows_samples"])
+    return dwell_means(units.to_deg_per_s(rec["output"]), rec.metadata["windows_samples"])
 
 
 def memory_estimate(config: Config) -> float:

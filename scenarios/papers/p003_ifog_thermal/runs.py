@@ -252,14 +252,14 @@ def prepare(rec: Recording, config: Config) -> Run:
     def bm(x):
         return block_means(x, rec.fs, block_s=b)
 
-    n = len(bm(rec["rate"]))
+    n = len(bm(rec["output"]))
     run = Run(
         name=rec.name,
         t_h=(np.arange(n, dtype=float) + 0.5) * b / _H,
         T=units.to_celsius(bm(rec["coil_temperature"])),
-        output=units.to_deg_per_h(bm(rec["rate"])),
-        truth=units.to_deg_per_h(bm(rec["truth/rate"])),
-        drift=units.to_deg_per_h(bm(rec["truth/thermal_drift"])),
+        output=units.to_deg_per_h(bm(rec["output"])),
+        truth=units.to_deg_per_h(bm(rec["truth/true_rate"])),
+        drift=units.to_deg_per_h(bm(rec["detail/thermal_drift"])),
         fs=1.0 / b,
         reference=reference_deg_h(config, rec.name),
     )

@@ -104,8 +104,8 @@ def thermal_parts(
     def bm(name: str) -> NDArray[np.float64]:
         return block_means(units.to_deg_per_h(rec[name]), rec.fs, block_s=config.block_s)
 
-    lang, null = bm("truth/bias_langmuir"), bm("truth/bias_backscatter")
-    return lang, null, bm("rate") - bm("truth/true_rate") - lang - null
+    lang, null = bm("detail/bias_langmuir"), bm("detail/bias_backscatter")
+    return lang, null, bm("output") - bm("truth/true_rate") - lang - null
 
 
 def _scale(lang: NDArray[np.float64], null: NDArray[np.float64], rest: NDArray[np.float64], target: float) -> float:

@@ -72,16 +72,7 @@ def simulate(config: Config, seed: int) -> list[Recording]:
         rec = with_metadata(gyro.simulate(env, fs=config.fs_hz, rng=r), name=f"unit{seed}_{kind}")
         meta = dict(rec.metadata)
         meta.update({"scenario": NAME, "seed": seed, "unit": seed, "run": kind})
-        recs.append(
-            Recording(
-                fs=rec.fs,
-                channels=rec.channels,
-                truth=rec.truth,
-                t0=rec.t0,
-                metadata=meta,
-                name=rec.name,
-            )
-        )
+        recs.append(replace(rec, metadata=meta))
     return recs
 
 
@@ -162,8 +153,8 @@ class Blocks:
 
 def _hop_temperatures(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Block temperatures [degC] at the PLC's mode hops, on heating and on cooling."""
-    tb = 0.5 * (np.asarray(rec["truth/T2"]) + np.asarray(rec["truth/T_block_b"]))
-    j = np.flatnonzero(np.diff(np.asarray(rec["truth/mode"]))) + 1
+    tb = 0.5 * (np.asarray(rec["inputs/T2"]) + np.asarray(rec["inputs/T_block_b"]))
+    j = np.flatnonzero(np.diff(np.asarray(rec["inputs/mode"]))) + 1
     heating = tb[j] > tb[j - 1]
     return units.to_celsius(tb[j][heating]), units.to_celsius(tb[j][~heating])
 
@@ -186,14 +177,14 @@ def _blocks(rec: Recording, config: Config) -> Blocks:
     return Blocks(
         t_h=np.asarray((np.arange(len(logged.t1)) + 0.5) * b / units.HOUR, dtype=np.float64),
         X=logged.X,
-        output=bm(units.to_deg_per_h(rec["rate"])),
+        output=bm(units.to_deg_per_h(rec["output"])),
         truth=bm(units.to_deg_per_h(rec["truth/true_rate"])),
         thermal=bm(units.to_deg_per_h(rec["truth/thermal_bias"])),
         t1=logged.t1,
         t2=logged.t2,
-        chamber=bm(units.to_celsius(rec["truth/chamber"])),
-        mode=np.asarray(rec["truth/mode"])[step - 1 :: step][: len(logged.t1)],
-        lock_in=bm(units.to_deg_per_s(rec["truth/lock_in_rate"])),
+        chamber=bm(units.to_celsius(rec["inputs/chamber"])),
+        mode=np.asarray(rec["inputs/mode"])[step - 1 :: step][: len(logged.t1)],
+        lock_in=bm(units.to_deg_per_s(rec["detail/lock_in_rate"])),
         hops_up=up,
         hops_down=down,
     )

@@ -6,13 +6,23 @@ table rate) plus what only a simulator knows: every error component separately
 
 File forms
 ----------
-HDF5 (h5py): one group per recording under ``/recordings/<name>``; datasets
-``channels/<ch>`` and ``truth/<ch>``, each with attributes ``unit`` and
-``description``; group attributes ``fs`` [Hz], ``t0`` [s], ``n_samples`` and
-``metadata`` (JSON text). The root carries ``format = "gyrobench-recording"``
-and ``format_version``. Plain float64 datasets and string attributes, so
-MATLAB's ``h5read(file, '/recordings/x/channels/rate')`` and ``h5readatt``
-read them directly.
+HDF5 (h5py): one group per recording under ``/recordings/<name>``, holding four groups of
+datasets (the schema, :data:`GROUPS`; written down in docs/recording.md):
+
+- ``channels/``: what a test logs; ``channels/output`` is the gyro's output [rad/s];
+- ``truth/``: ``truth/true_rate`` [rad/s] and the error components named in the metadata's
+  ``error_components``, nothing else; they sum to ``output - true_rate`` to rounding;
+- ``inputs/``: what drives the errors that is not a rate: the environment (chamber and coil
+  temperatures, specific force) and the model's physical state (path length, mode index);
+- ``detail/``: other rates the model computed: sub-terms of a component, sums of components.
+
+Every dataset has attributes ``unit`` and ``description``; the recording group has the
+attributes ``fs`` [Hz], ``t0`` [s], ``n_samples`` and ``metadata`` (JSON text). The root
+carries ``format = "gyrobench-recording"`` and ``format_version``. Plain float64 datasets
+(optionally gzip- or lzf-compressed) and string attributes, so MATLAB's
+``h5read(file, '/recordings/x/channels/output')`` and ``h5readatt`` read them directly.
+A file of format version 1 (channel ``rate``, truth ``rate``) is read with ``rate`` as
+``output`` and ``truth/rate`` as ``truth/true_rate``.
 
 CSV: a comment line naming gyrobench (:func:`gyrobench.base.safety.comment_marker`, the marker
 that lets a later run replace the file), then a header line of ``name [unit]`` columns, first
@@ -34,6 +44,7 @@ import errno
 import json
 import math
 import os
+import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -55,10 +66,23 @@ __all__ = [
     "list_hdf5",
     "HDF5StreamWriter",
     "to_csv",
+    "load_csv",
+    "GROUPS",
+    "OUTPUT",
+    "closure",
+    "schema_problems",
 ]
 
 FORMAT = "gyrobench-recording"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: the groups of datasets of a recording, in file order
+GROUPS = ("channels", "truth", "inputs", "detail")
+#: the output channel of a single-axis recording
+OUTPUT = "output"
+#: the true rate in ``truth/`` of a single-axis recording
+TRUE_RATE = "true_rate"
+#: compressions :func:`save_hdf5` and :class:`HDF5StreamWriter` apply (h5py's filters; None: none)
+COMPRESSIONS = (None, "gzip", "lzf")
 
 
 class RecordingFormatError(ValueError):
@@ -159,24 +183,78 @@ def _as_channels(name: str, chans: Mapping[str, Channel]) -> dict[str, Channel]:
     return out
 
 
+def truth_names(metadata: Mapping[str, Any]) -> set[str] | None:
+    """The names ``truth/`` holds by the metadata's ``error_components``, or None when it names none.
+
+    A list names the components of ``output``; the true rate is ``true_rate``. A mapping (a
+    triad) names each output channel's components; channel ``c``'s true value is ``c.true``.
+
+    Parameters
+    ----------
+    metadata : mapping
+        A recording's metadata.
+
+    Returns
+    -------
+    set of str or None
+        The truth channels' names.
+    """
+    comps = metadata.get("error_components")
+    if isinstance(comps, (list, tuple)):
+        return {TRUE_RATE, *map(str, comps)}
+    if isinstance(comps, Mapping):
+        return {n for ch, names in comps.items() for n in (f"{ch}.true", *map(str, names))}
+    return None
+
+
+def _sorted_groups(
+    truth: dict[str, Channel], inputs: dict[str, Channel], detail: dict[str, Channel], metadata: Mapping[str, Any]
+) -> tuple[dict[str, Channel], dict[str, Channel], dict[str, Channel]]:
+    """Truth reduced to the true rate and the named components; the rest to inputs (not a rate) or detail."""
+    keep = truth_names(metadata)
+    if keep is None:
+        return truth, inputs, detail
+    truth_out = {}
+    for k, c in truth.items():
+        if k in keep:
+            truth_out[k] = c
+        else:
+            target = detail if c.unit in ("rad/s", "rad") else inputs
+            if k in target:
+                raise ValueError(f"Recording: truth channel {k!r} is not an error component and its group already "
+                                 f"holds a channel {k!r}")
+            target[k] = c
+    return truth_out, inputs, detail
+
+
 @dataclass(frozen=True, slots=True)
 class Recording:
-    """Sampled output of one run of one gyro, with its truth.
+    """Sampled output of one run of one gyro, with its truth (the schema: docs/recording.md).
 
     Parameters
     ----------
     fs : float
         Sample rate [Hz], > 0.
     channels : mapping str -> Channel
-        What a real test logs (sensor output, temperatures, table rate).
+        What a real test logs: ``output`` (the gyro's output [rad/s]), logged temperatures,
+        the table rate.
     truth : mapping str -> Channel
-        What only the simulator knows: the true rate and each error component.
+        What only the simulator knows: ``true_rate`` and each error component. When the
+        metadata names the components (``error_components``), every other channel given here
+        is moved to ``inputs`` (a unit other than rad/s) or ``detail`` (rad/s), so ``truth``
+        holds exactly the true rate and the components.
     t0 : float
         Time of the first sample [s].
     metadata : mapping
-        JSON-serialisable: spec, environment config, seed, package version.
+        JSON-serialisable: spec, environment config, seed, package version, and
+        ``error_components`` (the truth channels summing to ``output - true_rate``).
     name : str
         Identifier, used as the HDF5 group name.
+    inputs : mapping str -> Channel
+        What drives the errors that is not a rate: the environment (temperatures, specific
+        force) and the model's physical state (lengths, mode index).
+    detail : mapping str -> Channel
+        Other rates the model computed: sub-terms of a component, sums of components.
     """
 
     fs: float
@@ -185,23 +263,36 @@ class Recording:
     t0: float = 0.0
     metadata: Mapping[str, Any] = field(default_factory=dict)
     name: str = "recording"
+    inputs: Mapping[str, Channel] = field(default_factory=dict)
+    detail: Mapping[str, Channel] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not (isinstance(self.fs, (int, float)) and math.isfinite(self.fs) and self.fs > 0):
             raise ValueError(f"Recording.fs must be a finite number > 0 Hz; got {self.fs!r}")
         chans = _as_channels("channels", self.channels)
-        truth = _as_channels("truth", self.truth)
         if not chans:
             raise ValueError("Recording.channels must hold at least one channel; got none")
-        lengths = {k: len(c.data) for k, c in {**chans, **{f"truth/{k}": v for k, v in truth.items()}}.items()}
+        if not isinstance(self.metadata, Mapping):
+            raise TypeError(f"Recording.metadata must be a mapping; got {type(self.metadata).__name__}")
+        truth, inputs, detail = _sorted_groups(
+            _as_channels("truth", self.truth), _as_channels("inputs", self.inputs),
+            _as_channels("detail", self.detail), self.metadata,
+        )
+        groups = {"channels": chans, "truth": truth, "inputs": inputs, "detail": detail}
+        lengths = {f"{g}/{k}" if g != "channels" else k: len(c.data)
+                   for g, chs in groups.items() for k, c in chs.items()}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"Recording channels must all have the same length; got {lengths}")
         if not self.name or "/" in self.name:
             raise ValueError(f"Recording.name must be non-empty without '/'; got {self.name!r}")
-        object.__setattr__(self, "channels", chans)
-        object.__setattr__(self, "truth", truth)
+        for g, chs in groups.items():
+            object.__setattr__(self, g, chs)
         object.__setattr__(self, "fs", float(self.fs))
         json.dumps(dict(self.metadata), default=_json_default)  # fail early if not serialisable
+
+    def groups(self) -> dict[str, Mapping[str, Channel]]:
+        """The four groups of datasets, in file order (:data:`GROUPS`)."""
+        return {g: getattr(self, g) for g in GROUPS}
 
     @property
     def n_samples(self) -> int:
@@ -209,23 +300,156 @@ class Recording:
 
     @property
     def nbytes(self) -> int:
-        """Bytes of sample data, channels and truth (about the size of its HDF5 file) [bytes]."""
-        return sum(c.data.nbytes for c in (*self.channels.values(), *self.truth.values()))
+        """Bytes of sample data in every group (about the size of its HDF5 file) [bytes]."""
+        return sum(c.data.nbytes for chs in self.groups().values() for c in chs.values())
 
     @property
     def time(self) -> NDArray[np.float64]:
         """Sample times [s]."""
         return self.t0 + np.arange(self.n_samples) / self.fs
 
-    def __getitem__(self, key: str) -> NDArray[np.float64]:
+    def channel(self, key: str) -> Channel:
+        """The channel ``key``: a logged channel's name, or ``truth/``, ``inputs/`` or ``detail/`` and a name.
+
+        Parameters
+        ----------
+        key : str
+            The name, as in the HDF5 file below the recording's group (without ``channels/``).
+
+        Returns
+        -------
+        Channel
+            The channel.
+
+        Raises
+        ------
+        KeyError
+            Naming the recording and listing what it holds.
+        """
         if key in self.channels:
-            return self.channels[key].data
-        if key.startswith("truth/") and key[6:] in self.truth:
-            return self.truth[key[6:]].data
-        raise KeyError(
-            f"recording {self.name!r} has no channel {key!r}; channels: {sorted(self.channels)}, "
-            f"truth: {sorted('truth/' + k for k in self.truth)}"
-        )
+            return self.channels[key]
+        group, _, name = key.partition("/")
+        if group in GROUPS[1:] and name in getattr(self, group):
+            return getattr(self, group)[name]
+        held = [*sorted(self.channels), *(f"{g}/{k}" for g in GROUPS[1:] for k in sorted(getattr(self, g)))]
+        raise KeyError(f"recording {self.name!r} has no channel {key!r}; it holds {held}")
+
+    def __getitem__(self, key: str) -> NDArray[np.float64]:
+        return self.channel(key).data
+
+    def columns(self) -> dict[str, Channel]:
+        """Every dataset by its column name: the logged channels' own names, the others ``group/name``."""
+        cols = dict(self.channels)
+        for g in GROUPS[1:]:
+            cols.update({f"{g}/{k}": c for k, c in getattr(self, g).items()})
+        return cols
+
+    def to_dataframe(self) -> Any:
+        """The recording as a pandas DataFrame: one column per dataset, indexed by time [s].
+
+        Columns are named as :meth:`columns` names them (``output``, ``truth/true_rate``,
+        ``inputs/temperature``, ...), in SI; ``df.attrs`` holds ``fs``, ``name``, the units
+        (``units``: column -> unit) and the metadata. pandas is not a dependency of gyrobench:
+        it is imported here, and its absence is one line.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The samples.
+
+        Raises
+        ------
+        ImportError
+            pandas is not installed.
+        """
+        import importlib
+
+        try:
+            pd = importlib.import_module("pandas")  # not a dependency: imported only here
+        except ImportError:
+            raise ImportError("Recording.to_dataframe needs pandas, which gyrobench does not depend on: "
+                              "pip install pandas") from None
+        cols = self.columns()
+        df = pd.DataFrame({k: c.data for k, c in cols.items()}, index=pd.Index(self.time, name="time [s]"))
+        df.attrs.update({"fs": self.fs, "name": self.name, "units": {k: c.unit for k, c in cols.items()},
+                         "metadata": json.loads(metadata_json(self.metadata))})
+        return df
+
+
+def closure(rec: Recording, output: str = OUTPUT) -> tuple[float, float]:
+    """How far the error components miss ``output - true value``: (max |residual|, scale) [channel unit].
+
+    The residual is ``output - true - sum(components)`` over the samples, with the components
+    and the true value named by the metadata's ``error_components`` (:func:`truth_names`);
+    the scale is the largest magnitude among the summed channels, for a rounding bound
+    (``k (m + 2) eps scale`` for ``m`` components).
+
+    Parameters
+    ----------
+    rec : Recording
+        A recording whose metadata names its components.
+    output : str
+        The output channel (``output``; a triad's ``gyro_x``, ...).
+
+    Returns
+    -------
+    tuple of float
+        (max |residual|, scale).
+
+    Raises
+    ------
+    ValueError
+        The metadata names no components for ``output``.
+    """
+    comps = rec.metadata.get("error_components")
+    if isinstance(comps, Mapping):
+        names, true = list(comps.get(output, [])), f"{output}.true"
+    else:
+        names, true = list(comps or []), TRUE_RATE
+    if comps is None or (isinstance(comps, Mapping) and output not in comps):
+        raise ValueError(f"recording {rec.name!r}: the metadata names no error components of {output!r}")
+    terms = [rec.truth[k].data for k in names]
+    out, tr = rec[output], rec.truth[true].data
+    resid = out - tr - (np.sum(terms, axis=0) if terms else 0.0)
+    scale = max(float(np.max(np.abs(x), initial=0.0)) for x in (out, tr, *terms))
+    return float(np.max(np.abs(resid), initial=0.0)), scale
+
+
+def schema_problems(rec: Recording) -> list[str]:
+    """What a recording lacks of the schema (docs/recording.md); empty when it follows it.
+
+    Checked: an ``output`` channel in rad/s (or, for a triad, the outputs the metadata's
+    ``error_components`` maps), ``truth/true_rate`` (``truth/<output>.true``), the component
+    list in the metadata, every listed component under ``truth/`` and nothing else there.
+    The closure itself is :func:`closure`.
+
+    Parameters
+    ----------
+    rec : Recording
+        The recording.
+
+    Returns
+    -------
+    list of str
+        One line per problem.
+    """
+    problems = []
+    comps = rec.metadata.get("error_components")
+    outputs = list(comps) if isinstance(comps, Mapping) else [OUTPUT]
+    for ch in outputs:
+        if ch not in rec.channels:
+            problems.append(f"no output channel {ch!r}")
+        elif rec.channels[ch].unit not in ("rad/s", "m/s^2", "rad", "m/s"):
+            problems.append(f"channel {ch!r} is in {rec.channels[ch].unit!r}, not an SI rate")
+    names = truth_names(rec.metadata)
+    if names is None:
+        problems.append("the metadata names no error_components")
+    else:
+        if missing := sorted(names - set(rec.truth)):
+            problems.append(f"truth lacks {missing}")
+        if extra := sorted(set(rec.truth) - names):
+            problems.append(f"truth holds {extra}, which are not error components")
+    return problems
 
 
 def _json_default(o: Any) -> Any:
@@ -359,16 +583,23 @@ def _h5_create(tmp: Path) -> Iterator[tuple[Any, _GuardedFile]]:
         raw.close()
 
 
-def _write_group(h5, rec: Recording) -> None:
+def _check_compression(compression: object) -> str | None:
+    if compression not in COMPRESSIONS:
+        raise ValueError(f"compression must be one of {list(COMPRESSIONS)}; got {compression!r}")
+    return compression if compression is None else str(compression)
+
+
+def _write_group(h5, rec: Recording, *, compression: str | None = None) -> None:
     grp = h5.require_group("recordings").create_group(rec.name)
     grp.attrs["fs"] = rec.fs
     grp.attrs["t0"] = rec.t0
     grp.attrs["n_samples"] = rec.n_samples
     grp.attrs["metadata"] = metadata_json(rec.metadata)
-    for sub, chans in (("channels", rec.channels), ("truth", rec.truth)):
+    for sub, chans in rec.groups().items():
         g = grp.create_group(sub)
         for k, c in chans.items():
-            ds = g.create_dataset(k, data=c.data, chunks=True if len(c.data) > 1 << 16 else None)
+            chunks = True if len(c.data) > 1 << 16 or (compression and len(c.data)) else None
+            ds = g.create_dataset(k, data=c.data, chunks=chunks, compression=compression if chunks else None)
             ds.attrs["unit"] = c.unit
             ds.attrs["description"] = c.description
 
@@ -416,12 +647,14 @@ def check_finite_samples(data: NDArray, what: str, *, offset: int = 0) -> None:
 
 
 def _check_recording_finite(rec: Recording) -> None:
-    for sub, chans in (("channels", rec.channels), ("truth", rec.truth)):
+    for sub, chans in rec.groups().items():
         for k, c in chans.items():
             check_finite_samples(c.data, f"recording {rec.name!r}: {sub}/{k}")
 
 
-def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) -> Path:
+def save_hdf5(
+    path: str | os.PathLike, recordings: Recording | list[Recording], *, compression: str | None = None
+) -> Path:
     """Write one or several recordings to an HDF5 file, atomically.
 
     Parameters
@@ -430,6 +663,11 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
         The HDF5 file (replaced if it exists).
     recordings : Recording or list of Recording
         The recordings, each stored under ``/recordings/<name>``.
+    compression : {None, "gzip", "lzf"}
+        h5py's filter on every dataset (chunked): ``"gzip"`` (deflate, level 4, readable by
+        MATLAB and any HDF5 build), ``"lzf"`` (faster, h5py's own filter: other tools need
+        the lzf plugin), None: uncompressed. A simulated gyro's noise is nearly incompressible
+        (float64 mantissas of noise); constant and step-wise channels shrink much.
 
     Returns
     -------
@@ -444,6 +682,7 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
         If the data would not fit on the disk (checked before writing) or the
         write fails; ``path`` is then left as it was.
     """
+    compression = _check_compression(compression)
     recs = [recordings] if isinstance(recordings, Recording) else list(recordings)
     names = [r.name for r in recs]
     if len(set(names)) != len(names):
@@ -454,7 +693,7 @@ def save_hdf5(path: str | os.PathLike, recordings: Recording | list[Recording]) 
     with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
         _mark_root(h5)
         for r in recs:
-            _write_group(h5, r)
+            _write_group(h5, r, compression=compression)
             guard.check()
     return Path(path)
 
@@ -694,6 +933,11 @@ def load_hdf5(
 
     with _open_checked(path) as h5:
         try:
+            raw_version = h5.attrs.get("format_version", 1)
+            try:
+                version = int(raw_version)
+            except (TypeError, ValueError):  # not a number: read as the first version
+                version = 1
             recs = h5["recordings"]
             if name is None:
                 if len(recs) != 1:
@@ -728,7 +972,8 @@ def load_hdf5(
                 raise RecordingFormatError(
                     f"{where}: attribute 'metadata' must be a JSON object; got {_short_repr(meta)}"
                 )
-            sets = {sub: _datasets(h5, grp, sub, where) for sub in ("channels", "truth")}
+            # inputs/ and detail/ came with format version 2: a version-1 file has neither
+            sets = {sub: _datasets(h5, grp, sub, where) for sub in GROUPS if sub in GROUPS[:2] or sub in grp}
             for sub, dss in sets.items():
                 for k, ds in dss.items():
                     if ds.dtype.kind not in ("f", "i", "u"):
@@ -774,11 +1019,25 @@ def load_hdf5(
             raise RecordingFormatError(
                 f"{str(path)!r}: recording {name!r} cannot be read ({' '.join(str(exc).split())})"
             ) from None
+        if version < 2:
+            _read_version_1(out)
         try:
             return Recording(fs=fs, channels=out["channels"], truth=out["truth"], t0=t0 + a / fs, metadata=meta,
-                             name=name)
+                             name=name, inputs=out.get("inputs", {}), detail=out.get("detail", {}))
         except (ValueError, TypeError) as exc:  # e.g. fs = 0 written by another tool: name the file
             raise RecordingFormatError(f"{str(path)!r}: recording {name!r} is invalid: {exc}") from None
+
+
+def _read_version_1(groups: dict[str, dict[str, Channel]]) -> None:
+    """Rename, in place, what format version 1 named otherwise: channel ``rate`` -> ``output``, truth
+    ``rate`` -> ``true_rate`` (each only where the new name is absent; a duplicate ``truth/rate`` beside
+    ``truth/true_rate`` is dropped)."""
+    chans, truth = groups["channels"], groups["truth"]
+    if OUTPUT not in chans and "rate" in chans:
+        groups["channels"] = {(OUTPUT if k == "rate" else k): c for k, c in chans.items()}
+    if "rate" in truth:
+        rate = truth.pop("rate")
+        truth.setdefault(TRUE_RATE, rate)
 
 
 #: peak bytes of reading a text attribute per byte stored: HDF5's copy, the bytes, the str and the
@@ -807,7 +1066,7 @@ def _check_attribute_memory(path: str | os.PathLike, recs: Any, where: str) -> N
     try:
         for name in recs:
             rec = hard(recs, name)
-            for sub in ("channels", "truth") if isinstance(rec, h5py.Group) else ():
+            for sub in GROUPS if isinstance(rec, h5py.Group) else ():
                 g = hard(rec, sub)
                 for k in g if isinstance(g, h5py.Group) else ():
                     ds = hard(g, k)
@@ -881,13 +1140,15 @@ class HDF5StreamWriter:
         HDF5 chunk length [samples].
     expected_samples : int, optional
         Samples to be written, for the free-space check on entry.
+    compression : {None, "gzip", "lzf"}
+        h5py's filter on every dataset (:func:`save_hdf5`).
 
     Examples
     --------
     >>> import numpy as np, tempfile, os
     >>> p = os.path.join(tempfile.mkdtemp(), "x.h5")
-    >>> with HDF5StreamWriter(p, name="r", fs=10.0, channels={"rate": "rad/s"}) as w:
-    ...     w.append(rate=np.zeros(5)); w.append(rate=np.ones(5))
+    >>> with HDF5StreamWriter(p, name="r", fs=10.0, channels={"output": "rad/s"}) as w:
+    ...     w.append(output=np.zeros(5)); w.append(output=np.ones(5))
     >>> load_hdf5(p).n_samples
     10
     """
@@ -904,14 +1165,16 @@ class HDF5StreamWriter:
         metadata: Mapping[str, Any] | None = None,
         chunk: int = 1 << 18,
         expected_samples: int | None = None,
+        compression: str | None = None,
     ) -> None:
         if not (math.isfinite(fs) and fs > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
         if not (isinstance(chunk, int) and chunk > 0):
             raise ValueError(f"chunk must be an integer > 0 samples; got {chunk!r}")
+        self._compression = _check_compression(compression)
         self.path = Path(path)
         self.name, self.fs, self.t0 = name, float(fs), float(t0)
-        self._units = {"channels": dict(channels), "truth": dict(truth or {})}
+        self._units = {"channels": dict(channels), "truth": dict(truth or {}), "inputs": {}, "detail": {}}
         self._meta = dict(metadata or {})
         self._chunk = chunk
         self._expected = expected_samples
@@ -934,7 +1197,8 @@ class HDF5StreamWriter:
             for sub, units_ in self._units.items():
                 g = grp.create_group(sub)
                 for k, u in units_.items():
-                    ds = g.create_dataset(k, shape=(0,), maxshape=(None,), dtype="f8", chunks=(self._chunk,))
+                    ds = g.create_dataset(k, shape=(0,), maxshape=(None,), dtype="f8", chunks=(self._chunk,),
+                                          compression=self._compression)
                     ds.attrs["unit"] = u
                     ds.attrs["description"] = ""
                     self._ds[(sub, k)] = ds
@@ -979,7 +1243,11 @@ class HDF5StreamWriter:
 def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
     """Export a recording to CSV, atomically.
 
-    The columns are ``time [s]`` then ``name [unit]`` for each channel (and truth channel).
+    The first line is gyrobench's marker, with the recording's name, rate and metadata (JSON,
+    with the component list); the second the header. The columns are ``time [s]``, then
+    ``name [unit]`` for each logged channel, then (with
+    ``include_truth``) ``group/name [unit]`` for every dataset of ``truth``, ``inputs`` and
+    ``detail`` (:meth:`Recording.columns`).
 
     Parameters
     ----------
@@ -988,7 +1256,7 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     rec : Recording
         The recording.
     include_truth : bool
-        Also write the truth channels (``truth/<name> [unit]``).
+        Also write the truth, inputs and detail (``truth/<name> [unit]``, ...).
 
     Returns
     -------
@@ -1002,15 +1270,71 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     """
     _check_recording_finite(rec)
     cols = [("time", "s", rec.time)]
-    cols += [(k, c.unit, c.data) for k, c in rec.channels.items()]
-    if include_truth:
-        cols += [(f"truth/{k}", c.unit, c.data) for k, c in rec.truth.items()]
+    cols += [(k, c.unit, c.data) for k, c in (rec.columns() if include_truth else rec.channels).items()]
     from gyrobench.base.safety import comment_marker
 
     # the first line is gyrobench's marker (gyrobench.base.safety): a later run may replace this file
-    header = comment_marker(f"recording {rec.name!r}") + "\n" + ",".join(f"{k} [{u}]" for k, u, _ in cols)
+    # the metadata (with the component list) rides on the marker line: the header stays the second line
+    marker = comment_marker(f"recording {rec.name!r}; fs {rec.fs!r} Hz; metadata {metadata_json(rec.metadata)}")
+    header = marker + "\n" + ",".join(f"{k} [{u}]" for k, u, _ in cols)
     ensure_free_space(path, 25 * len(cols) * rec.n_samples)  # "%.17g," is at most 25 characters
     data = np.column_stack([c for _, _, c in cols])
     with atomic_path(path) as tmp:
         np.savetxt(tmp, data, delimiter=",", header=header, comments="", fmt="%.17g")
     return Path(path)
+
+
+_CSV_MARKER = re.compile(
+    r"^# written by gyrobench recording '(?P<name>[^']*)'; fs (?P<fs>\S+) Hz; metadata (?P<meta>\{.*\})$"
+)
+_CSV_COLUMN = re.compile(r"^(?P<name>.+) \[(?P<unit>[^\]]*)\]$")
+
+
+def load_csv(path: str | os.PathLike) -> Recording:
+    """Read back a recording that :func:`to_csv` (or ``gyrobench simulate``) wrote as CSV.
+
+    The marker line gives the name, rate and metadata; the header's ``group/name [unit]``
+    columns the groups (a name without a group is a logged channel).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file.
+
+    Returns
+    -------
+    Recording
+        The recording (%.17g columns round-trip float64 exactly).
+
+    Raises
+    ------
+    RecordingFormatError
+        The file is not a gyrobench recording CSV (its first line is not the marker with the
+        metadata, or a header cell is not ``name [unit]``).
+    """
+    p = Path(path)
+    with open(p, encoding="utf-8") as fh:
+        first, header = fh.readline().rstrip("\n"), fh.readline().rstrip("\n")
+    m = _CSV_MARKER.match(first)
+    if m is None:
+        raise RecordingFormatError(f"{str(p)!r} is not a gyrobench recording CSV (its first line is not "
+                                   "gyrobench's marker with the metadata)")
+    try:
+        meta = json.loads(m["meta"])
+        fs = float(m["fs"])
+    except (ValueError, json.JSONDecodeError) as exc:
+        raise RecordingFormatError(f"{str(p)!r}: the marker line's rate or metadata is unreadable ({exc})") from None
+    cells = [_CSV_COLUMN.match(c) for c in header.split(",")]
+    if not cells or any(c is None for c in cells) or cells[0]["name"] != "time":  # type: ignore[index]
+        raise RecordingFormatError(f"{str(p)!r}: the header must be 'time [s]' then 'name [unit]' cells; got "
+                                   f"{_short_repr(header)}")
+    data = np.loadtxt(p, delimiter=",", skiprows=2, ndmin=2)
+    groups: dict[str, dict[str, Channel]] = {g: {} for g in GROUPS}
+    for j, c in enumerate(cells[1:], start=1):
+        assert c is not None
+        group, _, name = c["name"].partition("/")
+        if not name or group not in GROUPS[1:]:
+            group, name = "channels", c["name"]
+        groups[group][name] = Channel(data[:, j], c["unit"])
+    t0 = float(data[0, 0]) if len(data) else 0.0
+    return Recording(fs=fs, t0=t0, metadata=meta, name=m["name"], **groups)

@@ -276,8 +276,17 @@ def _index_of(path: Path, hdr: _Header, col: str) -> int:
     return idx
 
 
+def _schema_outputs(names: list[str]) -> list[str]:
+    """The outputs of a CSV written by gyrobench (docs/recording.md): ``output`` beside ``truth/true_rate``, or
+    each ``c`` beside ``truth/c.true`` (a triad); empty for any other header."""
+    if "output" in names and "truth/true_rate" in names:
+        return ["output"]
+    return [n for n in names if f"truth/{n}.true" in names]
+
+
 def _selected_columns(path: Path, hdr: _Header, columns: list[str] | None, all_axes: bool) -> list[int]:
-    """Indices of the columns to analyse: the named ones, every gyro/accelerometer column, or the only one."""
+    """Indices of the columns to analyse: the named ones, every gyro/accelerometer column, a gyrobench
+    recording's outputs, or the only one."""
     names, time_idx = hdr.names, hdr.time_idx
     if columns:
         idxs = [_index_of(path, hdr, c) for c in columns]
@@ -300,6 +309,8 @@ def _selected_columns(path: Path, hdr: _Header, columns: list[str] | None, all_a
                 f"--all-axes found no gyro or accelerometer column in {str(path)!r} (columns: {hdr.listing}); "
                 f"name them with --column"
             )
+    elif outputs := _schema_outputs(names):
+        idxs = [names.index(n) for n in outputs]
     else:
         cand = [i for i in range(hdr.ncols) if i != time_idx]
         if len(cand) != 1:

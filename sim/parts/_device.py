@@ -268,14 +268,15 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
         sheet_terms.append("g_sensitivity")
         ignored = [k for k in ignored if k != "specific_force"]
         out = out + comps["g_sensitivity"]
-    if not names and isinstance(unit, MemsResonator):  # the slow flow: its thermal terms from the closed forms
-        temp = np.asarray(rec["truth/temperature"], dtype=float)
+    if isinstance(unit, MemsResonator):  # the slow flow: its thermal terms from the closed forms
+        temp = np.asarray(rec["inputs/temperature"], dtype=float)
         thermal = _mems_thermal(unit, temp, omega)
-        rest = out - omega - sum(comps.values(), np.zeros(n)) - sum(thermal.values())
-        comps = {**thermal, "resonator": rest, **comps}
+        det = comps.pop("deterministic_error")
+        comps = {**thermal, "resonator": det - sum(thermal.values(), np.zeros(n)), **comps}
         descr.update(bias_temperature="the resonator's bias change from T0 (noise-free closed form)",
                      scale_factor_temperature="the resonator's scale-factor change from T0 x true rate",
-                     resonator="the rest of the resonator's error (slow flow: noise, trim residue, dynamics)")
+                     resonator="the rest of the resonator's noise-free error (trim residue, nonlinearity, "
+                               "dynamics, ADC)")
     stage: dict[str, Any] = filter_metadata(ds, fs)
     if ds.bandwidth is not None and ds.bandwidth < 0.45 * fs:
         sos = output_filter(ds, fs)
@@ -297,14 +298,14 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
         key = key if key not in comps else f"output_{key}"  # the RLG's own count quantization keeps its name
         comps[key], descr[key] = term, what
     channels = {"output": Channel(final, "rad/s", f"{ds.manufacturer} {ds.model} output ({rec.metadata['model']})")}
-    channels.update({k: c for k, c in rec.channels.items() if k != "rate"})
+    channels.update({k: c for k, c in rec.channels.items() if k not in ("output", "rate")})
     truth = {"true_rate": Channel(omega, "rad/s", "input rate about the sense axis (with the Earth's, as the "
                                                    "model adds it)")}
     truth.update({k: Channel(v, "rad/s", descr[k]) for k, v in comps.items()})
-    # the model's inputs and states (K, m/s^2, counts) stay; its rad/s sub-terms and intermediate rates
-    # (the FOG's shupe and txdt_product inside nonreciprocal, the table and Earth rates inside true_rate)
-    # do not: every rad/s truth channel is one of the terms that close the record
-    truth.update({k: c for k, c in rec.truth.items() if k not in truth and c.unit != "rad/s"})
+    # the model's inputs and states (K, m/s^2, counts) stay under inputs/; its rad/s sub-terms and
+    # intermediate rates (the FOG's shupe and txdt_product inside nonreciprocal, the table and Earth
+    # rates inside true_rate) do not: every rad/s truth channel is one of the terms that close the record
+    inputs = dict(rec.inputs)
     meta = {
         **rec.metadata,
         "model_kind": "physics",
@@ -318,5 +319,5 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
         "error_components": list(comps),
         "ignored_inputs": ignored,
     }
-    return Recording(fs=rec.fs, channels=channels, truth=truth, t0=rec.t0, metadata=meta,
+    return Recording(fs=rec.fs, channels=channels, truth=truth, inputs=inputs, t0=rec.t0, metadata=meta,
                      name=ds.name.replace("/", "_"))

@@ -166,8 +166,8 @@ def test_fog_part_on_its_physics_has_its_own_shupe_drift_and_scale_factor_error(
     assert rec.metadata["wavelength_tempco_per_K"] == spec.wavelength_tempco
     t_sf = spec.scale_factor_ref_temperature
     e_k = rec["truth/scale_factor_error"] / rec["truth/true_rate"]
-    first = 2 * alpha_d * (rec["truth/coil_mean_temperature"] - t_sf) - spec.wavelength_tempco * (
-        rec["truth/housing_temperature"] - t_sf)
+    first = 2 * alpha_d * (rec["inputs/coil_mean_temperature"] - t_sf) - spec.wavelength_tempco * (
+        rec["inputs/housing_temperature"] - t_sf)
     late = rec.time > 300
     assert np.max(np.abs(e_k[late])) > 1e-6
     # second-order terms (alpha dT)^2 ~ 1e-9 and the loop's own terms: 1e-3 of the law's size

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.base import units
 from gyrobench.io.recording import Channel, Recording, package_version
+from gyrobench.sim import mems_slow_flow
 from gyrobench.sim.mems_resonator import MemsResonator
 from gyrobench.sim.sensor import Environment
 
@@ -94,7 +95,8 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
-        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim)
+        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim,
+                          split_error=False)
         dwells = np.ascontiguousarray(rec["output"].reshape(w.size, n).T)  # the record holds dwell after dwell
         out.append(Run(on, float(temp), transfer(dwells)))
     return out

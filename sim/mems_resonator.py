@@ -504,9 +504,7 @@ class MemsResonator:
             self, turn_on_bias=self.bias_repeatability * float(z_b), turn_on_scale_factor=e_on
         )
 
-    def simulate(
-        self, environment: Environment, *, fs: float, rng: np.random.Generator, split_error: bool = True
-    ) -> Recording:
+    def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
         """One record at ``fs`` [Hz] from the slow flow (:func:`slow_flow`), noise and ADC on.
 
         Parameters
@@ -524,10 +522,6 @@ class MemsResonator:
             ``true_rate`` as an (n, k) array runs k independent segments of n samples side
             by side (one slow-flow call, each column from the noise-free equilibrium of its
             first rate: a rate table's dwells), at a constant temperature.
-        split_error : bool, default True
-            Split the error into its noise-free part and the noise (a second, noise-free slow
-            flow run, about as costly as the record); False keeps one component ``error``
-            (``output - true_rate``), for a caller that reads only the output.
         fs : float
             Output rate [Hz].
         rng : numpy.random.Generator
@@ -567,8 +561,8 @@ class MemsResonator:
                 raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
             columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
             still = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
-                              specific_force=force[:, None], **quiet).output if split_error else columns.output
-            out, calm, rate = (a.T.reshape(-1) for a in (columns.output, still, rate))
+                              specific_force=force[:, None], **quiet)
+            out, calm, rate = (a.T.reshape(-1) for a in (columns.output, still.output, rate))
             temp, force = np.full(n * k, temp[0]), np.tile(force, k)
             blocks = 1
         elif np.all(temp == temp[0]):
@@ -576,7 +570,7 @@ class MemsResonator:
             calm = np.empty(n)  # the same run without noise: the deterministic part of the error
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
             calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
-                                specific_force=force, **quiet).output if split_error else out
+                                specific_force=force, **quiet).output
             blocks = 1
         else:
             out = np.empty(n)
@@ -592,8 +586,7 @@ class MemsResonator:
                 )
                 out[a:b] = res.output
                 calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
-                                      temperature=float(np.mean(temp[a:b])), specific_force=force[a:b],
-                                      **quiet).output if split_error else res.output
+                                      temperature=float(np.mean(temp[a:b])), specific_force=force[a:b], **quiet).output
             blocks = len(starts)
         return Recording(
             fs=fs,
@@ -603,12 +596,10 @@ class MemsResonator:
             },
             truth={
                 "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
-                **(errors := ({
-                    "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: "
-                                                   "scale factor and nonlinearity, bias, quadrature, rails, ADC"),
-                    "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, "
-                                     "pick-off and 1/f noise through the read-out"),
-                } if split_error else {"error": Channel(out - rate, "rad/s", "the slow flow's whole error")})),
+                "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
+                                               "factor and nonlinearity, bias, quadrature, rails, ADC"),
+                "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off "
+                                 "and 1/f noise through the read-out"),
             },
             inputs={
                 "temperature": Channel(temp, "K", "die temperature"),
@@ -620,7 +611,7 @@ class MemsResonator:
                 "temperature_blocks": blocks,
                 "segments": k,
                 "ignored_inputs": environment.ignored("vibration"),
-                "error_components": list(errors),
+                "error_components": ["deterministic_error", "noise"],
             },
             name="mems",
         )

@@ -95,8 +95,7 @@ def simulate_runs(config: Config, seed: int) -> list[Run]:
         r_amb, r_on, r_sim = rr.spawn(3)
         temp = units.celsius(config.ambient_c + config.ambient_spread_c * r_amb.standard_normal())
         on = unit.power_on(rng=r_on)
-        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim,
-                          split_error=False)
+        rec = on.simulate(Environment(n / config.fs_hz, true_rate=col, temperature=temp), fs=config.fs_hz, rng=r_sim)
         dwells = np.ascontiguousarray(rec["output"].reshape(w.size, n).T)  # the record holds dwell after dwell
         out.append(Run(on, float(temp), transfer(dwells)))
     return out

@@ -136,6 +136,20 @@ class Coil2DSpec:
         their sum (any T0 >= 0 K is accepted: 0 K is the kelvin origin).
     grid_spool, grid_pack_r, grid_pack_z : int
         Cells across the spool, the pack radially and the pack axially (one skin cell each).
+    turn_error_probability : float
+        Probability that a layer gains one turn, and again that it loses one, at a layer change
+        (:class:`Imperfections`; 0.15 stated, in [0, 0.5]).
+    radius_error_rms : float
+        rms radial displacement of a layer as a fraction of the layer pitch (0.03 stated: tension
+        variation).
+    matrix_cte_spread : float
+        Relative 1-sigma unit-to-unit spread of the potting matrix's expansion coefficient
+        (:meth:`realize`; 0.15 stated).
+    sensor_z_center : float
+        Centre of the logged sensor's axial position on the outer potting surface, as a fraction
+        of the half height in [-1, 1]; a unit's sensor is drawn uniformly within
+        ``1 - |sensor_z_center|`` of it, so it stays on the surface (0: uniform over the whole
+        height, stated).
     """
 
     inner_radius: float = 0.0472
@@ -170,9 +184,20 @@ class Coil2DSpec:
     grid_spool: int = 3
     grid_pack_r: int = 8
     grid_pack_z: int = 8
+    turn_error_probability: float = 0.15
+    radius_error_rms: float = 0.03
+    matrix_cte_spread: float = 0.15
+    sensor_z_center: float = 0.0
 
     def __post_init__(self) -> None:
         o = "Coil2DSpec"
+        _num(o, "turn_error_probability", self.turn_error_probability, "in [0, 0.5]", "",
+             lambda v: 0 <= v <= 0.5)
+        _num(o, "radius_error_rms", self.radius_error_rms, ">= 0", "(fraction of the layer pitch)",
+             lambda v: v >= 0)
+        _num(o, "matrix_cte_spread", self.matrix_cte_spread, ">= 0", "", lambda v: v >= 0)
+        _num(o, "sensor_z_center", self.sensor_z_center, "in [-1, 1]", "(fraction of the half height)",
+             lambda v: -1 <= v <= 1)
         _num(o, "bore_radius", self.bore_radius, "> 0", "m", lambda v: v > 0)
         _num(
             o,
@@ -297,7 +322,7 @@ class Coil2DSpec:
         """One drawn unit: potting properties and winding imperfections (:class:`Imperfections`).
 
         Potting spreads (stated, typical batch-to-batch and cure variation; none from a paper):
-        matrix CTE x (1 + 0.15 N(0, 1)), matrix modulus x exp(0.3 N(0, 1)), matrix
+        matrix CTE x (1 + ``matrix_cte_spread`` N(0, 1)) (0.15 by default), matrix modulus x exp(0.3 N(0, 1)), matrix
         conductivity x (1 + 0.1 N(0, 1)), packing + 0.03 N(0, 1) clipped to [0.6, 0.9],
         interlayer fraction uniform in [0.05, 0.2].
         """
@@ -308,7 +333,7 @@ class Coil2DSpec:
         m = self.matrix
         matrix = dataclasses.replace(
             m,
-            cte=m.cte * (1 + 0.15 * rng.standard_normal()),
+            cte=m.cte * (1 + self.matrix_cte_spread * rng.standard_normal()),
             youngs_modulus=m.youngs_modulus * math.exp(0.3 * rng.standard_normal()),
             conductivity=m.conductivity * (1 + 0.1 * rng.standard_normal()),
         )

@@ -75,6 +75,14 @@ class Parameter:
             return float(lo * (hi / lo) ** u)
         return float(lo + u * (hi - lo))
 
+    def coordinate(self, value: float) -> float:
+        """The unit coordinate of ``value`` (the inverse of :meth:`value`; outside [0, 1] when the value
+        lies outside the range)."""
+        lo, hi = self.range.low, self.range.high
+        if self.scale == "log":
+            return float(math.log(value / lo) / math.log(hi / lo))
+        return float((value - lo) / (hi - lo))
+
     def axis_label(self) -> str:
         """``"label [unit]"`` (no brackets for a pure number)."""
         u = self.range.unit
@@ -138,6 +146,19 @@ class Family:
         """The open parameters' fields, in order."""
         return tuple(p.field for p in self.parameters)
 
+    @property
+    def nominal(self) -> dict[str, float] | None:
+        """The nominal device (``base``, what the default ``reproduce`` runs) as a point of the family:
+        its value of every open parameter, or None when one of them is not a number inside the
+        parameter's range (the nominal device is then no point of the family)."""
+        out = {}
+        for p in self.parameters:
+            v = getattr(self.base, p.field)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not p.range.contains(float(v)):
+                return None
+            out[p.field] = float(v)
+        return out
+
     def config(self, values: Mapping[str, float]) -> Any:
         """The paper's ``Config`` at the point ``values`` (one value per open parameter, field units)."""
         if set(values) != set(self.names):
@@ -156,6 +177,7 @@ class Family:
                             "unit": p.range.unit, "scale": p.scale, "source": p.source} for p in self.parameters],
             "fixed": [{"field": f.field, "value": getattr(self.base, f.field), "source": f.source}
                       for f in self.fixed],
+            "nominal": self.nominal,
         }
 
 

@@ -38,7 +38,8 @@ def toy_map(tmp_path_factory):
 def _reanalysed(mapped, constraints):
     """The same units judged against other constraints (no unit is rerun)."""
     r = mapped.result
-    return region.analyse(r.family, r.design, r.seeds, mapped.units.quantities, constraints, toy.MAP_CLAIMS)
+    return region.analyse(r.family, r.design, r.seeds, mapped.units.quantities[:len(r.design)], constraints,
+                          toy.MAP_CLAIMS)
 
 
 def test_design_sobol_for_a_power_of_two_lhs_otherwise_within_the_ranges():
@@ -156,7 +157,7 @@ def test_map_json_recomputed_independently(toy_map, tmp_path):
 def test_a_resumed_map_recomputes_nothing_and_gives_the_same_result(tmp_path):
     first = _map(tmp_path, points=4, k=2)
     again = _map(tmp_path, points=4, k=2)
-    assert (first.units.computed, again.units.computed, again.units.reused) == (8, 0, 8)
+    assert (first.units.computed, again.units.computed, again.units.reused) == (10, 0, 10)  # 4 x 2 + nominal
     assert first.result.as_dict() == again.result.as_dict()
     # a point's run id is the one `reproduce` gives its config: a map and a reproduce share stored units
     cfg = toy.FAMILY.config(first.result.design.values[3])
@@ -170,7 +171,7 @@ def test_workers_0_and_2_give_identical_maps(tmp_path):
     a = _map(tmp_path, points=4, k=2, workers=0, db_name="a.db")
     b = _map(tmp_path, points=4, k=2, workers=2, db_name="b.db")
     assert json.dumps(a.result.as_dict()) == json.dumps(b.result.as_dict())
-    assert a.units.computed == b.units.computed == 8
+    assert a.units.computed == b.units.computed == 10
 
 
 def test_run_map_refuses_bad_sizes(tmp_path):
@@ -211,7 +212,7 @@ def test_map_cli_writes_map_json_and_pngs_into_a_report_folder(toy_map_registere
     code, out, err = run(["reproduce", "toy_map_paper", "--map", "--points", "8", "--units-per-point", "2",
                           "--workers", "0", "-q", "--out", tmp_path / "r"], capsys)
     assert code == 0, err  # an earlier map's folder is replaced; its units come from the store
-    assert "0 computed, 16 reused" in out
+    assert "0 computed, 18 reused" in out  # 8 x 2 and the nominal's 2
 
 
 @pytest.mark.slow  # a dask.distributed LocalCluster: several seconds
@@ -272,3 +273,43 @@ def test_map_cli_refuses_a_foreign_out_folder_and_leaves_it_alone(toy_map_regist
                         "--out", out], capsys)
     assert_one_line_error(code, err, "--out")
     assert [p.name for p in out.iterdir()] == ["notes.txt"] and (out / "notes.txt").read_text() == "mine"
+
+
+def test_nominal_device_runs_as_its_own_point_and_the_medoid_is_the_central_region_point(toy_map):
+    from scipy.spatial.distance import cdist
+
+    from gyrobench.scenarios.maps.run import NOMINAL_POINT
+
+    r = toy_map.result
+    n = r.nominal
+    assert n is not None and n.values == {"x": 0.5, "y": 0.1}  # the toy's Config()
+    assert n.seeds == tuple(unit_seed(0, NOMINAL_POINT, j) for j in range(3))
+    assert not set(n.seeds) & {s for row in r.seeds for s in row}  # no design point's seed
+    assert n.constraint_medians == (0.5, 0.1) and n.in_region  # x > 0.3 and y < 0.5 by construction
+    assert n.unit_coordinates == pytest.approx((0.5, 0.5))  # 0.1 is the log-midpoint of [1e-2, 1]
+    # x = 0.5: each unit passes q when 0.05 e > 0.1 (2 sigma), so a majority of 3 passes with
+    # probability about 2e-3: the nominal device fails toy.q
+    assert n.verdicts[0] == "fails" and n.testable == (3, 3)
+    reg = list(r.region)
+    d = cdist(r.design.unit[reg], r.design.unit[reg]).sum(axis=1)
+    assert r.medoid == reg[int(np.argmin(d))]
+    assert "lies in the region" in region.nominal_text(r) and f"Region medoid: point {r.medoid}" in region.nominal_text(r)
+    r2 = _reanalysed(toy_map, (*toy.MAP_CONSTRAINTS, toy.NEVER))
+    assert r2.medoid is None and "The region is empty" in region.nominal_text(r2)
+
+
+def test_a_family_whose_base_lies_outside_a_range_has_no_nominal_point():
+    off = Family(paper="toy", base=dataclasses.replace(toy.Config(), y=2.0), parameters=toy.FAMILY.parameters)
+    assert off.nominal is None
+    assert toy.FAMILY.nominal == {"x": 0.5, "y": 0.1}
+    p = toy.FAMILY.parameters[1]
+    assert p.coordinate(p.value(0.3)) == pytest.approx(0.3)  # the inverse of the design's mapping
+
+
+def test_map_json_bytes_do_not_depend_on_how_its_units_ran(tmp_path):
+    a = build.write_map(_map(tmp_path, points=4, k=2, db_name="a.db"), tmp_path / "a").read_bytes()
+    again = _map(tmp_path, points=4, k=2, db_name="a.db")  # every unit read back from the store
+    assert again.units.computed == 0
+    assert build.write_map(again, tmp_path / "b", command="other").read_bytes() == a
+    run = json.loads((tmp_path / "b" / build.RUN_FILE).read_text())
+    assert (run["command"], run["computed"], run["reused"]) == ("other", 0, 10)

@@ -26,10 +26,11 @@ __all__ = ["constraint_maps", "covariate_maps", "phase_diagrams", "specification
 
 
 def _panels(n: int, height: float) -> tuple[Any, Any]:
-    """A figure of ``n`` panels, three to a row, each 5.4 in wide and ``height`` in high."""
+    """A figure of ``n`` panels, three to a row, each 4.8 in wide and ``height`` in high (three panels at
+    90 dpi: 1296 px, inside the report's 1400-px page at full size)."""
     cols = min(n, 3)
     rows = math.ceil(n / cols)
-    return plt.subplots(rows, cols, figsize=(5.4 * cols, height * rows), squeeze=False, layout="constrained")
+    return plt.subplots(rows, cols, figsize=(4.8 * cols, height * rows), squeeze=False, layout="constrained")
 
 
 def _save(fig: Any, axes: Any, used: int, path: Path) -> Path:

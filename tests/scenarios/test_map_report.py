@@ -16,7 +16,7 @@ import pytest
 
 from gyrobench.scenarios import registry
 from tests.scenarios.test_cli import run
-from tests.scenarios.test_maps import _recount
+from tests.scenarios.test_maps import _recount, _recount_nominal
 
 pytestmark = pytest.mark.usefixtures("user_files")
 
@@ -45,6 +45,7 @@ def test_report_section_and_results_json_give_the_map_recounted_from_the_json(to
     for cid, got in link["claims"].items():
         assert (got["region_holds"], got["region_testable"]) == verdicts[cid][:2]
     assert link["nominal_in_region"] is True  # the toy's nominal (x 0.5, y 0.1) is inside by construction
+    assert _recount_nominal(doc) == (True, link["medoid"]["index"])
     md = (out / "toy_map_paper" / "report.md").read_text()
     for cid, n in counts.items():  # the region table's "points satisfying" cells
         assert f"| {cid} |" in md and f"| {n} of 8 |" in md

@@ -526,6 +526,7 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
     return lo, hi
 
 
+@functools.lru_cache(maxsize=65536)
 def control_test(holds: int, testable: int, control_holds: int, control_testable: int) -> float:
     """Two-sided p-value of Fisher's exact test that the units and the control pass equally often.
 

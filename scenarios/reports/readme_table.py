@@ -24,9 +24,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from gyrobench.scenarios.reports.reasons import calibrated_text, findings, reason
 
-__all__ = ["BEGIN", "END", "format_summary", "format_table", "load_report", "main", "splice"]
+__all__ = [
+    "BEGIN", "END", "format_summary", "format_table", "load_report", "main", "splice", "stability_text",
+]
 
 BEGIN = "<!-- reproduced-results:begin -->"
 END = "<!-- reproduced-results:end -->"
@@ -235,7 +239,7 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         lines += [_tally_row(d) for d in papers]
-        lines += ["", calibrated_text([c for d in papers for c in d["claims"]])]
+        lines += ["", calibrated_text([c for d in papers for c in d["claims"]]), "", stability_text(papers)]
         if rows:
             lines += [
                 "",
@@ -288,6 +292,42 @@ def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
         out.append(f"- {key} ({d['scenario']}/map.json): {reg} of {n} family points satisfy every reported "
                    f"device fact; {nominal}; {where}.")
     return (["", "Device-family maps (`reproduce NAME --map`):", "", *out]) if out else []
+
+
+def stability_text(docs: Sequence[dict[str, Any]], *, draws: int = 2000, seed: int = 0) -> str:
+    """The line on how many status words another seed set is expected to change.
+
+    Parameters
+    ----------
+    docs : sequence of dict
+        The report's results.json documents that hold claims.
+    draws : int, default 2000
+        Posterior samples per claim (:func:`gyrobench.scenarios.reports.stability.expected_flips`).
+    seed : int, default 0
+        Seed of the posterior sampling, so the generated text is reproducible.
+
+    Returns
+    -------
+    str
+        One markdown paragraph: the expected number of claims whose status changes on another
+        seed set of the report's size and of twice its size, with its standard deviation.
+    """
+    from gyrobench.scenarios.reports.stability import expected_flips
+
+    n = sorted({int(d["units"]) for d in docs})
+    parts = []
+    for units in (None, 2 * n[-1]):
+        p = np.array([f.probability for f in
+                      expected_flips(docs, units=units, draws=draws, rng=np.random.default_rng(seed))])
+        parts.append((float(p.sum()), float(np.sqrt(np.sum(p * (1 - p)))), p.size))
+    (e, sd, total), (e2, sd2, _) = parts
+    return (
+        f"Stability: on another seed set of {', '.join(map(str, n))} units the status of {e:.1f} "
+        f"+- {sd:.1f} of these {total} claims is expected to change ({100 * e / total:.0f} %), and "
+        f"of {e2:.1f} +- {sd2:.1f} at {2 * n[-1]} units: the posterior predictive of each claim's "
+        "counts (`gyrobench.scenarios.reports.stability`); `benchmarks/status_flips.py` measures it "
+        "between two seed sets (docs/stability.md)."
+    )
 
 
 def splice(text: str, table: str) -> str:

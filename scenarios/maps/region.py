@@ -258,6 +258,12 @@ class MapResult:
     satisfied : tuple of tuple of bool
         ``[i][c]``: point i satisfies constraint c.
     claims : tuple of ClaimMap
+    covariates : tuple of Covariate
+        Quantities reported per point beside the claims.
+    covariate_medians : tuple of tuple of float
+        ``[i][v]``: point i's median of covariate v.
+    nominal : Nominal or None
+        The nominal device run as one more point (None: not run).
     """
 
     family: Family

@@ -65,7 +65,18 @@ class MapFiles:
 
 
 def load_map(folder: Path) -> MapFiles | None:
-    """The map in ``folder`` (map.json with gyrobench's map format, and its PNGs), or None."""
+    """The map in a folder: map.json with gyrobench's map format, its PNGs and map_run.json.
+
+    Parameters
+    ----------
+    folder : Path
+        A scenario's folder of a report (or of a ``reproduce --map`` output).
+
+    Returns
+    -------
+    MapFiles or None
+        The map, or None when the folder holds no readable map.json of the map format.
+    """
     from gyrobench.scenarios.maps.region import MAP_FORMAT
 
     path = folder / MAP_FILE

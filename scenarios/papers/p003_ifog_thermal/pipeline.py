@@ -299,6 +299,18 @@ def txdt_share(config: Config, run: Run) -> float:
     Tdot and T x dT parts (``sim.coil2d``). 0 when the drift is constant. A simulator diagnostic
     (the paper cannot see the true drift); on the training run (identification 1) it tells
     whether the data the networks learn from hold a T x dT dependence at all.
+
+    Parameters
+    ----------
+    config : Config
+        The reproduction's configuration (the features' dT/dt estimator).
+    run : Run
+        A chamber run at the analysis rate, with its true drift.
+
+    Returns
+    -------
+    float
+        The share [-], in [0, 1] up to rounding.
     """
     m = run.scored if run.scored is not None else np.ones(len(run.T), bool)
     X = features(run, config)[m]

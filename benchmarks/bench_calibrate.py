@@ -10,24 +10,31 @@ toward the uncompensated output:
 (``raw`` = 0 for an error target, the output for a rate target), which leaves ``lam`` of the
 compensated error in the output. Each ``lam`` is scored with the bench's own scoring
 (:func:`gyrobench.scenarios.bench.scoring.score_predictions`). The *true* change of a primary
-score is measured over all the seeds (mean of c_s / b_s - 1). Then, for random subsets of
+score is measured over all the seeds (mean of c_s / b_s - 1), beside the *typical* seed's
+change (the Hodges-Lehmann location of c_s / b_s - 1, what the signed-rank test judges). Then, for random subsets of
 ``--n`` seeds (the README's 12), the gate itself (:func:`gyrobench.scenarios.bench.compare`,
 with the margin ``--margin``) decides; the table gives, per ``lam``, the true change and the
 fraction of subsets the gate calls a regression (a false alarm when the true change is within
 the margin, a detection above it), beside what the baseline file claims its seeds detect
 (:func:`gyrobench.scenarios.bench.gate.detectable`, margin included) and what the comparison
-prints (:attr:`~gyrobench.scenarios.bench.Comparison.power_line`, its median over subsets).
+prints (:attr:`~gyrobench.scenarios.bench.Comparison.power_line`, its median over subsets), and
+the seed count ``--seeds auto`` asks for from a baseline of ``--n`` seeds (median over 50
+subsets) with the fraction of comparisons of that many seeds, drawn with replacement from the
+simulated ones, that the gate calls a regression.
 
 Run: ``python benchmarks/bench_calibrate.py [--scenarios ifog_thermal,rlg_thermal] [--seeds 40]
-[--n 12] [--draws 300] [--margin 0.05]`` (about 1-5 minutes of CPU per scenario at 40 seeds).
+[--n 12] [--draws 300] [--margin 0.05] [--cache DIR]`` (simulating: 0.3-3.7 s of CPU per seed;
+the gate on the cached scores: 15 s to 2 min of CPU per scenario).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -90,11 +97,19 @@ def _campaign(name: str, scores: dict[int, dict[str, float]], label: str) -> Any
     return bench.Campaign(campaign_id=label, scenario=name, compensator=label, config="", scores=scores)
 
 
-def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha: float) -> list[dict]:
+def _scored(
+    name: str, n_seeds: int, cache: Path | None
+) -> tuple[dict[int, dict[float, dict[str, float]]], float, float]:
+    """Per seed, per degradation: the scores (read from ``cache`` when it holds these seeds), and
+    the wall and CPU seconds per seed of computing them."""
     from gyrobench.scenarios import bench
-    from gyrobench.scenarios.bench import gate
-    from gyrobench.scenarios.bench.primary import gated_scores
 
+    path = cache / f"{name}.json" if cache is not None else None
+    if path is not None and path.exists():
+        doc = json.loads(path.read_text())
+        if doc["seeds"] >= n_seeds and [float(v) for v in doc["lams"]] == [float(v) for v in LAMS]:
+            per_seed = {int(s): {_lam(k): v for k, v in by.items()} for s, by in doc["scores"].items()}
+            return {s: per_seed[s] for s in range(n_seeds)}, doc["seed_s"], doc["seed_cpu_s"]
     module = bench.resolve_scenario(name)
     comp = _base(name)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -102,10 +117,34 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
     for s in range(n_seeds):
         per_seed[s] = _seed_scores(module, comp, s)
         print(f"  {name}: seed {s} scored", file=sys.stderr, flush=True)
-    took, cpu = time.perf_counter() - t0, time.process_time() - c0
+    took, cpu = (time.perf_counter() - t0) / n_seeds, (time.process_time() - c0) / n_seeds
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        doc = {"seeds": n_seeds, "lams": [float(v) for v in LAMS], "seed_s": took, "seed_cpu_s": cpu,
+               "scores": {str(s): {repr(float(k)): v for k, v in by.items()} for s, by in per_seed.items()}}
+        path.write_text(json.dumps(doc))
+    return per_seed, took, cpu
+
+
+def _lam(key: str) -> float:
+    """A degradation factor from its key in the cache (``"-0.5"``, or numpy's ``"np.float64(-0.5)"``)."""
+    return float(key.removeprefix("np.float64(").removesuffix(")"))
+
+
+def calibrate(
+    name: str, n_seeds: int, n: int, draws: int, margin: float, alpha: float, cache: Path | None = None
+) -> list[dict]:
+    from gyrobench.scenarios import bench
+    from gyrobench.scenarios.bench import gate
+    from gyrobench.scenarios.bench.power import auto_seeds, spread, std_upper_bound
+    from gyrobench.scenarios.bench.primary import gated_scores
+    from gyrobench.scenarios.bench.statistics import hodges_lehmann
+
+    per_seed, took, cpu = _scored(name, n_seeds, cache)
     by_lam = {lam: {s: per_seed[s][lam] for s in per_seed} for lam in LAMS}
     names = list(by_lam[0.0][0])
     gates = [g.name for g in gated_scores(name, names)]
+    directions = {g.name: g.direction for g in gated_scores(name, names)}
 
     def true_change(lam: float, seeds: Any = range(n_seeds)) -> dict[str, float]:
         out = {}
@@ -119,21 +158,30 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
     rng = np.random.default_rng(20261201)
     subsets = [sorted(rng.choice(n_seeds, size=n, replace=False).tolist()) for _ in range(draws)]
     claims: dict[str, list[float]] = {}
+    autos = []
     for sub in subsets[:50]:
         base = _campaign(name, {s: by_lam[0.0][s] for s in sub}, "base")
         for d in gate.detectable(base, alpha=alpha):
             claims.setdefault(d.name, []).append(margin + d.relative)
+        spreads = {g: (*spread(base.values(g)), std_upper_bound(base.values(g))) for g in gates}
+        autos.append(auto_seeds(len(gates), alpha, spreads=spreads, min_change=margin).n)
+    n_auto = int(np.median(autos))
     cases = [(t, _lam_for(curve, t), None) for t in TARGETS]
+    cases = [c for c in cases if c[0] == 0 or c[1] != 0]  # no degradation reaches that change
     half = sorted(rng.choice(n_seeds, size=n_seeds // 2, replace=False).tolist())  # a partial regression
-    cases.append((0.19, _lam_for(curve, 0.38), half))
+    for branch in (-1, 1):  # overshoot / toward the raw output, on half the seeds
+        lam = min((k for k in curve if k * branch > 0), key=lambda k: abs(curve[k] - 0.38))
+        if abs(curve[lam] - 0.38) <= 0.15 * 0.38:
+            cases.append((0.19, lam, half))
     rows = []
     for target, lam, only in cases:
         cand_scores = {s: (by_lam[lam][s] if only is None or s in only else by_lam[0.0][s]) for s in range(n_seeds)}
-        true = {}
+        true, typical = {}, {}
         for g in gates:
             b = np.array([by_lam[0.0][s][g] for s in range(n_seeds)])
             c = np.array([cand_scores[s][g] for s in range(n_seeds)])
             true[g] = float(np.mean(c / b - 1))
+            typical[g] = hodges_lehmann(c / b - 1)
         hits, printed = 0, []
         for sub in subsets:
             base = _campaign(name, {s: by_lam[0.0][s] for s in sub}, "base")
@@ -143,12 +191,42 @@ def calibrate(name: str, n_seeds: int, n: int, draws: int, margin: float, alpha:
             printed.append(max(d.change for d in res.detectable) if res.detectable else math.nan)
         rows.append({
             "scenario": name, "target": target, "lam": lam, "partial": only is not None, "true": true,
-            "rate": hits / draws,
+            "typical": typical, "rate": hits / draws, "n_auto": n_auto,
+            "rate_auto": _resampled_rate(by_lam[0.0], cand_scores, directions, n_auto, alpha, margin, rng),
             "printed": float(np.nanmedian(printed)) if np.isfinite(printed).any() else math.inf,
             "claimed": {k: float(np.median(v)) for k, v in claims.items()},
-            "seed_s": took / n_seeds, "seed_cpu_s": cpu / n_seeds,
+            "seed_s": took, "seed_cpu_s": cpu,
         })
     return rows
+
+
+def _resampled_rate(
+    base: dict[int, dict[str, float]], cand: dict[int, dict[str, float]], gates: dict[str, int], n: int,
+    alpha: float, margin: float, rng: np.random.Generator, draws: int = 100,
+) -> float:
+    """Fraction of ``draws`` comparisons of ``n`` seeds drawn with replacement from the simulated
+    ones (a comparison longer than the seeds simulated, as --seeds auto may ask) that the gate's
+    test (:func:`~gyrobench.scenarios.bench.margin.margin_test`, Holm over ``gates``: name -> direction)
+    calls a regression."""
+    from gyrobench.scenarios.bench.margin import margin_test
+
+    seeds = sorted(base)
+    b_all = {g: np.array([base[s][g] for s in seeds]) for g in gates}
+    c_all = {g: np.array([cand[s][g] for s in seeds]) for g in gates}
+    hits = 0
+    for _ in range(draws):
+        idx = rng.integers(0, len(seeds), n)
+        tests = []
+        for g, direction in gates.items():
+            p, sign = margin_test(c_all[g][idx] - b_all[g][idx], b_all[g][idx], direction, margin)
+            tests.append((p, sign * direction < 0))
+        for k, (p, worse) in enumerate(sorted(tests)):  # Holm: step down while p < alpha / (m - k)
+            if p >= alpha / (len(tests) - k):
+                break
+            if worse:
+                hits += 1
+                break
+    return hits / draws
 
 
 def _lam_for(curve: dict[float, float], target: float) -> float:
@@ -167,20 +245,25 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--draws", type=int, default=300, help="random subsets of --n seeds")
     ap.add_argument("--margin", type=float, default=0.05, help="the gate's --min-change")
     ap.add_argument("--alpha", type=float, default=0.05)
+    ap.add_argument("--cache", type=Path, default=None,
+                    help="folder for the per-seed scores (reused by a later run with as many seeds)")
     args = ap.parse_args(argv)
     print(f"gate calibration: {args.n} of {args.seeds} seeds per comparison, {args.draws} subsets, margin "
           f"{100 * args.margin:g} %, alpha {args.alpha:g}")
-    print("| scenario | degraded by | true change of the primary score(s) | called a regression | "
-          "detectable (comparison prints, median) | detectable (baseline file claims) |")
-    print("|---|---|---|---|---|---|")
+    print(f"| scenario | degraded by | true change of the primary score(s) | called a regression at {args.n} seeds | "
+          "detectable (comparison prints, median) | detectable (baseline file claims) | "
+          "--seeds auto (median) | called a regression at that count |")
+    print("|---|---|---|---|---|---|---|---|")
     for name in args.scenarios.split(","):
-        rows = calibrate(name, args.seeds, args.n, args.draws, args.margin, args.alpha)
+        rows = calibrate(name, args.seeds, args.n, args.draws, args.margin, args.alpha, args.cache)
         for r in rows:
-            true = ", ".join(f"{k.split('/')[-1]} {100 * v:+.2f} %" for k, v in r["true"].items())
+            true = ", ".join(f"{k.split('/')[-1]} {100 * v:+.2f} % (typical seed {100 * r['typical'][k]:+.2f} %)"
+                             for k, v in r["true"].items())
             claimed = ", ".join(f"{100 * v:.3g} %" for v in r["claimed"].values())
             what = f"{100 * r['lam']:+.3g} %" + (" on half the seeds" if r["partial"] else "")
             print(f"| {name} | {what} | {true} | {100 * r['rate']:.1f} % | "
-                  f"{100 * r['printed']:.3g} % | {claimed} |", flush=True)
+                  f"{100 * r['printed']:.3g} % | {claimed} | {r['n_auto']} | {100 * r['rate_auto']:.1f} % |",
+                  flush=True)
         print(f"({name}: {rows[0]['seed_s']:.2f} s wall, {rows[0]['seed_cpu_s']:.2f} s CPU per seed, in process)",
               file=sys.stderr, flush=True)
     return 0

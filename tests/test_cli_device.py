@@ -38,7 +38,7 @@ def test_simulate_device_from_csv_profiles_to_hdf5(tmp_path, capsys):
     (tmp_path / "temp.csv").write_text("time [s],temperature [degC]\n0,20\n100,40\n")
     out = tmp_path / "stim.h5"
     rc = main(["simulate", "device", "stim300", "--rate-csv", str(tmp_path / "rate.csv"), "--temperature-csv",
-               str(tmp_path / "temp.csv"), "--fs", "10", "--seed", "3", "-o", str(out), "-q"])
+               str(tmp_path / "temp.csv"), "--fs", "10", "--seed", "3", "-o", str(out), "-q", "--model", "budget"])
     assert rc == 0
     rec = load_hdf5(out)
     assert rec.n_samples == 1000 and rec.fs == 10.0
@@ -62,7 +62,7 @@ def test_simulate_device_profile_toml_to_csv(tmp_path):
         "duration_s = 60\nrate_dps = [[0, 0], [30, 5], [60, 5]]\ntemperature_c = 30\nspecific_force_g = 1\n")
     out = tmp_path / "m.csv"
     assert main(["simulate", "device", "mti-1", "--profile", str(tmp_path / "p.toml"), "--fs", "50",
-                 "-o", str(out), "-q"]) == 0
+                 "-o", str(out), "-q", "--model", "budget"]) == 0
     data = np.loadtxt(out, delimiter=",", skiprows=2)
     header = out.read_text().splitlines()[1].split(",")
     col = {h.split(" [")[0]: i for i, h in enumerate(header)}
@@ -112,7 +112,9 @@ def test_parts_names_each_part_s_physics_solve_or_why_not(capsys):
 def _device(tmp_path, part: str, profile: str, *extra: str):
     (tmp_path / "p.toml").write_text(profile)
     out = tmp_path / "r.h5"
-    rc = main(["simulate", "device", part, "--profile", str(tmp_path / "p.toml"), "-o", str(out), "-q", *extra])
+    # the datasheet budget: these tests read its terms (the physics model's are in test_parts_physics)
+    rc = main(["simulate", "device", part, "--profile", str(tmp_path / "p.toml"), "-o", str(out), "-q",
+               "--model", "budget", *extra])
     return rc, out
 
 

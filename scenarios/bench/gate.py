@@ -22,12 +22,14 @@ from gyrobench.scenarios.bench.compensators import CompensatorError
 from gyrobench.scenarios.bench.power import (
     DEFAULT_MIN_CHANGE,
     DEFAULT_POWER,
+    SPREAD_CONFIDENCE,
     Detectable,
     auto_seeds,
     check_power,
     detectable_change,
     min_attainable_p,
     spread,
+    std_upper_bound,
 )
 from gyrobench.scenarios.bench.primary import PrimaryScore, gated_scores, primary_count, score_unit
 from gyrobench.scenarios.bench.statistics import score_direction
@@ -45,23 +47,28 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
     For a primary score with mean ``mu`` and seed-to-seed std ``sigma`` over the campaign's
     ``n`` seeds: the shift :func:`~gyrobench.scenarios.bench.power.detectable_change`
     detects with probability ``power`` at ``alpha`` (Holm over the primary scores), assuming
-    per-seed paired differences as spread as the baseline's seeds; ``inf`` when ``n`` seeds
-    cannot reach ``alpha`` at all.
+    per-seed paired differences as spread as the baseline's seeds, taken at the upper
+    confidence bound of ``sigma``
+    (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`); ``inf`` when ``n`` seeds cannot
+    reach ``alpha`` at all.
     """
     names = campaign.score_names
     gates = [g for g in gated_scores(campaign.scenario, names) if g.name in names]
     seeds = campaign.ok_seeds
     out = []
     for g in gates:
-        mean, std = spread(campaign.values(g.name, seeds))
+        values = campaign.values(g.name, seeds)
+        mean, std = spread(values)
+        upper = std_upper_bound(values)
         n = len(seeds)
-        change = detectable_change(std, n, len(gates), alpha, power=power) if math.isfinite(std) else math.inf
+        change = detectable_change(upper, n, len(gates), alpha, power=power) if math.isfinite(upper) else math.inf
         out.append(
             Detectable(
                 name=g.name,
                 unit=g.unit,
                 mean=mean,
                 std=std,
+                std_upper=upper,
                 n=n,
                 change=change,
                 relative=change / abs(mean) if mean and math.isfinite(mean) else math.inf,
@@ -84,13 +91,18 @@ def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_
         "power": DEFAULT_POWER,
         "seeds": n,
         "min_attainable_p": min_attainable_p(n, m),
-        "assumption": "per-seed paired differences as spread as this baseline's seed-to-seed values",
+        "assumption": (
+            "per-seed paired differences as spread as this baseline's seed-to-seed values, at the "
+            f"one-sided {100 * SPREAD_CONFIDENCE:g} % upper confidence bound of their std (Bonett 2006)"
+        ),
+        "spread_confidence": SPREAD_CONFIDENCE,
         "margin": min_change,
         "detectable": {
             d.name: {
                 "unit": d.unit,
                 "mean": _json_float(d.mean),
                 "std": _json_float(d.std),
+                "std_upper": _json_float(d.std_upper),
                 "change": _json_float(d.change),  # None: cannot detect any change
                 "relative": _json_float(d.relative),
                 "relative_with_margin": _json_float(min_change + d.relative),
@@ -187,12 +199,13 @@ def plan_power(
                 f"{seeds_flag} auto: scenario {scenario!r} declares no primary scores and no baseline "
                 f"gives its score names; give {seeds_flag} explicitly"
             )
-        spreads: dict[str, tuple[float, float]] = {}
+        spreads: dict[str, tuple[float, float, float]] = {}
         units: dict[str, str] = {}
         if baseline is not None:
             for g in gated_scores(scenario, baseline.score_names):
                 if g.name in baseline.score_names:
-                    spreads[g.name] = spread(baseline.values(g.name, baseline.ok_seeds))
+                    values = baseline.values(g.name, baseline.ok_seeds)
+                    spreads[g.name] = (*spread(values), std_upper_bound(values))
                     units[g.name] = g.unit
         chosen = auto_seeds(m, alpha, spreads=spreads or None, units=units, min_change=min_change)
         reason = chosen.reason

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from gyrobench.scenarios.bench.power import detectable_change, min_attainable_p, seeds_for_change
+from gyrobench.scenarios.bench.power import detectable_change, min_attainable_p, seeds_for_change, std_upper_bound
 from gyrobench.scenarios.bench.seeds import seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, signed_rank
 
@@ -50,13 +50,16 @@ class DetectableChange:
 
     ``change`` is the relative change detected with power 0.8 (``margin`` plus the shift beyond
     it; ``inf``: cannot tell, fewer than two seeds); ``sigma`` the standard deviation of the
-    relative per-seed differences; ``seeds_needed`` the seeds that detect twice the margin.
-    ``underpowered``: ``change`` is more than twice the margin.
+    relative per-seed differences and ``sigma_upper`` its upper confidence bound
+    (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`), from which ``change`` and
+    ``seeds_needed`` (the seeds that detect twice the margin) are computed. ``underpowered``:
+    ``change`` is more than twice the margin.
     """
 
     name: str
     n: int
     sigma: float
+    sigma_upper: float
     change: float
     margin: float
     seeds_needed: int
@@ -71,7 +74,8 @@ def observed_detectable(
 ) -> tuple[DetectableChange, ...]:
     """Per primary score: the relative change these seeds detect with power
     :data:`~gyrobench.scenarios.bench.power.DEFAULT_POWER`, ``margin`` plus the shift beyond it
-    :func:`~gyrobench.scenarios.bench.power.detectable_change` gives for the standard deviation
+    :func:`~gyrobench.scenarios.bench.power.detectable_change` gives for the upper confidence
+    bound (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`) of the standard deviation
     of the observed relative differences ``(c_s - b_s) / |b_s|``, and the seeds that detect a change
     of twice the margin (:func:`~gyrobench.scenarios.bench.power.seeds_for_change`)."""
     out = []
@@ -82,12 +86,15 @@ def observed_detectable(
         rel = (c[ok] - b[ok]) / np.abs(b[ok])
         n = int(rel.size)
         sigma = float(np.std(rel, ddof=1)) if n > 1 else math.nan
-        if not math.isfinite(sigma):
+        upper = std_upper_bound(rel)
+        if not math.isfinite(upper):
             change, need = math.inf, 0
         else:
-            change = margin + detectable_change(sigma, n, m, alpha)
-            need = seeds_for_change(sigma, margin, m, alpha) if margin > 0 else 0
-        out.append(DetectableChange(name=name, n=n, sigma=sigma, change=change, margin=margin, seeds_needed=need))
+            change = margin + detectable_change(upper, n, m, alpha)
+            need = seeds_for_change(upper, margin, m, alpha) if margin > 0 else 0
+        out.append(DetectableChange(
+            name=name, n=n, sigma=sigma, sigma_upper=upper, change=change, margin=margin, seeds_needed=need,
+        ))
     return tuple(out)
 
 
@@ -100,7 +107,8 @@ def power_line(detectable: Sequence[DetectableChange], alpha: float, margin: flo
     weak = [d for d in detectable if d.underpowered]
     head = (
         f"detectable change at {detectable[0].n} seeds (power 0.8, alpha {alpha:g}, margin "
-        f"{100 * margin:g} %, from the observed per-seed differences): {', '.join(parts)}"
+        f"{100 * margin:g} %, from the upper bound of the observed per-seed differences' spread): "
+        f"{', '.join(parts)}"
     )
     if not weak:
         return head

@@ -340,7 +340,8 @@ def _min_change(args: argparse.Namespace) -> float:
 
 
 def _baseline_power_line(campaign: Any, alpha: float, margin: float) -> str:
-    """What a baseline's seeds detect, in one line (from its seed-to-seed spread: conservative)."""
+    """What a baseline's seeds detect, in one line (from the upper confidence bound of its
+    seed-to-seed spread: conservative)."""
     from gyrobench.scenarios.bench import gate
 
     parts = []
@@ -349,6 +350,7 @@ def _baseline_power_line(campaign: Any, alpha: float, margin: float) -> str:
         parts.append(f"{d.name} {100 * rel:.3g} %" if rel != float("inf") else f"{d.name} (none: too few seeds)")
     return (
         f"detectable change at {len(campaign.ok_seeds)} seeds (power 0.8, alpha {alpha:g}, margin {100 * margin:g} %, "
-        f"assuming per-seed differences as spread as the baseline's own scores, an upper bound; a comparison "
-        f"prints the figure from its observed differences): {', '.join(parts) or '(no primary score)'}"
+        f"assuming per-seed differences as spread as the baseline's own scores at the upper bound of their "
+        f"spread, an upper bound; a comparison prints the figure from its observed differences): "
+        f"{', '.join(parts) or '(no primary score)'}"
     )

@@ -478,15 +478,23 @@ def _simulate_device(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"simulate device: {env.duration:g} s at {fs:g} Hz gives {n} samples; "
                         f"a record needs at least {MIN_SAMPLES}")
-    # output, true rate, 7 error components, temperature, force, plus the model's temporaries
-    memory.check_memory(memory.series_bytes(n, 20), "simulate device", hint="shorten --duration or lower --fs")
+    model = args.model or part.datasheet.default_model
+    # output, true rate, the error components, temperature, force, plus the model's temporaries, at the
+    # part's internal rate (its output filter oversamples)
+    k = parts.oversampling(part.datasheet, fs) if model == "budget" else 1
+    memory.check_memory(memory.series_bytes(n * k, 30), "simulate device", hint="shorten --duration or lower --fs")
     seed = 0 if args.seed is None else args.seed
-    rec = part.simulate(env, fs=fs, rng=np.random.default_rng(seed))
+    try:
+        rec = parts.simulate_part(part, env, fs=fs, rng=np.random.default_rng(seed), model=model)
+    except ValueError as exc:  # the sheet cannot be mapped onto the model, or fs beyond the model's reach
+        raise BadInput(f"simulate device {args.part} --model {model}: {one_line(exc)} (--model budget runs the "
+                       "datasheet budget)") from None
     if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
         rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
     path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec)
-    print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; channels {', '.join(rec.channels)}; "
-          f"truth {', '.join(rec.truth)})")
+    ran = rec.metadata.get("device_model") if model == "physics" else rec.metadata.get("model")
+    print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; model {model}: {ran}; channels "
+          f"{', '.join(rec.channels)}; truth {', '.join(rec.truth)})")
     return 0
 
 
@@ -526,6 +534,9 @@ def _cmd_parts(args) -> int:
               f"scale factor {fmt(d.scale_factor_repeatability, 'ppm')}; g-sensitivity "
               f"{fmt(d.g_sensitivity, 'deg/h/g')}; bandwidth {fmt(d.bandwidth, 'Hz')}; "
               f"resolution {fmt(d.resolution, 'deg/s')}")
+        print(f"    bias tempco {fmt(d.bias_tempco, 'deg/h/K')}; scale-factor tempco "
+              f"{fmt(d.scale_factor_tempco, 'ppm/K')}; output rate {fmt(d.output_rate, 'Hz')}; rms noise "
+              f"{fmt(d.rms_noise, 'deg/s')}; figures: {d.source_kind} source")
         if d.has_accelerometer:
             acc_noise = (fmt(d.accel_vrw_m_s_sqrt_h, "m/s/sqrt(h)") if d.accel_vrw_m_s_sqrt_h is not None
                          else f"{fmt(d.accel_noise_density_ug, 'ug/sqrt(Hz)')} ({d.noise_density_sided}-sided)")
@@ -561,6 +572,8 @@ def _cmd_simulate(args) -> int:
         raise BadInput(f"simulate {args.target}: {', '.join(extra)} apply to 'simulate imu' only")
     if args.target == "device":
         return _simulate_device(args)
+    if getattr(args, "model", None) is not None:
+        raise BadInput(f"simulate {args.target}: --model applies to 'simulate device' only")
     if args.part is not None:
         raise BadInput(f"simulate {args.target}: a second positional ({args.part!r}) is taken "
                         "by 'simulate device PART' only")
@@ -599,6 +612,9 @@ def add_parsers(sub) -> None:
                    "[time_s, value] knots), duration_s, and the tables [earth] (latitude_deg, heading_deg, "
                    "elevation_deg: the Earth's rate added to the rate) and [shaker] (kind = sine, sweep or random: "
                    "vibration added to the specific force)")
+    s.add_argument("--model", choices=("physics", "budget"),
+                   help="device: run the part on its technology's physics model with the sheet's figures mapped "
+                        "onto it (physics, the default) or on the datasheet error budget (budget)")
     s.add_argument("--trajectory", help="imu: TOML motion definition ([site], [initial], [[motion]] segments of "
                    "constant body rate and NED acceleration, [accelerometer]; see gyrobench.scenarios.cli.imu)")
     s.add_argument("--misalignment", type=nonneg_float("--misalignment", 100.0),

@@ -4,6 +4,7 @@
 
     gyrobench twin REAL.csv --column gyro_z [--fs HZ] [--units deg/s] -o twin.h5|twin.csv [--seed S]
                    [--part NAME | --nearest MEMS|FOG|RLG] [--alpha 0.05] [--json] [--plot twin.png]
+                   [--save-part FILE.toml [--technology MEMS|FOG|RLG]]
 
 The real record's noise is fitted (:func:`gyrobench.analysis.allan.fit_noise`, the five IEEE
 952 terms, ``tau_min="auto"``); the fitted Allan-variance model sum_n C_n tau^n becomes a
@@ -12,7 +13,8 @@ The real record's noise is fitted (:func:`gyrobench.analysis.allan.fit_noise`, t
 length and rate is simulated and the two curves are compared at the fitted taus by
 :func:`gyrobench.analysis.twin.compare_twin`: the pass rule is an F test of the two
 independent Allan-variance estimates per tau with Sidak's correction, a family-wise
-false-alarm rate of ``--alpha`` (a perfect twin fails at most that often). The twin
+false-alarm rate of ``--alpha`` (a perfect twin fails at most that often). ``--save-part``
+writes the fitted model as a part file (:func:`part_fields`) that ``simulate device`` runs. The twin
 lives here, not in ``sim`` or ``analysis``: it needs both, which never import each other.
 """
 
@@ -427,6 +429,84 @@ def _plot(res: TwinResult, label: str, target: Path) -> None:
     plt.close(fig)
 
 
+#: the fitted terms a saved part carries: coefficient key -> (Datasheet field, SI -> field unit)
+_PART_FIELDS = {"Q": ("quantization", "to_arcsec"), "N": ("arw", "to_deg_per_sqrt_h"),
+                "B": ("bias_instability_dph", "to_deg_per_h"), "K": ("rate_random_walk", "to_deg_per_h_per_sqrt_h"),
+                "R": ("rate_ramp", "to_deg_per_h2")}
+
+
+def _grade(b_dph: float) -> str:
+    """A fitted part's grade from its bias instability [deg/h] (a labelling convention: < 0.01 navigation,
+    < 1 tactical, < 10 industrial, else consumer; the grade selects nothing in the simulation)."""
+    return "navigation" if b_dph < 0.01 else "tactical" if b_dph < 1.0 else "industrial" if b_dph < 10.0 else "consumer"
+
+
+def part_fields(res: TwinResult, fs: float, *, source: str, technology: str, name: str) -> dict[str, object]:
+    """The :class:`~gyrobench.sim.parts.Datasheet` fields of a part whose budget is the twin's fitted model.
+
+    Each fitted term becomes its part field in the field's unit (Q arcsec, N deg/sqrt(h), B deg/h as
+    the IEEE coefficient itself, K deg/h/sqrt(h), R deg/h^2, the Gauss-Markov sigma and sine amplitude
+    deg/h, its correlation time s, the sine's frequency Hz, the constant bias deg/h); a fitted
+    low-pass is the part's output filter (corner and order), the record's rate its output rate; the
+    part runs on its budget by default (``default_model = "budget"``). The 95 % intervals of the
+    IEEE terms are written in ``notes``.
+    """
+    from gyrobench.base import units
+
+    c = res.coefficients
+    f: dict[str, object] = {
+        "name": name, "manufacturer": "gyrobench twin", "model": f"fitted to {source}", "technology": technology,
+        "source": f"gyrobench twin fit of {source} ({res.recording.n_samples} samples at {fs:g} Hz)",
+        "source_kind": "fit", "default_model": "budget", "bias_instability_is_b": True, "output_rate": float(fs),
+    }
+    for key, (field_name, conv) in _PART_FIELDS.items():
+        v = float(c.get(key, 0.0))
+        if v > 0:
+            f[field_name] = float(getattr(units, conv)(v))
+    if c.get("gm_sigma"):
+        f["gauss_markov_sigma"] = float(units.to_deg_per_h(c["gm_sigma"]))
+        f["gauss_markov_tau"] = float(c["gm_correlation_time"])
+    if c.get("sine_amplitude"):
+        f["sine_amplitude"] = float(units.to_deg_per_h(c["sine_amplitude"]))
+        f["sine_frequency"] = 1.0 / float(c["sine_period"])
+    if c.get("lowpass_corner"):
+        f["bandwidth"] = float(c["lowpass_corner"])
+        f["filter_order"] = int(c["lowpass_order"])
+    if c.get("bias"):
+        f["bias_offset"] = float(units.to_deg_per_h(c["bias"]))
+    b_dph = f.get("bias_instability_dph", 0.0)
+    f["grade"] = _grade(b_dph if isinstance(b_dph, float) else 0.0)
+    ci = []
+    for key, (field_name, conv) in _PART_FIELDS.items():
+        co = res.fit.coefficients.get(key)
+        if co is not None:
+            lo, hi = (float(getattr(units, conv)(x)) for x in co.ci95)
+            ci.append(f"{field_name} 95 % interval [{lo:.6g}, {hi:.6g}]" + ("" if co.identifiable else
+                                                                             " (not identifiable)"))
+    f["notes"] = "; ".join(ci)
+    return f
+
+
+def _toml_value(v: object) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v)
+    return json.dumps(str(v))  # a TOML basic string: JSON's escapes are TOML's
+
+
+def write_part_toml(path: Path, fields: dict[str, object], what: str) -> None:
+    """Write ``fields`` as a part file (top-level keys) with gyrobench's first-line marker, atomically."""
+    from gyrobench.base.atomic import atomic_path
+    from gyrobench.base.safety import comment_marker
+
+    text = comment_marker(what) + "\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in fields.items())
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+
+
 def _check_twin_outputs(args, path: Path) -> None:
     """-o and --plot through the output rule (gyrobench.base.safety): never the record or the --part file."""
     from gyrobench.base.safety import Output
@@ -439,6 +519,8 @@ def _check_twin_outputs(args, path: Path) -> None:
     outs = [Output(Path(args.output), "-o", suffixes=(".h5", ".hdf5", ".csv"), create_parents=False)]
     if args.plot:
         outs.append(Output(Path(args.plot), "--plot", suffixes=(".png",), create_parents=False))
+    if args.save_part:
+        outs.append(Output(Path(args.save_part), "--save-part", suffixes=(".toml",), create_parents=False))
     check_outputs(args, outs, [("FILE", path), ("--part", part)])
 
 
@@ -451,6 +533,10 @@ def _cmd_twin(args) -> int:
     path = input_file(args.file, "recording file")  # not found, a folder, a FIFO, a device: one line
     if args.part is not None and args.nearest is not None:
         raise BadInput("give --part NAME or --nearest TECHNOLOGY, not both")
+    if args.save_part is not None and (args.part is not None or args.nearest is not None):
+        raise BadInput("--save-part saves the fitted model; with --part or --nearest the twin is a built-in part's")
+    if args.technology is not None and args.save_part is None:
+        raise BadInput("--technology names the technology of the --save-part file; give --save-part FILE.toml")
     if Path(args.output).suffix.lower() not in (".h5", ".hdf5", ".csv"):
         raise BadInput(f"-o must end in .h5, .hdf5 or .csv; got {args.output!r}")
     _check_twin_outputs(args, path)  # before any work
@@ -485,6 +571,15 @@ def _cmd_twin(args) -> int:
     else:
         save_hdf5(Path(args.output), res.recording)
     label = f"{path.name}:{ch.label}"
+    if args.save_part:
+        import re
+
+        stem = re.sub(r"[^a-z0-9_.-]+", "-", Path(args.save_part).stem.lower()).strip("-") or "twin"
+        fields = part_fields(res, log.fs, source=label, technology=args.technology or "MEMS", name=stem)
+        from gyrobench.sim.parts import Datasheet
+
+        Datasheet(**fields)  # type: ignore[arg-type]  # the part file simulate device reads back, checked first
+        write_part_toml(Path(args.save_part), fields, f"twin {label}: a part fitted to the record")
     if args.plot:
         _plot(res, label, Path(args.plot))
     if args.json:
@@ -495,7 +590,8 @@ def _cmd_twin(args) -> int:
             lines.insert(0, f"NONSTATIONARY {label}: motion or steps in the record; the twin is of its quiet "
                             "stretches, as gyrobench allan analyses them")
         print("\n".join(lines))
-        print(f"wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
+        print(f"wrote {args.output}" + (f" and {args.plot}" if args.plot else "")
+              + (f" and the part file {args.save_part} (simulate device {args.save_part})" if args.save_part else ""))
     if res.analysis is not None and res.analysis.nonstationary and not args.accept_nonstationary:
         return exits.NONSTATIONARY
     return 0 if res.passed else 1
@@ -533,6 +629,12 @@ def add_parser(sub) -> None:
     s.add_argument("--accept-nonstationary", action="store_true",
                    help="exit 0/1 by the match also when the record has motion or steps (the twin is then of its "
                         "quiet stretches; default: exit status 5, as allan)")
+    s.add_argument("--save-part", help="also write the fitted model as a part file (.toml) that 'simulate device' "
+                                       "reads (its budget: the fitted Q, N, B, K, R, Gauss-Markov, sine and filter "
+                                       "terms)")
+    s.add_argument("--technology", choices=("MEMS", "FOG", "RLG"),
+                   help="the technology the --save-part file names (default MEMS; the saved part runs on its "
+                        "budget unless simulate device --model physics)")
     s.add_argument("--json", action="store_true", help="print the per-tau comparison as JSON")
     s.add_argument("--plot", help="write the overlaid ADEV figure (PNG)")
     add_force(s)

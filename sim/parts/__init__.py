@@ -24,6 +24,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from gyrobench.sim.parts._catalogue import CATALOGUE
+from gyrobench.sim.parts._device import MODELS, physics_spec, simulate_part
 from gyrobench.sim.parts._part import (
     ADEV_MIN_PER_B,
     ERROR_COMPONENTS,
@@ -33,6 +34,7 @@ from gyrobench.sim.parts._part import (
     Datasheet,
     Part,
     PartUnit,
+    oversampling,
 )
 from gyrobench.sim.parts._physics import (
     BROWNIAN_SHARE,
@@ -61,6 +63,7 @@ __all__ = [
     "Datasheet",
     "Part",
     "PartUnit",
+    "oversampling",
     "get",
     "names",
     "load_toml",
@@ -69,6 +72,9 @@ __all__ = [
     "fog_spec",
     "mems_spec",
     "physics_summary",
+    "physics_spec",
+    "simulate_part",
+    "MODELS",
     "FOG_POWER_MAX",
     "FOG_LENGTH_MAX",
     "FOG_DIAMETER_MAX",

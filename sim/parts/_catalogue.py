@@ -23,6 +23,7 @@ _FT = 0.3048  # m per international foot (NavToolkit's hg1700_model converts wit
 CATALOGUE: tuple[Datasheet, ...] = (
     Datasheet(
         name="stim300",
+        source_kind="secondary",
         manufacturer="Safran Sensing Technologies (Sensonor)",
         model="STIM300",
         technology="MEMS",
@@ -48,6 +49,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="hg1700",
+        source_kind="secondary",
         manufacturer="Honeywell",
         model="HG1700",
         technology="RLG",
@@ -67,6 +69,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="hg9900",
+        source_kind="secondary",
         manufacturer="Honeywell",
         model="HG9900 (GG1320 RLGs)",
         technology="RLG",
@@ -87,6 +90,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="openrtk330",
+        source_kind="primary",
         manufacturer="Aceinna",
         model="OpenRTK330 IMU",
         technology="MEMS",
@@ -118,6 +122,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="adxrs646",
+        source_kind="primary",
         manufacturer="Analog Devices",
         model="ADXRS646",
         technology="MEMS",
@@ -130,6 +135,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="mti-1",
+        source_kind="secondary",
         manufacturer="Xsens",
         model="MTi-1",
         technology="MEMS",
@@ -157,6 +163,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="ahrs380",
+        source_kind="secondary",
         manufacturer="MEMSIC (Aceinna)",
         model="AHRS380SA",
         technology="MEMS",
@@ -177,6 +184,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="sch16t-k01",
+        source_kind="primary",
         manufacturer="Murata",
         model="SCH16T-K01",
         technology="MEMS",
@@ -216,6 +224,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="adis16495-1",
+        source_kind="primary",
         manufacturer="Analog Devices",
         model="ADIS16495-1",
         technology="MEMS",
@@ -239,6 +248,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="dsp-1760",
+        source_kind="secondary",
         manufacturer="KVH Industries (now EMCORE)",
         model="DSP-1760 (single axis)",
         technology="FOG",
@@ -260,6 +270,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="astrix-120",
+        source_kind="primary",
         manufacturer="Airbus Defence and Space",
         model="Astrix 120 (FOG 120 channel)",
         technology="FOG",
@@ -278,6 +289,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="astrix-200",
+        source_kind="primary",
         manufacturer="Airbus Defence and Space",
         model="Astrix 200 (FOG 200 channel)",
         technology="FOG",
@@ -298,6 +310,7 @@ CATALOGUE: tuple[Datasheet, ...] = (
     ),
     Datasheet(
         name="lsm6dsv",
+        source_kind="secondary",
         manufacturer="STMicroelectronics",
         model="LSM6DSV (+-4000 deg/s full-scale option)",
         technology="MEMS",
@@ -326,6 +339,124 @@ CATALOGUE: tuple[Datasheet, ...] = (
             "0.488 mg/LSB at +-16 g, noise density 60 ug/sqrt(Hz) typical in high-performance mode (two-sided, as "
             "the gyro's); no accelerometer bias instability quoted (no 1/f term); the page's own 'characterized "
             "noise parameters' are Luxonis measurements without units, not the sheet's: not used"
+        ),
+    ),
+    Datasheet(
+        name="bmi088",
+        source_kind="primary",
+        manufacturer="Bosch Sensortec",
+        model="BMI088 (gyroscope at +-2000 deg/s, ODR 400 Hz, filter bandwidth 47 Hz)",
+        technology="MEMS",
+        grade="consumer",
+        source=(
+            "Bosch Sensortec BMI088 Data Sheet, document BST-BMI088-DS000-19, revision 1.9 (January 2024): "
+            "Table 5 'Gyroscope specifications' (section 1.3, p. 10) and Table 4 'Accelerometer specifications' "
+            "(section 1.2, p. 9); the range and resolution also in section 5.5.5 GYRO_RANGE (p. 39); read from a "
+            "public text conversion of the PDF"
+        ),
+        range_dps=2000.0,
+        noise_density=0.014,
+        noise_density_sided="one",
+        rms_noise=0.1,
+        bandwidth=47.0,
+        output_rate=400.0,
+        resolution=1.0 / 16.384,
+        bias_repeatability=1.0 * 3600.0,
+        bias_tempco=0.015 * 3600.0,
+        scale_factor_repeatability=0.01 * 1e6,
+        scale_factor_tempco=0.03 * 1e4,
+        g_sensitivity=0.1 * 3600.0,
+        accel_range_g=3.0,
+        accel_noise_density_ug=160.0,
+        accel_bias_repeatability_mg=20.0,
+        accel_bias_tempco_mg_per_k=0.2,
+        accel_scale_factor_tempco_ppm_per_k=0.002 * 1e4,
+        accel_resolution_mg=1000.0 / 10920.0,
+        notes=(
+            "Table 5: range +-125..+-2000 deg/s (2000 taken), sensitivity 16.384 LSB/(deg/s) at +-2000 (resolution "
+            "61.0 mdeg/s), sensitivity tolerance +-1 % and zero-rate offset +-1 deg/s (typical values, taken as the "
+            "1 sigma of the unit-to-unit spread: the sheet's min/max are +-3 sigma, its typical values are not "
+            "defined further), sensitivity change over temperature +-0.03 %/K (300 ppm/K), zero-rate offset change "
+            "over temperature +-0.015 deg/s per K (54 deg/h/K), g-sensitivity 0.1 deg/s/g (a maximum), output "
+            "noise 0.1 deg/s rms at BW = 47 Hz '(@ 0.014 deg/s/sqrt(Hz))': 0.014 x sqrt(47) = 0.096, so the density "
+            "is ONE-sided; the 47 Hz bandwidth is the one the sheet pairs with ODR 400 Hz (GYRO_BANDWIDTH 0x03, the "
+            "register table is a figure in the copy read, the pairing from Bosch's register map); the signs of the "
+            "coefficients are not printed (taken positive); no bias instability printed (no 1/f term); "
+            "accelerometers from Table 4: range +-3 g (the option the noise density is given for), output noise "
+            "density 160 ug/sqrt(Hz) on x and y (190 on z; one-sided, as the gyro's), sensitivity 10920 LSB/g at 3 g, "
+            "zero-g offset 20 mg typical (taken as 1 sigma), offset drift < 0.2 mg/K (the bound taken), sensitivity "
+            "drift 0.002 %/K; bandwidth depends on ODR and OSR (5..280 Hz): unset"
+        ),
+    ),
+    Datasheet(
+        name="icm-42688-p",
+        source_kind="primary",
+        manufacturer="TDK InvenSense",
+        model="ICM-42688-P (gyroscope at +-2000 deg/s, ODR 1 kHz, UI filter 100 Hz)",
+        technology="MEMS",
+        grade="consumer",
+        source=(
+            "TDK InvenSense ICM-42688-P Datasheet, Document Number DS-000347, Revision 1.8 (07/27/2023): Table 1 "
+            "'Gyroscope Specifications' (section 3.1, p. 11) and Table 2 'Accelerometer Specifications' (section 3.2, "
+            "p. 12); read from a public text conversion of the PDF"
+        ),
+        range_dps=2000.0,
+        noise_density=0.0028,
+        noise_density_sided="one",
+        rms_noise=0.028,
+        bandwidth=100.0,
+        output_rate=1000.0,
+        resolution=1.0 / 16.4,
+        bias_repeatability=0.5 * 3600.0,
+        bias_tempco=0.005 * 3600.0,
+        scale_factor_repeatability=0.005 * 1e6,
+        scale_factor_tempco=0.005 * 1e4,
+        accel_range_g=16.0,
+        accel_noise_density_ug=65.0,
+        accel_bias_repeatability_mg=20.0,
+        accel_bias_tempco_mg_per_k=0.15,
+        accel_scale_factor_repeatability_ppm=0.005 * 1e6,
+        accel_scale_factor_tempco_ppm_per_k=0.005 * 1e4,
+        accel_resolution_mg=1000.0 / 2048.0,
+        notes=(
+            "Table 1: full scale +-2000 deg/s (GYRO_FS_SEL = 0), 16.4 LSB/(deg/s), sensitivity scale factor initial "
+            "tolerance +-0.5 %, its variation over temperature +-0.005 %/degC (0..70 degC; 50 ppm/K), initial ZRO "
+            "tolerance +-0.5 deg/s and ZRO variation +-0.005 deg/s/degC (18 deg/h/K), all typical values taken as "
+            "1 sigma and positive (signs not printed); rate noise spectral density 0.0028 deg/s/sqrt(Hz) at 10 Hz "
+            "and total RMS noise 0.028 deg/s at bandwidth 100 Hz, 'calculated from the rate noise spectral density' "
+            "(note 4): 0.0028 x sqrt(100) = 0.028, so the density is ONE-sided; the 100 Hz bandwidth is the sheet's "
+            "RMS condition, ODR 1 kHz the output rate chosen with it (the sheet allows 12.5..32000 Hz; an "
+            "assumption); no bias instability and no g-sensitivity printed; accelerometers from Table 2: +-16 g, "
+            "2048 LSB/g, noise 65 ug/sqrt(Hz) on x and y (70 on z), initial tolerance +-0.5 %, sensitivity change "
+            "+-0.005 %/degC, zero-g +-20 mg, zero-g change +-0.15 mg/degC (typical values as 1 sigma)"
+        ),
+    ),
+    Datasheet(
+        name="icm-42686-p",
+        source_kind="primary",
+        manufacturer="TDK InvenSense",
+        model="ICM-42686-P (+-4000 deg/s)",
+        technology="MEMS",
+        grade="consumer",
+        source=(
+            "TDK InvenSense's sensor comparison table 'TDK-InvenSense sensors for smartphone, mobile & IoT "
+            "applications' on p. 1 of the ICM-42688-P Datasheet DS-000347 Revision 1.8 (the ICM-42686-P column); "
+            "the part's own sheet was not read"
+        ),
+        range_dps=4000.0,
+        noise_density=0.0053,
+        noise_density_sided="one",
+        bias_tempco=0.010 * 3600.0,
+        resolution=8000.0 / 65536.0,
+        accel_range_g=32.0,
+        accel_noise_density_ug=70.0,
+        notes=(
+            "the table's column: gyro noise 5.3 mdps/sqrt(Hz), gyro offset temperature stability +-10 mdps/degC "
+            "(36 deg/h/K, taken positive), range +-4000 deg/s at 16 bits (resolution 8000/2^16 deg/s, the 16-bit "
+            "word over the full scale: an assumption), accelerometer noise 70 ug/sqrt(Hz) and +-32 g; the density "
+            "is taken ONE-sided, the convention the same vendor's ICM-42688-P sheet shows (its RMS noise is the "
+            "density x sqrt(bandwidth)); no bandwidth, repeatability, scale-factor or bias-instability figures in "
+            "the table: unset"
         ),
     ),
 )

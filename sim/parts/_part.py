@@ -22,11 +22,28 @@ The solve (one figure sets one parameter; SI inside)
 * g-sensitivity g_s [rad/s per m/s^2]: error g_s f(t), f the specific force along the axis.
 * Range: the output saturates at +-range (error: clipped - unclipped); no range given, no clipping.
 * Resolution q [rad/s]: the output is rounded to multiples of q (error: rounded - unrounded).
+* Bandwidth f_c [Hz] and output rate fs: the part's output filter, a causal Butterworth low-pass
+  of order ``filter_order`` (2 unless the sheet says; an ASSUMPTION: no sheet read states it,
+  noise bandwidth 1.11 f_c) at the internal rate k fs, k = ceil(8 f_c / fs) (at most 8: the
+  filter is simulated where f_c < fs; at or above the output rate it only shapes the noise within
+  each output interval, and is left out, said so in the metadata), its state settled on the first
+  sample; each output sample is the mean of the filtered signal over
+  its interval (a decimating sensor's output). Every term goes through the same filter (it is
+  linear, so the terms still sum) and the filter's effect on the true rate is the term
+  ``bandwidth`` (filtered - true). White rate noise of one-sided density ND then has rms
+  ND sqrt(1.11 f_c) at the output (the sheets' "rms noise in the bandwidth"). No bandwidth on
+  the sheet: no filter, white noise to fs/2, as before any filter.
 
-Output: y = omega + b0 + b_T + e_K omega + g_s f + n_IEEE, then clipped and rounded; every
+Units, one convention per kind of field: rate biases in deg/h (bias instability, repeatability,
+offset, Gauss-Markov sigma, sine amplitude), their sensitivities in deg/h/K and deg/h/g; rate
+full scales in deg/s (range, resolution, rms noise) and the noise density in deg/s/sqrt(Hz); ARW
+deg/sqrt(h), K deg/h/sqrt(h), R deg/h^2, Q arcsec; relative errors ppm and ppm/K; Hz and s.
+
+Output: y = H[omega + b0 + b_T + e_K omega + g_s f + n_IEEE], then clipped and rounded; every
 term is a truth channel and their sum is y - omega up to float64 rounding. The technology's
 physics model (:mod:`gyrobench.sim.sensor`) is not used by this layer: the datasheet figures
-fix the error budget directly, not the physical parameters behind it.
+fix the error budget directly, not the physical parameters behind it; the physics path is
+:func:`gyrobench.sim.parts.simulate_part` (``model="physics"``, :mod:`gyrobench.sim.parts._device`).
 
 Accelerometers
 --------------
@@ -72,13 +89,14 @@ from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.signal import butter, sosfilt, sosfilt_zi
 
 from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.imu import AccelerometerSpec
-from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
 from gyrobench.sim.sensor import Environment
 
 __all__ = [
@@ -104,6 +122,7 @@ ERROR_COMPONENTS = (
     "scale_factor_error",
     "g_sensitivity",
     "ieee_noise",
+    "bandwidth",
     "saturation",
     "quantization",
 )
@@ -128,8 +147,85 @@ sheet's ARW, the others at the default design (:mod:`gyrobench.sim.parts._physic
 _T_REF = 298.15  # K, 25 degC: the reference temperature of datasheet figures
 
 _INF = math.inf
+#: the noise terms a fitted part may carry without a white-noise term
+_FIT_NOISE = ("bias_instability_dph", "rate_random_walk", "rate_ramp", "quantization", "gauss_markov_sigma",
+              "sine_amplitude")
 #: the text fields a datasheet cannot leave empty
 _TEXT = ("name", "manufacturer", "model", "source")
+
+
+#: the output filter runs at least this many times its -3 dB bandwidth (the white noise it passes
+#: beyond that is 0.5 % of its power for the second-order default)
+FILTER_OVERSAMPLING = 8.0
+
+
+def filtered(datasheet: Datasheet, fs: float) -> bool:
+    """Whether the output filter is simulated at output rate ``fs`` [Hz]: the sheet gives a bandwidth below fs.
+
+    A bandwidth at or above the output rate only shapes the noise inside each output interval,
+    which the interval mean averages out (the filter's memory 1/(2 pi f_c) is below 1/(2 pi fs)):
+    such a record is simulated without the filter, and its metadata says so.
+    """
+    return datasheet.bandwidth is not None and datasheet.bandwidth < fs
+
+
+def oversampling(datasheet: Datasheet, fs: float) -> int:
+    """Internal samples per output sample: ceil(8 bandwidth / fs) (at most 8) where the filter is simulated, else 1.
+
+    Parameters
+    ----------
+    datasheet : Datasheet
+        The part's sheet (its ``bandwidth``).
+    fs : float
+        Output rate [Hz].
+
+    Returns
+    -------
+    int
+        k >= 1; the internal rate is k fs.
+    """
+    if not filtered(datasheet, fs):
+        return 1
+    return int(max(1, math.ceil(FILTER_OVERSAMPLING * float(datasheet.bandwidth) / fs)))  # type: ignore[arg-type]
+
+
+def output_filter(datasheet: Datasheet, fi: float) -> NDArray[np.float64]:
+    """The output low-pass as second-order sections at the internal rate ``fi`` [Hz].
+
+    A Butterworth of order ``filter_order`` with its -3 dB point at ``bandwidth`` (scipy.signal.butter);
+    a bandwidth at or above 0.45 fi is capped there (the internal rate is then the limit).
+    """
+    wn = min(float(datasheet.bandwidth), 0.45 * fi) / (fi / 2.0)  # type: ignore[arg-type]
+    return np.asarray(butter(datasheet.filter_order, wn, output="sos"))
+
+
+def settled_filter(sos: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``x`` through the causal filter ``sos``, its state settled on x[0] (a part switched on before the record)."""
+    y, _ = sosfilt(sos, x, zi=sosfilt_zi(sos) * x[0])
+    return np.asarray(y)
+
+
+def filter_metadata(datasheet: Datasheet, fs: float) -> dict[str, object]:
+    """What the record's output filter and sampling were (for the file's metadata)."""
+    if datasheet.bandwidth is None:
+        return {"applied": False, "why": "no bandwidth on the sheet: the noise is white to fs/2"}
+    if not filtered(datasheet, fs):
+        return {"applied": False, "why": f"the sheet's bandwidth {datasheet.bandwidth:g} Hz is not below the output "
+                                         f"rate {fs:g} Hz: each output sample is the interval mean, no filter"}
+    k = oversampling(datasheet, fs)
+    return {"applied": True, "kind": "butterworth", "order": datasheet.filter_order,
+            "bandwidth_hz": datasheet.bandwidth, "internal_rate_hz": fs * k, "output_rate_hz": fs,
+            "oversampling": k}
+
+
+def _input_at(environment: Environment, name: str, fs: float, k: int, default: float = 0.0) -> NDArray[np.float64]:
+    """Input ``name`` at the internal rate k fs: an array given per output sample is held over its interval."""
+    if k == 1:
+        return environment.sampled(name, fs, default=default)
+    if isinstance(getattr(environment, name), np.ndarray):
+        return np.repeat(environment.sampled(name, fs, default=default), k)
+    n = environment.n_samples(fs)
+    return environment.sampled(name, fs * k, default=default)[: n * k]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -173,11 +269,42 @@ class Datasheet:
     g_sensitivity : float, optional
         Linear-acceleration effect on the bias [deg/h/g].
     bandwidth : float, optional
-        -3 dB bandwidth [Hz] (recorded; the simulated noise is white to fs/2).
+        -3 dB bandwidth of the part's output filter [Hz]: simulated as a causal Butterworth
+        low-pass of order ``filter_order`` on the oversampled signal, the output taken from it
+        at the output rate (module docstring); None: no filter, the noise white to fs/2.
     output_rate : float, optional
-        Default output data rate [Hz].
+        Output data rate [Hz] the sheet pairs with ``bandwidth`` (the default ``fs`` of
+        ``simulate device``).
     resolution : float, optional
         Output resolution (LSB) [deg/s].
+    rms_noise : float, optional
+        Output noise rms [deg/s] the sheet prints for its ``bandwidth`` (a check of the PSD
+        convention: with a one-sided density ND, rms = ND sqrt(ENBW)); recorded, not used.
+    filter_order : int
+        Order of the output Butterworth low-pass (default 2: an ASSUMPTION, no sheet read
+        states its filter's order; its noise bandwidth is 1.11 x the -3 dB bandwidth).
+    rate_random_walk : float, optional
+        K [deg/h/sqrt(h)] (IEEE 952).
+    rate_ramp : float, optional
+        R [deg/h^2] (IEEE 952).
+    quantization : float, optional
+        Angle quantization Q [arcsec] (IEEE 952).
+    gauss_markov_sigma, gauss_markov_tau : float, optional
+        A first-order Gauss-Markov bias term: its stationary 1 sigma [deg/h] and correlation
+        time [s]; both or neither.
+    sine_amplitude, sine_frequency : float, optional
+        A sinusoidal rate error: amplitude [deg/h] and frequency [Hz]; both or neither.
+    bias_offset : float, optional
+        A constant bias every unit has [deg/h] (a fitted record's mean); the turn-on bias is
+        drawn around it.
+    source_kind : str
+        "primary" (the figures were read from the maker's own document), "secondary" (from a
+        page quoting it, named in ``source``), "fit" (fitted to a record by ``gyrobench twin``)
+        or "user" (default: the user's own figures).
+    default_model : str
+        The model ``simulate device`` runs the part on unless ``--model`` says otherwise:
+        "physics" (default) or "budget" (a fitted part: its Q, K, R, Gauss-Markov, sine and
+        filter terms are budget terms, which the physics models do not carry).
     accel_range_g : float, optional
         Accelerometer full scale, +-range [g] (the output saturates there); None: no saturation.
     accel_bias_instability_ug : float, optional
@@ -231,6 +358,18 @@ class Datasheet:
     bandwidth: float | None = None
     output_rate: float | None = None
     resolution: float | None = None
+    rms_noise: float | None = None
+    filter_order: int = 2
+    rate_random_walk: float | None = None
+    rate_ramp: float | None = None
+    quantization: float | None = None
+    gauss_markov_sigma: float | None = None
+    gauss_markov_tau: float | None = None
+    sine_amplitude: float | None = None
+    sine_frequency: float | None = None
+    bias_offset: float | None = None
+    source_kind: str = "user"
+    default_model: str = "physics"
     accel_range_g: float | None = None
     accel_bias_instability_ug: float | None = None
     accel_vrw_m_s_sqrt_h: float | None = None
@@ -246,19 +385,33 @@ class Datasheet:
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "technology": FieldChoice(TECHNOLOGIES, "the gyro's technology"),
         "grade": FieldChoice(GRADES, "the gyro's grade"),
-        "bias_instability_dph": FieldRange(0, _INF, "deg/h", "in-run bias stability (ADEV minimum)", low_open=True),
-        "range_dps": FieldRange(0, _INF, "deg/s", "input range", low_open=True),
-        "arw": FieldRange(0, _INF, "deg/sqrt(h)", "angle random walk", low_open=True),
-        "noise_density": FieldRange(0, _INF, "deg/s/sqrt(Hz)", "rate noise density", low_open=True),
+        "bias_instability_dph": FieldRange(0, 3.6e5, "deg/h", "in-run bias stability (ADEV minimum); <= 100 deg/s",
+                                           low_open=True),
+        "range_dps": FieldRange(0, 1e5, "deg/s", "input range; the widest MEMS parts reach 4000 deg/s", low_open=True),
+        "arw": FieldRange(0, 600, "deg/sqrt(h)", "angle random walk; <= 10 deg/sqrt(s)", low_open=True),
+        "noise_density": FieldRange(0, 10, "deg/s/sqrt(Hz)", "rate noise density", low_open=True),
         "noise_density_sided": FieldChoice(("one", "two"), "the PSD convention of noise_density"),
-        "bias_repeatability": FieldRange(0, _INF, "deg/h", "turn-on bias 1 sigma"),
-        "bias_tempco": FieldRange(0, _INF, "deg/h/K", "bias temperature coefficient"),
-        "scale_factor_repeatability": FieldRange(0, _INF, "ppm", "scale-factor error 1 sigma"),
-        "scale_factor_tempco": FieldRange(0, _INF, "ppm/K", "scale-factor temperature coefficient"),
-        "g_sensitivity": FieldRange(0, _INF, "deg/h/g", "linear-acceleration effect on the bias"),
-        "bandwidth": FieldRange(0, _INF, "Hz", "-3 dB bandwidth (recorded only)"),
-        "output_rate": FieldRange(0, _INF, "Hz", "default output data rate", low_open=True),
-        "resolution": FieldRange(0, _INF, "deg/s", "output resolution (LSB)", low_open=True),
+        "bias_repeatability": FieldRange(0, 3.6e6, "deg/h", "turn-on bias 1 sigma; <= 1000 deg/s"),
+        "bias_tempco": FieldRange(0, 3.6e4, "deg/h/K", "bias temperature coefficient; <= 10 deg/s/K"),
+        "scale_factor_repeatability": FieldRange(0, 1e5, "ppm", "scale-factor error 1 sigma; <= 10 %"),
+        "scale_factor_tempco": FieldRange(0, 1e4, "ppm/K", "scale-factor temperature coefficient; <= 1 %/K"),
+        "g_sensitivity": FieldRange(0, 3.6e5, "deg/h/g", "linear-acceleration effect on the bias; <= 100 deg/s/g"),
+        "bandwidth": FieldRange(0, 1e5, "Hz", "-3 dB bandwidth of the output filter", low_open=True),
+        "output_rate": FieldRange(0, 1e6, "Hz", "output data rate", low_open=True),
+        "resolution": FieldRange(0, 100, "deg/s", "output resolution (LSB); below the range (a constraint)",
+                                 low_open=True),
+        "rms_noise": FieldRange(0, 1e3, "deg/s", "output noise rms in the sheet's bandwidth", low_open=True),
+        "filter_order": FieldRange(1, 8, "1", "Butterworth order of the output filter", integer=True),
+        "rate_random_walk": FieldRange(0, 3.6e5, "deg/h/sqrt(h)", "rate random walk K"),
+        "rate_ramp": FieldRange(-3.6e6, 3.6e6, "deg/h^2", "rate ramp R"),
+        "default_model": FieldChoice(("physics", "budget"), "the model simulate device runs by default"),
+        "quantization": FieldRange(0, 3.6e5, "arcsec", "angle quantization Q"),
+        "gauss_markov_sigma": FieldRange(0, 3.6e6, "deg/h", "Gauss-Markov bias 1 sigma", low_open=True),
+        "gauss_markov_tau": FieldRange(0, 1e9, "s", "Gauss-Markov correlation time", low_open=True),
+        "sine_amplitude": FieldRange(0, 3.6e6, "deg/h", "sinusoidal rate error amplitude", low_open=True),
+        "sine_frequency": FieldRange(0, 1e6, "Hz", "sinusoidal rate error frequency", low_open=True),
+        "bias_offset": FieldRange(-3.6e6, 3.6e6, "deg/h", "constant bias of every unit; |b| <= 1000 deg/s"),
+        "source_kind": FieldChoice(("primary", "secondary", "fit", "user"), "where the figures come from"),
         "accel_range_g": FieldRange(0, _INF, "g", "accelerometer full scale", low_open=True),
         "accel_bias_instability_ug": FieldRange(0, _INF, "ug", "accelerometer in-run bias stability (ADEV minimum)",
                                                 low_open=True),
@@ -283,10 +436,29 @@ class Datasheet:
             ),
         ),
         Constraint(
-            "arw or noise_density given",
-            lambda c: c.arw is not None or c.noise_density is not None,
+            "arw or noise_density given (or, for a fitted part, another noise term)",
+            lambda c: c.arw is not None or c.noise_density is not None or (
+                c.source_kind == "fit" and any(getattr(c, k) for k in _FIT_NOISE)),
             lambda c: f"arw [deg/sqrt(h)] or noise_density [deg/s/sqrt(Hz)] must be given (part {c.name!r}); "
             "got neither",
+        ),
+        Constraint(
+            "resolution < range_dps",
+            lambda c: c.resolution is None or c.range_dps is None or c.resolution < c.range_dps,
+            lambda c: f"resolution must be below range_dps [deg/s]; got resolution {c.resolution!r}, range_dps "
+            f"{c.range_dps!r}",
+        ),
+        Constraint(
+            "gauss_markov_sigma and gauss_markov_tau both or neither",
+            lambda c: (c.gauss_markov_sigma is None) == (c.gauss_markov_tau is None),
+            lambda c: "gauss_markov_sigma [deg/h] and gauss_markov_tau [s] must be given together; got "
+            f"{c.gauss_markov_sigma!r} and {c.gauss_markov_tau!r}",
+        ),
+        Constraint(
+            "sine_amplitude and sine_frequency both or neither",
+            lambda c: (c.sine_amplitude is None) == (c.sine_frequency is None),
+            lambda c: f"sine_amplitude [deg/h] and sine_frequency [Hz] must be given together; got "
+            f"{c.sine_amplitude!r} and {c.sine_frequency!r}",
         ),
     )
 
@@ -298,7 +470,9 @@ class Datasheet:
         """N [rad/sqrt(s)] (module docstring: from ARW, or from the noise density and its sidedness)."""
         if self.arw is not None:
             return units.deg_per_sqrt_h(self.arw)
-        nd = math.radians(float(self.noise_density))  # type: ignore[arg-type]
+        if self.noise_density is None:  # a fitted part without white noise
+            return 0.0
+        nd = math.radians(float(self.noise_density))
         return nd if self.noise_density_sided == "two" else nd / math.sqrt(2.0)
 
     def bias_instability(self) -> float:
@@ -312,8 +486,23 @@ class Datasheet:
         return b if self.bias_instability_is_b else b / ADEV_MIN_PER_B
 
     def noise_model(self) -> NoiseModel:
-        """The IEEE 952 model: N and B from the figures (module docstring), no Q, K or R."""
-        return NoiseModel(angle_random_walk=self.angle_random_walk(), bias_instability=self.bias_instability())
+        """The IEEE 952 model: N and B from the figures (module docstring), Q, K, the Gauss-Markov and
+        sine terms where given (SI: Q [rad], K [rad/s/sqrt(s)], R [rad/s^2], sigma [rad/s], amplitude [rad/s])."""
+        gm: tuple[GaussMarkov, ...] = ()
+        if self.gauss_markov_sigma is not None and self.gauss_markov_tau is not None:
+            gm = (GaussMarkov(sigma=units.deg_per_h(self.gauss_markov_sigma), correlation_time=self.gauss_markov_tau),)
+        sines: tuple[Sinusoid, ...] = ()
+        if self.sine_amplitude is not None and self.sine_frequency is not None:
+            sines = (Sinusoid(amplitude=units.deg_per_h(self.sine_amplitude), frequency=self.sine_frequency),)
+        return NoiseModel(
+            quantization=units.arcsec(self.quantization or 0.0),
+            angle_random_walk=self.angle_random_walk(),
+            bias_instability=self.bias_instability(),
+            rate_random_walk=units.deg_per_h_per_sqrt_h(self.rate_random_walk or 0.0),
+            rate_ramp=units.deg_per_h2(self.rate_ramp or 0.0),
+            gauss_markov=gm,
+            sinusoids=sines,
+        )
 
     @property
     def has_accelerometer(self) -> bool:
@@ -410,7 +599,9 @@ class Part:
         """Draw one unit: turn-on bias and scale-factor error from their repeatabilities."""
         check_rng(rng)
         ds = self.datasheet
-        b0 = units.deg_per_h(ds.bias_repeatability or 0.0) * float(rng.standard_normal())
+        b0 = units.deg_per_h(ds.bias_offset or 0.0) + units.deg_per_h(ds.bias_repeatability or 0.0) * float(
+            rng.standard_normal()
+        )
         ek = (ds.scale_factor_repeatability or 0.0) * 1e-6 * float(rng.standard_normal())
         return PartUnit(self, turn_on_bias=b0, scale_factor_error=ek)
 
@@ -451,17 +642,34 @@ class PartUnit:
             raise ValueError(f"duration * fs must give >= 2 samples; got {environment.duration!r} s at {fs!r} Hz")
         ds = self.part.datasheet
         t_ref = self.part.reference_temperature
-        omega = environment.sampled("true_rate", fs)
-        temp = environment.sampled("temperature", fs, default=t_ref)
-        force = environment.sampled("specific_force", fs)
+        k = oversampling(ds, fs)
+        fi = fs * k
+        omega = _input_at(environment, "true_rate", fs, k)
+        temp = _input_at(environment, "temperature", fs, k, default=t_ref)
+        force = _input_at(environment, "specific_force", fs, k)
         d_t = temp - t_ref
         comps: dict[str, NDArray[np.float64]] = {
-            "turn_on_bias": np.full(n, self.turn_on_bias),
+            "turn_on_bias": np.full(n * k, self.turn_on_bias),
             "bias_temperature": units.deg_per_h(ds.bias_tempco or 0.0) * d_t,
             "scale_factor_error": (self.scale_factor_error + (ds.scale_factor_tempco or 0.0) * 1e-6 * d_t) * omega,
             "g_sensitivity": units.deg_per_h(ds.g_sensitivity or 0.0) / units.G0 * force,
-            "ieee_noise": ds.noise_model().generate(n, fs, rng=rng),
+            "ieee_noise": ds.noise_model().generate(n * k, fi, rng=rng),
         }
+        if filtered(ds, fs):
+            # the part's output filter on the oversampled signal, then its output sampling: every term
+            # through the same causal filter (linear, so the terms still sum), the true rate's own
+            # filtering the "bandwidth" term; each output sample the mean over its interval
+            sos = output_filter(ds, fi)
+
+            def block(x: NDArray[np.float64]) -> NDArray[np.float64]:  # the mean over each output interval
+                return np.asarray(x.reshape(n, k).mean(axis=1))
+
+            through = {name: block(settled_filter(sos, v)) for name, v in comps.items()}
+            omega_f = block(settled_filter(sos, omega))
+            omega, temp, force = block(omega), block(temp), block(force)
+            comps = {**through, "bandwidth": omega_f - omega}
+        else:
+            comps["bandwidth"] = np.zeros(n)
         raw = omega + sum(comps.values())
         if ds.range_dps is not None:
             limit = math.radians(ds.range_dps)
@@ -481,6 +689,7 @@ class PartUnit:
             "scale_factor_error": "(e_K + k_T (T - T_ref)) x true rate",
             "g_sensitivity": "g-sensitivity x specific force",
             "ieee_noise": "IEEE 952 noise (N, B from the datasheet)",
+            "bandwidth": "the output filter's effect on the true rate (filtered - true)",
             "saturation": "clipping at +-range",
             "quantization": "rounding to the output resolution",
         }
@@ -495,6 +704,8 @@ class PartUnit:
             t0=0.5 / fs,
             metadata={
                 "model": "gyrobench.sim.parts.PartUnit",
+                "model_kind": "budget",
+                "output_filter": filter_metadata(ds, fs),
                 "part": ds.name,
                 "datasheet": ds.figures(),
                 "unit": {"turn_on_bias_rad_s": self.turn_on_bias, "scale_factor_error": self.scale_factor_error},

@@ -57,6 +57,19 @@ SOURCES = {
     # Luxonis LSM6DSV page, 'Native silicon characteristics': +-16 g option, 0.488 mg/LSB, 60 ug/sqrt(Hz)
     "lsm6dsv": [("accel_range_g", 16.0, "g"), ("accel_resolution_mg", 0.488, "mg"),
                 ("accel_noise_density_ug", 60.0, "ug/sqrt(Hz)")],
+    # Bosch BST-BMI088-DS000-19, Table 4: +-3 g, 10920 LSB/g, 160 ug/sqrt(Hz) (x, y), zero-g offset 20 mg,
+    # offset drift < 0.2 mg/K, sensitivity drift 0.002 %/K
+    "bmi088": [("accel_range_g", 3.0, "g"), ("accel_resolution_mg", 1000.0 / 10920.0, "mg"),
+               ("accel_noise_density_ug", 160.0, "ug/sqrt(Hz)"), ("accel_bias_repeatability_mg", 20.0, "mg"),
+               ("accel_bias_tempco_mg_per_k", 0.2, "mg"), ("accel_scale_factor_tempco_ppm_per_k", 20.0, "ppm")],
+    # TDK DS-000347 rev 1.8, Table 2: +-16 g, 2048 LSB/g, 65 ug/sqrt(Hz) (x, y), +-0.5 %, +-0.005 %/degC,
+    # zero-g +-20 mg, +-0.15 mg/degC
+    "icm-42688-p": [("accel_range_g", 16.0, "g"), ("accel_resolution_mg", 1000.0 / 2048.0, "mg"),
+                    ("accel_noise_density_ug", 65.0, "ug/sqrt(Hz)"), ("accel_bias_repeatability_mg", 20.0, "mg"),
+                    ("accel_bias_tempco_mg_per_k", 0.15, "mg"), ("accel_scale_factor_repeatability_ppm", 5000.0, "ppm"),
+                    ("accel_scale_factor_tempco_ppm_per_k", 50.0, "ppm")],
+    # the same document's p. 1 family table, ICM-42686-P column: 70 ug/sqrt(Hz), +-32 g
+    "icm-42686-p": [("accel_range_g", 32.0, "g"), ("accel_noise_density_ug", 70.0, "ug/sqrt(Hz)")],
 }
 
 ACCEL_FIELDS = [f for f in parts.Datasheet.__dataclass_fields__ if f.startswith("accel_")]

@@ -16,7 +16,7 @@ Every verb names its inputs and its outputs and calls :func:`check_outputs` befo
    ========================= ===================================================================
    HDF5 (``.h5``, ``.hdf5``) root attribute ``format`` starting ``gyrobench-``
    JSON (``.json``)          first key ``"format"`` with a value starting ``gyrobench-``
-   CSV, YAML                 a first line ``# ...`` naming gyrobench (:func:`comment_marker`)
+   CSV, YAML, TOML           a first line ``# ...`` naming gyrobench (:func:`comment_marker`)
    PNG                       a ``Software`` text chunk starting ``gyrobench`` (:data:`PNG_METADATA`)
    ========================= ===================================================================
 
@@ -90,6 +90,7 @@ _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _SQLITE_SIGNATURE = b"SQLite format 3\x00"
 _JSON_MARKER = re.compile(rb'\A\s*\{\s*"format"\s*:\s*"gyrobench-')
 _SUFFIX_FORMAT = {".h5": "hdf5", ".hdf5": "hdf5", ".csv": "comment", ".yaml": "comment", ".yml": "comment",
+                  ".toml": "comment",
                   ".json": "json", ".png": "png"}
 _FORMAT_NAME = {"hdf5": "HDF5 root attribute format='gyrobench-...'", "comment": "first line '# ... gyrobench ...'",
                 "json": "JSON key \"format\": \"gyrobench-...\"", "png": "PNG text chunk Software='gyrobench'"}
@@ -153,7 +154,7 @@ def escape_controls(text: str) -> str:
 
 
 def comment_marker(what: str) -> str:
-    """The first line gyrobench writes into a CSV or YAML file: ``# written by gyrobench <what>``."""
+    """The first line gyrobench writes into a CSV, YAML or TOML file: ``# written by gyrobench <what>``."""
     return f"# written by gyrobench {escape_controls(what).replace(chr(10), ' ')}".rstrip()
 
 

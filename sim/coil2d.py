@@ -138,6 +138,20 @@ class Coil2DSpec:
         their sum (any T0 >= 0 K is accepted: 0 K is the kelvin origin).
     grid_spool, grid_pack_r, grid_pack_z : int
         Cells across the spool, the pack radially and the pack axially (one skin cell each).
+    turn_error_probability : float
+        Probability that a layer gains one turn, and again that it loses one, at a layer change
+        (:class:`Imperfections`; 0.15 stated, in [0, 0.5]).
+    radius_error_rms : float
+        rms radial displacement of a layer as a fraction of the layer pitch (0.03 stated: tension
+        variation).
+    matrix_cte_spread : float
+        Relative 1-sigma unit-to-unit spread of the potting matrix's expansion coefficient
+        (:meth:`realize`; 0.15 stated).
+    sensor_z_center : float
+        Centre of the logged sensor's axial position on the outer potting surface, as a fraction
+        of the half height in [-1, 1]; a unit's sensor is drawn uniformly within
+        ``1 - |sensor_z_center|`` of it, so it stays on the surface (0: uniform over the whole
+        height, stated).
     """
 
     inner_radius: float = 0.0472
@@ -172,6 +186,10 @@ class Coil2DSpec:
     grid_spool: int = 3
     grid_pack_r: int = 8
     grid_pack_z: int = 8
+    turn_error_probability: float = 0.15
+    radius_error_rms: float = 0.03
+    matrix_cte_spread: float = 0.15
+    sensor_z_center: float = 0.0
 
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "inner_radius": FieldRange(0, math.inf, "m", "inner radius of the fibre pack (> bore_radius)", low_open=True),
@@ -192,6 +210,10 @@ class Coil2DSpec:
         "crossover_turns": FieldRange(0, math.inf, "turns", "turns of each layer crossover, >= 0"),
         "lead_length": FieldRange(0, math.inf, "m", "fibre lead length, >= 0"),
         "lead_difference_rms": FieldRange(0, math.inf, "m", "rms length difference of the two leads, >= 0"),
+        "turn_error_probability": FieldRange(0, 0.5, "1", "a layer's chance of one turn gained (and of one lost)"),
+        "radius_error_rms": FieldRange(0, math.inf, "1", "layer radial displacement rms, a fraction of the pitch"),
+        "matrix_cte_spread": FieldRange(0, math.inf, "1", "unit-to-unit relative spread of the potting's CTE"),
+        "sensor_z_center": FieldRange(-1, 1, "1", "the sensor's mean axial position, a fraction of the half height"),
         "housing_heat_capacity": FieldRange(0, math.inf, "J/K", "housing heat capacity", low_open=True),
         "chamber_conductance": FieldRange(0, math.inf, "W/K", "chamber-housing conductance", low_open=True),
         "gap_coefficient": FieldRange(0, math.inf, "W/(m^2 K)", "spool-pack gap heat transfer", low_open=True),
@@ -293,7 +315,7 @@ class Coil2DSpec:
         """One drawn unit: potting properties and winding imperfections (:class:`Imperfections`).
 
         Potting spreads (stated, typical batch-to-batch and cure variation; none from a paper):
-        matrix CTE x (1 + 0.15 N(0, 1)), matrix modulus x exp(0.3 N(0, 1)), matrix
+        matrix CTE x (1 + ``matrix_cte_spread`` N(0, 1)) (0.15 by default), matrix modulus x exp(0.3 N(0, 1)), matrix
         conductivity x (1 + 0.1 N(0, 1)), packing + 0.03 N(0, 1) clipped to [0.6, 0.9],
         interlayer fraction uniform in [0.05, 0.2].
         """
@@ -304,7 +326,7 @@ class Coil2DSpec:
         m = self.matrix
         matrix = dataclasses.replace(
             m,
-            cte=m.cte * (1 + 0.15 * rng.standard_normal()),
+            cte=m.cte * (1 + self.matrix_cte_spread * rng.standard_normal()),
             youngs_modulus=m.youngs_modulus * math.exp(0.3 * rng.standard_normal()),
             conductivity=m.conductivity * (1 + 0.1 * rng.standard_normal()),
         )

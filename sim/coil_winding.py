@@ -86,16 +86,19 @@ class Imperfections:
     Parameters
     ----------
     turn_errors : ndarray of int, shape (M,)
-        Extra (+1) or missing (-1) turns per layer; each layer +-1 with probability 0.15
-        each (a turn gained or lost at the flange at a layer change; stated).
+        Extra (+1) or missing (-1) turns per layer; each layer +-1 with probability
+        ``Coil2DSpec.turn_error_probability`` each (0.15: a turn gained or lost at the flange at a
+        layer change; stated).
     radius_errors : ndarray, shape (M,)
-        Radial displacement of each layer [m]; N(0, (0.03 p_r)^2) (tension variation; stated).
+        Radial displacement of each layer [m]; N(0, (``Coil2DSpec.radius_error_rms`` p_r)^2)
+        (0.03: tension variation; stated).
     lead_difference : float
         Lead A minus lead B length [m]; N(0, ``Coil2DSpec.lead_difference_rms``^2) (CALIBRATED
         rms, see there).
     sensor_z : float
         Axial position of the logged temperature sensor on the outer potting surface,
-        as a fraction of the half height in [-1, 1] (uniform; stated).
+        as a fraction of the half height in [-1, 1]: c + (1 - |c|) u, u uniform in [-1, 1] and
+        c = ``Coil2DSpec.sensor_z_center`` (0: uniform over the height; stated).
     """
 
     turn_errors: NDArray[np.int64]
@@ -110,12 +113,14 @@ class Imperfections:
     @classmethod
     def draw(cls, spec: Coil2DSpec, *, rng: np.random.Generator) -> Imperfections:
         M = spec.layers
-        te = rng.choice(np.array([-1, 0, 1]), size=M, p=[0.15, 0.7, 0.15])
+        q = spec.turn_error_probability
+        te = rng.choice(np.array([-1, 0, 1]), size=M, p=[q, 1.0 - 2.0 * q, q])
+        c = spec.sensor_z_center
         return cls(
             turn_errors=te.astype(np.int64),
-            radius_errors=0.03 * spec.layer_pitch * rng.standard_normal(M),
+            radius_errors=spec.radius_error_rms * spec.layer_pitch * rng.standard_normal(M),
             lead_difference=float(spec.lead_difference_rms * rng.standard_normal()),
-            sensor_z=float(rng.uniform(-1.0, 1.0)),
+            sensor_z=float(c + (1.0 - abs(c)) * rng.uniform(-1.0, 1.0)),
         )
 
 

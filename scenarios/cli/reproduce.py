@@ -132,8 +132,15 @@ def _reproduce(args, mods, configs, start_units: int, max_units: int | None) -> 
             stop_pool(pool, kill=not ok)
         elif close is not None:
             close()
-    index = write_report_as_a_set(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv))
+    from gyrobench.scenarios.reports.map_section import load_maps
+
+    # a map the folder holds (reproduce NAME --map) goes into its scenario's section of the new report
+    maps = load_maps(out, [o.scenario for o in outcomes])
+    index = write_report_as_a_set(outcomes, out, command="gyrobench " + " ".join(shlex.quote(a) for a in args.argv),
+                                  maps=maps)
     print(f"{len(outcomes)} scenario(s) in {time.perf_counter() - t0:.1f} s")
+    for name in maps:
+        print(f"  {name}: its device-family map ({out / name / 'map.json'}) is in the report")
     for o in outcomes:
         if o.claims:
             what = f"{o.units} unit(s); {tally_text(claim_tally(o.claims))}"

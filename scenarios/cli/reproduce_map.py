@@ -71,7 +71,7 @@ def _run(args, mod, points: int, k: int) -> int:
     from gyrobench.base.atomic import atomic_folder
     from gyrobench.scenarios.cli.bench import scheduler_executor
     from gyrobench.scenarios.maps.build import map_paper, write_map
-    from gyrobench.scenarios.maps.region import region_finding
+    from gyrobench.scenarios.maps.region import nominal_text, region_finding
     from gyrobench.scenarios.reports.outputs import REPORT_MARKER, report_manifest
     from gyrobench.scenarios.runner import units
 
@@ -97,6 +97,7 @@ def _run(args, mod, points: int, k: int) -> int:
           f"({mapped.units.computed} computed, {mapped.units.reused} reused; "
           f"units' run time summed {mapped.units.run_s:.1f} s)")
     print(f"  region: {region_finding(r)}")
+    print(f"  {nominal_text(r)}")
     for c in r.constraints:
         print(f"  {c.id:<36} satisfied on {counts[c.id]} of {len(r.design)} points")
     for m in r.claims:

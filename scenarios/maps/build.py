@@ -2,10 +2,13 @@
 
 A paper that can be mapped has a ``family`` module beside its scenario module (or the scenario
 module itself) defining ``FAMILY`` (:class:`~.family.Family`), ``MAP_CONSTRAINTS`` (:class:`~.region.Constraint`),
-``MAP_CLAIMS`` (the claims to map) and ``DESIGN_SEED``. :func:`map_paper` runs the map and
-:func:`write_map` writes ``map.json``, ``phase_diagrams.png``, ``specification_curves.png`` and
-``constraints.png``
-into a folder.
+``MAP_CLAIMS`` (the claims to map) and ``DESIGN_SEED``, and optionally ``MAP_COVARIATES``
+(:class:`~.region.Covariate`: quantities a claim rests on, reported per point). The family's
+nominal device (:attr:`~.family.Family.nominal`, when its base configuration is a point of the
+family) runs as one more point (:data:`~.run.NOMINAL_POINT`). :func:`map_paper` runs the map and
+:func:`write_map` writes ``map.json`` (the map), ``map_run.json`` (how the run went),
+``phase_diagrams.png``, ``specification_curves.png``, ``constraints.png`` and (with covariates)
+``covariates.png`` into a folder.
 """
 
 from __future__ import annotations
@@ -22,9 +25,12 @@ from gyrobench.scenarios.runner import units as runner
 
 from .family import design
 from .region import MapResult, analyse
-from .run import MapUnits, run_map
+from .run import NOMINAL_POINT, MapUnits, run_map
 
-__all__ = ["Mapped", "family_module", "map_paper", "write_map"]
+__all__ = ["RUN_FILE", "Mapped", "family_module", "map_paper", "write_map"]
+
+#: how one map run went (command, units computed and reused), beside map.json
+RUN_FILE = "map_run.json"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -101,8 +107,8 @@ def map_paper(
     progress : bool
         A tqdm bar on stderr.
     family : module, optional
-        Defines ``FAMILY``, ``MAP_CONSTRAINTS``, ``MAP_CLAIMS``, ``DESIGN_SEED`` (default
-        :func:`family_module`).
+        Defines ``FAMILY``, ``MAP_CONSTRAINTS``, ``MAP_CLAIMS``, ``DESIGN_SEED`` and optionally
+        ``MAP_COVARIATES`` (default :func:`family_module`).
 
     Returns
     -------
@@ -114,14 +120,27 @@ def map_paper(
         raise ValueError(f"scenario {getattr(module, 'NAME', module.__name__)!r} defines no device family to map")
     d = design(fam.FAMILY, points, fam.DESIGN_SEED)
     configs = [fam.FAMILY.config(v) for v in d.values]
+    index = list(range(len(configs)))
+    nominal = fam.FAMILY.nominal
+    if nominal is not None:
+        configs.append(fam.FAMILY.config(nominal))
+        index.append(NOMINAL_POINT)
     run = run_map(module, configs, units_per_point=units_per_point, seed=seed, executor=executor,
-                  workers=workers, db=db, progress=progress)
-    result = analyse(fam.FAMILY, d, run.seeds, run.quantities, fam.MAP_CONSTRAINTS, fam.MAP_CLAIMS)
+                  workers=workers, db=db, progress=progress, point_indices=index)
+    n = len(d)
+    result = analyse(fam.FAMILY, d, run.seeds[:n], run.quantities[:n], fam.MAP_CONSTRAINTS, fam.MAP_CLAIMS,
+                     covariates=getattr(fam, "MAP_COVARIATES", ()),
+                     nominal_seeds=run.seeds[n] if nominal is not None else (),
+                     nominal_units=run.quantities[n] if nominal is not None else None)
     return Mapped(result=result, units=run)
 
 
 def write_map(mapped: Mapped, folder: Path, *, command: str = "") -> Path:
-    """Write ``map.json`` and the three PNGs into a folder.
+    """Write ``map.json``, ``map_run.json`` and the PNGs into a folder.
+
+    ``map.json`` is a function of the family, the design and the units' results only (the same map
+    gives the same bytes however its units ran, resumed or not); how this run went (the command, the
+    units computed and reused, their summed run time) is in ``map_run.json`` beside it.
 
     Parameters
     ----------
@@ -130,23 +149,23 @@ def write_map(mapped: Mapped, folder: Path, *, command: str = "") -> Path:
     folder : Path
         Created if absent.
     command : str
-        The command line, recorded in map.json.
+        The command line, recorded in map_run.json.
 
     Returns
     -------
     Path
         map.json's path.
     """
-    from .figures import constraint_maps, phase_diagrams, specification_curves
+    from .figures import constraint_maps, covariate_maps, phase_diagrams, specification_curves
 
     folder.mkdir(parents=True, exist_ok=True)
-    doc = mapped.result.as_dict()
-    doc["command"] = command
-    doc["unit_run"] = {"computed": mapped.units.computed, "reused": mapped.units.reused,
-                       "unit_wall_s_summed": mapped.units.run_s, "run_ids": list(mapped.units.run_ids)}
     path = folder / "map.json"
-    path.write_text(json.dumps(doc, indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    path.write_text(json.dumps(mapped.result.as_dict(), indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    run = {"command": command, "computed": mapped.units.computed, "reused": mapped.units.reused,
+           "unit_wall_s_summed": mapped.units.run_s, "run_ids": list(mapped.units.run_ids)}
+    (folder / RUN_FILE).write_text(json.dumps(run, indent=1) + "\n", encoding="utf-8")
     phase_diagrams(mapped.result, folder / "phase_diagrams.png")
     specification_curves(mapped.result, folder / "specification_curves.png")
     constraint_maps(mapped.result, folder / "constraints.png")
+    covariate_maps(mapped.result, folder / "covariates.png")
     return path

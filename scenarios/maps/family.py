@@ -101,6 +101,14 @@ class Parameter:
                     math.floor(hi / self.step) * self.step)
         return float(v)
 
+    def coordinate(self, value: float) -> float:
+        """The unit coordinate of ``value`` (the inverse of :meth:`value`; outside [0, 1] when the value
+        lies outside the range)."""
+        lo, hi = self.range.low, self.range.high
+        if self.scale == "log":
+            return float(math.log(value / lo) / math.log(hi / lo))
+        return float((value - lo) / (hi - lo))
+
     def axis_label(self) -> str:
         """``"label [unit]"`` (no brackets for a pure number)."""
         u = self.range.unit
@@ -247,6 +255,19 @@ class Family:
         """The open parameters' fields, in order."""
         return tuple(p.field for p in self.parameters)
 
+    @property
+    def nominal(self) -> dict[str, float] | None:
+        """The nominal device (``base``, what the default ``reproduce`` runs) as a point of the family:
+        its value of every open parameter, or None when one of them is not a number inside the
+        parameter's range (the nominal device is then no point of the family)."""
+        out = {}
+        for p in self.parameters:
+            v = getattr(self.base, p.field)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not p.range.contains(float(v)):
+                return None
+            out[p.field] = float(v)
+        return out
+
     def config(self, values: Mapping[str, float]) -> Any:
         """The paper's ``Config`` at the point ``values`` (one value per open parameter, field units)."""
         if set(values) != set(self.names):
@@ -287,6 +308,7 @@ class Family:
                            for p in self.parameters],
             "fixed": [{"field": f.field, "value": _json_value(get_path(self.base, f.field)), "source": f.source}
                       for f in self.fixed],
+            "nominal": self.nominal,
         }
 
 

@@ -22,14 +22,15 @@ from gyrobench.base.safety import PNG_METADATA  # noqa: E402
 
 from .region import ClaimMap, MapResult, Sensitivity  # noqa: E402
 
-__all__ = ["constraint_maps", "phase_diagrams", "specification_curves"]
+__all__ = ["constraint_maps", "covariate_maps", "phase_diagrams", "specification_curves"]
 
 
 def _panels(n: int, height: float) -> tuple[Any, Any]:
-    """A figure of ``n`` panels, three to a row, each 5.4 in wide and ``height`` in high."""
+    """A figure of ``n`` panels, three to a row, each 4.8 in wide and ``height`` in high (three panels at
+    90 dpi: 1296 px, inside the report's 1400-px page at full size)."""
     cols = min(n, 3)
     rows = math.ceil(n / cols)
-    return plt.subplots(rows, cols, figsize=(5.4 * cols, height * rows), squeeze=False, layout="constrained")
+    return plt.subplots(rows, cols, figsize=(4.8 * cols, height * rows), squeeze=False, layout="constrained")
 
 
 def _save(fig: Any, axes: Any, used: int, path: Path) -> Path:
@@ -53,6 +54,21 @@ def _parameter_axes(ax: Any, result: MapResult, a: int, b: int) -> tuple[NDArray
     ax.set_xlabel(params[a].axis_label())
     ax.set_ylabel(params[b].axis_label())
     return x, y
+
+
+def _mark_nominal(ax: Any, result: MapResult, a: int, b: int) -> None:
+    """The nominal device (the default reproduce's) as a black star, and the region's medoid as a
+    red diamond, on parameters ``a`` (x) and ``b`` (y)."""
+    params = result.family.parameters
+    if result.nominal is not None:
+        v = result.nominal.values
+        ax.scatter([v[params[a].field]], [v[params[b].field]], marker="*", s=260, color="k",
+                   label="nominal device" + (" (in the region)" if result.nominal.in_region else ""), zorder=4)
+    med = result.medoid
+    if med is not None:
+        v = result.design.values[med]
+        ax.scatter([v[params[a].field]], [v[params[b].field]], marker="D", s=70, facecolors="none",
+                   edgecolors="darkred", linewidths=1.8, label="region medoid", zorder=4)
 
 
 def _short(text: str, width: int = 58) -> str:
@@ -106,6 +122,7 @@ def phase_diagrams(result: MapResult, path: Path) -> Path:
         ax.scatter(x[~ok], y[~ok], marker="x", color="0.6", s=40, label="not testable")
         inr = np.array([i in region for i in range(len(x))], bool)
         ax.scatter(x[inr], y[inr], facecolors="none", edgecolors="red", s=170, linewidths=1.6, label="region")
+        _mark_nominal(ax, result, a, b)
         rho = {s.field: s.rho for s in m.sensitivity}
         ra, rb = rho.get(params[a].field), rho.get(params[b].field)
         tag = ", ".join(f"rho={r:+.2f}" if r is not None else "rho n/a" for r in (ra, rb))
@@ -214,3 +231,56 @@ def constraint_maps(result: MapResult, path: Path) -> Path:
         ax.legend(fontsize=7, loc="best")
     fig.suptitle(f"paper {result.family.paper}: the reported device facts over the family")
     return _save(fig, axes, len(cons), path)
+
+
+def covariate_maps(result: MapResult, path: Path) -> Path | None:
+    """Each claim's pass rate against each covariate's point median, one PNG (None: no covariate).
+
+    One panel per claim and covariate: every point's pass rate over the point's median of the
+    covariate, region points ringed in red, the nominal device as a black star, Spearman's rho in
+    the title.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+    path : Path
+        The PNG to write.
+
+    Returns
+    -------
+    Path or None
+        ``path``, or None when the family names no covariate (nothing written).
+    """
+    if not result.covariates:
+        return None
+    pairs = [(k, j) for j in range(len(result.covariates)) for k in range(len(result.claims))]
+    fig, axes = _panels(len(pairs), 4.2)
+    region = set(result.region)
+    for ax, (k, j) in zip(axes.flat, pairs, strict=False):
+        m, v = result.claims[k], result.covariates[j]
+        x = np.array([row[j] for row in result.covariate_medians])
+        rate = np.array(m.pass_rates())
+        ok = np.isfinite(x) & np.isfinite(rate)
+        inr = np.array([i in region for i in range(len(x))], bool)
+        ax.scatter(x[ok], rate[ok], s=40, color="tab:blue", label="family point")
+        ax.scatter(x[ok & inr], rate[ok & inr], facecolors="none", edgecolors="red", s=130, linewidths=1.5,
+                   label="region")
+        n = result.nominal
+        if n is not None and math.isfinite(n.covariate_medians[j]) and n.testable[k]:
+            ax.scatter([n.covariate_medians[j]], [n.holds[k] / n.testable[k]], marker="*", s=260, color="k",
+                       label="nominal device", zorder=4)
+        if ok.any() and np.all(x[ok] > 0) and x[ok].max() / x[ok].min() > 30:
+            ax.set_xscale("log")
+        rho, _, pts = result.covariate_sensitivity(k, j)
+        tag = f"Spearman rho={rho:+.2f} over {pts} points" if rho is not None else f"rho n/a ({pts} points)"
+        ax.set_title(f"{m.claim.id}\n{tag}", fontsize=8.5)
+        ax.set_xlabel(f"point median: {v.label}")
+        ax.set_ylabel("pass rate over the point's units")
+        ax.set_ylim(-0.05, 1.05)
+        ax.axhline(0.5, color="k", lw=0.8, ls=":")
+        ax.grid(True, which="both", alpha=0.25)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=9)
+    fig.suptitle(f"paper {result.family.paper}: the claims against the quantities they rest on")
+    return _save(fig, axes, len(pairs), path)

@@ -27,6 +27,19 @@ absolute Spearman rank correlation (:func:`scipy.stats.spearmanr`) of its value 
 point's pass rate of the claim over all points that could test it (a rank measure: the same for
 the value and its logarithm). This is a screening of monotone effects, not a variance
 decomposition: a parameter acting non-monotonically, or only through an interaction, ranks low.
+
+**Covariates.** A family may name quantities of the units that are no reported fact but that a
+claim needs (paper 003's T x dT share of the drift): each point's median of each
+(:class:`Covariate`) is kept, with each claim's Spearman rank correlation against it, so a claim
+can be read against the quantity it rests on.
+
+**Nominal device and medoid.** The family's nominal device (the default ``reproduce``'s,
+:attr:`~.family.Family.nominal`) runs as one more point with its own seeds: its constraint
+medians, whether it lies in the region (every constraint satisfied) and each claim's verdict on
+it are reported beside the region's. The region's **medoid** is the region point with the least
+sum of Euclidean distances, in the design's unit coordinates (log parameters in their
+logarithm), to the other region points (ties: the lowest index): a region device to name when
+the nominal lies outside.
 """
 
 from __future__ import annotations
@@ -47,10 +60,14 @@ __all__ = [
     "MAP_FORMAT",
     "ClaimMap",
     "Constraint",
+    "Covariate",
     "MapResult",
+    "Nominal",
     "Sensitivity",
     "analyse",
     "conflicts",
+    "medoid",
+    "nominal_text",
     "region_finding",
 ]
 
@@ -85,6 +102,68 @@ class Constraint:
     def holds(self, median: float) -> bool:
         """Whether a point whose units' median quantity is ``median`` satisfies the fact (NaN: no)."""
         return math.isfinite(median) and self.comparator.holds(median)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Covariate:
+    """A quantity of the units a claim rests on, reported per point (no constraint).
+
+    Attributes
+    ----------
+    quantity : str
+        Key of the units' ``quantities``.
+    label : str
+        Axis label with its unit, e.g. ``"T x dT share of the drift [-]"``.
+    definition : str
+        What it measures and why the claims need it.
+    """
+
+    quantity: str
+    label: str
+    definition: str
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Nominal:
+    """The nominal device run as one more point of the map.
+
+    Attributes
+    ----------
+    values : dict
+        Its value of each open parameter (field units).
+    unit_coordinates : tuple of float
+        The same in the design's unit coordinates.
+    seeds : tuple of int
+        Its units' seeds.
+    constraint_medians : tuple of float
+        Its median of each constraint's quantity.
+    satisfied : tuple of bool
+        Each constraint satisfied.
+    covariate_medians : tuple of float
+        Its median of each covariate.
+    holds, testable : tuple of int
+        Per claim: its passing and testable units.
+    medians : tuple of float
+        Per claim: its median quantity over the testable units (NaN: none).
+    verdicts : tuple of str
+        Per claim: ``"holds"``, ``"fails"`` or ``"not testable"``.
+    """
+
+    values: dict[str, float]
+    unit_coordinates: tuple[float, ...]
+    seeds: tuple[int, ...]
+    constraint_medians: tuple[float, ...]
+    satisfied: tuple[bool, ...]
+    covariate_medians: tuple[float, ...]
+    holds: tuple[int, ...]
+    testable: tuple[int, ...]
+    medians: tuple[float, ...]
+    verdicts: tuple[str, ...]
+
+    @property
+    def in_region(self) -> bool:
+        """Whether the nominal device satisfies every constraint."""
+        return all(self.satisfied)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -179,6 +258,12 @@ class MapResult:
     satisfied : tuple of tuple of bool
         ``[i][c]``: point i satisfies constraint c.
     claims : tuple of ClaimMap
+    covariates : tuple of Covariate
+        Quantities reported per point beside the claims.
+    covariate_medians : tuple of tuple of float
+        ``[i][v]``: point i's median of covariate v.
+    nominal : Nominal or None
+        The nominal device run as one more point (None: not run).
     """
 
     family: Family
@@ -188,11 +273,35 @@ class MapResult:
     constraint_medians: tuple[tuple[float, ...], ...]
     satisfied: tuple[tuple[bool, ...], ...]
     claims: tuple[ClaimMap, ...]
+    covariates: tuple[Covariate, ...] = ()
+    covariate_medians: tuple[tuple[float, ...], ...] = ()
+    nominal: Nominal | None = None
 
     @property
     def region(self) -> tuple[int, ...]:
         """Indices of the points satisfying every constraint."""
         return tuple(i for i, row in enumerate(self.satisfied) if all(row))
+
+    @property
+    def medoid(self) -> int | None:
+        """The region's medoid (:func:`medoid`), None when the region is empty."""
+        return medoid(self.design.unit, self.region)
+
+    def covariate_sensitivity(self, claim: int, covariate: int) -> tuple[float | None, float | None, int]:
+        """Spearman's rho (and p-value) of claim ``claim``'s pass rate with covariate ``covariate``'s
+        point medians, over the points where both are finite; (None, None, n) when either is constant
+        or fewer than 3 points remain."""
+        rates = self.claims[claim].pass_rates()
+        cov = [row[covariate] for row in self.covariate_medians]
+        ok = [i for i in range(len(rates)) if math.isfinite(rates[i]) and math.isfinite(cov[i])]
+        if len(ok) < 3:
+            return None, None, len(ok)
+        x = np.asarray([cov[i] for i in ok])
+        y = np.asarray([rates[i] for i in ok])
+        if np.ptp(x) == 0 or np.ptp(y) == 0:
+            return None, None, len(ok)
+        res = spearmanr(x, y)
+        return float(res.statistic), float(res.pvalue), len(ok)
 
     def constraint_sensitivity(self, j: int) -> tuple[Sensitivity, ...]:
         """Every parameter's Spearman rank correlation with constraint ``j``'s point medians (finite ones)."""
@@ -216,6 +325,8 @@ class MapResult:
                                        for j, c in enumerate(self.constraints)},
                 "constraints_satisfied": {c.id: self.satisfied[i][j] for j, c in enumerate(self.constraints)},
                 "in_region": i in region,
+                "covariate_medians": {v.quantity: _num(self.covariate_medians[i][j])
+                                      for j, v in enumerate(self.covariates)},
                 "claims": {m.claim.id: {"holds": m.holds[i], "testable": m.testable[i],
                                         "pass_rate": _num(m.pass_rates()[i]), "median": _num(m.medians[i]),
                                         "verdict": m.point_verdicts[i]} for m in self.claims},
@@ -244,6 +355,15 @@ class MapResult:
             "conflicts": [list(p) for p in conflicts(self)],
             "region": list(self.region),
             "finding": region_finding(self),
+            "medoid": None if self.medoid is None else {"index": self.medoid,
+                                                        "parameters": self.design.values[self.medoid]},
+            "nominal": self._nominal_dict(),
+            "nominal_text": nominal_text(self),
+            "covariates": [{"quantity": v.quantity, "label": v.label, "definition": v.definition,
+                            "claims": {m.claim.id: dict(zip(("rho", "p_value", "points"),
+                                                            self.covariate_sensitivity(k, j), strict=True))
+                                       for k, m in enumerate(self.claims)}}
+                           for j, v in enumerate(self.covariates)],
             "claims": [{
                 "id": m.claim.id, "statement": m.claim.statement, "quantity": m.claim.quantity,
                 "comparator": m.claim.comparator.text(m.claim.unit), "paper_value": m.claim.paper_value,
@@ -251,10 +371,29 @@ class MapResult:
                 "interval95": None if m.interval95 is None else list(m.interval95),
                 "misses": m.misses, "verdict": m.verdict_text(),
                 "family_holds": m.family_k, "family_testable": m.family_n,
+                "nominal": None if self.nominal is None else {
+                    "holds": self.nominal.holds[k], "testable": self.nominal.testable[k],
+                    "median": _num(self.nominal.medians[k]), "verdict": self.nominal.verdicts[k]},
                 "sensitivity": [{"field": s.field, "rho": s.rho, "p_value": s.p_value, "points": s.points}
                                 for s in m.sensitivity],
-            } for m in self.claims],
+            } for k, m in enumerate(self.claims)],
             "points": points,
+        }
+
+    def _nominal_dict(self) -> dict[str, Any] | None:
+        """map.json's ``nominal``: the nominal device's point, in the region or not, and the medoid's
+        distance from it (unit coordinates)."""
+        n = self.nominal
+        if n is None:
+            return None
+        med = self.medoid
+        dist = None if med is None else float(np.linalg.norm(self.design.unit[med] - np.asarray(n.unit_coordinates)))
+        return {
+            "parameters": n.values, "unit_coordinates": list(n.unit_coordinates), "seeds": list(n.seeds),
+            "constraint_medians": {c.id: _num(n.constraint_medians[j]) for j, c in enumerate(self.constraints)},
+            "constraints_satisfied": {c.id: n.satisfied[j] for j, c in enumerate(self.constraints)},
+            "covariate_medians": {v.quantity: _num(n.covariate_medians[j]) for j, v in enumerate(self.covariates)},
+            "in_region": n.in_region, "distance_to_medoid": dist,
         }
 
 
@@ -322,6 +461,10 @@ def analyse(
     units: Sequence[Sequence[Mapping[str, Any]]],
     constraints: Sequence[Constraint],
     claims: Sequence[Claim],
+    *,
+    covariates: Sequence[Covariate] = (),
+    nominal_seeds: Sequence[int] = (),
+    nominal_units: Sequence[Mapping[str, Any]] | None = None,
 ) -> MapResult:
     """The map of claims over a design's points and the region of the constraints (rules: the module).
 
@@ -339,6 +482,12 @@ def analyse(
         The paper's device facts (at least one).
     claims : sequence of Claim
         The claims to map.
+    covariates : sequence of Covariate
+        Quantities reported per point beside the claims.
+    nominal_seeds : sequence of int
+        The nominal device's unit seeds.
+    nominal_units : sequence of mapping, optional
+        The nominal device's units' ``quantities`` (None: not run; the family has no nominal point).
 
     Returns
     -------
@@ -349,14 +498,68 @@ def analyse(
         raise ValueError(f"a map needs one list of units per point; got {len(units)} for {len(design)} points")
     if not constraints:
         raise ValueError("a map needs at least one constraint (a device fact the paper reports)")
-    med = tuple(tuple(finite_median(u.get(c.quantity) for u in pts) for c in constraints) for pts in units)
+    med = tuple(_medians(constraints, pts) for pts in units)
     sat = tuple(tuple(c.holds(m) for c, m in zip(constraints, row, strict=True)) for row in med)
     region = [i for i, row in enumerate(sat) if all(row)]
+    nominal = None
+    if nominal_units is not None:
+        if family.nominal is None:
+            raise ValueError(f"family of paper {family.paper}: its base configuration is no point of the family")
+        nominal = _nominal(family, constraints, claims, covariates, nominal_seeds, nominal_units)
     return MapResult(
         family=family, design=design, seeds=tuple(tuple(s) for s in seeds), constraints=tuple(constraints),
         constraint_medians=med, satisfied=sat,
         claims=tuple(_claim_map(c, units, region, family, design) for c in claims),
+        covariates=tuple(covariates), covariate_medians=tuple(_medians(covariates, pts) for pts in units),
+        nominal=nominal,
     )
+
+
+def _medians(keyed: Sequence[Constraint] | Sequence[Covariate],
+             units: Sequence[Mapping[str, Any]]) -> tuple[float, ...]:
+    """Each constraint's (or covariate's) finite median over one point's units (NaN: none finite)."""
+    return tuple(finite_median(u.get(c.quantity) for u in units) for c in keyed)
+
+
+def _nominal(family: Family, constraints: Sequence[Constraint], claims: Sequence[Claim],
+             covariates: Sequence[Covariate], seeds: Sequence[int], units: Sequence[Mapping[str, Any]]) -> Nominal:
+    """The nominal device's constraints, covariates and claim verdicts over its units."""
+    values = family.nominal or {}
+    med = _medians(constraints, units)
+    results = [evaluate([c], list(units))[0] for c in claims]
+    holds = tuple(r.holds for r in results)
+    testable = tuple(r.testable for r in results)
+    return Nominal(
+        values=values, unit_coordinates=tuple(p.coordinate(values[p.field]) for p in family.parameters),
+        seeds=tuple(int(s) for s in seeds), constraint_medians=med,
+        satisfied=tuple(c.holds(m) for c, m in zip(constraints, med, strict=True)),
+        covariate_medians=_medians(covariates, units), holds=holds, testable=testable,
+        medians=tuple(math.nan if r.median is None else float(r.median) for r in results),
+        verdicts=tuple(point_verdict(h, t) for h, t in zip(holds, testable, strict=True)),
+    )
+
+
+def medoid(unit: np.ndarray, members: Sequence[int]) -> int | None:
+    """The member point with the least sum of Euclidean distances to the other members.
+
+    Parameters
+    ----------
+    unit : ndarray, shape (N, d)
+        Every design point's unit coordinates.
+    members : sequence of int
+        The indices to choose among (the region).
+
+    Returns
+    -------
+    int or None
+        The medoid's index (the lowest on a tie); None when ``members`` is empty.
+    """
+    idx = list(members)
+    if not idx:
+        return None
+    x = np.asarray(unit, float)[idx]
+    total = np.sqrt(((x[:, None, :] - x[None, :, :]) ** 2).sum(axis=-1)).sum(axis=1)
+    return idx[int(np.argmin(total))]
 
 
 def conflicts(result: MapResult) -> tuple[tuple[str, str], ...]:
@@ -428,3 +631,39 @@ def _closest(result: MapResult, cid: str) -> str:
     if at is None:
         return f"{cid} (needs {c.comparator.text()}; no point gives a finite {c.quantity})"
     return f"{cid} (needs {c.comparator.text()}; closest: {result.constraint_medians[at][j]:.4g} at point {at})"
+
+
+def _values_text(result: MapResult, values: Mapping[str, float]) -> str:
+    """``"field = value unit, ..."`` of a point's open parameters."""
+    def unit(p: Any) -> str:
+        return "" if p.range.unit in ("", "1") else f" {p.range.unit}"
+
+    return ", ".join(f"{p.field} = {values[p.field]:.4g}{unit(p)}" for p in result.family.parameters)
+
+
+def nominal_text(result: MapResult) -> str:
+    """Whether the nominal device (the default ``reproduce``'s) lies in the region, and the region's medoid.
+
+    Parameters
+    ----------
+    result : MapResult
+        A map.
+
+    Returns
+    -------
+    str
+        One sentence or two: the nominal's membership (or that the family has no nominal point),
+        then the medoid's parameters, or that the region is empty.
+    """
+    n, med = result.nominal, result.medoid
+    if n is None:
+        first = "The nominal device is no point of the family (its base configuration lies outside a range)."
+    elif n.in_region:
+        first = f"The nominal device lies in the region (every reported fact holds over its {len(n.seeds)} units)."
+    else:
+        missed = [c.id for c, ok in zip(result.constraints, n.satisfied, strict=True) if not ok]
+        first = (f"The nominal device lies outside the region ({', '.join(missed)} not satisfied over its "
+                 f"{len(n.seeds)} units).")
+    if med is None:
+        return first + " The region is empty: no region device can be named."
+    return first + f" Region medoid: point {med} ({_values_text(result, result.design.values[med])})."

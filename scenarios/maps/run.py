@@ -5,20 +5,21 @@ Point ``i`` is the paper's ``Config`` at the design's i-th values; its unit ``j`
 
     unit_seed(seed, i, j) = seed + MAP_SEED_OFFSET + i * UNITS_PER_POINT_MAX + j
 
-so a unit's seed depends on its point and unit index only (never on the order units finish in,
-the worker count or the executor), and no map seed is one of the report's seeds (0 ...) or an
-identification's (900 ...). Each unit runs through the runner's worker entry point
-(``_unit_job`` of :mod:`gyrobench.scenarios.runner.units`: BLAS pools limited to one thread, the
-result encoded by the codec; the store's private helpers are used as they are, so a map's units are
-stored exactly as :func:`~gyrobench.scenarios.runner.units.run_units` stores them), so a local pool
-(``workers``), this process (``workers=0``) or a Dask
-executor give the same bits. Each finished unit is committed to the unit store under its point's
-run id (the scenario's source closure and that point's ``Config``), the store
-:func:`gyrobench.scenarios.runner.units.run_units` uses: a map killed at any moment resumes and
-recomputes no finished unit. (A point's run id is the one ``reproduce`` gives the same config, but
-map seeds start at ``MAP_SEED_OFFSET``, so a map does not reuse a reproduction's units.) Units
-are stored slim (:func:`~gyrobench.scenarios.runner.units.slim_result`): the
-map reads only their ``quantities``.
+so a unit's seed depends on its point and unit index only (never on the order units finish in, the
+worker count or the executor), and no map seed is one of the report's seeds (0 ...) or an
+identification's (900 ...). The family's nominal device runs as point ``NOMINAL_POINT`` (past the
+last design point a map may have), so its seeds do not depend on the design's size. Each unit runs
+through the runner's worker entry point (``_unit_job`` of :mod:`gyrobench.scenarios.runner.units`:
+BLAS pools limited to one thread, the result encoded by the codec; the store's private helpers are
+used as they are, so a map's units are stored exactly as
+:func:`~gyrobench.scenarios.runner.units.run_units` stores them), so a local pool (``workers``),
+this process (``workers=0``) or a Dask executor give the same bits. Each finished unit is committed
+to the unit store under its point's run id (the scenario's source closure and that point's
+``Config``), the store :func:`gyrobench.scenarios.runner.units.run_units` uses: a map killed at any
+moment resumes and recomputes no finished unit. (A point's run id is the one ``reproduce`` gives the
+same config, but map seeds start at ``MAP_SEED_OFFSET``, so a map does not reuse a reproduction's
+units.) Units are stored slim (:func:`~gyrobench.scenarios.runner.units.slim_result`): the map reads
+only their ``quantities``.
 """
 
 from __future__ import annotations
@@ -33,12 +34,16 @@ from typing import Any
 from gyrobench.scenarios.papers.contract import quantities_of
 from gyrobench.scenarios.runner import units as runner
 
-__all__ = ["MAP_SEED_OFFSET", "UNITS_PER_POINT_MAX", "MapUnits", "run_map", "unit_seed"]
+from .family import MAX_POINTS
+
+__all__ = ["MAP_SEED_OFFSET", "NOMINAL_POINT", "UNITS_PER_POINT_MAX", "MapUnits", "run_map", "unit_seed"]
 
 #: added to every map unit's seed: apart from the report's seeds (0, 1, ...) and identifications'
 MAP_SEED_OFFSET = 10_000_000
 #: the most units one point may have (the stride of point indices in :func:`unit_seed`)
 UNITS_PER_POINT_MAX = 1000
+#: the point index the nominal device's units run under (no design point has it)
+NOMINAL_POINT = MAX_POINTS
 
 
 def unit_seed(seed: int, point: int, unit: int) -> int:
@@ -101,6 +106,7 @@ def run_map(
     workers: int | None = None,
     db: str | os.PathLike = runner.DEFAULT_DB,
     progress: bool = False,
+    point_indices: Sequence[int] | None = None,
 ) -> MapUnits:
     """Run ``units_per_point`` units of ``module`` at each of ``configs``, resuming from ``db``.
 
@@ -122,6 +128,9 @@ def run_map(
         SQLite unit store (created if absent, in an existing folder).
     progress : bool
         A tqdm bar on stderr.
+    point_indices : sequence of int, optional
+        Each config's point index in :func:`unit_seed` (distinct, >= 0; default 0, 1, ...): the
+        nominal device of a map runs under an index no design point has.
 
     Returns
     -------
@@ -146,10 +155,13 @@ def run_map(
     if not configs:
         raise ValueError("a map needs at least one point")
     check_pool(executor, workers)
-    last = unit_seed(seed, len(configs) - 1, units_per_point - 1)
+    index = list(range(len(configs))) if point_indices is None else [int(i) for i in point_indices]
+    if len(index) != len(configs) or len(set(index)) != len(index):
+        raise ValueError(f"point indices must be distinct, one per config; got {point_indices!r}")
+    last = unit_seed(seed, max(index), units_per_point - 1)
     runner.check_run_size(1, last, seed_name="the map's last unit seed")
     name = getattr(module, "NAME", module.__name__)
-    seeds = tuple(tuple(unit_seed(seed, i, j) for j in range(units_per_point)) for i in range(len(configs)))
+    seeds = tuple(tuple(unit_seed(seed, i, j) for j in range(units_per_point)) for i in index)
     ids = runner.run_ids(module, configs)
     conn = runner._open_store(db, ids[0][0], name, configs[0], ids[0][1])
     try:

@@ -87,13 +87,14 @@ def check_output(
 
 
 def write_report_as_a_set(
-    outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = ""
+    outcomes: Sequence[Any], out_dir: str | os.PathLike, *, command: str = "", maps: Any = None
 ) -> Path:
     """Write a report into a new folder swapped in for ``out_dir`` when complete.
 
     :func:`gyrobench.scenarios.reports.report.write_report` into a new folder swapped in for
     ``out_dir`` when complete (:func:`gyrobench.base.atomic.atomic_folder`); returns the
-    path of ``index.html`` in ``out_dir``.
+    path of ``index.html`` in ``out_dir``. ``maps`` (scenario -> :class:`~.map_section.MapFiles`)
+    go into their scenarios' sections.
 
     A failed or killed report leaves the previous ``out_dir`` as it was; ``out_dir`` never
     mixes two runs' files. Call :func:`check_output` (``kind="report"``) before the work.
@@ -120,7 +121,7 @@ def write_report_as_a_set(
     out = Path(out_dir)
     with atomic_folder(out) as tmp:
         try:
-            index = write_report(outcomes, tmp, command=command)
+            index = write_report(outcomes, tmp, command=command, maps=maps)
             doc = {
                 "written_by": "gyrobench reproduce; replaced as a whole by the next report while it holds only "
                               "these files",

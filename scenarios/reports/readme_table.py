@@ -247,6 +247,7 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
                 "|---|---|---|---|---|---|---|---|---|",
             ]
             lines += [_row(c) for d in papers for c in d["claims"]]
+    lines += _map_lines(papers)
     checks = [c for d in docs for c in d.get("checks", [])]
     if checks:
         failed = [c["id"] for c in checks if not c["passed"]]
@@ -265,6 +266,32 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
             "the report holds no paper claims and no physics checks: nothing to tabulate"
         )
     return "\n".join(lines) + "\n"
+
+
+def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
+    """One bullet per mapped paper: its region's size, whether the nominal device (the one the table's
+    units are) lies in it, and the region's medoid (the device to name when it does not)."""
+    out = []
+    for d in papers:
+        m = d.get("map")
+        if not m:
+            continue
+        key = _paper(d["claims"][0]["paper"])
+        n, reg = m["points"], len(m["region"])
+        if m.get("nominal_in_region") is None:
+            nominal = "the nominal device is no point of the family"
+        else:
+            inside = "lies in it" if m["nominal_in_region"] else "lies outside it"
+            nominal = f"the nominal device (these units) {inside}"
+        med = m.get("medoid")
+        if med is None:
+            where = "the region is empty, so no paper-consistent device can be named"
+        else:
+            params = ", ".join(f"{k} = {v:.4g}" for k, v in med["parameters"].items())
+            where = f"its medoid is point {med['index']} ({params})"
+        out.append(f"- {key} ({d['scenario']}/map.json): {reg} of {n} family points satisfy every reported "
+                   f"device fact; {nominal}; {where}.")
+    return (["", "Device-family maps (`reproduce NAME --map`):", "", *out]) if out else []
 
 
 def stability_text(docs: Sequence[dict[str, Any]], *, draws: int = 2000, seed: int = 0) -> str:

@@ -7,6 +7,7 @@ Layout written by :func:`write_report` under ``out_dir``::
     <scenario>/results.json    machine-readable results of that scenario
     <scenario>/report.md       that scenario's tables
     <scenario>/<figure>.png    its figures
+    <scenario>/map.json        its device-family map, when one is given (with the map's PNGs)
 
 Every file is written to a temporary name and renamed when complete. Every
 report states seed, package version and the full configuration.
@@ -22,7 +23,7 @@ import io
 import json
 import math
 import platform
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +34,9 @@ matplotlib.use("Agg")
 from gyrobench.base.atomic import atomic_path
 from gyrobench.io.recording import package_version  # noqa: E402
 from gyrobench.scenarios.base import Headline, Outcome, Table  # noqa: E402
+from gyrobench.scenarios.reports.map_section import FIGURES as MAP_FIGURES  # noqa: E402
+from gyrobench.scenarios.reports.map_section import MAP_FILE, MapFiles, map_tables, results_link  # noqa: E402
+from gyrobench.scenarios.reports.map_section import RUN_FILE as MAP_RUN_FILE  # noqa: E402
 from gyrobench.scenarios.reports.reasons import calibrated_text, reason  # noqa: E402
 
 __all__ = ["claim_tally", "fmt", "outcome_json", "status_text", "tally_table", "tally_text", "write_report"]
@@ -376,6 +380,8 @@ details.fold>summary h3{display:inline}
 table.claims{display:table;table-layout:fixed;width:100%;overflow-wrap:anywhere}
 table.claims th:nth-child(1){width:9%}table.claims th:nth-child(2){width:13%}
 table.claims th:nth-child(3){width:26%}table.claims td:nth-child(2){text-align:left}
+table.maptab{display:table;table-layout:fixed;width:100%;overflow-wrap:anywhere}
+table.maptab td{text-align:left}
 figure img{max-width:100%;border:1px solid #ddd}
 nav ol{font-size:0.9em;columns:2}
 nav details{display:inline;margin-left:0.5em;font-size:0.9em}
@@ -459,7 +465,7 @@ def _scenario_tables(o: Outcome) -> list[tuple[Table, bool]]:
     return [*own, *((t, False) for t in o.tables)]
 
 
-def _contents(outcomes: Sequence[Outcome]) -> tuple[list[str], str]:
+def _contents(outcomes: Sequence[Outcome], maps: Mapping[str, MapFiles]) -> tuple[list[str], str]:
     """The contents list, as Markdown lines and as an HTML <nav>."""
     md = ["## Contents", "", "- [Summary](#summary)"]
     h = ["<nav id='contents'><h2>Contents</h2><ol>", "<li><a href='#summary'>Summary</a></li>"]
@@ -471,6 +477,8 @@ def _contents(outcomes: Sequence[Outcome]) -> tuple[list[str], str]:
         ]
         if o.figures:
             sub.append(f"<li><a href='#{_anchor(o.scenario, 'figures')}'>Figures ({len(o.figures)})</a></li>")
+        if o.scenario in maps:
+            sub.append(f"<li><a href='#{_anchor(o.scenario, 'map')}'>Device family map</a></li>")
         h.append(
             f"<li><a href='#{html.escape(o.scenario)}'>{html.escape(o.title)}</a>"
             f"<details><summary>{len(sub)} parts</summary><ol>{''.join(sub)}</ol></details></li>"
@@ -534,8 +542,39 @@ def _section_table_html(t: Table, own: bool) -> str:
     return _html_table(t)
 
 
-def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list[str]]:
-    """One scenario's section (Markdown lines, HTML parts); writes its figures' PNG files."""
+def _map_section(o: Outcome, sdir: Path, m: MapFiles) -> tuple[list[str], list[str]]:
+    """A scenario's device-family map (Markdown lines, HTML parts); writes map.json and its PNGs."""
+    with atomic_path(sdir / MAP_FILE) as tmp:
+        tmp.write_text(json.dumps(m.doc, indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    if m.run is not None:
+        with atomic_path(sdir / MAP_RUN_FILE) as tmp:
+            tmp.write_text(json.dumps(m.run, indent=1) + "\n", encoding="utf-8")
+    verdicts = {r.claim.id: status_text(r) for r in o.claims}
+    anchor = _anchor(o.scenario, "map")
+    smd = ["### Device family map", "", f"Written by: `{m.command}`; "
+           f"every point in [{o.scenario}/map.json]({o.scenario}/map.json).", ""]
+    h = [f"<h3 id='{anchor}'>Device family map</h3>",
+         f"<p class='meta'>Written by <code>{html.escape(m.command)}"
+         f"</code>; every point, its parameters, per-point pass rates and region membership in "
+         f"<a href='{html.escape(o.scenario)}/map.json'>map.json</a>.</p>"]
+    for t in map_tables(m.doc, verdicts):
+        smd.append(_md_table(t))
+        h.append(_html_table(t).replace("<table>", "<table class='maptab'>", 1))
+    h.append("<div class='figs'>")
+    for name, caption in MAP_FIGURES:
+        png = m.pngs.get(name)
+        if png is None:
+            continue
+        with atomic_path(sdir / name) as tmp:
+            tmp.write_bytes(png)
+        smd += [f"![{caption}]({o.scenario}/{name})", "", f"*{caption}*", ""]
+        h.append(_figure_html(caption, png, f"{o.scenario}/{name}"))
+    h.append("</div>")
+    return smd, h
+
+
+def _scenario_section(o: Outcome, sdir: Path, cfg: str, m: MapFiles | None = None) -> tuple[list[str], list[str]]:
+    """One scenario's section (Markdown lines, HTML parts); writes its figures' PNG files (and its map's)."""
     seeds = f"seeds {o.seed} to {o.seed + o.units - 1} ({o.units} units)" if o.units > 1 else f"seed {o.seed}"
     meta = f"{seeds}; runtime {fmt(o.runtime_s)} s"
     if o.claims or o.deviations:
@@ -561,17 +600,23 @@ def _scenario_section(o: Outcome, sdir: Path, cfg: str) -> tuple[list[str], list
         h.append(_figure_html(f.caption, png, f"{o.scenario}/{f.name}.png"))
     if o.figures:
         h.append("</div>")
+    if m is not None:
+        mmd, mh = _map_section(o, sdir, m)
+        smd += mmd
+        h += mh
     smd += ["<details><summary>configuration</summary>", "", "```json", cfg, "```", "", "</details>", ""]
     h.append(f"<details><summary>configuration</summary><pre>{html.escape(cfg)}</pre></details></section>")
     return smd, h
 
 
-def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: str = "") -> Path:
+def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: str = "",
+                 maps: Mapping[str, MapFiles] | None = None) -> Path:
     """Write every outcome's files and the summary page; return the path of ``index.html``.
 
     The page reads like a paper's supplement: a contents list with anchors, the tally of
     verdicts and the headline numbers on top, then each scenario once (claims, deviations,
-    its tables, its figures side by side, its configuration folded).
+    its tables, its figures side by side, its device-family map when ``maps`` has one, its
+    configuration folded). A mapped scenario's results.json links its map.json (``map``).
 
     Parameters
     ----------
@@ -581,12 +626,15 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         The report folder.
     command : str
         The command line that made the report, shown in it.
+    maps : mapping of str to MapFiles, optional
+        Each mapped scenario's map files, shown in its section.
 
     Returns
     -------
     Path
         ``out_dir / "index.html"``.
     """
+    maps = maps or {}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     version = package_version()
@@ -605,7 +653,7 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         + (f"; command <code>{html.escape(command)}</code>" if command else "")
         + "</p>",
     ]
-    contents_md, contents_html = _contents(outcomes)
+    contents_md, contents_html = _contents(outcomes, maps)
     md += contents_md
     h.append(contents_html)
     summary_md, summary_html = _summary(outcomes)
@@ -616,8 +664,11 @@ def write_report(outcomes: Sequence[Outcome], out_dir: str | Path, *, command: s
         sdir = out / o.scenario
         sdir.mkdir(parents=True, exist_ok=True)
         doc = outcome_json(o)
+        m = maps.get(o.scenario)
+        if m is not None:
+            doc["map"] = results_link(m.doc)
         _write_text(sdir / "results.json", json.dumps(doc, indent=2, sort_keys=False) + "\n")
-        smd, sh = _scenario_section(o, sdir, json.dumps(doc["config"], indent=1))
+        smd, sh = _scenario_section(o, sdir, json.dumps(doc["config"], indent=1), m)
         _write_text(sdir / "report.md", "\n".join(smd).replace(f"]({o.scenario}/", "]("))
         md += smd
         h += sh

@@ -794,7 +794,7 @@ def test_report_folder_is_written_as_a_set(tmp_path, monkeypatch, user_files):
 
     out = tmp_path / "rep"
 
-    def fake_write_report(outcomes, out_dir, *, command=""):
+    def fake_write_report(outcomes, out_dir, *, command="", maps=None):
         d = Path(out_dir)
         for name in outcomes:
             (d / name).mkdir()

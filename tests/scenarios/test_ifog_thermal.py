@@ -251,7 +251,8 @@ def test_heat_cool_average_needs_overlap():
 def test_temperature_curves_variant_runs():
     u = sc.experiment(replace(SMALL, identification_average="temperature_curves"), 7)
     assert u.paper.training_rows < 30
-    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | {"val1_drift_to_noise", "txdt_unabsorbed"}
+    extra = {"val1_drift_to_noise", "txdt_unabsorbed", "txdt_share"}
+    assert set(u.quantities) == {c.quantity for c in sc.CLAIMS} | extra
 
 
 # ------------------------------------------------------------------ closed forms

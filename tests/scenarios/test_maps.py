@@ -38,7 +38,8 @@ def toy_map(tmp_path_factory):
 def _reanalysed(mapped, constraints):
     """The same units judged against other constraints (no unit is rerun)."""
     r = mapped.result
-    return region.analyse(r.family, r.design, r.seeds, mapped.units.quantities, constraints, toy.MAP_CLAIMS)
+    return region.analyse(r.family, r.design, r.seeds, mapped.units.quantities[:len(r.design)], constraints,
+                          toy.MAP_CLAIMS)
 
 
 def test_design_sobol_for_a_power_of_two_lhs_otherwise_within_the_ranges():
@@ -137,13 +138,32 @@ def _recount(doc):
     return reg, counts, verdicts
 
 
+def _recount_nominal(doc):
+    """The nominal device's region membership and the region's medoid from map.json alone."""
+    def ok(c, v):
+        lo = -math.inf if c["lo"] is None else c["lo"]
+        hi = math.inf if c["hi"] is None else c["hi"]
+        return v is not None and {"above": v > lo, "below": v < hi, "is_true": v == 1.0}.get(c["kind"], lo <= v <= hi)
+
+    reg = [p for p in doc["points"] if all(ok(c, p["constraint_medians"][c["id"]]) for c in doc["constraints"])]
+    total = [sum(math.dist(p["unit_coordinates"], q["unit_coordinates"]) for q in reg) for p in reg]
+    medoid = reg[total.index(min(total))]["index"] if reg else None
+    nom = doc["nominal"]
+    inside = None if nom is None else all(ok(c, nom["constraint_medians"][c["id"]]) for c in doc["constraints"])
+    return inside, medoid
+
+
 def test_map_json_recomputed_independently(toy_map, tmp_path):
     path = build.write_map(toy_map, tmp_path / "out")
     doc = json.loads(path.read_text())
     assert next(iter(doc)) == "format" and doc["format"] == region.MAP_FORMAT
+    assert "command" not in doc and "unit_run" not in doc  # how the run went: map_run.json beside it
+    assert json.loads((tmp_path / "out" / build.RUN_FILE).read_text())["computed"] == 16 * 3 + 3
     reg, counts, verdicts = _recount(doc)
     assert reg == doc["region"] and counts == doc["constraint_counts"]
     assert [p["index"] for p in doc["points"] if p["in_region"]] == reg
+    inside, medoid = _recount_nominal(doc)
+    assert (inside, medoid) == (doc["nominal"]["in_region"], doc["medoid"]["index"])
     for c in doc["claims"]:
         k, n, ci, fk, fn = verdicts[c["id"]]
         assert (c["region_holds"], c["region_testable"]) == (k, n)
@@ -156,7 +176,7 @@ def test_map_json_recomputed_independently(toy_map, tmp_path):
 def test_a_resumed_map_recomputes_nothing_and_gives_the_same_result(tmp_path):
     first = _map(tmp_path, points=4, k=2)
     again = _map(tmp_path, points=4, k=2)
-    assert (first.units.computed, again.units.computed, again.units.reused) == (8, 0, 8)
+    assert (first.units.computed, again.units.computed, again.units.reused) == (10, 0, 10)  # 4 x 2 + nominal
     assert first.result.as_dict() == again.result.as_dict()
     # a point's run id is the one `reproduce` gives its config: a map and a reproduce share stored units
     cfg = toy.FAMILY.config(first.result.design.values[3])
@@ -170,7 +190,7 @@ def test_workers_0_and_2_give_identical_maps(tmp_path):
     a = _map(tmp_path, points=4, k=2, workers=0, db_name="a.db")
     b = _map(tmp_path, points=4, k=2, workers=2, db_name="b.db")
     assert json.dumps(a.result.as_dict()) == json.dumps(b.result.as_dict())
-    assert a.units.computed == b.units.computed == 8
+    assert a.units.computed == b.units.computed == 10
 
 
 def test_run_map_refuses_bad_sizes(tmp_path):
@@ -211,7 +231,7 @@ def test_map_cli_writes_map_json_and_pngs_into_a_report_folder(toy_map_registere
     code, out, err = run(["reproduce", "toy_map_paper", "--map", "--points", "8", "--units-per-point", "2",
                           "--workers", "0", "-q", "--out", tmp_path / "r"], capsys)
     assert code == 0, err  # an earlier map's folder is replaced; its units come from the store
-    assert "0 computed, 16 reused" in out
+    assert "0 computed, 18 reused" in out  # 8 x 2 and the nominal's 2
 
 
 @pytest.mark.slow  # a dask.distributed LocalCluster: several seconds
@@ -272,3 +292,104 @@ def test_map_cli_refuses_a_foreign_out_folder_and_leaves_it_alone(toy_map_regist
                         "--out", out], capsys)
     assert_one_line_error(code, err, "--out")
     assert [p.name for p in out.iterdir()] == ["notes.txt"] and (out / "notes.txt").read_text() == "mine"
+
+
+def test_nominal_device_runs_as_its_own_point_and_the_medoid_is_the_central_region_point(toy_map):
+    from scipy.spatial.distance import cdist
+
+    from gyrobench.scenarios.maps.run import NOMINAL_POINT
+
+    r = toy_map.result
+    n = r.nominal
+    assert n is not None and n.values == {"x": 0.5, "y": 0.1}  # the toy's Config()
+    assert n.seeds == tuple(unit_seed(0, NOMINAL_POINT, j) for j in range(3))
+    assert not set(n.seeds) & {s for row in r.seeds for s in row}  # no design point's seed
+    assert n.constraint_medians == (0.5, 0.1) and n.in_region  # x > 0.3 and y < 0.5 by construction
+    assert n.unit_coordinates == pytest.approx((0.5, 0.5))  # 0.1 is the log-midpoint of [1e-2, 1]
+    # x = 0.5: each unit passes q when 0.05 e > 0.1 (2 sigma), so a majority of 3 passes with
+    # probability about 2e-3: the nominal device fails toy.q
+    assert n.verdicts[0] == "fails" and n.testable == (3, 3)
+    reg = list(r.region)
+    d = cdist(r.design.unit[reg], r.design.unit[reg]).sum(axis=1)
+    assert r.medoid == reg[int(np.argmin(d))]
+    text = region.nominal_text(r)
+    assert "lies in the region" in text and f"Region medoid: point {r.medoid}" in text
+    r2 = _reanalysed(toy_map, (*toy.MAP_CONSTRAINTS, toy.NEVER))
+    assert r2.medoid is None and "The region is empty" in region.nominal_text(r2)
+
+
+def test_a_family_whose_base_lies_outside_a_range_has_no_nominal_point():
+    off = Family(paper="toy", base=dataclasses.replace(toy.Config(), y=2.0), parameters=toy.FAMILY.parameters)
+    assert off.nominal is None
+    assert toy.FAMILY.nominal == {"x": 0.5, "y": 0.1}
+    p = toy.FAMILY.parameters[1]
+    assert p.coordinate(p.value(0.3)) == pytest.approx(0.3)  # the inverse of the design's mapping
+
+
+def test_map_json_does_not_depend_on_how_its_units_ran(tmp_path):
+    first = _map(tmp_path, points=4, k=2, db_name="a.db")
+    again = _map(tmp_path, points=4, k=2, db_name="a.db")  # every unit read back from the store
+    assert (first.units.computed, again.units.computed) == (10, 0)
+    # map.json is json.dumps(as_dict()) (build.write_map): the run's counts and command are not in it
+    assert json.dumps(first.result.as_dict(), indent=1) == json.dumps(again.result.as_dict(), indent=1)
+
+
+def test_paper_003_family_is_its_config_fields_with_sources_device_facts_and_the_txdt_share():
+    from gyrobench.scenarios.papers.p003_ifog_thermal import CLAIMS, Config
+    from gyrobench.scenarios.papers.p003_ifog_thermal import family as f003
+    from gyrobench.scenarios.papers.p003_ifog_thermal.identify import IDENTIFIED
+
+    for p in f003.FAMILY.parameters:  # every range lies inside the Config's documented range, in its unit
+        spec = Config.RANGES[p.field]
+        assert spec.contains(p.range.low) and spec.contains(p.range.high), p.field
+        assert p.source.strip(), p.field
+    assert f003.FAMILY.nominal is not None  # the default reproduction's device is a point of the family
+    assert f003.FAMILY.nominal["lead_difference_rms_m"] == IDENTIFIED.lead_difference_rms_m
+    device = [c for c in CLAIMS if c.role == "device"]
+    assert [(c.id, c.quantity, c.comparator) for c in f003.MAP_CONSTRAINTS] == [
+        (c.id, c.quantity, c.comparator) for c in device]
+    assert {c.id for c in f003.MAP_CLAIMS} >= {"003.val2_lowest", "003.val1_every_run"}
+    assert all(c.role != "device" for c in f003.MAP_CLAIMS)
+    assert [v.quantity for v in f003.MAP_COVARIATES] == ["txdt_share", "txdt_unabsorbed"]
+
+
+def test_coil_defect_sizes_reach_the_drawn_unit():
+    from gyrobench.sim.coil2d import Coil2DSpec
+    from gyrobench.sim.coil_winding import Imperfections
+
+    def draw(**kw):
+        return Imperfections.draw(dataclasses.replace(Coil2DSpec(), **kw), rng=np.random.default_rng(5))
+
+    base = draw()
+    assert np.count_nonzero(base.turn_errors) > 0 and np.all(draw(turn_error_probability=0.0).turn_errors == 0)
+    assert np.all(draw(radius_error_rms=0.0).radius_errors == 0.0)
+    np.testing.assert_allclose(draw(radius_error_rms=0.06).radius_errors, 2 * base.radius_errors, rtol=1e-12)
+    # the sensor stays on the surface within 1 - |c| of the centre c
+    zs = [Imperfections.draw(dataclasses.replace(Coil2DSpec(), sensor_z_center=0.8),
+                             rng=np.random.default_rng(s)).sensor_z for s in range(200)]
+    assert min(zs) >= 0.6 - 1e-12 and max(zs) <= 1.0 + 1e-12 and max(zs) - min(zs) > 0.3
+    with pytest.raises(ValueError, match="turn_error_probability"):
+        Coil2DSpec(turn_error_probability=0.6)
+
+
+def test_txdt_share_is_zero_for_an_additive_drift_and_does_not_depend_on_the_temperature_origin():
+    from gyrobench.scenarios.papers.p003_ifog_thermal import Config
+    from gyrobench.scenarios.papers.p003_ifog_thermal.pipeline import txdt_share
+    from gyrobench.scenarios.papers.p003_ifog_thermal.runs import Run, features
+
+    cfg = Config()
+    t = np.arange(400) * 100.0  # 100-s blocks: a ramp from -10 to 40 degC and back
+    T = 15.0 + 25.0 * (1 - np.abs((t / t[-1]) * 2 - 1)) * 2 - 25.0
+
+    def run(drift, T=T):
+        return Run(name="ident_1", t_h=t / 3600, T=T, output=drift, truth=0 * t, drift=drift, fs=0.01,
+                   reference=0.0, scored=None)
+
+    X = features(run(0 * t), cfg)
+    additive = 0.3 * X[:, 0] + 50.0 * X[:, 1]
+    assert abs(txdt_share(cfg, run(additive))) < 1e-9
+    product = additive + 40.0 * X[:, 2]
+    share = txdt_share(cfg, run(product))
+    assert share > 0.01
+    shifted = run(product, T=T + 20.0)  # the same drift, the temperature read from another origin
+    assert txdt_share(cfg, shifted) == pytest.approx(share, rel=1e-9)

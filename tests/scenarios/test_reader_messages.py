@@ -123,7 +123,7 @@ def test_control_characters_are_escaped_in_the_report(tmp_path):
 def test_a_full_disk_names_the_report_not_its_temporary_folder(tmp_path, monkeypatch):
     out = tmp_path / "rep"
 
-    def full(outcomes, folder, *, command=""):
+    def full(outcomes, folder, *, command="", maps=None):
         target = Path(folder) / "index.html"
         raise AtomicWriteError(errno.ENOSPC, f"cannot write {str(target)!r}: No space left on device (the disk "
                                              "is full)", str(target))

@@ -284,7 +284,8 @@ def _layout(index, tmp_path, width=1400):
 @pytest.mark.skipif(_chromium() is None, reason="Chromium not installed (.ci/run installs Debian's chromium)")
 def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_path):
     """All four papers' report (two units each: the tables have every claim and the figures are the
-    default report's) at a 1400-px window: the page does not scroll sideways, no claims table overflows
+    default report's; rlg_thermal's section with a two-point device-family map) at a 1400-px
+    window: the page does not scroll sideways, no claims table overflows
     its box, the status column's right edge is on screen; figures are shown at their natural width
     (or the page's, when wider) and each links to its own PNG beside the page. The same report's
     results.json files let every claim's pass counts be recounted from their per-unit quantities."""
@@ -293,8 +294,12 @@ def test_claims_tables_fit_a_1400_px_screen_and_figures_open_at_full_size(tmp_pa
     from gyrobench.scenarios.cli.main import main
 
     out = tmp_path / "rep"
+    # a tiny device-family map first: the report carries it into rlg_thermal's section
+    assert main(["reproduce", "rlg_thermal", "--map", "--points", "2", "--units-per-point", "1", "--workers", "0",
+                 "-q", "--out", str(out)]) == 0
     assert main(["reproduce", *_PAPERS, "--units", "2", "-q", "--out", str(out)]) == 0
     index = out / "index.html"
+    assert "id='rlg_thermal-map'" in index.read_text()
     marks = _layout(index, tmp_path)
     assert marks["viewport-width"] == "1400"
     assert int(marks["claims-tables"]) == len(_PAPERS)

@@ -9,16 +9,23 @@ A point sets ``x`` in [0, 1] and ``y`` in [1e-2, 1] (log scale). Each unit repor
   x well above 0.6 pass, well below fail; the claim depends on x, not on y,
 * ``score`` = y + 0.01 e (a banded claim that misses above on points with y > 0.25),
 * ``pre`` = x: the claims' precondition (``pre > 0.1``): points with x <= 0.1 cannot test them.
+
+Its nominal device (``Config()``: x = 0.5, y = 0.1) lies in the region. ``report`` makes it
+reportable by ``reproduce`` (no tables). A unit sleeps ``TOY_MAP_UNIT_DELAY_S`` seconds (an
+environment variable, default 0) first, so a test can kill a map mid-run.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import os
+import time
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 
 from gyrobench.base.ranges import FieldRange
+from gyrobench.scenarios.base import Outcome
 from gyrobench.scenarios.claims import Claim, Precondition, above, below, in_range, is_true
 from gyrobench.scenarios.maps.family import Family, Parameter
 from gyrobench.scenarios.maps.region import Constraint
@@ -35,6 +42,9 @@ class Config:
 
 
 def experiment(config: Config, seed: int) -> dict[str, Any]:
+    delay = float(os.environ.get("TOY_MAP_UNIT_DELAY_S", "0"))
+    if delay > 0:
+        time.sleep(delay)
     rng = np.random.default_rng(seed)
     e1, e2 = rng.standard_normal(2)
     return {"quantities": {
@@ -74,3 +84,8 @@ MAP_CONSTRAINTS = (
 CONFLICTING = Constraint(id="toy.wide", fact="x below 0.2", source="Fig. 3", quantity="wide", comparator=below(0.2))
 #: a fact no point satisfies
 NEVER = Constraint(id="toy.never", fact="x above 2", source="Fig. 4", quantity="fact_x", comparator=above(2.0))
+
+
+def report(config: Config, results: list[Any], claims: list[Any]) -> Outcome:
+    """The toy's report: no tables, the claims filled in by the runner."""
+    return Outcome(scenario=NAME, title=TITLE, seed=0, config=asdict(config), results={})

@@ -18,6 +18,7 @@ import numpy as np
 from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, ordered, validate
 from gyrobench.sim.coil2d import Coil2DSpec
+from gyrobench.sim.coil_materials import EPOXY, SILICA, SILICA_CTE_SLOPE, T_REF, Material
 from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak, thermal_profile
 from gyrobench.sim.fog2d import FOG2DSpec, TemperatureSensorSpec
 from gyrobench.sim.fog_optics import OpticalBudget
@@ -104,6 +105,15 @@ class Config:
     ``derivative_estimator`` (``ESTIMATORS``): how dT/dt is taken from the logged temperature.
     ``thermal_program`` False is the control population (``control_config``): no thermal
     program, the chamber holds ``start_degC`` for each run's duration.
+
+    Coil defects and materials a device family sweeps (defaults: the ``Coil2DSpec`` and
+    ``sim.coil_materials`` values, all stated there): ``turn_error_probability`` (a layer's
+    chance of one turn gained, and of one lost), ``layer_radius_error_pitch_rms`` (layer radial
+    displacement rms / pitch), ``potting_cte_spread`` (unit-to-unit relative spread of the
+    potting's CTE), ``epoxy_cte_slope_per_K2`` and ``silica_cte_slope_per_K2`` (d alpha/dT of
+    the potting and of the fibre glass [1/K^2]; the glass keeps alpha(300 K) = 0.55e-6 /K),
+    ``sensor_z_center`` (the logged sensor's mean axial position on the outer surface, a
+    fraction of the half height).
 
     Attributes
     ----------
@@ -197,6 +207,18 @@ class Config:
         Length of the heated stretch [m].
     point_rate_degC_per_min : float
         Its heating rate [degC/min].
+    turn_error_probability : float
+        A layer's chance of one turn gained, and of one lost [-].
+    layer_radius_error_pitch_rms : float
+        Layer radial displacement rms over the pitch [-].
+    potting_cte_spread : float
+        Unit-to-unit relative spread of the potting's CTE [-].
+    epoxy_cte_slope_per_K2 : float
+        d alpha/dT of the potting [1/K^2].
+    silica_cte_slope_per_K2 : float
+        d alpha/dT of the fibre glass [1/K^2].
+    sensor_z_center : float
+        The logged sensor's mean axial position on the outer surface [fraction of the half height].
     """
 
     # chamber protocols
@@ -229,6 +251,13 @@ class Config:
     sensor_noise_K: float = 0.003
     sensor_resolution_K: float = 0.001
     thermal_step_s: float = 20.0
+    # coil defects and materials (Coil2DSpec, sim.coil_materials defaults)
+    turn_error_probability: float = 0.15
+    layer_radius_error_pitch_rms: float = 0.03
+    potting_cte_spread: float = 0.15
+    epoxy_cte_slope_per_K2: float = EPOXY.cte_slope
+    silica_cte_slope_per_K2: float = SILICA_CTE_SLOPE
+    sensor_z_center: float = 0.0
     # logging and analysis
     fs_hz: float = 1.0
     analysis_block_s: float = 100.0
@@ -290,6 +319,12 @@ class Config:
         "sensor_noise_K": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
         "sensor_resolution_K": FieldRange(0.0, 10.0, "K", "a temperature sensor"),
         "thermal_step_s": FieldRange(0.01, 3600.0, "s", "thermal solver step"),
+        "turn_error_probability": FieldRange(0.0, 0.5, "1", "chance per layer of a turn gained (and lost)"),
+        "layer_radius_error_pitch_rms": FieldRange(0.0, 1.0, "1", "layer radial error rms / layer pitch"),
+        "potting_cte_spread": FieldRange(0.0, 0.5, "1", "relative unit-to-unit spread of the potting CTE"),
+        "epoxy_cte_slope_per_K2": FieldRange(-1e-5, 1e-5, "1/K^2", "d alpha/dT of a potting polymer"),
+        "silica_cte_slope_per_K2": FieldRange(-1e-7, 1e-7, "1/K^2", "d alpha/dT of a fibre glass"),
+        "sensor_z_center": FieldRange(-1.0, 1.0, "1", "fraction of the coil's half height"),
         "fs_hz": FieldRange(1e-3, 1e4, "Hz", "FOG logging rate"),
         "analysis_block_s": FieldRange(0.0, 1e5, "s", "averaging block", low_open=True),
         "derivative_window_s": FieldRange(0.0, 1e5, "s", "dT/dt window", low_open=True),
@@ -350,7 +385,27 @@ class Config:
             lead_difference_rms=self.lead_difference_rms_m,
             chamber_conductance=base.housing_heat_capacity
             / (self.housing_time_constant_min * _MIN),
+            turn_error_probability=self.turn_error_probability,
+            radius_error_rms=self.layer_radius_error_pitch_rms,
+            matrix_cte_spread=self.potting_cte_spread,
+            sensor_z_center=self.sensor_z_center,
+            matrix=self._epoxy(),
+            glass=self._silica(),
         )
+
+    def _epoxy(self) -> Material:
+        """The potting epoxy with this build's expansion slope (the material itself at its own slope)."""
+        if self.epoxy_cte_slope_per_K2 == EPOXY.cte_slope:
+            return EPOXY
+        return replace(EPOXY, cte_slope=self.epoxy_cte_slope_per_K2)
+
+    def _silica(self) -> Material:
+        """Fused silica with this build's expansion slope, alpha(300 K) = 0.55e-6 /K kept (the
+        material itself at its own slope)."""
+        b = self.silica_cte_slope_per_K2
+        if b == SILICA.cte_slope:
+            return SILICA
+        return replace(SILICA, cte=0.55e-6 - b * (300.0 - T_REF), cte_slope=b)
 
     def fog_spec(self, *, winding: str | None = None) -> FOG2DSpec:
         """The closed-loop FOG on :meth:`coil_spec`, with this build's noise, optics and sensor."""

@@ -22,6 +22,7 @@ from .pipeline import (
     scores,
     streaming_deviation,
     traces,
+    txdt_share,
 )
 from .results import UnitResult
 from .runs import compensation_task, memory_estimate, prepare, simulate
@@ -62,6 +63,7 @@ def experiment(config: Config, seed: int) -> UnitResult:
         drift_peak_val1_deg_h=drift_peak_val1(runs),
         val1_drift_to_noise=drift_to_noise_val1(runs),
         val1_drift_estimate_error=drift_estimate_error_val1(runs, paper.comp_imp),
+        txdt_share=txdt_share(config, runs["ident_1"]),
         paper=protocol_result(paper, s_paper),
         diagnostic_truth_target=protocol_result(truth, s_truth),
         deployment_json=paper.improved.to_json(),

@@ -52,6 +52,7 @@ __all__ = [
     "streaming_deviation",
     "traces",
     "training_set",
+    "txdt_share",
 ]
 
 
@@ -495,6 +496,49 @@ def drift_to_noise_val1(runs: Mapping[str, Run]) -> float:
     # a noise-free record: the drift stands above the noise exactly when there is drift (0/0 is no
     # drift, not an infinite ratio: claims.evaluate judges inf as a value, so the precondition holds)
     return math.inf if sd_drift > 0 else 0.0
+
+
+def txdt_share(config: Config, run: Run) -> float:
+    """The share of a run's true coil drift that only a T x dT input explains [-].
+
+    Over the run's recorded samples (:func:`.runs.record_mask`), the true coil drift d is
+    regressed by ordinary least squares on the logged features (:func:`.runs.features`) with an
+    intercept, once on (1, T, dT) and once on (1, T, dT, T x dT)::
+
+        share = R^2(1, T, dT, T x dT) - R^2(1, T, dT)
+
+    the drift variance the product term explains beyond an additive model. It does not depend on
+    the temperature origin (T0 dT lies in the span of dT), unlike the split of the drift into its
+    Tdot and T x dT parts (``sim.coil2d``). 0 when the drift is constant. A simulator diagnostic
+    (the paper cannot see the true drift); on the training run (identification 1) it tells
+    whether the data the networks learn from hold a T x dT dependence at all.
+
+    Parameters
+    ----------
+    config : Config
+        The reproduction's configuration (the features' dT/dt estimator).
+    run : Run
+        A chamber run at the analysis rate, with its true drift.
+
+    Returns
+    -------
+    float
+        The share [-], in [0, 1] up to rounding.
+    """
+    m = run.scored if run.scored is not None else np.ones(len(run.T), bool)
+    X = features(run, config)[m]
+    d = run.drift[m] - float(np.mean(run.drift[m]))
+    total = float(d @ d)
+    if total == 0.0:
+        return 0.0
+
+    def r2(cols: NDArray[np.float64]) -> float:
+        A = np.column_stack([np.ones(len(d)), cols])
+        coef, *_ = np.linalg.lstsq(A, d, rcond=None)
+        res = d - A @ coef
+        return 1.0 - float(res @ res) / total
+
+    return r2(X) - r2(X[:, :2])
 
 
 def drift_estimate_error_val1(runs: Mapping[str, Run], comp_imp: Mapping[str, NDArray[np.float64]]) -> float:

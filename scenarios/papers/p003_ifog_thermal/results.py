@@ -389,6 +389,9 @@ class UnitResult:
     traces: Traces
     #: rms(estimated - true drift) / std(true drift), median over the validation-1 runs [-]
     val1_drift_estimate_error: float = math.nan
+    #: the true drift's variance on identification run 1 only a T x dT input explains
+    #: (``pipeline.txdt_share``) [-]
+    txdt_share: float = math.nan
 
     @property
     def quantities(self) -> dict[str, float | None]:
@@ -399,6 +402,7 @@ class UnitResult:
             "val1_drift_to_noise": self.val1_drift_to_noise,
             "txdt_unabsorbed": self.txdt_unabsorbed,
             "val1_drift_estimate_error": self.val1_drift_estimate_error,
+            "txdt_share": self.txdt_share,
             **self.paper.quantities.as_dict(),
         }
 

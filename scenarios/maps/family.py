@@ -262,7 +262,7 @@ class Family:
         parameter's range (the nominal device is then no point of the family)."""
         out = {}
         for p in self.parameters:
-            v = getattr(self.base, p.field)
+            v = get_path(self.base, p.field)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not p.range.contains(float(v)):
                 return None
             out[p.field] = float(v)
@@ -279,24 +279,6 @@ class Family:
         out = self.base
         for p in self.parameters:
             out = replace_path(out, p.field, float(values[p.field]))
-        return out
-
-    def nominal(self) -> dict[str, float]:
-        """The base configuration's own values of the open parameters (``config(nominal())`` is ``base``).
-
-        Raises
-        ------
-        ValueError
-            When a base value lies outside its parameter's range (the nominal device must be a
-            point of the family).
-        """
-        out = {}
-        for p in self.parameters:
-            v = float(get_path(self.base, p.field))
-            if not p.range.contains(v):
-                raise ValueError(f"family of paper {self.paper}: the base value of {p.field} must be in "
-                                 f"{p.range.text()}; got {v!r}")
-            out[p.field] = v
         return out
 
     def as_dict(self) -> dict[str, Any]:

@@ -107,6 +107,8 @@ def write_report_as_a_set(
         The report folder.
     command : str
         The command line that made the report, shown in it.
+    maps : mapping of str to MapFiles, optional
+        Each mapped scenario's map files, shown in its section.
 
     Returns
     -------

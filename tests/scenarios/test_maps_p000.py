@@ -39,7 +39,7 @@ def test_every_parameter_lies_inside_its_models_documented_range_and_unit():
 
 
 def test_the_nominal_point_is_reproduces_default_device():
-    nominal = f000.FAMILY.nominal()
+    nominal = f000.FAMILY.nominal
     assert f000.FAMILY.config(nominal) == fv.Config()  # equal configs: the same run id as reproduce's
     assert nominal["fog.mount.x.frequency"] == 400.0 and nominal["vibration_s"] == 300.0
 
@@ -63,7 +63,7 @@ def test_a_point_reaches_the_drawn_mount_and_the_record():
 
 
 def test_a_value_outside_a_range_is_one_line_naming_the_parameter_range_and_value():
-    point = f000.FAMILY.nominal()
+    point = f000.FAMILY.nominal
     point["vibration_s"] = 30.0
     with pytest.raises(ValueError) as exc:
         f000.FAMILY.config(point)
@@ -91,7 +91,7 @@ def test_constraints_are_the_device_facts_less_the_ones_no_record_of_the_family_
 def test_the_default_design_stays_inside_the_family_and_two_workers_fit_in_4_gb():
     d = design(f000.FAMILY, f000.DEFAULT_POINTS, f000.DESIGN_SEED)
     assert d.method == "sobol" and len(d) == 32
-    longest = {**f000.FAMILY.nominal(), "static_before_s": 900.0, "vibration_s": 900.0, "static_after_s": 900.0}
+    longest = {**f000.FAMILY.nominal, "static_before_s": 900.0, "vibration_s": 900.0, "static_after_s": 900.0}
     worst = fv.memory_estimate(f000.FAMILY.config(longest))  # the family's largest record
     assert max(fv.memory_estimate(f000.FAMILY.config(v)) for v in d.values) <= worst
     assert 2 * worst < 4e9  # the default map's two local workers on a 4 GB share of the machine

@@ -41,7 +41,7 @@ def test_every_parameter_lies_inside_its_models_documented_range_and_unit():
 
 
 def test_the_nominal_point_is_reproduces_default_device():
-    nominal = f001.FAMILY.nominal()
+    nominal = f001.FAMILY.nominal
     cfg = f001.FAMILY.config(nominal)
     # equal configs: the same run id (runner.units.run_id hashes the module and the config), so the
     # map's nominal point and `reproduce mems_scale_factor` judge the same device
@@ -65,7 +65,7 @@ def test_a_point_reaches_the_device_the_identified_variant_builds():
 
 
 def test_a_value_outside_a_range_is_one_line_naming_the_parameter_range_and_value():
-    point = f001.FAMILY.nominal()
+    point = f001.FAMILY.nominal
     point["readout.nominal.rail"] = 5.0
     with pytest.raises(ValueError) as exc:
         f001.FAMILY.config(point)

@@ -373,6 +373,9 @@ class UnitResult:
         The figures' traces.
     val1_drift_estimate_error : float
         rms(estimated - true drift) / std(true drift), median over validation 1 [-].
+    txdt_share : float
+        The T x dT share of the training drift: R^2(1, T, dT, T dT) - R^2(1, T, dT) of the true
+        drift on identification run 1 (``pipeline.txdt_share``) [-].
     """
 
     seed: int

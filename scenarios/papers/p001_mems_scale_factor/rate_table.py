@@ -265,16 +265,18 @@ def memory_estimate(config: Config) -> float:
     average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
     ``sim.mems_slow_flow.slow_flow``) and ``N = n_run (n_fit_runs + n_heldout_runs)`` in all::
 
-        bytes = 1.1 x (8 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
+        bytes = 1.1 x (56 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
 
-    8 B = the float64 output kept per sample of every run; 376 B = 47 float64 working series
-    of the slow-flow call running, a rate-table run or a block of :data:`~.device.STATIC_CHUNK`
-    rates of a noise-free sweep (:func:`~.device.static_output`: the dense sweep and the joins'
-    sweep are bounded by the block whatever their length); 20 MB the rest (fits, figure data);
-    1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread, simulate and experiment
-    alike; tests/scenarios/test_memory_estimates.py): 96 MB at the default (N = 1.0e6), 344 MB
-    at average_s = 240 (N = 4.0e6), 188 MB at fs_hz = 400 with n_fit_runs = 6 (N = 3.6e6),
-    98 MB at dense_step_dps = 0.5; the formula is 1.4 x these.
+    56 B = the seven float64 series :func:`simulate`'s records keep per sample of every run
+    (output, table rate, temperature, true rate, the two error components, the temperature
+    input; the experiment keeps only the output, so the bound is loose for it); 376 B = 47
+    float64 working series of the slow-flow call running, a rate-table run or a block of
+    :data:`~.device.STATIC_CHUNK` rates of a noise-free sweep (:func:`~.device.static_output`: the
+    dense sweep and the joins' sweep are bounded by the block whatever their length); 20 MB the
+    rest (fits, figure data); 1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread;
+    tests/scenarios/test_memory_estimates.py), simulate / experiment: 115 / 103 MB at the
+    default (N = 1.0e6), 402 / 386 MB at average_s = 240 (N = 4.0e6), 314 / 205 MB at fs_hz = 400
+    with n_fit_runs = 6 (N = 3.6e6); the formula gives 190, 689 and 451 MB.
     Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
 
     Parameters
@@ -290,4 +292,4 @@ def memory_estimate(config: Config) -> float:
     n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
     n_run *= len(config.rates_dps)
     n_all = n_run * (config.n_fit_runs + config.n_heldout_runs)
-    return 1.1 * (8.0 * n_all + 376.0 * max(n_run, 200.0 * STATIC_CHUNK) + 20e6)
+    return 1.1 * (56.0 * n_all + 376.0 * max(n_run, 200.0 * STATIC_CHUNK) + 20e6)

@@ -181,21 +181,22 @@ def _recording(config: Config, run: Run, *, index: int, role: str, seed: int) ->
         temperature=run.temperature, noise=False, flicker=False,
     ).output).T.reshape(-1)
     out = run.output.T.reshape(-1)
+    temperature = np.full(n * k, run.temperature)  # one array for the logged channel and the input
     return Recording(
         fs=config.fs_hz,
         channels={
             "output": Channel(out, "rad/s", "gyro output"),
             "table_rate": Channel(rate, "rad/s", "rate-table rate"),
-            "temperature": Channel(np.full(n * k, run.temperature), "K", "die temperature"),
+            "temperature": Channel(temperature, "K", "die temperature"),
         },
         truth={
-            "true_rate": Channel(rate.copy(), "rad/s", "table rate (truth)"),
+            "true_rate": Channel(rate, "rad/s", "table rate (truth; the table's own array)"),
             "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free run's error: scale factor and "
                                            "nonlinearity, bias, quadrature, rails, ADC"),
             "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off and "
                              "1/f noise through the read-out"),
         },
-        inputs={"temperature": Channel(np.full(n * k, run.temperature), "K", "die temperature")},
+        inputs={"temperature": Channel(temperature, "K", "die temperature")},
         metadata={
             "error_components": ["deterministic_error", "noise"],
             "scenario": NAME,
@@ -265,18 +266,19 @@ def memory_estimate(config: Config) -> float:
     average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
     ``sim.mems_slow_flow.slow_flow``) and ``N = n_run (n_fit_runs + n_heldout_runs)`` in all::
 
-        bytes = 1.1 x (56 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
+        bytes = 1.1 x (32 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
 
-    56 B = the seven float64 series :func:`simulate`'s records keep per sample of every run
-    (output, table rate, temperature, true rate, the two error components, the temperature
-    input; the experiment keeps only the output, so the bound is loose for it); 376 B = 47
-    float64 working series of the slow-flow call running, a rate-table run or a block of
-    :data:`~.device.STATIC_CHUNK` rates of a noise-free sweep (:func:`~.device.static_output`: the
-    dense sweep and the joins' sweep are bounded by the block whatever their length); 20 MB the
-    rest (fits, figure data); 1.1 is the margin. MEASURED (peak RSS increase, one BLAS thread;
-    tests/scenarios/test_memory_estimates.py), simulate / experiment: 115 / 103 MB at the
-    default (N = 1.0e6), 402 / 386 MB at average_s = 240 (N = 4.0e6), 314 / 205 MB at fs_hz = 400
-    with n_fit_runs = 6 (N = 3.6e6); the formula gives 190, 689 and 451 MB.
+    32 B per sample of every run: :func:`simulate`'s records keep five distinct float64 series
+    (output, table rate = true rate, temperature = its input, the two error components), the
+    experiment only the output; 32 B is FITTED between the two measured peaks (the estimate
+    must bound both, within 2.5x); 376 B = 47 float64 working series of the slow-flow call
+    running, a rate-table run or a block of :data:`~.device.STATIC_CHUNK` rates of a noise-free
+    sweep (:func:`~.device.static_output`: the dense sweep and the joins' sweep are bounded by the
+    block whatever their length); 20 MB the rest (fits, figure data); 1.1 is the margin.
+    MEASURED (peak RSS increase, one BLAS thread; tests/scenarios/test_memory_estimates.py),
+    simulate / experiment: 106 / 104 MB at the default (N = 1.0e6), 387 / 387 MB at
+    average_s = 240 (N = 4.0e6), 263 / 170-206 MB at fs_hz = 400 with n_fit_runs = 6
+    (N = 3.6e6); the formula gives 163, 582 and 357 MB.
     Floats: an absurd record gives a huge (or infinite) estimate, never an overflow.
 
     Parameters
@@ -292,4 +294,4 @@ def memory_estimate(config: Config) -> float:
     n_run = (float(config.settle_s) + float(config.average_s)) * config.fs_hz
     n_run *= len(config.rates_dps)
     n_all = n_run * (config.n_fit_runs + config.n_heldout_runs)
-    return 1.1 * (56.0 * n_all + 376.0 * max(n_run, 200.0 * STATIC_CHUNK) + 20e6)
+    return 1.1 * (32.0 * n_all + 376.0 * max(n_run, 200.0 * STATIC_CHUNK) + 20e6)

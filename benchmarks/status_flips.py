@@ -40,8 +40,12 @@ def _by_paper(docs):
     return {d["scenario"]: d for d in docs if d.get("claims")}
 
 
-def _expected(docs, units=None, seed=0):
-    p = np.array([f.probability for f in expected_flips(docs, units=units, rng=np.random.default_rng(seed))])
+def _flips(docs, units=None, seed=0):
+    return expected_flips(docs, units=units, rng=np.random.default_rng(seed))
+
+
+def _sum(flips):
+    p = np.array([f.probability for f in flips])
     return float(p.sum()), float(np.sqrt(np.sum(p * (1 - p)))), p.size
 
 
@@ -65,24 +69,28 @@ def main() -> None:
     print(f"\nreports: {dirs[0]} against {dirs[1]}\n")
     print("| paper | claims | status changes measured | expected from report A | expected from report B |")
     print("|---|---|---|---|---|")
+    flips_a, flips_b = _flips(first), _flips(second)  # the model once per report, claims in order
+    by_id_a = {f.claim_id: f for f in flips_a}
+    by_id_b = {f.claim_id: f for f in flips_b}
     changes_all = []
     for name in pa:
         changes = status_changes([pa[name]], [pb[name]])
         changes_all += changes
-        ea, sa, n = _expected([pa[name]])
-        eb, sb, _ = _expected([pb[name]])
+        ids = [r["id"] for r in pa[name]["claims"]]
+        ea, sa, n = _sum([by_id_a[i] for i in ids])
+        eb, sb, _ = _sum([by_id_b[i] for i in ids])
         print(f"| {name} | {n} | {len(changes)} | {ea:.1f} +- {sa:.1f} | {eb:.1f} +- {sb:.1f} |")
-    ea, sa, n = _expected(first)
-    eb, sb, _ = _expected(second)
+    ea, sa, n = _sum(flips_a)
+    eb, sb, _ = _sum(flips_b)
     print(f"| all | {n} | **{len(changes_all)}** | {ea:.1f} +- {sa:.1f} | {eb:.1f} +- {sb:.1f} |")
-    prob = {f.claim_id: f.probability for f in expected_flips(first, rng=np.random.default_rng(0))}
     print("\n| claim | report A | report B | model's flip probability |\n|---|---|---|---|")
     for c in changes_all:
-        print(f"| {c.claim_id} | {c.before} | {c.after} | {prob[c.claim_id]:.2f} |")
+        print(f"| {c.claim_id} | {c.before} | {c.after} | {by_id_a[c.claim_id].probability:.2f} |")
     print("\nexpected status changes from report A at other unit counts:\n")
     print("| units | expected | share of the claims |\n|---|---|---|")
     for units in (10, 20, 40, 60):
-        e, s, n = _expected(first, units=units)
+        same = all(int(d["units"]) == units for d in pa.values())  # the report's own count: reuse it
+        e, s, n = _sum(flips_a if same else _flips(first, units=units))
         print(f"| {units} | {e:.1f} +- {s:.1f} | {100 * e / n:.0f} % |")
 
 

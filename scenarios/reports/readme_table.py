@@ -163,13 +163,15 @@ def _tally_row(doc: dict[str, Any]) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
-def format_table(docs: Sequence[dict[str, Any]]) -> str:
+def format_table(docs: Sequence[dict[str, Any]], *, stability: str | None = None) -> str:
     """The full markdown table of a report: the tally, every claim's row, the physics checks.
 
     Parameters
     ----------
     docs : sequence of dict
         The report's results.json documents (:func:`load_report`).
+    stability : str, optional
+        The stability line (:func:`stability_text`), when already computed; computed otherwise.
 
     Returns
     -------
@@ -182,16 +184,18 @@ def format_table(docs: Sequence[dict[str, Any]]) -> str:
     ValueError
         If the report holds no paper claims and no physics checks.
     """
-    return _markdown(docs, rows=True)
+    return _markdown(docs, rows=True, stability=stability)
 
 
-def format_summary(docs: Sequence[dict[str, Any]]) -> str:
+def format_summary(docs: Sequence[dict[str, Any]], *, stability: str | None = None) -> str:
     """The summary of a report for the README: the tally per paper and the physics checks.
 
     Parameters
     ----------
     docs : sequence of dict
         The report's results.json documents (:func:`load_report`).
+    stability : str, optional
+        The stability line (:func:`stability_text`), when already computed; computed otherwise.
 
     Returns
     -------
@@ -205,10 +209,10 @@ def format_summary(docs: Sequence[dict[str, Any]]) -> str:
     ValueError
         If the report holds no paper claims and no physics checks.
     """
-    return _markdown(docs, rows=False)
+    return _markdown(docs, rows=False, stability=stability)
 
 
-def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
+def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool, stability: str | None) -> str:
     papers = [d for d in docs if d.get("claims")]
     lines = []
     if papers:
@@ -239,7 +243,8 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool) -> str:
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         lines += [_tally_row(d) for d in papers]
-        lines += ["", calibrated_text([c for d in papers for c in d["claims"]]), "", stability_text(papers)]
+        calibrated = calibrated_text([c for d in papers for c in d["claims"]])
+        lines += ["", calibrated, "", stability or stability_text(papers)]
         if rows:
             lines += [
                 "",
@@ -383,8 +388,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = p.parse_args(argv)
     try:
         docs = load_report(args.report)
-        table = format_table(docs)
-        writes = [(args.splice, table), (args.summary, format_summary(docs) if args.summary else "")]
+        papers = [d for d in docs if d.get("claims")]
+        stability = stability_text(papers) if papers else None  # the costly part, once for both files
+        table = format_table(docs, stability=stability)
+        writes = [(args.splice, table),
+                  (args.summary, format_summary(docs, stability=stability) if args.summary else "")]
         updates = []
         for name, text in writes:
             if name:

@@ -97,13 +97,9 @@ class StatusChange:
     after: str
 
 
-def _number(v: Any) -> float:
-    """A criterion bound as written to results.json (+-inf as the strings ``"inf"``/``"-inf"``)."""
-    return float(v)
-
-
 def _comparator(criterion: Mapping[str, Any]) -> Comparator:
-    return Comparator(kind=criterion["kind"], lo=_number(criterion["lo"]), hi=_number(criterion["hi"]))
+    """A criterion as written to results.json (``float`` reads +-inf from the strings ``"inf"``)."""
+    return Comparator(kind=criterion["kind"], lo=float(criterion["lo"]), hi=float(criterion["hi"]))
 
 
 def claim_from_row(row: Mapping[str, Any]) -> Claim:

@@ -55,8 +55,13 @@ def test_every_cli_flag_is_documented():
                     assert flag in text, f"neither README.md nor docs/cli.md mentions {name}'s {flag}"
 
 
+#: the user's guide pages whose examples are run as written: the README and the pages it sends a
+#: new user to for the longer examples
+EXAMPLE_PAGES = ("README.md", "docs/own-gyro.md")
+
+
 def _blocks(lang: str) -> list[str]:
-    text = (ROOT / "README.md").read_text()
+    text = "\n".join((ROOT / page).read_text() for page in EXAMPLE_PAGES)
     return re.findall(rf"```{lang}\n(.+?)\n```", text, flags=re.S)
 
 
@@ -132,7 +137,8 @@ def test_readme_example_project_runs_as_written(tmp_path):
 
 @pytest.mark.slow
 def test_readme_python_examples_run(tmp_path, monkeypatch):
-    """Every Python block of the README that is not a file of the example project runs as written."""
+    """Every Python block of the README and docs/own-gyro.md that is not a file of the example project runs as
+    written."""
     files = set(_file_blocks().values())
     blocks = [b for b in _blocks("python") if b not in files]
     assert blocks

@@ -1,4 +1,4 @@
-"""The README's "Simulate your own gyro" examples run verbatim on a fresh clone (issue 29): the
+"""The README's "Simulate your own gyro" examples (and docs/own-gyro.md's) run verbatim on a fresh clone: the
 FOG, MEMS and RLG commands and the Python form write HDF5 and CSV whose truth error components sum
 to ``output - true_rate``, and the twin example matches its real record."""
 
@@ -17,9 +17,11 @@ pytestmark = pytest.mark.slow  # five CLI processes and three device simulations
 
 
 def _section() -> str:
+    """The README's "Simulate your own gyro" section followed by docs/own-gyro.md, the page it links
+    for the Python form, the twin and the IMU."""
     text = (ROOT / "README.md").read_text()
     start = text.index("## Simulate your own gyro")
-    return text[start:text.index("\n## ", start + 1)]
+    return text[start:text.index("\n## ", start + 1)] + "\n" + (ROOT / "docs" / "own-gyro.md").read_text()
 
 
 def _blocks(lang: str) -> list[str]:

@@ -57,7 +57,7 @@ def test_every_cli_flag_is_documented():
 
 #: the user's guide pages whose examples are run as written: the README and the pages it sends a
 #: new user to for the longer examples
-EXAMPLE_PAGES = ("README.md", "docs/own-gyro.md")
+EXAMPLE_PAGES = ("README.md", "docs/own-gyro.md", "docs/own-compensator.md")
 
 
 def _blocks(lang: str) -> list[str]:

@@ -406,6 +406,7 @@ def _device_environment(args, part):
     force: typing.Any = 0.0
     earth = None
     shaker = None
+    signal = None
     duration = args.duration
     if args.profile is not None:
         path = args.profile
@@ -447,13 +448,20 @@ def _device_environment(args, part):
         # the shaker's own stream: a child of the seed, so the part's noise is the same with or without it
         rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
         vib = _shaker_force(vibration, start, duration, fs, rng=rng, path=args.profile)
+        # the device models' table acceleration (the FOG's coil modes, the RLG's dither flexure):
+        # the same profile from the same stream, on an even multiple of fs (shaker.record_signal)
+        from gyrobench.sim.shaker import record_signal
+
+        signal = record_signal(vibration, duration=duration, fs=fs, start=start,
+                               rng=np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]))
         n = len(vib)
         base = force((np.arange(n) + 0.5) / fs) if isinstance(force, PiecewiseLinear) else np.full(n, force)
         force = base + vib
         added["shaker"] = {"kind": type(vibration).__name__, "start_s": start, "duration_s": vibration.duration,
                            "max_frequency_hz": vibration.max_frequency}
     try:
-        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs, added
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force,
+                           vibration=signal if shaker is not None else None), fs, added
     except (TypeError, ValueError) as exc:
         raise BadInput(f"simulate device: {one_line(exc)}") from None
 

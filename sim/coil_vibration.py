@@ -33,7 +33,8 @@ is a sum over the winding map's pieces (:class:`~gyrobench.sim.coil_winding.Fibr
 
 A symmetric winding cancels most of it, the drawn unit's turn and radius errors leave the rest:
 for the default quadrupolar coil the ideal map gives W = 12 m^2 (7e-5 of the linear-ramp
-weight L^2/6), drawn units -440 to +90 m^2 (seeds 1, 2). A uniform strain (psi = 1) gives
+weight L^2/6; a dipolar map 0.08 m^2, an octupolar 0.04 m^2: the quadrupole cancels radial, not axial,
+gradients best), drawn units -850 to +90 m^2 (seeds 1-5). A uniform strain (psi = 1) gives
 W = sum w_i = 0 to rounding, so a pure translation that strains every turn alike gives no
 error; a static acceleration (eps_dot = 0) gives none either: the FOG has no first-order
 g-sensitivity.
@@ -43,7 +44,7 @@ epoxy 1300 and aluminium 6061-T6 2700 kg/m^3 (the sources of
 :data:`~gyrobench.sim.coil_materials.EPOXY` and :data:`~gyrobench.sim.coil_materials.ALUMINIUM`),
 acrylate 1200 kg/m^3 (ASSUMED, the rho of the coating's assumed rho c = 1.2e3 x 1.5e3 J/(m^3 K));
 the pack's density is their volume-weighted mean (glass phi g, coating phi (1 - g), matrix
-1 - phi). Default coil: rho_p = 1475 kg/m^3, kappa = 2.2e-10 per m/s^2.
+1 - phi). Default coil: rho_p = 1502 kg/m^3, kappa = 2.2e-10 per m/s^2.
 
 :func:`coil_modes` is the mode set a FOG on this coil vibrates with: this inertial mode, and the
 loop's default pigtail (0.5 m of lead at the coil end: 300 Hz, Q 30, 3e-12 per m/s^2 and the
@@ -98,7 +99,18 @@ COIL_MODE_QUALITY = 15.0
 
 
 def pack_density(coil: Coil2D) -> float:
-    """rho_p = phi g rho_glass + phi (1 - g) rho_coating + (1 - phi) rho_matrix [kg/m^3] (module docstring)."""
+    """rho_p = phi g rho_glass + phi (1 - g) rho_coating + (1 - phi) rho_matrix [kg/m^3] (module docstring).
+
+    Parameters
+    ----------
+    coil : Coil2D
+        The (drawn) coil.
+
+    Returns
+    -------
+    float
+        rho_p [kg/m^3].
+    """
     s = coil.spec
     phi, g = s.packing, s.glass_fraction
     return phi * g * SILICA_DENSITY + phi * (1.0 - g) * ACRYLATE_DENSITY + (1.0 - phi) * EPOXY_DENSITY
@@ -110,7 +122,18 @@ def _areas(coil: Coil2D) -> tuple[float, float]:
 
 
 def inertial_strain(coil: Coil2D) -> float:
-    """kappa = nu_s (rho_s A_s + rho_p A_p) H / (E_s A_s): fibre strain at the mount per m/s^2 [1/(m/s^2)]."""
+    """kappa = nu_s (rho_s A_s + rho_p A_p) H / (E_s A_s): fibre strain at the mount per m/s^2 [1/(m/s^2)].
+
+    Parameters
+    ----------
+    coil : Coil2D
+        The (drawn) coil.
+
+    Returns
+    -------
+    float
+        kappa [1/(m/s^2)].
+    """
     s = coil.spec
     a_s, a_p = _areas(coil)
     load = ALUMINIUM_DENSITY * a_s + pack_density(coil) * a_p
@@ -118,7 +141,18 @@ def inertial_strain(coil: Coil2D) -> float:
 
 
 def axial_frequency(coil: Coil2D) -> float:
-    """f_1 = sqrt(E_s A_s / (rho_s A_s + rho_p A_p)) / (4 H): the spool's quarter-wave axial mode [Hz]."""
+    """f_1 = sqrt(E_s A_s / (rho_s A_s + rho_p A_p)) / (4 H): the spool's quarter-wave axial mode [Hz].
+
+    Parameters
+    ----------
+    coil : Coil2D
+        The (drawn) coil.
+
+    Returns
+    -------
+    float
+        f_1 [Hz].
+    """
     s = coil.spec
     a_s, a_p = _areas(coil)
     load = ALUMINIUM_DENSITY * a_s + pack_density(coil) * a_p
@@ -149,7 +183,18 @@ def shape_weight(coil: Coil2D, shape: Callable[[NDArray[np.float64]], NDArray[np
 
 
 def inertial_mode(coil: Coil2D) -> StrainMode:
-    """The spool's axial mode as a :class:`StrainMode`: f_1, COIL_MODE_QUALITY, kappa, W (module docstring)."""
+    """The spool's axial mode as a :class:`StrainMode`: f_1, COIL_MODE_QUALITY, kappa, W (module docstring).
+
+    Parameters
+    ----------
+    coil : Coil2D
+        The (drawn) coil.
+
+    Returns
+    -------
+    StrainMode
+        The mode (no segment: the kernel is W e^{-jw tau/2}).
+    """
     return StrainMode(frequency=axial_frequency(coil), quality=COIL_MODE_QUALITY,
                       strain=inertial_strain(coil), weight=shape_weight(coil))
 

@@ -170,7 +170,8 @@ class _CavityScale:
         rec, components = self._with_model_terms(rec)
         mount = getattr(self, "dither_mount", None)
         if environment.vibration is not None and mount is not None:
-            rec, components = _with_dither_mount(rec, components, mount, self.dither.frequency, environment.vibration)
+            f_d = float(getattr(self, "dither").frequency)  # noqa: B009 (the units with a dither_mount have a dither)
+            rec, components = _with_dither_mount(rec, components, mount, f_d, environment.vibration)
             ignored = environment.ignored("specific_force")
         else:
             ignored = environment.ignored("specific_force", "vibration")

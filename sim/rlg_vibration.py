@@ -54,7 +54,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base.ranges import FieldRange, validate
 from gyrobench.sim.shaker import ShakerSignal
@@ -99,7 +99,7 @@ class DitherMount:
         w_d = 2.0 * math.pi * dither_frequency
         return self.offset / (self.gyration_radius**2 * w_d**2)
 
-    def response(self, f: NDArray[np.float64], dither_frequency: float) -> NDArray[np.complex128]:
+    def response(self, f: ArrayLike, dither_frequency: float) -> NDArray[np.complex128]:
         """(1 - B(f)) c H_d(f): unstripped twist per unit axial acceleration at ``f`` [Hz] [rad/(m/s^2)]."""
         r = np.asarray(f, dtype=float) / dither_frequency
         h_d = 1.0 / (1.0 - r**2 + 1j * r / self.dither_quality)
@@ -147,7 +147,8 @@ def dither_mount_error(
     if mount.offset == 0.0:
         return np.zeros(n)
     a = np.asarray(shaker.acceleration[: n * m], dtype=float)
-    f = np.fft.rfftfreq(len(a), 1.0 / shaker.fs)
-    phi = np.fft.irfft(np.fft.rfft(a) * mount.response(f, dither_frequency), len(a))
+    f = np.asarray(np.fft.rfftfreq(len(a), 1.0 / shaker.fs), dtype=np.float64)
+    spectrum = np.asarray(np.fft.rfft(a), dtype=np.complex128) * mount.response(f, dither_frequency)
+    phi = np.fft.irfft(spectrum, len(a))
     edges = np.concatenate((phi[::m], phi[:1]))  # phi at t_k = k/fs, k = 0..n (circular: t_n wraps to t_0)
     return np.asarray(np.diff(edges) * fs, dtype=np.float64)

@@ -156,3 +156,27 @@ def test_part_on_the_shaker_closes_with_its_vibration_term(name):
     resid = rec["output"] - rec["truth/true_rate"] - sum(rec["truth/" + k] for k in comps)
     scale = float(np.max(np.abs(rec["output"]))) + 1e-300
     assert np.max(np.abs(resid)) <= 16 * (len(comps) + 2) * EPS * scale
+
+
+@pytest.mark.parametrize(("name", "term"), [
+    pytest.param("dsp-1760", "strain_nonreciprocity", marks=pytest.mark.slow),  # ~3 s: the coil solve and heat flow
+    ("hg9900", "dither_mount_vibration"),
+])
+def test_simulate_device_on_a_shaker_profile_gives_the_part_its_vibration_term(tmp_path, name, term):
+    from gyrobench.io.recording import load_hdf5
+    from gyrobench.scenarios.cli.main import main
+
+    (tmp_path / "p.toml").write_text(
+        "duration_s = 30.0\ntemperature_c = [[0.0, 20.0], [30.0, 20.5]]\nspecific_force_g = 1.0\n"
+        "[shaker]\nkind = \"sine\"\nfrequency_hz = 20.0\nacceleration_g = 2.0\nstart_s = 10.0\nduration_s = 10.0\n")
+    out = tmp_path / "r.h5"
+    assert main(["simulate", "device", name, "--profile", str(tmp_path / "p.toml"), "--fs", "100", "--seed", "1",
+                 "-o", str(out), "-q"]) == 0
+    rec = load_hdf5(out)
+    assert rec.metadata["model_kind"] == "physics" and term in rec.metadata["error_components"]
+    e = np.asarray(rec["truth/" + term])
+    inside, before = e[1100:1900], e[100:800]  # away from the abrupt edges' band-limited ringing
+    assert np.sqrt(np.mean(inside**2)) > 1e3 * np.sqrt(np.mean(before**2))
+    comps = rec.metadata["error_components"]
+    resid = rec["output"] - rec["truth/true_rate"] - sum(np.asarray(rec["truth/" + k]) for k in comps)
+    assert np.max(np.abs(resid)) <= 16 * (len(comps) + 2) * EPS * float(np.max(np.abs(rec["output"])))

@@ -145,8 +145,11 @@ class _CavityScale:
         environment : Environment
             ``temperature``: the chamber air [K] (None: :data:`DEFAULT_CHAMBER` held; an array
             is held over each sample interval); ``true_rate`` [rad/s] about the sense axis. The
-            models have no g-sensitive or vibration term: a set ``specific_force`` or
-            ``vibration`` is listed in the metadata's ``ignored_inputs``.
+            models have no g-sensitive term: a set ``specific_force`` is listed in the metadata's
+            ``ignored_inputs``. ``vibration`` (a shaker run along the sense axis from t = 0, at an
+            integer multiple of ``fs``) twists the block on its dither flexure when the unit has a
+            ``dither_mount`` (:mod:`gyrobench.sim.rlg_vibration`): the unstripped part is the term
+            ``dither_mount_vibration``; a unit without one lists it in ``ignored_inputs``.
         fs : float
             Count sampling rate [Hz], at most f_d / 4.
         rng : numpy.random.Generator
@@ -165,7 +168,13 @@ class _CavityScale:
         rate = environment.profile("true_rate", fs) or 0.0
         rec = self._record(chamber_of(environment, fs), environment.duration, fs, rng=rng, rate=rate)
         rec, components = self._with_model_terms(rec)
-        ignored = environment.ignored("specific_force", "vibration")
+        mount = getattr(self, "dither_mount", None)
+        if environment.vibration is not None and mount is not None:
+            f_d = float(getattr(self, "dither").frequency)  # noqa: B009 (the units with a dither_mount have a dither)
+            rec, components = _with_dither_mount(rec, components, mount, f_d, environment.vibration)
+            ignored = environment.ignored("specific_force")
+        else:
+            ignored = environment.ignored("specific_force", "vibration")
         return with_metadata(rec, ignored_inputs=ignored, error_components=components)
 
     def _record(
@@ -182,6 +191,22 @@ class _CavityScale:
     def _with_model_terms(self, rec: Recording) -> tuple[Recording, list[str]]:
         """The record with any model-specific truth terms, and the components that close it."""
         return rec, list(RLG_ERROR_COMPONENTS)
+
+
+def _with_dither_mount(rec: Recording, components: list[str], mount: object, dither_frequency: float,
+                       shaker: object) -> tuple[Recording, list[str]]:
+    """``rec`` with the dither flexure's unstripped twist (:mod:`gyrobench.sim.rlg_vibration`) added.
+
+    The term ``dither_mount_vibration`` [rad/s] joins the output and the error components.
+    """
+    from gyrobench.sim.rlg_vibration import dither_mount_error
+
+    err = dither_mount_error(mount, dither_frequency, shaker, rec.n_samples, rec.fs)  # type: ignore[arg-type]
+    out = rec.channels["output"]
+    channels = {**rec.channels, "output": Channel(np.asarray(out.data) + err, out.unit, out.description)}
+    truth = {**rec.truth, "dither_mount_vibration": Channel(
+        err, "rad/s", "the dither flexure's axial-to-torsional twist under vibration, unstripped (1 - B) part")}
+    return replace(rec, channels=channels, truth=truth), [*components, "dither_mount_vibration"]
 
 
 # ============================================================================ statistical mode

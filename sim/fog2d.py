@@ -43,12 +43,14 @@ from gyrobench.base import units
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim.coil2d import Coil2D, Coil2DSpec, ThermalRun
+from gyrobench.sim.coil_vibration import coil_modes
 from gyrobench.sim.earth import HARBIN
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.fog_loop import ClosedLoopFOG, LoopSpec
 from gyrobench.sim.fog_optics import OpticalBudget
 from gyrobench.sim.noise import NoiseModel
 from gyrobench.sim.sensor import FOG_ERROR_COMPONENTS, Environment, chamber_program, check_call, with_metadata
+from gyrobench.sim.shaker import ShakerSignal
 
 __all__ = ["TemperatureSensorSpec", "FOG2DSpec", "FOG2DUnit", "coil_diameter_tempco"]
 
@@ -275,7 +277,7 @@ class FOG2DUnit:
             diameter_tempco=float(alpha_d),
             wavelength_tempco=s.wavelength_tempco,
             reference_temperature=s.scale_factor_ref_temperature,
-            modes=(),
+            modes=coil_modes(self.coil),
             index=self.coil.spec.index,
             latitude=s.latitude,
             azimuth=s.azimuth,
@@ -310,8 +312,12 @@ class FOG2DUnit:
             array or callable, linear between the sample centres), run through the coil's
             (r, z) heat flow (:meth:`thermal_response`, with the unit's ``chamber_scale``);
             ``true_rate``, the table rate [rad/s] (the sense axis' Earth component is added
-            by the loop). The model has no g-sensitive or vibration term: ``specific_force``
-            and ``vibration`` are listed in the metadata's ``ignored_inputs`` when set.
+            by the loop); ``vibration``, a shaker run along the sense axis (from t = 0, its rate an
+            even multiple of ``fs``): the coil's own modes (:func:`gyrobench.sim.coil_vibration.coil_modes`:
+            the spool's inertial strain on the winding map, the pigtail, the fixture) through the
+            loop, as the terms ``strain_nonreciprocity``, ``rectification`` and ``loop_error``. The
+            model has no static g-sensitive term: a set ``specific_force`` is listed in the
+            metadata's ``ignored_inputs``.
         fs : float
             Output rate [Hz].
         rng : numpy.random.Generator
@@ -334,10 +340,11 @@ class FOG2DUnit:
                 "Environment.temperature as a chamber program must span the record [0, duration] = "
                 f"[0, {environment.duration!r}] s; got [{float(chamber.times[0])!r}, {float(chamber.times[-1])!r}] s"
             )
-        rec = self._chamber_run(chamber, environment.duration, fs, rng, environment.profile("true_rate", fs))
+        rec = self._chamber_run(chamber, environment.duration, fs, rng, environment.profile("true_rate", fs),
+                                shaker=environment.vibration)
         return with_metadata(
             rec,
-            ignored_inputs=environment.ignored("specific_force", "vibration"),
+            ignored_inputs=environment.ignored("specific_force"),
             error_components=list(FOG_ERROR_COMPONENTS),
         )
 
@@ -348,6 +355,7 @@ class FOG2DUnit:
         fs: float,
         rng: np.random.Generator,
         true_rate: float | Callable[[NDArray[np.float64]], NDArray[np.float64]] | None,
+        shaker: ShakerSignal | None = None,
     ) -> Recording:
         true_rate = 0.0 if true_rate is None else true_rate
         run = self.thermal_response(chamber, chamber_scale=self.chamber_scale)
@@ -366,6 +374,7 @@ class FOG2DUnit:
             source_temperature=interp(run.housing),
             nonreciprocal_rate=interp(run.shupe + run.product),
             t0=t0,
+            shaker=shaker,
         )
         n = len(rec["output"])
         t = t0 + (np.arange(n) + 0.5) / fs
@@ -399,6 +408,7 @@ class FOG2DUnit:
         channels = {
             "output": rec.channels["output"],
             "coil_temperature": Channel(logged, "K", "coil temperature sensor (outer potting)"),
+            **{k: c for k, c in rec.channels.items() if k.startswith("vibration_")},  # the shaker's log
         }
         meta = {
             **rec.metadata,

@@ -72,6 +72,7 @@ from gyrobench.sim._rlg_common import (
     dither_margin,
 )
 from gyrobench.sim.noise import NoiseModel
+from gyrobench.sim.rlg_vibration import DitherMount
 
 __all__ = [
     "HENE_WAVELENGTH",
@@ -765,6 +766,10 @@ class RLGUnit(_CavityScale):
         (discharge-current balance set anew at every start).
     sensor_housing, sensor_cavity : TemperatureSensor
     label : str
+    dither_mount : DitherMount or None
+        The dither flexure's axial-to-torsional coupling and the stripper's band-pass: the
+        vibration error (:mod:`gyrobench.sim.rlg_vibration`; ASSUMED defaults). None: a shaker
+        run is ignored (listed in ``ignored_inputs``).
 
     Raises
     ------
@@ -787,6 +792,7 @@ class RLGUnit(_CavityScale):
     sensor_housing: TemperatureSensor = field(default_factory=TemperatureSensor)
     sensor_cavity: TemperatureSensor = field(default_factory=TemperatureSensor)
     label: str = "RLG"
+    dither_mount: DitherMount | None = field(default_factory=DitherMount)
 
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "lock_in_rate": FieldRange(0, math.inf, "rad/s", "lock-in threshold Omega_L, >= 0"),
@@ -999,6 +1005,8 @@ class RLGSpec:
         Noise and resolution of both sensors.
     sensor_offset_spread : float
         Std of each sensor's drawn calibration offset [K].
+    dither_mount : DitherMount or None
+        See :class:`RLGUnit` (no unit-to-unit spread: ASSUMED defaults, no source prints them).
 
     Notes
     -----
@@ -1029,6 +1037,7 @@ class RLGSpec:
     flow_repeatability: float = 0.2
     sensor: TemperatureSensor = field(default_factory=TemperatureSensor)
     sensor_offset_spread: float = 0.2
+    dither_mount: DitherMount | None = field(default_factory=DitherMount)
 
     RANGES: ClassVar[Mapping[str, FieldRange]] = {
         "lock_in_rate": FieldRange(0, math.inf, "rad/s", "nominal lock-in threshold Omega_L, >= 0"),
@@ -1062,6 +1071,7 @@ class RLGSpec:
             sensor_housing=self.sensor,
             sensor_cavity=self.sensor,
             label=label,
+            dither_mount=self.dither_mount,
         )
 
     def realize(self, *, rng: np.random.Generator, label: str = "RLG") -> RLGUnit:
@@ -1109,4 +1119,5 @@ class RLGSpec:
             sensor_housing=housing,
             sensor_cavity=cavity,
             label=label,
+            dither_mount=self.dither_mount,
         )

@@ -69,6 +69,7 @@ __all__ = [
     "OVERSAMPLING",
     "ShakerWindowError",
     "interval_mean_acceleration",
+    "record_signal",
     "psd_from_breakpoints",
     "grms",
     "sweep_phase",
@@ -829,3 +830,71 @@ def interval_mean_acceleration(
     out = np.zeros(n)
     out[k0:k0 + n_vib] = acc[: n_vib * m].reshape(n_vib, m).mean(axis=1)
     return out
+
+
+def record_signal(
+    vibration: SineSweep | FixedSine | RandomVibration,
+    *,
+    duration: float,
+    fs: float,
+    rng: np.random.Generator,
+    start: float = 0.0,
+) -> ShakerSignal:
+    """The shaker's table acceleration over a whole record, for the device models' vibration input.
+
+    What :class:`gyrobench.sim.sensor.Environment` ``vibration`` takes: the profile placed in the
+    record as :func:`interval_mean_acceleration` places it (the same k0 = round(start fs) and
+    n_v = round(T_v fs) output intervals, static before and after), sampled at m fs with
+    m = the smallest EVEN integer >= max(2, ceil(:data:`OVERSAMPLING` f_max / fs)) (the
+    closed-loop FOG's reduced form needs an even multiple of the output rate), from t = 0 over
+    floor(duration fs) output intervals. With the same ``rng`` state and an even m of
+    :func:`interval_mean_acceleration`, its block means are that function's values; a sine
+    without controller error is the same signal at any m.
+
+    Parameters
+    ----------
+    vibration : SineSweep, FixedSine or RandomVibration
+        What the shaker plays.
+    duration : float
+        Length of the whole record [s], > 0.
+    fs : float
+        Output sample rate of the record [Hz], > 0.
+    rng : numpy.random.Generator
+        The shaker's own stream.
+    start : float
+        Time of the vibration's start in the record [s], >= 0.
+
+    Returns
+    -------
+    ShakerSignal
+        n m samples at m fs from t = 0 (frequency NaN and ``on`` False while static).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`interval_mean_acceleration` (:class:`ShakerWindowError` when the vibration
+        does not lie inside the record).
+    """
+    if not isinstance(vibration, (SineSweep, FixedSine, RandomVibration)):
+        raise TypeError(
+            f"vibration must be a SineSweep, FixedSine or RandomVibration; got {type(vibration).__name__}"
+        )
+    duration = _real("record_signal", "duration", duration, "s", positive=True)
+    fs = _check_fs(fs)
+    rng = _check_rng(rng)
+    start = _real("record_signal", "start", start, "s", nonneg=True)
+    memory.check_memory(memory.series_bytes(duration * fs), f"the shaker record of {duration * fs:.3g} output samples",
+                        hint="shorten the record or lower the sample rate")
+    n = int(math.floor(duration * fs + 1e-9))
+    if start + vibration.duration > duration + 2.0 / fs:
+        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    k0 = int(round(start * fs))
+    n_vib = int(round(vibration.duration * fs))
+    if n_vib < 1 or k0 + n_vib > n:
+        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    m = max(2, math.ceil(OVERSAMPLING * vibration.max_frequency / fs))
+    m += m % 2
+    memory.check_memory(memory.series_bytes(n * m, 4), f"the shaker's table acceleration sampled at {m * fs:g} Hz",
+                        hint="shorten the record or lower the sample rate")
+    vib = replace(vibration, duration=n_vib / fs)
+    return Phased(vibration=vib, static_before=k0 / fs, static_after=(n - k0 - n_vib) / fs).sample(m * fs, rng=rng)

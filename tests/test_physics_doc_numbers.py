@@ -51,3 +51,19 @@ def test_source_spectrum_shape_and_arw_quoted_are_the_codes():
     gauss = float(units.to_deg_per_sqrt_h(spec.arw(OpticalBudget(width_factor=1.505))))
     assert _quoted(r"ARW ([0-9.e-]+) instead of") == pytest.approx(gauss, rel=5e-4)
     assert _quoted(r"instead of\s+([0-9.e-]+) deg/sqrt\(h\)") == pytest.approx(rect, rel=5e-4)
+
+
+def test_part_vibration_numbers_quoted_are_the_codes():
+    from gyrobench.sim.coil2d import Coil2D, Coil2DSpec
+    from gyrobench.sim.coil_vibration import axial_frequency, inertial_strain, pack_density, shape_weight
+    from gyrobench.sim.rlg_vibration import DitherMount
+
+    coil = Coil2D(spec=Coil2DSpec())
+    assert _quoted(r"pack density rho_p = ([0-9.]+) kg/m\^3") == pytest.approx(pack_density(coil), abs=0.5)
+    assert _quoted(r"epoxy 1300 kg/m\^3 by volume\), kappa = ([0-9.e-]+) per m/s\^2") == pytest.approx(
+        inertial_strain(coil), rel=0.03)
+    assert _quoted(r"f_1 = sqrt\(E_s A_s/\(rho_s A_s \+ rho_p A_p\)\)/\(4 H\) = ([0-9.]+) kHz") == pytest.approx(
+        axial_frequency(coil) / 1e3, rel=0.01)
+    assert _quoted(r"the ideal quadrupolar map gives\s+([0-9.]+) m\^2") == pytest.approx(shape_weight(coil), rel=0.05)
+    assert _quoted(r"400 Hz dither c = ([0-9.e-]+) rad/\(m/s\^2\)") == pytest.approx(
+        DitherMount().coupling(400.0), rel=0.01)

@@ -388,6 +388,20 @@ def _shaker_force(vibration, start: float, duration: float, fs: float, *, rng, p
         raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
 
 
+def _shaker_signal(vibration, start: float, duration: float, fs: float, *, seed: int, path: str) -> typing.Any:
+    """The shaker's table acceleration over the record (:func:`gyrobench.sim.shaker.record_signal`), drawn
+    from the stream of :func:`_shaker_force`, its errors in the profile's words."""
+    import numpy as np
+
+    from gyrobench.sim.shaker import record_signal
+
+    try:
+        return record_signal(vibration, duration=duration, fs=fs, start=start,
+                             rng=np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]))
+    except ValueError as exc:
+        raise BadInput(f"--profile {path!r}: [shaker] {one_line(exc)}") from None
+
+
 def _device_environment(args, part):
     """(Environment, fs, what the profile's tables added) from --profile or --rate-csv/--temperature-csv."""
 
@@ -406,6 +420,7 @@ def _device_environment(args, part):
     force: typing.Any = 0.0
     earth = None
     shaker = None
+    signal = None
     duration = args.duration
     if args.profile is not None:
         path = args.profile
@@ -447,13 +462,19 @@ def _device_environment(args, part):
         # the shaker's own stream: a child of the seed, so the part's noise is the same with or without it
         rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
         vib = _shaker_force(vibration, start, duration, fs, rng=rng, path=args.profile)
+        # the physics models' table acceleration (the FOG's coil modes, the RLG's dither flexure):
+        # the same profile from the same stream, on an even multiple of fs (shaker.record_signal);
+        # MEMS and the budget take the specific force only
+        if part.datasheet.technology in ("FOG", "RLG") and (args.model or part.datasheet.default_model) == "physics":
+            signal = _shaker_signal(vibration, start, duration, fs, seed=seed, path=args.profile)
         n = len(vib)
         base = force((np.arange(n) + 0.5) / fs) if isinstance(force, PiecewiseLinear) else np.full(n, force)
         force = base + vib
         added["shaker"] = {"kind": type(vibration).__name__, "start_s": start, "duration_s": vibration.duration,
                            "max_frequency_hz": vibration.max_frequency}
     try:
-        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force), fs, added
+        return Environment(duration, true_rate=rate, temperature=temp, specific_force=force,
+                           vibration=signal if shaker is not None else None), fs, added
     except (TypeError, ValueError) as exc:
         raise BadInput(f"simulate device: {one_line(exc)}") from None
 

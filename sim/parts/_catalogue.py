@@ -257,7 +257,10 @@ CATALOGUE: tuple[Datasheet, ...] = (
             "KVH/EMCORE DSP-1760 data sheet (EMCORE DS_DSP1760, 2024; revision not shown in the quotes), figures "
             "as quoted in github.com/tim-balloon/TIMflight/issues/77 (ARW <= 0.012 deg/sqrt(h), i.e. <= 0.7 "
             "deg/h/sqrt(Hz)) and in the NCLT dataset sensor notes (bias instability 0.05 deg/h typical, "
-            "+-490 deg/s)"
+            "+-490 deg/s). KVH's own technical manuals exist in public mirrors (DSP-1760 Multi-axis Gyroscope "
+            "Technical Manual, KVH part 54-0924 Rev. A, 2013; Unhoused DSP-1760 Technical Manual, 54-1210 Rev. A, "
+            "2016), but only their covers and contents pages could be read, not the specification tables: no "
+            "figure is taken from them"
         ),
         range_dps=490.0,
         bias_instability_dph=0.05,

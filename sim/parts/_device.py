@@ -38,9 +38,14 @@ FOG (:class:`gyrobench.sim.fog2d.FOG2DUnit`)
     scale factor's (1 + alpha_D dT)^2 / (1 + alpha_lambda dT) law come from the coil's
     materials and winding, not from a sheet figure (a bias tempco is not a FOG's law: the
     Shupe drift follows dT/dt). The sheet's scale-factor tempco, where printed, sets the
-    source's wavelength tempco alpha_lambda = 2 alpha_D - k_T. The model has no static
-    g-sensitive term: the sheet's g-sensitivity (where printed) is added as the term
-    ``g_sensitivity`` = g_s f, a sheet term on the physics record, named in the metadata.
+    source's wavelength tempco alpha_lambda = 2 alpha_D - k_T. A shaker run (the
+    environment's ``vibration``) drives the coil's own modes through the loop
+    (:mod:`gyrobench.sim.coil_vibration`: the spool's inertial strain weighted on the unit's
+    winding map, the pigtail, the fixture; docs/physics.md 4.3): the terms
+    ``strain_nonreciprocity``, ``rectification`` and ``loop_error``. The model has no static
+    g-sensitive term (the strain term follows the acceleration's rate): the sheet's
+    g-sensitivity (where printed) is added as the term ``g_sensitivity`` = g_s f, a sheet term
+    on the physics record, named in the metadata.
 RLG (:class:`gyrobench.sim.rlg.RLGUnit`)
     The chamber drives the two-node (housing, cavity) thermal model. The sheet's bias tempco,
     where printed, is the cavity coefficient k_c of :class:`~gyrobench.sim.rlg.ThermalBias`
@@ -49,8 +54,11 @@ RLG (:class:`gyrobench.sim.rlg.RLGUnit`)
     housing and discharge heating of :class:`~gyrobench.sim.rlg.TwoNodeThermal`): the sheet's
     coefficient is per kelvin of the ambient. No RLG sheet read prints one; the part then carries the one sized set of
     RLG thermal mechanisms in the project, :data:`~gyrobench.sim.rlg.THERMAL_BIAS_CALIBRATED`
-    (CALIBRATED to paper 004's device, an ASSUMED design as the FOG's default coil is). The
-    sheet's g-sensitivity is added as for the FOG.
+    (CALIBRATED to paper 004's device, an ASSUMED design as the FOG's default coil is). A
+    shaker run twists the block on its dither flexure (:mod:`gyrobench.sim.rlg_vibration`,
+    the default ASSUMED :class:`~gyrobench.sim.rlg_vibration.DitherMount`; docs/physics.md
+    6.7): the unstripped part is the term ``dither_mount_vibration``. The sheet's
+    g-sensitivity is added as for the FOG.
 
 After the device model, the sheet's output stage: its output filter at the output rate (the
 model's record runs at ``fs``; a bandwidth at or above 0.45 fs is not applied and the metadata

@@ -41,12 +41,12 @@ def _spec_device(name, spec, fs, duration, uses):
 
 
 MODELS = [
-    _spec_device("fog2d", FOG2DSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
+    _spec_device("fog2d", FOG2DSpec(), 10.0, 20.0, {"true_rate", "temperature", "vibration"}),
     Device("fog_loop", lambda rng: ClosedLoopFOG(), None, 400.0, 2.0,
            frozenset({"true_rate", "temperature", "vibration"})),
     _spec_device("mems_resonator", mems_population.MemsResonatorSpec(), 200.0, 1.0,
                  {"true_rate", "temperature", "specific_force"}),
-    _spec_device("rlg", RLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
+    _spec_device("rlg", RLGSpec(), 10.0, 20.0, {"true_rate", "temperature", "vibration"}),
     _spec_device("rlg_cavity", CavityRLGSpec(), 10.0, 20.0, {"true_rate", "temperature"}),
 ]
 PARTS = [

@@ -187,3 +187,31 @@ def test_streamed_later_octaves_match_in_place(monkeypatch, n):
     np.testing.assert_allclose(got.deviation, ref.deviation, rtol=1e-12, atol=0)
     assert np.array_equal(got.alpha, ref.alpha)
     np.testing.assert_array_equal(got.edf, ref.edf)
+
+
+@pytest.mark.parametrize("rows", [1, 7, 64, 2048])
+def test_residue_sums_do_not_depend_on_their_chunks(rows):
+    """The streamed path's moving sums reuse their buffers chunk after chunk: any chunk of rows gives
+    the same bits as the whole group at once in fresh arrays (a partly filled last block and the
+    zero padding past the end included), and they are the moving sums S_B to rounding."""
+    n, b, w, i0 = 4096 * 37 + 1234, 4096, 64, 128
+    g = np.random.default_rng(rows)
+    y = g.standard_normal(n) + 3.0
+    mean = float(y.mean())
+    nj = (n - b - i0) // b + 1
+    nb = -(-n // b) + 1
+    blocks = _octave._rows_of(y, mean, b, 0, nb, 0, b)  # (nb, b), zero past the end
+    gs = blocks.reshape(nb, b // w, w).sum(axis=2)
+    grp = i0 // w
+    after, before = gs[:, grp + 1 :].sum(axis=1), gs[:, :grp].sum(axis=1)
+    whole = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=nj)
+    chunked = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=rows)
+    assert np.array_equal(chunked, whole)
+    k = np.arange(nj)[:, None] * b + i0 + np.arange(w)[None, :]
+    x = np.concatenate(([0.0], np.cumsum(y - mean)))
+    valid = k + b <= n
+    direct = x[np.minimum(k + b, n)] - x[k]
+    # worst-case rounding of the reference: a cumulative sum of n terms errs by up to n eps max|x|
+    # at each of its two ends (the block sums of b terms err far less)
+    bound = 2.0 * n * np.finfo(float).eps * float(np.max(np.abs(x)) + np.max(np.abs(y - mean)))
+    np.testing.assert_allclose(whole[valid], direct[valid], rtol=0, atol=bound)

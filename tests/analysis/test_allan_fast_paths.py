@@ -7,6 +7,8 @@ the chi-square quantiles of analysis/allan/_chi2.py (instead of scipy.stats and 
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -15,7 +17,7 @@ from allantools import ci as atci
 from scipy import optimize, stats
 
 from gyrobench.analysis import allan
-from gyrobench.analysis.allan import _covariance, _curve, _edf, _nnls, _octave
+from gyrobench.analysis.allan import _covariance, _curve, _edf, _kinds, _nnls, _octave
 from gyrobench.io import logs
 
 N_PHASE = [50, 101, 1000, 4097, 100_001, 1_000_001, 100_000_001]
@@ -215,3 +217,23 @@ def test_residue_sums_do_not_depend_on_their_chunks(rows):
     # at each of its two ends (the block sums of b terms err far less)
     bound = 2.0 * n * np.finfo(float).eps * float(np.max(np.abs(x)) + np.max(np.abs(y - mean)))
     np.testing.assert_allclose(whole[valid], direct[valid], rtol=0, atol=bound)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_distinct_is_numpy_unique(seed):
+    g = np.random.default_rng(seed)
+    a = g.integers(-3, 3000, size=(g.integers(0, 40), 3))
+    assert np.array_equal(_kinds._distinct(a), np.unique(a))
+
+
+def test_a_first_curve_and_fit_do_not_import_numpy_ma():
+    """numpy 2's plain unique() imports numpy.ma (~10 ms) on a process's first call."""
+    code = (
+        "import sys, numpy as np\n"
+        "from gyrobench.analysis.allan import allan_deviation, fit_noise\n"
+        "y = np.random.default_rng(1).standard_normal(20000)\n"
+        "fit_noise(allan_deviation(y, 100.0))\n"
+        "print('numpy.ma' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

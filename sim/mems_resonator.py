@@ -169,6 +169,7 @@ __all__ = [
     "open_loop_noise_psd",
     "drive_axis_sensitivity",
     "READOUTS",
+    "ERROR_SPLITS",
     "zero_rate_output",
     "rate_authority",
     "saturated_output",
@@ -263,6 +264,8 @@ _POSITIVE = (
 )
 #: the sense read-outs (MemsResonator.readout)
 READOUTS = ("force_rebalance", "open_loop")
+#: what a record's truth holds of its error (:attr:`MemsResonator.error_split`)
+ERROR_SPLITS = ("components", "total")
 #: fields of MemsResonator that must be >= 0
 _NON_NEGATIVE = ("pickoff_noise", "bias_instability", "rate_random_walk", "bias_repeatability",
                  "scale_factor_repeatability")
@@ -389,6 +392,12 @@ class MemsResonator:
           rate-grade high-range part is not better than it.
     turn_on_bias, turn_on_scale_factor : float
         b_on [rad/s] and e_on [-] of this power-on (set by :meth:`power_on`; e_on > -1).
+    error_split : {"components", "total"}
+        What a record of :meth:`simulate` keeps of its error in ``truth``. "components"
+        (default): ``deterministic_error`` and ``noise``, which costs a second, noise-free slow
+        flow of the whole record. "total": one component ``total_error`` = output - true rate
+        (it closes the record alike), without that second run: for a user who reads the output
+        only (a rate table's dwell means). The output is the same bit for bit either way.
     """
 
     mass: float = 2e-9
@@ -427,6 +436,7 @@ class MemsResonator:
     scale_factor_repeatability: float = 1e-3
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
+    error_split: str = "components"
 
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
@@ -464,6 +474,7 @@ class MemsResonator:
         "turn_on_bias": FieldRange(-1e3, 1e3, "rad/s", "this power-on's bias (power_on draws it)"),
         "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
         "readout": FieldChoice(READOUTS, "force rebalance (closed loop) or open loop"),
+        "error_split": FieldChoice(ERROR_SPLITS, "a record's error as its two components, or as one total"),
     }
 
     #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
@@ -536,7 +547,9 @@ class MemsResonator:
             and its nonlinearity, bias, quadrature, rails and ADC), and ``noise``, the record
             minus that noise-free run (Brownian and pick-off noise and the 1/f term, through
             the nonlinear read-out, with the ADC's rounding of them); inputs ``temperature``
-            and ``specific_force``. The noise-free run draws nothing from ``rng``.
+            and ``specific_force``. The noise-free run draws nothing from ``rng``. With
+            ``error_split="total"`` the truth holds ``total_error`` (output - true rate) in
+            their place and the noise-free run is not made.
             With k segments the channels hold them one after another (column by column, n k
             samples) and the metadata's ``segments`` is k (1 for one record).
 
@@ -555,22 +568,25 @@ class MemsResonator:
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
         quiet = {"noise": False, "flicker": False}
+        split = self.error_split == "components"  # else no noise-free run: the truth is the total error
         k = environment.columns
         if k > 1:
             if not np.all(temp == temp[0]):
                 raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
             columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
-            still = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
-                              specific_force=force[:, None], **quiet)
-            out, calm, rate = (a.T.reshape(-1) for a in (columns.output, still.output, rate))
+            if split:
+                calm = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
+                                 specific_force=force[:, None], **quiet).output.T.reshape(-1)
+            out, rate = (a.T.reshape(-1) for a in (columns.output, rate))
             temp, force = np.full(n * k, temp[0]), np.tile(force, k)
             blocks = 1
         elif np.all(temp == temp[0]):
             out = np.empty(n)
             calm = np.empty(n)  # the same run without noise: the deterministic part of the error
             out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
-            calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
-                                specific_force=force, **quiet).output
+            if split:
+                calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
+                                    specific_force=force, **quiet).output
             blocks = 1
         else:
             out = np.empty(n)
@@ -585,22 +601,28 @@ class MemsResonator:
                     self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b]
                 )
                 out[a:b] = res.output
-                calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
-                                      temperature=float(np.mean(temp[a:b])), specific_force=force[a:b], **quiet).output
+                if split:
+                    calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
+                                          temperature=float(np.mean(temp[a:b])), specific_force=force[a:b],
+                                          **quiet).output
             blocks = len(starts)
+        if split:
+            errors = {
+                "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
+                                               "factor and nonlinearity, bias, quadrature, rails, ADC"),
+                "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off "
+                                 "and 1/f noise through the read-out"),
+            }
+        else:
+            errors = {"total_error": Channel(out - rate, "rad/s", "output - true rate (error_split 'total': "
+                                             "not split into deterministic error and noise)")}
         return Recording(
             fs=fs,
             channels={
                 "output": Channel(out, "rad/s", "gyro output"),
                 "temperature": Channel(temp, "K", "die temperature (as driven)"),
             },
-            truth={
-                "true_rate": Channel(rate, "rad/s", "input rate about the sense axis"),
-                "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
-                                               "factor and nonlinearity, bias, quadrature, rails, ADC"),
-                "noise": Channel(out - calm, "rad/s", "the record minus its noise-free run: Brownian, pick-off "
-                                 "and 1/f noise through the read-out"),
-            },
+            truth={"true_rate": Channel(rate, "rad/s", "input rate about the sense axis"), **errors},
             inputs={
                 "temperature": Channel(temp, "K", "die temperature"),
                 "specific_force": Channel(force, "m/s^2", "specific force along the sense axis"),
@@ -611,7 +633,7 @@ class MemsResonator:
                 "temperature_blocks": blocks,
                 "segments": k,
                 "ignored_inputs": environment.ignored("vibration"),
-                "error_components": ["deterministic_error", "noise"],
+                "error_components": list(errors),
             },
             name="mems",
         )

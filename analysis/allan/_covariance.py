@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.analysis.allan._blas import _GEMM_SINGLE, _one_blas_thread
-from gyrobench.analysis.allan._kinds import STATISTICS, _n_terms
+from gyrobench.analysis.allan._kinds import STATISTICS, _distinct, _n_terms
 
 #: correlations are computed exactly (discrete time) up to this m; larger pairs are scaled down
 #: keeping their ratio (the correlation of power-law noise depends on m_j/m_i only, for large m)
@@ -105,7 +105,7 @@ def _rho_blocks_cached(
 ) -> dict[tuple[int, int], NDArray[np.float64]]:
     n = len(ms)
     pairs = _scaled_pairs(np.asarray(ms, dtype=np.int64))  # (n, n, 2)
-    mu = sorted({int(m) for m in np.unique(pairs)})
+    mu = [int(m) for m in _distinct(pairs)]
     ua = sorted(set(alphas))
     gram = _octave_gram(ua, mu)
     if gram is None:  # some m is not a power of two (or the table does not hold it): compute

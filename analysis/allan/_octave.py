@@ -238,6 +238,59 @@ _GROUPS = 64
 _STREAM_ROWS = 2048
 
 
+def _rows_of(y: NDArray[np.float64], mean: float, b: int, r0: int, r1: int, c0: int, c1: int,
+             buf: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """Columns c0 .. c1-1 of blocks r0 .. r1-1 (``b`` samples a block) of y - mean, zero past the end.
+
+    Shape (r1 - r0, c1 - c0); written into ``buf[: r1 - r0]`` when given (a buffer reused from
+    call to call instead of fresh memory for every chunk).
+    """
+    n = y.size
+    a0 = r0 * b
+    full = min(r1 - r0, max(0, (n - a0) // b))  # rows wholly inside the record
+    out = np.empty((r1 - r0, c1 - c0)) if buf is None else buf[: r1 - r0]
+    if full == r1 - r0:
+        return np.subtract(y[a0 : r1 * b].reshape(r1 - r0, b)[:, c0:c1], mean, out=out)
+    out[full:] = 0.0  # (only these columns: a full-width pad was 60 MB)
+    if full:
+        np.subtract(y[a0 : a0 + full * b].reshape(full, b)[:, c0:c1], mean, out=out[:full])
+    start = a0 + full * b  # the partial row
+    if start + c0 < n:
+        seg = y[start + c0 : min(start + c1, n)]
+        np.subtract(seg, mean, out=out[full, : seg.size])
+    return out
+
+
+def _residue_sums(y: NDArray[np.float64], mean: float, b: int, i0: int, w: int, nj: int,
+                  after: NDArray[np.float64], before: NDArray[np.float64], rows: int | None = None
+                  ) -> NDArray[np.float64]:
+    """Z[j, c] = S_B[j B + i0 + c] (B = ``b``) for j < ``nj``, c < ``w``: one residue group's moving sums.
+
+    S_B[j B + i] = tail of block j from column i + head of block j + 1 before i =
+    (after[j] + (head_j[w] - head_j[c])) + (before[j + 1] + head_{j+1}[c]), with head the
+    cumulative sum over the group's columns and ``after``/``before`` the sums of the column
+    groups after/before this one (see :func:`_later_streamed`). Chunks of ``rows`` blocks
+    (default _STREAM_ROWS) in buffers reused from chunk to chunk; every element is the same
+    expression whatever the chunk, so the result does not depend on ``rows``.
+    """
+    rows = _STREAM_ROWS if rows is None else rows
+    z = np.empty((nj, w))
+    cap = min(nj, rows)
+    blk_buf = np.empty((cap + 1, w))
+    head_buf = np.zeros((cap + 1, w + 1))  # head[j, c] = sum of columns i0 .. i0 + c - 1 of block j
+    tail_buf = np.empty((cap, w))
+    for r0 in range(0, nj, rows):
+        r1 = min(nj, r0 + rows)
+        blk = _rows_of(y, mean, b, r0, r1 + 1, i0, i0 + w, blk_buf)
+        head = head_buf[: r1 - r0 + 1]
+        np.cumsum(blk, axis=1, out=head[:, 1:])
+        tail = np.subtract(head[:-1, w, None], head[:-1, :w], out=tail_buf[: r1 - r0])
+        np.add(after[r0:r1, None], tail, out=tail)
+        nxt_head = np.add(before[r0 + 1 : r1 + 1, None], head[1:, :w], out=z[r0:r1])
+        np.add(tail, nxt_head, out=z[r0:r1])
+    return z
+
+
 def _later_streamed(
     y: NDArray[np.float64],
     mean: float,
@@ -274,26 +327,13 @@ def _later_streamed(
         octs.append(mm)
         mm <<= 1
 
-    def rows_of(r0: int, r1: int, c0: int = 0, c1: int = b) -> NDArray[np.float64]:
-        """Columns c0 .. c1-1 of blocks r0 .. r1-1 of y - mean, shape (r1 - r0, c1 - c0), zero past the end."""
-        a0 = r0 * b
-        full = min(r1 - r0, max(0, (n - a0) // b))  # rows wholly inside the record
-        if full == r1 - r0:
-            return y[a0 : r1 * b].reshape(r1 - r0, b)[:, c0:c1] - mean
-        out = np.zeros((r1 - r0, c1 - c0))  # (only these columns: a full-width pad was 60 MB)
-        if full:
-            out[:full] = y[a0 : a0 + full * b].reshape(full, b)[:, c0:c1] - mean
-        start = a0 + full * b  # the partial row
-        if start + c0 < n:
-            seg = y[start + c0 : min(start + c1, n)]
-            out[full, : seg.size] = seg - mean
-        return out
-
     # block sums of each column group: gs[j, g] = sum of y - mean over block j, columns of group g
     gs = np.zeros((nb_all, _GROUPS))
+    rows_buf = np.empty((min(nb_all, 512), b))
     for r0 in range(0, nb_all, 512):
         r1 = min(nb_all, r0 + 512)
-        gs[r0:r1] = rows_of(r0, r1).reshape(r1 - r0, _GROUPS, w).sum(axis=2)
+        _rows_of(y, mean, b, r0, r1, 0, b, rows_buf).reshape(r1 - r0, _GROUPS, w).sum(axis=2, out=gs[r0:r1])
+    del rows_buf
     after = np.cumsum(gs[:, ::-1], axis=1)[:, ::-1]  # after[j, g] = sum of groups >= g
     after = np.concatenate((after[:, 1:], np.zeros((nb_all, 1))), axis=1)  # groups > g
     before = np.concatenate((np.zeros((nb_all, 1)), np.cumsum(gs[:, :-1], axis=1)), axis=1)  # groups < g
@@ -301,16 +341,7 @@ def _later_streamed(
     def one_group(g: int) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
         i0 = g * w
         nj = (n - b - i0) // b + 1  # rows with a valid first column: j B + i0 + B <= n
-        z = np.empty((nj, w))
-        for r0 in range(0, nj, _STREAM_ROWS):
-            r1 = min(nj, r0 + _STREAM_ROWS)
-            blk = rows_of(r0, r1 + 1, i0, i0 + w)
-            head = np.zeros((r1 - r0 + 1, w + 1))  # head[j, c] = sum of columns i0 .. i0 + c - 1 of block j
-            np.cumsum(blk, axis=1, out=head[:, 1:])
-            # tail of block j from column i (group sum minus head) plus head of block j + 1 before i
-            z[r0:r1] = (after[r0:r1, g, None] + (head[:-1, w, None] - head[:-1, :w])) + (
-                before[r0 + 1 : r1 + 1, g, None] + head[1:, :w]
-            )
+        z = _residue_sums(y, mean, b, i0, w, nj, after[:, g], before[:, g])
         k_last = (nj - 1) * b + i0 + np.arange(w)  # the last row's k: valid while k + B <= n
         z[nj - 1, k_last + b > n] = np.nan
         acc: dict[int, float] = {}

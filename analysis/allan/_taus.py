@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobench.analysis.allan._kinds import STATISTICS
+from gyrobench.analysis.allan._kinds import STATISTICS, _distinct
 from gyrobench.analysis.allan._octave import _BLOCK
 
 #: automatic tau lists
@@ -84,7 +84,7 @@ def _resolve_m(taus: Any, fs: float, n: int, kind: str) -> NDArray[np.int64]:
     if np.any(bad) or np.any(m < 1):
         i = int(np.flatnonzero(bad | (m < 1))[0])
         raise ValueError(f"taus must be multiples of 1/fs = {1 / fs!r} s; got tau = {float(t[i])!r} s")
-    m = np.unique(m.astype(np.int64))
+    m = _distinct(m.astype(np.int64))
     m_max = stat.max_m(n)
     if m[-1] > m_max:
         need = stat.samples_needed(int(m[-1]))

@@ -276,7 +276,7 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
         sheet_terms.append("g_sensitivity")
         ignored = [k for k in ignored if k != "specific_force"]
         out = out + comps["g_sensitivity"]
-    if isinstance(unit, MemsResonator):  # the slow flow: its thermal terms from the closed forms
+    if isinstance(unit, MemsResonator) and "deterministic_error" in comps:  # its thermal terms, closed forms
         temp = np.asarray(rec["inputs/temperature"], dtype=float)
         thermal = _mems_thermal(unit, temp, omega)
         det = comps.pop("deterministic_error")

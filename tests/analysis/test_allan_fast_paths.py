@@ -7,6 +7,8 @@ the chi-square quantiles of analysis/allan/_chi2.py (instead of scipy.stats and 
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -15,7 +17,7 @@ from allantools import ci as atci
 from scipy import optimize, stats
 
 from gyrobench.analysis import allan
-from gyrobench.analysis.allan import _covariance, _curve, _edf, _nnls, _octave
+from gyrobench.analysis.allan import _covariance, _curve, _edf, _kinds, _nnls, _octave
 from gyrobench.io import logs
 
 N_PHASE = [50, 101, 1000, 4097, 100_001, 1_000_001, 100_000_001]
@@ -187,3 +189,51 @@ def test_streamed_later_octaves_match_in_place(monkeypatch, n):
     np.testing.assert_allclose(got.deviation, ref.deviation, rtol=1e-12, atol=0)
     assert np.array_equal(got.alpha, ref.alpha)
     np.testing.assert_array_equal(got.edf, ref.edf)
+
+
+@pytest.mark.parametrize("rows", [1, 7, 64, 2048])
+def test_residue_sums_do_not_depend_on_their_chunks(rows):
+    """The streamed path's moving sums reuse their buffers chunk after chunk: any chunk of rows gives
+    the same bits as the whole group at once in fresh arrays (a partly filled last block and the
+    zero padding past the end included), and they are the moving sums S_B to rounding."""
+    n, b, w, i0 = 4096 * 37 + 1234, 4096, 64, 128
+    g = np.random.default_rng(rows)
+    y = g.standard_normal(n) + 3.0
+    mean = float(y.mean())
+    nj = (n - b - i0) // b + 1
+    nb = -(-n // b) + 1
+    blocks = _octave._rows_of(y, mean, b, 0, nb, 0, b)  # (nb, b), zero past the end
+    gs = blocks.reshape(nb, b // w, w).sum(axis=2)
+    grp = i0 // w
+    after, before = gs[:, grp + 1 :].sum(axis=1), gs[:, :grp].sum(axis=1)
+    whole = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=nj)
+    chunked = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=rows)
+    assert np.array_equal(chunked, whole)
+    k = np.arange(nj)[:, None] * b + i0 + np.arange(w)[None, :]
+    x = np.concatenate(([0.0], np.cumsum(y - mean)))
+    valid = k + b <= n
+    direct = x[np.minimum(k + b, n)] - x[k]
+    # worst-case rounding of the reference: a cumulative sum of n terms errs by up to n eps max|x|
+    # at each of its two ends (the block sums of b terms err far less)
+    bound = 2.0 * n * np.finfo(float).eps * float(np.max(np.abs(x)) + np.max(np.abs(y - mean)))
+    np.testing.assert_allclose(whole[valid], direct[valid], rtol=0, atol=bound)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_distinct_is_numpy_unique(seed):
+    g = np.random.default_rng(seed)
+    a = g.integers(-3, 3000, size=(g.integers(0, 40), 3))
+    assert np.array_equal(_kinds._distinct(a), np.unique(a))
+
+
+def test_a_first_curve_and_fit_do_not_import_numpy_ma():
+    """numpy 2's plain unique() imports numpy.ma (~10 ms) on a process's first call."""
+    code = (
+        "import sys, numpy as np\n"
+        "from gyrobench.analysis.allan import allan_deviation, fit_noise\n"
+        "y = np.random.default_rng(1).standard_normal(20000)\n"
+        "fit_noise(allan_deviation(y, 100.0))\n"
+        "print('numpy.ma' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

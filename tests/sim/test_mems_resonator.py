@@ -810,3 +810,39 @@ def test_bad_drive_specific_force():
     with pytest.raises(ValueError, match="drive_specific_force"):
         simulate_full(_open(), np.zeros(2), duration=0.001, rng=np.random.default_rng(0),
                       drive_specific_force=np.zeros(3))
+
+
+# ------------------------------------------------------------------ error split of a record
+@pytest.mark.parametrize("shape", ["one", "columns", "temperature_blocks"])
+def test_total_error_split_keeps_the_output_and_closes(shape):
+    """error_split="total" skips the noise-free run: the same output bits, one component closing it."""
+    from gyrobench.io.recording import schema_problems
+    from gyrobench.sim.sensor import Environment
+
+    fs = 200.0
+    if shape == "columns":
+        env = Environment(0.5, true_rate=np.tile(units.deg_per_s(np.array([-100.0, 0.0, 250.0])), (100, 1)),
+                          temperature=units.celsius(30.0))
+    elif shape == "temperature_blocks":
+        n = 400
+        env = Environment(n / fs, true_rate=np.full(n, 0.3), temperature=units.celsius(np.linspace(20.0, 40.0, n)))
+    else:
+        env = Environment(1.0, true_rate=np.linspace(-1.0, 1.0, 200))
+    unit = MemsResonator()
+    parts = unit.simulate(env, fs=fs, rng=np.random.default_rng(11))
+    total = dataclasses.replace(unit, error_split="total").simulate(env, fs=fs, rng=np.random.default_rng(11))
+    assert np.array_equal(total["output"], parts["output"])
+    assert np.array_equal(total["truth/true_rate"], parts["truth/true_rate"])
+    assert parts.metadata["error_components"] == ["deterministic_error", "noise"]
+    assert total.metadata["error_components"] == ["total_error"]
+    assert set(total.truth) == {"true_rate", "total_error"}
+    assert schema_problems(total) == [] and schema_problems(parts) == []
+    # the two components and the total describe the same error (to the rounding of their sum)
+    split = parts["truth/deterministic_error"] + parts["truth/noise"]
+    np.testing.assert_allclose(total["truth/total_error"], split, rtol=0, atol=4 * np.spacing(np.max(np.abs(
+        parts["output"]))))
+
+
+def test_error_split_is_a_declared_choice():
+    with pytest.raises(ValueError, match="error_split"):
+        MemsResonator(error_split="none")

@@ -51,9 +51,9 @@ __all__ = [
 
 
 class ComparisonError(ValueError):
-    """A campaign cannot be compared with the baseline: no seed or no score can be paired, or
-    the baseline has no finite score on the shared seeds.
+    """A campaign that cannot be compared with the baseline.
 
+    No seed or no score can be paired, or the baseline has no finite score on the shared seeds.
     Raised by :func:`compare` once the campaign has run; the command line exits
     :data:`gyrobench.scenarios.cli.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
     does not pass. (What can be checked before the campaign, a baseline of another scenario or
@@ -65,10 +65,31 @@ class ComparisonError(ValueError):
 class ScoreComparison:
     """One score of a candidate campaign against the baseline, over the matching seeds.
 
-    ``effect`` is the Hodges-Lehmann estimate of the paired shift (candidate - baseline,
-    in the score's unit); ``relative`` = (mean candidate - mean baseline) / |mean baseline|.
-    ``status`` is "improved", "regressed", "changed" (significant, direction unknown)
-    or "unchanged".
+    Attributes
+    ----------
+    name : str
+        The score's name (``"mean/rms_residual"``).
+    direction : int
+        +1 higher is better, -1 lower is better, 0 unknown (:func:`score_direction`).
+    n : int
+        Number of paired seeds compared.
+    baseline_mean, candidate_mean : float
+        Mean of the score over those seeds [the score's unit].
+    effect : float
+        Hodges-Lehmann estimate of the paired shift, candidate - baseline [the score's unit].
+    relative : float
+        (mean candidate - mean baseline) / |mean baseline| [-]; NaN when the baseline's mean is
+        0 or not finite.
+    p_value : float
+        Two-sided Wilcoxon signed-rank p-value [-], against the margin when there is one.
+    p_adjusted : float
+        ``p_value`` after Holm's correction within its group (primary or secondary) [-].
+    status : str
+        "improved", "regressed", "changed" (significant, direction unknown) or "unchanged".
+    primary : bool
+        Whether the score is gated.
+    unit : str
+        The score's unit (``""``: none declared).
     """
 
     name: str
@@ -87,8 +108,19 @@ class ScoreComparison:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ReferenceMeans:
-    """A reference compensator's mean of every compared score over the compared seeds: printed
-    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method."""
+    """A reference compensator's mean of every compared score over the compared seeds.
+
+    Printed beside the user's, never tested.
+
+    Attributes
+    ----------
+    label : str
+        ``"uncompensated"`` or the paper's method.
+    compensator : str
+        The reference compensator's label.
+    means : mapping of str to float
+        Score name -> its mean over the compared seeds [the score's unit].
+    """
 
     label: str
     compensator: str
@@ -113,6 +145,35 @@ class Comparison:
     reported, never failing the comparison. ``correction`` states the correction;
     ``references`` holds each reference compensator's (the uncompensated output, the paper's
     method) mean of every score over the compared seeds (:class:`ReferenceMeans`).
+
+    Attributes
+    ----------
+    scores : tuple of ScoreComparison
+        Every compared score, the primary ones first.
+    seeds : tuple of int
+        The seeds of the paired test (shared, and finite in both campaigns).
+    alpha : float
+        Family-wise error rate [-].
+    test : str
+        The test, in words.
+    missing : tuple of str
+        Scores held by only one campaign (not tested).
+    unpaired : tuple of str
+        Scores that some compared seed lacks (not tested).
+    note : str
+        What the reader should know about the result (too few seeds, dropped baseline seeds).
+    failed_seeds : tuple of int
+        The candidate's failed seeds.
+    failure : str
+        One line on the failed seeds (``""``: none).
+    correction : str
+        The multiple-comparison correction, in words.
+    references : tuple of ReferenceMeans
+        The reference compensators' means.
+    min_change : float
+        Equivalence margin [-], a fraction of the baseline's per-seed score.
+    detectable : tuple of DetectableChange
+        Per primary score, the relative change these seeds detect with power 0.8.
     """
 
     scores: tuple[ScoreComparison, ...]
@@ -156,6 +217,7 @@ class Comparison:
 
     @property
     def improvements(self) -> tuple[ScoreComparison, ...]:
+        """Primary scores significantly better."""
         return tuple(s for s in self.scores if s.primary and s.status == "improved")
 
     def format(self) -> str:

@@ -40,6 +40,18 @@ BASELINE_VERSION = 1
 def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
     """Check, before a campaign, that :func:`save_baseline` can write ``path``.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The baseline file to be written.
+    what : str
+        How the messages name it (``"--save-baseline 'b.json'"``).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path`` as a path.
+
     Raises
     ------
     IsADirectoryError
@@ -65,6 +77,19 @@ def check_baseline_matches(
     :func:`compare` needs the same scenario and at least one common seed; this
     refuses a mismatch before anything is computed. ``what`` and ``seeds_what`` name
     the baseline and the seeds in the messages (``"--baseline 'b.json'"``, ``"--seeds"``).
+
+    Parameters
+    ----------
+    baseline : Campaign
+        The baseline, as :func:`load_baseline` read it.
+    scenario : str or module
+        The campaign's scenario: a registered name, an importable module path or a module.
+    seeds : iterable of int or str, optional
+        The campaign's seeds (a list, or text such as ``"0-9"``); None: the baseline's.
+    what : str
+        How the messages name the baseline.
+    seeds_what : str
+        How the messages name the seeds.
 
     Raises
     ------
@@ -102,10 +127,28 @@ def save_baseline(
     at ``alpha`` with the equivalence margin ``min_change``
     (:func:`~gyrobench.scenarios.bench.gate.detectable`).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The JSON file to write (its folder must exist; an existing file is replaced atomically).
+    campaign : Campaign
+        A finished campaign with no failed seed.
+    alpha : float
+        Family-wise error rate [-] at which the stored power is computed, in (0, 1).
+    min_change : float
+        Equivalence margin [-], a fraction of the baseline's per-seed score.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
     Raises
     ------
     TypeError
         If ``campaign`` is not a :class:`Campaign`.
+    FailedSeedsError
+        If the campaign failed on a seed (a baseline never holds a failed seed).
     IsADirectoryError, FileNotFoundError
         If ``path`` is a folder or its folder does not exist (folders are never
         created).
@@ -154,6 +197,16 @@ def save_baseline(
 
 def load_baseline(path: str | os.PathLike) -> Campaign:
     """Read a baseline written by :func:`save_baseline`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The baseline's JSON file.
+
+    Returns
+    -------
+    Campaign
+        Its per-seed scores (a ``null`` score read as NaN), with ``db`` set to the file's path.
 
     Raises
     ------

@@ -52,7 +52,23 @@ class _SeedTimeout(BaseException):
 
 
 def check_seed_timeout(value: Any) -> float | None:
-    """``value`` as a per-seed time limit in seconds: a finite number > 0, or None (no limit)."""
+    """Check a per-seed time limit.
+
+    Parameters
+    ----------
+    value : float or None
+        The limit [s]: a finite number > 0, or None (no limit).
+
+    Returns
+    -------
+    float or None
+        ``value`` as a float, or None.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a finite number > 0 (a bool is refused) nor None.
+    """
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
@@ -92,12 +108,38 @@ def score_job(
     label: str | None = None,
     seed_timeout: float | None = None,
 ) -> tuple[int, dict[str, float], float, str | None]:
-    """Worker entry point (module level so it pickles by reference):
-    (seed, scores, elapsed [s], failure or None).
+    """Score one seed in a worker process, contained (module level: it pickles by reference).
 
-    Contained: a compensator (or scenario) that calls ``sys.exit`` or runs past
-    ``seed_timeout`` seconds makes the seed failed with that reason instead of ending or
-    hanging the campaign (see :func:`_time_limit` for what the limit can interrupt).
+    A compensator (or scenario) that calls ``sys.exit`` or runs past ``seed_timeout`` seconds
+    makes the seed failed with that reason instead of ending or hanging the campaign (see
+    :func:`_time_limit` for what the limit can interrupt); a score below the scenario's noise
+    floor fails it too.
+
+    Parameters
+    ----------
+    module_name : str
+        The scenario's module.
+    compensator : object
+        The compensator, as for :func:`~gyrobench.scenarios.bench.scoring.score_seed`.
+    seed : int
+        The seed.
+    config : scenario Config or None
+        None: the scenario's ``Config()``.
+    label : str, optional
+        How errors name the compensator.
+    seed_timeout : float, optional
+        Per-seed time limit [s]; None: none.
+
+    Returns
+    -------
+    seed : int
+        The seed.
+    scores : dict of str to float
+        Its scores (empty when it failed before any).
+    elapsed : float
+        Wall time [s].
+    failure : str or None
+        Why the seed failed, or None.
     """
     t0 = time.perf_counter()
     try:
@@ -142,8 +184,33 @@ def _score_with_floor(
 
 
 def score_remote(task: Any, remote: RemoteCompensator, seed: int, label: str) -> tuple[dict[str, float], str | None]:
-    """Fit the compensator in its own process (``remote``) on ``task``'s training data only and
-    score its predictions here (:func:`score_predictions`)."""
+    """Fit the compensator in its own process on the task's training data only; score here.
+
+    Parameters
+    ----------
+    task : CompensationTask
+        The seed's task (it never leaves this process).
+    remote : RemoteCompensator
+        The handle on the compensator's child.
+    seed : int
+        The seed; the child receives only its ``random_state`` integer.
+    label : str
+        How errors name the compensator.
+
+    Returns
+    -------
+    scores : dict of str to float
+        As for :func:`~gyrobench.scenarios.bench.scoring.score_predictions`.
+    failure : str or None
+        Why the seed failed, or None.
+
+    Raises
+    ------
+    CompensatorError
+        If the compensator's fit or predict raised in its child.
+    ChildDied
+        If the child ended before answering.
+    """
     from gyrobench.scenarios.bench.compensators import seed_int
 
     groups = getattr(task, "groups_train", None)
@@ -160,9 +227,44 @@ def score_sandboxed(
     module_name: str, seed: int, config: Any, label: str, fd: int, memory: int | None = None,
     deadline: float | None = None, seed_timeout: float | None = None,
 ) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
-    """Scoring process of one sandboxed seed: build the task, talk to the compensator's child on
-    socket ``fd`` (:class:`~gyrobench.scenarios.bench.sandbox.RemoteCompensator`), score, check
-    the noise floor. Returns (seed, scores, elapsed [s], failure or None, the child's reads)."""
+    """The scoring process of one sandboxed seed: build the task, score the child's predictions.
+
+    It talks to the compensator's child on socket ``fd``
+    (:class:`~gyrobench.scenarios.bench.sandbox.RemoteCompensator`), scores, and checks the
+    noise floor. A ``sys.exit``, a ``MemoryError`` or a dead child fails the seed.
+
+    Parameters
+    ----------
+    module_name : str
+        The scenario's module.
+    seed : int
+        The seed.
+    config : scenario Config
+        The scenario's configuration.
+    label : str
+        How errors name the compensator.
+    fd : int
+        File descriptor of the scoring end of the child's socket (taken over and closed).
+    memory : int, optional
+        The child's address-space cap [bytes], named in a memory failure.
+    deadline : float, optional
+        ``time.monotonic()`` value [s] past which the child's answers are not awaited.
+    seed_timeout : float, optional
+        The per-seed time limit [s], named in a timeout failure.
+
+    Returns
+    -------
+    seed : int
+        The seed.
+    scores : dict of str to float
+        Its scores (empty when it failed before any).
+    elapsed : float
+        Wall time [s].
+    failure : str or None
+        Why the seed failed, or None.
+    reads : dict
+        What the child read (its manifest; ``{}`` when it failed).
+    """
     from multiprocessing.connection import Connection
 
     from threadpoolctl import threadpool_limits
@@ -195,8 +297,34 @@ def score_job_remote(
     module_name: str, compensator: Any, seed: int, config: Any, label: str,
     seed_timeout: float | None = None, memory: int | None = None,
 ) -> tuple[int, dict[str, float], float, str | None, dict[str, Any]]:
-    """Worker entry point of a sandboxed seed on any executor (a dask worker): its own zygote
-    (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`) and child, the deadline kept here."""
+    """Score one sandboxed seed on any executor (a dask worker), with its own zygote and child.
+
+    The zygote (:class:`~gyrobench.scenarios.bench.sandbox.Zygote`) is started and closed here,
+    and the deadline kept here; a compensator that cannot be loaded fails the seed.
+
+    Parameters
+    ----------
+    module_name : str
+        The scenario's module.
+    compensator : object
+        The compensator, as for :class:`~gyrobench.scenarios.bench.sandbox.Zygote`.
+    seed : int
+        The seed.
+    config : scenario Config
+        The scenario's configuration.
+    label : str
+        How errors name the compensator.
+    seed_timeout : float, optional
+        Per-seed time limit [s], the compensator's import included; None: none.
+    memory : int, optional
+        The child's address-space cap [bytes]; None: none.
+
+    Returns
+    -------
+    tuple
+        (seed, scores, elapsed [s], failure or None, the child's reads), as for
+        :func:`score_sandboxed`; a dead child's failure says how it ended.
+    """
     t0 = time.perf_counter()
     deadline = None if seed_timeout is None else time.monotonic() + seed_timeout
     try:

@@ -109,6 +109,15 @@ class ZygoteError(Exception):
     module raised, the message names it) and ``"bad"`` (not importable or not a compensator: the
     message is :func:`~gyrobench.scenarios.bench.compensators.resolve_compensator`'s);
     ``traceback_text`` holds the import's traceback when it raised.
+
+    Parameters
+    ----------
+    message : str
+        One line saying what happened.
+    kind : str
+        How the import failed (see above).
+    traceback_text : str
+        The import's traceback (``""``: none).
     """
 
     def __init__(self, message: str, *, kind: str, traceback_text: str = "") -> None:
@@ -136,7 +145,13 @@ def _forward(fd: int) -> None:
 
 
 def kill_group(pid: int) -> None:
-    """SIGKILL process ``pid`` and its process group (a child is the leader of its own)."""
+    """SIGKILL process ``pid`` and its process group (a child is the leader of its own).
+
+    Parameters
+    ----------
+    pid : int
+        The process (and group leader) to kill; one already gone is ignored.
+    """
     for kill in (os.killpg, os.kill):
         with contextlib.suppress(ProcessLookupError, PermissionError, OSError):
             kill(pid, signal.SIGKILL)
@@ -144,12 +159,27 @@ def kill_group(pid: int) -> None:
 
 @dataclass(frozen=True, slots=True)
 class ChildStatus:
-    """How a child ended: its exit code or the signal that killed it (both None: unknown)."""
+    """How a child ended: its exit code or the signal that killed it (both None: unknown).
+
+    Attributes
+    ----------
+    exit : int or None
+        The exit code.
+    signal : int or None
+        The number of the signal that killed it.
+    """
 
     exit: int | None
     signal: int | None
 
     def reason(self) -> str:
+        """How it ended, in words (``"killed by SIGKILL"``).
+
+        Returns
+        -------
+        str
+            The reason, for a seed's failure message.
+        """
         if self.signal is not None:
             try:
                 name = signal.Signals(self.signal).name
@@ -170,6 +200,20 @@ class Zygote:
     to the zygote when it pickles, else the zygote is forked from this process (it then holds
     this process's memory: the seed list and the configuration, never a task).
     ``identity`` is the compensator's identity as the zygote computed it.
+
+    Parameters
+    ----------
+    given : str or object
+        The compensator: ``"module:attr"``, or an estimator, class or fit function.
+    memory : int, optional
+        Address-space cap of each child [bytes] (``RLIMIT_AS``); None: none.
+    timeout : float, optional
+        Longest wait for the compensator's import [s]; None: no limit.
+
+    Raises
+    ------
+    ZygoteError
+        If the import raised, exited, died or hung.
     """
 
     def __init__(self, given: Any, *, memory: int | None = DEFAULT_MEMORY_BYTES, timeout: float | None = None) -> None:
@@ -312,7 +356,20 @@ class Zygote:
         return ChildStatus(None, None)
 
     def fork(self) -> tuple[int, socket.socket]:
-        """A new child for one seed: (its pid, the scoring end of its socket)."""
+        """A new child for one seed.
+
+        Returns
+        -------
+        pid : int
+            The child's process id (the leader of its own process group).
+        sock : socket.socket
+            The scoring end of its socket.
+
+        Raises
+        ------
+        ChildDied
+            If the zygote did not fork.
+        """
         mine, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
         try:
             socket.send_fds(self.ctrl, [b"fork"], [theirs.fileno()])
@@ -326,7 +383,18 @@ class Zygote:
         return pid, mine
 
     def end_child(self, pid: int) -> ChildStatus:
-        """Kill the child's process group and reap it: how it ended."""
+        """Kill the child's process group and reap it.
+
+        Parameters
+        ----------
+        pid : int
+            The child, as :meth:`fork` returned it.
+
+        Returns
+        -------
+        ChildStatus
+            How it ended.
+        """
         kill_group(pid)
         try:
             self.ctrl.sendall(f"reap {pid}".encode())
@@ -380,9 +448,31 @@ def _close_shared() -> None:
 
 
 def shared_zygote(given: Any, *, memory: int | None, timeout: float | None) -> Zygote:
-    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one
-    (kept when it was exec'd; a forked one, for an object that does not pickle, is not kept:
-    close it after use, ``zygote.shared`` is False)."""
+    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one.
+
+    A new zygote is kept when it was exec'd; a forked one (for an object that does not pickle,
+    or a script's own object) is not kept: close it after use (``zygote.shared`` is False). At
+    most :data:`SHARED_ZYGOTES` are kept, the least recently used closed first.
+
+    Parameters
+    ----------
+    given : str or object
+        The compensator, as for :class:`Zygote`.
+    memory : int or None
+        Address-space cap of each child [bytes]; None: none.
+    timeout : float or None
+        Longest wait for a new zygote's import [s]; None: no limit.
+
+    Returns
+    -------
+    Zygote
+        A ready zygote.
+
+    Raises
+    ------
+    ZygoteError
+        If a new zygote's import raised, exited, died or hung.
+    """
     import atexit
 
     if isinstance(given, str):

@@ -30,7 +30,17 @@ __all__ = [
 
 
 class RemoteError(Exception):
-    """The compensator raised in its child; ``remote_type`` is the exception's class name."""
+    """The compensator raised in its child.
+
+    Parameters
+    ----------
+    message : str
+        The child's exception message.
+    remote_type : str
+        The exception's class name.
+    traceback_text : str
+        The child's traceback (``""``: none sent).
+    """
 
     def __init__(self, message: str, *, remote_type: str, traceback_text: str = "") -> None:
         super().__init__(message)
@@ -50,8 +60,15 @@ class RemoteExit(SystemExit):
 
 
 class ChildDied(Exception):
-    """The child ended (or sent something unreadable) before answering; ``timeout`` [s] is set
-    when it was the seed's deadline that passed."""
+    """The child ended (or sent something unreadable) before answering.
+
+    Parameters
+    ----------
+    message : str
+        What was seen.
+    timeout : float, optional
+        The seed's time limit [s], set when it was the seed's deadline that passed.
+    """
 
     def __init__(self, message: str = "", *, timeout: float | None = None) -> None:
         super().__init__(message)
@@ -59,11 +76,38 @@ class ChildDied(Exception):
 
 
 class MemoryExceeded(ChildDied):
-    """The compensator raised ``MemoryError`` in its child (the per-seed memory cap)."""
+    """The compensator raised ``MemoryError`` in its child (the per-seed memory cap).
+
+    Parameters
+    ----------
+    message : str
+        The child's message.
+    timeout : float, optional
+        Unused (None): a memory failure is not a deadline.
+    """
 
 
 def recv_json(conn: Any, maxlength: int = MAX_HEADER) -> dict[str, Any]:
-    """One JSON object from a child, at most ``maxlength`` bytes (:class:`ChildDied` otherwise)."""
+    """One JSON message from a child, read strictly.
+
+    Parameters
+    ----------
+    conn : multiprocessing.connection.Connection
+        The scoring end of the child's socket.
+    maxlength : int
+        Largest message accepted [bytes].
+
+    Returns
+    -------
+    dict
+        The message: a JSON object with a string ``"kind"``.
+
+    Raises
+    ------
+    ChildDied
+        If nothing readable arrives, the message is longer than ``maxlength``, not UTF-8 JSON,
+        or not an object with a ``"kind"``.
+    """
     try:
         raw = conn.recv_bytes(maxlength)
         obj = json.loads(raw.decode("utf-8"))
@@ -87,6 +131,15 @@ class RemoteCompensator:
     Every answer is parsed strictly (:func:`recv_json`, raw float64 bytes of the announced
     shape). A child error is raised as :class:`RemoteError` (``MemoryError`` flagged), a
     ``sys.exit`` as :class:`RemoteExit`, a dead or garbled child as :class:`ChildDied`.
+
+    Parameters
+    ----------
+    conn : multiprocessing.connection.Connection
+        The scoring end of the child's socket.
+    deadline : float, optional
+        ``time.monotonic()`` value [s] past which no answer is awaited (None: wait forever).
+    timeout : float, optional
+        The seed's time limit [s], reported in the :class:`ChildDied` of a passed deadline.
     """
 
     def __init__(self, conn: Any, *, deadline: float | None = None, timeout: float | None = None) -> None:
@@ -119,7 +172,19 @@ class RemoteCompensator:
         return ans
 
     def fit(self, X: Any, y: Any, groups: Any, random_state: int) -> None:
-        """Send the training data; return when the child has fitted."""
+        """Send the training data; return when the child has fitted.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            Training features, shape (n, k).
+        y : numpy.ndarray
+            Training target, shape (n,) [the task's unit].
+        groups : numpy.ndarray or None
+            Training group of each sample (runs), or None.
+        random_state : int
+            The compensator's seed.
+        """
         ans = self._request({
             "op": "fit", "X": X, "y": y, "groups": groups, "random_state": int(random_state),
             "environ": dict(os.environ), "cwd": os.getcwd(),
@@ -128,8 +193,19 @@ class RemoteCompensator:
             raise ChildDied(f"an unexpected answer {ans['kind'][:40]!r} to fit")
 
     def predict(self, X: Any) -> Any:
-        """The child's prediction on ``X``: a float64 array, or an empty complex array of the
-        child's dtype when it predicted complex values."""
+        """The child's prediction on ``X``.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            Held-out features, shape (n, k).
+
+        Returns
+        -------
+        numpy.ndarray
+            A float64 array of the announced shape, or an empty complex array of the child's
+            dtype when it predicted complex values (refused by the scorer).
+        """
         import numpy as np
 
         ans = self._request({"op": "predict", "X": X})
@@ -154,7 +230,14 @@ class RemoteCompensator:
         return np.frombuffer(raw, dtype="<f8").reshape(shape).astype(float)
 
     def finish(self) -> dict[str, Any]:
-        """Ask for the child's reads (its manifest) and let it exit; ``{}`` if it cannot answer."""
+        """Ask for the child's reads (its manifest) and let it exit.
+
+        Returns
+        -------
+        dict
+            The modules, files and environment variables the child read; ``{}`` if it cannot
+            answer.
+        """
         try:
             ans = self._request({"op": "end"})
         except (ChildDied, RemoteError, RemoteExit):

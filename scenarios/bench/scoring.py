@@ -55,8 +55,21 @@ __getattr__, __dir__ = attach(__name__, _MOVED)
 def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
     """The scenario module for a registered name, an importable module path or a module.
 
+    Parameters
+    ----------
+    scenario : str or module
+        A registered scenario name (``"p000_fog_vibration"``), an importable module path, or a
+        module object.
+
+    Returns
+    -------
+    module
+        The scenario module; it defines ``compensation_task``.
+
     Raises
     ------
+    TypeError
+        If ``scenario`` is neither a string nor a module.
     ValueError
         If the name is unknown or the scenario has no compensation stage.
     """
@@ -93,8 +106,15 @@ def resolve_scenario(scenario: str | types.ModuleType) -> types.ModuleType:
 
 
 def bench_scenarios() -> list[str]:
-    """Registered scenarios with a compensation stage (:func:`gyrobench.scenarios.registry.describe`
-    reads their source: nothing is imported)."""
+    """The registered scenarios with a compensation stage.
+
+    :func:`gyrobench.scenarios.registry.describe` reads their source: nothing is imported.
+
+    Returns
+    -------
+    list of str
+        Their names, in the registry's order; a scenario whose source cannot be read is left out.
+    """
     from gyrobench.scenarios import registry
 
     out = []
@@ -160,11 +180,35 @@ def score_or_failure(
     config: Any = None,
     label: str | None = None,
 ) -> tuple[dict[str, float], str | None]:
-    """:func:`score_seed`, naming the compensator ``label`` in errors (default: from the object).
+    """:func:`score_seed`, returning a failed seed's reason instead of raising.
 
-    Returns the scores and, for a failed seed, why it failed (a non-finite prediction or
-    score); else None. A seed fails at the first held-out run whose prediction or scores are
-    not all finite; the runs after it are not scored.
+    A seed fails at the first held-out run whose prediction or scores are not all finite; the
+    runs after it are not scored.
+
+    Parameters
+    ----------
+    scenario : str or module
+        As for :func:`resolve_scenario`.
+    compensator : estimator, estimator class, fit function or "module:attr"
+        As for :func:`score_seed`.
+    seed : int
+        Seed of the scenario's simulation (>= 0); also seeds the compensator.
+    config : scenario Config, optional
+        Defaults to the scenario's ``Config()``.
+    label : str, optional
+        How errors name the compensator (default: from the object).
+
+    Returns
+    -------
+    scores : dict of str to float
+        As for :func:`score_seed` (only the runs scored before a failure).
+    failure : str or None
+        Why the seed failed (a non-finite prediction or score), or None.
+
+    Raises
+    ------
+    CompensatorError
+        If the compensator's fit or predict raises, or its prediction has the wrong size.
     """
     from threadpoolctl import threadpool_limits
 
@@ -180,10 +224,31 @@ def score_or_failure(
 
 
 def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict[str, float], str | None]:
-    """Fit a resolved ``compensator`` on a built ``task`` (a :class:`~gyrobench.scenarios.base.
-    CompensationTask`) and score every held-out run: the scores and why the seed failed, or None
-    (:func:`score_or_failure` builds the task and calls this; several compensators can be scored
-    on one task this way). ``seed`` seeds the compensator; ``label`` names it in errors."""
+    """Fit a resolved compensator on a built task and score every held-out run.
+
+    :func:`score_or_failure` builds the task and calls this; several compensators can be scored
+    on one task this way.
+
+    Parameters
+    ----------
+    task : CompensationTask
+        A scenario's task (:class:`~gyrobench.scenarios.base.CompensationTask`).
+    compensator : object
+        A compensator as :func:`~gyrobench.scenarios.bench.compensators.resolve_compensator`
+        returns it; :class:`~gyrobench.scenarios.bench.references.Uncompensated` scores the raw
+        output.
+    seed : int
+        Seeds the compensator.
+    label : str
+        How errors name the compensator.
+
+    Returns
+    -------
+    scores : dict of str to float
+        As for :func:`score_predictions`.
+    failure : str or None
+        Why the seed failed, or None.
+    """
     # the uncompensated reference scores the raw output: nothing to fit or predict
     raw = compensator is Uncompensated or isinstance(compensator, Uncompensated)
     groups = getattr(task, "groups_train", None)
@@ -196,8 +261,32 @@ def score_task(task: Any, compensator: Any, seed: int, label: str) -> tuple[dict
 def score_predictions(
     task: Any, predict: Callable | None, seed: int, label: str
 ) -> tuple[dict[str, float], str | None]:
-    """Score every held-out run of ``task`` from ``predict(run.X)`` (None: the raw output), here,
-    with this process's numpy: the scores and why the seed failed, or None."""
+    """Score every held-out run of ``task`` from its predictions, with this process's numpy.
+
+    Parameters
+    ----------
+    task : CompensationTask
+        The seed's task.
+    predict : callable or None
+        ``predict(run.X)`` -> the predicted error, one value per sample [the task's unit];
+        None scores the raw output (the uncompensated reference).
+    seed : int
+        The seed, named in errors.
+    label : str
+        How errors name the compensator.
+
+    Returns
+    -------
+    scores : dict of str to float
+        ``"<run label>/<score>"`` per held-out run and ``"mean/<score>"``, keys sorted.
+    failure : str or None
+        Why the seed failed (the first run with a non-finite prediction or score), or None.
+
+    Raises
+    ------
+    CompensatorError
+        If ``predict`` raises or returns the wrong number of values.
+    """
     scores: dict[str, float] = {}
     per_key: dict[str, list[float]] = {}
     for run in task.heldout:

@@ -195,7 +195,7 @@ def test_constant_inputs_and_profiles_agree_with_arrays():
 @pytest.mark.parametrize(
     ("kwargs", "err", "match"),
     [
-        ({"duration": -1.0}, ValueError, r"Environment.duration must be a finite number > 0 s; got -1.0"),
+        ({"duration": -1.0}, ValueError, r"Environment.duration must be > 0 s; got -1.0"),
         ({"duration": 1.0, "true_rate": "fast"}, TypeError, r"Environment.true_rate must be a number"),
         ({"duration": 1.0, "temperature": math.nan}, ValueError, r"Environment.temperature must be finite \[K\]"),
         (

@@ -396,6 +396,8 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
             hint = hints.get(f.name)
             if hint is bool or (isinstance(hint, type) and dataclasses.is_dataclass(hint)):
                 cached[f.name] = hint
+            elif typing.get_origin(hint) is tuple:
+                cached[f.name] = tuple
             elif typing.get_origin(hint) is typing.Literal:
                 cached[f.name] = typing.get_args(hint)
         _KINDS[config_type] = cached
@@ -455,7 +457,10 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
     kind = _annotation_kinds(config_type).get(name)
     if kind is bool and not isinstance(value, bool):
         raise TypeError(f"{owner}.{name} must be a bool; got {value!r}")
-    if isinstance(kind, type) and kind is not bool and not isinstance(value, kind):
+    if kind is tuple:  # a tuple field with a declared spec must hold a tuple (a list is not frozen)
+        if field_spec(config_type, name) is not None and not isinstance(value, tuple):
+            raise TypeError(f"{owner}.{name} must be a tuple; got {type(value).__name__} {shown(value)}")
+    elif isinstance(kind, type) and kind is not bool and not isinstance(value, kind):
         raise TypeError(f"{owner}.{name} must be a {kind.__name__}; got {type(value).__name__}")
     if isinstance(kind, tuple) and value not in kind:
         raise ValueError(f"{owner}.{name} must be one of {list(kind)}; got {value!r}")

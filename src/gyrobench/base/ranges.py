@@ -487,7 +487,8 @@ def validate(config: Any) -> None:
     Check the dataclass ``config`` against its declarations, in one line per refusal: every
     field by :func:`check_field` (in declaration order), then every declared
     :class:`Constraint` of its ``CONSTRAINTS`` (in order). A config's ``__post_init__`` calls
-    it; nothing else is hand-written there.
+    it; nothing else is hand-written there. Fields with ``init=False`` (what the class derives
+    after validating) are not checked.
 
     Parameters
     ----------
@@ -502,7 +503,8 @@ def validate(config: Any) -> None:
     cls = type(config)
     owner = cls.__name__
     for f in dataclasses.fields(cls):
-        check_field(owner, cls, f.name, getattr(config, f.name))
+        if f.init:  # a field the class derives (init=False) is set after validation
+            check_field(owner, cls, f.name, getattr(config, f.name))
     for c in getattr(cls, "CONSTRAINTS", ()):
         if not c.holds(config):
             raise c.error(f"{owner}.{c.message(config)}")

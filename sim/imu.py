@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
-from gyrobench.base.ranges import Constraint, FieldRange, as_array, finite_array, shown, validate
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, as_tuple, finite_array, shown, validate
 from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import Site
@@ -270,10 +270,11 @@ class TriadSpec:
     )
 
     def __post_init__(self) -> None:
-        gyros = self.gyros
-        object.__setattr__(self, "gyros", tuple(gyros) if isinstance(gyros, list) else gyros)
-        for name in ("gyro_matrix", "accel_matrix", "g_sensitivity", "gg_sensitivity"):
-            object.__setattr__(self, name, as_array(getattr(self, name)))
+        object.__setattr__(self, "gyros", as_tuple(self.gyros))
+        object.__setattr__(self, "gyro_matrix", as_array(self.gyro_matrix))
+        object.__setattr__(self, "accel_matrix", as_array(self.accel_matrix))
+        object.__setattr__(self, "g_sensitivity", as_array(self.g_sensitivity))
+        object.__setattr__(self, "gg_sensitivity", as_array(self.gg_sensitivity))
         validate(self)  # the declared specs and constraints above
 
     def realize(self, *, rng: np.random.Generator) -> TriadUnit:

@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
 from gyrobench.base.memory import check_memory
-from gyrobench.base.ranges import Constraint, FieldRange, as_array, finite_array, shown, validate
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, as_tuple, finite_array, shown, validate
 from gyrobench.base.validate import check_fs
 from gyrobench.sim.earth import Site
 
@@ -206,8 +206,7 @@ class SegmentedMotion:
     )
 
     def __post_init__(self) -> None:
-        segs = self.segments
-        object.__setattr__(self, "segments", tuple(segs) if isinstance(segs, list) else segs)
+        object.__setattr__(self, "segments", as_tuple(self.segments))
         object.__setattr__(self, "attitude", as_array(self.attitude))
         object.__setattr__(self, "velocity", as_array(self.velocity))
         validate(self)  # the declared constraints above
@@ -410,8 +409,9 @@ class SampledMotion:
     def __post_init__(self) -> None:
         from scipy.interpolate import CubicSpline
 
-        for name in ("times", "quaternions", "velocities"):
-            object.__setattr__(self, name, as_array(getattr(self, name)))
+        object.__setattr__(self, "times", as_array(self.times))
+        object.__setattr__(self, "quaternions", as_array(self.quaternions))
+        object.__setattr__(self, "velocities", as_array(self.velocities))
         validate(self)  # the declared constraints above
         q = _continuous_unit(self.quaternions)
         object.__setattr__(self, "quaternions", q)

@@ -273,7 +273,8 @@ def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path)
         # start_s x fs overflows: once the generic "a value is too large to compute with" from round(inf)
         ("duration_s = 10\n[shaker]\nkind = 'sine'\nstart_s = 1e308\nduration_s = 5\nacceleration_g = 1\n"
          "frequency_hz = 5\n", "shaker.start_s + shaker.duration_s = 1e+308 s must lie inside the record (0, 10] s"),
-        ("duration_s = 10\nrate_dps = [[0, 0], [0, 1]]\n", "rate_dps: PiecewiseLinear.times must be strictly increasing [s]; got 0.0 then 0.0 s"),
+        ("duration_s = 10\nrate_dps = [[0, 0], [0, 1]]\n",
+         "rate_dps: PiecewiseLinear.times must be strictly increasing [s]; got 0.0 then 0.0 s"),
     ],
 )
 def test_profile_tables_refuse_bad_input_in_one_line_exit_2(tmp_path, capsys, profile, needle):

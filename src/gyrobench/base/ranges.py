@@ -37,6 +37,7 @@ __all__ = [
     "FieldChoice",
     "FieldRange",
     "as_array",
+    "as_tuple",
     "check_field",
     "check_ranges",
     "field_range",
@@ -268,6 +269,22 @@ def as_array(value: object) -> object:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError):
         return value
+
+
+def as_tuple(value: object) -> object:
+    """``value`` as a tuple when it is a list, else ``value`` itself (never raising).
+
+    Parameters
+    ----------
+    value : object
+        A list, a tuple or anything else.
+
+    Returns
+    -------
+    object
+        A tuple for a list; ``value`` unchanged otherwise (a declared constraint then judges it).
+    """
+    return tuple(value) if isinstance(value, list) else value
 
 
 def finite_array(name: str, shape: tuple[int | None, ...], unit: str = "", *, optional: bool = False) -> Constraint:

@@ -267,7 +267,7 @@ def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path)
         ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[20]]\n",
          "shaker.psd must be >= 2 [frequency_hz, g^2/Hz] pairs"),
         ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[80, 0.01], [20, 0.01]]\n",
-         "[shaker] breakpoint frequencies must be > 0 Hz and strictly increasing"),
+         "[shaker] RandomVibration.breakpoints must have frequencies > 0 Hz, strictly increasing; got [80.0, 20.0]"),
         ("duration_s = 10\n[shaker]\nkind = 'sine'\nstart_s = 8\nduration_s = 5\nacceleration_g = 1\n"
          "frequency_hz = 5\n", "shaker.start_s + shaker.duration_s = 13 s must lie inside the record (0, 10] s"),
         # start_s x fs overflows: once the generic "a value is too large to compute with" from round(inf)

@@ -40,8 +40,6 @@ HELPERS = "gyrobench.base.validate"
 PENDING = {
     "gyrobench.io.recording.Channel",
     "gyrobench.io.recording.Recording",
-    "gyrobench.sim.rlg.CavityGeometry",
-    "gyrobench.sim.shaker.RandomVibration",
     "gyrobench.analysis.allan._results.AllanCurve",
     "gyrobench.scenarios.base.Table",
     "gyrobench.scenarios.base.CompensationTask",
@@ -217,7 +215,9 @@ def _moved_cases():
     from gyrobench.sim.environment import PiecewiseLinear
     from gyrobench.sim.imu import TriadSpec
     from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
+    from gyrobench.sim.rlg import CavityGeometry
     from gyrobench.sim.sensor import Environment
+    from gyrobench.sim.shaker import RandomVibration
     from gyrobench.sim.trajectory import ConingMotion, RockingMotion, SampledMotion, Segment, SegmentedMotion
 
     def triad(**kw):
@@ -299,6 +299,14 @@ def _moved_cases():
          "got an array of shape (4, 3) and an array of shape (4, 3)"),
         (lambda: SampledMotion(t4, 2 * q4, v4), ValueError,
          "SampledMotion.quaternions must be unit quaternions (|q| within 1e-3 of 1); got |q| from 2 to 2"),
+        (lambda: CavityGeometry(vertices="abc"), TypeError,
+         "CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got 'abc'"),
+        (lambda: CavityGeometry(vertices=((0, 0), (1, 0))), ValueError,
+         "CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape (2, 2)"),
+        (lambda: RandomVibration(breakpoints=((20, 0.01), (10, 0.01)), duration=1.0), ValueError,
+         "RandomVibration.breakpoints must have frequencies > 0 Hz, strictly increasing; got [20.0, 10.0]"),
+        (lambda: RandomVibration(breakpoints=((20, 0.01), (30, -1.0)), duration=1.0), ValueError,
+         "RandomVibration.breakpoints must have PSD levels finite and > 0 g^2/Hz; got [0.01, -1.0]"),
     ]
 
 

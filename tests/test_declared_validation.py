@@ -40,7 +40,6 @@ HELPERS = "gyrobench.base.validate"
 PENDING = {
     "gyrobench.io.recording.Channel",
     "gyrobench.io.recording.Recording",
-    "gyrobench.analysis.allan._results.AllanCurve",
     "gyrobench.scenarios.base.Table",
     "gyrobench.scenarios.base.CompensationTask",
     "gyrobench.scenarios.bench.primary.PrimaryScore",
@@ -307,7 +306,18 @@ def _moved_cases():
          "RandomVibration.breakpoints must have frequencies > 0 Hz, strictly increasing; got [20.0, 10.0]"),
         (lambda: RandomVibration(breakpoints=((20, 0.01), (30, -1.0)), duration=1.0), ValueError,
          "RandomVibration.breakpoints must have PSD levels finite and > 0 g^2/Hz; got [0.01, -1.0]"),
+        (lambda: _curve(confidence=1.0), ValueError, "AllanCurve.confidence must be (0, 1) 1; got 1.0"),
+        (lambda: _curve(edf=np.ones(2)), ValueError, "AllanCurve.edf must have the shape of tau (3,); got (2,)"),
     ]
+
+
+def _curve(**kw):
+    from gyrobench.analysis.allan import AllanCurve
+
+    n = np.ones(3)
+    args = dict(tau=n, deviation=n, low=n, high=n, n_terms=n, edf=n, kind="overlapping", confidence=0.683, fs=1.0,
+                n_samples=10)
+    return AllanCurve(**{**args, **kw})
 
 
 MOVED = _moved_cases()

@@ -40,11 +40,6 @@ HELPERS = "gyrobench.base.validate"
 PENDING = {
     "gyrobench.io.recording.Channel",
     "gyrobench.io.recording.Recording",
-    "gyrobench.scenarios.base.Table",
-    "gyrobench.scenarios.base.CompensationTask",
-    "gyrobench.scenarios.bench.primary.PrimaryScore",
-    "gyrobench.scenarios.checks.core.Check",
-    "gyrobench.scenarios.claims.Claim",
 }
 
 
@@ -210,6 +205,9 @@ def test_the_scan_finds_each_planted_kind_of_hand_written_check():
 
 # ------------------------------------------------------------------ each moved check, in one line
 def _moved_cases():
+    from gyrobench.scenarios.base import Table
+    from gyrobench.scenarios.bench.primary import PrimaryScore
+    from gyrobench.scenarios.checks.core import KINDS, Check
     from gyrobench.sim.earth import Site
     from gyrobench.sim.environment import PiecewiseLinear
     from gyrobench.sim.imu import TriadSpec
@@ -308,6 +306,13 @@ def _moved_cases():
          "RandomVibration.breakpoints must have PSD levels finite and > 0 g^2/Hz; got [0.01, -1.0]"),
         (lambda: _curve(confidence=1.0), ValueError, "AllanCurve.confidence must be (0, 1) 1; got 1.0"),
         (lambda: _curve(edf=np.ones(2)), ValueError, "AllanCurve.edf must have the shape of tau (3,); got (2,)"),
+        (lambda: Table(title="T", columns=("a", "b"), rows=(("1", "2"), ("3",))), ValueError,
+         "Table.rows must each have 2 cells (one per column); rows [1] of table 'T' do not"),
+        (lambda: PrimaryScore(name="mean/rms", unit="rad/s", direction=0), ValueError,
+         "PrimaryScore.direction must be -1 or +1; got 0"),
+        (lambda: Check(id="c", formula="f", expected=1.0, simulated=1.0, tolerance=0.0, derivation="d",
+                       reference="r", kind=KINDS[0]), ValueError,
+         "Check.tolerance must be finite and > 0; got 0.0 (check 'c')"),
     ]
 
 

@@ -11,9 +11,8 @@ dataclass's ``__post_init__``,
   which validates itself.
 
 The only validator a ``__post_init__`` runs is :func:`gyrobench.base.ranges.validate`, from the
-class's ``RANGES`` and ``CONSTRAINTS``. Classes not moved yet are listed in :data:`PENDING`; the
-list may only shrink (a listed class that passes fails the test too). The scan is shown to find a
-planted check. Then each check moved to the declarations is shown, case by case, to refuse its bad
+class's ``RANGES`` and ``CONSTRAINTS``; no class is exempt. The scan is shown to find a planted
+check. Then each check moved to the declarations is shown, case by case, to refuse its bad
 value in one line that names the class and field, the constraint and the value.
 """
 
@@ -34,14 +33,6 @@ LAYERS = ("base", "io", "sim", "analysis", "scenarios")
 VALIDATOR = ("gyrobench.base.ranges", "validate")
 #: the module of hand-written checking helpers, never called from a __post_init__
 HELPERS = "gyrobench.base.validate"
-
-#: classes whose __post_init__ still checks by hand (result records and the recording schema);
-#: this set may only shrink
-PENDING = {
-    "gyrobench.io.recording.Channel",
-    "gyrobench.io.recording.Recording",
-}
-
 
 def _modules() -> dict[str, ast.Module]:
     out = {}
@@ -132,12 +123,9 @@ def scanned() -> dict[str, list[str]]:
 
 
 def test_no_post_init_checks_by_hand(scanned):
-    new = {k: v for k, v in scanned.items() if k not in PENDING}
-    assert not new, "a __post_init__ checks by hand; declare RANGES / CONSTRAINTS and call validate(self):\n" + (
-        "\n".join(f"{k}: {v}" for k, v in sorted(new.items()))
+    assert not scanned, "a __post_init__ checks by hand; declare RANGES / CONSTRAINTS and call validate(self):\n" + (
+        "\n".join(f"{k}: {v}" for k, v in sorted(scanned.items()))
     )
-    moved = sorted(PENDING - set(scanned))
-    assert not moved, f"these classes validate declaratively now: remove them from PENDING: {moved}"
 
 
 PLANTED = '''
@@ -205,6 +193,7 @@ def test_the_scan_finds_each_planted_kind_of_hand_written_check():
 
 # ------------------------------------------------------------------ each moved check, in one line
 def _moved_cases():
+    from gyrobench.io.recording import Channel, Recording
     from gyrobench.scenarios.base import Table
     from gyrobench.scenarios.bench.primary import PrimaryScore
     from gyrobench.scenarios.checks.core import KINDS, Check
@@ -313,6 +302,10 @@ def _moved_cases():
         (lambda: Check(id="c", formula="f", expected=1.0, simulated=1.0, tolerance=0.0, derivation="d",
                        reference="r", kind=KINDS[0]), ValueError,
          "Check.tolerance must be finite and > 0; got 0.0 (check 'c')"),
+        (lambda: Channel(np.zeros((2, 2)), "K"), ValueError, "Channel.data must be 1-D; got shape (2, 2)"),
+        (lambda: Recording(fs=1.0, channels={}), ValueError, "Recording.channels must hold at least one channel; got none"),
+        (lambda: Recording(fs=1.0, channels={"a": Channel(np.zeros(3), "K")}, inputs={"b": Channel(np.zeros(2), "K")}),
+         ValueError, "Recording.channels must all have the same length; got {'a': 3, 'inputs/b': 2}"),
     ]
 
 

@@ -303,7 +303,8 @@ def _moved_cases():
                        reference="r", kind=KINDS[0]), ValueError,
          "Check.tolerance must be finite and > 0; got 0.0 (check 'c')"),
         (lambda: Channel(np.zeros((2, 2)), "K"), ValueError, "Channel.data must be 1-D; got shape (2, 2)"),
-        (lambda: Recording(fs=1.0, channels={}), ValueError, "Recording.channels must hold at least one channel; got none"),
+        (lambda: Recording(fs=1.0, channels={}), ValueError,
+         "Recording.channels must hold at least one channel; got none"),
         (lambda: Recording(fs=1.0, channels={"a": Channel(np.zeros(3), "K")}, inputs={"b": Channel(np.zeros(2), "K")}),
          ValueError, "Recording.channels must all have the same length; got {'a': 3, 'inputs/b': 2}"),
     ]

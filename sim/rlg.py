@@ -37,7 +37,7 @@ The model, effect by effect (docs/physics.md section 6):
 * **Temperature sensors** with offset, white noise and resolution (:class:`TemperatureSensor`).
 
 Unit-to-unit variation: :class:`RLGSpec` is the datasheet budget with the spread of
-every parameter; ``spec.realize(rng)`` draws one unit (:class:`RLGUnit`), so three drawn
+every parameter; ``spec.realize(rng=rng)`` draws one unit (:class:`RLGUnit`), so three drawn
 gyros differ as three real ones would. Turn-on to turn-on variation (bias repeatability
 and the discharge-current balance set at each start) is drawn in each ``simulate``.
 """

@@ -790,6 +790,19 @@ class _Flicker:
         return y
 
 
+def _tuple_of(name: str, kind: type) -> Constraint:
+    """The declared constraint that field ``name`` is a tuple of ``kind`` (a TypeError otherwise)."""
+
+    def holds(c: Any) -> bool:
+        v = getattr(c, name)
+        return isinstance(v, tuple) and all(isinstance(t, kind) for t in v)
+
+    def message(c: Any) -> str:
+        return f"{name} must be a tuple of {kind.__name__}; got {shown(getattr(c, name))}"
+
+    return Constraint(f"{name} is a tuple of {kind.__name__}", holds, message, TypeError)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class NoiseModel:
     """IEEE Std 952 rate-noise model; every field in SI (see :mod:`gyrobench.base.units`).
@@ -856,17 +869,8 @@ class NoiseModel:
             and c.flicker_band[0] < c.flicker_band[1],
             lambda c: f"flicker_band must satisfy 0 < f_low < f_high [Hz]; got {c.flicker_band!r}",
         ),
-        *(
-            Constraint(
-                f"{name} is a tuple of {kind.__name__}",
-                lambda c, name=name, kind=kind: isinstance(getattr(c, name), tuple)
-                and all(isinstance(t, kind) for t in getattr(c, name)),
-                lambda c, name=name, kind=kind: f"{name} must be a tuple of {kind.__name__}; "
-                f"got {shown(getattr(c, name))}",
-                TypeError,
-            )
-            for name, kind in (("gauss_markov", GaussMarkov), ("sinusoids", Sinusoid))
-        ),
+        _tuple_of("gauss_markov", GaussMarkov),
+        _tuple_of("sinusoids", Sinusoid),
         Constraint(
             f"at most {_N_SLOTS - _SLOT_GM0} gauss_markov terms",
             lambda c: len(c.gauss_markov) <= _N_SLOTS - _SLOT_GM0,

@@ -47,7 +47,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -103,7 +103,7 @@ def _is_pairs(v: object) -> bool:
     return isinstance(v, np.ndarray) and v.ndim == 2 and v.shape[1] == 2
 
 
-def _pairs(v: NDArray[np.float64]) -> tuple[tuple[float, float], ...]:
+def _pairs(v: Any) -> tuple[tuple[float, float], ...]:
     """The validated mirror positions as a tuple of float pairs, in path order."""
     return tuple((float(x), float(y)) for x, y in v)
 

@@ -47,7 +47,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import ClassVar, Literal, Protocol, runtime_checkable
+from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -522,7 +522,7 @@ def grms(breakpoints: Sequence[tuple[float, float]]) -> float:
     return math.sqrt(total)
 
 
-def _float_pairs(bp: NDArray[np.float64]) -> tuple[tuple[float, float], ...]:
+def _float_pairs(bp: Any) -> tuple[tuple[float, float], ...]:
     """Validated breakpoints as a tuple of (f, G) float pairs."""
     return tuple((float(f), float(g)) for f, g in bp)
 

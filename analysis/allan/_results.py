@@ -21,6 +21,19 @@ __all__ = ["AllanCurve", "Coefficient", "FitRange", "NoiseFit"]
 _NORMAL = NormalDist()
 
 
+def _shape_of_tau(name: str, *, optional: bool) -> Constraint:
+    """The declared constraint that field ``name`` has the shape of ``tau`` (or is None, if optional)."""
+
+    def holds(c: AllanCurve) -> bool:
+        v = getattr(c, name)
+        return (optional and v is None) or np.shape(v) == np.shape(c.tau)
+
+    def message(c: AllanCurve) -> str:
+        return f"{name} must have the shape of tau {np.shape(c.tau)}; got {np.shape(getattr(c, name))}"
+
+    return Constraint(f"{name} has the shape of tau", holds, message)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class AllanCurve:
     """An Allan-family deviation curve with its confidence band.
@@ -75,13 +88,7 @@ class AllanCurve:
         "fs": FieldRange(0, math.inf, "Hz", "sample rate", low_open=True),
     }
     CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = tuple(
-        Constraint(
-            f"{name} has the shape of tau",
-            lambda c, name=name: (getattr(c, name) is None and name == "edf_scale")
-            or np.shape(getattr(c, name)) == np.shape(c.tau),
-            lambda c, name=name: f"{name} must have the shape of tau {np.shape(c.tau)}; "
-            f"got {np.shape(getattr(c, name))}",
-        )
+        _shape_of_tau(name, optional=name == "edf_scale")
         for name in ("deviation", "low", "high", "n_terms", "edf", "edf_scale")
     )
 

@@ -235,8 +235,9 @@ def shown(value: object) -> str:
     if isinstance(shape, tuple) and hasattr(value, "dtype"):
         import numpy as np
 
+        array: Any = value
         try:
-            bad = not bool(np.all(np.isfinite(value)))
+            bad = not bool(np.all(np.isfinite(array)))
         except TypeError:  # not numeric
             bad = False
         return f"an array of shape {shape}" + (" with a non-finite value" if bad else "")

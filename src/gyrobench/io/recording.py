@@ -198,6 +198,16 @@ def _not_channels(rec: Recording, name: str) -> str | None:
     return None if bad is None else f"{name}[{bad!r}] must be a Channel; got {type(chans[bad]).__name__}"
 
 
+def _channel_group(name: str) -> Constraint:
+    """The declared constraint that group ``name`` is a mapping of name -> Channel (a TypeError)."""
+    return Constraint(
+        f"{name} is a mapping of name -> Channel",
+        lambda c: _not_channels(c, name) is None,
+        lambda c: str(_not_channels(c, name)),
+        TypeError,
+    )
+
+
 def _lengths(rec: Recording) -> dict[str, int]:
     """Each channel's length, named ``group/name`` (``name`` for ``channels``)."""
     return {
@@ -310,15 +320,7 @@ class Recording:
         "fs": FieldRange(0, math.inf, "Hz", "output sample rate", low_open=True),
     }
     CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
-        *(
-            Constraint(
-                f"{g} is a mapping of name -> Channel",
-                lambda c, g=g: _not_channels(c, g) is None,
-                lambda c, g=g: str(_not_channels(c, g)),
-                TypeError,
-            )
-            for g in GROUPS
-        ),
+        *(_channel_group(g) for g in GROUPS),
         Constraint(
             "channels holds at least one channel",
             lambda c: len(c.channels) > 0,
@@ -360,7 +362,7 @@ class Recording:
         object.__setattr__(self, "inputs", _as_channels(self.inputs))
         object.__setattr__(self, "detail", _as_channels(self.detail))
         validate(self)  # the declared specs and constraints above
-        truth, inputs, detail = _sorted_groups(self.truth, self.inputs, self.detail, self.metadata)
+        truth, inputs, detail = _sorted_groups(dict(self.truth), dict(self.inputs), dict(self.detail), self.metadata)
         object.__setattr__(self, "truth", truth)
         object.__setattr__(self, "inputs", inputs)
         object.__setattr__(self, "detail", detail)

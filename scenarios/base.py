@@ -46,12 +46,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobench.base.ranges import FieldRange, check_ranges, field_range, range_error
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, check_ranges, field_range, range_error, validate
 
 __all__ = [
     "Table",
@@ -66,6 +66,19 @@ __all__ = [
     "range_error",
     "mse_scores",
 ]
+
+
+def _short_rows(table: Table) -> list[int]:
+    """The indices of the rows whose cell count is not the column count."""
+    return [i for i, r in enumerate(table.rows) if len(r) != len(table.columns)]
+
+
+def _labels_ok(task: CompensationTask) -> bool:
+    """Whether the task's training groups are None or one integer label per training row."""
+    g = task.groups_train
+    return g is None or (
+        np.ndim(g) == 1 and len(g) == len(task.X_train) and np.issubdtype(np.asarray(g).dtype, np.integer)
+    )
 
 
 @dataclass(frozen=True)
@@ -89,10 +102,17 @@ class Table:
     rows: Sequence[Sequence[Any]]
     note: str = ""
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "every row has one cell per column",
+            lambda c: not _short_rows(c),
+            lambda c: f"rows must each have {len(c.columns)} cells (one per column); rows {_short_rows(c)} of "
+            f"table {c.title!r} do not",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        bad = [i for i, r in enumerate(self.rows) if len(r) != len(self.columns)]
-        if bad:
-            raise ValueError(f"Table {self.title!r}: rows {bad} do not have {len(self.columns)} cells")
+        validate(self)  # the declared constraint above
 
 
 @dataclass(frozen=True)
@@ -295,21 +315,25 @@ class CompensationTask:
     scorer: Callable[[NDArray[np.float64], HeldOutRun], Mapping[str, float]] = mse_scores
     groups_train: NDArray[np.int_] | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldChoice]] = {
+        "target": FieldChoice(("error", "rate"), "what the regressor predicts"),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "X_train is (n, number of features)",
+            lambda c: np.ndim(c.X_train) == 2 and np.shape(c.X_train)[1] == len(c.feature_names),
+            lambda c: f"X_train must have shape (n, {len(c.feature_names)}); got {np.shape(c.X_train)}",
+        ),
+        Constraint(
+            "groups_train: None or one integer label per training row",
+            _labels_ok,
+            lambda c: f"groups_train must be None or {len(c.X_train)} integer labels (one per training row); "
+            f"got shape {np.shape(c.groups_train)}, dtype {np.asarray(c.groups_train).dtype}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.target not in ("error", "rate"):
-            raise ValueError(f"CompensationTask.target must be 'error' or 'rate'; got {self.target!r}")
-        if self.X_train.ndim != 2 or self.X_train.shape[1] != len(self.feature_names):
-            raise ValueError(
-                f"CompensationTask.X_train must have shape (n, {len(self.feature_names)}); got {self.X_train.shape}"
-            )
-        g = self.groups_train
-        if g is not None and (
-            np.ndim(g) != 1 or len(g) != len(self.X_train) or not np.issubdtype(np.asarray(g).dtype, np.integer)
-        ):
-            raise ValueError(
-                f"CompensationTask.groups_train must be None or {len(self.X_train)} integer labels (one per "
-                f"training row); got shape {np.shape(g)}, dtype {np.asarray(g).dtype}"
-            )
+        validate(self)  # the declared specs and constraints above
 
     def compensate(self, prediction: NDArray[np.float64], run: HeldOutRun) -> NDArray[np.float64]:
         """Turn a regressor's prediction on ``run.X`` into the compensated output."""

@@ -69,11 +69,12 @@ import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobench.base.ranges import Constraint, validate
 from gyrobench.scenarios.claim_tally import ClaimTally, DeviationEffect, deviation_effect, tally
 
 __all__ = [
@@ -359,22 +360,28 @@ class Claim:
     precondition: Precondition | None = None
     same_effect_as: str | None = None
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "same_effect_as names another claim",
+            lambda c: c.same_effect_as is None or c.same_effect_as != c.id,
+            lambda c: f"same_effect_as must name another claim; got its own id {c.id!r}",
+        ),
+        Constraint(
+            "a device claim takes no precondition",
+            lambda c: c.role != "device" or c.precondition is None,
+            lambda c: f"precondition must be None for a device claim (it states what the device shows); got "
+            f"{c.precondition!r} (claim {c.id!r})",
+        ),
+        Constraint(
+            "calibrated_input given exactly when kind is 'calibrated'",
+            lambda c: (c.kind == "calibrated") == bool(c.calibrated_input),
+            lambda c: f"calibrated_input must be given exactly when kind is 'calibrated'; got kind={c.kind!r}, "
+            f"calibrated_input={c.calibrated_input!r} (claim {c.id!r})",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.same_effect_as is not None and self.same_effect_as == self.id:
-            raise ValueError(f"claim {self.id!r}: same_effect_as names another claim; got its own id")
-        if self.role not in ROLES:
-            raise ValueError(f"claim {self.id!r}: role must be one of {ROLES}; got {self.role!r}")
-        if self.role == "device" and self.precondition is not None:
-            raise ValueError(
-                f"claim {self.id!r}: a device claim states what the device shows; it takes no precondition"
-            )
-        if self.kind not in ("calibrated", "emergent"):
-            raise ValueError(f"claim {self.id!r}: kind must be 'calibrated' or 'emergent'; got {self.kind!r}")
-        if (self.kind == "calibrated") != bool(self.calibrated_input):
-            raise ValueError(
-                f"claim {self.id!r}: calibrated_input must be given exactly when kind is 'calibrated'; "
-                f"got kind={self.kind!r}, calibrated_input={self.calibrated_input!r}"
-            )
+        validate(self)  # kind and role from their Literal annotations, then the constraints above
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

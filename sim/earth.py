@@ -26,13 +26,15 @@ geographic frame).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from numbers import Real
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
+from gyrobench.base.ranges import FieldRange, validate
 
 __all__ = [
     "EARTH_RATE",
@@ -111,17 +113,13 @@ class Site:
     height: float = 0.0
     earth_rotation: bool = True
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "latitude": FieldRange(-math.pi / 2, math.pi / 2, "rad", "geodetic latitude, pole to pole"),
+        "height": FieldRange(-1e4, 1e5, "m", "height above the ellipsoid: the deepest mine to the stratosphere"),
+    }
+
     def __post_init__(self) -> None:
-        v = self.latitude
-        if (
-            isinstance(v, bool)
-            or not isinstance(v, Real)
-            or not (math.isfinite(v) and abs(v) <= math.pi / 2)
-        ):
-            raise ValueError(f"Site.latitude must be finite in [-pi/2, pi/2] rad; got {v!r}")
-        h = self.height
-        if isinstance(h, bool) or not isinstance(h, Real) or not (math.isfinite(h) and -1e4 <= h <= 1e5):
-            raise ValueError(f"Site.height must be within -1e4..1e5 m; got {h!r}")
+        validate(self)  # the declared specs above
 
     @property
     def gravity(self) -> float:

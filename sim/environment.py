@@ -26,7 +26,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobench.base.ranges import Constraint, FieldRange, validate
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, shown, validate
 
 __all__ = ["PiecewiseLinear", "Ramp", "Soak", "thermal_profile", "RateSteps", "rate_steps"]
 
@@ -42,6 +42,16 @@ def _positive(name: str, v: float, unit: str) -> float:
     if v <= 0:
         raise ValueError(f"{name} must be > 0 {unit}; got {v!r}")
     return v
+
+
+def _is_array(v: object) -> bool:
+    return isinstance(v, np.ndarray)
+
+
+def _first_fall(t: NDArray[np.float64]) -> tuple[float, float]:
+    """The first pair of times that does not increase."""
+    i = int(np.flatnonzero(np.diff(t) <= 0)[0])
+    return float(t[i]), float(t[i + 1])
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,18 +75,30 @@ class PiecewiseLinear:
     times: NDArray[np.float64]
     values: NDArray[np.float64]
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "times and values are 1-D of equal length >= 1",
+            lambda c: _is_array(c.times) and _is_array(c.values) and c.times.ndim == 1
+            and c.times.shape == c.values.shape and c.times.size >= 1,
+            lambda c: f"times and values must be 1-D arrays of equal length >= 1 [s], [SI]; got "
+            f"{shown(c.times)} and {shown(c.values)}",
+        ),
+        Constraint(
+            "times and values are finite",
+            lambda c: bool(np.all(np.isfinite(c.times)) and np.all(np.isfinite(c.values))),
+            lambda c: f"times and values must be finite [s], [SI]; got {shown(c.times)} and {shown(c.values)}",
+        ),
+        Constraint(
+            "times strictly increasing",
+            lambda c: not np.any(np.diff(c.times) <= 0),
+            lambda c: "times must be strictly increasing [s]; got {!r} then {!r} s".format(*_first_fall(c.times)),
+        ),
+    )
+
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float)
-        v = np.asarray(self.values, dtype=float)
-        if t.ndim != 1 or t.shape != v.shape or len(t) < 1:
-            raise ValueError(f"times and values must be 1-D of equal length >= 1; got {t.shape} and {v.shape}")
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
-            raise ValueError("profile times and values must be finite")
-        if np.any(np.diff(t) <= 0):
-            i = int(np.flatnonzero(np.diff(t) <= 0)[0])
-            raise ValueError(f"profile times must be strictly increasing; got {t[i]!r} then {t[i + 1]!r} s")
-        object.__setattr__(self, "times", t)
-        object.__setattr__(self, "values", v)
+        object.__setattr__(self, "times", as_array(self.times))
+        object.__setattr__(self, "values", as_array(self.values))
+        validate(self)  # the declared constraints above
 
     @property
     def duration(self) -> float:

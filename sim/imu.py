@@ -31,14 +31,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base import units
-from gyrobench.base.ranges import FieldRange, validate
-from gyrobench.base.validate import check_fs, check_rng, nonneg_field
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, as_tuple, finite_array, shown, validate
+from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Channel, Recording, package_version
 from gyrobench.sim.earth import Site
 from gyrobench.sim.noise import NoiseModel
@@ -210,15 +210,6 @@ def sensitivity_matrix(
     return c
 
 
-def _matrix(owner: str, name: str, m: Any) -> NDArray[np.float64] | None:
-    if m is None:
-        return None
-    a = np.asarray(m, dtype=float)
-    if a.shape != (3, 3) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{owner}.{name} must be a finite 3x3 matrix; got {m!r}")
-    return a
-
-
 @dataclass(frozen=True, slots=True, kw_only=True)
 class TriadSpec:
     """An IMU design: three gyro axes of any device, an accelerometer triad, their alignment.
@@ -253,24 +244,38 @@ class TriadSpec:
     g_sensitivity: NDArray[np.float64] | None = None
     gg_sensitivity: NDArray[np.float64] | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "misalignment": FieldRange(0, 0.1, "rad", "1 sigma off-diagonal misalignment; <= 0.1: a small-angle matrix"),
+        "cross_axis": FieldRange(0, 0.1, "1", "1 sigma cross-axis sensitivity; <= 0.1: a small-angle matrix"),
+        "accel_misalignment": FieldRange(0, 0.1, "rad", "the accelerometer triad's misalignment, as above"),
+        "accel_cross_axis": FieldRange(0, 0.1, "1", "the accelerometer triad's cross-axis sensitivity, as above"),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "gyros are three sensor specs",
+            lambda c: isinstance(c.gyros, tuple) and len(c.gyros) == 3 and all(hasattr(g, "realize") for g in c.gyros),
+            lambda c: f"gyros must be three sensor specs (each with realize(rng=...)); got {shown(c.gyros)}",
+            TypeError,
+        ),
+        Constraint(
+            "accelerometer is an AccelerometerSpec or None",
+            lambda c: c.accelerometer is None or isinstance(c.accelerometer, AccelerometerSpec),
+            lambda c: f"accelerometer must be an AccelerometerSpec or None; got {shown(c.accelerometer)}",
+            TypeError,
+        ),
+        finite_array("gyro_matrix", (3, 3), "1", optional=True),
+        finite_array("accel_matrix", (3, 3), "1", optional=True),
+        finite_array("g_sensitivity", (3, 3), "rad/s per m/s^2", optional=True),
+        finite_array("gg_sensitivity", (3,), "rad/s per (m/s^2)^2", optional=True),
+    )
+
     def __post_init__(self) -> None:
-        gy = tuple(self.gyros)
-        if len(gy) != 3 or not all(hasattr(s, "realize") for s in gy):
-            raise TypeError("TriadSpec.gyros must be three sensor specs (each with realize(rng=...))")
-        object.__setattr__(self, "gyros", gy)
-        if self.accelerometer is not None and not isinstance(self.accelerometer, AccelerometerSpec):
-            raise TypeError(f"TriadSpec.accelerometer must be an AccelerometerSpec or None; got {self.accelerometer!r}")
-        for name in ("misalignment", "cross_axis", "accel_misalignment", "accel_cross_axis"):
-            v = nonneg_field("TriadSpec", name, getattr(self, name), "rad or -")
-            if v > 0.1:
-                raise ValueError(f"TriadSpec.{name} must be <= 0.1 (a small-angle matrix); got {v!r}")
-        for name in ("gyro_matrix", "accel_matrix", "g_sensitivity"):
-            object.__setattr__(self, name, _matrix("TriadSpec", name, getattr(self, name)))
-        if self.gg_sensitivity is not None:
-            gg = np.asarray(self.gg_sensitivity, dtype=float)
-            if gg.shape != (3,) or not np.all(np.isfinite(gg)):
-                raise ValueError(f"TriadSpec.gg_sensitivity must be 3 finite numbers; got {self.gg_sensitivity!r}")
-            object.__setattr__(self, "gg_sensitivity", gg)
+        object.__setattr__(self, "gyros", as_tuple(self.gyros))
+        object.__setattr__(self, "gyro_matrix", as_array(self.gyro_matrix))
+        object.__setattr__(self, "accel_matrix", as_array(self.accel_matrix))
+        object.__setattr__(self, "g_sensitivity", as_array(self.g_sensitivity))
+        object.__setattr__(self, "gg_sensitivity", as_array(self.gg_sensitivity))
+        validate(self)  # the declared specs and constraints above
 
     def realize(self, *, rng: np.random.Generator) -> TriadUnit:
         """Draw one IMU: three gyro units, the accelerometers' turn-on terms, both matrices.

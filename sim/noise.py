@@ -112,15 +112,16 @@ from __future__ import annotations
 import functools
 import math
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import linalg, optimize, signal, special
 
 from gyrobench.base import units
+from gyrobench.base.ranges import Constraint, FieldRange, shown, validate
 from gyrobench.base.validate import check_fs as _check_fs
 from gyrobench.base.validate import nonneg_coefficient
 
@@ -349,6 +350,14 @@ def flicker_avar(tau: ArrayLike, b: float, f_low: float, f_high: float) -> NDArr
     )
 
 
+def _coefficient(unit: str, what: str, *, low_open: bool = False) -> FieldRange:
+    """The declared range of a noise coefficient: >= 0 (> 0 when ``low_open``) and <= 1e100 SI."""
+    return FieldRange(
+        0, _MAX_COEFFICIENT, unit, f"{what}; <= 1e100 SI: no gyro comes near it, and the variances square it",
+        low_open=low_open,
+    )
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GaussMarkov:
     """First-order Gauss-Markov rate noise.
@@ -372,13 +381,13 @@ class GaussMarkov:
     sigma: float
     correlation_time: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "sigma": _coefficient("rad/s", "stationary standard deviation"),
+        "correlation_time": _coefficient("s", "correlation time Tc", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        nonneg_coefficient("GaussMarkov", "sigma", self.sigma, _MAX_COEFFICIENT)
-        nonneg_coefficient("GaussMarkov", "correlation_time", self.correlation_time, _MAX_COEFFICIENT)
-        if self.correlation_time == 0:
-            raise ValueError(
-                f"GaussMarkov.correlation_time must be > 0 s; got {self.correlation_time!r}"
-            )
+        validate(self)  # the declared specs above
 
     def avar(self, tau: ArrayLike) -> NDArray[np.float64]:
         """Continuous-time Allan variance [rad^2/s^2] at cluster times ``tau`` [s]."""
@@ -408,17 +417,14 @@ class Sinusoid:
     frequency: float
     phase: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "amplitude": _coefficient("rad/s", "amplitude A"),
+        "frequency": _coefficient("Hz", "frequency f0", low_open=True),
+        "phase": FieldRange(-math.inf, math.inf, "rad", "phase at t = 0"),
+    }
+
     def __post_init__(self) -> None:
-        nonneg_coefficient("Sinusoid", "amplitude", self.amplitude, _MAX_COEFFICIENT)
-        nonneg_coefficient("Sinusoid", "frequency", self.frequency, _MAX_COEFFICIENT)
-        if self.frequency == 0:
-            raise ValueError(f"Sinusoid.frequency must be > 0 Hz; got {self.frequency!r}")
-        if isinstance(self.phase, bool) or not isinstance(
-            self.phase, (int, float, np.floating, np.integer)
-        ):
-            raise TypeError(f"Sinusoid.phase must be a real number [rad]; got {self.phase!r}")
-        if not math.isfinite(self.phase):
-            raise ValueError(f"Sinusoid.phase must be finite [rad]; got {self.phase!r}")
+        validate(self)  # the declared specs above
 
     def avar(self, tau: ArrayLike) -> NDArray[np.float64]:
         """Continuous AVAR = A^2 (sin^2(pi f0 tau)/(pi f0 tau))^2 (docs/physics.md 1.2)."""
@@ -784,6 +790,19 @@ class _Flicker:
         return y
 
 
+def _tuple_of(name: str, kind: type) -> Constraint:
+    """The declared constraint that field ``name`` is a tuple of ``kind`` (a TypeError otherwise)."""
+
+    def holds(c: Any) -> bool:
+        v = getattr(c, name)
+        return isinstance(v, tuple) and all(isinstance(t, kind) for t in v)
+
+    def message(c: Any) -> str:
+        return f"{name} must be a tuple of {kind.__name__}; got {shown(getattr(c, name))}"
+
+    return Constraint(f"{name} is a tuple of {kind.__name__}", holds, message, TypeError)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class NoiseModel:
     """IEEE Std 952 rate-noise model; every field in SI (see :mod:`gyrobench.base.units`).
@@ -832,48 +851,35 @@ class NoiseModel:
     sinusoids: tuple[Sinusoid, ...] = field(default_factory=tuple)
     bias: float = 0.0
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "quantization": _coefficient("rad", "Q"),
+        "angle_random_walk": _coefficient("rad/sqrt(s)", "N"),
+        "bias_instability": _coefficient("rad/s", "B"),
+        "rate_random_walk": _coefficient("rad/s/sqrt(s)", "K"),
+        "rate_ramp": _coefficient("rad/s^2", "R"),
+        "flicker_band": FieldRange(
+            0, math.inf, "Hz", "(f_low, f_high) of the 1/f band; f_high may be inf (fs/2)", low_open=True, infinite=True
+        ),
+        "bias": FieldRange(-math.inf, math.inf, "rad/s", "constant bias b0, either sign"),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "0 < f_low < f_high, f_low finite",
+            lambda c: len(c.flicker_band) == 2 and math.isfinite(c.flicker_band[0])
+            and c.flicker_band[0] < c.flicker_band[1],
+            lambda c: f"flicker_band must satisfy 0 < f_low < f_high [Hz]; got {c.flicker_band!r}",
+        ),
+        _tuple_of("gauss_markov", GaussMarkov),
+        _tuple_of("sinusoids", Sinusoid),
+        Constraint(
+            f"at most {_N_SLOTS - _SLOT_GM0} gauss_markov terms",
+            lambda c: len(c.gauss_markov) <= _N_SLOTS - _SLOT_GM0,
+            lambda c: f"gauss_markov holds at most {_N_SLOTS - _SLOT_GM0} terms; got {len(c.gauss_markov)}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        for f in fields(self):
-            if f.name in (
-                "quantization",
-                "angle_random_walk",
-                "bias_instability",
-                "rate_random_walk",
-                "rate_ramp",
-            ):
-                nonneg_coefficient("NoiseModel", f.name, getattr(self, f.name), _MAX_COEFFICIENT)
-        band = self.flicker_band
-        if not isinstance(band, tuple) or len(band) != 2:
-            raise TypeError(
-                f"NoiseModel.flicker_band must be a tuple (f_low, f_high) [Hz]; got {band!r}"
-            )
-        for v in band:
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
-                raise TypeError(
-                    f"NoiseModel.flicker_band must hold real numbers [Hz]; got {band!r}"
-                )
-        lo, hi = band
-        if not (math.isfinite(lo) and 0.0 < lo < hi):
-            raise ValueError(
-                f"NoiseModel.flicker_band must satisfy 0 < f_low < f_high [Hz]; got {band!r}"
-            )
-        if isinstance(self.bias, bool) or not isinstance(
-            self.bias, (int, float, np.floating, np.integer)
-        ):
-            raise TypeError(f"NoiseModel.bias must be a real number [rad/s]; got {self.bias!r}")
-        if not math.isfinite(self.bias):
-            raise ValueError(f"NoiseModel.bias must be finite [rad/s]; got {self.bias!r}")
-        for name, kind in (("gauss_markov", GaussMarkov), ("sinusoids", Sinusoid)):
-            terms = getattr(self, name)
-            if not isinstance(terms, tuple) or not all(isinstance(t, kind) for t in terms):
-                raise TypeError(
-                    f"NoiseModel.{name} must be a tuple of {kind.__name__}; got {terms!r}"
-                )
-        if len(self.gauss_markov) > _N_SLOTS - _SLOT_GM0:
-            raise ValueError(
-                f"NoiseModel.gauss_markov holds at most {_N_SLOTS - _SLOT_GM0} terms; "
-                f"got {len(self.gauss_markov)}"
-            )
+        validate(self)  # the declared specs and constraints above
 
     # ------------------------------------------------------------------ constructors
     @classmethod

@@ -37,7 +37,7 @@ The model, effect by effect (docs/physics.md section 6):
 * **Temperature sensors** with offset, white noise and resolution (:class:`TemperatureSensor`).
 
 Unit-to-unit variation: :class:`RLGSpec` is the datasheet budget with the spread of
-every parameter; ``spec.realize(rng)`` draws one unit (:class:`RLGUnit`), so three drawn
+every parameter; ``spec.realize(rng=rng)`` draws one unit (:class:`RLGUnit`), so three drawn
 gyros differ as three real ones would. Turn-on to turn-on variation (bias repeatability
 and the discharge-current balance set at each start) is drawn in each ``simulate``.
 """
@@ -47,14 +47,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from gyrobench.base import units
-from gyrobench.base.ranges import Constraint, FieldRange, validate
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, shown, validate
 from gyrobench.base.validate import nonneg_field as _nonneg
 from gyrobench.io.recording import Channel, Recording
 from gyrobench.sim._rlg_common import (
@@ -99,34 +99,13 @@ HENE_WAVELENGTH = 632.8e-9
 
 
 # ============================================================================ geometry
-def _polygon(vertices: object) -> tuple[tuple[float, float], ...]:
-    """The mirror positions as a tuple of float pairs, refused unless >= 3 finite (x, y) pairs.
+def _is_pairs(v: object) -> bool:
+    """Whether ``v`` is a float array of (x, y) rows."""
+    return isinstance(v, np.ndarray) and v.ndim == 2 and v.shape[1] == 2
 
-    Parameters
-    ----------
-    vertices : object
-        A sequence of (x, y) pairs [m].
 
-    Returns
-    -------
-    tuple of (float, float)
-        The pairs as floats, in path order.
-
-    Raises
-    ------
-    TypeError
-        ``vertices`` is not a sequence of pairs of numbers.
-    ValueError
-        Fewer than 3 pairs, a pair that is not two numbers, or a non-finite coordinate.
-    """
-    try:
-        v = np.asarray(vertices, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError(f"CavityGeometry.vertices must be a sequence of (x, y) pairs [m]; got {vertices!r}") from None
-    if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
-        raise ValueError(f"CavityGeometry.vertices must hold >= 3 (x, y) pairs [m]; got shape {v.shape}")
-    if not np.all(np.isfinite(v)):
-        raise ValueError(f"CavityGeometry.vertices must be finite [m]; got {vertices!r}")
+def _pairs(v: Any) -> tuple[tuple[float, float], ...]:
+    """The validated mirror positions as a tuple of float pairs, in path order."""
     return tuple((float(x), float(y)) for x, y in v)
 
 
@@ -173,6 +152,22 @@ class CavityGeometry:
     #: the mirrors enclose an area (not collinear)
     CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
         Constraint(
+            "vertices is a sequence of (x, y) pairs",
+            lambda c: isinstance(c.vertices, np.ndarray),
+            lambda c: f"vertices must be a sequence of (x, y) pairs [m]; got {shown(c.vertices)}",
+            TypeError,
+        ),
+        Constraint(
+            ">= 3 vertices",
+            lambda c: _is_pairs(c.vertices) and c.vertices.shape[0] >= 3,
+            lambda c: f"vertices must hold >= 3 (x, y) pairs [m]; got shape {c.vertices.shape}",
+        ),
+        Constraint(
+            "vertices finite",
+            lambda c: bool(np.all(np.isfinite(c.vertices))),
+            lambda c: f"vertices must be finite [m]; got {_pairs(c.vertices)!r}",
+        ),
+        Constraint(
             "area > 0 m^2",
             lambda c: c.area > 1e-30,
             lambda c: f"area must be > 0 m^2 (mirrors not collinear); got {c.area!r} m^2",
@@ -180,8 +175,9 @@ class CavityGeometry:
     )
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "vertices", _polygon(self.vertices))  # the shape: >= 3 finite pairs
+        object.__setattr__(self, "vertices", as_array(self.vertices))
         validate(self)  # the declared specs and constraints above
+        object.__setattr__(self, "vertices", _pairs(self.vertices))
 
     @classmethod
     def triangle(cls, side: float, *, wavelength: float = HENE_WAVELENGTH) -> CavityGeometry:

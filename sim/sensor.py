@@ -29,15 +29,16 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from numbers import Real
-from typing import Protocol, runtime_checkable
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobench.base.validate import check_fs, check_rng, positive_number
+from gyrobench.base.ranges import Constraint, FieldRange, shown, validate
+from gyrobench.base.validate import check_fs, check_rng
 from gyrobench.io.recording import Recording
 from gyrobench.sim.environment import PiecewiseLinear
 from gyrobench.sim.shaker import ShakerSignal
@@ -61,22 +62,42 @@ Profile = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 Input = float | Profile | NDArray[np.float64]
 
 
-def _check_input(name: str, v: object, unit: str, *, optional: bool = False, columns: bool = False) -> None:
-    if v is None and optional:
-        return
-    if callable(v):
-        return
-    if isinstance(v, Real) and not isinstance(v, bool):
-        if not math.isfinite(float(v)):
-            raise ValueError(f"Environment.{name} must be finite [{unit}]; got {v!r}")
-        return
+def _input_kind(v: object, *, optional: bool) -> bool:
+    """Whether an input is of a kind :class:`Environment` takes: a number, a callable, an array."""
+    return (v is None and optional) or callable(v) or isinstance(v, np.ndarray) or (
+        isinstance(v, Real) and not isinstance(v, bool)
+    )
+
+
+def _input_value(v: object, *, columns: bool) -> bool:
+    """Whether an input of a valid kind holds a valid value: finite; an array 1-D (or (n, k)), non-empty."""
     if isinstance(v, np.ndarray):
-        shape = "1-D or (n, k)" if columns else "1-D"
-        if v.ndim not in ((1, 2) if columns else (1,)) or v.size == 0 or not np.all(np.isfinite(v)):
-            raise ValueError(f"Environment.{name} must be a finite {shape} array [{unit}]; got shape {v.shape}")
-        return
-    raise TypeError(
-        f"Environment.{name} must be a number, a callable of time or a 1-D array [{unit}]; got {type(v).__name__}"
+        return v.ndim in ((1, 2) if columns else (1,)) and v.size > 0 and bool(np.all(np.isfinite(v)))
+    return not isinstance(v, Real) or math.isfinite(float(v))
+
+
+def _input_constraints(
+    name: str, unit: str, *, optional: bool = False, columns: bool = False
+) -> tuple[Constraint, ...]:
+    """The declared constraints of one input of :class:`Environment`: its kind, then its value."""
+    shape = "1-D or (n, k)" if columns else "1-D"
+    kinds = f"a number, a callable of time or a {shape} array" + (" or None" if optional else "")
+    return (
+        Constraint(
+            f"{name} is {kinds}",
+            lambda c: _input_kind(getattr(c, name), optional=optional),
+            lambda c: f"{name} must be {kinds} [{unit}]; got {type(getattr(c, name)).__name__}",
+            TypeError,
+        ),
+        Constraint(
+            f"{name} is finite",
+            lambda c: _input_value(getattr(c, name), columns=columns),
+            lambda c: (
+                f"{name} must be a finite {shape} array [{unit}]; got {shown(getattr(c, name))}"
+                if isinstance(getattr(c, name), np.ndarray)
+                else f"{name} must be finite [{unit}]; got {getattr(c, name)!r}"
+            ),
+        ),
     )
 
 
@@ -116,15 +137,23 @@ class Environment:
     specific_force: Input = 0.0
     vibration: ShakerSignal | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "duration": FieldRange(0, math.inf, "s", "record length", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        *_input_constraints("true_rate", "rad/s", columns=True),
+        *_input_constraints("temperature", "K", optional=True),
+        *_input_constraints("specific_force", "m/s^2"),
+        Constraint(
+            "vibration is a ShakerSignal or None",
+            lambda c: c.vibration is None or isinstance(c.vibration, ShakerSignal),
+            lambda c: f"vibration must be a sim.shaker.ShakerSignal or None; got {type(c.vibration).__name__}",
+            TypeError,
+        ),
+    )
+
     def __post_init__(self) -> None:
-        positive_number("Environment.duration", self.duration, "s")
-        _check_input("true_rate", self.true_rate, "rad/s", columns=True)
-        _check_input("temperature", self.temperature, "K", optional=True)
-        _check_input("specific_force", self.specific_force, "m/s^2")
-        if self.vibration is not None and not isinstance(self.vibration, ShakerSignal):
-            raise TypeError(
-                f"Environment.vibration must be a sim.shaker.ShakerSignal or None; got {type(self.vibration).__name__}"
-            )
+        validate(self)  # the declared specs and constraints above
 
     @property
     def columns(self) -> int:

@@ -47,13 +47,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import ClassVar, Literal, Protocol, runtime_checkable
+from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import memory, units
-from gyrobench.base.ranges import Constraint, FieldRange, validate
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, shown, validate
 from gyrobench.base.validate import check_fs as _check_fs
 from gyrobench.base.validate import check_rng as _check_rng
 from gyrobench.base.validate import real_number
@@ -523,6 +523,11 @@ def grms(breakpoints: Sequence[tuple[float, float]]) -> float:
     return math.sqrt(total)
 
 
+def _float_pairs(bp: Any) -> tuple[tuple[float, float], ...]:
+    """Validated breakpoints as a tuple of (f, G) float pairs."""
+    return tuple((float(f), float(g)) for f, g in bp)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RandomVibration:
     """Gaussian random vibration with a breakpoint PSD.
@@ -553,12 +558,30 @@ class RandomVibration:
         "duration": _PROFILE_SPECS["duration"],
         "max_displacement": _PROFILE_SPECS["max_displacement"],
     }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            ">= 2 breakpoints (f, G)",
+            lambda c: isinstance(c.breakpoints, np.ndarray) and c.breakpoints.ndim == 2
+            and c.breakpoints.shape[1] == 2 and len(c.breakpoints) >= 2,
+            lambda c: f"breakpoints must be >= 2 pairs (f [Hz], G [g^2/Hz]); got {shown(c.breakpoints)}",
+        ),
+        Constraint(
+            "breakpoint frequencies > 0 Hz, strictly increasing",
+            lambda c: bool(np.all(c.breakpoints[:, 0] > 0) and np.all(np.diff(c.breakpoints[:, 0]) > 0)),
+            lambda c: "breakpoints must have frequencies > 0 Hz, strictly increasing; "
+            f"got {c.breakpoints[:, 0].tolist()!r}",
+        ),
+        Constraint(
+            "breakpoint PSD levels finite, > 0 g^2/Hz",
+            lambda c: bool(np.all(c.breakpoints[:, 1] > 0) and np.all(np.isfinite(c.breakpoints))),
+            lambda c: f"breakpoints must have PSD levels finite and > 0 g^2/Hz; got {c.breakpoints[:, 1].tolist()!r}",
+        ),
+    )
 
     def __post_init__(self) -> None:
-        bp = tuple((float(f), float(g)) for f, g in self.breakpoints)
-        psd_from_breakpoints(bp, [bp[0][0]])  # the PSD's own checks (one line naming the breakpoint)
-        object.__setattr__(self, "breakpoints", bp)
-        validate(self)  # the declared specs above
+        object.__setattr__(self, "breakpoints", as_array(self.breakpoints))
+        validate(self)  # the declared specs and constraints above
+        object.__setattr__(self, "breakpoints", _float_pairs(self.breakpoints))
 
     @property
     def max_frequency(self) -> float:

@@ -33,16 +33,17 @@ coning and sculling content of real motion is in the increments.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobench.base import units
 from gyrobench.base.memory import check_memory
-from gyrobench.base.validate import check_fs, positive_number
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, as_tuple, finite_array, shown, validate
+from gyrobench.base.validate import check_fs
 from gyrobench.sim.earth import Site
 
 __all__ = [
@@ -137,10 +138,34 @@ class Segment:
     rate: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
     acceleration: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "duration": FieldRange(0, math.inf, "s", "segment length", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        finite_array("rate", (3,), "rad/s"),
+        finite_array("acceleration", (3,), "m/s^2"),
+    )
+
     def __post_init__(self) -> None:
-        positive_number("Segment.duration", self.duration, "s")
-        object.__setattr__(self, "rate", _vec3("Segment", "rate", self.rate, "rad/s"))
-        object.__setattr__(self, "acceleration", _vec3("Segment", "acceleration", self.acceleration, "m/s^2"))
+        object.__setattr__(self, "rate", as_array(self.rate))
+        object.__setattr__(self, "acceleration", as_array(self.acceleration))
+        validate(self)  # the declared specs and constraints above
+
+
+def _segment_starts(
+    segs: tuple[Segment, ...], attitude: NDArray[np.float64], velocity: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Each segment's start time [s], attitude C_nb and velocity v^n [m/s], from the exact kinematics."""
+    durations = np.array([s.duration for s in segs])
+    starts = np.concatenate(([0.0], np.cumsum(durations)[:-1]))
+    c0 = np.empty((len(segs), 3, 3))
+    v0 = np.empty((len(segs), 3))
+    c, v = rotation_matrix(attitude), velocity.copy()
+    for j, s in enumerate(segs):
+        c0[j], v0[j] = c, v
+        c = c @ rotation_matrix(s.rate * s.duration)
+        v = v + s.acceleration * s.duration
+    return starts, c0, v0
 
 
 @dataclass(frozen=True, slots=True)
@@ -168,24 +193,24 @@ class SegmentedMotion:
     _c0: NDArray[np.float64] = field(init=False, repr=False)
     _v0: NDArray[np.float64] = field(init=False, repr=False)
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "segments is a non-empty sequence of Segment",
+            lambda c: isinstance(c.segments, tuple) and len(c.segments) > 0
+            and all(isinstance(s, Segment) for s in c.segments),
+            lambda c: f"segments must be a non-empty sequence of Segment; got {shown(c.segments)}",
+            TypeError,
+        ),
+        finite_array("attitude", (3,), "rad"),
+        finite_array("velocity", (3,), "m/s"),
+    )
+
     def __post_init__(self) -> None:
-        segs = tuple(self.segments)
-        if not segs or not all(isinstance(s, Segment) for s in segs):
-            raise TypeError("SegmentedMotion.segments must be a non-empty sequence of Segment")
-        object.__setattr__(self, "segments", segs)
-        att = _vec3("SegmentedMotion", "attitude", self.attitude, "rad")
-        vel = _vec3("SegmentedMotion", "velocity", self.velocity, "m/s")
-        object.__setattr__(self, "attitude", att)
-        object.__setattr__(self, "velocity", vel)
-        durations = np.array([s.duration for s in segs])
-        starts = np.concatenate(([0.0], np.cumsum(durations)[:-1]))
-        c0 = np.empty((len(segs), 3, 3))
-        v0 = np.empty((len(segs), 3))
-        c, v = rotation_matrix(att), vel.copy()
-        for j, s in enumerate(segs):
-            c0[j], v0[j] = c, v
-            c = c @ rotation_matrix(s.rate * s.duration)
-            v = v + s.acceleration * s.duration
+        object.__setattr__(self, "segments", as_tuple(self.segments))
+        object.__setattr__(self, "attitude", as_array(self.attitude))
+        object.__setattr__(self, "velocity", as_array(self.velocity))
+        validate(self)  # the declared constraints above
+        starts, c0, v0 = _segment_starts(self.segments, self.attitude, self.velocity)
         object.__setattr__(self, "_starts", starts)
         object.__setattr__(self, "_c0", c0)
         object.__setattr__(self, "_v0", v0)
@@ -234,12 +259,14 @@ class ConingMotion:
     frequency: float
     duration: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "half_angle": FieldRange(0, math.pi, "rad", "coning half-angle beta", low_open=True, high_open=True),
+        "frequency": FieldRange(0, math.inf, "Hz", "coning frequency", low_open=True),
+        "duration": FieldRange(0, math.inf, "s", "motion length", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        b = positive_number("ConingMotion.half_angle", self.half_angle, "rad")
-        if not b < math.pi:
-            raise ValueError(f"ConingMotion.half_angle must be < pi rad; got {self.half_angle!r}")
-        positive_number("ConingMotion.frequency", self.frequency, "Hz")
-        positive_number("ConingMotion.duration", self.duration, "s")
+        validate(self)  # the declared specs above
 
     def breakpoints(self) -> NDArray[np.float64]:
         """None: the motion is smooth."""
@@ -284,10 +311,14 @@ class RockingMotion:
     frequency: float
     duration: float
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "amplitude": FieldRange(0, math.inf, "rad", "rocking amplitude A", low_open=True),
+        "frequency": FieldRange(0, math.inf, "Hz", "rocking frequency", low_open=True),
+        "duration": FieldRange(0, math.inf, "s", "motion length", low_open=True),
+    }
+
     def __post_init__(self) -> None:
-        positive_number("RockingMotion.amplitude", self.amplitude, "rad")
-        positive_number("RockingMotion.frequency", self.frequency, "Hz")
-        positive_number("RockingMotion.duration", self.duration, "s")
+        validate(self)  # the declared specs above
 
     def breakpoints(self) -> NDArray[np.float64]:
         """None: the motion is smooth."""
@@ -302,6 +333,27 @@ class RockingMotion:
         rate = np.stack([self.amplitude * w * np.cos(w * t), np.zeros_like(t), np.zeros_like(t)], axis=-1)
         zeros = np.zeros((len(t), 3))
         return rotation_matrix(rotvec), rate, zeros, zeros
+
+
+def _valid_times(t: object) -> bool:
+    """Whether ``t`` is a 1-D float array of >= 4 finite, strictly increasing times from 0."""
+    return (
+        isinstance(t, np.ndarray) and t.ndim == 1 and len(t) >= 4 and bool(np.all(np.isfinite(t)))
+        and bool(np.all(np.diff(t) > 0)) and t[0] == 0.0
+    )
+
+
+def _finite_rows(a: object, m: int, k: int) -> bool:
+    """Whether ``a`` is a finite float array of shape (m, k)."""
+    return isinstance(a, np.ndarray) and a.shape == (m, k) and bool(np.all(np.isfinite(a)))
+
+
+def _continuous_unit(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The quaternions normalised, each sign flip between samples undone (a new array)."""
+    q = q / np.linalg.norm(q, axis=1)[:, None]
+    flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0, -1.0, 1.0))
+    q[1:] *= flips[:, None]
+    return q
 
 
 @dataclass(frozen=True, slots=True)
@@ -334,29 +386,37 @@ class SampledMotion:
     _q: object = field(init=False, repr=False)
     _v: object = field(init=False, repr=False)
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "times: >= 4 finite, strictly increasing, from 0",
+            lambda c: _valid_times(c.times),
+            lambda c: f"times must be >= 4 finite, strictly increasing times [s] from 0; got {shown(c.times)}",
+        ),
+        Constraint(
+            "quaternions (m, 4) and velocities (m, 3), finite",
+            lambda c: _finite_rows(c.quaternions, len(c.times), 4) and _finite_rows(c.velocities, len(c.times), 3),
+            lambda c: f"quaternions must be ({len(c.times)}, 4) and velocities ({len(c.times)}, 3), finite; "
+            f"got {shown(c.quaternions)} and {shown(c.velocities)}",
+        ),
+        Constraint(
+            "|q| within 1e-3 of 1",
+            lambda c: bool(np.all(np.abs(np.linalg.norm(c.quaternions, axis=1) - 1) <= 1e-3)),
+            lambda c: "quaternions must be unit quaternions (|q| within 1e-3 of 1); got |q| from "
+            f"{np.linalg.norm(c.quaternions, axis=1).min():.6g} to {np.linalg.norm(c.quaternions, axis=1).max():.6g}",
+        ),
+    )
+
     def __post_init__(self) -> None:
         from scipy.interpolate import CubicSpline
 
-        t = np.asarray(self.times, dtype=float)
-        q = np.array(self.quaternions, dtype=float)
-        v = np.asarray(self.velocities, dtype=float)
-        if t.ndim != 1 or len(t) < 4 or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0) or t[0] != 0.0:
-            raise ValueError("SampledMotion.times must be >= 4 finite, strictly increasing times [s] from 0")
-        if q.shape != (len(t), 4) or v.shape != (len(t), 3) or not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
-            raise ValueError(f"SampledMotion.quaternions must be ({len(t)}, 4) and velocities ({len(t)}, 3), finite; "
-                             f"got {q.shape} and {v.shape}")
-        norm = np.linalg.norm(q, axis=1)
-        if np.any(np.abs(norm - 1) > 1e-3):
-            raise ValueError(f"SampledMotion.quaternions must be unit quaternions (|q| within 1e-3 of 1); "
-                             f"got |q| from {norm.min():.6g} to {norm.max():.6g}")
-        q /= norm[:, None]
-        flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0, -1.0, 1.0))
-        q[1:] *= flips[:, None]
-        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "times", as_array(self.times))
+        object.__setattr__(self, "quaternions", as_array(self.quaternions))
+        object.__setattr__(self, "velocities", as_array(self.velocities))
+        validate(self)  # the declared constraints above
+        q = _continuous_unit(self.quaternions)
         object.__setattr__(self, "quaternions", q)
-        object.__setattr__(self, "velocities", v)
-        object.__setattr__(self, "_q", CubicSpline(t, q, axis=0))
-        object.__setattr__(self, "_v", CubicSpline(t, v, axis=0))
+        object.__setattr__(self, "_q", CubicSpline(self.times, q, axis=0))
+        object.__setattr__(self, "_v", CubicSpline(self.times, self.velocities, axis=0))
 
     @property
     def duration(self) -> float:

@@ -267,13 +267,14 @@ def test_profile_shaker_is_the_python_api_s_interval_mean_acceleration(tmp_path)
         ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[20]]\n",
          "shaker.psd must be >= 2 [frequency_hz, g^2/Hz] pairs"),
         ("duration_s = 10\n[shaker]\nkind = 'random'\nduration_s = 5\npsd = [[80, 0.01], [20, 0.01]]\n",
-         "[shaker] breakpoint frequencies must be > 0 Hz and strictly increasing"),
+         "[shaker] RandomVibration.breakpoints must have frequencies > 0 Hz, strictly increasing; got [80.0, 20.0]"),
         ("duration_s = 10\n[shaker]\nkind = 'sine'\nstart_s = 8\nduration_s = 5\nacceleration_g = 1\n"
          "frequency_hz = 5\n", "shaker.start_s + shaker.duration_s = 13 s must lie inside the record (0, 10] s"),
         # start_s x fs overflows: once the generic "a value is too large to compute with" from round(inf)
         ("duration_s = 10\n[shaker]\nkind = 'sine'\nstart_s = 1e308\nduration_s = 5\nacceleration_g = 1\n"
          "frequency_hz = 5\n", "shaker.start_s + shaker.duration_s = 1e+308 s must lie inside the record (0, 10] s"),
-        ("duration_s = 10\nrate_dps = [[0, 0], [0, 1]]\n", "rate_dps: profile times must be strictly increasing"),
+        ("duration_s = 10\nrate_dps = [[0, 0], [0, 1]]\n",
+         "rate_dps: PiecewiseLinear.times must be strictly increasing [s]; got 0.0 then 0.0 s"),
     ],
 )
 def test_profile_tables_refuse_bad_input_in_one_line_exit_2(tmp_path, capsys, profile, needle):

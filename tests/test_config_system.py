@@ -29,15 +29,19 @@ import pytest
 from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, _field_hints, field_spec
 from gyrobench.scenarios import registry
 from gyrobench.sim.coil2d import Coil2DSpec
-from gyrobench.sim.environment import Ramp, Soak
+from gyrobench.sim.earth import Site
+from gyrobench.sim.environment import PiecewiseLinear, Ramp, Soak
 from gyrobench.sim.fog2d import FOG2DSpec, FOG2DUnit, TemperatureSensorSpec
 from gyrobench.sim.fog_loop import ClosedLoopFOG
-from gyrobench.sim.imu import AccelerometerSpec
+from gyrobench.sim.imu import AccelerometerSpec, TriadSpec
 from gyrobench.sim.mems_nonlinear import DuffingSense, RateTransfer
+from gyrobench.sim.noise import GaussMarkov, NoiseModel, Sinusoid
 from gyrobench.sim.parts import Datasheet, Part
 from gyrobench.sim.rlg import CavityGeometry, Dither, RLGSpec, RLGUnit, TemperatureSensor, ThermalBias, TwoNodeThermal
 from gyrobench.sim.rlg_cavity import Backscatter, CavityRLG, CavityRLGSpec, CavityThermal, Discharge, PathLengthControl
+from gyrobench.sim.sensor import Environment
 from gyrobench.sim.shaker import FixedSine, Phased, RandomVibration, SineSweep
+from gyrobench.sim.trajectory import ConingMotion, RockingMotion, SampledMotion, Segment, SegmentedMotion
 
 #: classes a user builds directly, beside the ones reachable from a scenario's Config: profiles, parts and
 #: the device specs the paper configs build
@@ -50,6 +54,11 @@ SIM_SPECS = (
     ClosedLoopFOG, Coil2DSpec, FOG2DUnit, DuffingSense, RateTransfer, AccelerometerSpec,
     CavityGeometry, TwoNodeThermal, ThermalBias, TemperatureSensor, RLGUnit, RLGSpec,
     Backscatter, PathLengthControl, CavityThermal, Discharge, CavityRLG, CavityRLGSpec,
+)
+#: the inputs every device model takes (site, environment and its profiles, motions) and the noise model
+INPUTS_AND_NOISE = (
+    Site, PiecewiseLinear, Environment, TriadSpec, NoiseModel, GaussMarkov, Sinusoid,
+    Segment, SegmentedMotion, ConingMotion, RockingMotion, SampledMotion,
 )
 
 
@@ -69,7 +78,7 @@ def config_classes() -> list[type]:
     out: dict[type, None] = {}
     for name in registry.available():
         _reachable(registry.get(name).Config(), out)
-    for cls in PROFILES_AND_PARTS + SIM_SPECS:
+    for cls in PROFILES_AND_PARTS + SIM_SPECS + INPUTS_AND_NOISE:
         out[cls] = None
     return list(out)
 

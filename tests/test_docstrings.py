@@ -6,11 +6,9 @@ when something is returned). It is shown to fail on planted bad examples, and to
 planted good ones, before it is run over ``gyrobench.base``, ``io``, ``sim``, ``analysis`` and
 ``scenarios``.
 
-Names that do not pass yet are listed, one per line, in ``tests/data/docstring_debt.txt``.
-The list may only shrink: a public name that fails and is not listed fails the test (so new
-code comes with its docstrings), and a listed name that passes, or no longer exists, fails it
-too (so a fixed docstring leaves the list). ``python tools/check_docstrings.py`` lists every
-failure with what is missing.
+There is no list of exceptions: any public name that fails fails the test, so new code comes
+with its docstrings. ``python tools/check_docstrings.py`` lists every failure with what is
+missing.
 """
 
 from __future__ import annotations
@@ -23,7 +21,6 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DEBT = ROOT / "tests" / "data" / "docstring_debt.txt"
 
 sys.path.insert(0, str(ROOT / "tools"))
 try:
@@ -269,16 +266,11 @@ def test_public_names_without_all_are_the_unprefixed_ones_defined_here(planted):
     assert "good" in names and "_private" not in names and "dataclass" not in names
 
 
-def _debt() -> set[str]:
-    return {ln.strip() for ln in DEBT.read_text().splitlines() if ln.strip() and not ln.startswith("#")}
-
-
 def test_every_public_name_has_a_numpydoc_docstring():
     fails = cd.check()
-    failing = {f.qualname for f in fails}
-    new = sorted(str(f) for f in fails if f.qualname not in _debt())
-    assert not new, "public names without a complete numpydoc docstring:\n" + "\n".join(new)
-    fixed = sorted(_debt() - failing)
-    assert not fixed, (
-        "these names pass (or are gone): remove them from tests/data/docstring_debt.txt:\n" + "\n".join(fixed)
-    )
+    assert not fails, "public names without a complete numpydoc docstring:\n" + "\n".join(str(f) for f in fails)
+
+
+def test_there_is_no_list_of_exempt_names():
+    assert not (ROOT / "tests" / "data" / "docstring_debt.txt").exists()
+    assert not hasattr(cd, "DEBT")

@@ -5,7 +5,6 @@ Usage::
     python tools/check_docstrings.py                  # every layer; exit 1 when anything fails
     python tools/check_docstrings.py gyrobench.sim    # one package (and its subpackages)
     python tools/check_docstrings.py --count          # failures per module, then the total
-    python tools/check_docstrings.py --debt           # rewrite tests/data/docstring_debt.txt
 
 ``tests/test_docstrings.py`` runs the same check over the packages in :data:`PACKAGES`.
 
@@ -44,19 +43,11 @@ import textwrap
 import types
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 #: the layers whose public names are checked (every subpackage included)
 PACKAGES = ("gyrobench.base", "gyrobench.io", "gyrobench.sim", "gyrobench.analysis", "gyrobench.scenarios")
 
-#: public names that do not pass yet (tests/test_docstrings.py lets this list only shrink)
-DEBT = Path(__file__).resolve().parents[1] / "tests" / "data" / "docstring_debt.txt"
-_DEBT_HEADER = (
-    "# Public names whose docstrings do not pass tools/check_docstrings.py yet, one per line.\n"
-    "# tests/test_docstrings.py fails on a failing name not listed here and on a listed name that\n"
-    "# passes: fix a docstring, then delete its line (or run tools/check_docstrings.py --debt).\n"
-)
 _SECTION = re.compile(r"^([A-Z][A-Za-z ]+)\n-{3,}$", re.M)
 _NO_RETURN = {"None", "NoReturn", "Never", "typing.NoReturn", "typing.Never"}
 
@@ -338,12 +329,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("packages", nargs="*", default=list(PACKAGES), help="dotted package names")
     parser.add_argument("--count", action="store_true", help="failures per module and the total")
-    parser.add_argument("--debt", action="store_true", help=f"write the failing names to {DEBT}")
     args = parser.parse_args(argv)
     fails = check(args.packages)
-    if args.debt:
-        names = sorted({f.qualname for f in fails})
-        DEBT.write_text(_DEBT_HEADER + "".join(n + "\n" for n in names))
     if args.count:
         per: dict[str, int] = {}
         for f in fails:

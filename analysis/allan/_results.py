@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from statistics import NormalDist
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -12,10 +14,24 @@ from numpy.typing import ArrayLike, NDArray
 from gyrobench.analysis.allan._checks import _positive_tau
 from gyrobench.analysis.allan._kinds import KINDS
 from gyrobench.analysis.allan._terms import _POWER, avar_to_coefficient
+from gyrobench.base.ranges import Constraint, FieldChoice, FieldRange, validate
 
 __all__ = ["AllanCurve", "Coefficient", "FitRange", "NoiseFit"]
 
 _NORMAL = NormalDist()
+
+
+def _shape_of_tau(name: str, *, optional: bool) -> Constraint:
+    """The declared constraint that field ``name`` has the shape of ``tau`` (or is None, if optional)."""
+
+    def holds(c: AllanCurve) -> bool:
+        v = getattr(c, name)
+        return (optional and v is None) or np.shape(v) == np.shape(c.tau)
+
+    def message(c: AllanCurve) -> str:
+        return f"{name} must have the shape of tau {np.shape(c.tau)}; got {np.shape(getattr(c, name))}"
+
+    return Constraint(f"{name} has the shape of tau", holds, message)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -66,21 +82,18 @@ class AllanCurve:
     alpha: NDArray[np.int64] | None = None
     edf_scale: NDArray[np.float64] | None = None
 
+    RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
+        "kind": FieldChoice(tuple(KINDS), "the deviation"),
+        "confidence": FieldRange(0, 1, "1", "two-sided confidence level", low_open=True, high_open=True),
+        "fs": FieldRange(0, math.inf, "Hz", "sample rate", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = tuple(
+        _shape_of_tau(name, optional=name == "edf_scale")
+        for name in ("deviation", "low", "high", "n_terms", "edf", "edf_scale")
+    )
+
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"AllanCurve.kind must be one of {KINDS}; got {self.kind!r}")
-        if not (0.0 < self.confidence < 1.0):
-            raise ValueError(f"AllanCurve.confidence must be in (0, 1); got {self.confidence!r}")
-        if not (math.isfinite(self.fs) and self.fs > 0):
-            raise ValueError(f"AllanCurve.fs must be finite and > 0 Hz; got {self.fs!r}")
-        n = np.shape(self.tau)
-        for name in ("deviation", "low", "high", "n_terms", "edf"):
-            if np.shape(getattr(self, name)) != n:
-                raise ValueError(
-                    f"AllanCurve.{name} must have the shape of tau {n}; got {np.shape(getattr(self, name))}"
-                )
-        if self.edf_scale is not None and np.shape(self.edf_scale) != n:
-            raise ValueError(f"AllanCurve.edf_scale must have the shape of tau {n}; got {np.shape(self.edf_scale)}")
+        validate(self)  # the declared specs and constraints above
 
     @property
     def variance(self) -> NDArray[np.float64]:

@@ -76,9 +76,11 @@ Modules
 -------
 :mod:`~gyrobench.scenarios.bench.seeds` (seed lists),
 :mod:`~gyrobench.scenarios.bench.compensators` (the user's compensator, fitting it),
-:mod:`~gyrobench.scenarios.bench.scoring` (one seed),
+:mod:`~gyrobench.scenarios.bench.scoring` (one seed scored in this process),
+:mod:`~gyrobench.scenarios.bench.jobs` (a seed as a campaign's job: time limit, sandbox, noise floor),
 :mod:`~gyrobench.scenarios.bench.sandbox` and :mod:`~gyrobench.scenarios.bench.sandbox_child`
-(the compensator's own processes), :mod:`~gyrobench.scenarios.bench.sandboxed` (sandboxed seeds
+(the compensator's own processes), :mod:`~gyrobench.scenarios.bench.sandbox_protocol` (the
+scoring side of their wire protocol), :mod:`~gyrobench.scenarios.bench.sandboxed` (sandboxed seeds
 on local processes, what the compensator read), :mod:`~gyrobench.scenarios.bench.floor` (the
 noise floor), :mod:`~gyrobench.scenarios.bench.margin` (the gate's equivalence margin),
 :mod:`~gyrobench.scenarios.bench.identity` (campaign id),
@@ -86,7 +88,8 @@ noise floor), :mod:`~gyrobench.scenarios.bench.margin` (the gate's equivalence m
 :mod:`~gyrobench.scenarios.runner.executors` (local pools, shared with the units runner),
 :mod:`~gyrobench.scenarios.bench.statistics` (intervals, paired test, correction),
 :mod:`~gyrobench.scenarios.bench.campaign` (:func:`run_campaign`),
-:mod:`~gyrobench.scenarios.bench.baseline` (save, load, compare),
+:mod:`~gyrobench.scenarios.bench.baseline_file` (save, load, check a baseline file),
+:mod:`~gyrobench.scenarios.bench.baseline` (compare),
 :mod:`~gyrobench.scenarios.bench.primary` (each scenario's primary, gated, scores and units),
 :mod:`~gyrobench.scenarios.bench.power` (smallest attainable p, seeds needed, ``--seeds auto``),
 :mod:`~gyrobench.scenarios.bench.gate` (the power check before a run),
@@ -124,8 +127,8 @@ _LAZY: dict[str, str] = {
     "detectable": "gyrobench.scenarios.bench.gate",
     "plan_power": "gyrobench.scenarios.bench.gate",
     "PowerPlan": "gyrobench.scenarios.bench.gate",
-    "BASELINE_FORMAT": "gyrobench.scenarios.bench.baseline",
-    "BASELINE_VERSION": "gyrobench.scenarios.bench.baseline",
+    "BASELINE_FORMAT": "gyrobench.scenarios.bench.baseline_file",
+    "BASELINE_VERSION": "gyrobench.scenarios.bench.baseline_file",
     "BYTES_PER_SEED": "gyrobench.scenarios.bench.seeds",
     "DEFAULT_DB": "gyrobench.scenarios.runner.store",
     "HIGHER_IS_BETTER_TOKENS": "gyrobench.scenarios.bench.statistics",
@@ -143,24 +146,24 @@ _LAZY: dict[str, str] = {
     "ScoreComparison": "gyrobench.scenarios.bench.baseline",
     "ScoreSummary": "gyrobench.scenarios.bench.statistics",
     "campaign_id": "gyrobench.scenarios.bench.identity",
-    "check_baseline_matches": "gyrobench.scenarios.bench.baseline",
-    "check_baseline_path": "gyrobench.scenarios.bench.baseline",
+    "check_baseline_matches": "gyrobench.scenarios.bench.baseline_file",
+    "check_baseline_path": "gyrobench.scenarios.bench.baseline_file",
     "compare": "gyrobench.scenarios.bench.baseline",
     "compensator_identity": "gyrobench.scenarios.bench.identity",
     "connect_db": "gyrobench.scenarios.runner.store",
     "format_summary": "gyrobench.scenarios.bench.formatting",
-    "load_baseline": "gyrobench.scenarios.bench.baseline",
+    "load_baseline": "gyrobench.scenarios.bench.baseline_file",
     "parse_seeds": "gyrobench.scenarios.bench.seeds",
     "prepend_import_path": "gyrobench.scenarios.bench.compensators",
     "resolve_compensator": "gyrobench.scenarios.bench.compensators",
     "resolve_scenario": "gyrobench.scenarios.bench.scoring",
     "run_campaign": "gyrobench.scenarios.bench.campaign",
-    "save_baseline": "gyrobench.scenarios.bench.baseline",
+    "save_baseline": "gyrobench.scenarios.bench.baseline_file",
     "score_direction": "gyrobench.scenarios.bench.statistics",
     "score_is_nonnegative": "gyrobench.scenarios.bench.statistics",
     "score_seed": "gyrobench.scenarios.bench.scoring",
-    "check_seed_timeout": "gyrobench.scenarios.bench.scoring",
-    "DEFAULT_SEED_TIMEOUT_S": "gyrobench.scenarios.bench.scoring",
+    "check_seed_timeout": "gyrobench.scenarios.bench.jobs",
+    "DEFAULT_SEED_TIMEOUT_S": "gyrobench.scenarios.bench.jobs",
 }
 
 __all__ = [
@@ -223,15 +226,12 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
-    from gyrobench.scenarios.bench.baseline import (
+    from gyrobench.scenarios.bench.baseline import Comparison, ComparisonError, ScoreComparison, compare
+    from gyrobench.scenarios.bench.baseline_file import (
         BASELINE_FORMAT,
         BASELINE_VERSION,
-        Comparison,
-        ComparisonError,
-        ScoreComparison,
         check_baseline_matches,
         check_baseline_path,
-        compare,
         load_baseline,
         save_baseline,
     )
@@ -248,6 +248,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.scenarios.bench.formatting import format_summary
     from gyrobench.scenarios.bench.gate import PowerPlan, detectable, plan_power, reference_campaigns
     from gyrobench.scenarios.bench.identity import campaign_id, compensator_identity
+    from gyrobench.scenarios.bench.jobs import DEFAULT_SEED_TIMEOUT_S, check_seed_timeout
     from gyrobench.scenarios.bench.margin import DetectableChange
     from gyrobench.scenarios.bench.power import (
         DEFAULT_MIN_CHANGE,
@@ -259,12 +260,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from gyrobench.scenarios.bench.primary import PrimaryScore, declared_scores, gated_scores, score_unit
     from gyrobench.scenarios.bench.references import UNCOMPENSATED, Uncompensated
     from gyrobench.scenarios.bench.sandbox import DEFAULT_MEMORY_BYTES, Zygote
-    from gyrobench.scenarios.bench.scoring import (
-        DEFAULT_SEED_TIMEOUT_S,
-        check_seed_timeout,
-        resolve_scenario,
-        score_seed,
-    )
+    from gyrobench.scenarios.bench.scoring import resolve_scenario, score_seed
     from gyrobench.scenarios.bench.seeds import BYTES_PER_SEED, MAX_SEED, MAX_SEEDS, parse_seeds
     from gyrobench.scenarios.bench.statistics import (
         HIGHER_IS_BETTER_TOKENS,

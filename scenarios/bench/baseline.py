@@ -1,35 +1,38 @@
-"""Baselines: a campaign's per-seed scores saved to JSON, and the paired comparison of a new
-campaign against one.
+"""The paired comparison of a new campaign against a baseline, seed by seed.
 
-:func:`save_baseline` writes a campaign's per-seed scores; :func:`compare` tests a new
-campaign against a baseline, seed by seed (see its Notes for the test and the
-multiple-comparison correction; the statistics are in
-:mod:`gyrobench.scenarios.bench.statistics`).
+:func:`compare` tests a candidate campaign against a baseline (see its Notes for the test and
+the multiple-comparison correction; the statistics are in
+:mod:`gyrobench.scenarios.bench.statistics`, the equivalence margin in
+:mod:`gyrobench.scenarios.bench.margin`). The baseline files themselves (:func:`save_baseline`,
+:func:`load_baseline` and the checks made before a campaign) are in
+:mod:`gyrobench.scenarios.bench.baseline_file` and re-exported here.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import types
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 import numpy as np
 
+from gyrobench.scenarios.bench.baseline_file import (
+    BASELINE_FORMAT,
+    BASELINE_VERSION,
+    check_baseline_matches,
+    check_baseline_path,
+    load_baseline,
+    save_baseline,
+)
 from gyrobench.scenarios.bench.campaign import Campaign
-from gyrobench.scenarios.bench.compensators import FailedSeedsError
-from gyrobench.scenarios.bench.gate import gates_of, power_doc
+from gyrobench.scenarios.bench.gate import gates_of
 from gyrobench.scenarios.bench.margin import DetectableChange, comparison_note, margin_test, observed_detectable
 from gyrobench.scenarios.bench.margin import power_line as _power_line
 from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
 from gyrobench.scenarios.bench.primary import directions_of, score_unit
-from gyrobench.scenarios.bench.scoring import resolve_scenario
-from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
+from gyrobench.scenarios.bench.seeds import seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction
-from gyrobench.scenarios.runner.store import check_output_file
 
 __all__ = [
     "BASELINE_FORMAT",
@@ -46,169 +49,11 @@ __all__ = [
     "save_baseline",
 ]
 
-BASELINE_FORMAT = "gyrobench-baseline"
-BASELINE_VERSION = 1
-
-
-def check_baseline_path(path: str | os.PathLike, *, what: str = "baseline path") -> Path:
-    """Check, before a campaign, that :func:`save_baseline` can write ``path``.
-
-    Raises
-    ------
-    IsADirectoryError
-        If ``path`` is a folder.
-    FileNotFoundError
-        If its folder does not exist (it is not created).
-    PermissionError
-        If its folder does not accept new files.
-    """
-    return check_output_file(path, what=what)
-
-
-def check_baseline_matches(
-    baseline: Campaign,
-    scenario: str | types.ModuleType,
-    seeds: Iterable[int] | str | None = None,
-    *,
-    what: str = "baseline",
-    seeds_what: str = "seeds",
-) -> None:
-    """Check, before a campaign, that its result can be compared with ``baseline``.
-
-    :func:`compare` needs the same scenario and at least one common seed; this
-    refuses a mismatch before anything is computed. ``what`` and ``seeds_what`` name
-    the baseline and the seeds in the messages (``"--baseline 'b.json'"``, ``"--seeds"``).
-
-    Raises
-    ------
-    ValueError
-        If ``baseline`` is of another scenario, or ``seeds`` (when given) share no
-        seed with it.
-    """
-    module = resolve_scenario(scenario)
-    name = getattr(module, "NAME", module.__name__)
-    if baseline.scenario != name:
-        raise ValueError(
-            f"{what} is of scenario {baseline.scenario!r}, not {name!r}; "
-            "a paired comparison needs the same scenario"
-        )
-    if seeds is not None:
-        seeds = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
-        if not set(seeds) & set(baseline.seeds):
-            raise ValueError(
-                f"{seeds_what} must share seeds with {what} (its seeds: "
-                f"{seed_text(baseline.seeds)}); got {seed_text(seeds)} "
-                f"(omit {seeds_what} to use the baseline's)"
-            )
-
-
-def _json_float(v: float) -> float | None:
-    return v if math.isfinite(v) else None
-
-
-def save_baseline(
-    path: str | os.PathLike, campaign: Campaign, *, alpha: float = 0.05, min_change: float = DEFAULT_MIN_CHANGE
-) -> Path:
-    """Write ``campaign``'s per-seed scores to a JSON baseline (atomically).
-
-    The file also stores, under ``"power"``, what its seeds can detect on each primary score
-    at ``alpha`` with the equivalence margin ``min_change``
-    (:func:`~gyrobench.scenarios.bench.gate.detectable`).
-
-    Raises
-    ------
-    TypeError
-        If ``campaign`` is not a :class:`Campaign`.
-    IsADirectoryError, FileNotFoundError
-        If ``path`` is a folder or its folder does not exist (folders are never
-        created).
-    """
-    from gyrobench.base.atomic import atomic_path
-    from gyrobench.io.recording import package_version
-
-    if not isinstance(campaign, Campaign):
-        raise TypeError(f"campaign must be a Campaign; got {type(campaign).__name__}")
-    path = check_baseline_path(path)
-    if campaign.failed:
-        raise FailedSeedsError(
-            f"not saving baseline {str(path)!r}: {campaign.failure_text()}",
-            seeds=sorted(campaign.failed),
-        )
-    doc = {
-        "format": BASELINE_FORMAT,
-        "format_version": BASELINE_VERSION,
-        "gyrobench_version": package_version(),
-        "campaign_id": campaign.campaign_id,
-        "scenario": campaign.scenario,
-        "compensator": campaign.compensator,
-        "config": campaign.config,
-        "seeds": list(campaign.seeds),
-        "scores": {
-            str(s): {k: (v if math.isfinite(v) else None) for k, v in sc.items()}
-            for s, sc in campaign.scores.items()
-        },
-        "summary": {
-            n: {
-                "mean": _json_float(s.mean),
-                "low": _json_float(s.low),  # None: no interval (one seed)
-                "high": _json_float(s.high),
-                "n": s.n,
-                "interval": s.method,
-            }
-            for n, s in campaign.summary().items()
-        },
-        "power": power_doc(campaign, alpha, min_change),
-    }
-    text = json.dumps(doc, indent=1, allow_nan=False, default=lambda o: None) + "\n"
-    with atomic_path(path) as tmp:
-        tmp.write_text(text)
-    return path
-
-
-def load_baseline(path: str | os.PathLike) -> Campaign:
-    """Read a baseline written by :func:`save_baseline`.
-
-    Raises
-    ------
-    FileNotFoundError
-        If the file does not exist.
-    ValueError
-        If it is not a gyrobench baseline.
-    """
-    p = Path(path)
-    if not p.is_file():
-        raise FileNotFoundError(f"baseline file not found: {str(p)!r}")
-    try:
-        doc = json.loads(p.read_text())
-        if doc.get("format") != BASELINE_FORMAT:
-            raise ValueError(f"format is {doc.get('format')!r}, not {BASELINE_FORMAT!r}")
-        if int(doc.get("format_version", 1)) > BASELINE_VERSION:
-            raise ValueError(
-                f"format_version must be <= {BASELINE_VERSION} (written by a newer gyrobench?); "
-                f"got {doc.get('format_version')!r}"
-            )
-        scores = {
-            int(s): {k: (math.nan if v is None else float(v)) for k, v in sc.items()}
-            for s, sc in doc["scores"].items()
-        }
-        return Campaign(
-            campaign_id=str(doc["campaign_id"]),
-            scenario=str(doc["scenario"]),
-            compensator=str(doc["compensator"]),
-            config=str(doc["config"]),
-            scores=dict(sorted(scores.items())),
-            db=str(p),
-        )
-    except RecursionError:  # JSON nested thousands deep (a baseline is a flat table of scores)
-        raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: it nests values too deeply") from None
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise ValueError(f"baseline {str(p)!r} is not a gyrobench baseline file: {exc}") from None
-
 
 class ComparisonError(ValueError):
-    """A campaign cannot be compared with the baseline: no seed or no score can be paired, or
-    the baseline has no finite score on the shared seeds.
+    """A campaign that cannot be compared with the baseline.
 
+    No seed or no score can be paired, or the baseline has no finite score on the shared seeds.
     Raised by :func:`compare` once the campaign has run; the command line exits
     :data:`gyrobench.scenarios.cli.exits.FAILED_SEEDS` (3), never 0: a gate that cannot compare
     does not pass. (What can be checked before the campaign, a baseline of another scenario or
@@ -220,10 +65,31 @@ class ComparisonError(ValueError):
 class ScoreComparison:
     """One score of a candidate campaign against the baseline, over the matching seeds.
 
-    ``effect`` is the Hodges-Lehmann estimate of the paired shift (candidate - baseline,
-    in the score's unit); ``relative`` = (mean candidate - mean baseline) / |mean baseline|.
-    ``status`` is "improved", "regressed", "changed" (significant, direction unknown)
-    or "unchanged".
+    Attributes
+    ----------
+    name : str
+        The score's name (``"mean/rms_residual"``).
+    direction : int
+        +1 higher is better, -1 lower is better, 0 unknown (:func:`score_direction`).
+    n : int
+        Number of paired seeds compared.
+    baseline_mean, candidate_mean : float
+        Mean of the score over those seeds [the score's unit].
+    effect : float
+        Hodges-Lehmann estimate of the paired shift, candidate - baseline [the score's unit].
+    relative : float
+        (mean candidate - mean baseline) / |mean baseline| [-]; NaN when the baseline's mean is
+        0 or not finite.
+    p_value : float
+        Two-sided Wilcoxon signed-rank p-value [-], against the margin when there is one.
+    p_adjusted : float
+        ``p_value`` after Holm's correction within its group (primary or secondary) [-].
+    status : str
+        "improved", "regressed", "changed" (significant, direction unknown) or "unchanged".
+    primary : bool
+        Whether the score is gated.
+    unit : str
+        The score's unit (``""``: none declared).
     """
 
     name: str
@@ -242,8 +108,19 @@ class ScoreComparison:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ReferenceMeans:
-    """A reference compensator's mean of every compared score over the compared seeds: printed
-    beside the user's, never tested. ``label`` is ``"uncompensated"`` or the paper's method."""
+    """A reference compensator's mean of every compared score over the compared seeds.
+
+    Printed beside the user's, never tested.
+
+    Attributes
+    ----------
+    label : str
+        ``"uncompensated"`` or the paper's method.
+    compensator : str
+        The reference compensator's label.
+    means : mapping of str to float
+        Score name -> its mean over the compared seeds [the score's unit].
+    """
 
     label: str
     compensator: str
@@ -268,6 +145,35 @@ class Comparison:
     reported, never failing the comparison. ``correction`` states the correction;
     ``references`` holds each reference compensator's (the uncompensated output, the paper's
     method) mean of every score over the compared seeds (:class:`ReferenceMeans`).
+
+    Attributes
+    ----------
+    scores : tuple of ScoreComparison
+        Every compared score, the primary ones first.
+    seeds : tuple of int
+        The seeds of the paired test (shared, and finite in both campaigns).
+    alpha : float
+        Family-wise error rate [-].
+    test : str
+        The test, in words.
+    missing : tuple of str
+        Scores held by only one campaign (not tested).
+    unpaired : tuple of str
+        Scores that some compared seed lacks (not tested).
+    note : str
+        What the reader should know about the result (too few seeds, dropped baseline seeds).
+    failed_seeds : tuple of int
+        The candidate's failed seeds.
+    failure : str
+        One line on the failed seeds (``""``: none).
+    correction : str
+        The multiple-comparison correction, in words.
+    references : tuple of ReferenceMeans
+        The reference compensators' means.
+    min_change : float
+        Equivalence margin [-], a fraction of the baseline's per-seed score.
+    detectable : tuple of DetectableChange
+        Per primary score, the relative change these seeds detect with power 0.8.
     """
 
     scores: tuple[ScoreComparison, ...]
@@ -311,6 +217,7 @@ class Comparison:
 
     @property
     def improvements(self) -> tuple[ScoreComparison, ...]:
+        """Primary scores significantly better."""
         return tuple(s for s in self.scores if s.primary and s.status == "improved")
 
     def format(self) -> str:

@@ -32,6 +32,14 @@ from gyrobench.scenarios.bench.compensators import (
     resolve_compensator,
 )
 from gyrobench.scenarios.bench.identity import campaign_id_of, compensator_identity
+from gyrobench.scenarios.bench.jobs import (
+    DEFAULT_SEED_TIMEOUT_S,
+    MEMORY_FAILURE,
+    TIMEOUT_FAILURE,
+    check_seed_timeout,
+    score_job,
+    score_job_remote,
+)
 from gyrobench.scenarios.bench.sandbox import (
     DEFAULT_MEMORY_BYTES,
     Zygote,
@@ -40,15 +48,7 @@ from gyrobench.scenarios.bench.sandbox import (
     shared_zygote,
 )
 from gyrobench.scenarios.bench.sandboxed import CampaignReads, run_sandboxed
-from gyrobench.scenarios.bench.scoring import (
-    DEFAULT_SEED_TIMEOUT_S,
-    MEMORY_FAILURE,
-    TIMEOUT_FAILURE,
-    check_seed_timeout,
-    resolve_scenario,
-    score_job,
-    score_job_remote,
-)
+from gyrobench.scenarios.bench.scoring import resolve_scenario
 from gyrobench.scenarios.bench.seeds import check_seeds, parse_seeds, seed_text
 from gyrobench.scenarios.bench.statistics import ScoreSummary, order_scores, summarize
 from gyrobench.scenarios.cli import exits

@@ -26,7 +26,9 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
+from typing import ClassVar
 
+from gyrobench.base.ranges import Constraint, validate
 from gyrobench.scenarios.bench.statistics import score_direction
 
 __all__ = [
@@ -64,9 +66,16 @@ class PrimaryScore:
     direction: int
     meaning: str = ""
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "direction is -1 or +1",
+            lambda c: c.direction in (-1, 1) and not isinstance(c.direction, bool),
+            lambda c: f"direction must be -1 or +1; got {c.direction!r}",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.direction not in (-1, 1):
-            raise ValueError(f"PrimaryScore.direction must be -1 or +1; got {self.direction!r}")
+        validate(self)  # the declared constraint above
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

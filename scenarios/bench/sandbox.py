@@ -12,7 +12,7 @@ collector finds no truth, no seed and no configuration to rebuild the task from.
 
 What it cannot stop: a child can still search for its seed (simulate the scenario for seeds
 0, 1, ... and match ``X_train``, or invert ``random_state``) and so rebuild the truth. The
-noise floor (:func:`gyrobench.scenarios.bench.scoring.floor_failure`) is what catches such a
+noise floor (:func:`gyrobench.scenarios.bench.floor.floor_failure`) is what catches such a
 score: it is far below what any compensator can reach from the features.
 
 Wire format. Scoring process -> child: pickled dicts (the child may trust its parent).
@@ -70,6 +70,15 @@ from dataclasses import dataclass
 from typing import Any
 
 from gyrobench.scenarios.bench.sandbox_child import MAX_HEADER, _die_with_parent, _zygote_start, reads_fingerprint
+from gyrobench.scenarios.bench.sandbox_protocol import (
+    ChildDied,
+    MemoryExceeded,
+    RemoteCompensator,
+    RemoteError,
+    RemoteExit,
+    _str,
+    recv_json,
+)
 
 __all__ = [
     "DEFAULT_MEMORY_BYTES",
@@ -93,7 +102,6 @@ __all__ = [
 DEFAULT_MEMORY_BYTES = 4 * 1024**3
 
 
-
 class ZygoteError(Exception):
     """The compensator's process could not be made ready: its import raised, exited or hung.
 
@@ -101,147 +109,21 @@ class ZygoteError(Exception):
     module raised, the message names it) and ``"bad"`` (not importable or not a compensator: the
     message is :func:`~gyrobench.scenarios.bench.compensators.resolve_compensator`'s);
     ``traceback_text`` holds the import's traceback when it raised.
+
+    Parameters
+    ----------
+    message : str
+        One line saying what happened.
+    kind : str
+        How the import failed (see above).
+    traceback_text : str
+        The import's traceback (``""``: none).
     """
 
     def __init__(self, message: str, *, kind: str, traceback_text: str = "") -> None:
         super().__init__(message)
         self.kind = kind
         self.traceback_text = traceback_text
-
-
-class RemoteError(Exception):
-    """The compensator raised in its child; ``remote_type`` is the exception's class name."""
-
-    def __init__(self, message: str, *, remote_type: str, traceback_text: str = "") -> None:
-        super().__init__(message)
-        self.remote_type = remote_type
-        self.traceback_text = traceback_text
-
-    def __reduce__(self):  # keyword-only fields: rebuilt by name when it crosses a process boundary
-        return (_remote_error, (str(self), self.remote_type, self.traceback_text))
-
-
-def _remote_error(message: str, remote_type: str, traceback_text: str) -> RemoteError:
-    return RemoteError(message, remote_type=remote_type, traceback_text=traceback_text)
-
-
-class RemoteExit(SystemExit):
-    """The compensator called ``sys.exit`` in its child (re-raised in the scoring process)."""
-
-
-class ChildDied(Exception):
-    """The child ended (or sent something unreadable) before answering; ``timeout`` [s] is set
-    when it was the seed's deadline that passed."""
-
-    def __init__(self, message: str = "", *, timeout: float | None = None) -> None:
-        super().__init__(message)
-        self.timeout = timeout
-
-
-class MemoryExceeded(ChildDied):
-    """The compensator raised ``MemoryError`` in its child (the per-seed memory cap)."""
-
-
-# ----------------------------------------------------------------------------- wire format
-def recv_json(conn: Any, maxlength: int = MAX_HEADER) -> dict[str, Any]:
-    """One JSON object from a child, at most ``maxlength`` bytes (:class:`ChildDied` otherwise)."""
-    try:
-        raw = conn.recv_bytes(maxlength)
-        obj = json.loads(raw.decode("utf-8"))
-    except (EOFError, OSError, UnicodeDecodeError, ValueError) as exc:
-        raise ChildDied(f"no readable answer ({type(exc).__name__})") from None
-    if not isinstance(obj, dict) or not isinstance(obj.get("kind"), str):
-        raise ChildDied("an answer that is not a message")
-    return obj
-
-
-
-
-def _str(obj: Mapping[str, Any], key: str, limit: int = 20000) -> str:
-    v = obj.get(key, "")
-    return (v if isinstance(v, str) else repr(v))[:limit]
-
-
-class RemoteCompensator:
-    """The scoring process's handle on one child: ``fit`` then ``predict`` per held-out run.
-
-    Every answer is parsed strictly (:func:`recv_json`, raw float64 bytes of the announced
-    shape). A child error is raised as :class:`RemoteError` (``MemoryError`` flagged), a
-    ``sys.exit`` as :class:`RemoteExit`, a dead or garbled child as :class:`ChildDied`.
-    """
-
-    def __init__(self, conn: Any, *, deadline: float | None = None, timeout: float | None = None) -> None:
-        self.conn = conn
-        self.deadline = deadline  # time.monotonic() past which no answer is awaited
-        self.timeout = timeout
-
-    def _request(self, msg: Mapping[str, Any]) -> dict[str, Any]:
-        try:
-            self.conn.send(dict(msg))
-        except (OSError, EOFError, ValueError) as exc:
-            raise ChildDied(f"the request could not be sent ({type(exc).__name__})") from None
-        return self._answer()
-
-    def _answer(self) -> dict[str, Any]:
-        if self.deadline is not None:
-            left = self.deadline - time.monotonic()
-            if left <= 0 or not self.conn.poll(left):
-                raise ChildDied("the seed's deadline passed", timeout=self.timeout or 0.0)
-        ans = recv_json(self.conn)
-        kind = ans["kind"]
-        if kind == "error" and ans.get("memory") is True:
-            raise MemoryExceeded(_str(ans, "message"))
-        if kind == "error":
-            raise RemoteError(
-                _str(ans, "message"), remote_type=_str(ans, "type", 200), traceback_text=_str(ans, "traceback"),
-            )
-        if kind == "exit":
-            raise RemoteExit(ans.get("code") if isinstance(ans.get("code"), (int, str, type(None))) else None)
-        return ans
-
-    def fit(self, X: Any, y: Any, groups: Any, random_state: int) -> None:
-        """Send the training data; return when the child has fitted."""
-        ans = self._request({
-            "op": "fit", "X": X, "y": y, "groups": groups, "random_state": int(random_state),
-            "environ": dict(os.environ), "cwd": os.getcwd(),
-        })
-        if ans["kind"] != "fitted":
-            raise ChildDied(f"an unexpected answer {ans['kind'][:40]!r} to fit")
-
-    def predict(self, X: Any) -> Any:
-        """The child's prediction on ``X``: a float64 array, or an empty complex array of the
-        child's dtype when it predicted complex values."""
-        import numpy as np
-
-        ans = self._request({"op": "predict", "X": X})
-        if ans["kind"] == "complex":
-            dtype = _str(ans, "dtype", 40)
-            return np.zeros(0, dtype=dtype if dtype in ("complex64", "complex128", "complex256") else complex)
-        shape = ans.get("shape")
-        if ans["kind"] != "pred" or not isinstance(shape, list) or not all(
-            isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**40 for s in shape
-        ) or len(shape) > 8:
-            raise ChildDied("a prediction header that is not valid")
-        count = 1
-        for s in shape:
-            count *= s
-        nbytes = 8 * count
-        try:
-            raw = self.conn.recv_bytes(max(1, nbytes))
-        except (EOFError, OSError) as exc:
-            raise ChildDied(f"the prediction did not arrive ({type(exc).__name__})") from None
-        if len(raw) != nbytes:
-            raise ChildDied(f"a prediction of {len(raw)} bytes where its header announced {nbytes}")
-        return np.frombuffer(raw, dtype="<f8").reshape(shape).astype(float)
-
-    def finish(self) -> dict[str, Any]:
-        """Ask for the child's reads (its manifest) and let it exit; ``{}`` if it cannot answer."""
-        try:
-            ans = self._request({"op": "end"})
-        except (ChildDied, RemoteError, RemoteExit):
-            return {}
-        reads = ans.get("reads")
-        return reads if ans["kind"] == "reads" and isinstance(reads, dict) else {}
 
 
 # ----------------------------------------------------------------------------- campaign side
@@ -263,7 +145,13 @@ def _forward(fd: int) -> None:
 
 
 def kill_group(pid: int) -> None:
-    """SIGKILL process ``pid`` and its process group (a child is the leader of its own)."""
+    """SIGKILL process ``pid`` and its process group (a child is the leader of its own).
+
+    Parameters
+    ----------
+    pid : int
+        The process (and group leader) to kill; one already gone is ignored.
+    """
     for kill in (os.killpg, os.kill):
         with contextlib.suppress(ProcessLookupError, PermissionError, OSError):
             kill(pid, signal.SIGKILL)
@@ -271,12 +159,27 @@ def kill_group(pid: int) -> None:
 
 @dataclass(frozen=True, slots=True)
 class ChildStatus:
-    """How a child ended: its exit code or the signal that killed it (both None: unknown)."""
+    """How a child ended: its exit code or the signal that killed it (both None: unknown).
+
+    Attributes
+    ----------
+    exit : int or None
+        The exit code.
+    signal : int or None
+        The number of the signal that killed it.
+    """
 
     exit: int | None
     signal: int | None
 
     def reason(self) -> str:
+        """How it ended, in words (``"killed by SIGKILL"``).
+
+        Returns
+        -------
+        str
+            The reason, for a seed's failure message.
+        """
         if self.signal is not None:
             try:
                 name = signal.Signals(self.signal).name
@@ -297,6 +200,20 @@ class Zygote:
     to the zygote when it pickles, else the zygote is forked from this process (it then holds
     this process's memory: the seed list and the configuration, never a task).
     ``identity`` is the compensator's identity as the zygote computed it.
+
+    Parameters
+    ----------
+    given : str or object
+        The compensator: ``"module:attr"``, or an estimator, class or fit function.
+    memory : int, optional
+        Address-space cap of each child [bytes] (``RLIMIT_AS``); None: none.
+    timeout : float, optional
+        Longest wait for the compensator's import [s]; None: no limit.
+
+    Raises
+    ------
+    ZygoteError
+        If the import raised, exited, died or hung.
     """
 
     def __init__(self, given: Any, *, memory: int | None = DEFAULT_MEMORY_BYTES, timeout: float | None = None) -> None:
@@ -439,7 +356,20 @@ class Zygote:
         return ChildStatus(None, None)
 
     def fork(self) -> tuple[int, socket.socket]:
-        """A new child for one seed: (its pid, the scoring end of its socket)."""
+        """A new child for one seed.
+
+        Returns
+        -------
+        pid : int
+            The child's process id (the leader of its own process group).
+        sock : socket.socket
+            The scoring end of its socket.
+
+        Raises
+        ------
+        ChildDied
+            If the zygote did not fork.
+        """
         mine, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
         try:
             socket.send_fds(self.ctrl, [b"fork"], [theirs.fileno()])
@@ -453,7 +383,18 @@ class Zygote:
         return pid, mine
 
     def end_child(self, pid: int) -> ChildStatus:
-        """Kill the child's process group and reap it: how it ended."""
+        """Kill the child's process group and reap it.
+
+        Parameters
+        ----------
+        pid : int
+            The child, as :meth:`fork` returned it.
+
+        Returns
+        -------
+        ChildStatus
+            How it ended.
+        """
         kill_group(pid)
         try:
             self.ctrl.sendall(f"reap {pid}".encode())
@@ -507,9 +448,31 @@ def _close_shared() -> None:
 
 
 def shared_zygote(given: Any, *, memory: int | None, timeout: float | None) -> Zygote:
-    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one
-    (kept when it was exec'd; a forked one, for an object that does not pickle, is not kept:
-    close it after use, ``zygote.shared`` is False)."""
+    """A zygote for ``given``: a kept one whose import-time reads are unchanged, else a new one.
+
+    A new zygote is kept when it was exec'd; a forked one (for an object that does not pickle,
+    or a script's own object) is not kept: close it after use (``zygote.shared`` is False). At
+    most :data:`SHARED_ZYGOTES` are kept, the least recently used closed first.
+
+    Parameters
+    ----------
+    given : str or object
+        The compensator, as for :class:`Zygote`.
+    memory : int or None
+        Address-space cap of each child [bytes]; None: none.
+    timeout : float or None
+        Longest wait for a new zygote's import [s]; None: no limit.
+
+    Returns
+    -------
+    Zygote
+        A ready zygote.
+
+    Raises
+    ------
+    ZygoteError
+        If a new zygote's import raised, exited, died or hung.
+    """
     import atexit
 
     if isinstance(given, str):

@@ -16,8 +16,8 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
+from gyrobench.scenarios.bench.jobs import CHILD_DIED, TIMEOUT_FAILURE, score_sandboxed
 from gyrobench.scenarios.bench.sandbox import ChildStatus, kill_group, reads_fingerprint
-from gyrobench.scenarios.bench.scoring import CHILD_DIED, TIMEOUT_FAILURE, score_sandboxed
 from gyrobench.scenarios.cli import exits
 from gyrobench.scenarios.runner.executors import default_workers
 from gyrobench.scenarios.runner.store import record_reads

@@ -30,9 +30,11 @@ import math
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+
+from gyrobench.base.ranges import Constraint, validate
 
 __all__ = [
     "CHECK_MODULES",
@@ -84,6 +86,11 @@ CHECK_MODULES: tuple[str, ...] = (
 )
 
 
+def _magnitude(check: Check) -> float:
+    """The check's reference magnitude: ``|scale|``, or ``|expected|`` without a scale."""
+    return abs(check.expected) if check.scale is None else abs(check.scale)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Check:
     """One closed-form check: a simulated quantity beside the value its equation gives.
@@ -131,25 +138,37 @@ class Check:
     kind: str
     scale: float | None = None
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "kind is one of KINDS",
+            lambda c: c.kind in KINDS,
+            lambda c: f"kind must be one of {KINDS}; got {c.kind!r} (check {c.id!r})",
+        ),
+        Constraint(
+            "reference is a non-empty string",
+            lambda c: isinstance(c.reference, str) and bool(c.reference.strip()),
+            lambda c: f"reference must be a non-empty string; got {c.reference!r} (check {c.id!r})",
+        ),
+        Constraint(
+            "tolerance finite and > 0",
+            lambda c: math.isfinite(c.tolerance) and c.tolerance > 0,
+            lambda c: f"tolerance must be finite and > 0; got {c.tolerance!r} (check {c.id!r})",
+        ),
+        Constraint(
+            "a finite non-zero reference magnitude",
+            lambda c: math.isfinite(_magnitude(c)) and _magnitude(c) > 0,
+            lambda c: "expected or scale must give a finite non-zero reference magnitude; "
+            f"got expected={c.expected!r}, scale={c.scale!r} (check {c.id!r})",
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"check {self.id!r}: kind must be one of {KINDS}; got {self.kind!r}")
-        if not (isinstance(self.reference, str) and self.reference.strip()):
-            raise ValueError(f"check {self.id!r}: reference must be a non-empty string; got {self.reference!r}")
-        if not (math.isfinite(self.tolerance) and self.tolerance > 0):
-            raise ValueError(f"check {self.id!r}: tolerance must be finite and > 0; got {self.tolerance!r}")
-        reference = abs(self.expected) if self.scale is None else abs(self.scale)
-        if not (math.isfinite(reference) and reference > 0):
-            raise ValueError(
-                f"check {self.id!r}: needs a finite non-zero reference magnitude (expected or scale); "
-                f"got expected={self.expected!r}, scale={self.scale!r}"
-            )
+        validate(self)  # the declared constraints above
 
     @property
     def rel_error(self) -> float:
         """``|simulated - expected| / reference`` (reference: ``scale`` or ``|expected|``)."""
-        reference = abs(self.expected) if self.scale is None else abs(self.scale)
-        return abs(self.simulated - self.expected) / reference
+        return abs(self.simulated - self.expected) / _magnitude(self)
 
     @property
     def validates(self) -> bool:

@@ -595,8 +595,19 @@ class Part:
             reference_temperature=self.reference_temperature,
         )
 
-    def realize(self, rng: np.random.Generator) -> PartUnit:
-        """Draw one unit: turn-on bias and scale-factor error from their repeatabilities."""
+    def realize(self, *, rng: np.random.Generator) -> PartUnit:
+        """Draw one unit: turn-on bias and scale-factor error from their repeatabilities.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The unit's stream (two standard normals).
+
+        Returns
+        -------
+        PartUnit
+            The drawn unit.
+        """
         check_rng(rng)
         ds = self.datasheet
         b0 = units.deg_per_h(ds.bias_offset or 0.0) + units.deg_per_h(ds.bias_repeatability or 0.0) * float(
@@ -607,7 +618,7 @@ class Part:
 
     def simulate(self, environment: Environment, *, fs: float, rng: np.random.Generator) -> Recording:
         """Draw a unit from ``rng`` and simulate one record with it (:meth:`PartUnit.simulate`)."""
-        return self.realize(rng).simulate(environment, fs=fs, rng=rng)
+        return self.realize(rng=rng).simulate(environment, fs=fs, rng=rng)
 
 
 @dataclass(frozen=True, slots=True)

@@ -150,7 +150,7 @@ def _claim(**kw) -> Claim:
 
 
 def test_claim_kind_and_calibrated_input_go_together():
-    with pytest.raises(ValueError, match="kind must be 'calibrated' or 'emergent'"):
+    with pytest.raises(ValueError, match=r"Claim.kind must be one of \['calibrated', 'emergent'\]; got 'tuned'"):
         _claim(kind="tuned")
     with pytest.raises(ValueError, match="calibrated_input must be given exactly when"):
         _claim(kind="calibrated")
@@ -329,7 +329,9 @@ def test_device_claims_are_matched_not_reproduced_and_take_no_precondition():
     assert r.status == "device matched"
     n = tally([r])
     assert (n.device, n.device_matched, n.method, n.reproduced) == (1, 1, 0, 0)
-    with pytest.raises(ValueError, match="device claim .* takes no precondition"):
+    with pytest.raises(
+        ValueError, match=r"Claim.precondition must be None for a device claim \(it states what the device shows\); got"
+    ):
         Claim(id="x.d", paper="001", where="s", statement="t", kind="emergent", quantity="q", comparator=is_true(),
               role="device", precondition=Precondition(text="p", quantity="q", comparator=is_true()))
     with pytest.raises(ValueError, match="role must be one of"):
@@ -395,7 +397,7 @@ def test_claims_sharing_one_effect_are_counted_once():
     assert [r.status for r in res] == ["reproduced", "reproduced"]
     n = tally(res)
     assert (n.method, n.reproduced, n.same_effect) == (1, 1, 1)
-    with pytest.raises(ValueError, match="same_effect_as names another claim"):
+    with pytest.raises(ValueError, match=r"Claim.same_effect_as must name another claim; got its own id 'x.self'"):
         Claim(id="x.self", paper="000", where="s", statement="t", kind="emergent", quantity="q",
               comparator=is_true(), same_effect_as="x.self")
 

@@ -118,9 +118,11 @@ def test_the_drawn_matrix_has_the_stated_spread():
 @pytest.mark.parametrize(
     ("kw", "match"),
     [
-        ({"misalignment": 0.5}, r"TriadSpec.misalignment must be <= 0.1"),
-        ({"gyro_matrix": np.eye(2)}, r"TriadSpec.gyro_matrix must be a finite 3x3 matrix"),
-        ({"gg_sensitivity": [1, 2]}, r"TriadSpec.gg_sensitivity must be 3 finite numbers"),
+        ({"misalignment": 0.5}, r"^TriadSpec.misalignment must be \[0, 0.1\] rad; got 0.5$"),
+        ({"gyro_matrix": np.eye(2)}, r"^TriadSpec.gyro_matrix must be a finite array of shape \(3, 3\) \[1\] or None; "
+         r"got an array of shape \(2, 2\)$"),
+        ({"gg_sensitivity": [1, 2]}, r"^TriadSpec.gg_sensitivity must be a finite array of shape \(3,\) "
+         r"\[rad/s per \(m/s\^2\)\^2\] or None; got an array of shape \(2,\)$"),
     ],
 )
 def test_bad_triad_fields_are_refused(kw, match):

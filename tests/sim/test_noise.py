@@ -708,7 +708,7 @@ def test_from_datasheet_unknown_keyword():
     ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp"],
 )
 def test_negative_coefficient_rejected(name):
-    with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be finite and >= 0; got -1"):
+    with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be \[0, 1e\+100\] \S+; got -1"):
         NoiseModel(**{name: -1.0})
 
 
@@ -717,25 +717,25 @@ def test_negative_coefficient_rejected(name):
     ["quantization", "angle_random_walk", "bias_instability", "rate_random_walk", "rate_ramp"],
 )
 def test_nan_coefficient_rejected(name):
-    with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be finite.*nan"):
+    with pytest.raises(ValueError, match=rf"NoiseModel\.{name} must be \[0, 1e\+100\].*; got nan"):
         NoiseModel(**{name: float("nan")})
 
 
 def test_inf_coefficient_rejected():
-    with pytest.raises(ValueError, match=r"angle_random_walk must be finite.*inf"):
+    with pytest.raises(ValueError, match=r"angle_random_walk must be \[0, 1e\+100\] rad/sqrt\(s\); got inf"):
         NoiseModel(angle_random_walk=math.inf)
 
 
 def test_string_coefficient_rejected():
     with pytest.raises(
-        TypeError, match=r"NoiseModel\.bias_instability must be a real number; got '0.1'"
+        TypeError, match=r"NoiseModel\.bias_instability must be a real number \[rad/s\]; got '0.1'"
     ):
         NoiseModel(bias_instability="0.1")
 
 
 def test_bool_coefficient_rejected():
     with pytest.raises(
-        TypeError, match=r"NoiseModel\.quantization must be a real number; got True"
+        TypeError, match=r"NoiseModel\.quantization must be a real number \[rad\]; got True"
     ):
         NoiseModel(quantization=True)
 
@@ -755,27 +755,27 @@ def test_flicker_band_inverted_rejected():
 
 
 def test_flicker_band_zero_low_rejected():
-    with pytest.raises(ValueError, match=r"flicker_band must satisfy 0 < f_low"):
+    with pytest.raises(ValueError, match=r"flicker_band\[0\] must be > 0 Hz or inf; got 0.0"):
         NoiseModel(flicker_band=(0.0, 1.0))
 
 
 def test_flicker_band_nan_rejected():
-    with pytest.raises(ValueError, match=r"flicker_band must satisfy"):
+    with pytest.raises(ValueError, match=r"flicker_band\[0\] must be > 0 Hz or inf; got nan"):
         NoiseModel(flicker_band=(float("nan"), 1.0))
 
 
 def test_flicker_band_wrong_type_rejected():
-    with pytest.raises(TypeError, match=r"flicker_band must be a tuple \(f_low, f_high\)"):
+    with pytest.raises(TypeError, match=r"flicker_band must be a tuple; got list"):
         NoiseModel(flicker_band=[1e-6, 1.0])
 
 
 def test_flicker_band_string_rejected():
-    with pytest.raises(TypeError, match=r"flicker_band must hold real numbers"):
+    with pytest.raises(TypeError, match=r"flicker_band\[0\] must be a real number \[Hz\]; got '1e-6'"):
         NoiseModel(flicker_band=("1e-6", 1.0))
 
 
 def test_bias_nan_rejected():
-    with pytest.raises(ValueError, match=r"NoiseModel\.bias must be finite \[rad/s\]; got nan"):
+    with pytest.raises(ValueError, match=r"NoiseModel\.bias must be a finite number \[rad/s\]; got nan"):
         NoiseModel(bias=float("nan"))
 
 
@@ -785,22 +785,22 @@ def test_gauss_markov_wrong_type_rejected():
 
 
 def test_gauss_markov_zero_time_rejected():
-    with pytest.raises(ValueError, match=r"GaussMarkov\.correlation_time must be > 0 s; got 0"):
+    with pytest.raises(ValueError, match=r"GaussMarkov\.correlation_time must be \(0, 1e\+100\] s; got 0"):
         GaussMarkov(sigma=1.0, correlation_time=0.0)
 
 
 def test_gauss_markov_negative_sigma_rejected():
-    with pytest.raises(ValueError, match=r"GaussMarkov\.sigma must be finite and >= 0; got -1"):
+    with pytest.raises(ValueError, match=r"GaussMarkov\.sigma must be \[0, 1e\+100\] rad/s; got -1"):
         GaussMarkov(sigma=-1.0, correlation_time=1.0)
 
 
 def test_sinusoid_zero_frequency_rejected():
-    with pytest.raises(ValueError, match=r"Sinusoid\.frequency must be > 0 Hz; got 0"):
+    with pytest.raises(ValueError, match=r"Sinusoid\.frequency must be \(0, 1e\+100\] Hz; got 0"):
         Sinusoid(amplitude=1.0, frequency=0.0)
 
 
 def test_sinusoid_nan_phase_rejected():
-    with pytest.raises(ValueError, match=r"Sinusoid\.phase must be finite \[rad\]; got nan"):
+    with pytest.raises(ValueError, match=r"Sinusoid\.phase must be a finite number \[rad\]; got nan"):
         Sinusoid(amplitude=1.0, frequency=1.0, phase=float("nan"))
 
 

@@ -143,7 +143,7 @@ def test_three_line_python_form_and_the_sensor_protocol(tmp_path):
     save_hdf5(tmp_path / "hg9900.h5", rec)
     assert load_hdf5(tmp_path / "hg9900.h5").n_samples == 600
     assert isinstance(part, Sensor)
-    assert isinstance(part.realize(np.random.default_rng(0)), SensorUnit)
+    assert isinstance(part.realize(rng=np.random.default_rng(0)), SensorUnit)
 
 
 def test_a_unit_is_one_draw_of_the_population():
@@ -154,7 +154,7 @@ def test_a_unit_is_one_draw_of_the_population():
                             bias_instability_dph=0.1, arw=0.01, bias_repeatability=2.0, scale_factor_repeatability=50.0)
     part = parts.Part(sheet)
     rng = np.random.default_rng(11)
-    units_ = [part.realize(rng) for _ in range(2000)]
+    units_ = [part.realize(rng=rng) for _ in range(2000)]
     b = np.array([u.turn_on_bias for u in units_])
     k = np.array([u.scale_factor_error for u in units_])
     tol = 5 / math.sqrt(2 * len(units_))

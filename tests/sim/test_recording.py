@@ -164,8 +164,8 @@ def test_csv_export(tmp_path):
 @pytest.mark.parametrize(
     ("kwargs", "exc", "match"),
     [
-        ({"fs": 0.0}, ValueError, r"Recording.fs must be a finite number > 0 Hz; got 0.0"),
-        ({"fs": float("nan")}, ValueError, "Recording.fs must be a finite number > 0 Hz"),
+        ({"fs": 0.0}, ValueError, r"^Recording.fs must be > 0 Hz; got 0.0$"),
+        ({"fs": float("nan")}, ValueError, r"^Recording.fs must be > 0 Hz; got nan$"),
         ({"channels": {}}, ValueError, "at least one channel"),
         ({"channels": {"rate": np.zeros(3)}}, TypeError, r"channels\['rate'\] must be a Channel"),
         ({"name": "a/b"}, ValueError, "without '/'"),

@@ -140,7 +140,7 @@ def test_chunking_changes_no_bit():
     [
         ({"duration_s": 1.0, "rate_dps": [1, 2]}, r"motion\[0\].rate_dps must be 3 finite numbers \[deg/s\]"),
         ({"rate_dps": [0, 0, 1]}, r"motion\[0\] needs duration_s \[s\]"),
-        ({"duration_s": -1.0}, r"Segment.duration must be a finite number > 0 s; got -1.0"),
+        ({"duration_s": -1.0}, r"Segment.duration must be > 0 s; got -1.0"),
         ({"duration_s": 1.0, "spin": 3}, r"motion\[0\] has unknown keys \['spin'\]"),
         ({"duration_s": 1.0, "acceleration_mps2": [0, 0, 1e9]}, r"acceleration_mps2 must be within \+-1e5 m/s\^2"),
     ],
@@ -151,11 +151,11 @@ def test_a_bad_motion_row_is_refused_in_one_line(row, match):
 
 
 def test_site_ranges():
-    with pytest.raises(ValueError, match=r"Site.latitude must be finite in \[-pi/2, pi/2\] rad; got 2.0"):
+    with pytest.raises(ValueError, match=r"^Site.latitude must be \[-1.5708, 1.5708\] rad; got 2.0$"):
         Site(latitude=2.0)
     with pytest.raises(ValueError, match=r"the transport rate is not defined at a pole"):
         Site(latitude=math.pi / 2).transport_rate_n(np.zeros((1, 3)))
-    with pytest.raises(ValueError, match=r"Site.height must be within -1e4..1e5 m; got 1000000.0"):
+    with pytest.raises(ValueError, match=r"^Site.height must be \[-10000, 100000\] m; got 1000000.0$"):
         Site(height=1e6)
 
 

@@ -36,12 +36,16 @@ __all__ = [
     "Constraint",
     "FieldChoice",
     "FieldRange",
+    "as_array",
+    "as_tuple",
     "check_field",
     "check_ranges",
     "field_range",
     "field_spec",
+    "finite_array",
     "ordered",
     "range_error",
+    "shown",
     "validate",
 ]
 
@@ -169,11 +173,15 @@ class Constraint:
     message : callable
         ``message(config) -> str``: the refusal after ``"<Class>."``, naming the field, the
         constraint, the unit and the values (``"low_degC must be < high_degC; got 5 and 1"``).
+    error : type
+        The exception raised when it does not hold: ``ValueError`` (a wrong value), or
+        ``TypeError`` for a constraint on a field's kind (``"gyros must be three sensor specs"``).
     """
 
     name: str
     holds: Callable[[Any], bool]
     message: Callable[[Any], str]
+    error: type[Exception] = ValueError
 
 
 def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Constraint:
@@ -207,6 +215,120 @@ def ordered(low: str, high: str, *, strict: bool = True, unit: str = "") -> Cons
         return f"{low} must be {op} {high}{where}; got {getattr(c, low)!r} and {getattr(c, high)!r}"
 
     return Constraint(f"{low} {op} {high}", holds, message)
+
+
+def shown(value: object) -> str:
+    """A value as one line of a refusal: an array by its shape, anything else by its repr.
+
+    Parameters
+    ----------
+    value : object
+        The refused value.
+
+    Returns
+    -------
+    str
+        ``"an array of shape (2, 3)"`` (``"... with a non-finite value"`` when it holds one) for
+        an array, else ``repr(value)`` with its line breaks removed.
+    """
+    shape = getattr(value, "shape", None)
+    if isinstance(shape, tuple) and hasattr(value, "dtype"):
+        import numpy as np
+
+        array: Any = value
+        try:
+            bad = not bool(np.all(np.isfinite(array)))
+        except TypeError:  # not numeric
+            bad = False
+        return f"an array of shape {shape}" + (" with a non-finite value" if bad else "")
+    return " ".join(repr(value).split())
+
+
+def as_array(value: object) -> object:
+    """``value`` as a float64 numpy array when it converts, else ``value`` itself (never raising).
+
+    No copy is made of a float64 array.
+
+    A ``__post_init__`` stores its array fields through this before :func:`validate`, so that a
+    declared :func:`finite_array` constraint, not numpy, refuses a value that does not convert.
+
+    Parameters
+    ----------
+    value : object
+        An array-like, None or anything else.
+
+    Returns
+    -------
+    object
+        A float64 array, or ``value`` unchanged (None, or something that is not numeric).
+    """
+    if value is None:
+        return None
+    import numpy as np
+
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return value
+
+
+def as_tuple(value: object) -> object:
+    """``value`` as a tuple when it is a list, else ``value`` itself (never raising).
+
+    Parameters
+    ----------
+    value : object
+        A list, a tuple or anything else.
+
+    Returns
+    -------
+    object
+        A tuple for a list; ``value`` unchanged otherwise (a declared constraint then judges it).
+    """
+    return tuple(value) if isinstance(value, list) else value
+
+
+def finite_array(name: str, shape: tuple[int | None, ...], unit: str = "", *, optional: bool = False) -> Constraint:
+    """The declared constraint that a field is a finite float array of a given shape.
+
+    Parameters
+    ----------
+    name : str
+        The field's name.
+    shape : tuple of int or None
+        The required shape; None on an axis admits any length >= 1.
+    unit : str
+        The unit, for the message ("" for none).
+    optional : bool
+        None is also accepted.
+
+    Returns
+    -------
+    Constraint
+        For a ``CONSTRAINTS`` tuple; refused as ``"<name> must be a finite array of shape (3, 3)
+        [unit]; got an array of shape (2, 3)"``.
+    """
+    text = "(" + ", ".join("n" if n is None else str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
+    where = f" [{unit}]" if unit else ""
+    extra = " or None" if optional else ""
+
+    def holds(c: Any) -> bool:
+        import numpy as np
+
+        v = getattr(c, name)
+        if v is None:
+            return optional
+        return (
+            isinstance(v, np.ndarray)
+            and v.ndim == len(shape)
+            and all(n is None and m >= 1 or n == m for n, m in zip(shape, v.shape, strict=True))
+            and bool(np.all(np.isfinite(v)))
+        )
+
+    def message(c: Any) -> str:
+        return f"{name} must be a finite array of shape {text}{where}{extra}; got {shown(getattr(c, name))}"
+
+    return Constraint(f"{name} is a finite array of shape {text}", holds, message)
 
 
 def field_spec(config_type: type, name: str) -> FieldRange | FieldChoice | None:
@@ -292,6 +414,8 @@ def _annotation_kinds(config_type: type) -> dict[str, Any]:
             hint = hints.get(f.name)
             if hint is bool or (isinstance(hint, type) and dataclasses.is_dataclass(hint)):
                 cached[f.name] = hint
+            elif typing.get_origin(hint) is tuple:
+                cached[f.name] = tuple
             elif typing.get_origin(hint) is typing.Literal:
                 cached[f.name] = typing.get_args(hint)
         _KINDS[config_type] = cached
@@ -351,7 +475,10 @@ def check_field(owner: str, config_type: type, name: str, value: Any) -> None:
     kind = _annotation_kinds(config_type).get(name)
     if kind is bool and not isinstance(value, bool):
         raise TypeError(f"{owner}.{name} must be a bool; got {value!r}")
-    if isinstance(kind, type) and kind is not bool and not isinstance(value, kind):
+    if kind is tuple:  # a tuple field with a declared spec must hold a tuple (a list is not frozen)
+        if field_spec(config_type, name) is not None and not isinstance(value, tuple):
+            raise TypeError(f"{owner}.{name} must be a tuple; got {type(value).__name__} {shown(value)}")
+    elif isinstance(kind, type) and kind is not bool and not isinstance(value, kind):
         raise TypeError(f"{owner}.{name} must be a {kind.__name__}; got {type(value).__name__}")
     if isinstance(kind, tuple) and value not in kind:
         raise ValueError(f"{owner}.{name} must be one of {list(kind)}; got {value!r}")
@@ -378,7 +505,8 @@ def validate(config: Any) -> None:
     Check the dataclass ``config`` against its declarations, in one line per refusal: every
     field by :func:`check_field` (in declaration order), then every declared
     :class:`Constraint` of its ``CONSTRAINTS`` (in order). A config's ``__post_init__`` calls
-    it; nothing else is hand-written there.
+    it; nothing else is hand-written there. Fields with ``init=False`` (what the class derives
+    after validating) are not checked.
 
     Parameters
     ----------
@@ -393,10 +521,11 @@ def validate(config: Any) -> None:
     cls = type(config)
     owner = cls.__name__
     for f in dataclasses.fields(cls):
-        check_field(owner, cls, f.name, getattr(config, f.name))
+        if f.init:  # a field the class derives (init=False) is set after validation
+            check_field(owner, cls, f.name, getattr(config, f.name))
     for c in getattr(cls, "CONSTRAINTS", ()):
         if not c.holds(config):
-            raise ValueError(f"{owner}.{c.message(config)}")
+            raise c.error(f"{owner}.{c.message(config)}")
 
 
 def check_ranges(config: Any) -> None:

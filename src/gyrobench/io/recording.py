@@ -48,12 +48,13 @@ import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobench.base.atomic import _fmt_bytes, atomic_path, ensure_free_space
+from gyrobench.base.ranges import Constraint, FieldRange, as_array, shown, validate
 
 __all__ = [
     "Channel",
@@ -163,24 +164,77 @@ class Channel:
     unit: str
     description: str = ""
 
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        Constraint(
+            "data is 1-D",
+            lambda c: isinstance(c.data, np.ndarray) and c.data.ndim == 1,
+            lambda c: f"data must be 1-D; got shape {np.shape(c.data)}"
+            if isinstance(c.data, np.ndarray) else f"data must be 1-D; got {shown(c.data)}",
+        ),
+        Constraint(
+            "unit is a str",
+            lambda c: isinstance(c.unit, str),
+            lambda c: f"unit must be a str; got {c.unit!r}",
+            TypeError,
+        ),
+    )
+
     def __post_init__(self) -> None:
-        arr = np.asarray(self.data, dtype=float)
-        if arr.ndim != 1:
-            raise ValueError(f"Channel.data must be 1-D; got shape {arr.shape}")
-        object.__setattr__(self, "data", arr)
-        if not isinstance(self.unit, str):
-            raise TypeError(f"Channel.unit must be a str; got {self.unit!r}")
+        object.__setattr__(self, "data", as_array(self.data))
+        validate(self)  # the declared constraints above
 
 
-def _as_channels(name: str, chans: Mapping[str, Channel]) -> dict[str, Channel]:
+def _as_channels(chans: object) -> object:
+    """A mapping as a dict with string keys (never raising: anything else is returned as given)."""
+    return {str(k): v for k, v in chans.items()} if isinstance(chans, Mapping) else chans
+
+
+def _not_channels(rec: Recording, name: str) -> str | None:
+    """Why group ``name`` of ``rec`` is not a mapping of name -> Channel, or None when it is."""
+    chans = getattr(rec, name)
     if not isinstance(chans, Mapping):
-        raise TypeError(f"Recording.{name} must be a mapping of name -> Channel; got {type(chans).__name__}")
-    out = {}
-    for k, v in chans.items():
-        if not isinstance(v, Channel):
-            raise TypeError(f"Recording.{name}[{k!r}] must be a Channel; got {type(v).__name__}")
-        out[str(k)] = v
-    return out
+        return f"{name} must be a mapping of name -> Channel; got {type(chans).__name__}"
+    bad = next((k for k, v in chans.items() if not isinstance(v, Channel)), None)
+    return None if bad is None else f"{name}[{bad!r}] must be a Channel; got {type(chans[bad]).__name__}"
+
+
+def _channel_group(name: str) -> Constraint:
+    """The declared constraint that group ``name`` is a mapping of name -> Channel (a TypeError)."""
+    return Constraint(
+        f"{name} is a mapping of name -> Channel",
+        lambda c: _not_channels(c, name) is None,
+        lambda c: str(_not_channels(c, name)),
+        TypeError,
+    )
+
+
+def _lengths(rec: Recording) -> dict[str, int]:
+    """Each channel's length, named ``group/name`` (``name`` for ``channels``)."""
+    return {
+        f"{g}/{k}" if g != "channels" else k: len(c.data)
+        for g in GROUPS for k, c in getattr(rec, g).items()
+    }
+
+
+def _collision(rec: Recording) -> str | None:
+    """A truth channel that is not an error component and whose target group holds that name, or None."""
+    keep = truth_names(rec.metadata)
+    if keep is None:
+        return None
+    for k, c in rec.truth.items():
+        target = rec.detail if c.unit in ("rad/s", "rad") else rec.inputs
+        if k not in keep and k in target:
+            return k
+    return None
+
+
+def _json_error(metadata: Mapping[str, Any]) -> str | None:
+    """Why ``metadata`` does not serialise to JSON, or None when it does."""
+    try:
+        json.dumps(dict(metadata), default=_json_default)
+    except (TypeError, ValueError) as exc:
+        return " ".join(str(exc).split())
+    return None
 
 
 def truth_names(metadata: Mapping[str, Any]) -> set[str] | None:
@@ -218,12 +272,8 @@ def _sorted_groups(
     for k, c in truth.items():
         if k in keep:
             truth_out[k] = c
-        else:
-            target = detail if c.unit in ("rad/s", "rad") else inputs
-            if k in target:
-                raise ValueError(f"Recording: truth channel {k!r} is not an error component and its group already "
-                                 f"holds a channel {k!r}")
-            target[k] = c
+        else:  # to its group: Recording's constraints refused a name that group holds already
+            (detail if c.unit in ("rad/s", "rad") else inputs)[k] = c
     return truth_out, inputs, detail
 
 
@@ -266,29 +316,57 @@ class Recording:
     inputs: Mapping[str, Channel] = field(default_factory=dict)
     detail: Mapping[str, Channel] = field(default_factory=dict)
 
+    RANGES: ClassVar[Mapping[str, FieldRange]] = {
+        "fs": FieldRange(0, math.inf, "Hz", "output sample rate", low_open=True),
+    }
+    CONSTRAINTS: ClassVar[tuple[Constraint, ...]] = (
+        *(_channel_group(g) for g in GROUPS),
+        Constraint(
+            "channels holds at least one channel",
+            lambda c: len(c.channels) > 0,
+            lambda c: "channels must hold at least one channel; got none",
+        ),
+        Constraint(
+            "metadata is a mapping",
+            lambda c: isinstance(c.metadata, Mapping),
+            lambda c: f"metadata must be a mapping; got {type(c.metadata).__name__}",
+            TypeError,
+        ),
+        Constraint(
+            "every channel has the same length",
+            lambda c: len(set(_lengths(c).values())) <= 1,
+            lambda c: f"channels must all have the same length; got {_lengths(c)}",
+        ),
+        Constraint(
+            "name non-empty, without '/'",
+            lambda c: isinstance(c.name, str) and bool(c.name) and "/" not in c.name,
+            lambda c: f"name must be non-empty without '/'; got {c.name!r}",
+        ),
+        Constraint(
+            "a truth channel moved out of truth does not collide",
+            lambda c: _collision(c) is None,
+            lambda c: f"truth[{_collision(c)!r}] is not an error component and its group already holds a channel "
+            f"{_collision(c)!r}",
+        ),
+        Constraint(
+            "metadata is JSON-serialisable",
+            lambda c: _json_error(c.metadata) is None,
+            lambda c: f"metadata must be JSON-serialisable; {_json_error(c.metadata)}",
+            TypeError,
+        ),
+    )
+
     def __post_init__(self) -> None:
-        if not (isinstance(self.fs, (int, float)) and math.isfinite(self.fs) and self.fs > 0):
-            raise ValueError(f"Recording.fs must be a finite number > 0 Hz; got {self.fs!r}")
-        chans = _as_channels("channels", self.channels)
-        if not chans:
-            raise ValueError("Recording.channels must hold at least one channel; got none")
-        if not isinstance(self.metadata, Mapping):
-            raise TypeError(f"Recording.metadata must be a mapping; got {type(self.metadata).__name__}")
-        truth, inputs, detail = _sorted_groups(
-            _as_channels("truth", self.truth), _as_channels("inputs", self.inputs),
-            _as_channels("detail", self.detail), self.metadata,
-        )
-        groups = {"channels": chans, "truth": truth, "inputs": inputs, "detail": detail}
-        lengths = {f"{g}/{k}" if g != "channels" else k: len(c.data)
-                   for g, chs in groups.items() for k, c in chs.items()}
-        if len(set(lengths.values())) > 1:
-            raise ValueError(f"Recording channels must all have the same length; got {lengths}")
-        if not self.name or "/" in self.name:
-            raise ValueError(f"Recording.name must be non-empty without '/'; got {self.name!r}")
-        for g, chs in groups.items():
-            object.__setattr__(self, g, chs)
+        object.__setattr__(self, "channels", _as_channels(self.channels))
+        object.__setattr__(self, "truth", _as_channels(self.truth))
+        object.__setattr__(self, "inputs", _as_channels(self.inputs))
+        object.__setattr__(self, "detail", _as_channels(self.detail))
+        validate(self)  # the declared specs and constraints above
+        truth, inputs, detail = _sorted_groups(dict(self.truth), dict(self.inputs), dict(self.detail), self.metadata)
+        object.__setattr__(self, "truth", truth)
+        object.__setattr__(self, "inputs", inputs)
+        object.__setattr__(self, "detail", detail)
         object.__setattr__(self, "fs", float(self.fs))
-        json.dumps(dict(self.metadata), default=_json_default)  # fail early if not serialisable
 
     def groups(self) -> dict[str, Mapping[str, Channel]]:
         """The four groups of datasets, in file order (:data:`GROUPS`)."""

@@ -35,12 +35,14 @@ SOURCE = Paper(
     source_note="a fictitious paper: the example of a paper folder",
 )
 
+from .bench import BENCH_SCORES, compensation_task  # noqa: E402
 from .claims import CLAIMS, DEVIATIONS, claims_for  # noqa: E402
 from .config import Config, control_config, variant_config  # noqa: E402
 from .experiment import UnitResult, experiment, memory_estimate, simulate  # noqa: E402
 from .report import report  # noqa: E402
 
 __all__ = [
+    "BENCH_SCORES",
     "CLAIMS",
     "DEVIATIONS",
     "NAME",
@@ -50,6 +52,7 @@ __all__ = [
     "Config",
     "UnitResult",
     "claims_for",
+    "compensation_task",
     "control_config",
     "experiment",
     "memory_estimate",

@@ -173,7 +173,7 @@ def _simulate_noise(args) -> int:
         else:
             with HDF5StreamWriter(out, name="noise", fs=fs, channels={"output": "rad/s"}, metadata=meta,
                                   truth={"true_rate": "rad/s", **dict.fromkeys(terms, "rad/s")},
-                                  expected_samples=n, compression=args.compress) as w:
+                                  expected_samples=n, compression=args.compress, overwrite=args.force) as w:
                 for y, parts in chunks():
                     w.append(output=y, truth={"true_rate": np.zeros(len(y)), **{k: parts[k] for k in terms}})
                     bar.update(len(y))
@@ -214,7 +214,7 @@ def _simulate_scenario(args) -> int:
     ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
     mark_folder(out)
     for r in recs:
-        path = save_hdf5(out / f"{r.name}.h5", r, compression=args.compress)
+        path = save_hdf5(out / f"{r.name}.h5", r, compression=args.compress, overwrite=args.force)
         print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
               f"truth {', '.join(r.truth)})")
     return 0
@@ -505,7 +505,8 @@ def _simulate_device(args) -> int:
                        "datasheet budget)") from None
     if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
         rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
-    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec, compression=args.compress)
+    path = (to_csv(out, rec, overwrite=args.force) if suffix == ".csv"
+            else save_hdf5(out, rec, compression=args.compress, overwrite=args.force))
     ran = rec.metadata.get("device_model") if model == "physics" else rec.metadata.get("model")
     print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; model {model}: {ran}; channels "
           f"{', '.join(rec.channels)}; truth {', '.join(rec.truth)})")

@@ -33,7 +33,7 @@ _NOISE_TERMS = ("quantization", "angle_random_walk", "bias_instability", "rate_r
 
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
-                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk", "terms": "--terms/--no-terms"}
 _SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
 
 
@@ -52,7 +52,8 @@ def _simulate_noise(args) -> int:
     The record is static: ``truth/true_rate`` is 0 rad/s and ``output`` is the sum of the noise
     terms, each stored as ``truth/<term>`` (``quantization``, ``angle_random_walk``,
     ``bias_instability``, ``rate_random_walk``, ``rate_ramp``: those with a coefficient > 0,
-    named in the metadata's ``error_components``). The metadata also holds the generating model
+    named in the metadata's ``error_components``); with ``--no-terms`` their sum alone, as the one
+    component ``noise`` (``terms_drawn`` in the metadata still names the terms). The metadata also holds the generating model
     (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s], K [rad/s/sqrt(s)], R [rad/s^2]),
     the datasheet values and the seed. ``--compress gzip|lzf`` compresses the HDF5 datasets.
     """
@@ -108,7 +109,9 @@ def _simulate_noise(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
-    terms = [name for name, v in zip(_NOISE_TERMS, datasheet.values(), strict=True) if v > 0]
+    drawn = [name for name, v in zip(_NOISE_TERMS, datasheet.values(), strict=True) if v > 0]
+    # --no-terms: one component, their sum `noise` (= output, the true rate being 0), so the file still closes
+    terms = drawn if args.terms is not False else ["noise"]
     n_series = 2 + len(terms)  # output, true rate, the terms
     # the disk is checked here, before the progress bar draws, so a refusal is the one line on stderr: a CSV row
     # "%.12g" then n_series times ",%.17g" is at most 16 + 25 n_series characters, an HDF5 sample 8 bytes per
@@ -123,6 +126,7 @@ def _simulate_noise(args) -> int:
     meta = {
         "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
         "error_components": terms,
+        "terms_drawn": drawn,
         "noise_model_si": {"quantization_rad": model.quantization,
                            "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
                            "bias_instability_rad_per_s": model.bias_instability,
@@ -140,6 +144,10 @@ def _simulate_noise(args) -> int:
         check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
         peak[0] = max(peak[0], float(np.max(np.abs(y))) if len(y) else 0.0)
         return y, parts
+
+    def split(y, parts):
+        """The stored components of one chunk: each drawn term, or (--no-terms) their sum."""
+        return {k: parts[k] for k in terms} if args.terms is not False else {"noise": y}
 
     def chunks():
         left = n
@@ -165,7 +173,7 @@ def _simulate_noise(args) -> int:
                 k = 0
                 for y, parts in chunks():
                     t = (k + np.arange(len(y))) / fs
-                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *(parts[k] for k in terms)]),
+                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *split(y, parts).values()]),
                                delimiter=",", fmt=["%.12g"] + ["%.17g"] * n_series)
                     k += len(y)
                     bar.update(len(y))
@@ -175,7 +183,7 @@ def _simulate_noise(args) -> int:
                                   truth={"true_rate": "rad/s", **dict.fromkeys(terms, "rad/s")},
                                   expected_samples=n, compression=args.compress, overwrite=args.force) as w:
                 for y, parts in chunks():
-                    w.append(output=y, truth={"true_rate": np.zeros(len(y)), **{k: parts[k] for k in terms}})
+                    w.append(output=y, truth={"true_rate": np.zeros(len(y)), **split(y, parts)})
                     bar.update(len(y))
                 check_not_tiny()
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
@@ -630,6 +638,9 @@ def add_parsers(sub) -> None:
     s.add_argument("--compress", choices=("gzip", "lzf"),
                    help="HDF5 output: compress every dataset (gzip: deflate, read by any HDF5 tool; lzf: faster, "
                         "h5py's own filter); simulated noise barely shrinks, constant channels do")
+    s.add_argument("--terms", action=argparse.BooleanOptionalAction, default=None,
+                   help="noise: store each noise term under truth/ (default); --no-terms stores their sum as the one "
+                        "component 'noise' (the file is 3 series, not 2 + the terms: docs/recording.md)")
     s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
     s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
     s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "

@@ -55,7 +55,8 @@ def _simulate_noise(args) -> int:
     named in the metadata's ``error_components``); with ``--no-terms`` their sum alone, as the one
     component ``noise`` (``terms_drawn`` in the metadata still names the terms). The metadata also
     holds the generating model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
-    K [rad/s/sqrt(s)], R [rad/s^2]), the datasheet values and the seed. ``--compress gzip|lzf`` compresses the HDF5 datasets.
+    K [rad/s/sqrt(s)], R [rad/s^2]), the datasheet values and the seed. ``--compress gzip|lzf``
+    compresses the HDF5 datasets.
     """
     import numpy as np
     from tqdm import tqdm

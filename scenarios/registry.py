@@ -28,6 +28,7 @@ else:  # pragma: no cover
 SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
     "physics_checks": "gyrobench.scenarios.physics_checks",
+    "part": "gyrobench.scenarios.part_bench",
 }
 
 #: the entries of :data:`SCENARIOS` that run before the papers

@@ -33,7 +33,7 @@ _NOISE_TERMS = ("quantization", "angle_random_walk", "bias_instability", "rate_r
 
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
-                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk", "terms": "--terms/--no-terms"}
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk", "terms": "--no-terms"}
 _SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
 
 
@@ -639,9 +639,9 @@ def add_parsers(sub) -> None:
     s.add_argument("--compress", choices=("gzip", "lzf"),
                    help="HDF5 output: compress every dataset (gzip: deflate, read by any HDF5 tool; lzf: faster, "
                         "h5py's own filter); simulated noise barely shrinks, constant channels do")
-    s.add_argument("--terms", action=argparse.BooleanOptionalAction, default=None,
-                   help="noise: store each noise term under truth/ (default); --no-terms stores their sum as the one "
-                        "component 'noise' (the file is 3 series, not 2 + the terms: docs/recording.md)")
+    s.add_argument("--no-terms", dest="terms", action="store_const", const=False, default=None,
+                   help="noise: store the noise terms' sum as the one component 'noise' instead of each term under "
+                        "truth/ (the file is 3 series, not 2 + the terms: docs/recording.md)")
     s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
     s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
     s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "

@@ -86,13 +86,18 @@ def test_a_changed_part_file_starts_a_new_campaign(lab, capsys):
     assert second != first and computed == 2
 
 
+#: a complete part file: the required keys and one noise figure
+GOOD = 'name = "x"\nmanufacturer = "me"\nmodel = "m"\ngrade = "tactical"\nsource = "a test"\ntechnology = "FOG"\n'
+
+
 @pytest.mark.parametrize(
     ("text", "match"),
     [
         ("name = \n", "is not valid TOML"),
-        ('name = "x"\ntechnology = "FOG"\nwobble = 1.0\n', "unknown key(s) ['wobble']"),
-        ('name = "x"\ntechnology = "FOG"\narw = -1.0\n', "arw"),
-        ('name = "x"\ntechnology = "TELEPATHY"\narw = 0.01\n', "technology"),
+        (GOOD + "arw = 0.01\nwobble = 1.0\n", "unknown key(s) ['wobble']"),
+        (GOOD + "arw = -1.0\n", "arw"),
+        (GOOD.replace('"FOG"', '"TELEPATHY"') + "arw = 0.01\n", "technology"),
+        ('name = "x"\ntechnology = "FOG"\narw = 0.01\n', "missing"),
     ],
 )
 def test_a_bad_part_file_is_refused_in_one_line_before_anything_is_written(lab, capsys, text, match):
@@ -131,8 +136,9 @@ def test_the_part_file_rides_in_the_config_and_the_campaign_id(lab):
 
 
 def test_calibration_and_test_are_one_unit():
-    """Both runs of a seed share the unit's draw (its turn-on bias); another seed is another unit."""
-    cfg = part_bench.Config(part="stim300", model="budget", train_duration_s=600.0, test_duration_s=600.0)
+    """Both runs of a seed share the unit's draw (its turn-on bias, from the BMI088's bias repeatability);
+    another seed is another unit."""
+    cfg = part_bench.Config(part="bmi088", model="budget", train_duration_s=600.0, test_duration_s=600.0)
     (train, test), (train2, _) = part_bench.simulate(cfg, 5), part_bench.simulate(cfg, 6)
     assert train["truth/turn_on_bias"][0] == test["truth/turn_on_bias"][0]
     assert train["truth/turn_on_bias"][0] != train2["truth/turn_on_bias"][0]

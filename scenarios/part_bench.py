@@ -19,9 +19,11 @@ specific force along the sense axis [g]. Target: the output's error, ``output - 
 [deg/h]; the compensated output is ``output - prediction``, scored against the true rate by its
 RMS [deg/h] (``mean/rms``, the primary score; lower is better).
 
-The part runs on its physics model by default (``model = "physics"``: the FOG's coil heat flow,
-the MEMS resonator, the RLG cavity, with the sheet's figures mapped onto them,
-:func:`gyrobench.sim.parts.simulate_part`) or on its datasheet budget (``"budget"``). The part
+The part runs on the model ``simulate device`` would run it on (``model = "default"``: the part's
+``default_model``, physics for every built-in part: the FOG's coil heat flow, the MEMS resonator,
+the RLG cavity, with the sheet's figures mapped onto them, :func:`gyrobench.sim.parts.simulate_part`;
+budget for a part file ``twin --save-part`` wrote), or on the one named (``"physics"``,
+``"budget"``). The part
 itself travels in the configuration: ``part`` names a built-in part, or is ``"file"`` with the
 part file's text in ``part_toml``, so the campaign's identity (a hash of the configuration)
 changes with the file's content, and the workers never read the file.
@@ -41,7 +43,8 @@ from gyrobench.io.recording import Recording
 from gyrobench.scenarios.base import CompensationTask, HeldOutRun, Outcome, Table
 from gyrobench.scenarios.bench.primary import PrimaryScore, ScenarioScores
 
-__all__ = ["BENCH_SCORES", "FEATURES", "NAME", "TITLE", "Config", "compensation_task", "part_of", "run", "simulate"]
+__all__ = ["BENCH_SCORES", "FEATURES", "NAME", "TITLE", "Config", "compensation_task", "model_of", "part_of", "run",
+           "simulate"]
 
 NAME = "part"
 TITLE = "Your own part: a compensator calibrated in one chamber program, scored in another"
@@ -93,8 +96,11 @@ class Config:
         A built-in part (``gyrobench parts``), or ``"file"``: the part is ``part_toml``.
     part_toml : str
         The part file's text (``"file"`` only; ``bench --part FILE.toml`` fills it).
-    model : {"physics", "budget"}
-        The part's physics model (default) or its datasheet budget.
+    model : {"default", "physics", "budget"}
+        The part's physics model or its datasheet budget; ``"default"``: the part's own
+        ``default_model``, as ``simulate device`` runs it (physics for every built-in part; a part
+        file ``twin --save-part`` wrote says budget: the physics models carry no K, Gauss-Markov or
+        sine term).
     fs_hz : float
         Output rate of both records [Hz].
     train_duration_s, test_duration_s : float
@@ -109,7 +115,7 @@ class Config:
 
     part: str = "dsp-1760"
     part_toml: str = ""
-    model: str = "physics"
+    model: str = "default"
     fs_hz: float = 10.0
     train_duration_s: float = 3600.0
     test_duration_s: float = 3600.0
@@ -122,7 +128,8 @@ class Config:
 
     RANGES: ClassVar[dict[str, FieldRange | FieldChoice]] = {
         "part": FieldChoice((*_builtin_parts(), "file"), "a built-in part, or 'file' for the part file in part_toml"),
-        "model": FieldChoice(("physics", "budget"), "the part's physics model or its datasheet budget"),
+        "model": FieldChoice(("default", "physics", "budget"),
+                             "the part's own default model, its physics model or its datasheet budget"),
         "fs_hz": FieldRange(0.5, 1000.0, "Hz", why="output rate; the records stay a few million samples at most"),
         "train_duration_s": FieldRange(120.0, 86400.0, "s", why="a calibration run of minutes to a day"),
         "test_duration_s": FieldRange(120.0, 86400.0, "s", why="a test run of minutes to a day"),
@@ -169,6 +176,21 @@ def part_of(config: Config) -> Any:
     return parts.get(config.part)
 
 
+def model_of(config: Config) -> str:
+    """The model the configuration runs: ``model``, or the part's ``default_model`` for ``"default"``.
+
+    Parameters
+    ----------
+    config : Config
+
+    Returns
+    -------
+    str
+        ``"physics"`` or ``"budget"``.
+    """
+    return str(part_of(config).datasheet.default_model) if config.model == "default" else config.model
+
+
 def _steps(values: tuple[float, ...], duration: float, ramp: float, scale: float) -> Any:
     """Equal segments of ``values`` x ``scale``, joined by linear ramps of ``ramp`` seconds."""
     from gyrobench.sim.environment import PiecewiseLinear
@@ -203,7 +225,7 @@ def _records(config: Config, seed: int) -> tuple[list[Recording], list[Any]]:
 
     part = part_of(config)
     r_unit, r_train, r_test = np.random.default_rng(seed).spawn(3)
-    unit = parts.draw_unit(part, rng=r_unit, model=config.model)
+    unit = parts.draw_unit(part, rng=r_unit, model=model_of(config))
     recs, envs = [], []
     for which, rng in (("train", r_train), ("test", r_test)):
         env = _environment(config, which)
@@ -290,7 +312,7 @@ def run(config: Config, seed: int, *, progress: bool = False) -> Outcome:
     err = [float(np.sqrt(np.mean((r["output"] - r["truth/true_rate"]) ** 2))) * _DEG_H for r in recs]
     rows.append(["total error", f"{err[0]:.4g}", f"{err[1]:.4g}"])
     label = config.part if config.part != "file" else part_of(config).datasheet.name
-    table = Table(title=f"{label} on its {config.model} model: error components [deg/h rms]",
+    table = Table(title=f"{label} on its {model_of(config)} model: error components [deg/h rms]",
                   columns=["component", "calibration run", "test run"], rows=rows)
     return Outcome(scenario=NAME, title=TITLE, seed=seed, config=config,
                    results={"rms_deg_h": {"train": err[0], "test": err[1]}}, tables=[table])

@@ -98,7 +98,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--model",
         choices=("physics", "budget"),
-        help="with --part: run the part on its physics model (default) or its datasheet budget",
+        help="with --part: run the part on its physics model or its datasheet budget (default: the part's own "
+        "default_model, as 'simulate device' does: physics for a built-in part, budget for a twin's part file)",
     )
     p.add_argument(
         "--compensator",

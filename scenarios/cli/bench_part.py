@@ -62,7 +62,7 @@ def part_config(args: argparse.Namespace, config: Any) -> Any:
     if args.model is not None:
         changes["model"] = args.model
     config = dataclasses.replace(config, **changes)
-    if config.model == "physics":
+    if part_bench.model_of(config) == "physics":
         part = part_bench.part_of(config)
         try:
             parts.physics_spec(part.datasheet)
@@ -122,8 +122,9 @@ def part_line(config: Any, given: str | None) -> str:
 
     ds = part_bench.part_of(config).datasheet
     where = f" from {given} ({_label(config)})" if config.part == "file" else " (built in)"
-    model = parts.physics_summary(ds) if config.model == "physics" else "the datasheet budget"
+    kind = part_bench.model_of(config)
+    model = parts.physics_summary(ds) if kind == "physics" else "the datasheet budget"
     train, test = config.train_temperatures_c, config.test_temperatures_c
-    return (f"part {ds.name}{where}; model {config.model}: {model}; calibrated in "
+    return (f"part {ds.name}{where}; model {kind}: {model}; calibrated in "
             f"{config.train_duration_s:g} s over {min(train):g}..{max(train):g} degC, scored on a held-out "
             f"{config.test_duration_s:g} s program over {min(test):g}..{max(test):g} degC at {config.fs_hz:g} Hz")

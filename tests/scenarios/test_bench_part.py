@@ -56,10 +56,11 @@ def _campaign(out: str) -> tuple[str, int, int]:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("model", ["budget", "physics"])
-def test_simulate_twin_save_part_bench_part_gives_scores(lab, capsys, model):
+@pytest.mark.parametrize(("flag", "model"), [(None, "budget"), ("physics", "physics")])
+def test_simulate_twin_save_part_bench_part_gives_scores(lab, capsys, flag, model):
+    """Without --model the twin's part runs on its own default_model (budget), as simulate device runs it."""
     part = _save_part(lab, capsys)
-    code, out, err = _bench(lab, part, capsys, "--model", model)
+    code, out, err = _bench(lab, part, capsys, *(("--model", flag) if flag else ()))
     assert code == 0, err
     assert out.startswith(f"part mine from {part}") and f"model {model}:" in out.splitlines()[0], out
     row = next(ln for ln in out.splitlines() if ln.startswith("mean/rms"))

@@ -162,3 +162,21 @@ def test_a_linear_compensator_removes_the_parts_linear_thermal_error():
     # the features are what the test logs: the chamber temperature inside the programme's span
     assert task.X_train[:, 0].min() >= min(cfg.train_temperatures_c) - 1e-9
     assert task.X_train[:, 0].max() <= max(cfg.train_temperatures_c) + 1e-9
+
+
+@pytest.mark.slow
+def test_a_baseline_of_another_part_is_refused_before_the_campaign(lab, capsys):
+    base = lab / "base.json"
+    code, out, err = run(["bench", "--part", "stim300", "--model", "budget", "--compensator", "comp_part:mine",
+                          "--seeds", "0:2", "--workers", "0", "-q", "--db", lab / "b.sqlite", "--config",
+                          lab / "short.toml", "--no-references", "--save-baseline", base, "--allow-underpowered"],
+                         capsys)
+    assert code == 0 and base.exists(), err
+    compare = ["--compensator", "comp_part:mine", "--workers", "0", "-q", "--db", lab / "b.sqlite", "--config",
+               lab / "short.toml", "--no-references", "--baseline", base, "--allow-underpowered"]
+    code, out, err = run(["bench", "--part", "stim300", "--model", "budget", *compare], capsys)
+    assert code == 0, (out, err)  # the same part and model: compared
+    code, _, err = run(["bench", "--part", "hg9900", "--model", "budget", *compare], capsys)
+    assert_one_line_error(code, err, "was run on another part or model")
+    code, _, err = run(["bench", "--part", "stim300", *compare], capsys)  # stim300's own model is physics
+    assert_one_line_error(code, err, "was run on another part or model")

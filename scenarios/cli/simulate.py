@@ -64,7 +64,16 @@ def _simulate_noise(args) -> int:
     from gyrobench.base import memory
     from gyrobench.base.atomic import atomic_path, ensure_free_space
     from gyrobench.base.safety import Output, comment_marker
-    from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, metadata_json, package_version
+    from gyrobench.io.recording import (
+        FS_RANGE_HZ,
+        Channel,
+        HDF5StreamWriter,
+        Recording,
+        check_magnitude,
+        metadata_json,
+        package_version,
+    )
+    from gyrobench.io.write_rules import check_closes
     from gyrobench.scenarios.cli.allan import MIN_MAGNITUDE
     from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim.noise import NoiseModel
@@ -174,7 +183,13 @@ def _simulate_noise(args) -> int:
                 k = 0
                 for y, parts in chunks():
                     t = (k + np.arange(len(y))) / fs
-                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *split(y, parts).values()]),
+                    stored = split(y, parts)
+                    # the rule of every writer (gyrobench.io.write_rules): the chunk closes, or nothing is committed
+                    check_closes(Recording(fs=fs, name="noise", metadata={"error_components": terms},
+                                           channels={"output": Channel(y, "rad/s")},
+                                           truth={"true_rate": Channel(np.zeros(len(y)), "rad/s"),
+                                                  **{c: Channel(v, "rad/s") for c, v in stored.items()}}), out)
+                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *stored.values()]),
                                delimiter=",", fmt=["%.12g"] + ["%.17g"] * n_series)
                     k += len(y)
                     bar.update(len(y))

@@ -27,6 +27,7 @@ else:  # pragma: no cover
 #: them (:func:`gyrobench.scenarios.papers.discover`), so adding a paper is adding its folder.
 SCENARIOS: dict[str, str] = {
     "static_noise": "gyrobench.scenarios.static_noise",
+    "part": "gyrobench.scenarios.part_bench",
     "physics_checks": "gyrobench.scenarios.physics_checks",
 }
 

@@ -77,11 +77,11 @@ class Writer:
     cumulative: bool = False
 
 
-def _noise(suffix: str) -> Callable[[Path], list[Path]]:
+def _noise(suffix: str, *extra: str) -> Callable[[Path], list[Path]]:
     def write(tmp: Path) -> list[Path]:
         out = tmp / f"noise{suffix}"
         assert _cli("simulate", "noise", "--Q", "0.5", "--N", "0.01", "--B", "0.05", "--fs", "100",
-                    "--duration", "60s", "-o", out, "-q") == 0
+                    "--duration", "60s", "-o", out, "-q", *extra) == 0
         return [out]
 
     return write
@@ -165,6 +165,8 @@ def _models() -> list[Writer]:
 WRITERS = [
     Writer("simulate noise h5", _noise(".h5")),
     Writer("simulate noise csv", _noise(".csv")),
+    Writer("simulate noise --no-terms h5", _noise(".h5", "--no-terms")),
+    Writer("simulate noise --no-terms csv", _noise(".csv", "--no-terms")),
     Writer("simulate static_noise", _static_noise),
     Writer("simulate device h5", _device(".h5")),
     Writer("simulate device csv", _device(".csv")),
@@ -187,6 +189,26 @@ def test_every_writers_file_has_the_schema_and_closes(tmp_path, writer):
             for out in _outputs(rec):  # the components explain the error: a record with an error has some
                 if np.any(rec[out] != rec[f"truth/{out}.true" if out != "output" else "truth/true_rate"]):
                     assert rec.metadata["error_components"], (path, out)
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".csv"])
+def test_simulate_noise_without_terms_keeps_the_output_and_one_closing_component(tmp_path, suffix):
+    """--no-terms stores the same output bits (same seed) and one component, their sum."""
+    (tmp_path / "terms").mkdir()
+    (tmp_path / "sum").mkdir()
+    (a,) = _load(_noise(suffix)(tmp_path / "terms")[0])
+    (b,) = _load(_noise(suffix, "--no-terms")(tmp_path / "sum")[0])
+    assert np.array_equal(a["output"], b["output"])
+    assert b.metadata["error_components"] == ["noise"] and set(b.truth) == {"true_rate", "noise"}
+    assert b.metadata["terms_drawn"] == a.metadata["error_components"]
+    assert np.array_equal(b["truth/noise"], sum(a.truth[k].data for k in a.metadata["error_components"]))
+
+
+def test_no_terms_applies_to_simulate_noise_only(tmp_path, capsys):
+    code = _cli("simulate", "device", "stim300", "--duration", "20s", "--no-terms", "-o", tmp_path / "d.h5")
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "--no-terms" in err and "\n" not in err, err
+    assert not (tmp_path / "d.h5").exists()
 
 
 @pytest.mark.slow

@@ -3,6 +3,7 @@
 ::
 
     gyrobench bench SCENARIO --compensator module:attr --seeds 0:100
+    gyrobench bench --part FILE.toml|NAME [--model physics|budget] --compensator module:attr ...
         [--workers N | --scheduler ADDRESS] [--db FILE] [--config FILE.toml]
         [--save-baseline FILE.json] [--baseline FILE.json] [--alpha 0.05] [--quiet]
         [--seeds auto] [--min-change 0.05] [--allow-underpowered] [--no-references]
@@ -84,7 +85,21 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "scenario",
-        help="scenario name with a compensation stage (see 'gyrobench list', marked [bench])",
+        nargs="?",
+        help="scenario name with a compensation stage (see 'gyrobench list', marked [bench]); with --part: "
+        "'part' or omitted",
+    )
+    p.add_argument(
+        "--part",
+        metavar="FILE.toml|NAME",
+        help="your own part: a part file (twin --save-part writes one) or a built-in part ('gyrobench parts'); "
+        "the compensator is calibrated in one chamber program and scored in another (docs/bench.md)",
+    )
+    p.add_argument(
+        "--model",
+        choices=("physics", "budget"),
+        help="with --part: run the part on its physics model or its datasheet budget (default: the part's own "
+        "default_model, as 'simulate device' does: physics for a built-in part, budget for a twin's part file)",
     )
     p.add_argument(
         "--compensator",
@@ -186,7 +201,9 @@ def check_bench_outputs(args: argparse.Namespace, db: str) -> None:
                        create_parents=False))
     module = sys.modules.get(str(args.compensator).partition(":")[0])
     source = getattr(module, "__file__", None)
-    check_outputs(args, outs, [("--baseline", args.baseline), ("--config", args.config), ("--compensator", source)])
+    part = args.part if args.part is not None and args.part.lower().endswith(".toml") else None
+    check_outputs(args, outs, [("--baseline", args.baseline), ("--config", args.config), ("--compensator", source),
+                               ("--part", part)])
 
 
 def scheduler_executor(args: argparse.Namespace) -> tuple[Any, Any]:
@@ -250,11 +267,15 @@ def run(args: argparse.Namespace) -> int:
     )
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha must be in (0, 1); got {args.alpha}")
-    module = bench.resolve_scenario(args.scenario)
+    module = bench.resolve_scenario(_scenario_name(args))
     for flag, given in (("--config", args.config), ("baseline file", args.baseline)):  # a FIFO or device never ends
         if given:
             input_file(given, flag)
     config = registry.load_config(module, args.config) if args.config else module.Config()
+    if args.part is not None or args.model is not None:
+        from gyrobench.scenarios.cli.bench_part import part_config
+
+        config = part_config(args, config)
     _check_compensator_spec(args.compensator)  # imported only in the compensator's own process
     # read and check the baseline first: a bad or mismatched file fails before any computing
     baseline = bench.load_baseline(args.baseline) if args.baseline else None
@@ -262,6 +283,10 @@ def run(args: argparse.Namespace) -> int:
         bench.check_baseline_matches(
             baseline, module, None if auto else seeds, what=f"--baseline {args.baseline!r}", seeds_what="--seeds"
         )
+        if getattr(module, "NAME", None) == "part":
+            from gyrobench.scenarios.cli.bench_part import check_same_part
+
+            check_same_part(baseline, config, args.baseline)
     # power before the run: a gate that can never fire is refused here, before any computing
     plan = bench.plan_power(
         getattr(module, "NAME", module.__name__),
@@ -278,6 +303,10 @@ def run(args: argparse.Namespace) -> int:
     for line in (plan.warning, plan.auto):
         if line:
             print(line, flush=True)
+    if getattr(module, "NAME", None) == "part":
+        from gyrobench.scenarios.cli.bench_part import part_line
+
+        print(part_line(config, args.part), flush=True)
     executor, close = scheduler_executor(args)
     try:
         campaign = bench.run_campaign(
@@ -359,6 +388,17 @@ def _add_trust_flags(p: argparse.ArgumentParser) -> None:
 
 def _seed_memory(args: argparse.Namespace) -> int:
     return int(args.seed_memory * 1024**3)
+
+
+def _scenario_name(args: argparse.Namespace) -> str:
+    """The scenario: the positional, or ``part`` with ``--part`` (the only scenario it goes with)."""
+    if args.part is not None:
+        if args.scenario not in (None, "part"):
+            raise ValueError(f"--part runs the scenario 'part'; got scenario {args.scenario!r} (omit it)")
+        return "part"
+    if args.scenario is None:
+        raise ValueError("bench needs a SCENARIO (see 'gyrobench list', marked [bench]) or --part FILE.toml|NAME")
+    return str(args.scenario)
 
 
 def _check_compensator_spec(spec: str) -> None:

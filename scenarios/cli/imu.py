@@ -326,7 +326,8 @@ def simulate_imu(args) -> int:
                                                   as_increments=bool(args.increments))
     rec = dataclasses.replace(result.recording, metadata={**result.recording.metadata,
                                                           "accelerometer_from": accel_from})
-    path = to_csv(out, rec) if out.suffix.lower() == ".csv" else save_hdf5(out, rec, compression=args.compress)
+    path = (to_csv(out, rec, overwrite=args.force) if out.suffix.lower() == ".csv"
+            else save_hdf5(out, rec, compression=args.compress, overwrite=args.force))
     print(f"wrote {path} ({n} samples at {fs:g} Hz of a {part.name} triad; channels {', '.join(rec.channels)}; "
           f"accelerometers: {accel_from})")
     if args.euroc is not None:

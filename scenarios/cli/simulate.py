@@ -33,7 +33,7 @@ _NOISE_TERMS = ("quantization", "angle_random_walk", "bias_instability", "rate_r
 
 #: flags of 'simulate noise' and of 'simulate SCENARIO' (dest -> flag); the others are shared
 _NOISE_FLAGS = {"Q": "--Q", "N": "--N", "B": "--B", "K": "--K", "R": "--R", "fs": "--fs",
-                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk"}
+                "duration": "--duration", "output": "-o/--output", "chunk": "--chunk", "terms": "--no-terms"}
 _SCENARIO_FLAGS = {"out": "--out", "config": "--config"}
 
 
@@ -52,9 +52,11 @@ def _simulate_noise(args) -> int:
     The record is static: ``truth/true_rate`` is 0 rad/s and ``output`` is the sum of the noise
     terms, each stored as ``truth/<term>`` (``quantization``, ``angle_random_walk``,
     ``bias_instability``, ``rate_random_walk``, ``rate_ramp``: those with a coefficient > 0,
-    named in the metadata's ``error_components``). The metadata also holds the generating model
-    (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s], K [rad/s/sqrt(s)], R [rad/s^2]),
-    the datasheet values and the seed. ``--compress gzip|lzf`` compresses the HDF5 datasets.
+    named in the metadata's ``error_components``); with ``--no-terms`` their sum alone, as the one
+    component ``noise`` (``terms_drawn`` in the metadata still names the terms). The metadata also
+    holds the generating model (``noise_model_si``: Q [rad], N [rad/sqrt(s)], B [rad/s],
+    K [rad/s/sqrt(s)], R [rad/s^2]), the datasheet values and the seed. ``--compress gzip|lzf``
+    compresses the HDF5 datasets.
     """
     import numpy as np
     from tqdm import tqdm
@@ -62,7 +64,16 @@ def _simulate_noise(args) -> int:
     from gyrobench.base import memory
     from gyrobench.base.atomic import atomic_path, ensure_free_space
     from gyrobench.base.safety import Output, comment_marker
-    from gyrobench.io.recording import FS_RANGE_HZ, HDF5StreamWriter, check_magnitude, metadata_json, package_version
+    from gyrobench.io.recording import (
+        FS_RANGE_HZ,
+        Channel,
+        HDF5StreamWriter,
+        Recording,
+        check_magnitude,
+        metadata_json,
+        package_version,
+    )
+    from gyrobench.io.write_rules import check_closes
     from gyrobench.scenarios.cli.allan import MIN_MAGNITUDE
     from gyrobench.scenarios.static_noise import MIN_SAMPLES, GradeSpec
     from gyrobench.sim.noise import NoiseModel
@@ -108,7 +119,9 @@ def _simulate_noise(args) -> int:
     if n < MIN_SAMPLES:
         raise BadInput(f"--duration x --fs = {args.duration:g} s x {fs:g} Hz gives {n} samples; a record needs "
                         f"at least {MIN_SAMPLES} (the fewest for the five octave taus of an Allan fit)")
-    terms = [name for name, v in zip(_NOISE_TERMS, datasheet.values(), strict=True) if v > 0]
+    drawn = [name for name, v in zip(_NOISE_TERMS, datasheet.values(), strict=True) if v > 0]
+    # --no-terms: one component, their sum `noise` (= output, the true rate being 0), so the file still closes
+    terms = drawn if args.terms is not False else ["noise"]
     n_series = 2 + len(terms)  # output, true rate, the terms
     # the disk is checked here, before the progress bar draws, so a refusal is the one line on stderr: a CSV row
     # "%.12g" then n_series times ",%.17g" is at most 16 + 25 n_series characters, an HDF5 sample 8 bytes per
@@ -123,6 +136,7 @@ def _simulate_noise(args) -> int:
     meta = {
         "source": "gyrobench simulate noise", "datasheet": datasheet, "seed": seed, "version": package_version(),
         "error_components": terms,
+        "terms_drawn": drawn,
         "noise_model_si": {"quantization_rad": model.quantization,
                            "angle_random_walk_rad_per_sqrt_s": model.angle_random_walk,
                            "bias_instability_rad_per_s": model.bias_instability,
@@ -140,6 +154,10 @@ def _simulate_noise(args) -> int:
         check_magnitude(y, "simulate noise: the record", n_total=n, hint=too_big)
         peak[0] = max(peak[0], float(np.max(np.abs(y))) if len(y) else 0.0)
         return y, parts
+
+    def split(y, parts):
+        """The stored components of one chunk: each drawn term, or (--no-terms) their sum."""
+        return {k: parts[k] for k in terms} if args.terms is not False else {"noise": y}
 
     def chunks():
         left = n
@@ -165,7 +183,13 @@ def _simulate_noise(args) -> int:
                 k = 0
                 for y, parts in chunks():
                     t = (k + np.arange(len(y))) / fs
-                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *(parts[k] for k in terms)]),
+                    stored = split(y, parts)
+                    # the rule of every writer (gyrobench.io.write_rules): the chunk closes, or nothing is committed
+                    check_closes(Recording(fs=fs, name="noise", metadata={"error_components": terms},
+                                           channels={"output": Channel(y, "rad/s")},
+                                           truth={"true_rate": Channel(np.zeros(len(y)), "rad/s"),
+                                                  **{c: Channel(v, "rad/s") for c, v in stored.items()}}), out)
+                    np.savetxt(fh, np.column_stack([t, y, np.zeros(len(y)), *stored.values()]),
                                delimiter=",", fmt=["%.12g"] + ["%.17g"] * n_series)
                     k += len(y)
                     bar.update(len(y))
@@ -173,9 +197,9 @@ def _simulate_noise(args) -> int:
         else:
             with HDF5StreamWriter(out, name="noise", fs=fs, channels={"output": "rad/s"}, metadata=meta,
                                   truth={"true_rate": "rad/s", **dict.fromkeys(terms, "rad/s")},
-                                  expected_samples=n, compression=args.compress) as w:
+                                  expected_samples=n, compression=args.compress, overwrite=args.force) as w:
                 for y, parts in chunks():
-                    w.append(output=y, truth={"true_rate": np.zeros(len(y)), **{k: parts[k] for k in terms}})
+                    w.append(output=y, truth={"true_rate": np.zeros(len(y)), **split(y, parts)})
                     bar.update(len(y))
                 check_not_tiny()
     print(f"wrote {n} samples ({n / fs:.6g} s at {fs:g} Hz) to {out}")
@@ -214,7 +238,7 @@ def _simulate_scenario(args) -> int:
     ensure_free_space(out / "all recordings", sum(r.nbytes for r in recs))
     mark_folder(out)
     for r in recs:
-        path = save_hdf5(out / f"{r.name}.h5", r, compression=args.compress)
+        path = save_hdf5(out / f"{r.name}.h5", r, compression=args.compress, overwrite=args.force)
         print(f"wrote {path} ({r.n_samples} samples at {r.fs:g} Hz; channels {', '.join(r.channels)}; "
               f"truth {', '.join(r.truth)})")
     return 0
@@ -526,7 +550,8 @@ def _simulate_device(args) -> int:
                        "datasheet budget)") from None
     if added:  # what the profile's [earth] and [shaker] tables put into true_rate and specific_force
         rec = dataclasses.replace(rec, metadata={**rec.metadata, "profile": added})
-    path = to_csv(out, rec) if suffix == ".csv" else save_hdf5(out, rec, compression=args.compress)
+    path = (to_csv(out, rec, overwrite=args.force) if suffix == ".csv"
+            else save_hdf5(out, rec, compression=args.compress, overwrite=args.force))
     ran = rec.metadata.get("device_model") if model == "physics" else rec.metadata.get("model")
     print(f"wrote {path} ({rec.n_samples} samples at {fs:g} Hz; model {model}: {ran}; channels "
           f"{', '.join(rec.channels)}; truth {', '.join(rec.truth)})")
@@ -650,6 +675,9 @@ def add_parsers(sub) -> None:
     s.add_argument("--compress", choices=("gzip", "lzf"),
                    help="HDF5 output: compress every dataset (gzip: deflate, read by any HDF5 tool; lzf: faster, "
                         "h5py's own filter); simulated noise barely shrinks, constant channels do")
+    s.add_argument("--no-terms", dest="terms", action="store_const", const=False, default=None,
+                   help="noise: store the noise terms' sum as the one component 'noise' instead of each term under "
+                        "truth/ (the file is 3 series, not 2 + the terms: docs/recording.md)")
     s.add_argument("--rate-csv", help="device: CSV of time [s], rate [deg/s] (linear between rows)")
     s.add_argument("--temperature-csv", help="device: CSV of time [s], temperature [degC]")
     s.add_argument("--profile", help="device: TOML with rate_dps, temperature_c, specific_force_g (numbers or "

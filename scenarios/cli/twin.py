@@ -630,9 +630,9 @@ def _cmd_twin(args) -> int:
     if Path(args.output).suffix.lower() == ".csv":
         from gyrobench.io.recording import to_csv
 
-        to_csv(Path(args.output), res.recording)
+        to_csv(Path(args.output), res.recording, overwrite=args.force)
     else:
-        save_hdf5(Path(args.output), res.recording)
+        save_hdf5(Path(args.output), res.recording, overwrite=args.force)
     label = f"{path.name}:{ch.label}"
     if args.save_part:
         import re

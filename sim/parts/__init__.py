@@ -24,7 +24,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from gyrobench.sim.parts._catalogue import CATALOGUE
-from gyrobench.sim.parts._device import MODELS, physics_spec, simulate_part
+from gyrobench.sim.parts._device import MODELS, draw_unit, physics_spec, simulate_part, simulate_unit
 from gyrobench.sim.parts._part import (
     ADEV_MIN_PER_B,
     ERROR_COMPONENTS,
@@ -67,6 +67,7 @@ __all__ = [
     "get",
     "names",
     "load_toml",
+    "loads_toml",
     "datasheets",
     "rlg_spec",
     "fog_spec",
@@ -74,6 +75,8 @@ __all__ = [
     "physics_summary",
     "physics_spec",
     "simulate_part",
+    "draw_unit",
+    "simulate_unit",
     "MODELS",
     "FOG_POWER_MAX",
     "FOG_LENGTH_MAX",
@@ -150,21 +153,44 @@ def load_toml(path: str | os.PathLike) -> Part:
     p = Path(path)
     try:
         with p.open("rb") as fh:
-            data = tomllib.load(fh)
+            text = fh.read().decode("utf-8")
     except FileNotFoundError:
         raise ValueError(f"part file {str(p)!r} does not exist") from None
+    return loads_toml(text, source=f"part file {str(p)!r}")
+
+
+def loads_toml(text: str, *, source: str = "part file") -> Part:
+    """A user's part from the text of a TOML part file (what :func:`load_toml` reads from a file).
+
+    Parameters
+    ----------
+    text : str
+        The TOML text: the :class:`Datasheet` fields as top-level keys or the single table ``[part]``.
+    source : str
+        What the messages call it (``"part file 'mine.toml'"``).
+
+    Returns
+    -------
+    Part
+        The part.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``source``: not TOML, an unknown key, a field out of its range.
+    """
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"part file {str(p)!r} is not valid TOML: {exc}") from None
+        raise ValueError(f"{source} is not valid TOML: {exc}") from None
     if set(data) == {"part"} and isinstance(data["part"], dict):
         data = data["part"]
     known = {f.name for f in fields(Datasheet)}
     unknown = sorted(set(data) - known)
     if unknown:
-        raise ValueError(f"part file {str(p)!r}: unknown key(s) {unknown}; allowed: {sorted(known)}")
+        raise ValueError(f"{source}: unknown key(s) {unknown}; allowed: {sorted(known)}")
     data = {k: (float(v) if isinstance(v, int) and not isinstance(v, bool) else v) for k, v in data.items()}
     try:
         return Part(Datasheet(**data))
-    except TypeError as exc:
-        raise ValueError(f"part file {str(p)!r}: {exc}") from None
-    except ValueError as exc:
-        raise ValueError(f"part file {str(p)!r}: {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{source}: {exc}") from None

@@ -86,12 +86,12 @@ from gyrobench.sim.coil2d import Coil2D
 from gyrobench.sim.fog2d import FOG2DSpec, coil_diameter_tempco
 from gyrobench.sim.mems_population import MemsResonatorSpec
 from gyrobench.sim.mems_resonator import MemsResonator, g_sensitivity, low_rate_scale_factor, zero_rate_output
-from gyrobench.sim.parts._part import Datasheet, Part, filter_metadata, output_filter, settled_filter
+from gyrobench.sim.parts._part import Datasheet, Part, PartUnit, filter_metadata, output_filter, settled_filter
 from gyrobench.sim.parts._physics import fog_spec, mems_spec, physics_summary, rlg_spec
 from gyrobench.sim.rlg import THERMAL_BIAS_CALIBRATED, RLGSpec, ThermalBias
 from gyrobench.sim.sensor import Environment
 
-__all__ = ["MODELS", "physics_spec", "simulate_part"]
+__all__ = ["MODELS", "draw_unit", "physics_spec", "simulate_part", "simulate_unit"]
 
 MODELS = ("physics", "budget")
 """The models a part runs on: its technology's physics model (default) or the datasheet budget."""
@@ -329,3 +329,59 @@ def _device_record(part: Part, rec: Recording, environment: Environment, fs: flo
     }
     return Recording(fs=rec.fs, channels=channels, truth=truth, inputs=inputs, t0=rec.t0, metadata=meta,
                      name=ds.name.replace("/", "_"))
+
+
+def draw_unit(part: Part, *, rng: np.random.Generator, model: str = "physics") -> object:
+    """One unit of ``part`` on ``model``, drawn once so several records share it (a calibration and a test).
+
+    Parameters
+    ----------
+    part : Part
+    rng : numpy.random.Generator
+        The unit's draw (its turn-on bias, scale-factor error, the physics model's build spread).
+    model : {"physics", "budget"}
+        As in :func:`simulate_part`.
+
+    Returns
+    -------
+    object
+        A :class:`~gyrobench.sim.parts.PartUnit` (budget) or the physics model's unit; pass it to
+        :func:`simulate_unit`.
+    """
+    if not isinstance(part, Part):
+        raise TypeError(f"part must be a Part; got {type(part).__name__}")
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}; got {model!r}")
+    return part.realize(rng) if model == "budget" else physics_spec(part.datasheet).realize(rng=rng)
+
+
+def simulate_unit(part: Part, unit: object, environment: Environment, *, fs: float,
+                  rng: np.random.Generator) -> Recording:
+    """One record of a unit :func:`draw_unit` drew, in ``environment`` at ``fs`` [Hz].
+
+    The same record :func:`simulate_part` writes for that unit (the sheet's output stage on the
+    physics model, the terms closing), with ``rng`` the record's own streams.
+
+    Parameters
+    ----------
+    part : Part
+        The part the unit was drawn from.
+    unit : object
+        From :func:`draw_unit`.
+    environment : Environment
+    fs : float
+        Output rate [Hz].
+    rng : numpy.random.Generator
+        The record's noise streams.
+
+    Returns
+    -------
+    Recording
+        As :func:`simulate_part`'s.
+    """
+    if isinstance(unit, PartUnit):
+        return unit.simulate(environment, fs=fs, rng=rng)
+    simulate = getattr(unit, "simulate", None)
+    if not callable(simulate):
+        raise TypeError(f"unit must come from draw_unit; got {type(unit).__name__}")
+    return _device_record(part, simulate(environment, fs=fs, rng=rng), environment, fs, unit)

@@ -55,6 +55,7 @@ from numpy.typing import NDArray
 
 from gyrobench.base.atomic import _fmt_bytes, atomic_path, ensure_free_space
 from gyrobench.base.ranges import Constraint, FieldRange, as_array, shown, validate
+from gyrobench.io.write_rules import RecordingClosureError, check_closes, check_replaceable
 
 __all__ = [
     "Channel",
@@ -72,6 +73,7 @@ __all__ = [
     "OUTPUT",
     "closure",
     "schema_problems",
+    "RecordingClosureError",
 ]
 
 FORMAT = "gyrobench-recording"
@@ -731,14 +733,22 @@ def _check_recording_finite(rec: Recording) -> None:
 
 
 def save_hdf5(
-    path: str | os.PathLike, recordings: Recording | list[Recording], *, compression: str | None = None
+    path: str | os.PathLike,
+    recordings: Recording | list[Recording],
+    *,
+    compression: str | None = None,
+    overwrite: bool = False,
 ) -> Path:
     """Write one or several recordings to an HDF5 file, atomically.
+
+    Before a byte is written each recording that names its error components must close
+    (:func:`gyrobench.io.write_rules.check_closes`), and an existing ``path`` must be a file
+    gyrobench wrote unless ``overwrite`` (:func:`gyrobench.io.write_rules.check_replaceable`).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The HDF5 file (replaced if it exists).
+        The HDF5 file (an existing one is replaced only if gyrobench wrote it, or with ``overwrite``).
     recordings : Recording or list of Recording
         The recordings, each stored under ``/recordings/<name>``.
     compression : {None, "gzip", "lzf"}
@@ -746,6 +756,8 @@ def save_hdf5(
         MATLAB and any HDF5 build), ``"lzf"`` (faster, h5py's own filter: other tools need
         the lzf plugin), None: uncompressed. A simulated gyro's noise is nearly incompressible
         (float64 mantissas of noise); constant and step-wise channels shrink much.
+    overwrite : bool
+        Replace an existing file gyrobench did not write (default: refused).
 
     Returns
     -------
@@ -756,6 +768,10 @@ def save_hdf5(
     ------
     ValueError
         If two recordings share a name, or a sample is not finite (nothing is written).
+    RecordingClosureError
+        If a recording's components do not sum to ``output - true_rate`` (nothing is written).
+    OutputRefused
+        If ``path`` exists, gyrobench did not write it and not ``overwrite``.
     AtomicWriteError
         If the data would not fit on the disk (checked before writing) or the
         write fails; ``path`` is then left as it was.
@@ -767,6 +783,8 @@ def save_hdf5(
         raise ValueError(f"recording names must be unique within a file; got {names}")
     for r in recs:
         _check_recording_finite(r)
+        check_closes(r, path)
+    check_replaceable(path, overwrite=overwrite)
     ensure_free_space(path, sum(r.nbytes for r in recs))
     with atomic_path(path) as tmp, _h5_create(tmp) as (h5, guard):
         _mark_root(h5)
@@ -1220,6 +1238,14 @@ class HDF5StreamWriter:
         Samples to be written, for the free-space check on entry.
     compression : {None, "gzip", "lzf"}
         h5py's filter on every dataset (:func:`save_hdf5`).
+    overwrite : bool
+        Replace an existing file gyrobench did not write (default: refused, on entry).
+
+    Notes
+    -----
+    When the metadata names the error components, every chunk must close
+    (:func:`gyrobench.io.write_rules.check_closes`) before it is appended; a chunk that does not
+    raises, and the file is never committed.
 
     Examples
     --------
@@ -1244,6 +1270,7 @@ class HDF5StreamWriter:
         chunk: int = 1 << 18,
         expected_samples: int | None = None,
         compression: str | None = None,
+        overwrite: bool = False,
     ) -> None:
         if not (math.isfinite(fs) and fs > 0):
             raise ValueError(f"fs must be a finite number > 0 Hz; got {fs!r}")
@@ -1258,8 +1285,10 @@ class HDF5StreamWriter:
         self._expected = expected_samples
         self._n = 0
         self._stack: contextlib.ExitStack | None = None
+        self._overwrite = bool(overwrite)
 
     def __enter__(self) -> HDF5StreamWriter:
+        check_replaceable(self.path, overwrite=self._overwrite)
         if self._expected is not None:
             n_ds = len(self._units["channels"]) + len(self._units["truth"])
             ensure_free_space(self.path, 8 * self._expected * n_ds)
@@ -1298,6 +1327,11 @@ class HDF5StreamWriter:
             raise ValueError(f"append: all channels must have the same length; got {lengths}")
         for (sub, k), v in given.items():
             check_finite_samples(v, f"recording {self.name!r}: {sub}/{k}", offset=self._n)
+        if truth_names(self._meta) is not None:  # the chunk closes, or nothing of it is appended
+            check_closes(Recording(fs=self.fs, name=self.name, metadata=self._meta,
+                                   channels={k: Channel(v, self._units["channels"][k]) for k, v in channels.items()},
+                                   truth={k: Channel(v, self._units["truth"][k]) for k, v in (truth or {}).items()}),
+                         self.path)
         m = lengths.pop()
         for key, v in given.items():
             ds = self._ds[key]
@@ -1318,7 +1352,7 @@ class HDF5StreamWriter:
         return False
 
 
-def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True) -> Path:
+def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = True, overwrite: bool = False) -> Path:
     """Export a recording to CSV, atomically.
 
     The first line is gyrobench's marker, with the recording's name, rate and metadata (JSON,
@@ -1330,11 +1364,13 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     Parameters
     ----------
     path : str or os.PathLike
-        The CSV file (replaced if it exists).
+        The CSV file (an existing one is replaced only if gyrobench wrote it, or with ``overwrite``).
     rec : Recording
-        The recording.
+        The recording; if it names its error components it must close (:func:`save_hdf5`).
     include_truth : bool
         Also write the truth, inputs and detail (``truth/<name> [unit]``, ...).
+    overwrite : bool
+        Replace an existing file gyrobench did not write (default: refused).
 
     Returns
     -------
@@ -1345,8 +1381,14 @@ def to_csv(path: str | os.PathLike, rec: Recording, *, include_truth: bool = Tru
     ------
     ValueError
         If a sample is not finite (nothing is written).
+    RecordingClosureError
+        If its components do not sum to ``output - true_rate`` (nothing is written).
+    OutputRefused
+        If ``path`` exists, gyrobench did not write it and not ``overwrite``.
     """
     _check_recording_finite(rec)
+    check_closes(rec, path)
+    check_replaceable(path, overwrite=overwrite)
     cols = [("time", "s", rec.time)]
     cols += [(k, c.unit, c.data) for k, c in (rec.columns() if include_truth else rec.channels).items()]
     from gyrobench.base.safety import comment_marker

@@ -91,6 +91,10 @@ _PHASE = ("STATED ASSUMPTION: the paper gives no durations; the default phases (
 
 FAMILY = Family(
     paper="000",
+    nominal_device=(
+        "the default Config(): the coning mount identified from fig. 7 (identify.IDENTIFIED; rocking modes "
+        "400 and 460 Hz, Q 10), phases 600/300/600 s, B 0.05 deg/h"
+    ),
     base=Config(),
     parameters=(
         Parameter(field="fog.mount.x.frequency", range=FieldRange(250.0, 650.0, "Hz"), scale="linear",

@@ -163,3 +163,19 @@ def test_a_refined_map_killed_in_its_second_stage_resumes_to_the_uninterrupted_m
     a = (tmp_path / "k" / "toy_map_small" / "map.json").read_bytes()
     assert a == (tmp_path / "w" / "toy_map_small" / "map.json").read_bytes()
     assert np.asarray(json.loads(a)["refinement"]["seeds"]).size == refine.CLOSEST_MISSES
+
+
+def test_the_report_section_and_results_json_give_the_region_per_stage(tmp_path):
+    from gyrobench.scenarios.reports.map_section import map_tables, results_link
+
+    doc = _map(tmp_path, toy.ONE_POINT).result.as_dict()
+    region_table, _ = map_tables(doc, {})
+    st = doc["stages"]
+    for row, c in zip(region_table.rows, doc["constraints"], strict=True):
+        got = (st["1"]["constraint_counts"][c["id"]], st["2"]["constraint_counts"][c["id"]])
+        assert row[3] == f"{doc['constraint_counts'][c['id']]} of 16 ({got[0]} of 8 + {got[1]} of 8)"
+    assert f"{st['1']['region']} of 8 (space-filling), {st['2']['region']} of 8 (refined" in region_table.note
+    link = results_link(doc)
+    assert link["refinement"]["triggered"] and link["refinement"]["stages"] == st
+    assert link["nominal_in_region"] is False  # the toy's nominal (x 0.5, y 0.1) misses both facts
+    assert link["nominal_missed"] == ["toy.high_x", "toy.small_y"]

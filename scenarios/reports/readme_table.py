@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -310,7 +311,8 @@ def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
             nominal = "the nominal device (these units) lies outside it" + (f" (misses {missed})" if missed else "")
         med = m.get("medoid")
         if med is None:
-            where = f"the region is empty, so no paper-consistent device can be named: {m['finding']}"
+            why = re.sub(r"^No point of the family[^.(]*\([^)]*\)\.\s*", "", m["finding"]) or m["finding"]
+            where = f"the region is empty, so no paper-consistent device can be named: {why}"
         else:
             params = ", ".join(f"{k} = {v:.4g}" for k, v in med["parameters"].items())
             where = f"its medoid is point {med['index']} ({params})."

@@ -97,6 +97,8 @@ def _run(args, mod, points: int, k: int) -> int:
           f"({mapped.units.computed} computed, {mapped.units.reused} reused; "
           f"units' run time summed {mapped.units.run_s:.1f} s)")
     print(f"  region: {region_finding(r)}")
+    if r.refinement is not None:
+        print(f"  refinement: {r.refinement.reason}")
     print(f"  {nominal_text(r)}")
     for c in r.constraints:
         print(f"  {c.id:<36} satisfied on {counts[c.id]} of {len(r.design)} points")

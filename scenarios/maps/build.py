@@ -18,13 +18,15 @@ import importlib
 import json
 import os
 import types
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from gyrobench.scenarios.runner import units as runner
 
 from .family import design
-from .region import MapResult, analyse
+from .refine import joined, plan_refinement
+from .region import MapResult, _medians, analyse
 from .run import NOMINAL_POINT, MapUnits, run_map
 
 __all__ = ["RUN_FILE", "Mapped", "family_module", "map_paper", "write_map"]
@@ -85,8 +87,12 @@ def map_paper(
     db: str | os.PathLike = runner.DEFAULT_DB,
     progress: bool = False,
     family: types.ModuleType | None = None,
+    refine: bool = True,
 ) -> Mapped:
-    """Map a paper over design points of its family.
+    """Map a paper over design points of its family, refined where the region is small (:mod:`.refine`).
+
+    The first stage's units (and the nominal device's) run first; the second stage's points follow
+    from their constraint medians, and take the point indices after the first stage's.
 
     Parameters
     ----------
@@ -109,6 +115,8 @@ def map_paper(
     family : module, optional
         Defines ``FAMILY``, ``MAP_CONSTRAINTS``, ``MAP_CLAIMS``, ``DESIGN_SEED`` and optionally
         ``MAP_COVARIATES`` (default :func:`family_module`).
+    refine : bool
+        Run the second stage where the first stage's region is small (:mod:`.refine`).
 
     Returns
     -------
@@ -118,20 +126,38 @@ def map_paper(
     fam = family or family_module(module)
     if fam is None:
         raise ValueError(f"scenario {getattr(module, 'NAME', module.__name__)!r} defines no device family to map")
-    d = design(fam.FAMILY, points, fam.DESIGN_SEED)
-    configs = [fam.FAMILY.config(v) for v in d.values]
+    first = design(fam.FAMILY, points, fam.DESIGN_SEED)
+    configs = [fam.FAMILY.config(v) for v in first.values]
     index = list(range(len(configs)))
     nominal = fam.FAMILY.nominal
     if nominal is not None:
         configs.append(fam.FAMILY.config(nominal))
         index.append(NOMINAL_POINT)
-    run = run_map(module, configs, units_per_point=units_per_point, seed=seed, executor=executor,
-                  workers=workers, db=db, progress=progress, point_indices=index)
-    n = len(d)
-    result = analyse(fam.FAMILY, d, run.seeds[:n], run.quantities[:n], fam.MAP_CONSTRAINTS, fam.MAP_CLAIMS,
+
+    def units_of(cfgs: list, idx: Sequence[int]) -> MapUnits:
+        return run_map(module, cfgs, units_per_point=units_per_point, seed=seed, executor=executor, workers=workers,
+                       db=db, progress=progress, point_indices=idx)
+
+    run = units_of(configs, index)
+    n = len(first)
+    plan = None
+    if refine:  # the second stage, from the first stage's constraint medians alone (refine.py)
+        med = [_medians(fam.MAP_CONSTRAINTS, u) for u in run.quantities[:n]]
+        sat = [[c.holds(m) for c, m in zip(fam.MAP_CONSTRAINTS, row, strict=True)] for row in med]
+        plan = plan_refinement(fam.FAMILY, first, [c.comparator for c in fam.MAP_CONSTRAINTS], med, sat)
+    second = plan.design if plan is not None else None
+    if second is not None:
+        more = units_of([fam.FAMILY.config(v) for v in second.values], range(n, n + len(second)))
+        run = MapUnits(run_ids=run.run_ids[:n] + more.run_ids + run.run_ids[n:], seeds=run.seeds[:n] + more.seeds
+                       + run.seeds[n:], quantities=run.quantities[:n] + more.quantities + run.quantities[n:],
+                       computed=run.computed + more.computed, reused=run.reused + more.reused,
+                       run_s=run.run_s + more.run_s)
+    d = joined(first, second)
+    m = len(d)
+    result = analyse(fam.FAMILY, d, run.seeds[:m], run.quantities[:m], fam.MAP_CONSTRAINTS, fam.MAP_CLAIMS,
                      covariates=getattr(fam, "MAP_COVARIATES", ()),
-                     nominal_seeds=run.seeds[n] if nominal is not None else (),
-                     nominal_units=run.quantities[n] if nominal is not None else None)
+                     nominal_seeds=run.seeds[m] if nominal is not None else (),
+                     nominal_units=run.quantities[m] if nominal is not None else None, refinement=plan)
     return Mapped(result=result, units=run)
 
 

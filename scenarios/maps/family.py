@@ -211,12 +211,16 @@ class Family:
         The open parameters (at least one; distinct fields of ``base``).
     fixed : tuple of Fixed
         The mechanism sizes kept fixed, with their sources.
+    nominal_device : str
+        What the nominal device (``base``, the default ``reproduce``'s) is, in a few words (its
+        source, e.g. the identification it comes from); "" when not stated.
     """
 
     paper: str
     base: Any
     parameters: tuple[Parameter, ...]
     fixed: tuple[Fixed, ...] = ()
+    nominal_device: str = ""
 
     #: what ties the fields together; the Config's own declared ranges (``RANGES``) bound each
     #: parameter's range
@@ -291,6 +295,7 @@ class Family:
             "fixed": [{"field": f.field, "value": _json_value(get_path(self.base, f.field)), "source": f.source}
                       for f in self.fixed],
             "nominal": self.nominal,
+            "nominal_device": self.nominal_device,
         }
 
 
@@ -374,12 +379,20 @@ class Design:
         Coordinates in [0, 1).
     values : tuple of dict
         Each point's values in field units, one per open parameter.
+    stage : tuple of int
+        Each point's stage (1: the space-filling design, 2: a refinement, :mod:`.refine`); empty
+        when every point is of stage 1.
     """
 
     method: str
     seed: int
     unit: np.ndarray
     values: tuple[dict[str, float], ...]
+    stage: tuple[int, ...] = ()
+
+    def stage_of(self, i: int) -> int:
+        """Point ``i``'s stage (1 when the design has no second stage)."""
+        return self.stage[i] if self.stage else 1
 
     def __len__(self) -> int:
         return len(self.values)

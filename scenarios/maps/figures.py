@@ -57,9 +57,13 @@ def _parameter_axes(ax: Any, result: MapResult, a: int, b: int) -> tuple[NDArray
 
 
 def _mark_nominal(ax: Any, result: MapResult, a: int, b: int) -> None:
-    """The nominal device (the default reproduce's) as a black star, and the region's medoid as a
-    red diamond, on parameters ``a`` (x) and ``b`` (y)."""
+    """The nominal device (the default reproduce's) as a black star, the region's medoid as a red
+    diamond and the refined stage's points as black dots, on parameters ``a`` (x) and ``b`` (y)."""
     params = result.family.parameters
+    second = [v for i, v in enumerate(result.design.values) if result.design.stage_of(i) == 2]
+    if second:  # the refined stage's points (refine.py), dotted
+        ax.scatter([v[params[a].field] for v in second], [v[params[b].field] for v in second], marker=".", s=14,
+                   color="k", label="refined stage", zorder=3)
     if result.nominal is not None:
         v = result.nominal.values
         ax.scatter([v[params[a].field]], [v[params[b].field]], marker="*", s=260, color="k",

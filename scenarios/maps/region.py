@@ -55,6 +55,8 @@ from scipy.stats import binomtest, spearmanr
 from gyrobench.scenarios.claims import Claim, Comparator, evaluate, finite_median
 
 from .family import Design, Family
+from .findings import conflicts, nominal_text, region_finding
+from .refine import Refinement
 
 __all__ = [
     "MAP_FORMAT",
@@ -264,6 +266,8 @@ class MapResult:
         ``[i][v]``: point i's median of covariate v.
     nominal : Nominal or None
         The nominal device run as one more point (None: not run).
+    refinement : Refinement or None
+        The second stage's plan (:mod:`.refine`; None: not considered).
     """
 
     family: Family
@@ -276,6 +280,7 @@ class MapResult:
     covariates: tuple[Covariate, ...] = ()
     covariate_medians: tuple[tuple[float, ...], ...] = ()
     nominal: Nominal | None = None
+    refinement: Refinement | None = None
 
     @property
     def region(self) -> tuple[int, ...]:
@@ -307,9 +312,19 @@ class MapResult:
         """Every parameter's Spearman rank correlation with constraint ``j``'s point medians (finite ones)."""
         return _sensitivity(self.family, self.design, [row[j] for row in self.constraint_medians])
 
-    def counts(self) -> dict[str, int]:
-        """Per constraint: the points satisfying it."""
-        return {c.id: sum(row[j] for row in self.satisfied) for j, c in enumerate(self.constraints)}
+    def counts(self, stage: int | None = None) -> dict[str, int]:
+        """Per constraint: the points satisfying it (of one ``stage`` only, when given)."""
+        rows = [r for i, r in enumerate(self.satisfied) if stage is None or self.design.stage_of(i) == stage]
+        return {c.id: sum(row[j] for row in rows) for j, c in enumerate(self.constraints)}
+
+    def stages(self) -> dict[str, dict[str, Any]]:
+        """Per stage (``"1"``, and ``"2"`` when refined): its points, its region points, its constraint counts."""
+        out = {}
+        for st in sorted({self.design.stage_of(i) for i in range(len(self.design))}):
+            pts = [i for i in range(len(self.design)) if self.design.stage_of(i) == st]
+            out[str(st)] = {"points": len(pts), "region": sum(all(self.satisfied[i]) for i in pts),
+                            "constraint_counts": self.counts(st)}
+        return out
 
     def as_dict(self) -> dict[str, Any]:
         """map.json: ``format`` first (the output-safety marker), then everything a referee recounts from."""
@@ -318,6 +333,7 @@ class MapResult:
         for i, values in enumerate(self.design.values):
             points.append({
                 "index": i,
+                "stage": self.design.stage_of(i),
                 "parameters": values,
                 "unit_coordinates": [float(x) for x in self.design.unit[i]],
                 "seeds": list(self.seeds[i]),
@@ -352,6 +368,8 @@ class MapResult:
                                              for s in self.constraint_sensitivity(j)]}
                             for j, c in enumerate(self.constraints)],
             "constraint_counts": self.counts(),
+            "refinement": None if self.refinement is None else self.refinement.as_dict(),
+            "stages": self.stages(),
             "conflicts": [list(p) for p in conflicts(self)],
             "region": list(self.region),
             "finding": region_finding(self),
@@ -465,6 +483,7 @@ def analyse(
     covariates: Sequence[Covariate] = (),
     nominal_seeds: Sequence[int] = (),
     nominal_units: Sequence[Mapping[str, Any]] | None = None,
+    refinement: Refinement | None = None,
 ) -> MapResult:
     """The map of claims over a design's points and the region of the constraints (rules: the module).
 
@@ -488,6 +507,8 @@ def analyse(
         The nominal device's unit seeds.
     nominal_units : sequence of mapping, optional
         The nominal device's units' ``quantities`` (None: not run; the family has no nominal point).
+    refinement : Refinement, optional
+        The second stage's plan, when the design holds one (:mod:`.refine`).
 
     Returns
     -------
@@ -511,7 +532,7 @@ def analyse(
         constraint_medians=med, satisfied=sat,
         claims=tuple(_claim_map(c, units, region, family, design) for c in claims),
         covariates=tuple(covariates), covariate_medians=tuple(_medians(covariates, pts) for pts in units),
-        nominal=nominal,
+        nominal=nominal, refinement=refinement,
     )
 
 
@@ -560,110 +581,3 @@ def medoid(unit: np.ndarray, members: Sequence[int]) -> int | None:
     x = np.asarray(unit, float)[idx]
     total = np.sqrt(((x[:, None, :] - x[None, :, :]) ** 2).sum(axis=-1)).sum(axis=1)
     return idx[int(np.argmin(total))]
-
-
-def conflicts(result: MapResult) -> tuple[tuple[str, str], ...]:
-    """Pairs of constraints each satisfied on some point and never both on one point.
-
-    Parameters
-    ----------
-    result : MapResult
-        A map.
-
-    Returns
-    -------
-    tuple of (str, str)
-        The conflicting pairs' ids, in constraint order.
-    """
-    ids = [c.id for c in result.constraints]
-    sat = np.asarray(result.satisfied, bool).reshape(len(result.satisfied), len(ids))
-    out = []
-    for a in range(len(ids)):
-        for b in range(a + 1, len(ids)):
-            if sat[:, a].any() and sat[:, b].any() and not (sat[:, a] & sat[:, b]).any():
-                out.append((ids[a], ids[b]))
-    return tuple(out)
-
-
-def region_finding(result: MapResult) -> str:
-    """The region's size, or, when it is empty, which reported facts cannot hold together.
-
-    Parameters
-    ----------
-    result : MapResult
-        A map.
-
-    Returns
-    -------
-    str
-        One paragraph: never-satisfied facts with their closest point, conflicting pairs, or a
-        joint conflict.
-    """
-    n, region = len(result.satisfied), result.region
-    if region:
-        return f"{len(region)} of {n} family points satisfy every reported device fact."
-    counts = result.counts()
-    never = [c.id for c in result.constraints if counts[c.id] == 0]
-    pairs = conflicts(result)
-    parts = [f"No point of the family satisfies every reported device fact ({n} points)."]
-    if never:
-        parts.append("Never satisfied on the family: " + "; ".join(_closest(result, c) for c in never) + ".")
-    if pairs:
-        parts.append("Conflicting (each holds somewhere, never together): "
-                     + "; ".join(f"{a} and {b}" for a, b in pairs) + ".")
-    if not never and not pairs:
-        parts.append("Every pair holds together somewhere; the facts conflict only jointly: "
-                     + ", ".join(c.id for c in result.constraints) + ".")
-    return " ".join(parts)
-
-
-def _closest(result: MapResult, cid: str) -> str:
-    """``"<id> (needs <band>; closest: <median> at point i)"``: the point whose median comes nearest the band."""
-    j = [c.id for c in result.constraints].index(cid)
-    c = result.constraints[j]
-    best, at = math.inf, None
-    for i, row in enumerate(result.constraint_medians):
-        v = row[j]
-        if math.isfinite(v):
-            gap = max(c.comparator.lo - v, v - c.comparator.hi, 0.0) if c.comparator.kind != "is_true" else 1.0 - v
-            if gap < best:
-                best, at = gap, i
-    if at is None:
-        return f"{cid} (needs {c.comparator.text()}; no point gives a finite {c.quantity})"
-    return f"{cid} (needs {c.comparator.text()}; closest: {result.constraint_medians[at][j]:.4g} at point {at})"
-
-
-def _values_text(result: MapResult, values: Mapping[str, float]) -> str:
-    """``"field = value unit, ..."`` of a point's open parameters."""
-    def unit(p: Any) -> str:
-        return "" if p.range.unit in ("", "1") else f" {p.range.unit}"
-
-    return ", ".join(f"{p.field} = {values[p.field]:.4g}{unit(p)}" for p in result.family.parameters)
-
-
-def nominal_text(result: MapResult) -> str:
-    """Whether the nominal device (the default ``reproduce``'s) lies in the region, and the region's medoid.
-
-    Parameters
-    ----------
-    result : MapResult
-        A map.
-
-    Returns
-    -------
-    str
-        One sentence or two: the nominal's membership (or that the family has no nominal point),
-        then the medoid's parameters, or that the region is empty.
-    """
-    n, med = result.nominal, result.medoid
-    if n is None:
-        first = "The nominal device is no point of the family (its base configuration lies outside a range)."
-    elif n.in_region:
-        first = f"The nominal device lies in the region (every reported fact holds over its {len(n.seeds)} units)."
-    else:
-        missed = [c.id for c, ok in zip(result.constraints, n.satisfied, strict=True) if not ok]
-        first = (f"The nominal device lies outside the region ({', '.join(missed)} not satisfied over its "
-                 f"{len(n.seeds)} units).")
-    if med is None:
-        return first + " The region is empty: no region device can be named."
-    return first + f" Region medoid: point {med} ({_values_text(result, result.design.values[med])})."

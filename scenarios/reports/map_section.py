@@ -29,7 +29,7 @@ RUN_FILE = "map_run.json"
 FIGURES = (
     ("phase_diagrams.png", "Method claims over the device family: each claim's pass rate over its two most "
                            "sensitive parameters (|Spearman rho|); region points ringed red, the nominal device a "
-                           "black star, the region's medoid a red diamond."),
+                           "black star, the region's medoid a red diamond, refined-stage points black dots."),
     ("specification_curves.png", "Specification curves: every region point's median of each claim's quantity, "
                                  "sorted; the claim's band shaded, the paper's value dashed."),
     ("constraints.png", "The paper's reported device facts over the family: each fact's point medians over its "
@@ -160,17 +160,22 @@ def map_tables(doc: Mapping[str, Any], verdicts: Mapping[str, str]) -> list[Tabl
     design = doc["design"]
     nominal = doc.get("nominal")
     counts = doc["constraint_counts"]
+    stages = doc.get("stages") or {}
     rows = []
     for c in doc["constraints"]:
         nom = "-" if nominal is None else (f"{_num(nominal['constraint_medians'][c['id']])} "
                                            f"({'holds' if nominal['constraints_satisfied'][c['id']] else 'misses'})")
-        rows.append([c["id"], c["source"], c["comparator"], f"{counts[c['id']]} of {n}", nom,
-                     _top(c.get("sensitivity", []))])
+        cell = f"{counts[c['id']]} of {n}"
+        if "2" in stages:  # refined: the two stages' counts beside the total
+            cell += " (" + " + ".join(f"{st['constraint_counts'][c['id']]} of {st['points']}"
+                                      for _, st in sorted(stages.items())) + ")"
+        rows.append([c["id"], c["source"], c["comparator"], cell, nom, _top(c.get("sensitivity", []))])
     conflicts = "; ".join(f"{a} and {b}" for a, b in doc["conflicts"]) or "none"
     region_note = (
         f"{doc['finding']} {doc.get('nominal_text', '')} Conflicting pairs (each holds somewhere, never together): "
         f"{conflicts}. Design: {design['points']} {design['method']} points x {design['units_per_point']} units "
-        f"(seed {design['seed']}); a point satisfies a fact when the median over its units does. The nominal "
+        f"(seed {design['seed']}); a point satisfies a fact when the median over its units does. "
+        f"{_refinement_note(doc)}The nominal "
         "device is the default reproduction's configuration, run as one more point with its own "
         f"{len(nominal['seeds']) if nominal else 0} units."
     )
@@ -199,6 +204,21 @@ def map_tables(doc: Mapping[str, Any], verdicts: Mapping[str, str]) -> list[Tabl
     return [region, claims]
 
 
+def _refinement_note(doc: Mapping[str, Any]) -> str:
+    """The second stage in a sentence or two (:mod:`gyrobench.scenarios.maps.refine`): why it ran or not, and
+    the region per stage."""
+    ref = doc.get("refinement")
+    if not ref:
+        return ""
+    text = f"Refinement: {ref['reason']}"
+    stages = doc.get("stages") or {}
+    if "2" in stages:
+        text += (f"; region points by stage: {stages['1']['region']} of {stages['1']['points']} (space-filling), "
+                 f"{stages['2']['region']} of {stages['2']['points']} (refined; not space-filling, so the "
+                 "'whole family' counts mix the two)")
+    return text + ". "
+
+
 def results_link(doc: Mapping[str, Any]) -> dict[str, Any]:
     """What results.json says about the map: the file, the region and each claim's region count.
 
@@ -213,10 +233,13 @@ def results_link(doc: Mapping[str, Any]) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``file``, ``format``, ``points``, ``region``, ``finding``, ``medoid``, ``nominal_in_region``
-        and per claim ``region_holds`` / ``region_testable``.
+        ``file``, ``format``, ``points``, ``region``, ``finding``, ``medoid``, ``nominal_in_region``,
+        ``nominal_missed`` (the facts the nominal device misses), ``nominal_device`` (what it is),
+        ``refinement`` (the second stage: ran or not, the region per stage) and per claim
+        ``region_holds`` / ``region_testable``.
     """
     nominal = doc.get("nominal")
+    ref = doc.get("refinement")
     return {
         "file": MAP_FILE,
         "format": doc["format"],
@@ -225,6 +248,11 @@ def results_link(doc: Mapping[str, Any]) -> dict[str, Any]:
         "finding": doc["finding"],
         "medoid": doc.get("medoid"),
         "nominal_in_region": None if nominal is None else nominal["in_region"],
+        "nominal_missed": None if nominal is None else [k for k, ok in nominal["constraints_satisfied"].items()
+                                                        if not ok],
+        "nominal_device": doc.get("family", {}).get("nominal_device", ""),
+        "refinement": None if not ref else {"triggered": ref["triggered"], "reason": ref["reason"],
+                                            "stages": doc.get("stages")},
         "claims": {c["id"]: {"region_holds": c["region_holds"], "region_testable": c["region_testable"]}
                    for c in doc["claims"]},
     }

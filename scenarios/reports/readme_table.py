@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -273,30 +274,57 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool, stability: str | No
     return "\n".join(lines) + "\n"
 
 
+def _family_device(scenario: str) -> str:
+    """What a paper's default device is, from its family module (:attr:`~gyrobench.scenarios.maps.family.Family.
+    nominal_device`); "" when the paper has no family or does not say."""
+    from gyrobench.scenarios import registry
+    from gyrobench.scenarios.maps.build import family_module
+
+    try:
+        fam = family_module(registry.get(scenario))
+    except (KeyError, ValueError, ImportError):
+        return ""
+    return "" if fam is None else str(getattr(fam.FAMILY, "nominal_device", ""))
+
+
 def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
-    """One bullet per mapped paper: its region's size, whether the nominal device (the one the table's
-    units are) lies in it, and the region's medoid (the device to name when it does not)."""
+    """One bullet per paper: the device its default run (the table's units) uses and whether that device lies
+    in the paper-consistent region of its map (or that the region is empty, and why, or that the report holds
+    no map); with a map, the region's size and its medoid (the device to name when the nominal lies outside)."""
     out = []
     for d in papers:
         m = d.get("map")
-        if not m:
-            continue
         key = _paper(d["claims"][0]["paper"])
+        device = (m or {}).get("nominal_device") or _family_device(d["scenario"]) or "the default Config()"
+        head = f"- {key} ({d['scenario']}): the default run uses {device}"
+        if not m:
+            out.append(head + "; this report holds no map of its family, so whether it lies in the "
+                       "paper-consistent region is not shown (`reproduce NAME --map` into the same folder).")
+            continue
         n, reg = m["points"], len(m["region"])
         if m.get("nominal_in_region") is None:
             nominal = "the nominal device is no point of the family"
+        elif m["nominal_in_region"]:
+            nominal = "the nominal device (these units) lies in it"
         else:
-            inside = "lies in it" if m["nominal_in_region"] else "lies outside it"
-            nominal = f"the nominal device (these units) {inside}"
+            missed = ", ".join(m.get("nominal_missed") or [])
+            nominal = "the nominal device (these units) lies outside it" + (f" (misses {missed})" if missed else "")
         med = m.get("medoid")
         if med is None:
-            where = "the region is empty, so no paper-consistent device can be named"
+            why = re.sub(r"^No point of the family[^.(]*\([^)]*\)\.\s*", "", m["finding"]) or m["finding"]
+            where = f"the region is empty, so no paper-consistent device can be named: {why}"
         else:
             params = ", ".join(f"{k} = {v:.4g}" for k, v in med["parameters"].items())
-            where = f"its medoid is point {med['index']} ({params})"
-        out.append(f"- {key} ({d['scenario']}/map.json): {reg} of {n} family points satisfy every reported "
-                   f"device fact; {nominal}; {where}.")
-    return (["", "Device-family maps (`reproduce NAME --map`):", "", *out]) if out else []
+            where = f"its medoid is point {med['index']} ({params})."
+        ref = (m.get("refinement") or {}).get("stages") or {}
+        refined = ""
+        if "2" in ref:
+            refined = (f" ({ref['1']['region']} of {ref['1']['points']} space-filling points, {ref['2']['region']} of "
+                       f"{ref['2']['points']} refined ones)")
+        out.append(f"{head}. Map ({d['scenario']}/map.json): {reg} of {n} family points satisfy every reported "
+                   f"device fact{refined}; {nominal}; {where}")
+    return (["", "The device each paper's default run uses, and its device-family map (`reproduce NAME --map`):",
+             "", *out]) if out else []
 
 
 def stability_text(docs: Sequence[dict[str, Any]], *, draws: int = 2000, seed: int = 0) -> str:

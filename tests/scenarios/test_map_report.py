@@ -69,10 +69,10 @@ def test_report_section_and_results_json_give_the_map_recounted_from_the_json(to
         assert (out / "toy_map_paper" / name).is_file(), name
 
 
-def _toy_cli(args, env=None):
-    """``gyrobench`` with the toy paper registered, in a child process."""
+def _toy_cli(args, env=None, name="toy_map_paper", module="tests.scenarios.toy_map_paper"):
+    """``gyrobench`` with a toy paper registered (default the toy map paper), in a child process."""
     boot = ("import sys; from gyrobench.scenarios import registry; "
-            "registry.SCENARIOS['toy_map_paper'] = 'tests.scenarios.toy_map_paper'; "
+            f"registry.SCENARIOS[{name!r}] = {module!r}; "
             "from gyrobench.scenarios.cli.main import main; sys.exit(main(sys.argv[1:]))")
     return subprocess.Popen([sys.executable, "-c", boot, *args], cwd=ROOT, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)

@@ -100,3 +100,21 @@ def test_readme_summary_and_docs_results_come_from_the_same_report():
     assert tally and all(r in table.splitlines() for r in tally)
     checks = [r for r in summary.splitlines() if r.startswith("Closed-form checks")]
     assert checks and checks[0] in table
+
+
+def test_each_paper_names_its_default_device_and_whether_it_lies_in_the_region(report):
+    docs = readme_table.load_report(report)
+    (line,) = [r for r in readme_table.format_summary(docs).splitlines() if r.startswith("- toy (toy_paper): ")]
+    assert "the default run uses the default Config()" in line and "holds no map" in line  # no family, no map
+    finding = "No point of the family satisfies every reported device fact (4 points). Never satisfied: toy.f."
+    empty = {"points": 4, "region": [], "finding": finding, "medoid": None, "nominal_in_region": False,
+             "nominal_missed": ["toy.f"], "nominal_device": "the identified toy device", "refinement": {
+                 "triggered": True, "reason": "r", "stages": {"1": {"points": 2, "region": 0},
+                                                              "2": {"points": 2, "region": 0}}}}
+    paper = next(d for d in docs if d.get("claims"))
+    mapped = [dict(paper, map=empty) if d is paper else d for d in docs]
+    (line,) = [r for r in readme_table.format_table(mapped).splitlines() if r.startswith("- toy (toy_paper): ")]
+    assert "uses the identified toy device" in line and "0 of 4 family points" in line
+    assert "(0 of 2 space-filling points, 0 of 2 refined ones)" in line
+    assert "lies outside it (misses toy.f)" in line  # why the region is empty: the finding's facts
+    assert line.endswith("the region is empty, so no paper-consistent device can be named: Never satisfied: toy.f.")

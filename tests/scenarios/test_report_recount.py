@@ -168,8 +168,15 @@ def test_every_figure_of_the_findings_recounts_from_results_json(tmp_path, monke
 
 
 def _shape(block: str) -> list[str]:
-    """A spliced block's fixed lines, every figure replaced: what the generator writes whatever the report."""
-    keep = [ln for ln in block.splitlines() if not ln.startswith(("| ", "- **", "|---"))]
+    """A spliced block's fixed lines, every figure replaced: what the generator writes whatever the report
+    (the devices block, one bullet per paper whose text depends on the maps the report holds, aside)."""
+    devices = "The device each paper's default run uses"
+    lines = block.splitlines()
+    if any(ln.startswith(devices) for ln in lines):
+        start = next(i for i, ln in enumerate(lines) if ln.startswith(devices))
+        end = next((i for i in range(start + 2, len(lines)) if not lines[i].startswith("- ")), len(lines))
+        lines = lines[:start - 1 if start and not lines[start - 1] else start] + lines[end:]
+    keep = [ln for ln in lines if not ln.startswith(("| ", "- **", "|---"))]
     shape = [re.sub(r"\d+(\.\d+)?", "#", ln) for ln in keep]
     return [re.sub(r"calibrated \([a-z #,]+\):", "calibrated (by role):", ln) for ln in shape]
 

@@ -95,6 +95,10 @@ _PAPER_BREAKPOINT_DPS = 1800.0
 
 FAMILY = Family(
     paper="001",
+    nominal_device=(
+        "the default Config(): the read-out chain identified from the raw and low-rate K_n "
+        "(identify.IDENTIFIED; rail 1.5 V, sense bias 5 V, no cubic stiffness, 2 um gap)"
+    ),
     base=Config(),
     parameters=(
         Parameter(

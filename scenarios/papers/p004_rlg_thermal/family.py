@@ -53,6 +53,10 @@ _FAM = CAVITY_RLG_FAMILY
 
 FAMILY = Family(
     paper="004",
+    nominal_device=(
+        "the default Config(): the null shift identified from the bias swing (identify.IDENTIFIED; ratio "
+        "1.27e-3), Langmuir 0.0066 deg/h/mA"
+    ),
     base=Config(),
     parameters=(
         Parameter(

@@ -23,6 +23,7 @@ from gyrobench.scenarios.bench.power import (
     DEFAULT_MIN_CHANGE,
     DEFAULT_POWER,
     SPREAD_CONFIDENCE,
+    TEST,
     Detectable,
     auto_seeds,
     check_power,
@@ -46,8 +47,9 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
 
     For a primary score with mean ``mu`` and seed-to-seed std ``sigma`` over the campaign's
     ``n`` seeds: the shift :func:`~gyrobench.scenarios.bench.power.detectable_change`
-    detects with probability ``power`` at ``alpha`` (Holm over the primary scores), assuming
-    per-seed paired differences as spread as the baseline's seeds, taken at the upper
+    detects with probability ``power`` at ``alpha`` (Holm over the primary scores) in the mean
+    score beyond the margin, assuming per-seed contrasts as spread as the baseline's seeds,
+    taken at the upper
     confidence bound of ``sigma``
     (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`); ``inf`` when ``n`` seeds cannot
     reach ``alpha`` at all.
@@ -116,14 +118,16 @@ def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_
     m = max(1, len(found))
     n = len(campaign.ok_seeds)
     return {
-        "test": "two-sided Wilcoxon signed-rank on paired per-seed scores",
+        "test": TEST,
+        "statistic": "relative change of the mean score over the paired seeds",
         "correction": f"Holm over the {len(found)} primary score(s)",
         "alpha": alpha,
         "power": DEFAULT_POWER,
         "seeds": n,
         "min_attainable_p": min_attainable_p(n, m),
         "assumption": (
-            "per-seed paired differences as spread as this baseline's seed-to-seed values, at the "
+            "per-seed contrasts (c_s - b_s - margin |b_s|) as spread as this baseline's seed-to-seed "
+            "values, at the "
             f"one-sided {100 * SPREAD_CONFIDENCE:g} % upper confidence bound of their std (Bonett 2006)"
         ),
         "spread_confidence": SPREAD_CONFIDENCE,

@@ -49,6 +49,7 @@ __all__ = [
     "check_power",
     "detectable_change",
     "detection_power",
+    "partial_spread",
     "min_attainable_p",
     "power_statement",
     "seeds_for_change",
@@ -272,6 +273,37 @@ def detection_power(sigma: float, delta: float, n: int, m: int, alpha: float) ->
     return float(stats.nct.sf(crit, n - 1, delta * math.sqrt(n) / sigma))
 
 
+def partial_spread(std: float, mean: float, change: float) -> float:
+    """Spread of the per-seed contrast when a relative ``change`` of the mean is carried by half the seeds.
+
+    Parameters
+    ----------
+    std : float
+        The seed-to-seed spread of the score [score unit] (its upper bound, :func:`std_upper_bound`).
+    mean : float
+        The score's mean [score unit].
+    change : float
+        The relative change of the mean [-].
+
+    Returns
+    -------
+    float
+        ``sqrt(std**2 + (change |mean|)**2)`` [score unit].
+
+    Notes
+    -----
+    The design case of the gate's sizing: a regression of the mean by ``change`` that a random
+    half of the seeds carry (each of them worse by ``2 change``, the others unchanged). Its
+    per-seed change is ``2 change |mean| B`` with ``B`` a fair Bernoulli variable, of standard
+    deviation ``change |mean|``, added in quadrature to the seeds' own spread (independent of
+    which seeds it strikes). A change the same on every seed has less; a change carried by
+    fewer seeds, or much more uneven over the seeds that carry it, has more and is detected with
+    less than the stated power (the comparison's own detectable change, from the observed
+    spread, then says so).
+    """
+    return math.hypot(std, change * abs(mean))
+
+
 def seeds_for_change(
     sigma: float, delta: float, m: int, alpha: float, *, power: float = DEFAULT_POWER
 ) -> int:
@@ -444,7 +476,9 @@ def auto_seeds(
     -------
     AutoSeeds
         The largest of the per-score counts :func:`seeds_for_change` gives for the shift
-        ``min_change |mean|`` beyond the margin and the spread ``std_upper``, and the reason.
+        ``min_change |mean|`` beyond the margin and the spread
+        ``partial_spread(std_upper, mean, 2 min_change)`` (:func:`partial_spread`: the change
+        carried by a random half of the seeds), and the reason.
 
     Notes
     -----
@@ -480,7 +514,7 @@ def auto_seeds(
         delta = min_change * abs(mean)
         if not math.isfinite(delta) or delta <= 0 or not math.isfinite(upper):
             continue
-        need = seeds_for_change(upper, delta, m, alpha, power=power)
+        need = seeds_for_change(partial_spread(upper, mean, 2 * min_change), delta, m, alpha, power=power)
         if need > n or not worst:
             n = max(n, need)
             unit = (units or {}).get(name, "")
@@ -494,7 +528,8 @@ def auto_seeds(
         reason=(
             f"--seeds auto: {n} seeds detect a {200 * min_change:g} % change (twice the {100 * min_change:g} % "
             f"margin) of {worst} ({how}; "
-            "assuming per-seed differences as spread as the baseline's seeds, at the upper bound)"
+            "assuming per-seed contrasts as spread as the baseline's seeds, at the upper bound, plus "
+            "the spread of a change carried by half the seeds)"
         ),
     )
 

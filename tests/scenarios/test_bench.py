@@ -568,10 +568,10 @@ def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
     res = bench.compare(base, bad)
     status = {s.name: s.status for s in res.scores}
     assert status["mean/mse"] == "regressed" and status["mean/rms"] == "regressed"
-    # 20 seeds all worse by far more than the spread: the t test's p is below 2 / 2**20, the
-    # smallest p a distribution-free test of 20 seeds reaches, at which the gate's p stops
+    # 20 seeds all worse: significant at Holm's first step over the 3 primary scores, and never
+    # below 2 / 2**20, the smallest p a distribution-free test of 20 seeds reaches
     m = next(s for s in res.scores if s.name == "mean/mse")
-    assert m.p_value == pytest.approx(2 / 2**20, rel=1e-9) and m.effect > 0 and m.relative > 0.05
+    assert 2 / 2**20 <= m.p_value < 0.05 / 3 and m.effect > 0 and m.relative > 0.05
     assert "REGRESSION" in res.format()
 
 

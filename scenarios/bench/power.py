@@ -222,10 +222,8 @@ def _normal_quantile(q: float) -> float:
 
 
 def _check_spread(sigma: float, power: float) -> None:
-    if not (math.isfinite(sigma) and sigma >= 0):
-        raise ValueError(f"sigma must be finite and >= 0; got {sigma!r}")
-    if not 0 < power < 1:
-        raise ValueError(f"power must be in (0, 1); got {power!r}")
+    if not (math.isfinite(sigma) and sigma >= 0 and 0 < power < 1):
+        raise ValueError(f"sigma must be finite and >= 0 and power in (0, 1); got {sigma!r}, {power!r}")
 
 
 def detection_power(sigma: float, delta: float, n: int, m: int, alpha: float) -> float:
@@ -256,14 +254,12 @@ def detection_power(sigma: float, delta: float, n: int, m: int, alpha: float) ->
 
         P = 1 - F_{nct}(t_{1-alpha/(2m), n-1}; n - 1, delta sqrt(n) / sigma),
 
-    exact for normal contrasts and, by the central limit theorem, the large-``n`` power for
-    any contrast of finite variance. This is the one formula behind :func:`seeds_for_change`,
-    :func:`detectable_change`, ``--seeds auto`` and every detectable change the bench prints.
+    exact for normal contrasts and the large-``n`` power for any contrast of finite variance: the
+    one formula behind every seed count and detectable change the bench states.
 
     References
     ----------
-    J. Cohen, "Statistical power analysis for the behavioral sciences", 2nd ed., Erlbaum,
-    1988, ch. 2 (the t test's power from the noncentral t).
+    J. Cohen, "Statistical power analysis for the behavioral sciences", 2nd ed., 1988, ch. 2.
     """
     from scipy import stats
 
@@ -292,14 +288,11 @@ def partial_spread(std: float, mean: float, change: float) -> float:
 
     Notes
     -----
-    The design case of the gate's sizing: a regression of the mean by ``change`` that a random
-    half of the seeds carry (each of them worse by ``2 change``, the others unchanged). Its
-    per-seed change is ``2 change |mean| B`` with ``B`` a fair Bernoulli variable, of standard
-    deviation ``change |mean|``, added in quadrature to the seeds' own spread (independent of
-    which seeds it strikes). A change the same on every seed has less; a change carried by
-    fewer seeds, or much more uneven over the seeds that carry it, has more and is detected with
-    less than the stated power (the comparison's own detectable change, from the observed
-    spread, then says so).
+    The sizing's design case: a random half of the seeds worse by ``2 change``, the others
+    unchanged. Its per-seed change ``2 change |mean| B`` (``B`` fair Bernoulli) has standard
+    deviation ``change |mean|``, added in quadrature to the seeds' own spread. A change carried
+    by fewer seeds, or more uneven, is detected with less than the stated power (the
+    comparison's detectable change, from the observed spread, then says so).
     """
     return math.hypot(std, change * abs(mean))
 
@@ -332,8 +325,8 @@ def seeds_for_change(
     floor = max(2, seeds_needed(m, alpha))
     if detection_power(sigma, delta, floor, m, alpha) >= power:
         return floor
-    z = _normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power)
-    hi = max(floor + 1, math.ceil((z * sigma / delta) ** 2))  # the normal approximation, a start
+    hi = max(floor + 1, math.ceil(((_normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power))
+                                   * sigma / delta) ** 2))  # the normal approximation, a start
     while detection_power(sigma, delta, hi, m, alpha) < power:
         hi *= 2
     lo = floor  # power(lo) < power <= power(hi)

@@ -126,9 +126,9 @@ def _auto_power(rng, sizing, runs, min_change):
 
 def test_seeds_auto_from_a_small_heavy_tailed_baseline_reaches_the_nominal_power():
     """--seeds auto sized from 16 seeds of a heavy-tailed score (see _auto_power) detects twice the
-    margin (a 100 % change at a 50 % margin, so that the campaigns stay short) in >= 80 % of 400
+    margin (a 40 % change at a 20 % margin, so that the campaigns stay short) in >= 80 % of 400
     campaigns, within the binomial's 3.1 std at power 0.8 (false alarm 1e-3: 0.062; measured
-    0.89). Sized from the sample std instead it falls short by more than that (measured 0.60:
+    0.905). Sized from the sample std instead it falls short by more than that (measured 0.64:
     the simulation tells a rule that underestimates the spread)."""
     rng = np.random.default_rng(20261203)
     tol = 3.1 * math.sqrt(0.8 * 0.2 / 400)

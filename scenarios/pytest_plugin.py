@@ -2,7 +2,7 @@
 
 Installing gyrobench registers this plugin; its fixture ``gyrobench_bench`` scores
 a compensator on a scenario over many seeds and compares the per-seed scores with
-a stored baseline (paired two-sided Wilcoxon signed-rank test, Holm-adjusted over the
+a stored baseline (paired t test of the mean change against the margin, Holm-adjusted over the
 scenario's primary scores; see :func:`gyrobench.scenarios.bench.compare`). Seeds that
 cannot reach ``alpha`` fail the test before anything is computed, naming the seeds needed
 (``allow_underpowered=True`` turns that into a warning)::

@@ -23,11 +23,13 @@ from gyrobench.scenarios.bench.power import (
     DEFAULT_MIN_CHANGE,
     DEFAULT_POWER,
     SPREAD_CONFIDENCE,
+    TEST,
     Detectable,
     auto_seeds,
     check_power,
     detectable_change,
     min_attainable_p,
+    partial_spread,
     spread,
     std_upper_bound,
 )
@@ -41,16 +43,23 @@ def _json_float(v: float) -> float | None:
     return v if math.isfinite(v) else None
 
 
-def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAULT_POWER) -> list[Detectable]:
+def detectable(
+    campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAULT_POWER, min_change: float = DEFAULT_MIN_CHANGE
+) -> list[Detectable]:
     """What ``campaign``'s seeds, as a baseline, can detect on each of its primary scores.
 
     For a primary score with mean ``mu`` and seed-to-seed std ``sigma`` over the campaign's
     ``n`` seeds: the shift :func:`~gyrobench.scenarios.bench.power.detectable_change`
-    detects with probability ``power`` at ``alpha`` (Holm over the primary scores), assuming
-    per-seed paired differences as spread as the baseline's seeds, taken at the upper
+    detects with probability ``power`` at ``alpha`` (Holm over the primary scores) in the mean
+    score beyond the margin, assuming per-seed contrasts as spread as the baseline's seeds,
+    taken at the upper
     confidence bound of ``sigma``
     (:func:`~gyrobench.scenarios.bench.power.std_upper_bound`); ``inf`` when ``n`` seeds cannot
-    reach ``alpha`` at all.
+    reach ``alpha`` at all. The spread includes that of the change itself when half the seeds
+    carry it (:func:`~gyrobench.scenarios.bench.power.partial_spread`, the spread ``--seeds auto``
+    sizes for): ``change`` solves ``change = detectable_change(partial_spread(sigma_U, mu,
+    min_change + change / |mu|))`` by fixed-point iteration (``inf`` when it does not settle: the
+    seeds are too few for any change).
 
     Parameters
     ----------
@@ -60,6 +69,8 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
         Family-wise level.
     power : float
         Detection probability.
+    min_change : float
+        The equivalence margin [-].
 
     Returns
     -------
@@ -75,7 +86,7 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
         mean, std = spread(values)
         upper = std_upper_bound(values)
         n = len(seeds)
-        change = detectable_change(upper, n, len(gates), alpha, power=power) if math.isfinite(upper) else math.inf
+        change = _partial_detectable(upper, mean, n, len(gates), alpha, power, min_change)
         out.append(
             Detectable(
                 name=g.name,
@@ -89,6 +100,24 @@ def detectable(campaign: Campaign, *, alpha: float = 0.05, power: float = DEFAUL
             )
         )
     return out
+
+
+def _partial_detectable(
+    upper: float, mean: float, n: int, m: int, alpha: float, power: float, min_change: float
+) -> float:
+    """The shift beyond the margin detected when half the seeds carry the change (fixed point)."""
+    if not (math.isfinite(upper) and math.isfinite(mean)):
+        return math.inf
+    change = detectable_change(upper, n, m, alpha, power=power)
+    for _ in range(200):
+        if not math.isfinite(change) or change > 1e6 * max(upper, abs(mean)):
+            return math.inf
+        total = min_change + (change / abs(mean) if mean else 0.0)
+        new = detectable_change(partial_spread(upper, mean, total), n, m, alpha, power=power)
+        if abs(new - change) <= 1e-9 * max(new, 1e-300):
+            return new
+        change = new
+    return math.inf
 
 
 def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_CHANGE) -> dict:
@@ -112,19 +141,22 @@ def power_doc(campaign: Campaign, alpha: float, min_change: float = DEFAULT_MIN_
     dict
         The section.
     """
-    found = detectable(campaign, alpha=alpha)
+    found = detectable(campaign, alpha=alpha, min_change=min_change)
     m = max(1, len(found))
     n = len(campaign.ok_seeds)
     return {
-        "test": "two-sided Wilcoxon signed-rank on paired per-seed scores",
+        "test": TEST,
+        "statistic": "relative change of the mean score over the paired seeds",
         "correction": f"Holm over the {len(found)} primary score(s)",
         "alpha": alpha,
         "power": DEFAULT_POWER,
         "seeds": n,
         "min_attainable_p": min_attainable_p(n, m),
         "assumption": (
-            "per-seed paired differences as spread as this baseline's seed-to-seed values, at the "
-            f"one-sided {100 * SPREAD_CONFIDENCE:g} % upper confidence bound of their std (Bonett 2006)"
+            "per-seed contrasts (c_s - b_s - margin |b_s|) as spread as this baseline's seed-to-seed "
+            "values, at the "
+            f"one-sided {100 * SPREAD_CONFIDENCE:g} % upper confidence bound of their std (Bonett 2006), "
+            "plus the spread of the change itself when a random half of the seeds carry it"
         ),
         "spread_confidence": SPREAD_CONFIDENCE,
         "margin": min_change,

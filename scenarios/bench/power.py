@@ -1,17 +1,25 @@
 """Power of the bench's gate, worked out before anything is computed.
 
-The gate tests ``m`` primary scores (:mod:`gyrobench.scenarios.bench.primary`) with the
-two-sided Wilcoxon signed-rank test on ``n`` paired seeds, Holm-adjusted at ``alpha``.
+The gate tests ``m`` primary scores (:mod:`gyrobench.scenarios.bench.primary`) on ``n`` paired
+seeds, Holm-adjusted at ``alpha``: for each score, whether the *mean* changed by more than the
+equivalence margin (the ratio of the mean scores, candidate over baseline, against
+``1 +- margin``), by the paired Student t test of the per-seed contrast
+``c_s - b_s -+ margin |b_s|`` (:func:`~gyrobench.scenarios.bench.margin.margin_test`), one-sided on
+each side at ``alpha / 2``. Everything here is worked out for that test, from one formula
+(:func:`detection_power`).
 
-- :func:`min_attainable_p`: the smallest p the gate can ever report. The exact signed-rank
-  distribution puts probability ``2**-n`` on "every difference positive", so the smallest
-  two-sided p is ``2 / 2**n``; Holm's first step multiplies it by ``m``.
+- :func:`min_attainable_p`: the fewest seeds the gate accepts. With ``n`` seeds no test whose level
+  holds for every distribution of the per-seed contrast symmetric about zero can go below
+  ``2 / 2**n`` (given the contrasts' sizes, their ``2**n`` sign patterns are equally likely), and
+  Holm's first step multiplies it by ``m``. Below that the t test's level would rest on normality
+  alone.
 - :func:`seeds_needed`: the fewest seeds with ``m * 2 / 2**n < alpha``.
-- :func:`check_power`: refuse (:class:`UnderpoweredError`, a ``ValueError``: exit 2) a gate
-  that can never fire, in one line naming the seeds needed.
-- :func:`seeds_for_change` / :func:`detectable_change`: the seeds that detect a shift
-  ``delta`` of a score with seed-to-seed spread ``sigma`` (power ``power``), and the shift
-  ``n`` seeds detect; :func:`auto_seeds` is ``--seeds auto``.
+- :func:`check_power`: refuse (:class:`UnderpoweredError`, a ``ValueError``: exit 2) fewer seeds,
+  in one line naming the seeds needed.
+- :func:`detection_power`, :func:`seeds_for_change` / :func:`detectable_change`: the probability
+  that ``n`` seeds detect a mean shift ``delta`` beyond the margin of a score whose per-seed
+  contrast has standard deviation ``sigma`` (the noncentral t), the seeds that detect it with
+  power ``power``, and the shift ``n`` seeds detect; :func:`auto_seeds` is ``--seeds auto``.
 - :func:`std_upper_bound`: the spread those are given. A standard deviation estimated from a
   few seeds of a heavy-tailed score is more often too small than too large (the rare large
   seed is missing), and a campaign sized from it falls short of its power; every seed count
@@ -32,7 +40,7 @@ __all__ = [
     "DEFAULT_MIN_CHANGE",
     "DEFAULT_POWER",
     "SPREAD_CONFIDENCE",
-    "WILCOXON_ARE",
+    "TEST",
     "AutoSeeds",
     "Detectable",
     "UnderpoweredError",
@@ -40,6 +48,8 @@ __all__ = [
     "auto_seeds",
     "check_power",
     "detectable_change",
+    "detection_power",
+    "partial_spread",
     "min_attainable_p",
     "power_statement",
     "seeds_for_change",
@@ -53,9 +63,11 @@ __all__ = [
 DEFAULT_MIN_CHANGE = 0.05
 #: the probability of detecting that change ``--seeds auto`` asks for
 DEFAULT_POWER = 0.80
-#: lower bound of the asymptotic relative efficiency of the signed-rank test to the paired t
-#: test over all symmetric distributions (Hodges and Lehmann 1956: 108/125 = 0.864)
-WILCOXON_ARE = 108 / 125
+#: the gate's test, as the comparison and the baseline file state it
+TEST = (
+    "paired t test of the mean change (ratio of the mean scores, candidate / baseline) against the "
+    "equivalence margin, one-sided at alpha/2 on each side"
+)
 #: one-sided confidence of the upper bound on a standard deviation (:func:`std_upper_bound`)
 #: from which seed counts and detectable changes are computed. Chosen by simulation: sized from
 #: 16 seeds of a lognormal score (shape 1, kurtosis 114), a campaign reaches power 0.90 with
@@ -72,11 +84,14 @@ class UnderpoweredWarning(UserWarning):
 
 
 def min_attainable_p(n: int, m: int) -> float:
-    """Smallest Holm-adjusted p of ``m`` two-sided signed-rank tests on ``n`` paired seeds.
+    """Smallest Holm-adjusted p of ``m`` distribution-free paired tests on ``n`` seeds.
 
-    ``min(1, m * 2 / 2**n)``: the exact null distribution gives the most extreme outcome (all
-    ``n`` differences of one sign) probability ``2**-n`` per side, and Holm's first step
-    multiplies the smallest p by ``m``.
+    ``min(1, m * 2 / 2**n)``: given the sizes of the ``n`` per-seed contrasts, a test whose level
+    holds for every distribution symmetric about zero sees their ``2**n`` sign patterns as equally
+    likely, so the most extreme one (all of one sign) has probability ``2**-n`` per side, and
+    Holm's first step multiplies the smallest p by ``m``. The gate refuses seeds that cannot go
+    below ``alpha`` (:func:`check_power`): with fewer, its t test's level would rest on the
+    normality of the contrasts alone.
 
     Parameters
     ----------
@@ -148,8 +163,8 @@ def power_statement(n: int, m: int, alpha: float) -> str:
     """
     p = min_attainable_p(n, m)
     return (
-        f"with {n} paired seed(s) and {m} primary score(s) the smallest attainable p of the "
-        f"two-sided Wilcoxon signed-rank test, Holm-adjusted, is {m} x 2/2^{n} = {p:.3g} "
+        f"with {n} paired seed(s) and {m} primary score(s) the smallest p a distribution-free "
+        f"two-sided paired test can reach, Holm-adjusted, is {m} x 2/2^{n} = {p:.3g} "
         f"{'>=' if p >= alpha else '<'} alpha {alpha:g}"
     )
 
@@ -206,64 +221,137 @@ def _normal_quantile(q: float) -> float:
     return float(stats.norm.ppf(q))
 
 
-def seeds_for_change(
-    sigma: float, delta: float, m: int, alpha: float, *, power: float = DEFAULT_POWER
-) -> int:
-    """Paired seeds the gate needs to detect a shift ``delta`` of one of ``m`` primary scores.
+def _check_spread(sigma: float, power: float) -> None:
+    if not (math.isfinite(sigma) and sigma >= 0 and 0 < power < 1):
+        raise ValueError(f"sigma must be finite and >= 0 and power in (0, 1); got {sigma!r}, {power!r}")
+
+
+def detection_power(sigma: float, delta: float, n: int, m: int, alpha: float) -> float:
+    """Probability that ``n`` paired seeds detect a mean shift ``delta`` beyond the margin.
 
     Parameters
     ----------
     sigma : float
-        Standard deviation of the per-seed paired differences [score unit].
+        Standard deviation of the per-seed contrast the gate tests [score unit], > 0.
     delta : float
-        Shift to detect [score unit], > 0.
+        True mean shift beyond the margin [score unit], >= 0.
+    n : int
+        Paired seeds, >= 2.
     m, alpha : int, float
         Primary scores and family-wise level (Holm, whose first step is Bonferroni ``alpha/m``).
+
+    Returns
+    -------
+    float
+        The probability.
+
+    Notes
+    -----
+    The gate calls a regression when the one-sided paired t statistic of the contrast
+    (:func:`~gyrobench.scenarios.bench.margin.margin_test`) exceeds ``t_{1-alpha/(2m), n-1}``.
+    For normal contrasts the statistic follows the noncentral t with ``n - 1`` degrees of
+    freedom and noncentrality ``delta sqrt(n) / sigma``, so the power is
+
+        P = 1 - F_{nct}(t_{1-alpha/(2m), n-1}; n - 1, delta sqrt(n) / sigma),
+
+    exact for normal contrasts and the large-``n`` power for any contrast of finite variance: the
+    one formula behind every seed count and detectable change the bench states.
+
+    References
+    ----------
+    J. Cohen, "Statistical power analysis for the behavioral sciences", 2nd ed., 1988, ch. 2.
+    """
+    from scipy import stats
+
+    if sigma == 0:
+        return 1.0 if delta > 0 else 0.0
+    crit = float(stats.t.ppf(1 - alpha / (2 * m), n - 1))
+    return float(stats.nct.sf(crit, n - 1, delta * math.sqrt(n) / sigma))
+
+
+def partial_spread(std: float, mean: float, change: float) -> float:
+    """Spread of the per-seed contrast when a relative ``change`` of the mean is carried by half the seeds.
+
+    Parameters
+    ----------
+    std : float
+        The seed-to-seed spread of the score [score unit] (its upper bound, :func:`std_upper_bound`).
+    mean : float
+        The score's mean [score unit].
+    change : float
+        The relative change of the mean [-].
+
+    Returns
+    -------
+    float
+        ``sqrt(std**2 + (change |mean|)**2)`` [score unit].
+
+    Notes
+    -----
+    The sizing's design case: a random half of the seeds worse by ``2 change``, the others
+    unchanged. Its per-seed change ``2 change |mean| B`` (``B`` fair Bernoulli) has standard
+    deviation ``change |mean|``, added in quadrature to the seeds' own spread. A change carried
+    by fewer seeds, or more uneven, is detected with less than the stated power (the
+    comparison's detectable change, from the observed spread, then says so).
+    """
+    return math.hypot(std, change * abs(mean))
+
+
+def seeds_for_change(
+    sigma: float, delta: float, m: int, alpha: float, *, power: float = DEFAULT_POWER
+) -> int:
+    """Paired seeds the gate needs to detect a mean shift ``delta`` of one of ``m`` primary scores.
+
+    Parameters
+    ----------
+    sigma : float
+        Standard deviation of the per-seed contrast [score unit].
+    delta : float
+        Mean shift beyond the margin to detect [score unit], > 0.
+    m, alpha : int, float
+        Primary scores and family-wise level.
     power : float
         Probability of detecting the shift.
 
     Returns
     -------
     int
-        The seeds.
-
-    Notes
-    -----
-    The paired t test needs ``n_t = ((z_{1-alpha/(2m)} + z_{power}) sigma / delta)**2`` seeds
-    (normal approximation, two-sided at the Bonferroni level); the signed-rank test needs at
-    most ``n_t / 0.864`` (its asymptotic relative efficiency is >= 108/125 for every symmetric
-    distribution; Hodges and Lehmann 1956). The result is never below :func:`seeds_needed`,
-    the fewest seeds with which the exact test can reach ``alpha`` at all.
-
-    References
-    ----------
-    J. L. Hodges, E. L. Lehmann, "The efficiency of some nonparametric competitors of the
-    t-test", Annals of Mathematical Statistics 27(2), 1956.
+        The fewest seeds whose :func:`detection_power` reaches ``power``, never below
+        :func:`seeds_needed` (the fewest the gate accepts at all).
     """
-    if not (math.isfinite(sigma) and sigma >= 0):
-        raise ValueError(f"sigma must be finite and >= 0; got {sigma!r}")
+    _check_spread(sigma, power)
     if not (math.isfinite(delta) and delta > 0):
         raise ValueError(f"delta must be finite and > 0; got {delta!r}")
-    if not 0 < power < 1:
-        raise ValueError(f"power must be in (0, 1); got {power!r}")
-    floor = seeds_needed(m, alpha)
-    z = _normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power)
-    n_t = (z * sigma / delta) ** 2
-    return max(floor, math.ceil(n_t / WILCOXON_ARE))
+    floor = max(2, seeds_needed(m, alpha))
+    if detection_power(sigma, delta, floor, m, alpha) >= power:
+        return floor
+    hi = max(floor + 1, math.ceil(((_normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power))
+                                   * sigma / delta) ** 2))  # the normal approximation, a start
+    while detection_power(sigma, delta, hi, m, alpha) < power:
+        hi *= 2
+    lo = floor  # power(lo) < power <= power(hi)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if detection_power(sigma, delta, mid, m, alpha) >= power:
+            hi = mid
+        else:
+            lo = mid
+    return hi
 
 
 def detectable_change(
     sigma: float, n: int, m: int, alpha: float, *, power: float = DEFAULT_POWER
 ) -> float:
-    """The shift a number of paired seeds detects with a given power.
+    """The mean shift beyond the margin that a number of paired seeds detects with a given power.
 
-    The shift [score unit] ``n`` paired seeds detect with probability ``power`` (inverse of
-    :func:`seeds_for_change`); ``inf`` if ``n`` seeds cannot reach ``alpha`` at all.
+    The shift [score unit] whose :func:`detection_power` at ``n`` seeds is ``power`` (inverse of
+    :func:`seeds_for_change`); ``inf`` if the gate does not accept ``n`` seeds
+    (:func:`min_attainable_p` >= ``alpha``).
 
     Parameters
     ----------
     sigma : float
-        Std of the paired differences [score unit].
+        Std of the per-seed contrast [score unit].
     n : int
         Paired seeds.
     m : int
@@ -278,10 +366,20 @@ def detectable_change(
     float
         The shift [score unit].
     """
-    if min_attainable_p(n, m) >= alpha:
+    from scipy import optimize
+
+    _check_spread(sigma, power)
+    if n < 2 or min_attainable_p(n, m) >= alpha:
         return math.inf
+    if sigma == 0:
+        return 0.0
     z = _normal_quantile(1 - alpha / (2 * m)) + _normal_quantile(power)
-    return z * sigma / math.sqrt(WILCOXON_ARE * n)
+    hi = 2 * z * sigma / math.sqrt(n)
+    while detection_power(sigma, hi, n, m, alpha) < power:
+        hi *= 2
+    return float(optimize.brentq(
+        lambda delta: detection_power(sigma, delta, n, m, alpha) - power, 0.0, hi, xtol=1e-12 * hi, rtol=1e-12
+    ))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -371,25 +469,29 @@ def auto_seeds(
     -------
     AutoSeeds
         The largest of the per-score counts :func:`seeds_for_change` gives for the shift
-        ``min_change |mean|`` beyond the margin and the spread ``std_upper``, and the reason.
+        ``min_change |mean|`` beyond the margin and the spread
+        ``partial_spread(std_upper, mean, 2 min_change)`` (:func:`partial_spread`: the change
+        carried by a random half of the seeds), and the reason.
 
     Notes
     -----
-    The per-seed paired difference is assumed as spread as the baseline's seed-to-seed values:
-    conservative when the new compensator's per-seed scores follow the baseline's (positively
-    correlated). That spread is taken at its one-sided :data:`SPREAD_CONFIDENCE` upper bound
-    (:func:`std_upper_bound`), not at the sample std, which from a small baseline of a
+    The per-seed contrast the gate tests (``c_s - b_s - min_change |b_s|``) is assumed as spread
+    as the baseline's seed-to-seed values: conservative when the new compensator's per-seed
+    scores follow the baseline's (positively correlated; a change by the same factor on every
+    seed, or on a random part of the seeds, of less than the score's own spread). That spread is
+    taken at its one-sided :data:`SPREAD_CONFIDENCE` upper bound (:func:`std_upper_bound`), not
+    at the sample std, which from a small baseline of a
     heavy-tailed score is usually too small: the count then reaches ``power`` over baselines,
     not only for the lucky ones. Without a baseline (``spreads`` None) the change is assumed
-    larger than the seed-to-seed spread (every seed moves the same way), so only the exact
-    test's floor (:func:`seeds_needed`) applies; the reason says so.
+    larger than the seed-to-seed spread (every seed moves the same way), so only the gate's
+    floor (:func:`seeds_needed`) applies; the reason says so.
     """
     if not (isinstance(min_change, (int, float)) and 0 < min_change < 10):
         raise ValueError(f"min_change must be in (0, 10) (a fraction of the mean); got {min_change!r}")
     floor = seeds_needed(m, alpha)
     how = (
-        f"two-sided Wilcoxon signed-rank, Holm over {m} primary score(s), alpha {alpha:g}, "
-        f"power {power:g}"
+        f"paired t test of the mean change against the margin, Holm over {m} primary score(s), "
+        f"alpha {alpha:g}, power {power:g}"
     )
     if not spreads:
         return AutoSeeds(
@@ -405,7 +507,7 @@ def auto_seeds(
         delta = min_change * abs(mean)
         if not math.isfinite(delta) or delta <= 0 or not math.isfinite(upper):
             continue
-        need = seeds_for_change(upper, delta, m, alpha, power=power)
+        need = seeds_for_change(partial_spread(upper, mean, 2 * min_change), delta, m, alpha, power=power)
         if need > n or not worst:
             n = max(n, need)
             unit = (units or {}).get(name, "")
@@ -419,7 +521,8 @@ def auto_seeds(
         reason=(
             f"--seeds auto: {n} seeds detect a {200 * min_change:g} % change (twice the {100 * min_change:g} % "
             f"margin) of {worst} ({how}; "
-            "assuming per-seed differences as spread as the baseline's seeds, at the upper bound)"
+            "assuming per-seed contrasts as spread as the baseline's seeds, at the upper bound, plus "
+            "the spread of a change carried by half the seeds)"
         ),
     )
 

@@ -5,8 +5,9 @@
 - the mean of a score over seeds with its confidence interval (:func:`summarize`: Student
   t, or the modified Cox lognormal interval for scores non-negative by nature);
 - the paired two-sided Wilcoxon signed-rank test on per-seed differences
-  (:func:`signed_rank`), Holm's step-down correction over many scores (:func:`holm`) and
-  the Hodges-Lehmann shift (:func:`hodges_lehmann`).
+  (:func:`signed_rank`; the gate itself tests the mean change,
+  :func:`~gyrobench.scenarios.bench.margin.margin_test`), Holm's step-down correction over many
+  scores (:func:`holm`) and the Hodges-Lehmann shift of the typical seed (:func:`hodges_lehmann`).
 """
 
 from __future__ import annotations

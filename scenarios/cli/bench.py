@@ -78,7 +78,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
             "score's mean with a 95 % confidence interval. Finished seeds are kept in --db, so an "
             "interrupted campaign resumes where it stopped. With --baseline, exit 1 when a "
             "score is "
-            "significantly worse on a primary score (paired two-sided Wilcoxon signed-rank test, Holm-adjusted "
+            "significantly worse by more than --min-change on a primary score's mean (paired t test of the mean "
+            "change against the margin, Holm-adjusted "
             "over the scenario's primary scores; the others are reported, not gated). A comparison whose seeds "
             "cannot reach --alpha is refused before computing (exit 2) unless --allow-underpowered."
         ),
@@ -420,12 +421,13 @@ def _baseline_power_line(campaign: Any, alpha: float, margin: float) -> str:
     from gyrobench.scenarios.bench import gate
 
     parts = []
-    for d in gate.detectable(campaign, alpha=alpha):
+    for d in gate.detectable(campaign, alpha=alpha, min_change=margin):
         rel = margin + d.relative
         parts.append(f"{d.name} {100 * rel:.3g} %" if rel != float("inf") else f"{d.name} (none: too few seeds)")
     return (
         f"detectable change at {len(campaign.ok_seeds)} seeds (power 0.8, alpha {alpha:g}, margin {100 * margin:g} %, "
-        f"assuming per-seed differences as spread as the baseline's own scores at the upper bound of their "
-        f"spread, an upper bound; a comparison prints the figure from its observed differences): "
+        f"mean change, assuming per-seed contrasts as spread as the baseline's own scores at the upper bound of "
+        f"their spread plus that of a change carried by half the seeds; a comparison prints the figure from its "
+        f"observed differences): "
         f"{', '.join(parts) or '(no primary score)'}"
     )

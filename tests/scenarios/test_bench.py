@@ -568,9 +568,10 @@ def test_degraded_compensator_is_flagged_as_regression(good_and_bad, tmp_path):
     res = bench.compare(base, bad)
     status = {s.name: s.status for s in res.scores}
     assert status["mean/mse"] == "regressed" and status["mean/rms"] == "regressed"
-    # 20 seeds all worse: exact two-sided signed-rank p = 2 / 2**20, times 9 scores (Holm)
+    # 20 seeds all worse: significant at Holm's first step over the 3 primary scores, and never
+    # below 2 / 2**20, the smallest p a distribution-free test of 20 seeds reaches
     m = next(s for s in res.scores if s.name == "mean/mse")
-    assert m.p_value == pytest.approx(2 / 2**20, rel=1e-9) and m.effect > 0
+    assert 2 / 2**20 <= m.p_value < 0.05 / 3 and m.effect > 0 and m.relative > 0.05
     assert "REGRESSION" in res.format()
 
 
@@ -582,10 +583,8 @@ def test_identical_compensator_is_not_flagged(good_and_bad, tmp_path):
     )
     res = bench.compare(good, again)
     assert res.regressions == () and res.improvements == ()
-    # identical scores: no change; the margin test (is it worse than the baseline by more than
-    # --min-change?) then sees every seed below the margin, so its p-value is the smallest a
-    # signed-rank test on 20 seeds gives, 2^-19
-    assert all(s.status == "unchanged" and s.effect == 0.0 and s.p_value == 2.0**-19 for s in res.scores)
+    # identical scores: no change, so no evidence of a change beyond the margin on either side
+    assert all(s.status == "unchanged" and s.effect == 0.0 and s.p_value == 1.0 for s in res.scores)
 
 
 def test_better_compensator_is_an_improvement_not_a_regression(good_and_bad):

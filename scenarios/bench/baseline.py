@@ -29,7 +29,7 @@ from gyrobench.scenarios.bench.campaign import Campaign
 from gyrobench.scenarios.bench.gate import gates_of
 from gyrobench.scenarios.bench.margin import DetectableChange, comparison_note, margin_test, observed_detectable
 from gyrobench.scenarios.bench.margin import power_line as _power_line
-from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE
+from gyrobench.scenarios.bench.power import DEFAULT_MIN_CHANGE, TEST
 from gyrobench.scenarios.bench.primary import directions_of, score_unit
 from gyrobench.scenarios.bench.seeds import seed_text
 from gyrobench.scenarios.bench.statistics import hodges_lehmann, holm, order_scores, score_direction
@@ -81,7 +81,8 @@ class ScoreComparison:
         (mean candidate - mean baseline) / |mean baseline| [-]; NaN when the baseline's mean is
         0 or not finite.
     p_value : float
-        Two-sided Wilcoxon signed-rank p-value [-], against the margin when there is one.
+        The gate's p-value [-] (:func:`~gyrobench.scenarios.bench.margin.margin_test`: the paired t test
+        of the mean change), against the margin when there is one.
     p_adjusted : float
         ``p_value`` after Holm's correction within its group (primary or secondary) [-].
     status : str
@@ -279,12 +280,13 @@ def compare(
     with the seed (``"unit7_heldout/mse"``) is listed in ``unpaired`` and not tested (its
     ``mean/`` counterpart is).
 
-    The test is the two-sided Wilcoxon signed-rank test (``scipy.stats.wilcoxon``,
-    zeros dropped, exact null distribution for small n). It is chosen over the
-    paired t-test because per-seed error scores (MSE, RMS, stability) are skewed
-    and heavy-tailed, while the null hypothesis "the two compensators are
-    interchangeable" makes ``d`` symmetric about zero, which is all the
-    signed-rank test needs for its level to hold without a normality assumption.
+    The test is the gate's test of the mean change (:data:`~gyrobench.scenarios.bench.power.TEST`,
+    :func:`~gyrobench.scenarios.bench.margin.margin_test`): a paired t test of the contrast
+    ``c_s - b_s -+ margin |b_s|``, whose mean is ``mean|b| (R -+ margin)`` with ``R`` the relative
+    change of the mean score, one-sided at ``alpha / 2`` on each side, its p floored at ``2 / 2^n``
+    (the smallest p any test whose level holds for every symmetric spread of the contrast can give).
+    It judges the mean, as ``--seeds auto`` sizes for it, so a regression carried by a few seeds is
+    caught; its level under skewed, heavy-tailed scores was measured by simulation (docs/bench.md).
     A score whose differences are all exactly zero (the same compensator: scores
     are deterministic) is "unchanged" with p = 1.
 
@@ -370,8 +372,7 @@ def compare(
         seeds=seeds,
         alpha=float(alpha),
         test=(
-            "two-sided Wilcoxon signed-rank on paired per-seed scores"
-            + (f", against an equivalence margin of {100 * min_change:g} % of the baseline" if min_change else "")
+            TEST + (f", against an equivalence margin of {100 * min_change:g} % of the baseline" if min_change else "")
         ),
         min_change=float(min_change),
         detectable=detect,

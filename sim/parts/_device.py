@@ -352,7 +352,7 @@ def draw_unit(part: Part, *, rng: np.random.Generator, model: str = "physics") -
         raise TypeError(f"part must be a Part; got {type(part).__name__}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
-    return part.realize(rng) if model == "budget" else physics_spec(part.datasheet).realize(rng=rng)
+    return part.realize(rng=rng) if model == "budget" else physics_spec(part.datasheet).realize(rng=rng)
 
 
 def simulate_unit(part: Part, unit: object, environment: Environment, *, fs: float,

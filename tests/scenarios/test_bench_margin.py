@@ -83,7 +83,9 @@ def test_the_detectable_change_is_given_and_a_weak_comparison_warns_first(base):
 def test_min_change_zero_is_the_plain_test(base):
     worse = _scaled(base, 1.0001, jitter=0.00001)
     a = bench.compare(base, worse, min_change=0.0)
-    assert a.regressions and a.test == "two-sided Wilcoxon signed-rank on paired per-seed scores"
+    assert a.regressions and a.test.startswith("paired t test of the mean change") and "margin of" not in a.test
+    with_margin = bench.compare(base, worse, min_change=0.01)
+    assert with_margin.test.endswith("against an equivalence margin of 1 % of the baseline")
 
 
 # ------------------------------------------------------------- the mean test on a skewed toy

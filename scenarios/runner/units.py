@@ -63,7 +63,6 @@ from gyrobench.scenarios.runner.unit_jobs import (
     slim_result,
 )
 from gyrobench.scenarios.runner.unit_store import (
-    _SCHEMA,  # noqa: F401  (runner.store lists the tables from it)
     DEFAULT_DB,
     _decode,
     _open_store,

@@ -34,29 +34,44 @@ The store keeps what the claims and the report read (:func:`run_paper`, :func:`s
 scenario's ``SLIM_FIELDS`` (data only its figures draw) are kept for the ``REPORT_UNITS`` units its
 report draws and emptied in the others; ``keep_units`` keeps every unit whole. A store written by
 an older gyrobench (another table layout) is refused in one line.
+
+This module schedules the units (which seeds, resumption, the control, the claims); one unit's
+execution (the worker entry point, the executor, the memory check, the slim results) is
+:mod:`gyrobench.scenarios.runner.unit_jobs`, and the store's tables, run identity, reads and
+writes are :mod:`gyrobench.scenarios.runner.unit_store`. Their public names are re-exported here.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
-import dataclasses
-import hashlib
-import importlib
-import json
 import os
-import sqlite3
 import time
 import types
-from collections.abc import Callable, Container, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from gyrobench.scenarios.base import Outcome, check_pool
 from gyrobench.scenarios.claims import sequential_error, sequential_z
 from gyrobench.scenarios.papers.contract import quantities_of
+from gyrobench.scenarios.runner.unit_jobs import (
+    _execute,
+    _unit_job,  # noqa: F401  (the maps' runner and the benchmarks reach it here)
+    check_unit_memory,
+    concurrent_units,
+    keep_freed_memory,  # noqa: F401  (the benchmarks reach it here)
+    slim_result,
+)
+from gyrobench.scenarios.runner.unit_store import (
+    DEFAULT_DB,
+    _decode,
+    _open_store,
+    _store,
+    default_db,
+    register_run,
+    run_id,
+    run_ids,
+)
 
 __all__ = [
     "DEFAULT_DB",
@@ -76,9 +91,6 @@ __all__ = [
     "slim_result",
 ]
 
-#: default resume store (in the current directory) when no db is given
-DEFAULT_DB = "gyrobench-units.sqlite"
-
 #: the most units one run simulates (``reproduce --units/--max-units/--deviations``, ``n_units``):
 #: a claim's pass fraction over 10,000 units has a 95 % interval of at most +-1 percentage point,
 #: finer than any claim is stated to; every unit's result is held in memory for the claims and the
@@ -89,29 +101,6 @@ MAX_UNITS = 10_000
 
 #: the largest seed a unit may have: seeds are stored as SQLite's signed 64-bit INTEGER
 MAX_SEED = 2**63 - 1
-
-_SCHEMA = """
-CREATE TABLE IF NOT EXISTS unit_runs (
-    run_id TEXT PRIMARY KEY,
-    scenario TEXT NOT NULL,
-    config TEXT NOT NULL,
-    identity TEXT NOT NULL,
-    created REAL NOT NULL
-);
-CREATE TABLE IF NOT EXISTS unit_results (
-    run_id TEXT NOT NULL REFERENCES unit_runs(run_id),
-    seed INTEGER NOT NULL,
-    result BLOB NOT NULL,
-    elapsed_s REAL NOT NULL,
-    finished REAL NOT NULL,
-    full INTEGER NOT NULL,
-    PRIMARY KEY (run_id, seed)
-);
-"""
-
-#: the columns of a unit store this gyrobench writes; a store without them is an older format
-_COLUMNS = ("run_id", "seed", "result", "elapsed_s", "finished", "full")
-
 
 def module_claims(module: types.ModuleType, config: Any) -> tuple[Any, ...]:
     """The claims to judge for ``config``: ``module.claims_for(config)`` where a scenario
@@ -168,239 +157,6 @@ class UnitRun:
     db: str
 
 
-def run_id(module: types.ModuleType, config: Any) -> tuple[str, str]:
-    """(16-hex run id, its JSON identity) of ``module`` with ``config``.
-
-    Parameters
-    ----------
-    module : module
-        The paper scenario.
-    config : object
-        Its Config.
-
-    Returns
-    -------
-    tuple of (str, str)
-        (16-hex run id, the JSON identity it hashes).
-    """
-    from gyrobench.scenarios.bench.identity import scenario_identity
-    from gyrobench.scenarios.runner.codec import SCHEMA
-
-    ident = dict(scenario_identity(module, config), store_format=SCHEMA)  # old pickled stores never match
-    text = json.dumps(ident, sort_keys=True)
-    return hashlib.sha256(text.encode()).hexdigest()[:16], text
-
-
-def run_ids(module: types.ModuleType, configs: Sequence[Any]) -> list[tuple[str, str]]:
-    """The :func:`run_id` of ``module`` with each of ``configs``, its source closure hashed once.
-
-    Parameters
-    ----------
-    module : module
-        A paper scenario.
-    configs : sequence of the module's Config
-        The configurations.
-
-    Returns
-    -------
-    list of (str, str)
-        Each config's (16-hex run id, JSON identity), equal to :func:`run_id`'s.
-    """
-    from gyrobench.scenarios.bench.identity import canonical, scenario_identity
-    from gyrobench.scenarios.runner.codec import SCHEMA
-
-    if not configs:
-        return []
-    base = dict(scenario_identity(module, configs[0]), store_format=SCHEMA)
-    out = []
-    for c in configs:
-        text = json.dumps(dict(base, config=canonical(c)), sort_keys=True)
-        out.append((hashlib.sha256(text.encode()).hexdigest()[:16], text))
-    return out
-
-
-def concurrent_units(n_units: int, workers: int | None) -> int:
-    """How many units a local run holds in memory at once.
-
-    How many units a local run holds in memory at once: one per worker process, at most
-    ``n_units`` (``workers`` 0: in this process, one at a time; None: the usable CPUs).
-
-    Parameters
-    ----------
-    n_units : int
-        The units of the run.
-    workers : int or None
-        Worker processes (0: in this process; None: the usable CPUs).
-
-    Returns
-    -------
-    int
-        One per worker, at most ``n_units``.
-    """
-    from gyrobench.scenarios.runner.executors import default_workers
-
-    if workers == 0:
-        return 1
-    return max(1, min(int(n_units), workers or default_workers()))
-
-
-def check_unit_memory(
-    module: types.ModuleType, config: Any, *, concurrent: int, source: str = "its configuration"
-) -> None:
-    """Refuse, before any unit starts, a local run whose units do not fit in memory together.
-
-    A scenario's ``memory_estimate(config)`` is the peak of ONE unit (one ``experiment`` in
-    one worker process). This is the one place that multiplies it by the units running at
-    once on this machine (:func:`concurrent_units`); a remote executor's workers hold their
-    units in their own memory, so its callers do not call this.
-    :func:`gyrobench.scenarios.registry.load_config` has already checked one unit.
-
-    Parameters
-    ----------
-    module : module
-        The paper scenario (its ``memory_estimate``).
-    config : object
-        The scenario's Config.
-    concurrent : int
-        Units running at once (:func:`concurrent_units`).
-    source : str
-        Where the configuration came from, for the message.
-
-    Raises
-    ------
-    gyrobench.base.memory.MemoryLimitError
-        One line: the scenario, ``source`` (e.g. ``"config file 'big.toml'"``), the units at
-        once, the estimate and the limit.
-    """
-    from gyrobench.base import memory
-
-    est = memory.scenario_bytes(module, config)
-    if est is None:
-        return
-    name = getattr(module, "NAME", module.__name__)
-    memory.check_memory(
-        est * concurrent,
-        f"scenario {name} with {source} ({concurrent} unit(s) at once, one per worker process, "
-        f"about {memory.format_bytes(est)} each)",
-        hint="lower --workers, or shorten the records or lower the sample rate in --config",
-    )
-
-
-def slim_result(module: types.ModuleType, result: Any) -> Any:
-    """A unit's result with the report-only arrays emptied.
-
-    ``result`` with every array of the fields ``module.SLIM_FIELDS`` names emptied (same dtype and
-    number of dimensions, no elements): what a unit the report does not draw is stored as.
-
-    A scenario lists there the fields only its report's figures read, and in ``REPORT_UNITS`` how many
-    leading units of a run the report draws; the claims read ``quantities``, which is never slimmed.
-    A scenario without ``SLIM_FIELDS`` stores every unit whole.
-
-    Parameters
-    ----------
-    module : module
-        The paper scenario (its ``SLIM_FIELDS``).
-    result : object
-        One unit's result.
-
-    Returns
-    -------
-    object
-        ``result`` with those fields' arrays emptied (same dtype and dimensions).
-    """
-    names = tuple(getattr(module, "SLIM_FIELDS", ()))
-    if not names:
-        return result
-    if isinstance(result, Mapping):
-        return {**result, **{k: _emptied(result[k]) for k in names}}
-    return dataclasses.replace(result, **{k: _emptied(getattr(result, k)) for k in names})
-
-
-def _emptied(value: Any) -> Any:
-    """``value`` with each numpy array inside it (through frozen dataclasses, tuples, lists and dicts)
-    replaced by an empty array of its dtype and number of dimensions."""
-    if isinstance(value, np.ndarray):
-        return np.empty((0,) * value.ndim, dtype=value.dtype)
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return dataclasses.replace(value, **{f.name: _emptied(getattr(value, f.name))
-                                             for f in dataclasses.fields(value) if f.init})
-    if isinstance(value, (list, tuple)):
-        return type(value)(_emptied(v) for v in value)
-    if isinstance(value, dict):
-        return {k: _emptied(v) for k, v in value.items()}
-    return value
-
-
-#: glibc mallopt parameters (malloc.h): M_TRIM_THRESHOLD, M_MMAP_THRESHOLD
-_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
-_MALLOC_TUNED = False
-
-
-def keep_freed_memory() -> bool:
-    """Let this process's C allocator reuse the memory of freed large arrays instead of returning it to
-    the system (glibc: arrays up to 1 GB from the heap, which is trimmed only above 2 GB free).
-
-    A unit allocates and frees arrays of tens of MB over and over (paper 000: about 0.7 GB of fresh
-    pages a unit); each fresh page is a page fault, which on this project's virtual machines cost as
-    much CPU as the arithmetic (paper 000: 180,000 faults and 0.6-1.0 s of system time a unit, 38,000
-    and 0.1-0.3 s with the memory kept; the peak RSS rises by 2-5 %). Values are unchanged: only
-    where the allocator takes memory from. Called once per process, by units run in this process or
-    a local process pool (not on a cluster's workers); True when the allocator took the setting
-    (glibc), False elsewhere.
-    """
-    global _MALLOC_TUNED
-    if _MALLOC_TUNED:
-        return True
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL("libc.so.6")
-        ok = bool(libc.mallopt(_M_MMAP_THRESHOLD, 1 << 30)) and bool(libc.mallopt(_M_TRIM_THRESHOLD, 1 << 31))
-    except (OSError, AttributeError):
-        return False
-    _MALLOC_TUNED = ok
-    return ok
-
-
-def _unit_job(
-    module_name: str, config: Any, seed: int, full: bool = True, own_worker: bool = False
-) -> tuple[int, bytes, float, bool]:
-    """Worker entry point: one unit's ``experiment`` result, encoded by the codec and compressed
-    (:func:`slim_result` unless ``full``). Module level: it pickles to the worker; the result comes back
-    as the stored bytes, never as a pickle of our own. ``own_worker``: this process or one of a local
-    process pool (:func:`keep_freed_memory` applies)."""
-    from threadpoolctl import threadpool_limits
-
-    if own_worker:
-        keep_freed_memory()
-
-    t0 = time.perf_counter()
-    module = importlib.import_module(module_name)
-    with threadpool_limits(limits=1):
-        result = module.experiment(config, seed)
-    try:
-        quantities_of(result)
-    except TypeError:
-        raise TypeError(
-            f"{module_name}.experiment must return a UnitResult (a typed result with a 'quantities' "
-            f"mapping); got {type(result).__name__} for seed {seed}"
-        ) from None
-    from gyrobench.scenarios.runner import codec
-
-    stored = result if full else slim_result(module, result)
-    return seed, codec.dumps_compressed(stored), time.perf_counter() - t0, full or stored is result
-
-
-def _decode(blob: bytes, seed: int, db: str | os.PathLike) -> Any:
-    """A stored unit result, decoded without running code (a one-line ValueError naming the db
-    and the seed if the row is not a result the codec wrote)."""
-    from gyrobench.scenarios.runner import codec
-
-    try:
-        return codec.loads(blob)
-    except codec.CodecError as exc:
-        raise ValueError(f"db {str(db)!r}: stored unit (seed {seed}) refused: {exc}") from None
-
 
 def check_run_size(n_units: Any, seed: Any = 0, *, what: str = "n_units", seed_name: str = "seed") -> None:
     """Refuse, in O(1) and one line, a run size or first seed out of range.
@@ -439,127 +195,6 @@ def _check_args(n_units: Any, seed: Any, workers: Any, executor: Any) -> None:
     check_run_size(n_units, seed)
     check_pool(executor, workers)
 
-
-def _check_layout(db: str | os.PathLike) -> None:
-    """Refuse, in one line and before anything is written, an existing unit store whose table has
-    another layout than :data:`_COLUMNS` (a store of an older gyrobench)."""
-    p = Path(db)
-    if not p.is_file() or p.stat().st_size == 0:
-        return
-    try:
-        conn = sqlite3.connect(f"{p.resolve().as_uri()}?mode=ro", uri=True)
-    except sqlite3.Error:
-        return  # connect_db names what is wrong with the file
-    try:
-        have = tuple(r[1] for r in conn.execute("PRAGMA table_info(unit_results)"))
-    except sqlite3.DatabaseError:
-        return
-    finally:
-        conn.close()
-    if have and have != _COLUMNS:
-        raise ValueError(
-            f"db {str(db)!r} is a unit store of an older gyrobench (columns {', '.join(have)}); "
-            "delete it (its units are recomputed) or give another --db"
-        )
-
-
-def _open_store(
-    db: str | os.PathLike, rid: str, name: str, config: Any, identity: str
-) -> sqlite3.Connection:
-    from gyrobench.scenarios.runner.store import connect_db
-
-    _check_layout(db)
-    conn = connect_db(db, _SCHEMA)  # WAL, synchronous=FULL, checks the folder exists
-    try:
-        register_run(conn, rid, name, config, identity)
-    except BaseException:
-        conn.close()
-        raise
-    return conn
-
-
-def register_run(conn: sqlite3.Connection, rid: str, name: str, config: Any, identity: str) -> None:
-    """Record a run in an open unit store, once (a second call for the same run id does nothing).
-
-    Parameters
-    ----------
-    conn : sqlite3.Connection
-        The unit store (:func:`gyrobench.scenarios.runner.store.connect_db`).
-    rid : str
-        The run id (:func:`run_id`).
-    name : str
-        The scenario's name.
-    config : Any
-        The run's configuration (stored as its repr).
-    identity : str
-        The run's JSON identity (:func:`run_id`).
-    """
-    conn.execute("BEGIN IMMEDIATE")
-    conn.execute(
-        "INSERT OR IGNORE INTO unit_runs VALUES (?, ?, ?, ?, ?)",
-        (rid, name, repr(config), identity, time.time()),
-    )
-    conn.execute("COMMIT")
-
-
-def _store(conn: sqlite3.Connection, rid: str, seed: int, blob: bytes, elapsed: float, full: bool) -> bytes:
-    """Commit one unit; return the stored blob (another process may have stored it first; a whole
-    result replaces a slim one, never the other way)."""
-    conn.execute("BEGIN IMMEDIATE")
-    try:
-        conn.execute(
-            "INSERT INTO unit_results VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (run_id, seed) DO UPDATE SET "
-            "result = excluded.result, elapsed_s = excluded.elapsed_s, finished = excluded.finished, "
-            "full = excluded.full WHERE excluded.full > unit_results.full",
-            (rid, seed, blob, elapsed, time.time(), int(full)),
-        )
-        (stored,) = conn.execute(
-            "SELECT result FROM unit_results WHERE run_id = ? AND seed = ?", (rid, seed)
-        ).fetchone()
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
-    conn.execute("COMMIT")
-    return bytes(stored)
-
-
-def _execute(
-    module_name: str,
-    config: Any,
-    todo: Sequence[int],
-    record: Callable[[int, bytes, float, bool], None],
-    *,
-    full: Container[int],
-    executor: cf.Executor | None,
-    workers: int | None,
-) -> None:
-    """Run ``_unit_job`` for every seed of ``todo`` and ``record`` each as it finishes."""
-    from gyrobench.scenarios.runner.executors import add_note, check_picklable, local_pool, stop_pool
-
-    if executor is None and workers == 0:
-        for s in todo:
-            record(*_unit_job(module_name, config, s, s in full, True))
-        return
-    check_picklable(None, config)
-    own = executor is None
-    ex: cf.Executor = local_pool(workers) if executor is None else executor
-    local = isinstance(ex, cf.ProcessPoolExecutor)  # this machine's processes (not a cluster's workers)
-    futures: dict[cf.Future, int] = {}
-    ok = False
-    try:
-        futures = {ex.submit(_unit_job, module_name, config, s, s in full, local): s for s in todo}
-        for fut in cf.as_completed(futures):
-            try:
-                record(*fut.result())
-            except Exception as exc:
-                add_note(exc, f"while computing unit (seed) {futures[fut]} of {module_name}")
-                raise
-        ok = True
-    finally:
-        for f in futures:
-            f.cancel()
-        if own:
-            stop_pool(ex, kill=not ok)  # Ctrl-C, SIGTERM or an error: running units are killed
 
 
 def run_units(
@@ -868,23 +503,3 @@ def _run_control(module: types.ModuleType, config: Any, **kw: Any) -> UnitRun | 
     if not callable(make):
         return None
     return run_units(module, make(config), **kw)
-
-
-def default_db(out_dir: str | os.PathLike) -> Path:
-    """The resume store beside a report folder: ``<out_dir>.units.sqlite``.
-
-    Beside, not inside: the report folder is replaced as a whole by each new report
-    (:func:`gyrobench.scenarios.reports.outputs.write_report_as_a_set`), the store must survive it.
-
-    Parameters
-    ----------
-    out_dir : path-like
-        The report folder.
-
-    Returns
-    -------
-    Path
-        ``<out_dir>.units.sqlite``.
-    """
-    out = Path(out_dir)
-    return out.with_name(out.name + ".units.sqlite")

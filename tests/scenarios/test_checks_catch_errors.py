@@ -17,6 +17,9 @@ from gyrobench.scenarios.checks import (
     mems as checks_mems,
 )
 from gyrobench.scenarios.checks import (
+    mems_noise as checks_mems_noise,
+)
+from gyrobench.scenarios.checks import (
     mems_psd as checks_mems_psd,
 )
 from gyrobench.scenarios.checks import (
@@ -50,14 +53,14 @@ def test_a_10_percent_psd_error_fails_the_open_loop_noise_checks(monkeypatch, fa
 @pytest.mark.parametrize("factor", [0.9**2, 1.1**2])
 def test_a_10_percent_noise_amplitude_error_fails_the_closed_loop_noise_check(monkeypatch, factor):
     zro = checks_mems.zero_rate_output(checks_mems.check_unit())
-    real = checks_mems.simulate_full
+    real = checks_mems_noise.simulate_full
 
     def wrapped(*a, **k):
         res = real(*a, **k)
         return replace(res, output=zro + math.sqrt(factor) * (res.output - zro))
 
-    monkeypatch.setattr(checks_mems, "simulate_full", wrapped)
-    assert not checks_mems._noise_vs_full(np.random.default_rng(0)).passed
+    monkeypatch.setattr(checks_mems_noise, "simulate_full", wrapped)
+    assert not checks_mems_noise._noise_vs_full(np.random.default_rng(0)).passed
 
 
 @pytest.mark.parametrize("factor", [0.9, 1.1])
@@ -142,16 +145,16 @@ def test_the_shortened_fog_scale_factor_records_still_catch_errors(monkeypatch):
 @pytest.mark.parametrize("factor", [0.9, 1.1])
 def test_a_10_percent_noise_error_fails_the_low_output_rate_check(monkeypatch, factor):
     """The slow flow's noise at 4 Hz made 10 % too small or too large (21 % in variance) fails."""
-    assert checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+    assert checks_mems_noise._low_rate_noise(np.random.default_rng(0)).passed
     zro = checks_mems.zero_rate_output(checks_mems.check_unit())
-    real = checks_mems.slow_flow
+    real = checks_mems_noise.slow_flow
 
     def wrapped(*a, **k):
         res = real(*a, **k)
         return replace(res, output=zro + factor * (res.output - zro))
 
-    monkeypatch.setattr(checks_mems, "slow_flow", wrapped)
-    assert not checks_mems._low_rate_noise(np.random.default_rng(0)).passed
+    monkeypatch.setattr(checks_mems_noise, "slow_flow", wrapped)
+    assert not checks_mems_noise._low_rate_noise(np.random.default_rng(0)).passed
 
 
 @pytest.mark.slow  # five noise-free full integrations (~1 s each)

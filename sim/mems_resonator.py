@@ -1036,7 +1036,7 @@ def external_force(
     ndarray
         F_ext [N], complex (real: in phase with the drive velocity).
     """
-    return _f_ext(op, rate, accel, force)
+    return _f_ext(op, rate, np.asarray(accel, dtype=float), force)
 
 
 def static_rate_output(

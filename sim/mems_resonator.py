@@ -170,6 +170,9 @@ __all__ = [
     "drive_axis_sensitivity",
     "READOUTS",
     "ERROR_SPLITS",
+    "IDEALIZATIONS",
+    "external_force",
+    "static_rate_output",
     "zero_rate_output",
     "rate_authority",
     "saturated_output",
@@ -266,6 +269,14 @@ _POSITIVE = (
 READOUTS = ("force_rebalance", "open_loop")
 #: what a record's truth holds of its error (:attr:`MemsResonator.error_split`)
 ERROR_SPLITS = ("components", "total")
+#: the declared idealisations of a unit (:attr:`MemsResonator.idealization`)
+IDEALIZATIONS = ("none", "noise_free", "noise_free_analog")
+#: the slow flow's switches each idealisation sets (``slow_flow(noise=, flicker=, adc=)``)
+_IDEAL_FLAGS: Mapping[str, Mapping[str, bool]] = {
+    "none": {},
+    "noise_free": {"noise": False, "flicker": False},
+    "noise_free_analog": {"noise": False, "flicker": False, "adc": False},
+}
 #: fields of MemsResonator that must be >= 0
 _NON_NEGATIVE = ("pickoff_noise", "bias_instability", "rate_random_walk", "bias_repeatability",
                  "scale_factor_repeatability")
@@ -398,6 +409,17 @@ class MemsResonator:
         flow of the whole record. "total": one component ``total_error`` = output - true rate
         (it closes the record alike), without that second run: for a user who reads the output
         only (a rate table's dwell means). The output is the same bit for bit either way.
+    idealization : {"none", "noise_free", "noise_free_analog"}
+        A declared idealisation of the unit, for reference runs through :meth:`simulate`.
+        "none" (default): the unit as built. "noise_free": without its noise sources (the
+        Brownian force noise 4 k_B T c_y, the pick-off noise, the 1/f term and the rate random
+        walk): the deterministic part of its output (scale factor and nonlinearity, bias,
+        quadrature, rails, ADC), the record a ``deterministic_error`` channel is computed from.
+        "noise_free_analog": also without the output word (no clip to +-R, no rounding): the
+        settled analog output a static sweep reads. A record of an idealised unit is its own
+        noise-free run: ``noise`` is zero and no second run is made. It acts on
+        :meth:`simulate` only; the analytic noise figures (:func:`brownian_arw`, ...) describe
+        the unit as built.
     """
 
     mass: float = 2e-9
@@ -437,6 +459,7 @@ class MemsResonator:
     turn_on_bias: float = 0.0
     turn_on_scale_factor: float = 0.0
     error_split: str = "components"
+    idealization: str = "none"
 
     RANGES: ClassVar[Mapping[str, FieldRange | FieldChoice]] = {
         "mass": FieldRange(0, 1e-3, "kg", "modal mass of a MEMS proof mass: ng to mg", low_open=True),
@@ -475,6 +498,7 @@ class MemsResonator:
         "turn_on_scale_factor": FieldRange(-1, 1, "1", "this power-on's relative SF error, > -1 (__post_init__)", True),
         "readout": FieldChoice(READOUTS, "force rebalance (closed loop) or open loop"),
         "error_split": FieldChoice(ERROR_SPLITS, "a record's error as its two components, or as one total"),
+        "idealization": FieldChoice(IDEALIZATIONS, "the unit as built, without its noise, or also without its ADC"),
     }
 
     #: the constraints across fields (:class:`~gyrobench.base.ranges.Constraint`)
@@ -550,6 +574,9 @@ class MemsResonator:
             and ``specific_force``. The noise-free run draws nothing from ``rng``. With
             ``error_split="total"`` the truth holds ``total_error`` (output - true rate) in
             their place and the noise-free run is not made.
+            An idealised unit (``idealization``) runs once, with its noise (and, for
+            "noise_free_analog", its ADC) off: its ``deterministic_error`` is its whole error
+            and its ``noise`` is zero.
             With k segments the channels hold them one after another (column by column, n k
             samples) and the metadata's ``segments`` is k (1 for one record).
 
@@ -567,14 +594,20 @@ class MemsResonator:
         rate = environment.sampled("true_rate", fs)
         force = environment.sampled("specific_force", fs)
         temp = environment.sampled("temperature", fs, default=self.reference_temperature)
+        flags = _IDEAL_FLAGS[self.idealization]
         quiet = {"noise": False, "flicker": False}
+        ideal = self.idealization != "none"  # the record is its own noise-free run: no second run
         split = self.error_split == "components"  # else no noise-free run: the truth is the total error
+        calm_run = split and not ideal
         k = environment.columns
+        if rate.ndim == 2 and k == 1:  # one (n, 1) segment is the 1-D record
+            rate = rate[:, 0]
         if k > 1:
             if not np.all(temp == temp[0]):
                 raise ValueError("Environment.temperature must be constant for independent segments (k columns)")
-            columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None])
-            if split:
+            columns = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force[:, None],
+                                **flags)
+            if calm_run:
                 calm = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
                                  specific_force=force[:, None], **quiet).output.T.reshape(-1)
             out, rate = (a.T.reshape(-1) for a in (columns.output, rate))
@@ -583,8 +616,9 @@ class MemsResonator:
         elif np.all(temp == temp[0]):
             out = np.empty(n)
             calm = np.empty(n)  # the same run without noise: the deterministic part of the error
-            out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force).output
-            if split:
+            out[:] = slow_flow(self, rate, fs=fs, rng=rng, temperature=float(temp[0]), specific_force=force,
+                               **flags).output
+            if calm_run:
                 calm[:] = slow_flow(self, rate, fs=fs, rng=np.random.default_rng(0), temperature=float(temp[0]),
                                     specific_force=force, **quiet).output
             blocks = 1
@@ -598,14 +632,17 @@ class MemsResonator:
             stops = starts[1:] + [n]
             for (a, b), child in zip(zip(starts, stops, strict=True), rng.spawn(len(starts)), strict=True):
                 res = slow_flow(
-                    self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b]
+                    self, rate[a:b], fs=fs, rng=child, temperature=float(np.mean(temp[a:b])), specific_force=force[a:b],
+                    **flags,
                 )
                 out[a:b] = res.output
-                if split:
+                if calm_run:
                     calm[a:b] = slow_flow(self, rate[a:b], fs=fs, rng=np.random.default_rng(0),
                                           temperature=float(np.mean(temp[a:b])), specific_force=force[a:b],
                                           **quiet).output
             blocks = len(starts)
+        if split and ideal:
+            calm = out
         if split:
             errors = {
                 "deterministic_error": Channel(calm - rate, "rad/s", "the noise-free slow flow's error: scale "
@@ -972,6 +1009,64 @@ def _static_channels(
     if op.open_loop:
         return _readout_weight(op) * _front_end(op, op.receptance * _f_ext(op, rate, accel, force))
     return _equilibrium_command(op, rate, accel, force)
+
+
+def external_force(
+    op: OperatingPoint, rate: NDArray, accel: NDArray | float = 0.0, force: NDArray | float = 0.0
+) -> NDArray:
+    """The external sense-force envelope F_ext [N] (complex) at rate, rate derivative and force.
+
+    F_ext = -j G_c Omega - j w_x c_yx X0 - (k_yx + (dk_yx/df) f + m Omega') X0: the Coriolis
+    force, the anisodamping and quadrature forces and the Euler term (docs/physics.md 5.1).
+    The sense envelope of an open-loop unit is R F_ext before its front end.
+
+    Parameters
+    ----------
+    op : OperatingPoint
+        The unit at its temperature (:func:`operating_point`).
+    rate : ndarray
+        Omega, the rate about the sense axis [rad/s].
+    accel : ndarray or float
+        Omega', its derivative [rad/s^2] (0: a constant rate).
+    force : ndarray or float
+        f, the specific force along the sense axis [m/s^2].
+
+    Returns
+    -------
+    ndarray
+        F_ext [N], complex (real: in phase with the drive velocity).
+    """
+    return _f_ext(op, rate, np.asarray(accel, dtype=float), force)
+
+
+def static_rate_output(
+    unit: MemsResonator, rate: NDArray, temperature: float | None = None
+) -> NDArray:
+    """Noise-free settled rate output Omega_hat [rad/s] at constant rates, before the turn-on bias.
+
+    The output map of the static rate channel: in force rebalance the equilibrium command
+    (unclamped: below the rate authority), open loop the demodulated envelope
+    Re{w_c sat(R F_ext)} through the unit's front end; then k_out (1 + e_on) and the output
+    cubic. Without the turn-on bias, the bias trim, the 1/f term and the ADC: the shape of a
+    noise-free rate table (its nonlinearity), at zero specific force.
+
+    Parameters
+    ----------
+    unit : MemsResonator
+        The unit.
+    rate : ndarray
+        Constant rates [rad/s].
+    temperature : float or None
+        Die temperature [K] (None: T0).
+
+    Returns
+    -------
+    ndarray
+        Omega_hat per rate [rad/s].
+    """
+    op = operating_point(unit, temperature)
+    w = np.asarray(rate, dtype=float)
+    return _output_map(unit, op, _static_channels(op, w, np.zeros(w.shape)).real)
 
 
 def low_rate_scale_factor(

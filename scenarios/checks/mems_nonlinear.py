@@ -236,8 +236,8 @@ def _readout_bend() -> Check:
     dps = np.array([1800.0, 2880.0, 3600.0])
     rates = units.deg_per_s(dps)
     zeros = np.zeros(rates.size)
-    slow = mr._output_map(unit, op, mr._static_channels(op, rates, zeros).real)
-    force = mr._f_ext(op, rates, zeros)
+    slow = mr.static_rate_output(unit, rates)
+    force = mr.external_force(op, rates, zeros)
     r = op.receptance
     ke = chain.electrostatic_stiffness
     tau_cycles = 2.0 * op.m / op.cy * op.wx / (2.0 * math.pi)

@@ -31,12 +31,13 @@ from numpy.typing import NDArray
 
 from gyrobench.analysis.scale_factor import fit_scale_factor
 from gyrobench.base import units
-from gyrobench.sim import mems_population, mems_slow_flow
+from gyrobench.sim import mems_population
 from gyrobench.sim import mems_resonator as mr
 from gyrobench.sim.mems_nonlinear import RateTransfer
 from gyrobench.sim.mems_population import MemsResonatorSpec
 from gyrobench.sim.mems_readout import SenseChainSpec
 from gyrobench.sim.mems_resonator import MemsResonator
+from gyrobench.sim.sensor import Environment
 
 from .config import CALIBRATED_V_MAX_V, OPEN_LOOP_VARIANTS, PAPER_RAW_KN, Config, default_rates
 
@@ -178,7 +179,7 @@ def clip_onset_dps(unit: MemsResonator) -> float:
     op = mr.operating_point(unit)
 
     def excess(dps: float) -> float:
-        b = op.receptance * mr._f_ext(op, np.array([units.deg_per_s(dps)]), np.zeros(1))
+        b = op.receptance * mr.external_force(op, np.array([units.deg_per_s(dps)]), np.zeros(1))
         return float(np.abs(chain.stiffened_envelope(b, op.receptance))[0]) - chain.clip_displacement
 
     if excess(0.0) >= 0:
@@ -229,8 +230,9 @@ def static_output(
 ) -> NDArray[np.float64]:
     """Noise-free settled output [deg/s] of one power-on at constant rates and temperature [K].
 
-    The slow flow without noise, 1/f term and ADC, run for 1 s at 200 Hz from each rate's
-    (clamped) equilibrium; the mean of the last 0.1 s. Linear columns start at their
+    The unit's ``idealization="noise_free_analog"`` twin (no noise, 1/f term or ADC) through
+    ``simulate``, 1 s at 200 Hz from each rate's (clamped) equilibrium, the rates as the
+    independent columns of an (n, k) ``true_rate``; the mean of the last 0.1 s. Linear columns start at their
     equilibrium; saturated ones settle within the loop's time constants (tens of ms). Equals
     SF Omega + ZRO below the authority and ``mems_resonator.saturated_output`` beyond it (test).
     ``transfer`` (default none) is the read-out's static rate transfer (:func:`rate_transfer`).
@@ -253,13 +255,16 @@ def static_output(
     """
     w = units.deg_per_s(np.asarray(rates_dps, dtype=float))
     out = np.empty(w.size)
+    quiet = replace(unit, idealization="noise_free_analog", error_split="total")  # draws nothing from its rng
     for lo in range(0, w.size, STATIC_CHUNK):  # the columns are independent: a bounded block at a time
-        col = np.broadcast_to(w[lo : lo + STATIC_CHUNK], (200, min(STATIC_CHUNK, w.size - lo)))
-        res = mems_slow_flow.slow_flow(
-            unit, col, fs=200.0, rng=np.random.default_rng(0), temperature=temperature,
-            noise=False, adc=False, flicker=False,
+        k = min(STATIC_CHUNK, w.size - lo)
+        col = np.ascontiguousarray(np.broadcast_to(w[lo : lo + STATIC_CHUNK], (200, k)))
+        rec = quiet.simulate(
+            Environment(1.0, true_rate=col if k > 1 else col[:, 0], temperature=temperature),
+            fs=200.0, rng=np.random.default_rng(0),
         )
-        out[lo : lo + STATIC_CHUNK] = res.output[-20:].mean(axis=0)
+        settled = np.ascontiguousarray(rec["output"].reshape(k, 200).T)  # the record holds column after column
+        out[lo : lo + STATIC_CHUNK] = settled[-20:].mean(axis=0)
     if transfer is not None:
         out = transfer(out)
     return units.to_deg_per_s(out)

@@ -260,7 +260,7 @@ def noise_free_table(config: Config) -> np.ndarray:
 
     The point's nominal resonator (no unit-to-unit spread, so no quadrature) read out open loop
     through its nominal chain (the identified C_f), factory-trimmed at T0, at T0: the static
-    channels of :mod:`gyrobench.sim.mems_resonator` (B = R F_ext through the chain), as
+    output of :func:`gyrobench.sim.mems_resonator.static_rate_output` (B = R F_ext through the chain), as
     :mod:`.identify` solves C_f on. Noise, turn-on errors and the output word are left out.
 
     Parameters
@@ -284,10 +284,8 @@ def noise_free_table(config: Config) -> np.ndarray:
         raise ValueError(f"noise_free_table needs an open-loop variant (identified, readout_design); "
                          f"got {config.variant!r}")
     unit = nominal_open_loop_unit(spec.chain.nominal, spec.nominal)
-    op = mr.operating_point(unit)
     rates = np.asarray(config.rates_dps, dtype=float)
-    channels = mr._static_channels(op, units.deg_per_s(rates), np.zeros(rates.size))
-    return np.asarray(units.to_deg_per_s(mr._output_map(unit, op, channels.real)), dtype=float)
+    return np.asarray(units.to_deg_per_s(mr.static_rate_output(unit, units.deg_per_s(rates))), dtype=float)
 
 
 def noise_free_breakpoints(points: int = 1024, seed: int = DESIGN_SEED + 1) -> BreakpointScan:

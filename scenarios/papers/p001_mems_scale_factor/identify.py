@@ -105,9 +105,7 @@ def nominal_open_loop_unit(chain: SenseChain, resonator: mr.MemsResonator | None
 
 def _nominal_kn(c_f: float, rates: np.ndarray, chain: SenseChain) -> float:
     unit = nominal_open_loop_unit(replace(chain, feedback_capacitance=c_f))
-    op = mr.operating_point(unit)
-    ch = mr._static_channels(op, units.deg_per_s(rates), np.zeros(rates.size))
-    out = units.to_deg_per_s(mr._output_map(unit, op, ch.real))
+    out = units.to_deg_per_s(mr.static_rate_output(unit, units.deg_per_s(rates)))
     return fit_scale_factor(rates, out).nonlinearity
 
 

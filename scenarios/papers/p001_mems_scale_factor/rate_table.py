@@ -18,7 +18,6 @@ from numpy.typing import NDArray
 from gyrobench.analysis.scale_factor import dwell_means
 from gyrobench.base import units
 from gyrobench.io.recording import Channel, Recording, package_version
-from gyrobench.sim import mems_slow_flow
 from gyrobench.sim.mems_resonator import MemsResonator
 from gyrobench.sim.sensor import Environment
 
@@ -171,19 +170,23 @@ def _recording(config: Config, run: Run, *, index: int, role: str, seed: int) ->
     """A run as a record: the dwells one after another in table order.
 
     The error splits in two components: ``deterministic_error``, the error of the same run of
-    the same power-on without noise (the slow flow with ``noise=False, flicker=False``, through
-    the same rate transfer: scale factor and its nonlinearity, bias, quadrature, rails, ADC),
-    and ``noise``, the record minus that noise-free run.
+    the same power-on without noise (its ``idealization="noise_free"`` twin through
+    ``simulate``, then the same rate transfer: scale factor and its nonlinearity, bias,
+    quadrature, rails, ADC), and ``noise``, the record minus that noise-free run.
     """
     n, k = run.output.shape
     w = units.deg_per_s(np.asarray(config.rates_dps, dtype=float))
     rate = np.repeat(w, n)
     n_settle = int(round(config.settle_s * config.fs_hz))
     windows = [[j * n + n_settle, (j + 1) * n] for j in range(k)]
-    calm = rate_transfer(config)(mems_slow_flow.slow_flow(
-        run.unit, np.broadcast_to(w, (n, k)), fs=config.fs_hz, rng=np.random.default_rng(0),
-        temperature=run.temperature, noise=False, flicker=False,
-    ).output).T.reshape(-1)
+    quiet = replace(run.unit, idealization="noise_free", error_split="total")  # draws nothing from its rng
+    calm_rec = quiet.simulate(
+        Environment(n / config.fs_hz, true_rate=np.ascontiguousarray(np.broadcast_to(w, (n, k))),
+                    temperature=run.temperature),
+        fs=config.fs_hz, rng=np.random.default_rng(0),
+    )
+    calm_runs = np.ascontiguousarray(calm_rec["output"].reshape(k, n).T)  # the record holds dwell after dwell
+    calm = rate_transfer(config)(calm_runs).T.reshape(-1)
     out = run.output.T.reshape(-1)
     temperature = np.full(n * k, run.temperature)  # one array for the logged channel and the input
     return Recording(
@@ -268,7 +271,7 @@ def memory_estimate(config: Config) -> float:
     Per unit (one worker process); the runner multiplies it by the units it runs at once
     (:func:`gyrobench.scenarios.runner.units.check_unit_memory`). With ``n_run = (settle_s +
     average_s) fs_hz len(rates_dps)`` samples in one run (one slow-flow call of
-    ``sim.mems_slow_flow.slow_flow``) and ``N = n_run (n_fit_runs + n_heldout_runs)`` in all::
+    ``MemsResonator.simulate``) and ``N = n_run (n_fit_runs + n_heldout_runs)`` in all::
 
         bytes = 1.1 x (32 N + 376 max(n_run, 200 STATIC_CHUNK) + 20e6)
 

@@ -71,7 +71,7 @@ def load_report(folder: str | Path) -> list[dict[str, Any]]:
 
 
 def _fmt(x: float | None) -> str:
-    from gyrobench.scenarios.reports.report import fmt
+    from gyrobench.scenarios.reports.claim_tables import fmt
 
     return "n/a" if x is None else fmt(float(x))
 

@@ -21,7 +21,7 @@ FAILED = ("contradicted", "device not matched", "undecided", "not testable", "no
 
 
 def _fmt(x: Any) -> str:
-    from gyrobench.scenarios.reports.report import fmt
+    from gyrobench.scenarios.reports.claim_tables import fmt
 
     return fmt(float(x)) if isinstance(x, (int, float)) and not isinstance(x, bool) else fmt(x)
 

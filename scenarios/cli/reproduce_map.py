@@ -88,6 +88,7 @@ def _run(args, mod, points: int, k: int) -> int:
     command = "gyrobench " + " ".join(shlex.quote(a) for a in args.argv)
     with atomic_folder(out) as tmp:
         path = write_map(mapped, tmp / mod.NAME, command=command)
+        kept = keep_other_maps(out, tmp, mod.NAME)
         doc = {"written_by": "gyrobench reproduce --map; replaced as a whole by the next report while it holds "
                              "only these files", "files": report_manifest(tmp)}
         (tmp / REPORT_MARKER).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
@@ -106,4 +107,43 @@ def _run(args, mod, points: int, k: int) -> int:
         print(f"  {m.claim.id:<36} {m.verdict_text()} (whole family: holds on {m.family_k} of "
               f"{m.family_n} points that could test it)")
     print(f"map: {out / path.relative_to(tmp)}")
+    if kept:
+        print(f"  kept the maps of {', '.join(kept)} already in {out}")
     return 0
+
+
+def keep_other_maps(out: Path, tmp: Path, name: str) -> list[str]:
+    """Copy the maps of the other papers that ``out`` holds into the new folder ``tmp``.
+
+    A map run replaces its report folder as a whole, so without this the maps of several papers
+    could not share one folder (and so one report). Only the map's own files are carried over
+    (map.json, map_run.json and the map's figures), byte for byte.
+
+    Parameters
+    ----------
+    out : Path
+        The report folder being replaced (absent: nothing to keep).
+    tmp : Path
+        The new folder that replaces it.
+    name : str
+        The paper just mapped (its old map is not kept).
+
+    Returns
+    -------
+    list of str
+        The papers whose maps were kept, sorted.
+    """
+    import shutil
+
+    from gyrobench.scenarios.reports.map_section import FIGURES, MAP_FILE, RUN_FILE
+
+    kept = []
+    if not out.is_dir():
+        return kept
+    for old in sorted(d for d in out.iterdir() if d.is_dir() and d.name != name and (d / MAP_FILE).is_file()):
+        (tmp / old.name).mkdir(exist_ok=True)
+        for file in (MAP_FILE, RUN_FILE, *(f for f, _ in FIGURES)):
+            if (old / file).is_file():
+                shutil.copyfile(old / file, tmp / old.name / file)
+        kept.append(old.name)
+    return kept

@@ -202,8 +202,10 @@ def format_summary(docs: Sequence[dict[str, Any]], *, stability: str | None = No
     -------
     str
         Markdown: a line on how many units, one tally row per paper (as in :func:`format_table`),
-        how many claims are calibrated, the line on the physics checks and one bullet of findings
-        per paper (:func:`gyrobench.scenarios.reports.reasons.findings`); not the one-row-per-claim table.
+        how many claims are calibrated, the stability line, one bullet per paper on its default
+        device and its map, the line on the physics checks and a link to the findings; not the
+        one-row-per-claim table nor the findings bullets
+        (:func:`gyrobench.scenarios.reports.reasons.findings`), which :func:`format_table` writes.
 
     Raises
     ------
@@ -263,10 +265,13 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool, stability: str | No
             f"{len(checks) - len(failed)} of "
             f"{len(checks)} pass" + (f"; FAILED: {', '.join(failed)}." if failed else "."),
         ]
-    if papers and not rows:
-        lines += ["", "In short (generated from each paper's results.json; the reasons claim by claim: "
-                  "[docs/results.md](docs/results.md)):", ""]
+    if papers and rows:
+        lines += ["", "In short (generated from each paper's results.json; the reasons claim by claim are in the "
+                  "table above):", ""]
         lines += [findings(d, _paper(d["claims"][0]["paper"])) for d in papers]
+    elif papers:
+        lines += ["", "What each paper's method claims gave, claim by claim, with the measured reasons: "
+                  "[docs/results.md](docs/results.md)."]
     if not lines:
         raise ValueError(
             "the report holds no paper claims and no physics checks: nothing to tabulate"

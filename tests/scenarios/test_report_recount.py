@@ -159,8 +159,9 @@ def test_every_figure_of_the_findings_recounts_from_results_json(tmp_path, monke
         assert m["median"] == fmt(median) and m["paper"] == fmt(c["paper_value"]) and m["unit"] == c["unit"]
     absent = "Not reproducible on this device: Sec. 4 (precondition absent on 17 of 20 units: truth R^2 at least 0.9)"
     assert absent in bullet
-    summary = readme_table.format_summary([doc])
-    assert bullet in summary and "1 of 4 claims are calibrated (device 1)" in summary
+    summary, table = readme_table.format_summary([doc]), readme_table.format_table([doc])
+    assert bullet in table and bullet not in summary  # the findings go to docs/results.md
+    assert "1 of 4 claims are calibrated (device 1)" in summary
     assert calibrated_count(doc["claims"])[:2] == (1, 4)
     # the first screen of the HTML page counts the calibrated claims too
     page = (tmp_path / "index.html").read_text()
@@ -187,7 +188,7 @@ def _marked(text: str) -> str:
 
 def test_readme_results_are_generated_not_written(toy_report):
     """The README's spliced block has the generator's form (its fixed lines, figures aside, are what the
-    generator writes from a report; every paper has its tally row and its findings bullet), and the
+    generator writes from a report; every paper has its tally row and its default device's bullet), and the
     README's Results section holds no figure outside it. Fails until the README is regenerated with
     ``python -m gyrobench.scenarios.reports.readme_table <report> --splice docs/results.md --summary README.md``."""
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -196,10 +197,10 @@ def test_readme_results_are_generated_not_written(toy_report):
     generated = readme_table.format_summary([*readme_table.load_report(toy_report), checks])
     assert _shape(block) == _shape(generated)
     tally = [ln for ln in block.splitlines() if ln.startswith("| ") and not ln.startswith("| paper |")]
-    bullets = [ln for ln in block.splitlines() if ln.startswith("- **")]
-    assert len(tally) == len(bullets) >= 1
+    bullets = [ln for ln in block.splitlines() if ln.startswith("- ") and " the default run uses " in ln]
+    assert len(tally) == len(bullets) >= 1  # each paper: its tally row and its default device's bullet
     for row, bullet in zip(tally, bullets, strict=True):
-        assert bullet.startswith(f"- **{row.split(' | ')[0][2:]}** (")
+        assert bullet.startswith(f"- {row.split(' | ')[0][2:]} (")
     section = readme.split("\n## Results\n", 1)[1].split("\n## ", 1)[0]
     outside = section.replace(block, "").replace(readme_table.BEGIN, "").replace(readme_table.END, "")
     prose = [ln for ln in outside.splitlines() if "readme_table" not in ln]

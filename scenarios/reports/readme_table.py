@@ -255,7 +255,7 @@ def _markdown(docs: Sequence[dict[str, Any]], *, rows: bool, stability: str | No
                 "|---|---|---|---|---|---|---|---|---|",
             ]
             lines += [_row(c) for d in papers for c in d["claims"]]
-    lines += _map_lines(papers)
+    lines += _map_lines(papers, brief=not rows)
     checks = [c for d in docs for c in d.get("checks", [])]
     if checks:
         failed = [c["id"] for c in checks if not c["passed"]]
@@ -292,10 +292,11 @@ def _family_device(scenario: str) -> str:
     return "" if fam is None else str(getattr(fam.FAMILY, "nominal_device", ""))
 
 
-def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
+def _map_lines(papers: Sequence[dict[str, Any]], *, brief: bool = False) -> list[str]:
     """One bullet per paper: the device its default run (the table's units) uses and whether that device lies
     in the paper-consistent region of its map (or that the region is empty, and why, or that the report holds
-    no map); with a map, the region's size and its medoid (the device to name when the nominal lies outside)."""
+    no map); with a map, the region's size and its medoid (the device to name when the nominal lies outside),
+    whose parameters ``brief`` leaves to map.json."""
     out = []
     for d in papers:
         m = d.get("map")
@@ -319,7 +320,8 @@ def _map_lines(papers: Sequence[dict[str, Any]]) -> list[str]:
             why = re.sub(r"^No point of the family[^.(]*\([^)]*\)\.\s*", "", m["finding"]) or m["finding"]
             where = f"the region is empty, so no paper-consistent device can be named: {why}"
         else:
-            params = ", ".join(f"{k} = {v:.4g}" for k, v in med["parameters"].items())
+            params = ("parameters in map.json" if brief
+                      else ", ".join(f"{k} = {v:.4g}" for k, v in med["parameters"].items()))
             where = f"its medoid is point {med['index']} ({params})."
         ref = (m.get("refinement") or {}).get("stages") or {}
         refined = ""

@@ -56,12 +56,14 @@ def test_report_section_and_results_json_give_the_map_recounted_from_the_json(to
         assert (f"holds on {k} of {n} region points" in line) or n == 0
         status = next(x for x in res["claims"] if x["id"] == c["id"])["status"]
         assert status.upper() in line.upper()  # this report's own verdict on the nominal device, beside
-    from gyrobench.scenarios.reports.readme_table import format_summary, load_report
+    from gyrobench.scenarios.reports.readme_table import format_summary, format_table, load_report
 
     readme = format_summary(load_report(out))  # the README's block names the nominal device and the medoid
+    results = format_table(load_report(out))  # docs/results.md gives the medoid's parameters too
     med = link["medoid"]["index"]
-    assert (f"{len(reg)} of 8 family points satisfy every reported device fact; the nominal device (these units) "
-            f"lies in it; its medoid is point {med} (x = ") in readme
+    head = (f"{len(reg)} of 8 family points satisfy every reported device fact; the nominal device (these units) "
+            f"lies in it; its medoid is point {med} (")
+    assert head + "parameters in map.json)" in readme and head + "x = " in results
     page = (out / "index.html").read_text()
     assert "id='toy_map_paper-map'" in page and "Method claims over the region beside the nominal device" in page
     assert page.count("toy_map_paper/phase_diagrams.png") >= 1

@@ -137,7 +137,7 @@ def keep_other_maps(out: Path, tmp: Path, name: str) -> list[str]:
 
     from gyrobench.scenarios.reports.map_section import FIGURES, MAP_FILE, RUN_FILE
 
-    kept = []
+    kept: list[str] = []
     if not out.is_dir():
         return kept
     for old in sorted(d for d in out.iterdir() if d.is_dir() and d.name != name and (d / MAP_FILE).is_file()):

@@ -121,7 +121,7 @@ CFG = toy.Config(n_samples=120)
 
 def test_save(gyrobench_bench):
     gyrobench_bench.assert_no_regression(
-        toy, toy.good, baseline="baselines/toy.json", seeds=range(12), config=CFG
+        toy, toy.good, baseline="baselines/toy.json", seeds=range(64), config=CFG
     )
 
 def test_few_seeds(gyrobench_bench):
@@ -153,7 +153,7 @@ def test_underpowered_fails_before_computing_or_warns_in_the_report(
 ):
     """5 seeds on the toy's 3 gated scores reach 3 x 2/2^5 = 0.19: the test fails naming 7
     seeds, nothing simulated; allowed, it passes (it cannot fail) with one warning in the
-    report's warnings summary. seeds="auto" sizes the run from the 12-seed baseline: at the default
+    report's warnings summary. seeds="auto" sizes the run from the 64-seed baseline: at the default
     5 % margin it fails naming the seeds to re-save it on, nothing simulated; at a 40 % margin the
     baseline's seeds suffice (sized from the spread's 95 % upper bound: 18 seeds at 25 %) and it
     catches the degraded compensator."""
@@ -172,7 +172,7 @@ def test_underpowered_fails_before_computing_or_warns_in_the_report(
     log.unlink(missing_ok=True)
     result = pytester.runpytest(*FAST, "-k", "test_auto and not wide")  # the default 5 % margin
     result.assert_outcomes(failed=1)
-    result.stdout.fnmatch_lines(["*toy.json: --seeds auto: * the baseline holds only 12 seeds: re-save it on*"])
+    result.stdout.fnmatch_lines(["*toy.json: --seeds auto: * the baseline holds only 64 seeds: re-save it on*"])
     assert not log.exists()  # refused before simulating
     result = pytester.runpytest(*FAST, "-k", "test_auto_wide_margin")
     result.assert_outcomes(failed=1)

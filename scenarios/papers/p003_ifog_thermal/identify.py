@@ -180,5 +180,5 @@ IDENTIFIED = Identification(
     bracket_m=(0.25, 4.0),
     xtol_m=XTOL_M,
     lead_difference_rms_m=1.198,
-    median_peak_deg_h=0.15027451089388885,
+    median_peak_deg_h=0.15027451089459892,
 )

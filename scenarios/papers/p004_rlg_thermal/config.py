@@ -147,7 +147,7 @@ class Config:
     walk_phase_std_rad: float = 1.0
     #: backscatter null shift per unit lock-in, eta: no printed source; IDENTIFIED to the paper's
     #: gyro (identify.IDENTIFIED: the median unit's thermal share is the paper's 0.97)
-    dissipative: float = 0.00127
+    dissipative: float = 0.00126
     cte_bound_ppm_per_k: float = 0.10  # ZERODUR expansion class 2 (SCHOTT)
     plc_travel_min_wavelengths: float = 1.2
     plc_travel_max_wavelengths: float = 1.8

@@ -11,7 +11,7 @@ field (Config)              what                                        range, s
 dissipative                 backscatter null shift per unit lock-in eta [1e-6, 3e-2], log: STATED
                                                                         (CAVITY_RLG_FAMILY; no
                                                                         printed source; the default
-                                                                        1.27e-3 is identified)
+                                                                        1.26e-3 is identified)
 langmuir_deg_h_per_ma       Langmuir flow coefficient                   [0.0066, 6.6] deg/h/mA, log:
                                                                         the value Aronowitz & Lim
                                                                         print and its per-uA reading
@@ -55,7 +55,7 @@ FAMILY = Family(
     paper="004",
     nominal_device=(
         "the default Config(): the null shift identified from the bias swing (identify.IDENTIFIED; ratio "
-        "1.27e-3), Langmuir 0.0066 deg/h/mA"
+        "1.26e-3), Langmuir 0.0066 deg/h/mA"
     ),
     base=Config(),
     parameters=(
@@ -65,7 +65,7 @@ FAMILY = Family(
             scale="log",
             source="STATED ASSUMPTION: no printed source of a null shift per unit lock-in; "
             "sim.rlg_cavity.CAVITY_RLG_FAMILY.dissipative, from variable-temperature biases of 0.001-1 deg/h "
-            "over lock-in rates of 0.01-0.1 deg/s (identified to 1.27e-3 for the nominal device, identify.py)",
+            "over lock-in rates of 0.01-0.1 deg/s (identified to 1.26e-3 for the nominal device, identify.py)",
             label="null-shift ratio eta",
         ),
         Parameter(

@@ -157,6 +157,6 @@ IDENTIFIED = Identification(
     target_share=0.97,
     seeds=IDENTIFICATION_SEEDS,
     eta_trial=1e-4,
-    scale=(8.0728, 5.6623, 19.982, 73.127, 14.920, 170.71, 8.3027, 6.5955, 12.706),
-    dissipative=0.00127,
+    scale=(7.4860, 5.6169, 20.623, 70.330, 15.365, 175.13, 8.5671, 6.8868, 12.641),
+    dissipative=0.00126,
 )

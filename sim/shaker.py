@@ -746,6 +746,37 @@ class ShakerWindowError(ValueError):
         )
 
 
+def _record_window(
+    name: str, vibration: object, duration: float, fs: float, rng: object, start: float
+) -> tuple[float, np.random.Generator, int, int, int]:
+    """Check a shaker record's inputs and place the vibration in it: (fs, rng, n, k0, n_v).
+
+    n = floor(duration fs) output intervals, k0 = round(start fs) and n_v = round(T_v fs), the
+    placement :func:`interval_mean_acceleration` and :func:`record_signal` share; the record's
+    memory is checked first, in floats (duration fs may overflow to inf: refused, not an
+    OverflowError). Raises TypeError/ValueError naming ``name``'s parameter, or
+    :class:`ShakerWindowError` when the vibration does not lie inside the record.
+    """
+    if not isinstance(vibration, (SineSweep, FixedSine, RandomVibration)):
+        raise TypeError(
+            f"vibration must be a SineSweep, FixedSine or RandomVibration; got {type(vibration).__name__}"
+        )
+    duration = _real(name, "duration", duration, "s", positive=True)
+    fs = _check_fs(fs)
+    gen = _check_rng(rng)
+    start = _real(name, "start", start, "s", nonneg=True)
+    memory.check_memory(memory.series_bytes(duration * fs), f"the shaker record of {duration * fs:.3g} output samples",
+                        hint="shorten the record or lower the sample rate")
+    if start + vibration.duration > duration + 2.0 / fs:  # outside whatever the roundings (start fs may overflow)
+        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    n = int(math.floor(duration * fs + 1e-9))
+    k0 = int(round(start * fs))
+    n_vib = int(round(vibration.duration * fs))
+    if n_vib < 1 or k0 + n_vib > n:
+        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    return fs, gen, n, k0, n_vib
+
+
 def interval_mean_acceleration(
     vibration: SineSweep | FixedSine | RandomVibration,
     *,
@@ -826,25 +857,7 @@ def interval_mean_acceleration(
     >>> len(a), bool(np.all(a[:200] == 0) and np.all(a[600:] == 0)), round(float(a[205]), 6)
     (1000, True, 4.903325)
     """
-    if not isinstance(vibration, (SineSweep, FixedSine, RandomVibration)):
-        raise TypeError(
-            f"vibration must be a SineSweep, FixedSine or RandomVibration; got {type(vibration).__name__}"
-        )
-    duration = _real("interval_mean_acceleration", "duration", duration, "s", positive=True)
-    fs = _check_fs(fs)
-    rng = _check_rng(rng)
-    start = _real("interval_mean_acceleration", "start", start, "s", nonneg=True)
-    # the output record first, in floats (duration fs may overflow to inf: refused, not an OverflowError)
-    memory.check_memory(memory.series_bytes(duration * fs), f"the shaker record of {duration * fs:.3g} output samples",
-                        hint="shorten the record or lower the sample rate")
-    if start + vibration.duration > duration + 2.0 / fs:  # outside whatever the roundings: refused before
-        n_vib = 0  # start fs can overflow (k0 + n_vib >= (start + T_v) fs - 1 > n)
-    else:
-        n = int(math.floor(duration * fs + 1e-9))
-        k0 = int(round(start * fs))
-        n_vib = int(round(vibration.duration * fs))
-    if n_vib < 1 or k0 + n_vib > n:
-        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    fs, rng, n, k0, n_vib = _record_window("interval_mean_acceleration", vibration, duration, fs, rng, start)
     m = max(1, math.ceil(OVERSAMPLING * vibration.max_frequency / fs))
     memory.check_memory(memory.series_bytes(n_vib * m, 4), f"the shaker's vibration sampled at {m * fs:g} Hz",
                         hint="shorten the vibration")
@@ -898,23 +911,7 @@ def record_signal(
         As :func:`interval_mean_acceleration` (:class:`ShakerWindowError` when the vibration
         does not lie inside the record).
     """
-    if not isinstance(vibration, (SineSweep, FixedSine, RandomVibration)):
-        raise TypeError(
-            f"vibration must be a SineSweep, FixedSine or RandomVibration; got {type(vibration).__name__}"
-        )
-    duration = _real("record_signal", "duration", duration, "s", positive=True)
-    fs = _check_fs(fs)
-    rng = _check_rng(rng)
-    start = _real("record_signal", "start", start, "s", nonneg=True)
-    memory.check_memory(memory.series_bytes(duration * fs), f"the shaker record of {duration * fs:.3g} output samples",
-                        hint="shorten the record or lower the sample rate")
-    n = int(math.floor(duration * fs + 1e-9))
-    if start + vibration.duration > duration + 2.0 / fs:
-        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
-    k0 = int(round(start * fs))
-    n_vib = int(round(vibration.duration * fs))
-    if n_vib < 1 or k0 + n_vib > n:
-        raise ShakerWindowError(start, start + vibration.duration, duration, fs)
+    fs, rng, n, k0, n_vib = _record_window("record_signal", vibration, duration, fs, rng, start)
     m = max(2, math.ceil(OVERSAMPLING * vibration.max_frequency / fs))
     m += m % 2
     memory.check_memory(memory.series_bytes(n * m, 4), f"the shaker's table acceleration sampled at {m * fs:g} Hz",

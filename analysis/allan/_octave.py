@@ -261,33 +261,31 @@ def _rows_of(y: NDArray[np.float64], mean: float, b: int, r0: int, r1: int, c0: 
     return out
 
 
-def _residue_sums(y: NDArray[np.float64], mean: float, b: int, i0: int, w: int, nj: int,
-                  after: NDArray[np.float64], before: NDArray[np.float64], rows: int | None = None
-                  ) -> NDArray[np.float64]:
+def _residue_sums(y: NDArray[np.float64], b: int, i0: int, w: int, nj: int,
+                  start: NDArray[np.float64], rows: int | None = None) -> NDArray[np.float64]:
     """Z[j, c] = S_B[j B + i0 + c] (B = ``b``) for j < ``nj``, c < ``w``: one residue group's moving sums.
 
-    S_B[j B + i] = tail of block j from column i + head of block j + 1 before i =
-    (after[j] + (head_j[w] - head_j[c])) + (before[j + 1] + head_{j+1}[c]), with head the
-    cumulative sum over the group's columns and ``after``/``before`` the sums of the column
-    groups after/before this one (see :func:`_later_streamed`). Chunks of ``rows`` blocks
-    (default _STREAM_ROWS) in buffers reused from chunk to chunk; every element is the same
-    expression whatever the chunk, so the result does not depend on ``rows``.
+    Moving the window by one sample adds y[(j + 1) B + i] and drops y[j B + i], so
+    S_B[j B + i0 + c] = S_B[j B + i0] + sum_{c' < c} (y[(j + 1) B + i0 + c'] - y[j B + i0 + c']):
+    column 0 is ``start[j]`` (built from the block sums of the column groups, see
+    :func:`_later_streamed`) and the others are one difference of two rows of the record and a
+    cumulative sum along the row, written straight into Z (the mean cancels in the
+    differences). Chunks of ``rows`` blocks (default _STREAM_ROWS); every element is the same
+    expression whatever the chunk, so the result does not depend on ``rows``. Entries with
+    j B + i0 + c + B > n read the zero padding past the end and are not moving sums.
     """
     rows = _STREAM_ROWS if rows is None else rows
     z = np.empty((nj, w))
     cap = min(nj, rows)
-    blk_buf = np.empty((cap + 1, w))
-    head_buf = np.zeros((cap + 1, w + 1))  # head[j, c] = sum of columns i0 .. i0 + c - 1 of block j
-    tail_buf = np.empty((cap, w))
+    blk_buf = np.empty((cap + 1, w - 1))
     for r0 in range(0, nj, rows):
         r1 = min(nj, r0 + rows)
-        blk = _rows_of(y, mean, b, r0, r1 + 1, i0, i0 + w, blk_buf)
-        head = head_buf[: r1 - r0 + 1]
-        np.cumsum(blk, axis=1, out=head[:, 1:])
-        tail = np.subtract(head[:-1, w, None], head[:-1, :w], out=tail_buf[: r1 - r0])
-        np.add(after[r0:r1, None], tail, out=tail)
-        nxt_head = np.add(before[r0 + 1 : r1 + 1, None], head[1:, :w], out=z[r0:r1])
-        np.add(tail, nxt_head, out=z[r0:r1])
+        blk = _rows_of(y, 0.0, b, r0, r1 + 1, i0, i0 + w - 1, blk_buf)
+        out = z[r0:r1]
+        np.subtract(blk[1:], blk[:-1], out=out[:, 1:])
+        out[:, 0] = start[r0:r1]
+        for c in range(1, w):  # = np.cumsum(out, axis=1) bit for bit, but a column at a time (faster)
+            np.add(out[:, c - 1], out[:, c], out=out[:, c])
     return z
 
 
@@ -309,9 +307,10 @@ def _later_streamed(
     _GROUPS groups of B/_GROUPS columns; a group's Z (n/_GROUPS floats) is built from the
     data and carried through every later octave, then dropped, so the work memory is
     n/_GROUPS floats per thread instead of n (and in cache while it is worked on).
-    S_B[j B + i] is built as the tail of block j from i plus the head of block j + 1 before i
-    (block sums of the column groups plus cumulative sums inside the group), so it differs from
-    the tree sum of the in-place path by rounding only (relative ~1e-16 of the partial sums);
+    S_B[j B + i] is built from its value at the group's first column (block sums of the column
+    groups) plus the cumulative sum of the samples that enter and leave the window (see
+    :func:`_residue_sums`), so it differs from the tree sum of the in-place path by rounding
+    only (relative ~w eps of the moving sums' scale);
     every later S_m is the same tree as in :func:`_later_pass`. Invalid entries (k + m > n) are
     NaN and never summed.
     Returns sum D_m^2 per wanted m and, for the noise identification, the block means'
@@ -334,14 +333,14 @@ def _later_streamed(
         r1 = min(nb_all, r0 + 512)
         _rows_of(y, mean, b, r0, r1, 0, b, rows_buf).reshape(r1 - r0, _GROUPS, w).sum(axis=2, out=gs[r0:r1])
     del rows_buf
-    after = np.cumsum(gs[:, ::-1], axis=1)[:, ::-1]  # after[j, g] = sum of groups >= g
-    after = np.concatenate((after[:, 1:], np.zeros((nb_all, 1))), axis=1)  # groups > g
-    before = np.concatenate((np.zeros((nb_all, 1)), np.cumsum(gs[:, :-1], axis=1)), axis=1)  # groups < g
+    # start[j, g] = S_B at block j, first column of group g: groups >= g of block j + groups < g of j + 1
+    start = np.cumsum(gs[:-1, ::-1], axis=1)[:, ::-1]
+    start[:, 1:] += np.cumsum(gs[1:, :-1], axis=1)
 
     def one_group(g: int) -> tuple[dict[int, float], dict[int, NDArray[np.float64] | None]]:
         i0 = g * w
         nj = (n - b - i0) // b + 1  # rows with a valid first column: j B + i0 + B <= n
-        z = _residue_sums(y, mean, b, i0, w, nj, after[:, g], before[:, g])
+        z = _residue_sums(y, b, i0, w, nj, start[:, g])
         k_last = (nj - 1) * b + i0 + np.arange(w)  # the last row's k: valid while k + B <= n
         z[nj - 1, k_last + b > n] = np.nan
         acc: dict[int, float] = {}

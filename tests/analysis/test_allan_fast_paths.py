@@ -205,9 +205,9 @@ def test_residue_sums_do_not_depend_on_their_chunks(rows):
     blocks = _octave._rows_of(y, mean, b, 0, nb, 0, b)  # (nb, b), zero past the end
     gs = blocks.reshape(nb, b // w, w).sum(axis=2)
     grp = i0 // w
-    after, before = gs[:, grp + 1 :].sum(axis=1), gs[:, :grp].sum(axis=1)
-    whole = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=nj)
-    chunked = _octave._residue_sums(y, mean, b, i0, w, nj, after, before, rows=rows)
+    start = gs[:-1, grp:].sum(axis=1) + gs[1:, :grp].sum(axis=1)  # S_B at column i0 of each block
+    whole = _octave._residue_sums(y, b, i0, w, nj, start, rows=nj)
+    chunked = _octave._residue_sums(y, b, i0, w, nj, start, rows=rows)
     assert np.array_equal(chunked, whole)
     k = np.arange(nj)[:, None] * b + i0 + np.arange(w)[None, :]
     x = np.concatenate(([0.0], np.cumsum(y - mean)))

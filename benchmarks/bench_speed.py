@@ -27,6 +27,10 @@ still slows CPU work through shared caches and memory bandwidth):
   ``--busy`` runs it again beside a process spinning on one core and reports its wall time
   (target < 5 min).
 
+``--summary FILE`` writes the README's one-paragraph summary of the same rows between
+``<!-- bench_speed:summary:begin -->`` and ``<!-- bench_speed:summary:end -->``; with
+``--from PERF.md`` it takes the rows of the block already spliced there and measures nothing.
+
 ``--splice FILE`` also writes the block (date, machine, load, table) into FILE between the lines
 ``<!-- bench_speed:begin -->`` and ``<!-- bench_speed:end -->`` (docs/performance.md holds them),
 replacing what was there; the rest of FILE is kept byte for byte and the file is replaced
@@ -288,20 +292,21 @@ def reproduce_busy(folder: str, cli: str) -> tuple[str, str, str, str]:
 
 
 BEGIN, END = "<!-- bench_speed:begin -->", "<!-- bench_speed:end -->"
+SUMMARY_BEGIN, SUMMARY_END = "<!-- bench_speed:summary:begin -->", "<!-- bench_speed:summary:end -->"
 
 
-def _marker_span(text: str, path: str) -> tuple[int, int]:
+def _marker_span(text: str, path: str, begin: str = BEGIN, end: str = END) -> tuple[int, int]:
     """(start, end) of what lies between the markers of ``text``; ValueError naming ``path`` otherwise."""
-    if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
-        raise ValueError(f"{path}: needs exactly one line {BEGIN!r} followed by one line {END!r}")
-    return text.index(BEGIN) + len(BEGIN), text.index(END)
+    if text.count(begin) != 1 or text.count(end) != 1 or text.index(begin) > text.index(end):
+        raise ValueError(f"{path}: needs exactly one line {begin!r} followed by one line {end!r}")
+    return text.index(begin) + len(begin), text.index(end)
 
 
-def splice(path: str, block: str) -> None:
+def splice(path: str, block: str, begin: str = BEGIN, end: str = END) -> None:
     """Replace what lies between the markers of ``path`` by ``block`` (atomic: temporary file, rename)."""
     with open(path, encoding="utf-8") as f:
         text = f.read()
-    a, b = _marker_span(text, path)
+    a, b = _marker_span(text, path, begin, end)
     tmp = f"{path}.bench_speed.tmp"
     with open(tmp, "w", encoding="utf-8") as f:
         f.write(text[:a] + "\n" + block.strip("\n") + "\n" + text[b:])
@@ -321,6 +326,78 @@ def block(rows: list[tuple[str, str, str, str]], started: str, load0: str, load1
     return "\n".join(lines) + "\n"
 
 
+def read_block(path: str) -> tuple[str, list[tuple[str, str, str, str]]]:
+    """The first line (date, machine, load) and the table rows of the block spliced into ``path``."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    a, b = _marker_span(text, path)
+    lines = [ln for ln in text[a:b].strip().splitlines() if ln.strip()]
+    rows = []
+    for ln in lines[3:]:  # after the heading line, the table header and its rule
+        cells = [c.strip() for c in ln.strip().strip("|").split(" | ")]
+        if len(cells) != 4:
+            raise ValueError(f"{path}: a table row of the block does not have 4 cells: {ln!r}")
+        rows.append((cells[0], cells[1], cells[2], cells[3]))
+    return lines[0], rows
+
+
+def summary(heading: str, rows: list[tuple[str, str, str, str]]) -> str:
+    """The README's speed paragraph, from the rows of one run and its heading line (date, load)."""
+    import re
+    import textwrap
+
+    def find(prefix: str) -> tuple[str, str, str, str] | None:
+        return next((r for r in rows if r[0].startswith(prefix)), None)
+
+    def ratio(cell: str) -> str:
+        m = re.search(r"\*\*([0-9.]+x)\*\*", cell)
+        return m.group(1) if m else "?"
+
+    date = re.search(r"Measured (\S+ \S+ UTC)", heading)
+    load = re.search(r"load average \(1, 5, 15 min\) ([0-9.]+), [0-9.]+, [0-9.]+ at the start", heading)
+    parts = []
+    units = []
+    for name in PAPERS:
+        r = find(f"{name} unit")
+        if r is not None:
+            cpu, peak = re.findall(r"([0-9.]+) s CPU, ([0-9]+) MB", r[1])[0]
+            units.append(f"{cpu} s for {name[1:4]} ({peak} MB peak)")
+    if units:
+        parts.append("one unit of a paper costs " + units[0].replace(" for ", " for paper ", 1)
+                     + "".join(", " + u for u in units[1:]))
+    adev = []
+    for n in ("2e+05", "1e+06"):
+        r = find(f"ADEV + fit, {n} samples, in process")
+        if r is not None:
+            adev.append(f"{ratio(r[2])} at {n.replace('+0', '')}")
+    big = find("ADEV + fit, 1e8")
+    if big is not None:
+        ours_mb = re.search(r"([0-9]+) MB", big[1])
+        peer_mb = re.search(r"([0-9]+) MB", big[2])
+        adev.append(f"{ratio(big[2])} at 1e8 ({ours_mb.group(1) if ours_mb else '?'} MB against "
+                    f"{peer_mb.group(1) if peer_mb else '?'} MB)")
+    if adev:
+        parts.append("Allan deviation + fit runs " + adev[0].replace(" at ", " as fast as allantools + NNLS at ", 1)
+                     + " samples" + "".join(", " + a for a in adev[1:]))
+    noise, floor = find("five-term noise (Q"), find("floor of an exact per-term")
+    if noise is not None:
+        text = f"five-term noise is generated at {ratio(noise[2])} numpy's `standard_normal` rate"
+        if floor is not None:
+            text += f" (the draws of any exact per-term generator alone cap it at {ratio(floor[2])})"
+        parts.append(text)
+    loaded, plain = find("`gyrobench reproduce --all`,"), find("`gyrobench reproduce --all`")
+    if plain is not None and plain is not loaded:
+        m = re.search(r"\(([0-9]+) s wall\), store ([0-9.]+) MB", plain[1])
+        if m:
+            parts.append(f"`reproduce --all` takes {m.group(1)} s and stores {m.group(2)} MB of units")
+    if loaded is not None:
+        parts.append(f"with the machine's other core busy it takes {loaded[1]}")
+    when = f"{date.group(1) if date else '?'}, 2 cores, load {load.group(1) if load else '?'} at the start"
+    text = (f"**Speed** (generated by `benchmarks/bench_speed.py`, {when}; CPU time; "
+            f"[docs/performance.md](docs/performance.md)): " + "; ".join(parts) + ".")
+    return textwrap.fill(text, width=100, break_on_hyphens=False, break_long_words=False)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--units", type=int, default=3, help="seeds per paper's unit (default 3)")
@@ -334,14 +411,33 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--data-dir", default=None, help="where the Allan records are kept (default a temporary folder)")
     ap.add_argument("--splice", metavar="FILE", default=None,
                     help=f"also write the table into FILE between the lines {BEGIN} and {END}")
+    ap.add_argument("--summary", metavar="FILE", default=None,
+                    help=f"also write the README's speed paragraph into FILE between {SUMMARY_BEGIN} and {SUMMARY_END}")
+    ap.add_argument("--from", dest="from_", metavar="FILE", default=None,
+                    help="with --summary: take the rows from the block already spliced into FILE (measure nothing)")
     args = ap.parse_args(argv)
-    if args.splice is not None:
-        try:
-            with open(args.splice, encoding="utf-8") as f:
-                _marker_span(f.read(), args.splice)
-        except (OSError, ValueError) as exc:
-            print(f"bench_speed: --splice {exc}", file=sys.stderr)
+    for opt, path, markers in (("--splice", args.splice, (BEGIN, END)),
+                               ("--summary", args.summary, (SUMMARY_BEGIN, SUMMARY_END)),
+                               ("--from", args.from_, (BEGIN, END))):
+        if path is not None:
+            try:
+                with open(path, encoding="utf-8") as f:
+                    _marker_span(f.read(), path, *markers)
+            except (OSError, ValueError) as exc:
+                print(f"bench_speed: {opt} {exc}", file=sys.stderr)
+                return 2
+    if args.from_ is not None:
+        if args.summary is None:
+            print("bench_speed: --from needs --summary FILE (it measures nothing)", file=sys.stderr)
             return 2
+        try:
+            heading, rows = read_block(args.from_)
+        except ValueError as exc:
+            print(f"bench_speed: --from {exc}", file=sys.stderr)
+            return 2
+        splice(args.summary, summary(heading, rows), SUMMARY_BEGIN, SUMMARY_END)
+        print(f"summary of {args.from_} spliced into {args.summary}")
+        return 0
     load0 = load()
     started = f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M}"
     print(f"# gyrobench speed, {started} UTC")
@@ -356,6 +452,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.splice is not None:
         splice(args.splice, text)
         print(f"spliced into {args.splice}")
+    if args.summary is not None:
+        splice(args.summary, summary(text.splitlines()[0], rows), SUMMARY_BEGIN, SUMMARY_END)
+        print(f"summary spliced into {args.summary}")
     return 0
 
 

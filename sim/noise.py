@@ -157,6 +157,8 @@ _BLOCK = 1 << 16
 #: measured to help on an idle 2-core machine and to hurt on a saturated one.
 _PREFETCH: bool | str = "auto"
 _EXECUTOR = None
+#: the sources drawn in the worker thread with the flicker term (:meth:`NoiseStream._ahead`)
+_AHEAD = frozenset({"q", "fl"})
 #: largest batch of knots a decimated flicker level generates ahead
 _COARSE_BATCH = 1 << 15
 
@@ -1134,27 +1136,41 @@ class NoiseStream:
         for i in range(len(m.gauss_markov)):
             self._sources.append((f"gm{i}", children[_SLOT_GM0 + i].standard_normal))
 
-    def _draw(self, n: int) -> dict[str, NDArray[np.float64]]:
-        return {key: fn(n) for key, fn in self._sources}
+    def _ahead(self, n: int) -> dict[str, NDArray[np.float64]]:
+        """The part of a block the worker thread can do: Q's draws and the whole flicker term.
+
+        Both touch only their own streams and state, so running them for the next block while
+        the caller works on the current one changes no value.
+        """
+        d = {key: fn(n) for key, fn in self._sources if key in _AHEAD}
+        if self._flicker is not None:
+            d["bias_instability"] = self._flicker.next(n, d.pop("fl", None))
+        return d
+
+    def _now(self, n: int) -> dict[str, NDArray[np.float64]]:
+        """The draws of the other streams (N, K, the Gauss-Markov terms), made by the caller."""
+        return {key: fn(n) for key, fn in self._sources if key not in _AHEAD}
 
     def _blocks(self, n: int) -> Iterator[tuple[int, dict[str, NDArray[np.float64]]]]:
-        """(block size, its pre-drawn random numbers) for the next ``n`` samples.
+        """(block size, its pre-drawn random numbers and flicker term) for the next ``n`` samples.
 
-        With more than one block, the next block's draws run in a worker thread while the
-        caller processes the current one; each stream is drawn sequentially either way.
+        With more than one block, the next block's :meth:`_ahead` part runs in a worker thread
+        while the caller draws and processes the rest of the current one (about half the work
+        each for the five-term model); each stream is drawn sequentially either way, so the
+        values do not depend on whether the thread runs.
         """
         sizes = [min(_BLOCK, n - s) for s in range(0, n, _BLOCK)]
         if len(sizes) <= 1 or not _use_prefetch() or not self._sources:
             for k in sizes:
-                yield k, self._draw(k)
+                yield k, {**self._ahead(k), **self._now(k)}
             return
         ex = _executor()
-        fut = ex.submit(self._draw, sizes[0])
+        fut = ex.submit(self._ahead, sizes[0])
         try:
             for i, k in enumerate(sizes):
-                draws = fut.result()
-                fut = ex.submit(self._draw, sizes[i + 1]) if i + 1 < len(sizes) else None
-                yield k, draws
+                ahead = fut.result()
+                fut = ex.submit(self._ahead, sizes[i + 1]) if i + 1 < len(sizes) else None
+                yield k, {**ahead, **self._now(k)}
         finally:
             if (
                 fut is not None
@@ -1176,7 +1192,7 @@ class NoiseStream:
         if m.angle_random_walk > 0:
             yield "angle_random_walk", d["arw"]
         if self._flicker is not None:
-            yield "bias_instability", self._flicker.next(n, d.get("fl"))
+            yield "bias_instability", d["bias_instability"]
         if m.rate_random_walk > 0:
             steps = d["rrw"]
             steps[0] += self._rrw  # carry folded into the first step: same rounding as one-shot

@@ -29,7 +29,7 @@ def test_gyrobench_names_are_lazy_and_versioned():
     code = textwrap.dedent(
         """
         import sys, gyrobench
-        assert gyrobench.__version__ == "0.6.0", gyrobench.__version__
+        assert gyrobench.__version__ == "0.6.1", gyrobench.__version__
         heavy = [m for m in ("numpy", "scipy", "sklearn", "matplotlib", "h5py") if m in sys.modules]
         assert not heavy, heavy
         assert callable(gyrobench.fit_noise) and callable(gyrobench.allan_deviation)
@@ -101,7 +101,7 @@ def test_built_wheel_installs_one_gyrobench_package_and_no_top_level_sim(tmp_pat
         capture_output=True, text=True, timeout=600,
     )
     assert r.returncode == 0, r.stderr[-3000:]
-    (wheel,) = (tmp_path / "dist").glob("gyrobench-0.6.0-*.whl")
+    (wheel,) = (tmp_path / "dist").glob("gyrobench-0.6.1-*.whl")
     with zipfile.ZipFile(wheel) as zf:
         tops = {n.split("/")[0] for n in zf.namelist()}
         assert "gyrobench/py.typed" in zf.namelist()
@@ -113,7 +113,7 @@ def test_built_wheel_installs_one_gyrobench_package_and_no_top_level_sim(tmp_pat
         }
         assert expected <= set(zf.namelist())
         meta = zf.read(next(n for n in zf.namelist() if n.endswith("METADATA"))).decode()
-    assert tops == {"gyrobench", "gyrobench-0.6.0.dist-info"}, tops
+    assert tops == {"gyrobench", "gyrobench-0.6.1.dist-info"}, tops
     assert "License-Expression: MIT" in meta or "License: MIT" in meta
     target = tmp_path / "site"
     subprocess.run(

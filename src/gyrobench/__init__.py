@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 from gyrobench.base.lazy import attach
 
-__version__ = "0.6.0"
+__version__ = "0.6.1"
 
 #: public name -> module that defines it (imported on first access)
 _LAZY: dict[str, str] = {

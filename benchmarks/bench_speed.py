@@ -128,21 +128,16 @@ def noise(repeat: int) -> list[tuple[str, str, str, str]]:
     g = np.random.default_rng(0)
     out = np.empty(n)
 
-    def best(fn) -> float:
+    def best(fn, clock=time.process_time) -> float:
         t = []
         for _ in range(repeat):
-            c = time.process_time()
+            c = clock()
             fn()
-            t.append(time.process_time() - c)
+            t.append(clock() - c)
         return min(t)
 
     def wall(fn) -> float:
-        t = []
-        for _ in range(repeat):
-            c = time.perf_counter()
-            fn()
-            t.append(time.perf_counter() - c)
-        return min(t)
+        return best(fn, time.perf_counter)
 
     base = best(lambda: g.standard_normal(n, out=out))
     ours = best(lambda: model.generate(n, FS, rng=np.random.default_rng(1)))

@@ -152,9 +152,10 @@ _LEVEL_RATIO = 16
 _MAX_LEVELS = 32
 #: samples per internal block (keeps the working set in cache; has no effect on values)
 _BLOCK = 1 << 16
-#: draw the next block's random numbers in a worker thread: True, False, or "auto" (only
-#: when a core looks idle: 1-min load average < cpu count - 1). Has no effect on values;
-#: measured to help on an idle 2-core machine and to hurt on a saturated one.
+#: compute the next block's quantization draws and flicker term in a worker thread while the
+#: caller does the rest (:meth:`NoiseStream._blocks`): True, False, or "auto" (only when a core
+#: looks idle: 1-min load average < cpu count - 1). Has no effect on values; measured to help
+#: on an idle 2-core machine and to hurt on a saturated one.
 _PREFETCH: bool | str = "auto"
 _EXECUTOR = None
 #: the sources drawn in the worker thread with the flicker term (:meth:`NoiseStream._ahead`)

@@ -280,7 +280,10 @@ def _residue_sums(y: NDArray[np.float64], b: int, i0: int, w: int, nj: int,
     blk_buf = np.empty((cap + 1, w - 1))
     for r0 in range(0, nj, rows):
         r1 = min(nj, r0 + rows)
-        blk = _rows_of(y, 0.0, b, r0, r1 + 1, i0, i0 + w - 1, blk_buf)
+        if (r1 + 1) * b <= y.size:  # inside the record: the rows as a view of it, no copy
+            blk = y[r0 * b : (r1 + 1) * b].reshape(r1 + 1 - r0, b)[:, i0 : i0 + w - 1]
+        else:
+            blk = _rows_of(y, 0.0, b, r0, r1 + 1, i0, i0 + w - 1, blk_buf)
         out = z[r0:r1]
         np.subtract(blk[1:], blk[:-1], out=out[:, 1:])
         out[:, 0] = start[r0:r1]

@@ -153,7 +153,7 @@ def noise(repeat: int) -> list[tuple[str, str, str, str]]:
     return [("five-term noise (Q, N, B, K, R), one-shot, 4.2 M samples (best of repeats)",
              f"{n / ours / 1e6:.1f} M samples per CPU-s", f"standard_normal {n / base / 1e6:.1f} M per CPU-s: "
              f"**{base / ours:.2f}x**", ">= 0.5x"),
-            ("five-term noise, wall time with the draw thread (default), 2 cores",
+            ("five-term noise, wall time with the worker thread on (the default when a core is idle), 2 cores",
              f"{n / ours_w / 1e6:.1f} M samples per s", f"standard_normal {n / base_w / 1e6:.1f} M per s: "
              f"**{base_w / ours_w:.2f}x**", "-"),
             ("floor of an exact per-term generator: its draws alone (3 standard_normal + 1 random a sample)",
@@ -250,35 +250,34 @@ def store(reproduce: bool, folder: str, busy: bool = False) -> list[tuple[str, s
     if reproduce:
         out = os.path.join(folder, "rep")
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t0 = time.perf_counter()
-        cli = cli_main()
-        subprocess.run([sys.executable, "-c", cli, "reproduce", "--all", "--out", out, "-q"],
-                       check=True, capture_output=True)
-        wall = time.perf_counter() - t0
+        wall = _reproduce_all(out)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
         size = os.path.getsize(out + ".units.sqlite")
         rows.append(("`gyrobench reproduce --all`", f"{cpu:.0f} s CPU ({wall:.0f} s wall), store {size / 1e6:.1f} MB",
                      "-", "< 5 min loaded, < 20 MB"))
     if busy:
-        rows.append(reproduce_busy(folder, cli_main()))
+        rows.append(reproduce_busy(folder))
     return rows
 
 
-def cli_main() -> str:
-    return "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main(sys.argv[1:]))"
+_CLI = "import sys; from gyrobench.scenarios.cli.main import main; sys.exit(main(sys.argv[1:]))"
 
 
-def reproduce_busy(folder: str, cli: str) -> tuple[str, str, str, str]:
+def _reproduce_all(out: str) -> float:
+    """Wall seconds of ``gyrobench reproduce --all --out OUT -q`` in a subprocess."""
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", _CLI, "reproduce", "--all", "--out", out, "-q"],
+                   check=True, capture_output=True)
+    return time.perf_counter() - t0
+
+
+def reproduce_busy(folder: str) -> tuple[str, str, str, str]:
     """``reproduce --all`` into a fresh folder while a spinning process keeps one core busy (wall time)."""
-    out = os.path.join(folder, "rep_busy")
     spin = subprocess.Popen([sys.executable, "-c", "while True: pass"])
     try:
         time.sleep(2.0)  # let the spinner take its core
-        t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-c", cli, "reproduce", "--all", "--out", out, "-q"],
-                       check=True, capture_output=True)
-        wall = time.perf_counter() - t0
+        wall = _reproduce_all(os.path.join(folder, "rep_busy"))
     finally:
         spin.kill()
         spin.wait()
@@ -344,18 +343,23 @@ def summary(heading: str, rows: list[tuple[str, str, str, str]]) -> str:
     def find(prefix: str) -> tuple[str, str, str, str] | None:
         return next((r for r in rows if r[0].startswith(prefix)), None)
 
-    def ratio(cell: str) -> str:
-        m = re.search(r"\*\*([0-9.]+x)\*\*", cell)
-        return m.group(1) if m else "?"
+    def grab(pattern: str, cell: str) -> tuple[str, ...]:
+        m = re.search(pattern, cell)
+        if m is None:
+            raise ValueError(f"the block's cell {cell!r} does not hold the figure the summary needs ({pattern})")
+        return m.groups()
 
-    date = re.search(r"Measured (\S+ \S+ UTC)", heading)
-    load = re.search(r"load average \(1, 5, 15 min\) ([0-9.]+), [0-9.]+, [0-9.]+ at the start", heading)
+    def ratio(cell: str) -> str:
+        return grab(r"\*\*([0-9.]+x)\*\*", cell)[0]
+
+    (date,) = grab(r"Measured (\S+ \S+ UTC)", heading)
+    (load,) = grab(r"load average \(1, 5, 15 min\) ([0-9.]+), [0-9.]+, [0-9.]+ at the start", heading)
     parts = []
     units = []
     for name in PAPERS:
         r = find(f"{name} unit")
         if r is not None:
-            cpu, peak = re.findall(r"([0-9.]+) s CPU, ([0-9]+) MB", r[1])[0]
+            cpu, peak = grab(r"([0-9.]+) s CPU, ([0-9]+) MB", r[1])
             units.append(f"{cpu} s for {name[1:4]} ({peak} MB peak)")
     if units:
         parts.append("one unit of a paper costs " + units[0].replace(" for ", " for paper ", 1)
@@ -367,10 +371,8 @@ def summary(heading: str, rows: list[tuple[str, str, str, str]]) -> str:
             adev.append(f"{ratio(r[2])} at {n.replace('+0', '')}")
     big = find("ADEV + fit, 1e8")
     if big is not None:
-        ours_mb = re.search(r"([0-9]+) MB", big[1])
-        peer_mb = re.search(r"([0-9]+) MB", big[2])
-        adev.append(f"{ratio(big[2])} at 1e8 ({ours_mb.group(1) if ours_mb else '?'} MB against "
-                    f"{peer_mb.group(1) if peer_mb else '?'} MB)")
+        (ours_mb,), (peer_mb,) = grab(r"([0-9]+) MB", big[1]), grab(r"([0-9]+) MB", big[2])
+        adev.append(f"{ratio(big[2])} at 1e8 ({ours_mb} MB against {peer_mb} MB)")
     if adev:
         parts.append("Allan deviation + fit runs " + adev[0].replace(" at ", " as fast as allantools + NNLS at ", 1)
                      + " samples" + "".join(", " + a for a in adev[1:]))
@@ -382,12 +384,11 @@ def summary(heading: str, rows: list[tuple[str, str, str, str]]) -> str:
         parts.append(text)
     loaded, plain = find("`gyrobench reproduce --all`,"), find("`gyrobench reproduce --all`")
     if plain is not None and plain is not loaded:
-        m = re.search(r"\(([0-9]+) s wall\), store ([0-9.]+) MB", plain[1])
-        if m:
-            parts.append(f"`reproduce --all` takes {m.group(1)} s and stores {m.group(2)} MB of units")
+        wall, size = grab(r"\(([0-9]+) s wall\), store ([0-9.]+) MB", plain[1])
+        parts.append(f"`reproduce --all` takes {wall} s and stores {size} MB of units")
     if loaded is not None:
         parts.append(f"with the machine's other core busy it takes {loaded[1]}")
-    when = f"{date.group(1) if date else '?'}, 2 cores, load {load.group(1) if load else '?'} at the start"
+    when = f"{date}, 2 cores, load {load} at the start"
     text = (f"**Speed** (generated by `benchmarks/bench_speed.py`, {when}; CPU time; "
             f"[docs/performance.md](docs/performance.md)): " + "; ".join(parts) + ".")
     return textwrap.fill(text, width=100, break_on_hyphens=False, break_long_words=False)
@@ -426,11 +427,11 @@ def main(argv: list[str] | None = None) -> int:
             print("bench_speed: --from needs --summary FILE (it measures nothing)", file=sys.stderr)
             return 2
         try:
-            heading, rows = read_block(args.from_)
+            text = summary(*read_block(args.from_))
         except ValueError as exc:
             print(f"bench_speed: --from {exc}", file=sys.stderr)
             return 2
-        splice(args.summary, summary(heading, rows), SUMMARY_BEGIN, SUMMARY_END)
+        splice(args.summary, text, SUMMARY_BEGIN, SUMMARY_END)
         print(f"summary of {args.from_} spliced into {args.summary}")
         return 0
     load0 = load()

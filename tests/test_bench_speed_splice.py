@@ -94,3 +94,17 @@ def test_summary_options_are_refused_in_one_line_before_measuring(tmp_path, caps
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--summary" in err[0]
     assert readme.read_text(encoding="utf-8") == "no markers\n"
+
+
+def test_a_block_whose_figures_cannot_be_read_is_refused_not_summarised_with_gaps(tmp_path, capsys):
+    """A row whose cell lost its figure (say, a hand edit) stops the summary in one line naming the cell."""
+    b = _bench()
+    perf, readme = tmp_path / "perf.md", tmp_path / "README.md"
+    perf.write_text(f"{b.BEGIN}\n{b.END}\n", encoding="utf-8")
+    readme.write_text(f"{b.SUMMARY_BEGIN}\nold\n{b.SUMMARY_END}\n", encoding="utf-8")
+    rows = [(r[0], "n/a", r[2], r[3]) if r[0].startswith("p000") else r for r in _ROWS]
+    b.splice(str(perf), b.block(rows, "2026-12-04 01:33", "0.1, 0.1, 0.1", "1.7, 0.9, 0.4"))
+    assert b.main(["--summary", str(readme), "--from", str(perf)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'n/a'" in err[0]
+    assert "old" in readme.read_text(encoding="utf-8")
